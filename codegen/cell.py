@@ -1,0 +1,277 @@
+"""Cell file (TOML) to a validated, frozen model; errors name the file and the key path."""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from codegen.poses import POSE_FORMATS
+
+KNOWN_TARGETS = ("ur", "kuka", "abb", "dtrans")
+CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
+QUATERNION_TOLERANCE = 1e-6
+# Largest value a camera reading or a taught coordinate may have (mm). Beyond it the reading is
+# treated like a non-finite one: no robot of this class reaches 100 m, and the bound keeps every
+# float32 controller far from overflow.
+READING_RANGE_MM = 100_000.0
+READING_RANGE_DEG = 360.0
+
+EXAMPLES_DIR = Path(__file__).parent / "examples"
+DEMO_CELL = EXAMPLES_DIR / "agv_machine_tending.toml"
+
+
+class CellError(Exception):
+    """A cell file that cannot be used; the message names the file and the line or key path."""
+
+
+@dataclass(frozen=True)
+class Limits:
+    max_shift_mm: float
+    max_rotation_deg: float
+
+
+@dataclass(frozen=True)
+class TaughtPose:
+    name: str
+    values: tuple[float, ...]  # as written in the cell file (after quaternion normalisation)
+    pose_format: str
+
+    def matrix(self) -> np.ndarray:
+        """base2pose, 4x4 float64 in mm."""
+        return POSE_FORMATS[self.pose_format][1](self.values)
+
+
+@dataclass(frozen=True)
+class Station:
+    id: int
+    name: str
+    mark: tuple[float, float, float]  # x mm, y mm, theta deg, base frame, at calibration
+    poses: tuple[TaughtPose, ...]  # visiting order: first joint move, then linear
+
+
+@dataclass(frozen=True)
+class Cell:
+    name: str
+    targets: tuple[str, ...]
+    pose_format: str
+    angle_sign: int
+    limits: Limits
+    stations: tuple[Station, ...]
+    source: str = ""
+    sha256: str = ""
+    warnings: tuple[str, ...] = field(default=(), compare=False)
+
+    def station_by_id(self, station_id: int) -> Station | None:
+        for station in self.stations:
+            if station.id == station_id:
+                return station
+        return None
+
+
+# --- loading ---------------------------------------------------------------------------------
+
+_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits"}
+_CAMERA_KEYS = {"angle_sign"}
+_LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
+_STATION_KEYS = {"id", "name", "mark", "poses"}
+
+
+def load_cell(path: str | Path | None = None) -> Cell:
+    """Load and validate a cell file; None means the bundled demo cell."""
+    path = Path(path) if path is not None else DEMO_CELL
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise CellError(f"{path}: cannot read cell file: {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise CellError(f"{path}: not UTF-8 text (byte {exc.start})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CellError(f"{path}: TOML syntax error: {exc}") from None
+    return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+
+
+def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
+    ctx = _Context(source)
+    top_unknown = set(data) - {"cell", "station"}
+    if top_unknown:
+        ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell] and [[station]]")
+    cell_table = ctx.table(data, "cell", "cell")
+    ctx.no_unknown(cell_table, _CELL_KEYS, "cell")
+
+    name = ctx.name(cell_table, "name", "cell.name")
+    targets_raw = ctx.require(cell_table, "targets", "cell.targets")
+    if not isinstance(targets_raw, list) or not targets_raw:
+        ctx.fail("cell.targets", f"expected a non-empty list of targets from {list(KNOWN_TARGETS)}")
+    targets: list[str] = []
+    for i, target in enumerate(targets_raw):
+        if target not in KNOWN_TARGETS:
+            ctx.fail(f"cell.targets[{i}]", f"unknown target {target!r}; known: {', '.join(KNOWN_TARGETS)}")
+        if target in targets:
+            ctx.fail(f"cell.targets[{i}]", f"target {target!r} listed twice")
+        targets.append(target)
+
+    pose_format = cell_table.get("pose_format", "xyzabc")
+    if pose_format not in CELL_POSE_FORMATS:
+        ctx.fail("cell.pose_format", f"unknown pose format {pose_format!r}; known: {', '.join(CELL_POSE_FORMATS)}")
+
+    camera = ctx.table(cell_table, "camera", "cell.camera")
+    ctx.no_unknown(camera, _CAMERA_KEYS, "cell.camera")
+    angle_sign = ctx.require(camera, "angle_sign", "cell.camera.angle_sign")
+    if isinstance(angle_sign, bool) or angle_sign not in (1, -1):
+        ctx.fail("cell.camera.angle_sign", f"expected 1 or -1, got {angle_sign!r}")
+
+    limits_table = ctx.table(cell_table, "limits", "cell.limits")
+    ctx.no_unknown(limits_table, _LIMIT_KEYS, "cell.limits")
+    max_shift = ctx.number(limits_table, "max_shift_mm", "cell.limits.max_shift_mm")
+    max_rot = ctx.number(limits_table, "max_rotation_deg", "cell.limits.max_rotation_deg")
+    if max_shift <= 0:
+        ctx.fail("cell.limits.max_shift_mm", f"must be positive, got {max_shift}")
+    if max_shift > READING_RANGE_MM:
+        ctx.fail("cell.limits.max_shift_mm", f"must be at most {READING_RANGE_MM:g} mm")
+    if max_rot <= 0 or max_rot >= 180:
+        ctx.fail("cell.limits.max_rotation_deg", f"must be in (0, 180) degrees, got {max_rot}")
+
+    stations_raw = data.get("station")
+    if not isinstance(stations_raw, list) or not stations_raw:
+        ctx.fail("station", "expected at least one [[station]] table")
+    stations = [ctx.station(raw, i + 1, pose_format) for i, raw in enumerate(stations_raw)]
+    seen_ids: dict[int, int] = {}
+    seen_names: dict[str, int] = {}
+    for i, station in enumerate(stations, start=1):
+        if station.id in seen_ids:
+            ctx.fail(f"station[{i}].id", f"duplicate station id {station.id} (also station[{seen_ids[station.id]}])")
+        if station.name in seen_names:
+            other = seen_names[station.name]
+            ctx.fail(f"station[{i}].name", f"duplicate station name {station.name!r} (also station[{other}])")
+        seen_ids[station.id] = i
+        seen_names[station.name] = i
+
+    return Cell(
+        name=name,
+        targets=tuple(targets),
+        pose_format=pose_format,
+        angle_sign=int(angle_sign),
+        limits=Limits(max_shift, max_rot),
+        stations=tuple(stations),
+        source=source,
+        sha256=sha256,
+        warnings=tuple(ctx.warnings),
+    )
+
+
+class _Context:
+    """Validation helpers that know the file name and collect warnings."""
+
+    def __init__(self, source: str) -> None:
+        self.source = source
+        self.warnings: list[str] = []
+
+    def fail(self, key: str, message: str):
+        raise CellError(f"{self.source}: {key}: {message}")
+
+    def require(self, table: dict, key: str, path: str):
+        if key not in table:
+            self.fail(path, "missing")
+        return table[key]
+
+    def table(self, parent: dict, key: str, path: str) -> dict:
+        value = self.require(parent, key, path)
+        if not isinstance(value, dict):
+            self.fail(path, f"expected a table, got {_kind(value)}")
+        return value
+
+    def no_unknown(self, table: dict, allowed: set[str], path: str) -> None:
+        unknown = sorted(set(table) - allowed)
+        if unknown:
+            self.fail(f"{path}.{unknown[0]}", f"unknown key; allowed: {', '.join(sorted(allowed))}")
+
+    def number(self, table: dict, key: str, path: str) -> float:
+        return self.finite(self.require(table, key, path), path)
+
+    def finite(self, value, path: str) -> float:
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            self.fail(path, f"expected a number, got {_kind(value)}")
+        value = float(value)
+        if not math.isfinite(value):
+            self.fail(path, f"expected a finite number, got {value}")
+        return value
+
+    def name(self, table: dict, key: str, path: str) -> str:
+        value = self.require(table, key, path)
+        if not isinstance(value, str) or not value.strip():
+            self.fail(path, "expected a non-empty string")
+        return value
+
+    def numbers(self, value, count: int, path: str) -> tuple[float, ...]:
+        if not isinstance(value, list):
+            self.fail(path, f"expected {count} numbers, got {_kind(value)}")
+        if len(value) != count:
+            self.fail(path, f"expected {count} numbers, got {len(value)}")
+        return tuple(self.finite(v, f"{path}[{i}]") for i, v in enumerate(value))
+
+    def station(self, raw, index: int, pose_format: str) -> Station:
+        path = f"station[{index}]"
+        if not isinstance(raw, dict):
+            self.fail(path, f"expected a table, got {_kind(raw)}")
+        self.no_unknown(raw, _STATION_KEYS, path)
+        station_id = self.require(raw, "id", f"{path}.id")
+        if isinstance(station_id, bool) or not isinstance(station_id, int):
+            self.fail(f"{path}.id", f"expected an integer, got {_kind(station_id)}")
+        if not 1 <= station_id <= 32767:
+            # 32767: largest KRL INT and UR register value every target reads without loss.
+            self.fail(f"{path}.id", f"must be in 1..32767, got {station_id}")
+        name = self.name(raw, "name", f"{path}.name")
+        mark = self.numbers(self.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
+        if abs(mark[0]) > READING_RANGE_MM or abs(mark[1]) > READING_RANGE_MM:
+            self.fail(f"{path}.mark", f"x and y must be within +-{READING_RANGE_MM:g} mm")
+        if abs(mark[2]) > READING_RANGE_DEG:
+            self.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
+        poses_raw = self.table(raw, "poses", f"{path}.poses")
+        if not poses_raw:
+            self.fail(f"{path}.poses", "a station needs at least one pose")
+        count = POSE_FORMATS[pose_format][0]
+        poses = []
+        for pose_name, values in poses_raw.items():
+            pose_path = f"{path}.poses.{pose_name}"
+            if not pose_name.strip():
+                self.fail(pose_path, "pose name must not be empty")
+            numbers = self.numbers(values, count, pose_path)
+            if pose_format == "abb":
+                numbers = self.normalise_quaternion(numbers, pose_path)
+            bound = READING_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
+            if max(abs(v) for v in numbers[:3]) > bound:
+                self.fail(pose_path, f"position must be within +-{bound:g} (cell units)")
+            poses.append(TaughtPose(pose_name, numbers, pose_format))
+        return Station(int(station_id), name, mark, tuple(poses))
+
+    def normalise_quaternion(self, numbers: tuple[float, ...], path: str) -> tuple[float, ...]:
+        q = numbers[3:]
+        norm = math.sqrt(sum(v * v for v in q))
+        if norm < 1e-9:
+            self.fail(path, "quaternion q1..q4 is zero")
+        if abs(norm - 1.0) > QUATERNION_TOLERANCE:
+            self.warnings.append(f"{self.source}: {path}: quaternion norm {norm:.9g} normalised to 1")
+        return numbers[:3] + tuple(v / norm for v in q)
+
+
+def _kind(value) -> str:
+    if isinstance(value, bool):
+        return "a boolean"
+    if isinstance(value, int | float):
+        return f"the number {value}"
+    if isinstance(value, str):
+        return f"the string {value!r}"
+    if isinstance(value, list):
+        return f"a list of {len(value)}"
+    if isinstance(value, dict):
+        return "a table"
+    return type(value).__name__

@@ -1,0 +1,212 @@
+"""Pose conventions to and from 4x4 homogeneous matrices (float64, millimetres)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+# Every matrix here is a 4x4 float64 array in millimetres; `a2b` maps b-coordinates into a.
+
+_EPS = 1e-12
+
+
+def rotz(angle_rad: float) -> np.ndarray:
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def roty(angle_rad: float) -> np.ndarray:
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rotx(angle_rad: float) -> np.ndarray:
+    c, s = math.cos(angle_rad), math.sin(angle_rad)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def matrix_from_rotation_translation(rot: np.ndarray, trans) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, :3] = rot
+    out[:3, 3] = trans
+    return out
+
+
+def concat(*matrices: np.ndarray) -> np.ndarray:
+    """a2b, b2c, ... -> a2z (left to right products)."""
+    out = np.eye(4)
+    for m in matrices:
+        out = out @ m
+    return out
+
+
+def invert(a2b: np.ndarray) -> np.ndarray:
+    """Rigid inverse b2a = [R^T | -R^T t]."""
+    rot = a2b[:3, :3].T
+    return matrix_from_rotation_translation(rot, -rot @ a2b[:3, 3])
+
+
+# --- Euler Z-Y-X (KUKA A,B,C; the dtrans rx,ry,rz with rz outermost) -------------------------
+
+
+def rotmat_from_zyx_deg(a: float, b: float, c: float) -> np.ndarray:
+    return rotz(math.radians(a)) @ roty(math.radians(b)) @ rotx(math.radians(c))
+
+
+def zyx_deg_from_rotmat(rot: np.ndarray) -> tuple[float, float, float]:
+    """R = Rz(a)Ry(b)Rx(c) -> (a, b, c) deg, a and c in (-180, 180]; at b = +-90 deg c is set 0."""
+    sb = -rot[2, 0]
+    cb = math.hypot(rot[0, 0], rot[1, 0])
+    b = math.atan2(sb, cb)
+    if cb > 1e-9:
+        a = math.atan2(rot[1, 0], rot[0, 0])
+        c = math.atan2(rot[2, 1], rot[2, 2])
+    else:
+        # Gimbal lock: only a - c (b = +90) or a + c (b = -90) is defined; choose c = 0.
+        c = 0.0
+        a = math.atan2(-rot[0, 1], rot[1, 1])
+    return _wrap_deg(math.degrees(a)), math.degrees(b), _wrap_deg(math.degrees(c))
+
+
+def _wrap_deg(angle: float) -> float:
+    out = math.remainder(angle, 360.0)
+    if out == -180.0:
+        out = 180.0
+    return out + 0.0  # no -0.0
+
+
+def matrix_from_xyzabc(pose) -> np.ndarray:
+    x, y, z, a, b, c = (float(v) for v in pose)
+    return matrix_from_rotation_translation(rotmat_from_zyx_deg(a, b, c), (x, y, z))
+
+
+def xyzabc_from_matrix(m: np.ndarray) -> tuple[float, ...]:
+    a, b, c = zyx_deg_from_rotmat(m[:3, :3])
+    return (float(m[0, 3]), float(m[1, 3]), float(m[2, 3]), a, b, c)
+
+
+def matrix_from_dtrans(pose) -> np.ndarray:
+    """dtrans order [x, y, z, rx, ry, rz] with R = Rz(rz) Ry(ry) Rx(rx)."""
+    x, y, z, rx, ry, rz = (float(v) for v in pose)
+    return matrix_from_xyzabc((x, y, z, rz, ry, rx))
+
+
+def dtrans_from_matrix(m: np.ndarray) -> tuple[float, ...]:
+    x, y, z, a, b, c = xyzabc_from_matrix(m)
+    return (x, y, z, c, b, a)
+
+
+# --- Rotation vector (UR) ---------------------------------------------------------------------
+
+
+def rotmat_from_rotvec(rv) -> np.ndarray:
+    rv = np.asarray(rv, dtype=float)
+    angle = float(np.linalg.norm(rv))
+    if angle < _EPS:
+        k = np.array([[0, -rv[2], rv[1]], [rv[2], 0, -rv[0]], [-rv[1], rv[0], 0]])
+        return np.eye(3) + k
+    axis = rv / angle
+    kx, ky, kz = axis
+    k = np.array([[0, -kz, ky], [kz, 0, -kx], [-ky, kx, 0]])
+    return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * (k @ k)
+
+
+def rotvec_from_rotmat(rot: np.ndarray) -> np.ndarray:
+    """Angle in [0, pi]; robust near 0 (first-order) and near pi (axis from the symmetric part)."""
+    quat = quat_from_rotmat(rot)
+    w, v = quat[0], quat[1:]
+    if w < 0:
+        w, v = -w, -v
+    norm_v = float(np.linalg.norm(v))
+    if norm_v < _EPS:
+        return 2.0 * v  # small angle: rotvec ~ 2 * vector part
+    angle = 2.0 * math.atan2(norm_v, w)
+    return v / norm_v * angle
+
+
+def matrix_from_ur(pose) -> np.ndarray:
+    """UR p[x, y, z, rx, ry, rz]: metres and rotation vector (rad) -> matrix in mm."""
+    x, y, z, rx, ry, rz = (float(v) for v in pose)
+    return matrix_from_rotation_translation(rotmat_from_rotvec((rx, ry, rz)), (x * 1000.0, y * 1000.0, z * 1000.0))
+
+
+def ur_from_matrix(m: np.ndarray) -> tuple[float, ...]:
+    rv = rotvec_from_rotmat(m[:3, :3])
+    return (
+        float(m[0, 3]) / 1000.0,
+        float(m[1, 3]) / 1000.0,
+        float(m[2, 3]) / 1000.0,
+        float(rv[0]),
+        float(rv[1]),
+        float(rv[2]),
+    )
+
+
+# --- Quaternion, scalar first (ABB) -----------------------------------------------------------
+
+
+def rotmat_from_quat(q) -> np.ndarray:
+    w, x, y, z = (float(v) for v in q)
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def quat_from_rotmat(rot: np.ndarray) -> np.ndarray:
+    """Shepperd's method; returns a unit quaternion with w >= 0."""
+    m = rot
+    trace = m[0, 0] + m[1, 1] + m[2, 2]
+    candidates = (trace, m[0, 0], m[1, 1], m[2, 2])
+    i = int(np.argmax(candidates))
+    if i == 0:
+        s = 2.0 * math.sqrt(max(1.0 + trace, 0.0))
+        q = (0.25 * s, (m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s)
+    elif i == 1:
+        s = 2.0 * math.sqrt(max(1.0 + m[0, 0] - m[1, 1] - m[2, 2], 0.0))
+        q = ((m[2, 1] - m[1, 2]) / s, 0.25 * s, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s)
+    elif i == 2:
+        s = 2.0 * math.sqrt(max(1.0 + m[1, 1] - m[0, 0] - m[2, 2], 0.0))
+        q = ((m[0, 2] - m[2, 0]) / s, (m[0, 1] + m[1, 0]) / s, 0.25 * s, (m[1, 2] + m[2, 1]) / s)
+    else:
+        s = 2.0 * math.sqrt(max(1.0 + m[2, 2] - m[0, 0] - m[1, 1], 0.0))
+        q = ((m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, 0.25 * s)
+    quat = np.array(q)
+    quat /= np.linalg.norm(quat)
+    if quat[0] < 0:
+        quat = -quat
+    return quat
+
+
+def matrix_from_abb(pose) -> np.ndarray:
+    """ABB [x, y, z, q1, q2, q3, q4]: mm and quaternion, scalar first."""
+    x, y, z = (float(v) for v in pose[:3])
+    return matrix_from_rotation_translation(rotmat_from_quat(pose[3:7]), (x, y, z))
+
+
+def abb_from_matrix(m: np.ndarray) -> tuple[float, ...]:
+    q = quat_from_rotmat(m[:3, :3])
+    return (float(m[0, 3]), float(m[1, 3]), float(m[2, 3]), *(float(v) for v in q))
+
+
+# --- Registry of formats used by cell files and by `codegen correct` -------------------------
+
+POSE_FORMATS = {
+    # name: (values per pose, to-matrix, from-matrix, description)
+    "xyzabc": (6, matrix_from_xyzabc, xyzabc_from_matrix, "x y z mm, a b c deg, R = Rz(a)Ry(b)Rx(c)"),
+    "ur": (6, matrix_from_ur, ur_from_matrix, "x y z m, rotation vector rx ry rz rad"),
+    "abb": (7, matrix_from_abb, abb_from_matrix, "x y z mm, quaternion q1..q4 scalar first"),
+    "dtrans": (6, matrix_from_dtrans, dtrans_from_matrix, "x y z mm, rx ry rz deg, R = Rz(rz)Ry(ry)Rx(rx)"),
+}
+
+
+def rotation_angle_between(rot_a: np.ndarray, rot_b: np.ndarray) -> float:
+    """Angle (rad) of rot_a^T rot_b; accurate for small angles."""
+    rel = rot_a.T @ rot_b
+    return float(np.linalg.norm(rotvec_from_rotmat(rel)))

@@ -1,0 +1,180 @@
+"""Cell loading: the demo cell, and one test per class of bad input."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+
+import pytest
+from conftest import MINIMAL_CELL
+
+from codegen.cell import CellError, load_cell
+
+
+def test_demo_cell_loads(demo_cell):
+    assert demo_cell.name == "agv_machine_tending"
+    assert [s.id for s in demo_cell.stations] == [1, 2, 3, 4, 5, 6, 7]
+    assert demo_cell.angle_sign == -1
+    assert demo_cell.limits.max_shift_mm == 10.0
+    assert all(len(s.poses) == 2 for s in demo_cell.stations)
+    assert len(demo_cell.sha256) == 64
+
+
+def test_minimal_cell_keeps_pose_order(write_cell):
+    cell = load_cell(write_cell(MINIMAL_CELL))
+    assert [p.name for p in cell.stations[0].poses] == ["approach", "chuck"]
+
+
+def _error(write_cell, text: str) -> str:
+    path = write_cell(text)
+    with pytest.raises(CellError) as info:
+        load_cell(path)
+    message = str(info.value)
+    assert message.startswith(str(path) + ": "), message
+    return message
+
+
+BAD = {
+    "toml_syntax": (
+        MINIMAL_CELL.replace('name = "bench"', 'name = "bench'),
+        "line 2",
+    ),
+    "pose_count": (
+        MINIMAL_CELL.replace(
+            "chuck = [700.0, -100.0, 300.0, 90.0, 0.0, 180.0]", "chuck = [700.0, -100.0, 300.0, 90.0, 0.0]"
+        ),
+        "station[1].poses.chuck: expected 6 numbers, got 5",
+    ),
+    "nan": (
+        MINIMAL_CELL.replace("mark = [600.0, -250.0, 2.0]", "mark = [nan, -250.0, 2.0]"),
+        "station[1].mark[0]: expected a finite number, got nan",
+    ),
+    "inf": (
+        MINIMAL_CELL.replace("vise = [700.0,", "vise = [inf,"),
+        "station[2].poses.vise[0]: expected a finite number, got inf",
+    ),
+    "string_number": (
+        MINIMAL_CELL.replace("max_shift_mm = 10.0", 'max_shift_mm = "10"'),
+        "cell.limits.max_shift_mm: expected a number, got the string '10'",
+    ),
+    "duplicate_id": (
+        MINIMAL_CELL.replace("id = 2", "id = 1"),
+        "station[2].id: duplicate station id 1",
+    ),
+    "duplicate_name": (
+        MINIMAL_CELL.replace('name = "mill_1"', 'name = "lathe_1"'),
+        "station[2].name: duplicate station name 'lathe_1'",
+    ),
+    "unknown_target": (
+        MINIMAL_CELL.replace('"dtrans"]', '"fanuc"]'),
+        "cell.targets[3]: unknown target 'fanuc'",
+    ),
+    "unknown_pose_format": (
+        MINIMAL_CELL.replace('pose_format = "xyzabc"', 'pose_format = "euler"'),
+        "cell.pose_format: unknown pose format 'euler'",
+    ),
+    "zero_shift_limit": (
+        MINIMAL_CELL.replace("max_shift_mm = 10.0", "max_shift_mm = 0.0"),
+        "cell.limits.max_shift_mm: must be positive",
+    ),
+    "negative_rotation_limit": (
+        MINIMAL_CELL.replace("max_rotation_deg = 10.0", "max_rotation_deg = -1"),
+        "cell.limits.max_rotation_deg: must be in (0, 180)",
+    ),
+    "station_without_poses": (
+        MINIMAL_CELL.replace("vise = [700.0, 50.0, 260.0, -90.0, 15.0, 180.0]\n", ""),
+        "station[2].poses: a station needs at least one pose",
+    ),
+    "missing_key": (
+        MINIMAL_CELL.replace("angle_sign = -1\n", ""),
+        "cell.camera.angle_sign: missing",
+    ),
+    "bad_angle_sign": (
+        MINIMAL_CELL.replace("angle_sign = -1", "angle_sign = 2"),
+        "cell.camera.angle_sign: expected 1 or -1, got 2",
+    ),
+    "unknown_key": (
+        MINIMAL_CELL.replace("max_shift_mm = 10.0", "max_shift_mm = 10.0\nmax_shfit = 3"),
+        "cell.limits.max_shfit: unknown key",
+    ),
+    "no_stations": (
+        MINIMAL_CELL.split("[[station]]")[0],
+        "station: expected at least one [[station]] table",
+    ),
+    "station_id_not_integer": (
+        MINIMAL_CELL.replace("id = 2", "id = 2.5"),
+        "station[2].id: expected an integer",
+    ),
+    "station_id_out_of_range": (
+        MINIMAL_CELL.replace("id = 2", "id = 0"),
+        "station[2].id: must be in 1..32767",
+    ),
+    "empty_name": (
+        MINIMAL_CELL.replace('name = "mill_1"', 'name = "  "'),
+        "station[2].name: expected a non-empty string",
+    ),
+    "mark_theta_out_of_range": (
+        MINIMAL_CELL.replace("mark = [640.0, 210.0, 0.0]", "mark = [640.0, 210.0, 400.0]"),
+        "station[2].mark[2]: theta must be within",
+    ),
+    "boolean_number": (
+        MINIMAL_CELL.replace("max_rotation_deg = 10.0", "max_rotation_deg = true"),
+        "cell.limits.max_rotation_deg: expected a number, got a boolean",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_input_is_named(write_cell, case):
+    text, expected = BAD[case]
+    assert expected in _error(write_cell, text)
+
+
+def test_missing_file_is_named(tmp_path):
+    with pytest.raises(CellError, match="cannot read cell file"):
+        load_cell(tmp_path / "nope.toml")
+
+
+def test_abb_quaternion_normalised_with_warning(write_cell):
+    text = (
+        MINIMAL_CELL.replace('pose_format = "xyzabc"', 'pose_format = "abb"')
+        .replace("[650.0, -100.0, 400.0, 90.0, 0.0, 180.0]", "[650.0, -100.0, 400.0, 0.0, 0.0, 0.0, 2.0]")
+        .replace("[700.0, -100.0, 300.0, 90.0, 0.0, 180.0]", "[700.0, -100.0, 300.0, 0.0, 0.0, 0.0, 1.0]")
+        .replace("[700.0, 50.0, 260.0, -90.0, 15.0, 180.0]", "[700.0, 50.0, 260.0, 0.5, 0.5, 0.5, 0.5]")
+    )
+    cell = load_cell(write_cell(text))
+    assert cell.stations[0].poses[0].values[3:] == (0.0, 0.0, 0.0, 1.0)
+    assert len(cell.warnings) == 1
+    assert "station[1].poses.approach: quaternion norm 2 normalised" in cell.warnings[0]
+
+
+def test_abb_zero_quaternion_rejected(write_cell):
+    text = MINIMAL_CELL.replace('pose_format = "xyzabc"', 'pose_format = "abb"').replace(
+        "[650.0, -100.0, 400.0, 90.0, 0.0, 180.0]", "[650.0, -100.0, 400.0, 0.0, 0.0, 0.0, 0.0]"
+    )
+    assert "station[1].poses.approach: quaternion q1..q4 is zero" in _error(write_cell, text)
+
+
+def test_ur_pose_format_in_metres(write_cell):
+    text = (
+        MINIMAL_CELL.replace('pose_format = "xyzabc"', 'pose_format = "ur"')
+        .replace("[650.0, -100.0, 400.0, 90.0, 0.0, 180.0]", "[0.65, -0.1, 0.4, 0.0, 3.14159, 0.0]")
+        .replace("[700.0, -100.0, 300.0, 90.0, 0.0, 180.0]", "[0.7, -0.1, 0.3, 0.0, 3.14159, 0.0]")
+        .replace("[700.0, 50.0, 260.0, -90.0, 15.0, 180.0]", "[0.7, 0.05, 0.26, 0.0, 3.14159, 0.0]")
+    )
+    cell = load_cell(write_cell(text))
+    m = cell.stations[0].poses[0].matrix()
+    assert math.isclose(m[0, 3], 650.0)
+
+
+def test_cli_bad_cell_exits_2_without_traceback(write_cell):
+    path = write_cell(BAD["pose_count"][0])
+    proc = subprocess.run(
+        [sys.executable, "-m", "codegen", "correct", str(path), "--station", "1", "--mark", "1,2,3"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
+    assert "station[1].poses.chuck: expected 6 numbers, got 5" in proc.stderr

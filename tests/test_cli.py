@@ -1,0 +1,99 @@
+"""Command line: derive --check, correct against a hand-written 4x4 computation, import budget."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+from click.testing import CliRunner
+
+from codegen.cli import main
+
+
+def run(*args):
+    return CliRunner().invoke(main, list(args))
+
+
+def test_derive_check_exits_0():
+    result = run("derive", "--check")
+    assert result.exit_code == 0, result.output
+    assert "all identities as expected" in result.output
+    assert "zero_rotation_is_translation" in result.output
+
+
+def test_derive_json():
+    result = run("derive", "--check", "--json")
+    data = json.loads(result.output)
+    assert data["ok"] is True
+    assert {i["name"] for i in data["identities"]} >= {"rigid", "source_eq13"}
+
+
+def _hand_matrix(x, y, z, a, b, c):
+    """Written out here, not imported: R = Rz(a) Ry(b) Rx(c), angles in degrees."""
+    a, b, c = (math.radians(v) for v in (a, b, c))
+    rz = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]])
+    ry = np.array([[math.cos(b), 0, math.sin(b)], [0, 1, 0], [-math.sin(b), 0, math.cos(b)]])
+    rx = np.array([[1, 0, 0], [0, math.cos(c), -math.sin(c)], [0, math.sin(c), math.cos(c)]])
+    m = np.eye(4)
+    m[:3, :3] = rz @ ry @ rx
+    m[:3, 3] = (x, y, z)
+    return m
+
+
+def test_correct_matches_hand_computation():
+    # Demo station 3 (mill_1): mark (640.2, 210.6, 2.4); reading (643.2, 206.6, 5.4); sign -1.
+    result = run("correct", "--station", "3", "--mark", "643.2,206.6,5.4", "--json")
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.output)
+    phi = math.radians(-1 * (5.4 - 2.4))
+    trans_tn = np.eye(4)
+    trans_tn[:2, 3] = (643.2, 206.6)
+    rot = np.eye(4)
+    rot[:2, :2] = [[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]]
+    trans_minus_t = np.eye(4)
+    trans_minus_t[:2, 3] = (-640.2, -210.6)
+    d = trans_tn @ rot @ trans_minus_t
+    assert np.allclose(np.array(data["correction"]), d, atol=1e-9)
+    taught = {"approach": (600.0, 40.0, 450.0, -90.0, 15.0, 180.0), "vise": (702.6, 55.8, 262.4, -90.0, 15.0, 180.0)}
+    assert [p["name"] for p in data["poses"]] == ["approach", "vise"]
+    assert [p["motion"] for p in data["poses"]] == ["joint", "linear"]
+    for pose in data["poses"]:
+        expected = d @ _hand_matrix(*taught[pose["name"]])
+        kuka = pose["targets"]["kuka"]
+        assert np.allclose(kuka[:3], expected[:3, 3], atol=1e-4)
+        assert np.allclose(_hand_matrix(*kuka)[:3, :3], expected[:3, :3], atol=1e-6)
+        assert math.isclose(kuka[3], -90.0 + math.degrees(phi), abs_tol=1e-9)  # yaw addition
+        ur = pose["targets"]["ur"]
+        assert np.allclose(np.array(ur[:3]) * 1000, expected[:3, 3], atol=1e-3)
+        w, qx, qy, qz = pose["targets"]["abb"][3:]
+        assert math.isclose(w * w + qx * qx + qy * qy + qz * qz, 1.0, abs_tol=1e-6)
+
+
+def test_correct_halt_is_reported():
+    result = run("correct", "--station", "1", "--mark", "700,-285,1.8")
+    assert result.exit_code == 0
+    assert "HALT (shift_over_limit): station lathe_1: mark shift over 10 mm, recalibrate" in result.output
+
+
+def test_correct_bad_mark_is_exit_2():
+    result = run("correct", "--station", "1", "--mark", "1,2")
+    assert result.exit_code == 2
+    assert "--mark: expected X,Y,THETA" in result.output
+
+
+def test_correct_does_not_import_sympy_jinja_lark():
+    code = (
+        "import sys\n"
+        "from codegen.cli import main\n"
+        "try:\n"
+        "    main(['correct', '--station', '1', '--mark', '613,-284,2'])\n"
+        "except SystemExit:\n"
+        "    pass\n"
+        "bad = [m for m in ('sympy', 'jinja2', 'lark') if m in sys.modules]\n"
+        "print('LOADED', bad)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert "LOADED []" in out

@@ -1,0 +1,50 @@
+"""Derivation: every identity has its expected status, and the cache equals a fresh derivation."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from codegen import derivation, derived
+
+EXPECTED = {
+    "zero_rotation_is_translation": "holds",
+    "rigid": "holds",
+    "mark_maps_to_mark": "holds",
+    "yaw_addition": "holds",
+    "source_eq13": "refuted",
+    "source_eq13_rigid": "refuted",
+    "source_listing_as_named": "refuted",
+    "source_listing_names_swapped": "holds",
+    "source_listing_orientation_sign": "refuted",
+}
+
+
+@pytest.fixture(scope="module")
+def fresh():
+    return derivation.derive()
+
+
+def test_identities_have_expected_status(fresh):
+    result = {i.name: i.status for i in derivation.identities(fresh)}
+    assert result == EXPECTED
+
+
+def test_solution_is_the_rigid_formula(fresh):
+    # Independent of the solver: Pn = tn + R(phi)(P - t), typed here as the test's own statement.
+    import sympy as sp
+
+    s = derivation
+    expected = s.tn + s.rot2(s.phi) * (s.P - s.t)
+    assert all(sp.simplify(e) == 0 for e in fresh.Pn - expected)
+
+
+def test_refuted_identity_reports_a_counterexample(fresh):
+    eq13 = next(i for i in derivation.identities(fresh) if i.name == "source_eq13")
+    assert eq13.detail.startswith("at ") and "residual" in eq13.detail
+
+
+def test_cache_equals_fresh_derivation():
+    fresh_cache = json.loads(json.dumps(derivation.build_cache(), sort_keys=True))
+    assert derived.load() == fresh_cache, "codegen/derived.json is stale: python -m codegen.derivation --write"

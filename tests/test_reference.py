@@ -1,0 +1,104 @@
+"""Reference: guard order, wrap, and agreement with the derived closed form."""
+
+from __future__ import annotations
+
+import math
+import random
+
+import numpy as np
+import pytest
+
+from codegen import derived
+from codegen.reference import (
+    INVALID_READING,
+    ROTATION_OVER_LIMIT,
+    SHIFT_OVER_LIMIT,
+    UNKNOWN_STATION,
+    Reading,
+    expected_trace,
+    wrap_deg,
+)
+
+
+def test_closed_form_agrees_with_matrices(demo_cell):
+    rng = random.Random(2026)
+    worst = 0.0
+    for _ in range(2000):
+        station = rng.choice(demo_cell.stations)
+        tx, ty, t_theta = station.mark
+        reading = Reading(
+            station.id, tx + rng.uniform(-7, 7), ty + rng.uniform(-7, 7), t_theta + rng.uniform(-9.9, 9.9)
+        )
+        trace = expected_trace(demo_cell, reading)
+        assert trace.status == "ok"
+        phi = math.radians(trace.phi_deg)
+        frame = derived.evaluate("frame", {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi})
+        d = trace.base2base_new
+        assert abs(frame["frame_cos"] - d[0, 0]) < 1e-12
+        assert abs(frame["frame_sin"] - d[1, 0]) < 1e-12
+        worst = max(worst, abs(frame["frame_x"] - d[0, 3]), abs(frame["frame_y"] - d[1, 3]))
+        for pose, move in zip(station.poses, trace.moves, strict=True):
+            m = pose.matrix()
+            point = derived.evaluate(
+                "point",
+                {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi, "Px": m[0, 3], "Py": m[1, 3]},
+            )
+            worst = max(worst, abs(point["point_x"] - move.base2tcp[0, 3]), abs(point["point_y"] - move.base2tcp[1, 3]))
+    assert worst <= 1e-9
+
+
+def test_zero_shift_gives_taught_poses(demo_cell):
+    station = demo_cell.stations[2]
+    trace = expected_trace(demo_cell, Reading(station.id, *station.mark))
+    for pose, move in zip(station.poses, trace.moves, strict=True):
+        assert np.allclose(move.base2tcp, pose.matrix(), atol=1e-12)
+    assert [m.kind for m in trace.moves] == ["joint", "linear"]
+
+
+def test_pure_translation(demo_cell):
+    station = demo_cell.stations[0]
+    tx, ty, t_theta = station.mark
+    trace = expected_trace(demo_cell, Reading(station.id, tx + 3, ty - 4, t_theta))
+    for pose, move in zip(station.poses, trace.moves, strict=True):
+        assert np.allclose(move.base2tcp[:3, 3] - pose.matrix()[:3, 3], [3, -4, 0], atol=1e-12)
+
+
+def test_guard_order_and_reasons(demo_cell):
+    s = demo_cell.stations[0]
+    tx, ty, t_theta = s.mark
+    assert expected_trace(demo_cell, Reading(99, math.nan, 0, 0)).reason == UNKNOWN_STATION
+    assert expected_trace(demo_cell, Reading(s.id, math.nan, ty, t_theta)).reason == INVALID_READING
+    assert expected_trace(demo_cell, Reading(s.id, tx, math.inf, t_theta)).reason == INVALID_READING
+    assert expected_trace(demo_cell, Reading(s.id, tx, ty, 400.0)).reason == INVALID_READING
+    assert expected_trace(demo_cell, Reading(s.id, tx + 20, ty, 50.0)).reason == SHIFT_OVER_LIMIT
+    assert expected_trace(demo_cell, Reading(s.id, tx + 6, ty + 8, t_theta)).status == "ok"  # exactly 10
+    assert expected_trace(demo_cell, Reading(s.id, tx + 6, ty + 8.001, t_theta)).reason == SHIFT_OVER_LIMIT
+    assert expected_trace(demo_cell, Reading(s.id, tx, ty, t_theta + 10.0)).status == "ok"
+    assert expected_trace(demo_cell, Reading(s.id, tx, ty, t_theta + 10.01)).reason == ROTATION_OVER_LIMIT
+
+
+def test_rotation_wraps_at_180(demo_cell):
+    s = demo_cell.station_by_id(6)  # mark theta 178.6 deg
+    trace = expected_trace(demo_cell, Reading(6, s.mark[0], s.mark[1], -178.4))
+    assert trace.status == "ok"
+    assert trace.rotation_deg == pytest.approx(3.0)
+    assert trace.phi_deg == pytest.approx(-3.0)  # angle_sign -1
+
+
+def test_wrap_deg():
+    assert wrap_deg(180.0) == 180.0
+    assert wrap_deg(-180.0) == 180.0
+    assert wrap_deg(190.0) == pytest.approx(-170.0)
+    assert wrap_deg(-359.0) == pytest.approx(1.0)
+
+
+def test_deviation_line(demo_cell):
+    s = demo_cell.stations[0]
+    tx, ty, t_theta = s.mark
+    trace = expected_trace(demo_cell, Reading(s.id, tx + 1, ty + 2, t_theta + 3))
+    sid, dx1, dy1, dx2, dy2, dtheta = trace.deviation
+    work_before, work_after = s.poses[-1].matrix(), trace.moves[-1].base2tcp
+    assert (sid, dx2, dy2) == (1.0, pytest.approx(1.0), pytest.approx(2.0))
+    assert dtheta == pytest.approx(-3.0)
+    assert dx1 == pytest.approx(work_after[0, 3] - work_before[0, 3])
+    assert dy1 == pytest.approx(work_after[1, 3] - work_before[1, 3])
