@@ -105,3 +105,47 @@ def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None
         _dump(report)
     else:
         click.echo(format_report(report))
+
+
+@main.command()
+@click.argument("cell", required=False, type=click.Path(dir_okay=False))
+@click.option("--target", "targets", multiple=True, help="Only this target (repeatable); default: the cell's targets.")
+@click.option("--out", "out_dir", default="generated", show_default=True, type=click.Path(file_okay=False))
+def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
+    """Write the programs of every target under OUT/<cell>/<target>/ (all or nothing)."""
+    from pathlib import Path
+
+    from codegen.emit import EmitError
+    from codegen.generate import GenerateError
+    from codegen.generate import generate as run_generate
+
+    model = _load(cell)
+    for t in targets:
+        if t not in model.targets:
+            raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
+    try:
+        written = run_generate(model, list(targets) or None, Path(out_dir))
+    except (EmitError, GenerateError) as exc:
+        raise UserError(f"{model.source}: {exc}") from None
+    for path in written:
+        click.echo(f"wrote {path}")
+
+
+@main.command()
+@click.argument("cell", required=False, type=click.Path(dir_okay=False))
+@click.option("--out", "out_dir", default="generated", show_default=True, type=click.Path(file_okay=False))
+def diff(cell: str | None, out_dir: str) -> None:
+    """Unified diff of fresh output against OUT; exit 1 when they differ."""
+    from pathlib import Path
+
+    from codegen.emit import EmitError
+    from codegen.generate import diff as run_diff
+
+    model = _load(cell)
+    try:
+        text = run_diff(model, Path(out_dir))
+    except EmitError as exc:
+        raise UserError(f"{model.source}: {exc}") from None
+    if text:
+        click.echo(text, nl=False)
+        sys.exit(1)

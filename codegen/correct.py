@@ -3,18 +3,9 @@
 from __future__ import annotations
 
 from codegen.cell import Cell
-from codegen.poses import POSE_FORMATS
+from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS
 from codegen.reference import Reading, expected_trace, halt_message
 from codegen.targets import get_target
-
-# Decimals shown in the text report per value of each format (JSON keeps full float64).
-DECIMALS = {
-    "ur": (7, 7, 7, 9, 9, 9),
-    "xyzabc": (4, 4, 4, 6, 6, 6),
-    "abb": (4, 4, 4, 9, 9, 9, 9),
-    "dtrans": (4, 4, 4, 6, 6, 6),
-}
-
 
 def correct_report(cell: Cell, reading: Reading) -> dict:
     trace = expected_trace(cell, reading)
@@ -79,7 +70,7 @@ def format_report(report: dict) -> str:
     for pose in report["poses"]:
         lines.append(f"{pose['name']} ({pose['motion']} move):")
         for target, values in pose["targets"].items():
-            decimals = DECIMALS[get_target(target).pose_format]
+            decimals = FORMAT_DECIMALS[get_target(target).pose_format]
             shown = " ".join(f"{v:.{n}f}" for v, n in zip(values, decimals, strict=True))
             lines.append(f"  {target:<7}{shown}    {UNITS[target]}")
     return "\n".join(lines)

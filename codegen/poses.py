@@ -206,7 +206,27 @@ POSE_FORMATS = {
 }
 
 
+# Decimals used when a pose is printed (program data and text reports): 0.1 um for mm, 1e-6 deg,
+# 1e-9 for unit quantities (rotation vector rad, quaternion), 0.1 um for UR metres.
+FORMAT_DECIMALS = {
+    "ur": (7, 7, 7, 9, 9, 9),
+    "xyzabc": (4, 4, 4, 6, 6, 6),
+    "abb": (4, 4, 4, 9, 9, 9, 9),
+    "dtrans": (4, 4, 4, 6, 6, 6),
+}
+
+
 def rotation_angle_between(rot_a: np.ndarray, rot_b: np.ndarray) -> float:
     """Angle (rad) of rot_a^T rot_b; accurate for small angles."""
     rel = rot_a.T @ rot_b
     return float(np.linalg.norm(rotvec_from_rotmat(rel)))
+
+
+def native_values(values, from_format: str, to_format: str) -> tuple[float, ...]:
+    """A taught pose in another format; exact (no round trip) where the formats are reorderings."""
+    if from_format == to_format:
+        return tuple(values)
+    if {from_format, to_format} == {"xyzabc", "dtrans"}:
+        x, y, z, u, v, w = values
+        return (x, y, z, w, v, u)
+    return POSE_FORMATS[to_format][2](POSE_FORMATS[from_format][1](values))

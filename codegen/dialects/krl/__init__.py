@@ -1,0 +1,1 @@
+"""KRL (KUKA Robot Language, KSS 8): printer, grammar and interpreter."""

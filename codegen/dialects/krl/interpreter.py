@@ -1,0 +1,646 @@
+"""KRL interpreter: REAL in float32, trig in degrees, FRAME/POS with the geometric operator `:`."""
+
+from __future__ import annotations
+
+import math
+import re
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+from lark import Lark, Token, Tree
+from lark.exceptions import UnexpectedInput
+
+from codegen.dialects import posemath
+from codegen.dialects.runtime import (
+    F32,
+    Compiler,
+    Halt,
+    MoveEvent,
+    Program,
+    Record,
+    Routine,
+    RunError,
+    Signal,
+    format_general,
+)
+
+
+@cache
+def parser() -> Lark:
+    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=True)
+
+
+def parse(text: str, filename: str = "<krl>") -> Tree:
+    if not text.endswith("\n"):
+        text += "\n"
+    try:
+        return parser().parse(text)
+    except UnexpectedInput as exc:
+        expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
+        shown = ", ".join(expected[:8]) if expected else "something else"
+        raise RunError(f"{filename}:{exc.line}:{exc.column}: syntax error, expected {shown}") from None
+
+
+class _Uninit:
+    """A KRL variable or component that was declared but never given a value."""
+
+    _instance = None
+
+    def __new__(cls):
+        if cls._instance is None:
+            cls._instance = super().__new__(cls)
+        return cls._instance
+
+    def __repr__(self) -> str:
+        return "UNINIT"
+
+    def copy(self):
+        return self
+
+
+UNINIT = _Uninit()
+
+_XYZABC = [("X", "REAL"), ("Y", "REAL"), ("Z", "REAL"), ("A", "REAL"), ("B", "REAL"), ("C", "REAL")]
+STRUCTS = {
+    "FRAME": _XYZABC,
+    "POS": [*_XYZABC, ("S", "INT"), ("T", "INT")],
+    "E6POS": [*_XYZABC, ("S", "INT"), ("T", "INT")] + [(f"E{i}", "REAL") for i in range(1, 7)],
+    "AXIS": [(f"A{i}", "REAL") for i in range(1, 7)],
+    "E6AXIS": [(f"A{i}", "REAL") for i in range(1, 7)] + [(f"E{i}", "REAL") for i in range(1, 7)],
+    "KRLMSG_T": [("MODUL", "CHAR"), ("NR", "INT"), ("MSG_TXT", "CHAR")],
+    "KRLMSGPAR_T": [("PAR_TYPE", "ENUM"), ("PAR_TXT", "CHAR"), ("PAR_INT", "INT"), ("PAR_REAL", "REAL"),
+                    ("PAR_BOOL", "BOOL")],
+    "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"),
+                    ("LOG_TO_DB", "BOOL")],
+}
+SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
+CART = ("FRAME", "POS", "E6POS")
+
+
+def new_value(type_name: str):
+    if type_name in STRUCTS:
+        return Record(type_name, {k: UNINIT for k, _ in STRUCTS[type_name]})
+    return UNINIT
+
+
+def _frame(values=(0, 0, 0, 0, 0, 0)) -> Record:
+    return Record("FRAME", {k: F32(v) for (k, _), v in zip(_XYZABC, values, strict=True)})
+
+
+def _valid(value, where: str, what: str):
+    if value is UNINIT:
+        raise RunError(f"{where}: {what} has no value (KRL: variable value invalid)")
+    return value
+
+
+def _cart(value, where: str) -> Record:
+    if not isinstance(value, Record) or value.type not in CART:
+        raise RunError(f"{where}: expected FRAME, POS or E6POS, got {getattr(value, 'type', type(value).__name__)}")
+    for key, _ in _XYZABC:
+        _valid(value[key], where, f"{value.type}.{key}")
+    return value
+
+
+def _cart_matrix(value: Record) -> np.ndarray:
+    return posemath.zyx_matrix(*(value[k] for k, _ in _XYZABC))
+
+
+class KRLCompiler(Compiler):
+    name = "krl"
+    case_insensitive = True
+    index_base = 1
+    int_division = True
+
+    def __init__(self, filename: str) -> None:
+        super().__init__(filename)
+        self.data_decls: list = []
+
+    # --- tables ------------------------------------------------------------------------------
+    def make_builtins(self) -> dict:
+        def trig(fn):
+            def call(fr, args, kwargs, where):
+                return F32(fn(math.radians(float(_valid(args[0], where, "argument")))))
+
+            return call
+
+        def atan2(fr, args, kwargs, where):
+            y, x = (float(_valid(a, where, "argument")) for a in args)
+            return F32(math.degrees(math.atan2(y, x)))
+
+        def sqrt(fr, args, kwargs, where):
+            value = float(_valid(args[0], where, "argument"))
+            if value < 0:
+                raise RunError(f"{where}: SQRT of a negative number")
+            return F32(math.sqrt(value))
+
+        def abs_(fr, args, kwargs, where):
+            value = _valid(args[0], where, "argument")
+            return abs(value)
+
+        def inv_pos(fr, args, kwargs, where):
+            from codegen.poses import invert
+
+            value = _cart(args[0], where)
+            out = value.copy()
+            for (key, _), v in zip(_XYZABC, posemath.zyx_from(invert(_cart_matrix(value))), strict=True):
+                out[key] = F32(v)
+            return out
+
+        def set_krlmsg(fr, args, kwargs, where):
+            kind, msg, params, _opt = args
+            text = _valid(msg["MSG_TXT"], where, "KrlMsg_T.Msg_txt")
+
+            def param(match):
+                i = int(match.group(1))
+                par = params[i - 1] if isinstance(params, list) and i <= len(params) else None
+                if par is None or par["PAR_TYPE"] in (UNINIT, "#EMPTY"):
+                    return match.group(0)
+                values = [(k, par[k]) for k in ("PAR_TXT", "PAR_INT", "PAR_REAL", "PAR_BOOL") if par[k] is not UNINIT]
+                if len(values) != 1:
+                    raise RunError(f"{where}: KrlMsgPar_T[{i}] needs exactly one value, has {len(values)}")
+                return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
+
+            fr.m.trace.messages.append(re.sub(r"%([123])", param, text))
+            fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
+            return fr.m.extra["handle"]
+
+        def bas(fr, args, kwargs, where):
+            return None  # BAS(#INITMOV, ...) sets speeds and accelerations: no effect on poses
+
+        return {
+            "SIN": trig(math.sin),
+            "COS": trig(math.cos),
+            "TAN": trig(math.tan),
+            "ATAN2": atan2,
+            "SQRT": sqrt,
+            "ABS": abs_,
+            "INV_POS": inv_pos,
+            "SET_KRLMSG": set_krlmsg,
+            "BAS": bas,
+        }
+
+    def number(self, text: str):
+        if any(c in text for c in ".eE"):
+            return F32(float(text))
+        return int(text)
+
+    def coerce(self, type_name, value, where):
+        if type_name is None:
+            return value
+        if isinstance(type_name, tuple):  # array type (element type, size)
+            return value
+        if value is UNINIT:
+            return value
+        if type_name == "REAL":
+            if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+                raise RunError(f"{where}: cannot assign {getattr(value, 'type', type(value).__name__)} to REAL")
+            return F32(value)
+        if type_name == "INT":
+            if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+                raise RunError(f"{where}: cannot assign {type(value).__name__} to INT")
+            if not math.isfinite(float(value)):
+                raise RunError(f"{where}: cannot assign a non-finite value to INT")
+            return int(math.floor(float(value) + 0.5)) if not isinstance(value, int) else value
+        if type_name == "BOOL":
+            if not isinstance(value, bool):
+                raise RunError(f"{where}: cannot assign {type(value).__name__} to BOOL")
+            return value
+        if type_name in ("CHAR", "ENUM"):
+            return value
+        if type_name in STRUCTS:
+            if not isinstance(value, Record):
+                raise RunError(f"{where}: cannot assign {type(value).__name__} to {type_name}")
+            if value.type == type_name:
+                return value.copy()
+            fields = dict(STRUCTS[type_name])
+            if value.type is None or (value.type in CART and type_name in CART):
+                out = new_value(type_name)
+                for key, v in value.items():
+                    if key in fields:
+                        out[key] = self.coerce(fields[key], v, where)
+                    elif value.type is None:
+                        raise RunError(f"{where}: {type_name} has no component {key}")
+                return out
+            raise RunError(f"{where}: cannot assign {value.type} to {type_name}")
+        raise RunError(f"{where}: unknown type {type_name}")
+
+    def element_type(self, type_name):
+        return type_name[0] if isinstance(type_name, tuple) else type_name
+
+    # --- expressions -------------------------------------------------------------------------
+    def var_reader(self, token):
+        key = self.norm(str(token))
+        where = self.where(token)
+        if key == "$NULLFRAME":
+            return lambda fr: _frame()
+
+        def read(fr):
+            if key in fr.vars:
+                value = fr.vars[key]
+            elif key in fr.m.globals:
+                value = fr.m.globals[key]
+            elif key == "$BASE":
+                return fr.m.extra.setdefault("$BASE", _frame())
+            else:
+                raise RunError(f"{where}: undefined variable {token}")
+            return _valid(value, where, str(token))
+
+        return read
+
+    def e_enum(self, node):
+        value = "#" + str(node.children[0]).upper()
+        return lambda fr: value
+
+    def e_whole(self, node):
+        return self.expr(node.children[0])
+
+    def e_not_(self, node):
+        inner = self.expr(node.children[-1])
+        return lambda fr: not inner(fr)
+
+    def e_and_(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[2])
+        return lambda fr: bool(left(fr)) and bool(right(fr))
+
+    def e_or_(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[2])
+        return lambda fr: bool(left(fr)) or bool(right(fr))
+
+    def e_exor(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[2])
+        return lambda fr: bool(left(fr)) != bool(right(fr))
+
+    def e_field(self, node):
+        inner = super().e_field(node)
+        where = self.where(node)
+        name = str(node.children[1])
+        return lambda fr: _valid(inner(fr), where, name)
+
+    def e_index(self, node):
+        base_node, *index_nodes = node.children
+        if len(index_nodes) != 1:
+            self.fail(node, "multi-dimensional arrays are not supported")
+        inner = super().e_index(Tree("index", [base_node, index_nodes[0]], node.meta))
+        where = self.where(node)
+        return lambda fr: _valid(inner(fr), where, "array element")
+
+    def e_geo(self, node):
+        left, right = (self.expr(c) for c in node.children)
+        where = self.where(node)
+
+        def geo(fr):
+            a, b = _cart(left(fr), where), _cart(right(fr), where)
+            out = b.copy()  # result has the type, status and turn of the right operand
+            for (key, _), v in zip(_XYZABC, posemath.zyx_from(_cart_matrix(a) @ _cart_matrix(b)), strict=True):
+                out[key] = F32(v)
+            return out
+
+        return geo
+
+    def e_aggregate(self, node):
+        children = [c for c in node.children if c is not None]
+        type_name = None
+        if children and isinstance(children[0], Token):
+            type_name = str(children[0]).upper()
+            children = children[1:]
+        items = []
+        for item in children:
+            name, _brackets, value = item.children
+            items.append((str(name).upper(), self.expr(value)))
+        where = self.where(node)
+
+        def make(fr):
+            record = Record(None, {k: v(fr) for k, v in items})
+            return self.coerce(type_name, record, where) if type_name else record
+
+        return make
+
+    def e_call(self, node):
+        name, args_node = node.children
+        args = [self.expr(a) for a in (args_node.children if args_node is not None else [])]
+        setters = [self._maybe_lvalue(a) for a in (args_node.children if args_node is not None else [])]
+        where = self.where(node)
+        key = str(name)
+
+        def call(fr):
+            return self.call_routine(fr, key, [a(fr) for a in args], {}, where, setters)
+
+        return call
+
+    def _maybe_lvalue(self, node):
+        if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole"):
+            return self.lvalue(node)
+        return None
+
+    # --- lvalues and assignment --------------------------------------------------------------
+    def lvalue(self, node):
+        if isinstance(node, Tree) and node.data == "whole":
+            return self.lvalue(node.children[0])
+        if isinstance(node, Tree) and node.data == "index" and len(node.children) == 2:
+            return super().lvalue(node)
+        return super().lvalue(node)
+
+    def coerce_like(self, old, value, where):
+        if isinstance(old, Record) and isinstance(value, Record) and value.type is None:
+            out = old.copy()  # a partial aggregate changes only the components it names
+            fields = dict(STRUCTS.get(old.type, []))
+            for key, v in value.items():
+                if key not in out:
+                    raise RunError(f"{where}: {old.type} has no component {key}")
+                out[key] = self.coerce(fields.get(key), v, where)
+            return out
+        if isinstance(old, Record) and isinstance(value, Record):
+            return self.coerce(old.type, value, where)
+        if old is UNINIT:
+            return value.copy() if isinstance(value, Record) else value
+        if isinstance(old, bool):
+            return self.coerce("BOOL", value, where)
+        if isinstance(old, int):
+            return self.coerce("INT", value, where)
+        return super().coerce_like(old, value, where)
+
+    def new_variable(self, fr, key, value, where):
+        if key == "$BASE":
+            fr.m.extra["$BASE"] = self.coerce("FRAME", value, where)
+            return
+        raise RunError(f"{where}: assignment to undeclared variable {key}")
+
+    def s_assign(self, node):
+        target_node, value_node = node.children
+        setter, value = self.lvalue(target_node), self.expr(value_node)
+        where = self.where(node)
+        if isinstance(target_node, Tree) and target_node.data == "var" and str(target_node.children[0]).upper() == "$BASE":
+            def set_base(fr):
+                fr.m.extra["$BASE"] = self.coerce("FRAME", value(fr), where)
+
+            return set_base
+
+        def run(fr):
+            setter(fr, value(fr))
+
+        return run
+
+    # --- declarations ------------------------------------------------------------------------
+    def decl_items(self, node):
+        """[(name, type, init closure)] for one DECL line."""
+        children = [c for c in node.children if c is not None]
+        tokens = [c for c in children if isinstance(c, Token)]
+        type_token = next(t for t in tokens if t.type == "NAME")
+        type_name = str(type_token).upper()
+        if type_name not in SIMPLE and type_name not in STRUCTS:
+            self.fail(type_token, f"unknown type {type_token}")
+        out = []
+        for item in (c for c in children if isinstance(c, Tree) and c.data == "decl_item"):
+            name, dims, init = item.children
+            key = str(name).upper()
+            where = self.where(item)
+            if dims is not None:
+                sizes = [int(str(t)) for t in dims.children]
+                if len(sizes) != 1:
+                    self.fail(dims, "multi-dimensional arrays are not supported")
+                size = sizes[0]
+                if type_name == "CHAR":
+                    value_init = self.expr(init) if init is not None else None
+                    out.append((key, "CHAR", (lambda fr, v=value_init: v(fr) if v else UNINIT)))
+                else:
+                    out.append((key, (type_name, size),
+                                (lambda fr, t=type_name, n=size: [new_value(t) for _ in range(n)])))
+                continue
+            if init is None:
+                out.append((key, type_name, (lambda fr, t=type_name: new_value(t))))
+            else:
+                value = self.expr(init)
+                out.append((key, type_name,
+                            (lambda fr, t=type_name, v=value, w=where: self.coerce(t, v(fr), w))))
+        return out
+
+    def s_decl(self, node):
+        self.fail(node, "DECL after the first statement of a routine (KRL: declarations come first)")
+
+    # --- statements --------------------------------------------------------------------------
+    def s_call_stmt(self, node):
+        name, args_node = node.children
+        call = self.e_call(Tree("call", [name, args_node], node.meta))
+
+        def run(fr):
+            call(fr)
+
+        return run
+
+    def s_if_stmt(self, node):
+        cond, body, else_clause = node.children
+        else_body = self.routine_block(else_clause.children[0]) if else_clause is not None else None
+        return self.if_chain([(self.expr(cond), self.routine_block(body))], else_body)
+
+    def routine_block(self, body_node):
+        return self.block(body_node.children)
+
+    def s_while_stmt(self, node):
+        cond, body = node.children
+        return super().s_while_stmt(Tree("while_stmt", [cond, body], node.meta))
+
+    def s_loop_stmt(self, node):
+        body = self.routine_block(node.children[0])
+        where = self.where(node)
+
+        def run(fr):
+            while True:
+                fr.m.step(where)
+                signal = body(fr)
+                if signal is not None:
+                    return None if signal.kind == "exit" else signal
+
+        return run
+
+    def s_repeat_stmt(self, node):
+        body_node, cond_node = node.children
+        body, cond = self.routine_block(body_node), self.expr(cond_node)
+        where = self.where(node)
+
+        def run(fr):
+            while True:
+                fr.m.step(where)
+                signal = body(fr)
+                if signal is not None:
+                    return None if signal.kind == "exit" else signal
+                if cond(fr):
+                    return None
+
+        return run
+
+    def s_for_stmt(self, node):
+        name, start, stop, step, body_node = node.children
+        setter = self.lvalue(Tree("var", [name], node.meta))
+        read = self.var_reader(name)
+        start, stop = self.expr(start), self.expr(stop)
+        step = self.expr(step) if step is not None else (lambda fr: 1)
+        body = self.routine_block(body_node)
+        where = self.where(node)
+
+        def run(fr):
+            i, end, inc = int(start(fr)), int(stop(fr)), int(step(fr))
+            if inc == 0:
+                raise RunError(f"{where}: FOR with STEP 0")
+            setter(fr, i)
+            while (read(fr) <= end) if inc > 0 else (read(fr) >= end):
+                fr.m.step(where)
+                signal = body(fr)
+                if signal is not None:
+                    if signal.kind == "exit":
+                        return None
+                    return signal
+                setter(fr, read(fr) + inc)
+            return None
+
+        return run
+
+    def s_switch_stmt(self, node):
+        selector, *clauses = node.children
+        select = self.expr(selector)
+        cases = []
+        default = None
+        for clause in clauses:
+            if clause is None:
+                continue
+            if clause.data == "case_clause":
+                *values, body = clause.children
+                cases.append(([self.expr(v) for v in values], self.routine_block(body)))
+            else:
+                default = self.routine_block(clause.children[0])
+
+        def run(fr):
+            value = select(fr)
+            for values, body in cases:
+                if any(value == v(fr) for v in values):
+                    return body(fr)
+            return default(fr) if default is not None else None
+
+        return run
+
+    def s_exit_stmt(self, node):
+        return lambda fr: Signal("exit")
+
+    def s_halt_stmt(self, node):
+        def run(fr):
+            messages = fr.m.trace.messages
+            raise Halt(messages[-1] if messages else None)
+
+        return run
+
+    def s_wait_sec(self, node):
+        return lambda fr: None
+
+    def s_wait_for(self, node):
+        cond = self.expr(node.children[0])
+        where = self.where(node)
+
+        def run(fr):
+            if not cond(fr):
+                raise RunError(f"{where}: WAIT FOR a condition that no input can change here")
+
+        return run
+
+    def s_motion_stmt(self, node):
+        motion, target, _approx = node.children
+        kind = {"PTP": "joint", "LIN": "linear"}.get(str(motion).upper())
+        if kind is None:
+            self.fail(node, f"{motion} is not supported by this interpreter")
+        value = self.expr(target)
+        where = self.where(node)
+        line = self.line(node)
+
+        def run(fr):
+            pose = _cart(value(fr), where)
+            posemath.check_finite([pose[k] for k, _ in _XYZABC], where, "motion target")
+            base = fr.m.extra.get("$BASE", _frame())
+            fr.m.trace.moves.append(MoveEvent(kind, _cart_matrix(base) @ _cart_matrix(pose), line))
+
+        return run
+
+    # --- routines ----------------------------------------------------------------------------
+    def routine(self, node, returns: bool) -> None:
+        if returns:
+            type_token, name, params_node, body = node.children
+        else:
+            name, params_node, body = node.children
+            type_token = None
+        params = []
+        for param in params_node.children if params_node is not None else []:
+            pname, _brackets, mode = param.children
+            params.append((str(pname).upper(), str(mode).upper() if mode is not None else "IN", None))
+        decls, statements, seen_statement = [], [], False
+        for child in body.children:
+            if not isinstance(child, Tree):
+                continue
+            if child.data == "decl":
+                if seen_statement:
+                    self.fail(child, "DECL after the first statement of a routine (KRL: declarations come first)")
+                decls.extend(self.decl_items(child))
+            else:
+                seen_statement = True
+                statements.append(child)
+        key = str(name).upper()
+        if key in self.routines:
+            self.fail(name, f"routine {name} defined twice")
+        routine = Routine(str(name), params, None, str(type_token).upper() if type_token else None,
+                          self.line(node), decls)
+        self.routines[key] = routine
+        routine.body = self.block(statements)
+        # parameters are typed by their DECL lines
+        declared = {d[0]: d[1] for d in decls}
+        routine.params = [(p, m, declared.get(p)) for p, m, _ in params]
+        for pname, _m, ptype in routine.params:
+            if ptype is None:
+                self.fail(node, f"parameter {pname} of {name} has no DECL")
+        routine.decls = [d for d in decls if d[0] not in {p for p, _, _ in params}]
+
+    def data_list(self, node) -> None:
+        for child in node.children[-1].children:
+            if not isinstance(child, Tree):
+                continue
+            if child.data == "decl":
+                self.data_decls.append(("decl", self.decl_items(child)))
+            else:
+                self.data_decls.append(("assign", self.s_assign(child)))
+
+    def init_data(self, fr) -> None:
+        for kind, payload in self.data_decls:
+            if kind == "decl":
+                for key, type_name, init in payload:
+                    fr.m.global_types[key] = type_name
+                    fr.m.globals[key] = init(fr)
+            else:
+                payload(fr)
+
+
+def load(text: str, filename: str = "<krl>", dat_text: str | None = None) -> Program:
+    """A .src (with its .dat beside it when given) compiled into a runnable program."""
+    compiler = KRLCompiler(filename)
+    if dat_text is not None:
+        dat_name = str(Path(filename).with_suffix(".dat"))
+        dat_compiler_filename = compiler.filename
+        compiler.filename = dat_name
+        for item in parse(dat_text, dat_name).children:
+            if isinstance(item, Tree) and item.data == "defdat":
+                compiler.data_list(item)
+        compiler.filename = dat_compiler_filename
+    tree = parse(text, filename)
+    main = None
+    for item in tree.children:
+        if not isinstance(item, Tree):
+            continue
+        if item.data == "def_routine":
+            compiler.routine(item, returns=False)
+            main = main or str(item.children[0]).upper()
+        elif item.data == "def_function":
+            compiler.routine(item, returns=True)
+        elif item.data == "defdat":
+            compiler.data_list(item)
+    return Program(filename, compiler, compiler.init_data, main)
+
+
+def load_file(path: Path) -> Program:
+    dat = path.with_suffix(".dat")
+    dat_text = dat.read_text(encoding="utf-8") if dat.exists() else None
+    return load(path.read_text(encoding="utf-8"), str(path), dat_text)

@@ -1,0 +1,1 @@
+"""RAPID (ABB): printer, grammar and interpreter."""

@@ -1,0 +1,1 @@
+"""URScript (Universal Robots): printer, grammar and interpreter."""

@@ -1,0 +1,292 @@
+"""URScript interpreter: float32 numbers, radians, poses in metres with rotation vectors."""
+
+from __future__ import annotations
+
+import math
+from functools import cache
+
+import numpy as np
+from lark import Lark, Tree
+from lark.exceptions import UnexpectedInput
+
+from codegen.dialects import posemath
+from codegen.dialects.runtime import (
+    F32,
+    Compiler,
+    Halt,
+    MoveEvent,
+    Program,
+    Record,
+    Routine,
+    RunError,
+    Signal,
+    format_general,
+)
+
+
+@cache
+def parser() -> Lark:
+    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=True)
+
+
+def parse(text: str, filename: str = "<urscript>") -> Tree:
+    if not text.endswith("\n"):
+        text += "\n"
+    try:
+        return parser().parse(text)
+    except UnexpectedInput as exc:
+        expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
+        shown = ", ".join(expected[:8]) if expected else "something else"
+        raise RunError(f"{filename}:{exc.line}:{exc.column}: syntax error, expected {shown}") from None
+
+
+class URPose(Record):
+    """p[x, y, z, rx, ry, rz] (m, rad), indexable 0..5."""
+
+    KEYS = ("x", "y", "z", "rx", "ry", "rz")
+
+    def __init__(self, values) -> None:
+        super().__init__("pose", zip(self.KEYS, (F32(v) for v in values), strict=True))
+
+    def copy(self) -> URPose:
+        return URPose(self.values())
+
+
+def _num(value, where: str, what: str):
+    if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+        raise RunError(f"{where}: {what} must be a number, got {type(value).__name__}")
+    return value
+
+
+def _pose(value, where: str) -> URPose:
+    if not isinstance(value, URPose):
+        raise RunError(f"{where}: expected a pose p[...], got {type(value).__name__}")
+    return value
+
+
+def _to_text(value) -> str:
+    if isinstance(value, str):
+        return value
+    if isinstance(value, URPose):
+        return "p[" + ", ".join(format_general(v) for v in value.values()) + "]"
+    if isinstance(value, list):
+        return "[" + ", ".join(_to_text(v) for v in value) + "]"
+    return format_general(value)
+
+
+def _unary(fn):
+    def call(fr, args, kwargs, where):
+        if len(args) != 1:
+            raise RunError(f"{where}: expected 1 argument")
+        return F32(fn(float(_num(args[0], where, "argument"))))
+
+    return call
+
+
+class URScriptCompiler(Compiler):
+    name = "urscript"
+    index_base = 0
+
+    def make_builtins(self) -> dict:
+        def pose_trans(fr, args, kwargs, where):
+            a, b = (_pose(v, where) for v in args)
+            return URPose(posemath.ur_from(posemath.ur_matrix(a.values()) @ posemath.ur_matrix(b.values())))
+
+        def pose_inv(fr, args, kwargs, where):
+            from codegen.poses import invert
+
+            return URPose(posemath.ur_from(invert(posemath.ur_matrix(_pose(args[0], where).values()))))
+
+        def pose_add(fr, args, kwargs, where):
+            # Not a rigid transform: positions add, rotations compose in the base frame.
+            a, b = (_pose(v, where) for v in args)
+            ma, mb = posemath.ur_matrix(a.values()), posemath.ur_matrix(b.values())
+            out = np.eye(4)
+            out[:3, :3] = mb[:3, :3] @ ma[:3, :3]
+            out[:3, 3] = ma[:3, 3] + mb[:3, 3]
+            return URPose(posemath.ur_from(out))
+
+        def move(kind):
+            def run(fr, args, kwargs, where):
+                if not args:
+                    raise RunError(f"{where}: move{kind[0]} needs a target")
+                target = args[0]
+                if isinstance(target, list):
+                    raise RunError(f"{where}: joint-space targets are not supported by this interpreter")
+                pose = _pose(target, where)
+                posemath.check_finite(pose.values(), where, "move target")
+                fr.m.trace.moves.append(MoveEvent(kind, posemath.ur_matrix(pose.values()), int(where.split(":")[1])))
+
+            return run
+
+        def textmsg(fr, args, kwargs, where):
+            text = "".join(_to_text(a) for a in args)
+            fr.m.trace.messages.append(text)
+
+        def halt(fr, args, kwargs, where):
+            messages = fr.m.trace.messages
+            raise Halt(messages[-1] if messages else None)
+
+        def register(kind):
+            def read(fr, args, kwargs, where):
+                index = int(args[0])
+                if not 0 <= index <= 47:
+                    raise RunError(f"{where}: register {index} out of range 0..47")
+                key = f"input_{kind}_register_{index}"
+                value = fr.m.inputs.get(key, 0)
+                return int(value) if kind == "integer" else F32(value)
+
+            return read
+
+        def atan2(fr, args, kwargs, where):
+            return F32(math.atan2(float(args[0]), float(args[1])))
+
+        def norm(fr, args, kwargs, where):
+            value = args[0]
+            if isinstance(value, URPose):
+                return F32(math.sqrt(sum(float(v) ** 2 for v in list(value.values())[:3])))
+            if isinstance(value, list):
+                return F32(math.sqrt(sum(float(v) ** 2 for v in value)))
+            return abs(_num(value, where, "norm argument"))
+
+        def pose_tolist(fr, args, kwargs, where):
+            return list(_pose(args[0], where).values())
+
+        def to_str(fr, args, kwargs, where):
+            return _to_text(args[0])
+
+        def str_cat(fr, args, kwargs, where):
+            return _to_text(args[0]) + _to_text(args[1])
+
+        return {
+            "pose_trans": pose_trans,
+            "pose_inv": pose_inv,
+            "pose_add": pose_add,
+            "movej": move("joint"),
+            "movel": move("linear"),
+            "textmsg": textmsg,
+            "halt": halt,
+            "read_input_integer_register": register("integer"),
+            "read_input_float_register": register("float"),
+            "sin": _unary(math.sin),
+            "cos": _unary(math.cos),
+            "tan": _unary(math.tan),
+            "sqrt": _unary(math.sqrt),
+            "d2r": _unary(math.radians),
+            "r2d": _unary(math.degrees),
+            "atan2": atan2,
+            "norm": norm,
+            "floor": _unary(math.floor),
+            "pose_to_list": pose_tolist,
+            "to_str": to_str,
+            "str_cat": str_cat,
+        }
+
+    # --- rules beyond the common ones ---------------------------------------------------------
+    def e_pose_lit(self, node):
+        parts = [self.expr(c) for c in node.children[1:]]
+        where = self.where(node)
+        if len(parts) != 6:
+            self.fail(node, f"a pose has 6 numbers, got {len(parts)}")
+
+        def make(fr):
+            return URPose([_num(p(fr), where, "pose component") for p in parts])
+
+        return make
+
+    def e_list_lit(self, node):
+        parts = [self.expr(c) for c in node.children if c is not None]
+        return lambda fr: [p(fr) for p in parts]
+
+    def e_call(self, node):
+        callee, args_node = node.children
+        if not (isinstance(callee, Tree) and callee.data == "var"):
+            self.fail(node, "only named functions can be called")
+        name = str(callee.children[0])
+        positional, named = [], {}
+        for arg in args_node.children if args_node is not None else []:
+            if isinstance(arg, Tree) and arg.data == "kwarg":
+                named[str(arg.children[0])] = self.expr(arg.children[1])
+            else:
+                positional.append(self.expr(arg))
+        where = self.where(node)
+
+        def call(fr):
+            args = [a(fr) for a in positional]
+            kwargs = {k: v(fr) for k, v in named.items()}
+            return self.call_routine(fr, name, args, kwargs, where)
+
+        return call
+
+    def s_assign(self, node):
+        setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
+
+        def run(fr):
+            setter(fr, value(fr))
+
+        return run
+
+    def s_global_stmt(self, node):
+        key, value = str(node.children[0]), self.expr(node.children[1])
+
+        def run(fr):
+            fr.m.globals[key] = value(fr)
+
+        return run
+
+    def s_local_stmt(self, node):
+        key, value = str(node.children[0]), self.expr(node.children[1])
+
+        def run(fr):
+            fr.vars[key] = value(fr)
+
+        return run
+
+    def s_halt_stmt(self, node):
+        def run(fr):
+            messages = fr.m.trace.messages
+            raise Halt(messages[-1] if messages else None)
+
+        return run
+
+    def s_if_stmt(self, node):
+        cond, body, *rest = node.children
+        branches = [(self.expr(cond), self.block(body.children))]
+        else_body = None
+        for clause in rest:
+            if clause is None:
+                continue
+            if clause.data == "elif_clause":
+                branches.append((self.expr(clause.children[0]), self.block(clause.children[1].children)))
+            else:
+                else_body = self.block(clause.children[0].children)
+        return self.if_chain(branches, else_body)
+
+    def s_funcdef(self, node):
+        name_token, params_node, body = node.children
+        params = [(str(p), "IN", None) for p in (params_node.children if params_node is not None else [])]
+        routine = Routine(str(name_token), params, None, None, self.line(node))
+        self.routines[str(name_token)] = routine
+        routine.body = self.block(body.children)
+        return lambda fr: None  # defined at compile time
+
+
+def load(text: str, filename: str = "<urscript>") -> Program:
+    """Parse and compile; the outermost `def` is the program, its variables are the globals."""
+    tree = parse(text, filename)
+    compiler = URScriptCompiler(filename)
+    top = [c for c in tree.children if isinstance(c, Tree)]
+    programs = [c for c in top if c.data == "funcdef"]
+    if len(top) == 1 and len(programs) == 1:
+        program_def = programs[0]
+        name = str(program_def.children[0])
+        body = compiler.block(program_def.children[2].children)
+
+        def init(fr):
+            signal = body(fr)
+            if isinstance(signal, Signal) and signal.kind != "return":
+                raise RunError(f"{filename}: {signal.kind} outside a loop")
+
+        return Program(name, compiler, init, None)
+    body = compiler.block(top)
+    return Program(filename, compiler, body, None)

@@ -1,0 +1,89 @@
+"""Safe emission: identifiers, strings, comments and numbers that cannot break a generated program."""
+
+from __future__ import annotations
+
+import hashlib
+import re
+import unicodedata
+
+from codegen.dialects.base import format_literal
+from codegen.targets import Target
+
+# Characters that may appear inside a string literal or a comment in every target: no quote, no
+# backslash, no comment or statement character of any of the four languages (; ! # // %), no
+# control character. Anything else becomes '?'.
+SAFE_TEXT = re.compile(r"[A-Za-z0-9 _.,:+\-=/()']")
+_NON_IDENT = re.compile(r"[^A-Za-z0-9]+")
+
+
+class EmitError(Exception):
+    """A cell that cannot be emitted for a target (e.g. two names that map to one identifier)."""
+
+
+def safe_text(text: str, limit: int | None = None) -> str:
+    """Printable ASCII from SAFE_TEXT only; other characters become '?'; '//' is broken up."""
+    out = "".join(ch if SAFE_TEXT.fullmatch(ch) else "?" for ch in _fold(text))
+    out = out.replace("//", "/?")
+    if limit is not None and len(out) > limit:
+        out = out[: limit - 3] + "..."
+    return out
+
+
+def _fold(text: str) -> str:
+    """Drop accents where a plain letter exists (e -> e); other non-ASCII stays and is replaced."""
+    out = []
+    for ch in text:
+        if ch.isascii():
+            out.append(ch)
+            continue
+        base = unicodedata.normalize("NFKD", ch).encode("ascii", "ignore").decode("ascii")
+        out.append(base if len(base) == 1 and base.isalnum() else "\x00")
+    return "".join(out)
+
+
+class Emitter:
+    """Per program: maps cell names to identifiers, detects collisions, formats literals."""
+
+    def __init__(self, target: Target) -> None:
+        self.target = target
+        self._taken: dict[str, str] = {}  # comparable identifier -> what it was made from
+
+    def _key(self, ident: str) -> str:
+        return ident if self.target.identifier_case_sensitive else ident.upper()
+
+    def reserve(self, ident: str, origin: str = "generator") -> str:
+        """Register an identifier the generator itself uses."""
+        self._claim(ident, origin)
+        return ident
+
+    def identifier(self, prefix: str, name: str, origin: str) -> str:
+        """prefix + the name mapped to [A-Za-z0-9_], shortened with a hash to the target's limit."""
+        base = _NON_IDENT.sub("_", _fold(name).replace("\x00", "_")).strip("_") or "x"
+        ident = f"{prefix}{base}"
+        limit = self.target.identifier_max
+        if len(ident) > limit:
+            digest = hashlib.sha256(name.encode("utf-8")).hexdigest()[:4]
+            ident = f"{ident[: limit - 5].rstrip('_')}_{digest}"
+        if self.target.name == "kuka":
+            ident = ident.upper()
+        self._claim(ident, origin)
+        return ident
+
+    def _claim(self, ident: str, origin: str) -> None:
+        key = self._key(ident)
+        if key in self._taken and self._taken[key] != origin:
+            raise EmitError(
+                f"{self.target.name}: {origin} and {self._taken[key]} both map to the identifier {ident}; rename one"
+            )
+        self._taken[key] = origin
+
+    def string(self, text: str) -> str:
+        """Body of a string literal (quotes added by the template), within the target's limit."""
+        return safe_text(text, self.target.string_max)
+
+    def comment(self, text: str) -> str:
+        return safe_text(text, 120)
+
+    @staticmethod
+    def number(value: float, decimals: int) -> str:
+        return format_literal(value, decimals)
