@@ -149,3 +149,164 @@ def diff(cell: str | None, out_dir: str) -> None:
     if text:
         click.echo(text, nl=False)
         sys.exit(1)
+
+
+def _parse_input(text: str):
+    name, sep, value = text.partition("=")
+    if not sep or not name:
+        raise UserError(f"--input: expected NAME=VALUE, got {text!r}")
+    try:
+        return name, int(value)
+    except ValueError:
+        pass
+    try:
+        return name, float(value)
+    except ValueError:
+        raise UserError(f"--input {name}: not a number: {value!r}") from None
+
+
+@main.command()
+@click.argument("file", type=click.Path(exists=True, dir_okay=False))
+@click.option(
+    "--target",
+    "target_name",
+    type=click.Choice(["ur", "kuka", "abb", "dtrans"]),
+    help="Controller language (default: from the file suffix).",
+)
+@click.option("--input", "inputs", multiple=True, help="Vision input NAME=VALUE (repeatable), e.g. VIS_X=614.0.")
+@click.option("--step-limit", default=200_000, show_default=True, help="Stop a runaway program after this many steps.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit: int, as_json: bool) -> None:
+    """Run one program in the built-in interpreter; print its log, moves and halt."""
+    from pathlib import Path
+
+    from codegen.dialects.runtime import RunError
+    from codegen.poses import POSE_FORMATS
+    from codegen.targets import get_target
+    from codegen.verify import load_program_file, target_of_file
+
+    path = Path(file)
+    try:
+        target = get_target(target_name or target_of_file(path))
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
+    values = dict(_parse_input(i) for i in inputs)
+    try:
+        program = load_program_file(target, path)
+    except RunError as exc:
+        raise UserError(str(exc)) from None
+    try:
+        trace = program.run(values, step_limit=step_limit)
+    except RunError as exc:
+        click.echo(f"error: {exc}", err=True)
+        sys.exit(1)
+    native = POSE_FORMATS[target.pose_format][2]
+    moves = [
+        {"motion": m.kind, "line": m.line, "pose": list(native(m.base2tcp)), "base2tcp": m.base2tcp.tolist()}
+        for m in trace.moves
+    ]
+    if as_json:
+        _dump(
+            {
+                "file": str(path),
+                "target": target.name,
+                "inputs": values,
+                "messages": trace.messages,
+                "moves": moves,
+                "halted": trace.halted,
+                "halt_message": trace.halt_message,
+                "steps": trace.steps,
+            }
+        )
+        return
+    for message in trace.messages:
+        click.echo(f"message: {message}")
+    for m in moves:
+        click.echo(f"{m['motion']:<6} (line {m['line']}): " + " ".join(f"{v:.4f}" for v in m["pose"]))
+    if trace.halted:
+        click.echo(f"HALT: {trace.halt_message}")
+    else:
+        click.echo(f"ended after {trace.steps} steps")
+
+
+@main.command()
+@click.argument("cell", required=False, type=click.Path(dir_okay=False))
+@click.argument("files", nargs=-1, type=click.Path(exists=True, dir_okay=False))
+@click.option(
+    "--target",
+    "targets",
+    multiple=True,
+    type=click.Choice(["ur", "kuka", "abb", "dtrans"]),
+    help="Only this target (repeatable).",
+)
+@click.option("--cases", default=1000, show_default=True, help="Random readings per station.")
+@click.option("--seed", default=0, show_default=True)
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
+def verify(
+    cell: str | None, files: tuple[str, ...], targets: tuple[str, ...], cases: int, seed: int, as_json: bool
+) -> None:
+    """Interpret programs on random, edge, out-of-limit and invalid readings; compare with the reference.
+
+    Without FILES the programs are generated fresh (with an extra station of edge-case poses);
+    with FILES (a .src finds its .dat beside it) the files on disk are verified.
+    """
+    from pathlib import Path
+
+    from codegen import verify as v
+    from codegen.dialects.runtime import RunError
+    from codegen.targets import get_target
+
+    if cell is not None and Path(cell).suffix.lower() != ".toml":
+        files = (cell, *files)
+        cell = None
+    model = _load(cell)
+    if cases < 0:
+        raise UserError("--cases must be >= 0")
+    verify_cell = model
+    if files:
+        programs = {}
+        for f in files:
+            path = Path(f)
+            if path.suffix.lower() == ".dat":
+                continue
+            try:
+                name = targets[0] if len(targets) == 1 else v.target_of_file(path)
+                programs[name] = (v.load_program_file(get_target(name), path), [str(path)])
+            except (ValueError, RunError) as exc:
+                raise UserError(str(exc)) from None
+        names = list(programs)
+    else:
+        names = list(targets) or list(model.targets)
+        verify_cell = v.edge_cell(model)
+        programs = v.fresh_programs(verify_cell, names)
+    case_list = v.build_cases(verify_cell, cases, seed)
+    total = len(case_list) * len(names)
+    if sys.stderr.isatty():
+        with click.progressbar(length=total, label="verifying", file=sys.stderr, show_pos=True) as bar:
+            reports = v.verify(model, names, programs, case_list, progress=bar.update, verify_cell=verify_cell)
+    else:
+        reports = v.verify(model, names, programs, case_list, verify_cell=verify_cell)
+    summaries = [r.summary() for r in reports]
+    ok = all(s["mismatches"] == 0 for s in summaries)
+    if as_json:
+        _dump({"cell": model.name, "seed": seed, "random_per_station": cases, "ok": ok, "targets": summaries})
+    else:
+        click.echo(
+            f"cell {model.name}: {len(verify_cell.stations)} stations, {len(case_list)} readings per target "
+            f"({cases} random per station, seed {seed})"
+        )
+        click.echo(
+            f"{'target':<8}{'cases':>7}{'fail':>6}{'halts':>7}{'bound':>7}{'pos max mm':>12}"
+            f"{'pos p99':>10}{'rot max deg':>13}{'rot p99':>10}{'cases/s':>9}"
+        )
+        for s in summaries:
+            click.echo(
+                f"{s['target']:<8}{s['cases']:>7}{s['mismatches']:>6}{s['halts']:>7}{s['boundary_cases']:>7}"
+                f"{s['position_error_mm']['max']:>12.2e}{s['position_error_mm']['p99']:>10.2e}"
+                f"{s['orientation_error_deg']['max']:>13.2e}{s['orientation_error_deg']['p99']:>10.2e}"
+                f"{s['cases_per_second'] or 0:>9.0f}"
+            )
+            for line in s["first_mismatches"]:
+                click.echo(f"  MISMATCH {line}")
+        click.echo("verify: all traces match the reference" if ok else "verify: MISMATCHES")
+    sys.exit(0 if ok else 1)

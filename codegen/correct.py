@@ -7,6 +7,7 @@ from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS
 from codegen.reference import Reading, expected_trace, halt_message
 from codegen.targets import get_target
 
+
 def correct_report(cell: Cell, reading: Reading) -> dict:
     trace = expected_trace(cell, reading)
     report: dict = {

@@ -52,10 +52,14 @@ def diff(cell: Cell, out_dir: Path) -> str:
         produced.add(path)
         old = path.read_text(encoding="utf-8") if path.exists() else ""
         if old != f.text:
-            chunks.extend(difflib.unified_diff(
-                old.splitlines(keepends=True), f.text.splitlines(keepends=True),
-                fromfile=str(path) if path.exists() else "/dev/null", tofile=f"{path} (fresh)",
-            ))
+            chunks.extend(
+                difflib.unified_diff(
+                    old.splitlines(keepends=True),
+                    f.text.splitlines(keepends=True),
+                    fromfile=str(path) if path.exists() else "/dev/null",
+                    tofile=f"{path} (fresh)",
+                )
+            )
     for target in cell.targets:
         folder = out_dir / cell_dir(cell) / target
         for extra in sorted(folder.glob("*")):

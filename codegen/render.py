@@ -51,8 +51,7 @@ def _env():
 def station_messages(cell: Cell, station, emitter: Emitter) -> dict[str, str]:
     """The halt message for each guard reason, as the target's string literal body."""
     return {
-        reason: emitter.string(halt_message(cell, Trace("halt", reason, station), station.id))
-        for reason in GUARD_CODES
+        reason: emitter.string(halt_message(cell, Trace("halt", reason, station), station.id)) for reason in GUARD_CODES
     }
 
 
@@ -67,22 +66,26 @@ def context(cell: Cell, target: Target) -> dict:
         poses = []
         for i, pose in enumerate(station.poses):
             values = native_values(pose.values, pose.pose_format, fmt)
-            poses.append({
-                "name": emitter.comment(pose.name),
-                "ident": emitter.identifier(f"p{station.id}_", pose.name, f"{origin} pose {pose.name!r}"),
-                "numbers": [number(v, d) for v, d in zip(values, decimals, strict=True)],
-                "motion": "joint" if i == 0 else "linear",
-            })
-        stations.append({
-            "id": station.id,
-            "name": emitter.comment(station.name),
-            "ident": emitter.identifier("st_", station.name, origin),
-            "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
-            "mark": [number(v, MARK_DECIMALS) for v in station.mark],
-            "poses": poses,
-            "work": poses[-1],
-            "messages": station_messages(cell, station, emitter),
-        })
+            poses.append(
+                {
+                    "name": emitter.comment(pose.name),
+                    "ident": emitter.identifier(f"p{station.id}_", pose.name, f"{origin} pose {pose.name!r}"),
+                    "numbers": [number(v, d) for v, d in zip(values, decimals, strict=True)],
+                    "motion": "joint" if i == 0 else "linear",
+                }
+            )
+        stations.append(
+            {
+                "id": station.id,
+                "name": emitter.comment(station.name),
+                "ident": emitter.identifier("st_", station.name, origin),
+                "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
+                "mark": [number(v, MARK_DECIMALS) for v in station.mark],
+                "poses": poses,
+                "work": poses[-1],
+                "messages": station_messages(cell, station, emitter),
+            }
+        )
     return {
         "version": __version__,
         "cell": {

@@ -89,7 +89,7 @@ def deepcopy_value(value):
 class Routine:
     """A user procedure or function: parameters, body closure, declared return type."""
 
-    __slots__ = ("name", "params", "body", "return_type", "line", "decls")
+    __slots__ = ("body", "decls", "line", "name", "params", "return_type")
 
     def __init__(self, name, params, body, return_type=None, line=0, decls=None) -> None:
         self.name = name
@@ -101,7 +101,7 @@ class Routine:
 
 
 class Frame:
-    __slots__ = ("vars", "types", "m")
+    __slots__ = ("m", "types", "vars")
 
     def __init__(self, machine: Machine, vars_=None, types=None) -> None:
         self.m = machine
@@ -159,8 +159,16 @@ class Compiler:
     name = "base"
     case_insensitive = False
     index_base = 0
-    compare_ops = {"==": operator.eq, "!=": operator.ne, "<>": operator.ne, "<": operator.lt,
-                   "<=": operator.le, ">": operator.gt, ">=": operator.ge, "=": operator.eq}
+    compare_ops = {
+        "==": operator.eq,
+        "!=": operator.ne,
+        "<>": operator.ne,
+        "<": operator.lt,
+        "<=": operator.le,
+        ">": operator.gt,
+        ">=": operator.ge,
+        "=": operator.eq,
+    }
     int_division = False
 
     def __init__(self, filename: str) -> None:
@@ -341,8 +349,11 @@ class Compiler:
             if isinstance(seq, Record):
                 seq = list(seq.values())
             if not 0 <= i < len(seq):
-                raise RunError(f"{where}: index {i + offset} out of range 1..{len(seq)}"
-                               if offset else f"{where}: index {i} out of range 0..{len(seq) - 1}")
+                raise RunError(
+                    f"{where}: index {i + offset} out of range 1..{len(seq)}"
+                    if offset
+                    else f"{where}: index {i} out of range 0..{len(seq) - 1}"
+                )
             return seq[i]
 
         return read

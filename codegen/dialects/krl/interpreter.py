@@ -69,10 +69,14 @@ STRUCTS = {
     "AXIS": [(f"A{i}", "REAL") for i in range(1, 7)],
     "E6AXIS": [(f"A{i}", "REAL") for i in range(1, 7)] + [(f"E{i}", "REAL") for i in range(1, 7)],
     "KRLMSG_T": [("MODUL", "CHAR"), ("NR", "INT"), ("MSG_TXT", "CHAR")],
-    "KRLMSGPAR_T": [("PAR_TYPE", "ENUM"), ("PAR_TXT", "CHAR"), ("PAR_INT", "INT"), ("PAR_REAL", "REAL"),
-                    ("PAR_BOOL", "BOOL")],
-    "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"),
-                    ("LOG_TO_DB", "BOOL")],
+    "KRLMSGPAR_T": [
+        ("PAR_TYPE", "ENUM"),
+        ("PAR_TXT", "CHAR"),
+        ("PAR_INT", "INT"),
+        ("PAR_REAL", "REAL"),
+        ("PAR_BOOL", "BOOL"),
+    ],
+    "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
 }
 SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
 CART = ("FRAME", "POS", "E6POS")
@@ -148,7 +152,7 @@ class KRLCompiler(Compiler):
             return out
 
         def set_krlmsg(fr, args, kwargs, where):
-            kind, msg, params, _opt = args
+            _kind, msg, params, _opt = args
             text = _valid(msg["MSG_TXT"], where, "KrlMsg_T.Msg_txt")
 
             def param(match):
@@ -201,7 +205,7 @@ class KRLCompiler(Compiler):
                 raise RunError(f"{where}: cannot assign {type(value).__name__} to INT")
             if not math.isfinite(float(value)):
                 raise RunError(f"{where}: cannot assign a non-finite value to INT")
-            return int(math.floor(float(value) + 0.5)) if not isinstance(value, int) else value
+            return math.floor(float(value) + 0.5) if not isinstance(value, int) else value
         if type_name == "BOOL":
             if not isinstance(value, bool):
                 raise RunError(f"{where}: cannot assign {type(value).__name__} to BOOL")
@@ -370,7 +374,9 @@ class KRLCompiler(Compiler):
         target_node, value_node = node.children
         setter, value = self.lvalue(target_node), self.expr(value_node)
         where = self.where(node)
-        if isinstance(target_node, Tree) and target_node.data == "var" and str(target_node.children[0]).upper() == "$BASE":
+        is_var = isinstance(target_node, Tree) and target_node.data == "var"
+        if is_var and str(target_node.children[0]).upper() == "$BASE":
+
             def set_base(fr):
                 fr.m.extra["$BASE"] = self.coerce("FRAME", value(fr), where)
 
@@ -404,15 +410,15 @@ class KRLCompiler(Compiler):
                     value_init = self.expr(init) if init is not None else None
                     out.append((key, "CHAR", (lambda fr, v=value_init: v(fr) if v else UNINIT)))
                 else:
-                    out.append((key, (type_name, size),
-                                (lambda fr, t=type_name, n=size: [new_value(t) for _ in range(n)])))
+                    out.append(
+                        (key, (type_name, size), (lambda fr, t=type_name, n=size: [new_value(t) for _ in range(n)]))
+                    )
                 continue
             if init is None:
                 out.append((key, type_name, (lambda fr, t=type_name: new_value(t))))
             else:
                 value = self.expr(init)
-                out.append((key, type_name,
-                            (lambda fr, t=type_name, v=value, w=where: self.coerce(t, v(fr), w))))
+                out.append((key, type_name, (lambda fr, t=type_name, v=value, w=where: self.coerce(t, v(fr), w))))
         return out
 
     def s_decl(self, node):
@@ -583,8 +589,9 @@ class KRLCompiler(Compiler):
         key = str(name).upper()
         if key in self.routines:
             self.fail(name, f"routine {name} defined twice")
-        routine = Routine(str(name), params, None, str(type_token).upper() if type_token else None,
-                          self.line(node), decls)
+        routine = Routine(
+            str(name), params, None, str(type_token).upper() if type_token else None, self.line(node), decls
+        )
         self.routines[key] = routine
         routine.body = self.block(statements)
         # parameters are typed by their DECL lines

@@ -1,0 +1,317 @@
+"""Decompose/Trans interpreter: Double in float32 (assumed), trig in degrees, Point = [x y z rx ry rz]."""
+
+from __future__ import annotations
+
+import math
+import re
+from functools import cache
+
+import numpy as np
+from lark import Lark, Tree
+from lark.exceptions import UnexpectedInput
+
+from codegen.dialects import posemath
+from codegen.dialects.runtime import (
+    F32,
+    Compiler,
+    Halt,
+    MoveEvent,
+    Program,
+    Record,
+    Routine,
+    RunError,
+    format_fixed,
+    format_general,
+)
+from codegen.poses import matrix_from_dtrans
+
+POINT_KEYS = ("x", "y", "z", "rx", "ry", "rz")
+_FORMAT = re.compile(r"%(-?\d*)(?:\.(\d+))?([dfsg%])")
+
+
+@cache
+def parser() -> Lark:
+    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=True)
+
+
+def parse(text: str, filename: str = "<dtrans>") -> Tree:
+    if not text.endswith("\n"):
+        text += "\n"
+    try:
+        return parser().parse(text)
+    except UnexpectedInput as exc:
+        expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
+        shown = ", ".join(expected[:8]) if expected else "something else"
+        raise RunError(f"{filename}:{exc.line}:{exc.column}: syntax error, expected {shown}") from None
+
+
+def point(values) -> Record:
+    return Record("Point", dict(zip(POINT_KEYS, (F32(v) for v in values), strict=True)))
+
+
+def _num(value, where):
+    if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+        raise RunError(f"{where}: expected a number, got {type(value).__name__}")
+    return float(value)
+
+
+def printf(fmt: str, args: list, where: str) -> str:
+    values = iter(args)
+
+    def one(match):
+        width, decimals, kind = match.groups()
+        if kind == "%":
+            return "%"
+        try:
+            value = next(values)
+        except StopIteration:
+            raise RunError(f"{where}: format {fmt!r} needs more arguments") from None
+        if kind == "d":
+            text = str(int(_num(value, where)))
+        elif kind == "f":
+            text = format_fixed(_num(value, where), int(decimals) if decimals else 6)
+        elif kind == "g":
+            text = format_general(value)
+        else:
+            text = str(value)
+        return text.rjust(int(width)) if width and not width.startswith("-") else text
+
+    text = _FORMAT.sub(one, fmt)
+    if next(values, None) is not None:
+        raise RunError(f"{where}: format {fmt!r} has fewer fields than arguments")
+    return text
+
+
+class DTransCompiler(Compiler):
+    name = "dtrans"
+    index_base = 0
+
+    def make_builtins(self) -> dict:
+        def trig(fn):
+            return lambda fr, a, k, w: F32(fn(math.radians(_num(a[0], w))))
+
+        def trans(fr, args, kwargs, where):
+            if len(args) != 6:
+                raise RunError(f"{where}: Trans takes 6 numbers, got {len(args)}")
+            return point([_num(a, where) for a in args])
+
+        def sqrt(fr, args, kwargs, where):
+            value = _num(args[0], where)
+            if value < 0:
+                raise RunError(f"{where}: sqrt of a negative number")
+            return F32(math.sqrt(value))
+
+        return {
+            "sin": trig(math.sin),
+            "cos": trig(math.cos),
+            "tan": trig(math.tan),
+            "atan2": lambda fr, a, k, w: F32(math.degrees(math.atan2(_num(a[0], w), _num(a[1], w)))),
+            "sqrt": sqrt,
+            "abs": lambda fr, a, k, w: abs(a[0]) if isinstance(a[0], int) else F32(abs(_num(a[0], w))),
+            "Trans": trans,
+        }
+
+    def coerce(self, type_name, value, where):
+        if type_name is None:
+            return value
+        if isinstance(type_name, tuple):
+            element, size = type_name
+            if not isinstance(value, list):
+                raise RunError(f"{where}: expected an array of {element}")
+            if size is not None and len(value) != size:
+                raise RunError(f"{where}: expected {size} elements, got {len(value)}")
+            return [self.coerce(element, v, where) for v in value]
+        if type_name == "Double":
+            return F32(_num(value, where))
+        if type_name == "Int":
+            v = _num(value, where)
+            if not math.isfinite(v):
+                raise RunError(f"{where}: cannot store a non-finite value in an Int")
+            return int(v)
+        if type_name == "Point":
+            if not isinstance(value, Record) or value.type != "Point":
+                raise RunError(f"{where}: expected a Point")
+            return value.copy()
+        if type_name == "Bool":
+            if not isinstance(value, bool):
+                raise RunError(f"{where}: expected a Bool")
+            return value
+        if type_name == "String":
+            if not isinstance(value, str):
+                raise RunError(f"{where}: expected a String")
+            return value
+        return value
+
+    def element_type(self, type_name):
+        return type_name[0] if isinstance(type_name, tuple) else type_name
+
+    def e_array_lit(self, node):
+        parts = [self.expr(c) for c in node.children]
+        return lambda fr: [p(fr) for p in parts]
+
+    def e_call(self, node):
+        name, args_node = node.children
+        args = [self.expr(a) for a in (args_node.children if args_node is not None else [])]
+        where, key = self.where(node), str(name)
+        return lambda fr: self.call_routine(fr, key, [a(fr) for a in args], {}, where)
+
+    def new_variable(self, fr, key, value, where):
+        raise RunError(f"{where}: assignment to undeclared variable {key}")
+
+    def coerce_like(self, old, value, where):
+        if isinstance(old, int) and not isinstance(old, bool):
+            return self.coerce("Int", value, where)
+        if isinstance(old, Record):
+            return self.coerce("Point", value, where)
+        return super().coerce_like(old, value, where)
+
+    # --- statements --------------------------------------------------------------------------
+    def decl_parts(self, node):
+        type_token, name, size, init = node.children
+        type_name = str(type_token)
+        full_type = (type_name, int(str(size))) if size is not None else type_name
+        value = self.expr(init) if init is not None else None
+        where = self.where(node)
+        defaults = {"Double": F32(0), "Int": 0, "Bool": False, "String": "", "Point": point([0] * 6)}
+
+        def make(fr):
+            if value is not None:
+                return self.coerce(full_type, value(fr), where)
+            if isinstance(full_type, tuple):
+                return [defaults[type_name] for _ in range(full_type[1])]
+            return defaults[type_name].copy() if type_name == "Point" else defaults[type_name]
+
+        return str(name), full_type, make
+
+    def s_decl(self, node):
+        key, full_type, make = self.decl_parts(node)
+
+        def run(fr):
+            fr.types[key] = full_type
+            fr.vars[key] = make(fr)
+
+        return run
+
+    def s_assign(self, node):
+        setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
+
+        def run(fr):
+            setter(fr, value(fr))
+
+        return run
+
+    def s_decompose(self, node):
+        target, value_node = node.children
+        if not (isinstance(target, Tree) and target.data == "index"):
+            self.fail(node, "Decompose writes into an array element: Decompose arr[i] = point")
+        array, start = self.expr(target.children[0]), self.expr(target.children[1])
+        value = self.expr(value_node)
+        where = self.where(node)
+
+        def run(fr):
+            seq, i, pt = array(fr), int(start(fr)), value(fr)
+            if not isinstance(pt, Record) or pt.type != "Point":
+                raise RunError(f"{where}: Decompose needs a Point")
+            if not isinstance(seq, list) or i < 0 or i + 6 > len(seq):
+                raise RunError(f"{where}: Decompose needs 6 elements from index {i}")
+            for k, key in enumerate(POINT_KEYS):
+                seq[i + k] = self.coerce_like(seq[i + k], pt[key], where)
+
+        return run
+
+    def s_call_stmt(self, node):
+        call = self.e_call(Tree("call", node.children, node.meta))
+
+        def run(fr):
+            call(fr)
+
+        return run
+
+    def s_if_stmt(self, node):
+        cond, body, *rest = node.children
+        branches = [(self.expr(cond), self.block(body.children))]
+        else_body = None
+        for clause in rest:
+            if clause is None:
+                continue
+            if clause.data == "elseif_clause":
+                branches.append((self.expr(clause.children[0]), self.block(clause.children[1].children)))
+            else:
+                else_body = self.block(clause.children[0].children)
+        return self.if_chain(branches, else_body)
+
+    def s_halt_stmt(self, node):
+        def run(fr):
+            messages = fr.m.trace.messages
+            raise Halt(messages[-1] if messages else None)
+
+        return run
+
+    def s_motion_stmt(self, node):
+        motion, target = node.children
+        kind = "joint" if str(motion) == "MovJ" else "linear"
+        value = self.expr(target)
+        where, line = self.where(node), self.line(node)
+
+        def run(fr):
+            pt = value(fr)
+            if not isinstance(pt, Record) or pt.type != "Point":
+                raise RunError(f"{where}: {motion} needs a Point")
+            values = [pt[k] for k in POINT_KEYS]
+            posemath.check_finite(values, where, "motion target")
+            fr.m.trace.moves.append(MoveEvent(kind, matrix_from_dtrans(posemath.as64(values)), line))
+
+        return run
+
+    def s_tpwrite_stmt(self, node):
+        channel, fmt, *args = (self.expr(c) for c in node.children)
+        where = self.where(node)
+
+        def run(fr):
+            text = fmt(fr)
+            if not isinstance(text, str):
+                raise RunError(f"{where}: TPWrite needs a format string")
+            channel(fr)
+            fr.m.trace.messages.append(printf(text, [a(fr) for a in args], where))
+
+        return run
+
+    def routine(self, node, returns: bool) -> None:
+        if returns:
+            type_token, name, params_node, body = node.children
+        else:
+            name, params_node, body = node.children
+            type_token = None
+        params = []
+        for param in params_node.children if params_node is not None else []:
+            ptype, pname, brackets = param.children
+            params.append((str(pname), "IN", (str(ptype), None) if brackets is not None else str(ptype)))
+        if str(name) in self.routines:
+            self.fail(name, f"routine {name} defined twice")
+        routine = Routine(str(name), params, None, str(type_token) if type_token else None, self.line(node))
+        self.routines[str(name)] = routine
+        routine.body = self.block(body.children)
+
+
+def load(text: str, filename: str = "<dtrans>") -> Program:
+    tree = parse(text, filename)
+    compiler = DTransCompiler(filename)
+    data, main = [], []
+    for item in tree.children:
+        if not isinstance(item, Tree):
+            continue
+        if item.data == "function":
+            compiler.routine(item, returns=True)
+        elif item.data == "sub":
+            compiler.routine(item, returns=False)
+        elif item.data == "decl" and not main:
+            data.append(compiler.stmt(item))
+        else:
+            main.append(item)
+    compiler.routines["<main>"] = Routine("<main>", [], compiler.block(main))
+
+    def init(fr):
+        for statement in data:
+            statement(fr)
+
+    return Program(filename, compiler, init, "<main>")

@@ -1,0 +1,563 @@
+"""RAPID interpreter: num in float32, trig in degrees, pose/robtarget records and Pose* functions."""
+
+from __future__ import annotations
+
+import math
+import re
+from functools import cache
+
+import numpy as np
+from lark import Lark, Token, Tree
+from lark.exceptions import UnexpectedInput
+
+from codegen.dialects import posemath
+from codegen.dialects.runtime import (
+    F32,
+    Compiler,
+    Halt,
+    MoveEvent,
+    Program,
+    Record,
+    Routine,
+    RunError,
+    format_fixed,
+)
+
+QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
+
+
+@cache
+def parser() -> Lark:
+    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=True)
+
+
+def parse(text: str, filename: str = "<rapid>") -> Tree:
+    try:
+        return parser().parse(text)
+    except UnexpectedInput as exc:
+        expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
+        shown = ", ".join(expected[:8]) if expected else "something else"
+        raise RunError(f"{filename}:{exc.line}:{exc.column}: syntax error, expected {shown}") from None
+
+
+# Record types by field order (aggregates [a, b, ...] are positional).
+RECORDS = {
+    "POS": [("X", "NUM"), ("Y", "NUM"), ("Z", "NUM")],
+    "ORIENT": [("Q1", "NUM"), ("Q2", "NUM"), ("Q3", "NUM"), ("Q4", "NUM")],
+    "POSE": [("TRANS", "POS"), ("ROT", "ORIENT")],
+    "CONFDATA": [("CF1", "NUM"), ("CF4", "NUM"), ("CF6", "NUM"), ("CFX", "NUM")],
+    "EXTJOINT": [(f"EAX_{c}", "NUM") for c in "ABCDEF"],
+    "ROBTARGET": [("TRANS", "POS"), ("ROT", "ORIENT"), ("ROBCONF", "CONFDATA"), ("EXTAX", "EXTJOINT")],
+}
+SCALARS = {"NUM", "DNUM", "BOOL", "STRING"}
+_PREDEFINED = re.compile(r"^(V\d+|VMAX|FINE|Z\d+|TOOL0|WOBJ0|LOAD0)$")
+
+
+def zero(type_name: str):
+    if type_name in RECORDS:
+        return Record(type_name, {k: zero(t) for k, t in RECORDS[type_name]})
+    return {"NUM": F32(0), "DNUM": 0.0, "BOOL": False, "STRING": ""}.get(type_name, F32(0))
+
+
+def _num(value, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+        raise RunError(f"{where}: expected a num, got {getattr(value, 'type', type(value).__name__)}")
+    return float(value)
+
+
+def _rec(value, type_name: str, where: str) -> Record:
+    if not isinstance(value, Record) or value.type != type_name:
+        raise RunError(f"{where}: expected {type_name.lower()}, got {getattr(value, 'type', type(value).__name__)}")
+    return value
+
+
+def _vec(rec: Record, keys) -> list[float]:
+    return [float(rec[k]) for k in keys]
+
+
+def _pose_record(trans, quat) -> Record:
+    return Record(
+        "POSE",
+        {
+            "TRANS": Record("POS", dict(zip(("X", "Y", "Z"), (F32(v) for v in trans), strict=True))),
+            "ROT": Record("ORIENT", dict(zip(("Q1", "Q2", "Q3", "Q4"), (F32(v) for v in quat), strict=True))),
+        },
+    )
+
+
+class RAPIDCompiler(Compiler):
+    name = "rapid"
+    case_insensitive = True
+    index_base = 1
+
+    def __init__(self, filename: str) -> None:
+        super().__init__(filename)
+        self.data: list = []  # (key, type, dims, init closure)
+
+    # --- tables ------------------------------------------------------------------------------
+    def make_builtins(self) -> dict:
+        def trig(fn):
+            return lambda fr, a, k, w: F32(fn(math.radians(_num(a[0], w))))
+
+        def atan2(fr, args, kwargs, where):
+            return F32(math.degrees(math.atan2(_num(args[0], where), _num(args[1], where))))
+
+        def sqrt(fr, args, kwargs, where):
+            value = _num(args[0], where)
+            if value < 0:
+                raise RunError(f"{where}: Sqrt of a negative number")
+            return F32(math.sqrt(value))
+
+        def abs_(fr, args, kwargs, where):
+            return F32(abs(_num(args[0], where)))
+
+        def orient_zyx(fr, args, kwargs, where):
+            z, y, x = (_num(a, where) for a in args)
+            return Record(
+                "ORIENT",
+                dict(zip(("Q1", "Q2", "Q3", "Q4"), (F32(v) for v in posemath.quat_from_zyx_deg(z, y, x)), strict=True)),
+            )
+
+        def euler_zyx(fr, args, kwargs, where):
+            axis = next((k for k in kwargs if k in ("X", "Y", "Z")), None)
+            if axis is None or len(args) != 1:
+                raise RunError(f"{where}: EulerZYX needs one of \\X, \\Y, \\Z and an orient")
+            q = _vec(_rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
+            m = posemath.quat_matrix((0, 0, 0), q)
+            a, b, c = posemath.zyx_from(m)[3:]
+            return F32({"Z": a, "Y": b, "X": c}[axis])
+
+        def norient(fr, args, kwargs, where):
+            q = _vec(_rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
+            n = math.sqrt(sum(v * v for v in q))
+            if n == 0 or not math.isfinite(n):
+                raise RunError(f"{where}: NOrient of a zero or non-finite orientation")
+            return Record("ORIENT", dict(zip(("Q1", "Q2", "Q3", "Q4"), (F32(v / n) for v in q), strict=True)))
+
+        def pose_parts(value, where):
+            pose = self.coerce("POSE", value, where)
+            return _vec(pose["TRANS"], "XYZ"), _vec(pose["ROT"], ("Q1", "Q2", "Q3", "Q4"))
+
+        def pose_mult(fr, args, kwargs, where):
+            (t1, q1), (t2, q2) = (pose_parts(a, where) for a in args)
+            rotated = posemath.quat_rotate(q1, t2)
+            trans = [a + b for a, b in zip(t1, rotated, strict=True)]
+            return _pose_record(trans, posemath.quat_multiply(q1, q2))
+
+        def pose_inv(fr, args, kwargs, where):
+            t, q = pose_parts(args[0], where)
+            conj = (q[0], -q[1], -q[2], -q[3])
+            trans = [-v for v in posemath.quat_rotate(conj, t)]
+            return _pose_record(trans, conj)
+
+        def pose_vect(fr, args, kwargs, where):
+            t, q = pose_parts(args[0], where)
+            p = _vec(self.coerce("POS", args[1], where), "XYZ")
+            out = [a + b for a, b in zip(t, posemath.quat_rotate(q, p), strict=True)]
+            return Record("POS", dict(zip("XYZ", (F32(v) for v in out), strict=True)))
+
+        def num_to_str(fr, args, kwargs, where):
+            return format_fixed(_num(args[0], where), int(_num(args[1], where)))
+
+        def tpwrite(fr, args, kwargs, where):
+            text = args[0]
+            if not isinstance(text, str):
+                raise RunError(f"{where}: TPWrite needs a string")
+            if "NUM" in kwargs:
+                text += _num_text(kwargs["NUM"])
+            if len(text) > 80:
+                raise RunError(f"{where}: TPWrite text longer than 80 characters")
+            fr.m.trace.messages.append(text)
+
+        def stop(fr, args, kwargs, where):
+            messages = fr.m.trace.messages
+            raise Halt(messages[-1] if messages else None)
+
+        def move(kind):
+            def run(fr, args, kwargs, where):
+                target = self.coerce("ROBTARGET", args[0], where)
+                t = _vec(target["TRANS"], "XYZ")
+                q = _vec(target["ROT"], ("Q1", "Q2", "Q3", "Q4"))
+                posemath.check_finite(t + q, where, "move target")
+                norm = math.sqrt(sum(v * v for v in q))
+                if abs(norm - 1.0) > QUATERNION_TOLERANCE:
+                    raise RunError(f"{where}: orientation not normalised (|q| = {norm:.9f})")
+                m = posemath.quat_matrix(t, q)
+                if "WOBJ" in kwargs and kwargs["WOBJ"] is not None and not isinstance(kwargs["WOBJ"], str):
+                    raise RunError(f"{where}: only wobj0 is supported as \\WObj")
+                fr.m.trace.moves.append(MoveEvent(kind, m, int(where.split(":")[1])))
+
+            return run
+
+        return {
+            "SIN": trig(math.sin),
+            "COS": trig(math.cos),
+            "TAN": trig(math.tan),
+            "ATAN2": atan2,
+            "SQRT": sqrt,
+            "ABS": abs_,
+            "ORIENTZYX": orient_zyx,
+            "EULERZYX": euler_zyx,
+            "NORIENT": norient,
+            "POSEMULT": pose_mult,
+            "POSEINV": pose_inv,
+            "POSEVECT": pose_vect,
+            "NUMTOSTR": num_to_str,
+            "TPWRITE": tpwrite,
+            "STOP": stop,
+            "EXIT": stop,
+            "MOVEJ": move("joint"),
+            "MOVEL": move("linear"),
+        }
+
+    def number(self, text: str):
+        return F32(float(text))
+
+    def string_value(self, text: str) -> str:
+        return text[1:-1].replace('""', '"').replace("\\\\", "\\")
+
+    def coerce(self, type_name, value, where):
+        if type_name is None:
+            return value
+        if isinstance(type_name, tuple):  # (element type, size) array
+            element, size = type_name
+            if not isinstance(value, list):
+                raise RunError(f"{where}: expected an array of {element.lower()}")
+            if size is not None and len(value) != size:
+                raise RunError(f"{where}: expected {size} elements, got {len(value)}")
+            return [self.coerce(element, v, where) for v in value]
+        if type_name == "NUM":
+            return F32(_num(value, where))
+        if type_name == "DNUM":
+            return float(_num(value, where))
+        if type_name == "BOOL":
+            if not isinstance(value, bool):
+                raise RunError(f"{where}: expected a bool")
+            return value
+        if type_name == "STRING":
+            if not isinstance(value, str):
+                raise RunError(f"{where}: expected a string")
+            if len(value) > 80:
+                raise RunError(f"{where}: string longer than 80 characters")
+            return value
+        if type_name in RECORDS:
+            fields = RECORDS[type_name]
+            if isinstance(value, Record):
+                if value.type != type_name:
+                    raise RunError(f"{where}: expected {type_name.lower()}, got {str(value.type).lower()}")
+                return value.copy()
+            if isinstance(value, list):
+                if len(value) != len(fields):
+                    raise RunError(f"{where}: {type_name.lower()} has {len(fields)} components, got {len(value)}")
+                return Record(type_name, {k: self.coerce(t, v, where) for (k, t), v in zip(fields, value, strict=True)})
+            raise RunError(f"{where}: expected {type_name.lower()}, got {type(value).__name__}")
+        return value  # speeddata, zonedata, tooldata...: opaque here
+
+    def element_type(self, type_name):
+        return type_name[0] if isinstance(type_name, tuple) else type_name
+
+    # --- expressions -------------------------------------------------------------------------
+    def var_reader(self, token):
+        key = self.norm(str(token))
+        where = self.where(token)
+        predefined = key if _PREDEFINED.match(key) else None
+
+        def read(fr):
+            if key in fr.vars:
+                return fr.vars[key]
+            if key in fr.m.globals:
+                return fr.m.globals[key]
+            if predefined:
+                return predefined
+            raise RunError(f"{where}: undefined variable {token}")
+
+        return read
+
+    def e_not_(self, node):
+        inner = self.expr(node.children[-1])
+        return lambda fr: not inner(fr)
+
+    def e_and_(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[2])
+        return lambda fr: bool(left(fr)) and bool(right(fr))
+
+    def e_or_(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[2])
+        return lambda fr: bool(left(fr)) or bool(right(fr))
+
+    def e_xor(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[2])
+        return lambda fr: bool(left(fr)) != bool(right(fr))
+
+    def e_intdiv(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[2])
+        return lambda fr: F32(int(float(left(fr)) / float(right(fr))))
+
+    def e_mod(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[2])
+        return lambda fr: F32(math.fmod(float(left(fr)), float(right(fr))))
+
+    def add(self, a, b):
+        if isinstance(a, str) and isinstance(b, str):
+            return a + b
+        if isinstance(a, Record) and isinstance(b, Record) and a.type == b.type == "POS":
+            return Record("POS", {k: F32(a[k] + b[k]) for k in "XYZ"})
+        return a + b
+
+    def e_aggregate(self, node):
+        parts = [self.expr(c) for c in node.children]
+        return lambda fr: [p(fr) for p in parts]
+
+    def e_index(self, node):
+        base_node, *index_nodes = node.children
+        if len(index_nodes) != 1:
+            self.fail(node, "multi-dimensional arrays are not supported")
+        return super().e_index(Tree("index", [base_node, index_nodes[0]], node.meta))
+
+    def call_args(self, args_node):
+        positional, named = [], {}
+        for arg in args_node.children if args_node is not None else []:
+            if isinstance(arg, Tree) and arg.data == "opt_arg":
+                name, value = arg.children
+                named[str(name).upper()] = self.expr(value) if value is not None else (lambda fr: True)
+            else:
+                positional.append(arg)
+        return positional, named
+
+    def e_call(self, node):
+        name, args_node = node.children
+        positional, named = self.call_args(args_node)
+        args = [self.expr(a) for a in positional]
+        setters = [self._maybe_lvalue(a) for a in positional]
+        where = self.where(node)
+        key = str(name)
+
+        def call(fr):
+            return self.call_routine(
+                fr, key, [a(fr) for a in args], {k: v(fr) for k, v in named.items()}, where, setters
+            )
+
+        return call
+
+    def _maybe_lvalue(self, node):
+        if isinstance(node, Tree) and node.data in ("var", "index", "field"):
+            return self.lvalue(node)
+        return None
+
+    def new_variable(self, fr, key, value, where):
+        raise RunError(f"{where}: assignment to undeclared variable {key}")
+
+    def coerce_like(self, old, value, where):
+        if isinstance(old, Record):
+            return self.coerce(old.type, value, where)
+        if isinstance(old, bool):
+            return self.coerce("BOOL", value, where)
+        if isinstance(old, str):
+            return self.coerce("STRING", value, where)
+        return super().coerce_like(old, value, where)
+
+    # --- statements --------------------------------------------------------------------------
+    def s_assign(self, node):
+        setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
+
+        def run(fr):
+            setter(fr, value(fr))
+
+        return run
+
+    def s_proc_call(self, node):
+        call = self.e_call(Tree("call", node.children, node.meta))
+
+        def run(fr):
+            call(fr)
+
+        return run
+
+    def s_if_stmt(self, node):
+        cond, body, *rest = node.children
+        branches = [(self.expr(cond), self.body(body))]
+        else_body = None
+        for clause in rest:
+            if clause is None:
+                continue
+            if clause.data == "elseif_clause":
+                branches.append((self.expr(clause.children[0]), self.body(clause.children[1])))
+            else:
+                else_body = self.body(clause.children[0])
+        return self.if_chain(branches, else_body)
+
+    def s_compact_if(self, node):
+        cond, statement = node.children
+        return self.if_chain([(self.expr(cond), self.stmt(statement))], None)
+
+    def body(self, body_node):
+        for child in body_node.children:
+            if isinstance(child, Tree) and child.data == "data_decl":
+                self.fail(child, "declarations are only allowed at the start of a routine")
+        return self.block(body_node.children)
+
+    def s_while_stmt(self, node):
+        cond, body = node.children
+        compiled = self.body(body)
+        test = self.expr(cond)
+        where = self.where(node)
+
+        def run(fr):
+            while test(fr):
+                fr.m.step(where)
+                signal = compiled(fr)
+                if signal is not None:
+                    return signal
+            return None
+
+        return run
+
+    def s_for_stmt(self, node):
+        name, start, stop, step, body_node = node.children
+        key = str(name).upper()
+        start, stop = self.expr(start), self.expr(stop)
+        step = self.expr(step) if step is not None else (lambda fr: 1)
+        body = self.body(body_node)
+        where = self.where(node)
+
+        def run(fr):
+            i, end, inc = float(start(fr)), float(stop(fr)), float(step(fr))
+            if inc == 0:
+                raise RunError(f"{where}: FOR with STEP 0")
+            while (i <= end) if inc > 0 else (i >= end):
+                fr.m.step(where)
+                fr.vars[key] = F32(i)
+                signal = body(fr)
+                if signal is not None:
+                    return signal
+                i += inc
+            return None
+
+        return run
+
+    def s_test_stmt(self, node):
+        selector, *clauses = node.children
+        select = self.expr(selector)
+        cases, default = [], None
+        for clause in clauses:
+            if clause is None:
+                continue
+            if clause.data == "case_clause":
+                *values, body = clause.children
+                cases.append(([self.expr(v) for v in values], self.body(body)))
+            else:
+                default = self.body(clause.children[0])
+
+        def run(fr):
+            value = select(fr)
+            for values, body in cases:
+                if any(value == v(fr) for v in values):
+                    return body(fr)
+            return default(fr) if default is not None else None
+
+        return run
+
+    # --- declarations and routines -------------------------------------------------------------
+    def decl(self, node):
+        _local, _task, storage, type_name, name, dims, init = node.children
+        key, type_key = str(name).upper(), str(type_name).upper()
+        where = self.where(node)
+        size_exprs = [self.expr(d) for d in dims.children] if dims is not None else []
+        if len(size_exprs) > 1:
+            self.fail(dims, "multi-dimensional arrays are not supported")
+        value = self.expr(init) if init is not None else None
+        if str(storage).upper() == "CONST" and value is None:
+            self.fail(node, f"CONST {name} needs a value")
+
+        def make(fr):
+            if size_exprs:
+                size = int(size_exprs[0](fr))
+                full_type = (type_key, size)
+                initial = value(fr) if value is not None else [zero(type_key) for _ in range(size)]
+                return full_type, self.coerce(full_type, initial, where)
+            return type_key, self.coerce(type_key, value(fr), where) if value is not None else zero(type_key)
+
+        return key, make
+
+    def routine(self, node, returns: bool) -> None:
+        children = [c for c in node.children if not (isinstance(c, Token) and c.type == "LOCAL") and c is not None]
+        if returns:
+            return_type, name, *rest = children
+        else:
+            name, *rest = children
+            return_type = None
+        params_node = rest[0] if len(rest) == 2 else None
+        body = rest[-1]
+        params = []
+        for param in params_node.children if params_node is not None else []:
+            optional, mode, ptype, pname, conformant = param.children
+            if optional is not None:
+                self.fail(param, "optional parameters of user routines are not supported")
+            type_key = str(ptype).upper()
+            full_type = (type_key, None) if conformant is not None else type_key
+            params.append((str(pname).upper(), str(mode).upper() if mode else "IN", full_type))
+        decls, statements, seen_statement = [], [], False
+        for child in body.children:
+            if not isinstance(child, Tree):
+                continue
+            if child.data == "data_decl":
+                if seen_statement:
+                    self.fail(child, "declarations are only allowed at the start of a routine")
+                key, make = self.decl(child)
+                decls.append((key, make))
+            else:
+                seen_statement = True
+                statements.append(child)
+        key = str(name).upper()
+        if key in self.routines:
+            self.fail(name, f"routine {name} defined twice")
+        routine = Routine(str(name), params, None, str(return_type).upper() if return_type else None, self.line(node))
+        routine.decls = [(k, None, (lambda fr, mk=mk: self._local(fr, mk))) for k, mk in decls]
+        self.routines[key] = routine
+        routine.body = self.block(statements)
+
+    def _local(self, fr, make):
+        _type_name, value = make(fr)
+        return value
+
+    def invoke(self, fr, routine, args, kwargs, where, arg_setters=None):
+        if kwargs:
+            raise RunError(f"{where}: {routine.name} has no optional parameters")
+        result = super().invoke(fr, routine, args, kwargs, where, arg_setters)
+        return result
+
+
+def load(text: str, filename: str = "<rapid>") -> Program:
+    tree = parse(text, filename)
+    compiler = RAPIDCompiler(filename)
+    module = tree.children[0]
+    data = []
+    for item in module.children:
+        if not isinstance(item, Tree):
+            continue
+        if item.data == "data_decl":
+            data.append(compiler.decl(item))
+        elif item.data == "proc":
+            compiler.routine(item, returns=False)
+        elif item.data == "func":
+            compiler.routine(item, returns=True)
+        elif item.data == "trap":
+            continue
+    if "MAIN" not in compiler.routines:
+        raise RunError(f"{filename}: no PROC main")
+
+    def init(fr):
+        for key, make in data:
+            type_name, value = make(fr)
+            fr.m.global_types[key] = type_name
+            fr.m.globals[key] = value
+
+    return Program(str(module.children[0]), compiler, init, "MAIN")
+
+
+def _num_text(value) -> str:
+    """TPWrite \\Num: integers without decimals, else up to 6 significant digits (as the FlexPendant)."""
+    v = float(value)
+    if v == int(v) and abs(v) < 1e9:
+        return str(int(v))
+    return f"{v:.6g}"

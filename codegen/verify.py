@@ -1,0 +1,367 @@
+"""Run programs in the interpreter on many readings and compare each trace with the reference."""
+
+from __future__ import annotations
+
+import math
+import random
+import re
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from codegen.cell import Cell, Station, TaughtPose
+from codegen.dialects.runtime import Program, RunError
+from codegen.emit import Emitter
+from codegen.poses import native_values, rotation_angle_between
+from codegen.reference import (
+    INVALID_READING,
+    ROTATION_OVER_LIMIT,
+    SHIFT_OVER_LIMIT,
+    UNKNOWN_STATION,
+    Reading,
+    Trace,
+    expected_trace,
+    halt_message,
+    wrap_deg,
+)
+from codegen.targets import Target, get_target
+
+# Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
+# stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings
+# through the correction stays far below these bounds, a wrong formula far above them.
+TOLERANCES = {"float32": (0.005, 0.001), "float64": (1e-9, 1e-9)}  # mm, deg
+NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|(?<!\w)[-+]?(?:nan|inf)\b")
+
+
+@dataclass(frozen=True)
+class Case:
+    category: str
+    reading: Reading
+
+
+@dataclass
+class TargetReport:
+    target: str
+    files: list[str]
+    cases: int = 0
+    mismatches: int = 0
+    halts: int = 0
+    boundary: int = 0
+    moves: int = 0
+    pos_errors: list[float] = field(default_factory=list)
+    rot_errors: list[float] = field(default_factory=list)
+    first_mismatches: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+    categories: dict[str, int] = field(default_factory=dict)
+
+    def summary(self) -> dict:
+        def stats(values):
+            if not values:
+                return {"max": 0.0, "p99": 0.0}
+            arr = np.array(values)
+            return {"max": float(arr.max()), "p99": float(np.percentile(arr, 99))}
+
+        return {
+            "target": self.target,
+            "files": self.files,
+            "cases": self.cases,
+            "categories": self.categories,
+            "mismatches": self.mismatches,
+            "halts": self.halts,
+            "boundary_cases": self.boundary,
+            "moves_compared": self.moves,
+            "position_error_mm": stats(self.pos_errors),
+            "orientation_error_deg": stats(self.rot_errors),
+            "seconds": self.seconds,
+            "cases_per_second": self.cases / self.seconds if self.seconds else None,
+            "first_mismatches": self.first_mismatches,
+        }
+
+
+# --- programs --------------------------------------------------------------------------------
+
+
+def load_program(target: Target, text: str, filename: str, dat_text: str | None = None) -> Program:
+    if target.dialect == "urscript":
+        from codegen.dialects.urscript.interpreter import load
+    elif target.dialect == "krl":
+        from codegen.dialects.krl.interpreter import load as load_krl
+
+        return load_krl(text, filename, dat_text)
+    elif target.dialect == "rapid":
+        from codegen.dialects.rapid.interpreter import load
+    elif target.dialect == "dtrans":
+        from codegen.dialects.dtrans.interpreter import load
+    else:
+        raise ValueError(f"no interpreter for dialect {target.dialect}")
+    return load(text, filename)
+
+
+def load_program_file(target: Target, path: Path) -> Program:
+    text = path.read_text(encoding="utf-8")
+    dat_text = None
+    if target.dialect == "krl":
+        dat = path.with_suffix(".dat")
+        dat_text = dat.read_text(encoding="utf-8") if dat.exists() else None
+    return load_program(target, text, str(path), dat_text)
+
+
+def fresh_programs(cell: Cell, targets: list[str]) -> dict[str, tuple[Program, list[str]]]:
+    from codegen.render import render
+
+    out = {}
+    files = render(cell, targets)
+    for name in targets:
+        target = get_target(name)
+        mine = [f for f in files if f.relpath.split("/")[1] == name]
+        main = next(f for f in mine if not f.relpath.endswith(".dat"))
+        dat = next((f.text for f in mine if f.relpath.endswith(".dat")), None)
+        out[name] = (load_program(target, main.text, f"<fresh>/{main.relpath}", dat), [f.relpath for f in mine])
+    return out
+
+
+def target_of_file(path: Path) -> str:
+    for name in ("ur", "kuka", "abb", "dtrans"):
+        suffixes = {"." + f.rsplit(".", 1)[1] for f in get_target(name).files}
+        if path.suffix.lower() in suffixes:
+            return name
+    raise ValueError(f"{path}: cannot tell the target from the suffix; use --target")
+
+
+def inputs_for(target: Target, reading: Reading) -> dict:
+    names = target.facts["program"]["inputs"]
+    return {
+        names["station"]: reading.station_id,
+        names["x"]: reading.x,
+        names["y"]: reading.y,
+        names["theta"]: reading.theta,
+    }
+
+
+# --- cases -----------------------------------------------------------------------------------
+
+
+def edge_cell(cell: Cell) -> Cell:
+    """The cell plus one station whose taught poses sit on the conventions' edges."""
+    edge_poses_xyzabc = {
+        "yaw_wraps_plus": (520.0, 80.0, 310.0, 179.99, 12.0, 171.0),
+        "yaw_wraps_minus": (530.0, 60.0, 300.0, -179.99, -8.0, -169.0),
+        "b_plus_90": (540.0, 40.0, 320.0, 30.0, 90.0, 0.0),
+        "b_minus_90": (510.0, 90.0, 330.0, -45.0, -89.9999, 20.0),
+        "rotvec_pi": (500.0, 100.0, 300.0, 0.0, 0.0, 180.0),
+        "rotvec_near_pi": (505.0, 95.0, 305.0, 0.002, 0.001, 179.998),
+    }
+    poses = tuple(
+        TaughtPose(name, native_values(values, "xyzabc", cell.pose_format), cell.pose_format)
+        for name, values in edge_poses_xyzabc.items()
+    )
+    new_id = max(s.id for s in cell.stations) + 1
+    if new_id > 32767:
+        return cell
+    station = Station(new_id, "verify_edge_poses", (300.0, 200.0, 179.5), poses)
+    return replace(cell, stations=(*cell.stations, station))
+
+
+def _wrap_camera(theta: float) -> float:
+    return wrap_deg(theta)
+
+
+def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
+    rng = random.Random(seed)
+    limits = cell.limits
+    shift, rot = limits.max_shift_mm, limits.max_rotation_deg
+    cases: list[Case] = []
+    for station in cell.stations:
+        tx, ty, t_theta = station.mark
+
+        def reading(dx, dy, dtheta, station=station, tx=tx, ty=ty, t_theta=t_theta):
+            return Reading(station.id, tx + dx, ty + dy, _wrap_camera(t_theta + dtheta))
+
+        for _ in range(count):
+            r = shift * math.sqrt(rng.random())
+            a = rng.uniform(-math.pi, math.pi)
+            cases.append(Case("random", reading(r * math.cos(a), r * math.sin(a), rng.uniform(-rot, rot))))
+        cases.append(Case("zero_shift", Reading(station.id, tx, ty, t_theta)))
+        for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0.6, 0.8)):
+            cases.append(Case("at_shift_limit", reading(sx * shift, sy * shift, 0.0)))
+            cases.append(Case("inside_shift_limit", reading(sx * (shift - 1e-3), sy * (shift - 1e-3), 0.0)))
+            cases.append(Case("beyond_shift_limit", reading(sx * (shift + 1e-3), sy * (shift + 1e-3), 0.0)))
+        for sign in (1, -1):
+            cases.append(Case("phi_at_limit", reading(0.0, 0.0, sign * rot)))
+            cases.append(Case("phi_at_limit_with_shift", reading(0.3 * shift, -0.4 * shift, sign * rot)))
+            cases.append(Case("inside_rotation_limit", reading(0.0, 0.0, sign * (rot - 1e-3))))
+            cases.append(Case("beyond_rotation_limit", reading(0.0, 0.0, sign * (rot + 1e-3))))
+        cases.append(Case("far_beyond", reading(5 * shift, 0.0, 0.0)))
+        cases.append(Case("far_beyond", reading(0.0, 0.0, min(179.0, 5 * rot))))
+        for bad in (
+            (math.nan, ty, t_theta),
+            (tx, math.inf, t_theta),
+            (tx, ty, math.nan),
+            (tx, ty, -math.inf),
+            (-math.inf, ty, t_theta),
+            (2e5, ty, t_theta),
+            (tx, -2e5, t_theta),
+            (tx, ty, 400.0),
+        ):
+            cases.append(Case("invalid_reading", Reading(station.id, *bad)))
+    known = {s.id for s in cell.stations}
+    first = cell.stations[0]
+    for station_id in (0, -1, max(known) + 1, 32767, 99999):
+        if station_id not in known:
+            cases.append(Case("unknown_station", Reading(station_id, *first.mark)))
+    return cases
+
+
+# --- comparison ------------------------------------------------------------------------------
+
+
+def _ulp32(value: float) -> float:
+    return float(np.spacing(np.float32(abs(value))))
+
+
+def accepted_traces(cell: Cell, reading: Reading) -> tuple[list[Trace], bool]:
+    """The reference trace, plus the other side of a limit when the reading is within float32
+    resolution of it (a float32 controller may decide either way there)."""
+    reference = expected_trace(cell, reading)
+    station = cell.station_by_id(reading.station_id)
+    if reference.reason in (UNKNOWN_STATION, INVALID_READING) or station is None:
+        return [reference], False
+    tx, ty, t_theta = station.mark
+    limits = cell.limits
+    scale = max(abs(reading.x), abs(reading.y), abs(tx), abs(ty))
+    eps_shift = 8 * limits.max_shift_mm * _ulp32(scale) + 4 * _ulp32(limits.max_shift_mm**2)
+    margin_shift = limits.max_shift_mm**2 - ((reading.x - tx) ** 2 + (reading.y - ty) ** 2)
+    eps_rot = 4 * _ulp32(max(abs(reading.theta), abs(t_theta), 360.0))
+    margin_rot = limits.max_rotation_deg - abs(wrap_deg(reading.theta - t_theta))
+    shift_options = [margin_shift < 0] if abs(margin_shift) > eps_shift else [False, True]
+    rot_options = [margin_rot < 0] if abs(margin_rot) > eps_rot else [False, True]
+    if len(shift_options) == 1 and len(rot_options) == 1:
+        return [reference], False
+    free = expected_trace(cell, reading, enforce_limits=False)
+    out = []
+    for shift_over in shift_options:
+        for rot_over in rot_options:
+            if shift_over:
+                out.append(replace(free, status="halt", reason=SHIFT_OVER_LIMIT, moves=(), deviation=None))
+            elif rot_over:
+                out.append(replace(free, status="halt", reason=ROTATION_OVER_LIMIT, moves=(), deviation=None))
+            else:
+                out.append(free)
+    return out, True
+
+
+def expected_message(cell: Cell, trace: Trace, reading: Reading, emitter: Emitter) -> str:
+    if trace.reason == UNKNOWN_STATION:
+        from codegen.render import UNKNOWN_STATION_TEXT
+
+        return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
+    return emitter.string(halt_message(cell, trace, reading.station_id))
+
+
+def _log_numbers(messages: list[str]) -> list[float]:
+    out = []
+    for message in messages:
+        if message.startswith("deviation"):
+            out.extend(float(n) for n in NUMBER.findall(message))
+    return out
+
+
+def compare(cell: Cell, target: Target, reading: Reading, expected: Trace, got, emitter: Emitter):
+    """(problem or None, position errors, orientation errors)."""
+    pos_tol, rot_tol = TOLERANCES[target.numbers]
+    if expected.status == "halt":
+        if not got.halted:
+            return f"expected a halt ({expected.reason}), program did not halt ({len(got.moves)} moves)", [], []
+        if got.moves:
+            return f"program moved {len(got.moves)} times before halting ({expected.reason})", [], []
+        want = expected_message(cell, expected, reading, emitter)
+        if got.halt_message != want:
+            return f"halt message {got.halt_message!r}, expected {want!r}", [], []
+        return None, [], []
+    if got.halted:
+        return f"unexpected halt: {got.halt_message!r}", [], []
+    if len(got.moves) != len(expected.moves):
+        return f"{len(got.moves)} moves, expected {len(expected.moves)}", [], []
+    pos_errors, rot_errors = [], []
+    for i, (g, e) in enumerate(zip(got.moves, expected.moves, strict=True)):
+        if g.kind != e.kind:
+            return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
+        pos = float(np.linalg.norm(g.base2tcp[:3, 3] - e.base2tcp[:3, 3]))
+        rot = math.degrees(rotation_angle_between(e.base2tcp[:3, :3], g.base2tcp[:3, :3]))
+        pos_errors.append(pos)
+        rot_errors.append(rot)
+        if not pos <= pos_tol or not rot <= rot_tol:
+            return (
+                (
+                    f"move {i + 1} ({e.pose_name}, line {g.line}): position error {pos:.6f} mm, "
+                    f"orientation error {rot:.6f} deg (tolerance {pos_tol} mm, {rot_tol} deg)"
+                ),
+                pos_errors,
+                rot_errors,
+            )
+    numbers = _log_numbers(got.messages)
+    want = list(expected.deviation)
+    decimals = target.facts["program"].get("log_decimals")
+    log_tol = 0.5 * 10.0**-decimals + 1e-3 if decimals is not None else pos_tol
+    if len(numbers) != len(want):
+        return f"deviation line has {len(numbers)} numbers, expected {len(want)}: {got.messages!r}", [], []
+    for name, g, w in zip(("station", "dx1", "dy1", "dx2", "dy2", "dtheta"), numbers, want, strict=True):
+        if not abs(g - w) <= log_tol:
+            return f"deviation {name} = {g}, expected {w:.6f} (tolerance {log_tol})", pos_errors, rot_errors
+    return None, pos_errors, rot_errors
+
+
+def verify(
+    cell: Cell,
+    targets: list[str],
+    programs: dict[str, tuple[Program, list[str]]],
+    cases: list[Case],
+    progress=None,
+    verify_cell: Cell | None = None,
+) -> list[TargetReport]:
+    """Run every case on every target's program; verify_cell is the cell the programs were made from."""
+    model = verify_cell or cell
+    expectations = [(case, *accepted_traces(model, case.reading)) for case in cases]
+    reports = []
+    for name in targets:
+        target = get_target(name)
+        program, files = programs[name]
+        emitter = Emitter(target)
+        report = TargetReport(name, files)
+        start = time.perf_counter()
+        for case, accepted, boundary in expectations:
+            report.cases += 1
+            report.categories[case.category] = report.categories.get(case.category, 0) + 1
+            report.boundary += boundary
+            try:
+                got = program.run(inputs_for(target, case.reading))
+            except RunError as exc:
+                problem, pos, rot = f"run error: {exc}", [], []
+            else:
+                problem, pos, rot = None, [], []
+                for expected in accepted:
+                    problem, pos, rot = compare(model, target, case.reading, expected, got, emitter)
+                    if problem is None:
+                        report.halts += got.halted
+                        break
+            report.pos_errors.extend(pos)
+            report.rot_errors.extend(rot)
+            report.moves += len(pos) if problem is None else 0
+            if problem is not None:
+                report.mismatches += 1
+                if len(report.first_mismatches) < 10:
+                    r = case.reading
+                    report.first_mismatches.append(
+                        f"{case.category} station {r.station_id} reading ({r.x!r}, {r.y!r}, {r.theta!r}): {problem}"
+                    )
+            if progress is not None:
+                progress(1)
+        report.seconds = time.perf_counter() - start
+        reports.append(report)
+    return reports
+
+
+def pose_format_of(target: str) -> str:
+    return get_target(target).pose_format
