@@ -143,9 +143,14 @@ def write_atomic(files: list[RenderedFile], out_dir: Path) -> list[Path]:
             dest = out_dir / f.relpath
             dest.parent.mkdir(parents=True, exist_ok=True)
             fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=".tmp", dir=dest.parent)
-            with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
-                handle.write(f.text)
             staged.append((Path(tmp), dest))
+            try:
+                handle = os.fdopen(fd, "w", encoding="utf-8", newline="\n")
+            except BaseException:
+                os.close(fd)
+                raise
+            with handle:
+                handle.write(f.text)
     except BaseException:
         for tmp, _ in staged:
             tmp.unlink(missing_ok=True)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -20,18 +21,32 @@ def check_finite(values, where: str, what: str) -> None:
         raise RunError(f"{where}: {what} has a non-finite component")
 
 
+@lru_cache(maxsize=4096)
+def _ur_matrix(values: tuple[float, ...]) -> np.ndarray:
+    m = poses.matrix_from_ur(values)
+    m.flags.writeable = False
+    return m
+
+
 def ur_matrix(pose6) -> np.ndarray:
-    """UR pose p[x, y, z (m), rx, ry, rz] -> 4x4 mm."""
-    return poses.matrix_from_ur(as64(pose6))
+    """UR pose p[x, y, z (m), rx, ry, rz] -> 4x4 mm (cached: taught poses repeat every run)."""
+    return _ur_matrix(tuple(as64(pose6)))
 
 
 def ur_from(m: np.ndarray) -> tuple[float, ...]:
     return poses.ur_from_matrix(m)
 
 
+@lru_cache(maxsize=4096)
+def _zyx_matrix(values: tuple[float, ...]) -> np.ndarray:
+    m = poses.matrix_from_xyzabc(values)
+    m.flags.writeable = False
+    return m
+
+
 def zyx_matrix(x, y, z, a, b, c) -> np.ndarray:
-    """KUKA FRAME/POS (mm, deg, Rz(A) Ry(B) Rx(C))."""
-    return poses.matrix_from_xyzabc(as64((x, y, z, a, b, c)))
+    """KUKA FRAME/POS (mm, deg, Rz(A) Ry(B) Rx(C)), cached like ur_matrix."""
+    return _zyx_matrix(tuple(as64((x, y, z, a, b, c))))
 
 
 def zyx_from(m: np.ndarray) -> tuple[float, ...]:

@@ -25,6 +25,23 @@ class RunError(Exception):
     """A program that cannot run on: message starts with file:line:column when known."""
 
 
+def syntax_error(exc, filename: str, parser) -> RunError:
+    """file:line:column, the token found and what the grammar expected there."""
+    names = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
+    patterns = {t.name: t.pattern for t in parser.terminals}
+    shown = []
+    for name in names:
+        pattern = patterns.get(name)
+        literal = getattr(pattern, "value", None) if pattern is not None and pattern.type == "str" else None
+        shown.append(repr(literal) if literal else name.lower())
+    token = getattr(exc, "token", None)
+    found = f" at {str(token)!r}" if token is not None and str(token).strip() else ""
+    if token is None and getattr(exc, "char", None):
+        found = f" at {exc.char!r}"
+    expected = ", ".join(shown) if shown else "something else"
+    return RunError(f"{filename}:{exc.line}:{exc.column}: syntax error{found}, expected one of {expected}")
+
+
 class StepLimitError(RunError):
     pass
 
@@ -89,7 +106,7 @@ def deepcopy_value(value):
 class Routine:
     """A user procedure or function: parameters, body closure, declared return type."""
 
-    __slots__ = ("body", "decls", "line", "name", "params", "return_type")
+    __slots__ = ("body", "decls", "line", "mutated", "name", "params", "return_type")
 
     def __init__(self, name, params, body, return_type=None, line=0, decls=None) -> None:
         self.name = name
@@ -98,6 +115,7 @@ class Routine:
         self.return_type = return_type
         self.line = line
         self.decls = decls or []  # (name, type, init closure) local declarations
+        self.mutated: set[str] | None = None  # names the body assigns into (None: unknown, copy all)
 
 
 class Frame:
@@ -129,23 +147,44 @@ class Machine:
 
 
 class Program:
-    """A parsed and compiled program, run many times with different inputs."""
+    """A parsed and compiled program, run many times with different inputs.
 
-    def __init__(self, name: str, compiler: Compiler, init, main: str | None) -> None:
+    `init` (module data, constant definitions) runs once; its globals are kept as a snapshot and
+    every run starts from a copy, deep only for the variables the program can change.
+    """
+
+    def __init__(self, name: str, compiler: Compiler, init, main: str | None, body=None) -> None:
         self.name = name
         self.compiler = compiler
         self.routines: dict[str, Routine] = compiler.routines
-        self.init = init  # closure: module data / top-level statements
+        self.init = init  # closure: module data / constant top-level statements
         self.main = main  # routine to call after init, or None
+        self.body = body  # closure run after init when there is no main routine
+        self._snapshot: tuple[dict, dict, dict] | None = None
+
+    def _prepare(self, step_limit: int) -> tuple[dict, dict, dict]:
+        if self._snapshot is None:
+            machine = Machine(self, {}, step_limit)
+            self.init(Frame(machine, machine.globals, machine.global_types))
+            self._snapshot = (machine.globals, machine.global_types, machine.extra)
+        return self._snapshot
 
     def run(self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT) -> Trace:
+        globals_, types, extra = self._prepare(step_limit)
         machine = Machine(self, dict(inputs or {}), step_limit)
+        mutable = self.compiler.assigned_roots
+        machine.globals = {k: (deepcopy_value(v) if k in mutable else v) for k, v in globals_.items()}
+        machine.global_types = dict(types)
+        machine.extra = {k: deepcopy_value(v) for k, v in extra.items()}
         frame = Frame(machine, machine.globals, machine.global_types)
         try:
-            self.init(frame)
             self.compiler.inject_inputs(machine)
             if self.main is not None:
                 self.compiler.call_routine(frame, self.main, [], {}, "<main>")
+            elif self.body is not None:
+                signal = self.body(frame)
+                if isinstance(signal, Signal) and signal.kind in ("break", "continue"):
+                    raise RunError(f"{self.name}: {signal.kind} outside a loop")
         except Halt as halt:
             machine.trace.halted = True
             machine.trace.halt_message = halt.args[0] if halt.args else None
@@ -175,6 +214,9 @@ class Compiler:
         self.filename = filename
         self.routines: dict[str, Routine] = {}
         self.builtins = self.make_builtins()
+        self.assigned_roots: set[str] = set()  # variables some statement assigns into
+        self._routine_assigned: set[str] | None = None  # the same, inside the routine being compiled
+        self._pending_refs: list = []  # (callee, argument index, lvalue node, routine-assigned set)
 
     # --- tables supplied by dialects ------------------------------------------------------
     def make_builtins(self) -> dict:
@@ -197,7 +239,7 @@ class Compiler:
                 continue
             if index:
                 i = int(index.rstrip("]")) - self.index_base
-                seq = machine.globals[key]
+                seq = machine.globals[key] = list(machine.globals[key])
                 seq[i] = self.coerce(self.element_type(machine.global_types.get(key)), value, name)
             else:
                 machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
@@ -374,6 +416,25 @@ class Compiler:
         return read
 
     # --- calls ------------------------------------------------------------------------------
+    def caller(self, name: str, where: str):
+        """call(fr, args, kwargs, setters) for a routine or builtin, resolved at its first call."""
+        key = self.norm(name)
+        cache: list = []
+
+        def call(fr, args, kwargs, setters=None):
+            if not cache:
+                routine = self.routines.get(key)
+                if routine is not None:
+                    cache.append(lambda f, a, k, s: self.invoke(f, routine, a, k, where, s))
+                else:
+                    builtin = self.builtins.get(key if self.case_insensitive else name)
+                    if builtin is None:
+                        raise RunError(f"{where}: unknown routine {name}")
+                    cache.append(lambda f, a, k, s: builtin(f, a, k, where))
+            return cache[0](fr, args, kwargs, setters)
+
+        return call
+
     def call_routine(self, fr: Frame, name: str, args: list, kwargs: dict, where: str, arg_setters=None):
         key = self.norm(name)
         routine = self.routines.get(key)
@@ -390,8 +451,11 @@ class Compiler:
         if len(args) != len(routine.params):
             raise RunError(f"{where}: {routine.name} takes {len(routine.params)} arguments, got {len(args)}")
         frame = Frame(machine)
+        mutated = routine.mutated
         for (pname, _mode, ptype), value in zip(routine.params, args, strict=True):
-            frame.vars[pname] = self.coerce(ptype, deepcopy_value(value), where) if ptype else deepcopy_value(value)
+            if mutated is None or pname in mutated:
+                value = deepcopy_value(value)
+            frame.vars[pname] = self.coerce(ptype, value, where) if ptype else value
             if ptype:
                 frame.types[pname] = ptype
         for dname, dtype, init in routine.decls:
@@ -423,14 +487,18 @@ class Compiler:
         return method(node)
 
     def block(self, nodes) -> callable:
-        compiled = [(self.stmt(n), self.where(n)) for n in nodes if isinstance(n, Tree)]
+        """Statements in order; each counts one step (charged when the block starts)."""
+        trees = [n for n in nodes if isinstance(n, Tree)]
+        compiled = [self.stmt(n) for n in trees]
+        where = self.where(trees[0]) if trees else self.filename
+        count = len(compiled)
 
         def run(fr):
             machine = fr.m
-            for statement, where in compiled:
-                machine.steps += 1
-                if machine.steps > machine.step_limit:
-                    raise StepLimitError(f"{where}: step limit {machine.step_limit} reached (runaway loop?)")
+            machine.steps += count
+            if machine.steps > machine.step_limit:
+                raise StepLimitError(f"{where}: step limit {machine.step_limit} reached (runaway loop?)")
+            for statement in compiled:
                 signal = statement(fr)
                 if signal is not None:
                     return signal
@@ -494,14 +562,62 @@ class Compiler:
         return run
 
     # --- lvalues ----------------------------------------------------------------------------
-    def lvalue(self, node):
+    def note_assigned(self, node) -> None:
+        """Record the variable at the root of an assignment target."""
+        while isinstance(node, Tree) and node.data != "var":
+            node = node.children[0]
+        token = node.children[0] if isinstance(node, Tree) else node
+        key = self.norm(str(token))
+        self.assigned_roots.add(key)
+        if self._routine_assigned is not None:
+            self._routine_assigned.add(key)
+
+    def compile_routine_body(self, routine: Routine, statements) -> None:
+        """Compile a routine's statements and note which parameters they assign to."""
+        outer, self._routine_assigned = self._routine_assigned, set()
+        try:
+            routine.body = self.block(statements)
+            # every name the body assigns into; finalize() may add by-reference writes later
+            routine.mutated = self._routine_assigned
+        finally:
+            self._routine_assigned = outer
+
+    def ref_setters(self, callee: str, arg_nodes) -> list:
+        """Setters for arguments that are variables, used if the callee takes them by reference.
+
+        Whether it does is known once every routine is compiled: see finalize()."""
+        setters = []
+        for i, node in enumerate(arg_nodes):
+            if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole"):
+                setters.append(self.lvalue(node, note=False))
+                self._pending_refs.append((self.norm(callee), i, node, self._routine_assigned))
+            else:
+                setters.append(None)
+        return setters
+
+    def finalize(self) -> None:
+        """Variables passed to by-reference parameters count as assigned."""
+        for callee, i, node, routine_assigned in self._pending_refs:
+            routine = self.routines.get(callee)
+            if routine is None or i >= len(routine.params):
+                continue
+            if routine.params[i][1] in ("OUT", "INOUT", "VAR", "PERS"):
+                outer, self._routine_assigned = self._routine_assigned, routine_assigned
+                self.note_assigned(node)
+                self._routine_assigned = outer
+
+    def lvalue(self, node, note: bool = True):
         """A setter(frame, value) for a variable, an array element or a record field."""
+        if note:
+            self.note_assigned(node)
         if isinstance(node, Token) or node.data == "var":
             token = node if isinstance(node, Token) else node.children[0]
             key = self.norm(str(token))
             where = self.where(token)
 
             def set_var(fr, value):
+                if isinstance(value, Record | list):
+                    value = deepcopy_value(value)  # value semantics: no aliasing between variables
                 if key in fr.vars:
                     fr.vars[key] = self.coerce(fr.types.get(key), value, where)
                 elif key in fr.m.globals:

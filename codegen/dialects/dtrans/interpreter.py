@@ -22,6 +22,7 @@ from codegen.dialects.runtime import (
     RunError,
     format_fixed,
     format_general,
+    syntax_error,
 )
 from codegen.poses import matrix_from_dtrans
 
@@ -40,9 +41,7 @@ def parse(text: str, filename: str = "<dtrans>") -> Tree:
     try:
         return parser().parse(text)
     except UnexpectedInput as exc:
-        expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
-        shown = ", ".join(expected[:8]) if expected else "something else"
-        raise RunError(f"{filename}:{exc.line}:{exc.column}: syntax error, expected {shown}") from None
+        raise syntax_error(exc, filename, parser()) from None
 
 
 def point(values) -> Record:
@@ -152,8 +151,8 @@ class DTransCompiler(Compiler):
     def e_call(self, node):
         name, args_node = node.children
         args = [self.expr(a) for a in (args_node.children if args_node is not None else [])]
-        where, key = self.where(node), str(name)
-        return lambda fr: self.call_routine(fr, key, [a(fr) for a in args], {}, where)
+        target = self.caller(str(name), self.where(node))
+        return lambda fr: target(fr, [a(fr) for a in args], {})
 
     def new_variable(self, fr, key, value, where):
         raise RunError(f"{where}: assignment to undeclared variable {key}")
@@ -290,7 +289,7 @@ class DTransCompiler(Compiler):
             self.fail(name, f"routine {name} defined twice")
         routine = Routine(str(name), params, None, str(type_token) if type_token else None, self.line(node))
         self.routines[str(name)] = routine
-        routine.body = self.block(body.children)
+        self.compile_routine_body(routine, body.children)
 
 
 def load(text: str, filename: str = "<dtrans>") -> Program:
@@ -308,10 +307,11 @@ def load(text: str, filename: str = "<dtrans>") -> Program:
             data.append(compiler.stmt(item))
         else:
             main.append(item)
-    compiler.routines["<main>"] = Routine("<main>", [], compiler.block(main))
+    body = compiler.block(main)
 
     def init(fr):
         for statement in data:
             statement(fr)
 
-    return Program(filename, compiler, init, "<main>")
+    compiler.finalize()
+    return Program(filename, compiler, init, None, body)

@@ -23,6 +23,7 @@ from codegen.dialects.runtime import (
     RunError,
     Signal,
     format_general,
+    syntax_error,
 )
 
 
@@ -37,9 +38,7 @@ def parse(text: str, filename: str = "<krl>") -> Tree:
     try:
         return parser().parse(text)
     except UnexpectedInput as exc:
-        expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
-        shown = ", ".join(expected[:8]) if expected else "something else"
-        raise RunError(f"{filename}:{exc.line}:{exc.column}: syntax error, expected {shown}") from None
+        raise syntax_error(exc, filename, parser()) from None
 
 
 class _Uninit:
@@ -216,7 +215,7 @@ class KRLCompiler(Compiler):
             if not isinstance(value, Record):
                 raise RunError(f"{where}: cannot assign {type(value).__name__} to {type_name}")
             if value.type == type_name:
-                return value.copy()
+                return value
             fields = dict(STRUCTS[type_name])
             if value.type is None or (value.type in CART and type_name in CART):
                 out = new_value(type_name)
@@ -323,27 +322,17 @@ class KRLCompiler(Compiler):
     def e_call(self, node):
         name, args_node = node.children
         args = [self.expr(a) for a in (args_node.children if args_node is not None else [])]
-        setters = [self._maybe_lvalue(a) for a in (args_node.children if args_node is not None else [])]
-        where = self.where(node)
-        key = str(name)
-
-        def call(fr):
-            return self.call_routine(fr, key, [a(fr) for a in args], {}, where, setters)
-
-        return call
-
-    def _maybe_lvalue(self, node):
-        if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole"):
-            return self.lvalue(node)
-        return None
+        setters = self.ref_setters(str(name), args_node.children if args_node is not None else [])
+        target = self.caller(str(name), self.where(node))
+        if any(setters):
+            return lambda fr: target(fr, [a(fr) for a in args], {}, setters)
+        return lambda fr: target(fr, [a(fr) for a in args], {})
 
     # --- lvalues and assignment --------------------------------------------------------------
-    def lvalue(self, node):
+    def lvalue(self, node, note: bool = True):
         if isinstance(node, Tree) and node.data == "whole":
-            return self.lvalue(node.children[0])
-        if isinstance(node, Tree) and node.data == "index" and len(node.children) == 2:
-            return super().lvalue(node)
-        return super().lvalue(node)
+            return self.lvalue(node.children[0], note)
+        return super().lvalue(node, note)
 
     def coerce_like(self, old, value, where):
         if isinstance(old, Record) and isinstance(value, Record) and value.type is None:
@@ -355,7 +344,7 @@ class KRLCompiler(Compiler):
                 out[key] = self.coerce(fields.get(key), v, where)
             return out
         if isinstance(old, Record) and isinstance(value, Record):
-            return self.coerce(old.type, value, where)
+            return self.coerce(old.type, value.copy(), where)
         if old is UNINIT:
             return value.copy() if isinstance(value, Record) else value
         if isinstance(old, bool):
@@ -557,7 +546,13 @@ class KRLCompiler(Compiler):
         line = self.line(node)
 
         def run(fr):
-            pose = _cart(value(fr), where)
+            target = value(fr)
+            if isinstance(target, Record) and target.type is None:  # a bare aggregate {X .., .., C ..}
+                missing = [k for k, _ in _XYZABC if k not in target]
+                if missing:
+                    raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
+                target = self.coerce("FRAME", target, where)
+            pose = _cart(target, where)
             posemath.check_finite([pose[k] for k, _ in _XYZABC], where, "motion target")
             base = fr.m.extra.get("$BASE", _frame())
             fr.m.trace.moves.append(MoveEvent(kind, _cart_matrix(base) @ _cart_matrix(pose), line))
@@ -593,7 +588,7 @@ class KRLCompiler(Compiler):
             str(name), params, None, str(type_token).upper() if type_token else None, self.line(node), decls
         )
         self.routines[key] = routine
-        routine.body = self.block(statements)
+        self.compile_routine_body(routine, statements)
         # parameters are typed by their DECL lines
         declared = {d[0]: d[1] for d in decls}
         routine.params = [(p, m, declared.get(p)) for p, m, _ in params]
@@ -644,6 +639,7 @@ def load(text: str, filename: str = "<krl>", dat_text: str | None = None) -> Pro
             compiler.routine(item, returns=True)
         elif item.data == "defdat":
             compiler.data_list(item)
+    compiler.finalize()
     return Program(filename, compiler, compiler.init_data, main)
 
 

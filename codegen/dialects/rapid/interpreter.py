@@ -21,6 +21,7 @@ from codegen.dialects.runtime import (
     Routine,
     RunError,
     format_fixed,
+    syntax_error,
 )
 
 QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
@@ -35,9 +36,7 @@ def parse(text: str, filename: str = "<rapid>") -> Tree:
     try:
         return parser().parse(text)
     except UnexpectedInput as exc:
-        expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
-        shown = ", ".join(expected[:8]) if expected else "something else"
-        raise RunError(f"{filename}:{exc.line}:{exc.column}: syntax error, expected {shown}") from None
+        raise syntax_error(exc, filename, parser()) from None
 
 
 # Record types by field order (aggregates [a, b, ...] are positional).
@@ -245,7 +244,7 @@ class RAPIDCompiler(Compiler):
             if isinstance(value, Record):
                 if value.type != type_name:
                     raise RunError(f"{where}: expected {type_name.lower()}, got {str(value.type).lower()}")
-                return value.copy()
+                return value
             if isinstance(value, list):
                 if len(value) != len(fields):
                     raise RunError(f"{where}: {type_name.lower()} has {len(fields)} components, got {len(value)}")
@@ -328,7 +327,7 @@ class RAPIDCompiler(Compiler):
         name, args_node = node.children
         positional, named = self.call_args(args_node)
         args = [self.expr(a) for a in positional]
-        setters = [self._maybe_lvalue(a) for a in positional]
+        setters = self.ref_setters(str(name), positional)
         where = self.where(node)
         key = str(name)
 
@@ -339,17 +338,12 @@ class RAPIDCompiler(Compiler):
 
         return call
 
-    def _maybe_lvalue(self, node):
-        if isinstance(node, Tree) and node.data in ("var", "index", "field"):
-            return self.lvalue(node)
-        return None
-
     def new_variable(self, fr, key, value, where):
         raise RunError(f"{where}: assignment to undeclared variable {key}")
 
     def coerce_like(self, old, value, where):
         if isinstance(old, Record):
-            return self.coerce(old.type, value, where)
+            return self.coerce(old.type, value.copy() if isinstance(value, Record) else value, where)
         if isinstance(old, bool):
             return self.coerce("BOOL", value, where)
         if isinstance(old, str):
@@ -514,7 +508,7 @@ class RAPIDCompiler(Compiler):
         routine = Routine(str(name), params, None, str(return_type).upper() if return_type else None, self.line(node))
         routine.decls = [(k, None, (lambda fr, mk=mk: self._local(fr, mk))) for k, mk in decls]
         self.routines[key] = routine
-        routine.body = self.block(statements)
+        self.compile_routine_body(routine, statements)
 
     def _local(self, fr, make):
         _type_name, value = make(fr)
@@ -543,6 +537,7 @@ def load(text: str, filename: str = "<rapid>") -> Program:
             compiler.routine(item, returns=True)
         elif item.data == "trap":
             continue
+    compiler.finalize()
     if "MAIN" not in compiler.routines:
         raise RunError(f"{filename}: no PROC main")
 

@@ -6,7 +6,7 @@ import math
 from functools import cache
 
 import numpy as np
-from lark import Lark, Tree
+from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedInput
 
 from codegen.dialects import posemath
@@ -19,8 +19,8 @@ from codegen.dialects.runtime import (
     Record,
     Routine,
     RunError,
-    Signal,
     format_general,
+    syntax_error,
 )
 
 
@@ -35,9 +35,7 @@ def parse(text: str, filename: str = "<urscript>") -> Tree:
     try:
         return parser().parse(text)
     except UnexpectedInput as exc:
-        expected = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
-        shown = ", ".join(expected[:8]) if expected else "something else"
-        raise RunError(f"{filename}:{exc.line}:{exc.column}: syntax error, expected {shown}") from None
+        raise syntax_error(exc, filename, parser()) from None
 
 
 class URPose(Record):
@@ -209,14 +207,14 @@ class URScriptCompiler(Compiler):
                 named[str(arg.children[0])] = self.expr(arg.children[1])
             else:
                 positional.append(self.expr(arg))
-        where = self.where(node)
+        target = self.caller(name, self.where(node))
+        if named:
 
-        def call(fr):
-            args = [a(fr) for a in positional]
-            kwargs = {k: v(fr) for k, v in named.items()}
-            return self.call_routine(fr, name, args, kwargs, where)
+            def call(fr):
+                return target(fr, [a(fr) for a in positional], {k: v(fr) for k, v in named.items()})
 
-        return call
+            return call
+        return lambda fr: target(fr, [a(fr) for a in positional], {})
 
     def s_assign(self, node):
         setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
@@ -267,26 +265,40 @@ class URScriptCompiler(Compiler):
         params = [(str(p), "IN", None) for p in (params_node.children if params_node is not None else [])]
         routine = Routine(str(name_token), params, None, None, self.line(node))
         self.routines[str(name_token)] = routine
-        routine.body = self.block(body.children)
+        self.compile_routine_body(routine, body.children)
         return lambda fr: None  # defined at compile time
 
 
+def _is_constant(node) -> bool:
+    """Literals only (numbers, strings, lists, pose literals): safe to evaluate once."""
+    if isinstance(node, Token):
+        return node.type in ("NUMBER", "STRING", "POSE_OPEN")
+    if node.data in ("call", "var"):
+        return False
+    return all(_is_constant(c) for c in node.children if c is not None)
+
+
 def load(text: str, filename: str = "<urscript>") -> Program:
-    """Parse and compile; the outermost `def` is the program, its variables are the globals."""
+    """Parse and compile; the outermost `def` is the program, its variables are the globals.
+
+    Its leading constant assignments and function definitions run once; the rest on every run.
+    """
     tree = parse(text, filename)
     compiler = URScriptCompiler(filename)
     top = [c for c in tree.children if isinstance(c, Tree)]
     programs = [c for c in top if c.data == "funcdef"]
     if len(top) == 1 and len(programs) == 1:
-        program_def = programs[0]
-        name = str(program_def.children[0])
-        body = compiler.block(program_def.children[2].children)
-
-        def init(fr):
-            signal = body(fr)
-            if isinstance(signal, Signal) and signal.kind != "return":
-                raise RunError(f"{filename}: {signal.kind} outside a loop")
-
-        return Program(name, compiler, init, None)
-    body = compiler.block(top)
-    return Program(filename, compiler, body, None)
+        statements = [c for c in programs[0].children[2].children if isinstance(c, Tree)]
+        name = str(programs[0].children[0])
+    else:
+        statements, name = top, filename
+    split = 0
+    while split < len(statements) and (
+        statements[split].data == "funcdef"
+        or (statements[split].data == "assign" and _is_constant(statements[split].children[1]))
+    ):
+        split += 1
+    prefix = compiler.block(statements[:split])
+    rest = compiler.block(statements[split:])
+    compiler.finalize()
+    return Program(name, compiler, prefix, None, rest)

@@ -1,0 +1,67 @@
+"""`codegen run` and `codegen verify` from the command line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from codegen.cli import main
+
+REPO = Path(__file__).resolve().parents[1]
+GENERATED = REPO / "generated" / "agv_machine_tending"
+
+
+def invoke(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def test_run_prints_moves_and_log():
+    result = invoke("run", GENERATED / "kuka" / "agv_machine_tending.src", "--input", "VIS_STATION=3",
+                    "--input", "VIS_X=642.2", "--input", "VIS_Y=209.1", "--input", "VIS_THETA=3.1")
+    assert result.exit_code == 0, result.output
+    assert result.output.count("message: deviation") == 2
+    assert "joint " in result.output and "linear " in result.output
+
+
+def test_run_json_and_halt():
+    result = invoke("run", GENERATED / "abb" / "agv_machine_tending.mod", "--input", "vis_station=42", "--json")
+    data = json.loads(result.output)
+    assert data["halted"] is True and data["halt_message"] == "unknown station id 42" and data["moves"] == []
+
+
+def test_run_reports_syntax_errors_with_position(tmp_path):
+    broken = tmp_path / "broken.script"
+    broken.write_text("def x():\n  if 1 > 0\n  end\nend\n")
+    result = invoke("run", broken)
+    assert result.exit_code == 2
+    assert "broken.script:2:" in result.output and "syntax error" in result.output
+
+
+def test_verify_fresh_output_json():
+    result = invoke("verify", "--cases", "5", "--json")
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.output)
+    assert data["ok"] is True
+    assert [t["target"] for t in data["targets"]] == ["ur", "kuka", "abb", "dtrans"]
+    for t in data["targets"]:
+        assert t["mismatches"] == 0 and t["cases"] > 100
+        assert t["categories"]["unknown_station"] >= 4 and t["categories"]["invalid_reading"] >= 8
+        assert t["position_error_mm"]["max"] <= 0.005
+
+
+def test_verify_catches_a_hand_edited_file(tmp_path):
+    source = (GENERATED / "ur" / "agv_machine_tending.script").read_text()
+    edited = tmp_path / "edited.script"
+    edited.write_text(source.replace("  if dx * dx + dy * dy > MAX_SHIFT_SQ:", "  if dx * dx > MAX_SHIFT_SQ:"))
+    result = invoke("verify", edited, "--cases", "5")
+    assert result.exit_code == 1
+    assert "MISMATCH" in result.output and "expected a halt (shift_over_limit)" in result.output
+
+
+def test_verify_files_on_disk_pass():
+    files = [GENERATED / "kuka" / "agv_machine_tending.src", GENERATED / "dtrans" / "agv_machine_tending.prg"]
+    result = invoke("verify", *files, "--cases", "5")
+    assert result.exit_code == 0, result.output
+    assert "kuka" in result.output and "dtrans" in result.output

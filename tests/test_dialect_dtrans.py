@@ -1,0 +1,64 @@
+"""Decompose/Trans grammar and interpreter."""
+
+import numpy as np
+import pytest
+
+from codegen.dialects.dtrans.interpreter import load, printf
+from codegen.dialects.runtime import RunError, StepLimitError
+from codegen.poses import matrix_from_dtrans
+
+
+def run(text: str, **inputs):
+    return load(text, "t.prg").run(inputs)
+
+
+def test_precedence_printf_and_functions():
+    text = """Int n = 3
+Function Double twice(Double v)
+  Return v * 2.0
+EndFunction
+TPWrite 0, "%d %.2f %.1f", 1 + 2 * 3, twice(1.25) - 1.0 / 4.0, -0.04
+If Not n > 5 And n == 3 Then
+  TPWrite 0, "yes"
+ElseIf n == 4 Then
+  TPWrite 0, "four"
+Else
+  TPWrite 0, "no"
+EndIf
+"""
+    assert run(text).messages == ["7 2.25 0.0", "yes"]
+
+
+def test_decompose_trans_and_moves():
+    text = """Point a = Trans(100.0, 20.0, 30.0, 10.0, 20.0, 30.0)
+Double p[6]
+Decompose p[0] = a
+MovL Trans(p[0] + 1.0, p[1], p[2], p[3], p[4], p[5])
+"""
+    trace = run(text)
+    assert np.allclose(trace.moves[0].base2tcp, matrix_from_dtrans((101, 20, 30, 10, 20, 30)), atol=1e-4)
+
+
+def test_index_base_0_and_inputs():
+    text = 'Double markp[3] = {0.0, 0.0, 0.0}\nTPWrite 0, "%.1f", markp[2]\n'
+    assert run(text, **{"markp[2]": 7.5}).messages == ["7.5"]
+    with pytest.raises(RunError, match=r"index 3 out of range 0\.\.2"):
+        run("Double a[3]\nDouble b = a[3]\n")
+
+
+def test_keywords_are_case_sensitive():
+    with pytest.raises(RunError, match="syntax error"):
+        load("if 1 == 1 Then\nEndIf\n", "t.prg")
+
+
+def test_halt_and_step_limit():
+    trace = run('TPWrite 0, "bye"\nHalt\nMovJ Trans(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)\n')
+    assert trace.halted and trace.halt_message == "bye" and not trace.moves
+    with pytest.raises(StepLimitError):
+        load("While True\nEndWhile\n", "t.prg").run({}, step_limit=100)
+
+
+def test_printf_checks_arguments():
+    assert printf("%d:%.2f:%s", [3, 1.25, "x"], "w") == "3:1.25:x"
+    with pytest.raises(RunError, match="needs more arguments"):
+        printf("%d %d", [1], "w")

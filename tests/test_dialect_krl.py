@@ -1,0 +1,120 @@
+"""KRL grammar and interpreter."""
+
+import numpy as np
+import pytest
+
+from codegen.dialects.krl.interpreter import load
+from codegen.dialects.runtime import RunError, StepLimitError
+from codegen.poses import matrix_from_xyzabc
+
+DAT = """DEFDAT T PUBLIC
+DECL GLOBAL INT VIS_STATION=0
+DECL REAL R=0.0
+DECL KRLMSG_T MSG={MODUL[] "T",NR 1,MSG_TXT[] " "}
+DECL KRLMSGPAR_T PAR[3]
+DECL KRLMSGOPT_T OPT={VL_STOP TRUE,CLEAR_P_RESET TRUE,CLEAR_P_SAW FALSE,LOG_TO_DB FALSE}
+DECL INT H=0
+ENDDAT
+"""
+
+
+def show(kind: str, var: str) -> str:
+    """KRL lines that put one INT or REAL variable into a notification message."""
+    return (
+        f"PAR[1] = {{PAR_TYPE #VALUE}}\nPAR[1].PAR_{kind} = {var}\n"
+        'MSG.MSG_TXT[] = "%1"\nH = SET_KRLMSG(#NOTIFY, MSG, PAR[], OPT)'
+    )
+
+
+def run(body: str, decls: str = "", **inputs):
+    text = f"&ACCESS RVP\nDEF T()\n{decls}\n{body}\nEND\n"
+    return load(text, "t.src", DAT).run(inputs)
+
+
+def say(expr: str, decl: str = "DECL REAL V") -> str:
+    trace = run(
+        f"V = {expr}\nPAR[1] = {{PAR_TYPE #VALUE}}\nPAR[1].PAR_{'INT' if 'INT' in decl else 'REAL'} = V\n"
+        f'MSG.MSG_TXT[] = "%1"\nH = SET_KRLMSG(#NOTIFY, MSG, PAR[], OPT)',
+        decl,
+    )
+    return trace.messages[0]
+
+
+def test_arithmetic_precedence():
+    assert say("1 + 2 * 3") == "7"
+    assert say("(1 + 2) * 3") == "9"
+    assert say("7 / 2", "DECL INT V") == "3"  # INT / INT is an INT
+    assert say("7.0 / 2") == "3.5"
+
+
+def test_comparison_binds_last_and_keywords_ignore_case():
+    body = "b = NOT (1 > 2) and (2 > 1)\nif b then\nR = 1.0\nelse\nR = 2.0\nendif\n" + show("REAL", "R")
+    assert run(body, "DECL BOOL B").messages == ["1"]
+
+
+def test_arrays_start_at_1_and_loops():
+    body = (
+        "FOR I = 1 TO 3\nA[I] = I * 2\nENDFOR\nS = 0\nI = 1\nWHILE I <= 3\nS = S + A[I]\nI = I + 1\n"
+        "ENDWHILE\n" + show("INT", "S")
+    )
+    assert run(body, "DECL INT A[3], I, S").messages == ["12"]
+    with pytest.raises(RunError, match="index 0 out of range"):
+        run("A[0] = 1", "DECL INT A[3]")
+
+
+def test_switch_and_real_is_float32():
+    body = "SWITCH 2\nCASE 1\nR = 1.0\nCASE 2, 3\nR = 16777217.0\nDEFAULT\nR = 0.0\nENDSWITCH\n" + show("REAL", "R")
+    assert run(body).messages == ["16777216"]
+
+
+def test_geometric_operator_and_inv_pos():
+    a = (10.0, -20.0, 30.0, 15.0, -25.0, 40.0)
+    b = (400.0, 50.0, -60.0, 90.0, 10.0, 180.0)
+    body = (
+        f"F = {{X {a[0]},Y {a[1]},Z {a[2]},A {a[3]},B {a[4]},C {a[5]}}}\n"
+        f"P = {{X {b[0]},Y {b[1]},Z {b[2]},A {b[3]},B {b[4]},C {b[5]},S 2,T 35}}\n"
+        "Q = F : P\nLIN Q\nPTP INV_POS(F) : F"
+    )
+    trace = run(body, "DECL FRAME F\nDECL POS P, Q")
+    assert np.allclose(trace.moves[0].base2tcp, matrix_from_xyzabc(a) @ matrix_from_xyzabc(b), atol=2e-3)
+    assert np.allclose(trace.moves[1].base2tcp, np.eye(4), atol=2e-3)
+    assert [m.kind for m in trace.moves] == ["linear", "joint"]
+
+
+def test_base_frame_applies_to_moves():
+    trace = run("$BASE = {X 100,Y 0,Z 0,A 90,B 0,C 0}\nLIN {X 10,Y 0,Z 0,A 0,B 0,C 0}")
+    assert np.allclose(trace.moves[0].base2tcp[:3, 3], [100, 10, 0], atol=1e-4)
+
+
+def test_trig_in_degrees():
+    assert say("SIN(30)") == "0.5"
+    assert say("ATAN2(1, 1)") == "45"
+
+
+def test_uninitialised_value_is_an_error():
+    with pytest.raises(RunError, match="has no value"):
+        run("R = U + 1", "DECL REAL U")
+
+
+def test_decl_after_statement_is_rejected():
+    with pytest.raises(RunError, match="declarations come first"):
+        run("R = 1\nDECL INT LATE")
+
+
+def test_halt_and_quit_message():
+    trace = run(
+        'MSG.MSG_TXT[] = "stop %1"\nPAR[1] = {PAR_TYPE #VALUE}\nPAR[1].PAR_INT = 9\n'
+        "H = SET_KRLMSG(#QUIT, MSG, PAR[], OPT)\nHALT\nPTP {X 0,Y 0,Z 0,A 0,B 0,C 0}"
+    )
+    assert trace.halted and trace.halt_message == "stop 9" and not trace.moves
+
+
+def test_syntax_error_position():
+    with pytest.raises(RunError, match=r"t.src:4:\d+: syntax error"):
+        load("DEF T()\nDECL INT I\nI = 1\nIF I > 0\nENDIF\nEND\n", "t.src", DAT)
+
+
+def test_step_limit():
+    program = load("DEF T()\nLOOP\nENDLOOP\nEND\n", "t.src", DAT)
+    with pytest.raises(StepLimitError):
+        program.run({}, step_limit=500)

@@ -1,0 +1,87 @@
+"""RAPID grammar and interpreter."""
+
+import numpy as np
+import pytest
+
+from codegen.dialects.rapid.interpreter import load
+from codegen.dialects.runtime import RunError, StepLimitError
+from codegen.poses import matrix_from_abb
+
+
+def run(body: str, decls: str = "", routines: str = "", **inputs):
+    text = f"MODULE T\n{decls}\nPROC main()\n{body}\nENDPROC\n{routines}\nENDMODULE\n"
+    return load(text, "t.mod").run(inputs)
+
+
+def test_precedence_and_strings():
+    trace = run(
+        'TPWrite "a"\\Num:=1 + 2 * 3;\nTPWrite "q""uote " + NumToStr(10 / 4, 2);\n'
+        'TPWrite "" \\Num:=7 DIV 2;\nTPWrite "" \\Num:=7 MOD 4;'
+    )
+    assert trace.messages == ["a7", 'q"uote 2.50', "3", "3"]
+
+
+def test_boolean_logic_and_keyword_case():
+    trace = run('if not 1 > 2 AND 2 > 1 then\n  TPWrite "yes";\nelse\n  TPWrite "no";\nENDIF')
+    assert trace.messages == ["yes"]
+
+
+def test_arrays_from_1_functions_test_for():
+    routines = (
+        "FUNC num total(num a{*})\n  VAR num s := 0;\n  FOR i FROM 1 TO 3 DO\n    s := s + a{i};\n"
+        "  ENDFOR\n  RETURN s;\nENDFUNC"
+    )
+    body = 'TEST total(vals)\nCASE 6:\n  TPWrite "six";\nDEFAULT:\n  TPWrite "other";\nENDTEST'
+    assert run(body, "CONST num vals{3} := [1, 2, 3];", routines).messages == ["six"]
+    with pytest.raises(RunError, match="index 4 out of range"):
+        run("x := vals{4};", "CONST num vals{3} := [1, 2, 3];\nVAR num x;")
+
+
+def test_pose_functions():
+    body = (
+        "p := PoseMult([[10, 20, 30], OrientZYX(30, 20, 10)], [[1, 2, 3], OrientZYX(-40, 5, 60)]);\n"
+        "t := [p.trans, NOrient(p.rot), [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];\n"
+        "MoveL t, v100, fine, tool0;\n"
+        "q := PoseMult(PoseInv(p), p);\n"
+        "v := PoseVect([[1, 0, 0], OrientZYX(90, 0, 0)], [1, 0, 0]);\n"
+        'TPWrite ""\\Num:=Round(EulerZYX(\\Z, OrientZYX(30, 20, 10)));\n'
+        'TPWrite ""\\Num:=q.trans.x + v.y;'
+    )
+    from codegen.poses import matrix_from_xyzabc
+
+    trace = run(
+        body.replace("Round(", "(").replace("))));", ")));"), "VAR pose p;\nVAR pose q;\nVAR pos v;\nVAR robtarget t;"
+    )
+    expected = matrix_from_xyzabc((10, 20, 30, 30, 20, 10)) @ matrix_from_xyzabc((1, 2, 3, -40, 5, 60))
+    assert np.allclose(trace.moves[0].base2tcp, expected, atol=1e-3)
+    assert trace.messages[0] == "30"
+    assert abs(float(trace.messages[1]) - 1.0) < 1e-4  # q is identity, v = (1, 1, 0)
+
+
+def test_unnormalised_quaternion_is_rejected():
+    with pytest.raises(RunError, match="not normalised"):
+        run("MoveJ [[0, 0, 0], [0.9, 0, 0, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]], v100, z10, tool0;")
+
+
+def test_robtarget_matrix():
+    target = "[[1, 2, 3], [0.5, 0.5, 0.5, 0.5], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]]"
+    trace = run(f"MoveJ {target}, v100, z10, tool0;")
+    assert np.allclose(trace.moves[0].base2tcp, matrix_from_abb((1, 2, 3, 0.5, 0.5, 0.5, 0.5)))
+
+
+def test_exit_halts_with_last_message():
+    trace = run('TPWrite "bye";\nEXIT;\nTPWrite "never";')
+    assert trace.halted and trace.halt_message == "bye"
+
+
+def test_syntax_error_position():
+    # the missing ';' is noticed at the next token, as on the controller
+    with pytest.raises(RunError, match=r"t.mod:4:1: syntax error at 'ENDPROC', expected one of .*';'"):
+        load("MODULE T\nPROC main()\n  x := 1\nENDPROC\nENDMODULE\n", "t.mod")
+
+
+def test_step_limit_and_undeclared():
+    with pytest.raises(StepLimitError):
+        load("MODULE T\nPROC main()\nWHILE TRUE DO\nENDWHILE\nENDPROC\nENDMODULE\n", "t.mod").run({}, step_limit=300)
+    with pytest.raises(RunError, match="undeclared variable"):
+        run("zz := 1;")

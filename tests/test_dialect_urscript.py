@@ -1,0 +1,107 @@
+"""URScript grammar and interpreter."""
+
+import math
+
+import numpy as np
+import pytest
+
+from codegen.dialects.runtime import RunError, StepLimitError
+from codegen.dialects.urscript.interpreter import load
+from codegen.poses import matrix_from_ur
+
+
+def run(body: str, **inputs):
+    text = "def prog():\n" + "".join(f"  {line}\n" for line in body.splitlines()) + "end\n"
+    return load(text, "t.script").run(inputs)
+
+
+def msgs(body: str, **inputs):
+    return run(body, **inputs).messages
+
+
+def test_precedence_and_booleans():
+    assert msgs('textmsg("", 1 + 2 * 3)\ntextmsg("", -2 * 3 + 10 / 4)') == ["7", "-3.5"]
+    assert msgs('textmsg("", not 1 > 2 and 3 > 2 or False)') == ["True"]
+    assert msgs('textmsg("", (1 + 2) * 3)') == ["9"]
+
+
+def test_control_flow_functions_and_lists():
+    body = """def f(a, b):
+  if a > b:
+    return a
+  elif a == b:
+    return 0
+  else:
+    return b
+  end
+end
+x = [5, 6, 7]
+i = 0
+s = 0
+while i < 3:
+  s = s + x[i]
+  i = i + 1
+end
+textmsg("s=", s)
+textmsg("f=", f(2, 9))
+textmsg("g=", f(4, 4))"""
+    assert msgs(body) == ["s=18", "f=9", "g=0"]
+
+
+def test_numbers_are_float32():
+    assert msgs('textmsg("", 16777217.0)') == ["16777216"]
+    assert msgs('textmsg("", 0.1 + 0.2)') == ["0.3"]  # float32: 0.1f + 0.2f == 0.3f
+
+
+def test_pose_trans_is_matrix_composition():
+    a = [0.1, -0.2, 0.3, 0.1, 0.2, -0.3]
+    b = [0.4, 0.05, -0.1, 1.0, -0.5, 2.0]
+    body = f"p = pose_trans(p{a}, p{b})\nmovel(p, a=1.2, v=0.25)"
+    trace = run(body)
+    expected = matrix_from_ur(a) @ matrix_from_ur(b)
+    assert np.allclose(trace.moves[0].base2tcp, expected, atol=1e-3)
+    assert trace.moves[0].kind == "linear"
+
+
+def test_pose_inv_and_registers():
+    body = (
+        "q = pose_trans(p[0.1, 0.2, 0.3, 0, 0, 1.0], pose_inv(p[0.1, 0.2, 0.3, 0, 0, 1.0]))\nmovej(q)\n"
+        "textmsg(read_input_integer_register(24), read_input_float_register(24))"
+    )
+    trace = run(body, input_integer_register_24=7, input_float_register_24=1.5)
+    assert np.allclose(trace.moves[0].base2tcp, np.eye(4), atol=1e-4)
+    assert trace.messages == ["71.5"]
+
+
+def test_trig_in_radians_and_d2r():
+    assert msgs('textmsg("", sin(d2r(30.0)))') == ["0.5"]
+    assert float(msgs('textmsg("", r2d(atan2(1.0, 1.0)))')[0]) == pytest.approx(45.0)
+
+
+def test_halt_records_last_message():
+    trace = run('textmsg("stop here")\nhalt\nmovej(p[0, 0, 0, 0, 0, 0])')
+    assert trace.halted and trace.halt_message == "stop here" and not trace.moves
+
+
+def test_syntax_error_names_line_and_expected():
+    with pytest.raises(RunError, match=r"t.script:3:\d+: syntax error, expected"):
+        load("def prog():\n  x = 1\n  if x > 0\n  end\nend\n", "t.script")
+
+
+def test_runtime_error_names_line():
+    with pytest.raises(RunError, match=r"t.script:2:\d+: undefined variable y"):
+        run("x = y + 1")
+    with pytest.raises(RunError, match=r"index 3 out of range 0\.\.2"):
+        run("x = [1, 2, 3]\ny = x[3]")
+
+
+def test_runaway_loop_stops_at_step_limit():
+    program = load("def prog():\n  while True:\n    x = 1\n  end\nend\n", "t.script")
+    with pytest.raises(StepLimitError, match="step limit 1000 reached"):
+        program.run({}, step_limit=1000)
+
+
+def test_nan_fails_comparisons():
+    assert msgs('x = read_input_float_register(24)\ntextmsg("", norm(x) <= 5.0)', input_float_register_24=math.nan) == [
+        "False"
+    ]

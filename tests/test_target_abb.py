@@ -1,0 +1,51 @@
+"""ABB RAPID target; the independent checker rapidchecker must accept every generated module."""
+
+import subprocess
+import sys
+
+from target_base import TargetTests, cell_text, replace_once
+
+from codegen.cell import load_cell
+from codegen.render import render
+
+
+class TestABB(TargetTests):
+    target = "abb"
+
+    def mutate(self, mutation, text, dat):
+        return {
+            "swap_sin_cos": lambda: replace_once(text, "cos_phi := Cos(phi);", "cos_phi := Sin(phi);"),
+            "flip_sign": lambda: replace_once(text, "phi := ANGLE_SIGN *", "phi := -ANGLE_SIGN *"),
+            "drop_guard": lambda: replace_once(text, "IF dx * dx + dy * dy > MAX_SHIFT_SQ THEN", "IF FALSE THEN"),
+            "calibration_number": lambda: replace_once(text, "612.400000", "612.450000"),
+        }[mutation]()
+
+
+def _rapidchecker(path) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "rapidchecker", str(path)], capture_output=True, text=True)
+
+
+def test_rapidchecker_accepts_the_demo_module(tmp_path):
+    (f,) = render(load_cell(), ["abb"])
+    path = tmp_path / "demo.mod"
+    path.write_text(f.text, encoding="utf-8")
+    proc = _rapidchecker(path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "No RAPID format errors" in proc.stdout
+
+
+def test_rapidchecker_accepts_hostile_names(tmp_path):
+    cell_path = tmp_path / "cell.toml"
+    cell_path.write_text(cell_text(['lathe "1"; ENDPROC', "mill\n!2 é"]), encoding="utf-8")
+    (f,) = render(load_cell(cell_path), ["abb"])
+    path = tmp_path / "hostile.mod"
+    path.write_text(f.text, encoding="utf-8")
+    proc = _rapidchecker(path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_rapidchecker_is_not_vacuous(tmp_path):
+    (f,) = render(load_cell(), ["abb"])
+    path = tmp_path / "broken.mod"
+    path.write_text(f.text.replace("RETURN d;", "RETURN d", 1), encoding="utf-8")
+    assert _rapidchecker(path).returncode != 0

@@ -1,0 +1,15 @@
+"""Decompose/Trans target."""
+
+from target_base import TargetTests, replace_once
+
+
+class TestDTrans(TargetTests):
+    target = "dtrans"
+
+    def mutate(self, mutation, text, dat):
+        return {
+            "swap_sin_cos": lambda: replace_once(text, "Double cos_phi = cos(phi)", "Double cos_phi = sin(phi)"),
+            "flip_sign": lambda: replace_once(text, "Double phi = ANGLE_SIGN *", "Double phi = -ANGLE_SIGN *"),
+            "drop_guard": lambda: replace_once(text, "If dx * dx + dy * dy > MAX_SHIFT_SQ Then", "If False Then"),
+            "calibration_number": lambda: replace_once(text, "612.400000", "612.450000"),
+        }[mutation]()
