@@ -241,20 +241,28 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
 )
 @click.option("--cases", default=1000, show_default=True, help="Random readings per station.")
 @click.option("--seed", default=0, show_default=True)
+@click.option("--jobs", default=0, show_default=True, help="Worker processes (0: one per target, up to the CPUs).")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
 def verify(
-    cell: str | None, files: tuple[str, ...], targets: tuple[str, ...], cases: int, seed: int, as_json: bool
+    cell: str | None,
+    files: tuple[str, ...],
+    targets: tuple[str, ...],
+    cases: int,
+    seed: int,
+    jobs: int,
+    as_json: bool,
 ) -> None:
     """Interpret programs on random, edge, out-of-limit and invalid readings; compare with the reference.
 
     Without FILES the programs are generated fresh (with an extra station of edge-case poses);
     with FILES (a .src finds its .dat beside it) the files on disk are verified.
     """
+    import os
+    import time
     from pathlib import Path
 
     from codegen import verify as v
     from codegen.dialects.runtime import RunError
-    from codegen.targets import get_target
 
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
@@ -264,32 +272,44 @@ def verify(
         raise UserError("--cases must be >= 0")
     verify_cell = model
     if files:
-        programs = {}
+        sources = []
         for f in files:
             path = Path(f)
             if path.suffix.lower() == ".dat":
                 continue
             try:
                 name = targets[0] if len(targets) == 1 else v.target_of_file(path)
-                programs[name] = (v.load_program_file(get_target(name), path), [str(path)])
+                sources.append(v.file_source(name, path))
             except (ValueError, RunError) as exc:
                 raise UserError(str(exc)) from None
-        names = list(programs)
     else:
         names = list(targets) or list(model.targets)
         verify_cell = v.edge_cell(model)
-        programs = v.fresh_programs(verify_cell, names)
+        sources = v.fresh_sources(verify_cell, names)
     case_list = v.build_cases(verify_cell, cases, seed)
-    total = len(case_list) * len(names)
+    total = len(case_list) * len(sources)
+    workers = jobs if jobs > 0 else (os.cpu_count() or 1)
+    start = time.perf_counter()
     if sys.stderr.isatty():
         with click.progressbar(length=total, label="verifying", file=sys.stderr, show_pos=True) as bar:
-            reports = v.verify(model, names, programs, case_list, progress=bar.update, verify_cell=verify_cell)
+            reports = v.run_verify(model, sources, case_list, workers, bar.update, verify_cell)
     else:
-        reports = v.verify(model, names, programs, case_list, verify_cell=verify_cell)
+        reports = v.run_verify(model, sources, case_list, workers, None, verify_cell)
+    wall = time.perf_counter() - start
     summaries = [r.summary() for r in reports]
     ok = all(s["mismatches"] == 0 for s in summaries)
     if as_json:
-        _dump({"cell": model.name, "seed": seed, "random_per_station": cases, "ok": ok, "targets": summaries})
+        _dump(
+            {
+                "cell": model.name,
+                "seed": seed,
+                "random_per_station": cases,
+                "ok": ok,
+                "wall_seconds": wall,
+                "workers": workers,
+                "targets": summaries,
+            }
+        )
     else:
         click.echo(
             f"cell {model.name}: {len(verify_cell.stations)} stations, {len(case_list)} readings per target "
@@ -308,5 +328,9 @@ def verify(
             )
             for line in s["first_mismatches"]:
                 click.echo(f"  MISMATCH {line}")
+        click.echo(
+            f"{sum(s['cases'] for s in summaries)} runs in {wall:.1f} s wall, {workers} worker(s); "
+            "cases/s = one dialect on one core"
+        )
         click.echo("verify: all traces match the reference" if ok else "verify: MISMATCHES")
     sys.exit(0 if ok else 1)

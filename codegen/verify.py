@@ -14,7 +14,7 @@ import numpy as np
 from codegen.cell import Cell, Station, TaughtPose
 from codegen.dialects.runtime import Program, RunError
 from codegen.emit import Emitter
-from codegen.poses import native_values, rotation_angle_between
+from codegen.poses import native_values
 from codegen.reference import (
     INVALID_READING,
     ROTATION_OVER_LIMIT,
@@ -252,6 +252,12 @@ def accepted_traces(cell: Cell, reading: Reading) -> tuple[list[Trace], bool]:
     return out, True
 
 
+def rotation_error_deg(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle of a^T b: ||Ra - Rb||_F = 2 sqrt(2) sin(angle / 2), exact for any angle."""
+    distance = float(np.linalg.norm(a[:3, :3] - b[:3, :3]))
+    return math.degrees(2.0 * math.asin(min(1.0, distance / (2.0 * math.sqrt(2.0)))))
+
+
 def expected_message(cell: Cell, trace: Trace, reading: Reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         from codegen.render import UNKNOWN_STATION_TEXT
@@ -289,7 +295,7 @@ def compare(cell: Cell, target: Target, reading: Reading, expected: Trace, got, 
         if g.kind != e.kind:
             return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
         pos = float(np.linalg.norm(g.base2tcp[:3, 3] - e.base2tcp[:3, 3]))
-        rot = math.degrees(rotation_angle_between(e.base2tcp[:3, :3], g.base2tcp[:3, :3]))
+        rot = rotation_error_deg(e.base2tcp, g.base2tcp)
         pos_errors.append(pos)
         rot_errors.append(rot)
         if not pos <= pos_tol or not rot <= rot_tol:
@@ -363,5 +369,108 @@ def verify(
     return reports
 
 
-def pose_format_of(target: str) -> str:
-    return get_target(target).pose_format
+# --- parallel runs --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ProgramSource:
+    """A program as text (picklable), so that worker processes can parse it themselves."""
+
+    target: str
+    text: str
+    filename: str
+    dat_text: str | None
+    files: tuple[str, ...]
+
+    def load(self) -> Program:
+        return load_program(get_target(self.target), self.text, self.filename, self.dat_text)
+
+
+def fresh_sources(cell: Cell, targets: list[str]) -> list[ProgramSource]:
+    from codegen.render import render
+
+    files = render(cell, targets)
+    out = []
+    for name in targets:
+        mine = [f for f in files if f.relpath.split("/")[1] == name]
+        main = next(f for f in mine if not f.relpath.endswith(".dat"))
+        dat = next((f.text for f in mine if f.relpath.endswith(".dat")), None)
+        out.append(ProgramSource(name, main.text, f"<fresh>/{main.relpath}", dat, tuple(f.relpath for f in mine)))
+    return out
+
+
+def file_source(target: str, path: Path) -> ProgramSource:
+    dat_text, files = None, [str(path)]
+    if get_target(target).dialect == "krl":
+        dat = path.with_suffix(".dat")
+        if dat.exists():
+            dat_text = dat.read_text(encoding="utf-8")
+            files.append(str(dat))
+    source = ProgramSource(target, path.read_text(encoding="utf-8"), str(path), dat_text, tuple(files))
+    source.load()  # report syntax errors before any case runs
+    return source
+
+
+_LOADED: dict[ProgramSource, Program] = {}
+
+
+def _verify_chunk(args) -> list[TargetReport]:
+    """One chunk of cases on every source (the reference runs once per case)."""
+    cell, verify_cell, sources, cases = args
+    programs = {}
+    for source in sources:
+        if source not in _LOADED:
+            _LOADED[source] = source.load()
+        programs[source.target] = (_LOADED[source], list(source.files))
+    return verify(cell, [s.target for s in sources], programs, cases, verify_cell=verify_cell)
+
+
+def _merge(parts: list[TargetReport]) -> TargetReport:
+    out = TargetReport(parts[0].target, parts[0].files)
+    for part in parts:
+        out.cases += part.cases
+        out.mismatches += part.mismatches
+        out.halts += part.halts
+        out.boundary += part.boundary
+        out.moves += part.moves
+        out.pos_errors.extend(part.pos_errors)
+        out.rot_errors.extend(part.rot_errors)
+        out.first_mismatches.extend(part.first_mismatches[: 10 - len(out.first_mismatches)])
+        out.seconds += part.seconds
+        for key, count in part.categories.items():
+            out.categories[key] = out.categories.get(key, 0) + count
+    return out
+
+
+def run_verify(
+    cell: Cell,
+    sources: list[ProgramSource],
+    cases: list[Case],
+    jobs: int = 1,
+    progress=None,
+    verify_cell: Cell | None = None,
+) -> list[TargetReport]:
+    """Verify every source on every case, in `jobs` processes; `seconds` is the time spent running
+    one dialect's cases (summed over workers), so cases/seconds is the per-dialect speed."""
+    chunk = max(1, -(-len(cases) // max(4, 2 * jobs)))
+    tasks = [(cell, verify_cell, sources, cases[i : i + chunk]) for i in range(0, len(cases), chunk)]
+    parts: dict[str, list[TargetReport]] = {source.target: [] for source in sources}
+
+    def collect(reports: list[TargetReport]) -> None:
+        for part in reports:
+            parts[part.target].append(part)
+            if progress is not None:
+                progress(part.cases)
+
+    if jobs <= 1:
+        for task in tasks:
+            collect(_verify_chunk(task))
+    else:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        context = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+            for reports in pool.map(_verify_chunk, tasks):
+                collect(reports)
+    return [_merge(parts[source.target]) for source in sources]

@@ -18,8 +18,18 @@ def invoke(*args):
 
 
 def test_run_prints_moves_and_log():
-    result = invoke("run", GENERATED / "kuka" / "agv_machine_tending.src", "--input", "VIS_STATION=3",
-                    "--input", "VIS_X=642.2", "--input", "VIS_Y=209.1", "--input", "VIS_THETA=3.1")
+    result = invoke(
+        "run",
+        GENERATED / "kuka" / "agv_machine_tending.src",
+        "--input",
+        "VIS_STATION=3",
+        "--input",
+        "VIS_X=642.2",
+        "--input",
+        "VIS_Y=209.1",
+        "--input",
+        "VIS_THETA=3.1",
+    )
     assert result.exit_code == 0, result.output
     assert result.output.count("message: deviation") == 2
     assert "joint " in result.output and "linear " in result.output

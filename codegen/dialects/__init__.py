@@ -21,11 +21,11 @@ def printers() -> dict:
 SUFFIX_DIALECT = {".script": "urscript", ".src": "krl", ".dat": "krl", ".mod": "rapid", ".prg": "dtrans"}
 
 
-def parse_program(name: str, text: str):
+def parse_program(name: str, text: str, positions: bool = True):
     """Parse a program with its dialect's grammar; raises with file:line:column on an error."""
     suffix = "." + name.rsplit(".", 1)[-1].lower()
     dialect = SUFFIX_DIALECT.get(suffix)
     if dialect is None:
         raise ValueError(f"{name}: unknown program suffix {suffix}")
     module = importlib.import_module(f"codegen.dialects.{dialect}.interpreter")
-    return module.parse(text, name)
+    return module.parse(text, name, positions)

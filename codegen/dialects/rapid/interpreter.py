@@ -28,15 +28,16 @@ QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientatio
 
 
 @cache
-def parser() -> Lark:
-    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=True)
+def parser(positions: bool = True) -> Lark:
+    """LALR parser; without positions it is twice as fast (syntax errors still have them)."""
+    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=positions)
 
 
-def parse(text: str, filename: str = "<rapid>") -> Tree:
+def parse(text: str, filename: str = "<rapid>", positions: bool = True) -> Tree:
     try:
-        return parser().parse(text)
+        return parser(positions).parse(text)
     except UnexpectedInput as exc:
-        raise syntax_error(exc, filename, parser()) from None
+        raise syntax_error(exc, filename, parser(positions)) from None
 
 
 # Record types by field order (aggregates [a, b, ...] are positional).
