@@ -47,11 +47,23 @@ class TaughtPose:
 
 
 @dataclass(frozen=True)
+class Refine:
+    """Closed-loop refinement of frame-mode stations (source 001)."""
+
+    tolerance_mm: float = 0.02
+    tolerance_deg: float = 0.04
+    max_iterations: int = 10
+
+
+@dataclass(frozen=True)
 class Station:
     id: int
     name: str
-    mark: tuple[float, float, float]  # x mm, y mm, theta deg, base frame, at calibration
+    mark: tuple[float, float, float]  # point mode: x mm, y mm, theta deg, base frame, at calibration
     poses: tuple[TaughtPose, ...]  # visiting order: first joint move, then linear
+    mode: str = "point"  # "point" (source 000) or "frame" (source 001)
+    frame: TaughtPose | None = None  # frame mode: the user frame at calibration, base frame; mark at its origin
+    photo: TaughtPose | None = None  # frame mode: where the camera photographs from, in the user frame
 
 
 @dataclass(frozen=True)
@@ -62,6 +74,8 @@ class Cell:
     angle_sign: int
     limits: Limits
     stations: tuple[Station, ...]
+    handeye: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None  # pixel -> mm
+    refine: Refine = Refine()
     source: str = ""
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
@@ -75,10 +89,12 @@ class Cell:
 
 # --- loading ---------------------------------------------------------------------------------
 
-_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits"}
-_CAMERA_KEYS = {"angle_sign"}
+_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "refine"}
+_CAMERA_KEYS = {"angle_sign", "handeye"}
+_HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
-_STATION_KEYS = {"id", "name", "mark", "poses"}
+_REFINE_KEYS = {"tolerance_mm", "tolerance_deg", "max_iterations"}
+_STATION_KEYS = {"id", "name", "mark", "poses", "mode", "frame", "photo"}
 
 
 def load_cell(path: str | Path | None = None) -> Cell:
@@ -129,6 +145,31 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     if isinstance(angle_sign, bool) or angle_sign not in (1, -1):
         ctx.fail("cell.camera.angle_sign", f"expected 1 or -1, got {angle_sign!r}")
 
+    handeye = None
+    if "handeye" in camera:
+        he = ctx.table(camera, "handeye", "cell.camera.handeye")
+        ctx.no_unknown(he, _HANDEYE_KEYS, "cell.camera.handeye")
+        rows = ctx.require(he, "pixel_to_mm", "cell.camera.handeye.pixel_to_mm")
+        if not isinstance(rows, list) or len(rows) != 2:
+            ctx.fail("cell.camera.handeye.pixel_to_mm", "expected 2 rows of 3 numbers [[a, b, tx], [c, d, ty]]")
+        handeye = tuple(ctx.numbers(r, 3, f"cell.camera.handeye.pixel_to_mm[{i}]") for i, r in enumerate(rows))
+        det = handeye[0][0] * handeye[1][1] - handeye[0][1] * handeye[1][0]
+        if abs(det) < 1e-12:
+            ctx.fail("cell.camera.handeye.pixel_to_mm", "the 2x2 part is singular")
+
+    refine = Refine()
+    if "refine" in cell_table:
+        rt = ctx.table(cell_table, "refine", "cell.refine")
+        ctx.no_unknown(rt, _REFINE_KEYS, "cell.refine")
+        tol_mm = ctx.finite(rt.get("tolerance_mm", 0.02), "cell.refine.tolerance_mm")
+        tol_deg = ctx.finite(rt.get("tolerance_deg", 0.04), "cell.refine.tolerance_deg")
+        iterations = rt.get("max_iterations", 10)
+        if tol_mm <= 0 or tol_deg <= 0:
+            ctx.fail("cell.refine", "tolerances must be positive")
+        if isinstance(iterations, bool) or not isinstance(iterations, int) or not 1 <= iterations <= 100:
+            ctx.fail("cell.refine.max_iterations", f"expected an integer in 1..100, got {iterations!r}")
+        refine = Refine(tol_mm, tol_deg, iterations)
+
     limits_table = ctx.table(cell_table, "limits", "cell.limits")
     ctx.no_unknown(limits_table, _LIMIT_KEYS, "cell.limits")
     max_shift = ctx.number(limits_table, "max_shift_mm", "cell.limits.max_shift_mm")
@@ -144,6 +185,13 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     if not isinstance(stations_raw, list) or not stations_raw:
         ctx.fail("station", "expected at least one [[station]] table")
     stations = [ctx.station(raw, i + 1, pose_format) for i, raw in enumerate(stations_raw)]
+    for i, station in enumerate(stations, start=1):
+        if station.mode == "frame" and handeye is None:
+            ctx.fail(
+                f"station[{i}].mode",
+                "frame mode reads the camera in pixels and needs [cell.camera.handeye] "
+                "(write it with `codegen calibrate handeye POINTS.csv --write CELL`)",
+            )
     seen_ids: dict[int, int] = {}
     seen_names: dict[str, int] = {}
     for i, station in enumerate(stations, start=1):
@@ -162,6 +210,8 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         angle_sign=int(angle_sign),
         limits=Limits(max_shift, max_rot),
         stations=tuple(stations),
+        handeye=handeye,
+        refine=refine,
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),
@@ -230,28 +280,44 @@ class _Context:
             # 32767: largest KRL INT and UR register value every target reads without loss.
             self.fail(f"{path}.id", f"must be in 1..32767, got {station_id}")
         name = self.name(raw, "name", f"{path}.name")
-        mark = self.numbers(self.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
-        if abs(mark[0]) > READING_RANGE_MM or abs(mark[1]) > READING_RANGE_MM:
-            self.fail(f"{path}.mark", f"x and y must be within +-{READING_RANGE_MM:g} mm")
-        if abs(mark[2]) > READING_RANGE_DEG:
-            self.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
+        mode = raw.get("mode", "point")
+        if mode not in ("point", "frame"):
+            self.fail(f"{path}.mode", f'expected "point" or "frame", got {mode!r}')
+        frame = photo = None
+        if mode == "point":
+            for key in ("frame", "photo"):
+                if key in raw:
+                    self.fail(f"{path}.{key}", 'only frame-mode stations (mode = "frame") have this key')
+            mark = self.numbers(self.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
+            if abs(mark[0]) > READING_RANGE_MM or abs(mark[1]) > READING_RANGE_MM:
+                self.fail(f"{path}.mark", f"x and y must be within +-{READING_RANGE_MM:g} mm")
+            if abs(mark[2]) > READING_RANGE_DEG:
+                self.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
+        else:
+            if "mark" in raw:
+                self.fail(f"{path}.mark", "a frame-mode station has its mark at the frame origin; remove mark")
+            frame = self.pose("frame", self.require(raw, "frame", f"{path}.frame"), f"{path}.frame", pose_format)
+            photo = self.pose("photo", self.require(raw, "photo", f"{path}.photo"), f"{path}.photo", pose_format)
+            mark = (0.0, 0.0, 0.0)
         poses_raw = self.table(raw, "poses", f"{path}.poses")
         if not poses_raw:
             self.fail(f"{path}.poses", "a station needs at least one pose")
-        count = POSE_FORMATS[pose_format][0]
-        poses = []
-        for pose_name, values in poses_raw.items():
-            pose_path = f"{path}.poses.{pose_name}"
-            if not pose_name.strip():
-                self.fail(pose_path, "pose name must not be empty")
-            numbers = self.numbers(values, count, pose_path)
-            if pose_format == "abb":
-                numbers = self.normalise_quaternion(numbers, pose_path)
-            bound = READING_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
-            if max(abs(v) for v in numbers[:3]) > bound:
-                self.fail(pose_path, f"position must be within +-{bound:g} (cell units)")
-            poses.append(TaughtPose(pose_name, numbers, pose_format))
-        return Station(int(station_id), name, mark, tuple(poses))
+        poses = [
+            self.pose(pose_name, values, f"{path}.poses.{pose_name}", pose_format)
+            for pose_name, values in poses_raw.items()
+        ]
+        return Station(int(station_id), name, mark, tuple(poses), mode, frame, photo)
+
+    def pose(self, pose_name: str, values, pose_path: str, pose_format: str) -> TaughtPose:
+        if not pose_name.strip():
+            self.fail(pose_path, "pose name must not be empty")
+        numbers = self.numbers(values, POSE_FORMATS[pose_format][0], pose_path)
+        if pose_format == "abb":
+            numbers = self.normalise_quaternion(numbers, pose_path)
+        bound = READING_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
+        if max(abs(v) for v in numbers[:3]) > bound:
+            self.fail(pose_path, f"position must be within +-{bound:g} (cell units)")
+        return TaughtPose(pose_name, numbers, pose_format)
 
     def normalise_quaternion(self, numbers: tuple[float, ...], path: str) -> tuple[float, ...]:
         q = numbers[3:]

@@ -9,10 +9,12 @@ from pathlib import Path
 
 from codegen import __version__, derived
 from codegen.cell import Cell
-from codegen.emit import Emitter
+from codegen.emit import EmitError, Emitter
 from codegen.poses import FORMAT_DECIMALS, native_values
 from codegen.reference import (
     INVALID_READING,
+    NOT_CONVERGED,
+    PIXEL_RANGE,
     ROTATION_OVER_LIMIT,
     SHIFT_OVER_LIMIT,
     Trace,
@@ -49,43 +51,69 @@ def _env():
 
 
 def station_messages(cell: Cell, station, emitter: Emitter) -> dict[str, str]:
-    """The halt message for each guard reason, as the target's string literal body."""
+    """The halt message for each reason, as the target's string literal body."""
+    reasons = (*GUARD_CODES, NOT_CONVERGED)
     return {
-        reason: emitter.string(halt_message(cell, Trace("halt", reason, station), station.id)) for reason in GUARD_CODES
+        reason: emitter.string(halt_message(cell, Trace("halt", reason, station), station.id)) for reason in reasons
+    }
+
+
+def _pose_numbers(pose, fmt: str, emitter: Emitter) -> list[str]:
+    values = native_values(pose.values, pose.pose_format, fmt)
+    return [emitter.number(v, d) for v, d in zip(values, FORMAT_DECIMALS[fmt], strict=True)]
+
+
+def _level(pose) -> bool:
+    """A frame whose x-y plane is the base x-y plane (only Rz): the dtrans dialect can compose it."""
+    return abs(pose.matrix()[2, 2] - 1.0) < 1e-12
+
+
+def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> dict:
+    origin = f"station[{station.id}] {station.name!r}"
+    fmt = target.pose_format
+    poses = [
+        {
+            "name": emitter.comment(pose.name),
+            "ident": emitter.identifier(f"p{station.id}_", pose.name, f"{origin} pose {pose.name!r}"),
+            "numbers": _pose_numbers(pose, fmt, emitter),
+            "motion": "joint" if i == 0 else "linear",
+        }
+        for i, pose in enumerate(station.poses)
+    ]
+    frame = photo = None
+    if station.mode == "frame":
+        if target.name == "dtrans" and not _level(station.frame):
+            raise EmitError(
+                f"dtrans: {origin} frame must be level (b = c = 0): the dialect composes poses only by "
+                "Decompose/Trans and yaw addition"
+            )
+        frame = {
+            "ident": emitter.identifier(f"f{station.id}_", station.name, f"{origin} frame"),
+            "numbers": _pose_numbers(station.frame, fmt, emitter),
+        }
+        photo = {
+            "ident": emitter.identifier(f"c{station.id}_", "photo", f"{origin} photo pose"),
+            "numbers": _pose_numbers(station.photo, fmt, emitter),
+        }
+    return {
+        "mode": station.mode,
+        "frame": frame,
+        "photo": photo,
+        "id": station.id,
+        "name": emitter.comment(station.name),
+        "ident": emitter.identifier("st_", station.name, origin),
+        "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
+        "mark": [emitter.number(v, MARK_DECIMALS) for v in station.mark],
+        "poses": poses,
+        "work": poses[-1],
+        "messages": station_messages(cell, station, emitter),
     }
 
 
 def context(cell: Cell, target: Target) -> dict:
     emitter = Emitter(target)
-    fmt = target.pose_format
-    decimals = FORMAT_DECIMALS[fmt]
     number = emitter.number
-    stations = []
-    for station in cell.stations:
-        origin = f"station[{station.id}] {station.name!r}"
-        poses = []
-        for i, pose in enumerate(station.poses):
-            values = native_values(pose.values, pose.pose_format, fmt)
-            poses.append(
-                {
-                    "name": emitter.comment(pose.name),
-                    "ident": emitter.identifier(f"p{station.id}_", pose.name, f"{origin} pose {pose.name!r}"),
-                    "numbers": [number(v, d) for v, d in zip(values, decimals, strict=True)],
-                    "motion": "joint" if i == 0 else "linear",
-                }
-            )
-        stations.append(
-            {
-                "id": station.id,
-                "name": emitter.comment(station.name),
-                "ident": emitter.identifier("st_", station.name, origin),
-                "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
-                "mark": [number(v, MARK_DECIMALS) for v in station.mark],
-                "poses": poses,
-                "work": poses[-1],
-                "messages": station_messages(cell, station, emitter),
-            }
-        )
+    stations = [_station_context(cell, station, target, emitter) for station in cell.stations]
     return {
         "version": __version__,
         "cell": {
@@ -103,8 +131,20 @@ def context(cell: Cell, target: Target) -> dict:
         },
         "codes": GUARD_CODES,
         "stations": stations,
+        "has_point": any(st["mode"] == "point" for st in stations),
+        "has_frame": any(st["mode"] == "frame" for st in stations),
         "frame": derived.printed(target.dialect, "frame"),
         "point": derived.printed(target.dialect, "point"),
+        "refine": derived.printed(target.dialect, "refine"),
+        "handeye": None if cell.handeye is None else [number(v, 9) for row in cell.handeye for v in row],
+        "tolerance": {
+            "mm_sq": number(cell.refine.tolerance_mm**2, 9),
+            "deg": number(cell.refine.tolerance_deg, 6),
+            "mm_text": f"{cell.refine.tolerance_mm:g}",
+            "deg_text": f"{cell.refine.tolerance_deg:g}",
+            "photos": str(cell.refine.max_iterations),
+        },
+        "pixel_range": number(PIXEL_RANGE, 1),
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
         "target": target,
     }

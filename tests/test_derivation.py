@@ -18,6 +18,9 @@ EXPECTED = {
     "source_listing_as_named": "refuted",
     "source_listing_names_swapped": "holds",
     "source_listing_orientation_sign": "refuted",
+    "frame_update": "holds",
+    "source_frame_update": "refuted",
+    "source_frame_update_contraction": "holds",
 }
 
 
@@ -48,3 +51,17 @@ def test_refuted_identity_reports_a_counterexample(fresh):
 def test_cache_equals_fresh_derivation():
     fresh_cache = json.loads(json.dumps(derivation.build_cache(), sort_keys=True))
     assert derived.load() == fresh_cache, "codegen/derived.json is stale: python -m codegen.derivation --write"
+
+
+def test_contraction_factor_is_derived():
+    import sympy as sp
+
+    factor = derivation.source_frame_contraction()
+    assert sp.simplify(factor - 2 * sp.Abs(sp.sin(derivation.alpha))) == 0
+    # diverges past 30 degrees: 2 sin(30 deg) = 1
+    assert float(factor.subs(derivation.alpha, sp.pi / 6)) == 1.0
+
+
+def test_describe_shows_both_updates():
+    text = derivation.describe()
+    assert "R(+alpha)" in text and "R(-alpha)" in text and "2*Abs(sin(alpha))" in text

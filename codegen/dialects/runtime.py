@@ -130,15 +130,57 @@ class Frame:
 class Machine:
     """State of one run: globals, injected inputs, trace, step counter."""
 
-    def __init__(self, program: Program, inputs: dict, step_limit: int) -> None:
+    def __init__(self, program: Program, inputs: dict, step_limit: int, camera=None) -> None:
         self.program = program
         self.globals: dict = {}
         self.global_types: dict = {}
         self.inputs = inputs
+        self.outputs: dict = {}
+        self.camera = camera
         self.trace = Trace()
         self.step_limit = step_limit
         self.steps = 0
         self.extra: dict = {}  # dialect state ($BASE, message handles, ...)
+
+    # --- the vision PC's side of the photo handshake (frame mode) ---------------------------
+    def _io_get(self, name: str):
+        if name.startswith("input_"):
+            return self.inputs.get(name, 0)
+        if name.startswith("output_"):
+            return self.outputs.get(name, 0)
+        return self.globals.get(self.program.compiler.norm(name))
+
+    def _io_set(self, name: str, value) -> None:
+        if name.startswith("input_"):
+            self.inputs[name] = value
+            return
+        key = self.program.compiler.norm(name)
+        if key not in self.globals:
+            raise RunError(f"{self.program.name}: the photo interface variable {name} is not declared")
+        self.globals[key] = self.program.compiler.coerce(self.global_types.get(key), value, name)
+
+    def answer_photo(self, where: str) -> bool:
+        """If the program has requested a photo that is not answered yet, answer it as the vision PC
+        would: take the picture from where the robot last moved, write the reading, acknowledge."""
+        io = self.program.photo_io
+        if not io:
+            return False
+        request, ack = self._io_get(io["request"]), self._io_get(io["ack"])
+        if request is None or request == ack:
+            return False
+        if self.camera is None:
+            raise RunError(
+                f"{where}: the program waits for a photo and no camera is attached "
+                "(codegen verify attaches a simulated one)"
+            )
+        if not self.trace.moves:
+            raise RunError(f"{where}: a photo was requested before the robot moved to a photo pose")
+        u, v, angle = self.camera.photo(self.trace.moves[-1].base2tcp)
+        self._io_set(io["u"], u)
+        self._io_set(io["v"], v)
+        self._io_set(io["angle"], angle)
+        self._io_set(io["ack"], request)
+        return True
 
     def step(self, where: str) -> None:
         self.steps += 1
@@ -160,6 +202,7 @@ class Program:
         self.init = init  # closure: module data / constant top-level statements
         self.main = main  # routine to call after init, or None
         self.body = body  # closure run after init when there is no main routine
+        self.photo_io: dict | None = None  # names of the photo handshake (set by the loader)
         self._snapshot: tuple[dict, dict, dict] | None = None
 
     def _prepare(self, step_limit: int) -> tuple[dict, dict, dict]:
@@ -169,9 +212,9 @@ class Program:
             self._snapshot = (machine.globals, machine.global_types, machine.extra)
         return self._snapshot
 
-    def run(self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT) -> Trace:
+    def run(self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT, camera=None) -> Trace:
         globals_, types, extra = self._prepare(step_limit)
-        machine = Machine(self, dict(inputs or {}), step_limit)
+        machine = Machine(self, dict(inputs or {}), step_limit, camera)
         mutable = self.compiler.assigned_roots
         machine.globals = {k: (deepcopy_value(v) if k in mutable else v) for k, v in globals_.items()}
         machine.global_types = dict(types)

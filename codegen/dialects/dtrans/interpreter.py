@@ -240,6 +240,17 @@ class DTransCompiler(Compiler):
                 else_body = self.block(clause.children[0].children)
         return self.if_chain(branches, else_body)
 
+    def s_wait_stmt(self, node):
+        """WaitUntil cond: here only the vision PC's photo answer can change a condition."""
+        cond = self.expr(node.children[0])
+        where = self.where(node)
+
+        def run(fr):
+            if not cond(fr) and not (fr.m.answer_photo(where) and cond(fr)):
+                raise RunError(f"{where}: WaitUntil a condition that nothing here can make true")
+
+        return run
+
     def s_halt_stmt(self, node):
         def run(fr):
             messages = fr.m.trace.messages

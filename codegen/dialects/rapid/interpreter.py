@@ -48,6 +48,7 @@ RECORDS = {
     "CONFDATA": [("CF1", "NUM"), ("CF4", "NUM"), ("CF6", "NUM"), ("CFX", "NUM")],
     "EXTJOINT": [(f"EAX_{c}", "NUM") for c in "ABCDEF"],
     "ROBTARGET": [("TRANS", "POS"), ("ROT", "ORIENT"), ("ROBCONF", "CONFDATA"), ("EXTAX", "EXTJOINT")],
+    "WOBJDATA": [("ROBHOLD", "BOOL"), ("UFPROG", "BOOL"), ("UFMEC", "STRING"), ("UFRAME", "POSE"), ("OFRAME", "POSE")],
 }
 SCALARS = {"NUM", "DNUM", "BOOL", "STRING"}
 _PREDEFINED = re.compile(r"^(V\d+|VMAX|FINE|Z\d+|TOOL0|WOBJ0|LOAD0)$")
@@ -183,8 +184,21 @@ class RAPIDCompiler(Compiler):
                 if abs(norm - 1.0) > QUATERNION_TOLERANCE:
                     raise RunError(f"{where}: orientation not normalised (|q| = {norm:.9f})")
                 m = posemath.quat_matrix(t, q)
-                if "WOBJ" in kwargs and kwargs["WOBJ"] is not None and not isinstance(kwargs["WOBJ"], str):
-                    raise RunError(f"{where}: only wobj0 is supported as \\WObj")
+                wobj = kwargs.get("WOBJ")
+                if isinstance(wobj, Record):  # base2tcp = uframe . oframe . target (wobj0: identity)
+                    wobj = self.coerce("WOBJDATA", wobj, where)
+                    if wobj["ROBHOLD"]:
+                        raise RunError(f"{where}: a work object held by the robot is not supported")
+                    frames = [wobj["UFRAME"], wobj["OFRAME"]]
+                    for frame in reversed(frames):
+                        m = (
+                            posemath.quat_matrix(
+                                _vec(frame["TRANS"], "XYZ"), _vec(frame["ROT"], ("Q1", "Q2", "Q3", "Q4"))
+                            )
+                            @ m
+                        )
+                elif wobj not in (None, "WOBJ0"):
+                    raise RunError(f"{where}: unknown work object {wobj}")
                 fr.m.trace.moves.append(MoveEvent(kind, m, int(where.split(":")[1])))
 
             return run
@@ -361,6 +375,9 @@ class RAPIDCompiler(Compiler):
         return run
 
     def s_proc_call(self, node):
+        name, args_node = node.children
+        if str(name).upper() == "WAITUNTIL":
+            return self.wait_until(node, args_node)
         call = self.e_call(Tree("call", node.children, node.meta))
 
         def run(fr):
@@ -380,6 +397,20 @@ class RAPIDCompiler(Compiler):
             else:
                 else_body = self.body(clause.children[0])
         return self.if_chain(branches, else_body)
+
+    def wait_until(self, node, args_node):
+        """WaitUntil cond: here only the vision PC's photo answer can change a condition."""
+        positional, _named = self.call_args(args_node)
+        if len(positional) != 1:
+            self.fail(node, "WaitUntil takes one condition")
+        cond = self.expr(positional[0])
+        where = self.where(node)
+
+        def run(fr):
+            if not cond(fr) and not (fr.m.answer_photo(where) and cond(fr)):
+                raise RunError(f"{where}: WaitUntil a condition that nothing here can make true")
+
+        return run
 
     def s_compact_if(self, node):
         cond, statement = node.children

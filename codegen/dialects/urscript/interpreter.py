@@ -137,6 +137,15 @@ class URScriptCompiler(Compiler):
 
             return read
 
+        def write_output_integer_register(fr, args, kwargs, where):
+            index = int(args[0])
+            if not 0 <= index <= 47:
+                raise RunError(f"{where}: register {index} out of range 0..47")
+            fr.m.outputs[f"output_integer_register_{index}"] = int(args[1])
+
+        def sync(fr, args, kwargs, where):
+            fr.m.answer_photo(where)  # the vision PC answers between two controller cycles
+
         def atan2(fr, args, kwargs, where):
             return F32(math.atan2(float(args[0]), float(args[1])))
 
@@ -167,6 +176,8 @@ class URScriptCompiler(Compiler):
             "halt": halt,
             "read_input_integer_register": register("integer"),
             "read_input_float_register": register("float"),
+            "write_output_integer_register": write_output_integer_register,
+            "sync": sync,
             "sin": _unary(math.sin),
             "cos": _unary(math.cos),
             "tan": _unary(math.tan),

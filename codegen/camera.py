@@ -1,0 +1,73 @@
+"""Simulated camera for frame-mode stations: what it reports from a photo pose, with hand-eye errors."""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import dataclass
+
+import numpy as np
+
+from codegen.poses import concat, invert
+
+
+@dataclass(frozen=True)
+class CameraModel:
+    """How the real camera differs from its calibration, and its noise (all optional).
+
+    The calibrated hand-eye map takes pixels to frame millimetres; the real one is off by a scale
+    factor (1 + scale_error) and a rotation (rotation_error_deg) about the photo axis, so the
+    program, applying the calibrated map, reads the mark offset turned and scaled by these errors.
+    """
+
+    scale_error: float = 0.0
+    rotation_error_deg: float = 0.0
+    noise_px: float = 0.0
+    noise_deg: float = 0.0
+    seed: int = 0
+    fault_at_photo: int = 0  # > 0: that photo returns NaN (a failed match), to exercise the guard
+
+
+def mark_offset_seen(
+    base2frame0: np.ndarray, frame2photo: np.ndarray, base2tcp: np.ndarray, base2mark: np.ndarray
+) -> tuple[float, float, float]:
+    """The mark in the frame the camera believes it is photographing from: (x mm, y mm, yaw deg).
+
+    The camera rides on the tool; at calibration the tool at frame2photo saw the mark at the frame
+    origin. Now the tool is at base2tcp, so the frame it implies is base2tcp . photo2frame.
+    """
+    implied_frame = concat(base2tcp, invert(frame2photo))
+    frame2mark = concat(invert(implied_frame), base2mark)
+    yaw = math.degrees(math.atan2(frame2mark[1, 0], frame2mark[0, 0]))
+    return float(frame2mark[0, 3]), float(frame2mark[1, 3]), yaw
+
+
+class SimulatedCamera:
+    """Answers photo requests in pixels (u, v) and an image angle, as the real camera would."""
+
+    def __init__(self, model: CameraModel, pixel_to_mm, angle_sign: int, base2frame0, frame2photo, base2mark) -> None:
+        self.model = model
+        self.pixel_to_mm = np.array(pixel_to_mm, dtype=float)
+        self.angle_sign = angle_sign
+        self.base2frame0, self.frame2photo, self.base2mark = base2frame0, frame2photo, base2mark
+        self.photos = 0
+        self._rng = random.Random(model.seed)
+
+    def photo(self, base2tcp: np.ndarray) -> tuple[float, float, float]:
+        self.photos += 1
+        if self.photos == self.model.fault_at_photo:
+            return math.nan, math.nan, math.nan
+        x, y, yaw = mark_offset_seen(self.base2frame0, self.frame2photo, base2tcp, self.base2mark)
+        # The program applies the calibrated map; the real map is off by the hand-eye error, so the
+        # millimetres the program will compute are the true offset turned back and scaled back.
+        err = math.radians(self.model.rotation_error_deg)
+        k = 1.0 / (1.0 + self.model.scale_error)
+        mx = k * (math.cos(-err) * x - math.sin(-err) * y)
+        my = k * (math.sin(-err) * x + math.cos(-err) * y)
+        a = self.pixel_to_mm[:, :2]
+        t = self.pixel_to_mm[:, 2]
+        u, v = np.linalg.solve(a, np.array([mx, my]) - t)
+        u += self._rng.gauss(0.0, self.model.noise_px) if self.model.noise_px else 0.0
+        v += self._rng.gauss(0.0, self.model.noise_px) if self.model.noise_px else 0.0
+        angle = yaw + (self._rng.gauss(0.0, self.model.noise_deg) if self.model.noise_deg else 0.0)
+        return float(u), float(v), self.angle_sign * angle  # the camera's own angle convention

@@ -1,0 +1,160 @@
+"""Frame correction with closed-loop refinement (source 001): cell rules, reference loop, programs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from codegen.camera import CameraModel
+from codegen.cell import CellError, load_cell
+from codegen.reference import NOT_CONVERGED, FrameCase, expected_frame_trace
+from codegen.render import render
+from codegen.targets import get_target
+from codegen.verify import build_cases, fresh_sources, load_program, run_verify
+
+BENCH = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "thermometer_bench.toml"
+
+
+@pytest.fixture(scope="module")
+def bench():
+    return load_cell(BENCH)
+
+
+def test_bench_cell_loads(bench):
+    station = bench.stations[0]
+    assert station.mode == "frame" and station.frame is not None and station.photo is not None
+    assert bench.handeye is not None and bench.refine.max_iterations == 10
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda t: t.replace("[cell.camera.handeye]", "[cell.camera.unused]"), "cell.camera.unused: unknown key"),
+        (
+            lambda t: t[: t.index("[cell.camera.handeye]")] + t[t.index("[cell.limits]") :],
+            "station[1].mode: frame mode reads the camera in pixels and needs [cell.camera.handeye]",
+        ),
+        (
+            lambda t: t.replace('mode = "frame"', 'mode = "frame"\nmark = [1.0, 2.0, 3.0]'),
+            "station[1].mark: a frame-mode station has its mark at the frame origin",
+        ),
+        (lambda t: t.replace('mode = "frame"', 'mode = "frames"'), 'station[1].mode: expected "point" or "frame"'),
+        (lambda t: t.replace("photo = [0.0, 0.0, 180.0, 0.0, 0.0, 180.0]", ""), "station[1].photo: missing"),
+        (
+            lambda t: t.replace(
+                "mark = [380.0, -310.0, -1.2]", "mark = [380.0, -310.0, -1.2]\nphoto = [0, 0, 0, 0, 0, 0]"
+            ),
+            "station[2].photo: only frame-mode stations",
+        ),
+        (lambda t: t.replace("max_iterations = 10", "max_iterations = 0"), "cell.refine.max_iterations"),
+    ],
+)
+def test_frame_cell_errors(tmp_path, change, message):
+    path = tmp_path / "bench.toml"
+    path.write_text(change(BENCH.read_text()), encoding="utf-8")
+    with pytest.raises(CellError) as info:
+        load_cell(path)
+    assert message in str(info.value)
+
+
+def test_reference_loop_converges_and_halts(bench):
+    exact = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel()))
+    assert exact.status == "ok" and exact.iterations == 2  # one correcting photo, one confirming photo
+    scaled = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel(scale_error=0.03)))
+    assert scaled.status == "ok" and 3 <= scaled.iterations <= 5
+    weak = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel(scale_error=9.0)))
+    assert weak.status == "halt" and weak.reason == NOT_CONVERGED and weak.iterations == 10
+    diverging = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel(rotation_error_deg=80)))
+    assert diverging.status == "halt"
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
+def test_frame_mode_verifies(bench, target):
+    cases = build_cases(bench, 12, 5)
+    (report,) = run_verify(bench, fresh_sources(bench, [target]), cases)
+    assert report.mismatches == 0, report.first_mismatches
+    assert report.photos and max(report.photos) >= 3  # hand-eye errors need more than two photos
+    assert max(report.frame_errors_mm) < 0.03
+    assert report.categories["frame_camera_too_weak"] == 4 and report.categories["frame_camera_diverges"] == 4
+
+
+SOURCE_SIGN = {  # the source's printed update: the residual turned by R(-alpha) instead of R(+alpha)
+    "ur": (
+        "new_dx = cos_alpha*res_x + dx - res_y*sin_alpha",
+        "new_dx = cos_alpha*res_x + dx + res_y*sin_alpha",
+        "new_dy = cos_alpha*res_y + dy + res_x*sin_alpha",
+        "new_dy = cos_alpha*res_y + dy - res_x*sin_alpha",
+    ),
+    "kuka": (
+        "NEW_DX = COS_ALPHA*RES_X + DX - RES_Y*SIN_ALPHA",
+        "NEW_DX = COS_ALPHA*RES_X + DX + RES_Y*SIN_ALPHA",
+        "NEW_DY = COS_ALPHA*RES_Y + DY + RES_X*SIN_ALPHA",
+        "NEW_DY = COS_ALPHA*RES_Y + DY - RES_X*SIN_ALPHA",
+    ),
+    "abb": (
+        "new_dx := cos_alpha*res_x + dx - res_y*sin_alpha",
+        "new_dx := cos_alpha*res_x + dx + res_y*sin_alpha",
+        "new_dy := cos_alpha*res_y + dy + res_x*sin_alpha",
+        "new_dy := cos_alpha*res_y + dy - res_x*sin_alpha",
+    ),
+    "dtrans": (
+        "new_dx = cos_alpha*res_x + dx - res_y*sin_alpha",
+        "new_dx = cos_alpha*res_x + dx + res_y*sin_alpha",
+        "new_dy = cos_alpha*res_y + dy + res_x*sin_alpha",
+        "new_dy = cos_alpha*res_y + dy - res_x*sin_alpha",
+    ),
+}
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
+def test_source_update_sign_fails_verify(bench, target):
+    from codegen.verify import verify
+
+    files = render(bench, [target])
+    main = next(f for f in files if not f.relpath.endswith(".dat"))
+    dat = next((f.text for f in files if f.relpath.endswith(".dat")), None)
+    old_x, new_x, old_y, new_y = SOURCE_SIGN[target]
+    assert old_x in main.text and old_y in main.text
+    mutated = main.text.replace(old_x, new_x).replace(old_y, new_y)
+    program = load_program(get_target(target), mutated, "mutant", dat)
+    cases = [c for c in build_cases(bench, 12, 6) if c.category.startswith("frame_handeye")]
+    report = verify(bench, [target], {target: (program, ["mutant"])}, cases)[0]
+    assert report.mismatches > 0
+
+
+def test_dtrans_needs_a_level_frame(tmp_path):
+    from codegen.emit import EmitError
+
+    path = tmp_path / "tilted.toml"
+    path.write_text(
+        BENCH.read_text().replace("[620.0, 150.0, 240.0, 30.0, 0.0, 0.0]", "[620.0, 150.0, 240.0, 30.0, 5.0, 0.0]"),
+        encoding="utf-8",
+    )
+    tilted = load_cell(path)
+    with pytest.raises(EmitError, match="frame must be level"):
+        render(tilted, ["dtrans"])
+    (report,) = run_verify(tilted, fresh_sources(tilted, ["kuka"]), build_cases(tilted, 8, 2))
+    assert report.mismatches == 0  # KRL composes a tilted frame with `:`
+
+
+def test_rapidchecker_accepts_frame_module(tmp_path, bench):
+    import subprocess
+    import sys
+
+    (f,) = render(bench, ["abb"])
+    path = tmp_path / "bench.mod"
+    path.write_text(f.text, encoding="utf-8")
+    proc = subprocess.run([sys.executable, "-m", "rapidchecker", str(path)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_run_without_camera_says_so():
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    program = Path(__file__).resolve().parents[1] / "generated" / "thermometer_bench" / "kuka" / "thermometer_bench.src"
+    result = CliRunner().invoke(main, ["run", str(program), "--input", "VIS_STATION=1"])
+    assert result.exit_code == 1
+    assert "no camera is attached" in result.output
