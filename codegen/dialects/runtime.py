@@ -12,9 +12,11 @@ from __future__ import annotations
 import math
 import operator
 from dataclasses import dataclass, field
+from functools import cache
 
 import numpy as np
-from lark import Token, Tree
+from lark import Lark, Token, Tree
+from lark.exceptions import UnexpectedInput
 
 F32 = np.float32
 _MISSING = object()
@@ -23,6 +25,24 @@ DEFAULT_STEP_LIMIT = 200_000
 
 class RunError(Exception):
     """A program that cannot run on: message starts with file:line:column when known."""
+
+
+@cache
+def grammar_parser(interpreter_file: str, positions: bool = True) -> Lark:
+    """The LALR parser of the grammar.lark beside a dialect's interpreter; without positions it
+    parses twice as fast (syntax errors still carry them)."""
+    return Lark.open("grammar.lark", rel_to=interpreter_file, parser="lalr", propagate_positions=positions)
+
+
+def parse_with_grammar(interpreter_file: str, text: str, filename: str, positions: bool = True) -> Tree:
+    """Parse a program; a syntax error becomes a RunError naming file:line:column."""
+    if not text.endswith("\n"):
+        text += "\n"
+    parser = grammar_parser(interpreter_file, positions)
+    try:
+        return parser.parse(text)
+    except UnexpectedInput as exc:
+        raise syntax_error(exc, filename, parser) from None
 
 
 def syntax_error(exc, filename: str, parser) -> RunError:
@@ -588,6 +608,55 @@ class Compiler:
                 if signal is not None:
                     return signal
             return None
+
+        return run
+
+    def if_elif(self, node, body_of):
+        """IF cond body [ELSEIF cond body]* [ELSE body]: children cond, body, then clauses."""
+        cond, body, *rest = node.children
+        branches = [(self.expr(cond), body_of(body))]
+        else_body = None
+        for clause in rest:
+            if clause is None:
+                continue
+            if len(clause.children) == 2:  # elseif / elif clause: condition and body
+                branches.append((self.expr(clause.children[0]), body_of(clause.children[1])))
+            else:
+                else_body = body_of(clause.children[0])
+        return self.if_chain(branches, else_body)
+
+    def switch(self, node, body_of):
+        """SWITCH / TEST: the first CASE whose value equals the selector, else DEFAULT."""
+        selector, *clauses = node.children
+        select = self.expr(selector)
+        cases, default = [], None
+        for clause in clauses:
+            if clause is None:
+                continue
+            if clause.data == "case_clause":
+                *values, body = clause.children
+                cases.append(([self.expr(v) for v in values], body_of(body)))
+            else:
+                default = body_of(clause.children[0])
+
+        def run(fr):
+            value = select(fr)
+            for values, body in cases:
+                if any(value == v(fr) for v in values):
+                    return body(fr)
+            return default(fr) if default is not None else None
+
+        return run
+
+    def wait_until(self, cond_node, where_node, keyword: str):
+        """WAIT FOR / WaitUntil: here only the vision PC's answer to a photo request can change a
+        condition, so the wait answers a pending request and fails if the condition stays false."""
+        cond = self.expr(cond_node)
+        where = self.where(where_node)
+
+        def run(fr):
+            if not cond(fr) and not (fr.m.answer_photo(where) and cond(fr)):
+                raise RunError(f"{where}: {keyword} a condition that nothing here can make true")
 
         return run
 

@@ -4,11 +4,9 @@ from __future__ import annotations
 
 import math
 import re
-from functools import cache
 
 import numpy as np
-from lark import Lark, Tree
-from lark.exceptions import UnexpectedInput
+from lark import Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.runtime import (
@@ -22,7 +20,7 @@ from codegen.dialects.runtime import (
     RunError,
     format_fixed,
     format_general,
-    syntax_error,
+    parse_with_grammar,
 )
 from codegen.poses import matrix_from_dtrans
 
@@ -30,19 +28,8 @@ POINT_KEYS = ("x", "y", "z", "rx", "ry", "rz")
 _FORMAT = re.compile(r"%(-?\d*)(?:\.(\d+))?([dfsg%])")
 
 
-@cache
-def parser(positions: bool = True) -> Lark:
-    """LALR parser; without positions it is twice as fast (syntax errors still have them)."""
-    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=positions)
-
-
 def parse(text: str, filename: str = "<dtrans>", positions: bool = True) -> Tree:
-    if not text.endswith("\n"):
-        text += "\n"
-    try:
-        return parser(positions).parse(text)
-    except UnexpectedInput as exc:
-        raise syntax_error(exc, filename, parser(positions)) from None
+    return parse_with_grammar(__file__, text, filename, positions)
 
 
 def point(values) -> Record:
@@ -228,28 +215,10 @@ class DTransCompiler(Compiler):
         return run
 
     def s_if_stmt(self, node):
-        cond, body, *rest = node.children
-        branches = [(self.expr(cond), self.block(body.children))]
-        else_body = None
-        for clause in rest:
-            if clause is None:
-                continue
-            if clause.data == "elseif_clause":
-                branches.append((self.expr(clause.children[0]), self.block(clause.children[1].children)))
-            else:
-                else_body = self.block(clause.children[0].children)
-        return self.if_chain(branches, else_body)
+        return self.if_elif(node, lambda body: self.block(body.children))
 
     def s_wait_stmt(self, node):
-        """WaitUntil cond: here only the vision PC's photo answer can change a condition."""
-        cond = self.expr(node.children[0])
-        where = self.where(node)
-
-        def run(fr):
-            if not cond(fr) and not (fr.m.answer_photo(where) and cond(fr)):
-                raise RunError(f"{where}: WaitUntil a condition that nothing here can make true")
-
-        return run
+        return self.wait_until(node.children[0], node, "WaitUntil")
 
     def s_halt_stmt(self, node):
         def run(fr):

@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import math
 import re
-from functools import cache
 from pathlib import Path
 
 import numpy as np
-from lark import Lark, Token, Tree
-from lark.exceptions import UnexpectedInput
+from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.runtime import (
@@ -23,23 +21,12 @@ from codegen.dialects.runtime import (
     RunError,
     Signal,
     format_general,
-    syntax_error,
+    parse_with_grammar,
 )
 
 
-@cache
-def parser(positions: bool = True) -> Lark:
-    """LALR parser; without positions it is twice as fast (syntax errors still have them)."""
-    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=positions)
-
-
 def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
-    if not text.endswith("\n"):
-        text += "\n"
-    try:
-        return parser(positions).parse(text)
-    except UnexpectedInput as exc:
-        raise syntax_error(exc, filename, parser(positions)) from None
+    return parse_with_grammar(__file__, text, filename, positions)
 
 
 class _Uninit:
@@ -425,9 +412,7 @@ class KRLCompiler(Compiler):
         return run
 
     def s_if_stmt(self, node):
-        cond, body, else_clause = node.children
-        else_body = self.routine_block(else_clause.children[0]) if else_clause is not None else None
-        return self.if_chain([(self.expr(cond), self.routine_block(body))], else_body)
+        return self.if_elif(node, self.routine_block)
 
     def routine_block(self, body_node):
         return self.block(body_node.children)
@@ -492,27 +477,7 @@ class KRLCompiler(Compiler):
         return run
 
     def s_switch_stmt(self, node):
-        selector, *clauses = node.children
-        select = self.expr(selector)
-        cases = []
-        default = None
-        for clause in clauses:
-            if clause is None:
-                continue
-            if clause.data == "case_clause":
-                *values, body = clause.children
-                cases.append(([self.expr(v) for v in values], self.routine_block(body)))
-            else:
-                default = self.routine_block(clause.children[0])
-
-        def run(fr):
-            value = select(fr)
-            for values, body in cases:
-                if any(value == v(fr) for v in values):
-                    return body(fr)
-            return default(fr) if default is not None else None
-
-        return run
+        return self.switch(node, self.routine_block)
 
     def s_exit_stmt(self, node):
         return lambda fr: Signal("exit")
@@ -528,14 +493,7 @@ class KRLCompiler(Compiler):
         return lambda fr: None
 
     def s_wait_for(self, node):
-        cond = self.expr(node.children[0])
-        where = self.where(node)
-
-        def run(fr):
-            if not cond(fr) and not (fr.m.answer_photo(where) and cond(fr)):
-                raise RunError(f"{where}: WAIT FOR a condition that nothing here can make true")
-
-        return run
+        return self.wait_until(node.children[0], node, "WAIT FOR")
 
     def s_motion_stmt(self, node):
         motion, target, _approx = node.children

@@ -4,11 +4,9 @@ from __future__ import annotations
 
 import math
 import re
-from functools import cache
 
 import numpy as np
-from lark import Lark, Token, Tree
-from lark.exceptions import UnexpectedInput
+from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.runtime import (
@@ -21,23 +19,14 @@ from codegen.dialects.runtime import (
     Routine,
     RunError,
     format_fixed,
-    syntax_error,
+    parse_with_grammar,
 )
 
 QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
 
 
-@cache
-def parser(positions: bool = True) -> Lark:
-    """LALR parser; without positions it is twice as fast (syntax errors still have them)."""
-    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=positions)
-
-
 def parse(text: str, filename: str = "<rapid>", positions: bool = True) -> Tree:
-    try:
-        return parser(positions).parse(text)
-    except UnexpectedInput as exc:
-        raise syntax_error(exc, filename, parser(positions)) from None
+    return parse_with_grammar(__file__, text, filename, positions)
 
 
 # Record types by field order (aggregates [a, b, ...] are positional).
@@ -377,7 +366,7 @@ class RAPIDCompiler(Compiler):
     def s_proc_call(self, node):
         name, args_node = node.children
         if str(name).upper() == "WAITUNTIL":
-            return self.wait_until(node, args_node)
+            return self.rapid_wait_until(node, args_node)
         call = self.e_call(Tree("call", node.children, node.meta))
 
         def run(fr):
@@ -386,31 +375,13 @@ class RAPIDCompiler(Compiler):
         return run
 
     def s_if_stmt(self, node):
-        cond, body, *rest = node.children
-        branches = [(self.expr(cond), self.body(body))]
-        else_body = None
-        for clause in rest:
-            if clause is None:
-                continue
-            if clause.data == "elseif_clause":
-                branches.append((self.expr(clause.children[0]), self.body(clause.children[1])))
-            else:
-                else_body = self.body(clause.children[0])
-        return self.if_chain(branches, else_body)
+        return self.if_elif(node, self.body)
 
-    def wait_until(self, node, args_node):
-        """WaitUntil cond: here only the vision PC's photo answer can change a condition."""
+    def rapid_wait_until(self, node, args_node):
         positional, _named = self.call_args(args_node)
         if len(positional) != 1:
             self.fail(node, "WaitUntil takes one condition")
-        cond = self.expr(positional[0])
-        where = self.where(node)
-
-        def run(fr):
-            if not cond(fr) and not (fr.m.answer_photo(where) and cond(fr)):
-                raise RunError(f"{where}: WaitUntil a condition that nothing here can make true")
-
-        return run
+        return self.wait_until(positional[0], node, "WaitUntil")
 
     def s_compact_if(self, node):
         cond, statement = node.children
@@ -462,26 +433,7 @@ class RAPIDCompiler(Compiler):
         return run
 
     def s_test_stmt(self, node):
-        selector, *clauses = node.children
-        select = self.expr(selector)
-        cases, default = [], None
-        for clause in clauses:
-            if clause is None:
-                continue
-            if clause.data == "case_clause":
-                *values, body = clause.children
-                cases.append(([self.expr(v) for v in values], self.body(body)))
-            else:
-                default = self.body(clause.children[0])
-
-        def run(fr):
-            value = select(fr)
-            for values, body in cases:
-                if any(value == v(fr) for v in values):
-                    return body(fr)
-            return default(fr) if default is not None else None
-
-        return run
+        return self.switch(node, self.body)
 
     # --- declarations and routines -------------------------------------------------------------
     def decl(self, node):

@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import math
-from functools import cache
 
 import numpy as np
-from lark import Lark, Token, Tree
-from lark.exceptions import UnexpectedInput
+from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.runtime import (
@@ -20,23 +18,12 @@ from codegen.dialects.runtime import (
     Routine,
     RunError,
     format_general,
-    syntax_error,
+    parse_with_grammar,
 )
 
 
-@cache
-def parser(positions: bool = True) -> Lark:
-    """LALR parser; without positions it is twice as fast (syntax errors still have them)."""
-    return Lark.open("grammar.lark", rel_to=__file__, parser="lalr", propagate_positions=positions)
-
-
 def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tree:
-    if not text.endswith("\n"):
-        text += "\n"
-    try:
-        return parser(positions).parse(text)
-    except UnexpectedInput as exc:
-        raise syntax_error(exc, filename, parser(positions)) from None
+    return parse_with_grammar(__file__, text, filename, positions)
 
 
 class URPose(Record):
@@ -260,17 +247,7 @@ class URScriptCompiler(Compiler):
         return run
 
     def s_if_stmt(self, node):
-        cond, body, *rest = node.children
-        branches = [(self.expr(cond), self.block(body.children))]
-        else_body = None
-        for clause in rest:
-            if clause is None:
-                continue
-            if clause.data == "elif_clause":
-                branches.append((self.expr(clause.children[0]), self.block(clause.children[1].children)))
-            else:
-                else_body = self.block(clause.children[0].children)
-        return self.if_chain(branches, else_body)
+        return self.if_elif(node, lambda body: self.block(body.children))
 
     def s_funcdef(self, node):
         name_token, params_node, body = node.children
