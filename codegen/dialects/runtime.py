@@ -569,6 +569,23 @@ class Compiler:
 
         return run
 
+    def s_assign(self, node):
+        setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
+
+        def run(fr):
+            setter(fr, value(fr))
+
+        return run
+
+    def s_halt_stmt(self, node):
+        """halt / HALT / Halt: the program stops; its last message is the operator's message."""
+
+        def run(fr):
+            messages = fr.m.trace.messages
+            raise Halt(messages[-1] if messages else None)
+
+        return run
+
     def s_expr_stmt(self, node):
         inner = self.expr(node.children[0])
 

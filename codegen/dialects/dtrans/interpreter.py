@@ -12,7 +12,6 @@ from codegen.dialects import posemath
 from codegen.dialects.runtime import (
     F32,
     Compiler,
-    Halt,
     MoveEvent,
     Program,
     Record,
@@ -179,14 +178,6 @@ class DTransCompiler(Compiler):
 
         return run
 
-    def s_assign(self, node):
-        setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
-
-        def run(fr):
-            setter(fr, value(fr))
-
-        return run
-
     def s_decompose(self, node):
         target, value_node = node.children
         if not (isinstance(target, Tree) and target.data == "index"):
@@ -219,13 +210,6 @@ class DTransCompiler(Compiler):
 
     def s_wait_stmt(self, node):
         return self.wait_until(node.children[0], node, "WaitUntil")
-
-    def s_halt_stmt(self, node):
-        def run(fr):
-            messages = fr.m.trace.messages
-            raise Halt(messages[-1] if messages else None)
-
-        return run
 
     def s_motion_stmt(self, node):
         motion, target = node.children

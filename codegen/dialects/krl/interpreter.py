@@ -13,7 +13,6 @@ from codegen.dialects import posemath
 from codegen.dialects.runtime import (
     F32,
     Compiler,
-    Halt,
     MoveEvent,
     Program,
     Record,
@@ -481,13 +480,6 @@ class KRLCompiler(Compiler):
 
     def s_exit_stmt(self, node):
         return lambda fr: Signal("exit")
-
-    def s_halt_stmt(self, node):
-        def run(fr):
-            messages = fr.m.trace.messages
-            raise Halt(messages[-1] if messages else None)
-
-        return run
 
     def s_wait_sec(self, node):
         return lambda fr: None

@@ -355,14 +355,6 @@ class RAPIDCompiler(Compiler):
         return super().coerce_like(old, value, where)
 
     # --- statements --------------------------------------------------------------------------
-    def s_assign(self, node):
-        setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
-
-        def run(fr):
-            setter(fr, value(fr))
-
-        return run
-
     def s_proc_call(self, node):
         name, args_node = node.children
         if str(name).upper() == "WAITUNTIL":

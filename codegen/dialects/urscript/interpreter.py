@@ -215,14 +215,6 @@ class URScriptCompiler(Compiler):
             return call
         return lambda fr: target(fr, [a(fr) for a in positional], {})
 
-    def s_assign(self, node):
-        setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
-
-        def run(fr):
-            setter(fr, value(fr))
-
-        return run
-
     def s_global_stmt(self, node):
         key, value = str(node.children[0]), self.expr(node.children[1])
 
@@ -236,13 +228,6 @@ class URScriptCompiler(Compiler):
 
         def run(fr):
             fr.vars[key] = value(fr)
-
-        return run
-
-    def s_halt_stmt(self, node):
-        def run(fr):
-            messages = fr.m.trace.messages
-            raise Halt(messages[-1] if messages else None)
 
         return run
 
