@@ -54,7 +54,7 @@ def zyx_from(m: np.ndarray) -> tuple[float, ...]:
 
 
 def quat_matrix(trans, quat) -> np.ndarray:
-    return poses.matrix_from_rotation_translation(poses.rotmat_from_quat(as64(quat)), as64(trans))
+    return matrix4(rot_from_quat(as64(quat)), as64(trans))
 
 
 def quat_from(m: np.ndarray) -> tuple[float, ...]:
@@ -73,8 +73,7 @@ def quat_multiply(q1, q2) -> tuple[float, ...]:
 
 
 def quat_rotate(q, v) -> tuple[float, ...]:
-    rot = poses.rotmat_from_quat(as64(q))
-    return tuple(float(c) for c in rot @ np.array(as64(v)))
+    return rot_apply(rot_from_quat(as64(q)), as64(v))
 
 
 def quat_from_zyx_deg(z, y, x) -> tuple[float, ...]:
@@ -84,3 +83,142 @@ def quat_from_zyx_deg(z, y, x) -> tuple[float, ...]:
     qy = (math.cos(hy), 0.0, math.sin(hy), 0.0)
     qx = (math.cos(hx), math.sin(hx), 0.0, 0.0)
     return quat_multiply(quat_multiply(qz, qy), qx)
+
+
+# --- pure-Python fast paths (the interpreters call these many thousand times per verify run) ----
+# A rotation is a 9-tuple, row-major. Tested against codegen.poses in tests/test_posemath.py.
+
+
+def rot_from_rotvec(rx: float, ry: float, rz: float) -> tuple[float, ...]:
+    angle = math.sqrt(rx * rx + ry * ry + rz * rz)
+    if angle < 1e-12:
+        return (1.0, -rz, ry, rz, 1.0, -rx, -ry, rx, 1.0)
+    kx, ky, kz = rx / angle, ry / angle, rz / angle
+    s, c = math.sin(angle), math.cos(angle)
+    v = 1.0 - c
+    return (
+        c + kx * kx * v, kx * ky * v - kz * s, kx * kz * v + ky * s,
+        ky * kx * v + kz * s, c + ky * ky * v, ky * kz * v - kx * s,
+        kz * kx * v - ky * s, kz * ky * v + kx * s, c + kz * kz * v,
+    )  # fmt: skip
+
+
+def quat_from_rot(r) -> tuple[float, float, float, float]:
+    """Shepperd's method, unit quaternion with w >= 0 (as codegen.poses.quat_from_rotmat)."""
+    m00, m01, m02, m10, m11, m12, m20, m21, m22 = r
+    trace = m00 + m11 + m22
+    best = max(trace, m00, m11, m22)
+    if best == trace:
+        s = 2.0 * math.sqrt(max(1.0 + trace, 0.0))
+        q = (0.25 * s, (m21 - m12) / s, (m02 - m20) / s, (m10 - m01) / s)
+    elif best == m00:
+        s = 2.0 * math.sqrt(max(1.0 + m00 - m11 - m22, 0.0))
+        q = ((m21 - m12) / s, 0.25 * s, (m01 + m10) / s, (m02 + m20) / s)
+    elif best == m11:
+        s = 2.0 * math.sqrt(max(1.0 + m11 - m00 - m22, 0.0))
+        q = ((m02 - m20) / s, (m01 + m10) / s, 0.25 * s, (m12 + m21) / s)
+    else:
+        s = 2.0 * math.sqrt(max(1.0 + m22 - m00 - m11, 0.0))
+        q = ((m10 - m01) / s, (m02 + m20) / s, (m12 + m21) / s, 0.25 * s)
+    n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    sign = -1.0 if q[0] < 0 else 1.0
+    return (sign * q[0] / n, sign * q[1] / n, sign * q[2] / n, sign * q[3] / n)
+
+
+def rotvec_from_rot(r) -> tuple[float, float, float]:
+    w, x, y, z = quat_from_rot(r)
+    norm_v = math.sqrt(x * x + y * y + z * z)
+    if norm_v < 1e-12:
+        return (2.0 * x, 2.0 * y, 2.0 * z)
+    angle = 2.0 * math.atan2(norm_v, w)
+    return (x / norm_v * angle, y / norm_v * angle, z / norm_v * angle)
+
+
+def rot_mul(a, b) -> tuple[float, ...]:
+    a0, a1, a2, a3, a4, a5, a6, a7, a8 = a
+    b0, b1, b2, b3, b4, b5, b6, b7, b8 = b
+    return (
+        a0 * b0 + a1 * b3 + a2 * b6, a0 * b1 + a1 * b4 + a2 * b7, a0 * b2 + a1 * b5 + a2 * b8,
+        a3 * b0 + a4 * b3 + a5 * b6, a3 * b1 + a4 * b4 + a5 * b7, a3 * b2 + a4 * b5 + a5 * b8,
+        a6 * b0 + a7 * b3 + a8 * b6, a6 * b1 + a7 * b4 + a8 * b7, a6 * b2 + a7 * b5 + a8 * b8,
+    )  # fmt: skip
+
+
+def rot_apply(r, v) -> tuple[float, float, float]:
+    x, y, z = v
+    return (r[0] * x + r[1] * y + r[2] * z, r[3] * x + r[4] * y + r[5] * z, r[6] * x + r[7] * y + r[8] * z)
+
+
+def compose(ra, ta, rb, tb) -> tuple[tuple[float, ...], tuple[float, float, float]]:
+    """(Ra, ta) . (Rb, tb) = (Ra Rb, Ra tb + ta)."""
+    x, y, z = rot_apply(ra, tb)
+    return rot_mul(ra, rb), (x + ta[0], y + ta[1], z + ta[2])
+
+
+def rot_from_zyx_deg(a: float, b: float, c: float) -> tuple[float, ...]:
+    ca, sa = math.cos(math.radians(a)), math.sin(math.radians(a))
+    cb, sb = math.cos(math.radians(b)), math.sin(math.radians(b))
+    cc, sc = math.cos(math.radians(c)), math.sin(math.radians(c))
+    return (
+        ca * cb, ca * sb * sc - sa * cc, ca * sb * cc + sa * sc,
+        sa * cb, sa * sb * sc + ca * cc, sa * sb * cc - ca * sc,
+        -sb, cb * sc, cb * cc,
+    )  # fmt: skip
+
+
+def zyx_deg_from_rot(r) -> tuple[float, float, float]:
+    """As codegen.poses.zyx_deg_from_rotmat (c = 0 at gimbal lock, a and c in (-180, 180])."""
+    cb = math.hypot(r[0], r[3])
+    b = math.atan2(-r[6], cb)
+    if cb > 1e-9:
+        a, c = math.atan2(r[3], r[0]), math.atan2(r[7], r[8])
+    else:
+        a, c = math.atan2(-r[1], r[4]), 0.0
+    return _wrap(math.degrees(a)), math.degrees(b), _wrap(math.degrees(c))
+
+
+def _wrap(angle: float) -> float:
+    out = math.remainder(angle, 360.0)
+    return (180.0 if out == -180.0 else out) + 0.0
+
+
+def rot_from_quat(q) -> tuple[float, ...]:
+    w, x, y, z = q
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    return (
+        1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+        2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+        2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y),
+    )  # fmt: skip
+
+
+def matrix4(r, t) -> np.ndarray:
+    return np.array(
+        [[r[0], r[1], r[2], t[0]], [r[3], r[4], r[5], t[1]], [r[6], r[7], r[8], t[2]], [0.0, 0.0, 0.0, 1.0]]
+    )
+
+
+def ur_pose_trans(a, b) -> tuple[float, ...]:
+    """pose_trans(a, b) for UR poses (m, rotation vector), in float64."""
+    ra, ta = rot_from_rotvec(*as64(a[3:])), as64(a[:3])
+    rb, tb = rot_from_rotvec(*as64(b[3:])), as64(b[:3])
+    r, t = compose(ra, ta, rb, tb)
+    return (*t, *rotvec_from_rot(r))
+
+
+def ur_matrix_fast(pose6) -> np.ndarray:
+    values = as64(pose6)
+    return matrix4(rot_from_rotvec(*values[3:]), [v * 1000.0 for v in values[:3]])
+
+
+def zyx_compose(a6, b6) -> tuple[float, ...]:
+    """KRL a : b for [X, Y, Z, A, B, C] (mm, deg)."""
+    a, b = as64(a6), as64(b6)
+    r, t = compose(rot_from_zyx_deg(*a[3:]), a[:3], rot_from_zyx_deg(*b[3:]), b[:3])
+    return (*t, *zyx_deg_from_rot(r))
+
+
+def zyx_matrix_fast(values6) -> np.ndarray:
+    v = as64(values6)
+    return matrix4(rot_from_zyx_deg(*v[3:]), v[:3])

@@ -272,6 +272,7 @@ class Compiler:
         "=": operator.eq,
     }
     int_division = False
+    assignment_makes_local = False  # URScript: `x = ...` in a function makes a local unless `global`
 
     def __init__(self, filename: str) -> None:
         self.filename = filename
@@ -280,6 +281,7 @@ class Compiler:
         self.assigned_roots: set[str] = set()  # variables some statement assigns into
         self._routine_assigned: set[str] | None = None  # the same, inside the routine being compiled
         self._pending_refs: list = []  # (callee, argument index, lvalue node, routine-assigned set)
+        self.noting_globals = True  # off while compiling statements that run once (constant data)
 
     # --- tables supplied by dialects ------------------------------------------------------
     def make_builtins(self) -> dict:
@@ -569,8 +571,35 @@ class Compiler:
 
         return run
 
+    # Expressions whose value is always newly made, so an assignment need not copy it.
+    FRESH = frozenset(
+        {
+            "add",
+            "sub",
+            "mul",
+            "div",
+            "mod",
+            "neg",
+            "geo",
+            "aggregate",
+            "list_lit",
+            "pose_lit",
+            "array_lit",
+            "number",
+            "string",
+            "true",
+            "false",
+            "compare",
+            "and_",
+            "or_",
+            "not_",
+        }
+    )
+
     def s_assign(self, node):
-        setter, value = self.lvalue(node.children[0]), self.expr(node.children[1])
+        target, value_node = node.children
+        fresh = isinstance(value_node, Tree) and value_node.data in self.FRESH
+        setter, value = self.lvalue(target, fresh=fresh), self.expr(value_node)
 
         def run(fr):
             setter(fr, value(fr))
@@ -693,13 +722,17 @@ class Compiler:
     # --- lvalues ----------------------------------------------------------------------------
     def note_assigned(self, node) -> None:
         """Record the variable at the root of an assignment target."""
+        whole_variable = isinstance(node, Token) or node.data == "var"
         while isinstance(node, Tree) and node.data != "var":
             node = node.children[0]
         token = node.children[0] if isinstance(node, Tree) else node
         key = self.norm(str(token))
-        self.assigned_roots.add(key)
         if self._routine_assigned is not None:
             self._routine_assigned.add(key)
+        if self.noting_globals and not (
+            whole_variable and self.assignment_makes_local and self._routine_assigned is not None
+        ):
+            self.assigned_roots.add(key)
 
     def compile_routine_body(self, routine: Routine, statements) -> None:
         """Compile a routine's statements and note which parameters they assign to."""
@@ -735,8 +768,9 @@ class Compiler:
                 self.note_assigned(node)
                 self._routine_assigned = outer
 
-    def lvalue(self, node, note: bool = True):
-        """A setter(frame, value) for a variable, an array element or a record field."""
+    def lvalue(self, node, note: bool = True, fresh: bool = False):
+        """A setter(frame, value) for a variable, an array element or a record field; fresh: the
+        values stored are newly made, so no copy is needed to keep variables from aliasing."""
         if note:
             self.note_assigned(node)
         if isinstance(node, Token) or node.data == "var":
@@ -745,7 +779,7 @@ class Compiler:
             where = self.where(token)
 
             def set_var(fr, value):
-                if isinstance(value, Record | list):
+                if not fresh and isinstance(value, Record | list):
                     value = deepcopy_value(value)  # value semantics: no aliasing between variables
                 if key in fr.vars:
                     fr.vars[key] = self.coerce(fr.types.get(key), value, where)

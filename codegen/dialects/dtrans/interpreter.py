@@ -21,7 +21,6 @@ from codegen.dialects.runtime import (
     format_general,
     parse_with_grammar,
 )
-from codegen.poses import matrix_from_dtrans
 
 POINT_KEYS = ("x", "y", "z", "rx", "ry", "rz")
 _FORMAT = re.compile(r"%(-?\d*)(?:\.(\d+))?([dfsg%])")
@@ -223,7 +222,8 @@ class DTransCompiler(Compiler):
                 raise RunError(f"{where}: {motion} needs a Point")
             values = [pt[k] for k in POINT_KEYS]
             posemath.check_finite(values, where, "motion target")
-            fr.m.trace.moves.append(MoveEvent(kind, matrix_from_dtrans(posemath.as64(values)), line))
+            x, y, z, rx, ry, rz = values
+            fr.m.trace.moves.append(MoveEvent(kind, posemath.zyx_matrix_fast((x, y, z, rz, ry, rx)), line))
 
         return run
 

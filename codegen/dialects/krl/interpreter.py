@@ -93,7 +93,7 @@ def _cart(value, where: str) -> Record:
 
 
 def _cart_matrix(value: Record) -> np.ndarray:
-    return posemath.zyx_matrix(*(value[k] for k, _ in _XYZABC))
+    return posemath.zyx_matrix_fast([value[k] for k, _ in _XYZABC])
 
 
 class KRLCompiler(Compiler):
@@ -282,7 +282,8 @@ class KRLCompiler(Compiler):
         def geo(fr):
             a, b = _cart(left(fr), where), _cart(right(fr), where)
             out = b.copy()  # result has the type, status and turn of the right operand
-            for (key, _), v in zip(_XYZABC, posemath.zyx_from(_cart_matrix(a) @ _cart_matrix(b)), strict=True):
+            values = posemath.zyx_compose([a[k] for k, _ in _XYZABC], [b[k] for k, _ in _XYZABC])
+            for (key, _), v in zip(_XYZABC, values, strict=True):
                 out[key] = F32(v)
             return out
 
@@ -316,10 +317,10 @@ class KRLCompiler(Compiler):
         return lambda fr: target(fr, [a(fr) for a in args], {})
 
     # --- lvalues and assignment --------------------------------------------------------------
-    def lvalue(self, node, note: bool = True):
+    def lvalue(self, node, note: bool = True, fresh: bool = False):
         if isinstance(node, Tree) and node.data == "whole":
-            return self.lvalue(node.children[0], note)
-        return super().lvalue(node, note)
+            return self.lvalue(node.children[0], note, fresh)
+        return super().lvalue(node, note, fresh)
 
     def coerce_like(self, old, value, where):
         if isinstance(old, Record) and isinstance(value, Record) and value.type is None:
@@ -348,7 +349,8 @@ class KRLCompiler(Compiler):
 
     def s_assign(self, node):
         target_node, value_node = node.children
-        setter, value = self.lvalue(target_node), self.expr(value_node)
+        fresh = isinstance(value_node, Tree) and value_node.data in self.FRESH
+        setter, value = self.lvalue(target_node, fresh=fresh), self.expr(value_node)
         where = self.where(node)
         is_var = isinstance(target_node, Tree) and target_node.data == "var"
         if is_var and str(target_node.children[0]).upper() == "$BASE":

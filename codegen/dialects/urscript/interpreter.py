@@ -72,11 +72,12 @@ def _unary(fn):
 class URScriptCompiler(Compiler):
     name = "urscript"
     index_base = 0
+    assignment_makes_local = True
 
     def make_builtins(self) -> dict:
         def pose_trans(fr, args, kwargs, where):
             a, b = (_pose(v, where) for v in args)
-            return URPose(posemath.ur_from(posemath.ur_matrix(a.values()) @ posemath.ur_matrix(b.values())))
+            return URPose(posemath.ur_pose_trans(tuple(a.values()), tuple(b.values())))
 
         def pose_inv(fr, args, kwargs, where):
             from codegen.poses import invert
@@ -101,7 +102,8 @@ class URScriptCompiler(Compiler):
                     raise RunError(f"{where}: joint-space targets are not supported by this interpreter")
                 pose = _pose(target, where)
                 posemath.check_finite(pose.values(), where, "move target")
-                fr.m.trace.moves.append(MoveEvent(kind, posemath.ur_matrix(pose.values()), int(where.split(":")[1])))
+                line = int(where.split(":")[1])
+                fr.m.trace.moves.append(MoveEvent(kind, posemath.ur_matrix_fast(pose.values()), line))
 
             return run
 
@@ -217,6 +219,7 @@ class URScriptCompiler(Compiler):
 
     def s_global_stmt(self, node):
         key, value = str(node.children[0]), self.expr(node.children[1])
+        self.assigned_roots.add(key)
 
         def run(fr):
             fr.m.globals[key] = value(fr)
@@ -272,7 +275,17 @@ def load(text: str, filename: str = "<urscript>") -> Program:
         or (statements[split].data == "assign" and _is_constant(statements[split].children[1]))
     ):
         split += 1
-    prefix = compiler.block(statements[:split])
+    prefix_statements = []
+    for statement in statements[:split]:
+        # a constant assignment runs once, before the snapshot: it does not make its variable mutable
+        compiler.noting_globals = statement.data == "funcdef"
+        prefix_statements.append(compiler.stmt(statement))
+    compiler.noting_globals = True
+
+    def prefix(fr):
+        for statement in prefix_statements:
+            statement(fr)
+
     rest = compiler.block(statements[split:])
     compiler.finalize()
     return Program(name, compiler, prefix, None, rest)
