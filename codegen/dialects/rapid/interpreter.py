@@ -43,10 +43,19 @@ SCALARS = {"NUM", "DNUM", "BOOL", "STRING"}
 _PREDEFINED = re.compile(r"^(V\d+|VMAX|FINE|Z\d+|TOOL0|WOBJ0|LOAD0)$")
 
 
-def zero(type_name: str):
+def _zero(type_name: str):
     if type_name in RECORDS:
-        return Record(type_name, {k: zero(t) for k, t in RECORDS[type_name]})
+        return Record(type_name, {k: _zero(t) for k, t in RECORDS[type_name]})
     return {"NUM": F32(0), "DNUM": 0.0, "BOOL": False, "STRING": ""}.get(type_name, F32(0))
+
+
+_ZEROS = {name: _zero(name) for name in [*RECORDS, *SCALARS]}
+
+
+def zero(type_name: str):
+    """The value RAPID gives a declared variable without an initial value."""
+    value = _ZEROS.get(type_name, _ZEROS["NUM"])
+    return value.copy() if isinstance(value, Record) else value
 
 
 def _num(value, where: str) -> float:
