@@ -426,17 +426,25 @@ class Compiler:
     def e_mod(self, node):
         return self._binary(node, operator.mod)
 
+    # Boolean operators: the operands are the first and last children (KRL and RAPID keep the
+    # operator keyword token between them).
     def e_not_(self, node):
-        inner = self.expr(node.children[0])
+        inner = self.expr(node.children[-1])
         return lambda fr: not inner(fr)
 
     def e_and_(self, node):
-        left, right = (self.expr(c) for c in node.children)
+        left, right = self.expr(node.children[0]), self.expr(node.children[-1])
         return lambda fr: bool(left(fr)) and bool(right(fr))
 
     def e_or_(self, node):
-        left, right = (self.expr(c) for c in node.children)
+        left, right = self.expr(node.children[0]), self.expr(node.children[-1])
         return lambda fr: bool(left(fr)) or bool(right(fr))
+
+    def e_xor(self, node):
+        left, right = self.expr(node.children[0]), self.expr(node.children[-1])
+        return lambda fr: bool(left(fr)) != bool(right(fr))
+
+    e_exor = e_xor
 
     def e_compare(self, node):
         left_node, op_token, right_node = node.children

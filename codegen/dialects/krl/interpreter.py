@@ -245,22 +245,6 @@ class KRLCompiler(Compiler):
     def e_whole(self, node):
         return self.expr(node.children[0])
 
-    def e_not_(self, node):
-        inner = self.expr(node.children[-1])
-        return lambda fr: not inner(fr)
-
-    def e_and_(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[2])
-        return lambda fr: bool(left(fr)) and bool(right(fr))
-
-    def e_or_(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[2])
-        return lambda fr: bool(left(fr)) or bool(right(fr))
-
-    def e_exor(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[2])
-        return lambda fr: bool(left(fr)) != bool(right(fr))
-
     def e_field(self, node):
         inner = super().e_field(node)
         where = self.where(node)

@@ -285,22 +285,6 @@ class RAPIDCompiler(Compiler):
 
         return read
 
-    def e_not_(self, node):
-        inner = self.expr(node.children[-1])
-        return lambda fr: not inner(fr)
-
-    def e_and_(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[2])
-        return lambda fr: bool(left(fr)) and bool(right(fr))
-
-    def e_or_(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[2])
-        return lambda fr: bool(left(fr)) or bool(right(fr))
-
-    def e_xor(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[2])
-        return lambda fr: bool(left(fr)) != bool(right(fr))
-
     def e_intdiv(self, node):
         left, right = self.expr(node.children[0]), self.expr(node.children[2])
         return lambda fr: F32(int(float(left(fr)) / float(right(fr))))
