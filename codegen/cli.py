@@ -100,6 +100,12 @@ def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None
 
     model = _load(cell)
     x, y, theta = _parse_mark(mark)
+    station = model.station_by_id(station_id)
+    if station is not None and station.mode == "frame":
+        raise UserError(
+            f"{model.source}: station {station_id} ({station.name}) is in frame mode: its frame is found "
+            "by photographing until the residual is small, not from one reading (see `codegen verify`)"
+        )
     report = correct_report(model, Reading(station_id, x, y, theta))
     if as_json:
         _dump(report)

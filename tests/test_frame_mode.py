@@ -158,3 +158,12 @@ def test_run_without_camera_says_so():
     result = CliRunner().invoke(main, ["run", str(program), "--input", "VIS_STATION=1"])
     assert result.exit_code == 1
     assert "no camera is attached" in result.output
+
+
+def test_correct_refuses_a_frame_station():
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    result = CliRunner().invoke(main, ["correct", str(BENCH), "--station", "1", "--mark", "1,2,3"])
+    assert result.exit_code == 2 and "is in frame mode" in result.output
