@@ -285,7 +285,9 @@ def verify(
                 continue
             try:
                 name = targets[0] if len(targets) == 1 else v.target_of_file(path)
-                sources.append(v.file_source(name, path))
+                source = v.file_source(name, path)
+                source.load()  # a syntax error is reported before any case runs
+                sources.append(source)
             except (ValueError, RunError) as exc:
                 raise UserError(str(exc)) from None
     else:

@@ -216,12 +216,6 @@ FORMAT_DECIMALS = {
 }
 
 
-def rotation_angle_between(rot_a: np.ndarray, rot_b: np.ndarray) -> float:
-    """Angle (rad) of rot_a^T rot_b; accurate for small angles."""
-    rel = rot_a.T @ rot_b
-    return float(np.linalg.norm(rotvec_from_rotmat(rel)))
-
-
 def native_values(values, from_format: str, to_format: str) -> tuple[float, ...]:
     """A taught pose in another format; exact (no round trip) where the formats are reorderings."""
     if from_format == to_format:

@@ -23,7 +23,6 @@ from codegen.reference import (
 from codegen.targets import Target, get_target
 
 TEMPLATES_DIR = Path(__file__).parent / "templates"
-DEFAULT_OUT = Path("generated")
 
 # Guard codes shared by every program: 0 ok, then the halt reasons in the order they are checked.
 GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}

@@ -119,26 +119,13 @@ def load_program(target: Target, text: str, filename: str, dat_text: str | None 
 
 
 def load_program_file(target: Target, path: Path) -> Program:
-    text = path.read_text(encoding="utf-8")
-    dat_text = None
-    if target.dialect == "krl":
-        dat = path.with_suffix(".dat")
-        dat_text = dat.read_text(encoding="utf-8") if dat.exists() else None
-    return load_program(target, text, str(path), dat_text)
+    """A program file on disk (a KRL .src finds its .dat beside it)."""
+    return file_source(target.name, path).load()
 
 
 def fresh_programs(cell: Cell, targets: list[str]) -> dict[str, tuple[Program, list[str]]]:
-    from codegen.render import render
-
-    out = {}
-    files = render(cell, targets)
-    for name in targets:
-        target = get_target(name)
-        mine = [f for f in files if f.relpath.split("/")[1] == name]
-        main = next(f for f in mine if not f.relpath.endswith(".dat"))
-        dat = next((f.text for f in mine if f.relpath.endswith(".dat")), None)
-        out[name] = (load_program(target, main.text, f"<fresh>/{main.relpath}", dat), [f.relpath for f in mine])
-    return out
+    """Fresh output of the cell, parsed: target -> (program, file names)."""
+    return {s.target: (s.load(), list(s.files)) for s in fresh_sources(cell, targets)}
 
 
 def target_of_file(path: Path) -> str:
@@ -519,9 +506,7 @@ def file_source(target: str, path: Path) -> ProgramSource:
         if dat.exists():
             dat_text = dat.read_text(encoding="utf-8")
             files.append(str(dat))
-    source = ProgramSource(target, path.read_text(encoding="utf-8"), str(path), dat_text, tuple(files))
-    source.load()  # report syntax errors before any case runs
-    return source
+    return ProgramSource(target, path.read_text(encoding="utf-8"), str(path), dat_text, tuple(files))
 
 
 _LOADED: dict[ProgramSource, Program] = {}
