@@ -290,6 +290,8 @@ def verify(
                 sources.append(source)
             except (ValueError, RunError) as exc:
                 raise UserError(str(exc)) from None
+        if not sources:
+            raise UserError("no program to verify: a KRL .dat is read together with its .src; give the .src")
     else:
         names = list(targets) or list(model.targets)
         verify_cell = v.edge_cell(model)

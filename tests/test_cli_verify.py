@@ -75,3 +75,8 @@ def test_verify_files_on_disk_pass():
     result = invoke("verify", *files, "--cases", "5")
     assert result.exit_code == 0, result.output
     assert "kuka" in result.output and "dtrans" in result.output
+
+
+def test_verify_refuses_to_verify_nothing():
+    result = invoke("verify", GENERATED / "kuka" / "agv_machine_tending.dat", "--cases", "2")
+    assert result.exit_code == 2 and "no program to verify" in result.output
