@@ -134,7 +134,9 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
     except (EmitError, GenerateError) as exc:
         raise UserError(f"{model.source}: {exc}") from None
     except OSError as exc:
-        raise click.ClickException(f"{out_dir}: cannot write ({exc.strerror or exc}); previous output left as it was")
+        raise click.ClickException(
+            f"{out_dir}: cannot write ({exc.strerror or exc}); previous output left as it was"
+        ) from None
 
     for path in written:
         click.echo(f"wrote {path}")
