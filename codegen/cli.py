@@ -269,6 +269,7 @@ def verify(
     with FILES (a .src finds its .dat beside it) the files on disk are verified.
     """
     import os
+    import re
     import time
     from pathlib import Path
 
@@ -293,6 +294,13 @@ def verify(
                 source = v.file_source(name, path)
                 source.load()  # a syntax error is reported before any case runs
                 sources.append(source)
+                stamp = re.search(r"sha256 ([0-9a-f]{64})", source.text)
+                if stamp and stamp.group(1) != model.sha256:
+                    click.echo(
+                        f"warning: {path} says it was generated from another cell file (sha256 "
+                        f"{stamp.group(1)[:12]}...) than {model.source}; verifying against {model.name}",
+                        err=True,
+                    )
             except (ValueError, RunError) as exc:
                 raise UserError(str(exc)) from None
         if not sources:

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 from click.testing import CliRunner
@@ -80,3 +82,12 @@ def test_verify_files_on_disk_pass():
 def test_verify_refuses_to_verify_nothing():
     result = invoke("verify", GENERATED / "kuka" / "agv_machine_tending.dat", "--cases", "2")
     assert result.exit_code == 2 and "no program to verify" in result.output
+
+
+def test_verify_warns_when_the_file_comes_from_another_cell():
+    bench = REPO / "generated" / "thermometer_bench" / "dtrans" / "thermometer_bench.prg"
+    proc = subprocess.run(
+        [sys.executable, "-m", "codegen", "verify", str(bench), "--cases", "2"], capture_output=True, text=True
+    )
+    assert "generated from another cell file" in proc.stderr
+    assert proc.returncode == 1  # the demo cell's readings do not fit the bench program
