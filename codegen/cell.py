@@ -64,6 +64,7 @@ class Station:
     mode: str = "point"  # "point" (source 000) or "frame" (source 001)
     frame: TaughtPose | None = None  # frame mode: the user frame at calibration, base frame; mark at its origin
     photo: TaughtPose | None = None  # frame mode: where the camera photographs from, in the user frame
+    base_data: int | None = None  # frame mode, KUKA: the calibration frame is BASE_DATA[n] on the controller
 
 
 @dataclass(frozen=True)
@@ -94,7 +95,7 @@ _CAMERA_KEYS = {"angle_sign", "handeye"}
 _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
 _REFINE_KEYS = {"tolerance_mm", "tolerance_deg", "max_iterations"}
-_STATION_KEYS = {"id", "name", "mark", "poses", "mode", "frame", "photo"}
+_STATION_KEYS = {"id", "name", "mark", "poses", "mode", "frame", "photo", "base_data"}
 
 
 def load_cell(path: str | Path | None = None) -> Cell:
@@ -283,9 +284,9 @@ class _Context:
         mode = raw.get("mode", "point")
         if mode not in ("point", "frame"):
             self.fail(f"{path}.mode", f'expected "point" or "frame", got {mode!r}')
-        frame = photo = None
+        frame = photo = base_data = None
         if mode == "point":
-            for key in ("frame", "photo"):
+            for key in ("frame", "photo", "base_data"):
                 if key in raw:
                     self.fail(f"{path}.{key}", 'only frame-mode stations (mode = "frame") have this key')
             mark = self.numbers(self.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
@@ -299,6 +300,10 @@ class _Context:
             frame = self.pose("frame", self.require(raw, "frame", f"{path}.frame"), f"{path}.frame", pose_format)
             photo = self.pose("photo", self.require(raw, "photo", f"{path}.photo"), f"{path}.photo", pose_format)
             mark = (0.0, 0.0, 0.0)
+            if "base_data" in raw:
+                base_data = raw["base_data"]
+                if isinstance(base_data, bool) or not isinstance(base_data, int) or not 1 <= base_data <= 32:
+                    self.fail(f"{path}.base_data", f"expected a KUKA base number 1..32, got {base_data!r}")
         poses_raw = self.table(raw, "poses", f"{path}.poses")
         if not poses_raw:
             self.fail(f"{path}.poses", "a station needs at least one pose")
@@ -306,7 +311,7 @@ class _Context:
             self.pose(pose_name, values, f"{path}.poses.{pose_name}", pose_format)
             for pose_name, values in poses_raw.items()
         ]
-        return Station(int(station_id), name, mark, tuple(poses), mode, frame, photo)
+        return Station(int(station_id), name, mark, tuple(poses), mode, frame, photo, base_data)
 
     def pose(self, pose_name: str, values, pose_path: str, pose_format: str) -> TaughtPose:
         if not pose_name.strip():

@@ -166,6 +166,11 @@ def _parse_input(text: str):
     name, sep, value = text.partition("=")
     if not sep or not name:
         raise UserError(f"--input: expected NAME=VALUE, got {text!r}")
+    if "," in value:  # a record such as BASE_DATA[1]=X,Y,Z,A,B,C
+        try:
+            return name, tuple(float(v) for v in value.split(","))
+        except ValueError:
+            raise UserError(f"--input {name}: not numbers: {value!r}") from None
     try:
         return name, int(value)
     except ValueError:

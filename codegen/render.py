@@ -97,6 +97,7 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
     return {
         "mode": station.mode,
         "frame": frame,
+        "base_data": station.base_data,
         "photo": photo,
         "id": station.id,
         "name": emitter.comment(station.name),

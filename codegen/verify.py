@@ -148,6 +148,16 @@ def inputs_for(target: Target, reading: Reading | FrameCase) -> dict:
     }
 
 
+def controller_setup(cell: Cell, target: Target, reading: Reading | FrameCase) -> dict:
+    """What the controller already holds: a KUKA frame-mode station's measured base BASE_DATA[n]."""
+    if target.name != "kuka" or not isinstance(reading, FrameCase):
+        return {}
+    station = cell.station_by_id(reading.station_id)
+    if station is None or station.base_data is None:
+        return {}
+    return {f"BASE_DATA[{station.base_data}]": native_values(station.frame.values, station.frame.pose_format, "xyzabc")}
+
+
 def camera_for(cell: Cell, reading: Reading | FrameCase) -> SimulatedCamera | None:
     """A fresh simulated camera for a frame-mode case (the same noise sequence for every run)."""
     if not isinstance(reading, FrameCase):
@@ -443,7 +453,8 @@ def verify(
             report.categories[case.category] = report.categories.get(case.category, 0) + 1
             report.boundary += boundary
             try:
-                got = program.run(inputs_for(target, case.reading), camera=camera_for(model, case.reading))
+                inputs = inputs_for(target, case.reading) | controller_setup(model, target, case.reading)
+                got = program.run(inputs, camera=camera_for(model, case.reading))
             except RunError as exc:
                 problem, pos, rot = f"run error: {exc}", [], []
             else:

@@ -167,3 +167,19 @@ def test_correct_refuses_a_frame_station():
 
     result = CliRunner().invoke(main, ["correct", str(BENCH), "--station", "1", "--mark", "1,2,3"])
     assert result.exit_code == 2 and "is in frame mode" in result.output
+
+
+def test_kuka_base_data(tmp_path):
+    text = BENCH.read_text().replace('mode = "frame"', 'mode = "frame"\nbase_data = 3')
+    path = tmp_path / "bench.toml"
+    path.write_text(text, encoding="utf-8")
+    cell = load_cell(path)
+    assert cell.stations[0].base_data == 3
+    src = next(f for f in render(cell, ["kuka"]) if f.relpath.endswith(".src"))
+    assert "$BASE = BASE_DATA[3] : OFFSET" in src.text
+    (report,) = run_verify(cell, fresh_sources(cell, ["kuka"]), build_cases(cell, 8, 3))
+    assert report.mismatches == 0, report.first_mismatches
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("base_data = 3", "base_data = 40"), encoding="utf-8")
+    with pytest.raises(CellError, match=r"station\[1\]\.base_data: expected a KUKA base number 1\.\.32"):
+        load_cell(bad)

@@ -218,6 +218,25 @@ class KRLCompiler(Compiler):
     def element_type(self, type_name):
         return type_name[0] if isinstance(type_name, tuple) else type_name
 
+    def inject_inputs(self, machine) -> None:
+        """BASE_DATA[n]=x,y,z,a,b,c sets a measured base, as $config.dat holds it on the controller."""
+        rest = {}
+        for name, value in machine.inputs.items():
+            match = re.fullmatch(r"BASE_DATA\[(\d+)\]", name.upper())
+            if match is None:
+                rest[name] = value
+                continue
+            index = int(match.group(1))
+            if not 1 <= index <= 32 or not isinstance(value, tuple | list) or len(value) != 6:
+                raise RunError(f"input {name}: expected BASE_DATA[1..32] = X,Y,Z,A,B,C")
+            bases = machine.extra.setdefault("BASE_DATA", [new_value("FRAME") for _ in range(32)])
+            bases[index - 1] = _frame(value)
+        original, machine.inputs = machine.inputs, rest
+        try:
+            super().inject_inputs(machine)
+        finally:
+            machine.inputs = original
+
     # --- expressions -------------------------------------------------------------------------
     def var_reader(self, token):
         key = self.norm(str(token))
@@ -232,6 +251,8 @@ class KRLCompiler(Compiler):
                 value = fr.m.globals[key]
             elif key == "$BASE":
                 return fr.m.extra.setdefault("$BASE", _frame())
+            elif key == "BASE_DATA":  # system array of the controller's measured bases ($config.dat)
+                return fr.m.extra.setdefault("BASE_DATA", [new_value("FRAME") for _ in range(32)])
             else:
                 raise RunError(f"{where}: undefined variable {token}")
             return _valid(value, where, str(token))
