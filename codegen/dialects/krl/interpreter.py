@@ -183,6 +183,8 @@ class KRLCompiler(Compiler):
         if value is UNINIT:
             return value
         if type_name == "REAL":
+            if type(value) is F32:
+                return value
             if isinstance(value, bool) or not isinstance(value, int | float | np.number):
                 raise RunError(f"{where}: cannot assign {getattr(value, 'type', type(value).__name__)} to REAL")
             return F32(value)

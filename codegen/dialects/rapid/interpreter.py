@@ -231,15 +231,17 @@ class RAPIDCompiler(Compiler):
     def coerce(self, type_name, value, where):
         if type_name is None:
             return value
+        if type_name == "NUM":
+            return value if type(value) is F32 else F32(_num(value, where))
         if isinstance(type_name, tuple):  # (element type, size) array
             element, size = type_name
             if not isinstance(value, list):
                 raise RunError(f"{where}: expected an array of {element.lower()}")
             if size is not None and len(value) != size:
                 raise RunError(f"{where}: expected {size} elements, got {len(value)}")
+            if element == "NUM" and all(type(v) is F32 for v in value):
+                return value
             return [self.coerce(element, v, where) for v in value]
-        if type_name == "NUM":
-            return F32(_num(value, where))
         if type_name == "DNUM":
             return float(_num(value, where))
         if type_name == "BOOL":
