@@ -429,8 +429,10 @@ class KRLCompiler(Compiler):
         cond, body = node.children
         return super().s_while_stmt(Tree("while_stmt", [cond, body], node.meta))
 
-    def s_loop_stmt(self, node):
-        body = self.routine_block(node.children[0])
+    def _loop(self, node, body_node, until_node=None):
+        """LOOP ... ENDLOOP and REPEAT ... UNTIL: run the body until EXIT (or the condition holds)."""
+        body = self.routine_block(body_node)
+        until = self.expr(until_node) if until_node is not None else None
         where = self.where(node)
 
         def run(fr):
@@ -439,24 +441,16 @@ class KRLCompiler(Compiler):
                 signal = body(fr)
                 if signal is not None:
                     return None if signal.kind == "exit" else signal
-
-        return run
-
-    def s_repeat_stmt(self, node):
-        body_node, cond_node = node.children
-        body, cond = self.routine_block(body_node), self.expr(cond_node)
-        where = self.where(node)
-
-        def run(fr):
-            while True:
-                fr.m.step(where)
-                signal = body(fr)
-                if signal is not None:
-                    return None if signal.kind == "exit" else signal
-                if cond(fr):
+                if until is not None and until(fr):
                     return None
 
         return run
+
+    def s_loop_stmt(self, node):
+        return self._loop(node, node.children[0])
+
+    def s_repeat_stmt(self, node):
+        return self._loop(node, *node.children)
 
     def s_for_stmt(self, node):
         name, start, stop, step, body_node = node.children
