@@ -62,3 +62,20 @@ def test_printf_checks_arguments():
     assert printf("%d:%.2f:%s", [3, 1.25, "x"], "w") == "3:1.25:x"
     with pytest.raises(RunError, match="needs more arguments"):
         printf("%d %d", [1], "w")
+
+
+def test_values_are_copied_on_assignment_and_call():
+    text = """Double a[3] = {1.0, 2.0, 3.0}
+Double b[3]
+Sub scratch(Double k[])
+  k[0] = 42.0
+EndSub
+b = a
+b[1] = 7.0
+Call scratch(a)
+Decompose c[0] = Trans(9.0, 8.0, 7.0, 0.0, 0.0, 0.0)
+TPWrite 0, "%.0f %.0f %.0f %.0f", a[0], a[1], b[1], c[0]
+"""
+    program = load("Double c[6]\n" + text, "t.prg")
+    assert program.run({}).messages == ["1 2 7 9"]
+    assert program.run({}).messages == ["1 2 7 9"]

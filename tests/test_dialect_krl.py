@@ -118,3 +118,16 @@ def test_step_limit():
     program = load("DEF T()\nLOOP\nENDLOOP\nEND\n", "t.src", DAT)
     with pytest.raises(StepLimitError):
         program.run({}, step_limit=500)
+
+
+def test_values_are_copied_and_out_writes_back():
+    text = (
+        "&ACCESS RVP\nDEF T()\nDECL FRAME A, B\nA = {X 1, Y 2, Z 3, A 0, B 0, C 0}\nB = A\nB.X = 5\n"
+        "SCRATCH(A)\nR = A.X\n" + show("REAL", "R") + "\nR = B.X\n" + show("REAL", "R") + "\nBUMP(A)\n"
+        "R = A.X\n" + show("REAL", "R") + "\nR = B.X\n" + show("REAL", "R") + "\nEND\n"
+        "DEF SCRATCH(F:IN)\nDECL FRAME F\nF.X = 42\nEND\n"
+        "DEF BUMP(F:OUT)\nDECL FRAME F\nF.X = 99\nEND\n"
+    )
+    program = load(text, "t.src", DAT)
+    assert program.run({}).messages == ["1", "5", "99", "5"]
+    assert program.run({}).messages == ["1", "5", "99", "5"]  # a run never changes the next run's start

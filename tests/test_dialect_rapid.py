@@ -85,3 +85,22 @@ def test_step_limit_and_undeclared():
         load("MODULE T\nPROC main()\nWHILE TRUE DO\nENDWHILE\nENDPROC\nENDMODULE\n", "t.mod").run({}, step_limit=300)
     with pytest.raises(RunError, match="undeclared variable"):
         run("zz := 1;")
+
+
+def test_values_are_copied_and_inout_writes_back():
+    decls = "VAR pose a := [[1, 2, 3], [1, 0, 0, 0]];\nVAR pose b;\nVAR num u{3} := [1, 2, 3];\nVAR num w{3};"
+    routines = (
+        "PROC bump(INOUT pose p)\n  p.trans.x := 99;\nENDPROC\n"
+        "PROC scratch(pose p, num k{*})\n  p.trans.x := 42;\n  k{1} := 42;\nENDPROC"
+    )
+    body = (
+        "b := a;\nb.trans.x := 5;\nw := u;\nw{2} := 7;\nscratch a, u;\n"
+        'TPWrite "" \\Num:=a.trans.x;\nTPWrite "" \\Num:=b.trans.x;\nTPWrite "" \\Num:=u{1};\n'
+        'TPWrite "" \\Num:=u{2};\nTPWrite "" \\Num:=w{2};\nbump a;\nTPWrite "" \\Num:=a.trans.x;\n'
+        'TPWrite "" \\Num:=b.trans.x;'
+    )
+    text = f"MODULE T\n{decls}\nPROC main()\n{body}\nENDPROC\n{routines}\nENDMODULE\n"
+    program = load(text, "t.mod")
+    expected = ["1", "5", "1", "2", "7", "99", "5"]
+    assert program.run({}).messages == expected
+    assert program.run({}).messages == expected  # a run never changes the next run's start

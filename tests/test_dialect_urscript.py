@@ -105,3 +105,20 @@ def test_nan_fails_comparisons():
     assert msgs('x = read_input_float_register(24)\ntextmsg("", norm(x) <= 5.0)', input_float_register_24=math.nan) == [
         "False"
     ]
+
+
+def test_values_are_copied_on_assignment_and_call():
+    body = """a = [1, 2, 3]
+def scratch(k):
+  k[0] = 42
+  return k[0]
+end
+b = a
+b[1] = 7
+textmsg("", scratch(a))
+textmsg("", a[0])
+textmsg("", a[1])
+textmsg("", b[1])"""
+    program = load("def prog():\n" + "".join(f"  {line}\n" for line in body.splitlines()) + "end\n", "t.script")
+    assert program.run({}).messages == ["42", "1", "2", "7"]
+    assert program.run({}).messages == ["42", "1", "2", "7"]

@@ -1,4 +1,9 @@
-"""Shared interpreter core: lark trees compiled once into Python closures, run many times.
+"""Shared interpreter core: lark trees compiled once into Python functions, run many times.
+
+Expressions and simple statements are compiled to Python source (`Src`, `Inline`) and a routine's
+block becomes one Python function; rules without a source form stay closures, which the generated
+code calls. Both share the same helpers (coercions, builtins, routine calls), so the semantics do
+not depend on which form a rule has.
 
 Each dialect module (`<dialect>/interpreter.py`) subclasses `Compiler` with its tables (builtins,
 comparison operators, index base, literal types) and the few rules its grammar has beyond the
@@ -9,8 +14,10 @@ them in its variables.
 
 from __future__ import annotations
 
+import builtins
 import math
 import operator
+import re
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -85,7 +92,11 @@ CONTINUE = Signal("continue")
 
 
 class Record(dict):
-    """A structured value (KRL FRAME/POS, RAPID pose/robtarget, dtrans Point, UR pose)."""
+    """A structured value (KRL FRAME/POS, RAPID pose/robtarget, dtrans Point, UR pose).
+
+    Records and arrays are never changed in place once made: assigning to a field or an element
+    stores a changed copy along the path (see Compiler.lvalue). So variables can share values
+    without copying, and still behave as the controllers' value semantics say."""
 
     __slots__ = ("type",)
 
@@ -95,6 +106,13 @@ class Record(dict):
 
     def copy(self) -> Record:
         return Record(self.type, {k: (v.copy() if isinstance(v, Record | list) else v) for k, v in self.items()})
+
+    def shallow(self) -> Record:
+        """A new record of the same class with the same field values (to change one of them)."""
+        new = dict.__new__(type(self))
+        dict.update(new, self)
+        new.type = self.type
+        return new
 
 
 @dataclass
@@ -117,10 +135,62 @@ def f32(value) -> np.float32:
     return F32(value)
 
 
-def deepcopy_value(value):
-    if isinstance(value, Record | list):
-        return value.copy() if isinstance(value, Record) else [deepcopy_value(v) for v in value]
-    return value
+class Src(str):
+    """Python source of an expression. It may use `fr` (the frame), `m` (the machine), `V` (the
+    frame's variables), `G` (the globals) and the names the compiler registered with const()."""
+
+
+class Inline:
+    """A statement as Python source lines: block() inlines them; called directly, the lines are
+    compiled once into a function. The lines end a block with `return signal` for RETURN, EXIT..."""
+
+    __slots__ = ("compiler", "fn", "lines")
+
+    def __init__(self, compiler: Compiler, lines: list[str]) -> None:
+        self.compiler = compiler
+        self.lines = lines
+        self.fn = None
+
+    def __call__(self, fr):
+        if self.fn is None:
+            self.fn = self.compiler.function([*self.lines, "return None"])
+        return self.fn(fr)
+
+
+def op_error(where: str, exc: Exception) -> RunError:
+    """An operator applied to values it does not take, as the controller would refuse it."""
+    if isinstance(exc, ZeroDivisionError):
+        return RunError(f"{where}: division by zero")
+    return RunError(f"{where}: {exc}")
+
+
+def step_limit_error(where: str, machine: Machine) -> StepLimitError:
+    return StepLimitError(f"{where}: step limit {machine.step_limit} reached (runaway loop?)")
+
+
+def index_value(seq, index, offset: int, where: str):
+    """seq[index] with the controller's index base; a record is indexed by its field order."""
+    i = int(index) - offset
+    if isinstance(seq, Record):
+        seq = list(seq.values())
+    if not 0 <= i < len(seq):
+        raise RunError(
+            f"{where}: index {i + offset} out of range 1..{len(seq)}"
+            if offset
+            else f"{where}: index {i} out of range 0..{len(seq) - 1}"
+        )
+    return seq[i]
+
+
+def no_field(value, name: str, where: str):
+    raise RunError(f"{where}: no field {name} in {getattr(value, 'type', type(value).__name__)}")
+
+
+_FRAME_NAMES = re.compile(r"\b(m|V|G)\b")
+
+
+def indent(lines: list[str]) -> list[str]:
+    return ["    " + line for line in lines]
 
 
 class Routine:
@@ -135,7 +205,6 @@ class Routine:
         self.return_type = return_type
         self.line = line
         self.decls = decls or []  # (name, type, init closure) local declarations
-        self.mutated: set[str] | None = None  # names the body assigns into (None: unknown, copy all)
 
 
 class Frame:
@@ -212,7 +281,7 @@ class Program:
     """A parsed and compiled program, run many times with different inputs.
 
     `init` (module data, constant definitions) runs once; its globals are kept as a snapshot and
-    every run starts from a copy, deep only for the variables the program can change.
+    every run starts from a shallow copy of it (values are never changed in place).
     """
 
     def __init__(self, name: str, compiler: Compiler, init, main: str | None, body=None) -> None:
@@ -235,10 +304,9 @@ class Program:
     def run(self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT, camera=None) -> Trace:
         globals_, types, extra = self._prepare(step_limit)
         machine = Machine(self, dict(inputs or {}), step_limit, camera)
-        mutable = self.compiler.assigned_roots
-        machine.globals = {k: (deepcopy_value(v) if k in mutable else v) for k, v in globals_.items()}
+        machine.globals = dict(globals_)  # values are never changed in place: sharing them is safe
         machine.global_types = dict(types)
-        machine.extra = {k: deepcopy_value(v) for k, v in extra.items()}
+        machine.extra = dict(extra)
         frame = Frame(machine, machine.globals, machine.global_types)
         try:
             self.compiler.inject_inputs(machine)
@@ -272,16 +340,76 @@ class Compiler:
         "=": operator.eq,
     }
     int_division = False
-    assignment_makes_local = False  # URScript: `x = ...` in a function makes a local unless `global`
 
     def __init__(self, filename: str) -> None:
         self.filename = filename
         self.routines: dict[str, Routine] = {}
         self.builtins = self.make_builtins()
-        self.assigned_roots: set[str] = set()  # variables some statement assigns into
-        self._routine_assigned: set[str] | None = None  # the same, inside the routine being compiled
-        self._pending_refs: list = []  # (callee, argument index, lvalue node, routine-assigned set)
-        self.noting_globals = True  # off while compiling statements that run once (constant data)
+        self.ns: dict = {  # the globals of the generated Python source
+            "__builtins__": builtins,
+            "_Signal": Signal,
+            "_BREAK": BREAK,
+            "_CONTINUE": CONTINUE,
+            "_operror": op_error,
+            "_steplimit": step_limit_error,
+            "_index": index_value,
+            "_nofield": no_field,
+        }
+        self._consts: dict[int, str] = {}
+
+    # --- Python source ----------------------------------------------------------------------
+    def const(self, value) -> str:
+        """A name under which the generated source sees value (a closure, a number, a table)."""
+        name = self._consts.get(id(value))
+        if name is None or self.ns[name] is not value:
+            name = f"_k{len(self.ns)}"
+            self.ns[name] = value
+            self._consts[id(value)] = name
+        return name
+
+    def function(self, lines: list[str]):
+        """Compile statement lines into a function of the frame."""
+        body = "\n".join(lines)
+        used = set(_FRAME_NAMES.findall(body))
+        prologue = []
+        if "m" in used or "G" in used:
+            prologue.append("m = fr.m")
+        if "V" in used:
+            prologue.append("V = fr.vars")
+        if "G" in used:
+            prologue.append("G = m.globals")
+        text = "\n".join(["def _f(fr):", *indent(prologue), *indent(lines)]) + "\n"
+        scope: dict = {}
+        exec(compile(text, f"<{self.filename}: compiled>", "exec"), self.ns, scope)
+        return scope["_f"]
+
+    def guarded(self, lines: list[str], where: str) -> list[str]:
+        """Lines whose operator errors (a number plus a string, a division by zero) become RunErrors."""
+        return [
+            "try:",
+            *indent(lines),
+            "except (TypeError, ZeroDivisionError) as _e:",
+            f"    raise _operror({where!r}, _e) from None",
+        ]
+
+    def src(self, node) -> Src:
+        """The Python source of an expression; a rule without one is called as its closure."""
+        compiled = self._compile_expr(node)
+        return compiled if isinstance(compiled, Src) else Src(f"{self.const(compiled)}(fr)")
+
+    def source_of(self, compiled) -> Src:
+        """Source of what expr() or stmt() returned: inline text or a call of the closure."""
+        source = getattr(compiled, "source", None)
+        return source if source is not None else Src(f"{self.const(compiled)}(fr)")
+
+    def body_lines(self, compiled) -> list[str]:
+        """Lines that run a compiled statement or block inline and pass its signal on."""
+        if isinstance(compiled, Inline):
+            return compiled.lines
+        inline = getattr(compiled, "inline", None)
+        if inline is not None:
+            return inline
+        return [f"_s = {self.const(compiled)}(fr)", "if _s is not None:", "    return _s"]
 
     # --- tables supplied by dialects ------------------------------------------------------
     def make_builtins(self) -> dict:
@@ -335,37 +463,54 @@ class Compiler:
 
     # --- expressions ------------------------------------------------------------------------
     def expr(self, node):
+        """A callable fr -> value; when the rule has a source form, `.source` holds it."""
+        compiled = self._compile_expr(node)
+        if not isinstance(compiled, Src):
+            return compiled
+        fn = self.function(self.guarded([f"return {compiled}"], self.where(node)))
+        fn.source = compiled
+        return fn
+
+    def _compile_expr(self, node):
         if isinstance(node, Token):
-            return self.token_expr(node)
-        method = getattr(self, f"e_{node.data}", None)
-        if method is None:
-            self.fail(node, f"unsupported expression {node.data}")
-        return method(node)
+            compiled = self.token_expr(node)
+        else:
+            method = getattr(self, f"e_{node.data}", None)
+            if method is None:
+                self.fail(node, f"unsupported expression {node.data}")
+            compiled = method(node)
+        source = getattr(compiled, "source", None)
+        return source if source is not None else compiled
 
     def token_expr(self, token: Token):
         if token.type == "NAME":
-            return self.var_reader(token)
+            return self.var_source(token)
         self.fail(token, f"unexpected token {token}")
 
     def e_number(self, node):
-        value = self.number(str(node.children[0]))
-        return lambda fr: value
+        return Src(self.const(self.number(str(node.children[0]))))
 
     def e_string(self, node):
-        value = self.string_value(str(node.children[0]))
-        return lambda fr: value
+        return Src(repr(self.string_value(str(node.children[0]))))
 
     def string_value(self, text: str) -> str:
         return text[1:-1]
 
     def e_true(self, node):
-        return lambda fr: True
+        return Src("True")
 
     def e_false(self, node):
-        return lambda fr: False
+        return Src("False")
 
     def e_var(self, node):
-        return self.var_reader(node.children[0])
+        return self.var_source(node.children[0])
+
+    def var_source(self, token) -> Src:
+        """A routine's variables, then the globals; anything else (errors, the controller's own
+        names) is left to the dialect's var_reader."""
+        key = repr(self.norm(str(token)))
+        fallback = self.const(self.var_reader(token))
+        return Src(f"(V[{key}] if {key} in V else G[{key}] if {key} in G else {fallback}(fr))")
 
     def var_reader(self, token):
         key = self.norm(str(token))
@@ -382,8 +527,23 @@ class Compiler:
         return read
 
     def e_neg(self, node):
-        inner = self.expr(node.children[0])
-        return lambda fr: -inner(fr)
+        return Src(f"(-{self.src(node.children[0])})")
+
+    def _binary_source(self, node, symbol: str) -> Src:
+        left, right = (self.src(c) for c in node.children)
+        return Src(f"({left} {symbol} {right})")
+
+    def _binary_call(self, node, function) -> Src:
+        left, right = (self.src(c) for c in node.children)
+        return Src(f"{self.const(function)}({left}, {right})")
+
+    def _binary_source(self, node, symbol: str) -> Src:
+        left, right = (self.src(c) for c in node.children)
+        return Src(f"({left} {symbol} {right})")
+
+    def _binary_call(self, node, function) -> Src:
+        left, right = (self.src(c) for c in node.children)
+        return Src(f"{self.const(function)}({left}, {right})")
 
     def _binary(self, node, op):
         left, right = (self.expr(c) for c in node.children)
@@ -400,113 +560,116 @@ class Compiler:
         return run
 
     def e_add(self, node):
-        return self._binary(node, self.add)
+        if type(self).add is Compiler.add:
+            return self._binary_source(node, "+")
+        return self._binary_call(node, self.add)
 
     def add(self, a, b):
         return a + b
 
     def e_sub(self, node):
-        return self._binary(node, operator.sub)
+        return self._binary_source(node, "-")
 
     def e_mul(self, node):
-        return self._binary(node, operator.mul)
+        return self._binary_source(node, "*")
 
     def e_div(self, node):
-        def div(a, b):
-            if self.int_division and isinstance(a, int) and isinstance(b, int):
-                if b == 0:
-                    raise ZeroDivisionError
-                return int(a / b)
+        return self._binary_call(node, self.divide)
+
+    def divide(self, a, b):
+        if self.int_division and isinstance(a, int) and isinstance(b, int):
             if b == 0:
                 raise ZeroDivisionError
-            return F32(a) / F32(b) if not isinstance(a, float) else a / b
-
-        return self._binary(node, div)
+            return int(a / b)
+        if b == 0:
+            raise ZeroDivisionError
+        return F32(a) / F32(b) if not isinstance(a, float) else a / b
 
     def e_mod(self, node):
-        return self._binary(node, operator.mod)
+        return self._binary_source(node, "%")
 
     # Boolean operators: the operands are the first and last children (KRL and RAPID keep the
-    # operator keyword token between them).
+    # operator keyword token between them). Results are Python bools.
     def e_not_(self, node):
-        inner = self.expr(node.children[-1])
-        return lambda fr: not inner(fr)
+        return Src(f"(not {self.src(node.children[-1])})")
 
     def e_and_(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[-1])
-        return lambda fr: bool(left(fr)) and bool(right(fr))
+        left, right = self.src(node.children[0]), self.src(node.children[-1])
+        return Src(f"(True if {left} and {right} else False)")
 
     def e_or_(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[-1])
-        return lambda fr: bool(left(fr)) or bool(right(fr))
+        left, right = self.src(node.children[0]), self.src(node.children[-1])
+        return Src(f"(True if {left} or {right} else False)")
 
     def e_xor(self, node):
-        left, right = self.expr(node.children[0]), self.expr(node.children[-1])
-        return lambda fr: bool(left(fr)) != bool(right(fr))
+        left, right = self.src(node.children[0]), self.src(node.children[-1])
+        return Src(f"(bool({left}) != bool({right}))")
 
     e_exor = e_xor
+
+    OPERATOR_SYMBOLS = {
+        operator.eq: "==",
+        operator.ne: "!=",
+        operator.lt: "<",
+        operator.le: "<=",
+        operator.gt: ">",
+        operator.ge: ">=",
+    }
 
     def e_compare(self, node):
         left_node, op_token, right_node = node.children
         op = self.compare_ops[str(op_token).upper() if self.case_insensitive else str(op_token)]
-        left, right = self.expr(left_node), self.expr(right_node)
-        return lambda fr: bool(op(left(fr), right(fr)))
+        left, right = self.src(left_node), self.src(right_node)
+        symbol = self.OPERATOR_SYMBOLS.get(op)
+        if symbol is None:
+            return Src(f"(True if {self.const(op)}({left}, {right}) else False)")
+        return Src(f"(True if {left} {symbol} {right} else False)")
 
     def e_index(self, node):
         base_node, index_node = node.children
-        base, index = self.expr(base_node), self.expr(index_node)
-        offset = self.index_base
-        where = self.where(node)
-
-        def read(fr):
-            seq = base(fr)
-            i = int(index(fr)) - offset
-            if isinstance(seq, Record):
-                seq = list(seq.values())
-            if not 0 <= i < len(seq):
-                raise RunError(
-                    f"{where}: index {i + offset} out of range 1..{len(seq)}"
-                    if offset
-                    else f"{where}: index {i} out of range 0..{len(seq) - 1}"
-                )
-            return seq[i]
-
-        return read
+        base, index = self.src(base_node), self.src(index_node)
+        return Src(f"_index({base}, {index}, {self.index_base}, {self.where(node)!r})")
 
     def e_field(self, node):
         base_node, name = node.children
-        base = self.expr(base_node)
-        key = self.norm(str(name))
-        where = self.where(node)
-
-        def read(fr):
-            value = base(fr)
-            try:
-                return value[key]
-            except (KeyError, TypeError):
-                raise RunError(f"{where}: no field {name} in {getattr(value, 'type', type(value).__name__)}") from None
-
-        return read
+        base = self.src(base_node)
+        key = repr(self.norm(str(name)))
+        return Src(
+            f"(_t[{key}] if isinstance(_t := {base}, dict) and {key} in _t "
+            f"else _nofield(_t, {str(name)!r}, {self.where(node)!r}))"
+        )
 
     # --- calls ------------------------------------------------------------------------------
-    def caller(self, name: str, where: str):
-        """call(fr, args, kwargs, setters) for a routine or builtin, resolved at its first call."""
+    def call_source(self, name: str, args: list[str], kwargs: dict[str, str], setters, where: str) -> Src:
+        """A call of a routine or builtin; the name is resolved at the first call (routines may be
+        defined after their callers), then the generated code calls the target directly."""
         key = self.norm(name)
-        cache: list = []
+        slot = f"_c{len(self.ns)}"
+        with_setters = setters is not None and any(setters)
 
-        def call(fr, args, kwargs, setters=None):
-            if not cache:
-                routine = self.routines.get(key)
-                if routine is not None:
-                    cache.append(lambda f, a, k, s: self.invoke(f, routine, a, k, where, s))
-                else:
-                    builtin = self.builtins.get(key if self.case_insensitive else name)
-                    if builtin is None:
-                        raise RunError(f"{where}: unknown routine {name}")
-                    cache.append(lambda f, a, k, s: builtin(f, a, k, where))
-            return cache[0](fr, args, kwargs, setters)
+        def resolve(fr, a, k, w, s=None):
+            target = self.resolve_call(key, name, w, with_setters)
+            self.ns[slot] = target
+            return target(fr, a, k, w, s) if with_setters else target(fr, a, k, w)
 
-        return call
+        self.ns[slot] = resolve
+        kw = "{" + ", ".join(f"{k!r}: {v}" for k, v in kwargs.items()) + "}"
+        tail = f", {self.const(setters)}" if with_setters else ""
+        return Src(f"{slot}(fr, [{', '.join(args)}], {kw}, {where!r}{tail})")
+
+    def resolve_call(self, key: str, name: str, where: str, with_setters: bool):
+        routine = self.routines.get(key)
+        invoke = self.invoke
+        if routine is not None:
+            if with_setters:
+                return lambda fr, a, k, w, s: invoke(fr, routine, a, k, w, s)
+            return lambda fr, a, k, w: invoke(fr, routine, a, k, w)
+        builtin = self.builtins.get(key if self.case_insensitive else name)
+        if builtin is None:
+            raise RunError(f"{where}: unknown routine {name}")
+        if with_setters:
+            return lambda fr, a, k, w, s: builtin(fr, a, k, w)
+        return builtin
 
     def call_routine(self, fr: Frame, name: str, args: list, kwargs: dict, where: str, arg_setters=None):
         key = self.norm(name)
@@ -524,10 +687,7 @@ class Compiler:
         if len(args) != len(routine.params):
             raise RunError(f"{where}: {routine.name} takes {len(routine.params)} arguments, got {len(args)}")
         frame = Frame(machine)
-        mutated = routine.mutated
         for (pname, _mode, ptype), value in zip(routine.params, args, strict=True):
-            if mutated is None or pname in mutated:
-                value = deepcopy_value(value)
             frame.vars[pname] = self.coerce(ptype, value, where) if ptype else value
             if ptype:
                 frame.types[pname] = ptype
@@ -560,59 +720,23 @@ class Compiler:
         return method(node)
 
     def block(self, nodes) -> callable:
-        """Statements in order; each counts one step (charged when the block starts)."""
+        """Statements in order, compiled into one function; each counts one step (charged when the
+        block starts). The function returns a Signal (return, break, ...) or None; `.inline`
+        holds its lines for inlining into an enclosing block."""
         trees = [n for n in nodes if isinstance(n, Tree)]
         compiled = [self.stmt(n) for n in trees]
         where = self.where(trees[0]) if trees else self.filename
-        count = len(compiled)
-
-        def run(fr):
-            machine = fr.m
-            machine.steps += count
-            if machine.steps > machine.step_limit:
-                raise StepLimitError(f"{where}: step limit {machine.step_limit} reached (runaway loop?)")
-            for statement in compiled:
-                signal = statement(fr)
-                if signal is not None:
-                    return signal
-            return None
-
-        return run
-
-    # Expressions whose value is always newly made, so an assignment need not copy it.
-    FRESH = frozenset(
-        {
-            "add",
-            "sub",
-            "mul",
-            "div",
-            "mod",
-            "neg",
-            "geo",
-            "aggregate",
-            "list_lit",
-            "pose_lit",
-            "array_lit",
-            "number",
-            "string",
-            "true",
-            "false",
-            "compare",
-            "and_",
-            "or_",
-            "not_",
-        }
-    )
+        lines = [f"m.steps += {len(compiled)}", f"if m.steps > m.step_limit: raise _steplimit({where!r}, m)"]
+        for statement in compiled:
+            lines.extend(self.body_lines(statement))
+        fn = self.function([*lines, "return None"])
+        fn.inline = lines
+        return fn
 
     def s_assign(self, node):
         target, value_node = node.children
-        fresh = isinstance(value_node, Tree) and value_node.data in self.FRESH
-        setter, value = self.lvalue(target, fresh=fresh), self.expr(value_node)
-
-        def run(fr):
-            setter(fr, value(fr))
-
-        return run
+        setter, value = self.lvalue(target), self.src(value_node)
+        return Inline(self, self.guarded([f"{self.const(setter)}(fr, {value})"], self.where(node)))
 
     def s_halt_stmt(self, node):
         """halt / HALT / Halt: the program stops; its last message is the operator's message."""
@@ -624,27 +748,22 @@ class Compiler:
         return run
 
     def s_expr_stmt(self, node):
-        inner = self.expr(node.children[0])
-
-        def run(fr):
-            inner(fr)
-
-        return run
+        return Inline(self, self.guarded([self.src(node.children[0])], self.where(node)))
 
     def s_return_stmt(self, node):
         if node.children and node.children[0] is not None:
-            value = self.expr(node.children[0])
-            return lambda fr: Signal("return", value(fr))
-        return lambda fr: Signal("return", None)
+            value = self.src(node.children[0])
+            return Inline(self, self.guarded([f"return _Signal('return', {value})"], self.where(node)))
+        return Inline(self, ["return _Signal('return', None)"])
 
     def s_break_stmt(self, node):
-        return lambda fr: BREAK
+        return Inline(self, ["return _BREAK"])
 
     def s_continue_stmt(self, node):
-        return lambda fr: CONTINUE
+        return Inline(self, ["return _CONTINUE"])
 
     def s_pass_stmt(self, node):
-        return lambda fr: None
+        return Inline(self, [])
 
     def s_while_stmt(self, node):
         cond = self.expr(node.children[0])
@@ -677,7 +796,7 @@ class Compiler:
                 branches.append((self.expr(clause.children[0]), body_of(clause.children[1])))
             else:
                 else_body = body_of(clause.children[0])
-        return self.if_chain(branches, else_body)
+        return self.if_chain(branches, else_body, self.where(node))
 
     def switch(self, node, body_of):
         """SWITCH / TEST: the first CASE whose value equals the selector, else DEFAULT."""
@@ -714,81 +833,38 @@ class Compiler:
 
         return run
 
-    def if_chain(self, branches, else_body):
-        """branches: [(cond closure, body closure)]; else_body closure or None."""
-
-        def run(fr):
-            for cond, body in branches:
-                if cond(fr):
-                    return body(fr)
-            if else_body is not None:
-                return else_body(fr)
-            return None
-
-        return run
+    def if_chain(self, branches, else_body, where: str | None = None) -> Inline:
+        """branches: [(condition, body)] as expr() and block() return them; else_body or None."""
+        lines = []
+        for i, (cond, body) in enumerate(branches):
+            lines.append(f"{'if' if i == 0 else 'elif'} {self.source_of(cond)}:")
+            lines.extend(indent(self.body_lines(body) or ["pass"]))
+        if else_body is not None:
+            lines.append("else:")
+            lines.extend(indent(self.body_lines(else_body) or ["pass"]))
+        return Inline(self, self.guarded(lines, where or self.filename))
 
     # --- lvalues ----------------------------------------------------------------------------
-    def note_assigned(self, node) -> None:
-        """Record the variable at the root of an assignment target."""
-        whole_variable = isinstance(node, Token) or node.data == "var"
-        while isinstance(node, Tree) and node.data != "var":
-            node = node.children[0]
-        token = node.children[0] if isinstance(node, Tree) else node
-        key = self.norm(str(token))
-        if self._routine_assigned is not None:
-            self._routine_assigned.add(key)
-        if self.noting_globals and not (
-            whole_variable and self.assignment_makes_local and self._routine_assigned is not None
-        ):
-            self.assigned_roots.add(key)
-
     def compile_routine_body(self, routine: Routine, statements) -> None:
-        """Compile a routine's statements and note which parameters they assign to."""
-        outer, self._routine_assigned = self._routine_assigned, set()
-        try:
-            routine.body = self.block(statements)
-            # every name the body assigns into; finalize() may add by-reference writes later
-            routine.mutated = self._routine_assigned
-        finally:
-            self._routine_assigned = outer
+        routine.body = self.block(statements)
 
     def ref_setters(self, callee: str, arg_nodes) -> list:
-        """Setters for arguments that are variables, used if the callee takes them by reference.
+        """Setters for arguments that are variables, used if the callee takes them by reference."""
+        return [
+            self.lvalue(node) if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole") else None
+            for node in arg_nodes
+        ]
 
-        Whether it does is known once every routine is compiled: see finalize()."""
-        setters = []
-        for i, node in enumerate(arg_nodes):
-            if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole"):
-                setters.append(self.lvalue(node, note=False))
-                self._pending_refs.append((self.norm(callee), i, node, self._routine_assigned))
-            else:
-                setters.append(None)
-        return setters
-
-    def finalize(self) -> None:
-        """Variables passed to by-reference parameters count as assigned."""
-        for callee, i, node, routine_assigned in self._pending_refs:
-            routine = self.routines.get(callee)
-            if routine is None or i >= len(routine.params):
-                continue
-            if routine.params[i][1] in ("OUT", "INOUT", "VAR", "PERS"):
-                outer, self._routine_assigned = self._routine_assigned, routine_assigned
-                self.note_assigned(node)
-                self._routine_assigned = outer
-
-    def lvalue(self, node, note: bool = True, fresh: bool = False):
-        """A setter(frame, value) for a variable, an array element or a record field; fresh: the
-        values stored are newly made, so no copy is needed to keep variables from aliasing."""
-        if note:
-            self.note_assigned(node)
+    def lvalue(self, node):
+        """A setter(frame, value) for a variable, an array element or a record field. An element
+        or a field is set by storing a changed copy of its array or record (values are never
+        changed in place)."""
         if isinstance(node, Token) or node.data == "var":
             token = node if isinstance(node, Token) else node.children[0]
             key = self.norm(str(token))
             where = self.where(token)
 
             def set_var(fr, value):
-                if not fresh and isinstance(value, Record | list):
-                    value = deepcopy_value(value)  # value semantics: no aliasing between variables
                 if key in fr.vars:
                     fr.vars[key] = self.coerce(fr.types.get(key), value, where)
                 elif key in fr.m.globals:
@@ -800,6 +876,7 @@ class Compiler:
         if node.data == "index":
             base_node, index_node = node.children
             base, index = self.expr(base_node), self.expr(index_node)
+            store = self.lvalue(base_node)
             offset = self.index_base
             where = self.where(node)
 
@@ -808,12 +885,15 @@ class Compiler:
                 i = int(index(fr)) - offset
                 if not isinstance(seq, list) or not 0 <= i < len(seq):
                     raise RunError(f"{where}: index {i + offset} out of range")
-                seq[i] = self.coerce_like(seq[i], value, where)
+                changed = list(seq)
+                changed[i] = self.coerce_like(seq[i], value, where)
+                store(fr, changed)
 
             return set_item
         if node.data == "field":
             base_node, name = node.children
             base = self.expr(base_node)
+            store = self.lvalue(base_node)
             key = self.norm(str(name))
             where = self.where(node)
 
@@ -821,7 +901,9 @@ class Compiler:
                 record = base(fr)
                 if not isinstance(record, Record) or key not in record:
                     raise RunError(f"{where}: no field {name} in {getattr(record, 'type', '?')}")
-                record[key] = self.coerce_like(record[key], value, where)
+                changed = record.shallow()
+                changed[key] = self.coerce_like(record[key], value, where)
+                store(fr, changed)
 
             return set_field
         self.fail(node, f"cannot assign to {node.data}")
@@ -836,9 +918,7 @@ class Compiler:
                 return F32(value)
             except (TypeError, ValueError):
                 raise RunError(f"{where}: cannot store {value!r} in a number") from None
-        if isinstance(old, Record) and isinstance(value, Record):
-            return value.copy()
-        return deepcopy_value(value)
+        return value
 
 
 # --- number formatting shared by message instructions -----------------------------------------

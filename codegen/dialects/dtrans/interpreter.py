@@ -12,6 +12,7 @@ from codegen.dialects import posemath
 from codegen.dialects.runtime import (
     F32,
     Compiler,
+    Inline,
     MoveEvent,
     Program,
     Record,
@@ -116,7 +117,7 @@ class DTransCompiler(Compiler):
         if type_name == "Point":
             if not isinstance(value, Record) or value.type != "Point":
                 raise RunError(f"{where}: expected a Point")
-            return value.copy()
+            return value
         if type_name == "Bool":
             if not isinstance(value, bool):
                 raise RunError(f"{where}: expected a Bool")
@@ -136,9 +137,8 @@ class DTransCompiler(Compiler):
 
     def e_call(self, node):
         name, args_node = node.children
-        args = [self.expr(a) for a in (args_node.children if args_node is not None else [])]
-        target = self.caller(str(name), self.where(node))
-        return lambda fr: target(fr, [a(fr) for a in args], {})
+        args = [self.src(a) for a in (args_node.children if args_node is not None else [])]
+        return self.call_source(str(name), args, {}, None, self.where(node))
 
     def new_variable(self, fr, key, value, where):
         raise RunError(f"{where}: assignment to undeclared variable {key}")
@@ -164,7 +164,7 @@ class DTransCompiler(Compiler):
                 return self.coerce(full_type, value(fr), where)
             if isinstance(full_type, tuple):
                 return [defaults[type_name] for _ in range(full_type[1])]
-            return defaults[type_name].copy() if type_name == "Point" else defaults[type_name]
+            return defaults[type_name]
 
         return str(name), full_type, make
 
@@ -182,6 +182,7 @@ class DTransCompiler(Compiler):
         if not (isinstance(target, Tree) and target.data == "index"):
             self.fail(node, "Decompose writes into an array element: Decompose arr[i] = point")
         array, start = self.expr(target.children[0]), self.expr(target.children[1])
+        store = self.lvalue(target.children[0])
         value = self.expr(value_node)
         where = self.where(node)
 
@@ -191,18 +192,16 @@ class DTransCompiler(Compiler):
                 raise RunError(f"{where}: Decompose needs a Point")
             if not isinstance(seq, list) or i < 0 or i + 6 > len(seq):
                 raise RunError(f"{where}: Decompose needs 6 elements from index {i}")
+            changed = list(seq)
             for k, key in enumerate(POINT_KEYS):
-                seq[i + k] = self.coerce_like(seq[i + k], pt[key], where)
+                changed[i + k] = self.coerce_like(seq[i + k], pt[key], where)
+            store(fr, changed)
 
         return run
 
     def s_call_stmt(self, node):
         call = self.e_call(Tree("call", node.children, node.meta))
-
-        def run(fr):
-            call(fr)
-
-        return run
+        return Inline(self, self.guarded([call], self.where(node)))
 
     def s_if_stmt(self, node):
         return self.if_elif(node, lambda body: self.block(body.children))
@@ -278,5 +277,4 @@ def load(text: str, filename: str = "<dtrans>") -> Program:
         for statement in data:
             statement(fr)
 
-    compiler.finalize()
     return Program(filename, compiler, init, None, body)

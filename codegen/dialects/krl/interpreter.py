@@ -13,12 +13,14 @@ from codegen.dialects import posemath
 from codegen.dialects.runtime import (
     F32,
     Compiler,
+    Inline,
     MoveEvent,
     Program,
     Record,
     Routine,
     RunError,
     Signal,
+    Src,
     format_general,
     parse_with_grammar,
 )
@@ -105,6 +107,7 @@ class KRLCompiler(Compiler):
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
         self.data_decls: list = []
+        self.ns.update(_UNINIT=UNINIT, _valid=_valid)
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
@@ -231,8 +234,9 @@ class KRLCompiler(Compiler):
             index = int(match.group(1))
             if not 1 <= index <= 32 or not isinstance(value, tuple | list) or len(value) != 6:
                 raise RunError(f"input {name}: expected BASE_DATA[1..32] = X,Y,Z,A,B,C")
-            bases = machine.extra.setdefault("BASE_DATA", [new_value("FRAME") for _ in range(32)])
+            bases = list(machine.extra.get("BASE_DATA") or [new_value("FRAME") for _ in range(32)])
             bases[index - 1] = _frame(value)
+            machine.extra["BASE_DATA"] = bases
         original, machine.inputs = machine.inputs, rest
         try:
             super().inject_inputs(machine)
@@ -268,19 +272,27 @@ class KRLCompiler(Compiler):
     def e_whole(self, node):
         return self.expr(node.children[0])
 
+    def var_source(self, token) -> Src:
+        """Declared and initialised variables inline; the rest (UNINIT, $BASE...) via var_reader."""
+        key = repr(self.norm(str(token)))
+        if key == repr("$NULLFRAME"):
+            return Src(f"{self.const(self.var_reader(token))}(fr)")
+        fallback = self.const(self.var_reader(token))
+        return Src(
+            f"(V[{key}] if V.get({key}, _UNINIT) is not _UNINIT "
+            f"else G[{key}] if {key} not in V and G.get({key}, _UNINIT) is not _UNINIT else {fallback}(fr))"
+        )
+
     def e_field(self, node):
         inner = super().e_field(node)
-        where = self.where(node)
-        name = str(node.children[1])
-        return lambda fr: _valid(inner(fr), where, name)
+        return Src(f"_valid({inner}, {self.where(node)!r}, {str(node.children[1])!r})")
 
     def e_index(self, node):
         base_node, *index_nodes = node.children
         if len(index_nodes) != 1:
             self.fail(node, "multi-dimensional arrays are not supported")
         inner = super().e_index(Tree("index", [base_node, index_nodes[0]], node.meta))
-        where = self.where(node)
-        return lambda fr: _valid(inner(fr), where, "array element")
+        return Src(f"_valid({inner}, {self.where(node)!r}, 'array element')")
 
     def e_geo(self, node):
         left, right = (self.expr(c) for c in node.children)
@@ -316,22 +328,20 @@ class KRLCompiler(Compiler):
 
     def e_call(self, node):
         name, args_node = node.children
-        args = [self.expr(a) for a in (args_node.children if args_node is not None else [])]
-        setters = self.ref_setters(str(name), args_node.children if args_node is not None else [])
-        target = self.caller(str(name), self.where(node))
-        if any(setters):
-            return lambda fr: target(fr, [a(fr) for a in args], {}, setters)
-        return lambda fr: target(fr, [a(fr) for a in args], {})
+        arg_nodes = args_node.children if args_node is not None else []
+        args = [self.src(a) for a in arg_nodes]
+        setters = self.ref_setters(str(name), arg_nodes)
+        return self.call_source(str(name), args, {}, setters, self.where(node))
 
     # --- lvalues and assignment --------------------------------------------------------------
-    def lvalue(self, node, note: bool = True, fresh: bool = False):
+    def lvalue(self, node):
         if isinstance(node, Tree) and node.data == "whole":
-            return self.lvalue(node.children[0], note, fresh)
-        return super().lvalue(node, note, fresh)
+            return self.lvalue(node.children[0])
+        return super().lvalue(node)
 
     def coerce_like(self, old, value, where):
         if isinstance(old, Record) and isinstance(value, Record) and value.type is None:
-            out = old.copy()  # a partial aggregate changes only the components it names
+            out = old.shallow()  # a partial aggregate changes only the components it names
             fields = dict(STRUCTS.get(old.type, []))
             for key, v in value.items():
                 if key not in out:
@@ -339,9 +349,9 @@ class KRLCompiler(Compiler):
                 out[key] = self.coerce(fields.get(key), v, where)
             return out
         if isinstance(old, Record) and isinstance(value, Record):
-            return self.coerce(old.type, value.copy(), where)
+            return self.coerce(old.type, value, where)
         if old is UNINIT:
-            return value.copy() if isinstance(value, Record) else value
+            return value
         if isinstance(old, bool):
             return self.coerce("BOOL", value, where)
         if isinstance(old, int):
@@ -352,25 +362,22 @@ class KRLCompiler(Compiler):
         if key == "$BASE":
             fr.m.extra["$BASE"] = self.coerce("FRAME", value, where)
             return
+        if key == "BASE_DATA" and "BASE_DATA" in fr.m.extra:  # an element was assigned
+            fr.m.extra["BASE_DATA"] = value
+            return
         raise RunError(f"{where}: assignment to undeclared variable {key}")
 
     def s_assign(self, node):
         target_node, value_node = node.children
-        fresh = isinstance(value_node, Tree) and value_node.data in self.FRESH
-        setter, value = self.lvalue(target_node, fresh=fresh), self.expr(value_node)
-        where = self.where(node)
         is_var = isinstance(target_node, Tree) and target_node.data == "var"
         if is_var and str(target_node.children[0]).upper() == "$BASE":
+            value, where = self.expr(value_node), self.where(node)
 
             def set_base(fr):
                 fr.m.extra["$BASE"] = self.coerce("FRAME", value(fr), where)
 
             return set_base
-
-        def run(fr):
-            setter(fr, value(fr))
-
-        return run
+        return super().s_assign(node)
 
     # --- declarations ------------------------------------------------------------------------
     def decl_items(self, node):
@@ -413,11 +420,7 @@ class KRLCompiler(Compiler):
     def s_call_stmt(self, node):
         name, args_node = node.children
         call = self.e_call(Tree("call", [name, args_node], node.meta))
-
-        def run(fr):
-            call(fr)
-
-        return run
+        return Inline(self, self.guarded([call], self.where(node)))
 
     def s_if_stmt(self, node):
         return self.if_elif(node, self.routine_block)
@@ -593,7 +596,6 @@ def load(text: str, filename: str = "<krl>", dat_text: str | None = None) -> Pro
             compiler.routine(item, returns=True)
         elif item.data == "defdat":
             compiler.data_list(item)
-    compiler.finalize()
     return Program(filename, compiler, compiler.init_data, main)
 
 

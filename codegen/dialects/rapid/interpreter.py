@@ -13,6 +13,7 @@ from codegen.dialects.runtime import (
     F32,
     Compiler,
     Halt,
+    Inline,
     MoveEvent,
     Program,
     Record,
@@ -54,8 +55,7 @@ _ZEROS = {name: _zero(name) for name in [*RECORDS, *SCALARS]}
 
 def zero(type_name: str):
     """The value RAPID gives a declared variable without an initial value."""
-    value = _ZEROS.get(type_name, _ZEROS["NUM"])
-    return value.copy() if isinstance(value, Record) else value
+    return _ZEROS.get(type_name, _ZEROS["NUM"])  # shared: values are never changed in place
 
 
 def _num(value, where: str) -> float:
@@ -317,7 +317,7 @@ class RAPIDCompiler(Compiler):
         for arg in args_node.children if args_node is not None else []:
             if isinstance(arg, Tree) and arg.data == "opt_arg":
                 name, value = arg.children
-                named[str(name).upper()] = self.expr(value) if value is not None else (lambda fr: True)
+                named[str(name).upper()] = self.src(value) if value is not None else "True"
             else:
                 positional.append(arg)
         return positional, named
@@ -325,24 +325,16 @@ class RAPIDCompiler(Compiler):
     def e_call(self, node):
         name, args_node = node.children
         positional, named = self.call_args(args_node)
-        args = [self.expr(a) for a in positional]
+        args = [self.src(a) for a in positional]
         setters = self.ref_setters(str(name), positional)
-        where = self.where(node)
-        key = str(name)
-
-        def call(fr):
-            return self.call_routine(
-                fr, key, [a(fr) for a in args], {k: v(fr) for k, v in named.items()}, where, setters
-            )
-
-        return call
+        return self.call_source(str(name), args, named, setters, self.where(node))
 
     def new_variable(self, fr, key, value, where):
         raise RunError(f"{where}: assignment to undeclared variable {key}")
 
     def coerce_like(self, old, value, where):
         if isinstance(old, Record):
-            return self.coerce(old.type, value.copy() if isinstance(value, Record) else value, where)
+            return self.coerce(old.type, value, where)
         if isinstance(old, bool):
             return self.coerce("BOOL", value, where)
         if isinstance(old, str):
@@ -355,11 +347,7 @@ class RAPIDCompiler(Compiler):
         if str(name).upper() == "WAITUNTIL":
             return self.rapid_wait_until(node, args_node)
         call = self.e_call(Tree("call", node.children, node.meta))
-
-        def run(fr):
-            call(fr)
-
-        return run
+        return Inline(self, self.guarded([call], self.where(node)))
 
     def s_if_stmt(self, node):
         return self.if_elif(node, self.body)
@@ -372,7 +360,7 @@ class RAPIDCompiler(Compiler):
 
     def s_compact_if(self, node):
         cond, statement = node.children
-        return self.if_chain([(self.expr(cond), self.stmt(statement))], None)
+        return self.if_chain([(self.expr(cond), self.stmt(statement))], None, self.where(node))
 
     def body(self, body_node):
         for child in body_node.children:
@@ -508,7 +496,6 @@ def load(text: str, filename: str = "<rapid>") -> Program:
             compiler.routine(item, returns=True)
         elif item.data == "trap":
             continue
-    compiler.finalize()
     if "MAIN" not in compiler.routines:
         raise RunError(f"{filename}: no PROC main")
 

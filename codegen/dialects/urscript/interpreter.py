@@ -72,7 +72,6 @@ def _unary(fn):
 class URScriptCompiler(Compiler):
     name = "urscript"
     index_base = 0
-    assignment_makes_local = True
 
     def make_builtins(self) -> dict:
         def pose_trans(fr, args, kwargs, where):
@@ -205,21 +204,13 @@ class URScriptCompiler(Compiler):
         positional, named = [], {}
         for arg in args_node.children if args_node is not None else []:
             if isinstance(arg, Tree) and arg.data == "kwarg":
-                named[str(arg.children[0])] = self.expr(arg.children[1])
+                named[str(arg.children[0])] = self.src(arg.children[1])
             else:
-                positional.append(self.expr(arg))
-        target = self.caller(name, self.where(node))
-        if named:
-
-            def call(fr):
-                return target(fr, [a(fr) for a in positional], {k: v(fr) for k, v in named.items()})
-
-            return call
-        return lambda fr: target(fr, [a(fr) for a in positional], {})
+                positional.append(self.src(arg))
+        return self.call_source(name, positional, named, None, self.where(node))
 
     def s_global_stmt(self, node):
         key, value = str(node.children[0]), self.expr(node.children[1])
-        self.assigned_roots.add(key)
 
         def run(fr):
             fr.m.globals[key] = value(fr)
@@ -277,15 +268,11 @@ def load(text: str, filename: str = "<urscript>") -> Program:
         split += 1
     prefix_statements = []
     for statement in statements[:split]:
-        # a constant assignment runs once, before the snapshot: it does not make its variable mutable
-        compiler.noting_globals = statement.data == "funcdef"
         prefix_statements.append(compiler.stmt(statement))
-    compiler.noting_globals = True
 
     def prefix(fr):
         for statement in prefix_statements:
             statement(fr)
 
     rest = compiler.block(statements[split:])
-    compiler.finalize()
     return Program(name, compiler, prefix, None, rest)
