@@ -328,8 +328,15 @@ def accepted_traces(cell: Cell, reading: Reading) -> tuple[list[Trace], bool]:
 
 def rotation_error_deg(a: np.ndarray, b: np.ndarray) -> float:
     """Angle of a^T b: ||Ra - Rb||_F = 2 sqrt(2) sin(angle / 2), exact for any angle."""
-    distance = float(np.linalg.norm(a[:3, :3] - b[:3, :3]))
-    return math.degrees(2.0 * math.asin(min(1.0, distance / (2.0 * math.sqrt(2.0)))))
+    return _pose_errors(a.tolist(), b.tolist())[1]
+
+
+def _pose_errors(a: list, b: list) -> tuple[float, float]:
+    """Position distance (mm) and rotation angle (deg) between two 4x4 poses given as lists."""
+    (a0, a1, a2, _), (b0, b1, b2, _) = a, b
+    position = math.dist((a0[3], a1[3], a2[3]), (b0[3], b1[3], b2[3]))
+    distance = math.dist(a0[:3] + a1[:3] + a2[:3], b0[:3] + b1[:3] + b2[:3])  # Frobenius norm of Ra - Rb
+    return position, math.degrees(2.0 * math.asin(min(1.0, distance / (2.0 * math.sqrt(2.0)))))
 
 
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
@@ -381,8 +388,7 @@ def compare(cell: Cell, target: Target, reading: Reading, expected: Trace, got, 
     for i, (g, e) in enumerate(zip(got.moves, expected.moves, strict=True)):
         if g.kind != e.kind:
             return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
-        pos = float(np.linalg.norm(g.base2tcp[:3, 3] - e.base2tcp[:3, 3]))
-        rot = rotation_error_deg(e.base2tcp, g.base2tcp)
+        pos, rot = _pose_errors(g.base2tcp.tolist(), e.base2tcp.tolist())
         pos_errors.append(pos)
         rot_errors.append(rot)
         if not pos <= pos_tol or not rot <= rot_tol:

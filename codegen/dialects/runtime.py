@@ -186,6 +186,14 @@ def no_field(value, name: str, where: str):
     raise RunError(f"{where}: no field {name} in {getattr(value, 'type', type(value).__name__)}")
 
 
+def no_field_to_set(value, name: str, where: str):
+    raise RunError(f"{where}: no field {name} in {getattr(value, 'type', '?')}")
+
+
+def bad_index(index: int, where: str):
+    raise RunError(f"{where}: index {index} out of range")
+
+
 _FRAME_NAMES = re.compile(r"\b(m|V|G)\b")
 
 
@@ -354,7 +362,13 @@ class Compiler:
             "_steplimit": step_limit_error,
             "_index": index_value,
             "_nofield": no_field,
+            "_nofield_set": no_field_to_set,
+            "_badindex": bad_index,
+            "_Record": Record,
+            "_F32": F32,
         }
+        self.local_types: dict | None = None  # the routine being compiled: its variables' types
+        self.routine_name = "module"
         self._consts: dict[int, str] = {}
 
     # --- Python source ----------------------------------------------------------------------
@@ -378,10 +392,11 @@ class Compiler:
             prologue.append("V = fr.vars")
         if "G" in used:
             prologue.append("G = m.globals")
-        text = "\n".join(["def _f(fr):", *indent(prologue), *indent(lines)]) + "\n"
+        name = re.sub(r"\W", "_", f"{self.name}_{self.routine_name}")  # shows in tracebacks and profiles
+        text = "\n".join([f"def {name}(fr):", *indent(prologue), *indent(lines)]) + "\n"
         scope: dict = {}
         exec(compile(text, f"<{self.filename}: compiled>", "exec"), self.ns, scope)
-        return scope["_f"]
+        return scope[name]
 
     def guarded(self, lines: list[str], where: str) -> list[str]:
         """Lines whose operator errors (a number plus a string, a division by zero) become RunErrors."""
@@ -509,6 +524,8 @@ class Compiler:
         """A routine's variables, then the globals; anything else (errors, the controller's own
         names) is left to the dialect's var_reader."""
         key = repr(self.norm(str(token)))
+        if self.local_types is not None and self.norm(str(token)) in self.local_types:
+            return Src(f"V[{key}]")  # a declared local or parameter: always in the frame
         fallback = self.const(self.var_reader(token))
         return Src(f"(V[{key}] if {key} in V else G[{key}] if {key} in G else {fallback}(fr))")
 
@@ -630,6 +647,14 @@ class Compiler:
         base, index = self.src(base_node), self.src(index_node)
         return Src(f"_index({base}, {index}, {self.index_base}, {self.where(node)!r})")
 
+    def index_source(self, index_node) -> str:
+        """Source of a 0-based index; a literal index is folded into a number."""
+        if isinstance(index_node, Tree) and index_node.data == "number":
+            value = self.number(str(index_node.children[0]))
+            if float(value) == int(value):
+                return str(int(value) - self.index_base)
+        return f"int({self.src(index_node)}) - {self.index_base}"
+
     def e_field(self, node):
         base_node, name = node.children
         base = self.src(base_node)
@@ -735,8 +760,64 @@ class Compiler:
 
     def s_assign(self, node):
         target, value_node = node.children
-        setter, value = self.lvalue(target), self.src(value_node)
-        return Inline(self, self.guarded([f"{self.const(setter)}(fr, {value})"], self.where(node)))
+        lines = [f"_v = {self.src(value_node)}", *self.store_lines(target, "_v")]
+        return Inline(self, self.guarded(lines, self.where(node)))
+
+    # Types whose coerce() returns a value of this exact Python type unchanged (dialect table).
+    COERCE_UNCHANGED: dict[str, str] = {}
+    RECORD_TYPES: frozenset = frozenset()  # records of exactly this type pass coerce() unchanged
+
+    def coerce_source(self, type_name, value: str, where: str) -> str:
+        """Source of coerce(type_name, value): the value itself when it already has the type."""
+        if type_name is None:
+            return value
+        call = f"{self.const(self.coerce)}({self.const(type_name)}, {value}, {where!r})"
+        if isinstance(type_name, str) and type_name in self.COERCE_UNCHANGED:
+            return f"({value} if type({value}) is {self.COERCE_UNCHANGED[type_name]} else {call})"
+        if isinstance(type_name, str) and type_name in self.RECORD_TYPES:
+            return f"({value} if type({value}) is _Record and {value}.type == {type_name!r} else {call})"
+        return call
+
+    def assign_target(self, node):
+        """The lvalue node of an assignment target (KRL unwraps `whole`)."""
+        return node
+
+    def store_lines(self, node, value: str, depth: int = 0) -> list[str]:
+        """Lines that store `value` (a plain name) into a variable, field or element. A field or
+        element is stored as a changed copy of its record or array, stored in turn into its base."""
+        node = self.assign_target(node)
+        if isinstance(node, Token) or node.data == "var":
+            token = node if isinstance(node, Token) else node.children[0]
+            key = self.norm(str(token))
+            if self.local_types is not None and key in self.local_types:
+                return [f"V[{key!r}] = {self.coerce_source(self.local_types[key], value, self.where(token))}"]
+            return [f"{self.const(self.lvalue(node))}(fr, {value})"]
+        where = self.where(node)
+        slot = f"_r{depth}"
+        if node.data == "field":
+            base_node, name = node.children
+            key = repr(self.norm(str(name)))
+            lines = [
+                f"{slot} = {self.src(base_node)}",
+                f"if not isinstance({slot}, _Record) or {key} not in {slot}:",
+                f"    _nofield_set({slot}, {str(name)!r}, {where!r})",
+                f"{slot} = {slot}.shallow()",
+                f"{slot}[{key}] = {self.const(self.coerce_like)}({slot}[{key}], {value}, {where!r})",
+            ]
+            return lines + self.store_lines(base_node, slot, depth + 1)
+        if node.data == "index" and len(node.children) == 2:
+            base_node, index_node = node.children
+            index = f"_i{depth}"
+            lines = [
+                f"{slot} = {self.src(base_node)}",
+                f"{index} = {self.index_source(index_node)}",
+                f"if not isinstance({slot}, list) or not 0 <= {index} < len({slot}):",
+                f"    _badindex({index} + {self.index_base}, {where!r})",
+                f"{slot} = list({slot})",
+                f"{slot}[{index}] = {self.const(self.coerce_like)}({slot}[{index}], {value}, {where!r})",
+            ]
+            return lines + self.store_lines(base_node, slot, depth + 1)
+        return [f"{self.const(self.lvalue(node))}(fr, {value})"]
 
     def s_halt_stmt(self, node):
         """halt / HALT / Halt: the program stops; its last message is the operator's message."""
@@ -845,8 +926,15 @@ class Compiler:
         return Inline(self, self.guarded(lines, where or self.filename))
 
     # --- lvalues ----------------------------------------------------------------------------
-    def compile_routine_body(self, routine: Routine, statements) -> None:
-        routine.body = self.block(statements)
+    def compile_routine_body(self, routine: Routine, statements, local_types: dict | None = None) -> None:
+        """local_types: the routine's parameters and declared locals with their types, when the
+        language declares them all before the first statement (KRL, RAPID): then the generated
+        code reads and stores them directly in the frame."""
+        self.local_types, self.routine_name = local_types, routine.name
+        try:
+            routine.body = self.block(statements)
+        finally:
+            self.local_types, self.routine_name = None, "module"
 
     def ref_setters(self, callee: str, arg_nodes) -> list:
         """Setters for arguments that are variables, used if the callee takes them by reference."""

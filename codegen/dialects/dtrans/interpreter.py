@@ -106,9 +106,11 @@ class DTransCompiler(Compiler):
                 raise RunError(f"{where}: expected an array of {element}")
             if size is not None and len(value) != size:
                 raise RunError(f"{where}: expected {size} elements, got {len(value)}")
+            if element == "Double" and all(type(v) is F32 for v in value):
+                return value  # already stored as Doubles (arrays are never changed in place)
             return [self.coerce(element, v, where) for v in value]
         if type_name == "Double":
-            return F32(_num(value, where))
+            return value if type(value) is F32 else F32(_num(value, where))
         if type_name == "Int":
             v = _num(value, where)
             if not math.isfinite(v):
@@ -158,24 +160,20 @@ class DTransCompiler(Compiler):
         value = self.expr(init) if init is not None else None
         where = self.where(node)
         defaults = {"Double": F32(0), "Int": 0, "Bool": False, "String": "", "Point": point([0] * 6)}
+        # without an initial value: one shared default (values are never changed in place)
+        default = [defaults[type_name]] * full_type[1] if isinstance(full_type, tuple) else defaults[type_name]
 
         def make(fr):
             if value is not None:
                 return self.coerce(full_type, value(fr), where)
-            if isinstance(full_type, tuple):
-                return [defaults[type_name] for _ in range(full_type[1])]
-            return defaults[type_name]
+            return default
 
         return str(name), full_type, make
 
     def s_decl(self, node):
         key, full_type, make = self.decl_parts(node)
-
-        def run(fr):
-            fr.types[key] = full_type
-            fr.vars[key] = make(fr)
-
-        return run
+        name = repr(key)
+        return Inline(self, [f"fr.types[{name}] = {self.const(full_type)}", f"V[{name}] = {self.const(make)}(fr)"])
 
     def s_decompose(self, node):
         target, value_node = node.children

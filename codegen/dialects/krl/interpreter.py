@@ -103,6 +103,8 @@ class KRLCompiler(Compiler):
     case_insensitive = True
     index_base = 1
     int_division = True
+    COERCE_UNCHANGED = {"REAL": "_F32", "INT": "int", "BOOL": "bool"}
+    RECORD_TYPES = frozenset(STRUCTS)
 
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
@@ -278,6 +280,8 @@ class KRLCompiler(Compiler):
         if key == repr("$NULLFRAME"):
             return Src(f"{self.const(self.var_reader(token))}(fr)")
         fallback = self.const(self.var_reader(token))
+        if self.local_types is not None and self.norm(str(token)) in self.local_types:
+            return Src(f"(V[{key}] if V[{key}] is not _UNINIT else {fallback}(fr))")
         return Src(
             f"(V[{key}] if V.get({key}, _UNINIT) is not _UNINIT "
             f"else G[{key}] if {key} not in V and G.get({key}, _UNINIT) is not _UNINIT else {fallback}(fr))"
@@ -285,7 +289,8 @@ class KRLCompiler(Compiler):
 
     def e_field(self, node):
         inner = super().e_field(node)
-        return Src(f"_valid({inner}, {self.where(node)!r}, {str(node.children[1])!r})")
+        where, name = self.where(node), str(node.children[1])
+        return Src(f"(_u if (_u := {inner}) is not _UNINIT else _valid(_u, {where!r}, {name!r}))")
 
     def e_index(self, node):
         base_node, *index_nodes = node.children
@@ -335,9 +340,12 @@ class KRLCompiler(Compiler):
 
     # --- lvalues and assignment --------------------------------------------------------------
     def lvalue(self, node):
-        if isinstance(node, Tree) and node.data == "whole":
-            return self.lvalue(node.children[0])
-        return super().lvalue(node)
+        return super().lvalue(self.assign_target(node))
+
+    def assign_target(self, node):
+        while isinstance(node, Tree) and node.data == "whole":
+            node = node.children[0]
+        return node
 
     def coerce_like(self, old, value, where):
         if isinstance(old, Record) and isinstance(value, Record) and value.type is None:
@@ -402,12 +410,12 @@ class KRLCompiler(Compiler):
                     value_init = self.expr(init) if init is not None else None
                     out.append((key, "CHAR", (lambda fr, v=value_init: v(fr) if v else UNINIT)))
                 else:
-                    out.append(
-                        (key, (type_name, size), (lambda fr, t=type_name, n=size: [new_value(t) for _ in range(n)]))
-                    )
+                    # one shared initial array: values are never changed in place
+                    initial = [new_value(type_name) for _ in range(size)]
+                    out.append((key, (type_name, size), (lambda fr, v=initial: v)))
                 continue
             if init is None:
-                out.append((key, type_name, (lambda fr, t=type_name: new_value(t))))
+                out.append((key, type_name, (lambda fr, v=new_value(type_name): v)))
             else:
                 value = self.expr(init)
                 out.append((key, type_name, (lambda fr, t=type_name, v=value, w=where: self.coerce(t, v(fr), w))))
@@ -541,18 +549,18 @@ class KRLCompiler(Compiler):
         key = str(name).upper()
         if key in self.routines:
             self.fail(name, f"routine {name} defined twice")
-        routine = Routine(
-            str(name), params, None, str(type_token).upper() if type_token else None, self.line(node), decls
-        )
-        self.routines[key] = routine
-        self.compile_routine_body(routine, statements)
         # parameters are typed by their DECL lines
         declared = {d[0]: d[1] for d in decls}
-        routine.params = [(p, m, declared.get(p)) for p, m, _ in params]
-        for pname, _m, ptype in routine.params:
+        params = [(p, m, declared.get(p)) for p, m, _ in params]
+        for pname, _m, ptype in params:
             if ptype is None:
                 self.fail(node, f"parameter {pname} of {name} has no DECL")
-        routine.decls = [d for d in decls if d[0] not in {p for p, _, _ in params}]
+        local_decls = [d for d in decls if d[0] not in {p for p, _, _ in params}]
+        routine = Routine(
+            str(name), params, None, str(type_token).upper() if type_token else None, self.line(node), local_decls
+        )
+        self.routines[key] = routine
+        self.compile_routine_body(routine, statements, declared)
 
     def data_list(self, node) -> None:
         for child in node.children[-1].children:

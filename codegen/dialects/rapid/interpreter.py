@@ -88,6 +88,8 @@ class RAPIDCompiler(Compiler):
     name = "rapid"
     case_insensitive = True
     index_base = 1
+    COERCE_UNCHANGED = {"NUM": "_F32", "BOOL": "bool"}
+    RECORD_TYPES = frozenset(RECORDS)
 
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
@@ -432,6 +434,17 @@ class RAPIDCompiler(Compiler):
 
         return key, make
 
+    def static_type(self, node):
+        """A declaration's type when it is known without running (array sizes as literals)."""
+        _local, _task, _storage, type_name, _name, dims, _init = node.children
+        type_key = str(type_name).upper()
+        if dims is None:
+            return type_key
+        sizes = dims.children
+        if len(sizes) == 1 and isinstance(sizes[0], Tree) and sizes[0].data == "number":
+            return (type_key, int(float(str(sizes[0].children[0]))))
+        return None
+
     def routine(self, node, returns: bool) -> None:
         children = [c for c in node.children if not (isinstance(c, Token) and c.type == "LOCAL") and c is not None]
         if returns:
@@ -457,7 +470,7 @@ class RAPIDCompiler(Compiler):
                 if seen_statement:
                     self.fail(child, "declarations are only allowed at the start of a routine")
                 key, make = self.decl(child)
-                decls.append((key, make))
+                decls.append((key, self.static_type(child), make))
             else:
                 seen_statement = True
                 statements.append(child)
@@ -465,9 +478,10 @@ class RAPIDCompiler(Compiler):
         if key in self.routines:
             self.fail(name, f"routine {name} defined twice")
         routine = Routine(str(name), params, None, str(return_type).upper() if return_type else None, self.line(node))
-        routine.decls = [(k, None, (lambda fr, mk=mk: self._local(fr, mk))) for k, mk in decls]
+        routine.decls = [(k, t, (lambda fr, mk=mk: self._local(fr, mk))) for k, t, mk in decls]
         self.routines[key] = routine
-        self.compile_routine_body(routine, statements)
+        local_types = {p: t for p, _m, t in params} | {k: t for k, t, _mk in decls}
+        self.compile_routine_body(routine, statements, local_types)
 
     def _local(self, fr, make):
         _type_name, value = make(fr)
