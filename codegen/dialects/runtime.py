@@ -157,6 +157,11 @@ class Inline:
         return self.fn(fr)
 
 
+def constant(value):
+    """An initialiser that gives every run the same value (safe: values are never changed in place)."""
+    return lambda fr: value
+
+
 def op_error(where: str, exc: Exception) -> RunError:
     """An operator applied to values it does not take, as the controller would refuse it."""
     if isinstance(exc, ZeroDivisionError):
@@ -204,7 +209,7 @@ def indent(lines: list[str]) -> list[str]:
 class Routine:
     """A user procedure or function: parameters, body closure, declared return type."""
 
-    __slots__ = ("body", "decls", "line", "mutated", "name", "params", "return_type")
+    __slots__ = ("body", "decls", "entry", "line", "name", "params", "return_type")
 
     def __init__(self, name, params, body, return_type=None, line=0, decls=None) -> None:
         self.name = name
@@ -213,6 +218,7 @@ class Routine:
         self.return_type = return_type
         self.line = line
         self.decls = decls or []  # (name, type, init closure) local declarations
+        self.entry = None  # the compiled call (Compiler.entry)
 
 
 class Frame:
@@ -366,12 +372,20 @@ class Compiler:
             "_badindex": bad_index,
             "_Record": Record,
             "_F32": F32,
+            "_Frame": Frame,
+            "_RunError": RunError,
         }
         self.local_types: dict | None = None  # the routine being compiled: its variables' types
         self.routine_name = "module"
         self._consts: dict[int, str] = {}
+        self._temps = 0
 
     # --- Python source ----------------------------------------------------------------------
+    def temp(self) -> str:
+        """A fresh local name for a value used twice within one expression."""
+        self._temps += 1
+        return f"_w{self._temps}"
+
     def const(self, value) -> str:
         """A name under which the generated source sees value (a closure, a number, a table)."""
         name = self._consts.get(id(value))
@@ -684,11 +698,8 @@ class Compiler:
 
     def resolve_call(self, key: str, name: str, where: str, with_setters: bool):
         routine = self.routines.get(key)
-        invoke = self.invoke
         if routine is not None:
-            if with_setters:
-                return lambda fr, a, k, w, s: invoke(fr, routine, a, k, w, s)
-            return lambda fr, a, k, w: invoke(fr, routine, a, k, w)
+            return self.entry(routine)
         builtin = self.builtins.get(key if self.case_insensitive else name)
         if builtin is None:
             raise RunError(f"{where}: unknown routine {name}")
@@ -707,35 +718,59 @@ class Compiler:
         return builtin(fr, args, kwargs, where)
 
     def invoke(self, fr, routine: Routine, args, kwargs, where, arg_setters=None):
-        machine = fr.m
-        machine.step(where)
-        if len(args) != len(routine.params):
-            raise RunError(f"{where}: {routine.name} takes {len(routine.params)} arguments, got {len(args)}")
-        frame = Frame(machine)
-        for (pname, _mode, ptype), value in zip(routine.params, args, strict=True):
-            frame.vars[pname] = self.coerce(ptype, value, where) if ptype else value
+        return self.entry(routine)(fr, args, kwargs, where, arg_setters)
+
+    BY_REFERENCE = ("OUT", "INOUT", "VAR", "PERS", "OUT_REF")
+    KWARGS_ERROR: str | None = None  # message when a user routine is called with named arguments
+
+    def entry(self, routine: Routine):
+        """The routine's call as one compiled function (fr, args, kwargs, where, setters): count
+        the step, check and coerce the arguments, make the locals, run the body, write
+        by-reference arguments back, coerce the returned value."""
+        if routine.entry is not None:
+            return routine.entry
+        name, count = routine.name, len(routine.params)
+        lines = [
+            "m = fr.m",
+            "m.steps += 1",
+            "if m.steps > m.step_limit: raise _steplimit(w, m)",
+            f"if len(a) != {count}:",
+            f"    raise _RunError(f'{{w}}: {name} takes {count} arguments, got {{len(a)}}')",
+        ]
+        if self.KWARGS_ERROR:
+            lines += ["if k:", f"    raise _RunError(f'{{w}}: {name} {self.KWARGS_ERROR}')"]
+        lines += ["f = _Frame(m)", "V = f.vars", "T = f.types"]
+        for i, (pname, _mode, ptype) in enumerate(routine.params):
+            lines.append(f"_p = a[{i}]")
+            lines.append(f"V[{pname!r}] = {self.coerce_source(ptype, '_p', 'w')}")
             if ptype:
-                frame.types[pname] = ptype
+                lines.append(f"T[{pname!r}] = {self.const(ptype)}")
+        params = {p for p, _m, _t in routine.params}
         for dname, dtype, init in routine.decls:
-            if dname in frame.vars:  # a parameter's declaration (KRL): the type only
-                frame.types[dname] = dtype
-                frame.vars[dname] = self.coerce(dtype, frame.vars[dname], where)
-                continue
-            frame.types[dname] = dtype
-            frame.vars[dname] = init(frame)
-        signal = routine.body(frame)
-        if arg_setters:
-            for (pname, mode, _t), setter in zip(routine.params, arg_setters, strict=True):
-                if setter is not None and mode in ("OUT", "INOUT", "VAR", "PERS", "OUT_REF"):
-                    setter(fr, frame.vars[pname])
-        if isinstance(signal, Signal) and signal.kind == "return":
-            value = signal.value
-            if routine.return_type:
-                return self.coerce(routine.return_type, value, where)
-            return value
+            lines.append(f"T[{dname!r}] = {self.const(dtype)}")
+            if dname in params:  # a parameter's declaration: the type only
+                lines.append(f"_p = V[{dname!r}]")
+                lines.append(f"V[{dname!r}] = {self.coerce_source(dtype, '_p', 'w')}")
+            else:
+                lines.append(f"V[{dname!r}] = {self.const(init)}(f)")
+        lines.append(f"_s = {self.const(routine.body)}(f)")
+        refs = [(i, p) for i, (p, mode, _t) in enumerate(routine.params) if mode in self.BY_REFERENCE]
+        if refs:
+            lines.append("if s:")
+            for i, pname in refs:
+                lines.append(f"    if s[{i}] is not None: s[{i}](fr, V[{pname!r}])")
+        lines.append("if _s is not None and _s.kind == 'return':")
         if routine.return_type:
-            raise RunError(f"{where}: function {routine.name} ended without RETURN")
-        return None
+            lines += ["    _p = _s.value", f"    return {self.coerce_source(routine.return_type, '_p', 'w')}"]
+            lines.append(f"raise _RunError(f'{{w}}: function {name} ended without RETURN')")
+        else:
+            lines += ["    return _s.value", "return None"]
+        function_name = re.sub(r"\W", "_", f"{self.name}_{name}_call")
+        text = "\n".join([f"def {function_name}(fr, a, k, w, s=None):", *indent(lines)]) + "\n"
+        scope: dict = {}
+        exec(compile(text, f"<{self.filename}: compiled>", "exec"), self.ns, scope)
+        routine.entry = scope[function_name]
+        return routine.entry
 
     # --- statements -------------------------------------------------------------------------
     def stmt(self, node):

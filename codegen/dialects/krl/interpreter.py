@@ -21,6 +21,7 @@ from codegen.dialects.runtime import (
     RunError,
     Signal,
     Src,
+    constant,
     format_general,
     parse_with_grammar,
 )
@@ -412,10 +413,10 @@ class KRLCompiler(Compiler):
                 else:
                     # one shared initial array: values are never changed in place
                     initial = [new_value(type_name) for _ in range(size)]
-                    out.append((key, (type_name, size), (lambda fr, v=initial: v)))
+                    out.append((key, (type_name, size), constant(initial)))
                 continue
             if init is None:
-                out.append((key, type_name, (lambda fr, v=new_value(type_name): v)))
+                out.append((key, type_name, constant(new_value(type_name))))
             else:
                 value = self.expr(init)
                 out.append((key, type_name, (lambda fr, t=type_name, v=value, w=where: self.coerce(t, v(fr), w))))

@@ -19,6 +19,8 @@ from codegen.dialects.runtime import (
     Record,
     Routine,
     RunError,
+    Src,
+    constant,
     format_fixed,
     parse_with_grammar,
 )
@@ -75,11 +77,13 @@ def _vec(rec: Record, keys) -> list[float]:
 
 
 def _pose_record(trans, quat) -> Record:
+    x, y, z = trans
+    q1, q2, q3, q4 = quat
     return Record(
         "POSE",
         {
-            "TRANS": Record("POS", dict(zip(("X", "Y", "Z"), (F32(v) for v in trans), strict=True))),
-            "ROT": Record("ORIENT", dict(zip(("Q1", "Q2", "Q3", "Q4"), (F32(v) for v in quat), strict=True))),
+            "TRANS": Record("POS", {"X": F32(x), "Y": F32(y), "Z": F32(z)}),
+            "ROT": Record("ORIENT", {"Q1": F32(q1), "Q2": F32(q2), "Q3": F32(q3), "Q4": F32(q4)}),
         },
     )
 
@@ -90,6 +94,7 @@ class RAPIDCompiler(Compiler):
     index_base = 1
     COERCE_UNCHANGED = {"NUM": "_F32", "BOOL": "bool"}
     RECORD_TYPES = frozenset(RECORDS)
+    KWARGS_ERROR = "has no optional parameters"
 
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
@@ -136,8 +141,17 @@ class RAPIDCompiler(Compiler):
             return Record("ORIENT", dict(zip(("Q1", "Q2", "Q3", "Q4"), (F32(v / n) for v in q), strict=True)))
 
         def pose_parts(value, where):
-            pose = self.coerce("POSE", value, where)
-            return _vec(pose["TRANS"], "XYZ"), _vec(pose["ROT"], ("Q1", "Q2", "Q3", "Q4"))
+            """Position and quaternion of a pose, or of an aggregate [pos, orient]."""
+            if type(value) is list and len(value) == 2 and all(type(v) is Record for v in value):
+                trans, rot = value
+                if trans.type != "POS" or rot.type != "ORIENT":
+                    trans, rot = self.coerce("POSE", value, where).values()
+            else:
+                trans, rot = self.coerce("POSE", value, where).values()
+            return (
+                [float(trans["X"]), float(trans["Y"]), float(trans["Z"])],
+                [float(rot["Q1"]), float(rot["Q2"]), float(rot["Q3"]), float(rot["Q4"])],
+            )
 
         def pose_mult(fr, args, kwargs, where):
             (t1, q1), (t2, q2) = (pose_parts(a, where) for a in args)
@@ -297,6 +311,15 @@ class RAPIDCompiler(Compiler):
         left, right = self.expr(node.children[0]), self.expr(node.children[2])
         return lambda fr: F32(math.fmod(float(left(fr)), float(right(fr))))
 
+    def e_add(self, node):
+        """num + num inline; strings and pos records through add()."""
+        left, right = (self.src(c) for c in node.children)
+        a, b = self.temp(), self.temp()
+        return Src(
+            f"({a} + {b} if (type({a} := {left}) is _F32) & (type({b} := {right}) is _F32) "
+            f"else {self.const(self.add)}({a}, {b}))"
+        )
+
     def add(self, a, b):
         if isinstance(a, str) and isinstance(b, str):
             return a + b
@@ -305,8 +328,7 @@ class RAPIDCompiler(Compiler):
         return a + b
 
     def e_aggregate(self, node):
-        parts = [self.expr(c) for c in node.children]
-        return lambda fr: [p(fr) for p in parts]
+        return Src("[" + ", ".join(self.src(c) for c in node.children) + "]")
 
     def e_index(self, node):
         base_node, *index_nodes = node.children
@@ -462,7 +484,7 @@ class RAPIDCompiler(Compiler):
             type_key = str(ptype).upper()
             full_type = (type_key, None) if conformant is not None else type_key
             params.append((str(pname).upper(), str(mode).upper() if mode else "IN", full_type))
-        decls, statements, seen_statement = [], [], False
+        decls, decl_nodes, statements, seen_statement = [], [], [], False
         for child in body.children:
             if not isinstance(child, Tree):
                 continue
@@ -471,6 +493,7 @@ class RAPIDCompiler(Compiler):
                     self.fail(child, "declarations are only allowed at the start of a routine")
                 key, make = self.decl(child)
                 decls.append((key, self.static_type(child), make))
+                decl_nodes.append(child)
             else:
                 seen_statement = True
                 statements.append(child)
@@ -478,20 +501,21 @@ class RAPIDCompiler(Compiler):
         if key in self.routines:
             self.fail(name, f"routine {name} defined twice")
         routine = Routine(str(name), params, None, str(return_type).upper() if return_type else None, self.line(node))
-        routine.decls = [(k, t, (lambda fr, mk=mk: self._local(fr, mk))) for k, t, mk in decls]
+        routine.decls = [
+            (k, t, self._local_init(child, t, mk)) for child, (k, t, mk) in zip(decl_nodes, decls, strict=True)
+        ]
         self.routines[key] = routine
         local_types = {p: t for p, _m, t in params} | {k: t for k, t, _mk in decls}
         self.compile_routine_body(routine, statements, local_types)
 
-    def _local(self, fr, make):
-        _type_name, value = make(fr)
-        return value
-
-    def invoke(self, fr, routine, args, kwargs, where, arg_setters=None):
-        if kwargs:
-            raise RunError(f"{where}: {routine.name} has no optional parameters")
-        result = super().invoke(fr, routine, args, kwargs, where, arg_setters)
-        return result
+    def _local_init(self, node, static_type, make):
+        """A local's initialiser: its zero value shared by every call when it has no initial
+        value and a known size (values are never changed in place)."""
+        if node.children[-1] is None and static_type is not None:
+            if isinstance(static_type, tuple):
+                return constant([zero(static_type[0])] * static_type[1])
+            return constant(zero(static_type))
+        return lambda fr: make(fr)[1]
 
 
 def load(text: str, filename: str = "<rapid>") -> Program:
