@@ -155,6 +155,7 @@ def compose(ra, ta, rb, tb) -> tuple[tuple[float, ...], tuple[float, float, floa
     return rot_mul(ra, rb), (x + ta[0], y + ta[1], z + ta[2])
 
 
+@lru_cache(maxsize=4096)  # taught poses repeat in every run
 def rot_from_zyx_deg(a: float, b: float, c: float) -> tuple[float, ...]:
     ca, sa = math.cos(math.radians(a)), math.sin(math.radians(a))
     cb, sb = math.cos(math.radians(b)), math.sin(math.radians(b))

@@ -801,6 +801,17 @@ class Compiler:
     # Types whose coerce() returns a value of this exact Python type unchanged (dialect table).
     COERCE_UNCHANGED: dict[str, str] = {}
     RECORD_TYPES: frozenset = frozenset()  # records of exactly this type pass coerce() unchanged
+    LIKE_UNCHANGED: frozenset = frozenset({F32})  # coerce_like(old, new) is new when both have this type
+
+    def coerce_like_source(self, old: str, value: str, where: str) -> str:
+        """Source of coerce_like(old, value) (both plain names): value itself when both have one
+        type that the dialect stores unchanged."""
+        call = f"{self.const(self.coerce_like)}({old}, {value}, {where!r})"
+        unchanged = self.const(self.LIKE_UNCHANGED)
+        same_record = f"type({old}) is _Record and {value}.type == {old}.type is not None"  # a typed record
+        return (
+            f"({value} if (_tv := type({value})) is type({old}) and (_tv in {unchanged} or {same_record}) else {call})"
+        )
 
     def coerce_source(self, type_name, value: str, where: str) -> str:
         """Source of coerce(type_name, value): the value itself when it already has the type."""
@@ -837,7 +848,8 @@ class Compiler:
                 f"if not isinstance({slot}, _Record) or {key} not in {slot}:",
                 f"    _nofield_set({slot}, {str(name)!r}, {where!r})",
                 f"{slot} = {slot}.shallow()",
-                f"{slot}[{key}] = {self.const(self.coerce_like)}({slot}[{key}], {value}, {where!r})",
+                f"_o = {slot}[{key}]",
+                f"{slot}[{key}] = {self.coerce_like_source('_o', value, where)}",
             ]
             return lines + self.store_lines(base_node, slot, depth + 1)
         if node.data == "index" and len(node.children) == 2:
@@ -849,7 +861,8 @@ class Compiler:
                 f"if not isinstance({slot}, list) or not 0 <= {index} < len({slot}):",
                 f"    _badindex({index} + {self.index_base}, {where!r})",
                 f"{slot} = list({slot})",
-                f"{slot}[{index}] = {self.const(self.coerce_like)}({slot}[{index}], {value}, {where!r})",
+                f"_o = {slot}[{index}]",
+                f"{slot}[{index}] = {self.coerce_like_source('_o', value, where)}",
             ]
             return lines + self.store_lines(base_node, slot, depth + 1)
         return [f"{self.const(self.lvalue(node))}(fr, {value})"]

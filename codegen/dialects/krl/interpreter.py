@@ -90,8 +90,17 @@ def _valid(value, where: str, what: str):
 def _cart(value, where: str) -> Record:
     if not isinstance(value, Record) or value.type not in CART:
         raise RunError(f"{where}: expected FRAME, POS or E6POS, got {getattr(value, 'type', type(value).__name__)}")
-    for key, _ in _XYZABC:
-        _valid(value[key], where, f"{value.type}.{key}")
+    v = value
+    if (
+        v["X"] is UNINIT
+        or v["Y"] is UNINIT
+        or v["Z"] is UNINIT
+        or v["A"] is UNINIT
+        or v["B"] is UNINIT
+        or v["C"] is UNINIT
+    ):
+        for key, _ in _XYZABC:
+            _valid(value[key], where, f"{value.type}.{key}")
     return value
 
 
@@ -105,6 +114,7 @@ class KRLCompiler(Compiler):
     index_base = 1
     int_division = True
     COERCE_UNCHANGED = {"REAL": "_F32", "INT": "int", "BOOL": "bool"}
+    LIKE_UNCHANGED = frozenset({F32, int, bool, str})
     RECORD_TYPES = frozenset(STRUCTS)
 
     def __init__(self, filename: str) -> None:
@@ -306,7 +316,7 @@ class KRLCompiler(Compiler):
 
         def geo(fr):
             a, b = _cart(left(fr), where), _cart(right(fr), where)
-            out = b.copy()  # result has the type, status and turn of the right operand
+            out = b.shallow()  # result has the type, status and turn of the right operand
             values = posemath.zyx_compose([a[k] for k, _ in _XYZABC], [b[k] for k, _ in _XYZABC])
             for (key, _), v in zip(_XYZABC, values, strict=True):
                 out[key] = F32(v)
@@ -342,6 +352,10 @@ class KRLCompiler(Compiler):
     # --- lvalues and assignment --------------------------------------------------------------
     def lvalue(self, node):
         return super().lvalue(self.assign_target(node))
+
+    def coerce_like_source(self, old: str, value: str, where: str) -> str:
+        """A component without a value takes the new one as it is (see coerce_like)."""
+        return f"({value} if {old} is _UNINIT else {super().coerce_like_source(old, value, where)})"
 
     def assign_target(self, node):
         while isinstance(node, Tree) and node.data == "whole":

@@ -95,6 +95,7 @@ class RAPIDCompiler(Compiler):
     COERCE_UNCHANGED = {"NUM": "_F32", "BOOL": "bool"}
     RECORD_TYPES = frozenset(RECORDS)
     KWARGS_ERROR = "has no optional parameters"
+    LIKE_UNCHANGED = frozenset({F32, bool})
 
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
