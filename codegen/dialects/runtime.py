@@ -657,9 +657,15 @@ class Compiler:
         return Src(f"(True if {left} {symbol} {right} else False)")
 
     def e_index(self, node):
+        """An array element inline; anything else (a record's field by number, an index out of
+        range) through index_value()."""
         base_node, index_node = node.children
-        base, index = self.src(base_node), self.src(index_node)
-        return Src(f"_index({base}, {index}, {self.index_base}, {self.where(node)!r})")
+        seq, i, offset = self.temp(), self.temp(), self.index_base
+        base, index = self.src(base_node), self.index_source(index_node)
+        return Src(
+            f"({seq}[{i}] if ((type({seq} := {base}) is list) & (({i} := {index}) >= 0)) and {i} < len({seq})"
+            f" else _index({seq}, {i} + {offset}, {offset}, {self.where(node)!r}))"
+        )
 
     def index_source(self, index_node) -> str:
         """Source of a 0-based index; a literal index is folded into a number."""

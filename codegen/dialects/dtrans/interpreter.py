@@ -71,6 +71,9 @@ def printf(fmt: str, args: list, where: str) -> str:
 class DTransCompiler(Compiler):
     name = "dtrans"
     index_base = 0
+    COERCE_UNCHANGED = {"Double": "_F32", "Int": "int", "Bool": "bool"}
+    RECORD_TYPES = frozenset({"Point"})
+    LIKE_UNCHANGED = frozenset({F32, int})
 
     def make_builtins(self) -> dict:
         def trig(fn):
@@ -172,8 +175,12 @@ class DTransCompiler(Compiler):
 
     def s_decl(self, node):
         key, full_type, make = self.decl_parts(node)
-        name = repr(key)
-        return Inline(self, [f"fr.types[{name}] = {self.const(full_type)}", f"V[{name}] = {self.const(make)}(fr)"])
+        name, init, where = repr(key), node.children[3], self.where(node)
+        lines = [f"fr.types[{name}] = {self.const(full_type)}"]
+        if init is None:
+            return Inline(self, [*lines, f"V[{name}] = {self.const(make)}(fr)"])
+        lines += [f"_v = {self.src(init)}", f"V[{name}] = {self.coerce_source(full_type, '_v', repr(where))}"]
+        return Inline(self, self.guarded(lines, where))
 
     def s_decompose(self, node):
         target, value_node = node.children
@@ -192,7 +199,8 @@ class DTransCompiler(Compiler):
                 raise RunError(f"{where}: Decompose needs 6 elements from index {i}")
             changed = list(seq)
             for k, key in enumerate(POINT_KEYS):
-                changed[i + k] = self.coerce_like(seq[i + k], pt[key], where)
+                old, new = seq[i + k], pt[key]
+                changed[i + k] = new if type(new) is type(old) is F32 else self.coerce_like(old, new, where)
             store(fr, changed)
 
         return run
