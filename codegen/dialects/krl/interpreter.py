@@ -279,8 +279,7 @@ class KRLCompiler(Compiler):
         return read
 
     def e_enum(self, node):
-        value = "#" + str(node.children[0]).upper()
-        return lambda fr: value
+        return Src(repr("#" + str(node.children[0]).upper()))
 
     def e_whole(self, node):
         return self.expr(node.children[0])
@@ -293,6 +292,8 @@ class KRLCompiler(Compiler):
         fallback = self.const(self.var_reader(token))
         if self.local_types is not None and self.norm(str(token)) in self.local_types:
             return Src(f"(V[{key}] if V[{key}] is not _UNINIT else {fallback}(fr))")
+        if self.local_types is not None:  # not a local: KRL declares every local (no implicit ones)
+            return Src(f"(G[{key}] if G.get({key}, _UNINIT) is not _UNINIT else {fallback}(fr))")
         return Src(
             f"(V[{key}] if V.get({key}, _UNINIT) is not _UNINIT "
             f"else G[{key}] if {key} not in V and G.get({key}, _UNINIT) is not _UNINIT else {fallback}(fr))"
@@ -330,17 +331,14 @@ class KRLCompiler(Compiler):
         if children and isinstance(children[0], Token):
             type_name = str(children[0]).upper()
             children = children[1:]
-        items = []
+        fields = []
         for item in children:
             name, _brackets, value = item.children
-            items.append((str(name).upper(), self.expr(value)))
-        where = self.where(node)
-
-        def make(fr):
-            record = Record(None, {k: v(fr) for k, v in items})
-            return self.coerce(type_name, record, where) if type_name else record
-
-        return make
+            fields.append(f"{str(name).upper()!r}: {self.src(value)}")
+        record = f"_Record(None, {{{', '.join(fields)}}})"
+        if type_name is None:
+            return Src(record)
+        return Src(f"{self.const(self.coerce)}({type_name!r}, {record}, {self.where(node)!r})")
 
     def e_call(self, node):
         name, args_node = node.children
@@ -534,8 +532,11 @@ class KRLCompiler(Compiler):
                 target = self.coerce("FRAME", target, where)
             pose = _cart(target, where)
             posemath.check_finite([pose[k] for k, _ in _XYZABC], where, "motion target")
-            base = fr.m.extra.get("$BASE", _frame())
-            fr.m.trace.moves.append(MoveEvent(kind, _cart_matrix(base) @ _cart_matrix(pose), line))
+            base = fr.m.extra.get("$BASE")
+            base2tcp = _cart_matrix(pose)
+            if base is not None and any(base[k] != 0 for k, _ in _XYZABC):  # $NULLFRAME: identity
+                base2tcp = _cart_matrix(base) @ base2tcp
+            fr.m.trace.moves.append(MoveEvent(kind, base2tcp, line))
 
         return run
 
