@@ -351,6 +351,11 @@ class KRLCompiler(Compiler):
     def lvalue(self, node):
         return super().lvalue(self.assign_target(node))
 
+    def coerce_source(self, type_name, value: str, where: str) -> str:
+        if isinstance(type_name, tuple):  # an array keeps its elements' own checks (coerce_like)
+            return value
+        return super().coerce_source(type_name, value, where)
+
     def coerce_like_source(self, old: str, value: str, where: str) -> str:
         """A component without a value takes the new one as it is (see coerce_like)."""
         return f"({value} if {old} is _UNINIT else {super().coerce_like_source(old, value, where)})"
