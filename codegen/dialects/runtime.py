@@ -377,6 +377,7 @@ class Compiler:
         }
         self.local_types: dict | None = None  # the routine being compiled: its variables' types
         self.routine_name = "module"
+        self.user_routines: set[str] | None = None  # every routine of the program, when known up front
         self._consts: dict[int, str] = {}
         self._temps = 0
 
@@ -690,6 +691,8 @@ class Compiler:
         defined after their callers), then the generated code calls the target directly."""
         key = self.norm(name)
         slot = f"_c{len(self.ns)}"
+        if self.user_routines is not None and key not in self.user_routines:
+            setters = None  # a builtin: arguments are never written back
         with_setters = setters is not None and any(setters)
 
         def resolve(fr, a, k, w, s=None):

@@ -36,6 +36,8 @@ def point(values) -> Record:
 
 
 def _num(value, where):
+    if type(value) is F32:  # the common case first
+        return float(value)
     if isinstance(value, bool) or not isinstance(value, int | float | np.number):
         raise RunError(f"{where}: expected a number, got {type(value).__name__}")
     return float(value)

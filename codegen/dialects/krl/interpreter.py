@@ -614,6 +614,11 @@ def load(text: str, filename: str = "<krl>", dat_text: str | None = None) -> Pro
                 compiler.data_list(item)
         compiler.filename = dat_compiler_filename
     tree = parse(text, filename)
+    compiler.user_routines = {
+        str(item.children[0 if item.data == "def_routine" else 1]).upper()
+        for item in tree.children
+        if isinstance(item, Tree) and item.data in ("def_routine", "def_function")
+    }
     main = None
     for item in tree.children:
         if not isinstance(item, Tree):

@@ -61,6 +61,8 @@ def zero(type_name: str):
 
 
 def _num(value, where: str) -> float:
+    if type(value) is F32:  # the common case first
+        return float(value)
     if isinstance(value, bool) or not isinstance(value, int | float | np.number):
         raise RunError(f"{where}: expected a num, got {getattr(value, 'type', type(value).__name__)}")
     return float(value)
@@ -135,11 +137,11 @@ class RAPIDCompiler(Compiler):
             return F32({"Z": a, "Y": b, "X": c}[axis])
 
         def norient(fr, args, kwargs, where):
-            q = _vec(_rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
-            n = math.sqrt(sum(v * v for v in q))
+            q1, q2, q3, q4 = _vec(_rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
+            n = math.sqrt(q1 * q1 + q2 * q2 + q3 * q3 + q4 * q4)
             if n == 0 or not math.isfinite(n):
                 raise RunError(f"{where}: NOrient of a zero or non-finite orientation")
-            return Record("ORIENT", dict(zip(("Q1", "Q2", "Q3", "Q4"), (F32(v / n) for v in q), strict=True)))
+            return Record("ORIENT", {"Q1": F32(q1 / n), "Q2": F32(q2 / n), "Q3": F32(q3 / n), "Q4": F32(q4 / n)})
 
         def pose_parts(value, where):
             """Position and quaternion of a pose, or of an aggregate [pos, orient]."""
@@ -523,6 +525,11 @@ def load(text: str, filename: str = "<rapid>") -> Program:
     tree = parse(text, filename)
     compiler = RAPIDCompiler(filename)
     module = tree.children[0]
+    compiler.user_routines = set()
+    for item in module.children:
+        if isinstance(item, Tree) and item.data in ("proc", "func"):
+            named = [c for c in item.children if c is not None and not (isinstance(c, Token) and c.type == "LOCAL")]
+            compiler.user_routines.add(str(named[0 if item.data == "proc" else 1]).upper())
     data = []
     for item in module.children:
         if not isinstance(item, Tree):

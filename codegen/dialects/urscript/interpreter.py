@@ -39,6 +39,8 @@ class URPose(Record):
 
 
 def _num(value, where: str, what: str):
+    if type(value) is F32:  # the common case first
+        return value
     if isinstance(value, bool) or not isinstance(value, int | float | np.number):
         raise RunError(f"{where}: {what} must be a number, got {type(value).__name__}")
     return value
