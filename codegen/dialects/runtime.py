@@ -166,7 +166,9 @@ def op_error(where: str, exc: Exception) -> RunError:
     """An operator applied to values it does not take, as the controller would refuse it."""
     if isinstance(exc, ZeroDivisionError):
         return RunError(f"{where}: division by zero")
-    return RunError(f"{where}: {exc}")
+    if isinstance(exc, ValueError | OverflowError):  # int(nan), int(inf) as an index...
+        return RunError(f"{where}: invalid value ({exc})")
+    return RunError(f"{where}: type mismatch ({exc})")
 
 
 def step_limit_error(where: str, machine: Machine) -> StepLimitError:
@@ -414,11 +416,12 @@ class Compiler:
         return scope[name]
 
     def guarded(self, lines: list[str], where: str) -> list[str]:
-        """Lines whose operator errors (a number plus a string, a division by zero) become RunErrors."""
+        """Lines whose operator errors (a number plus a string, a division by zero, a NaN index)
+        become RunErrors naming the statement."""
         return [
             "try:",
             *indent(lines),
-            "except (TypeError, ZeroDivisionError) as _e:",
+            "except (TypeError, ZeroDivisionError, ValueError, OverflowError) as _e:",
             f"    raise _operror({where!r}, _e) from None",
         ]
 

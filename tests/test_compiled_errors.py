@@ -1,0 +1,95 @@
+"""Errors raised inside compiled programs: a RunError naming file:line:column, never a traceback."""
+
+import pytest
+
+from codegen.dialects.dtrans.interpreter import load as load_dtrans
+from codegen.dialects.krl.interpreter import load as load_krl
+from codegen.dialects.rapid.interpreter import load as load_rapid
+from codegen.dialects.runtime import RunError
+from codegen.dialects.urscript.interpreter import load as load_ur
+
+RAPID_DECLS = "VAR num x;\nVAR num u{3} := [1, 2, 3];\nVAR pose p;"
+RAPID_ROUTINES = "FUNC num f()\n  x := 1;\nENDFUNC\nPROC g(num a)\n  x := a;\nENDPROC"
+
+
+def rapid(body: str):
+    text = f"MODULE T\n{RAPID_DECLS}\nPROC main()\n{body}\nENDPROC\n{RAPID_ROUTINES}\nENDMODULE\n"
+    return load_rapid(text, "t.mod").run({})
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        ('x := "a" + 1;', r"t\.mod:6:1: type mismatch"),
+        ("x := 1 / 0;", r"t\.mod:6:1: division by zero"),
+        ("u{4} := 1;", r"t\.mod:6:1: index 4 out of range"),
+        ("x := u{x / 0.0 * 0.0 + 1 / 0};", r"t\.mod:6:1: division by zero"),
+        ("p.foo := 1;", r"t\.mod:6:1: no field foo in POSE"),
+        ("x := p.foo;", r"t\.mod:6:6: no field foo in POSE"),
+        ("x := f();", r"t\.mod:6:6: function f ended without RETURN"),
+        ("g 1, 2;", r"t\.mod:6:1: g takes 1 arguments, got 2"),
+        ("g 1 \\X:=2;", r"t\.mod:6:1: g has no optional parameters"),
+        ("nothere;", r"t\.mod:6:1: unknown routine nothere"),
+        ("x := y;", r"t\.mod:6:6: undefined variable y"),
+        ('x := "text";', r"t\.mod:6:1: expected a num, got str"),
+    ],
+)
+def test_rapid_errors_name_the_statement(body, message):
+    with pytest.raises(RunError, match=message):
+        rapid(body)
+
+
+KRL_DAT = "DEFDAT T PUBLIC\nDECL INT I=0\nDECL REAL R=0.0\nDECL FRAME F={X 0,Y 0,Z 0,A 0,B 0,C 0}\nENDDAT\n"
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        ("I = 1 / 0", r"t\.src:4:1: division by zero"),
+        ("R = NOPE", r"t\.src:4:5: undefined variable NOPE"),
+        ("F.Q = 1", r"t\.src:4:1: no field Q in FRAME"),
+        ("R = F.Q", r"t\.src:4:5: no field Q in FRAME"),
+        ("R = F : 1", r"t\.src:4:5: expected FRAME, POS or E6POS"),
+        ("DUMMY(1)", r"t\.src:4:1: unknown routine DUMMY"),
+    ],
+)
+def test_krl_errors_name_the_statement(body, message):
+    text = f"&ACCESS RVP\nDEF T()\nDECL INT K\n{body}\nEND\n"
+    with pytest.raises(RunError, match=message):
+        load_krl(text, "t.src", KRL_DAT).run({})
+
+
+def test_krl_local_without_value_is_an_error_when_read():
+    text = "&ACCESS RVP\nDEF T()\nDECL INT K\nI = K + 1\nEND\n"
+    with pytest.raises(RunError, match=r"t\.src:4:5: K has no value"):
+        load_krl(text, "t.src", KRL_DAT).run({})
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        ('x = 1 + "a"', r"t\.script:2:3: type mismatch"),
+        ("x = 1 / 0", r"t\.script:2:3: division by zero"),
+        ("x = [1, 2]\ny = x[2]", r"t\.script:3:7: index 2 out of range 0\.\.1"),
+        ("x = nope", r"t\.script:2:7: undefined variable nope"),
+    ],
+)
+def test_urscript_errors_name_the_statement(body, message):
+    text = "def prog():\n" + "".join(f"  {line}\n" for line in body.splitlines()) + "end\n"
+    with pytest.raises(RunError, match=message):
+        load_ur(text, "t.script").run({})
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("Double d = 1.0 / 0.0\n", r"t\.prg:1:1: division by zero"),
+        ('Double d = 1.0 + "a"\n', r"t\.prg:1:1: type mismatch"),
+        ("Double a[2]\nDouble d = a[5]\n", r"t\.prg:2:12: index 5 out of range 0\.\.1"),
+        ("Double a[2]\nDouble n = sqrt(-1.0)\n", r"t\.prg:2:"),
+        ("Double a[2]\nDouble f = 1e38 * 1e38\nDouble d = a[f - f]\n", r"t\.prg:3:1: invalid value"),
+    ],
+)
+def test_dtrans_errors_name_the_statement(text, message):
+    with pytest.raises(RunError, match=message):
+        load_dtrans(text, "t.prg").run({})
