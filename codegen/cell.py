@@ -6,6 +6,7 @@ import hashlib
 import math
 import tomllib
 from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -42,8 +43,15 @@ class TaughtPose:
     pose_format: str
 
     def matrix(self) -> np.ndarray:
-        """base2pose, 4x4 float64 in mm."""
-        return POSE_FORMATS[self.pose_format][1](self.values)
+        """base2pose, 4x4 float64 in mm (computed once per pose; read-only)."""
+        return _pose_matrix(self.pose_format, self.values)
+
+
+@lru_cache(maxsize=65536)
+def _pose_matrix(pose_format: str, values: tuple[float, ...]) -> np.ndarray:
+    matrix = POSE_FORMATS[pose_format][1](values)
+    matrix.flags.writeable = False
+    return matrix
 
 
 @dataclass(frozen=True)
@@ -82,10 +90,11 @@ class Cell:
     warnings: tuple[str, ...] = field(default=(), compare=False)
 
     def station_by_id(self, station_id: int) -> Station | None:
-        for station in self.stations:
-            if station.id == station_id:
-                return station
-        return None
+        return self._stations_by_id.get(station_id)
+
+    @cached_property
+    def _stations_by_id(self) -> dict[int, Station]:
+        return {station.id: station for station in self.stations}
 
 
 # --- loading ---------------------------------------------------------------------------------

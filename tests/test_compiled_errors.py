@@ -80,6 +80,7 @@ def test_urscript_errors_name_the_statement(body, message):
         load_ur(text, "t.script").run({})
 
 
+@pytest.mark.filterwarnings("ignore:overflow:RuntimeWarning", "ignore:invalid value:RuntimeWarning")
 @pytest.mark.parametrize(
     ("text", "message"),
     [
