@@ -1092,6 +1092,9 @@ def format_general(value) -> str:
     if isinstance(value, int | np.integer):
         return str(int(value))
     v = F32(value)
-    if not np.isfinite(v):
-        return "nan" if np.isnan(v) else ("inf" if v > 0 else "-inf")
-    return np.format_float_positional(v, trim="-", unique=True)
+    if not math.isfinite(v):
+        return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
+    text = str(v)  # numpy's shortest round-trip digits; positional for 1e-4 <= |v| < 1e16
+    if "e" in text:
+        return np.format_float_positional(v, trim="-", unique=True)
+    return text[:-2] if text.endswith(".0") else text

@@ -67,6 +67,8 @@ STRUCTS = {
     ],
     "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
 }
+_MSG_PARAM = re.compile(r"%([123])")  # a KrlMsg_T text's placeholders for its 3 parameters
+STRUCT_FIELDS = {name: dict(fields) for name, fields in STRUCTS.items()}
 SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
 CART = ("FRAME", "POS", "E6POS")
 
@@ -167,7 +169,7 @@ class KRLCompiler(Compiler):
                     raise RunError(f"{where}: KrlMsgPar_T[{i}] needs exactly one value, has {len(values)}")
                 return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
 
-            fr.m.trace.messages.append(re.sub(r"%([123])", param, text))
+            fr.m.trace.messages.append(_MSG_PARAM.sub(param, text))
             fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
             return fr.m.extra["handle"]
 
@@ -221,7 +223,7 @@ class KRLCompiler(Compiler):
                 raise RunError(f"{where}: cannot assign {type(value).__name__} to {type_name}")
             if value.type == type_name:
                 return value
-            fields = dict(STRUCTS[type_name])
+            fields = STRUCT_FIELDS[type_name]
             if value.type is None or (value.type in CART and type_name in CART):
                 out = new_value(type_name)
                 for key, v in value.items():
@@ -368,7 +370,7 @@ class KRLCompiler(Compiler):
     def coerce_like(self, old, value, where):
         if isinstance(old, Record) and isinstance(value, Record) and value.type is None:
             out = old.shallow()  # a partial aggregate changes only the components it names
-            fields = dict(STRUCTS.get(old.type, []))
+            fields = STRUCT_FIELDS.get(old.type, {})
             for key, v in value.items():
                 if key not in out:
                     raise RunError(f"{where}: {old.type} has no component {key}")

@@ -1,0 +1,29 @@
+"""Number texts in messages: float32 values as the controllers display them."""
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from codegen.dialects.runtime import format_fixed, format_general
+
+
+@settings(max_examples=3000, deadline=None)
+@given(st.floats(width=32, allow_nan=True, allow_infinity=True))
+def test_format_general_is_the_shortest_positional_float32_text(value):
+    v = np.float32(value)
+    text = format_general(v)
+    if np.isnan(v):
+        assert text == "nan"
+    elif np.isinf(v):
+        assert text == ("inf" if v > 0 else "-inf")
+    else:
+        assert text == np.format_float_positional(v, trim="-", unique=True)
+        assert np.float32(text) == v
+
+
+def test_format_fixed_rounds_half_away_from_zero_without_minus_zero():
+    assert format_fixed(np.float32(2.5), 0) == "3"
+    assert format_fixed(-0.004, 2) == "0.00"
+    assert format_fixed(-2.5, 0) == "-3"
+    assert format_fixed(1.005, 2) == "1.00"  # 1.005 is 1.00499999999999989... in binary
+    assert format_fixed(float("nan"), 2) == "nan"
