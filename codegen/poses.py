@@ -27,16 +27,19 @@ def rotx(angle_rad: float) -> np.ndarray:
 
 
 def matrix_from_rotation_translation(rot: np.ndarray, trans) -> np.ndarray:
-    out = np.eye(4)
+    out = np.zeros((4, 4))
     out[:3, :3] = rot
     out[:3, 3] = trans
+    out[3, 3] = 1.0
     return out
 
 
 def concat(*matrices: np.ndarray) -> np.ndarray:
-    """a2b, b2c, ... -> a2z (left to right products)."""
-    out = np.eye(4)
-    for m in matrices:
+    """a2b, b2c, ... -> a2z (left to right products; a new array)."""
+    if not matrices:
+        return np.eye(4)
+    out = np.array(matrices[0], dtype=float)
+    for m in matrices[1:]:
         out = out @ m
     return out
 
