@@ -9,7 +9,9 @@ from codegen.dialects.runtime import RunError
 from codegen.dialects.urscript.interpreter import load as load_ur
 
 RAPID_DECLS = "VAR num x;\nVAR num u{3} := [1, 2, 3];\nVAR pose p;"
-RAPID_ROUTINES = "FUNC num f()\n  x := 1;\nENDFUNC\nPROC g(num a)\n  x := a;\nENDPROC"
+RAPID_ROUTINES = (
+    "FUNC num f()\n  x := 1;\nENDFUNC\nPROC g(num a)\n  x := a;\nENDPROC\nFUNC pose f2()\n  RETURN 1;\nENDFUNC"
+)
 
 
 def rapid(body: str):
@@ -31,7 +33,9 @@ def rapid(body: str):
         ("g 1 \\X:=2;", r"t\.mod:6:1: g has no optional parameters"),
         ("nothere;", r"t\.mod:6:1: unknown routine nothere"),
         ("x := y;", r"t\.mod:6:6: undefined variable y"),
-        ('x := "text";', r"t\.mod:6:1: expected a num, got str"),
+        ('x := "text";', r"t\.mod:6:1: expected a num, got string"),
+        ('g "text";', r"t\.mod:6:1: expected a num, got string"),
+        ("p := f2();", r"t\.mod:6:6: expected pose, got num"),
     ],
 )
 def test_rapid_errors_name_the_statement(body, message):
@@ -87,6 +91,7 @@ def test_urscript_errors_name_the_statement(body, message):
         ("Double d = 1.0 / 0.0\n", r"t\.prg:1:1: division by zero"),
         ('Double d = 1.0 + "a"\n', r"t\.prg:1:1: type mismatch"),
         ("Double a[2]\nDouble d = a[5]\n", r"t\.prg:2:12: index 5 out of range 0\.\.1"),
+        ('Int i = "a"\n', r"^t\.prg:1:1: expected a number, got str"),
         ("Double a[2]\nDouble n = sqrt(-1.0)\n", r"t\.prg:2:"),
         ("Double a[2]\nDouble f = 1e38 * 1e38\nDouble d = a[f - f]\n", r"t\.prg:3:1: invalid value"),
     ],

@@ -826,10 +826,11 @@ class Compiler:
         )
 
     def coerce_source(self, type_name, value: str, where: str) -> str:
-        """Source of coerce(type_name, value): the value itself when it already has the type."""
+        """Source of coerce(type_name, value): the value itself when it already has the type.
+        value is a plain name; where is the source of the location text."""
         if type_name is None:
             return value
-        call = f"{self.const(self.coerce)}({self.const(type_name)}, {value}, {where!r})"
+        call = f"{self.const(self.coerce)}({self.const(type_name)}, {value}, {where})"
         if isinstance(type_name, str) and type_name in self.COERCE_UNCHANGED:
             return f"({value} if type({value}) is {self.COERCE_UNCHANGED[type_name]} else {call})"
         if isinstance(type_name, str) and type_name in self.RECORD_TYPES:
@@ -847,9 +848,21 @@ class Compiler:
         if isinstance(node, Token) or node.data == "var":
             token = node if isinstance(node, Token) else node.children[0]
             key = self.norm(str(token))
+            where = repr(self.where(token))
             if self.local_types is not None and key in self.local_types:
-                return [f"V[{key!r}] = {self.coerce_source(self.local_types[key], value, self.where(token))}"]
-            return [f"{self.const(self.lvalue(node))}(fr, {value})"]
+                return [f"V[{key!r}] = {self.coerce_source(self.local_types[key], value, where)}"]
+            # as lvalue()'s set_var: the frame's variable, else a global, else a new variable
+            if type(self).coerce is Compiler.coerce:  # untyped language: values stored as they are
+                local, glob = value, value
+            else:
+                coerce = self.const(self.coerce)
+                local = f"{coerce}(fr.types.get({key!r}), {value}, {where})"
+                glob = f"{coerce}(m.global_types.get({key!r}), {value}, {where})"
+            return [
+                f"if {key!r} in V: V[{key!r}] = {local}",
+                f"elif {key!r} in G: G[{key!r}] = {glob}",
+                f"else: {self.const(self.new_variable)}(fr, {key!r}, {value}, {where})",
+            ]
         where = self.where(node)
         slot = f"_r{depth}"
         if node.data == "field":

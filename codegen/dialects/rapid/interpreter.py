@@ -60,17 +60,32 @@ def zero(type_name: str):
     return _ZEROS.get(type_name, _ZEROS["NUM"])  # shared: values are never changed in place
 
 
+def type_text(value) -> str:
+    """A value's RAPID data type, for messages."""
+    if isinstance(value, Record):
+        return str(value.type).lower()
+    if isinstance(value, bool):
+        return "bool"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, list):
+        return "array"
+    if isinstance(value, int | float | np.number):
+        return "num"
+    return type(value).__name__
+
+
 def _num(value, where: str) -> float:
     if type(value) is F32:  # the common case first
         return float(value)
     if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-        raise RunError(f"{where}: expected a num, got {getattr(value, 'type', type(value).__name__)}")
+        raise RunError(f"{where}: expected a num, got {type_text(value)}")
     return float(value)
 
 
 def _rec(value, type_name: str, where: str) -> Record:
     if not isinstance(value, Record) or value.type != type_name:
-        raise RunError(f"{where}: expected {type_name.lower()}, got {getattr(value, 'type', type(value).__name__)}")
+        raise RunError(f"{where}: expected {type_name.lower()}, got {type_text(value)}")
     return value
 
 
@@ -283,7 +298,7 @@ class RAPIDCompiler(Compiler):
                 if len(value) != len(fields):
                     raise RunError(f"{where}: {type_name.lower()} has {len(fields)} components, got {len(value)}")
                 return Record(type_name, {k: self.coerce(t, v, where) for (k, t), v in zip(fields, value, strict=True)})
-            raise RunError(f"{where}: expected {type_name.lower()}, got {type(value).__name__}")
+            raise RunError(f"{where}: expected {type_name.lower()}, got {type_text(value)}")
         return value  # speeddata, zonedata, tooldata...: opaque here
 
     def element_type(self, type_name):
