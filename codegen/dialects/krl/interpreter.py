@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import operator
 import re
 from pathlib import Path
 
@@ -51,6 +52,7 @@ class _Uninit:
 UNINIT = _Uninit()
 
 _XYZABC = [("X", "REAL"), ("Y", "REAL"), ("Z", "REAL"), ("A", "REAL"), ("B", "REAL"), ("C", "REAL")]
+_xyzabc = operator.itemgetter("X", "Y", "Z", "A", "B", "C")  # a cartesian record's six numbers
 STRUCTS = {
     "FRAME": _XYZABC,
     "POS": [*_XYZABC, ("S", "INT"), ("T", "INT")],
@@ -107,7 +109,7 @@ def _cart(value, where: str) -> Record:
 
 
 def _cart_matrix(value: Record) -> np.ndarray:
-    return posemath.zyx_matrix_fast([value[k] for k, _ in _XYZABC])
+    return posemath.zyx_matrix_fast(_xyzabc(value))
 
 
 class KRLCompiler(Compiler):
@@ -320,9 +322,8 @@ class KRLCompiler(Compiler):
         def geo(fr):
             a, b = _cart(left(fr), where), _cart(right(fr), where)
             out = b.shallow()  # result has the type, status and turn of the right operand
-            values = posemath.zyx_compose([a[k] for k, _ in _XYZABC], [b[k] for k, _ in _XYZABC])
-            for (key, _), v in zip(_XYZABC, values, strict=True):
-                out[key] = F32(v)
+            x, y, z, a_, b_, c = posemath.zyx_compose(_xyzabc(a), _xyzabc(b))
+            out.update(X=F32(x), Y=F32(y), Z=F32(z), A=F32(a_), B=F32(b_), C=F32(c))
             return out
 
         return geo
@@ -538,10 +539,10 @@ class KRLCompiler(Compiler):
                     raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
                 target = self.coerce("FRAME", target, where)
             pose = _cart(target, where)
-            posemath.check_finite([pose[k] for k, _ in _XYZABC], where, "motion target")
+            posemath.check_finite(_xyzabc(pose), where, "motion target")
             base = fr.m.extra.get("$BASE")
             base2tcp = _cart_matrix(pose)
-            if base is not None and any(base[k] != 0 for k, _ in _XYZABC):  # $NULLFRAME: identity
+            if base is not None and _xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
                 base2tcp = _cart_matrix(base) @ base2tcp
             fr.m.trace.moves.append(MoveEvent(kind, base2tcp, line))
 
