@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -78,6 +79,14 @@ def base2mark(x: float, y: float, theta_deg: float) -> np.ndarray:
     return matrix_from_rotation_translation(rotz(math.radians(theta_deg)), (x, y, 0.0))
 
 
+@lru_cache(maxsize=4096)
+def mark2base(x: float, y: float, theta_deg: float) -> np.ndarray:
+    """Inverse of base2mark (a station's calibration mark: computed once, read-only)."""
+    out = invert(base2mark(x, y, theta_deg))
+    out.flags.writeable = False
+    return out
+
+
 def expected_trace(cell: Cell, reading: Reading, enforce_limits: bool = True) -> Trace:
     """The trace a correct program produces; enforce_limits=False computes the moves regardless."""
     station = cell.station_by_id(reading.station_id)
@@ -98,9 +107,8 @@ def expected_trace(cell: Cell, reading: Reading, enforce_limits: bool = True) ->
 
     phi = cell.angle_sign * rotation
     # The part moved rigidly with the mark: base2part_now = base2mark_now . mark2base_cal . base2part
-    base2mark_cal = base2mark(tx, ty, t_theta)
     base2mark_now = base2mark(reading.x, reading.y, t_theta + phi)
-    correction = concat(base2mark_now, invert(base2mark_cal))
+    correction = concat(base2mark_now, mark2base(tx, ty, t_theta))
     moves = []
     for i, pose in enumerate(station.poses):
         base2tcp = concat(correction, pose.matrix())
