@@ -841,56 +841,71 @@ class Compiler:
         """The lvalue node of an assignment target (KRL unwraps `whole`)."""
         return node
 
-    def store_lines(self, node, value: str, depth: int = 0) -> list[str]:
+    def store_lines(self, node, value: str) -> list[str]:
         """Lines that store `value` (a plain name) into a variable, field or element. A field or
-        element is stored as a changed copy of its record or array, stored in turn into its base."""
+        element is stored as a changed copy of its record or array, stored in turn into the one
+        holding it, up to the variable. The path is read once, outermost first, so an index
+        expression is evaluated once."""
+        steps = []  # (kind, key node, node): outermost last
         node = self.assign_target(node)
-        if isinstance(node, Token) or node.data == "var":
-            token = node if isinstance(node, Token) else node.children[0]
-            key = self.norm(str(token))
-            where = repr(self.where(token))
-            if self.local_types is not None and key in self.local_types:
-                return [f"V[{key!r}] = {self.coerce_source(self.local_types[key], value, where)}"]
-            # as lvalue()'s set_var: the frame's variable, else a global, else a new variable
-            if type(self).coerce is Compiler.coerce:  # untyped language: values stored as they are
-                local, glob = value, value
+        while isinstance(node, Tree) and (node.data == "field" or (node.data == "index" and len(node.children) == 2)):
+            steps.append((node.data, node.children[1], node))
+            node = self.assign_target(node.children[0])
+        if not (isinstance(node, Token) or node.data == "var"):
+            return [f"{self.const(self.lvalue(node))}(fr, {value})"]  # an unusual target: its setter
+        if not steps:
+            return self.var_store_lines(node, value)
+        steps.reverse()
+        lines, keys = [f"_r0 = {self.src(node)}"], []
+        for depth, (kind, key_node, step) in enumerate(steps):
+            slot, where = f"_r{depth}", repr(self.where(step))
+            if kind == "field":
+                key = repr(self.norm(str(key_node)))
+                lines += [
+                    f"if not isinstance({slot}, _Record) or {key} not in {slot}:",
+                    f"    _nofield_set({slot}, {str(key_node)!r}, {where})",
+                ]
             else:
-                coerce = self.const(self.coerce)
-                local = f"{coerce}(fr.types.get({key!r}), {value}, {where})"
-                glob = f"{coerce}(m.global_types.get({key!r}), {value}, {where})"
-            return [
-                f"if {key!r} in V: V[{key!r}] = {local}",
-                f"elif {key!r} in G: G[{key!r}] = {glob}",
-                f"else: {self.const(self.new_variable)}(fr, {key!r}, {value}, {where})",
-            ]
-        where = self.where(node)
-        slot = f"_r{depth}"
-        if node.data == "field":
-            base_node, name = node.children
-            key = repr(self.norm(str(name)))
-            lines = [
-                f"{slot} = {self.src(base_node)}",
-                f"if not isinstance({slot}, _Record) or {key} not in {slot}:",
-                f"    _nofield_set({slot}, {str(name)!r}, {where!r})",
-                f"{slot} = {slot}.shallow()",
+                key = f"_i{depth}"
+                lines += [
+                    f"{key} = {self.index_source(key_node)}",
+                    f"if not isinstance({slot}, list) or not 0 <= {key} < len({slot}):",
+                    f"    _badindex({key} + {self.index_base}, {where})",
+                ]
+            keys.append(key)
+            if depth + 1 < len(steps):
+                lines.append(f"_r{depth + 1} = {slot}[{key}]")
+        inner = value
+        for depth in reversed(range(len(steps))):
+            slot, key, (kind, _key_node, step) = f"_r{depth}", keys[depth], steps[depth]
+            lines += [
+                f"_c = {slot}.shallow()" if kind == "field" else f"_c = list({slot})",
                 f"_o = {slot}[{key}]",
-                f"{slot}[{key}] = {self.coerce_like_source('_o', value, where)}",
+                f"_c[{key}] = {self.coerce_like_source('_o', inner, self.where(step))}",
+                f"{slot} = _c",
             ]
-            return lines + self.store_lines(base_node, slot, depth + 1)
-        if node.data == "index" and len(node.children) == 2:
-            base_node, index_node = node.children
-            index = f"_i{depth}"
-            lines = [
-                f"{slot} = {self.src(base_node)}",
-                f"{index} = {self.index_source(index_node)}",
-                f"if not isinstance({slot}, list) or not 0 <= {index} < len({slot}):",
-                f"    _badindex({index} + {self.index_base}, {where!r})",
-                f"{slot} = list({slot})",
-                f"_o = {slot}[{index}]",
-                f"{slot}[{index}] = {self.coerce_like_source('_o', value, where)}",
-            ]
-            return lines + self.store_lines(base_node, slot, depth + 1)
-        return [f"{self.const(self.lvalue(node))}(fr, {value})"]
+            inner = slot
+        return lines + self.var_store_lines(node, "_r0")
+
+    def var_store_lines(self, node, value: str) -> list[str]:
+        """Lines storing value into a variable, as lvalue()'s set_var: the routine's variable,
+        else a global, else a new variable (where the language makes one)."""
+        token = node if isinstance(node, Token) else node.children[0]
+        key = self.norm(str(token))
+        where = repr(self.where(token))
+        if self.local_types is not None and key in self.local_types:
+            return [f"V[{key!r}] = {self.coerce_source(self.local_types[key], value, where)}"]
+        if type(self).coerce is Compiler.coerce:  # untyped language: values stored as they are
+            local, glob = value, value
+        else:
+            coerce = self.const(self.coerce)
+            local = f"{coerce}(fr.types.get({key!r}), {value}, {where})"
+            glob = f"{coerce}(m.global_types.get({key!r}), {value}, {where})"
+        return [
+            f"if {key!r} in V: V[{key!r}] = {local}",
+            f"elif {key!r} in G: G[{key!r}] = {glob}",
+            f"else: {self.const(self.new_variable)}(fr, {key!r}, {value}, {where})",
+        ]
 
     def s_halt_stmt(self, node):
         """halt / HALT / Halt: the program stops; its last message is the operator's message."""
