@@ -109,5 +109,8 @@ def test_values_are_copied_and_inout_writes_back():
 def test_store_into_a_nested_element_evaluates_its_index_once():
     decls = "VAR num calls := 0;\nVAR pose pa{2};"
     routines = "FUNC num nxt()\n  calls := calls + 1;\n  RETURN 2;\nENDFUNC"
-    body = 'pa{nxt()}.trans.x := 5;\nTPWrite "" \\Num:=calls;\nTPWrite "" \\Num:=pa{2}.trans.x;\nTPWrite "" \\Num:=pa{1}.trans.x;'
+    body = (
+        'pa{nxt()}.trans.x := 5;\nTPWrite "" \\Num:=calls;\nTPWrite "" \\Num:=pa{2}.trans.x;\n'
+        'TPWrite "" \\Num:=pa{1}.trans.x;'
+    )
     assert run(body, decls, routines).messages == ["1", "5", "0"]
