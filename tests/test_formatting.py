@@ -1,10 +1,11 @@
 """Number texts in messages: float32 values as the controllers display them."""
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from codegen.dialects.runtime import format_fixed, format_general
+from codegen.dialects.runtime import f32, format_fixed, format_general
 
 
 @settings(max_examples=3000, deadline=None)
@@ -27,3 +28,12 @@ def test_format_fixed_rounds_half_away_from_zero_without_minus_zero():
     assert format_fixed(-2.5, 0) == "-3"
     assert format_fixed(1.005, 2) == "1.00"  # 1.005 is 1.00499999999999989... in binary
     assert format_fixed(float("nan"), 2) == "nan"
+
+
+@settings(max_examples=5000, deadline=None)
+@given(st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-(2**70), 2**70)))
+@pytest.mark.filterwarnings("ignore:overflow:RuntimeWarning")
+def test_f32_rounds_exactly_as_numpy_float32(value):
+    fast, slow = f32(value), np.float32(value)
+    assert type(fast) is np.float32
+    assert fast.tobytes() == slow.tobytes() or (np.isnan(fast) and np.isnan(slow))

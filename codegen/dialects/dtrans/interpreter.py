@@ -18,6 +18,7 @@ from codegen.dialects.runtime import (
     Record,
     Routine,
     RunError,
+    f32,
     format_fixed,
     format_general,
     parse_with_grammar,
@@ -32,7 +33,7 @@ def parse(text: str, filename: str = "<dtrans>", positions: bool = True) -> Tree
 
 
 def point(values) -> Record:
-    return Record("Point", dict(zip(POINT_KEYS, (F32(v) for v in values), strict=True)))
+    return Record("Point", dict(zip(POINT_KEYS, (f32(v) for v in values), strict=True)))
 
 
 def _num(value, where):
@@ -79,7 +80,7 @@ class DTransCompiler(Compiler):
 
     def make_builtins(self) -> dict:
         def trig(fn):
-            return lambda fr, a, k, w: F32(fn(math.radians(_num(a[0], w))))
+            return lambda fr, a, k, w: f32(fn(math.radians(_num(a[0], w))))
 
         def trans(fr, args, kwargs, where):
             if len(args) != 6:
@@ -90,15 +91,15 @@ class DTransCompiler(Compiler):
             value = _num(args[0], where)
             if value < 0:
                 raise RunError(f"{where}: sqrt of a negative number")
-            return F32(math.sqrt(value))
+            return f32(math.sqrt(value))
 
         return {
             "sin": trig(math.sin),
             "cos": trig(math.cos),
             "tan": trig(math.tan),
-            "atan2": lambda fr, a, k, w: F32(math.degrees(math.atan2(_num(a[0], w), _num(a[1], w)))),
+            "atan2": lambda fr, a, k, w: f32(math.degrees(math.atan2(_num(a[0], w), _num(a[1], w)))),
             "sqrt": sqrt,
-            "abs": lambda fr, a, k, w: abs(a[0]) if isinstance(a[0], int) else F32(abs(_num(a[0], w))),
+            "abs": lambda fr, a, k, w: abs(a[0]) if isinstance(a[0], int) else f32(abs(_num(a[0], w))),
             "Trans": trans,
         }
 
@@ -115,7 +116,7 @@ class DTransCompiler(Compiler):
                 return value  # already stored as Doubles (arrays are never changed in place)
             return [self.coerce(element, v, where) for v in value]
         if type_name == "Double":
-            return value if type(value) is F32 else F32(_num(value, where))
+            return value if type(value) is F32 else f32(_num(value, where))
         if type_name == "Int":
             v = _num(value, where)
             if not math.isfinite(v):
@@ -164,7 +165,7 @@ class DTransCompiler(Compiler):
         full_type = (type_name, int(str(size))) if size is not None else type_name
         value = self.expr(init) if init is not None else None
         where = self.where(node)
-        defaults = {"Double": F32(0), "Int": 0, "Bool": False, "String": "", "Point": point([0] * 6)}
+        defaults = {"Double": f32(0), "Int": 0, "Bool": False, "String": "", "Point": point([0] * 6)}
         # without an initial value: one shared default (values are never changed in place)
         default = [defaults[type_name]] * full_type[1] if isinstance(full_type, tuple) else defaults[type_name]
 

@@ -23,6 +23,7 @@ from codegen.dialects.runtime import (
     Signal,
     Src,
     constant,
+    f32,
     format_general,
     parse_with_grammar,
 )
@@ -82,7 +83,7 @@ def new_value(type_name: str):
 
 
 def _frame(values=(0, 0, 0, 0, 0, 0)) -> Record:
-    return Record("FRAME", {k: F32(v) for (k, _), v in zip(_XYZABC, values, strict=True)})
+    return Record("FRAME", {k: f32(v) for (k, _), v in zip(_XYZABC, values, strict=True)})
 
 
 def _valid(value, where: str, what: str):
@@ -130,19 +131,19 @@ class KRLCompiler(Compiler):
     def make_builtins(self) -> dict:
         def trig(fn):
             def call(fr, args, kwargs, where):
-                return F32(fn(math.radians(float(_valid(args[0], where, "argument")))))
+                return f32(fn(math.radians(float(_valid(args[0], where, "argument")))))
 
             return call
 
         def atan2(fr, args, kwargs, where):
             y, x = (float(_valid(a, where, "argument")) for a in args)
-            return F32(math.degrees(math.atan2(y, x)))
+            return f32(math.degrees(math.atan2(y, x)))
 
         def sqrt(fr, args, kwargs, where):
             value = float(_valid(args[0], where, "argument"))
             if value < 0:
                 raise RunError(f"{where}: SQRT of a negative number")
-            return F32(math.sqrt(value))
+            return f32(math.sqrt(value))
 
         def abs_(fr, args, kwargs, where):
             value = _valid(args[0], where, "argument")
@@ -154,7 +155,7 @@ class KRLCompiler(Compiler):
             value = _cart(args[0], where)
             out = value.copy()
             for (key, _), v in zip(_XYZABC, posemath.zyx_from(invert(_cart_matrix(value))), strict=True):
-                out[key] = F32(v)
+                out[key] = f32(v)
             return out
 
         def set_krlmsg(fr, args, kwargs, where):
@@ -192,7 +193,7 @@ class KRLCompiler(Compiler):
 
     def number(self, text: str):
         if any(c in text for c in ".eE"):
-            return F32(float(text))
+            return f32(float(text))
         return int(text)
 
     def coerce(self, type_name, value, where):
@@ -207,7 +208,7 @@ class KRLCompiler(Compiler):
                 return value
             if isinstance(value, bool) or not isinstance(value, int | float | np.number):
                 raise RunError(f"{where}: cannot assign {getattr(value, 'type', type(value).__name__)} to REAL")
-            return F32(value)
+            return f32(value)
         if type_name == "INT":
             if isinstance(value, bool) or not isinstance(value, int | float | np.number):
                 raise RunError(f"{where}: cannot assign {type(value).__name__} to INT")
@@ -323,7 +324,7 @@ class KRLCompiler(Compiler):
             a, b = _cart(left(fr), where), _cart(right(fr), where)
             out = b.shallow()  # result has the type, status and turn of the right operand
             x, y, z, a_, b_, c = posemath.zyx_compose(_xyzabc(a), _xyzabc(b))
-            out.update(X=F32(x), Y=F32(y), Z=F32(z), A=F32(a_), B=F32(b_), C=F32(c))
+            out.update(X=f32(x), Y=f32(y), Z=f32(z), A=f32(a_), B=f32(b_), C=f32(c))
             return out
 
         return geo

@@ -21,6 +21,7 @@ from codegen.dialects.runtime import (
     RunError,
     Src,
     constant,
+    f32,
     format_fixed,
     parse_with_grammar,
 )
@@ -49,7 +50,7 @@ _PREDEFINED = re.compile(r"^(V\d+|VMAX|FINE|Z\d+|TOOL0|WOBJ0|LOAD0)$")
 def _zero(type_name: str):
     if type_name in RECORDS:
         return Record(type_name, {k: _zero(t) for k, t in RECORDS[type_name]})
-    return {"NUM": F32(0), "DNUM": 0.0, "BOOL": False, "STRING": ""}.get(type_name, F32(0))
+    return {"NUM": f32(0), "DNUM": 0.0, "BOOL": False, "STRING": ""}.get(type_name, f32(0))
 
 
 _ZEROS = {name: _zero(name) for name in [*RECORDS, *SCALARS]}
@@ -99,8 +100,8 @@ def _pose_record(trans, quat) -> Record:
     return Record(
         "POSE",
         {
-            "TRANS": Record("POS", {"X": F32(x), "Y": F32(y), "Z": F32(z)}),
-            "ROT": Record("ORIENT", {"Q1": F32(q1), "Q2": F32(q2), "Q3": F32(q3), "Q4": F32(q4)}),
+            "TRANS": Record("POS", {"X": f32(x), "Y": f32(y), "Z": f32(z)}),
+            "ROT": Record("ORIENT", {"Q1": f32(q1), "Q2": f32(q2), "Q3": f32(q3), "Q4": f32(q4)}),
         },
     )
 
@@ -121,25 +122,25 @@ class RAPIDCompiler(Compiler):
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
         def trig(fn):
-            return lambda fr, a, k, w: F32(fn(math.radians(_num(a[0], w))))
+            return lambda fr, a, k, w: f32(fn(math.radians(_num(a[0], w))))
 
         def atan2(fr, args, kwargs, where):
-            return F32(math.degrees(math.atan2(_num(args[0], where), _num(args[1], where))))
+            return f32(math.degrees(math.atan2(_num(args[0], where), _num(args[1], where))))
 
         def sqrt(fr, args, kwargs, where):
             value = _num(args[0], where)
             if value < 0:
                 raise RunError(f"{where}: Sqrt of a negative number")
-            return F32(math.sqrt(value))
+            return f32(math.sqrt(value))
 
         def abs_(fr, args, kwargs, where):
-            return F32(abs(_num(args[0], where)))
+            return f32(abs(_num(args[0], where)))
 
         def orient_zyx(fr, args, kwargs, where):
             z, y, x = (_num(a, where) for a in args)
             return Record(
                 "ORIENT",
-                dict(zip(("Q1", "Q2", "Q3", "Q4"), (F32(v) for v in posemath.quat_from_zyx_deg(z, y, x)), strict=True)),
+                dict(zip(("Q1", "Q2", "Q3", "Q4"), (f32(v) for v in posemath.quat_from_zyx_deg(z, y, x)), strict=True)),
             )
 
         def euler_zyx(fr, args, kwargs, where):
@@ -149,14 +150,14 @@ class RAPIDCompiler(Compiler):
             q = _vec(_rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
             m = posemath.quat_matrix((0, 0, 0), q)
             a, b, c = posemath.zyx_from(m)[3:]
-            return F32({"Z": a, "Y": b, "X": c}[axis])
+            return f32({"Z": a, "Y": b, "X": c}[axis])
 
         def norient(fr, args, kwargs, where):
             q1, q2, q3, q4 = _vec(_rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
             n = math.sqrt(q1 * q1 + q2 * q2 + q3 * q3 + q4 * q4)
             if n == 0 or not math.isfinite(n):
                 raise RunError(f"{where}: NOrient of a zero or non-finite orientation")
-            return Record("ORIENT", {"Q1": F32(q1 / n), "Q2": F32(q2 / n), "Q3": F32(q3 / n), "Q4": F32(q4 / n)})
+            return Record("ORIENT", {"Q1": f32(q1 / n), "Q2": f32(q2 / n), "Q3": f32(q3 / n), "Q4": f32(q4 / n)})
 
         def pose_parts(value, where):
             """Position and quaternion of a pose, or of an aggregate [pos, orient]."""
@@ -187,7 +188,7 @@ class RAPIDCompiler(Compiler):
             t, q = pose_parts(args[0], where)
             p = _vec(self.coerce("POS", args[1], where), "XYZ")
             out = [a + b for a, b in zip(t, posemath.quat_rotate(q, p), strict=True)]
-            return Record("POS", dict(zip("XYZ", (F32(v) for v in out), strict=True)))
+            return Record("POS", dict(zip("XYZ", (f32(v) for v in out), strict=True)))
 
         def num_to_str(fr, args, kwargs, where):
             return format_fixed(_num(args[0], where), int(_num(args[1], where)))
@@ -257,7 +258,7 @@ class RAPIDCompiler(Compiler):
         }
 
     def number(self, text: str):
-        return F32(float(text))
+        return f32(float(text))
 
     def string_value(self, text: str) -> str:
         return text[1:-1].replace('""', '"').replace("\\\\", "\\")
@@ -266,7 +267,7 @@ class RAPIDCompiler(Compiler):
         if type_name is None:
             return value
         if type_name == "NUM":
-            return value if type(value) is F32 else F32(_num(value, where))
+            return value if type(value) is F32 else f32(_num(value, where))
         if isinstance(type_name, tuple):  # (element type, size) array
             element, size = type_name
             if not isinstance(value, list):
@@ -323,11 +324,11 @@ class RAPIDCompiler(Compiler):
 
     def e_intdiv(self, node):
         left, right = self.expr(node.children[0]), self.expr(node.children[2])
-        return lambda fr: F32(int(float(left(fr)) / float(right(fr))))
+        return lambda fr: f32(int(float(left(fr)) / float(right(fr))))
 
     def e_mod(self, node):
         left, right = self.expr(node.children[0]), self.expr(node.children[2])
-        return lambda fr: F32(math.fmod(float(left(fr)), float(right(fr))))
+        return lambda fr: f32(math.fmod(float(left(fr)), float(right(fr))))
 
     def e_add(self, node):
         """num + num inline; strings and pos records through add()."""
@@ -342,7 +343,7 @@ class RAPIDCompiler(Compiler):
         if isinstance(a, str) and isinstance(b, str):
             return a + b
         if isinstance(a, Record) and isinstance(b, Record) and a.type == b.type == "POS":
-            return Record("POS", {k: F32(a[k] + b[k]) for k in "XYZ"})
+            return Record("POS", {k: f32(a[k] + b[k]) for k in "XYZ"})
         return a + b
 
     def e_aggregate(self, node):
@@ -440,7 +441,7 @@ class RAPIDCompiler(Compiler):
                 raise RunError(f"{where}: FOR with STEP 0")
             while (i <= end) if inc > 0 else (i >= end):
                 fr.m.step(where)
-                fr.vars[key] = F32(i)
+                fr.vars[key] = f32(i)
                 signal = body(fr)
                 if signal is not None:
                     return signal

@@ -17,6 +17,7 @@ from codegen.dialects.runtime import (
     Record,
     Routine,
     RunError,
+    f32,
     format_general,
     parse_with_grammar,
 )
@@ -32,7 +33,7 @@ class URPose(Record):
     KEYS = ("x", "y", "z", "rx", "ry", "rz")
 
     def __init__(self, values) -> None:
-        super().__init__("pose", zip(self.KEYS, (F32(v) for v in values), strict=True))
+        super().__init__("pose", zip(self.KEYS, (f32(v) for v in values), strict=True))
 
     def copy(self) -> URPose:
         return URPose(self.values())
@@ -66,7 +67,7 @@ def _unary(fn):
     def call(fr, args, kwargs, where):
         if len(args) != 1:
             raise RunError(f"{where}: expected 1 argument")
-        return F32(fn(float(_num(args[0], where, "argument"))))
+        return f32(fn(float(_num(args[0], where, "argument"))))
 
     return call
 
@@ -123,7 +124,7 @@ class URScriptCompiler(Compiler):
                     raise RunError(f"{where}: register {index} out of range 0..47")
                 key = f"input_{kind}_register_{index}"
                 value = fr.m.inputs.get(key, 0)
-                return int(value) if kind == "integer" else F32(value)
+                return int(value) if kind == "integer" else f32(value)
 
             return read
 
@@ -137,14 +138,14 @@ class URScriptCompiler(Compiler):
             fr.m.answer_photo(where)  # the vision PC answers between two controller cycles
 
         def atan2(fr, args, kwargs, where):
-            return F32(math.atan2(float(args[0]), float(args[1])))
+            return f32(math.atan2(float(args[0]), float(args[1])))
 
         def norm(fr, args, kwargs, where):
             value = args[0]
             if isinstance(value, URPose):
-                return F32(math.sqrt(sum(float(v) ** 2 for v in list(value.values())[:3])))
+                return f32(math.sqrt(sum(float(v) ** 2 for v in list(value.values())[:3])))
             if isinstance(value, list):
-                return F32(math.sqrt(sum(float(v) ** 2 for v in value)))
+                return f32(math.sqrt(sum(float(v) ** 2 for v in value)))
             return abs(_num(value, where, "norm argument"))
 
         def pose_tolist(fr, args, kwargs, where):
