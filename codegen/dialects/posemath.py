@@ -80,7 +80,7 @@ def quat_rotate(q, v) -> tuple[float, ...]:
 
 def quat_from_zyx_deg(z, y, x) -> tuple[float, ...]:
     """OrientZYX(z, y, x): rotation Rz(z) Ry(y) Rx(x), degrees."""
-    hz, hy, hx = (math.radians(float(v)) / 2 for v in (z, y, x))
+    hz, hy, hx = math.radians(float(z)) / 2, math.radians(float(y)) / 2, math.radians(float(x)) / 2
     qz = (math.cos(hz), 0.0, 0.0, math.sin(hz))
     qy = (math.cos(hy), 0.0, math.sin(hy), 0.0)
     qx = (math.cos(hx), math.sin(hx), 0.0, 0.0)

@@ -391,6 +391,7 @@ class Compiler:
         self.user_routines: set[str] | None = None  # every routine of the program, when known up front
         self._consts: dict[int, str] = {}
         self._temps = 0
+        self._input_names: dict[str, tuple[str, int | None]] = {}
 
     # --- Python source ----------------------------------------------------------------------
     def temp(self) -> str:
@@ -468,16 +469,22 @@ class Compiler:
     def inject_inputs(self, machine: Machine) -> None:
         """Set injected inputs that are program variables (name or name[index])."""
         for name, value in machine.inputs.items():
-            key, _, index = name.partition("[")
-            key = self.norm(key)
+            key, index = self._input_names.get(name) or self._input_name(name)
             if key not in machine.globals:
                 continue
-            if index:
-                i = int(index.rstrip("]")) - self.index_base
+            if index is not None:
+                i = index - self.index_base
                 seq = machine.globals[key] = list(machine.globals[key])
                 seq[i] = self.coerce(self.element_type(machine.global_types.get(key)), value, name)
             else:
                 machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
+
+    def _input_name(self, name: str) -> tuple[str, int | None]:
+        """An input's variable and element index, parsed once per name."""
+        key, _, index = name.partition("[")
+        parsed = (self.norm(key), int(index.rstrip("]")) if index else None)
+        self._input_names[name] = parsed
+        return parsed
 
     def element_type(self, type_name):
         return type_name

@@ -243,6 +243,8 @@ class KRLCompiler(Compiler):
 
     def inject_inputs(self, machine) -> None:
         """BASE_DATA[n]=x,y,z,a,b,c sets a measured base, as $config.dat holds it on the controller."""
+        if not any(name[:9].upper() == "BASE_DATA" for name in machine.inputs):
+            return super().inject_inputs(machine)
         rest = {}
         for name, value in machine.inputs.items():
             match = re.fullmatch(r"BASE_DATA\[(\d+)\]", name.upper())

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import operator
 import re
 
 import numpy as np
@@ -91,7 +92,16 @@ def _rec(value, type_name: str, where: str) -> Record:
 
 
 def _vec(rec: Record, keys) -> list[float]:
+    if keys == "XYZ":
+        return list(map(float, _xyz(rec)))
+    if keys == _QUAT_KEYS:
+        return list(map(float, _quat(rec)))
     return [float(rec[k]) for k in keys]
+
+
+_QUAT_KEYS = ("Q1", "Q2", "Q3", "Q4")
+_xyz = operator.itemgetter("X", "Y", "Z")  # a pos record's numbers
+_quat = operator.itemgetter(*_QUAT_KEYS)  # an orient record's numbers
 
 
 def _pose_record(trans, quat) -> Record:
@@ -209,11 +219,14 @@ class RAPIDCompiler(Compiler):
 
         def move(kind):
             def run(fr, args, kwargs, where):
-                target = self.coerce("ROBTARGET", args[0], where)
+                target = args[0]
+                if type(target) is not Record or target.type != "ROBTARGET":
+                    target = self.coerce("ROBTARGET", target, where)
                 t = _vec(target["TRANS"], "XYZ")
-                q = _vec(target["ROT"], ("Q1", "Q2", "Q3", "Q4"))
+                q = _vec(target["ROT"], _QUAT_KEYS)
                 posemath.check_finite(t + q, where, "move target")
-                norm = math.sqrt(sum(v * v for v in q))
+                q1, q2, q3, q4 = q
+                norm = math.sqrt(q1 * q1 + q2 * q2 + q3 * q3 + q4 * q4)
                 if abs(norm - 1.0) > QUATERNION_TOLERANCE:
                     raise RunError(f"{where}: orientation not normalised (|q| = {norm:.9f})")
                 m = posemath.quat_matrix(t, q)
