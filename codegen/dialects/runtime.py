@@ -588,28 +588,6 @@ class Compiler:
         left, right = (self.src(c) for c in node.children)
         return Src(f"{self.const(function)}({left}, {right})")
 
-    def _binary_source(self, node, symbol: str) -> Src:
-        left, right = (self.src(c) for c in node.children)
-        return Src(f"({left} {symbol} {right})")
-
-    def _binary_call(self, node, function) -> Src:
-        left, right = (self.src(c) for c in node.children)
-        return Src(f"{self.const(function)}({left}, {right})")
-
-    def _binary(self, node, op):
-        left, right = (self.expr(c) for c in node.children)
-        where = self.where(node)
-
-        def run(fr):
-            try:
-                return op(left(fr), right(fr))
-            except ZeroDivisionError:
-                raise RunError(f"{where}: division by zero") from None
-            except TypeError as exc:
-                raise RunError(f"{where}: {exc}") from None
-
-        return run
-
     def e_add(self, node):
         if type(self).add is Compiler.add:
             return self._binary_source(node, "+")
