@@ -1113,7 +1113,7 @@ def format_general(value) -> str:
         return "True" if value else "False"
     if isinstance(value, int | np.integer):
         return str(int(value))
-    v = f32(value)
+    v = value if type(value) is F32 else f32(value)
     if not math.isfinite(v):
         return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
     text = str(v)  # numpy's shortest round-trip digits; positional for 1e-4 <= |v| < 1e16
