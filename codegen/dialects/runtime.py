@@ -218,7 +218,7 @@ def indent(lines: list[str]) -> list[str]:
 
 
 class Routine:
-    """A user procedure or function: parameters, body closure, declared return type."""
+    """A user procedure or function: parameters, compiled body, declared return type."""
 
     __slots__ = ("body", "decls", "entry", "line", "name", "params", "return_type")
 
@@ -313,9 +313,9 @@ class Program:
         self.name = name
         self.compiler = compiler
         self.routines: dict[str, Routine] = compiler.routines
-        self.init = init  # closure: module data / constant top-level statements
+        self.init = init  # callable: module data / constant top-level statements
         self.main = main  # routine to call after init, or None
-        self.body = body  # closure run after init when there is no main routine
+        self.body = body  # callable run after init when there is no main routine
         self.photo_io: dict | None = None  # names of the photo handshake (set by the loader)
         self._snapshot: tuple[dict, dict, dict] | None = None
 
@@ -349,7 +349,8 @@ class Program:
 
 
 class Compiler:
-    """Compile lark trees into closures; dialects override the class attributes and a few rules."""
+    """Compile lark trees into Python source (closures where a rule has no source form); dialects
+    override the class attributes (tables) and a few rules."""
 
     name = "base"
     case_insensitive = False
