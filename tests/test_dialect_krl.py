@@ -131,3 +131,11 @@ def test_values_are_copied_and_out_writes_back():
     program = load(text, "t.src", DAT)
     assert program.run({}).messages == ["1", "5", "99", "5"]
     assert program.run({}).messages == ["1", "5", "99", "5"]  # a run never changes the next run's start
+
+
+def test_assignments_in_the_data_list_run_once_before_the_program():
+    dat = DAT.replace("ENDDAT", "R = 2.5\nENDDAT")
+    text = "&ACCESS RVP\nDEF T()\n" + show("REAL", "R") + "\nR = R + 1\n" + show("REAL", "R") + "\nEND\n"
+    program = load(text, "t.src", dat)
+    assert program.run({}).messages == ["2.5", "3.5"]
+    assert program.run({}).messages == ["2.5", "3.5"]
