@@ -99,3 +99,9 @@ def test_urscript_errors_name_the_statement(body, message):
 def test_dtrans_errors_name_the_statement(text, message):
     with pytest.raises(RunError, match=message):
         load_dtrans(text, "t.prg").run({})
+
+
+def test_rapid_local_declarations_are_typed():
+    text = 'MODULE T\nPROC main()\n  VAR num d;\n  d := "text";\nENDPROC\nENDMODULE\n'
+    with pytest.raises(RunError, match=r"t\.mod:4:3: expected a num, got string"):
+        load_rapid(text, "t.mod").run({})
