@@ -99,6 +99,13 @@ class TargetReport:
 
 
 def load_program(target: Target, text: str, filename: str, dat_text: str | None = None) -> Program:
+    try:
+        return _load_program(target, text, filename, dat_text)
+    except RecursionError:
+        raise RunError(f"{filename}: statements or expressions nested too deeply to run here") from None
+
+
+def _load_program(target: Target, text: str, filename: str, dat_text: str | None = None) -> Program:
     if target.dialect == "urscript":
         from codegen.dialects.urscript.interpreter import load
     elif target.dialect == "krl":

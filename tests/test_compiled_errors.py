@@ -105,3 +105,22 @@ def test_rapid_local_declarations_are_typed():
     text = 'MODULE T\nPROC main()\n  VAR num d;\n  d := "text";\nENDPROC\nENDMODULE\n'
     with pytest.raises(RunError, match=r"t\.mod:4:3: expected a num, got string"):
         load_rapid(text, "t.mod").run({})
+
+
+def test_long_expressions_compile_and_deep_recursion_is_a_clear_error():
+    from codegen.targets import get_target
+    from codegen.verify import load_program
+
+    terms = " + ".join(["1"] * 200)
+    text = f'MODULE T\nVAR num x;\nPROC main()\n  x := {terms};\n  TPWrite "" \\Num:=x;\nENDPROC\nENDMODULE\n'
+    assert rapid_program(text).run({}).messages == ["200"]
+    deep = " + ".join(["1"] * 2000)
+    with pytest.raises(RunError, match=r"t\.mod: statements or expressions nested too deeply"):
+        load_program(get_target("abb"), text.replace(terms, deep), "t.mod")
+    recursive = "MODULE T\nPROC main()\n  down;\nENDPROC\nPROC down()\n  down;\nENDPROC\nENDMODULE\n"
+    with pytest.raises(RunError, match="nested too deeply"):
+        rapid_program(recursive).run({}, step_limit=10**7)
+
+
+def rapid_program(text: str):
+    return load_rapid(text, "t.mod")

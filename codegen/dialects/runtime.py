@@ -341,6 +341,8 @@ class Program:
                 signal = self.body(frame)
                 if isinstance(signal, Signal) and signal.kind in ("break", "continue"):
                     raise RunError(f"{self.name}: {signal.kind} outside a loop")
+        except RecursionError:
+            raise RunError(f"{self.name}: routine calls nested too deeply (runaway recursion?)") from None
         except Halt as halt:
             machine.trace.halted = True
             machine.trace.halt_message = halt.args[0] if halt.args else None
@@ -392,6 +394,7 @@ class Compiler:
         self.user_routines: set[str] | None = None  # every routine of the program, when known up front
         self._consts: dict[int, str] = {}
         self._temps = 0
+        self._source_depth = 0
         self._input_names: dict[str, tuple[str, int | None]] = {}
 
     # --- Python source ----------------------------------------------------------------------
@@ -436,9 +439,22 @@ class Compiler:
             f"    raise _operror({where!r}, _e) from None",
         ]
 
+    MAX_SOURCE_DEPTH = 24  # expression levels inline before a subexpression gets its own function
+
     def src(self, node) -> Src:
-        """The Python source of an expression; a rule without one is called as its closure."""
-        compiled = self._compile_expr(node)
+        """The Python source of an expression; a rule without one is called as its closure. A deep
+        subexpression is compiled into a function of its own (Python limits nesting in source)."""
+        if self._source_depth >= self.MAX_SOURCE_DEPTH:
+            outer, self._source_depth = self._source_depth, 0
+            try:
+                return Src(f"{self.const(self.expr(node))}(fr)")
+            finally:
+                self._source_depth = outer
+        self._source_depth += 1
+        try:
+            compiled = self._compile_expr(node)
+        finally:
+            self._source_depth -= 1
         return compiled if isinstance(compiled, Src) else Src(f"{self.const(compiled)}(fr)")
 
     def source_of(self, compiled) -> Src:
