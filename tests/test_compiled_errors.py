@@ -124,3 +124,9 @@ def test_long_expressions_compile_and_deep_recursion_is_a_clear_error():
 
 def rapid_program(text: str):
     return load_rapid(text, "t.mod")
+
+
+def test_deeply_nested_blocks_compile():
+    body = "".join(f"IF x < {i + 100} THEN\n" for i in range(40)) + 'TPWrite "deep";\n' + "ENDIF\n" * 40
+    text = f"MODULE T\nVAR num x := 1;\nPROC main()\n{body}ENDPROC\nENDMODULE\n"
+    assert rapid_program(text).run({}).messages == ["deep"]

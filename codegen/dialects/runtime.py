@@ -467,9 +467,16 @@ class Compiler:
         if isinstance(compiled, Inline):
             return compiled.lines
         inline = getattr(compiled, "inline", None)
-        if inline is not None:
+        if (
+            inline is not None
+            and max((len(x) - len(x.lstrip(" ")) for x in inline), default=0) < self.MAX_INLINE_INDENT
+        ):
             return inline
         return [f"_s = {self.const(compiled)}(fr)", "if _s is not None:", "    return _s"]
+
+    # A block nested deeper than this is called rather than inlined (Python allows 20 nested
+    # try blocks and 100 indentation levels in one function).
+    MAX_INLINE_INDENT = 4 * 12
 
     # --- tables supplied by dialects ------------------------------------------------------
     def make_builtins(self) -> dict:
