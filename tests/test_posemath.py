@@ -40,3 +40,23 @@ def test_quaternion_round_trip(abc):
     q = posemath.quat_from_rot(r)
     assert np.allclose(q, poses.quat_from_rotmat(np.array(r).reshape(3, 3)), atol=1e-12)
     assert np.allclose(posemath.rot_from_quat(q), r, atol=1e-12)
+
+
+quat = st.tuples(*[st.floats(-1, 1)] * 4).filter(lambda q: math.sqrt(sum(v * v for v in q)) > 0.1)
+
+
+@given(quat, st.tuples(coord, coord, coord), quat)
+def test_quaternion_rotation_and_product(q, v, q2):
+    r = poses.rotmat_from_quat(q)  # normalises, as the controllers' pose functions do
+    assert np.allclose(posemath.quat_rotate(q, v), r @ np.array(v), atol=1e-9)
+    n = math.sqrt(sum(c * c for c in q))
+    n2 = math.sqrt(sum(c * c for c in q2))
+    product = posemath.quat_multiply([c / n for c in q], [c / n2 for c in q2])
+    assert np.allclose(poses.rotmat_from_quat(product), r @ poses.rotmat_from_quat(q2), atol=1e-12)
+
+
+@given(angle, st.floats(-90, 90), angle)
+def test_orient_zyx_is_the_euler_rotation(a, b, c):
+    q = posemath.quat_from_zyx_deg(a, b, c)
+    assert math.isclose(math.sqrt(sum(v * v for v in q)), 1.0, abs_tol=1e-12)
+    assert np.allclose(poses.rotmat_from_quat(q), poses.rotmat_from_zyx_deg(a, b, c), atol=1e-12)

@@ -75,16 +75,29 @@ def quat_multiply(q1, q2) -> tuple[float, ...]:
 
 
 def quat_rotate(q, v) -> tuple[float, ...]:
-    return rot_apply(rot_from_quat(as64(q)), as64(v))
+    """v turned by the (normalised) quaternion q: v + 2w (u x v) + 2 u x (u x v), u = (x, y, z)."""
+    w, x, y, z = map(float, q)
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    w, x, y, z = w / n, x / n, y / n, z / n
+    vx, vy, vz = map(float, v)
+    tx, ty, tz = 2.0 * (y * vz - z * vy), 2.0 * (z * vx - x * vz), 2.0 * (x * vy - y * vx)
+    return (
+        vx + w * tx + (y * tz - z * ty),
+        vy + w * ty + (z * tx - x * tz),
+        vz + w * tz + (x * ty - y * tx),
+    )
 
 
 def quat_from_zyx_deg(z, y, x) -> tuple[float, ...]:
     """OrientZYX(z, y, x): rotation Rz(z) Ry(y) Rx(x), degrees."""
     hz, hy, hx = math.radians(float(z)) / 2, math.radians(float(y)) / 2, math.radians(float(x)) / 2
-    qz = (math.cos(hz), 0.0, 0.0, math.sin(hz))
-    qy = (math.cos(hy), 0.0, math.sin(hy), 0.0)
-    qx = (math.cos(hx), math.sin(hx), 0.0, 0.0)
-    return quat_multiply(quat_multiply(qz, qy), qx)
+    cz, sz, cy, sy, cx, sx = math.cos(hz), math.sin(hz), math.cos(hy), math.sin(hy), math.cos(hx), math.sin(hx)
+    return (  # qz qy qx multiplied out
+        cz * cy * cx + sz * sy * sx,
+        cz * cy * sx - sz * sy * cx,
+        cz * sy * cx + sz * cy * sx,
+        sz * cy * cx - cz * sy * sx,
+    )
 
 
 # --- pure-Python fast paths (the interpreters call these many thousand times per verify run) ----
