@@ -344,11 +344,11 @@ class RAPIDCompiler(Compiler):
         return lambda fr: f32(math.fmod(float(left(fr)), float(right(fr))))
 
     def e_add(self, node):
-        """num + num inline; strings and pos records through add()."""
+        """num + num and string + string inline; pos records and errors through add()."""
         left, right = (self.src(c) for c in node.children)
         a, b = self.temp(), self.temp()
         return Src(
-            f"({a} + {b} if (type({a} := {left}) is _F32) & (type({b} := {right}) is _F32) "
+            f"({a} + {b} if (type({a} := {left}) is (_tb := type({b} := {right}))) & ((_tb is _F32) | (_tb is str)) "
             f"else {self.const(self.add)}({a}, {b}))"
         )
 
