@@ -167,8 +167,14 @@ class Inline:
 
 
 def constant(value):
-    """An initialiser that gives every run the same value (safe: values are never changed in place)."""
-    return lambda fr: value
+    """An initialiser that gives every run the same value (safe: values are never changed in place);
+    compiled routine entries store `.value` directly."""
+
+    def initial(fr):
+        return value
+
+    initial.value = value
+    return initial
 
 
 def op_error(where: str, exc: Exception) -> RunError:
@@ -781,6 +787,8 @@ class Compiler:
             if dname in params:  # a parameter's declaration: the type only
                 lines.append(f"_p = V[{dname!r}]")
                 lines.append(f"V[{dname!r}] = {self.coerce_source(dtype, '_p', 'w')}")
+            elif hasattr(init, "value"):  # constant(): the same value for every call
+                lines.append(f"V[{dname!r}] = {self.const(init.value)}")
             else:
                 lines.append(f"V[{dname!r}] = {self.const(init)}(f)")
         lines.append(f"_s = {self.const(routine.body)}(f)")
