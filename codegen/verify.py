@@ -333,13 +333,9 @@ def accepted_traces(cell: Cell, reading: Reading) -> tuple[list[Trace], bool]:
     return out, True
 
 
-def rotation_error_deg(a: np.ndarray, b: np.ndarray) -> float:
-    """Angle of a^T b: ||Ra - Rb||_F = 2 sqrt(2) sin(angle / 2), exact for any angle."""
-    return _pose_errors(a.tolist(), b.tolist())[1]
-
-
 def _pose_errors(a: list, b: list) -> tuple[float, float]:
-    """Position distance (mm) and rotation angle (deg) between two 4x4 poses given as lists."""
+    """Position distance (mm) and rotation angle (deg) between two 4x4 poses given as lists; the
+    angle from ||Ra - Rb||_F = 2 sqrt(2) sin(angle / 2), exact for any angle."""
     (a0, a1, a2, _), (b0, b1, b2, _) = a, b
     position = math.dist((a0[3], a1[3], a2[3]), (b0[3], b1[3], b2[3]))
     distance = math.dist(a0[:3] + a1[:3] + a2[:3], b0[:3] + b1[:3] + b2[:3])  # Frobenius norm of Ra - Rb

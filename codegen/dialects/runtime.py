@@ -166,6 +166,34 @@ class Inline:
         return self.fn(fr)
 
 
+class LazyStore:
+    """A by-reference argument's setter, compiled (in the context of the routine that passes the
+    argument) only when a callee writes it back: most arguments are passed by value."""
+
+    __slots__ = ("compiler", "context", "fn", "node")
+
+    def __init__(self, compiler: Compiler, node) -> None:
+        self.compiler, self.node, self.fn = compiler, node, None
+        self.context = (compiler.local_types, compiler.routine_name)
+
+    def __call__(self, fr, value) -> None:
+        if self.fn is None:
+            compiler = self.compiler
+            saved = compiler.local_types, compiler.routine_name
+            compiler.local_types, compiler.routine_name = self.context
+            try:
+                self.fn = compiler.lvalue(self.node)
+            finally:
+                compiler.local_types, compiler.routine_name = saved
+        self.fn(fr, value)
+
+
+def halt(fr, *_ignored) -> None:
+    """Stop the program; its last message is the operator's message (HALT, EXIT, Stop, halt())."""
+    messages = fr.m.trace.messages
+    raise Halt(messages[-1] if messages else None)
+
+
 def constant(value):
     """An initialiser that gives every run the same value (safe: values are never changed in place);
     compiled routine entries store `.value` directly."""
@@ -418,19 +446,20 @@ class Compiler:
             self._consts[id(value)] = name
         return name
 
-    def function(self, lines: list[str]):
-        """Compile statement lines into a function of the frame."""
-        body = "\n".join(lines)
-        used = set(_FRAME_NAMES.findall(body))
-        prologue = []
-        if "m" in used or "G" in used:
-            prologue.append("m = fr.m")
-        if "V" in used:
-            prologue.append("V = fr.vars")
-        if "G" in used:
-            prologue.append("G = m.globals")
-        name = re.sub(r"\W", "_", f"{self.name}_{self.routine_name}")  # shows in tracebacks and profiles
-        text = "\n".join([f"def {name}(fr):", *indent(prologue), *indent(lines)]) + "\n"
+    def function(self, lines: list[str], params: str = "fr", name: str | None = None, prologue: bool = True):
+        """Compile statement lines into a function (of the frame `fr` unless params say more); the
+        prologue binds m, V and G where the lines use them."""
+        head = []
+        if prologue:
+            used = set(_FRAME_NAMES.findall("\n".join(lines)))
+            if "m" in used or "G" in used:
+                head.append("m = fr.m")
+            if "V" in used:
+                head.append("V = fr.vars")
+            if "G" in used:
+                head.append("G = m.globals")
+        name = re.sub(r"\W", "_", name or f"{self.name}_{self.routine_name}")  # shows in tracebacks and profiles
+        text = "\n".join([f"def {name}({params}):", *indent(head), *indent(lines)]) + "\n"
         scope: dict = {}
         exec(compile(text, f"<{self.filename}: compiled>", "exec"), self.ns, scope)
         return scope[name]
@@ -781,13 +810,9 @@ class Compiler:
             lines.append(f"V[{pname!r}] = {self.coerce_source(ptype, '_p', 'w')}")
             if ptype:
                 lines.append(f"T[{pname!r}] = {self.const(ptype)}")
-        params = {p for p, _m, _t in routine.params}
         for dname, dtype, init in routine.decls:
             lines.append(f"T[{dname!r}] = {self.const(dtype)}")
-            if dname in params:  # a parameter's declaration: the type only
-                lines.append(f"_p = V[{dname!r}]")
-                lines.append(f"V[{dname!r}] = {self.coerce_source(dtype, '_p', 'w')}")
-            elif hasattr(init, "value"):  # constant(): the same value for every call
+            if hasattr(init, "value"):  # constant(): the same value for every call
                 lines.append(f"V[{dname!r}] = {self.const(init.value)}")
             else:
                 lines.append(f"V[{dname!r}] = {self.const(init)}(f)")
@@ -803,11 +828,7 @@ class Compiler:
             lines.append(f"raise _RunError(f'{{w}}: function {name} ended without RETURN')")
         else:
             lines += ["    return _s.value", "return None"]
-        function_name = re.sub(r"\W", "_", f"{self.name}_{name}_call")
-        text = "\n".join([f"def {function_name}(fr, a, k, w, s=None):", *indent(lines)]) + "\n"
-        scope: dict = {}
-        exec(compile(text, f"<{self.filename}: compiled>", "exec"), self.ns, scope)
-        routine.entry = scope[function_name]
+        routine.entry = self.function(lines, "fr, a, k, w, s=None", f"{self.name}_{name}_call", prologue=False)
         return routine.entry
 
     # --- statements -------------------------------------------------------------------------
@@ -878,7 +899,7 @@ class Compiler:
             steps.append((node.data, node.children[1], node))
             node = self.assign_target(node.children[0])
         if not (isinstance(node, Token) or node.data == "var"):
-            return [f"{self.const(self.lvalue(node))}(fr, {value})"]  # an unusual target: its setter
+            self.fail(node, f"cannot assign to {node.data}")
         if not steps:
             return self.var_store_lines(node, value)
         steps.reverse()
@@ -935,12 +956,7 @@ class Compiler:
 
     def s_halt_stmt(self, node):
         """halt / HALT / Halt: the program stops; its last message is the operator's message."""
-
-        def run(fr):
-            messages = fr.m.trace.messages
-            raise Halt(messages[-1] if messages else None)
-
-        return run
+        return lambda fr: halt(fr)
 
     def s_expr_stmt(self, node):
         return Inline(self, self.guarded([self.src(node.children[0])], self.where(node)))
@@ -1052,63 +1068,20 @@ class Compiler:
 
     def ref_setters(self, callee: str, arg_nodes) -> list:
         """Setters for arguments that are variables, used if the callee takes them by reference."""
+        if self.user_routines is not None and self.norm(callee) not in self.user_routines:
+            return [None] * len(arg_nodes)  # a builtin: nothing is written back
         return [
-            self.lvalue(node) if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole") else None
+            LazyStore(self, node)
+            if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole")
+            else None
             for node in arg_nodes
         ]
 
     def lvalue(self, node):
-        """A setter(frame, value) for a variable, an array element or a record field. An element
-        or a field is set by storing a changed copy of its array or record (values are never
-        changed in place)."""
-        if isinstance(node, Token) or node.data == "var":
-            token = node if isinstance(node, Token) else node.children[0]
-            key = self.norm(str(token))
-            where = self.where(token)
-
-            def set_var(fr, value):
-                if key in fr.vars:
-                    fr.vars[key] = self.coerce(fr.types.get(key), value, where)
-                elif key in fr.m.globals:
-                    fr.m.globals[key] = self.coerce(fr.m.global_types.get(key), value, where)
-                else:
-                    self.new_variable(fr, key, value, where)
-
-            return set_var
-        if node.data == "index":
-            base_node, index_node = node.children
-            base, index = self.expr(base_node), self.expr(index_node)
-            store = self.lvalue(base_node)
-            offset = self.index_base
-            where = self.where(node)
-
-            def set_item(fr, value):
-                seq = base(fr)
-                i = int(index(fr)) - offset
-                if not isinstance(seq, list) or not 0 <= i < len(seq):
-                    raise RunError(f"{where}: index {i + offset} out of range")
-                changed = list(seq)
-                changed[i] = self.coerce_like(seq[i], value, where)
-                store(fr, changed)
-
-            return set_item
-        if node.data == "field":
-            base_node, name = node.children
-            base = self.expr(base_node)
-            store = self.lvalue(base_node)
-            key = self.norm(str(name))
-            where = self.where(node)
-
-            def set_field(fr, value):
-                record = base(fr)
-                if not isinstance(record, Record) or key not in record:
-                    raise RunError(f"{where}: no field {name} in {getattr(record, 'type', '?')}")
-                changed = record.shallow()
-                changed[key] = self.coerce_like(record[key], value, where)
-                store(fr, changed)
-
-            return set_field
-        self.fail(node, f"cannot assign to {node.data}")
+        """A setter(frame, value) for a variable, an array element or a record field (by-reference
+        arguments, loop counters): the lines of store_lines() compiled into a function."""
+        lines = self.guarded(self.store_lines(node, "_v"), self.where(node))
+        return self.function(lines, "fr, _v", f"{self.name}_{self.routine_name}_store")
 
     def new_variable(self, fr, key, value, where):
         fr.vars[key] = value

@@ -354,9 +354,6 @@ class KRLCompiler(Compiler):
         return self.call_source(str(name), args, {}, setters, self.where(node))
 
     # --- lvalues and assignment --------------------------------------------------------------
-    def lvalue(self, node):
-        return super().lvalue(self.assign_target(node))
-
     def coerce_source(self, type_name, value: str, where: str) -> str:
         if isinstance(type_name, tuple):  # an array keeps its elements' own checks (coerce_like)
             return value

@@ -13,7 +13,6 @@ from codegen.dialects import posemath
 from codegen.dialects.runtime import (
     F32,
     Compiler,
-    Halt,
     Inline,
     MoveEvent,
     Program,
@@ -24,6 +23,7 @@ from codegen.dialects.runtime import (
     constant,
     f32,
     format_fixed,
+    halt,
     parse_with_grammar,
 )
 
@@ -213,10 +213,6 @@ class RAPIDCompiler(Compiler):
                 raise RunError(f"{where}: TPWrite text longer than 80 characters")
             fr.m.trace.messages.append(text)
 
-        def stop(fr, args, kwargs, where):
-            messages = fr.m.trace.messages
-            raise Halt(messages[-1] if messages else None)
-
         def move(kind):
             def run(fr, args, kwargs, where):
                 target = args[0]
@@ -264,8 +260,8 @@ class RAPIDCompiler(Compiler):
             "POSEVECT": pose_vect,
             "NUMTOSTR": num_to_str,
             "TPWRITE": tpwrite,
-            "STOP": stop,
-            "EXIT": stop,
+            "STOP": halt,
+            "EXIT": halt,
             "MOVEJ": move("joint"),
             "MOVEL": move("linear"),
         }

@@ -11,7 +11,6 @@ from codegen.dialects import posemath
 from codegen.dialects.runtime import (
     F32,
     Compiler,
-    Halt,
     MoveEvent,
     Program,
     Record,
@@ -19,6 +18,7 @@ from codegen.dialects.runtime import (
     RunError,
     f32,
     format_general,
+    halt,
     parse_with_grammar,
 )
 
@@ -112,10 +112,6 @@ class URScriptCompiler(Compiler):
         def textmsg(fr, args, kwargs, where):
             text = "".join(_to_text(a) for a in args)
             fr.m.trace.messages.append(text)
-
-        def halt(fr, args, kwargs, where):
-            messages = fr.m.trace.messages
-            raise Halt(messages[-1] if messages else None)
 
         def register(kind):
             def read(fr, args, kwargs, where):
