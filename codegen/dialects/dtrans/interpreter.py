@@ -159,30 +159,21 @@ class DTransCompiler(Compiler):
         return super().coerce_like(old, value, where)
 
     # --- statements --------------------------------------------------------------------------
-    def decl_parts(self, node):
+    DEFAULTS = {"Double": f32(0), "Int": 0, "Bool": False, "String": "", "Point": point([0] * 6)}
+
+    def s_decl(self, node):
+        """Type name[size] [= value]: without a value, one shared default (values are never
+        changed in place)."""
         type_token, name, size, init = node.children
         type_name = str(type_token)
         full_type = (type_name, int(str(size))) if size is not None else type_name
-        value = self.expr(init) if init is not None else None
-        where = self.where(node)
-        defaults = {"Double": f32(0), "Int": 0, "Bool": False, "String": "", "Point": point([0] * 6)}
-        # without an initial value: one shared default (values are never changed in place)
-        default = [defaults[type_name]] * full_type[1] if isinstance(full_type, tuple) else defaults[type_name]
-
-        def make(fr):
-            if value is not None:
-                return self.coerce(full_type, value(fr), where)
-            return default
-
-        return str(name), full_type, make
-
-    def s_decl(self, node):
-        key, full_type, make = self.decl_parts(node)
-        name, init, where = repr(key), node.children[3], self.where(node)
-        lines = [f"fr.types[{name}] = {self.const(full_type)}"]
+        key, where = repr(str(name)), self.where(node)
+        lines = [f"fr.types[{key}] = {self.const(full_type)}"]
         if init is None:
-            return Inline(self, [*lines, f"V[{name}] = {self.const(make)}(fr)"])
-        lines += [f"_v = {self.src(init)}", f"V[{name}] = {self.coerce_source(full_type, '_v', repr(where))}"]
+            default = self.DEFAULTS[type_name]
+            value = [default] * full_type[1] if isinstance(full_type, tuple) else default
+            return Inline(self, [*lines, f"V[{key}] = {self.const(value)}"])
+        lines += [f"_v = {self.src(init)}", f"V[{key}] = {self.coerce_source(full_type, '_v', repr(where))}"]
         return Inline(self, self.guarded(lines, where))
 
     def s_decompose(self, node):
