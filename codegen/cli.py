@@ -198,7 +198,7 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
 
     from codegen.dialects.runtime import RunError
     from codegen.poses import POSE_FORMATS
-    from codegen.targets import get_target
+    from codegen.controllers import get_target
     from codegen.verify import load_program_file, target_of_file
 
     path = Path(file)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from codegen.cell import Cell
 from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS
 from codegen.reference import Reading, expected_trace, halt_message
-from codegen.targets import get_target
+from codegen.controllers import get_target
 
 
 def correct_report(cell: Cell, reading: Reading) -> dict:

@@ -7,7 +7,7 @@ import re
 import unicodedata
 
 from codegen.dialects.base import format_literal
-from codegen.targets import Target
+from codegen.controllers import Target
 
 # Characters that may appear inside a string literal or a comment in every target: no quote, no
 # backslash, no comment or statement character of any of the four languages (; ! # // %), no

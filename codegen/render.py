@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+from importlib.resources import files
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -20,9 +21,9 @@ from codegen.reference import (
     Trace,
     halt_message,
 )
-from codegen.targets import Target, get_target
+from codegen.controllers import Target, get_target
 
-TEMPLATES_DIR = Path(__file__).parent / "templates"
+TEMPLATES_DIR = Path(str(files("codegen.templates")))
 
 # Guard codes shared by every program: 0 ok, then the halt reasons in the order they are checked.
 GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}

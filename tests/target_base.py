@@ -12,7 +12,7 @@ from lark import Token, Tree
 from codegen.cell import load_cell
 from codegen.dialects import parse_program
 from codegen.render import render
-from codegen.targets import get_target
+from codegen.controllers import get_target
 from codegen.verify import build_cases, fresh_programs, load_program, verify
 
 HOSTILE = st.lists(

@@ -108,7 +108,7 @@ def test_rapid_local_declarations_are_typed():
 
 
 def test_long_expressions_compile_and_deep_recursion_is_a_clear_error():
-    from codegen.targets import get_target
+    from codegen.controllers import get_target
     from codegen.verify import load_program
 
     terms = " + ".join(["1"] * 200)

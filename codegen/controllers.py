@@ -5,9 +5,10 @@ from __future__ import annotations
 import tomllib
 from dataclasses import dataclass
 from functools import cache
+from importlib.resources import files
 from pathlib import Path
 
-TARGETS_DIR = Path(__file__).parent
+TARGETS_DIR = Path(str(files("codegen.targets")))
 TARGET_NAMES = ("ur", "kuka", "abb", "dtrans")
 
 

@@ -1,0 +1,1 @@
+"""Controller facts, one TOML file per controller (installed as codegen.targets)."""

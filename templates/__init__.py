@@ -1,0 +1,1 @@
+"""Jinja templates, one folder per controller (installed as codegen.templates)."""
