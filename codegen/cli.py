@@ -196,9 +196,9 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     """Run one program in the built-in interpreter; print its log, moves and halt."""
     from pathlib import Path
 
+    from codegen.controllers import get_target
     from codegen.dialects.runtime import RunError
     from codegen.poses import POSE_FORMATS
-    from codegen.controllers import get_target
     from codegen.verify import load_program_file, target_of_file
 
     path = Path(file)

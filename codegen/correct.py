@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 from codegen.cell import Cell
+from codegen.controllers import get_target
 from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS
 from codegen.reference import Reading, expected_trace, halt_message
-from codegen.controllers import get_target
 
 
 def correct_report(cell: Cell, reading: Reading) -> dict:

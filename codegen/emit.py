@@ -6,8 +6,8 @@ import hashlib
 import re
 import unicodedata
 
-from codegen.dialects.base import format_literal
 from codegen.controllers import Target
+from codegen.dialects.base import format_literal
 
 # Characters that may appear inside a string literal or a comment in every target: no quote, no
 # backslash, no comment or statement character of any of the four languages (; ! # // %), no

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import os
 import tempfile
-from importlib.resources import files
 from dataclasses import dataclass
+from importlib.resources import files
 from pathlib import Path
 
 from codegen import __version__, derived
 from codegen.cell import Cell
+from codegen.controllers import Target, get_target
 from codegen.emit import EmitError, Emitter
 from codegen.poses import FORMAT_DECIMALS, native_values
 from codegen.reference import (
@@ -21,7 +22,6 @@ from codegen.reference import (
     Trace,
     halt_message,
 )
-from codegen.controllers import Target, get_target
 
 TEMPLATES_DIR = Path(str(files("codegen.templates")))
 

@@ -13,6 +13,7 @@ import numpy as np
 
 from codegen.camera import CameraModel, SimulatedCamera
 from codegen.cell import Cell, Station, TaughtPose
+from codegen.controllers import Target, get_target
 from codegen.dialects.runtime import Program, RunError
 from codegen.emit import Emitter
 from codegen.poses import native_values
@@ -30,7 +31,6 @@ from codegen.reference import (
     halt_message,
     wrap_deg,
 )
-from codegen.controllers import Target, get_target
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
 # stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings

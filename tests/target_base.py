@@ -10,9 +10,9 @@ from hypothesis import strategies as st
 from lark import Token, Tree
 
 from codegen.cell import load_cell
+from codegen.controllers import get_target
 from codegen.dialects import parse_program
 from codegen.render import render
-from codegen.controllers import get_target
 from codegen.verify import build_cases, fresh_programs, load_program, verify
 
 HOSTILE = st.lists(

@@ -8,9 +8,9 @@ import pytest
 
 from codegen.camera import CameraModel
 from codegen.cell import CellError, load_cell
+from codegen.controllers import get_target
 from codegen.reference import NOT_CONVERGED, FrameCase, expected_frame_trace
 from codegen.render import render
-from codegen.controllers import get_target
 from codegen.verify import build_cases, fresh_sources, load_program, run_verify
 
 BENCH = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "thermometer_bench.toml"
