@@ -8,19 +8,16 @@ import tomllib
 from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from codegen.controllers import target_names
+from codegen.guard import READING_RANGE_MM
 from codegen.poses import POSE_FORMATS
 
-KNOWN_TARGETS = ("ur", "kuka", "abb", "dtrans")
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
 QUATERNION_TOLERANCE = 1e-6
-# Largest value a camera reading or a taught coordinate may have (mm). Beyond it the reading is
-# treated like a non-finite one: no robot of this class reaches 100 m, and the bound keeps every
-# float32 controller far from overflow.
-READING_RANGE_MM = 100_000.0
-READING_RANGE_DEG = 360.0
 
 EXAMPLES_DIR = Path(__file__).parent / "examples"
 DEMO_CELL = EXAMPLES_DIR / "agv_machine_tending.toml"
@@ -67,12 +64,13 @@ class Refine:
 class Station:
     id: int
     name: str
-    mark: tuple[float, float, float]  # point mode: x mm, y mm, theta deg, base frame, at calibration
     poses: tuple[TaughtPose, ...]  # visiting order: first joint move, then linear
-    mode: str = "point"  # "point" (source 000) or "frame" (source 001)
-    frame: TaughtPose | None = None  # frame mode: the user frame at calibration, base frame; mark at its origin
-    photo: TaughtPose | None = None  # frame mode: where the camera photographs from, in the user frame
-    base_data: int | None = None  # frame mode, KUKA: the calibration frame is BASE_DATA[n] on the controller
+    spec: Any  # the kind's own data (codegen/kinds/<kind>.py), e.g. PointSpec or FrameSpec
+
+    @property
+    def kind(self) -> str:
+        """The program kind: the cell file's `mode` key."""
+        return self.spec.kind
 
 
 @dataclass(frozen=True)
@@ -104,7 +102,17 @@ _CAMERA_KEYS = {"angle_sign", "handeye"}
 _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
 _REFINE_KEYS = {"tolerance_mm", "tolerance_deg", "max_iterations"}
-_STATION_KEYS = {"id", "name", "mark", "poses", "mode", "frame", "photo", "base_data"}
+_STATION_KEYS = {"id", "name", "poses", "mode"}  # and the keys of the station's kind
+
+
+def kinds() -> dict:
+    from codegen.kinds import kinds as registered  # the kinds import this module's model
+
+    return registered()
+
+
+def get_kind(name: str):
+    return kinds()[name]
 
 
 def load_cell(path: str | Path | None = None) -> Cell:
@@ -134,13 +142,14 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     ctx.no_unknown(cell_table, _CELL_KEYS, "cell")
 
     name = ctx.name(cell_table, "name", "cell.name")
+    known_targets = target_names()
     targets_raw = ctx.require(cell_table, "targets", "cell.targets")
     if not isinstance(targets_raw, list) or not targets_raw:
-        ctx.fail("cell.targets", f"expected a non-empty list of targets from {list(KNOWN_TARGETS)}")
+        ctx.fail("cell.targets", f"expected a non-empty list of targets from {list(known_targets)}")
     targets: list[str] = []
     for i, target in enumerate(targets_raw):
-        if target not in KNOWN_TARGETS:
-            ctx.fail(f"cell.targets[{i}]", f"unknown target {target!r}; known: {', '.join(KNOWN_TARGETS)}")
+        if target not in known_targets:
+            ctx.fail(f"cell.targets[{i}]", f"unknown target {target!r}; known: {', '.join(known_targets)}")
         if target in targets:
             ctx.fail(f"cell.targets[{i}]", f"target {target!r} listed twice")
         targets.append(target)
@@ -195,13 +204,6 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     if not isinstance(stations_raw, list) or not stations_raw:
         ctx.fail("station", "expected at least one [[station]] table")
     stations = [ctx.station(raw, i + 1, pose_format) for i, raw in enumerate(stations_raw)]
-    for i, station in enumerate(stations, start=1):
-        if station.mode == "frame" and handeye is None:
-            ctx.fail(
-                f"station[{i}].mode",
-                "frame mode reads the camera in pixels and needs [cell.camera.handeye] "
-                "(write it with `codegen calibrate handeye POINTS.csv --write CELL`)",
-            )
     seen_ids: dict[int, int] = {}
     seen_names: dict[str, int] = {}
     for i, station in enumerate(stations, start=1):
@@ -213,7 +215,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         seen_ids[station.id] = i
         seen_names[station.name] = i
 
-    return Cell(
+    cell = Cell(
         name=name,
         targets=tuple(targets),
         pose_format=pose_format,
@@ -226,6 +228,9 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         sha256=sha256,
         warnings=tuple(ctx.warnings),
     )
+    for i, station in enumerate(stations, start=1):
+        get_kind(station.kind).check(ctx, f"station[{i}]", station, cell)
+    return cell
 
 
 class _Context:
@@ -282,37 +287,25 @@ class _Context:
         path = f"station[{index}]"
         if not isinstance(raw, dict):
             self.fail(path, f"expected a table, got {_kind(raw)}")
-        self.no_unknown(raw, _STATION_KEYS, path)
         station_id = self.require(raw, "id", f"{path}.id")
         if isinstance(station_id, bool) or not isinstance(station_id, int):
             self.fail(f"{path}.id", f"expected an integer, got {_kind(station_id)}")
         if not 1 <= station_id <= 32767:
-            # 32767: largest KRL INT and UR register value every target reads without loss.
+            # 32767: the largest 16-bit signed integer, which every target reads without loss.
             self.fail(f"{path}.id", f"must be in 1..32767, got {station_id}")
         name = self.name(raw, "name", f"{path}.name")
+        known = kinds()
         mode = raw.get("mode", "point")
-        if mode not in ("point", "frame"):
-            self.fail(f"{path}.mode", f'expected "point" or "frame", got {mode!r}')
-        frame = photo = base_data = None
-        if mode == "point":
-            for key in ("frame", "photo", "base_data"):
-                if key in raw:
-                    self.fail(f"{path}.{key}", 'only frame-mode stations (mode = "frame") have this key')
-            mark = self.numbers(self.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
-            if abs(mark[0]) > READING_RANGE_MM or abs(mark[1]) > READING_RANGE_MM:
-                self.fail(f"{path}.mark", f"x and y must be within +-{READING_RANGE_MM:g} mm")
-            if abs(mark[2]) > READING_RANGE_DEG:
-                self.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
-        else:
-            if "mark" in raw:
-                self.fail(f"{path}.mark", "a frame-mode station has its mark at the frame origin; remove mark")
-            frame = self.pose("frame", self.require(raw, "frame", f"{path}.frame"), f"{path}.frame", pose_format)
-            photo = self.pose("photo", self.require(raw, "photo", f"{path}.photo"), f"{path}.photo", pose_format)
-            mark = (0.0, 0.0, 0.0)
-            if "base_data" in raw:
-                base_data = raw["base_data"]
-                if isinstance(base_data, bool) or not isinstance(base_data, int) or not 1 <= base_data <= 32:
-                    self.fail(f"{path}.base_data", f"expected a KUKA base number 1..32, got {base_data!r}")
+        if mode not in known:
+            self.fail(f"{path}.mode", f"expected one of {', '.join(map(repr, known))}, got {mode!r}")
+        kind = known[mode]
+        for key in sorted(set(raw) - _STATION_KEYS - kind.station_keys):
+            owners = [k.name for k in known.values() if key in k.station_keys]
+            if owners:
+                self.fail(f"{path}.{key}", f'only {owners[0]} stations (mode = "{owners[0]}") have this key')
+            allowed = ", ".join(sorted(_STATION_KEYS | kind.station_keys))
+            self.fail(f"{path}.{key}", f"unknown key; allowed: {allowed}")
+        spec = kind.parse(self, raw, path, pose_format)
         poses_raw = self.table(raw, "poses", f"{path}.poses")
         if not poses_raw:
             self.fail(f"{path}.poses", "a station needs at least one pose")
@@ -320,7 +313,7 @@ class _Context:
             self.pose(pose_name, values, f"{path}.poses.{pose_name}", pose_format)
             for pose_name, values in poses_raw.items()
         ]
-        return Station(int(station_id), name, mark, tuple(poses), mode, frame, photo, base_data)
+        return Station(int(station_id), name, tuple(poses), spec)
 
     def pose(self, pose_name: str, values, pose_path: str, pose_format: str) -> TaughtPose:
         if not pose_name.strip():

@@ -8,6 +8,7 @@ import sys
 import click
 
 from codegen.cell import CellError, load_cell
+from codegen.controllers import all_targets, target_names
 
 EXIT_BAD_INPUT = 2
 
@@ -96,15 +97,15 @@ def _parse_mark(value: str) -> tuple[float, float, float]:
 def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None:
     """Reference result for one reading: guard outcome and every corrected pose."""
     from codegen.correct import correct_report, format_report
-    from codegen.reference import Reading
+    from codegen.kinds.point import PointKind, Reading
 
     model = _load(cell)
     x, y, theta = _parse_mark(mark)
     station = model.station_by_id(station_id)
-    if station is not None and station.mode == "frame":
+    if station is not None and station.kind != PointKind.name:
         raise UserError(
-            f"{model.source}: station {station_id} ({station.name}) is in frame mode: its frame is found "
-            "by photographing until the residual is small, not from one reading (see `codegen verify`)"
+            f"{model.source}: station {station_id} ({station.name}) is a {station.kind} station: only point "
+            "stations are corrected from one reading (see `codegen verify` for the others)"
         )
     report = correct_report(model, Reading(station_id, x, y, theta))
     if as_json:
@@ -186,8 +187,10 @@ def _parse_input(text: str):
 @click.option(
     "--target",
     "target_name",
-    type=click.Choice(["ur", "kuka", "abb", "dtrans"]),
-    help="Controller language (default: from the file suffix).",
+    type=click.Choice(target_names()),
+    help="Controller (default: from the file suffix): "
+    + "; ".join(f"{t.name} = {t.title}" for t in all_targets())
+    + ".",
 )
 @click.option("--input", "inputs", multiple=True, help="Vision input NAME=VALUE (repeatable), e.g. VIS_X=614.0.")
 @click.option("--step-limit", default=200_000, show_default=True, help="Stop a runaway program after this many steps.")
@@ -252,7 +255,7 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     "--target",
     "targets",
     multiple=True,
-    type=click.Choice(["ur", "kuka", "abb", "dtrans"]),
+    type=click.Choice(target_names()),
     help="Only this target (repeatable).",
 )
 @click.option("--cases", default=1000, show_default=True, help="Random readings per station.")
@@ -309,7 +312,7 @@ def verify(
             except (ValueError, RunError) as exc:
                 raise UserError(str(exc)) from None
         if not sources:
-            raise UserError("no program to verify: a KRL .dat is read together with its .src; give the .src")
+            raise UserError("no program to verify: a data file is read together with its program; give the program")
     else:
         names = list(targets) or list(model.targets)
         verify_cell = v.edge_cell(model)

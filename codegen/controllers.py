@@ -1,4 +1,4 @@
-"""Registry of controller targets: one targets/<name>.toml of vendor facts per controller."""
+"""Registry of controller targets, discovered from targets/<name>.toml (vendor facts with sources)."""
 
 from __future__ import annotations
 
@@ -9,45 +9,103 @@ from importlib.resources import files
 from pathlib import Path
 
 TARGETS_DIR = Path(str(files("codegen.targets")))
-TARGET_NAMES = ("ur", "kuka", "abb", "dtrans")
+IDENTIFIER_CASES = ("as_written", "upper")
+
+
+class TargetError(Exception):
+    """A targets/<name>.toml that is missing a fact or names an unknown one."""
 
 
 @dataclass(frozen=True)
 class Target:
+    """One controller: every key of its TOML file as a typed field (unknown keys are refused)."""
+
     name: str
     title: str
-    dialect: str
-    pose_format: str
-    files: tuple[str, ...]
-    numbers: str
-    trig_unit: str
-    index_base: int
+    dialect: str  # a folder of codegen/dialects
+    pose_format: str  # a convention of codegen.poses.POSE_FORMATS
+    pose_units: str  # how a pose of that format reads, for reports
+    files: tuple[str, ...]  # output file names, "{cell}" replaced; the first is the program
+    numbers: str  # "float32" or "float64": the controller's number type (verify's tolerance)
     identifier_max: int
+    identifier_case: str  # how generated identifiers are written: IDENTIFIER_CASES
     identifier_case_sensitive: bool
     string_max: int
-    facts: dict  # the whole file, for documentation
+    sources: tuple[str, ...]
+    program: dict  # the [program] table: names and settings the templates and verify read
+
+    @property
+    def suffixes(self) -> tuple[str, ...]:
+        return tuple("." + f.rsplit(".", 1)[1].lower() for f in self.files)
 
 
-@cache
-def get_target(name: str) -> Target:
-    if name not in TARGET_NAMES:
-        raise KeyError(f"unknown target {name!r}; known: {', '.join(TARGET_NAMES)}")
-    facts = tomllib.loads((TARGETS_DIR / f"{name}.toml").read_text(encoding="utf-8"))
+_SCALARS = {
+    "name": str,
+    "title": str,
+    "dialect": str,
+    "pose_format": str,
+    "pose_units": str,
+    "numbers": str,
+    "identifier_max": int,
+    "identifier_case": str,
+    "identifier_case_sensitive": bool,
+    "string_max": int,
+}
+
+
+def _load(path: Path) -> Target:
+    try:
+        facts = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise TargetError(f"{path}: {exc}") from None
+    known = {*_SCALARS, "files", "sources", "program"}
+    unknown = sorted(set(facts) - known)
+    if unknown:
+        raise TargetError(f"{path}: {unknown[0]}: unknown key (a fact no code reads belongs in a comment)")
+    missing = sorted(known - set(facts))
+    if missing:
+        raise TargetError(f"{path}: {missing[0]}: missing")
+    for key, kind in _SCALARS.items():
+        if not isinstance(facts[key], kind):
+            raise TargetError(f"{path}: {key}: expected {kind.__name__}")
+    if facts["name"] != path.stem:
+        raise TargetError(f"{path}: name: must be the file's name {path.stem!r}")
+    if facts["identifier_case"] not in IDENTIFIER_CASES:
+        raise TargetError(f"{path}: identifier_case: expected one of {', '.join(IDENTIFIER_CASES)}")
+    if not facts["sources"]:
+        raise TargetError(f"{path}: sources: each target cites where its facts come from")
     return Target(
-        name=facts["name"],
-        title=facts["title"],
-        dialect=facts["dialect"],
-        pose_format=facts["pose_format"],
+        **{key: facts[key] for key in _SCALARS},
         files=tuple(facts["files"]),
-        numbers=facts["numbers"],
-        trig_unit=facts["trig_unit"],
-        index_base=int(facts["index_base"]),
-        identifier_max=int(facts["identifier_max"]),
-        identifier_case_sensitive=bool(facts["identifier_case_sensitive"]),
-        string_max=int(facts["string_max"]),
-        facts=facts,
+        sources=tuple(facts["sources"]),
+        program=facts["program"],
     )
 
 
+@cache
+def targets() -> dict[str, Target]:
+    """Every targets/*.toml, by name, in name order."""
+    return {path.stem: _load(path) for path in sorted(TARGETS_DIR.glob("*.toml"))}
+
+
+def target_names() -> tuple[str, ...]:
+    return tuple(targets())
+
+
+def get_target(name: str) -> Target:
+    known = targets()
+    if name not in known:
+        raise KeyError(f"unknown target {name!r}; known: {', '.join(known)}")
+    return known[name]
+
+
 def all_targets() -> list[Target]:
-    return [get_target(name) for name in TARGET_NAMES]
+    return list(targets().values())
+
+
+def target_of_suffix(suffix: str) -> Target | None:
+    """The target whose output files end in `suffix` (a program or a companion file)."""
+    for target in targets().values():
+        if suffix.lower() in target.suffixes:
+            return target
+    return None

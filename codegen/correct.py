@@ -4,26 +4,30 @@ from __future__ import annotations
 
 from codegen.cell import Cell
 from codegen.controllers import get_target
+from codegen.guard import halt_message
+from codegen.kinds.point import Reading, expected_trace
 from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS
-from codegen.reference import Reading, expected_trace, halt_message
 
 
 def correct_report(cell: Cell, reading: Reading) -> dict:
     trace = expected_trace(cell, reading)
+    detail = trace.detail
     report: dict = {
         "cell": cell.name,
         "reading": {"station_id": reading.station_id, "x_mm": reading.x, "y_mm": reading.y, "theta_deg": reading.theta},
         "angle_sign": cell.angle_sign,
         "station": None
         if trace.station is None
-        else {"id": trace.station.id, "name": trace.station.name, "mark": list(trace.station.mark)},
+        else {"id": trace.station.id, "name": trace.station.name, "mark": list(trace.station.spec.mark)},
         "status": trace.status,
         "reason": trace.reason,
-        "message": None if trace.status == "ok" else halt_message(cell, trace, reading.station_id),
-        "shift_mm": trace.shift_mm,
-        "rotation_deg": trace.rotation_deg,
-        "phi_deg": trace.phi_deg,
-        "correction": None if trace.base2base_new is None else trace.base2base_new.tolist(),
+        "message": None
+        if trace.status == "ok"
+        else halt_message(cell, trace.reason, trace.station and trace.station.name, reading.station_id),
+        "shift_mm": detail and detail.shift_mm,
+        "rotation_deg": detail and detail.rotation_deg,
+        "phi_deg": detail and detail.phi_deg,
+        "correction": None if detail is None or detail.base2base_new is None else detail.base2base_new.tolist(),
         "poses": [],
     }
     for move in trace.moves:
@@ -33,14 +37,6 @@ def correct_report(cell: Cell, reading: Reading) -> dict:
             native[target_name] = [v + 0.0 for v in POSE_FORMATS[fmt][2](move.base2tcp)]
         report["poses"].append({"name": move.pose_name, "motion": move.kind, "targets": native})
     return report
-
-
-UNITS = {
-    "ur": "x y z [m], rx ry rz [rad, rotation vector]",
-    "kuka": "X Y Z [mm], A B C [deg]",
-    "abb": "x y z [mm], q1 q2 q3 q4 [quaternion]",
-    "dtrans": "x y z [mm], rx ry rz [deg]",
-}
 
 
 def format_report(report: dict) -> str:
@@ -71,7 +67,8 @@ def format_report(report: dict) -> str:
     for pose in report["poses"]:
         lines.append(f"{pose['name']} ({pose['motion']} move):")
         for target, values in pose["targets"].items():
-            decimals = FORMAT_DECIMALS[get_target(target).pose_format]
+            facts = get_target(target)
+            decimals = FORMAT_DECIMALS[facts.pose_format]
             shown = " ".join(f"{v:.{n}f}" for v, n in zip(values, decimals, strict=True))
-            lines.append(f"  {target:<7}{shown}    {UNITS[target]}")
+            lines.append(f"  {target:<7}{shown}    {facts.pose_units}")
     return "\n".join(lines)

@@ -7,13 +7,20 @@ import re
 import unicodedata
 
 from codegen.controllers import Target
-from codegen.dialects.base import format_literal
 
 # Characters that may appear inside a string literal or a comment in every target: no quote, no
 # backslash, no comment or statement character of any of the four languages (; ! # // %), no
 # control character. Anything else becomes '?'.
 SAFE_TEXT = re.compile(r"[A-Za-z0-9 _.,:+\-=/()']")
 _NON_IDENT = re.compile(r"[^A-Za-z0-9]+")
+
+
+def format_literal(value: float, decimals: int) -> str:
+    """Fixed decimals, no '-0', no exponent: the same bytes on every machine."""
+    text = f"{value:.{decimals}f}"
+    if text.lstrip("-").strip("0.") == "":
+        text = text.lstrip("-")
+    return text
 
 
 class EmitError(Exception):
@@ -41,6 +48,24 @@ def _fold(text: str) -> str:
     return "".join(out)
 
 
+FOLDER_MAX = 64  # a cell's folder under generated/: its name, shortened like an identifier
+
+
+def mapped_name(prefix: str, name: str, limit: int) -> str:
+    """prefix + the name mapped to [A-Za-z0-9_], shortened with a hash of the name to `limit`."""
+    base = _NON_IDENT.sub("_", _fold(name).replace("\x00", "_")).strip("_") or "x"
+    ident = f"{prefix}{base}"
+    if len(ident) > limit:
+        digest = hashlib.sha256(name.encode("utf-8")).hexdigest()[:4]
+        ident = f"{ident[: limit - 5].rstrip('_')}_{digest}"
+    return ident
+
+
+def folder_name(name: str) -> str:
+    """The folder of a cell under the output directory: its name in [a-z0-9_], target-independent."""
+    return mapped_name("", name, FOLDER_MAX).lower()
+
+
 class Emitter:
     """Per program: maps cell names to identifiers, detects collisions, formats literals."""
 
@@ -58,13 +83,8 @@ class Emitter:
 
     def identifier(self, prefix: str, name: str, origin: str) -> str:
         """prefix + the name mapped to [A-Za-z0-9_], shortened with a hash to the target's limit."""
-        base = _NON_IDENT.sub("_", _fold(name).replace("\x00", "_")).strip("_") or "x"
-        ident = f"{prefix}{base}"
-        limit = self.target.identifier_max
-        if len(ident) > limit:
-            digest = hashlib.sha256(name.encode("utf-8")).hexdigest()[:4]
-            ident = f"{ident[: limit - 5].rstrip('_')}_{digest}"
-        if self.target.name == "kuka":
+        ident = mapped_name(prefix, name, self.target.identifier_max)
+        if self.target.identifier_case == "upper":
             ident = ident.upper()
         self._claim(ident, origin)
         return ident

@@ -50,7 +50,7 @@ def invert(a2b: np.ndarray) -> np.ndarray:
     return matrix_from_rotation_translation(rot, -rot @ a2b[:3, 3])
 
 
-# --- Euler Z-Y-X (KUKA A,B,C; the dtrans rx,ry,rz with rz outermost) -------------------------
+# --- Euler Z-Y-X (A, B, C; the dtrans rx, ry, rz with rz outermost) ---------------------------
 
 
 def rotmat_from_zyx_deg(a: float, b: float, c: float) -> np.ndarray:

@@ -8,27 +8,15 @@ from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
 
-from codegen import __version__, derived
+from codegen import __version__
 from codegen.cell import Cell
 from codegen.controllers import Target, get_target
-from codegen.emit import EmitError, Emitter
+from codegen.emit import Emitter, folder_name
+from codegen.guard import GUARD_CODES, READING_RANGE_DEG, READING_RANGE_MM, UNKNOWN_STATION_TEXT
+from codegen.kinds import get_kind, kinds
 from codegen.poses import FORMAT_DECIMALS, native_values
-from codegen.reference import (
-    INVALID_READING,
-    NOT_CONVERGED,
-    PIXEL_RANGE,
-    ROTATION_OVER_LIMIT,
-    SHIFT_OVER_LIMIT,
-    Trace,
-    halt_message,
-)
 
 TEMPLATES_DIR = Path(str(files("codegen.templates")))
-
-# Guard codes shared by every program: 0 ok, then the halt reasons in the order they are checked.
-GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}
-MARK_DECIMALS = 6
-UNKNOWN_STATION_TEXT = "unknown station id "
 
 
 @dataclass(frozen=True)
@@ -50,22 +38,9 @@ def _env():
     )
 
 
-def station_messages(cell: Cell, station, emitter: Emitter) -> dict[str, str]:
-    """The halt message for each reason, as the target's string literal body."""
-    reasons = (*GUARD_CODES, NOT_CONVERGED)
-    return {
-        reason: emitter.string(halt_message(cell, Trace("halt", reason, station), station.id)) for reason in reasons
-    }
-
-
 def _pose_numbers(pose, fmt: str, emitter: Emitter) -> list[str]:
     values = native_values(pose.values, pose.pose_format, fmt)
     return [emitter.number(v, d) for v, d in zip(values, FORMAT_DECIMALS[fmt], strict=True)]
-
-
-def _level(pose) -> bool:
-    """A frame whose x-y plane is the base x-y plane (only Rz): the dtrans dialect can compose it."""
-    return abs(pose.matrix()[2, 2] - 1.0) < 1e-12
 
 
 def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> dict:
@@ -80,34 +55,17 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         }
         for i, pose in enumerate(station.poses)
     ]
-    frame = photo = None
-    if station.mode == "frame":
-        if target.name == "dtrans" and not _level(station.frame):
-            raise EmitError(
-                f"dtrans: {origin} frame must be level (b = c = 0): the dialect composes poses only by "
-                "Decompose/Trans and yaw addition"
-            )
-        frame = {
-            "ident": emitter.identifier(f"f{station.id}_", station.name, f"{origin} frame"),
-            "numbers": _pose_numbers(station.frame, fmt, emitter),
-        }
-        photo = {
-            "ident": emitter.identifier(f"c{station.id}_", "photo", f"{origin} photo pose"),
-            "numbers": _pose_numbers(station.photo, fmt, emitter),
-        }
+    kind = get_kind(station.kind)
+    own = kind.station_context(cell, station, target, emitter)  # before the shared names: identifier order
     return {
-        "mode": station.mode,
-        "frame": frame,
-        "base_data": station.base_data,
-        "photo": photo,
+        "kind": station.kind,
+        "mode": station.kind,
         "id": station.id,
         "name": emitter.comment(station.name),
         "ident": emitter.identifier("st_", station.name, origin),
-        "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
-        "mark": [emitter.number(v, MARK_DECIMALS) for v in station.mark],
         "poses": poses,
         "work": poses[-1],
-        "messages": station_messages(cell, station, emitter),
+        **own,
     }
 
 
@@ -115,7 +73,8 @@ def context(cell: Cell, target: Target) -> dict:
     emitter = Emitter(target)
     number = emitter.number
     stations = [_station_context(cell, station, target, emitter) for station in cell.stations]
-    return {
+    used = {station.kind for station in cell.stations}
+    out = {
         "version": __version__,
         "cell": {
             "name": cell.name,
@@ -131,33 +90,30 @@ def context(cell: Cell, target: Target) -> dict:
             "max_rotation_text": f"{cell.limits.max_rotation_deg:g}",
         },
         "codes": GUARD_CODES,
-        "stations": stations,
-        "has_point": any(st["mode"] == "point" for st in stations),
-        "has_frame": any(st["mode"] == "frame" for st in stations),
-        "frame": derived.printed(target.dialect, "frame"),
-        "point": derived.printed(target.dialect, "point"),
-        "refine": derived.printed(target.dialect, "refine"),
-        "handeye": None if cell.handeye is None else [number(v, 9) for row in cell.handeye for v in row],
-        "tolerance": {
-            "mm_sq": number(cell.refine.tolerance_mm**2, 9),
-            "deg": number(cell.refine.tolerance_deg, 6),
-            "mm_text": f"{cell.refine.tolerance_mm:g}",
-            "deg_text": f"{cell.refine.tolerance_deg:g}",
-            "photos": str(cell.refine.max_iterations),
+        "reading_range": {
+            "mm": number(READING_RANGE_MM, 1),
+            "deg": number(READING_RANGE_DEG, 1),
+            "mm_whole": number(READING_RANGE_MM, 0),
+            "deg_whole": number(READING_RANGE_DEG, 0),
         },
-        "pixel_range": number(PIXEL_RANGE, 1),
+        "stations": stations,
+        "kinds_used": [name for name in kinds() if name in used],
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
         "target": target,
     }
+    for name, kind in kinds().items():
+        out[f"has_{name}"] = name in used
+        out.update(kind.cell_context(cell, target, emitter))
+    return out
 
 
 def cell_dir(cell: Cell) -> str:
     """The folder of a cell under generated/: its name in [a-z0-9_] (target-independent)."""
-    return Emitter(get_target("ur")).identifier("", cell.name, "cell name").lower()
+    return folder_name(cell.name)
 
 
 def output_names(cell: Cell, target: Target) -> list[str]:
-    """File names; the program name inside must match them (KRL, RAPID), so both come from one identifier."""
+    """File names; the program name inside must match them (some controllers), so both come from one identifier."""
     ident = Emitter(target).identifier("", cell.name, "cell name")
     return [name.format(cell=ident.lower()) for name in target.files]
 

@@ -1,31 +1,84 @@
-"""Registry of controller languages: each folder holds printer.py (and grammar/interpreter)."""
+"""Registry of controller languages: each folder defines one Dialect subclass, registered on definition."""
 
 from __future__ import annotations
 
 import importlib
+import pkgutil
+from functools import cache
+from typing import ClassVar
 
-# dialect name -> package under codegen.dialects; targets/<t>.toml names its dialect.
-DIALECTS = ("python", "urscript", "krl", "rapid", "dtrans")
+
+class Dialect:
+    """A controller language: its printer, grammar, interpreter and file suffixes.
+
+    Subclasses live in `codegen/dialects/<name>/__init__.py` and only name modules of their own
+    folder; nothing outside that folder names a dialect. Importing a dialect is cheap: the
+    printer (sympy) and the interpreter (lark) are imported when first used.
+    """
+
+    name: ClassVar[str] = ""
+    suffixes: ClassVar[tuple[str, ...]] = ()  # program files, e.g. (".src",)
+    companions: ClassVar[tuple[str, ...]] = ()  # data files read together with a program, e.g. (".dat",)
+    registry: ClassVar[dict[str, type[Dialect]]] = {}
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        Dialect.registry[cls.name] = cls
+
+    @classmethod
+    def module(cls, name: str):
+        """A module of this dialect's folder (printer, interpreter)."""
+        return importlib.import_module(f"{cls.__module__}.{name}")
+
+    @classmethod
+    def printer(cls):
+        """A configured sympy code printer (imports sympy)."""
+        return cls.module("printer").Printer()
+
+    @classmethod
+    def parse(cls, text: str, filename: str, positions: bool = True):
+        """Parse tree of a program or companion file; raises with file:line:column on an error."""
+        return cls.module("interpreter").parse(text, filename, positions)
+
+    @classmethod
+    def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
+        """A compiled program; `companions` maps a companion suffix to its text."""
+        return cls.module("interpreter").load(text, filename)
+
+
+@cache
+def dialects() -> dict[str, type[Dialect]]:
+    """Every dialect folder under codegen/dialects, imported once: name -> Dialect subclass."""
+    for info in pkgutil.iter_modules(__path__):
+        if info.ispkg:
+            importlib.import_module(f"{__name__}.{info.name}")
+    return dict(Dialect.registry)
+
+
+def get_dialect(name: str) -> type[Dialect]:
+    known = dialects()
+    if name not in known:
+        raise KeyError(f"unknown dialect {name!r}; known: {', '.join(sorted(known))}")
+    return known[name]
 
 
 def printers() -> dict:
     """One configured sympy code printer per dialect (imports sympy)."""
-    out = {}
-    for name in DIALECTS:
-        module = importlib.import_module(f"codegen.dialects.{name}.printer")
-        out[name] = module.Printer()
-    return out
+    return {name: dialect.printer() for name, dialect in dialects().items()}
 
 
-# generated file suffix -> dialect whose grammar parses it (the .dat of KRL is parsed as KRL too)
-SUFFIX_DIALECT = {".script": "urscript", ".src": "krl", ".dat": "krl", ".mod": "rapid", ".prg": "dtrans"}
+def dialect_of_suffix(suffix: str) -> type[Dialect] | None:
+    """The dialect whose program or companion files end in `suffix` (".src", ".dat", ...)."""
+    for dialect in dialects().values():
+        if suffix.lower() in dialect.suffixes + dialect.companions:
+            return dialect
+    return None
 
 
 def parse_program(name: str, text: str, positions: bool = True):
-    """Parse a program with its dialect's grammar; raises with file:line:column on an error."""
+    """Parse a program or companion file with the grammar its suffix names."""
     suffix = "." + name.rsplit(".", 1)[-1].lower()
-    dialect = SUFFIX_DIALECT.get(suffix)
+    dialect = dialect_of_suffix(suffix)
     if dialect is None:
         raise ValueError(f"{name}: unknown program suffix {suffix}")
-    module = importlib.import_module(f"codegen.dialects.{dialect}.interpreter")
-    return module.parse(text, name, positions)
+    return dialect.parse(text, name, positions)

@@ -5,13 +5,7 @@ from __future__ import annotations
 from sympy.printing.codeprinter import CodePrinter
 from sympy.printing.precedence import precedence
 
-
-def format_literal(value: float, decimals: int) -> str:
-    """Fixed decimals, no '-0', no exponent: the same bytes on every machine."""
-    text = f"{value:.{decimals}f}"
-    if text.lstrip("-").strip("0.") == "":
-        text = text.lstrip("-")
-    return text
+from codegen.emit import format_literal
 
 
 class ControllerPrinter(CodePrinter):

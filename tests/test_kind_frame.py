@@ -9,7 +9,8 @@ import pytest
 from codegen.camera import CameraModel
 from codegen.cell import CellError, load_cell
 from codegen.controllers import get_target
-from codegen.reference import NOT_CONVERGED, FrameCase, expected_frame_trace
+from codegen.guard import NOT_CONVERGED
+from codegen.kinds.frame import FrameCase, expected_frame_trace
 from codegen.render import render
 from codegen.verify import build_cases, fresh_sources, load_program, run_verify
 
@@ -23,7 +24,7 @@ def bench():
 
 def test_bench_cell_loads(bench):
     station = bench.stations[0]
-    assert station.mode == "frame" and station.frame is not None and station.photo is not None
+    assert station.kind == "frame" and station.spec.frame is not None and station.spec.photo is not None
     assert bench.handeye is not None and bench.refine.max_iterations == 10
 
 
@@ -37,15 +38,18 @@ def test_bench_cell_loads(bench):
         ),
         (
             lambda t: t.replace('mode = "frame"', 'mode = "frame"\nmark = [1.0, 2.0, 3.0]'),
-            "station[1].mark: a frame-mode station has its mark at the frame origin",
+            'station[1].mark: only point stations (mode = "point") have this key',
         ),
-        (lambda t: t.replace('mode = "frame"', 'mode = "frames"'), 'station[1].mode: expected "point" or "frame"'),
+        (
+            lambda t: t.replace('mode = "frame"', 'mode = "frames"'),
+            "station[1].mode: expected one of 'point', 'frame', got 'frames'",
+        ),
         (lambda t: t.replace("photo = [0.0, 0.0, 180.0, 0.0, 0.0, 180.0]", ""), "station[1].photo: missing"),
         (
             lambda t: t.replace(
                 "mark = [380.0, -310.0, -1.2]", "mark = [380.0, -310.0, -1.2]\nphoto = [0, 0, 0, 0, 0, 0]"
             ),
-            "station[2].photo: only frame-mode stations",
+            'station[2].photo: only frame stations (mode = "frame")',
         ),
         (lambda t: t.replace("max_iterations = 10", "max_iterations = 0"), "cell.refine.max_iterations"),
     ],
@@ -60,11 +64,11 @@ def test_frame_cell_errors(tmp_path, change, message):
 
 def test_reference_loop_converges_and_halts(bench):
     exact = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel()))
-    assert exact.status == "ok" and exact.iterations == 2  # one correcting photo, one confirming photo
+    assert exact.status == "ok" and exact.detail.iterations == 2  # one correcting photo, one confirming photo
     scaled = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel(scale_error=0.03)))
-    assert scaled.status == "ok" and 3 <= scaled.iterations <= 5
+    assert scaled.status == "ok" and 3 <= scaled.detail.iterations <= 5
     weak = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel(scale_error=9.0)))
-    assert weak.status == "halt" and weak.reason == NOT_CONVERGED and weak.iterations == 10
+    assert weak.status == "halt" and weak.reason == NOT_CONVERGED and weak.detail.iterations == 10
     diverging = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel(rotation_error_deg=80)))
     assert diverging.status == "halt"
 
@@ -74,8 +78,9 @@ def test_frame_mode_verifies(bench, target):
     cases = build_cases(bench, 12, 5)
     (report,) = run_verify(bench, fresh_sources(bench, [target]), cases)
     assert report.mismatches == 0, report.first_mismatches
-    assert report.photos and max(report.photos) >= 3  # hand-eye errors need more than two photos
-    assert max(report.frame_errors_mm) < 0.03
+    stats = report.kind_stats["frame"]
+    assert stats.photos and max(stats.photos) >= 3  # hand-eye errors need more than two photos
+    assert max(stats.errors_mm) < 0.03
     assert report.categories["frame_camera_too_weak"] == 4 and report.categories["frame_camera_diverges"] == 4
 
 
@@ -113,7 +118,7 @@ def test_source_update_sign_fails_verify(bench, target):
 
     files = render(bench, [target])
     main = next(f for f in files if not f.relpath.endswith(".dat"))
-    dat = next((f.text for f in files if f.relpath.endswith(".dat")), None)
+    dat = {"." + f.relpath.rsplit(".", 1)[1]: f.text for f in files if f.relpath.endswith(".dat")}
     old_x, new_x, old_y, new_y = SOURCE_SIGN[target]
     assert old_x in main.text and old_y in main.text
     mutated = main.text.replace(old_x, new_x).replace(old_y, new_y)
@@ -166,7 +171,7 @@ def test_correct_refuses_a_frame_station():
     from codegen.cli import main
 
     result = CliRunner().invoke(main, ["correct", str(BENCH), "--station", "1", "--mark", "1,2,3"])
-    assert result.exit_code == 2 and "is in frame mode" in result.output
+    assert result.exit_code == 2 and "is a frame station" in result.output
 
 
 def test_kuka_base_data(tmp_path):
@@ -174,12 +179,12 @@ def test_kuka_base_data(tmp_path):
     path = tmp_path / "bench.toml"
     path.write_text(text, encoding="utf-8")
     cell = load_cell(path)
-    assert cell.stations[0].base_data == 3
+    assert cell.stations[0].spec.base_data == 3
     src = next(f for f in render(cell, ["kuka"]) if f.relpath.endswith(".src"))
     assert "$BASE = BASE_DATA[3] : OFFSET" in src.text
     (report,) = run_verify(cell, fresh_sources(cell, ["kuka"]), build_cases(cell, 8, 3))
     assert report.mismatches == 0, report.first_mismatches
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("base_data = 3", "base_data = 40"), encoding="utf-8")
-    with pytest.raises(CellError, match=r"station\[1\]\.base_data: expected a KUKA base number 1\.\.32"):
+    with pytest.raises(CellError, match=r"station\[1\]\.base_data: target kuka stores bases 1\.\.32, got 40"):
         load_cell(bad)

@@ -9,15 +9,9 @@ import numpy as np
 import pytest
 
 from codegen import derived
-from codegen.reference import (
-    INVALID_READING,
-    ROTATION_OVER_LIMIT,
-    SHIFT_OVER_LIMIT,
-    UNKNOWN_STATION,
-    Reading,
-    expected_trace,
-    wrap_deg,
-)
+from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, UNKNOWN_STATION
+from codegen.kinds.point import Reading, expected_trace
+from codegen.poses import _wrap_deg as wrap_deg
 
 
 def test_closed_form_agrees_with_matrices(demo_cell):
@@ -25,15 +19,15 @@ def test_closed_form_agrees_with_matrices(demo_cell):
     worst = 0.0
     for _ in range(2000):
         station = rng.choice(demo_cell.stations)
-        tx, ty, t_theta = station.mark
+        tx, ty, t_theta = station.spec.mark
         reading = Reading(
             station.id, tx + rng.uniform(-7, 7), ty + rng.uniform(-7, 7), t_theta + rng.uniform(-9.9, 9.9)
         )
         trace = expected_trace(demo_cell, reading)
         assert trace.status == "ok"
-        phi = math.radians(trace.phi_deg)
+        phi = math.radians(trace.detail.phi_deg)
         frame = derived.evaluate("frame", {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi})
-        d = trace.base2base_new
+        d = trace.detail.base2base_new
         assert abs(frame["frame_cos"] - d[0, 0]) < 1e-12
         assert abs(frame["frame_sin"] - d[1, 0]) < 1e-12
         worst = max(worst, abs(frame["frame_x"] - d[0, 3]), abs(frame["frame_y"] - d[1, 3]))
@@ -49,7 +43,7 @@ def test_closed_form_agrees_with_matrices(demo_cell):
 
 def test_zero_shift_gives_taught_poses(demo_cell):
     station = demo_cell.stations[2]
-    trace = expected_trace(demo_cell, Reading(station.id, *station.mark))
+    trace = expected_trace(demo_cell, Reading(station.id, *station.spec.mark))
     for pose, move in zip(station.poses, trace.moves, strict=True):
         assert np.allclose(move.base2tcp, pose.matrix(), atol=1e-12)
     assert [m.kind for m in trace.moves] == ["joint", "linear"]
@@ -57,7 +51,7 @@ def test_zero_shift_gives_taught_poses(demo_cell):
 
 def test_pure_translation(demo_cell):
     station = demo_cell.stations[0]
-    tx, ty, t_theta = station.mark
+    tx, ty, t_theta = station.spec.mark
     trace = expected_trace(demo_cell, Reading(station.id, tx + 3, ty - 4, t_theta))
     for pose, move in zip(station.poses, trace.moves, strict=True):
         assert np.allclose(move.base2tcp[:3, 3] - pose.matrix()[:3, 3], [3, -4, 0], atol=1e-12)
@@ -65,7 +59,7 @@ def test_pure_translation(demo_cell):
 
 def test_guard_order_and_reasons(demo_cell):
     s = demo_cell.stations[0]
-    tx, ty, t_theta = s.mark
+    tx, ty, t_theta = s.spec.mark
     assert expected_trace(demo_cell, Reading(99, math.nan, 0, 0)).reason == UNKNOWN_STATION
     assert expected_trace(demo_cell, Reading(s.id, math.nan, ty, t_theta)).reason == INVALID_READING
     assert expected_trace(demo_cell, Reading(s.id, tx, math.inf, t_theta)).reason == INVALID_READING
@@ -79,10 +73,10 @@ def test_guard_order_and_reasons(demo_cell):
 
 def test_rotation_wraps_at_180(demo_cell):
     s = demo_cell.station_by_id(6)  # mark theta 178.6 deg
-    trace = expected_trace(demo_cell, Reading(6, s.mark[0], s.mark[1], -178.4))
+    trace = expected_trace(demo_cell, Reading(6, s.spec.mark[0], s.spec.mark[1], -178.4))
     assert trace.status == "ok"
-    assert trace.rotation_deg == pytest.approx(3.0)
-    assert trace.phi_deg == pytest.approx(-3.0)  # angle_sign -1
+    assert trace.detail.rotation_deg == pytest.approx(3.0)
+    assert trace.detail.phi_deg == pytest.approx(-3.0)  # angle_sign -1
 
 
 def test_wrap_deg():
@@ -94,7 +88,7 @@ def test_wrap_deg():
 
 def test_deviation_line(demo_cell):
     s = demo_cell.stations[0]
-    tx, ty, t_theta = s.mark
+    tx, ty, t_theta = s.spec.mark
     trace = expected_trace(demo_cell, Reading(s.id, tx + 1, ty + 2, t_theta + 3))
     sid, dx1, dy1, dx2, dy2, dtheta = trace.deviation
     work_before, work_after = s.poses[-1].matrix(), trace.moves[-1].base2tcp

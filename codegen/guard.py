@@ -1,0 +1,49 @@
+"""The guard every generated program runs before it moves: ranges, halt reasons, codes and messages."""
+
+from __future__ import annotations
+
+# Largest value a camera reading or a taught coordinate may have (mm). Beyond it the reading is
+# treated like a non-finite one: no robot of this class reaches 100 m, and the bound keeps every
+# float32 controller far from overflow.
+READING_RANGE_MM = 100_000.0
+READING_RANGE_DEG = 360.0
+PIXEL_RANGE = 1_000_000.0  # a camera reading beyond this many pixels is treated as invalid
+
+# Halt reasons, in the order the guard checks them.
+UNKNOWN_STATION = "unknown_station"
+INVALID_READING = "invalid_reading"
+SHIFT_OVER_LIMIT = "shift_over_limit"
+ROTATION_OVER_LIMIT = "rotation_over_limit"
+NOT_CONVERGED = "not_converged"
+HALT_REASONS = (UNKNOWN_STATION, INVALID_READING, SHIFT_OVER_LIMIT, ROTATION_OVER_LIMIT, NOT_CONVERGED)
+
+# The codes a program's guard function returns: 0 ok, then the reasons in the order they are checked.
+GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}
+UNKNOWN_STATION_TEXT = "unknown station id "  # the program appends the id it read
+
+
+def reading_in_range(x: float, y: float, theta: float) -> bool:
+    """Finite and inside the plausible range; NaN fails every comparison, as on a controller."""
+    return abs(x) <= READING_RANGE_MM and abs(y) <= READING_RANGE_MM and abs(theta) <= READING_RANGE_DEG
+
+
+def pixels_in_range(u: float, v: float, angle: float) -> bool:
+    return abs(u) <= PIXEL_RANGE and abs(v) <= PIXEL_RANGE and abs(angle) <= READING_RANGE_DEG
+
+
+def halt_message(cell, reason: str, station_name: str | None, station_id: int) -> str:
+    """The operator message every generated program shows when it halts (a contract)."""
+    limits = cell.limits
+    if reason == UNKNOWN_STATION:
+        return f"{UNKNOWN_STATION_TEXT}{station_id}"
+    name = station_name if station_name is not None else "?"
+    if reason == INVALID_READING:
+        return f"station {name}: invalid mark reading"
+    if reason == SHIFT_OVER_LIMIT:
+        return f"station {name}: mark shift over {limits.max_shift_mm:g} mm, recalibrate"
+    if reason == ROTATION_OVER_LIMIT:
+        return f"station {name}: mark rotation over {limits.max_rotation_deg:g} deg, recalibrate"
+    if reason == NOT_CONVERGED:
+        return f"station {name}: frame not converged after {cell.refine.max_iterations} photos"
+    raise ValueError(f"not a halt reason: {reason!r}")
+

@@ -1,0 +1,117 @@
+"""Registry of program kinds: each module here defines one ProgramKind, registered on definition."""
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+import random
+from dataclasses import dataclass
+from functools import cache
+from typing import Any, ClassVar
+
+
+@dataclass(frozen=True)
+class Case:
+    """One verify case: a category for the report and the kind's description of the situation."""
+
+    category: str
+    reading: Any  # the kind's case type; has station_id
+
+
+class ProgramKind:
+    """What a program kind owns: its cell-file keys, its template context, its float64 reference,
+    its verify cases and its report figures. Subclasses live in codegen/kinds/<name>.py; templates
+    in templates/<target>/kinds/<name>.j2. Nothing outside a kind's module names its spec or case."""
+
+    name: ClassVar[str] = ""
+    order: ClassVar[int] = 100  # where the kind's sections come in a program, lowest first
+    station_keys: ClassVar[frozenset[str]] = frozenset()  # [[station]] keys of this kind
+    log_prefixes: ClassVar[tuple[str, ...]] = ()  # the program's log lines whose numbers verify reads
+    log_names: ClassVar[tuple[str, ...]] = ()  # those numbers, in order
+    registry: ClassVar[dict[str, type[ProgramKind]]] = {}
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        ProgramKind.registry[cls.name] = cls
+
+    # --- cell file -------------------------------------------------------------------------
+    @classmethod
+    def parse(cls, ctx, raw: dict, path: str, pose_format: str):
+        """The station's spec from its [[station]] table (ctx: codegen.cell validation helpers)."""
+        raise NotImplementedError
+
+    @classmethod
+    def check(cls, ctx, path: str, station, cell) -> None:
+        """Checks that need the whole cell (e.g. a calibration the kind reads)."""
+
+    # --- rendering -------------------------------------------------------------------------
+    @classmethod
+    def cell_context(cls, cell, target, emitter) -> dict:
+        """Template variables of the kind, shared by its stations."""
+        return {}
+
+    @classmethod
+    def station_context(cls, cell, station, target, emitter) -> dict:
+        """Template variables of one station of this kind."""
+        return {}
+
+    # --- reference and verify --------------------------------------------------------------
+    @classmethod
+    def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
+        raise NotImplementedError
+
+    @classmethod
+    def accepted(cls, cell, reading) -> tuple[list, bool]:
+        """The reference traces a correct program may produce, and whether the case is on a boundary."""
+        raise NotImplementedError
+
+    @classmethod
+    def inputs(cls, cell, target, reading) -> dict:
+        """Values the vision PC or the controller holds when the program starts (--input names)."""
+        return {target.program["inputs"]["station"]: reading.station_id}
+
+    @classmethod
+    def run_options(cls, cell, target, reading) -> dict:
+        """Keyword arguments of Program.run for this case (simulated devices)."""
+        return {}
+
+    @classmethod
+    def describe(cls, reading) -> str:
+        return f"station {reading.station_id}"
+
+    @classmethod
+    def new_stats(cls) -> Any:
+        """The kind's own report figures (None: it has none)."""
+        return None
+
+    @classmethod
+    def add_stats(cls, stats, reading, logged: list[float]) -> None:
+        """Add a passing case's logged numbers to the figures."""
+
+    @classmethod
+    def merge_stats(cls, into, part) -> None:
+        """Add the figures of another chunk of cases."""
+
+    @classmethod
+    def summary(cls, stats) -> dict | None:
+        return None
+
+
+@cache
+def kinds() -> dict[str, type[ProgramKind]]:
+    """Every kind module under codegen/kinds, imported once, in the order of ORDER then by name."""
+    for info in pkgutil.iter_modules(__path__):
+        importlib.import_module(f"{__name__}.{info.name}")
+    registered = ProgramKind.registry
+    return {name: registered[name] for name in sorted(registered, key=lambda n: (registered[n].order, n))}
+
+
+def get_kind(name: str) -> type[ProgramKind]:
+    known = kinds()
+    if name not in known:
+        raise KeyError(f"unknown program kind {name!r}; known: {', '.join(known)}")
+    return known[name]
+
+
+def kind_of(station) -> type[ProgramKind]:
+    return get_kind(station.kind)

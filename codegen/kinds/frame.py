@@ -1,0 +1,320 @@
+"""Frame correction with refinement (source 001): photograph, shift the frame, repeat until the residual is small."""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import dataclass
+
+import numpy as np
+
+from codegen import derived
+from codegen.camera import CameraModel, SimulatedCamera
+from codegen.emit import EmitError
+from codegen.guard import (
+    GUARD_CODES,
+    INVALID_READING,
+    NOT_CONVERGED,
+    PIXEL_RANGE,
+    ROTATION_OVER_LIMIT,
+    SHIFT_OVER_LIMIT,
+    UNKNOWN_STATION,
+    halt_message,
+    pixels_in_range,
+)
+from codegen.kinds import Case, ProgramKind
+from codegen.poses import FORMAT_DECIMALS, concat, matrix_from_rotation_translation, native_values, rotz
+from codegen.reference import JOINT, LINEAR, Move, Trace
+
+FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
+
+
+@dataclass(frozen=True)
+class FrameSpec:
+    """The user frame at calibration (base frame; the mark at its origin), the photo pose in that
+    frame, and optionally the controller's numbered base holding the same frame."""
+
+    frame: object  # codegen.cell.TaughtPose
+    photo: object  # codegen.cell.TaughtPose
+    base_data: int | None = None
+    kind: str = "frame"
+
+
+@dataclass(frozen=True)
+class FrameCase:
+    """Where the station's mark really is, relative to its calibration frame, and the camera."""
+
+    station_id: int
+    dx: float  # mm, in the calibration frame's axes
+    dy: float
+    alpha: float  # deg
+    camera: CameraModel
+
+
+@dataclass(frozen=True)
+class FrameDetail:
+    iterations: int  # photos taken
+    residuals: tuple[tuple[float, float], ...] = ()  # every photo's residual: |res| mm, |gamma| deg
+    final_residual: tuple[float, float] | None = None
+    base2frame: np.ndarray | None = None  # the converged frame
+
+
+def frame_offset(dx: float, dy: float, alpha_deg: float) -> np.ndarray:
+    """Trans(dx, dy, 0) . Rz(alpha): a frame moved in its own x-y plane."""
+    return matrix_from_rotation_translation(rotz(math.radians(alpha_deg)), (dx, dy, 0.0))
+
+
+def camera_for(cell, case: FrameCase) -> SimulatedCamera:
+    """A fresh simulated camera for one case (the same noise sequence for every run)."""
+    spec = cell.station_by_id(case.station_id).spec
+    base2frame0 = spec.frame.matrix()
+    base2mark = base2frame0 @ frame_offset(case.dx, case.dy, case.alpha)
+    return SimulatedCamera(case.camera, cell.handeye, cell.angle_sign, base2frame0, spec.photo.matrix(), base2mark)
+
+
+def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> Trace:
+    """Source 001's loop in float64 against the simulated camera, with the update proven in
+    derivation.frame_update. nudge scales the tolerances by (1 + nudge): a float32 controller may
+    decide the other way when a residual sits on the tolerance."""
+    station = cell.station_by_id(case.station_id)
+    if station is None:
+        return Trace("halt", UNKNOWN_STATION)
+    spec = station.spec
+    base2frame0, frame2photo = spec.frame.matrix(), spec.photo.matrix()
+    camera = camera_for(cell, case)
+    handeye = np.array(cell.handeye)
+    refine, limits = cell.refine, cell.limits
+    tol_mm, tol_deg = refine.tolerance_mm * (1 + nudge), refine.tolerance_deg * (1 + nudge)
+    dx = dy = alpha = 0.0
+    moves: list[Move] = []
+    photos, residual = 0, None
+    residuals: list[tuple[float, float]] = []
+
+    def halt(reason: str) -> Trace:
+        return Trace("halt", reason, station, tuple(moves), detail=FrameDetail(photos, tuple(residuals), residual))
+
+    while True:
+        if photos >= refine.max_iterations:
+            return halt(NOT_CONVERGED)
+        base2tcp = concat(base2frame0, frame_offset(dx, dy, alpha), frame2photo)
+        moves.append(Move(JOINT, "photo", base2tcp))
+        photos += 1
+        u, v, angle = camera.photo(base2tcp)
+        if not pixels_in_range(u, v, angle):
+            residual = None
+            return halt(INVALID_READING)
+        res_x, res_y = handeye @ np.array([u, v, 1.0])
+        gamma = cell.angle_sign * angle
+        residual = (math.hypot(res_x, res_y), abs(gamma))
+        residuals.append(residual)
+        if res_x**2 + res_y**2 < tol_mm**2 and abs(gamma) < tol_deg:
+            break
+        c, s_ = math.cos(math.radians(alpha)), math.sin(math.radians(alpha))
+        dx, dy, alpha = dx + c * res_x - s_ * res_y, dy + s_ * res_x + c * res_y, alpha + gamma
+        if dx**2 + dy**2 > limits.max_shift_mm**2:
+            residual = None
+            return halt(SHIFT_OVER_LIMIT)
+        if abs(alpha) > limits.max_rotation_deg:
+            residual = None
+            return halt(ROTATION_OVER_LIMIT)
+    base2frame = concat(base2frame0, frame_offset(dx, dy, alpha))
+    for i, pose in enumerate(station.poses):
+        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, concat(base2frame, pose.matrix())))
+    deviation = (float(station.id), dx, dy, alpha, float(photos))
+    detail = FrameDetail(photos, tuple(residuals), residual, base2frame)
+    return Trace("ok", None, station, tuple(moves), deviation, detail)
+
+
+@dataclass
+class FrameStats:
+    """Photos to converge and how far the program's final frame is from where the mark really is."""
+
+    photos: list[int]
+    errors_mm: list[float]
+    errors_deg: list[float]
+
+
+def _stats(values: list[float]) -> dict:
+    if not values:
+        return {"max": 0.0, "p99": 0.0}
+    arr = np.array(values)
+    return {"max": float(arr.max()), "p99": float(np.percentile(arr, 99))}
+
+
+class FrameKind(ProgramKind):
+    name = "frame"
+    order = 1
+    station_keys = frozenset({"frame", "photo", "base_data"})
+    log_prefixes = ("frame",)
+    log_names = ("station", "dx", "dy", "alpha", "photos")
+
+    @classmethod
+    def parse(cls, ctx, raw: dict, path: str, pose_format: str) -> FrameSpec:
+        frame = ctx.pose("frame", ctx.require(raw, "frame", f"{path}.frame"), f"{path}.frame", pose_format)
+        photo = ctx.pose("photo", ctx.require(raw, "photo", f"{path}.photo"), f"{path}.photo", pose_format)
+        base_data = raw.get("base_data")
+        if base_data is not None and (isinstance(base_data, bool) or not isinstance(base_data, int) or base_data < 1):
+            ctx.fail(f"{path}.base_data", f"expected a controller base number from 1, got {base_data!r}")
+        return FrameSpec(frame, photo, base_data)
+
+    @classmethod
+    def check(cls, ctx, path: str, station, cell) -> None:
+        from codegen.controllers import get_target
+
+        for name in cell.targets:
+            base_data = get_target(name).program.get("base_data")
+            if base_data and station.spec.base_data is not None and station.spec.base_data > base_data["max"]:
+                ctx.fail(
+                    f"{path}.base_data",
+                    f"target {name} stores bases 1..{base_data['max']}, got {station.spec.base_data}",
+                )
+        if cell.handeye is None:
+            ctx.fail(
+                f"{path}.mode",
+                "frame mode reads the camera in pixels and needs [cell.camera.handeye] "
+                "(write it with `codegen calibrate handeye POINTS.csv --write CELL`)",
+            )
+
+    @classmethod
+    def cell_context(cls, cell, target, emitter) -> dict:
+        number = emitter.number
+        return {
+            "refine": derived.printed(target.dialect, "refine"),
+            "handeye": None if cell.handeye is None else [number(v, 9) for row in cell.handeye for v in row],
+            "tolerance": {
+                "mm_sq": number(cell.refine.tolerance_mm**2, 9),
+                "deg": number(cell.refine.tolerance_deg, 6),
+                "mm_text": f"{cell.refine.tolerance_mm:g}",
+                "deg_text": f"{cell.refine.tolerance_deg:g}",
+                "photos": str(cell.refine.max_iterations),
+            },
+            "pixel_range": number(PIXEL_RANGE, 1),
+        }
+
+    @classmethod
+    def station_context(cls, cell, station, target, emitter) -> dict:
+        origin = f"station[{station.id}] {station.name!r}"
+        spec = station.spec
+        if target.program.get("level_frames_only") and abs(spec.frame.matrix()[2, 2] - 1.0) >= 1e-12:
+            raise EmitError(
+                f"{target.name}: {origin} frame must be level (b = c = 0): the target composes frames only "
+                "in the x-y plane (level_frames_only)"
+            )
+        fmt = target.pose_format
+
+        def numbers(pose) -> list[str]:
+            values = native_values(pose.values, pose.pose_format, fmt)
+            return [emitter.number(v, d) for v, d in zip(values, FORMAT_DECIMALS[fmt], strict=True)]
+
+        base_data = target.program.get("base_data")
+        return {
+            "frame": {
+                "ident": emitter.identifier(f"f{station.id}_", station.name, f"{origin} frame"),
+                "numbers": numbers(spec.frame),
+            },
+            "photo": {
+                "ident": emitter.identifier(f"c{station.id}_", "photo", f"{origin} photo pose"),
+                "numbers": numbers(spec.photo),
+            },
+            "base_data": spec.base_data,
+            "base_data_name": base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None,
+            "messages": {
+                reason: emitter.string(halt_message(cell, reason, station.name, station.id))
+                for reason in (*GUARD_CODES, NOT_CONVERGED)
+            },
+        }
+
+    @classmethod
+    def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
+        """Where the mark really is (within 0.9 of the limits) and how the camera errs."""
+        shift, rot = cell.limits.max_shift_mm, cell.limits.max_rotation_deg
+
+        def moved(camera: CameraModel, category: str, fraction: float = 0.9) -> Case:
+            r = fraction * shift * math.sqrt(rng.random())
+            a = rng.uniform(-math.pi, math.pi)
+            alpha = rng.uniform(-fraction * rot, fraction * rot)
+            return Case(category, FrameCase(station.id, r * math.cos(a), r * math.sin(a), alpha, camera))
+
+        out = []
+        cameras = [
+            ("frame_exact_camera", lambda i: CameraModel()),
+            ("frame_noise", lambda i: CameraModel(noise_px=0.1, noise_deg=0.005, seed=i)),
+            ("frame_handeye_scale_3pct", lambda i: CameraModel(scale_error=rng.choice((0.03, -0.03)), seed=i)),
+            (
+                "frame_handeye_rotation_2deg",
+                lambda i: CameraModel(rotation_error_deg=rng.choice((2.0, -2.0)), seed=i),
+            ),
+        ]
+        for i in range(count):
+            category, camera = cameras[i % len(cameras)]
+            out.append(moved(camera(i), category))
+        out.append(Case("frame_zero_shift", FrameCase(station.id, 0.0, 0.0, 0.0, CameraModel())))
+        for i in range(4):
+            out.append(moved(CameraModel(rotation_error_deg=80.0), "frame_camera_diverges"))
+            out.append(moved(CameraModel(scale_error=9.0), "frame_camera_too_weak"))
+            out.append(moved(CameraModel(fault_at_photo=2), "frame_camera_fault"))
+            out.append(Case("frame_beyond_limit", FrameCase(station.id, 1.05 * shift, 0.0, 0.0, CameraModel())))
+            alpha = (1.05 + i) * rot / 1.05 if i < 2 else -1.05 * rot
+            out.append(Case("frame_beyond_limit", FrameCase(station.id, 0.0, 0.0, alpha, CameraModel())))
+        return out
+
+    @classmethod
+    def accepted(cls, cell, case: FrameCase) -> tuple[list[Trace], bool]:
+        reference = expected_frame_trace(cell, case)
+        tol_mm, tol_deg = cell.refine.tolerance_mm, cell.refine.tolerance_deg
+        residuals = reference.detail.residuals if reference.detail else ()
+        near = any(
+            abs(r - tol_mm) <= FRAME_NUDGE * tol_mm or abs(g - tol_deg) <= FRAME_NUDGE * tol_deg for r, g in residuals
+        )
+        if not near:
+            return [reference], False
+        nudged = [expected_frame_trace(cell, case, FRAME_NUDGE), expected_frame_trace(cell, case, -FRAME_NUDGE)]
+        return [reference, *nudged], True
+
+    @classmethod
+    def inputs(cls, cell, target, case: FrameCase) -> dict:
+        """The station id, and a station's calibration frame where the controller keeps it as a numbered base."""
+        out = {target.program["inputs"]["station"]: case.station_id}
+        base_data = target.program.get("base_data")
+        spec = cell.station_by_id(case.station_id).spec
+        if base_data and spec.base_data is not None:
+            frame = native_values(spec.frame.values, spec.frame.pose_format, "xyzabc")
+            out[base_data["name"].format(n=spec.base_data)] = frame
+        return out
+
+    @classmethod
+    def run_options(cls, cell, target, case: FrameCase) -> dict:
+        return {"camera": camera_for(cell, case)}
+
+    @classmethod
+    def describe(cls, case: FrameCase) -> str:
+        return f"station {case.station_id} mark moved ({case.dx!r}, {case.dy!r}, {case.alpha!r}) camera {case.camera}"
+
+    @classmethod
+    def new_stats(cls) -> FrameStats:
+        return FrameStats([], [], [])
+
+    @classmethod
+    def add_stats(cls, stats: FrameStats, case: FrameCase, logged: list[float]) -> None:
+        _station, dx, dy, alpha, photos = logged
+        stats.photos.append(int(photos))
+        stats.errors_mm.append(math.hypot(dx - case.dx, dy - case.dy))
+        stats.errors_deg.append(abs(alpha - case.alpha))
+
+    @classmethod
+    def merge_stats(cls, into: FrameStats, part: FrameStats) -> None:
+        into.photos.extend(part.photos)
+        into.errors_mm.extend(part.errors_mm)
+        into.errors_deg.extend(part.errors_deg)
+
+    @classmethod
+    def summary(cls, stats: FrameStats) -> dict:
+        photos = stats.photos
+        return {
+            "converged_cases": len(photos),
+            "photos_mean": float(np.mean(photos)) if photos else None,
+            "photos_max": max(photos) if photos else None,
+            "photos_histogram": {str(k): photos.count(k) for k in sorted(set(photos))},
+            "final_frame_error_mm": _stats(stats.errors_mm),
+            "final_frame_error_deg": _stats(stats.errors_deg),
+        }

@@ -1,0 +1,101 @@
+"""The two registries: controllers from targets/*.toml, languages from codegen/dialects/<d>/; the layout."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+
+import pytest
+from setuptools import find_packages
+
+from codegen import controllers
+from codegen.controllers import TargetError, get_target, target_names
+from codegen.dialects import dialect_of_suffix, dialects, get_dialect
+from codegen.kinds import kinds
+
+REPO = Path(__file__).resolve().parents[1]
+CODE = [p for p in (REPO / "codegen").rglob("*.py")] + list((REPO / "templates").rglob("*.j2"))
+
+
+def _readers(key: str) -> list[Path]:
+    """Files that read a key: `.key`, `["key"]`, `get("key"` or a template's `.key` (declarations excluded)."""
+    pattern = re.compile(rf'\.{key}\b|\["{key}"\]|get\("{key}"|\bfacts\["{key}"\]')
+    out = []
+    for path in CODE:
+        text = path.read_text(encoding="utf-8")
+        if path.name == "controllers.py":
+            text = "\n".join(line for line in text.splitlines() if not re.match(rf'\s+"?{key}"?:', line))
+        if pattern.search(text):
+            out.append(path)
+    return out
+
+
+def test_targets_are_discovered_from_their_files():
+    assert set(target_names()) == {p.stem for p in (REPO / "targets").glob("*.toml")}
+    for name in target_names():
+        target = get_target(name)
+        assert target.name == name and target.dialect in dialects()
+
+
+@pytest.mark.parametrize("path", sorted((REPO / "targets").glob("*.toml")), ids=lambda p: p.stem)
+def test_every_target_fact_is_read_by_code(path):
+    facts = tomllib.loads(path.read_text(encoding="utf-8"))
+    keys = [k for k in facts if k != "program"] + list(facts["program"])
+    unread = [key for key in keys if not _readers(key)]
+    assert not unread, f"{path.name}: facts no code reads (make them comments): {unread}"
+
+
+def test_the_key_check_can_fail():
+    assert _readers("joint_move")
+    assert not _readers("no_code_reads_this_fact")
+
+
+def test_an_unknown_or_missing_target_key_is_refused(tmp_path, monkeypatch):
+    text = (REPO / "targets" / "ur.toml").read_text(encoding="utf-8")
+    (tmp_path / "ur.toml").write_text(text.replace('title = "', 'vision = "x"\ntitle = "'), encoding="utf-8")
+    with pytest.raises(TargetError, match="vision: unknown key"):
+        controllers._load(tmp_path / "ur.toml")
+    (tmp_path / "ur.toml").write_text(re.sub(r"\nstring_max = .*", "", text), encoding="utf-8")
+    with pytest.raises(TargetError, match="string_max: missing"):
+        controllers._load(tmp_path / "ur.toml")
+
+
+def test_every_file_suffix_has_one_dialect():
+    for name in target_names():
+        target = get_target(name)
+        dialect = get_dialect(target.dialect)
+        for suffix in target.suffixes:
+            assert dialect_of_suffix(suffix) is dialect
+            assert suffix in dialect.suffixes + dialect.companions
+
+
+def test_kinds_are_registered_with_a_template_per_target():
+    assert list(kinds()) == ["point", "frame"]
+    for name in target_names():
+        for kind in kinds():
+            assert (REPO / "templates" / name / "kinds" / f"{kind}.j2").is_file(), (name, kind)
+
+
+def test_every_package_is_installed():
+    pyproject = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))
+    listed = set(pyproject["tool"]["setuptools"]["packages"])
+    found = set(find_packages(str(REPO), include=["codegen*"]))
+    assert found <= listed, f"packages missing from pyproject.toml: {sorted(found - listed)}"
+
+
+def test_a_controller_is_named_only_in_its_own_files():
+    """Outside targets/kuka.toml, templates/kuka/, codegen/dialects/krl/ and tests, no source names KUKA or KRL."""
+    name = "kuka"
+    target = get_target(name)
+    words = {"kuka", "KUKA", "krl", "KRL"}
+    own = (REPO / "codegen" / "dialects" / target.dialect, REPO / "templates" / name)
+    offenders = []
+    for path in (REPO / "codegen").rglob("*.py"):
+        if any(folder in path.parents for folder in own):
+            continue
+        text = path.read_text(encoding="utf-8")
+        for word in words:
+            if re.search(rf"\b{re.escape(word)}\b", text):
+                offenders.append(f"{path.relative_to(REPO)}: {word}")
+    assert not offenders, offenders
