@@ -59,7 +59,6 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
     own = kind.station_context(cell, station, target, emitter)  # before the shared names: identifier order
     return {
         "kind": station.kind,
-        "mode": station.kind,
         "id": station.id,
         "name": emitter.comment(station.name),
         "ident": emitter.identifier("st_", station.name, origin),
@@ -101,8 +100,7 @@ def context(cell: Cell, target: Target) -> dict:
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
         "target": target,
     }
-    for name, kind in kinds().items():
-        out[f"has_{name}"] = name in used
+    for kind in kinds().values():
         out.update(kind.cell_context(cell, target, emitter))
     return out
 
@@ -125,6 +123,10 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
     for name in targets or list(cell.targets):
         target = get_target(name)
         ctx = context(cell, target)
+        # Each kind's partial templates/<target>/kinds/<kind>.j2 is a set of macros (interface,
+        # constants, data, helpers, station) that the controller's program template calls.
+        partials = {kind: env.get_template(f"{name}/kinds/{kind}.j2").make_module(ctx) for kind in kinds()}
+        ctx = {**ctx, "kind": partials, "used": [partials[kind] for kind in ctx["kinds_used"]]}
         for template_name, file_name in zip(target.files, output_names(cell, target), strict=True):
             suffix = template_name.rsplit(".", 1)[1]
             text = env.get_template(f"{name}/program.{suffix}.j2").render(ctx)

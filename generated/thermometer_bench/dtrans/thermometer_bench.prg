@@ -92,6 +92,16 @@ Function Point vis_apply(Double mark[], Point taught)
   Return Trans(point_x, point_y, p[2], p[3], p[4], p[5] + phi)
 EndFunction
 
+Sub vis_log(Int station_id, Double mark[], Point moved, Point taught)
+  // deviation line (source 000 section 4): station, work pose moved dx1 dy1 [mm],
+  // mark moved dx2 dy2 [mm], applied rotation dtheta [deg]
+  Double m[6]
+  Double t[6]
+  Decompose m[0] = moved
+  Decompose t[0] = taught
+  TPWrite 0, "deviation station:%d, dx1:%.2f, dy1:%.2f, dx2:%.2f, dy2:%.2f, dtheta:%.2f", station_id, m[0] - t[0], m[1] - t[1], markp[0] - mark[0], markp[1] - mark[1], ANGLE_SIGN * vis_dtheta(mark)
+EndSub
+
 Function Point vis_planar(Double tx, Double ty, Double tnx, Double tny, Double phi, Double Px, Double Py)
   // Pn = tn + R(phi)(P - t) in x, y, derived by codegen (identity rigid); z and angles are zero
   Double cos_phi = cos(phi)
@@ -116,16 +126,6 @@ Function Point vis_in_frame(Point frame, Double dx, Double dy, Double alpha, Poi
   Decompose n[0] = vis_planar(0.0, 0.0, o[0], o[1], f[5] + alpha, p[0], p[1])
   Return Trans(n[0], n[1], f[2] + p[2], p[3], p[4], p[5] + f[5] + alpha)
 EndFunction
-
-Sub vis_log(Int station_id, Double mark[], Point moved, Point taught)
-  // deviation line (source 000 section 4): station, work pose moved dx1 dy1 [mm],
-  // mark moved dx2 dy2 [mm], applied rotation dtheta [deg]
-  Double m[6]
-  Double t[6]
-  Decompose m[0] = moved
-  Decompose t[0] = taught
-  TPWrite 0, "deviation station:%d, dx1:%.2f, dy1:%.2f, dx2:%.2f, dy2:%.2f, dtheta:%.2f", station_id, m[0] - t[0], m[1] - t[1], markp[0] - mark[0], markp[1] - mark[1], ANGLE_SIGN * vis_dtheta(mark)
-EndSub
 
 Sub st_bath()
   // station 1 bath: frame mode (source 001): photograph the mark from the photo pose in
