@@ -5,10 +5,11 @@ from __future__ import annotations
 import tomllib
 from dataclasses import dataclass
 from functools import cache
-from importlib.resources import files
 from pathlib import Path
 
-TARGETS_DIR = Path(str(files("codegen.targets")))
+from codegen import data_dir
+
+TARGETS_DIR = data_dir("targets")
 IDENTIFIER_CASES = ("as_written", "upper")
 
 

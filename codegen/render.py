@@ -5,10 +5,9 @@ from __future__ import annotations
 import os
 import tempfile
 from dataclasses import dataclass
-from importlib.resources import files
 from pathlib import Path
 
-from codegen import __version__
+from codegen import __version__, data_dir
 from codegen.cell import Cell
 from codegen.controllers import Target, get_target
 from codegen.emit import Emitter, folder_name
@@ -16,7 +15,7 @@ from codegen.guard import GUARD_CODES, READING_RANGE_DEG, READING_RANGE_MM, UNKN
 from codegen.kinds import get_kind, kinds
 from codegen.poses import FORMAT_DECIMALS, native_values
 
-TEMPLATES_DIR = Path(str(files("codegen.templates")))
+TEMPLATES_DIR = data_dir("templates")
 
 
 @dataclass(frozen=True)
