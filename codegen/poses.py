@@ -69,10 +69,11 @@ def zyx_deg_from_rotmat(rot: np.ndarray) -> tuple[float, float, float]:
         # Gimbal lock: only a - c (b = +90) or a + c (b = -90) is defined; choose c = 0.
         c = 0.0
         a = math.atan2(-rot[0, 1], rot[1, 1])
-    return _wrap_deg(math.degrees(a)), math.degrees(b), _wrap_deg(math.degrees(c))
+    return wrap_deg(math.degrees(a)), math.degrees(b), wrap_deg(math.degrees(c))
 
 
-def _wrap_deg(angle: float) -> float:
+def wrap_deg(angle: float) -> float:
+    """Angle in degrees into (-180, 180]; never -0.0 (0.0 for -0.0 and for negative multiples of 360)."""
     out = math.remainder(angle, 360.0)
     if out == -180.0:
         out = 180.0

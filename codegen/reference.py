@@ -9,7 +9,7 @@ from functools import lru_cache
 import numpy as np
 
 from codegen.cell import READING_RANGE_DEG, READING_RANGE_MM, Cell, Station
-from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz
+from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz, wrap_deg
 
 # Halt reasons, in the order the guard checks them.
 UNKNOWN_STATION = "unknown_station"
@@ -58,12 +58,6 @@ class Trace:
     iterations: int | None = None  # frame mode: photos taken
     final_residual: tuple[float, float] | None = None  # frame mode: |res| mm, |gamma| deg of the last photo
     residuals: tuple[tuple[float, float], ...] = ()  # frame mode: every photo's residual
-
-
-def wrap_deg(angle: float) -> float:
-    """Angle in degrees into (-180, 180]."""
-    out = math.remainder(angle, 360.0)
-    return 180.0 if out == -180.0 else out
 
 
 def reading_is_valid(reading: Reading) -> bool:

@@ -16,7 +16,7 @@ from codegen.cell import Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target
 from codegen.dialects.runtime import Program, RunError
 from codegen.emit import Emitter
-from codegen.poses import native_values
+from codegen.poses import native_values, wrap_deg
 from codegen.reference import (
     INVALID_READING,
     ROTATION_OVER_LIMIT,
@@ -29,7 +29,6 @@ from codegen.reference import (
     expected_trace,
     frame_offset,
     halt_message,
-    wrap_deg,
 )
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace

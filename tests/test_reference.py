@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from codegen import derived
+from codegen.poses import wrap_deg
 from codegen.reference import (
     INVALID_READING,
     ROTATION_OVER_LIMIT,
@@ -16,7 +17,6 @@ from codegen.reference import (
     UNKNOWN_STATION,
     Reading,
     expected_trace,
-    wrap_deg,
 )
 
 

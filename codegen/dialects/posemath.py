@@ -8,6 +8,7 @@ from functools import lru_cache
 import numpy as np
 
 from codegen import poses
+from codegen.poses import wrap_deg
 
 
 def as64(values) -> list[float]:
@@ -190,12 +191,7 @@ def zyx_deg_from_rot(r) -> tuple[float, float, float]:
         a, c = math.atan2(r[3], r[0]), math.atan2(r[7], r[8])
     else:
         a, c = math.atan2(-r[1], r[4]), 0.0
-    return _wrap(math.degrees(a)), math.degrees(b), _wrap(math.degrees(c))
-
-
-def _wrap(angle: float) -> float:
-    out = math.remainder(angle, 360.0)
-    return (180.0 if out == -180.0 else out) + 0.0
+    return wrap_deg(math.degrees(a)), math.degrees(b), wrap_deg(math.degrees(c))
 
 
 def rot_from_quat(q) -> tuple[float, ...]:
