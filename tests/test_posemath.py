@@ -15,31 +15,31 @@ rv = st.tuples(st.floats(-2, 2), st.floats(-2, 2), st.floats(-2, 2)).filter(lamb
 
 
 @given(st.tuples(coord, coord, coord), rv, st.tuples(coord, coord, coord), rv)
-def test_ur_pose_trans(ta, ra, tb, rb):
+def test_ur_concat(ta, ra, tb, rb):
     a = (*(v / 1000 for v in ta), *ra)
     b = (*(v / 1000 for v in tb), *rb)
     expected = poses.matrix_from_ur(a) @ poses.matrix_from_ur(b)
-    got = poses.matrix_from_ur(posemath.ur_pose_trans(a, b))
+    got = poses.matrix_from_ur(posemath.ur_concat(a, b))
     assert np.allclose(got, expected, atol=1e-9)
-    assert np.allclose(posemath.ur_matrix_fast(a), poses.matrix_from_ur(a), atol=1e-12)
+    assert np.allclose(posemath.matrix_from_ur(a), poses.matrix_from_ur(a), atol=1e-12)
 
 
 @given(
     st.tuples(coord, coord, coord, angle, st.floats(-90, 90), angle),
     st.tuples(coord, coord, coord, angle, st.floats(-90, 90), angle),
 )
-def test_zyx_compose(a, b):
+def test_xyzabc_concat(a, b):
     expected = poses.matrix_from_xyzabc(a) @ poses.matrix_from_xyzabc(b)
-    assert np.allclose(poses.matrix_from_xyzabc(posemath.zyx_compose(a, b)), expected, atol=1e-7)
-    assert np.allclose(posemath.zyx_matrix_fast(a), poses.matrix_from_xyzabc(a), atol=1e-12)
+    assert np.allclose(poses.matrix_from_xyzabc(posemath.xyzabc_concat(a, b)), expected, atol=1e-7)
+    assert np.allclose(posemath.matrix_from_xyzabc(a), poses.matrix_from_xyzabc(a), atol=1e-12)
 
 
 @given(st.tuples(angle, st.floats(-90, 90), angle))
 def test_quaternion_round_trip(abc):
-    r = posemath.rot_from_zyx_deg(*abc)
-    q = posemath.quat_from_rot(r)
+    r = posemath.rotmat_from_zyx_deg(*abc)
+    q = posemath.quat_from_rotmat(r)
     assert np.allclose(q, poses.quat_from_rotmat(np.array(r).reshape(3, 3)), atol=1e-12)
-    assert np.allclose(posemath.rot_from_quat(q), r, atol=1e-12)
+    assert np.allclose(posemath.rotmat_from_quat(q), r, atol=1e-12)
 
 
 quat = st.tuples(*[st.floats(-1, 1)] * 4).filter(lambda q: math.sqrt(sum(v * v for v in q)) > 0.1)
