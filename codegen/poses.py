@@ -1,12 +1,31 @@
-"""Pose conventions to and from 4x4 homogeneous matrices (float64, millimetres)."""
+"""Pose conventions to and from 4x4 homogeneous matrices (float64, millimetres).
+
+Vocabulary. A *matrix* is a 4x4 homogeneous transform (float64 numpy array, millimetres); a
+*rotmat* is its 3x3 rotation part. Conversions are named as in pytransform3d:
+`matrix_from_<convention>` / `<convention>_from_matrix` for whole poses (`xyzabc`, `dtrans`, `ur`,
+`abb`) and `rotmat_from_<rotation>` / `<rotation>_from_rotmat` for rotations (`zyx_deg`, `rotvec`,
+`quat`, scalar first). `codegen.dialects.posemath`, the interpreters' scalar fast path, uses the
+same names for the same operations (its rotmat is a row-major 9-tuple). Angles are wrapped by
+`wrap_deg`, defined here once.
+
+Frame convention (pytransform3d's): a transform named `A2B` maps coordinates in frame A to
+coordinates in frame B, p_B = A2B @ p_A; equivalently it is the pose of frame A expressed in frame B.
+`concat(*matrices)` multiplies left to right, `concat(X, Y) = X @ Y`, which is the reverse of
+pytransform3d's argument order: pytransform3d's `concat(A2B, B2C)` is `B2C @ A2B`, so here the
+same product is written `concat(B2C, A2B)` and chains read `concat(C2D, B2C, A2B) = A2D`.
+`invert(A2B)` is `B2A`.
+
+The code base does not follow this naming yet: its variables are named the other way round, e.g.
+`base2tcp` is the pose of the tcp in the base (maps tcp coordinates into base coordinates) and will
+be renamed `tcp2base`; `concat(base2frame, frame2tcp)` is, in the convention above,
+`concat(frame2base, tcp2frame) = tcp2base`.
+"""
 
 from __future__ import annotations
 
 import math
 
 import numpy as np
-
-# Every matrix here is a 4x4 float64 array in millimetres; `a2b` maps b-coordinates into a.
 
 _EPS = 1e-12
 
@@ -35,7 +54,7 @@ def matrix_from_rotation_translation(rot: np.ndarray, trans) -> np.ndarray:
 
 
 def concat(*matrices: np.ndarray) -> np.ndarray:
-    """a2b, b2c, ... -> a2z (left to right products; a new array)."""
+    """Left-to-right product m1 @ m2 @ ... as a new array: concat(B2A, C2B) = C2A (see the module docstring)."""
     if not matrices:
         return np.eye(4)
     out = np.array(matrices[0], dtype=float)
@@ -45,7 +64,7 @@ def concat(*matrices: np.ndarray) -> np.ndarray:
 
 
 def invert(a2b: np.ndarray) -> np.ndarray:
-    """Rigid inverse b2a = [R^T | -R^T t]."""
+    """Rigid inverse [R^T | -R^T t]: invert(A2B) = B2A."""
     rot = a2b[:3, :3].T
     return matrix_from_rotation_translation(rot, -rot @ a2b[:3, 3])
 
@@ -69,10 +88,11 @@ def zyx_deg_from_rotmat(rot: np.ndarray) -> tuple[float, float, float]:
         # Gimbal lock: only a - c (b = +90) or a + c (b = -90) is defined; choose c = 0.
         c = 0.0
         a = math.atan2(-rot[0, 1], rot[1, 1])
-    return _wrap_deg(math.degrees(a)), math.degrees(b), _wrap_deg(math.degrees(c))
+    return wrap_deg(math.degrees(a)), math.degrees(b), wrap_deg(math.degrees(c))
 
 
-def _wrap_deg(angle: float) -> float:
+def wrap_deg(angle: float) -> float:
+    """Angle in degrees into (-180, 180]; never -0.0 (0.0 for -0.0 and for negative multiples of 360)."""
     out = math.remainder(angle, 360.0)
     if out == -180.0:
         out = 180.0

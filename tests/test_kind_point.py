@@ -11,7 +11,7 @@ import pytest
 from codegen import derived
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, UNKNOWN_STATION
 from codegen.kinds.point import Reading, expected_trace
-from codegen.poses import _wrap_deg as wrap_deg
+from codegen.poses import wrap_deg
 
 
 def test_closed_form_agrees_with_matrices(demo_cell):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -108,3 +109,40 @@ def test_formats_agree_through_matrices(x, y, z, a, b, c):
 def test_invert_and_concat():
     m = poses.matrix_from_xyzabc((10, 20, 30, 40, 50, 60))
     assert np.allclose(poses.concat(m, poses.invert(m)), np.eye(4), atol=1e-12)
+
+
+@given(st.floats(-1e6, 1e6, allow_nan=False))
+def test_wrap_deg_range(angle):
+    out = poses.wrap_deg(angle)
+    assert -180.0 < out <= 180.0
+    assert math.isclose(math.remainder(out - angle, 360.0), 0.0, abs_tol=1e-9)
+    assert out != 0.0 or math.copysign(1.0, out) == 1.0  # never -0.0
+
+
+@pytest.mark.parametrize(
+    "angle, expected",
+    [
+        (180.0, 180.0),
+        (-180.0, 180.0),
+        (540.0, 180.0),
+        (-540.0, 180.0),
+        (190.0, -170.0),
+        (-359.0, 1.0),
+        (0.0, 0.0),
+        (-0.0, 0.0),  # the old reference.wrap_deg returned -0.0 here
+        (-360.0, 0.0),  # and here
+        (360.0, 0.0),
+        (-720.0, 0.0),
+    ],
+)
+def test_wrap_deg_values(angle, expected):
+    out = poses.wrap_deg(angle)
+    assert out == expected
+    assert math.copysign(1.0, out) == math.copysign(1.0, expected)
+
+
+def test_one_wrap():
+    from codegen.dialects import posemath
+    from codegen.kinds import point
+
+    assert posemath.wrap_deg is point.wrap_deg is poses.wrap_deg

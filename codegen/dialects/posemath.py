@@ -1,4 +1,13 @@
-"""Native pose operations of the controllers, computed in float64 from their stored numbers."""
+"""Native pose operations of the controllers, computed in float64 from their stored numbers.
+
+The scalar twin of `codegen.poses`: an operation both modules have carries the same name in both
+(`matrix_from_ur`, `rotmat_from_quat`, `zyx_deg_from_rotmat`, ...; see that module's docstring for
+the vocabulary and the frame convention). Here a rotmat is a row-major 9-tuple of floats and a
+matrix is a 4x4 float64 numpy array built from it; the functions are plain Python because the
+interpreters call them many thousand times per verify run. Operations codegen.poses lacks keep
+controller-flavoured names (`quat_multiply`, `quat_rotate`, `quat_from_zyx_deg`, `ur_concat`,
+`xyzabc_concat`). tests/test_posemath.py checks every twin against codegen.poses.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +17,7 @@ from functools import lru_cache
 import numpy as np
 
 from codegen import poses
+from codegen.poses import wrap_deg
 
 
 def as64(values) -> list[float]:
@@ -24,43 +34,24 @@ def check_finite(values, where: str, what: str) -> None:
 
 
 @lru_cache(maxsize=4096)
-def _ur_matrix(values: tuple[float, ...]) -> np.ndarray:
+def _matrix_from_ur_cached(values: tuple[float, ...]) -> np.ndarray:
     m = poses.matrix_from_ur(values)
     m.flags.writeable = False
     return m
 
 
-def ur_matrix(pose6) -> np.ndarray:
-    """UR pose p[x, y, z (m), rx, ry, rz] -> 4x4 mm (cached: taught poses repeat every run)."""
-    return _ur_matrix(tuple(as64(pose6)))
+def matrix_from_ur_cached(pose) -> np.ndarray:
+    """codegen.poses.matrix_from_ur itself (numpy floats), memoised and read-only: taught poses repeat every run.
+
+    Not the same floats as the scalar `matrix_from_ur` below (the rotation is summed differently);
+    URScript pose_inv and pose_add use this one.
+    """
+    return _matrix_from_ur_cached(tuple(as64(pose)))
 
 
-def ur_from(m: np.ndarray) -> tuple[float, ...]:
-    return poses.ur_from_matrix(m)
-
-
-@lru_cache(maxsize=4096)
-def _zyx_matrix(values: tuple[float, ...]) -> np.ndarray:
-    m = poses.matrix_from_xyzabc(values)
-    m.flags.writeable = False
-    return m
-
-
-def zyx_matrix(x, y, z, a, b, c) -> np.ndarray:
-    """KUKA FRAME/POS (mm, deg, Rz(A) Ry(B) Rx(C)), cached like ur_matrix."""
-    return _zyx_matrix(tuple(as64((x, y, z, a, b, c))))
-
-
-def zyx_from(m: np.ndarray) -> tuple[float, ...]:
-    return poses.xyzabc_from_matrix(m)
-
-
-def quat_matrix(trans, quat) -> np.ndarray:
-    return matrix4(rot_from_quat(as64(quat)), as64(trans))
-
-
-def quat_from(m: np.ndarray) -> tuple[float, ...]:
-    return tuple(float(v) for v in poses.quat_from_rotmat(m[:3, :3]))
+# Matrix -> pose: the numpy functions themselves, under their own names.
+ur_from_matrix = poses.ur_from_matrix
+xyzabc_from_matrix = poses.xyzabc_from_matrix
 
 
 def quat_multiply(q1, q2) -> tuple[float, ...]:
@@ -101,10 +92,12 @@ def quat_from_zyx_deg(z, y, x) -> tuple[float, ...]:
 
 
 # --- pure-Python fast paths (the interpreters call these many thousand times per verify run) ----
-# A rotation is a 9-tuple, row-major. Tested against codegen.poses in tests/test_posemath.py.
+# A rotmat is a 9-tuple, row-major. Tested against codegen.poses in tests/test_posemath.py.
 
 
-def rot_from_rotvec(rx: float, ry: float, rz: float) -> tuple[float, ...]:
+def rotmat_from_rotvec(rv) -> tuple[float, ...]:
+    """As codegen.poses.rotmat_from_rotvec (first order below 1e-12 rad)."""
+    rx, ry, rz = rv
     angle = math.sqrt(rx * rx + ry * ry + rz * rz)
     if angle < 1e-12:
         return (1.0, -rz, ry, rz, 1.0, -rx, -ry, rx, 1.0)
@@ -118,7 +111,7 @@ def rot_from_rotvec(rx: float, ry: float, rz: float) -> tuple[float, ...]:
     )  # fmt: skip
 
 
-def quat_from_rot(r) -> tuple[float, float, float, float]:
+def quat_from_rotmat(r) -> tuple[float, float, float, float]:
     """Shepperd's method, unit quaternion with w >= 0 (as codegen.poses.quat_from_rotmat)."""
     m00, m01, m02, m10, m11, m12, m20, m21, m22 = r
     trace = m00 + m11 + m22
@@ -140,8 +133,9 @@ def quat_from_rot(r) -> tuple[float, float, float, float]:
     return (sign * q[0] / n, sign * q[1] / n, sign * q[2] / n, sign * q[3] / n)
 
 
-def rotvec_from_rot(r) -> tuple[float, float, float]:
-    w, x, y, z = quat_from_rot(r)
+def rotvec_from_rotmat(r) -> tuple[float, float, float]:
+    """As codegen.poses.rotvec_from_rotmat: angle in [0, pi], from the w >= 0 quaternion."""
+    w, x, y, z = quat_from_rotmat(r)
     norm_v = math.sqrt(x * x + y * y + z * z)
     if norm_v < 1e-12:
         return (2.0 * x, 2.0 * y, 2.0 * z)
@@ -149,7 +143,7 @@ def rotvec_from_rot(r) -> tuple[float, float, float]:
     return (x / norm_v * angle, y / norm_v * angle, z / norm_v * angle)
 
 
-def rot_mul(a, b) -> tuple[float, ...]:
+def rotmat_mul(a, b) -> tuple[float, ...]:
     a0, a1, a2, a3, a4, a5, a6, a7, a8 = a
     b0, b1, b2, b3, b4, b5, b6, b7, b8 = b
     return (
@@ -159,19 +153,19 @@ def rot_mul(a, b) -> tuple[float, ...]:
     )  # fmt: skip
 
 
-def rot_apply(r, v) -> tuple[float, float, float]:
+def rotmat_apply(r, v) -> tuple[float, float, float]:
     x, y, z = v
     return (r[0] * x + r[1] * y + r[2] * z, r[3] * x + r[4] * y + r[5] * z, r[6] * x + r[7] * y + r[8] * z)
 
 
-def compose(ra, ta, rb, tb) -> tuple[tuple[float, ...], tuple[float, float, float]]:
-    """(Ra, ta) . (Rb, tb) = (Ra Rb, Ra tb + ta)."""
-    x, y, z = rot_apply(ra, tb)
-    return rot_mul(ra, rb), (x + ta[0], y + ta[1], z + ta[2])
+def concat_rotmat_translation(ra, ta, rb, tb) -> tuple[tuple[float, ...], tuple[float, float, float]]:
+    """codegen.poses.concat on (rotmat, translation) pairs: (Ra, ta) . (Rb, tb) = (Ra Rb, Ra tb + ta)."""
+    x, y, z = rotmat_apply(ra, tb)
+    return rotmat_mul(ra, rb), (x + ta[0], y + ta[1], z + ta[2])
 
 
 @lru_cache(maxsize=4096)  # taught poses repeat in every run
-def rot_from_zyx_deg(a: float, b: float, c: float) -> tuple[float, ...]:
+def rotmat_from_zyx_deg(a: float, b: float, c: float) -> tuple[float, ...]:
     ca, sa = math.cos(math.radians(a)), math.sin(math.radians(a))
     cb, sb = math.cos(math.radians(b)), math.sin(math.radians(b))
     cc, sc = math.cos(math.radians(c)), math.sin(math.radians(c))
@@ -182,7 +176,7 @@ def rot_from_zyx_deg(a: float, b: float, c: float) -> tuple[float, ...]:
     )  # fmt: skip
 
 
-def zyx_deg_from_rot(r) -> tuple[float, float, float]:
+def zyx_deg_from_rotmat(r) -> tuple[float, float, float]:
     """As codegen.poses.zyx_deg_from_rotmat (c = 0 at gimbal lock, a and c in (-180, 180])."""
     cb = math.hypot(r[0], r[3])
     b = math.atan2(-r[6], cb)
@@ -190,15 +184,11 @@ def zyx_deg_from_rot(r) -> tuple[float, float, float]:
         a, c = math.atan2(r[3], r[0]), math.atan2(r[7], r[8])
     else:
         a, c = math.atan2(-r[1], r[4]), 0.0
-    return _wrap(math.degrees(a)), math.degrees(b), _wrap(math.degrees(c))
+    return wrap_deg(math.degrees(a)), math.degrees(b), wrap_deg(math.degrees(c))
 
 
-def _wrap(angle: float) -> float:
-    out = math.remainder(angle, 360.0)
-    return (180.0 if out == -180.0 else out) + 0.0
-
-
-def rot_from_quat(q) -> tuple[float, ...]:
+def rotmat_from_quat(q) -> tuple[float, ...]:
+    """As codegen.poses.rotmat_from_quat (q normalised first, scalar first)."""
     w, x, y, z = q
     n = math.sqrt(w * w + x * x + y * y + z * z)
     w, x, y, z = w / n, x / n, y / n, z / n
@@ -209,32 +199,40 @@ def rot_from_quat(q) -> tuple[float, ...]:
     )  # fmt: skip
 
 
-def matrix4(r, t) -> np.ndarray:
+def matrix_from_rotation_translation(r, t) -> np.ndarray:
     return np.array(
         [[r[0], r[1], r[2], t[0]], [r[3], r[4], r[5], t[1]], [r[6], r[7], r[8], t[2]], [0.0, 0.0, 0.0, 1.0]]
     )
 
 
-def ur_pose_trans(a, b) -> tuple[float, ...]:
-    """pose_trans(a, b) for UR poses (m, rotation vector), in float64."""
-    ra, ta = rot_from_rotvec(*as64(a[3:])), as64(a[:3])
-    rb, tb = rot_from_rotvec(*as64(b[3:])), as64(b[:3])
-    r, t = compose(ra, ta, rb, tb)
-    return (*t, *rotvec_from_rot(r))
+def matrix_from_ur(pose) -> np.ndarray:
+    """UR p[x, y, z (m), rx, ry, rz] -> 4x4 mm, as codegen.poses.matrix_from_ur (scalar rotation)."""
+    values = as64(pose)
+    return matrix_from_rotation_translation(rotmat_from_rotvec(values[3:]), [v * 1000.0 for v in values[:3]])
 
 
-def ur_matrix_fast(pose6) -> np.ndarray:
-    values = as64(pose6)
-    return matrix4(rot_from_rotvec(*values[3:]), [v * 1000.0 for v in values[:3]])
+def matrix_from_xyzabc(pose) -> np.ndarray:
+    """KUKA [X, Y, Z, A, B, C] (mm, deg, Rz(A) Ry(B) Rx(C)) -> 4x4, as codegen.poses.matrix_from_xyzabc."""
+    v = as64(pose)
+    return matrix_from_rotation_translation(rotmat_from_zyx_deg(*v[3:]), v[:3])
 
 
-def zyx_compose(a6, b6) -> tuple[float, ...]:
-    """KRL a : b for [X, Y, Z, A, B, C] (mm, deg)."""
-    a, b = as64(a6), as64(b6)
-    r, t = compose(rot_from_zyx_deg(*a[3:]), a[:3], rot_from_zyx_deg(*b[3:]), b[:3])
-    return (*t, *zyx_deg_from_rot(r))
+def matrix_from_abb(pose) -> np.ndarray:
+    """ABB [x, y, z, q1, q2, q3, q4] (mm, quaternion scalar first) -> 4x4, as codegen.poses.matrix_from_abb."""
+    v = as64(pose)
+    return matrix_from_rotation_translation(rotmat_from_quat(v[3:7]), v[:3])
 
 
-def zyx_matrix_fast(values6) -> np.ndarray:
-    v = as64(values6)
-    return matrix4(rot_from_zyx_deg(*v[3:]), v[:3])
+def ur_concat(a, b) -> tuple[float, ...]:
+    """URScript pose_trans(a, b) = ur_from_matrix(concat(matrix_from_ur(a), matrix_from_ur(b))), in float64."""
+    ra, ta = rotmat_from_rotvec(as64(a[3:])), as64(a[:3])
+    rb, tb = rotmat_from_rotvec(as64(b[3:])), as64(b[:3])
+    r, t = concat_rotmat_translation(ra, ta, rb, tb)
+    return (*t, *rotvec_from_rotmat(r))
+
+
+def xyzabc_concat(a, b) -> tuple[float, ...]:
+    """KRL a : b for [X, Y, Z, A, B, C] (mm, deg) = xyzabc_from_matrix(concat(matrix_from_xyzabc(a), ...(b)))."""
+    a, b = as64(a), as64(b)
+    r, t = concat_rotmat_translation(rotmat_from_zyx_deg(*a[3:]), a[:3], rotmat_from_zyx_deg(*b[3:]), b[:3])
+    return (*t, *zyx_deg_from_rotmat(r))

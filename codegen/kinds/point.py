@@ -22,8 +22,7 @@ from codegen.guard import (
     reading_in_range,
 )
 from codegen.kinds import Case, ProgramKind
-from codegen.poses import _wrap_deg as wrap_deg  # until poses.wrap_deg lands
-from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz
+from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz, wrap_deg
 from codegen.reference import JOINT, LINEAR, Move, Trace
 
 MARK_DECIMALS = 6

@@ -222,7 +222,7 @@ class DTransCompiler(Compiler):
             values = [pt[k] for k in POINT_KEYS]
             posemath.check_finite(values, where, "motion target")
             x, y, z, rx, ry, rz = values
-            fr.m.trace.moves.append(MoveEvent(kind, posemath.zyx_matrix_fast((x, y, z, rz, ry, rx)), line))
+            fr.m.trace.moves.append(MoveEvent(kind, posemath.matrix_from_xyzabc((x, y, z, rz, ry, rx)), line))
 
         return run
 

@@ -110,7 +110,7 @@ def _cart(value, where: str) -> Record:
 
 
 def _cart_matrix(value: Record) -> np.ndarray:
-    return posemath.zyx_matrix_fast(_xyzabc(value))
+    return posemath.matrix_from_xyzabc(_xyzabc(value))
 
 
 class KRLCompiler(Compiler):
@@ -154,7 +154,7 @@ class KRLCompiler(Compiler):
 
             value = _cart(args[0], where)
             out = value.copy()
-            for (key, _), v in zip(_XYZABC, posemath.zyx_from(invert(_cart_matrix(value))), strict=True):
+            for (key, _), v in zip(_XYZABC, posemath.xyzabc_from_matrix(invert(_cart_matrix(value))), strict=True):
                 out[key] = f32(v)
             return out
 
@@ -325,7 +325,7 @@ class KRLCompiler(Compiler):
         def geo(fr):
             a, b = _cart(left(fr), where), _cart(right(fr), where)
             out = b.shallow()  # result has the type, status and turn of the right operand
-            x, y, z, a_, b_, c = posemath.zyx_compose(_xyzabc(a), _xyzabc(b))
+            x, y, z, a_, b_, c = posemath.xyzabc_concat(_xyzabc(a), _xyzabc(b))
             out.update(X=f32(x), Y=f32(y), Z=f32(z), A=f32(a_), B=f32(b_), C=f32(c))
             return out
 

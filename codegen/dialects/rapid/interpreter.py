@@ -158,8 +158,8 @@ class RAPIDCompiler(Compiler):
             if axis is None or len(args) != 1:
                 raise RunError(f"{where}: EulerZYX needs one of \\X, \\Y, \\Z and an orient")
             q = _vec(_rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
-            m = posemath.quat_matrix((0, 0, 0), q)
-            a, b, c = posemath.zyx_from(m)[3:]
+            m = posemath.matrix_from_abb((0, 0, 0, *q))
+            a, b, c = posemath.xyzabc_from_matrix(m)[3:]
             return f32({"Z": a, "Y": b, "X": c}[axis])
 
         def norient(fr, args, kwargs, where):
@@ -225,7 +225,7 @@ class RAPIDCompiler(Compiler):
                 norm = math.sqrt(q1 * q1 + q2 * q2 + q3 * q3 + q4 * q4)
                 if abs(norm - 1.0) > QUATERNION_TOLERANCE:
                     raise RunError(f"{where}: orientation not normalised (|q| = {norm:.9f})")
-                m = posemath.quat_matrix(t, q)
+                m = posemath.matrix_from_abb(t + q)
                 wobj = kwargs.get("WOBJ")
                 if isinstance(wobj, Record):  # base2tcp = uframe . oframe . target (wobj0: identity)
                     wobj = self.coerce("WOBJDATA", wobj, where)
@@ -234,8 +234,8 @@ class RAPIDCompiler(Compiler):
                     frames = [wobj["UFRAME"], wobj["OFRAME"]]
                     for frame in reversed(frames):
                         m = (
-                            posemath.quat_matrix(
-                                _vec(frame["TRANS"], "XYZ"), _vec(frame["ROT"], ("Q1", "Q2", "Q3", "Q4"))
+                            posemath.matrix_from_abb(
+                                _vec(frame["TRANS"], "XYZ") + _vec(frame["ROT"], ("Q1", "Q2", "Q3", "Q4"))
                             )
                             @ m
                         )

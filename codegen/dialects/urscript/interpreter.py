@@ -79,21 +79,22 @@ class URScriptCompiler(Compiler):
     def make_builtins(self) -> dict:
         def pose_trans(fr, args, kwargs, where):
             a, b = (_pose(v, where) for v in args)
-            return URPose(posemath.ur_pose_trans(tuple(a.values()), tuple(b.values())))
+            return URPose(posemath.ur_concat(tuple(a.values()), tuple(b.values())))
 
         def pose_inv(fr, args, kwargs, where):
             from codegen.poses import invert
 
-            return URPose(posemath.ur_from(invert(posemath.ur_matrix(_pose(args[0], where).values()))))
+            m = posemath.matrix_from_ur_cached(_pose(args[0], where).values())
+            return URPose(posemath.ur_from_matrix(invert(m)))
 
         def pose_add(fr, args, kwargs, where):
             # Not a rigid transform: positions add, rotations compose in the base frame.
             a, b = (_pose(v, where) for v in args)
-            ma, mb = posemath.ur_matrix(a.values()), posemath.ur_matrix(b.values())
+            ma, mb = posemath.matrix_from_ur_cached(a.values()), posemath.matrix_from_ur_cached(b.values())
             out = np.eye(4)
             out[:3, :3] = mb[:3, :3] @ ma[:3, :3]
             out[:3, 3] = ma[:3, 3] + mb[:3, 3]
-            return URPose(posemath.ur_from(out))
+            return URPose(posemath.ur_from_matrix(out))
 
         def move(kind):
             def run(fr, args, kwargs, where):
@@ -105,7 +106,7 @@ class URScriptCompiler(Compiler):
                 pose = _pose(target, where)
                 posemath.check_finite(pose.values(), where, "move target")
                 line = int(where.split(":")[1])
-                fr.m.trace.moves.append(MoveEvent(kind, posemath.ur_matrix_fast(pose.values()), line))
+                fr.m.trace.moves.append(MoveEvent(kind, posemath.matrix_from_ur(pose.values()), line))
 
             return run
 
