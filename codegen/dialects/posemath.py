@@ -212,7 +212,7 @@ def matrix_from_ur(pose) -> np.ndarray:
 
 
 def matrix_from_xyzabc(pose) -> np.ndarray:
-    """KUKA [X, Y, Z, A, B, C] (mm, deg, Rz(A) Ry(B) Rx(C)) -> 4x4, as codegen.poses.matrix_from_xyzabc."""
+    """[X, Y, Z, A, B, C] (mm, deg, Rz(A) Ry(B) Rx(C)) -> 4x4, as codegen.poses.matrix_from_xyzabc."""
     v = as64(pose)
     return matrix_from_rotation_translation(rotmat_from_zyx_deg(*v[3:]), v[:3])
 
@@ -232,7 +232,7 @@ def ur_concat(a, b) -> tuple[float, ...]:
 
 
 def xyzabc_concat(a, b) -> tuple[float, ...]:
-    """KRL a : b for [X, Y, Z, A, B, C] (mm, deg) = xyzabc_from_matrix(concat(matrix_from_xyzabc(a), ...(b)))."""
+    """a . b for poses [X, Y, Z, A, B, C] (mm, deg) = xyzabc_from_matrix(concat(matrix_from_xyzabc(a), ...(b)))."""
     a, b = as64(a), as64(b)
     r, t = concat_rotmat_translation(rotmat_from_zyx_deg(*a[3:]), a[:3], rotmat_from_zyx_deg(*b[3:]), b[:3])
     return (*t, *zyx_deg_from_rotmat(r))
