@@ -84,45 +84,42 @@ def test_frame_mode_verifies(bench, target):
     assert report.categories["frame_camera_too_weak"] == 4 and report.categories["frame_camera_diverges"] == 4
 
 
-SOURCE_SIGN = {  # the source's printed update: the residual turned by R(-alpha) instead of R(+alpha)
-    "ur": (
-        "new_dx = cos_alpha*res_x + dx - res_y*sin_alpha",
-        "new_dx = cos_alpha*res_x + dx + res_y*sin_alpha",
-        "new_dy = cos_alpha*res_y + dy + res_x*sin_alpha",
-        "new_dy = cos_alpha*res_y + dy - res_x*sin_alpha",
-    ),
-    "kuka": (
-        "NEW_DX = COS_ALPHA*RES_X + DX - RES_Y*SIN_ALPHA",
-        "NEW_DX = COS_ALPHA*RES_X + DX + RES_Y*SIN_ALPHA",
-        "NEW_DY = COS_ALPHA*RES_Y + DY + RES_X*SIN_ALPHA",
-        "NEW_DY = COS_ALPHA*RES_Y + DY - RES_X*SIN_ALPHA",
-    ),
-    "abb": (
-        "new_dx := cos_alpha*res_x + dx - res_y*sin_alpha",
-        "new_dx := cos_alpha*res_x + dx + res_y*sin_alpha",
-        "new_dy := cos_alpha*res_y + dy + res_x*sin_alpha",
-        "new_dy := cos_alpha*res_y + dy - res_x*sin_alpha",
-    ),
-    "dtrans": (
-        "new_dx = cos_alpha*res_x + dx - res_y*sin_alpha",
-        "new_dx = cos_alpha*res_x + dx + res_y*sin_alpha",
-        "new_dy = cos_alpha*res_y + dy + res_x*sin_alpha",
-        "new_dy = cos_alpha*res_y + dy - res_x*sin_alpha",
-    ),
-}
+def _source_sign_printed(dialect: str):
+    """derived.printed with the refinement update printed from source 001's R(-alpha), by the
+    dialect's own printer (the derivation's frame_update(-1), the readable names of the cache)."""
+    import sympy as sp
+
+    from codegen import derivation, derived
+    from codegen.dialects import get_dialect
+
+    printer = get_dialect(dialect).printer()
+    names = {sp.cos(derivation.alpha): sp.Symbol("cos_alpha"), sp.sin(derivation.alpha): sp.Symbol("sin_alpha")}
+    printed_d, _ = derivation.frame_update(-1)
+    pairs = zip(("new_dx", "new_dy"), printed_d, strict=True)
+    outputs = {name: printer.doprint(expr.subs(names)) for name, expr in pairs}
+    original = derived.printed
+
+    def printed(name: str, block: str) -> dict:
+        code = original(name, block)
+        return {**code, "outputs": outputs} if (name, block) == (dialect, "refine") else code
+
+    return printed
 
 
 @pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
-def test_source_update_sign_fails_verify(bench, target):
+def test_source_update_sign_fails_verify(bench, target, monkeypatch):
+    from codegen import derived
     from codegen.verify import verify
 
+    dialect = get_target(target).dialect
+    right = render(bench, [target])
+    monkeypatch.setattr(derived, "printed", _source_sign_printed(dialect))
     files = render(bench, [target])
+    monkeypatch.undo()
     main = next(f for f in files if not f.relpath.endswith(".dat"))
+    assert main.text != next(f for f in right if not f.relpath.endswith(".dat")).text
     dat = {"." + f.relpath.rsplit(".", 1)[1]: f.text for f in files if f.relpath.endswith(".dat")}
-    old_x, new_x, old_y, new_y = SOURCE_SIGN[target]
-    assert old_x in main.text and old_y in main.text
-    mutated = main.text.replace(old_x, new_x).replace(old_y, new_y)
-    program = load_program(get_target(target), mutated, "mutant", dat)
+    program = load_program(get_target(target), main.text, "mutant", dat)
     cases = [c for c in build_cases(bench, 12, 6) if c.category.startswith("frame_handeye")]
     report = verify(bench, [target], {target: (program, ["mutant"])}, cases)[0]
     assert report.mismatches > 0

@@ -44,6 +44,11 @@ class ProgramKind:
     def check(cls, ctx, path: str, station, cell) -> None:
         """Checks that need the whole cell (e.g. a calibration the kind reads)."""
 
+    @classmethod
+    def moved(cls, spec, mm: float):
+        """The spec with its calibration moved by `mm` along the base x axis (for mutation tests)."""
+        raise NotImplementedError
+
     # --- rendering -------------------------------------------------------------------------
     @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:

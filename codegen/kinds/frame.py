@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import random
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -23,7 +23,7 @@ from codegen.guard import (
     pixels_in_range,
 )
 from codegen.kinds import Case, ProgramKind
-from codegen.poses import FORMAT_DECIMALS, concat, matrix_from_rotation_translation, native_values, rotz
+from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, rotz
 from codegen.reference import JOINT, LINEAR, Move, Trace
 
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
@@ -156,6 +156,14 @@ class FrameKind(ProgramKind):
         if base_data is not None and (isinstance(base_data, bool) or not isinstance(base_data, int) or base_data < 1):
             ctx.fail(f"{path}.base_data", f"expected a controller base number from 1, got {base_data!r}")
         return FrameSpec(frame, photo, base_data)
+
+    @classmethod
+    def moved(cls, spec: FrameSpec, mm: float) -> FrameSpec:
+        frame = spec.frame
+        base2frame = frame.matrix().copy()
+        base2frame[0, 3] += mm
+        values = POSE_FORMATS[frame.pose_format][2](base2frame)
+        return replace(spec, frame=replace(frame, values=tuple(values)))
 
     @classmethod
     def check(cls, ctx, path: str, station, cell) -> None:

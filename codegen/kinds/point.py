@@ -125,6 +125,11 @@ class PointKind(ProgramKind):
         return PointSpec(mark)
 
     @classmethod
+    def moved(cls, spec: PointSpec, mm: float) -> PointSpec:
+        x, y, theta = spec.mark
+        return replace(spec, mark=(x + mm, y, theta))
+
+    @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:
         return {"frame": derived.printed(target.dialect, "frame"), "point": derived.printed(target.dialect, "point")}
 
