@@ -14,6 +14,7 @@ import numpy as np
 
 from codegen.controllers import target_names
 from codegen.guard import READING_RANGE_MM
+from codegen.kinds import get_kind, kinds
 from codegen.poses import POSE_FORMATS
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
@@ -103,16 +104,6 @@ _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
 _REFINE_KEYS = {"tolerance_mm", "tolerance_deg", "max_iterations"}
 _STATION_KEYS = {"id", "name", "poses", "mode"}  # and the keys of the station's kind
-
-
-def kinds() -> dict:
-    from codegen.kinds import kinds as registered  # the kinds import this module's model
-
-    return registered()
-
-
-def get_kind(name: str):
-    return kinds()[name]
 
 
 def load_cell(path: str | Path | None = None) -> Cell:
