@@ -197,7 +197,7 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     from pathlib import Path
 
     from codegen.controllers import get_target
-    from codegen.dialects.runtime import RunError
+    from codegen.dialects.core.values import RunError
     from codegen.poses import POSE_FORMATS
     from codegen.verify import load_program_file, target_of_file
 
@@ -279,7 +279,7 @@ def verify(
     from pathlib import Path
 
     from codegen import verify as v
-    from codegen.dialects.runtime import RunError
+    from codegen.dialects.core.values import RunError
 
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)

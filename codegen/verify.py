@@ -14,7 +14,8 @@ import numpy as np
 from codegen.camera import CameraModel, SimulatedCamera
 from codegen.cell import Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target
-from codegen.dialects.runtime import Program, RunError
+from codegen.dialects.core.machine import Program
+from codegen.dialects.core.values import RunError
 from codegen.emit import Emitter
 from codegen.poses import native_values
 from codegen.reference import (

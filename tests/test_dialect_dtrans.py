@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
+from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.dialects.dtrans.interpreter import load, printf
-from codegen.dialects.runtime import RunError, StepLimitError
 from codegen.poses import matrix_from_dtrans
 
 

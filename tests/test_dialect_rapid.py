@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
+from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.dialects.rapid.interpreter import load
-from codegen.dialects.runtime import RunError, StepLimitError
 from codegen.poses import matrix_from_abb
 
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from codegen.dialects.runtime import RunError, StepLimitError
+from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.dialects.urscript.interpreter import load
 from codegen.poses import matrix_from_ur
 

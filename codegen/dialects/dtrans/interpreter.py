@@ -9,20 +9,11 @@ import numpy as np
 from lark import Tree
 
 from codegen.dialects import posemath
-from codegen.dialects.runtime import (
-    F32,
-    Compiler,
-    Inline,
-    MoveEvent,
-    Program,
-    Record,
-    Routine,
-    RunError,
-    f32,
-    format_fixed,
-    format_general,
-    parse_with_grammar,
-)
+from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.machine import MoveEvent, Program, Routine
+from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.source import Inline
+from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed, format_general
 
 POINT_KEYS = ("x", "y", "z", "rx", "ry", "rz")
 _FORMAT = re.compile(r"%(-?\d*)(?:\.(\d+))?([dfsg%])")

@@ -11,22 +11,11 @@ import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects import posemath
-from codegen.dialects.runtime import (
-    F32,
-    Compiler,
-    Inline,
-    MoveEvent,
-    Program,
-    Record,
-    Routine,
-    RunError,
-    Signal,
-    Src,
-    constant,
-    f32,
-    format_general,
-    parse_with_grammar,
-)
+from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.machine import MoveEvent, Program, Routine
+from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.source import Inline, Src
+from codegen.dialects.core.values import F32, Record, RunError, Signal, constant, f32, format_general
 
 
 def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:

@@ -10,22 +10,11 @@ import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects import posemath
-from codegen.dialects.runtime import (
-    F32,
-    Compiler,
-    Inline,
-    MoveEvent,
-    Program,
-    Record,
-    Routine,
-    RunError,
-    Src,
-    constant,
-    f32,
-    format_fixed,
-    halt,
-    parse_with_grammar,
-)
+from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.machine import MoveEvent, Program, Routine, halt
+from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.source import Inline, Src
+from codegen.dialects.core.values import F32, Record, RunError, constant, f32, format_fixed
 
 QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
 

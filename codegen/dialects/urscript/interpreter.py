@@ -8,19 +8,10 @@ import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects import posemath
-from codegen.dialects.runtime import (
-    F32,
-    Compiler,
-    MoveEvent,
-    Program,
-    Record,
-    Routine,
-    RunError,
-    f32,
-    format_general,
-    halt,
-    parse_with_grammar,
-)
+from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.machine import MoveEvent, Program, Routine, halt
+from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
 
 
 def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tree:
