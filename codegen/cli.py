@@ -200,6 +200,7 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     from codegen.dialects.core.values import RunError
     from codegen.poses import POSE_FORMATS
     from codegen.verify import load_program_file, target_of_file
+    from codegen.vision_pc import VisionPC
 
     path = Path(file)
     try:
@@ -212,7 +213,7 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     except RunError as exc:
         raise UserError(str(exc)) from None
     try:
-        trace = program.run(values, step_limit=step_limit)
+        trace = program.run(values, step_limit=step_limit, devices=(VisionPC.for_target(target),))
     except RunError as exc:
         click.echo(f"error: {exc}", err=True)
         sys.exit(1)

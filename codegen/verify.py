@@ -32,6 +32,7 @@ from codegen.reference import (
     halt_message,
     wrap_deg,
 )
+from codegen.vision_pc import VisionPC
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
 # stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings
@@ -112,18 +113,14 @@ def _load_program(target: Target, text: str, filename: str, dat_text: str | None
     elif target.dialect == "krl":
         from codegen.dialects.krl.interpreter import load as load_krl
 
-        program = load_krl(text, filename, dat_text)
-        program.photo_io = target.facts["program"].get("photo")
-        return program
+        return load_krl(text, filename, dat_text)
     elif target.dialect == "rapid":
         from codegen.dialects.rapid.interpreter import load
     elif target.dialect == "dtrans":
         from codegen.dialects.dtrans.interpreter import load
     else:
         raise ValueError(f"no interpreter for dialect {target.dialect}")
-    program = load(text, filename)
-    program.photo_io = target.facts["program"].get("photo")
-    return program
+    return load(text, filename)
 
 
 def load_program_file(target: Target, path: Path) -> Program:
@@ -464,7 +461,7 @@ def verify(
             report.boundary += boundary
             try:
                 inputs = inputs_for(target, case.reading) | controller_setup(model, target, case.reading)
-                got = program.run(inputs, camera=camera_for(model, case.reading))
+                got = program.run(inputs, devices=(VisionPC.for_target(target, camera_for(model, case.reading)),))
             except RunError as exc:
                 problem, pos, rot = f"run error: {exc}", [], []
             else:

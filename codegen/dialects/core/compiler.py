@@ -116,3 +116,16 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
 
     def element_type(self, type_name):
         return type_name
+
+    # --- variables by name, for devices (Machine.read_variable / write_variable) ---------------
+    def device_read(self, machine: Machine, name: str):
+        """A global by its name in the program (None when it is not declared)."""
+        return machine.globals.get(self.norm(name))
+
+    def device_write(self, machine: Machine, name: str, value) -> bool:
+        """Store into a declared global, coerced to its type; False when there is no such global."""
+        key = self.norm(name)
+        if key not in machine.globals:
+            return False
+        machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
+        return True

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
@@ -41,6 +42,16 @@ def step_limit_error(where: str, machine: Machine) -> StepLimitError:
     return StepLimitError(f"{where}: step limit {machine.step_limit} reached (runaway loop?)")
 
 
+class Device(Protocol):
+    """Simulated equipment beside the controller (the vision PC of frame mode): called whenever the
+    program waits, it reads and writes the program's variables through Machine.read_variable and
+    Machine.write_variable."""
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        """Act on the program's state; True when something changed (where: file:line:column)."""
+        ...
+
+
 class Routine:
     """A user procedure or function: parameters, compiled body, declared return type."""
 
@@ -68,57 +79,35 @@ class Frame:
 class Machine:
     """State of one run: globals, injected inputs, trace, step counter."""
 
-    def __init__(self, program: Program, inputs: dict, step_limit: int, camera=None) -> None:
+    def __init__(self, program: Program, inputs: dict, step_limit: int, devices: tuple[Device, ...] = ()) -> None:
         self.program = program
         self.globals: dict = {}
         self.global_types: dict = {}
         self.inputs = inputs
         self.outputs: dict = {}
-        self.camera = camera
+        self.devices = devices
         self.trace = Trace()
         self.step_limit = step_limit
         self.steps = 0
         self.extra: dict = {}  # dialect state ($BASE, message handles, ...)
 
-    # --- the vision PC's side of the photo handshake (frame mode) ---------------------------
-    def _io_get(self, name: str):
-        if name.startswith("input_"):
-            return self.inputs.get(name, 0)
-        if name.startswith("output_"):
-            return self.outputs.get(name, 0)
-        return self.globals.get(self.program.compiler.norm(name))
+    def wait(self, where: str) -> bool:
+        """The program waits (WAIT FOR, WaitUntil, sync()): every device may act on the program's
+        variables; True when one of them did (the wait's condition is then tested again)."""
+        acted = False
+        for device in self.devices:
+            if device.on_wait(self, where):
+                acted = True
+        return acted
 
-    def _io_set(self, name: str, value) -> None:
-        if name.startswith("input_"):
-            self.inputs[name] = value
-            return
-        key = self.program.compiler.norm(name)
-        if key not in self.globals:
-            raise RunError(f"{self.program.name}: the photo interface variable {name} is not declared")
-        self.globals[key] = self.program.compiler.coerce(self.global_types.get(key), value, name)
+    def read_variable(self, name: str):
+        """A variable or register by its name in the program, for a device (None: not declared)."""
+        return self.program.compiler.device_read(self, name)
 
-    def answer_photo(self, where: str) -> bool:
-        """If the program has requested a photo that is not answered yet, answer it as the vision PC
-        would: take the picture from where the robot last moved, write the reading, acknowledge."""
-        io = self.program.photo_io
-        if not io:
-            return False
-        request, ack = self._io_get(io["request"]), self._io_get(io["ack"])
-        if request is None or request == ack:
-            return False
-        if self.camera is None:
-            raise RunError(
-                f"{where}: the program waits for a photo and no camera is attached "
-                "(codegen verify attaches a simulated one)"
-            )
-        if not self.trace.moves:
-            raise RunError(f"{where}: a photo was requested before the robot moved to a photo pose")
-        u, v, angle = self.camera.photo(self.trace.moves[-1].base2tcp)
-        self._io_set(io["u"], u)
-        self._io_set(io["v"], v)
-        self._io_set(io["angle"], angle)
-        self._io_set(io["ack"], request)
-        return True
+    def write_variable(self, name: str, value) -> bool:
+        """Store into a variable or register by its name in the program, coerced to its type, for a
+        device; False when the program declares no such variable."""
+        return self.program.compiler.device_write(self, name, value)
 
     def step(self, where: str) -> None:
         self.steps += 1
@@ -140,7 +129,6 @@ class Program:
         self.init = init  # callable: module data / constant top-level statements
         self.main = main  # routine to call after init, or None
         self.body = body  # callable run after init when there is no main routine
-        self.photo_io: dict | None = None  # names of the photo handshake (set by the loader)
         self._snapshot: tuple[dict, dict, dict] | None = None
 
     def _prepare(self, step_limit: int) -> tuple[dict, dict, dict]:
@@ -150,9 +138,13 @@ class Program:
             self._snapshot = (machine.globals, machine.global_types, machine.extra)
         return self._snapshot
 
-    def run(self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT, camera=None) -> Trace:
+    def run(
+        self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT, devices: Iterable[Device] = ()
+    ) -> Trace:
+        """One run from the initial globals with these inputs; devices (simulated equipment beside
+        the controller) act whenever the program waits."""
         globals_, types, extra = self._prepare(step_limit)
-        machine = Machine(self, dict(inputs or {}), step_limit, camera)
+        machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices))
         machine.globals = dict(globals_)  # values are never changed in place: sharing them is safe
         machine.global_types = dict(types)
         machine.extra = dict(extra)

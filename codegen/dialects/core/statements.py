@@ -117,13 +117,13 @@ class Statements:
         return run
 
     def wait_until(self, cond_node, where_node, keyword: str):
-        """WAIT FOR / WaitUntil: here only the vision PC's answer to a photo request can change a
-        condition, so the wait answers a pending request and fails if the condition stays false."""
+        """WAIT FOR / WaitUntil: here only a device (the vision PC answering a photo request) can
+        change a condition, so the wait lets the devices act and fails if the condition stays false."""
         cond = self.expr(cond_node)
         where = self.where(where_node)
 
         def run(fr):
-            if not cond(fr) and not (fr.m.answer_photo(where) and cond(fr)):
+            if not cond(fr) and not (fr.m.wait(where) and cond(fr)):
                 raise RunError(f"{where}: {keyword} a condition that nothing here can make true")
 
         return run

@@ -122,7 +122,7 @@ class URScriptCompiler(Compiler):
             fr.m.outputs[f"output_integer_register_{index}"] = int(args[1])
 
         def sync(fr, args, kwargs, where):
-            fr.m.answer_photo(where)  # the vision PC answers between two controller cycles
+            fr.m.wait(where)  # devices (the vision PC) act between two controller cycles
 
         def atan2(fr, args, kwargs, where):
             return f32(math.atan2(float(args[0]), float(args[1])))
@@ -169,6 +169,20 @@ class URScriptCompiler(Compiler):
             "to_str": to_str,
             "str_cat": str_cat,
         }
+
+    # --- registers by name, for devices: input_* and output_* are the controller's registers ------
+    def device_read(self, machine, name: str):
+        if name.startswith("input_"):
+            return machine.inputs.get(name, 0)
+        if name.startswith("output_"):
+            return machine.outputs.get(name, 0)
+        return super().device_read(machine, name)
+
+    def device_write(self, machine, name: str, value) -> bool:
+        if name.startswith("input_"):
+            machine.inputs[name] = value
+            return True
+        return super().device_write(machine, name, value)
 
     # --- rules beyond the common ones ---------------------------------------------------------
     def e_pose_lit(self, node):
