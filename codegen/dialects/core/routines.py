@@ -111,6 +111,46 @@ class Routines:
         finally:
             self.local_types, self.routine_name = None, "module"
 
+    @staticmethod
+    def routine_parts(children, returns: bool) -> tuple:
+        """(return type or None, name, parameters node, body) of a routine definition's children."""
+        if returns:
+            return_type, name, params_node, body = children
+            return return_type, name, params_node, body
+        name, params_node, body = children
+        return None, name, params_node, body
+
+    def routine_statements(self, body_node, decl_rule: str, declare, message: str) -> list:
+        """The statements of a routine's body; declare(node) is called, in order, for each
+        declaration before the first statement, and a declaration after it fails with message."""
+        statements = []
+        for child in body_node.children:
+            if not isinstance(child, Tree):
+                continue
+            if child.data == decl_rule:
+                if statements:
+                    self.fail(child, message)
+                declare(child)
+            else:
+                statements.append(child)
+        return statements
+
+    def define_routine(
+        self, key: str, name, params, return_type, node, statements, decls=None, local_types=None, unique=True
+    ) -> Routine:
+        """Register a routine under key (a second definition fails when unique) and compile its
+        body; params are (name, mode, type) and checked by check_params first."""
+        if unique and key in self.routines:
+            self.fail(name, f"routine {name} defined twice")
+        self.check_params(node, name, params)
+        routine = Routine(str(name), params, None, return_type, self.line(node), decls)
+        self.routines[key] = routine
+        self.compile_routine_body(routine, statements, local_types)
+        return routine
+
+    def check_params(self, node, name, params) -> None:
+        """A dialect's checks of a routine's parameters once they are known (KRL: each has a DECL)."""
+
     def ref_setters(self, callee: str, arg_nodes) -> list:
         """Setters for arguments that are variables, used if the callee takes them by reference."""
         if self.user_routines is not None and self.norm(callee) not in self.user_routines:

@@ -6,7 +6,10 @@ from lark import Tree
 
 from codegen.dialects.core.machine import halt
 from codegen.dialects.core.source import Inline, indent
-from codegen.dialects.core.values import BREAK, CONTINUE, RunError
+from codegen.dialects.core.values import RunError
+
+LEAVE_ON_BREAK = frozenset({"break"})
+SKIP_ON_CONTINUE = frozenset({"continue"})
 
 
 class Statements:
@@ -60,22 +63,74 @@ class Statements:
     def s_pass_stmt(self, node):
         return Inline(self, [])
 
+    def body_block(self, body_node):
+        """A body node's statements as one block (a dialect may check them first)."""
+        return self.block(body_node.children)
+
+    def s_if_stmt(self, node):
+        return self.if_elif(node, self.body_block)
+
+    def s_call_stmt(self, node):
+        """A routine called as a statement: the call expression with the same children."""
+        call = self.e_call(Tree("call", node.children, node.meta))
+        return Inline(self, self.guarded([call], self.where(node)))
+
     def s_while_stmt(self, node):
-        cond = self.expr(node.children[0])
-        body = self.block(node.children[1].children)
+        cond, body = node.children
+        test = self.expr(cond)
+        return self.loop(self.where(node), self.body_block(body), test=test)
+
+    def loop(self, where: str, body, test=None, until=None, leave=LEAVE_ON_BREAK, skip=SKIP_ON_CONTINUE):
+        """WHILE test / LOOP / REPEAT ... UNTIL: each pass counts one step. A signal whose kind is in
+        leave ends the loop, one in skip goes on with the next pass; any other is passed on."""
+
+        def run(fr):
+            while test is None or test(fr):
+                fr.m.step(where)
+                signal = body(fr)
+                if signal is not None:
+                    if signal.kind in leave:
+                        return None
+                    if signal.kind not in skip:
+                        return signal
+                if until is not None and until(fr):
+                    return None
+            return None
+
+        return run
+
+    def for_loop(self, node, start, stop, step, body, *, number, store, read=None, leave=frozenset()):
+        """FOR counter = start TO stop [STEP step]: bounds inclusive, each pass one step, STEP 0 an
+        error; number converts the bounds and the step (int, float) and store(fr, value) sets the
+        counter. With read the counter is the program's variable: set once, then tested and
+        incremented as it stands (the body may change it). Without, the loop keeps its own count
+        and stores it at the start of each pass. A signal whose kind is in leave ends the loop."""
+        start, stop = self.expr(start), self.expr(stop)
+        step = self.expr(step) if step is not None else (lambda fr: 1)
+        body = self.body_block(body)
         where = self.where(node)
 
         def run(fr):
-            while cond(fr):
+            i, end, inc = number(start(fr)), number(stop(fr)), number(step(fr))
+            if inc == 0:
+                raise RunError(f"{where}: FOR with STEP 0")
+            if read is not None:
+                store(fr, i)
+            while True:
+                if read is not None:
+                    i = read(fr)
+                if not ((i <= end) if inc > 0 else (i >= end)):
+                    return None
                 fr.m.step(where)
+                if read is None:
+                    store(fr, i)
                 signal = body(fr)
-                if signal is BREAK:
-                    break
-                if signal is CONTINUE:
-                    continue
                 if signal is not None:
-                    return signal
-            return None
+                    return None if signal.kind in leave else signal
+                if read is None:
+                    i += inc
+                else:
+                    store(fr, read(fr) + inc)
 
         return run
 

@@ -10,7 +10,7 @@ from lark import Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import MoveEvent, Program, Routine
+from codegen.dialects.core.machine import MoveEvent, Program
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Inline
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed, format_general
@@ -190,13 +190,6 @@ class DTransCompiler(Compiler):
 
         return run
 
-    def s_call_stmt(self, node):
-        call = self.e_call(Tree("call", node.children, node.meta))
-        return Inline(self, self.guarded([call], self.where(node)))
-
-    def s_if_stmt(self, node):
-        return self.if_elif(node, lambda body: self.block(body.children))
-
     def s_wait_stmt(self, node):
         return self.wait_until(node.children[0], node, "WaitUntil")
 
@@ -231,20 +224,13 @@ class DTransCompiler(Compiler):
         return run
 
     def routine(self, node, returns: bool) -> None:
-        if returns:
-            type_token, name, params_node, body = node.children
-        else:
-            name, params_node, body = node.children
-            type_token = None
+        type_token, name, params_node, body = self.routine_parts(node.children, returns)
         params = []
         for param in params_node.children if params_node is not None else []:
             ptype, pname, brackets = param.children
             params.append((str(pname), "IN", (str(ptype), None) if brackets is not None else str(ptype)))
-        if str(name) in self.routines:
-            self.fail(name, f"routine {name} defined twice")
-        routine = Routine(str(name), params, None, str(type_token) if type_token else None, self.line(node))
-        self.routines[str(name)] = routine
-        self.compile_routine_body(routine, body.children)
+        return_type = str(type_token) if type_token else None
+        self.define_routine(str(name), name, params, return_type, node, body.children)
 
 
 def load(text: str, filename: str = "<dtrans>") -> Program:

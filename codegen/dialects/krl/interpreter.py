@@ -12,9 +12,9 @@ from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import MoveEvent, Program, Routine
+from codegen.dialects.core.machine import MoveEvent, Program
 from codegen.dialects.core.parsing import parse_with_grammar
-from codegen.dialects.core.source import Inline, Src
+from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import F32, Record, RunError, Signal, constant, f32, format_general
 
 
@@ -40,6 +40,8 @@ class _Uninit:
 
 
 UNINIT = _Uninit()
+EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
+NO_SKIP = frozenset()
 
 _XYZABC = [("X", "REAL"), ("Y", "REAL"), ("Z", "REAL"), ("A", "REAL"), ("B", "REAL"), ("C", "REAL")]
 _xyzabc = operator.itemgetter("X", "Y", "Z", "A", "B", "C")  # a cartesian record's six numbers
@@ -435,72 +437,22 @@ class KRLCompiler(Compiler):
         self.fail(node, "DECL after the first statement of a routine (KRL: declarations come first)")
 
     # --- statements --------------------------------------------------------------------------
-    def s_call_stmt(self, node):
-        name, args_node = node.children
-        call = self.e_call(Tree("call", [name, args_node], node.meta))
-        return Inline(self, self.guarded([call], self.where(node)))
-
-    def s_if_stmt(self, node):
-        return self.if_elif(node, self.routine_block)
-
-    def routine_block(self, body_node):
-        return self.block(body_node.children)
-
-    def s_while_stmt(self, node):
-        cond, body = node.children
-        return super().s_while_stmt(Tree("while_stmt", [cond, body], node.meta))
-
-    def _loop(self, node, body_node, until_node=None):
-        """LOOP ... ENDLOOP and REPEAT ... UNTIL: run the body until EXIT (or the condition holds)."""
-        body = self.routine_block(body_node)
-        until = self.expr(until_node) if until_node is not None else None
-        where = self.where(node)
-
-        def run(fr):
-            while True:
-                fr.m.step(where)
-                signal = body(fr)
-                if signal is not None:
-                    return None if signal.kind == "exit" else signal
-                if until is not None and until(fr):
-                    return None
-
-        return run
-
+    # EXIT leaves LOOP, REPEAT and FOR (from WHILE it is passed on as before).
     def s_loop_stmt(self, node):
-        return self._loop(node, node.children[0])
+        return self.loop(self.where(node), self.body_block(node.children[0]), leave=EXIT, skip=NO_SKIP)
 
     def s_repeat_stmt(self, node):
-        return self._loop(node, *node.children)
+        body_node, until_node = node.children
+        body, until = self.body_block(body_node), self.expr(until_node)
+        return self.loop(self.where(node), body, until=until, leave=EXIT, skip=NO_SKIP)
 
     def s_for_stmt(self, node):
-        name, start, stop, step, body_node = node.children
-        setter = self.lvalue(Tree("var", [name], node.meta))
-        read = self.var_reader(name)
-        start, stop = self.expr(start), self.expr(stop)
-        step = self.expr(step) if step is not None else (lambda fr: 1)
-        body = self.routine_block(body_node)
-        where = self.where(node)
-
-        def run(fr):
-            i, end, inc = int(start(fr)), int(stop(fr)), int(step(fr))
-            if inc == 0:
-                raise RunError(f"{where}: FOR with STEP 0")
-            setter(fr, i)
-            while (read(fr) <= end) if inc > 0 else (read(fr) >= end):
-                fr.m.step(where)
-                signal = body(fr)
-                if signal is not None:
-                    if signal.kind == "exit":
-                        return None
-                    return signal
-                setter(fr, read(fr) + inc)
-            return None
-
-        return run
+        name, start, stop, step, body = node.children
+        store, read = self.lvalue(Tree("var", [name], node.meta)), self.var_reader(name)
+        return self.for_loop(node, start, stop, step, body, number=int, store=store, read=read, leave=EXIT)
 
     def s_switch_stmt(self, node):
-        return self.switch(node, self.routine_block)
+        return self.switch(node, self.body_block)
 
     def s_exit_stmt(self, node):
         return lambda fr: Signal("exit")
@@ -539,41 +491,25 @@ class KRLCompiler(Compiler):
 
     # --- routines ----------------------------------------------------------------------------
     def routine(self, node, returns: bool) -> None:
-        if returns:
-            type_token, name, params_node, body = node.children
-        else:
-            name, params_node, body = node.children
-            type_token = None
+        type_token, name, params_node, body = self.routine_parts(node.children, returns)
         params = []
         for param in params_node.children if params_node is not None else []:
             pname, _brackets, mode = param.children
             params.append((str(pname).upper(), str(mode).upper() if mode is not None else "IN", None))
-        decls, statements, seen_statement = [], [], False
-        for child in body.children:
-            if not isinstance(child, Tree):
-                continue
-            if child.data == "decl":
-                if seen_statement:
-                    self.fail(child, "DECL after the first statement of a routine (KRL: declarations come first)")
-                decls.extend(self.decl_items(child))
-            else:
-                seen_statement = True
-                statements.append(child)
-        key = str(name).upper()
-        if key in self.routines:
-            self.fail(name, f"routine {name} defined twice")
+        decls = []
+        message = "DECL after the first statement of a routine (KRL: declarations come first)"
+        statements = self.routine_statements(body, "decl", lambda child: decls.extend(self.decl_items(child)), message)
         # parameters are typed by their DECL lines
         declared = {d[0]: d[1] for d in decls}
         params = [(p, m, declared.get(p)) for p, m, _ in params]
+        local_decls = [d for d in decls if d[0] not in {p for p, _, _ in params}]
+        return_type = str(type_token).upper() if type_token else None
+        self.define_routine(str(name).upper(), name, params, return_type, node, statements, local_decls, declared)
+
+    def check_params(self, node, name, params) -> None:
         for pname, _m, ptype in params:
             if ptype is None:
                 self.fail(node, f"parameter {pname} of {name} has no DECL")
-        local_decls = [d for d in decls if d[0] not in {p for p, _, _ in params}]
-        routine = Routine(
-            str(name), params, None, str(type_token).upper() if type_token else None, self.line(node), local_decls
-        )
-        self.routines[key] = routine
-        self.compile_routine_body(routine, statements, declared)
 
     def data_list(self, node) -> None:
         for child in node.children[-1].children:

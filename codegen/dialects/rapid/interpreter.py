@@ -11,9 +11,9 @@ from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import MoveEvent, Program, Routine, halt
+from codegen.dialects.core.machine import MoveEvent, Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
-from codegen.dialects.core.source import Inline, Src
+from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32, format_fixed
 
 QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
@@ -387,11 +387,7 @@ class RAPIDCompiler(Compiler):
         name, args_node = node.children
         if str(name).upper() == "WAITUNTIL":
             return self.rapid_wait_until(node, args_node)
-        call = self.e_call(Tree("call", node.children, node.meta))
-        return Inline(self, self.guarded([call], self.where(node)))
-
-    def s_if_stmt(self, node):
-        return self.if_elif(node, self.body)
+        return self.s_call_stmt(node)
 
     def rapid_wait_until(self, node, args_node):
         positional, _named = self.call_args(args_node)
@@ -403,53 +399,24 @@ class RAPIDCompiler(Compiler):
         cond, statement = node.children
         return self.if_chain([(self.expr(cond), self.stmt(statement))], None, self.where(node))
 
-    def body(self, body_node):
+    def body_block(self, body_node):
         for child in body_node.children:
             if isinstance(child, Tree) and child.data == "data_decl":
                 self.fail(child, "declarations are only allowed at the start of a routine")
         return self.block(body_node.children)
 
-    def s_while_stmt(self, node):
-        cond, body = node.children
-        compiled = self.body(body)
-        test = self.expr(cond)
-        where = self.where(node)
-
-        def run(fr):
-            while test(fr):
-                fr.m.step(where)
-                signal = compiled(fr)
-                if signal is not None:
-                    return signal
-            return None
-
-        return run
-
     def s_for_stmt(self, node):
-        name, start, stop, step, body_node = node.children
+        """The counter is a local of the loop, set from the loop's own count at every pass."""
+        name, start, stop, step, body = node.children
         key = str(name).upper()
-        start, stop = self.expr(start), self.expr(stop)
-        step = self.expr(step) if step is not None else (lambda fr: 1)
-        body = self.body(body_node)
-        where = self.where(node)
 
-        def run(fr):
-            i, end, inc = float(start(fr)), float(stop(fr)), float(step(fr))
-            if inc == 0:
-                raise RunError(f"{where}: FOR with STEP 0")
-            while (i <= end) if inc > 0 else (i >= end):
-                fr.m.step(where)
-                fr.vars[key] = f32(i)
-                signal = body(fr)
-                if signal is not None:
-                    return signal
-                i += inc
-            return None
+        def store(fr, i):
+            fr.vars[key] = f32(i)
 
-        return run
+        return self.for_loop(node, start, stop, step, body, number=float, store=store)
 
     def s_test_stmt(self, node):
-        return self.switch(node, self.body)
+        return self.switch(node, self.body_block)
 
     # --- declarations and routines -------------------------------------------------------------
     def decl(self, node):
@@ -501,29 +468,18 @@ class RAPIDCompiler(Compiler):
             type_key = str(ptype).upper()
             full_type = (type_key, None) if conformant is not None else type_key
             params.append((str(pname).upper(), str(mode).upper() if mode else "IN", full_type))
-        decls, decl_nodes, statements, seen_statement = [], [], [], False
-        for child in body.children:
-            if not isinstance(child, Tree):
-                continue
-            if child.data == "data_decl":
-                if seen_statement:
-                    self.fail(child, "declarations are only allowed at the start of a routine")
-                key, make = self.decl(child)
-                decls.append((key, self.static_type(child), make))
-                decl_nodes.append(child)
-            else:
-                seen_statement = True
-                statements.append(child)
-        key = str(name).upper()
-        if key in self.routines:
-            self.fail(name, f"routine {name} defined twice")
-        routine = Routine(str(name), params, None, str(return_type).upper() if return_type else None, self.line(node))
-        routine.decls = [
-            (k, t, self._local_init(child, t, mk)) for child, (k, t, mk) in zip(decl_nodes, decls, strict=True)
-        ]
-        self.routines[key] = routine
-        local_types = {p: t for p, _m, t in params} | {k: t for k, t, _mk in decls}
-        self.compile_routine_body(routine, statements, local_types)
+        decls = []  # (name, static type, initialiser)
+
+        def declare(child):
+            key, make = self.decl(child)
+            static_type = self.static_type(child)
+            decls.append((key, static_type, self._local_init(child, static_type, make)))
+
+        message = "declarations are only allowed at the start of a routine"
+        statements = self.routine_statements(body, "data_decl", declare, message)
+        local_types = {p: t for p, _m, t in params} | {k: t for k, t, _init in decls}
+        return_type = str(return_type).upper() if return_type else None
+        self.define_routine(str(name).upper(), name, params, return_type, node, statements, decls, local_types)
 
     def _local_init(self, node, static_type, make):
         """A local's initialiser: its zero value shared by every call when it has no initial

@@ -9,7 +9,7 @@ from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import MoveEvent, Program, Routine, halt
+from codegen.dialects.core.machine import MoveEvent, Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
 
@@ -229,15 +229,10 @@ class URScriptCompiler(Compiler):
 
         return run
 
-    def s_if_stmt(self, node):
-        return self.if_elif(node, lambda body: self.block(body.children))
-
     def s_funcdef(self, node):
         name_token, params_node, body = node.children
         params = [(str(p), "IN", None) for p in (params_node.children if params_node is not None else [])]
-        routine = Routine(str(name_token), params, None, None, self.line(node))
-        self.routines[str(name_token)] = routine
-        self.compile_routine_body(routine, body.children)
+        self.define_routine(str(name_token), name_token, params, None, node, body.children, unique=False)
         return lambda fr: None  # defined at compile time
 
 
