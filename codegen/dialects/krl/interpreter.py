@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import operator
 import re
 from pathlib import Path
 
@@ -15,93 +14,30 @@ from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import MoveEvent, Program
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Src
-from codegen.dialects.core.values import F32, Record, RunError, Signal, constant, f32, format_general
+from codegen.dialects.core.values import F32, Record, RunError, Signal, constant, f32
+from codegen.dialects.krl.builtins import (
+    CART,
+    SIMPLE,
+    STRUCT_FIELDS,
+    STRUCTS,
+    UNINIT,
+    XYZABC,
+    builtins,
+    cart,
+    cart_matrix,
+    frame,
+    new_value,
+    valid,
+    xyzabc,
+)
 
 
 def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
     return parse_with_grammar(__file__, text, filename, positions)
 
 
-class _Uninit:
-    """A KRL variable or component that was declared but never given a value."""
-
-    _instance = None
-
-    def __new__(cls):
-        if cls._instance is None:
-            cls._instance = super().__new__(cls)
-        return cls._instance
-
-    def __repr__(self) -> str:
-        return "UNINIT"
-
-    def copy(self):
-        return self
-
-
-UNINIT = _Uninit()
 EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
 NO_SKIP = frozenset()
-
-_XYZABC = [("X", "REAL"), ("Y", "REAL"), ("Z", "REAL"), ("A", "REAL"), ("B", "REAL"), ("C", "REAL")]
-_xyzabc = operator.itemgetter("X", "Y", "Z", "A", "B", "C")  # a cartesian record's six numbers
-STRUCTS = {
-    "FRAME": _XYZABC,
-    "POS": [*_XYZABC, ("S", "INT"), ("T", "INT")],
-    "E6POS": [*_XYZABC, ("S", "INT"), ("T", "INT")] + [(f"E{i}", "REAL") for i in range(1, 7)],
-    "AXIS": [(f"A{i}", "REAL") for i in range(1, 7)],
-    "E6AXIS": [(f"A{i}", "REAL") for i in range(1, 7)] + [(f"E{i}", "REAL") for i in range(1, 7)],
-    "KRLMSG_T": [("MODUL", "CHAR"), ("NR", "INT"), ("MSG_TXT", "CHAR")],
-    "KRLMSGPAR_T": [
-        ("PAR_TYPE", "ENUM"),
-        ("PAR_TXT", "CHAR"),
-        ("PAR_INT", "INT"),
-        ("PAR_REAL", "REAL"),
-        ("PAR_BOOL", "BOOL"),
-    ],
-    "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
-}
-_MSG_PARAM = re.compile(r"%([123])")  # a KrlMsg_T text's placeholders for its 3 parameters
-STRUCT_FIELDS = {name: dict(fields) for name, fields in STRUCTS.items()}
-SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
-CART = ("FRAME", "POS", "E6POS")
-
-
-def new_value(type_name: str):
-    if type_name in STRUCTS:
-        return Record(type_name, {k: UNINIT for k, _ in STRUCTS[type_name]})
-    return UNINIT
-
-
-def _frame(values=(0, 0, 0, 0, 0, 0)) -> Record:
-    return Record("FRAME", {k: f32(v) for (k, _), v in zip(_XYZABC, values, strict=True)})
-
-
-def _valid(value, where: str, what: str):
-    if value is UNINIT:
-        raise RunError(f"{where}: {what} has no value (KRL: variable value invalid)")
-    return value
-
-
-def _cart(value, where: str) -> Record:
-    if not isinstance(value, Record) or value.type not in CART:
-        raise RunError(f"{where}: expected FRAME, POS or E6POS, got {getattr(value, 'type', type(value).__name__)}")
-    v = value
-    if (
-        v["X"] is UNINIT
-        or v["Y"] is UNINIT
-        or v["Z"] is UNINIT
-        or v["A"] is UNINIT
-        or v["B"] is UNINIT
-        or v["C"] is UNINIT
-    ):
-        for key, _ in _XYZABC:
-            _valid(value[key], where, f"{value.type}.{key}")
-    return value
-
-
-def _cart_matrix(value: Record) -> np.ndarray:
-    return posemath.zyx_matrix_fast(_xyzabc(value))
 
 
 class KRLCompiler(Compiler):
@@ -116,71 +52,11 @@ class KRLCompiler(Compiler):
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
         self.data_decls: list = []
-        self.ns.update(_UNINIT=UNINIT, _valid=_valid)
+        self.ns.update(_UNINIT=UNINIT, _valid=valid)
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        def trig(fn):
-            def call(fr, args, kwargs, where):
-                return f32(fn(math.radians(float(_valid(args[0], where, "argument")))))
-
-            return call
-
-        def atan2(fr, args, kwargs, where):
-            y, x = (float(_valid(a, where, "argument")) for a in args)
-            return f32(math.degrees(math.atan2(y, x)))
-
-        def sqrt(fr, args, kwargs, where):
-            value = float(_valid(args[0], where, "argument"))
-            if value < 0:
-                raise RunError(f"{where}: SQRT of a negative number")
-            return f32(math.sqrt(value))
-
-        def abs_(fr, args, kwargs, where):
-            value = _valid(args[0], where, "argument")
-            return abs(value)
-
-        def inv_pos(fr, args, kwargs, where):
-            from codegen.poses import invert
-
-            value = _cart(args[0], where)
-            out = value.copy()
-            for (key, _), v in zip(_XYZABC, posemath.zyx_from(invert(_cart_matrix(value))), strict=True):
-                out[key] = f32(v)
-            return out
-
-        def set_krlmsg(fr, args, kwargs, where):
-            _kind, msg, params, _opt = args
-            text = _valid(msg["MSG_TXT"], where, "KrlMsg_T.Msg_txt")
-
-            def param(match):
-                i = int(match.group(1))
-                par = params[i - 1] if isinstance(params, list) and i <= len(params) else None
-                if par is None or par["PAR_TYPE"] in (UNINIT, "#EMPTY"):
-                    return match.group(0)
-                values = [(k, par[k]) for k in ("PAR_TXT", "PAR_INT", "PAR_REAL", "PAR_BOOL") if par[k] is not UNINIT]
-                if len(values) != 1:
-                    raise RunError(f"{where}: KrlMsgPar_T[{i}] needs exactly one value, has {len(values)}")
-                return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
-
-            fr.m.trace.messages.append(_MSG_PARAM.sub(param, text))
-            fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
-            return fr.m.extra["handle"]
-
-        def bas(fr, args, kwargs, where):
-            return None  # BAS(#INITMOV, ...) sets speeds and accelerations: no effect on poses
-
-        return {
-            "SIN": trig(math.sin),
-            "COS": trig(math.cos),
-            "TAN": trig(math.tan),
-            "ATAN2": atan2,
-            "SQRT": sqrt,
-            "ABS": abs_,
-            "INV_POS": inv_pos,
-            "SET_KRLMSG": set_krlmsg,
-            "BAS": bas,
-        }
+        return builtins()
 
     def number(self, text: str):
         if any(c in text for c in ".eE"):
@@ -246,7 +122,7 @@ class KRLCompiler(Compiler):
             if not 1 <= index <= 32 or not isinstance(value, tuple | list) or len(value) != 6:
                 raise RunError(f"input {name}: expected BASE_DATA[1..32] = X,Y,Z,A,B,C")
             bases = list(machine.extra.get("BASE_DATA") or [new_value("FRAME") for _ in range(32)])
-            bases[index - 1] = _frame(value)
+            bases[index - 1] = frame(value)
             machine.extra["BASE_DATA"] = bases
         original, machine.inputs = machine.inputs, rest
         try:
@@ -259,7 +135,7 @@ class KRLCompiler(Compiler):
         key = self.norm(str(token))
         where = self.where(token)
         if key == "$NULLFRAME":
-            return lambda fr: _frame()
+            return lambda fr: frame()
 
         def read(fr):
             if key in fr.vars:
@@ -267,12 +143,12 @@ class KRLCompiler(Compiler):
             elif key in fr.m.globals:
                 value = fr.m.globals[key]
             elif key == "$BASE":
-                return fr.m.extra.setdefault("$BASE", _frame())
+                return fr.m.extra.setdefault("$BASE", frame())
             elif key == "BASE_DATA":  # system array of the controller's measured bases ($config.dat)
                 return fr.m.extra.setdefault("BASE_DATA", [new_value("FRAME") for _ in range(32)])
             else:
                 raise RunError(f"{where}: undefined variable {token}")
-            return _valid(value, where, str(token))
+            return valid(value, where, str(token))
 
         return read
 
@@ -314,9 +190,9 @@ class KRLCompiler(Compiler):
         where = self.where(node)
 
         def geo(fr):
-            a, b = _cart(left(fr), where), _cart(right(fr), where)
+            a, b = cart(left(fr), where), cart(right(fr), where)
             out = b.shallow()  # result has the type, status and turn of the right operand
-            x, y, z, a_, b_, c = posemath.zyx_compose(_xyzabc(a), _xyzabc(b))
+            x, y, z, a_, b_, c = posemath.zyx_compose(xyzabc(a), xyzabc(b))
             out.update(X=f32(x), Y=f32(y), Z=f32(z), A=f32(a_), B=f32(b_), C=f32(c))
             return out
 
@@ -475,16 +351,16 @@ class KRLCompiler(Compiler):
         def run(fr):
             target = value(fr)
             if isinstance(target, Record) and target.type is None:  # a bare aggregate {X .., .., C ..}
-                missing = [k for k, _ in _XYZABC if k not in target]
+                missing = [k for k, _ in XYZABC if k not in target]
                 if missing:
                     raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
                 target = self.coerce("FRAME", target, where)
-            pose = _cart(target, where)
-            posemath.check_finite(_xyzabc(pose), where, "motion target")
+            pose = cart(target, where)
+            posemath.check_finite(xyzabc(pose), where, "motion target")
             base = fr.m.extra.get("$BASE")
-            base2tcp = _cart_matrix(pose)
-            if base is not None and _xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
-                base2tcp = _cart_matrix(base) @ base2tcp
+            base2tcp = cart_matrix(pose)
+            if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
+                base2tcp = cart_matrix(base) @ base2tcp
             fr.m.trace.moves.append(MoveEvent(kind, base2tcp, line))
 
         return run
