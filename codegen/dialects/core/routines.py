@@ -113,12 +113,10 @@ class Routines:
 
     @staticmethod
     def routine_parts(children, returns: bool) -> tuple:
-        """(return type or None, name, parameters node, body) of a routine definition's children."""
-        if returns:
-            return_type, name, params_node, body = children
-            return return_type, name, params_node, body
-        name, params_node, body = children
-        return None, name, params_node, body
+        """(return type or None, name, each parameter's children, body) of a routine definition's
+        children: [return type,] name, parameters node or None, body."""
+        return_type, (name, params_node, body) = (children[0], children[1:]) if returns else (None, children)
+        return return_type, name, [p.children for p in (params_node.children if params_node is not None else [])], body
 
     def routine_statements(self, body_node, decl_rule: str, declare, message: str) -> list:
         """The statements of a routine's body; declare(node) is called, in order, for each

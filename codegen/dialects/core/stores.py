@@ -18,6 +18,19 @@ class Stores:
     def coerce(self, type_name: str | None, value, where: str):
         return value
 
+    def coerce_array(self, type_name: tuple, value, where: str, shown: str):
+        """A value stored as an array of type_name = (element type, size or None); shown names the
+        element type in messages. An array of float32 numbers of a float32 element type (in
+        COERCE_UNCHANGED) is stored as it is: arrays are never changed in place."""
+        element, size = type_name
+        if not isinstance(value, list):
+            raise RunError(f"{where}: expected an array of {shown}")
+        if size is not None and len(value) != size:
+            raise RunError(f"{where}: expected {size} elements, got {len(value)}")
+        if self.COERCE_UNCHANGED.get(element) == "_F32" and all(type(v) is F32 for v in value):
+            return value
+        return [self.coerce(element, v, where) for v in value]
+
     def coerce_like_source(self, old: str, value: str, where: str) -> str:
         """Source of coerce_like(old, value) (both plain names): value itself when both have one
         type that the dialect stores unchanged."""

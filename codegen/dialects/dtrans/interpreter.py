@@ -98,14 +98,7 @@ class DTransCompiler(Compiler):
         if type_name is None:
             return value
         if isinstance(type_name, tuple):
-            element, size = type_name
-            if not isinstance(value, list):
-                raise RunError(f"{where}: expected an array of {element}")
-            if size is not None and len(value) != size:
-                raise RunError(f"{where}: expected {size} elements, got {len(value)}")
-            if element == "Double" and all(type(v) is F32 for v in value):
-                return value  # already stored as Doubles (arrays are never changed in place)
-            return [self.coerce(element, v, where) for v in value]
+            return self.coerce_array(type_name, value, where, type_name[0])
         if type_name == "Double":
             return value if type(value) is F32 else f32(_num(value, where))
         if type_name == "Int":
@@ -224,11 +217,11 @@ class DTransCompiler(Compiler):
         return run
 
     def routine(self, node, returns: bool) -> None:
-        type_token, name, params_node, body = self.routine_parts(node.children, returns)
-        params = []
-        for param in params_node.children if params_node is not None else []:
-            ptype, pname, brackets = param.children
-            params.append((str(pname), "IN", (str(ptype), None) if brackets is not None else str(ptype)))
+        type_token, name, param_parts, body = self.routine_parts(node.children, returns)
+        params = [
+            (str(pname), "IN", (str(ptype), None) if brackets is not None else str(ptype))
+            for ptype, pname, brackets in param_parts
+        ]
         return_type = str(type_token) if type_token else None
         self.define_routine(str(name), name, params, return_type, node, body.children)
 

@@ -367,11 +367,11 @@ class KRLCompiler(Compiler):
 
     # --- routines ----------------------------------------------------------------------------
     def routine(self, node, returns: bool) -> None:
-        type_token, name, params_node, body = self.routine_parts(node.children, returns)
-        params = []
-        for param in params_node.children if params_node is not None else []:
-            pname, _brackets, mode = param.children
-            params.append((str(pname).upper(), str(mode).upper() if mode is not None else "IN", None))
+        type_token, name, param_parts, body = self.routine_parts(node.children, returns)
+        params = [
+            (str(pname).upper(), str(mode).upper() if mode is not None else "IN", None)
+            for pname, _brackets, mode in param_parts
+        ]
         decls = []
         message = "DECL after the first statement of a routine (KRL: declarations come first)"
         statements = self.routine_statements(body, "decl", lambda child: decls.extend(self.decl_items(child)), message)

@@ -51,14 +51,7 @@ class RAPIDCompiler(Compiler):
         if type_name == "NUM":
             return value if type(value) is F32 else f32(num(value, where))
         if isinstance(type_name, tuple):  # (element type, size) array
-            element, size = type_name
-            if not isinstance(value, list):
-                raise RunError(f"{where}: expected an array of {element.lower()}")
-            if size is not None and len(value) != size:
-                raise RunError(f"{where}: expected {size} elements, got {len(value)}")
-            if element == "NUM" and all(type(v) is F32 for v in value):
-                return value
-            return [self.coerce(element, v, where) for v in value]
+            return self.coerce_array(type_name, value, where, type_name[0].lower())
         if type_name == "DNUM":
             return float(num(value, where))
         if type_name == "BOOL":
