@@ -112,7 +112,7 @@ class Machine:
     def step(self, where: str) -> None:
         self.steps += 1
         if self.steps > self.step_limit:
-            raise StepLimitError(f"{where}: step limit {self.step_limit} reached (runaway loop?)")
+            raise step_limit_error(where, self)
 
 
 class Program:

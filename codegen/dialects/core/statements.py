@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from lark import Tree
 
 from codegen.dialects.core.machine import halt
@@ -80,7 +82,15 @@ class Statements:
         test = self.expr(cond)
         return self.loop(self.where(node), self.body_block(body), test=test)
 
-    def loop(self, where: str, body, test=None, until=None, leave=LEAVE_ON_BREAK, skip=SKIP_ON_CONTINUE):
+    def loop(
+        self,
+        where: str,
+        body: Callable,
+        test: Callable | None = None,
+        until: Callable | None = None,
+        leave: frozenset[str] = LEAVE_ON_BREAK,
+        skip: frozenset[str] = SKIP_ON_CONTINUE,
+    ) -> Callable:
         """WHILE test / LOOP / REPEAT ... UNTIL: each pass counts one step. A signal whose kind is in
         leave ends the loop, one in skip goes on with the next pass; any other is passed on."""
 
@@ -99,7 +109,19 @@ class Statements:
 
         return run
 
-    def for_loop(self, node, start, stop, step, body, *, number, store, read=None, leave=frozenset()):
+    def for_loop(
+        self,
+        node: Tree,
+        start: Tree,
+        stop: Tree,
+        step: Tree | None,
+        body: Tree,
+        *,
+        number: Callable,
+        store: Callable,
+        read: Callable | None = None,
+        leave: frozenset[str] = frozenset(),
+    ) -> Callable:
         """FOR counter = start TO stop [STEP step]: bounds inclusive, each pass one step, STEP 0 an
         error; number converts the bounds and the step (int, float) and store(fr, value) sets the
         counter. With read the counter is the program's variable: set once, then tested and
