@@ -200,7 +200,8 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     from pathlib import Path
 
     from codegen.controllers import get_target
-    from codegen.dialects.runtime import RunError
+    from codegen.dialects.core.values import RunError
+    from codegen.kinds import kinds
     from codegen.poses import POSE_FORMATS
     from codegen.verify import load_program_file, target_of_file
 
@@ -215,7 +216,8 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     except RunError as exc:
         raise UserError(str(exc)) from None
     try:
-        trace = program.run(values, step_limit=step_limit)
+        devices = [device for kind in kinds().values() for device in kind.devices(target)]
+        trace = program.run(values, step_limit=step_limit, devices=devices)
     except RunError as exc:
         click.echo(f"error: {exc}", err=True)
         sys.exit(1)
@@ -282,7 +284,7 @@ def verify(
     from pathlib import Path
 
     from codegen import verify as v
-    from codegen.dialects.runtime import RunError
+    from codegen.dialects.core.values import RunError
 
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)

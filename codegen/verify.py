@@ -14,7 +14,8 @@ import numpy as np
 from codegen.cell import Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target, target_of_suffix
 from codegen.dialects import get_dialect
-from codegen.dialects.runtime import Program, RunError
+from codegen.dialects.core.machine import Program
+from codegen.dialects.core.values import RunError
 from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
 from codegen.kinds import Case, get_kind, kinds
@@ -89,7 +90,6 @@ def load_program(target: Target, text: str, filename: str, companions: dict[str,
         program = get_dialect(target.dialect).load(text, filename, companions)
     except RecursionError:
         raise RunError(f"{filename}: statements or expressions nested too deeply to run here") from None
-    program.photo_io = target.program.get("photo")
     return program
 
 

@@ -2,10 +2,10 @@
 
 import pytest
 
+from codegen.dialects.core.values import RunError
 from codegen.dialects.dtrans.interpreter import load as load_dtrans
 from codegen.dialects.krl.interpreter import load as load_krl
 from codegen.dialects.rapid.interpreter import load as load_rapid
-from codegen.dialects.runtime import RunError
 from codegen.dialects.urscript.interpreter import load as load_ur
 
 RAPID_DECLS = "VAR num x;\nVAR num u{3} := [1, 2, 3];\nVAR pose p;"

@@ -2,14 +2,36 @@
 
 import numpy as np
 import pytest
+from dialect_base import DialectTests
 
+from codegen.dialects.core.values import RunError
 from codegen.dialects.dtrans.interpreter import load, printf
-from codegen.dialects.runtime import RunError, StepLimitError
 from codegen.poses import matrix_from_dtrans
 
 
 def run(text: str, **inputs):
     return load(text, "t.prg").run(inputs)
+
+
+A_ARRAY = "Double a[3] = {1.0, 2.0, 3.0}\n"
+
+
+class TestDTrans(DialectTests):
+    filename = "t.prg"
+    COPIES = A_ARRAY + 'Double b[3]\nb = a\nb[0] = 5.0\nTPWrite 0, "%g", a[0]\nTPWrite 0, "%g", b[0]\n'
+    BY_VALUE = A_ARRAY + 'Sub scratch(Double k[])\n  k[0] = 42.0\nEndSub\nCall scratch(a)\nTPWrite 0, "%g", a[0]\n'
+    BY_REFERENCE = None
+    RUNAWAY = "While True\nEndWhile\n"
+    HALT = 'TPWrite 0, "stop here"\nHalt\nMovJ Trans(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)\n'
+    SYNTAX_ERROR = ("Int x = 1\nIf x > 0\nEndIf\n", 2)
+    UNDEFINED = ("Int x = 1\nx = y + 1\n", 2)
+    OUT_OF_RANGE = ("Double a[3]\nDouble b = a[3]\n", r"index 3 out of range 0\.\.2")
+    FLOAT32 = 'TPWrite 0, "%g", 16777217.0\n'
+    WAIT = 'Int vis_req = 0\nWaitUntil vis_req == 1\nTPWrite 0, "go"\n'
+    WAIT_NAME = "vis_req"
+
+    def load(self, text):
+        return load(text, self.filename)
 
 
 def test_precedence_printf_and_functions():
@@ -49,13 +71,6 @@ def test_index_base_0_and_inputs():
 def test_keywords_are_case_sensitive():
     with pytest.raises(RunError, match="syntax error"):
         load("if 1 == 1 Then\nEndIf\n", "t.prg")
-
-
-def test_halt_and_step_limit():
-    trace = run('TPWrite 0, "bye"\nHalt\nMovJ Trans(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)\n')
-    assert trace.halted and trace.halt_message == "bye" and not trace.moves
-    with pytest.raises(StepLimitError):
-        load("While True\nEndWhile\n", "t.prg").run({}, step_limit=100)
 
 
 def test_printf_checks_arguments():

@@ -2,9 +2,10 @@
 
 import numpy as np
 import pytest
+from dialect_base import DialectTests
 
+from codegen.dialects.core.values import RunError
 from codegen.dialects.krl.interpreter import load
-from codegen.dialects.runtime import RunError, StepLimitError
 from codegen.poses import matrix_from_xyzabc
 
 DAT = """DEFDAT T PUBLIC
@@ -26,9 +27,44 @@ def show(kind: str, var: str) -> str:
     )
 
 
+def src(body: str, decls: str = "", routines: str = "") -> str:
+    return f"&ACCESS RVP\nDEF T()\n{decls}\n{body}\nEND\n{routines}"
+
+
 def run(body: str, decls: str = "", **inputs):
-    text = f"&ACCESS RVP\nDEF T()\n{decls}\n{body}\nEND\n"
-    return load(text, "t.src", DAT).run(inputs)
+    return load(src(body, decls), "t.src", DAT).run(inputs)
+
+
+def say_text(text: str) -> str:
+    """KRL lines that put a fixed text into a notification message."""
+    return f'MSG.MSG_TXT[] = "{text}"\nH = SET_KRLMSG(#NOTIFY, MSG, PAR[], OPT)'
+
+
+A_FRAME = "DECL FRAME A, B\nA = {X 1, Y 2, Z 3, A 0, B 0, C 0}"
+
+
+class TestKRL(DialectTests):
+    filename = "t.src"
+    COPIES = src(f"B = A\nB.X = 5\nR = A.X\n{show('REAL', 'R')}\nR = B.X\n{show('REAL', 'R')}", A_FRAME)
+    BY_VALUE = src(
+        f"SCRATCH(A)\nR = A.X\n{show('REAL', 'R')}", A_FRAME, "DEF SCRATCH(F:IN)\nDECL FRAME F\nF.X = 42\nEND\n"
+    )
+    BY_REFERENCE = src(
+        f"BUMP(A)\nR = A.X\n{show('REAL', 'R')}", A_FRAME, "DEF BUMP(F:OUT)\nDECL FRAME F\nF.X = 99\nEND\n"
+    )
+    RUNAWAY = src("LOOP\nENDLOOP")
+    HALT = src(
+        'MSG.MSG_TXT[] = "stop here"\nH = SET_KRLMSG(#QUIT, MSG, PAR[], OPT)\nHALT\nPTP {X 0,Y 0,Z 0,A 0,B 0,C 0}'
+    )
+    SYNTAX_ERROR = ("DEF T()\nDECL INT I\nI = 1\nIF I > 0\nENDIF\nEND\n", 4)
+    UNDEFINED = ("DEF T()\nR = Q + 1\nEND\n", 2)
+    OUT_OF_RANGE = (src("R = A[4]", "DECL REAL A[3]"), r"index 4 out of range 1\.\.3")
+    FLOAT32 = src(f"R = 16777217.0\n{show('REAL', 'R')}")
+    WAIT = src(f"WAIT FOR VIS_STATION == 1\n{say_text('go')}")
+    WAIT_NAME = "VIS_STATION"
+
+    def load(self, text):
+        return load(text, self.filename, DAT)
 
 
 def say(expr: str, decl: str = "DECL REAL V") -> str:
@@ -101,41 +137,33 @@ def test_decl_after_statement_is_rejected():
         run("R = 1\nDECL INT LATE")
 
 
-def test_halt_and_quit_message():
-    trace = run(
-        'MSG.MSG_TXT[] = "stop %1"\nPAR[1] = {PAR_TYPE #VALUE}\nPAR[1].PAR_INT = 9\n'
-        "H = SET_KRLMSG(#QUIT, MSG, PAR[], OPT)\nHALT\nPTP {X 0,Y 0,Z 0,A 0,B 0,C 0}"
-    )
-    assert trace.halted and trace.halt_message == "stop 9" and not trace.moves
-
-
-def test_syntax_error_position():
-    with pytest.raises(RunError, match=r"t.src:4:\d+: syntax error"):
-        load("DEF T()\nDECL INT I\nI = 1\nIF I > 0\nENDIF\nEND\n", "t.src", DAT)
-
-
-def test_step_limit():
-    program = load("DEF T()\nLOOP\nENDLOOP\nEND\n", "t.src", DAT)
-    with pytest.raises(StepLimitError):
-        program.run({}, step_limit=500)
-
-
-def test_values_are_copied_and_out_writes_back():
-    text = (
-        "&ACCESS RVP\nDEF T()\nDECL FRAME A, B\nA = {X 1, Y 2, Z 3, A 0, B 0, C 0}\nB = A\nB.X = 5\n"
-        "SCRATCH(A)\nR = A.X\n" + show("REAL", "R") + "\nR = B.X\n" + show("REAL", "R") + "\nBUMP(A)\n"
-        "R = A.X\n" + show("REAL", "R") + "\nR = B.X\n" + show("REAL", "R") + "\nEND\n"
-        "DEF SCRATCH(F:IN)\nDECL FRAME F\nF.X = 42\nEND\n"
-        "DEF BUMP(F:OUT)\nDECL FRAME F\nF.X = 99\nEND\n"
-    )
-    program = load(text, "t.src", DAT)
-    assert program.run({}).messages == ["1", "5", "99", "5"]
-    assert program.run({}).messages == ["1", "5", "99", "5"]  # a run never changes the next run's start
-
-
 def test_assignments_in_the_data_list_run_once_before_the_program():
     dat = DAT.replace("ENDDAT", "R = 2.5\nENDDAT")
     text = "&ACCESS RVP\nDEF T()\n" + show("REAL", "R") + "\nR = R + 1\n" + show("REAL", "R") + "\nEND\n"
     program = load(text, "t.src", dat)
     assert program.run({}).messages == ["2.5", "3.5"]
     assert program.run({}).messages == ["2.5", "3.5"]
+
+
+def test_quit_message_takes_its_parameter():
+    trace = run(
+        'MSG.MSG_TXT[] = "stop %1"\nPAR[1] = {PAR_TYPE #VALUE}\nPAR[1].PAR_INT = 9\n'
+        "H = SET_KRLMSG(#QUIT, MSG, PAR[], OPT)\nHALT"
+    )
+    assert trace.halted and trace.halt_message == "stop 9"
+
+
+def test_exit_leaves_loop_repeat_and_for():
+    body = (
+        "I = 0\nLOOP\nI = I + 1\nIF I == 3 THEN\nEXIT\nENDIF\nENDLOOP\n"
+        "REPEAT\nI = I + 1\nIF I == 5 THEN\nEXIT\nENDIF\nUNTIL FALSE\n"
+        "FOR J = 1 TO 10\nI = I + 1\nIF J == 2 THEN\nEXIT\nENDIF\nENDFOR\n" + show("INT", "I")
+    )
+    assert run(body, "DECL INT I, J").messages == ["7"]
+
+
+def test_for_counts_the_variable_with_step():
+    body = "S = 0\nFOR I = 10 TO 1 STEP -3\nS = S * 100 + I\nENDFOR\n" + show("INT", "S")
+    assert run(body, "DECL INT I, S").messages == ["10070401"]
+    with pytest.raises(RunError, match="FOR with STEP 0"):
+        run("FOR I = 1 TO 2 STEP 0\nENDFOR", "DECL INT I")

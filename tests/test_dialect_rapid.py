@@ -2,15 +2,42 @@
 
 import numpy as np
 import pytest
+from dialect_base import DialectTests
 
+from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid.interpreter import load
-from codegen.dialects.runtime import RunError, StepLimitError
 from codegen.poses import matrix_from_abb
 
 
+def mod(body: str, decls: str = "", routines: str = "") -> str:
+    return f"MODULE T\n{decls}\nPROC main()\n{body}\nENDPROC\n{routines}\nENDMODULE\n"
+
+
 def run(body: str, decls: str = "", routines: str = "", **inputs):
-    text = f"MODULE T\n{decls}\nPROC main()\n{body}\nENDPROC\n{routines}\nENDMODULE\n"
-    return load(text, "t.mod").run(inputs)
+    return load(mod(body, decls, routines), "t.mod").run(inputs)
+
+
+POSE_A = "VAR pose a := [[1, 2, 3], [1, 0, 0, 0]];\nVAR pose b;"
+SHOW_A = 'TPWrite "" \\Num:=a.trans.x;'
+
+
+class TestRAPID(DialectTests):
+    filename = "t.mod"
+    COPIES = mod(f'b := a;\nb.trans.x := 5;\n{SHOW_A}\nTPWrite "" \\Num:=b.trans.x;', POSE_A)
+    BY_VALUE = mod(f"scratch a;\n{SHOW_A}", POSE_A, "PROC scratch(pose p)\n  p.trans.x := 42;\nENDPROC")
+    BY_REFERENCE = mod(f"bump a;\n{SHOW_A}", POSE_A, "PROC bump(INOUT pose p)\n  p.trans.x := 99;\nENDPROC")
+    RUNAWAY = mod("WHILE TRUE DO\nENDWHILE")
+    HALT = mod('TPWrite "stop here";\nStop;\nTPWrite "never";')
+    # the missing ';' is noticed at the next token, as on the controller
+    SYNTAX_ERROR = ("MODULE T\nPROC main()\n  x := 1\nENDPROC\nENDMODULE\n", 4)
+    UNDEFINED = ("MODULE T\nVAR num x;\nPROC main()\n  x := y + 1;\nENDPROC\nENDMODULE\n", 4)
+    OUT_OF_RANGE = (mod("x := vals{4};", "CONST num vals{3} := [1, 2, 3];\nVAR num x;"), r"index 4 out of range 1\.\.3")
+    FLOAT32 = mod('TPWrite "" \\Num:=16777217.0;')
+    WAIT = mod('WaitUntil vis_req = 1;\nTPWrite "go";', "VAR num vis_req := 0;")
+    WAIT_NAME = "vis_req"
+
+    def load(self, text):
+        return load(text, self.filename)
 
 
 def test_precedence_and_strings():
@@ -69,24 +96,6 @@ def test_robtarget_matrix():
     assert np.allclose(trace.moves[0].base2tcp, matrix_from_abb((1, 2, 3, 0.5, 0.5, 0.5, 0.5)))
 
 
-def test_exit_halts_with_last_message():
-    trace = run('TPWrite "bye";\nEXIT;\nTPWrite "never";')
-    assert trace.halted and trace.halt_message == "bye"
-
-
-def test_syntax_error_position():
-    # the missing ';' is noticed at the next token, as on the controller
-    with pytest.raises(RunError, match=r"t.mod:4:1: syntax error at 'ENDPROC', expected one of .*';'"):
-        load("MODULE T\nPROC main()\n  x := 1\nENDPROC\nENDMODULE\n", "t.mod")
-
-
-def test_step_limit_and_undeclared():
-    with pytest.raises(StepLimitError):
-        load("MODULE T\nPROC main()\nWHILE TRUE DO\nENDWHILE\nENDPROC\nENDMODULE\n", "t.mod").run({}, step_limit=300)
-    with pytest.raises(RunError, match="undeclared variable"):
-        run("zz := 1;")
-
-
 def test_values_are_copied_and_inout_writes_back():
     decls = "VAR pose a := [[1, 2, 3], [1, 0, 0, 0]];\nVAR pose b;\nVAR num u{3} := [1, 2, 3];\nVAR num w{3};"
     routines = (
@@ -114,3 +123,22 @@ def test_store_into_a_nested_element_evaluates_its_index_once():
         'TPWrite "" \\Num:=pa{1}.trans.x;'
     )
     assert run(body, decls, routines).messages == ["1", "5", "0"]
+
+
+def test_syntax_error_says_what_was_found_and_expected():
+    with pytest.raises(RunError, match=r"t.mod:4:1: syntax error at 'ENDPROC', expected one of .*';'"):
+        load("MODULE T\nPROC main()\n  x := 1\nENDPROC\nENDMODULE\n", "t.mod")
+
+
+def test_exit_halts_and_assignment_to_undeclared_fails():
+    trace = run('TPWrite "bye";\nEXIT;\nTPWrite "never";')
+    assert trace.halted and trace.halt_message == "bye"
+    with pytest.raises(RunError, match="undeclared variable"):
+        run("zz := 1;")
+
+
+def test_for_counter_is_the_loops_own_count():
+    body = 'FOR i FROM 3 TO 1 STEP -1 DO\n  TPWrite "" \\Num:=i;\nENDFOR'
+    assert run(body).messages == ["3", "2", "1"]
+    with pytest.raises(RunError, match="FOR with STEP 0"):
+        run("FOR i FROM 1 TO 2 STEP 0 DO\nENDFOR")

@@ -4,15 +4,37 @@ import math
 
 import numpy as np
 import pytest
+from dialect_base import DialectTests
 
-from codegen.dialects.runtime import RunError, StepLimitError
+from codegen.dialects.core.values import RunError
 from codegen.dialects.urscript.interpreter import load
 from codegen.poses import matrix_from_ur
 
 
+def prog(body: str) -> str:
+    return "def prog():\n" + "".join(f"  {line}\n" for line in body.splitlines()) + "end\n"
+
+
 def run(body: str, **inputs):
-    text = "def prog():\n" + "".join(f"  {line}\n" for line in body.splitlines()) + "end\n"
-    return load(text, "t.script").run(inputs)
+    return load(prog(body), "t.script").run(inputs)
+
+
+class TestURScript(DialectTests):
+    filename = "t.script"
+    COPIES = prog('a = [1, 2, 3]\nb = a\nb[0] = 5\ntextmsg("", a[0])\ntextmsg("", b[0])')
+    BY_VALUE = prog('a = [1, 2, 3]\ndef scratch(k):\n  k[0] = 42\nend\nscratch(a)\ntextmsg("", a[0])')
+    BY_REFERENCE = None
+    RUNAWAY = prog("while True:\n  x = 1\nend")
+    HALT = prog('textmsg("stop here")\nhalt\nmovej(p[0, 0, 0, 0, 0, 0])')
+    SYNTAX_ERROR = ("def prog():\n  x = 1\n  if x > 0\n  end\nend\n", 3)
+    UNDEFINED = (prog("x = y + 1"), 2)
+    OUT_OF_RANGE = (prog("x = [1, 2, 3]\ny = x[3]"), r"index 3 out of range 0\.\.2")
+    FLOAT32 = prog('textmsg("", 16777217.0)')
+    WAIT = prog('while read_input_integer_register(25) != 1:\n  sync()\nend\ntextmsg("go")')
+    WAIT_NAME = "input_integer_register_25"
+
+    def load(self, text):
+        return load(text, self.filename)
 
 
 def msgs(body: str, **inputs):
@@ -48,11 +70,6 @@ textmsg("g=", f(4, 4))"""
     assert msgs(body) == ["s=18", "f=9", "g=0"]
 
 
-def test_numbers_are_float32():
-    assert msgs('textmsg("", 16777217.0)') == ["16777216"]
-    assert msgs('textmsg("", 0.1 + 0.2)') == ["0.3"]  # float32: 0.1f + 0.2f == 0.3f
-
-
 def test_pose_trans_is_matrix_composition():
     a = [0.1, -0.2, 0.3, 0.1, 0.2, -0.3]
     b = [0.4, 0.05, -0.1, 1.0, -0.5, 2.0]
@@ -78,27 +95,11 @@ def test_trig_in_radians_and_d2r():
     assert float(msgs('textmsg("", r2d(atan2(1.0, 1.0)))')[0]) == pytest.approx(45.0)
 
 
-def test_halt_records_last_message():
-    trace = run('textmsg("stop here")\nhalt\nmovej(p[0, 0, 0, 0, 0, 0])')
-    assert trace.halted and trace.halt_message == "stop here" and not trace.moves
-
-
-def test_syntax_error_names_line_and_expected():
-    with pytest.raises(RunError, match=r"t.script:3:\d+: syntax error, expected"):
-        load("def prog():\n  x = 1\n  if x > 0\n  end\nend\n", "t.script")
-
-
 def test_runtime_error_names_line():
     with pytest.raises(RunError, match=r"t.script:2:\d+: undefined variable y"):
         run("x = y + 1")
     with pytest.raises(RunError, match=r"index 3 out of range 0\.\.2"):
         run("x = [1, 2, 3]\ny = x[3]")
-
-
-def test_runaway_loop_stops_at_step_limit():
-    program = load("def prog():\n  while True:\n    x = 1\n  end\nend\n", "t.script")
-    with pytest.raises(StepLimitError, match="step limit 1000 reached"):
-        program.run({}, step_limit=1000)
 
 
 def test_nan_fails_comparisons():
@@ -122,3 +123,7 @@ textmsg("", b[1])"""
     program = load("def prog():\n" + "".join(f"  {line}\n" for line in body.splitlines()) + "end\n", "t.script")
     assert program.run({}).messages == ["42", "1", "2", "7"]
     assert program.run({}).messages == ["42", "1", "2", "7"]
+
+
+def test_float32_sums():
+    assert msgs('textmsg("", 0.1 + 0.2)') == ["0.3"]  # float32: 0.1f + 0.2f == 0.3f

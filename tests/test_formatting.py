@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from codegen.dialects.runtime import f32, format_fixed, format_general
+from codegen.dialects.core.values import f32, format_fixed, format_general
 
 
 @settings(max_examples=3000, deadline=None)

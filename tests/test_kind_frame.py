@@ -6,11 +6,11 @@ from pathlib import Path
 
 import pytest
 
-from codegen.camera import CameraModel
 from codegen.cell import CellError, load_cell
 from codegen.controllers import get_target
 from codegen.guard import NOT_CONVERGED
 from codegen.kinds.frame import FrameCase, expected_frame_trace
+from codegen.kinds.frame.camera import CameraModel
 from codegen.render import render
 from codegen.verify import build_cases, fresh_sources, load_program, run_verify
 

@@ -28,7 +28,7 @@ def check_finite(values, where: str, what: str) -> None:
     if math.isfinite(sum(map(float, values))):  # float32 values: the sum cannot overflow
         return
     if not all(math.isfinite(float(v)) for v in values):
-        from codegen.dialects.runtime import RunError
+        from codegen.dialects.core.values import RunError
 
         raise RunError(f"{where}: {what} has a non-finite component")
 

@@ -81,6 +81,11 @@ class ProgramKind:
         return {}
 
     @classmethod
+    def devices(cls, target) -> list:
+        """Simulated devices a program of this kind talks to when run by hand (`codegen run`)."""
+        return []
+
+    @classmethod
     def describe(cls, reading) -> str:
         return f"station {reading.station_id}"
 

@@ -9,20 +9,11 @@ import numpy as np
 from lark import Tree
 
 from codegen.dialects import posemath
-from codegen.dialects.runtime import (
-    F32,
-    Compiler,
-    Inline,
-    MoveEvent,
-    Program,
-    Record,
-    Routine,
-    RunError,
-    f32,
-    format_fixed,
-    format_general,
-    parse_with_grammar,
-)
+from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.machine import MoveEvent, Program
+from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.source import Inline
+from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed, format_general
 
 POINT_KEYS = ("x", "y", "z", "rx", "ry", "rz")
 _FORMAT = re.compile(r"%(-?\d*)(?:\.(\d+))?([dfsg%])")
@@ -107,14 +98,7 @@ class DTransCompiler(Compiler):
         if type_name is None:
             return value
         if isinstance(type_name, tuple):
-            element, size = type_name
-            if not isinstance(value, list):
-                raise RunError(f"{where}: expected an array of {element}")
-            if size is not None and len(value) != size:
-                raise RunError(f"{where}: expected {size} elements, got {len(value)}")
-            if element == "Double" and all(type(v) is F32 for v in value):
-                return value  # already stored as Doubles (arrays are never changed in place)
-            return [self.coerce(element, v, where) for v in value]
+            return self.coerce_array(type_name, value, where, type_name[0])
         if type_name == "Double":
             return value if type(value) is F32 else f32(_num(value, where))
         if type_name == "Int":
@@ -199,13 +183,6 @@ class DTransCompiler(Compiler):
 
         return run
 
-    def s_call_stmt(self, node):
-        call = self.e_call(Tree("call", node.children, node.meta))
-        return Inline(self, self.guarded([call], self.where(node)))
-
-    def s_if_stmt(self, node):
-        return self.if_elif(node, lambda body: self.block(body.children))
-
     def s_wait_stmt(self, node):
         return self.wait_until(node.children[0], node, "WaitUntil")
 
@@ -240,20 +217,13 @@ class DTransCompiler(Compiler):
         return run
 
     def routine(self, node, returns: bool) -> None:
-        if returns:
-            type_token, name, params_node, body = node.children
-        else:
-            name, params_node, body = node.children
-            type_token = None
-        params = []
-        for param in params_node.children if params_node is not None else []:
-            ptype, pname, brackets = param.children
-            params.append((str(pname), "IN", (str(ptype), None) if brackets is not None else str(ptype)))
-        if str(name) in self.routines:
-            self.fail(name, f"routine {name} defined twice")
-        routine = Routine(str(name), params, None, str(type_token) if type_token else None, self.line(node))
-        self.routines[str(name)] = routine
-        self.compile_routine_body(routine, body.children)
+        type_token, name, param_parts, body = self.routine_parts(node.children, returns)
+        params = [
+            (str(pname), "IN", (str(ptype), None) if brackets is not None else str(ptype))
+            for ptype, pname, brackets in param_parts
+        ]
+        return_type = str(type_token) if type_token else None
+        self.define_routine(str(name), name, params, return_type, node, body.children)
 
 
 def load(text: str, filename: str = "<dtrans>") -> Program:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import operator
 import re
 from pathlib import Path
 
@@ -11,21 +10,25 @@ import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects import posemath
-from codegen.dialects.runtime import (
-    F32,
-    Compiler,
-    Inline,
-    MoveEvent,
-    Program,
-    Record,
-    Routine,
-    RunError,
-    Signal,
-    Src,
-    constant,
-    f32,
-    format_general,
-    parse_with_grammar,
+from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.machine import MoveEvent, Program
+from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.source import Src
+from codegen.dialects.core.values import F32, Record, RunError, Signal, constant, f32
+from codegen.dialects.krl.builtins import (
+    CART,
+    SIMPLE,
+    STRUCT_FIELDS,
+    STRUCTS,
+    UNINIT,
+    XYZABC,
+    builtins,
+    cart,
+    cart_matrix,
+    frame,
+    new_value,
+    valid,
+    xyzabc,
 )
 
 
@@ -33,84 +36,8 @@ def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
     return parse_with_grammar(__file__, text, filename, positions)
 
 
-class _Uninit:
-    """A KRL variable or component that was declared but never given a value."""
-
-    _instance = None
-
-    def __new__(cls):
-        if cls._instance is None:
-            cls._instance = super().__new__(cls)
-        return cls._instance
-
-    def __repr__(self) -> str:
-        return "UNINIT"
-
-    def copy(self):
-        return self
-
-
-UNINIT = _Uninit()
-
-_XYZABC = [("X", "REAL"), ("Y", "REAL"), ("Z", "REAL"), ("A", "REAL"), ("B", "REAL"), ("C", "REAL")]
-_xyzabc = operator.itemgetter("X", "Y", "Z", "A", "B", "C")  # a cartesian record's six numbers
-STRUCTS = {
-    "FRAME": _XYZABC,
-    "POS": [*_XYZABC, ("S", "INT"), ("T", "INT")],
-    "E6POS": [*_XYZABC, ("S", "INT"), ("T", "INT")] + [(f"E{i}", "REAL") for i in range(1, 7)],
-    "AXIS": [(f"A{i}", "REAL") for i in range(1, 7)],
-    "E6AXIS": [(f"A{i}", "REAL") for i in range(1, 7)] + [(f"E{i}", "REAL") for i in range(1, 7)],
-    "KRLMSG_T": [("MODUL", "CHAR"), ("NR", "INT"), ("MSG_TXT", "CHAR")],
-    "KRLMSGPAR_T": [
-        ("PAR_TYPE", "ENUM"),
-        ("PAR_TXT", "CHAR"),
-        ("PAR_INT", "INT"),
-        ("PAR_REAL", "REAL"),
-        ("PAR_BOOL", "BOOL"),
-    ],
-    "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
-}
-_MSG_PARAM = re.compile(r"%([123])")  # a KrlMsg_T text's placeholders for its 3 parameters
-STRUCT_FIELDS = {name: dict(fields) for name, fields in STRUCTS.items()}
-SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
-CART = ("FRAME", "POS", "E6POS")
-
-
-def new_value(type_name: str):
-    if type_name in STRUCTS:
-        return Record(type_name, {k: UNINIT for k, _ in STRUCTS[type_name]})
-    return UNINIT
-
-
-def _frame(values=(0, 0, 0, 0, 0, 0)) -> Record:
-    return Record("FRAME", {k: f32(v) for (k, _), v in zip(_XYZABC, values, strict=True)})
-
-
-def _valid(value, where: str, what: str):
-    if value is UNINIT:
-        raise RunError(f"{where}: {what} has no value (KRL: variable value invalid)")
-    return value
-
-
-def _cart(value, where: str) -> Record:
-    if not isinstance(value, Record) or value.type not in CART:
-        raise RunError(f"{where}: expected FRAME, POS or E6POS, got {getattr(value, 'type', type(value).__name__)}")
-    v = value
-    if (
-        v["X"] is UNINIT
-        or v["Y"] is UNINIT
-        or v["Z"] is UNINIT
-        or v["A"] is UNINIT
-        or v["B"] is UNINIT
-        or v["C"] is UNINIT
-    ):
-        for key, _ in _XYZABC:
-            _valid(value[key], where, f"{value.type}.{key}")
-    return value
-
-
-def _cart_matrix(value: Record) -> np.ndarray:
-    return posemath.matrix_from_xyzabc(_xyzabc(value))
+EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
+NO_SKIP = frozenset()
 
 
 class KRLCompiler(Compiler):
@@ -125,71 +52,11 @@ class KRLCompiler(Compiler):
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
         self.data_decls: list = []
-        self.ns.update(_UNINIT=UNINIT, _valid=_valid)
+        self.ns.update(_UNINIT=UNINIT, _valid=valid)
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        def trig(fn):
-            def call(fr, args, kwargs, where):
-                return f32(fn(math.radians(float(_valid(args[0], where, "argument")))))
-
-            return call
-
-        def atan2(fr, args, kwargs, where):
-            y, x = (float(_valid(a, where, "argument")) for a in args)
-            return f32(math.degrees(math.atan2(y, x)))
-
-        def sqrt(fr, args, kwargs, where):
-            value = float(_valid(args[0], where, "argument"))
-            if value < 0:
-                raise RunError(f"{where}: SQRT of a negative number")
-            return f32(math.sqrt(value))
-
-        def abs_(fr, args, kwargs, where):
-            value = _valid(args[0], where, "argument")
-            return abs(value)
-
-        def inv_pos(fr, args, kwargs, where):
-            from codegen.poses import invert
-
-            value = _cart(args[0], where)
-            out = value.copy()
-            for (key, _), v in zip(_XYZABC, posemath.xyzabc_from_matrix(invert(_cart_matrix(value))), strict=True):
-                out[key] = f32(v)
-            return out
-
-        def set_krlmsg(fr, args, kwargs, where):
-            _kind, msg, params, _opt = args
-            text = _valid(msg["MSG_TXT"], where, "KrlMsg_T.Msg_txt")
-
-            def param(match):
-                i = int(match.group(1))
-                par = params[i - 1] if isinstance(params, list) and i <= len(params) else None
-                if par is None or par["PAR_TYPE"] in (UNINIT, "#EMPTY"):
-                    return match.group(0)
-                values = [(k, par[k]) for k in ("PAR_TXT", "PAR_INT", "PAR_REAL", "PAR_BOOL") if par[k] is not UNINIT]
-                if len(values) != 1:
-                    raise RunError(f"{where}: KrlMsgPar_T[{i}] needs exactly one value, has {len(values)}")
-                return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
-
-            fr.m.trace.messages.append(_MSG_PARAM.sub(param, text))
-            fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
-            return fr.m.extra["handle"]
-
-        def bas(fr, args, kwargs, where):
-            return None  # BAS(#INITMOV, ...) sets speeds and accelerations: no effect on poses
-
-        return {
-            "SIN": trig(math.sin),
-            "COS": trig(math.cos),
-            "TAN": trig(math.tan),
-            "ATAN2": atan2,
-            "SQRT": sqrt,
-            "ABS": abs_,
-            "INV_POS": inv_pos,
-            "SET_KRLMSG": set_krlmsg,
-            "BAS": bas,
-        }
+        return builtins()
 
     def number(self, text: str):
         if any(c in text for c in ".eE"):
@@ -255,7 +122,7 @@ class KRLCompiler(Compiler):
             if not 1 <= index <= 32 or not isinstance(value, tuple | list) or len(value) != 6:
                 raise RunError(f"input {name}: expected BASE_DATA[1..32] = X,Y,Z,A,B,C")
             bases = list(machine.extra.get("BASE_DATA") or [new_value("FRAME") for _ in range(32)])
-            bases[index - 1] = _frame(value)
+            bases[index - 1] = frame(value)
             machine.extra["BASE_DATA"] = bases
         original, machine.inputs = machine.inputs, rest
         try:
@@ -268,7 +135,7 @@ class KRLCompiler(Compiler):
         key = self.norm(str(token))
         where = self.where(token)
         if key == "$NULLFRAME":
-            return lambda fr: _frame()
+            return lambda fr: frame()
 
         def read(fr):
             if key in fr.vars:
@@ -276,12 +143,12 @@ class KRLCompiler(Compiler):
             elif key in fr.m.globals:
                 value = fr.m.globals[key]
             elif key == "$BASE":
-                return fr.m.extra.setdefault("$BASE", _frame())
+                return fr.m.extra.setdefault("$BASE", frame())
             elif key == "BASE_DATA":  # system array of the controller's measured bases ($config.dat)
                 return fr.m.extra.setdefault("BASE_DATA", [new_value("FRAME") for _ in range(32)])
             else:
                 raise RunError(f"{where}: undefined variable {token}")
-            return _valid(value, where, str(token))
+            return valid(value, where, str(token))
 
         return read
 
@@ -323,9 +190,9 @@ class KRLCompiler(Compiler):
         where = self.where(node)
 
         def geo(fr):
-            a, b = _cart(left(fr), where), _cart(right(fr), where)
+            a, b = cart(left(fr), where), cart(right(fr), where)
             out = b.shallow()  # result has the type, status and turn of the right operand
-            x, y, z, a_, b_, c = posemath.xyzabc_concat(_xyzabc(a), _xyzabc(b))
+            x, y, z, a_, b_, c = posemath.xyzabc_concat(xyzabc(a), xyzabc(b))
             out.update(X=f32(x), Y=f32(y), Z=f32(z), A=f32(a_), B=f32(b_), C=f32(c))
             return out
 
@@ -446,72 +313,22 @@ class KRLCompiler(Compiler):
         self.fail(node, "DECL after the first statement of a routine (KRL: declarations come first)")
 
     # --- statements --------------------------------------------------------------------------
-    def s_call_stmt(self, node):
-        name, args_node = node.children
-        call = self.e_call(Tree("call", [name, args_node], node.meta))
-        return Inline(self, self.guarded([call], self.where(node)))
-
-    def s_if_stmt(self, node):
-        return self.if_elif(node, self.routine_block)
-
-    def routine_block(self, body_node):
-        return self.block(body_node.children)
-
-    def s_while_stmt(self, node):
-        cond, body = node.children
-        return super().s_while_stmt(Tree("while_stmt", [cond, body], node.meta))
-
-    def _loop(self, node, body_node, until_node=None):
-        """LOOP ... ENDLOOP and REPEAT ... UNTIL: run the body until EXIT (or the condition holds)."""
-        body = self.routine_block(body_node)
-        until = self.expr(until_node) if until_node is not None else None
-        where = self.where(node)
-
-        def run(fr):
-            while True:
-                fr.m.step(where)
-                signal = body(fr)
-                if signal is not None:
-                    return None if signal.kind == "exit" else signal
-                if until is not None and until(fr):
-                    return None
-
-        return run
-
+    # EXIT leaves LOOP, REPEAT and FOR (from WHILE it is passed on as before).
     def s_loop_stmt(self, node):
-        return self._loop(node, node.children[0])
+        return self.loop(self.where(node), self.body_block(node.children[0]), leave=EXIT, skip=NO_SKIP)
 
     def s_repeat_stmt(self, node):
-        return self._loop(node, *node.children)
+        body_node, until_node = node.children
+        body, until = self.body_block(body_node), self.expr(until_node)
+        return self.loop(self.where(node), body, until=until, leave=EXIT, skip=NO_SKIP)
 
     def s_for_stmt(self, node):
-        name, start, stop, step, body_node = node.children
-        setter = self.lvalue(Tree("var", [name], node.meta))
-        read = self.var_reader(name)
-        start, stop = self.expr(start), self.expr(stop)
-        step = self.expr(step) if step is not None else (lambda fr: 1)
-        body = self.routine_block(body_node)
-        where = self.where(node)
-
-        def run(fr):
-            i, end, inc = int(start(fr)), int(stop(fr)), int(step(fr))
-            if inc == 0:
-                raise RunError(f"{where}: FOR with STEP 0")
-            setter(fr, i)
-            while (read(fr) <= end) if inc > 0 else (read(fr) >= end):
-                fr.m.step(where)
-                signal = body(fr)
-                if signal is not None:
-                    if signal.kind == "exit":
-                        return None
-                    return signal
-                setter(fr, read(fr) + inc)
-            return None
-
-        return run
+        name, start, stop, step, body = node.children
+        store, read = self.lvalue(Tree("var", [name], node.meta)), self.var_reader(name)
+        return self.for_loop(node, start, stop, step, body, number=int, store=store, read=read, leave=EXIT)
 
     def s_switch_stmt(self, node):
-        return self.switch(node, self.routine_block)
+        return self.switch(node, self.body_block)
 
     def s_exit_stmt(self, node):
         return lambda fr: Signal("exit")
@@ -534,57 +351,41 @@ class KRLCompiler(Compiler):
         def run(fr):
             target = value(fr)
             if isinstance(target, Record) and target.type is None:  # a bare aggregate {X .., .., C ..}
-                missing = [k for k, _ in _XYZABC if k not in target]
+                missing = [k for k, _ in XYZABC if k not in target]
                 if missing:
                     raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
                 target = self.coerce("FRAME", target, where)
-            pose = _cart(target, where)
-            posemath.check_finite(_xyzabc(pose), where, "motion target")
+            pose = cart(target, where)
+            posemath.check_finite(xyzabc(pose), where, "motion target")
             base = fr.m.extra.get("$BASE")
-            base2tcp = _cart_matrix(pose)
-            if base is not None and _xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
-                base2tcp = _cart_matrix(base) @ base2tcp
+            base2tcp = cart_matrix(pose)
+            if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
+                base2tcp = cart_matrix(base) @ base2tcp
             fr.m.trace.moves.append(MoveEvent(kind, base2tcp, line))
 
         return run
 
     # --- routines ----------------------------------------------------------------------------
     def routine(self, node, returns: bool) -> None:
-        if returns:
-            type_token, name, params_node, body = node.children
-        else:
-            name, params_node, body = node.children
-            type_token = None
-        params = []
-        for param in params_node.children if params_node is not None else []:
-            pname, _brackets, mode = param.children
-            params.append((str(pname).upper(), str(mode).upper() if mode is not None else "IN", None))
-        decls, statements, seen_statement = [], [], False
-        for child in body.children:
-            if not isinstance(child, Tree):
-                continue
-            if child.data == "decl":
-                if seen_statement:
-                    self.fail(child, "DECL after the first statement of a routine (KRL: declarations come first)")
-                decls.extend(self.decl_items(child))
-            else:
-                seen_statement = True
-                statements.append(child)
-        key = str(name).upper()
-        if key in self.routines:
-            self.fail(name, f"routine {name} defined twice")
+        type_token, name, param_parts, body = self.routine_parts(node.children, returns)
+        params = [
+            (str(pname).upper(), str(mode).upper() if mode is not None else "IN", None)
+            for pname, _brackets, mode in param_parts
+        ]
+        decls = []
+        message = "DECL after the first statement of a routine (KRL: declarations come first)"
+        statements = self.routine_statements(body, "decl", lambda child: decls.extend(self.decl_items(child)), message)
         # parameters are typed by their DECL lines
         declared = {d[0]: d[1] for d in decls}
         params = [(p, m, declared.get(p)) for p, m, _ in params]
+        local_decls = [d for d in decls if d[0] not in {p for p, _, _ in params}]
+        return_type = str(type_token).upper() if type_token else None
+        self.define_routine(str(name).upper(), name, params, return_type, node, statements, local_decls, declared)
+
+    def check_params(self, node, name, params) -> None:
         for pname, _m, ptype in params:
             if ptype is None:
                 self.fail(node, f"parameter {pname} of {name} has no DECL")
-        local_decls = [d for d in decls if d[0] not in {p for p, _, _ in params}]
-        routine = Routine(
-            str(name), params, None, str(type_token).upper() if type_token else None, self.line(node), local_decls
-        )
-        self.routines[key] = routine
-        self.compile_routine_body(routine, statements, declared)
 
     def data_list(self, node) -> None:
         for child in node.children[-1].children:

@@ -8,19 +8,10 @@ import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects import posemath
-from codegen.dialects.runtime import (
-    F32,
-    Compiler,
-    MoveEvent,
-    Program,
-    Record,
-    Routine,
-    RunError,
-    f32,
-    format_general,
-    halt,
-    parse_with_grammar,
-)
+from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.machine import MoveEvent, Program, halt
+from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
 
 
 def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tree:
@@ -132,7 +123,7 @@ class URScriptCompiler(Compiler):
             fr.m.outputs[f"output_integer_register_{index}"] = int(args[1])
 
         def sync(fr, args, kwargs, where):
-            fr.m.answer_photo(where)  # the vision PC answers between two controller cycles
+            fr.m.wait(where)  # devices (the vision PC) act between two controller cycles
 
         def atan2(fr, args, kwargs, where):
             return f32(math.atan2(float(args[0]), float(args[1])))
@@ -180,6 +171,20 @@ class URScriptCompiler(Compiler):
             "str_cat": str_cat,
         }
 
+    # --- registers by name, for devices: input_* and output_* are the controller's registers ------
+    def device_read(self, machine, name: str):
+        if name.startswith("input_"):
+            return machine.inputs.get(name, 0)
+        if name.startswith("output_"):
+            return machine.outputs.get(name, 0)
+        return super().device_read(machine, name)
+
+    def device_write(self, machine, name: str, value) -> bool:
+        if name.startswith("input_"):
+            machine.inputs[name] = value
+            return True
+        return super().device_write(machine, name, value)
+
     # --- rules beyond the common ones ---------------------------------------------------------
     def e_pose_lit(self, node):
         parts = [self.expr(c) for c in node.children[1:]]
@@ -225,15 +230,10 @@ class URScriptCompiler(Compiler):
 
         return run
 
-    def s_if_stmt(self, node):
-        return self.if_elif(node, lambda body: self.block(body.children))
-
     def s_funcdef(self, node):
         name_token, params_node, body = node.children
         params = [(str(p), "IN", None) for p in (params_node.children if params_node is not None else [])]
-        routine = Routine(str(name_token), params, None, None, self.line(node))
-        self.routines[str(name_token)] = routine
-        self.compile_routine_body(routine, body.children)
+        self.define_routine(str(name_token), name_token, params, None, node, body.children, unique=False)
         return lambda fr: None  # defined at compile time
 
 

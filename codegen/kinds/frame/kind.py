@@ -9,7 +9,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from codegen import derived
-from codegen.camera import CameraModel, SimulatedCamera
 from codegen.emit import EmitError
 from codegen.guard import (
     GUARD_CODES,
@@ -23,6 +22,8 @@ from codegen.guard import (
     pixels_in_range,
 )
 from codegen.kinds import Case, ProgramKind
+from codegen.kinds.frame.camera import CameraModel, SimulatedCamera
+from codegen.kinds.frame.vision_pc import VisionPC
 from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, rotz
 from codegen.reference import JOINT, LINEAR, Move, Trace
 
@@ -292,7 +293,11 @@ class FrameKind(ProgramKind):
 
     @classmethod
     def run_options(cls, cell, target, case: FrameCase) -> dict:
-        return {"camera": camera_for(cell, case)}
+        return {"devices": (VisionPC.for_target(target, camera_for(cell, case)),)}
+
+    @classmethod
+    def devices(cls, target) -> list:
+        return [VisionPC.for_target(target)]
 
     @classmethod
     def describe(cls, case: FrameCase) -> str:

@@ -1,0 +1,1 @@
+"""Shared interpreter core: parsing, values, the machine and the compiler to Python source."""

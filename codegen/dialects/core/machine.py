@@ -1,0 +1,166 @@
+"""The machine a compiled program runs on: routines, frames, run state, traces and the program."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Protocol
+
+import numpy as np
+
+from codegen.dialects.core.values import Halt, RunError, Signal, StepLimitError
+
+if TYPE_CHECKING:
+    from codegen.dialects.core.compiler import Compiler
+
+DEFAULT_STEP_LIMIT = 200_000
+
+
+@dataclass
+class MoveEvent:
+    kind: str  # "joint" or "linear"
+    base2tcp: np.ndarray  # 4x4 float64, mm
+    line: int
+
+
+@dataclass
+class Trace:
+    messages: list[str] = field(default_factory=list)
+    moves: list[MoveEvent] = field(default_factory=list)
+    halted: bool = False
+    halt_message: str | None = None
+    steps: int = 0
+
+
+def halt(fr, *_ignored) -> None:
+    """Stop the program; its last message is the operator's message (HALT, EXIT, Stop, halt())."""
+    messages = fr.m.trace.messages
+    raise Halt(messages[-1] if messages else None)
+
+
+def step_limit_error(where: str, machine: Machine) -> StepLimitError:
+    return StepLimitError(f"{where}: step limit {machine.step_limit} reached (runaway loop?)")
+
+
+class Device(Protocol):
+    """Simulated equipment beside the controller (the vision PC of frame mode): called whenever the
+    program waits, it reads and writes the program's variables through Machine.read_variable and
+    Machine.write_variable."""
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        """Act on the program's state; True when something changed (where: file:line:column)."""
+        ...
+
+
+class Routine:
+    """A user procedure or function: parameters, compiled body, declared return type."""
+
+    __slots__ = ("body", "decls", "entry", "line", "name", "params", "return_type")
+
+    def __init__(self, name, params, body, return_type=None, line=0, decls=None) -> None:
+        self.name = name
+        self.params = params  # list of (name, mode, type or None)
+        self.body = body
+        self.return_type = return_type
+        self.line = line
+        self.decls = decls or []  # (name, type, init closure) local declarations
+        self.entry = None  # the compiled call (Compiler.entry)
+
+
+class Frame:
+    __slots__ = ("m", "types", "vars")
+
+    def __init__(self, machine: Machine, vars_=None, types=None) -> None:
+        self.m = machine
+        self.vars = vars_ if vars_ is not None else {}
+        self.types = types if types is not None else {}
+
+
+class Machine:
+    """State of one run: globals, injected inputs, trace, step counter."""
+
+    def __init__(self, program: Program, inputs: dict, step_limit: int, devices: tuple[Device, ...] = ()) -> None:
+        self.program = program
+        self.globals: dict = {}
+        self.global_types: dict = {}
+        self.inputs = inputs
+        self.outputs: dict = {}
+        self.devices = devices
+        self.trace = Trace()
+        self.step_limit = step_limit
+        self.steps = 0
+        self.extra: dict = {}  # dialect state ($BASE, message handles, ...)
+
+    def wait(self, where: str) -> bool:
+        """The program waits (WAIT FOR, WaitUntil, sync()): every device may act on the program's
+        variables; True when one of them did (the wait's condition is then tested again)."""
+        acted = False
+        for device in self.devices:
+            if device.on_wait(self, where):
+                acted = True
+        return acted
+
+    def read_variable(self, name: str):
+        """A variable or register by its name in the program, for a device (None: not declared)."""
+        return self.program.compiler.device_read(self, name)
+
+    def write_variable(self, name: str, value) -> bool:
+        """Store into a variable or register by its name in the program, coerced to its type, for a
+        device; False when the program declares no such variable."""
+        return self.program.compiler.device_write(self, name, value)
+
+    def step(self, where: str) -> None:
+        self.steps += 1
+        if self.steps > self.step_limit:
+            raise step_limit_error(where, self)
+
+
+class Program:
+    """A parsed and compiled program, run many times with different inputs.
+
+    `init` (module data, constant definitions) runs once; its globals are kept as a snapshot and
+    every run starts from a shallow copy of it (values are never changed in place).
+    """
+
+    def __init__(self, name: str, compiler: Compiler, init, main: str | None, body=None) -> None:
+        self.name = name
+        self.compiler = compiler
+        self.routines: dict[str, Routine] = compiler.routines
+        self.init = init  # callable: module data / constant top-level statements
+        self.main = main  # routine to call after init, or None
+        self.body = body  # callable run after init when there is no main routine
+        self._snapshot: tuple[dict, dict, dict] | None = None
+
+    def _prepare(self, step_limit: int) -> tuple[dict, dict, dict]:
+        if self._snapshot is None:
+            machine = Machine(self, {}, step_limit)
+            self.init(Frame(machine, machine.globals, machine.global_types))
+            self._snapshot = (machine.globals, machine.global_types, machine.extra)
+        return self._snapshot
+
+    def run(
+        self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT, devices: Iterable[Device] = ()
+    ) -> Trace:
+        """One run from the initial globals with these inputs; devices (simulated equipment beside
+        the controller) act whenever the program waits."""
+        globals_, types, extra = self._prepare(step_limit)
+        machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices))
+        machine.globals = dict(globals_)  # values are never changed in place: sharing them is safe
+        machine.global_types = dict(types)
+        machine.extra = dict(extra)
+        frame = Frame(machine, machine.globals, machine.global_types)
+        try:
+            self.compiler.inject_inputs(machine)
+            if self.main is not None:
+                self.compiler.call_routine(frame, self.main, [], {}, "<main>")
+            elif self.body is not None:
+                signal = self.body(frame)
+                if isinstance(signal, Signal) and signal.kind in ("break", "continue"):
+                    raise RunError(f"{self.name}: {signal.kind} outside a loop")
+        except RecursionError:
+            raise RunError(f"{self.name}: routine calls nested too deeply (runaway recursion?)") from None
+        except Halt as halt:
+            machine.trace.halted = True
+            machine.trace.halt_message = halt.args[0] if halt.args else None
+        machine.trace.steps = machine.steps
+        return machine.trace

@@ -1,0 +1,158 @@
+"""KRL data types (FRAME, POS, UNINIT...) and builtin functions (trig in degrees, INV_POS, SET_KRLMSG)."""
+
+from __future__ import annotations
+
+import math
+import operator
+import re
+
+import numpy as np
+
+from codegen.dialects import posemath
+from codegen.dialects.core.values import Record, RunError, f32, format_general
+
+
+class _Uninit:
+    """A KRL variable or component that was declared but never given a value."""
+
+    _instance = None
+
+    def __new__(cls):
+        if cls._instance is None:
+            cls._instance = super().__new__(cls)
+        return cls._instance
+
+    def __repr__(self) -> str:
+        return "UNINIT"
+
+    def copy(self):
+        return self
+
+
+UNINIT = _Uninit()
+
+XYZABC = [("X", "REAL"), ("Y", "REAL"), ("Z", "REAL"), ("A", "REAL"), ("B", "REAL"), ("C", "REAL")]
+xyzabc = operator.itemgetter("X", "Y", "Z", "A", "B", "C")  # a cartesian record's six numbers
+STRUCTS = {
+    "FRAME": XYZABC,
+    "POS": [*XYZABC, ("S", "INT"), ("T", "INT")],
+    "E6POS": [*XYZABC, ("S", "INT"), ("T", "INT")] + [(f"E{i}", "REAL") for i in range(1, 7)],
+    "AXIS": [(f"A{i}", "REAL") for i in range(1, 7)],
+    "E6AXIS": [(f"A{i}", "REAL") for i in range(1, 7)] + [(f"E{i}", "REAL") for i in range(1, 7)],
+    "KRLMSG_T": [("MODUL", "CHAR"), ("NR", "INT"), ("MSG_TXT", "CHAR")],
+    "KRLMSGPAR_T": [
+        ("PAR_TYPE", "ENUM"),
+        ("PAR_TXT", "CHAR"),
+        ("PAR_INT", "INT"),
+        ("PAR_REAL", "REAL"),
+        ("PAR_BOOL", "BOOL"),
+    ],
+    "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
+}
+_MSG_PARAM = re.compile(r"%([123])")  # a KrlMsg_T text's placeholders for its 3 parameters
+STRUCT_FIELDS = {name: dict(fields) for name, fields in STRUCTS.items()}
+SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
+CART = ("FRAME", "POS", "E6POS")
+
+
+def new_value(type_name: str):
+    if type_name in STRUCTS:
+        return Record(type_name, {k: UNINIT for k, _ in STRUCTS[type_name]})
+    return UNINIT
+
+
+def frame(values=(0, 0, 0, 0, 0, 0)) -> Record:
+    return Record("FRAME", {k: f32(v) for (k, _), v in zip(XYZABC, values, strict=True)})
+
+
+def valid(value, where: str, what: str):
+    if value is UNINIT:
+        raise RunError(f"{where}: {what} has no value (KRL: variable value invalid)")
+    return value
+
+
+def cart(value, where: str) -> Record:
+    if not isinstance(value, Record) or value.type not in CART:
+        raise RunError(f"{where}: expected FRAME, POS or E6POS, got {getattr(value, 'type', type(value).__name__)}")
+    v = value
+    if (
+        v["X"] is UNINIT
+        or v["Y"] is UNINIT
+        or v["Z"] is UNINIT
+        or v["A"] is UNINIT
+        or v["B"] is UNINIT
+        or v["C"] is UNINIT
+    ):
+        for key, _ in XYZABC:
+            valid(value[key], where, f"{value.type}.{key}")
+    return value
+
+
+def cart_matrix(value: Record) -> np.ndarray:
+    return posemath.matrix_from_xyzabc(xyzabc(value))
+
+
+def builtins() -> dict:
+    """The KRL functions and procedures the interpreter provides, by upper-case name."""
+
+    def trig(fn):
+        def call(fr, args, kwargs, where):
+            return f32(fn(math.radians(float(valid(args[0], where, "argument")))))
+
+        return call
+
+    def atan2(fr, args, kwargs, where):
+        y, x = (float(valid(a, where, "argument")) for a in args)
+        return f32(math.degrees(math.atan2(y, x)))
+
+    def sqrt(fr, args, kwargs, where):
+        value = float(valid(args[0], where, "argument"))
+        if value < 0:
+            raise RunError(f"{where}: SQRT of a negative number")
+        return f32(math.sqrt(value))
+
+    def abs_(fr, args, kwargs, where):
+        value = valid(args[0], where, "argument")
+        return abs(value)
+
+    def inv_pos(fr, args, kwargs, where):
+        from codegen.poses import invert
+
+        value = cart(args[0], where)
+        out = value.copy()
+        for (key, _), v in zip(XYZABC, posemath.xyzabc_from_matrix(invert(cart_matrix(value))), strict=True):
+            out[key] = f32(v)
+        return out
+
+    def set_krlmsg(fr, args, kwargs, where):
+        _kind, msg, params, _opt = args
+        text = valid(msg["MSG_TXT"], where, "KrlMsg_T.Msg_txt")
+
+        def param(match):
+            i = int(match.group(1))
+            par = params[i - 1] if isinstance(params, list) and i <= len(params) else None
+            if par is None or par["PAR_TYPE"] in (UNINIT, "#EMPTY"):
+                return match.group(0)
+            values = [(k, par[k]) for k in ("PAR_TXT", "PAR_INT", "PAR_REAL", "PAR_BOOL") if par[k] is not UNINIT]
+            if len(values) != 1:
+                raise RunError(f"{where}: KrlMsgPar_T[{i}] needs exactly one value, has {len(values)}")
+            return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
+
+        fr.m.trace.messages.append(_MSG_PARAM.sub(param, text))
+        fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
+        return fr.m.extra["handle"]
+
+    def bas(fr, args, kwargs, where):
+        return None  # BAS(#INITMOV, ...) sets speeds and accelerations: no effect on poses
+
+    return {
+        "SIN": trig(math.sin),
+        "COS": trig(math.cos),
+        "TAN": trig(math.tan),
+        "ATAN2": atan2,
+        "SQRT": sqrt,
+        "ABS": abs_,
+        "INV_POS": inv_pos,
+        "SET_KRLMSG": set_krlmsg,
+        "BAS": bas,
+    }

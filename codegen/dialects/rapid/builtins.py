@@ -1,0 +1,239 @@
+"""RAPID data types (pose, robtarget...) and builtin functions (trig in degrees, Pose*, TPWrite, MoveJ/MoveL)."""
+
+from __future__ import annotations
+
+import math
+import operator
+
+import numpy as np
+
+from codegen.dialects import posemath
+from codegen.dialects.core.machine import MoveEvent, halt
+from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed
+
+QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
+
+
+# Record types by field order (aggregates [a, b, ...] are positional).
+RECORDS = {
+    "POS": [("X", "NUM"), ("Y", "NUM"), ("Z", "NUM")],
+    "ORIENT": [("Q1", "NUM"), ("Q2", "NUM"), ("Q3", "NUM"), ("Q4", "NUM")],
+    "POSE": [("TRANS", "POS"), ("ROT", "ORIENT")],
+    "CONFDATA": [("CF1", "NUM"), ("CF4", "NUM"), ("CF6", "NUM"), ("CFX", "NUM")],
+    "EXTJOINT": [(f"EAX_{c}", "NUM") for c in "ABCDEF"],
+    "ROBTARGET": [("TRANS", "POS"), ("ROT", "ORIENT"), ("ROBCONF", "CONFDATA"), ("EXTAX", "EXTJOINT")],
+    "WOBJDATA": [("ROBHOLD", "BOOL"), ("UFPROG", "BOOL"), ("UFMEC", "STRING"), ("UFRAME", "POSE"), ("OFRAME", "POSE")],
+}
+SCALARS = {"NUM", "DNUM", "BOOL", "STRING"}
+
+
+def _zero(type_name: str):
+    if type_name in RECORDS:
+        return Record(type_name, {k: _zero(t) for k, t in RECORDS[type_name]})
+    return {"NUM": f32(0), "DNUM": 0.0, "BOOL": False, "STRING": ""}.get(type_name, f32(0))
+
+
+_ZEROS = {name: _zero(name) for name in [*RECORDS, *SCALARS]}
+
+
+def zero(type_name: str):
+    """The value RAPID gives a declared variable without an initial value."""
+    return _ZEROS.get(type_name, _ZEROS["NUM"])  # shared: values are never changed in place
+
+
+def type_text(value) -> str:
+    """A value's RAPID data type, for messages."""
+    if isinstance(value, Record):
+        return str(value.type).lower()
+    if isinstance(value, bool):
+        return "bool"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, list):
+        return "array"
+    if isinstance(value, int | float | np.number):
+        return "num"
+    return type(value).__name__
+
+
+def num(value, where: str) -> float:
+    if type(value) is F32:  # the common case first
+        return float(value)
+    if isinstance(value, bool) or not isinstance(value, int | float | np.number):
+        raise RunError(f"{where}: expected a num, got {type_text(value)}")
+    return float(value)
+
+
+def rec(value, type_name: str, where: str) -> Record:
+    if not isinstance(value, Record) or value.type != type_name:
+        raise RunError(f"{where}: expected {type_name.lower()}, got {type_text(value)}")
+    return value
+
+
+def vec(rec: Record, keys) -> list[float]:
+    if keys == "XYZ":
+        return list(map(float, _xyz(rec)))
+    if keys == QUAT_KEYS:
+        return list(map(float, _quat(rec)))
+    return [float(rec[k]) for k in keys]
+
+
+QUAT_KEYS = ("Q1", "Q2", "Q3", "Q4")
+_xyz = operator.itemgetter("X", "Y", "Z")  # a pos record's numbers
+_quat = operator.itemgetter(*QUAT_KEYS)  # an orient record's numbers
+
+
+def pose_record(trans, quat) -> Record:
+    x, y, z = trans
+    q1, q2, q3, q4 = quat
+    return Record(
+        "POSE",
+        {
+            "TRANS": Record("POS", {"X": f32(x), "Y": f32(y), "Z": f32(z)}),
+            "ROT": Record("ORIENT", {"Q1": f32(q1), "Q2": f32(q2), "Q3": f32(q3), "Q4": f32(q4)}),
+        },
+    )
+
+
+def builtins(compiler) -> dict:
+    """The RAPID functions and procedures the interpreter provides, by upper-case name; compiler
+    supplies the coercions of record aggregates."""
+
+    def trig(fn):
+        return lambda fr, a, k, w: f32(fn(math.radians(num(a[0], w))))
+
+    def atan2(fr, args, kwargs, where):
+        return f32(math.degrees(math.atan2(num(args[0], where), num(args[1], where))))
+
+    def sqrt(fr, args, kwargs, where):
+        value = num(args[0], where)
+        if value < 0:
+            raise RunError(f"{where}: Sqrt of a negative number")
+        return f32(math.sqrt(value))
+
+    def abs_(fr, args, kwargs, where):
+        return f32(abs(num(args[0], where)))
+
+    def orient_zyx(fr, args, kwargs, where):
+        z, y, x = (num(a, where) for a in args)
+        return Record(
+            "ORIENT",
+            dict(zip(("Q1", "Q2", "Q3", "Q4"), (f32(v) for v in posemath.quat_from_zyx_deg(z, y, x)), strict=True)),
+        )
+
+    def euler_zyx(fr, args, kwargs, where):
+        axis = next((k for k in kwargs if k in ("X", "Y", "Z")), None)
+        if axis is None or len(args) != 1:
+            raise RunError(f"{where}: EulerZYX needs one of \\X, \\Y, \\Z and an orient")
+        q = vec(rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
+        m = posemath.matrix_from_abb((0, 0, 0, *q))
+        a, b, c = posemath.xyzabc_from_matrix(m)[3:]
+        return f32({"Z": a, "Y": b, "X": c}[axis])
+
+    def norient(fr, args, kwargs, where):
+        q1, q2, q3, q4 = vec(rec(args[0], "ORIENT", where), ("Q1", "Q2", "Q3", "Q4"))
+        n = math.sqrt(q1 * q1 + q2 * q2 + q3 * q3 + q4 * q4)
+        if n == 0 or not math.isfinite(n):
+            raise RunError(f"{where}: NOrient of a zero or non-finite orientation")
+        return Record("ORIENT", {"Q1": f32(q1 / n), "Q2": f32(q2 / n), "Q3": f32(q3 / n), "Q4": f32(q4 / n)})
+
+    def pose_parts(value, where):
+        """Position and quaternion of a pose, or of an aggregate [pos, orient]."""
+        if type(value) is list and len(value) == 2 and all(type(v) is Record for v in value):
+            trans, rot = value
+            if trans.type != "POS" or rot.type != "ORIENT":
+                trans, rot = compiler.coerce("POSE", value, where).values()
+        else:
+            trans, rot = compiler.coerce("POSE", value, where).values()
+        return (
+            [float(trans["X"]), float(trans["Y"]), float(trans["Z"])],
+            [float(rot["Q1"]), float(rot["Q2"]), float(rot["Q3"]), float(rot["Q4"])],
+        )
+
+    def pose_mult(fr, args, kwargs, where):
+        (t1, q1), (t2, q2) = (pose_parts(a, where) for a in args)
+        rotated = posemath.quat_rotate(q1, t2)
+        trans = [a + b for a, b in zip(t1, rotated, strict=True)]
+        return pose_record(trans, posemath.quat_multiply(q1, q2))
+
+    def pose_inv(fr, args, kwargs, where):
+        t, q = pose_parts(args[0], where)
+        conj = (q[0], -q[1], -q[2], -q[3])
+        trans = [-v for v in posemath.quat_rotate(conj, t)]
+        return pose_record(trans, conj)
+
+    def pose_vect(fr, args, kwargs, where):
+        t, q = pose_parts(args[0], where)
+        p = vec(compiler.coerce("POS", args[1], where), "XYZ")
+        out = [a + b for a, b in zip(t, posemath.quat_rotate(q, p), strict=True)]
+        return Record("POS", dict(zip("XYZ", (f32(v) for v in out), strict=True)))
+
+    def num_to_str(fr, args, kwargs, where):
+        return format_fixed(num(args[0], where), int(num(args[1], where)))
+
+    def tpwrite(fr, args, kwargs, where):
+        text = args[0]
+        if not isinstance(text, str):
+            raise RunError(f"{where}: TPWrite needs a string")
+        if "NUM" in kwargs:
+            text += num_text(kwargs["NUM"])
+        if len(text) > 80:
+            raise RunError(f"{where}: TPWrite text longer than 80 characters")
+        fr.m.trace.messages.append(text)
+
+    def move(kind):
+        def run(fr, args, kwargs, where):
+            target = args[0]
+            if type(target) is not Record or target.type != "ROBTARGET":
+                target = compiler.coerce("ROBTARGET", target, where)
+            t = vec(target["TRANS"], "XYZ")
+            q = vec(target["ROT"], QUAT_KEYS)
+            posemath.check_finite(t + q, where, "move target")
+            q1, q2, q3, q4 = q
+            norm = math.sqrt(q1 * q1 + q2 * q2 + q3 * q3 + q4 * q4)
+            if abs(norm - 1.0) > QUATERNION_TOLERANCE:
+                raise RunError(f"{where}: orientation not normalised (|q| = {norm:.9f})")
+            m = posemath.matrix_from_abb(t + q)
+            wobj = kwargs.get("WOBJ")
+            if isinstance(wobj, Record):  # base2tcp = uframe . oframe . target (wobj0: identity)
+                wobj = compiler.coerce("WOBJDATA", wobj, where)
+                if wobj["ROBHOLD"]:
+                    raise RunError(f"{where}: a work object held by the robot is not supported")
+                frames = [wobj["UFRAME"], wobj["OFRAME"]]
+                for frame in reversed(frames):
+                    pose7 = vec(frame["TRANS"], "XYZ") + vec(frame["ROT"], ("Q1", "Q2", "Q3", "Q4"))
+                    m = posemath.matrix_from_abb(pose7) @ m
+            elif wobj not in (None, "WOBJ0"):
+                raise RunError(f"{where}: unknown work object {wobj}")
+            fr.m.trace.moves.append(MoveEvent(kind, m, int(where.split(":")[1])))
+
+        return run
+
+    return {
+        "SIN": trig(math.sin),
+        "COS": trig(math.cos),
+        "TAN": trig(math.tan),
+        "ATAN2": atan2,
+        "SQRT": sqrt,
+        "ABS": abs_,
+        "ORIENTZYX": orient_zyx,
+        "EULERZYX": euler_zyx,
+        "NORIENT": norient,
+        "POSEMULT": pose_mult,
+        "POSEINV": pose_inv,
+        "POSEVECT": pose_vect,
+        "NUMTOSTR": num_to_str,
+        "TPWRITE": tpwrite,
+        "STOP": halt,
+        "EXIT": halt,
+        "MOVEJ": move("joint"),
+        "MOVEL": move("linear"),
+    }
+
+
+def num_text(value) -> str:
+    """TPWrite \\Num: integers without decimals, else up to 6 significant digits (as the FlexPendant)."""
+    v = float(value)
+    if v == int(v) and abs(v) < 1e9:
+        return str(int(v))
+    return f"{v:.6g}"
