@@ -15,12 +15,14 @@ SAFE_TEXT = re.compile(r"[A-Za-z0-9 _.,:+\-=/()']")
 _NON_IDENT = re.compile(r"[^A-Za-z0-9]+")
 
 
+def unsigned_zero(text: str) -> str:
+    """The one rule against '-0': a fixed-decimal text that reads as zero loses its sign."""
+    return text.lstrip("-") if text.lstrip("-").strip("0.") == "" else text
+
+
 def format_literal(value: float, decimals: int) -> str:
     """Fixed decimals, no '-0', no exponent: the same bytes on every machine."""
-    text = f"{value:.{decimals}f}"
-    if text.lstrip("-").strip("0.") == "":
-        text = text.lstrip("-")
-    return text
+    return unsigned_zero(f"{value:.{decimals}f}")
 
 
 class EmitError(Exception):

@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from codegen.emit import unsigned_zero
+
 F32 = np.float32
 MISSING = object()  # a lookup found nothing (None is a value)
 
@@ -132,10 +134,7 @@ def format_fixed(value, decimals: int) -> str:
         return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")
     scaled = abs(v) * 10**decimals
     rounded = math.floor(scaled + 0.5) / 10**decimals
-    text = f"{math.copysign(rounded, v):.{decimals}f}"
-    if text.lstrip("-").strip("0.") == "":
-        text = text.lstrip("-")
-    return text
+    return unsigned_zero(f"{math.copysign(rounded, v):.{decimals}f}")
 
 
 def format_general(value) -> str:
