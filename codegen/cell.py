@@ -41,7 +41,7 @@ class TaughtPose:
     pose_format: str
 
     def matrix(self) -> np.ndarray:
-        """base2pose, 4x4 float64 in mm (computed once per pose; read-only)."""
+        """pose2base, 4x4 float64 in mm (computed once per pose; read-only)."""
         return _pose_matrix(self.pose_format, self.values)
 
 

@@ -223,7 +223,7 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
         sys.exit(1)
     native = POSE_FORMATS[target.pose_format][2]
     moves = [
-        {"motion": m.kind, "line": m.line, "pose": list(native(m.base2tcp)), "base2tcp": m.base2tcp.tolist()}
+        {"motion": m.kind, "line": m.line, "pose": list(native(m.tcp2base)), "tcp2base": m.tcp2base.tolist()}
         for m in trace.moves
     ]
     if as_json:

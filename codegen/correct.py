@@ -27,14 +27,14 @@ def correct_report(cell: Cell, reading: Reading) -> dict:
         "shift_mm": detail and detail.shift_mm,
         "rotation_deg": detail and detail.rotation_deg,
         "phi_deg": detail and detail.phi_deg,
-        "correction": None if detail is None or detail.base2base_new is None else detail.base2base_new.tolist(),
+        "correction": None if detail is None or detail.correction is None else detail.correction.tolist(),
         "poses": [],
     }
     for move in trace.moves:
         native = {}
         for target_name in cell.targets:
             fmt = get_target(target_name).pose_format
-            native[target_name] = [v + 0.0 for v in POSE_FORMATS[fmt][2](move.base2tcp)]
+            native[target_name] = [v + 0.0 for v in POSE_FORMATS[fmt][2](move.tcp2base)]
         report["poses"].append({"name": move.pose_name, "motion": move.kind, "targets": native})
     return report
 

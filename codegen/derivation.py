@@ -216,7 +216,7 @@ res_x, res_y, gamma = sp.symbols("res_x res_y gamma", real=True)
 
 def frame_residual() -> tuple[sp.Matrix, sp.Expr]:
     """What the camera riding with the current frame measures: the true frame in the current
-    frame's axes, ref2cur^-1 . ref2true = [R(-alpha)(d_true - d) | alpha_true - alpha]."""
+    frame's axes, cur2ref^-1 . true2ref = [R(-alpha)(d_true - d) | alpha_true - alpha]."""
     d, d_true = sp.Matrix([dx, dy]), sp.Matrix([dx_true, dy_true])
     return rot2(-alpha) * (d_true - d), alpha_true - alpha
 

@@ -8,17 +8,11 @@ Vocabulary. A *matrix* is a 4x4 homogeneous transform (float64 numpy array, mill
 same names for the same operations (its rotmat is a row-major 9-tuple). Angles are wrapped by
 `wrap_deg`, defined here once.
 
-Frame convention (pytransform3d's): a transform named `A2B` maps coordinates in frame A to
-coordinates in frame B, p_B = A2B @ p_A; equivalently it is the pose of frame A expressed in frame B.
-`concat(*matrices)` multiplies left to right, `concat(X, Y) = X @ Y`, which is the reverse of
-pytransform3d's argument order: pytransform3d's `concat(A2B, B2C)` is `B2C @ A2B`, so here the
-same product is written `concat(B2C, A2B)` and chains read `concat(C2D, B2C, A2B) = A2D`.
-`invert(A2B)` is `B2A`.
-
-The code base does not follow this naming yet: its variables are named the other way round, e.g.
-`base2tcp` is the pose of the tcp in the base (maps tcp coordinates into base coordinates) and will
-be renamed `tcp2base`; `concat(base2frame, frame2tcp)` is, in the convention above,
-`concat(frame2base, tcp2frame) = tcp2base`.
+Frame convention (pytransform3d's, used for every variable name in codegen): a transform named
+`A2B` maps coordinates in frame A to coordinates in frame B, p_B = A2B @ p_A; equivalently it is the
+pose of frame A expressed in frame B. So `tcp2base` is where the tool is in the robot base frame, and
+a taught pose is a `pose2base`. `concat(A2B, B2C, C2D)` is `A2D` (= C2D @ B2C @ A2B), as in
+pytransform3d, so a chain reads in the order of its frames; `invert(A2B)` is `B2A`.
 """
 
 from __future__ import annotations
@@ -53,20 +47,20 @@ def matrix_from_rotation_translation(rot: np.ndarray, trans) -> np.ndarray:
     return out
 
 
-def concat(*matrices: np.ndarray) -> np.ndarray:
-    """Left-to-right product m1 @ m2 @ ... as a new array: concat(B2A, C2B) = C2A (see the module docstring)."""
-    if not matrices:
+def concat(*transforms: np.ndarray) -> np.ndarray:
+    """concat(A2B, B2C, ...) = A2Z, the product ... @ B2C @ A2B, as a new array (pytransform3d's order)."""
+    if not transforms:
         return np.eye(4)
-    out = np.array(matrices[0], dtype=float)
-    for m in matrices[1:]:
+    out = np.array(transforms[-1], dtype=float)
+    for m in reversed(transforms[:-1]):
         out = out @ m
     return out
 
 
-def invert(a2b: np.ndarray) -> np.ndarray:
+def invert(transform: np.ndarray) -> np.ndarray:
     """Rigid inverse [R^T | -R^T t]: invert(A2B) = B2A."""
-    rot = a2b[:3, :3].T
-    return matrix_from_rotation_translation(rot, -rot @ a2b[:3, 3])
+    rot = transform[:3, :3].T
+    return matrix_from_rotation_translation(rot, -rot @ transform[:3, 3])
 
 
 # --- Euler Z-Y-X (A, B, C; the dtrans rx, ry, rz with rz outermost) ---------------------------

@@ -15,7 +15,7 @@ LINEAR = "linear"
 class Move:
     kind: str  # JOINT or LINEAR
     pose_name: str
-    base2tcp: np.ndarray = field(compare=False)
+    tcp2base: np.ndarray = field(compare=False)
 
 
 @dataclass(frozen=True)

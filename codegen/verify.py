@@ -219,7 +219,7 @@ def compare(cell: Cell, target: Target, reading, expected: Trace, got, emitter: 
     for i, (g, e) in enumerate(zip(got.moves, expected.moves, strict=True)):
         if g.kind != e.kind:
             return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
-        pos, rot = _pose_errors(g.base2tcp.tolist(), e.base2tcp.tolist())
+        pos, rot = _pose_errors(g.tcp2base.tolist(), e.tcp2base.tolist())
         pos_errors.append(pos)
         rot_errors.append(rot)
         if not pos <= pos_tol or not rot <= rot_tol:

@@ -165,7 +165,7 @@ class TargetTests:
             got = program.run(inputs_for(cell, target, case.reading), **run_options(cell, target, case.reading))
             (want, *_), _ = get_kind(station.kind).accepted(cell, case.reading)
             assert not got.halted, (station.name, got.halt_message)
-            assert got.moves and np.allclose(got.moves[0].base2tcp, want.moves[0].base2tcp, atol=1e-2), station.name
+            assert got.moves and np.allclose(got.moves[0].tcp2base, want.moves[0].tcp2base, atol=1e-2), station.name
 
     def test_no_negative_zero_and_ascii(self, files):
         for f in files:

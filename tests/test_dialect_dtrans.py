@@ -58,7 +58,7 @@ Decompose p[0] = a
 MovL Trans(p[0] + 1.0, p[1], p[2], p[3], p[4], p[5])
 """
     trace = run(text)
-    assert np.allclose(trace.moves[0].base2tcp, matrix_from_dtrans((101, 20, 30, 10, 20, 30)), atol=1e-4)
+    assert np.allclose(trace.moves[0].tcp2base, matrix_from_dtrans((101, 20, 30, 10, 20, 30)), atol=1e-4)
 
 
 def test_index_base_0_and_inputs():

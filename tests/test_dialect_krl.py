@@ -112,14 +112,14 @@ def test_geometric_operator_and_inv_pos():
         "Q = F : P\nLIN Q\nPTP INV_POS(F) : F"
     )
     trace = run(body, "DECL FRAME F\nDECL POS P, Q")
-    assert np.allclose(trace.moves[0].base2tcp, matrix_from_xyzabc(a) @ matrix_from_xyzabc(b), atol=2e-3)
-    assert np.allclose(trace.moves[1].base2tcp, np.eye(4), atol=2e-3)
+    assert np.allclose(trace.moves[0].tcp2base, matrix_from_xyzabc(a) @ matrix_from_xyzabc(b), atol=2e-3)
+    assert np.allclose(trace.moves[1].tcp2base, np.eye(4), atol=2e-3)
     assert [m.kind for m in trace.moves] == ["linear", "joint"]
 
 
 def test_base_frame_applies_to_moves():
     trace = run("$BASE = {X 100,Y 0,Z 0,A 90,B 0,C 0}\nLIN {X 10,Y 0,Z 0,A 0,B 0,C 0}")
-    assert np.allclose(trace.moves[0].base2tcp[:3, 3], [100, 10, 0], atol=1e-4)
+    assert np.allclose(trace.moves[0].tcp2base[:3, 3], [100, 10, 0], atol=1e-4)
 
 
 def test_trig_in_degrees():

@@ -80,7 +80,7 @@ def test_pose_functions():
         body.replace("Round(", "(").replace("))));", ")));"), "VAR pose p;\nVAR pose q;\nVAR pos v;\nVAR robtarget t;"
     )
     expected = matrix_from_xyzabc((10, 20, 30, 30, 20, 10)) @ matrix_from_xyzabc((1, 2, 3, -40, 5, 60))
-    assert np.allclose(trace.moves[0].base2tcp, expected, atol=1e-3)
+    assert np.allclose(trace.moves[0].tcp2base, expected, atol=1e-3)
     assert trace.messages[0] == "30"
     assert abs(float(trace.messages[1]) - 1.0) < 1e-4  # q is identity, v = (1, 1, 0)
 
@@ -93,7 +93,7 @@ def test_unnormalised_quaternion_is_rejected():
 def test_robtarget_matrix():
     target = "[[1, 2, 3], [0.5, 0.5, 0.5, 0.5], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]]"
     trace = run(f"MoveJ {target}, v100, z10, tool0;")
-    assert np.allclose(trace.moves[0].base2tcp, matrix_from_abb((1, 2, 3, 0.5, 0.5, 0.5, 0.5)))
+    assert np.allclose(trace.moves[0].tcp2base, matrix_from_abb((1, 2, 3, 0.5, 0.5, 0.5, 0.5)))
 
 
 def test_values_are_copied_and_inout_writes_back():

@@ -76,7 +76,7 @@ def test_pose_trans_is_matrix_composition():
     body = f"p = pose_trans(p{a}, p{b})\nmovel(p, a=1.2, v=0.25)"
     trace = run(body)
     expected = matrix_from_ur(a) @ matrix_from_ur(b)
-    assert np.allclose(trace.moves[0].base2tcp, expected, atol=1e-3)
+    assert np.allclose(trace.moves[0].tcp2base, expected, atol=1e-3)
     assert trace.moves[0].kind == "linear"
 
 
@@ -86,7 +86,7 @@ def test_pose_inv_and_registers():
         "textmsg(read_input_integer_register(24), read_input_float_register(24))"
     )
     trace = run(body, input_integer_register_24=7, input_float_register_24=1.5)
-    assert np.allclose(trace.moves[0].base2tcp, np.eye(4), atol=1e-4)
+    assert np.allclose(trace.moves[0].tcp2base, np.eye(4), atol=1e-4)
     assert trace.messages == ["71.5"]
 
 

@@ -27,7 +27,7 @@ def test_closed_form_agrees_with_matrices(demo_cell):
         assert trace.status == "ok"
         phi = math.radians(trace.detail.phi_deg)
         frame = derived.evaluate("frame", {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi})
-        d = trace.detail.base2base_new
+        d = trace.detail.correction
         assert abs(frame["frame_cos"] - d[0, 0]) < 1e-12
         assert abs(frame["frame_sin"] - d[1, 0]) < 1e-12
         worst = max(worst, abs(frame["frame_x"] - d[0, 3]), abs(frame["frame_y"] - d[1, 3]))
@@ -37,7 +37,7 @@ def test_closed_form_agrees_with_matrices(demo_cell):
                 "point",
                 {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi, "Px": m[0, 3], "Py": m[1, 3]},
             )
-            worst = max(worst, abs(point["point_x"] - move.base2tcp[0, 3]), abs(point["point_y"] - move.base2tcp[1, 3]))
+            worst = max(worst, abs(point["point_x"] - move.tcp2base[0, 3]), abs(point["point_y"] - move.tcp2base[1, 3]))
     assert worst <= 1e-9
 
 
@@ -45,7 +45,7 @@ def test_zero_shift_gives_taught_poses(demo_cell):
     station = demo_cell.stations[2]
     trace = expected_trace(demo_cell, Reading(station.id, *station.spec.mark))
     for pose, move in zip(station.poses, trace.moves, strict=True):
-        assert np.allclose(move.base2tcp, pose.matrix(), atol=1e-12)
+        assert np.allclose(move.tcp2base, pose.matrix(), atol=1e-12)
     assert [m.kind for m in trace.moves] == ["joint", "linear"]
 
 
@@ -54,7 +54,7 @@ def test_pure_translation(demo_cell):
     tx, ty, t_theta = station.spec.mark
     trace = expected_trace(demo_cell, Reading(station.id, tx + 3, ty - 4, t_theta))
     for pose, move in zip(station.poses, trace.moves, strict=True):
-        assert np.allclose(move.base2tcp[:3, 3] - pose.matrix()[:3, 3], [3, -4, 0], atol=1e-12)
+        assert np.allclose(move.tcp2base[:3, 3] - pose.matrix()[:3, 3], [3, -4, 0], atol=1e-12)
 
 
 def test_guard_order_and_reasons(demo_cell):
@@ -91,7 +91,7 @@ def test_deviation_line(demo_cell):
     tx, ty, t_theta = s.spec.mark
     trace = expected_trace(demo_cell, Reading(s.id, tx + 1, ty + 2, t_theta + 3))
     sid, dx1, dy1, dx2, dy2, dtheta = trace.deviation
-    work_before, work_after = s.poses[-1].matrix(), trace.moves[-1].base2tcp
+    work_before, work_after = s.poses[-1].matrix(), trace.moves[-1].tcp2base
     assert (sid, dx2, dy2) == (1.0, pytest.approx(1.0), pytest.approx(2.0))
     assert dtheta == pytest.approx(-3.0)
     assert dx1 == pytest.approx(work_after[0, 3] - work_before[0, 3])

@@ -222,7 +222,7 @@ def test_matrix_from_abb_twin(t, q):
 
 @given(st.tuples(coord, coord, coord, angle, b_angle, angle), st.tuples(coord, coord, coord, angle, b_angle, angle))
 def test_xyzabc_concat_through_gimbal_lock(a, b):
-    expected = poses.concat(poses.matrix_from_xyzabc(a), poses.matrix_from_xyzabc(b))
+    expected = poses.concat(poses.matrix_from_xyzabc(b), poses.matrix_from_xyzabc(a))
     assert np.allclose(poses.matrix_from_xyzabc(posemath.xyzabc_concat(a, b)), expected, atol=1e-6)
 
 
@@ -230,5 +230,5 @@ def test_xyzabc_concat_through_gimbal_lock(a, b):
 def test_ur_concat_with_rotations_of_pi(ta, axa, anga, tb, axb, angb):
     a = (*(v / 1000 for v in ta), *_rotvec(axa, anga))
     b = (*(v / 1000 for v in tb), *_rotvec(axb, angb))
-    expected = poses.concat(poses.matrix_from_ur(a), poses.matrix_from_ur(b))
+    expected = poses.concat(poses.matrix_from_ur(b), poses.matrix_from_ur(a))
     assert np.allclose(poses.matrix_from_ur(posemath.ur_concat(a, b)), expected, atol=1e-9)

@@ -16,8 +16,8 @@ class FixedCamera:
     def __init__(self) -> None:
         self.poses = []
 
-    def photo(self, base2tcp):
-        self.poses.append(base2tcp)
+    def photo(self, tcp2base):
+        self.poses.append(tcp2base)
         return 1.5, 2.5, -3.5
 
 

@@ -224,7 +224,7 @@ def matrix_from_abb(pose) -> np.ndarray:
 
 
 def ur_concat(a, b) -> tuple[float, ...]:
-    """URScript pose_trans(a, b) = ur_from_matrix(concat(matrix_from_ur(a), matrix_from_ur(b))), in float64."""
+    """URScript pose_trans(a, b) = ur_from_matrix(matrix_from_ur(a) @ matrix_from_ur(b)), in float64."""
     ra, ta = rotmat_from_rotvec(as64(a[3:])), as64(a[:3])
     rb, tb = rotmat_from_rotvec(as64(b[3:])), as64(b[:3])
     r, t = concat_rotmat_translation(ra, ta, rb, tb)
@@ -232,7 +232,7 @@ def ur_concat(a, b) -> tuple[float, ...]:
 
 
 def xyzabc_concat(a, b) -> tuple[float, ...]:
-    """a . b for poses [X, Y, Z, A, B, C] (mm, deg) = xyzabc_from_matrix(concat(matrix_from_xyzabc(a), ...(b)))."""
+    """a . b for poses [X, Y, Z, A, B, C] (mm, deg) = xyzabc_from_matrix(matrix_from_xyzabc(a) @ ...(b))."""
     a, b = as64(a), as64(b)
     r, t = concat_rotmat_translation(rotmat_from_zyx_deg(*a[3:]), a[:3], rotmat_from_zyx_deg(*b[3:]), b[:3])
     return (*t, *zyx_deg_from_rotmat(r))

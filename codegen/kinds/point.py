@@ -51,17 +51,17 @@ class PointDetail:
     shift_mm: float
     rotation_deg: float  # wrap(tn_theta - t_theta), before the camera sign
     phi_deg: float | None = None  # applied rotation, angle_sign * rotation_deg
-    base2base_new: np.ndarray | None = None  # D
+    correction: np.ndarray | None = None  # D
 
 
-def base2mark(x: float, y: float, theta_deg: float) -> np.ndarray:
+def mark2base(x: float, y: float, theta_deg: float) -> np.ndarray:
     return matrix_from_rotation_translation(rotz(math.radians(theta_deg)), (x, y, 0.0))
 
 
 @lru_cache(maxsize=4096)
-def mark2base(x: float, y: float, theta_deg: float) -> np.ndarray:
-    """Inverse of base2mark (a station's calibration mark: computed once, read-only)."""
-    out = invert(base2mark(x, y, theta_deg))
+def base2mark(x: float, y: float, theta_deg: float) -> np.ndarray:
+    """Inverse of mark2base (a station's calibration mark: computed once, read-only)."""
+    out = invert(mark2base(x, y, theta_deg))
     out.flags.writeable = False
     return out
 
@@ -85,14 +85,14 @@ def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Trace
         return Trace("halt", ROTATION_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
 
     phi = cell.angle_sign * rotation
-    # The part moved rigidly with the mark: base2part_now = base2mark_now . mark2base_cal . base2part
-    base2mark_now = base2mark(reading.x, reading.y, t_theta + phi)
-    correction = concat(base2mark_now, mark2base(tx, ty, t_theta))
+    # The part moved rigidly with the mark: partnow2base = marknow2base . base2markcal . part2base
+    marknow2base = mark2base(reading.x, reading.y, t_theta + phi)
+    correction = concat(base2mark(tx, ty, t_theta), marknow2base)  # D: a taught pose P becomes D . P
     moves = []
     for i, pose in enumerate(station.poses):
-        base2tcp = concat(correction, pose.matrix())
-        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, base2tcp))
-    work, work_new = station.poses[-1].matrix(), moves[-1].base2tcp
+        tcp2base = concat(pose.matrix(), correction)
+        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, tcp2base))
+    work, work_new = station.poses[-1].matrix(), moves[-1].tcp2base
     deviation = (
         float(station.id),
         float(work_new[0, 3] - work[0, 3]),

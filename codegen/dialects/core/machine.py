@@ -19,7 +19,7 @@ DEFAULT_STEP_LIMIT = 200_000
 @dataclass
 class MoveEvent:
     kind: str  # "joint" or "linear"
-    base2tcp: np.ndarray  # 4x4 float64, mm
+    tcp2base: np.ndarray  # 4x4 float64, mm
     line: int
 
 

@@ -358,10 +358,10 @@ class KRLCompiler(Compiler):
             pose = cart(target, where)
             posemath.check_finite(xyzabc(pose), where, "motion target")
             base = fr.m.extra.get("$BASE")
-            base2tcp = cart_matrix(pose)
+            tcp2base = cart_matrix(pose)
             if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
-                base2tcp = cart_matrix(base) @ base2tcp
-            fr.m.trace.moves.append(MoveEvent(kind, base2tcp, line))
+                tcp2base = cart_matrix(base) @ tcp2base
+            fr.m.trace.moves.append(MoveEvent(kind, tcp2base, line))
 
         return run
 

@@ -195,7 +195,7 @@ def builtins(compiler) -> dict:
                 raise RunError(f"{where}: orientation not normalised (|q| = {norm:.9f})")
             m = posemath.matrix_from_abb(t + q)
             wobj = kwargs.get("WOBJ")
-            if isinstance(wobj, Record):  # base2tcp = uframe . oframe . target (wobj0: identity)
+            if isinstance(wobj, Record):  # tcp2base = uframe . oframe . target (wobj0: identity)
                 wobj = compiler.coerce("WOBJDATA", wobj, where)
                 if wobj["ROBHOLD"]:
                     raise RunError(f"{where}: a work object held by the robot is not supported")

@@ -29,35 +29,35 @@ class CameraModel:
 
 
 def mark_offset_seen(
-    base2frame0: np.ndarray, frame2photo: np.ndarray, base2tcp: np.ndarray, base2mark: np.ndarray
+    calib2base: np.ndarray, photo2frame: np.ndarray, tcp2base: np.ndarray, mark2base: np.ndarray
 ) -> tuple[float, float, float]:
     """The mark in the frame the camera believes it is photographing from: (x mm, y mm, yaw deg).
 
-    The camera rides on the tool; at calibration the tool at frame2photo saw the mark at the frame
-    origin. Now the tool is at base2tcp, so the frame it implies is base2tcp . photo2frame.
+    The camera rides on the tool; at calibration the tool at photo2frame saw the mark at the frame
+    origin. Now the tool is at tcp2base, so the frame it implies is concat(frame2photo, tcp2base).
     """
-    implied_frame = concat(base2tcp, invert(frame2photo))
-    frame2mark = concat(invert(implied_frame), base2mark)
-    yaw = math.degrees(math.atan2(frame2mark[1, 0], frame2mark[0, 0]))
-    return float(frame2mark[0, 3]), float(frame2mark[1, 3]), yaw
+    frame2base = concat(invert(photo2frame), tcp2base)  # the frame the tool's pose implies
+    mark2frame = concat(mark2base, invert(frame2base))
+    yaw = math.degrees(math.atan2(mark2frame[1, 0], mark2frame[0, 0]))
+    return float(mark2frame[0, 3]), float(mark2frame[1, 3]), yaw
 
 
 class SimulatedCamera:
     """Answers photo requests in pixels (u, v) and an image angle, as the real camera would."""
 
-    def __init__(self, model: CameraModel, pixel_to_mm, angle_sign: int, base2frame0, frame2photo, base2mark) -> None:
+    def __init__(self, model: CameraModel, pixel_to_mm, angle_sign: int, calib2base, photo2frame, mark2base) -> None:
         self.model = model
         self.pixel_to_mm = np.array(pixel_to_mm, dtype=float)
         self.angle_sign = angle_sign
-        self.base2frame0, self.frame2photo, self.base2mark = base2frame0, frame2photo, base2mark
+        self.calib2base, self.photo2frame, self.mark2base = calib2base, photo2frame, mark2base
         self.photos = 0
         self._rng = random.Random(model.seed)
 
-    def photo(self, base2tcp: np.ndarray) -> tuple[float, float, float]:
+    def photo(self, tcp2base: np.ndarray) -> tuple[float, float, float]:
         self.photos += 1
         if self.photos == self.model.fault_at_photo:
             return math.nan, math.nan, math.nan
-        x, y, yaw = mark_offset_seen(self.base2frame0, self.frame2photo, base2tcp, self.base2mark)
+        x, y, yaw = mark_offset_seen(self.calib2base, self.photo2frame, tcp2base, self.mark2base)
         # The program applies the calibrated map; the real map is off by the hand-eye error, so the
         # millimetres the program will compute are the true offset turned back and scaled back.
         err = math.radians(self.model.rotation_error_deg)

@@ -57,7 +57,7 @@ class FrameDetail:
     iterations: int  # photos taken
     residuals: tuple[tuple[float, float], ...] = ()  # every photo's residual: |res| mm, |gamma| deg
     final_residual: tuple[float, float] | None = None
-    base2frame: np.ndarray | None = None  # the converged frame
+    frame2base: np.ndarray | None = None  # the converged frame
 
 
 def frame_offset(dx: float, dy: float, alpha_deg: float) -> np.ndarray:
@@ -68,9 +68,9 @@ def frame_offset(dx: float, dy: float, alpha_deg: float) -> np.ndarray:
 def camera_for(cell, case: FrameCase) -> SimulatedCamera:
     """A fresh simulated camera for one case (the same noise sequence for every run)."""
     spec = cell.station_by_id(case.station_id).spec
-    base2frame0 = spec.frame.matrix()
-    base2mark = base2frame0 @ frame_offset(case.dx, case.dy, case.alpha)
-    return SimulatedCamera(case.camera, cell.handeye, cell.angle_sign, base2frame0, spec.photo.matrix(), base2mark)
+    calib2base = spec.frame.matrix()
+    mark2base = concat(frame_offset(case.dx, case.dy, case.alpha), calib2base)
+    return SimulatedCamera(case.camera, cell.handeye, cell.angle_sign, calib2base, spec.photo.matrix(), mark2base)
 
 
 def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> Trace:
@@ -81,7 +81,7 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> Trace:
     if station is None:
         return Trace("halt", UNKNOWN_STATION)
     spec = station.spec
-    base2frame0, frame2photo = spec.frame.matrix(), spec.photo.matrix()
+    calib2base, photo2frame = spec.frame.matrix(), spec.photo.matrix()
     camera = camera_for(cell, case)
     handeye = np.array(cell.handeye)
     refine, limits = cell.refine, cell.limits
@@ -97,10 +97,10 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> Trace:
     while True:
         if photos >= refine.max_iterations:
             return halt(NOT_CONVERGED)
-        base2tcp = concat(base2frame0, frame_offset(dx, dy, alpha), frame2photo)
-        moves.append(Move(JOINT, "photo", base2tcp))
+        tcp2base = concat(photo2frame, frame_offset(dx, dy, alpha), calib2base)
+        moves.append(Move(JOINT, "photo", tcp2base))
         photos += 1
-        u, v, angle = camera.photo(base2tcp)
+        u, v, angle = camera.photo(tcp2base)
         if not pixels_in_range(u, v, angle):
             residual = None
             return halt(INVALID_READING)
@@ -118,11 +118,11 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> Trace:
         if abs(alpha) > limits.max_rotation_deg:
             residual = None
             return halt(ROTATION_OVER_LIMIT)
-    base2frame = concat(base2frame0, frame_offset(dx, dy, alpha))
+    frame2base = concat(frame_offset(dx, dy, alpha), calib2base)
     for i, pose in enumerate(station.poses):
-        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, concat(base2frame, pose.matrix())))
+        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, concat(pose.matrix(), frame2base)))
     deviation = (float(station.id), dx, dy, alpha, float(photos))
-    detail = FrameDetail(photos, tuple(residuals), residual, base2frame)
+    detail = FrameDetail(photos, tuple(residuals), residual, frame2base)
     return Trace("ok", None, station, tuple(moves), deviation, detail)
 
 
@@ -161,9 +161,9 @@ class FrameKind(ProgramKind):
     @classmethod
     def moved(cls, spec: FrameSpec, mm: float) -> FrameSpec:
         frame = spec.frame
-        base2frame = frame.matrix().copy()
-        base2frame[0, 3] += mm
-        values = POSE_FORMATS[frame.pose_format][2](base2frame)
+        frame2base = frame.matrix().copy()
+        frame2base[0, 3] += mm
+        values = POSE_FORMATS[frame.pose_format][2](frame2base)
         return replace(spec, frame=replace(frame, values=tuple(values)))
 
     @classmethod

@@ -38,7 +38,7 @@ class VisionPC:
             )
         if not machine.trace.moves:
             raise RunError(f"{where}: a photo was requested before the robot moved to a photo pose")
-        u, v, angle = self.camera.photo(machine.trace.moves[-1].base2tcp)
+        u, v, angle = self.camera.photo(machine.trace.moves[-1].tcp2base)
         for key, value in (("u", u), ("v", v), ("angle", angle), ("ack", request)):
             if not machine.write_variable(io[key], value):
                 raise RunError(f"{machine.program.name}: the photo interface variable {io[key]} is not declared")
