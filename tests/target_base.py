@@ -21,10 +21,7 @@ from codegen.render import render
 from codegen.verify import build_cases, fresh_programs, inputs_for, load_program, run_options, verify
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "codegen" / "examples"
-CELLS = {  # every example cell: together they use every program kind
-    "demo": EXAMPLES / "agv_machine_tending.toml",
-    "bench": EXAMPLES / "thermometer_bench.toml",
-}
+CELLS = {path.stem: path for path in sorted(EXAMPLES.glob("*.toml"))}  # together they use every kind
 
 HOSTILE = st.lists(
     st.sampled_from(
@@ -245,7 +242,7 @@ class TargetTests:
     @pytest.mark.parametrize("mutation", ["swap_sin_cos", "flip_sign", "drop_guard", "calibration_number"])
     def test_text_mutations_fail_verify(self, mutation):
         """Careless edits of the demo program's text (each target names its own)."""
-        cell = load_cell(CELLS["demo"])
+        cell = load_cell(CELLS["agv_machine_tending"])
         files = render(cell, [self.target])
         text, companions = _program(self.target, files)
         dat = companions.get(".dat")
