@@ -7,6 +7,7 @@ import re
 import unicodedata
 
 from codegen.controllers import Target
+from codegen.poses import FORMAT_DECIMALS, native_values
 
 # Characters that may appear inside a string literal or a comment in every target: no quote, no
 # backslash, no comment or statement character of any of the four languages (; ! # // %), no
@@ -109,3 +110,9 @@ class Emitter:
     @staticmethod
     def number(value: float, decimals: int) -> str:
         return format_literal(value, decimals)
+
+    def pose(self, pose) -> list[str]:
+        """A taught pose's numbers in the target's pose format, each with that format's decimals."""
+        fmt = self.target.pose_format
+        values = native_values(pose.values, pose.pose_format, fmt)
+        return [format_literal(v, d) for v, d in zip(values, FORMAT_DECIMALS[fmt], strict=True)]

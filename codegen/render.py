@@ -13,7 +13,6 @@ from codegen.controllers import Target, get_target
 from codegen.emit import Emitter, folder_name
 from codegen.guard import GUARD_CODES, READING_RANGE_DEG, READING_RANGE_MM, UNKNOWN_STATION_TEXT
 from codegen.kinds import get_kind, kinds
-from codegen.poses import FORMAT_DECIMALS, native_values
 
 TEMPLATES_DIR = data_dir("templates")
 
@@ -37,19 +36,13 @@ def _env():
     )
 
 
-def _pose_numbers(pose, fmt: str, emitter: Emitter) -> list[str]:
-    values = native_values(pose.values, pose.pose_format, fmt)
-    return [emitter.number(v, d) for v, d in zip(values, FORMAT_DECIMALS[fmt], strict=True)]
-
-
 def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> dict:
     origin = f"station[{station.id}] {station.name!r}"
-    fmt = target.pose_format
     poses = [
         {
             "name": emitter.comment(pose.name),
             "ident": emitter.identifier(f"p{station.id}_", pose.name, f"{origin} pose {pose.name!r}"),
-            "numbers": _pose_numbers(pose, fmt, emitter),
+            "numbers": emitter.pose(pose),
             "motion": "joint" if i == 0 else "linear",
         }
         for i, pose in enumerate(station.poses)

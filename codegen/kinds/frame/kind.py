@@ -9,6 +9,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from codegen import derived
+from codegen.controllers import get_target
 from codegen.emit import EmitError
 from codegen.guard import (
     GUARD_CODES,
@@ -24,7 +25,7 @@ from codegen.guard import (
 from codegen.kinds import Case, ProgramKind
 from codegen.kinds.frame.camera import CameraModel, SimulatedCamera
 from codegen.kinds.frame.vision_pc import VisionPC
-from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, rotz
+from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, rotz
 from codegen.reference import JOINT, LINEAR, Move, Trace
 
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
@@ -168,8 +169,6 @@ class FrameKind(ProgramKind):
 
     @classmethod
     def check(cls, ctx, path: str, station, cell) -> None:
-        from codegen.controllers import get_target
-
         for name in cell.targets:
             base_data = get_target(name).program.get("base_data")
             if base_data and station.spec.base_data is not None and station.spec.base_data > base_data["max"]:
@@ -209,21 +208,15 @@ class FrameKind(ProgramKind):
                 f"{target.name}: {origin} frame must be level (b = c = 0): the target composes frames only "
                 "in the x-y plane (level_frames_only)"
             )
-        fmt = target.pose_format
-
-        def numbers(pose) -> list[str]:
-            values = native_values(pose.values, pose.pose_format, fmt)
-            return [emitter.number(v, d) for v, d in zip(values, FORMAT_DECIMALS[fmt], strict=True)]
-
         base_data = target.program.get("base_data")
         return {
             "frame": {
                 "ident": emitter.identifier(f"f{station.id}_", station.name, f"{origin} frame"),
-                "numbers": numbers(spec.frame),
+                "numbers": emitter.pose(spec.frame),
             },
             "photo": {
                 "ident": emitter.identifier(f"c{station.id}_", "photo", f"{origin} photo pose"),
-                "numbers": numbers(spec.photo),
+                "numbers": emitter.pose(spec.photo),
             },
             "base_data": spec.base_data,
             "base_data_name": base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None,
