@@ -285,6 +285,7 @@ def verify(
 
     from codegen import verify as v
     from codegen.dialects.core.values import RunError
+    from codegen.kinds import kinds
 
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
@@ -361,21 +362,9 @@ def verify(
             )
             for line in s["first_mismatches"]:
                 click.echo(f"  MISMATCH {line}")
-        frames = [s for s in summaries if s["frame"]["converged_cases"]]
-        if frames:
-            click.echo("frame mode (source 001): photos to converge, final frame vs the true mark")
-            click.echo(
-                f"{'target':<8}{'converged':>10}{'photos mean':>12}{'max':>5}  {'histogram':<26}"
-                f"{'err max mm':>11}{'err max deg':>12}"
-            )
-            for s in frames:
-                f = s["frame"]
-                histogram = " ".join(f"{k}:{v}" for k, v in f["photos_histogram"].items())
-                click.echo(
-                    f"{s['target']:<8}{f['converged_cases']:>10}{f['photos_mean']:>12.2f}{f['photos_max']:>5}  "
-                    f"{histogram:<26}{f['final_frame_error_mm']['max']:>11.4f}"
-                    f"{f['final_frame_error_deg']['max']:>12.4f}"
-                )
+        for kind in kinds().values():  # each kind's own figures, as a table of its own
+            for line in kind.report_lines(summaries):
+                click.echo(line)
         click.echo(
             f"{sum(s['cases'] for s in summaries)} runs in {wall:.1f} s wall, {workers} worker(s); "
             "cases/s = one dialect on one core"

@@ -106,6 +106,11 @@ class ProgramKind:
     def summary(cls, stats) -> dict | None:
         return None
 
+    @classmethod
+    def report_lines(cls, summaries: list[dict]) -> list[str]:
+        """The kind's figures as text lines for the `codegen verify` report (summaries: per target)."""
+        return []
+
 
 @cache
 def kinds() -> dict[str, type[ProgramKind]]:

@@ -324,3 +324,22 @@ class FrameKind(ProgramKind):
             "final_frame_error_mm": _stats(stats.errors_mm),
             "final_frame_error_deg": _stats(stats.errors_deg),
         }
+
+    @classmethod
+    def report_lines(cls, summaries: list[dict]) -> list[str]:
+        frames = [s for s in summaries if s[cls.name]["converged_cases"]]
+        if not frames:
+            return []
+        lines = [
+            "frame mode (source 001): photos to converge, final frame vs the true mark",
+            f"{'target':<8}{'converged':>10}{'photos mean':>12}{'max':>5}  {'histogram':<26}"
+            f"{'err max mm':>11}{'err max deg':>12}",
+        ]
+        for s in frames:
+            f = s[cls.name]
+            histogram = " ".join(f"{k}:{v}" for k, v in f["photos_histogram"].items())
+            lines.append(
+                f"{s['target']:<8}{f['converged_cases']:>10}{f['photos_mean']:>12.2f}{f['photos_max']:>5}  "
+                f"{histogram:<26}{f['final_frame_error_mm']['max']:>11.4f}{f['final_frame_error_deg']['max']:>12.4f}"
+            )
+        return lines
