@@ -66,12 +66,8 @@ class Station:
     id: int
     name: str
     poses: tuple[TaughtPose, ...]  # visiting order: first joint move, then linear
-    spec: Any  # the kind's own data (codegen/kinds/<kind>.py), e.g. PointSpec or FrameSpec
-
-    @property
-    def kind(self) -> str:
-        """The program kind: the cell file's `mode` key."""
-        return self.spec.kind
+    kind: str  # the program kind (codegen/kinds/): the cell file's `mode` key
+    spec: Any  # the kind's own data, e.g. PointSpec or FrameSpec
 
 
 @dataclass(frozen=True)
@@ -104,6 +100,7 @@ _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
 _REFINE_KEYS = {"tolerance_mm", "tolerance_deg", "max_iterations"}
 _STATION_KEYS = {"id", "name", "poses", "mode"}  # and the keys of the station's kind
+DEFAULT_MODE = "point"  # the cell file's contract: a station without `mode` is a point station
 
 
 def load_cell(path: str | Path | None = None) -> Cell:
@@ -286,8 +283,8 @@ class _Context:
             self.fail(f"{path}.id", f"must be in 1..32767, got {station_id}")
         name = self.name(raw, "name", f"{path}.name")
         known = kinds()
-        mode = raw.get("mode", "point")
-        if mode not in known:
+        mode = raw.get("mode", DEFAULT_MODE)
+        if not isinstance(mode, str) or mode not in known:
             self.fail(f"{path}.mode", f"expected one of {', '.join(map(repr, known))}, got {mode!r}")
         kind = known[mode]
         for key in sorted(set(raw) - _STATION_KEYS - kind.station_keys):
@@ -304,7 +301,7 @@ class _Context:
             self.pose(pose_name, values, f"{path}.poses.{pose_name}", pose_format)
             for pose_name, values in poses_raw.items()
         ]
-        return Station(int(station_id), name, tuple(poses), spec)
+        return Station(int(station_id), name, tuple(poses), mode, spec)
 
     def pose(self, pose_name: str, values, pose_path: str, pose_format: str) -> TaughtPose:
         if not pose_name.strip():

@@ -148,7 +148,7 @@ def edge_cell(cell: Cell) -> Cell:
     new_id = max(s.id for s in cell.stations) + 1
     if new_id > 32767:
         return cell
-    station = Station(new_id, "verify_edge_poses", poses, PointSpec((300.0, 200.0, 179.5)))
+    station = Station(new_id, "verify_edge_poses", poses, "point", PointSpec((300.0, 200.0, 179.5)))
     return replace(cell, stations=(*cell.stations, station))
 
 

@@ -54,6 +54,14 @@ BAD = {
         MINIMAL_CELL.replace("vise = [700.0,", "vise = [inf,"),
         "station[2].poses.vise[0]: expected a finite number, got inf",
     ),
+    "mode_not_a_string": (
+        MINIMAL_CELL.replace('name = "mill_1"', 'name = "mill_1"\nmode = ["point"]'),
+        "station[2].mode: expected one of 'point', 'frame', got ['point']",
+    ),
+    "mode_a_table": (
+        MINIMAL_CELL.replace('name = "mill_1"', 'name = "mill_1"\nmode = {kind = "point"}'),
+        "station[2].mode: expected one of 'point', 'frame', got {'kind': 'point'}",
+    ),
     "string_number": (
         MINIMAL_CELL.replace("max_shift_mm = 10.0", 'max_shift_mm = "10"'),
         "cell.limits.max_shift_mm: expected a number, got the string '10'",

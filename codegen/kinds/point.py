@@ -33,7 +33,6 @@ class PointSpec:
     """The mark at calibration: x mm, y mm, theta deg in the robot base frame."""
 
     mark: tuple[float, float, float]
-    kind: str = "point"
 
 
 @dataclass(frozen=True)

@@ -39,7 +39,6 @@ class FrameSpec:
     frame: object  # codegen.cell.TaughtPose
     photo: object  # codegen.cell.TaughtPose
     base_data: int | None = None
-    kind: str = "frame"
 
 
 @dataclass(frozen=True)
