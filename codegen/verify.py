@@ -19,7 +19,6 @@ from codegen.dialects.core.values import RunError
 from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
 from codegen.kinds import Case, get_kind, kinds
-from codegen.kinds.point import PointSpec
 from codegen.poses import native_values
 from codegen.reference import Trace
 
@@ -146,9 +145,10 @@ def edge_cell(cell: Cell) -> Cell:
         for name, values in edge_poses_xyzabc.items()
     )
     new_id = max(s.id for s in cell.stations) + 1
-    if new_id > 32767:
+    kind = next((k for k in kinds().values() if k.edge_spec() is not None), None)
+    if new_id > 32767 or kind is None:
         return cell
-    station = Station(new_id, "verify_edge_poses", poses, "point", PointSpec((300.0, 200.0, 179.5)))
+    station = Station(new_id, "verify_edge_poses", poses, kind.name, kind.edge_spec())
     return replace(cell, stations=(*cell.stations, station))
 
 

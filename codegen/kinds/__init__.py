@@ -26,6 +26,9 @@ class ProgramKind:
     name: ClassVar[str] = ""
     order: ClassVar[int] = 100  # where the kind's sections come in a program, lowest first
     station_keys: ClassVar[frozenset[str]] = frozenset()  # [[station]] keys of this kind
+    # The parts of the cell model the kind's programs depend on; the model-level mutation tests
+    # perturb each one ("angle_sign", "calibration", "derivation") and verify must notice.
+    model_inputs: ClassVar[frozenset[str]] = frozenset()
     log_prefixes: ClassVar[tuple[str, ...]] = ()  # the program's log lines whose numbers verify reads
     log_names: ClassVar[tuple[str, ...]] = ()  # those numbers, in order
     registry: ClassVar[dict[str, type[ProgramKind]]] = {}
@@ -46,8 +49,9 @@ class ProgramKind:
 
     @classmethod
     def moved(cls, spec, mm: float):
-        """The spec with its calibration moved by `mm` along the base x axis (for mutation tests)."""
-        raise NotImplementedError
+        """The spec with its calibration moved by `mm` along the base x axis (the mutation tests of a
+        kind whose model_inputs include "calibration")."""
+        return spec
 
     # --- rendering -------------------------------------------------------------------------
     @classmethod
@@ -64,6 +68,16 @@ class ProgramKind:
     @classmethod
     def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
         raise NotImplementedError
+
+    @classmethod
+    def nominal_case(cls, cell, station) -> Case:
+        """The case in which nothing moved since calibration: the program visits the taught poses."""
+        raise NotImplementedError
+
+    @classmethod
+    def edge_spec(cls):
+        """A spec for verify's extra station of edge-case poses, or None if the kind has none."""
+        return None
 
     @classmethod
     def accepted(cls, cell, reading) -> tuple[list, bool]:
@@ -127,6 +141,3 @@ def get_kind(name: str) -> type[ProgramKind]:
         raise KeyError(f"unknown program kind {name!r}; known: {', '.join(known)}")
     return known[name]
 
-
-def kind_of(station) -> type[ProgramKind]:
-    return get_kind(station.kind)

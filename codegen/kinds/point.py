@@ -111,6 +111,7 @@ class PointKind(ProgramKind):
     name = "point"
     order = 0
     station_keys = frozenset({"mark"})
+    model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("deviation",)
     log_names = ("station", "dx1", "dy1", "dx2", "dy2", "dtheta")
 
@@ -156,7 +157,7 @@ class PointKind(ProgramKind):
             r = shift * math.sqrt(rng.random())
             a = rng.uniform(-math.pi, math.pi)
             cases.append(Case("random", reading(r * math.cos(a), r * math.sin(a), rng.uniform(-rot, rot))))
-        cases.append(Case("zero_shift", Reading(station.id, tx, ty, t_theta)))
+        cases.append(cls.nominal_case(cell, station))
         for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0.6, 0.8)):
             cases.append(Case("at_shift_limit", reading(sx * shift, sy * shift, 0.0)))
             cases.append(Case("inside_shift_limit", reading(sx * (shift - 1e-3), sy * (shift - 1e-3), 0.0)))
@@ -180,6 +181,15 @@ class PointKind(ProgramKind):
         ):
             cases.append(Case("invalid_reading", Reading(station.id, *bad)))
         return cases
+
+    @classmethod
+    def nominal_case(cls, cell, station) -> Case:
+        return Case("zero_shift", Reading(station.id, *station.spec.mark))
+
+    @classmethod
+    def edge_spec(cls) -> PointSpec:
+        """A mark near 180 deg, so readings around it wrap."""
+        return PointSpec((300.0, 200.0, 179.5))
 
     @classmethod
     def accepted(cls, cell, reading: Reading) -> tuple[list[Trace], bool]:

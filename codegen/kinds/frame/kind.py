@@ -146,6 +146,7 @@ class FrameKind(ProgramKind):
     name = "frame"
     order = 1
     station_keys = frozenset({"frame", "photo", "base_data"})
+    model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("frame",)
     log_names = ("station", "dx", "dy", "alpha", "photos")
 
@@ -249,7 +250,7 @@ class FrameKind(ProgramKind):
         for i in range(count):
             category, camera = cameras[i % len(cameras)]
             out.append(moved(camera(i), category))
-        out.append(Case("frame_zero_shift", FrameCase(station.id, 0.0, 0.0, 0.0, CameraModel())))
+        out.append(cls.nominal_case(cell, station))
         for i in range(4):
             out.append(moved(CameraModel(rotation_error_deg=80.0), "frame_camera_diverges"))
             out.append(moved(CameraModel(scale_error=9.0), "frame_camera_too_weak"))
@@ -258,6 +259,10 @@ class FrameKind(ProgramKind):
             alpha = (1.05 + i) * rot / 1.05 if i < 2 else -1.05 * rot
             out.append(Case("frame_beyond_limit", FrameCase(station.id, 0.0, 0.0, alpha, CameraModel())))
         return out
+
+    @classmethod
+    def nominal_case(cls, cell, station) -> Case:
+        return Case("frame_zero_shift", FrameCase(station.id, 0.0, 0.0, 0.0, CameraModel()))
 
     @classmethod
     def accepted(cls, cell, case: FrameCase) -> tuple[list[Trace], bool]:
