@@ -192,7 +192,12 @@ def _parse_input(text: str):
     + "; ".join(f"{t.name} = {t.title}" for t in all_targets())
     + ".",
 )
-@click.option("--input", "inputs", multiple=True, help="Vision input NAME=VALUE (repeatable), e.g. VIS_X=614.0.")
+@click.option(
+    "--input",
+    "inputs",
+    multiple=True,
+    help="Input NAME=VALUE (repeatable): the names are the [program] inputs of targets/<t>.toml.",
+)
 @click.option("--step-limit", default=200_000, show_default=True, help="Stop a runaway program after this many steps.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit: int, as_json: bool) -> None:
@@ -200,12 +205,16 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     from pathlib import Path
 
     from codegen.controllers import get_target
+    from codegen.dialects import is_companion
     from codegen.dialects.core.values import RunError
+    from codegen.emit import unsigned_zero
     from codegen.kinds import kinds
     from codegen.poses import POSE_FORMATS
     from codegen.verify import load_program_file, target_of_file
 
     path = Path(file)
+    if is_companion(path):
+        raise UserError(f"{path}: a data file, read together with its program: run the program file")
     try:
         target = get_target(target_name or target_of_file(path))
     except ValueError as exc:
@@ -243,7 +252,8 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     for message in trace.messages:
         click.echo(f"message: {message}")
     for m in moves:
-        click.echo(f"{m['motion']:<6} (line {m['line']}): " + " ".join(f"{v:.4f}" for v in m["pose"]))
+        shown = " ".join(unsigned_zero(f"{v:.4f}") for v in m["pose"])
+        click.echo(f"{m['motion']:<6} (line {m['line']}): {shown}")
     if trace.halted:
         click.echo(f"HALT: {trace.halt_message}")
     else:
@@ -284,6 +294,7 @@ def verify(
     from pathlib import Path
 
     from codegen import verify as v
+    from codegen.dialects import is_companion
     from codegen.dialects.core.values import RunError
     from codegen.kinds import kinds
 
@@ -298,7 +309,7 @@ def verify(
         sources = []
         for f in files:
             path = Path(f)
-            if path.suffix.lower() == ".dat":
+            if is_companion(path):
                 continue
             try:
                 name = targets[0] if len(targets) == 1 else v.target_of_file(path)

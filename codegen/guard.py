@@ -15,7 +15,6 @@ INVALID_READING = "invalid_reading"
 SHIFT_OVER_LIMIT = "shift_over_limit"
 ROTATION_OVER_LIMIT = "rotation_over_limit"
 NOT_CONVERGED = "not_converged"
-HALT_REASONS = (UNKNOWN_STATION, INVALID_READING, SHIFT_OVER_LIMIT, ROTATION_OVER_LIMIT, NOT_CONVERGED)
 
 # The codes a program's guard function returns: 0 ok, then the reasons in the order they are checked.
 GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}

@@ -75,7 +75,6 @@ def context(cell: Cell, target: Target) -> dict:
             "sha256": cell.sha256,
             "angle_sign": str(cell.angle_sign),
             "max_shift_sq": number(cell.limits.max_shift_mm**2, 6),
-            "max_shift": number(cell.limits.max_shift_mm, 6),
             "max_rotation": number(cell.limits.max_rotation_deg, 6),
             "max_shift_text": f"{cell.limits.max_shift_mm:g}",
             "max_rotation_text": f"{cell.limits.max_rotation_deg:g}",

@@ -97,3 +97,14 @@ def test_correct_does_not_import_sympy_jinja_lark():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert "LOADED []" in out
+
+
+def test_run_refuses_a_data_file():
+    from pathlib import Path
+
+    kuka = Path(__file__).resolve().parents[1] / "generated" / "agv_machine_tending" / "kuka"
+    refused = CliRunner().invoke(main, ["run", str(kuka / "agv_machine_tending.dat")])
+    assert refused.exit_code == 2 and "a data file" in refused.output
+    inputs = ["VIS_STATION=1", "VIS_X=612.4", "VIS_Y=-285", "VIS_THETA=1.8"]
+    ran = CliRunner().invoke(main, ["run", str(kuka / "agv_machine_tending.src"), *(f"--input={i}" for i in inputs)])
+    assert ran.exit_code == 0 and "738.5000 -112.3000 305.2000" in ran.output

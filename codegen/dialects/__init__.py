@@ -18,7 +18,7 @@ class Dialect:
 
     name: ClassVar[str] = ""
     suffixes: ClassVar[tuple[str, ...]] = ()  # program files, e.g. (".src",)
-    companions: ClassVar[tuple[str, ...]] = ()  # data files read together with a program, e.g. (".dat",)
+    companions: ClassVar[tuple[str, ...]] = ()  # data files read together with a program, e.g. a data list
     registry: ClassVar[dict[str, type[Dialect]]] = {}
 
     def __init_subclass__(cls, **kwargs) -> None:
@@ -68,11 +68,17 @@ def printers() -> dict:
 
 
 def dialect_of_suffix(suffix: str) -> type[Dialect] | None:
-    """The dialect whose program or companion files end in `suffix` (".src", ".dat", ...)."""
+    """The dialect whose program or companion files end in `suffix` (a program or a data file)."""
     for dialect in dialects().values():
         if suffix.lower() in dialect.suffixes + dialect.companions:
             return dialect
     return None
+
+
+def is_companion(path) -> bool:
+    """A data file read together with its program (e.g. a data list beside its program), not a program."""
+    suffix = str(path).rsplit(".", 1)[-1].lower()
+    return any("." + suffix in dialect.companions for dialect in dialects().values())
 
 
 def parse_program(name: str, text: str, positions: bool = True):
