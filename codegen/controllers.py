@@ -54,6 +54,26 @@ _SCALARS = {
 }
 
 
+# The [program] table: what the templates and verify read, with its type; the first three are required.
+_PROGRAM = {
+    "joint_move": str,  # the joint move instruction, or its arguments (UR)
+    "linear_move": str,
+    "inputs": dict,  # station, x, y, theta: the vision interface's names (`codegen run --input`, verify)
+    "photo": dict,  # request, ack, u, v, angle: the photo handshake's names (frame kind)
+    "speed": str,
+    "zone": str,
+    "tool": str,
+    "log_decimals": int,  # decimals of the logged numbers, when the program rounds them
+    "message_module": str,
+    "station_register": int,
+    "mark_registers": list,
+    "photo_registers": dict,
+    "level_frames_only": bool,  # frames compose only in the x-y plane
+    "base_data": dict,  # name ("...{n}...") and max of the controller's numbered bases
+}
+_PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
+
+
 def _load(path: Path) -> Target:
     try:
         facts = tomllib.loads(path.read_text(encoding="utf-8"))
@@ -75,6 +95,16 @@ def _load(path: Path) -> Target:
         raise TargetError(f"{path}: identifier_case: expected one of {', '.join(IDENTIFIER_CASES)}")
     if not facts["sources"]:
         raise TargetError(f"{path}: sources: each target cites where its facts come from")
+    program = facts["program"]
+    unknown_program = sorted(set(program) - set(_PROGRAM))
+    if unknown_program:
+        raise TargetError(f"{path}: program.{unknown_program[0]}: unknown key; known: {', '.join(_PROGRAM)}")
+    for key in _PROGRAM_REQUIRED:
+        if key not in program:
+            raise TargetError(f"{path}: program.{key}: missing")
+    for key, value in program.items():
+        if isinstance(value, bool) is not (_PROGRAM[key] is bool) or not isinstance(value, _PROGRAM[key]):
+            raise TargetError(f"{path}: program.{key}: expected {_PROGRAM[key].__name__}")
     return Target(
         **{key: facts[key] for key in _SCALARS},
         files=tuple(facts["files"]),

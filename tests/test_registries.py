@@ -18,9 +18,13 @@ REPO = Path(__file__).resolve().parents[1]
 CODE = [p for p in (REPO / "codegen").rglob("*.py")] + list((REPO / "templates").rglob("*.j2"))
 
 
-def _readers(key: str) -> list[Path]:
-    """Files that read a key: `.key`, `["key"]`, `get("key"` or a template's `.key` (declarations excluded)."""
-    pattern = re.compile(rf'\.{key}\b|\["{key}"\]|get\("{key}"|\bfacts\["{key}"\]')
+def _readers(key: str, table: str = "target") -> list[Path]:
+    """Files that read a target fact (`target.key`, also through another name for the target) or a
+    [program] fact (`program.key`, `program["key"]`, `program.get("key"`); declarations excluded."""
+    if table == "program":
+        pattern = re.compile(rf'program\.{key}\b|program\["{key}"\]|program\.get\("{key}"')
+    else:
+        pattern = re.compile(rf'\.{key}\b|facts\["{key}"\]')
     out = []
     for path in CODE:
         text = path.read_text(encoding="utf-8")
@@ -41,14 +45,15 @@ def test_targets_are_discovered_from_their_files():
 @pytest.mark.parametrize("path", sorted((REPO / "targets").glob("*.toml")), ids=lambda p: p.stem)
 def test_every_target_fact_is_read_by_code(path):
     facts = tomllib.loads(path.read_text(encoding="utf-8"))
-    keys = [k for k in facts if k != "program"] + list(facts["program"])
-    unread = [key for key in keys if not _readers(key)]
+    unread = [key for key in facts if key != "program" and not _readers(key)]
+    unread += [f"program.{key}" for key in facts["program"] if not _readers(key, "program")]
     assert not unread, f"{path.name}: facts no code reads (make them comments): {unread}"
 
 
 def test_the_key_check_can_fail():
-    assert _readers("joint_move")
-    assert not _readers("no_code_reads_this_fact")
+    assert _readers("joint_move", "program")
+    assert not _readers("no_code_reads_this_fact", "program")
+    assert not _readers("mark", "program")  # a common word elsewhere, not a program fact
 
 
 def test_an_unknown_or_missing_target_key_is_refused(tmp_path, monkeypatch):
@@ -58,6 +63,13 @@ def test_an_unknown_or_missing_target_key_is_refused(tmp_path, monkeypatch):
         controllers._load(tmp_path / "ur.toml")
     (tmp_path / "ur.toml").write_text(re.sub(r"\nstring_max = .*", "", text), encoding="utf-8")
     with pytest.raises(TargetError, match="string_max: missing"):
+        controllers._load(tmp_path / "ur.toml")
+    (tmp_path / "ur.toml").write_text(text.replace("joint_move = ", "joint_mvoe = "), encoding="utf-8")
+    with pytest.raises(TargetError, match=r"program\.joint_mvoe: unknown key"):
+        controllers._load(tmp_path / "ur.toml")
+    wrong_type = text.replace("station_register = 24", "station_register = true")
+    (tmp_path / "ur.toml").write_text(wrong_type, encoding="utf-8")
+    with pytest.raises(TargetError, match=r"program\.station_register: expected int"):
         controllers._load(tmp_path / "ur.toml")
 
 
