@@ -19,12 +19,12 @@ class Move:
 
 
 @dataclass(frozen=True)
-class Trace:
+class ExpectedTrace:
     """Expected behaviour of a correct program for one case."""
 
     status: str  # "ok" or "halt"
     reason: str | None = None  # a codegen.guard halt reason
     station: Any = None  # codegen.cell.Station, or None for an unknown station
     moves: tuple[Move, ...] = ()
-    deviation: tuple[float, ...] | None = None  # the numbers of the program's log line(s), in order
+    logged: tuple[float, ...] | None = None  # the numbers of the program's log line(s), in order
     detail: Any = None  # the kind's own figures (kinds/<kind>.py), e.g. the correction or the photos

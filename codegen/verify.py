@@ -20,7 +20,7 @@ from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
 from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
-from codegen.reference import Trace
+from codegen.reference import ExpectedTrace
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
 # stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings
@@ -168,10 +168,10 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
 # --- comparison ------------------------------------------------------------------------------
 
 
-def accepted_traces(cell: Cell, reading) -> tuple[list[Trace], bool]:
+def accepted_traces(cell: Cell, reading) -> tuple[list[ExpectedTrace], bool]:
     kind = _kind_of_case(cell, reading)
     if kind is None:
-        return [Trace("halt", UNKNOWN_STATION)], False
+        return [ExpectedTrace("halt", UNKNOWN_STATION)], False
     return kind.accepted(cell, reading)
 
 
@@ -185,7 +185,7 @@ def _pose_errors(a: list, b: list) -> tuple[float, float]:
 
 
 
-def expected_message(cell: Cell, trace: Trace, reading, emitter: Emitter) -> str:
+def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
     return emitter.string(halt_message(cell, trace.reason, trace.station.name, reading.station_id))
@@ -202,7 +202,7 @@ def _log_numbers(messages: list[str]) -> list[float]:
     return out
 
 
-def compare(cell: Cell, target: Target, reading, expected: Trace, got, emitter: Emitter):
+def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, emitter: Emitter):
     """(problem or None, position errors, orientation errors)."""
     pos_tol, rot_tol = TOLERANCES[target.numbers]
     if expected.status == "halt":
@@ -234,15 +234,15 @@ def compare(cell: Cell, target: Target, reading, expected: Trace, got, emitter: 
     if expected.status == "halt":
         return None, pos_errors, rot_errors
     numbers = _log_numbers(got.messages)
-    want = list(expected.deviation)
+    want = list(expected.logged)
     decimals = target.program.get("log_decimals")
     log_tol = 0.5 * 10.0**-decimals + 1e-3 if decimals is not None else pos_tol
     if len(numbers) != len(want):
-        return f"deviation line has {len(numbers)} numbers, expected {len(want)}: {got.messages!r}", [], []
+        return f"log line has {len(numbers)} numbers, expected {len(want)}: {got.messages!r}", [], []
     names = _kind_of_case(cell, reading).log_names
     for name, g, w in zip(names, numbers, want, strict=True):
         if not abs(g - w) <= log_tol:
-            return f"deviation {name} = {g}, expected {w:.6f} (tolerance {log_tol})", pos_errors, rot_errors
+            return f"logged {name} = {g}, expected {w:.6f} (tolerance {log_tol})", pos_errors, rot_errors
     return None, pos_errors, rot_errors
 
 

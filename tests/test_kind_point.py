@@ -90,7 +90,7 @@ def test_deviation_line(demo_cell):
     s = demo_cell.stations[0]
     tx, ty, t_theta = s.spec.mark
     trace = expected_trace(demo_cell, Reading(s.id, tx + 1, ty + 2, t_theta + 3))
-    sid, dx1, dy1, dx2, dy2, dtheta = trace.deviation
+    sid, dx1, dy1, dx2, dy2, dtheta = trace.logged
     work_before, work_after = s.poses[-1].matrix(), trace.moves[-1].tcp2base
     assert (sid, dx2, dy2) == (1.0, pytest.approx(1.0), pytest.approx(2.0))
     assert dtheta == pytest.approx(-3.0)

@@ -4,7 +4,7 @@ import pytest
 import sympy as sp
 
 from codegen.dialects import printers
-from codegen.dialects.base import format_literal
+from codegen.dialects.printing import format_literal
 
 x, y = sp.symbols("x y")
 

@@ -23,7 +23,7 @@ from codegen.guard import (
 )
 from codegen.kinds import Case, ProgramKind
 from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz, wrap_deg
-from codegen.reference import JOINT, LINEAR, Move, Trace
+from codegen.reference import JOINT, LINEAR, ExpectedTrace, Move
 
 MARK_DECIMALS = 6
 
@@ -65,23 +65,23 @@ def base2mark(x: float, y: float, theta_deg: float) -> np.ndarray:
     return out
 
 
-def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Trace:
+def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> ExpectedTrace:
     """The trace a correct program produces; enforce_limits=False computes the moves regardless."""
     station = cell.station_by_id(reading.station_id)
     if station is None:
-        return Trace("halt", UNKNOWN_STATION)
+        return ExpectedTrace("halt", UNKNOWN_STATION)
     if station.kind != PointKind.name:
         raise ValueError(f"station {station.name} is a {station.kind} station, not a point station")
     if not reading_in_range(reading.x, reading.y, reading.theta):
-        return Trace("halt", INVALID_READING, station)
+        return ExpectedTrace("halt", INVALID_READING, station)
     tx, ty, t_theta = station.spec.mark
     shift = math.hypot(reading.x - tx, reading.y - ty)
     rotation = wrap_deg(reading.theta - t_theta)
     # Compared squared, as the programs do (no square root on the controller).
     if enforce_limits and (reading.x - tx) ** 2 + (reading.y - ty) ** 2 > cell.limits.max_shift_mm**2:
-        return Trace("halt", SHIFT_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
+        return ExpectedTrace("halt", SHIFT_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
     if enforce_limits and abs(rotation) > cell.limits.max_rotation_deg:
-        return Trace("halt", ROTATION_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
+        return ExpectedTrace("halt", ROTATION_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
 
     phi = cell.angle_sign * rotation
     # The part moved rigidly with the mark: partnow2base = marknow2base . base2markcal . part2base
@@ -100,7 +100,7 @@ def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Trace
         reading.y - ty,
         phi,
     )
-    return Trace("ok", None, station, tuple(moves), deviation, PointDetail(shift, rotation, phi, correction))
+    return ExpectedTrace("ok", None, station, tuple(moves), deviation, PointDetail(shift, rotation, phi, correction))
 
 
 def _ulp32(value: float) -> float:
@@ -192,7 +192,7 @@ class PointKind(ProgramKind):
         return PointSpec((300.0, 200.0, 179.5))
 
     @classmethod
-    def accepted(cls, cell, reading: Reading) -> tuple[list[Trace], bool]:
+    def accepted(cls, cell, reading: Reading) -> tuple[list[ExpectedTrace], bool]:
         """The reference trace, plus the other side of a limit when the reading is within float32
         resolution of it (a float32 controller may decide either way there)."""
         reference = expected_trace(cell, reading)
@@ -215,9 +215,9 @@ class PointKind(ProgramKind):
         for shift_over in shift_options:
             for rot_over in rot_options:
                 if shift_over:
-                    out.append(replace(free, status="halt", reason=SHIFT_OVER_LIMIT, moves=(), deviation=None))
+                    out.append(replace(free, status="halt", reason=SHIFT_OVER_LIMIT, moves=(), logged=None))
                 elif rot_over:
-                    out.append(replace(free, status="halt", reason=ROTATION_OVER_LIMIT, moves=(), deviation=None))
+                    out.append(replace(free, status="halt", reason=ROTATION_OVER_LIMIT, moves=(), logged=None))
                 else:
                     out.append(free)
         return out, True

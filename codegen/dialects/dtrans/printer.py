@@ -1,6 +1,6 @@
 """Decompose/Trans printer: degrees (assumed), lower-case functions as in source 000's listing."""
 
-from codegen.dialects.base import ControllerPrinter
+from codegen.dialects.printing import ControllerPrinter
 
 
 class Printer(ControllerPrinter):

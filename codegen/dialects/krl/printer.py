@@ -1,6 +1,6 @@
 """KRL printer: degrees (SIN/COS take degrees), upper-case intrinsic functions."""
 
-from codegen.dialects.base import ControllerPrinter
+from codegen.dialects.printing import ControllerPrinter
 
 
 class Printer(ControllerPrinter):

@@ -1,6 +1,6 @@
 """RAPID printer: degrees (Sin/Cos take degrees), capitalised functions."""
 
-from codegen.dialects.base import ControllerPrinter
+from codegen.dialects.printing import ControllerPrinter
 
 
 class Printer(ControllerPrinter):

@@ -1,6 +1,6 @@
 """URScript printer: radians, lower-case math functions."""
 
-from codegen.dialects.base import ControllerPrinter
+from codegen.dialects.printing import ControllerPrinter
 
 
 class Printer(ControllerPrinter):

@@ -26,7 +26,7 @@ from codegen.kinds import Case, ProgramKind
 from codegen.kinds.frame.camera import CameraModel, SimulatedCamera
 from codegen.kinds.frame.vision_pc import VisionPC
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, rotz
-from codegen.reference import JOINT, LINEAR, Move, Trace
+from codegen.reference import JOINT, LINEAR, ExpectedTrace, Move
 
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
 
@@ -73,13 +73,13 @@ def camera_for(cell, case: FrameCase) -> SimulatedCamera:
     return SimulatedCamera(case.camera, cell.handeye, cell.angle_sign, calib2base, spec.photo.matrix(), mark2base)
 
 
-def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> Trace:
+def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedTrace:
     """Source 001's loop in float64 against the simulated camera, with the update proven in
     derivation.frame_update. nudge scales the tolerances by (1 + nudge): a float32 controller may
     decide the other way when a residual sits on the tolerance."""
     station = cell.station_by_id(case.station_id)
     if station is None:
-        return Trace("halt", UNKNOWN_STATION)
+        return ExpectedTrace("halt", UNKNOWN_STATION)
     spec = station.spec
     calib2base, photo2frame = spec.frame.matrix(), spec.photo.matrix()
     camera = camera_for(cell, case)
@@ -91,8 +91,9 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> Trace:
     photos, residual = 0, None
     residuals: list[tuple[float, float]] = []
 
-    def halt(reason: str) -> Trace:
-        return Trace("halt", reason, station, tuple(moves), detail=FrameDetail(photos, tuple(residuals), residual))
+    def halt(reason: str) -> ExpectedTrace:
+        detail = FrameDetail(photos, tuple(residuals), residual)
+        return ExpectedTrace("halt", reason, station, tuple(moves), detail=detail)
 
     while True:
         if photos >= refine.max_iterations:
@@ -123,7 +124,7 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> Trace:
         moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, concat(pose.matrix(), frame2base)))
     deviation = (float(station.id), dx, dy, alpha, float(photos))
     detail = FrameDetail(photos, tuple(residuals), residual, frame2base)
-    return Trace("ok", None, station, tuple(moves), deviation, detail)
+    return ExpectedTrace("ok", None, station, tuple(moves), deviation, detail)
 
 
 @dataclass
@@ -265,7 +266,7 @@ class FrameKind(ProgramKind):
         return Case("frame_zero_shift", FrameCase(station.id, 0.0, 0.0, 0.0, CameraModel()))
 
     @classmethod
-    def accepted(cls, cell, case: FrameCase) -> tuple[list[Trace], bool]:
+    def accepted(cls, cell, case: FrameCase) -> tuple[list[ExpectedTrace], bool]:
         reference = expected_frame_trace(cell, case)
         tol_mm, tol_deg = cell.refine.tolerance_mm, cell.refine.tolerance_deg
         residuals = reference.detail.residuals if reference.detail else ()
