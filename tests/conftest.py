@@ -7,11 +7,12 @@ from pathlib import Path
 import pytest
 
 from codegen.cell import DEMO_CELL, load_cell
+from codegen.controllers import target_names
 
 MINIMAL_CELL = """\
 [cell]
 name = "bench"
-targets = ["ur", "kuka", "abb", "dtrans"]
+targets = {TARGETS}
 pose_format = "xyzabc"
 [cell.camera]
 angle_sign = -1
@@ -31,7 +32,7 @@ name = "mill_1"
 mark = [640.0, 210.0, 0.0]
 [station.poses]
 vise = [700.0, 50.0, 260.0, -90.0, 15.0, 180.0]
-"""
+""".replace("{TARGETS}", repr(list(target_names())).replace("'", '"'))
 
 
 @pytest.fixture(scope="session")

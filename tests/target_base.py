@@ -14,7 +14,7 @@ from lark import Token, Tree
 
 from codegen import derived
 from codegen.cell import load_cell
-from codegen.controllers import get_target
+from codegen.controllers import get_target, target_names
 from codegen.dialects import get_dialect, parse_program
 from codegen.kinds import get_kind
 from codegen.render import render
@@ -76,7 +76,7 @@ def cell_text(station_names: list[str], pose_names: list[str] | None = None) -> 
             f"{q(pose_names[1])} = [700.0, -100.0, 300.0, 90.0, 10.0, 180.0]\n"
         )
     return (
-        '[cell]\nname = "bench"\ntargets = ["ur", "kuka", "abb", "dtrans"]\n[cell.camera]\nangle_sign = -1\n'
+        f'[cell]\nname = "bench"\ntargets = {list(target_names())!r}\n[cell.camera]\nangle_sign = -1\n'
         "[cell.limits]\nmax_shift_mm = 10.0\nmax_rotation_deg = 10.0\n" + "\n".join(stations)
     )
 

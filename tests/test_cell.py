@@ -75,8 +75,8 @@ BAD = {
         "station[2].name: duplicate station name 'lathe_1'",
     ),
     "unknown_target": (
-        MINIMAL_CELL.replace('"dtrans"]', '"fanuc"]'),
-        "cell.targets[3]: unknown target 'fanuc'",
+        MINIMAL_CELL.replace("targets = [", 'targets = ["fanuc", '),
+        "cell.targets[0]: unknown target 'fanuc'",
     ),
     "unknown_pose_format": (
         MINIMAL_CELL.replace('pose_format = "xyzabc"', 'pose_format = "euler"'),

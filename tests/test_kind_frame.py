@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from codegen.cell import CellError, load_cell
-from codegen.controllers import get_target
+from codegen.controllers import get_target, target_names
 from codegen.guard import NOT_CONVERGED
 from codegen.kinds.frame import FrameCase, expected_frame_trace
 from codegen.kinds.frame.camera import CameraModel
@@ -73,7 +73,7 @@ def test_reference_loop_converges_and_halts(bench):
     assert diverging.status == "halt"
 
 
-@pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
+@pytest.mark.parametrize("target", target_names())
 def test_frame_mode_verifies(bench, target):
     cases = build_cases(bench, 12, 5)
     (report,) = run_verify(bench, fresh_sources(bench, [target]), cases)
@@ -106,7 +106,7 @@ def _source_sign_printed(dialect: str):
     return printed
 
 
-@pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
+@pytest.mark.parametrize("target", target_names())
 def test_source_update_sign_fails_verify(bench, target, monkeypatch):
     from codegen import derived
     from codegen.verify import verify
