@@ -48,16 +48,24 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         for i, pose in enumerate(station.poses)
     ]
     kind = get_kind(station.kind)
-    own = kind.station_context(cell, station, target, emitter)  # before the shared names: identifier order
-    return {
+    own = kind.station_context(cell, station, target, emitter)
+    shared = {
         "kind": station.kind,
         "id": station.id,
         "name": emitter.comment(station.name),
         "ident": emitter.identifier("st_", station.name, origin),
         "poses": poses,
         "work": poses[-1],
-        **own,
     }
+    return _merged(shared, own, f"station context of the {station.kind} kind")
+
+
+def _merged(shared: dict, own: dict, what: str) -> dict:
+    """A kind's template variables beside the shared ones; a name in both is a generator bug."""
+    clash = sorted(shared.keys() & own.keys())
+    if clash:
+        raise RuntimeError(f"{what} redefines {', '.join(clash)}")
+    return {**shared, **own}
 
 
 def context(cell: Cell, target: Target) -> dict:
@@ -92,7 +100,7 @@ def context(cell: Cell, target: Target) -> dict:
         "target": target,
     }
     for kind in kinds().values():
-        out.update(kind.cell_context(cell, target, emitter))
+        out = _merged(out, kind.cell_context(cell, target, emitter), f"cell context of the {kind.name} kind")
     return out
 
 

@@ -131,7 +131,11 @@ class PointKind(ProgramKind):
 
     @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:
-        return {"frame": derived.printed(target.dialect, "frame"), "point": derived.printed(target.dialect, "point")}
+        # the derivation's blocks: D = Trans(tn) Rz(phi) Trans(-t) ("frame") and Pn = D . P ("point")
+        return {
+            "correction": derived.printed(target.dialect, "frame"),
+            "point": derived.printed(target.dialect, "point"),
+        }
 
     @classmethod
     def station_context(cls, cell, station, target, emitter) -> dict:
