@@ -185,3 +185,19 @@ def test_kuka_base_data(tmp_path):
     bad.write_text(text.replace("base_data = 3", "base_data = 40"), encoding="utf-8")
     with pytest.raises(CellError, match=r"station\[1\]\.base_data: target kuka stores bases 1\.\.32, got 40"):
         load_cell(bad)
+
+
+def test_a_cell_of_frame_stations_only(tmp_path):
+    """A cell of one kind carries only that kind's interface, helpers and data, and verifies."""
+    text = BENCH.read_text()
+    path = tmp_path / "frames.toml"
+    path.write_text(text[: text.index("[[station]]\nid = 2")], encoding="utf-8")
+    cell = load_cell(path)
+    assert {s.kind for s in cell.stations} == {"frame"}
+    for target in target_names():
+        point_inputs = [v for k, v in get_target(target).program["inputs"].items() if k != "station"]
+        for f in render(cell, [target]):
+            for name in point_inputs:
+                assert name.split("[")[0] not in f.text, (target, name)
+        (report,) = run_verify(cell, fresh_sources(cell, [target]), build_cases(cell, 8, 1))
+        assert report.mismatches == 0, report.first_mismatches

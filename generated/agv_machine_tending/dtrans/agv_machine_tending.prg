@@ -6,8 +6,9 @@
 // 10 mm and turned at most 10 deg since calibration.
 
 // Vision interface, set by the vision PC before the program starts: weizhi = station id (the
-// barcode), markp = mark now [x mm, y mm, c deg] in the robot base frame
+// barcode)
 Int weizhi = 0
+// markp = mark now [x mm, y mm, c deg] in the robot base frame
 Double markp[3] = {0.0, 0.0, 0.0}
 
 // Cell constants

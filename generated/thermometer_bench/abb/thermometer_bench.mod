@@ -7,8 +7,9 @@ MODULE thermometer_bench
   ! 80 mm and turned at most 20 deg since calibration.
 
   ! Vision interface: written by the vision PC (Robot Web Services or PC SDK) before main runs:
-  ! station id (the barcode) and the mark x [mm], y [mm], theta [deg] in the robot base frame
+  ! station id (the barcode)
   PERS num vis_station := 0;
+  ! the mark x [mm], y [mm], theta [deg] in the robot base frame
   PERS num vis_x := 0;
   PERS num vis_y := 0;
   PERS num vis_theta := 0;

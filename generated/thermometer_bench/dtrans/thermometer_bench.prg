@@ -6,8 +6,9 @@
 // 80 mm and turned at most 20 deg since calibration.
 
 // Vision interface, set by the vision PC before the program starts: weizhi = station id (the
-// barcode), markp = mark now [x mm, y mm, c deg] in the robot base frame
+// barcode)
 Int weizhi = 0
+// markp = mark now [x mm, y mm, c deg] in the robot base frame
 Double markp[3] = {0.0, 0.0, 0.0}
 // Photo handshake of frame-mode stations: the program sets vis_req = vis_ack + 1 and waits; the
 // vision PC photographs, writes the mark in pixels (vis_u, vis_v) and its image angle (vis_angle,
