@@ -53,15 +53,6 @@ def _pose_matrix(pose_format: str, values: tuple[float, ...]) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class Refine:
-    """Closed-loop refinement of frame-mode stations (source 001)."""
-
-    tolerance_mm: float = 0.02
-    tolerance_deg: float = 0.04
-    max_iterations: int = 10
-
-
-@dataclass(frozen=True)
 class Station:
     id: int
     name: str
@@ -79,7 +70,7 @@ class Cell:
     limits: Limits
     stations: tuple[Station, ...]
     handeye: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None  # pixel -> mm
-    refine: Refine = Refine()
+    settings: dict = field(default_factory=dict, compare=False)  # kind name -> its [cell.<table>] settings
     source: str = ""
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
@@ -94,11 +85,10 @@ class Cell:
 
 # --- loading ---------------------------------------------------------------------------------
 
-_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "refine"}
+_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits"}  # and the kinds' cell_tables
 _CAMERA_KEYS = {"angle_sign", "handeye"}
 _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
-_REFINE_KEYS = {"tolerance_mm", "tolerance_deg", "max_iterations"}
 _STATION_KEYS = {"id", "name", "poses", "mode"}  # and the keys of the station's kind
 DEFAULT_MODE = "point"  # the cell file's contract: a station without `mode` is a point station
 
@@ -127,7 +117,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     if top_unknown:
         ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell] and [[station]]")
     cell_table = ctx.table(data, "cell", "cell")
-    ctx.no_unknown(cell_table, _CELL_KEYS, "cell")
+    ctx.no_unknown(cell_table, _CELL_KEYS.union(*(k.cell_tables for k in kinds().values())), "cell")
 
     name = ctx.name(cell_table, "name", "cell.name")
     known_targets = target_names()
@@ -164,18 +154,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         if abs(det) < 1e-12:
             ctx.fail("cell.camera.handeye.pixel_to_mm", "the 2x2 part is singular")
 
-    refine = Refine()
-    if "refine" in cell_table:
-        rt = ctx.table(cell_table, "refine", "cell.refine")
-        ctx.no_unknown(rt, _REFINE_KEYS, "cell.refine")
-        tol_mm = ctx.finite(rt.get("tolerance_mm", 0.02), "cell.refine.tolerance_mm")
-        tol_deg = ctx.finite(rt.get("tolerance_deg", 0.04), "cell.refine.tolerance_deg")
-        iterations = rt.get("max_iterations", 10)
-        if tol_mm <= 0 or tol_deg <= 0:
-            ctx.fail("cell.refine", "tolerances must be positive")
-        if isinstance(iterations, bool) or not isinstance(iterations, int) or not 1 <= iterations <= 100:
-            ctx.fail("cell.refine.max_iterations", f"expected an integer in 1..100, got {iterations!r}")
-        refine = Refine(tol_mm, tol_deg, iterations)
+    settings = {kind.name: kind.parse_settings(ctx, cell_table) for kind in kinds().values()}
 
     limits_table = ctx.table(cell_table, "limits", "cell.limits")
     ctx.no_unknown(limits_table, _LIMIT_KEYS, "cell.limits")
@@ -211,7 +190,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         limits=Limits(max_shift, max_rot),
         stations=tuple(stations),
         handeye=handeye,
-        refine=refine,
+        settings=settings,
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),

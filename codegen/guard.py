@@ -14,7 +14,6 @@ UNKNOWN_STATION = "unknown_station"
 INVALID_READING = "invalid_reading"
 SHIFT_OVER_LIMIT = "shift_over_limit"
 ROTATION_OVER_LIMIT = "rotation_over_limit"
-NOT_CONVERGED = "not_converged"
 
 # The codes a program's guard function returns: 0 ok, then the reasons in the order they are checked.
 GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}
@@ -42,7 +41,5 @@ def halt_message(cell, reason: str, station_name: str | None, station_id: int) -
         return f"station {name}: mark shift over {limits.max_shift_mm:g} mm, recalibrate"
     if reason == ROTATION_OVER_LIMIT:
         return f"station {name}: mark rotation over {limits.max_rotation_deg:g} deg, recalibrate"
-    if reason == NOT_CONVERGED:
-        return f"station {name}: frame not converged after {cell.refine.max_iterations} photos"
     raise ValueError(f"not a halt reason: {reason!r}")
 

@@ -17,7 +17,7 @@ from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import Program
 from codegen.dialects.core.values import RunError
 from codegen.emit import Emitter
-from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
+from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace
@@ -188,7 +188,7 @@ def _pose_errors(a: list, b: list) -> tuple[float, float]:
 def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
-    return emitter.string(halt_message(cell, trace.reason, trace.station.name, reading.station_id))
+    return emitter.string(get_kind(trace.station.kind).halt_message(cell, trace.reason, trace.station))
 
 
 LOG_PREFIXES = tuple(prefix for kind in kinds().values() for prefix in kind.log_prefixes)

@@ -8,9 +8,9 @@ import pytest
 
 from codegen.cell import CellError, load_cell
 from codegen.controllers import get_target, target_names
-from codegen.guard import NOT_CONVERGED
 from codegen.kinds.frame import FrameCase, expected_frame_trace
 from codegen.kinds.frame.camera import CameraModel
+from codegen.kinds.frame.kind import NOT_CONVERGED
 from codegen.render import render
 from codegen.verify import build_cases, fresh_sources, load_program, run_verify
 
@@ -25,7 +25,7 @@ def bench():
 def test_bench_cell_loads(bench):
     station = bench.stations[0]
     assert station.kind == "frame" and station.spec.frame is not None and station.spec.photo is not None
-    assert bench.handeye is not None and bench.refine.max_iterations == 10
+    assert bench.handeye is not None and bench.settings["frame"].max_iterations == 10
 
 
 @pytest.mark.parametrize(

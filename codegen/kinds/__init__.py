@@ -9,6 +9,8 @@ from dataclasses import dataclass
 from functools import cache
 from typing import Any, ClassVar
 
+from codegen.guard import halt_message
+
 
 @dataclass(frozen=True)
 class Case:
@@ -26,6 +28,7 @@ class ProgramKind:
     name: ClassVar[str] = ""
     order: ClassVar[int] = 100  # where the kind's sections come in a program, lowest first
     station_keys: ClassVar[frozenset[str]] = frozenset()  # [[station]] keys of this kind
+    cell_tables: ClassVar[frozenset[str]] = frozenset()  # [cell.<name>] tables of this kind
     # The parts of the cell model the kind's programs depend on; the model-level mutation tests
     # perturb each one ("angle_sign", "calibration", "derivation") and verify must notice.
     model_inputs: ClassVar[frozenset[str]] = frozenset()
@@ -42,6 +45,16 @@ class ProgramKind:
     def parse(cls, ctx, raw: dict, path: str, pose_format: str):
         """The station's spec from its [[station]] table (ctx: codegen.cell validation helpers)."""
         raise NotImplementedError
+
+    @classmethod
+    def parse_settings(cls, ctx, cell_table: dict):
+        """The kind's settings from its [cell.<name>] tables (kept in Cell.settings[kind name])."""
+        return None
+
+    @classmethod
+    def halt_message(cls, cell, reason: str, station) -> str:
+        """The operator message for a halt of one of the kind's stations (a contract)."""
+        return halt_message(cell, reason, station.name, station.id)
 
     @classmethod
     def check(cls, ctx, path: str, station, cell) -> None:

@@ -18,7 +18,6 @@ from codegen.guard import (
     ROTATION_OVER_LIMIT,
     SHIFT_OVER_LIMIT,
     UNKNOWN_STATION,
-    halt_message,
     reading_in_range,
 )
 from codegen.kinds import Case, ProgramKind
@@ -144,7 +143,7 @@ class PointKind(ProgramKind):
             "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
             "mark": [emitter.number(v, MARK_DECIMALS) for v in station.spec.mark],
             "messages": {
-                reason: emitter.string(halt_message(cell, reason, station.name, station.id)) for reason in GUARD_CODES
+                reason: emitter.string(cls.halt_message(cell, reason, station)) for reason in GUARD_CODES
             },
         }
 

@@ -14,12 +14,10 @@ from codegen.emit import EmitError
 from codegen.guard import (
     GUARD_CODES,
     INVALID_READING,
-    NOT_CONVERGED,
     PIXEL_RANGE,
     ROTATION_OVER_LIMIT,
     SHIFT_OVER_LIMIT,
     UNKNOWN_STATION,
-    halt_message,
     pixels_in_range,
 )
 from codegen.kinds import Case, ProgramKind
@@ -28,7 +26,17 @@ from codegen.kinds.frame.vision_pc import VisionPC
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, rotz
 from codegen.reference import JOINT, LINEAR, ExpectedTrace, Move
 
+NOT_CONVERGED = "not_converged"  # a halt reason of this kind: the residual stayed over tolerance
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
+
+
+@dataclass(frozen=True)
+class Refine:
+    """[cell.refine]: when the refinement loop stops (source 001: 0.02 mm and 0.04 deg)."""
+
+    tolerance_mm: float = 0.02
+    tolerance_deg: float = 0.04
+    max_iterations: int = 10
 
 
 @dataclass(frozen=True)
@@ -84,7 +92,7 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
     calib2base, photo2frame = spec.frame.matrix(), spec.photo.matrix()
     camera = camera_for(cell, case)
     handeye = np.array(cell.handeye)
-    refine, limits = cell.refine, cell.limits
+    refine, limits = cell.settings[FrameKind.name], cell.limits
     tol_mm, tol_deg = refine.tolerance_mm * (1 + nudge), refine.tolerance_deg * (1 + nudge)
     dx = dy = alpha = 0.0
     moves: list[Move] = []
@@ -147,6 +155,7 @@ class FrameKind(ProgramKind):
     name = "frame"
     order = 1
     station_keys = frozenset({"frame", "photo", "base_data"})
+    cell_tables = frozenset({"refine"})
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("frame",)
     log_names = ("station", "dx", "dy", "alpha", "photos")
@@ -169,6 +178,28 @@ class FrameKind(ProgramKind):
         return replace(spec, frame=replace(frame, values=tuple(values)))
 
     @classmethod
+    def parse_settings(cls, ctx, cell_table: dict) -> Refine:
+        if "refine" not in cell_table:
+            return Refine()
+        table = ctx.table(cell_table, "refine", "cell.refine")
+        ctx.no_unknown(table, {"tolerance_mm", "tolerance_deg", "max_iterations"}, "cell.refine")
+        tol_mm = ctx.finite(table.get("tolerance_mm", Refine.tolerance_mm), "cell.refine.tolerance_mm")
+        tol_deg = ctx.finite(table.get("tolerance_deg", Refine.tolerance_deg), "cell.refine.tolerance_deg")
+        iterations = table.get("max_iterations", Refine.max_iterations)
+        if tol_mm <= 0 or tol_deg <= 0:
+            ctx.fail("cell.refine", "tolerances must be positive")
+        if isinstance(iterations, bool) or not isinstance(iterations, int) or not 1 <= iterations <= 100:
+            ctx.fail("cell.refine.max_iterations", f"expected an integer in 1..100, got {iterations!r}")
+        return Refine(tol_mm, tol_deg, iterations)
+
+    @classmethod
+    def halt_message(cls, cell, reason: str, station) -> str:
+        if reason == NOT_CONVERGED:
+            photos = cell.settings[cls.name].max_iterations
+            return f"station {station.name}: frame not converged after {photos} photos"
+        return super().halt_message(cell, reason, station)
+
+    @classmethod
     def check(cls, ctx, path: str, station, cell) -> None:
         for name in cell.targets:
             base_data = get_target(name).program.get("base_data")
@@ -186,16 +217,16 @@ class FrameKind(ProgramKind):
 
     @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:
-        number = emitter.number
+        number, refine = emitter.number, cell.settings[cls.name]
         return {
             "refine": derived.printed(target.dialect, "refine"),
             "handeye": None if cell.handeye is None else [number(v, 9) for row in cell.handeye for v in row],
             "tolerance": {
-                "mm_sq": number(cell.refine.tolerance_mm**2, 9),
-                "deg": number(cell.refine.tolerance_deg, 6),
-                "mm_text": f"{cell.refine.tolerance_mm:g}",
-                "deg_text": f"{cell.refine.tolerance_deg:g}",
-                "photos": str(cell.refine.max_iterations),
+                "mm_sq": number(refine.tolerance_mm**2, 9),
+                "deg": number(refine.tolerance_deg, 6),
+                "mm_text": f"{refine.tolerance_mm:g}",
+                "deg_text": f"{refine.tolerance_deg:g}",
+                "photos": str(refine.max_iterations),
             },
             "pixel_range": number(PIXEL_RANGE, 1),
         }
@@ -222,7 +253,7 @@ class FrameKind(ProgramKind):
             "base_data": spec.base_data,
             "base_data_name": base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None,
             "messages": {
-                reason: emitter.string(halt_message(cell, reason, station.name, station.id))
+                reason: emitter.string(cls.halt_message(cell, reason, station))
                 for reason in (*GUARD_CODES, NOT_CONVERGED)
             },
         }
@@ -268,7 +299,8 @@ class FrameKind(ProgramKind):
     @classmethod
     def accepted(cls, cell, case: FrameCase) -> tuple[list[ExpectedTrace], bool]:
         reference = expected_frame_trace(cell, case)
-        tol_mm, tol_deg = cell.refine.tolerance_mm, cell.refine.tolerance_deg
+        refine = cell.settings[cls.name]
+        tol_mm, tol_deg = refine.tolerance_mm, refine.tolerance_deg
         residuals = reference.detail.residuals if reference.detail else ()
         near = any(
             abs(r - tol_mm) <= FRAME_NUDGE * tol_mm or abs(g - tol_deg) <= FRAME_NUDGE * tol_deg for r, g in residuals
