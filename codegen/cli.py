@@ -125,6 +125,7 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
     from codegen.emit import EmitError
     from codegen.generate import GenerateError
     from codegen.generate import generate as run_generate
+    from codegen.output import OutputBusy
 
     model = _load(cell)
     for t in targets:
@@ -134,6 +135,8 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
         written = run_generate(model, list(targets) or None, Path(out_dir))
     except (EmitError, GenerateError) as exc:
         raise UserError(f"{model.source}: {exc}") from None
+    except OutputBusy as exc:
+        raise click.ClickException(str(exc)) from None
     except OSError as exc:
         raise click.ClickException(
             f"{out_dir}: cannot write ({exc.strerror or exc}); previous output left as it was"
@@ -325,6 +328,11 @@ def verify(
                     )
             except (ValueError, RunError) as exc:
                 raise UserError(str(exc)) from None
+        from codegen.generate import mixed_stamps
+
+        mixed = mixed_stamps([Path(f) for source in sources for f in source.files])
+        if mixed:
+            click.echo(f"warning: {mixed}", err=True)
         if not sources:
             raise UserError("no program to verify: a data file is read together with its program; give the program")
     else:

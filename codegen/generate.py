@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 import difflib
+import re
 from pathlib import Path
 
 from codegen.cell import Cell
-from codegen.render import RenderedFile, cell_dir, render, write_atomic
+from codegen.output import replace_cell
+from codegen.render import RenderedFile, cell_dir, render
+
+STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
 
 
 class GenerateError(Exception):
@@ -29,17 +33,29 @@ def check_rendered(files: list[RenderedFile]) -> None:
 
 
 def generate(cell: Cell, targets: list[str] | None, out_dir: Path) -> list[Path]:
+    """Render, check, then replace the cell's output folder whole (codegen.output): the regenerated
+    targets' files are the new ones only, the other targets' files stay as they were."""
     files = render(cell, targets)
     check_rendered(files)
-    written = write_atomic(files, out_dir)
-    # Remove files a previous run wrote for these targets that this run did not produce.
-    produced = {out_dir / f.relpath for f in files}
-    for target in targets or cell.targets:
-        folder = out_dir / cell_dir(cell) / target
-        for stale in sorted(folder.glob("*")):
-            if stale.is_file() and stale not in produced:
-                stale.unlink()
-    return written
+    folder = cell_dir(cell)
+    below = {f.relpath.split("/", 1)[1]: f.text for f in files}
+    return replace_cell(out_dir, folder, below, list(targets or cell.targets))
+
+
+def mixed_stamps(paths: list[Path]) -> str | None:
+    """A message when the given generated files name different cell files in their headers."""
+    stamps = {}
+    for path in paths:
+        try:
+            match = STAMP.search(path.read_text(encoding="utf-8", errors="replace")[:2000])
+        except OSError:
+            continue
+        if match:
+            stamps.setdefault(match.group(1), []).append(path)
+    if len(stamps) < 2:
+        return None
+    parts = "; ".join(f"sha256 {h[:12]}...: {', '.join(str(p) for p in ps)}" for h, ps in stamps.items())
+    return f"these files come from different cell files (a mixed set): {parts}"
 
 
 def diff(cell: Cell, out_dir: Path) -> str:
@@ -65,4 +81,7 @@ def diff(cell: Cell, out_dir: Path) -> str:
         for extra in sorted(folder.glob("*")):
             if extra.is_file() and extra not in produced:
                 chunks.append(f"Only in {folder}: {extra.name} (not generated any more)\n")
+    mixed = mixed_stamps(sorted(p for p in produced if p.exists()))
+    if mixed:
+        chunks.insert(0, f"{out_dir / cell_dir(cell)}: {mixed}\n")
     return "".join(chunks)

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -131,28 +129,3 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
             text = env.get_template(f"{name}/program.{suffix}.j2").render(ctx)
             out.append(RenderedFile(f"{cell_dir(cell)}/{name}/{file_name}", text))
     return out
-
-
-def write_atomic(files: list[RenderedFile], out_dir: Path) -> list[Path]:
-    """Write every file to a temporary name beside its destination, then rename them all."""
-    staged: list[tuple[Path, Path]] = []
-    try:
-        for f in files:
-            dest = out_dir / f.relpath
-            dest.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=f".{dest.name}.", suffix=".tmp", dir=dest.parent)
-            staged.append((Path(tmp), dest))
-            try:
-                handle = os.fdopen(fd, "w", encoding="utf-8", newline="\n")
-            except BaseException:
-                os.close(fd)
-                raise
-            with handle:
-                handle.write(f.text)
-    except BaseException:
-        for tmp, _ in staged:
-            tmp.unlink(missing_ok=True)
-        raise
-    for tmp, dest in staged:
-        os.replace(tmp, dest)
-    return [dest for _, dest in staged]

@@ -27,7 +27,8 @@ def test_generate_then_diff_is_clean(tmp_path):
     runner = CliRunner()
     result = runner.invoke(main, ["generate", "--out", str(tmp_path)])
     assert result.exit_code == 0, result.output
-    assert len(list(tmp_path.rglob("*.*"))) == 5  # .script, .src, .dat, .mod, .prg
+    written = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file())
+    assert len(written) == 6 and ".agv_machine_tending.lock" in written  # 5 programs and the cell's lock
     assert runner.invoke(main, ["diff", "--out", str(tmp_path)]).exit_code == 0
 
 
@@ -68,15 +69,15 @@ def test_write_failure_midway_leaves_previous_output_intact(tmp_path, monkeypatc
     before = _snapshot(tmp_path)
     changed = cell.__class__(**{**cell.__dict__, "sha256": "0" * 64})
     calls = {"n": 0}
-    real_fdopen = os.fdopen
+    real_fsync = os.fsync
 
-    def failing_fdopen(fd, *args, **kwargs):
+    def failing_fsync(fd):
         calls["n"] += 1
         if calls["n"] == 3:
             raise OSError(28, "No space left on device")
-        return real_fdopen(fd, *args, **kwargs)
+        return real_fsync(fd)
 
-    monkeypatch.setattr(os, "fdopen", failing_fdopen)
+    monkeypatch.setattr(os, "fsync", failing_fsync)
     with pytest.raises(OSError):
         generate(changed, None, tmp_path)
     assert _snapshot(tmp_path) == before  # nothing replaced, no temporary files left

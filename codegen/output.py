@@ -1,0 +1,155 @@
+"""A cell's output folder replaced whole: staged beside it, switched by one atomic exchange, under a lock."""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import shutil
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+try:
+    import fcntl
+except ImportError:  # not POSIX: no lock (documented in the README)
+    fcntl = None
+
+STAGE = ".{cell}.new-{pid}"  # the new set being written (or, after the exchange, the old set)
+ASIDE = ".{cell}.old-{pid}"  # without an atomic exchange: the old set while the new one moves in
+LOCK = ".{cell}.lock"  # held while a process writes the cell's folder (never removed: see _lock)
+_AT_FDCWD = -100
+_RENAME_EXCHANGE = 2  # renameat2(2) flag: swap two paths atomically (Linux 3.15+, glibc 2.28+)
+
+
+class OutputBusy(Exception):
+    """Another process is writing the same cell's output folder."""
+
+
+def replace_cell(out_dir: Path, cell: str, files: dict[str, str], targets: list[str]) -> list[Path]:
+    """Make `out_dir/cell` hold `files` (path below the cell folder -> text) for `targets`, and keep
+    what the folder held for its other targets and besides. The new folder is written in full beside
+    the old one and switched in by one atomic exchange, so a kill at any moment leaves the complete
+    old set or the complete new set under `out_dir/cell`, never a mix. Returns the written paths."""
+    out_dir.mkdir(parents=True, exist_ok=True)
+    final = out_dir / cell
+    with _lock(out_dir, cell):
+        _recover(out_dir, cell)
+        stage = out_dir / STAGE.format(cell=cell, pid=os.getpid())
+        try:
+            stage.mkdir()
+            if final.is_dir():
+                _carry_over(final, stage, targets)
+            for relpath, text in files.items():
+                _write(stage / relpath, text)
+            _sync_dir(stage)
+            _switch(stage, final, out_dir / ASIDE.format(cell=cell, pid=os.getpid()))
+        finally:
+            if stage.exists() or stage.is_symlink():
+                shutil.rmtree(stage)  # the old set after the exchange, or a new set never switched in
+        _sync_dir(out_dir)
+    return [final / relpath for relpath in files]
+
+
+@contextmanager
+def _lock(out_dir: Path, cell: str) -> Iterator[None]:
+    """An exclusive lock per cell folder, released by the kernel when the process dies. The lock file
+    stays: removing it would let a process that opened it just before hold a lock nobody else sees."""
+    if fcntl is None:
+        yield
+        return
+    fd = os.open(out_dir / LOCK.format(cell=cell), os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            raise OutputBusy(
+                f"{out_dir / cell}: another codegen generate is writing this cell's programs; "
+                "nothing was written (run again when it has finished)"
+            ) from None
+        yield
+    finally:
+        os.close(fd)
+
+
+def _recover(out_dir: Path, cell: str) -> None:
+    """Tidy what a killed run left: a set moved aside comes back if the cell folder is missing (the
+    kill fell between the two renames of the fallback); every other staged folder is deleted."""
+    final = out_dir / cell
+    asides = sorted(out_dir.glob(ASIDE.format(cell=cell, pid="*")))
+    if asides and not final.exists():
+        os.rename(asides.pop(), final)
+    for stale in [*asides, *out_dir.glob(STAGE.format(cell=cell, pid="*"))]:
+        shutil.rmtree(stale)
+
+
+def _carry_over(old: Path, new: Path, targets: list[str]) -> None:
+    """Everything of the old folder except the files directly in the regenerated targets' folders:
+    other targets' programs, a user's own files and folders. Symlinks are copied as links, never
+    followed, so nothing outside the output tree is read or changed."""
+    for entry in sorted(old.iterdir()):
+        if entry.name in targets and entry.is_dir() and not entry.is_symlink():
+            (new / entry.name).mkdir()
+            for inner in sorted(entry.iterdir()):
+                if inner.is_dir() or inner.is_symlink():
+                    _copy(inner, new / entry.name / inner.name)
+        elif entry.name not in targets:
+            _copy(entry, new / entry.name)
+
+
+def _copy(src: Path, dest: Path) -> None:
+    if src.is_symlink():
+        os.symlink(os.readlink(src), dest)
+    elif src.is_dir():
+        shutil.copytree(src, dest, symlinks=True)
+    else:
+        shutil.copy2(src, dest)
+
+
+def _write(path: Path, text: str) -> None:
+    """A new file with the permissions a normal write gives (the umask applies), flushed to disk."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "x", encoding="utf-8", newline="\n") as handle:
+        handle.write(text)
+        handle.flush()
+        os.fsync(handle.fileno())
+
+
+def _sync_dir(path: Path) -> None:
+    """Flush a folder's entries (and its subfolders') so that a power cut keeps the renames' order."""
+    for folder in [path, *(p for p in path.rglob("*") if p.is_dir() and not p.is_symlink())]:
+        fd = os.open(folder, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
+
+def _switch(stage: Path, final: Path, aside: Path) -> None:
+    """The new set in, in one step: an atomic exchange of the two folders where the system has one,
+    otherwise two renames (a kill between them is repaired by _recover on the next run)."""
+    if not final.exists():
+        os.rename(stage, final)
+    elif not _exchange(stage, final):
+        os.rename(final, aside)
+        os.rename(stage, final)
+        shutil.rmtree(aside)
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Swap two paths with renameat2(RENAME_EXCHANGE); False where the system cannot."""
+    renameat2 = getattr(_libc(), "renameat2", None)
+    if renameat2 is None:
+        return False
+    if renameat2(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE) == 0:
+        return True
+    error = ctypes.get_errno()
+    if error in (22, 38, 95):  # EINVAL, ENOSYS, EOPNOTSUPP: no exchange on this system or filesystem
+        return False
+    raise OSError(error, os.strerror(error), str(b))
+
+
+def _libc():
+    try:
+        return ctypes.CDLL(None, use_errno=True)
+    except OSError:
+        return None
