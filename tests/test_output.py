@@ -169,3 +169,41 @@ def test_diff_and_verify_name_a_mixed_set(sets, tmp_path):
     files = [str(tmp_path / CELL / t / f"{CELL}.{s}") for t, s in (("ur", "script"), ("abb", "mod"))]
     result = CliRunner().invoke(main, ["verify", str(old_cell), *files, "--cases", "1"])
     assert "different cell files (a mixed set)" in result.output
+
+
+def test_two_real_runs_at_once_never_mix(sets, tmp_path):
+    *_, new_cell, old_set = sets
+    old_cell = old_set.parent / "old" / f"{CELL}.toml"
+    whole = {}
+    for cell in (old_cell, new_cell):
+        _generate([str(cell), "--out", str(tmp_path / cell.parent.name)])
+        whole[cell] = _files(tmp_path / cell.parent.name / CELL)
+    for attempt in range(3):
+        out = tmp_path / f"out{attempt}"
+        runs = [
+            subprocess.Popen(
+                [sys.executable, "-m", "codegen", "generate", str(cell), "--out", str(out)],
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE,
+                text=True,
+            )
+            for cell in (old_cell, new_cell)
+        ]
+        results = [(run.wait(), run.stderr.read()) for run in runs]
+        assert any(code == 0 for code, _ in results)
+        for code, err in results:
+            assert code == 0 or (code == 1 and "another codegen generate is writing" in err), err
+        assert _files(out / CELL) in list(whole.values())
+
+
+def test_a_symlinked_target_folder_is_replaced_not_followed(tmp_path):
+    """The new set never writes or deletes through a symlink that points out of the output tree."""
+    outside = tmp_path / "v"
+    outside.mkdir()
+    (outside / "keep.txt").write_text("k")
+    (tmp_path / "out" / CELL).mkdir(parents=True)
+    (tmp_path / "out" / CELL / "ur").symlink_to(outside)
+    _generate([str(DEMO), "--out", str(tmp_path / "out")])
+    assert (outside / "keep.txt").read_text() == "k" and sorted(p.name for p in outside.iterdir()) == ["keep.txt"]
+    ur = tmp_path / "out" / CELL / "ur"
+    assert not ur.is_symlink() and (ur / f"{CELL}.script").is_file()
