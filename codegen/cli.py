@@ -150,17 +150,22 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
 @click.argument("cell", required=False, type=click.Path(dir_okay=False))
 @click.option("--out", "out_dir", default="generated", show_default=True, type=click.Path(file_okay=False))
 def diff(cell: str | None, out_dir: str) -> None:
-    """Unified diff of fresh output against OUT; exit 1 when they differ."""
+    """Unified diff of fresh output against OUT; exit 1 when they differ. No CELL: every bundled
+    example cell (all the cells whose output is committed under generated/)."""
     from pathlib import Path
 
+    from codegen.cell import EXAMPLES_DIR
     from codegen.emit import EmitError
     from codegen.generate import diff as run_diff
 
-    model = _load(cell)
-    try:
-        text = run_diff(model, Path(out_dir))
-    except EmitError as exc:
-        raise UserError(f"{model.source}: {exc}") from None
+    paths = [cell] if cell is not None else sorted(EXAMPLES_DIR.glob("*.toml"))
+    text = ""
+    for path in paths:
+        model = _load(path)
+        try:
+            text += run_diff(model, Path(out_dir))
+        except EmitError as exc:
+            raise UserError(f"{model.source}: {exc}") from None
     if text:
         click.echo(text, nl=False)
         sys.exit(1)
@@ -201,7 +206,13 @@ def _parse_input(text: str):
     multiple=True,
     help="Input NAME=VALUE (repeatable): the names are the [program] inputs of targets/<t>.toml.",
 )
-@click.option("--step-limit", default=200_000, show_default=True, help="Stop a runaway program after this many steps.")
+@click.option(
+    "--step-limit",
+    default=200_000,
+    show_default=True,
+    type=click.IntRange(min=1),
+    help="Stop a runaway program after this many steps.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit: int, as_json: bool) -> None:
     """Run one program in the built-in interpreter; print its log, moves and halt."""
@@ -275,7 +286,13 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
 )
 @click.option("--cases", default=1000, show_default=True, help="Random readings per station.")
 @click.option("--seed", default=0, show_default=True)
-@click.option("--jobs", default=0, show_default=True, help="Worker processes (0: one per target, up to the CPUs).")
+@click.option(
+    "--jobs",
+    default=0,
+    show_default=True,
+    type=click.IntRange(min=0),
+    help="Worker processes (0: one per CPU).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
 def verify(
     cell: str | None,

@@ -108,3 +108,24 @@ def test_run_refuses_a_data_file():
     inputs = ["VIS_STATION=1", "VIS_X=612.4", "VIS_Y=-285", "VIS_THETA=1.8"]
     ran = CliRunner().invoke(main, ["run", str(kuka / "agv_machine_tending.src"), *(f"--input={i}" for i in inputs)])
     assert ran.exit_code == 0 and "738.5000 -112.3000 305.2000" in ran.output
+
+
+def test_diff_without_a_cell_checks_every_bundled_cell(tmp_path):
+    import shutil
+    from pathlib import Path
+
+    generated = Path(__file__).resolve().parents[1] / "generated"
+    shutil.copytree(generated, tmp_path / "out")
+    assert CliRunner().invoke(main, ["diff", "--out", str(tmp_path / "out")]).exit_code == 0
+    edited = tmp_path / "out" / "thermometer_bench" / "abb" / "thermometer_bench.mod"
+    edited.write_text(edited.read_text().replace("MoveL", "MoveJ", 1))
+    result = CliRunner().invoke(main, ["diff", "--out", str(tmp_path / "out")])
+    assert result.exit_code == 1 and "thermometer_bench.mod" in result.output
+
+
+def test_negative_jobs_and_step_limit_are_refused():
+    from pathlib import Path
+
+    prog = str(Path(__file__).resolve().parents[1] / "generated/agv_machine_tending/ur/agv_machine_tending.script")
+    assert CliRunner().invoke(main, ["verify", "--jobs", "-1"]).exit_code == 2
+    assert CliRunner().invoke(main, ["run", prog, "--step-limit", "-1"]).exit_code == 2
