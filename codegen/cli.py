@@ -238,6 +238,13 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
         program = load_program_file(target, path)
     except RunError as exc:
         raise UserError(str(exc)) from None
+    unknown = program.unknown_inputs(values)
+    if unknown:
+        names = [*target.program["inputs"].values(), *target.program.get("photo", {}).values()]
+        raise UserError(
+            f"--input {unknown[0]}: {path} has no such variable or register; its vision interface reads "
+            f"{', '.join(names)} (any global variable of the program may be set)"
+        )
     try:
         devices = [device for kind in kinds().values() for device in kind.devices(target)]
         trace = program.run(values, step_limit=step_limit, devices=devices)

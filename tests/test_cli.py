@@ -129,3 +129,18 @@ def test_negative_jobs_and_step_limit_are_refused():
     prog = str(Path(__file__).resolve().parents[1] / "generated/agv_machine_tending/ur/agv_machine_tending.script")
     assert CliRunner().invoke(main, ["verify", "--jobs", "-1"]).exit_code == 2
     assert CliRunner().invoke(main, ["run", prog, "--step-limit", "-1"]).exit_code == 2
+
+
+def test_run_refuses_an_input_the_program_does_not_read():
+    from pathlib import Path
+
+    generated = Path(__file__).resolve().parents[1] / "generated" / "agv_machine_tending"
+    for program, good, bad in (
+        (generated / "kuka" / "agv_machine_tending.src", "VIS_STATION=3", "VIS_STATON=3"),
+        (generated / "ur" / "agv_machine_tending.script", "input_integer_register_24=3", "input_integer_registr_24=3"),
+        (generated / "abb" / "agv_machine_tending.mod", "vis_station=3", "vis_statio=3"),
+        (generated / "dtrans" / "agv_machine_tending.prg", "markp[0]=1.0", "mark[0]=1.0"),
+    ):
+        assert CliRunner().invoke(main, ["run", str(program), "--input", good]).exit_code == 0
+        result = CliRunner().invoke(main, ["run", str(program), "--input", bad])
+        assert result.exit_code == 2 and "has no such variable or register" in result.output, result.output

@@ -107,6 +107,14 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
             else:
                 machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
 
+    def accepts_input(self, name: str, globals_: dict) -> bool:
+        """Whether an injected input names something the program has (a global variable)."""
+        try:
+            key, _index = self._input_names.get(name) or self._input_name(name)
+        except ValueError:  # name[not a number]
+            return False
+        return key in globals_
+
     def _input_name(self, name: str) -> tuple[str, int | None]:
         """An input's variable and element index, parsed once per name."""
         key, _, index = name.partition("[")

@@ -138,6 +138,11 @@ class Program:
             self._snapshot = (machine.globals, machine.global_types, machine.extra)
         return self._snapshot
 
+    def unknown_inputs(self, names) -> list[str]:
+        """The input names this program has no variable or register for (a misspelt --input)."""
+        globals_, _types, _extra = self._prepare(DEFAULT_STEP_LIMIT)
+        return [name for name in names if not self.compiler.accepts_input(name, globals_)]
+
     def run(
         self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT, devices: Iterable[Device] = ()
     ) -> Trace:

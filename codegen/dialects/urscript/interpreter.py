@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 from lark import Token, Tree
@@ -12,6 +13,9 @@ from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import MoveEvent, Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
+
+INPUT_REGISTER = re.compile(r"input_(?:integer|float|boolean)_register_(\d+)")
+REGISTER_MAX = 47  # registers 0..23 fieldbus, 24..47 RTDE clients (URScript manual)
 
 
 def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tree:
@@ -108,8 +112,8 @@ class URScriptCompiler(Compiler):
         def register(kind):
             def read(fr, args, kwargs, where):
                 index = int(args[0])
-                if not 0 <= index <= 47:
-                    raise RunError(f"{where}: register {index} out of range 0..47")
+                if not 0 <= index <= REGISTER_MAX:
+                    raise RunError(f"{where}: register {index} out of range 0..{REGISTER_MAX}")
                 key = f"input_{kind}_register_{index}"
                 value = fr.m.inputs.get(key, 0)
                 return int(value) if kind == "integer" else f32(value)
@@ -118,8 +122,8 @@ class URScriptCompiler(Compiler):
 
         def write_output_integer_register(fr, args, kwargs, where):
             index = int(args[0])
-            if not 0 <= index <= 47:
-                raise RunError(f"{where}: register {index} out of range 0..47")
+            if not 0 <= index <= REGISTER_MAX:
+                raise RunError(f"{where}: register {index} out of range 0..{REGISTER_MAX}")
             fr.m.outputs[f"output_integer_register_{index}"] = int(args[1])
 
         def sync(fr, args, kwargs, where):
@@ -172,6 +176,11 @@ class URScriptCompiler(Compiler):
         }
 
     # --- registers by name, for devices: input_* and output_* are the controller's registers ------
+    def accepts_input(self, name: str, globals_: dict) -> bool:
+        """Input registers (input_integer_register_24, ...) are read by index at run time."""
+        match = INPUT_REGISTER.fullmatch(name)
+        return (match is not None and int(match.group(1)) <= REGISTER_MAX) or super().accepts_input(name, globals_)
+
     def device_read(self, machine, name: str):
         if name.startswith("input_"):
             return machine.inputs.get(name, 0)
