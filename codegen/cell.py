@@ -90,6 +90,7 @@ _CAMERA_KEYS = {"angle_sign", "handeye"}
 _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
 _STATION_KEYS = {"id", "name", "poses", "mode"}  # and the keys of the station's kind
+STATION_ID_MAX = 32767  # the largest 16-bit signed integer, which every target reads without loss
 DEFAULT_MODE = "point"  # the cell file's contract: a station without `mode` is a point station
 
 
@@ -257,9 +258,8 @@ class _Context:
         station_id = self.require(raw, "id", f"{path}.id")
         if isinstance(station_id, bool) or not isinstance(station_id, int):
             self.fail(f"{path}.id", f"expected an integer, got {_kind(station_id)}")
-        if not 1 <= station_id <= 32767:
-            # 32767: the largest 16-bit signed integer, which every target reads without loss.
-            self.fail(f"{path}.id", f"must be in 1..32767, got {station_id}")
+        if not 1 <= station_id <= STATION_ID_MAX:
+            self.fail(f"{path}.id", f"must be in 1..{STATION_ID_MAX}, got {station_id}")
         name = self.name(raw, "name", f"{path}.name")
         known = kinds()
         mode = raw.get("mode", DEFAULT_MODE)

@@ -408,9 +408,11 @@ def verify(
         for kind in kinds().values():  # each kind's own figures, as a table of its own
             for line in kind.report_lines(summaries):
                 click.echo(line)
+        swept = sum(s["unknown_ids_checked"] for s in summaries)
         click.echo(
-            f"{sum(s['cases'] for s in summaries)} runs in {wall:.1f} s wall, {workers} worker(s); "
-            "cases/s = one dialect on one core"
+            f"{sum(s['cases'] for s in summaries)} runs and {swept} runs of the other station ids "
+            f"(every id 0..{v.STATION_ID_MAX} that is not a station must halt before moving) in {wall:.1f} s wall, "
+            f"{workers} worker(s); cases/s = one dialect on one core"
         )
         click.echo("verify: all traces match the reference" if ok else "verify: MISMATCHES")
     sys.exit(0 if ok else 1)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen.cell import Cell, Station, TaughtPose
+from codegen.cell import STATION_ID_MAX, Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target, target_of_suffix
 from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import Program
@@ -50,6 +50,7 @@ class TargetReport:
     first_mismatches: list[str] = field(default_factory=list)
     seconds: float = 0.0
     categories: dict[str, int] = field(default_factory=dict)
+    unknown_ids: int = 0  # ids of the whole barcode range that are not stations, each checked to halt
     kind_stats: dict = field(default_factory=lambda: {name: kind.new_stats() for name, kind in kinds().items()})
 
     def summary(self) -> dict:
@@ -72,6 +73,7 @@ class TargetReport:
             "orientation_error_deg": stats(self.rot_errors),
             "seconds": self.seconds,
             "cases_per_second": self.cases / self.seconds if self.seconds else None,
+            "unknown_ids_checked": self.unknown_ids,
         }
         for name, kind in kinds().items():  # each kind's own figures, under its name
             own = kind.summary(self.kind_stats[name])
@@ -146,7 +148,7 @@ def edge_cell(cell: Cell) -> Cell:
     )
     new_id = max(s.id for s in cell.stations) + 1
     kind = next((k for k in kinds().values() if k.edge_spec() is not None), None)
-    if new_id > 32767 or kind is None:
+    if new_id > STATION_ID_MAX or kind is None:
         return cell
     station = Station(new_id, "verify_edge_poses", poses, kind.name, kind.edge_spec())
     return replace(cell, stations=(*cell.stations, station))
@@ -159,7 +161,7 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
     for station in cell.stations:
         cases.extend(get_kind(station.kind).cases(cell, station, count, rng))
     known = {s.id for s in cell.stations}
-    for station_id in (0, -1, max(known) + 1, 32767, 99999):
+    for station_id in (0, -1, max(known) + 1, STATION_ID_MAX, 99999):
         if station_id not in known:
             cases.append(Case("unknown_station", UnknownStation(station_id)))
     return cases
@@ -348,15 +350,49 @@ def file_source(target: str, path: Path) -> ProgramSource:
 _LOADED: dict[ProgramSource, Program] = {}
 
 
+def sweep_unknown_ids(cell: Cell, targets: list[str], programs: dict, ids: range) -> list[TargetReport]:
+    """Every id of `ids` that is not a station of the cell must halt with the unknown-station message
+    before any move: an extra dispatch branch (a misread barcode that moves the robot) is caught
+    wherever in the barcode range it is, not only at sampled ids."""
+    known = {s.id for s in cell.stations}
+    reports = []
+    for name in targets:
+        target = get_target(name)
+        program, files = programs[name]
+        key = target.program["inputs"]["station"]
+        text = Emitter(target).string(UNKNOWN_STATION_TEXT)
+        report = TargetReport(name, files)
+        for station_id in ids:
+            if station_id in known:
+                continue
+            report.unknown_ids += 1
+            try:
+                got = program.run({key: station_id})
+                problem = None
+                if got.moves or not got.halted or got.halt_message != f"{text}{station_id}":
+                    problem = f"{len(got.moves)} moves, halt message {got.halt_message!r}"
+            except RunError as exc:
+                problem = f"run error: {exc}"
+            if problem is not None:
+                report.mismatches += 1
+                if len(report.first_mismatches) < 10:
+                    report.first_mismatches.append(f"unknown station id {station_id}: {problem}")
+        reports.append(report)
+    return reports
+
+
 def _verify_chunk(args) -> list[TargetReport]:
-    """One chunk of cases on every source (the reference runs once per case)."""
-    cell, verify_cell, sources, cases = args
+    """One chunk of cases, or of the id sweep, on every source (the reference runs once per case)."""
+    cell, verify_cell, sources, work = args
     programs = {}
     for source in sources:
         if source not in _LOADED:
             _LOADED[source] = source.load()
         programs[source.target] = (_LOADED[source], list(source.files))
-    return verify(cell, [s.target for s in sources], programs, cases, verify_cell=verify_cell)
+    targets = [s.target for s in sources]
+    if isinstance(work, range):
+        return sweep_unknown_ids(verify_cell or cell, targets, programs, work)
+    return verify(cell, targets, programs, work, verify_cell=verify_cell)
 
 
 def _merge(parts: list[TargetReport]) -> TargetReport:
@@ -371,6 +407,7 @@ def _merge(parts: list[TargetReport]) -> TargetReport:
         out.rot_errors.extend(part.rot_errors)
         out.first_mismatches.extend(part.first_mismatches[: 10 - len(out.first_mismatches)])
         out.seconds += part.seconds
+        out.unknown_ids += part.unknown_ids
         for name, kind in kinds().items():
             kind.merge_stats(out.kind_stats[name], part.kind_stats[name])
         for key, count in part.categories.items():
@@ -385,11 +422,17 @@ def run_verify(
     jobs: int = 1,
     progress=None,
     verify_cell: Cell | None = None,
+    sweep: bool = True,
 ) -> list[TargetReport]:
-    """Verify every source on every case, in `jobs` processes; `seconds` is the time spent running
+    """Verify every source on every case and, with `sweep`, every id of the barcode range that is not
+    a station (sweep_unknown_ids), in `jobs` processes; `seconds` is the time spent running
     one dialect's cases (summed over workers), so cases/seconds is the per-dialect speed."""
     chunk = max(1, -(-len(cases) // max(4, 2 * jobs)))
     tasks = [(cell, verify_cell, sources, cases[i : i + chunk]) for i in range(0, len(cases), chunk)]
+    if sweep:
+        step = -(-(STATION_ID_MAX + 1) // max(2, jobs))
+        ranges = [range(i, min(i + step, STATION_ID_MAX + 1)) for i in range(0, STATION_ID_MAX + 1, step)]
+        tasks += [(cell, verify_cell, sources, ids) for ids in ranges]
     parts: dict[str, list[TargetReport]] = {source.target: [] for source in sources}
 
     def collect(reports: list[TargetReport]) -> None:

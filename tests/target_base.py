@@ -13,12 +13,22 @@ from hypothesis import strategies as st
 from lark import Token, Tree
 
 from codegen import derived
-from codegen.cell import load_cell
+from codegen.cell import STATION_ID_MAX, load_cell
 from codegen.controllers import get_target, target_names
 from codegen.dialects import get_dialect, parse_program
 from codegen.kinds import get_kind
 from codegen.render import render
-from codegen.verify import build_cases, fresh_programs, inputs_for, load_program, run_options, verify
+from codegen.verify import (
+    ProgramSource,
+    build_cases,
+    fresh_programs,
+    inputs_for,
+    load_program,
+    run_options,
+    run_verify,
+    sweep_unknown_ids,
+    verify,
+)
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "codegen" / "examples"
 CELLS = {path.stem: path for path in sorted(EXAMPLES.glob("*.toml"))}  # together they use every kind
@@ -257,6 +267,25 @@ class TargetTests:
         program = load_program(get_target(self.target), new_text, "mutant", companions)
         report = verify(cell, [self.target], {self.target: (program, ["mutant"])}, build_cases(cell, 10, 4))[0]
         assert report.mismatches > 0, f"verify missed the mutation {mutation}"
+
+    def test_an_extra_dispatch_id_anywhere_in_the_range_is_caught(self):
+        """A misread barcode must not move the robot: the sweep of every id finds one extra branch."""
+        cell = load_cell(CELLS["agv_machine_tending"])
+        text, companions = _program(self.target, render(cell, [self.target]))
+        dat = companions.get(".dat")
+        mutated = self.mutate("extra_dispatch_id", text, dat)
+        new_text, new_dat = mutated if isinstance(mutated, tuple) else (mutated, dat)
+        new_companions = {} if new_dat is None else {".dat": new_dat}
+        program = load_program(get_target(self.target), new_text, "mutant", new_companions)
+        programs = {self.target: (program, ["mutant"])}
+        (caught,) = sweep_unknown_ids(cell, [self.target], programs, range(0, STATION_ID_MAX + 1))
+        assert caught.mismatches == 1 and "unknown station id 20000" in caught.first_mismatches[0]
+        source = ProgramSource(self.target, new_text, "mutant", tuple(new_companions.items()), ("mutant",))
+        (report,) = run_verify(cell, [source], [])  # what `codegen verify CELL FILE` runs
+        assert report.mismatches == 1 and report.unknown_ids == STATION_ID_MAX + 1 - len(cell.stations)
+        original = load_program(get_target(self.target), text, "original", companions)
+        (clean,) = sweep_unknown_ids(cell, [self.target], {self.target: (original, ["original"])}, range(19990, 20010))
+        assert clean.mismatches == 0 and clean.unknown_ids == 20
 
     def mutate(self, mutation: str, text: str, dat: str | None):
         raise NotImplementedError

@@ -29,7 +29,8 @@ def test_generate_then_diff_is_clean(tmp_path):
     assert result.exit_code == 0, result.output
     written = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file())
     assert len(written) == 6 and ".agv_machine_tending.lock" in written  # 5 programs and the cell's lock
-    assert runner.invoke(main, ["diff", "--out", str(tmp_path)]).exit_code == 0
+    demo = str(REPO / "codegen" / "examples" / "agv_machine_tending.toml")
+    assert runner.invoke(main, ["diff", demo, "--out", str(tmp_path)]).exit_code == 0
 
 
 def test_diff_reports_an_edit_and_an_extra_file(tmp_path):

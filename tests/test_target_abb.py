@@ -18,6 +18,7 @@ class TestABB(TargetTests):
             "flip_sign": lambda: replace_once(text, "phi := ANGLE_SIGN *", "phi := -ANGLE_SIGN *"),
             "drop_guard": lambda: replace_once(text, "IF dx * dx + dy * dy > MAX_SHIFT_SQ THEN", "IF FALSE THEN"),
             "calibration_number": lambda: replace_once(text, "612.400000", "612.450000"),
+            "extra_dispatch_id": lambda: replace_once(text, "    CASE 1:\n", "    CASE 1, 20000:\n"),
         }[mutation]()
 
 

@@ -12,4 +12,5 @@ class TestKUKA(TargetTests):
             "flip_sign": lambda: replace_once(text, "PHI = ANGLE_SIGN *", "PHI = -ANGLE_SIGN *"),
             "drop_guard": lambda: replace_once(text, "IF DX * DX + DY * DY > MAX_SHIFT_SQ THEN", "IF FALSE THEN"),
             "calibration_number": lambda: (text, replace_once(dat, "X 612.400000", "X 612.450000")),
+            "extra_dispatch_id": lambda: (replace_once(text, "  CASE 1\n", "  CASE 1, 20000\n"), dat),
         }[mutation]()
