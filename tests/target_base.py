@@ -287,6 +287,24 @@ class TargetTests:
         (clean,) = sweep_unknown_ids(cell, [self.target], {self.target: (original, ["original"])}, range(19990, 20010))
         assert clean.mismatches == 0 and clean.unknown_ids == 20
 
+    def test_a_halt_the_program_goes_on_from_is_caught(self):
+        """Where the controller resumes after a halt (KRL HALT, RAPID Stop), a program that moves
+        after the operator's restart must fail verify; the targets whose halt ends the program (UR
+        halt, dtrans Halt) have no such mutation."""
+        cell = load_cell(CELLS["agv_machine_tending"])
+        text, companions = _program(self.target, render(cell, [self.target]))
+        dat = companions.get(".dat")
+        try:
+            mutated = self.mutate("halt_goes_on", text, dat)
+        except KeyError:
+            pytest.skip(f"{self.target}: a halt ends the program; nothing runs after it")
+        new_text, new_dat = mutated if isinstance(mutated, tuple) else (mutated, dat)
+        assert new_text != text
+        new_companions = {} if new_dat is None else {".dat": new_dat}
+        program = load_program(get_target(self.target), new_text, "mutant", new_companions)
+        report = verify(cell, [self.target], {self.target: (program, ["mutant"])}, build_cases(cell, 10, 4))[0]
+        assert report.mismatches > 0 and any("moves, expected 0" in m for m in report.first_mismatches)
+
     def mutate(self, mutation: str, text: str, dat: str | None):
         raise NotImplementedError
 

@@ -53,6 +53,7 @@ class TestKRL(DialectTests):
         f"BUMP(A)\nR = A.X\n{show('REAL', 'R')}", A_FRAME, "DEF BUMP(F:OUT)\nDECL FRAME F\nF.X = 99\nEND\n"
     )
     RUNAWAY = src("LOOP\nENDLOOP")
+    halt_resumes = True
     HALT = src(
         'MSG.MSG_TXT[] = "stop here"\nH = SET_KRLMSG(#QUIT, MSG, PAR[], OPT)\nHALT\nPTP {X 0,Y 0,Z 0,A 0,B 0,C 0}'
     )

@@ -27,7 +27,10 @@ class TestRAPID(DialectTests):
     BY_VALUE = mod(f"scratch a;\n{SHOW_A}", POSE_A, "PROC scratch(pose p)\n  p.trans.x := 42;\nENDPROC")
     BY_REFERENCE = mod(f"bump a;\n{SHOW_A}", POSE_A, "PROC bump(INOUT pose p)\n  p.trans.x := 99;\nENDPROC")
     RUNAWAY = mod("WHILE TRUE DO\nENDWHILE")
-    HALT = mod('TPWrite "stop here";\nStop;\nTPWrite "never";')
+    HALT = mod(
+        'TPWrite "stop here";\nEXIT;\n'
+        "MoveL [[0, 0, 0], [1, 0, 0, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]], v100, fine, tool0;"
+    )
     # the missing ';' is noticed at the next token, as on the controller
     SYNTAX_ERROR = ("MODULE T\nPROC main()\n  x := 1\nENDPROC\nENDMODULE\n", 4)
     UNDEFINED = ("MODULE T\nVAR num x;\nPROC main()\n  x := y + 1;\nENDPROC\nENDMODULE\n", 4)
@@ -142,3 +145,9 @@ def test_for_counter_is_the_loops_own_count():
     assert run(body).messages == ["3", "2", "1"]
     with pytest.raises(RunError, match="FOR with STEP 0"):
         run("FOR i FROM 1 TO 2 STEP 0 DO\nENDFOR")
+
+
+def test_stop_pauses_and_the_program_goes_on_after_the_restart():
+    trace = load(mod('TPWrite "stop here";\nStop;\nTPWrite "after the restart";'), "t.mod").run()
+    assert trace.halted and trace.halt_message == "stop here"
+    assert trace.messages == ["stop here", "after the restart"]

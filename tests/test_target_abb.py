@@ -19,6 +19,11 @@ class TestABB(TargetTests):
             "drop_guard": lambda: replace_once(text, "IF dx * dx + dy * dy > MAX_SHIFT_SQ THEN", "IF FALSE THEN"),
             "calibration_number": lambda: replace_once(text, "612.400000", "612.450000"),
             "extra_dispatch_id": lambda: replace_once(text, "    CASE 1:\n", "    CASE 1, 20000:\n"),
+            "halt_goes_on": lambda: replace_once(
+                text,
+                'TPWrite "station lathe_1: mark shift over 10 mm, recalibrate";\n      EXIT;',
+                'TPWrite "station lathe_1: mark shift over 10 mm, recalibrate";\n      Stop;',
+            ),
         }[mutation]()
 
 

@@ -13,4 +13,5 @@ class TestKUKA(TargetTests):
             "drop_guard": lambda: replace_once(text, "IF DX * DX + DY * DY > MAX_SHIFT_SQ THEN", "IF FALSE THEN"),
             "calibration_number": lambda: (text, replace_once(dat, "X 612.400000", "X 612.450000")),
             "extra_dispatch_id": lambda: (replace_once(text, "  CASE 1\n", "  CASE 1, 20000\n"), dat),
+            "halt_goes_on": lambda: (replace_once(text, "    VIS_HALT()\n    RETURN\n", "    VIS_HALT()\n"), dat),
         }[mutation]()

@@ -33,9 +33,19 @@ class Trace:
 
 
 def halt(fr, *_ignored) -> None:
-    """Stop the program; its last message is the operator's message (HALT, EXIT, Stop, halt())."""
+    """End the program; its last message is the operator's message."""
     messages = fr.m.trace.messages
     raise Halt(messages[-1] if messages else None)
+
+
+def pause(fr, *_ignored) -> None:
+    """Stop where the controller resumes at the next statement when the operator presses start (a
+    dialect's halt_resumes, or a builtin that pauses): the stop is recorded with its message and the run goes on as after that
+    restart, so whatever the program does next (a move with a rejected reading) is in the trace."""
+    trace = fr.m.trace
+    if not trace.halted:
+        trace.halted = True
+        trace.halt_message = trace.messages[-1] if trace.messages else None
 
 
 def step_limit_error(where: str, machine: Machine) -> StepLimitError:

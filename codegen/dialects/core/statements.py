@@ -6,7 +6,7 @@ from collections.abc import Callable
 
 from lark import Tree
 
-from codegen.dialects.core.machine import halt
+from codegen.dialects.core.machine import halt, pause
 from codegen.dialects.core.source import Inline, indent
 from codegen.dialects.core.values import RunError
 
@@ -43,9 +43,12 @@ class Statements:
         return Inline(self, self.guarded(lines, self.where(node)))
 
     # Types whose coerce() returns a value of this exact Python type unchanged (dialect table).
+    halt_resumes = False  # the halt statement pauses and the controller resumes after it
+
     def s_halt_stmt(self, node):
-        """halt / HALT / Halt: the program stops; its last message is the operator's message."""
-        return lambda fr: halt(fr)
+        """halt / HALT / Halt: the program stops (or pauses, halt_resumes); its last message is the
+        operator's message."""
+        return (lambda fr: pause(fr)) if self.halt_resumes else (lambda fr: halt(fr))
 
     def s_expr_stmt(self, node):
         return Inline(self, self.guarded([self.src(node.children[0])], self.where(node)))

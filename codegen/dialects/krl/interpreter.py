@@ -45,6 +45,7 @@ class KRLCompiler(Compiler):
     case_insensitive = True
     index_base = 1
     int_division = True
+    halt_resumes = True  # HALT stops the program; the operator's start resumes it at the next statement
     COERCE_UNCHANGED = {"REAL": "_F32", "INT": "int", "BOOL": "bool"}
     LIKE_UNCHANGED = frozenset({F32, int, bool, str})
     RECORD_TYPES = frozenset(STRUCTS)

@@ -8,7 +8,7 @@ import operator
 import numpy as np
 
 from codegen.dialects import posemath
-from codegen.dialects.core.machine import MoveEvent, halt
+from codegen.dialects.core.machine import MoveEvent, halt, pause
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed
 
 QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
@@ -224,7 +224,7 @@ def builtins(compiler) -> dict:
         "POSEVECT": pose_vect,
         "NUMTOSTR": num_to_str,
         "TPWRITE": tpwrite,
-        "STOP": halt,
+        "STOP": pause,  # the program resumes at the next instruction when the operator presses start
         "EXIT": halt,
         "MOVEJ": move("joint"),
         "MOVEL": move("linear"),
