@@ -40,8 +40,9 @@ def halt(fr, *_ignored) -> None:
 
 def pause(fr, *_ignored) -> None:
     """Stop where the controller resumes at the next statement when the operator presses start (a
-    dialect's halt_resumes, or a builtin that pauses): the stop is recorded with its message and the run goes on as after that
-    restart, so whatever the program does next (a move with a rejected reading) is in the trace."""
+    dialect's halt_resumes, or a builtin that pauses): the stop is recorded with its message and the
+    run goes on as after that restart, so whatever the program does next (a move with a rejected
+    reading) is in the trace."""
     trace = fr.m.trace
     if not trace.halted:
         trace.halted = True
