@@ -94,6 +94,13 @@ STATION_ID_MAX = 32767  # the largest 16-bit signed integer, which every target 
 DEFAULT_MODE = "point"  # the cell file's contract: a station without `mode` is a point station
 
 
+def image_angle_sign(pixel_to_mm) -> int:
+    """The angle sign a camera's image imposes: -1 when the hand-eye map mirrors (negative determinant),
+    since a turn of the mark then turns the other way in the image's axes."""
+    (a, b, _), (c, d, _) = pixel_to_mm
+    return -1 if a * d - b * c < 0 else 1
+
+
 def load_cell(path: str | Path | None = None) -> Cell:
     """Load and validate a cell file; None means the bundled demo cell."""
     path = Path(path) if path is not None else DEMO_CELL
@@ -154,6 +161,14 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         det = handeye[0][0] * handeye[1][1] - handeye[0][1] * handeye[1][0]
         if abs(det) < 1e-12:
             ctx.fail("cell.camera.handeye.pixel_to_mm", "the 2x2 part is singular")
+        if angle_sign != image_angle_sign(handeye):
+            ctx.fail(
+                "cell.camera.angle_sign",
+                f"the hand-eye map's determinant is {'negative' if det < 0 else 'positive'}: the image is "
+                f"{'' if det < 0 else 'not '}mirrored, so the camera's angles turn "
+                f"{'against' if det < 0 else 'with'} the frame's and angle_sign must be {image_angle_sign(handeye)} "
+                "(`codegen calibrate handeye POINTS.csv --write CELL` sets it)",
+            )
 
     settings = {kind.name: kind.parse_settings(ctx, cell_table) for kind in kinds().values()}
 

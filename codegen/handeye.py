@@ -161,6 +161,19 @@ def _table_pattern(name: str) -> re.Pattern:
 
 
 _TABLE = _table_pattern("cell.camera.handeye")
+_ANGLE_SIGN = re.compile(r"^angle_sign\s*=\s*[-+]?\d+[^\n]*$", re.MULTILINE)
+
+
+def _with_angle_sign(text: str, sign: int) -> str:
+    """The [cell.camera] table's angle_sign set to what the fitted map's image imposes."""
+    mirrored = "mirrored" if sign < 0 else "not mirrored"
+    line = f"angle_sign = {sign:<22d}# set by `codegen calibrate handeye`: the image is {mirrored}"
+    camera = _table_pattern("cell.camera").search(text)
+    if camera is None:
+        return text
+    body = camera.group(0)
+    body = _ANGLE_SIGN.sub(line, body, count=1) if _ANGLE_SIGN.search(body) else body.rstrip("\n") + "\n" + line + "\n"
+    return text[: camera.start()] + body + text[camera.end() :]
 
 
 def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
@@ -168,7 +181,7 @@ def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
     import os
     import tempfile
 
-    from codegen.cell import CellError, load_cell
+    from codegen.cell import CellError, image_angle_sign, load_cell
 
     text = cell_path.read_text(encoding="utf-8")
     table = toml_table(result, source)
@@ -179,6 +192,7 @@ def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
         if match is None:
             raise HandEyeError(f"{cell_path}: no [cell.camera] table to put the calibration after")
         new = text[: match.end()].rstrip("\n") + "\n\n" + table + "\n" + text[match.end() :]
+    new = _with_angle_sign(new, image_angle_sign(result.matrix))
     fd, tmp = tempfile.mkstemp(prefix=f".{cell_path.name}.", suffix=".tmp", dir=cell_path.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:

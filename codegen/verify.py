@@ -170,6 +170,11 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
 # --- comparison ------------------------------------------------------------------------------
 
 
+def _truth_problem(cell: Cell, case: Case, reference: ExpectedTrace) -> str | None:
+    kind = _kind_of_case(cell, case.reading)
+    return None if kind is None else kind.truth_problem(cell, case.reading, reference)
+
+
 def accepted_traces(cell: Cell, reading) -> tuple[list[ExpectedTrace], bool]:
     kind = _kind_of_case(cell, reading)
     if kind is None:
@@ -264,6 +269,9 @@ def verify(
     """Run every case on every target's program; verify_cell is the cell the programs were made from."""
     model = verify_cell or cell
     expectations = [(case, *accepted_traces(model, case.reading)) for case in cases]
+    # What the physical situation demands of a correct cell, independent of the cell's own model:
+    # a cell whose reference contradicts it (a wrong camera sign) fails on every target.
+    truth = [_truth_problem(model, case, accepted[0]) for case, accepted, _ in expectations]
     reports = []
     for name in targets:
         target = get_target(name)
@@ -271,7 +279,7 @@ def verify(
         emitter = Emitter(target)
         report = TargetReport(name, files)
         start = time.perf_counter()
-        for case, accepted, boundary in expectations:
+        for (case, accepted, boundary), untrue in zip(expectations, truth, strict=True):
             report.cases += 1
             report.categories[case.category] = report.categories.get(case.category, 0) + 1
             report.boundary += boundary
@@ -291,6 +299,8 @@ def verify(
                             kind = _kind_of_case(model, case.reading)
                             kind.add_stats(report.kind_stats[kind.name], case.reading, _log_numbers(got.messages))
                         break
+            if problem is None and untrue is not None:
+                problem = untrue
             report.pos_errors.extend(pos)
             report.rot_errors.extend(rot)
             report.moves += len(pos) if problem is None else 0

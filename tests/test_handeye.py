@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from codegen.cell import load_cell
+from codegen.cell import CellError, load_cell
 from codegen.cli import main
 from codegen.handeye import HandEyeError, fit, read_points
 
@@ -107,6 +107,7 @@ def test_cli_writes_into_the_cell(tmp_path):
     assert len(data["residuals_mm"]) == 9 and data["max_residual_mm"] < 1e-9
     loaded = load_cell(cell)
     assert loaded.handeye[0][2] == pytest.approx(5.0)
+    assert loaded.angle_sign == 1  # this grid's map does not mirror: the bench's -1 is replaced
     assert cell.read_text().count("[cell.camera.handeye]") == 1
     assert "[[station]]" in cell.read_text() and 'name = "tray"' in cell.read_text()
 
@@ -115,3 +116,19 @@ def test_cli_degenerate_exits_2(tmp_path):
     points = grid_csv(tmp_path, points=[(0, 0), (10, 10)])
     result = CliRunner().invoke(main, ["calibrate", "handeye", str(points)])
     assert result.exit_code == 2 and "at least 3" in result.output
+
+
+def test_write_sets_the_angle_sign_the_image_imposes(tmp_path):
+    """The bench's points give a mirrored map (negative determinant): --write sets angle_sign = -1
+    even where the cell said +1, and a cell whose sign contradicts its map does not load."""
+    text = (EXAMPLES / "thermometer_bench.toml").read_text()
+    wrong = text.replace("angle_sign = -1 ", "angle_sign = 1 ", 1)
+    assert wrong != text
+    cell = tmp_path / "bench.toml"
+    cell.write_text(wrong)
+    with pytest.raises(CellError, match=r"cell\.camera\.angle_sign: .*negative.*must be -1"):
+        load_cell(cell)
+    points = EXAMPLES / "thermometer_bench_points.csv"
+    result = CliRunner().invoke(main, ["calibrate", "handeye", str(points), "--write", str(cell)])
+    assert result.exit_code == 0, result.output
+    assert load_cell(cell).angle_sign == -1

@@ -64,7 +64,10 @@ def test_frame_cell_errors(tmp_path, change, message):
 
 def test_reference_loop_converges_and_halts(bench):
     exact = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel()))
-    assert exact.status == "ok" and exact.detail.iterations == 2  # one correcting photo, one confirming photo
+    # one correcting photo, one confirming photo; the image's per-axis scale (0.0170 and 0.0172 mm/px)
+    # turns a 12 deg turn into 11.86 deg in the image's axes, so one more photo corrects the rest
+    assert exact.status == "ok" and exact.detail.iterations == 3
+    assert exact.detail.residuals[0][1] == pytest.approx(11.864, abs=1e-3)
     scaled = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel(scale_error=0.03)))
     assert scaled.status == "ok" and 3 <= scaled.detail.iterations <= 5
     weak = expected_frame_trace(bench, FrameCase(1, 30.0, -40.0, 12.0, CameraModel(scale_error=9.0)))
@@ -201,3 +204,18 @@ def test_a_cell_of_frame_stations_only(tmp_path):
                 assert name.split("[")[0] not in f.text, (target, name)
         (report,) = run_verify(cell, fresh_sources(cell, [target]), build_cases(cell, 8, 1))
         assert report.mismatches == 0, report.first_mismatches
+
+
+@pytest.mark.parametrize("target", target_names())
+def test_a_cell_whose_angle_sign_contradicts_its_camera_fails_verify(bench, target):
+    """The simulated camera knows nothing of the cell's angle_sign: it reports the mark's turn in its
+    image's axes. Programs made from a cell with the other sign, verified against that same cell,
+    fail (its own reference agrees with them, the camera does not)."""
+    from dataclasses import replace
+
+    wrong = replace(bench, angle_sign=-bench.angle_sign)  # a cell the loader would refuse
+    (report,) = run_verify(wrong, fresh_sources(wrong, [target]), build_cases(wrong, 12, 5))
+    assert report.mismatches > 0
+    assert any("angle_sign +1 and the camera's image" in m for m in report.first_mismatches)
+    (right,) = run_verify(bench, fresh_sources(bench, [target]), build_cases(bench, 12, 5))
+    assert right.mismatches == 0, right.first_mismatches

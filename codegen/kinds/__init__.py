@@ -98,6 +98,13 @@ class ProgramKind:
         raise NotImplementedError
 
     @classmethod
+    def truth_problem(cls, cell, reading, reference) -> str | None:
+        """Where the case's physical situation (its simulated devices) demands something the cell's
+        own reference does not do, what: then the cell contradicts its devices (e.g. a camera sign)
+        and every target's run of the case is a mismatch. None: nothing to say."""
+        return None
+
+    @classmethod
     def inputs(cls, cell, target, reading) -> dict:
         """Values the vision PC or the controller holds when the program starts (--input names)."""
         return {target.program["inputs"]["station"]: reading.station_id}

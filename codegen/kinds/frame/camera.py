@@ -43,12 +43,14 @@ def mark_offset_seen(
 
 
 class SimulatedCamera:
-    """Answers photo requests in pixels (u, v) and an image angle, as the real camera would."""
+    """Answers photo requests in pixels (u, v) and an image angle, as the real camera would: from the
+    physical situation and the image geometry alone. It does not know the cell's angle_sign: the
+    angle it reports turns the way the image axes turn, so a mirrored image (a hand-eye map with a
+    negative determinant) reports a turn of the mark the other way round."""
 
-    def __init__(self, model: CameraModel, pixel_to_mm, angle_sign: int, calib2base, photo2frame, mark2base) -> None:
+    def __init__(self, model: CameraModel, pixel_to_mm, calib2base, photo2frame, mark2base) -> None:
         self.model = model
         self.pixel_to_mm = np.array(pixel_to_mm, dtype=float)
-        self.angle_sign = angle_sign
         self.calib2base, self.photo2frame, self.mark2base = calib2base, photo2frame, mark2base
         self.photos = 0
         self._rng = random.Random(model.seed)
@@ -60,14 +62,27 @@ class SimulatedCamera:
         x, y, yaw = mark_offset_seen(self.calib2base, self.photo2frame, tcp2base, self.mark2base)
         # The program applies the calibrated map; the real map is off by the hand-eye error, so the
         # millimetres the program will compute are the true offset turned back and scaled back.
+        u, v = self._pixels(x, y)
+        u += self._rng.gauss(0.0, self.model.noise_px) if self.model.noise_px else 0.0
+        v += self._rng.gauss(0.0, self.model.noise_px) if self.model.noise_px else 0.0
+        angle = self._image_angle(yaw) + (self._rng.gauss(0.0, self.model.noise_deg) if self.model.noise_deg else 0.0)
+        return float(u), float(v), angle
+
+    def _pixels(self, x: float, y: float) -> np.ndarray:
+        """Where a point (x, y) mm of the frame the camera believes in lands in the image. The program
+        applies the calibrated map; the real map is off by the hand-eye error, so the millimetres it
+        will compute are the true ones turned back and scaled back."""
         err = math.radians(self.model.rotation_error_deg)
         k = 1.0 / (1.0 + self.model.scale_error)
         mx = k * (math.cos(-err) * x - math.sin(-err) * y)
         my = k * (math.sin(-err) * x + math.cos(-err) * y)
-        a = self.pixel_to_mm[:, :2]
-        t = self.pixel_to_mm[:, 2]
-        u, v = np.linalg.solve(a, np.array([mx, my]) - t)
-        u += self._rng.gauss(0.0, self.model.noise_px) if self.model.noise_px else 0.0
-        v += self._rng.gauss(0.0, self.model.noise_px) if self.model.noise_px else 0.0
-        angle = yaw + (self._rng.gauss(0.0, self.model.noise_deg) if self.model.noise_deg else 0.0)
-        return float(u), float(v), self.angle_sign * angle  # the camera's own angle convention
+        return np.linalg.solve(self.pixel_to_mm[:, :2], np.array([mx, my]) - self.pixel_to_mm[:, 2])
+
+    def _image_angle(self, yaw_deg: float) -> float:
+        """The mark's turn from its taught look, measured in the image's own axes (u towards v): the
+        angle from its x axis at calibration to its x axis now, both as pixel directions."""
+        origin = self._pixels(0.0, 0.0)
+        u0, v0 = self._pixels(1.0, 0.0) - origin
+        yaw = math.radians(yaw_deg)
+        u1, v1 = self._pixels(math.cos(yaw), math.sin(yaw)) - origin
+        return math.degrees(math.atan2(u0 * v1 - v0 * u1, u0 * u1 + v0 * v1))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import cmath
 import math
 import random
 from dataclasses import dataclass, replace
@@ -78,7 +79,7 @@ def camera_for(cell, case: FrameCase) -> SimulatedCamera:
     spec = cell.station_by_id(case.station_id).spec
     calib2base = spec.frame.matrix()
     mark2base = concat(frame_offset(case.dx, case.dy, case.alpha), calib2base)
-    return SimulatedCamera(case.camera, cell.handeye, cell.angle_sign, calib2base, spec.photo.matrix(), mark2base)
+    return SimulatedCamera(case.camera, cell.handeye, calib2base, spec.photo.matrix(), mark2base)
 
 
 def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedTrace:
@@ -309,6 +310,39 @@ class FrameKind(ProgramKind):
             return [reference], False
         nudged = [expected_frame_trace(cell, case, FRAME_NUDGE), expected_frame_trace(cell, case, -FRAME_NUDGE)]
         return [reference, *nudged], True
+
+    @classmethod
+    def truth_problem(cls, cell, case: FrameCase, reference: ExpectedTrace) -> str | None:
+        """A camera that measures well (its hand-eye error contracts the residual by q <= 1/2 per photo,
+        so the loop needs far fewer photos than allowed) and a mark within the limits: a correct cell
+        converges, and onto the true mark. Its frame may be off by what the stop rule lets through:
+        the tolerance scaled by the camera's scale error and its map's anisotropy, plus four standard
+        deviations of the noise. A reference that does not (a cell whose angle_sign contradicts its
+        camera's image) is a mismatch for every target."""
+        camera, refine, limits = case.camera, cell.settings[cls.name], cell.limits
+        if camera.fault_at_photo or cell.handeye is None:
+            return None
+        offset = math.hypot(case.dx, case.dy)
+        if offset > 0.95 * limits.max_shift_mm or abs(case.alpha) > 0.95 * limits.max_rotation_deg:
+            return None
+        q = abs(1 - cmath.exp(1j * math.radians(camera.rotation_error_deg)) / (1 + camera.scale_error))
+        if q > 0.5 or q ** (refine.max_iterations - 3) * offset >= refine.tolerance_mm / 2:
+            return None
+        sign = f"angle_sign {cell.angle_sign:+d} and the camera's image"
+        if reference.status != "ok":
+            reason = reference.reason
+            return f"the camera sees the mark within the limits, yet the cell's loop halts ({reason}): {sign}?"
+        singular = np.linalg.svd(np.array(cell.handeye)[:, :2], compute_uv=False)
+        mm_bound = refine.tolerance_mm * (1 + abs(camera.scale_error)) + 4 * camera.noise_px * singular[0]
+        deg_bound = refine.tolerance_deg * singular[0] / singular[1] + 4 * camera.noise_deg
+        _station, dx, dy, alpha, _photos = reference.logged
+        mm, deg = math.hypot(dx - case.dx, dy - case.dy), abs(alpha - case.alpha)
+        if mm > mm_bound or deg > deg_bound:
+            return (
+                f"the cell's loop stops {mm:.4f} mm and {deg:.4f} deg from the true mark (at most {mm_bound:.4f} mm "
+                f"and {deg_bound:.4f} deg): {sign}?"
+            )
+        return None
 
     @classmethod
     def inputs(cls, cell, target, case: FrameCase) -> dict:
