@@ -78,6 +78,16 @@ class DialectTests:
         assert trace.halted and trace.halt_message == "stop here"
         assert trace.messages == ["stop here"] and len(trace.moves) == (1 if self.halt_resumes else 0)
 
+    def test_syntax_error_lists_what_a_user_can_write(self):
+        """Keywords and symbols quoted as written, or "a name", "a number" ...: no grammar rule names."""
+        with pytest.raises(RunError) as info:
+            self.load(self.SYNTAX_ERROR[0])
+        listed = str(info.value).split("expected one of ", 1)[1]
+        quoted = r"'(?:[^'\\]|\\.)*'|\"(?:[^\"\\]|\\.)*\""
+        items = quoted + "|a name|a number|an integer|a string|the end of the line|a comment"
+        leftover = re.sub(rf"(?:{items})(?:, |$)", "", listed)
+        assert leftover == "", f"not in a user's words: {leftover!r} in {listed!r}"
+
     def test_syntax_error_names_file_line_and_column(self):
         text, line = self.SYNTAX_ERROR
         with pytest.raises(RunError, match=rf"^{re.escape(self.filename)}:{line}:\d+: syntax error.*, expected one of"):

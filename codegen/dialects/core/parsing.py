@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from functools import cache
 
 from lark import Lark, Tree
@@ -28,15 +29,51 @@ def parse_with_grammar(interpreter_file: str, text: str, filename: str, position
         raise syntax_error(exc, filename, parser) from None
 
 
+# What a user calls the terminals whose pattern is not a word or a symbol of the language.
+_TERMS = {
+    "NAME": "a name",
+    "NUMBER": "a number",
+    "INT": "an integer",
+    "STRING": "a string",
+    "_NL": "the end of the line",
+    "COMMENT": "a comment",
+    "HEADER": "a & line",
+}
+_ALTERNATIVE = re.compile(r"\(\?i:([^()]*)\)|([^|()?:]+)")
+
+
+def _spelled(pattern) -> list[str]:
+    """The words or symbols a terminal's pattern stands for, as written in a program: a literal, or
+    each alternative of a regex made of literals only ("C_PTP"i | "C_DIS"i); [] when it is a real
+    regex (a name, a number)."""
+    if pattern.type == "str":
+        return [pattern.value]
+    value = pattern.value
+    if value.startswith("(?:") and value.endswith(")"):
+        value = value[3:-1]
+    words = []
+    for part in value.split("|"):
+        match = _ALTERNATIVE.fullmatch(part)
+        literal = (match.group(1) or match.group(2)) if match else None
+        literal = literal.replace("\\b", "") if literal else None
+        if not literal or re.search(r"[\\\[\]().*+?{}^$]", literal.replace("\\[", "").replace("\\]", "")):
+            return []
+        words.append(literal.replace("\\", ""))
+    caseless = "i" in pattern.flags or "(?i:" in pattern.value
+    return [w.upper() if caseless else w for w in words]
+
+
 def syntax_error(exc, filename: str, parser) -> RunError:
-    """file:line:column, the token found and what the grammar expected there."""
+    """file:line:column, the token found and what the grammar expected there, in the program's words
+    (keywords and symbols quoted, "a name", "a number" ...), never the grammar's rule names."""
     names = sorted(getattr(exc, "expected", None) or getattr(exc, "allowed", None) or [])
     patterns = {t.name: t.pattern for t in parser.terminals}
-    shown = []
+    shown: list[str] = []
     for name in names:
         pattern = patterns.get(name)
-        literal = getattr(pattern, "value", None) if pattern is not None and pattern.type == "str" else None
-        shown.append(repr(literal) if literal else name.lower())
+        words = _spelled(pattern) if pattern is not None else []
+        described = [repr(w) for w in words] or [_TERMS.get(name, name.lower().strip("_").replace("_", " "))]
+        shown.extend(d for d in described if d not in shown)
     token = getattr(exc, "token", None)
     found = f" at {str(token)!r}" if token is not None and str(token).strip() else ""
     if token is None and getattr(exc, "char", None):
