@@ -16,6 +16,7 @@ class Move:
     kind: str  # JOINT or LINEAR
     pose_name: str
     tcp2base: np.ndarray = field(compare=False)
+    exact: bool = False  # the arm must stop at this pose (a work or photo pose): no blending
 
 
 @dataclass(frozen=True)

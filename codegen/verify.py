@@ -223,9 +223,16 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
     if len(got.moves) != len(expected.moves):
         return f"{len(got.moves)} moves, expected {len(expected.moves)}", [], []
     pos_errors, rot_errors = [], []
+    dialect = get_dialect(target.dialect)
     for i, (g, e) in enumerate(zip(got.moves, expected.moves, strict=True)):
         if g.kind != e.kind:
             return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
+        for key, want in dialect.move_settings(target.program, e.kind, e.exact).items():
+            have = g.settings.get(key)
+            numbers = isinstance(want, float) and isinstance(have, float)
+            if have != want and not (numbers and math.isclose(have, want, rel_tol=1e-6)):  # float32 values
+                exact = " (the arm must stop exactly at this pose)" if e.exact else ""
+                return f"move {i + 1} ({e.pose_name}, line {g.line}): {key} {have}, expected {want}{exact}", [], []
         pos, rot = _pose_errors(g.tcp2base.tolist(), e.tcp2base.tolist())
         pos_errors.append(pos)
         rot_errors.append(rot)

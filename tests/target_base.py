@@ -287,6 +287,23 @@ class TargetTests:
         (clean,) = sweep_unknown_ids(cell, [self.target], {self.target: (original, ["original"])}, range(19990, 20010))
         assert clean.mismatches == 0 and clean.unknown_ids == 20
 
+    motion_mutations: list[str] = []  # how the arm moves: speed, acceleration, zone, base (per target)
+
+    def test_motion_mutations_fail_verify(self):
+        """Speed, acceleration, blending on the work pose, the base: changes the pose check cannot see."""
+        if not self.motion_mutations:
+            pytest.skip(f"{self.target}: its moves state no speed, zone or base to change")
+        cell = load_cell(CELLS["agv_machine_tending"])
+        text, companions = _program(self.target, render(cell, [self.target]))
+        dat = companions.get(".dat")
+        for mutation in self.motion_mutations:
+            mutated = self.mutate(mutation, text, dat)
+            new_text, new_dat = mutated if isinstance(mutated, tuple) else (mutated, dat)
+            new_companions = {} if new_dat is None else {".dat": new_dat}
+            program = load_program(get_target(self.target), new_text, mutation, new_companions)
+            report = verify(cell, [self.target], {self.target: (program, [mutation])}, build_cases(cell, 5, 4))[0]
+            assert report.mismatches > 0, f"verify missed {mutation}"
+
     def test_a_halt_the_program_goes_on_from_is_caught(self):
         """Where the controller resumes after a halt (KRL HALT, RAPID Stop), a program that moves
         after the operator's restart must fail verify; the targets whose halt ends the program (UR

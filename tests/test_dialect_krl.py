@@ -110,12 +110,19 @@ def test_geometric_operator_and_inv_pos():
     body = (
         f"F = {{X {a[0]},Y {a[1]},Z {a[2]},A {a[3]},B {a[4]},C {a[5]}}}\n"
         f"P = {{X {b[0]},Y {b[1]},Z {b[2]},A {b[3]},B {b[4]},C {b[5]},S 2,T 35}}\n"
-        "Q = F : P\nLIN Q\nPTP INV_POS(F) : F"
+        "$BASE = $NULLFRAME\nQ = F : P\nLIN Q\nPTP INV_POS(F) : F"
     )
     trace = run(body, "DECL FRAME F\nDECL POS P, Q")
     assert np.allclose(trace.moves[0].tcp2base, matrix_from_xyzabc(a) @ matrix_from_xyzabc(b), atol=2e-3)
     assert np.allclose(trace.moves[1].tcp2base, np.eye(4), atol=2e-3)
     assert [m.kind for m in trace.moves] == ["linear", "joint"]
+
+
+def test_a_program_starts_in_whatever_base_was_active():
+    """$BASE persists between programs: moving without setting it moves in the base left active."""
+    trace = run("LIN {X 10,Y 0,Z 0,A 0,B 0,C 0}\n$BASE = $NULLFRAME\nLIN {X 10,Y 0,Z 0,A 0,B 0,C 0}")
+    assert not np.allclose(trace.moves[0].tcp2base, trace.moves[1].tcp2base, atol=1.0)
+    assert np.allclose(trace.moves[1].tcp2base[:3, 3], [10, 0, 0], atol=1e-4)
 
 
 def test_base_frame_applies_to_moves():

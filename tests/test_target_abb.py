@@ -8,9 +8,12 @@ from target_base import TargetTests, cell_text, replace_once
 from codegen.cell import load_cell
 from codegen.render import render
 
+WORK = "MoveL vis_apply(corr, p1_chuck), v200, fine, tool0;"  # the work pose of station 1
+
 
 class TestABB(TargetTests):
     target = "abb"
+    motion_mutations = ["speed_x25", "zone_on_work_pose"]
 
     def mutate(self, mutation, text, dat):
         return {
@@ -24,6 +27,8 @@ class TestABB(TargetTests):
                 'TPWrite "station lathe_1: mark shift over 10 mm, recalibrate";\n      EXIT;',
                 'TPWrite "station lathe_1: mark shift over 10 mm, recalibrate";\n      Stop;',
             ),
+            "speed_x25": lambda: replace_once(text, WORK, WORK.replace("v200", "v5000")),
+            "zone_on_work_pose": lambda: replace_once(text, WORK, WORK.replace("fine", "z200")),
         }[mutation]()
 
 

@@ -2,9 +2,12 @@
 
 from target_base import TargetTests, replace_once
 
+WORK = "  TARGET = CORR : P1_CHUCK\n  LIN TARGET\n"  # the work pose of station 1
+
 
 class TestKUKA(TargetTests):
     target = "kuka"
+    motion_mutations = ["no_base_reset", "approximated_work_pose"]
 
     def mutate(self, mutation, text, dat):
         return {
@@ -14,4 +17,9 @@ class TestKUKA(TargetTests):
             "calibration_number": lambda: (text, replace_once(dat, "X 612.400000", "X 612.450000")),
             "extra_dispatch_id": lambda: (replace_once(text, "  CASE 1\n", "  CASE 1, 20000\n"), dat),
             "halt_goes_on": lambda: (replace_once(text, "    VIS_HALT()\n    RETURN\n", "    VIS_HALT()\n"), dat),
+            "no_base_reset": lambda: (replace_once(text, "  $BASE = $NULLFRAME\n  SWITCH", "  SWITCH"), dat),
+            "approximated_work_pose": lambda: (
+                replace_once(text, WORK, WORK.replace("TARGET\n", "TARGET C_DIS\n")),
+                dat,
+            ),
         }[mutation]()

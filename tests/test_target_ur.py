@@ -2,9 +2,12 @@
 
 from target_base import TargetTests, replace_once
 
+WORK = "movel(pose_trans(corr, p1_chuck), a=1.2, v=0.25)"  # the work pose of station 1
+
 
 class TestUR(TargetTests):
     target = "ur"
+    motion_mutations = ["speed_x10", "acceleration_x10", "blend_on_work_pose"]
 
     def mutate(self, mutation, text, dat):
         return {
@@ -17,4 +20,7 @@ class TestUR(TargetTests):
                 "  elif station_id == 2:",
                 "  elif station_id == 20000:\n    st_lathe_1()\n  elif station_id == 2:",
             ),
+            "speed_x10": lambda: replace_once(text, WORK, WORK.replace("v=0.25", "v=2.5")),
+            "acceleration_x10": lambda: replace_once(text, WORK, WORK.replace("a=1.2", "a=12")),
+            "blend_on_work_pose": lambda: replace_once(text, WORK, WORK.replace("v=0.25", "v=0.25, r=0.05")),
         }[mutation]()

@@ -41,6 +41,13 @@ class Dialect:
         return cls.module("interpreter").parse(text, filename, positions)
 
     @classmethod
+    def move_settings(cls, program: dict, kind: str, exact: bool) -> dict:
+        """How a correct program moves the arm to a pose, as the interpreter records it (MoveEvent
+        settings): from the target's [program] facts; `exact` where the arm must stop at the pose (a
+        work pose, a photo pose), so no blending. Empty: the language states nothing to compare."""
+        return {}
+
+    @classmethod
     def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
         """A compiled program; `companions` maps a companion suffix to its text."""
         return cls.module("interpreter").load(text, filename)

@@ -87,9 +87,10 @@ def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Expec
     marknow2base = mark2base(reading.x, reading.y, t_theta + phi)
     correction = concat(base2mark(tx, ty, t_theta), marknow2base)  # D: a taught pose P becomes D . P
     moves = []
+    last = len(station.poses) - 1
     for i, pose in enumerate(station.poses):
         tcp2base = concat(pose.matrix(), correction)
-        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, tcp2base))
+        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, tcp2base, exact=i == last))  # the work pose
     work, work_new = station.poses[-1].matrix(), moves[-1].tcp2base
     deviation = (
         float(station.id),

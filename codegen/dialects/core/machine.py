@@ -21,6 +21,7 @@ class MoveEvent:
     kind: str  # "joint" or "linear"
     tcp2base: np.ndarray  # 4x4 float64, mm
     line: int
+    settings: dict = field(default_factory=dict)  # how the arm moves there, in the dialect's terms
 
 
 @dataclass

@@ -9,5 +9,10 @@ class KRL(Dialect):
     companions = (".dat",)  # the data list of a .src: declarations and initial values
 
     @classmethod
+    def move_settings(cls, program: dict, kind: str, exact: bool) -> dict:
+        """No approximation (C_PTP, C_DIS, ...): the generated programs stop at every pose."""
+        return {"approx": None}
+
+    @classmethod
     def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
         return cls.module("interpreter").load(text, filename, (companions or {}).get(".dat"))

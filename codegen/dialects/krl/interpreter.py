@@ -40,6 +40,12 @@ EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
 NO_SKIP = frozenset()
 
 
+# $BASE keeps its value from program to program (KSS 8 system variables): a program starts in whatever
+# base was active. The interpreter assumes one that is not the robot's base, so a program that moves
+# without setting $BASE ($NULLFRAME, or a BASE_DATA) moves somewhere else in its trace.
+ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
+
+
 class KRLCompiler(Compiler):
     name = "krl"
     case_insensitive = True
@@ -144,7 +150,7 @@ class KRLCompiler(Compiler):
             elif key in fr.m.globals:
                 value = fr.m.globals[key]
             elif key == "$BASE":
-                return fr.m.extra.setdefault("$BASE", frame())
+                return fr.m.extra.setdefault("$BASE", frame(ACTIVE_BASE_AT_START))
             elif key == "BASE_DATA":  # system array of the controller's measured bases ($config.dat)
                 return fr.m.extra.setdefault("BASE_DATA", [new_value("FRAME") for _ in range(32)])
             else:
@@ -341,7 +347,8 @@ class KRLCompiler(Compiler):
         return self.wait_until(node.children[0], node, "WAIT FOR")
 
     def s_motion_stmt(self, node):
-        motion, target, _approx = node.children
+        motion, target, approx = node.children
+        settings = {"approx": str(approx).upper() if approx is not None else None}
         kind = {"PTP": "joint", "LIN": "linear"}.get(str(motion).upper())
         if kind is None:
             self.fail(node, f"{motion} is not supported by this interpreter")
@@ -358,11 +365,11 @@ class KRLCompiler(Compiler):
                 target = self.coerce("FRAME", target, where)
             pose = cart(target, where)
             posemath.check_finite(xyzabc(pose), where, "motion target")
-            base = fr.m.extra.get("$BASE")
+            base = fr.m.extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
             tcp2base = cart_matrix(pose)
             if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
                 tcp2base = cart_matrix(base) @ tcp2base
-            fr.m.trace.moves.append(MoveEvent(kind, tcp2base, line))
+            fr.m.trace.moves.append(MoveEvent(kind, tcp2base, line, settings))
 
         return run
 

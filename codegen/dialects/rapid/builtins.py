@@ -181,6 +181,11 @@ def builtins(compiler) -> dict:
             raise RunError(f"{where}: TPWrite text longer than 80 characters")
         fr.m.trace.messages.append(text)
 
+    def _setting(args, i: int) -> str:
+        """A predefined speeddata, zonedata or tooldata by its name; any other value as 'custom'."""
+        value = args[i] if len(args) > i else None
+        return value.upper() if isinstance(value, str) else "custom"
+
     def move(kind):
         def run(fr, args, kwargs, where):
             target = args[0]
@@ -205,7 +210,9 @@ def builtins(compiler) -> dict:
                     m = posemath.matrix_from_abb(pose7) @ m
             elif wobj not in (None, "WOBJ0"):
                 raise RunError(f"{where}: unknown work object {wobj}")
-            fr.m.trace.moves.append(MoveEvent(kind, m, int(where.split(":")[1])))
+            speed, zone, tool = (_setting(args, i) for i in (1, 2, 3))
+            settings = {"speed": speed, "zone": zone, "tool": tool}
+            fr.m.trace.moves.append(MoveEvent(kind, m, int(where.split(":")[1]), settings))
 
         return run
 

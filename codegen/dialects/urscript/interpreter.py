@@ -15,6 +15,9 @@ from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
 
 INPUT_REGISTER = re.compile(r"input_(?:integer|float|boolean)_register_(\d+)")
+# movej/movel keyword arguments and their defaults (URScript manual, module motion): acceleration a,
+# speed v (rad/s^2, rad/s for movej; m/s^2, m/s for movel), blend radius r (m; 0: stop at the pose)
+MOVE_DEFAULTS = {"joint": {"a": 1.4, "v": 1.05, "r": 0.0}, "linear": {"a": 1.2, "v": 0.25, "r": 0.0}}
 REGISTER_MAX = 47  # registers 0..23 fieldbus, 24..47 RTDE clients (URScript manual)
 
 
@@ -101,7 +104,8 @@ class URScriptCompiler(Compiler):
                 pose = _pose(target, where)
                 posemath.check_finite(pose.values(), where, "move target")
                 line = int(where.split(":")[1])
-                fr.m.trace.moves.append(MoveEvent(kind, posemath.matrix_from_ur(pose.values()), line))
+                settings = {key: float(kwargs.get(key, default)) for key, default in MOVE_DEFAULTS[kind].items()}
+                fr.m.trace.moves.append(MoveEvent(kind, posemath.matrix_from_ur(pose.values()), line, settings))
 
             return run
 

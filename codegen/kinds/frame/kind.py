@@ -108,7 +108,7 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
         if photos >= refine.max_iterations:
             return halt(NOT_CONVERGED)
         tcp2base = concat(photo2frame, frame_offset(dx, dy, alpha), calib2base)
-        moves.append(Move(JOINT, "photo", tcp2base))
+        moves.append(Move(JOINT, "photo", tcp2base, exact=True))
         photos += 1
         u, v, angle = camera.photo(tcp2base)
         if not pixels_in_range(u, v, angle):
@@ -129,8 +129,10 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
             residual = None
             return halt(ROTATION_OVER_LIMIT)
     frame2base = concat(frame_offset(dx, dy, alpha), calib2base)
+    last = len(station.poses) - 1
     for i, pose in enumerate(station.poses):
-        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, concat(pose.matrix(), frame2base)))
+        kind = JOINT if i == 0 else LINEAR
+        moves.append(Move(kind, pose.name, concat(pose.matrix(), frame2base), exact=i == last))
     deviation = (float(station.id), dx, dy, alpha, float(photos))
     detail = FrameDetail(photos, tuple(residuals), residual, frame2base)
     return ExpectedTrace("ok", None, station, tuple(moves), deviation, detail)
