@@ -1,0 +1,127 @@
+"""Careless edits of the checked-in programs of every example cell, per target: verify must fail each.
+
+Each row is a kind of edit a person or a generator bug could make, written as a regular expression
+per target (the first match is changed). A target without a row for a kind has no such construct;
+the README lists those and why. Speed, acceleration, zone and base edits are the motion mutations of
+tests/target_base.py; extra dispatch ids and halts the program goes on from are tested there too.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from codegen.cell import load_cell
+from codegen.controllers import get_target
+from codegen.verify import build_cases, file_source, verify
+
+REPO = Path(__file__).resolve().parents[1]
+CELLS = sorted((REPO / "codegen" / "examples").glob("*.toml"))
+
+
+def _bump(match: re.Match, by: float) -> str:
+    return f"{match.group(1)}{float(match.group(2)) + by:.6f}"
+
+
+# kind -> target -> (pattern, replacement); the replacement may be a function of the match.
+TABLE = {
+    "joint_move_made_linear": {
+        "ur": (r"^(\s+)movej\(", r"\1movel("),
+        "kuka": (r"^(\s+)PTP ", r"\1LIN "),
+        "abb": (r"^(\s+)MoveJ ", r"\1MoveL "),
+        "dtrans": (r"^(\s*)MovJ ", r"\1MovL "),
+    },
+    "move_dropped": {
+        "ur": (r"^\s+movel\([^\n]*\n", ""),
+        "kuka": (r"^\s+LIN [^\n]*\n", ""),
+        "abb": (r"^\s+MoveL [^\n]*\n", ""),
+        "dtrans": (r"^\s*MovL [^\n]*\n", ""),
+    },
+    "moves_reordered": {
+        "ur": (r"^(\s+movej\([^\n]*\n)(\s+movel\([^\n]*\n)", r"\2\1"),
+        "kuka": (r"^(\s+TARGET = [^\n]*\n\s+PTP [^\n]*\n)(\s+TARGET = [^\n]*\n\s+LIN [^\n]*\n)", r"\2\1"),
+        "abb": (r"^(\s+MoveJ vis_apply[^\n]*\n)(\s+MoveL [^\n]*\n)", r"\2\1"),
+        "dtrans": (r"^(\s*MovJ vis_apply[^\n]*\n)(\s*MovL [^\n]*\n)", r"\2\1"),
+    },
+    "pose_operator_changed": {
+        "ur": (r"pose_trans\(corr, ", "pose_add(corr, "),
+        "kuka": (r"TARGET = CORR : (\w+)", r"TARGET = \1 : CORR"),
+        "abb": (r"PoseMult\(corr, (\[taught\.trans, taught\.rot\])\)", r"PoseMult(\1, corr)"),
+    },
+    "shift_limit_10_percent_wider": {
+        "ur": (r"(MAX_SHIFT_SQ = )([\d.]+)", lambda m: f"{m.group(1)}{float(m.group(2)) * 1.21:.6f}"),
+        "kuka": (r"(MAX_SHIFT_SQ=)([\d.]+)", lambda m: f"{m.group(1)}{float(m.group(2)) * 1.21:.6f}"),
+        "abb": (r"(MAX_SHIFT_SQ := )([\d.]+)", lambda m: f"{m.group(1)}{float(m.group(2)) * 1.21:.6f}"),
+        "dtrans": (r"(MAX_SHIFT_SQ = )([\d.]+)", lambda m: f"{m.group(1)}{float(m.group(2)) * 1.21:.6f}"),
+    },
+    "taught_digit_plus_0_01_mm": {
+        "ur": (r"(p\d+_\w+ = p\[)(-?[\d.]+)", lambda m: _bump(m, 0.00001)),
+        "kuka": (r"(DECL POS P\d+_\w+=\{X )(-?[\d.]+)", lambda m: _bump(m, 0.01)),
+        "abb": (r"(CONST robtarget p\d+_\w+ := \[\[)(-?[\d.]+)", lambda m: _bump(m, 0.01)),
+        "dtrans": (r"(Point p\d+_\w+ = Trans\()(-?[\d.]+)", lambda m: _bump(m, 0.01)),
+    },
+    "halt_removed": {
+        "ur": (r"^\s+halt\n", ""),
+        "kuka": (r"^\s+VIS_HALT\(\)\n", ""),
+        "abb": (r"^\s+EXIT;\n", ""),
+        "dtrans": (r"^\s*Halt\n", ""),
+    },
+    "halt_message_changed": {
+        "ur": (r'textmsg\("station ', 'textmsg("Station '),
+        "kuka": (r'MSG_TXT\[\] = "station ', 'MSG_TXT[] = "Station '),
+        "abb": (r'TPWrite "station ', 'TPWrite "Station '),
+        "dtrans": (r'TPWrite 0, "station ', 'TPWrite 0, "Station '),
+    },
+    "mark_x_and_y_swapped": {
+        "ur": (r"(m\d+_\w+ = \[)(-?[\d.]+), (-?[\d.]+)", r"\1\3, \2"),
+        "kuka": (r"(DECL FRAME M\d+_\w+=\{X )(-?[\d.]+),Y (-?[\d.]+)", r"\1\3,Y \2"),
+        "abb": (r"(CONST num m\d+_\w+\{3\} := \[)(-?[\d.]+), (-?[\d.]+)", r"\1\3, \2"),
+        "dtrans": (r"(Double m\d+_\w+\[3\] = \{)(-?[\d.]+), (-?[\d.]+)", r"\1\3, \2"),
+    },
+    "log_line_dropped": {
+        "ur": (r"^\s+vis_log\([^\n]*\n", ""),
+        "kuka": (r"^\s+VIS_LOG\([^\n]*\n", ""),
+        "abb": (r"^\s+vis_log [^\n]*\n", ""),
+        "dtrans": (r"^\s*Call vis_log\([^\n]*\n", ""),
+    },
+    "index_base_off_by_one": {
+        "ur": (r"vis_x - mark\[0\]", "vis_x - mark[1]"),
+        "abb": (r"vis_x - mark\{1\}", "vis_x - mark{2}"),
+        "dtrans": (r"markp\[0\] - mark\[0\]", "markp[0] - mark[1]"),
+    },
+    "units_degrees_as_radians": {
+        "ur": (r"phi = d2r\(", "phi = ("),
+    },
+}
+ROWS = [(kind, target) for kind, per_target in TABLE.items() for target in per_target]
+
+
+@pytest.fixture(scope="module")
+def checked_in():
+    """Each example cell, its cases, and each target's checked-in program (with its companions)."""
+    out = {}
+    for path in CELLS:
+        cell = load_cell(path)
+        cases = build_cases(cell, 6, 11)
+        for target in cell.targets:
+            folder = REPO / "generated" / path.stem / target
+            program = next(p for p in sorted(folder.iterdir()) if p.suffix in get_target(target).suffixes[:1])
+            out[path.stem, target] = (cell, cases, file_source(target, program))
+    return out
+
+
+@pytest.mark.parametrize("cell_name", [p.stem for p in CELLS])
+@pytest.mark.parametrize(("kind", "target"), ROWS)
+def test_verify_fails_the_edit(checked_in, cell_name, kind, target):
+    cell, cases, source = checked_in[cell_name, target]
+    pattern, replacement = TABLE[kind][target]
+    text, count = re.subn(pattern, replacement, source.text, count=1, flags=re.MULTILINE)
+    companions = dict(source.companions)
+    if count == 0 and ".dat" in companions:  # the data list holds the constants and poses of KRL
+        companions[".dat"], count = re.subn(pattern, replacement, companions[".dat"], count=1, flags=re.MULTILINE)
+    assert count == 1, f"{kind}: nothing to edit in {cell_name}'s {target} program"
+    mutant = type(source)(target, text, f"{kind}.mutant", tuple(companions.items()), source.files)
+    report = verify(cell, [target], {target: (mutant.load(), [kind])}, cases)[0]
+    assert report.mismatches > 0, f"verify missed {kind} in {cell_name}'s {target} program"
