@@ -125,3 +125,35 @@ def test_verify_fails_the_edit(checked_in, cell_name, kind, target):
     mutant = type(source)(target, text, f"{kind}.mutant", tuple(companions.items()), source.files)
     report = verify(cell, [target], {target: (mutant.load(), [kind])}, cases)[0]
     assert report.mismatches > 0, f"verify missed {kind} in {cell_name}'s {target} program"
+
+
+# The photo handshake of the frame kind (the thermometer bench): the order of request, wait and read.
+HANDSHAKE = {
+    "reading_taken_before_the_photo": {
+        "ur": (r"^(\s+vis_photo\(\)\n)((?:\s+\w+ = read_input_float_register\(\d+\)\n){3})", r"\2\1"),
+        "kuka": (r"^(\s+VIS_REQ = VIS_ACK \+ 1\n\s+WAIT FOR [^\n]*\n)((?:\s+\w+ = VIS_\w+\n){3})", r"\2\1"),
+        "abb": (r"^(\s+vis_req := vis_ack \+ 1;\n\s+WaitUntil [^\n]*\n)((?:\s+\w+ := vis_\w+;\n){3})", r"\2\1"),
+        "dtrans": (r"^(\s+vis_req = vis_ack \+ 1\n\s+WaitUntil [^\n]*\n)((?:\s+\w+ = vis_\w+\n){3})", r"\2\1"),
+    },
+    "request_after_the_wait": {
+        "ur": (
+            r"^(\s+write_output_integer_register\(\d+, request\)\n)(\s+while [^\n]*\n\s+sync\(\)\n\s+end\n)",
+            r"\2\1",
+        ),
+        "kuka": (r"^(\s+VIS_REQ = VIS_ACK \+ 1\n)(\s+WAIT FOR [^\n]*\n)", r"\2\1"),
+        "abb": (r"^(\s+vis_req := vis_ack \+ 1;\n)(\s+WaitUntil [^\n]*\n)", r"\2\1"),
+        "dtrans": (r"^(\s+vis_req = vis_ack \+ 1\n)(\s+WaitUntil [^\n]*\n)", r"\2\1"),
+    },
+}
+
+
+@pytest.mark.parametrize(("kind", "target"), [(k, t) for k, per in HANDSHAKE.items() for t in per])
+def test_verify_fails_a_reordered_photo_handshake(checked_in, kind, target):
+    cell, cases, source = checked_in["thermometer_bench", target]
+    pattern, replacement = HANDSHAKE[kind][target]
+    text, count = re.subn(pattern, replacement, source.text, count=1, flags=re.MULTILINE)
+    assert count == 1, f"{kind}: nothing to edit in the {target} program"
+    mutant = type(source)(target, text, f"{kind}.mutant", source.companions, source.files)
+    frame_cases = [c for c in cases if c.category.startswith("frame_")]
+    report = verify(cell, [target], {target: (mutant.load(), [kind])}, frame_cases)[0]
+    assert report.mismatches > 0, f"verify missed {kind} in the {target} program"
