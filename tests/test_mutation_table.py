@@ -86,6 +86,9 @@ TABLE = {
         "abb": (r"^\s+vis_log [^\n]*\n", ""),
         "dtrans": (r"^\s*Call vis_log\([^\n]*\n", ""),
     },
+    "tool_changed": {
+        "abb": (r"(MoveL vis_apply\([^\n]*), tool0;", r"\1, tool1;"),
+    },
     "index_base_off_by_one": {
         "ur": (r"vis_x - mark\[0\]", "vis_x - mark[1]"),
         "abb": (r"vis_x - mark\{1\}", "vis_x - mark{2}"),

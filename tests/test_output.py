@@ -21,28 +21,39 @@ REPO = Path(__file__).resolve().parents[1]
 DEMO = REPO / "codegen" / "examples" / "agv_machine_tending.toml"
 CELL = "agv_machine_tending"
 
-# Runs `codegen generate` in a subprocess that kills itself (SIGKILL, as a power cut or a CI timeout
-# would) at its N-th file-system step: a folder made, a file written or flushed, a rename, the
-# exchange, a copy, a removal. N beyond the last step: the run completes.
-KILLER = """
-import os, shutil, signal, sys
-from codegen import output
-limit, steps = int(sys.argv[1]), [0]
-def counted(fn):
-    def step(*args, **kwargs):
-        steps[0] += 1
-        if steps[0] == limit:
-            os.kill(os.getpid(), signal.SIGKILL)
-        return fn(*args, **kwargs)
-    return step
-for owner, name in [(os, "mkdir"), (os, "fsync"), (os, "rename"), (os, "symlink"), (shutil, "rmtree"),
-                    (shutil, "copy2"), (shutil, "copytree"), (output, "_exchange"), (output, "_write")]:
-    setattr(owner, name, counted(getattr(owner, name)))
-if sys.argv[2] == "no-exchange":
-    output._exchange = lambda a, b: False
-from codegen.cli import main
-main(sys.argv[3:])
-"""
+def _killed_generate(limit: int, mode: str, args: list[str]) -> int:
+    """Run `codegen generate` in a forked process (a real process: its own files, locks and death)
+    that kills itself with SIGKILL, as a power cut or a CI timeout would, at its `limit`-th
+    file-system step: a folder made, a file written or flushed, a rename, the exchange, a copy, a
+    removal. Returns the exit status (0: it completed, no step was that far)."""
+    pid = os.fork()
+    if pid == 0:  # the child: count the steps, die at the chosen one
+        code = 1
+        try:
+            from codegen import output
+
+            steps = [0]
+
+            def counted(fn):
+                def step(*a, **k):
+                    steps[0] += 1
+                    if steps[0] == limit:
+                        os.kill(os.getpid(), signal.SIGKILL)
+                    return fn(*a, **k)
+
+                return step
+
+            for owner, name in [(os, "mkdir"), (os, "fsync"), (os, "rename"), (os, "symlink"), (shutil, "rmtree"),
+                                (shutil, "copy2"), (shutil, "copytree"), (output, "_exchange"), (output, "_write")]:
+                setattr(owner, name, counted(getattr(owner, name)))
+            if mode == "no-exchange":
+                output._exchange = lambda a, b: False
+            result = CliRunner().invoke(main, ["generate", *args])
+            code = result.exit_code
+        finally:
+            os._exit(code)
+    _, status = os.waitpid(pid, 0)
+    return -os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status)
 
 
 def _small_cells(tmp_path: Path) -> tuple[Path, Path]:
@@ -84,15 +95,13 @@ def sets(tmp_path_factory):
 @pytest.mark.parametrize("mode", ["exchange", "no-exchange"])
 def test_a_kill_at_any_step_leaves_the_old_or_the_new_set(sets, tmp_path, mode):
     old, new, new_cell, old_set = sets
-    command = ["generate", str(new_cell), "--target", "ur", "--target", "kuka"]
+    command = [str(new_cell), "--target", "ur", "--target", "kuka"]
     outcomes, step = [], 0
     while True:
         step += 1
         out = tmp_path / f"out{step}"
         shutil.copytree(old_set, out)
-        proc = subprocess.run(
-            [sys.executable, "-c", KILLER, str(step), mode, *command, "--out", str(out)], capture_output=True
-        )
+        returncode = _killed_generate(step, mode, [*command, "--out", str(out)])
         folder = out / CELL
         if mode == "no-exchange" and not folder.exists():  # killed between the fallback's two renames
             (aside,) = out.glob(f".{CELL}.old-*")
@@ -105,9 +114,9 @@ def test_a_kill_at_any_step_leaves_the_old_or_the_new_set(sets, tmp_path, mode):
         _generate([str(new_cell), "--target", "ur", "--target", "kuka", "--out", str(out)])  # the next run
         assert _files(out / CELL) == new
         assert sorted(p.name for p in out.iterdir()) == [f".{CELL}.lock", CELL], "temp folders left behind"
-        if proc.returncode == 0:
+        if returncode == 0:
             break
-        assert proc.returncode == -signal.SIGKILL, proc.stderr
+        assert returncode == -signal.SIGKILL, returncode
     assert step > 15 and outcomes[0] == "old" and outcomes[-1] == "new"  # the kills covered every step
 
 
