@@ -132,7 +132,7 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
     try:
-        written = run_generate(model, list(targets) or None, Path(out_dir))
+        written, left_alone = run_generate(model, list(targets) or None, Path(out_dir))
     except (EmitError, GenerateError) as exc:
         raise UserError(f"{model.source}: {exc}") from None
     except OutputBusy as exc:
@@ -144,6 +144,8 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
 
     for path in written:
         click.echo(f"wrote {path}")
+    for note in left_alone:
+        click.echo(f"left alone: {note}")
 
 
 @main.command()

@@ -7,7 +7,7 @@ import re
 from pathlib import Path
 
 from codegen.cell import Cell
-from codegen.output import replace_cell
+from codegen.output import replace_cell, written_by_codegen
 from codegen.render import RenderedFile, cell_dir, render
 
 STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
@@ -32,9 +32,10 @@ def check_rendered(files: list[RenderedFile]) -> None:
             raise GenerateError(f"{f.relpath}: generated program does not parse: {exc}") from exc
 
 
-def generate(cell: Cell, targets: list[str] | None, out_dir: Path) -> list[Path]:
+def generate(cell: Cell, targets: list[str] | None, out_dir: Path) -> tuple[list[Path], list[str]]:
     """Render, check, then replace the cell's output folder whole (codegen.output): the regenerated
-    targets' files are the new ones only, the other targets' files stay as they were."""
+    targets' programs are the new ones, everything codegen did not write stays. Returns the written
+    paths and what was left alone."""
     files = render(cell, targets)
     check_rendered(files)
     folder = cell_dir(cell)
@@ -79,7 +80,7 @@ def diff(cell: Cell, out_dir: Path) -> str:
     for target in cell.targets:
         folder = out_dir / cell_dir(cell) / target
         for extra in sorted(folder.glob("*")):
-            if extra.is_file() and extra not in produced:
+            if extra.is_file() and not extra.is_symlink() and extra not in produced and written_by_codegen(extra):
                 chunks.append(f"Only in {folder}: {extra.name} (not generated any more)\n")
     mixed = mixed_stamps(sorted(p for p in produced if p.exists()))
     if mixed:
