@@ -19,6 +19,10 @@ from codegen.poses import POSE_FORMATS
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
 QUATERNION_TOLERANCE = 1e-6
+QUATERNION_BOUND = 10.0  # a quaternion that far from unit length is a typing error, not a rotation
+# Orientation values per cell pose format: Euler angles in degrees, rotation vector components in
+# radians (a float32 step at 360 deg is 3e-5 deg; at 1e20 it is more than a turn)
+ORIENTATION_BOUNDS = {"xyzabc": (360.0, "deg"), "ur": (2 * math.pi, "rad")}
 
 EXAMPLES_DIR = Path(__file__).parent / "examples"
 DEMO_CELL = EXAMPLES_DIR / "agv_machine_tending.toml"
@@ -114,9 +118,14 @@ def load_cell(path: str | Path | None = None) -> Cell:
         raise CellError(f"{path}: not UTF-8 text (byte {exc.start})") from None
     try:
         data = tomllib.loads(text)
+    except RecursionError:
+        raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except tomllib.TOMLDecodeError as exc:
         raise CellError(f"{path}: TOML syntax error: {exc}") from None
-    return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+    try:
+        return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+    except RecursionError:
+        raise CellError(f"{path}: tables or arrays nested too deeply") from None
 
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
@@ -159,8 +168,11 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
             ctx.fail("cell.camera.handeye.pixel_to_mm", "expected 2 rows of 3 numbers [[a, b, tx], [c, d, ty]]")
         handeye = tuple(ctx.numbers(r, 3, f"cell.camera.handeye.pixel_to_mm[{i}]") for i, r in enumerate(rows))
         det = handeye[0][0] * handeye[1][1] - handeye[0][1] * handeye[1][0]
-        if abs(det) < 1e-12:
-            ctx.fail("cell.camera.handeye.pixel_to_mm", "the 2x2 part is singular")
+        if max(abs(v) for row in handeye for v in row) > READING_RANGE_MM or not abs(det) >= 1e-12:
+            ctx.fail(
+                "cell.camera.handeye.pixel_to_mm",
+                f"the 2x2 part is singular, or an entry is beyond +-{READING_RANGE_MM:g}",
+            )
         if angle_sign != image_angle_sign(handeye):
             ctx.fail(
                 "cell.camera.angle_sign",
@@ -301,6 +313,14 @@ class _Context:
         if not pose_name.strip():
             self.fail(pose_path, "pose name must not be empty")
         numbers = self.numbers(values, POSE_FORMATS[pose_format][0], pose_path)
+        if pose_format in ORIENTATION_BOUNDS:
+            bound, unit = ORIENTATION_BOUNDS[pose_format]
+            if max(abs(v) for v in numbers[3:]) > bound:
+                self.fail(
+                    pose_path,
+                    f"orientation values must be within +-{bound:g} {unit}: a float32 controller "
+                    "keeps an angle beyond that too coarsely to move where it was taught",
+                )
         if pose_format == "abb":
             numbers = self.normalise_quaternion(numbers, pose_path)
         bound = READING_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
@@ -310,6 +330,9 @@ class _Context:
 
     def normalise_quaternion(self, numbers: tuple[float, ...], path: str) -> tuple[float, ...]:
         q = numbers[3:]
+        if max(abs(v) for v in q) > QUATERNION_BOUND:
+            bound = QUATERNION_BOUND
+            self.fail(path, f"quaternion q1..q4 must be within +-{bound:g} (a unit quaternion's are within +-1)")
         norm = math.sqrt(sum(v * v for v in q))
         if norm < 1e-9:
             self.fail(path, "quaternion q1..q4 is zero")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import sys
 
@@ -186,3 +187,23 @@ def test_cli_bad_cell_exits_2_without_traceback(write_cell):
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
     assert "station[1].poses.chuck: expected 6 numbers, got 5" in proc.stderr
+
+
+def _one_pose_cell(pose_format: str, pose: str) -> str:
+    head = MINIMAL_CELL[: MINIMAL_CELL.index("[[station]]")].replace('"xyzabc"', f'"{pose_format}"')
+    return head + f'[[station]]\nid = 1\nname = "a"\nmark = [600.0, -250.0, 2.0]\n[station.poses]\nwork = {pose}\n'
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (MINIMAL_CELL.replace('name = "mill_1"', 'name = "mill_1"\nx = ' + "[" * 999 + "]" * 999), "nested too deeply"),
+        (_one_pose_cell("abb", "[700.0, 50.0, 260.0, 1e200, 1e200, 0, 0]"), "quaternion q1..q4 must be within +-10"),
+        (_one_pose_cell("xyzabc", "[700, 50, 260, 90, 0, 1e20]"), "orientation values must be within +-360 deg"),
+        (_one_pose_cell("ur", "[0.7, 0.05, 0.26, 1e200, 0, 0]"), "orientation values must be within +-6.28319 rad"),
+    ],
+)
+def test_hostile_numbers_and_nesting_are_named_not_raised(write_cell, text, message):
+    """Found by a fault probe: each raised a Python error (or generated) instead of naming the key."""
+    with pytest.raises(CellError, match=re.escape(message)):
+        load_cell(write_cell(text))

@@ -219,3 +219,13 @@ def test_a_cell_whose_angle_sign_contradicts_its_camera_fails_verify(bench, targ
     assert any("angle_sign +1 and the camera's image" in m for m in report.first_mismatches)
     (right,) = run_verify(bench, fresh_sources(bench, [target]), build_cases(bench, 12, 5))
     assert right.mismatches == 0, right.first_mismatches
+
+
+def test_a_hand_eye_map_that_overflows_is_refused(tmp_path):
+    import re
+
+    path = tmp_path / "bench.toml"
+    huge = "pixel_to_mm = [[1e200, 0.0, 1.0], [0.0, -1e200, 2.0]]"
+    path.write_text(re.sub(r"pixel_to_mm = .*", huge, BENCH.read_text()), encoding="utf-8")
+    with pytest.raises(CellError, match=r"cell\.camera\.handeye\.pixel_to_mm: the 2x2 part is singular, or an entry"):
+        load_cell(path)
