@@ -359,9 +359,18 @@ def file_source(target: str, path: Path) -> ProgramSource:
     for suffix in get_dialect(get_target(target).dialect).companions:
         companion = path.with_suffix(suffix)
         if companion.exists():
-            data.append((suffix, companion.read_text(encoding="utf-8")))
+            data.append((suffix, _read(companion)))
             files.append(str(companion))
-    return ProgramSource(target, path.read_text(encoding="utf-8"), str(path), tuple(data), tuple(files))
+    return ProgramSource(target, _read(path), str(path), tuple(data), tuple(files))
+
+
+def _read(path: Path) -> str:
+    try:
+        return path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise RunError(f"{path}: not UTF-8 text (byte {exc.start}): codegen reads programs as UTF-8") from None
+    except OSError as exc:
+        raise RunError(f"{path}: cannot read: {exc.strerror or exc}") from None
 
 
 _LOADED: dict[ProgramSource, Program] = {}

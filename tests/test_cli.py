@@ -8,6 +8,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 from click.testing import CliRunner
 
 from codegen.cli import main
@@ -144,3 +145,31 @@ def test_run_refuses_an_input_the_program_does_not_read():
         assert CliRunner().invoke(main, ["run", str(program), "--input", good]).exit_code == 0
         result = CliRunner().invoke(main, ["run", str(program), "--input", bad])
         assert result.exit_code == 2 and "has no such variable or register" in result.output, result.output
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "exit_code", "message"),
+    [
+        ("bad.script", b'def p():\n  textmsg("\xff\xfe")\nend\n', 2, "not UTF-8 text (byte 20)"),
+        ("big.script", f"def p():\n  x = {'9' * 5000}\nend\n".encode(), 2, "more digits than a controller reads"),
+        ("few.script", b"def p():\n  x = read_input_float_register()\nend\n", 1, "too few arguments (0 given)"),
+        ("sin.src", b"DEF T()\nDECL REAL R\nR = SIN()\nEND\n", 1, "SIN: too few arguments"),
+        ("fmt.prg", b'TPWrite 0, "%.999999f", 1.0\n', 1, "wider than a message (80 characters)"),
+    ],
+)
+def test_hostile_program_files_get_a_message_not_a_traceback(tmp_path, name, content, exit_code, message):
+    """Found by a fault probe: each of these raised a Python error."""
+    path = tmp_path / name
+    path.write_bytes(content)
+    result = CliRunner().invoke(main, ["run", str(path)])
+    assert result.exit_code == exit_code and message in result.output, result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+
+
+@pytest.mark.parametrize("bad", ["markp[5]=1", "markp[-1]=400", "markp[x]=1"])
+def test_an_input_element_out_of_bounds_is_refused(bad):
+    from pathlib import Path
+
+    program = Path(__file__).resolve().parents[1] / "generated/agv_machine_tending/dtrans/agv_machine_tending.prg"
+    result = CliRunner().invoke(main, ["run", str(program), "--input", "weizhi=1", "--input", bad])
+    assert result.exit_code == 2 and "has no such variable or register" in result.output

@@ -108,12 +108,18 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
                 machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
 
     def accepts_input(self, name: str, globals_: dict) -> bool:
-        """Whether an injected input names something the program has (a global variable)."""
+        """Whether an injected input names something the program has (a global variable, or an element
+        of a global array within its bounds)."""
         try:
-            key, _index = self._input_names.get(name) or self._input_name(name)
+            key, index = self._input_names.get(name) or self._input_name(name)
         except ValueError:  # name[not a number]
             return False
-        return key in globals_
+        if key not in globals_:
+            return False
+        if index is None:
+            return True
+        value = globals_[key]
+        return isinstance(value, list | tuple) and 0 <= index - self.index_base < len(value)
 
     def _input_name(self, name: str) -> tuple[str, int | None]:
         """An input's variable and element index, parsed once per name."""

@@ -39,7 +39,11 @@ class Expressions:
         self.fail(token, f"unexpected token {token}")
 
     def e_number(self, node):
-        return Src(self.const(self.number(str(node.children[0]))))
+        try:
+            value = self.number(str(node.children[0]))
+        except (ValueError, OverflowError):
+            self.fail(node, f"number {str(node.children[0])[:20]}... has more digits than a controller reads")
+        return Src(self.const(value))
 
     def e_string(self, node):
         return Src(repr(self.string_value(str(node.children[0]))))

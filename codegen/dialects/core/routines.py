@@ -35,9 +35,16 @@ class Routines:
         routine = self.routines.get(key)
         if routine is not None:
             return self.entry(routine)
-        builtin = self.builtins.get(key if self.case_insensitive else name)
-        if builtin is None:
+        found = self.builtins.get(key if self.case_insensitive else name)
+        if found is None:
             raise RunError(f"{where}: unknown routine {name}")
+
+        def builtin(fr, a, k, w):
+            try:
+                return found(fr, a, k, w)
+            except IndexError:  # a builtin reads its arguments by position
+                raise RunError(f"{w}: {name}: too few arguments ({len(a)} given)") from None
+
         if with_setters:
             return lambda fr, a, k, w, s: builtin(fr, a, k, w)
         return builtin

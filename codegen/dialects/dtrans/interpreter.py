@@ -35,6 +35,9 @@ def _num(value, where):
     return float(value)
 
 
+MESSAGE_MAX = 80  # characters of a TPWrite message (assumed as RAPID's: targets/dtrans.toml string_max)
+
+
 def printf(fmt: str, args: list, where: str) -> str:
     values = iter(args)
 
@@ -42,6 +45,9 @@ def printf(fmt: str, args: list, where: str) -> str:
         width, decimals, kind = match.groups()
         if kind == "%":
             return "%"
+        if (decimals and int(decimals) > MESSAGE_MAX) or (width and abs(int(width)) > MESSAGE_MAX):
+            field = match.group(0)
+            raise RunError(f"{where}: format field {field!r} is wider than a message ({MESSAGE_MAX} characters)")
         try:
             value = next(values)
         except StopIteration:
