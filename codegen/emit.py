@@ -76,6 +76,12 @@ class Emitter:
         self.target = target
         self._taken: dict[str, str] = {}  # comparable identifier -> what it was made from
 
+    def _reserved(self, ident: str) -> bool:
+        from codegen.dialects import get_dialect  # the dialect's grammar names its reserved words
+
+        keywords = get_dialect(self.target.dialect).keywords()
+        return ident in keywords or ident.upper() in keywords
+
     def _key(self, ident: str) -> str:
         return ident if self.target.identifier_case_sensitive else ident.upper()
 
@@ -85,10 +91,16 @@ class Emitter:
         return ident
 
     def identifier(self, prefix: str, name: str, origin: str) -> str:
-        """prefix + the name mapped to [A-Za-z0-9_], shortened with a hash to the target's limit."""
+        """prefix + the name mapped to [A-Za-z0-9_], shortened with a hash to the target's limit; a name
+        that would start with a digit gets a letter first, one that is a word the language reserves
+        gets a "_" after it, so that every accepted name is a valid identifier."""
         ident = mapped_name(prefix, name, self.target.identifier_max)
+        if ident[0].isdigit():
+            ident = mapped_name(f"n{prefix}", name, self.target.identifier_max)
         if self.target.identifier_case == "upper":
             ident = ident.upper()
+        if self._reserved(ident):
+            ident = ident[: self.target.identifier_max - 1] + "_"
         self._claim(ident, origin)
         return ident
 

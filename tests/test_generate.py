@@ -100,3 +100,13 @@ def test_render_names_follow_the_cell():
         "agv_machine_tending/abb/agv_machine_tending.mod",
         "agv_machine_tending/dtrans/agv_machine_tending.prg",
     ]
+
+
+@pytest.mark.parametrize("name", ["2024_line", "123", "end", "def", "halt", "module", "\u0441\u043511", "ENDPROC"])
+def test_every_accepted_cell_name_makes_valid_programs(tmp_path, name):
+    """Names that start with a digit or are a word a language reserves: a letter first or "_" after."""
+    text = (REPO / "codegen" / "examples" / "agv_machine_tending.toml").read_text()
+    path = tmp_path / "cell.toml"
+    path.write_text(text.replace('name = "agv_machine_tending"', f'name = "{name}"', 1), encoding="utf-8")
+    result = CliRunner().invoke(main, ["generate", str(path), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 0, result.output

@@ -4,8 +4,12 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+import re
 from functools import cache
+from pathlib import Path
 from typing import ClassVar
+
+_RESERVED = re.compile(r"^NAME(?:\.\d+)?: /\(\?!(\(\?i:)?\(([\w|]+)\)", re.MULTILINE)
 
 
 class Dialect:
@@ -31,6 +35,12 @@ class Dialect:
         return importlib.import_module(f"{cls.__module__}.{name}")
 
     @classmethod
+    def keywords(cls) -> frozenset[str]:
+        """The words the language reserves, as its grammar's NAME terminal excludes them (upper case
+        where the language ignores case); a generated identifier must not be one."""
+        return _keywords(Path(importlib.import_module(cls.__module__).__file__).parent / "grammar.lark")
+
+    @classmethod
     def printer(cls):
         """A configured sympy code printer (imports sympy)."""
         return cls.module("printer").Printer()
@@ -51,6 +61,15 @@ class Dialect:
     def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
         """A compiled program; `companions` maps a companion suffix to its text."""
         return cls.module("interpreter").load(text, filename)
+
+
+@cache
+def _keywords(grammar: Path) -> frozenset[str]:
+    match = _RESERVED.search(grammar.read_text(encoding="utf-8")) if grammar.is_file() else None
+    if match is None:
+        return frozenset()
+    caseless, words = match.group(1), match.group(2).split("|")
+    return frozenset(w.upper() for w in words) if caseless else frozenset(words)
 
 
 @cache
