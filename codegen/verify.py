@@ -195,7 +195,8 @@ def _pose_errors(a: list, b: list) -> tuple[float, float]:
 def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
-    return emitter.string(get_kind(trace.station.kind).halt_message(cell, trace.reason, trace.station))
+    kind = get_kind(trace.station.kind)
+    return emitter.string(kind.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))
 
 
 LOG_PREFIXES = tuple(prefix for kind in kinds().values() for prefix in kind.log_prefixes)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -110,3 +111,18 @@ def test_every_accepted_cell_name_makes_valid_programs(tmp_path, name):
     path.write_text(text.replace('name = "agv_machine_tending"', f'name = "{name}"', 1), encoding="utf-8")
     result = CliRunner().invoke(main, ["generate", str(path), "--out", str(tmp_path / "out")])
     assert result.exit_code == 0, result.output
+
+
+def test_halt_messages_keep_their_reason_when_a_long_name_is_cut(tmp_path):
+    """A 200-character station name: the name is shortened, the reason stays, the messages differ."""
+    text = (REPO / "codegen" / "examples" / "agv_machine_tending.toml").read_text()
+    path = tmp_path / "cell.toml"
+    path.write_text(text.replace('name = "lathe_1"', f'name = "{"s" * 200}"', 1), encoding="utf-8")
+    (module,) = render(load_cell(path), ["abb"])
+    messages = set(re.findall(r'"(station s{10}[^"]*)"', module.text))
+    assert len(messages) == 3 and all(len(m) <= 80 for m in messages)
+    assert {m.split(": ")[1] for m in messages} == {
+        "invalid mark reading",
+        "mark shift over 10 mm, recalibrate",
+        "mark rotation over 10 deg, recalibrate",
+    }

@@ -5,7 +5,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 import random
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 from typing import Any, ClassVar
 
@@ -55,6 +55,17 @@ class ProgramKind:
     def halt_message(cls, cell, reason: str, station) -> str:
         """The operator message for a halt of one of the kind's stations (a contract)."""
         return halt_message(cell, reason, station.name, station.id)
+
+    @classmethod
+    def fitted_message(cls, cell, reason: str, station, limit: int) -> str:
+        """The halt message within a controller's string limit: the station's name is shortened, not
+        the end of the message, so the operator can still tell the reasons apart."""
+        text = cls.halt_message(cell, reason, station)
+        if len(text) <= limit:
+            return text
+        over = len(text) - limit + 3
+        short = replace(station, name=station.name[: max(1, len(station.name) - over)] + "...")
+        return cls.halt_message(cell, reason, short)
 
     @classmethod
     def check(cls, ctx, path: str, station, cell) -> None:

@@ -144,7 +144,8 @@ class PointKind(ProgramKind):
             "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
             "mark": [emitter.number(v, MARK_DECIMALS) for v in station.spec.mark],
             "messages": {
-                reason: emitter.string(cls.halt_message(cell, reason, station)) for reason in GUARD_CODES
+                reason: emitter.string(cls.fitted_message(cell, reason, station, target.string_max))
+                for reason in GUARD_CODES
             },
         }
 

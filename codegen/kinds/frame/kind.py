@@ -256,7 +256,7 @@ class FrameKind(ProgramKind):
             "base_data": spec.base_data,
             "base_data_name": base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None,
             "messages": {
-                reason: emitter.string(cls.halt_message(cell, reason, station))
+                reason: emitter.string(cls.fitted_message(cell, reason, station, target.string_max))
                 for reason in (*GUARD_CODES, NOT_CONVERGED)
             },
         }
