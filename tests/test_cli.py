@@ -173,3 +173,28 @@ def test_an_input_element_out_of_bounds_is_refused(bad):
     program = Path(__file__).resolve().parents[1] / "generated/agv_machine_tending/dtrans/agv_machine_tending.prg"
     result = CliRunner().invoke(main, ["run", str(program), "--input", "weizhi=1", "--input", bad])
     assert result.exit_code == 2 and "has no such variable or register" in result.output
+
+
+@pytest.mark.parametrize(
+    ("name", "content", "message"),
+    [
+        ("grow.src", b"DEF T()\nDECL INT X\nX = 2\nLOOP\nX = X * X\nENDLOOP\nEND\n", "out of the INT range"),
+        (
+            "digits.mod",
+            b"MODULE T\nPROC main()\n  TPWrite NumToStr(1, 100000000);\nENDPROC\nENDMODULE\n",
+            "NumToStr decimals",
+        ),
+        (
+            "double.script",
+            b'def p():\n  s = "ab"\n  while True:\n    s = str_cat(s, s)\n  end\nend\n',
+            "longer than 1023",
+        ),
+    ],
+)
+def test_values_have_the_controllers_limits(tmp_path, name, content, message):
+    """Found by a fault probe: these grew without bound (gigabytes, or hung) instead of failing as on
+    the controller: KRL INT is 32-bit, RAPID strings hold 80 characters, UR string results 1,023."""
+    path = tmp_path / name
+    path.write_bytes(content)
+    result = CliRunner().invoke(main, ["run", str(path)])
+    assert result.exit_code == 1 and message in result.output, result.output

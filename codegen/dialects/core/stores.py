@@ -12,6 +12,7 @@ class Stores:
     """Values stored into variables, fields and elements, with the dialect's coercions."""
 
     COERCE_UNCHANGED: dict[str, str] = {}
+    INT_RANGE: tuple[int, int] | None = None  # a language's integer range: a store beyond it is an error
     RECORD_TYPES: frozenset = frozenset()  # records of exactly this type pass coerce() unchanged
     LIKE_UNCHANGED: frozenset = frozenset({F32})  # coerce_like(old, new) is new when both have this type
 
@@ -48,7 +49,11 @@ class Stores:
             return value
         call = f"{self.const(self.coerce)}({self.const(type_name)}, {value}, {where})"
         if isinstance(type_name, str) and type_name in self.COERCE_UNCHANGED:
-            return f"({value} if type({value}) is {self.COERCE_UNCHANGED[type_name]} else {call})"
+            fast = self.COERCE_UNCHANGED[type_name]
+            if fast == "int" and self.INT_RANGE is not None:
+                low, high = self.INT_RANGE
+                return f"({value} if type({value}) is int and {low} <= {value} <= {high} else {call})"
+            return f"({value} if type({value}) is {fast} else {call})"
         if isinstance(type_name, str) and type_name in self.RECORD_TYPES:
             return f"({value} if type({value}) is _Record and {value}.type == {type_name!r} else {call})"
         return call

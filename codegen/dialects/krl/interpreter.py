@@ -53,6 +53,7 @@ class KRLCompiler(Compiler):
     int_division = True
     halt_resumes = True  # HALT stops the program; the operator's start resumes it at the next statement
     COERCE_UNCHANGED = {"REAL": "_F32", "INT": "int", "BOOL": "bool"}
+    INT_RANGE = (-(2**31), 2**31 - 1)  # INT is 32-bit (KRL quick guide, data types): overflow is an error
     LIKE_UNCHANGED = frozenset({F32, int, bool, str})
     RECORD_TYPES = frozenset(STRUCTS)
 
@@ -88,7 +89,11 @@ class KRLCompiler(Compiler):
                 raise RunError(f"{where}: cannot assign {type(value).__name__} to INT")
             if not math.isfinite(float(value)):
                 raise RunError(f"{where}: cannot assign a non-finite value to INT")
-            return math.floor(float(value) + 0.5) if not isinstance(value, int) else value
+            rounded = math.floor(float(value) + 0.5) if not isinstance(value, int) else value
+            low, high = self.INT_RANGE
+            if not low <= rounded <= high:
+                raise RunError(f"{where}: value {value:.6g} out of the INT range {low}..{high} (32-bit)")
+            return rounded
         if type_name == "BOOL":
             if not isinstance(value, bool):
                 raise RunError(f"{where}: cannot assign {type(value).__name__} to BOOL")

@@ -26,6 +26,8 @@ RECORDS = {
 }
 SCALARS = {"NUM", "DNUM", "BOOL", "STRING"}
 
+STRING_MAX = 80  # characters of a RAPID string (RAPID kernel manual, string; targets/abb.toml string_max)
+
 
 def _zero(type_name: str):
     if type_name in RECORDS:
@@ -169,7 +171,13 @@ def builtins(compiler) -> dict:
         return Record("POS", dict(zip("XYZ", (f32(v) for v in out), strict=True)))
 
     def num_to_str(fr, args, kwargs, where):
-        return format_fixed(num(args[0], where), int(num(args[1], where)))
+        decimals = int(num(args[1], where))
+        if not 0 <= decimals <= STRING_MAX:
+            raise RunError(f"{where}: NumToStr decimals {decimals}: a string holds at most {STRING_MAX} characters")
+        text = format_fixed(num(args[0], where), decimals)
+        if len(text) > STRING_MAX:
+            raise RunError(f"{where}: NumToStr result longer than {STRING_MAX} characters")
+        return text
 
     def tpwrite(fr, args, kwargs, where):
         text = args[0]
@@ -177,8 +185,8 @@ def builtins(compiler) -> dict:
             raise RunError(f"{where}: TPWrite needs a string")
         if "NUM" in kwargs:
             text += num_text(kwargs["NUM"])
-        if len(text) > 80:
-            raise RunError(f"{where}: TPWrite text longer than 80 characters")
+        if len(text) > STRING_MAX:
+            raise RunError(f"{where}: TPWrite text longer than {STRING_MAX} characters")
         fr.m.trace.messages.append(text)
 
     def _setting(args, i: int) -> str:

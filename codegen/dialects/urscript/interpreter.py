@@ -19,6 +19,7 @@ INPUT_REGISTER = re.compile(r"input_(?:integer|float|boolean)_register_(\d+)")
 # speed v (rad/s^2, rad/s for movej; m/s^2, m/s for movel), blend radius r (m; 0: stop at the pose)
 MOVE_DEFAULTS = {"joint": {"a": 1.4, "v": 1.05, "r": 0.0}, "linear": {"a": 1.2, "v": 0.25, "r": 0.0}}
 REGISTER_MAX = 47  # registers 0..23 fieldbus, 24..47 RTDE clients (URScript manual)
+STRING_MAX = 1023  # characters of a string result (URScript manual, str_cat; ur.toml string_max)
 
 
 def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tree:
@@ -151,7 +152,10 @@ class URScriptCompiler(Compiler):
             return _to_text(args[0])
 
         def str_cat(fr, args, kwargs, where):
-            return _to_text(args[0]) + _to_text(args[1])
+            text = _to_text(args[0]) + _to_text(args[1])
+            if len(text) > STRING_MAX:
+                raise RunError(f"{where}: str_cat result longer than {STRING_MAX} characters")
+            return text
 
         return {
             "pose_trans": pose_trans,
