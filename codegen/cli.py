@@ -294,6 +294,13 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     help="Only this target (repeatable).",
 )
 @click.option("--cases", default=1000, show_default=True, help="Random readings per station.")
+@click.option(
+    "--step-limit",
+    default=200_000,
+    show_default=True,
+    type=click.IntRange(min=1),
+    help="A run that takes more steps is a runaway: a mismatch, and that target's remaining cases are skipped.",
+)
 @click.option("--seed", default=0, show_default=True)
 @click.option(
     "--jobs",
@@ -308,6 +315,7 @@ def verify(
     files: tuple[str, ...],
     targets: tuple[str, ...],
     cases: int,
+    step_limit: int,
     seed: int,
     jobs: int,
     as_json: bool,
@@ -371,9 +379,9 @@ def verify(
     start = time.perf_counter()
     if sys.stderr.isatty():
         with click.progressbar(length=total, label="verifying", file=sys.stderr, show_pos=True) as bar:
-            reports = v.run_verify(model, sources, case_list, workers, bar.update, verify_cell)
+            reports = v.run_verify(model, sources, case_list, workers, bar.update, verify_cell, step_limit=step_limit)
     else:
-        reports = v.run_verify(model, sources, case_list, workers, None, verify_cell)
+        reports = v.run_verify(model, sources, case_list, workers, None, verify_cell, step_limit=step_limit)
     wall = time.perf_counter() - start
     summaries = [r.summary() for r in reports]
     ok = all(s["mismatches"] == 0 for s in summaries)

@@ -14,8 +14,8 @@ import numpy as np
 from codegen.cell import STATION_ID_MAX, Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target, target_of_suffix
 from codegen.dialects import get_dialect
-from codegen.dialects.core.machine import Program
-from codegen.dialects.core.values import RunError
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program
+from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, get_kind, kinds
@@ -273,8 +273,11 @@ def verify(
     cases: list[Case],
     progress=None,
     verify_cell: Cell | None = None,
+    step_limit: int = DEFAULT_STEP_LIMIT,
 ) -> list[TargetReport]:
-    """Run every case on every target's program; verify_cell is the cell the programs were made from."""
+    """Run every case on every target's program; verify_cell is the cell the programs were made from.
+    A run that reaches the step limit (a runaway loop) is a mismatch and ends that target's cases:
+    the next ones would run as long."""
     model = verify_cell or cell
     expectations = [(case, *accepted_traces(model, case.reading)) for case in cases]
     # What the physical situation demands of a correct cell, independent of the cell's own model:
@@ -291,10 +294,15 @@ def verify(
             report.cases += 1
             report.categories[case.category] = report.categories.get(case.category, 0) + 1
             report.boundary += boundary
+            runaway = False
             try:
                 got = program.run(
-                    inputs_for(model, target, case.reading), **run_options(model, target, case.reading)
+                    inputs_for(model, target, case.reading),
+                    step_limit=step_limit,
+                    **run_options(model, target, case.reading),
                 )
+            except StepLimitError as exc:
+                problem, pos, rot, runaway = f"run error: {exc}; the remaining cases were not run", [], [], True
             except RunError as exc:
                 problem, pos, rot = f"run error: {exc}", [], []
             else:
@@ -318,6 +326,8 @@ def verify(
                     report.first_mismatches.append(f"{case.category} {describe_case(model, case.reading)}: {problem}")
             if progress is not None:
                 progress(1)
+            if runaway:
+                break
         report.seconds = time.perf_counter() - start
         reports.append(report)
     return reports
@@ -377,7 +387,9 @@ def _read(path: Path) -> str:
 _LOADED: dict[ProgramSource, Program] = {}
 
 
-def sweep_unknown_ids(cell: Cell, targets: list[str], programs: dict, ids: range) -> list[TargetReport]:
+def sweep_unknown_ids(
+    cell: Cell, targets: list[str], programs: dict, ids: range, step_limit: int = DEFAULT_STEP_LIMIT
+) -> list[TargetReport]:
     """Every id of `ids` that is not a station of the cell must halt with the unknown-station message
     before any move: an extra dispatch branch (a misread barcode that moves the robot) is caught
     wherever in the barcode range it is, not only at sampled ids."""
@@ -394,10 +406,14 @@ def sweep_unknown_ids(cell: Cell, targets: list[str], programs: dict, ids: range
                 continue
             report.unknown_ids += 1
             try:
-                got = program.run({key: station_id})
+                got = program.run({key: station_id}, step_limit=step_limit)
                 problem = None
                 if got.moves or not got.halted or got.halt_message != f"{text}{station_id}":
                     problem = f"{len(got.moves)} moves, halt message {got.halt_message!r}"
+            except StepLimitError as exc:
+                report.mismatches += 1
+                report.first_mismatches.append(f"unknown station id {station_id}: {exc}; the sweep stopped")
+                break
             except RunError as exc:
                 problem = f"run error: {exc}"
             if problem is not None:
@@ -410,7 +426,7 @@ def sweep_unknown_ids(cell: Cell, targets: list[str], programs: dict, ids: range
 
 def _verify_chunk(args) -> list[TargetReport]:
     """One chunk of cases, or of the id sweep, on every source (the reference runs once per case)."""
-    cell, verify_cell, sources, work = args
+    cell, verify_cell, sources, work, step_limit = args
     programs = {}
     for source in sources:
         if source not in _LOADED:
@@ -418,8 +434,8 @@ def _verify_chunk(args) -> list[TargetReport]:
         programs[source.target] = (_LOADED[source], list(source.files))
     targets = [s.target for s in sources]
     if isinstance(work, range):
-        return sweep_unknown_ids(verify_cell or cell, targets, programs, work)
-    return verify(cell, targets, programs, work, verify_cell=verify_cell)
+        return sweep_unknown_ids(verify_cell or cell, targets, programs, work, step_limit)
+    return verify(cell, targets, programs, work, verify_cell=verify_cell, step_limit=step_limit)
 
 
 def _merge(parts: list[TargetReport]) -> TargetReport:
@@ -450,16 +466,17 @@ def run_verify(
     progress=None,
     verify_cell: Cell | None = None,
     sweep: bool = True,
+    step_limit: int = DEFAULT_STEP_LIMIT,
 ) -> list[TargetReport]:
     """Verify every source on every case and, with `sweep`, every id of the barcode range that is not
     a station (sweep_unknown_ids), in `jobs` processes; `seconds` is the time spent running
     one dialect's cases (summed over workers), so cases/seconds is the per-dialect speed."""
     chunk = max(1, -(-len(cases) // max(4, 2 * jobs)))
-    tasks = [(cell, verify_cell, sources, cases[i : i + chunk]) for i in range(0, len(cases), chunk)]
+    tasks = [(cell, verify_cell, sources, cases[i : i + chunk], step_limit) for i in range(0, len(cases), chunk)]
     if sweep:
         step = -(-(STATION_ID_MAX + 1) // max(2, jobs))
         ranges = [range(i, min(i + step, STATION_ID_MAX + 1)) for i in range(0, STATION_ID_MAX + 1, step)]
-        tasks += [(cell, verify_cell, sources, ids) for ids in ranges]
+        tasks += [(cell, verify_cell, sources, ids, step_limit) for ids in ranges]
     parts: dict[str, list[TargetReport]] = {source.target: [] for source in sources}
 
     def collect(reports: list[TargetReport]) -> None:

@@ -91,3 +91,27 @@ def test_verify_warns_when_the_file_comes_from_another_cell():
     )
     assert "generated from another cell file" in proc.stderr
     assert proc.returncode == 1  # the demo cell's readings do not fit the bench program
+
+
+def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path):
+    """An endless loop in one station: verify reports it once and runs no more cases on that target
+    (it ran every case to the step limit before, for minutes); --step-limit sets the limit."""
+    from pathlib import Path
+
+    generated = Path(__file__).resolve().parents[1] / "generated" / "agv_machine_tending" / "ur"
+    text = (generated / "agv_machine_tending.script").read_text()
+    looped = text.replace("  def st_lathe_1():\n", "  def st_lathe_1():\n    while True:\n      sync()\n    end\n", 1)
+    assert looped != text
+    path = tmp_path / "agv_machine_tending.script"
+    path.write_text(looped)
+    demo = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "agv_machine_tending.toml"
+    result = CliRunner().invoke(
+        main, ["verify", str(demo), str(path), "--cases", "50", "--jobs", "1", "--step-limit", "5000", "--json"]
+    )
+    assert result.exit_code == 1
+    report = json.loads(result.output)["targets"][0]
+    assert report["mismatches"] == 1 and "step limit 5000 reached" in report["first_mismatches"][0]
+    from codegen.cell import load_cell
+    from codegen.verify import build_cases
+
+    assert report["cases"] < len(build_cases(load_cell(demo), 50, 0))  # the chunk with station 1 stopped
