@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from codegen.controllers import target_names
-from codegen.guard import READING_RANGE_MM
+from codegen.guard import READING_RANGE_MM, TAUGHT_RANGE_MM
 from codegen.kinds import get_kind, kinds
 from codegen.poses import POSE_FORMATS
 
@@ -323,7 +323,7 @@ class _Context:
                 )
         if pose_format == "abb":
             numbers = self.normalise_quaternion(numbers, pose_path)
-        bound = READING_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
+        bound = TAUGHT_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
         if max(abs(v) for v in numbers[:3]) > bound:
             self.fail(pose_path, f"position must be within +-{bound:g} (cell units)")
         return TaughtPose(pose_name, numbers, pose_format)

@@ -7,6 +7,10 @@ from __future__ import annotations
 # float32 controller far from overflow.
 READING_RANGE_MM = 100_000.0
 READING_RANGE_DEG = 360.0
+# Largest coordinate a taught pose or a calibration mark may have (mm): a float32 controller's step
+# there is 0.001 mm, and the corrected poses stay within verify's 0.005 mm (measured 0.0016 mm at
+# 9,999 mm; at 100,000 mm the error is 0.008 mm, beyond what verify accepts).
+TAUGHT_RANGE_MM = 10_000.0
 PIXEL_RANGE = 1_000_000.0  # a camera reading beyond this many pixels is treated as invalid
 
 # Halt reasons, in the order the guard checks them.

@@ -207,3 +207,13 @@ def test_hostile_numbers_and_nesting_are_named_not_raised(write_cell, text, mess
     """Found by a fault probe: each raised a Python error (or generated) instead of naming the key."""
     with pytest.raises(CellError, match=re.escape(message)):
         load_cell(write_cell(text))
+
+
+def test_marks_and_poses_only_where_float32_meets_verify_tolerance(write_cell):
+    """At 100 km a float32 controller corrects 0.008 mm off, beyond verify's 0.005 mm: refused."""
+    far = MINIMAL_CELL.replace("mark = [600.0, -250.0, 2.0]", "mark = [100000.0, -100000.0, 0.0]")
+    with pytest.raises(CellError, match=r"station\[1\]\.mark: x and y must be within \+-10000 mm"):
+        load_cell(write_cell(far))
+    pose = MINIMAL_CELL.replace("vise = [700.0, 50.0,", "vise = [10700.0, 50.0,")
+    with pytest.raises(CellError, match=r"station\[2\]\.poses\.vise: position must be within \+-10000"):
+        load_cell(write_cell(pose))

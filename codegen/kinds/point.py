@@ -14,9 +14,9 @@ from codegen.guard import (
     GUARD_CODES,
     INVALID_READING,
     READING_RANGE_DEG,
-    READING_RANGE_MM,
     ROTATION_OVER_LIMIT,
     SHIFT_OVER_LIMIT,
+    TAUGHT_RANGE_MM,
     UNKNOWN_STATION,
     reading_in_range,
 )
@@ -118,8 +118,8 @@ class PointKind(ProgramKind):
     @classmethod
     def parse(cls, ctx, raw: dict, path: str, pose_format: str) -> PointSpec:
         mark = ctx.numbers(ctx.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
-        if abs(mark[0]) > READING_RANGE_MM or abs(mark[1]) > READING_RANGE_MM:
-            ctx.fail(f"{path}.mark", f"x and y must be within +-{READING_RANGE_MM:g} mm")
+        if abs(mark[0]) > TAUGHT_RANGE_MM or abs(mark[1]) > TAUGHT_RANGE_MM:
+            ctx.fail(f"{path}.mark", f"x and y must be within +-{TAUGHT_RANGE_MM:g} mm (float32 on the controller)")
         if abs(mark[2]) > READING_RANGE_DEG:
             ctx.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
         return PointSpec(mark)
