@@ -95,6 +95,8 @@ _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
 _STATION_KEYS = {"id", "name", "poses", "mode"}  # and the keys of the station's kind
 STATION_ID_MAX = 32767  # the largest 16-bit signed integer, which every target reads without loss
+STATIONS_MAX = 2000  # verified here up to 1,500 stations per program; 3,000 nest too deeply to run
+POSES_MAX = 1000  # a station's poses are one run: 1,000 take about a tenth of verify's step limit
 DEFAULT_MODE = "point"  # the cell file's contract: a station without `mode` is a point station
 
 
@@ -198,6 +200,12 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     stations_raw = data.get("station")
     if not isinstance(stations_raw, list) or not stations_raw:
         ctx.fail("station", "expected at least one [[station]] table")
+    if len(stations_raw) > STATIONS_MAX:
+        ctx.fail(
+            "station",
+            f"{len(stations_raw)} stations; at most {STATIONS_MAX} (the UR and dtrans programs dispatch by an "
+            "if/elif chain that the interpreter verifies up to that length)",
+        )
     stations = [ctx.station(raw, i + 1, pose_format) for i, raw in enumerate(stations_raw)]
     seen_ids: dict[int, int] = {}
     seen_names: dict[str, int] = {}
@@ -303,6 +311,8 @@ class _Context:
         poses_raw = self.table(raw, "poses", f"{path}.poses")
         if not poses_raw:
             self.fail(f"{path}.poses", "a station needs at least one pose")
+        if len(poses_raw) > POSES_MAX:
+            self.fail(f"{path}.poses", f"{len(poses_raw)} poses; at most {POSES_MAX} per station")
         poses = [
             self.pose(pose_name, values, f"{path}.poses.{pose_name}", pose_format)
             for pose_name, values in poses_raw.items()

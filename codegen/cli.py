@@ -377,11 +377,16 @@ def verify(
     total = len(case_list) * len(sources)
     workers = jobs if jobs > 0 else (os.cpu_count() or 1)
     start = time.perf_counter()
-    if sys.stderr.isatty():
-        with click.progressbar(length=total, label="verifying", file=sys.stderr, show_pos=True) as bar:
-            reports = v.run_verify(model, sources, case_list, workers, bar.update, verify_cell, step_limit=step_limit)
-    else:
-        reports = v.run_verify(model, sources, case_list, workers, None, verify_cell, step_limit=step_limit)
+    try:
+        if sys.stderr.isatty():
+            with click.progressbar(length=total, label="verifying", file=sys.stderr, show_pos=True) as bar:
+                reports = v.run_verify(
+                    model, sources, case_list, workers, bar.update, verify_cell, step_limit=step_limit
+                )
+        else:
+            reports = v.run_verify(model, sources, case_list, workers, None, verify_cell, step_limit=step_limit)
+    except RunError as exc:  # a program that cannot be loaded here (e.g. nested too deeply)
+        raise click.ClickException(str(exc)) from None
     wall = time.perf_counter() - start
     summaries = [r.summary() for r in reports]
     ok = all(s["mismatches"] == 0 for s in summaries)

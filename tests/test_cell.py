@@ -217,3 +217,20 @@ def test_marks_and_poses_only_where_float32_meets_verify_tolerance(write_cell):
     pose = MINIMAL_CELL.replace("vise = [700.0, 50.0,", "vise = [10700.0, 50.0,")
     with pytest.raises(CellError, match=r"station\[2\]\.poses\.vise: position must be within \+-10000"):
         load_cell(write_cell(pose))
+
+
+def test_sizes_beyond_what_verify_can_run_are_refused_at_load(write_cell):
+    """3,000 stations made UR and dtrans programs too deeply nested to run, 10,000 poses reached the
+    step limit: refused with the limit instead of failing later."""
+    head = MINIMAL_CELL[: MINIMAL_CELL.index("[[station]]")]
+    station = (
+        '[[station]]\nid = {i}\nname = "s{i}"\nmark = [600.0, -250.0, 2.0]\n'
+        "[station.poses]\nw = [650, -100, 400, 90, 0, 180]\n"
+    )
+    many = head + "".join(station.format(i=i) for i in range(1, 2002))
+    with pytest.raises(CellError, match=r"station: 2001 stations; at most 2000"):
+        load_cell(write_cell(many))
+    poses = "".join(f"p{i} = [650, -100, 400, 90, 0, 180]\n" for i in range(1001))
+    long_station = head + station.format(i=1).replace("w = [650, -100, 400, 90, 0, 180]\n", poses)
+    with pytest.raises(CellError, match=r"station\[1\]\.poses: 1001 poses; at most 1000 per station"):
+        load_cell(write_cell(long_station))
