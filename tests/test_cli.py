@@ -198,3 +198,11 @@ def test_values_have_the_controllers_limits(tmp_path, name, content, message):
     path.write_bytes(content)
     result = CliRunner().invoke(main, ["run", str(path)])
     assert result.exit_code == 1 and message in result.output, result.output
+
+
+def test_a_huge_expression_is_refused_before_parsing(tmp_path):
+    """A 400 kB expression took seconds and hundreds of megabytes to refuse as nested too deeply."""
+    path = tmp_path / "huge.script"
+    path.write_text("def p():\n  x = " + "+".join(["1"] * 200_000) + "\nend\n")
+    result = CliRunner().invoke(main, ["run", str(path)])
+    assert result.exit_code == 2 and "huge.script:2:1: line longer than 10000 characters" in result.output

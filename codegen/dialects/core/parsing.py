@@ -10,6 +10,8 @@ from lark.exceptions import UnexpectedInput
 
 from codegen.dialects.core.values import RunError
 
+LINE_MAX = 10_000  # characters per program line: the generated ones stay under 1,000
+
 
 @cache
 def grammar_parser(interpreter_file: str, positions: bool = True) -> Lark:
@@ -22,6 +24,9 @@ def parse_with_grammar(interpreter_file: str, text: str, filename: str, position
     """Parse a program; a syntax error becomes a RunError naming file:line:column."""
     if not text.endswith("\n"):
         text += "\n"
+    long_line = next((i for i, line in enumerate(text.split("\n"), start=1) if len(line) > LINE_MAX), None)
+    if long_line is not None:  # parsed, it would take seconds and gigabytes to refuse (nested too deeply)
+        raise RunError(f"{filename}:{long_line}:1: line longer than {LINE_MAX} characters")
     parser = grammar_parser(interpreter_file, positions)
     try:
         return parser.parse(text)
