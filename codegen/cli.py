@@ -29,6 +29,15 @@ def _load(cell_path):
     return cell
 
 
+def step_limit_option(help_text: str):
+    """--step-limit of the commands that run programs (the interpreter's default)."""
+    from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
+
+    return click.option(
+        "--step-limit", default=DEFAULT_STEP_LIMIT, show_default=True, type=click.IntRange(min=1), help=help_text
+    )
+
+
 def _dump(data) -> None:
     click.echo(json.dumps(data, indent=2, sort_keys=False))
 
@@ -208,13 +217,7 @@ def _parse_input(text: str):
     multiple=True,
     help="Input NAME=VALUE (repeatable): the names are the [program] inputs of targets/<t>.toml.",
 )
-@click.option(
-    "--step-limit",
-    default=200_000,
-    show_default=True,
-    type=click.IntRange(min=1),
-    help="Stop a runaway program after this many steps.",
-)
+@step_limit_option("Stop a runaway program after this many steps.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit: int, as_json: bool) -> None:
     """Run one program in the built-in interpreter; print its log, moves and halt."""
@@ -294,13 +297,7 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     help="Only this target (repeatable).",
 )
 @click.option("--cases", default=1000, show_default=True, help="Random readings per station.")
-@click.option(
-    "--step-limit",
-    default=200_000,
-    show_default=True,
-    type=click.IntRange(min=1),
-    help="A run that takes more steps is a runaway: a mismatch, and that target's remaining cases are skipped.",
-)
+@step_limit_option("A run taking more steps is a runaway: a mismatch; that target's remaining cases are skipped.")
 @click.option("--seed", default=0, show_default=True)
 @click.option(
     "--jobs",

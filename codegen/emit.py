@@ -7,6 +7,7 @@ import re
 import unicodedata
 
 from codegen.controllers import Target
+from codegen.dialects import get_dialect
 from codegen.poses import FORMAT_DECIMALS, native_values
 
 # Characters that may appear inside a string literal or a comment in every target: no quote, no
@@ -77,9 +78,7 @@ class Emitter:
         self._taken: dict[str, str] = {}  # comparable identifier -> what it was made from
 
     def _reserved(self, ident: str) -> bool:
-        from codegen.dialects import get_dialect  # the dialect's grammar names its reserved words
-
-        keywords = get_dialect(self.target.dialect).keywords()
+        keywords = get_dialect(self.target.dialect).keywords()  # as the dialect's grammar names them
         return ident in keywords or ident.upper() in keywords
 
     def _key(self, ident: str) -> str:

@@ -7,6 +7,7 @@ import random
 import re
 import time
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -199,6 +200,13 @@ def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter
     return emitter.string(kind.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))
 
 
+@lru_cache(maxsize=64)
+def _move_settings(target_name: str, kind: str, exact: bool) -> dict:
+    """What a target's facts ask of a move (read once per target, not per move of every case)."""
+    target = get_target(target_name)
+    return get_dialect(target.dialect).move_settings(target.program, kind, exact)
+
+
 LOG_PREFIXES = tuple(prefix for kind in kinds().values() for prefix in kind.log_prefixes)
 
 
@@ -224,11 +232,10 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
     if len(got.moves) != len(expected.moves):
         return f"{len(got.moves)} moves, expected {len(expected.moves)}", [], []
     pos_errors, rot_errors = [], []
-    dialect = get_dialect(target.dialect)
     for i, (g, e) in enumerate(zip(got.moves, expected.moves, strict=True)):
         if g.kind != e.kind:
             return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
-        for key, want in dialect.move_settings(target.program, e.kind, e.exact).items():
+        for key, want in _move_settings(target.name, e.kind, e.exact).items():
             have = g.settings.get(key)
             numbers = isinstance(want, float) and isinstance(have, float)
             if have != want and not (numbers and math.isclose(have, want, rel_tol=1e-6)):  # float32 values

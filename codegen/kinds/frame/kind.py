@@ -6,6 +6,7 @@ import cmath
 import math
 import random
 from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 
@@ -67,6 +68,12 @@ class FrameDetail:
     residuals: tuple[tuple[float, float], ...] = ()  # every photo's residual: |res| mm, |gamma| deg
     final_residual: tuple[float, float] | None = None
     frame2base: np.ndarray | None = None  # the converged frame
+
+
+@lru_cache(maxsize=16)
+def _singular_values(pixel_to_mm) -> np.ndarray:
+    """mm per pixel along the map's two principal directions (once per cell, not per case)."""
+    return np.linalg.svd(np.array(pixel_to_mm)[:, :2], compute_uv=False)
 
 
 def frame_offset(dx: float, dy: float, alpha_deg: float) -> np.ndarray:
@@ -334,7 +341,7 @@ class FrameKind(ProgramKind):
         if reference.status != "ok":
             reason = reference.reason
             return f"the camera sees the mark within the limits, yet the cell's loop halts ({reason}): {sign}?"
-        singular = np.linalg.svd(np.array(cell.handeye)[:, :2], compute_uv=False)
+        singular = _singular_values(cell.handeye)
         mm_bound = refine.tolerance_mm * (1 + abs(camera.scale_error)) + 4 * camera.noise_px * singular[0]
         deg_bound = refine.tolerance_deg * singular[0] / singular[1] + 4 * camera.noise_deg
         _station, dx, dy, alpha, _photos = reference.logged
