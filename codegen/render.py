@@ -121,9 +121,9 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
         target = get_target(name)
         ctx = context(cell, target)
         # Each kind's partial templates/<target>/kinds/<kind>.j2 is a set of macros (interface,
-        # constants, data, helpers, station) that the controller's program template calls.
+        # constants, data, helpers, start, station) that the controller's program template calls.
         partials = {kind: env.get_template(f"{name}/kinds/{kind}.j2").make_module(ctx) for kind in kinds()}
-        ctx = {**ctx, "kind": partials, "used": [partials[kind] for kind in ctx["kinds_used"]]}
+        ctx = {**ctx, "partial": partials, "used": [partials[kind] for kind in ctx["kinds_used"]]}
         for template_name, file_name in zip(target.files, output_names(cell, target), strict=True):
             suffix = template_name.rsplit(".", 1)[1]
             text = env.get_template(f"{name}/program.{suffix}.j2").render(ctx)
