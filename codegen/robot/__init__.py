@@ -1,0 +1,1 @@
+"""The arm: catalogue, kinematics, vendor configuration, tool."""

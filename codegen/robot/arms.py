@@ -1,0 +1,149 @@
+"""The arm catalogue (codegen/robot/catalogue.toml) and custom arms given by their parameters."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+from codegen.robot.opw import OPW
+from codegen.robot.urdh import URDH
+
+CATALOGUE = Path(__file__).with_name("catalogue.toml")
+FAMILIES = {"opw": OPW, "ur": URDH}
+_OPW_KEYS = ("a1", "a2", "b", "c1", "c2", "c3", "c4")
+_UR_KEYS = ("d1", "a2", "a3", "d4", "d5", "d6")
+PARAM_BOUND_MM = 10_000.0  # no arm in the catalogue is within a factor of three of this
+
+
+class ArmError(Exception):
+    """An arm description that cannot be used; the message names the key (the caller adds the file)."""
+
+
+@dataclass(frozen=True)
+class Arm:
+    model: str
+    vendor: str  # the controller family that drives it: a target's `vendor` fact (targets/<t>.toml)
+    family: str  # "opw" (ortho-parallel with a spherical wrist) or "ur" (UR-type DH)
+    kin: OPW | URDH
+    limits_deg: tuple[tuple[float, float], ...]  # software limits per axis
+    home_deg: tuple[float, ...]
+    reach_mm: float | None = None
+    payload_kg: float | None = None
+    source: str = ""
+
+    @property
+    def limits(self) -> np.ndarray:
+        return np.array(self.limits_deg, dtype=float)
+
+
+def _number(value, path: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise ArmError(f"{path}: expected a finite number, got {value!r}")
+    return float(value)
+
+
+def _numbers(value, count: int, path: str) -> tuple[float, ...]:
+    if not isinstance(value, list) or len(value) != count:
+        raise ArmError(f"{path}: expected {count} numbers")
+    return tuple(_number(v, f"{path}[{i}]") for i, v in enumerate(value))
+
+
+def arm_from_table(table: dict, path: str, model: str | None = None) -> Arm:
+    """An arm from its description: catalogue entries and a cell's custom arm share this."""
+    allowed = {"model", "vendor", "family", "params", "limits_deg", "home_deg", "reach_mm", "payload_kg", "source"}
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise ArmError(f"{path}.{unknown[0]}: unknown key; allowed: {', '.join(sorted(allowed))}")
+    for key in ("family", "params", "limits_deg", "home_deg"):
+        if key not in table:
+            raise ArmError(f"{path}.{key}: missing")
+    family = table["family"]
+    if family not in FAMILIES:
+        raise ArmError(f"{path}.family: expected one of {', '.join(FAMILIES)}, got {family!r}")
+    params = table["params"]
+    if not isinstance(params, dict):
+        raise ArmError(f"{path}.params: expected a table")
+    lengths = _OPW_KEYS if family == "opw" else _UR_KEYS
+    extra = ("offsets_deg", "signs") if family == "opw" else ()
+    unknown = sorted(set(params) - set(lengths) - set(extra))
+    if unknown:
+        raise ArmError(f"{path}.params.{unknown[0]}: unknown key; allowed: {', '.join(lengths + extra)}")
+    values = {}
+    for key in lengths:
+        if key not in params:
+            raise ArmError(f"{path}.params.{key}: missing")
+        values[key] = _number(params[key], f"{path}.params.{key}")
+        if abs(values[key]) > PARAM_BOUND_MM:
+            raise ArmError(f"{path}.params.{key}: beyond +-{PARAM_BOUND_MM:g} mm")
+    if family == "opw":
+        values["offsets_deg"] = _numbers(params.get("offsets_deg", [0] * 6), 6, f"{path}.params.offsets_deg")
+        signs = params.get("signs", [1] * 6)
+        bad = [s for s in signs if isinstance(s, bool) or s not in (1, -1)] if isinstance(signs, list) else [signs]
+        if bad or len(signs) != 6:
+            raise ArmError(f"{path}.params.signs: expected 6 values of 1 or -1")
+        values["signs"] = tuple(int(s) for s in signs)
+    kin = FAMILIES[family](**values)
+    limits_raw = table["limits_deg"]
+    if not isinstance(limits_raw, list) or len(limits_raw) != 6:
+        raise ArmError(f"{path}.limits_deg: expected 6 pairs [low, high]")
+    limits = tuple(_numbers(pair, 2, f"{path}.limits_deg[{i}]") for i, pair in enumerate(limits_raw))
+    for i, (low, high) in enumerate(limits):
+        if not -720 <= low < high <= 720:
+            raise ArmError(f"{path}.limits_deg[{i}]: expected low < high within +-720 deg")
+    home = _numbers(table["home_deg"], 6, f"{path}.home_deg")
+    check_inside(home, limits, f"{path}.home_deg")
+    vendor = table.get("vendor", "")
+    if not isinstance(vendor, str):
+        raise ArmError(f"{path}.vendor: expected a string")
+    name = model or table.get("model")
+    if not isinstance(name, str) or not name.strip():
+        raise ArmError(f"{path}.model: expected a non-empty string")
+    reach = table.get("reach_mm")
+    payload = table.get("payload_kg")
+    return Arm(
+        model=name,
+        vendor=vendor,
+        family=family,
+        kin=kin,
+        limits_deg=limits,
+        home_deg=home,
+        reach_mm=None if reach is None else _number(reach, f"{path}.reach_mm"),
+        payload_kg=None if payload is None else _number(payload, f"{path}.payload_kg"),
+        source=str(table.get("source", "")),
+    )
+
+
+def check_inside(joints: tuple[float, ...], limits, path: str) -> None:
+    for i, (q, (low, high)) in enumerate(zip(joints, limits, strict=True)):
+        if not low <= q <= high:
+            raise ArmError(f"{path}[{i}]: axis {i + 1} at {q:g} deg is outside its limits [{low:g}, {high:g}]")
+
+
+@cache
+def catalogue() -> dict[str, Arm]:
+    """Every arm of the catalogue by model name (the vendor's own spelling)."""
+    data = tomllib.loads(CATALOGUE.read_text(encoding="utf-8"))
+    arms: dict[str, Arm] = {}
+    for i, table in enumerate(data["arm"]):
+        arm = arm_from_table(table, f"{CATALOGUE.name}: arm[{i + 1}]")
+        if arm.model in arms:
+            raise ArmError(f"{CATALOGUE.name}: arm[{i + 1}].model: {arm.model!r} listed twice")
+        arms[arm.model] = arm
+    return arms
+
+
+def find_arm(model: str) -> Arm | None:
+    """A catalogue arm by name, ignoring case and spacing ("kr10 r1100 sixx" finds "KR 10 R1100 sixx")."""
+    arms = catalogue()
+    if model in arms:
+        return arms[model]
+    key = "".join(model.lower().split())
+    for name, arm in arms.items():
+        if "".join(name.lower().split()) == key:
+            return arm
+    return None

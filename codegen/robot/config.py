@@ -1,0 +1,148 @@
+"""Vendor arm configurations (ABB confdata, KUKA Status/Turn) and the controllers' rules choosing a solution by them."""
+
+# ABB: "Technical reference manual - RAPID Instructions, Functions and Data types" (RobotWare 6), data type
+# confdata, "Robot configuration data for 6 axes serial robots" (older issues: RAPID Reference Manual, Data
+# types, confdata, and "Basic Characteristics RAPID", 4 Robot Configuration, p. 6-32 ff.); the cfx table as
+# quoted from that manual's page (developercenter.robotstudio.com .../RapidIFDTechRefManual/doc439.html):
+#   cf1, cf4, cf6: the quadrant of axis 1, 4, 6: quadrant 0 is 0..90 deg in the positive direction from the
+#     zero position, quadrant 1 is 90..180, quadrant -1 is 0..-90, and so on: floor(angle / 90).
+#   cfx, "Robot configuration data for 6 axes serial robots", one of eight numbered by the table
+#     cfx | wrist centre relative to axis 1 | wrist centre relative to lower arm | axis 5 angle
+#      0  | in front of | in front of | positive        4 | behind | in front of | positive
+#      1  | in front of | in front of | negative        5 | behind | in front of | negative
+#      2  | in front of | behind      | positive        6 | behind | behind      | positive
+#      3  | in front of | behind      | negative        7 | behind | behind      | negative
+#   i.e. cfx = 4 a + 2 b + c. The boundary values (on axis 1, on the lower arm's line, axis 5 = 0) are counted
+#   as "in front of" / "positive" here (the manual leaves them to the singularity).
+# KUKA: "KUKA System Software 8.x, Operating and Programming Instructions for System Integrators" (KSS 8.3 SI
+# V4, 2015), motion programming, sections "Status" and "Turn" (the same bits in the KSS 5.x Expert Programming
+# manual). Read here through its quotations: the robot-forum.com threads "x_value of wrist root point" (the
+# basic/overhead text) and "KUKA status bit flip/no-flip", and Siemens' SINUMERIK programming manual
+# 6FC5398-2EP40-0BA0 (12/2019), 3.9 Transformations, STAT and TU, which defines the same bits for such arms:
+#   Status bit 0: 0 basic area, 1 overhead area: the wrist point's x in the A1 coordinate system (= $ROBROOT
+#     turned with axis 1) positive / negative;
+#   Status bit 1: 0 for A3 < phi, 1 for A3 >= phi, phi the A3 angle at which the arm is stretched (0 when the
+#     axes 3 and 4 intersect, otherwise set by their offset: here the angle where the wrist centre lines up
+#     with axes 2 and 3);
+#   Status bit 2: 0 for 0 <= A5 < 180 or A5 < -180, 1 for -180 <= A5 < 0 or A5 >= 180;
+#   Turn bit i (i = 0..5): 1 when axis i+1 < 0 deg, 0 when >= 0.
+# UR: get_inverse_kin(x, qnear) returns "the solution closest to qnear" (URScript manual); UR's staff on the
+# UR forum ("Get_inverse_kin closest solution criteria"): "the sum of squared error", so Euclidean in joints.
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from codegen.robot import solve
+from codegen.robot.arms import Arm
+from codegen.robot.kinematics import wrap_deg
+from codegen.robot.opw import OPW
+
+
+def abb_quadrant(joints_deg: np.ndarray) -> np.ndarray:
+    """The confdata quadrant of an axis value: floor(angle / 90 deg), integers of the input's shape."""
+    return np.floor(np.asarray(joints_deg, dtype=float) / 90.0).astype(int)
+
+
+def abb_confdata(kin: OPW, joints_deg: np.ndarray) -> np.ndarray:
+    """(..., 6) axis values -> (..., 4) int (cf1, cf4, cf6, cfx) for an ABB 6-axis serial arm."""
+    q = np.asarray(joints_deg, dtype=float)
+    behind_axis1 = kin.wrist_x_axis1(q) < 0.0
+    behind_lower_arm = kin.elbow_side(q) < 0.0
+    axis5_negative = q[..., 4] < 0.0
+    cfx = 4 * behind_axis1.astype(int) + 2 * behind_lower_arm.astype(int) + axis5_negative.astype(int)
+    return np.concatenate([abb_quadrant(q[..., [0, 3, 5]]), cfx[..., None]], axis=-1)
+
+
+def _scalar_or_array(values: np.ndarray) -> int | np.ndarray:
+    return int(values) if values.ndim == 0 else values
+
+
+def kuka_status(kin: OPW, joints_deg: np.ndarray) -> int | np.ndarray:
+    """Status bits 0-2 of axis values: an int for one (6,) pose, an int array (...) for a batch."""
+    q = np.asarray(joints_deg, dtype=float)
+    overhead = kin.wrist_x_axis1(q) < 0.0
+    a3_from_stretched = wrap_deg(q[..., 2] - kin.stretched_q3_deg)  # A3 - phi, the folded side as negative
+    a3_at_or_above = a3_from_stretched >= 0.0
+    a5 = q[..., 4]
+    a5_bit = ((a5 >= -180.0) & (a5 < 0.0)) | (a5 >= 180.0)
+    status = overhead.astype(int) | (a3_at_or_above.astype(int) << 1) | (a5_bit.astype(int) << 2)
+    return _scalar_or_array(np.asarray(status))
+
+
+def kuka_turn(joints_deg: np.ndarray) -> int | np.ndarray:
+    """Turn: bit i set when axis i+1 < 0 deg; an int for one (6,) pose, an int array (...) for a batch."""
+    negative = np.asarray(joints_deg, dtype=float) < 0.0
+    return _scalar_or_array(np.sum(negative.astype(int) << np.arange(6), axis=-1))
+
+
+def by_confdata(arm: Arm, solutions: np.ndarray, conf) -> tuple[np.ndarray, np.ndarray]:
+    """ABB (ConfJ/ConfL on): the solution whose robconf equals conf = (cf1, cf4, cf6, cfx): cf1, cf4 and
+    cf6 name the quadrant of axes 1, 4 and 6 (hence their turn), cfx the branch."""
+    cf1, cf4, cf6, cfx = conf
+    q = solutions.copy()
+    for axis, quadrant in ((0, cf1), (3, cf4), (5, cf6)):
+        q[..., axis] = solve.shift_into(q[..., axis], 90.0 * quadrant - solve.BOUNDARY_DEG)
+    match = (abb_confdata(arm.kin, np.nan_to_num(q))[..., 3] == cfx) & solve.inside(arm, q) & ~np.isnan(q).any(axis=-1)
+    for axis, quadrant in ((0, cf1), (3, cf4), (5, cf6)):
+        match &= q[..., axis] < 90.0 * (quadrant + 1) + solve.BOUNDARY_DEG
+    return solve.first(q, match)
+
+
+def by_status_turn(arm: Arm, solutions: np.ndarray, status: int, turn: int) -> tuple[np.ndarray, np.ndarray]:
+    """KUKA PTP to an E6POS with S and T: the branch whose Status bits 0-2 equal S's, each axis on the
+    side of zero its Turn bit names (bit i set: axis i+1 < 0)."""
+    q = solutions.copy()
+    for axis in range(6):
+        negative = bool(turn >> axis & 1)
+        if negative:
+            q[..., axis] = np.where(q[..., axis] > solve.BOUNDARY_DEG, q[..., axis] - solve.TURN, q[..., axis])
+        else:
+            q[..., axis] = np.where(q[..., axis] < -solve.BOUNDARY_DEG, q[..., axis] + solve.TURN, q[..., axis])
+    s = kuka_status(arm.kin, np.nan_to_num(q))
+    match = ((s & 7) == (status & 7)) & solve.inside(arm, q) & ~np.isnan(q).any(axis=-1)
+    return solve.first(q, match)
+
+
+def with_status(arm: Arm, solutions: np.ndarray, status: int) -> np.ndarray:
+    """The solutions whose KUKA Status bits 0-2 equal status's; the others NaN."""
+    s = kuka_status(arm.kin, np.nan_to_num(solutions))
+    return np.where(((s & 7) == (status & 7))[..., None], solutions, np.nan)
+
+
+def abb_quadrants(q: np.ndarray) -> np.ndarray:
+    """cf1, cf4, cf6 of axis values (..., 6) -> (..., 3)."""
+    return abb_quadrant(np.asarray(q)[..., [0, 3, 5]])
+
+
+@dataclass(frozen=True)
+class Form:
+    """How a controller's program names an arm configuration: `of` gives the program's value for joints,
+    `select` the joints a move naming that value takes among the analytic solutions (q, branch), `many`
+    the values of a batch of joints (..., 6) as an array (..., k)."""
+
+    of: Callable
+    select: Callable
+    many: Callable
+
+
+FORMS = {  # a target's `configuration` fact -> its form
+    "confdata": Form(
+        lambda arm, q: (*(int(v) for v in abb_quadrants(q)), int(abb_confdata(arm.kin, q)[3])),
+        by_confdata,
+        lambda arm, q: abb_confdata(arm.kin, q),
+    ),
+    "status_turn": Form(
+        lambda arm, q: (int(kuka_status(arm.kin, q)), int(kuka_turn(q))),
+        lambda arm, solutions, value: by_status_turn(arm, solutions, *value),
+        lambda arm, q: np.stack([np.asarray(kuka_status(arm.kin, q)), np.asarray(kuka_turn(q))], axis=-1),
+    ),
+    "joints": Form(
+        lambda arm, q: tuple(float(v) for v in q),
+        lambda arm, solutions, value: solve.nearest(arm, solutions, np.asarray(value, dtype=float)),
+        lambda arm, q: np.asarray(q, dtype=float),
+    ),
+}

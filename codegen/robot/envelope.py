@@ -1,0 +1,170 @@
+"""The envelope check: every taught pose, corrected by every reading the guard lets through, is reachable
+in its taught configuration, inside the joint limits and away from the wrist singularity by a margin."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.robot.region import station_region
+from codegen.robot.taught import ReachError, configuration
+
+
+@dataclass(frozen=True)
+class StationMargin:
+    station_id: int
+    station: str
+    joint_margin_deg: float  # the least distance of any axis from its limits over the region
+    joint_axis: int  # 1-based, the axis of that least distance
+    wrist_margin_deg: float  # the least distance of the wrist axis from its singular angle (0, +-180)
+    step_deg: float  # the largest joint change between neighbouring readings (the sampling's resolution)
+    pose: str  # the pose with the least joint margin
+
+    @property
+    def id_text(self) -> str:
+        return f"{self.station_id} {self.station}"
+
+
+@dataclass(frozen=True)
+class TargetEnvelope:
+    target: str
+    model: str
+    samples: int  # readings per station
+    stations: tuple[StationMargin, ...]
+
+    def text(self) -> str:
+        """One line per station: the margins over the correction region."""
+        lines = [f"envelope {self.target} ({self.model}): {self.samples} readings per station, every pose reachable"]
+        for m in self.stations:
+            lines.append(
+                f"  station {m.id_text}: {m.joint_margin_deg:.1f} deg to the nearest joint limit (axis "
+                f"{m.joint_axis}, pose {m.pose}), wrist {m.wrist_margin_deg:.1f} deg from its singularity"
+            )
+        return "\n".join(lines)
+
+    def as_json(self) -> dict:
+        return {
+            "target": self.target,
+            "arm": self.model,
+            "readings_per_station": self.samples,
+            "stations": [
+                {
+                    "id": m.station_id,
+                    "name": m.station,
+                    "joint_margin_deg": round(m.joint_margin_deg, 3),
+                    "joint_axis": m.joint_axis,
+                    "wrist_margin_deg": round(m.wrist_margin_deg, 3),
+                    "step_deg": round(m.step_deg, 3),
+                    "pose": m.pose,
+                }
+                for m in self.stations
+            ],
+        }
+
+
+def wrist_angle(arm, joints: np.ndarray) -> np.ndarray:
+    """The wrist axis in the kinematic model (0 and +-180 deg are singular): OPW theta5, UR's q5."""
+    kin = arm.kin
+    if arm.family == "opw":
+        return kin.signs[4] * joints[..., 4] + kin.offsets_deg[4]
+    return joints[..., 4]
+
+
+def singular_distance(angle: np.ndarray) -> np.ndarray:
+    """Degrees from the nearest multiple of 180 deg."""
+    r = np.mod(angle, 180.0)
+    return np.minimum(r, 180.0 - r)
+
+
+def check_target(cell, target: str) -> TargetEnvelope:
+    """Raise ReachError naming the station, pose, worst reading and limit; else every station's margins."""
+    arm = cell.robot.arms[target]
+    margins = [_station(cell, target, arm, station) for station in cell.stations]
+    samples = len(station_region(cell, target, cell.stations[0]).offsets)
+    return TargetEnvelope(target, arm.model, samples, tuple(margins))
+
+
+def _station(cell, target: str, arm, station) -> StationMargin:
+    form = get_target(target).configuration
+    wanted = cell.robot.margins
+    region = station_region(cell, target, station)
+    joints = region.joints
+    for m, pose in enumerate(region.taught):
+        q = joints[:, m]
+        where = f"station {station.id} {station.name!r} pose {pose.name!r} ({target}, {arm.model})"
+        missing = np.isnan(q).any(axis=-1)
+        if missing.any():
+            i = int(np.argmax(missing))
+            reading = _reading(region.offsets[i])
+            raise ReachError(f"{where}: out of reach or beyond a joint limit for the reading {reading}")
+        changed = region.branch[:, m] != pose.branch
+        if changed.any():
+            i = int(np.argmax(changed))
+            raise ReachError(
+                f"{where}: the arm would change configuration (taught {configuration(form, arm, pose.joints)}, "
+                f"here {configuration(form, arm, q[i])}) for the reading {_reading(region.offsets[i])}"
+            )
+        joint_margin = np.minimum(q - arm.limits[:, 0], arm.limits[:, 1] - q)  # (N, 6)
+        worst = np.unravel_index(np.argmin(joint_margin), joint_margin.shape)
+        if joint_margin[worst] < wanted.joint_deg:
+            raise ReachError(
+                f"{where}: axis {worst[1] + 1} comes within {joint_margin[worst]:.2f} deg of its limit "
+                f"(margin asked: {wanted.joint_deg:g} deg) for the reading {_reading(region.offsets[worst[0]])}"
+            )
+        wrist = singular_distance(wrist_angle(arm, q))
+        if wrist.min() < wanted.wrist_deg:
+            i = int(np.argmin(wrist))
+            raise ReachError(
+                f"{where}: the wrist comes within {wrist[i]:.2f} deg of its singularity (axis 5 at "
+                f"{q[i, 4]:.2f} deg; margin asked: {wanted.wrist_deg:g} deg) for the reading "
+                f"{_reading(region.offsets[i])}"
+            )
+    joint_margin = np.minimum(joints - arm.limits[:, 0], arm.limits[:, 1] - joints)
+    n, m, axis = np.unravel_index(np.argmin(joint_margin), joint_margin.shape)
+    step = _step(joints[1:], *region.grid)
+    if step > wanted.joint_deg:
+        raise ReachError(
+            f"station {station.id} {station.name!r} ({target}, {arm.model}): an axis moves {step:.2f} deg between "
+            f"neighbouring checked readings, more than the joint margin asked ({wanted.joint_deg:g} deg): "
+            "the check cannot vouch for the readings between them"
+        )
+    return StationMargin(
+        station_id=station.id,
+        station=station.name,
+        joint_margin_deg=float(joint_margin[n, m, axis]),
+        joint_axis=int(axis) + 1,
+        wrist_margin_deg=float(singular_distance(wrist_angle(arm, joints)).min()),
+        step_deg=step,
+        pose=region.taught[m].name,
+    )
+
+
+def _step(grid_joints: np.ndarray, rotations: int, directions: int) -> float:
+    """The largest joint change between a reading and its neighbour in the sampling (next direction on
+    its ring, or next rotation): how far the check is from the readings between samples. A turn the
+    controller takes the other way round (the shortest turn from where the arm stands) is not a step."""
+    grid = grid_joints.reshape(rotations, -1, *grid_joints.shape[1:])
+    ring = grid[:, 1:].reshape(rotations, -1, directions, *grid_joints.shape[1:])
+    steps = [_wrapped(np.diff(grid, axis=0)), _wrapped(ring - np.roll(ring, 1, axis=2))]
+    return float(max(steps))
+
+
+def _wrapped(delta: np.ndarray) -> float:
+    return float(np.abs((delta + 180.0) % 360.0 - 180.0).max())
+
+
+def _reading(offset) -> str:
+    dx, dy, rot = offset
+    return f"(shift {dx:+.2f}, {dy:+.2f} mm, rotation {rot:+.2f} deg)"
+
+
+def check(cell) -> list[TargetEnvelope]:
+    """Every target with an arm; [] when the cell names no robot."""
+    if cell.robot is None:
+        return []
+    return [check_target(cell, target) for target in cell.targets if target in cell.robot.arms]
+
+
+__all__ = ["ReachError", "TargetEnvelope", "check"]

@@ -1,0 +1,125 @@
+"""The joints a correct program's moves end at: the reference's poses through each controller's rule."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.reference import JOINT, Move
+from codegen.robot import solve
+from codegen.robot.envelope import singular_distance, wrist_angle
+from codegen.robot.region import move_joints, station_region
+
+# Both sides solve the same inverse kinematics for poses that agree within verify's pose tolerance
+# (float32: 0.005 mm, 0.001 deg). With the wrist at least the cell's wrist margin (5 deg) from its
+# singularity, 0.001 deg of orientation moves axes 4 and 6 by at most 0.001 / sin(5 deg) = 0.012 deg;
+# 0.005 mm moves a shoulder axis by far less. A different solution or turn differs by degrees.
+JOINT_TOLERANCE_DEG = 0.05
+
+_HOME: dict = {}
+
+
+def home_move(cell, target: str) -> tuple[Move, np.ndarray] | None:
+    """The program's first motion, to the home joints, with the cell's tool; None without an arm."""
+    robot = cell.robot
+    if robot is None or target not in robot.arms:
+        return None
+    key = (id(cell), target)
+    hit = _HOME.get(key)
+    if hit is None or hit[0] is not cell:
+        home = np.asarray(robot.home[target], dtype=float)
+        tcp2base = robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange
+        hit = _HOME[key] = (cell, (Move(JOINT, "home", tcp2base, exact=True), home))
+    return hit[1]
+
+
+def expected_joints(cell, target: str, station, moves: tuple[Move, ...], start: np.ndarray) -> list[np.ndarray]:
+    """Per move of the reference: the joints the controller takes, by the rule the program's text
+    sets for that pose (codegen/robot/region.py move_joints)."""
+    robot = cell.robot
+    arm = robot.arms[target]
+    form = get_target(target).configuration
+    region = station_region(cell, target, station)
+    taught = {}
+    for pose, named in zip(region.taught, region.named, strict=True):
+        taught.setdefault(pose.name, (pose, named))
+    out, previous = [], start
+    flanges = solve.flange_poses(np.array([move.tcp2base for move in moves]), robot.tool.tcp2flange)
+    for move, solutions in zip(moves, solve.branches(arm, flanges), strict=True):
+        pose, named = taught[move.pose_name]
+        q, _, _ = move_joints(arm, form, pose, solutions, previous, named)
+        out.append(q)
+        previous = q
+    return out
+
+
+def arm_of(cell, target: str):
+    """The arm a target's program drives in verify (None: the cell names none; poses only)."""
+    robot = cell.robot
+    return None if robot is None else robot.arms.get(target)
+
+
+def arm_problem(cell, target: str, expected, moves: tuple[Move, ...], got: list, home: np.ndarray) -> str | None:
+    """The joints of every move against the controller's rule applied to the reference's poses, and
+    the load the program set against the cell's tool."""
+    station = expected.station
+    want = [home]
+    if station is not None and len(moves) > 1:
+        want += expected_joints(cell, target, station, moves[1:], home)
+    tool = cell.robot.tool
+    load = (tool.mass_kg, *tool.cog_mm) if cell.robot.tool_given else None
+    for i, (g, e, q) in enumerate(zip(got, moves, want, strict=True)):
+        where = f"move {i + 1} ({e.pose_name}, line {g.line})"
+        if g.joints is None or np.isnan(q).any():
+            return f"{where}: joints {g.joints}, expected {q}"
+        error = float(np.max(np.abs(g.joints - q)))
+        if not error <= JOINT_TOLERANCE_DEG:
+            return (
+                f"{where}: the arm ends at joints {_text(g.joints)}, the controller's rule gives {_text(q)} "
+                f"({error:.3f} deg apart; tolerance {JOINT_TOLERANCE_DEG} deg)"
+            )
+        have = g.settings.get("load")
+        if load is not None and (have is None or not np.allclose(have, load, rtol=1e-5, atol=1e-3)):
+            return f"{where}: load {have}, expected the cell's tool (mass kg, centre of gravity mm) {load}"
+    return None
+
+
+def _text(q) -> str:
+    return "[" + ", ".join(f"{v:.3f}" for v in q) + "]"
+
+
+class ArmStats:
+    """The least joint-limit and wrist-singularity margins over every move verify saw."""
+
+    def __init__(self) -> None:
+        self.moves = 0
+        self.joint_margin_deg = float("inf")
+        self.wrist_margin_deg = float("inf")
+
+    def add(self, cell, target: str, moves: list) -> None:
+        arm = arm_of(cell, target)
+        joints = [m.joints for m in moves if m.joints is not None]
+        if arm is None or not joints:
+            return
+        joint, wrist = margins(arm, np.array(joints))
+        self.moves += len(joints)
+        self.joint_margin_deg = min(self.joint_margin_deg, joint)
+        self.wrist_margin_deg = min(self.wrist_margin_deg, wrist)
+
+    def merge(self, other: ArmStats) -> None:
+        self.moves += other.moves
+        self.joint_margin_deg = min(self.joint_margin_deg, other.joint_margin_deg)
+        self.wrist_margin_deg = min(self.wrist_margin_deg, other.wrist_margin_deg)
+
+    def summary(self) -> dict:
+        return {
+            "moves": self.moves,
+            "joint_margin_deg": round(self.joint_margin_deg, 3),
+            "wrist_margin_deg": round(self.wrist_margin_deg, 3),
+        }
+
+
+def margins(arm, joints: np.ndarray) -> tuple[float, float]:
+    """Degrees to the nearest joint limit and from the wrist singularity, for (..., 6) joints."""
+    joint = np.minimum(joints - arm.limits[:, 0], arm.limits[:, 1] - joints)
+    return float(np.min(joint)), float(np.min(singular_distance(wrist_angle(arm, joints))))

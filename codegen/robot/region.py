@@ -1,0 +1,122 @@
+"""Each arm pose over the correction region: the joints the controller takes, and whether the taught
+configuration can be named in the program (its turn and quadrant fields hold over the whole region)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.kinds import get_kind
+from codegen.robot import solve
+from codegen.robot.config import FORMS
+from codegen.robot.taught import ArmPose, arm_poses, configuration, select
+
+MIN_DIRECTIONS = 24  # directions on each ring of the shift disc, at least
+RING_SPACING_MM = 5.0  # and at most this far apart on the boundary
+INNER_RINGS = (0.5,)  # fractions of the shift limit sampled inside the disc (and the centre)
+MIN_ROTATIONS = 9  # rotations from -limit to +limit (both ends included), at least
+ROTATION_SPACING_DEG = 2.5  # and at most this far apart
+
+
+@dataclass(frozen=True)
+class StationRegion:
+    taught: list[ArmPose]
+    offsets: np.ndarray  # (N, 3) readings: dx, dy mm, rotation deg (row 0: nothing moved)
+    grid: tuple[int, int]  # rotations, directions: rows 1.. are rotations x (centre + rings x directions)
+    joints: np.ndarray  # (N, M, 6) deg, NaN where the controller finds no solution
+    branch: np.ndarray  # (N, M) the analytic solution taken (-1: none)
+    named: tuple[bool, ...]  # per arm pose: the program names its full configuration (robconf, S and T)
+
+
+def sampling(max_shift_mm: float, max_rotation_deg: float) -> tuple[int, int]:
+    """How many rotations and ring directions sample the region finely enough."""
+    rotations = max(MIN_ROTATIONS, math.ceil(2 * max_rotation_deg / ROTATION_SPACING_DEG) + 1)
+    directions = max(MIN_DIRECTIONS, math.ceil(2 * math.pi * max_shift_mm / RING_SPACING_MM))
+    return rotations, directions
+
+
+@lru_cache(maxsize=16)
+def offsets(max_shift_mm: float, max_rotation_deg: float) -> np.ndarray:
+    """(dx, dy, rotation) over the guard's region: no change first, then the shift disc's boundary,
+    an inner ring and the centre, each at rotations from -limit to +limit (corners included)."""
+    rotation_count, directions = sampling(max_shift_mm, max_rotation_deg)
+    angles = np.linspace(0.0, 2 * math.pi, directions, endpoint=False)
+    shifts = [np.zeros((1, 2))]
+    for fraction in (*INNER_RINGS, 1.0):
+        r = fraction * max_shift_mm
+        shifts.append(np.column_stack([r * np.cos(angles), r * np.sin(angles)]))
+    disc = np.concatenate(shifts)
+    rotations = np.linspace(-max_rotation_deg, max_rotation_deg, rotation_count)
+    grid = np.column_stack([np.tile(disc, (len(rotations), 1)), np.repeat(rotations, len(disc))])
+    out = np.concatenate([np.zeros((1, 3)), grid])
+    out.flags.writeable = False
+    return out
+
+
+_CACHE: dict = {}
+
+
+def station_region(cell, target: str, station) -> StationRegion:
+    key = (id(cell), target, station.id)
+    hit = _CACHE.get(key)
+    if hit is None or hit[0] is not cell:
+        hit = _CACHE[key] = (cell, _compute(cell, target, station))
+    return hit[1]
+
+
+def _compute(cell, target: str, station) -> StationRegion:
+    robot = cell.robot
+    arm = robot.arms[target]
+    form = get_target(target).configuration
+    taught = arm_poses(cell, target, station)
+    region_offsets = offsets(cell.limits.max_shift_mm, cell.limits.max_rotation_deg)
+    region = get_kind(station.kind).region(cell, station, region_offsets)  # (N, M, 4, 4)
+    solutions = solve.branches(arm, solve.flange_poses(region, robot.tool.tcp2flange))  # (N, M, 8, 6)
+    home = np.broadcast_to(np.asarray(robot.home[target], dtype=float), (len(region_offsets), 6))
+    joints, branches, named = [], [], []
+    previous = home
+    for m, pose in enumerate(taught):
+        q, b, full = move_joints(arm, form, pose, solutions[:, m], previous)
+        joints.append(q)
+        branches.append(b)
+        named.append(full)
+        previous = np.where(np.isnan(q), previous, q)
+    grid = sampling(cell.limits.max_shift_mm, cell.limits.max_rotation_deg)
+    return StationRegion(
+        taught, region_offsets, grid, np.stack(joints, axis=1), np.stack(branches, axis=1), tuple(named)
+    )
+
+
+def move_joints(arm, form: str, pose: ArmPose, solutions: np.ndarray, previous: np.ndarray, named=None):
+    """The joints the controller takes for one arm pose over a batch of corrected poses, and whether the
+    program names the full configuration. A joint move names it when every corrected pose can be
+    taken in it (the controller then goes there); otherwise the program names only what holds (the
+    status bits without the turn: the shortest turn; or the configuration check off: the closest
+    configuration) and the arm goes to the solution nearest where it stands. The "joints" form names
+    joints (the inverse kinematics nearest the taught joints); a linear move continues from the joints
+    before it. Where the controller checks a linear move's end configuration (the "confdata" form), the
+    program names it only where it holds. named: what the program names (verify's cases), None:
+    decide it from these poses (the region)."""
+    if form == "joints":
+        if pose.motion == "joint":
+            q, b = solve.nearest(arm, solutions, np.broadcast_to(pose.joints, previous.shape))
+        else:
+            q, b = solve.nearest(arm, solutions, previous)
+        return q, b, True
+    value = configuration(form, arm, pose.joints)
+    if pose.motion == "joint" and named is not False:
+        q, b = select(form, arm, solutions, value)
+        if named or not np.isnan(q).any():
+            return q, b, True
+    q, b = solve.nearest(arm, solutions, previous)
+    if named is not None:
+        return q, b, named
+    full = pose.motion == "linear" and form != "confdata"  # LIN ignores S and T: naming them is harmless
+    if form == "confdata" and pose.motion == "linear":
+        found = ~np.isnan(q).any(axis=-1)
+        full = bool(np.all(FORMS[form].many(arm, q[found]) == np.asarray(value)))
+    return q, b, full

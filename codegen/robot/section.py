@@ -1,0 +1,211 @@
+"""The cell file's robot sections: [cell.robot] (arm and home per target), [cell.tool] and a station's config."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.poses import POSE_FORMATS
+from codegen.robot.arms import Arm, ArmError, arm_from_table, catalogue, check_inside, find_arm
+
+TOOL_MASS_MAX_KG = 1000.0
+DEFAULT_JOINT_MARGIN_DEG = 5.0  # codegen's choice: room for the path between two checked readings
+DEFAULT_WRIST_MARGIN_DEG = 5.0
+TOOL_OFFSET_MAX_MM = 2000.0
+
+
+@dataclass(frozen=True)
+class Tool:
+    tcp: tuple[float, ...]  # the TCP in the flange frame, as written (cell pose format)
+    tcp2flange: np.ndarray = field(compare=False)  # 4x4, mm
+    mass_kg: float
+    cog_mm: tuple[float, float, float]  # centre of gravity in the flange frame
+
+
+FLANGE = Tool((), np.eye(4), 0.0, (0.0, 0.0, 0.0))
+
+
+@dataclass(frozen=True)
+class Margins:
+    joint_deg: float  # every axis this far inside its limits over the correction region
+    wrist_deg: float  # the wrist axis this far from its singular angle
+
+
+@dataclass(frozen=True)
+class Robot:
+    """The cell's arms (per target that drives one), their home joints and the tool."""
+
+    arms: dict  # target name -> Arm
+    home: dict  # target name -> joints deg
+    tool: Tool
+    tool_given: bool
+    margins: Margins = Margins(DEFAULT_JOINT_MARGIN_DEG, DEFAULT_WRIST_MARGIN_DEG)
+
+
+@dataclass(frozen=True)
+class PoseConfig:
+    """A taught pose's configuration as the cell gives it: the target's own form or taught joints."""
+
+    form: str  # "confdata", "status_turn" or "joints"
+    value: tuple
+
+
+def configuration_of(target_name: str) -> str:
+    return get_target(target_name).configuration
+
+
+def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: str) -> Robot | None:
+    """[cell.robot] and [cell.tool]; None when the cell names no arm (nothing about the arm is checked)."""
+    tool, tool_given = FLANGE, False
+    if "tool" in cell_table:
+        tool, tool_given = _parse_tool(ctx, ctx.table(cell_table, "tool", "cell.tool"), pose_format), True
+    if "robot" not in cell_table:
+        if tool_given:
+            ctx.fail("cell.tool", "a tool needs [cell.robot]: the arm per target that carries it")
+        return None
+    table = ctx.table(cell_table, "robot", "cell.robot")
+    with_arm = [t for t in targets if configuration_of(t) != "none"]
+    allowed = {*with_arm, "home", "joint_margin_deg", "wrist_margin_deg"}
+    for key in sorted(set(table) - allowed):
+        if key in targets:
+            ctx.fail(f"cell.robot.{key}", f"the {key} target drives no arm model (no robot in its language)")
+        ctx.fail(f"cell.robot.{key}", f"unknown key; allowed: {', '.join(sorted(allowed))}")
+    arms: dict[str, Arm] = {}
+    for target in with_arm:
+        path = f"cell.robot.{target}"
+        value = ctx.require(table, target, path)
+        arms[target] = _arm(ctx, value, path, target)
+    home_table = table.get("home", {})
+    if not isinstance(home_table, dict):
+        ctx.fail("cell.robot.home", "expected a table of joint positions per target")
+    home = {}
+    for key in sorted(set(home_table) - set(arms)):
+        ctx.fail(f"cell.robot.home.{key}", f"no arm for this target; allowed: {', '.join(arms)}")
+    for target, arm in arms.items():
+        if target in home_table:
+            path = f"cell.robot.home.{target}"
+            joints = ctx.numbers(home_table[target], 6, path)
+            try:
+                check_inside(joints, arm.limits_deg, path)
+            except ArmError as exc:
+                ctx.fail(*str(exc).split(": ", 1))
+            home[target] = joints
+        else:
+            home[target] = arm.home_deg
+    margins = Margins(
+        _margin(ctx, table, "joint_margin_deg", DEFAULT_JOINT_MARGIN_DEG),
+        _margin(ctx, table, "wrist_margin_deg", DEFAULT_WRIST_MARGIN_DEG),
+    )
+    if not tool_given:
+        ctx.warnings.append(
+            f"{ctx.source}: cell.tool: not given: the programs move the flange (no TCP, no payload)"
+        )
+    return Robot(arms, home, tool, tool_given, margins)
+
+
+def _margin(ctx, table: dict, key: str, default: float) -> float:
+    if key not in table:
+        return default
+    value = ctx.number(table, key, f"cell.robot.{key}")
+    if not 0 <= value <= 90:
+        ctx.fail(f"cell.robot.{key}", f"expected degrees in [0, 90], got {value:g}")
+    return value
+
+
+def _arm(ctx, value, path: str, target: str) -> Arm:
+    if isinstance(value, str):
+        arm = find_arm(value)
+        if arm is None:
+            ctx.fail(path, f"unknown arm {value!r}; the catalogue has: {', '.join(catalogue())}")
+    elif isinstance(value, dict):
+        try:
+            arm = arm_from_table({"vendor": get_target(target).vendor, **value}, path)
+        except ArmError as exc:
+            ctx.fail(*str(exc).split(": ", 1))
+    else:
+        ctx.fail(path, "expected a catalogue model name or a table describing a custom arm")
+    vendor = get_target(target).vendor
+    if arm.vendor != vendor:
+        ctx.fail(path, f"{arm.model} is a {arm.vendor} arm; the {target} controller drives {vendor} arms")
+    return arm
+
+
+def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
+    ctx.no_unknown(table, {"tcp", "mass_kg", "cog_mm"}, "cell.tool")
+    count, to_matrix = POSE_FORMATS[pose_format][0], POSE_FORMATS[pose_format][1]
+    tcp = ctx.numbers(ctx.require(table, "tcp", "cell.tool.tcp"), count, "cell.tool.tcp")
+    if pose_format == "abb":
+        tcp = ctx.normalise_quaternion(tcp, "cell.tool.tcp")
+    scale = 1000.0 if pose_format == "ur" else 1.0
+    if max(abs(v) for v in tcp[:3]) * scale > TOOL_OFFSET_MAX_MM:
+        ctx.fail("cell.tool.tcp", f"the TCP must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
+    mass = ctx.number(table, "mass_kg", "cell.tool.mass_kg")
+    if not 0 < mass <= TOOL_MASS_MAX_KG:
+        ctx.fail("cell.tool.mass_kg", f"expected a mass in (0, {TOOL_MASS_MAX_KG:g}] kg (a moving tool has mass)")
+    cog = ctx.numbers(ctx.require(table, "cog_mm", "cell.tool.cog_mm"), 3, "cell.tool.cog_mm")
+    if max(abs(v) for v in cog) > TOOL_OFFSET_MAX_MM:
+        ctx.fail("cell.tool.cog_mm", f"the centre of gravity must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
+    matrix = to_matrix(tcp)
+    matrix.flags.writeable = False
+    return Tool(tcp, matrix, mass, cog)
+
+
+def parse_station_config(ctx, raw, path: str, robot: Robot | None, pose_names: list[str]) -> dict:
+    """[station.config.<target>]: pose name -> its configuration: target -> {pose: PoseConfig}."""
+    if raw is None:
+        return {}
+    if robot is None:
+        ctx.fail(path, "a configuration needs [cell.robot]")
+    if not isinstance(raw, dict):
+        ctx.fail(path, "expected a table of targets")
+    out = {}
+    for target, poses in raw.items():
+        tpath = f"{path}.{target}"
+        if target not in robot.arms:
+            ctx.fail(tpath, f"no arm for this target in [cell.robot]; allowed: {', '.join(robot.arms)}")
+        if not isinstance(poses, dict):
+            ctx.fail(tpath, "expected a table: pose name = configuration")
+        out[target] = {}
+        for pose, value in poses.items():
+            ppath = f"{tpath}.{pose}"
+            if pose not in pose_names:
+                ctx.fail(ppath, f"no such pose; the station's poses: {', '.join(pose_names)}")
+            out[target][pose] = _pose_config(ctx, value, ppath, configuration_of(target), robot.arms[target])
+    return out
+
+
+def _integers(ctx, value, count: int, low: int, high: int, path: str) -> tuple[int, ...]:
+    if not isinstance(value, list) or len(value) != count:
+        ctx.fail(path, f"expected {count} integers")
+    for i, v in enumerate(value):
+        if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
+            ctx.fail(f"{path}[{i}]", f"expected an integer in {low}..{high}, got {v!r}")
+    return tuple(value)
+
+
+def _pose_config(ctx, value, path: str, form: str, arm: Arm) -> PoseConfig:
+    if isinstance(value, dict) and set(value) == {"joints"}:
+        joints = ctx.numbers(value["joints"], 6, f"{path}.joints")
+        try:
+            check_inside(joints, arm.limits_deg, f"{path}.joints")
+        except ArmError as exc:
+            ctx.fail(*str(exc).split(": ", 1))
+        return PoseConfig("joints", joints)
+    if form == "confdata":
+        return PoseConfig(form, _integers(ctx, value, 4, -8, 7, path))
+    if form == "status_turn":
+        if not isinstance(value, dict) or set(value) != {"s", "t"}:
+            ctx.fail(path, "expected { s = status, t = turn } or { joints = [...] }")
+        s = _integers(ctx, [value["s"]], 1, 0, 7, f"{path}.s")[0]
+        t = _integers(ctx, [value["t"]], 1, 0, 63, f"{path}.t")[0]
+        return PoseConfig(form, (s, t))
+    if form == "joints":
+        joints = ctx.numbers(value, 6, path)
+        try:
+            check_inside(joints, arm.limits_deg, path)
+        except ArmError as exc:
+            ctx.fail(*str(exc).split(": ", 1))
+        return PoseConfig("joints", joints)
+    ctx.fail(path, "this target has no configuration")

@@ -1,0 +1,61 @@
+"""Joints for poses, batched: the analytic solutions within the limits, and the one nearest given joints."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from codegen.robot.arms import Arm
+
+TURN = 360.0
+# An axis on a quadrant or sign boundary (a vertical tool puts a wrist axis at exactly 0) satisfies the
+# configuration on either side: the analytic solution's rounding (1e-12 deg) must not turn it by 360.
+BOUNDARY_DEG = 1e-6
+
+
+def flange_poses(tcp2base: np.ndarray, tcp2flange: np.ndarray) -> np.ndarray:
+    """flange2base = tcp2base . inv(tcp2flange), for (..., 4, 4) poses."""
+    rot, trans = tcp2flange[:3, :3], tcp2flange[:3, 3]
+    flange2tcp = np.eye(4)
+    flange2tcp[:3, :3] = rot.T
+    flange2tcp[:3, 3] = -rot.T @ trans
+    return tcp2base @ flange2tcp
+
+
+def branches(arm: Arm, flange2base: np.ndarray) -> np.ndarray:
+    """The analytic solutions (..., 8, 6) in deg within (-180, 180]; NaN rows where a branch has none."""
+    return arm.kin.ik(flange2base)
+
+
+def inside(arm: Arm, q: np.ndarray) -> np.ndarray:
+    low, high = arm.limits[:, 0], arm.limits[:, 1]
+    return np.all((q >= low - 1e-9) & (q <= high + 1e-9), axis=-1)
+
+
+def shift_into(q: np.ndarray, low: np.ndarray) -> np.ndarray:
+    """q + 360 k, the smallest such value at or above low (k may be negative)."""
+    return q + TURN * np.ceil((low - q) / TURN - 1e-12)
+
+
+def nearest(arm: Arm, solutions: np.ndarray, q_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per pose, the solution (any branch, any turn within the limits) nearest q_ref in joint space
+    (Euclidean): how UR's movej and get_inverse_kin(x, qnear) choose, and how any controller's
+    linear move continues from the current joints. (..., 8, 6), (..., 6) -> joints (..., 6) (NaN where
+    none) and the branch (..., ) (the index of the analytic solution: the arm's configuration; -1: none)."""
+    ref = np.asarray(q_ref, dtype=float)[..., None, :]
+    q = solutions + TURN * np.round((ref - solutions) / TURN)  # each axis to the turn nearest the reference
+    low, high = arm.limits[:, 0], arm.limits[:, 1]
+    q = np.where(q > high, q - TURN, q)  # outside the limits: the next turn towards the inside, if any
+    q = np.where(q < low, q + TURN, q)
+    ok = inside(arm, q) & ~np.isnan(q).any(axis=-1)
+    distance = np.where(ok, np.linalg.norm(np.nan_to_num(q - ref), axis=-1), np.inf)
+    best = np.argmin(distance, axis=-1)
+    chosen = np.take_along_axis(q, best[..., None, None], axis=-2)[..., 0, :]
+    found = np.isfinite(np.min(distance, axis=-1))
+    return np.where(found[..., None], chosen, np.nan), np.where(found, best, -1)
+
+
+def first(q: np.ndarray, match: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    index = np.argmax(match, axis=-1)
+    chosen = np.take_along_axis(q, index[..., None, None], axis=-2)[..., 0, :]
+    found = match.any(axis=-1)
+    return np.where(found[..., None], chosen, np.nan), np.where(found, index, -1)
