@@ -5,7 +5,7 @@ from __future__ import annotations
 import hashlib
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property, lru_cache
 from pathlib import Path
 from typing import Any
@@ -16,6 +16,7 @@ from codegen.controllers import target_names
 from codegen.guard import READING_RANGE_MM, TAUGHT_RANGE_MM
 from codegen.kinds import get_kind, kinds
 from codegen.poses import POSE_FORMATS
+from codegen.robot.section import Robot, parse_robot, parse_station_config
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
 QUATERNION_TOLERANCE = 1e-6
@@ -63,6 +64,7 @@ class Station:
     poses: tuple[TaughtPose, ...]  # visiting order: first joint move, then linear
     kind: str  # the program kind (codegen/kinds/): the cell file's `mode` key
     spec: Any  # the kind's own data, e.g. PointSpec or FrameSpec
+    config: dict = field(default_factory=dict, compare=False)  # target -> pose -> PoseConfig ([station.config])
 
 
 @dataclass(frozen=True)
@@ -75,6 +77,7 @@ class Cell:
     stations: tuple[Station, ...]
     handeye: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None  # pixel -> mm
     settings: dict = field(default_factory=dict, compare=False)  # kind name -> its [cell.<table>] settings
+    robot: Robot | None = None  # [cell.robot] and [cell.tool]; None: the cell names no arm
     source: str = ""
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
@@ -89,11 +92,11 @@ class Cell:
 
 # --- loading ---------------------------------------------------------------------------------
 
-_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits"}  # and the kinds' cell_tables
+_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "robot", "tool"}  # and the kinds' cell_tables
 _CAMERA_KEYS = {"angle_sign", "handeye"}
 _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
-_STATION_KEYS = {"id", "name", "poses", "mode"}  # and the keys of the station's kind
+_STATION_KEYS = {"id", "name", "poses", "mode", "config"}  # and the keys of the station's kind
 STATION_ID_MAX = 32767  # the largest 16-bit signed integer, which every target reads without loss
 STATIONS_MAX = 2000  # verified here up to 1,500 stations per program; 3,000 nest too deeply to run
 POSES_MAX = 1000  # a station's poses are one run: 1,000 take about a tenth of verify's step limit
@@ -155,6 +158,8 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     if pose_format not in CELL_POSE_FORMATS:
         ctx.fail("cell.pose_format", f"unknown pose format {pose_format!r}; known: {', '.join(CELL_POSE_FORMATS)}")
 
+    robot = parse_robot(ctx, cell_table, tuple(targets), pose_format)
+
     camera = ctx.table(cell_table, "camera", "cell.camera")
     ctx.no_unknown(camera, _CAMERA_KEYS, "cell.camera")
     angle_sign = ctx.require(camera, "angle_sign", "cell.camera.angle_sign")
@@ -207,6 +212,15 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
             "if/elif chain that the interpreter verifies up to that length)",
         )
     stations = [ctx.station(raw, i + 1, pose_format) for i, raw in enumerate(stations_raw)]
+    stations = [
+        replace(
+            station,
+            config=parse_station_config(
+                ctx, raw.get("config"), f"station[{i}].config", robot, [p.name for p in station.poses]
+            ),
+        )
+        for i, (station, raw) in enumerate(zip(stations, stations_raw, strict=True), start=1)
+    ]
     seen_ids: dict[int, int] = {}
     seen_names: dict[str, int] = {}
     for i, station in enumerate(stations, start=1):
@@ -227,6 +241,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         stations=tuple(stations),
         handeye=handeye,
         settings=settings,
+        robot=robot,
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),

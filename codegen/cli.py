@@ -127,7 +127,8 @@ def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None
 @click.argument("cell", required=False, type=click.Path(dir_okay=False))
 @click.option("--target", "targets", multiple=True, help="Only this target (repeatable); default: the cell's targets.")
 @click.option("--out", "out_dir", default="generated", show_default=True, type=click.Path(file_okay=False))
-def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Report written files and the arm's margins as JSON.")
+def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: bool) -> None:
     """Write the programs of every target under OUT/<cell>/<target>/ (all or nothing)."""
     from pathlib import Path
 
@@ -141,7 +142,7 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
     try:
-        written, left_alone = run_generate(model, list(targets) or None, Path(out_dir))
+        written, left_alone, envelopes = run_generate(model, list(targets) or None, Path(out_dir))
     except (EmitError, GenerateError) as exc:
         raise UserError(f"{model.source}: {exc}") from None
     except OutputBusy as exc:
@@ -151,10 +152,22 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str) -> None:
             f"{out_dir}: cannot write ({exc.strerror or exc}); previous output left as it was"
         ) from None
 
+    if as_json:
+        _dump(
+            {
+                "cell": model.name,
+                "written": [str(p) for p in written],
+                "left_alone": left_alone,
+                "envelope": [e.as_json() for e in envelopes],
+            }
+        )
+        return
     for path in written:
         click.echo(f"wrote {path}")
     for note in left_alone:
         click.echo(f"left alone: {note}")
+    for envelope in envelopes:
+        click.echo(envelope.text())
 
 
 @main.command()
@@ -217,10 +230,19 @@ def _parse_input(text: str):
     multiple=True,
     help="Input NAME=VALUE (repeatable): the names are the [program] inputs of targets/<t>.toml.",
 )
+@click.option(
+    "--robot",
+    "robot",
+    default=None,
+    help="The arm (a catalogue model, e.g. 'KR 10 R1100 sixx'): every move is solved to joints by the "
+    "controller's rules and checked against the arm's reach and joint limits.",
+)
 @step_limit_option("Stop a runaway program after this many steps.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
-def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit: int, as_json: bool) -> None:
-    """Run one program in the built-in interpreter; print its log, moves and halt."""
+def run(
+    file: str, target_name: str | None, inputs: tuple[str, ...], robot: str | None, step_limit: int, as_json: bool
+) -> None:
+    """Run one program in the built-in interpreter; print its log, moves (and joints) and halt."""
     from pathlib import Path
 
     from codegen.controllers import get_target
@@ -239,6 +261,16 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     except ValueError as exc:
         raise UserError(str(exc)) from None
     values = dict(_parse_input(i) for i in inputs)
+    arm = None
+    if robot is not None:
+        from codegen.robot.arms import catalogue, find_arm
+
+        arm = find_arm(robot)
+        if arm is None:
+            raise UserError(f"--robot {robot!r}: not in the catalogue; it has: {', '.join(catalogue())}")
+        if arm.vendor != target.vendor:
+            where = f"--robot {robot!r}"
+            raise UserError(f"{where}: an arm of the {arm.vendor} controller; this program is for {target.name}")
     try:
         program = load_program_file(target, path)
     except RunError as exc:
@@ -252,13 +284,19 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
         )
     try:
         devices = [device for kind in kinds().values() for device in kind.devices(target)]
-        trace = program.run(values, step_limit=step_limit, devices=devices)
+        trace = program.run(values, step_limit=step_limit, devices=devices, arm=arm)
     except RunError as exc:
         click.echo(f"error: {exc}", err=True)
         sys.exit(1)
     native = POSE_FORMATS[target.pose_format][2]
     moves = [
-        {"motion": m.kind, "line": m.line, "pose": list(native(m.tcp2base)), "tcp2base": m.tcp2base.tolist()}
+        {
+            "motion": m.kind,
+            "line": m.line,
+            "pose": None if m.tcp2base is None else list(native(m.tcp2base)),
+            "tcp2base": None if m.tcp2base is None else m.tcp2base.tolist(),
+            "joints": None if m.joints is None else [round(float(v), 6) for v in m.joints],
+        }
         for m in trace.moves
     ]
     if as_json:
@@ -278,8 +316,9 @@ def run(file: str, target_name: str | None, inputs: tuple[str, ...], step_limit:
     for message in trace.messages:
         click.echo(f"message: {message}")
     for m in moves:
-        shown = " ".join(unsigned_zero(f"{v:.4f}") for v in m["pose"])
-        click.echo(f"{m['motion']:<6} (line {m['line']}): {shown}")
+        shown = "(a joint position)" if m["pose"] is None else " ".join(unsigned_zero(f"{v:.4f}") for v in m["pose"])
+        joints = "" if m["joints"] is None else "  joints " + " ".join(unsigned_zero(f"{v:.3f}") for v in m["joints"])
+        click.echo(f"{m['motion']:<6} (line {m['line']}): {shown}{joints}")
     if trace.halted:
         click.echo(f"HALT: {trace.halt_message}")
     else:
@@ -338,6 +377,13 @@ def verify(
     model = _load(cell)
     if cases < 0:
         raise UserError("--cases must be >= 0")
+    from codegen.emit import EmitError
+    from codegen.generate import GenerateError, check_envelope
+
+    try:
+        check_envelope(model, None)  # the reference's joints need every taught pose within the arm's reach
+    except GenerateError as exc:
+        raise UserError(f"{model.source}: {exc}") from None
     verify_cell = model
     if files:
         sources = []
@@ -368,9 +414,16 @@ def verify(
             raise UserError("no program to verify: a data file is read together with its program; give the program")
     else:
         names = list(targets) or list(model.targets)
-        verify_cell = v.edge_cell(model)
-        sources = v.fresh_sources(verify_cell, names)
+        verify_cell = v.edge_cell(model) if model.robot is None else model
+        try:
+            sources = v.fresh_sources(verify_cell, names)
+        except EmitError as exc:
+            raise UserError(f"{model.source}: {exc}") from None
     case_list = v.build_cases(verify_cell, cases, seed)
+    edge = None if files else v.edge_only_cell(model)  # with an arm: the edge poses' programs, without it
+    if edge is not None:
+        edge_sources = v.fresh_sources(edge, names)
+        edge_cases = v.build_cases(edge, cases, seed)
     total = len(case_list) * len(sources)
     workers = jobs if jobs > 0 else (os.cpu_count() or 1)
     start = time.perf_counter()
@@ -382,6 +435,11 @@ def verify(
                 )
         else:
             reports = v.run_verify(model, sources, case_list, workers, None, verify_cell, step_limit=step_limit)
+        if edge is not None:
+            extra = v.run_verify(
+                edge, edge_sources, edge_cases, workers, None, edge, sweep=False, step_limit=step_limit
+            )
+            reports = [v.merge_reports([r, e]) for r, e in zip(reports, extra, strict=True)]
     except RunError as exc:  # a program that cannot be loaded here (e.g. nested too deeply)
         raise click.ClickException(str(exc)) from None
     wall = time.perf_counter() - start

@@ -11,6 +11,8 @@ from codegen import data_dir
 
 TARGETS_DIR = data_dir("targets")
 IDENTIFIER_CASES = ("as_written", "upper")
+# how a taught pose names its arm configuration (codegen/robot/config.py FORMS), or "none": no arm at all
+CONFIGURATIONS = ("confdata", "status_turn", "joints", "none")
 
 
 class TargetError(Exception):
@@ -32,6 +34,8 @@ class Target:
     identifier_case: str  # how generated identifiers are written: IDENTIFIER_CASES
     identifier_case_sensitive: bool
     string_max: int
+    vendor: str  # the arms its controller drives (codegen/robot/catalogue.toml), "none" without a robot
+    configuration: str  # how a taught pose names its arm configuration (codegen/robot/section.py)
     sources: tuple[str, ...]
     program: dict  # the [program] table: names and settings the templates and verify read
 
@@ -51,6 +55,8 @@ _SCALARS = {
     "identifier_case": str,
     "identifier_case_sensitive": bool,
     "string_max": int,
+    "vendor": str,
+    "configuration": str,
 }
 
 
@@ -70,6 +76,7 @@ _PROGRAM = {
     "photo_registers": dict,
     "level_frames_only": bool,  # frames compose only in the x-y plane
     "base_data": dict,  # name ("...{n}...") and max of the controller's numbered bases
+    "joint_unit": str,  # "deg" or "rad": how the language writes joint positions
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
 
@@ -93,6 +100,12 @@ def _load(path: Path) -> Target:
         raise TargetError(f"{path}: name: must be the file's name {path.stem!r}")
     if facts["identifier_case"] not in IDENTIFIER_CASES:
         raise TargetError(f"{path}: identifier_case: expected one of {', '.join(IDENTIFIER_CASES)}")
+    if facts["configuration"] not in CONFIGURATIONS:
+        raise TargetError(f"{path}: configuration: expected one of {', '.join(CONFIGURATIONS)}")
+    if (facts["configuration"] == "none") != (facts["vendor"] == "none"):
+        raise TargetError(
+            f"{path}: vendor and configuration: a target has both an arm vendor and a configuration, or neither"
+        )
     if not facts["sources"]:
         raise TargetError(f"{path}: sources: each target cites where its facts come from")
     program = facts["program"]

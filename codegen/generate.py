@@ -9,6 +9,8 @@ from pathlib import Path
 from codegen.cell import Cell
 from codegen.output import replace_cell, written_by_codegen
 from codegen.render import RenderedFile, cell_dir, render
+from codegen.robot.envelope import TargetEnvelope, check
+from codegen.robot.taught import ReachError
 
 STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
 
@@ -32,15 +34,28 @@ def check_rendered(files: list[RenderedFile]) -> None:
             raise GenerateError(f"{f.relpath}: generated program does not parse: {exc}") from exc
 
 
-def generate(cell: Cell, targets: list[str] | None, out_dir: Path) -> tuple[list[Path], list[str]]:
-    """Render, check, then replace the cell's output folder whole (codegen.output): the regenerated
-    targets' programs are the new ones, everything codegen did not write stays. Returns the written
-    paths and what was left alone."""
+def check_envelope(cell: Cell, targets: list[str] | None) -> list[TargetEnvelope]:
+    """The envelope check of every requested target with an arm (codegen/robot/envelope.py)."""
+    wanted = list(targets or cell.targets)
+    try:
+        return [envelope for envelope in check(cell) if envelope.target in wanted]
+    except ReachError as exc:
+        raise GenerateError(str(exc)) from None
+
+
+def generate(
+    cell: Cell, targets: list[str] | None, out_dir: Path
+) -> tuple[list[Path], list[str], list[TargetEnvelope]]:
+    """Check the envelope, render, check, then replace the cell's output folder whole (codegen.output):
+    the regenerated targets' programs are the new ones, everything codegen did not write stays.
+    Returns the written paths, what was left alone and each target's margins."""
+    envelopes = check_envelope(cell, targets)
     files = render(cell, targets)
     check_rendered(files)
     folder = cell_dir(cell)
     below = {f.relpath.split("/", 1)[1]: f.text for f in files}
-    return replace_cell(out_dir, folder, below, list(targets or cell.targets))
+    written, left_alone = replace_cell(out_dir, folder, below, list(targets or cell.targets))
+    return written, left_alone, envelopes
 
 
 def mixed_stamps(paths: list[Path]) -> str | None:

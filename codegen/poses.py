@@ -241,3 +241,16 @@ def native_values(values, from_format: str, to_format: str) -> tuple[float, ...]
         x, y, z, u, v, w = values
         return (x, y, z, w, v, u)
     return POSE_FORMATS[to_format][2](POSE_FORMATS[from_format][1](values))
+
+
+def planar_motions(offsets: np.ndarray) -> np.ndarray:
+    """Trans(dx, dy, 0) . Rz(angle) for each row (dx mm, dy mm, angle deg) of offsets: (N, 4, 4)."""
+    offsets = np.asarray(offsets, dtype=float)
+    angle = np.radians(offsets[:, 2])
+    out = np.zeros((len(offsets), 4, 4))
+    out[:, 0, 0] = out[:, 1, 1] = np.cos(angle)
+    out[:, 1, 0] = np.sin(angle)
+    out[:, 0, 1] = -out[:, 1, 0]
+    out[:, 2, 2] = out[:, 3, 3] = 1.0
+    out[:, 0, 3], out[:, 1, 3] = offsets[:, 0], offsets[:, 1]
+    return out

@@ -11,6 +11,7 @@ from codegen.controllers import Target, get_target
 from codegen.emit import Emitter, folder_name
 from codegen.guard import GUARD_CODES, READING_RANGE_DEG, READING_RANGE_MM, UNKNOWN_STATION_TEXT
 from codegen.kinds import get_kind, kinds
+from codegen.robot.emission import cell_robot, station_arm
 
 TEMPLATES_DIR = data_dir("templates")
 
@@ -45,6 +46,9 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         }
         for i, pose in enumerate(station.poses)
     ]
+    arm = station_arm(cell, target, station)  # the kind's arm poses; the station's poses are the last ones
+    for pose, config in zip(poses, arm[len(arm) - len(poses) :] if arm else [None] * len(poses), strict=True):
+        pose["config"] = config
     kind = get_kind(station.kind)
     own = kind.station_context(cell, station, target, emitter)
     shared = {
@@ -54,6 +58,7 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         "ident": emitter.identifier("st_", station.name, origin),
         "poses": poses,
         "work": poses[-1],
+        "arm": arm,
     }
     return _merged(shared, own, f"station context of the {station.kind} kind")
 
@@ -96,6 +101,7 @@ def context(cell: Cell, target: Target) -> dict:
         "kinds_used": [name for name in kinds() if name in used],
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
         "target": target,
+        "robot": cell_robot(cell, target),
     }
     for kind in kinds().values():
         out = _merged(out, kind.cell_context(cell, target, emitter), f"cell context of the {kind.name} kind")

@@ -22,6 +22,7 @@ from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace
+from codegen.robot.expect import ArmStats, arm_of, arm_problem, home_move
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
 # stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings
@@ -53,6 +54,7 @@ class TargetReport:
     categories: dict[str, int] = field(default_factory=dict)
     unknown_ids: int = 0  # ids of the whole barcode range that are not stations, each checked to halt
     kind_stats: dict = field(default_factory=lambda: {name: kind.new_stats() for name, kind in kinds().items()})
+    arm: ArmStats = field(default_factory=ArmStats)
 
     def summary(self) -> dict:
         def stats(values):
@@ -76,6 +78,8 @@ class TargetReport:
             "cases_per_second": self.cases / self.seconds if self.seconds else None,
             "unknown_ids_checked": self.unknown_ids,
         }
+        if self.arm.moves:
+            out["arm"] = self.arm.summary()
         for name, kind in kinds().items():  # each kind's own figures, under its name
             own = kind.summary(self.kind_stats[name])
             if own is not None:
@@ -155,6 +159,15 @@ def edge_cell(cell: Cell) -> Cell:
     return replace(cell, stations=(*cell.stations, station))
 
 
+def edge_only_cell(cell: Cell) -> Cell | None:
+    """For a cell with an arm: its edge-case poses (which no arm need reach: they test the pose
+    conventions) as a cell of their own without the arm, verified beside the cell's programs."""
+    edge = edge_cell(replace(cell, robot=None))
+    if cell.robot is None or len(edge.stations) == len(cell.stations):
+        return None
+    return replace(edge, stations=edge.stations[-1:])
+
+
 def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
     """Each station's cases from its kind (one random sequence for the cell), then unknown stations."""
     rng = random.Random(seed)
@@ -201,10 +214,10 @@ def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter
 
 
 @lru_cache(maxsize=64)
-def _move_settings(target_name: str, kind: str, exact: bool) -> dict:
+def _move_settings(target_name: str, kind: str, exact: bool, own_tool: bool) -> dict:
     """What a target's facts ask of a move (read once per target, not per move of every case)."""
     target = get_target(target_name)
-    return get_dialect(target.dialect).move_settings(target.program, kind, exact)
+    return get_dialect(target.dialect).move_settings(target.program, kind, exact, own_tool)
 
 
 LOG_PREFIXES = tuple(prefix for kind in kinds().values() for prefix in kind.log_prefixes)
@@ -229,13 +242,16 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
             return f"halt message {got.halt_message!r}, expected {want!r}", [], []
     elif got.halted:
         return f"unexpected halt: {got.halt_message!r}", [], []
-    if len(got.moves) != len(expected.moves):
-        return f"{len(got.moves)} moves, expected {len(expected.moves)}", [], []
+    home = home_move(cell, target.name)
+    moves = expected.moves if home is None else (home[0], *expected.moves)
+    if len(got.moves) != len(moves):
+        return f"{len(got.moves)} moves, expected {len(moves)}", [], []
+    own_tool = cell.robot is not None and cell.robot.tool_given
     pos_errors, rot_errors = [], []
-    for i, (g, e) in enumerate(zip(got.moves, expected.moves, strict=True)):
+    for i, (g, e) in enumerate(zip(got.moves, moves, strict=True)):
         if g.kind != e.kind:
             return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
-        for key, want in _move_settings(target.name, e.kind, e.exact).items():
+        for key, want in _move_settings(target.name, e.kind, e.exact, own_tool).items():
             have = g.settings.get(key)
             numbers = isinstance(want, float) and isinstance(have, float)
             if have != want and not (numbers and math.isclose(have, want, rel_tol=1e-6)):  # float32 values
@@ -253,6 +269,10 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
                 pos_errors,
                 rot_errors,
             )
+    if home is not None:
+        problem = arm_problem(cell, target.name, expected, moves, got.moves, home[1])
+        if problem is not None:
+            return problem, pos_errors, rot_errors
     if expected.status == "halt":
         return None, pos_errors, rot_errors
     numbers = _log_numbers(got.messages)
@@ -306,6 +326,7 @@ def verify(
                 got = program.run(
                     inputs_for(model, target, case.reading),
                     step_limit=step_limit,
+                    arm=arm_of(model, name),
                     **run_options(model, target, case.reading),
                 )
             except StepLimitError as exc:
@@ -327,6 +348,8 @@ def verify(
             report.pos_errors.extend(pos)
             report.rot_errors.extend(rot)
             report.moves += len(pos) if problem is None else 0
+            if problem is None:
+                report.arm.add(model, name, got.moves)
             if problem is not None:
                 report.mismatches += 1
                 if len(report.first_mismatches) < 10:
@@ -413,10 +436,11 @@ def sweep_unknown_ids(
                 continue
             report.unknown_ids += 1
             try:
-                got = program.run({key: station_id}, step_limit=step_limit)
+                got = program.run({key: station_id}, step_limit=step_limit, arm=arm_of(cell, name))
                 problem = None
-                if got.moves or not got.halted or got.halt_message != f"{text}{station_id}":
-                    problem = f"{len(got.moves)} moves, halt message {got.halt_message!r}"
+                before = 0 if home_move(cell, name) is None else 1  # the home move comes first
+                if len(got.moves) != before or not got.halted or got.halt_message != f"{text}{station_id}":
+                    problem = f"{len(got.moves) - before} moves, halt message {got.halt_message!r}"
             except StepLimitError as exc:
                 report.mismatches += 1
                 report.first_mismatches.append(f"unknown station id {station_id}: {exc}; the sweep stopped")
@@ -445,7 +469,7 @@ def _verify_chunk(args) -> list[TargetReport]:
     return verify(cell, targets, programs, work, verify_cell=verify_cell, step_limit=step_limit)
 
 
-def _merge(parts: list[TargetReport]) -> TargetReport:
+def merge_reports(parts: list[TargetReport]) -> TargetReport:
     out = TargetReport(parts[0].target, parts[0].files)
     for part in parts:
         out.cases += part.cases
@@ -458,6 +482,7 @@ def _merge(parts: list[TargetReport]) -> TargetReport:
         out.first_mismatches.extend(part.first_mismatches[: 10 - len(out.first_mismatches)])
         out.seconds += part.seconds
         out.unknown_ids += part.unknown_ids
+        out.arm.merge(part.arm)
         for name, kind in kinds().items():
             kind.merge_stats(out.kind_stats[name], part.kind_stats[name])
         for key, count in part.categories.items():
@@ -503,4 +528,4 @@ def run_verify(
         with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
             for reports in pool.map(_verify_chunk, tasks):
                 collect(reports)
-    return [_merge(parts[source.target]) for source in sources]
+    return [merge_reports(parts[source.target]) for source in sources]

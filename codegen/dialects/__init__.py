@@ -51,10 +51,11 @@ class Dialect:
         return cls.module("interpreter").parse(text, filename, positions)
 
     @classmethod
-    def move_settings(cls, program: dict, kind: str, exact: bool) -> dict:
+    def move_settings(cls, program: dict, kind: str, exact: bool, own_tool: bool = False) -> dict:
         """How a correct program moves the arm to a pose, as the interpreter records it (MoveEvent
         settings): from the target's [program] facts; `exact` where the arm must stop at the pose (a
-        work pose, a photo pose), so no blending. Empty: the language states nothing to compare."""
+        work pose, a photo pose), so no blending; `own_tool` where the program declares the cell's tool.
+        Empty: the language states nothing to compare."""
         return {}
 
     @classmethod

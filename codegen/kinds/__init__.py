@@ -88,6 +88,19 @@ class ProgramKind:
         """Template variables of one station of this kind."""
         return {}
 
+    # --- the arm -----------------------------------------------------------------------------
+    @classmethod
+    def arm_poses(cls, cell, station) -> list[tuple[str, Any, str]]:
+        """The poses the arm visits in a station, in order: (pose name, tcp2base at calibration,
+        "joint" or "linear"). Each has one configuration in the program (codegen/robot/)."""
+        return [(p.name, p.matrix(), "joint" if i == 0 else "linear") for i, p in enumerate(station.poses)]
+
+    @classmethod
+    def region(cls, cell, station, offsets) -> Any:
+        """Every arm pose corrected by every reading the guard lets through: offsets is (N, 3) of
+        (dx mm, dy mm, rotation deg) over the cell's limits; returns (N, len(arm_poses), 4, 4) tcp2base."""
+        raise NotImplementedError
+
     # --- reference and verify --------------------------------------------------------------
     @classmethod
     def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:

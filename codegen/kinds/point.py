@@ -21,7 +21,7 @@ from codegen.guard import (
     reading_in_range,
 )
 from codegen.kinds import Case, ProgramKind
-from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz, wrap_deg
+from codegen.poses import concat, invert, matrix_from_rotation_translation, planar_motions, rotz, wrap_deg
 from codegen.reference import JOINT, LINEAR, ExpectedTrace, Move
 
 MARK_DECIMALS = 6
@@ -130,6 +130,15 @@ class PointKind(ProgramKind):
         return replace(spec, mark=(x + mm, y, theta))
 
     @classmethod
+    def region(cls, cell, station, offsets) -> np.ndarray:
+        # D = Trans(tn) Rz(phi) Trans(-t) with tn = t + (dx, dy): D = Trans(t) . (Trans(d) Rz(phi)) . Trans(-t)
+        x, y, _theta = station.spec.mark
+        corr = planar_motions(offsets)
+        corr[:, :2, 3] += np.array([x, y]) - np.einsum("nij,j->ni", corr[:, :2, :2], [x, y])
+        poses = np.array([p.matrix() for p in station.poses])
+        return np.einsum("nij,mjk->nmik", corr, poses)
+
+    @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:
         # the derivation's blocks: D = Trans(tn) Rz(phi) Trans(-t) ("frame") and Pn = D . P ("point")
         return {
@@ -172,6 +181,11 @@ class PointKind(ProgramKind):
             cases.append(Case("phi_at_limit_with_shift", reading(0.3 * shift, -0.4 * shift, sign * rot)))
             cases.append(Case("inside_rotation_limit", reading(0.0, 0.0, sign * (rot - 1e-3))))
             cases.append(Case("beyond_rotation_limit", reading(0.0, 0.0, sign * (rot + 1e-3))))
+        for k in range(8):  # the region's corners: shift and rotation both near their limits
+            a = k * math.pi / 4
+            for sign in (1, -1):
+                dx, dy = 0.999 * shift * math.cos(a), 0.999 * shift * math.sin(a)
+                cases.append(Case("corner", reading(dx, dy, sign * 0.999 * rot)))
         cases.append(Case("far_beyond", reading(5 * shift, 0.0, 0.0)))
         cases.append(Case("far_beyond", reading(0.0, 0.0, min(179.0, 5 * rot))))
         for bad in (

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from codegen.dialects.core.arm import ArmState
 from codegen.dialects.core.values import Halt, RunError, Signal, StepLimitError
 
 if TYPE_CHECKING:
@@ -19,9 +20,10 @@ DEFAULT_STEP_LIMIT = 200_000
 @dataclass
 class MoveEvent:
     kind: str  # "joint" or "linear"
-    tcp2base: np.ndarray  # 4x4 float64, mm
+    tcp2base: np.ndarray | None  # 4x4 float64, mm (a joint target's: filled when the run's moves are solved)
     line: int
     settings: dict = field(default_factory=dict)  # how the arm moves there, in the dialect's terms
+    joints: np.ndarray | None = None  # deg, where the arm's axes end (None: the run has no arm)
 
 
 @dataclass
@@ -91,8 +93,11 @@ class Frame:
 class Machine:
     """State of one run: globals, injected inputs, trace, step counter."""
 
-    def __init__(self, program: Program, inputs: dict, step_limit: int, devices: tuple[Device, ...] = ()) -> None:
+    def __init__(
+        self, program: Program, inputs: dict, step_limit: int, devices: tuple[Device, ...] = (), arm=None
+    ) -> None:
         self.program = program
+        self.arm = ArmState(arm)  # the arm's tool and joints (no checks when arm is None)
         self.globals: dict = {}
         self.global_types: dict = {}
         self.inputs = inputs
@@ -105,7 +110,10 @@ class Machine:
 
     def wait(self, where: str) -> bool:
         """The program waits (WAIT FOR, WaitUntil, sync()): every device may act on the program's
-        variables; True when one of them did (the wait's condition is then tested again)."""
+        variables; True when one of them did (the wait's condition is then tested again). The arm has
+        finished its moves when a device looks at it."""
+        if self.devices:
+            self.arm.resolve()
         acted = False
         for device in self.devices:
             if device.on_wait(self, where):
@@ -156,12 +164,17 @@ class Program:
         return [name for name in names if not self.compiler.accepts_input(name, globals_)]
 
     def run(
-        self, inputs: dict | None = None, step_limit: int = DEFAULT_STEP_LIMIT, devices: Iterable[Device] = ()
+        self,
+        inputs: dict | None = None,
+        step_limit: int = DEFAULT_STEP_LIMIT,
+        devices: Iterable[Device] = (),
+        arm=None,
     ) -> Trace:
         """One run from the initial globals with these inputs; devices (simulated equipment beside
-        the controller) act whenever the program waits."""
+        the controller) act whenever the program waits; arm (codegen.robot.arms.Arm): the arm whose
+        joints each move must reach by the controller's rules (None: poses only)."""
         globals_, types, extra = self._prepare(step_limit)
-        machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices))
+        machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices), arm)
         machine.globals = dict(globals_)  # values are never changed in place: sharing them is safe
         machine.global_types = dict(types)
         machine.extra = dict(extra)
@@ -179,5 +192,6 @@ class Program:
         except Halt as halt:
             machine.trace.halted = True
             machine.trace.halt_message = halt.args[0] if halt.args else None
+        machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
         machine.trace.steps = machine.steps
         return machine.trace

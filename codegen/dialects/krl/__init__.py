@@ -9,7 +9,7 @@ class KRL(Dialect):
     companions = (".dat",)  # the data list of a .src: declarations and initial values
 
     @classmethod
-    def move_settings(cls, program: dict, kind: str, exact: bool) -> dict:
+    def move_settings(cls, program: dict, kind: str, exact: bool, own_tool: bool = False) -> dict:
         """No approximation (C_PTP, C_DIS, ...): the generated programs stop at every pose."""
         return {"approx": None}
 

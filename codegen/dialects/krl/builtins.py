@@ -39,6 +39,8 @@ STRUCTS = {
     "E6POS": [*XYZABC, ("S", "INT"), ("T", "INT")] + [(f"E{i}", "REAL") for i in range(1, 7)],
     "AXIS": [(f"A{i}", "REAL") for i in range(1, 7)],
     "E6AXIS": [(f"A{i}", "REAL") for i in range(1, 7)] + [(f"E{i}", "REAL") for i in range(1, 7)],
+    "LOAD": [("M", "REAL"), ("CM", "FRAME"), ("J", "INERTIA")],  # kg, mm and deg, kg m^2 (KUKA payload data)
+    "INERTIA": [("X", "REAL"), ("Y", "REAL"), ("Z", "REAL")],
     "KRLMSG_T": [("MODUL", "CHAR"), ("NR", "INT"), ("MSG_TXT", "CHAR")],
     "KRLMSGPAR_T": [
         ("PAR_TYPE", "ENUM"),

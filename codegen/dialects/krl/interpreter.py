@@ -46,6 +46,36 @@ NO_SKIP = frozenset()
 ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
 
 
+AXES = ("AXIS", "E6AXIS")
+
+
+def _rule(kind: str, pose: Record, arm, where: str) -> tuple:
+    """How the controller picks the joints of a cartesian target (KSS 8 manual, Status and Turn): a PTP
+    honours the target's S and T; a PTP without them keeps the current Status; LIN ignores S and T
+    and keeps the configuration; a PTP with S but no T takes S and the shortest turn. The first motion
+    (BCO) must be a PTP to a full position."""
+    status = pose.type != "FRAME" and pose["S"] is not UNINIT
+    status_turn = status and pose["T"] is not UNINIT
+    if arm.arm is not None and not arm.known and not (kind == "joint" and status_turn):
+        raise RunError(
+            f"{where}: the first motion (BCO run) must be a PTP to a full position: an E6AXIS, or a POS or "
+            "E6POS with S and T"
+        )
+    if kind == "joint" and status_turn:
+        return "status_turn", (int(pose["S"]), int(pose["T"]))
+    if kind == "joint" and status:  # S without T: the shortest turn from where the arm stands
+        return "status", int(pose["S"])
+    return ("keep",)
+
+
+def _load(load) -> tuple | None:
+    """$LOAD as (mass kg, centre of gravity x, y, z mm), or None before the program sets it."""
+    if not isinstance(load, Record) or load["M"] is UNINIT:
+        return None
+    cm = load["CM"]
+    return (float(load["M"]), *(float(cm[k]) if cm is not UNINIT else 0.0 for k in ("X", "Y", "Z")))
+
+
 class KRLCompiler(Compiler):
     name = "krl"
     case_insensitive = True
@@ -285,6 +315,23 @@ class KRLCompiler(Compiler):
                 fr.m.extra["$BASE"] = self.coerce("FRAME", value(fr), where)
 
             return set_base
+        if is_var and str(target_node.children[0]).upper() == "$TOOL":
+            value, where = self.expr(value_node), self.where(node)
+
+            def set_tool(fr):
+                tool = cart(self.coerce("FRAME", value(fr), where), where)
+                posemath.check_finite(xyzabc(tool), where, "$TOOL")
+                fr.m.extra["$TOOL"] = tool
+                fr.m.arm.tcp2flange = cart_matrix(tool)
+
+            return set_tool
+        if is_var and str(target_node.children[0]).upper() == "$LOAD":
+            value, where = self.expr(value_node), self.where(node)
+
+            def set_load(fr):
+                fr.m.extra["$LOAD"] = self.coerce("LOAD", value(fr), where)
+
+            return set_load
         return super().s_assign(node)
 
     # --- declarations ------------------------------------------------------------------------
@@ -368,13 +415,24 @@ class KRLCompiler(Compiler):
                 if missing:
                     raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
                 target = self.coerce("FRAME", target, where)
+            settings["load"] = _load(fr.m.extra.get("$LOAD"))
+            if isinstance(target, Record) and target.type in AXES:  # axis values: no solution to choose
+                if kind != "joint":
+                    raise RunError(f"{where}: LIN takes a cartesian target")
+                q = [float(valid(target[f"A{i}"], where, f"{target.type}.A{i}")) for i in range(1, 7)]
+                event = MoveEvent(kind, None, line, settings)
+                fr.m.arm.to_joints(event, q, where)
+                fr.m.trace.moves.append(event)
+                return
             pose = cart(target, where)
             posemath.check_finite(xyzabc(pose), where, "motion target")
             base = fr.m.extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
             tcp2base = cart_matrix(pose)
             if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
                 tcp2base = cart_matrix(base) @ tcp2base
-            fr.m.trace.moves.append(MoveEvent(kind, tcp2base, line, settings))
+            event = MoveEvent(kind, tcp2base, line, settings)
+            fr.m.arm.to_pose(event, where, *_rule(kind, pose, fr.m.arm, where))
+            fr.m.trace.moves.append(event)
 
         return run
 

@@ -22,6 +22,10 @@ RECORDS = {
     "CONFDATA": [("CF1", "NUM"), ("CF4", "NUM"), ("CF6", "NUM"), ("CFX", "NUM")],
     "EXTJOINT": [(f"EAX_{c}", "NUM") for c in "ABCDEF"],
     "ROBTARGET": [("TRANS", "POS"), ("ROT", "ORIENT"), ("ROBCONF", "CONFDATA"), ("EXTAX", "EXTJOINT")],
+    "LOADDATA": [("MASS", "NUM"), ("COG", "POS"), ("AOM", "ORIENT"), ("IX", "NUM"), ("IY", "NUM"), ("IZ", "NUM")],
+    "TOOLDATA": [("ROBHOLD", "BOOL"), ("TFRAME", "POSE"), ("TLOAD", "LOADDATA")],
+    "ROBJOINT": [(f"ROB_AX{i}", "NUM") for i in range(1, 7)],
+    "JOINTTARGET": [("ROBAX", "ROBJOINT"), ("EXTAX", "EXTJOINT")],
     "WOBJDATA": [("ROBHOLD", "BOOL"), ("UFPROG", "BOOL"), ("UFMEC", "STRING"), ("UFRAME", "POSE"), ("OFRAME", "POSE")],
 }
 SCALARS = {"NUM", "DNUM", "BOOL", "STRING"}
@@ -95,6 +99,28 @@ def pose_record(trans, quat) -> Record:
             "ROT": Record("ORIENT", {"Q1": f32(q1), "Q2": f32(q2), "Q3": f32(q3), "Q4": f32(q4)}),
         },
     )
+
+
+def _tool(fr, args, where: str) -> tuple | None:
+    """The move's tooldata becomes the active tool: its TCP for the arm, its load (mass kg, centre of
+    gravity mm) for the trace. tool0 is the flange."""
+    tool = args[3] if len(args) > 3 else None
+    if not isinstance(tool, Record):
+        if tool != "TOOL0":
+            raise RunError(f"{where}: the move names no tooldata")
+        fr.m.arm.tcp2flange = np.eye(4)
+        return None
+    if not tool["ROBHOLD"]:
+        raise RunError(f"{where}: a stationary tool (robhold FALSE) is not supported")
+    frame = tool["TFRAME"]
+    pose7 = vec(frame["TRANS"], "XYZ") + vec(frame["ROT"], QUAT_KEYS)
+    posemath.check_finite(pose7, where, "tooldata tframe")
+    fr.m.arm.tcp2flange = posemath.matrix_from_abb(pose7)
+    load = tool["TLOAD"]
+    mass = float(load["MASS"])
+    if not mass > 0:
+        raise RunError(f"{where}: a tool the robot holds must have a mass above 0 kg (tooldata tload)")
+    return (mass, *vec(load["COG"], "XYZ"))
 
 
 def builtins(compiler) -> dict:
@@ -219,10 +245,42 @@ def builtins(compiler) -> dict:
             elif wobj not in (None, "WOBJ0"):
                 raise RunError(f"{where}: unknown work object {wobj}")
             speed, zone, tool = (_setting(args, i) for i in (1, 2, 3))
-            settings = {"speed": speed, "zone": zone, "tool": tool}
-            fr.m.trace.moves.append(MoveEvent(kind, m, int(where.split(":")[1]), settings))
+            settings = {"speed": speed, "zone": zone, "tool": tool, "load": _tool(fr, args, where)}
+            conf = vec(target["ROBCONF"], ("CF1", "CF4", "CF6", "CFX"))
+            check = fr.m.extra.get("CONFJ" if kind == "joint" else "CONFL", True)
+            robconf = tuple(int(v) for v in conf)
+            event = MoveEvent(kind, m, int(where.split(":")[1]), settings)
+            if kind == "joint" and check:  # ConfJ on (the default): the robot moves to the programmed configuration
+                fr.m.arm.to_pose(event, where, "confdata", robconf)
+            elif kind == "joint":  # ConfJ off: the closest configuration
+                fr.m.arm.to_pose(event, where, "nearest")
+            else:  # linear: the closest configuration; ConfL on: it must be the programmed one at the end
+                fr.m.arm.to_pose(event, where, "keep", check=robconf if check else None)
+            fr.m.trace.moves.append(event)
 
         return run
+
+    def configuration_check(name):
+        def run(fr, args, kwargs, where):
+            # ConfJ \On / \Off, ConfL \On / \Off: the configuration check of MoveJ / MoveL (on by default)
+            switches = set(kwargs)
+            if len(switches & {"ON", "OFF"}) != 1 or args:
+                raise RunError(f"{where}: {name} takes \\On or \\Off")
+            fr.m.extra[name] = "ON" in switches
+
+        return run
+
+    def move_abs_j(fr, args, kwargs, where):
+        target = args[0]
+        if type(target) is not Record or target.type != "JOINTTARGET":
+            target = compiler.coerce("JOINTTARGET", target, where)
+        q = vec(target["ROBAX"], tuple(f"ROB_AX{i}" for i in range(1, 7)))
+        posemath.check_finite(q, where, "joint target")
+        speed, zone, tool = (_setting(args, i) for i in (1, 2, 3))
+        settings = {"speed": speed, "zone": zone, "tool": tool, "load": _tool(fr, args, where)}
+        event = MoveEvent("joint", None, int(where.split(":")[1]), settings)
+        fr.m.arm.to_joints(event, q, where)
+        fr.m.trace.moves.append(event)
 
     return {
         "SIN": trig(math.sin),
@@ -243,6 +301,9 @@ def builtins(compiler) -> dict:
         "EXIT": halt,
         "MOVEJ": move("joint"),
         "MOVEL": move("linear"),
+        "MOVEABSJ": move_abs_j,
+        "CONFJ": configuration_check("CONFJ"),
+        "CONFL": configuration_check("CONFL"),
     }
 
 

@@ -8,7 +8,7 @@ class URScript(Dialect):
     suffixes = (".script",)
 
     @classmethod
-    def move_settings(cls, program: dict, kind: str, exact: bool) -> dict:
+    def move_settings(cls, program: dict, kind: str, exact: bool, own_tool: bool = False) -> dict:
         """The facts' "a=1.2, v=0.25" of movej/movel, and blend radius r = 0: the generated programs
         stop at every pose (a blend on a work pose would cut its corner)."""
         text = program["joint_move" if kind == "joint" else "linear_move"]

@@ -13,6 +13,7 @@ from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import MoveEvent, Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
+from codegen.robot import solve
 
 INPUT_REGISTER = re.compile(r"input_(?:integer|float|boolean)_register_(\d+)")
 # movej/movel keyword arguments and their defaults (URScript manual, module motion): acceleration a,
@@ -50,6 +51,14 @@ def _pose(value, where: str) -> URPose:
     if not isinstance(value, URPose):
         raise RunError(f"{where}: expected a pose p[...], got {type(value).__name__}")
     return value
+
+
+def _joints(value, where: str, count: int = 6) -> np.ndarray:
+    if not isinstance(value, list) or len(value) != count:
+        raise RunError(f"{where}: expected a list of {count} numbers")
+    out = np.array([float(_num(v, where, "list element")) for v in value])
+    posemath.check_finite(tuple(out), where, "list")
+    return out
 
 
 def _to_text(value) -> str:
@@ -100,15 +109,57 @@ class URScriptCompiler(Compiler):
                 if not args:
                     raise RunError(f"{where}: move{kind[0]} needs a target")
                 target = args[0]
-                if isinstance(target, list):
-                    raise RunError(f"{where}: joint-space targets are not supported by this interpreter")
-                pose = _pose(target, where)
-                posemath.check_finite(pose.values(), where, "move target")
                 line = int(where.split(":")[1])
                 settings = {key: float(kwargs.get(key, default)) for key, default in MOVE_DEFAULTS[kind].items()}
-                fr.m.trace.moves.append(MoveEvent(kind, posemath.matrix_from_ur(pose.values()), line, settings))
+                settings["load"] = fr.m.extra.get("payload")
+                if isinstance(target, list):  # joint positions (rad): no solution to choose
+                    if kind != "joint":
+                        raise RunError(f"{where}: movel takes a pose")
+                    event = MoveEvent(kind, None, line, settings)
+                    fr.m.arm.to_joints(event, np.degrees(_joints(target, where)), where)
+                    fr.m.trace.moves.append(event)
+                    return
+                pose = _pose(target, where)
+                posemath.check_finite(pose.values(), where, "move target")
+                event = MoveEvent(kind, posemath.matrix_from_ur(pose.values()), line, settings)
+                # movej to a pose: the solution nearest the current joints; movel keeps the configuration
+                fr.m.arm.to_pose(event, where, "nearest" if kind == "joint" else "keep")
+                fr.m.trace.moves.append(event)
 
             return run
+
+        def set_tcp(fr, args, kwargs, where):
+            # the TCP in the flange frame (m, rotation vector rad): the active tool from here on
+            pose = _pose(args[0] if args else kwargs.get("pose"), where)
+            posemath.check_finite(pose.values(), where, "tcp")
+            fr.m.arm.tcp2flange = posemath.matrix_from_ur(pose.values())
+
+        def set_target_payload(fr, args, kwargs, where):
+            # set_target_payload(m, cog, inertia, transition_time): kg, m (URScript manual)
+            if len(args) < 2:
+                raise RunError(f"{where}: set_target_payload needs a mass and a centre of gravity")
+            mass = float(_num(args[0], where, "mass"))
+            cog = [1000.0 * float(_num(v, where, "centre of gravity")) for v in _joints(args[1], where, 3)]
+            if not mass >= 0:
+                raise RunError(f"{where}: payload mass {mass} kg")
+            fr.m.extra["payload"] = (mass, *cog)
+
+        def get_inverse_kin(fr, args, kwargs, where):
+            # the solution nearest qnear (rad), a runtime exception when there is none (URScript manual)
+            pose = _pose(args[0] if args else kwargs.get("x"), where)
+            posemath.check_finite(pose.values(), where, "get_inverse_kin pose")
+            qnear = kwargs.get("qnear", args[1] if len(args) > 1 else None)
+            arm = fr.m.arm
+            if arm.arm is None:
+                raise RunError(f"{where}: get_inverse_kin needs the arm's kinematics (name the arm: --robot)")
+            near = np.degrees(_joints(qnear, where)) if qnear is not None else arm.current(where)
+            if near is None:
+                raise RunError(f"{where}: get_inverse_kin without qnear before the arm's joints are known")
+            tcp2base = posemath.matrix_from_ur(pose.values())
+            q, _ = solve.nearest(arm.arm, solve.branches(arm.arm, solve.flange_poses(tcp2base, arm.tcp2flange)), near)
+            if np.isnan(q).any():
+                raise RunError(f"{where}: get_inverse_kin: no solution (the pose is out of reach)")
+            return [f32(v) for v in np.radians(q)]
 
         def textmsg(fr, args, kwargs, where):
             text = "".join(_to_text(a) for a in args)
@@ -163,6 +214,9 @@ class URScriptCompiler(Compiler):
             "pose_add": pose_add,
             "movej": move("joint"),
             "movel": move("linear"),
+            "set_tcp": set_tcp,
+            "set_target_payload": set_target_payload,
+            "get_inverse_kin": get_inverse_kin,
             "textmsg": textmsg,
             "halt": halt,
             "read_input_integer_register": register("integer"),

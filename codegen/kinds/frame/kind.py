@@ -25,7 +25,7 @@ from codegen.guard import (
 from codegen.kinds import Case, ProgramKind
 from codegen.kinds.frame.camera import CameraModel, SimulatedCamera
 from codegen.kinds.frame.vision_pc import VisionPC
-from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, rotz
+from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
 from codegen.reference import JOINT, LINEAR, ExpectedTrace, Move
 
 NOT_CONVERGED = "not_converged"  # a halt reason of this kind: the residual stayed over tolerance
@@ -224,6 +224,22 @@ class FrameKind(ProgramKind):
                 "frame mode reads the camera in pixels and needs [cell.camera.handeye] "
                 "(write it with `codegen calibrate handeye POINTS.csv --write CELL`)",
             )
+
+    @classmethod
+    def arm_poses(cls, cell, station) -> list[tuple[str, np.ndarray, str]]:
+        # the photo pose first (a joint move, repeated while the frame is refined), then the path
+        calib2base = station.spec.frame.matrix()
+        photo = ("photo", concat(station.spec.photo.matrix(), calib2base), "joint")
+        path = [(name, concat(p2f, calib2base), motion) for name, p2f, motion in super().arm_poses(cell, station)]
+        return [photo, *path]
+
+    @classmethod
+    def region(cls, cell, station, offsets) -> np.ndarray:
+        # the frame moved in its own x-y plane: calib2base . frame_offset . pose2frame
+        calib2base = station.spec.frame.matrix()
+        frames = np.einsum("ij,njk->nik", calib2base, planar_motions(offsets))
+        poses = np.array([station.spec.photo.matrix(), *(p.matrix() for p in station.poses)])
+        return np.einsum("nij,mjk->nmik", frames, poses)
 
     @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:
