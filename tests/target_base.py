@@ -18,6 +18,7 @@ from codegen.controllers import get_target, target_names
 from codegen.dialects import get_dialect, parse_program
 from codegen.kinds import get_kind
 from codegen.render import render
+from codegen.robot.expect import arm_of, home_move
 from codegen.verify import (
     ProgramSource,
     build_cases,
@@ -168,10 +169,16 @@ class TargetTests:
         for station in cell.stations:
             case = get_kind(station.kind).nominal_case(cell, station)
             target = get_target(self.target)
-            got = program.run(inputs_for(cell, target, case.reading), **run_options(cell, target, case.reading))
+            got = program.run(
+                inputs_for(cell, target, case.reading),
+                arm=arm_of(cell, self.target),
+                **run_options(cell, target, case.reading),
+            )
             (want, *_), _ = get_kind(station.kind).accepted(cell, case.reading)
             assert not got.halted, (station.name, got.halt_message)
-            assert got.moves and np.allclose(got.moves[0].tcp2base, want.moves[0].tcp2base, atol=1e-2), station.name
+            first = 0 if home_move(cell, self.target) is None else 1  # after the home move
+            assert len(got.moves) > first, station.name
+            assert np.allclose(got.moves[first].tcp2base, want.moves[0].tcp2base, atol=1e-2), station.name
 
     def test_no_negative_zero_and_ascii(self, files):
         for f in files:
@@ -304,6 +311,33 @@ class TargetTests:
             report = verify(cell, [self.target], {self.target: (program, [mutation])}, build_cases(cell, 5, 4))[0]
             assert report.mismatches > 0, f"verify missed {mutation}"
 
+    # Edits only the arm model sees (each target names its own): a configuration changed by hand, the
+    # tool or load not set, a pose moved out of reach, a first motion the controller refuses.
+    arm_mutations: list[str] = []
+
+    def test_arm_mutations_fail_verify(self):
+        if not self.arm_mutations:
+            pytest.skip(f"{self.target}: its language has no robot model")
+        cell = load_cell(CELLS["agv_machine_tending"])
+        text, companions = _program(self.target, render(cell, [self.target]))
+        dat = companions.get(".dat")
+        cases = [c for c in build_cases(cell, 4, 4) if c.reading.station_id in self.arm_stations]
+        for mutation in self.arm_mutations:
+            mutated = self.mutate(mutation, text, dat)
+            new_text, new_dat = mutated if isinstance(mutated, tuple) else (mutated, dat)
+            assert (new_text, new_dat) != (text, dat), mutation
+            new_companions = {} if new_dat is None else {".dat": new_dat}
+            program = load_program(get_target(self.target), new_text, mutation, new_companions)
+            report = verify(cell, [self.target], {self.target: (program, [mutation])}, cases)[0]
+            assert report.mismatches > 0, f"verify missed {mutation}"
+            assert any(word in report.first_mismatches[0] for word in self.arm_words[mutation]), (
+                mutation,
+                report.first_mismatches[0],
+            )
+
+    arm_words: dict[str, tuple[str, ...]] = {}  # what the first mismatch of each arm mutation says
+    arm_stations = (1,)  # the demo's stations whose cases the arm mutations run
+
     def test_a_halt_the_program_goes_on_from_is_caught(self):
         """Where the controller resumes after a halt (KRL HALT, RAPID Stop), a program that moves
         after the operator's restart must fail verify; the targets whose halt ends the program (UR
@@ -320,7 +354,8 @@ class TargetTests:
         new_companions = {} if new_dat is None else {".dat": new_dat}
         program = load_program(get_target(self.target), new_text, "mutant", new_companions)
         report = verify(cell, [self.target], {self.target: (program, ["mutant"])}, build_cases(cell, 10, 4))[0]
-        assert report.mismatches > 0 and any("moves, expected 0" in m for m in report.first_mismatches)
+        before = 0 if home_move(cell, self.target) is None else 1  # the home move comes first
+        assert report.mismatches > 0 and any(f"moves, expected {before}" in m for m in report.first_mismatches)
 
     def mutate(self, mutation: str, text: str, dat: str | None):
         raise NotImplementedError

@@ -40,7 +40,23 @@ def test_run_prints_moves_and_log():
 def test_run_json_and_halt():
     result = invoke("run", GENERATED / "abb" / "agv_machine_tending.mod", "--input", "vis_station=42", "--json")
     data = json.loads(result.output)
-    assert data["halted"] is True and data["halt_message"] == "unknown station id 42" and data["moves"] == []
+    assert data["halted"] is True and data["halt_message"] == "unknown station id 42"
+    (home,) = data["moves"]  # only the home move: without --robot known by its joints alone
+    assert home["joints"] == [0, 0, 0, 0, 90, 0] and home["pose"] is None
+
+
+def test_run_with_the_arm_solves_every_move():
+    path = GENERATED / "kuka" / "agv_machine_tending.src"
+    result = invoke("run", path, "--input", "VIS_STATION=1", "--input", "VIS_X=612.4", "--input", "VIS_Y=-285",
+                    "--input", "VIS_THETA=1.8", "--robot", "KR 10 R1100 sixx", "--json")
+    data = json.loads(result.output)
+    assert [m["motion"] for m in data["moves"]] == ["joint", "joint", "linear"]
+    assert all(m["joints"] is not None and m["pose"] is not None for m in data["moves"])
+    assert data["moves"][0]["joints"] == [0, -90, 90, 0, 90, 0]
+    wrong = invoke("run", path, "--robot", "IRB 140")
+    assert wrong.exit_code == 2 and "an arm of the abb controller; this program is for kuka" in wrong.output
+    unknown = invoke("run", path, "--robot", "KR 1")
+    assert unknown.exit_code == 2 and "not in the catalogue" in unknown.output
 
 
 def test_run_reports_syntax_errors_with_position(tmp_path):

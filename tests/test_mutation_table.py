@@ -42,7 +42,10 @@ TABLE = {
     "moves_reordered": {
         "ur": (r"^(\s+movej\([^\n]*\n)(\s+movel\([^\n]*\n)", r"\2\1"),
         "kuka": (r"^(\s+TARGET = [^\n]*\n\s+PTP [^\n]*\n)(\s+TARGET = [^\n]*\n\s+LIN [^\n]*\n)", r"\2\1"),
-        "abb": (r"^(\s+MoveJ vis_apply[^\n]*\n)(\s+MoveL [^\n]*\n)", r"\2\1"),
+        "abb": (  # the configuration-check lines go with their move
+            r"^(\s+MoveJ vis_apply[^\n]*\n(?:\s+ConfJ \\On;\n)?)((?:\s+ConfL \\Off;\n)?\s+MoveL [^\n]*\n)",
+            r"\2\1",
+        ),
         "dtrans": (r"^(\s*MovJ vis_apply[^\n]*\n)(\s*MovL [^\n]*\n)", r"\2\1"),
     },
     "pose_operator_changed": {
@@ -58,7 +61,7 @@ TABLE = {
     },
     "taught_digit_plus_0_01_mm": {
         "ur": (r"(p\d+_\w+ = p\[)(-?[\d.]+)", lambda m: _bump(m, 0.00001)),
-        "kuka": (r"(DECL POS P\d+_\w+=\{X )(-?[\d.]+)", lambda m: _bump(m, 0.01)),
+        "kuka": (r"(DECL (?:E6)?POS P\d+_\w+=\{X )(-?[\d.]+)", lambda m: _bump(m, 0.01)),
         "abb": (r"(CONST robtarget p\d+_\w+ := \[\[)(-?[\d.]+)", lambda m: _bump(m, 0.01)),
         "dtrans": (r"(Point p\d+_\w+ = Trans\()(-?[\d.]+)", lambda m: _bump(m, 0.01)),
     },
@@ -87,7 +90,7 @@ TABLE = {
         "dtrans": (r"^\s*Call vis_log\([^\n]*\n", ""),
     },
     "tool_changed": {
-        "abb": (r"(MoveL vis_apply\([^\n]*), tool0;", r"\1, tool1;"),
+        "abb": (r"(MoveL vis_apply\([^\n]*), vis_tool;", r"\1, tool0;"),
     },
     "index_base_off_by_one": {
         "ur": (r"vis_x - mark\[0\]", "vis_x - mark[1]"),

@@ -8,12 +8,22 @@ from target_base import TargetTests, cell_text, replace_once
 from codegen.cell import load_cell
 from codegen.render import render
 
-WORK = "MoveL vis_apply(corr, p1_chuck), v200, fine, tool0;"  # the work pose of station 1
+WORK = "MoveL vis_apply(corr, p1_chuck), v200, fine, vis_tool;"  # the work pose of station 1
 
 
 class TestABB(TargetTests):
     target = "abb"
     motion_mutations = ["speed_x25", "zone_on_work_pose"]
+    arm_mutations = ["robconf_changed", "check_always_on", "tool0", "light_tool", "out_of_reach", "no_home"]
+    arm_stations = (1, 3)  # station 3's approach holds its robconf over the region: the program names it
+    arm_words = {
+        "robconf_changed": ("configuration [0, 0, 0, 0]",),
+        "check_always_on": ("configuration",),
+        "tool0": ("tool TOOL0",),
+        "light_tool": ("load",),
+        "out_of_reach": ("out of reach", "cannot reach"),
+        "no_home": ("moves, expected", "first motion"),
+    }
 
     def mutate(self, mutation, text, dat):
         return {
@@ -27,6 +37,14 @@ class TestABB(TargetTests):
                 'TPWrite "station lathe_1: mark shift over 10 mm, recalibrate";\n      EXIT;',
                 'TPWrite "station lathe_1: mark shift over 10 mm, recalibrate";\n      Stop;',
             ),
+            "robconf_changed": lambda: replace_once(
+                text, "0.701057385, 0.092295956], [-1, 0, -2, 0]", "0.701057385, 0.092295956], [0, 0, 0, 0]"
+            ),
+            "check_always_on": lambda: text.replace("ConfJ \\Off;", "ConfJ \\On;"),
+            "tool0": lambda: text.replace("fine, vis_tool;", "fine, tool0;"),
+            "light_tool": lambda: replace_once(text, "[1.500, [0.0000, 0.0000, 80.0000]", "[0.500, [0.0, 0.0, 80.0]"),
+            "out_of_reach": lambda: replace_once(text, "p1_chuck := [[738.5000", "p1_chuck := [[2738.5000"),
+            "no_home": lambda: replace_once(text, "    MoveAbsJ vis_home\\NoEOffs, v200, fine, vis_tool;\n", ""),
             "speed_x25": lambda: replace_once(text, WORK, WORK.replace("v200", "v5000")),
             "zone_on_work_pose": lambda: replace_once(text, WORK, WORK.replace("fine", "z200")),
         }[mutation]()

@@ -8,6 +8,13 @@ WORK = "movel(pose_trans(corr, p1_chuck), a=1.2, v=0.25)"  # the work pose of st
 class TestUR(TargetTests):
     target = "ur"
     motion_mutations = ["speed_x10", "acceleration_x10", "blend_on_work_pose"]
+    arm_mutations = ["qnear_wrist_flipped", "no_tcp", "no_payload", "out_of_reach"]
+    arm_words = {
+        "qnear_wrist_flipped": ("joints",),
+        "no_tcp": ("position error", "joints"),
+        "no_payload": ("load None",),
+        "out_of_reach": ("no solution", "out of reach"),
+    }
 
     def mutate(self, mutation, text, dat):
         return {
@@ -20,6 +27,12 @@ class TestUR(TargetTests):
                 "  elif station_id == 2:",
                 "  elif station_id == 20000:\n    st_lathe_1()\n  elif station_id == 2:",
             ),
+            "qnear_wrist_flipped": lambda: replace_once(  # axes 4 and 6 half a turn on, axis 5 negated
+                text, "0.265357, -1.570796, 0.083405]), a", "3.406950, 1.570796, 3.224998]), a"
+            ),
+            "no_tcp": lambda: replace_once(text, "  set_tcp(p[0.0000000,", "  textmsg(p[0.0000000,"),
+            "no_payload": lambda: replace_once(text, "  set_target_payload(1.500,", "  textmsg(1.500,"),
+            "out_of_reach": lambda: replace_once(text, "p1_chuck = p[0.7385000", "p1_chuck = p[2.7385000"),
             "speed_x10": lambda: replace_once(text, WORK, WORK.replace("v=0.25", "v=2.5")),
             "acceleration_x10": lambda: replace_once(text, WORK, WORK.replace("a=1.2", "a=12")),
             "blend_on_work_pose": lambda: replace_once(text, WORK, WORK.replace("v=0.25", "v=0.25, r=0.05")),
