@@ -478,6 +478,14 @@ def verify(
         for kind in kinds().values():  # each kind's own figures, as a table of its own
             for line in kind.report_lines(summaries):
                 click.echo(line)
+        for s in summaries:  # the arm's joints over every verified move
+            if "arm" in s:
+                arm = s["arm"]
+                click.echo(
+                    f"arm {s['target']}: {arm['moves']} moves solved to joints; least margin to a joint limit "
+                    f"{arm['joint_margin_deg']:.1f} deg, of axis 5 from its singularity "
+                    f"{arm['wrist_margin_deg']:.1f} deg"
+                )
         swept = sum(s["unknown_ids_checked"] for s in summaries)
         click.echo(
             f"{sum(s['cases'] for s in summaries)} runs and {swept} runs of the other station ids "

@@ -363,169 +363,29 @@ def verify(
     return reports
 
 
-# --- parallel runs --------------------------------------------------------------------------
+# the parallel runs live in codegen/verify_runs.py; their names are part of this module's interface
+from codegen.verify_runs import (  # noqa: E402
+    ProgramSource,
+    file_source,
+    fresh_sources,
+    merge_reports,
+    run_verify,
+    sweep_unknown_ids,
+)
 
-
-@dataclass(frozen=True)
-class ProgramSource:
-    """A program as text (picklable), so that worker processes can parse it themselves."""
-
-    target: str
-    text: str
-    filename: str
-    companions: tuple[tuple[str, str], ...]  # (suffix, text) of data files read with the program
-    files: tuple[str, ...]
-
-    def load(self) -> Program:
-        return load_program(get_target(self.target), self.text, self.filename, dict(self.companions))
-
-
-def fresh_sources(cell: Cell, targets: list[str]) -> list[ProgramSource]:
-    from codegen.render import render
-
-    files = render(cell, targets)
-    out = []
-    for name in targets:
-        companions = get_dialect(get_target(name).dialect).companions
-        mine = [f for f in files if f.relpath.split("/")[1] == name]
-        main = next(f for f in mine if not f.relpath.endswith(companions))
-        data = tuple(("." + f.relpath.rsplit(".", 1)[1], f.text) for f in mine if f.relpath.endswith(companions))
-        out.append(ProgramSource(name, main.text, f"<fresh>/{main.relpath}", data, tuple(f.relpath for f in mine)))
-    return out
-
-
-def file_source(target: str, path: Path) -> ProgramSource:
-    """A program on disk with the companion files found beside it (e.g. a data list beside its program)."""
-    data, files = [], [str(path)]
-    for suffix in get_dialect(get_target(target).dialect).companions:
-        companion = path.with_suffix(suffix)
-        if companion.exists():
-            data.append((suffix, _read(companion)))
-            files.append(str(companion))
-    return ProgramSource(target, _read(path), str(path), tuple(data), tuple(files))
-
-
-def _read(path: Path) -> str:
-    try:
-        return path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise RunError(f"{path}: not UTF-8 text (byte {exc.start}): codegen reads programs as UTF-8") from None
-    except OSError as exc:
-        raise RunError(f"{path}: cannot read: {exc.strerror or exc}") from None
-
-
-_LOADED: dict[ProgramSource, Program] = {}
-
-
-def sweep_unknown_ids(
-    cell: Cell, targets: list[str], programs: dict, ids: range, step_limit: int = DEFAULT_STEP_LIMIT
-) -> list[TargetReport]:
-    """Every id of `ids` that is not a station of the cell must halt with the unknown-station message
-    before any move: an extra dispatch branch (a misread barcode that moves the robot) is caught
-    wherever in the barcode range it is, not only at sampled ids."""
-    known = {s.id for s in cell.stations}
-    reports = []
-    for name in targets:
-        target = get_target(name)
-        program, files = programs[name]
-        key = target.program["inputs"]["station"]
-        text = Emitter(target).string(UNKNOWN_STATION_TEXT)
-        report = TargetReport(name, files)
-        for station_id in ids:
-            if station_id in known:
-                continue
-            report.unknown_ids += 1
-            try:
-                got = program.run({key: station_id}, step_limit=step_limit, arm=arm_of(cell, name))
-                problem = None
-                before = 0 if home_move(cell, name) is None else 1  # the home move comes first
-                if len(got.moves) != before or not got.halted or got.halt_message != f"{text}{station_id}":
-                    problem = f"{len(got.moves) - before} moves, halt message {got.halt_message!r}"
-            except StepLimitError as exc:
-                report.mismatches += 1
-                report.first_mismatches.append(f"unknown station id {station_id}: {exc}; the sweep stopped")
-                break
-            except RunError as exc:
-                problem = f"run error: {exc}"
-            if problem is not None:
-                report.mismatches += 1
-                if len(report.first_mismatches) < 10:
-                    report.first_mismatches.append(f"unknown station id {station_id}: {problem}")
-        reports.append(report)
-    return reports
-
-
-def _verify_chunk(args) -> list[TargetReport]:
-    """One chunk of cases, or of the id sweep, on every source (the reference runs once per case)."""
-    cell, verify_cell, sources, work, step_limit = args
-    programs = {}
-    for source in sources:
-        if source not in _LOADED:
-            _LOADED[source] = source.load()
-        programs[source.target] = (_LOADED[source], list(source.files))
-    targets = [s.target for s in sources]
-    if isinstance(work, range):
-        return sweep_unknown_ids(verify_cell or cell, targets, programs, work, step_limit)
-    return verify(cell, targets, programs, work, verify_cell=verify_cell, step_limit=step_limit)
-
-
-def merge_reports(parts: list[TargetReport]) -> TargetReport:
-    out = TargetReport(parts[0].target, parts[0].files)
-    for part in parts:
-        out.cases += part.cases
-        out.mismatches += part.mismatches
-        out.halts += part.halts
-        out.boundary += part.boundary
-        out.moves += part.moves
-        out.pos_errors.extend(part.pos_errors)
-        out.rot_errors.extend(part.rot_errors)
-        out.first_mismatches.extend(part.first_mismatches[: 10 - len(out.first_mismatches)])
-        out.seconds += part.seconds
-        out.unknown_ids += part.unknown_ids
-        out.arm.merge(part.arm)
-        for name, kind in kinds().items():
-            kind.merge_stats(out.kind_stats[name], part.kind_stats[name])
-        for key, count in part.categories.items():
-            out.categories[key] = out.categories.get(key, 0) + count
-    return out
-
-
-def run_verify(
-    cell: Cell,
-    sources: list[ProgramSource],
-    cases: list[Case],
-    jobs: int = 1,
-    progress=None,
-    verify_cell: Cell | None = None,
-    sweep: bool = True,
-    step_limit: int = DEFAULT_STEP_LIMIT,
-) -> list[TargetReport]:
-    """Verify every source on every case and, with `sweep`, every id of the barcode range that is not
-    a station (sweep_unknown_ids), in `jobs` processes; `seconds` is the time spent running
-    one dialect's cases (summed over workers), so cases/seconds is the per-dialect speed."""
-    chunk = max(1, -(-len(cases) // max(4, 2 * jobs)))
-    tasks = [(cell, verify_cell, sources, cases[i : i + chunk], step_limit) for i in range(0, len(cases), chunk)]
-    if sweep:
-        step = -(-(STATION_ID_MAX + 1) // max(2, jobs))
-        ranges = [range(i, min(i + step, STATION_ID_MAX + 1)) for i in range(0, STATION_ID_MAX + 1, step)]
-        tasks += [(cell, verify_cell, sources, ids, step_limit) for ids in ranges]
-    parts: dict[str, list[TargetReport]] = {source.target: [] for source in sources}
-
-    def collect(reports: list[TargetReport]) -> None:
-        for part in reports:
-            parts[part.target].append(part)
-            if progress is not None:
-                progress(part.cases)
-
-    if jobs <= 1:
-        for task in tasks:
-            collect(_verify_chunk(task))
-    else:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
-        context = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
-            for reports in pool.map(_verify_chunk, tasks):
-                collect(reports)
-    return [merge_reports(parts[source.target]) for source in sources]
+__all__ = [
+    "ProgramSource",
+    "TargetReport",
+    "build_cases",
+    "compare",
+    "edge_cell",
+    "edge_only_cell",
+    "file_source",
+    "fresh_programs",
+    "fresh_sources",
+    "load_program",
+    "merge_reports",
+    "run_verify",
+    "sweep_unknown_ids",
+    "verify",
+]
