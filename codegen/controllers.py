@@ -77,6 +77,7 @@ _PROGRAM = {
     "level_frames_only": bool,  # frames compose only in the x-y plane
     "base_data": dict,  # name ("...{n}...") and max of the controller's numbered bases
     "joint_unit": str,  # "deg" or "rad": how the language writes joint positions
+    "tool_data": dict,  # tool and load ("...{n}...") and max of the controller's numbered tools and loads
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
 

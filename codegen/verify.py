@@ -22,7 +22,7 @@ from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace
-from codegen.robot.expect import ArmStats, arm_of, arm_problem, home_move
+from codegen.robot.expect import ArmStats, arm_of, arm_problem, home_move, tool_inputs
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
 # stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings
@@ -124,9 +124,10 @@ def _kind_of_case(cell: Cell, reading):
 
 def inputs_for(cell: Cell, target: Target, reading) -> dict:
     kind = _kind_of_case(cell, reading)
+    tools = tool_inputs(cell, target.name)  # the controller's numbered tool, where the program selects one
     if kind is None:
-        return {target.program["inputs"]["station"]: reading.station_id}
-    return kind.inputs(cell, target, reading)
+        return {target.program["inputs"]["station"]: reading.station_id, **tools}
+    return {**kind.inputs(cell, target, reading), **tools}
 
 
 def run_options(cell: Cell, target: Target, reading) -> dict:

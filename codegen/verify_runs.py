@@ -13,7 +13,7 @@ from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, kinds
-from codegen.robot.expect import arm_of, home_move
+from codegen.robot.expect import arm_of, home_move, tool_inputs
 from codegen.verify import TargetReport, load_program, verify
 
 
@@ -87,7 +87,8 @@ def sweep_unknown_ids(
                 continue
             report.unknown_ids += 1
             try:
-                got = program.run({key: station_id}, step_limit=step_limit, arm=arm_of(cell, name))
+                inputs = {key: station_id, **tool_inputs(cell, name)}
+                got = program.run(inputs, step_limit=step_limit, arm=arm_of(cell, name))
                 problem = None
                 before = 0 if home_move(cell, name) is None else 1  # the home move comes first
                 if len(got.moves) != before or not got.halted or got.halt_message != f"{text}{station_id}":

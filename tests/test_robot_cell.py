@@ -242,3 +242,22 @@ def test_demo_robconf_and_status_turn_agree_with_an_independent_model():
                         assert int(turn.group(1)) == sum(1 << i for i in range(6) if pose.joints[i] < 0)
                 checked += 1
     assert checked == 2 * 14
+
+
+def test_the_controllers_numbered_tool_instead_of_a_declared_one(tmp_path):
+    text = DEMO_TEXT.replace("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0, 80.0]\nnumbered = { kuka = 3 }")
+    cell = load_cell(write_cell(tmp_path, text))
+    src, dat = (f.text for f in render(cell, ["kuka"]))
+    assert "  $TOOL = TOOL_DATA[3]\n  $LOAD = LOAD_DATA[3]\n" in src and "DECL FRAME VIS_TOOL" not in dat
+    from codegen.verify import build_cases, fresh_programs, verify
+
+    cases = [c for c in build_cases(cell, 3, 1) if c.reading.station_id == 1]
+    assert verify(cell, ["kuka"], fresh_programs(cell, ["kuka"]), cases)[0].mismatches == 0
+    from codegen.dialects.krl.interpreter import load
+
+    other = load(src.replace("TOOL_DATA[3]", "TOOL_DATA[4]"), "other.src", dat)  # a tool the controller lacks
+    report = verify(cell, ["kuka"], {"kuka": (other, ["other"])}, cases)[0]
+    assert report.mismatches == report.cases and "other.src:13:3: FRAME.X has no value" in report.first_mismatches[0]
+    bad = DEMO_TEXT.replace("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0, 80.0]\nnumbered = { abb = 1 }")
+    with pytest.raises(CellError, match=r"cell.tool.numbered.abb: the abb controller has no numbered tools here"):
+        load_cell(write_cell(tmp_path, bad, "bad.toml"))

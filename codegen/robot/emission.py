@@ -37,7 +37,16 @@ def cell_robot(cell, target) -> dict | None:
         "mass": format_literal(robot.tool.mass_kg, MASS_DECIMALS),
         "cog": [format_literal(v, d) for v, d in zip(cog, decimals[:3], strict=True)],
         "tool_given": robot.tool_given,
+        "tool_data": _numbered(target, robot.tool.numbered.get(target.name)),
     }
+
+
+def _numbered(target, number: int | None) -> dict | None:
+    """The controller's numbered tool and load the program selects, or None (it declares its own)."""
+    if number is None:
+        return None
+    facts = target.program["tool_data"]
+    return {"tool": facts["tool"].format(n=number), "load": facts["load"].format(n=number)}
 
 
 def station_arm(cell, target, station) -> list[dict]:

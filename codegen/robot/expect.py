@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.controllers import get_target
+from codegen.poses import native_values
 from codegen.reference import JOINT, Move
 from codegen.robot import solve
 from codegen.robot.envelope import singular_distance, wrist_angle
@@ -51,6 +52,19 @@ def expected_joints(cell, target: str, station, moves: tuple[Move, ...], start: 
         out.append(q)
         previous = q
     return out
+
+
+def tool_inputs(cell, target: str) -> dict:
+    """The controller's numbered tool and load holding the cell's tool, where the program selects them
+    (verify loads them as the controller's $config.dat holds them)."""
+    robot = cell.robot
+    number = None if robot is None else robot.tool.numbered.get(target)
+    if number is None:
+        return {}
+    facts = get_target(target).program["tool_data"]
+    tool = robot.tool
+    xyzabc = tuple(native_values(tool.tcp, cell.pose_format, "xyzabc"))
+    return {facts["tool"].format(n=number): xyzabc, facts["load"].format(n=number): (tool.mass_kg, *tool.cog_mm)}
 
 
 def arm_of(cell, target: str):

@@ -22,6 +22,7 @@ class Tool:
     tcp2flange: np.ndarray = field(compare=False)  # 4x4, mm
     mass_kg: float
     cog_mm: tuple[float, float, float]  # centre of gravity in the flange frame
+    numbered: dict = field(default_factory=dict, compare=False)  # target -> the controller's tool number
 
 
 FLANGE = Tool((), np.eye(4), 0.0, (0.0, 0.0, 0.0))
@@ -133,7 +134,7 @@ def _arm(ctx, value, path: str, target: str) -> Arm:
 
 
 def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
-    ctx.no_unknown(table, {"tcp", "mass_kg", "cog_mm"}, "cell.tool")
+    ctx.no_unknown(table, {"tcp", "mass_kg", "cog_mm", "numbered"}, "cell.tool")
     count, to_matrix = POSE_FORMATS[pose_format][0], POSE_FORMATS[pose_format][1]
     tcp = ctx.numbers(ctx.require(table, "tcp", "cell.tool.tcp"), count, "cell.tool.tcp")
     if pose_format == "abb":
@@ -149,7 +150,27 @@ def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
         ctx.fail("cell.tool.cog_mm", f"the centre of gravity must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
     matrix = to_matrix(tcp)
     matrix.flags.writeable = False
-    return Tool(tcp, matrix, mass, cog)
+    return Tool(tcp, matrix, mass, cog, _numbered(ctx, table.get("numbered", {})))
+
+
+def _numbered(ctx, table) -> dict:
+    """[cell.tool] numbered = { <target> = n }: the program selects the controller's numbered tool and
+    load n (which must hold the cell's tool) instead of declaring its own."""
+    if not isinstance(table, dict):
+        ctx.fail("cell.tool.numbered", "expected a table: target = tool number")
+    out = {}
+    for target, number in table.items():
+        path = f"cell.tool.numbered.{target}"
+        try:
+            facts = get_target(target).program.get("tool_data")
+        except KeyError:
+            ctx.fail(path, "unknown target")
+        if not facts:
+            ctx.fail(path, f"the {target} controller has no numbered tools here")
+        if isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= facts["max"]:
+            ctx.fail(path, f"expected a tool number 1..{facts['max']}, got {number!r}")
+        out[target] = number
+    return out
 
 
 def parse_station_config(ctx, raw, path: str, robot: Robot | None, pose_names: list[str]) -> dict:

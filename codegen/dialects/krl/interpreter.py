@@ -47,6 +47,20 @@ ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
 
 
 AXES = ("AXIS", "E6AXIS")
+# The controller's numbered data ($config.dat; KSS 8 system variables): type, count, how `--input` gives one
+SYSTEM_ARRAYS = {
+    "BASE_DATA": ("FRAME", 32, "X,Y,Z,A,B,C"),
+    "TOOL_DATA": ("FRAME", 16, "X,Y,Z,A,B,C"),
+    "LOAD_DATA": ("LOAD", 16, "M,X,Y,Z (kg, centre of gravity mm)"),
+}
+SYSTEM_ARRAY = re.compile(r"(BASE_DATA|TOOL_DATA|LOAD_DATA)\[(\d+)\]")
+
+
+def load_record(values) -> Record:
+    """A LOAD of mass m (kg) with its centre of gravity at x, y, z (mm) and no inertia (a point mass)."""
+    m, x, y, z = (float(v) for v in values)
+    inertia = Record("INERTIA", {"X": f32(0), "Y": f32(0), "Z": f32(0)})
+    return Record("LOAD", {"M": f32(m), "CM": frame((x, y, z, 0, 0, 0)), "J": inertia})
 
 
 def _rule(kind: str, pose: Record, arm, where: str) -> tuple:
@@ -150,22 +164,31 @@ class KRLCompiler(Compiler):
     def element_type(self, type_name):
         return type_name[0] if isinstance(type_name, tuple) else type_name
 
+    def accepts_input(self, name: str, globals_: dict) -> bool:
+        match = SYSTEM_ARRAY.fullmatch(name.upper())
+        if match is not None:
+            return 1 <= int(match.group(2)) <= SYSTEM_ARRAYS[match.group(1)][1]
+        return super().accepts_input(name, globals_)
+
     def inject_inputs(self, machine) -> None:
-        """BASE_DATA[n]=x,y,z,a,b,c sets a measured base, as $config.dat holds it on the controller."""
-        if not any(name[:9].upper() == "BASE_DATA" for name in machine.inputs):
+        """BASE_DATA[n]=x,y,z,a,b,c, TOOL_DATA[n]=x,y,z,a,b,c and LOAD_DATA[n]=m,x,y,z (mass kg, centre of
+        gravity mm) set the controller's numbered bases, tools and loads, as $config.dat holds them."""
+        if not any(SYSTEM_ARRAY.fullmatch(name.upper()) for name in machine.inputs):
             return super().inject_inputs(machine)
         rest = {}
         for name, value in machine.inputs.items():
-            match = re.fullmatch(r"BASE_DATA\[(\d+)\]", name.upper())
+            match = SYSTEM_ARRAY.fullmatch(name.upper())
             if match is None:
                 rest[name] = value
                 continue
-            index = int(match.group(1))
-            if not 1 <= index <= 32 or not isinstance(value, tuple | list) or len(value) != 6:
-                raise RunError(f"input {name}: expected BASE_DATA[1..32] = X,Y,Z,A,B,C")
-            bases = list(machine.extra.get("BASE_DATA") or [new_value("FRAME") for _ in range(32)])
-            bases[index - 1] = frame(value)
-            machine.extra["BASE_DATA"] = bases
+            array, index = match.group(1), int(match.group(2))
+            type_name, size, shape = SYSTEM_ARRAYS[array]
+            count = 6 if type_name == "FRAME" else 4
+            if not 1 <= index <= size or not isinstance(value, tuple | list) or len(value) != count:
+                raise RunError(f"input {name}: expected {array}[1..{size}] = {shape}")
+            values = list(machine.extra.get(array) or [new_value(type_name) for _ in range(size)])
+            values[index - 1] = frame(value) if type_name == "FRAME" else load_record(value)
+            machine.extra[array] = values
         original, machine.inputs = machine.inputs, rest
         try:
             super().inject_inputs(machine)
@@ -186,8 +209,9 @@ class KRLCompiler(Compiler):
                 value = fr.m.globals[key]
             elif key == "$BASE":
                 return fr.m.extra.setdefault("$BASE", frame(ACTIVE_BASE_AT_START))
-            elif key == "BASE_DATA":  # system array of the controller's measured bases ($config.dat)
-                return fr.m.extra.setdefault("BASE_DATA", [new_value("FRAME") for _ in range(32)])
+            elif key in SYSTEM_ARRAYS:  # the controller's numbered bases, tools and loads ($config.dat)
+                type_name, size, _shape = SYSTEM_ARRAYS[key]
+                return fr.m.extra.setdefault(key, [new_value(type_name) for _ in range(size)])
             else:
                 raise RunError(f"{where}: undefined variable {token}")
             return valid(value, where, str(token))
@@ -300,8 +324,8 @@ class KRLCompiler(Compiler):
         if key == "$BASE":
             fr.m.extra["$BASE"] = self.coerce("FRAME", value, where)
             return
-        if key == "BASE_DATA" and "BASE_DATA" in fr.m.extra:  # an element was assigned
-            fr.m.extra["BASE_DATA"] = value
+        if key in SYSTEM_ARRAYS and key in fr.m.extra:  # an element was assigned
+            fr.m.extra[key] = value
             return
         raise RunError(f"{where}: assignment to undeclared variable {key}")
 
