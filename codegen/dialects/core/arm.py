@@ -156,5 +156,13 @@ def _joint_target(arm: Arm, q: np.ndarray) -> tuple[np.ndarray, int]:
     return hit[1], hit[2]
 
 
+def remember_joint_target(arm: Arm, q: np.ndarray, branch: int) -> None:
+    """A joint position the program computed by inverse kinematics (UR get_inverse_kin): its branch is
+    known, so the move to it needs only the forward kinematics."""
+    if len(_TARGETS) > 4096:
+        _TARGETS.clear()
+    _TARGETS[(id(arm), q.tobytes())] = (arm, arm.kin.fk(q), int(branch))
+
+
 def _text(q: np.ndarray) -> str:
     return "[" + ", ".join(f"{v:.2f}" for v in q) + "]"

@@ -9,6 +9,7 @@ import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects import posemath
+from codegen.dialects.core.arm import remember_joint_target
 from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import MoveEvent, Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
@@ -156,10 +157,13 @@ class URScriptCompiler(Compiler):
             if near is None:
                 raise RunError(f"{where}: get_inverse_kin without qnear before the arm's joints are known")
             tcp2base = posemath.matrix_from_ur(pose.values())
-            q, _ = solve.nearest(arm.arm, solve.branches(arm.arm, solve.flange_poses(tcp2base, arm.tcp2flange)), near)
+            solutions = solve.branches(arm.arm, solve.flange_poses(tcp2base, arm.tcp2flange))
+            q, branch = solve.nearest(arm.arm, solutions, near)
             if np.isnan(q).any():
                 raise RunError(f"{where}: get_inverse_kin: no solution (the pose is out of reach)")
-            return [f32(v) for v in np.radians(q)]
+            out = [f32(v) for v in np.radians(q)]
+            remember_joint_target(arm.arm, np.degrees(np.array([float(v) for v in out])), branch)  # as movej reads it
+            return out
 
         def textmsg(fr, args, kwargs, where):
             text = "".join(_to_text(a) for a in args)
