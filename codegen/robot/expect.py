@@ -34,9 +34,13 @@ def home_move(cell, target: str) -> tuple[Move, np.ndarray] | None:
     return hit[1]
 
 
-def expected_joints(cell, target: str, station, moves: tuple[Move, ...], start: np.ndarray) -> list[np.ndarray]:
+def expected_joints(
+    cell, target: str, station, moves: tuple[Move, ...], start: np.ndarray, solved=None
+) -> list[np.ndarray]:
     """Per move of the reference: the joints the controller takes, by the rule the program's text
-    sets for that pose (codegen/robot/region.py move_joints)."""
+    sets for that pose (codegen/robot/region.py move_joints). solved: the analytic solutions per move
+    when they are known already (the interpreter's, of a pose verify found equal to the reference's
+    within its tolerance): the rule is then applied to them instead of solving again."""
     robot = cell.robot
     arm = robot.arms[target]
     form = get_target(target).configuration
@@ -45,8 +49,13 @@ def expected_joints(cell, target: str, station, moves: tuple[Move, ...], start: 
     for pose, named in zip(region.taught, region.named, strict=True):
         taught.setdefault(pose.name, (pose, named))
     out, previous = [], start
-    flanges = solve.flange_poses(np.array([move.tcp2base for move in moves]), robot.tool.tcp2flange)
-    for move, solutions in zip(moves, solve.branches(arm, flanges), strict=True):
+    solved = list(solved) if solved is not None else [None] * len(moves)
+    missing = [i for i, s in enumerate(solved) if s is None]
+    if missing:
+        flanges = solve.flange_poses(np.array([moves[i].tcp2base for i in missing]), robot.tool.tcp2flange)
+        for i, solutions in zip(missing, solve.branches(arm, flanges), strict=True):
+            solved[i] = solutions
+    for move, solutions in zip(moves, solved, strict=True):
         pose, named = taught[move.pose_name]
         q, _, _ = move_joints(arm, form, pose, solutions, previous, named)
         out.append(q)
@@ -79,7 +88,7 @@ def arm_problem(cell, target: str, expected, moves: tuple[Move, ...], got: list,
     station = expected.station
     want = [home]
     if station is not None and len(moves) > 1:
-        want += expected_joints(cell, target, station, moves[1:], home)
+        want += expected_joints(cell, target, station, moves[1:], home, [g.solutions for g in got[1:]])
     tool = cell.robot.tool
     load = (tool.mass_kg, *tool.cog_mm) if cell.robot.tool_given else None
     for i, (g, e, q) in enumerate(zip(got, moves, want, strict=True)):

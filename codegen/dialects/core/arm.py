@@ -94,7 +94,8 @@ class ArmState:
                 p.event.tcp2base = flange2base @ p.tcp2flange
                 q = p.value
             else:
-                q, branch = self._select(p, next(solutions))
+                p.event.solutions = next(solutions)
+                q, branch = self._select(p, p.event.solutions)
             self._check_limits(q, p.where)
             self.joints, self.branch = q, branch
             p.event.joints = q

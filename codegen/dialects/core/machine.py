@@ -24,6 +24,7 @@ class MoveEvent:
     line: int
     settings: dict = field(default_factory=dict)  # how the arm moves there, in the dialect's terms
     joints: np.ndarray | None = None  # deg, where the arm's axes end (None: the run has no arm)
+    solutions: np.ndarray | None = None  # (8, 6) deg: every analytic solution of the pose (a pose target)
 
 
 @dataclass
