@@ -369,7 +369,6 @@ def verify(
     from codegen import verify as v
     from codegen.dialects import is_companion
     from codegen.dialects.core.values import RunError
-    from codegen.kinds import kinds
 
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
@@ -458,41 +457,8 @@ def verify(
             }
         )
     else:
-        click.echo(
-            f"cell {model.name}: {len(verify_cell.stations)} stations, {len(case_list)} readings per target "
-            f"({cases} random per station, seed {seed})"
-        )
-        click.echo(
-            f"{'target':<8}{'cases':>7}{'fail':>6}{'halts':>7}{'bound':>7}{'pos max mm':>12}"
-            f"{'pos p99':>10}{'rot max deg':>13}{'rot p99':>10}{'cases/s':>9}"
-        )
-        for s in summaries:
-            click.echo(
-                f"{s['target']:<8}{s['cases']:>7}{s['mismatches']:>6}{s['halts']:>7}{s['boundary_cases']:>7}"
-                f"{s['position_error_mm']['max']:>12.2e}{s['position_error_mm']['p99']:>10.2e}"
-                f"{s['orientation_error_deg']['max']:>13.2e}{s['orientation_error_deg']['p99']:>10.2e}"
-                f"{s['cases_per_second'] or 0:>9.0f}"
-            )
-            for line in s["first_mismatches"]:
-                click.echo(f"  MISMATCH {line}")
-        for kind in kinds().values():  # each kind's own figures, as a table of its own
-            for line in kind.report_lines(summaries):
-                click.echo(line)
-        for s in summaries:  # the arm's joints over every verified move
-            if "arm" in s:
-                arm = s["arm"]
-                click.echo(
-                    f"arm {s['target']}: {arm['moves']} moves solved to joints; least margin to a joint limit "
-                    f"{arm['joint_margin_deg']:.1f} deg, of axis 5 from its singularity "
-                    f"{arm['wrist_margin_deg']:.1f} deg"
-                )
-        swept = sum(s["unknown_ids_checked"] for s in summaries)
-        click.echo(
-            f"{sum(s['cases'] for s in summaries)} runs and {swept} runs of the other station ids "
-            f"(every id 0..{v.STATION_ID_MAX} that is not a station must halt before moving) in {wall:.1f} s wall, "
-            f"{workers} worker(s); cases/s = one dialect on one core"
-        )
-        click.echo("verify: all traces match the reference" if ok else "verify: MISMATCHES")
+        for line in v.report_lines(model, verify_cell, case_list, cases, seed, summaries, wall, workers):
+            click.echo(line)
     sys.exit(0 if ok else 1)
 
 

@@ -370,6 +370,7 @@ from codegen.verify_runs import (  # noqa: E402
     file_source,
     fresh_sources,
     merge_reports,
+    report_lines,
     run_verify,
     sweep_unknown_ids,
 )
@@ -386,6 +387,7 @@ __all__ = [
     "fresh_sources",
     "load_program",
     "merge_reports",
+    "report_lines",
     "run_verify",
     "sweep_unknown_ids",
     "verify",

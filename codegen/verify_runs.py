@@ -181,3 +181,42 @@ def run_verify(
             for reports in pool.map(_verify_chunk, tasks):
                 collect(reports)
     return [merge_reports(parts[source.target]) for source in sources]
+
+
+def report_lines(model: Cell, verify_cell: Cell, case_list: list, cases: int, seed: int, summaries, wall, workers):
+    """`codegen verify`'s text report: the cell, one line per target (and its first mismatches), the
+    kinds' own tables, the arm's margins, the runs and the verdict."""
+    yield (
+        f"cell {model.name}: {len(verify_cell.stations)} stations, {len(case_list)} readings per target "
+        f"({cases} random per station, seed {seed})"
+    )
+    yield (
+        f"{'target':<8}{'cases':>7}{'fail':>6}{'halts':>7}{'bound':>7}{'pos max mm':>12}"
+        f"{'pos p99':>10}{'rot max deg':>13}{'rot p99':>10}{'cases/s':>9}"
+    )
+    for s in summaries:
+        yield (
+            f"{s['target']:<8}{s['cases']:>7}{s['mismatches']:>6}{s['halts']:>7}{s['boundary_cases']:>7}"
+            f"{s['position_error_mm']['max']:>12.2e}{s['position_error_mm']['p99']:>10.2e}"
+            f"{s['orientation_error_deg']['max']:>13.2e}{s['orientation_error_deg']['p99']:>10.2e}"
+            f"{s['cases_per_second'] or 0:>9.0f}"
+        )
+        for line in s["first_mismatches"]:
+            yield f"  MISMATCH {line}"
+    for kind in kinds().values():  # each kind's own figures, as a table of its own
+        yield from kind.report_lines(summaries)
+    for s in summaries:  # the arm's joints over every verified move
+        if "arm" in s:
+            arm = s["arm"]
+            yield (
+                f"arm {s['target']}: {arm['moves']} moves solved to joints; least margin to a joint limit "
+                f"{arm['joint_margin_deg']:.1f} deg, of axis 5 from its singularity {arm['wrist_margin_deg']:.1f} deg"
+            )
+    swept = sum(s["unknown_ids_checked"] for s in summaries)
+    yield (
+        f"{sum(s['cases'] for s in summaries)} runs and {swept} runs of the other station ids "
+        f"(every id 0..{STATION_ID_MAX} that is not a station must halt before moving) in {wall:.1f} s wall, "
+        f"{workers} worker(s); cases/s = one dialect on one core"
+    )
+    ok = all(s["mismatches"] == 0 for s in summaries)
+    yield "verify: all traces match the reference" if ok else "verify: MISMATCHES"
