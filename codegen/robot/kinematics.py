@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -9,6 +10,14 @@ import numpy as np
 BRANCHES = 8  # analytic solutions per pose: shoulder (2) x elbow (2) x wrist (2)
 ACOS_SLACK = 1e-12  # |cos| up to 1 + this is rounding (a stretched or just reachable pose), beyond it unreachable
 SQRT_SLACK = 1e-9  # mm^2: a negative radicand down to -this is rounding, below it unreachable
+# ik of at most this many poses runs pose by pose on Python floats (math module) instead of numpy: a numpy call
+# costs about 0.5 us whatever its size, so for a few poses its overhead outweighs the vectorisation (the
+# interpreter and the verifier ask for 1 to 4 poses at a time; the two paths cost the same at about 6 poses).
+# Both paths are the same formulas (tests/test_robot_kinematics_paths.py compares them).
+SMALL_BATCH = 6
+# larger batches run through numpy in chunks of this many poses: the temporaries then stay in the CPU's cache
+# (10,000 poses at once spend a third of the time on fresh memory)
+CHUNK = 2048
 
 
 @runtime_checkable
@@ -28,17 +37,35 @@ class Kinematics(Protocol):
     def wrist_center(self, joints_deg: np.ndarray) -> np.ndarray: ...
 
 
+# numpy scalars for the helpers below: an operation with a Python float pays for converting it on every call
+_HALF_TURN, _TURN = np.array(180.0), np.array(360.0)
+_ONE, _MINUS_ONE, _NAN = np.array(1.0), np.array(-1.0), np.array(np.nan)
+_ACOS_LIMIT = np.array(1.0 + ACOS_SLACK)
+
+
+def in_chunks(function, items: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    """function(items) for (n, ...) items -> (n, *shape), CHUNK items at a time (the same numbers: every
+    operation is per item)."""
+    if len(items) <= CHUNK:
+        return function(items)
+    out = np.empty((len(items), *shape))
+    for start in range(0, len(items), CHUNK):
+        out[start : start + CHUNK] = function(items[start : start + CHUNK])
+    return out
+
+
 def wrap_deg(angle_deg: np.ndarray) -> np.ndarray:
     """Angles wrapped to (-180, 180] deg (NaN stays NaN)."""
     a = np.asarray(angle_deg, dtype=float)
-    return a - 360.0 * np.ceil((a - 180.0) / 360.0)
+    return a - _TURN * np.ceil((a - _HALF_TURN) / _TURN)
 
 
 def acos_clipped(cosine: np.ndarray) -> np.ndarray:
     """arccos, with |cosine| in (1, 1 + ACOS_SLACK] taken as 1 (rounding) and NaN beyond (unreachable)."""
     c = np.asarray(cosine, dtype=float)
-    c = np.where(np.abs(c) <= 1.0 + ACOS_SLACK, np.minimum(np.maximum(c, -1.0), 1.0), np.nan)  # = np.clip, faster
-    return np.arccos(c)
+    clipped = np.minimum(np.maximum(c, _MINUS_ONE), _ONE, out=np.empty(c.shape))  # np.clip, without its overhead
+    np.copyto(clipped, _NAN, where=np.abs(c) > _ACOS_LIMIT)
+    return np.arccos(clipped)
 
 
 def sqrt_clipped(radicand: np.ndarray) -> np.ndarray:
@@ -48,9 +75,21 @@ def sqrt_clipped(radicand: np.ndarray) -> np.ndarray:
     return np.sqrt(r)
 
 
+def acos_clipped_float(cosine: float) -> float:
+    """acos_clipped of one Python float."""
+    if abs(cosine) <= 1.0 + ACOS_SLACK:
+        return math.acos(min(max(cosine, -1.0), 1.0))
+    return math.nan
+
+
+def sqrt_clipped_float(radicand: float) -> float:
+    """sqrt_clipped of one Python float."""
+    return math.sqrt(max(radicand, 0.0)) if radicand >= -SQRT_SLACK else math.nan
+
+
 def trig_table(angle: np.ndarray) -> np.ndarray:
-    """(..., 5): cos, sin, -sin, 1, 0 of angle (rad): every entry of a rotation about one axis, to gather
-    rotations from (ROT_Z, ROT_Y, rot_zy) with one indexing instead of stacking nine arrays."""
+    """(..., 5): cos, sin, -sin, 1, 0 of angle (rad): every entry of a rotation about one axis, so that
+    rotations are gathered (ROT_Z, ZY_FACTORS) by one indexing instead of stacking nine arrays."""
     angle = np.asarray(angle, dtype=float)
     out = np.empty((*angle.shape, 5))
     np.cos(angle, out=out[..., 0])
@@ -62,28 +101,25 @@ def trig_table(angle: np.ndarray) -> np.ndarray:
 
 _ONE_ZERO = np.array([1.0, 0.0])
 ROT_Z = np.array([0, 2, 4, 1, 0, 4, 4, 4, 3])  # trig_table(a)[..., ROT_Z]: rot_z(a) flattened, [[c, -s, 0], ...]
-ROT_Y = np.array([0, 4, 1, 4, 3, 4, 2, 4, 0])  # [[c, 0, s], [0, 1, 0], [-s, 0, c]]
-# rot_z(a) @ rot_y(b) = [[ca cb, -sa, ca sb], [sa cb, ca, sa sb], [-sb, 0, cb]]: entry by entry a product of
-# [[ca, -sa, ca], [sa, ca, sa], [1, 0, 1]] and [[cb, 1, sb], [cb, 1, sb], [-sb, 1, cb]]
-_ZY_LEFT = np.array([0, 2, 0, 1, 0, 1, 3, 4, 3])
-_ZY_RIGHT = np.array([0, 3, 1, 0, 3, 1, 2, 3, 0])
+# rot_z(a) @ rot_y(b) = [[ca cb, -sa, ca sb], [sa cb, ca, sa sb], [-sb, 0, cb]] flattened: entry by entry the
+# product of trig_table(a)[..., ZY_FACTORS[0]] and trig_table(b)[..., ZY_FACTORS[1]], i.e. of
+# [[ca, -sa, ca], [sa, ca, sa], [1, 0, 1]] and [[cb, 1, sb], [cb, 1, sb], [-sb, 1, cb]] (the matrix product's
+# entries exactly: each is one product, its other terms are exact zeros)
+ZY_FACTORS = np.array([[0, 2, 0, 1, 0, 1, 3, 4, 3], [0, 3, 1, 0, 3, 1, 2, 3, 0]])
 
 
 def rot_z(angle: np.ndarray) -> np.ndarray:
     """(..., 3, 3) rotations about z by angle (rad)."""
-    return trig_table(angle)[..., ROT_Z].reshape(*np.shape(angle), 3, 3)
+    c, s = np.cos(angle), np.sin(angle)
+    z, o = np.zeros_like(c), np.ones_like(c)
+    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
 
 
 def rot_y(angle: np.ndarray) -> np.ndarray:
     """(..., 3, 3) rotations about y by angle (rad)."""
-    return trig_table(angle)[..., ROT_Y].reshape(*np.shape(angle), 3, 3)
-
-
-def rot_zy(table_z: np.ndarray, table_y: np.ndarray) -> np.ndarray:
-    """(..., 3, 3) rot_z(a) @ rot_y(b) from trig_table(a) and trig_table(b) (broadcast): the matrix product's
-    entries (each a single product, its other terms exact zeros) without the product."""
-    entries = table_z[..., _ZY_LEFT] * table_y[..., _ZY_RIGHT]
-    return entries.reshape(*entries.shape[:-1], 3, 3)
+    c, s = np.cos(angle), np.sin(angle)
+    z, o = np.zeros_like(c), np.ones_like(c)
+    return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2)
 
 
 def homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
@@ -99,3 +135,17 @@ def homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
 def nan_incomplete_rows(joints: np.ndarray) -> np.ndarray:
     """Rows (last axis) with any NaN become all NaN, so a branch is either whole or absent."""
     return np.where(np.isnan(joints).any(axis=-1, keepdims=True), np.nan, joints)
+
+
+def finish_ik(joints_deg: np.ndarray) -> np.ndarray:
+    """nan_incomplete_rows(wrap_deg(joints_deg)), in place on joints_deg (a float array the caller owns): the
+    same numbers in fewer numpy calls for the few poses a call often has."""
+    a = joints_deg
+    t = a - _HALF_TURN
+    t /= _TURN
+    np.ceil(t, out=t)
+    t *= _TURN
+    a -= t  # wrap_deg; a wrapped angle is finite or NaN and never -0 (x - x is +0)
+    # 0 times a row's sum is +-0 (adding it changes no angle) where the row is complete, NaN where it is not
+    a += np.add.reduce(a, axis=-1, keepdims=True) * 0.0
+    return a

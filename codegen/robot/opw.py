@@ -10,15 +10,20 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
+from types import SimpleNamespace
 
 import numpy as np
 
 from codegen.robot.kinematics import (
     ROT_Z,
+    SMALL_BATCH,
+    ZY_FACTORS,
     acos_clipped,
-    nan_incomplete_rows,
-    rot_zy,
+    acos_clipped_float,
+    finish_ik,
+    in_chunks,
     sqrt_clipped,
+    sqrt_clipped_float,
     trig_table,
     wrap_deg,
 )
@@ -26,13 +31,20 @@ from codegen.robot.kinematics import (
 SHOULDER_SINGULAR_MM = 1e-10  # wrist centre this close to axis 1 (b = 0): theta1 is free, q1 = 0 is chosen
 WRIST_SINGULAR = 1e-12  # |sin theta5| below this: theta4 and theta6 only act as a sum, q4 = 0 is chosen
 
-# ik works on flat batches with the branch bits as axes: (n, shoulder, elbow) for the arm, wrist last
-_LATERAL_SIGN = np.array([-1.0, 1.0])  # theta1 = phi - lateral (front), phi + lateral - pi (back)
-_BACK_TURN = np.array([0.0, math.pi])
-_GAMMA_SIGN = np.array([1.0, -1.0])  # front, back
-_ELBOW_SIGN = np.array([1.0, -1.0])  # beta, -beta
-_NEGATE_FIRST = np.array([-1.0, 1.0])
-_RCE_USED = np.array([2, 5, 8, 0, 3, 6])  # flat indices of Rce's entries r02, r12, r22, r00, r10, r20
+# The batched code keeps numpy calls few (a call costs about as much for 1 pose as for 100): every per-arm
+# constant is a cached numpy scalar, rotations are gathered from trig_table, and ik works on one array
+# theta (axis, wrist, shoulder, pose, elbow) whose branch axes broadcast, written in place.
+_FK_FACTORS = np.stack(  # trig_table entries of (angles, 5) flattened, multiplied pairwise: R0c, Rz Ry, Rz
+    [ZY_FACTORS + 5 * np.array([[0], [6]]), ZY_FACTORS + 5 * np.array([[3], [4]]), [ROT_Z + 25, np.full(9, 28)]]
+)
+_IK_FACTORS = np.stack([ZY_FACTORS + 5 * np.array([[0], [1]]), ZY_FACTORS + 5 * np.array([[0], [2]])])  # R0c
+_RCE_ENTRIES = np.array([5, 5, 2, 8, 0, 3, 6])  # Rce flattened: r12, (sin5 goes here), r02, r22, r00, r10, r20
+_BACK_TURN = np.array([[0.0], [math.pi]])  # (shoulder, 1): theta1 front, back = + 180 deg
+_LATERAL_SIGN = np.array([[-1.0], [1.0]])  # theta1 = phi - lateral (front), phi + lateral - 180 (back)
+_GAMMA_SIGN = np.array([[1.0], [-1.0]])  # (shoulder, 1)
+_ELBOW_SIGN = np.array([1.0, -1.0])  # (elbow): beta, -beta
+_OVER_SIGN = np.array([1.0, -1.0, 1.0])[:, None, None, None]  # wrist 1: theta4 + 180, -theta5, theta6 + 180
+_OVER_TURN = np.array([math.pi, 0.0, math.pi])[:, None, None, None]
 
 
 @dataclass(frozen=True)
@@ -83,24 +95,33 @@ class OPW:
         return math.atan2(self.a2, self.c3)
 
     @cached_property
-    def _signs(self) -> np.ndarray:
-        return np.asarray(self.signs)
-
-    @cached_property
-    def _offsets(self) -> np.ndarray:
-        return np.asarray(self.offsets_deg, dtype=float)
-
-    @cached_property
-    def _to_joints_scale(self) -> np.ndarray:
-        return self._signs * (180.0 / math.pi)
-
-    @cached_property
-    def _to_joints_shift(self) -> np.ndarray:
-        return self._signs * self._offsets
-
-    @cached_property
-    def _plane_base(self) -> np.ndarray:
-        return np.array([self.a1, self.c1])  # (x, z) of axis 2 in the arm plane
+    def _k(self) -> SimpleNamespace:
+        """Per-arm constants of fk and ik, as numpy scalars and arrays (the same values the formulas need)."""
+        signs = np.asarray(self.signs, dtype=float)
+        offsets = np.asarray(self.offsets_deg, dtype=float)
+        k2 = self.a2 * self.a2 + self.c3 * self.c3
+        k = math.sqrt(k2)
+        return SimpleNamespace(
+            signs=signs,
+            offsets=offsets,
+            to_joints_scale=signs * (180.0 / math.pi),  # signs * degrees(theta): degrees is theta * (180 / pi)
+            to_joints_shift=signs * offsets,
+            plane_base=np.array([self.a1, self.c1]),  # (x, z) of axis 2 in the arm plane
+            plane_k=np.array(math.hypot(self.a2, self.c3)),
+            psi3=np.array(self.psi3),
+            a1=np.array(self.a1),
+            b=np.array(self.b),
+            c1=np.array(self.c1),
+            c2=np.array(self.c2),
+            c4=np.array(self.c4),
+            k=np.array(k),
+            reach_shift=np.array([[0.0], [2.0 * self.a1]]),  # wrist centre's distance from axis 2: front, back
+            c2_squared=np.array(self.c2 * self.c2),
+            k2=np.array(k2),
+            elbow_denominator=np.array(2.0 * self.c2 * k),
+            q1_zero=np.array(math.radians(self.offsets_deg[0])),
+            q4_zero=np.array(math.radians(self.offsets_deg[3])),
+        )
 
     @property
     def stretched_q3_deg(self) -> float:
@@ -114,10 +135,10 @@ class OPW:
     def theta(self, joints_deg: np.ndarray) -> np.ndarray:
         """The paper's angles (rad), (..., 6), from the controller's axis values (deg)."""
         q = np.asarray(joints_deg, dtype=float)
-        return np.radians(self._signs * q + self._offsets)
+        return np.radians(self._k.signs * q + self._k.offsets)
 
     def _joints(self, theta: np.ndarray) -> np.ndarray:
-        return wrap_deg(self._signs * (np.degrees(theta) - self._offsets))
+        return wrap_deg(self._k.signs * (np.degrees(theta) - self._k.offsets))
 
     def _arm_plane(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Wrist centre in the axis-1 frame: radial x and height z over the base (paper, forward kinematics)."""
@@ -144,97 +165,163 @@ class OPW:
 
     def fk(self, joints_deg: np.ndarray) -> np.ndarray:
         """(..., 6) axis values (deg) -> (..., 4, 4) flange2base (mm)."""
-        t = self.theta(joints_deg)
-        batch = t.shape[:-1]
-        t = t.reshape(-1, 6)
-        # every angle the pose needs, cos and sin taken once: theta1, theta4 | theta2 + theta3, theta5 | theta6 |
-        # theta2, theta2 + theta3 + psi3 (the paper's wrist centre in the arm plane)
-        angles = np.empty((len(t), 7))
-        angles[:, 0:2] = t[:, 0::3]
-        np.add(t[:, 1], t[:, 2], out=angles[:, 2])
-        angles[:, 3:5] = t[:, 4:6]
-        angles[:, 5] = t[:, 1]
-        np.add(angles[:, 2], self.psi3, out=angles[:, 6])
+        q = np.asarray(joints_deg, dtype=float)
+        return in_chunks(self._fk, q.reshape(-1, 6), (4, 4)).reshape(*q.shape[:-1], 4, 4)
+
+    def _fk(self, q: np.ndarray) -> np.ndarray:
+        """fk of (n, 6) axis values, batched."""
+        k = self._k
+        # theta1..6, theta2 + theta3, theta2 + theta3 + psi3 (as theta and _arm_plane compute them)
+        angles = np.empty((len(q), 8))
+        t = np.multiply(k.signs, q, out=angles[:, :6])
+        np.add(t, k.offsets, out=t)
+        np.radians(t, out=t)
+        np.add(t[:, 1], t[:, 2], out=angles[:, 6])
+        np.add(angles[:, 6], k.psi3, out=angles[:, 7])
         table = trig_table(angles)
-        zy = rot_zy(table[:, 0:2], table[:, 2:4])  # R0c = Rz(theta1) Ry(theta2 + theta3), Rz(theta4) Ry(theta5)
-        z6 = table[:, 4, ROT_Z].reshape(-1, 3, 3)  # Rz(theta6)
-        out = np.zeros((len(t), 4, 4))
-        rotation = out[:, :3, :3]
-        np.matmul(zy[:, 0], zy[:, 1] @ z6, out=rotation)  # R0c Rce
-        # wrist centre (as wrist_center): x, z in the arm plane, turned by theta1 (x c1 - b s1, x s1 + b c1, z)
-        plane = self._plane_base + self.c2 * table[:, 5, 1::-1] + math.hypot(self.a2, self.c3) * table[:, 6, 1::-1]
-        out[:, :2, 3] = plane[:, 0, None] * table[:, 0, :2] + self.b * table[:, 0, 2::-2]
+        factors = table.reshape(len(q), 40)[:, _FK_FACTORS]
+        rotations = (factors[:, :, 0] * factors[:, :, 1]).reshape(len(q), 3, 3, 3)  # R0c, Rz4 Ry5, Rz6
+        out = np.zeros((len(q), 4, 4))
+        rotation = np.matmul(rotations[:, 0], rotations[:, 1] @ rotations[:, 2], out=out[:, :3, :3])  # R0c Rce
+        # the wrist centre (as wrist_center): x, z in the arm plane, turned by theta1
+        plane = k.plane_base + k.c2 * table[:, 1, 1::-1] + k.plane_k * table[:, 7, 1::-1]
+        out[:, :2, 3] = plane[:, :1] * table[:, 0, :2] + k.b * table[:, 0, 2::-2]  # x (c, s) + b (-s, c)
         out[:, 2, 3] = plane[:, 1]
-        out[:, :3, 3] += self.c4 * rotation[:, :, 2]
+        out[:, :3, 3] += k.c4 * rotation[:, :, 2]
         out[:, 3, 3] = 1.0
-        return out.reshape(*batch, 4, 4)
+        return out
 
     def ik(self, flange2base: np.ndarray) -> np.ndarray:
         """(..., 4, 4) flange2base -> (..., 8, 6) axis values (deg, wrapped to (-180, 180]); NaN rows: none."""
         pose = np.asarray(flange2base, dtype=float)
+        return self._ik(pose, scalar=pose.size <= 16 * SMALL_BATCH)
+
+    def _ik(self, pose: np.ndarray, scalar: bool) -> np.ndarray:
+        """ik pose by pose on Python floats (scalar; unless math refuses a pose) or batched in numpy."""
         batch = pose.shape[:-2]
         pose = pose.reshape(-1, 4, 4)
-        rotation = pose[:, :3, :3]
-        center = pose[:, :3, 3] - self.c4 * rotation[:, :, 2]
-        theta = np.empty((len(pose), 2, 2, 2, 6))  # (n, shoulder, elbow, wrist, axis): the branch order
-        with np.errstate(invalid="ignore", divide="ignore"):
-            self._arm(center, theta)
-            self._wrist(rotation, theta)
-        # signs * (degrees(theta) - offsets): degrees is theta * (180 / pi), the signs +-1, so this is exact
-        joints = theta.reshape(*batch, 8, 6) * self._to_joints_scale - self._to_joints_shift
-        return nan_incomplete_rows(wrap_deg(joints))
+        theta = self._theta_floats(pose) if scalar else None
+        if theta is None:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                theta = in_chunks(self._theta, pose, (2, 2, 2, 6))
+        # signs * (degrees(theta) - offsets), exactly (signs +-1)
+        joints = np.multiply(theta, self._k.to_joints_scale, out=np.empty((len(pose), 2, 2, 2, 6)))
+        joints -= self._k.to_joints_shift
+        return finish_ik(joints).reshape(*batch, 8, 6)
+
+    def _theta(self, pose: np.ndarray) -> np.ndarray:
+        """theta (rad) of (n, 4, 4) poses as (n, shoulder, elbow, wrist, axis), batched."""
+        theta = np.empty((6, 2, 2, len(pose), 2))  # (axis, wrist, shoulder, pose, elbow)
+        self._arm(pose[:, :3, 3].T - self._k.c4 * pose[:, :3, 2].T, theta)
+        self._wrist(pose[:, :3, :3], theta)
+        return theta.transpose(3, 2, 4, 1, 0)  # (pose, shoulder, elbow, wrist, axis): the branch order
 
     def _arm(self, center: np.ndarray, theta: np.ndarray) -> None:
-        """theta1..3 of the wrist centres (n, 3) into theta[..., 0:3] (n, shoulder, elbow, wrist, axis)."""
-        cx, cy, cz = center[:, 0], center[:, 1], center[:, 2]
+        """theta1..3 into theta[0:3] from the wrist centres (3, n)."""
+        k = self._k
+        cx, cy, cz = center
         r2 = cx * cx + cy * cy
         phi = np.arctan2(cy, cx)
-        if self.b == 0.0:  # theta1 = phi (front), phi - 180 (back); on axis 1 any theta1: choose q1 = 0
+        if self.b == 0.0:
             rho = np.sqrt(r2)  # the wrist centre's distance from axis 1 in the arm plane (sqrt_clipped(r2 - 0))
-            phi = np.where(r2 < SHOULDER_SINGULAR_MM**2, math.radians(self.offsets_deg[0]), phi)
-            t1 = phi[:, None, None, None]  # the lateral angle atan2(b, rho) below is 0
+            np.copyto(phi, k.q1_zero, where=r2 < SHOULDER_SINGULAR_MM**2)  # on axis 1 any theta1: choose q1 = 0
+            theta1 = phi  # (the lateral angle atan2(b, rho) is 0)
         else:
             rho = sqrt_clipped(r2 - self.b * self.b)
-            lateral = np.arctan2(self.b, rho)
-            t1 = (phi[:, None] + lateral[:, None] * _LATERAL_SIGN)[..., None, None]
-        np.subtract(t1, _BACK_TURN[:, None, None], out=theta[..., 0])  # front, back (over the shoulder)
-        height = cz - self.c1
-        # radial distance of the wrist centre from axis 2: in front, and reaching over the shoulder
-        nx = (rho - self.a1)[:, None] + np.array([0.0, 2.0 * self.a1])
-        k2 = self.a2 * self.a2 + self.c3 * self.c3
-        k = math.sqrt(k2)
-        s_2 = nx * nx + (height * height)[:, None]
-        beta = acos_clipped((s_2 - self.c2 * self.c2 - k2) / (2.0 * self.c2 * k))  # elbow angle theta3 + psi3
-        beta = beta[..., None] * _ELBOW_SIGN  # (n, shoulder, elbow)
+            theta1 = phi + np.arctan2(self.b, rho) * _LATERAL_SIGN  # (shoulder, n)
+        np.subtract(theta1[..., None], _BACK_TURN[..., None], out=theta[0])
+        height = cz - k.c1
+        nx = (rho - k.a1) + k.reach_shift  # (shoulder, n)
+        s_2 = nx * nx + height * height
+        beta = acos_clipped((s_2 - k.c2_squared - k.k2) / k.elbow_denominator)  # elbow angle theta3 + psi3
+        beta = beta[..., None] * _ELBOW_SIGN  # (shoulder, n, elbow)
         # direction of the wrist centre seen from axis 2 (from vertical, towards the arm plane's x)
-        gamma = np.arctan2(nx, height[:, None]) * _GAMMA_SIGN
+        gamma = np.arctan2(nx, height) * _GAMMA_SIGN
         # theta2 from the elbow angle itself (the paper's acos of the shoulder triangle, written as the angle of
         # c2 + k e^(i beta)): lower arm and forearm then reach the wrist centre also where acos is ill-conditioned
-        shoulder = np.arctan2(k * np.sin(beta), self.c2 + k * np.cos(beta))
-        np.subtract(gamma[..., None, None], shoulder[..., None], out=theta[..., 1])
-        np.subtract(beta[..., None], self.psi3, out=theta[..., 2])
+        shoulder = np.arctan2(k.k * np.sin(beta), k.c2 + k.k * np.cos(beta))
+        np.subtract(gamma[..., None], shoulder, out=theta[1])
+        np.subtract(beta, k.psi3, out=theta[2])
 
     def _wrist(self, flange_rotation: np.ndarray, theta: np.ndarray) -> None:
-        """theta4..6 into theta[..., 3:6] from theta1..3 and the flange rotations (n, 3, 3); wrist 1 is wrist 0
+        """theta4..6 into theta[3:6] from theta1..3 and the flange rotations (n, 3, 3); wrist 1 is wrist 0
         turned over (theta4 + 180, -theta5, theta6 + 180)."""
-        up, over = theta[..., 0, :], theta[..., 1, :]  # (n, shoulder, elbow, axis)
-        angles = np.empty((len(theta), 2, 3))  # per shoulder: theta1, theta2 + theta3 of elbow 0 and 1
-        angles[..., 0] = up[:, :, 0, 0]
-        np.add(up[..., 1], up[..., 2], out=angles[..., 1:])
-        table = trig_table(angles)
-        arm2base = rot_zy(table[:, :, None, 0], table[:, :, 1:])  # R0c, (n, 2, 2, 3, 3)
-        wrist2arm = np.swapaxes(arm2base, -1, -2) @ flange_rotation[:, None, None]  # Rce
-        # the entries used, each as a contiguous (n, 2, 2) array
-        r02, r12, r22, r00, r10, r20 = wrist2arm.reshape(-1, 9).T[_RCE_USED].reshape(6, *angles.shape[:2], 2)
-        sin5 = np.hypot(r02, r12)
-        t5 = np.arctan2(sin5, r22, out=up[..., 4])
-        t4 = np.arctan2(r12, r02, out=up[..., 3])
-        np.copyto(t4, math.radians(self.offsets_deg[3]), where=sin5 < WRIST_SINGULAR)  # q4 = 0
-        c4, s4, c5 = np.cos(t4), np.sin(t4), np.cos(t5)
-        # Rz(-theta4) Rce = Ry(theta5) Rz(theta6): its column 0 is (c5 c6, s6, -s5 c6), exact also when sin5 = 0
-        a00 = c4 * r00 + s4 * r10
-        a10 = -s4 * r00 + c4 * r10
-        t6 = np.arctan2(a10, c5 * a00 - sin5 * r20, out=up[..., 5])
-        np.add(t4, math.pi, out=over[..., 3])
-        np.negative(t5, out=over[..., 4])
-        np.add(t6, math.pi, out=over[..., 5])
+        up = theta[:, 0]  # (axis, shoulder, n, elbow)
+        angles = np.empty((*up.shape[1:3], 3))  # theta1, theta2 + theta3 of elbow 0 and 1
+        angles[..., 0] = up[0, :, :, 0]
+        np.add(up[1], up[2], out=angles[..., 1:])
+        factors = trig_table(angles).reshape(*angles.shape[:2], 15)[..., _IK_FACTORS]
+        arm2base = (factors[..., 0, :] * factors[..., 1, :]).reshape(*up.shape[1:], 3, 3)  # R0c
+        wrist2arm = np.swapaxes(arm2base, -1, -2) @ flange_rotation[:, None]  # Rce, (shoulder, n, elbow, 3, 3)
+        rce = wrist2arm.reshape(-1, 9).T[_RCE_ENTRIES].reshape(7, *up.shape[1:])
+        sin5, r20 = rce[1], rce[6]
+        np.hypot(rce[2], rce[0], out=sin5)  # hypot(r02, r12)
+        t4 = np.arctan2(rce[0:2], rce[2:4], out=up[3:5])[0]  # atan2(r12, r02), atan2(sin5, r22)
+        np.copyto(t4, self._k.q4_zero, where=sin5 < WRIST_SINGULAR)  # wrist singularity: q4 = 0
+        trig = np.empty((3, *up.shape[1:]))
+        c5 = np.cos(up[3:5], out=trig[0:2])[1]
+        np.sin(t4, out=trig[2])
+        # Rz(-theta4) Rce = Ry(theta5) Rz(theta6): its column 0 is (c5 c6, s6, -s5 c6), exact also when sin5 = 0;
+        # a00 = c4 r00 + s4 r10, a10 = -s4 r00 + c4 r10 from the products (c4, s4) x (r00, r10)
+        products = trig[0::2, None] * rce[4:6]
+        a00 = products[0, 0] + products[1, 1]
+        a10 = products[0, 1] - products[1, 0]
+        np.arctan2(a10, c5 * a00 - sin5 * r20, out=up[5])
+        np.add(up[3:6] * _OVER_SIGN, _OVER_TURN, out=theta[3:6, 1])
+
+    @cached_property
+    def _floats(self) -> SimpleNamespace:
+        """_k as Python floats, for the pose-by-pose path."""
+        return SimpleNamespace(**{name: value.item() for name, value in vars(self._k).items() if value.ndim == 0})
+
+    def _theta_floats(self, pose: np.ndarray) -> np.ndarray | None:
+        """theta (rad) as (n, shoulder, elbow, wrist, axis) of (n, 4, 4) poses, pose by pose on Python floats:
+        the formulas of _arm and _wrist written out per branch (Rce as sums instead of a matrix product; NaN
+        propagates as in numpy). None where math raises instead (an infinite coordinate): the batched path then
+        takes the call."""
+        f = self._floats
+        b, pi, atan2, cos, sin = self.b, math.pi, math.atan2, math.cos, math.sin
+        rows: list[tuple[float, ...]] = []
+        try:
+            for (r00, _, r02, px), (r10, _, r12, py), (r20, _, r22, pz), _ in pose.tolist():
+                cx, cy, height = px - f.c4 * r02, py - f.c4 * r12, pz - f.c4 * r22 - f.c1
+                r2 = cx * cx + cy * cy
+                phi = atan2(cy, cx)
+                if b == 0.0:
+                    rho = math.sqrt(r2)
+                    if r2 < SHOULDER_SINGULAR_MM**2:
+                        phi = f.q1_zero
+                    shoulders = ((phi, rho - f.a1, 1.0), (phi - pi, rho - f.a1 + 2.0 * self.a1, -1.0))
+                else:
+                    rho = sqrt_clipped_float(r2 - b * b)
+                    lateral = atan2(b, rho)
+                    shoulders = (
+                        (phi - lateral, rho - f.a1, 1.0),
+                        (phi + lateral - pi, rho - f.a1 + 2.0 * self.a1, -1.0),
+                    )
+                for t1, nx, gamma_sign in shoulders:
+                    beta = acos_clipped_float((nx * nx + height * height - f.c2_squared - f.k2) / f.elbow_denominator)
+                    gamma = atan2(nx, height) * gamma_sign
+                    c1, s1 = cos(t1), sin(t1)
+                    for elbow in (beta, -beta):
+                        t2 = gamma - atan2(f.k * sin(elbow), f.c2 + f.k * cos(elbow))
+                        t3 = elbow - f.psi3
+                        c, s = cos(t2 + t3), sin(t2 + t3)
+                        # Rce = R0c^T R, R0c = [[c1 c, -s1, c1 s], [s1 c, c1, s1 s], [-s, 0, c]]: columns 0, 2
+                        # (0 r20, 0 r22 as in the matrix product: NaN where r20, r22 are infinite)
+                        w00 = c1 * c * r00 + s1 * c * r10 - s * r20
+                        w10 = -s1 * r00 + c1 * r10 + 0.0 * r20
+                        w20 = c1 * s * r00 + s1 * s * r10 + c * r20
+                        w02 = c1 * c * r02 + s1 * c * r12 - s * r22
+                        w12 = -s1 * r02 + c1 * r12 + 0.0 * r22
+                        w22 = c1 * s * r02 + s1 * s * r12 + c * r22
+                        sin5 = math.hypot(w02, w12)
+                        t4 = f.q4_zero if sin5 < WRIST_SINGULAR else atan2(w12, w02)
+                        t5 = atan2(sin5, w22)
+                        c4, s4 = cos(t4), sin(t4)
+                        t6 = atan2(c4 * w10 - s4 * w00, cos(t5) * (c4 * w00 + s4 * w10) - sin5 * w20)
+                        rows.append((t1, t2, t3, t4, t5, t6))
+                        rows.append((t1, t2, t3, t4 + pi, -t5, t6 + pi))
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return None
+        return np.array(rows).reshape(len(pose), 2, 2, 2, 6)

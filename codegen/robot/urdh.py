@@ -23,15 +23,24 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
+from types import SimpleNamespace
 
 import numpy as np
 
-from codegen.robot.kinematics import acos_clipped, nan_incomplete_rows, wrap_deg
+from codegen.robot.kinematics import SMALL_BATCH, acos_clipped, acos_clipped_float, finish_ik, in_chunks
 
 ALPHA_DEG = (90, 0, 0, 90, -90, 0)
 COS_ALPHA = (0.0, 1.0, 1.0, 0.0, 0.0, 1.0)  # exact, not cos(pi / 2) = 6e-17
 SIN_ALPHA = (1.0, 0.0, 0.0, 1.0, -1.0, 0.0)
 WRIST_SINGULAR = 1e-12  # |sin q5| below this: q6 only acts together with q2 + q3 + q4 (see URDH)
+
+# The batched code keeps numpy calls few (a call costs about as much for 1 pose as for 100): per-arm constants
+# are cached numpy scalars, and ik writes into one array theta (pose, shoulder, elbow, wrist, axis) whose
+# branch axes broadcast.
+_EYE4 = np.eye(4)
+_PLUS_MINUS = np.array([1.0, -1.0])  # q1 = phi + 90 +- spread; q5 = +-; q3 = +-
+_MINUS_PLUS = np.array([-1.0, 1.0])
 
 
 @dataclass(frozen=True)
@@ -57,22 +66,58 @@ class URDH:
     d5: float
     d6: float
 
-    def _dh(self) -> tuple[tuple[float, ...], tuple[float, ...]]:
-        return (0.0, self.a2, self.a3, 0.0, 0.0, 0.0), (self.d1, 0.0, 0.0, self.d4, self.d5, self.d6)
+    @cached_property
+    def _k(self) -> SimpleNamespace:
+        """Per-arm constants of fk and ik, as numpy scalars and arrays (the same values the formulas need)."""
+        d = (self.d1, 0.0, 0.0, self.d4, self.d5, self.d6)
+        link_rows = [
+            [[0.0, sa, ca, di], [0.0, 0.0, 0.0, 1.0]] for sa, ca, di in zip(SIN_ALPHA, COS_ALPHA, d, strict=True)
+        ]
+        return SimpleNamespace(
+            cos_alpha=np.array(COS_ALPHA)[:, None],  # (link, 1)
+            sin_alpha=np.array(SIN_ALPHA)[:, None],
+            a=np.array([0.0, self.a2, self.a3, 0.0, 0.0, 0.0])[:, None],
+            link_rows=np.array(link_rows)[:, None],  # (link, 1, 2, 4): the last two rows of each link
+            d1=np.array(self.d1),
+            d4=np.array(self.d4),
+            d5=np.array(self.d5),
+            d6=np.array(self.d6),
+            a2=np.array(self.a2),
+            a3=np.array(self.a3),
+            a2_squared=np.array(self.a2 * self.a2),
+            a3_squared=np.array(self.a3 * self.a3),
+            elbow_denominator=np.array(2.0 * self.a2 * self.a3),
+            quarter_turn=np.array(math.pi / 2),
+        )
+
+    @cached_property
+    def _floats(self) -> SimpleNamespace:
+        """_k as Python floats, for the pose-by-pose path."""
+        return SimpleNamespace(**{name: value.item() for name, value in vars(self._k).items() if value.ndim == 0})
 
     def _frames(self, joints_deg: np.ndarray, count: int) -> np.ndarray:
-        """(..., 4, 4): DH frame `count` in the base frame (0 <= count <= 6)."""
-        q = np.radians(np.asarray(joints_deg, dtype=float))
-        a, d = self._dh()
-        out = np.broadcast_to(np.eye(4), (*q.shape[:-1], 4, 4))
-        for i in range(count):
-            c, s = np.cos(q[..., i]), np.sin(q[..., i])
-            ca, sa = COS_ALPHA[i], SIN_ALPHA[i]
-            link = np.zeros((*q.shape[:-1], 4, 4))
-            link[..., 0, :] = np.stack([c, -s * ca, s * sa, a[i] * c], axis=-1)
-            link[..., 1, :] = np.stack([s, c * ca, -c * sa, a[i] * s], axis=-1)
-            link[..., 2, 1:] = (sa, ca, d[i])
-            link[..., 3, 3] = 1.0
+        """(..., 4, 4): DH frame `count` in the base frame (1 <= count <= 6)."""
+        q = np.asarray(joints_deg, dtype=float)
+        frames = in_chunks(lambda chunk: self._frame(chunk, count), q.reshape(-1, 6), (4, 4))
+        return frames.reshape(*q.shape[:-1], 4, 4)
+
+    def _frame(self, q: np.ndarray, count: int) -> np.ndarray:
+        """DH frame `count` of (n, 6) axis values (deg), batched."""
+        q = q.T[:count]
+        q = np.radians(q, out=np.empty(q.shape))  # (link, n), contiguous
+        k = self._k
+        links = np.empty((*q.shape, 4, 4))  # Rz(q) Tz(d) Tx(a) Rx(alpha) per link
+        c = np.cos(q, out=links[..., 0, 0])
+        s = np.sin(q, out=links[..., 1, 0])
+        np.multiply(-s, k.cos_alpha[:count], out=links[..., 0, 1])
+        np.multiply(c, k.cos_alpha[:count], out=links[..., 1, 1])
+        np.multiply(s, k.sin_alpha[:count], out=links[..., 0, 2])
+        np.multiply(-c, k.sin_alpha[:count], out=links[..., 1, 2])
+        np.multiply(c, k.a[:count], out=links[..., 0, 3])
+        np.multiply(s, k.a[:count], out=links[..., 1, 3])
+        links[..., 2:, :] = k.link_rows[:count]  # [0, sa, ca, d], [0, 0, 0, 1]
+        out = _EYE4 @ links[0]  # (as the product from the identity: a NaN angle spreads over the matrix)
+        for link in links[1:]:
             out = out @ link
         return out
 
@@ -87,56 +132,74 @@ class URDH:
     def ik(self, flange2base: np.ndarray) -> np.ndarray:
         """(..., 4, 4) flange2base -> (..., 8, 6) axis values (deg, wrapped to (-180, 180]); NaN rows: none."""
         pose = np.asarray(flange2base, dtype=float)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            theta = self._solve(pose[..., :3, :3], pose[..., :3, 3])  # (..., s, w, e, 6)
-        theta = np.swapaxes(theta, -2, -3)  # (..., shoulder, elbow, wrist, 6)
-        joints = wrap_deg(np.degrees(theta.reshape(*theta.shape[:-4], 8, 6)))
-        return nan_incomplete_rows(joints)
+        return self._ik(pose, scalar=pose.size <= 16 * SMALL_BATCH)
 
-    def _solve(self, rotation: np.ndarray, position: np.ndarray) -> np.ndarray:
-        n, o, z6 = (rotation[..., None, None, :, i] for i in range(3))  # broadcast over (shoulder, wrist)
-        p5 = position - self.d6 * rotation[..., :, 2]
-        phi = np.arctan2(p5[..., 1], p5[..., 0])
-        spread = acos_clipped(self.d4 / np.hypot(p5[..., 0], p5[..., 1]))
-        t1 = np.stack([phi + math.pi / 2 + spread, phi + math.pi / 2 - spread], axis=-1)[..., None]  # (..., 2, 1)
-        # z1 = (s1, -c1, 0): axis of joints 2, 3, 4; its components in the flange frame are (s5 c6, -s5 s6, c5)
-        z1 = np.stack([np.sin(t1), -np.cos(t1), np.zeros_like(t1)], axis=-1)
-        n1, o1 = np.sum(n * z1, axis=-1), np.sum(o * z1, axis=-1)
-        sin5 = np.hypot(n1, o1)
-        t5_up = np.arctan2(sin5, np.sum(z6 * z1, axis=-1))
-        t5 = np.concatenate([t5_up, -t5_up], axis=-1)  # (..., 2 shoulder, 2 wrist)
-        t1 = np.broadcast_to(t1, t5.shape)
-        sign5 = np.where(np.arange(2) == 0, 1.0, -1.0)
-        singular = np.broadcast_to(sin5, t5.shape) < WRIST_SINGULAR
-        t6 = np.where(singular, 0.0, np.arctan2(-sign5 * o1, sign5 * n1))
-        arm = self._arm(t1, t5, t6, n, o, z6, position[..., None, None, :])
-        stuck = singular & np.isnan(arm).all(axis=(-2, -1))  # q6 = 0 leaves joint 4 out of the arm's reach
-        if stuck.any():
-            t6_reach = self._singular_q6(t1, t5, n, p5[..., None, None, :])
-            redo = self._arm(t1, t5, t6_reach, n, o, z6, position[..., None, None, :])
-            arm = np.where(stuck[..., None, None], redo, arm)
-            t6 = np.where(stuck, t6_reach, t6)
-        t2, t3, t4 = arm[..., 0, :], arm[..., 1, :], arm[..., 2, :]
-        parts = [t1[..., None], t2, t3, t4, t5[..., None], t6[..., None]]
-        return np.stack([np.broadcast_to(x, t3.shape) for x in parts], axis=-1)
+    def _ik(self, pose: np.ndarray, scalar: bool) -> np.ndarray:
+        """ik pose by pose on Python floats (scalar; unless math refuses a pose or one needs _singular_q6) or
+        batched in numpy."""
+        batch = pose.shape[:-2]
+        pose = pose.reshape(-1, 4, 4)
+        theta = self._theta_floats(pose) if scalar else None
+        if theta is None:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                theta = in_chunks(self._solve, pose, (2, 2, 2, 6))  # (n, shoulder, elbow, wrist, 6)
+        return finish_ik(np.degrees(theta).reshape(*batch, 8, 6))
 
-    def _arm(self, t1, t5, t6, n, o, z6, position) -> np.ndarray:
-        """(q2, q3, q4) x (elbow 0, 1) as (..., 2, 2, 3, 2) from q1, q5, q6 (rad)."""
+    def _solve(self, pose: np.ndarray) -> np.ndarray:
+        """theta (rad) of (n, 4, 4) poses as (n, shoulder, elbow, wrist, axis), batched."""
+        k = self._k
+        rotation, position = pose[:, :3, :3], pose[:, :3, 3]
+        theta = np.empty((len(rotation), 2, 2, 2, 6))  # (pose, shoulder, elbow, wrist, axis)
+        p5 = position - k.d6 * rotation[:, :, 2]
+        phi = np.arctan2(p5[:, 1], p5[:, 0])
+        spread = acos_clipped(k.d4 / np.hypot(p5[:, 0], p5[:, 1]))
+        t1 = (phi + k.quarter_turn)[:, None] + spread[:, None] * _PLUS_MINUS  # (n, shoulder)
         c1, s1 = np.cos(t1), np.sin(t1)
+        # z1 = (s1, -c1, 0): axis of joints 2, 3, 4; its components in the flange frame are (s5 c6, -s5 s6, c5)
+        z1 = np.empty((*t1.shape, 3))
+        z1[..., 0] = s1
+        np.negative(c1, out=z1[..., 1])
+        z1[..., 2] = 0.0
+        axes = np.swapaxes(rotation, -1, -2)[:, None]  # the flange's x (n), y (o), z axes as rows
+        n1, o1, z61 = np.moveaxis(np.add.reduce(z1[..., None, :] * axes, axis=-1), -1, 0)  # (n, shoulder) each
+        sin5 = np.hypot(n1, o1)
+        t5 = np.arctan2(sin5, z61)[..., None, None] * _PLUS_MINUS  # (n, shoulder, 1, wrist)
+        singular = (sin5 < WRIST_SINGULAR)[..., None, None]
+        t6 = np.arctan2(o1[..., None, None] * _MINUS_PLUS, n1[..., None, None] * _PLUS_MINUS)
+        np.copyto(t6, 0.0, where=singular)
+        c1, s1 = c1[..., None, None], s1[..., None, None]
+        t3_up = self._arm(c1, s1, t5, t6, axes[:, :, None, None], p5, theta)
+        stuck = singular & np.isnan(t3_up)  # q6 = 0 leaves joint 4 out of the arm's reach
+        if stuck.any():
+            t6_reach = self._singular_q6(t1[..., None, None], t5, axes[:, :, None, None, 0], p5[:, None, None, None])
+            redo = np.empty_like(theta)
+            self._arm(c1, s1, t5, t6_reach, axes[:, :, None, None], p5, redo)
+            np.copyto(theta[..., 1:4], redo[..., 1:4], where=stuck[..., None])
+            t6 = np.where(stuck, t6_reach, t6)
+        theta[..., 0] = t1[..., None, None]
+        theta[..., 4] = t5
+        theta[..., 5] = t6
+        return theta
+
+    def _arm(self, c1, s1, t5, t6, axes, p5, theta) -> np.ndarray:
+        """(q2, q3, q4) into theta[..., 1:4] (n, shoulder, elbow, wrist) from cos and sin of q1 and from q5, q6
+        (n, shoulder, 1, wrist); returns acos of the elbow, NaN where out of reach."""
+        k = self._k
+        n, o, z6 = axes[..., 0, :], axes[..., 1, :], axes[..., 2, :]
         c5, s5, c6, s6 = np.cos(t5), np.sin(t5), np.cos(t6), np.sin(t6)
         # frame 4 = flange . Rz(-q6) Rx(90) Rz(-q5): its x and z axes, and its origin
         z4 = -s6[..., None] * n - c6[..., None] * o
         x4 = (c5 * c6)[..., None] * n - (c5 * s6)[..., None] * o - s5[..., None] * z6
-        p4 = position - self.d6 * z6 - self.d5 * z4
+        p4 = p5[:, None, None, None] - k.d5 * z4
         # in the frame of joint 1 (Rz(q1) Rx(90) at height d1): the planar arm of joints 2 and 3
         px = c1 * p4[..., 0] + s1 * p4[..., 1]
-        py = p4[..., 2] - self.d1
-        cos3 = (px * px + py * py - self.a2 * self.a2 - self.a3 * self.a3) / (2.0 * self.a2 * self.a3)
-        t3_up = acos_clipped(cos3)
-        t3 = np.stack([t3_up, -t3_up], axis=-1)  # (..., 2, 2, 2 elbow)
-        t2 = np.arctan2(py, px)[..., None] - np.arctan2(self.a3 * np.sin(t3), self.a2 + self.a3 * np.cos(t3))
+        py = p4[..., 2] - k.d1
+        t3_up = acos_clipped((px * px + py * py - k.a2_squared - k.a3_squared) / k.elbow_denominator)
+        t3 = np.multiply(t3_up, _PLUS_MINUS[:, None], out=theta[..., 2])  # (n, shoulder, elbow, wrist)
+        t2 = np.subtract(np.arctan2(py, px), np.arctan2(k.a3 * np.sin(t3), k.a2 + k.a3 * np.cos(t3)), out=theta[..., 1])
         t234 = np.arctan2(x4[..., 2], c1 * x4[..., 0] + s1 * x4[..., 1])
-        return np.stack([t2, t3, t234[..., None] - t2 - t3], axis=-2)
+        np.subtract(t234 - t2, t3, out=theta[..., 3])
+        return t3_up
 
     def _singular_q6(self, t1, t5, n, p5) -> np.ndarray:
         """At the wrist singularity q6 turns the d5 offset about p5 in the arm plane: the q6 that puts joint 4
@@ -157,3 +220,49 @@ class URDH:
         # column 0 of R46 = Rz(q5) Rx(-90) Rz(q6) is (c5 c6, s5 c6, -s6) = (x4 . n, z1 . n, z4 . n)
         x4n, z1n, z4n = (np.sum(axis * n, axis=-1) for axis in (x4, z1, z4))
         return np.arctan2(-z4n, np.cos(t5) * x4n + np.sin(t5) * z1n)
+
+    def _theta_floats(self, pose: np.ndarray) -> np.ndarray | None:
+        """theta (rad) as (n, shoulder, elbow, wrist, axis) of (n, 4, 4) poses, pose by pose on Python floats:
+        the formulas of _solve and _arm written out per branch (NaN propagates as in numpy). None where math raises
+        instead (an infinite coordinate, p5 on the base z axis) or a pose needs _singular_q6 (q6 = 0 leaves joint 4
+        out of reach at the wrist singularity): the batched path then takes the call."""
+        f = self._floats
+        atan2, cos, sin = math.atan2, math.cos, math.sin
+        rows: list[tuple[float, ...]] = []
+        try:
+            for (nx, ox, zx, px), (ny, oy, zy, py), (nz, oz, zz, pz), _ in pose.tolist():
+                p5x, p5y, p5z = px - f.d6 * zx, py - f.d6 * zy, pz - f.d6 * zz
+                base = atan2(p5y, p5x) + f.quarter_turn
+                spread = acos_clipped_float(f.d4 / math.hypot(p5x, p5y))
+                for t1 in (base + spread, base - spread):
+                    c1, s1 = cos(t1), sin(t1)
+                    # components of n, o, z6 along z1 = (s1, -c1, 0) (0 nz etc.: NaN where nz is infinite)
+                    n1, o1 = s1 * nx - c1 * ny + 0.0 * nz, s1 * ox - c1 * oy + 0.0 * oz
+                    sin5 = math.hypot(n1, o1)
+                    t5_up = atan2(sin5, s1 * zx - c1 * zy + 0.0 * zz)
+                    singular = sin5 < WRIST_SINGULAR
+                    by_wrist = []
+                    for sign in (1.0, -1.0):
+                        t5 = t5_up * sign
+                        t6 = 0.0 if singular else atan2(-sign * o1, sign * n1)
+                        c5, s5, c6, s6 = cos(t5), sin(t5), cos(t6), sin(t6)
+                        # frame 4: its z axis, x axis and origin; then the planar arm of joints 2 and 3
+                        z4x, z4y, z4z = -s6 * nx - c6 * ox, -s6 * ny - c6 * oy, -s6 * nz - c6 * oz
+                        x4x = c5 * c6 * nx - c5 * s6 * ox - s5 * zx
+                        x4y = c5 * c6 * ny - c5 * s6 * oy - s5 * zy
+                        x4z = c5 * c6 * nz - c5 * s6 * oz - s5 * zz
+                        px4 = c1 * (p5x - f.d5 * z4x) + s1 * (p5y - f.d5 * z4y)
+                        py4 = p5z - f.d5 * z4z - f.d1
+                        cos3 = (px4 * px4 + py4 * py4 - f.a2_squared - f.a3_squared) / f.elbow_denominator
+                        t3_up = acos_clipped_float(cos3)
+                        if singular and math.isnan(t3_up):
+                            return None  # q6 = 0 leaves joint 4 out of the arm's reach: _singular_q6
+                        reach = atan2(py4, px4)
+                        t234 = atan2(x4z, c1 * x4x + s1 * x4y)
+                        for t3 in (t3_up, -t3_up):
+                            t2 = reach - atan2(f.a3 * sin(t3), f.a2 + f.a3 * cos(t3))
+                            by_wrist.append((t1, t2, t3, t234 - t2 - t3, t5, t6))
+                    rows += (by_wrist[0], by_wrist[2], by_wrist[1], by_wrist[3])  # elbow, then wrist
+        except (ValueError, ZeroDivisionError, OverflowError):
+            return None
+        return np.array(rows).reshape(len(pose), 2, 2, 2, 6)
