@@ -32,7 +32,8 @@ def _load(target: str) -> None:
     from codegen.cell import load_cell
     from codegen.verify import build_cases, edge_cell, fresh_programs
 
-    cell = edge_cell(load_cell())
+    model = load_cell()
+    cell = edge_cell(model) if model.robot is None else model  # with an arm the edge poses are verified apart
     _STATE.update(cell=cell, cases=build_cases(cell, 1000, 0), programs=fresh_programs(cell, [target]))
 
 

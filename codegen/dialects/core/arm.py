@@ -52,7 +52,6 @@ class ArmState:
         if self.arm is None:  # no kinematics: the move is known by its joints only
             event.joints = q
             return
-        self._check_limits(q, where)
         self.pending.append(_Pending(event, where, "joints", q, tcp2flange=self.tcp2flange))
         self.known = True
 
