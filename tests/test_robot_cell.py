@@ -154,7 +154,7 @@ def test_taught_joints_name_the_solution(tmp_path):
 def test_demo_cells_pass_with_their_margins_printed(tmp_path):
     result = generate(tmp_path, DEMO_CELL)
     assert result.exit_code == 0, result.output
-    assert "envelope abb (IRB 1600-10/1.45): 442 readings per station, every pose reachable" in result.output
+    assert "envelope abb (IRB 1600-10/1.45): 298 readings per station, every pose reachable" in result.output
     assert re.search(r"station 6 inspection_table: [\d.]+ deg to the nearest joint limit", result.output)
     data = json.loads(generate(tmp_path, BENCH, "--json").output)
     kuka = next(e for e in data["envelope"] if e["target"] == "kuka")

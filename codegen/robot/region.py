@@ -15,7 +15,7 @@ from codegen.robot import solve
 from codegen.robot.config import FORMS
 from codegen.robot.taught import ArmPose, arm_poses, configuration, select
 
-MIN_DIRECTIONS = 24  # directions on each ring of the shift disc, at least
+MIN_DIRECTIONS = 16  # directions on each ring of the shift disc, at least
 RING_SPACING_MM = 5.0  # and at most this far apart on the boundary
 INNER_RINGS = (0.5,)  # fractions of the shift limit sampled inside the disc (and the centre)
 MIN_ROTATIONS = 9  # rotations from -limit to +limit (both ends included), at least
