@@ -261,3 +261,34 @@ def test_the_controllers_numbered_tool_instead_of_a_declared_one(tmp_path):
     bad = DEMO_TEXT.replace("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0, 80.0]\nnumbered = { abb = 1 }")
     with pytest.raises(CellError, match=r"cell.tool.numbered.abb: the abb controller has no numbered tools here"):
         load_cell(write_cell(tmp_path, bad, "bad.toml"))
+
+
+def _many_stations(count: int, bad: int | None = None) -> str:
+    """The demo's arm section with count copies of its lathe station (station `bad` out of reach)."""
+    head = DEMO_TEXT[: DEMO_TEXT.index("[[station]]")]
+    stations = []
+    for i in range(1, count + 1):
+        x = 738.5 + (i % 5) - (0 if i != bad else -2000.0)
+        stations.append(
+            f'[[station]]\nid = {i}\nname = "lathe_{i}"\nmark = [612.4, -285.0, 1.8]\n[station.poses]\n'
+            f"approach = [655.0, -120.0, 420.0, 90.0, 0.0, 180.0]\nchuck = [{x}, -112.3, 305.2, 90.0, 0.0, 180.0]\n"
+        )
+    return head + "\n".join(stations)
+
+
+def test_a_large_cell_is_checked_in_parallel_with_the_same_result(tmp_path, monkeypatch):
+    from codegen.robot import envelope
+
+    path = write_cell(tmp_path, _many_stations(60))
+    parallel = load_cell(path)
+    assert len(parallel.stations) >= envelope.PARALLEL_STATIONS
+    margins = [e.as_json() for e in envelope.check(parallel)]
+    files = render(parallel)
+    monkeypatch.setattr(envelope, "PARALLEL_STATIONS", 10**6)
+    serial = load_cell(path)
+    assert [e.as_json() for e in envelope.check(serial)] == margins
+    assert [f.text for f in render(serial)] == [f.text for f in files]
+    refused = load_cell(write_cell(tmp_path, _many_stations(60, bad=47), "bad.toml"))
+    monkeypatch.undo()
+    with pytest.raises(envelope.ReachError, match=r"station 47 'lathe_47' pose 'chuck' \(ur, UR10e\): out of reach"):
+        envelope.check(refused)

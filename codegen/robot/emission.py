@@ -6,7 +6,7 @@ import math
 
 from codegen.emit import EmitError, format_literal
 from codegen.poses import FORMAT_DECIMALS, native_values
-from codegen.robot.region import station_region
+from codegen.robot.region import station_plan
 from codegen.robot.taught import ReachError, configuration
 
 JOINT_DECIMALS = {"deg": 4, "rad": 6}  # 1e-4 deg; 1e-6 rad = 6e-5 deg
@@ -60,12 +60,12 @@ def station_arm(cell, target, station) -> list[dict]:
     unit = target.program["joint_unit"]
     literal = _LITERALS[target.configuration]
     try:
-        region = station_region(cell, target.name, station)
+        taught, named_poses = station_plan(cell, target.name, station)
     except ReachError as exc:  # a taught pose the arm cannot take: no configuration to write
         raise EmitError(str(exc)) from None
     return [
         {**literal(configuration(target.configuration, arm, pose.joints), unit), "named": named}
-        for pose, named in zip(region.taught, region.named, strict=True)
+        for pose, named in zip(taught, named_poses, strict=True)
     ]
 
 

@@ -3,12 +3,15 @@ in its taught configuration, inside the joint limits and away from the wrist sin
 
 from __future__ import annotations
 
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.robot.region import station_region
+from codegen.robot.region import offsets, remember_plan, station_region
 from codegen.robot.taught import ReachError, configuration
 
 
@@ -160,11 +163,51 @@ def _reading(offset) -> str:
     return f"(shift {dx:+.2f}, {dy:+.2f} mm, rotation {rot:+.2f} deg)"
 
 
+PARALLEL_STATIONS = 50  # from this many stations the targets are checked in parallel processes
+_FORKED: dict = {}  # the cell a forked worker checks (inherited, not pickled)
+
+
 def check(cell) -> list[TargetEnvelope]:
-    """Every target with an arm; [] when the cell names no robot."""
+    """Every target with an arm; [] when the cell names no robot. A large cell's targets are checked in
+    parallel processes (one per core); what the programs need of each station comes back (its plan)."""
     if cell.robot is None:
         return []
-    return [check_target(cell, target) for target in cell.targets if target in cell.robot.arms]
+    targets = [target for target in cell.targets if target in cell.robot.arms]
+    cores = min(len(targets), os.cpu_count() or 1)
+    if cores < 2 or len(cell.stations) < PARALLEL_STATIONS or "fork" not in multiprocessing.get_all_start_methods():
+        return [check_target(cell, target) for target in targets]
+    workers = os.cpu_count() or 1
+    size = -(-len(cell.stations) // (2 * workers))  # chunks of stations: the work spreads evenly
+    tasks = [(target, i, i + size) for target in targets for i in range(0, len(cell.stations), size)]
+    _FORKED["cell"] = cell
+    try:
+        context = multiprocessing.get_context("fork")
+        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+            results = list(pool.map(_check_forked, tasks))
+    finally:
+        _FORKED.clear()
+    margins: dict[str, list[StationMargin]] = {target: [] for target in targets}
+    for (target, low, _high), (chunk, plans, error) in zip(tasks, results, strict=True):
+        if error is not None:
+            raise ReachError(error)
+        margins[target].extend(chunk)
+        for station, (taught, named) in zip(cell.stations[low:], plans, strict=False):
+            remember_plan(cell, target, station, taught, named)
+    samples = len(offsets(cell.limits.max_shift_mm, cell.limits.max_rotation_deg))
+    return [TargetEnvelope(t, cell.robot.arms[t].model, samples, tuple(margins[t])) for t in targets]
+
+
+def _check_forked(task: tuple[str, int, int]):
+    """One target's stations low..high-1 in a forked worker: their margins and plans, or the refusal."""
+    target, low, high = task
+    cell = _FORKED["cell"]
+    arm = cell.robot.arms[target]
+    try:
+        chunk = [_station(cell, target, arm, station) for station in cell.stations[low:high]]
+    except ReachError as exc:
+        return None, None, str(exc)
+    regions = [station_region(cell, target, s) for s in cell.stations[low:high]]
+    return chunk, [(region.taught, region.named) for region in regions], None
 
 
 __all__ = ["ReachError", "TargetEnvelope", "check"]

@@ -9,7 +9,7 @@ from codegen.poses import native_values
 from codegen.reference import JOINT, Move
 from codegen.robot import solve
 from codegen.robot.envelope import singular_distance, wrist_angle
-from codegen.robot.region import move_joints, station_region
+from codegen.robot.region import move_joints, station_plan
 
 # Both sides solve the same inverse kinematics for poses that agree within verify's pose tolerance
 # (float32: 0.005 mm, 0.001 deg). With the wrist at least the cell's wrist margin (5 deg) from its
@@ -44,9 +44,9 @@ def expected_joints(
     robot = cell.robot
     arm = robot.arms[target]
     form = get_target(target).configuration
-    region = station_region(cell, target, station)
+    poses, named_poses = station_plan(cell, target, station)
     taught = {}
-    for pose, named in zip(region.taught, region.named, strict=True):
+    for pose, named in zip(poses, named_poses, strict=True):
         taught.setdefault(pose.name, (pose, named))
     out, previous = [], start
     solved = list(solved) if solved is not None else [None] * len(moves)

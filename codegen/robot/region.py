@@ -58,6 +58,7 @@ def offsets(max_shift_mm: float, max_rotation_deg: float) -> np.ndarray:
 
 
 _CACHE: dict = {}
+_PLANS: dict = {}
 
 
 def station_region(cell, target: str, station) -> StationRegion:
@@ -66,6 +67,22 @@ def station_region(cell, target: str, station) -> StationRegion:
     if hit is None or hit[0] is not cell:
         hit = _CACHE[key] = (cell, _compute(cell, target, station))
     return hit[1]
+
+
+def station_plan(cell, target: str, station) -> tuple[list[ArmPose], tuple[bool, ...]]:
+    """The station's taught arm poses and whether the program names each one's full configuration:
+    what the programs and verify's expectations need of the region (remembered from an envelope check
+    run elsewhere, else from the region)."""
+    hit = _PLANS.get((id(cell), target, station.id))
+    if hit is not None and hit[0] is cell:
+        return hit[1], hit[2]
+    region = station_region(cell, target, station)
+    return region.taught, region.named
+
+
+def remember_plan(cell, target: str, station, taught: list[ArmPose], named: tuple[bool, ...]) -> None:
+    """What an envelope check in another process found for a station."""
+    _PLANS[(id(cell), target, station.id)] = (cell, taught, tuple(named))
 
 
 def _compute(cell, target: str, station) -> StationRegion:
