@@ -30,7 +30,8 @@ _STATE: dict = {}
 def _load(target: str) -> None:
     """Worker initialiser: build the case set and load the program once."""
     from codegen.cell import load_cell
-    from codegen.verify import build_cases, edge_cell, fresh_programs
+    from codegen.verify import build_cases, edge_cell
+    from codegen.verify_runs import fresh_programs
 
     model = load_cell()
     cell = edge_cell(model) if model.robot is None else model  # with an arm the edge poses are verified apart

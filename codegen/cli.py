@@ -251,7 +251,8 @@ def run(
     from codegen.emit import unsigned_zero
     from codegen.kinds import kinds
     from codegen.poses import POSE_FORMATS
-    from codegen.verify import load_program_file, target_of_file
+    from codegen.verify import target_of_file
+    from codegen.verify_runs import load_program_file
 
     path = Path(file)
     if is_companion(path):
@@ -367,6 +368,7 @@ def verify(
     from pathlib import Path
 
     from codegen import verify as v
+    from codegen import verify_runs as runs
     from codegen.dialects import is_companion
     from codegen.dialects.core.values import RunError
 
@@ -392,7 +394,7 @@ def verify(
                 continue
             try:
                 name = targets[0] if len(targets) == 1 else v.target_of_file(path)
-                source = v.file_source(name, path)
+                source = runs.file_source(name, path)
                 source.load()  # a syntax error is reported before any case runs
                 sources.append(source)
                 stamp = re.search(r"sha256 ([0-9a-f]{64})", source.text)
@@ -415,13 +417,13 @@ def verify(
         names = list(targets) or list(model.targets)
         verify_cell = v.edge_cell(model) if model.robot is None else model
         try:
-            sources = v.fresh_sources(verify_cell, names)
+            sources = runs.fresh_sources(verify_cell, names)
         except EmitError as exc:
             raise UserError(f"{model.source}: {exc}") from None
     case_list = v.build_cases(verify_cell, cases, seed)
     edge = None if files else v.edge_only_cell(model)  # with an arm: the edge poses' programs, without it
     if edge is not None:
-        edge_sources = v.fresh_sources(edge, names)
+        edge_sources = runs.fresh_sources(edge, names)
         edge_cases = v.build_cases(edge, cases, seed)
     total = len(case_list) * len(sources)
     workers = jobs if jobs > 0 else (os.cpu_count() or 1)
@@ -429,16 +431,16 @@ def verify(
     try:
         if sys.stderr.isatty():
             with click.progressbar(length=total, label="verifying", file=sys.stderr, show_pos=True) as bar:
-                reports = v.run_verify(
+                reports = runs.run_verify(
                     model, sources, case_list, workers, bar.update, verify_cell, step_limit=step_limit
                 )
         else:
-            reports = v.run_verify(model, sources, case_list, workers, None, verify_cell, step_limit=step_limit)
+            reports = runs.run_verify(model, sources, case_list, workers, None, verify_cell, step_limit=step_limit)
         if edge is not None:
-            extra = v.run_verify(
+            extra = runs.run_verify(
                 edge, edge_sources, edge_cases, workers, None, edge, sweep=False, step_limit=step_limit
             )
-            reports = [v.merge_reports([r, e]) for r, e in zip(reports, extra, strict=True)]
+            reports = [runs.merge_reports([r, e]) for r, e in zip(reports, extra, strict=True)]
     except RunError as exc:  # a program that cannot be loaded here (e.g. nested too deeply)
         raise click.ClickException(str(exc)) from None
     wall = time.perf_counter() - start
@@ -457,7 +459,7 @@ def verify(
             }
         )
     else:
-        for line in v.report_lines(model, verify_cell, case_list, cases, seed, summaries, wall, workers):
+        for line in runs.report_lines(model, verify_cell, case_list, cases, seed, summaries, wall, workers):
             click.echo(line)
     sys.exit(0 if ok else 1)
 

@@ -91,24 +91,6 @@ class TargetReport:
 # --- programs --------------------------------------------------------------------------------
 
 
-def load_program(target: Target, text: str, filename: str, companions: dict[str, str] | None = None) -> Program:
-    try:
-        program = get_dialect(target.dialect).load(text, filename, companions)
-    except RecursionError:
-        raise RunError(f"{filename}: statements or expressions nested too deeply to run here") from None
-    return program
-
-
-def load_program_file(target: Target, path: Path) -> Program:
-    """A program file on disk (with its companion files found beside it)."""
-    return file_source(target.name, path).load()
-
-
-def fresh_programs(cell: Cell, targets: list[str]) -> dict[str, tuple[Program, list[str]]]:
-    """Fresh output of the cell, parsed: target -> (program, file names)."""
-    return {s.target: (s.load(), list(s.files)) for s in fresh_sources(cell, targets)}
-
-
 def target_of_file(path: Path) -> str:
     target = target_of_suffix(path.suffix)
     if target is None:
@@ -362,33 +344,3 @@ def verify(
         report.seconds = time.perf_counter() - start
         reports.append(report)
     return reports
-
-
-# the parallel runs live in codegen/verify_runs.py; their names are part of this module's interface
-from codegen.verify_runs import (  # noqa: E402
-    ProgramSource,
-    file_source,
-    fresh_sources,
-    merge_reports,
-    report_lines,
-    run_verify,
-    sweep_unknown_ids,
-)
-
-__all__ = [
-    "ProgramSource",
-    "TargetReport",
-    "build_cases",
-    "compare",
-    "edge_cell",
-    "edge_only_cell",
-    "file_source",
-    "fresh_programs",
-    "fresh_sources",
-    "load_program",
-    "merge_reports",
-    "report_lines",
-    "run_verify",
-    "sweep_unknown_ids",
-    "verify",
-]

@@ -1,4 +1,5 @@
-"""Verify in worker processes: programs as picklable sources, the sweep of unknown station ids, merged reports."""
+"""Programs for verify (parsed once, as picklable sources for worker processes), the runs in parallel, the
+sweep of unknown station ids, merged reports and the text report."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from codegen.cell import STATION_ID_MAX, Cell
-from codegen.controllers import get_target
+from codegen.controllers import Target, get_target
 from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program
 from codegen.dialects.core.values import RunError, StepLimitError
@@ -14,7 +15,25 @@ from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, kinds
 from codegen.robot.expect import arm_of, home_move, tool_inputs
-from codegen.verify import TargetReport, load_program, verify
+from codegen.verify import TargetReport, verify
+
+
+def load_program(target: Target, text: str, filename: str, companions: dict[str, str] | None = None) -> Program:
+    try:
+        program = get_dialect(target.dialect).load(text, filename, companions)
+    except RecursionError:
+        raise RunError(f"{filename}: statements or expressions nested too deeply to run here") from None
+    return program
+
+
+def load_program_file(target: Target, path: Path) -> Program:
+    """A program file on disk (with its companion files found beside it)."""
+    return file_source(target.name, path).load()
+
+
+def fresh_programs(cell: Cell, targets: list[str]) -> dict[str, tuple[Program, list[str]]]:
+    """Fresh output of the cell, parsed: target -> (program, file names)."""
+    return {s.target: (s.load(), list(s.files)) for s in fresh_sources(cell, targets)}
 
 
 @dataclass(frozen=True)

@@ -19,17 +19,8 @@ from codegen.dialects import get_dialect, parse_program
 from codegen.kinds import get_kind
 from codegen.render import render
 from codegen.robot.expect import arm_of, home_move
-from codegen.verify import (
-    ProgramSource,
-    build_cases,
-    fresh_programs,
-    inputs_for,
-    load_program,
-    run_options,
-    run_verify,
-    sweep_unknown_ids,
-    verify,
-)
+from codegen.verify import build_cases, inputs_for, run_options, verify
+from codegen.verify_runs import ProgramSource, fresh_programs, load_program, run_verify, sweep_unknown_ids
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "codegen" / "examples"
 CELLS = {path.stem: path for path in sorted(EXAMPLES.glob("*.toml"))}  # together they use every kind

@@ -109,7 +109,7 @@ def test_rapid_local_declarations_are_typed():
 
 def test_long_expressions_compile_and_deep_recursion_is_a_clear_error():
     from codegen.controllers import get_target
-    from codegen.verify import load_program
+    from codegen.verify_runs import load_program
 
     terms = " + ".join(["1"] * 200)
     text = f'MODULE T\nVAR num x;\nPROC main()\n  x := {terms};\n  TPWrite "" \\Num:=x;\nENDPROC\nENDMODULE\n'

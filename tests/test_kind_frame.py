@@ -12,7 +12,8 @@ from codegen.kinds.frame import FrameCase, expected_frame_trace
 from codegen.kinds.frame.camera import CameraModel
 from codegen.kinds.frame.kind import NOT_CONVERGED
 from codegen.render import render
-from codegen.verify import build_cases, fresh_sources, load_program, run_verify
+from codegen.verify import build_cases
+from codegen.verify_runs import fresh_sources, load_program, run_verify
 
 BENCH = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "thermometer_bench.toml"
 

@@ -15,7 +15,8 @@ import pytest
 
 from codegen.cell import load_cell
 from codegen.controllers import get_target
-from codegen.verify import build_cases, file_source, verify
+from codegen.verify import build_cases, verify
+from codegen.verify_runs import file_source
 
 REPO = Path(__file__).resolve().parents[1]
 CELLS = sorted((REPO / "codegen" / "examples").glob("*.toml"))

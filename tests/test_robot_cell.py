@@ -249,7 +249,8 @@ def test_the_controllers_numbered_tool_instead_of_a_declared_one(tmp_path):
     cell = load_cell(write_cell(tmp_path, text))
     src, dat = (f.text for f in render(cell, ["kuka"]))
     assert "  $TOOL = TOOL_DATA[3]\n  $LOAD = LOAD_DATA[3]\n" in src and "DECL FRAME VIS_TOOL" not in dat
-    from codegen.verify import build_cases, fresh_programs, verify
+    from codegen.verify import build_cases, verify
+    from codegen.verify_runs import fresh_programs
 
     cases = [c for c in build_cases(cell, 3, 1) if c.reading.station_id == 1]
     assert verify(cell, ["kuka"], fresh_programs(cell, ["kuka"]), cases)[0].mismatches == 0
