@@ -80,7 +80,7 @@ def test_every_home_position_is_reached_back_through_inverse_kinematics():
         ('abb = "IRB 1600-10/1.45"\n', 'abb = "IRB 1600-10/1.45"\ndtrans = "UR5e"\n', "cell.robot.dtrans"),
         ("mass_kg = 1.5", "mass_kg = 0.0", "cell.tool.mass_kg"),
         ("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0]", "cell.tool.cog_mm"),
-        ('abb = "IRB 1600-10/1.45"\n', 'abb = "IRB 1600-10/1.45"\nhome = { kuka = [0, -90, 90, 0, 170, 0] }\n',
+        ("home = { ur = [180.0, -90.0, 90.0, -90.0, -90.0, 0.0] }", "home = { kuka = [0, -90, 90, 0, 170, 0] }",
          "cell.robot.home.kuka[4]: axis 5 at 170 deg is outside its limits"),
         ('abb = "IRB 1600-10/1.45"\n', 'abb = "IRB 1600-10/1.45"\njoint_margin_deg = -1\n',
          "cell.robot.joint_margin_deg"),

@@ -28,7 +28,7 @@ class TestUR(TargetTests):
                 "  elif station_id == 20000:\n    st_lathe_1()\n  elif station_id == 2:",
             ),
             "qnear_wrist_flipped": lambda: replace_once(  # axes 4 and 6 half a turn on, axis 5 negated
-                text, "0.265357, -1.570796, 0.083405]), a", "3.406950, 1.570796, 3.224998]), a"
+                text, "-1.667386, -1.570796, 2.695794]), a", "1.474207, 1.570796, 5.837387]), a"
             ),
             "no_tcp": lambda: replace_once(text, "  set_tcp(p[0.0000000,", "  textmsg(p[0.0000000,"),
             "no_payload": lambda: replace_once(text, "  set_target_payload(1.500,", "  textmsg(1.500,"),

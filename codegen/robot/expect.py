@@ -102,9 +102,14 @@ def arm_problem(cell, target: str, expected, moves: tuple[Move, ...], got: list,
                 f"({error:.3f} deg apart; tolerance {JOINT_TOLERANCE_DEG} deg)"
             )
         have = g.settings.get("load")
-        if load is not None and (have is None or not np.allclose(have, load, rtol=1e-5, atol=1e-3)):
+        if load is not None and (have is None or not _same_load(have, load)):
             return f"{where}: load {have}, expected the cell's tool (mass kg, centre of gravity mm) {load}"
     return None
+
+
+def _same_load(have, want) -> bool:
+    """Mass and centre of gravity equal to float32 rounding (1e-5 relative) or 0.001 (kg, mm)."""
+    return len(have) == len(want) and all(abs(h - w) <= 1e-3 + 1e-5 * abs(w) for h, w in zip(have, want, strict=True))
 
 
 def _text(q) -> str:

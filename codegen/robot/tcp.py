@@ -150,7 +150,7 @@ def fit(path: Path, rows: list[tuple[int, str, np.ndarray]], method: str = "tcp"
 
 def _orientation(path, reference: np.ndarray, extra: dict, tcp, point, method: str) -> tuple[float, float, float]:
     """The tool's axes: from the fixed point, the z row moved the TCP along the tool's +Z, the x row along
-    its +X, both in the orientation of the last point row (ABB's TCP&Z,X; KUKA's ABC 2-point)."""
+    its +X, both in the orientation of the last point row (the vendors' TCP & Z, X and 2-point methods)."""
     axes = {}
     for role in METHODS[method]:
         line, pose = extra[role]
