@@ -36,9 +36,8 @@ def check_rendered(files: list[RenderedFile]) -> None:
 
 def check_envelope(cell: Cell, targets: list[str] | None) -> list[TargetEnvelope]:
     """The envelope check of every requested target with an arm (codegen/robot/envelope.py)."""
-    wanted = list(targets or cell.targets)
     try:
-        return [envelope for envelope in check(cell) if envelope.target in wanted]
+        return check(cell, list(targets or cell.targets))
     except ReachError as exc:
         raise GenerateError(str(exc)) from None
 

@@ -167,12 +167,14 @@ PARALLEL_STATIONS = 50  # from this many stations the targets are checked in par
 _FORKED: dict = {}  # the cell a forked worker checks (inherited, not pickled)
 
 
-def check(cell) -> list[TargetEnvelope]:
-    """Every target with an arm; [] when the cell names no robot. A large cell's targets are checked in
-    parallel processes (one per core); what the programs need of each station comes back (its plan)."""
+def check(cell, only: list[str] | None = None) -> list[TargetEnvelope]:
+    """Every target with an arm (of `only`, if given); [] when the cell names no robot. A large cell's
+    targets are checked in parallel processes; what the programs need of each station comes back."""
     if cell.robot is None:
         return []
-    targets = [target for target in cell.targets if target in cell.robot.arms]
+    targets = [target for target in cell.targets if target in cell.robot.arms and (only is None or target in only)]
+    if not targets:
+        return []
     cores = min(len(targets), os.cpu_count() or 1)
     if cores < 2 or len(cell.stations) < PARALLEL_STATIONS or "fork" not in multiprocessing.get_all_start_methods():
         return [check_target(cell, target) for target in targets]
