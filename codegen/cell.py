@@ -133,6 +133,25 @@ def load_cell(path: str | Path | None = None) -> Cell:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
 
 
+def replace_cell_file(path: Path, text: str, check=None) -> None:
+    """Replace a cell file by an edited text (a calibration's --write) once the edited file loads and
+    `check(cell)` accepts it; otherwise the file stays as it was and the error goes to the caller."""
+    import os
+    import tempfile
+
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(text)
+        cell = load_cell(tmp)
+        if check is not None:
+            check(cell)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    os.replace(tmp, path)
+
+
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
     ctx = _Context(source)
     top_unknown = set(data) - {"cell", "station"}

@@ -178,10 +178,7 @@ def _with_angle_sign(text: str, sign: int) -> str:
 
 def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
     """Replace (or add) the [cell.camera.handeye] table, keeping the rest of the file as written."""
-    import os
-    import tempfile
-
-    from codegen.cell import CellError, image_angle_sign, load_cell
+    from codegen.cell import CellError, image_angle_sign, replace_cell_file
 
     text = cell_path.read_text(encoding="utf-8")
     table = toml_table(result, source)
@@ -193,15 +190,7 @@ def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
             raise HandEyeError(f"{cell_path}: no [cell.camera] table to put the calibration after")
         new = text[: match.end()].rstrip("\n") + "\n\n" + table + "\n" + text[match.end() :]
     new = _with_angle_sign(new, image_angle_sign(result.matrix))
-    fd, tmp = tempfile.mkstemp(prefix=f".{cell_path.name}.", suffix=".tmp", dir=cell_path.parent)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(new)
-        load_cell(tmp)  # the edited file must still be a valid cell
+        replace_cell_file(cell_path, new)  # the edited file must still be a valid cell
     except CellError as exc:
-        Path(tmp).unlink(missing_ok=True)
         raise HandEyeError(f"{cell_path}: edited file would not load: {exc}") from None
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    os.replace(tmp, cell_path)

@@ -5,9 +5,7 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import re
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -199,7 +197,7 @@ _TCP_LINE = re.compile(r"^tcp\s*=[^\n]*$", re.MULTILINE)
 def write_to_cell(cell_path: Path, result: ToolFit, source: str) -> None:
     """Set the tcp of the cell's [cell.tool] (in the cell's pose format), keeping the rest as written; the
     edited file must load and pass the envelope check before it replaces the old one."""
-    from codegen.cell import CellError, load_cell
+    from codegen.cell import CellError, load_cell, replace_cell_file
     from codegen.robot.envelope import ReachError, check
 
     cell = load_cell(cell_path)
@@ -216,21 +214,12 @@ def write_to_cell(cell_path: Path, result: ToolFit, source: str) -> None:
     else:
         body = body.rstrip("\n") + "\n" + line + "\n"
     new = text[: match.start()] + body + text[match.end() :]
-    fd, tmp = tempfile.mkstemp(prefix=f".{cell_path.name}.", suffix=".tmp", dir=cell_path.parent)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(new)
-        check(load_cell(tmp))  # the arm must still take every corrected pose with the new tool
+        replace_cell_file(cell_path, new, check)  # the arm must still take every corrected pose with the new tool
     except CellError as exc:
-        Path(tmp).unlink(missing_ok=True)
         raise ToolCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
     except ReachError as exc:
-        Path(tmp).unlink(missing_ok=True)
         raise ToolCalibrationError(f"{cell_path}: with this tool the cell would not generate: {exc}") from None
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    os.replace(tmp, cell_path)
 
 
 def _flange_orientation(cell) -> np.ndarray:
