@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 
 import numpy as np
@@ -30,6 +29,7 @@ from codegen.dialects.krl.builtins import (
     valid,
     xyzabc,
 )
+from codegen.dialects.krl.motion import AXES, SYSTEM_ARRAY, SYSTEM_ARRAYS, load_of, load_record, motion_rule
 
 
 def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
@@ -44,50 +44,6 @@ NO_SKIP = frozenset()
 # base was active. The interpreter assumes one that is not the robot's base, so a program that moves
 # without setting $BASE ($NULLFRAME, or a BASE_DATA) moves somewhere else in its trace.
 ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
-
-
-AXES = ("AXIS", "E6AXIS")
-# The controller's numbered data ($config.dat; KSS 8 system variables): type, count, how `--input` gives one
-SYSTEM_ARRAYS = {
-    "BASE_DATA": ("FRAME", 32, "X,Y,Z,A,B,C"),
-    "TOOL_DATA": ("FRAME", 16, "X,Y,Z,A,B,C"),
-    "LOAD_DATA": ("LOAD", 16, "M,X,Y,Z (kg, centre of gravity mm)"),
-}
-SYSTEM_ARRAY = re.compile(r"(BASE_DATA|TOOL_DATA|LOAD_DATA)\[(\d+)\]")
-
-
-def load_record(values) -> Record:
-    """A LOAD of mass m (kg) with its centre of gravity at x, y, z (mm) and no inertia (a point mass)."""
-    m, x, y, z = (float(v) for v in values)
-    inertia = Record("INERTIA", {"X": f32(0), "Y": f32(0), "Z": f32(0)})
-    return Record("LOAD", {"M": f32(m), "CM": frame((x, y, z, 0, 0, 0)), "J": inertia})
-
-
-def _rule(kind: str, pose: Record, arm, where: str) -> tuple:
-    """How the controller picks the joints of a cartesian target (KSS 8 manual, Status and Turn): a PTP
-    honours the target's S and T; a PTP without them keeps the current Status; LIN ignores S and T
-    and keeps the configuration; a PTP with S but no T takes S and the shortest turn. The first motion
-    (BCO) must be a PTP to a full position."""
-    status = pose.type != "FRAME" and pose["S"] is not UNINIT
-    status_turn = status and pose["T"] is not UNINIT
-    if arm.arm is not None and not arm.known and not (kind == "joint" and status_turn):
-        raise RunError(
-            f"{where}: the first motion (BCO run) must be a PTP to a full position: an E6AXIS, or a POS or "
-            "E6POS with S and T"
-        )
-    if kind == "joint" and status_turn:
-        return "status_turn", (int(pose["S"]), int(pose["T"]))
-    if kind == "joint" and status:  # S without T: the shortest turn from where the arm stands
-        return "status", int(pose["S"])
-    return ("keep",)
-
-
-def _load(load) -> tuple | None:
-    """$LOAD as (mass kg, centre of gravity x, y, z mm), or None before the program sets it."""
-    if not isinstance(load, Record) or load["M"] is UNINIT:
-        return None
-    cm = load["CM"]
-    return (float(load["M"]), *(float(cm[k]) if cm is not UNINIT else 0.0 for k in ("X", "Y", "Z")))
 
 
 class KRLCompiler(Compiler):
@@ -439,7 +395,7 @@ class KRLCompiler(Compiler):
                 if missing:
                     raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
                 target = self.coerce("FRAME", target, where)
-            settings["load"] = _load(fr.m.extra.get("$LOAD"))
+            settings["load"] = load_of(fr.m.extra.get("$LOAD"))
             if isinstance(target, Record) and target.type in AXES:  # axis values: no solution to choose
                 if kind != "joint":
                     raise RunError(f"{where}: LIN takes a cartesian target")
@@ -455,7 +411,7 @@ class KRLCompiler(Compiler):
             if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
                 tcp2base = cart_matrix(base) @ tcp2base
             event = MoveEvent(kind, tcp2base, line, settings)
-            fr.m.arm.to_pose(event, where, *_rule(kind, pose, fr.m.arm, where))
+            fr.m.arm.to_pose(event, where, *motion_rule(kind, pose, fr.m.arm, where))
             fr.m.trace.moves.append(event)
 
         return run

@@ -1,0 +1,52 @@
+"""KRL motion facts: how PTP and LIN pick the joints (Status, Turn, BCO), $LOAD, and the controller's
+numbered bases, tools and loads."""
+
+from __future__ import annotations
+
+import re
+
+from codegen.dialects.core.values import Record, RunError, f32
+from codegen.dialects.krl.builtins import UNINIT, frame
+
+AXES = ("AXIS", "E6AXIS")
+# The controller's numbered data ($config.dat; KSS 8 system variables): type, count, how `--input` gives one
+SYSTEM_ARRAYS = {
+    "BASE_DATA": ("FRAME", 32, "X,Y,Z,A,B,C"),
+    "TOOL_DATA": ("FRAME", 16, "X,Y,Z,A,B,C"),
+    "LOAD_DATA": ("LOAD", 16, "M,X,Y,Z (kg, centre of gravity mm)"),
+}
+SYSTEM_ARRAY = re.compile(r"(BASE_DATA|TOOL_DATA|LOAD_DATA)\[(\d+)\]")
+
+
+def load_record(values) -> Record:
+    """A LOAD of mass m (kg) with its centre of gravity at x, y, z (mm) and no inertia (a point mass)."""
+    m, x, y, z = (float(v) for v in values)
+    inertia = Record("INERTIA", {"X": f32(0), "Y": f32(0), "Z": f32(0)})
+    return Record("LOAD", {"M": f32(m), "CM": frame((x, y, z, 0, 0, 0)), "J": inertia})
+
+
+def motion_rule(kind: str, pose: Record, arm, where: str) -> tuple:
+    """How the controller picks the joints of a cartesian target (KSS 8 manual, Status and Turn): a PTP
+    honours the target's S and T; a PTP without them keeps the current Status; LIN ignores S and T
+    and keeps the configuration; a PTP with S but no T takes S and the shortest turn. The first motion
+    (BCO) must be a PTP to a full position."""
+    status = pose.type != "FRAME" and pose["S"] is not UNINIT
+    status_turn = status and pose["T"] is not UNINIT
+    if arm.arm is not None and not arm.known and not (kind == "joint" and status_turn):
+        raise RunError(
+            f"{where}: the first motion (BCO run) must be a PTP to a full position: an E6AXIS, or a POS or "
+            "E6POS with S and T"
+        )
+    if kind == "joint" and status_turn:
+        return "status_turn", (int(pose["S"]), int(pose["T"]))
+    if kind == "joint" and status:  # S without T: the shortest turn from where the arm stands
+        return "status", int(pose["S"])
+    return ("keep",)
+
+
+def load_of(load) -> tuple | None:
+    """$LOAD as (mass kg, centre of gravity x, y, z mm), or None before the program sets it."""
+    if not isinstance(load, Record) or load["M"] is UNINIT:
+        return None
+    cm = load["CM"]
+    return (float(load["M"]), *(float(cm[k]) if cm is not UNINIT else 0.0 for k in ("X", "Y", "Z")))
