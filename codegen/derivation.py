@@ -202,6 +202,7 @@ def identities(derivation: Derivation | None = None) -> list[Identity]:
         )
     )
     result.extend(frame_identities())
+    result.extend(pallet_identities())
     return result
 
 
@@ -266,6 +267,47 @@ def frame_identities() -> list[Identity]:
         )
     )
     return out
+
+
+# Palletizing (source 004): the pallet frame from three taught points, O on the pallet, PX on its +x, PY on
+# the +y side; u = PX - O, v = PY - O (DESIGN.md section 1.4).
+ux, uy, uz, vx, vy, vz = sp.symbols("ux uy uz vx vy vz", real=True)
+u_pallet, v_pallet = sp.Matrix([ux, uy, uz]), sp.Matrix([vx, vy, vz])
+
+
+def pallet_frame(u: sp.Matrix, v: sp.Matrix) -> sp.Matrix:
+    """x along u, z = x cross v normalised, y = z cross x: the rotation pallet2base."""
+    x = u / u.norm()
+    z = x.cross(v)
+    z = z / z.norm()
+    return sp.Matrix.hstack(x, z.cross(x), z)
+
+
+def source_pallet_frame(u: sp.Matrix, v: sp.Matrix) -> sp.Matrix:
+    """Source 004 eq. 1: n = u/|u|, m = v/|v| taken as the y axis itself, a = n cross m."""
+    n, m = u / u.norm(), v / v.norm()
+    return sp.Matrix.hstack(n, m, n.cross(m))
+
+
+def pallet_identities() -> list[Identity]:
+    five = sp.pi / 36  # PY taught 5 deg off square: v turned 5 deg from the true y axis
+    off_square = {ux: 104, uy: 0, uz: 0, vx: 78 * sp.sin(five), vy: 78 * sp.cos(five), vz: 0}
+    frame, source = pallet_frame(u_pallet, v_pallet), source_pallet_frame(u_pallet, v_pallet)
+    return [
+        _check(
+            "pallet_frame_orthonormal",
+            "x = u/|u|, z = x cross v/|.|, y = z cross x: R^T R = I for any PX, PY off the x line",
+            "holds",
+            frame.T * frame - sp.eye(3),
+        ),
+        _check(
+            "source_pallet_frame",
+            "source 004 eq. 1 (m = (PY - O)/|.| as the y axis): R^T R = I; with PY 5 deg off square",
+            "refuted",
+            source.T * source - sp.eye(3),
+            fixed=off_square,
+        ),
+    ]
 
 
 def source_frame_contraction() -> sp.Expr:

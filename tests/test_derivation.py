@@ -21,7 +21,18 @@ EXPECTED = {
     "frame_update": "holds",
     "source_frame_update": "refuted",
     "source_frame_update_contraction": "holds",
+    "pallet_frame_orthonormal": "holds",
+    "source_pallet_frame": "refuted",
 }
+
+
+def test_source_004_pallet_frame_error_for_py_five_degrees_off_square():
+    """The test's own number: with PY turned 5 deg from square, x . m = cos(85 deg) = sin(5 deg)."""
+    import math
+
+    (pallet,) = [i for i in derivation.pallet_identities() if i.name == "source_pallet_frame"]
+    residual = float(pallet.detail.rsplit("residual ", 1)[1])
+    assert residual == pytest.approx(math.sin(math.radians(5.0)), rel=1e-5)
 
 
 @pytest.fixture(scope="module")
