@@ -227,8 +227,8 @@ def test_sizes_beyond_what_verify_can_run_are_refused_at_load(write_cell):
         '[[station]]\nid = {i}\nname = "s{i}"\nmark = [600.0, -250.0, 2.0]\n'
         "[station.poses]\nw = [650, -100, 400, 90, 0, 180]\n"
     )
-    many = head + "".join(station.format(i=i) for i in range(1, 2002))
-    with pytest.raises(CellError, match=r"station: 2001 stations; at most 2000"):
+    many = head + "".join(station.format(i=i) for i in range(1, 5002))
+    with pytest.raises(CellError, match=r"station: 5001 stations; at most 5000"):
         load_cell(write_cell(many))
     poses = "".join(f"p{i} = [650, -100, 400, 90, 0, 180]\n" for i in range(1001))
     long_station = head + station.format(i=1).replace("w = [650, -100, 400, 90, 0, 180]\n", poses)

@@ -130,3 +130,20 @@ def test_deeply_nested_blocks_compile():
     body = "".join(f"IF x < {i + 100} THEN\n" for i in range(40)) + 'TPWrite "deep";\n' + "ENDIF\n" * 40
     text = f"MODULE T\nVAR num x := 1;\nPROC main()\n{body}ENDPROC\nENDMODULE\n"
     assert rapid_program(text).run({}).messages == ["deep"]
+
+
+def test_an_elif_chain_of_thousands_compiles():
+    """A dispatch over 5,000 stations: Python's compiler nests an elif chain, so a long one continues in
+    a function of its own (it failed with "maximum recursion depth exceeded during compilation")."""
+    from codegen.dialects.urscript.interpreter import load as load_urscript
+
+    lines = ["def p():", "  station_id = read_input_integer_register(24)"]
+    for i in range(1, 5001):
+        lines += [f"  {'if' if i == 1 else 'elif'} station_id == {i}:", f'    textmsg("s{i}")']
+    lines += ["  else:", '    textmsg("unknown")', "  end", "end", ""]
+    program = load_urscript("\n".join(lines), "big.script")
+    for station_id, message in ((1, "s1"), (400, "s400"), (401, "s401"), (4999, "s4999"), (5001, "unknown")):
+        assert program.run({"input_integer_register_24": station_id}).messages == [message]
+    body = "".join(f"  ELSEIF x = {i} THEN\n    TPWrite \"r{i}\";\n" for i in range(2, 3001))
+    head = 'MODULE T\nVAR num x := 2999;\nPROC main()\n  IF x = 1 THEN\n    TPWrite "r1";\n'
+    assert rapid_program(f"{head}{body}  ENDIF\nENDPROC\nENDMODULE\n").run({}).messages == ["r2999"]

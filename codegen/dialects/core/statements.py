@@ -208,8 +208,20 @@ class Statements:
 
         return run
 
+    # Python compiles an elif chain as nested else-ifs: one chain of thousands (a dispatch over a cell's
+    # stations) would exceed its compiler's nesting limit, so a longer chain continues in a function of
+    # its own from its else branch.
+    CHAIN_MAX = 400
+
     def if_chain(self, branches, else_body, where: str | None = None) -> Inline:
         """branches: [(condition, body)] as expr() and block() return them; else_body or None."""
+        if len(branches) > self.CHAIN_MAX:
+            rest = self.if_chain(branches[self.CHAIN_MAX :], else_body, where)
+
+            def rest_of_chain(fr, rest=rest):  # called, not inlined: the chain's next segment
+                return rest(fr)
+
+            branches, else_body = branches[: self.CHAIN_MAX], rest_of_chain
         lines = []
         for i, (cond, body) in enumerate(branches):
             lines.append(f"{'if' if i == 0 else 'elif'} {self.source_of(cond)}:")
