@@ -100,16 +100,16 @@ def sweep_unknown_ids(
         program, files = programs[name]
         key = target.program["inputs"]["station"]
         text = Emitter(target).string(UNKNOWN_STATION_TEXT)
+        arm, tools = arm_of(cell, name), tool_inputs(cell, name)  # the same for every id
+        before = 0 if home_move(cell, name) is None else 1  # the home move comes first
         report = TargetReport(name, files)
         for station_id in ids:
             if station_id in known:
                 continue
             report.unknown_ids += 1
             try:
-                inputs = {key: station_id, **tool_inputs(cell, name)}
-                got = program.run(inputs, step_limit=step_limit, arm=arm_of(cell, name))
+                got = program.run({key: station_id, **tools}, step_limit=step_limit, arm=arm)
                 problem = None
-                before = 0 if home_move(cell, name) is None else 1  # the home move comes first
                 if len(got.moves) != before or not got.halted or got.halt_message != f"{text}{station_id}":
                     problem = f"{len(got.moves) - before} moves, halt message {got.halt_message!r}"
             except StepLimitError as exc:

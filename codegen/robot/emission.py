@@ -7,6 +7,7 @@ import math
 from codegen.emit import EmitError, format_literal
 from codegen.poses import FORMAT_DECIMALS, native_values
 from codegen.robot.region import station_plan
+from codegen.robot.section import numbered_names
 from codegen.robot.taught import ReachError, configuration
 
 JOINT_DECIMALS = {"deg": 4, "rad": 6}  # 1e-4 deg; 1e-6 rad = 6e-5 deg
@@ -45,8 +46,8 @@ def _numbered(target, number: int | None) -> dict | None:
     """The controller's numbered tool and load the program selects, or None (it declares its own)."""
     if number is None:
         return None
-    facts = target.program["tool_data"]
-    return {"tool": facts["tool"].format(n=number), "load": facts["load"].format(n=number)}
+    tool, load = numbered_names(target.name, number)
+    return {"tool": tool, "load": load}
 
 
 def station_arm(cell, target, station) -> list[dict]:

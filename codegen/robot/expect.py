@@ -9,7 +9,8 @@ from codegen.poses import native_values
 from codegen.reference import JOINT, Move
 from codegen.robot import solve
 from codegen.robot.envelope import singular_distance, wrist_angle
-from codegen.robot.region import move_joints, station_plan
+from codegen.robot.region import move_joints, per_cell, station_plan
+from codegen.robot.section import numbered_names
 
 # Both sides solve the same inverse kinematics for poses that agree within verify's pose tolerance
 # (float32: 0.005 mm, 0.001 deg). With the wrist at least the cell's wrist margin (5 deg) from its
@@ -25,13 +26,12 @@ def home_move(cell, target: str) -> tuple[Move, np.ndarray] | None:
     robot = cell.robot
     if robot is None or target not in robot.arms:
         return None
-    key = (id(cell), target)
-    hit = _HOME.get(key)
-    if hit is None or hit[0] is not cell:
+
+    def compute():
         home = np.asarray(robot.home[target], dtype=float)
-        tcp2base = robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange
-        hit = _HOME[key] = (cell, (Move(JOINT, "home", tcp2base, exact=True), home))
-    return hit[1]
+        return Move(JOINT, "home", robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange, exact=True), home
+
+    return per_cell(_HOME, cell, (target,), compute)
 
 
 def expected_joints(
@@ -70,10 +70,10 @@ def tool_inputs(cell, target: str) -> dict:
     number = None if robot is None else robot.tool.numbered.get(target)
     if number is None:
         return {}
-    facts = get_target(target).program["tool_data"]
+    tool_name, load_name = numbered_names(target, number)
     tool = robot.tool
-    xyzabc = tuple(native_values(tool.tcp, cell.pose_format, "xyzabc"))
-    return {facts["tool"].format(n=number): xyzabc, facts["load"].format(n=number): (tool.mass_kg, *tool.cog_mm)}
+    tcp = tuple(native_values(tool.tcp, cell.pose_format, "xyzabc"))
+    return {tool_name: tcp, load_name: (tool.mass_kg, *tool.cog_mm)}
 
 
 def arm_of(cell, target: str):

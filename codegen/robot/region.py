@@ -61,12 +61,17 @@ _CACHE: dict = {}
 _PLANS: dict = {}
 
 
-def station_region(cell, target: str, station) -> StationRegion:
-    key = (id(cell), target, station.id)
-    hit = _CACHE.get(key)
+def per_cell(store: dict, cell, key: tuple, compute):
+    """compute() once per cell object and key (cells are frozen but hold dicts: not hashable). The
+    entry keeps its cell, so an id reused by a later cell is not mistaken for it."""
+    hit = store.get((id(cell), *key))
     if hit is None or hit[0] is not cell:
-        hit = _CACHE[key] = (cell, _compute(cell, target, station))
+        hit = store[(id(cell), *key)] = (cell, compute())
     return hit[1]
+
+
+def station_region(cell, target: str, station) -> StationRegion:
+    return per_cell(_CACHE, cell, (target, station.id), lambda: _compute(cell, target, station))
 
 
 def station_plan(cell, target: str, station) -> tuple[list[ArmPose], tuple[bool, ...]]:

@@ -29,7 +29,6 @@ class _Pending:
     flange2base: np.ndarray | None = None
     tcp2flange: np.ndarray | None = None
     check: object = None  # the confdata a linear move must end in (the configuration check on)
-    text: str = ""  # how the program writes the configuration, for messages
 
 
 class ArmState:
@@ -70,8 +69,7 @@ class ArmState:
                 "position (or a pose with its full configuration) first"
             )
         flange2base = solve.flange_poses(event.tcp2base, self.tcp2flange)
-        text = str(list(value)) if isinstance(value, tuple) else str(value)
-        self.pending.append(_Pending(event, where, rule, value, flange2base, check=check, text=text))
+        self.pending.append(_Pending(event, where, rule, value, flange2base, check=check))
         self.known = True
 
     def current(self, where: str) -> np.ndarray | None:
@@ -106,7 +104,7 @@ class ArmState:
         if p.rule in FORMS:  # the move names the full configuration
             q, branch = FORMS[p.rule].select(arm, sols, p.value)
             if np.isnan(q).any():
-                raise RunError(f"{p.where}: the {arm.model} cannot reach this pose in configuration {p.text}")
+                raise RunError(f"{p.where}: the {arm.model} cannot reach this pose in configuration {list(p.value)}")
         elif p.rule == "status":
             q, branch = solve.nearest(arm, with_status(arm, sols, p.value), self.joints)
             if np.isnan(q).any():
