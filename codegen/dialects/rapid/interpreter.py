@@ -10,9 +10,11 @@ from lark import Token, Tree
 from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import Program
 from codegen.dialects.core.parsing import parse_with_grammar
-from codegen.dialects.core.source import Src
+from codegen.dialects.core.source import Inline, Src, indent
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
+from codegen.dialects.rapid import errors, messages, waits
 from codegen.dialects.rapid.builtins import RECORDS, builtins, num, type_text, zero
+from codegen.dialects.rapid.messages import PREDEFINED_VALUES
 
 
 def parse(text: str, filename: str = "<rapid>", positions: bool = True) -> Tree:
@@ -34,6 +36,10 @@ class RAPIDCompiler(Compiler):
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
         self.data: list = []  # (key, type, dims, init closure)
+        self.handler = None  # the routine being compiled: its ERROR handler (compiled) and numbers
+        self.in_handler = False  # compiling an error handler's statements
+        self.handler_node = None  # the routine being compiled: its error_clause node
+        self.ns["_divzero"] = errors.divzero
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
@@ -84,15 +90,19 @@ class RAPIDCompiler(Compiler):
     def var_reader(self, token):
         key = self.norm(str(token))
         where = self.where(token)
-        predefined = key if _PREDEFINED.match(key) else None
+        predefined = key if _PREDEFINED.match(key) else PREDEFINED_VALUES.get(key)
+        if predefined is None:
+            predefined = errors.ERROR_CONSTANTS.get(key)
 
         def read(fr):
             if key in fr.vars:
                 return fr.vars[key]
             if key in fr.m.globals:
                 return fr.m.globals[key]
-            if predefined:
+            if predefined is not None:
                 return predefined
+            if key == "ERRNO":  # the system variable: the most recent error's number
+                return fr.m.extra.get("ERRNO", f32(0))
             raise RunError(f"{where}: undefined variable {token}")
 
         return read
@@ -159,18 +169,71 @@ class RAPIDCompiler(Compiler):
             return self.coerce("STRING", value, where)
         return super().coerce_like(old, value, where)
 
+    def guarded(self, lines, where):
+        """As the base's, but a division by zero is the RAPID error ERR_DIVZERO, which a routine's
+        error handler may take (RAPID overview, Error Recovery: "division by zero" is its example)."""
+        return [
+            "try:",
+            *indent(lines),
+            "except ZeroDivisionError:",
+            f"    raise _divzero({where!r}) from None",
+            "except (TypeError, ValueError, OverflowError) as _e:",
+            f"    raise _operror({where!r}, _e) from None",
+        ]
+
     # --- statements --------------------------------------------------------------------------
+    def stmt(self, node):
+        """A statement of a routine with an ERROR handler runs under it (errors.protect)."""
+        compiled = super().stmt(node)
+        if self.handler is None or self.in_handler:
+            return compiled
+        handler, errnos = self.handler
+        return errors.protect(compiled, handler, errnos, self.where(node))
+
     def s_proc_call(self, node):
         name, args_node = node.children
-        if str(name).upper() == "WAITUNTIL":
-            return self.rapid_wait_until(node, args_node)
+        key = str(name).upper()
+        special = messages.ui_msg_box if key == "UIMSGBOX" else waits.SPECIAL.get(key)
+        if special is not None:
+            return special(self, node, args_node)
         return self.s_call_stmt(node)
 
-    def rapid_wait_until(self, node, args_node):
-        positional, _named = self.call_args(args_node)
-        if len(positional) != 1:
-            self.fail(node, "WaitUntil takes one condition")
-        return self.wait_until(positional[0], node, "WaitUntil")
+    def s_raise_stmt(self, node):
+        """RAISE errno outside a handler; RAISE in a handler passes its error (or a new one) to the caller."""
+        where = self.where(node)
+        value_node = node.children[0]
+        if value_node is None:
+            if not self.in_handler:
+                self.fail(node, "RAISE without an error number outside an error handler")
+
+            def reraise(fr):
+                error = errors.current_error(fr, where)
+                error.leaving = fr
+                raise error
+
+            return reraise
+        value = self.expr(value_node)
+        name = str(value_node.children[0]) if isinstance(value_node, Tree) and value_node.data == "var" else None
+        in_handler = self.in_handler
+
+        def raise_(fr):
+            error = errors.raise_error(fr, value(fr), where, name)
+            if in_handler:
+                error.leaving = fr
+            raise error
+
+        return raise_
+
+    def s_retry_stmt(self, node):
+        return self.handler_signal(node, "retry", "RETRY")
+
+    def s_trynext_stmt(self, node):
+        return self.handler_signal(node, "trynext", "TRYNEXT")
+
+    def handler_signal(self, node, kind: str, keyword: str):
+        if not self.in_handler:
+            self.fail(node, f"{keyword} outside an error handler")
+        return Inline(self, [f"return _Signal({kind!r})"])
 
     def s_compact_if(self, node):
         cond, statement = node.children
@@ -229,7 +292,13 @@ class RAPIDCompiler(Compiler):
         return None
 
     def routine(self, node, returns: bool) -> None:
-        children = [c for c in node.children if not (isinstance(c, Token) and c.type == "LOCAL") and c is not None]
+        handler = node.children[-1]
+        self.handler_node = handler if isinstance(handler, Tree) and handler.data == "error_clause" else None
+        children = [
+            c
+            for c in node.children
+            if not (isinstance(c, Token) and c.type == "LOCAL") and c is not None and c is not self.handler_node
+        ]
         if returns:
             return_type, name, *rest = children
         else:
@@ -257,6 +326,40 @@ class RAPIDCompiler(Compiler):
         local_types = {p: t for p, _m, t in params} | {k: t for k, t, _init in decls}
         return_type = str(return_type).upper() if return_type else None
         self.define_routine(str(name).upper(), name, params, return_type, node, statements, decls, local_types)
+
+    def compile_routine_body(self, routine, statements, local_types=None) -> None:
+        """The body, and its ERROR handler first (in the routine's scope: its data covers the handler)."""
+        self.local_types, self.routine_name = local_types, routine.name
+        try:
+            clause = self.handler_node
+            if clause is not None:
+                numbers_node, body = clause.children
+                self.in_handler = True
+                try:
+                    handler = self.body_block(body)
+                    errnos = None
+                    if numbers_node is not None:
+                        exprs = [self.expr(e) for e in numbers_node.children]
+
+                        def errnos(fr, exprs=exprs):
+                            return {int(float(e(fr))) for e in exprs}
+
+                finally:
+                    self.in_handler = False
+                self.handler = (handler, errnos)
+            routine.body = self.block(statements)
+        finally:
+            self.local_types, self.routine_name = None, "module"
+            self.handler, self.handler_node = None, None
+
+    def call_routine(self, fr, name, args, kwargs, where, arg_setters=None):
+        """The entry routine: an error no handler took ends the run (errors.unhandled)."""
+        try:
+            return super().call_routine(fr, name, args, kwargs, where, arg_setters)
+        except errors.RapidError as error:
+            if where != "<main>":
+                raise
+            errors.unhandled(error)
 
     def _local_init(self, node, static_type, make):
         """A local's initialiser: its zero value shared by every call when it has no initial

@@ -1,0 +1,89 @@
+"""RAPID operator messages: ErrWrite (the event log) and UIMsgBox (a message box the operator answers)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from lark import Tree
+
+from codegen.dialects.core.values import RunError, f32
+
+# ErrWrite [\W] | [\I] Header Reason [\RL2] [\RL3] [\RL4] (ABB, "Technical reference manual - RAPID
+# Instructions, Functions and Data types", ErrWrite, as recalled; the text was not found during this
+# work, so the limits are uncertain): the header has at most 46 characters, each reason line is a
+# string (80 characters at most), and Reason with \RL2-\RL4 together at most 195 characters. The
+# message goes to the event log (\W: a warning, \I: information, both only stored in the log; without
+# them it is also shown on the FlexPendant); program execution goes on. Here every form is recorded as
+# an operator message (its reason line): what the operator reads when the program then stops.
+ERRWRITE_HEADER_MAX = 46
+ERRWRITE_LINE_MAX = 80
+ERRWRITE_TOTAL_MAX = 195
+
+# UIMsgBox's data (buttondata, icondata, btnres), values as recalled from the same manual (uncertain).
+BUTTONS = {"BTNNONE": -1, "BTNOK": 0, "BTNABRTRTRYIGN": 1, "BTNOKCANCEL": 2, "BTNRETRYCANCEL": 3, "BTNYESNO": 4}
+BUTTONS["BTNYESNOCANCEL"] = 5
+ICONS = {"ICONNONE": 0, "ICONINFO": 1, "ICONWARNING": 2, "ICONERROR": 3}
+RESULTS = {"RESUNKWN": 0, "RESOK": 1, "RESABORT": 2, "RESRETRY": 3, "RESIGNORE": 4, "RESCANCEL": 5}
+RESULTS |= {"RESYES": 6, "RESNO": 7}
+# The answer of the interpreter's operator, who presses a box's first button at once.
+FIRST_BUTTON = {0: "RESOK", 1: "RESABORT", 2: "RESOK", 3: "RESRETRY", 4: "RESYES", 5: "RESYES"}
+PREDEFINED_VALUES = {name: f32(value) for name, value in (BUTTONS | ICONS | RESULTS).items()}
+
+
+def _text(value, where: str, what: str, limit: int) -> str:
+    if not isinstance(value, str):
+        raise RunError(f"{where}: {what} must be a string")
+    if len(value) > limit:
+        raise RunError(f"{where}: {what} has {len(value)} characters, at most {limit}")
+    return value
+
+
+def err_write(fr, args, kwargs, where: str) -> None:
+    if len(args) != 2:
+        raise RunError(f"{where}: ErrWrite takes a header and a reason ({len(args)} arguments given)")
+    if {"W", "I"} <= set(kwargs) or set(kwargs) - {"W", "I", "RL2", "RL3", "RL4"}:
+        raise RunError(f"{where}: ErrWrite takes \\W or \\I, and \\RL2, \\RL3, \\RL4")
+    _text(args[0], where, "ErrWrite header", ERRWRITE_HEADER_MAX)
+    lines = [_text(args[1], where, "ErrWrite reason", ERRWRITE_LINE_MAX)]
+    for key in ("RL2", "RL3", "RL4"):
+        if key in kwargs:
+            lines.append(_text(kwargs[key], where, f"ErrWrite \\{key}", ERRWRITE_LINE_MAX))
+    total = sum(map(len, lines))
+    if total > ERRWRITE_TOTAL_MAX:
+        raise RunError(f"{where}: ErrWrite reason lines have {total} characters, at most {ERRWRITE_TOTAL_MAX}")
+    fr.m.trace.messages.append(lines[0])
+
+
+UIMSGBOX_ARGS = {"HEADER", "MSGLINE2", "MSGLINE3", "MSGLINE4", "MSGLINE5", "WRAP", "BUTTONS", "ICON", "RESULT"}
+
+
+def ui_msg_box(compiler, node, args_node) -> Callable:
+    """UIMsgBox [\\Header] MsgLine1 [\\MsgLine2..5] [\\Wrap] [\\Buttons] [\\Icon] [\\Result]: the first line
+    becomes an operator message; the box blocks until the operator answers, which the interpreter's
+    operator does at once with the first button (\\Result gets its btnres). Other arguments (\\MaxTime,
+    \\DIBreak, \\BtnArray, ...) are not modelled and are refused."""
+    positional, named = [], {}
+    for arg in args_node.children if args_node is not None else []:
+        if isinstance(arg, Tree) and arg.data == "opt_arg":
+            key = str(arg.children[0]).upper()
+            if key not in UIMSGBOX_ARGS:
+                compiler.fail(arg, f"UIMsgBox \\{arg.children[0]} is not supported here")
+            named[key] = arg.children[1]
+        else:
+            positional.append(arg)
+    if len(positional) != 1:
+        compiler.fail(node, "UIMsgBox takes one message line (MsgLine1)")
+    line, where = compiler.expr(positional[0]), compiler.where(node)
+    buttons = compiler.expr(named["BUTTONS"]) if named.get("BUTTONS") is not None else None
+    result = compiler.lvalue(named["RESULT"]) if named.get("RESULT") is not None else None
+
+    def run(fr):
+        text = _text(line(fr), where, "UIMsgBox message line", ERRWRITE_LINE_MAX)
+        fr.m.trace.messages.append(text)
+        chosen = int(float(buttons(fr))) if buttons is not None else BUTTONS["BTNOK"]
+        if chosen not in FIRST_BUTTON:
+            raise RunError(f"{where}: UIMsgBox without a button the operator can press waits forever")
+        if result is not None:
+            result(fr, PREDEFINED_VALUES[FIRST_BUTTON[chosen]])
+
+    return run
