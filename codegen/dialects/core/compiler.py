@@ -133,13 +133,27 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
 
     # --- variables by name, for devices (Machine.read_variable / write_variable) ---------------
     def device_read(self, machine: Machine, name: str):
-        """A global by its name in the program (None when it is not declared)."""
-        return machine.globals.get(self.norm(name))
+        """A global (name) or an element of one (name[index]) by its name in the program (None when it
+        is not declared)."""
+        key, index = self._input_names.get(name) or self._input_name(name)
+        value = machine.globals.get(key)
+        if index is None or not isinstance(value, list):
+            return value if index is None else None
+        i = index - self.index_base
+        return value[i] if 0 <= i < len(value) else None
 
     def device_write(self, machine: Machine, name: str, value) -> bool:
-        """Store into a declared global, coerced to its type; False when there is no such global."""
-        key = self.norm(name)
+        """Store into a declared global or an element of one, coerced to its type; False when there
+        is no such global (arrays are copied, never changed in place)."""
+        key, index = self._input_names.get(name) or self._input_name(name)
         if key not in machine.globals:
             return False
-        machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
+        if index is None:
+            machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
+            return True
+        seq, i = machine.globals[key], index - self.index_base
+        if not isinstance(seq, list) or not 0 <= i < len(seq):
+            return False
+        seq = machine.globals[key] = list(seq)
+        seq[i] = self.coerce(self.element_type(machine.global_types.get(key)), value, name)
         return True

@@ -15,6 +15,7 @@ if TYPE_CHECKING:
     from codegen.dialects.core.compiler import Compiler
 
 DEFAULT_STEP_LIMIT = 200_000
+UNKNOWN_TRAVEL_S = 1.0  # assumed duration of a move whose start or end pose the clock does not know
 
 
 @dataclass
@@ -58,13 +59,31 @@ def step_limit_error(where: str, machine: Machine) -> StepLimitError:
 
 
 class Device(Protocol):
-    """Simulated equipment beside the controller (the vision PC of frame mode): called whenever the
-    program waits, it reads and writes the program's variables through Machine.read_variable and
-    Machine.write_variable."""
+    """Simulated equipment beside the controller (the vision PC): called whenever the program waits,
+    it reads and writes the program's variables through Machine.read_variable and
+    Machine.write_variable, at the time Machine.clock; it may look at Machine.moving."""
 
     def on_wait(self, machine: Machine, where: str) -> bool:
         """Act on the program's state; True when something changed (where: file:line:column)."""
         ...
+
+    def next_time(self, machine: Machine) -> float | None:
+        """When the device will next act on its own (an answer due), or None: nothing planned
+        (optional: a device without it acts only when the program waits)."""
+        ...
+
+
+def travel_seconds(start: np.ndarray | None, end: np.ndarray | None, speed_mm_s: float | None) -> float:
+    """How long a move takes in the interpreter's clock: the TCP's straight-line distance over the
+    programmed TCP speed (a pure rotation takes none). A move whose start or end pose is not known
+    while the program runs (the first move, from wherever the arm stands; a joint target, whose pose
+    comes from the arm's kinematics when the run ends) takes UNKNOWN_TRAVEL_S. Enough to order waits,
+    timeouts and a photo against the motion."""
+    if not speed_mm_s or speed_mm_s <= 0:
+        return 0.0
+    if start is None or end is None:
+        return UNKNOWN_TRAVEL_S
+    return float(np.linalg.norm(end[:3, 3] - start[:3, 3])) / speed_mm_s
 
 
 class Routine:
@@ -108,6 +127,78 @@ class Machine:
         self.step_limit = step_limit
         self.steps = 0
         self.extra: dict = {}  # dialect state ($BASE, message handles, ...)
+        # Time (s since the program started): the program's clock, and when the arm finishes the moves
+        # commanded so far (later than the clock while a controller's program runs ahead of its motion)
+        self.clock = 0.0
+        self.arm_until = 0.0
+        self.last_move: MoveEvent | None = None
+        self._last_tcp2base: np.ndarray | None = None
+
+    # --- time --------------------------------------------------------------------------------
+    @property
+    def moving(self) -> bool:
+        """The arm is still executing a commanded move while the program runs on."""
+        return self.arm_until > self.clock
+
+    def move(self, event: MoveEvent, speed_mm_s: float | None = None, runs_ahead: bool = False) -> None:
+        """Record a commanded move. It starts when the previous one ends and takes travel_seconds;
+        the program waits for it (the clock reaches its end) unless the controller runs ahead of its
+        motion (an advance run, a fly-by point): then the clock stays and the arm is moving
+        until an instruction that waits for it (Machine.arrive)."""
+        self.trace.moves.append(event)
+        start = max(self.clock, self.arm_until)
+        self.arm_until = start + travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
+        self._last_tcp2base = event.tcp2base
+        self.last_move = event
+        if not runs_ahead:
+            self.clock = self.arm_until
+
+    def arrive(self, where: str) -> None:
+        """An instruction that waits until the arm stands still (an advance-run stop, an in-position
+        wait): the devices see the moment first (a request made while the arm moves), then the clock
+        reaches the end of the motion."""
+        if self.moving:
+            self.wait(where)
+            self.clock = self.arm_until
+
+    def elapse(self, seconds: float, where: str) -> None:
+        """The program sleeps (WAIT SEC, sleep, WaitTime): the arm finishes its moves first (where
+        the controller's sleep waits for it: callers decide), the devices act at every event in between."""
+        end = self.clock + max(0.0, seconds)
+        self.wait(where)
+        while True:
+            due = self.next_device_time()
+            if due is None or due > end:
+                break
+            self.clock = max(self.clock, due)
+            self.step(where)
+            self.wait(where)
+        self.clock = end
+        self.wait(where)
+
+    def next_device_time(self) -> float | None:
+        times = [t for d in self.devices if hasattr(d, "next_time") and (t := d.next_time(self)) is not None]
+        return min(times) if times else None
+
+    def wait_for(self, cond, where: str, max_seconds: float | None = None, keyword: str = "wait") -> bool:
+        """Wait until cond() (a condition only a device can make true): True when it came true, False
+        at max_seconds (the clock then stands at the deadline); with no limit, a condition no device
+        will make true is an error (the controller would wait forever)."""
+        deadline = None if max_seconds is None else self.clock + max(0.0, max_seconds)
+        while not cond():
+            self.step(where)
+            if self.wait(where):
+                continue
+            due = self.next_device_time()
+            if due is not None and due <= self.clock:
+                due = self.clock  # due now: act again
+            if due is None or (deadline is not None and due > deadline):
+                if deadline is None:
+                    raise RunError(f"{where}: {keyword} a condition that nothing here makes true (waits forever)")
+                self.clock = deadline
+                return bool(cond())
+            self.clock = due
+        return True
 
     def wait(self, where: str) -> bool:
         """The program waits (WAIT FOR, WaitUntil, sync()): every device may act on the program's

@@ -196,15 +196,20 @@ class Statements:
 
         return run
 
-    def wait_until(self, cond_node, where_node, keyword: str):
-        """WAIT FOR / WaitUntil: here only a device (the vision PC answering a photo request) can
-        change a condition, so the wait lets the devices act and fails if the condition stays false."""
+    def wait_until(self, cond_node, where_node, keyword: str, arrive: bool = False):
+        """WAIT FOR / WaitUntil without a time limit: here only a device (the vision PC answering a
+        request) can change a condition; the clock runs to its answer, and a condition that no device
+        will make true is an error (the controller would wait forever). arrive: the wait first waits
+        for the arm (a wait that stops an advance run)."""
         cond = self.expr(cond_node)
         where = self.where(where_node)
 
         def run(fr):
-            if not cond(fr) and not (fr.m.wait(where) and cond(fr)):
-                raise RunError(f"{where}: {keyword} a condition that nothing here can make true")
+            m = fr.m
+            if arrive:
+                m.arrive(where)
+            if not cond(fr):
+                m.wait_for(lambda: cond(fr), where, None, keyword)
 
         return run
 

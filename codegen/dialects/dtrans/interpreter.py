@@ -192,6 +192,17 @@ class DTransCompiler(Compiler):
     def s_wait_stmt(self, node):
         return self.wait_until(node.children[0], node, "WaitUntil")
 
+    def s_sleep_stmt(self, node):
+        seconds, where = self.expr(node.children[0]), self.where(node)
+
+        def run(fr):
+            value = seconds(fr)
+            if isinstance(value, (bool, str, list, Record)) or not math.isfinite(float(value)):
+                raise RunError(f"{where}: Sleep takes a finite number of seconds")
+            fr.m.elapse(float(value), where)
+
+        return run
+
     def s_motion_stmt(self, node):
         motion, target = node.children
         kind = "joint" if str(motion) == "MovJ" else "linear"
@@ -205,7 +216,8 @@ class DTransCompiler(Compiler):
             values = [pt[k] for k in POINT_KEYS]
             posemath.check_finite(values, where, "motion target")
             x, y, z, rx, ry, rz = values
-            fr.m.trace.moves.append(MoveEvent(kind, posemath.matrix_from_xyzabc((x, y, z, rz, ry, rx)), line))
+            # a move returns when the arm has arrived (assumed); the dialect has no speed: it takes no time
+            fr.m.move(MoveEvent(kind, posemath.matrix_from_xyzabc((x, y, z, rz, ry, rx)), line))
 
         return run
 

@@ -51,6 +51,9 @@ STRUCTS = {
     ],
     "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
 }
+# Message types the operator must acknowledge (KSS 8 system integrators manual, Set_KrlMsg: #QUIT, and
+# #WAITING until the program clears it); #NOTIFY and #STATE need none.
+ACKNOWLEDGED = frozenset({"#QUIT"})
 _MSG_PARAM = re.compile(r"%([123])")  # a KrlMsg_T text's placeholders for its 3 parameters
 STRUCT_FIELDS = {name: dict(fields) for name, fields in STRUCTS.items()}
 SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
@@ -127,7 +130,9 @@ def builtins() -> dict:
         return out
 
     def set_krlmsg(fr, args, kwargs, where):
-        _kind, msg, params, _opt = args
+        kind, msg, params, opt = args
+        if isinstance(opt, Record) and opt["VL_STOP"] is True:  # KrlMsgOpt_T.VL_Stop: an advance-run stop
+            fr.m.arrive(where)
         text = valid(msg["MSG_TXT"], where, "KrlMsg_T.Msg_txt")
 
         def param(match):
@@ -141,8 +146,23 @@ def builtins() -> dict:
             return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
 
         fr.m.trace.messages.append(_MSG_PARAM.sub(param, text))
-        fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
-        return fr.m.extra["handle"]
+        handle = fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
+        if str(kind).upper() in ACKNOWLEDGED:  # shown until the operator acknowledges it
+            fr.m.extra["waiting"] = {**fr.m.extra.get("waiting", {}), handle: fr.m.trace.messages[-1]}
+        return handle
+
+    def exists_krlmsg(fr, args, kwargs, where):
+        """Exists_KrlMsg(handle): TRUE while the message is shown. The interpreter's operator reads an
+        acknowledgement message the first time the program looks for it and acknowledges it: the
+        program stood stopped with that message until then (recorded as the run's stop)."""
+        waiting = fr.m.extra.get("waiting", {})
+        handle = int(valid(args[0], where, "message handle"))
+        if handle in waiting:
+            trace = fr.m.trace
+            if not trace.halted:
+                trace.halted, trace.halt_message = True, waiting[handle]
+            fr.m.extra["waiting"] = {k: v for k, v in waiting.items() if k != handle}
+        return False
 
     def bas(fr, args, kwargs, where):
         return None  # BAS(#INITMOV, ...) sets speeds and accelerations: no effect on poses
@@ -156,5 +176,6 @@ def builtins() -> dict:
         "ABS": abs_,
         "INV_POS": inv_pos,
         "SET_KRLMSG": set_krlmsg,
+        "EXISTS_KRLMSG": exists_krlmsg,
         "BAS": bas,
     }

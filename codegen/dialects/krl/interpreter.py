@@ -10,7 +10,7 @@ from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import MoveEvent, Program
+from codegen.dialects.core.machine import MoveEvent, Program, pause
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import F32, Record, RunError, Signal, constant, f32
@@ -29,7 +29,17 @@ from codegen.dialects.krl.builtins import (
     valid,
     xyzabc,
 )
-from codegen.dialects.krl.motion import AXES, SYSTEM_ARRAY, SYSTEM_ARRAYS, load_of, load_record, motion_rule
+from codegen.dialects.krl.motion import (
+    AXES,
+    SYSTEM_ARRAY,
+    SYSTEM_ARRAYS,
+    load_of,
+    load_record,
+    motion_rule,
+    robroot,
+    tcp_speed,
+    world2robot,
+)
 
 
 def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
@@ -124,11 +134,12 @@ class KRLCompiler(Compiler):
         match = SYSTEM_ARRAY.fullmatch(name.upper())
         if match is not None:
             return 1 <= int(match.group(2)) <= SYSTEM_ARRAYS[match.group(1)][1]
-        return super().accepts_input(name, globals_)
+        return name.upper() == "$ROBROOT" or super().accepts_input(name, globals_)
 
     def inject_inputs(self, machine) -> None:
         """BASE_DATA[n]=x,y,z,a,b,c, TOOL_DATA[n]=x,y,z,a,b,c and LOAD_DATA[n]=m,x,y,z (mass kg, centre of
         gravity mm) set the controller's numbered bases, tools and loads, as $config.dat holds them."""
+        robroot(machine)
         if not any(SYSTEM_ARRAY.fullmatch(name.upper()) for name in machine.inputs):
             return super().inject_inputs(machine)
         rest = {}
@@ -165,6 +176,8 @@ class KRLCompiler(Compiler):
                 value = fr.m.globals[key]
             elif key == "$BASE":
                 return fr.m.extra.setdefault("$BASE", frame(ACTIVE_BASE_AT_START))
+            elif key == "$ROBROOT":  # the robot's base in the world (KSS 8 system variables; read-only)
+                return fr.m.extra.get("$ROBROOT") or frame()
             elif key in SYSTEM_ARRAYS:  # the controller's numbered bases, tools and loads ($config.dat)
                 type_name, size, _shape = SYSTEM_ARRAYS[key]
                 return fr.m.extra.setdefault(key, [new_value(type_name) for _ in range(size)])
@@ -373,10 +386,27 @@ class KRLCompiler(Compiler):
         return lambda fr: Signal("exit")
 
     def s_wait_sec(self, node):
-        return lambda fr: None
+        # WAIT SEC stops the advance run: the time runs from the arm's arrival (KSS 8 programming manual)
+        seconds, where = self.expr(node.children[0]), self.where(node)
+
+        def run(fr):
+            t = float(valid(seconds(fr), where, "WAIT SEC time"))
+            fr.m.arrive(where)
+            fr.m.elapse(t, where)
+
+        return run
 
     def s_wait_for(self, node):
-        return self.wait_until(node.children[0], node, "WAIT FOR")
+        return self.wait_until(node.children[0], node, "WAIT FOR", arrive=True)  # stops the advance run
+
+    def s_halt_stmt(self, node):
+        where = self.where(node)
+
+        def run(fr):  # HALT stops the advance run: the arm stops at the end of its move
+            fr.m.arrive(where)
+            pause(fr)
+
+        return run
 
     def s_motion_stmt(self, node):
         motion, target, approx = node.children
@@ -402,7 +432,7 @@ class KRLCompiler(Compiler):
                 q = [float(valid(target[f"A{i}"], where, f"{target.type}.A{i}")) for i in range(1, 7)]
                 event = MoveEvent(kind, None, line, settings)
                 fr.m.arm.to_joints(event, q, where)
-                fr.m.trace.moves.append(event)
+                fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
                 return
             pose = cart(target, where)
             posemath.check_finite(xyzabc(pose), where, "motion target")
@@ -410,9 +440,11 @@ class KRLCompiler(Compiler):
             tcp2base = cart_matrix(pose)
             if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
                 tcp2base = cart_matrix(base) @ tcp2base
+            if "$ROBROOT" in fr.m.extra:  # $BASE is in the world; the trace is in the robot's base frame
+                tcp2base = world2robot(fr.m.extra["$ROBROOT"]) @ tcp2base
             event = MoveEvent(kind, tcp2base, line, settings)
             fr.m.arm.to_pose(event, where, *motion_rule(kind, pose, fr.m.arm, where))
-            fr.m.trace.moves.append(event)
+            fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
 
         return run
 

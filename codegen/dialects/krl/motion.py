@@ -6,7 +6,8 @@ from __future__ import annotations
 import re
 
 from codegen.dialects.core.values import Record, RunError, f32
-from codegen.dialects.krl.builtins import UNINIT, frame
+from codegen.dialects.krl.builtins import UNINIT, cart_matrix, frame
+from codegen.poses import invert
 
 AXES = ("AXIS", "E6AXIS")
 # The controller's numbered data ($config.dat; KSS 8 system variables): type, count, how `--input` gives one
@@ -42,6 +43,33 @@ def motion_rule(kind: str, pose: Record, arm, where: str) -> tuple:
     if kind == "joint" and status:  # S without T: the shortest turn from where the arm stands
         return "status", int(pose["S"])
     return ("keep",)
+
+
+# The clock's TCP speed of a move (m/s): $VEL.CP where the program set it, else BAS(#INITMOV)'s
+# default path speed, assumed 0.25 m/s here (the interpreter's clock only orders waits and photos).
+DEFAULT_VEL_CP = 0.25
+
+
+def tcp_speed(extra: dict) -> float:
+    """The TCP speed of the next move in mm/s."""
+    vel = extra.get("$VEL")
+    cp = vel["CP"] if isinstance(vel, Record) and "CP" in vel and vel["CP"] is not UNINIT else DEFAULT_VEL_CP
+    return float(cp) * 1000.0
+
+
+def robroot(machine) -> None:
+    """`--input $ROBROOT=x,y,z,a,b,c`: the robot's base in the world ($ROBROOT, KSS 8 system variables;
+    an arm on a track or a platform). Without it the interpreter takes the world at the robot's base."""
+    for name, value in machine.inputs.items():
+        if name.upper() == "$ROBROOT":
+            if not isinstance(value, tuple | list) or len(value) != 6:
+                raise RunError(f"input {name}: expected $ROBROOT = X,Y,Z,A,B,C")
+            machine.extra["$ROBROOT"] = frame(value)
+
+
+def world2robot(root: Record):
+    """The world in the robot's base frame: the inverse of $ROBROOT as a 4x4 matrix."""
+    return invert(cart_matrix(root))
 
 
 def load_of(load) -> tuple | None:

@@ -16,9 +16,14 @@ from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
 from codegen.robot import solve
 
-INPUT_REGISTER = re.compile(r"input_(?:integer|float|boolean)_register_(\d+)")
+INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
 # movej/movel keyword arguments and their defaults (URScript manual, module motion): acceleration a,
 # speed v (rad/s^2, rad/s for movej; m/s^2, m/s for movel), blend radius r (m; 0: stop at the pose)
+# One controller cycle, sync()'s wait: 500 Hz on the e-Series (URScript manual, sync(); get_steptime()).
+STEP_TIME_S = 0.002
+# The clock's move time is the TCP distance over a TCP speed: movel's v is one (m/s); movej's v is a
+# joint speed (rad/s), taken as the speed of a TCP 1 m from the axis (enough to order waits).
+MM_PER_M = 1000.0
 MOVE_DEFAULTS = {"joint": {"a": 1.4, "v": 1.05, "r": 0.0}, "linear": {"a": 1.2, "v": 0.25, "r": 0.0}}
 REGISTER_MAX = 47  # registers 0..23 fieldbus, 24..47 RTDE clients (URScript manual)
 STRING_MAX = 1023  # characters of a string result (URScript manual, str_cat; ur.toml string_max)
@@ -118,14 +123,14 @@ class URScriptCompiler(Compiler):
                         raise RunError(f"{where}: movel takes a pose")
                     event = MoveEvent(kind, None, line, settings)
                     fr.m.arm.to_joints(event, np.degrees(_joints(target, where)), where)
-                    fr.m.trace.moves.append(event)
+                    fr.m.move(event, settings["v"] * MM_PER_M)
                     return
                 pose = _pose(target, where)
                 posemath.check_finite(pose.values(), where, "move target")
                 event = MoveEvent(kind, posemath.matrix_from_ur(pose.values()), line, settings)
                 # movej to a pose: the solution nearest the current joints; movel keeps the configuration
                 fr.m.arm.to_pose(event, where, "nearest" if kind == "joint" else "keep")
-                fr.m.trace.moves.append(event)
+                fr.m.move(event, settings["v"] * MM_PER_M)  # movej and movel return when the arm has arrived
 
             return run
 
@@ -186,8 +191,28 @@ class URScriptCompiler(Compiler):
                 raise RunError(f"{where}: register {index} out of range 0..{REGISTER_MAX}")
             fr.m.outputs[f"output_integer_register_{index}"] = int(args[1])
 
+        def read_output_integer_register(fr, args, kwargs, where):
+            index = int(args[0])
+            if not 0 <= index <= REGISTER_MAX:
+                raise RunError(f"{where}: register {index} out of range 0..{REGISTER_MAX}")
+            name = f"output_integer_register_{index}"  # what the program wrote, else what it held at the start
+            return int(fr.m.outputs.get(name, fr.m.inputs.get(name, 0)))
+
         def sync(fr, args, kwargs, where):
-            fr.m.wait(where)  # devices (the vision PC) act between two controller cycles
+            fr.m.elapse(STEP_TIME_S, where)  # one controller cycle; devices (the vision PC) act in between
+
+        def sleep(fr, args, kwargs, where):
+            fr.m.elapse(float(_num(args[0], where, "sleep time")), where)
+
+        def is_steady(fr, args, kwargs, where):
+            return not fr.m.moving  # moves return when the arm has arrived: at rest after every move
+
+        def popup(fr, args, kwargs, where):
+            # the operator's dialog; a blocking one waits for the operator, who confirms at once here
+            text = _to_text(args[0])
+            if len(text) > STRING_MAX:
+                raise RunError(f"{where}: popup text longer than {STRING_MAX} characters")
+            fr.m.trace.messages.append(text)
 
         def atan2(fr, args, kwargs, where):
             return f32(math.atan2(float(args[0]), float(args[1])))
@@ -226,7 +251,11 @@ class URScriptCompiler(Compiler):
             "read_input_integer_register": register("integer"),
             "read_input_float_register": register("float"),
             "write_output_integer_register": write_output_integer_register,
+            "read_output_integer_register": read_output_integer_register,
             "sync": sync,
+            "sleep": sleep,
+            "is_steady": is_steady,
+            "popup": popup,
             "sin": _unary(math.sin),
             "cos": _unary(math.cos),
             "tan": _unary(math.tan),
@@ -250,8 +279,8 @@ class URScriptCompiler(Compiler):
     def device_read(self, machine, name: str):
         if name.startswith("input_"):
             return machine.inputs.get(name, 0)
-        if name.startswith("output_"):
-            return machine.outputs.get(name, 0)
+        if name.startswith("output_"):  # what the program wrote, else what the register held at the start
+            return machine.outputs.get(name, machine.inputs.get(name, 0))
         return super().device_read(machine, name)
 
     def device_write(self, machine, name: str, value) -> bool:

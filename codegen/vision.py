@@ -1,0 +1,172 @@
+"""The vision PC handshake: the cell's [cell.vision] settings, the protocol and the simulated vision PC."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from codegen.dialects.core.machine import Machine
+from codegen.dialects.core.values import RunError
+
+# The protocol, the same on every controller. The program writes the command, then request = ack + 1;
+# the vision PC does what the command asks, writes its answer and then ack = request. The program uses
+# an answer only when ack equals its own request: a reading from an earlier cycle (a vision PC that
+# failed to update, or answered another request) never passes, it ends in the timeout's halt.
+READ = 1  # read the station: its id (barcode) and, for a point-mode station, the mark
+PHOTO = 2  # photograph the mark from where the arm stands (frame mode): pixels u, v and image angle
+POLL_S = 0.05  # how often a program looks at the acknowledgement while it waits
+TIMEOUT_S = 5.0  # default [cell.vision] timeout_s
+
+
+@dataclass(frozen=True)
+class VisionSettings:
+    """[cell.vision]: how long a program waits for an answer before it halts with a message."""
+
+    timeout_s: float = TIMEOUT_S
+
+
+def parse_settings(ctx, cell_table: dict) -> VisionSettings:
+    """[cell.vision] of a cell file (optional); errors name the key."""
+    if "vision" not in cell_table:
+        return VisionSettings()
+    table = ctx.table(cell_table, "vision", "cell.vision")
+    ctx.no_unknown(table, {"timeout_s"}, "cell.vision")
+    timeout = ctx.number(table, "timeout_s", "cell.vision.timeout_s") if "timeout_s" in table else TIMEOUT_S
+    if not 4 * POLL_S <= timeout <= 600:
+        ctx.fail("cell.vision.timeout_s", f"must be between {4 * POLL_S:g} and 600 s, got {timeout}")
+    return VisionSettings(timeout)
+
+
+def polls(settings: VisionSettings) -> int:
+    """The number of POLL_S waits a program makes before it gives up (the timeout, rounded up)."""
+    return math.ceil(settings.timeout_s / POLL_S - 1e-9)
+
+
+# How a simulated vision PC answers (verify's cases): on time, late, never, not at all but with the
+# last cycle's reading still in its registers, twice, with another sequence number, or promptly after
+# a late answer to the previous cycle's last request (which that cycle gave up on) arrives first.
+PREVIOUS_REQUEST = 41  # the previous cycle's last answered request
+BEHAVIOURS = ("prompt", "late", "too_late", "never", "stale", "twice", "other_sequence", "late_previous")
+UNANSWERED = frozenset({"too_late", "never", "stale", "other_sequence"})  # a correct program halts
+PROMPT_S = 0.2  # a prompt answer's latency
+
+
+def latency(settings: VisionSettings, behaviour: str) -> float:
+    """How long the simulated vision PC takes: prompt; late, within the timeout; too late, after it."""
+    return {"late": 0.8 * settings.timeout_s, "too_late": settings.timeout_s + 1.0}.get(behaviour, PROMPT_S)
+
+
+def answered(target, behaviour: str) -> dict:
+    """The handshake's variables at the start, by the program's names: the previous cycle's request
+    answered, or (late_previous) one request more that it gave up on."""
+    names = target.program.get("photo")
+    if names is None:
+        return {}
+    unanswered = PREVIOUS_REQUEST + 1 if behaviour == "late_previous" else PREVIOUS_REQUEST
+    return {names["request"]: unanswered, names["ack"]: PREVIOUS_REQUEST}
+
+
+@dataclass
+class VisionPC:
+    """The vision PC's side of the handshake, a device of Program.run: when the program waits with a
+    request not yet answered, it answers after its latency by its behaviour.
+
+    names: the program's variable or register names, as the target's facts give them: "request",
+    "ack", "command", and the answer's "station", "x", "y", "theta" (READ) and "u", "v", "angle"
+    (PHOTO); answer: the values of a READ by name (the station id and, for a point station, the mark);
+    camera: a SimulatedCamera for PHOTO requests (None: a photo request is an error); previous: the
+    previous cycle's READ answer (late_previous sends it late, for the request that cycle gave up on)."""
+
+    names: dict | None
+    answer: dict = field(default_factory=dict)
+    camera: object = None
+    behaviour: str = "prompt"
+    latency_s: float = PROMPT_S
+    previous: dict = field(default_factory=dict)
+    _seen: object = None
+    _due: list = field(default_factory=list)  # (time, ack value, values by name)
+
+    _late_sent: bool = False
+
+    def __post_init__(self) -> None:
+        if self.behaviour == "late_previous":
+            self._seen = PREVIOUS_REQUEST + 1  # the request the previous cycle gave up on, answered below
+
+    @classmethod
+    def for_target(cls, target, answer=None, camera=None, behaviour="prompt", latency_s=PROMPT_S, previous=None):
+        names = target.program.get("photo")
+        if names is not None:
+            names = {**names, **{k: target.program["inputs"][k] for k in ("station", "x", "y", "theta")}}
+        return cls(names, dict(answer or {}), camera, behaviour, latency_s, dict(previous or {}))
+
+    def next_time(self, machine: Machine) -> float | None:
+        return min((t for t, _ack, _values in self._due), default=None)
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        io = self.names
+        if not io:
+            return False
+        if self.behaviour == "late_previous" and not self._late_sent and not machine.moving:
+            # the late answer arrives half a poll after the arm first stands still: after a program
+            # that numbers its request from the last answer asked, before the answer to its request
+            self._late_sent = True
+            self._due.append((machine.clock + POLL_S / 2, PREVIOUS_REQUEST + 1, self._named(self.previous)))
+        request = machine.read_variable(io["request"])
+        if request is not None and request != self._seen and request != machine.read_variable(io["ack"]):
+            self._seen = request
+            self._plan(machine, request, where)
+        acted = False
+        for item in [d for d in self._due if d[0] <= machine.clock]:
+            self._due.remove(item)
+            _time, ack, values = item
+            for name, value in (*values.items(), ("ack", ack)):
+                if not machine.write_variable(io.get(name, name), value):
+                    raise RunError(
+                        f"{machine.program.name}: the vision interface variable {io.get(name, name)} is not declared"
+                    )
+            acted = True
+        return acted
+
+    def _plan(self, machine: Machine, request, where: str) -> None:
+        """A new request: what to answer and when, by the behaviour."""
+        if machine.moving:
+            line = machine.last_move.line if machine.last_move is not None else "?"
+            raise RunError(
+                f"{where}: photo requested while the arm moves (the request ran ahead of the move at line {line}: "
+                "nothing made the program wait for the arm before it)"
+            )
+        if self.behaviour in ("never", "stale"):
+            return
+        command = machine.read_variable(self.names["command"])
+        values = self._values(machine, command, where)
+        start = machine.clock + self.latency_s
+        if self.behaviour == "other_sequence":
+            self._due.append((start, request + 1, values))
+            return
+        self._due.append((start, request, values))
+        if self.behaviour == "twice":  # the same request answered again, from a second look
+            self._due.append((start + self.latency_s, request, self._values(machine, command, where, again=True)))
+
+    def _values(self, machine: Machine, command, where: str, again: bool = False) -> dict:
+        if command == READ:
+            if again:  # a second look at a mark: the same place, read a little differently
+                return {k: (v + 0.5 if k in ("x", "y") else v) for k, v in self._named(self.answer).items()}
+            return self._named(self.answer)
+        if command == PHOTO:
+            if self.camera is None:
+                raise RunError(
+                    f"{where}: the program waits for a photo and no camera is attached "
+                    "(codegen verify attaches a simulated one)"
+                )
+            if machine.last_move is None:
+                raise RunError(f"{where}: a photo was requested before the robot moved to a photo pose")
+            machine.arm.resolve()
+            u, v, angle = self.camera.photo(machine.last_move.tcp2base)
+            return {"u": u, "v": v, "angle": angle}
+        raise RunError(f"{where}: the vision PC got command {command!r}: neither {READ} (read) nor {PHOTO} (photo)")
+
+    def _named(self, answer: dict) -> dict:
+        """A READ answer keyed by the protocol's names (station, x, y, theta) where it names a
+        program variable."""
+        by_variable = {v: k for k, v in (self.names or {}).items()}
+        return {by_variable.get(name, name): value for name, value in answer.items()}
