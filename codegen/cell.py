@@ -12,11 +12,13 @@ from typing import Any
 
 import numpy as np
 
+from codegen import vision
 from codegen.controllers import target_names
 from codegen.guard import READING_RANGE_MM, TAUGHT_RANGE_MM
 from codegen.kinds import get_kind, kinds
 from codegen.poses import POSE_FORMATS
 from codegen.robot.section import Robot, parse_robot, parse_station_config
+from codegen.vision import VisionSettings
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
 QUATERNION_TOLERANCE = 1e-6
@@ -78,6 +80,7 @@ class Cell:
     handeye: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None  # pixel -> mm
     settings: dict = field(default_factory=dict, compare=False)  # kind name -> its [cell.<table>] settings
     robot: Robot | None = None  # [cell.robot] and [cell.tool]; None: the cell names no arm
+    vision: VisionSettings = field(default_factory=VisionSettings)  # [cell.vision]: the handshake's timeout
     source: str = ""
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
@@ -92,7 +95,8 @@ class Cell:
 
 # --- loading ---------------------------------------------------------------------------------
 
-_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "robot", "tool"}  # and the kinds' cell_tables
+# and the kinds' cell_tables
+_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "robot", "tool", "vision"}
 _CAMERA_KEYS = {"angle_sign", "handeye"}
 _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
@@ -261,6 +265,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         handeye=handeye,
         settings=settings,
         robot=robot,
+        vision=vision.parse_settings(ctx, cell_table),
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),

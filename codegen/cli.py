@@ -249,10 +249,10 @@ def run(
     from codegen.dialects import is_companion
     from codegen.dialects.core.values import RunError
     from codegen.emit import unsigned_zero
-    from codegen.kinds import kinds
     from codegen.poses import POSE_FORMATS
     from codegen.verify import target_of_file
     from codegen.verify_runs import load_program_file
+    from codegen.vision import VisionPC
 
     path = Path(file)
     if is_companion(path):
@@ -284,8 +284,9 @@ def run(
             f"{', '.join(names)} (any global variable of the program may be set)"
         )
     try:
-        devices = [device for kind in kinds().values() for device in kind.devices(target)]
-        trace = program.run(values, step_limit=step_limit, devices=devices, arm=arm)
+        # the vision PC answers the program's request to read the station with the --input values
+        reading = {name: values[name] for name in target.program["inputs"].values() if name in values}
+        trace = program.run(values, step_limit=step_limit, devices=[VisionPC.for_target(target, reading)], arm=arm)
     except RunError as exc:
         click.echo(f"error: {exc}", err=True)
         sys.exit(1)

@@ -18,10 +18,16 @@ UNKNOWN_STATION = "unknown_station"
 INVALID_READING = "invalid_reading"
 SHIFT_OVER_LIMIT = "shift_over_limit"
 ROTATION_OVER_LIMIT = "rotation_over_limit"
+NO_ANSWER = "no_answer"  # the vision PC did not answer the program's request in time (codegen.vision)
 
 # The codes a program's guard function returns: 0 ok, then the reasons in the order they are checked.
 GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}
 UNKNOWN_STATION_TEXT = "unknown station id "  # the program appends the id it read
+
+
+def no_answer_text(timeout_s: float) -> str:
+    """The message of a program whose request the vision PC did not answer in time."""
+    return f"no answer from the vision PC in {timeout_s:g} s"
 
 
 def reading_in_range(x: float, y: float, theta: float) -> bool:
@@ -38,6 +44,8 @@ def halt_message(cell, reason: str, station_name: str | None, station_id: int) -
     limits = cell.limits
     if reason == UNKNOWN_STATION:
         return f"{UNKNOWN_STATION_TEXT}{station_id}"
+    if reason == NO_ANSWER:
+        return no_answer_text(cell.vision.timeout_s)
     name = station_name if station_name is not None else "?"
     if reason == INVALID_READING:
         return f"station {name}: invalid mark reading"

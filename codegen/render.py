@@ -5,11 +5,18 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from codegen import __version__, data_dir
+from codegen import __version__, data_dir, vision
 from codegen.cell import Cell
 from codegen.controllers import Target, get_target
 from codegen.emit import Emitter, folder_name
-from codegen.guard import GUARD_CODES, READING_RANGE_DEG, READING_RANGE_MM, UNKNOWN_STATION_TEXT
+from codegen.guard import (
+    GUARD_CODES,
+    NO_ANSWER,
+    READING_RANGE_DEG,
+    READING_RANGE_MM,
+    UNKNOWN_STATION_TEXT,
+    halt_message,
+)
 from codegen.kinds import get_kind, kinds
 from codegen.robot.emission import cell_robot, station_arm
 
@@ -100,6 +107,15 @@ def context(cell: Cell, target: Target) -> dict:
         "stations": stations,
         "kinds_used": [name for name in kinds() if name in used],
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
+        "vision": {
+            "read": vision.READ,
+            "photo": vision.PHOTO,
+            "poll_s": number(vision.POLL_S, 2),
+            "polls": vision.polls(cell.vision),
+            "timeout_s": number(cell.vision.timeout_s, 3),
+            "timeout_text": f"{cell.vision.timeout_s:g}",
+            "no_answer": emitter.string(halt_message(cell, NO_ANSWER, None, 0)),
+        },
         "target": target,
         "robot": cell_robot(cell, target),
     }

@@ -12,17 +12,19 @@ from pathlib import Path
 
 import numpy as np
 
+from codegen import vision
 from codegen.cell import STATION_ID_MAX, Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target, target_of_suffix
 from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
-from codegen.guard import UNKNOWN_STATION, UNKNOWN_STATION_TEXT
+from codegen.guard import NO_ANSWER, UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
 from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace
 from codegen.robot.expect import ArmStats, arm_of, arm_problem, home_move, tool_inputs
+from codegen.vision import VisionPC
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
 # stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings
@@ -104,17 +106,32 @@ def _kind_of_case(cell: Cell, reading):
     return get_kind(cell.station_by_id(reading.station_id).kind)
 
 
-def inputs_for(cell: Cell, target: Target, reading) -> dict:
+def inputs_for(cell: Cell, target: Target, reading, behaviour: str = "prompt") -> dict:
+    """What the controller holds when the program starts: the vision PC's variables from the previous
+    cycle (a plausible reading of the station, its request answered), the controller's numbered
+    tool and the kind's own values."""
     kind = _kind_of_case(cell, reading)
     tools = tool_inputs(cell, target.name)  # the controller's numbered tool, where the program selects one
+    station = cell.station_by_id(reading.station_id) if kind is not None else cell.stations[0]
+    previous = get_kind(station.kind).previous(cell, target, station)
+    answered = vision.answered(target, behaviour)
     if kind is None:
-        return {target.program["inputs"]["station"]: reading.station_id, **tools}
-    return {**kind.inputs(cell, target, reading), **tools}
+        return {**previous, **answered, **tools}
+    return {**previous, **answered, **kind.inputs(cell, target, reading), **tools}
 
 
-def run_options(cell: Cell, target: Target, reading) -> dict:
-    kind = _kind_of_case(cell, reading)
-    return {} if kind is None else kind.run_options(cell, target, reading)
+def vision_pc(cell: Cell, target: Target, case: Case) -> VisionPC:
+    """The simulated vision PC of a case: it answers with the case's reading, by the case's behaviour."""
+    kind = _kind_of_case(cell, case.reading)
+    if kind is None:
+        answer = {target.program["inputs"]["station"]: case.reading.station_id}
+        camera = None
+    else:
+        answer, camera = kind.answer(cell, target, case.reading), kind.camera(cell, case.reading)
+    station = cell.station_by_id(case.reading.station_id) if kind is not None else cell.stations[0]
+    previous = get_kind(station.kind).previous(cell, target, station)
+    latency = vision.latency(cell.vision, case.vision)
+    return VisionPC.for_target(target, answer, camera, case.vision, latency, previous)
 
 
 # --- cases -----------------------------------------------------------------------------------
@@ -152,11 +169,15 @@ def edge_only_cell(cell: Cell) -> Cell | None:
 
 
 def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
-    """Each station's cases from its kind (one random sequence for the cell), then unknown stations."""
+    """Each station's cases from its kind (one random sequence for the cell), then its first case again
+    with the vision PC late, silent, replaying the last cycle, answering twice, answering another
+    request or sending a late answer to the previous cycle first; then unknown stations."""
     rng = random.Random(seed)
     cases: list[Case] = []
     for station in cell.stations:
-        cases.extend(get_kind(station.kind).cases(cell, station, count, rng))
+        own = get_kind(station.kind).cases(cell, station, count, rng)
+        cases.extend(own)
+        cases.extend(Case(f"vision_{b}", own[0].reading, b) for b in vision.BEHAVIOURS[1:] if own)
     known = {s.id for s in cell.stations}
     for station_id in (0, -1, max(known) + 1, STATION_ID_MAX, 99999):
         if station_id not in known:
@@ -169,10 +190,14 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
 
 def _truth_problem(cell: Cell, case: Case, reference: ExpectedTrace) -> str | None:
     kind = _kind_of_case(cell, case.reading)
-    return None if kind is None else kind.truth_problem(cell, case.reading, reference)
+    if kind is None or case.vision in vision.UNANSWERED:  # the camera's view never reaches the program
+        return None
+    return kind.truth_problem(cell, case.reading, reference)
 
 
-def accepted_traces(cell: Cell, reading) -> tuple[list[ExpectedTrace], bool]:
+def accepted_traces(cell: Cell, reading, behaviour: str = "prompt") -> tuple[list[ExpectedTrace], bool]:
+    if behaviour in vision.UNANSWERED:  # the program must not use what it did not get: it halts at home
+        return [ExpectedTrace("halt", NO_ANSWER)], False
     kind = _kind_of_case(cell, reading)
     if kind is None:
         return [ExpectedTrace("halt", UNKNOWN_STATION)], False
@@ -192,6 +217,8 @@ def _pose_errors(a: list, b: list) -> tuple[float, float]:
 def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
+    if trace.reason == NO_ANSWER:
+        return emitter.string(halt_message(cell, NO_ANSWER, None, 0))
     kind = get_kind(trace.station.kind)
     return emitter.string(kind.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))
 
@@ -289,7 +316,7 @@ def verify(
     A run that reaches the step limit (a runaway loop) is a mismatch and ends that target's cases:
     the next ones would run as long."""
     model = verify_cell or cell
-    expectations = [(case, *accepted_traces(model, case.reading)) for case in cases]
+    expectations = [(case, *accepted_traces(model, case.reading, case.vision)) for case in cases]
     # What the physical situation demands of a correct cell, independent of the cell's own model:
     # a cell whose reference contradicts it (a wrong camera sign) fails on every target.
     truth = [_truth_problem(model, case, accepted[0]) for case, accepted, _ in expectations]
@@ -307,10 +334,10 @@ def verify(
             runaway = False
             try:
                 got = program.run(
-                    inputs_for(model, target, case.reading),
+                    inputs_for(model, target, case.reading, case.vision),
                     step_limit=step_limit,
                     arm=arm_of(model, name),
-                    **run_options(model, target, case.reading),
+                    devices=(vision_pc(model, target, case),),
                 )
             except StepLimitError as exc:
                 problem, pos, rot, runaway = f"run error: {exc}; the remaining cases were not run", [], [], True

@@ -14,8 +14,8 @@ from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, kinds
-from codegen.robot.expect import arm_of, home_move, tool_inputs
-from codegen.verify import TargetReport, verify
+from codegen.robot.expect import arm_of, home_move
+from codegen.verify import TargetReport, UnknownStation, inputs_for, verify, vision_pc
 
 
 def load_program(target: Target, text: str, filename: str, companions: dict[str, str] | None = None) -> Program:
@@ -98,9 +98,8 @@ def sweep_unknown_ids(
     for name in targets:
         target = get_target(name)
         program, files = programs[name]
-        key = target.program["inputs"]["station"]
         text = Emitter(target).string(UNKNOWN_STATION_TEXT)
-        arm, tools = arm_of(cell, name), tool_inputs(cell, name)  # the same for every id
+        arm = arm_of(cell, name)  # the same for every id
         before = 0 if home_move(cell, name) is None else 1  # the home move comes first
         report = TargetReport(name, files)
         for station_id in ids:
@@ -108,7 +107,9 @@ def sweep_unknown_ids(
                 continue
             report.unknown_ids += 1
             try:
-                got = program.run({key: station_id, **tools}, step_limit=step_limit, arm=arm)
+                case = Case("unknown_station", UnknownStation(station_id))
+                inputs, devices = inputs_for(cell, target, case.reading), (vision_pc(cell, target, case),)
+                got = program.run(inputs, step_limit=step_limit, arm=arm, devices=devices)
                 problem = None
                 if len(got.moves) != before or not got.halted or got.halt_message != f"{text}{station_id}":
                     problem = f"{len(got.moves) - before} moves, halt message {got.halt_message!r}"

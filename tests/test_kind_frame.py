@@ -145,13 +145,10 @@ def test_dtrans_needs_a_level_frame(tmp_path):
 
 
 def test_rapidchecker_accepts_frame_module(tmp_path, bench):
-    import subprocess
-    import sys
+    from rapidcheck import rapidchecker
 
     (f,) = render(bench, ["abb"])
-    path = tmp_path / "bench.mod"
-    path.write_text(f.text, encoding="utf-8")
-    proc = subprocess.run([sys.executable, "-m", "rapidchecker", str(path)], capture_output=True, text=True)
+    proc = rapidchecker(f.text, tmp_path / "bench.mod")
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 

@@ -73,9 +73,9 @@ TABLE = {
         "dtrans": (r"^\s*Halt\n", ""),
     },
     "halt_message_changed": {
-        "ur": (r'textmsg\("station ', 'textmsg("Station '),
+        "ur": (r'vis_stop\("station ', 'vis_stop("Station '),
         "kuka": (r'MSG_TXT\[\] = "station ', 'MSG_TXT[] = "Station '),
-        "abb": (r'TPWrite "station ', 'TPWrite "Station '),
+        "abb": (r'vis_stop "station ', 'vis_stop "Station '),
         "dtrans": (r'TPWrite 0, "station ', 'TPWrite 0, "Station '),
     },
     "mark_x_and_y_swapped": {
@@ -134,33 +134,45 @@ def test_verify_fails_the_edit(checked_in, cell_name, kind, target):
     assert report.mismatches > 0, f"verify missed {kind} in {cell_name}'s {target} program"
 
 
-# The photo handshake of the frame kind (the thermometer bench): the order of request, wait and read.
+# The vision handshake (codegen/vision.py) on the thermometer bench: the order of request, wait and
+# read, the new request number, the timeout and (KRL) the wait for the arm before the request.
 HANDSHAKE = {
     "reading_taken_before_the_photo": {
-        "ur": (r"^(\s+vis_photo\(\)\n)((?:\s+\w+ = read_input_float_register\(\d+\)\n){3})", r"\2\1"),
-        "kuka": (r"^(\s+VIS_REQ = VIS_ACK \+ 1\n\s+WAIT FOR [^\n]*\n)((?:\s+\w+ = VIS_\w+\n){3})", r"\2\1"),
-        "abb": (r"^(\s+vis_req := vis_ack \+ 1;\n\s+WaitUntil [^\n]*\n)((?:\s+\w+ := vis_\w+;\n){3})", r"\2\1"),
-        "dtrans": (r"^(\s+vis_req = vis_ack \+ 1\n\s+WaitUntil [^\n]*\n)((?:\s+\w+ = vis_\w+\n){3})", r"\2\1"),
+        "ur": (r"^(\s+vis_ask\(2\)\n)((?:\s+\w+ = read_input_float_register\(\d+\)\n){3})", r"\2\1"),
+        "kuka": (r"^(\s+IF NOT VIS_ASK\(2\) THEN\n\s+RETURN\n\s+ENDIF\n)((?:\s+\w+ = VIS_\w+\n){3})", r"\2\1"),
+        "abb": (r"^(\s+vis_ask 2;\n)((?:\s+\w+ := vis_\w+;\n){3})", r"\2\1"),
+        "dtrans": (r"^(\s+Call vis_ask\(2\)\n)((?:\s+\w+ = vis_\w+\n){3})", r"\2\1"),
     },
-    "request_after_the_wait": {
-        "ur": (
-            r"^(\s+write_output_integer_register\(\d+, request\)\n)(\s+while [^\n]*\n\s+sync\(\)\n\s+end\n)",
-            r"\2\1",
-        ),
-        "kuka": (r"^(\s+VIS_REQ = VIS_ACK \+ 1\n)(\s+WAIT FOR [^\n]*\n)", r"\2\1"),
-        "abb": (r"^(\s+vis_req := vis_ack \+ 1;\n)(\s+WaitUntil [^\n]*\n)", r"\2\1"),
-        "dtrans": (r"^(\s+vis_req = vis_ack \+ 1\n)(\s+WaitUntil [^\n]*\n)", r"\2\1"),
+    "request_not_sent": {  # the program waits for an answer to the previous request: it is there already
+        "ur": (r"^\s+write_output_integer_register\(\d+, request\)\n", ""),
+        "kuka": (r"^\s+VIS_REQ = VIS_REQ \+ 1\n", ""),
+        "abb": (r"^\s+vis_req := vis_req \+ 1;\n", ""),
+        "dtrans": (r"^\s+vis_req = vis_req \+ 1\n", ""),
+    },
+    "request_number_from_the_ack": {  # a late answer to the previous cycle's last request counts
+        "ur": (r"^(\s+)request = read_output_integer_register\((\d+)\)\n", r"\1request = -1\n"),
+        "kuka": (r"^\s+IF VIS_ACK > VIS_REQ THEN[^\n]*\n", "  IF TRUE THEN\n"),
+        "abb": (r"^\s+IF vis_ack > vis_req THEN\n", "    IF TRUE THEN\n"),
+        "dtrans": (r"^\s+If vis_ack > vis_req Then\n", "  If True Then\n"),
+    },
+    "no_timeout": {  # a silent vision PC: the program waits for ever (the step limit ends the run)
+        "ur": (r"^(\s+)if polls >= VIS_POLLS:\n", r"\1if False:\n"),
+        "kuka": (r"^(\s+)IF POLLS >= VIS_POLLS THEN\n", r"\1IF FALSE THEN\n"),
+        "abb": (r" \\MaxTime:=VIS_TIMEOUT;", ";"),
+        "dtrans": (r"^(\s+)If polls >= VIS_POLLS Then\n", r"\1If False Then\n"),
+    },
+    "request_while_the_arm_moves": {
+        "kuka": (r"^\s+WAIT SEC 0 ;[^\n]*\n", ""),
     },
 }
 
 
 @pytest.mark.parametrize(("kind", "target"), [(k, t) for k, per in HANDSHAKE.items() for t in per])
-def test_verify_fails_a_reordered_photo_handshake(checked_in, kind, target):
+def test_verify_fails_a_broken_handshake(checked_in, kind, target):
     cell, cases, source = checked_in["thermometer_bench", target]
     pattern, replacement = HANDSHAKE[kind][target]
     text, count = re.subn(pattern, replacement, source.text, count=1, flags=re.MULTILINE)
     assert count == 1, f"{kind}: nothing to edit in the {target} program"
     mutant = type(source)(target, text, f"{kind}.mutant", source.companions, source.files)
-    frame_cases = [c for c in cases if c.category.startswith("frame_")]
-    report = verify(cell, [target], {target: (mutant.load(), [kind])}, frame_cases)[0]
+    report = verify(cell, [target], {target: (mutant.load(), [kind])}, cases)[0]
     assert report.mismatches > 0, f"verify missed {kind} in the {target} program"

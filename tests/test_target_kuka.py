@@ -3,6 +3,7 @@
 from target_base import TargetTests, replace_once
 
 WORK = "  TARGET = CORR : P1_CHUCK\n  LIN TARGET\n"  # the work pose of station 1
+BASE_RESET = "  $BASE = $ROBROOT ; the robot's base ($NULLFRAME is the world: not the same on a track or a platform)\n"
 LIN_TARGET = "{X 600,Y 0,Z 700,A 0,B 90,C 0}"  # a first motion that is no PTP to a full position
 
 
@@ -33,9 +34,39 @@ class TestKUKA(TargetTests):
             "no_load": lambda: (replace_once(text, "  $LOAD = VIS_LOAD\n", ""), dat),
             "out_of_reach": lambda: (text, replace_once(dat, "P1_CHUCK={X 738.5000", "P1_CHUCK={X 2738.5000")),
             "lin_first": lambda: (replace_once(text, "  PTP VIS_HOME\n", f"  LIN {LIN_TARGET}\n"), dat),
-            "no_base_reset": lambda: (replace_once(text, "  $BASE = $NULLFRAME\n  $TOOL", "  $TOOL"), dat),
+            "no_base_reset": lambda: (replace_once(text, BASE_RESET, ""), dat),
             "approximated_work_pose": lambda: (
                 replace_once(text, WORK, WORK.replace("TARGET\n", "TARGET C_DIS\n")),
                 dat,
             ),
         }[mutation]()
+
+
+def test_the_base_is_the_robot_base_on_a_platform():
+    """With $ROBROOT not null (an arm on a platform or a track) the program's $BASE = $ROBROOT keeps every
+    move in the robot's base frame; $BASE = $NULLFRAME (the world) would move the arm by $ROBROOT."""
+    import numpy as np
+
+    from codegen.cell import load_cell
+    from codegen.controllers import get_target
+    from codegen.dialects.krl.interpreter import load
+    from codegen.kinds import get_kind
+    from codegen.render import render
+    from codegen.verify import inputs_for, vision_pc
+
+    cell, target = load_cell(), get_target("kuka")
+    files = {f.relpath.rsplit(".", 1)[1]: f.text for f in render(cell, ["kuka"])}
+    case = get_kind("point").nominal_case(cell, cell.stations[0])
+    inputs = inputs_for(cell, target, case.reading)
+    root = {"$ROBROOT": (1500.0, -300.0, 0.0, 90.0, 0.0, 0.0)}
+
+    def moves(src: str, extra: dict) -> list:
+        trace = load(src, "p.src", files["dat"]).run({**inputs, **extra}, devices=(vision_pc(cell, target, case),))
+        assert not trace.halted, trace.halt_message
+        return [m.tcp2base for m in trace.moves if m.tcp2base is not None]
+
+    on_floor, on_platform = moves(files["src"], {}), moves(files["src"], root)
+    assert len(on_floor) == len(on_platform) >= 2
+    assert all(np.allclose(a, b, atol=1e-3) for a, b in zip(on_floor, on_platform, strict=True))
+    world = moves(replace_once(files["src"], BASE_RESET, "  $BASE = $NULLFRAME\n"), root)
+    assert all(np.linalg.norm(a[:3, 3] - b[:3, 3]) > 1000 for a, b in zip(on_floor, world, strict=True))

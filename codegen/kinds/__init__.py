@@ -14,10 +14,12 @@ from codegen.guard import halt_message
 
 @dataclass(frozen=True)
 class Case:
-    """One verify case: a category for the report and the kind's description of the situation."""
+    """One verify case: a category for the report, the kind's description of the situation and how
+    the simulated vision PC answers (codegen.vision.BEHAVIOURS)."""
 
     category: str
     reading: Any  # the kind's case type; has station_id
+    vision: str = "prompt"
 
 
 class ProgramKind:
@@ -129,19 +131,26 @@ class ProgramKind:
         return None
 
     @classmethod
-    def inputs(cls, cell, target, reading) -> dict:
-        """Values the vision PC or the controller holds when the program starts (--input names)."""
+    def answer(cls, cell, target, reading) -> dict:
+        """What the vision PC answers the program's request to read the station (codegen.vision.READ),
+        by the program's names (the --input names): the station id, and what else the kind reads."""
         return {target.program["inputs"]["station"]: reading.station_id}
 
     @classmethod
-    def run_options(cls, cell, target, reading) -> dict:
-        """Keyword arguments of Program.run for this case (simulated devices)."""
+    def previous(cls, cell, target, station) -> dict:
+        """What the vision PC's variables hold from the previous cycle when the program starts: a
+        plausible reading of the station (a program that does not wait for its answer uses it)."""
+        return {target.program["inputs"]["station"]: station.id}
+
+    @classmethod
+    def inputs(cls, cell, target, reading) -> dict:
+        """Values the controller holds when the program starts besides the vision PC's (--input names)."""
         return {}
 
     @classmethod
-    def devices(cls, target) -> list:
-        """Simulated devices a program of this kind talks to when run by hand (`codegen run`)."""
-        return []
+    def camera(cls, cell, reading):
+        """The simulated camera the vision PC photographs with for this case (None: the kind takes no photos)."""
+        return None
 
     @classmethod
     def describe(cls, reading) -> str:

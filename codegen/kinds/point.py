@@ -242,7 +242,7 @@ class PointKind(ProgramKind):
         return out, True
 
     @classmethod
-    def inputs(cls, cell, target, reading: Reading) -> dict:
+    def answer(cls, cell, target, reading: Reading) -> dict:
         names = target.program["inputs"]
         return {
             names["station"]: reading.station_id,
@@ -250,6 +250,11 @@ class PointKind(ProgramKind):
             names["y"]: reading.y,
             names["theta"]: reading.theta,
         }
+
+    @classmethod
+    def previous(cls, cell, target, station) -> dict:
+        """The station read at its calibration mark: the reading a stale vision PC would replay."""
+        return cls.answer(cell, target, Reading(station.id, *station.spec.mark))
 
     @classmethod
     def describe(cls, reading: Reading) -> str:

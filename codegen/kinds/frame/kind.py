@@ -24,7 +24,6 @@ from codegen.guard import (
 )
 from codegen.kinds import Case, ProgramKind
 from codegen.kinds.frame.camera import CameraModel, SimulatedCamera
-from codegen.kinds.frame.vision_pc import VisionPC
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
 from codegen.reference import JOINT, LINEAR, ExpectedTrace, Move
 
@@ -276,6 +275,7 @@ class FrameKind(ProgramKind):
                 "ident": emitter.identifier(f"c{station.id}_", "photo", f"{origin} photo pose"),
                 "numbers": emitter.pose(spec.photo),
             },
+            "wobj": emitter.identifier(f"w{station.id}_", station.name, f"{origin} work object"),
             "base_data": spec.base_data,
             "base_data_name": base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None,
             "messages": {
@@ -371,8 +371,8 @@ class FrameKind(ProgramKind):
 
     @classmethod
     def inputs(cls, cell, target, case: FrameCase) -> dict:
-        """The station id, and a station's calibration frame where the controller keeps it as a numbered base."""
-        out = {target.program["inputs"]["station"]: case.station_id}
+        """A station's calibration frame where the controller keeps it as a numbered base."""
+        out = {}
         base_data = target.program.get("base_data")
         spec = cell.station_by_id(case.station_id).spec
         if base_data and spec.base_data is not None:
@@ -381,12 +381,8 @@ class FrameKind(ProgramKind):
         return out
 
     @classmethod
-    def run_options(cls, cell, target, case: FrameCase) -> dict:
-        return {"devices": (VisionPC.for_target(target, camera_for(cell, case)),)}
-
-    @classmethod
-    def devices(cls, target) -> list:
-        return [VisionPC.for_target(target)]
+    def camera(cls, cell, case: FrameCase):
+        return camera_for(cell, case)
 
     @classmethod
     def describe(cls, case: FrameCase) -> str:

@@ -6,8 +6,16 @@ MODULE agv_machine_tending
   ! Halts with a message unless the reading is finite and plausible, the mark moved at most
   ! 10 mm and turned at most 10 deg since calibration.
 
-  ! Vision interface: written by the vision PC (Robot Web Services or PC SDK) before main runs:
-  ! station id (the barcode)
+  ! Vision interface (Robot Web Services or PC SDK), a handshake for every reading: once the arm
+  ! stands still the program sets vis_cmd (1: read the station, 2: photograph the mark), then
+  ! a new number in vis_req; the vision PC writes its answer, then vis_ack := vis_req. An answer counts
+  ! only with its own number: without one in 5 s the program asks once more, then stops with a
+  ! message. These persistents are global and the same in every cell's module (one vision PC); the
+  ! rest of the module is LOCAL, so modules of several cells can share a task.
+  PERS num vis_cmd := 0;
+  PERS num vis_req := 0;
+  PERS num vis_ack := 0;
+  ! answers to command 1: station id (the barcode)
   PERS num vis_station := 0;
   ! the mark x [mm], y [mm], theta [deg] in the robot base frame
   PERS num vis_x := 0;
@@ -15,52 +23,54 @@ MODULE agv_machine_tending
   PERS num vis_theta := 0;
 
   ! Cell constants
-  CONST num ANGLE_SIGN := -1;
-  CONST num MAX_SHIFT_SQ := 100.000000;
-  CONST num MAX_ROTATION := 10.000000;
-  CONST num RANGE_MM := 100000;
-  CONST num RANGE_DEG := 360;
+  LOCAL CONST num VIS_TIMEOUT := 5.000;
+  LOCAL CONST num ANGLE_SIGN := -1;
+  LOCAL CONST num MAX_SHIFT_SQ := 100.000000;
+  LOCAL CONST num MAX_ROTATION := 10.000000;
+  LOCAL CONST num RANGE_MM := 100000;
+  LOCAL CONST num RANGE_DEG := 360;
 
   ! The arm (IRB 1600-10/1.45): the tool (TCP in the flange frame [mm], load [kg, mm]; a point mass)
   ! and the home position [deg]
-  PERS tooldata vis_tool := [TRUE, [[0.0000, 0.0000, 200.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [1.500, [0.0000, 0.0000, 80.0000], [1, 0, 0, 0], 0, 0, 0]];
-  CONST jointtarget vis_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL PERS tooldata vis_tool := [TRUE, [[0.0000, 0.0000, 200.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [1.500, [0.0000, 0.0000, 80.0000], [1, 0, 0, 0], 0, 0, 0]];
+  LOCAL CONST jointtarget vis_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! Calibration data: mark {x mm, y mm, theta deg}, taught robtargets (robconf from the arm's inverse
   ! kinematics; robconf and external axes are kept as taught when the pose is corrected)
   ! station 1 lathe_1
-  CONST num m1_lathe_1{3} := [612.400000, -285.000000, 1.800000];
-  CONST robtarget p1_approach := [[655.0000, -120.0000, 420.0000], [0.000000000, 0.707106781, 0.707106781, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p1_chuck := [[738.5000, -112.3000, 305.2000], [0.000000000, 0.707106781, 0.707106781, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST num m1_lathe_1{3} := [612.400000, -285.000000, 1.800000];
+  LOCAL CONST robtarget p1_approach := [[655.0000, -120.0000, 420.0000], [0.000000000, 0.707106781, 0.707106781, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p1_chuck := [[738.5000, -112.3000, 305.2000], [0.000000000, 0.707106781, 0.707106781, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 2 lathe_2
-  CONST num m2_lathe_2{3} := [598.700000, -262.900000, -0.600000];
-  CONST robtarget p2_approach := [[640.0000, -95.0000, 410.0000], [0.000000000, 0.716301943, 0.697790460, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p2_chuck := [[721.9000, -90.4000, 298.7000], [0.000000000, 0.716301943, 0.697790460, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST num m2_lathe_2{3} := [598.700000, -262.900000, -0.600000];
+  LOCAL CONST robtarget p2_approach := [[640.0000, -95.0000, 410.0000], [0.000000000, 0.716301943, 0.697790460, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p2_chuck := [[721.9000, -90.4000, 298.7000], [0.000000000, 0.716301943, 0.697790460, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 3 mill_1
-  CONST num m3_mill_1{3} := [640.200000, 210.600000, 2.400000];
-  CONST robtarget p3_approach := [[600.0000, 40.0000, 450.0000], [0.092295956, -0.701057385, 0.701057385, 0.092295956], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p3_vise := [[702.6000, 55.8000, 262.4000], [0.092295956, -0.701057385, 0.701057385, 0.092295956], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST num m3_mill_1{3} := [640.200000, 210.600000, 2.400000];
+  LOCAL CONST robtarget p3_approach := [[600.0000, 40.0000, 450.0000], [0.092295956, -0.701057385, 0.701057385, 0.092295956], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p3_vise := [[702.6000, 55.8000, 262.4000], [0.092295956, -0.701057385, 0.701057385, 0.092295956], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 4 mill_2
-  CONST num m4_mill_2{3} := [655.100000, 198.300000, -1.200000];
-  CONST robtarget p4_approach := [[610.0000, 30.0000, 455.0000], [0.093892685, -0.688715472, 0.713185749, 0.090671112], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p4_vise := [[715.0000, 44.1000, 259.9000], [0.093892685, -0.688715472, 0.713185749, 0.090671112], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST num m4_mill_2{3} := [655.100000, 198.300000, -1.200000];
+  LOCAL CONST robtarget p4_approach := [[610.0000, 30.0000, 455.0000], [0.093892685, -0.688715472, 0.713185749, 0.090671112], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p4_vise := [[715.0000, 44.1000, 259.9000], [0.093892685, -0.688715472, 0.713185749, 0.090671112], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 5 grinder
-  CONST num m5_grinder{3} := [702.800000, -40.500000, 0.300000];
-  CONST robtarget p5_approach := [[680.0000, 120.0000, 500.0000], [0.000000000, 0.965925826, 0.000000000, -0.258819045], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p5_fixture := [[812.4000, 131.7000, 355.0000], [0.000000000, 0.965925826, 0.000000000, -0.258819045], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST num m5_grinder{3} := [702.800000, -40.500000, 0.300000];
+  LOCAL CONST robtarget p5_approach := [[680.0000, 120.0000, 500.0000], [0.000000000, 0.965925826, 0.000000000, -0.258819045], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p5_fixture := [[812.4000, 131.7000, 355.0000], [0.000000000, 0.965925826, 0.000000000, -0.258819045], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 6 inspection_table
-  CONST num m6_inspection_table{3} := [455.000000, 340.200000, 178.600000];
-  CONST robtarget p6_approach := [[430.0000, 480.0000, 300.0000], [0.000000000, 0.008726535, 0.999961923, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p6_gauge := [[452.3000, 561.8000, 142.5000], [0.000000000, 0.008726535, 0.999961923, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST num m6_inspection_table{3} := [455.000000, 340.200000, 178.600000];
+  LOCAL CONST robtarget p6_approach := [[430.0000, 480.0000, 300.0000], [0.000000000, 0.008726535, 0.999961923, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p6_gauge := [[452.3000, 561.8000, 142.5000], [0.000000000, 0.008726535, 0.999961923, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 7 warehouse_gate
-  CONST num m7_warehouse_gate{3} := [-120.400000, -640.700000, -91.500000];
-  CONST robtarget p7_approach := [[-80.0000, -700.0000, 520.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-2, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p7_shelf := [[-60.5000, -905.2000, 388.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-2, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST num m7_warehouse_gate{3} := [-120.400000, -640.700000, -91.500000];
+  LOCAL CONST robtarget p7_approach := [[-80.0000, -700.0000, 520.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-2, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p7_shelf := [[-60.5000, -905.2000, 388.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-2, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   PROC main()
     ! home first, in joints (no configuration to choose), with the tool and its load
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
-    ! read the vision interface, then visit the station it names
+    ! ask the vision PC to read the station, then visit the station it names
+    vis_ask 1;
     TEST vis_station
     CASE 1:
       st_lathe_1;
@@ -77,12 +87,49 @@ MODULE agv_machine_tending
     CASE 7:
       st_warehouse_gate;
     DEFAULT:
-      TPWrite "unknown station id "\Num:=vis_station;
-      EXIT;
+      vis_stop "unknown station id " + NumToStr(vis_station, 0);
     ENDTEST
   ENDPROC
 
-  FUNC num vis_dtheta(num mark{*})
+  LOCAL PROC vis_stop(string message)
+    ! the operator sees the message (event log and FlexPendant), the program stops there; a restart
+    ! ends the cycle without moving
+    ErrWrite "Vision correction stopped", message;
+    Stop;
+    EXIT;
+  ENDPROC
+
+  LOCAL PROC vis_next()
+    ! a request number not used before (above the last request and the last answer): a late answer
+    ! to an earlier request never counts
+    IF vis_ack > vis_req THEN
+      vis_req := vis_ack;
+    ENDIF
+    vis_req := vis_req + 1;
+  ENDPROC
+
+  LOCAL PROC vis_ask(num command)
+    ! the handshake: once the arm stands still, ask the vision PC (command 1 read, 2 photo) and wait
+    ! for its answer to this request; none in 5 s: ask once more (a new request: a late answer
+    ! to the first one does not count), then stop with a message
+    VAR num retries := 0;
+    WaitRob \InPos;
+    vis_cmd := command;
+    vis_next;
+    WaitUntil vis_ack = vis_req \MaxTime:=VIS_TIMEOUT;
+  ERROR
+    IF ERRNO = ERR_WAIT_MAXTIME THEN
+      IF retries < 1 THEN
+        retries := retries + 1;
+        vis_next;
+        RETRY;
+      ENDIF
+      vis_stop "no answer from the vision PC in 5 s";
+    ENDIF
+    RAISE;
+  ENDPROC
+
+  LOCAL FUNC num vis_dtheta(num mark{*})
     ! rotation of the mark since calibration, wrapped into (-180, 180] deg
     VAR num d;
     d := vis_theta - mark{3};
@@ -95,7 +142,7 @@ MODULE agv_machine_tending
     RETURN d;
   ENDFUNC
 
-  FUNC num vis_guard(num mark{*})
+  LOCAL FUNC num vis_guard(num mark{*})
     ! 0 ok, 1 invalid reading, 2 shift over limit, 3 rotation over limit
     VAR num dx;
     VAR num dy;
@@ -113,7 +160,7 @@ MODULE agv_machine_tending
     RETURN 0;
   ENDFUNC
 
-  FUNC pose vis_correction(num mark{*})
+  LOCAL FUNC pose vis_correction(num mark{*})
     ! D = Trans(tn) Rz(phi) Trans(-t), derived by codegen (identities rigid, mark_maps_to_mark);
     ! a taught pose P becomes PoseMult(D, P)
     VAR num tx;
@@ -137,7 +184,7 @@ MODULE agv_machine_tending
     RETURN [[frame_x, frame_y, 0], OrientZYX(phi, 0, 0)];
   ENDFUNC
 
-  FUNC robtarget vis_apply(pose corr, robtarget taught)
+  LOCAL FUNC robtarget vis_apply(pose corr, robtarget taught)
     ! corrected pose with a normalised quaternion; robconf and external axes as taught
     VAR robtarget moved;
     VAR pose corrected;
@@ -148,27 +195,24 @@ MODULE agv_machine_tending
     RETURN moved;
   ENDFUNC
 
-  PROC vis_log(num station_id, num mark{*}, robtarget moved, robtarget taught)
+  LOCAL PROC vis_log(num station_id, num mark{*}, robtarget moved, robtarget taught)
     ! deviation line (source 000 section 4): station, work pose moved dx1 dy1 [mm],
     ! mark moved dx2 dy2 [mm], applied rotation dtheta [deg]
     TPWrite "deviation station " + NumToStr(station_id, 0) + " dx1 " + NumToStr(moved.trans.x - taught.trans.x, 2) + " dy1 " + NumToStr(moved.trans.y - taught.trans.y, 2);
     TPWrite "deviation dx2 " + NumToStr(vis_x - mark{1}, 2) + " dy2 " + NumToStr(vis_y - mark{2}, 2) + " dtheta " + NumToStr(ANGLE_SIGN * vis_dtheta(mark), 2);
   ENDPROC
 
-  PROC st_lathe_1()
+  LOCAL PROC st_lathe_1()
     ! station 1 lathe_1
     VAR num code;
     VAR pose corr;
     code := vis_guard(m1_lathe_1);
     IF code = 1 THEN
-      TPWrite "station lathe_1: invalid mark reading";
-      EXIT;
+      vis_stop "station lathe_1: invalid mark reading";
     ELSEIF code = 2 THEN
-      TPWrite "station lathe_1: mark shift over 10 mm, recalibrate";
-      EXIT;
+      vis_stop "station lathe_1: mark shift over 10 mm, recalibrate";
     ELSEIF code = 3 THEN
-      TPWrite "station lathe_1: mark rotation over 10 deg, recalibrate";
-      EXIT;
+      vis_stop "station lathe_1: mark rotation over 10 deg, recalibrate";
     ENDIF
     corr := vis_correction(m1_lathe_1);
     vis_log 1, m1_lathe_1, vis_apply(corr, p1_chuck), p1_chuck;
@@ -180,20 +224,17 @@ MODULE agv_machine_tending
     ConfL \On;
   ENDPROC
 
-  PROC st_lathe_2()
+  LOCAL PROC st_lathe_2()
     ! station 2 lathe_2
     VAR num code;
     VAR pose corr;
     code := vis_guard(m2_lathe_2);
     IF code = 1 THEN
-      TPWrite "station lathe_2: invalid mark reading";
-      EXIT;
+      vis_stop "station lathe_2: invalid mark reading";
     ELSEIF code = 2 THEN
-      TPWrite "station lathe_2: mark shift over 10 mm, recalibrate";
-      EXIT;
+      vis_stop "station lathe_2: mark shift over 10 mm, recalibrate";
     ELSEIF code = 3 THEN
-      TPWrite "station lathe_2: mark rotation over 10 deg, recalibrate";
-      EXIT;
+      vis_stop "station lathe_2: mark rotation over 10 deg, recalibrate";
     ENDIF
     corr := vis_correction(m2_lathe_2);
     vis_log 2, m2_lathe_2, vis_apply(corr, p2_chuck), p2_chuck;
@@ -205,20 +246,17 @@ MODULE agv_machine_tending
     ConfL \On;
   ENDPROC
 
-  PROC st_mill_1()
+  LOCAL PROC st_mill_1()
     ! station 3 mill_1
     VAR num code;
     VAR pose corr;
     code := vis_guard(m3_mill_1);
     IF code = 1 THEN
-      TPWrite "station mill_1: invalid mark reading";
-      EXIT;
+      vis_stop "station mill_1: invalid mark reading";
     ELSEIF code = 2 THEN
-      TPWrite "station mill_1: mark shift over 10 mm, recalibrate";
-      EXIT;
+      vis_stop "station mill_1: mark shift over 10 mm, recalibrate";
     ELSEIF code = 3 THEN
-      TPWrite "station mill_1: mark rotation over 10 deg, recalibrate";
-      EXIT;
+      vis_stop "station mill_1: mark rotation over 10 deg, recalibrate";
     ENDIF
     corr := vis_correction(m3_mill_1);
     vis_log 3, m3_mill_1, vis_apply(corr, p3_vise), p3_vise;
@@ -228,20 +266,17 @@ MODULE agv_machine_tending
     ConfL \On;
   ENDPROC
 
-  PROC st_mill_2()
+  LOCAL PROC st_mill_2()
     ! station 4 mill_2
     VAR num code;
     VAR pose corr;
     code := vis_guard(m4_mill_2);
     IF code = 1 THEN
-      TPWrite "station mill_2: invalid mark reading";
-      EXIT;
+      vis_stop "station mill_2: invalid mark reading";
     ELSEIF code = 2 THEN
-      TPWrite "station mill_2: mark shift over 10 mm, recalibrate";
-      EXIT;
+      vis_stop "station mill_2: mark shift over 10 mm, recalibrate";
     ELSEIF code = 3 THEN
-      TPWrite "station mill_2: mark rotation over 10 deg, recalibrate";
-      EXIT;
+      vis_stop "station mill_2: mark rotation over 10 deg, recalibrate";
     ENDIF
     corr := vis_correction(m4_mill_2);
     vis_log 4, m4_mill_2, vis_apply(corr, p4_vise), p4_vise;
@@ -249,20 +284,17 @@ MODULE agv_machine_tending
     MoveL vis_apply(corr, p4_vise), v200, fine, vis_tool;
   ENDPROC
 
-  PROC st_grinder()
+  LOCAL PROC st_grinder()
     ! station 5 grinder
     VAR num code;
     VAR pose corr;
     code := vis_guard(m5_grinder);
     IF code = 1 THEN
-      TPWrite "station grinder: invalid mark reading";
-      EXIT;
+      vis_stop "station grinder: invalid mark reading";
     ELSEIF code = 2 THEN
-      TPWrite "station grinder: mark shift over 10 mm, recalibrate";
-      EXIT;
+      vis_stop "station grinder: mark shift over 10 mm, recalibrate";
     ELSEIF code = 3 THEN
-      TPWrite "station grinder: mark rotation over 10 deg, recalibrate";
-      EXIT;
+      vis_stop "station grinder: mark rotation over 10 deg, recalibrate";
     ENDIF
     corr := vis_correction(m5_grinder);
     vis_log 5, m5_grinder, vis_apply(corr, p5_fixture), p5_fixture;
@@ -274,20 +306,17 @@ MODULE agv_machine_tending
     ConfL \On;
   ENDPROC
 
-  PROC st_inspection_table()
+  LOCAL PROC st_inspection_table()
     ! station 6 inspection_table
     VAR num code;
     VAR pose corr;
     code := vis_guard(m6_inspection_table);
     IF code = 1 THEN
-      TPWrite "station inspection_table: invalid mark reading";
-      EXIT;
+      vis_stop "station inspection_table: invalid mark reading";
     ELSEIF code = 2 THEN
-      TPWrite "station inspection_table: mark shift over 10 mm, recalibrate";
-      EXIT;
+      vis_stop "station inspection_table: mark shift over 10 mm, recalibrate";
     ELSEIF code = 3 THEN
-      TPWrite "station inspection_table: mark rotation over 10 deg, recalibrate";
-      EXIT;
+      vis_stop "station inspection_table: mark rotation over 10 deg, recalibrate";
     ENDIF
     corr := vis_correction(m6_inspection_table);
     vis_log 6, m6_inspection_table, vis_apply(corr, p6_gauge), p6_gauge;
@@ -295,20 +324,17 @@ MODULE agv_machine_tending
     MoveL vis_apply(corr, p6_gauge), v200, fine, vis_tool;
   ENDPROC
 
-  PROC st_warehouse_gate()
+  LOCAL PROC st_warehouse_gate()
     ! station 7 warehouse_gate
     VAR num code;
     VAR pose corr;
     code := vis_guard(m7_warehouse_gate);
     IF code = 1 THEN
-      TPWrite "station warehouse_gate: invalid mark reading";
-      EXIT;
+      vis_stop "station warehouse_gate: invalid mark reading";
     ELSEIF code = 2 THEN
-      TPWrite "station warehouse_gate: mark shift over 10 mm, recalibrate";
-      EXIT;
+      vis_stop "station warehouse_gate: mark shift over 10 mm, recalibrate";
     ELSEIF code = 3 THEN
-      TPWrite "station warehouse_gate: mark rotation over 10 deg, recalibrate";
-      EXIT;
+      vis_stop "station warehouse_gate: mark rotation over 10 deg, recalibrate";
     ENDIF
     corr := vis_correction(m7_warehouse_gate);
     vis_log 7, m7_warehouse_gate, vis_apply(corr, p7_shelf), p7_shelf;

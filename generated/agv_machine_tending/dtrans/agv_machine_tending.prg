@@ -7,8 +7,13 @@
 // Halts with a message unless the reading is finite and plausible, the mark moved at most
 // 10 mm and turned at most 10 deg since calibration.
 
-// Vision interface, set by the vision PC before the program starts: weizhi = station id (the
-// barcode)
+// Vision interface, a handshake for every reading: the program sets vis_cmd (1: read the station,
+// 2: photograph the mark), then a new number in vis_req; the vision PC writes its answer, then
+// vis_ack = vis_req. An answer counts only with its own number: without one in 5 s the
+// program stops with a message. Answers to command 1: weizhi = station id (the barcode)
+Int vis_cmd = 0
+Int vis_req = 0
+Int vis_ack = 0
 Int weizhi = 0
 // markp = mark now [x mm, y mm, c deg] in the robot base frame
 Double markp[3] = {0.0, 0.0, 0.0}
@@ -19,6 +24,7 @@ Double MAX_SHIFT_SQ = 100.000000
 Double MAX_ROTATION = 10.000000
 Double RANGE_MM = 100000.0
 Double RANGE_DEG = 360.0
+Int VIS_POLLS = 100  // looks at vis_ack, 0.05 s apart: the timeout
 
 // Calibration data: mark [x mm, y mm, theta deg] and taught points
 // station 1 lathe_1
@@ -49,6 +55,26 @@ Point p6_gauge = Trans(452.3000, 561.8000, 142.5000, 180.000000, 0.000000, 179.0
 Double m7_warehouse_gate[3] = {-120.400000, -640.700000, -91.500000}
 Point p7_approach = Trans(-80.0000, -700.0000, 520.0000, 180.000000, 0.000000, -90.000000)
 Point p7_shelf = Trans(-60.5000, -905.2000, 388.0000, 180.000000, 0.000000, -90.000000)
+
+Sub vis_ask(Int command)
+  // the handshake: ask the vision PC (command 1 read, 2 photo) and wait for its answer to
+  // this request (moves return when the arm has arrived); none in 5 s: stop
+  Int polls = 0
+  vis_cmd = command
+  // a number not used before: a late answer to an earlier request never counts
+  If vis_ack > vis_req Then
+    vis_req = vis_ack
+  EndIf
+  vis_req = vis_req + 1
+  While vis_ack <> vis_req
+    If polls >= VIS_POLLS Then
+      TPWrite 0, "no answer from the vision PC in 5 s"
+      Halt
+    EndIf
+    Sleep 0.05
+    polls = polls + 1
+  EndWhile
+EndSub
 
 Function Double vis_dtheta(Double mark[])
   // rotation of the mark since calibration, wrapped into (-180, 180] deg
@@ -235,7 +261,8 @@ Sub st_warehouse_gate()
   MovL vis_apply(m7_warehouse_gate, p7_shelf)
 EndSub
 
-// main: visit the station the vision interface names
+// main: ask the vision PC to read the station, then visit the station it names
+Call vis_ask(1)
 If weizhi == 1 Then
   Call st_lathe_1()
 ElseIf weizhi == 2 Then

@@ -6,69 +6,114 @@ MODULE thermometer_bench
   ! Halts with a message unless the reading is finite and plausible, the mark moved at most
   ! 80 mm and turned at most 20 deg since calibration.
 
-  ! Vision interface: written by the vision PC (Robot Web Services or PC SDK) before main runs:
-  ! station id (the barcode)
+  ! Vision interface (Robot Web Services or PC SDK), a handshake for every reading: once the arm
+  ! stands still the program sets vis_cmd (1: read the station, 2: photograph the mark), then
+  ! a new number in vis_req; the vision PC writes its answer, then vis_ack := vis_req. An answer counts
+  ! only with its own number: without one in 5 s the program asks once more, then stops with a
+  ! message. These persistents are global and the same in every cell's module (one vision PC); the
+  ! rest of the module is LOCAL, so modules of several cells can share a task.
+  PERS num vis_cmd := 0;
+  PERS num vis_req := 0;
+  PERS num vis_ack := 0;
+  ! answers to command 1: station id (the barcode)
   PERS num vis_station := 0;
   ! the mark x [mm], y [mm], theta [deg] in the robot base frame
   PERS num vis_x := 0;
   PERS num vis_y := 0;
   PERS num vis_theta := 0;
-  ! Photo handshake of frame-mode stations: the program sets vis_req := vis_ack + 1 and waits; the
-  ! vision PC photographs, writes the mark in pixels (vis_u, vis_v) and its image angle (vis_angle,
-  ! deg), then sets vis_ack := vis_req
-  PERS num vis_req := 0;
-  PERS num vis_ack := 0;
+  ! answers to command 2 (frame mode): the mark in pixels (vis_u, vis_v) and its image angle (vis_angle, deg)
   PERS num vis_u := 0;
   PERS num vis_v := 0;
   PERS num vis_angle := 0;
 
   ! Cell constants
-  CONST num ANGLE_SIGN := -1;
-  CONST num MAX_SHIFT_SQ := 6400.000000;
-  CONST num MAX_ROTATION := 20.000000;
-  CONST num RANGE_MM := 100000;
-  CONST num RANGE_DEG := 360;
+  LOCAL CONST num VIS_TIMEOUT := 5.000;
+  LOCAL CONST num ANGLE_SIGN := -1;
+  LOCAL CONST num MAX_SHIFT_SQ := 6400.000000;
+  LOCAL CONST num MAX_ROTATION := 20.000000;
+  LOCAL CONST num RANGE_MM := 100000;
+  LOCAL CONST num RANGE_DEG := 360;
   ! Frame-mode refinement (source 001): hand-eye [x, y] mm = HE . [u, v, 1], residual below
   ! 0.02 mm and 0.04 deg, at most 10 photos
-  CONST num HE{6} := [0.016993690, 0.000449997, -8.699834110, 0.000444794, -0.017192496, 12.099290700];
-  CONST num TOL_MM_SQ := 0.000400000;
-  CONST num TOL_DEG := 0.040000;
-  CONST num MAX_PHOTOS := 10;
-  CONST num PIXEL_RANGE := 1000000.0;
+  LOCAL CONST num HE{6} := [0.016993690, 0.000449997, -8.699834110, 0.000444794, -0.017192496, 12.099290700];
+  LOCAL CONST num TOL_MM_SQ := 0.000400000;
+  LOCAL CONST num TOL_DEG := 0.040000;
+  LOCAL CONST num MAX_PHOTOS := 10;
+  LOCAL CONST num PIXEL_RANGE := 1000000.0;
 
   ! The arm (IRB 1200-5/0.9): the tool (TCP in the flange frame [mm], load [kg, mm]; a point mass)
   ! and the home position [deg]
-  PERS tooldata vis_tool := [TRUE, [[0.0000, 0.0000, 150.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [0.800, [0.0000, 0.0000, 50.0000], [1, 0, 0, 0], 0, 0, 0]];
-  CONST jointtarget vis_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL PERS tooldata vis_tool := [TRUE, [[0.0000, 0.0000, 150.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [0.800, [0.0000, 0.0000, 50.0000], [1, 0, 0, 0], 0, 0, 0]];
+  LOCAL CONST jointtarget vis_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! Calibration data: mark {x mm, y mm, theta deg}, taught robtargets (robconf from the arm's inverse
   ! kinematics; robconf and external axes are kept as taught when the pose is corrected)
   ! station 1 bath (frame mode: user frame, photo pose and path taught in the frame)
-  CONST pose f1_bath := [[620.0000, 150.0000, 240.0000], [0.965925826, 0.000000000, 0.000000000, 0.258819045]];
-  CONST robtarget c1_photo := [[0.0000, 0.0000, 180.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p1_approach := [[35.0000, -20.0000, 120.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p1_cavity := [[42.0000, -18.5000, 35.0000], [0.000000000, 0.991444861, 0.000000000, -0.130526192], [0, -1, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST pose f1_bath := [[620.0000, 150.0000, 240.0000], [0.965925826, 0.000000000, 0.000000000, 0.258819045]];
+  ! its work object: the user frame, and the object frame the loop moves by the residual
+  LOCAL PERS wobjdata w1_bath := [FALSE, TRUE, "", [[620.0000, 150.0000, 240.0000], [0.965925826, 0.000000000, 0.000000000, 0.258819045]], [[0, 0, 0], [1, 0, 0, 0]]];
+  LOCAL CONST robtarget c1_photo := [[0.0000, 0.0000, 180.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p1_approach := [[35.0000, -20.0000, 120.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p1_cavity := [[42.0000, -18.5000, 35.0000], [0.000000000, 0.991444861, 0.000000000, -0.130526192], [0, -1, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 2 tray
-  CONST num m2_tray{3} := [380.000000, -310.000000, -1.200000];
-  CONST robtarget p2_approach := [[420.0000, -260.0000, 300.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  CONST robtarget p2_slot := [[431.5000, -248.0000, 212.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST num m2_tray{3} := [380.000000, -310.000000, -1.200000];
+  LOCAL CONST robtarget p2_approach := [[420.0000, -260.0000, 300.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget p2_slot := [[431.5000, -248.0000, 212.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   PROC main()
     ! home first, in joints (no configuration to choose), with the tool and its load
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
-    ! read the vision interface, then visit the station it names
+    ! ask the vision PC to read the station, then visit the station it names
+    vis_ask 1;
     TEST vis_station
     CASE 1:
       st_bath;
     CASE 2:
       st_tray;
     DEFAULT:
-      TPWrite "unknown station id "\Num:=vis_station;
-      EXIT;
+      vis_stop "unknown station id " + NumToStr(vis_station, 0);
     ENDTEST
   ENDPROC
 
-  FUNC num vis_dtheta(num mark{*})
+  LOCAL PROC vis_stop(string message)
+    ! the operator sees the message (event log and FlexPendant), the program stops there; a restart
+    ! ends the cycle without moving
+    ErrWrite "Vision correction stopped", message;
+    Stop;
+    EXIT;
+  ENDPROC
+
+  LOCAL PROC vis_next()
+    ! a request number not used before (above the last request and the last answer): a late answer
+    ! to an earlier request never counts
+    IF vis_ack > vis_req THEN
+      vis_req := vis_ack;
+    ENDIF
+    vis_req := vis_req + 1;
+  ENDPROC
+
+  LOCAL PROC vis_ask(num command)
+    ! the handshake: once the arm stands still, ask the vision PC (command 1 read, 2 photo) and wait
+    ! for its answer to this request; none in 5 s: ask once more (a new request: a late answer
+    ! to the first one does not count), then stop with a message
+    VAR num retries := 0;
+    WaitRob \InPos;
+    vis_cmd := command;
+    vis_next;
+    WaitUntil vis_ack = vis_req \MaxTime:=VIS_TIMEOUT;
+  ERROR
+    IF ERRNO = ERR_WAIT_MAXTIME THEN
+      IF retries < 1 THEN
+        retries := retries + 1;
+        vis_next;
+        RETRY;
+      ENDIF
+      vis_stop "no answer from the vision PC in 5 s";
+    ENDIF
+    RAISE;
+  ENDPROC
+
+  LOCAL FUNC num vis_dtheta(num mark{*})
     ! rotation of the mark since calibration, wrapped into (-180, 180] deg
     VAR num d;
     d := vis_theta - mark{3};
@@ -81,7 +126,7 @@ MODULE thermometer_bench
     RETURN d;
   ENDFUNC
 
-  FUNC num vis_guard(num mark{*})
+  LOCAL FUNC num vis_guard(num mark{*})
     ! 0 ok, 1 invalid reading, 2 shift over limit, 3 rotation over limit
     VAR num dx;
     VAR num dy;
@@ -99,7 +144,7 @@ MODULE thermometer_bench
     RETURN 0;
   ENDFUNC
 
-  FUNC pose vis_correction(num mark{*})
+  LOCAL FUNC pose vis_correction(num mark{*})
     ! D = Trans(tn) Rz(phi) Trans(-t), derived by codegen (identities rigid, mark_maps_to_mark);
     ! a taught pose P becomes PoseMult(D, P)
     VAR num tx;
@@ -123,7 +168,7 @@ MODULE thermometer_bench
     RETURN [[frame_x, frame_y, 0], OrientZYX(phi, 0, 0)];
   ENDFUNC
 
-  FUNC robtarget vis_apply(pose corr, robtarget taught)
+  LOCAL FUNC robtarget vis_apply(pose corr, robtarget taught)
     ! corrected pose with a normalised quaternion; robconf and external axes as taught
     VAR robtarget moved;
     VAR pose corrected;
@@ -134,14 +179,14 @@ MODULE thermometer_bench
     RETURN moved;
   ENDFUNC
 
-  PROC vis_log(num station_id, num mark{*}, robtarget moved, robtarget taught)
+  LOCAL PROC vis_log(num station_id, num mark{*}, robtarget moved, robtarget taught)
     ! deviation line (source 000 section 4): station, work pose moved dx1 dy1 [mm],
     ! mark moved dx2 dy2 [mm], applied rotation dtheta [deg]
     TPWrite "deviation station " + NumToStr(station_id, 0) + " dx1 " + NumToStr(moved.trans.x - taught.trans.x, 2) + " dy1 " + NumToStr(moved.trans.y - taught.trans.y, 2);
     TPWrite "deviation dx2 " + NumToStr(vis_x - mark{1}, 2) + " dy2 " + NumToStr(vis_y - mark{2}, 2) + " dtheta " + NumToStr(ANGLE_SIGN * vis_dtheta(mark), 2);
   ENDPROC
 
-  PROC st_bath()
+  LOCAL PROC st_bath()
     ! station 1 bath: frame mode (source 001): photograph the mark from the photo pose in
     ! the current work object, update its object frame by the residual, repeat until below tolerance
     VAR num dx := 0;
@@ -159,26 +204,22 @@ MODULE thermometer_bench
     VAR num sin_alpha;
     VAR num new_dx;
     VAR num new_dy;
-    VAR wobjdata wobj := [FALSE, TRUE, "", [[0, 0, 0], [1, 0, 0, 0]], [[0, 0, 0], [1, 0, 0, 0]]];
-    wobj.uframe := f1_bath;
+    w1_bath.uframe := f1_bath;
     WHILE NOT converged DO
       IF photos >= MAX_PHOTOS THEN
-        TPWrite "station bath: frame not converged after 10 photos";
-        EXIT;
+        vis_stop "station bath: frame not converged after 10 photos";
       ENDIF
-      wobj.oframe := [[dx, dy, 0], OrientZYX(alpha, 0, 0)];
+      w1_bath.oframe := [[dx, dy, 0], OrientZYX(alpha, 0, 0)];
       ConfJ \Off;
-      MoveJ c1_photo, v200, fine, vis_tool \WObj:=wobj;
+      MoveJ c1_photo, v200, fine, vis_tool \WObj:=w1_bath;
       ConfJ \On;
       photos := photos + 1;
-      vis_req := vis_ack + 1;
-      WaitUntil vis_ack = vis_req;
+      vis_ask 2;
       u := vis_u;
       v := vis_v;
       angle := vis_angle;
       IF NOT (Abs(u) <= PIXEL_RANGE AND Abs(v) <= PIXEL_RANGE AND Abs(angle) <= RANGE_DEG) THEN
-        TPWrite "station bath: invalid mark reading";
-        EXIT;
+        vis_stop "station bath: invalid mark reading";
       ENDIF
       ! residual of the mark in the current frame's axes (mm, deg)
       res_x := HE{1} * u + HE{2} * v + HE{3};
@@ -196,12 +237,10 @@ MODULE thermometer_bench
         dy := new_dy;
         alpha := alpha + gamma;
         IF dx * dx + dy * dy > MAX_SHIFT_SQ THEN
-          TPWrite "station bath: mark shift over 80 mm, recalibrate";
-          EXIT;
+          vis_stop "station bath: mark shift over 80 mm, recalibrate";
         ENDIF
         IF Abs(alpha) > MAX_ROTATION THEN
-          TPWrite "station bath: mark rotation over 20 deg, recalibrate";
-          EXIT;
+          vis_stop "station bath: mark rotation over 20 deg, recalibrate";
         ENDIF
       ENDIF
     ENDWHILE
@@ -209,27 +248,24 @@ MODULE thermometer_bench
     TPWrite "frame alpha " + NumToStr(alpha, 4) + " photos " + NumToStr(photos, 0);
     ! the path, taught in the frame, runs in the corrected work object
     ConfJ \Off;
-    MoveJ p1_approach, v200, fine, vis_tool \WObj:=wobj;
+    MoveJ p1_approach, v200, fine, vis_tool \WObj:=w1_bath;
     ConfJ \On;
     ConfL \Off;
-    MoveL p1_cavity, v200, fine, vis_tool \WObj:=wobj;
+    MoveL p1_cavity, v200, fine, vis_tool \WObj:=w1_bath;
     ConfL \On;
   ENDPROC
 
-  PROC st_tray()
+  LOCAL PROC st_tray()
     ! station 2 tray
     VAR num code;
     VAR pose corr;
     code := vis_guard(m2_tray);
     IF code = 1 THEN
-      TPWrite "station tray: invalid mark reading";
-      EXIT;
+      vis_stop "station tray: invalid mark reading";
     ELSEIF code = 2 THEN
-      TPWrite "station tray: mark shift over 80 mm, recalibrate";
-      EXIT;
+      vis_stop "station tray: mark shift over 80 mm, recalibrate";
     ELSEIF code = 3 THEN
-      TPWrite "station tray: mark rotation over 20 deg, recalibrate";
-      EXIT;
+      vis_stop "station tray: mark rotation over 20 deg, recalibrate";
     ENDIF
     corr := vis_correction(m2_tray);
     vis_log 2, m2_tray, vis_apply(corr, p2_slot), p2_slot;

@@ -7,16 +7,17 @@
 // Halts with a message unless the reading is finite and plausible, the mark moved at most
 // 80 mm and turned at most 20 deg since calibration.
 
-// Vision interface, set by the vision PC before the program starts: weizhi = station id (the
-// barcode)
+// Vision interface, a handshake for every reading: the program sets vis_cmd (1: read the station,
+// 2: photograph the mark), then a new number in vis_req; the vision PC writes its answer, then
+// vis_ack = vis_req. An answer counts only with its own number: without one in 5 s the
+// program stops with a message. Answers to command 1: weizhi = station id (the barcode)
+Int vis_cmd = 0
+Int vis_req = 0
+Int vis_ack = 0
 Int weizhi = 0
 // markp = mark now [x mm, y mm, c deg] in the robot base frame
 Double markp[3] = {0.0, 0.0, 0.0}
-// Photo handshake of frame-mode stations: the program sets vis_req = vis_ack + 1 and waits; the
-// vision PC photographs, writes the mark in pixels (vis_u, vis_v) and its image angle (vis_angle,
-// deg), then sets vis_ack = vis_req
-Int vis_req = 0
-Int vis_ack = 0
+// answers to command 2 (frame mode): the mark in pixels (vis_u, vis_v) and its image angle (vis_angle, deg)
 Double vis_u = 0.0
 Double vis_v = 0.0
 Double vis_angle = 0.0
@@ -27,6 +28,7 @@ Double MAX_SHIFT_SQ = 6400.000000
 Double MAX_ROTATION = 20.000000
 Double RANGE_MM = 100000.0
 Double RANGE_DEG = 360.0
+Int VIS_POLLS = 100  // looks at vis_ack, 0.05 s apart: the timeout
 // Frame-mode refinement (source 001): hand-eye [x, y] mm = HE . [u, v, 1], residual below
 // 0.02 mm and 0.04 deg, at most 10 photos
 Double HE[6] = {0.016993690, 0.000449997, -8.699834110, 0.000444794, -0.017192496, 12.099290700}
@@ -45,6 +47,26 @@ Point p1_cavity = Trans(42.0000, -18.5000, 35.0000, 180.000000, 15.000000, 0.000
 Double m2_tray[3] = {380.000000, -310.000000, -1.200000}
 Point p2_approach = Trans(420.0000, -260.0000, 300.0000, 180.000000, 0.000000, -90.000000)
 Point p2_slot = Trans(431.5000, -248.0000, 212.0000, 180.000000, 0.000000, -90.000000)
+
+Sub vis_ask(Int command)
+  // the handshake: ask the vision PC (command 1 read, 2 photo) and wait for its answer to
+  // this request (moves return when the arm has arrived); none in 5 s: stop
+  Int polls = 0
+  vis_cmd = command
+  // a number not used before: a late answer to an earlier request never counts
+  If vis_ack > vis_req Then
+    vis_req = vis_ack
+  EndIf
+  vis_req = vis_req + 1
+  While vis_ack <> vis_req
+    If polls >= VIS_POLLS Then
+      TPWrite 0, "no answer from the vision PC in 5 s"
+      Halt
+    EndIf
+    Sleep 0.05
+    polls = polls + 1
+  EndWhile
+EndSub
 
 Function Double vis_dtheta(Double mark[])
   // rotation of the mark since calibration, wrapped into (-180, 180] deg
@@ -155,8 +177,7 @@ Sub st_bath()
     EndIf
     MovJ vis_in_frame(f1_bath, dx, dy, alpha, c1_photo)
     photos = photos + 1
-    vis_req = vis_ack + 1
-    WaitUntil vis_ack == vis_req
+    Call vis_ask(2)
     u = vis_u
     v = vis_v
     angle = vis_angle
@@ -212,7 +233,8 @@ Sub st_tray()
   MovL vis_apply(m2_tray, p2_slot)
 EndSub
 
-// main: visit the station the vision interface names
+// main: ask the vision PC to read the station, then visit the station it names
+Call vis_ask(1)
 If weizhi == 1 Then
   Call st_bath()
 ElseIf weizhi == 2 Then
