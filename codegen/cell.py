@@ -12,10 +12,11 @@ from typing import Any
 
 import numpy as np
 
-from codegen import vision
+from codegen import motion, vision
 from codegen.controllers import target_names
 from codegen.guard import READING_RANGE_MM, TAUGHT_RANGE_MM
 from codegen.kinds import get_kind, kinds
+from codegen.motion import MotionSettings
 from codegen.poses import POSE_FORMATS
 from codegen.robot.section import Robot, parse_robot, parse_station_config
 from codegen.vision import VisionSettings
@@ -67,6 +68,13 @@ class Station:
     kind: str  # the program kind (codegen/kinds/): the cell file's `mode` key
     spec: Any  # the kind's own data, e.g. PointSpec or FrameSpec
     config: dict = field(default_factory=dict, compare=False)  # target -> pose -> PoseConfig ([station.config])
+    retreat: TaughtPose | None = None  # the work pose backed off along its z axis ([cell.motion] retreat_mm)
+
+    @property
+    def path(self) -> tuple[TaughtPose, ...]:
+        """The poses the arm visits in the station: the taught ones (the last is the work pose), then
+        the retreat."""
+        return self.poses if self.retreat is None else (*self.poses, self.retreat)
 
 
 @dataclass(frozen=True)
@@ -81,6 +89,7 @@ class Cell:
     settings: dict = field(default_factory=dict, compare=False)  # kind name -> its [cell.<table>] settings
     robot: Robot | None = None  # [cell.robot] and [cell.tool]; None: the cell names no arm
     vision: VisionSettings = field(default_factory=VisionSettings)  # [cell.vision]: the handshake's timeout
+    motion: MotionSettings = field(default_factory=MotionSettings)  # [cell.motion]: speeds, zones, retreat, home
     source: str = ""
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
@@ -96,7 +105,7 @@ class Cell:
 # --- loading ---------------------------------------------------------------------------------
 
 # and the kinds' cell_tables
-_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "robot", "tool", "vision"}
+_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "robot", "tool", "vision", "motion"}
 _CAMERA_KEYS = {"angle_sign", "handeye"}
 _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
@@ -244,6 +253,9 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         )
         for i, (station, raw) in enumerate(zip(stations, stations_raw, strict=True), start=1)
     ]
+    motion_settings = motion.parse_settings(ctx, cell_table)
+    if motion_settings.retreat_mm > 0:
+        stations = [replace(s, retreat=_retreat(s, motion_settings.retreat_mm, pose_format)) for s in stations]
     seen_ids: dict[int, int] = {}
     seen_names: dict[str, int] = {}
     for i, station in enumerate(stations, start=1):
@@ -266,6 +278,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         settings=settings,
         robot=robot,
         vision=vision.parse_settings(ctx, cell_table),
+        motion=motion_settings,
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),
@@ -388,6 +401,13 @@ class _Context:
         if abs(norm - 1.0) > QUATERNION_TOLERANCE:
             self.warnings.append(f"{self.source}: {path}: quaternion norm {norm:.9g} normalised to 1")
         return numbers[:3] + tuple(v / norm for v in q)
+
+
+def _retreat(station: Station, retreat_mm: float, pose_format: str) -> TaughtPose:
+    """The station's work pose backed off along its own z axis, in the cell's pose format."""
+    work2base = station.poses[-1].matrix() @ motion.retreat2work(retreat_mm)
+    values = tuple(float(v) + 0.0 for v in POSE_FORMATS[pose_format][2](work2base))  # + 0.0: no -0.0
+    return TaughtPose("retreat", values, pose_format)
 
 
 def _kind(value) -> str:

@@ -28,14 +28,20 @@ def correct_report(cell: Cell, reading: Reading) -> dict:
         "rotation_deg": detail and detail.rotation_deg,
         "phi_deg": detail and detail.phi_deg,
         "correction": None if detail is None or detail.correction is None else detail.correction.tolist(),
-        "poses": [],
+        "poses": [],  # the taught poses, corrected
+        "retreat": None,  # the retreat from the work pose ([cell.motion] retreat_mm), corrected
     }
-    for move in trace.moves:
+    taught = 0 if trace.station is None else len(trace.station.poses)
+    for i, move in enumerate(trace.moves):
         native = {}
         for target_name in cell.targets:
             fmt = get_target(target_name).pose_format
             native[target_name] = [v + 0.0 for v in POSE_FORMATS[fmt][2](move.tcp2base)]
-        report["poses"].append({"name": move.pose_name, "motion": move.kind, "targets": native})
+        pose = {"name": move.pose_name, "motion": move.kind, "targets": native}
+        if i < taught:
+            report["poses"].append(pose)
+        else:
+            report["retreat"] = pose
     return report
 
 
@@ -64,7 +70,7 @@ def format_report(report: dict) -> str:
         lines.append(f"HALT ({report['reason']}): {report['message']}")
         return "\n".join(lines)
     lines.append("guard ok")
-    for pose in report["poses"]:
+    for pose in [*report["poses"], *([report["retreat"]] if report["retreat"] else [])]:
         lines.append(f"{pose['name']} ({pose['motion']} move):")
         for target, values in pose["targets"].items():
             facts = get_target(target)

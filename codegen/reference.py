@@ -17,6 +17,21 @@ class Move:
     pose_name: str
     tcp2base: np.ndarray = field(compare=False)
     exact: bool = False  # the arm must stop at this pose (a work or photo pose): no blending
+    speed_mm_s: float | None = None  # the programmed TCP speed ([cell.motion]); None: the target's facts
+    zone_mm: float = 0.0  # the blending zone ([cell.motion]); 0: the arm stops at the pose
+
+
+def path_moves(cell, station, correction: np.ndarray) -> list[Move]:
+    """The moves through a station's path (its taught poses, then the retreat) with each pose moved by
+    the correction (a taught pose P becomes correction . P), and each segment's speed and zone."""
+    from codegen.motion import segments
+    from codegen.poses import concat
+
+    segs = segments(cell.motion, len(station.poses), station.retreat is not None)
+    return [
+        Move(JOINT if i == 0 else LINEAR, p.name, concat(p.matrix(), correction), s.exact, s.speed_mm_s, s.zone_mm)
+        for i, (p, s) in enumerate(zip(station.path, segs, strict=True))
+    ]
 
 
 @dataclass(frozen=True)

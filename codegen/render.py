@@ -18,6 +18,7 @@ from codegen.guard import (
     halt_message,
 )
 from codegen.kinds import get_kind, kinds
+from codegen.motion import segments
 from codegen.robot.emission import cell_robot, station_arm
 
 TEMPLATES_DIR = data_dir("templates")
@@ -44,14 +45,23 @@ def _env():
 
 def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> dict:
     origin = f"station[{station.id}] {station.name!r}"
+    taught = len(station.poses)
+    segs = segments(cell.motion, taught, station.retreat is not None)
     poses = [
         {
             "name": emitter.comment(pose.name),
-            "ident": emitter.identifier(f"p{station.id}_", pose.name, f"{origin} pose {pose.name!r}"),
+            "ident": emitter.identifier(f"p{station.id}_", pose.name, f"{origin} pose {pose.name!r}")
+            if i < taught
+            else emitter.identifier(f"r{station.id}_", station.poses[-1].name, f"{origin} retreat"),
             "numbers": emitter.pose(pose),
             "motion": "joint" if i == 0 else "linear",
+            "retreat": i == taught,
+            # the segment into the pose ([cell.motion]): the work speed or the travel speed, a blend or a stop
+            "slow": seg.exact or i == taught,
+            "blend": seg.zone_mm > 0,
+            "exact": seg.exact,
         }
-        for i, pose in enumerate(station.poses)
+        for i, (pose, seg) in enumerate(zip(station.path, segs, strict=True))
     ]
     arm = station_arm(cell, target, station)  # the kind's arm poses; the station's poses are the last ones
     for pose, config in zip(poses, arm[len(arm) - len(poses) :] if arm else [None] * len(poses), strict=True):
@@ -64,7 +74,7 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         "name": emitter.comment(station.name),
         "ident": emitter.identifier("st_", station.name, origin),
         "poses": poses,
-        "work": poses[-1],
+        "work": poses[taught - 1],
         "arm": arm,
     }
     return _merged(shared, own, f"station context of the {station.kind} kind")
@@ -107,6 +117,19 @@ def context(cell: Cell, target: Target) -> dict:
         "stations": stations,
         "kinds_used": [name for name in kinds() if name in used],
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
+        "speeds": {  # [cell.motion]
+            "travel_mm_s": number(cell.motion.speed_mm_s, 1),
+            "work_mm_s": number(cell.motion.work_speed_mm_s, 1),
+            "travel_m_s": number(cell.motion.speed_mm_s / 1000.0, 4),
+            "work_m_s": number(cell.motion.work_speed_mm_s / 1000.0, 4),
+            "zone_mm": number(cell.motion.zone_mm, 1),
+            "zone_m": number(cell.motion.zone_mm / 1000.0, 4),
+            # a RAPID zonedata scaled from the cell's zone as the predefined zN are: 1.5 N mm, 0.15 N deg
+            "zone_ori_mm": number(1.5 * cell.motion.zone_mm, 1),
+            "zone_deg": number(0.15 * cell.motion.zone_mm, 2),
+            "retreat_mm": f"{cell.motion.retreat_mm:g}",
+            "return_home": cell.motion.return_home,
+        },
         "vision": {
             "read": vision.READ,
             "photo": vision.PHOTO,

@@ -224,10 +224,11 @@ def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter
 
 
 @lru_cache(maxsize=64)
-def _move_settings(target_name: str, kind: str, exact: bool, own_tool: bool) -> dict:
-    """What a target's facts ask of a move (read once per target, not per move of every case)."""
+def _move_settings(target_name: str, kind: str, exact: bool, own_tool: bool, speed_mm_s, zone_mm: float) -> dict:
+    """What a target's facts and the cell's motion ask of a move (read once per target and segment,
+    not per move of every case)."""
     target = get_target(target_name)
-    return get_dialect(target.dialect).move_settings(target.program, kind, exact, own_tool)
+    return get_dialect(target.dialect).move_settings(target.program, kind, exact, own_tool, speed_mm_s, zone_mm)
 
 
 LOG_PREFIXES = tuple(prefix for kind in kinds().values() for prefix in kind.log_prefixes)
@@ -254,6 +255,8 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
         return f"unexpected halt: {got.halt_message!r}", [], []
     home = home_move(cell, target.name)
     moves = expected.moves if home is None else (home[0], *expected.moves)
+    if home is not None and expected.status == "ok" and cell.motion.return_home:
+        moves = (*moves, home[0])  # and home again after the station
     if len(got.moves) != len(moves):
         return f"{len(got.moves)} moves, expected {len(moves)}", [], []
     own_tool = cell.robot is not None and cell.robot.tool_given
@@ -261,7 +264,7 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
     for i, (g, e) in enumerate(zip(got.moves, moves, strict=True)):
         if g.kind != e.kind:
             return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
-        for key, want in _move_settings(target.name, e.kind, e.exact, own_tool).items():
+        for key, want in _move_settings(target.name, e.kind, e.exact, own_tool, e.speed_mm_s, e.zone_mm).items():
             have = g.settings.get(key)
             numbers = isinstance(want, float) and isinstance(have, float)
             if have != want and not (numbers and math.isclose(have, want, rel_tol=1e-6)):  # float32 values

@@ -50,7 +50,8 @@ def test_run_with_the_arm_solves_every_move():
     result = invoke("run", path, "--input", "VIS_STATION=1", "--input", "VIS_X=612.4", "--input", "VIS_Y=-285",
                     "--input", "VIS_THETA=1.8", "--robot", "KR 10 R1100 sixx", "--json")
     data = json.loads(result.output)
-    assert [m["motion"] for m in data["moves"]] == ["joint", "joint", "linear"]
+    # home, approach, work pose, retreat, home
+    assert [m["motion"] for m in data["moves"]] == ["joint", "joint", "linear", "linear", "joint"]
     assert all(m["joints"] is not None and m["pose"] is not None for m in data["moves"])
     assert data["moves"][0]["joints"] == [0, -90, 90, 0, 90, 0]
     wrong = invoke("run", path, "--robot", "IRB 140")

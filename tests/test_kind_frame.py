@@ -134,7 +134,7 @@ def test_dtrans_needs_a_level_frame(tmp_path):
 
     path = tmp_path / "tilted.toml"
     path.write_text(
-        BENCH.read_text().replace("[620.0, 150.0, 240.0, 30.0, 0.0, 0.0]", "[620.0, 150.0, 240.0, 30.0, 5.0, 0.0]"),
+        BENCH.read_text().replace("[560.0, 150.0, 240.0, 30.0, 0.0, 0.0]", "[560.0, 150.0, 240.0, 30.0, 5.0, 0.0]"),
         encoding="utf-8",
     )
     tilted = load_cell(path)

@@ -31,7 +31,7 @@ def test_closed_form_agrees_with_matrices(demo_cell):
         assert abs(frame["frame_cos"] - d[0, 0]) < 1e-12
         assert abs(frame["frame_sin"] - d[1, 0]) < 1e-12
         worst = max(worst, abs(frame["frame_x"] - d[0, 3]), abs(frame["frame_y"] - d[1, 3]))
-        for pose, move in zip(station.poses, trace.moves, strict=True):
+        for pose, move in zip(station.path, trace.moves, strict=True):
             m = pose.matrix()
             point = derived.evaluate(
                 "point",
@@ -44,16 +44,16 @@ def test_closed_form_agrees_with_matrices(demo_cell):
 def test_zero_shift_gives_taught_poses(demo_cell):
     station = demo_cell.stations[2]
     trace = expected_trace(demo_cell, Reading(station.id, *station.spec.mark))
-    for pose, move in zip(station.poses, trace.moves, strict=True):
+    for pose, move in zip(station.path, trace.moves, strict=True):
         assert np.allclose(move.tcp2base, pose.matrix(), atol=1e-12)
-    assert [m.kind for m in trace.moves] == ["joint", "linear"]
+    assert [m.kind for m in trace.moves] == ["joint", "linear", "linear"]  # approach, work pose, retreat
 
 
 def test_pure_translation(demo_cell):
     station = demo_cell.stations[0]
     tx, ty, t_theta = station.spec.mark
     trace = expected_trace(demo_cell, Reading(station.id, tx + 3, ty - 4, t_theta))
-    for pose, move in zip(station.poses, trace.moves, strict=True):
+    for pose, move in zip(station.path, trace.moves, strict=True):
         assert np.allclose(move.tcp2base[:3, 3] - pose.matrix()[:3, 3], [3, -4, 0], atol=1e-12)
 
 

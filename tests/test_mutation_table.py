@@ -42,7 +42,10 @@ TABLE = {
     },
     "moves_reordered": {
         "ur": (r"^(\s+movej\([^\n]*\n)(\s+movel\([^\n]*\n)", r"\2\1"),
-        "kuka": (r"^(\s+TARGET = [^\n]*\n\s+PTP [^\n]*\n)(\s+TARGET = [^\n]*\n\s+LIN [^\n]*\n)", r"\2\1"),
+        "kuka": (
+            r"^(\s+TARGET = [^\n]*\n\s+PTP [^\n]*\n)(\s+TARGET = [^\n]*\n\s+\$VEL\.CP = [^\n]*\n\s+LIN [^\n]*\n)",
+            r"\2\1",
+        ),
         "abb": (  # the configuration-check lines go with their move
             r"^(\s+MoveJ vis_apply[^\n]*\n(?:\s+ConfJ \\On;\n)?)((?:\s+ConfL \\Off;\n)?\s+MoveL [^\n]*\n)",
             r"\2\1",

@@ -164,9 +164,10 @@ def test_demo_cells_pass_with_their_margins_printed(tmp_path):
 @pytest.mark.parametrize(
     ("old", "new", "message"),
     [
-        # the gate's shelf moved 275 mm further out: taught within reach, but not every correction
-        ("shelf = [-60.5, -905.2, 388.0", "shelf = [-60.5, -1180.0, 388.0",
-         "station 7 'warehouse_gate' pose 'shelf' (ur, UR10e): out of reach or beyond a joint limit"),
+        # the gate's shelf moved 255 mm further out: taught within reach, but not every correction of its
+        # retreat (50 mm above it, [cell.motion] retreat_mm), which reaches further than the shelf
+        ("shelf = [-60.5, -905.2, 388.0", "shelf = [-60.5, -1160.0, 388.0",
+         "station 7 'warehouse_gate' pose 'retreat' (ur, UR10e): out of reach or beyond a joint limit"),
         # the gauge lowered towards the wrist singularity of the ABB arm (axis 5 near 0)
         ("gauge = [452.3, 561.8, 142.5", "gauge = [452.3, 561.8, 110.0",
          "station 6 'inspection_table' pose 'gauge' (abb, IRB 1600-10/1.45): the wrist comes within 3.11 deg"),
@@ -225,7 +226,8 @@ def test_demo_robconf_and_status_turn_agree_with_an_independent_model():
                 want = pose.tcp2base @ np.linalg.inv(cell.robot.tool.tcp2flange)
                 assert np.abs(flange - want).max() < 1e-6  # the joints reach the taught pose (independent FK)
                 front1, front_lower, a5_positive = _side(frames, pose.joints)
-                ident = f"p{station.id}_{pose.name}"
+                retreat = pose.name == "retreat"  # its data is named after the work pose
+                ident = f"r{station.id}_{station.poses[-1].name}" if retreat else f"p{station.id}_{pose.name}"
                 if target == "abb":
                     text = files["agv_machine_tending.mod"]
                     robconf = re.search(rf"CONST robtarget {ident} := \[.*?\], \[.*?\], \[(.*?)\]", text).group(1)
@@ -241,7 +243,7 @@ def test_demo_robconf_and_status_turn_agree_with_an_independent_model():
                     if turn:
                         assert int(turn.group(1)) == sum(1 << i for i in range(6) if pose.joints[i] < 0)
                 checked += 1
-    assert checked == 2 * 14
+    assert checked == 2 * 21  # 7 stations: approach, work pose, retreat
 
 
 def test_the_controllers_numbered_tool_instead_of_a_declared_one(tmp_path):

@@ -7,7 +7,7 @@ from target_base import TargetTests, cell_text, replace_once
 from codegen.cell import load_cell
 from codegen.render import render
 
-WORK = "MoveL vis_apply(corr, p1_chuck), v200, fine, vis_tool;"  # the work pose of station 1
+WORK = "MoveL vis_apply(corr, p1_chuck), vis_work, fine, vis_tool;"  # the work pose of station 1
 
 
 class TestABB(TargetTests):
@@ -40,7 +40,7 @@ class TestABB(TargetTests):
             "light_tool": lambda: replace_once(text, "[1.500, [0.0000, 0.0000, 80.0000]", "[0.500, [0.0, 0.0, 80.0]"),
             "out_of_reach": lambda: replace_once(text, "p1_chuck := [[738.5000", "p1_chuck := [[2738.5000"),
             "no_home": lambda: replace_once(text, "    MoveAbsJ vis_home\\NoEOffs, v200, fine, vis_tool;\n", ""),
-            "speed_x25": lambda: replace_once(text, WORK, WORK.replace("v200", "v5000")),
+            "speed_x25": lambda: replace_once(text, WORK, WORK.replace("vis_work", "v1000")),
             "zone_on_work_pose": lambda: replace_once(text, WORK, WORK.replace("fine", "z200")),
         }[mutation]()
 

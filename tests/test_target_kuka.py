@@ -2,8 +2,9 @@
 
 from target_base import TargetTests, replace_once
 
-WORK = "  TARGET = CORR : P1_CHUCK\n  LIN TARGET\n"  # the work pose of station 1
+WORK = "  TARGET = CORR : P1_CHUCK\n  $VEL.CP = 0.0500\n  LIN TARGET\n"  # the work pose of station 1 (slow)
 BASE_RESET = "  $BASE = $ROBROOT ; the robot's base ($NULLFRAME is the world: not the same on a track or a platform)\n"
+HALT_RETURN = "    VIS_PAR[1] = {PAR_TYPE #EMPTY}\n    VIS_HALT()\n    RETURN\n"  # a station's guard halt
 LIN_TARGET = "{X 600,Y 0,Z 700,A 0,B 90,C 0}"  # a first motion that is no PTP to a full position
 
 
@@ -27,7 +28,7 @@ class TestKUKA(TargetTests):
             "drop_guard": lambda: replace_once(text, "IF DX * DX + DY * DY > MAX_SHIFT_SQ THEN", "IF FALSE THEN"),
             "calibration_number": lambda: (text, replace_once(dat, "X 612.400000", "X 612.450000")),
             "extra_dispatch_id": lambda: (replace_once(text, "  CASE 1\n", "  CASE 1, 20000\n"), dat),
-            "halt_goes_on": lambda: (replace_once(text, "    VIS_HALT()\n    RETURN\n", "    VIS_HALT()\n"), dat),
+            "halt_goes_on": lambda: (replace_once(text, HALT_RETURN, HALT_RETURN.replace("    RETURN\n", "")), dat),
             "status_changed": lambda: (text, replace_once(dat, "C 180.000000,S 2,T 34", "C 180.000000,S 6,T 34")),
             "turn_changed": lambda: (text, replace_once(dat, "C 180.000000,S 2,T 34", "C 180.000000,S 2,T 35")),
             "no_tool": lambda: (replace_once(text, "  $TOOL = VIS_TOOL\n", ""), dat),

@@ -2,7 +2,7 @@
 
 from target_base import TargetTests, replace_once
 
-WORK = "movel(pose_trans(corr, p1_chuck), a=1.2, v=0.25)"  # the work pose of station 1
+WORK = "movel(pose_trans(corr, p1_chuck), a=1.2, v=0.0500)"  # the work pose of station 1 (slow: [cell.motion])
 
 
 class TestUR(TargetTests):
@@ -33,7 +33,7 @@ class TestUR(TargetTests):
             "no_tcp": lambda: replace_once(text, "  set_tcp(p[0.0000000,", "  textmsg(p[0.0000000,"),
             "no_payload": lambda: replace_once(text, "  set_target_payload(1.500,", "  textmsg(1.500,"),
             "out_of_reach": lambda: replace_once(text, "p1_chuck = p[0.7385000", "p1_chuck = p[2.7385000"),
-            "speed_x10": lambda: replace_once(text, WORK, WORK.replace("v=0.25", "v=2.5")),
+            "speed_x10": lambda: replace_once(text, WORK, WORK.replace("v=0.0500", "v=0.5")),
             "acceleration_x10": lambda: replace_once(text, WORK, WORK.replace("a=1.2", "a=12")),
-            "blend_on_work_pose": lambda: replace_once(text, WORK, WORK.replace("v=0.25", "v=0.25, r=0.05")),
+            "blend_on_work_pose": lambda: replace_once(text, WORK, WORK.replace("v=0.0500", "v=0.0500, r=0.05")),
         }[mutation]()

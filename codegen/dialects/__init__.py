@@ -51,11 +51,15 @@ class Dialect:
         return cls.module("interpreter").parse(text, filename, positions)
 
     @classmethod
-    def move_settings(cls, program: dict, kind: str, exact: bool, own_tool: bool = False) -> dict:
+    def move_settings(
+        cls, program: dict, kind: str, exact: bool, own_tool: bool = False, speed_mm_s=None, zone_mm: float = 0.0
+    ) -> dict:
         """How a correct program moves the arm to a pose, as the interpreter records it (MoveEvent
-        settings): from the target's [program] facts; `exact` where the arm must stop at the pose (a
-        work pose, a photo pose), so no blending; `own_tool` where the program declares the cell's tool.
-        Empty: the language states nothing to compare."""
+        settings): from the target's [program] facts and the cell's [cell.motion] (speed_mm_s: the
+        segment's TCP speed, None where the facts decide; zone_mm: its blending zone, 0: a stop);
+        `exact` where the arm must stop at the pose (a work pose, a photo pose), so no blending;
+        `own_tool` where the program declares the cell's tool. Empty: the language states nothing to
+        compare."""
         return {}
 
     @classmethod

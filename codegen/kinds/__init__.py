@@ -95,7 +95,7 @@ class ProgramKind:
     def arm_poses(cls, cell, station) -> list[tuple[str, Any, str]]:
         """The poses the arm visits in a station, in order: (pose name, tcp2base at calibration,
         "joint" or "linear"). Each has one configuration in the program (codegen/robot/)."""
-        return [(p.name, p.matrix(), "joint" if i == 0 else "linear") for i, p in enumerate(station.poses)]
+        return [(p.name, p.matrix(), "joint" if i == 0 else "linear") for i, p in enumerate(station.path)]
 
     @classmethod
     def region(cls, cell, station, offsets) -> Any:

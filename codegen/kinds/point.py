@@ -22,7 +22,7 @@ from codegen.guard import (
 )
 from codegen.kinds import Case, ProgramKind
 from codegen.poses import concat, invert, matrix_from_rotation_translation, planar_motions, rotz, wrap_deg
-from codegen.reference import JOINT, LINEAR, ExpectedTrace, Move
+from codegen.reference import ExpectedTrace, path_moves
 
 MARK_DECIMALS = 6
 
@@ -86,12 +86,8 @@ def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Expec
     # The part moved rigidly with the mark: partnow2base = marknow2base . base2markcal . part2base
     marknow2base = mark2base(reading.x, reading.y, t_theta + phi)
     correction = concat(base2mark(tx, ty, t_theta), marknow2base)  # D: a taught pose P becomes D . P
-    moves = []
-    last = len(station.poses) - 1
-    for i, pose in enumerate(station.poses):
-        tcp2base = concat(pose.matrix(), correction)
-        moves.append(Move(JOINT if i == 0 else LINEAR, pose.name, tcp2base, exact=i == last))  # the work pose
-    work, work_new = station.poses[-1].matrix(), moves[-1].tcp2base
+    moves = path_moves(cell, station, correction)
+    work, work_new = station.poses[-1].matrix(), moves[len(station.poses) - 1].tcp2base
     deviation = (
         float(station.id),
         float(work_new[0, 3] - work[0, 3]),
@@ -135,7 +131,7 @@ class PointKind(ProgramKind):
         x, y, _theta = station.spec.mark
         corr = planar_motions(offsets)
         corr[:, :2, 3] += np.array([x, y]) - np.einsum("nij,j->ni", corr[:, :2, :2], [x, y])
-        poses = np.array([p.matrix() for p in station.poses])
+        poses = np.array([p.matrix() for p in station.path])
         return np.einsum("nij,mjk->nmik", corr, poses)
 
     @classmethod

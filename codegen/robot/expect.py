@@ -87,8 +87,12 @@ def arm_problem(cell, target: str, expected, moves: tuple[Move, ...], got: list,
     the load the program set against the cell's tool."""
     station = expected.station
     want = [home]
-    if station is not None and len(moves) > 1:
-        want += expected_joints(cell, target, station, moves[1:], home, [g.solutions for g in got[1:]])
+    back = len(moves) > 1 and moves[-1] is moves[0]  # the way home after the station ([cell.motion])
+    inner = moves[1:-1] if back else moves[1:]
+    if station is not None and inner:
+        want += expected_joints(cell, target, station, inner, home, [g.solutions for g in got[1 : 1 + len(inner)]])
+    if back:
+        want.append(home)
     tool = cell.robot.tool
     load = (tool.mass_kg, *tool.cog_mm) if cell.robot.tool_given else None
     for i, (g, e, q) in enumerate(zip(got, moves, want, strict=True)):

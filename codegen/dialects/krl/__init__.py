@@ -9,9 +9,16 @@ class KRL(Dialect):
     companions = (".dat",)  # the data list of a .src: declarations and initial values
 
     @classmethod
-    def move_settings(cls, program: dict, kind: str, exact: bool, own_tool: bool = False) -> dict:
-        """No approximation (C_PTP, C_DIS, ...): the generated programs stop at every pose."""
-        return {"approx": None}
+    def move_settings(
+        cls, program: dict, kind: str, exact: bool, own_tool: bool = False, speed_mm_s=None, zone_mm: float = 0.0
+    ) -> dict:
+        """LIN at the cell's path speed $VEL.CP (m/s); approximation C_DIS with $APO.CDIS = the cell's
+        zone (mm) where the arm passes a pose, none where it must stop; a PTP stops (no C_PTP)."""
+        blend = zone_mm > 0 and not exact
+        out = {"approx": "C_DIS" if blend else None, "cdis": zone_mm if blend else None}
+        if kind != "joint" and speed_mm_s is not None:
+            out["vel_cp"] = speed_mm_s / 1000.0
+        return out
 
     @classmethod
     def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):

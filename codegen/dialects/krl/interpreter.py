@@ -33,9 +33,10 @@ from codegen.dialects.krl.motion import (
     AXES,
     SYSTEM_ARRAY,
     SYSTEM_ARRAYS,
-    load_of,
     load_record,
     motion_rule,
+    path_settings,
+    path_variable_store,
     robroot,
     tcp_speed,
     world2robot,
@@ -301,6 +302,9 @@ class KRLCompiler(Compiler):
     def s_assign(self, node):
         target_node, value_node = node.children
         is_var = isinstance(target_node, Tree) and target_node.data == "var"
+        system_field = path_variable_store(self, target_node, value_node, node)
+        if system_field is not None:
+            return system_field
         if is_var and str(target_node.children[0]).upper() == "$BASE":
             value, where = self.expr(value_node), self.where(node)
 
@@ -410,7 +414,7 @@ class KRLCompiler(Compiler):
 
     def s_motion_stmt(self, node):
         motion, target, approx = node.children
-        settings = {"approx": str(approx).upper() if approx is not None else None}
+        static = {"approx": str(approx).upper() if approx is not None else None}
         kind = {"PTP": "joint", "LIN": "linear"}.get(str(motion).upper())
         if kind is None:
             self.fail(node, f"{motion} is not supported by this interpreter")
@@ -425,7 +429,7 @@ class KRLCompiler(Compiler):
                 if missing:
                     raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
                 target = self.coerce("FRAME", target, where)
-            settings["load"] = load_of(fr.m.extra.get("$LOAD"))
+            settings = path_settings(static, kind, fr.m.extra)
             if isinstance(target, Record) and target.type in AXES:  # axis values: no solution to choose
                 if kind != "joint":
                     raise RunError(f"{where}: LIN takes a cartesian target")

@@ -51,10 +51,8 @@ DEFAULT_VEL_CP = 0.25
 
 
 def tcp_speed(extra: dict) -> float:
-    """The TCP speed of the next move in mm/s."""
-    vel = extra.get("$VEL")
-    cp = vel["CP"] if isinstance(vel, Record) and "CP" in vel and vel["CP"] is not UNINIT else DEFAULT_VEL_CP
-    return float(cp) * 1000.0
+    """The TCP speed of the next move in mm/s ($VEL.CP as the program set it)."""
+    return extra.get("$VEL.CP", DEFAULT_VEL_CP) * 1000.0
 
 
 def robroot(machine) -> None:
@@ -70,6 +68,46 @@ def robroot(machine) -> None:
 def world2robot(root: Record):
     """The world in the robot's base frame: the inverse of $ROBROOT as a 4x4 matrix."""
     return invert(cart_matrix(root))
+
+
+# The path variables a program sets for its moves (KSS 8 system variables): $VEL.CP, the LIN path
+# speed (m/s), and $APO.CDIS, the distance (mm) at which C_DIS approximation starts.
+PATH_FIELDS = {("$VEL", "CP"), ("$APO", "CDIS")}
+
+
+def path_variable_store(compiler, target_node, value_node, node):
+    """`$VEL.CP = x` / `$APO.CDIS = x`: the statement that stores the number for the next moves, or
+    None for any other assignment."""
+    from lark import Tree
+
+    if not (isinstance(target_node, Tree) and target_node.data == "field"):
+        return None
+    base, name = target_node.children
+    if not (isinstance(base, Tree) and base.data == "var"):
+        return None
+    key = (str(base.children[0]).upper(), str(name).upper())
+    if key not in PATH_FIELDS:
+        return None
+    value, where = compiler.expr(value_node), compiler.where(node)
+
+    def store(fr):
+        number = value(fr)
+        if isinstance(number, bool | str | Record) or not float(number) > 0:
+            raise RunError(f"{where}: {key[0]}.{key[1]} must be a positive number, got {number!r}")
+        fr.m.extra[f"{key[0]}.{key[1]}"] = float(number)
+
+    return store
+
+
+def path_settings(static: dict, kind: str, extra: dict) -> dict:
+    """What a PTP or LIN records: its approximation, the load, and for a LIN the path speed and for
+    C_DIS the approximation distance the program set."""
+    out = {**static, "load": load_of(extra.get("$LOAD")), "cdis": None}
+    if static["approx"] == "C_DIS":
+        out["cdis"] = extra.get("$APO.CDIS")
+    if kind == "linear":
+        out["vel_cp"] = extra.get("$VEL.CP")
+    return out
 
 
 def load_of(load) -> tuple | None:

@@ -265,6 +265,7 @@ def builtins(compiler) -> dict:
                 raise RunError(f"{where}: unknown work object {wobj}")
             speed, zone, tool = (_setting(args, i) for i in (1, 2, 3))
             settings = {"speed": speed, "zone": zone, "tool": tool, "load": _tool(fr, args, where)}
+            settings["tcp_mm_s"], settings["zone_mm"] = timing[0], zone_radius(args[2] if len(args) > 2 else None)
             conf = vec(target["ROBCONF"], ("CF1", "CF4", "CF6", "CFX"))
             check = fr.m.extra.get("CONFJ" if kind == "joint" else "CONFL", True)
             robconf = tuple(int(v) for v in conf)
@@ -325,6 +326,15 @@ def builtins(compiler) -> dict:
         "CONFJ": configuration_check("CONFJ"),
         "CONFL": configuration_check("CONFL"),
     }
+
+
+def zone_radius(zone) -> float:
+    """The TCP zone of a move in mm: 0 for fine (or a zonedata with finep), a predefined zN's N, a
+    zonedata's pzone_tcp."""
+    if isinstance(zone, Record) and zone.type == "ZONEDATA":
+        return 0.0 if zone["FINEP"] else float(zone["PZONE_TCP"])
+    match = re.fullmatch(r"Z(\d+)", str(zone).upper())
+    return float(match.group(1)) if match else 0.0
 
 
 def move_timing(args, kwargs, where: str) -> tuple[float, bool]:

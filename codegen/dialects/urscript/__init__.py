@@ -8,9 +8,14 @@ class URScript(Dialect):
     suffixes = (".script",)
 
     @classmethod
-    def move_settings(cls, program: dict, kind: str, exact: bool, own_tool: bool = False) -> dict:
-        """The facts' "a=1.2, v=0.25" of movej/movel, and blend radius r = 0: the generated programs
-        stop at every pose (a blend on a work pose would cut its corner)."""
+    def move_settings(
+        cls, program: dict, kind: str, exact: bool, own_tool: bool = False, speed_mm_s=None, zone_mm: float = 0.0
+    ) -> dict:
+        """movej: the facts' "a=1.4, v=1.05" (rad/s^2, rad/s); movel: the facts' acceleration and the
+        cell's TCP speed v (m/s); blend radius r the cell's zone (m), 0 where the arm must stop (a blend
+        on a work pose would cut its corner)."""
         text = program["joint_move" if kind == "joint" else "linear_move"]
         settings = {key.strip(): float(value) for key, value in (part.split("=") for part in text.split(","))}
-        return {**settings, "r": 0.0}
+        if kind != "joint" and speed_mm_s is not None:
+            settings["v"] = speed_mm_s / 1000.0
+        return {**settings, "r": 0.0 if exact else zone_mm / 1000.0}

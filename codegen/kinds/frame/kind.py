@@ -25,7 +25,7 @@ from codegen.guard import (
 from codegen.kinds import Case, ProgramKind
 from codegen.kinds.frame.camera import CameraModel, SimulatedCamera
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
-from codegen.reference import JOINT, LINEAR, ExpectedTrace, Move
+from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
 
 NOT_CONVERGED = "not_converged"  # a halt reason of this kind: the residual stayed over tolerance
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
@@ -114,7 +114,7 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
         if photos >= refine.max_iterations:
             return halt(NOT_CONVERGED)
         tcp2base = concat(photo2frame, frame_offset(dx, dy, alpha), calib2base)
-        moves.append(Move(JOINT, "photo", tcp2base, exact=True))
+        moves.append(Move(JOINT, "photo", tcp2base, exact=True, speed_mm_s=cell.motion.speed_mm_s))
         photos += 1
         u, v, angle = camera.photo(tcp2base)
         if not pixels_in_range(u, v, angle):
@@ -135,10 +135,7 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
             residual = None
             return halt(ROTATION_OVER_LIMIT)
     frame2base = concat(frame_offset(dx, dy, alpha), calib2base)
-    last = len(station.poses) - 1
-    for i, pose in enumerate(station.poses):
-        kind = JOINT if i == 0 else LINEAR
-        moves.append(Move(kind, pose.name, concat(pose.matrix(), frame2base), exact=i == last))
+    moves.extend(path_moves(cell, station, frame2base))
     deviation = (float(station.id), dx, dy, alpha, float(photos))
     detail = FrameDetail(photos, tuple(residuals), residual, frame2base)
     return ExpectedTrace("ok", None, station, tuple(moves), deviation, detail)
@@ -237,7 +234,7 @@ class FrameKind(ProgramKind):
         # the frame moved in its own x-y plane: calib2base . frame_offset . pose2frame
         calib2base = station.spec.frame.matrix()
         frames = np.einsum("ij,njk->nik", calib2base, planar_motions(offsets))
-        poses = np.array([station.spec.photo.matrix(), *(p.matrix() for p in station.poses)])
+        poses = np.array([station.spec.photo.matrix(), *(p.matrix() for p in station.path)])
         return np.einsum("nij,mjk->nmik", frames, poses)
 
     @classmethod

@@ -24,6 +24,10 @@ MODULE agv_machine_tending
 
   ! Cell constants
   LOCAL CONST num VIS_TIMEOUT := 5.000;
+  ! the path's speeds (TCP mm/s, then the manual's v-data defaults for orientation and external axes) and
+  ! its blending zone ([cell.motion]): the last move into the work pose and the retreat go at vis_work
+  LOCAL CONST speeddata vis_travel := [250.0, 500, 5000, 1000];
+  LOCAL CONST speeddata vis_work := [50.0, 500, 5000, 1000];
   LOCAL CONST num ANGLE_SIGN := -1;
   LOCAL CONST num MAX_SHIFT_SQ := 100.000000;
   LOCAL CONST num MAX_ROTATION := 10.000000;
@@ -41,30 +45,37 @@ MODULE agv_machine_tending
   LOCAL CONST num m1_lathe_1{3} := [612.400000, -285.000000, 1.800000];
   LOCAL CONST robtarget p1_approach := [[655.0000, -120.0000, 420.0000], [0.000000000, 0.707106781, 0.707106781, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget p1_chuck := [[738.5000, -112.3000, 305.2000], [0.000000000, 0.707106781, 0.707106781, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget r1_chuck := [[738.5000, -112.3000, 355.2000], [0.000000000, 0.707106781, 0.707106781, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 2 lathe_2
   LOCAL CONST num m2_lathe_2{3} := [598.700000, -262.900000, -0.600000];
   LOCAL CONST robtarget p2_approach := [[640.0000, -95.0000, 410.0000], [0.000000000, 0.716301943, 0.697790460, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget p2_chuck := [[721.9000, -90.4000, 298.7000], [0.000000000, 0.716301943, 0.697790460, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget r2_chuck := [[721.9000, -90.4000, 348.7000], [0.000000000, 0.716301943, 0.697790460, 0.000000000], [-1, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 3 mill_1
   LOCAL CONST num m3_mill_1{3} := [640.200000, 210.600000, 2.400000];
   LOCAL CONST robtarget p3_approach := [[600.0000, 40.0000, 450.0000], [0.092295956, -0.701057385, 0.701057385, 0.092295956], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget p3_vise := [[702.6000, 55.8000, 262.4000], [0.092295956, -0.701057385, 0.701057385, 0.092295956], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget r3_vise := [[702.6000, 42.8590, 310.6963], [0.092295956, -0.701057385, 0.701057385, 0.092295956], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 4 mill_2
   LOCAL CONST num m4_mill_2{3} := [655.100000, 198.300000, -1.200000];
   LOCAL CONST robtarget p4_approach := [[610.0000, 30.0000, 455.0000], [0.093892685, -0.688715472, 0.713185749, 0.090671112], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget p4_vise := [[715.0000, 44.1000, 259.9000], [0.093892685, -0.688715472, 0.713185749, 0.090671112], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget r4_vise := [[714.5484, 31.1669, 308.1963], [0.093892685, -0.688715472, 0.713185749, 0.090671112], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 5 grinder
   LOCAL CONST num m5_grinder{3} := [702.800000, -40.500000, 0.300000];
   LOCAL CONST robtarget p5_approach := [[680.0000, 120.0000, 500.0000], [0.000000000, 0.965925826, 0.000000000, -0.258819045], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget p5_fixture := [[812.4000, 131.7000, 355.0000], [0.000000000, 0.965925826, 0.000000000, -0.258819045], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget r5_fixture := [[837.4000, 131.7000, 398.3013], [0.000000000, 0.965925826, 0.000000000, -0.258819045], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 6 inspection_table
   LOCAL CONST num m6_inspection_table{3} := [455.000000, 340.200000, 178.600000];
   LOCAL CONST robtarget p6_approach := [[430.0000, 480.0000, 300.0000], [0.000000000, 0.008726535, 0.999961923, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget p6_gauge := [[452.3000, 561.8000, 142.5000], [0.000000000, 0.008726535, 0.999961923, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget r6_gauge := [[452.3000, 561.8000, 192.5000], [0.000000000, 0.008726535, 0.999961923, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! station 7 warehouse_gate
   LOCAL CONST num m7_warehouse_gate{3} := [-120.400000, -640.700000, -91.500000];
   LOCAL CONST robtarget p7_approach := [[-80.0000, -700.0000, 520.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-2, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget p7_shelf := [[-60.5000, -905.2000, 388.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-2, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget r7_shelf := [[-60.5000, -905.2000, 438.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-2, 0, 1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   PROC main()
     ! home first, in joints (no configuration to choose), with the tool and its load
@@ -89,6 +100,8 @@ MODULE agv_machine_tending
     DEFAULT:
       vis_stop "unknown station id " + NumToStr(vis_station, 0);
     ENDTEST
+    ! back home after the station
+    MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
   ENDPROC
 
   LOCAL PROC vis_stop(string message)
@@ -217,10 +230,13 @@ MODULE agv_machine_tending
     corr := vis_correction(m1_lathe_1);
     vis_log 1, m1_lathe_1, vis_apply(corr, p1_chuck), p1_chuck;
     ConfJ \Off;
-    MoveJ vis_apply(corr, p1_approach), v200, fine, vis_tool;
+    MoveJ vis_apply(corr, p1_approach), vis_travel, fine, vis_tool;
     ConfJ \On;
     ConfL \Off;
-    MoveL vis_apply(corr, p1_chuck), v200, fine, vis_tool;
+    MoveL vis_apply(corr, p1_chuck), vis_work, fine, vis_tool;
+    ConfL \On;
+    ConfL \Off;
+    MoveL vis_apply(corr, r1_chuck), vis_work, fine, vis_tool;
     ConfL \On;
   ENDPROC
 
@@ -239,10 +255,13 @@ MODULE agv_machine_tending
     corr := vis_correction(m2_lathe_2);
     vis_log 2, m2_lathe_2, vis_apply(corr, p2_chuck), p2_chuck;
     ConfJ \Off;
-    MoveJ vis_apply(corr, p2_approach), v200, fine, vis_tool;
+    MoveJ vis_apply(corr, p2_approach), vis_travel, fine, vis_tool;
     ConfJ \On;
     ConfL \Off;
-    MoveL vis_apply(corr, p2_chuck), v200, fine, vis_tool;
+    MoveL vis_apply(corr, p2_chuck), vis_work, fine, vis_tool;
+    ConfL \On;
+    ConfL \Off;
+    MoveL vis_apply(corr, r2_chuck), vis_work, fine, vis_tool;
     ConfL \On;
   ENDPROC
 
@@ -260,10 +279,11 @@ MODULE agv_machine_tending
     ENDIF
     corr := vis_correction(m3_mill_1);
     vis_log 3, m3_mill_1, vis_apply(corr, p3_vise), p3_vise;
-    MoveJ vis_apply(corr, p3_approach), v200, fine, vis_tool;
+    MoveJ vis_apply(corr, p3_approach), vis_travel, fine, vis_tool;
     ConfL \Off;
-    MoveL vis_apply(corr, p3_vise), v200, fine, vis_tool;
+    MoveL vis_apply(corr, p3_vise), vis_work, fine, vis_tool;
     ConfL \On;
+    MoveL vis_apply(corr, r3_vise), vis_work, fine, vis_tool;
   ENDPROC
 
   LOCAL PROC st_mill_2()
@@ -280,8 +300,9 @@ MODULE agv_machine_tending
     ENDIF
     corr := vis_correction(m4_mill_2);
     vis_log 4, m4_mill_2, vis_apply(corr, p4_vise), p4_vise;
-    MoveJ vis_apply(corr, p4_approach), v200, fine, vis_tool;
-    MoveL vis_apply(corr, p4_vise), v200, fine, vis_tool;
+    MoveJ vis_apply(corr, p4_approach), vis_travel, fine, vis_tool;
+    MoveL vis_apply(corr, p4_vise), vis_work, fine, vis_tool;
+    MoveL vis_apply(corr, r4_vise), vis_work, fine, vis_tool;
   ENDPROC
 
   LOCAL PROC st_grinder()
@@ -299,10 +320,13 @@ MODULE agv_machine_tending
     corr := vis_correction(m5_grinder);
     vis_log 5, m5_grinder, vis_apply(corr, p5_fixture), p5_fixture;
     ConfJ \Off;
-    MoveJ vis_apply(corr, p5_approach), v200, fine, vis_tool;
+    MoveJ vis_apply(corr, p5_approach), vis_travel, fine, vis_tool;
     ConfJ \On;
     ConfL \Off;
-    MoveL vis_apply(corr, p5_fixture), v200, fine, vis_tool;
+    MoveL vis_apply(corr, p5_fixture), vis_work, fine, vis_tool;
+    ConfL \On;
+    ConfL \Off;
+    MoveL vis_apply(corr, r5_fixture), vis_work, fine, vis_tool;
     ConfL \On;
   ENDPROC
 
@@ -320,8 +344,9 @@ MODULE agv_machine_tending
     ENDIF
     corr := vis_correction(m6_inspection_table);
     vis_log 6, m6_inspection_table, vis_apply(corr, p6_gauge), p6_gauge;
-    MoveJ vis_apply(corr, p6_approach), v200, fine, vis_tool;
-    MoveL vis_apply(corr, p6_gauge), v200, fine, vis_tool;
+    MoveJ vis_apply(corr, p6_approach), vis_travel, fine, vis_tool;
+    MoveL vis_apply(corr, p6_gauge), vis_work, fine, vis_tool;
+    MoveL vis_apply(corr, r6_gauge), vis_work, fine, vis_tool;
   ENDPROC
 
   LOCAL PROC st_warehouse_gate()
@@ -339,10 +364,13 @@ MODULE agv_machine_tending
     corr := vis_correction(m7_warehouse_gate);
     vis_log 7, m7_warehouse_gate, vis_apply(corr, p7_shelf), p7_shelf;
     ConfJ \Off;
-    MoveJ vis_apply(corr, p7_approach), v200, fine, vis_tool;
+    MoveJ vis_apply(corr, p7_approach), vis_travel, fine, vis_tool;
     ConfJ \On;
     ConfL \Off;
-    MoveL vis_apply(corr, p7_shelf), v200, fine, vis_tool;
+    MoveL vis_apply(corr, p7_shelf), vis_work, fine, vis_tool;
+    ConfL \On;
+    ConfL \Off;
+    MoveL vis_apply(corr, r7_shelf), vis_work, fine, vis_tool;
     ConfL \On;
   ENDPROC
 ENDMODULE

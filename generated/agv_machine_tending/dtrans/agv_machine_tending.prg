@@ -31,30 +31,37 @@ Int VIS_POLLS = 100  // looks at vis_ack, 0.05 s apart: the timeout
 Double m1_lathe_1[3] = {612.400000, -285.000000, 1.800000}
 Point p1_approach = Trans(655.0000, -120.0000, 420.0000, 180.000000, 0.000000, 90.000000)
 Point p1_chuck = Trans(738.5000, -112.3000, 305.2000, 180.000000, 0.000000, 90.000000)
+Point r1_chuck = Trans(738.5000, -112.3000, 355.2000, 180.000000, 0.000000, 90.000000)
 // station 2 lathe_2
 Double m2_lathe_2[3] = {598.700000, -262.900000, -0.600000}
 Point p2_approach = Trans(640.0000, -95.0000, 410.0000, 180.000000, 0.000000, 88.500000)
 Point p2_chuck = Trans(721.9000, -90.4000, 298.7000, 180.000000, 0.000000, 88.500000)
+Point r2_chuck = Trans(721.9000, -90.4000, 348.7000, 180.000000, 0.000000, 88.500000)
 // station 3 mill_1
 Double m3_mill_1[3] = {640.200000, 210.600000, 2.400000}
 Point p3_approach = Trans(600.0000, 40.0000, 450.0000, 180.000000, 15.000000, -90.000000)
 Point p3_vise = Trans(702.6000, 55.8000, 262.4000, 180.000000, 15.000000, -90.000000)
+Point r3_vise = Trans(702.6000, 42.8590, 310.6963, 180.000000, 15.000000, -90.000000)
 // station 4 mill_2
 Double m4_mill_2[3] = {655.100000, 198.300000, -1.200000}
 Point p4_approach = Trans(610.0000, 30.0000, 455.0000, 180.000000, 15.000000, -92.000000)
 Point p4_vise = Trans(715.0000, 44.1000, 259.9000, 180.000000, 15.000000, -92.000000)
+Point r4_vise = Trans(714.5484, 31.1669, 308.1963, 180.000000, 15.000000, -92.000000)
 // station 5 grinder
 Double m5_grinder[3] = {702.800000, -40.500000, 0.300000}
 Point p5_approach = Trans(680.0000, 120.0000, 500.0000, 180.000000, 30.000000, 0.000000)
 Point p5_fixture = Trans(812.4000, 131.7000, 355.0000, 180.000000, 30.000000, 0.000000)
+Point r5_fixture = Trans(837.4000, 131.7000, 398.3013, 180.000000, 30.000000, 0.000000)
 // station 6 inspection_table
 Double m6_inspection_table[3] = {455.000000, 340.200000, 178.600000}
 Point p6_approach = Trans(430.0000, 480.0000, 300.0000, 180.000000, 0.000000, 179.000000)
 Point p6_gauge = Trans(452.3000, 561.8000, 142.5000, 180.000000, 0.000000, 179.000000)
+Point r6_gauge = Trans(452.3000, 561.8000, 192.5000, 180.000000, 0.000000, 179.000000)
 // station 7 warehouse_gate
 Double m7_warehouse_gate[3] = {-120.400000, -640.700000, -91.500000}
 Point p7_approach = Trans(-80.0000, -700.0000, 520.0000, 180.000000, 0.000000, -90.000000)
 Point p7_shelf = Trans(-60.5000, -905.2000, 388.0000, 180.000000, 0.000000, -90.000000)
+Point r7_shelf = Trans(-60.5000, -905.2000, 438.0000, 180.000000, 0.000000, -90.000000)
 
 Sub vis_ask(Int command)
   // the handshake: ask the vision PC (command 1 read, 2 photo) and wait for its answer to
@@ -151,6 +158,7 @@ Sub st_lathe_1()
   Call vis_log(1, m1_lathe_1, vis_apply(m1_lathe_1, p1_chuck), p1_chuck)
   MovJ vis_apply(m1_lathe_1, p1_approach)
   MovL vis_apply(m1_lathe_1, p1_chuck)
+  MovL vis_apply(m1_lathe_1, r1_chuck)
 EndSub
 
 Sub st_lathe_2()
@@ -169,6 +177,7 @@ Sub st_lathe_2()
   Call vis_log(2, m2_lathe_2, vis_apply(m2_lathe_2, p2_chuck), p2_chuck)
   MovJ vis_apply(m2_lathe_2, p2_approach)
   MovL vis_apply(m2_lathe_2, p2_chuck)
+  MovL vis_apply(m2_lathe_2, r2_chuck)
 EndSub
 
 Sub st_mill_1()
@@ -187,6 +196,7 @@ Sub st_mill_1()
   Call vis_log(3, m3_mill_1, vis_apply(m3_mill_1, p3_vise), p3_vise)
   MovJ vis_apply(m3_mill_1, p3_approach)
   MovL vis_apply(m3_mill_1, p3_vise)
+  MovL vis_apply(m3_mill_1, r3_vise)
 EndSub
 
 Sub st_mill_2()
@@ -205,6 +215,7 @@ Sub st_mill_2()
   Call vis_log(4, m4_mill_2, vis_apply(m4_mill_2, p4_vise), p4_vise)
   MovJ vis_apply(m4_mill_2, p4_approach)
   MovL vis_apply(m4_mill_2, p4_vise)
+  MovL vis_apply(m4_mill_2, r4_vise)
 EndSub
 
 Sub st_grinder()
@@ -223,6 +234,7 @@ Sub st_grinder()
   Call vis_log(5, m5_grinder, vis_apply(m5_grinder, p5_fixture), p5_fixture)
   MovJ vis_apply(m5_grinder, p5_approach)
   MovL vis_apply(m5_grinder, p5_fixture)
+  MovL vis_apply(m5_grinder, r5_fixture)
 EndSub
 
 Sub st_inspection_table()
@@ -241,6 +253,7 @@ Sub st_inspection_table()
   Call vis_log(6, m6_inspection_table, vis_apply(m6_inspection_table, p6_gauge), p6_gauge)
   MovJ vis_apply(m6_inspection_table, p6_approach)
   MovL vis_apply(m6_inspection_table, p6_gauge)
+  MovL vis_apply(m6_inspection_table, r6_gauge)
 EndSub
 
 Sub st_warehouse_gate()
@@ -259,6 +272,7 @@ Sub st_warehouse_gate()
   Call vis_log(7, m7_warehouse_gate, vis_apply(m7_warehouse_gate, p7_shelf), p7_shelf)
   MovJ vis_apply(m7_warehouse_gate, p7_approach)
   MovL vis_apply(m7_warehouse_gate, p7_shelf)
+  MovL vis_apply(m7_warehouse_gate, r7_shelf)
 EndSub
 
 // main: ask the vision PC to read the station, then visit the station it names

@@ -1,0 +1,87 @@
+"""The motion skeleton of every station from [cell.motion]: speeds and zones per segment, the retreat, the way home."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+SPEED_MAX_MM_S = 5000.0  # a TCP speed beyond this is no programming speed of these arms
+ZONE_MAX_MM = 200.0  # the largest blending zone the controllers predefine (RAPID z200)
+
+
+@dataclass(frozen=True)
+class MotionSettings:
+    """[cell.motion]: how the arm moves through a station.
+
+    speed_mm_s: TCP speed of the linear moves between the approach and the work pose's neighbourhood
+    (and RAPID's joint moves); work_speed_mm_s: the last move into the work pose and the retreat from
+    it (slow); zone_mm: blending at the poses the arm passes (0: it stops at each), never at the work
+    pose or a photo pose; retreat_mm: after the work pose, back along the tool's z axis by this much
+    (0: no retreat); return_home: after the station, a joint move home."""
+
+    speed_mm_s: float = 250.0
+    work_speed_mm_s: float = 50.0
+    zone_mm: float = 0.0
+    retreat_mm: float = 50.0
+    return_home: bool = True
+
+
+_KEYS = {"speed_mm_s", "work_speed_mm_s", "zone_mm", "retreat_mm", "return_home"}
+
+
+def parse_settings(ctx, cell_table: dict) -> MotionSettings:
+    """[cell.motion] of a cell file (optional); errors name the key."""
+    if "motion" not in cell_table:
+        return MotionSettings()
+    table = ctx.table(cell_table, "motion", "cell.motion")
+    ctx.no_unknown(table, _KEYS, "cell.motion")
+    default = MotionSettings()
+    values = {}
+    for key in ("speed_mm_s", "work_speed_mm_s"):
+        value = ctx.number(table, key, f"cell.motion.{key}") if key in table else getattr(default, key)
+        if not 0 < value <= SPEED_MAX_MM_S:
+            ctx.fail(f"cell.motion.{key}", f"must be in (0, {SPEED_MAX_MM_S:g}] mm/s, got {value}")
+        values[key] = value
+    zone = ctx.number(table, "zone_mm", "cell.motion.zone_mm") if "zone_mm" in table else default.zone_mm
+    if not 0 <= zone <= ZONE_MAX_MM:
+        ctx.fail("cell.motion.zone_mm", f"must be in [0, {ZONE_MAX_MM:g}] mm, got {zone}")
+    retreat = ctx.number(table, "retreat_mm", "cell.motion.retreat_mm") if "retreat_mm" in table else 50.0
+    if not 0 <= retreat <= 1000:
+        ctx.fail("cell.motion.retreat_mm", f"must be in [0, 1000] mm, got {retreat}")
+    home = table.get("return_home", default.return_home)
+    if not isinstance(home, bool):
+        ctx.fail("cell.motion.return_home", f"must be true or false, got {home!r}")
+    return MotionSettings(values["speed_mm_s"], values["work_speed_mm_s"], zone, retreat, home)
+
+
+def retreat2work(retreat_mm: float) -> np.ndarray:
+    """The retreat in the work pose's own frame: back along its z axis (the tool's approach direction)."""
+    out = np.eye(4)
+    out[2, 3] = -retreat_mm
+    return out
+
+
+@dataclass(frozen=True)
+class Segment:
+    """How the arm moves to one pose of a station's path: its TCP speed (mm/s), blending zone (mm, 0:
+    it stops there) and whether it must stop exactly there (the work pose)."""
+
+    speed_mm_s: float
+    zone_mm: float
+    exact: bool
+
+
+def segments(settings: MotionSettings, taught: int, retreat: bool) -> list[Segment]:
+    """The segments of a path of `taught` poses (the last the work pose), then the retreat: the first
+    move (a joint move) and the work pose stop exactly; the poses in between are passed with the
+    zone; the last move into the work pose and the retreat go at the work speed; the retreat blends
+    into the way home when there is one."""
+    out = []
+    for i in range(taught):
+        work = i == taught - 1
+        speed = settings.work_speed_mm_s if work else settings.speed_mm_s
+        out.append(Segment(speed, 0.0 if work or i == 0 else settings.zone_mm, work))
+    if retreat:
+        out.append(Segment(settings.work_speed_mm_s, settings.zone_mm if settings.return_home else 0.0, False))
+    return out
