@@ -12,13 +12,14 @@ from typing import Any
 
 import numpy as np
 
-from codegen import motion, vision
+from codegen import motion, signals, vision
 from codegen.controllers import target_names
 from codegen.guard import READING_RANGE_MM, TAUGHT_RANGE_MM
 from codegen.kinds import get_kind, kinds
 from codegen.motion import MotionSettings
 from codegen.poses import POSE_FORMATS
 from codegen.robot.section import Robot, parse_robot, parse_station_config
+from codegen.signals import SignalSettings
 from codegen.vision import VisionSettings
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
@@ -90,6 +91,7 @@ class Cell:
     robot: Robot | None = None  # [cell.robot] and [cell.tool]; None: the cell names no arm
     vision: VisionSettings = field(default_factory=VisionSettings)  # [cell.vision]: the handshake's timeout
     motion: MotionSettings = field(default_factory=MotionSettings)  # [cell.motion]: speeds, zones, retreat, home
+    io: SignalSettings | None = None  # [cell.io]: the work pose's output and its feedback
     source: str = ""
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
@@ -105,7 +107,7 @@ class Cell:
 # --- loading ---------------------------------------------------------------------------------
 
 # and the kinds' cell_tables
-_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "robot", "tool", "vision", "motion"}
+_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "robot", "tool", "vision", "motion", "io"}
 _CAMERA_KEYS = {"angle_sign", "handeye"}
 _HANDEYE_KEYS = {"pixel_to_mm"}
 _LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
@@ -279,6 +281,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         robot=robot,
         vision=vision.parse_settings(ctx, cell_table),
         motion=motion_settings,
+        io=signals.parse_settings(ctx, cell_table, targets),
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),

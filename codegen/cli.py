@@ -237,10 +237,23 @@ def _parse_input(text: str):
     help="The arm (a catalogue model, e.g. 'KR 10 R1100 sixx'): every move is solved to joints by the "
     "controller's rules and checked against the arm's reach and joint limits.",
 )
+@click.option(
+    "--signal",
+    "signal_values",
+    multiple=True,
+    help="A digital input on at the start, NAME=1 (repeatable), as the program names it (the input pattern of "
+    "[program] signals in targets/<t>.toml, e.g. standard_digital_in[1]): a gripper's feedback.",
+)
 @step_limit_option("Stop a runaway program after this many steps.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def run(
-    file: str, target_name: str | None, inputs: tuple[str, ...], robot: str | None, step_limit: int, as_json: bool
+    file: str,
+    target_name: str | None,
+    inputs: tuple[str, ...],
+    signal_values: tuple[str, ...],
+    robot: str | None,
+    step_limit: int,
+    as_json: bool,
 ) -> None:
     """Run one program in the built-in interpreter; print its log, moves (and joints) and halt."""
     from pathlib import Path
@@ -262,6 +275,12 @@ def run(
     except ValueError as exc:
         raise UserError(str(exc)) from None
     values = dict(_parse_input(i) for i in inputs)
+    on = {}
+    for item in signal_values:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip() or value.strip() not in ("0", "1"):
+            raise UserError(f"--signal {item!r}: expected NAME=0 or NAME=1")
+        on[name.strip()] = value.strip() == "1"
     arm = None
     if robot is not None:
         from codegen.robot.arms import catalogue, find_arm
@@ -286,7 +305,8 @@ def run(
     try:
         # the vision PC answers the program's request to read the station with the --input values
         reading = {name: values[name] for name in target.program["inputs"].values() if name in values}
-        trace = program.run(values, step_limit=step_limit, devices=[VisionPC.for_target(target, reading)], arm=arm)
+        devices = [VisionPC.for_target(target, reading)]
+        trace = program.run(values, step_limit=step_limit, devices=devices, arm=arm, signals=on)
     except RunError as exc:
         click.echo(f"error: {exc}", err=True)
         sys.exit(1)

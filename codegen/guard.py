@@ -19,6 +19,7 @@ INVALID_READING = "invalid_reading"
 SHIFT_OVER_LIMIT = "shift_over_limit"
 ROTATION_OVER_LIMIT = "rotation_over_limit"
 NO_ANSWER = "no_answer"  # the vision PC did not answer the program's request in time (codegen.vision)
+NO_FEEDBACK = "no_feedback"  # the work pose's signal was not confirmed in time (codegen.signals)
 
 # The codes a program's guard function returns: 0 ok, then the reasons in the order they are checked.
 GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}
@@ -46,6 +47,8 @@ def halt_message(cell, reason: str, station_name: str | None, station_id: int) -
         return f"{UNKNOWN_STATION_TEXT}{station_id}"
     if reason == NO_ANSWER:
         return no_answer_text(cell.vision.timeout_s)
+    if reason == NO_FEEDBACK:
+        return f"no feedback from the gripper in {cell.io.timeout_s:g} s"
     name = station_name if station_name is not None else "?"
     if reason == INVALID_READING:
         return f"station {name}: invalid mark reading"

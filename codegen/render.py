@@ -5,13 +5,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from codegen import __version__, data_dir, vision
+from codegen import __version__, data_dir, signals, vision
 from codegen.cell import Cell
 from codegen.controllers import Target, get_target
 from codegen.emit import Emitter, folder_name
 from codegen.guard import (
     GUARD_CODES,
     NO_ANSWER,
+    NO_FEEDBACK,
     READING_RANGE_DEG,
     READING_RANGE_MM,
     UNKNOWN_STATION_TEXT,
@@ -129,6 +130,18 @@ def context(cell: Cell, target: Target) -> dict:
             "zone_deg": number(0.15 * cell.motion.zone_mm, 2),
             "retreat_mm": f"{cell.motion.retreat_mm:g}",
             "return_home": cell.motion.return_home,
+        },
+        "io": None
+        if cell.io is None or not target.program.get("signals")
+        else {  # [cell.io]: the work pose's output and its feedback, as the controller names them
+            "output": cell.io.output[target.name],
+            "feedback": cell.io.feedback.get(target.name),
+            "value": cell.io.value,
+            "polls": signals.polls(cell.io),
+            "poll_s": number(signals.POLL_S, 2),
+            "timeout_s": number(cell.io.timeout_s, 3),
+            "timeout_text": f"{cell.io.timeout_s:g}",
+            "no_feedback": emitter.string(halt_message(cell, NO_FEEDBACK, None, 0)),
         },
         "vision": {
             "read": vision.READ,

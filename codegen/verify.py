@@ -12,14 +12,14 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen import vision
+from codegen import signals, vision
 from codegen.cell import STATION_ID_MAX, Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target, target_of_suffix
 from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
-from codegen.guard import NO_ANSWER, UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
+from codegen.guard import NO_ANSWER, NO_FEEDBACK, UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
 from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace
@@ -120,6 +120,18 @@ def inputs_for(cell: Cell, target: Target, reading, behaviour: str = "prompt") -
     return {**previous, **answered, **kind.inputs(cell, target, reading), **tools}
 
 
+def devices_for(cell: Cell, target: Target, case: Case) -> tuple:
+    """The simulated devices of a case: the vision PC, and the gripper where the cell has a work-pose
+    signal with feedback."""
+    out: tuple = (vision_pc(cell, target, case),)
+    io = cell.io
+    if io is not None and io.feedback and target.program.get("signals"):
+        output = signals.signal_name(target, "output", io.output[target.name])
+        feedback = signals.signal_name(target, "input", io.feedback[target.name])
+        out += (signals.Gripper(output, feedback, io.value, case.gripper),)
+    return out
+
+
 def vision_pc(cell: Cell, target: Target, case: Case) -> VisionPC:
     """The simulated vision PC of a case: it answers with the case's reading, by the case's behaviour."""
     kind = _kind_of_case(cell, case.reading)
@@ -178,6 +190,8 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
         own = get_kind(station.kind).cases(cell, station, count, rng)
         cases.extend(own)
         cases.extend(Case(f"vision_{b}", own[0].reading, b) for b in vision.BEHAVIOURS[1:] if own)
+        if own and cell.io is not None and cell.io.feedback:  # the gripper never confirms
+            cases.append(Case("gripper_silent", own[0].reading, gripper="silent"))
     known = {s.id for s in cell.stations}
     for station_id in (0, -1, max(known) + 1, STATION_ID_MAX, 99999):
         if station_id not in known:
@@ -195,13 +209,21 @@ def _truth_problem(cell: Cell, case: Case, reference: ExpectedTrace) -> str | No
     return kind.truth_problem(cell, case.reading, reference)
 
 
-def accepted_traces(cell: Cell, reading, behaviour: str = "prompt") -> tuple[list[ExpectedTrace], bool]:
-    if behaviour in vision.UNANSWERED:  # the program must not use what it did not get: it halts at home
+def accepted_traces(cell: Cell, case: Case) -> tuple[list[ExpectedTrace], bool]:
+    if case.vision in vision.UNANSWERED:  # the program must not use what it did not get: it halts at home
         return [ExpectedTrace("halt", NO_ANSWER)], False
-    kind = _kind_of_case(cell, reading)
+    kind = _kind_of_case(cell, case.reading)
     if kind is None:
         return [ExpectedTrace("halt", UNKNOWN_STATION)], False
-    return kind.accepted(cell, reading)
+    accepted, boundary = kind.accepted(cell, case.reading)
+    if case.gripper == "silent":  # the station stops at its work pose, the signal set, with the message
+        accepted = [
+            replace(t, status="halt", reason=NO_FEEDBACK, moves=t.moves[: len(t.station.poses)])
+            if t.status == "ok"
+            else t
+            for t in accepted
+        ]
+    return accepted, boundary
 
 
 def _pose_errors(a: list, b: list) -> tuple[float, float]:
@@ -217,8 +239,8 @@ def _pose_errors(a: list, b: list) -> tuple[float, float]:
 def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
-    if trace.reason == NO_ANSWER:
-        return emitter.string(halt_message(cell, NO_ANSWER, None, 0))
+    if trace.reason in (NO_ANSWER, NO_FEEDBACK):
+        return emitter.string(halt_message(cell, trace.reason, None, 0))
     kind = get_kind(trace.station.kind)
     return emitter.string(kind.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))
 
@@ -282,6 +304,9 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
                 pos_errors,
                 rot_errors,
             )
+    problem = signals.output_problem(cell, target, expected, got, 0 if home is None else 1)
+    if problem is not None:
+        return problem, pos_errors, rot_errors
     if home is not None:
         problem = arm_problem(cell, target.name, expected, moves, got.moves, home[1])
         if problem is not None:
@@ -319,7 +344,7 @@ def verify(
     A run that reaches the step limit (a runaway loop) is a mismatch and ends that target's cases:
     the next ones would run as long."""
     model = verify_cell or cell
-    expectations = [(case, *accepted_traces(model, case.reading, case.vision)) for case in cases]
+    expectations = [(case, *accepted_traces(model, case)) for case in cases]
     # What the physical situation demands of a correct cell, independent of the cell's own model:
     # a cell whose reference contradicts it (a wrong camera sign) fails on every target.
     truth = [_truth_problem(model, case, accepted[0]) for case, accepted, _ in expectations]
@@ -340,7 +365,7 @@ def verify(
                     inputs_for(model, target, case.reading, case.vision),
                     step_limit=step_limit,
                     arm=arm_of(model, name),
-                    devices=(vision_pc(model, target, case),),
+                    devices=devices_for(model, target, case),
                 )
             except StepLimitError as exc:
                 problem, pos, rot, runaway = f"run error: {exc}; the remaining cases were not run", [], [], True

@@ -15,7 +15,7 @@ from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, kinds
 from codegen.robot.expect import arm_of, home_move
-from codegen.verify import TargetReport, UnknownStation, inputs_for, verify, vision_pc
+from codegen.verify import TargetReport, UnknownStation, devices_for, inputs_for, verify
 
 
 def load_program(target: Target, text: str, filename: str, companions: dict[str, str] | None = None) -> Program:
@@ -108,7 +108,7 @@ def sweep_unknown_ids(
             report.unknown_ids += 1
             try:
                 case = Case("unknown_station", UnknownStation(station_id))
-                inputs, devices = inputs_for(cell, target, case.reading), (vision_pc(cell, target, case),)
+                inputs, devices = inputs_for(cell, target, case.reading), devices_for(cell, target, case)
                 got = program.run(inputs, step_limit=step_limit, arm=arm, devices=devices)
                 problem = None
                 if len(got.moves) != before or not got.halted or got.halt_message != f"{text}{station_id}":

@@ -99,7 +99,7 @@ TABLE = {
     "index_base_off_by_one": {
         "ur": (r"vis_x - mark\[0\]", "vis_x - mark[1]"),
         "abb": (r"vis_x - mark\{1\}", "vis_x - mark{2}"),
-        "dtrans": (r"markp\[0\] - mark\[0\]", "markp[0] - mark[1]"),
+        "dtrans": (r"vis_mark\[0\] - mark\[0\]", "vis_mark[0] - mark[1]"),
     },
     "units_degrees_as_radians": {
         "ur": (r"phi = d2r\(", "phi = ("),

@@ -20,6 +20,7 @@ class Case:
     category: str
     reading: Any  # the kind's case type; has station_id
     vision: str = "prompt"
+    gripper: str = "prompt"  # how the simulated gripper answers the work pose's signal (codegen.signals)
 
 
 class ProgramKind:

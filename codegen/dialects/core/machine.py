@@ -29,9 +29,23 @@ class MoveEvent:
 
 
 @dataclass
+class SignalEvent:
+    """A digital output the program set: its name in the program's terms, the value, where, when (s),
+    whether the arm was still moving then and how many moves the program had commanded before it."""
+
+    name: str
+    value: bool
+    line: int
+    time: float
+    moving: bool
+    after_moves: int
+
+
+@dataclass
 class Trace:
     messages: list[str] = field(default_factory=list)
     moves: list[MoveEvent] = field(default_factory=list)
+    outputs: list[SignalEvent] = field(default_factory=list)
     halted: bool = False
     halt_message: str | None = None
     steps: int = 0
@@ -132,6 +146,7 @@ class Machine:
         self.clock = 0.0
         self.arm_until = 0.0
         self.last_move: MoveEvent | None = None
+        self.signals: dict[str, bool] = {}  # digital inputs and outputs by name (devices set the inputs)
         self._last_tcp2base: np.ndarray | None = None
 
     # --- time --------------------------------------------------------------------------------
@@ -152,6 +167,14 @@ class Machine:
         self.last_move = event
         if not runs_ahead:
             self.clock = self.arm_until
+
+    def set_output(self, name: str, value: bool, where: str) -> None:
+        """A digital output set by the program, recorded with the moment (the devices act on it)."""
+        self.signals[name] = bool(value)
+        line = int(where.split(":")[1]) if where.count(":") >= 2 else 0
+        event = SignalEvent(name, bool(value), line, self.clock, self.moving, len(self.trace.moves))
+        self.trace.outputs.append(event)
+        self.wait(where)
 
     def arrive(self, where: str) -> None:
         """An instruction that waits until the arm stands still (an advance-run stop, an in-position
@@ -261,12 +284,15 @@ class Program:
         step_limit: int = DEFAULT_STEP_LIMIT,
         devices: Iterable[Device] = (),
         arm=None,
+        signals: dict | None = None,
     ) -> Trace:
         """One run from the initial globals with these inputs; devices (simulated equipment beside
         the controller) act whenever the program waits; arm (codegen.robot.arms.Arm): the arm whose
-        joints each move must reach by the controller's rules (None: poses only)."""
+        joints each move must reach by the controller's rules (None: poses only); signals: digital
+        inputs by name at the start."""
         globals_, types, extra = self._prepare(step_limit)
         machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices), arm)
+        machine.signals.update(signals or {})
         machine.globals = dict(globals_)  # values are never changed in place: sharing them is safe
         machine.global_types = dict(types)
         machine.extra = dict(extra)

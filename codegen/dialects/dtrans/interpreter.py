@@ -68,6 +68,15 @@ def printf(fmt: str, args: list, where: str) -> str:
     return text
 
 
+IO_MAX = 15  # digital I/O 0..15 (assumed, dtrans.toml signals)
+
+
+def _io_index(value, where: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= IO_MAX:
+        raise RunError(f"{where}: a digital signal number is 0..{IO_MAX}, got {value!r}")
+    return value
+
+
 class DTransCompiler(Compiler):
     name = "dtrans"
     index_base = 0
@@ -84,6 +93,9 @@ class DTransCompiler(Compiler):
                 raise RunError(f"{where}: Trans takes 6 numbers, got {len(args)}")
             return point([_num(a, where) for a in args])
 
+        def din(fr, args, kwargs, where):
+            return fr.m.signals.get(f"DI[{_io_index(args[0], where)}]", False)
+
         def sqrt(fr, args, kwargs, where):
             value = _num(args[0], where)
             if value < 0:
@@ -98,6 +110,7 @@ class DTransCompiler(Compiler):
             "sqrt": sqrt,
             "abs": lambda fr, a, k, w: abs(a[0]) if isinstance(a[0], int) else f32(abs(_num(a[0], w))),
             "Trans": trans,
+            "DIn": din,
         }
 
     def coerce(self, type_name, value, where):
@@ -191,6 +204,17 @@ class DTransCompiler(Compiler):
 
     def s_wait_stmt(self, node):
         return self.wait_until(node.children[0], node, "WaitUntil")
+
+    def s_setdo_stmt(self, node):
+        index, value, where = self.expr(node.children[0]), self.expr(node.children[1]), self.where(node)
+
+        def run(fr):
+            on = value(fr)
+            if not isinstance(on, bool):
+                raise RunError(f"{where}: SetDO takes True or False")
+            fr.m.set_output(f"DO[{_io_index(index(fr), where)}]", on, where)  # moves block: the arm stands still
+
+        return run
 
     def s_sleep_stmt(self, node):
         seconds, where = self.expr(node.children[0]), self.where(node)

@@ -14,6 +14,7 @@ from codegen.dialects.core.machine import MoveEvent, Program, pause
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import F32, Record, RunError, Signal, constant, f32
+from codegen.dialects.krl import io
 from codegen.dialects.krl.builtins import (
     CART,
     SIMPLE,
@@ -215,6 +216,9 @@ class KRLCompiler(Compiler):
         return Src(f"(_u if (_u := {inner}) is not _UNINIT else _valid(_u, {where!r}, {name!r}))")
 
     def e_index(self, node):
+        io_read = io.input_read(self, node)
+        if io_read is not None:
+            return io_read
         base_node, *index_nodes = node.children
         if len(index_nodes) != 1:
             self.fail(node, "multi-dimensional arrays are not supported")
@@ -302,9 +306,11 @@ class KRLCompiler(Compiler):
     def s_assign(self, node):
         target_node, value_node = node.children
         is_var = isinstance(target_node, Tree) and target_node.data == "var"
-        system_field = path_variable_store(self, target_node, value_node, node)
-        if system_field is not None:
-            return system_field
+        system_store = path_variable_store(self, target_node, value_node, node) or io.output_store(
+            self, target_node, value_node, node
+        )
+        if system_store is not None:
+            return system_store
         if is_var and str(target_node.children[0]).upper() == "$BASE":
             value, where = self.expr(value_node), self.where(node)
 

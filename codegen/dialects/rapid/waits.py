@@ -1,4 +1,4 @@
-"""RAPID instructions compiled from their argument nodes: WaitUntil, WaitTime, WaitRob and BookErrNo."""
+"""RAPID instructions compiled from their argument nodes: WaitUntil, WaitTime, WaitRob, BookErrNo, SetDO, WaitDI."""
 
 from __future__ import annotations
 
@@ -112,4 +112,60 @@ def book_errno(compiler, node, args_node) -> Callable:
     return lambda fr: store(fr, errors.book_errno(fr, where))
 
 
-SPECIAL = {"WAITUNTIL": wait_until, "WAITTIME": wait_time, "WAITROB": wait_rob, "BOOKERRNO": book_errno}
+# SetDO Signal, Value and WaitDI Signal, Value [\MaxTime] [\TimeFlag] (RAPID instructions, as recalled):
+# the signal is a digital output or input of the controller's I/O configuration (EIO), named as written;
+# the program does not declare it. SetDO sets the output when the instruction runs (after a fine point:
+# once the arm stands there); WaitDI waits until the input has the value, with \MaxTime as WaitUntil's.
+def _signal(compiler, node, arg) -> str:
+    if not (isinstance(arg, Tree) and arg.data == "var"):
+        compiler.fail(node, f"{node.children[0]}: the signal is a name of the I/O configuration")
+    return str(arg.children[0])
+
+
+def _digital(value, where: str) -> bool:
+    number = num(value, where)
+    if number not in (0, 1):
+        raise RunError(f"{where}: a digital signal's value is 0 or 1, got {number:g}")
+    return bool(number)
+
+
+def set_do(compiler, node, args_node) -> Callable:
+    positional, _named = _args(compiler, node, args_node, set())
+    if len(positional) != 2:
+        compiler.fail(node, "SetDO takes a signal and a value")
+    name, value, where = _signal(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)
+    return lambda fr: fr.m.set_output(name, _digital(value(fr), where), where)
+
+
+def wait_di(compiler, node, args_node) -> Callable:
+    positional, named = _args(compiler, node, args_node, {"MAXTIME", "TIMEFLAG"})
+    if len(positional) != 2:
+        compiler.fail(node, "WaitDI takes a signal and a value")
+    name, value, where = _signal(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)
+    max_time = _value(compiler, node, named, "MAXTIME")
+    flag = compiler.lvalue(named["TIMEFLAG"]) if named.get("TIMEFLAG") is not None and max_time is not None else None
+
+    def run(fr):
+        want, m = _digital(value(fr), where), fr.m
+        came = m.signals.get(name, False) == want
+        if not came:
+            seconds = None if max_time is None else num(max_time(fr), where)
+            came = m.wait_for(lambda: m.signals.get(name, False) == want, where, seconds, "WaitDI")
+            if flag is not None:
+                flag(fr, not came)
+            elif not came:
+                raise errors.wait_maxtime(where, "WaitDI", seconds)
+        elif flag is not None:
+            flag(fr, False)
+
+    return run
+
+
+SPECIAL = {
+    "WAITUNTIL": wait_until,
+    "WAITTIME": wait_time,
+    "WAITROB": wait_rob,
+    "BOOKERRNO": book_errno,
+    "SETDO": set_do,
+    "WAITDI": wait_di,
+}

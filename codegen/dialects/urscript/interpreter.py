@@ -21,6 +21,7 @@ INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_registe
 # speed v (rad/s^2, rad/s for movej; m/s^2, m/s for movel), blend radius r (m; 0: stop at the pose)
 # One controller cycle, sync()'s wait: 500 Hz on the e-Series (URScript manual, sync(); get_steptime()).
 STEP_TIME_S = 0.002
+DIGITAL_MAX = 7  # standard digital I/O 0..7 of the control box (ur.toml signals)
 # The clock's move time is the TCP distance over a TCP speed: movel's v is one (m/s); movej's v is a
 # joint speed (rad/s), taken as the speed of a TCP 1 m from the axis (enough to order waits).
 MM_PER_M = 1000.0
@@ -204,6 +205,18 @@ class URScriptCompiler(Compiler):
         def sleep(fr, args, kwargs, where):
             fr.m.elapse(float(_num(args[0], where, "sleep time")), where)
 
+        def set_standard_digital_out(fr, args, kwargs, where):
+            index = int(_num(args[0], where, "digital output"))
+            if not 0 <= index <= DIGITAL_MAX or not isinstance(args[1], bool):
+                raise RunError(f"{where}: set_standard_digital_out(n, b) takes n 0..{DIGITAL_MAX} and True or False")
+            fr.m.set_output(f"standard_digital_out[{index}]", args[1], where)
+
+        def get_standard_digital_in(fr, args, kwargs, where):
+            index = int(_num(args[0], where, "digital input"))
+            if not 0 <= index <= DIGITAL_MAX:
+                raise RunError(f"{where}: get_standard_digital_in(n) takes n 0..{DIGITAL_MAX}")
+            return fr.m.signals.get(f"standard_digital_in[{index}]", False)
+
         def is_steady(fr, args, kwargs, where):
             return not fr.m.moving  # moves return when the arm has arrived: at rest after every move
 
@@ -255,6 +268,8 @@ class URScriptCompiler(Compiler):
             "sync": sync,
             "sleep": sleep,
             "is_steady": is_steady,
+            "set_standard_digital_out": set_standard_digital_out,
+            "get_standard_digital_in": get_standard_digital_in,
             "popup": popup,
             "sin": _unary(math.sin),
             "cos": _unary(math.cos),

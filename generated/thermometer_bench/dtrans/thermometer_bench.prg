@@ -17,6 +17,9 @@ Int vis_ack = 0
 Int weizhi = 0
 // markp = mark now [x mm, y mm, c deg] in the robot base frame
 Double markp[3] = {0.0, 0.0, 0.0}
+// vis_mark = the reading this cycle uses, copied from markp once its answer came (a later answer
+// to the same request cannot move the arm somewhere else)
+Double vis_mark[3] = {0.0, 0.0, 0.0}
 // answers to command 2 (frame mode): the mark in pixels (vis_u, vis_v) and its image angle (vis_angle, deg)
 Double vis_u = 0.0
 Double vis_v = 0.0
@@ -72,7 +75,7 @@ EndSub
 
 Function Double vis_dtheta(Double mark[])
   // rotation of the mark since calibration, wrapped into (-180, 180] deg
-  Double d = markp[2] - mark[2]
+  Double d = vis_mark[2] - mark[2]
   While d > 180.0
     d = d - 360.0
   EndWhile
@@ -84,11 +87,11 @@ EndFunction
 
 Function Int vis_guard(Double mark[])
   // 0 ok, 1 invalid reading, 2 shift over limit, 3 rotation over limit
-  If Not (abs(markp[0]) <= RANGE_MM And abs(markp[1]) <= RANGE_MM And abs(markp[2]) <= RANGE_DEG) Then
+  If Not (abs(vis_mark[0]) <= RANGE_MM And abs(vis_mark[1]) <= RANGE_MM And abs(vis_mark[2]) <= RANGE_DEG) Then
     Return 1
   EndIf
-  Double dx = markp[0] - mark[0]
-  Double dy = markp[1] - mark[1]
+  Double dx = vis_mark[0] - mark[0]
+  Double dy = vis_mark[1] - mark[1]
   If dx * dx + dy * dy > MAX_SHIFT_SQ Then
     Return 2
   EndIf
@@ -105,8 +108,8 @@ Function Point vis_apply(Double mark[], Point taught)
   Decompose p[0] = taught
   Double tx = mark[0]
   Double ty = mark[1]
-  Double tnx = markp[0]
-  Double tny = markp[1]
+  Double tnx = vis_mark[0]
+  Double tny = vis_mark[1]
   Double phi = ANGLE_SIGN * vis_dtheta(mark)
   Double Px = p[0]
   Double Py = p[1]
@@ -126,7 +129,7 @@ Sub vis_log(Int station_id, Double mark[], Point moved, Point taught)
   Double t[6]
   Decompose m[0] = moved
   Decompose t[0] = taught
-  TPWrite 0, "deviation station:%d, dx1:%.2f, dy1:%.2f, dx2:%.2f, dy2:%.2f, dtheta:%.2f", station_id, m[0] - t[0], m[1] - t[1], markp[0] - mark[0], markp[1] - mark[1], ANGLE_SIGN * vis_dtheta(mark)
+  TPWrite 0, "deviation station:%d, dx1:%.2f, dy1:%.2f, dx2:%.2f, dy2:%.2f, dtheta:%.2f", station_id, m[0] - t[0], m[1] - t[1], vis_mark[0] - mark[0], vis_mark[1] - mark[1], ANGLE_SIGN * vis_dtheta(mark)
 EndSub
 
 Function Point vis_planar(Double tx, Double ty, Double tnx, Double tny, Double phi, Double Px, Double Py)
@@ -239,6 +242,9 @@ EndSub
 
 // main: ask the vision PC to read the station, then visit the station it names
 Call vis_ask(1)
+vis_mark[0] = markp[0]
+vis_mark[1] = markp[1]
+vis_mark[2] = markp[2]
 If weizhi == 1 Then
   Call st_bath()
 ElseIf weizhi == 2 Then

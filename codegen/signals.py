@@ -1,0 +1,142 @@
+"""The work pose's signal from [cell.io]: the output set there, the feedback awaited, and a simulated gripper."""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+from codegen.dialects.core.machine import Machine
+
+SIGNAL_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,31}")  # a configured I/O signal's name (RAPID: EIO)
+TIMEOUT_S = 2.0
+POLL_S = 0.05  # how often a program looks at the feedback while it waits (as the vision handshake)
+
+
+@dataclass(frozen=True)
+class SignalSettings:
+    """[cell.io]: at the work pose the program sets `output` to `value` (a gripper closing, a clamp), then
+    waits until the `feedback` input is on (the sensor that confirms the action; if the cell names one)
+    for at most timeout_s; per target, the signal as the controller names it (an index or a configured
+    name, targets/<t>.toml signals)."""
+
+    output: dict  # target -> index or name
+    value: bool = True
+    feedback: dict = field(default_factory=dict)  # target -> index or name; empty: no feedback
+    timeout_s: float = TIMEOUT_S
+
+
+def parse_settings(ctx, cell_table: dict, targets) -> SignalSettings | None:
+    """[cell.io] of a cell file (optional); every target of the cell names its output, and its feedback
+    when any does. Errors name the key."""
+    if "io" not in cell_table:
+        return None
+    table = ctx.table(cell_table, "io", "cell.io")
+    ctx.no_unknown(table, {"output", "value", "feedback", "timeout_s"}, "cell.io")
+    output = _per_target(ctx, table, "output", targets, required=True)
+    feedback = _per_target(ctx, table, "feedback", targets, required=False)
+    value = table.get("value", True)
+    if not isinstance(value, bool):
+        ctx.fail("cell.io.value", f"must be true or false, got {value!r}")
+    timeout = ctx.number(table, "timeout_s", "cell.io.timeout_s") if "timeout_s" in table else TIMEOUT_S
+    if not 4 * POLL_S <= timeout <= 600:
+        ctx.fail("cell.io.timeout_s", f"must be between {4 * POLL_S:g} and 600 s, got {timeout}")
+    return SignalSettings(output, value, feedback, timeout)
+
+
+def _per_target(ctx, table: dict, key: str, targets, required: bool) -> dict:
+    from codegen.controllers import get_target
+
+    if key not in table:
+        if required:
+            ctx.fail(f"cell.io.{key}", "required: the signal per target of the cell (its number or name there)")
+        return {}
+    raw = ctx.table(table, key, f"cell.io.{key}")
+    out = {}
+    for target in targets:
+        path = f"cell.io.{key}.{target}"
+        facts = get_target(target).program.get("signals")
+        if facts is None:  # a program that cannot set the signal must not be made without it
+            ctx.fail("cell.io", f"{target} programs have no digital I/O instructions (targets/{target}.toml): "
+                     f"take {target} out of cell.targets or the gripper's signal out of the cell")
+        if target not in raw:
+            ctx.fail(path, "missing: every target of the cell names the signal")
+        value = raw[target]
+        if facts["form"] == "index":
+            low, high = facts["range"]
+            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+                ctx.fail(path, f"expected a {target} signal number {low}..{high}, got {value!r}")
+        elif not isinstance(value, str) or not SIGNAL_NAME.fullmatch(value):
+            ctx.fail(path, f"expected a signal name (a letter, then letters, digits or _; 32 at most), got {value!r}")
+        out[target] = value
+    ctx.no_unknown(raw, set(targets), f"cell.io.{key}")
+    return out
+
+
+def signal_name(target, kind: str, value) -> str:
+    """The signal as the interpreter knows it ("output" or "input"): the target's pattern with the index."""
+    return target.program["signals"][kind].format(n=value)
+
+
+def polls(settings: SignalSettings) -> int:
+    return math.ceil(settings.timeout_s / POLL_S - 1e-9)
+
+
+def output_problem(cell, target, expected, got, before: int) -> str | None:
+    """The work pose's output in a run against the cell: set once, to the value, after the move to the
+    work pose (before: the moves ahead of the station's, a home move) with the arm standing still;
+    not at all where the station stopped before its work pose. None: as it should be."""
+    io = cell.io
+    if io is None or not target.program.get("signals"):
+        return None
+    station = expected.station
+    reached = station is not None and len(expected.moves) >= len(station.poses)
+    if not reached:
+        early = got.outputs[0].name if got.outputs else None
+        return None if early is None else f"output {early} set, but the station stops before its work pose"
+    name = signal_name(target, "output", io.output[target.name])
+    events = [e for e in got.outputs if e.name == name]
+    if len(events) != 1:
+        return f"output {name} set {len(events)} times, expected once at the work pose"
+    event, work = events[0], before + len(station.poses)
+    if event.value != io.value or event.after_moves != work:
+        return (
+            f"output {name} (line {event.line}) set to {event.value} after move {event.after_moves}, expected "
+            f"{io.value} after move {work} (the work pose)"
+        )
+    if event.moving:
+        return f"output {name} (line {event.line}) set while the arm moves: it must wait for the work pose"
+    return None
+
+
+GRIPPER_S = 0.3  # how long the simulated gripper takes to confirm
+GRIPPER_BEHAVIOURS = ("prompt", "silent")
+
+
+@dataclass
+class Gripper:
+    """A gripper (or a machine's clamp) beside the controller, a device of Program.run: when the program
+    sets the output to the value, the feedback input turns on after GRIPPER_S ("silent": never)."""
+
+    output: str
+    feedback: str | None
+    value: bool = True
+    behaviour: str = "prompt"
+    _due: float | None = None
+    _done: bool = False
+
+    def next_time(self, machine: Machine) -> float | None:
+        return self._due
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        if self.feedback is None or self._done:
+            return False
+        if self._due is None:
+            if machine.signals.get(self.output) == self.value and self.behaviour != "silent":
+                self._due = machine.clock + GRIPPER_S
+            return False
+        if machine.clock >= self._due:
+            machine.signals[self.feedback] = True
+            self._due, self._done = None, True
+            return True
+        return False

@@ -1,0 +1,115 @@
+"""The controller-ready cell sections ([cell.vision], [cell.motion], [cell.io]) and the work pose's signal."""
+
+import re
+from pathlib import Path
+
+import pytest
+from target_base import replace_once
+
+from codegen.cell import CellError, cell_from_dict, load_cell
+from codegen.controllers import get_target
+from codegen.dialects.rapid.interpreter import load as load_rapid
+from codegen.render import render
+from codegen.verify import build_cases, verify
+from codegen.verify_runs import load_program
+
+SIGNAL = "  IF NOT VIS_SIGNAL() THEN\n    RETURN\n  ENDIF\n"
+WORK_THEN_SIGNAL = "  $VEL.CP = 0.0500\n  LIN TARGET\n" + SIGNAL
+SIGNAL_THEN_WORK = SIGNAL + "  $VEL.CP = 0.0500\n  LIN TARGET\n"
+DEMO = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "agv_machine_tending.toml"
+
+
+def _demo_dict() -> dict:
+    import tomllib
+
+    return tomllib.loads(DEMO.read_text(encoding="utf-8"))
+
+
+@pytest.mark.parametrize(
+    ("table", "values", "message"),
+    [
+        ("vision", {"timeout_s": 0.1}, r"cell\.vision\.timeout_s: must be between 0\.2 and 600 s"),
+        ("vision", {"timeout": 5}, r"cell\.vision\.timeout: unknown key"),
+        ("motion", {"speed_mm_s": 0}, r"cell\.motion\.speed_mm_s: must be in \(0, 5000\] mm/s"),
+        ("motion", {"zone_mm": 300}, r"cell\.motion\.zone_mm: must be in \[0, 200\] mm"),
+        ("motion", {"retreat_mm": -5}, r"cell\.motion\.retreat_mm: must be in \[0, 1000\] mm"),
+        ("motion", {"return_home": "yes"}, r"cell\.motion\.return_home: must be true or false"),
+        ("io", {"output": {"ur": 9, "kuka": 17, "abb": "doX", "dtrans": 1}}, r"io\.output\.ur: expected a ur signal"),
+        ("io", {"output": {"ur": 0, "kuka": 17, "dtrans": 1}}, r"cell\.io\.output\.abb: missing"),
+        ("io", {"output": {"ur": 0, "kuka": 17, "abb": "do X", "dtrans": 1}}, r"io\.output\.abb: expected a signal"),
+        ("io", {"feedback": {"ur": 0}}, r"cell\.io\.output: required"),
+    ],
+)
+def test_a_bad_section_names_its_key(table, values, message):
+    data = _demo_dict()
+    data["cell"][table] = values
+    with pytest.raises(CellError, match=message):
+        cell_from_dict(data, "cell.toml")
+
+
+def test_the_demo_cell_names_its_speeds_zone_signal_and_timeout():
+    cell = load_cell(DEMO)
+    assert (cell.motion.speed_mm_s, cell.motion.work_speed_mm_s, cell.motion.zone_mm) == (250.0, 50.0, 10.0)
+    assert cell.io.output["kuka"] == 17 and cell.io.feedback["abb"] == "diGripClosed"
+    assert cell.vision.timeout_s == 5.0
+    # the retreat: 50 mm back along the work pose's own z axis (the tool points down: 50 mm up)
+    lathe = cell.stations[0]
+    work, retreat = lathe.poses[-1].matrix(), lathe.retreat.matrix()
+    assert retreat[:3, 3] - work[:3, 3] == pytest.approx(-50.0 * work[:3, 2])
+
+
+def test_a_signal_set_after_a_fly_by_point_is_set_while_the_arm_moves():
+    """RAPID runs ahead of a fly-by point: SetDO then acts before the arm arrives; after a fine point it waits."""
+    module = (
+        "MODULE m\n  PROC main()\n"
+        "    MoveL [[500,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n"
+        "    MoveL [[600,0,400],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, {zone}, tool0;\n"
+        "    SetDO doGrip, 1;\n  ENDPROC\nENDMODULE\n"
+    )
+    for zone, moving in (("z10", True), ("fine", False)):
+        trace = load_rapid(module.replace("{zone}", zone), "m.mod").run({})
+        (event,) = trace.outputs
+        assert (event.name, event.value, event.after_moves, event.moving) == ("doGrip", True, 2, moving)
+
+
+@pytest.fixture(scope="module")
+def demo():
+    cell = load_cell(DEMO)
+    return cell, build_cases(cell, 2, 5)
+
+
+def _mismatches(cell, cases, target: str, edit) -> list[str]:
+    files = render(cell, [target])
+    main = next(f for f in files if f.relpath.endswith(get_target(target).suffixes[0]))
+    companions = {"." + f.relpath.rsplit(".", 1)[1]: f.text for f in files if f is not main}
+    program = load_program(get_target(target), edit(main.text), "mutant", companions)
+    return verify(cell, [target], {target: (program, ["mutant"])}, cases)[0].first_mismatches
+
+
+@pytest.mark.parametrize(
+    ("target", "old", "new", "says"),
+    [
+        # the gripper is never closed
+        ("ur", "    vis_signal()\n", "", "output standard_digital_out[0] set 0 times"),
+        # the signal before the work pose: the output changes at the approach
+        ("kuka", WORK_THEN_SIGNAL, SIGNAL_THEN_WORK, "expected True after move 3"),
+        # no wait for the feedback: the station goes on without the gripper closed
+        ("abb", "    WaitDI diGripClosed, 1 \\MaxTime:=IO_TIMEOUT;\n", "", "gripper_silent"),
+        # the feedback read from the wrong input: it never comes
+        ("dtrans", "While Not DIn(2)", "While Not DIn(3)", "no feedback from the gripper in 2 s"),
+    ],
+)
+def test_verify_fails_a_broken_signal(demo, target, old, new, says):
+    cell, cases = demo
+    found = _mismatches(cell, cases, target, lambda text: replace_once(text, old, new))
+    assert found and any(says in m for m in found), found[:3]
+
+
+def test_the_signal_is_in_every_demo_program():
+    cell = load_cell(DEMO)
+    text = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell)}
+    assert re.search(r"set_standard_digital_out\(0, True\)", text["agv_machine_tending.script"])
+    krl = text["agv_machine_tending.src"]
+    assert "$OUT[17] = TRUE" in krl and "WHILE NOT $IN[18]" in krl
+    assert "SetDO doGripClose, 1;" in text["agv_machine_tending.mod"]
+    assert "SetDO 1, True" in text["agv_machine_tending.prg"]
