@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 
 import click
@@ -244,6 +245,13 @@ def _parse_input(text: str):
     help="A digital input on at the start, NAME=1 (repeatable), as the program names it (the input pattern of "
     "[program] signals in targets/<t>.toml, e.g. standard_digital_in[1]): a gripper's feedback.",
 )
+@click.option(
+    "--start",
+    "start",
+    default=None,
+    help="Where the arm stands when the program starts: J1,...,J6 in deg (a program that checks it before "
+    "it moves, e.g. UR get_actual_joint_positions(), RAPID CJointT(), needs it).",
+)
 @step_limit_option("Stop a runaway program after this many steps.")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def run(
@@ -251,6 +259,7 @@ def run(
     target_name: str | None,
     inputs: tuple[str, ...],
     signal_values: tuple[str, ...],
+    start: str | None,
     robot: str | None,
     step_limit: int,
     as_json: bool,
@@ -275,6 +284,14 @@ def run(
     except ValueError as exc:
         raise UserError(str(exc)) from None
     values = dict(_parse_input(i) for i in inputs)
+    joints = None
+    if start is not None:
+        try:
+            joints = [float(v) for v in start.split(",")]
+        except ValueError:
+            joints = []
+        if len(joints) != 6 or not all(math.isfinite(v) for v in joints):
+            raise UserError(f"--start {start!r}: expected six joint angles J1,...,J6 in deg")
     on = {}
     for item in signal_values:
         name, sep, value = item.partition("=")
@@ -306,7 +323,7 @@ def run(
         # the vision PC answers the program's request to read the station with the --input values
         reading = {name: values[name] for name in target.program["inputs"].values() if name in values}
         devices = [VisionPC.for_target(target, reading)]
-        trace = program.run(values, step_limit=step_limit, devices=devices, arm=arm, signals=on)
+        trace = program.run(values, step_limit=step_limit, devices=devices, arm=arm, signals=on, start_joints=joints)
     except RunError as exc:
         click.echo(f"error: {exc}", err=True)
         sys.exit(1)

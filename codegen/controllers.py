@@ -78,6 +78,7 @@ _PROGRAM = {
     "base_data": dict,  # name ("...{n}...") and max of the controller's numbered bases
     "joint_unit": str,  # "deg" or "rad": how the language writes joint positions
     "tool_data": dict,  # tool and load ("...{n}...") and max of the controller's numbered tools and loads
+    "restart": str,  # "at_home": refuses to start away from home; "bco": a PTP home from anywhere; "none"
     "signals": dict,  # digital I/O ([cell.io]): form "index" (range) or "name"; output and input ("...{n}...")
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")

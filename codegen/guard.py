@@ -20,6 +20,7 @@ SHIFT_OVER_LIMIT = "shift_over_limit"
 ROTATION_OVER_LIMIT = "rotation_over_limit"
 NO_ANSWER = "no_answer"  # the vision PC did not answer the program's request in time (codegen.vision)
 NO_FEEDBACK = "no_feedback"  # the work pose's signal was not confirmed in time (codegen.signals)
+NOT_AT_HOME = "not_at_home"  # the program was started with the arm away from home (restart = "at_home")
 
 # The codes a program's guard function returns: 0 ok, then the reasons in the order they are checked.
 GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}
@@ -47,6 +48,8 @@ def halt_message(cell, reason: str, station_name: str | None, station_id: int) -
         return f"{UNKNOWN_STATION_TEXT}{station_id}"
     if reason == NO_ANSWER:
         return no_answer_text(cell.vision.timeout_s)
+    if reason == NOT_AT_HOME:
+        return f"start with the arm at home (every joint within {cell.motion.start_tolerance_deg:g} deg)"
     if reason == NO_FEEDBACK:
         return f"no feedback from the gripper in {cell.io.timeout_s:g} s"
     name = station_name if station_name is not None else "?"

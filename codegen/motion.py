@@ -18,16 +18,21 @@ class MotionSettings:
     (and RAPID's joint moves); work_speed_mm_s: the last move into the work pose and the retreat from
     it (slow); zone_mm: blending at the poses the arm passes (0: it stops at each), never at the work
     pose or a photo pose; retreat_mm: after the work pose, back along the tool's z axis by this much
-    (0: no retreat); return_home: after the station, a joint move home."""
+    (0: no retreat); return_home: after the station, a joint move home; start_tolerance_deg: how far
+    from home a program that checks where it starts (targets/<t>.toml restart = "at_home") lets a joint be."""
 
     speed_mm_s: float = 250.0
     work_speed_mm_s: float = 50.0
     zone_mm: float = 0.0
     retreat_mm: float = 50.0
     return_home: bool = True
+    start_tolerance_deg: float = 2.0  # a program that refuses to start elsewhere: every joint this close to home
 
 
-_KEYS = {"speed_mm_s", "work_speed_mm_s", "zone_mm", "retreat_mm", "return_home"}
+START_TOLERANCE_MAX_DEG = 30.0
+
+
+_KEYS = {"speed_mm_s", "work_speed_mm_s", "zone_mm", "retreat_mm", "return_home", "start_tolerance_deg"}
 
 
 def parse_settings(ctx, cell_table: dict) -> MotionSettings:
@@ -52,7 +57,11 @@ def parse_settings(ctx, cell_table: dict) -> MotionSettings:
     home = table.get("return_home", default.return_home)
     if not isinstance(home, bool):
         ctx.fail("cell.motion.return_home", f"must be true or false, got {home!r}")
-    return MotionSettings(values["speed_mm_s"], values["work_speed_mm_s"], zone, retreat, home)
+    key = "start_tolerance_deg"
+    tolerance = ctx.number(table, key, f"cell.motion.{key}") if key in table else default.start_tolerance_deg
+    if not 0 < tolerance <= START_TOLERANCE_MAX_DEG:
+        ctx.fail(f"cell.motion.{key}", f"must be in (0, {START_TOLERANCE_MAX_DEG:g}] deg, got {tolerance}")
+    return MotionSettings(values["speed_mm_s"], values["work_speed_mm_s"], zone, retreat, home, tolerance)
 
 
 def retreat2work(retreat_mm: float) -> np.ndarray:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -13,6 +14,7 @@ from codegen.guard import (
     GUARD_CODES,
     NO_ANSWER,
     NO_FEEDBACK,
+    NOT_AT_HOME,
     READING_RANGE_DEG,
     READING_RANGE_MM,
     UNKNOWN_STATION_TEXT,
@@ -130,6 +132,10 @@ def context(cell: Cell, target: Target) -> dict:
             "zone_deg": number(0.15 * cell.motion.zone_mm, 2),
             "retreat_mm": f"{cell.motion.retreat_mm:g}",
             "return_home": cell.motion.return_home,
+            # a program that refuses to start away from home (targets/<t>.toml restart = "at_home")
+            "start_tol_deg": number(cell.motion.start_tolerance_deg, 3),
+            "start_tol_rad": number(math.radians(cell.motion.start_tolerance_deg), 6),
+            "not_at_home": emitter.string(halt_message(cell, NOT_AT_HOME, None, 0)),
         },
         "io": None
         if cell.io is None or not target.program.get("signals")

@@ -19,7 +19,7 @@ from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
-from codegen.guard import NO_ANSWER, NO_FEEDBACK, UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
+from codegen.guard import NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME, UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
 from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace
@@ -120,6 +120,22 @@ def inputs_for(cell: Cell, target: Target, reading, behaviour: str = "prompt") -
     return {**previous, **answered, **kind.inputs(cell, target, reading), **tools}
 
 
+START_AWAY_DEG = (25.0, -15.0, 10.0, 0.0, 0.0, 0.0)  # the arm left away from home (start_away cases)
+
+
+def start_joints(cell: Cell, target: Target, case: Case):
+    """Where the arm stands when the program starts (deg): at home, or away from it; None without an arm."""
+    home = home_move(cell, target.name)
+    if home is None:
+        return None
+    return home[1] + (np.array(START_AWAY_DEG) if case.start == "away" else 0.0)
+
+
+def run_options(cell: Cell, target: Target, case: Case) -> dict:
+    """Keyword arguments of Program.run for a case: its devices and where the arm starts."""
+    return {"devices": devices_for(cell, target, case), "start_joints": start_joints(cell, target, case)}
+
+
 def devices_for(cell: Cell, target: Target, case: Case) -> tuple:
     """The simulated devices of a case: the vision PC, and the gripper where the cell has a work-pose
     signal with feedback."""
@@ -192,6 +208,8 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
         cases.extend(Case(f"vision_{b}", own[0].reading, b) for b in vision.BEHAVIOURS[1:] if own)
         if own and cell.io is not None and cell.io.feedback:  # the gripper never confirms
             cases.append(Case("gripper_silent", own[0].reading, gripper="silent"))
+    if cell.robot is not None and cases:  # the program started with the arm away from home
+        cases.append(Case("start_away", cases[0].reading, start="away"))
     known = {s.id for s in cell.stations}
     for station_id in (0, -1, max(known) + 1, STATION_ID_MAX, 99999):
         if station_id not in known:
@@ -239,7 +257,7 @@ def _pose_errors(a: list, b: list) -> tuple[float, float]:
 def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
-    if trace.reason in (NO_ANSWER, NO_FEEDBACK):
+    if trace.reason in (NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME):
         return emitter.string(halt_message(cell, trace.reason, None, 0))
     kind = get_kind(trace.station.kind)
     return emitter.string(kind.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))
@@ -276,6 +294,8 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
     elif got.halted:
         return f"unexpected halt: {got.halt_message!r}", [], []
     home = home_move(cell, target.name)
+    if expected.reason == NOT_AT_HOME:
+        home = None  # it stops before its first motion
     moves = expected.moves if home is None else (home[0], *expected.moves)
     if home is not None and expected.status == "ok" and cell.motion.return_home:
         moves = (*moves, home[0])  # and home again after the station
@@ -355,7 +375,10 @@ def verify(
         emitter = Emitter(target)
         report = TargetReport(name, files)
         start = time.perf_counter()
+        refuses = target.program.get("restart") == "at_home"
         for (case, accepted, boundary), untrue in zip(expectations, truth, strict=True):
+            if case.start == "away" and refuses:
+                accepted, untrue = [ExpectedTrace("halt", NOT_AT_HOME)], None
             report.cases += 1
             report.categories[case.category] = report.categories.get(case.category, 0) + 1
             report.boundary += boundary
@@ -365,7 +388,7 @@ def verify(
                     inputs_for(model, target, case.reading, case.vision),
                     step_limit=step_limit,
                     arm=arm_of(model, name),
-                    devices=devices_for(model, target, case),
+                    **run_options(model, target, case),
                 )
             except StepLimitError as exc:
                 problem, pos, rot, runaway = f"run error: {exc}; the remaining cases were not run", [], [], True

@@ -15,7 +15,7 @@ from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION_TEXT
 from codegen.kinds import Case, kinds
 from codegen.robot.expect import arm_of, home_move
-from codegen.verify import TargetReport, UnknownStation, devices_for, inputs_for, verify
+from codegen.verify import TargetReport, UnknownStation, inputs_for, run_options, verify
 
 
 def load_program(target: Target, text: str, filename: str, companions: dict[str, str] | None = None) -> Program:
@@ -108,8 +108,8 @@ def sweep_unknown_ids(
             report.unknown_ids += 1
             try:
                 case = Case("unknown_station", UnknownStation(station_id))
-                inputs, devices = inputs_for(cell, target, case.reading), devices_for(cell, target, case)
-                got = program.run(inputs, step_limit=step_limit, arm=arm, devices=devices)
+                inputs, options = inputs_for(cell, target, case.reading), run_options(cell, target, case)
+                got = program.run(inputs, step_limit=step_limit, arm=arm, **options)
                 problem = None
                 if len(got.moves) != before or not got.halted or got.halt_message != f"{text}{station_id}":
                     problem = f"{len(got.moves) - before} moves, halt message {got.halt_message!r}"

@@ -19,7 +19,7 @@ from codegen.dialects import get_dialect, parse_program
 from codegen.kinds import get_kind
 from codegen.render import render
 from codegen.robot.expect import arm_of, home_move
-from codegen.verify import build_cases, devices_for, inputs_for, verify
+from codegen.verify import build_cases, inputs_for, run_options, verify
 from codegen.verify_runs import ProgramSource, fresh_programs, load_program, run_verify, sweep_unknown_ids
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "codegen" / "examples"
@@ -163,7 +163,7 @@ class TargetTests:
             got = program.run(
                 inputs_for(cell, target, case.reading),
                 arm=arm_of(cell, self.target),
-                devices=devices_for(cell, target, case),
+                **run_options(cell, target, case),
             )
             (want, *_), _ = get_kind(station.kind).accepted(cell, case.reading)
             assert not got.halted, (station.name, got.halt_message)

@@ -38,7 +38,8 @@ def test_run_prints_moves_and_log():
 
 
 def test_run_json_and_halt():
-    result = invoke("run", GENERATED / "abb" / "agv_machine_tending.mod", "--input", "vis_station=42", "--json")
+    path = GENERATED / "abb" / "agv_machine_tending.mod"
+    result = invoke("run", path, "--input", "vis_station=42", "--start", "0,0,0,0,90,0", "--json")
     data = json.loads(result.output)
     assert data["halted"] is True and data["halt_message"] == "unknown station id 42"
     (home,) = data["moves"]  # only the home move: without --robot known by its joints alone

@@ -113,3 +113,34 @@ def test_the_signal_is_in_every_demo_program():
     assert "$OUT[17] = TRUE" in krl and "WHILE NOT $IN[18]" in krl
     assert "SetDO doGripClose, 1;" in text["agv_machine_tending.mod"]
     assert "SetDO 1, True" in text["agv_machine_tending.prg"]
+
+
+@pytest.mark.parametrize(
+    ("target", "old", "new"),
+    [
+        # no check where the arm stands: the program moves home from wherever the arm was left
+        ("ur", "      vis_stop(\"start with the arm at home", "      textmsg(\"start with the arm at home"),
+        ("abb", "      vis_stop \"start with the arm at home", "      TPWrite \"start with the arm at home"),
+    ],
+)
+def test_verify_fails_a_start_away_from_home_that_moves(demo, target, old, new):
+    cell, cases = demo
+    found = _mismatches(cell, cases, target, lambda text: replace_once(text, old, new))
+    assert any(m.startswith("start_away") and "expected a halt (not_at_home)" in m for m in found), found[:3]
+
+
+def test_a_program_started_away_from_home_stops_there_or_goes_home_by_its_controller(demo):
+    """UR and RAPID refuse to move (a restart must not move straight to a station); KRL's first PTP home
+    is the BCO run, from anywhere."""
+    cell, cases = demo
+    away = [c for c in cases if c.start == "away"]
+    assert len(away) == 1
+    for target in ("ur", "abb", "kuka"):
+        assert verify(cell, [target], {target: (_program(cell, target), ["p"])}, away)[0].mismatches == 0
+
+
+def _program(cell, target: str):
+    files = render(cell, [target])
+    main = next(f for f in files if f.relpath.endswith(get_target(target).suffixes[0]))
+    companions = {"." + f.relpath.rsplit(".", 1)[1]: f.text for f in files if f is not main}
+    return load_program(get_target(target), main.text, "p", companions)

@@ -53,7 +53,7 @@ def test_the_base_is_the_robot_base_on_a_platform():
     from codegen.dialects.krl.interpreter import load
     from codegen.kinds import get_kind
     from codegen.render import render
-    from codegen.verify import devices_for, inputs_for
+    from codegen.verify import inputs_for, run_options
 
     cell, target = load_cell(), get_target("kuka")
     files = {f.relpath.rsplit(".", 1)[1]: f.text for f in render(cell, ["kuka"])}
@@ -62,7 +62,7 @@ def test_the_base_is_the_robot_base_on_a_platform():
     root = {"$ROBROOT": (1500.0, -300.0, 0.0, 90.0, 0.0, 0.0)}
 
     def moves(src: str, extra: dict) -> list:
-        trace = load(src, "p.src", files["dat"]).run({**inputs, **extra}, devices=devices_for(cell, target, case))
+        trace = load(src, "p.src", files["dat"]).run({**inputs, **extra}, **run_options(cell, target, case))
         assert not trace.halted, trace.halt_message
         return [m.tcp2base for m in trace.moves if m.tcp2base is not None]
 

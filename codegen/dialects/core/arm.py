@@ -44,6 +44,17 @@ class ArmState:
         self.known = False  # a move so far fixed the joints (a joint target or a full configuration)
         self.pending: list[_Pending] = []
 
+    def stand_at(self, q_deg) -> None:
+        """The arm stands at these joints (deg) when the program starts."""
+        self.joints = np.asarray(q_deg, dtype=float)
+
+    def actual(self, where: str) -> np.ndarray:
+        """Where the arm's joints are now (deg): after the moves so far, or where it stood at the start."""
+        self.resolve()
+        if self.joints is None:
+            raise RunError(f"{where}: the arm's joints are not known here (codegen run: --start J1,...,J6 in deg)")
+        return self.joints
+
     def to_joints(self, event, q_deg, where: str) -> None:
         """A move to a joint position (MoveAbsJ, PTP to an AXIS, movej(q)); the pose is the forward
         kinematics with the active tool (without an arm: no pose, event.tcp2base stays None)."""

@@ -285,14 +285,17 @@ class Program:
         devices: Iterable[Device] = (),
         arm=None,
         signals: dict | None = None,
+        start_joints=None,
     ) -> Trace:
         """One run from the initial globals with these inputs; devices (simulated equipment beside
         the controller) act whenever the program waits; arm (codegen.robot.arms.Arm): the arm whose
         joints each move must reach by the controller's rules (None: poses only); signals: digital
-        inputs by name at the start."""
+        inputs by name at the start; start_joints: where the arm stands (deg; None: unknown)."""
         globals_, types, extra = self._prepare(step_limit)
         machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices), arm)
         machine.signals.update(signals or {})
+        if start_joints is not None:  # where the arm stands when the program starts (deg)
+            machine.arm.stand_at(start_joints)
         machine.globals = dict(globals_)  # values are never changed in place: sharing them is safe
         machine.global_types = dict(types)
         machine.extra = dict(extra)

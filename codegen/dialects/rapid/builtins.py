@@ -26,7 +26,7 @@ RECORDS = {
     "ROBTARGET": [("TRANS", "POS"), ("ROT", "ORIENT"), ("ROBCONF", "CONFDATA"), ("EXTAX", "EXTJOINT")],
     "LOADDATA": [("MASS", "NUM"), ("COG", "POS"), ("AOM", "ORIENT"), ("IX", "NUM"), ("IY", "NUM"), ("IZ", "NUM")],
     "TOOLDATA": [("ROBHOLD", "BOOL"), ("TFRAME", "POSE"), ("TLOAD", "LOADDATA")],
-    "ROBJOINT": [(f"ROB_AX{i}", "NUM") for i in range(1, 7)],
+    "ROBJOINT": [(f"RAX_{i}", "NUM") for i in range(1, 7)],  # rax_1..rax_6 (RAPID data types, robjoint)
     "JOINTTARGET": [("ROBAX", "ROBJOINT"), ("EXTAX", "EXTJOINT")],
     "WOBJDATA": [("ROBHOLD", "BOOL"), ("UFPROG", "BOOL"), ("UFMEC", "STRING"), ("UFRAME", "POSE"), ("OFRAME", "POSE")],
     "SPEEDDATA": [("V_TCP", "NUM"), ("V_ORI", "NUM"), ("V_LEAX", "NUM"), ("V_REAX", "NUM")],
@@ -290,11 +290,16 @@ def builtins(compiler) -> dict:
 
         return run
 
+    def c_joint_t(fr, args, kwargs, where):
+        """CJointT(): the arm's current joint angles (deg) as a jointtarget (RAPID functions)."""
+        q = fr.m.arm.actual(where)
+        return compiler.coerce("JOINTTARGET", [[f32(v) for v in q], [f32(9e9)] * 6], where)
+
     def move_abs_j(fr, args, kwargs, where):
         target = args[0]
         if type(target) is not Record or target.type != "JOINTTARGET":
             target = compiler.coerce("JOINTTARGET", target, where)
-        q = vec(target["ROBAX"], tuple(f"ROB_AX{i}" for i in range(1, 7)))
+        q = vec(target["ROBAX"], tuple(f"RAX_{i}" for i in range(1, 7)))
         posemath.check_finite(q, where, "joint target")
         speed, zone, tool = (_setting(args, i) for i in (1, 2, 3))
         settings = {"speed": speed, "zone": zone, "tool": tool, "load": _tool(fr, args, where)}
@@ -323,6 +328,7 @@ def builtins(compiler) -> dict:
         "MOVEJ": move("joint"),
         "MOVEL": move("linear"),
         "MOVEABSJ": move_abs_j,
+        "CJOINTT": c_joint_t,
         "CONFJ": configuration_check("CONFJ"),
         "CONFL": configuration_check("CONFL"),
     }

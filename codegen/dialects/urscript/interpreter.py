@@ -217,6 +217,9 @@ class URScriptCompiler(Compiler):
                 raise RunError(f"{where}: get_standard_digital_in(n) takes n 0..{DIGITAL_MAX}")
             return fr.m.signals.get(f"standard_digital_in[{index}]", False)
 
+        def get_actual_joint_positions(fr, args, kwargs, where):
+            return [f32(v) for v in np.radians(fr.m.arm.actual(where))]
+
         def is_steady(fr, args, kwargs, where):
             return not fr.m.moving  # moves return when the arm has arrived: at rest after every move
 
@@ -268,6 +271,7 @@ class URScriptCompiler(Compiler):
             "sync": sync,
             "sleep": sleep,
             "is_steady": is_steady,
+            "get_actual_joint_positions": get_actual_joint_positions,
             "set_standard_digital_out": set_standard_digital_out,
             "get_standard_digital_in": get_standard_digital_in,
             "popup": popup,

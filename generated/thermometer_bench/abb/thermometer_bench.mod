@@ -67,6 +67,15 @@ MODULE thermometer_bench
   LOCAL CONST robtarget r2_slot := [[431.5000, -248.0000, 262.0000], [0.000000000, 0.707106781, -0.707106781, 0.000000000], [-1, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   PROC main()
+    VAR jointtarget now;
+    ! a defined start: the arm stands at home (every axis within 2.000 deg), or the program stops
+    ! with a message before it moves
+    now := CJointT();
+    IF Abs(now.robax.rax_1 - vis_home.robax.rax_1) > 2.000 OR Abs(now.robax.rax_2 - vis_home.robax.rax_2) > 2.000
+        OR Abs(now.robax.rax_3 - vis_home.robax.rax_3) > 2.000 OR Abs(now.robax.rax_4 - vis_home.robax.rax_4) > 2.000
+        OR Abs(now.robax.rax_5 - vis_home.robax.rax_5) > 2.000 OR Abs(now.robax.rax_6 - vis_home.robax.rax_6) > 2.000 THEN
+      vis_stop "start with the arm at home (every joint within 2 deg)";
+    ENDIF
     ! home first, in joints (no configuration to choose), with the tool and its load
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
     ! ask the vision PC to read the station, then visit the station it names
