@@ -139,7 +139,7 @@ def test_run_refuses_an_input_the_program_does_not_read():
     at_home = ["--start", "180,-90,90,-90,-90,0"]  # the UR's home in the demo cell (its program checks it)
     for program, good, bad, start in (
         (generated / "kuka" / "agv_machine_tending.src", "VIS_STATION=3", "VIS_STATON=3", []),
-        (generated / "ur" / "agv_machine_tending.script", "input_integer_register_24=3", "input_integer_reg=3", at_home),
+        (generated / "ur" / "agv_machine_tending.script", "input_integer_register_24=3", "input_intger=3", at_home),
         (generated / "abb" / "agv_machine_tending.mod", "vis_station=3", "vis_statio=3", ["--start", "0,0,0,0,90,0"]),
         (generated / "dtrans" / "agv_machine_tending.prg", "markp[0]=1.0", "mark[0]=1.0", []),
     ):
