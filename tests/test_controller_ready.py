@@ -144,3 +144,36 @@ def _program(cell, target: str):
     main = next(f for f in files if f.relpath.endswith(get_target(target).suffixes[0]))
     companions = {"." + f.relpath.rsplit(".", 1)[1]: f.text for f in files if f is not main}
     return load_program(get_target(target), main.text, "p", companions)
+
+
+BENCH = DEMO.with_name("thermometer_bench.toml")
+
+
+@pytest.fixture(scope="module")
+def programs():
+    """Every example cell's programs by file name."""
+    return {f.relpath.rsplit("/", 1)[1]: f.text for path in (DEMO, BENCH) for f in render(load_cell(path))}
+
+
+def test_the_review_list_is_cleared_in_the_generated_text(programs):
+    """The issue's review items that are visible in the text (each also has a behaviour test in verify)."""
+    for name, text in programs.items():
+        if name.endswith(".dat"):  # the cells' data are the program's own: two cells coexist on one KRC
+            assert "DECL GLOBAL" not in text, name
+            assert all(f"VIS_PAR[{i}]={{PAR_TYPE #EMPTY}}" in text for i in (1, 2, 3)), name
+        if name.endswith(".src"):
+            # the arm stops, then the request
+            assert re.search(r"WAIT SEC 0 ;[^\n]*\n  VIS_CMD = COMMAND\n", text), name
+            assert "$BASE = $ROBROOT" in text and "$BASE = $NULLFRAME" not in text, name
+            assert re.search(r"SET_KRLMSG\(#QUIT[^\n]*\n  WHILE EXISTS_KRLMSG\(VIS_HANDLE\)", text), name
+        if name.endswith(".mod"):
+            routines = re.findall(r"^  (LOCAL )?(PROC|FUNC) (\w+)", text, re.MULTILINE)
+            assert [r[2] for r in routines if not r[0]] == ["main"], name  # only the entry is global
+            assert not re.search(r"^    VAR wobjdata", text, re.MULTILINE), name  # work objects at module level
+            assert "EXIT;" not in text.replace("    Stop;\n    EXIT;", ""), name  # a stop the operator sees first
+            assert all("\\MaxTime" in line for line in text.splitlines() if line.strip().startswith("WaitUntil")), name
+            assert re.search(r"^  ERROR\n", text, re.MULTILINE), name
+        if name.endswith(".script"):
+            body = text.split("  def vis_stop(message):", 1)[1].split("\n  end\n", 1)[1]
+            assert not re.search(r"^\s+halt$", body, re.MULTILINE), name  # every other stop shows the popup
+            assert "popup(message" in text and "is_steady()" in text, name
