@@ -10,7 +10,7 @@ from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import MoveEvent, Program, pause
+from codegen.dialects.core.machine import Program, pause
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import F32, Record, RunError, Signal, constant, f32
@@ -21,7 +21,6 @@ from codegen.dialects.krl.builtins import (
     STRUCT_FIELDS,
     STRUCTS,
     UNINIT,
-    XYZABC,
     builtins,
     cart,
     cart_matrix,
@@ -31,16 +30,13 @@ from codegen.dialects.krl.builtins import (
     xyzabc,
 )
 from codegen.dialects.krl.motion import (
-    AXES,
+    ACTIVE_BASE_AT_START,
     SYSTEM_ARRAY,
     SYSTEM_ARRAYS,
-    load_record,
-    motion_rule,
-    path_settings,
+    motion_run,
     path_variable_store,
     robroot,
-    tcp_speed,
-    world2robot,
+    system_inputs,
 )
 
 
@@ -51,11 +47,6 @@ def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
 EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
 NO_SKIP = frozenset()
 
-
-# $BASE keeps its value from program to program (KSS 8 system variables): a program starts in whatever
-# base was active. The interpreter assumes one that is not the robot's base, so a program that moves
-# without setting $BASE ($NULLFRAME, or a BASE_DATA) moves somewhere else in its trace.
-ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
 
 
 class KRLCompiler(Compiler):
@@ -142,22 +133,9 @@ class KRLCompiler(Compiler):
         """BASE_DATA[n]=x,y,z,a,b,c, TOOL_DATA[n]=x,y,z,a,b,c and LOAD_DATA[n]=m,x,y,z (mass kg, centre of
         gravity mm) set the controller's numbered bases, tools and loads, as $config.dat holds them."""
         robroot(machine)
-        if not any(SYSTEM_ARRAY.fullmatch(name.upper()) for name in machine.inputs):
+        rest = system_inputs(machine)
+        if rest is None:
             return super().inject_inputs(machine)
-        rest = {}
-        for name, value in machine.inputs.items():
-            match = SYSTEM_ARRAY.fullmatch(name.upper())
-            if match is None:
-                rest[name] = value
-                continue
-            array, index = match.group(1), int(match.group(2))
-            type_name, size, shape = SYSTEM_ARRAYS[array]
-            count = 6 if type_name == "FRAME" else 4
-            if not 1 <= index <= size or not isinstance(value, tuple | list) or len(value) != count:
-                raise RunError(f"input {name}: expected {array}[1..{size}] = {shape}")
-            values = list(machine.extra.get(array) or [new_value(type_name) for _ in range(size)])
-            values[index - 1] = frame(value) if type_name == "FRAME" else load_record(value)
-            machine.extra[array] = values
         original, machine.inputs = machine.inputs, rest
         try:
             super().inject_inputs(machine)
@@ -428,35 +406,7 @@ class KRLCompiler(Compiler):
         where = self.where(node)
         line = self.line(node)
 
-        def run(fr):
-            target = value(fr)
-            if isinstance(target, Record) and target.type is None:  # a bare aggregate {X .., .., C ..}
-                missing = [k for k, _ in XYZABC if k not in target]
-                if missing:
-                    raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
-                target = self.coerce("FRAME", target, where)
-            settings = path_settings(static, kind, fr.m.extra)
-            if isinstance(target, Record) and target.type in AXES:  # axis values: no solution to choose
-                if kind != "joint":
-                    raise RunError(f"{where}: LIN takes a cartesian target")
-                q = [float(valid(target[f"A{i}"], where, f"{target.type}.A{i}")) for i in range(1, 7)]
-                event = MoveEvent(kind, None, line, settings)
-                fr.m.arm.to_joints(event, q, where)
-                fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
-                return
-            pose = cart(target, where)
-            posemath.check_finite(xyzabc(pose), where, "motion target")
-            base = fr.m.extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
-            tcp2base = cart_matrix(pose)
-            if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
-                tcp2base = cart_matrix(base) @ tcp2base
-            if "$ROBROOT" in fr.m.extra:  # $BASE is in the world; the trace is in the robot's base frame
-                tcp2base = world2robot(fr.m.extra["$ROBROOT"]) @ tcp2base
-            event = MoveEvent(kind, tcp2base, line, settings)
-            fr.m.arm.to_pose(event, where, *motion_rule(kind, pose, fr.m.arm, where))
-            fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
-
-        return run
+        return motion_run(self, kind, static, value, where, line)
 
     # --- routines ----------------------------------------------------------------------------
     def routine(self, node, returns: bool) -> None:

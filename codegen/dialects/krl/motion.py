@@ -1,15 +1,20 @@
-"""KRL motion facts: how PTP and LIN pick the joints (Status, Turn, BCO), $LOAD, and the controller's
-numbered bases, tools and loads."""
+"""KRL motion: PTP and LIN (Status, Turn, BCO, $BASE, $ROBROOT), path speed, approximation, $LOAD, numbered data."""
 
 from __future__ import annotations
 
 import re
 
+from codegen.dialects import posemath
+from codegen.dialects.core.machine import MoveEvent
 from codegen.dialects.core.values import Record, RunError, f32
-from codegen.dialects.krl.builtins import UNINIT, cart_matrix, frame
+from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, valid, xyzabc
 from codegen.poses import invert
 
 AXES = ("AXIS", "E6AXIS")
+# $BASE keeps its value from program to program (KSS 8 system variables): a program starts in whatever
+# base was active. The interpreter assumes one that is not the robot's base, so a program that moves
+# without setting $BASE ($NULLFRAME, or a BASE_DATA) moves somewhere else in its trace.
+ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
 # The controller's numbered data ($config.dat; KSS 8 system variables): type, count, how `--input` gives one
 SYSTEM_ARRAYS = {
     "BASE_DATA": ("FRAME", 32, "X,Y,Z,A,B,C"),
@@ -53,6 +58,28 @@ DEFAULT_VEL_CP = 0.25
 def tcp_speed(extra: dict) -> float:
     """The TCP speed of the next move in mm/s ($VEL.CP as the program set it)."""
     return extra.get("$VEL.CP", DEFAULT_VEL_CP) * 1000.0
+
+
+def system_inputs(machine) -> dict | None:
+    """Set the inputs that name the controller's numbered data (BASE_DATA[n], TOOL_DATA[n], LOAD_DATA[n])
+    in machine.extra; the other inputs, or None when there are none of those."""
+    if not any(SYSTEM_ARRAY.fullmatch(name.upper()) for name in machine.inputs):
+        return None
+    rest = {}
+    for name, value in machine.inputs.items():
+        match = SYSTEM_ARRAY.fullmatch(name.upper())
+        if match is None:
+            rest[name] = value
+            continue
+        array, index = match.group(1), int(match.group(2))
+        type_name, size, shape = SYSTEM_ARRAYS[array]
+        count = 6 if type_name == "FRAME" else 4
+        if not 1 <= index <= size or not isinstance(value, tuple | list) or len(value) != count:
+            raise RunError(f"input {name}: expected {array}[1..{size}] = {shape}")
+        values = list(machine.extra.get(array) or [new_value(type_name) for _ in range(size)])
+        values[index - 1] = frame(value) if type_name == "FRAME" else load_record(value)
+        machine.extra[array] = values
+    return rest
 
 
 def robroot(machine) -> None:
@@ -116,3 +143,38 @@ def load_of(load) -> tuple | None:
         return None
     cm = load["CM"]
     return (float(load["M"]), *(float(cm[k]) if cm is not UNINIT else 0.0 for k in ("X", "Y", "Z")))
+
+
+def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
+    """A PTP or LIN at run time: its target as axis values (a joint target) or a cartesian pose in $BASE,
+    recorded in the robot's base frame with the controller's configuration rule; the advance run goes on."""
+
+    def run(fr):
+        target = value(fr)
+        if isinstance(target, Record) and target.type is None:  # a bare aggregate {X .., .., C ..}
+            missing = [k for k, _ in XYZABC if k not in target]
+            if missing:
+                raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
+            target = compiler.coerce("FRAME", target, where)
+        settings = path_settings(static, kind, fr.m.extra)
+        if isinstance(target, Record) and target.type in AXES:  # axis values: no solution to choose
+            if kind != "joint":
+                raise RunError(f"{where}: LIN takes a cartesian target")
+            q = [float(valid(target[f"A{i}"], where, f"{target.type}.A{i}")) for i in range(1, 7)]
+            event = MoveEvent(kind, None, line, settings)
+            fr.m.arm.to_joints(event, q, where)
+            fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
+            return
+        pose = cart(target, where)
+        posemath.check_finite(xyzabc(pose), where, "motion target")
+        base = fr.m.extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
+        tcp2base = cart_matrix(pose)
+        if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
+            tcp2base = cart_matrix(base) @ tcp2base
+        if "$ROBROOT" in fr.m.extra:  # $BASE is in the world; the trace is in the robot's base frame
+            tcp2base = world2robot(fr.m.extra["$ROBROOT"]) @ tcp2base
+        event = MoveEvent(kind, tcp2base, line, settings)
+        fr.m.arm.to_pose(event, where, *motion_rule(kind, pose, fr.m.arm, where))
+        fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
+
+    return run
