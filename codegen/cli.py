@@ -246,6 +246,13 @@ def _parse_input(text: str):
     "[program] signals in targets/<t>.toml, e.g. standard_digital_in[1]): a gripper's feedback.",
 )
 @click.option(
+    "--gripper",
+    "gripper",
+    default=None,
+    help="A simulated gripper OUTPUT=INPUT (names as the program has them, e.g. '$OUT[17]=$IN[18]'): the "
+    "input follows the output after 0.3 s (on when the output is on).",
+)
+@click.option(
     "--start",
     "start",
     default=None,
@@ -259,6 +266,7 @@ def run(
     target_name: str | None,
     inputs: tuple[str, ...],
     signal_values: tuple[str, ...],
+    gripper: str | None,
     start: str | None,
     robot: str | None,
     step_limit: int,
@@ -272,6 +280,7 @@ def run(
     from codegen.dialects.core.values import RunError
     from codegen.emit import unsigned_zero
     from codegen.poses import POSE_FORMATS
+    from codegen.signals import Gripper
     from codegen.verify import target_of_file
     from codegen.verify_runs import load_program_file
     from codegen.vision import VisionPC
@@ -284,6 +293,12 @@ def run(
     except ValueError as exc:
         raise UserError(str(exc)) from None
     values = dict(_parse_input(i) for i in inputs)
+    gripper_names = None
+    if gripper is not None:
+        output, sep, feedback = gripper.partition("=")
+        if not sep or not output.strip() or not feedback.strip():
+            raise UserError(f"--gripper {gripper!r}: expected OUTPUT=INPUT")
+        gripper_names = (output.strip(), feedback.strip())
     joints = None
     if start is not None:
         try:
@@ -323,6 +338,8 @@ def run(
         # the vision PC answers the program's request to read the station with the --input values
         reading = {name: values[name] for name in target.program["inputs"].values() if name in values}
         devices = [VisionPC.for_target(target, reading)]
+        if gripper is not None:
+            devices.append(Gripper(*gripper_names))
         trace = program.run(values, step_limit=step_limit, devices=devices, arm=arm, signals=on, start_joints=joints)
     except RunError as exc:
         click.echo(f"error: {exc}", err=True)

@@ -20,6 +20,7 @@ SHIFT_OVER_LIMIT = "shift_over_limit"
 ROTATION_OVER_LIMIT = "rotation_over_limit"
 NO_ANSWER = "no_answer"  # the vision PC did not answer the program's request in time (codegen.vision)
 NO_FEEDBACK = "no_feedback"  # the work pose's signal was not confirmed in time (codegen.signals)
+NOT_RELEASED = "not_released"  # at the start, the work pose's signal released did not show (its feedback stays on)
 NOT_AT_HOME = "not_at_home"  # the program was started with the arm away from home (restart = "at_home")
 
 # The codes a program's guard function returns: 0 ok, then the reasons in the order they are checked.
@@ -29,7 +30,7 @@ UNKNOWN_STATION_TEXT = "unknown station id "  # the program appends the id it re
 
 def no_answer_text(timeout_s: float) -> str:
     """The message of a program whose request the vision PC did not answer in time."""
-    return f"no answer from the vision PC in {timeout_s:g} s"
+    return f"no answer from the vision PC ({timeout_s:g} s per request)"
 
 
 def reading_in_range(x: float, y: float, theta: float) -> bool:
@@ -50,6 +51,8 @@ def halt_message(cell, reason: str, station_name: str | None, station_id: int) -
         return no_answer_text(cell.vision.timeout_s)
     if reason == NOT_AT_HOME:
         return f"start with the arm at home (every joint within {cell.motion.start_tolerance_deg:g} deg)"
+    if reason == NOT_RELEASED:
+        return f"the gripper did not release in {cell.io.timeout_s:g} s (its feedback stays on)"
     if reason == NO_FEEDBACK:
         return f"no feedback from the gripper in {cell.io.timeout_s:g} s"
     name = station_name if station_name is not None else "?"

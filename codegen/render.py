@@ -15,6 +15,7 @@ from codegen.guard import (
     NO_ANSWER,
     NO_FEEDBACK,
     NOT_AT_HOME,
+    NOT_RELEASED,
     READING_RANGE_DEG,
     READING_RANGE_MM,
     UNKNOWN_STATION_TEXT,
@@ -148,6 +149,7 @@ def context(cell: Cell, target: Target) -> dict:
             "timeout_s": number(cell.io.timeout_s, 3),
             "timeout_text": f"{cell.io.timeout_s:g}",
             "no_feedback": emitter.string(halt_message(cell, NO_FEEDBACK, None, 0)),
+            "not_released": emitter.string(halt_message(cell, NOT_RELEASED, None, 0)),
         },
         "vision": {
             "read": vision.READ,

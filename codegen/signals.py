@@ -7,6 +7,7 @@ import re
 from dataclasses import dataclass, field
 
 from codegen.dialects.core.machine import Machine
+from codegen.guard import NOT_AT_HOME
 
 SIGNAL_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,31}")  # a configured I/O signal's name (RAPID: EIO)
 TIMEOUT_S = 2.0
@@ -89,54 +90,58 @@ def output_problem(cell, target, expected, got, before: int) -> str | None:
     io = cell.io
     if io is None or not target.program.get("signals"):
         return None
+    want = []  # (value, after how many moves, where)
+    if expected.reason != NOT_AT_HOME:  # released at home before the vision PC is asked
+        want.append((not io.value, before, "at home, released"))
     station = expected.station
-    reached = station is not None and len(expected.moves) >= len(station.poses)
-    if not reached:
-        early = got.outputs[0].name if got.outputs else None
-        return None if early is None else f"output {early} set, but the station stops before its work pose"
+    if station is not None and len(expected.moves) >= len(station.poses):
+        want.append((io.value, before + len(station.poses), "at the work pose"))
     name = signal_name(target, "output", io.output[target.name])
     events = [e for e in got.outputs if e.name == name]
-    if len(events) != 1:
-        return f"output {name} set {len(events)} times, expected once at the work pose"
-    event, work = events[0], before + len(station.poses)
-    if event.value != io.value or event.after_moves != work:
-        return (
-            f"output {name} (line {event.line}) set to {event.value} after move {event.after_moves}, expected "
-            f"{io.value} after move {work} (the work pose)"
-        )
-    if event.moving:
-        return f"output {name} (line {event.line}) set while the arm moves: it must wait for the work pose"
+    if len(events) != len(want):
+        return f"output {name} set {len(events)} times, expected {len(want)}: {', '.join(w[2] for w in want) or 'none'}"
+    for event, (value, after, what) in zip(events, want, strict=True):
+        if event.value != value or event.after_moves != after:
+            return (
+                f"output {name} (line {event.line}) set to {event.value} after move {event.after_moves}, expected "
+                f"{value} after move {after} ({what})"
+            )
+        if event.moving:
+            return f"output {name} (line {event.line}) set while the arm moves: it must wait until the arm stands"
     return None
 
 
 GRIPPER_S = 0.3  # how long the simulated gripper takes to confirm
-GRIPPER_BEHAVIOURS = ("prompt", "silent")
+GRIPPER_BEHAVIOURS = ("prompt", "silent", "stuck")  # silent: never confirms the action; stuck: never releases
 
 
 @dataclass
 class Gripper:
-    """A gripper (or a machine's clamp) beside the controller, a device of Program.run: when the program
-    sets the output to the value, the feedback input turns on after GRIPPER_S ("silent": never)."""
+    """A gripper (or a machine's clamp) beside the controller, a device of Program.run: GRIPPER_S after
+    the program sets the output to the value, the feedback input turns on; after it sets the other
+    value, off ("silent": it never turns on; "stuck": it never turns off). It starts closed from the
+    previous cycle: the feedback on (verify's start state)."""
 
     output: str
     feedback: str | None
     value: bool = True
     behaviour: str = "prompt"
-    _due: float | None = None
-    _done: bool = False
+    _due: tuple | None = None  # (time, feedback then)
+    _seen: object = None  # the output's value the device last acted on
 
     def next_time(self, machine: Machine) -> float | None:
-        return self._due
+        return None if self._due is None else self._due[0]
 
     def on_wait(self, machine: Machine, where: str) -> bool:
-        if self.feedback is None or self._done:
+        if self.feedback is None:
             return False
-        if self._due is None:
-            if machine.signals.get(self.output) == self.value and self.behaviour != "silent":
-                self._due = machine.clock + GRIPPER_S
-            return False
-        if machine.clock >= self._due:
-            machine.signals[self.feedback] = True
-            self._due, self._done = None, True
+        out = machine.signals.get(self.output)
+        if out is not None and out != self._seen:
+            self._seen, on = out, out == self.value
+            blocked = (on and self.behaviour == "silent") or (not on and self.behaviour == "stuck")
+            self._due = None if blocked else (machine.clock + GRIPPER_S, on)
+        if self._due is not None and machine.clock >= self._due[0]:
+            machine.signals[self.feedback] = self._due[1]
+            self._due = None
             return True
         return False

@@ -19,7 +19,15 @@ from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
-from codegen.guard import NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME, UNKNOWN_STATION, UNKNOWN_STATION_TEXT, halt_message
+from codegen.guard import (
+    NO_ANSWER,
+    NO_FEEDBACK,
+    NOT_AT_HOME,
+    NOT_RELEASED,
+    UNKNOWN_STATION,
+    UNKNOWN_STATION_TEXT,
+    halt_message,
+)
 from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace
@@ -133,7 +141,11 @@ def start_joints(cell: Cell, target: Target, case: Case):
 
 def run_options(cell: Cell, target: Target, case: Case) -> dict:
     """Keyword arguments of Program.run for a case: its devices and where the arm starts."""
-    return {"devices": devices_for(cell, target, case), "start_joints": start_joints(cell, target, case)}
+    options = {"devices": devices_for(cell, target, case), "start_joints": start_joints(cell, target, case)}
+    io = cell.io
+    if io is not None and io.feedback and target.program.get("signals"):  # the gripper closed from the last cycle
+        options["signals"] = {signals.signal_name(target, "input", io.feedback[target.name]): True}
+    return options
 
 
 def devices_for(cell: Cell, target: Target, case: Case) -> tuple:
@@ -206,8 +218,9 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
         own = get_kind(station.kind).cases(cell, station, count, rng)
         cases.extend(own)
         cases.extend(Case(f"vision_{b}", own[0].reading, b) for b in vision.BEHAVIOURS[1:] if own)
-        if own and cell.io is not None and cell.io.feedback:  # the gripper never confirms
+        if own and cell.io is not None and cell.io.feedback:  # the gripper never confirms, or never releases
             cases.append(Case("gripper_silent", own[0].reading, gripper="silent"))
+            cases.append(Case("gripper_stuck", own[0].reading, gripper="stuck"))
     if cell.robot is not None and cases:  # the program started with the arm away from home
         cases.append(Case("start_away", cases[0].reading, start="away"))
     known = {s.id for s in cell.stations}
@@ -234,6 +247,8 @@ def accepted_traces(cell: Cell, case: Case) -> tuple[list[ExpectedTrace], bool]:
     if kind is None:
         return [ExpectedTrace("halt", UNKNOWN_STATION)], False
     accepted, boundary = kind.accepted(cell, case.reading)
+    if case.gripper == "stuck":  # it stops at home, before it asks the vision PC
+        return [ExpectedTrace("halt", NOT_RELEASED)], False
     if case.gripper == "silent":  # the station stops at its work pose, the signal set, with the message
         accepted = [
             replace(t, status="halt", reason=NO_FEEDBACK, moves=t.moves[: len(t.station.poses)])
@@ -257,7 +272,7 @@ def _pose_errors(a: list, b: list) -> tuple[float, float]:
 def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
-    if trace.reason in (NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME):
+    if trace.reason in (NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED):
         return emitter.string(halt_message(cell, trace.reason, None, 0))
     kind = get_kind(trace.station.kind)
     return emitter.string(kind.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))

@@ -90,13 +90,17 @@ def _mismatches(cell, cases, target: str, edit) -> list[str]:
     ("target", "old", "new", "says"),
     [
         # the gripper is never closed
-        ("ur", "    vis_signal()\n", "", "output standard_digital_out[0] set 0 times"),
+        ("ur", "    vis_signal()\n", "", "output standard_digital_out[0] set 1 times, expected 2"),
         # the signal before the work pose: the output changes at the approach
         ("kuka", WORK_THEN_SIGNAL, SIGNAL_THEN_WORK, "expected True after move 3"),
         # no wait for the feedback: the station goes on without the gripper closed
         ("abb", "    WaitDI diGripClosed, 1 \\MaxTime:=IO_TIMEOUT;\n", "", "gripper_silent"),
+        ("abb", "    WaitDI diGripClosed, 0 \\MaxTime:=IO_TIMEOUT;\n", "", "gripper_stuck"),
         # the feedback read from the wrong input: it never comes
-        ("dtrans", "While Not DIn(2)", "While Not DIn(3)", "no feedback from the gripper in 2 s"),
+        ("dtrans", "While DIn(2) <> True", "While DIn(3) <> True", "no feedback from the gripper in 2 s"),
+        # no release at the start: a gripper left closed is not seen (its feedback is on already)
+        ("ur", "  vis_release()\n", "", "expected 2: at home, released, at the work pose"),
+        ("kuka", "  IF NOT VIS_RELEASE() THEN\n    RETURN\n  ENDIF\n", "", "expected 2: at home, released"),
     ],
 )
 def test_verify_fails_a_broken_signal(demo, target, old, new, says):
@@ -110,7 +114,7 @@ def test_the_signal_is_in_every_demo_program():
     text = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell)}
     assert re.search(r"set_standard_digital_out\(0, True\)", text["agv_machine_tending.script"])
     krl = text["agv_machine_tending.src"]
-    assert "$OUT[17] = TRUE" in krl and "WHILE NOT $IN[18]" in krl
+    assert "$OUT[17] = TRUE" in krl and "WHILE $IN[18] <> TRUE" in krl and "$OUT[17] = FALSE" in krl
     assert "SetDO doGripClose, 1;" in text["agv_machine_tending.mod"]
     assert "SetDO 1, True" in text["agv_machine_tending.prg"]
 

@@ -10,8 +10,8 @@ MODULE agv_machine_tending
   ! stands still the program sets vis_cmd (1: read the station, 2: photograph the mark), then
   ! a new number in vis_req; the vision PC writes its answer, then vis_ack := vis_req. An answer counts
   ! only with its own number: without one in 5 s the program asks once more, then stops with a
-  ! message. These persistents are global and the same in every cell's module (one vision PC); the
-  ! rest of the module is LOCAL, so modules of several cells can share a task.
+  ! message. These persistents and the entry routine main are the module's only task-wide names; the
+  ! rest is LOCAL. (Two cells' modules in one task would clash on main: load one per task, or rename it.)
   PERS num vis_cmd := 0;
   PERS num vis_req := 0;
   PERS num vis_ack := 0;
@@ -91,6 +91,7 @@ MODULE agv_machine_tending
     ENDIF
     ! home first, in joints (no configuration to choose), with the tool and its load
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
+    vis_release;
     ! ask the vision PC to read the station, then visit the station it names
     vis_ask 1;
     TEST vis_station
@@ -124,8 +125,8 @@ MODULE agv_machine_tending
   ENDPROC
 
   LOCAL PROC vis_signal()
-    ! the work pose's signal ([cell.io]): doGripClose (I/O configuration) set to 1 after the fine
-    ! point, then wait until diGripClosed confirms it; none in 2 s: stop with a message
+    ! the work pose's signal ([cell.io]): doGripClose (I/O configuration) set to 1 after the fine point, then wait until
+    ! diGripClosed is 1; not in 2 s: stop with a message
     SetDO doGripClose, 1;
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
   ERROR
@@ -134,6 +135,20 @@ MODULE agv_machine_tending
     ENDIF
     RAISE;
   ENDPROC
+
+
+  LOCAL PROC vis_release()
+    ! at the start, the signal released (its feedback must go off): doGripClose (I/O configuration) set to 0 after the fine point, then wait until
+    ! diGripClosed is 0; not in 2 s: stop with a message
+    SetDO doGripClose, 0;
+    WaitDI diGripClosed, 0 \MaxTime:=IO_TIMEOUT;
+  ERROR
+    IF ERRNO = ERR_WAIT_MAXTIME THEN
+      vis_stop "the gripper did not release in 2 s (its feedback stays on)";
+    ENDIF
+    RAISE;
+  ENDPROC
+
 
   LOCAL PROC vis_next()
     ! a request number not used before (above the last request and the last answer): a late answer
@@ -160,7 +175,7 @@ MODULE agv_machine_tending
         vis_next;
         RETRY;
       ENDIF
-      vis_stop "no answer from the vision PC in 5 s";
+      vis_stop "no answer from the vision PC (5 s per request)";
     ENDIF
     RAISE;
   ENDPROC

@@ -68,11 +68,11 @@ Point p7_shelf = Trans(-60.5000, -905.2000, 388.0000, 180.000000, 0.000000, -90.
 Point r7_shelf = Trans(-60.5000, -905.2000, 438.0000, 180.000000, 0.000000, -90.000000)
 
 Sub vis_signal()
-  // the work pose's signal ([cell.io]): digital output 1 set to True (moves return when the arm
-  // has arrived); then wait until digital input 2 confirms it, none in 2 s: stop
+  // the work pose's signal ([cell.io]): digital output 1 set to True (moves return when the arm has
+  // arrived); then wait until digital input 2 is True, not in 2 s: stop
   SetDO 1, True
   Int polls = 0
-  While Not DIn(2)
+  While DIn(2) <> True
     If polls >= IO_POLLS Then
       TPWrite 0, "no feedback from the gripper in 2 s"
       Halt
@@ -81,6 +81,23 @@ Sub vis_signal()
     polls = polls + 1
   EndWhile
 EndSub
+
+
+Sub vis_release()
+  // at the start, the signal released (its feedback must go off): digital output 1 set to False (moves return when the arm has
+  // arrived); then wait until digital input 2 is False, not in 2 s: stop
+  SetDO 1, False
+  Int polls = 0
+  While DIn(2) <> False
+    If polls >= IO_POLLS Then
+      TPWrite 0, "the gripper did not release in 2 s (its feedback stays on)"
+      Halt
+    EndIf
+    Sleep 0.05
+    polls = polls + 1
+  EndWhile
+EndSub
+
 
 Sub vis_ask(Int command)
   // the handshake: ask the vision PC (command 1 read, 2 photo) and wait for its answer to
@@ -94,7 +111,7 @@ Sub vis_ask(Int command)
   vis_req = vis_req + 1
   While vis_ack <> vis_req
     If polls >= VIS_POLLS Then
-      TPWrite 0, "no answer from the vision PC in 5 s"
+      TPWrite 0, "no answer from the vision PC (5 s per request)"
       Halt
     EndIf
     Sleep 0.05
@@ -302,6 +319,7 @@ Sub st_warehouse_gate()
 EndSub
 
 // main: ask the vision PC to read the station, then visit the station it names
+Call vis_release()
 Call vis_ask(1)
 vis_mark[0] = markp[0]
 vis_mark[1] = markp[1]

@@ -10,8 +10,8 @@ MODULE thermometer_bench
   ! stands still the program sets vis_cmd (1: read the station, 2: photograph the mark), then
   ! a new number in vis_req; the vision PC writes its answer, then vis_ack := vis_req. An answer counts
   ! only with its own number: without one in 5 s the program asks once more, then stops with a
-  ! message. These persistents are global and the same in every cell's module (one vision PC); the
-  ! rest of the module is LOCAL, so modules of several cells can share a task.
+  ! message. These persistents and the entry routine main are the module's only task-wide names; the
+  ! rest is LOCAL. (Two cells' modules in one task would clash on main: load one per task, or rename it.)
   PERS num vis_cmd := 0;
   PERS num vis_req := 0;
   PERS num vis_ack := 0;
@@ -125,7 +125,7 @@ MODULE thermometer_bench
         vis_next;
         RETRY;
       ENDIF
-      vis_stop "no answer from the vision PC in 5 s";
+      vis_stop "no answer from the vision PC (5 s per request)";
     ENDIF
     RAISE;
   ENDPROC

@@ -65,7 +65,7 @@ Sub vis_ask(Int command)
   vis_req = vis_req + 1
   While vis_ack <> vis_req
     If polls >= VIS_POLLS Then
-      TPWrite 0, "no answer from the vision PC in 5 s"
+      TPWrite 0, "no answer from the vision PC (5 s per request)"
       Halt
     EndIf
     Sleep 0.05
