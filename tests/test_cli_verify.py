@@ -48,7 +48,8 @@ def test_run_json_and_halt():
 
 def test_run_with_the_arm_solves_every_move():
     path = GENERATED / "kuka" / "agv_machine_tending.src"
-    reading = ["--input", "VIS_STATION=1", "--input", "VIS_X=612.4", "--input", "VIS_Y=-285", "--input", "VIS_THETA=1.8"]
+    reading = ["--input", "VIS_STATION=1", "--input", "VIS_X=612.4", "--input", "VIS_Y=-285"]
+    reading += ["--input", "VIS_THETA=1.8"]
     result = invoke("run", path, *reading, "--gripper", "$OUT[17]=$IN[18]", "--robot", "KR 10 R1100 sixx", "--json")
     data = json.loads(result.output)
     # home, approach, work pose, retreat, home
