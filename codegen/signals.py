@@ -111,7 +111,7 @@ def output_problem(cell, target, expected, got, before: int) -> str | None:
     return None
 
 
-GRIPPER_S = 0.3  # how long the simulated gripper takes to confirm
+GRIPPER_S = 0.02  # how long the simulated gripper takes to confirm (less than one poll)
 GRIPPER_BEHAVIOURS = ("prompt", "silent", "stuck")  # silent: never confirms the action; stuck: never releases
 
 

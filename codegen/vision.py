@@ -48,7 +48,8 @@ def polls(settings: VisionSettings) -> int:
 PREVIOUS_REQUEST = 41  # the previous cycle's last answered request
 BEHAVIOURS = ("prompt", "late", "too_late", "never", "stale", "twice", "other_sequence", "late_previous")
 UNANSWERED = frozenset({"too_late", "never", "stale", "other_sequence"})  # a correct program halts
-PROMPT_S = 0.2  # a prompt answer's latency
+SECOND_LOOK_MM = 0.5  # "twice": the second answer reads the mark this much further along x and y
+PROMPT_S = 0.02  # a prompt answer's latency (less than one poll: most runs wait once)
 
 
 def latency(settings: VisionSettings, behaviour: str) -> float:
@@ -107,10 +108,10 @@ class VisionPC:
         if not io:
             return False
         if self.behaviour == "late_previous" and not self._late_sent and not machine.moving:
-            # the late answer arrives half a poll after the arm first stands still: after a program
-            # that numbers its request from the last answer asked, before the answer to its request
+            # the late answer arrives soon after the arm first stands still: after a program that numbers
+            # its request from the last answer asked, before the answer to its request (in order)
             self._late_sent = True
-            self._due.append((machine.clock + POLL_S / 2, PREVIOUS_REQUEST + 1, self._named(self.previous)))
+            self._due.append((machine.clock + PROMPT_S / 2, PREVIOUS_REQUEST + 1, self._named(self.previous)))
         request = machine.read_variable(io["request"])
         if request is not None and request != self._seen and request != machine.read_variable(io["ack"]):
             self._seen = request
@@ -150,7 +151,7 @@ class VisionPC:
     def _values(self, machine: Machine, command, where: str, again: bool = False) -> dict:
         if command == READ:
             if again:  # a second look at a mark: the same place, read a little differently
-                return {k: (v + 0.5 if k in ("x", "y") else v) for k, v in self._named(self.answer).items()}
+                return {k: (v + SECOND_LOOK_MM if k in ("x", "y") else v) for k, v in self._named(self.answer).items()}
             return self._named(self.answer)
         if command == PHOTO:
             if self.camera is None:

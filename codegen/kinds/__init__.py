@@ -139,6 +139,12 @@ class ProgramKind:
         return {target.program["inputs"]["station"]: reading.station_id}
 
     @classmethod
+    def second_look(cls, reading):
+        """The reading of a second answer to the same request (codegen.vision "twice"), or None when the
+        kind's answer does not change: a program that uses it whole moves correctly for it too."""
+        return None
+
+    @classmethod
     def previous(cls, cell, target, station) -> dict:
         """What the vision PC's variables hold from the previous cycle when the program starts: a
         plausible reading of the station (a program that does not wait for its answer uses it)."""

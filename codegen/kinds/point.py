@@ -23,6 +23,7 @@ from codegen.guard import (
 from codegen.kinds import Case, ProgramKind
 from codegen.poses import concat, invert, matrix_from_rotation_translation, planar_motions, rotz, wrap_deg
 from codegen.reference import ExpectedTrace, path_moves
+from codegen.vision import SECOND_LOOK_MM
 
 MARK_DECIMALS = 6
 
@@ -246,6 +247,10 @@ class PointKind(ProgramKind):
             names["y"]: reading.y,
             names["theta"]: reading.theta,
         }
+
+    @classmethod
+    def second_look(cls, reading: Reading) -> Reading:
+        return replace(reading, x=reading.x + SECOND_LOOK_MM, y=reading.y + SECOND_LOOK_MM)
 
     @classmethod
     def previous(cls, cell, target, station) -> dict:
