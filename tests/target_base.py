@@ -275,12 +275,13 @@ class TargetTests:
         new_text, new_dat = mutated if isinstance(mutated, tuple) else (mutated, dat)
         new_companions = {} if new_dat is None else {".dat": new_dat}
         program = load_program(get_target(self.target), new_text, "mutant", new_companions)
-        programs = {self.target: (program, ["mutant"])}
-        (caught,) = sweep_unknown_ids(cell, [self.target], programs, range(0, STATION_ID_MAX + 1))
-        assert caught.mismatches == 1 and "unknown station id 20000" in caught.first_mismatches[0]
         source = ProgramSource(self.target, new_text, "mutant", tuple(new_companions.items()), ("mutant",))
-        (report,) = run_verify(cell, [source], [])  # what `codegen verify CELL FILE` runs
+        (report,) = run_verify(cell, [source], [])  # what `codegen verify CELL FILE` runs: the sweep of every id
         assert report.mismatches == 1 and report.unknown_ids == STATION_ID_MAX + 1 - len(cell.stations)
+        assert "unknown station id 20000" in report.first_mismatches[0]
+        programs = {self.target: (program, ["mutant"])}
+        (caught,) = sweep_unknown_ids(cell, [self.target], programs, range(19990, 20010))
+        assert caught.mismatches == 1 and "unknown station id 20000" in caught.first_mismatches[0]
         original = load_program(get_target(self.target), text, "original", companions)
         (clean,) = sweep_unknown_ids(cell, [self.target], {self.target: (original, ["original"])}, range(19990, 20010))
         assert clean.mismatches == 0 and clean.unknown_ids == 20

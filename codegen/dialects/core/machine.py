@@ -174,7 +174,6 @@ class Machine:
         line = int(where.split(":")[1]) if where.count(":") >= 2 else 0
         event = SignalEvent(name, bool(value), line, self.clock, self.moving, len(self.trace.moves))
         self.trace.outputs.append(event)
-        self.wait(where)
 
     def arrive(self, where: str) -> None:
         """An instruction that waits until the arm stands still (an advance-run stop, an in-position
