@@ -27,12 +27,21 @@ class MotionSettings:
     retreat_mm: float = 50.0
     return_home: bool = True
     start_tolerance_deg: float = 2.0  # a program that refuses to start elsewhere: every joint this close to home
+    joint_speed_percent: float = 30.0  # KRL PTP moves: BAS(#VEL_PTP, n), percent of the axes' top speed
 
 
 START_TOLERANCE_MAX_DEG = 30.0
 
 
-_KEYS = {"speed_mm_s", "work_speed_mm_s", "zone_mm", "retreat_mm", "return_home", "start_tolerance_deg"}
+_KEYS = {
+    "speed_mm_s",
+    "work_speed_mm_s",
+    "zone_mm",
+    "retreat_mm",
+    "return_home",
+    "start_tolerance_deg",
+    "joint_speed_percent",
+}
 
 
 def parse_settings(ctx, cell_table: dict) -> MotionSettings:
@@ -61,7 +70,11 @@ def parse_settings(ctx, cell_table: dict) -> MotionSettings:
     tolerance = ctx.number(table, key, f"cell.motion.{key}") if key in table else default.start_tolerance_deg
     if not 0 < tolerance <= START_TOLERANCE_MAX_DEG:
         ctx.fail(f"cell.motion.{key}", f"must be in (0, {START_TOLERANCE_MAX_DEG:g}] deg, got {tolerance}")
-    return MotionSettings(values["speed_mm_s"], values["work_speed_mm_s"], zone, retreat, home, tolerance)
+    key = "joint_speed_percent"
+    percent = ctx.number(table, key, f"cell.motion.{key}") if key in table else default.joint_speed_percent
+    if not 0 < percent <= 100:
+        ctx.fail(f"cell.motion.{key}", f"must be in (0, 100] percent, got {percent}")
+    return MotionSettings(values["speed_mm_s"], values["work_speed_mm_s"], zone, retreat, home, tolerance, percent)
 
 
 def retreat2work(retreat_mm: float) -> np.ndarray:

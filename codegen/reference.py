@@ -19,6 +19,7 @@ class Move:
     exact: bool = False  # the arm must stop at this pose (a work or photo pose): no blending
     speed_mm_s: float | None = None  # the programmed TCP speed ([cell.motion]); None: the target's facts
     zone_mm: float = 0.0  # the blending zone ([cell.motion]); 0: the arm stops at the pose
+    joint_percent: float | None = None  # a joint move's axis speed in percent ([cell.motion]; KRL PTP)
 
 
 def path_moves(cell, station, correction: np.ndarray) -> list[Move]:
@@ -29,7 +30,15 @@ def path_moves(cell, station, correction: np.ndarray) -> list[Move]:
 
     segs = segments(cell.motion, len(station.poses), station.retreat is not None)
     return [
-        Move(JOINT if i == 0 else LINEAR, p.name, concat(p.matrix(), correction), s.exact, s.speed_mm_s, s.zone_mm)
+        Move(
+            JOINT if i == 0 else LINEAR,
+            p.name,
+            concat(p.matrix(), correction),
+            s.exact,
+            s.speed_mm_s,
+            s.zone_mm,
+            cell.motion.joint_speed_percent if i == 0 else None,
+        )
         for i, (p, s) in enumerate(zip(station.path, segs, strict=True))
     ]
 

@@ -135,6 +135,7 @@ def context(cell: Cell, target: Target) -> dict:
             "return_home": cell.motion.return_home,
             # a program that refuses to start away from home (targets/<t>.toml restart = "at_home")
             "start_tol_deg": number(cell.motion.start_tolerance_deg, 3),
+            "joint_percent": number(cell.motion.joint_speed_percent, 1),
             "start_tol_rad": number(math.radians(cell.motion.start_tolerance_deg), 6),
             "not_at_home": emitter.string(halt_message(cell, NOT_AT_HOME, None, 0)),
         },

@@ -283,11 +283,13 @@ def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter
 
 
 @lru_cache(maxsize=64)
-def _move_settings(target_name: str, kind: str, exact: bool, own_tool: bool, speed_mm_s, zone_mm: float) -> dict:
+def _move_settings(target_name: str, kind: str, exact: bool, own_tool: bool, speed_mm_s, zone_mm, percent) -> dict:
     """What a target's facts and the cell's motion ask of a move (read once per target and segment,
     not per move of every case)."""
     target = get_target(target_name)
-    return get_dialect(target.dialect).move_settings(target.program, kind, exact, own_tool, speed_mm_s, zone_mm)
+    return get_dialect(target.dialect).move_settings(
+        target.program, kind, exact, own_tool, speed_mm_s, zone_mm, percent
+    )
 
 
 LOG_PREFIXES = tuple(prefix for kind in kinds().values() for prefix in kind.log_prefixes)
@@ -325,7 +327,9 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
     for i, (g, e) in enumerate(zip(got.moves, moves, strict=True)):
         if g.kind != e.kind:
             return f"move {i + 1} ({e.pose_name}) is {g.kind}, expected {e.kind}", [], []
-        for key, want in _move_settings(target.name, e.kind, e.exact, own_tool, e.speed_mm_s, e.zone_mm).items():
+        for key, want in _move_settings(
+            target.name, e.kind, e.exact, own_tool, e.speed_mm_s, e.zone_mm, e.joint_percent
+        ).items():
             have = g.settings.get(key)
             numbers = isinstance(want, float) and isinstance(have, float)
             if have != want and not (numbers and math.isclose(have, want, rel_tol=1e-6)):  # float32 values

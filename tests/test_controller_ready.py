@@ -34,6 +34,7 @@ def _demo_dict() -> dict:
         ("motion", {"zone_mm": 300}, r"cell\.motion\.zone_mm: must be in \[0, 200\] mm"),
         ("motion", {"retreat_mm": -5}, r"cell\.motion\.retreat_mm: must be in \[0, 1000\] mm"),
         ("motion", {"return_home": "yes"}, r"cell\.motion\.return_home: must be true or false"),
+        ("motion", {"joint_speed_percent": 120}, r"cell\.motion\.joint_speed_percent: must be in \(0, 100\]"),
         ("io", {"output": {"ur": 9, "kuka": 17, "abb": "doX", "dtrans": 1}}, r"io\.output\.ur: expected a ur signal"),
         ("io", {"output": {"ur": 0, "kuka": 17, "dtrans": 1}}, r"cell\.io\.output\.abb: missing"),
         ("io", {"output": {"ur": 0, "kuka": 17, "abb": "do X", "dtrans": 1}}, r"io\.output\.abb: expected a signal"),

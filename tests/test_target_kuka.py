@@ -10,7 +10,7 @@ LIN_TARGET = "{X 600,Y 0,Z 700,A 0,B 90,C 0}"  # a first motion that is no PTP t
 
 class TestKUKA(TargetTests):
     target = "kuka"
-    motion_mutations = ["no_base_reset", "approximated_work_pose"]
+    motion_mutations = ["no_base_reset", "approximated_work_pose", "ptp_at_full_speed"]
     arm_mutations = ["status_changed", "turn_changed", "no_tool", "no_load", "out_of_reach", "lin_first"]
     arm_words = {
         "status_changed": ("cannot reach this pose in configuration [6, 34]",),
@@ -36,6 +36,7 @@ class TestKUKA(TargetTests):
             "out_of_reach": lambda: (text, replace_once(dat, "P1_CHUCK={X 738.5000", "P1_CHUCK={X 2738.5000")),
             "lin_first": lambda: (replace_once(text, "  PTP VIS_HOME\n", f"  LIN {LIN_TARGET}\n"), dat),
             "no_base_reset": lambda: (replace_once(text, BASE_RESET, ""), dat),
+            "ptp_at_full_speed": lambda: (replace_once(text, "BAS(#VEL_PTP, 30.0)", "BAS(#VEL_PTP, 100)"), dat),
             "approximated_work_pose": lambda: (
                 replace_once(text, WORK, WORK.replace("TARGET\n", "TARGET C_DIS\n")),
                 dat,

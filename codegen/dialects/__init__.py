@@ -52,7 +52,7 @@ class Dialect:
 
     @classmethod
     def move_settings(
-        cls, program: dict, kind: str, exact: bool, own_tool: bool = False, speed_mm_s=None, zone_mm: float = 0.0
+        cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:
         """How a correct program moves the arm to a pose, as the interpreter records it (MoveEvent
         settings): from the target's [program] facts and the cell's [cell.motion] (speed_mm_s: the

@@ -10,7 +10,7 @@ class KRL(Dialect):
 
     @classmethod
     def move_settings(
-        cls, program: dict, kind: str, exact: bool, own_tool: bool = False, speed_mm_s=None, zone_mm: float = 0.0
+        cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:
         """LIN at the cell's path speed $VEL.CP (m/s); approximation C_DIS with $APO.CDIS = the cell's
         zone (mm) where the arm passes a pose, none where it must stop; a PTP stops (no C_PTP)."""
@@ -18,6 +18,8 @@ class KRL(Dialect):
         out = {"approx": "C_DIS" if blend else None, "cdis": zone_mm if blend else None}
         if kind != "joint" and speed_mm_s is not None:
             out["vel_cp"] = speed_mm_s / 1000.0
+        if kind == "joint" and joint_percent is not None:
+            out["vel_ptp"] = joint_percent  # BAS(#VEL_PTP, n)
         return out
 
     @classmethod

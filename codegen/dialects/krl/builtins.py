@@ -165,7 +165,14 @@ def builtins() -> dict:
         return False
 
     def bas(fr, args, kwargs, where):
-        return None  # BAS(#INITMOV, ...) sets speeds and accelerations: no effect on poses
+        """BAS(#INITMOV, 0) sets the default speeds and accelerations; BAS(#VEL_PTP, n) the PTP axis speed
+        in percent of the axes' top speed (KUKA BAS.SRC), recorded with each PTP."""
+        if str(args[0]).upper() == "#VEL_PTP":
+            percent = float(valid(args[1], where, "BAS(#VEL_PTP) percent"))
+            if not 0 < percent <= 100:
+                raise RunError(f"{where}: BAS(#VEL_PTP, {percent:g}): the percent must be in (0, 100]")
+            fr.m.extra["VEL_PTP"] = percent
+        return None
 
     return {
         "SIN": trig(math.sin),

@@ -134,6 +134,8 @@ def path_settings(static: dict, kind: str, extra: dict) -> dict:
         out["cdis"] = extra.get("$APO.CDIS")
     if kind == "linear":
         out["vel_cp"] = extra.get("$VEL.CP")
+    else:
+        out["vel_ptp"] = extra.get("VEL_PTP")
     return out
 
 

@@ -9,7 +9,7 @@ class Rapid(Dialect):
 
     @classmethod
     def move_settings(
-        cls, program: dict, kind: str, exact: bool, own_tool: bool = False, speed_mm_s=None, zone_mm: float = 0.0
+        cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:
         """speeddata, zonedata and tooldata of MoveJ/MoveL as the facts name them; `fine` where the arm
         must stop at the pose (a zone there lets it cut the corner and never reach the pose). The cell's own

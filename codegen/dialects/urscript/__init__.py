@@ -9,7 +9,7 @@ class URScript(Dialect):
 
     @classmethod
     def move_settings(
-        cls, program: dict, kind: str, exact: bool, own_tool: bool = False, speed_mm_s=None, zone_mm: float = 0.0
+        cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:
         """movej: the facts' "a=1.4, v=1.05" (rad/s^2, rad/s); movel: the facts' acceleration and the
         cell's TCP speed v (m/s); blend radius r the cell's zone (m), 0 where the arm must stop (a blend

@@ -114,7 +114,9 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
         if photos >= refine.max_iterations:
             return halt(NOT_CONVERGED)
         tcp2base = concat(photo2frame, frame_offset(dx, dy, alpha), calib2base)
-        moves.append(Move(JOINT, "photo", tcp2base, exact=True, speed_mm_s=cell.motion.speed_mm_s))
+        moves.append(
+            Move(JOINT, "photo", tcp2base, True, cell.motion.speed_mm_s, joint_percent=cell.motion.joint_speed_percent)
+        )
         photos += 1
         u, v, angle = camera.photo(tcp2base)
         if not pixels_in_range(u, v, angle):
