@@ -27,7 +27,7 @@ class MotionSettings:
     retreat_mm: float = 50.0
     return_home: bool = True
     start_tolerance_deg: float = 2.0  # a program that refuses to start elsewhere: every joint this close to home
-    joint_speed_percent: float = 30.0  # KRL PTP moves: BAS(#VEL_PTP, n), percent of the axes' top speed
+    joint_speed_percent: float = 30.0  # joint moves' axis speed, percent of top speed, where a controller sets it so
 
 
 START_TOLERANCE_MAX_DEG = 30.0

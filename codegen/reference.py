@@ -19,7 +19,7 @@ class Move:
     exact: bool = False  # the arm must stop at this pose (a work or photo pose): no blending
     speed_mm_s: float | None = None  # the programmed TCP speed ([cell.motion]); None: the target's facts
     zone_mm: float = 0.0  # the blending zone ([cell.motion]); 0: the arm stops at the pose
-    joint_percent: float | None = None  # a joint move's axis speed in percent ([cell.motion]; KRL PTP)
+    joint_percent: float | None = None  # a joint move's axis speed in percent ([cell.motion]), where programmed so
 
 
 def path_moves(cell, station, correction: np.ndarray) -> list[Move]:
