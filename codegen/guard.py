@@ -42,19 +42,24 @@ def pixels_in_range(u: float, v: float, angle: float) -> bool:
     return abs(u) <= PIXEL_RANGE and abs(v) <= PIXEL_RANGE and abs(angle) <= READING_RANGE_DEG
 
 
+# The stops that name no station: their messages from the cell's settings.
+_CELL_MESSAGES = {
+    NO_ANSWER: lambda cell: no_answer_text(cell.vision.timeout_s),
+    NOT_AT_HOME: lambda cell: (
+        f"start with the arm at home (every joint within {cell.motion.start_tolerance_deg:g} deg)"
+    ),
+    NOT_RELEASED: lambda cell: f"the gripper did not release in {cell.io.timeout_s:g} s (its feedback stays on)",
+    NO_FEEDBACK: lambda cell: f"no feedback from the gripper in {cell.io.timeout_s:g} s",
+}
+
+
 def halt_message(cell, reason: str, station_name: str | None, station_id: int) -> str:
     """The operator message every generated program shows when it halts (a contract)."""
     limits = cell.limits
     if reason == UNKNOWN_STATION:
         return f"{UNKNOWN_STATION_TEXT}{station_id}"
-    if reason == NO_ANSWER:
-        return no_answer_text(cell.vision.timeout_s)
-    if reason == NOT_AT_HOME:
-        return f"start with the arm at home (every joint within {cell.motion.start_tolerance_deg:g} deg)"
-    if reason == NOT_RELEASED:
-        return f"the gripper did not release in {cell.io.timeout_s:g} s (its feedback stays on)"
-    if reason == NO_FEEDBACK:
-        return f"no feedback from the gripper in {cell.io.timeout_s:g} s"
+    if reason in _CELL_MESSAGES:
+        return _CELL_MESSAGES[reason](cell)
     name = station_name if station_name is not None else "?"
     if reason == INVALID_READING:
         return f"station {name}: invalid mark reading"

@@ -120,9 +120,7 @@ def inputs_for(cell: Cell, target: Target, reading, behaviour: str = "prompt") -
     tool and the kind's own values."""
     kind = _kind_of_case(cell, reading)
     tools = tool_inputs(cell, target.name)  # the controller's numbered tool, where the program selects one
-    station = cell.station_by_id(reading.station_id) if kind is not None else cell.stations[0]
-    previous = get_kind(station.kind).previous(cell, target, station)
-    answered = vision.answered(target, behaviour)
+    previous, answered = _previous_reading(cell, target, reading), vision.answered(target, behaviour)
     if kind is None:
         return {**previous, **answered, **tools}
     return {**previous, **answered, **kind.inputs(cell, target, reading), **tools}
@@ -139,12 +137,31 @@ def start_joints(cell: Cell, target: Target, case: Case):
     return home[1] + (np.array(START_AWAY_DEG) if case.start == "away" else 0.0)
 
 
+def _previous_reading(cell: Cell, target: Target, reading) -> dict:
+    """The vision PC's variables from the previous cycle: a reading of the case's station (an unknown
+    station's case: of the cell's first station)."""
+    station = cell.station_by_id(reading.station_id) if _kind_of_case(cell, reading) else cell.stations[0]
+    return get_kind(station.kind).previous(cell, target, station)
+
+
+def _gripper_signals(cell: Cell, target_name: str) -> tuple[str, str] | None:
+    """The work pose's output and feedback as the target's program names them, or None (no feedback)."""
+    io, target = cell.io, get_target(target_name)
+    if io is None or not io.feedback or not target.program.get("signals"):
+        return None
+    return (
+        signals.signal_name(target, "output", io.output[target_name]),
+        signals.signal_name(target, "input", io.feedback[target_name]),
+    )
+
+
 def run_options(cell: Cell, target: Target, case: Case) -> dict:
-    """Keyword arguments of Program.run for a case: its devices and where the arm starts."""
+    """Keyword arguments of Program.run for a case: its devices, where the arm starts and, with a gripper,
+    its feedback on (the gripper closed from the last cycle)."""
     options = {"devices": devices_for(cell, target, case), "start_joints": start_joints(cell, target, case)}
-    io = cell.io
-    if io is not None and io.feedback and target.program.get("signals"):  # the gripper closed from the last cycle
-        options["signals"] = {signals.signal_name(target, "input", io.feedback[target.name]): True}
+    gripper = _gripper_signals(cell, target.name)
+    if gripper is not None:
+        options["signals"] = {gripper[1]: True}
     return options
 
 
@@ -152,11 +169,9 @@ def devices_for(cell: Cell, target: Target, case: Case) -> tuple:
     """The simulated devices of a case: the vision PC, and the gripper where the cell has a work-pose
     signal with feedback."""
     out: tuple = (vision_pc(cell, target, case),)
-    io = cell.io
-    if io is not None and io.feedback and target.program.get("signals"):
-        output = signals.signal_name(target, "output", io.output[target.name])
-        feedback = signals.signal_name(target, "input", io.feedback[target.name])
-        out += (signals.Gripper(output, feedback, io.value, case.gripper),)
+    gripper = _gripper_signals(cell, target.name)
+    if gripper is not None:
+        out += (signals.Gripper(*gripper, cell.io.value, case.gripper),)
     return out
 
 
@@ -168,9 +183,8 @@ def vision_pc(cell: Cell, target: Target, case: Case) -> VisionPC:
         camera = None
     else:
         answer, camera = kind.answer(cell, target, case.reading), kind.camera(cell, case.reading)
-    station = cell.station_by_id(case.reading.station_id) if kind is not None else cell.stations[0]
-    previous = get_kind(station.kind).previous(cell, target, station)
     latency = vision.latency(cell.vision, case.vision)
+    previous = _previous_reading(cell, target, case.reading)
     return VisionPC.for_target(target, answer, camera, case.vision, latency, previous)
 
 

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from lark import Tree
-
 from codegen.dialects.core.values import RunError, f32
+from codegen.dialects.rapid.arguments import split_args
 
 # ErrWrite [\W] | [\I] Header Reason [\RL2] [\RL3] [\RL4] (ABB, "Technical reference manual - RAPID
 # Instructions, Functions and Data types", ErrWrite, as recalled; the text was not found during this
@@ -62,15 +61,7 @@ def ui_msg_box(compiler, node, args_node) -> Callable:
     becomes an operator message; the box blocks until the operator answers, which the interpreter's
     operator does at once with the first button (\\Result gets its btnres). Other arguments (\\MaxTime,
     \\DIBreak, \\BtnArray, ...) are not modelled and are refused."""
-    positional, named = [], {}
-    for arg in args_node.children if args_node is not None else []:
-        if isinstance(arg, Tree) and arg.data == "opt_arg":
-            key = str(arg.children[0]).upper()
-            if key not in UIMSGBOX_ARGS:
-                compiler.fail(arg, f"UIMsgBox \\{arg.children[0]} is not supported here")
-            named[key] = arg.children[1]
-        else:
-            positional.append(arg)
+    positional, named = split_args(compiler, node, args_node, UIMSGBOX_ARGS, "UIMsgBox \\{arg} is not supported here")
     if len(positional) != 1:
         compiler.fail(node, "UIMsgBox takes one message line (MsgLine1)")
     line, where = compiler.expr(positional[0]), compiler.where(node)

@@ -8,6 +8,7 @@ from lark import Tree
 
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import errors
+from codegen.dialects.rapid.arguments import split_args
 from codegen.dialects.rapid.builtins import num
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", WaitUntil,
@@ -23,20 +24,6 @@ from codegen.dialects.rapid.builtins import num
 POLL_RATE_MIN = 0.04
 
 
-def _args(compiler, node, args_node, switches: set[str]) -> tuple[list, dict]:
-    """Positional argument nodes and optional ones by upper-case name (value node, or None for a switch)."""
-    positional, named = [], {}
-    for arg in args_node.children if args_node is not None else []:
-        if isinstance(arg, Tree) and arg.data == "opt_arg":
-            key = str(arg.children[0]).upper()
-            if key not in switches:
-                compiler.fail(arg, f"{node.children[0]} has no argument \\{arg.children[0]}")
-            named[key] = arg.children[1]
-        else:
-            positional.append(arg)
-    return positional, named
-
-
 def _value(compiler, node, named: dict, key: str):
     if key not in named:
         return None
@@ -46,7 +33,7 @@ def _value(compiler, node, named: dict, key: str):
 
 
 def wait_until(compiler, node, args_node) -> Callable:
-    positional, named = _args(compiler, node, args_node, {"INPOS", "MAXTIME", "TIMEFLAG", "POLLRATE"})
+    positional, named = split_args(compiler, node, args_node, {"INPOS", "MAXTIME", "TIMEFLAG", "POLLRATE"})
     if len(positional) != 1:
         compiler.fail(node, "WaitUntil takes one condition")
     cond, where = compiler.expr(positional[0]), compiler.where(node)
@@ -79,7 +66,7 @@ def wait_until(compiler, node, args_node) -> Callable:
 
 
 def wait_time(compiler, node, args_node) -> Callable:
-    positional, named = _args(compiler, node, args_node, {"INPOS"})
+    positional, named = split_args(compiler, node, args_node, {"INPOS"})
     if len(positional) != 1:
         compiler.fail(node, "WaitTime takes one time in seconds")
     seconds, where, in_pos = compiler.expr(positional[0]), compiler.where(node), "INPOS" in named
@@ -96,7 +83,7 @@ def wait_time(compiler, node, args_node) -> Callable:
 
 
 def wait_rob(compiler, node, args_node) -> Callable:
-    positional, named = _args(compiler, node, args_node, {"INPOS", "ZEROSPEED"})
+    positional, named = split_args(compiler, node, args_node, {"INPOS", "ZEROSPEED"})
     if positional or len(named) != 1 or any(v is not None for v in named.values()):
         compiler.fail(node, "WaitRob takes \\InPos or \\ZeroSpeed")
     where = compiler.where(node)
@@ -105,7 +92,7 @@ def wait_rob(compiler, node, args_node) -> Callable:
 
 def book_errno(compiler, node, args_node) -> Callable:
     """BookErrNo errnum_variable: the variable gets a new error number the program may RAISE."""
-    positional, _named = _args(compiler, node, args_node, set())
+    positional, _named = split_args(compiler, node, args_node, set())
     if len(positional) != 1 or not (isinstance(positional[0], Tree) and positional[0].data == "var"):
         compiler.fail(node, "BookErrNo takes an errnum variable")
     store, where = compiler.lvalue(positional[0]), compiler.where(node)
@@ -130,7 +117,7 @@ def _digital(value, where: str) -> bool:
 
 
 def set_do(compiler, node, args_node) -> Callable:
-    positional, _named = _args(compiler, node, args_node, set())
+    positional, _named = split_args(compiler, node, args_node, set())
     if len(positional) != 2:
         compiler.fail(node, "SetDO takes a signal and a value")
     name, value, where = _signal(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)
@@ -138,7 +125,7 @@ def set_do(compiler, node, args_node) -> Callable:
 
 
 def wait_di(compiler, node, args_node) -> Callable:
-    positional, named = _args(compiler, node, args_node, {"MAXTIME", "TIMEFLAG"})
+    positional, named = split_args(compiler, node, args_node, {"MAXTIME", "TIMEFLAG"})
     if len(positional) != 2:
         compiler.fail(node, "WaitDI takes a signal and a value")
     name, value, where = _signal(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)

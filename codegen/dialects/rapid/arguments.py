@@ -1,0 +1,20 @@
+"""The arguments of a RAPID instruction compiled from its nodes: positional ones and optional \\Name[:=value]."""
+
+from __future__ import annotations
+
+from lark import Tree
+
+
+def split_args(compiler, node, args_node, switches: set[str], refusal: str = "{name} has no argument \\{arg}"):
+    """Positional argument nodes and optional ones by upper-case name (value node, or None for a switch);
+    an optional argument not in switches fails with refusal (its {name} and {arg})."""
+    positional, named = [], {}
+    for arg in args_node.children if args_node is not None else []:
+        if isinstance(arg, Tree) and arg.data == "opt_arg":
+            key = str(arg.children[0]).upper()
+            if key not in switches:
+                compiler.fail(arg, refusal.format(name=node.children[0], arg=arg.children[0]))
+            named[key] = arg.children[1]
+        else:
+            positional.append(arg)
+    return positional, named
