@@ -102,6 +102,7 @@ def context(cell: Cell, target: Target) -> dict:
         "cell": {
             "name": cell.name,
             "ident": emitter.identifier("", cell.name, "cell name"),
+            "file": file_stem(cell, target),
             "comment": emitter.comment(cell.name),
             "source": emitter.comment(Path(cell.source).name),
             "sha256": cell.sha256,
@@ -174,10 +175,14 @@ def cell_dir(cell: Cell) -> str:
     return folder_name(cell.name)
 
 
+def file_stem(cell: Cell, target: Target) -> str:
+    """What "{cell}" becomes in the file names: the program's identifier, lower case."""
+    return Emitter(target).identifier("", cell.name, "cell name").lower()
+
+
 def output_names(cell: Cell, target: Target) -> list[str]:
     """File names; the program name inside must match them (some controllers), so both come from one identifier."""
-    ident = Emitter(target).identifier("", cell.name, "cell name")
-    return [name.format(cell=ident.lower()) for name in target.files]
+    return [name.format(cell=file_stem(cell, target)) for name in target.files]
 
 
 def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
@@ -191,8 +196,8 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
         # constants, data, helpers, start, station) that the controller's program template calls.
         partials = {kind: env.get_template(f"{name}/kinds/{kind}.j2").make_module(ctx) for kind in kinds()}
         ctx = {**ctx, "partial": partials, "used": [partials[kind] for kind in ctx["kinds_used"]]}
-        for template_name, file_name in zip(target.files, output_names(cell, target), strict=True):
-            suffix = template_name.rsplit(".", 1)[1]
-            text = env.get_template(f"{name}/program.{suffix}.j2").render(ctx)
+        # the file "{cell}_node.script" comes from the template "program_node.script.j2"
+        for pattern, file_name in zip(target.files, output_names(cell, target), strict=True):
+            text = env.get_template(f"{name}/{pattern.format(cell='program')}.j2").render(ctx)
             out.append(RenderedFile(f"{cell_dir(cell)}/{name}/{file_name}", text))
     return out

@@ -182,3 +182,21 @@ def test_the_review_list_is_cleared_in_the_generated_text(programs):
             body = text.split("  def vis_stop(message):", 1)[1].split("\n  end\n", 1)[1]
             assert not re.search(r"^\s+halt$", body, re.MULTILINE), name  # every other stop shows the popup
             assert "popup(message" in text and "is_steady()" in text, name
+
+
+def test_the_ur_program_comes_for_the_socket_and_for_a_script_node(demo):
+    """One `def` at column 1, other lines indented, `end` at column 1 is what URControl recognises on port
+    30002 (URScript manual, Connecting to URControl); a Script node runs its lines where it stands, so its
+    file has no `def` around them. Both move the same."""
+    cell, cases = demo
+    files = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell, ["ur"])}
+    socket, node = files["agv_machine_tending.script"], files["agv_machine_tending_node.script"]
+    lines = socket.splitlines()
+    assert lines[0] == "def agv_machine_tending():" and lines[-1] == "end"
+    assert all(line == "" or line[0] == " " for line in lines[1:-1])
+    assert not re.search(r"^\S", node, re.MULTILINE)  # nothing at column 1: no program of its own
+    assert "agv_machine_tending_node.script" in socket and "socket interface (port 30002)" in node
+    for name, text in (("socket", socket), ("node", node)):
+        program = load_program(get_target("ur"), text, name, {})
+        report = verify(cell, ["ur"], {"ur": (program, [name])}, cases)[0]
+        assert report.cases == len(cases) and not report.first_mismatches, (name, report.first_mismatches[:3])
