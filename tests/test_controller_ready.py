@@ -170,6 +170,9 @@ def test_the_review_list_is_cleared_in_the_generated_text(programs):
             # the arm stops, then the request
             assert re.search(r"WAIT SEC 0 ;[^\n]*\n  VIS_CMD = COMMAND\n", text), name
             assert "$BASE = $ROBROOT" in text and "$BASE = $NULLFRAME" not in text, name
+            # KUKA's start section: the stop-message interrupt, then the default speeds and accelerations
+            ini = "  GLOBAL INTERRUPT DECL 3 WHEN $STOPMESS==TRUE DO IR_STOPM()\n  INTERRUPT ON 3\n  BAS(#INITMOV, 0)\n"
+            assert ini in text, name
             assert re.search(r"SET_KRLMSG\(#QUIT[^\n]*\n  WHILE EXISTS_KRLMSG\(VIS_HANDLE\)", text), name
         if name.endswith(".mod"):
             routines = re.findall(r"^  (LOCAL )?(PROC|FUNC) (\w+)", text, re.MULTILINE)

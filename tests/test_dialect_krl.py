@@ -175,3 +175,31 @@ def test_for_counts_the_variable_with_step():
     assert run(body, "DECL INT I, S").messages == ["10070401"]
     with pytest.raises(RunError, match="FOR with STEP 0"):
         run("FOR I = 1 TO 2 STEP 0\nENDFOR", "DECL INT I")
+
+
+STOPMESS = "GLOBAL INTERRUPT DECL 3 WHEN $STOPMESS==TRUE DO IR_STOPM()\nINTERRUPT ON 3"
+
+
+def test_the_templates_stop_message_interrupt_is_declared_then_switched_on():
+    """KUKA's INI fold: interrupt 3 calls KUKA's IR_STOPM on a stop message (no stop messages here)."""
+    assert run(f"{STOPMESS}\nINTERRUPT OFF 3\nINTERRUPT ON\n" + say_text("on")).messages == ["on"]
+
+
+@pytest.mark.parametrize(
+    ("body", "says"),
+    [
+        ("INTERRUPT ON 3", "INTERRUPT ON 3: interrupt 3 is not declared"),
+        ("INTERRUPT ON 4\n" + STOPMESS, "interrupt 4 is not declared"),  # at run time, in order
+        ("INTERRUPT DECL 0 WHEN $IN[1] DO IR_STOPM()", "the priority must be in 1..128"),
+        ("INTERRUPT DECL 5 WHEN $IN[1] DO MISSING()", "no routine MISSING to call"),
+        ("INTERRUPT FLIP 3", "expected ON, OFF, ENABLE or DISABLE"),
+        ("\n".join(f"INTERRUPT DECL {n} WHEN $IN[1] DO IR_STOPM()" for n in range(1, 34)), "more than 32"),
+        (
+            "\n".join(f"INTERRUPT DECL {n} WHEN $IN[1] DO IR_STOPM()\nINTERRUPT ON {n}" for n in range(1, 18)),
+            "INTERRUPT ON 17: more than 16 interrupts on",
+        ),
+    ],
+)
+def test_interrupts_the_controller_refuses(body, says):
+    with pytest.raises(RunError, match=says):
+        run(body)

@@ -29,6 +29,7 @@ from codegen.dialects.krl.builtins import (
     valid,
     xyzabc,
 )
+from codegen.dialects.krl.interrupts import InterruptStatements
 from codegen.dialects.krl.motion import (
     ACTIVE_BASE_AT_START,
     SYSTEM_ARRAY,
@@ -49,7 +50,7 @@ NO_SKIP = frozenset()
 
 
 
-class KRLCompiler(Compiler):
+class KRLCompiler(InterruptStatements, Compiler):
     name = "krl"
     case_insensitive = True
     index_base = 1
