@@ -32,6 +32,7 @@ from codegen.kinds import Case, get_kind, kinds
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace
 from codegen.robot.expect import ArmStats, arm_of, arm_problem, home_move, tool_inputs
+from codegen.robot.region import station_plan
 from codegen.vision import VisionPC
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
@@ -130,10 +131,14 @@ START_AWAY_DEG = (25.0, -15.0, 10.0, 0.0, 0.0, 0.0)  # the arm left away from ho
 
 
 def start_joints(cell: Cell, target: Target, case: Case):
-    """Where the arm stands when the program starts (deg): at home, or away from it; None without an arm."""
+    """Where the arm stands when the program starts (deg): at home, away from it or at the case's
+    station's taught retreat; None without an arm."""
     home = home_move(cell, target.name)
     if home is None:
         return None
+    if case.start == "retreat":
+        taught, _ = station_plan(cell, target.name, cell.station_by_id(case.reading.station_id))
+        return next(pose.joints for pose in taught if pose.name == "retreat")
     return home[1] + (np.array(START_AWAY_DEG) if case.start == "away" else 0.0)
 
 
@@ -235,8 +240,10 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
         if own and cell.io is not None and cell.io.feedback:  # the gripper never confirms, or never releases
             cases.append(Case("gripper_silent", own[0].reading, gripper="silent"))
             cases.append(Case("gripper_stuck", own[0].reading, gripper="stuck"))
-    if cell.robot is not None and cases:  # the program started with the arm away from home
+    if cell.robot is not None and cases:  # the program started with the arm away from home, or at a retreat
         cases.append(Case("start_away", cases[0].reading, start="away"))
+        if cell.motion.retreat_mm > 0:
+            cases.append(Case("start_retreat", cases[0].reading, start="retreat"))
     known = {s.id for s in cell.stations}
     for station_id in (0, -1, max(known) + 1, STATION_ID_MAX, 99999):
         if station_id not in known:

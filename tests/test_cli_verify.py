@@ -113,8 +113,9 @@ def test_verify_warns_when_the_file_comes_from_another_cell():
 
 
 def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path):
-    """An endless loop in one station: verify reports it once and runs no more cases on that target
-    (it ran every case to the step limit before, for minutes); --step-limit sets the limit."""
+    """An endless loop in one station: verify reports it once per chunk of cases (a worker's share; station
+    1 is in the first chunk and the start_retreat case in the last) and runs no more cases of that chunk (it
+    ran every case to the step limit before, for minutes); --step-limit sets the limit."""
     from pathlib import Path
 
     generated = Path(__file__).resolve().parents[1] / "generated" / "agv_machine_tending" / "ur"
@@ -129,7 +130,7 @@ def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path):
     )
     assert result.exit_code == 1
     report = json.loads(result.output)["targets"][0]
-    assert report["mismatches"] == 1 and "step limit 5000 reached" in report["first_mismatches"][0]
+    assert report["mismatches"] == 2 and all("step limit 5000 reached" in m for m in report["first_mismatches"])
     from codegen.cell import load_cell
     from codegen.verify import build_cases
 

@@ -124,7 +124,7 @@ def test_the_signal_is_in_every_demo_program():
     ("target", "old", "new"),
     [
         # no check where the arm stands: the program moves home from wherever the arm was left
-        ("ur", "      vis_stop(\"start with the arm at home", "      textmsg(\"start with the arm at home"),
+        ("ur", "    vis_stop(\"start with the arm at home", "    textmsg(\"start with the arm at home"),
         ("abb", "      vis_stop \"start with the arm at home", "      TPWrite \"start with the arm at home"),
     ],
 )
@@ -132,6 +132,22 @@ def test_verify_fails_a_start_away_from_home_that_moves(demo, target, old, new):
     cell, cases = demo
     found = _mismatches(cell, cases, target, lambda text: replace_once(text, old, new))
     assert any(m.startswith("start_away") and "expected a halt (not_at_home)" in m for m in found), found[:3]
+
+
+@pytest.mark.parametrize(
+    ("target", "old", "new"),
+    [  # station 1's retreat (the start_retreat case's station) no longer accepted as a start
+        ("ur", "  vis_known = vis_known or vis_near(", "  vis_known = vis_known or False and vis_near("),
+        ("abb", "    known := known OR vis_near(", "    known := known OR FALSE AND vis_near("),
+    ],
+)
+def test_verify_fails_a_program_that_refuses_to_start_at_a_retreat(demo, target, old, new):
+    cell, cases = demo
+    found = _mismatches(cell, cases, target, lambda text: replace_once(text, old, new))
+    assert [m for m in found if m.startswith("start_retreat")] and all(
+        m.startswith("start_retreat") and "unexpected halt: 'start with the arm at home or a retreat" in m
+        for m in found
+    ), found[:3]
 
 
 def test_a_program_started_away_from_home_stops_there_or_goes_home_by_its_controller(demo):

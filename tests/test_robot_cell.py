@@ -260,7 +260,9 @@ def test_the_controllers_numbered_tool_instead_of_a_declared_one(tmp_path):
 
     other = load(src.replace("TOOL_DATA[3]", "TOOL_DATA[4]"), "other.src", dat)  # a tool the controller lacks
     report = verify(cell, ["kuka"], {"kuka": (other, ["other"])}, cases)[0]
-    assert report.mismatches == report.cases and "other.src:14:3: FRAME.X has no value" in report.first_mismatches[0]
+    line = src.splitlines().index("  $TOOL = TOOL_DATA[3]") + 1  # where the tool is selected
+    assert report.mismatches == report.cases
+    assert f"other.src:{line}:3: FRAME.X has no value" in report.first_mismatches[0]
     bad = DEMO_TEXT.replace("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0, 80.0]\nnumbered = { abb = 1 }")
     with pytest.raises(CellError, match=r"cell.tool.numbered.abb: the abb controller has no numbered tools here"):
         load_cell(write_cell(tmp_path, bad, "bad.toml"))

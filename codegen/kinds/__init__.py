@@ -21,7 +21,8 @@ class Case:
     reading: Any  # the kind's case type; has station_id
     vision: str = "prompt"
     gripper: str = "prompt"  # how the simulated gripper answers the work pose's signal (codegen.signals)
-    start: str = "home"  # where the arm stands when the program starts: "home", or "away" from it
+    start: str = "home"  # where the arm stands when the program starts: "home", "away" from it, or "retreat":
+    # at its station's taught retreat (where a stopped cycle leaves it)
 
 
 class ProgramKind:

@@ -65,7 +65,11 @@ def station_arm(cell, target, station) -> list[dict]:
     except ReachError as exc:  # a taught pose the arm cannot take: no configuration to write
         raise EmitError(str(exc)) from None
     return [
-        {**literal(configuration(target.configuration, arm, pose.joints), unit), "named": named}
+        {
+            **literal(configuration(target.configuration, arm, pose.joints), unit),
+            "named": named,
+            "taught_joints": _joints(pose.joints, unit),  # where the arm stands at the taught pose
+        }
         for pose, named in zip(taught, named_poses, strict=True)
     ]
 

@@ -81,13 +81,21 @@ MODULE agv_machine_tending
 
   PROC main()
     VAR jointtarget now;
-    ! a defined start: the arm stands at home (every axis within 2.000 deg), or the program stops
-    ! with a message before it moves
+    VAR bool known;
+    ! a defined start: the arm stands at home or at a station's taught retreat (every axis within
+    ! 2.000 deg), from where a joint move home is the one the program makes after every station;
+    ! anywhere else the program stops with a message before it moves
     now := CJointT();
-    IF Abs(now.robax.rax_1 - vis_home.robax.rax_1) > 2.000 OR Abs(now.robax.rax_2 - vis_home.robax.rax_2) > 2.000
-        OR Abs(now.robax.rax_3 - vis_home.robax.rax_3) > 2.000 OR Abs(now.robax.rax_4 - vis_home.robax.rax_4) > 2.000
-        OR Abs(now.robax.rax_5 - vis_home.robax.rax_5) > 2.000 OR Abs(now.robax.rax_6 - vis_home.robax.rax_6) > 2.000 THEN
-      vis_stop "start with the arm at home (every joint within 2 deg)";
+    known := vis_near(now, vis_home);
+    known := known OR vis_near(now, [[-8.6464, 23.4460, 34.4956, 0.0000, 32.0584, 81.3536], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! lathe_1
+    known := known OR vis_near(now, [[-7.1377, 22.9898, 36.5525, 0.0000, 30.4577, 84.3623], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! lathe_2
+    known := known OR vis_near(now, [[-2.0971, 26.1782, 39.7994, 32.7654, 28.5491, -121.6524], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! mill_1
+    known := known OR vis_near(now, [[-3.0045, 26.8554, 38.8437, 32.7939, 28.5411, -120.5500], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! mill_2
+    known := known OR vis_near(now, [[7.7327, 35.6402, 9.8103, 4.0061, 74.3598, -174.3748], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! grinder
+    known := known OR vis_near(now, [[51.1628, 37.7193, 38.4935, 0.0000, 13.7872, 52.1628], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! inspection_table
+    known := known OR vis_near(now, [[-93.8237, 26.9227, 15.8731, 0.0000, 47.2042, 176.1763], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! warehouse_gate
+    IF NOT known THEN
+      vis_stop "start with the arm at home or a retreat (every joint within 2 deg)";
     ENDIF
     ! home first, in joints (no configuration to choose), with the tool and its load
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
@@ -115,6 +123,13 @@ MODULE agv_machine_tending
     ! back home after the station
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
   ENDPROC
+
+  LOCAL FUNC bool vis_near(jointtarget now, jointtarget known)
+    ! every axis within the start tolerance of a known pose
+    RETURN Abs(now.robax.rax_1 - known.robax.rax_1) <= 2.000 AND Abs(now.robax.rax_2 - known.robax.rax_2) <= 2.000
+      AND Abs(now.robax.rax_3 - known.robax.rax_3) <= 2.000 AND Abs(now.robax.rax_4 - known.robax.rax_4) <= 2.000
+      AND Abs(now.robax.rax_5 - known.robax.rax_5) <= 2.000 AND Abs(now.robax.rax_6 - known.robax.rax_6) <= 2.000;
+  ENDFUNC
 
   LOCAL PROC vis_stop(string message)
     ! the operator sees the message (event log and FlexPendant), the program stops there; a restart

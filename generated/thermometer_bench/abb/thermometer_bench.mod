@@ -68,13 +68,16 @@ MODULE thermometer_bench
 
   PROC main()
     VAR jointtarget now;
-    ! a defined start: the arm stands at home (every axis within 2.000 deg), or the program stops
-    ! with a message before it moves
+    VAR bool known;
+    ! a defined start: the arm stands at home or at a station's taught retreat (every axis within
+    ! 2.000 deg), from where a joint move home is the one the program makes after every station;
+    ! anywhere else the program stops with a message before it moves
     now := CJointT();
-    IF Abs(now.robax.rax_1 - vis_home.robax.rax_1) > 2.000 OR Abs(now.robax.rax_2 - vis_home.robax.rax_2) > 2.000
-        OR Abs(now.robax.rax_3 - vis_home.robax.rax_3) > 2.000 OR Abs(now.robax.rax_4 - vis_home.robax.rax_4) > 2.000
-        OR Abs(now.robax.rax_5 - vis_home.robax.rax_5) > 2.000 OR Abs(now.robax.rax_6 - vis_home.robax.rax_6) > 2.000 THEN
-      vis_stop "start with the arm at home (every joint within 2 deg)";
+    known := vis_near(now, vis_home);
+    known := known OR vis_near(now, [[15.9753, 39.8634, -8.9614, -3.7468, 73.7033, 167.4880], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! bath
+    known := known OR vis_near(now, [[-29.8877, 22.9592, 26.8848, 0.0000, 40.1560, -119.8877], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]); ! tray
+    IF NOT known THEN
+      vis_stop "start with the arm at home or a retreat (every joint within 2 deg)";
     ENDIF
     ! home first, in joints (no configuration to choose), with the tool and its load
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
@@ -91,6 +94,13 @@ MODULE thermometer_bench
     ! back home after the station
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
   ENDPROC
+
+  LOCAL FUNC bool vis_near(jointtarget now, jointtarget known)
+    ! every axis within the start tolerance of a known pose
+    RETURN Abs(now.robax.rax_1 - known.robax.rax_1) <= 2.000 AND Abs(now.robax.rax_2 - known.robax.rax_2) <= 2.000
+      AND Abs(now.robax.rax_3 - known.robax.rax_3) <= 2.000 AND Abs(now.robax.rax_4 - known.robax.rax_4) <= 2.000
+      AND Abs(now.robax.rax_5 - known.robax.rax_5) <= 2.000 AND Abs(now.robax.rax_6 - known.robax.rax_6) <= 2.000;
+  ENDFUNC
 
   LOCAL PROC vis_stop(string message)
     ! the operator sees the message (event log and FlexPendant), the program stops there; a restart
