@@ -95,6 +95,7 @@ class Cell:
     source: str = ""
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
+    pallets: tuple = ()  # [[pallet]]: codegen.pallet.section.Pallet, checked (codegen/pallet/)
 
     def station_by_id(self, station_id: int) -> Station | None:
         return self._stations_by_id.get(station_id)
@@ -128,6 +129,15 @@ def image_angle_sign(pixel_to_mm) -> int:
 def load_cell(path: str | Path | None = None) -> Cell:
     """Load and validate a cell file; None means the bundled demo cell."""
     path = Path(path) if path is not None else DEMO_CELL
+    data, raw = read_cell_data(path)
+    try:
+        return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+    except RecursionError:
+        raise CellError(f"{path}: tables or arrays nested too deeply") from None
+
+
+def read_cell_data(path: Path) -> tuple[dict, bytes]:
+    """A cell file's TOML tables and its bytes; a CellError naming the file when it cannot be read."""
     try:
         raw = path.read_bytes()
     except OSError as exc:
@@ -142,10 +152,7 @@ def load_cell(path: str | Path | None = None) -> Cell:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except tomllib.TOMLDecodeError as exc:
         raise CellError(f"{path}: TOML syntax error: {exc}") from None
-    try:
-        return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
-    except RecursionError:
-        raise CellError(f"{path}: tables or arrays nested too deeply") from None
+    return data, raw
 
 
 def replace_cell_file(path: Path, text: str, check=None) -> None:
@@ -169,9 +176,9 @@ def replace_cell_file(path: Path, text: str, check=None) -> None:
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
     ctx = _Context(source)
-    top_unknown = set(data) - {"cell", "station"}
+    top_unknown = set(data) - {"cell", "station", "pallet"}
     if top_unknown:
-        ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell] and [[station]]")
+        ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell], [[station]] and [[pallet]]")
     cell_table = ctx.table(data, "cell", "cell")
     ctx.no_unknown(cell_table, _CELL_KEYS.union(*(k.cell_tables for k in kinds().values())), "cell")
 
@@ -268,6 +275,9 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
             ctx.fail(f"station[{i}].name", f"duplicate station name {station.name!r} (also station[{other}])")
         seen_ids[station.id] = i
         seen_names[station.name] = i
+    from codegen.pallet.analysis import checked_pallets  # the pallet package builds on this module
+
+    pallets = checked_pallets(ctx, data)
 
     cell = Cell(
         name=name,
@@ -285,6 +295,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),
+        pallets=pallets,
     )
     for i, station in enumerate(stations, start=1):
         get_kind(station.kind).check(ctx, f"station[{i}]", station, cell)

@@ -338,4 +338,4 @@ def calibrate() -> None:
     """Calibration computations (hand-eye)."""
 
 
-from codegen import cli_calibrate, cli_run  # noqa: E402, F401  (register their commands on the group above)
+from codegen import cli_calibrate, cli_pallet, cli_run  # noqa: E402, F401  (register their commands on the group above)

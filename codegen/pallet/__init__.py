@@ -1,0 +1,1 @@
+"""Palletizing (source 004): the [[pallet]] section, its frame, patterns, checks, poses and pictures."""

@@ -1,0 +1,106 @@
+"""A pallet's refusals (frame, overlap, overhang) and warnings (support, frame upside down), by key path."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from codegen.pallet import checks
+from codegen.pallet.patterns import layout
+from codegen.pallet.section import Pallet, parse_pallets
+from codegen.pallet.stack import FrameError, pallet2base
+
+
+def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
+    """Fails (ctx.fail: file, key path) on what cannot be stacked; returns the warnings."""
+    warnings = []
+    try:
+        frame = pallet2base(pallet.origin, pallet.x_point, pallet.xy_point)
+    except FrameError as exc:
+        ctx.fail(path, str(exc))
+    if frame[2, 2] < 0:
+        warnings.append(
+            f"{path}.frame: the pallet's z points down in the base frame (the tool would come from below): "
+            "teach xy_point on the other side of the x axis"
+        )
+    footprint = pallet.box[:2]
+    layouts = {}
+    for name in pallet.patterns:
+        where = f"{path}.patterns.{name}"
+        boxes = layout(pallet, name)
+        if not boxes:
+            ctx.fail(where, f"no box of {footprint[0]:g} x {footprint[1]:g} mm fits this family on the pallet")
+        for i, j, area in checks.overlaps(boxes, footprint):
+            ctx.fail(where, f"boxes {i + 1} and {j + 1} overlap ({area:.1f} mm^2)")
+        for i, beyond in checks.overhangs(boxes, footprint, pallet.size):
+            if beyond > pallet.overhang_mm + 1e-6:
+                ctx.fail(
+                    where,
+                    f"box {i + 1} reaches {beyond:.1f} mm beyond the pallet's edge "
+                    f"(overhang_mm allows {pallet.overhang_mm:g})",
+                )
+        layouts[name] = boxes
+    seen = set()
+    for layer in range(2, pallet.layers + 1):
+        below, above = pallet.cycle[(layer - 2) % len(pallet.cycle)], pallet.cycle[(layer - 1) % len(pallet.cycle)]
+        if (below, above) in seen:
+            continue
+        seen.add((below, above))
+        shares = checks.support(layouts[above], layouts[below], footprint)
+        weak = [(i, s) for i, s in enumerate(shares) if s < pallet.support_min - 1e-9]
+        if weak:
+            listed = ", ".join(f"box {i + 1} {s:.0%}" for i, s in weak[:8]) + (" ..." if len(weak) > 8 else "")
+            warnings.append(
+                f"{path}: pattern {above} on pattern {below} (layer {layer}): {listed} of its bottom rests on "
+                f"the layer below (support_min {pallet.support_min:.0%})"
+            )
+    return warnings
+
+
+def frame_matrix(pallet: Pallet) -> np.ndarray:
+    return pallet2base(pallet.origin, pallet.x_point, pallet.xy_point)
+
+
+def checked_pallets(ctx, data: dict) -> tuple[Pallet, ...]:
+    """The file's [[pallet]] tables, validated and checked; the warnings go to ctx."""
+    pallets = parse_pallets(ctx, data)
+    for i, pallet in enumerate(pallets):
+        ctx.warnings.extend(f"{ctx.source}: {w}" for w in check_pallet(ctx, pallet, f"pallet[{i}]"))
+    return pallets
+
+
+@dataclass(frozen=True)
+class PalletFile:
+    """What `codegen pallet` reads: the cell's name and pallets (a file may hold no stations)."""
+
+    name: str
+    source: str
+    pallets: tuple[Pallet, ...]
+    warnings: tuple[str, ...]
+    motion: object  # codegen.motion.MotionSettings: the speeds of the cycle-time estimate
+
+
+def load_pallet_file(path: str | Path) -> PalletFile:
+    """A cell file's pallets: the whole cell when it has stations, else [cell] name and [[pallet]]."""
+    from codegen import motion
+    from codegen.cell import _Context, load_cell, read_cell_data
+
+    path = Path(path)
+    data, _raw = read_cell_data(path)
+    if "station" in data:
+        cell = load_cell(path)
+        return PalletFile(cell.name, str(path), cell.pallets, cell.warnings, cell.motion)
+    ctx = _Context(str(path))
+    top_unknown = set(data) - {"cell", "pallet"}
+    if top_unknown:
+        ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell] and [[pallet]]")
+    cell_table = ctx.table(data, "cell", "cell")
+    ctx.no_unknown(cell_table, {"name", "motion"}, "cell")
+    name = ctx.name(cell_table, "name", "cell.name")
+    settings = motion.parse_settings(ctx, cell_table)
+    pallets = checked_pallets(ctx, data)
+    if not pallets:
+        ctx.fail("pallet", "expected at least one [[pallet]] table")
+    return PalletFile(name, str(path), pallets, tuple(ctx.warnings), settings)

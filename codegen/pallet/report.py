@@ -1,0 +1,102 @@
+"""`codegen pallet`: every box's poses in the pallet and base frames (JSON keys: DESIGN.md 4), a cycle-time estimate."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from codegen.pallet.analysis import PalletFile, frame_matrix
+from codegen.pallet.patterns import cell_angle
+from codegen.pallet.section import Pallet
+from codegen.pallet.stack import Placement, layer_top, placements
+from codegen.poses import matrix_from_xyzabc, zyx_deg_from_rotmat
+
+
+def xyzabc(pose: np.ndarray) -> list[float]:
+    """mm and deg, 6 decimals, no negative zero."""
+    values = [*pose[:3, 3], *zyx_deg_from_rotmat(pose[:3, :3])]
+    return [round(float(v), 6) + 0.0 for v in values]
+
+
+def _pose(pose: np.ndarray, pallet2base: np.ndarray) -> dict:
+    return {"pallet": xyzabc(pose), "base": xyzabc(pallet2base @ pose)}
+
+
+def cycle_estimate(pallet: Pallet, placed: list[Placement], pallet2base: np.ndarray, motion) -> dict | None:
+    """Seconds per pallet from path lengths over the programmed speeds (no acceleration): per box
+    Q -> entry at the travel speed, entry -> approach -> target -> retreat -> entry at the work speed,
+    entry -> Q at the travel speed. None without a pick pose."""
+    if pallet.pick is None:
+        return None
+    pick = matrix_from_xyzabc(pallet.pick)[:3, 3]
+    travel = work = 0.0
+    for p in placed:
+        a, b1, c, b2 = ((pallet2base @ m)[:3, 3] for m in (p.entry, p.approach, p.target, p.retreat))
+        travel += 2 * float(np.linalg.norm(a - pick))
+        work += sum(float(np.linalg.norm(q - r)) for q, r in ((a, b1), (b1, c), (c, b2), (b2, a)))
+    seconds = travel / motion.speed_mm_s + work / motion.work_speed_mm_s
+    return {
+        "travel_mm": round(travel, 1),
+        "work_mm": round(work, 1),
+        "speed_mm_s": motion.speed_mm_s,
+        "work_speed_mm_s": motion.work_speed_mm_s,
+        "seconds": round(seconds, 1),
+    }
+
+
+def pallet_report(pallet: Pallet, motion) -> dict:
+    frame = frame_matrix(pallet)
+    placed = placements(pallet)
+    return {
+        "name": pallet.name,
+        "frame": [[round(float(v), 9) + 0.0 for v in row] for row in frame],
+        "layers": [
+            {"layer": n, "pattern": pallet.cycle[(n - 1) % len(pallet.cycle)], "top_mm": round(layer_top(pallet, n), 6)}
+            for n in range(1, pallet.layers + 1)
+        ],
+        "boxes": [
+            {
+                "layer": p.layer,
+                "box": p.number,
+                "pattern": p.pattern,
+                "angle": cell_angle(pallet, p.box),
+                "target": _pose(p.target, frame),
+                "entry": _pose(p.entry, frame),
+                "approach": _pose(p.approach, frame),
+                "retreat": _pose(p.retreat, frame),
+            }
+            for p in placed
+        ],
+        "cycle": cycle_estimate(pallet, placed, frame, motion),
+    }
+
+
+def report(data: PalletFile) -> dict:
+    return {
+        "cell": data.name,
+        "pallets": [pallet_report(p, data.motion) for p in data.pallets],
+        "warnings": list(data.warnings),
+    }
+
+
+def text(result: dict) -> str:
+    lines = [f"cell {result['cell']}"]
+    for pallet in result["pallets"]:
+        count = len(pallet["boxes"])
+        lines.append(f"pallet {pallet['name']}: {count} boxes in {len(pallet['layers'])} layers")
+        for layer in pallet["layers"]:
+            lines.append(f"  layer {layer['layer']}: pattern {layer['pattern']}, top at z {layer['top_mm']:g} mm")
+        lines.append("  layer box  target (pallet frame: x y z a b c)          entry z   approach (x y z)")
+        for b in pallet["boxes"]:
+            t, e, a = b["target"]["pallet"], b["entry"]["pallet"], b["approach"]["pallet"]
+            lines.append(
+                f"  {b['layer']:5d} {b['box']:3d}  ({', '.join(f'{v:g}' for v in t)})".ljust(60)
+                + f"{e[2]:8g}   ({a[0]:g}, {a[1]:g}, {a[2]:g})"
+            )
+        cycle = pallet["cycle"]
+        if cycle is not None:
+            lines.append(
+                f"  cycle estimate: {cycle['seconds']:g} s per pallet ({cycle['travel_mm']:g} mm at "
+                f"{cycle['speed_mm_s']:g} mm/s, {cycle['work_mm']:g} mm at {cycle['work_speed_mm_s']:g} mm/s; "
+                "no acceleration, no gripper time)"
+            )
+    return "\n".join(lines)

@@ -1,0 +1,161 @@
+"""Palletizing (source 004): the [[pallet]] section, the frame, the patterns and their checks, `codegen pallet`."""
+
+import json
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from codegen.cell import CellError
+from codegen.cli import main
+from codegen.pallet import checks
+from codegen.pallet.analysis import load_pallet_file
+from codegen.pallet.patterns import Box, column, interlock, pinwheel, split_row
+from codegen.pallet.stack import FrameError, pallet2base
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "pallets"
+TESTMAT = (EXAMPLES / "testmat_pallet.toml").read_text()
+
+
+def _load(tmp_path, text: str):
+    path = tmp_path / "pallet.toml"
+    path.write_text(text)
+    return load_pallet_file(path)
+
+
+def test_the_frame_is_orthonormal_when_the_y_point_is_taught_off_square():
+    """PY taught 5 deg off square in the pallet plane: y is still square to x (source 004's eq. 1 would
+    take PY - O itself as y)."""
+    off = math.radians(5)
+    frame = pallet2base((10, 20, 30), (110, 20, 30), (10 + 80 * math.sin(off), 20 + 80 * math.cos(off), 30))
+    rot = frame[:3, :3]
+    assert np.allclose(rot.T @ rot, np.eye(3), atol=1e-12)
+    assert np.allclose(rot, np.eye(3), atol=1e-12) and np.allclose(frame[:3, 3], (10, 20, 30))
+
+
+@pytest.mark.parametrize(
+    ("points", "says"),
+    [
+        (((0, 0, 0), (5, 0, 0), (0, 80, 0)), "x_point is 5 mm from the origin"),
+        (((0, 0, 0), (100, 0, 0), (100, 5, 0)), "within 10 deg of one line"),
+    ],
+)
+def test_a_frame_without_a_plane_is_refused(points, says):
+    with pytest.raises(FrameError, match=says):
+        pallet2base(*points)
+
+
+def test_a_frame_taught_from_below_warns(tmp_path):
+    text = TESTMAT.replace("xy_point = [400.0, -120.0, 100.0]", "xy_point = [400.0, -280.0, 100.0]")
+    assert any("z points down" in w for w in _load(tmp_path, text).warnings)
+
+
+def test_source_004s_test_pallet_as_its_tables_describe():
+    """Table 1 (angles clockwise: 90 -> a = -90 as Table 2 writes it), layers 26 mm each, patterns 1 and
+    2 alternating (Table 3), entry 6.5 mm above the target and approach (5, 5, 5) mm (Table 4)."""
+    result = json.loads(CliRunner().invoke(main, ["pallet", "--json"]).output)
+    boxes = result["pallets"][0]["boxes"]
+    assert len(boxes) == 30 and [b["pattern"] for b in boxes[::6]] == ["p1", "p2", "p1", "p2", "p1"]
+    table1 = {
+        "p1": [(13, 26, -90), (39, 26, -90), (65, 26, -90), (91, 26, -90), (26, 65, 0), (78, 65, 0)],
+        "p2": [(26, 13, 0), (78, 13, 0), (13, 52, -90), (39, 52, -90), (65, 52, -90), (91, 52, -90)],
+    }
+    for b in boxes:
+        x, y, a = table1[b["pattern"]][b["box"] - 1]
+        z = 26 * b["layer"]
+        assert b["target"]["pallet"] == [x, y, z, a, 0, 180]
+        assert b["entry"]["pallet"] == [x, y, z + 6.5, a, 0, 180]
+        assert b["approach"]["pallet"] == [x + 5, y + 5, z + 5, a, 0, 180]
+        # the frame of the example: origin (400, -200, 100), axes those of the base
+        assert b["target"]["base"][:3] == [400 + x, -200 + y, 100 + z]
+
+
+def test_the_octagon_two_squares_make():
+    """Two 2 x 2 squares about one centre, one turned 45 deg: a regular octagon of area 8 (sqrt 2 - 1)."""
+    found = checks.overlaps((Box(0, 0, 0), Box(0, 0, 45)), (2.0, 2.0))
+    assert len(found) == 1 and found[0][:2] == (0, 1) and found[0][2] == pytest.approx(8 * (math.sqrt(2) - 1))
+    assert checks.overlaps((Box(0, 0, 0), Box(2, 0, 0)), (2.0, 2.0)) == []  # touching is not overlapping
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "says"),
+    [
+        (
+            "[39, 26, 90], [65, 26, 90]",
+            "[30, 26, 90], [65, 26, 90]",
+            r"pallet\[0\]\.patterns\.p1: boxes 1 and 2 overlap",
+        ),
+        ("p2 = [[26, 13, 0]", "p2 = [[20, 13, 0]", r"pallet\[0\]\.patterns\.p2: box 1 reaches 6\.0 mm beyond"),
+        ('cycle = ["p1", "p2"]', 'cycle = ["p1", "p3"]', r"pallet\[0\]\.cycle\[1\]: no pattern 'p3'"),
+        ("layers = 5", "layers = 0", r"pallet\[0\]\.layers: expected a whole number"),
+        ("entry_dz = 6.5", "entry_dz = -1", r"pallet\[0\]\.entry_dz: must be in \(0"),
+        ("box = [52.0, 26.0, 26.0]", "box = [52.0, 26.0]", r"pallet\[0\]\.box"),
+    ],
+)
+def test_a_pallet_that_cannot_be_stacked_is_refused_with_its_key(tmp_path, old, new, says):
+    assert old in TESTMAT
+    with pytest.raises(CellError, match=says):
+        _load(tmp_path, TESTMAT.replace(old, new, 1))
+
+
+def test_an_allowed_overhang_passes_and_the_cli_refuses_with_exit_2(tmp_path):
+    text = TESTMAT.replace("p2 = [[26, 13, 0]", "p2 = [[20, 13, 0]")
+    _load(tmp_path, text.replace('angle_sense = "cw"', 'angle_sense = "cw"\noverhang_mm = 6'))
+    result = CliRunner().invoke(main, ["pallet", str(tmp_path / "pallet.toml")])
+    assert result.exit_code == 0
+    (tmp_path / "bad.toml").write_text(text)
+    result = CliRunner().invoke(main, ["pallet", str(tmp_path / "bad.toml")])
+    assert result.exit_code == 2 and "box 1 reaches 6.0 mm beyond" in result.output and "Traceback" not in result.output
+
+
+@pytest.mark.parametrize(
+    ("family", "count"),
+    [(column, 8), (interlock, 6), (pinwheel, 4), (split_row, 5)],  # counted by hand on 1200 x 800, 400 x 300
+)
+def test_every_family_fits_a_eur_pallet_without_overlap(family, count):
+    boxes = tuple(family(1200.0, 800.0, 400.0, 300.0))
+    assert len(boxes) == count
+    assert (
+        checks.overlaps(boxes, (400.0, 300.0)) == [] and checks.overhangs(boxes, (400.0, 300.0), (1200.0, 800.0)) == []
+    )
+
+
+def test_a_layer_shifted_half_a_box_rests_half_on_the_one_below():
+    lower = (Box(200, 150, 0),)
+    assert checks.support((Box(400, 150, 0),), lower, (400.0, 300.0)) == [pytest.approx(0.5)]
+    assert checks.support((Box(200, 150, 90),), lower, (400.0, 300.0)) == [pytest.approx(300 * 300 / (400 * 300))]
+
+
+def test_the_eur_example_slip_sheets_mirror_and_labels(tmp_path):
+    data = load_pallet_file(EXAMPLES / "eur_pallet.toml")
+    result = json.loads(CliRunner().invoke(main, ["pallet", str(EXAMPLES / "eur_pallet.toml"), "--json"]).stdout)
+    tops = [layer["top_mm"] for layer in result["pallets"][0]["layers"]]
+    assert tops == [250, 500, 753, 1003, 1256, 1506]  # a 3 mm sheet on top of layers 2 and 4
+    boxes = result["pallets"][0]["boxes"]
+    first, mirrored = boxes[0]["target"]["pallet"], boxes[6]["target"]["pallet"]
+    assert mirrored[0] == 1200 - first[0] and mirrored[1] == first[1]
+    assert any("50%" in w and "support_min 60%" in w for w in data.warnings)
+    cycle = result["pallets"][0]["cycle"]
+    assert cycle["seconds"] == pytest.approx(cycle["travel_mm"] / 1000 + cycle["work_mm"] / 200, abs=0.1)
+
+
+def test_the_pictures_show_each_box_numbered_with_its_label_and_approach(tmp_path):
+    result = CliRunner().invoke(main, ["pallet", "--svg", str(tmp_path)])
+    assert result.exit_code == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == [f"testmat_layer{n:02d}.svg" for n in range(1, 6)]
+    ns = {"s": "http://www.w3.org/2000/svg"}
+    root = ET.parse(tmp_path / "testmat_layer01.svg").getroot()
+    assert "layer 1 of 5, pattern p1, top at z 26 mm" in root.find("s:title", ns).text
+    polygons = root.findall("s:polygon", ns)
+    numbers = [t.text for t in root.findall("s:text", ns) if t.get("class") == "number"]
+    assert len(polygons) == 6 and numbers == ["1", "2", "3", "4", "5", "6"]
+    assert (
+        len(root.findall("s:line[@class='label']", ns)) == 6 and len(root.findall("s:line[@class='approach']", ns)) == 6
+    )
+    # box 1 of pattern 1 stands turned, 26 mm along the pallet's x and 52 mm along its y: its outline says so
+    points = np.array([[float(v) for v in p.split(",")] for p in polygons[0].get("points").split()])
+    width_px, height_px = np.ptp(points[:, 0]), np.ptp(points[:, 1])
+    assert height_px == pytest.approx(2 * width_px, rel=1e-3)
