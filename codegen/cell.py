@@ -201,6 +201,11 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
 
     robot = parse_robot(ctx, cell_table, tuple(targets), pose_format)
 
+    # a cell of pallets alone (codegen/pallet/) needs no camera and no limits: no station reads a mark
+    vision_free = not data.get("station") and bool(data.get("pallet"))
+    if vision_free:
+        unused = {"camera": {"angle_sign": 1}, "limits": {"max_shift_mm": 10.0, "max_rotation_deg": 10.0}}
+        cell_table = {**unused, **cell_table}
     camera = ctx.table(cell_table, "camera", "cell.camera")
     ctx.no_unknown(camera, _CAMERA_KEYS, "cell.camera")
     angle_sign = ctx.require(camera, "angle_sign", "cell.camera.angle_sign")
@@ -243,9 +248,9 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     if max_rot <= 0 or max_rot >= 180:
         ctx.fail("cell.limits.max_rotation_deg", f"must be in (0, 180) degrees, got {max_rot}")
 
-    stations_raw = data.get("station")
-    if not isinstance(stations_raw, list) or not stations_raw:
-        ctx.fail("station", "expected at least one [[station]] table")
+    stations_raw = data.get("station", [] if vision_free else None)
+    if not isinstance(stations_raw, list) or not (stations_raw or vision_free):
+        ctx.fail("station", "expected at least one [[station]] table (or a cell of [[pallet]] tables)")
     if len(stations_raw) > STATIONS_MAX:
         ctx.fail(
             "station",
@@ -277,7 +282,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         seen_names[station.name] = i
     from codegen.pallet.analysis import checked_pallets  # the pallet package builds on this module
 
-    pallets = checked_pallets(ctx, data)
+    pallets = checked_pallets(ctx, data, pose_format)
 
     cell = Cell(
         name=name,
@@ -299,6 +304,8 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     )
     for i, station in enumerate(stations, start=1):
         get_kind(station.kind).check(ctx, f"station[{i}]", station, cell)
+    if pallets and (cell.io is None or not cell.io.feedback):
+        ctx.fail("cell.io", "a cell with [[pallet]] needs [cell.io] with feedback: the gripper's output and its sensor")
     return cell
 
 

@@ -182,7 +182,7 @@ def diff(cell: str | None, out_dir: str) -> None:
     from codegen.emit import EmitError
     from codegen.generate import diff as run_diff
 
-    paths = [cell] if cell is not None else sorted(EXAMPLES_DIR.glob("*.toml"))
+    paths = [cell] if cell is not None else sorted([*EXAMPLES_DIR.glob("*.toml"), *EXAMPLES_DIR.glob("pallets/*.toml")])
     text = ""
     for path in paths:
         model = _load(path)
@@ -247,6 +247,11 @@ def verify(
     model = _load(cell)
     if cases < 0:
         raise UserError("--cases must be >= 0")
+    from codegen.pallet.verify import pallet_section
+
+    pallets, files = pallet_section(model, files, targets, seed)  # the stacking programs' own cases
+    if pallets is not None and pallets.alone:
+        pallets.finish(as_json)
     from codegen.emit import EmitError
     from codegen.generate import GenerateError, check_envelope
 
@@ -314,7 +319,7 @@ def verify(
         raise click.ClickException(str(exc)) from None
     wall = time.perf_counter() - start
     summaries = [r.summary() for r in reports]
-    ok = all(s["mismatches"] == 0 for s in summaries)
+    ok = all(s["mismatches"] == 0 for s in summaries) and (pallets is None or pallets.ok)
     if as_json:
         _dump(
             {
@@ -325,11 +330,15 @@ def verify(
                 "wall_seconds": wall,
                 "workers": workers,
                 "targets": summaries,
+                **({} if pallets is None else {"pallets": pallets.summaries()}),
             }
         )
     else:
         for line in runs.report_lines(model, verify_cell, case_list, cases, seed, summaries, wall, workers):
             click.echo(line)
+        if pallets is not None:
+            for line in pallets.lines():
+                click.echo(line)
     sys.exit(0 if ok else 1)
 
 

@@ -80,6 +80,11 @@ _PROGRAM = {
     "tool_data": dict,  # tool and load ("...{n}...") and max of the controller's numbered tools and loads
     "restart": str,  # "at_home": refuses to start away from home; "bco": a PTP home from anywhere; "none"
     "signals": dict,  # digital I/O ([cell.io]): form "index" (range) or "name"; output and input ("...{n}...")
+    "pallet_files": list,  # a stacking program's files per [[pallet]] ("...{pallet}...")
+    "pallet_counters": dict,  # layer and box: the counters' names for --input and verify
+    "pallet_kept": dict,  # layer and box: where the program reports the counters, if not in pallet_counters
+    "pallet_registers": int,  # the first register of the counters, where the controller keeps none
+    "pallet_level_only": bool,  # no pose product: a level pallet only
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
 

@@ -198,6 +198,25 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
         ctx = {**ctx, "partial": partials, "used": [partials[kind] for kind in ctx["kinds_used"]]}
         # the file "{cell}_node.script" comes from the template "program_node.script.j2"
         for pattern, file_name in zip(target.files, output_names(cell, target), strict=True):
+            if not cell.stations:
+                break  # a cell of pallets alone: no vision program
             text = env.get_template(f"{name}/{pattern.format(cell='program')}.j2").render(ctx)
             out.append(RenderedFile(f"{cell_dir(cell)}/{name}/{file_name}", text))
+        out.extend(_pallet_files(env, cell, target, ctx))
+    return out
+
+
+def _pallet_files(env, cell: Cell, target: Target, ctx: dict) -> list[RenderedFile]:
+    """Each [[pallet]]'s stacking program: "{pallet}.src" from the template "pallet.src.j2"."""
+    from codegen.pallet.program import check_level, pallet_context, pallet_file_names, pallet_identifiers
+
+    out = []
+    emitter = Emitter(target)
+    for index, (pallet, ident) in enumerate(zip(cell.pallets, pallet_identifiers(cell, target), strict=True)):
+        check_level(pallet, target)
+        pctx = {**ctx, "pallet": pallet_context(cell, pallet, index, ident, target, emitter)}
+        names = pallet_file_names(target, pctx["pallet"]["ident"])
+        for pattern, file_name in zip(target.program["pallet_files"], names, strict=True):
+            text = env.get_template(f"{target.name}/{pattern.format(pallet='pallet')}.j2").render(pctx)
+            out.append(RenderedFile(f"{cell_dir(cell)}/{target.name}/{file_name}", text))
     return out

@@ -303,3 +303,31 @@ def test_local_routines_and_data_behave_as_the_others():
     assert trace.messages == ["c11"]
     assert trace.moves[0].tcp2base[:3, 3].tolist() == [400.0, 0.0, 500.0]
     assert trace.moves[0].settings["load"] == (1.0, 0.0, 0.0, 50.0)
+
+
+def test_offs_moves_a_target_in_its_work_object():
+    """Offs adds the offsets in the object frame: with a work object turned 90 deg about z, +x of the offset
+    is +y of the base; orientation, robconf and external axes stay."""
+    decls = (
+        'PERS wobjdata turned := [FALSE, TRUE, "", [[100, 0, 0], [0.70710678, 0, 0, 0.70710678]], '
+        "[[0, 0, 0], [1, 0, 0, 0]]];\nVAR robtarget moved;"
+    )
+    body = (
+        "moved := Offs(p400, 10, 20, 30);\n"
+        'TPWrite "" \\Num:=moved.trans.x + moved.trans.y + moved.trans.z;\n'
+        'IF moved.rot = p400.rot AND moved.robconf = p400.robconf AND moved.extax = p400.extax TPWrite "kept";\n'
+        "MoveL moved, v100, fine, tool0 \\WObj:=turned;"
+    )
+    trace = run(body, decls)
+    assert trace.messages == [str(410 + 20 + 530), "kept"]
+    assert [round(v, 3) for v in trace.moves[0].tcp2base[:3, 3].tolist()] == [80.0, 410.0, 530.0]
+    with pytest.raises(RunError, match="Offs takes"):
+        run("moved := Offs(p400, 10, 20);", "VAR robtarget moved;")
+
+
+def test_only_persistent_data_takes_an_input():
+    """A run starts at main: VAR data gets its initial value, only PERS data keeps one from before the run."""
+    program = load(mod('TPWrite "" \\Num:=kept + count;', "PERS num kept := 1;\nVAR num count := 10;"), "t.mod")
+    assert program.run({"kept": 5}).messages == ["15"]
+    with pytest.raises(RunError, match="VAR data gets its initial value"):
+        program.run({"count": 5})

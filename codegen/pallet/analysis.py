@@ -63,9 +63,9 @@ def frame_matrix(pallet: Pallet) -> np.ndarray:
     return pallet2base(pallet.origin, pallet.x_point, pallet.xy_point)
 
 
-def checked_pallets(ctx, data: dict) -> tuple[Pallet, ...]:
+def checked_pallets(ctx, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
     """The file's [[pallet]] tables, validated and checked; the warnings go to ctx."""
-    pallets = parse_pallets(ctx, data)
+    pallets = parse_pallets(ctx, data, pose_format)
     for i, pallet in enumerate(pallets):
         ctx.warnings.extend(f"{ctx.source}: {w}" for w in check_pallet(ctx, pallet, f"pallet[{i}]"))
     return pallets
@@ -83,24 +83,8 @@ class PalletFile:
 
 
 def load_pallet_file(path: str | Path) -> PalletFile:
-    """A cell file's pallets: the whole cell when it has stations, else [cell] name and [[pallet]]."""
-    from codegen import motion
-    from codegen.cell import _Context, load_cell, read_cell_data
+    """A cell file's pallets (a cell of pallets alone needs no camera and no stations)."""
+    from codegen.cell import load_cell
 
-    path = Path(path)
-    data, _raw = read_cell_data(path)
-    if "station" in data:
-        cell = load_cell(path)
-        return PalletFile(cell.name, str(path), cell.pallets, cell.warnings, cell.motion)
-    ctx = _Context(str(path))
-    top_unknown = set(data) - {"cell", "pallet"}
-    if top_unknown:
-        ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell] and [[pallet]]")
-    cell_table = ctx.table(data, "cell", "cell")
-    ctx.no_unknown(cell_table, {"name", "motion"}, "cell")
-    name = ctx.name(cell_table, "name", "cell.name")
-    settings = motion.parse_settings(ctx, cell_table)
-    pallets = checked_pallets(ctx, data)
-    if not pallets:
-        ctx.fail("pallet", "expected at least one [[pallet]] table")
-    return PalletFile(name, str(path), pallets, tuple(ctx.warnings), settings)
+    cell = load_cell(path)
+    return PalletFile(cell.name, str(path), cell.pallets, cell.warnings, cell.motion)

@@ -8,7 +8,7 @@ from codegen.pallet.analysis import PalletFile, frame_matrix
 from codegen.pallet.patterns import cell_angle
 from codegen.pallet.section import Pallet
 from codegen.pallet.stack import Placement, layer_top, placements
-from codegen.poses import matrix_from_xyzabc, zyx_deg_from_rotmat
+from codegen.poses import zyx_deg_from_rotmat
 
 
 def xyzabc(pose: np.ndarray) -> list[float]:
@@ -27,7 +27,7 @@ def cycle_estimate(pallet: Pallet, placed: list[Placement], pallet2base: np.ndar
     entry -> Q at the travel speed. None without a pick pose."""
     if pallet.pick is None:
         return None
-    pick = matrix_from_xyzabc(pallet.pick)[:3, 3]
+    pick = pallet.pick.matrix()[:3, 3]
     travel = work = 0.0
     for p in placed:
         a, b1, c, b2 = ((pallet2base @ m)[:3, 3] for m in (p.entry, p.approach, p.target, p.retreat))

@@ -24,6 +24,7 @@ PALLET_KEYS = frozenset(
         "overhang_mm",
         "support_min",
         "slip_sheet",
+        "mode",
     }
 )
 FRAME_KEYS = frozenset({"origin", "x_point", "xy_point"})
@@ -58,19 +59,20 @@ class Pallet:
     entry_dz: float
     approach: tuple[float, float, float]
     retreat: tuple[float, float, float]
-    pick: tuple[float, ...] | None  # pick pose Q, base frame, cell pose format
+    pick: object  # pick pose Q (codegen.cell.TaughtPose, base frame) or None
     patterns: dict  # name -> tuple of (x, y, angle) or FamilySpec
     overhang_mm: float = 0.0  # how far a box may reach beyond the pallet's edge
     support_min: float = 0.6  # warn when less of a box's bottom rests on the layer below
     slip_every: int = 0  # a slip sheet on top of every n-th layer (0: none)
     slip_thickness: float = 0.0
+    mode: str = "stack"  # "stack": place the boxes from Q; "unstack": take them off, top layer first, to Q
 
 
-def parse_pallets(ctx: _Context, data: dict) -> tuple[Pallet, ...]:
+def parse_pallets(ctx: _Context, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
     raw = data.get("pallet", [])
     if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
         ctx.fail("pallet", "expected [[pallet]] tables")
-    pallets = tuple(_pallet(ctx, table, f"pallet[{i}]") for i, table in enumerate(raw))
+    pallets = tuple(_pallet(ctx, table, f"pallet[{i}]", pose_format) for i, table in enumerate(raw))
     names = [p.name for p in pallets]
     for i, name in enumerate(names):
         if name in names[:i]:
@@ -85,7 +87,7 @@ def _positive(ctx: _Context, values, count: int, path: str, limit: float = MAX_S
     return numbers
 
 
-def _pallet(ctx: _Context, table: dict, path: str) -> Pallet:
+def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
     ctx.no_unknown(table, PALLET_KEYS, path)
     name = ctx.name(table, "name", f"{path}.name")
     frame = ctx.table(table, "frame", f"{path}.frame")
@@ -115,9 +117,8 @@ def _pallet(ctx: _Context, table: dict, path: str) -> Pallet:
         ctx.fail(f"{path}.entry_dz", f"must be in (0, {MAX_SIZE_MM:g}] mm: the entry is above the target")
     approach = _offset(ctx, ctx.require(table, "approach", f"{path}.approach"), f"{path}.approach")
     retreat = _offset(ctx, table.get("retreat", list(approach)), f"{path}.retreat")
-    pick = None
-    if "pick" in table:
-        pick = ctx.numbers(table["pick"], 6, f"{path}.pick")
+    # the pick pose Q, base frame, in the cell's pose format
+    pick = ctx.pose("pick", ctx.require(table, "pick", f"{path}.pick"), f"{path}.pick", pose_format)
     overhang = table.get("overhang_mm", 0.0)
     overhang = ctx.finite(overhang, f"{path}.overhang_mm")
     if not 0 <= overhang <= 200:
@@ -135,6 +136,9 @@ def _pallet(ctx: _Context, table: dict, path: str) -> Pallet:
         slip_thickness = ctx.number(slip, "thickness", f"{path}.slip_sheet.thickness")
         if not 0 < slip_thickness <= 50:
             ctx.fail(f"{path}.slip_sheet.thickness", "must be in (0, 50] mm")
+    mode = table.get("mode", "stack")
+    if mode not in ("stack", "unstack"):
+        ctx.fail(f"{path}.mode", 'expected "stack" (place the boxes) or "unstack" (take them off, top layer first)')
     return Pallet(
         name,
         origin,
@@ -155,6 +159,7 @@ def _pallet(ctx: _Context, table: dict, path: str) -> Pallet:
         support,
         slip_every,
         slip_thickness,
+        mode,
     )
 
 

@@ -49,6 +49,7 @@ class Trace:
     halted: bool = False
     halt_message: str | None = None
     steps: int = 0
+    kept: dict = field(default_factory=dict)  # Program.run(keep=...): those names' values when the run ended
 
 
 def halt(fr, *_ignored) -> None:
@@ -285,11 +286,13 @@ class Program:
         arm=None,
         signals: dict | None = None,
         start_joints=None,
+        keep: tuple[str, ...] = (),
     ) -> Trace:
         """One run from the initial globals with these inputs; devices (simulated equipment beside
         the controller) act whenever the program waits; arm (codegen.robot.arms.Arm): the arm whose
         joints each move must reach by the controller's rules (None: poses only); signals: digital
-        inputs by name at the start; start_joints: where the arm stands (deg; None: unknown)."""
+        inputs by name at the start; start_joints: where the arm stands (deg; None: unknown); keep: names
+        of globals or written outputs whose values the trace keeps from the end of the run."""
         globals_, types, extra = self._prepare(step_limit)
         machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices), arm)
         machine.signals.update(signals or {})
@@ -314,4 +317,7 @@ class Program:
             machine.trace.halt_message = halt.args[0] if halt.args else None
         machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
         machine.trace.steps = machine.steps
+        for name in keep:
+            key = self.compiler.norm(name)
+            machine.trace.kept[name] = machine.globals.get(key, machine.outputs.get(name))
         return machine.trace

@@ -214,6 +214,21 @@ def builtins(compiler) -> dict:
         out = [a + b for a, b in zip(t, posemath.quat_rotate(q, p), strict=True)]
         return Record("POS", dict(zip("XYZ", (f32(v) for v in out), strict=True)))
 
+    def offs(fr, args, kwargs, where):
+        """Offs(Point, XOffset, YOffset, ZOffset): the robtarget moved by the offsets (mm) in its object
+        frame, the one its move's work object gives it; orientation, robconf and external axes unchanged
+        (RAPID functions, Offs)."""
+        if len(args) != 4 or kwargs:
+            raise RunError(f"{where}: Offs takes a robtarget and three offsets (mm)")
+        point = args[0]
+        if type(point) is not Record or point.type != "ROBTARGET":
+            point = compiler.coerce("ROBTARGET", point, where)
+        dx, dy, dz = (num(a, where) for a in args[1:])
+        trans = point["TRANS"]
+        moved = point.shallow()
+        moved["TRANS"] = Record("POS", {k: f32(trans[k] + d) for k, d in zip("XYZ", (dx, dy, dz), strict=True)})
+        return moved
+
     def num_to_str(fr, args, kwargs, where):
         decimals = int(num(args[1], where))
         if not 0 <= decimals <= STRING_MAX:
@@ -320,6 +335,7 @@ def builtins(compiler) -> dict:
         "POSEMULT": pose_mult,
         "POSEINV": pose_inv,
         "POSEVECT": pose_vect,
+        "OFFS": offs,
         "NUMTOSTR": num_to_str,
         "TPWRITE": tpwrite,
         "ERRWRITE": err_write,

@@ -40,6 +40,7 @@ class RAPIDCompiler(Compiler):
         self.in_handler = False  # compiling an error handler's statements
         self.handler_node = None  # the routine being compiled: its error_clause node
         self.ns["_divzero"] = errors.divzero
+        self.storage: dict[str, str] = {}  # the module's data: VAR, PERS or CONST by name
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
@@ -85,6 +86,17 @@ class RAPIDCompiler(Compiler):
 
     def element_type(self, type_name):
         return type_name[0] if isinstance(type_name, tuple) else type_name
+
+    def inject_inputs(self, machine) -> None:
+        """A run starts at main, as after PP to Main: the module's VAR data get their initial values
+        again and only PERS data keep a value from before the run (RAPID overview, program data:
+        persistents), so an input may only preset PERS data."""
+        for name in machine.inputs:
+            key, _index = self._input_names.get(name) or self._input_name(name)
+            storage = self.storage.get(key)
+            if key in machine.globals and storage not in (None, "PERS"):
+                raise RunError(f"input {name}: {storage} data gets its initial value at each start (PERS keeps one)")
+        super().inject_inputs(machine)
 
     # --- expressions -------------------------------------------------------------------------
     def var_reader(self, token):
@@ -386,6 +398,7 @@ def load(text: str, filename: str = "<rapid>") -> Program:
             continue
         if item.data == "data_decl":
             data.append(compiler.decl(item))
+            compiler.storage[str(item.children[4]).upper()] = str(item.children[2]).upper()
         elif item.data == "proc":
             compiler.routine(item, returns=False)
         elif item.data == "func":

@@ -1,0 +1,104 @@
+"""Template variables of a stacking program: the pallet's frame, pattern tables and cycle as data, the counters."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from codegen.cell import TaughtPose
+from codegen.emit import EmitError, Emitter
+from codegen.pallet.analysis import frame_matrix
+from codegen.pallet.cycle import counters_message, empty_message, full_message, layer_counts
+from codegen.pallet.patterns import layout
+from codegen.pallet.section import Pallet
+from codegen.poses import zyx_deg_from_rotmat
+
+LEVEL_TOL = 1e-9  # a level pallet: its z is the base's z (a dialect without a pose product needs one)
+
+
+def pallet_file_names(target, pallet_ident: str) -> list[str]:
+    return [name.format(pallet=pallet_ident.lower()) for name in target.program["pallet_files"]]
+
+
+def counter_registers(target, index: int) -> tuple[int, int] | None:
+    """The registers of pallet `index`'s layer and box counters, where the controller keeps them outside
+    the program (targets/<t>.toml pallet_registers), else None."""
+    first = target.program.get("pallet_registers")
+    return None if first is None else (first + 2 * index, first + 2 * index + 1)
+
+
+def counter_names(target, index: int) -> tuple[str, str]:
+    """The names of pallet `index`'s layer and box counters (`codegen run --input`, verify)."""
+    names, registers = target.program["pallet_counters"], counter_registers(target, index)
+    numbers = {"layer": registers[0], "box": registers[1]} if registers else {}
+    return names["layer"].format(**numbers), names["box"].format(**numbers)
+
+
+def pallet_identifiers(cell, target) -> list[str]:
+    """Each pallet's program identifier ("pal_" and its name); the counters' names are taken first, so a
+    pallet whose program would be named like a counter is refused (EmitError naming both)."""
+    emitter = Emitter(target)
+    for index in range(len(cell.pallets)):
+        for name in counter_names(target, index):
+            emitter.reserve(name, f"the pallet counter {name}")
+    return [emitter.identifier("pal_", p.name, f"pallet {p.name!r}") for p in cell.pallets]
+
+
+def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter) -> dict:
+    """Numbers in the target's notation: the frame (pallet2base), the patterns of the cycle flattened
+    into one table (x, y mm, angle deg counterclockwise; each pattern's first row and count), the
+    cycle as pattern numbers, the layer heights, the offsets of entry, approach and retreat, the tool's
+    orientation at angle 0, the pick pose, the counters' names and the stop messages."""
+    number = emitter.number
+    frame = frame_matrix(pallet)
+    frame_xyzabc = (*frame[:3, 3], *zyx_deg_from_rotmat(frame[:3, :3]))
+    names = list(dict.fromkeys(pallet.cycle))  # each pattern once, in the cycle's order
+    rows, patterns = [], []
+    for name in names:
+        boxes = layout(pallet, name)
+        patterns.append({"name": emitter.comment(name), "start": len(rows) + 1, "count": len(boxes)})
+        rows.extend({"x": number(b.x, 4), "y": number(b.y, 4), "a": number(b.ccw_deg, 4)} for b in boxes)
+    level = bool(np.allclose(frame[:3, 2], (0.0, 0.0, 1.0), atol=LEVEL_TOL))
+    counts = layer_counts(pallet)
+    return {
+        "name": emitter.comment(pallet.name),
+        "ident": ident,
+        "file": ident.lower(),
+        "frame": emitter.pose(TaughtPose("frame", tuple(float(v) for v in frame_xyzabc), "xyzabc")),
+        "frame_rotation": [[number(v, 9) for v in row] for row in frame[:3, :3]],
+        "frame_origin": [number(v, 4) for v in frame[:3, 3]],
+        "level": level,
+        "frame_turn_deg": number(math.degrees(math.atan2(frame[1, 0], frame[0, 0])), 6),
+        "rows": rows,
+        "patterns": patterns,
+        "cycle": [names.index(name) + 1 for name in pallet.cycle],
+        "layers": pallet.layers,
+        "max_count": max(counts.values()),
+        "box_height": number(pallet.box[2], 4),
+        "slip_every": pallet.slip_every,
+        "slip_thickness": number(pallet.slip_thickness, 4),
+        "entry_dz": number(pallet.entry_dz, 4),
+        "approach": [number(v, 4) for v in pallet.approach],
+        "retreat": [number(v, 4) for v in pallet.retreat],
+        "tool_orientation": [number(v, 6) for v in pallet.tool_orientation],
+        "tool": emitter.pose(TaughtPose("tool", (0.0, 0.0, 0.0, *pallet.tool_orientation), "xyzabc")),
+        "pick": emitter.pose(pallet.pick),
+        "registers": counter_registers(target, index),
+        "unstack": pallet.mode == "unstack",  # take the boxes off, top layer first, each layer in reverse
+        "top_count": counts[pallet.layers],
+        "empty": emitter.string(empty_message(pallet)),
+        "full": emitter.string(full_message(pallet)),
+        "bad_counters": emitter.string(counters_message(pallet)),
+    }
+
+
+def check_level(pallet: Pallet, target) -> None:
+    """A dialect without a pose product places boxes on a level pallet only."""
+    if target.program.get("pallet_level_only") and not np.allclose(
+        frame_matrix(pallet)[:3, 2], (0.0, 0.0, 1.0), atol=LEVEL_TOL
+    ):
+        raise EmitError(
+            f"pallet {pallet.name!r}: the {target.name} program needs a level pallet (its z the base's z): "
+            "the dialect has no pose product to tilt the boxes"
+        )

@@ -1,0 +1,103 @@
+"""The stacking programs of every target against the float64 reference, and the mutations verify must catch."""
+
+from pathlib import Path
+
+import pytest
+
+from codegen.cell import load_cell
+from codegen.controllers import get_target
+from codegen.pallet.program import pallet_file_names
+from codegen.pallet.verify import fresh_pallet_programs, pallet_idents, verify_pallet
+from codegen.render import render
+from codegen.verify_runs import load_program
+
+PALLETS = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "pallets"
+TARGETS = ("ur", "kuka", "abb", "dtrans")
+
+
+@pytest.fixture(scope="module", params=["testmat_pallet.toml", "eur_pallet.toml"])
+def cell(request):
+    return load_cell(PALLETS / request.param)
+
+
+@pytest.mark.parametrize("target", TARGETS)
+def test_every_stacking_program_matches_the_reference(cell, target):
+    """A full stack (or unstack), restarts at random boxes, a full (empty) pallet, counters out of range,
+    a gripper that never closes or never opens: every move, gripper output, stop and the counters left."""
+    for index, (program, files) in enumerate(fresh_pallet_programs(cell, target)):
+        report = verify_pallet(cell, index, target, program, files)
+        assert report.cases >= 12 and report.mismatches == 0, report.first_mismatches
+        assert report.boxes >= cell.pallets[index].layers * 6  # the full stack at least
+
+
+def _mutant_mismatches(cell, target: str, file_suffix: str, old: str, new: str) -> list[str]:
+    spec = get_target(target)
+    files = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell, [target])}
+    names = pallet_file_names(spec, pallet_idents(cell, spec)[0])
+    texts = {"." + n.rsplit(".", 1)[1]: files[n] for n in names}
+    main = "." + names[0].rsplit(".", 1)[1]
+    assert texts[file_suffix].count(old) >= 1, f"{old!r} not in the {target} program"
+    texts[file_suffix] = texts[file_suffix].replace(old, new, 1)
+    program = load_program(spec, texts.pop(main), "mutant", texts)
+    return verify_pallet(cell, 0, target, program, names).first_mismatches
+
+
+# (target, file, old, new): a wrong layer height, the cycle swapped, a counter that is not persistent, the
+# angle turned the wrong way, the counters advanced before the release is confirmed (source 004's cell)
+MUTATIONS = [
+    ("ur", ".script", "PAL_HEIGHT = 26.0000", "PAL_HEIGHT = 25.0000"),
+    ("ur", ".script", "PAL_CYCLE = [0, 1]", "PAL_CYCLE = [1, 0]"),
+    ("ur", ".script", "pal_layer = read_input_integer_register(26)", "pal_layer = 1"),
+    ("ur", ".script", "0, 0, d2r(a)]", "0, 0, d2r(-a)]"),
+    (
+        "ur",
+        ".script",
+        "    pal_release()\n    # the box is down",
+        "    pal_box = pal_box + 1\n    write_output_integer_register(27, pal_box)\n    pal_box = pal_box - 1\n"
+        "    pal_release()\n    # the box is down",
+    ),
+    ("kuka", ".dat", "PAL_HEIGHT=26.0000", "PAL_HEIGHT=25.0000"),
+    ("kuka", ".dat", "PAL_CYCLE[1]=1\nPAL_CYCLE[2]=2", "PAL_CYCLE[1]=2\nPAL_CYCLE[2]=1"),
+    ("kuka", ".src", "DECL INT PATTERN, ROW", "DECL INT PATTERN, ROW, PAL_LAYER, PAL_BOX"),  # not in the data list
+    ("kuka", ".src", "BOX.A = PAL_A[ROW]", "BOX.A = -PAL_A[ROW]"),
+    (
+        "kuka",
+        ".src",
+        "    IF NOT PAL_RELEASE() THEN\n      RETURN ; the box is still in the gripper: the counters stay at it\n"
+        "    ENDIF\n    ; the box is down (the sensor confirmed it): the next one\n    PAL_BOX = PAL_BOX + 1\n",
+        "    PAL_BOX = PAL_BOX + 1\n    IF NOT PAL_RELEASE() THEN\n      RETURN\n    ENDIF\n",
+    ),
+    ("abb", ".mod", "STACK_HEIGHT := 26.0000;", "STACK_HEIGHT := 25.0000;"),
+    ("abb", ".mod", "STACK_CYCLE{2} := [1, 2];", "STACK_CYCLE{2} := [2, 1];"),
+    ("abb", ".mod", "LOCAL PERS num pal_layer := 1;", "LOCAL VAR num pal_layer := 1;"),  # reset at each start
+    ("abb", ".mod", "OrientZYX(STACK_A{row} + STACK_A0", "OrientZYX(-STACK_A{row} + STACK_A0"),
+    (
+        "abb",
+        ".mod",
+        "      stack_release;\n      ! the box is down and the gripper open: the next box\n"
+        "      pal_box := pal_box + 1;\n",
+        "      pal_box := pal_box + 1;\n      stack_release;\n",
+    ),
+    ("dtrans", ".prg", "Double PAL_HEIGHT = 26.0000", "Double PAL_HEIGHT = 25.0000"),
+    ("dtrans", ".prg", "Int PAL_CYCLE[2] = {0, 1}", "Int PAL_CYCLE[2] = {1, 0}"),
+    ("dtrans", ".prg", "Int pattern = 0", "pal_layer = 1\nInt pattern = 0"),
+    ("dtrans", ".prg", "PAL_TURN + a + PAL_TOOL_A", "PAL_TURN - a + PAL_TOOL_A"),
+    (
+        "dtrans",
+        ".prg",
+        "  Call pal_release()\n  // the box is down",
+        "  pal_box = pal_box + 1\n  Call pal_release()\n  pal_box = pal_box - 1\n  // the box is down",
+    ),
+]
+
+
+@pytest.mark.parametrize(("target", "suffix", "old", "new"), MUTATIONS)
+def test_verify_fails_a_broken_stacking_program(target, suffix, old, new):
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    assert _mutant_mismatches(cell, target, suffix, old, new)
+
+
+def test_every_target_has_its_mutations():
+    assert {m[0] for m in MUTATIONS} == set(TARGETS) and all(
+        sum(m[0] == t for m in MUTATIONS) >= 5 for t in TARGETS
+    )
