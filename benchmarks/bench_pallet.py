@@ -1,6 +1,7 @@
-"""Pattern generation and every check of a 1,000-box layout (overlap, overhang, support on a mirrored layer).
+"""Pattern generation and every check of a 1,000-box layout (overlap, overhang, support on a mirrored layer),
+and one full stacking cycle of the EUR pallet verified per target (run, reference and comparison).
 
-Goal (palletizing issue): <= 0.2 s. Run: python benchmarks/bench_pallet.py [--runs N]
+Goals (palletizing issue): <= 0.2 s; <= 1 s per pallet. Run: python benchmarks/bench_pallet.py [--runs N]
 """
 
 from __future__ import annotations
@@ -25,6 +26,32 @@ def once() -> tuple[float, int]:
     return time.perf_counter() - start, len(boxes)
 
 
+def full_stack(runs: int) -> None:
+    """Seconds for the full_stack case of the EUR pallet (36 boxes, 216 moves) per target, program loaded."""
+    from pathlib import Path
+
+    from codegen.cell import load_cell
+    from codegen.pallet import verify as pv
+    from codegen.pallet.cycle import PalletCase
+
+    cell = load_cell(Path(__file__).resolve().parents[1] / "codegen" / "examples" / "pallets" / "eur_pallet.toml")
+    for target in cell.targets:
+        (program, files), *_ = pv.fresh_pallet_programs(cell, target)
+        original = pv.cases
+        pv.cases = lambda pallet, rng: [PalletCase("full_stack", 1, 1)]
+        try:
+            times = []
+            for _ in range(runs):
+                start = time.perf_counter()
+                report = pv.verify_pallet(cell, 0, target, program, files)
+                times.append(time.perf_counter() - start)
+        finally:
+            pv.cases = original
+        assert report.mismatches == 0, report.first_mismatches
+        low, high = min(times), max(times)
+        print(f"  {target}: full EUR stack ({report.boxes} boxes) verified in {low:.3f}-{high:.3f} s (goal <= 1 s)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--runs", type=int, default=5)
@@ -32,6 +59,7 @@ def main() -> None:
     times, count = zip(*(once() for _ in range(runs)), strict=True)
     median, low, high = statistics.median(times), min(times), max(times)
     print(f"{count[0]} boxes: median {median:.3f} s, range {low:.3f}-{high:.3f} s (goal <= 0.2 s)")
+    full_stack(runs)
 
 
 if __name__ == "__main__":

@@ -159,3 +159,15 @@ def test_the_pictures_show_each_box_numbered_with_its_label_and_approach(tmp_pat
     points = np.array([[float(v) for v in p.split(",")] for p in polygons[0].get("points").split()])
     width_px, height_px = np.ptp(points[:, 0]), np.ptp(points[:, 1])
     assert height_px == pytest.approx(2 * width_px, rel=1e-3)
+
+
+def test_the_automatic_approach_comes_from_the_open_side():
+    """EUR example, layer 1: box 1 (200, 250) has nothing placed before it: away from the pallet's
+    centre (600, 400); box 2 (200, 550) comes from +y, away from box 1; the length stays 30 sqrt 2."""
+    result = json.loads(CliRunner().invoke(main, ["pallet", str(EXAMPLES / "eur_pallet.toml"), "--json"]).stdout)
+    box1, box2 = result["pallets"][0]["boxes"][:2]
+    length = 30 * math.sqrt(2)
+    away = np.array([200 - 600, 250 - 400]) / math.hypot(400, 150) * length
+    assert box1["approach"]["pallet"][:2] == pytest.approx([200 + away[0], 250 + away[1]], abs=1e-6)
+    assert box2["approach"]["pallet"][:3] == pytest.approx([200, 550 + length, 250 + 60], abs=1e-6)
+    assert box2["retreat"]["pallet"][:2] == pytest.approx([200, 550 + length], abs=1e-6)

@@ -98,6 +98,12 @@ def test_verify_fails_a_broken_stacking_program(target, suffix, old, new):
 
 
 def test_every_target_has_its_mutations():
-    assert {m[0] for m in MUTATIONS} == set(TARGETS) and all(
-        sum(m[0] == t for m in MUTATIONS) >= 5 for t in TARGETS
+    assert {m[0] for m in MUTATIONS} == set(TARGETS) and all(sum(m[0] == t for m in MUTATIONS) >= 5 for t in TARGETS)
+
+
+def test_a_program_that_ignores_the_automatic_approach_fails_verify():
+    cell = load_cell(PALLETS / "eur_pallet.toml")
+    found = _mutant_mismatches(
+        cell, "ur", ".script", "pal_pose(x + PAL_AX[row], y + PAL_AY[row]", "pal_pose(x + 30, y + 30"
     )
+    assert found and "approach" in found[0], found

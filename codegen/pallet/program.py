@@ -12,6 +12,7 @@ from codegen.pallet.analysis import frame_matrix
 from codegen.pallet.cycle import counters_message, empty_message, full_message, layer_counts
 from codegen.pallet.patterns import layout
 from codegen.pallet.section import Pallet
+from codegen.pallet.stack import sides
 from codegen.poses import zyx_deg_from_rotmat
 
 LEVEL_TOL = 1e-9  # a level pallet: its z is the base's z (a dialect without a pose product needs one)
@@ -58,7 +59,19 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
     for name in names:
         boxes = layout(pallet, name)
         patterns.append({"name": emitter.comment(name), "start": len(rows) + 1, "count": len(boxes)})
-        rows.extend({"x": number(b.x, 4), "y": number(b.y, 4), "a": number(b.ccw_deg, 4)} for b in boxes)
+        rows.extend(
+            {
+                "x": number(b.x, 4),
+                "y": number(b.y, 4),
+                "a": number(b.ccw_deg, 4),
+                # the x-y part of the approach and the retreat (the cell's, or away from the earlier boxes)
+                "ax": number(ax, 4),
+                "ay": number(ay, 4),
+                "rx": number(rx, 4),
+                "ry": number(ry, 4),
+            }
+            for b, ((ax, ay), (rx, ry)) in zip(boxes, sides(pallet, boxes), strict=True)
+        )
     level = bool(np.allclose(frame[:3, 2], (0.0, 0.0, 1.0), atol=LEVEL_TOL))
     counts = layer_counts(pallet)
     return {
@@ -85,6 +98,7 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
         "tool": emitter.pose(TaughtPose("tool", (0.0, 0.0, 0.0, *pallet.tool_orientation), "xyzabc")),
         "pick": emitter.pose(pallet.pick),
         "registers": counter_registers(target, index),
+        "auto": pallet.approach_auto,
         "unstack": pallet.mode == "unstack",  # take the boxes off, top layer first, each layer in reverse
         "top_count": counts[pallet.layers],
         "empty": emitter.string(empty_message(pallet)),

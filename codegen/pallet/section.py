@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from codegen.cell import CellError, _Context
@@ -25,6 +26,7 @@ PALLET_KEYS = frozenset(
         "support_min",
         "slip_sheet",
         "mode",
+        "approach_auto",
     }
 )
 FRAME_KEYS = frozenset({"origin", "x_point", "xy_point"})
@@ -66,6 +68,7 @@ class Pallet:
     slip_every: int = 0  # a slip sheet on top of every n-th layer (0: none)
     slip_thickness: float = 0.0
     mode: str = "stack"  # "stack": place the boxes from Q; "unstack": take them off, top layer first, to Q
+    approach_auto: bool = False  # approach and retreat from the side away from the layer's earlier boxes
 
 
 def parse_pallets(ctx: _Context, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
@@ -136,6 +139,11 @@ def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
         slip_thickness = ctx.number(slip, "thickness", f"{path}.slip_sheet.thickness")
         if not 0 < slip_thickness <= 50:
             ctx.fail(f"{path}.slip_sheet.thickness", "must be in (0, 50] mm")
+    auto = table.get("approach_auto", False)
+    if not isinstance(auto, bool):
+        ctx.fail(f"{path}.approach_auto", "must be true or false")
+    if auto and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
+        ctx.fail(f"{path}.approach_auto", "turns the x-y part of approach and retreat: each needs one of 1 mm or more")
     mode = table.get("mode", "stack")
     if mode not in ("stack", "unstack"):
         ctx.fail(f"{path}.mode", 'expected "stack" (place the boxes) or "unstack" (take them off, top layer first)')
@@ -160,6 +168,7 @@ def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
         slip_every,
         slip_thickness,
         mode,
+        auto,
     )
 
 

@@ -60,22 +60,50 @@ def pattern_of(pallet: Pallet, layer: int) -> str:
     return pallet.cycle[(layer - 1) % len(pallet.cycle)]
 
 
+def side_offsets(pallet: Pallet, boxes: tuple[Box, ...], offset) -> list[tuple[float, float]]:
+    """The x-y part of an approach (or retreat) offset for each box of a layer. Fixed: the cell's. With
+    approach_auto: the same length, pointing from the centroid of the layer's earlier boxes (those placed
+    before it; when unstacking, those still on the pallet) to the box, so the arm comes in from the open
+    side and never over a box it could hit; the layer's first box: away from the pallet's centre."""
+    if not pallet.approach_auto:
+        return [(offset[0], offset[1])] * len(boxes)
+    length = math.hypot(offset[0], offset[1])
+    out = []
+    for i, box in enumerate(boxes):
+        if i:
+            cx = sum(b.x for b in boxes[:i]) / i
+            cy = sum(b.y for b in boxes[:i]) / i
+        else:
+            cx, cy = pallet.size[0] / 2, pallet.size[1] / 2
+        dx, dy = box.x - cx, box.y - cy
+        norm = math.hypot(dx, dy)
+        out.append((offset[0], offset[1]) if norm < 1e-6 else (length * dx / norm, length * dy / norm))
+    return out
+
+
+def sides(pallet: Pallet, boxes: tuple[Box, ...]) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+    """Each box's x-y approach and retreat offsets."""
+    approach, retreat = side_offsets(pallet, boxes, pallet.approach), side_offsets(pallet, boxes, pallet.retreat)
+    return list(zip(approach, retreat, strict=True))
+
+
 def placements(pallet: Pallet) -> list[Placement]:
     """Every box in placing order: layer by layer from the bottom, each in its pattern's order.
     Target = Trans(x, y, z_n) . Rz(ccw angle) . Rz(a0) Ry(b0) Rx(c0); entry, approach and retreat are
     the target moved by their offsets in the pallet frame."""
     tool = rotmat_from_zyx_deg(*pallet.tool_orientation)
     layouts = {name: layout(pallet, name) for name in set(pallet.cycle)}
+    offsets_xy = {name: sides(pallet, boxes) for name, boxes in layouts.items()}
     out = []
     for layer in range(1, pallet.layers + 1):
         name, z = pattern_of(pallet, layer), layer_top(pallet, layer)
         for number, box in enumerate(layouts[name], start=1):
+            (ax, ay), (rx, ry) = offsets_xy[name][number - 1]
             target = matrix_from_rotation_translation(
                 rotmat_from_zyx_deg(box.ccw_deg, 0.0, 0.0) @ tool, (box.x, box.y, z)
             )
-            moved = [
-                _moved(target, offset) for offset in ((0.0, 0.0, pallet.entry_dz), pallet.approach, pallet.retreat)
-            ]
+            offsets = ((0.0, 0.0, pallet.entry_dz), (ax, ay, pallet.approach[2]), (rx, ry, pallet.retreat[2]))
+            moved = [_moved(target, offset) for offset in offsets]
             out.append(Placement(layer, number, name, box, target, *moved))
     return out
 

@@ -30,6 +30,11 @@ MODULE pal_testmat
   LOCAL CONST num STACK_X{12} := [13.0000, 39.0000, 65.0000, 91.0000, 26.0000, 78.0000, 26.0000, 78.0000, 13.0000, 39.0000, 65.0000, 91.0000];
   LOCAL CONST num STACK_Y{12} := [26.0000, 26.0000, 26.0000, 26.0000, 65.0000, 65.0000, 13.0000, 13.0000, 52.0000, 52.0000, 52.0000, 52.0000];
   LOCAL CONST num STACK_A{12} := [-90.0000, -90.0000, -90.0000, -90.0000, 0.0000, 0.0000, 0.0000, 0.0000, -90.0000, -90.0000, -90.0000, -90.0000];
+  ! the x-y part (mm, pallet frame) of each box's approach and retreat offsets
+  LOCAL CONST num STACK_AX{12} := [5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000];
+  LOCAL CONST num STACK_AY{12} := [5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000];
+  LOCAL CONST num STACK_RX{12} := [5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000];
+  LOCAL CONST num STACK_RY{12} := [5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000];
   ! each pattern's first row and number of boxes
   LOCAL CONST num STACK_FIRST{2} := [1, 7];
   LOCAL CONST num STACK_COUNT{2} := [6, 6];
@@ -52,6 +57,7 @@ MODULE pal_testmat
   PROC main()
     VAR robtarget target;
     VAR robtarget entry;
+    VAR num row;
     ! the counters as a restart finds them: a full pallet, or numbers outside the stack, stop
     ! before any move
     IF pal_layer = STACK_LAYERS + 1 AND pal_box = 1 THEN
@@ -70,11 +76,12 @@ MODULE pal_testmat
     stack_release;
     WHILE pal_layer <= STACK_LAYERS DO
       target := stack_target(pal_layer, pal_box);
+      row := stack_row(pal_layer, pal_box);
       entry := Offs(target, 0, 0, 6.5000);
       MoveJ stack_q, stack_travel, fine, tool0;
       stack_grip;
       MoveJ entry, stack_travel, fine, tool0 \WObj:=stack_wobj;
-      MoveL Offs(target, 5.0000, 5.0000, 5.0000), stack_travel, fine, tool0 \WObj:=stack_wobj;
+      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_travel, fine, tool0 \WObj:=stack_wobj;
       MoveL target, stack_work, fine, tool0 \WObj:=stack_wobj;
       stack_release;
       ! the box is down and the gripper open: the next box
@@ -83,7 +90,7 @@ MODULE pal_testmat
         pal_box := 1;
         pal_layer := pal_layer + 1;
       ENDIF
-      MoveL Offs(target, 5.0000, 5.0000, 5.0000), stack_work, fine, tool0 \WObj:=stack_wobj;
+      MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 5.0000), stack_work, fine, tool0 \WObj:=stack_wobj;
       MoveL entry, stack_travel, fine, tool0 \WObj:=stack_wobj;
     ENDWHILE
     TPWrite "pallet testmat is full: swap it, then set layer 1 and box 1";
@@ -103,15 +110,20 @@ MODULE pal_testmat
     RETURN STACK_COUNT{pattern};
   ENDFUNC
 
+  LOCAL FUNC num stack_row(num layer, num box)
+    ! the box's row of the pattern tables
+    VAR num pattern;
+    pattern := stack_pattern(layer);
+    RETURN STACK_FIRST{pattern} + box - 1;
+  ENDFUNC
+
   LOCAL FUNC robtarget stack_target(num layer, num box)
     ! the box's target in the pallet's work object: Trans(x, y, z) Rz(angle) Rz(a0) Ry(b0) Rx(c0),
     ! where Rz(angle) Rz(a0) = Rz(angle + a0); robconf and external axes as Q's
-    VAR num pattern;
     VAR num row;
     VAR num z;
     VAR robtarget t;
-    pattern := stack_pattern(layer);
-    row := STACK_FIRST{pattern} + box - 1;
+    row := stack_row(layer, box);
     ! the top of the layer
     z := layer * STACK_HEIGHT;
     t := stack_q;

@@ -37,6 +37,11 @@ Point PAL_PICK = Trans(300.0000, 250.0000, 120.0000, 180.000000, 0.000000, 0.000
 Double PAL_X[12] = {13.0000, 39.0000, 65.0000, 91.0000, 26.0000, 78.0000, 26.0000, 78.0000, 13.0000, 39.0000, 65.0000, 91.0000}
 Double PAL_Y[12] = {26.0000, 26.0000, 26.0000, 26.0000, 65.0000, 65.0000, 13.0000, 13.0000, 52.0000, 52.0000, 52.0000, 52.0000}
 Double PAL_A[12] = {-90.0000, -90.0000, -90.0000, -90.0000, 0.0000, 0.0000, 0.0000, 0.0000, -90.0000, -90.0000, -90.0000, -90.0000}
+// the x-y part (mm, pallet frame) of each box's approach and retreat offsets
+Double PAL_AX[12] = {5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000}
+Double PAL_AY[12] = {5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000}
+Double PAL_RX[12] = {5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000}
+Double PAL_RY[12] = {5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000, 5.0000}
 Int PAL_FIRST[2] = {0, 6}
 Int PAL_COUNT[2] = {6, 6}
 // the pattern of layer n: PAL_CYCLE[(n - 1) mod PAL_CYCLE_LEN]
@@ -132,7 +137,7 @@ While pal_layer <= PAL_LAYERS
   Call pal_grip()
   entry = pal_pose(x, y, z + 6.5000, a)
   MovJ entry
-  MovL pal_pose(x + 5.0000, y + 5.0000, z + 5.0000, a)
+  MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 5.0000, a)
   MovL pal_pose(x, y, z, a)
   Call pal_release()
   // the box is down: the next one
@@ -141,7 +146,7 @@ While pal_layer <= PAL_LAYERS
     pal_box = 1
     pal_layer = pal_layer + 1
   EndIf
-  MovL pal_pose(x + 5.0000, y + 5.0000, z + 5.0000, a)
+  MovL pal_pose(x + PAL_RX[row], y + PAL_RY[row], z + 5.0000, a)
   MovL entry
 EndWhile
 TPWrite 0, "pallet testmat is full"
