@@ -171,3 +171,9 @@ def test_the_automatic_approach_comes_from_the_open_side():
     assert box1["approach"]["pallet"][:2] == pytest.approx([200 + away[0], 250 + away[1]], abs=1e-6)
     assert box2["approach"]["pallet"][:3] == pytest.approx([200, 550 + length, 250 + 60], abs=1e-6)
     assert box2["retreat"]["pallet"][:2] == pytest.approx([200, 550 + length], abs=1e-6)
+
+
+def test_a_pallet_beside_an_arm_is_refused_until_its_programs_carry_the_tool(tmp_path):
+    arm = '[cell.robot]\nur = "UR5e"\nkuka = "KR 6 R900 sixx"\nabb = "IRB 1200-5/0.9"\n\n[cell.io]'
+    with pytest.raises(CellError, match=r"cell\.robot: a cell with \[\[pallet\]\] cannot name an arm yet"):
+        _load(tmp_path, TESTMAT.replace("[cell.io]", arm, 1))
