@@ -96,6 +96,7 @@ class Cell:
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
     pallets: tuple = ()  # [[pallet]]: codegen.pallet.section.Pallet, checked (codegen/pallet/)
+    conveyor: object = None  # [conveyor]: codegen.conveyor.section.Conveyor, or None
 
     def station_by_id(self, station_id: int) -> Station | None:
         return self._stations_by_id.get(station_id)
@@ -176,9 +177,9 @@ def replace_cell_file(path: Path, text: str, check=None) -> None:
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
     ctx = _Context(source)
-    top_unknown = set(data) - {"cell", "station", "pallet"}
+    top_unknown = set(data) - {"cell", "station", "pallet", "conveyor"}
     if top_unknown:
-        ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell], [[station]] and [[pallet]]")
+        ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell], [[station]], [[pallet]] and [conveyor]")
     cell_table = ctx.table(data, "cell", "cell")
     ctx.no_unknown(cell_table, _CELL_KEYS.union(*(k.cell_tables for k in kinds().values())), "cell")
 
@@ -283,6 +284,9 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     from codegen.pallet.analysis import checked_pallets  # the pallet package builds on this module
 
     pallets = checked_pallets(ctx, data, pose_format)
+    from codegen.conveyor.section import parse_conveyor
+
+    conveyor = parse_conveyor(ctx, data)
 
     cell = Cell(
         name=name,
@@ -301,6 +305,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         sha256=sha256,
         warnings=tuple(ctx.warnings),
         pallets=pallets,
+        conveyor=conveyor,
     )
     for i, station in enumerate(stations, start=1):
         get_kind(station.kind).check(ctx, f"station[{i}]", station, cell)

@@ -1,0 +1,77 @@
+"""The [conveyor] table of a cell file: the belt's encoder scale, its frame and the camera's offset."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+COUNTER_BITS = (16, 24, 32)
+KEYS = frozenset(
+    {"counter_bits", "counts_per_mm", "origin", "direction", "z_axis", "camera_offset_mm", "working_length_mm"}
+)
+UNIT_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class Conveyor:
+    """counts_per_mm: signed (negative: the counter runs down as the belt travels); origin: the belt
+    frame's origin (the downstream touch), base frame, mm; direction: +Y, the unit vector of travel;
+    z_axis: the belt's normal (+Z), up; x = y cross z; camera_offset_mm: how far
+    upstream of the origin the camera's line lies, along the belt; working_length_mm: the belt's
+    working length (the span rule of the calibration)."""
+
+    counter_bits: int
+    counts_per_mm: float | None = None
+    origin: tuple[float, float, float] | None = None
+    direction: tuple[float, float, float] | None = None
+    z_axis: tuple[float, float, float] | None = None
+    camera_offset_mm: float | None = None
+    working_length_mm: float | None = None
+
+    def frame(self) -> np.ndarray | None:
+        """belt2base (4x4): x = y cross z, y the direction of travel, z the belt's normal."""
+        if self.origin is None:
+            return None
+        y, z = np.asarray(self.direction), np.asarray(self.z_axis)
+        out = np.eye(4)
+        out[:3, :3] = np.column_stack([np.cross(y, z), y, z])
+        out[:3, 3] = self.origin
+        return out
+
+
+def parse_conveyor(ctx, data: dict) -> Conveyor | None:
+    if "conveyor" not in data:
+        return None
+    table = ctx.table(data, "conveyor", "conveyor")
+    ctx.no_unknown(table, KEYS, "conveyor")
+    bits = table.get("counter_bits", 32)
+    if bits not in COUNTER_BITS or isinstance(bits, bool):
+        widths = ", ".join(map(str, COUNTER_BITS))
+        ctx.fail("conveyor.counter_bits", f"expected one of {widths} (the encoder counter's width)")
+    out = {"counter_bits": bits}
+    if "counts_per_mm" in table:
+        value = ctx.number(table, "counts_per_mm", "conveyor.counts_per_mm")
+        if not 1e-3 <= abs(value) <= 1e6:
+            ctx.fail("conveyor.counts_per_mm", "must be a signed scale of 0.001 to 1e6 counts per mm")
+        out["counts_per_mm"] = value
+    for key in ("origin", "direction", "z_axis"):
+        if key in table:
+            out[key] = ctx.numbers(table[key], 3, f"conveyor.{key}")
+    frame_keys = [k for k in ("counts_per_mm", "origin", "direction", "z_axis") if k in out]
+    if frame_keys and len(frame_keys) != 4:
+        ctx.fail("conveyor", "counts_per_mm, origin, direction and z_axis come together (`codegen calibrate conveyor`)")
+    if frame_keys:
+        for key in ("direction", "z_axis"):
+            if abs(math.hypot(*out[key]) - 1.0) > UNIT_TOL:
+                ctx.fail(f"conveyor.{key}", "must be a unit vector")
+        if abs(float(np.dot(out["direction"], out["z_axis"]))) > UNIT_TOL:
+            ctx.fail("conveyor.z_axis", "must be at right angles to direction")
+    for key in ("camera_offset_mm", "working_length_mm"):
+        if key in table:
+            value = ctx.number(table, key, f"conveyor.{key}")
+            if key == "working_length_mm" and not 0 < value <= 100_000:
+                ctx.fail("conveyor.working_length_mm", "must be in (0, 100000] mm")
+            out[key] = value
+    return Conveyor(**out)

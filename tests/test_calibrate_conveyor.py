@@ -1,0 +1,113 @@
+"""`codegen calibrate conveyor` against a simulated belt (tests/belt_sim.py) with known scale, frame and counter."""
+
+import json
+import math
+from pathlib import Path
+
+import belt_sim
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from codegen.cell import load_cell
+from codegen.cli import main
+from codegen.conveyor.calibrate import unwrap
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLE = REPO / "codegen" / "examples" / "conveyor_touches.csv"
+
+
+def run(*args):
+    return CliRunner().invoke(main, ["calibrate", "conveyor", *map(str, args)])
+
+
+def fit_json(path, *extra):
+    result = run(path, "--counter-bits", 16, "--working-length", 1500, "--json", *extra)
+    assert result.exit_code == 0, result.output
+    return json.loads(result.stdout)
+
+
+def test_the_bundled_touches_come_from_the_simulated_belt():
+    assert EXAMPLE.read_text() == belt_sim.csv_text(belt_sim.touches())
+
+
+def test_a_known_belt_is_recovered_within_the_uncertainty_it_reports():
+    """Counting down through the 16-bit rollover, tilted 2 deg about its axis (the side point fixes it)."""
+    l3, l4 = belt_sim.camera_counts()
+    got = fit_json(EXAMPLE, "--camera-counts", f"{l3},{l4}")
+    sigma = got["counts_per_mm_uncertainty"]
+    assert got["counts_per_mm"] < 0 and abs(got["counts_per_mm"] - belt_sim.TRUE_E) <= 3 * sigma
+    truth = belt_sim.belt2base()
+    frame = np.array(got["frame"])
+    assert np.degrees(np.arccos(np.clip(frame[:3, 1] @ truth[:3, 1], -1, 1))) < 0.01  # +Y, the travel
+    assert np.degrees(np.arccos(np.clip(frame[:3, 2] @ truth[:3, 2], -1, 1))) < 0.1  # the roll
+    assert np.linalg.norm(frame[:3, 3] - truth[:3, 3]) < 0.2  # the origin at the downstream touch
+    camera_sigma = belt_sim.CAMERA_UPSTREAM_MM * 3 * sigma / abs(belt_sim.TRUE_E) + 0.1  # and one count
+    assert abs(got["camera_offset_mm"] - belt_sim.CAMERA_UPSTREAM_MM) <= camera_sigma
+    assert set(got) >= {"counts_per_mm", "direction", "origin", "frame", "residuals_mm", "camera_offset_mm"}
+    assert len(got["residuals_mm"]) == 4 and max(got["residuals_mm"]) < 0.2
+
+
+def test_without_a_side_point_the_roll_comes_from_the_base_z(tmp_path):
+    path = tmp_path / "t.csv"
+    path.write_text("\n".join(EXAMPLE.read_text().splitlines()[:-1]) + "\n")  # no side point
+    got = fit_json(path)
+    z = np.array(got["frame"])[:3, 2]
+    assert got["roll_from"] == "the robot base's z" and abs(z @ np.array(got["direction"])) < 1e-12
+    assert np.degrees(np.arccos(z[2] / np.linalg.norm(z))) < 0.01  # the base's z, square to the belt
+
+
+def test_unwrapping_the_counter():
+    assert unwrap([65_530, 4, 60], 16).tolist() == [0, 10, 66]
+    assert unwrap([10, 65_530], 16).tolist() == [0, -16]  # counting down through 0
+    assert unwrap([2**32 - 1, 5], 32).tolist() == [0, 6]
+
+
+def test_a_wrong_counter_width_is_caught_by_the_fit():
+    """Read as 32 bit, the 16-bit rollover jumps by 65,536 counts: no straight line fits the touches."""
+    result = run(EXAMPLE, "--counter-bits", 32, "--working-length", 1500)
+    assert result.exit_code == 2 and "from the fitted belt line" in result.output
+
+
+@pytest.mark.parametrize(
+    ("rows", "options", "says"),
+    [
+        (["1,2,3,100,belt"], (), "1 belt touches; at least 2"),
+        (["0,0,0,100,belt", "500,0,0,100,belt"], (), "the same count as line 2: the belt did not move"),
+        (["0,0,0,100,belt", "500,0,0,4100,belt"], ("--working-length", 2000), "span 500.0 mm, less than half"),
+        (["0,0,0,100,belt", "500,0,0,4100,belt"], (), "the belt's working length is not known"),
+        (["0,0,0,100,belt", "250,3,0,2100,belt", "500,0,0,4100,belt"], ("--working-length", 900), "2.000 mm from"),
+        (["0,0,0,100,belt", "500,0,0,4100,belt", "250,2,0,2100,side"], ("--working-length", 900), "side point is"),
+        (["0,0,0,abc,belt"], (), "t.csv:2: x, y, z must be numbers and count a whole number"),
+        (["0,0,0,1,sideways"], (), "t.csv:2: role must be belt or side"),
+    ],
+)
+def test_touches_that_cannot_calibrate_are_refused(tmp_path, rows, options, says):
+    path = tmp_path / "t.csv"
+    path.write_text("x,y,z,count,role\n" + "\n".join(rows) + "\n")
+    result = run(path, *options)
+    assert result.exit_code == 2 and says in result.output and "Traceback" not in result.output, result.output
+
+
+def test_a_short_span_passes_with_force_and_says_so(tmp_path):
+    path = tmp_path / "t.csv"
+    path.write_text("x,y,z,count\n0,0,0,100\n500,0,0,4100\n")
+    got = json.loads(run(path, "--working-length", 2000, "--force", "--json").stdout)
+    assert got["counts_per_mm"] == pytest.approx(8.0) and any("less than half" in w for w in got["warnings"])
+    assert got["counts_per_mm_uncertainty"] is None and any("two touches" in w for w in got["warnings"])
+
+
+def test_write_puts_the_result_into_the_cell_and_replaces_it_the_next_time(tmp_path):
+    cell = tmp_path / "cell.toml"
+    cell.write_text((REPO / "codegen" / "examples" / "agv_machine_tending.toml").read_text())
+    for _ in range(2):
+        result = run(EXAMPLE, "--counter-bits", 16, "--working-length", 1500, "--write", cell)
+        assert result.exit_code == 0, result.output
+    assert cell.read_text().count("[conveyor]") == 1
+    conveyor = load_cell(cell).conveyor
+    assert conveyor.counter_bits == 16 and conveyor.working_length_mm == 1500
+    assert conveyor.counts_per_mm == pytest.approx(belt_sim.TRUE_E, abs=2e-3)
+    assert np.allclose(conveyor.frame()[:3, 1], belt_sim.belt2base()[:3, 1], atol=1e-3)
+    # the next calibration reads the counter width and the working length from the cell
+    assert run(EXAMPLE, "--write", cell).exit_code == 0
+    assert math.isclose(load_cell(cell).conveyor.working_length_mm, 1500)
