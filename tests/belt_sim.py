@@ -24,7 +24,7 @@ def belt2base() -> np.ndarray:
 
 def count_at(s_mm: float) -> int:
     """The raw counter when the cone is s mm downstream of the origin."""
-    return int(round(START_COUNT + TRUE_E * (s_mm + 1_000.0))) % 2**BITS
+    return round(START_COUNT + TRUE_E * (s_mm + 1_000.0)) % 2**BITS
 
 
 def touches(noise_mm: float = 0.05, seed: int = 7) -> list[tuple[float, float, float, int, str]]:

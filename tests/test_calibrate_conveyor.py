@@ -111,3 +111,30 @@ def test_write_puts_the_result_into_the_cell_and_replaces_it_the_next_time(tmp_p
     # the next calibration reads the counter width and the working length from the cell
     assert run(EXAMPLE, "--write", cell).exit_code == 0
     assert math.isclose(load_cell(cell).conveyor.working_length_mm, 1500)
+
+
+@pytest.mark.parametrize(
+    ("table", "says"),
+    [
+        ("counter_bits = 20", r"conveyor\.counter_bits: expected one of 16, 24, 32"),
+        ("counts_per_mm = 8.0", r"conveyor: counts_per_mm, origin, direction and z_axis come together"),
+        (
+            "counts_per_mm = 8.0\norigin = [0, 0, 0]\ndirection = [1, 1, 0]\nz_axis = [0, 0, 1]",
+            r"conveyor\.direction: must be a unit vector",
+        ),
+        (
+            "counts_per_mm = 8.0\norigin = [0, 0, 0]\ndirection = [1, 0, 0]\nz_axis = [1, 0, 0]",
+            r"conveyor\.z_axis: must be at right angles",
+        ),
+        ("belt_speed = 3", r"conveyor\.belt_speed: unknown key"),
+    ],
+)
+def test_a_bad_conveyor_table_names_its_key(tmp_path, table, says):
+    from codegen.cell import CellError
+
+    cell = tmp_path / "cell.toml"
+    cell.write_text(
+        (REPO / "codegen" / "examples" / "agv_machine_tending.toml").read_text() + f"\n[conveyor]\n{table}\n"
+    )
+    with pytest.raises(CellError, match=says):
+        load_cell(cell)
