@@ -177,3 +177,49 @@ def test_a_pallet_beside_an_arm_is_refused_until_its_programs_carry_the_tool(tmp
     arm = '[cell.robot]\nur = "UR5e"\nkuka = "KR 6 R900 sixx"\nabb = "IRB 1200-5/0.9"\n\n[cell.io]'
     with pytest.raises(CellError, match=r"cell\.robot: a cell with \[\[pallet\]\] cannot name an arm yet"):
         _load(tmp_path, TESTMAT.replace("[cell.io]", arm, 1))
+
+
+def _rendered(svg: str):
+    """The picture as a browser would draw it: rendered by resvg (Chromium is not installable here from
+    the package registries), as an RGB image."""
+    import io
+
+    import resvg_py
+    from PIL import Image
+
+    return Image.open(io.BytesIO(resvg_py.svg_to_bytes(svg_string=svg, background="#ffffff"))).convert("RGB")
+
+
+def _to_px(root, x_mm: float, y_mm: float) -> tuple[int, int]:
+    """Pallet mm to picture pixels, from the pallet's outline in the SVG (its x to the right, y up)."""
+    ns = {"s": "http://www.w3.org/2000/svg"}
+    rect = root.find("s:rect[@class='pallet']", ns)
+    left, top = float(rect.get("x")), float(rect.get("y"))
+    width, height = float(rect.get("width")), float(rect.get("height"))
+    return round(left + x_mm / 104.0 * width), round(top + height - y_mm / 78.0 * height)
+
+
+def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_path):
+    """Source 004's layer 1: boxes 1-4 turned (26 x 52 mm) along the bottom, 5-6 along the top; box 1's
+    label (its long side at -y when unturned) faces +x; an arrow on every box; no red. A box moved 6 mm
+    over the edge (allowed by overhang_mm) is drawn red."""
+    from codegen.pallet.pictures import layer_svg
+
+    data = _load(tmp_path, TESTMAT)
+    svg = layer_svg(data.pallets[0], 1)
+    image, root = _rendered(svg), ET.fromstring(svg)
+    fill, label, arrow = (255, 248, 231), (42, 157, 143), (31, 95, 191)
+    assert image.getpixel(_to_px(root, 6, 8)) == fill  # box 1, away from its arrow and number
+    assert image.getpixel(_to_px(root, 26, 70)) == fill  # box 5
+    assert image.getpixel(_to_px(root, 100, 60)) == fill  # box 6
+    assert image.getpixel(_to_px(root, 5, 45)) == fill  # box 1 again: turned, it reaches y 52
+    assert image.getpixel(_to_px(root, 26, 30)) == label  # box 1's label side at x 26 (it faces +x)
+    colours = image.getcolors(maxcolors=100_000)
+    assert sum(n for n, c in colours if c == arrow) > 6 * 10  # six arrows
+    assert not any(r > 180 and g < 100 and b < 100 for _n, (r, g, b) in colours)
+    over = TESTMAT.replace("p2 = [[26, 13, 0]", "p2 = [[20, 13, 0]").replace(
+        'angle_sense = "cw"', 'angle_sense = "cw"\noverhang_mm = 6'
+    )
+    layer2 = _rendered(layer_svg(_load(tmp_path, over).pallets[0], 2))
+    reddish = sum(n for n, (r, g, b) in layer2.getcolors(maxcolors=100_000) if r > 180 and g < 100 and b < 100)
+    assert reddish > 100  # box 1's outline

@@ -8,7 +8,7 @@ from html import escape
 from codegen.pallet.checks import corners, overhangs
 from codegen.pallet.patterns import label_normal, layout
 from codegen.pallet.section import Pallet
-from codegen.pallet.stack import layer_top, pattern_of
+from codegen.pallet.stack import layer_top, pattern_of, sides
 
 WIDTH_PX = 640.0
 MARGIN_PX = 40.0
@@ -40,8 +40,7 @@ def layer_svg(pallet: Pallet, layer: int) -> str:
         f'<rect class="pallet" x="{x0:.1f}" y="{y0:.1f}" width="{length * scale:.1f}" height="{width * scale:.1f}" '
         'fill="#f3e3c3" stroke="#6b4f1d" stroke-width="2"/>',
     ]
-    ax, ay = pallet.approach[0], pallet.approach[1]
-    arrow = math.hypot(ax, ay)
+    approaches = [approach for approach, _retreat in sides(pallet, boxes)]  # each box's x-y approach offset
     for i, box in enumerate(boxes):
         shape = corners(box, *pallet.box[:2])
         points = " ".join(f"{u:.1f},{v:.1f}" for u, v in (px(*c) for c in shape))
@@ -58,6 +57,8 @@ def layer_svg(pallet: Pallet, layer: int) -> str:
             'stroke="#2a9d8f" stroke-width="4"/>'
         )
         cx, cy = px(box.x, box.y)
+        ax, ay = approaches[i]
+        arrow = math.hypot(ax, ay)
         if arrow > 0:  # the approach comes from target + offset: the arrow points along the way in
             size = min(pallet.box[:2]) * scale * 0.35
             sx, sy = cx + ax / arrow * size, cy - ay / arrow * size
