@@ -203,6 +203,7 @@ def identities(derivation: Derivation | None = None) -> list[Identity]:
     )
     result.extend(frame_identities())
     result.extend(pallet_identities())
+    result.extend(box_pose_identities())
     return result
 
 
@@ -306,6 +307,59 @@ def pallet_identities() -> list[Identity]:
             "refuted",
             source.T * source - sp.eye(3),
             fixed=off_square,
+        ),
+    ]
+
+
+def box_pose_identities() -> list[Identity]:
+    """The forms the pallet programs compute a box's pose in (codegen/pallet/, templates/<t>/pallet.*):
+    target = F . Trans(x, y, z) . Rz(angle) . Rz(a0) Ry(b0) Rx(c0), F the pallet frame."""
+    x, y, z, dz, angle, a0, b0, c0, gamma = sp.symbols("box_x box_y box_z box_dz box_angle a0 b0 c0 gamma", real=True)
+    ox, oy, oz = sp.symbols("pallet_ox pallet_oy pallet_oz", real=True)
+    tool = rotz3(a0) * roty3(b0) * rotx3(c0)
+    box = sp.Matrix([x, y, z])
+    level = rotz3(gamma)  # a level pallet: its frame turns about the base's z only
+    return [
+        _check(
+            "box_orientation_one_turn",
+            "Rz(angle) Rz(a0) Ry(b0) Rx(c0) = Rz(angle + a0) Ry(b0) Rx(c0)   (RAPID OrientZYX(angle + a0, b0, c0))",
+            "holds",
+            rotz3(angle) * tool - rotz3(angle + a0) * roty3(b0) * rotx3(c0),
+        ),
+        _check(
+            "box_pose_on_a_level_pallet",
+            "F = Trans(o) Rz(gamma): position o + Rz(gamma) (x, y, z), rotation Rz(gamma + angle + a0) Ry(b0) Rx(c0)"
+            "   (the dtrans program, which has no pose product)",
+            "holds",
+            sp.Matrix.vstack(
+                level * rotz3(angle) * tool - rotz3(gamma + angle + a0) * roty3(b0) * rotx3(c0),
+                (
+                    sp.Matrix([ox, oy, oz])
+                    + level * box
+                    - sp.Matrix(
+                        [
+                            ox + sp.cos(gamma) * x - sp.sin(gamma) * y,
+                            oy + sp.sin(gamma) * x + sp.cos(gamma) * y,
+                            oz + z,
+                        ]
+                    )
+                ).T,
+            ),
+        ),
+        _check(
+            "box_offset_in_the_pallet_frame",
+            "Trans(0, 0, dz) Trans(x, y, z) Rz(angle) T0 = Trans(x, y, z + dz) Rz(angle) T0   (entry, approach and "
+            "retreat move along the pallet's axes, not the tool's: KRL PAL_FRAME : PAL_ENTRY : PLACED, RAPID Offs)",
+            "holds",
+            box + sp.Matrix([0, 0, dz]) - sp.Matrix([x, y, z + dz]),
+        ),
+        _check(
+            "box_offset_along_the_tool",
+            "an offset applied after the tool's orientation (Trans(x,y,z) Rz(angle) T0 Trans(0,0,dz)) is the same: "
+            "with the tool pointing down it moves the entry below the box",
+            "refuted",
+            box + rotz3(angle) * tool * sp.Matrix([0, 0, dz]) - sp.Matrix([x, y, z + dz]),
+            fixed={c0: sp.pi, b0: 0, a0: 0, dz: sp.Rational(13, 2)},
         ),
     ]
 

@@ -23,6 +23,10 @@ EXPECTED = {
     "source_frame_update_contraction": "holds",
     "pallet_frame_orthonormal": "holds",
     "source_pallet_frame": "refuted",
+    "box_orientation_one_turn": "holds",
+    "box_pose_on_a_level_pallet": "holds",
+    "box_offset_in_the_pallet_frame": "holds",
+    "box_offset_along_the_tool": "refuted",
 }
 
 
