@@ -73,6 +73,21 @@ def test_a_signal_set_after_a_fly_by_point_is_set_while_the_arm_moves():
         assert (event.name, event.value, event.after_moves, event.moving) == ("doGrip", True, 2, moving)
 
 
+def test_krl_continue_lets_the_output_run_ahead_of_the_motion():
+    """KSS 8: CONTINUE before `$OUT[n] = ...` keeps the advance run going, so the output changes while the
+    arm still moves to the last point; without it the output waits for the arm. KRL has no loop-continue."""
+    from codegen.dialects.krl.interpreter import load as load_krl
+
+    src = (
+        "DEF t()\n  DECL INT I\n  PTP {X 500, Y 0, Z 400, A 0, B 90, C 0}\n  LIN {X 600, Y 0, Z 400, A 0, B 90, C 0}\n"
+        "{cont}  $OUT[17] = TRUE\n  I = 0\n  WHILE I < 2\n    CONTINUE\n    I = I + 1\n  ENDWHILE\nEND\n"
+    )
+    for cont, moving in (("  CONTINUE\n", True), ("", False)):
+        trace = load_krl(src.replace("{cont}", cont), "t.src").run({})
+        (event,) = trace.outputs
+        assert (event.name, event.value, event.after_moves, event.moving) == ("$OUT[17]", True, 2, moving)
+
+
 @pytest.fixture(scope="module")
 def demo():
     cell = load_cell(DEMO)
@@ -94,6 +109,8 @@ def _mismatches(cell, cases, target: str, edit) -> list[str]:
         ("ur", "    vis_signal()\n", "", "output standard_digital_out[0] set 1 times, expected 2"),
         # the signal before the work pose: the output changes at the approach
         ("kuka", WORK_THEN_SIGNAL, SIGNAL_THEN_WORK, "expected True after move 3"),
+        # CONTINUE: the gripper closes while the arm still moves into the work pose
+        ("kuka", "  $OUT[17] = TRUE\n", "  CONTINUE\n  $OUT[17] = TRUE\n", "while the arm moves"),
         # no wait for the feedback: the station goes on without the gripper closed
         ("abb", "    WaitDI diGripClosed, 1 \\MaxTime:=IO_TIMEOUT;\n", "", "gripper_silent"),
         ("abb", "    WaitDI diGripClosed, 0 \\MaxTime:=IO_TIMEOUT;\n", "", "gripper_stuck"),

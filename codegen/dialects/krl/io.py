@@ -27,16 +27,19 @@ def _number(value, where: str, bank: str) -> int:
 
 def output_store(compiler, target_node, value_node, node):
     """`$OUT[n] = value`: without CONTINUE the statement stops the advance run, so the output changes
-    when the arm has finished its moves; None for any other assignment."""
+    when the arm has finished its moves; after CONTINUE it runs ahead, while the arm still moves; None
+    for any other assignment."""
     if _bank(target_node) != "$OUT":
         return None
     index, value, where = compiler.expr(target_node.children[1]), compiler.expr(value_node), compiler.where(node)
+    stops = not compiler.take_continue()
 
     def store(fr):
         n, v = _number(index(fr), where, "$OUT"), value(fr)
         if not isinstance(v, bool):
             raise RunError(f"{where}: $OUT[{n}] takes TRUE or FALSE")
-        fr.m.arrive(where)
+        if stops:
+            fr.m.arrive(where)
         fr.m.set_output(f"$OUT[{n}]", v, where)
 
     return store
@@ -47,10 +50,12 @@ def input_read(compiler, node) -> Src | None:
     if _bank(node) != "$IN":
         return None
     index, where = compiler.src(node.children[1]), compiler.where(node)
+    stops = not compiler.take_continue()
 
     def read(fr, n):
         n = _number(n, where, "$IN")
-        fr.m.arrive(where)
+        if stops:
+            fr.m.arrive(where)
         return fr.m.signals.get(f"$IN[{n}]", False)
 
     return Src(f"{compiler.const(read)}(fr, {index})")
