@@ -6,6 +6,7 @@ import math
 import random
 import re
 import time
+from array import array
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
@@ -58,8 +59,9 @@ class TargetReport:
     halts: int = 0
     boundary: int = 0
     moves: int = 0
-    pos_errors: list[float] = field(default_factory=list)
-    rot_errors: list[float] = field(default_factory=list)
+    # every compared move's errors, 8 bytes each (a list of floats takes four times that: issue 16's memory)
+    pos_errors: array = field(default_factory=lambda: array("d"))
+    rot_errors: array = field(default_factory=lambda: array("d"))
     first_mismatches: list[str] = field(default_factory=list)
     seconds: float = 0.0
     categories: dict[str, int] = field(default_factory=dict)
@@ -71,7 +73,7 @@ class TargetReport:
         def stats(values):
             if not values:
                 return {"max": 0.0, "p99": 0.0}
-            arr = np.array(values)
+            arr = np.frombuffer(values, dtype=float) if isinstance(values, array) else np.array(values)
             return {"max": float(arr.max()), "p99": float(np.percentile(arr, 99))}
 
         out = {

@@ -162,6 +162,9 @@ def merge_reports(parts: list[TargetReport]) -> TargetReport:
     return out
 
 
+CHUNK_CASES = 2000
+
+
 def run_verify(
     cell: Cell,
     sources: list[ProgramSource],
@@ -175,7 +178,8 @@ def run_verify(
     """Verify every source on every case and, with `sweep`, every id of the barcode range that is not
     a station (sweep_unknown_ids), in `jobs` processes; `seconds` is the time spent running
     one dialect's cases (summed over workers), so cases/seconds is the per-dialect speed."""
-    chunk = max(1, -(-len(cases) // max(4, 2 * jobs)))
+    # at most CHUNK_CASES cases per task: a worker holds one chunk's expectations at a time (issue 16's memory)
+    chunk = max(1, min(CHUNK_CASES, -(-len(cases) // max(4, 2 * jobs))))
     tasks = [(cell, verify_cell, sources, cases[i : i + chunk], step_limit) for i in range(0, len(cases), chunk)]
     if sweep:
         step = -(-(STATION_ID_MAX + 1) // max(2, jobs))
