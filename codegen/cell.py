@@ -311,12 +311,6 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         get_kind(station.kind).check(ctx, f"station[{i}]", station, cell)
     if pallets and (cell.io is None or not cell.io.feedback):
         ctx.fail("cell.io", "a cell with [[pallet]] needs [cell.io] with feedback: the gripper's output and its sensor")
-    if pallets and robot is not None:  # the programs would move the flange, not the tool, to the boxes
-        ctx.fail(
-            "cell.robot",
-            "a cell with [[pallet]] cannot name an arm yet: the pallet programs do not carry the arm's tool "
-            "and configuration (the controller's own tool and its choice of configuration apply)",
-        )
     return cell
 
 

@@ -35,9 +35,12 @@ def check_rendered(files: list[RenderedFile]) -> None:
 
 
 def check_envelope(cell: Cell, targets: list[str] | None) -> list[TargetEnvelope]:
-    """The envelope check of every requested target with an arm (codegen/robot/envelope.py)."""
+    """The envelope check of every requested target with an arm (codegen/robot/envelope.py) and every
+    pallet's full cycle (codegen/pallet/reach.py)."""
+    from codegen.pallet import reach
+
     try:
-        return check(cell, list(targets or cell.targets))
+        return [*check(cell, list(targets or cell.targets)), *reach.check(cell, list(targets or cell.targets))]
     except ReachError as exc:
         raise GenerateError(str(exc)) from None
 

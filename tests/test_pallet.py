@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from codegen.cell import CellError
+from codegen.cell import CellError, load_cell
 from codegen.cli import main
 from codegen.pallet import checks
 from codegen.pallet.analysis import load_pallet_file
@@ -49,7 +49,8 @@ def test_a_frame_without_a_plane_is_refused(points, says):
 
 
 def test_a_frame_taught_from_below_warns(tmp_path):
-    text = TESTMAT.replace("xy_point = [400.0, -120.0, 100.0]", "xy_point = [400.0, -280.0, 100.0]")
+    text = TESTMAT.replace("xy_point = [650.0, 30.0, 50.0]", "xy_point = [650.0, -130.0, 50.0]")
+    assert text != TESTMAT
     assert any("z points down" in w for w in _load(tmp_path, text).warnings)
 
 
@@ -69,8 +70,8 @@ def test_source_004s_test_pallet_as_its_tables_describe():
         assert b["target"]["pallet"] == [x, y, z, a, 0, 180]
         assert b["entry"]["pallet"] == [x, y, z + 6.5, a, 0, 180]
         assert b["approach"]["pallet"] == [x + 5, y + 5, z + 5, a, 0, 180]
-        # the frame of the example: origin (400, -200, 100), axes those of the base
-        assert b["target"]["base"][:3] == [400 + x, -200 + y, 100 + z]
+        # the frame of the example: origin (650, -50, 50), axes those of the base
+        assert b["target"]["base"][:3] == [650 + x, -50 + y, 50 + z]
 
 
 def test_the_octagon_two_squares_make():
@@ -173,10 +174,39 @@ def test_the_automatic_approach_comes_from_the_open_side():
     assert box2["retreat"]["pallet"][:2] == pytest.approx([200, 550 + length], abs=1e-6)
 
 
-def test_a_pallet_beside_an_arm_is_refused_until_its_programs_carry_the_tool(tmp_path):
-    arm = '[cell.robot]\nur = "UR5e"\nkuka = "KR 6 R900 sixx"\nabb = "IRB 1200-5/0.9"\n\n[cell.io]'
-    with pytest.raises(CellError, match=r"cell\.robot: a cell with \[\[pallet\]\] cannot name an arm yet"):
-        _load(tmp_path, TESTMAT.replace("[cell.io]", arm, 1))
+@pytest.mark.parametrize(
+    ("old", "new", "says"),
+    [
+        # Q 1.2 m away: beyond a 0.9 m arm
+        (
+            "pick = [600.0, 300.0, 50.0,",
+            "pick = [1200.0, 300.0, 50.0,",
+            r"layer 1 box 1 pick \(ur, UR5e\): out of reach",
+        ),
+        # the pallet 250 mm lower and nearer: the KR 6's wrist passes within 1 deg of its singularity
+        (
+            "origin = [650.0, -50.0, 50.0], x_point = [750.0, -50.0, 50.0], xy_point = [650.0, 30.0, 50.0]",
+            "origin = [500.0, -100.0, -200.0], x_point = [600.0, -100.0, -200.0], xy_point = [500.0, -20.0, -200.0]",
+            r"\(kuka, KR 6 R900 sixx\): .* the wrist 0\.\d deg from its singularity; the cell asks 5 and 5 deg",
+        ),
+    ],
+)
+def test_a_stack_the_arm_cannot_work_is_refused_at_generate(tmp_path, old, new, says):
+    from codegen.generate import GenerateError, check_envelope
+
+    assert old in TESTMAT
+    path = tmp_path / "pallet.toml"
+    path.write_text(TESTMAT.replace(old, new, 1))
+    with pytest.raises(GenerateError, match=says):
+        check_envelope(load_cell(path), None)
+
+
+def test_the_bundled_stack_is_reachable_on_every_arm():
+    from codegen.pallet.reach import check
+
+    reports = check(load_cell(EXAMPLES / "testmat_pallet.toml"))
+    assert [r.target for r in reports] == ["ur", "kuka", "abb"] and all(r.moves == 180 for r in reports)
+    assert all(r.joint_margin_deg >= 5 and r.wrist_margin_deg >= 5 for r in reports)
 
 
 def _rendered(svg: str):

@@ -107,3 +107,17 @@ def test_a_program_that_ignores_the_automatic_approach_fails_verify():
         cell, "ur", ".script", "pal_pose(x + PAL_AX[row], y + PAL_AY[row]", "pal_pose(x + 30, y + 30"
     )
     assert found and "approach" in found[0], found
+
+
+def test_the_programs_move_the_cells_tool():
+    """Source 004's cell names an arm and a 120 mm gripper: each program moves that tool, not the flange.
+    RAPID's moves carry it (verify compares each move's tooldata); UR and KRL set it once at the start."""
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    files = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell)}
+    assert "set_tcp(p[0.0000000, 0.0000000, 0.1200000," in files["pal_testmat.script"]
+    assert "  $TOOL = PAL_TOOL_DATA\n  $LOAD = PAL_LOAD\n" in files["pal_testmat.src"]
+    assert "DECL FRAME PAL_TOOL_DATA={X 0.0000,Y 0.0000,Z 120.0000," in files["pal_testmat.dat"]
+    found = _mutant_mismatches(
+        cell, "abb", ".mod", "MoveL target, stack_work, fine, stack_tool", "MoveL target, stack_work, fine, tool0"
+    )
+    assert found and "tool" in found[0], found

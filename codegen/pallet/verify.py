@@ -67,8 +67,9 @@ def compare(cell: Cell, target, index: int, case: PalletCase, want, got) -> tupl
     for i, (g, e) in enumerate(zip(got.moves, want.moves, strict=True)):
         if g.kind != e.kind:
             return f"move {i + 1} ({e.name}, line {g.line}) is {g.kind}, expected {e.kind}", worst_pos, worst_rot
+        own_tool = cell.robot is not None and cell.robot.tool_given  # the program's tooldata, not tool0
         settings = dialect.move_settings(
-            target.program, e.kind, e.exact, False, e.speed_mm_s, 0.0, cell.motion.joint_speed_percent
+            target.program, e.kind, e.exact, own_tool, e.speed_mm_s, 0.0, cell.motion.joint_speed_percent
         )
         for key, value in settings.items():
             have = g.settings.get(key)
