@@ -46,7 +46,8 @@ def pixels_in_range(u: float, v: float, angle: float) -> bool:
 _CELL_MESSAGES = {
     NO_ANSWER: lambda cell: no_answer_text(cell.vision.timeout_s),
     NOT_AT_HOME: lambda cell: (
-        f"start with the arm at home or a retreat (every joint within {cell.motion.start_tolerance_deg:g} deg)"
+        f"start with the arm at home{' or a retreat' if cell.stations else ''} "
+        f"(every joint within {cell.motion.start_tolerance_deg:g} deg)"
     ),
     NOT_RELEASED: lambda cell: f"the gripper did not release in {cell.io.timeout_s:g} s (its feedback stays on)",
     NO_FEEDBACK: lambda cell: f"no feedback from the gripper in {cell.io.timeout_s:g} s",

@@ -121,3 +121,21 @@ def test_the_programs_move_the_cells_tool():
         cell, "abb", ".mod", "MoveL target, stack_work, fine, stack_tool", "MoveL target, stack_work, fine, tool0"
     )
     assert found and "tool" in found[0], found
+
+
+def test_the_controllers_choice_of_joints_is_checked_against_the_plan():
+    """With the arm, every run solves each move by the controller's rules. Without the program's home
+    move KRL's first motion is no BCO run and RAPID's first pose move starts from anywhere: each refused;
+    with RAPID's configuration check on, the boxes' targets (confdata [0, 0, 0, 0]) are not reachable as
+    named."""
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = _mutant_mismatches(cell, "kuka", ".src", "  PTP PAL_HOME", "  ;PTP PAL_HOME")
+    assert found and "BCO" in found[0], found
+    found = _mutant_mismatches(cell, "abb", ".mod", "    MoveAbsJ stack_home", "    ! MoveAbsJ stack_home")
+    assert found and "first motion" in found[0], found
+    found = _mutant_mismatches(cell, "abb", ".mod", "    ConfJ \\Off;\n", "    ConfJ \\On;\n")
+    assert found and "cannot reach this pose in configuration [0, 0, 0, 0]" in found[0], found
+    # the same pose in another configuration (UR: the solution nearest another qnear): the joints differ
+    wrist_flip = "    movej(get_inverse_kin(entry, qnear=[-0.3, -1.2, -1.8, -1.5, 1.57, 0.5]), a=1.2, v=0.25)"
+    found = _mutant_mismatches(cell, "ur", ".script", "    movej(entry, a=1.2, v=0.25)", wrist_flip)
+    assert found and "entry, line" in found[0] and "planned [" in found[0], found

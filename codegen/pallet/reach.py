@@ -48,6 +48,28 @@ def full_cycle(cell, pallet):
     return expected(cell, pallet, PalletCase("full", *first)).moves
 
 
+def joints_of(cell, target: str, moves, where: str) -> list[np.ndarray]:
+    """Each move's joints for the target's arm with the cell's tool, from home: a joint move takes the
+    solution nearest the joints before it (the controllers' rule where the program names no
+    configuration), a linear move keeps the configuration (its branch) and may not jump. ReachError names
+    the move."""
+    robot = cell.robot
+    arm = robot.arms[target]
+    poses = np.array([m.tcp2base for m in moves]).reshape(-1, 4, 4)
+    solutions = solve.branches(arm, solve.flange_poses(poses, robot.tool.tcp2flange))
+    q, branch, out = np.asarray(robot.home[target], dtype=float), None, []
+    for move, sols in zip(moves, solutions, strict=True):
+        at = f"{where} {move.name} ({target}, {arm.model})"
+        joints, chosen = solve.nearest(arm, sols, q)
+        if np.isnan(joints).any():
+            raise ReachError(f"{at}: out of reach (no solution within the joint limits for the tool's flange)")
+        if move.kind == "linear" and (int(chosen) != branch or np.max(np.abs(joints - q)) > 90.0):
+            raise ReachError(f"{at}: the linear move would change the arm's configuration (a wrist or elbow flip)")
+        out.append(joints)
+        q, branch = joints, int(chosen)
+    return out
+
+
 def check_pallet(cell, pallet, target: str) -> PalletReach:
     """Every move of a full cycle for the target's arm with the cell's tool, from home: a joint move takes
     the solution nearest the joints before it (the controllers' rule where the program names no
@@ -56,22 +78,12 @@ def check_pallet(cell, pallet, target: str) -> PalletReach:
     robot = cell.robot
     arm = robot.arms[target]
     moves = full_cycle(cell, pallet)
-    poses = np.array([m.tcp2base for m in moves])
-    solutions = solve.branches(arm, solve.flange_poses(poses, robot.tool.tcp2flange))
-    q, branch = np.asarray(robot.home[target], dtype=float), None
     worst_joint, worst_wrist, worst = np.inf, np.inf, ""
-    for move, sols in zip(moves, solutions, strict=True):
-        where = f"pallet {pallet.name!r} {move.name} ({target}, {arm.model})"
-        joints, chosen = solve.nearest(arm, sols, q)
-        if np.isnan(joints).any():
-            raise ReachError(f"{where}: out of reach (no solution within the joint limits for the tool's flange)")
-        if move.kind == "linear" and (int(chosen) != branch or np.max(np.abs(joints - q)) > 90.0):
-            raise ReachError(f"{where}: the linear move would change the arm's configuration (a wrist or elbow flip)")
+    for move, joints in zip(moves, joints_of(cell, target, moves, f"pallet {pallet.name!r}"), strict=True):
         joint, wrist = margins(arm, joints)
         if joint < worst_joint:
             worst_joint, worst = joint, move.name
         worst_wrist = min(worst_wrist, wrist)
-        q, branch = joints, int(chosen)
     need = robot.margins
     if worst_joint < need.joint_deg or worst_wrist < need.wrist_deg:
         raise ReachError(

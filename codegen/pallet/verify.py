@@ -5,16 +5,22 @@ from __future__ import annotations
 import math
 import random
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+
+import numpy as np
 
 from codegen.cell import Cell
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect
 from codegen.emit import Emitter
-from codegen.pallet.cycle import PalletCase, cases, expected
+from codegen.pallet.cycle import ExpectedMove, PalletCase, cases, expected
 from codegen.pallet.program import counter_names, counter_registers, pallet_identifiers
+from codegen.pallet.reach import joints_of
+from codegen.robot.expect import arm_of, home_move
 from codegen.signals import Gripper, signal_name
 from codegen.verify import TOLERANCES, _pose_errors
+
+JOINT_TOL_DEG = 0.01  # the controller's choice against the plan: float32 poses, the same rule
 
 
 @dataclass
@@ -105,6 +111,28 @@ def compare(cell: Cell, target, index: int, case: PalletCase, want, got) -> tupl
     return None, worst_pos, worst_rot
 
 
+def with_home(cell: Cell, target_name: str, want):
+    """With an arm the program goes home first (in joints, after its counter checks): the home move
+    before the cycle's moves, and every gripper output one move later."""
+    home = home_move(cell, target_name)
+    if home is None or not (want.moves or want.outputs):  # no arm, or a stop before any move
+        return want
+    move = ExpectedMove(home[0].kind, home[0].tcp2base, "home", None, True)
+    outputs = tuple((value, after + 1) for value, after in want.outputs)
+    return replace(want, moves=(move, *want.moves), outputs=outputs)
+
+
+def joints_problem(cell: Cell, target_name: str, want, got) -> str | None:
+    """Where the controller's choice of each move's joints (the interpreter's arm) differs from the
+    generate-time plan (codegen/pallet/reach.py): a configuration the proof did not cover."""
+    planned = joints_of(cell, target_name, want.moves, "verify")
+    for i, (g, q) in enumerate(zip(got.moves, planned, strict=True)):
+        if g.joints is None or np.max(np.abs(np.asarray(g.joints) - q)) > JOINT_TOL_DEG:
+            have = None if g.joints is None else np.asarray(g.joints).round(3).tolist()
+            return f"move {i + 1} ({want.moves[i].name}, line {g.line}): joints {have}, planned {q.round(3).tolist()}"
+    return None
+
+
 def kept_names(target, index: int) -> tuple[str, str]:
     """Where the run leaves the counters: the program's own persistent variables, or the outputs it reports
     them in (targets/<t>.toml pallet_kept; a value never written: the counters did not change)."""
@@ -124,16 +152,21 @@ def verify_pallet(cell: Cell, index: int, target_name: str, program, files: list
     report = PalletReport(target_name, pallet.name, files)
     start = time.perf_counter()
     for case in cases(pallet, random.Random(seed)):
-        want = expected(cell, pallet, case)
+        want = with_home(cell, target_name, expected(cell, pallet, case))
         gripper = Gripper(output, feedback, cell.io.value, case.gripper)
         try:
+            arm = arm_of(cell, target_name)  # the arm solves every move by the controller's rules
             got = program.run(
                 {layer_name: case.layer, box_name: case.box},
                 devices=(gripper,),
                 signals={feedback: case.closed},
                 keep=kept_names(target, index),
+                arm=arm,
+                start_joints=None if arm is None else cell.robot.home[target_name],
             )
             problem, pos, rot = compare(cell, target, index, case, want, got)
+            if problem is None and arm is not None:
+                problem = joints_problem(cell, target_name, want, got)
         except Exception as exc:  # a run error is this case's mismatch
             problem, pos, rot = f"run error: {exc}", 0.0, 0.0
         report.cases += 1

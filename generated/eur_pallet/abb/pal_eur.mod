@@ -73,7 +73,7 @@ MODULE pal_eur
       stack_stop "pallet eur: layer or box counter out of range";
     ENDIF
     ! the box targets are computed and Q's configuration is not known: every move takes the closest
-    ! configuration (ConfJ, ConfL \Off)
+    ! configuration (ConfJ, ConfL \Off; with an arm codegen proved the cycle keeps one configuration from home)
     ConfJ \Off;
     ConfL \Off;
     stack_release;

@@ -20,6 +20,7 @@ MODULE pal_testmat
   ! from the three points of the cell file; the object frame stays the identity
   ! The arm (IRB 1200-5/0.9): the tool (TCP in the flange frame [mm], load [kg, mm]; a point mass)
   LOCAL PERS tooldata stack_tool := [TRUE, [[0.0000, 0.0000, 120.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [0.800, [0.0000, 0.0000, 50.0000], [1, 0, 0, 0], 0, 0, 0]];
+  LOCAL CONST jointtarget stack_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[650.0000, -50.0000, 50.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [[0, 0, 0], [1, 0, 0, 0]]];
   ! Q, where the boxes are picked, in the base frame (its configuration is not
   ! known here: the moves take the closest one, see main)
@@ -60,6 +61,7 @@ MODULE pal_testmat
     VAR robtarget target;
     VAR robtarget entry;
     VAR num row;
+    VAR jointtarget now;
     ! the counters as a restart finds them: a full pallet, or numbers outside the stack, stop
     ! before any move
     IF pal_layer = STACK_LAYERS + 1 AND pal_box = 1 THEN
@@ -71,8 +73,17 @@ MODULE pal_testmat
     IF pal_box < 1 OR pal_box > stack_count(pal_layer) THEN
       stack_stop "pallet testmat: layer or box counter out of range";
     ENDIF
+    ! a defined start: the arm stands at home (every axis within 2.000 deg), or the program stops
+    ! before it moves; then home in joints, the first motion
+    now := CJointT();
+    IF Abs(now.robax.rax_1 - stack_home.robax.rax_1) > 2.000 OR Abs(now.robax.rax_2 - stack_home.robax.rax_2) > 2.000
+        OR Abs(now.robax.rax_3 - stack_home.robax.rax_3) > 2.000 OR Abs(now.robax.rax_4 - stack_home.robax.rax_4) > 2.000
+        OR Abs(now.robax.rax_5 - stack_home.robax.rax_5) > 2.000 OR Abs(now.robax.rax_6 - stack_home.robax.rax_6) > 2.000 THEN
+      stack_stop "start with the arm at home (every joint within 2 deg)";
+    ENDIF
+    MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
     ! the box targets are computed and Q's configuration is not known: every move takes the closest
-    ! configuration (ConfJ, ConfL \Off)
+    ! configuration (ConfJ, ConfL \Off; with an arm codegen proved the cycle keeps one configuration from home)
     ConfJ \Off;
     ConfL \Off;
     stack_release;
