@@ -349,7 +349,7 @@ def box_pose_identities() -> list[Identity]:
         _check(
             "box_offset_in_the_pallet_frame",
             "Trans(0, 0, dz) Trans(x, y, z) Rz(angle) T0 = Trans(x, y, z + dz) Rz(angle) T0   (entry, approach and "
-            "retreat move along the pallet's axes, not the tool's: KRL PAL_FRAME : PAL_ENTRY : PLACED, RAPID Offs)",
+            "retreat move along the pallet's axes, not the tool's: an offset frame before the box's, or Offs)",
             "holds",
             box + sp.Matrix([0, 0, dz]) - sp.Matrix([x, y, z + dz]),
         ),
