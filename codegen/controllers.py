@@ -84,6 +84,7 @@ _PROGRAM = {
     "pallet_counters": dict,  # layer and box: the counters' names for --input and verify
     "pallet_kept": dict,  # layer and box: where the program reports the counters, if not in pallet_counters
     "pallet_registers": int,  # the first register of the counters, where the controller keeps none
+    "pallet_registers_max": int,  # the last register the counters may use
     "pallet_level_only": bool,  # no pose product: a level pallet only
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")

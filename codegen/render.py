@@ -203,6 +203,9 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
             text = env.get_template(f"{name}/{pattern.format(cell='program')}.j2").render(ctx)
             out.append(RenderedFile(f"{cell_dir(cell)}/{name}/{file_name}", text))
         out.extend(_pallet_files(env, cell, target, ctx))
+    paths = [f.relpath for f in out]
+    if len(set(paths)) != len(paths):  # a generator bug: one file would silently replace another
+        raise RuntimeError(f"two files render to {sorted(p for p in paths if paths.count(p) > 1)[0]}")
     return out
 
 

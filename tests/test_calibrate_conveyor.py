@@ -79,6 +79,7 @@ def test_a_wrong_counter_width_is_caught_by_the_fit():
         (["0,0,0,100,belt", "250,3,0,2100,belt", "500,0,0,4100,belt"], ("--working-length", 900), "2.000 mm from"),
         (["0,0,0,100,belt", "500,0,0,4100,belt", "250,2,0,2100,side"], ("--working-length", 900), "side point is"),
         (["0,0,0,abc,belt"], (), "t.csv:2: x, y, z must be numbers and count a whole number"),
+        (["0,0,0,1,belt", "0,0,0,5,belt"], ("--force",), "the belt touches lie within 0.000 mm of each other"),
         (["0,0,0,1,sideways"], (), "t.csv:2: role must be belt or side"),
     ],
 )

@@ -16,7 +16,8 @@ from codegen.pallet.analysis import load_pallet_file
 from codegen.pallet.patterns import Box, column, interlock, pinwheel, split_row
 from codegen.pallet.stack import FrameError, pallet2base
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "pallets"
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLES = REPO / "codegen" / "examples" / "pallets"
 TESTMAT = (EXAMPLES / "testmat_pallet.toml").read_text()
 
 
@@ -143,6 +144,14 @@ def test_the_eur_example_slip_sheets_mirror_and_labels(tmp_path):
     assert cycle["seconds"] == pytest.approx(cycle["travel_mm"] / 1000 + cycle["work_mm"] / 200, abs=0.1)
 
 
+def test_the_cycle_estimate_counts_each_segment_at_its_own_speed():
+    """Source 004's pallet, 30 boxes: only approach -> target and target -> retreat go at the work speed,
+    each |(5, 5, 5)| = 8.66 mm long; entry -> approach and retreat -> entry, |(5, 5, -1.5)|, at travel."""
+    result = json.loads(CliRunner().invoke(main, ["pallet", "--json"]).stdout)
+    cycle = result["pallets"][0]["cycle"]
+    assert cycle["work_mm"] == pytest.approx(30 * 2 * math.sqrt(75), abs=0.1)
+
+
 def test_the_pictures_show_each_box_numbered_with_its_label_and_approach(tmp_path):
     result = CliRunner().invoke(main, ["pallet", "--svg", str(tmp_path)])
     assert result.exit_code == 0
@@ -253,3 +262,33 @@ def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_
     layer2 = _rendered(layer_svg(_load(tmp_path, over).pallets[0], 2))
     reddish = sum(n for n, (r, g, b) in layer2.getcolors(maxcolors=100_000) if r > 180 and g < 100 and b < 100)
     assert reddish > 100  # box 1's outline
+
+
+def test_split_row_on_a_pallet_its_shifted_rows_fill_further():
+    """1000 mm of 400 mm boxes: full rows of 2 (800 mm), shifted rows from 200 to 1000 mm: the layout is
+    centred on the wider extent, so it stays on the pallet."""
+    boxes = tuple(split_row(1000.0, 800.0, 400.0, 300.0))
+    assert len(boxes) == 4 and checks.overhangs(boxes, (400.0, 300.0), (1000.0, 800.0)) == []
+
+
+def test_a_cycle_entry_that_is_no_name_is_refused(tmp_path):
+    with pytest.raises(CellError, match=r"pallet\[0\]\.cycle\[0\]: no pattern"):
+        _load(tmp_path, TESTMAT.replace('cycle = ["p1", "p2"]', 'cycle = [["p1"], "p2"]'))
+
+
+def test_a_pallet_named_like_the_cells_program_or_beyond_the_registers_is_refused(tmp_path):
+    from codegen.emit import EmitError
+    from codegen.render import render
+
+    demo = (REPO / "codegen" / "examples" / "agv_machine_tending.toml").read_text()
+    pallet = TESTMAT[TESTMAT.index("[[pallet]]") :].replace('name = "testmat"', 'name = "agv_machine_tending"', 1)
+    cell = tmp_path / "cell.toml"
+    cell.write_text(demo.replace('name = "agv_machine_tending"', 'name = "pal_agv_machine_tending"', 1) + "\n" + pallet)
+    with pytest.raises(EmitError, match="both map to the identifier"):
+        render(load_cell(cell), ["ur"])
+    twelve = "".join(pallet.replace('name = "agv_machine_tending"', f'name = "p{i}"', 1) for i in range(12))
+    cell.write_text(demo + "\n" + twelve)
+    with pytest.raises(
+        EmitError, match=r"pallet 12's counters would need registers 48 and 49; the controller's last is 47"
+    ):
+        render(load_cell(cell), ["ur"])

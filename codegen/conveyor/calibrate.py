@@ -15,6 +15,7 @@ MIN_TOUCHES = 2
 SPAN_SHARE = 0.5  # source 002: the touches span at least half (better three quarters) of the working length
 MAX_RESIDUAL_MM = 0.5  # a touch further than this from the fitted line: a slipped cone or a misread count
 POSITION_LIMIT_MM = 10_000.0
+MIN_SPAN_MM = 10.0  # touches closer than this along the belt: no direction and no scale
 
 
 class ConveyorCalibrationError(ValueError):
@@ -138,6 +139,11 @@ def fit(
     du = u - u.mean()
     slope = (du @ (positions - positions.mean(axis=0))) / (du @ du)  # mm per count, 3-vector
     mm_per_count = float(np.linalg.norm(slope))
+    if not mm_per_count * float(np.ptp(u)) >= MIN_SPAN_MM:
+        raise ConveyorCalibrationError(
+            f"{path}: the belt touches lie within {mm_per_count * float(np.ptp(u)):.3f} mm of each other: the cone "
+            f"must be touched at places at least {MIN_SPAN_MM:g} mm apart along the belt"
+        )
     fitted = positions.mean(axis=0) + np.outer(du, slope)
     residuals = [float(v) for v in np.linalg.norm(positions - fitted, axis=1)]
     travel = fitted[-1] - fitted[0]
@@ -148,7 +154,8 @@ def fit(
     if residuals[worst] > max_residual_mm:
         raise ConveyorCalibrationError(
             f"{path}:{belt[worst].line}: {residuals[worst]:.3f} mm from the fitted belt line (more than "
-            f"{max_residual_mm:g} mm): a cone that slipped or a count read at the wrong moment"
+            f"{max_residual_mm:g} mm): a cone that slipped, a count read at the wrong moment, or a counter of "
+            f"another width than {bits} bit (its rollover breaks the line)"
         )
     warnings = []
     if working_length_mm is None:
@@ -179,6 +186,11 @@ def fit(
     if camera_counts is not None:
         steps = unwrap(list(camera_counts), bits)
         camera = float(steps[1]) / (sign / mm_per_count)
+        if not camera > 0:
+            warnings.append(
+                f"the camera comes out {camera:.3f} mm along the belt from the origin, not upstream of it: "
+                "were L3 and L4 given in that order (L3 at the camera, L4 at the origin)?"
+            )
     return ConveyorFit(
         counts_per_mm=sign / mm_per_count,
         counts_per_mm_uncertainty=uncertainty,

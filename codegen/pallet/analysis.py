@@ -80,6 +80,7 @@ class PalletFile:
     pallets: tuple[Pallet, ...]
     warnings: tuple[str, ...]
     motion: object  # codegen.motion.MotionSettings: the speeds of the cycle-time estimate
+    cell: object = None  # the whole codegen.cell.Cell
 
 
 def load_pallet_file(path: str | Path) -> PalletFile:
@@ -87,4 +88,4 @@ def load_pallet_file(path: str | Path) -> PalletFile:
     from codegen.cell import load_cell
 
     cell = load_cell(path)
-    return PalletFile(cell.name, str(path), cell.pallets, cell.warnings, cell.motion)
+    return PalletFile(cell.name, str(path), cell.pallets, cell.warnings, cell.motion, cell)

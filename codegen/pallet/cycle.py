@@ -178,5 +178,6 @@ def cases(pallet: Pallet, rng) -> list[PalletCase]:
     out += [PalletCase("bad_counters", pallet.layers + 1, 2), PalletCase("bad_counters", 2, 0)]
     out += [PalletCase("gripper_silent", 1, 1, "silent"), PalletCase("gripper_stuck", 1, 1, "stuck")]
     # open at the start, then it never lets the box go: the counters must stay at that box
-    out.append(PalletCase("gripper_stuck_at_target", 2, counts[2] if pallet.layers > 1 else 1, "stuck", False))
+    layer = min(2, pallet.layers)
+    out.append(PalletCase("gripper_stuck_at_target", layer, counts[layer], "stuck", False))
     return out

@@ -117,7 +117,8 @@ def split_row(length: float, width: float, bl: float, bw: float) -> list[Box]:
     for j in range(rows):
         count, x0 = (full, 0.0) if j % 2 == 0 else (shifted, bl / 2)
         boxes.extend(Box(x0 + (i + 0.5) * bl, (j + 0.5) * bw, 0.0) for i in range(count))
-    return _centred(boxes, full * bl if full else 0.0, rows * bw, length, width)
+    extent = max(full * bl, bl / 2 + shifted * bl if shifted else 0.0)  # a shifted row can reach further
+    return _centred(boxes, extent, rows * bw, length, width)
 
 
 FAMILIES = {"column": column, "interlock": interlock, "pinwheel": pinwheel, "split-row": split_row}

@@ -26,7 +26,15 @@ def counter_registers(target, index: int) -> tuple[int, int] | None:
     """The registers of pallet `index`'s layer and box counters, where the controller keeps them outside
     the program (targets/<t>.toml pallet_registers), else None."""
     first = target.program.get("pallet_registers")
-    return None if first is None else (first + 2 * index, first + 2 * index + 1)
+    if first is None:
+        return None
+    last = target.program["pallet_registers_max"]
+    if first + 2 * index + 1 > last:
+        raise EmitError(
+            f"{target.name}: pallet {index + 1}'s counters would need registers {first + 2 * index} and "
+            f"{first + 2 * index + 1}; the controller's last is {last} ({(last - first + 1) // 2} pallets per cell)"
+        )
+    return first + 2 * index, first + 2 * index + 1
 
 
 def counter_names(target, index: int) -> tuple[str, str]:
@@ -40,6 +48,8 @@ def pallet_identifiers(cell, target) -> list[str]:
     """Each pallet's program identifier ("pal_" and its name); the counters' names are taken first, so a
     pallet whose program would be named like a counter is refused (EmitError naming both)."""
     emitter = Emitter(target)
+    if cell.stations:  # the vision program's name (and so its files' names)
+        emitter.identifier("", cell.name, "the cell's program")
     for index in range(len(cell.pallets)):
         for name in counter_names(target, index):
             emitter.reserve(name, f"the pallet counter {name}")

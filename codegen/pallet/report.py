@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 
 from codegen.pallet.analysis import PalletFile, frame_matrix
 from codegen.pallet.patterns import cell_angle
 from codegen.pallet.section import Pallet
-from codegen.pallet.stack import Placement, layer_top, placements
+from codegen.pallet.stack import layer_top, placements
 from codegen.poses import zyx_deg_from_rotmat
 
 
@@ -21,29 +23,30 @@ def _pose(pose: np.ndarray, pallet2base: np.ndarray) -> dict:
     return {"pallet": xyzabc(pose), "base": xyzabc(pallet2base @ pose)}
 
 
-def cycle_estimate(pallet: Pallet, placed: list[Placement], pallet2base: np.ndarray, motion) -> dict | None:
-    """Seconds per pallet from path lengths over the programmed speeds (no acceleration): per box
-    Q -> entry at the travel speed, entry -> approach -> target -> retreat -> entry at the work speed,
-    entry -> Q at the travel speed. None without a pick pose."""
-    if pallet.pick is None:
-        return None
-    pick = pallet.pick.matrix()[:3, 3]
+def cycle_estimate(cell, pallet: Pallet) -> dict:
+    """Seconds per pallet from the full cycle's moves (the reference's: codegen/pallet/cycle.py), each
+    one's path length over its programmed speed: no acceleration, no gripper time, no home move."""
+    from codegen.pallet.reach import full_cycle
+
+    moves = full_cycle(cell, pallet)
     travel = work = 0.0
-    for p in placed:
-        a, b1, c, b2 = ((pallet2base @ m)[:3, 3] for m in (p.entry, p.approach, p.target, p.retreat))
-        travel += 2 * float(np.linalg.norm(a - pick))
-        work += sum(float(np.linalg.norm(q - r)) for q, r in ((a, b1), (b1, c), (c, b2), (b2, a)))
-    seconds = travel / motion.speed_mm_s + work / motion.work_speed_mm_s
+    for before, move in pairwise(moves):
+        length = float(np.linalg.norm(move.tcp2base[:3, 3] - before.tcp2base[:3, 3]))
+        if move.speed_mm_s == cell.motion.work_speed_mm_s:
+            work += length
+        else:
+            travel += length
+    seconds = travel / cell.motion.speed_mm_s + work / cell.motion.work_speed_mm_s
     return {
         "travel_mm": round(travel, 1),
         "work_mm": round(work, 1),
-        "speed_mm_s": motion.speed_mm_s,
-        "work_speed_mm_s": motion.work_speed_mm_s,
+        "speed_mm_s": cell.motion.speed_mm_s,
+        "work_speed_mm_s": cell.motion.work_speed_mm_s,
         "seconds": round(seconds, 1),
     }
 
 
-def pallet_report(pallet: Pallet, motion) -> dict:
+def pallet_report(cell, pallet: Pallet) -> dict:
     frame = frame_matrix(pallet)
     placed = placements(pallet)
     return {
@@ -66,14 +69,14 @@ def pallet_report(pallet: Pallet, motion) -> dict:
             }
             for p in placed
         ],
-        "cycle": cycle_estimate(pallet, placed, frame, motion),
+        "cycle": cycle_estimate(cell, pallet),
     }
 
 
 def report(data: PalletFile) -> dict:
     return {
         "cell": data.name,
-        "pallets": [pallet_report(p, data.motion) for p in data.pallets],
+        "pallets": [pallet_report(data.cell, p) for p in data.pallets],
         "warnings": list(data.warnings),
     }
 

@@ -109,7 +109,7 @@ def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
     if not isinstance(cycle, list) or not cycle:
         ctx.fail(f"{path}.cycle", "expected a non-empty list of pattern names")
     for i, entry in enumerate(cycle):
-        if entry not in patterns:
+        if not isinstance(entry, str) or entry not in patterns:
             ctx.fail(f"{path}.cycle[{i}]", f"no pattern {entry!r}; the patterns: {', '.join(patterns)}")
     sense = table.get("angle_sense", "ccw")
     if sense not in ("cw", "ccw"):

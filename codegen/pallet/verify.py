@@ -232,6 +232,7 @@ def report_lines(reports: list[PalletReport]) -> list[str]:
 
 
 def is_pallet_program(cell: Cell, path) -> bool:
+    """A pallet's program file or one of its companions (a KRL .dat is read with its .src)."""
     from codegen.pallet.program import pallet_file_names
 
     for name in cell.targets:
@@ -285,4 +286,11 @@ def pallet_section(cell: Cell, files: tuple, targets: tuple, seed: int) -> tuple
     rest = tuple(f for f in files if Path(f) not in mine)
     names = list(targets) or list(cell.targets)
     reports = verify_cell_pallets(cell, names, mine if files else None, seed)
+    if files and mine and not reports:
+        from codegen.cli import UserError
+
+        raise UserError(
+            "no pallet program among the files for the targets asked: a data file is read with its program "
+            "(give the program), and --target must be the program's"
+        )
     return PalletSection(cell, reports, alone=not cell.stations or (bool(files) and not rest)), rest
