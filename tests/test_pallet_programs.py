@@ -139,3 +139,19 @@ def test_the_controllers_choice_of_joints_is_checked_against_the_plan():
     wrist_flip = "    movej(get_inverse_kin(entry, qnear=[-0.3, -1.2, -1.8, -1.5, 1.57, 0.5]), a=1.2, v=0.25)"
     found = _mutant_mismatches(cell, "ur", ".script", "    movej(entry, a=1.2, v=0.25)", wrist_flip)
     assert found and "entry, line" in found[0] and "planned [" in found[0], found
+
+
+@pytest.mark.parametrize(
+    ("target", "suffix", "old", "new"),
+    [
+        ("ur", ".script", "  if get_standard_digital_in(1) == True:\n", "  if False:\n"),
+        ("kuka", ".src", "  IF $IN[18] THEN\n", "  IF FALSE THEN\n"),
+        ("abb", ".mod", "    IF held THEN\n", "    IF FALSE THEN\n"),
+        ("dtrans", ".prg", "If DIn(2) == True Then\n", "If False Then\n"),
+    ],
+)
+def test_a_program_that_opens_a_gripper_holding_a_box_fails_verify(target, suffix, old, new):
+    """Started with a box in the gripper (a cycle stopped on the way), the program must stop, not open it."""
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = _mutant_mismatches(cell, target, suffix, old, new)
+    assert found and found[0].startswith("held_at_start"), found

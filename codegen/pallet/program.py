@@ -9,7 +9,7 @@ import numpy as np
 from codegen.cell import TaughtPose
 from codegen.emit import EmitError, Emitter
 from codegen.pallet.analysis import frame_matrix
-from codegen.pallet.cycle import counters_message, empty_message, full_message, layer_counts
+from codegen.pallet.cycle import counters_message, empty_message, full_message, held_message, layer_counts
 from codegen.pallet.patterns import layout
 from codegen.pallet.section import Pallet
 from codegen.pallet.stack import sides
@@ -113,6 +113,7 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
         "top_count": counts[pallet.layers],
         "empty": emitter.string(empty_message(pallet)),
         "full": emitter.string(full_message(pallet)),
+        "held": emitter.string(held_message(pallet)),
         "bad_counters": emitter.string(counters_message(pallet)),
     }
 

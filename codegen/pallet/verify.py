@@ -285,7 +285,14 @@ def pallet_section(cell: Cell, files: tuple, targets: tuple, seed: int) -> tuple
     mine = [Path(f) for f in files if is_pallet_program(cell, Path(f))]
     rest = tuple(f for f in files if Path(f) not in mine)
     names = list(targets) or list(cell.targets)
-    reports = verify_cell_pallets(cell, names, mine if files else None, seed)
+    from codegen.dialects.core.values import RunError
+
+    try:
+        reports = verify_cell_pallets(cell, names, mine if files else None, seed)
+    except RunError as exc:  # a program that cannot be loaded here
+        import click
+
+        raise click.ClickException(str(exc)) from None
     if files and mine and not reports:
         from codegen.cli import UserError
 

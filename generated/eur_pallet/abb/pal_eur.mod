@@ -61,6 +61,7 @@ MODULE pal_eur
     VAR robtarget target;
     VAR robtarget entry;
     VAR num row;
+    VAR bool held;
     ! the counters as a restart finds them: a full pallet, or numbers outside the stack, stop
     ! before any move
     IF pal_layer = STACK_LAYERS + 1 AND pal_box = 1 THEN
@@ -71,6 +72,11 @@ MODULE pal_eur
     ENDIF
     IF pal_box < 1 OR pal_box > stack_count(pal_layer) THEN
       stack_stop "pallet eur: layer or box counter out of range";
+    ENDIF
+    ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
+    WaitDI diGripClosed, 0 \MaxTime:=0.1 \TimeFlag:=held;
+    IF held THEN
+      stack_stop "pallet eur: the gripper holds a box (its sensor is on): take it out, then sta...";
     ENDIF
     ! the box targets are computed and Q's configuration is not known: every move takes the closest
     ! configuration (ConfJ, ConfL \Off; with an arm codegen proved the cycle keeps one configuration from home)

@@ -59,6 +59,7 @@ MODULE pal_eur_in
     VAR robtarget target;
     VAR robtarget entry;
     VAR num row;
+    VAR bool held;
     ! the counters as a restart finds them: an empty pallet, or numbers outside the stack, stop
     ! before any move
     IF pal_layer = 0 AND pal_box = 0 THEN
@@ -69,6 +70,11 @@ MODULE pal_eur_in
     ENDIF
     IF pal_box < 1 OR pal_box > stack_count(pal_layer) THEN
       stack_stop "pallet eur_in: layer or box counter out of range";
+    ENDIF
+    ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
+    WaitDI diGripClosed, 0 \MaxTime:=0.1 \TimeFlag:=held;
+    IF held THEN
+      stack_stop "pallet eur_in: the gripper holds a box (its sensor is on): take it out, then ...";
     ENDIF
     ! the box targets are computed and Q's configuration is not known: every move takes the closest
     ! configuration (ConfJ, ConfL \Off; with an arm codegen proved the cycle keeps one configuration from home)

@@ -61,6 +61,7 @@ MODULE pal_testmat
     VAR robtarget target;
     VAR robtarget entry;
     VAR num row;
+    VAR bool held;
     VAR jointtarget now;
     ! the counters as a restart finds them: a full pallet, or numbers outside the stack, stop
     ! before any move
@@ -72,6 +73,11 @@ MODULE pal_testmat
     ENDIF
     IF pal_box < 1 OR pal_box > stack_count(pal_layer) THEN
       stack_stop "pallet testmat: layer or box counter out of range";
+    ENDIF
+    ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
+    WaitDI diGripClosed, 0 \MaxTime:=0.1 \TimeFlag:=held;
+    IF held THEN
+      stack_stop "pallet testmat: the gripper holds a box (its sensor is on): take it out, then...";
     ENDIF
     ! a defined start: the arm stands at home (every axis within 2.000 deg), or the program stops
     ! before it moves; then home in joints, the first motion

@@ -118,6 +118,11 @@ If pal_box < 1 Or pal_box > PAL_COUNT[pal_pattern(pal_layer)] Then
   TPWrite 0, "pallet testmat: layer or box counter out of range"
   Halt
 EndIf
+// a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
+If DIn(2) == True Then
+  TPWrite 0, "pallet testmat: the gripper holds a box (its sensor is on): take it out, then..."
+  Halt
+EndIf
 Int pattern = 0
 Int row = 0
 Double x = 0.0
