@@ -142,7 +142,7 @@ def calibrate_handeye(points: str, affine: bool, cell_path: str | None, as_json:
 def calibrate_conveyor(touches, counter_bits, working_length, camera_counts, force, max_residual, cell_path, as_json):
     """Encoder scale, belt frame and camera offset (source 002) from a CSV x,y,z,count[,role] of a cone on
     the belt touched at two or more places (mm, base frame; upstream first) and optionally one point beside
-    the belt (role side) that fixes the frame's roll."""
+    the belt (role side, at the height of the cone's tip) that fixes the frame's roll."""
     from pathlib import Path
 
     from codegen.cell import CellError

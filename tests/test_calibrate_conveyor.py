@@ -139,3 +139,19 @@ def test_a_bad_conveyor_table_names_its_key(tmp_path, table, says):
     )
     with pytest.raises(CellError, match=says):
         load_cell(cell)
+
+
+def test_a_recalibration_keeps_the_camera_offset_and_the_next_tables_comments(tmp_path):
+    cell = tmp_path / "cell.toml"
+    demo = (REPO / "codegen" / "examples" / "agv_machine_tending.toml").read_text()
+    cell.write_text(
+        "[conveyor]\ncounter_bits = 16\n\n# the stations\n"
+        + demo[demo.index("[[station]]") :]
+        + demo[: demo.index("[[station]]")]
+    )
+    l3, l4 = belt_sim.camera_counts()
+    assert run(EXAMPLE, "--working-length", 1500, "--camera-counts", f"{l3},{l4}", "--write", cell).exit_code == 0
+    assert run(EXAMPLE, "--write", cell).exit_code == 0  # no camera counts this time
+    text = cell.read_text()
+    assert "# the stations\n[[station]]" in text and text.count("[conveyor]") == 1
+    assert load_cell(cell).conveyor.camera_offset_mm == pytest.approx(belt_sim.CAMERA_UPSTREAM_MM, abs=0.5)

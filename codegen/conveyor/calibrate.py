@@ -248,10 +248,14 @@ def report_lines(result: ConveyorFit, path: Path) -> list[str]:
 
 
 def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_length_mm: float | None) -> None:
-    """Replace (or add) the cell's [conveyor] table; the edited file must load before it replaces the old."""
-    import re
+    """Replace (or add) the cell's [conveyor] table, keeping a camera offset this calibration did not
+    measure; the comments before the next table stay; the edited file must load before it replaces the old."""
+    from codegen.cell import CellError, load_cell, replace_cell_file
 
-    from codegen.cell import CellError, replace_cell_file
+    previous = load_cell(cell_path).conveyor
+    camera = result.camera_offset_mm
+    if camera is None and previous is not None:
+        camera = previous.camera_offset_mm
 
     def vector(values) -> str:
         return "[" + ", ".join(f"{float(v):.12g}" for v in values) + "]"
@@ -262,8 +266,8 @@ def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_len
     lines.append(f"origin = {vector(result.origin)}")
     lines.append(f"direction = {vector(result.direction)}")
     lines.append(f"z_axis = {vector(result.z_axis)}")
-    if result.camera_offset_mm is not None:
-        lines.append(f"camera_offset_mm = {result.camera_offset_mm:.12g}")
+    if camera is not None:
+        lines.append(f"camera_offset_mm = {camera:.12g}")
     if working_length_mm is not None:
         lines.append(f"working_length_mm = {working_length_mm:.12g}")
     table = "\n".join(lines) + "\n"
@@ -271,12 +275,32 @@ def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_len
         text = cell_path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise ConveyorCalibrationError(f"{cell_path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
-    old = re.search(r"^\[conveyor\][^\n]*\n(?:(?!\[)[^\n]*\n?)*", text, re.MULTILINE)
-    new = text[: old.start()] + table + "\n" + text[old.end() :] if old else text.rstrip("\n") + "\n\n" + table
+    start, end = _table_span(text, "conveyor")
+    new = text[:start] + table + text[end:] if start is not None else text.rstrip("\n") + "\n\n" + table
     try:
         replace_cell_file(cell_path, new)
     except CellError as exc:
         raise ConveyorCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
+
+
+def _table_span(text: str, name: str) -> tuple[int | None, int]:
+    """Where the table [name] is in a TOML text: its header line to its last key line (the blank and
+    comment lines after it belong to what follows); (None, 0) when there is none."""
+    lines = text.splitlines(keepends=True)
+    offsets = [0]
+    for line in lines:
+        offsets.append(offsets[-1] + len(line))
+    header = next((i for i, line in enumerate(lines) if line.strip().split("#")[0].strip() == f"[{name}]"), None)
+    if header is None:
+        return None, 0
+    last = header
+    for i in range(header + 1, len(lines)):
+        stripped = lines[i].strip()
+        if stripped.startswith("["):
+            break
+        if stripped and not stripped.startswith("#"):
+            last = i
+    return offsets[header], offsets[last + 1]
 
 
 def cell_settings(cell_path: Path | None) -> tuple[int | None, float | None]:
