@@ -58,7 +58,7 @@ def test_a_frame_taught_from_below_warns(tmp_path):
 def test_source_004s_test_pallet_as_its_tables_describe():
     """Table 1 (angles clockwise: 90 -> a = -90 as Table 2 writes it), layers 26 mm each, patterns 1 and
     2 alternating (Table 3), entry 6.5 mm above the target and approach (5, 5, 5) mm (Table 4)."""
-    result = json.loads(CliRunner().invoke(main, ["pallet", "--json"]).output)
+    result = json.loads(CliRunner().invoke(main, ["pallet", "--json"]).stdout)
     boxes = result["pallets"][0]["boxes"]
     assert len(boxes) == 30 and [b["pattern"] for b in boxes[::6]] == ["p1", "p2", "p1", "p2", "p1"]
     table1 = {

@@ -232,7 +232,7 @@ def report_lines(reports: list[PalletReport]) -> list[str]:
 
 
 def is_pallet_program(cell: Cell, path) -> bool:
-    """A pallet's program file or one of its companions (a KRL .dat is read with its .src)."""
+    """A pallet's program file or one of its companions (a data file is read with its program)."""
     from codegen.pallet.program import pallet_file_names
 
     for name in cell.targets:
