@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import random
 from dataclasses import dataclass
+from functools import cache
 
 import sympy as sp
 
@@ -230,6 +231,7 @@ def frame_update(sign: int = 1) -> tuple[sp.Matrix, sp.Expr]:
     return d + rot2(sign * alpha) * sp.Matrix([res_x, res_y]), alpha + gamma
 
 
+@cache  # independent of the derivation: proved once per process
 def frame_identities() -> list[Identity]:
     measured, measured_gamma = frame_residual()
     at_measurement = {res_x: measured[0], res_y: measured[1], gamma: measured_gamma}
@@ -290,6 +292,7 @@ def source_pallet_frame(u: sp.Matrix, v: sp.Matrix) -> sp.Matrix:
     return sp.Matrix.hstack(n, m, n.cross(m))
 
 
+@cache  # independent of the derivation: proved once per process
 def pallet_identities() -> list[Identity]:
     five = sp.pi / 36  # PY taught 5 deg off square: v turned 5 deg from the true y axis
     off_square = {ux: 104, uy: 0, uz: 0, vx: 78 * sp.sin(five), vy: 78 * sp.cos(five), vz: 0}
@@ -311,6 +314,7 @@ def pallet_identities() -> list[Identity]:
     ]
 
 
+@cache  # independent of the derivation: proved once per process
 def box_pose_identities() -> list[Identity]:
     """The forms the pallet programs compute a box's pose in (codegen/pallet/, templates/<t>/pallet.*):
     target = F . Trans(x, y, z) . Rz(angle) . Rz(a0) Ry(b0) Rx(c0), F the pallet frame."""
