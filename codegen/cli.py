@@ -247,9 +247,14 @@ def verify(
     model = _load(cell)
     if cases < 0:
         raise UserError("--cases must be >= 0")
-    from codegen.pallet.verify import pallet_section
+    from codegen.pallet.verify import PalletFilesError, pallet_section
 
-    pallets, files = pallet_section(model, files, targets, seed)  # the stacking programs' own cases
+    try:
+        pallets, files = pallet_section(model, files, targets, seed)  # the stacking programs' own cases
+    except PalletFilesError as exc:
+        raise UserError(str(exc)) from None
+    except RunError as exc:  # a pallet program that cannot be loaded here
+        raise click.ClickException(str(exc)) from None
     if pallets is not None and pallets.alone:
         pallets.finish(as_json)
     from codegen.emit import EmitError

@@ -19,9 +19,8 @@ TESTMAT = Path(__file__).resolve().parent / "examples" / "pallets" / "testmat_pa
 def pallet(cell, as_json, svg_dir) -> None:
     """Every box of every [[pallet]] of CELL (default: source 004's test pallet) with its target, entry,
     approach and retreat in the pallet and the base frame; overlapping or overhanging boxes are refused."""
-    from codegen.pallet.analysis import load_pallet_file
     from codegen.pallet.pictures import pictures
-    from codegen.pallet.report import report, text
+    from codegen.pallet.report import load_pallet_file, report, text
 
     try:
         data = load_pallet_file(cell or TESTMAT)

@@ -12,8 +12,8 @@ from click.testing import CliRunner
 from codegen.cell import CellError, load_cell
 from codegen.cli import main
 from codegen.pallet import checks
-from codegen.pallet.analysis import load_pallet_file
 from codegen.pallet.patterns import Box, column, interlock, pinwheel, split_row
+from codegen.pallet.report import load_pallet_file
 from codegen.pallet.stack import FrameError, pallet2base
 
 REPO = Path(__file__).resolve().parents[1]

@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from pathlib import Path
-
 import numpy as np
 
 from codegen.pallet import checks
@@ -79,23 +76,3 @@ def checked_pallets(ctx, data: dict, pose_format: str = "xyzabc") -> tuple[Palle
     for i, pallet in enumerate(pallets):
         ctx.warnings.extend(f"{ctx.source}: {w}" for w in check_pallet(ctx, pallet, f"pallet[{i}]"))
     return pallets
-
-
-@dataclass(frozen=True)
-class PalletFile:
-    """What `codegen pallet` reads: the cell's name and pallets (a file may hold no stations)."""
-
-    name: str
-    source: str
-    pallets: tuple[Pallet, ...]
-    warnings: tuple[str, ...]
-    motion: object  # codegen.motion.MotionSettings: the speeds of the cycle-time estimate
-    cell: object = None  # the whole codegen.cell.Cell
-
-
-def load_pallet_file(path: str | Path) -> PalletFile:
-    """A cell file's pallets (a cell of pallets alone needs no camera and no stations)."""
-    from codegen.cell import load_cell
-
-    cell = load_cell(path)
-    return PalletFile(cell.name, str(path), cell.pallets, cell.warnings, cell.motion, cell)

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from itertools import pairwise
+from pathlib import Path
 
 import numpy as np
 
-from codegen.pallet.analysis import PalletFile, frame_matrix
+from codegen.cell import load_cell
+from codegen.pallet.analysis import frame_matrix
 from codegen.pallet.patterns import cell_angle
 from codegen.pallet.section import Pallet
 from codegen.pallet.stack import layer_top, placements
@@ -103,3 +106,21 @@ def text(result: dict) -> str:
                 "no acceleration, no gripper time)"
             )
     return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class PalletFile:
+    """What `codegen pallet` reads: the cell's name and pallets (a file may hold no stations)."""
+
+    name: str
+    source: str
+    pallets: tuple[Pallet, ...]
+    warnings: tuple[str, ...]
+    motion: object  # codegen.motion.MotionSettings: the speeds of the cycle-time estimate
+    cell: object = None  # the whole codegen.cell.Cell
+
+
+def load_pallet_file(path: str | Path) -> PalletFile:
+    """A cell file's pallets (a cell of pallets alone needs no camera and no stations)."""
+    cell = load_cell(path)
+    return PalletFile(cell.name, str(path), cell.pallets, cell.warnings, cell.motion, cell)

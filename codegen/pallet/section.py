@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from codegen.cell import CellError, _Context
+if TYPE_CHECKING:  # the cell's validation helpers (codegen.cell builds on this module)
+    from codegen.cell import _Context
 
 PALLET_KEYS = frozenset(
     {
@@ -209,4 +211,4 @@ def _patterns(ctx: _Context, table: dict, path: str) -> dict:
     return out
 
 
-__all__ = ["FAMILIES", "CellError", "FamilySpec", "Pallet", "parse_pallets"]
+__all__ = ["FAMILIES", "FamilySpec", "Pallet", "parse_pallets"]

@@ -276,6 +276,10 @@ class PalletSection:
         sys.exit(0 if self.ok else 1)
 
 
+class PalletFilesError(ValueError):
+    """Files given to verify that hold no pallet program for the targets asked."""
+
+
 def pallet_section(cell: Cell, files: tuple, targets: tuple, seed: int) -> tuple[PalletSection | None, tuple]:
     """The pallet programs among FILES (or fresh ones) verified; the other files are returned."""
     from pathlib import Path
@@ -285,18 +289,9 @@ def pallet_section(cell: Cell, files: tuple, targets: tuple, seed: int) -> tuple
     mine = [Path(f) for f in files if is_pallet_program(cell, Path(f))]
     rest = tuple(f for f in files if Path(f) not in mine)
     names = list(targets) or list(cell.targets)
-    from codegen.dialects.core.values import RunError
-
-    try:
-        reports = verify_cell_pallets(cell, names, mine if files else None, seed)
-    except RunError as exc:  # a program that cannot be loaded here
-        import click
-
-        raise click.ClickException(str(exc)) from None
+    reports = verify_cell_pallets(cell, names, mine if files else None, seed)  # RunError: cannot load
     if files and mine and not reports:
-        from codegen.cli import UserError
-
-        raise UserError(
+        raise PalletFilesError(
             "no pallet program among the files for the targets asked: a data file is read with its program "
             "(give the program), and --target must be the program's"
         )

@@ -50,7 +50,7 @@ NO_SKIP = frozenset()
 
 
 
-class KRLCompiler(InterruptStatements, Compiler):
+class KRLCompiler(InterruptStatements, io.ContinueStatement, Compiler):
     name = "krl"
     case_insensitive = True
     index_base = 1
@@ -64,7 +64,6 @@ class KRLCompiler(InterruptStatements, Compiler):
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
         self.data_decls: list = []
-        self.continued = False  # compiling the statement after a CONTINUE
         self.ns.update(_UNINIT=UNINIT, _valid=valid)
 
     # --- tables ------------------------------------------------------------------------------
@@ -371,24 +370,6 @@ class KRLCompiler(InterruptStatements, Compiler):
 
     def s_switch_stmt(self, node):
         return self.switch(node, self.body_block)
-
-    def s_continue_stmt(self, node):
-        """CONTINUE: the next statement does not stop the advance run (KSS 8: an output set or an input
-        read runs ahead of the motion); KRL has no loop-continue. The flag is taken by the first I/O
-        access compiled after it (codegen/dialects/krl/io.py)."""
-        self.continued = True
-        return self.s_pass_stmt(node)
-
-    def stmt(self, node):
-        compiled = super().stmt(node)
-        if node.data != "continue_stmt":
-            self.continued = False  # CONTINUE covers the next statement only
-        return compiled
-
-    def take_continue(self) -> bool:
-        """Whether the I/O access being compiled follows a CONTINUE (and use the CONTINUE up)."""
-        continued, self.continued = self.continued, False
-        return continued
 
     def s_exit_stmt(self, node):
         return lambda fr: Signal("exit")

@@ -1,4 +1,4 @@
-"""KRL digital I/O: setting $OUT[n] and reading $IN[n], both advance-run stops (KSS 8 system variables)."""
+"""KRL digital I/O: setting $OUT[n] and reading $IN[n], advance-run stops unless after CONTINUE (KSS 8)."""
 
 from __future__ import annotations
 
@@ -59,3 +59,26 @@ def input_read(compiler, node) -> Src | None:
         return fr.m.signals.get(f"$IN[{n}]", False)
 
     return Src(f"{compiler.const(read)}(fr, {index})")
+
+
+class ContinueStatement:
+    """Compiler mixin. CONTINUE: the next statement does not stop the advance run (KSS 8: an output set
+    or an input read runs ahead of the motion); KRL has no loop-continue. The flag is taken by the first
+    I/O access compiled after it (output_store, input_read)."""
+
+    continued = False  # compiling the statement after a CONTINUE
+
+    def s_continue_stmt(self, node):
+        self.continued = True
+        return self.s_pass_stmt(node)
+
+    def stmt(self, node):
+        compiled = super().stmt(node)
+        if node.data != "continue_stmt":
+            self.continued = False  # CONTINUE covers the next statement only
+        return compiled
+
+    def take_continue(self) -> bool:
+        """Whether the I/O access being compiled follows a CONTINUE (and use the CONTINUE up)."""
+        continued, self.continued = self.continued, False
+        return continued
