@@ -39,7 +39,7 @@ def _mutant_mismatches(cell, target: str, file_suffix: str, old: str, new: str) 
     assert texts[file_suffix].count(old) >= 1, f"{old!r} not in the {target} program"
     texts[file_suffix] = texts[file_suffix].replace(old, new, 1)
     program = load_program(spec, texts.pop(main), "mutant", texts)
-    return verify_pallet(cell, 0, target, program, names).first_mismatches
+    return verify_pallet(cell, 0, target, program, names, first_only=True).first_mismatches
 
 
 # (target, file, old, new): a wrong layer height, the cycle swapped, a counter that is not persistent, the

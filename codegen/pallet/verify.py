@@ -143,8 +143,10 @@ def kept_names(target, index: int) -> tuple[str, str]:
     return names["layer"].format(layer=registers[0]), names["box"].format(box=registers[1])
 
 
-def verify_pallet(cell: Cell, index: int, target_name: str, program, files: list[str], seed: int = 0) -> PalletReport:
-    """Every case of pallet `index` on one target's program."""
+def verify_pallet(
+    cell: Cell, index: int, target_name: str, program, files: list[str], seed: int = 0, first_only: bool = False
+) -> PalletReport:
+    """Every case of pallet `index` on one target's program (first_only: stop at the first mismatch)."""
     pallet, target = cell.pallets[index], get_target(target_name)
     layer_name, box_name = counter_names(target, index)
     output = signal_name(target, "output", cell.io.output[target.name])
@@ -176,6 +178,8 @@ def verify_pallet(cell: Cell, index: int, target_name: str, program, files: list
             report.mismatches += 1
             if len(report.first_mismatches) < 5:
                 report.first_mismatches.append(f"{case.category} layer {case.layer} box {case.box}: {problem}")
+            if first_only:
+                break
     report.seconds = time.perf_counter() - start
     return report
 
