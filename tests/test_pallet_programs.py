@@ -6,8 +6,8 @@ import pytest
 
 from codegen.cell import load_cell
 from codegen.controllers import get_target
-from codegen.pallet.program import pallet_file_names
-from codegen.pallet.verify import fresh_pallet_programs, pallet_idents, verify_pallet
+from codegen.pallet.program import pallet_file_names, pallet_identifiers
+from codegen.pallet.verify import fresh_pallet_programs, verify_pallet
 from codegen.render import render
 from codegen.verify_runs import load_program
 
@@ -33,7 +33,7 @@ def test_every_stacking_program_matches_the_reference(cell, target):
 def _mutant_mismatches(cell, target: str, file_suffix: str, old: str, new: str) -> list[str]:
     spec = get_target(target)
     files = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell, [target])}
-    names = pallet_file_names(spec, pallet_idents(cell, spec)[0])
+    names = pallet_file_names(spec, pallet_identifiers(cell, spec)[0])
     texts = {"." + n.rsplit(".", 1)[1]: files[n] for n in names}
     main = "." + names[0].rsplit(".", 1)[1]
     assert texts[file_suffix].count(old) >= 1, f"{old!r} not in the {target} program"

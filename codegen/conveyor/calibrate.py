@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from codegen.conveyor.section import belt2base
+
 ROLES = ("belt", "side")
 MIN_TOUCHES = 2
 SPAN_SHARE = 0.5  # source 002: the touches span at least half (better three quarters) of the working length
@@ -91,10 +93,7 @@ class ConveyorFit:
     warnings: tuple[str, ...]
 
     def frame(self) -> np.ndarray:
-        out = np.eye(4)
-        out[:3, :3] = np.column_stack([np.cross(self.direction, self.z_axis), self.direction, self.z_axis])
-        out[:3, 3] = self.origin
-        return out
+        return belt2base(self.origin, self.direction, self.z_axis)
 
     def as_json(self) -> dict:
         return {

@@ -31,14 +31,16 @@ class Conveyor:
     working_length_mm: float | None = None
 
     def frame(self) -> np.ndarray | None:
-        """belt2base (4x4): x = y cross z, y the direction of travel, z the belt's normal."""
-        if self.origin is None:
-            return None
-        y, z = np.asarray(self.direction), np.asarray(self.z_axis)
-        out = np.eye(4)
-        out[:3, :3] = np.column_stack([np.cross(y, z), y, z])
-        out[:3, 3] = self.origin
-        return out
+        return None if self.origin is None else belt2base(self.origin, self.direction, self.z_axis)
+
+
+def belt2base(origin, direction, z_axis) -> np.ndarray:
+    """The belt frame (4x4): x = y cross z, y the direction of travel, z the belt's normal."""
+    y, z = np.asarray(direction, dtype=float), np.asarray(z_axis, dtype=float)
+    out = np.eye(4)
+    out[:3, :3] = np.column_stack([np.cross(y, z), y, z])
+    out[:3, 3] = origin
+    return out
 
 
 def parse_conveyor(ctx, data: dict) -> Conveyor | None:

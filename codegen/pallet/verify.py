@@ -51,11 +51,6 @@ class PalletReport:
         }
 
 
-def pallet_idents(cell: Cell, target) -> list[str]:
-    """The program identifiers of the cell's pallets, as render names them."""
-    return pallet_identifiers(cell, target)
-
-
 def compare(cell: Cell, target, index: int, case: PalletCase, want, got) -> tuple[str | None, float, float]:
     """(problem or None, largest position error mm, largest orientation error deg)."""
     pos_tol, rot_tol = TOLERANCES[target.numbers]
@@ -193,7 +188,7 @@ def fresh_pallet_programs(cell: Cell, target_name: str) -> list[tuple[object, li
     target = get_target(target_name)
     files = {f.relpath.rsplit("/", 1)[1]: f for f in render(cell, [target_name])}
     out = []
-    for ident in pallet_idents(cell, target):
+    for ident in pallet_identifiers(cell, target):
         names = pallet_file_names(target, ident)
         main = files[names[0]]
         companions = {"." + n.rsplit(".", 1)[1]: files[n].text for n in names[1:]}
@@ -210,7 +205,7 @@ def verify_cell_pallets(cell: Cell, targets: list[str], files: list | None = Non
     reports = []
     for name in targets:
         target = get_target(name)
-        idents = pallet_idents(cell, target)
+        idents = pallet_identifiers(cell, target)
         if files is None:
             programs = fresh_pallet_programs(cell, name)
             reports += [verify_pallet(cell, i, name, p, f, seed) for i, (p, f) in enumerate(programs)]
@@ -241,7 +236,7 @@ def is_pallet_program(cell: Cell, path) -> bool:
 
     for name in cell.targets:
         target = get_target(name)
-        if any(path.name in pallet_file_names(target, ident) for ident in pallet_idents(cell, target)):
+        if any(path.name in pallet_file_names(target, ident) for ident in pallet_identifiers(cell, target)):
             return True
     return False
 
