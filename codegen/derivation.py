@@ -323,6 +323,8 @@ def box_pose_identities() -> list[Identity]:
     tool = rotz3(a0) * roty3(b0) * rotx3(c0)
     box = sp.Matrix([x, y, z])
     level = rotz3(gamma)  # a level pallet: its frame turns about the base's z only
+    cos_g, sin_g = sp.cos(gamma), sp.sin(gamma)  # the dtrans program's position, written out
+    dtrans_position = sp.Matrix([ox + cos_g * x - sin_g * y, oy + sin_g * x + cos_g * y, oz + z])
     return [
         _check(
             "box_orientation_one_turn",
@@ -337,17 +339,7 @@ def box_pose_identities() -> list[Identity]:
             "holds",
             sp.Matrix.vstack(
                 level * rotz3(angle) * tool - rotz3(gamma + angle + a0) * roty3(b0) * rotx3(c0),
-                (
-                    sp.Matrix([ox, oy, oz])
-                    + level * box
-                    - sp.Matrix(
-                        [
-                            ox + sp.cos(gamma) * x - sp.sin(gamma) * y,
-                            oy + sp.sin(gamma) * x + sp.cos(gamma) * y,
-                            oz + z,
-                        ]
-                    )
-                ).T,
+                (sp.Matrix([ox, oy, oz]) + level * box - dtrans_position).T,
             ),
         ),
         _check(
