@@ -94,6 +94,8 @@ def test_the_octagon_two_squares_make():
         ('cycle = ["p1", "p2"]', 'cycle = ["p1", "p3"]', r"pallet\[0\]\.cycle\[1\]: no pattern 'p3'"),
         ("layers = 5", "layers = 0", r"pallet\[0\]\.layers: expected a whole number"),
         ("entry_dz = 6.5", "entry_dz = -1", r"pallet\[0\]\.entry_dz: must be in \(0"),
+        ("pick_lift = 30.0", "pick_lift = 0.0", r"pallet\[0\]\.pick_lift: must be in \(0, 2000\] mm"),
+        ("pick_lift = 30.0", 'pick_lift = "up"', r"pallet\[0\]\.pick_lift: expected a number"),
         ("box = [52.0, 26.0, 26.0]", "box = [52.0, 26.0]", r"pallet\[0\]\.box"),
     ],
 )
@@ -145,11 +147,12 @@ def test_the_eur_example_slip_sheets_mirror_and_labels(tmp_path):
 
 
 def test_the_cycle_estimate_counts_each_segment_at_its_own_speed():
-    """Source 004's pallet, 30 boxes: only approach -> target and target -> retreat go at the work speed,
-    each |(5, 5, 5)| = 8.66 mm long; entry -> approach and retreat -> entry, |(5, 5, -1.5)|, at travel."""
+    """Source 004's pallet, 30 boxes: at the work speed only approach -> target and target -> retreat,
+    each |(5, 5, 5)| = 8.66 mm long, and down to Q and back up, the cell's pick_lift of 30 mm each;
+    entry -> approach and retreat -> entry, |(5, 5, -1.5)|, at travel."""
     result = json.loads(CliRunner().invoke(main, ["pallet", "--json"]).stdout)
     cycle = result["pallets"][0]["cycle"]
-    assert cycle["work_mm"] == pytest.approx(30 * 2 * math.sqrt(75), abs=0.1)
+    assert cycle["work_mm"] == pytest.approx(30 * (2 * math.sqrt(75) + 2 * 30.0), abs=0.1)
 
 
 def test_the_pictures_show_each_box_numbered_with_its_label_and_approach(tmp_path):
@@ -190,7 +193,7 @@ def test_the_automatic_approach_comes_from_the_open_side():
         (
             "pick = [600.0, 300.0, 50.0,",
             "pick = [1200.0, 300.0, 50.0,",
-            r"layer 1 box 1 pick \(ur, UR5e\): out of reach",
+            r"layer 1 box 1 above Q \(ur, UR5e\): out of reach",
         ),
         # the pallet 250 mm lower and nearer: the KR 6's wrist passes within 1 deg of its singularity
         (
@@ -214,7 +217,7 @@ def test_the_bundled_stack_is_reachable_on_every_arm():
     from codegen.pallet.reach import check
 
     reports = check(load_cell(EXAMPLES / "testmat_pallet.toml"))
-    assert [r.target for r in reports] == ["ur", "kuka", "abb"] and all(r.moves == 180 for r in reports)
+    assert [r.target for r in reports] == ["ur", "kuka", "abb"] and all(r.moves == 240 for r in reports)
     assert all(r.joint_margin_deg >= 5 and r.wrist_margin_deg >= 5 for r in reports)
 
 

@@ -124,20 +124,26 @@ def test_the_programs_move_the_cells_tool():
 
 
 def test_the_controllers_choice_of_joints_is_checked_against_the_plan():
-    """With the arm, every run solves each move by the controller's rules. Without the program's home
-    move KRL's first motion is no BCO run and RAPID's first pose move starts from anywhere: each refused;
-    with RAPID's configuration check on, the boxes' targets (confdata [0, 0, 0, 0]) are not reachable as
-    named."""
+    """With the arm, every run solves each move by the controller's rules and the configuration the program
+    names (chosen by codegen per box and for Q). Without the program's home move the run lacks a move
+    (the first motion then is the joint move above Q, in the configuration the program names: for KRL a
+    valid BCO run, for RAPID a move with ConfJ on); a box named in another configuration (RAPID cfx,
+    KRL Status, UR qnear) is refused or moves the arm otherwise than the plan."""
     cell = load_cell(PALLETS / "testmat_pallet.toml")
     found = _mutant_mismatches(cell, "kuka", ".src", "  PTP PAL_HOME", "  ;PTP PAL_HOME")
-    assert found and "BCO" in found[0], found
+    assert found and "moves, expected" in found[0], found
     found = _mutant_mismatches(cell, "abb", ".mod", "    MoveAbsJ stack_home", "    ! MoveAbsJ stack_home")
-    assert found and "first motion" in found[0], found
-    found = _mutant_mismatches(cell, "abb", ".mod", "    ConfJ \\Off;\n", "    ConfJ \\On;\n")
-    assert found and "cannot reach this pose in configuration [0, 0, 0, 0]" in found[0], found
+    assert found and "moves, expected" in found[0], found
+    # box 1's configuration with axis 5 negative (cfx 1): the same pose with the wrist flipped
+    conf = "STACK_CONF{12} := [[-1, -1, -2, "
+    found = _mutant_mismatches(cell, "abb", ".mod", conf + "0]", conf + "1]")
+    assert found and "cannot reach this pose in configuration [-1, -1, -2, 1]" in found[0], found
+    # box 1's Status with the other A5 sign (bit 2)
+    found = _mutant_mismatches(cell, "kuka", ".dat", "PAL_S[1]=2\n", "PAL_S[1]=6\n")
+    assert found and "cannot reach this pose in configuration [6, 2]" in found[0], found
     # the same pose in another configuration (UR: the solution nearest another qnear): the joints differ
-    wrist_flip = "    movej(get_inverse_kin(entry, qnear=[-0.3, -1.2, -1.8, -1.5, 1.57, 0.5]), a=1.2, v=0.25)"
-    found = _mutant_mismatches(cell, "ur", ".script", "    movej(entry, a=1.2, v=0.25)", wrist_flip)
+    wrist_flip = "qnear=[-0.3, -1.2, -1.8, -1.5, 1.57, 0.5]"
+    found = _mutant_mismatches(cell, "ur", ".script", "qnear=pal_qnear(row)", wrist_flip)
     assert found and "entry, line" in found[0] and "planned [" in found[0], found
 
 

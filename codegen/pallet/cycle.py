@@ -72,6 +72,14 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     return (unstacking if pallet.mode == "unstack" else stacking)(cell, pallet, case)
 
 
+def above_pick(pallet: Pallet) -> np.ndarray:
+    """Q lifted by pick_lift along the base's z (tcp2base, mm): where the arm comes down to Q from and
+    lifts the box back to."""
+    above = pallet.pick.matrix().copy()
+    above[2, 3] += pallet.pick_lift
+    return above
+
+
 def _in_range(pallet: Pallet, counts: dict[int, int], case: PalletCase) -> bool:
     return 1 <= case.layer <= pallet.layers and 1 <= case.box <= counts[case.layer]
 
@@ -79,8 +87,9 @@ def _in_range(pallet: Pallet, counts: dict[int, int], case: PalletCase) -> bool:
 def unstacking(cell, pallet: Pallet, case: PalletCase) -> Expected:
     """Release at the start; then per box from the counters, the top layer first and each layer in the
     reverse of its placing order: entry (joint), approach, target (slow, exact), grip, retreat (slow),
-    entry, Q (joint), release; the counters move to the next box once the grip is confirmed (the box
-    has left the pallet). An empty pallet (layer 0, box 0) or counters out of range stop before any move."""
+    entry, above Q (joint), Q (slow), release, above Q (slow); the counters move to the next box once
+    the grip is confirmed (the box has left the pallet). An empty pallet (layer 0, box 0) or counters out
+    of range stop before any move."""
     counts = layer_counts(pallet)
     grip, start = cell.io.value, (case.layer, case.box)
     if start == (0, 0):
@@ -89,7 +98,7 @@ def unstacking(cell, pallet: Pallet, case: PalletCase) -> Expected:
         return Expected((), (), counters_message(pallet), start)
     if case.closed:  # a box in the gripper: opening it anywhere would drop it
         return Expected((), (), held_message(pallet), start)
-    frame, pick = frame_matrix(pallet), pallet.pick.matrix()
+    frame, pick, above = frame_matrix(pallet), pallet.pick.matrix(), above_pick(pallet)
     travel, work = cell.motion.speed_mm_s, cell.motion.work_speed_mm_s
     moves: list[ExpectedMove] = []
     outputs: list[tuple[bool, int]] = [(not grip, 0)]
@@ -110,15 +119,18 @@ def unstacking(cell, pallet: Pallet, case: PalletCase) -> Expected:
             counters = (p.layer - 1, counts[p.layer - 1]) if p.layer > 1 else (0, 0)
         moves.append(ExpectedMove("linear", frame @ p.retreat, f"{where} retreat", work, True))
         moves.append(ExpectedMove("linear", frame @ p.entry, f"{where} entry", travel, True))
-        moves.append(ExpectedMove("joint", pick, f"{where} place at Q", travel, True))
+        moves.append(ExpectedMove("joint", above, f"{where} above Q", travel, True))
+        moves.append(ExpectedMove("linear", pick, f"{where} place at Q", work, True))
         outputs.append((not grip, len(moves)))
         if case.gripper == "stuck":  # the box never leaves the gripper at Q: it is off the pallet
             return Expected(tuple(moves), tuple(outputs), halt_message(cell, NOT_RELEASED, None, 0), counters)
+        moves.append(ExpectedMove("linear", above, f"{where} lift from Q", work, True))
     return Expected(tuple(moves), tuple(outputs), None, counters)
 
 
 def stacking(cell, pallet: Pallet, case: PalletCase) -> Expected:
-    """Release at the start; then per box from the counters: Q (joint), grip, entry (joint), approach,
+    """Release at the start; then per box from the counters: above Q (joint), Q (slow), grip, above Q
+    (slow), entry (joint), approach,
     target (slow, exact), release, retreat (slow), entry; the counters advance once the release is
     confirmed. A full pallet or counters out of range stop before any move."""
     counts = layer_counts(pallet)
@@ -129,8 +141,7 @@ def stacking(cell, pallet: Pallet, case: PalletCase) -> Expected:
         return Expected((), (), counters_message(pallet), (case.layer, case.box))
     if case.closed:  # a box in the gripper: opening it anywhere would drop it
         return Expected((), (), held_message(pallet), (case.layer, case.box))
-    frame = frame_matrix(pallet)
-    pick = pallet.pick.matrix()
+    frame, pick, above = frame_matrix(pallet), pallet.pick.matrix(), above_pick(pallet)
     travel, work = cell.motion.speed_mm_s, cell.motion.work_speed_mm_s
     moves: list[ExpectedMove] = []
     outputs: list[tuple[bool, int]] = [(not grip, 0)]
@@ -139,10 +150,12 @@ def stacking(cell, pallet: Pallet, case: PalletCase) -> Expected:
         if (p.layer, p.number) < (case.layer, case.box):
             continue
         where = f"layer {p.layer} box {p.number}"
-        moves.append(ExpectedMove("joint", pick, f"{where} pick", travel, True))
+        moves.append(ExpectedMove("joint", above, f"{where} above Q", travel, True))
+        moves.append(ExpectedMove("linear", pick, f"{where} pick", work, True))
         outputs.append((grip, len(moves)))
         if case.gripper == "silent":
             return Expected(tuple(moves), tuple(outputs), halt_message(cell, NO_FEEDBACK, None, 0), counters)
+        moves.append(ExpectedMove("linear", above, f"{where} lift from Q", work, True))
         moves.append(ExpectedMove("joint", frame @ p.entry, f"{where} entry", travel, True))
         moves.append(ExpectedMove("linear", frame @ p.approach, f"{where} approach", travel, True))
         moves.append(ExpectedMove("linear", frame @ p.target, f"{where} target", work, True))

@@ -9,11 +9,13 @@ import numpy as np
 from codegen.cell import TaughtPose
 from codegen.emit import EmitError, Emitter
 from codegen.pallet.analysis import frame_matrix
-from codegen.pallet.cycle import counters_message, empty_message, full_message, held_message, layer_counts
+from codegen.pallet.cycle import above_pick, counters_message, empty_message, full_message, held_message, layer_counts
 from codegen.pallet.patterns import layout
+from codegen.pallet.reach import PICK_KEY, configurations
 from codegen.pallet.section import Pallet
 from codegen.pallet.stack import sides
 from codegen.poses import zyx_deg_from_rotmat
+from codegen.robot.emission import configuration_literal
 
 LEVEL_TOL = 1e-9  # a level pallet: its z is the base's z (a dialect without a pose product needs one)
 
@@ -60,10 +62,17 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
     """Numbers in the target's notation: the frame (pallet2base), the patterns of the cycle flattened
     into one table (x, y mm, angle deg counterclockwise; each pattern's first row and count), the
     cycle as pattern numbers, the layer heights, the offsets of entry, approach and retreat, the tool's
-    orientation at angle 0, the pick pose, the counters' names and the stop messages."""
+    orientation at angle 0, the pick pose and the pose above it, the configuration of each row's entry and
+    of the pose above Q (with an arm: chosen at generate time, codegen/pallet/reach.py), the counters' names
+    and the stop messages."""
     number = emitter.number
     frame = frame_matrix(pallet)
-    frame_xyzabc = (*frame[:3, 3], *zyx_deg_from_rotmat(frame[:3, :3]))
+    frame_xyzabc = _xyzabc(frame)
+    named = configurations(cell, pallet, target.name)
+
+    def conf(key) -> dict | None:
+        return None if named is None else {**configuration_literal(target, named.values[key]), "named": True}
+
     names = list(dict.fromkeys(pallet.cycle))  # each pattern once, in the cycle's order
     rows, patterns = [], []
     for name in names:
@@ -79,8 +88,9 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
                 "ay": number(ay, 4),
                 "rx": number(rx, 4),
                 "ry": number(ry, 4),
+                "conf": conf((name, i)),  # the configuration of the box's entry (a joint move)
             }
-            for b, ((ax, ay), (rx, ry)) in zip(boxes, sides(pallet, boxes), strict=True)
+            for i, (b, ((ax, ay), (rx, ry))) in enumerate(zip(boxes, sides(pallet, boxes), strict=True), start=1)
         )
     level = bool(np.allclose(frame[:3, 2], (0.0, 0.0, 1.0), atol=LEVEL_TOL))
     counts = layer_counts(pallet)
@@ -107,6 +117,9 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
         "tool_orientation": [number(v, 6) for v in pallet.tool_orientation],
         "tool": emitter.pose(TaughtPose("tool", (0.0, 0.0, 0.0, *pallet.tool_orientation), "xyzabc")),
         "pick": emitter.pose(pallet.pick),
+        "pick_above": emitter.pose(TaughtPose("above_q", _xyzabc(above_pick(pallet)), "xyzabc")),
+        "pick_lift": number(pallet.pick_lift, 4),
+        "pick_conf": conf(PICK_KEY),
         "registers": counter_registers(target, index),
         "auto": pallet.approach_auto,
         "unstack": pallet.mode == "unstack",  # take the boxes off, top layer first, each layer in reverse
@@ -116,6 +129,10 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
         "held": emitter.string(held_message(pallet)),
         "bad_counters": emitter.string(counters_message(pallet)),
     }
+
+
+def _xyzabc(pose) -> tuple[float, ...]:
+    return tuple(float(v) for v in (*pose[:3, 3], *zyx_deg_from_rotmat(pose[:3, :3])))
 
 
 def check_level(pallet: Pallet, target) -> None:

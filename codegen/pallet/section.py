@@ -23,6 +23,7 @@ PALLET_KEYS = frozenset(
         "approach",
         "retreat",
         "pick",
+        "pick_lift",
         "patterns",
         "overhang_mm",
         "support_min",
@@ -37,6 +38,8 @@ FAMILY_KEYS = frozenset({"family", "mirror", "label_out"})
 SLIP_KEYS = frozenset({"every", "thickness"})
 MAX_LAYERS = 200
 MAX_SIZE_MM = 5000.0
+PICK_LIFT_MM = 100.0  # the default lift above Q
+MAX_PICK_LIFT_MM = 2000.0
 
 
 @dataclass(frozen=True)
@@ -71,6 +74,7 @@ class Pallet:
     slip_thickness: float = 0.0
     mode: str = "stack"  # "stack": place the boxes from Q; "unstack": take them off, top layer first, to Q
     approach_auto: bool = False  # approach and retreat from the side away from the layer's earlier boxes
+    pick_lift: float = PICK_LIFT_MM  # the box comes off (goes onto) Q straight along the base's z, mm
 
 
 def parse_pallets(ctx: _Context, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
@@ -124,6 +128,9 @@ def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
     retreat = _offset(ctx, table.get("retreat", list(approach)), f"{path}.retreat")
     # the pick pose Q, base frame, in the cell's pose format
     pick = ctx.pose("pick", ctx.require(table, "pick", f"{path}.pick"), f"{path}.pick", pose_format)
+    pick_lift = ctx.finite(table.get("pick_lift", PICK_LIFT_MM), f"{path}.pick_lift")
+    if not 0 < pick_lift <= MAX_PICK_LIFT_MM:
+        ctx.fail(f"{path}.pick_lift", f"must be in (0, {MAX_PICK_LIFT_MM:g}] mm: the lift straight up from Q")
     overhang = table.get("overhang_mm", 0.0)
     overhang = ctx.finite(overhang, f"{path}.overhang_mm")
     if not 0 <= overhang <= 200:
@@ -171,6 +178,7 @@ def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
         slip_thickness,
         mode,
         auto,
+        pick_lift,
     )
 
 

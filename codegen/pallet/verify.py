@@ -15,7 +15,7 @@ from codegen.dialects import get_dialect
 from codegen.emit import Emitter
 from codegen.pallet.cycle import ExpectedMove, PalletCase, cases, expected
 from codegen.pallet.program import counter_names, counter_registers, pallet_identifiers
-from codegen.pallet.reach import joints_of
+from codegen.pallet.reach import configurations, joints_of
 from codegen.robot.expect import arm_of, home_move
 from codegen.signals import Gripper, signal_name
 from codegen.verify import TOLERANCES, _pose_errors
@@ -117,10 +117,11 @@ def with_home(cell: Cell, target_name: str, want):
     return replace(want, moves=(move, *want.moves), outputs=outputs)
 
 
-def joints_problem(cell: Cell, target_name: str, want, got) -> str | None:
+def joints_problem(cell: Cell, target_name: str, want, got, pallet, named) -> str | None:
     """Where the controller's choice of each move's joints (the interpreter's arm) differs from the
-    generate-time plan (codegen/pallet/reach.py): a configuration the proof did not cover."""
-    planned = joints_of(cell, target_name, want.moves, "verify")
+    generate-time plan (codegen/pallet/reach.py, with the configurations the program names): a
+    configuration the proof did not cover."""
+    planned = joints_of(cell, target_name, want.moves, "verify", pallet, named)
     for i, (g, q) in enumerate(zip(got.moves, planned, strict=True)):
         if g.joints is None or np.max(np.abs(np.asarray(g.joints) - q)) > JOINT_TOL_DEG:
             have = None if g.joints is None else np.asarray(g.joints).round(3).tolist()
@@ -148,6 +149,7 @@ def verify_pallet(
     feedback = signal_name(target, "input", cell.io.feedback[target.name])
     report = PalletReport(target_name, pallet.name, files)
     start = time.perf_counter()
+    named = configurations(cell, pallet, target_name)
     for case in cases(pallet, random.Random(seed)):
         want = with_home(cell, target_name, expected(cell, pallet, case))
         gripper = Gripper(output, feedback, cell.io.value, case.gripper)
@@ -163,7 +165,7 @@ def verify_pallet(
             )
             problem, pos, rot = compare(cell, target, index, case, want, got)
             if problem is None and arm is not None:
-                problem = joints_problem(cell, target_name, want, got)
+                problem = joints_problem(cell, target_name, want, got, pallet, named)
         except Exception as exc:  # a run error is this case's mismatch
             problem, pos, rot = f"run error: {exc}", 0.0, 0.0
         report.cases += 1

@@ -26,8 +26,10 @@ def cell_robot(cell, target) -> dict | None:
         return None
     unit = target.program["joint_unit"]
     fmt = target.pose_format
-    tool = native_values(robot.tool.tcp, cell.pose_format, fmt) if robot.tool.tcp else native_values(
-        (0.0, 0.0, 0.0, 0.0, 0.0, 0.0), "xyzabc", fmt
+    tool = (
+        native_values(robot.tool.tcp, cell.pose_format, fmt)
+        if robot.tool.tcp
+        else native_values((0.0, 0.0, 0.0, 0.0, 0.0, 0.0), "xyzabc", fmt)
     )
     cog = native_values((*robot.tool.cog_mm, 0.0, 0.0, 0.0), "xyzabc", fmt)[:3]
     decimals = FORMAT_DECIMALS[fmt]
@@ -79,3 +81,8 @@ _LITERALS = {  # a target's configuration form -> its template variables
     "status_turn": lambda value, unit: {"s": str(value[0]), "t": str(value[1])},
     "joints": lambda value, unit: {"joints": _joints(value, unit)},
 }
+
+
+def configuration_literal(target, value) -> dict:
+    """A configuration value (codegen/robot/config.py FORMS) as the target's template variables."""
+    return _LITERALS[target.configuration](value, target.program["joint_unit"])

@@ -4,8 +4,8 @@ MODULE pal_eur
   ! cell sha256 38209a85794eee2a05b66c91fbdc035f25f868913386288a7ca26926bd9338ba
   ! generated, do not edit: change the cell file and run `codegen generate`
   !
-  ! Per box: pick at Q (joint move), grip, then in the pallet's work object entry (joint move),
-  ! approach and target (slow), release, retreat (slow), entry.
+  ! Per box: above Q (joint move), down to Q (slow), grip, back up (slow), then in the pallet's work
+  ! object entry (joint move), approach and target (slow), release, retreat (slow), entry.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
   ! x, y at the layer's top z, the tool turned by the row's angle (counterclockwise) about the pallet's z.
   ! Counters: pal_layer (1 = bottom) and pal_box (1 = the first of the layer's pattern) are persistent
@@ -19,9 +19,10 @@ MODULE pal_eur
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity
   LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[600.0000, -600.0000, 150.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [[0, 0, 0], [1, 0, 0, 0]]];
-  ! Q, where the boxes are picked, in the base frame (its configuration is not
-  ! known here: the moves take the closest one, see main)
+  ! Q, where the boxes are picked, in the base frame, and 100.0000 mm above it (the arm
+  ! comes down to Q and goes back up along the base's z)
   LOCAL CONST robtarget stack_q := [[-400.0000, 900.0000, 700.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget stack_above_q := [[-400.0000, 900.0000, 800.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
   ! (deg, counterclockwise about the pallet's z)
@@ -78,8 +79,8 @@ MODULE pal_eur
     IF held THEN
       stack_stop "pallet eur: the gripper holds a box (its sensor is on): take it out, then sta...";
     ENDIF
-    ! the box targets are computed and Q's configuration is not known: every move takes the closest
-    ! configuration (ConfJ, ConfL \Off; with an arm codegen proved the cycle keeps one configuration from home)
+    ! without the arm's model the configurations are not known: every move takes the closest one
+    ! (ConfJ, ConfL \Off)
     ConfJ \Off;
     ConfL \Off;
     stack_release;
@@ -87,8 +88,10 @@ MODULE pal_eur
       target := stack_target(pal_layer, pal_box);
       row := stack_row(pal_layer, pal_box);
       entry := Offs(target, 0, 0, 300.0000);
-      MoveJ stack_q, stack_travel, fine, tool0;
+      MoveJ stack_above_q, stack_travel, fine, tool0;
+      MoveL stack_q, stack_work, fine, tool0;
       stack_grip;
+      MoveL stack_above_q, stack_work, fine, tool0;
       MoveJ entry, stack_travel, fine, tool0 \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, fine, tool0 \WObj:=stack_wobj;
       MoveL target, stack_work, fine, tool0 \WObj:=stack_wobj;

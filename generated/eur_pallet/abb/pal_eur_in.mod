@@ -5,8 +5,8 @@ MODULE pal_eur_in
   ! generated, do not edit: change the cell file and run `codegen generate`
   !
   ! Per box, the top layer first and each layer in the reverse of its placing order: in the pallet's
-  ! work object entry (joint move), approach and target (slow), grip, retreat (slow), entry; then Q
-  ! (joint move) and release.
+  ! work object entry (joint move), approach and target (slow), grip, retreat (slow), entry; then above
+  ! Q (joint move), down to Q (slow), release and back up (slow).
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
   ! x, y at the layer's top z, the tool turned by the row's angle (counterclockwise) about the pallet's z.
   ! Counters: pal_layer (1 = bottom) and pal_box (1 = the first of the layer's pattern) are persistent
@@ -21,9 +21,10 @@ MODULE pal_eur_in
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity
   LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[-700.0000, 300.0000, 150.0000], [0.707106781, 0.000000000, 0.000000000, 0.707106781]], [[0, 0, 0], [1, 0, 0, 0]]];
-  ! Q, where the boxes are put down, in the base frame (its configuration is not
-  ! known here: the moves take the closest one, see main)
+  ! Q, where the boxes are put down, in the base frame, and 100.0000 mm above it (the arm
+  ! comes down to Q and goes back up along the base's z)
   LOCAL CONST robtarget stack_q := [[-400.0000, 900.0000, 700.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget stack_above_q := [[-400.0000, 900.0000, 800.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
   ! (deg, counterclockwise about the pallet's z)
@@ -76,8 +77,8 @@ MODULE pal_eur_in
     IF held THEN
       stack_stop "pallet eur_in: the gripper holds a box (its sensor is on): take it out, then ...";
     ENDIF
-    ! the box targets are computed and Q's configuration is not known: every move takes the closest
-    ! configuration (ConfJ, ConfL \Off; with an arm codegen proved the cycle keeps one configuration from home)
+    ! without the arm's model the configurations are not known: every move takes the closest one
+    ! (ConfJ, ConfL \Off)
     ConfJ \Off;
     ConfL \Off;
     stack_release;
@@ -100,8 +101,10 @@ MODULE pal_eur_in
       ENDIF
       MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 60.0000), stack_work, fine, tool0 \WObj:=stack_wobj;
       MoveL entry, stack_travel, fine, tool0 \WObj:=stack_wobj;
-      MoveJ stack_q, stack_travel, fine, tool0;
+      MoveJ stack_above_q, stack_travel, fine, tool0;
+      MoveL stack_q, stack_work, fine, tool0;
       stack_release;
+      MoveL stack_above_q, stack_work, fine, tool0;
     ENDWHILE
     TPWrite "pallet eur_in is empty: bring a full one, then set layer 6 and box 8";
   ENDPROC

@@ -5,8 +5,8 @@
 // The dialect has no robot model and no speeds: the poses are the active tool's; set the tool, its load,
 // the speeds and a safe start position on the controller.
 //
-// Per box: pick at Q (joint move), grip, then over the pallet entry (joint move), approach and target,
-// release, retreat, entry. The box pose is computed here from the counters: the pallet frame (level: a
+// Per box: above Q (joint move), down to Q, grip, back up, then over the pallet entry (joint move),
+// approach and target, release, retreat, entry. The box pose is computed here from the counters: the pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
 // The dialect has no pose product, so the pallet must be level (codegen refuses a tilted one).
 // Counters: pal_layer (1 = bottom) and pal_box (1 = the first box of the layer's pattern), global
@@ -28,8 +28,10 @@ Double PAL_SIN = 0.000000000
 Double PAL_TOOL_A = 0.000000
 Double PAL_TOOL_B = 0.000000
 Double PAL_TOOL_C = 180.000000
-// The pose Q where the boxes are picked
+// The pose Q where the boxes are picked, and 100.0000 mm above it (the arm comes
+// down to Q and goes back up along the base's z)
 Point PAL_PICK = Trans(-400.0000, 900.0000, 700.0000, 180.000000, 0.000000, 0.000000)
+Point PAL_ABOVE = Trans(-400.0000, 900.0000, 800.0000, 180.000000, 0.000000, 0.000000)
 // The patterns of the layer cycle: box centre x, y (mm, pallet frame) and angle (deg, counterclockwise);
 // arrays are indexed from 0
 //   pattern 0 (interlock): rows 0..5
@@ -147,8 +149,10 @@ While pal_layer <= PAL_LAYERS
   y = PAL_Y[row]
   a = PAL_A[row]
   z = pal_top(pal_layer)
-  MovJ PAL_PICK
+  MovJ PAL_ABOVE
+  MovL PAL_PICK
   Call pal_grip()
+  MovL PAL_ABOVE
   entry = pal_pose(x, y, z + 300.0000, a)
   MovJ entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)

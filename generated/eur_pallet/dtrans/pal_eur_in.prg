@@ -6,8 +6,8 @@
 // the speeds and a safe start position on the controller.
 //
 // Per box, the top layer first and each layer in the reverse of its placing order: over the pallet entry
-// (joint move), approach and target, grip, retreat, entry; then Q (joint move) and release. The box pose
-// is computed here from the counters: the pallet frame (level: a
+// (joint move), approach and target, grip, retreat, entry; then above Q (joint move), down to Q, release
+// and back up. The box pose is computed here from the counters: the pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
 // The dialect has no pose product, so the pallet must be level (codegen refuses a tilted one).
 // Counters: pal_layer (1 = bottom) and pal_box (1 = the first box of the layer's pattern), global
@@ -29,8 +29,10 @@ Double PAL_SIN = 1.000000000
 Double PAL_TOOL_A = 0.000000
 Double PAL_TOOL_B = 0.000000
 Double PAL_TOOL_C = 180.000000
-// The pose Q where the boxes are put down
+// The pose Q where the boxes are put down, and 100.0000 mm above it (the arm comes
+// down to Q and goes back up along the base's z)
 Point PAL_PICK = Trans(-400.0000, 900.0000, 700.0000, 180.000000, 0.000000, 0.000000)
+Point PAL_ABOVE = Trans(-400.0000, 900.0000, 800.0000, 180.000000, 0.000000, 0.000000)
 // The patterns of the layer cycle: box centre x, y (mm, pallet frame) and angle (deg, counterclockwise);
 // arrays are indexed from 0
 //   pattern 0 (columns): rows 0..7
@@ -154,7 +156,9 @@ While pal_layer >= 1
   EndIf
   MovL pal_pose(x + PAL_RX[row], y + PAL_RY[row], z + 60.0000, a)
   MovL entry
-  MovJ PAL_PICK
+  MovJ PAL_ABOVE
+  MovL PAL_PICK
   Call pal_release()
+  MovL PAL_ABOVE
 EndWhile
 TPWrite 0, "pallet eur_in is empty"
