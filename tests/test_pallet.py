@@ -9,12 +9,14 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
+from codegen import derived
 from codegen.cell import CellError, load_cell
 from codegen.cli import main
 from codegen.pallet import checks
+from codegen.pallet.analysis import frame_matrix
 from codegen.pallet.patterns import Box, column, interlock, pinwheel, split_row
 from codegen.pallet.report import load_pallet_file
-from codegen.pallet.stack import FrameError, pallet2base
+from codegen.pallet.stack import FrameError, pallet2base, placements
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "codegen" / "examples" / "pallets"
@@ -295,3 +297,28 @@ def test_a_pallet_named_like_the_cells_program_or_beyond_the_registers_is_refuse
         EmitError, match=r"pallet 12's counters would need registers 48 and 49; the controller's last is 47"
     ):
         render(load_cell(cell), ["ur"])
+
+
+def test_the_printed_box_position_is_the_pose_product():
+    """The level-pallet position the dtrans program computes is printed from the derivation; evaluated in
+    float64 (the python printer) for every box of the EUR example's turned pallet it equals pallet2base @
+    target of the numpy stack (codegen/pallet/stack.py)."""
+    cell = load_cell(EXAMPLES / "eur_pallet.toml")
+    pallet = cell.pallets[1]  # turned 90 deg about the base's z
+    frame = frame_matrix(pallet)
+    turn = math.atan2(frame[1, 0], frame[0, 0])
+    assert abs(turn) > 1.0
+    for p in placements(pallet):
+        got = derived.evaluate(
+            "box",
+            {
+                "PAL_OX": frame[0, 3],
+                "PAL_OY": frame[1, 3],
+                "PAL_COS": math.cos(turn),
+                "PAL_SIN": math.sin(turn),
+                "x": p.box.x,
+                "y": p.box.y,
+            },
+        )
+        want = (frame @ p.target)[:2, 3]
+        assert [got["box_px"], got["box_py"]] == pytest.approx(want, abs=1e-9)

@@ -101,9 +101,10 @@ EndFunction
 
 Function Point pal_pose(Double x, Double y, Double z, Double a)
   // the box pose in the base frame: the pallet frame * Trans(x, y, z) * Rz(a) * the tool's orientation
-  // (mm, deg); the level frame turns x, y by gamma and adds gamma to the yaw
-  Double px = PAL_OX + PAL_COS * x - PAL_SIN * y
-  Double py = PAL_OY + PAL_SIN * x + PAL_COS * y
+  // (mm, deg); the level frame turns x, y by gamma and adds gamma to the yaw (x, y printed by codegen
+  // from its derivation: identity box_pose_on_a_level_pallet)
+  Double px = PAL_COS*x + PAL_OX - PAL_SIN*y
+  Double py = PAL_COS*y + PAL_OY + PAL_SIN*x
   Return Trans(px, py, PAL_OZ + z, PAL_TOOL_C, PAL_TOOL_B, PAL_TURN + a + PAL_TOOL_A)
 EndFunction
 
