@@ -2,6 +2,9 @@
 
 import json
 import math
+import shutil
+import subprocess
+import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -223,15 +226,35 @@ def test_the_bundled_stack_is_reachable_on_every_arm():
     assert all(r.joint_margin_deg >= 5 and r.wrist_margin_deg >= 5 for r in reports)
 
 
-def _rendered(svg: str):
-    """The picture as a browser would draw it: rendered by resvg (Chromium is not installable here from
-    the package registries), as an RGB image."""
+CHROMIUM = shutil.which("chromium-headless-shell") or shutil.which("chromium")
+
+
+def _rendered(svg: str, renderer: str):
+    """The picture as people see it, as an RGB image: drawn by headless Chromium (Debian's
+    chromium-headless-shell, which .ci/run installs) or by resvg (a second, independent renderer)."""
     import io
 
-    import resvg_py
     from PIL import Image
 
-    return Image.open(io.BytesIO(resvg_py.svg_to_bytes(svg_string=svg, background="#ffffff"))).convert("RGB")
+    if renderer == "resvg":
+        import resvg_py
+
+        return Image.open(io.BytesIO(resvg_py.svg_to_bytes(svg_string=svg, background="#ffffff"))).convert("RGB")
+    if CHROMIUM is None:
+        pytest.skip("headless Chromium is not installed (Debian: apt-get install chromium-headless-shell)")
+    root = ET.fromstring(svg)
+    size = f"{root.get('width')},{root.get('height')}"
+    with tempfile.TemporaryDirectory() as folder:
+        page, shot = Path(folder) / "layer.svg", Path(folder) / "layer.png"
+        page.write_text(svg, encoding="utf-8")
+        flags = ["--no-sandbox", "--hide-scrollbars", "--force-device-scale-factor=1", f"--window-size={size}"]
+        subprocess.run(
+            [CHROMIUM, "--headless", *flags, f"--screenshot={shot}", page.as_uri()],
+            check=True,
+            capture_output=True,
+            timeout=60,
+        )
+        return Image.open(shot).convert("RGB")
 
 
 def _to_px(root, x_mm: float, y_mm: float) -> tuple[int, int]:
@@ -243,7 +266,8 @@ def _to_px(root, x_mm: float, y_mm: float) -> tuple[int, int]:
     return round(left + x_mm / 104.0 * width), round(top + height - y_mm / 78.0 * height)
 
 
-def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_path):
+@pytest.mark.parametrize("renderer", ["chromium", "resvg"])
+def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_path, renderer):
     """Source 004's layer 1: boxes 1-4 turned (26 x 52 mm) along the bottom, 5-6 along the top; box 1's
     label (its long side at -y when unturned) faces +x; an arrow on every box; no red. A box moved 6 mm
     over the edge (allowed by overhang_mm) is drawn red."""
@@ -251,7 +275,7 @@ def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_
 
     data = _load(tmp_path, TESTMAT)
     svg = layer_svg(data.pallets[0], 1)
-    image, root = _rendered(svg), ET.fromstring(svg)
+    image, root = _rendered(svg, renderer), ET.fromstring(svg)
     fill, label, arrow = (255, 248, 231), (42, 157, 143), (31, 95, 191)
     assert image.getpixel(_to_px(root, 6, 8)) == fill  # box 1, away from its arrow and number
     assert image.getpixel(_to_px(root, 26, 70)) == fill  # box 5
@@ -264,7 +288,7 @@ def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_
     over = TESTMAT.replace("p2 = [[26, 13, 0]", "p2 = [[20, 13, 0]").replace(
         'angle_sense = "cw"', 'angle_sense = "cw"\noverhang_mm = 6'
     )
-    layer2 = _rendered(layer_svg(_load(tmp_path, over).pallets[0], 2))
+    layer2 = _rendered(layer_svg(_load(tmp_path, over).pallets[0], 2), renderer)
     reddish = sum(n for n, (r, g, b) in layer2.getcolors(maxcolors=100_000) if r > 180 and g < 100 and b < 100)
     assert reddish > 100  # box 1's outline
 
