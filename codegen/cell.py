@@ -203,7 +203,8 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     robot = parse_robot(ctx, cell_table, tuple(targets), pose_format)
 
     # a cell of pallets alone (codegen/pallet/) needs no camera and no limits: no station reads a mark
-    vision_free = not data.get("station") and bool(data.get("pallet"))
+    picks = isinstance(data.get("conveyor"), dict) and "pick" in data["conveyor"]
+    vision_free = not data.get("station") and (bool(data.get("pallet")) or picks)
     if vision_free:
         unused = {"camera": {"angle_sign": 1}, "limits": {"max_shift_mm": 10.0, "max_rotation_deg": 10.0}}
         cell_table = {**unused, **cell_table}
@@ -251,7 +252,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
 
     stations_raw = data.get("station", [] if vision_free else None)
     if not isinstance(stations_raw, list) or not (stations_raw or vision_free):
-        ctx.fail("station", "expected at least one [[station]] table (or a cell of [[pallet]] tables)")
+        ctx.fail("station", "expected at least one [[station]] table (or a cell of [[pallet]] or [conveyor.pick])")
     if len(stations_raw) > STATIONS_MAX:
         ctx.fail(
             "station",
@@ -286,7 +287,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     pallets = checked_pallets(ctx, data, pose_format)
     from codegen.conveyor.section import parse_conveyor
 
-    conveyor = parse_conveyor(ctx, data)
+    conveyor = parse_conveyor(ctx, data, targets, pose_format)
 
     cell = Cell(
         name=name,
@@ -309,6 +310,8 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     )
     for i, station in enumerate(stations, start=1):
         get_kind(station.kind).check(ctx, f"station[{i}]", station, cell)
+    if conveyor is not None and conveyor.pick is not None and (cell.io is None or not cell.io.feedback):
+        ctx.fail("cell.io", "a cell with [conveyor.pick] needs [cell.io] with feedback: the gripper and its sensor")
     if pallets and (cell.io is None or not cell.io.feedback):
         ctx.fail("cell.io", "a cell with [[pallet]] needs [cell.io] with feedback: the gripper's output and its sensor")
     return cell

@@ -182,7 +182,8 @@ def diff(cell: str | None, out_dir: str) -> None:
     from codegen.emit import EmitError
     from codegen.generate import diff as run_diff
 
-    paths = [cell] if cell is not None else sorted([*EXAMPLES_DIR.glob("*.toml"), *EXAMPLES_DIR.glob("pallets/*.toml")])
+    bundled = [*EXAMPLES_DIR.glob("*.toml"), *EXAMPLES_DIR.glob("pallets/*.toml"), *EXAMPLES_DIR.glob("conveyor/*.toml")]
+    paths = [cell] if cell is not None else sorted(bundled)
     text = ""
     for path in paths:
         model = _load(path)
@@ -245,6 +246,7 @@ def verify(
         files = (cell, *files)
         cell = None
     model = _load(cell)
+    files_given = bool(files)
     if cases < 0:
         raise UserError("--cases must be >= 0")
     from codegen.pallet.verify import PalletFilesError, pallet_section
@@ -255,8 +257,14 @@ def verify(
         raise UserError(str(exc)) from None
     except RunError as exc:  # a pallet program that cannot be loaded here
         raise click.ClickException(str(exc)) from None
-    if pallets is not None and pallets.alone:
-        pallets.finish(as_json)
+    from codegen.conveyor.verify import conveyor_section
+
+    try:
+        conveyors, files = conveyor_section(model, files, targets, seed)  # against simulated belts
+    except RunError as exc:
+        raise click.ClickException(str(exc)) from None
+    if (pallets is not None or conveyors is not None) and (not model.stations or (files_given and not files)):
+        _finish_sections(model, pallets, conveyors, as_json)
     from codegen.emit import EmitError
     from codegen.generate import GenerateError, check_envelope
 
@@ -324,7 +332,7 @@ def verify(
         raise click.ClickException(str(exc)) from None
     wall = time.perf_counter() - start
     summaries = [r.summary() for r in reports]
-    ok = all(s["mismatches"] == 0 for s in summaries) and (pallets is None or pallets.ok)
+    ok = all(s["mismatches"] == 0 for s in summaries) and all(x is None or x.ok for x in (pallets, conveyors))
     if as_json:
         _dump(
             {
@@ -336,13 +344,30 @@ def verify(
                 "workers": workers,
                 "targets": summaries,
                 **({} if pallets is None else {"pallets": pallets.summaries()}),
+                **({} if conveyors is None else {"conveyors": conveyors.summaries()}),
             }
         )
     else:
         for line in runs.report_lines(model, verify_cell, case_list, cases, seed, summaries, wall, workers):
             click.echo(line)
-        if pallets is not None:
-            for line in pallets.lines():
+        for section in (pallets, conveyors):
+            for line in [] if section is None else section.lines():
+                click.echo(line)
+    sys.exit(0 if ok else 1)
+
+
+def _finish_sections(model, pallets, conveyors, as_json: bool) -> None:
+    """A cell (or files) with pallet or conveyor programs only: report them and exit (0: all matched)."""
+    sections = [s for s in (pallets, conveyors) if s is not None]
+    ok = all(s.ok for s in sections)
+    if as_json:
+        out = {"cell": model.name, "ok": ok}
+        out.update({} if pallets is None else {"pallets": pallets.summaries()})
+        out.update({} if conveyors is None else {"conveyors": conveyors.summaries()})
+        _dump(out)
+    else:
+        for section in sections:
+            for line in section.lines():
                 click.echo(line)
     sys.exit(0 if ok else 1)
 

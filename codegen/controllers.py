@@ -86,6 +86,9 @@ _PROGRAM = {
     "pallet_registers": int,  # the first register of the counters, where the controller keeps none
     "pallet_registers_max": int,  # the last register the counters may use
     "pallet_level_only": bool,  # no pose product: a level pallet only
+    "conveyor_files": list,  # the pick-from-belt program of a cell with [conveyor.pick] (codegen/conveyor/)
+    "conveyor_registers": dict,  # the part queue's registers by role (seq, count, x, z, ack, stop)
+    "conveyor_names": dict,  # the same by the names devices and `codegen run --input` use
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
 

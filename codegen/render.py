@@ -203,10 +203,29 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
             text = env.get_template(f"{name}/{pattern.format(cell='program')}.j2").render(ctx)
             out.append(RenderedFile(f"{cell_dir(cell)}/{name}/{file_name}", text))
         out.extend(_pallet_files(env, cell, target, ctx))
+        out.extend(_conveyor_files(env, cell, target, ctx))
     paths = [f.relpath for f in out]
     if len(set(paths)) != len(paths):  # a generator bug: one file would silently replace another
         raise RuntimeError(f"two files render to {sorted(p for p in paths if paths.count(p) > 1)[0]}")
     return out
+
+
+def _conveyor_files(env, cell: Cell, target: Target, ctx: dict) -> list[RenderedFile]:
+    """The pick-from-belt program of a cell with [conveyor.pick]: "{cell}_conveyor.script" from the
+    template "conveyor.script.j2"."""
+    from codegen.conveyor.program import conveyor_context, conveyor_file_names, picks_on
+
+    if not picks_on(cell, target):
+        return []
+    cctx = {**ctx, "conveyor": conveyor_context(cell, target, Emitter(target))}
+    names = conveyor_file_names(cell, target)
+    return [
+        RenderedFile(
+            f"{cell_dir(cell)}/{target.name}/{name}",
+            env.get_template(f"{target.name}/{pattern.replace('{cell}_', '')}.j2").render(cctx),
+        )
+        for pattern, name in zip(target.program["conveyor_files"], names, strict=True)
+    ]
 
 
 def _pallet_files(env, cell: Cell, target: Target, ctx: dict) -> list[RenderedFile]:

@@ -315,10 +315,10 @@ def test_a_pallet_named_like_the_cells_program_or_beyond_the_registers_is_refuse
     cell.write_text(demo.replace('name = "agv_machine_tending"', 'name = "pal_agv_machine_tending"', 1) + "\n" + pallet)
     with pytest.raises(EmitError, match="both map to the identifier"):
         render(load_cell(cell), ["ur"])
-    twelve = "".join(pallet.replace('name = "agv_machine_tending"', f'name = "p{i}"', 1) for i in range(12))
-    cell.write_text(demo + "\n" + twelve)
+    eleven = "".join(pallet.replace('name = "agv_machine_tending"', f'name = "p{i}"', 1) for i in range(11))
+    cell.write_text(demo + "\n" + eleven)
     with pytest.raises(
-        EmitError, match=r"pallet 12's counters would need registers 48 and 49; the controller's last is 47"
+        EmitError, match=r"pallet 11's counters would need registers 46 and 47; the controller's last is 45"
     ):
         render(load_cell(cell), ["ur"])
 

@@ -9,7 +9,7 @@ import numpy as np
 
 COUNTER_BITS = (16, 24, 32)
 KEYS = frozenset(
-    {"counter_bits", "counts_per_mm", "origin", "direction", "z_axis", "camera_offset_mm", "working_length_mm"}
+    {"counter_bits", "counts_per_mm", "origin", "direction", "z_axis", "camera_offset_mm", "working_length_mm", "pick"}
 )
 UNIT_TOL = 1e-6
 
@@ -29,6 +29,7 @@ class Conveyor:
     z_axis: tuple[float, float, float] | None = None
     camera_offset_mm: float | None = None
     working_length_mm: float | None = None
+    pick: object = None  # [conveyor.pick]: codegen.conveyor.pick.Pick, or None (no pick program)
 
     def frame(self) -> np.ndarray | None:
         return None if self.origin is None else belt2base(self.origin, self.direction, self.z_axis)
@@ -43,7 +44,7 @@ def belt2base(origin, direction, z_axis) -> np.ndarray:
     return out
 
 
-def parse_conveyor(ctx, data: dict) -> Conveyor | None:
+def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> Conveyor | None:
     if "conveyor" not in data:
         return None
     table = ctx.table(data, "conveyor", "conveyor")
@@ -76,4 +77,11 @@ def parse_conveyor(ctx, data: dict) -> Conveyor | None:
             if key == "working_length_mm" and not 0 < value <= 100_000:
                 ctx.fail("conveyor.working_length_mm", "must be in (0, 100000] mm")
             out[key] = value
+    if "pick" in table:
+        from codegen.conveyor.pick import parse_pick
+
+        missing = [k for k in ("counts_per_mm", "camera_offset_mm") if k not in out]
+        if missing:
+            ctx.fail("conveyor.pick", f"needs the calibrated belt: {', '.join(missing)} (codegen calibrate conveyor)")
+        out["pick"] = parse_pick(ctx, ctx.table(table, "pick", "conveyor.pick"), targets, pose_format)
     return Conveyor(**out)

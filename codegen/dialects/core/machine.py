@@ -39,6 +39,7 @@ class SignalEvent:
     time: float
     moving: bool
     after_moves: int
+    tcp2base: np.ndarray | None = None  # where the tool is at that moment (base frame), where known
 
 
 @dataclass
@@ -148,6 +149,9 @@ class Machine:
         self.arm_until = 0.0
         self.last_move: MoveEvent | None = None
         self.signals: dict[str, bool] = {}  # digital inputs and outputs by name (devices set the inputs)
+        # a controller's conveyor tracking: an object whose offset_mm(t) (3 mm, base frame) lies over every
+        # commanded pose while it is on (codegen/dialects/<d>/conveyor.py), None: off
+        self.tracking = None
         self._last_tcp2base: np.ndarray | None = None
 
     # --- time --------------------------------------------------------------------------------
@@ -156,14 +160,19 @@ class Machine:
         """The arm is still executing a commanded move while the program runs on."""
         return self.arm_until > self.clock
 
-    def move(self, event: MoveEvent, speed_mm_s: float | None = None, runs_ahead: bool = False) -> None:
+    def move(
+        self, event: MoveEvent, speed_mm_s: float | None = None, runs_ahead: bool = False, seconds: float | None = None
+    ) -> None:
         """Record a commanded move. It starts when the previous one ends and takes travel_seconds;
         the program waits for it (the clock reaches its end) unless the controller runs ahead of its
         motion (an advance run, a fly-by point): then the clock stays and the arm is moving
-        until an instruction that waits for it (Machine.arrive)."""
+        until an instruction that waits for it (Machine.arrive). seconds: the move's duration where the
+        caller knows it (a move relative to a tracked conveyor)."""
         self.trace.moves.append(event)
         start = max(self.clock, self.arm_until)
-        self.arm_until = start + travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
+        if seconds is None:
+            seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
+        self.arm_until = start + seconds
         self._last_tcp2base = event.tcp2base
         self.last_move = event
         if not runs_ahead:
@@ -173,8 +182,15 @@ class Machine:
         """A digital output set by the program, recorded with the moment (the devices act on it)."""
         self.signals[name] = bool(value)
         line = int(where.split(":")[1]) if where.count(":") >= 2 else 0
-        event = SignalEvent(name, bool(value), line, self.clock, self.moving, len(self.trace.moves))
+        event = SignalEvent(name, bool(value), line, self.clock, self.moving, len(self.trace.moves), self.tool_pose())
         self.trace.outputs.append(event)
+
+    def tool_pose(self) -> np.ndarray | None:
+        """Where the tool is now (base frame): the last move's pose, moved by the tracked conveyor's
+        travel since that move's end while tracking is on; None before any move with a known pose."""
+        if self.tracking is not None:
+            return self.tracking.pose_now(self)
+        return None if self.last_move is None else self.last_move.tcp2base
 
     def arrive(self, where: str) -> None:
         """An instruction that waits until the arm stands still (an advance-run stop, an in-position

@@ -14,6 +14,7 @@ from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import MoveEvent, Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
+from codegen.dialects.urscript import conveyor
 from codegen.robot import solve
 
 INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
@@ -27,6 +28,7 @@ DIGITAL_MAX = 7  # standard digital I/O 0..7 of the control box (ur.toml signals
 MM_PER_M = 1000.0
 MOVE_DEFAULTS = {"joint": {"a": 1.4, "v": 1.05, "r": 0.0}, "linear": {"a": 1.2, "v": 0.25, "r": 0.0}}
 REGISTER_MAX = 47  # registers 0..23 fieldbus, 24..47 RTDE clients (URScript manual)
+BOOLEAN_REGISTER_MAX = 127  # boolean registers 0..63 fieldbus, 64..127 RTDE clients (URScript manual)
 STRING_MAX = 1023  # characters of a string result (URScript manual, str_cat; ur.toml string_max)
 
 
@@ -123,15 +125,17 @@ class URScriptCompiler(Compiler):
                     if kind != "joint":
                         raise RunError(f"{where}: movel takes a pose")
                     event = MoveEvent(kind, None, line, settings)
+                    conveyor.tracked_move(fr, event, 0.0, where)  # refused while tracking
                     fr.m.arm.to_joints(event, np.degrees(_joints(target, where)), where)
                     fr.m.move(event, settings["v"] * MM_PER_M)
                     return
                 pose = _pose(target, where)
                 posemath.check_finite(pose.values(), where, "move target")
                 event = MoveEvent(kind, posemath.matrix_from_ur(pose.values()), line, settings)
+                seconds = conveyor.tracked_move(fr, event, settings["v"] * MM_PER_M, where)  # None: not tracking
                 # movej to a pose: the solution nearest the current joints; movel keeps the configuration
                 fr.m.arm.to_pose(event, where, "nearest" if kind == "joint" else "keep")
-                fr.m.move(event, settings["v"] * MM_PER_M)  # movej and movel return when the arm has arrived
+                fr.m.move(event, settings["v"] * MM_PER_M, seconds=seconds)  # movej, movel return on arrival
 
             return run
 
@@ -176,12 +180,16 @@ class URScriptCompiler(Compiler):
             fr.m.trace.messages.append(text)
 
         def register(kind):
+            top = BOOLEAN_REGISTER_MAX if kind == "boolean" else REGISTER_MAX
+
             def read(fr, args, kwargs, where):
                 index = int(args[0])
-                if not 0 <= index <= REGISTER_MAX:
-                    raise RunError(f"{where}: register {index} out of range 0..{REGISTER_MAX}")
+                if not 0 <= index <= top:
+                    raise RunError(f"{where}: register {index} out of range 0..{top}")
                 key = f"input_{kind}_register_{index}"
                 value = fr.m.inputs.get(key, 0)
+                if kind == "boolean":
+                    return bool(value)
                 return int(value) if kind == "integer" else f32(value)
 
             return read
@@ -266,6 +274,8 @@ class URScriptCompiler(Compiler):
             "halt": halt,
             "read_input_integer_register": register("integer"),
             "read_input_float_register": register("float"),
+            "read_input_boolean_register": register("boolean"),
+            **conveyor.builtins(_pose, _num),
             "write_output_integer_register": write_output_integer_register,
             "read_output_integer_register": read_output_integer_register,
             "sync": sync,

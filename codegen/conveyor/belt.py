@@ -1,0 +1,133 @@
+"""A simulated belt for verify: its travel over time, the encoder's raw counter and the parts on it."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Belt:
+    """The belt's travel s(t) (mm downstream since the program started) and its encoder.
+
+    speed_mm_s: the mean speed; wobble: the share by which the speed swings, sinusoidally with period
+    period_s (0: constant); counts_per_mm: signed (negative: the counter runs down as the belt travels);
+    counter_bits: the counter's width (it rolls over at 2**bits); start_count: its raw value at t = 0."""
+
+    speed_mm_s: float
+    counts_per_mm: float
+    counter_bits: int = 32
+    start_count: int = 0
+    wobble: float = 0.0
+    period_s: float = 4.0
+
+    def travel_mm(self, t: float) -> float:
+        """s(t) = v t + v wobble T / (2 pi) (1 - cos(2 pi t / T)): the speed v (1 + wobble sin(2 pi t / T))."""
+        w = 2.0 * math.pi / self.period_s
+        return self.speed_mm_s * (t + self.wobble * (1.0 - math.cos(w * t)) / w)
+
+    def speed_at(self, t: float) -> float:
+        return self.speed_mm_s * (1.0 + self.wobble * math.sin(2.0 * math.pi * t / self.period_s))
+
+    def unwrapped_count(self, t: float) -> int:
+        """The counter as if it had no width: the start count plus whole counts of travel."""
+        return self.start_count + math.floor(self.counts_per_mm * self.travel_mm(t))
+
+    def count(self, t: float) -> int:
+        """The raw counter at t: unwrapped_count reduced to the counter's width (two's complement for
+        32 bits, as a signed register holds it; unsigned for 16 and 24)."""
+        span = 2**self.counter_bits
+        raw = self.unwrapped_count(t) % span
+        if self.counter_bits == 32 and raw >= span // 2:
+            raw -= span
+        return raw
+
+    def time_at(self, travel_mm: float) -> float:
+        """The first t >= 0 with s(t) = travel_mm (s increases: the speed stays positive)."""
+        if travel_mm <= 0.0:
+            return 0.0
+        low, high = 0.0, travel_mm / (self.speed_mm_s * (1.0 - abs(self.wobble))) + 1.0
+        for _ in range(80):
+            mid = 0.5 * (low + high)
+            low, high = (mid, high) if self.travel_mm(mid) < travel_mm else (low, mid)
+        return high
+
+
+@dataclass(frozen=True)
+class Part:
+    """A part the camera saw: when it crossed the camera's line, across the belt (x) and its top (z),
+    belt frame mm; seq: its number in the queue (1 first)."""
+
+    seq: int
+    seen_s: float
+    x: float
+    z: float
+
+
+def part_y(belt: Belt, part: Part, camera_y: float, t: float) -> float:
+    """Where a part is along the belt (belt frame y, mm) at t: the camera's line plus the travel since."""
+    return camera_y + belt.travel_mm(t) - belt.travel_mm(part.seen_s)
+
+
+def part_pose(belt2base: np.ndarray, belt: Belt, part: Part, camera_y: float, t: float, grip: np.ndarray):
+    """The gripper's pose on the part at t (base frame, 4x4): the belt frame . Trans(x, y(t), z) . grip."""
+    place = np.eye(4)
+    place[:3, 3] = (part.x, part_y(belt, part, camera_y, t), part.z)
+    return belt2base @ place @ grip
+
+
+@dataclass
+class ConveyorLine:
+    """The belt, its camera and the PLC's part queue beside the controller, a device of Program.run.
+
+    The camera sees each part cross its line at part.seen_s; the PLC queues it with the encoder's count
+    then (reported_count: the counter as the controller reads it) and presents the oldest one the
+    program has not taken: names["seq"] = its number, names["count"], names["x"], names["z"]. The program
+    takes it by writing names["ack"] = seq; then the next is presented. With the queue empty and no part
+    to come, names["stop"] turns on (the line's cycle stop). taken: seq -> when the program took it."""
+
+    belt: Belt
+    parts: list
+    names: dict
+    encoder_index: int = 0
+    reported_count: object = None  # callable(belt, t) -> the count the camera reports; None: belt.count
+    taken: dict = field(default_factory=dict)
+    _presented: int = 0
+    _stopped: bool = False
+
+    def encoder(self, index: int):
+        return self.belt if index == self.encoder_index else None
+
+    def _next(self):
+        return self.parts[self._presented] if self._presented < len(self.parts) else None
+
+    def next_time(self, machine) -> float | None:
+        part = self._next()
+        if part is None or (self._presented and self._presented not in self.taken):
+            return None
+        return max(part.seen_s, machine.clock)
+
+    def on_wait(self, machine, where: str) -> bool:
+        ack = machine.read_variable(self.names["ack"])
+        if self._presented and self._presented not in self.taken and ack == self._presented:
+            self.taken[self._presented] = machine.clock
+        if self._presented and self._presented not in self.taken:
+            return False  # the program has not taken the part on show
+        part = self._next()
+        if part is None:
+            if not self._stopped:
+                self._stopped = True
+                machine.write_variable(self.names["stop"], True)
+                return True
+            return False
+        if machine.clock < part.seen_s:
+            return False
+        count = (
+            self.belt.count(part.seen_s) if self.reported_count is None else self.reported_count(self.belt, part.seen_s)
+        )
+        for key, value in (("count", count), ("x", part.x), ("z", part.z), ("seq", part.seq)):
+            machine.write_variable(self.names[key], value)
+        self._presented = part.seq
+        return True

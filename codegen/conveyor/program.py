@@ -1,0 +1,69 @@
+"""Template variables of a pick-from-belt program: the belt frame and scale, the window, the part queue's names."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from codegen.cell import TaughtPose
+from codegen.emit import EmitError
+from codegen.poses import zyx_deg_from_rotmat
+
+# the program's messages (the skip and stop texts verify reads back)
+SKIPPED = "conveyor: skipped (past the window's end): part "
+BAD_READING = "conveyor: the camera's part is outside x_range_mm or z_range_mm: check the camera"
+STOPPED = "conveyor: the line stopped"
+
+
+def conveyor_file_names(cell, target) -> list[str]:
+    return [name.format(cell=cell.name) for name in target.program.get("conveyor_files", [])]
+
+
+def picks_on(cell, target) -> bool:
+    """Whether the cell has a pick program for this target ([conveyor.pick] tracking names it)."""
+    pick = None if cell.conveyor is None else cell.conveyor.pick
+    if pick is None or target.name not in pick.tracking:
+        return False
+    if not target.program.get("conveyor_files"):
+        raise EmitError(
+            f"conveyor.pick.tracking.{target.name}: codegen has no conveyor tracking program for {target.title} yet"
+        )
+    return True
+
+
+def _xyzabc(pose: np.ndarray) -> tuple[float, ...]:
+    return tuple(float(v) for v in (*pose[:3, 3], *zyx_deg_from_rotmat(pose[:3, :3])))
+
+
+def conveyor_context(cell, target, emitter) -> dict:
+    """Numbers in the target's notation: the belt frame (belt2base), the direction of travel signed so
+    that the encoder's ticks count along it, ticks per metre, counts per mm, the camera's line, the
+    window, the ranges, the gripper's orientation on a part, the place and the registers' numbers."""
+    belt, pick = cell.conveyor, cell.conveyor.pick
+    number = emitter.number
+    frame = belt.frame()
+    e = belt.counts_per_mm
+    sign = 1.0 if e > 0 else -1.0
+    place = pick.place.matrix()
+    above = place.copy()
+    above[2, 3] += pick.approach_dz
+    ident = emitter.identifier("cnv_", cell.name, "the conveyor program")
+    return {
+        "ident": ident,
+        "frame": emitter.pose(TaughtPose("belt", _xyzabc(frame), "xyzabc")),
+        "direction": [number(sign * v, 9) for v in belt.direction],
+        "ticks_per_m": number(abs(e) * 1000.0, 6),
+        "counts_per_mm": number(e, 9),
+        "camera_y": number(-belt.camera_offset_mm, 4),
+        "window": [number(v, 4) for v in pick.window_mm],
+        "x_range": [number(v, 4) for v in pick.x_range_mm],
+        "z_range": [number(v, 4) for v in pick.z_range_mm],
+        "grip": emitter.pose(TaughtPose("grip", (0.0, 0.0, 0.0, *pick.tool_orientation), "xyzabc")),
+        "approach_dz": number(pick.approach_dz, 4),
+        "place": emitter.pose(pick.place),
+        "place_above": emitter.pose(TaughtPose("place_above", _xyzabc(above), "xyzabc")),
+        "encoder_inputs": list(pick.encoder_inputs[target.name]),
+        "registers": target.program["conveyor_registers"],
+        "skipped": emitter.string(SKIPPED),
+        "bad_reading": emitter.string(BAD_READING),
+        "stopped": emitter.string(STOPPED),
+    }

@@ -1,0 +1,150 @@
+"""The pick-from-belt program: verified against simulated belts, mutations caught, the cell's [conveyor.pick]."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from codegen.cell import CellError, load_cell
+from codegen.cli import main
+from codegen.controllers import get_target
+from codegen.conveyor.belt import Belt, ConveyorLine, Part, part_y
+from codegen.conveyor.verify import cases, position_tolerance_mm, verify_conveyor
+from codegen.render import render
+from codegen.verify_runs import load_program
+
+CELL = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
+
+
+def _program(cell, old: str | None = None, new: str | None = None):
+    (file,) = [f for f in render(cell, ["ur"]) if f.relpath.endswith("_conveyor.script")]
+    text = file.text
+    if old is not None:
+        assert text.count(old) >= 1, f"{old!r} not in the program"
+        text = text.replace(old, new)
+    return load_program(get_target("ur"), text, "mutant", {})
+
+
+def test_the_bundled_pick_program_verifies_with_every_part_where_it_is():
+    result = CliRunner().invoke(main, ["verify", str(CELL), "--json"])
+    assert result.exit_code == 0, result.output
+    assert '"mismatches": 0' in result.stdout and '"parts_skipped": 1' in result.stdout
+
+
+def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
+    cell = load_cell(CELL)
+    found = {c.category: c for c in cases(cell)}
+    assert set(found) == {"constant_speed", "varying_speed", "rollover", "part_too_late"}
+    assert found["varying_speed"].belt.wobble > 0
+    rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel
+    first = rollover.parts[0]
+    assert cell.conveyor.counts_per_mm < 0
+    assert rollover.belt.count(first.seen_s) < rollover.belt.count(first.seen_s + 15.0)
+
+
+# (old, new, what the verdict must say): each a program that moves somewhere else than the part is
+MUTATIONS = [
+    ("CNV_DIR = p[0.499994000, -0.866029000,", "CNV_DIR = p[-0.499994000, 0.866029000,", "gripped"),
+    ("encoder_unwind_delta_tick_count(0, encoder_get_tick_count(0) - seen)", "(encoder_get_tick_count(0) - seen)", ""),
+    ("    track_conveyor_linear(CNV_DIR, CNV_TICKS_PER_M)\n", "", "gripped"),
+    ("CNV_CAMERA_Y = -1200.0970", "CNV_CAMERA_Y = -1190.0970", "gripped"),
+    ("CNV_COUNTS_PER_MM = -8.122679000", "CNV_COUNTS_PER_MM = -8.222679000", "gripped"),
+    ("> CNV_END:", "> CNV_END + 1000:", "past the window's end"),
+]
+
+
+@pytest.mark.parametrize(("old", "new", "says"), MUTATIONS)
+def test_a_program_that_misses_the_part_fails_verify(old, new, says):
+    cell = load_cell(CELL)
+    report = verify_conveyor(cell, "ur", _program(cell, old, new), ["mutant"])
+    assert report.mismatches > 0, report.summary()
+    assert any(says in m for m in report.first_mismatches), report.first_mismatches
+
+
+def test_the_tolerance_is_two_counts_of_travel():
+    """2 / |E| mm: the program knows the part's place in whole counts (at the start of tracking and in the
+    tracking offset); the bundled belt's 8.12 counts per mm give 0.25 mm."""
+    assert position_tolerance_mm(-8.122679, "float32") == pytest.approx(2 / 8.122679 + 0.005)
+
+
+def test_the_simulated_belt_counts_and_wraps_on_its_own():
+    """The belt's counter: whole counts of travel from its start, reduced to the counter's width; a
+    varying speed still travels v t on average over a whole period."""
+    belt = Belt(100.0, -8.0, 16, 100)
+    assert belt.unwrapped_count(1.0) == 100 - 800
+    assert belt.count(1.0) == 65536 - 700
+    wobbly = Belt(100.0, 8.0, 32, 0, wobble=0.5, period_s=2.0)
+    assert wobbly.travel_mm(2.0) == pytest.approx(200.0)
+    assert wobbly.travel_mm(wobbly.time_at(123.0)) == pytest.approx(123.0, abs=1e-9)
+    part = Part(1, 0.5, 0.0, 20.0)
+    assert part_y(Belt(50.0, 8.0), part, -1000.0, 2.5) == pytest.approx(-900.0)
+
+
+def test_the_interpreter_tracks_the_belt_from_the_moment_tracking_starts():
+    """track_conveyor_linear: a pose commanded after the call is reached where the belt has carried it
+    (ticks since the call / ticks per metre along the direction), also while the arm waits."""
+    text = (
+        "def t():\n"
+        "  encoder_enable_pulse_decode(0, 1, 8, 9)\n"
+        "  sleep(1.0)\n"
+        "  track_conveyor_linear(p[0, 1, 0, 0, 0, 0], 8000.0)\n"
+        "  movel(p[0.5, 0, 0.2, 0, 3.14159265, 0], a=1.2, v=0.25)\n"
+        "  sleep(2.0)\n"
+        "  set_standard_digital_out(0, True)\n"
+        "  stop_conveyor_tracking()\n"
+        "end\n"
+    )
+    program = load_program(get_target("ur"), text, "track", {})
+    belt = Belt(100.0, 8.0, 16, 0)  # 800 counts per second: 100 mm/s
+    line = ConveyorLine(belt, [], {"ack": "output_integer_register_46", "stop": "input_boolean_register_64"})
+    trace = program.run({}, devices=(line,))
+    (move,) = trace.moves  # commanded at t = 1 s; a first move from an unknown pose takes 1 s: it ends at 2 s
+    assert move.tcp2base[:3, 3] == pytest.approx([500.0, 100.0, 200.0], abs=1e-3)
+    out = trace.outputs[0]  # after a 2 s sleep, still tracking: the belt carried the arm 200 mm further
+    assert out.time == pytest.approx(4.0)
+    assert out.tcp2base[:3, 3] == pytest.approx([500.0, 300.0, 200.0], abs=1e-3)
+
+
+def test_a_direction_that_is_not_a_unit_vector_is_refused():
+    text = "def t():\n  encoder_enable_pulse_decode(0, 1, 8, 9)\n  track_conveyor_linear(p[0, 2, 0, 0, 0, 0], 8000.0)\nend\n"
+    program = load_program(get_target("ur"), text, "track", {})
+    line = ConveyorLine(
+        Belt(100.0, 8.0), [], {"ack": "output_integer_register_46", "stop": "input_boolean_register_64"}
+    )
+    with pytest.raises(Exception, match="unit vector"):
+        program.run({}, devices=(line,))
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        (
+            "window_mm = [-300.0, 250.0]",
+            "window_mm = [250.0, -300.0]",
+            r"conveyor\.pick\.window_mm: expected \[low, high\]",
+        ),
+        (
+            'tracking = { ur = "native" }',
+            'tracking = { kuka = "native" }',
+            r"conveyor\.pick\.tracking\.kuka: not one of",
+        ),
+        ('tracking = { ur = "native" }', 'tracking = { ur = "predicted" }', r"conveyor\.pick\.tracking\.ur: expected"),
+        ("encoder_inputs = { ur = [8, 9] }", "encoder_inputs = { ur = [8] }", r"conveyor\.pick\.encoder_inputs\.ur"),
+        ("counts_per_mm = -8.122679\n", "", r"conveyor\.pick: needs the calibrated belt: counts_per_mm"),
+        ("approach_dz = 60.0", "approach_dz = 0.0", r"conveyor\.pick\.approach_dz: must be in \(0, 1000\]"),
+    ],
+)
+def test_a_bad_pick_table_is_refused_naming_the_key(tmp_path, old, new, message):
+    text = CELL.read_text()
+    assert old in text
+    if old.startswith("counts_per_mm"):  # the calibration's keys come together: drop them all
+        for key in ("counts_per_mm", "origin", "direction", "z_axis"):
+            text = "\n".join(line for line in text.splitlines() if not line.startswith(key)) + "\n"
+    else:
+        text = text.replace(old, new)
+    path = tmp_path / "cell.toml"
+    path.write_text(text)
+    with pytest.raises(CellError, match=message):
+        load_cell(path)
