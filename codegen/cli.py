@@ -182,7 +182,7 @@ def diff(cell: str | None, out_dir: str) -> None:
     from codegen.emit import EmitError
     from codegen.generate import diff as run_diff
 
-    bundled = [*EXAMPLES_DIR.glob("*.toml"), *EXAMPLES_DIR.glob("pallets/*.toml"), *EXAMPLES_DIR.glob("conveyor/*.toml")]
+    bundled = [p for folder in ("", "pallets/", "conveyor/") for p in EXAMPLES_DIR.glob(f"{folder}*.toml")]
     paths = [cell] if cell is not None else sorted(bundled)
     text = ""
     for path in paths:

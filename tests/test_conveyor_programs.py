@@ -108,7 +108,10 @@ def test_the_interpreter_tracks_the_belt_from_the_moment_tracking_starts():
 
 
 def test_a_direction_that_is_not_a_unit_vector_is_refused():
-    text = "def t():\n  encoder_enable_pulse_decode(0, 1, 8, 9)\n  track_conveyor_linear(p[0, 2, 0, 0, 0, 0], 8000.0)\nend\n"
+    text = (
+        "def t():\n  encoder_enable_pulse_decode(0, 1, 8, 9)\n"
+        "  track_conveyor_linear(p[0, 2, 0, 0, 0, 0], 8000.0)\nend\n"
+    )
     program = load_program(get_target("ur"), text, "track", {})
     line = ConveyorLine(
         Belt(100.0, 8.0), [], {"ack": "output_integer_register_46", "stop": "input_boolean_register_64"}
