@@ -151,3 +151,17 @@ def test_a_bad_pick_table_is_refused_naming_the_key(tmp_path, old, new, message)
     path.write_text(text)
     with pytest.raises(CellError, match=message):
         load_cell(path)
+
+
+def test_a_window_the_arm_cannot_follow_is_refused_at_generate(tmp_path):
+    """900 mm upstream of the belt's origin lies 1.6 m from the UR10e's base (reach 1.3 m)."""
+    from codegen.generate import GenerateError, check_envelope
+
+    path = tmp_path / "cell.toml"
+    path.write_text(CELL.read_text().replace("window_mm = [-300.0, 250.0]", "window_mm = [-900.0, 250.0]"))
+    with pytest.raises(
+        GenerateError, match=r"conveyor \(ur, UR10e\): above the part at x -120 z 5 mm, pose 1 of 12: out"
+    ):
+        check_envelope(load_cell(path), None)
+    reports = check_envelope(load_cell(CELL), None)
+    assert [r.poses for r in reports if hasattr(r, "poses")] == [2 * 2 * 2 * 12 + 2]  # x, z, on/above; place
