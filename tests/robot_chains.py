@@ -70,7 +70,6 @@ def ikpy_chain(spec: list) -> tuple[ikpy.chain.Chain, np.ndarray]:
         return ikpy.chain.Chain(links, active_links_mask=active), np.array(active)
 
 
-
 # The catalogue's KUKA and ABB arms, from the ROS-Industrial support packages' joint origins (mm) and
 # axes, which copy the vendors' data sheets; tool0: the flange frame, z out of the flange face.
 _KUKA_AXES = [(0, 0, -1), (0, 1, 0), (0, 1, 0), (-1, 0, 0), (0, 1, 0), (-1, 0, 0)]
@@ -100,6 +99,7 @@ CATALOGUE_CHAINS.update(
         "UR5e": VENDOR_CHAINS["UR5e"],
         "UR10e": VENDOR_CHAINS["UR10e"],
         "UR16e": ur_chain(180.7, -478.4, -360.0, 174.15, 119.85, 116.55),
+        "UR20": ur_chain(236.3, -862.0, -728.7, 201.0, 159.3, 154.3),
     }
 )
 

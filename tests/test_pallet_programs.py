@@ -24,6 +24,8 @@ def cell(request):
 def test_every_stacking_program_matches_the_reference(cell, target):
     """A full stack (or unstack), restarts at random boxes, a full (empty) pallet, counters out of range,
     a gripper that never closes or never opens: every move, gripper output, stop and the counters left."""
+    if target not in cell.targets:
+        pytest.skip(f"{cell.name} has no {target} program (the EUR cell has no UR: see its file)")
     for index, (program, files) in enumerate(fresh_pallet_programs(cell, target)):
         report = verify_pallet(cell, index, target, program, files)
         assert report.cases >= 12 and report.mismatches == 0, report.first_mismatches
@@ -103,9 +105,7 @@ def test_every_target_has_its_mutations():
 
 def test_a_program_that_ignores_the_automatic_approach_fails_verify():
     cell = load_cell(PALLETS / "eur_pallet.toml")
-    found = _mutant_mismatches(
-        cell, "ur", ".script", "pal_pose(x + PAL_AX[row], y + PAL_AY[row]", "pal_pose(x + 30, y + 30"
-    )
+    found = _mutant_mismatches(cell, "kuka", ".src", "PAL_APPROACH.X = PAL_AX[ROW]", "PAL_APPROACH.X = 30.0")
     assert found and "approach" in found[0], found
 
 
