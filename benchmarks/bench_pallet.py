@@ -27,7 +27,7 @@ def once() -> tuple[float, int]:
 
 
 def full_stack(runs: int) -> None:
-    """Seconds for the full_stack case of the EUR pallet (5 layers, 30 boxes, with the arm) per target, program loaded."""
+    """Seconds for the full_stack case of the EUR pallet (5 layers, 30 boxes, with the arm) per target."""
     from pathlib import Path
 
     from codegen.cell import load_cell
