@@ -89,6 +89,8 @@ _PROGRAM = {
     "conveyor_files": list,  # the pick-from-belt program of a cell with [conveyor.pick] (codegen/conveyor/)
     "conveyor_registers": dict,  # the part queue's registers by role (seq, count, x, z, ack, stop)
     "conveyor_names": dict,  # the same by the names devices and `codegen run --input` use
+    "conveyor_signals": dict,  # the queue as groups of digital signals (ranges of numbered signals, or named signals)
+    "conveyor_tracking": list,  # how the pick program follows the belt: "native", "intercept"
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
 

@@ -11,6 +11,7 @@ from codegen.cell import CellError, load_cell
 from codegen.cli import main
 from codegen.controllers import get_target
 from codegen.conveyor.belt import Belt, ConveyorLine, Part, part_y
+from codegen.conveyor.bus import RegisterBus
 from codegen.conveyor.verify import cases, position_tolerance_mm, verify_conveyor
 from codegen.render import render
 from codegen.verify_runs import load_program
@@ -98,7 +99,7 @@ def test_the_interpreter_tracks_the_belt_from_the_moment_tracking_starts():
     )
     program = load_program(get_target("ur"), text, "track", {})
     belt = Belt(100.0, 8.0, 16, 0)  # 800 counts per second: 100 mm/s
-    line = ConveyorLine(belt, [], {"ack": "output_integer_register_46", "stop": "input_boolean_register_64"})
+    line = ConveyorLine(belt, [], RegisterBus(get_target("ur").program["conveyor_names"]))
     trace = program.run({}, devices=(line,))
     (move,) = trace.moves  # commanded at t = 1 s; a first move from an unknown pose takes 1 s: it ends at 2 s
     assert move.tcp2base[:3, 3] == pytest.approx([500.0, 100.0, 200.0], abs=1e-3)
@@ -113,9 +114,7 @@ def test_a_direction_that_is_not_a_unit_vector_is_refused():
         "  track_conveyor_linear(p[0, 2, 0, 0, 0, 0], 8000.0)\nend\n"
     )
     program = load_program(get_target("ur"), text, "track", {})
-    line = ConveyorLine(
-        Belt(100.0, 8.0), [], {"ack": "output_integer_register_46", "stop": "input_boolean_register_64"}
-    )
+    line = ConveyorLine(Belt(100.0, 8.0), [], RegisterBus(get_target("ur").program["conveyor_names"]))
     with pytest.raises(Exception, match="unit vector"):
         program.run({}, devices=(line,))
 

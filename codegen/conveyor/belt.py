@@ -83,22 +83,24 @@ class ConveyorLine:
     """The belt, its camera and the PLC's part queue beside the controller, a device of Program.run.
 
     The camera sees each part cross its line at part.seen_s; the PLC queues it with the encoder's count
-    then (reported_count: the counter as the controller reads it) and presents the oldest one the
-    program has not taken: names["seq"] = its number, names["count"], names["x"], names["z"]. The program
-    takes it by writing names["ack"] = seq; then the next is presented. With the queue empty and no part
-    to come, names["stop"] turns on (the line's cycle stop). taken: seq -> when the program took it."""
+    then and presents the oldest one the program has not taken (its number, the count, x and z, through
+    the target's bus: codegen/conveyor/bus.py). The program takes it by writing its number back; then the
+    next is presented. With the queue empty and no part to come, the line's cycle stop turns on.
+    taken: seq -> when the program took it."""
 
     belt: Belt
     parts: list
-    names: dict
+    bus: object
     encoder_index: int = 0
-    reported_count: object = None  # callable(belt, t) -> the count the camera reports; None: belt.count
     taken: dict = field(default_factory=dict)
     _presented: int = 0
     _stopped: bool = False
 
     def encoder(self, index: int):
         return self.belt if index == self.encoder_index else None
+
+    def live(self, name: str, t: float):
+        return self.bus.live(self.belt, name, t)
 
     def _next(self):
         return self.parts[self._presented] if self._presented < len(self.parts) else None
@@ -110,8 +112,7 @@ class ConveyorLine:
         return max(part.seen_s, machine.clock)
 
     def on_wait(self, machine, where: str) -> bool:
-        ack = machine.read_variable(self.names["ack"])
-        if self._presented and self._presented not in self.taken and ack == self._presented:
+        if self._presented and self._presented not in self.taken and self.bus.ack(machine) == self._presented:
             self.taken[self._presented] = machine.clock
         if self._presented and self._presented not in self.taken:
             return False  # the program has not taken the part on show
@@ -119,15 +120,12 @@ class ConveyorLine:
         if part is None:
             if not self._stopped:
                 self._stopped = True
-                machine.write_variable(self.names["stop"], True)
+                self.bus.stop(machine)
                 return True
             return False
         if machine.clock < part.seen_s:
             return False
-        count = (
-            self.belt.count(part.seen_s) if self.reported_count is None else self.reported_count(self.belt, part.seen_s)
-        )
-        for key, value in (("count", count), ("x", part.x), ("z", part.z), ("seq", part.seq)):
-            machine.write_variable(self.names[key], value)
+        count = self.belt.count(part.seen_s)
+        self.bus.present(machine, {"count": count, "x": part.x, "z": part.z, "seq": part.seq})
         self._presented = part.seq
         return True

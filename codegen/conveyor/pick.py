@@ -5,9 +5,22 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 KEYS = frozenset(
-    {"window_mm", "x_range_mm", "z_range_mm", "tool_orientation", "approach_dz", "place", "tracking", "encoder_inputs"}
+    {
+        "window_mm",
+        "x_range_mm",
+        "z_range_mm",
+        "tool_orientation",
+        "approach_dz",
+        "place",
+        "tracking",
+        "encoder_inputs",
+        "intercept_mm",
+        "capture_mm",
+    }
 )
-TRACKING = ("native",)  # the controller's own conveyor tracking (UR track_conveyor_linear)
+# "native": the controller's own conveyor tracking (UR track_conveyor_linear); "intercept": the arm waits
+# above a point of the belt and comes down as the part arrives there (targets/<t>.toml conveyor_tracking)
+TRACKING = ("native", "intercept")
 MAX_MM = 10_000.0
 
 
@@ -29,6 +42,8 @@ class Pick:
     place: object
     tracking: dict
     encoder_inputs: dict
+    intercept_mm: float = 0.0  # intercept: where along the belt the gripper meets the part
+    capture_mm: float = 3.0  # intercept: how far off the gripper may meet the part and still hold it
 
 
 def _interval(ctx, table: dict, key: str, path: str, default=None) -> tuple[float, float]:
@@ -50,15 +65,29 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         ctx.fail(f"{path}.approach_dz", "must be in (0, 1000] mm: the gripper comes down from above")
     place = ctx.pose("place", ctx.require(table, "place", f"{path}.place"), f"{path}.place", pose_format)
     tracking = ctx.table(table, "tracking", f"{path}.tracking")
+    from codegen.controllers import get_target
+
     for target, mode in tracking.items():
         if target not in targets:
             ctx.fail(f"{path}.tracking.{target}", f"not one of the cell's targets ({', '.join(targets)})")
         if mode not in TRACKING:
             ctx.fail(f"{path}.tracking.{target}", f"expected one of {', '.join(TRACKING)}")
+        modes = get_target(target).program.get("conveyor_tracking", [])
+        if mode not in modes:
+            have = ", ".join(modes) if modes else "none: codegen has no conveyor program for it"
+            ctx.fail(f"{path}.tracking.{target}", f"{mode!r}: what codegen builds for {target}: {have}")
     if not tracking:
         ctx.fail(f"{path}.tracking", 'expected at least one target, e.g. { ur = "native" }')
     inputs = ctx.table(table, "encoder_inputs", f"{path}.encoder_inputs") if "encoder_inputs" in table else {}
-    for target in tracking:
+    intercept = window[0] + 0.25 * (window[1] - window[0])
+    if "intercept_mm" in table:
+        intercept = ctx.number(table, "intercept_mm", f"{path}.intercept_mm")
+        if not window[0] <= intercept <= window[1]:
+            ctx.fail(f"{path}.intercept_mm", "must lie in the window")
+    capture = ctx.number(table, "capture_mm", f"{path}.capture_mm") if "capture_mm" in table else 3.0
+    if not 0 < capture <= 50:
+        ctx.fail(f"{path}.capture_mm", "must be in (0, 50] mm")
+    for target in [t for t, mode in tracking.items() if mode == "native"]:
         if target not in inputs:
             ctx.fail(f"{path}.encoder_inputs", f"missing {target}: the digital inputs of the encoder's A and B signals")
         pair = inputs[target]
@@ -76,5 +105,7 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         approach_dz,
         place,
         dict(tracking),
-        {t: tuple(inputs[t]) for t in tracking},
+        {t: tuple(inputs[t]) for t in tracking if t in inputs},
+        intercept,
+        capture,
     )

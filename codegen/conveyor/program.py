@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.cell import TaughtPose
+from codegen.conveyor import bus
 from codegen.emit import EmitError
 from codegen.poses import zyx_deg_from_rotmat
 
@@ -12,6 +13,15 @@ from codegen.poses import zyx_deg_from_rotmat
 SKIPPED = "conveyor: skipped (past the window's end): part "
 BAD_READING = "conveyor: the camera's part is outside x_range_mm or z_range_mm: check the camera"
 STOPPED = "conveyor: the line stopped"
+TOO_LATE = "conveyor: too late to intercept, skipped: part "  # an intercepting arm that arrived after the part
+POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
+
+
+def lead_seconds(cell) -> float:
+    """How long before the part reaches the intercept point an intercepting arm starts down: the descent
+    of approach_dz at the work speed, as the controller's straight move takes it (no acceleration in the
+    interpreter's clock, nor in this lead: a real arm needs its measured descent time here)."""
+    return cell.conveyor.pick.approach_dz / cell.motion.work_speed_mm_s
 
 
 def conveyor_file_names(cell, target) -> list[str]:
@@ -61,8 +71,17 @@ def conveyor_context(cell, target, emitter) -> dict:
         "approach_dz": number(pick.approach_dz, 4),
         "place": emitter.pose(pick.place),
         "place_above": emitter.pose(TaughtPose("place_above", _xyzabc(above), "xyzabc")),
-        "encoder_inputs": list(pick.encoder_inputs[target.name]),
-        "registers": target.program["conveyor_registers"],
+        "encoder_inputs": list(pick.encoder_inputs.get(target.name, ())),
+        "registers": target.program.get("conveyor_registers"),  # UR
+        "signals": target.program.get("conveyor_signals"),  # signal groups (codegen/conveyor/bus.py)
+        "group_offset": bus.OFFSET,  # x and z on a 16-bit group: raw = round(scale x) + offset
+        "group_scale": number(bus.SCALE, 1),
+        "counter_span": 2**bus.GROUP_BITS,  # the 16-bit count's range: a difference is unwound by it
+        "counter_half": 2 ** (bus.GROUP_BITS - 1),
+        "intercept": number(pick.intercept_mm, 4),  # intercept: the gripper meets the part here (belt y)
+        "lead_s": number(lead_seconds(cell), 6),  # intercept: the descent's duration
+        "poll_s": number(POLL_S, 3),
+        "too_late": emitter.string(TOO_LATE),
         "skipped": emitter.string(SKIPPED),
         "bad_reading": emitter.string(BAD_READING),
         "stopped": emitter.string(STOPPED),

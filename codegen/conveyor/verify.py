@@ -11,13 +11,14 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.conveyor.belt import Belt, ConveyorLine, Part, part_pose, part_y
-from codegen.conveyor.program import SKIPPED, STOPPED
+from codegen.conveyor.bus import bus_for
+from codegen.conveyor.program import SKIPPED, STOPPED, TOO_LATE, lead_seconds
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.robot.expect import arm_of
 from codegen.signals import Gripper, signal_name
 from codegen.verify import TOLERANCES, _pose_errors
 
-UR_FILTERED_BITS = 16  # encoder_get_tick_count's range [0; 65536[ (URScript manual): the count the camera reports
+COUNTER_BITS = 16  # the count the program reads: UR's filtered count [0; 65536[ (URScript manual), a 16-bit group
 
 
 @dataclass(frozen=True)
@@ -70,7 +71,7 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     rng = random.Random(seed)
     conveyor, pick = cell.conveyor, cell.conveyor.pick
     e = conveyor.counts_per_mm
-    span = 2**UR_FILTERED_BITS
+    span = 2**COUNTER_BITS
     # the counter wraps about 3,000 counts after the camera saw the first part (0.5 s, at 80 mm/s): between
     # the count it reports and the counts the program reads while the part travels to the window
     ahead = 3000 + abs(e) * 80.0 * 0.5
@@ -81,13 +82,13 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
         ("varying_speed", 60.0, 0.4, rng.randrange(span)),
         ("rollover", 80.0, 0.0, near_wrap),
     ):
-        belt = Belt(speed, e, UR_FILTERED_BITS, start, wobble, period_s=5.0)
+        belt = Belt(speed, e, COUNTER_BITS, start, wobble, period_s=5.0)
         parts, t = [], 0.5
         for seq in range(1, 5):
             parts.append(_random_part(rng, pick, seq, t))
             t += rng.uniform(9.0, 14.0)
         out.append(BeltCase(category, belt, tuple(parts)))
-    belt = Belt(70.0, e, UR_FILTERED_BITS, rng.randrange(span))
+    belt = Belt(70.0, e, COUNTER_BITS, rng.randrange(span))
     late = (_random_part(rng, pick, 1, 0.5), _random_part(rng, pick, 2, 1.0), _random_part(rng, pick, 3, 16.0))
     out.append(BeltCase("part_too_late", belt, late))
     return out
@@ -100,8 +101,7 @@ def _random_part(rng, pick, seq: int, seen_s: float) -> Part:
 
 def run_case(cell, target_name: str, program, case: BeltCase):
     target = get_target(target_name)
-    names = target.program["conveyor_names"]
-    line = ConveyorLine(case.belt, list(case.parts), names)
+    line = ConveyorLine(case.belt, list(case.parts), bus_for(target))
     output = signal_name(target, "output", cell.io.output[target_name])
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
     gripper = Gripper(output, feedback, cell.io.value, "prompt")
@@ -130,7 +130,9 @@ def judge(
     frame = conveyor.frame()
     grip = np.eye(4)
     grip[:3, :3] = rotmat_from_zyx_deg(*pick.tool_orientation)
-    pos_tol = position_tolerance_mm(conveyor.counts_per_mm, target.numbers)
+    intercepts = pick.tracking[target_name] == "intercept"
+    # an intercepting arm meets the part where it predicts it: the gripper's capture range is the bound
+    pos_tol = pick.capture_mm if intercepts else position_tolerance_mm(conveyor.counts_per_mm, target.numbers)
     rot_tol = TOLERANCES[target.numbers][1]
     worst_pos = worst_rot = 0.0
     if trace.halted:
@@ -138,6 +140,18 @@ def judge(
     if list(line.taken) != [p.seq for p in case.parts]:
         return f"parts taken {list(line.taken)}, expected {[p.seq for p in case.parts]} (each once, in order)", 0.0, 0.0
     skipped = {int(m[len(SKIPPED) :]) for m in trace.messages if m.startswith(SKIPPED)}
+    too_late = {
+        int(m[len(TOO_LATE) :]): t
+        for m, t in zip(trace.messages, trace.message_times, strict=True)
+        if m.startswith(TOO_LATE)
+    }
+    for seq, t in too_late.items():  # the part was already too close to the intercept point to come down in time
+        part = next(p for p in case.parts if p.seq == seq)
+        latest = pick.intercept_mm - lead_seconds(cell) * case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
+        if part_y(case.belt, part, camera_y, t) < latest - pick.capture_mm:
+            y = part_y(case.belt, part, camera_y, t)
+            return f"part {seq} given up as too late at y {y:.1f} mm, in time for the intercept", 0.0, 0.0
+    skipped |= set(too_late)
     closes = [o for o in trace.outputs if o.name == output and o.value == cell.io.value]
     opens = [o for o in trace.outputs if o.name == output and o.value != cell.io.value][1:]  # after the first
     picked = [p for p in case.parts if p.seq not in skipped]
@@ -149,6 +163,8 @@ def judge(
         delta = (case.belt.count(takes[i]) - case.belt.count(part.seen_s)) % 2**case.belt.counter_bits
         counted_y = camera_y + _signed(delta, case.belt.counter_bits) / conveyor.counts_per_mm
         past_end = counted_y > end
+        if part.seq in too_late:
+            continue
         if part.seq in skipped:
             later = takes[i + 1] if math.isfinite(takes[i + 1]) else takes[i] + 60.0
             if not past_end and part_y(case.belt, part, camera_y, later) <= end:
@@ -194,7 +210,7 @@ def verify_conveyor(cell, target_name: str, program, files: list[str], seed: int
         try:
             trace, line, output = run_case(cell, target_name, program, case)
             problem, pos, rot = judge(cell, target_name, case, trace, line, output)
-            skipped = sum(1 for m in trace.messages if m.startswith(SKIPPED))
+            skipped = sum(1 for m in trace.messages if m.startswith((SKIPPED, TOO_LATE)))
         except Exception as exc:  # a run error is this case's mismatch
             problem, pos, rot, skipped = f"run error: {exc}", 0.0, 0.0, 0
         report.cases += 1

@@ -45,6 +45,7 @@ class SignalEvent:
 @dataclass
 class Trace:
     messages: list[str] = field(default_factory=list)
+    message_times: list[float] = field(default_factory=list)  # when each message was written (s)
     moves: list[MoveEvent] = field(default_factory=list)
     outputs: list[SignalEvent] = field(default_factory=list)
     halted: bool = False
@@ -184,6 +185,21 @@ class Machine:
         line = int(where.split(":")[1]) if where.count(":") >= 2 else 0
         event = SignalEvent(name, bool(value), line, self.clock, self.moving, len(self.trace.moves), self.tool_pose())
         self.trace.outputs.append(event)
+
+    def input_signal(self, name: str, default=False):
+        """An input as the program reads it now: a device's live value (an encoder's count that changes
+        with time, device.live(name, t)), else what the devices last set, else default."""
+        for device in self.devices:
+            live = getattr(device, "live", None)
+            value = None if live is None else live(name, self.clock)
+            if value is not None:
+                return value
+        return self.signals.get(name, default)
+
+    def message(self, text: str) -> None:
+        """A message the operator sees (the teach pendant's log or a dialog), with the moment."""
+        self.trace.messages.append(text)
+        self.trace.message_times.append(self.clock)
 
     def tool_pose(self) -> np.ndarray | None:
         """Where the tool is now (base frame): the last move's pose, moved by the tracked conveyor's

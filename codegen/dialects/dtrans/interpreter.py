@@ -254,7 +254,7 @@ class DTransCompiler(Compiler):
             if not isinstance(text, str):
                 raise RunError(f"{where}: TPWrite needs a format string")
             channel(fr)
-            fr.m.trace.messages.append(printf(text, [a(fr) for a in args], where))
+            fr.m.message(printf(text, [a(fr) for a in args], where))
 
         return run
 

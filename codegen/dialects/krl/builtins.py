@@ -145,7 +145,7 @@ def builtins() -> dict:
                 raise RunError(f"{where}: KrlMsgPar_T[{i}] needs exactly one value, has {len(values)}")
             return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
 
-        fr.m.trace.messages.append(_MSG_PARAM.sub(param, text))
+        fr.m.message(_MSG_PARAM.sub(param, text))
         handle = fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
         if str(kind).upper() in ACKNOWLEDGED:  # shown until the operator acknowledges it
             fr.m.extra["waiting"] = {**fr.m.extra.get("waiting", {}), handle: fr.m.trace.messages[-1]}

@@ -39,6 +39,7 @@ from codegen.dialects.krl.motion import (
     robroot,
     system_inputs,
 )
+from codegen.dialects.krl.signals import SignalGroups
 
 
 def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
@@ -50,7 +51,7 @@ NO_SKIP = frozenset()
 
 
 
-class KRLCompiler(InterruptStatements, io.ContinueStatement, Compiler):
+class KRLCompiler(SignalGroups, InterruptStatements, io.ContinueStatement, Compiler):
     name = "krl"
     case_insensitive = True
     index_base = 1
@@ -437,6 +438,8 @@ class KRLCompiler(InterruptStatements, io.ContinueStatement, Compiler):
                 continue
             if child.data == "decl":
                 self.data_decls.append(("decl", self.decl_items(child)))
+            elif child.data == "signal_decl":
+                self.s_signal_decl(child)
             else:
                 self.data_decls.append(("assign", self.s_assign(child)))
 

@@ -56,7 +56,7 @@ def input_read(compiler, node) -> Src | None:
         n = _number(n, where, "$IN")
         if stops:
             fr.m.arrive(where)
-        return fr.m.signals.get(f"$IN[{n}]", False)
+        return fr.m.input_signal(f"$IN[{n}]")
 
     return Src(f"{compiler.const(read)}(fr, {index})")
 

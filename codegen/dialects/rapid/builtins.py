@@ -246,7 +246,7 @@ def builtins(compiler) -> dict:
             text += num_text(kwargs["NUM"])
         if len(text) > STRING_MAX:
             raise RunError(f"{where}: TPWrite text longer than {STRING_MAX} characters")
-        fr.m.trace.messages.append(text)
+        fr.m.message(text)
 
     def _setting(args, i: int) -> str:
         """A predefined speeddata, zonedata or tooldata by its name; any other value as 'custom'."""

@@ -164,6 +164,9 @@ class RAPIDCompiler(Compiler):
 
     def e_call(self, node):
         name, args_node = node.children
+        signal = waits.signal_function(self, node, str(name), args_node)
+        if signal is not None:
+            return signal
         positional, named = self.call_args(args_node)
         args = [self.src(a) for a in positional]
         setters = self.ref_setters(str(name), positional)

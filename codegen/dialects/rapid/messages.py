@@ -50,7 +50,7 @@ def err_write(fr, args, kwargs, where: str) -> None:
     total = sum(map(len, lines))
     if total > ERRWRITE_TOTAL_MAX:
         raise RunError(f"{where}: ErrWrite reason lines have {total} characters, at most {ERRWRITE_TOTAL_MAX}")
-    fr.m.trace.messages.append(lines[0])
+    fr.m.message(lines[0])
 
 
 UIMSGBOX_ARGS = {"HEADER", "MSGLINE2", "MSGLINE3", "MSGLINE4", "MSGLINE5", "WRAP", "BUTTONS", "ICON", "RESULT"}
@@ -70,7 +70,7 @@ def ui_msg_box(compiler, node, args_node) -> Callable:
 
     def run(fr):
         text = _text(line(fr), where, "UIMsgBox message line", ERRWRITE_LINE_MAX)
-        fr.m.trace.messages.append(text)
+        fr.m.message(text)
         chosen = int(float(buttons(fr))) if buttons is not None else BUTTONS["BTNOK"]
         if chosen not in FIRST_BUTTON:
             raise RunError(f"{where}: UIMsgBox without a button the operator can press waits forever")

@@ -6,6 +6,7 @@ from collections.abc import Callable
 
 from lark import Tree
 
+from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import errors
 from codegen.dialects.rapid.arguments import split_args
@@ -148,7 +149,53 @@ def wait_di(compiler, node, args_node) -> Callable:
     return run
 
 
+# SetGO Signal, Value and the functions GInput(Signal), DInput(Signal) (RAPID instructions and
+# functions, as recalled): a group of digital signals of the I/O configuration read or written as one
+# number (GInput: up to 23 bits, a num; the group's width is the configuration's: 16 here is checked
+# against nothing but the value's range), a digital input as 0 or 1. An input's value is what the
+# devices set, or a device's live value (an encoder's count).
+GROUP_MAX = 2**23
+
+
+def set_go(compiler, node, args_node) -> Callable:
+    positional, _named = split_args(compiler, node, args_node, set())
+    if len(positional) != 2:
+        compiler.fail(node, "SetGO takes a signal and a value")
+    name, value, where = _signal(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)
+
+    def run(fr):
+        number = num(value(fr), where)
+        if number != int(number) or not 0 <= number < GROUP_MAX:
+            raise RunError(f"{where}: SetGO {name}: {number:g} is not a whole number in 0..{GROUP_MAX - 1}")
+        fr.m.outputs[name] = int(number)
+
+    return run
+
+
+def signal_function(compiler, node, name: str, args_node):
+    """GInput(signal) and DInput(signal) as expression sources, else None."""
+    key = name.upper()
+    if key not in ("GINPUT", "DINPUT"):
+        return None
+    positional, _named = split_args(compiler, node, args_node, set())
+    if len(positional) != 1:
+        compiler.fail(node, f"{name} takes one signal")
+    signal = _signal(compiler, node, positional[0])
+    if key == "GINPUT":
+
+        def read(fr):
+            value = fr.m.input_signal(signal, 0)
+            return float(int(value))
+    else:
+
+        def read(fr):
+            return float(bool(fr.m.input_signal(signal)))
+
+    return Src(f"{compiler.const(read)}(fr)")
+
+
 SPECIAL = {
+    "SETGO": set_go,
     "WAITUNTIL": wait_until,
     "WAITTIME": wait_time,
     "WAITROB": wait_rob,

@@ -177,7 +177,7 @@ class URScriptCompiler(Compiler):
 
         def textmsg(fr, args, kwargs, where):
             text = "".join(_to_text(a) for a in args)
-            fr.m.trace.messages.append(text)
+            fr.m.message(text)
 
         def register(kind):
             top = BOOLEAN_REGISTER_MAX if kind == "boolean" else REGISTER_MAX
@@ -236,7 +236,7 @@ class URScriptCompiler(Compiler):
             text = _to_text(args[0])
             if len(text) > STRING_MAX:
                 raise RunError(f"{where}: popup text longer than {STRING_MAX} characters")
-            fr.m.trace.messages.append(text)
+            fr.m.message(text)
 
         def atan2(fr, args, kwargs, where):
             return f32(math.atan2(float(args[0]), float(args[1])))
