@@ -211,8 +211,8 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
 
 
 def _conveyor_files(env, cell: Cell, target: Target, ctx: dict) -> list[RenderedFile]:
-    """The pick-from-belt program of a cell with [conveyor.pick]: "{cell}_conveyor.script" from the
-    template "conveyor.script.j2"."""
+    """The pick-from-belt program of a cell with [conveyor.pick]: "cnv_<cell>.script" from the template
+    "conveyor.script.j2" (the files' pattern "{conveyor}.script")."""
     from codegen.conveyor.program import conveyor_context, conveyor_file_names, picks_on
 
     if not picks_on(cell, target):
@@ -222,7 +222,7 @@ def _conveyor_files(env, cell: Cell, target: Target, ctx: dict) -> list[Rendered
     return [
         RenderedFile(
             f"{cell_dir(cell)}/{target.name}/{name}",
-            env.get_template(f"{target.name}/{pattern.replace('{cell}_', '')}.j2").render(cctx),
+            env.get_template(f"{target.name}/{pattern.format(conveyor='conveyor')}.j2").render(cctx),
         )
         for pattern, name in zip(target.program["conveyor_files"], names, strict=True)
     ]

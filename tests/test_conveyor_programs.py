@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -19,19 +20,28 @@ from codegen.verify_runs import load_program
 CELL = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
 
 
-def _program(cell, old: str | None = None, new: str | None = None):
-    (file,) = [f for f in render(cell, ["ur"]) if f.relpath.endswith("_conveyor.script")]
-    text = file.text
+SUFFIX = {"ur": ".script", "kuka": ".src", "abb": ".mod"}
+
+
+def _program(cell, old: str | None = None, new: str | None = None, target: str = "ur"):
+    files = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell, [target])}
+    text = files["cnv_belt_pick" + SUFFIX[target]]
     if old is not None:
         assert text.count(old) >= 1, f"{old!r} not in the program"
         text = text.replace(old, new)
-    return load_program(get_target("ur"), text, "mutant", {})
+    companions = {".dat": files["cnv_belt_pick.dat"]} if target == "kuka" else {}
+    return load_program(get_target(target), text, "mutant", companions)
 
 
-def test_the_bundled_pick_program_verifies_with_every_part_where_it_is():
+def test_the_bundled_pick_programs_verify_with_every_part_where_it_is():
+    """UR follows the belt; KUKA and ABB intercept: each part gripped where it really is, within the
+    count resolution (tracking) or the gripper's capture range (intercept)."""
     result = CliRunner().invoke(main, ["verify", str(CELL), "--json"])
     assert result.exit_code == 0, result.output
-    assert '"mismatches": 0' in result.stdout and '"parts_skipped": 1' in result.stdout
+    reports = {r["target"]: r for r in json.loads(result.stdout)["conveyors"]}
+    assert set(reports) == {"ur", "kuka", "abb"}
+    assert all(r["mismatches"] == 0 and r["cases"] == 4 and r["parts_picked"] >= 10 for r in reports.values())
+    assert reports["ur"]["pos_max_mm"] < 2 / 8.122679 and max(r["pos_max_mm"] for r in reports.values()) < 3.0
 
 
 def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
@@ -54,6 +64,37 @@ MUTATIONS = [
     ("CNV_COUNTS_PER_MM = -8.122679000", "CNV_COUNTS_PER_MM = -8.222679000", "gripped"),
     ("> CNV_END:", "> CNV_END + 1000:", "past the window's end"),
 ]
+
+
+# the intercepting programs (target, old, new, says): the lead ignored, the speed never measured again on a
+# varying belt, no unwinding of the counter, the camera's line 10 mm off
+INTERCEPT_MUTATIONS = [
+    ("kuka", "WHILE Y < CNV_INTERCEPT - V * CNV_LEAD", "WHILE Y < CNV_INTERCEPT", "gripped"),
+    ("kuka", "      V = (Y - MARK) / (POLLS * CNV_POLL)\n", "", "gripped"),
+    ("kuka", "CNV_UNWIND(CNV_ENC - SEEN)", "(CNV_ENC - SEEN)", ""),
+    ("abb", "WHILE y < CNV_INTERCEPT - v * CNV_LEAD DO", "WHILE y < CNV_INTERCEPT DO", "gripped"),
+    ("abb", "        v := (y - mark) / (polls * CNV_POLL);\n", "", "gripped"),
+    ("abb", "cnv_unwind(GInput(giCnvEncoder) - seen)", "(GInput(giCnvEncoder) - seen)", ""),
+]
+
+
+@pytest.mark.parametrize(("target", "old", "new", "says"), INTERCEPT_MUTATIONS)
+def test_an_intercept_that_misses_the_part_fails_verify(target, old, new, says):
+    cell = load_cell(CELL)
+    report = verify_conveyor(cell, target, _program(cell, old, new, target), ["mutant"])
+    assert report.mismatches > 0, report.summary()
+    assert any(says in m for m in report.first_mismatches), report.first_mismatches
+
+
+def test_a_belt_whose_counter_counts_up_verifies_on_every_target(tmp_path):
+    """The bundled belt's counter runs down (E < 0); the same belt with a counter that runs up (E > 0)
+    wraps the other way through 0 and is unwound by the other branch."""
+    path = tmp_path / "cell.toml"
+    path.write_text(CELL.read_text().replace("counts_per_mm = -8.122679", "counts_per_mm = 8.122679"))
+    cell = load_cell(path)
+    for target in ("ur", "kuka", "abb"):
+        report = verify_conveyor(cell, target, _program(cell, target=target), ["fresh"])
+        assert report.mismatches == 0 and report.picked >= 10, report.summary()
 
 
 @pytest.mark.parametrize(("old", "new", "says"), MUTATIONS)
@@ -123,16 +164,14 @@ def test_a_direction_that_is_not_a_unit_vector_is_refused():
     ("old", "new", "message"),
     [
         (
-            "window_mm = [-300.0, 250.0]",
-            "window_mm = [250.0, -300.0]",
+            "window_mm = [-150.0, 150.0]",
+            "window_mm = [150.0, -150.0]",
             r"conveyor\.pick\.window_mm: expected \[low, high\]",
         ),
-        (
-            'tracking = { ur = "native" }',
-            'tracking = { kuka = "native" }',
-            r"conveyor\.pick\.tracking\.kuka: not one of",
-        ),
-        ('tracking = { ur = "native" }', 'tracking = { ur = "predicted" }', r"conveyor\.pick\.tracking\.ur: expected"),
+        ('abb = "intercept" }', 'abb = "intercept", dtrans = "intercept" }', r"tracking\.dtrans: not one of"),
+        ('kuka = "intercept"', 'kuka = "native"', r"tracking\.kuka: 'native': what codegen builds for kuka: intercept"),
+        ('ur = "native"', 'ur = "predicted"', r"conveyor\.pick\.tracking\.ur: expected one of"),
+        ("intercept_mm = -75.0", "intercept_mm = 200.0", r"conveyor\.pick\.intercept_mm: must lie in the window"),
         ("encoder_inputs = { ur = [8, 9] }", "encoder_inputs = { ur = [8] }", r"conveyor\.pick\.encoder_inputs\.ur"),
         ("counts_per_mm = -8.122679\n", "", r"conveyor\.pick: needs the calibrated belt: counts_per_mm"),
         ("approach_dz = 60.0", "approach_dz = 0.0", r"conveyor\.pick\.approach_dz: must be in \(0, 1000\]"),
@@ -157,10 +196,10 @@ def test_a_window_the_arm_cannot_follow_is_refused_at_generate(tmp_path):
     from codegen.generate import GenerateError, check_envelope
 
     path = tmp_path / "cell.toml"
-    path.write_text(CELL.read_text().replace("window_mm = [-300.0, 250.0]", "window_mm = [-900.0, 250.0]"))
+    path.write_text(CELL.read_text().replace("window_mm = [-150.0, 150.0]", "window_mm = [-900.0, 150.0]"))
     with pytest.raises(
-        GenerateError, match=r"conveyor \(ur, UR10e\): above the part at x -120 z 5 mm, pose 1 of 12: out"
+        GenerateError, match=r"conveyor \(ur, UR10e\): above the part at x -50 z 5 mm, pose 1 of 12: out"
     ):
         check_envelope(load_cell(path), None)
     reports = check_envelope(load_cell(CELL), None)
-    assert [r.poses for r in reports if hasattr(r, "poses")] == [2 * 2 * 2 * 12 + 2]  # x, z, on/above; place
+    assert [r.poses for r in reports if hasattr(r, "poses")] == [2 * 2 * 2 * 12 + 2] * 3  # x, z, on/above; place

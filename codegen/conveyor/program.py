@@ -6,12 +6,12 @@ import numpy as np
 
 from codegen.cell import TaughtPose
 from codegen.conveyor import bus
-from codegen.emit import EmitError
+from codegen.emit import EmitError, Emitter
 from codegen.poses import zyx_deg_from_rotmat
 
 # the program's messages (the skip and stop texts verify reads back)
 SKIPPED = "conveyor: skipped (past the window's end): part "
-BAD_READING = "conveyor: the camera's part is outside x_range_mm or z_range_mm: check the camera"
+BAD_READING = "conveyor: a part outside x_range_mm or z_range_mm: check the camera"
 STOPPED = "conveyor: the line stopped"
 TOO_LATE = "conveyor: too late to intercept, skipped: part "  # an intercepting arm that arrived after the part
 POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
@@ -24,8 +24,15 @@ def lead_seconds(cell) -> float:
     return cell.conveyor.pick.approach_dz / cell.motion.work_speed_mm_s
 
 
+def conveyor_ident(cell, target) -> str:
+    """The program's name ("cnv_" and the cell's name, as the target spells identifiers)."""
+    return Emitter(target).identifier("cnv_", cell.name, "the conveyor program")
+
+
 def conveyor_file_names(cell, target) -> list[str]:
-    return [name.format(cell=cell.name) for name in target.program.get("conveyor_files", [])]
+    """The program's files, named as the program (a KRL DEF and DEFDAT carry their file's name)."""
+    ident = conveyor_ident(cell, target).lower()
+    return [name.format(conveyor=ident) for name in target.program.get("conveyor_files", [])]
 
 
 def picks_on(cell, target) -> bool:
@@ -56,7 +63,7 @@ def conveyor_context(cell, target, emitter) -> dict:
     place = pick.place.matrix()
     above = place.copy()
     above[2, 3] += pick.approach_dz
-    ident = emitter.identifier("cnv_", cell.name, "the conveyor program")
+    ident = conveyor_ident(cell, target)
     return {
         "ident": ident,
         "frame": emitter.pose(TaughtPose("belt", _xyzabc(frame), "xyzabc")),

@@ -89,7 +89,9 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
             t += rng.uniform(9.0, 14.0)
         out.append(BeltCase(category, belt, tuple(parts)))
     belt = Belt(70.0, e, COUNTER_BITS, rng.randrange(span))
-    late = (_random_part(rng, pick, 1, 0.5), _random_part(rng, pick, 2, 1.0), _random_part(rng, pick, 3, 16.0))
+    # parts 2 and 3 come right behind part 1: while the arm works on it they travel on (part 2 too late for
+    # an intercept or past the window's end, part 3 past the end when the program takes it); part 4 later
+    late = tuple(_random_part(rng, pick, seq, seen) for seq, seen in ((1, 0.5), (2, 1.0), (3, 1.5), (4, 20.0)))
     out.append(BeltCase("part_too_late", belt, late))
     return out
 
@@ -234,9 +236,11 @@ def fresh_program(cell, target_name: str):
     target = get_target(target_name)
     if not picks_on(cell, target):
         return None
-    name = conveyor_file_names(cell, target)[0]
-    file = next(f for f in render(cell, [target_name]) if f.relpath.endswith("/" + name))
-    return load_program(target, file.text, f"<fresh>/{file.relpath}", {}), [name]
+    names = conveyor_file_names(cell, target)
+    files = {f.relpath.rsplit("/", 1)[1]: f for f in render(cell, [target_name])}
+    main = files[names[0]]
+    companions = {"." + n.rsplit(".", 1)[1]: files[n].text for n in names[1:]}  # a KRL program's .dat
+    return load_program(target, main.text, f"<fresh>/{main.relpath}", companions), names
 
 
 @dataclass
@@ -281,9 +285,10 @@ def conveyor_section(cell, files: tuple, targets: tuple, seed: int) -> tuple[Con
         own = conveyor_file_names(cell, target)
         if files:
             for f in [f for f in rest if Path(f).name in own]:
-                rest.remove(f)
-                source = file_source(name, Path(f))
-                reports.append(verify_conveyor(cell, name, source.load(), list(source.files), seed))
+                rest.remove(f)  # a data file is read with its program (file_source)
+                if Path(f).name == own[0]:
+                    source = file_source(name, Path(f))
+                    reports.append(verify_conveyor(cell, name, source.load(), list(source.files), seed))
             continue
         fresh = fresh_program(cell, name)
         if fresh is not None:

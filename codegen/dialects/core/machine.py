@@ -186,6 +186,11 @@ class Machine:
         event = SignalEvent(name, bool(value), line, self.clock, self.moving, len(self.trace.moves), self.tool_pose())
         self.trace.outputs.append(event)
 
+    def output_written(self, where: str) -> None:
+        """The program wrote an output a device watches (a register, a group): the devices see it now,
+        not only at the program's next wait."""
+        self.wait(where)
+
     def input_signal(self, name: str, default=False):
         """An input as the program reads it now: a device's live value (an encoder's count that changes
         with time, device.live(name, t)), else what the devices last set, else default."""

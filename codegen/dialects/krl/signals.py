@@ -94,5 +94,6 @@ class SignalGroups:
                 on = bool((v >> bit) & 1)
                 if fr.m.signals.get(f"$OUT[{n}]", False) != on:
                     fr.m.set_output(f"$OUT[{n}]", on, where)
+            fr.m.output_written(where)
 
         return store

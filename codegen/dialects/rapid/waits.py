@@ -149,7 +149,7 @@ def wait_di(compiler, node, args_node) -> Callable:
     return run
 
 
-# SetGO Signal, Value and the functions GInput(Signal), DInput(Signal) (RAPID instructions and
+# SetGO Signal, Value and the functions GInput(Signal), GOutput(Signal), DInput(Signal) (RAPID instructions and
 # functions, as recalled): a group of digital signals of the I/O configuration read or written as one
 # number (GInput: up to 23 bits, a num; the group's width is the configuration's: 16 here is checked
 # against nothing but the value's range), a digital input as 0 or 1. An input's value is what the
@@ -168,6 +168,7 @@ def set_go(compiler, node, args_node) -> Callable:
         if number != int(number) or not 0 <= number < GROUP_MAX:
             raise RunError(f"{where}: SetGO {name}: {number:g} is not a whole number in 0..{GROUP_MAX - 1}")
         fr.m.outputs[name] = int(number)
+        fr.m.output_written(where)
 
     return run
 
@@ -175,7 +176,7 @@ def set_go(compiler, node, args_node) -> Callable:
 def signal_function(compiler, node, name: str, args_node):
     """GInput(signal) and DInput(signal) as expression sources, else None."""
     key = name.upper()
-    if key not in ("GINPUT", "DINPUT"):
+    if key not in ("GINPUT", "DINPUT", "GOUTPUT"):
         return None
     positional, _named = split_args(compiler, node, args_node, set())
     if len(positional) != 1:
@@ -186,6 +187,10 @@ def signal_function(compiler, node, name: str, args_node):
         def read(fr):
             value = fr.m.input_signal(signal, 0)
             return float(int(value))
+    elif key == "GOUTPUT":  # what the program last wrote with SetGO (0 before)
+
+        def read(fr):
+            return float(fr.m.outputs.get(signal, 0))
     else:
 
         def read(fr):

@@ -199,6 +199,7 @@ class URScriptCompiler(Compiler):
             if not 0 <= index <= REGISTER_MAX:
                 raise RunError(f"{where}: register {index} out of range 0..{REGISTER_MAX}")
             fr.m.outputs[f"output_integer_register_{index}"] = int(args[1])
+            fr.m.output_written(where)
 
         def read_output_integer_register(fr, args, kwargs, where):
             index = int(args[0])
