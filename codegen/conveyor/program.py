@@ -30,7 +30,7 @@ def conveyor_ident(cell, target) -> str:
 
 
 def conveyor_file_names(cell, target) -> list[str]:
-    """The program's files, named as the program (a KRL DEF and DEFDAT carry their file's name)."""
+    """The program's files, named as the program (some controllers require it of a module's files)."""
     ident = conveyor_ident(cell, target).lower()
     return [name.format(conveyor=ident) for name in target.program.get("conveyor_files", [])]
 

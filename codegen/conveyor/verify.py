@@ -239,7 +239,7 @@ def fresh_program(cell, target_name: str):
     names = conveyor_file_names(cell, target)
     files = {f.relpath.rsplit("/", 1)[1]: f for f in render(cell, [target_name])}
     main = files[names[0]]
-    companions = {"." + n.rsplit(".", 1)[1]: files[n].text for n in names[1:]}  # a KRL program's .dat
+    companions = {"." + n.rsplit(".", 1)[1]: files[n].text for n in names[1:]}  # a data file beside it
     return load_program(target, main.text, f"<fresh>/{main.relpath}", companions), names
 
 
