@@ -207,6 +207,9 @@ def identities(derivation: Derivation | None = None) -> list[Identity]:
 
     result.extend(pallet_identities())
     result.extend(box_pose_identities())
+    from codegen.laser.derivation import laser_identities  # it builds on this module
+
+    result.extend(laser_identities())
     return result
 
 

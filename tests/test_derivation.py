@@ -28,6 +28,13 @@ EXPECTED = {
     "box_pose_on_a_level_pallet": "holds",
     "box_offset_in_the_pallet_frame": "holds",
     "box_offset_along_the_tool": "refuted",
+    "laser_circle_centre": "holds",
+    "laser_surface_at_crossing": "holds",
+    "source_laser_centre_from_readings": "refuted",
+    "laser_centre_corrected_for_the_pin": "holds",
+    "laser_axis_from_two_centres": "holds",
+    "laser_step_keeps_the_axis": "holds",
+    "source_laser_tip_uncorrected": "refuted",
 }
 
 

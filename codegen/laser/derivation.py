@@ -1,0 +1,102 @@
+"""Source 003's laser-sensor TCP geometry in sympy: circle centres, the tool axis, the tip, the pin's radius."""
+
+# The sensor frame S (DESIGN.md section 1.5): the two beams lie in S's xy-plane (z = 0) and cross at right
+# angles at its origin; beam X runs along S's x from a sensor on its -x side, beam Y along S's y. The tool
+# is a pin of radius rho about its axis, direction u = (ux, uy, uz) in S (unit, uz > 0: from the tip up).
+# Moved with a fixed orientation, the flange carries the axis without turning it: on a horizontal circle
+# of radius r the axis meets the beams' plane on a circle of radius r about a centre c.
+
+from __future__ import annotations
+
+from functools import cache
+
+import sympy as sp
+
+from codegen.derivation import Identity, _check
+
+cx, cy, cz = sp.symbols("cx cy cz", real=True)  # the circle's centre (where the axis meets z = 0), mm
+r, rho, dz = sp.symbols("r rho dz", positive=True)  # circle radius, pin radius, height step of the flange
+ux, uy = sp.symbols("ux uy", real=True)
+uz = sp.sqrt(1 - ux**2 - uy**2)  # u is a unit vector pointing up
+x, d, lam, s = sp.symbols("x d lam s", real=True)
+ax, ay, az = sp.symbols("ax ay az", real=True)  # a point of the axis, S
+
+
+def crossings() -> list:
+    """Where the axis point's circle (x - cx)^2 + (y - cy)^2 = r^2 crosses beam X (y = 0), solved."""
+    return sp.solve(sp.Eq((x - cx) ** 2 + cy**2, r**2), x)
+
+
+def near_surface_offset() -> sp.Expr:
+    """How far before the axis beam X meets the pin's surface when the axis crosses the beam: the beam
+    line's points at (d, 0, 0) from the axis point lie |d| sqrt(1 - ux^2) from the axis."""
+    return -rho / sp.sqrt(1 - ux**2)
+
+
+def plane_point(point: sp.Matrix) -> sp.Matrix:
+    """Where the axis through `point` (direction u) meets the beams' plane z = 0."""
+    u = sp.Matrix([ux, uy, uz])
+    return point - (point[2] / uz) * u
+
+
+@cache  # independent of the correction's derivation: proved once per process
+def laser_identities() -> list[Identity]:
+    u = sp.Matrix([ux, uy, uz])
+    low, high = crossings()
+    mean = (low + high) / 2
+    offset = near_surface_offset()
+    distance_sq = (sp.Matrix([offset, 0, 0]).cross(u)).dot(sp.Matrix([offset, 0, 0]).cross(u))
+    axis_point = sp.Matrix([ax, ay, az])
+    c1 = plane_point(axis_point)
+    c2 = plane_point(axis_point + sp.Matrix([0, 0, dz]))  # the flange raised by dz, the same orientation
+    stepped = axis_point - lam * u  # the flange stepped down the axis by lam
+    raw = (low + offset + high + offset) / 2  # the two readings' mean, as the source takes it
+    return [
+        _check(
+            "laser_circle_centre",
+            "the circle crosses beam X at x1, x2 (solved): (x1 + x2)/2 = cx   (source 003; likewise beam Y: cy)",
+            "holds",
+            mean - cx,
+        ),
+        _check(
+            "laser_surface_at_crossing",
+            "as the axis crosses beam X, the beam meets the pin's surface rho / sqrt(1 - ux^2) before the axis",
+            "holds",
+            distance_sq - rho**2,
+        ),
+        _check(
+            "source_laser_centre_from_readings",
+            "the readings' mean (x1' + x2')/2 is the circle's centre cx   (source 003: the sensor sees the "
+            "pin's surface, not its axis; pin radius 1.5 mm)",
+            "refuted",
+            raw - cx,
+            fixed={rho: sp.Rational(3, 2), ux: 0, cy: 1, r: 20},
+        ),
+        _check(
+            "laser_centre_corrected_for_the_pin",
+            "(x1' + x2')/2 + rho / sqrt(1 - ux^2) = cx   (the readings' centre corrected for the pin's radius)",
+            "holds",
+            raw - offset - cx,
+        ),
+        _check(
+            "laser_axis_from_two_centres",
+            "the flange raised by dz moves the axis point by -dz (ux, uy)/uz: (c1 - c2)/dz = (ux/uz, uy/uz), "
+            "whatever offset both centres share (the pin's radius cancels)",
+            "holds",
+            sp.Matrix([(c1[0] - c2[0]) / dz - ux / uz, (c1[1] - c2[1]) / dz - uy / uz, c2[2]]),
+        ),
+        _check(
+            "laser_step_keeps_the_axis",
+            "stepping the flange along u moves the axis along itself: the tip meets z = 0 at the axis point c",
+            "holds",
+            sp.Matrix.vstack((stepped - axis_point).cross(u), plane_point(stepped) - c1),
+        ),
+        _check(
+            "source_laser_tip_uncorrected",
+            "with the axis put at the readings' centre (uncorrected), the beams pass through the pin's axis "
+            "(each passes rho from it, shifted by the other beam's offset: it only grazes the pin; 1.5 mm)",
+            "refuted",
+            sp.sqrt(distance_sq),
+            fixed={rho: sp.Rational(3, 2), ux: sp.Rational(1, 10), uy: sp.Rational(1, 10)},
+        ),
+    ]
