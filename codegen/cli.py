@@ -263,6 +263,9 @@ def verify(
         conveyors, files = conveyor_section(model, files, targets, seed)  # against simulated belts
     except RunError as exc:
         raise click.ClickException(str(exc)) from None
+    if not model.stations and files:  # files that are none of this cell's programs: nothing would judge them
+        names = ", ".join(Path(f).name for f in files)
+        raise UserError(f"{names}: not a program of {model.name}'s pallets or conveyor (named as the program)")
     if (pallets is not None or conveyors is not None) and (not model.stations or (files_given and not files)):
         _finish_sections(model, pallets, conveyors, as_json)
     from codegen.emit import EmitError
@@ -359,6 +362,8 @@ def verify(
 def _finish_sections(model, pallets, conveyors, as_json: bool) -> None:
     """A cell (or files) with pallet or conveyor programs only: report them and exit (0: all matched)."""
     sections = [s for s in (pallets, conveyors) if s is not None]
+    if not any(s.reports for s in sections):
+        raise UserError(f"{model.source}: no program verified (no pallet or conveyor program for the targets asked)")
     ok = all(s.ok for s in sections)
     if as_json:
         out = {"cell": model.name, "ok": ok}

@@ -90,6 +90,7 @@ _PROGRAM = {
     "conveyor_registers": dict,  # the part queue's registers by role (seq, count, x, z, ack, stop)
     "conveyor_names": dict,  # the same by the names devices and `codegen run --input` use
     "conveyor_signals": dict,  # the queue as groups of digital signals (ranges of numbered signals, or named signals)
+    "conveyor_encoder_inputs": list,  # the lowest and highest digital input an encoder's A and B may use
     "conveyor_tracking": list,  # how the pick program follows the belt: "native", "intercept"
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")

@@ -13,7 +13,8 @@ from codegen.cli import main
 from codegen.controllers import get_target
 from codegen.conveyor.belt import Belt, ConveyorLine, Part, part_y
 from codegen.conveyor.bus import RegisterBus
-from codegen.conveyor.verify import cases, position_tolerance_mm, verify_conveyor
+from codegen.conveyor.judge import tolerances_mm
+from codegen.conveyor.verify import cases, verify_conveyor
 from codegen.render import render
 from codegen.verify_runs import load_program
 
@@ -40,14 +41,14 @@ def test_the_bundled_pick_programs_verify_with_every_part_where_it_is():
     assert result.exit_code == 0, result.output
     reports = {r["target"]: r for r in json.loads(result.stdout)["conveyors"]}
     assert set(reports) == {"ur", "kuka", "abb"}
-    assert all(r["mismatches"] == 0 and r["cases"] == 4 and r["parts_picked"] >= 10 for r in reports.values())
+    assert all(r["mismatches"] == 0 and r["cases"] == 5 and r["parts_picked"] >= 10 for r in reports.values())
     assert reports["ur"]["pos_max_mm"] < 2 / 8.122679 and max(r["pos_max_mm"] for r in reports.values()) < 3.0
 
 
 def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
     cell = load_cell(CELL)
     found = {c.category: c for c in cases(cell)}
-    assert set(found) == {"constant_speed", "varying_speed", "rollover", "part_too_late"}
+    assert set(found) == {"constant_speed", "varying_speed", "rollover", "part_too_late", "fast_belt"}
     assert found["varying_speed"].belt.wobble > 0
     rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel
     first = rollover.parts[0]
@@ -58,11 +59,14 @@ def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
 # (old, new, what the verdict must say): each a program that moves somewhere else than the part is
 MUTATIONS = [
     ("CNV_DIR = p[0.499994000, -0.866029000,", "CNV_DIR = p[-0.499994000, 0.866029000,", "gripped"),
-    ("encoder_unwind_delta_tick_count(0, encoder_get_tick_count(0) - seen)", "(encoder_get_tick_count(0) - seen)", ""),
+    ("cnv_unwind(read_input_integer_register(45) - seen)", "(read_input_integer_register(45) - seen)", ""),
     ("    track_conveyor_linear(CNV_DIR, CNV_TICKS_PER_M)\n", "", "gripped"),
     ("CNV_CAMERA_Y = -1200.0970", "CNV_CAMERA_Y = -1190.0970", "gripped"),
     ("CNV_COUNTS_PER_MM = -8.122679000", "CNV_COUNTS_PER_MM = -8.222679000", "gripped"),
     ("> CNV_END:", "> CNV_END + 1000:", "past the window's end"),
+    ("    movel(cnv_on_part(x, y, z, CNV_DZ), a=1.2, v=0.5000)\n", "", "above it before the descent"),
+    ("CNV_DZ = 60.0000", "CNV_DZ = 0.0", "in height"),
+    ("if cnv_y(seen) > CNV_END:", "if cnv_y(seen) > CNV_END or read_input_boolean_register(64):", "in the window"),
 ]
 
 
@@ -105,10 +109,23 @@ def test_a_program_that_misses_the_part_fails_verify(old, new, says):
     assert any(says in m for m in report.first_mismatches), report.first_mismatches
 
 
-def test_the_tolerance_is_two_counts_of_travel():
-    """2 / |E| mm: the program knows the part's place in whole counts (at the start of tracking and in the
-    tracking offset); the bundled belt's 8.12 counts per mm give 0.25 mm."""
-    assert position_tolerance_mm(-8.122679, "float32") == pytest.approx(2 / 8.122679 + 0.005)
+def test_the_tolerance_is_two_counts_of_travel_or_the_capture_range():
+    """Along the belt 2 / |E| mm for tracking (the program knows the part's place in whole counts, at the
+    start of tracking and in the tracking offset: 0.25 mm for the bundled belt's 8.12 counts per mm) and
+    the gripper's capture range for an intercept; across and in height, x and z as the queue carries them
+    (registers: exact; 16-bit groups: 0.05 mm); plus the float32 arithmetic."""
+    cell = load_cell(CELL)
+    assert tolerances_mm(cell, get_target("ur")) == pytest.approx((2 / 8.122679 + 0.005, 0.005))
+    assert tolerances_mm(cell, get_target("kuka")) == pytest.approx((3.005, 0.055))
+
+
+def test_a_file_that_is_none_of_the_cells_programs_is_refused(tmp_path):
+    """A program under another name would be judged by nothing: verify refuses it instead of passing."""
+    (file,) = [f for f in render(load_cell(CELL), ["ur"]) if f.relpath.endswith(".script")]
+    other = tmp_path / "other.script"
+    other.write_text(file.text)
+    result = CliRunner().invoke(main, ["verify", str(CELL), str(other)])
+    assert result.exit_code == 2 and "other.script: not a program of belt_pick" in result.output
 
 
 def test_the_simulated_belt_counts_and_wraps_on_its_own():
@@ -175,6 +192,11 @@ def test_a_direction_that_is_not_a_unit_vector_is_refused():
         ("encoder_inputs = { ur = [8, 9] }", "encoder_inputs = { ur = [8] }", r"conveyor\.pick\.encoder_inputs\.ur"),
         ("counts_per_mm = -8.122679\n", "", r"conveyor\.pick: needs the calibrated belt: counts_per_mm"),
         ("approach_dz = 60.0", "approach_dz = 0.0", r"conveyor\.pick\.approach_dz: must be in \(0, 1000\]"),
+        ("encoder_inputs = { ur = [8, 9] }", "encoder_inputs = { ur = [8, 8] }", r"two different inputs in 8\.\.11"),
+        ("encoder_inputs = { ur = [8, 9] }", "encoder_inputs = { ur = [0, 1] }", r"two different inputs in 8\.\.11"),
+        ("camera_offset_mm = 1200.097", "camera_offset_mm = 100.0", r"window_mm: must start downstream of the camera"),
+        ("camera_offset_mm = 1200.097", "camera_offset_mm = 9000.0", r"allows 16384: bring the window closer"),
+        ("capture_mm = 3.0", "capture_mm = 0.2", r"capture_mm: two counts of the encoder \(0\.25 mm\) exceed"),
     ],
 )
 def test_a_bad_pick_table_is_refused_naming_the_key(tmp_path, old, new, message):

@@ -315,10 +315,10 @@ def test_a_pallet_named_like_the_cells_program_or_beyond_the_registers_is_refuse
     cell.write_text(demo.replace('name = "agv_machine_tending"', 'name = "pal_agv_machine_tending"', 1) + "\n" + pallet)
     with pytest.raises(EmitError, match="both map to the identifier"):
         render(load_cell(cell), ["ur"])
-    eleven = "".join(pallet.replace('name = "agv_machine_tending"', f'name = "p{i}"', 1) for i in range(11))
-    cell.write_text(demo + "\n" + eleven)
+    ten = "".join(pallet.replace('name = "agv_machine_tending"', f'name = "p{i}"', 1) for i in range(10))
+    cell.write_text(demo + "\n" + ten)
     with pytest.raises(
-        EmitError, match=r"pallet 11's counters would need registers 46 and 47; the controller's last is 45"
+        EmitError, match=r"pallet 10's counters would need registers 44 and 45; the controller's last is 43"
     ):
         render(load_cell(cell), ["ur"])
 

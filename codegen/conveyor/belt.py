@@ -78,6 +78,18 @@ def part_pose(belt2base: np.ndarray, belt: Belt, part: Part, camera_y: float, t:
     return belt2base @ place @ grip
 
 
+@dataclass(frozen=True)
+class RobotEncoder:
+    """The controller's own encoder input on the same belt: the same counts from another zero (it was
+    enabled at another moment than the PLC's counter)."""
+
+    belt: Belt
+    zero: int
+
+    def unwrapped_count(self, t: float) -> int:
+        return self.belt.unwrapped_count(t) + self.zero
+
+
 @dataclass
 class ConveyorLine:
     """The belt, its camera and the PLC's part queue beside the controller, a device of Program.run.
@@ -92,12 +104,13 @@ class ConveyorLine:
     parts: list
     bus: object
     encoder_index: int = 0
+    robot_zero: int = 0  # where the controller's own encoder counts from, against the PLC's counter
     taken: dict = field(default_factory=dict)
     _presented: int = 0
     _stopped: bool = False
 
     def encoder(self, index: int):
-        return self.belt if index == self.encoder_index else None
+        return RobotEncoder(self.belt, self.robot_zero) if index == self.encoder_index else None
 
     def live(self, name: str, t: float):
         return self.bus.live(self.belt, name, t)

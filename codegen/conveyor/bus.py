@@ -22,8 +22,9 @@ def decode_mm(raw: int) -> float:
 
 
 class RegisterBus:
-    """Registers the device writes and reads by name (conveyor_names); the program reads the encoder
-    through the controller's own encoder functions (the device's encoder()), not through the bus."""
+    """Registers the device writes and reads by name (conveyor_names); the PLC's counter now is a live
+    register (its count at the reading's moment). The controller's own encoder input (the device's
+    encoder()) counts the same belt from another zero: it serves the tracking only."""
 
     def __init__(self, names: dict) -> None:
         self.names = names
@@ -39,7 +40,7 @@ class RegisterBus:
         machine.write_variable(self.names["stop"], True)
 
     def live(self, belt, name: str, t: float):
-        return None
+        return belt.count(t) if name == self.names["encoder"] else None
 
 
 class BitBus:

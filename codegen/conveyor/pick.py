@@ -88,6 +88,7 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
     if not 0 < capture <= 50:
         ctx.fail(f"{path}.capture_mm", "must be in (0, 50] mm")
     for target in [t for t, mode in tracking.items() if mode == "native"]:
+        low, high = get_target(target).program.get("conveyor_encoder_inputs", [0, 4095])
         if target not in inputs:
             ctx.fail(f"{path}.encoder_inputs", f"missing {target}: the digital inputs of the encoder's A and B signals")
         pair = inputs[target]
@@ -97,6 +98,8 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
             or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
         ):
             ctx.fail(f"{path}.encoder_inputs.{target}", "expected [A, B]: two digital input numbers")
+        if pair[0] == pair[1] or not all(low <= v <= high for v in pair):
+            ctx.fail(f"{path}.encoder_inputs.{target}", f"expected two different inputs in {low}..{high}")
     return Pick(
         window,
         x_range,

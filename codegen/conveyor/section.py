@@ -84,4 +84,29 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
         if missing:
             ctx.fail("conveyor.pick", f"needs the calibrated belt: {', '.join(missing)} (codegen calibrate conveyor)")
         out["pick"] = parse_pick(ctx, ctx.table(table, "pick", "conveyor.pick"), targets, pose_format)
+        check_pick(ctx, out["counts_per_mm"], out["camera_offset_mm"], out["pick"])
     return Conveyor(**out)
+
+
+COUNTER_RANGE = 2**16  # the pick programs read a 16-bit count (codegen/conveyor/bus.py)
+
+
+def check_pick(ctx, counts_per_mm: float, camera_offset_mm: float, pick) -> None:
+    """What the programs need of the belt: the camera's line upstream of the window; a part's travel from
+    it to the window's end within a quarter of the 16-bit counter (a difference is unwound once: a part
+    taken as late again is still counted right); two counts of travel within the gripper's capture."""
+    start, end = pick.window_mm
+    if -camera_offset_mm >= start:
+        ctx.fail("conveyor.pick.window_mm", f"must start downstream of the camera's line (y {-camera_offset_mm:g} mm)")
+    counts = abs(counts_per_mm) * (camera_offset_mm + end)
+    if counts > COUNTER_RANGE / 4:
+        ctx.fail(
+            "conveyor.pick.window_mm",
+            f"the camera's line to the window's end is {counts:.0f} counts; the programs' 16-bit count "
+            f"allows {COUNTER_RANGE // 4}: bring the window closer to the camera",
+        )
+    if 2.0 / abs(counts_per_mm) > pick.capture_mm:
+        ctx.fail(
+            "conveyor.pick.capture_mm",
+            f"two counts of the encoder ({2.0 / abs(counts_per_mm):.2f} mm) exceed the gripper's capture range",
+        )

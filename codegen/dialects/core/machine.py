@@ -26,6 +26,7 @@ class MoveEvent:
     settings: dict = field(default_factory=dict)  # how the arm moves there, in the dialect's terms
     joints: np.ndarray | None = None  # deg, where the arm's axes end (None: the run has no arm)
     solutions: np.ndarray | None = None  # (8, 6) deg: every analytic solution of the pose (a pose target)
+    end_time: float = 0.0  # when the arm arrives, in the program's clock (s)
 
 
 @dataclass
@@ -174,6 +175,7 @@ class Machine:
         if seconds is None:
             seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
         self.arm_until = start + seconds
+        event.end_time = self.arm_until
         self._last_tcp2base = event.tcp2base
         self.last_move = event
         if not runs_ahead:

@@ -187,7 +187,8 @@ class URScriptCompiler(Compiler):
                 if not 0 <= index <= top:
                     raise RunError(f"{where}: register {index} out of range 0..{top}")
                 key = f"input_{kind}_register_{index}"
-                value = fr.m.inputs.get(key, 0)
+                live = fr.m.input_signal(key, None)  # a device's value that changes with time (a counter)
+                value = fr.m.inputs.get(key, 0) if live is None else live
                 if kind == "boolean":
                     return bool(value)
                 return int(value) if kind == "integer" else f32(value)
