@@ -14,6 +14,9 @@ from codegen.conveyor.program import SKIPPED, TOO_LATE
 from codegen.robot.expect import arm_of
 from codegen.signals import Gripper, signal_name
 
+# a run's statements: the bundled cell's longest case takes 86,000 (UR polls the queue every 8 ms); a program
+# that waits for a part it has lost (a counter read wrongly) stops here, not after minutes
+STEP_LIMIT = 400_000
 COUNTER_BITS = 16  # the count the program reads: UR's filtered count [0; 65536[ (URScript manual), a 16-bit group
 
 
@@ -108,12 +111,15 @@ def run_case(cell, target_name: str, program, case: BeltCase):
         signals={feedback: False},
         arm=arm,
         start_joints=None if arm is None else cell.robot.home[target_name],
-        step_limit=2_000_000,
+        step_limit=STEP_LIMIT,
     )
     return trace, line, output
 
 
-def verify_conveyor(cell, target_name: str, program, files: list[str], seed: int = 0) -> ConveyorReport:
+def verify_conveyor(
+    cell, target_name: str, program, files: list[str], seed: int = 0, first_only: bool = False
+) -> ConveyorReport:
+    """Every case on one target's program (first_only: stop at the first mismatch)."""
     report = ConveyorReport(target_name, files)
     started = time.perf_counter()
     for case in cases(cell, seed):
@@ -132,6 +138,8 @@ def verify_conveyor(cell, target_name: str, program, files: list[str], seed: int
             report.mismatches += 1
             if len(report.first_mismatches) < 5:
                 report.first_mismatches.append(f"{case.category}: {problem}")
+            if first_only:
+                break
     report.seconds = time.perf_counter() - started
     return report
 
