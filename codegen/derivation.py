@@ -8,6 +8,8 @@ from functools import cache
 
 import sympy as sp
 
+from codegen.symrot import rot2, rotx3, roty3, rotz3
+
 # Symbols, named after the frames they belong to (DESIGN.md section 1.1).
 # t = calibration mark (tx, ty, t_theta), tn = current mark, P = taught pose, Pn = corrected pose.
 tx, ty, t_theta = sp.symbols("tx ty t_theta", real=True)
@@ -20,22 +22,6 @@ a, b, c = sp.symbols("a b c", real=True)  # Euler Z-Y-X angles of a taught orien
 P = sp.Matrix([Px, Py])
 t = sp.Matrix([tx, ty])
 tn = sp.Matrix([tnx, tny])
-
-
-def rot2(angle) -> sp.Matrix:
-    return sp.Matrix([[sp.cos(angle), -sp.sin(angle)], [sp.sin(angle), sp.cos(angle)]])
-
-
-def rotz3(angle) -> sp.Matrix:
-    return sp.Matrix([[sp.cos(angle), -sp.sin(angle), 0], [sp.sin(angle), sp.cos(angle), 0], [0, 0, 1]])
-
-
-def roty3(angle) -> sp.Matrix:
-    return sp.Matrix([[sp.cos(angle), 0, sp.sin(angle)], [0, 1, 0], [-sp.sin(angle), 0, sp.cos(angle)]])
-
-
-def rotx3(angle) -> sp.Matrix:
-    return sp.Matrix([[1, 0, 0], [0, sp.cos(angle), -sp.sin(angle)], [0, sp.sin(angle), sp.cos(angle)]])
 
 
 @dataclass(frozen=True)
@@ -203,13 +189,12 @@ def identities(derivation: Derivation | None = None) -> list[Identity]:
         )
     )
     result.extend(frame_identities())
-    from codegen.pallet.derivation import box_pose_identities, pallet_identities  # they build on this module
+    from codegen.laser.derivation import laser_identities
+    from codegen.pallet.derivation import box_pose_identities, pallet_identities
 
-    result.extend(pallet_identities())
-    result.extend(box_pose_identities())
-    from codegen.laser.derivation import laser_identities  # it builds on this module
-
-    result.extend(laser_identities())
+    result.extend(pallet_identities(_check))
+    result.extend(box_pose_identities(_check))
+    result.extend(laser_identities(_check))
     return result
 
 
@@ -310,7 +295,7 @@ def cse_blocks(derivation: Derivation | None = None) -> dict[str, dict]:
     exprs = exported_expressions(derivation)
     new_d, _new_alpha = frame_update(+1)
     exprs["new_dx"], exprs["new_dy"] = new_d[0], new_d[1]
-    from codegen.pallet.derivation import level_box_position  # it builds on this module
+    from codegen.pallet.derivation import level_box_position
 
     exprs["box_px"], exprs["box_py"] = level_box_position()
     blocks = {}

@@ -1,4 +1,6 @@
-"""Source 003's laser-sensor TCP geometry in sympy: circle centres, the tool axis, the tip, the pin's radius."""
+"""Source 003's laser-sensor TCP geometry in sympy: circle centres, the tool axis, the tip, the pin's radius.
+
+Proven with the check codegen/derivation.py passes in, as codegen/pallet/derivation.py."""
 
 # The sensor frame S (DESIGN.md section 1.5): the two beams lie in S's xy-plane (z = 0) and cross at right
 # angles at its origin; beam X runs along S's x from a sensor on its -x side, beam Y along S's y. The tool
@@ -11,8 +13,6 @@ from __future__ import annotations
 from functools import cache
 
 import sympy as sp
-
-from codegen.derivation import Identity, _check
 
 cx, cy, cz = sp.symbols("cx cy cz", real=True)  # the circle's centre (where the axis meets z = 0), mm
 r, rho, dz = sp.symbols("r rho dz", positive=True)  # circle radius, pin radius, height step of the flange
@@ -40,7 +40,7 @@ def plane_point(point: sp.Matrix) -> sp.Matrix:
 
 
 @cache  # independent of the correction's derivation: proved once per process
-def laser_identities() -> list[Identity]:
+def laser_identities(check) -> list:
     u = sp.Matrix([ux, uy, uz])
     low, high = crossings()
     mean = (low + high) / 2
@@ -52,19 +52,19 @@ def laser_identities() -> list[Identity]:
     stepped = axis_point - lam * u  # the flange stepped down the axis by lam
     raw = (low + offset + high + offset) / 2  # the two readings' mean, as the source takes it
     return [
-        _check(
+        check(
             "laser_circle_centre",
             "the circle crosses beam X at x1, x2 (solved): (x1 + x2)/2 = cx   (source 003; likewise beam Y: cy)",
             "holds",
             mean - cx,
         ),
-        _check(
+        check(
             "laser_surface_at_crossing",
             "as the axis crosses beam X, the beam meets the pin's surface rho / sqrt(1 - ux^2) before the axis",
             "holds",
             distance_sq - rho**2,
         ),
-        _check(
+        check(
             "source_laser_centre_from_readings",
             "the readings' mean (x1' + x2')/2 is the circle's centre cx   (source 003: the sensor sees the "
             "pin's surface, not its axis; pin radius 1.5 mm)",
@@ -72,26 +72,26 @@ def laser_identities() -> list[Identity]:
             raw - cx,
             fixed={rho: sp.Rational(3, 2), ux: 0, cy: 1, r: 20},
         ),
-        _check(
+        check(
             "laser_centre_corrected_for_the_pin",
             "(x1' + x2')/2 + rho / sqrt(1 - ux^2) = cx   (the readings' centre corrected for the pin's radius)",
             "holds",
             raw - offset - cx,
         ),
-        _check(
+        check(
             "laser_axis_from_two_centres",
             "the flange raised by dz moves the axis point by -dz (ux, uy)/uz: (c1 - c2)/dz = (ux/uz, uy/uz), "
             "whatever offset both centres share (the pin's radius cancels)",
             "holds",
             sp.Matrix([(c1[0] - c2[0]) / dz - ux / uz, (c1[1] - c2[1]) / dz - uy / uz, c2[2]]),
         ),
-        _check(
+        check(
             "laser_step_keeps_the_axis",
             "stepping the flange along u moves the axis along itself: the tip meets z = 0 at the axis point c",
             "holds",
             sp.Matrix.vstack((stepped - axis_point).cross(u), plane_point(stepped) - c1),
         ),
-        _check(
+        check(
             "source_laser_tip_uncorrected",
             "with the axis put at the readings' centre (uncorrected), the beams pass through the pin's axis "
             "(each passes rho from it, shifted by the other beam's offset: it only grazes the pin; 1.5 mm)",

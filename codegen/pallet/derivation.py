@@ -1,4 +1,7 @@
-"""Palletizing's math in sympy (source 004): the pallet frame from three points and the box pose, proven."""
+"""Palletizing's math in sympy (source 004): the pallet frame from three points and the box pose, proven.
+
+The identities are proven with the check codegen/derivation.py passes in (check(name, statement,
+expected, residual[, fixed]) -> Identity): this module does not import it, it is imported by it."""
 
 from __future__ import annotations
 
@@ -6,7 +9,7 @@ from functools import cache
 
 import sympy as sp
 
-from codegen.derivation import Identity, _check, rotx3, roty3, rotz3
+from codegen.symrot import rotx3, roty3, rotz3
 
 # Palletizing (source 004): the pallet frame from three taught points, O on the pallet, PX on its +x, PY on
 # the +y side; u = PX - O, v = PY - O (DESIGN.md section 1.4).
@@ -29,18 +32,18 @@ def source_pallet_frame(u: sp.Matrix, v: sp.Matrix) -> sp.Matrix:
 
 
 @cache  # independent of the derivation: proved once per process
-def pallet_identities() -> list[Identity]:
+def pallet_identities(check) -> list:
     five = sp.pi / 36  # PY taught 5 deg off square: v turned 5 deg from the true y axis
     off_square = {ux: 104, uy: 0, uz: 0, vx: 78 * sp.sin(five), vy: 78 * sp.cos(five), vz: 0}
     frame, source = pallet_frame(u_pallet, v_pallet), source_pallet_frame(u_pallet, v_pallet)
     return [
-        _check(
+        check(
             "pallet_frame_orthonormal",
             "x = u/|u|, z = x cross v/|.|, y = z cross x: R^T R = I for any PX, PY off the x line",
             "holds",
             frame.T * frame - sp.eye(3),
         ),
-        _check(
+        check(
             "source_pallet_frame",
             "source 004 eq. 1 (m = (PY - O)/|.| as the y axis): R^T R = I; with PY 5 deg off square",
             "refuted",
@@ -51,7 +54,7 @@ def pallet_identities() -> list[Identity]:
 
 
 @cache  # independent of the derivation: proved once per process
-def box_pose_identities() -> list[Identity]:
+def box_pose_identities(check) -> list:
     """The forms the pallet programs compute a box's pose in (codegen/pallet/, templates/<t>/pallet.*):
     target = F . Trans(x, y, z) . Rz(angle) . Rz(a0) Ry(b0) Rx(c0), F the pallet frame."""
     x, y, z, dz, angle, a0, b0, c0, gamma = sp.symbols("box_x box_y box_z box_dz box_angle a0 b0 c0 gamma", real=True)
@@ -64,13 +67,13 @@ def box_pose_identities() -> list[Identity]:
     program = {sp.Symbol(k, real=True): v for k, v in names.items()}
     dtrans_position = sp.Matrix([*(e.subs(program) for e in printed), oz + z])
     return [
-        _check(
+        check(
             "box_orientation_one_turn",
             "Rz(angle) Rz(a0) Ry(b0) Rx(c0) = Rz(angle + a0) Ry(b0) Rx(c0)   (RAPID OrientZYX(angle + a0, b0, c0))",
             "holds",
             rotz3(angle) * tool - rotz3(angle + a0) * roty3(b0) * rotx3(c0),
         ),
-        _check(
+        check(
             "box_pose_on_a_level_pallet",
             "F = Trans(o) Rz(gamma): position o + Rz(gamma) (x, y, z), rotation Rz(gamma + angle + a0) Ry(b0) Rx(c0)"
             "   (the dtrans program, which has no pose product)",
@@ -80,14 +83,14 @@ def box_pose_identities() -> list[Identity]:
                 (sp.Matrix([ox, oy, oz]) + level * box - dtrans_position).T,
             ),
         ),
-        _check(
+        check(
             "box_offset_in_the_pallet_frame",
             "Trans(0, 0, dz) Trans(x, y, z) Rz(angle) T0 = Trans(x, y, z + dz) Rz(angle) T0   (entry, approach and "
             "retreat move along the pallet's axes, not the tool's: an offset frame before the box's, or Offs)",
             "holds",
             box + sp.Matrix([0, 0, dz]) - sp.Matrix([x, y, z + dz]),
         ),
-        _check(
+        check(
             "box_offset_along_the_tool",
             "an offset applied after the tool's orientation (Trans(x,y,z) Rz(angle) T0 Trans(0,0,dz)) is the same: "
             "with the tool pointing down it moves the entry below the box",
