@@ -34,6 +34,7 @@ EXPECTED = {
     "laser_centre_corrected_for_the_pin": "holds",
     "laser_axis_from_two_centres": "holds",
     "laser_step_keeps_the_axis": "holds",
+    "laser_tip_rim": "holds",
     "source_laser_tip_uncorrected": "refuted",
 }
 

@@ -39,6 +39,21 @@ def plane_point(point: sp.Matrix) -> sp.Matrix:
     return point - (point[2] / uz) * u
 
 
+def rim_identity(check):
+    """A tilted pin's flat end meets beam X with its rim: the end face's points in the beam's vertical
+    plane (y = 0 through the tip) lie along v = (uz, 0, -ux) / |(ux, uz)| (in the face: v . u = 0, unit),
+    so its lowest one is rho ux / |(ux, uz)| below the tip (ux > 0; likewise beam Y with uy)."""
+    tilt = sp.Symbol("tilt_x", positive=True)  # ux > 0 (the other sign is the mirror image)
+    u = sp.Matrix([tilt, uy, sp.sqrt(1 - tilt**2 - uy**2)])
+    v = sp.Matrix([u[2], 0, -tilt]) / sp.sqrt(tilt**2 + u[2] ** 2)
+    return check(
+        "laser_tip_rim",
+        "a beam first meets a tilted pin's end at its rim, rho |ux| / |(ux, uz)| below the tip (not the tip)",
+        "holds",
+        sp.Matrix([v.dot(u), v.dot(v) - 1, rho * v[2] + rho * tilt / sp.sqrt(tilt**2 + u[2] ** 2)]),
+    )
+
+
 @cache  # independent of the correction's derivation: proved once per process
 def laser_identities(check) -> list:
     u = sp.Matrix([ux, uy, uz])
@@ -91,6 +106,7 @@ def laser_identities(check) -> list:
             "holds",
             sp.Matrix.vstack((stepped - axis_point).cross(u), plane_point(stepped) - c1),
         ),
+        rim_identity(check),
         check(
             "source_laser_tip_uncorrected",
             "with the axis put at the readings' centre (uncorrected), the beams pass through the pin's axis "
