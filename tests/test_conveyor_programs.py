@@ -79,6 +79,8 @@ INTERCEPT_MUTATIONS = [
     ("abb", "WHILE y < CNV_INTERCEPT - v * CNV_LEAD DO", "WHILE y < CNV_INTERCEPT DO", "gripped"),
     ("abb", "        v := (y - mark) / (polls * CNV_POLL);\n", "", "gripped"),
     ("abb", "cnv_unwind(GInput(giCnvEncoder) - seen)", "(GInput(giCnvEncoder) - seen)", ""),
+    # the lead without the gripper's 0.05 s to hold the part (grip_s): the part is 3-10 mm on by then
+    ("abb", "CNV_LEAD := 0.290000", "CNV_LEAD := 0.240000", "gripped"),
 ]
 
 

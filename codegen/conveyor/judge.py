@@ -120,11 +120,15 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     for part in picked:
         if counted_y(cell, case, part, line.taken[part.seq]) > end:
             return f"part {part.seq} picked although it was past the window's end when taken", 0.0, 0.0
+    # the gripper holds the part grip_s after its output (an intercepting arm stands while the part travels
+    # on; a tracking arm follows it, so the moment does not matter there)
+    hold = 0.0 if j.tracking else pick.grip_s
     for part, close, release in zip(picked, closes, opens, strict=True):
-        y = part_y(case.belt, part, j.camera_y, close.time)
+        y = part_y(case.belt, part, j.camera_y, close.time + hold)
         if not pick.window_mm[0] - j.along <= y <= end + j.along:
             return f"part {part.seq} gripped at y {y:.2f} mm, outside the window", j.worst_pos, j.worst_rot
-        problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, j.part_at(part, close.time))
+        held = j.part_at(part, close.time + hold)
+        problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, held)
         k = close.after_moves  # the moves commanded before the grip
         if problem is None and (k < 2 or k >= len(trace.moves)):
             problem = f"part {part.seq}: no descent and lift around the grip"

@@ -16,6 +16,7 @@ KEYS = frozenset(
         "encoder_inputs",
         "intercept_mm",
         "capture_mm",
+        "grip_s",
     }
 )
 # "native": the controller's own conveyor tracking (UR track_conveyor_linear); "intercept": the arm waits
@@ -44,6 +45,7 @@ class Pick:
     encoder_inputs: dict
     intercept_mm: float = 0.0  # intercept: where along the belt the gripper meets the part
     capture_mm: float = 3.0  # intercept: how far off the gripper may meet the part and still hold it
+    grip_s: float = 0.0  # intercept: from the gripper's output to its hold on the part (the part travels on)
 
 
 def _interval(ctx, table: dict, key: str, path: str, default=None) -> tuple[float, float]:
@@ -84,6 +86,9 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         intercept = ctx.number(table, "intercept_mm", f"{path}.intercept_mm")
         if not window[0] <= intercept <= window[1]:
             ctx.fail(f"{path}.intercept_mm", "must lie in the window")
+    grip_s = ctx.number(table, "grip_s", f"{path}.grip_s") if "grip_s" in table else 0.0
+    if not 0 <= grip_s <= 2:
+        ctx.fail(f"{path}.grip_s", "must be in [0, 2] s: the gripper's time from its output to holding the part")
     capture = ctx.number(table, "capture_mm", f"{path}.capture_mm") if "capture_mm" in table else 3.0
     if not 0 < capture <= 50:
         ctx.fail(f"{path}.capture_mm", "must be in (0, 50] mm")
@@ -111,4 +116,5 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         {t: tuple(inputs[t]) for t in tracking if t in inputs},
         intercept,
         capture,
+        grip_s,
     )

@@ -20,8 +20,10 @@ POLL_S = 0.012  # intercept: how often the program reads the encoder while the p
 def lead_seconds(cell) -> float:
     """How long before the part reaches the intercept point an intercepting arm starts down: the descent
     of approach_dz at the work speed, as the controller's straight move takes it (no acceleration in the
-    interpreter's clock, nor in this lead: a real arm needs its measured descent time here)."""
-    return cell.conveyor.pick.approach_dz / cell.motion.work_speed_mm_s
+    interpreter's clock, nor in this lead: a real arm needs its measured descent time here), and the
+    gripper's time to hold the part once its output is set (grip_s)."""
+    pick = cell.conveyor.pick
+    return pick.approach_dz / cell.motion.work_speed_mm_s + pick.grip_s
 
 
 def conveyor_ident(cell, target) -> str:
