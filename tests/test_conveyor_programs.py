@@ -227,3 +227,18 @@ def test_a_window_the_arm_cannot_follow_is_refused_at_generate(tmp_path):
         check_envelope(load_cell(path), None)
     reports = check_envelope(load_cell(CELL), None)
     assert [r.poses for r in reports if hasattr(r, "poses")] == [2 * 2 * 2 * 12 + 2] * 3  # x, z, on/above; place
+
+
+def test_a_tracking_arm_is_proven_as_far_as_it_may_follow_the_part(tmp_path):
+    """UR follows the part past the window's end for the gripper's timeout and the lift: at the cell's
+    fastest belt (belt_speed_max_mm_s) that is proven reachable too; at 2 m/s it is not (2.5 m further:
+    the arm would have to change its configuration)."""
+    from codegen.conveyor.reach import follow_mm
+    from codegen.generate import GenerateError, check_envelope
+
+    cell = load_cell(CELL)
+    assert follow_mm(cell, "ur") == pytest.approx(200.0 * (1.0 + 60.0 / 250.0)) and follow_mm(cell, "kuka") == 0.0
+    path = tmp_path / "cell.toml"
+    path.write_text(CELL.read_text().replace("belt_speed_max_mm_s = 200.0", "belt_speed_max_mm_s = 2000.0"))
+    with pytest.raises(GenerateError, match=r"conveyor \(ur, UR10e\): above the part .* pose 8 of 12"):
+        check_envelope(load_cell(path), None)

@@ -17,6 +17,7 @@ KEYS = frozenset(
         "intercept_mm",
         "capture_mm",
         "grip_s",
+        "belt_speed_max_mm_s",
     }
 )
 # "native": the controller's own conveyor tracking (UR track_conveyor_linear); "intercept": the arm waits
@@ -46,6 +47,7 @@ class Pick:
     intercept_mm: float = 0.0  # intercept: where along the belt the gripper meets the part
     capture_mm: float = 3.0  # intercept: how far off the gripper may meet the part and still hold it
     grip_s: float = 0.0  # intercept: from the gripper's output to its hold on the part (the part travels on)
+    belt_speed_max_mm_s: float = 200.0  # the fastest the belt runs: how far a tracking arm may follow past the end
 
 
 def _interval(ctx, table: dict, key: str, path: str, default=None) -> tuple[float, float]:
@@ -89,6 +91,13 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
     grip_s = ctx.number(table, "grip_s", f"{path}.grip_s") if "grip_s" in table else 0.0
     if not 0 <= grip_s <= 2:
         ctx.fail(f"{path}.grip_s", "must be in [0, 2] s: the gripper's time from its output to holding the part")
+    speed = (
+        ctx.number(table, "belt_speed_max_mm_s", f"{path}.belt_speed_max_mm_s")
+        if "belt_speed_max_mm_s" in table
+        else 200.0
+    )
+    if not 0 < speed <= 5000:
+        ctx.fail(f"{path}.belt_speed_max_mm_s", "must be in (0, 5000] mm/s")
     capture = ctx.number(table, "capture_mm", f"{path}.capture_mm") if "capture_mm" in table else 3.0
     if not 0 < capture <= 50:
         ctx.fail(f"{path}.capture_mm", "must be in (0, 50] mm")
@@ -117,4 +126,5 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         intercept,
         capture,
         grip_s,
+        speed,
     )

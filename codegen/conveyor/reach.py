@@ -40,10 +40,20 @@ class ConveyorReach:
         }
 
 
-def lines(cell) -> list[tuple[str, list[np.ndarray]]]:
+def follow_mm(cell, target: str) -> float:
+    """How far past the window's end a tracking arm may still follow the part: the belt at its fastest for
+    the gripper's timeout and the lift (an intercepting arm does not follow: 0)."""
+    pick = cell.conveyor.pick
+    if pick.tracking[target] != "native":
+        return 0.0
+    seconds = (cell.io.timeout_s if cell.io is not None else 0.0) + pick.approach_dz / cell.motion.work_speed_mm_s
+    return pick.belt_speed_max_mm_s * seconds
+
+
+def lines(cell, beyond_mm: float = 0.0) -> list[tuple[str, list[np.ndarray]]]:
     """The paths the gripper follows relative to the belt, as base-frame poses (4x4): at each corner of
     the ranges across the belt and in height, on the part and above it, from the window's start to its
-    end (the arm follows the part along them); then the place and above it."""
+    end and beyond_mm past it (the arm follows the part along them); then the place and above it."""
     conveyor, pick = cell.conveyor, cell.conveyor.pick
     frame = conveyor.frame()
     grip = np.eye(4)
@@ -53,7 +63,7 @@ def lines(cell) -> list[tuple[str, list[np.ndarray]]]:
         for z in pick.z_range_mm:
             for dz, what in ((pick.approach_dz, "above the part"), (0.0, "on the part")):
                 path = []
-                for y in np.linspace(*pick.window_mm, STEPS):
+                for y in np.linspace(pick.window_mm[0], pick.window_mm[1] + beyond_mm, STEPS):
                     place = np.eye(4)
                     place[:3, 3] = (x, y, z + dz)
                     path.append(frame @ place @ grip)
@@ -76,7 +86,7 @@ def check(cell, only: list[str] | None = None) -> list[ConveyorReach]:
             continue
         robot, arm = cell.robot, cell.robot.arms[target]
         worst_joint, worst_wrist, worst, count = np.inf, np.inf, "", 0
-        for what, path in lines(cell):
+        for what, path in lines(cell, follow_mm(cell, target)):
             poses = solve.flange_poses(np.array(path), robot.tool.tcp2flange)
             q, branch = np.asarray(robot.home[target], dtype=float), None
             for i, sols in enumerate(solve.branches(arm, poses)):

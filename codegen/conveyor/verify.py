@@ -75,19 +75,21 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
         ("varying_speed", 60.0, 0.4, rng.randrange(span)),
         ("rollover", 80.0, 0.0, near_wrap),
     ):
+        speed = min(speed, pick.belt_speed_max_mm_s / (1.0 + wobble))  # never faster than the cell says
         belt = Belt(speed, e, COUNTER_BITS, start, wobble, period_s=5.0)
         parts, t = [], 0.5
         for seq in range(1, 5):
             parts.append(_random_part(rng, pick, seq, t))
             t += rng.uniform(9.0, 14.0)
         out.append(BeltCase(category, belt, tuple(parts), rng.randrange(-(2**30), 2**30)))
-    belt = Belt(70.0, e, COUNTER_BITS, rng.randrange(span))
+    belt = Belt(min(70.0, pick.belt_speed_max_mm_s), e, COUNTER_BITS, rng.randrange(span))
     # parts 2 and 3 come right behind part 1: while the arm works on it they travel on (part 2 too late for
     # an intercept or past the window's end, part 3 past the end when the program takes it); part 4 later
     late = tuple(_random_part(rng, pick, seq, seen) for seq, seen in ((1, 0.5), (2, 1.0), (3, 1.5), (4, 20.0)))
     out.append(BeltCase("part_too_late", belt, late, rng.randrange(-(2**30), 2**30)))
-    # a fast belt: parts 1.5 s apart at 200 mm/s reach the window's end while the arm still works
-    fast = Belt(200.0, e, COUNTER_BITS, rng.randrange(span))
+    # the belt at its fastest (the cell's belt_speed_max_mm_s): parts 1.5 s apart reach the window's end
+    # while the arm still works
+    fast = Belt(pick.belt_speed_max_mm_s, e, COUNTER_BITS, rng.randrange(span))
     quick = tuple(_random_part(rng, pick, seq, seen) for seq, seen in ((1, 0.5), (2, 2.0), (3, 3.5), (4, 12.0)))
     out.append(BeltCase("fast_belt", fast, quick, rng.randrange(-(2**30), 2**30)))
     return out
