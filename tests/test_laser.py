@@ -34,7 +34,7 @@ def test_a_beam_enters_a_pin_where_the_geometry_says():
     assert entry_along(np.array([20.0, 0.0, 5.0]), up, 2.0, 60.0, origin, along) is None
 
 
-@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("seed", range(4))
 def test_the_reference_recovers_a_bent_tool_within_a_tenth(seed):
     """Random pins (radius 1-3 mm, up to 3 deg off the flange's axis, the tip up to 2 mm aside and 3 mm
     along it), sensors with 0.01 mm of noise and a 1 um resolution: the TCP within 0.1 mm (issue 13)."""

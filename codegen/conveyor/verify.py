@@ -15,8 +15,8 @@ from codegen.robot.expect import arm_of
 from codegen.signals import Gripper, signal_name
 
 # a run's statements: the bundled cell's longest case takes 86,000 (UR polls the queue every 8 ms); a program
-# that waits for a part it has lost (a counter read wrongly) stops here, not after minutes
-STEP_LIMIT = 400_000
+# that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after minutes
+STEP_LIMIT = 200_000
 COUNTER_BITS = 16  # the count the program reads: UR's filtered count [0; 65536[ (URScript manual), a 16-bit group
 
 
