@@ -40,6 +40,19 @@ from codegen.vision import VisionPC
 # stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings
 # through the correction stays far below these bounds, a wrong formula far above them.
 TOLERANCES = {"float32": (0.005, 0.001), "float64": (1e-9, 1e-9)}  # mm, deg
+
+
+def tally(report, problem: str | None, pos: float, rot: float, label: str) -> bool:
+    """Count one case of a program kind's own verify (pallets, conveyors) in its report: the case, the worst
+    errors, and a mismatch with the first five named; True when the case mismatched."""
+    report.cases += 1
+    report.max_pos_mm, report.max_rot_deg = max(report.max_pos_mm, pos), max(report.max_rot_deg, rot)
+    if problem is None:
+        return False
+    report.mismatches += 1
+    if len(report.first_mismatches) < 5:
+        report.first_mismatches.append(f"{label}: {problem}")
+    return True
 NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|(?<!\w)[-+]?(?:nan|inf)\b")
 
 

@@ -8,36 +8,23 @@ import numpy as np
 
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.robot import solve
-from codegen.robot.expect import margins
+from codegen.robot.expect import Margins, margins
 from codegen.robot.taught import ReachError
 
 STEPS = 12  # poses along the window per line the gripper follows
 
 
 @dataclass(frozen=True)
-class ConveyorReach:
-    target: str
-    model: str
-    poses: int
-    joint_margin_deg: float
-    wrist_margin_deg: float
-    worst: str
+class ConveyorReach(Margins):
+    """The conveyor's window on one target's arm: the least margins over the poses it may take there."""
 
-    def text(self) -> str:
-        return (
-            f"{self.target} ({self.model}) conveyor window: {self.poses} poses reachable; "
-            f"{self.joint_margin_deg:.1f} deg to the nearest joint limit ({self.worst}), "
-            f"wrist {self.wrist_margin_deg:.1f} deg from its singularity"
-        )
+    poses: int = 0
 
-    def as_json(self) -> dict:
-        return {
-            "target": self.target,
-            "model": self.model,
-            "poses": self.poses,
-            "joint_margin_deg": self.joint_margin_deg,
-            "wrist_margin_deg": self.wrist_margin_deg,
-        }
+    def subject(self) -> tuple[str, int, str]:
+        return "conveyor window", self.poses, "poses"
+
+    def keys(self) -> dict:
+        return {"poses": self.poses}
 
 
 def follow_mm(cell, target: str) -> float:
@@ -109,5 +96,5 @@ def check(cell, only: list[str] | None = None) -> list[ConveyorReach]:
                 f"wrist {worst_wrist:.1f} deg from its singularity; the cell asks {need.joint_deg:g} and "
                 f"{need.wrist_deg:g} deg"
             )
-        out.append(ConveyorReach(target, arm.model, count, worst_joint, worst_wrist, worst))
+        out.append(ConveyorReach(target, arm.model, worst_joint, worst_wrist, worst, poses=count))
     return out

@@ -13,6 +13,7 @@ from codegen.conveyor.judge import judge
 from codegen.conveyor.program import SKIPPED, TOO_LATE
 from codegen.robot.expect import arm_of
 from codegen.signals import Gripper, signal_name
+from codegen.verify import tally
 
 # a run's statements: the bundled cell's longest case takes 86,000 (UR polls the queue every 8 ms); a program
 # that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after minutes
@@ -132,16 +133,10 @@ def verify_conveyor(
             picked = len(case.parts) - skipped
         except Exception as exc:  # a run error is this case's mismatch
             problem, pos, rot, skipped, picked = f"run error: {exc}", 0.0, 0.0, 0, 0
-        report.cases += 1
         report.skipped += skipped
         report.picked += picked
-        report.max_pos_mm, report.max_rot_deg = max(report.max_pos_mm, pos), max(report.max_rot_deg, rot)
-        if problem is not None:
-            report.mismatches += 1
-            if len(report.first_mismatches) < 5:
-                report.first_mismatches.append(f"{case.category}: {problem}")
-            if first_only:
-                break
+        if tally(report, problem, pos, rot, case.category) and first_only:
+            break
     report.seconds = time.perf_counter() - started
     return report
 

@@ -11,38 +11,22 @@ from codegen.pallet.cycle import PalletCase, expected, layer_counts
 from codegen.pallet.stack import pattern_of
 from codegen.robot import solve
 from codegen.robot.config import FORMS
-from codegen.robot.expect import margins
+from codegen.robot.expect import Margins, margins
 from codegen.robot.taught import ReachError
 
 
 @dataclass(frozen=True)
-class PalletReach:
+class PalletReach(Margins):
     """One pallet on one target's arm: the least margins over a full cycle's moves."""
 
-    target: str
-    model: str
-    pallet: str
-    moves: int
-    joint_margin_deg: float
-    wrist_margin_deg: float
-    worst: str  # the move with the least joint margin
+    pallet: str = ""
+    moves: int = 0
 
-    def text(self) -> str:
-        return (
-            f"{self.target} ({self.model}) pallet {self.pallet}: {self.moves} moves reachable; "
-            f"{self.joint_margin_deg:.1f} deg to the nearest joint limit ({self.worst}), "
-            f"wrist {self.wrist_margin_deg:.1f} deg from its singularity"
-        )
+    def subject(self) -> tuple[str, int, str]:
+        return f"pallet {self.pallet}", self.moves, "moves"
 
-    def as_json(self) -> dict:
-        return {
-            "target": self.target,
-            "model": self.model,
-            "pallet": self.pallet,
-            "moves": self.moves,
-            "joint_margin_deg": self.joint_margin_deg,
-            "wrist_margin_deg": self.wrist_margin_deg,
-        }
+    def keys(self) -> dict:
+        return {"pallet": self.pallet, "moves": self.moves}
 
 
 def full_cycle(cell, pallet):
@@ -151,7 +135,7 @@ def check_pallet(cell, pallet, target: str) -> PalletReach:
             f"the wrist {worst_wrist:.1f} deg from its singularity; the cell asks {need.joint_deg:g} and "
             f"{need.wrist_deg:g} deg"
         )
-    return PalletReach(target, arm.model, pallet.name, len(moves), worst_joint, worst_wrist, worst)
+    return PalletReach(target, arm.model, worst_joint, worst_wrist, worst, pallet=pallet.name, moves=len(moves))
 
 
 def check(cell, only: list[str] | None = None) -> list[PalletReach]:

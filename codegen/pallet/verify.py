@@ -18,7 +18,7 @@ from codegen.pallet.program import counter_names, counter_registers, pallet_iden
 from codegen.pallet.reach import configurations, joints_of
 from codegen.robot.expect import arm_of, home_move
 from codegen.signals import Gripper, signal_name
-from codegen.verify import TOLERANCES, _pose_errors
+from codegen.verify import TOLERANCES, _pose_errors, tally
 
 JOINT_TOL_DEG = 0.01  # the controller's choice against the plan: float32 poses, the same rule
 
@@ -168,15 +168,9 @@ def verify_pallet(
                 problem = joints_problem(cell, target_name, want, got, pallet, named)
         except Exception as exc:  # a run error is this case's mismatch
             problem, pos, rot = f"run error: {exc}", 0.0, 0.0
-        report.cases += 1
         report.boxes += sum(1 for m in want.moves if m.name.endswith("target"))
-        report.max_pos_mm, report.max_rot_deg = max(report.max_pos_mm, pos), max(report.max_rot_deg, rot)
-        if problem is not None:
-            report.mismatches += 1
-            if len(report.first_mismatches) < 5:
-                report.first_mismatches.append(f"{case.category} layer {case.layer} box {case.box}: {problem}")
-            if first_only:
-                break
+        if tally(report, problem, pos, rot, f"{case.category} layer {case.layer} box {case.box}") and first_only:
+            break
     report.seconds = time.perf_counter() - start
     return report
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from codegen.controllers import get_target
@@ -148,6 +150,42 @@ class ArmStats:
             "moves": self.moves,
             "joint_margin_deg": round(self.joint_margin_deg, 3),
             "wrist_margin_deg": round(self.wrist_margin_deg, 3),
+        }
+
+
+@dataclass(frozen=True)
+class Margins:
+    """The least margins of a target's arm over the poses a program commands (a pallet's cycle, a
+    conveyor's window); a subclass names what was checked (subject) and its own report keys (keys)."""
+
+    target: str
+    model: str
+    joint_margin_deg: float
+    wrist_margin_deg: float
+    worst: str  # the pose with the least joint margin
+
+    def subject(self) -> tuple[str, int, str]:
+        """What was checked, how many poses, and what they are called."""
+        raise NotImplementedError
+
+    def keys(self) -> dict:
+        raise NotImplementedError
+
+    def text(self) -> str:
+        what, count, noun = self.subject()
+        return (
+            f"{self.target} ({self.model}) {what}: {count} {noun} reachable; "
+            f"{self.joint_margin_deg:.1f} deg to the nearest joint limit ({self.worst}), "
+            f"wrist {self.wrist_margin_deg:.1f} deg from its singularity"
+        )
+
+    def as_json(self) -> dict:
+        return {
+            "target": self.target,
+            "model": self.model,
+            **self.keys(),
+            "joint_margin_deg": self.joint_margin_deg,
+            "wrist_margin_deg": self.wrist_margin_deg,
         }
 
 
