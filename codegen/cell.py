@@ -97,6 +97,7 @@ class Cell:
     warnings: tuple[str, ...] = field(default=(), compare=False)
     pallets: tuple = ()  # [[pallet]]: codegen.pallet.section.Pallet, checked (codegen/pallet/)
     conveyor: object = None  # [conveyor]: codegen.conveyor.section.Conveyor, or None
+    laser: object = None  # [laser]: codegen.laser.section.Laser (source 003's TCP station), or None
 
     def station_by_id(self, station_id: int) -> Station | None:
         return self._stations_by_id.get(station_id)
@@ -177,9 +178,11 @@ def replace_cell_file(path: Path, text: str, check=None) -> None:
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
     ctx = _Context(source)
-    top_unknown = set(data) - {"cell", "station", "pallet", "conveyor"}
+    top_unknown = set(data) - {"cell", "station", "pallet", "conveyor", "laser"}
     if top_unknown:
-        ctx.fail(sorted(top_unknown)[0], "unknown table; expected [cell], [[station]], [[pallet]] and [conveyor]")
+        ctx.fail(
+            sorted(top_unknown)[0], "unknown table; expected [cell], [[station]], [[pallet]], [conveyor] and [laser]"
+        )
     cell_table = ctx.table(data, "cell", "cell")
     ctx.no_unknown(cell_table, _CELL_KEYS.union(*(k.cell_tables for k in kinds().values())), "cell")
 
@@ -204,7 +207,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
 
     # a cell of pallets alone (codegen/pallet/) needs no camera and no limits: no station reads a mark
     picks = isinstance(data.get("conveyor"), dict) and "pick" in data["conveyor"]
-    vision_free = not data.get("station") and (bool(data.get("pallet")) or picks)
+    vision_free = not data.get("station") and (bool(data.get("pallet")) or picks or "laser" in data)
     if vision_free:
         unused = {"camera": {"angle_sign": 1}, "limits": {"max_shift_mm": 10.0, "max_rotation_deg": 10.0}}
         cell_table = {**unused, **cell_table}
@@ -288,6 +291,9 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     from codegen.conveyor.section import parse_conveyor
 
     conveyor = parse_conveyor(ctx, data, targets, pose_format)
+    from codegen.laser.section import parse_laser
+
+    laser = parse_laser(ctx, data, targets, pose_format)
 
     cell = Cell(
         name=name,
@@ -307,11 +313,14 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         warnings=tuple(ctx.warnings),
         pallets=pallets,
         conveyor=conveyor,
+        laser=laser,
     )
     for i, station in enumerate(stations, start=1):
         get_kind(station.kind).check(ctx, f"station[{i}]", station, cell)
     if conveyor is not None and conveyor.pick is not None and (cell.io is None or not cell.io.feedback):
         ctx.fail("cell.io", "a cell with [conveyor.pick] needs [cell.io] with feedback: the gripper and its sensor")
+    if laser is not None and (robot is None or not robot.tool_given):
+        ctx.fail("laser", "a cell with [laser] needs [cell.robot] and [cell.tool]: the arm and the tool to calibrate")
     if pallets and (cell.io is None or not cell.io.feedback):
         ctx.fail("cell.io", "a cell with [[pallet]] needs [cell.io] with feedback: the gripper's output and its sensor")
     return cell

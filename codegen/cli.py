@@ -182,7 +182,7 @@ def diff(cell: str | None, out_dir: str) -> None:
     from codegen.emit import EmitError
     from codegen.generate import diff as run_diff
 
-    bundled = [p for folder in ("", "pallets/", "conveyor/") for p in EXAMPLES_DIR.glob(f"{folder}*.toml")]
+    bundled = [p for folder in ("", "pallets/", "conveyor/", "laser/") for p in EXAMPLES_DIR.glob(f"{folder}*.toml")]
     paths = [cell] if cell is not None else sorted(bundled)
     text = ""
     for path in paths:
@@ -263,11 +263,20 @@ def verify(
         conveyors, files = conveyor_section(model, files, targets, seed)  # against simulated belts
     except RunError as exc:
         raise click.ClickException(str(exc)) from None
+    from codegen.laser.verify import laser_section
+
+    try:
+        lasers, files = laser_section(model, files, targets, seed)  # against simulated laser sensors
+    except RunError as exc:
+        raise click.ClickException(str(exc)) from None
+    sections = {"pallets": pallets, "conveyors": conveyors, "lasers": lasers}
     if not model.stations and files:  # files that are none of this cell's programs: nothing would judge them
         names = ", ".join(Path(f).name for f in files)
-        raise UserError(f"{names}: not a program of {model.name}'s pallets or conveyor (named as the program)")
-    if (pallets is not None or conveyors is not None) and (not model.stations or (files_given and not files)):
-        _finish_sections(model, pallets, conveyors, as_json)
+        raise UserError(
+            f"{names}: not a program of {model.name}'s pallets, conveyor or laser station (named as the program)"
+        )
+    if any(x is not None for x in sections.values()) and (not model.stations or (files_given and not files)):
+        _finish_sections(model, sections, as_json)
     from codegen.emit import EmitError
     from codegen.generate import GenerateError, check_envelope
 
@@ -335,7 +344,7 @@ def verify(
         raise click.ClickException(str(exc)) from None
     wall = time.perf_counter() - start
     summaries = [r.summary() for r in reports]
-    ok = all(s["mismatches"] == 0 for s in summaries) and all(x is None or x.ok for x in (pallets, conveyors))
+    ok = all(s["mismatches"] == 0 for s in summaries) and all(x is None or x.ok for x in sections.values())
     if as_json:
         _dump(
             {
@@ -346,29 +355,29 @@ def verify(
                 "wall_seconds": wall,
                 "workers": workers,
                 "targets": summaries,
-                **({} if pallets is None else {"pallets": pallets.summaries()}),
-                **({} if conveyors is None else {"conveyors": conveyors.summaries()}),
+                **{key: x.summaries() for key, x in sections.items() if x is not None},
             }
         )
     else:
         for line in runs.report_lines(model, verify_cell, case_list, cases, seed, summaries, wall, workers):
             click.echo(line)
-        for section in (pallets, conveyors):
+        for section in sections.values():
             for line in [] if section is None else section.lines():
                 click.echo(line)
     sys.exit(0 if ok else 1)
 
 
-def _finish_sections(model, pallets, conveyors, as_json: bool) -> None:
-    """A cell (or files) with pallet or conveyor programs only: report them and exit (0: all matched)."""
-    sections = [s for s in (pallets, conveyors) if s is not None]
+def _finish_sections(model, named: dict, as_json: bool) -> None:
+    """A cell (or files) with pallet, conveyor or laser programs only: report them and exit (0: all matched)."""
+    sections = [s for s in named.values() if s is not None]
     if not any(s.reports for s in sections):
-        raise UserError(f"{model.source}: no program verified (no pallet or conveyor program for the targets asked)")
+        raise UserError(
+            f"{model.source}: no program verified (no pallet, conveyor or laser program for the targets asked)"
+        )
     ok = all(s.ok for s in sections)
     if as_json:
         out = {"cell": model.name, "ok": ok}
-        out.update({} if pallets is None else {"pallets": pallets.summaries()})
-        out.update({} if conveyors is None else {"conveyors": conveyors.summaries()})
+        out.update({key: x.summaries() for key, x in named.items() if x is not None})
         _dump(out)
     else:
         for section in sections:

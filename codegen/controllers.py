@@ -92,6 +92,9 @@ _PROGRAM = {
     "conveyor_signals": dict,  # the queue as groups of digital signals (ranges of numbered signals, or named signals)
     "conveyor_encoder_inputs": list,  # the lowest and highest digital input an encoder's A and B may use
     "conveyor_tracking": list,  # how the pick program follows the belt: "native", "intercept"
+    "laser_files": list,  # source 003's automatic TCP program (codegen/laser/): file patterns with {laser}
+    "laser_names": dict,  # that program's globals verify reads (edges, hits, centres, axis, tcp)
+    "signal_cycle_s": float,  # how often the controller sees an input change while the arm moves (s)
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
 

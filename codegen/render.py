@@ -204,6 +204,7 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
             out.append(RenderedFile(f"{cell_dir(cell)}/{name}/{file_name}", text))
         out.extend(_pallet_files(env, cell, target, ctx))
         out.extend(_conveyor_files(env, cell, target, ctx))
+        out.extend(_laser_files(env, cell, target, ctx))
     paths = [f.relpath for f in out]
     if len(set(paths)) != len(paths):  # a generator bug: one file would silently replace another
         raise RuntimeError(f"two files render to {sorted(p for p in paths if paths.count(p) > 1)[0]}")
@@ -225,6 +226,22 @@ def _conveyor_files(env, cell: Cell, target: Target, ctx: dict) -> list[Rendered
             env.get_template(f"{target.name}/{pattern.format(conveyor='conveyor')}.j2").render(cctx),
         )
         for pattern, name in zip(target.program["conveyor_files"], names, strict=True)
+    ]
+
+
+def _laser_files(env, cell: Cell, target: Target, ctx: dict) -> list[RenderedFile]:
+    """Source 003's automatic TCP program of a cell with [laser]: "tcp_<cell>.mod" from "laser.mod.j2"."""
+    from codegen.laser.program import calibrates_on, laser_context, laser_file_names
+
+    if not calibrates_on(cell, target):
+        return []
+    lctx = {**ctx, "laser": laser_context(cell, target, Emitter(target))}
+    return [
+        RenderedFile(
+            f"{cell_dir(cell)}/{target.name}/{name}",
+            env.get_template(f"{target.name}/{pattern.format(laser='laser')}.j2").render(lctx),
+        )
+        for pattern, name in zip(target.program["laser_files"], laser_file_names(cell, target), strict=True)
     ]
 
 

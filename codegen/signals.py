@@ -34,8 +34,8 @@ def parse_settings(ctx, cell_table: dict, targets) -> SignalSettings | None:
         return None
     table = ctx.table(cell_table, "io", "cell.io")
     ctx.no_unknown(table, {"output", "value", "feedback", "timeout_s"}, "cell.io")
-    output = _per_target(ctx, table, "output", targets, required=True)
-    feedback = _per_target(ctx, table, "feedback", targets, required=False)
+    output = per_target(ctx, table, "output", targets, required=True)
+    feedback = per_target(ctx, table, "feedback", targets, required=False)
     value = table.get("value", True)
     if not isinstance(value, bool):
         ctx.fail("cell.io.value", f"must be true or false, got {value!r}")
@@ -45,21 +45,22 @@ def parse_settings(ctx, cell_table: dict, targets) -> SignalSettings | None:
     return SignalSettings(output, value, feedback, timeout)
 
 
-def _per_target(ctx, table: dict, key: str, targets, required: bool) -> dict:
+def per_target(ctx, table: dict, key: str, targets, required: bool, prefix: str = "cell.io") -> dict:
+    """A signal per target of the cell (table[key][target]), checked against the target's signal facts."""
     from codegen.controllers import get_target
 
     if key not in table:
         if required:
-            ctx.fail(f"cell.io.{key}", "required: the signal per target of the cell (its number or name there)")
+            ctx.fail(f"{prefix}.{key}", "required: the signal per target of the cell (its number or name there)")
         return {}
-    raw = ctx.table(table, key, f"cell.io.{key}")
+    raw = ctx.table(table, key, f"{prefix}.{key}")
     out = {}
     for target in targets:
-        path = f"cell.io.{key}.{target}"
+        path = f"{prefix}.{key}.{target}"
         facts = get_target(target).program.get("signals")
         if facts is None:  # a program that cannot set the signal must not be made without it
-            ctx.fail("cell.io", f"{target} programs have no digital I/O instructions (targets/{target}.toml): "
-                     f"take {target} out of cell.targets or the gripper's signal out of the cell")
+            ctx.fail(prefix, f"{target} programs have no digital I/O instructions (targets/{target}.toml): "
+                     f"take {target} out of cell.targets or the signal out of the cell")
         if target not in raw:
             ctx.fail(path, "missing: every target of the cell names the signal")
         value = raw[target]
@@ -70,7 +71,7 @@ def _per_target(ctx, table: dict, key: str, targets, required: bool) -> dict:
         elif not isinstance(value, str) or not SIGNAL_NAME.fullmatch(value):
             ctx.fail(path, f"expected a signal name (a letter, then letters, digits or _; 32 at most), got {value!r}")
         out[target] = value
-    ctx.no_unknown(raw, set(targets), f"cell.io.{key}")
+    ctx.no_unknown(raw, set(targets), f"{prefix}.{key}")
     return out
 
 

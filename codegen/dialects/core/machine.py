@@ -132,7 +132,13 @@ class Machine:
     """State of one run: globals, injected inputs, trace, step counter."""
 
     def __init__(
-        self, program: Program, inputs: dict, step_limit: int, devices: tuple[Device, ...] = (), arm=None
+        self,
+        program: Program,
+        inputs: dict,
+        step_limit: int,
+        devices: tuple[Device, ...] = (),
+        arm=None,
+        signal_cycle_s: float | None = None,
     ) -> None:
         self.program = program
         self.arm = ArmState(arm)  # the arm's tool and joints (no checks when arm is None)
@@ -155,6 +161,13 @@ class Machine:
         # commanded pose while it is on (codegen/dialects/<d>/conveyor.py), None: off
         self.tracking = None
         self._last_tcp2base: np.ndarray | None = None
+        # inputs that switch with the tool's pose while it moves (codegen/dialects/core/watch.py): the moves'
+        # paths in time and the watched inputs, when a device switches so and the controller's cycle is known
+        self.watching = None
+        if signal_cycle_s is not None and any(hasattr(d, "switches") for d in devices):
+            from codegen.dialects.core.watch import Watching
+
+            self.watching = Watching(self, signal_cycle_s)
 
     # --- time --------------------------------------------------------------------------------
     @property
@@ -163,23 +176,50 @@ class Machine:
         return self.arm_until > self.clock
 
     def move(
-        self, event: MoveEvent, speed_mm_s: float | None = None, runs_ahead: bool = False, seconds: float | None = None
+        self,
+        event: MoveEvent,
+        speed_mm_s: float | None = None,
+        runs_ahead: bool = False,
+        seconds: float | None = None,
+        via: np.ndarray | None = None,
     ) -> None:
         """Record a commanded move. It starts when the previous one ends and takes travel_seconds;
         the program waits for it (the clock reaches its end) unless the controller runs ahead of its
         motion (an advance run, a fly-by point): then the clock stays and the arm is moving
         until an instruction that waits for it (Machine.arrive). seconds: the move's duration where the
-        caller knows it (a move relative to a tracked conveyor)."""
+        caller knows it (a move relative to a tracked conveyor); via: a circular move's circle point (its
+        duration is the arc's length over the speed)."""
         self.trace.moves.append(event)
         start = max(self.clock, self.arm_until)
         if seconds is None:
-            seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
+            if via is not None and self._last_tcp2base is not None and event.tcp2base is not None and speed_mm_s:
+                from codegen.dialects.core.watch import Path
+
+                seconds = Path(self._last_tcp2base, event.tcp2base, via).length / speed_mm_s
+            else:
+                seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
         self.arm_until = start + seconds
         event.end_time = self.arm_until
+        if self.watching is not None:
+            self.watching.record(start, self.arm_until, self._last_tcp2base, event, via, self.arm.tcp2flange)
         self._last_tcp2base = event.tcp2base
         self.last_move = event
         if not runs_ahead:
             self.clock = self.arm_until
+            self.deliver()
+
+    def deliver(self) -> None:
+        """The watched inputs' edges up to the clock reach their handlers (interrupts, traps, threads)."""
+        if self.watching is not None:
+            self.watching.deliver()
+
+    def pose_now(self) -> np.ndarray | None:
+        """Where the tool is at the clock: on the path of a move under way where the clock knows it."""
+        if self.watching is not None:
+            pose = self.watching.pose_at(self.clock)[0]
+            if pose is not None:
+                return pose
+        return self.tool_pose()
 
     def set_output(self, name: str, value: bool, where: str) -> None:
         """A digital output set by the program, recorded with the moment (the devices act on it)."""
@@ -196,6 +236,8 @@ class Machine:
     def input_signal(self, name: str, default=False):
         """An input as the program reads it now: a device's live value (an encoder's count that changes
         with time, device.live(name, t)), else what the devices last set, else default."""
+        if self.watching is not None and self.watching.handles(name):
+            return self.watching.value(name, self.clock)
         for device in self.devices:
             live = getattr(device, "live", None)
             value = None if live is None else live(name, self.clock)
@@ -222,6 +264,7 @@ class Machine:
         if self.moving:
             self.wait(where)
             self.clock = self.arm_until
+            self.deliver()
 
     def elapse(self, seconds: float, where: str) -> None:
         """The program sleeps (WAIT SEC, sleep, WaitTime): the arm finishes its moves first (where
@@ -233,9 +276,11 @@ class Machine:
             if due is None or due > end:
                 break
             self.clock = max(self.clock, due)
+            self.deliver()
             self.step(where)
             self.wait(where)
         self.clock = end
+        self.deliver()
         self.wait(where)
 
     def next_device_time(self) -> float | None:
@@ -258,8 +303,10 @@ class Machine:
                 if deadline is None:
                     raise RunError(f"{where}: {keyword} a condition that nothing here makes true (waits forever)")
                 self.clock = deadline
+                self.deliver()
                 return bool(cond())
             self.clock = due
+            self.deliver()
         return True
 
     def wait(self, where: str) -> bool:
@@ -326,14 +373,16 @@ class Program:
         signals: dict | None = None,
         start_joints=None,
         keep: tuple[str, ...] = (),
+        signal_cycle_s: float | None = None,
     ) -> Trace:
         """One run from the initial globals with these inputs; devices (simulated equipment beside
         the controller) act whenever the program waits; arm (codegen.robot.arms.Arm): the arm whose
         joints each move must reach by the controller's rules (None: poses only); signals: digital
         inputs by name at the start; start_joints: where the arm stands (deg; None: unknown); keep: names
-        of globals or written outputs whose values the trace keeps from the end of the run."""
+        of globals or written outputs whose values the trace keeps from the end of the run; signal_cycle_s: how
+        often the controller reads its inputs (a device that switches with the tool's pose needs it)."""
         globals_, types, extra = self._prepare(step_limit)
-        machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices), arm)
+        machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices), arm, signal_cycle_s)
         machine.signals.update(signals or {})
         if start_joints is not None:  # where the arm stands when the program starts (deg)
             machine.arm.stand_at(start_joints)
