@@ -36,13 +36,20 @@ def check_rendered(files: list[RenderedFile]) -> None:
 
 def check_envelope(cell: Cell, targets: list[str] | None) -> list[TargetEnvelope]:
     """The envelope check of every requested target with an arm (codegen/robot/envelope.py) and every
-    pallet's full cycle (codegen/pallet/reach.py) and the conveyor's window (codegen/conveyor/reach.py)."""
+    pallet's full cycle (codegen/pallet/reach.py), the conveyor's window (codegen/conveyor/reach.py) and the laser
+    station's circles and search (codegen/laser/reach.py)."""
     from codegen.conveyor import reach as conveyor_reach
+    from codegen.laser import reach as laser_reach
     from codegen.pallet import reach
 
     names = list(targets or cell.targets)
     try:
-        return [*check(cell, names), *reach.check(cell, names), *conveyor_reach.check(cell, names)]
+        return [
+            *check(cell, names),
+            *reach.check(cell, names),
+            *conveyor_reach.check(cell, names),
+            *laser_reach.check(cell, names),
+        ]
     except ReachError as exc:
         raise GenerateError(str(exc)) from None
 

@@ -54,6 +54,29 @@ def rim_identity(check):
     )
 
 
+def edge_identity(check):
+    """What the programs use instead of the readings (codegen/laser/program.py): beam X (the line y = 0 of
+    the plane) meets the pin while the axis point's y lies within w = rho sqrt(1 - ux^2) / uz of it: the
+    smallest squared distance from the beam's points (X, 0, 0) to the axis through (0, ay, 0) is
+    ay^2 uz^2 / (1 - ux^2), even in ay. So a crossing's two edges lie at ay = -+(w -+ h/2) (h: the sensor's
+    hysteresis: on at w - h/2, off at w + h/2), and the four edges of the two crossings (opposite directions)
+    average to ay = 0: the pin's radius and the hysteresis cancel; the centre is minus the edges' mean."""
+    X, w, h = sp.symbols("X w h", real=True)  # X: a point of the beam
+    d = sp.Matrix([X, -ay, 0])
+    u = sp.Matrix([ux, uy, uz])
+    f = d.dot(d) - d.dot(u) ** 2
+    at = sp.solve(sp.diff(f, X), X)[0]
+    smallest = f.subs(X, at) - ay**2 * uz**2 / (1 - ux**2)
+    edges = [-(w - h / 2), w + h / 2, w - h / 2, -(w + h / 2)]  # in, out (moving +y); in, out (moving -y)
+    return check(
+        "laser_edges_centre",
+        "beam X meets the pin while |ay| <= rho sqrt(1 - ux^2) / uz (the distance's minimum is even in ay): "
+        "the four edges of two opposite crossings average to the axis point, whatever rho and the hysteresis h",
+        "holds",
+        sp.Matrix([smallest, sum(edges) / 4]),
+    )
+
+
 @cache  # independent of the correction's derivation: proved once per process
 def laser_identities(check) -> list:
     u = sp.Matrix([ux, uy, uz])
@@ -107,6 +130,7 @@ def laser_identities(check) -> list:
             sp.Matrix.vstack((stepped - axis_point).cross(u), plane_point(stepped) - c1),
         ),
         rim_identity(check),
+        edge_identity(check),
         check(
             "source_laser_tip_uncorrected",
             "with the axis put at the readings' centre (uncorrected), the beams pass through the pin's axis "
