@@ -182,15 +182,19 @@ class Machine:
         runs_ahead: bool = False,
         seconds: float | None = None,
         via: np.ndarray | None = None,
+        path=None,
     ) -> None:
         """Record a commanded move. It starts when the previous one ends and takes travel_seconds;
         the program waits for it (the clock reaches its end) unless the controller runs ahead of its
         motion (an advance run, a fly-by point): then the clock stays and the arm is moving
         until an instruction that waits for it (Machine.arrive). seconds: the move's duration where the
         caller knows it (a move relative to a tracked conveyor); via: a circular move's circle point (its
-        duration is the arc's length over the speed)."""
+        duration is the arc's length over the speed); path: the move's own path where the dialect knows it
+        better (codegen/dialects/core/watch.py Path: a circle whose orientation turns)."""
         self.trace.moves.append(event)
         start = max(self.clock, self.arm_until)
+        if seconds is None and path is not None and speed_mm_s:
+            seconds = path.length / speed_mm_s
         if seconds is None:
             if via is not None and self._last_tcp2base is not None and event.tcp2base is not None and speed_mm_s:
                 from codegen.dialects.core.watch import Path
@@ -201,12 +205,24 @@ class Machine:
         self.arm_until = start + seconds
         event.end_time = self.arm_until
         if self.watching is not None:
-            self.watching.record(start, self.arm_until, self._last_tcp2base, event, via, self.arm.tcp2flange)
+            self.watching.record(start, self.arm_until, self._last_tcp2base, event, via, self.arm.tcp2flange, path)
         self._last_tcp2base = event.tcp2base
         self.last_move = event
         if not runs_ahead:
             self.clock = self.arm_until
             self.deliver()
+
+    def cut_move(self, event: MoveEvent, t: float, pose: np.ndarray) -> None:
+        """The last commanded move ends early: at time t, at this pose (a search that stops at its hit; no
+        stopping distance is modelled)."""
+        if self.last_move is not event:
+            raise RunError("a move can only be cut short while it is the last one commanded")
+        if self.watching is not None:
+            self.watching.cut(event, t, pose)
+        event.tcp2base = pose
+        event.end_time = t
+        self.arm_until = t
+        self._last_tcp2base = pose
 
     def deliver(self) -> None:
         """The watched inputs' edges up to the clock reach their handlers (interrupts, traps, threads)."""

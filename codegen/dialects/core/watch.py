@@ -2,8 +2,8 @@
 
 # A controller reads its inputs once per cycle (targets/<t>.toml signal_cycle_s): an input that changes
 # while the arm moves (a beam the tool crosses) is seen at the first cycle after it changed, and what the
-# controller latches there (KRL $POS_INT, RAPID's search point, a UR thread's get_actual_tcp_pose) is the
-# tool's pose at that cycle. Devices that switch with the tool's pose (codegen/laser/station.py) answer
+# controller latches there (an interrupt's latched position, a search's point, a thread's reading of the
+# pose) is the tool's pose at that cycle. Devices that switch with the tool's pose (codegen/laser/station.py) answer
 # switch(name, t, flange2base) for each cycle in increasing time: their state may depend on the previous
 # cycle (hysteresis, noise), so an input's history is evaluated once, forward, and shared by every reader.
 
@@ -69,6 +69,7 @@ class Segment:
     path: Path | None  # None: a move whose path the clock does not know (a joint move)
     tcp2flange: np.ndarray
     end: object  # the MoveEvent (its tcp2base is the pose after the move)
+    flange2tcp: np.ndarray | None = None  # the inverse of tcp2flange (computed once)
 
 
 @dataclass
@@ -104,24 +105,38 @@ class Watching:
         self._delivering = False
 
     # --- the tool over time ---------------------------------------------------------------
-    def record(self, t0: float, t1: float, start, event, via, tcp2flange) -> None:
-        path = None
-        if start is not None and event.tcp2base is not None:
+    def record(self, t0: float, t1: float, start, event, via, tcp2flange, path=None) -> None:
+        if path is None and start is not None and event.tcp2base is not None:
             path = Path(start, event.tcp2base, via)
-        self.segments.append(Segment(t0, t1, path, tcp2flange.copy(), event))
+        self.segments.append(Segment(t0, t1, path, tcp2flange.copy(), event, np.linalg.inv(tcp2flange)))
 
     def pose_at(self, t: float) -> tuple[np.ndarray | None, np.ndarray | None]:
         """(tcp2base, tcp2flange) at time t: on the path of the move under way, else where the last move
         ended (None before any move with a known pose)."""
+        seg = self.segment_at(t)
+        if seg is None:
+            return None, None
+        if t < seg.t1:
+            if seg.path is None:
+                return None, seg.tcp2flange
+            return seg.path.pose((t - seg.t0) / (seg.t1 - seg.t0)), seg.tcp2flange
+        self.machine.arm.resolve()
+        return seg.end.tcp2base, seg.tcp2flange
+
+    def cut(self, event, t: float, pose: np.ndarray) -> None:
+        """The last move ends at t, at pose (Machine.cut_move): a straight path there."""
+        segment = self.segments[-1]
+        if segment.end is not event:
+            raise RunError("a move can only be cut short while it is the last one recorded")
+        start = segment.path.start if segment.path is not None else pose
+        segment.path, segment.t1 = Path(start, pose), t
+
+    def segment_at(self, t: float) -> Segment | None:
+        """The last move that started by t."""
         for seg in reversed(self.segments):
             if seg.t0 <= t:
-                if t < seg.t1 and seg.path is not None:
-                    return seg.path.pose((t - seg.t0) / (seg.t1 - seg.t0)), seg.tcp2flange
-                if t < seg.t1:
-                    return None, seg.tcp2flange
-                self.machine.arm.resolve()
-                return seg.end.tcp2base, seg.tcp2flange
-        return None, None
+                return seg
+        return None
 
     # --- inputs -----------------------------------------------------------------------------
     def handles(self, name: str) -> bool:
@@ -132,8 +147,9 @@ class Watching:
         if history is None:  # first read: the cycles before it are nobody's concern
             history = self.histories[name] = _History(tick=tick - 1)
         for k in range(history.tick + 1, tick + 1):
-            tcp2base, tcp2flange = self.pose_at(k * self.cycle)
-            flange2base = None if tcp2base is None else tcp2base @ np.linalg.inv(tcp2flange)
+            t = k * self.cycle
+            tcp2base = self.pose_at(t)[0]
+            flange2base = None if tcp2base is None else tcp2base @ self.segment_at(t).flange2tcp
             value = history.value
             for device in self.devices:
                 answer = device.switch(name, k * self.cycle, flange2base)
@@ -174,7 +190,8 @@ class Watching:
         if edge not in EDGES:
             raise ValueError(edge)
         clock = self.machine.clock
-        watcher = Watcher(name, edge, handler, clock, done=clock, last=self.value(name, clock))
+        last = None if edge == "every" else self.value(name, clock)  # "every": a cycle's call, no input read
+        watcher = Watcher(name, edge, handler, clock, done=clock, last=last)
         self.watchers.append(watcher)
         return watcher
 
