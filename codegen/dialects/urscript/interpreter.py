@@ -14,7 +14,7 @@ from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import MoveEvent, Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
-from codegen.dialects.urscript import conveyor
+from codegen.dialects.urscript import circle, conveyor, threads
 from codegen.robot import solve
 
 INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
@@ -89,9 +89,14 @@ def _unary(fn):
     return call
 
 
-class URScriptCompiler(Compiler):
+class URScriptCompiler(threads.ThreadStatements, Compiler):
     name = "urscript"
     index_base = 0
+
+    def __init__(self, filename: str) -> None:
+        super().__init__(filename)
+        self.threads: dict = {}  # thread definitions by name (codegen/dialects/urscript/threads.py)
+        self.thread_runs: list[tuple[str, object]] = []  # (name, node) of each `run name()`, checked by load()
 
     def make_builtins(self) -> dict:
         def pose_trans(fr, args, kwargs, where):
@@ -117,6 +122,8 @@ class URScriptCompiler(Compiler):
             def run(fr, args, kwargs, where):
                 if not args:
                     raise RunError(f"{where}: move{kind[0]} needs a target")
+                if threads.current(fr) is not None:
+                    raise RunError(f"{where}: move{kind[0]} from a thread: not modelled here (the main program moves)")
                 target = args[0]
                 line = int(where.split(":")[1])
                 settings = {key: float(kwargs.get(key, default)) for key, default in MOVE_DEFAULTS[kind].items()}
@@ -210,10 +217,28 @@ class URScriptCompiler(Compiler):
             return int(fr.m.outputs.get(name, fr.m.inputs.get(name, 0)))
 
         def sync(fr, args, kwargs, where):
-            fr.m.elapse(STEP_TIME_S, where)  # one controller cycle; devices (the vision PC) act in between
+            # "uses up the remaining 'physical' time a thread has in the current frame" (URScript manual)
+            if args or kwargs:
+                raise RunError(f"{where}: sync() takes no arguments")
+            thread = threads.current(fr)
+            if thread is not None:  # a thread: its slice ends here, the next one is the next cycle's
+                thread.scheduler.pause(thread)
+                return
+            watching = fr.m.watching  # the main program: one controller cycle; devices act in between
+            fr.m.elapse(STEP_TIME_S if watching is None else watching.cycle, where)
 
         def sleep(fr, args, kwargs, where):
-            fr.m.elapse(float(_num(args[0], where, "sleep time")), where)
+            if len(args) + len(kwargs) != 1 or (kwargs and "t" not in kwargs):
+                raise RunError(f"{where}: sleep(t) takes one argument, the time in s")
+            seconds = float(_num(args[0] if args else kwargs["t"], where, "sleep time"))
+            if not seconds >= 0 or not math.isfinite(seconds):
+                raise RunError(f"{where}: sleep time must be a finite number of seconds >= 0, got {seconds}")
+            thread = threads.current(fr)
+            if thread is not None:  # a thread: no slices until then (physical time, like sync)
+                thread.wake = fr.m.clock + seconds
+                thread.scheduler.pause(thread)
+                return
+            fr.m.elapse(seconds, where)
 
         def set_standard_digital_out(fr, args, kwargs, where):
             index = int(_num(args[0], where, "digital output"))
@@ -222,10 +247,30 @@ class URScriptCompiler(Compiler):
             fr.m.set_output(f"standard_digital_out[{index}]", args[1], where)
 
         def get_standard_digital_in(fr, args, kwargs, where):
-            index = int(_num(args[0], where, "digital input"))
-            if not 0 <= index <= DIGITAL_MAX:
-                raise RunError(f"{where}: get_standard_digital_in(n) takes n 0..{DIGITAL_MAX}")
-            return fr.m.signals.get(f"standard_digital_in[{index}]", False)
+            # n: "an integer in [0:7]", returns a bool (URScript manual, e-Series 17.12): the input as the
+            # controller reads it now (Machine.input_signal: at this cycle where a device switches it with the
+            # tool's pose while the arm moves; in a thread's slice, that slice's cycle)
+            if len(args) + len(kwargs) != 1 or (kwargs and "n" not in kwargs):
+                raise RunError(f"{where}: get_standard_digital_in(n) takes one argument, the input's number")
+            index = args[0] if args else kwargs["n"]
+            if type(index) is not int or not 0 <= index <= DIGITAL_MAX:
+                raise RunError(f"{where}: get_standard_digital_in(n) takes an integer 0..{DIGITAL_MAX}, got {index!r}")
+            return bool(fr.m.input_signal(f"standard_digital_in[{index}]", False))
+
+        def get_actual_tcp_pose(fr, args, kwargs, where):
+            # the TCP in the base frame (m, rotation vector) "based on the actual robot encoder readings"
+            # (URScript manual, e-Series 15.6): where the arm is at the clock (on a move's path at a thread's
+            # cycle), with the TCP active now
+            if args or kwargs:
+                raise RunError(f"{where}: get_actual_tcp_pose() takes no arguments")
+            machine = fr.m
+            machine.arm.resolve()
+            pose, tcp2flange = (None, None) if machine.watching is None else machine.watching.pose_at(machine.clock)
+            # the flange there, with the TCP active now
+            pose = machine.pose_now() if pose is None else pose @ np.linalg.inv(tcp2flange) @ machine.arm.tcp2flange
+            if pose is None:
+                raise RunError(f"{where}: get_actual_tcp_pose: the arm's pose is not known here (no move to a pose)")
+            return URPose(posemath.ur_from_matrix(pose))
 
         def get_actual_joint_positions(fr, args, kwargs, where):
             return [f32(v) for v in np.radians(fr.m.arm.actual(where))]
@@ -286,6 +331,8 @@ class URScriptCompiler(Compiler):
             "get_actual_joint_positions": get_actual_joint_positions,
             "set_standard_digital_out": set_standard_digital_out,
             "get_standard_digital_in": get_standard_digital_in,
+            "get_actual_tcp_pose": get_actual_tcp_pose,
+            "movec": circle.builtin(_pose, _num, threads.current),
             "popup": popup,
             "sin": _unary(math.sin),
             "cos": _unary(math.cos),
@@ -367,6 +414,8 @@ class URScriptCompiler(Compiler):
 
     def s_funcdef(self, node):
         name_token, params_node, body = node.children
+        if str(name_token) in self.threads:
+            self.fail(name_token, f"{name_token} is defined as a thread already")
         params = [(str(p), "IN", None) for p in (params_node.children if params_node is not None else [])]
         self.define_routine(str(name_token), name_token, params, None, node, body.children, unique=False)
         return lambda fr: None  # defined at compile time
@@ -397,7 +446,7 @@ def load(text: str, filename: str = "<urscript>") -> Program:
         statements, name = top, filename
     split = 0
     while split < len(statements) and (
-        statements[split].data == "funcdef"
+        statements[split].data in ("funcdef", "threaddef")
         or (statements[split].data == "assign" and _is_constant(statements[split].children[1]))
     ):
         split += 1
@@ -410,4 +459,5 @@ def load(text: str, filename: str = "<urscript>") -> Program:
             statement(fr)
 
     rest = compiler.block(statements[split:])
-    return Program(name, compiler, prefix, None, rest)
+    compiler.check_thread_runs()
+    return Program(name, compiler, prefix, None, threads.ending_threads(rest))
