@@ -29,12 +29,14 @@ from codegen.dialects.krl.builtins import (
     valid,
     xyzabc,
 )
-from codegen.dialects.krl.interrupts import InterruptStatements
+from codegen.dialects.krl.interrupts import InterruptStatements, pos_int, routine_signatures
 from codegen.dialects.krl.motion import (
     ACTIVE_BASE_AT_START,
     SYSTEM_ARRAY,
     SYSTEM_ARRAYS,
+    CircStatement,
     motion_run,
+    orientation_store,
     path_variable_store,
     robroot,
     system_inputs,
@@ -51,7 +53,7 @@ NO_SKIP = frozenset()
 
 
 
-class KRLCompiler(SignalGroups, InterruptStatements, io.ContinueStatement, Compiler):
+class KRLCompiler(SignalGroups, InterruptStatements, CircStatement, io.ContinueStatement, Compiler):
     name = "krl"
     case_insensitive = True
     index_base = 1
@@ -160,6 +162,12 @@ class KRLCompiler(SignalGroups, InterruptStatements, io.ContinueStatement, Compi
                 return fr.m.extra.setdefault("$BASE", frame(ACTIVE_BASE_AT_START))
             elif key == "$ROBROOT":  # the robot's base in the world (KSS 8 system variables; read-only)
                 return fr.m.extra.get("$ROBROOT") or frame()
+            elif key == "$POS_INT":  # where the arm was when an interrupt fired (codegen/dialects/krl/interrupts.py)
+                return pos_int(fr.m, where)
+            elif key in ("$ORI_TYPE", "$CIRC_TYPE"):
+                if key not in fr.m.extra:
+                    raise RunError(f"{where}: {key} has no value here (the program sets it: no default is assumed)")
+                return fr.m.extra[key]
             elif key in SYSTEM_ARRAYS:  # the controller's numbered bases, tools and loads ($config.dat)
                 type_name, size, _shape = SYSTEM_ARRAYS[key]
                 return fr.m.extra.setdefault(key, [new_value(type_name) for _ in range(size)])
@@ -286,8 +294,10 @@ class KRLCompiler(SignalGroups, InterruptStatements, io.ContinueStatement, Compi
     def s_assign(self, node):
         target_node, value_node = node.children
         is_var = isinstance(target_node, Tree) and target_node.data == "var"
-        system_store = path_variable_store(self, target_node, value_node, node) or io.output_store(
-            self, target_node, value_node, node
+        system_store = (
+            path_variable_store(self, target_node, value_node, node)
+            or orientation_store(self, target_node, value_node, node)
+            or io.output_store(self, target_node, value_node, node)
         )
         if system_store is not None:
             return system_store
@@ -470,6 +480,7 @@ def load(text: str, filename: str = "<krl>", dat_text: str | None = None) -> Pro
         for item in tree.children
         if isinstance(item, Tree) and item.data in ("def_routine", "def_function")
     }
+    compiler.routine_signatures = routine_signatures(tree)
     main = None
     for item in tree.children:
         if not isinstance(item, Tree):

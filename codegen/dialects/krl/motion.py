@@ -1,8 +1,10 @@
-"""KRL motion: PTP and LIN (Status, Turn, BCO, $BASE, $ROBROOT), path speed, approximation, $LOAD, numbered data."""
+"""KRL motion: PTP, LIN, CIRC (Status, Turn, BCO, $BASE, $ROBROOT), path speed, approximation, $LOAD, numbered data."""
 
 from __future__ import annotations
 
 import re
+
+import numpy as np
 
 from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent
@@ -169,14 +171,158 @@ def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
             return
         pose = cart(target, where)
         posemath.check_finite(xyzabc(pose), where, "motion target")
-        base = fr.m.extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
-        tcp2base = cart_matrix(pose)
-        if base is not None and xyzabc(base) != (0, 0, 0, 0, 0, 0):  # $NULLFRAME: identity
-            tcp2base = cart_matrix(base) @ tcp2base
-        if "$ROBROOT" in fr.m.extra:  # $BASE is in the world; the trace is in the robot's base frame
-            tcp2base = world2robot(fr.m.extra["$ROBROOT"]) @ tcp2base
+        base = base2robot(fr.m.extra)
+        tcp2base = base @ cart_matrix(pose)
+        if kind == "linear" and fr.m.extra.get("$ORI_TYPE") == "#CONSTANT":
+            tcp2base[:3, :3] = start_orientation(fr, "LIN", where)
         event = MoveEvent(kind, tcp2base, line, settings)
         fr.m.arm.to_pose(event, where, *motion_rule(kind, pose, fr.m.arm, where))
+        record_base(fr.m, event, base)
         fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
 
     return run
+
+
+def base2robot(extra: dict) -> np.ndarray:
+    """The active $BASE in the robot's base frame (4x4 mm): $BASE is in the world, the trace in the robot's
+    base frame ($ROBROOT); a program that never set $BASE moves in the one active when it started."""
+    base = extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
+    out = cart_matrix(base) if xyzabc(base) != (0, 0, 0, 0, 0, 0) else np.eye(4)  # $NULLFRAME: identity
+    if "$ROBROOT" in extra:
+        out = world2robot(extra["$ROBROOT"]) @ out
+    return out
+
+
+def record_base(machine, event: MoveEvent, base: np.ndarray) -> None:
+    """Keep the $BASE a move was planned in: $POS_INT is in the base of the motion under way."""
+    machine.extra.setdefault("MOVE_BASES", {})[id(event)] = base
+
+
+def motion_base(machine, t: float) -> np.ndarray:
+    """The $BASE (robot's base frame) of the move under way at time t, or of the last one that ended by
+    then; the program's $BASE before any move."""
+    bases = machine.extra.get("MOVE_BASES", {})
+    watching = machine.watching
+    for seg in reversed(watching.segments if watching is not None else []):
+        if seg.t0 <= t and id(seg.end) in bases:
+            return bases[id(seg.end)]
+    return base2robot(machine.extra)
+
+
+# $ORI_TYPE and $CIRC_TYPE (KSS 8 system variables, recalled, not confirmed from the manual here):
+# $ORI_TYPE #CONSTANT keeps the start's orientation over a LIN or CIRC (the end point's orientation is
+# disregarded), #VARIABLE and #JOINT change it to the end's; $CIRC_TYPE #BASE holds a CIRC's orientation
+# in the base, #PATH turns it with the path's tangent. The interpreter runs CIRC with #CONSTANT and #BASE
+# only (the core's circular path holds the start's orientation), and assumes no default for either.
+ORI_TYPES = frozenset({"#CONSTANT", "#VARIABLE", "#JOINT"})
+CIRC_TYPES = frozenset({"#BASE", "#PATH"})
+ORIENTATION_VARIABLES = {"$ORI_TYPE": ORI_TYPES, "$CIRC_TYPE": CIRC_TYPES}
+
+
+def orientation_store(compiler, target_node, value_node, node):
+    """`$ORI_TYPE = #CONSTANT` / `$CIRC_TYPE = #BASE`: the statement that keeps it for the next moves, or
+    None for any other assignment."""
+    from lark import Tree
+
+    if not (isinstance(target_node, Tree) and target_node.data == "var"):
+        return None
+    key = str(target_node.children[0]).upper()
+    if key not in ORIENTATION_VARIABLES:
+        return None
+    value, where, allowed = compiler.expr(value_node), compiler.where(node), ORIENTATION_VARIABLES[key]
+
+    def store(fr):
+        v = value(fr)
+        if not isinstance(v, str) or v.upper() not in allowed:
+            raise RunError(f"{where}: {key} takes {', '.join(sorted(allowed))}, got {v!r}")
+        fr.m.extra[key] = v.upper()
+
+    return store
+
+
+def start_orientation(fr, what: str, where: str) -> np.ndarray:
+    """The orientation (3x3, robot's base frame) the arm has where the move starts: the last move's end."""
+    last = fr.m.last_move
+    if last is not None and last.tcp2base is None:
+        fr.m.arm.resolve()  # a PTP to axis values: its pose from the arm's kinematics, where known
+    if last is None or last.tcp2base is None:
+        raise RunError(
+            f"{where}: {what} with $ORI_TYPE = #CONSTANT: the orientation where it starts is not known here "
+            "(the first motion, or a PTP to axis values without the arm's model)"
+        )
+    return last.tcp2base[:3, :3].copy()
+
+
+def circ_run(compiler, static: dict, aux_value, end_value, where: str, line: int):
+    """CIRC aux, end: the circle from where the arm is through aux to end (both in $BASE), at $VEL.CP (its
+    time the arc's length over it); the orientation the start's ($ORI_TYPE #CONSTANT, $CIRC_TYPE #BASE);
+    the advance run goes on. The aux point's orientation is disregarded (KSS 8 manual, recalled)."""
+    from codegen.dialects.core.watch import Path
+
+    def target(fr, value, what: str) -> tuple[Record, np.ndarray]:
+        pose = value(fr)
+        if isinstance(pose, Record) and pose.type is None:  # a bare aggregate {X .., .., C ..}
+            missing = [k for k, _ in XYZABC if k not in pose]
+            if missing:
+                raise RunError(f"{where}: CIRC {what} lacks {', '.join(missing)}")
+            pose = compiler.coerce("FRAME", pose, where)
+        if isinstance(pose, Record) and pose.type in AXES:
+            raise RunError(f"{where}: CIRC takes cartesian points (FRAME, POS, E6POS), its {what} is {pose.type}")
+        pose = cart(pose, where)
+        posemath.check_finite(xyzabc(pose), where, f"CIRC {what}")
+        return pose, base2robot(fr.m.extra) @ cart_matrix(pose)
+
+    def run(fr):
+        extra = fr.m.extra
+        if extra.get("$ORI_TYPE") != "#CONSTANT":
+            raise RunError(
+                f"{where}: CIRC with $ORI_TYPE {extra.get('$ORI_TYPE', 'not set')}: the interpreter models CIRC "
+                "with $ORI_TYPE = #CONSTANT (the start's orientation held): set it before the CIRC"
+            )
+        if extra.get("$CIRC_TYPE") != "#BASE":
+            raise RunError(
+                f"{where}: CIRC with $CIRC_TYPE {extra.get('$CIRC_TYPE', 'not set')}: the interpreter models CIRC "
+                "with $CIRC_TYPE = #BASE (the orientation held in the base): set it before the CIRC"
+            )
+        last = fr.m.last_move
+        if last is None or last.tcp2base is None:
+            raise RunError(
+                f"{where}: CIRC: where the circle starts is not known here (the first motion, or a PTP to axis "
+                "values before it): move to a cartesian pose first"
+            )
+        _aux, aux = target(fr, aux_value, "auxiliary point")
+        end_pose, end = target(fr, end_value, "end point")
+        start = last.tcp2base
+        aux[:3, :3] = end[:3, :3] = start[:3, :3]
+        try:
+            Path(start, end, aux)
+        except RunError as exc:
+            raise RunError(f"{where}: CIRC: {exc}") from None
+        for p, what in ((aux, "auxiliary point"), (end, "end point")):
+            if np.linalg.norm(p[:3, 3] - start[:3, 3]) < CIRC_MIN_MM:
+                raise RunError(f"{where}: CIRC: the {what} is where the circle starts")
+        if np.linalg.norm(aux[:3, 3] - end[:3, 3]) < CIRC_MIN_MM:
+            raise RunError(f"{where}: CIRC: the auxiliary point is the end point")
+        settings = {**path_settings(static, "linear", extra), "circ": True}
+        event = MoveEvent("linear", end, line, settings)
+        fr.m.arm.to_pose(event, where, *motion_rule("linear", end_pose, fr.m.arm, where))
+        record_base(fr.m, event, base2robot(extra))
+        fr.m.move(event, tcp_speed(extra), runs_ahead=True, via=aux)  # the advance run goes on
+
+    return run
+
+
+CIRC_MIN_MM = 0.1  # assumed: how close a CIRC's points may lie (the controller refuses coincident points)
+
+
+class CircStatement:
+    """Compiler mixin: CIRC aux, end (without CA: a circular angle is not modelled)."""
+
+    def s_circ_stmt(self, node):
+        _keyword, aux, end, angle_name, _angle, approx = node.children
+        if angle_name is not None:
+            if str(angle_name).upper() != "CA":
+                self.fail(angle_name, f"CIRC aux, end, {angle_name}: expected CA (the circular angle)")
+            self.fail(angle_name, "CIRC with CA (a circular angle) is not modelled by this interpreter")
+        static = {"approx": str(approx).upper() if approx is not None else None}
+        return circ_run(self, static, self.expr(aux), self.expr(end), self.where(node), self.line(node))
