@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import operator
-import re
 
 import numpy as np
 
@@ -12,9 +11,6 @@ from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent, halt, pause
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed
 from codegen.dialects.rapid.messages import err_write
-
-QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
-
 
 # Record types by field order (aggregates [a, b, ...] are positional).
 RECORDS = {
@@ -47,8 +43,6 @@ STRING_MAX = 80  # characters of a RAPID string (RAPID kernel manual, string; ta
 # - zonedata [finep, pzone_tcp, ...]: finep TRUE is a stop point (the move ends before the next
 #   instruction runs, as the predefined fine); FALSE a fly-by point (z0 ... z200): program execution
 #   runs ahead while the arm moves.
-VMAX_TCP = 5000.0
-_SPEED_NAME = re.compile(r"^V(\d+)$")
 
 
 def _zero(type_name: str):
@@ -119,31 +113,23 @@ def pose_record(trans, quat) -> Record:
     )
 
 
-def _tool(fr, args, where: str) -> tuple | None:
-    """The move's tooldata becomes the active tool: its TCP for the arm, its load (mass kg, centre of
-    gravity mm) for the trace. tool0 is the flange."""
-    tool = args[3] if len(args) > 3 else None
-    if not isinstance(tool, Record):
-        if tool != "TOOL0":
-            raise RunError(f"{where}: the move names no tooldata")
-        fr.m.arm.tcp2flange = np.eye(4)
-        return None
-    if not tool["ROBHOLD"]:
-        raise RunError(f"{where}: a stationary tool (robhold FALSE) is not supported")
-    frame = tool["TFRAME"]
-    pose7 = vec(frame["TRANS"], "XYZ") + vec(frame["ROT"], QUAT_KEYS)
-    posemath.check_finite(pose7, where, "tooldata tframe")
-    fr.m.arm.tcp2flange = posemath.matrix_from_abb(pose7)
-    load = tool["TLOAD"]
-    mass = float(load["MASS"])
-    if not mass > 0:
-        raise RunError(f"{where}: a tool the robot holds must have a mass above 0 kg (tooldata tload)")
-    return (mass, *vec(load["COG"], "XYZ"))
-
-
 def builtins(compiler) -> dict:
     """The RAPID functions and procedures the interpreter provides, by upper-case name; compiler
     supplies the coercions of record aggregates."""
+    from codegen.dialects.rapid.motion import (  # the motion helpers build on this module's types
+        check_circle,
+        conf_now,
+        move_event,
+        move_load,
+        move_setting,
+        move_timing,
+        no_motion_in_trap,
+        robtarget_from,
+        target_pose,
+        tcp_now,
+        tool_matrix,
+        wobj_matrix,
+    )
 
     def trig(fn):
         return lambda fr, a, k, w: f32(fn(math.radians(num(a[0], w))))
@@ -248,52 +234,52 @@ def builtins(compiler) -> dict:
             raise RunError(f"{where}: TPWrite text longer than {STRING_MAX} characters")
         fr.m.message(text)
 
-    def _setting(args, i: int) -> str:
-        """A predefined speeddata, zonedata or tooldata by its name; any other value as 'custom'."""
-        value = args[i] if len(args) > i else None
-        return value.upper() if isinstance(value, str) else "custom"
-
     def move(kind):
         def run(fr, args, kwargs, where):
+            no_motion_in_trap(fr, where, "MoveJ" if kind == "joint" else "MoveL")
             timing = move_timing(args, kwargs, where)
-            target = args[0]
-            if type(target) is not Record or target.type != "ROBTARGET":
-                target = compiler.coerce("ROBTARGET", target, where)
-            t = vec(target["TRANS"], "XYZ")
-            q = vec(target["ROT"], QUAT_KEYS)
-            posemath.check_finite(t + q, where, "move target")
-            q1, q2, q3, q4 = q
-            norm = math.sqrt(q1 * q1 + q2 * q2 + q3 * q3 + q4 * q4)
-            if abs(norm - 1.0) > QUATERNION_TOLERANCE:
-                raise RunError(f"{where}: orientation not normalised (|q| = {norm:.9f})")
-            m = posemath.matrix_from_abb(t + q)
-            wobj = kwargs.get("WOBJ")
-            if isinstance(wobj, Record):  # tcp2base = uframe . oframe . target (wobj0: identity)
-                wobj = compiler.coerce("WOBJDATA", wobj, where)
-                if wobj["ROBHOLD"]:
-                    raise RunError(f"{where}: a work object held by the robot is not supported")
-                frames = [wobj["UFRAME"], wobj["OFRAME"]]
-                for frame in reversed(frames):
-                    pose7 = vec(frame["TRANS"], "XYZ") + vec(frame["ROT"], ("Q1", "Q2", "Q3", "Q4"))
-                    m = posemath.matrix_from_abb(pose7) @ m
-            elif wobj not in (None, "WOBJ0"):
-                raise RunError(f"{where}: unknown work object {wobj}")
-            speed, zone, tool = (_setting(args, i) for i in (1, 2, 3))
-            settings = {"speed": speed, "zone": zone, "tool": tool, "load": _tool(fr, args, where)}
-            settings["tcp_mm_s"], settings["zone_mm"] = timing[0], zone_radius(args[2] if len(args) > 2 else None)
-            conf = vec(target["ROBCONF"], ("CF1", "CF4", "CF6", "CFX"))
-            check = fr.m.extra.get("CONFJ" if kind == "joint" else "CONFL", True)
-            robconf = tuple(int(v) for v in conf)
-            event = MoveEvent(kind, m, int(where.split(":")[1]), settings)
-            if kind == "joint" and check:  # ConfJ on (the default): the robot moves to the programmed configuration
-                fr.m.arm.to_pose(event, where, "confdata", robconf)
-            elif kind == "joint":  # ConfJ off: the closest configuration
-                fr.m.arm.to_pose(event, where, "nearest")
-            else:  # linear: the closest configuration; ConfL on: it must be the programmed one at the end
-                fr.m.arm.to_pose(event, where, "keep", check=robconf if check else None)
+            m, target = target_pose(compiler, args[0], kwargs.get("WOBJ"), where)
+            event = move_event(fr, kind, m, target, args, timing, where)
             fr.m.move(event, *timing)
 
         return run
+
+    def move_c(fr, args, kwargs, where):
+        """MoveC CirPoint, ToPoint, Speed, Zone, Tool [\\WObj] [\\V]: the TCP on the circle through where the
+        previous motion ends, CirPoint and ToPoint; it takes the arc's length over the speed's v_tcp. The
+        orientation is the start's along the arc (the interpreter's circular path) and ToPoint's at its end;
+        the arm's joints are solved at ToPoint only (not along the arc)."""
+        no_motion_in_trap(fr, where, "MoveC")
+        if len(args) != 5:
+            given = f"{len(args)} arguments given"
+            raise RunError(f"{where}: MoveC takes CirPoint, ToPoint, Speed, Zone and Tool ({given})")
+        unknown = sorted(set(kwargs) - {"WOBJ", "V"})
+        if unknown:
+            raise RunError(f"{where}: MoveC \\{unknown[0].title()} is not supported here")
+        rest = args[1:]  # ToPoint, Speed, Zone, Tool: as MoveL's arguments
+        timing = move_timing(rest, kwargs, where)
+        via, _cir = target_pose(compiler, args[0], kwargs.get("WOBJ"), where)
+        m, target = target_pose(compiler, args[1], kwargs.get("WOBJ"), where)
+        last = fr.m.last_move
+        check_circle(None if last is None else last.tcp2base, via, m, where)
+        event = move_event(fr, "linear", m, target, rest, timing, where)
+        event.settings["circle_point"] = [float(v) for v in via[:3, 3]]
+        fr.m.move(event, *timing, via=via)
+
+    def c_rob_t(fr, args, kwargs, where):
+        """CRobT(\\Tool:=tool \\WObj:=wobj): the robtarget where the arm is now (where the clock finds it on
+        the path of a move under way: in a TRAP, the cycle its interrupt came), for that tool in that work
+        object. Without \\Tool or \\WObj the controller takes the active ones (assumed, as recalled: RAPID
+        functions, CRobT), which the interpreter does not keep: both are required here."""
+        if args or set(kwargs) != {"TOOL", "WOBJ"}:
+            raise RunError(f"{where}: CRobT takes \\Tool:= and \\WObj:= here (the active ones are not tracked)")
+        tool2flange = tool_matrix(kwargs["TOOL"], where)
+        base2wobj = np.linalg.inv(wobj_matrix(compiler, kwargs["WOBJ"], where))
+        tcp2base, active = tcp_now(fr.m)
+        if tcp2base is None:
+            raise RunError(f"{where}: CRobT: the arm's pose is not known here (no move to a pose yet)")
+        pose = base2wobj @ tcp2base @ np.linalg.inv(active) @ tool2flange
+        return robtarget_from(pose, conf_now(fr.m), where)
 
     def configuration_check(name):
         def run(fr, args, kwargs, where):
@@ -311,13 +297,14 @@ def builtins(compiler) -> dict:
         return compiler.coerce("JOINTTARGET", [[f32(v) for v in q], [f32(9e9)] * 6], where)
 
     def move_abs_j(fr, args, kwargs, where):
+        no_motion_in_trap(fr, where, "MoveAbsJ")
         target = args[0]
         if type(target) is not Record or target.type != "JOINTTARGET":
             target = compiler.coerce("JOINTTARGET", target, where)
         q = vec(target["ROBAX"], tuple(f"RAX_{i}" for i in range(1, 7)))
         posemath.check_finite(q, where, "joint target")
-        speed, zone, tool = (_setting(args, i) for i in (1, 2, 3))
-        settings = {"speed": speed, "zone": zone, "tool": tool, "load": _tool(fr, args, where)}
+        speed, zone, tool = (move_setting(args, i) for i in (1, 2, 3))
+        settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
         event = MoveEvent("joint", None, int(where.split(":")[1]), settings)
         fr.m.arm.to_joints(event, q, where)
         fr.m.move(event, *move_timing(args, kwargs, where))
@@ -344,42 +331,12 @@ def builtins(compiler) -> dict:
         "MOVEJ": move("joint"),
         "MOVEL": move("linear"),
         "MOVEABSJ": move_abs_j,
+        "MOVEC": move_c,
+        "CROBT": c_rob_t,
         "CJOINTT": c_joint_t,
         "CONFJ": configuration_check("CONFJ"),
         "CONFL": configuration_check("CONFL"),
     }
-
-
-def zone_radius(zone) -> float:
-    """The TCP zone of a move in mm: 0 for fine (or a zonedata with finep), a predefined zN's N, a
-    zonedata's pzone_tcp."""
-    if isinstance(zone, Record) and zone.type == "ZONEDATA":
-        return 0.0 if zone["FINEP"] else float(zone["PZONE_TCP"])
-    match = re.fullmatch(r"Z(\d+)", str(zone).upper())
-    return float(match.group(1)) if match else 0.0
-
-
-def move_timing(args, kwargs, where: str) -> tuple[float, bool]:
-    """A move's TCP speed (mm/s) and whether the program runs ahead of it (a fly-by zone)."""
-    speed_arg = args[1] if len(args) > 1 else None
-    if isinstance(speed_arg, Record) and speed_arg.type == "SPEEDDATA":
-        speed = float(speed_arg["V_TCP"])
-    elif isinstance(speed_arg, str) and speed_arg.upper() == "VMAX":
-        speed = VMAX_TCP
-    elif isinstance(speed_arg, str) and (match := _SPEED_NAME.match(speed_arg.upper())):
-        speed = float(match.group(1))
-    else:
-        raise RunError(f"{where}: the move's speed is not a speeddata ({type_text(speed_arg)})")
-    if "V" in kwargs:
-        speed = num(kwargs["V"], where)
-    if not speed > 0:
-        raise RunError(f"{where}: the move's TCP speed must be above 0 mm/s, got {speed:g}")
-    zone = args[2] if len(args) > 2 else None
-    if isinstance(zone, Record) and zone.type == "ZONEDATA":
-        return speed, not zone["FINEP"]
-    if not isinstance(zone, str):
-        raise RunError(f"{where}: the move's zone is not a zonedata ({type_text(zone)})")
-    return speed, zone.upper() != "FINE"
 
 
 def num_text(value) -> str:

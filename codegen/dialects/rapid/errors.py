@@ -36,6 +36,10 @@ ERROR_NUMBERS = {
     "ERR_DIVZERO": 1001,  # division by zero (DIV, MOD, /)
     "ERR_WAIT_MAXTIME": 1002,  # WaitUntil \MaxTime without \TimeFlag: the time ran out
     "ERR_ILLRAISE": 1003,  # RAISE with a number outside 1-90 and not booked
+    # SearchL (codegen/dialects/rapid/search.py; public programs handle them by these names; one shows 1072 as
+    # ERR_WHLSEARCH's value, not confirmed, so internal values here as for the others)
+    "ERR_SIGSUPSEARCH": 1004,  # the searched input already has the value its flank goes to at the start
+    "ERR_WHLSEARCH": 1005,  # no hit before ToPoint (or more than one with \Sup)
 }
 ERROR_NAMES = {number: name for name, number in ERROR_NUMBERS.items()}
 ERROR_CONSTANTS = {name: f32(number) for name, number in ERROR_NUMBERS.items()}

@@ -12,7 +12,7 @@ from codegen.dialects.core.machine import Program
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Inline, Src, indent
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
-from codegen.dialects.rapid import errors, messages, waits
+from codegen.dialects.rapid import errors, interrupts, messages, search, waits
 from codegen.dialects.rapid.builtins import RECORDS, builtins, num, type_text, zero
 from codegen.dialects.rapid.messages import PREDEFINED_VALUES
 
@@ -41,6 +41,8 @@ class RAPIDCompiler(Compiler):
         self.handler_node = None  # the routine being compiled: its error_clause node
         self.ns["_divzero"] = errors.divzero
         self.storage: dict[str, str] = {}  # the module's data: VAR, PERS or CONST by name
+        self.trap_names: set[str] = set()  # the module's TRAP routines (known before any routine is compiled)
+        self.traps: dict = {}  # TRAP routines by key: run by their interrupts only (interrupts.py)
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
@@ -208,10 +210,15 @@ class RAPIDCompiler(Compiler):
     def s_proc_call(self, node):
         name, args_node = node.children
         key = str(name).upper()
-        special = messages.ui_msg_box if key == "UIMSGBOX" else waits.SPECIAL.get(key)
+        if key in self.trap_names:
+            self.fail(node, f"{name} is a TRAP routine: it runs when its interrupt comes (CONNECT), it is not called")
+        special = SPECIAL.get(key)
         if special is not None:
             return special(self, node, args_node)
         return self.s_call_stmt(node)
+
+    def s_connect_stmt(self, node):
+        return interrupts.connect(self, node)
 
     def s_raise_stmt(self, node):
         """RAISE errno outside a handler; RAISE in a handler passes its error (or a new one) to the caller."""
@@ -386,28 +393,50 @@ class RAPIDCompiler(Compiler):
         return lambda fr: make(fr)[1]
 
 
+SPECIAL = {  # instructions compiled from their argument nodes (names, variables written, switches)
+    **waits.SPECIAL,
+    **interrupts.SPECIAL,
+    "UIMSGBOX": messages.ui_msg_box,
+    "SEARCHL": search.search_l,
+}
+
+
+def _routine_name(item) -> str:
+    named = [c for c in item.children if c is not None and not (isinstance(c, Token) and c.type == "LOCAL")]
+    return str(named[1 if item.data == "func" else 0])
+
+
 def load(text: str, filename: str = "<rapid>") -> Program:
     tree = parse(text, filename)
     compiler = RAPIDCompiler(filename)
     module = tree.children[0]
     compiler.user_routines = set()
+    seen = set()
     for item in module.children:
-        if isinstance(item, Tree) and item.data in ("proc", "func"):
-            named = [c for c in item.children if c is not None and not (isinstance(c, Token) and c.type == "LOCAL")]
-            compiler.user_routines.add(str(named[0 if item.data == "proc" else 1]).upper())
+        if isinstance(item, Tree) and item.data in ("proc", "func", "trap"):
+            name = _routine_name(item)
+            if name.upper() in seen:
+                compiler.fail(item, f"routine {name} defined twice")
+            seen.add(name.upper())
+            (compiler.trap_names if item.data == "trap" else compiler.user_routines).add(name.upper())
     data = []
     for item in module.children:
         if not isinstance(item, Tree):
             continue
         if item.data == "data_decl":
+            key = str(item.children[4]).upper()
+            if key in compiler.storage:  # names are case-insensitive: LSR_X and lsr_x are one datum
+                compiler.fail(item, f"{item.children[4]} declared twice in the module (names ignore case)")
             data.append(compiler.decl(item))
-            compiler.storage[str(item.children[4]).upper()] = str(item.children[2]).upper()
+            compiler.storage[key] = str(item.children[2]).upper()
         elif item.data == "proc":
             compiler.routine(item, returns=False)
         elif item.data == "func":
             compiler.routine(item, returns=True)
-        elif item.data == "trap":
-            continue
+        elif item.data == "trap":  # compiled as a procedure without parameters, kept apart: never called
+            compiler.routine(item, returns=False)
+            key = _routine_name(item).upper()
+            compiler.traps[key] = compiler.routines.pop(key)
     if "MAIN" not in compiler.routines:
         raise RunError(f"{filename}: no PROC main")
 
