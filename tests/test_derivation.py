@@ -35,6 +35,7 @@ EXPECTED = {
     "laser_axis_from_two_centres": "holds",
     "laser_step_keeps_the_axis": "holds",
     "laser_tip_rim": "holds",
+    "laser_edges_centre": "holds",
     "source_laser_tip_uncorrected": "refuted",
 }
 

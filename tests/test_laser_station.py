@@ -109,15 +109,19 @@ def test_the_station_sees_the_pin_where_the_geometry_puts_it():
 
 def test_the_reference_finds_straight_and_bent_tools_and_stops_where_the_program_must():
     """Exact edges (no cycle, no noise) with the sensors' hysteresis: the TCP of the tool as designed and of
-    the bent ones within 1e-4 mm of the truth (the pin's radius and the hysteresis cancel, the rim is
-    corrected); a tool 4.5 mm too long is found but not written; 7 mm too short, the first circle misses."""
+    the bent ones within 1e-4 mm of the truth, the 6 deg one within 1e-3 (the pin's radius and the hysteresis
+    cancel, the rim is corrected); a tool 4.5 mm too long is found but not written; 7 mm too short, the first
+    circle misses."""
     cell = load_cell(CELL)
     target = get_target("ur")
     for case in cases(cell, seed=3):
         want = expected(cell, station_for(cell, target, case))
-        if case.category in ("as_designed", "bent"):
+        if case.category in ("as_designed", "bent", "tilted_6deg"):
             assert want.halt is None
-            assert np.abs(want.tcp - case.tool[:3, 3]).max() < 1e-4, case.category
+            # the rim's formula holds in the beam's vertical plane through the tip; the tip lies a little off
+            # it where the axis tilts (1.4e-4 mm at 6 deg, below 1e-5 mm at 2 deg)
+            limit = 1e-3 if case.category == "tilted_6deg" else 1e-4
+            assert np.abs(want.tcp - case.tool[:3, 3]).max() < limit, case.category
         elif case.category == "sensor_frame_error":
             assert want.halt is None
             assert np.linalg.norm(want.tcp - case.tool[:3, 3]) > 0.1  # the frame's error passes into the TCP

@@ -33,11 +33,12 @@ from codegen.poses import zyx_deg_from_rotmat
 from codegen.signals import signal_name
 
 DOWN = np.diag([1.0, -1.0, -1.0])
-CIRCLE_EDGES = "laser: a circle did not cross each beam twice: check the tool's data and the sensors; circle "
-NO_TIP = "laser: the tip search found no tip within clearance_mm of the tool's data"
-AXIS_TILT = "laser: the axis found tilts more than offset_max_mm allows: check the sensors"
-TOO_FAR = "laser: the TCP found lies farther than offset_max_mm from the tool's data: not written"
-WRITTEN = "laser: TCP written (mm, flange frame): "
+# the operator's messages: within 80 characters with their numbers (the shortest controller message, string_max)
+CIRCLE_EDGES = "laser: beams not crossed twice each, check tool data and sensors, circle "
+NO_TIP = "laser: no tip found within clearance_mm of the tool data"
+AXIS_TILT = "laser: axis tilted beyond offset_max_mm, check the sensors"
+TOO_FAR = "laser: TCP beyond offset_max_mm of the tool data, not written"
+WRITTEN = "laser: TCP written, flange frame mm: "
 EDGES_PER_BEAM = 4
 
 
