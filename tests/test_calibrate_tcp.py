@@ -135,3 +135,16 @@ def test_the_bundled_touches_give_the_demo_gripper():
     data = json.loads(calibrate(EXAMPLES_DIR / "agv_gripper_touches.csv", "--json").output)
     assert np.all(np.abs(np.array(data["tcp"]) - [0.0, 0.0, 200.0]) <= 3 * np.array(data["uncertainty_mm"]))
     assert max(data["uncertainty_mm"]) < 0.05 and data["max_mm"] < 0.1
+
+
+def test_the_bundled_four_touches_give_the_laser_cells_bent_pin():
+    """codegen/examples/laser_pin_touches.csv: four touches of the laser cell's pin as bent in its verify
+    (TCP [1.2, -0.8, 180.7]) on the point [650, -150, 250], tilted 40 deg about z, 30 about y and 30 about
+    z and x from down, Gaussian noise of 0.02 mm on each position (numpy seed 2027), rounded to 0.001: the
+    least number of touches the method takes beyond its minimum, within 3 of its standard uncertainties."""
+    from codegen.cell import EXAMPLES_DIR
+
+    data = json.loads(calibrate(EXAMPLES_DIR / "laser_pin_touches.csv", "--json").output)
+    assert len(data["residuals_mm"]) == 4
+    assert np.all(np.abs(np.array(data["tcp"]) - [1.2, -0.8, 180.7]) <= 3 * np.array(data["uncertainty_mm"]))
+    assert max(data["uncertainty_mm"]) < 0.05

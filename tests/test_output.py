@@ -121,11 +121,11 @@ def test_a_kill_at_any_step_leaves_the_old_or_the_new_set(sets, tmp_path, mode):
 
 
 def test_random_kills_of_a_large_cell(tmp_path):
-    """Kills at random moments while a 150-station cell's programs are replaced (two: every step is
+    """Kills at random moments while a 100-station cell's programs are replaced (two: every step is
     killed in turn by test_a_kill_at_any_step_leaves_the_old_or_the_new_set; the suite's five minutes)."""
     text = DEMO.read_text()
     head, one = text[: text.index("[[station]]")], text[text.index("[[station]]") : text.index("[[station]]\nid = 2")]
-    big = head + "".join(one.replace("id = 1", f"id = {i}").replace("lathe_1", f"lathe_{i}") for i in range(1, 151))
+    big = head + "".join(one.replace("id = 1", f"id = {i}").replace("lathe_1", f"lathe_{i}") for i in range(1, 101))
     old_cell, new_cell = tmp_path / "old.toml", tmp_path / "new.toml"
     old_cell.write_text(big)
     new_cell.write_text(big.replace("mark = [612.4, -285.0, 1.8]", "mark = [612.9, -285.0, 1.8]"))
