@@ -6,6 +6,7 @@ import random
 import time
 from dataclasses import dataclass, field
 
+from codegen import sections
 from codegen.controllers import get_target
 from codegen.conveyor.belt import Belt, ConveyorLine, Part
 from codegen.conveyor.bus import bus_for
@@ -144,67 +145,34 @@ def verify_conveyor(
 def fresh_program(cell, target_name: str):
     """The cell's pick program for a target, rendered and parsed: (program, file names); None: none."""
     from codegen.conveyor.program import conveyor_file_names, picks_on
-    from codegen.render import render
-    from codegen.verify_runs import load_program
 
     target = get_target(target_name)
     if not picks_on(cell, target):
         return None
-    names = conveyor_file_names(cell, target)
-    files = {f.relpath.rsplit("/", 1)[1]: f for f in render(cell, [target_name])}
-    main = files[names[0]]
-    companions = {"." + n.rsplit(".", 1)[1]: files[n].text for n in names[1:]}  # a data file beside it
-    return load_program(target, main.text, f"<fresh>/{main.relpath}", companions), names
+    return sections.fresh_program(cell, target_name, conveyor_file_names(cell, target))
 
 
-@dataclass
-class ConveyorSection:
-    """`codegen verify`'s part for the pick-from-belt programs."""
-
-    reports: list[ConveyorReport]
-
-    @property
-    def ok(self) -> bool:
-        return all(r.mismatches == 0 for r in self.reports)
-
-    def summaries(self) -> list[dict]:
-        return [r.summary() for r in self.reports]
-
-    def lines(self) -> list[str]:
-        lines = ["conveyor  target    cases  fail  picked  skipped  pos max mm  rot max deg"]
-        for r in self.reports:
-            lines.append(
-                f"{'belt':9} {r.target:8} {r.cases:6d} {r.mismatches:5d} {r.picked:7d} {r.skipped:8d}  "
-                f"{r.max_pos_mm:10.2e}  {r.max_rot_deg:11.2e}"
-            )
-            lines += [f"  {r.target}: {m}" for m in r.first_mismatches]
-        verdict = "every part gripped where it is" if self.ok else "MISMATCHES in the conveyor programs"
-        return [*lines, f"verify: {verdict}"]
+def _row(r: ConveyorReport) -> str:
+    return (
+        f"{'belt':9} {r.target:8} {r.cases:6d} {r.mismatches:5d} {r.picked:7d} {r.skipped:8d}  "
+        f"{r.max_pos_mm:10.2e}  {r.max_rot_deg:11.2e}"
+    )
 
 
-def conveyor_section(cell, files: tuple, targets: tuple, seed: int) -> tuple[ConveyorSection | None, tuple]:
+def conveyor_section(cell, files: tuple, targets: tuple, seed: int) -> tuple[sections.Section | None, tuple]:
     """The pick programs among FILES (or fresh ones) verified against simulated belts; the other files
     are returned."""
-    from pathlib import Path
-
     from codegen.conveyor.program import conveyor_file_names
-    from codegen.verify_runs import file_source
 
     if cell.conveyor is None or cell.conveyor.pick is None:
         return None, files
-    names = list(targets) or list(cell.targets)
-    reports, rest = [], list(files)
-    for name in names:
-        target = get_target(name)
-        own = conveyor_file_names(cell, target)
-        if files:
-            for f in [f for f in rest if Path(f).name in own]:
-                rest.remove(f)  # a data file is read with its program (file_source)
-                if Path(f).name == own[0]:
-                    source = file_source(name, Path(f))
-                    reports.append(verify_conveyor(cell, name, source.load(), list(source.files), seed))
-            continue
-        fresh = fresh_program(cell, name)
-        if fresh is not None:
-            reports.append(verify_conveyor(cell, name, *fresh, seed))
-    return ConveyorSection(reports), tuple(rest)
+
+    def verify(cell, name, program, names):
+        return verify_conveyor(cell, name, program, names, seed)
+
+    reports, rest = sections.collect(
+        cell, files, targets, lambda target: conveyor_file_names(cell, target), fresh_program, verify
+    )
+    header = "conveyor  target    cases  fail  picked  skipped  pos max mm  rot max deg"
+    passed, failed = "every part gripped where it is", "MISMATCHES in the conveyor programs"
+    return sections.Section(reports, header, _row, passed, failed), rest

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from codegen import sections
 from codegen.controllers import get_target
 from codegen.laser import program as lp
 from codegen.laser.reference import Expected, expected
@@ -281,63 +282,31 @@ def verify_laser(cell, target_name: str, program, files: list[str], seed: int = 
 
 
 def fresh_program(cell, target_name: str):
-    from codegen.render import render
-    from codegen.verify_runs import load_program
-
+    """The cell's laser TCP program for a target, rendered and parsed: (program, file names); None: none."""
     target = get_target(target_name)
     if not lp.calibrates_on(cell, target):
         return None
-    names = lp.laser_file_names(cell, target)
-    files = {f.relpath.rsplit("/", 1)[1]: f for f in render(cell, [target_name])}
-    main = files[names[0]]
-    companions = {"." + n.rsplit(".", 1)[1]: files[n].text for n in names[1:]}
-    return load_program(target, main.text, f"<fresh>/{main.relpath}", companions), names
+    return sections.fresh_program(cell, target_name, lp.laser_file_names(cell, target))
 
 
-@dataclass
-class LaserSection:
-    """`codegen verify`'s part for the laser TCP programs."""
-
-    reports: list[LaserReport]
-
-    @property
-    def ok(self) -> bool:
-        return all(r.mismatches == 0 for r in self.reports)
-
-    def summaries(self) -> list[dict]:
-        return [r.summary() for r in self.reports]
-
-    def lines(self) -> list[str]:
-        lines = ["laser tcp  target  cases  fail  ref max mm  tcp-true max mm  frame err mm  motion s"]
-        for r in self.reports:
-            lines.append(
-                f"{'tcp':10} {r.target:6} {r.cases:6d} {r.mismatches:5d}  {r.max_pos_mm:10.4f}  {r.truth_max_mm:15.4f}"
-                f"  {r.frame_error_mm:12.4f}  {r.motion_s:8.1f}"
-            )
-            lines += [f"  {r.target}: {m}" for m in r.first_mismatches]
-        verdict = "every TCP found where the reference finds it" if self.ok else "MISMATCHES in the laser programs"
-        return [*lines, f"verify: {verdict}"]
+def _row(r: LaserReport) -> str:
+    return (
+        f"{'tcp':10} {r.target:6} {r.cases:6d} {r.mismatches:5d}  {r.max_pos_mm:10.4f}  {r.truth_max_mm:15.4f}"
+        f"  {r.frame_error_mm:12.4f}  {r.motion_s:8.1f}"
+    )
 
 
-def laser_section(cell, files: tuple, targets: tuple, seed: int) -> tuple[LaserSection | None, tuple]:
+def laser_section(cell, files: tuple, targets: tuple, seed: int) -> tuple[sections.Section | None, tuple]:
     """The laser programs among FILES (or fresh ones) verified against the simulated station; the rest returned."""
-    from pathlib import Path
-
-    from codegen.verify_runs import file_source
-
     if getattr(cell, "laser", None) is None:
         return None, files
-    reports, rest = [], list(files)
-    for name in list(targets) or list(cell.targets):
-        own = lp.laser_file_names(cell, get_target(name))
-        if files:
-            for f in [f for f in rest if Path(f).name in own]:
-                rest.remove(f)
-                if Path(f).name == own[0]:
-                    source = file_source(name, Path(f))
-                    reports.append(verify_laser(cell, name, source.load(), list(source.files), seed))
-            continue
-        fresh = fresh_program(cell, name)
-        if fresh is not None:
-            reports.append(verify_laser(cell, name, *fresh, seed))
-    return LaserSection(reports), tuple(rest)
+
+    def verify(cell, name, program, names):
+        return verify_laser(cell, name, program, names, seed)
+
+    reports, rest = sections.collect(
+        cell, files, targets, lambda target: lp.laser_file_names(cell, target), fresh_program, verify
+    )
+    header = "laser tcp  target  cases  fail  ref max mm  tcp-true max mm  frame err mm  motion s"
+    passed, failed = "every TCP found where the reference finds it", "MISMATCHES in the laser programs"
+    return sections.Section(reports, header, _row, passed, failed), rest
