@@ -355,3 +355,17 @@ def test_the_program_stops_with_the_operator_s_message(laser_program, dz, messag
     trace = run_program(laser_program, tool)
     assert trace.halted and trace.halt_message == message
     assert trace.moves[-1].tcp2base[2, 3] > cell.laser.sensor_frame.matrix()[2, 3]  # stopped above the beams
+
+
+def test_a_name_for_both_data_and_a_routine_is_refused():
+    """RAPID names ignore case and name one object in a scope: CONST COUNT and FUNC count clash (the pallet
+    template had STACK_COUNT and stack_count until this check found it)."""
+    from codegen.dialects.core.values import RunError
+    from codegen.dialects.rapid.interpreter import load
+
+    text = (
+        "MODULE m\n  LOCAL CONST num COUNT := 1;\n  LOCAL FUNC num count(num n)\n    RETURN n;\n  ENDFUNC\n"
+        "  PROC main()\n    TPWrite \"x\";\n  ENDPROC\nENDMODULE\n"
+    )
+    with pytest.raises(RunError, match="names both data and a routine"):
+        load(text, "clash.mod")

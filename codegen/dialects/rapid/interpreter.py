@@ -427,6 +427,8 @@ def load(text: str, filename: str = "<rapid>") -> Program:
             key = str(item.children[4]).upper()
             if key in compiler.storage:  # names are case-insensitive: LSR_X and lsr_x are one datum
                 compiler.fail(item, f"{item.children[4]} declared twice in the module (names ignore case)")
+            if key in seen:  # one name, one object in a scope (RAPID overview, scope rules; recalled)
+                compiler.fail(item, f"{item.children[4]} names both data and a routine (names ignore case)")
             data.append(compiler.decl(item))
             compiler.storage[key] = str(item.children[2]).upper()
         elif item.data == "proc":

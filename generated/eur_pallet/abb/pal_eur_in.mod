@@ -76,7 +76,7 @@ MODULE pal_eur_in
     IF pal_layer < 1 OR pal_layer > STACK_LAYERS THEN
       stack_stop "pallet eur_in: layer or box counter out of range";
     ENDIF
-    IF pal_box < 1 OR pal_box > stack_count(pal_layer) THEN
+    IF pal_box < 1 OR pal_box > stack_boxes(pal_layer) THEN
       stack_stop "pallet eur_in: layer or box counter out of range";
     ENDIF
     ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
@@ -112,7 +112,7 @@ MODULE pal_eur_in
         pal_layer := pal_layer - 1;
         pal_box := 0;
         IF pal_layer >= 1 THEN
-          pal_box := stack_count(pal_layer);
+          pal_box := stack_boxes(pal_layer);
         ENDIF
       ENDIF
       MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 60.0000), stack_work, fine, stack_tool \WObj:=stack_wobj;
@@ -132,7 +132,7 @@ MODULE pal_eur_in
     RETURN STACK_CYCLE{i};
   ENDFUNC
 
-  LOCAL FUNC num stack_count(num layer)
+  LOCAL FUNC num stack_boxes(num layer)
     ! the number of boxes of a layer
     VAR num pattern;
     pattern := stack_pattern(layer);

@@ -75,7 +75,7 @@ MODULE pal_testmat
     IF pal_layer < 1 OR pal_layer > STACK_LAYERS THEN
       stack_stop "pallet testmat: layer or box counter out of range";
     ENDIF
-    IF pal_box < 1 OR pal_box > stack_count(pal_layer) THEN
+    IF pal_box < 1 OR pal_box > stack_boxes(pal_layer) THEN
       stack_stop "pallet testmat: layer or box counter out of range";
     ENDIF
     ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
@@ -111,7 +111,7 @@ MODULE pal_testmat
       stack_release;
       ! the box is down and the gripper open: the next box
       pal_box := pal_box + 1;
-      IF pal_box > stack_count(pal_layer) THEN
+      IF pal_box > stack_boxes(pal_layer) THEN
         pal_box := 1;
         pal_layer := pal_layer + 1;
       ENDIF
@@ -128,7 +128,7 @@ MODULE pal_testmat
     RETURN STACK_CYCLE{i};
   ENDFUNC
 
-  LOCAL FUNC num stack_count(num layer)
+  LOCAL FUNC num stack_boxes(num layer)
     ! the number of boxes of a layer
     VAR num pattern;
     pattern := stack_pattern(layer);
