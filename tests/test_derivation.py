@@ -36,6 +36,7 @@ EXPECTED = {
     "laser_step_keeps_the_axis": "holds",
     "laser_tip_rim": "holds",
     "laser_edges_centre": "holds",
+    "laser_tip_on_beam": "holds",
     "source_laser_tip_uncorrected": "refuted",
 }
 

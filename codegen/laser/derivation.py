@@ -54,6 +54,26 @@ def rim_identity(check):
     )
 
 
+def tip_on_beam_identity(check):
+    """The search's contact, exactly (codegen/laser/program.py): the axis through the beams' crossing (S's
+    origin), the tip T = lam u. The end face (points T + w, w . u = 0, |w| <= rho) meets beam X (y = 0, z = 0)
+    where w = (lam (1 - ux^2) / ux, -lam uy, -lam uz) (the only point of the face's plane on the beam), so it
+    first touches the beam at |w| = rho: lam = rho ux / sqrt(1 - ux^2), the tip rho ux uz / sqrt(1 - ux^2)
+    above the plane (ux > 0; the other sign is the mirror image)."""
+    tilt = sp.Symbol("tilt_x", positive=True)
+    u = sp.Matrix([tilt, uy, sp.sqrt(1 - tilt**2 - uy**2)])
+    lam_c = rho * tilt / sp.sqrt(1 - tilt**2)
+    w = sp.Matrix([lam_c * (1 - tilt**2) / tilt, -lam_c * uy, -lam_c * u[2]])
+    point = lam_c * u + w
+    return check(
+        "laser_tip_on_beam",
+        "with the axis through the crossing, beam X first meets the end face when the tip is "
+        "rho |ux| uz / sqrt(1 - ux^2) above the plane (the face's point on the beam at rho from the tip)",
+        "holds",
+        sp.Matrix([w.dot(u), w.dot(w) - rho**2, point[1], point[2]]),
+    )
+
+
 def edge_identity(check):
     """What the programs use instead of the readings (codegen/laser/program.py): beam X (the line y = 0 of
     the plane) meets the pin while the axis point's y lies within w = rho sqrt(1 - ux^2) / uz of it: the
@@ -131,6 +151,7 @@ def laser_identities(check) -> list:
         ),
         rim_identity(check),
         edge_identity(check),
+        tip_on_beam_identity(check),
         check(
             "source_laser_tip_uncorrected",
             "with the axis put at the readings' centre (uncorrected), the beams pass through the pin's axis "

@@ -8,7 +8,7 @@
 #    two half circles (via `via1` to `mid`, via `via2` back to `start`) at the circle speed, then back up.
 #    Each edge stores the TCP where the controller saw it (S): beam X (the line y = 0) the y, beam Y the x;
 #    exactly four per beam (two crossings, in and out), else the program stops with CIRCLE_EDGES.
-# 3. The circle's centre e_k = -(mean of beam X's four y, mean of beam Y's four x): where the axis met the
+# 3. The circle's centre e_k = -(mean of beam Y's four x, mean of beam X's four y): where the axis met the
 #    beams' plane with the guessed tip at S's origin (edges in and out lie symmetric about the axis: the pin's
 #    radius and the hysteresis cancel; a late cycle on one crossing is opposite on the other: the mean keeps
 #    it small). The axis u = (s_x, s_y, 1) / |(s_x, s_y, 1)|, s = (e_2 - e_1) / (d_2 - d_1)
@@ -16,7 +16,8 @@
 # 4. The tip: the guessed tip at (-e_1, -d_1) puts the axis through S's origin; along u to clearance above the
 #    plane (`top`), a search along -u to clearance below (`bottom`) for beam X switching on, then back up for
 #    it switching off; the mean of the two is the contact (no edge: NO_TIP). There the end face's rim touches
-#    the beam: the tip is rho |u_x| / |(u_x, u_z)| above it (identity laser_tip_rim), on the axis: tip = u rim / u_z.
+#    the beam: the tip is rho |u_x| u_z / sqrt(1 - u_x^2) above it (identity laser_tip_on_beam), on the axis:
+#    tip = u rim / u_z.
 # 5. TCP (flange frame) = guess + DOWN (tip - contact), DOWN = diag(1, -1, -1) (the flange's orientation in S);
 #    farther than offset_max from the guess: TOO_FAR, not written; else written into the tool's data (the
 #    controller's own tool for this tool) and reported.

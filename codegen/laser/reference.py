@@ -16,7 +16,7 @@ import numpy as np
 from codegen.laser.program import DOWN, EDGES_PER_BEAM, circle_points
 from codegen.laser.station import LaserStation
 
-SCAN_MM = 0.25  # path step of the scan (an interruption is 2 pin radii long: never stepped over)
+SCAN_MM = 0.1  # path step of the scan (an interruption is 2 pin radii long, at least 0.4 mm: never stepped over)
 BISECT = 50
 
 
@@ -91,6 +91,31 @@ def _circle(points: dict) -> tuple:
     return path, 2.0 * math.pi * radius
 
 
+def tcp_from(cell, centres, axis, hits) -> np.ndarray:
+    """The TCP from the contact (the hits' mean), the tip rho |ux| uz / sqrt(1 - ux^2) above the plane on the
+    axis through S's origin (identity laser_tip_on_beam): guess + DOWN (tip - contact)."""
+    contact = 0.5 * (np.asarray(hits[0]) + np.asarray(hits[1]))
+    rim = cell.laser.pin_radius_mm * abs(axis[0]) * axis[2] / math.sqrt(1.0 - axis[0] ** 2)
+    tip = axis * rim / axis[2]
+    return cell.robot.tool.tcp2flange[:3, 3] + DOWN @ (tip - contact)
+
+
+def from_measured(cell, edges: list[float], hits: list[float]) -> tuple:
+    """The method's arithmetic in float64 on what a program latched (its 16 edges, its two hits): the
+    centres, the axis and the TCP it must have computed from them (verify holds the program to these within
+    its float32 arithmetic: a wrong formula shows even where the edges' timing hides it)."""
+    n = EDGES_PER_BEAM
+    centres = []
+    for k in (0, 1):
+        beam_x, beam_y = edges[2 * k * n : (2 * k + 1) * n], edges[(2 * k + 1) * n : (2 * k + 2) * n]
+        centres.append(np.array([-sum(beam_y) / n, -sum(beam_x) / n]))
+    d1, d2 = cell.laser.depths_mm
+    slope = (centres[1] - centres[0]) / (d2 - d1)
+    axis = np.array([slope[0], slope[1], 1.0]) / math.sqrt(1.0 + slope @ slope)
+    tcp = tcp_from(cell, centres, axis, (hits[:3], hits[3:6]))
+    return centres, axis, tcp
+
+
 def expected(cell, station: LaserStation) -> Expected:
     """What the program must find with this station (its true pin and sensor frame, hysteresis, no noise)."""
     geo = Geometry(cell, station)
@@ -125,9 +150,6 @@ def expected(cell, station: LaserStation) -> Expected:
     hit_up = up[0][1] if up else None
     if hit_up is None:
         return Expected(tuple(edges), "no_tip", tuple(centres), axis)
-    contact = 0.5 * (hit_down + hit_up)
-    rim = laser.pin_radius_mm * abs(axis[0]) / math.hypot(axis[0], axis[2])
-    tip = axis * rim / axis[2]
-    tcp = geo.guess[:3, 3] + DOWN @ (tip - contact)
+    tcp = tcp_from(cell, centres, axis, (hit_down, hit_up))
     halt = "too_far" if np.linalg.norm(tcp - geo.guess[:3, 3]) > laser.offset_max_mm else None
     return Expected(tuple(edges), halt, tuple(centres), axis, (hit_down, hit_up), tcp)

@@ -8,6 +8,8 @@ from dataclasses import dataclass
 from codegen.cell import TaughtPose
 from codegen.signals import per_target
 
+PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
+DEPTH_STEP_MIN_MM = 2.0
 KEYS = frozenset(
     {
         "sensor_frame",
@@ -62,12 +64,20 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
     frame = ctx.pose("sensor_frame", ctx.require(table, "sensor_frame", "laser.sensor_frame"), "laser.sensor_frame",
                      pose_format)
     radius = _bounded(ctx, table, "pin_radius_mm", 1.0, 0.0, 25.0, "mm")
+    if radius < PIN_MIN_MM:
+        ctx.fail("laser.pin_radius_mm", f"must be at least {PIN_MIN_MM} mm (a thinner pin is not a beam's target)")
     circle = _bounded(ctx, table, "circle_mm", 10.0, 0.0, 100.0, "mm")
     offset = _bounded(ctx, table, "offset_max_mm", 3.0, 0.0, 50.0, "mm")
     clearance = _bounded(ctx, table, "clearance_mm", 10.0, 0.0, 200.0, "mm")
     depths = ctx.numbers(table.get("depths_mm", [5.0, 15.0]), 2, "laser.depths_mm")
     if not 0 < depths[0] < depths[1] <= 200:
         ctx.fail("laser.depths_mm", "expected [d1, d2] with 0 < d1 < d2 <= 200 mm: the guessed tip below the beams")
+    if depths[1] - depths[0] < DEPTH_STEP_MIN_MM:
+        ctx.fail(
+            "laser.depths_mm",
+            f"d2 - d1 must be at least {DEPTH_STEP_MIN_MM:g} mm: the axis is the centres' difference over it, a "
+            "smaller step multiplies their errors",
+        )
     circle_speed = _bounded(ctx, table, "circle_speed_mm_s", 10.0, 0.0, 250.0, "mm/s")
     search_speed = _bounded(ctx, table, "search_speed_mm_s", 2.0, 0.0, 50.0, "mm/s")
     # the circle starts at 45 deg between the beams and must cross each twice: the axis may lie offset_max_mm
@@ -93,7 +103,15 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
     for key in ("beam_x", "beam_y"):
         beams[key] = per_target(ctx, table, key, targets, required=True, prefix="laser")
     for target in targets:
-        if beams["beam_x"][target] == beams["beam_y"][target]:
+        x, y = beams["beam_x"][target], beams["beam_y"][target]
+        if str(x).upper() == str(y).upper():  # a named signal's name ignores case (RAPID)
             ctx.fail(f"laser.beam_y.{target}", "must differ from beam_x: one input per sensor")
+        cycle = float(get_target(target).program["signal_cycle_s"])
+        if circle_speed * cycle > radius / 2:
+            ctx.fail(
+                "laser.circle_speed_mm_s",
+                f"{target} sees its inputs every {cycle * 1000:g} ms: at {circle_speed:g} mm/s the pin moves "
+                f"{circle_speed * cycle:.3f} mm between two looks, more than half its radius: slow the circles",
+            )
     return Laser(frame, radius, circle, depths, clearance, offset, circle_speed, search_speed, beams["beam_x"],
                  beams["beam_y"])

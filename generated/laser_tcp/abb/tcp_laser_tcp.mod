@@ -21,7 +21,7 @@ MODULE tcp_laser_tcp
   ! 3. The tip: the guessed tip at (-e_1, -d_1) puts the axis through the crossing; along u to LSR_CLEARANCE
   !    above the plane, a search (SearchL \Stop) along -u to LSR_CLEARANCE below it for beam X switching on,
   !    then back up (\NegFlank) for it switching off; the contact is the mean of the two search points. There
-  !    the end face's rim touches the beam: the tip lies rho |u_x| / |(u_x, u_z)| above the plane, on the axis.
+  !    the end face's rim touches the beam: the tip lies rho |u_x| u_z / sqrt(1 - u_x^2) above the plane, on the axis.
   ! 4. The TCP (flange frame) = guess + diag(1, -1, -1) (tip - contact); farther than LSR_OFFSET_MAX from the
   !    guess: the program stops and writes nothing; else lsr_tool.tframe.trans gets it and the operator sees it.
   ! Controller facts this relies on (ABB RAPID manual, recalled, not confirmed from its text: assumed): SearchL's
@@ -135,7 +135,7 @@ MODULE tcp_laser_tcp
     ! the axis from the two centres; a slope the tool's data cannot explain stops
     sx := (lsr_centre{3} - lsr_centre{1}) / LSR_DZ;
     sy := (lsr_centre{4} - lsr_centre{2}) / LSR_DZ;
-    IF Sqrt(sx * sx + sy * sy) > LSR_SLOPE_MAX THEN
+    IF Abs(sx) > LSR_SLOPE_MAX OR Abs(sy) > LSR_SLOPE_MAX THEN
       lsr_stop "laser: axis tilted beyond offset_max_mm, check the sensors";
     ENDIF
     norm := Sqrt(sx * sx + sy * sy + 1);
@@ -148,7 +148,7 @@ MODULE tcp_laser_tcp
       contact{j} := (lsr_hit{j} + lsr_hit{j + 3}) / 2;
     ENDFOR
     ! there the end face's rim touches beam X: the tip is rim above the plane, on the axis through the crossing
-    rim := LSR_RADIUS * Abs(lsr_axis{1}) / Sqrt(lsr_axis{1} * lsr_axis{1} + lsr_axis{3} * lsr_axis{3});
+    rim := LSR_RADIUS * Abs(lsr_axis{1}) * lsr_axis{3} / Sqrt(1 - lsr_axis{1} * lsr_axis{1});
     FOR j FROM 1 TO 3 DO
       tip{j} := lsr_axis{j} * rim / lsr_axis{3};
     ENDFOR
