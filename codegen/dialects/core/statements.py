@@ -2,13 +2,20 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 
+import numpy as np
 from lark import Tree
 
 from codegen.dialects.core.machine import halt, pause
 from codegen.dialects.core.source import Inline, indent
 from codegen.dialects.core.values import RunError
+
+# a SWITCH / TEST selector looked up in its table of CASE values (bool is no number here: it takes the scan)
+NUMBER_TYPES = frozenset({int, float, np.float32, np.float64, np.int32, np.int64})
+# an elif chain's subject looked up in its table: True == 1 in a comparison, and in the table's hashing
+CHAIN_TYPES = NUMBER_TYPES | {bool}
 
 LEAVE_ON_BREAK = frozenset({"break"})
 SKIP_ON_CONTINUE = frozenset({"continue"})
@@ -174,24 +181,43 @@ class Statements:
         return self.if_chain(branches, else_body, self.where(node))
 
     def switch(self, node, body_of):
-        """SWITCH / TEST: the first CASE whose value equals the selector, else DEFAULT."""
+        """SWITCH / TEST: the first CASE whose value equals the selector, else DEFAULT. Where every CASE value
+        is a number literal (a dispatch over a cell's stations), a table from value to body finds it at once
+        (the first CASE with a value wins, as the scan; a selector that is no number takes the scan)."""
         selector, *clauses = node.children
         select = self.expr(selector)
-        cases, default = [], None
+        cases, default, table = [], None, {}
         for clause in clauses:
             if clause is None:
                 continue
             if clause.data == "case_clause":
                 *values, body = clause.children
-                cases.append(([self.expr(v) for v in values], body_of(body)))
+                compiled = body_of(body)
+                cases.append(([self.expr(v) for v in values], compiled))
+                for v in values:
+                    if table is not None and isinstance(v, Tree) and v.data == "number":
+                        table.setdefault(self.number(str(v.children[0])), compiled)
+                    else:
+                        table = None
             else:
                 default = body_of(clause.children[0])
 
-        def run(fr):
-            value = select(fr)
+        def scan(fr, value):
             for values, body in cases:
                 if any(value == v(fr) for v in values):
                     return body(fr)
+            return default(fr) if default is not None else None
+
+        if table is None:
+            return lambda fr: scan(fr, select(fr))
+
+        def run(fr):
+            value = select(fr)
+            if type(value) not in NUMBER_TYPES:
+                return scan(fr, value)
+            body = table.get(value)
+            if body is not None:
+                return body(fr)
             return default(fr) if default is not None else None
 
         return run
@@ -220,6 +246,9 @@ class Statements:
 
     def if_chain(self, branches, else_body, where: str | None = None) -> Inline:
         """branches: [(condition, body)] as expr() and block() return them; else_body or None."""
+        table = self.dispatch_table(branches)
+        if table is not None:
+            return self.table_chain(table, branches, else_body, where)
         if len(branches) > self.CHAIN_MAX:
             rest = self.if_chain(branches[self.CHAIN_MAX :], else_body, where)
 
@@ -231,6 +260,47 @@ class Statements:
         for i, (cond, body) in enumerate(branches):
             lines.append(f"{'if' if i == 0 else 'elif'} {self.source_of(cond)}:")
             lines.extend(indent(self.body_lines(body) or ["pass"]))
+        if else_body is not None:
+            lines.append("else:")
+            lines.extend(indent(self.body_lines(else_body) or ["pass"]))
+        return Inline(self, self.guarded(lines, where or self.filename))
+
+    # A chain of `x == number` over one variable (a dispatch over a cell's stations) is looked up in a table
+    # of its numbers (the first branch with a number wins, as the chain) instead of comparing in turn.
+    DISPATCH_MIN = 8
+    _EQUALS = re.compile(r"\(True if (.+) == (_k\d+) else False\)")
+    _FALLBACK = re.compile(r"_k\d+\(fr\)")
+
+    def dispatch_table(self, branches) -> dict | None:
+        if len(branches) < self.DISPATCH_MIN:
+            return None
+        subject, shape, table = None, None, {}
+        for cond, body in branches:
+            match = self._EQUALS.fullmatch(self.source_of(cond))
+            # one variable in every branch: its reads differ only in the closure each registers for a name
+            # not defined (the first branch's, where the chain would have stopped first)
+            read = None if match is None else self._FALLBACK.sub("_", match.group(1))
+            if match is None or (shape is not None and read != shape):
+                return None
+            if subject is None:
+                subject, shape = match.group(1), read
+            value = self.ns.get(match.group(2))
+            if type(value) not in NUMBER_TYPES:
+                return None
+            table.setdefault(value, body)
+        return {"subject": subject, "bodies": table}
+
+    def table_chain(self, table, branches, else_body, where: str | None) -> Inline:
+        bodies = {value: body if callable(body) else Inline(self, body) for value, body in table["bodies"].items()}
+        v, b, sig = self.temp(), self.temp(), self.temp()
+        lines = [
+            f"{v} = {table['subject']}",
+            f"{b} = {self.const(bodies)}.get({v}) if type({v}) in {self.const(CHAIN_TYPES)} else None",
+            f"if {b} is not None:",
+            f"    {sig} = {b}(fr)",
+            f"    if {sig} is not None:",
+            f"        return {sig}",
+        ]
         if else_body is not None:
             lines.append("else:")
             lines.extend(indent(self.body_lines(else_body) or ["pass"]))
