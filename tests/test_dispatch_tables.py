@@ -8,7 +8,7 @@ from codegen.dialects.krl.interpreter import load as load_krl
 from codegen.dialects.rapid.interpreter import load as load_rapid
 from codegen.dialects.urscript.interpreter import load as load_ur
 
-IDS = list(range(1, 13)) + [7]  # twelve branches and a second `== 7`: the first one wins
+IDS = [*range(1, 13), 7]  # twelve branches and a second `== 7`: the first one wins
 
 
 def _ur(selector: str) -> list[str]:
