@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 
 from codegen.dialects.core.arm import ArmState
+from codegen.dialects.core.shared import SHARE_FROM, SharedGlobals
 from codegen.dialects.core.values import Halt, RunError, Signal, StepLimitError
 
 if TYPE_CHECKING:
@@ -372,7 +373,10 @@ class Program:
         if self._snapshot is None:
             machine = Machine(self, {}, step_limit)
             self.init(Frame(machine, machine.globals, machine.global_types))
-            self._snapshot = (machine.globals, machine.global_types, machine.extra)
+            globals_, types = machine.globals, machine.global_types
+            if len(globals_) >= SHARE_FROM:  # a large program: shared by its runs, not copied (core/shared.py)
+                globals_, types = SharedGlobals(globals_), SharedGlobals(types)
+            self._snapshot = (globals_, types, machine.extra)
         return self._snapshot
 
     def unknown_inputs(self, names) -> list[str]:
@@ -402,9 +406,22 @@ class Program:
         machine.signals.update(signals or {})
         if start_joints is not None:  # where the arm stands when the program starts (deg)
             machine.arm.stand_at(start_joints)
-        machine.globals = dict(globals_)  # values are never changed in place: sharing them is safe
-        machine.global_types = dict(types)
+        shared = isinstance(globals_, SharedGlobals)
+        if shared:  # the stores are logged and undone at the end
+            globals_.undo()
+            types.undo()
+            machine.globals, machine.global_types = globals_, types
+        else:  # values are never changed in place: a shallow copy is the run's own
+            machine.globals, machine.global_types = dict(globals_), dict(types)
         machine.extra = dict(extra)
+        try:
+            return self._run(machine, keep)
+        finally:
+            if shared:
+                globals_.undo()
+                types.undo()
+
+    def _run(self, machine: Machine, keep: tuple[str, ...]) -> Trace:
         frame = Frame(machine, machine.globals, machine.global_types)
         try:
             self.compiler.inject_inputs(machine)
