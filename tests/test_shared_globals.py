@@ -40,6 +40,6 @@ def test_every_run_starts_from_the_data_small_and_large(lines):
         trace = program.run({}, keep=("COUNT", "A5"))
         assert trace.kept == {"COUNT": 1, "A5": 105}
     assert isinstance(program._snapshot[0], SharedGlobals) == (lines >= SHARE_FROM)
-    with pytest.raises(RunError, match="zero|division"):
+    with pytest.raises(RunError, match=r"zero|division"):
         program.run({"BAD": 0}, keep=("COUNT",))  # fails after its stores
     assert program.run({}, keep=("COUNT", "A5")).kept == {"COUNT": 1, "A5": 105}
