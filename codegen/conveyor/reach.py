@@ -8,7 +8,7 @@ import numpy as np
 
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.robot import solve
-from codegen.robot.expect import Margins, margins
+from codegen.robot.expect import Margins, margins, require_margins
 from codegen.robot.taught import ReachError
 
 STEPS = 12  # poses along the window per line the gripper follows
@@ -89,12 +89,6 @@ def check(cell, only: list[str] | None = None) -> list[ConveyorReach]:
                     worst_joint, worst = joint, what
                 worst_wrist = min(worst_wrist, wrist)
                 count += 1
-        need = robot.margins
-        if worst_joint < need.joint_deg or worst_wrist < need.wrist_deg:
-            raise ReachError(
-                f"conveyor ({target}, {arm.model}): {worst_joint:.1f} deg to a joint limit ({worst}) and the "
-                f"wrist {worst_wrist:.1f} deg from its singularity; the cell asks {need.joint_deg:g} and "
-                f"{need.wrist_deg:g} deg"
-            )
+        require_margins(f"conveyor ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst)
         out.append(ConveyorReach(target, arm.model, worst_joint, worst_wrist, worst, poses=count))
     return out

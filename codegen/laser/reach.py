@@ -9,7 +9,7 @@ import numpy as np
 
 from codegen.laser.program import DOWN, circle_points
 from codegen.robot import solve
-from codegen.robot.expect import Margins, margins
+from codegen.robot.expect import Margins, margins, require_margins
 from codegen.robot.taught import ReachError
 
 CIRCLE_STEPS = 24  # poses per circle
@@ -85,12 +85,6 @@ def check(cell, only: list[str] | None = None) -> list[LaserReach]:
             if joint < worst_joint:
                 worst_joint, worst = joint, what
             worst_wrist = min(worst_wrist, wrist)
-        need = robot.margins
-        if worst_joint < need.joint_deg or worst_wrist < need.wrist_deg:
-            raise ReachError(
-                f"laser station ({target}, {arm.model}): {worst_joint:.1f} deg to a joint limit ({worst}) and the "
-                f"wrist {worst_wrist:.1f} deg from its singularity; the cell asks {need.joint_deg:g} and "
-                f"{need.wrist_deg:g} deg"
-            )
+        require_margins(f"laser station ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst)
         out.append(LaserReach(target, arm.model, worst_joint, worst_wrist, worst, poses=len(poses)))
     return out

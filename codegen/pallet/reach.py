@@ -11,7 +11,7 @@ from codegen.pallet.cycle import PalletCase, expected, layer_counts
 from codegen.pallet.stack import pattern_of
 from codegen.robot import solve
 from codegen.robot.config import FORMS
-from codegen.robot.expect import Margins, margins
+from codegen.robot.expect import Margins, margins, require_margins
 from codegen.robot.taught import ReachError
 
 
@@ -128,13 +128,7 @@ def check_pallet(cell, pallet, target: str) -> PalletReach:
         if joint < worst_joint:
             worst_joint, worst = joint, move.name
         worst_wrist = min(worst_wrist, wrist)
-    need = robot.margins
-    if worst_joint < need.joint_deg or worst_wrist < need.wrist_deg:
-        raise ReachError(
-            f"pallet {pallet.name!r} ({target}, {arm.model}): {worst_joint:.1f} deg to a joint limit ({worst}) and "
-            f"the wrist {worst_wrist:.1f} deg from its singularity; the cell asks {need.joint_deg:g} and "
-            f"{need.wrist_deg:g} deg"
-        )
+    require_margins(f"pallet {pallet.name!r} ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst)
     return PalletReach(target, arm.model, worst_joint, worst_wrist, worst, pallet=pallet.name, moves=len(moves))
 
 

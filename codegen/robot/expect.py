@@ -153,6 +153,18 @@ class ArmStats:
         }
 
 
+def require_margins(subject: str, robot, joint_deg: float, wrist_deg: float, worst: str) -> None:
+    """ReachError unless the least joint and wrist margins over a program's poses meet the cell's."""
+    need = robot.margins
+    if joint_deg < need.joint_deg or wrist_deg < need.wrist_deg:
+        from codegen.robot.taught import ReachError
+
+        raise ReachError(
+            f"{subject}: {joint_deg:.1f} deg to a joint limit ({worst}) and the wrist {wrist_deg:.1f} deg from its "
+            f"singularity; the cell asks {need.joint_deg:g} and {need.wrist_deg:g} deg"
+        )
+
+
 @dataclass(frozen=True)
 class Margins:
     """The least margins of a target's arm over the poses a program commands (a pallet's cycle, a
