@@ -53,7 +53,8 @@ def cases(cell, seed: int = 0) -> list[LaserCase]:
     correction matters beyond the 0.1 mm goal); three bent tools (the tip up to 1.5 mm off on each axis, the
     axis tilted up to 2 deg); a sensor frame 0.25 mm and 0.1 deg off the one the cell names; a tool 4.5 mm
     longer than its data (found, but farther than offset_max_mm: not written); a tool 7 mm shorter (the first
-    circle passes under the tip: stopped); 9 mm longer (the tip in the beam where the search starts: stopped).
+    circle passes under the tip: stopped); 9 mm longer (the tip in the beam where the search starts: stopped);
+    one bent 35 deg (its axis steeper than offset_max_mm allows: stopped before the search).
     The tool as designed runs without noise (its tolerances are the tightest: a biased formula shows)."""
     rng = np.random.default_rng(seed)
     guess = cell.robot.tool.tcp2flange
@@ -75,6 +76,10 @@ def cases(cell, seed: int = 0) -> list[LaserCase]:
         tool = guess.copy()
         tool[:3, 3] += guess[:3, 2] * dz
         out.append(LaserCase(category, tool, seed=seed + 6))
+    steep = guess.copy()  # bent 35 deg, its tip 7 mm aside: the circles cross the axis 3.5 mm either side
+    steep[:3, :3] = rotation((0, 1, 0), 35.0) @ steep[:3, :3]
+    steep[0, 3] += 7.0
+    out.append(LaserCase("steep_axis", steep, seed=seed + 7))
     return out
 
 
