@@ -57,3 +57,12 @@ def test_a_rapid_test_of_number_cases_takes_the_first_matching_case():
             f"    TEST {selector}\n{cases}    DEFAULT:\n      k := 99;\n    ENDTEST\n  ENDPROC\nENDMODULE\n"
         )
         assert load_rapid(src, "t.mod").run({}, keep=("k",)).kept["k"] == expected
+
+
+def test_a_chain_over_a_function_call_still_calls_it_per_branch():
+    """`f() == n` in every branch: each condition calls f (a counter here) in turn, as written; no table."""
+    lines = ["def prog():", "  global calls = 0", "  def f():", "    global calls = calls + 1", "    return 99", "  end"]
+    for i, n in enumerate(IDS):
+        lines += [f"  {'if' if i == 0 else 'elif'} f() == {n}:", '    textmsg("hit")']
+    lines += ["  end", '  textmsg("calls", calls)', "end"]
+    assert load_ur("\n".join(lines) + "\n", "t.script").run({}).messages == [f"calls{len(IDS)}"]

@@ -280,7 +280,7 @@ class Statements:
             # one variable in every branch: its reads differ only in the closure each registers for a name
             # not defined (the first branch's, where the chain would have stopped first)
             read = None if match is None else self._FALLBACK.sub("_", match.group(1))
-            if match is None or (shape is not None and read != shape):
+            if match is None or (shape is not None and read != shape) or not self._plain_read(read):
                 return None
             if subject is None:
                 subject, shape = match.group(1), read
@@ -289,6 +289,12 @@ class Statements:
                 return None
             table.setdefault(value, body)
         return {"subject": subject, "bodies": table}
+
+    @staticmethod
+    def _plain_read(read: str) -> bool:
+        """A variable's read and nothing else: no call (a function's result may differ from branch to
+        branch, or act), no other registered value."""
+        return ("V[" in read or "G[" in read) and "_k" not in read and "(fr" not in read and "(" + "m." not in read
 
     def table_chain(self, table, branches, else_body, where: str | None) -> Inline:
         bodies = {value: body if callable(body) else Inline(self, body) for value, body in table["bodies"].items()}
