@@ -60,8 +60,10 @@ def test_a_rapid_test_of_number_cases_takes_the_first_matching_case():
 
 
 def test_a_chain_over_a_function_call_still_calls_it_per_branch():
-    """`f() == n` in every branch: each condition calls f (a counter here) in turn, as written; no table."""
-    lines = ["def prog():", "  global calls = 0", "  def f():", "    global calls = calls + 1", "    return 99", "  end"]
+    """`f() == n` in every branch: each condition calls f (a counter here) in turn, as written; no table (a
+    call's source differs per branch, and the table takes a plain variable's read only)."""
+    lines = ["def prog():", "  global calls = 0", "  def f():", "    global calls = calls + 1", "    return 99"]
+    lines += ["  end"]
     for i, n in enumerate(IDS):
         lines += [f"  {'if' if i == 0 else 'elif'} f() == {n}:", '    textmsg("hit")']
     lines += ["  end", '  textmsg("calls", calls)', "end"]
