@@ -3,6 +3,7 @@ sweep of unknown station ids, merged reports and the text report."""
 
 from __future__ import annotations
 
+import gc
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -85,6 +86,7 @@ def _read(path: Path) -> str:
 
 
 _LOADED: dict[ProgramSource, Program] = {}
+ONE_PROGRAM_FROM = 300  # stations: from here a worker holds one target's program at a time (issue 16's memory)
 
 
 def sweep_unknown_ids(
@@ -130,6 +132,9 @@ def sweep_unknown_ids(
 def _verify_chunk(args) -> list[TargetReport]:
     """One chunk of cases, or of the id sweep, on every source (the reference runs once per case)."""
     cell, verify_cell, sources, work, step_limit = args
+    if len(cell.stations) >= ONE_PROGRAM_FROM and any(loaded not in sources for loaded in _LOADED):
+        _LOADED.clear()  # a large cell's next target: the last one's program goes (run_verify's order)
+        gc.collect()
     programs = {}
     for source in sources:
         if source not in _LOADED:
@@ -180,11 +185,20 @@ def run_verify(
     one dialect's cases (summed over workers), so cases/seconds is the per-dialect speed."""
     # at most CHUNK_CASES cases per task: a worker holds one chunk's expectations at a time (issue 16's memory)
     chunk = max(1, min(CHUNK_CASES, -(-len(cases) // max(4, 2 * jobs))))
-    tasks = [(cell, verify_cell, sources, cases[i : i + chunk], step_limit) for i in range(0, len(cases), chunk)]
+    # a large cell's programs one target after another: a worker then holds one of them at a time (it lets the
+    # last one go when a task of another comes), at the cost of the reference once per target and case
+    groups = [[s] for s in sources] if len(cell.stations) >= ONE_PROGRAM_FROM and len(sources) > 1 else [sources]
+    tasks = [
+        (cell, verify_cell, group, cases[i : i + chunk], step_limit)
+        for group in groups
+        for i in range(0, len(cases), chunk)
+    ]
     if sweep:
         step = -(-(STATION_ID_MAX + 1) // max(2, jobs))
         ranges = [range(i, min(i + step, STATION_ID_MAX + 1)) for i in range(0, STATION_ID_MAX + 1, step)]
-        tasks += [(cell, verify_cell, sources, ids, step_limit) for ids in ranges]
+        tasks += [(cell, verify_cell, group, ids, step_limit) for group in groups for ids in ranges]
+        if len(groups) > 1:  # each target's cases then its sweep, target by target
+            tasks.sort(key=lambda task: sources.index(task[2][0]))
     parts: dict[str, list[TargetReport]] = {source.target: [] for source in sources}
 
     def collect(reports: list[TargetReport]) -> None:

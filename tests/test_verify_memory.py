@@ -1,0 +1,31 @@
+"""A large cell's verify holds one target's program per worker at a time: the same reports as all at once."""
+
+from __future__ import annotations
+
+from codegen import verify_runs
+from codegen.cell import load_cell
+from codegen.verify import build_cases
+from codegen.verify_runs import fresh_sources, run_verify
+
+DEMO = "codegen/examples/agv_machine_tending.toml"
+
+
+def _summaries(reports):
+    return [
+        {k: v for k, v in r.summary().items() if k not in ("seconds", "cases_per_second")} for r in reports
+    ]
+
+
+def test_one_target_at_a_time_gives_the_reports_of_all_at_once(monkeypatch):
+    """The demo cell treated as large (ONE_PROGRAM_FROM = 1): the tasks go target by target, each worker
+    lets a program go when the next target's task comes, and every target's report (cases, mismatches,
+    halts, errors) is the one the tasks over all targets give (the id sweep, the same path, is left out: time)."""
+    cell = load_cell(DEMO)
+    sources = fresh_sources(cell, list(cell.targets))
+    cases = build_cases(cell, 2, 0)
+    together = run_verify(cell, sources, cases, 1, None, cell, sweep=False)
+    verify_runs._LOADED.clear()
+    monkeypatch.setattr(verify_runs, "ONE_PROGRAM_FROM", 1)
+    apart = run_verify(cell, sources, cases, 1, None, cell, sweep=False)
+    assert _summaries(apart) == _summaries(together)
+    assert len(verify_runs._LOADED) == 1  # the last target's program only
