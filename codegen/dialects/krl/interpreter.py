@@ -52,7 +52,6 @@ EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
 NO_SKIP = frozenset()
 
 
-
 class KRLCompiler(SignalGroups, InterruptStatements, CircStatement, io.ContinueStatement, Compiler):
     name = "krl"
     case_insensitive = True
