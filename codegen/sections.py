@@ -51,16 +51,11 @@ def collect(
     return reports, tuple(rest)
 
 
-@dataclass
-class Section:
-    """A section's reports (each with target, cases, mismatches, first_mismatches and summary()), its table's
-    header, a row per report (row(report)) and its verdicts."""
+class Reports:
+    """A section's reports (each with target, cases, mismatches, first_mismatches and summary()): all matched,
+    their JSON summaries."""
 
     reports: list
-    header: str
-    row: Callable[[object], str]
-    passed: str
-    failed: str
 
     @property
     def ok(self) -> bool:
@@ -68,6 +63,17 @@ class Section:
 
     def summaries(self) -> list[dict]:
         return [r.summary() for r in self.reports]
+
+
+@dataclass
+class Section(Reports):
+    """Reports with their table's header, a row per report (row(report)) and the verdicts."""
+
+    reports: list
+    header: str
+    row: Callable[[object], str]
+    passed: str
+    failed: str
 
     def lines(self) -> list[str]:
         lines = [self.header]

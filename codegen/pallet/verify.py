@@ -17,6 +17,7 @@ from codegen.pallet.cycle import ExpectedMove, PalletCase, cases, expected
 from codegen.pallet.program import counter_names, counter_registers, pallet_identifiers
 from codegen.pallet.reach import configurations, joints_of
 from codegen.robot.expect import arm_of, home_move
+from codegen.sections import Reports
 from codegen.signals import Gripper, signal_name
 from codegen.verify import TOLERANCES, _pose_errors, tally
 
@@ -238,19 +239,12 @@ def is_pallet_program(cell: Cell, path) -> bool:
 
 
 @dataclass
-class PalletSection:
+class PalletSection(Reports):
     """`codegen verify`'s part for the stacking programs; alone: the cell (or the files given) has nothing else."""
 
     cell: Cell
     reports: list[PalletReport]
     alone: bool
-
-    @property
-    def ok(self) -> bool:
-        return all(r.mismatches == 0 for r in self.reports)
-
-    def summaries(self) -> list[dict]:
-        return [r.summary() for r in self.reports]
 
     def lines(self) -> list[str]:
         verdict = "all stacking traces match the reference" if self.ok else "MISMATCHES in the stacking programs"

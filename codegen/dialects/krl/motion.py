@@ -149,17 +149,23 @@ def load_of(load) -> tuple | None:
     return (float(load["M"]), *(float(cm[k]) if cm is not UNINIT else 0.0 for k in ("X", "Y", "Z")))
 
 
+def whole_frame(compiler, target, where: str, lacks: str):
+    """A bare aggregate {X .., .., C ..} as a FRAME, refused when it lacks a component (no current pose here
+    to fill it from; lacks: the message, {} the missing names); any other value as it is."""
+    if isinstance(target, Record) and target.type is None:
+        missing = [k for k, _ in XYZABC if k not in target]
+        if missing:
+            raise RunError(f"{where}: " + lacks.format(", ".join(missing)))
+        target = compiler.coerce("FRAME", target, where)
+    return target
+
+
 def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
     """A PTP or LIN at run time: its target as axis values (a joint target) or a cartesian pose in $BASE,
     recorded in the robot's base frame with the controller's configuration rule; the advance run goes on."""
 
     def run(fr):
-        target = value(fr)
-        if isinstance(target, Record) and target.type is None:  # a bare aggregate {X .., .., C ..}
-            missing = [k for k, _ in XYZABC if k not in target]
-            if missing:
-                raise RunError(f"{where}: aggregate target lacks {', '.join(missing)} (no current pose here)")
-            target = compiler.coerce("FRAME", target, where)
+        target = whole_frame(compiler, value(fr), where, "aggregate target lacks {} (no current pose here)")
         settings = path_settings(static, kind, fr.m.extra)
         if isinstance(target, Record) and target.type in AXES:  # axis values: no solution to choose
             if kind != "joint":
@@ -260,12 +266,7 @@ def circ_run(compiler, static: dict, aux_value, end_value, where: str, line: int
     from codegen.dialects.core.watch import Path
 
     def target(fr, value, what: str) -> tuple[Record, np.ndarray]:
-        pose = value(fr)
-        if isinstance(pose, Record) and pose.type is None:  # a bare aggregate {X .., .., C ..}
-            missing = [k for k, _ in XYZABC if k not in pose]
-            if missing:
-                raise RunError(f"{where}: CIRC {what} lacks {', '.join(missing)}")
-            pose = compiler.coerce("FRAME", pose, where)
+        pose = whole_frame(compiler, value(fr), where, f"CIRC {what} lacks {{}}")
         if isinstance(pose, Record) and pose.type in AXES:
             raise RunError(f"{where}: CIRC takes cartesian points (FRAME, POS, E6POS), its {what} is {pose.type}")
         pose = cart(pose, where)
