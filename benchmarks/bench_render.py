@@ -1,7 +1,8 @@
-"""Render a generated 1,000-station cell for all four targets (goal: <= 2 s wall, issue 3).
+"""Render, check and generate a 1,000-station cell for all four targets (goals: render <= 2 s, issue 3;
+the grammar check <= 2 s and generate <= 3 s, issue 16).
 
-Run: python benchmarks/bench_render.py [--stations N]. Prints render time, and generate time
-(render + parsing every program with its grammar + atomic write) for comparison.
+Run: python benchmarks/bench_render.py [--stations N]. Prints the render time, the grammar check of
+every program (codegen/dialects/core/recognize.py) and generate (render + check + atomic write).
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ def main() -> int:
     parser.add_argument("--stations", type=int, default=1000)
     args = parser.parse_args()
     from codegen.cell import load_cell
-    from codegen.generate import generate
+    from codegen.generate import check_rendered, generate
     from codegen.render import render
 
     with tempfile.TemporaryDirectory() as tmp:
@@ -49,12 +50,17 @@ def main() -> int:
         render_s = time.perf_counter() - start
         size = sum(len(f.text) for f in files)
         start = time.perf_counter()
+        check_rendered(files)  # the first check builds each grammar's tables: counted, as in a CLI run
+        check_s = time.perf_counter() - start
+        start = time.perf_counter()
         generate(cell, None, Path(tmp) / "out")
         generate_s = time.perf_counter() - start
     print(f"{args.stations} stations, 4 targets, {len(files)} files, {size / 1e6:.1f} MB")
-    print(f"render   {render_s:6.2f} s (goal <= 2.00 s): {'ok' if render_s <= 2.0 else 'OVER GOAL'}")
-    print(f"generate {generate_s:6.2f} s (render + grammar check of every program + atomic write)")
-    return 0 if render_s <= 2.0 else 1
+    goals = {"render": (render_s, 2.0), "check": (check_s, 2.0), "generate": (generate_s, 3.0)}
+    for name, (seconds, goal) in goals.items():
+        print(f"{name:8} {seconds:6.2f} s (goal <= {goal:.2f} s): {'ok' if seconds <= goal else 'OVER GOAL'}")
+    print("check: the grammar check of every program; generate: render + check + atomic write")
+    return 0 if all(seconds <= goal for seconds, goal in goals.values()) else 1
 
 
 if __name__ == "__main__":

@@ -51,6 +51,13 @@ class Dialect:
         return cls.module("interpreter").parse(text, filename, positions)
 
     @classmethod
+    def check(cls, text: str, filename: str) -> None:
+        """Raise as parse would, faster and without a tree (generate's check of what it writes)."""
+        from codegen.dialects.core.parsing import check_with_grammar
+
+        check_with_grammar(cls.module("interpreter").__file__, text, filename)
+
+    @classmethod
     def move_settings(
         cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:
@@ -112,10 +119,19 @@ def is_companion(path) -> bool:
     return any("." + suffix in dialect.companions for dialect in dialects().values())
 
 
-def parse_program(name: str, text: str, positions: bool = True):
-    """Parse a program or companion file with the grammar its suffix names."""
+def _dialect_of_file(name: str) -> type[Dialect]:
     suffix = "." + name.rsplit(".", 1)[-1].lower()
     dialect = dialect_of_suffix(suffix)
     if dialect is None:
         raise ValueError(f"{name}: unknown program suffix {suffix}")
-    return dialect.parse(text, name, positions)
+    return dialect
+
+
+def parse_program(name: str, text: str, positions: bool = True):
+    """Parse a program or companion file with the grammar its suffix names."""
+    return _dialect_of_file(name).parse(text, name, positions)
+
+
+def check_program(name: str, text: str) -> None:
+    """Check a program or companion file against the grammar its suffix names; raises as parse_program."""
+    _dialect_of_file(name).check(text, name)

@@ -8,6 +8,7 @@ from functools import cache
 from lark import Lark, Tree
 from lark.exceptions import UnexpectedInput
 
+from codegen.dialects.core.recognize import Recognizer
 from codegen.dialects.core.values import RunError
 
 LINE_MAX = 10_000  # characters per program line: the generated ones stay under 1,000
@@ -20,18 +21,40 @@ def grammar_parser(interpreter_file: str, positions: bool = True) -> Lark:
     return Lark.open("grammar.lark", rel_to=interpreter_file, parser="lalr", propagate_positions=positions)
 
 
-def parse_with_grammar(interpreter_file: str, text: str, filename: str, positions: bool = True) -> Tree:
-    """Parse a program; a syntax error becomes a RunError naming file:line:column."""
+def _bounded(text: str, filename: str) -> str:
+    """The text with a final line break; a RunError for a line longer than LINE_MAX (parsed, it would
+    take seconds and gigabytes to refuse: nested too deeply)."""
     if not text.endswith("\n"):
         text += "\n"
     long_line = next((i for i, line in enumerate(text.split("\n"), start=1) if len(line) > LINE_MAX), None)
-    if long_line is not None:  # parsed, it would take seconds and gigabytes to refuse (nested too deeply)
+    if long_line is not None:
         raise RunError(f"{filename}:{long_line}:1: line longer than {LINE_MAX} characters")
+    return text
+
+
+def parse_with_grammar(interpreter_file: str, text: str, filename: str, positions: bool = True) -> Tree:
+    """Parse a program; a syntax error becomes a RunError naming file:line:column."""
+    text = _bounded(text, filename)
     parser = grammar_parser(interpreter_file, positions)
     try:
         return parser.parse(text)
     except UnexpectedInput as exc:
         raise syntax_error(exc, filename, parser) from None
+
+
+@cache
+def grammar_recognizer(interpreter_file: str) -> Recognizer:
+    """The fast yes/no check of the grammar beside a dialect's interpreter (codegen/dialects/core/recognize.py)."""
+    return Recognizer(grammar_parser(interpreter_file, False))
+
+
+def check_with_grammar(interpreter_file: str, text: str, filename: str) -> None:
+    """Raise as parse_with_grammar would, without building a tree: the recognizer says yes to a
+    program lark would parse; whatever it does not accept, lark parses for the verdict and the
+    message (generate's check of every program it writes: issue 16)."""
+    text = _bounded(text, filename)
+    if not grammar_recognizer(interpreter_file).accepts(text):
+        parse_with_grammar(interpreter_file, text, filename, positions=False)
 
 
 # What a user calls the terminals whose pattern is not a word or a symbol of the language.
