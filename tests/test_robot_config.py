@@ -236,3 +236,25 @@ def test_the_controllers_rules_agree_with_enumerating_every_turn():
             assert np.abs(got - joints).max() < 1e-6
             checks += 1
     assert checks == 120
+
+
+def test_one_pose_selection_is_the_batched_one():
+    """solve.nearest on one pose (Python floats) gives what the batched numpy path gives for it: the same
+    joints and branch, with branches missing (NaN), solutions on a limit, a turn away and equally near."""
+    rng = np.random.default_rng(16)
+    arm = _arm(UR5E, UR_LIMITS, "ur")
+    truth = rng.uniform(UR_LIMITS[:, 0], UR_LIMITS[:, 1], (150, 6))
+    solutions = UR5E.ik(UR5E.fk(truth))
+    solutions[::7, 3:5] = np.nan  # branches without a solution
+    solutions[1::9, 2] = UR_LIMITS[2, 1]  # on a limit
+    solutions[2::9] = solutions[2::9, :1]  # every branch the same: the first is chosen
+    references = truth + rng.normal(0, 90, truth.shape)
+    references[::5] += 360.0
+    batch_q, batch_branch = solve.nearest(arm, solutions, references)
+    found = 0
+    for sols, ref, want_q, want_branch in zip(solutions, references, batch_q, batch_branch, strict=True):
+        q, branch = solve.nearest(arm, sols, ref)
+        assert int(branch) == int(want_branch)
+        np.testing.assert_array_equal(q, want_q)
+        found += int(branch) >= 0
+    assert 0 < found < len(truth)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from codegen.robot.arms import Arm
@@ -41,6 +43,8 @@ def nearest(arm: Arm, solutions: np.ndarray, q_ref: np.ndarray) -> tuple[np.ndar
     (Euclidean): how UR's movej and get_inverse_kin(x, qnear) choose, and how any controller's
     linear move continues from the current joints. (..., 8, 6), (..., 6) -> joints (..., 6) (NaN where
     none) and the branch (..., ) (the index of the analytic solution: the arm's configuration; -1: none)."""
+    if solutions.ndim == 2 and np.ndim(q_ref) == 1:
+        return _nearest_one(arm, solutions, q_ref)
     ref = np.asarray(q_ref, dtype=float)[..., None, :]
     q = solutions + TURN * np.round((ref - solutions) / TURN)  # each axis to the turn nearest the reference
     low, high = arm.limits[:, 0], arm.limits[:, 1]
@@ -52,6 +56,38 @@ def nearest(arm: Arm, solutions: np.ndarray, q_ref: np.ndarray) -> tuple[np.ndar
     chosen = np.take_along_axis(q, best[..., None, None], axis=-2)[..., 0, :]
     found = np.isfinite(np.min(distance, axis=-1))
     return np.where(found[..., None], chosen, np.nan), np.where(found, best, -1)
+
+
+def _nearest_one(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[np.ndarray, np.ndarray]:
+    """nearest for one pose (8, 6) on Python floats, the same steps (round: half to even in both), the
+    first of equally near solutions: a run of the interpreter solves one pose at a time."""
+    ref = [float(v) for v in q_ref]
+    limits = arm.limits.tolist()
+    best, best_distance = -1, math.inf
+    chosen: list[float] = []
+    round_, sqrt = round, math.sqrt
+    for index, row in enumerate(solutions.tolist()):
+        q = []
+        total = 0.0
+        for value, near, (low, high) in zip(row, ref, limits):
+            if not -math.inf < value < math.inf:  # NaN: no solution on this branch
+                break
+            value += TURN * round_((near - value) / TURN)
+            if value > high:
+                value -= TURN
+            elif value < low:
+                value += TURN
+            if not low - 1e-9 <= value <= high + 1e-9:
+                break
+            q.append(value)
+            total += (value - near) * (value - near)
+        else:
+            distance = sqrt(total)
+            if distance < best_distance:
+                best, best_distance, chosen = index, distance, q
+    if best < 0:
+        return np.full(len(ref), np.nan), np.array(-1)
+    return np.array(chosen), np.array(best)
 
 
 def first(q: np.ndarray, match: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
