@@ -210,15 +210,45 @@ def run_verify(
     if jobs <= 1:
         for task in tasks:
             collect(_verify_chunk(task))
+    elif len(groups) >= jobs > 1 and len(groups) > 1:
+        # as many targets as workers or more: each worker runs whole targets, loading each program once
+        # (the workers sharing one target would each load it: for 1,000 stations that is 5-9 s a target)
+        worker_of = {id(group): i % jobs for i, group in enumerate(groups)}
+        for reports in _run_pinned(tasks, [worker_of[id(task[2])] for task in tasks], jobs, progress):
+            for part in reports:  # progress was told as each chunk ended
+                parts[part.target].append(part)
     else:
-        import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
-        context = multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=context) as pool:
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=_fork()) as pool:
             for reports in pool.map(_verify_chunk, tasks):
                 collect(reports)
     return [merge_reports(parts[source.target]) for source in sources]
+
+
+def _fork():
+    """Workers forked where the system can (they start at once, with the parent's modules)."""
+    import multiprocessing
+
+    return multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
+
+
+def _run_pinned(tasks: list, workers: list[int], jobs: int, progress) -> list[list[TargetReport]]:
+    """Each task in the worker process given for it (one single-process pool each, so a worker's tasks
+    run in their order); the results in the tasks' order, progress as each chunk ends."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    pools = [ProcessPoolExecutor(max_workers=1, mp_context=_fork()) for _ in range(jobs)]
+    try:
+        futures = [pools[worker].submit(_verify_chunk, task) for task, worker in zip(tasks, workers, strict=True)]
+        if progress is not None:
+            for future in as_completed(futures):
+                for part in future.result():
+                    progress(part.cases)
+        return [future.result() for future in futures]
+    finally:
+        for pool in pools:
+            pool.shutdown(cancel_futures=True)
 
 
 def report_lines(model: Cell, verify_cell: Cell, case_list: list, cases: int, seed: int, summaries, wall, workers):
