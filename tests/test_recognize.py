@@ -56,7 +56,7 @@ def _mutations(text: str, rng: random.Random, words: list[str]):
     """Small edits of a valid program, most of them breaking it: a line dropped, doubled or moved,
     a character dropped, a word of the language put somewhere, two lines' halves swapped."""
     lines = text.splitlines(keepends=True)
-    for _ in range(60):
+    for _ in range(40):
         edited = list(lines)
         i, j = rng.randrange(len(lines)), rng.randrange(len(lines))
         kind = rng.randrange(6)
@@ -133,3 +133,24 @@ def test_generate_check_refuses_a_broken_program():
     with pytest.raises(GenerateError, match=says):
         check_rendered(files)
     check_rendered([RenderedFile("agv_machine_tending/ur/agv_machine_tending.script", text)])
+
+
+@pytest.mark.parametrize("name", DIALECTS)
+def test_tree_starts_are_larks(name):
+    """The interpreter's parser sets only where each tree starts (parsing.start_positions): the same line
+    and column as lark's propagate_positions, for every tree of every bundled program."""
+    from lark import Lark
+
+    dialect = dialects()[name]
+    ours = grammar_parser(_interpreter(dialect), True)
+    larks = Lark.open("grammar.lark", rel_to=_interpreter(dialect), parser="lalr", propagate_positions=True)
+    compared = 0
+    for path in _programs(dialect):
+        text = path.read_text(encoding="utf-8")
+        for mine, theirs in zip(ours.parse(text).iter_subtrees(), larks.parse(text).iter_subtrees(), strict=True):
+            assert mine.data == theirs.data
+            assert mine.meta.empty == theirs.meta.empty, (path.name, mine.data)
+            if not theirs.meta.empty:
+                assert (mine.meta.line, mine.meta.column) == (theirs.meta.line, theirs.meta.column), (path, mine)
+                compared += 1
+    assert compared > 1000

@@ -69,7 +69,7 @@ def _nearest_one(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[np.ndarray, np
     for index, row in enumerate(solutions.tolist()):
         q = []
         total = 0.0
-        for value, near, (low, high) in zip(row, ref, limits):
+        for value, near, (low, high) in zip(row, ref, limits, strict=True):
             if not -math.inf < value < math.inf:  # NaN: no solution on this branch
                 break
             value += TURN * round_((near - value) / TURN)
