@@ -70,7 +70,8 @@ class Expressions:
         return Src(f"(V[{key}] if {key} in V else G[{key}] if {key} in G else {fallback}(fr))")
 
     def var_reader(self, token):
-        key = self.norm(str(token))
+        name = str(token)  # not the token: a token kept alive keeps the parse tree's memory from the system
+        key = self.norm(name)
         where = self.where(token)
 
         def read(fr):
@@ -78,7 +79,7 @@ class Expressions:
             if value is MISSING:
                 value = fr.m.globals.get(key, MISSING)
                 if value is MISSING:
-                    raise RunError(f"{where}: undefined variable {token}")
+                    raise RunError(f"{where}: undefined variable {name}")
             return value
 
         return read
