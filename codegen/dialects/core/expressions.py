@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import operator
 
+import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import MISSING, RunError, f32
+
+NUMBERS = (int, float, np.float32)  # what a number literal compiles to (not bool: a literal of its own)
 
 
 class Expressions:
@@ -18,9 +21,18 @@ class Expressions:
         compiled = self._compile_expr(node)
         if not isinstance(compiled, Src):
             return compiled
-        fn = self.function(self.guarded([f"return {compiled}"], self.where(node)))
+        value = self.number_constant(compiled)
+        if value is not None:  # a literal: no source to compile (a large program's globals hold thousands)
+            fn = _returning(value)
+        else:
+            fn = self.function(self.guarded([f"return {compiled}"], self.where(node)))
         fn.source = compiled
         return fn
+
+    def number_constant(self, source: Src) -> int | float | np.float32 | None:
+        """The number a source stands for when it is a registered number (e_number's const), else None."""
+        value = self.ns.get(source) if source.startswith("_k") else None
+        return value if type(value) in NUMBERS else None
 
     def _compile_expr(self, node):
         if isinstance(node, Token):
@@ -85,7 +97,11 @@ class Expressions:
         return read
 
     def e_neg(self, node):
-        return Src(f"(-{self.src(node.children[0])})")
+        operand = self.src(node.children[0])
+        value = self.number_constant(operand)
+        if value is not None:  # a negative literal: the number itself (what -x gives when run)
+            return Src(self.const(-value))
+        return Src(f"(-{operand})")
 
     def _binary_source(self, node, symbol: str) -> Src:
         left, right = (self.src(c) for c in node.children)
@@ -188,3 +204,12 @@ class Expressions:
             f"(_t[{key}] if isinstance(_t := {base}, dict) and {key} in _t "
             f"else _nofield(_t, {str(name)!r}, {self.where(node)!r}))"
         )
+
+
+def _returning(value):
+    """fr -> value, a closure over a shared code object (nothing compiled)."""
+
+    def constant(fr):
+        return value
+
+    return constant
