@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 
 from lark import Token
 
+from codegen.dialects.core.shapes import ShapeCache
 from codegen.dialects.core.values import RunError
 
 if TYPE_CHECKING:
@@ -67,6 +68,8 @@ class SourceBuilder:
     """Compiler mixin: the namespace of the generated source, functions compiled from lines, and
     source positions for messages."""
 
+    _shapes: ShapeCache | None = None
+
     # --- Python source ----------------------------------------------------------------------
     def temp(self) -> str:
         """A fresh local name for a value used twice within one expression."""
@@ -95,10 +98,9 @@ class SourceBuilder:
             if "G" in used:
                 head.append("G = m.globals")
         name = re.sub(r"\W", "_", name or f"{self.name}_{self.routine_name}")  # shows in tracebacks and profiles
-        text = "\n".join([f"def {name}({params}):", *indent(head), *indent(lines)]) + "\n"
-        scope: dict = {}
-        exec(compile(text, f"<{self.filename}: compiled>", "exec"), self.ns, scope)
-        return scope[name]
+        if self._shapes is None:
+            self._shapes = ShapeCache(f"<{self.filename}: compiled>")
+        return self._shapes.function(name, params, "\n".join([*indent(head), *indent(lines)]) + "\n", self.ns)
 
     def guarded(self, lines: list[str], where: str) -> list[str]:
         """Lines whose operator errors (a number plus a string, a division by zero, a NaN index)
