@@ -32,17 +32,17 @@ def test_one_target_at_a_time_gives_the_reports_of_all_at_once(monkeypatch):
 
 
 def test_targets_pinned_to_workers_give_the_same_reports(monkeypatch):
-    """As many targets as workers (a large cell): each worker process runs whole targets, loading each
-    program once; the reports, in the targets' order, are those of one process, and progress counts
+    """As many targets as workers or more (a large cell): each worker process runs whole targets, loading
+    each program once; the reports, in the targets' order, are those of one process, and progress counts
     every case."""
     cell = load_cell(DEMO)
-    sources = fresh_sources(cell, ["ur", "kuka"])
+    sources = fresh_sources(cell, ["ur", "kuka", "abb"])
     cases = build_cases(cell, 1, 0)
     alone = run_verify(cell, sources, cases, 1, None, cell, sweep=False)
     monkeypatch.setattr(verify_runs, "CHUNK_CASES", 40)  # several chunks per target
     monkeypatch.setattr(verify_runs, "ONE_PROGRAM_FROM", 1)
     counted = []
     pinned = run_verify(cell, sources, cases, 2, counted.append, cell, sweep=False)
-    assert [r.target for r in pinned] == ["ur", "kuka"]
+    assert [r.target for r in pinned] == ["ur", "kuka", "abb"]
     assert _summaries(pinned) == _summaries(alone)
-    assert sum(counted) == 2 * len(cases)
+    assert sum(counted) == 3 * len(cases)
