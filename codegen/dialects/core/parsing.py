@@ -26,6 +26,17 @@ def grammar_parser(interpreter_file: str, positions: bool = True) -> Lark:
     return parser
 
 
+class Start:
+    """Where a tree starts: the part of lark's Meta the interpreter reads, in a quarter of the memory."""
+
+    __slots__ = ("column", "container_column", "container_line", "line")
+    empty = False
+
+    def __init__(self, line: int, column: int) -> None:
+        self.line = self.container_line = line
+        self.column = self.container_column = column
+
+
 def start_positions(build):
     """A tree-building callback that also sets where its tree starts, as lark's propagate_positions does
     (a tree starts where its first child's text does: a token, or a tree's container, which for a rule
@@ -44,10 +55,11 @@ def start_positions(build):
                     break
             else:
                 return tree
-            meta = tree.meta
-            if meta.empty:
-                meta.line, meta.column, meta.empty = line, column, False
-            meta.container_line, meta.container_column = line, column
+            meta = tree._meta
+            if meta is None:
+                tree._meta = Start(line, column)
+            else:  # a rule inlined into its child: the child keeps its start, its container starts here
+                meta.container_line, meta.container_column = line, column
         return tree
 
     return with_start
