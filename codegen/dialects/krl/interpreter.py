@@ -147,7 +147,7 @@ class KRLCompiler(SignalGroups, InterruptStatements, CircStatement, io.ContinueS
 
     # --- expressions -------------------------------------------------------------------------
     def var_reader(self, token):
-        key = self.norm(str(token))
+        key = self.norm(name := str(token))  # the reader keeps the name: a kept token keeps the parse tree's memory
         where = self.where(token)
         if key == "$NULLFRAME":
             return lambda fr: frame()
@@ -171,8 +171,8 @@ class KRLCompiler(SignalGroups, InterruptStatements, CircStatement, io.ContinueS
                 type_name, size, _shape = SYSTEM_ARRAYS[key]
                 return fr.m.extra.setdefault(key, [new_value(type_name) for _ in range(size)])
             else:
-                raise RunError(f"{where}: undefined variable {token}")
-            return valid(value, where, str(token))
+                raise RunError(f"{where}: undefined variable {name}")
+            return valid(value, where, name)
 
         return read
 

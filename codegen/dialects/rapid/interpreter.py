@@ -102,7 +102,7 @@ class RAPIDCompiler(Compiler):
 
     # --- expressions -------------------------------------------------------------------------
     def var_reader(self, token):
-        key = self.norm(str(token))
+        key = self.norm(name := str(token))  # the reader keeps the name: a kept token keeps the parse tree's memory
         where = self.where(token)
         predefined = key if _PREDEFINED.match(key) else PREDEFINED_VALUES.get(key)
         if predefined is None:
@@ -117,7 +117,7 @@ class RAPIDCompiler(Compiler):
                 return predefined
             if key == "ERRNO":  # the system variable: the most recent error's number
                 return fr.m.extra.get("ERRNO", f32(0))
-            raise RunError(f"{where}: undefined variable {token}")
+            raise RunError(f"{where}: undefined variable {name}")
 
         return read
 
