@@ -17,7 +17,7 @@ from codegen import signals, vision
 from codegen.cell import STATION_ID_MAX, Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target, target_of_suffix
 from codegen.dialects import get_dialect
-from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
 from codegen.guard import (
@@ -427,57 +427,62 @@ def verify(
     # What the physical situation demands of a correct cell, independent of the cell's own model:
     # a cell whose reference contradicts it (a wrong camera sign) fails on every target.
     truth = [_truth_problem(model, case, accepted[0]) for case, accepted, _ in expectations]
-    reports = []
-    for name in targets:
-        target = get_target(name)
-        program, files = programs[name]
-        emitter = Emitter(target)
-        report = TargetReport(name, files)
-        start = time.perf_counter()
-        refuses = target.program.get("restart") == "at_home"
-        for (case, accepted, boundary), untrue in zip(expectations, truth, strict=True):
-            if case.start == "away" and refuses:
-                accepted, untrue = [ExpectedTrace("halt", NOT_AT_HOME)], None
-            report.cases += 1
-            report.categories[case.category] = report.categories.get(case.category, 0) + 1
-            report.boundary += boundary
-            runaway = False
-            try:
-                got = program.run(
-                    inputs_for(model, target, case.reading, case.vision),
-                    step_limit=step_limit,
-                    arm=arm_of(model, name),
-                    **run_options(model, target, case),
-                )
-            except StepLimitError as exc:
-                problem, pos, rot, runaway = f"run error: {exc}; the remaining cases were not run", [], [], True
-            except RunError as exc:
-                problem, pos, rot = f"run error: {exc}", [], []
-            else:
-                problem, pos, rot = None, [], []
-                for expected in accepted:
-                    problem, pos, rot = compare(model, target, case.reading, expected, got, emitter)
-                    if problem is None:
-                        report.halts += got.halted
-                        if not got.halted:
-                            kind = _kind_of_case(model, case.reading)
-                            kind.add_stats(report.kind_stats[kind.name], case.reading, _log_numbers(got.messages))
-                        break
-            if problem is None and untrue is not None:
-                problem = untrue
-            report.pos_errors.extend(pos)
-            report.rot_errors.extend(rot)
-            report.moves += len(pos) if problem is None else 0
-            if problem is None:
-                report.arm.add(model, name, got.moves)
-            if problem is not None:
-                report.mismatches += 1
-                if len(report.first_mismatches) < 10:
-                    report.first_mismatches.append(f"{case.category} {describe_case(model, case.reading)}: {problem}")
-            if progress is not None:
-                progress(1)
-            if runaway:
-                break
-        report.seconds = time.perf_counter() - start
-        reports.append(report)
-    return reports
+    with frozen_heap():
+        return [
+            _verify_target(model, name, programs[name], expectations, truth, progress, step_limit) for name in targets
+        ]
+
+
+def _verify_target(model: Cell, name: str, program_files, expectations, truth, progress, step_limit) -> TargetReport:
+    """One target's program on every case, compared with the cases' accepted traces."""
+    target = get_target(name)
+    program, files = program_files
+    emitter = Emitter(target)
+    report = TargetReport(name, files)
+    start = time.perf_counter()
+    refuses = target.program.get("restart") == "at_home"
+    for (case, accepted, boundary), untrue in zip(expectations, truth, strict=True):
+        if case.start == "away" and refuses:
+            accepted, untrue = [ExpectedTrace("halt", NOT_AT_HOME)], None
+        report.cases += 1
+        report.categories[case.category] = report.categories.get(case.category, 0) + 1
+        report.boundary += boundary
+        runaway = False
+        try:
+            got = program.run(
+                inputs_for(model, target, case.reading, case.vision),
+                step_limit=step_limit,
+                arm=arm_of(model, name),
+                **run_options(model, target, case),
+            )
+        except StepLimitError as exc:
+            problem, pos, rot, runaway = f"run error: {exc}; the remaining cases were not run", [], [], True
+        except RunError as exc:
+            problem, pos, rot = f"run error: {exc}", [], []
+        else:
+            problem, pos, rot = None, [], []
+            for expected in accepted:
+                problem, pos, rot = compare(model, target, case.reading, expected, got, emitter)
+                if problem is None:
+                    report.halts += got.halted
+                    if not got.halted:
+                        kind = _kind_of_case(model, case.reading)
+                        kind.add_stats(report.kind_stats[kind.name], case.reading, _log_numbers(got.messages))
+                    break
+        if problem is None and untrue is not None:
+            problem = untrue
+        report.pos_errors.extend(pos)
+        report.rot_errors.extend(rot)
+        report.moves += len(pos) if problem is None else 0
+        if problem is None:
+            report.arm.add(model, name, got.moves)
+        if problem is not None:
+            report.mismatches += 1
+            if len(report.first_mismatches) < 10:
+                report.first_mismatches.append(f"{case.category} {describe_case(model, case.reading)}: {problem}")
+        if progress is not None:
+            progress(1)
+        if runaway:
+            break
+    report.seconds = time.perf_counter() - start
+    return report

@@ -10,7 +10,7 @@ from pathlib import Path
 from codegen.cell import STATION_ID_MAX, Cell
 from codegen.controllers import Target, get_target
 from codegen.dialects import get_dialect
-from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION_TEXT
@@ -142,7 +142,8 @@ def _verify_chunk(args) -> list[TargetReport]:
         programs[source.target] = (_LOADED[source], list(source.files))
     targets = [s.target for s in sources]
     if isinstance(work, range):
-        return sweep_unknown_ids(verify_cell or cell, targets, programs, work, step_limit)
+        with frozen_heap():
+            return sweep_unknown_ids(verify_cell or cell, targets, programs, work, step_limit)
     return verify(cell, targets, programs, work, verify_cell=verify_cell, step_limit=step_limit)
 
 

@@ -46,3 +46,29 @@ def test_targets_pinned_to_workers_give_the_same_reports(monkeypatch):
     assert [r.target for r in pinned] == ["ur", "kuka", "abb"]
     assert _summaries(pinned) == _summaries(alone)
     assert sum(counted) == 3 * len(cases)
+
+
+def test_the_heap_is_frozen_only_while_cases_run():
+    """verify keeps Python's full collections off what was alive when it began (the loaded program) while
+    its cases run, and gives it back to the collector when it ends, also when a run raises."""
+    import gc
+
+    import pytest
+
+    from codegen.verify import verify
+    from codegen.verify_runs import fresh_programs
+
+    cell = load_cell(DEMO)
+    programs = fresh_programs(cell, ["ur"])
+    cases = build_cases(cell, 1, 0)[:5]
+    frozen = []
+    verify(cell, ["ur"], programs, cases, progress=lambda n: frozen.append(gc.get_freeze_count()))
+    assert frozen and min(frozen) > 1000
+    assert gc.get_freeze_count() == 0
+
+    def fail(_):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        verify(cell, ["ur"], programs, cases, progress=fail)
+    assert gc.get_freeze_count() == 0
