@@ -240,21 +240,32 @@ def test_the_controllers_rules_agree_with_enumerating_every_turn():
 
 def test_one_pose_selection_is_the_batched_one():
     """solve.nearest on one pose (Python floats) gives what the batched numpy path gives for it: the same
-    joints and branch, with branches missing (NaN), solutions on a limit, a turn away and equally near."""
+    joints (signed zeros too) and branch, for arms whose limits span more and less than a turn, with
+    branches missing (NaN), axes on a limit (the IK's rounding puts them just over it), a turn away,
+    equally near solutions, and a reference that is not a number."""
     rng = np.random.default_rng(16)
-    arm = _arm(UR5E, UR_LIMITS, "ur")
-    truth = rng.uniform(UR_LIMITS[:, 0], UR_LIMITS[:, 1], (150, 6))
-    solutions = UR5E.ik(UR5E.fk(truth))
-    solutions[::7, 3:5] = np.nan  # branches without a solution
-    solutions[1::9, 2] = UR_LIMITS[2, 1]  # on a limit
-    solutions[2::9] = solutions[2::9, :1]  # every branch the same: the first is chosen
-    references = truth + rng.normal(0, 90, truth.shape)
-    references[::5] += 360.0
-    batch_q, batch_branch = solve.nearest(arm, solutions, references)
-    found = 0
-    for sols, ref, want_q, want_branch in zip(solutions, references, batch_q, batch_branch, strict=True):
-        q, branch = solve.nearest(arm, sols, ref)
-        assert int(branch) == int(want_branch)
-        np.testing.assert_array_equal(q, want_q)
-        found += int(branch) >= 0
-    assert 0 < found < len(truth)
+    arms = ((UR5E, UR_LIMITS, "ur"), (KR6_R700, KR6_LIMITS, "opw"), (IRB2400, IRB2400_LIMITS, "opw"))
+    for kin, limits, family in arms:
+        arm = _arm(kin, limits, family)
+        truth = rng.uniform(limits[:, 0], limits[:, 1], (300, 6))
+        rows = np.arange(0, 300, 3)
+        axis = rng.integers(0, 6, rows.size)
+        truth[rows, axis] = limits[axis, rng.integers(0, 2, rows.size)]  # on a limit
+        solutions = kin.ik(kin.fk(truth))
+        solutions[::7, 3:5] = np.nan  # branches without a solution
+        solutions[2::9] = solutions[2::9, :1]  # every branch the same: the first is chosen
+        solutions[4::11, :, 0] = -0.0
+        references = truth + rng.normal(0, 3, truth.shape)
+        references[1::5] += rng.normal(0, 90, (60, 6))
+        references[::5] += 360.0
+        references[4::11, 0] = -1e-9  # a signed zero kept
+        references[6::50, 2] = np.nan
+        batch_q, batch_branch = solve.nearest(arm, solutions, references)
+        found = 0
+        for sols, ref, want_q, want_branch in zip(solutions, references, batch_q, batch_branch, strict=True):
+            q, branch = solve.nearest(arm, sols, ref)
+            assert int(branch) == int(want_branch), (family, sols, ref)
+            np.testing.assert_array_equal(q, want_q)
+            np.testing.assert_array_equal(np.signbit(q), np.signbit(want_q))
+            found += int(branch) >= 0
+        assert 0 < found < len(truth)

@@ -62,6 +62,8 @@ def _nearest_one(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[np.ndarray, np
     """nearest for one pose (8, 6) on Python floats, the same steps (round: half to even in both), the
     first of equally near solutions: a run of the interpreter solves one pose at a time."""
     ref = [float(v) for v in q_ref]
+    if not all(math.isfinite(v) for v in ref):  # as the batched path: nothing is near a NaN
+        return np.full(len(ref), np.nan), np.array(-1)
     limits = arm.limits.tolist()
     best, best_distance = -1, math.inf
     chosen: list[float] = []
@@ -72,10 +74,12 @@ def _nearest_one(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[np.ndarray, np
         for value, near, (low, high) in zip(row, ref, limits, strict=True):
             if not -math.inf < value < math.inf:  # NaN: no solution on this branch
                 break
-            value += TURN * round_((near - value) / TURN)
+            turns = (near - value) / TURN
+            k = round_(turns)
+            value += TURN * k if k else 0.0 * turns  # 0 turns: np.round's signed zero, so -0.0 stays -0.0
             if value > high:
                 value -= TURN
-            elif value < low:
+            if value < low:  # after the step down too, as the batched path (a value just over a limit)
                 value += TURN
             if not low - 1e-9 <= value <= high + 1e-9:
                 break
