@@ -24,9 +24,15 @@ def _same_code(made: CodeType, direct: CodeType) -> bool:
     """Equal code (bytecode, constants, names, locals, flags, nested code) on the same lines; the
     columns in the line table differ where a placeholder is longer or shorter than its string (they
     place a Python traceback's carets, which codegen never shows)."""
-    return [line for *_, line in made.co_lines()] == [line for *_, line in direct.co_lines()] and (
-        _no_columns(made) == _no_columns(direct)
+    return (
+        [line for *_, line in made.co_lines()] == [line for *_, line in direct.co_lines()]
+        and _no_columns(made) == _no_columns(direct)
+        and _qualnames(made) == _qualnames(direct)
     )
+
+
+def _qualnames(code: CodeType) -> list[str]:
+    return [code.co_qualname] + [q for c in code.co_consts if isinstance(c, CodeType) for q in _qualnames(c)]
 
 
 def _no_columns(code: CodeType) -> CodeType:
@@ -90,7 +96,8 @@ def test_shapes_keep_what_the_source_says(body, value):
     first, second = cache.function("f", "fr", body, namespace), cache.function("g", "fr", body, namespace)
     direct = _compiled("f", "fr", body, namespace)
     assert first(None) == second(None) == direct(None) == value
-    assert _same_code(second.__code__, direct.__code__.replace(co_name="g", co_qualname="g"))
+    assert _same_code(first.__code__, direct.__code__)
+    assert _same_code(second.__code__, _compiled("g", "fr", body, namespace).__code__)
 
 
 def test_a_folded_placeholder_is_compiled_as_written():
@@ -106,3 +113,11 @@ def test_a_formatted_string_stays_in_the_shape():
     first = cache.function("f", "fr", "    return f'{fr}: one'\n", {})
     second = cache.function("f", "fr", "    return f'{fr}: two'\n", {})
     assert (first(1), second(2)) == ("1: one", "2: two")
+
+
+def test_names_in_a_formatted_string_stay():
+    """A routine may be called _k1: its name in a formatted message is text, not a constant's name."""
+    cache = ShapeCache("<test>")
+    first = cache.function("f", "fr", "    return f'{fr}: _k1 takes 1'\n", {})
+    second = cache.function("f", "fr", "    return f'{fr}: _k2 takes 1'\n", {})
+    assert (first(1), second(2)) == ("1: _k1 takes 1", "2: _k2 takes 1")

@@ -7,10 +7,13 @@ import re
 from types import CodeType, FunctionType
 
 # A numbered name (a registered constant _k or call slot _c, SourceBuilder.const and call_source; a temporary
-# _w, SourceBuilder.temp) or a non-empty string literal as repr() writes it, not after a letter (f'{w}' is
-# no constant, and stays). An empty string stays too: every placeholder is a non-empty string, so
-# truthiness survives the compiler's folding.
-_PARTS = re.compile(r"""(?=['"_])(?<!\w)(?:(?P<s>'(?:[^'\\\n]++|\\.)+'|"(?:[^"\\\n]++|\\.)+")|(?P<k>_[kcw]\d+)\b)""")
+# _w, SourceBuilder.temp) or a non-empty string literal as repr() writes it. A prefixed string (f'{w}: ...') is
+# matched whole and kept, names in its text included. An empty string stays too: every placeholder is a
+# non-empty string, so truthiness survives the compiler's folding.
+_PARTS = re.compile(
+    r"""(?=['"_a-zA-Z])(?<!\w)(?:(?P<f>[a-zA-Z]{1,2}(?:'(?:[^'\\\n]++|\\.)*'|"(?:[^"\\\n]++|\\.)*"))"""
+    r"""|(?P<s>'(?:[^'\\\n]++|\\.)+'|"(?:[^"\\\n]++|\\.)+")|(?P<k>_[kcw]\d+)\b)"""
+)
 _NAME = "_shape_fn"
 _PLACEHOLDER_NAME = "_shape_k"
 _MARK = "\x00"  # starts every placeholder string: generated code never holds it otherwise
@@ -36,6 +39,8 @@ class ShapeCache:
 
         def placeholder(match: re.Match) -> str:
             text = match.group(0)
+            if match.lastgroup == "f":  # a prefixed string (f'...'): code, kept as it is, names in it too
+                return text
             if match.lastgroup == "k":
                 return names.setdefault(text, f"{_PLACEHOLDER_NAME}{len(names)}")
             return strings.setdefault(text, f"'\\x00{len(strings)}'")
@@ -51,6 +56,7 @@ class ShapeCache:
                     code,
                     {p: n for n, p in names.items()},
                     {f"{_MARK}{i}": _string(literal) for i, literal in enumerate(strings)},
+                    name,
                 )
             except _Unshaped:
                 self.shapes[shape] = None
@@ -81,18 +87,20 @@ def _string(literal: str) -> str:
     return ast.literal_eval(literal)
 
 
-def _put_back(code: CodeType, names: dict[str, str], strings: dict[str, str]) -> CodeType:
-    """The code with the placeholders' names and strings replaced, nested code included."""
+def _put_back(code: CodeType, names: dict[str, str], strings: dict[str, str], name: str) -> CodeType:
+    """The code with the placeholders' names and strings replaced, nested code included (named after
+    the function it is in)."""
     if any(n.startswith(_PLACEHOLDER_NAME) for n in code.co_cellvars + code.co_freevars):
         raise _Unshaped
     return code.replace(
         co_names=tuple(names[n] if n.startswith(_PLACEHOLDER_NAME) else n for n in code.co_names),
         co_varnames=tuple(names[n] if n.startswith(_PLACEHOLDER_NAME) else n for n in code.co_varnames),
-        co_consts=tuple(_value(c, names, strings) for c in code.co_consts),
+        co_consts=tuple(_value(c, names, strings, name) for c in code.co_consts),
+        co_qualname=code.co_qualname.replace(_NAME, name, 1),
     )
 
 
-def _value(value, names: dict[str, str], strings: dict[str, str]):
+def _value(value, names: dict[str, str], strings: dict[str, str], name: str):
     kind = type(value)
     if kind is str:
         if _MARK not in value:
@@ -101,11 +109,11 @@ def _value(value, names: dict[str, str], strings: dict[str, str]):
             raise _Unshaped
         return strings[value]
     if kind is tuple:
-        return tuple(_value(v, names, strings) for v in value)
+        return tuple(_value(v, names, strings, name) for v in value)
     if kind is frozenset:
-        return frozenset(_value(v, names, strings) for v in value)
+        return frozenset(_value(v, names, strings, name) for v in value)
     if kind is CodeType:
-        return _put_back(value, names, strings)
+        return _put_back(value, names, strings, name)
     if kind is bytes and _MARK.encode() in value:
         raise _Unshaped
     return value
