@@ -234,12 +234,24 @@ def _fork():
     return multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
 
 
+def _forkserver():
+    """Workers started from a clean server process where the system has one: a pool's worker forked from
+    this process after another pool's threads started could inherit a lock one of them held."""
+    import multiprocessing
+
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        return None
+    context = multiprocessing.get_context("forkserver")
+    context.set_forkserver_preload(["codegen.verify_runs"])  # imported once, in the server
+    return context
+
+
 def _run_pinned(tasks: list, workers: list[int], jobs: int, progress) -> list[list[TargetReport]]:
     """Each task in the worker process given for it (one single-process pool each, so a worker's tasks
     run in their order); the results in the tasks' order, progress as each chunk ends."""
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    pools = [ProcessPoolExecutor(max_workers=1, mp_context=_fork()) for _ in range(jobs)]
+    pools = [ProcessPoolExecutor(max_workers=1, mp_context=_forkserver()) for _ in range(jobs)]
     try:
         futures = [pools[worker].submit(_verify_chunk, task) for task, worker in zip(tasks, workers, strict=True)]
         if progress is not None:
@@ -247,9 +259,9 @@ def _run_pinned(tasks: list, workers: list[int], jobs: int, progress) -> list[li
                 for part in future.result():
                     progress(part.cases)
         return [future.result() for future in futures]
-    finally:
+    finally:  # after an error, without waiting for the other workers' chunks
         for pool in pools:
-            pool.shutdown(cancel_futures=True)
+            pool.shutdown(wait=False, cancel_futures=True)
 
 
 def report_lines(model: Cell, verify_cell: Cell, case_list: list, cases: int, seed: int, summaries, wall, workers):

@@ -115,11 +115,15 @@ def test_grammar_spells_digits_as_a_class(name):
 @pytest.mark.parametrize("name", DIALECTS)
 def test_only_white_space_crosses_a_line_break(name):
     """The recognizer lexes each chunk (up to a run of white space holding a line break) alone:
-    sound only while no other terminal can match a line break."""
+    sound only while no other terminal can match a line break, start with white space or look behind."""
     for terminal, regexp, ignored in _terminals(dialects()[name]):
         if re.fullmatch(regexp, "\n \n\t"):
             assert terminal == "_NL" or ignored, terminal
             continue
+        assert "(?<" not in regexp, (terminal, regexp)  # looks behind its start, across a chunk's start
+        for space in " \t\f\r\n":  # starts with white space: it could begin in the run that ends a chunk
+            match = re.match(regexp, space + "x1")
+            assert match is None or not match.group(0).startswith(space), (terminal, regexp)
         inside = re.sub(r"\[\^[^\]]*(\\n|\n)[^\]]*\]", "", regexp)  # classes that exclude the line break
         assert not re.search(r"\n|\\n|\\s|\\W|\\D|\[\^|\(\?s", inside), (terminal, regexp)
 
