@@ -449,7 +449,7 @@ class Program:
 @contextmanager
 def frozen_heap():
     """Python's collector leaves what is alive now alone (gc.freeze) until the block ends: the loaded
-    programs, cell and cases are scanned by no full collection while the cases run (a 1,000-station KRL
+    programs, cell and cases are scanned by no full collection while the cases run (a 1,000-station
     program made them a third of the time), and all of it is collectable again afterwards."""
     gc.freeze()
     try:
