@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from codegen.controllers import get_target
@@ -49,6 +49,28 @@ def collect(
         if found is not None:
             reports.append(verify(cell, name, *found))
     return reports, tuple(rest)
+
+
+@dataclass
+class SectionReport:
+    """One target's report in a section: the counts every section keeps, its own figures (figures())
+    between them in the JSON summary."""
+
+    target: str
+    files: list[str]
+    cases: int = 0
+    mismatches: int = 0
+    max_pos_mm: float = 0.0  # the largest difference from the reference
+    max_rot_deg: float = 0.0
+    first_mismatches: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def figures(self) -> dict:
+        return {}
+
+    def summary(self) -> dict:
+        head = {"target": self.target, "files": self.files, "cases": self.cases, "mismatches": self.mismatches}
+        return {**head, **self.figures(), "first_mismatches": self.first_mismatches}
 
 
 class Reports:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import random
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from codegen import sections
 from codegen.controllers import get_target
@@ -33,29 +33,16 @@ class BeltCase:
 
 
 @dataclass
-class ConveyorReport:
-    target: str
-    files: list[str]
-    cases: int = 0
-    mismatches: int = 0
+class ConveyorReport(sections.SectionReport):
     picked: int = 0
     skipped: int = 0
-    max_pos_mm: float = 0.0
-    max_rot_deg: float = 0.0
-    first_mismatches: list[str] = field(default_factory=list)
-    seconds: float = 0.0
 
-    def summary(self) -> dict:
+    def figures(self) -> dict:
         return {
-            "target": self.target,
-            "files": self.files,
-            "cases": self.cases,
-            "mismatches": self.mismatches,
             "parts_picked": self.picked,
             "parts_skipped": self.skipped,
             "pos_max_mm": self.max_pos_mm,
             "rot_max_deg": self.max_rot_deg,
-            "first_mismatches": self.first_mismatches,
         }
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -130,30 +130,17 @@ def tolerances(cell, target, noise: float) -> Tolerances:
 
 
 @dataclass
-class LaserReport:
-    target: str
-    files: list[str]
-    cases: int = 0
-    mismatches: int = 0
-    max_pos_mm: float = 0.0  # the largest difference from the reference (edges, hits, TCP)
-    max_rot_deg: float = 0.0
+class LaserReport(sections.SectionReport):
     truth_max_mm: float = 0.0  # the largest |TCP found - true TCP| where the truth is held
     frame_error_mm: float = 0.0  # |TCP found - true TCP| with the sensor frame off
     motion_s: float = 0.0  # the program's motion time (the longest case that wrote a TCP)
-    first_mismatches: list[str] = field(default_factory=list)
-    seconds: float = 0.0
 
-    def summary(self) -> dict:
+    def figures(self) -> dict:
         return {
-            "target": self.target,
-            "files": self.files,
-            "cases": self.cases,
-            "mismatches": self.mismatches,
-            "pos_max_mm": self.max_pos_mm,
+            "pos_max_mm": self.max_pos_mm,  # edges, hits, TCP
             "tcp_truth_max_mm": self.truth_max_mm,
             "tcp_with_frame_error_mm": self.frame_error_mm,
             "motion_s": self.motion_s,
-            "first_mismatches": self.first_mismatches,
         }
 
 
