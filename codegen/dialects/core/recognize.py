@@ -55,7 +55,7 @@ class Recognizer:
             if stack is None:
                 return False
             start = end
-        return self._finish(list(stack))
+        return self._feed(list(stack), "$END", end=True)
 
     def _chunk(self, stack: list, chunk: str) -> tuple | None:
         """The stack after lexing and parsing one chunk from `stack`, None if lark would refuse it."""
@@ -70,8 +70,9 @@ class Recognizer:
             if not self._feed(stack, token.type):
                 return None
 
-    def _feed(self, stack: list, terminal: str) -> bool:
-        """Shift a terminal after the reductions it calls for (lark's feed_token without values)."""
+    def _feed(self, stack: list, terminal: str, end: bool = False) -> bool:
+        """Shift a terminal after the reductions it calls for (lark's feed_token without values); at the
+        end ($END), reduce until the start rule is complete."""
         states = self.states
         while True:
             action = states[stack[-1]].get(terminal)
@@ -79,24 +80,13 @@ class Recognizer:
                 return False
             kind, arg = action
             if kind is Shift:
+                if end:
+                    return False
                 stack.append(arg)
                 return True
             size = len(arg.expansion)
             if size:
                 del stack[-size:]
             stack.append(states[stack[-1]][arg.origin.name][1])
-
-    def _finish(self, stack: list) -> bool:
-        """Reduce at the end of the text until the start rule is complete."""
-        states = self.states
-        while True:
-            action = states[stack[-1]].get("$END")
-            if action is None or action[0] is Shift:
-                return False
-            rule = action[1]
-            size = len(rule.expansion)
-            if size:
-                del stack[-size:]
-            stack.append(states[stack[-1]][rule.origin.name][1])
-            if stack[-1] == self.end_state:
+            if end and stack[-1] == self.end_state:
                 return True
