@@ -80,7 +80,7 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
         self.local_types: dict | None = None  # the routine being compiled: its variables' types
         self.routine_name = "module"
         self.user_routines: set[str] | None = None  # every routine of the program, when known up front
-        self._consts: dict[int, str] = {}
+        self._consts: dict = {}  # id of a value (or a number's key) -> its name
         self._temps = 0
         self._source_depth = 0
         self._input_names: dict[str, tuple[str, int | None]] = {}

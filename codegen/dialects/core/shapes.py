@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ast
 import re
+import sys
 from types import CodeType, FunctionType
 
 # A numbered name (a registered constant _k or call slot _c, SourceBuilder.const and call_source; a temporary
@@ -41,8 +42,8 @@ class ShapeCache:
             text = match.group(0)
             if match.lastgroup == "f":  # a prefixed string (f'...'): code, kept as it is, names in it too
                 return text
-            if match.lastgroup == "k":
-                return names.setdefault(text, f"{_PLACEHOLDER_NAME}{len(names)}")
+            if match.lastgroup == "k":  # interned: the code's names are then the namespace's keys, not copies
+                return names.setdefault(sys.intern(text), f"{_PLACEHOLDER_NAME}{len(names)}")
             return strings.setdefault(text, f"'\\x00{len(strings)}'")
 
         shape = _PARTS.sub(placeholder, f"def {_NAME}({params}):\n{body}")

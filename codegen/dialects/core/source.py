@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import re
+import sys
 from typing import TYPE_CHECKING
 
+import numpy as np
 from lark import Token
 
 from codegen.dialects.core.shapes import ShapeCache
@@ -13,6 +15,8 @@ from codegen.dialects.core.values import RunError
 if TYPE_CHECKING:
     from codegen.dialects.core.compiler import Compiler
 
+# numbers by value, the floats by every bit (-0.0 is not 0.0; float.hex keeps the sign)
+_NUMBER_KEYS = {int: int, bool: bool, float: float.hex, np.float32: np.float32.tobytes, np.float64: np.float64.tobytes}
 FRAME_NAMES = re.compile(r"\b(m|V|G)\b")
 
 
@@ -77,12 +81,16 @@ class SourceBuilder:
         return f"_w{self._temps}"
 
     def const(self, value) -> str:
-        """A name under which the generated source sees value (a closure, a number, a table)."""
-        name = self._consts.get(id(value))
-        if name is None or self.ns[name] is not value:
-            name = f"_k{len(self.ns)}"
+        """A name under which the generated source sees value (a closure, a number, a table); one name per
+        number (by type and every bit: -0.0 is not 0.0), however many literals spell it."""
+        kind = type(value)
+        number = kind in _NUMBER_KEYS
+        key = (kind, _NUMBER_KEYS[kind](value)) if number else id(value)
+        name = self._consts.get(key)
+        if name is None or (not number and self.ns[name] is not value):  # an id: of this object, still alive?
+            name = sys.intern(f"_k{len(self.ns)}")  # the code objects' names are then this string itself
             self.ns[name] = value
-            self._consts[id(value)] = name
+            self._consts[key] = name
         return name
 
     def function(self, lines: list[str], params: str = "fr", name: str | None = None, prologue: bool = True):
