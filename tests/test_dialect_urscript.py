@@ -127,3 +127,12 @@ textmsg("", b[1])"""
 
 def test_float32_sums():
     assert msgs('textmsg("", 0.1 + 0.2)') == ["0.3"]  # float32: 0.1f + 0.2f == 0.3f
+
+
+
+def test_numbers_equal_in_value_keep_their_sign_and_type():
+    # the compiler names each number once (codegen/dialects/core/source.py const): in one program as each alone
+    lines = ["atan2(0.0, -1.0)", "atan2(-0.0, -1.0)", "-0.0", "0.0", "True", "1", "1.0", "atan2(0.0, -1.0)"]
+    together = msgs("\n".join(f'textmsg("", {line})' for line in lines))
+    assert together == [msgs(f'textmsg("", {line})')[0] for line in lines]
+    assert together[:2] == ["3.1415927", "-3.1415927"] and together[2:6] == ["-0", "0", "True", "1"]
