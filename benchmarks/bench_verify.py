@@ -12,6 +12,10 @@ set of `codegen verify`), after the program is parsed and compiled once:
     time of the parallel part).
 Each figure is the median and the best of --repeat runs (the machine is shared: expect spread).
 
+Issue 16 measures the one-core rate against the same cases written by hand in Python (the reference,
+the program's float32 math, the arm and the comparison without an interpreter: benchmarks/handwritten.py),
+in the same run.
+
 Run: python benchmarks/bench_verify.py [--repeat N] [--targets ur,kuka,...] [--no-full]
 """
 
@@ -59,6 +63,19 @@ def one_core(target: str, repeat: int) -> list[float]:
     return rates
 
 
+def hand_written(target: str, repeat: int) -> list[float]:
+    """The same cases by the hand-written yardstick (benchmarks/handwritten.py), one core, after one_core."""
+    import handwritten
+
+    rates = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        problems = sum(handwritten.case(_STATE["cell"], target, one) is not None for one in _STATE["cases"])
+        rates.append(len(_STATE["cases"]) / (time.perf_counter() - start))
+        assert problems == 0, f"{target}: the hand-written case disagrees with the reference {problems} times"
+    return rates
+
+
 def two_cores(target: str, repeat: int) -> list[float]:
     context = multiprocessing.get_context("fork")
     rates = []
@@ -78,13 +95,17 @@ def main() -> int:
     parser.add_argument("--targets", default="ur,kuka,abb,dtrans")
     parser.add_argument("--no-full", action="store_true", help="skip the full `codegen verify` run")
     args = parser.parse_args()
-    print("verified cases/s per dialect (reference + interpreter + comparison), median / best:")
-    print(f"  {'target':<7} {'one core':>17} {'two cores':>17}")
+    print("verified cases/s per dialect (reference + interpreter + comparison), median / best; the same cases")
+    print("by the hand-written yardstick (benchmarks/handwritten.py) on one core, and the ratio of the medians:")
+    print(f"  {'target':<7} {'one core':>17} {'two cores':>17} {'hand-written':>17} {'ratio':>6}")
     for target in args.targets.split(","):
-        one, two = one_core(target, args.repeat), two_cores(target, args.repeat)
+        one = one_core(target, args.repeat)
+        hand = hand_written(target, args.repeat)
+        two = two_cores(target, args.repeat)
         print(
             f"  {target:<7} {statistics.median(one):8.0f} / {max(one):6.0f} "
-            f"{statistics.median(two):8.0f} / {max(two):6.0f}"
+            f"{statistics.median(two):8.0f} / {max(two):6.0f} "
+            f"{statistics.median(hand):8.0f} / {max(hand):6.0f} {statistics.median(one) / statistics.median(hand):6.2f}"
         )
     if args.no_full:
         return 0

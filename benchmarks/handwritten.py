@@ -1,0 +1,112 @@
+"""Issue 16's yardstick: a verified case of the demo cell written by hand in Python, without the interpreter.
+
+What a case costs when the program is not interpreted. Per case, as `codegen verify` does:
+  - the reference: verify's accepted traces and the physical check (codegen/verify.py), unchanged;
+  - the program written by hand for a point station (source 000), in float32 scalars as a controller
+    computes: the reading's guards (range, shift squared, rotation), the correction D from the reading
+    and the station's mark, and every taught pose moved by D; a halt where the guards say so;
+  - the arm, where the cell has one: the home pose, then each moved pose solved for the arm by the
+    controller's rule from the joints before it (the analytic solutions, then the rule: what the
+    interpreter's arm does), and home again;
+  - the comparison: each move's position and orientation against the reference within the float32
+    tolerances, and the joints against the reference's rule applied to those solutions (verify's arm check).
+Not included, because a hand-written case has nothing to interpret there: the vision handshake (its
+polling), the gripper's signals and feedback, the move settings and the log line's text. The interpreter
+does all of these in every case; the ratio interpreter / hand-written is therefore the interpreter's whole
+overhead, the handshake's simulation included.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, reading_in_range
+from codegen.kinds import Case
+from codegen.robot import solve
+from codegen.robot.expect import JOINT_TOLERANCE_DEG, expected_joints, home_move
+from codegen.robot.region import move_joints, station_plan
+from codegen.verify import TOLERANCES, _pose_errors, _truth_problem, accepted_traces
+
+F = np.float32
+
+
+def _wrap(angle: np.float32) -> np.float32:
+    while angle > 180:
+        angle -= F(360)
+    while angle <= -180:
+        angle += F(360)
+    return angle
+
+
+def program(cell, reading) -> tuple[str, list[np.ndarray]]:
+    """The station's program by hand in float32: ("ok", moved poses) or ("halt", reason), no moves."""
+    station = cell.station_by_id(reading.station_id)
+    x, y, theta = F(reading.x), F(reading.y), F(reading.theta)
+    if not reading_in_range(float(x), float(y), float(theta)):
+        return INVALID_READING, []
+    tx, ty, t_theta = (F(v) for v in station.spec.mark)
+    dx, dy = x - tx, y - ty
+    if dx * dx + dy * dy > F(cell.limits.max_shift_mm) ** 2:
+        return SHIFT_OVER_LIMIT, []
+    rotation = _wrap(theta - t_theta)
+    if abs(rotation) > F(cell.limits.max_rotation_deg):
+        return ROTATION_OVER_LIMIT, []
+    phi = F(cell.angle_sign) * rotation * F(math.pi / 180.0)
+    c, s = F(math.cos(phi)), F(math.sin(phi))
+    ox, oy = x - (c * tx - s * ty), y - (s * tx + c * ty)  # D = T(x, y) Rz(phi) T(-tx, -ty)
+    moved = []
+    for pose in station.path:
+        m = pose.matrix().astype(F)
+        out = np.empty((4, 4))
+        for col in range(4):
+            a, b, z = m[0, col], m[1, col], m[2, col]
+            out[0, col], out[1, col], out[2, col] = c * a - s * b, s * a + c * b, z
+        out[0, 3] += ox
+        out[1, 3] += oy
+        out[3] = (0.0, 0.0, 0.0, 1.0)
+        moved.append(out)
+    return "ok", moved
+
+
+def case(cell, target: str, one: Case) -> str | None:
+    """One verified case: None when the hand-written program agrees with the reference, else the problem."""
+    accepted, _ = accepted_traces(cell, one)
+    expected = accepted[0]
+    untrue = _truth_problem(cell, one, expected)
+    if expected.status != "ok":
+        if expected.reason in (INVALID_READING, SHIFT_OVER_LIMIT, ROTATION_OVER_LIMIT):
+            status, _ = program(cell, one.reading)
+            return None if status == expected.reason else f"halt {status}, expected {expected.reason}"
+        return untrue  # a halt before the station's math (no answer, unknown id, gripper): nothing to compute
+    status, poses = program(cell, one.reading)
+    if status != "ok":
+        return f"halt {status}, expected the moves"
+    pos_tol, rot_tol = TOLERANCES["float32"]
+    for got, want in zip(poses, expected.moves, strict=False):
+        position, orientation = _pose_errors(got.tolist(), want.tcp2base.tolist())
+        if not (position <= pos_tol and orientation <= rot_tol):
+            return f"{want.pose_name}: {position:.6f} mm, {orientation:.6f} deg"
+    home = home_move(cell, target)
+    if home is None:
+        return untrue
+    arm, tool = cell.robot.arms[target], cell.robot.tool
+    form = get_target(target).configuration
+    taught, named = station_plan(cell, target, expected.station)
+    by_name = {pose.name: (pose, full) for pose, full in zip(taught, named, strict=True)}
+    solutions = [solve.branches(arm, solve.flange_poses(p, tool.tcp2flange)) for p in poses]
+    previous, joints = home[1], []
+    for move, sols in zip(expected.moves, solutions, strict=True):  # the controller's rule, pose by pose
+        pose, full = by_name[move.pose_name]
+        q, _, _ = move_joints(arm, form, pose, sols, previous, full)
+        if np.isnan(q).any():
+            return f"{move.pose_name}: out of reach"
+        joints.append(q)
+        previous = q
+    want = expected_joints(cell, target, expected.station, expected.moves, home[1], solutions)
+    for move, q, w in zip(expected.moves, joints, want, strict=True):
+        if not float(np.max(np.abs(q - w))) <= JOINT_TOLERANCE_DEG:
+            return f"{move.pose_name}: joints {q} against {w}"
+    return untrue
