@@ -65,13 +65,15 @@ def _nearest_one(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[np.ndarray, np
     if not all(math.isfinite(v) for v in ref):  # as the batched path: nothing is near a NaN
         return np.full(len(ref), np.nan), np.array(-1)
     limits = arm.limits.tolist()
-    best, best_distance = -1, math.inf
+    best, best_distance, best_total = -1, math.inf, math.inf
     chosen: list[float] = []
     round_, sqrt = round, math.sqrt
     for index, row in enumerate(solutions.tolist()):
         q = []
         total = 0.0
         for value, near, (low, high) in zip(row, ref, limits, strict=True):
+            if total > best_total:  # the sum only grows: this row cannot be nearer than the best so far
+                break
             if not -math.inf < value < math.inf:  # NaN: no solution on this branch
                 break
             turns = (near - value) / TURN
@@ -88,7 +90,7 @@ def _nearest_one(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[np.ndarray, np
         else:
             distance = sqrt(total)
             if distance < best_distance:
-                best, best_distance, chosen = index, distance, q
+                best, best_distance, best_total, chosen = index, distance, total, q
     if best < 0:
         return np.full(len(ref), np.nan), np.array(-1)
     return np.array(chosen), np.array(best)
