@@ -269,3 +269,38 @@ def test_one_pose_selection_is_the_batched_one():
             np.testing.assert_array_equal(np.signbit(q), np.signbit(want_q))
             found += int(branch) >= 0
         assert 0 < found < len(truth)
+
+
+def test_one_pose_configuration_rules_are_the_batched_ones():
+    """KUKA Status/Turn and ABB confdata for one pose (Python floats, codegen/robot/config.py) give what the
+    batched numpy path gives: the same bits, joints (signed zeros too) and branch, with axes on the bits'
+    and quadrants' boundaries, on the limits, branches missing (NaN) and configurations no branch has."""
+    rng = np.random.default_rng(1623)
+    for kin, limits in ((KR6_R700, KR6_LIMITS), (IRB2400, IRB2400_LIMITS)):
+        arm = _arm(kin, limits)
+        truth = rng.uniform(limits[:, 0], limits[:, 1], (400, 6))
+        truth[::8, 4] = 0.0  # axis 5 on its bit's boundary
+        truth[1::8, 4] = -0.0
+        truth[2::8, 2] = kin.stretched_q3_deg  # the arm stretched: status bit 1's boundary
+        truth[3::8, 0] = 90.0 * rng.integers(-1, 2, 50)  # a quadrant's boundary
+        truth[4::8, 5] = limits[5, rng.integers(0, 2, 50)]  # on a limit
+        solutions = kin.ik(kin.fk(truth))
+        solutions[5::13, 2:4] = np.nan
+        solutions[6::17, :, [0, 3, 5]] = -0.0  # signed zeros where a quadrant's turn is added
+        for q in truth:
+            assert kuka_status(kin, q) == int(kuka_status(kin, q[None])[0])
+            assert kuka_turn(q) == int(kuka_turn(q[None])[0])
+        picked = 0
+        for i, q in enumerate(truth):
+            status, turn = int(kuka_status(kin, q)), int(kuka_turn(q))
+            conf = (*(int(v) for v in abb_quadrant(q[[0, 3, 5]])), int(abb_confdata(kin, q)[3]))
+            if i % 5 == 0:  # a configuration no branch has here: none found, on both paths
+                status, turn, conf = status ^ 7, turn ^ 63, (conf[0] + 2, *conf[1:])
+            for select, value in ((by_status_turn, (status, turn)), (by_confdata, (conf,))):
+                one_q, one_branch = select(arm, solutions[i], *value)
+                many_q, many_branch = select(arm, solutions[i : i + 1], *value)
+                assert int(one_branch) == int(many_branch[0]), (select.__name__, q, value)
+                np.testing.assert_array_equal(one_q, many_q[0])
+                np.testing.assert_array_equal(np.signbit(one_q), np.signbit(many_q[0]))
+                picked += int(one_branch) >= 0
+        assert 0 < picked < 2 * len(truth)

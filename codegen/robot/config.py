@@ -31,6 +31,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -61,8 +62,43 @@ def _scalar_or_array(values: np.ndarray) -> int | np.ndarray:
     return int(values) if values.ndim == 0 else values
 
 
+def _finite_one(joints_deg) -> list[float] | None:
+    """One pose's axis values as Python floats; None for a batch or a value that is not finite (numpy then)."""
+    q = np.asarray(joints_deg, dtype=float)
+    if q.shape != (6,):
+        return None
+    values = q.tolist()
+    return values if all(-math.inf < v < math.inf for v in values) else None
+
+
+def _ceil(x: float) -> float:
+    """np.ceil of a finite Python float, its signed zero included (ceil(-0.5) is -0.0)."""
+    c = math.ceil(x)
+    return float(c) if c else math.copysign(0.0, x)
+
+
+def _wrap_one(a: float) -> float:
+    """wrap_deg of a finite Python float (the same operations)."""
+    return a - 360.0 * _ceil((a - 180.0) / 360.0)
+
+
+def _kuka_status_one(kin: OPW, q: list[float]) -> int:
+    x, _ = kin.sides_one(q)
+    a5 = q[4]
+    a5_bit = (-180.0 <= a5 < 0.0) or a5 >= 180.0
+    return int(x < 0.0) | int(_wrap_one(q[2] - kin.stretched_q3_deg) >= 0.0) << 1 | int(a5_bit) << 2
+
+
+def _abb_cfx_one(kin: OPW, q: list[float]) -> int:
+    x, elbow = kin.sides_one(q)
+    return 4 * int(x < 0.0) + 2 * int(elbow < 0.0) + int(q[4] < 0.0)
+
+
 def kuka_status(kin: OPW, joints_deg: np.ndarray) -> int | np.ndarray:
     """Status bits 0-2 of axis values: an int for one (6,) pose, an int array (...) for a batch."""
+    one = _finite_one(joints_deg)
+    if one is not None:
+        return _kuka_status_one(kin, one)
     q = np.asarray(joints_deg, dtype=float)
     overhead = kin.wrist_x_axis1(q) < 0.0
     a3_from_stretched = wrap_deg(q[..., 2] - kin.stretched_q3_deg)  # A3 - phi, the folded side as negative
@@ -75,6 +111,9 @@ def kuka_status(kin: OPW, joints_deg: np.ndarray) -> int | np.ndarray:
 
 def kuka_turn(joints_deg: np.ndarray) -> int | np.ndarray:
     """Turn: bit i set when axis i+1 < 0 deg; an int for one (6,) pose, an int array (...) for a batch."""
+    one = _finite_one(joints_deg)
+    if one is not None:
+        return sum(1 << axis for axis, value in enumerate(one) if value < 0.0)
     negative = np.asarray(joints_deg, dtype=float) < 0.0
     return _scalar_or_array(np.sum(negative.astype(int) << np.arange(6), axis=-1))
 
@@ -83,6 +122,8 @@ def by_confdata(arm: Arm, solutions: np.ndarray, conf) -> tuple[np.ndarray, np.n
     """ABB (ConfJ/ConfL on): the solution whose robconf equals conf = (cf1, cf4, cf6, cfx): cf1, cf4 and
     cf6 name the quadrant of axes 1, 4 and 6 (hence their turn), cfx the branch."""
     cf1, cf4, cf6, cfx = conf
+    if solutions.ndim == 2:
+        return _first_one(arm, solutions, lambda row: _by_confdata_row(arm, row, conf))
     q = solutions.copy()
     for axis, quadrant in ((0, cf1), (3, cf4), (5, cf6)):
         q[..., axis] = solve.shift_into(q[..., axis], 90.0 * quadrant - solve.BOUNDARY_DEG)
@@ -95,6 +136,8 @@ def by_confdata(arm: Arm, solutions: np.ndarray, conf) -> tuple[np.ndarray, np.n
 def by_status_turn(arm: Arm, solutions: np.ndarray, status: int, turn: int) -> tuple[np.ndarray, np.ndarray]:
     """KUKA PTP to an E6POS with S and T: the branch whose Status bits 0-2 equal S's, each axis on the
     side of zero its Turn bit names (bit i set: axis i+1 < 0)."""
+    if solutions.ndim == 2:
+        return _first_one(arm, solutions, lambda row: _by_status_turn_row(arm, row, status, turn))
     q = solutions.copy()
     for axis in range(6):
         negative = bool(turn >> axis & 1)
@@ -105,6 +148,42 @@ def by_status_turn(arm: Arm, solutions: np.ndarray, status: int, turn: int) -> t
     s = kuka_status(arm.kin, np.nan_to_num(q))
     match = ((s & 7) == (status & 7)) & solve.inside(arm, q) & ~np.isnan(q).any(axis=-1)
     return solve.first(q, match)
+
+
+def _first_one(arm: Arm, solutions: np.ndarray, shifted) -> tuple[np.ndarray, np.ndarray]:
+    """solve.first for one pose (8, 6) on Python floats: the first branch whose row, moved by shifted (None:
+    no match), lies within the limits; as the batched path returns it (NaN joints and -1 when none)."""
+    limits = arm.limits.tolist()
+    for index, row in enumerate(solutions.tolist()):
+        if not all(-math.inf < v < math.inf for v in row):
+            continue  # a branch without a solution
+        q = shifted(row)
+        if q is not None and all(low - 1e-9 <= v <= high + 1e-9 for v, (low, high) in zip(q, limits, strict=True)):
+            return np.array(q), np.array(index)
+    return np.full(6, np.nan), np.array(-1)
+
+
+def _by_confdata_row(arm: Arm, row: list[float], conf) -> list[float] | None:
+    q = list(row)
+    quadrants = ((0, conf[0]), (3, conf[1]), (5, conf[2]))
+    for axis, quadrant in quadrants:  # solve.shift_into
+        low = 90.0 * quadrant - solve.BOUNDARY_DEG
+        q[axis] += solve.TURN * _ceil((low - q[axis]) / solve.TURN - 1e-12)
+    if _abb_cfx_one(arm.kin, q) != conf[3]:
+        return None
+    if not all(q[axis] < 90.0 * (quadrant + 1) + solve.BOUNDARY_DEG for axis, quadrant in quadrants):
+        return None
+    return q
+
+
+def _by_status_turn_row(arm: Arm, row: list[float], status: int, turn: int) -> list[float] | None:
+    q = [
+        (v - solve.TURN if v > solve.BOUNDARY_DEG else v)
+        if turn >> axis & 1
+        else (v + solve.TURN if v < -solve.BOUNDARY_DEG else v)
+        for axis, v in enumerate(row)
+    ]
+    return q if (_kuka_status_one(arm.kin, q) & 7) == (status & 7) else None
 
 
 def with_status(arm: Arm, solutions: np.ndarray, status: int) -> np.ndarray:

@@ -158,6 +158,15 @@ class OPW:
         """The wrist centre's x in the frame that turns with axis 1 (> 0: in front of axis 1), mm."""
         return self._arm_plane(self.theta(joints_deg))[0]
 
+    def sides_one(self, q: list[float]) -> tuple[float, float]:
+        """wrist_x_axis1 and elbow_side of one pose's axis values (deg) on Python floats, by the same operations
+        (radians is x * (pi / 180) in numpy too)."""
+        to_rad = math.pi / 180.0
+        t2 = (self.signs[1] * q[1] + self.offsets_deg[1]) * to_rad
+        t3 = (self.signs[2] * q[2] + self.offsets_deg[2]) * to_rad
+        x = self.a1 + self.c2 * math.sin(t2) + math.hypot(self.a2, self.c3) * math.sin(t2 + t3 + self.psi3)
+        return x, math.sin(t3 + self.psi3)
+
     def elbow_side(self, joints_deg: np.ndarray) -> np.ndarray:
         """sin(theta3 + psi3): > 0 when the wrist centre is in front of the lower arm (axis 2 - axis 3)."""
         t = self.theta(joints_deg)
