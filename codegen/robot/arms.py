@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import tomllib
 from dataclasses import dataclass
-from functools import cache
+from functools import cache, cached_property
 from pathlib import Path
 
 import numpy as np
@@ -36,9 +36,12 @@ class Arm:
     payload_kg: float | None = None
     source: str = ""
 
-    @property
+    @cached_property
     def limits(self) -> np.ndarray:
-        return np.array(self.limits_deg, dtype=float)
+        """limits_deg as a read-only (6, 2) array (made once: every solved move reads it)."""
+        out = np.array(self.limits_deg, dtype=float)
+        out.flags.writeable = False
+        return out
 
 
 def _number(value, path: str) -> float:

@@ -16,11 +16,28 @@ BOUNDARY_DEG = 1e-6
 
 def flange_poses(tcp2base: np.ndarray, tcp2flange: np.ndarray) -> np.ndarray:
     """flange2base = tcp2base . inv(tcp2flange), for (..., 4, 4) poses."""
-    rot, trans = tcp2flange[:3, :3], tcp2flange[:3, 3]
-    flange2tcp = np.eye(4)
-    flange2tcp[:3, :3] = rot.T
-    flange2tcp[:3, 3] = -rot.T @ trans
-    return tcp2base @ flange2tcp
+    return tcp2base @ _flange2tcp(tcp2flange)
+
+
+_TOOLS: dict[bytes, np.ndarray] = {}
+
+
+def _flange2tcp(tcp2flange: np.ndarray) -> np.ndarray:
+    """inv(tcp2flange) of a rigid transform, remembered by its bytes (a cell has a tool or two; a program sets a
+    few): every solved move needs it."""
+    tcp2flange = np.asarray(tcp2flange, dtype=float)
+    key = tcp2flange.tobytes()
+    out = _TOOLS.get(key)
+    if out is None:
+        rot, trans = tcp2flange[:3, :3], tcp2flange[:3, 3]
+        out = np.eye(4)
+        out[:3, :3] = rot.T
+        out[:3, 3] = -rot.T @ trans
+        out.flags.writeable = False
+        if len(_TOOLS) >= 256:
+            _TOOLS.clear()
+        _TOOLS[key] = out
+    return out
 
 
 def branches(arm: Arm, flange2base: np.ndarray) -> np.ndarray:
