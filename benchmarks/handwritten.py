@@ -5,11 +5,13 @@ What a case costs when the program is not interpreted. Per case, as `codegen ver
   - the program written by hand for a point station (source 000), in float32 scalars as a controller
     computes: the reading's guards (range, shift squared, rotation), the correction D from the reading
     and the station's mark, and every taught pose moved by D; a halt where the guards say so;
-  - the arm, where the cell has one: the home pose, then each moved pose solved for the arm by the
-    controller's rule from the joints before it (the analytic solutions, then the rule: what the
-    interpreter's arm does), and home again;
+  - the arm, where the cell has one: from the home joints, each moved pose solved for the arm (the
+    analytic solutions) and its joints chosen by the controller's rule as the program names the move (a
+    joint move by its configuration, or the solution nearest where the arm stands; a linear move keeps the
+    configuration), written here after codegen/dialects/core/arm.py's rules;
   - the comparison: each move's position and orientation against the reference within the float32
-    tolerances, and the joints against the reference's rule applied to those solutions (verify's arm check).
+    tolerances, and the joints against verify's reference rule (codegen/robot/region.py move_joints)
+    applied to the same solutions, as verify's arm check does: two statements of the controllers' rules.
 Not included, because a hand-written case has nothing to interpret there: the vision handshake (its
 polling), the gripper's signals and feedback, the move settings and the log line's text. The interpreter
 does all of these in every case; the ratio interpreter / hand-written is therefore the interpreter's whole
@@ -26,8 +28,9 @@ from codegen.controllers import get_target
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, reading_in_range
 from codegen.kinds import Case
 from codegen.robot import solve
+from codegen.robot.config import FORMS, with_status
 from codegen.robot.expect import JOINT_TOLERANCE_DEG, expected_joints, home_move
-from codegen.robot.region import move_joints, station_plan
+from codegen.robot.region import station_plan
 from codegen.verify import TOLERANCES, _pose_errors, _truth_problem, accepted_traces
 
 F = np.float32
@@ -61,11 +64,11 @@ def program(cell, reading) -> tuple[str, list[np.ndarray]]:
     for pose in station.path:
         m = pose.matrix().astype(F)
         out = np.empty((4, 4))
-        for col in range(4):
+        for col in range(3):
             a, b, z = m[0, col], m[1, col], m[2, col]
             out[0, col], out[1, col], out[2, col] = c * a - s * b, s * a + c * b, z
-        out[0, 3] += ox
-        out[1, 3] += oy
+        out[0, 3], out[1, 3] = c * m[0, 3] - s * m[1, 3] + ox, s * m[0, 3] + c * m[1, 3] + oy  # float32 sums
+        out[2, 3] = m[2, 3]
         out[3] = (0.0, 0.0, 0.0, 1.0)
         moved.append(out)
     return "ok", moved
@@ -85,7 +88,7 @@ def case(cell, target: str, one: Case) -> str | None:
     if status != "ok":
         return f"halt {status}, expected the moves"
     pos_tol, rot_tol = TOLERANCES["float32"]
-    for got, want in zip(poses, expected.moves, strict=False):
+    for got, want in zip(poses, expected.moves, strict=True):
         position, orientation = _pose_errors(got.tolist(), want.tcp2base.tolist())
         if not (position <= pos_tol and orientation <= rot_tol):
             return f"{want.pose_name}: {position:.6f} mm, {orientation:.6f} deg"
@@ -95,18 +98,37 @@ def case(cell, target: str, one: Case) -> str | None:
     arm, tool = cell.robot.arms[target], cell.robot.tool
     form = get_target(target).configuration
     taught, named = station_plan(cell, target, expected.station)
-    by_name = {pose.name: (pose, full) for pose, full in zip(taught, named, strict=True)}
+    by_name: dict = {}
+    for pose, full in zip(taught, named, strict=True):
+        by_name.setdefault(pose.name, (pose, full))
     solutions = [solve.branches(arm, solve.flange_poses(p, tool.tcp2flange)) for p in poses]
-    previous, joints = home[1], []
-    for move, sols in zip(expected.moves, solutions, strict=True):  # the controller's rule, pose by pose
+    previous, branch, joints = home[1], None, []
+    for move, sols in zip(expected.moves, solutions, strict=True):
         pose, full = by_name[move.pose_name]
-        q, _, _ = move_joints(arm, form, pose, sols, previous, full)
-        if np.isnan(q).any():
-            return f"{move.pose_name}: out of reach"
+        q, chosen = _rule(arm, form, pose, full, sols, previous)
+        if np.isnan(q).any() or (pose.motion == "linear" and branch is not None and int(chosen) != branch):
+            return f"{move.pose_name}: no joints by the controller's rule"
         joints.append(q)
-        previous = q
+        previous, branch = q, int(chosen)
     want = expected_joints(cell, target, expected.station, expected.moves, home[1], solutions)
     for move, q, w in zip(expected.moves, joints, want, strict=True):
         if not float(np.max(np.abs(q - w))) <= JOINT_TOLERANCE_DEG:
             return f"{move.pose_name}: joints {q} against {w}"
     return untrue
+
+
+def _rule(arm, form: str, pose, full: bool, sols: np.ndarray, previous: np.ndarray):
+    """The joints a move of the program takes: a joint move to its named configuration (UR: the solution
+    nearest the taught joints, get_inverse_kin's qnear), or with only KUKA's Status bits named the nearest
+    of that status, or else the nearest solution; a linear move the nearest (its configuration is checked
+    by the caller)."""
+    if pose.motion != "joint":
+        return solve.nearest(arm, sols, previous)
+    if form == "joints":
+        return solve.nearest(arm, sols, pose.joints)
+    value = FORMS[form].of(arm, pose.joints)
+    if full:
+        return FORMS[form].select(arm, sols, value)
+    if form == "status_turn":
+        return solve.nearest(arm, with_status(arm, sols, value[0]), previous)
+    return solve.nearest(arm, sols, previous)

@@ -129,7 +129,6 @@ def test_float32_sums():
     assert msgs('textmsg("", 0.1 + 0.2)') == ["0.3"]  # float32: 0.1f + 0.2f == 0.3f
 
 
-
 def test_numbers_equal_in_value_keep_their_sign_and_type():
     # the compiler names each number once (codegen/dialects/core/source.py const): in one program as each alone
     lines = ["atan2(0.0, -1.0)", "atan2(-0.0, -1.0)", "-0.0", "0.0", "True", "1", "1.0", "atan2(0.0, -1.0)"]

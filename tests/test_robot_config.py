@@ -304,3 +304,10 @@ def test_one_pose_configuration_rules_are_the_batched_ones():
                 np.testing.assert_array_equal(np.signbit(one_q), np.signbit(many_q[0]))
                 picked += int(one_branch) >= 0
         assert 0 < picked < 2 * len(truth)
+        # float32 values keep numpy's promotion (float32 arithmetic): the batched path takes them
+        for i, q in enumerate(truth[:40]):
+            conf = tuple(np.float32(v) for v in (*abb_quadrant(q[[0, 3, 5]]), abb_confdata(kin, q)[3]))
+            one_q, one_branch = by_confdata(arm, solutions[i].astype(np.float32), conf)
+            many_q, many_branch = by_confdata(arm, solutions[i : i + 1].astype(np.float32), conf)
+            assert int(one_branch) == int(many_branch[0])
+            np.testing.assert_array_equal(one_q, many_q[0])

@@ -43,6 +43,10 @@ class Arm:
         out.flags.writeable = False
         return out
 
+    def __getstate__(self) -> dict:
+        """Pickled without the made limits (a worker process makes its own, read-only again)."""
+        return {key: value for key, value in self.__dict__.items() if key != "limits"}
+
 
 def _number(value, path: str) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):

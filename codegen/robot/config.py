@@ -71,6 +71,16 @@ def _finite_one(joints_deg) -> list[float] | None:
     return values if all(-math.inf < v < math.inf for v in values) else None
 
 
+def _one_pose(solutions: np.ndarray, values) -> bool:
+    """The one-pose path takes (8, 6) float64 solutions and integer configuration values; anything else (a
+    batch, float32, a value given as a float) keeps numpy's own promotion rules: the batched path."""
+    return (
+        solutions.ndim == 2
+        and solutions.dtype == np.float64
+        and all(isinstance(v, int | np.integer) and not isinstance(v, bool) for v in values)
+    )
+
+
 def _ceil(x: float) -> float:
     """np.ceil of a finite Python float, its signed zero included (ceil(-0.5) is -0.0)."""
     c = math.ceil(x)
@@ -122,7 +132,7 @@ def by_confdata(arm: Arm, solutions: np.ndarray, conf) -> tuple[np.ndarray, np.n
     """ABB (ConfJ/ConfL on): the solution whose robconf equals conf = (cf1, cf4, cf6, cfx): cf1, cf4 and
     cf6 name the quadrant of axes 1, 4 and 6 (hence their turn), cfx the branch."""
     cf1, cf4, cf6, cfx = conf
-    if solutions.ndim == 2:
+    if _one_pose(solutions, conf):
         return _first_one(arm, solutions, lambda row: _by_confdata_row(arm, row, conf))
     q = solutions.copy()
     for axis, quadrant in ((0, cf1), (3, cf4), (5, cf6)):
@@ -136,7 +146,7 @@ def by_confdata(arm: Arm, solutions: np.ndarray, conf) -> tuple[np.ndarray, np.n
 def by_status_turn(arm: Arm, solutions: np.ndarray, status: int, turn: int) -> tuple[np.ndarray, np.ndarray]:
     """KUKA PTP to an E6POS with S and T: the branch whose Status bits 0-2 equal S's, each axis on the
     side of zero its Turn bit names (bit i set: axis i+1 < 0)."""
-    if solutions.ndim == 2:
+    if _one_pose(solutions, (status, turn)):
         return _first_one(arm, solutions, lambda row: _by_status_turn_row(arm, row, status, turn))
     q = solutions.copy()
     for axis in range(6):

@@ -15,7 +15,8 @@ from codegen.dialects.core.values import RunError
 if TYPE_CHECKING:
     from codegen.dialects.core.compiler import Compiler
 
-# numbers by value, the floats by every bit (-0.0 is not 0.0; float.hex keeps the sign)
+# numbers by value, the floats by their bits (-0.0 is not 0.0; float.hex keeps the sign but gives every NaN one
+# text: no literal is a Python-float NaN, and a NaN's payload and sign change no result)
 _NUMBER_KEYS = {int: int, bool: bool, float: float.hex, np.float32: np.float32.tobytes, np.float64: np.float64.tobytes}
 FRAME_NAMES = re.compile(r"\b(m|V|G)\b")
 
