@@ -39,7 +39,7 @@ import numpy as np
 
 from codegen.robot import solve
 from codegen.robot.arms import Arm
-from codegen.robot.kinematics import wrap_deg
+from codegen.robot.kinematics import wrap_deg, wrap_deg_float
 from codegen.robot.opw import OPW
 
 
@@ -81,22 +81,11 @@ def _one_pose(solutions: np.ndarray, values) -> bool:
     )
 
 
-def _ceil(x: float) -> float:
-    """np.ceil of a finite Python float, its signed zero included (ceil(-0.5) is -0.0)."""
-    c = math.ceil(x)
-    return float(c) if c else math.copysign(0.0, x)
-
-
-def _wrap_one(a: float) -> float:
-    """wrap_deg of a finite Python float (the same operations)."""
-    return a - 360.0 * _ceil((a - 180.0) / 360.0)
-
-
 def _kuka_status_one(kin: OPW, q: list[float]) -> int:
     x, _ = kin.sides_one(q)
     a5 = q[4]
     a5_bit = (-180.0 <= a5 < 0.0) or a5 >= 180.0
-    return int(x < 0.0) | int(_wrap_one(q[2] - kin.stretched_q3_deg) >= 0.0) << 1 | int(a5_bit) << 2
+    return int(x < 0.0) | int(wrap_deg_float(q[2] - kin.stretched_q3_deg) >= 0.0) << 1 | int(a5_bit) << 2
 
 
 def _abb_cfx_one(kin: OPW, q: list[float]) -> int:
@@ -163,12 +152,11 @@ def by_status_turn(arm: Arm, solutions: np.ndarray, status: int, turn: int) -> t
 def _first_one(arm: Arm, solutions: np.ndarray, shifted) -> tuple[np.ndarray, np.ndarray]:
     """solve.first for one pose (8, 6) on Python floats: the first branch whose row, moved by shifted (None:
     no match), lies within the limits; as the batched path returns it (NaN joints and -1 when none)."""
-    limits = arm.limits.tolist()
     for index, row in enumerate(solutions.tolist()):
         if not all(-math.inf < v < math.inf for v in row):
             continue  # a branch without a solution
         q = shifted(row)
-        if q is not None and all(low - 1e-9 <= v <= high + 1e-9 for v, (low, high) in zip(q, limits, strict=True)):
+        if q is not None and solve.inside_float(q, arm.limits_deg):
             return np.array(q), np.array(index)
     return np.full(6, np.nan), np.array(-1)
 
@@ -176,9 +164,8 @@ def _first_one(arm: Arm, solutions: np.ndarray, shifted) -> tuple[np.ndarray, np
 def _by_confdata_row(arm: Arm, row: list[float], conf) -> list[float] | None:
     q = list(row)
     quadrants = ((0, conf[0]), (3, conf[1]), (5, conf[2]))
-    for axis, quadrant in quadrants:  # solve.shift_into
-        low = 90.0 * quadrant - solve.BOUNDARY_DEG
-        q[axis] += solve.TURN * _ceil((low - q[axis]) / solve.TURN - 1e-12)
+    for axis, quadrant in quadrants:
+        q[axis] = solve.shift_into_float(q[axis], 90.0 * quadrant - solve.BOUNDARY_DEG)
     if _abb_cfx_one(arm.kin, q) != conf[3]:
         return None
     if not all(q[axis] < 90.0 * (quadrant + 1) + solve.BOUNDARY_DEG for axis, quadrant in quadrants):

@@ -75,6 +75,17 @@ def sqrt_clipped(radicand: np.ndarray) -> np.ndarray:
     return np.sqrt(r)
 
 
+def ceil_float(x: float) -> float:
+    """np.ceil of one finite Python float, its signed zero included (ceil(-0.5) is -0.0)."""
+    c = math.ceil(x)
+    return float(c) if c else math.copysign(0.0, x)
+
+
+def wrap_deg_float(angle_deg: float) -> float:
+    """wrap_deg of one finite Python float (the same operations)."""
+    return angle_deg - 360.0 * ceil_float((angle_deg - 180.0) / 360.0)
+
+
 def acos_clipped_float(cosine: float) -> float:
     """acos_clipped of one Python float."""
     if abs(cosine) <= 1.0 + ACOS_SLACK:

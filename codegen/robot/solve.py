@@ -7,11 +7,13 @@ import math
 import numpy as np
 
 from codegen.robot.arms import Arm
+from codegen.robot.kinematics import ceil_float
 
 TURN = 360.0
 # An axis on a quadrant or sign boundary (a vertical tool puts a wrist axis at exactly 0) satisfies the
 # configuration on either side: the analytic solution's rounding (1e-12 deg) must not turn it by 360.
 BOUNDARY_DEG = 1e-6
+LIMIT_SLACK_DEG = 1e-9  # a value this far beyond a joint limit is the analytic solution's rounding: inside
 
 
 def flange_poses(tcp2base: np.ndarray, tcp2flange: np.ndarray) -> np.ndarray:
@@ -47,12 +49,22 @@ def branches(arm: Arm, flange2base: np.ndarray) -> np.ndarray:
 
 def inside(arm: Arm, q: np.ndarray) -> np.ndarray:
     low, high = arm.limits[:, 0], arm.limits[:, 1]
-    return np.all((q >= low - 1e-9) & (q <= high + 1e-9), axis=-1)
+    return np.all((q >= low - LIMIT_SLACK_DEG) & (q <= high + LIMIT_SLACK_DEG), axis=-1)
 
 
 def shift_into(q: np.ndarray, low: np.ndarray) -> np.ndarray:
     """q + 360 k, the smallest such value at or above low (k may be negative)."""
     return q + TURN * np.ceil((low - q) / TURN - 1e-12)
+
+
+def shift_into_float(q: float, low: float) -> float:
+    """shift_into of one finite Python float (the same operations)."""
+    return q + TURN * ceil_float((low - q) / TURN - 1e-12)
+
+
+def inside_float(q: list[float], limits) -> bool:
+    """inside for one pose's axis values as Python floats; limits: the arm's limits_deg."""
+    return all(low - LIMIT_SLACK_DEG <= v <= high + LIMIT_SLACK_DEG for v, (low, high) in zip(q, limits, strict=True))
 
 
 def nearest(arm: Arm, solutions: np.ndarray, q_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -81,7 +93,7 @@ def _nearest_one(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[np.ndarray, np
     ref = [float(v) for v in q_ref]
     if not all(math.isfinite(v) for v in ref):  # as the batched path: nothing is near a NaN
         return np.full(len(ref), np.nan), np.array(-1)
-    limits = arm.limits.tolist()
+    limits = arm.limits_deg
     best, best_distance, best_total = -1, math.inf, math.inf
     chosen: list[float] = []
     round_, sqrt = round, math.sqrt
@@ -100,7 +112,7 @@ def _nearest_one(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[np.ndarray, np
                 value -= TURN
             if value < low:  # after the step down too, as the batched path (a value just over a limit)
                 value += TURN
-            if not low - 1e-9 <= value <= high + 1e-9:
+            if not low - LIMIT_SLACK_DEG <= value <= high + LIMIT_SLACK_DEG:
                 break
             q.append(value)
             total += (value - near) * (value - near)
