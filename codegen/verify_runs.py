@@ -129,22 +129,40 @@ def sweep_unknown_ids(
     return reports
 
 
-def _verify_chunk(args) -> list[TargetReport]:
-    """One chunk of cases, or of the id sweep, on every source (the reference runs once per case)."""
+def _rounds(sources: list) -> list[list]:
+    """The (row, source) pairs in rounds of at most one program per target: two programs of one target (a
+    socket program and its Script-node twin) are two rows, each run on every case (the reference runs once per
+    round and case)."""
+    rounds: list[list] = []
+    for row, source in sources:
+        free = next((r for r in rounds if all(s.target != source.target for _, s in r)), None)
+        if free is None:
+            rounds.append(free := [])
+        free.append((row, source))
+    return rounds
+
+
+def _verify_chunk(args) -> list[tuple[int, TargetReport]]:
+    """One chunk of cases, or of the id sweep, on every source (row, source): each report with its row."""
     cell, verify_cell, sources, work, step_limit = args
-    if len(cell.stations) >= ONE_PROGRAM_FROM and any(loaded not in sources for loaded in _LOADED):
+    if len(cell.stations) >= ONE_PROGRAM_FROM and any(loaded not in [s for _, s in sources] for loaded in _LOADED):
         _LOADED.clear()  # a large cell's next target: the last one's program goes (run_verify's order)
         gc.collect()
-    programs = {}
-    for source in sources:
-        if source not in _LOADED:
-            _LOADED[source] = source.load()
-        programs[source.target] = (_LOADED[source], list(source.files))
-    targets = [s.target for s in sources]
-    if isinstance(work, range):
-        with frozen_heap():
-            return sweep_unknown_ids(verify_cell or cell, targets, programs, work, step_limit)
-    return verify(cell, targets, programs, work, verify_cell=verify_cell, step_limit=step_limit)
+    out = []
+    for round_ in _rounds(sources):
+        programs = {}
+        for _row, source in round_:
+            if source not in _LOADED:
+                _LOADED[source] = source.load()
+            programs[source.target] = (_LOADED[source], list(source.files))
+        targets = [s.target for _, s in round_]
+        if isinstance(work, range):
+            with frozen_heap():
+                reports = sweep_unknown_ids(verify_cell or cell, targets, programs, work, step_limit)
+        else:
+            reports = verify(cell, targets, programs, work, verify_cell=verify_cell, step_limit=step_limit)
+        out += [(row, report) for (row, _), report in zip(round_, reports, strict=True)]
+    return out
 
 
 def merge_reports(parts: list[TargetReport]) -> TargetReport:
@@ -188,7 +206,8 @@ def run_verify(
     chunk = max(1, min(CHUNK_CASES, -(-len(cases) // max(4, 2 * jobs))))
     # a large cell's programs one target after another: a worker then holds one of them at a time (it lets the
     # last one go when a task of another comes), at the cost of the reference once per target and case
-    groups = [[s] for s in sources] if len(cell.stations) >= ONE_PROGRAM_FROM and len(sources) > 1 else [sources]
+    rows = list(enumerate(sources))  # each source is a row of the report, even two of one target
+    groups = [[r] for r in rows] if len(cell.stations) >= ONE_PROGRAM_FROM and len(sources) > 1 else [rows]
     tasks = [
         (cell, verify_cell, group, cases[i : i + chunk], step_limit)
         for group in groups
@@ -199,12 +218,12 @@ def run_verify(
         ranges = [range(i, min(i + step, STATION_ID_MAX + 1)) for i in range(0, STATION_ID_MAX + 1, step)]
         tasks += [(cell, verify_cell, group, ids, step_limit) for group in groups for ids in ranges]
         if len(groups) > 1:  # each target's cases then its sweep, target by target
-            tasks.sort(key=lambda task: sources.index(task[2][0]))
-    parts: dict[str, list[TargetReport]] = {source.target: [] for source in sources}
+            tasks.sort(key=lambda task: task[2][0][0])
+    parts: list[list[TargetReport]] = [[] for _ in sources]
 
-    def collect(reports: list[TargetReport]) -> None:
-        for part in reports:
-            parts[part.target].append(part)
+    def collect(reports: list[tuple[int, TargetReport]]) -> None:
+        for row, part in reports:
+            parts[row].append(part)
             if progress is not None:
                 progress(part.cases)
 
@@ -216,15 +235,15 @@ def run_verify(
         # (the workers sharing one target would each load it: for 1,000 stations that is 5-9 s a target)
         worker_of = {id(group): i % jobs for i, group in enumerate(groups)}
         for reports in _run_pinned(tasks, [worker_of[id(task[2])] for task in tasks], jobs, progress):
-            for part in reports:  # progress was told as each chunk ended
-                parts[part.target].append(part)
+            for row, part in reports:  # progress was told as each chunk ended
+                parts[row].append(part)
     else:
         from concurrent.futures import ProcessPoolExecutor
 
         with ProcessPoolExecutor(max_workers=jobs, mp_context=_fork()) as pool:
             for reports in pool.map(_verify_chunk, tasks):
                 collect(reports)
-    return [merge_reports(parts[source.target]) for source in sources]
+    return [merge_reports(part) for part in parts]
 
 
 def _fork():
@@ -256,12 +275,21 @@ def _run_pinned(tasks: list, workers: list[int], jobs: int, progress) -> list[li
         futures = [pools[worker].submit(_verify_chunk, task) for task, worker in zip(tasks, workers, strict=True)]
         if progress is not None:
             for future in as_completed(futures):
-                for part in future.result():
+                for _row, part in future.result():
                     progress(part.cases)
         return [future.result() for future in futures]
     finally:  # after an error, without waiting for the other workers' chunks
         for pool in pools:
             pool.shutdown(wait=False, cancel_futures=True)
+
+
+def row_labels(summaries: list[dict]) -> list[str]:
+    """Each report row's name: its target, and its program's file where a target has several rows."""
+    targets = [s["target"] for s in summaries]
+    return [
+        f"{s['target']} {Path(s['files'][0]).name}" if targets.count(s["target"]) > 1 else s["target"]
+        for s in summaries
+    ]
 
 
 def report_lines(model: Cell, verify_cell: Cell, case_list: list, cases: int, seed: int, summaries, wall, workers):
@@ -275,9 +303,10 @@ def report_lines(model: Cell, verify_cell: Cell, case_list: list, cases: int, se
         f"{'target':<8}{'cases':>7}{'fail':>6}{'halts':>7}{'bound':>7}{'pos max mm':>12}"
         f"{'pos p99':>10}{'rot max deg':>13}{'rot p99':>10}{'cases/s':>9}"
     )
-    for s in summaries:
+    labels = row_labels(summaries)
+    for s, label in zip(summaries, labels, strict=True):
         yield (
-            f"{s['target']:<8}{s['cases']:>7}{s['mismatches']:>6}{s['halts']:>7}{s['boundary_cases']:>7}"
+            f"{label:<8}{s['cases']:>7}{s['mismatches']:>6}{s['halts']:>7}{s['boundary_cases']:>7}"
             f"{s['position_error_mm']['max']:>12.2e}{s['position_error_mm']['p99']:>10.2e}"
             f"{s['orientation_error_deg']['max']:>13.2e}{s['orientation_error_deg']['p99']:>10.2e}"
             f"{s['cases_per_second'] or 0:>9.0f}"
@@ -286,11 +315,11 @@ def report_lines(model: Cell, verify_cell: Cell, case_list: list, cases: int, se
             yield f"  MISMATCH {line}"
     for kind in kinds().values():  # each kind's own figures, as a table of its own
         yield from kind.report_lines(summaries)
-    for s in summaries:  # the arm's joints over every verified move
+    for s, label in zip(summaries, labels, strict=True):  # the arm's joints over every verified move
         if "arm" in s:
             arm = s["arm"]
             yield (
-                f"arm {s['target']}: {arm['moves']} moves solved to joints; least margin to a joint limit "
+                f"arm {label}: {arm['moves']} moves solved to joints; least margin to a joint limit "
                 f"{arm['joint_margin_deg']:.1f} deg, of axis 5 from its singularity {arm['wrist_margin_deg']:.1f} deg"
             )
     swept = sum(s["unknown_ids_checked"] for s in summaries)

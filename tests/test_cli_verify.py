@@ -9,6 +9,7 @@ from pathlib import Path
 
 from click.testing import CliRunner
 
+from codegen.cell import load_cell
 from codegen.cli import main
 
 REPO = Path(__file__).resolve().parents[1]
@@ -135,3 +136,47 @@ def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path):
     from codegen.verify import build_cases
 
     assert report["cases"] < len(build_cases(load_cell(demo), 50, 0))  # the chunk with station 1 stopped
+
+
+def _socket_and_node(tmp_path: Path, broken: str) -> list[Path]:
+    """The demo's UR socket program and its Script-node twin, copied; `broken` gets sin and cos swapped."""
+    tmp_path.mkdir(parents=True, exist_ok=True)
+    out = []
+    for name in ("agv_machine_tending.script", "agv_machine_tending_node.script"):
+        text = (GENERATED / "ur" / name).read_text(encoding="utf-8")
+        if name == broken:
+            assert "sin_phi = sin(phi)" in text
+            text = text.replace("sin_phi = sin(phi)", "sin_phi = cos(phi)")
+        path = tmp_path / name
+        path.write_text(text, encoding="utf-8")
+        out.append(path)
+    return out
+
+
+def test_two_programs_of_one_target_are_two_rows_each_run(tmp_path):
+    """Each file given is run on its own: the broken one fails beside its untouched twin, either way round."""
+    from codegen.cell import DEMO_CELL
+    from codegen.verify import build_cases
+    from codegen.verify_runs import file_source, run_verify
+
+    cell = load_cell(DEMO_CELL)
+    cases = build_cases(cell, 3, 1)
+    for broken in ("agv_machine_tending.script", "agv_machine_tending_node.script"):
+        paths = _socket_and_node(tmp_path / broken, broken)
+        for order in (paths, paths[::-1]):
+            reports = run_verify(cell, [file_source("ur", p) for p in order], cases, sweep=False)
+            assert [Path(r.files[0]).name for r in reports] == [p.name for p in order]
+            for path, report in zip(order, reports, strict=True):
+                assert report.cases == len(cases)
+                assert (report.mismatches > 0) == (path.name == broken), (path.name, report.first_mismatches)
+
+
+def test_verify_reports_a_row_per_file(tmp_path):
+    paths = _socket_and_node(tmp_path, "agv_machine_tending_node.script")
+    result = invoke("verify", *paths, "--target", "ur", "--cases", "1", "--jobs", "1", "--json")
+    assert result.exit_code == 1, result.output
+    rows = json.loads(result.output)["targets"]
+    assert [(Path(r["files"][0]).name, r["mismatches"] > 0) for r in rows] == [
+        ("agv_machine_tending.script", False),
+        ("agv_machine_tending_node.script", True),
+    ]
