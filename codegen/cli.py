@@ -1,51 +1,16 @@
-"""Command line: thin wrappers that parse options, call one function and print."""
+"""Command line: thin wrappers that parse options, call one function and print (`codegen` is `main`)."""
 
 from __future__ import annotations
 
-import json
 import sys
 
 import click
 
-from codegen.cell import CellError, load_cell
+from codegen import cli_calibrate, cli_pallet, cli_run  # noqa: F401  (they register their commands on the group)
+from codegen.cli_base import UserError, main, step_limit_option
+from codegen.cli_base import dump as _dump
+from codegen.cli_base import load as _load
 from codegen.controllers import target_names
-
-EXIT_BAD_INPUT = 2
-
-
-class UserError(click.ClickException):
-    """A bad input: message to stderr, exit 2, no traceback."""
-
-    exit_code = EXIT_BAD_INPUT
-
-
-def _load(cell_path):
-    try:
-        cell = load_cell(cell_path)
-    except CellError as exc:
-        raise UserError(str(exc)) from None
-    for warning in cell.warnings:
-        click.echo(f"warning: {warning}", err=True)
-    return cell
-
-
-def step_limit_option(help_text: str):
-    """--step-limit of the commands that run programs (the interpreter's default)."""
-    from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
-
-    return click.option(
-        "--step-limit", default=DEFAULT_STEP_LIMIT, show_default=True, type=click.IntRange(min=1), help=help_text
-    )
-
-
-def _dump(data) -> None:
-    click.echo(json.dumps(data, indent=2, sort_keys=False))
-
-
-@click.group()
-@click.version_option(package_name="codegen")
-def main() -> None:
-    """Vision-corrected robot programs: derive, correct, generate, run, verify."""
 
 
 @main.command()
@@ -385,10 +350,3 @@ def _finish_sections(model, named: dict, as_json: bool) -> None:
                 click.echo(line)
     sys.exit(0 if ok else 1)
 
-
-@main.group()
-def calibrate() -> None:
-    """Calibration computations (hand-eye)."""
-
-
-from codegen import cli_calibrate, cli_pallet, cli_run  # noqa: E402, F401  (register their commands on the group above)

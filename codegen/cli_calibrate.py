@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import click
 
-from codegen.cli import UserError, _dump, calibrate
+from codegen.cli_base import UserError, calibrate
+from codegen.cli_base import dump as _dump
 
 
 @calibrate.command("tcp")

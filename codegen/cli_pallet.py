@@ -7,7 +7,8 @@ from pathlib import Path
 import click
 
 from codegen.cell import CellError
-from codegen.cli import UserError, _dump, main
+from codegen.cli_base import UserError, main
+from codegen.cli_base import dump as _dump
 
 TESTMAT = Path(__file__).resolve().parent / "examples" / "pallets" / "testmat_pallet.toml"
 

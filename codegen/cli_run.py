@@ -7,7 +7,8 @@ import sys
 
 import click
 
-from codegen.cli import UserError, _dump, main, step_limit_option
+from codegen.cli_base import UserError, main, step_limit_option
+from codegen.cli_base import dump as _dump
 from codegen.controllers import all_targets, target_names
 
 
@@ -91,9 +92,9 @@ def run(
     from pathlib import Path
 
     from codegen.controllers import get_target
+    from codegen.decimals import unsigned_zero
     from codegen.dialects import is_companion
     from codegen.dialects.core.values import RunError
-    from codegen.emit import unsigned_zero
     from codegen.poses import POSE_FORMATS
     from codegen.signals import Gripper
     from codegen.verify import target_of_file

@@ -7,6 +7,7 @@ import re
 import unicodedata
 
 from codegen.controllers import Target
+from codegen.decimals import format_literal
 from codegen.dialects import get_dialect
 from codegen.poses import FORMAT_DECIMALS, native_values
 
@@ -15,16 +16,6 @@ from codegen.poses import FORMAT_DECIMALS, native_values
 # control character. Anything else becomes '?'.
 SAFE_TEXT = re.compile(r"[A-Za-z0-9 _.,:+\-=/()']")
 _NON_IDENT = re.compile(r"[^A-Za-z0-9]+")
-
-
-def unsigned_zero(text: str) -> str:
-    """The one rule against '-0': a fixed-decimal text that reads as zero loses its sign."""
-    return text.lstrip("-") if text.lstrip("-").strip("0.") == "" else text
-
-
-def format_literal(value: float, decimals: int) -> str:
-    """Fixed decimals, no '-0', no exponent: the same bytes on every machine."""
-    return unsigned_zero(f"{value:.{decimals}f}")
 
 
 class EmitError(Exception):

@@ -5,7 +5,7 @@ from __future__ import annotations
 from sympy.printing.codeprinter import CodePrinter
 from sympy.printing.precedence import precedence
 
-from codegen.emit import format_literal
+from codegen.decimals import format_literal
 
 
 class ControllerPrinter(CodePrinter):

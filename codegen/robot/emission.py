@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 
-from codegen.emit import EmitError, format_literal
+from codegen.decimals import format_literal
+from codegen.emit import EmitError
 from codegen.poses import FORMAT_DECIMALS, native_values
 from codegen.robot.region import station_plan
 from codegen.robot.section import numbered_names

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from codegen.emit import unsigned_zero
+from codegen.decimals import unsigned_zero
 
 F32 = np.float32
 MISSING = object()  # a lookup found nothing (None is a value)
