@@ -23,6 +23,7 @@ class Dialect:
     name: ClassVar[str] = ""
     suffixes: ClassVar[tuple[str, ...]] = ()  # program files, e.g. (".src",)
     companions: ClassVar[tuple[str, ...]] = ()  # data files read together with a program, e.g. a data list
+    encodings: ClassVar[tuple[str, ...]] = ()  # the controller's text encodings besides UTF-8 (its backups')
     registry: ClassVar[dict[str, type[Dialect]]] = {}
 
     def __init_subclass__(cls, **kwargs) -> None:
@@ -73,6 +74,44 @@ class Dialect:
     def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
         """A compiled program; `companions` maps a companion suffix to its text."""
         return cls.module("interpreter").load(text, filename)
+
+    @classmethod
+    def programs(cls, files: list) -> list[list]:
+        """Which of the given files (codegen.dialects.core.files.SourceFile, all of this language) make one
+        program each, the program file first: by default each program file with its companions of the same
+        name (a .src and its .dat); a language whose program spans several files (the modules of a RAPID
+        task, KRL modules calling each other's GLOBAL routines) groups them by its scope rules. A companion
+        without its program file is an error (RunError naming it)."""
+        from codegen.dialects.core.values import RunError
+
+        groups = [[f] for f in files if f.suffix in cls.suffixes]
+        for f in files:
+            if f.suffix in cls.suffixes:
+                continue
+            owner = next((g for g in groups if g[0].stem == f.stem), None)
+            if owner is None:
+                raise RunError(f"{f.name}: a data file is read together with its program: give the program too")
+            owner.append(f)
+        return groups
+
+    @classmethod
+    def load_files(cls, files: list):
+        """One program from its files (SourceFile, the program file first, as programs() groups them)."""
+        main, rest = files[0], files[1:]
+        return cls.load(main.text, main.name, {f.suffix: f.text for f in rest})
+
+    @classmethod
+    def check_files(cls, files: list) -> list:
+        """Every finding of `codegen check` in one program's files (codegen.dialects.core.files.Finding),
+        without running it: by default what loading reports first."""
+        from codegen.dialects.core.files import Finding
+        from codegen.dialects.core.values import RunError
+
+        try:
+            cls.load_files(files)
+        except RunError as exc:
+            return [Finding(files[0].name, 0, 0, "error", "load", str(exc))]
+        return []
 
 
 @cache
