@@ -49,7 +49,7 @@ def station(i: int, params: tuple[float, ...]) -> str:
 
 def passing_cell(count: int, folder: Path):
     """count stations that the envelope check accepts (random candidates, refused ones dropped)."""
-    from codegen.cell import load_cell
+    from codegen.model.cell import load_cell
     from codegen.robot.envelope import ReachError, check_target
 
     rng = random.Random(7)
@@ -73,7 +73,7 @@ def passing_cell(count: int, folder: Path):
 
 
 def timed_check(path) -> float:
-    from codegen.cell import load_cell
+    from codegen.model.cell import load_cell
     from codegen.robot.envelope import check
 
     cell = load_cell(path)  # a fresh cell: nothing cached
@@ -100,7 +100,7 @@ def main() -> int:
     parser = argparse.ArgumentParser()
     parser.add_argument("--stations", type=int, default=1000)
     args = parser.parse_args()
-    from codegen.cell import DEMO_CELL
+    from codegen.model.cell import DEMO_CELL
 
     ok = True
     demo = min(timed_check(DEMO_CELL) for _ in range(3))

@@ -10,8 +10,8 @@ import argparse
 import statistics
 import time
 
-from codegen.pallet import checks
-from codegen.pallet.patterns import Box, split_row
+from codegen.kinds.pallet import checks
+from codegen.kinds.pallet.patterns import Box, split_row
 
 SIZE = (50.0, 40.0)  # box footprint, mm
 PALLET = (1300.0, 1600.0)  # 40 rows of split-row, 26 and 25 boxes: 1,020 boxes
@@ -30,9 +30,9 @@ def full_stack(runs: int) -> None:
     """Seconds for the full_stack case of the EUR pallet (5 layers, 30 boxes, with the arm) per target."""
     from pathlib import Path
 
-    from codegen.cell import load_cell
-    from codegen.pallet import verify as pv
-    from codegen.pallet.cycle import PalletCase
+    from codegen.model.cell import load_cell
+    from codegen.kinds.pallet import verify as pv
+    from codegen.kinds.pallet.cycle import PalletCase
 
     cell = load_cell(Path(__file__).resolve().parents[1] / "codegen" / "examples" / "pallets" / "eur_pallet.toml")
     for target in cell.targets:

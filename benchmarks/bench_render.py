@@ -37,8 +37,8 @@ def main() -> int:
     parser = argparse.ArgumentParser()
     parser.add_argument("--stations", type=int, default=1000)
     args = parser.parse_args()
-    from codegen.cell import load_cell
     from codegen.generate import check_rendered, generate
+    from codegen.model.cell import load_cell
     from codegen.render import render
 
     with tempfile.TemporaryDirectory() as tmp:

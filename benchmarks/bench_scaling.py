@@ -25,7 +25,7 @@ import json, random, resource, sys, time
 from pathlib import Path
 sys.path.insert(0, {bench!r})
 from bench_render import make_cell
-from codegen.cell import load_cell
+from codegen.model.cell import load_cell
 from codegen.verify import build_cases, verify
 from codegen.verify_runs import fresh_sources
 

@@ -33,7 +33,7 @@ _STATE: dict = {}
 
 def _load(target: str) -> None:
     """Worker initialiser: build the case set and load the program once."""
-    from codegen.cell import load_cell
+    from codegen.model.cell import load_cell
     from codegen.verify import build_cases, edge_cell
     from codegen.verify_runs import fresh_programs
 

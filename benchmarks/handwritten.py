@@ -26,7 +26,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, reading_in_range
-from codegen.kinds import Case
+from codegen.kinds.stations.base import Case
 from codegen.robot import solve
 from codegen.robot.config import FORMS, with_status
 from codegen.robot.expect import JOINT_TOLERANCE_DEG, expected_joints, home_move

@@ -6,8 +6,8 @@ import sys
 
 import click
 
-from codegen import cli_calibrate, cli_pallet, cli_run  # noqa: F401  (they register their commands on the group)
-from codegen.cli_base import UserError, main, step_limit_option
+from codegen import cli_run  # noqa: F401  (it registers its command on the group)
+from codegen.cli_base import UserError, calibrate, main, step_limit_option
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.controllers import target_names
@@ -51,41 +51,6 @@ def derive(check: bool, as_json: bool) -> None:
                 click.echo(f"    {i['detail']}")
             click.echo("all identities as expected" if ok else "SOME IDENTITIES NOT AS EXPECTED")
     sys.exit(0 if ok else 1)
-
-
-def _parse_mark(value: str) -> tuple[float, float, float]:
-    parts = value.split(",")
-    if len(parts) != 3:
-        raise UserError(f"--mark: expected X,Y,THETA (3 numbers), got {len(parts)} in {value!r}")
-    try:
-        return tuple(float(p) for p in parts)  # NaN and inf are allowed: the guard must catch them
-    except ValueError:
-        raise UserError(f"--mark: not numbers: {value!r}") from None
-
-
-@main.command()
-@click.argument("cell", required=False, type=click.Path(dir_okay=False))
-@click.option("--station", "station_id", required=True, type=int, help="Station id read by the camera.")
-@click.option("--mark", required=True, help="Mark now: X,Y,THETA (base frame, mm, deg, as the camera reports).")
-@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
-def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None:
-    """Reference result for one reading: guard outcome and every corrected pose."""
-    from codegen.correct import correct_report, format_report
-    from codegen.kinds.point import PointKind, Reading
-
-    model = _load(cell)
-    x, y, theta = _parse_mark(mark)
-    station = model.station_by_id(station_id)
-    if station is not None and station.kind != PointKind.name:
-        raise UserError(
-            f"{model.source}: station {station_id} ({station.name}) is a {station.kind} station: only point "
-            "stations are corrected from one reading (see `codegen verify` for the others)"
-        )
-    report = correct_report(model, Reading(station_id, x, y, theta))
-    if as_json:
-        _dump(report)
-    else:
-        click.echo(format_report(report))
 
 
 @main.command()
@@ -143,11 +108,11 @@ def diff(cell: str | None, out_dir: str) -> None:
     example cell (all the cells whose output is committed under generated/)."""
     from pathlib import Path
 
-    from codegen.cell import EXAMPLES_DIR
     from codegen.emit import EmitError
     from codegen.generate import diff as run_diff
+    from codegen.model.cell import EXAMPLES_DIR
 
-    bundled = [p for folder in ("", "pallets/", "conveyor/", "laser/") for p in EXAMPLES_DIR.glob(f"{folder}*.toml")]
+    bundled = list(EXAMPLES_DIR.rglob("*.toml"))
     paths = [cell] if cell is not None else sorted(bundled)
     text = ""
     for path in paths:
@@ -214,31 +179,22 @@ def verify(
     files_given = bool(files)
     if cases < 0:
         raise UserError("--cases must be >= 0")
-    from codegen.pallet.verify import PalletFilesError, pallet_section
+    from codegen.protocol import kinds
 
-    try:
-        pallets, files = pallet_section(model, files, targets, seed)  # the stacking programs' own cases
-    except PalletFilesError as exc:
-        raise UserError(str(exc)) from None
-    except RunError as exc:  # a pallet program that cannot be loaded here
-        raise click.ClickException(str(exc)) from None
-    from codegen.conveyor.verify import conveyor_section
-
-    try:
-        conveyors, files = conveyor_section(model, files, targets, seed)  # against simulated belts
-    except RunError as exc:
-        raise click.ClickException(str(exc)) from None
-    from codegen.laser.verify import laser_section
-
-    try:
-        lasers, files = laser_section(model, files, targets, seed)  # against simulated laser sensors
-    except RunError as exc:
-        raise click.ClickException(str(exc)) from None
-    sections = {"pallets": pallets, "conveyors": conveyors, "lasers": lasers}
+    sections = {}
+    for kind in kinds().values():  # the kinds with programs of their own: their cases, their report
+        try:
+            section, files = kind.verify_section(model, files, targets, seed)
+        except ValueError as exc:  # files that hold none of the kind's programs for the targets asked
+            raise UserError(str(exc)) from None
+        except RunError as exc:  # a program that cannot be loaded here
+            raise click.ClickException(str(exc)) from None
+        if section is not None:
+            sections[f"{kind.name}s"] = section
     if not model.stations and files:  # files that are none of this cell's programs: nothing would judge them
         names = ", ".join(Path(f).name for f in files)
         raise UserError(
-            f"{names}: not a program of {model.name}'s pallets, conveyor or laser station (named as the program)"
+            f"{names}: not a program of {model.name} (each program is named as codegen generate names it)"
         )
     if any(x is not None for x in sections.values()) and (not model.stations or (files_given and not files)):
         _finish_sections(model, sections, as_json)
@@ -350,3 +306,16 @@ def _finish_sections(model, named: dict, as_json: bool) -> None:
                 click.echo(line)
     sys.exit(0 if ok else 1)
 
+
+
+def _add_kind_commands() -> None:
+    """Each program kind's commands on their group (`codegen pallet`, `codegen calibrate conveyor`, ...)."""
+    from codegen.protocol import kinds
+
+    groups = {None: main, "calibrate": calibrate}
+    for kind in kinds().values():
+        for group, command in kind.commands():
+            groups[group].add_command(command)
+
+
+_add_kind_commands()

@@ -6,7 +6,7 @@ import json
 
 import click
 
-from codegen.cell import CellError, load_cell
+from codegen.model.cell import CellError, load_cell
 
 EXIT_BAD_INPUT = 2
 

@@ -96,10 +96,10 @@ def run(
     from codegen.dialects import is_companion
     from codegen.dialects.core.values import RunError
     from codegen.poses import POSE_FORMATS
-    from codegen.signals import Gripper
+    from codegen.sim.gripper import Gripper
+    from codegen.sim.vision_pc import VisionPC
     from codegen.verify import target_of_file
     from codegen.verify_runs import load_program_file
-    from codegen.vision import VisionPC
 
     path = Path(file)
     if is_companion(path):

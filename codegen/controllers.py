@@ -38,6 +38,7 @@ class Target:
     configuration: str  # how a taught pose names its arm configuration (codegen/robot/section.py)
     sources: tuple[str, ...]
     program: dict  # the [program] table: names and settings the templates and verify read
+    kind_tables: dict  # [program.<kind>] tables: each program kind's own facts, checked by the kind (codegen.protocol)
 
     @property
     def suffixes(self) -> tuple[str, ...]:
@@ -80,20 +81,6 @@ _PROGRAM = {
     "tool_data": dict,  # tool and load ("...{n}...") and max of the controller's numbered tools and loads
     "restart": str,  # "at_home": refuses to start away from home; "bco": a PTP home from anywhere; "none"
     "signals": dict,  # digital I/O ([cell.io]): form "index" (range) or "name"; output and input ("...{n}...")
-    "pallet_files": list,  # a stacking program's files per [[pallet]] ("...{pallet}...")
-    "pallet_counters": dict,  # layer and box: the counters' names for --input and verify
-    "pallet_kept": dict,  # layer and box: where the program reports the counters, if not in pallet_counters
-    "pallet_registers": int,  # the first register of the counters, where the controller keeps none
-    "pallet_registers_max": int,  # the last register the counters may use
-    "pallet_level_only": bool,  # no pose product: a level pallet only
-    "conveyor_files": list,  # the pick-from-belt program of a cell with [conveyor.pick] (codegen/conveyor/)
-    "conveyor_registers": dict,  # the part queue's registers by role (seq, count, x, z, ack, stop)
-    "conveyor_names": dict,  # the same by the names devices and `codegen run --input` use
-    "conveyor_signals": dict,  # the queue as groups of digital signals (ranges of numbered signals, or named signals)
-    "conveyor_encoder_inputs": list,  # the lowest and highest digital input an encoder's A and B may use
-    "conveyor_tracking": list,  # how the pick program follows the belt: "native", "intercept"
-    "laser_files": list,  # source 003's automatic TCP program (codegen/laser/): file patterns with {laser}
-    "laser_names": dict,  # that program's globals verify reads (edges, hits, centres, axis, tcp)
     "signal_cycle_s": float,  # how often the controller sees an input change while the arm moves (s)
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
@@ -126,7 +113,8 @@ def _load(path: Path) -> Target:
         )
     if not facts["sources"]:
         raise TargetError(f"{path}: sources: each target cites where its facts come from")
-    program = facts["program"]
+    program = {k: v for k, v in facts["program"].items() if k in _PROGRAM or not isinstance(v, dict)}
+    kind_tables = {k: v for k, v in facts["program"].items() if k not in program}
     unknown_program = sorted(set(program) - set(_PROGRAM))
     if unknown_program:
         raise TargetError(f"{path}: program.{unknown_program[0]}: unknown key; known: {', '.join(_PROGRAM)}")
@@ -140,7 +128,8 @@ def _load(path: Path) -> Target:
         **{key: facts[key] for key in _SCALARS},
         files=tuple(facts["files"]),
         sources=tuple(facts["sources"]),
-        program=facts["program"],
+        program=program,
+        kind_tables=kind_tables,
     )
 
 

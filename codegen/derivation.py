@@ -189,12 +189,10 @@ def identities(derivation: Derivation | None = None) -> list[Identity]:
         )
     )
     result.extend(frame_identities())
-    from codegen.laser.derivation import laser_identities
-    from codegen.pallet.derivation import box_pose_identities, pallet_identities
+    from codegen.protocol import kinds
 
-    result.extend(pallet_identities(_check))
-    result.extend(box_pose_identities(_check))
-    result.extend(laser_identities(_check))
+    for kind in kinds().values():  # each kind's own identities (its package's derivation)
+        result.extend(kind.identities(_check))
     return result
 
 
@@ -295,7 +293,7 @@ def cse_blocks(derivation: Derivation | None = None) -> dict[str, dict]:
     exprs = exported_expressions(derivation)
     new_d, _new_alpha = frame_update(+1)
     exprs["new_dx"], exprs["new_dy"] = new_d[0], new_d[1]
-    from codegen.pallet.derivation import level_box_position
+    from codegen.kinds.pallet.derivation import level_box_position
 
     exprs["box_px"], exprs["box_py"] = level_box_position()
     blocks = {}

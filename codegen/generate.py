@@ -6,8 +6,9 @@ import difflib
 import re
 from pathlib import Path
 
-from codegen.cell import Cell
+from codegen.model.cell import Cell
 from codegen.output import replace_cell, written_by_codegen
+from codegen.protocol import kinds
 from codegen.render import RenderedFile, cell_dir, render
 from codegen.robot.envelope import TargetEnvelope, check
 from codegen.robot.taught import ReachError
@@ -35,21 +36,11 @@ def check_rendered(files: list[RenderedFile]) -> None:
 
 
 def check_envelope(cell: Cell, targets: list[str] | None) -> list[TargetEnvelope]:
-    """The envelope check of every requested target with an arm (codegen/robot/envelope.py) and every
-    pallet's full cycle (codegen/pallet/reach.py), the conveyor's window (codegen/conveyor/reach.py) and the laser
-    station's circles and search (codegen/laser/reach.py)."""
-    from codegen.conveyor import reach as conveyor_reach
-    from codegen.laser import reach as laser_reach
-    from codegen.pallet import reach
-
+    """The envelope check of every requested target with an arm: the stations' correction regions
+    (codegen/robot/envelope.py) and each kind's own reach proof (its programs' poses)."""
     names = list(targets or cell.targets)
     try:
-        return [
-            *check(cell, names),
-            *reach.check(cell, names),
-            *conveyor_reach.check(cell, names),
-            *laser_reach.check(cell, names),
-        ]
+        return [*check(cell, names), *(m for kind in kinds().values() for m in kind.reach(cell, names))]
     except ReachError as exc:
         raise GenerateError(str(exc)) from None
 

@@ -18,8 +18,8 @@ UNKNOWN_STATION = "unknown_station"
 INVALID_READING = "invalid_reading"
 SHIFT_OVER_LIMIT = "shift_over_limit"
 ROTATION_OVER_LIMIT = "rotation_over_limit"
-NO_ANSWER = "no_answer"  # the vision PC did not answer the program's request in time (codegen.vision)
-NO_FEEDBACK = "no_feedback"  # the work pose's signal was not confirmed in time (codegen.signals)
+NO_ANSWER = "no_answer"  # the vision PC did not answer the program's request in time (codegen.model.vision)
+NO_FEEDBACK = "no_feedback"  # the work pose's signal was not confirmed in time (codegen.model.io)
 NOT_RELEASED = "not_released"  # at the start, the work pose's signal released did not show (its feedback stays on)
 NOT_AT_HOME = "not_at_home"  # the program was started with the arm away from home (restart = "at_home")
 

@@ -25,7 +25,7 @@ class Move:
 def path_moves(cell, station, correction: np.ndarray) -> list[Move]:
     """The moves through a station's path (its taught poses, then the retreat) with each pose moved by
     the correction (a taught pose P becomes correction . P), and each segment's speed and zone."""
-    from codegen.motion import segments
+    from codegen.model.motion import segments
     from codegen.poses import concat
 
     segs = segments(cell.motion, len(station.poses), station.retreat is not None)
@@ -49,7 +49,7 @@ class ExpectedTrace:
 
     status: str  # "ok" or "halt"
     reason: str | None = None  # a codegen.guard halt reason
-    station: Any = None  # codegen.cell.Station, or None for an unknown station
+    station: Any = None  # codegen.model.cell.Station, or None for an unknown station
     moves: tuple[Move, ...] = ()
     logged: tuple[float, ...] | None = None  # the numbers of the program's log line(s), in order
     detail: Any = None  # the kind's own figures (kinds/<kind>.py), e.g. the correction or the photos

@@ -13,8 +13,6 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen import signals, vision
-from codegen.cell import STATION_ID_MAX, Cell, Station, TaughtPose
 from codegen.controllers import Target, get_target, target_of_suffix
 from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program, frozen_heap
@@ -29,12 +27,17 @@ from codegen.guard import (
     UNKNOWN_STATION_TEXT,
     halt_message,
 )
-from codegen.kinds import Case, get_kind, kinds
+from codegen.kinds.stations.base import Case
+from codegen.model import io as signals
+from codegen.model import vision
+from codegen.model.cell import STATION_ID_MAX, Cell, Station, TaughtPose
 from codegen.poses import native_values
+from codegen.protocol import get_kind, station_kinds
 from codegen.reference import ExpectedTrace
 from codegen.robot.expect import ArmStats, arm_of, arm_problem, home_move, tool_inputs
 from codegen.robot.region import station_plan
-from codegen.vision import VisionPC
+from codegen.sim.gripper import Gripper
+from codegen.sim.vision_pc import VisionPC
 
 # Tolerances from the numeric model (issue 4): a float32 controller over a +-2,000 mm workspace
 # stores positions with a step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings
@@ -79,7 +82,7 @@ class TargetReport:
     seconds: float = 0.0
     categories: dict[str, int] = field(default_factory=dict)
     unknown_ids: int = 0  # ids of the whole barcode range that are not stations, each checked to halt
-    kind_stats: dict = field(default_factory=lambda: {name: kind.new_stats() for name, kind in kinds().items()})
+    kind_stats: dict = field(default_factory=lambda: {name: kind.new_stats() for name, kind in station_kinds().items()})
     arm: ArmStats = field(default_factory=ArmStats)
 
     def summary(self) -> dict:
@@ -106,7 +109,7 @@ class TargetReport:
         }
         if self.arm.moves:
             out["arm"] = self.arm.summary()
-        for name, kind in kinds().items():  # each kind's own figures, under its name
+        for name, kind in station_kinds().items():  # each kind's own figures, under its name
             own = kind.summary(self.kind_stats[name])
             if own is not None:
                 out[name] = own
@@ -191,7 +194,7 @@ def devices_for(cell: Cell, target: Target, case: Case) -> tuple:
     out: tuple = (vision_pc(cell, target, case),)
     gripper = _gripper_signals(cell, target.name)
     if gripper is not None:
-        out += (signals.Gripper(*gripper, cell.io.value, case.gripper),)
+        out += (Gripper(*gripper, cell.io.value, case.gripper),)
     return out
 
 
@@ -226,7 +229,7 @@ def edge_cell(cell: Cell) -> Cell:
         for name, values in edge_poses_xyzabc.items()
     )
     new_id = max(s.id for s in cell.stations) + 1
-    kind = next((k for k in kinds().values() if k.edge_spec() is not None), None)
+    kind = next((k for k in station_kinds().values() if k.edge_spec() is not None), None)
     if new_id > STATION_ID_MAX or kind is None:
         return cell
     station = Station(new_id, "verify_edge_poses", poses, kind.name, kind.edge_spec())
@@ -328,7 +331,7 @@ def _move_settings(target_name: str, kind: str, exact: bool, own_tool: bool, spe
     )
 
 
-LOG_PREFIXES = tuple(prefix for kind in kinds().values() for prefix in kind.log_prefixes)
+LOG_PREFIXES = tuple(prefix for kind in station_kinds().values() for prefix in kind.log_prefixes)
 
 
 def _log_numbers(messages: list[str]) -> list[float]:
@@ -383,7 +386,7 @@ def compare(cell: Cell, target: Target, reading, expected: ExpectedTrace, got, e
                 pos_errors,
                 rot_errors,
             )
-    problem = signals.output_problem(cell, target, expected, got, 0 if home is None else 1)
+    problem = output_problem(cell, target, expected, got, 0 if home is None else 1)
     if problem is not None:
         return problem, pos_errors, rot_errors
     if home is not None:
@@ -486,3 +489,31 @@ def _verify_target(model: Cell, name: str, program_files, expectations, truth, p
             break
     report.seconds = time.perf_counter() - start
     return report
+
+
+def output_problem(cell, target, expected, got, before: int) -> str | None:
+    """The work pose's output in a run against the cell: set once, to the value, after the move to the
+    work pose (before: the moves ahead of the station's, a home move) with the arm standing still;
+    not at all where the station stopped before its work pose. None: as it should be."""
+    io = cell.io
+    if io is None or not target.program.get("signals"):
+        return None
+    want = []  # (value, after how many moves, where)
+    if expected.reason != NOT_AT_HOME:  # released at home before the vision PC is asked
+        want.append((not io.value, before, "at home, released"))
+    station = expected.station
+    if station is not None and len(expected.moves) >= len(station.poses):
+        want.append((io.value, before + len(station.poses), "at the work pose"))
+    name = signals.signal_name(target, "output", io.output[target.name])
+    events = [e for e in got.outputs if e.name == name]
+    if len(events) != len(want):
+        return f"output {name} set {len(events)} times, expected {len(want)}: {', '.join(w[2] for w in want) or 'none'}"
+    for event, (value, after, what) in zip(events, want, strict=True):
+        if event.value != value or event.after_moves != after:
+            return (
+                f"output {name} (line {event.line}) set to {event.value} after move {event.after_moves}, expected "
+                f"{value} after move {after} ({what})"
+            )
+        if event.moving:
+            return f"output {name} (line {event.line}) set while the arm moves: it must wait until the arm stands"
+    return None

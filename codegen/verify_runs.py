@@ -7,14 +7,15 @@ import gc
 from dataclasses import dataclass
 from pathlib import Path
 
-from codegen.cell import STATION_ID_MAX, Cell
 from codegen.controllers import Target, get_target
 from codegen.dialects import get_dialect
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, Program, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
 from codegen.guard import UNKNOWN_STATION_TEXT
-from codegen.kinds import Case, kinds
+from codegen.kinds.stations.base import Case
+from codegen.model.cell import STATION_ID_MAX, Cell
+from codegen.protocol import station_kinds
 from codegen.robot.expect import arm_of, home_move
 from codegen.verify import TargetReport, UnknownStation, inputs_for, run_options, verify
 
@@ -179,7 +180,7 @@ def merge_reports(parts: list[TargetReport]) -> TargetReport:
         out.seconds += part.seconds
         out.unknown_ids += part.unknown_ids
         out.arm.merge(part.arm)
-        for name, kind in kinds().items():
+        for name, kind in station_kinds().items():
             kind.merge_stats(out.kind_stats[name], part.kind_stats[name])
         for key, count in part.categories.items():
             out.categories[key] = out.categories.get(key, 0) + count
@@ -313,7 +314,7 @@ def report_lines(model: Cell, verify_cell: Cell, case_list: list, cases: int, se
         )
         for line in s["first_mismatches"]:
             yield f"  MISMATCH {line}"
-    for kind in kinds().values():  # each kind's own figures, as a table of its own
+    for kind in station_kinds().values():  # each kind's own figures, as a table of its own
         yield from kind.report_lines(summaries)
     for s, label in zip(summaries, labels, strict=True):  # the arm's joints over every verified move
         if "arm" in s:

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from codegen.cell import DEMO_CELL, load_cell
 from codegen.controllers import target_names
+from codegen.model.cell import DEMO_CELL, load_cell
 
 MINIMAL_CELL = """\
 [cell]

@@ -13,10 +13,10 @@ from hypothesis import strategies as st
 from lark import Token, Tree
 
 from codegen import derived
-from codegen.cell import STATION_ID_MAX, load_cell
 from codegen.controllers import get_target, target_names
 from codegen.dialects import get_dialect, parse_program
-from codegen.kinds import get_kind
+from codegen.protocol import get_kind
+from codegen.model.cell import STATION_ID_MAX, load_cell
 from codegen.render import render
 from codegen.robot.expect import arm_of, home_move
 from codegen.verify import build_cases, inputs_for, run_options, verify

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from codegen.cell import load_cell
 from codegen.cli import main
-from codegen.conveyor.calibrate import unwrap
+from codegen.kinds.conveyor.calibrate import unwrap
+from codegen.model.cell import load_cell
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = REPO / "codegen" / "examples" / "conveyor_touches.csv"
@@ -105,13 +105,13 @@ def test_write_puts_the_result_into_the_cell_and_replaces_it_the_next_time(tmp_p
         result = run(EXAMPLE, "--counter-bits", 16, "--working-length", 1500, "--write", cell)
         assert result.exit_code == 0, result.output
     assert cell.read_text().count("[conveyor]") == 1
-    conveyor = load_cell(cell).conveyor
+    conveyor = load_cell(cell).sections["conveyor"]
     assert conveyor.counter_bits == 16 and conveyor.working_length_mm == 1500
     assert conveyor.counts_per_mm == pytest.approx(belt_sim.TRUE_E, abs=2e-3)
     assert np.allclose(conveyor.frame()[:3, 1], belt_sim.belt2base()[:3, 1], atol=1e-3)
     # the next calibration reads the counter width and the working length from the cell
     assert run(EXAMPLE, "--write", cell).exit_code == 0
-    assert math.isclose(load_cell(cell).conveyor.working_length_mm, 1500)
+    assert math.isclose(load_cell(cell).sections["conveyor"].working_length_mm, 1500)
 
 
 @pytest.mark.parametrize(
@@ -131,7 +131,7 @@ def test_write_puts_the_result_into_the_cell_and_replaces_it_the_next_time(tmp_p
     ],
 )
 def test_a_bad_conveyor_table_names_its_key(tmp_path, table, says):
-    from codegen.cell import CellError
+    from codegen.model.cell import CellError
 
     cell = tmp_path / "cell.toml"
     cell.write_text(
@@ -154,4 +154,4 @@ def test_a_recalibration_keeps_the_camera_offset_and_the_next_tables_comments(tm
     assert run(EXAMPLE, "--write", cell).exit_code == 0  # no camera counts this time
     text = cell.read_text()
     assert "# the stations\n[[station]]" in text and text.count("[conveyor]") == 1
-    assert load_cell(cell).conveyor.camera_offset_mm == pytest.approx(belt_sim.CAMERA_UPSTREAM_MM, abs=0.5)
+    assert load_cell(cell).sections["conveyor"].camera_offset_mm == pytest.approx(belt_sim.CAMERA_UPSTREAM_MM, abs=0.5)

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from codegen.cell import DEMO_CELL, load_cell
 from codegen.cli import main
+from codegen.model.cell import DEMO_CELL, load_cell
 from codegen.poses import rotmat_from_zyx_deg, xyzabc_from_matrix
 from codegen.render import render
 
@@ -130,7 +130,7 @@ def test_the_bundled_touches_give_the_demo_gripper():
     """codegen/examples/agv_gripper_touches.csv: six touches made for the demo's 200 mm gripper (flange
     poses computed for TCP [0, 0, 200] on a point at [700, -150, 120], 35 deg apart, Gaussian noise of
     0.02 mm on each position, numpy seed 2026, rounded to 0.001 mm / deg)."""
-    from codegen.cell import EXAMPLES_DIR
+    from codegen.model.cell import EXAMPLES_DIR
 
     data = json.loads(calibrate(EXAMPLES_DIR / "agv_gripper_touches.csv", "--json").output)
     assert np.all(np.abs(np.array(data["tcp"]) - [0.0, 0.0, 200.0]) <= 3 * np.array(data["uncertainty_mm"]))
@@ -142,7 +142,7 @@ def test_the_bundled_four_touches_give_the_laser_cells_bent_pin():
     (TCP [1.2, -0.8, 180.7]) on the point [650, -150, 250], tilted 40 deg about z, 30 about y and 30 about
     z and x from down, Gaussian noise of 0.02 mm on each position (numpy seed 2027), rounded to 0.001: the
     least number of touches the method takes beyond its minimum, within 3 of its standard uncertainties."""
-    from codegen.cell import EXAMPLES_DIR
+    from codegen.model.cell import EXAMPLES_DIR
 
     data = json.loads(calibrate(EXAMPLES_DIR / "laser_pin_touches.csv", "--json").output)
     assert len(data["residuals_mm"]) == 4

@@ -10,7 +10,7 @@ import sys
 import pytest
 from conftest import MINIMAL_CELL
 
-from codegen.cell import CellError, load_cell
+from codegen.model.cell import CellError, load_cell
 
 
 def test_demo_cell_loads(demo_cell):

@@ -9,8 +9,8 @@ from pathlib import Path
 
 from click.testing import CliRunner
 
-from codegen.cell import load_cell
 from codegen.cli import main
+from codegen.model.cell import load_cell
 
 REPO = Path(__file__).resolve().parents[1]
 GENERATED = REPO / "generated" / "agv_machine_tending"
@@ -132,7 +132,7 @@ def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path):
     assert result.exit_code == 1
     report = json.loads(result.output)["targets"][0]
     assert report["mismatches"] == 2 and all("step limit 5000 reached" in m for m in report["first_mismatches"])
-    from codegen.cell import load_cell
+    from codegen.model.cell import load_cell
     from codegen.verify import build_cases
 
     assert report["cases"] < len(build_cases(load_cell(demo), 50, 0))  # the chunk with station 1 stopped
@@ -155,7 +155,7 @@ def _socket_and_node(tmp_path: Path, broken: str) -> list[Path]:
 
 def test_two_programs_of_one_target_are_two_rows_each_run(tmp_path):
     """Each file given is run on its own: the broken one fails beside its untouched twin, either way round."""
-    from codegen.cell import DEMO_CELL
+    from codegen.model.cell import DEMO_CELL
     from codegen.verify import build_cases
     from codegen.verify_runs import file_source, run_verify
 

@@ -6,9 +6,9 @@ from pathlib import Path
 import pytest
 from target_base import replace_once
 
-from codegen.cell import CellError, cell_from_dict, load_cell
 from codegen.controllers import get_target
 from codegen.dialects.rapid.interpreter import load as load_rapid
+from codegen.model.cell import CellError, cell_from_dict, load_cell
 from codegen.render import render
 from codegen.verify import build_cases, verify
 from codegen.verify_runs import load_program

@@ -8,13 +8,13 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from codegen.cell import CellError, load_cell
 from codegen.cli import main
 from codegen.controllers import get_target
-from codegen.conveyor.belt import Belt, ConveyorLine, Part, part_y
-from codegen.conveyor.bus import RegisterBus
-from codegen.conveyor.judge import tolerances_mm
-from codegen.conveyor.verify import cases, verify_conveyor
+from codegen.sim.belt import Belt, ConveyorLine, Part, part_y
+from codegen.sim.bus import RegisterBus
+from codegen.kinds.conveyor.judge import tolerances_mm
+from codegen.kinds.conveyor.verify import cases, verify_conveyor
+from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.verify_runs import load_program
 
@@ -52,7 +52,7 @@ def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
     assert found["varying_speed"].belt.wobble > 0
     rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel
     first = rollover.parts[0]
-    assert cell.conveyor.counts_per_mm < 0
+    assert cell.sections["conveyor"].counts_per_mm < 0
     assert rollover.belt.count(first.seen_s) < rollover.belt.count(first.seen_s + 15.0)
 
 
@@ -159,7 +159,7 @@ def test_the_interpreter_tracks_the_belt_from_the_moment_tracking_starts():
     )
     program = load_program(get_target("ur"), text, "track", {})
     belt = Belt(100.0, 8.0, 16, 0)  # 800 counts per second: 100 mm/s
-    line = ConveyorLine(belt, [], RegisterBus(get_target("ur").program["conveyor_names"]))
+    line = ConveyorLine(belt, [], RegisterBus(get_target("ur").kind_tables["conveyor"]["names"]))
     trace = program.run({}, devices=(line,))
     (move,) = trace.moves  # commanded at t = 1 s; a first move from an unknown pose takes 1 s: it ends at 2 s
     assert move.tcp2base[:3, 3] == pytest.approx([500.0, 100.0, 200.0], abs=1e-3)
@@ -174,7 +174,7 @@ def test_a_direction_that_is_not_a_unit_vector_is_refused():
         "  track_conveyor_linear(p[0, 2, 0, 0, 0, 0], 8000.0)\nend\n"
     )
     program = load_program(get_target("ur"), text, "track", {})
-    line = ConveyorLine(Belt(100.0, 8.0), [], RegisterBus(get_target("ur").program["conveyor_names"]))
+    line = ConveyorLine(Belt(100.0, 8.0), [], RegisterBus(get_target("ur").kind_tables["conveyor"]["names"]))
     with pytest.raises(Exception, match="unit vector"):
         program.run({}, devices=(line,))
 
@@ -233,7 +233,7 @@ def test_a_tracking_arm_is_proven_as_far_as_it_may_follow_the_part(tmp_path):
     """UR follows the part past the window's end for the gripper's timeout and the lift: at the cell's
     fastest belt (belt_speed_max_mm_s) that is proven reachable too; at 2 m/s it is not (2.5 m further:
     the arm would have to change its configuration)."""
-    from codegen.conveyor.reach import follow_mm
+    from codegen.kinds.conveyor.reach import follow_mm
     from codegen.generate import GenerateError, check_envelope
 
     cell = load_cell(CELL)

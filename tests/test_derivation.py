@@ -7,7 +7,7 @@ import json
 import pytest
 
 from codegen import derivation, derived
-from codegen.pallet import derivation as pallet_derivation
+from codegen.kinds.pallet import derivation as pallet_derivation
 
 EXPECTED = {
     "zero_rotation_is_translation": "holds",

@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from codegen.cell import load_cell
 from codegen.cli import main
 from codegen.generate import diff, generate
+from codegen.model.cell import load_cell
 from codegen.render import render
 
 REPO = Path(__file__).resolve().parents[1]

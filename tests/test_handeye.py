@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from codegen.cell import CellError, load_cell
 from codegen.cli import main
-from codegen.handeye import HandEyeError, fit, read_points
+from codegen.kinds.frame.handeye import HandEyeError, fit, read_points
+from codegen.model.cell import CellError, load_cell
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "codegen" / "examples"
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from codegen.laser.procedure import Procedure, run
-from codegen.laser.sensors import Pin, Sensors, entry_along
+from codegen.kinds.laser.procedure import Procedure, run
+from codegen.sim.beams import Pin, Sensors, entry_along
 from codegen.poses import rotmat_from_zyx_deg
 
 GUESS = np.eye(4)

@@ -7,16 +7,16 @@ import math
 import numpy as np
 import pytest
 
-from codegen.cell import load_cell
 from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid.interpreter import load
-from codegen.laser import program as lp
-from codegen.laser.sensors import Pin
-from codegen.laser.station import LaserStation
+from codegen.kinds.laser import program as lp
+from codegen.sim.beams import Pin
+from codegen.sim.beam_station import LaserStation
+from codegen.model.cell import load_cell
+from codegen.model.io import signal_name
 from codegen.render import render
 from codegen.robot.expect import arm_of
-from codegen.signals import signal_name
 from codegen.verify_runs import load_program
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
@@ -302,7 +302,7 @@ def bent(tool: np.ndarray, shift, degrees: float, about) -> np.ndarray:
 
 def run_program(laser_program, tool: np.ndarray, noise: float = 0.0, hysteresis: float = 0.0, seed: int = 0):
     cell, target, program = laser_program
-    laser = cell.laser
+    laser = cell.sections["laser"]
     inputs = {
         signal_name(target, "input", laser.beam_x["abb"]): "x",
         signal_name(target, "input", laser.beam_y["abb"]): "y",
@@ -354,7 +354,7 @@ def test_the_program_stops_with_the_operator_s_message(laser_program, dz, messag
     tool[:3, 3] += tool[:3, 2] * dz
     trace = run_program(laser_program, tool)
     assert trace.halted and trace.halt_message == message
-    assert trace.moves[-1].tcp2base[2, 3] > cell.laser.sensor_frame.matrix()[2, 3]  # stopped above the beams
+    assert trace.moves[-1].tcp2base[2, 3] > cell.sections["laser"].sensor_frame.matrix()[2, 3]  # stopped above the beams
 
 
 def test_a_name_for_both_data_and_a_routine_is_refused():

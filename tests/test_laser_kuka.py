@@ -7,12 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from codegen.cell import load_cell
 from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError
 from codegen.dialects.krl.interpreter import load
-from codegen.laser import program as lp
-from codegen.laser.verify import LaserCase, fresh_program, station_for
+from codegen.kinds.laser import program as lp
+from codegen.kinds.laser.verify import LaserCase, fresh_program, station_for
+from codegen.model.cell import load_cell
 from codegen.render import render
 from codegen.robot.expect import arm_of
 from codegen.verify_runs import load_program

@@ -8,14 +8,14 @@ from pathlib import Path as FilePath
 import numpy as np
 import pytest
 
-from codegen.cell import load_cell
 from codegen.controllers import get_target
 from codegen.dialects.core.machine import Machine, MoveEvent
 from codegen.dialects.core.watch import Path
-from codegen.laser.reference import expected
-from codegen.laser.sensors import Pin
-from codegen.laser.station import LaserStation
-from codegen.laser.verify import cases, rotation, station_for
+from codegen.kinds.laser.reference import expected
+from codegen.sim.beams import Pin
+from codegen.sim.beam_station import LaserStation
+from codegen.kinds.laser.verify import cases, rotation, station_for
+from codegen.model.cell import load_cell
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
 
@@ -141,7 +141,7 @@ def test_without_the_rim_correction_a_tilted_pin_is_found_off():
     cell = load_cell(CELL)
     tool = cell.robot.tool.tcp2flange.copy()
     tool[:3, :3] = rotation((0, 1, 0), 2.0) @ tool[:3, :3]
-    station = LaserStation(cell.laser.sensor_frame.matrix(), Pin(tool, 1.5), {"a": "x", "b": "y"})
+    station = LaserStation(cell.sections["laser"].sensor_frame.matrix(), Pin(tool, 1.5), {"a": "x", "b": "y"})
     want = expected(cell, station)
     assert np.abs(want.tcp - tool[:3, 3]).max() < 1e-4
     rim = 1.5 * math.sin(math.radians(2.0))

@@ -9,13 +9,13 @@ import threading
 import numpy as np
 import pytest
 
-from codegen.cell import load_cell
 from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.dialects.urscript.interpreter import load
 from codegen.emit import Emitter
-from codegen.laser import program as lp
-from codegen.laser.verify import LaserCase, fresh_program, rotation, run_case
+from codegen.kinds.laser import program as lp
+from codegen.kinds.laser.verify import LaserCase, fresh_program, rotation, run_case
+from codegen.model.cell import load_cell
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
 INPUT = "standard_digital_in[2]"

@@ -8,11 +8,11 @@ import re
 import pytest
 from click.testing import CliRunner
 
-from codegen.cell import load_cell
 from codegen.cli import main
 from codegen.controllers import get_target
-from codegen.laser import program as lp
-from codegen.laser.verify import TRUTH_MM, verify_laser
+from codegen.kinds.laser import program as lp
+from codegen.kinds.laser.verify import TRUTH_MM, verify_laser
+from codegen.model.cell import load_cell
 from codegen.render import render
 from codegen.verify_runs import load_program
 

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from codegen.cell import load_cell
 from codegen.controllers import get_target
+from codegen.model.cell import load_cell
 from codegen.verify import build_cases, verify
 from codegen.verify_runs import file_source
 

@@ -13,13 +13,13 @@ import pytest
 from click.testing import CliRunner
 
 from codegen import derived
-from codegen.cell import CellError, load_cell
 from codegen.cli import main
-from codegen.pallet import checks
-from codegen.pallet.analysis import frame_matrix
-from codegen.pallet.patterns import Box, column, interlock, pinwheel, split_row
-from codegen.pallet.report import load_pallet_file
-from codegen.pallet.stack import FrameError, pallet2base, placements
+from codegen.model.cell import CellError, load_cell
+from codegen.kinds.pallet import checks
+from codegen.kinds.pallet.analysis import frame_matrix
+from codegen.kinds.pallet.patterns import Box, column, interlock, pinwheel, split_row
+from codegen.kinds.pallet.report import load_pallet_file
+from codegen.kinds.pallet.stack import FrameError, pallet2base, placements
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "codegen" / "examples" / "pallets"
@@ -219,7 +219,7 @@ def test_a_stack_the_arm_cannot_work_is_refused_at_generate(tmp_path, old, new, 
 
 
 def test_the_bundled_stack_is_reachable_on_every_arm():
-    from codegen.pallet.reach import check
+    from codegen.kinds.pallet.reach import check
 
     reports = check(load_cell(EXAMPLES / "testmat_pallet.toml"))
     assert [r.target for r in reports] == ["ur", "kuka", "abb"] and all(r.moves == 240 for r in reports)
@@ -271,7 +271,7 @@ def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_
     """Source 004's layer 1: boxes 1-4 turned (26 x 52 mm) along the bottom, 5-6 along the top; box 1's
     label (its long side at -y when unturned) faces +x; an arrow on every box; no red. A box moved 6 mm
     over the edge (allowed by overhang_mm) is drawn red."""
-    from codegen.pallet.pictures import layer_svg
+    from codegen.kinds.pallet.pictures import layer_svg
 
     data = _load(tmp_path, TESTMAT)
     svg = layer_svg(data.pallets[0], 1)
@@ -328,7 +328,7 @@ def test_the_printed_box_position_is_the_pose_product():
     float64 (the python printer) for every box of the EUR example's turned pallet it equals pallet2base @
     target of the numpy stack (codegen/pallet/stack.py)."""
     cell = load_cell(EXAMPLES / "eur_pallet.toml")
-    pallet = cell.pallets[1]  # turned 90 deg about the base's z
+    pallet = cell.sections["pallet"][1]  # turned 90 deg about the base's z
     frame = frame_matrix(pallet)
     turn = math.atan2(frame[1, 0], frame[0, 0])
     assert abs(turn) > 1.0

@@ -4,10 +4,10 @@ from pathlib import Path
 
 import pytest
 
-from codegen.cell import load_cell
 from codegen.controllers import get_target
-from codegen.pallet.program import pallet_file_names, pallet_identifiers
-from codegen.pallet.verify import fresh_pallet_programs, verify_pallet
+from codegen.model.cell import load_cell
+from codegen.kinds.pallet.program import pallet_file_names, pallet_identifiers
+from codegen.kinds.pallet.verify import fresh_pallet_programs, verify_pallet
 from codegen.render import render
 from codegen.verify_runs import load_program
 
@@ -29,7 +29,7 @@ def test_every_stacking_program_matches_the_reference(cell, target):
     for index, (program, files) in enumerate(fresh_pallet_programs(cell, target)):
         report = verify_pallet(cell, index, target, program, files)
         assert report.cases >= 12 and report.mismatches == 0, report.first_mismatches
-        assert report.boxes >= cell.pallets[index].layers * 6  # the full stack at least
+        assert report.boxes >= cell.sections["pallet"][index].layers * 6  # the full stack at least
 
 
 def _mutant_mismatches(cell, target: str, file_suffix: str, old: str, new: str) -> list[str]:

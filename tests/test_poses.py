@@ -143,6 +143,6 @@ def test_wrap_deg_values(angle, expected):
 
 def test_one_wrap():
     from codegen.dialects import posemath
-    from codegen.kinds import point
+    from codegen.kinds.point import kind as point
 
     assert posemath.wrap_deg is point.wrap_deg is poses.wrap_deg

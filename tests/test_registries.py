@@ -12,7 +12,7 @@ from setuptools import find_packages
 from codegen import controllers
 from codegen.controllers import TargetError, get_target, target_names
 from codegen.dialects import dialect_of_suffix, dialects, get_dialect
-from codegen.kinds import kinds
+from codegen.protocol import kinds
 
 REPO = Path(__file__).resolve().parents[1]
 CODE = [p for p in (REPO / "codegen").rglob("*.py")] + list((REPO / "templates").rglob("*.j2"))
@@ -74,9 +74,12 @@ def test_an_unknown_or_missing_target_key_is_refused(tmp_path, monkeypatch):
 
 
 def test_the_example_cells_use_every_kind():
-    from codegen.cell import load_cell
+    from codegen.model.cell import load_cell
 
-    used = {s.kind for path in (REPO / "codegen" / "examples").glob("*.toml") for s in load_cell(path).stations}
+    used = set()
+    for path in (REPO / "codegen" / "examples").rglob("*.toml"):
+        cell = load_cell(path)
+        used |= {s.kind for s in cell.stations} | set(cell.sections)
     assert used == set(kinds())
 
 
@@ -90,10 +93,19 @@ def test_every_file_suffix_has_one_dialect():
 
 
 def test_kinds_are_registered_with_a_template_per_target():
-    assert {"point", "frame"} <= set(kinds())
+    """A station kind has its partial of the station program per target; a kind with programs of its own has a
+    template for each file its [program.<kind>] table names (targets without the table write none of them)."""
+    from codegen.protocol import station_kinds
+
+    assert {"point", "frame", "pallet", "conveyor", "laser"} <= set(kinds())
     for name in target_names():
-        for kind in kinds():
-            assert (REPO / "templates" / name / "kinds" / f"{kind}.j2").is_file(), (name, kind)
+        for kind_name, kind in kinds().items():
+            if kind_name in station_kinds():
+                assert (REPO / "templates" / name / "kinds" / f"{kind_name}.j2").is_file(), (name, kind_name)
+                continue
+            for pattern in kind.facts(get_target(name)).get("files", []):
+                template = pattern.format(**{kind_name: kind_name})
+                assert (REPO / "templates" / name / "kinds" / f"{template}.j2").is_file(), (name, template)
 
 
 def test_every_package_is_installed():

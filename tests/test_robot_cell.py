@@ -11,8 +11,8 @@ import pytest
 from click.testing import CliRunner
 from robot_chains import CATALOGUE_CHAINS, chain_frames, ikpy_chain
 
-from codegen.cell import DEMO_CELL, EXAMPLES_DIR, CellError, load_cell
 from codegen.cli import main
+from codegen.model.cell import DEMO_CELL, EXAMPLES_DIR, CellError, load_cell
 from codegen.render import render
 from codegen.robot.arms import catalogue
 from codegen.robot.taught import arm_poses

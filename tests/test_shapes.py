@@ -6,9 +6,9 @@ from types import CodeType
 
 import pytest
 
-from codegen.cell import load_cell
 from codegen.dialects.core import shapes
 from codegen.dialects.core.shapes import ShapeCache
+from codegen.model.cell import load_cell
 from codegen.verify_runs import fresh_sources
 
 CELLS = (

@@ -4,7 +4,7 @@
 from rapidcheck import rapidchecker, rapidchecker_raw
 from target_base import TargetTests, cell_text, replace_once
 
-from codegen.cell import load_cell
+from codegen.model.cell import load_cell
 from codegen.render import render
 
 WORK = "MoveL vis_apply(corr, p1_chuck), vis_work, fine, vis_tool;"  # the work pose of station 1

@@ -49,10 +49,10 @@ def test_the_base_is_the_robot_base_on_a_platform():
     move in the robot's base frame; $BASE = $NULLFRAME (the world) would move the arm by $ROBROOT."""
     import numpy as np
 
-    from codegen.cell import load_cell
     from codegen.controllers import get_target
     from codegen.dialects.krl.interpreter import load
-    from codegen.kinds import get_kind
+    from codegen.protocol import get_kind
+    from codegen.model.cell import load_cell
     from codegen.render import render
     from codegen.verify import inputs_for, run_options
 

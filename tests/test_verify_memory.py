@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from codegen import verify_runs
-from codegen.cell import load_cell
+from codegen.model.cell import load_cell
 from codegen.verify import build_cases
 from codegen.verify_runs import fresh_sources, run_verify
 

@@ -7,7 +7,8 @@ import pytest
 from codegen.dialects.core.values import RunError
 from codegen.dialects.dtrans.interpreter import load
 from codegen.dialects.krl.interpreter import load as load_krl
-from codegen.vision import PHOTO, POLL_S, PROMPT_S, READ, VisionPC
+from codegen.model.vision import PHOTO, POLL_S, PROMPT_S, READ
+from codegen.sim.vision_pc import VisionPC
 
 NAMES = {
     "request": "vis_req",

@@ -79,8 +79,8 @@ class Dialect:
     def programs(cls, files: list) -> list[list]:
         """Which of the given files (codegen.dialects.core.files.SourceFile, all of this language) make one
         program each, the program file first: by default each program file with its companions of the same
-        name (a .src and its .dat); a language whose program spans several files (the modules of a RAPID
-        task, KRL modules calling each other's GLOBAL routines) groups them by its scope rules. A companion
+        name (a program and its data list); a language whose program spans several files (the modules of one
+        task, modules calling each other's global routines) groups them by its scope rules. A companion
         without its program file is an error (RunError naming it)."""
         from codegen.dialects.core.values import RunError
 

@@ -6,9 +6,9 @@ import math
 
 from codegen.decimals import format_literal
 from codegen.emit import EmitError
+from codegen.model.robot import numbered_names
 from codegen.poses import FORMAT_DECIMALS, native_values
 from codegen.robot.region import station_plan
-from codegen.robot.section import numbered_names
 from codegen.robot.taught import ReachError, configuration
 
 JOINT_DECIMALS = {"deg": 4, "rad": 6}  # 1e-4 deg; 1e-6 rad = 6e-5 deg

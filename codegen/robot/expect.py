@@ -7,12 +7,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from codegen.controllers import get_target
+from codegen.model.robot import numbered_names
 from codegen.poses import native_values
 from codegen.reference import JOINT, Move
 from codegen.robot import solve
 from codegen.robot.envelope import singular_distance, wrist_angle
 from codegen.robot.region import move_joints, per_cell, station_plan
-from codegen.robot.section import numbered_names
 
 # Both sides solve the same inverse kinematics for poses that agree within verify's pose tolerance
 # (float32: 0.005 mm, 0.001 deg). With the wrist at least the cell's wrist margin (5 deg) from its

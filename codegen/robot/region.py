@@ -10,7 +10,7 @@ from functools import lru_cache
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds import get_kind
+from codegen.protocol import get_kind
 from codegen.robot import solve
 from codegen.robot.config import FORMS
 from codegen.robot.taught import ArmPose, arm_poses, configuration, select

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.kinds import get_kind
+from codegen.protocol import get_kind
 from codegen.robot import solve
 from codegen.robot.config import FORMS
 

@@ -22,10 +22,10 @@ from codegen.guard import (
     UNKNOWN_STATION,
     pixels_in_range,
 )
-from codegen.kinds import Case, ProgramKind
-from codegen.kinds.frame.camera import CameraModel, SimulatedCamera
+from codegen.kinds.stations.base import Case, StationKind
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
 from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
+from codegen.sim.camera import CameraModel, SimulatedCamera
 
 NOT_CONVERGED = "not_converged"  # a halt reason of this kind: the residual stayed over tolerance
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
@@ -45,8 +45,8 @@ class FrameSpec:
     """The user frame at calibration (base frame; the mark at its origin), the photo pose in that
     frame, and optionally the controller's numbered base holding the same frame."""
 
-    frame: object  # codegen.cell.TaughtPose
-    photo: object  # codegen.cell.TaughtPose
+    frame: object  # codegen.model.cell.TaughtPose
+    photo: object  # codegen.model.cell.TaughtPose
     base_data: int | None = None
 
 
@@ -159,7 +159,7 @@ def _stats(values: list[float]) -> dict:
     return {"max": float(arr.max()), "p99": float(np.percentile(arr, 99))}
 
 
-class FrameKind(ProgramKind):
+class FrameKind(StationKind):
     name = "frame"
     order = 1
     station_keys = frozenset({"frame", "photo", "base_data"})
@@ -167,6 +167,12 @@ class FrameKind(ProgramKind):
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("frame",)
     log_names = ("station", "dx", "dy", "alpha", "photos")
+
+    @classmethod
+    def commands(cls) -> list:
+        from codegen.kinds.frame.commands import calibrate_handeye
+
+        return [("calibrate", calibrate_handeye)]
 
     @classmethod
     def parse(cls, ctx, raw: dict, path: str, pose_format: str) -> FrameSpec:
@@ -208,7 +214,7 @@ class FrameKind(ProgramKind):
         return super().halt_message(cell, reason, station)
 
     @classmethod
-    def check(cls, ctx, path: str, station, cell) -> None:
+    def check_station(cls, ctx, path: str, station, cell) -> None:
         for name in cell.targets:
             base_data = get_target(name).program.get("base_data")
             if base_data and station.spec.base_data is not None and station.spec.base_data > base_data["max"]:

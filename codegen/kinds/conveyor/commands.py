@@ -1,0 +1,70 @@
+"""`codegen calibrate conveyor`: the encoder's scale, the belt frame and the camera offset (source 002)."""
+
+from __future__ import annotations
+
+import click
+
+from codegen.cli_base import UserError
+from codegen.cli_base import dump as _dump
+
+
+@click.command("conveyor")
+@click.argument("touches", type=click.Path(dir_okay=False))
+@click.option(
+    "--counter-bits",
+    type=click.Choice(["16", "24", "32"]),
+    default=None,
+    help="The encoder counter's width, for its rollover (default: the cell's [conveyor], else 32).",
+)
+@click.option("--working-length", type=click.FloatRange(min=1.0), help="The belt's working length (mm): the span rule.")
+@click.option(
+    "--camera-counts", help="L3,L4: the counts when the block passed the camera and when it stood at the origin."
+)
+@click.option("--force", is_flag=True, help="Accept touches that span less than half the working length (a warning).")
+@click.option(
+    "--max-residual",
+    type=click.FloatRange(min=0.001),
+    default=0.5,
+    show_default=True,
+    help="Refuse a touch further from the fitted line (mm).",
+)
+@click.option(
+    "--write",
+    "cell_path",
+    type=click.Path(exists=True, dir_okay=False),
+    help="Put the result into this cell file's [conveyor] table.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+def calibrate_conveyor(touches, counter_bits, working_length, camera_counts, force, max_residual, cell_path, as_json):
+    """Encoder scale, belt frame and camera offset (source 002) from a CSV x,y,z,count[,role] of a cone on
+    the belt touched at two or more places (mm, base frame; upstream first) and optionally one point beside
+    the belt (role side, at the height of the cone's tip) that fixes the frame's roll."""
+    from pathlib import Path
+
+    from codegen.kinds.conveyor import calibrate as cc
+    from codegen.model.cell import CellError
+
+    path = Path(touches)
+    try:
+        cell_bits, cell_length = cc.cell_settings(Path(cell_path) if cell_path else None)
+        bits = int(counter_bits) if counter_bits else (cell_bits or 32)
+        length = working_length if working_length is not None else cell_length
+        camera = None
+        if camera_counts is not None:
+            try:
+                l3, l4 = (int(v) for v in camera_counts.split(","))
+            except ValueError:
+                raise UserError(f"--camera-counts {camera_counts}: expected two whole counts L3,L4") from None
+            camera = (l3, l4)
+        result = cc.fit(path, cc.read_touches(path), bits, length, camera, force, max_residual)
+        if cell_path is not None:
+            cc.write_to_cell(Path(cell_path), result, path.name, length)
+    except (cc.ConveyorCalibrationError, CellError) as exc:
+        raise UserError(str(exc)) from None
+    if as_json:
+        _dump(result.as_json())
+        return
+    for line in cc.report_lines(result, path):
+        click.echo(line)
+    if cell_path is not None:
+        click.echo(f"wrote [conveyor] into {cell_path}")

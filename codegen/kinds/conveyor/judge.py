@@ -1,0 +1,161 @@
+"""Verify's judgement of a pick-from-belt run: where each part really was when the program acted on it."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.kinds.conveyor.program import SKIPPED, STOPPED, TOO_LATE, lead_seconds
+from codegen.kinds.conveyor.section import conveyor_of, facts
+from codegen.poses import rotmat_from_zyx_deg
+from codegen.sim.belt import part_pose, part_y
+from codegen.sim.bus import SCALE
+from codegen.verify import TOLERANCES, _pose_errors
+
+
+def tolerances_mm(cell, target) -> tuple[float, float]:
+    """(along the belt, across it and in height): what the program can know of a part's place. Along:
+    tracking knows the belt's travel in whole counts, once where tracking starts and once in the tracking
+    offset (2 / |E|); an intercept meets the part where it predicts it, within the gripper's capture
+    range (capture_mm, the cell's). Across and in height: x and z as the queue carries them (exact in
+    registers; in 0.1 mm on a 16-bit group: half of that); both plus the controller's float arithmetic."""
+    conveyor, pick = conveyor_of(cell), conveyor_of(cell).pick
+    floats = TOLERANCES[target.numbers][0]
+    along = pick.capture_mm if pick.tracking[target.name] == "intercept" else 2.0 / abs(conveyor.counts_per_mm)
+    across = 0.0 if facts(target).get("names") else 0.5 / SCALE
+    return along + floats, across + floats
+
+
+def counted_y(cell, case, part, t: float) -> float:
+    """Where the program, reading the PLC's counter in whole counts, finds the part at t."""
+    bits = case.belt.counter_bits
+    delta = (case.belt.count(t) - case.belt.count(part.seen_s)) % 2**bits
+    if delta > 2 ** (bits - 1):
+        delta -= 2**bits
+    return -conveyor_of(cell).camera_offset_mm + delta / conveyor_of(cell).counts_per_mm
+
+
+def _numbered(trace, prefix: str) -> dict[int, float]:
+    """Part number -> when the message naming it was written."""
+    return {
+        int(m[len(prefix) :]): t
+        for m, t in zip(trace.messages, trace.message_times, strict=True)
+        if m.startswith(prefix)
+    }
+
+
+class _Judge:
+    def __init__(self, cell, target_name: str, case) -> None:
+        self.cell, self.case = cell, case
+        self.target = get_target(target_name)
+        conveyor, pick = conveyor_of(cell), conveyor_of(cell).pick
+        self.frame, self.pick = conveyor.frame(), pick
+        self.camera_y = -conveyor.camera_offset_mm
+        self.grip = np.eye(4)
+        self.grip[:3, :3] = rotmat_from_zyx_deg(*pick.tool_orientation)
+        self.tracking = pick.tracking[target_name] == "native"
+        self.along, self.across = tolerances_mm(cell, self.target)
+        self.rot_tol = TOLERANCES[self.target.numbers][1]
+        self.worst_pos = self.worst_rot = 0.0
+
+    def part_at(self, part, t: float, dz: float = 0.0) -> np.ndarray:
+        pose = part_pose(self.frame, self.case.belt, part, self.camera_y, t, self.grip)
+        pose[:3, 3] += dz * self.frame[:3, 2]
+        return pose
+
+    def off(self, what: str, have: np.ndarray, want: np.ndarray) -> str | None:
+        """have against want, the position error split along the belt, across it and in height."""
+        error = self.frame[:3, :3].T @ (have[:3, 3] - want[:3, 3])
+        pos, rot = _pose_errors(have.tolist(), want.tolist())
+        self.worst_pos, self.worst_rot = max(self.worst_pos, pos), max(self.worst_rot, rot)
+        if abs(error[1]) > self.along or max(abs(error[0]), abs(error[2])) > self.across or rot > self.rot_tol:
+            return (
+                f"{what}: {error[1]:+.4f} mm along the belt, {error[0]:+.4f} across, {error[2]:+.4f} in height, "
+                f"{rot:.5f} deg (tolerance {self.along:.4f}, {self.across:.4f} mm)"
+            )
+        return None
+
+    def beside(self, move, part, dz: float, anchor) -> np.ndarray:
+        """Where a move to dz above the part should end: with tracking relative to the belt at the move's
+        end; an intercept above the place it meets the part (anchor: the grip's pose)."""
+        if self.tracking:
+            return self.part_at(part, move.end_time, dz)
+        out = anchor.copy()
+        out[:3, 3] += dz * self.frame[:3, 2]
+        return out
+
+
+def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str | None, float, float]:
+    """Every part taken once and in order; a part is skipped exactly when, as the program counted it at
+    the skip's message, it was past the window's end (or, too late, within the descent's travel of the
+    intercept point at the belt's fastest); each picked part is gripped where it really is at that
+    moment (float64: the belt's travel since the camera saw it), inside the window, after a straight
+    descent of approach_dz along the belt's normal and before a lift of approach_dz; each is put down at
+    the place; the program ends at the line's stop."""
+    j = _Judge(cell, target_name, case)
+    pick, end = j.pick, j.pick.window_mm[1]
+    one_count = 1.0 / abs(conveyor_of(cell).counts_per_mm)
+    if trace.halted:
+        return f"stopped: {trace.halt_message!r}", 0.0, 0.0
+    if list(line.taken) != [p.seq for p in case.parts]:
+        return f"parts taken {list(line.taken)}, expected {[p.seq for p in case.parts]} (each once, in order)", 0.0, 0.0
+    parts = {p.seq: p for p in case.parts}
+    skipped, too_late = _numbered(trace, SKIPPED), _numbered(trace, TOO_LATE)
+    for seq, t in skipped.items():
+        if counted_y(cell, case, parts[seq], t) <= end - one_count:
+            return (
+                f"part {seq} skipped while it was in the window ({counted_y(cell, case, parts[seq], t):.1f} mm)",
+                0,
+                0,
+            )
+    fastest = case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
+    for seq, t in too_late.items():  # already too close to the intercept point to come down in time
+        latest = pick.intercept_mm - lead_seconds(cell) * fastest - pick.capture_mm
+        if part_y(case.belt, parts[seq], j.camera_y, t) < latest:
+            return f"part {seq} given up as too late, in time for the intercept", 0.0, 0.0
+    picked = [p for p in case.parts if p.seq not in skipped and p.seq not in too_late]
+    closes = [o for o in trace.outputs if o.name == output and o.value == cell.io.value]
+    opens = [o for o in trace.outputs if o.name == output and o.value != cell.io.value][1:]  # after the first
+    if len(closes) != len(picked) or len(opens) != len(picked):
+        return f"{len(closes)} grips and {len(opens)} releases for {len(picked)} parts picked", 0.0, 0.0
+    for part in picked:
+        if counted_y(cell, case, part, line.taken[part.seq]) > end:
+            return f"part {part.seq} picked although it was past the window's end when taken", 0.0, 0.0
+    # the gripper holds the part grip_s after its output (an intercepting arm stands while the part travels
+    # on; a tracking arm follows it, so the moment does not matter there)
+    hold = 0.0 if j.tracking else pick.grip_s
+    for part, close, release in zip(picked, closes, opens, strict=True):
+        y = part_y(case.belt, part, j.camera_y, close.time + hold)
+        if not pick.window_mm[0] - j.along <= y <= end + j.along:
+            return f"part {part.seq} gripped at y {y:.2f} mm, outside the window", j.worst_pos, j.worst_rot
+        held = j.part_at(part, close.time + hold)
+        problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, held)
+        k = close.after_moves  # the moves commanded before the grip
+        if problem is None and (k < 2 or k >= len(trace.moves)):
+            problem = f"part {part.seq}: no descent and lift around the grip"
+        if problem is None:
+            down, before, lift = trace.moves[k - 1], trace.moves[k - 2], trace.moves[k]
+            if down.kind != "linear" or lift.kind != "linear":
+                problem = f"part {part.seq}: the descent and the lift must be straight moves"
+            else:
+                problem = j.off(
+                    f"part {part.seq}: above it before the descent (line {before.line})",
+                    before.tcp2base,
+                    j.beside(before, part, pick.approach_dz, down.tcp2base),
+                ) or j.off(
+                    f"part {part.seq}: the lift (line {lift.line})",
+                    lift.tcp2base,
+                    j.beside(lift, part, pick.approach_dz, down.tcp2base),
+                )
+        if problem is not None:
+            return problem, j.worst_pos, j.worst_rot
+        pos, rot = _pose_errors(release.tcp2base.tolist(), pick.place.matrix().tolist())
+        if pos > TOLERANCES[j.target.numbers][0] or rot > j.rot_tol:
+            return f"part {part.seq} released {pos:.4f} mm, {rot:.5f} deg from the place", j.worst_pos, j.worst_rot
+    if not trace.messages or trace.messages[-1] != STOPPED:
+        return (
+            f"the program did not end at the line's stop (last message {trace.messages[-1:]})",
+            j.worst_pos,
+            j.worst_rot,
+        )
+    return None, j.worst_pos, j.worst_rot

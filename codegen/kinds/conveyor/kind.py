@@ -1,0 +1,66 @@
+"""Conveyor tracking (source 002) as a program kind: the [conveyor] table, its calibration, a pick-from-belt program."""
+
+from __future__ import annotations
+
+from codegen.emit import Emitter
+from codegen.kinds.conveyor import reach
+from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
+from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
+from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
+
+
+class ConveyorKind(ProgramKind):
+    name = "conveyor"
+    order = 30
+    tables = frozenset({"conveyor"})
+    target_keys = {
+        "files": list,  # the pick-from-belt program of a cell with [conveyor.pick]
+        "registers": dict,  # the part queue's registers by role (seq, count, x, z, ack, stop)
+        "names": dict,  # the same by the names devices and `codegen run --input` use
+        "signals": dict,  # the queue as groups of digital signals (ranges of numbered signals, or named signals)
+        "encoder_inputs": list,  # the lowest and highest digital input an encoder's A and B may use
+        "tracking": list,  # how the pick program follows the belt: "native", "intercept"
+    }
+
+    @classmethod
+    def parse_section(cls, ctx, data: dict, cell):
+        return parse_conveyor(ctx, data, cell.targets, cell.pose_format)
+
+    @classmethod
+    def standalone(cls, data: dict) -> bool:
+        return isinstance(data.get("conveyor"), dict) and "pick" in data["conveyor"]
+
+    @classmethod
+    def check_cell(cls, ctx, cell) -> None:
+        conveyor = conveyor_of(cell)
+        if conveyor is not None and conveyor.pick is not None and (cell.io is None or not cell.io.feedback):
+            ctx.fail("cell.io", "a cell with [conveyor.pick] needs [cell.io] with feedback: the gripper and its sensor")
+
+    @classmethod
+    def programs(cls, cell, target) -> list[ProgramPlan]:
+        """The pick-from-belt program of a cell with [conveyor.pick]: "cnv_<cell>.script" from the template
+        "kinds/conveyor.script.j2"."""
+        if not picks_on(cell, target):
+            return []
+        context = conveyor_context(cell, target, Emitter(target))
+        files = tuple(
+            ProgramFile(name, f"{target.name}/kinds/{pattern.format(conveyor='conveyor')}.j2")
+            for pattern, name in zip(cls.facts(target)["files"], conveyor_file_names(cell, target), strict=True)
+        )
+        return [ProgramPlan(cls.name, context["ident"], files, {"conveyor": context})]
+
+    @classmethod
+    def reach(cls, cell, targets: list[str]) -> list:
+        return reach.check(cell, targets)
+
+    @classmethod
+    def verify_section(cls, cell, files: tuple, targets: tuple, seed: int):
+        from codegen.kinds.conveyor.verify import conveyor_section
+
+        return conveyor_section(cell, files, targets, seed)
+
+    @classmethod
+    def commands(cls) -> list:
+        from codegen.kinds.conveyor.commands import calibrate_conveyor
+
+        return [("calibrate", calibrate_conveyor)]

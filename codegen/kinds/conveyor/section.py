@@ -1,0 +1,124 @@
+"""The [conveyor] table of a cell file: the belt's encoder scale, its frame and the camera's offset."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+COUNTER_BITS = (16, 24, 32)
+KEYS = frozenset(
+    {"counter_bits", "counts_per_mm", "origin", "direction", "z_axis", "camera_offset_mm", "working_length_mm", "pick"}
+)
+UNIT_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class Conveyor:
+    """counts_per_mm: signed (negative: the counter runs down as the belt travels); origin: the belt
+    frame's origin (the downstream touch), base frame, mm; direction: +Y, the unit vector of travel;
+    z_axis: the belt's normal (+Z), up; x = y cross z; camera_offset_mm: how far
+    upstream of the origin the camera's line lies, along the belt; working_length_mm: the belt's
+    working length (the span rule of the calibration)."""
+
+    counter_bits: int
+    counts_per_mm: float | None = None
+    origin: tuple[float, float, float] | None = None
+    direction: tuple[float, float, float] | None = None
+    z_axis: tuple[float, float, float] | None = None
+    camera_offset_mm: float | None = None
+    working_length_mm: float | None = None
+    pick: object = None  # [conveyor.pick]: codegen.kinds.conveyor.pick.Pick, or None (no pick program)
+
+    def frame(self) -> np.ndarray | None:
+        return None if self.origin is None else belt2base(self.origin, self.direction, self.z_axis)
+
+
+def belt2base(origin, direction, z_axis) -> np.ndarray:
+    """The belt frame (4x4): x = y cross z, y the direction of travel, z the belt's normal."""
+    y, z = np.asarray(direction, dtype=float), np.asarray(z_axis, dtype=float)
+    out = np.eye(4)
+    out[:3, :3] = np.column_stack([np.cross(y, z), y, z])
+    out[:3, 3] = origin
+    return out
+
+
+def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> Conveyor | None:
+    if "conveyor" not in data:
+        return None
+    table = ctx.table(data, "conveyor", "conveyor")
+    ctx.no_unknown(table, KEYS, "conveyor")
+    bits = table.get("counter_bits", 32)
+    if bits not in COUNTER_BITS or isinstance(bits, bool):
+        widths = ", ".join(map(str, COUNTER_BITS))
+        ctx.fail("conveyor.counter_bits", f"expected one of {widths} (the encoder counter's width)")
+    out = {"counter_bits": bits}
+    if "counts_per_mm" in table:
+        value = ctx.number(table, "counts_per_mm", "conveyor.counts_per_mm")
+        if not 1e-3 <= abs(value) <= 1e6:
+            ctx.fail("conveyor.counts_per_mm", "must be a signed scale of 0.001 to 1e6 counts per mm")
+        out["counts_per_mm"] = value
+    for key in ("origin", "direction", "z_axis"):
+        if key in table:
+            out[key] = ctx.numbers(table[key], 3, f"conveyor.{key}")
+    frame_keys = [k for k in ("counts_per_mm", "origin", "direction", "z_axis") if k in out]
+    if frame_keys and len(frame_keys) != 4:
+        ctx.fail("conveyor", "counts_per_mm, origin, direction and z_axis come together (`codegen calibrate conveyor`)")
+    if frame_keys:
+        for key in ("direction", "z_axis"):
+            if abs(math.hypot(*out[key]) - 1.0) > UNIT_TOL:
+                ctx.fail(f"conveyor.{key}", "must be a unit vector")
+        if abs(float(np.dot(out["direction"], out["z_axis"]))) > UNIT_TOL:
+            ctx.fail("conveyor.z_axis", "must be at right angles to direction")
+    for key in ("camera_offset_mm", "working_length_mm"):
+        if key in table:
+            value = ctx.number(table, key, f"conveyor.{key}")
+            if key == "working_length_mm" and not 0 < value <= 100_000:
+                ctx.fail("conveyor.working_length_mm", "must be in (0, 100000] mm")
+            out[key] = value
+    if "pick" in table:
+        from codegen.kinds.conveyor.pick import parse_pick
+
+        missing = [k for k in ("counts_per_mm", "camera_offset_mm") if k not in out]
+        if missing:
+            ctx.fail("conveyor.pick", f"needs the calibrated belt: {', '.join(missing)} (codegen calibrate conveyor)")
+        out["pick"] = parse_pick(ctx, ctx.table(table, "pick", "conveyor.pick"), targets, pose_format)
+        check_pick(ctx, out["counts_per_mm"], out["camera_offset_mm"], out["pick"])
+    return Conveyor(**out)
+
+
+COUNTER_RANGE = 2**16  # the pick programs read a 16-bit count (codegen/conveyor/bus.py)
+
+
+def check_pick(ctx, counts_per_mm: float, camera_offset_mm: float, pick) -> None:
+    """What the programs need of the belt: the camera's line upstream of the window; a part's travel from
+    it to the window's end within a quarter of the 16-bit counter (a difference is unwound once: a part
+    taken as late again is still counted right); two counts of travel within the gripper's capture."""
+    start, end = pick.window_mm
+    if -camera_offset_mm >= start:
+        ctx.fail("conveyor.pick.window_mm", f"must start downstream of the camera's line (y {-camera_offset_mm:g} mm)")
+    counts = abs(counts_per_mm) * (camera_offset_mm + end)
+    if counts > COUNTER_RANGE / 4:
+        ctx.fail(
+            "conveyor.pick.window_mm",
+            f"the camera's line to the window's end is {counts:.0f} counts; the programs' 16-bit count "
+            f"allows {COUNTER_RANGE // 4}: bring the window closer to the camera",
+        )
+    if 2.0 / abs(counts_per_mm) > pick.capture_mm:
+        ctx.fail(
+            "conveyor.pick.capture_mm",
+            f"two counts of the encoder ({2.0 / abs(counts_per_mm):.2f} mm) exceed the gripper's capture range",
+        )
+
+
+def conveyor_of(cell) -> Conveyor | None:
+    """A cell's [conveyor], or None."""
+    return cell.sections.get("conveyor")
+
+
+def facts(target) -> dict:
+    """The conveyor kind's table [program.conveyor] of a target (targets/<t>.toml), checked against its keys."""
+    from codegen.protocol import get_kind  # the registry imports this package: asked when called
+
+    return get_kind("conveyor").facts(target)

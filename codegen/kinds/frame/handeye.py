@@ -1,0 +1,196 @@
+"""9-point hand-eye calibration (source 001 eq. 2): fit pixel -> robot mm by least squares."""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+
+class HandEyeError(Exception):
+    """A point file or point set that cannot give a calibration; the message names file and row."""
+
+
+@dataclass(frozen=True)
+class HandEyeFit:
+    model: str  # "similarity" (rotation, per-axis scale, translation) or "affine"
+    matrix: tuple[tuple[float, float, float], tuple[float, float, float]]  # [x y] = M [u v 1]
+    rotation_deg: float | None
+    scale_mm_per_px: tuple[float, float] | None
+    translation_mm: tuple[float, float]
+    residuals_mm: tuple[float, ...]
+    points: int
+
+    @property
+    def max_residual_mm(self) -> float:
+        return max(self.residuals_mm)
+
+    @property
+    def rms_residual_mm(self) -> float:
+        return math.sqrt(sum(r * r for r in self.residuals_mm) / len(self.residuals_mm))
+
+    def apply(self, u: float, v: float) -> tuple[float, float]:
+        (a, b, c), (d, e, f) = self.matrix
+        return a * u + b * v + c, d * u + e * v + f
+
+
+def read_points(path: Path) -> np.ndarray:
+    """Rows (u, v, x, y) from a CSV with header u,v,x,y; errors name the file and line."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise HandEyeError(f"{path}: cannot read: {exc.strerror or exc}") from None
+    reader = csv.reader(text.splitlines())
+    rows = list(reader)
+    if not rows:
+        raise HandEyeError(f"{path}: empty file; expected a header u,v,x,y")
+    header = [h.strip().lower() for h in rows[0]]
+    if header != ["u", "v", "x", "y"]:
+        raise HandEyeError(f"{path}:1: header must be u,v,x,y (pixels, then robot mm), got {','.join(rows[0])}")
+    points = []
+    for line_no, row in enumerate(rows[1:], start=2):
+        if not row or all(not cell.strip() for cell in row):
+            continue
+        if len(row) != 4:
+            raise HandEyeError(f"{path}:{line_no}: expected 4 values u,v,x,y, got {len(row)}")
+        try:
+            values = [float(cell) for cell in row]
+        except ValueError:
+            raise HandEyeError(f"{path}:{line_no}: not a number in {','.join(row)}") from None
+        if not all(math.isfinite(v) for v in values):
+            raise HandEyeError(f"{path}:{line_no}: values must be finite")
+        points.append((line_no, *values))
+    return np.array(points, dtype=float) if points else np.zeros((0, 5))
+
+
+def check_points(points: np.ndarray, source: str) -> None:
+    """Refuse sets that cannot determine the map: duplicates, too few, collinear."""
+    seen: dict[tuple[float, float], int] = {}
+    for line_no, u, v, _x, _y in points:
+        key = (u, v)
+        if key in seen:
+            raise HandEyeError(f"{source}:{int(line_no)}: duplicate pixel point ({u:g}, {v:g}), also line {seen[key]}")
+        seen[key] = int(line_no)
+    if len(points) < 3:
+        raise HandEyeError(f"{source}: {len(points)} distinct points; at least 3 non-collinear are needed (9 usual)")
+    for columns, what in (((1, 2), "pixel"), ((3, 4), "robot")):
+        xy = points[:, columns]
+        centred = xy - xy.mean(axis=0)
+        singular = np.linalg.svd(centred, compute_uv=False)
+        if singular[1] <= 1e-9 * max(singular[0], 1e-12):
+            raise HandEyeError(f"{source}: the {what} points are collinear; the map is not determined")
+
+
+def _affine(points: np.ndarray) -> np.ndarray:
+    uv1 = np.column_stack([points[:, 1], points[:, 2], np.ones(len(points))])
+    solution, *_ = np.linalg.lstsq(uv1, points[:, 3:5], rcond=None)
+    return solution.T  # 2x3
+
+
+def _similarity(points: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """Gauss-Newton on (theta, sx, sy, tx, ty) for [x y] = R(theta) diag(sx, sy) [u v] + t."""
+    a = start[:, :2]
+    theta = math.atan2(a[1, 0], a[0, 0])
+    sx = math.hypot(a[0, 0], a[1, 0])
+    sy = math.copysign(math.hypot(a[0, 1], a[1, 1]), np.linalg.det(a))
+    params = np.array([theta, sx, sy, start[0, 2], start[1, 2]])
+    u, v, xy = points[:, 1], points[:, 2], points[:, 3:5]
+    for _ in range(50):
+        theta, sx, sy, tx, ty = params
+        c, s = math.cos(theta), math.sin(theta)
+        model = np.column_stack([c * sx * u - s * sy * v + tx, s * sx * u + c * sy * v + ty])
+        r = (model - xy).reshape(-1)
+        jac = np.zeros((len(u) * 2, 5))
+        jac[0::2, 0] = -s * sx * u - c * sy * v
+        jac[1::2, 0] = c * sx * u - s * sy * v
+        jac[0::2, 1], jac[1::2, 1] = c * u, s * u
+        jac[0::2, 2], jac[1::2, 2] = -s * v, c * v
+        jac[0::2, 3], jac[1::2, 4] = 1.0, 1.0
+        step, *_ = np.linalg.lstsq(jac, -r, rcond=None)
+        params = params + step
+        if np.max(np.abs(step)) < 1e-13:
+            break
+    return params
+
+
+def fit(points: np.ndarray, model: str = "similarity", source: str = "<points>") -> HandEyeFit:
+    check_points(points, source)
+    affine = _affine(points)
+    if model == "affine":
+        matrix = affine
+        rotation, scale = None, None
+    else:
+        theta, sx, sy, tx, ty = _similarity(points, affine)
+        if min(abs(sx), abs(sy)) < 1e-9:
+            raise HandEyeError(f"{source}: fitted scale is zero; the points do not span the image")
+        c, s = math.cos(theta), math.sin(theta)
+        matrix = np.array([[c * sx, -s * sy, tx], [s * sx, c * sy, ty]])
+        rotation = math.degrees(math.atan2(s, c))
+        scale = (float(sx), float(sy))
+    uv1 = np.column_stack([points[:, 1], points[:, 2], np.ones(len(points))])
+    residuals = np.linalg.norm(uv1 @ matrix.T - points[:, 3:5], axis=1)
+    return HandEyeFit(
+        model=model,
+        matrix=tuple(tuple(float(v) for v in row) for row in matrix),
+        rotation_deg=rotation,
+        scale_mm_per_px=scale,
+        translation_mm=(float(matrix[0, 2]), float(matrix[1, 2])),
+        residuals_mm=tuple(float(r) for r in residuals),
+        points=len(points),
+    )
+
+
+def toml_table(result: HandEyeFit, source: str) -> str:
+    (a, b, c), (d, e, f) = result.matrix
+    lines = [
+        "[cell.camera.handeye]",
+        f"# written by `codegen calibrate handeye` from {source}: [x, y] mm = pixel_to_mm . [u, v, 1]",
+        f"# {result.points} points, max residual {result.max_residual_mm:.4f} mm, model {result.model}",
+        f"pixel_to_mm = [[{a:.9g}, {b:.9g}, {c:.9g}], [{d:.9g}, {e:.9g}, {f:.9g}]]",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def _table_pattern(name: str) -> re.Pattern:
+    """A TOML table: its header line and every following line up to the next header."""
+    return re.compile(rf"^\[{re.escape(name)}\][^\n]*\n(?:(?!\[)[^\n]*(?:\n|$))*", re.MULTILINE)
+
+
+_TABLE = _table_pattern("cell.camera.handeye")
+_ANGLE_SIGN = re.compile(r"^angle_sign\s*=\s*[-+]?\d+[^\n]*$", re.MULTILINE)
+
+
+def _with_angle_sign(text: str, sign: int) -> str:
+    """The [cell.camera] table's angle_sign set to what the fitted map's image imposes."""
+    mirrored = "mirrored" if sign < 0 else "not mirrored"
+    line = f"angle_sign = {sign:<22d}# set by `codegen calibrate handeye`: the image is {mirrored}"
+    camera = _table_pattern("cell.camera").search(text)
+    if camera is None:
+        return text
+    body = camera.group(0)
+    body = _ANGLE_SIGN.sub(line, body, count=1) if _ANGLE_SIGN.search(body) else body.rstrip("\n") + "\n" + line + "\n"
+    return text[: camera.start()] + body + text[camera.end() :]
+
+
+def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
+    """Replace (or add) the [cell.camera.handeye] table, keeping the rest of the file as written."""
+    from codegen.model.cell import CellError, image_angle_sign, replace_cell_file
+
+    text = cell_path.read_text(encoding="utf-8")
+    table = toml_table(result, source)
+    if _TABLE.search(text):
+        new = _TABLE.sub(lambda m: table + "\n", text, count=1)
+    else:
+        match = _table_pattern("cell.camera").search(text)
+        if match is None:
+            raise HandEyeError(f"{cell_path}: no [cell.camera] table to put the calibration after")
+        new = text[: match.end()].rstrip("\n") + "\n\n" + table + "\n" + text[match.end() :]
+    new = _with_angle_sign(new, image_angle_sign(result.matrix))
+    try:
+        replace_cell_file(cell_path, new)  # the edited file must still be a valid cell
+    except CellError as exc:
+        raise HandEyeError(f"{cell_path}: edited file would not load: {exc}") from None

@@ -1,0 +1,129 @@
+"""The [laser] table of a cell file: source 003's two-beam sensor station, the pin and the calibration's moves."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from codegen.model.cell import TaughtPose
+from codegen.model.io import per_target
+
+PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
+DEPTH_STEP_MIN_MM = 2.0
+KEYS = frozenset(
+    {
+        "sensor_frame",
+        "pin_radius_mm",
+        "circle_mm",
+        "depths_mm",
+        "clearance_mm",
+        "offset_max_mm",
+        "circle_speed_mm_s",
+        "search_speed_mm_s",
+        "beam_x",
+        "beam_y",
+    }
+)
+
+
+@dataclass(frozen=True)
+class Laser:
+    """sensor_frame: S in the base frame (its xy-plane the beams', beam X along its x from the -x side,
+    beam Y along its y, crossing at its origin); pin_radius_mm: the calibrated pin's; circle_mm: the
+    circles' radius; depths_mm: the guessed tip below the beams' plane on each circle; clearance_mm: the
+    tip search starts this far above the plane and ends as far below; offset_max_mm: how far the true tip
+    and axis may lie from [cell.tool] (the circles must cross both beams; a TCP found farther is not
+    written); circle_speed_mm_s, search_speed_mm_s: the TCP's speed on the circles and in the search;
+    beam_x, beam_y: each sensor's switching output, per target (an input number or name)."""
+
+    sensor_frame: TaughtPose
+    pin_radius_mm: float
+    circle_mm: float
+    depths_mm: tuple[float, float]
+    clearance_mm: float
+    offset_max_mm: float
+    circle_speed_mm_s: float
+    search_speed_mm_s: float
+    beam_x: dict
+    beam_y: dict
+
+
+def _bounded(ctx, table: dict, key: str, default: float, low: float, high: float, why: str) -> float:
+    path = f"laser.{key}"
+    value = ctx.number(table, key, path) if key in table else default
+    if not low < value <= high:
+        ctx.fail(path, f"must be in ({low:g}, {high:g}] {why}, got {value:g}")
+    return value
+
+
+def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
+    if "laser" not in data:
+        return None
+    table = ctx.table(data, "laser", "laser")
+    ctx.no_unknown(table, KEYS, "laser")
+    frame = ctx.pose("sensor_frame", ctx.require(table, "sensor_frame", "laser.sensor_frame"), "laser.sensor_frame",
+                     pose_format)
+    radius = _bounded(ctx, table, "pin_radius_mm", 1.0, 0.0, 25.0, "mm")
+    if radius < PIN_MIN_MM:
+        ctx.fail("laser.pin_radius_mm", f"must be at least {PIN_MIN_MM} mm (a thinner pin is not a beam's target)")
+    circle = _bounded(ctx, table, "circle_mm", 10.0, 0.0, 100.0, "mm")
+    offset = _bounded(ctx, table, "offset_max_mm", 3.0, 0.0, 50.0, "mm")
+    clearance = _bounded(ctx, table, "clearance_mm", 10.0, 0.0, 200.0, "mm")
+    depths = ctx.numbers(table.get("depths_mm", [5.0, 15.0]), 2, "laser.depths_mm")
+    if not 0 < depths[0] < depths[1] <= 200:
+        ctx.fail("laser.depths_mm", "expected [d1, d2] with 0 < d1 < d2 <= 200 mm: the guessed tip below the beams")
+    if depths[1] - depths[0] < DEPTH_STEP_MIN_MM:
+        ctx.fail(
+            "laser.depths_mm",
+            f"d2 - d1 must be at least {DEPTH_STEP_MIN_MM:g} mm: the axis is the centres' difference over it, a "
+            "smaller step multiplies their errors",
+        )
+    circle_speed = _bounded(ctx, table, "circle_speed_mm_s", 10.0, 0.0, 250.0, "mm/s")
+    search_speed = _bounded(ctx, table, "search_speed_mm_s", 2.0, 0.0, 50.0, "mm/s")
+    # the circle starts at 45 deg between the beams and must cross each twice: the axis may lie offset_max_mm
+    # from where the tool's data puts it, and the pin is radius_mm wide
+    if offset + radius >= circle / math.sqrt(2.0):
+        ctx.fail(
+            "laser.circle_mm",
+            f"must exceed sqrt(2) (offset_max_mm + pin_radius_mm) = {math.sqrt(2.0) * (offset + radius):.3f} mm: "
+            "the circle starts between the beams and must cross each of them twice",
+        )
+    if clearance <= offset:
+        ctx.fail("laser.clearance_mm", f"must exceed offset_max_mm ({offset:g}): the search must start above the tip")
+    if depths[0] <= offset + radius:
+        ctx.fail("laser.depths_mm", f"d1 must exceed offset_max_mm + pin_radius_mm ({offset + radius:g} mm): "
+                 "the circles must see the pin's side, not its end")
+    from codegen.controllers import get_target
+
+    for target in targets:
+        if not facts(get_target(target)).get("files"):
+            ctx.fail("laser", f"codegen has no laser TCP program for {get_target(target).title}: take {target} out "
+                     "of cell.targets for this cell")
+    beams = {}
+    for key in ("beam_x", "beam_y"):
+        beams[key] = per_target(ctx, table, key, targets, required=True, prefix="laser")
+    for target in targets:
+        x, y = beams["beam_x"][target], beams["beam_y"][target]
+        if str(x).upper() == str(y).upper():  # a named signal's name ignores case (RAPID)
+            ctx.fail(f"laser.beam_y.{target}", "must differ from beam_x: one input per sensor")
+        cycle = float(get_target(target).program["signal_cycle_s"])
+        if circle_speed * cycle > radius / 2:
+            ctx.fail(
+                "laser.circle_speed_mm_s",
+                f"{target} sees its inputs every {cycle * 1000:g} ms: at {circle_speed:g} mm/s the pin moves "
+                f"{circle_speed * cycle:.3f} mm between two looks, more than half its radius: slow the circles",
+            )
+    return Laser(frame, radius, circle, depths, clearance, offset, circle_speed, search_speed, beams["beam_x"],
+                 beams["beam_y"])
+
+
+def laser_of(cell) -> Laser | None:
+    """A cell's [laser] station, or None."""
+    return cell.sections.get("laser")
+
+
+def facts(target) -> dict:
+    """The laser kind's table [program.laser] of a target (targets/<t>.toml), checked against its keys."""
+    from codegen.protocol import get_kind  # the registry imports this package: asked when called
+
+    return get_kind("laser").facts(target)

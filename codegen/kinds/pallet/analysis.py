@@ -1,0 +1,78 @@
+"""A pallet's refusals (frame, overlap, overhang) and warnings (support, frame upside down), by key path."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from codegen.kinds.pallet import checks
+from codegen.kinds.pallet.patterns import layout
+from codegen.kinds.pallet.section import Pallet, parse_pallets
+from codegen.kinds.pallet.stack import FrameError, pallet2base
+
+ENTRY_CLEARANCE_MM = 10.0  # the carried box's bottom this far above the layer's tops at the entry
+
+
+def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
+    """Fails (ctx.fail: file, key path) on what cannot be stacked; returns the warnings."""
+    warnings = []
+    try:
+        frame = pallet2base(pallet.origin, pallet.x_point, pallet.xy_point)
+    except FrameError as exc:
+        ctx.fail(path, str(exc))
+    if frame[2, 2] < 0:
+        warnings.append(
+            f"{path}.frame: the pallet's z points down in the base frame (the tool would come from below): "
+            "teach xy_point on the other side of the x axis"
+        )
+    clearance = pallet.entry_dz - pallet.box[2]
+    if clearance < ENTRY_CLEARANCE_MM:
+        warnings.append(
+            f"{path}.entry_dz: {pallet.entry_dz:g} mm above the target: a box in the gripper hangs "
+            f"{pallet.box[2]:g} mm below the tool, so at the entry its bottom is {max(0.0, -clearance):g} mm below "
+            "the tops of the boxes already in the layer and the joint move into the entry may sweep through "
+            f"them (entry_dz >= box height + {ENTRY_CLEARANCE_MM:g} mm keeps it above)"
+        )
+    footprint = pallet.box[:2]
+    layouts = {}
+    for name in pallet.patterns:
+        where = f"{path}.patterns.{name}"
+        boxes = layout(pallet, name)
+        if not boxes:
+            ctx.fail(where, f"no box of {footprint[0]:g} x {footprint[1]:g} mm fits this family on the pallet")
+        for i, j, area in checks.overlaps(boxes, footprint):
+            ctx.fail(where, f"boxes {i + 1} and {j + 1} overlap ({area:.1f} mm^2)")
+        for i, beyond in checks.overhangs(boxes, footprint, pallet.size):
+            if beyond > pallet.overhang_mm + 1e-6:
+                ctx.fail(
+                    where,
+                    f"box {i + 1} reaches {beyond:.1f} mm beyond the pallet's edge "
+                    f"(overhang_mm allows {pallet.overhang_mm:g})",
+                )
+        layouts[name] = boxes
+    seen = set()
+    for layer in range(2, pallet.layers + 1):
+        below, above = pallet.cycle[(layer - 2) % len(pallet.cycle)], pallet.cycle[(layer - 1) % len(pallet.cycle)]
+        if (below, above) in seen:
+            continue
+        seen.add((below, above))
+        shares = checks.support(layouts[above], layouts[below], footprint)
+        weak = [(i, s) for i, s in enumerate(shares) if s < pallet.support_min - 1e-9]
+        if weak:
+            listed = ", ".join(f"box {i + 1} {s:.0%}" for i, s in weak[:8]) + (" ..." if len(weak) > 8 else "")
+            warnings.append(
+                f"{path}: pattern {above} on pattern {below} (layer {layer}): {listed} of its bottom rests on "
+                f"the layer below (support_min {pallet.support_min:.0%})"
+            )
+    return warnings
+
+
+def frame_matrix(pallet: Pallet) -> np.ndarray:
+    return pallet2base(pallet.origin, pallet.x_point, pallet.xy_point)
+
+
+def checked_pallets(ctx, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
+    """The file's [[pallet]] tables, validated and checked; the warnings go to ctx."""
+    pallets = parse_pallets(ctx, data, pose_format)
+    for i, pallet in enumerate(pallets):
+        ctx.warnings.extend(f"{ctx.source}: {w}" for w in check_pallet(ctx, pallet, f"pallet[{i}]"))
+    return pallets

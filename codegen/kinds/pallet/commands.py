@@ -1,0 +1,47 @@
+"""`codegen pallet`: the boxes of every pallet of a cell, its checks, a cycle estimate, and pictures of every layer."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from codegen.cli_base import UserError
+from codegen.cli_base import dump as _dump
+from codegen.model.cell import EXAMPLES_DIR, CellError
+
+TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
+
+
+@click.command("pallet")
+@click.argument("cell", required=False, type=click.Path(dir_okay=False))
+@click.option("--json", "as_json", is_flag=True, help="JSON (keys in DESIGN.md 4) instead of text.")
+@click.option("--svg", "svg_dir", type=click.Path(file_okay=False), help="Write one SVG per layer into this folder.")
+def pallet(cell, as_json, svg_dir) -> None:
+    """Every box of every [[pallet]] of CELL (default: source 004's test pallet) with its target, entry,
+    approach and retreat in the pallet and the base frame; overlapping or overhanging boxes are refused."""
+    from codegen.kinds.pallet.pictures import pictures
+    from codegen.kinds.pallet.report import load_pallet_file, report, text
+
+    try:
+        data = load_pallet_file(cell or TESTMAT)
+    except CellError as exc:
+        raise UserError(str(exc)) from None
+    if not data.pallets:
+        raise UserError(f"{data.source}: no [[pallet]] table")
+    for warning in data.warnings:
+        click.echo(f"warning: {warning}", err=True)
+    result = report(data)
+    if svg_dir is not None:
+        folder = Path(svg_dir)
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            for p in data.pallets:
+                for name, svg in pictures(p).items():
+                    (folder / name).write_text(svg, encoding="utf-8")
+        except OSError as exc:
+            raise UserError(f"{folder}: cannot write the pictures: {exc.strerror or exc}") from None
+    if as_json:
+        _dump(result)
+    else:
+        click.echo(text(result))

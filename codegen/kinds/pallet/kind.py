@@ -1,0 +1,80 @@
+"""Palletizing (source 004) as a program kind: the [[pallet]] tables, a stacking program per pallet and target."""
+
+from __future__ import annotations
+
+from codegen.emit import Emitter
+from codegen.kinds.pallet import reach
+from codegen.kinds.pallet.analysis import checked_pallets
+from codegen.kinds.pallet.program import check_level, pallet_context, pallet_file_names, pallet_identifiers
+from codegen.kinds.pallet.section import pallets_of
+from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
+
+
+class PalletKind(ProgramKind):
+    name = "pallet"
+    order = 20
+    tables = frozenset({"pallet"})
+    target_keys = {
+        "files": list,  # a stacking program's files per [[pallet]] ("...{pallet}...")
+        "counters": dict,  # layer and box: the counters' names for --input and verify
+        "kept": dict,  # layer and box: where the program reports the counters, if not in counters
+        "registers": int,  # the first register of the counters, where the controller keeps none
+        "registers_max": int,  # the last register the counters may use
+        "level_only": bool,  # no pose product: a level pallet only
+    }
+
+    @classmethod
+    def parse_section(cls, ctx, data: dict, cell):
+        return checked_pallets(ctx, data, cell.pose_format) or None
+
+    @classmethod
+    def standalone(cls, data: dict) -> bool:
+        return bool(data.get("pallet"))
+
+    @classmethod
+    def check_cell(cls, ctx, cell) -> None:
+        if pallets_of(cell) and (cell.io is None or not cell.io.feedback):
+            ctx.fail(
+                "cell.io", "a cell with [[pallet]] needs [cell.io] with feedback: the gripper's output and its sensor"
+            )
+
+    @classmethod
+    def programs(cls, cell, target) -> list[ProgramPlan]:
+        """Each [[pallet]]'s stacking program: "pal_<name>.src" from the template "kinds/pallet.src.j2"."""
+        pallets = pallets_of(cell)
+        if not pallets:
+            return []
+        emitter = Emitter(target)
+        out = []
+        for index, (pallet, ident) in enumerate(zip(pallets, pallet_identifiers(cell, target), strict=True)):
+            check_level(pallet, target)
+            context = pallet_context(cell, pallet, index, ident, target, emitter)
+            names = pallet_file_names(target, context["ident"])
+            files = tuple(
+                ProgramFile(file_name, f"{target.name}/kinds/{pattern.format(pallet='pallet')}.j2")
+                for pattern, file_name in zip(cls.facts(target)["files"], names, strict=True)
+            )
+            out.append(ProgramPlan(cls.name, context["ident"], files, {"pallet": context}, index))
+        return out
+
+    @classmethod
+    def reach(cls, cell, targets: list[str]) -> list:
+        return reach.check(cell, targets)
+
+    @classmethod
+    def identities(cls, check) -> list:
+        from codegen.kinds.pallet import derivation  # sympy: only `codegen derive` pays for it
+
+        return [*derivation.pallet_identities(check), *derivation.box_pose_identities(check)]
+
+    @classmethod
+    def verify_section(cls, cell, files: tuple, targets: tuple, seed: int):
+        from codegen.kinds.pallet.verify import pallet_section
+
+        return pallet_section(cell, files, targets, seed)
+
+    @classmethod
+    def commands(cls) -> list:
+        from codegen.kinds.pallet.commands import pallet
+
+        return [(None, pallet)]

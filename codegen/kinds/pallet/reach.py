@@ -1,0 +1,140 @@
+"""The whole stack proven reachable at generate time: every move of a full cycle solved for the cell's arm."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.kinds.pallet.cycle import PalletCase, expected, layer_counts
+from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.stack import pattern_of
+from codegen.robot import solve
+from codegen.robot.config import FORMS
+from codegen.robot.expect import Margins, margins, require_margins
+from codegen.robot.taught import ReachError
+
+
+@dataclass(frozen=True)
+class PalletReach(Margins):
+    """One pallet on one target's arm: the least margins over a full cycle's moves."""
+
+    pallet: str = ""
+    moves: int = 0
+
+    def subject(self) -> tuple[str, int, str]:
+        return f"pallet {self.pallet}", self.moves, "moves"
+
+    def keys(self) -> dict:
+        return {"pallet": self.pallet, "moves": self.moves}
+
+
+def full_cycle(cell, pallet):
+    """The moves of a whole stack (or unstack) from its first box, as the reference has them."""
+    first = (1, 1) if pallet.mode == "stack" else (pallet.layers, layer_counts(pallet)[pallet.layers])
+    return expected(cell, pallet, PalletCase("full", *first)).moves
+
+
+PICK_KEY = "Q"  # the configuration key of the joint move above Q (a box's key: its pattern and number)
+
+
+@dataclass(frozen=True)
+class Named:
+    """The configurations a pallet program names, in the target's form (codegen/robot/config.py FORMS):
+    per box of a pattern (pattern name, box number) the one its entry takes (the joint move onto the
+    pallet), and Q's (the joint move above Q)."""
+
+    form: str
+    values: dict  # (pattern, number) or PICK_KEY -> the form's value
+
+    def key(self, pallet, move) -> object:
+        """The configuration key of a joint move (by its reference name), None: a move that names none."""
+        words = move.name.split()
+        if move.kind != "joint" or words[0] != "layer":
+            return None
+        if move.name.endswith("above Q"):
+            return PICK_KEY
+        return (pattern_of(pallet, int(words[1])), int(words[3])) if words[-1] == "entry" else None
+
+
+def joints_of(cell, target: str, moves, where: str, pallet=None, named: Named | None = None) -> list[np.ndarray]:
+    """Each move's joints for the target's arm with the cell's tool, from home: a joint move to a pose the
+    program names a configuration for (named) takes the solution of that configuration (the controller's
+    rule: codegen/robot/config.py), another joint move the solution nearest the joints before it (the
+    rule where the program names none); a linear move keeps the configuration (its branch) and may not
+    jump. ReachError names the move."""
+    robot = cell.robot
+    arm = robot.arms[target]
+    poses = np.array([m.tcp2base for m in moves]).reshape(-1, 4, 4)
+    solutions = solve.branches(arm, solve.flange_poses(poses, robot.tool.tcp2flange))
+    q, branch, out = np.asarray(robot.home[target], dtype=float), None, []
+    for move, sols in zip(moves, solutions, strict=True):
+        at = f"{where} {move.name} ({target}, {arm.model})"
+        key = None if named is None else named.key(pallet, move)
+        if key is not None and key in named.values:
+            joints, chosen = FORMS[named.form].select(arm, sols, named.values[key])
+            if np.isnan(joints).any():
+                raise ReachError(
+                    f"{at}: no solution in the configuration {_text(named.values[key])} the program names for it "
+                    f"(chosen where the full cycle first reaches the box): the arm's configuration changes "
+                    "between layers; move the pallet or change the tool's orientation"
+                )
+        else:
+            joints, chosen = solve.nearest(arm, sols, q)
+        if np.isnan(joints).any():
+            raise ReachError(f"{at}: out of reach (no solution within the joint limits for the tool's flange)")
+        if move.kind == "linear" and (int(chosen) != branch or np.max(np.abs(joints - q)) > 90.0):
+            raise ReachError(f"{at}: the linear move would change the arm's configuration (a wrist or elbow flip)")
+        out.append(joints)
+        q, branch = joints, int(chosen)
+    return out
+
+
+def _text(value) -> str:
+    return "[" + ", ".join(f"{v:.4f}" if isinstance(v, float) else str(v) for v in value) + "]"
+
+
+def configurations(cell, pallet, target: str) -> Named | None:
+    """The configurations the target's program names for a pallet, chosen at generate time: each box's
+    (pattern, number) that of its entry where the full cycle first reaches it from home by the nearest
+    rule (stacking: the lowest layer using the pattern; unstacking: the highest), Q's at the first time
+    above Q; None without an arm."""
+    form = get_target(target).configuration
+    if cell.robot is None or target not in cell.robot.arms or form not in FORMS:
+        return None
+    arm = cell.robot.arms[target]
+    moves = full_cycle(cell, pallet)
+    named, values = Named(form, {}), {}
+    for move, joints in zip(moves, joints_of(cell, target, moves, f"pallet {pallet.name!r}"), strict=True):
+        key = named.key(pallet, move)
+        if key is not None and key not in values:
+            values[key] = FORMS[form].of(arm, joints)
+    return Named(form, values)
+
+
+def check_pallet(cell, pallet, target: str) -> PalletReach:
+    """Every move of a full cycle for the target's arm with the cell's tool, from home, as the program
+    moves: a joint move in the configuration the program names for it (configurations), a linear move
+    keeping the arm's configuration (its branch) without a jump; each pose within the cell's joint and
+    wrist margins. ReachError names pallet, target, box and pose."""
+    robot = cell.robot
+    arm = robot.arms[target]
+    moves = full_cycle(cell, pallet)
+    named = configurations(cell, pallet, target)
+    worst_joint, worst_wrist, worst = np.inf, np.inf, ""
+    planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
+    for move, joints in zip(moves, planned, strict=True):
+        joint, wrist = margins(arm, joints)
+        if joint < worst_joint:
+            worst_joint, worst = joint, move.name
+        worst_wrist = min(worst_wrist, wrist)
+    require_margins(f"pallet {pallet.name!r} ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst)
+    return PalletReach(target, arm.model, worst_joint, worst_wrist, worst, pallet=pallet.name, moves=len(moves))
+
+
+def check(cell, only: list[str] | None = None) -> list[PalletReach]:
+    if cell.robot is None:
+        return []
+    targets = [t for t in cell.targets if t in cell.robot.arms and (only is None or t in only)]
+    return [check_pallet(cell, pallet, target) for target in targets for pallet in pallets_of(cell)]

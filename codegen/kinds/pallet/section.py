@@ -1,0 +1,234 @@
+"""The [[pallet]] tables of a cell file, validated (file, key path; exit 2 through CellError)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # the cell's validation helpers (codegen.model.cell builds on this module)
+    from codegen.model.cell import _Context
+
+PALLET_KEYS = frozenset(
+    {
+        "name",
+        "frame",
+        "size",
+        "box",
+        "layers",
+        "cycle",
+        "angle_sense",
+        "tool_orientation",
+        "entry_dz",
+        "approach",
+        "retreat",
+        "pick",
+        "pick_lift",
+        "patterns",
+        "overhang_mm",
+        "support_min",
+        "slip_sheet",
+        "mode",
+        "approach_auto",
+    }
+)
+FRAME_KEYS = frozenset({"origin", "x_point", "xy_point"})
+FAMILIES = ("column", "interlock", "pinwheel", "split-row")
+FAMILY_KEYS = frozenset({"family", "mirror", "label_out"})
+SLIP_KEYS = frozenset({"every", "thickness"})
+MAX_LAYERS = 200
+MAX_SIZE_MM = 5000.0
+PICK_LIFT_MM = 100.0  # the default lift above Q
+MAX_PICK_LIFT_MM = 2000.0
+
+
+@dataclass(frozen=True)
+class FamilySpec:
+    """A generated pattern: its family, mirrored (x -> L - x, angle -> -angle), labels turned outwards."""
+
+    family: str
+    mirror: bool = False
+    label_out: bool = False
+
+
+@dataclass(frozen=True)
+class Pallet:
+    name: str
+    origin: tuple[float, float, float]  # taught, base frame, mm
+    x_point: tuple[float, float, float]
+    xy_point: tuple[float, float, float]
+    size: tuple[float, float]  # length along the pallet's x, width along its y, mm
+    box: tuple[float, float, float]  # length (its x at angle 0), width, height, mm
+    layers: int
+    cycle: tuple[str, ...]
+    angle_sense: str  # "cw" or "ccw": how the pattern angles turn, seen from above (+z)
+    tool_orientation: tuple[float, float, float]  # a, b, c of a target at box angle 0, pallet frame
+    entry_dz: float
+    approach: tuple[float, float, float]
+    retreat: tuple[float, float, float]
+    pick: object  # pick pose Q (codegen.model.cell.TaughtPose, base frame) or None
+    patterns: dict  # name -> tuple of (x, y, angle) or FamilySpec
+    overhang_mm: float = 0.0  # how far a box may reach beyond the pallet's edge
+    support_min: float = 0.6  # warn when less of a box's bottom rests on the layer below
+    slip_every: int = 0  # a slip sheet on top of every n-th layer (0: none)
+    slip_thickness: float = 0.0
+    mode: str = "stack"  # "stack": place the boxes from Q; "unstack": take them off, top layer first, to Q
+    approach_auto: bool = False  # approach and retreat from the side away from the layer's earlier boxes
+    pick_lift: float = PICK_LIFT_MM  # the box comes off (goes onto) Q straight along the base's z, mm
+
+
+def parse_pallets(ctx: _Context, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
+    raw = data.get("pallet", [])
+    if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
+        ctx.fail("pallet", "expected [[pallet]] tables")
+    pallets = tuple(_pallet(ctx, table, f"pallet[{i}]", pose_format) for i, table in enumerate(raw))
+    names = [p.name for p in pallets]
+    for i, name in enumerate(names):
+        if name in names[:i]:
+            ctx.fail(f"pallet[{i}].name", f"pallet {name!r} named twice")
+    return pallets
+
+
+def _positive(ctx: _Context, values, count: int, path: str, limit: float = MAX_SIZE_MM) -> tuple[float, ...]:
+    numbers = ctx.numbers(values, count, path)
+    if not all(0 < v <= limit for v in numbers):
+        ctx.fail(path, f"every value must be in (0, {limit:g}] mm")
+    return numbers
+
+
+def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
+    ctx.no_unknown(table, PALLET_KEYS, path)
+    name = ctx.name(table, "name", f"{path}.name")
+    frame = ctx.table(table, "frame", f"{path}.frame")
+    ctx.no_unknown(frame, FRAME_KEYS, f"{path}.frame")
+    points = [
+        ctx.numbers(ctx.require(frame, k, f"{path}.frame.{k}"), 3, f"{path}.frame.{k}") for k in sorted(FRAME_KEYS)
+    ]
+    origin, x_point, xy_point = points  # sorted: origin, x_point, xy_point
+    size = _positive(ctx, ctx.require(table, "size", f"{path}.size"), 2, f"{path}.size")
+    box = _positive(ctx, ctx.require(table, "box", f"{path}.box"), 3, f"{path}.box")
+    layers = ctx.require(table, "layers", f"{path}.layers")
+    if isinstance(layers, bool) or not isinstance(layers, int) or not 1 <= layers <= MAX_LAYERS:
+        ctx.fail(f"{path}.layers", f"expected a whole number of layers in 1..{MAX_LAYERS}")
+    patterns = _patterns(ctx, ctx.table(table, "patterns", f"{path}.patterns"), f"{path}.patterns")
+    cycle = ctx.require(table, "cycle", f"{path}.cycle")
+    if not isinstance(cycle, list) or not cycle:
+        ctx.fail(f"{path}.cycle", "expected a non-empty list of pattern names")
+    for i, entry in enumerate(cycle):
+        if not isinstance(entry, str) or entry not in patterns:
+            ctx.fail(f"{path}.cycle[{i}]", f"no pattern {entry!r}; the patterns: {', '.join(patterns)}")
+    sense = table.get("angle_sense", "ccw")
+    if sense not in ("cw", "ccw"):
+        ctx.fail(f"{path}.angle_sense", 'expected "cw" (clockwise, as source 004\'s editor) or "ccw"')
+    orientation = ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, f"{path}.tool_orientation")
+    entry_dz = ctx.number(table, "entry_dz", f"{path}.entry_dz")
+    if not 0 < entry_dz <= MAX_SIZE_MM:
+        ctx.fail(f"{path}.entry_dz", f"must be in (0, {MAX_SIZE_MM:g}] mm: the entry is above the target")
+    approach = _offset(ctx, ctx.require(table, "approach", f"{path}.approach"), f"{path}.approach")
+    retreat = _offset(ctx, table.get("retreat", list(approach)), f"{path}.retreat")
+    # the pick pose Q, base frame, in the cell's pose format
+    pick = ctx.pose("pick", ctx.require(table, "pick", f"{path}.pick"), f"{path}.pick", pose_format)
+    pick_lift = ctx.finite(table.get("pick_lift", PICK_LIFT_MM), f"{path}.pick_lift")
+    if not 0 < pick_lift <= MAX_PICK_LIFT_MM:
+        ctx.fail(f"{path}.pick_lift", f"must be in (0, {MAX_PICK_LIFT_MM:g}] mm: the lift straight up from Q")
+    overhang = table.get("overhang_mm", 0.0)
+    overhang = ctx.finite(overhang, f"{path}.overhang_mm")
+    if not 0 <= overhang <= 200:
+        ctx.fail(f"{path}.overhang_mm", "must be in [0, 200] mm")
+    support = ctx.finite(table.get("support_min", 0.6), f"{path}.support_min")
+    if not 0 <= support <= 1:
+        ctx.fail(f"{path}.support_min", "must be a share in [0, 1]")
+    slip_every, slip_thickness = 0, 0.0
+    if "slip_sheet" in table:
+        slip = ctx.table(table, "slip_sheet", f"{path}.slip_sheet")
+        ctx.no_unknown(slip, SLIP_KEYS, f"{path}.slip_sheet")
+        slip_every = ctx.require(slip, "every", f"{path}.slip_sheet.every")
+        if isinstance(slip_every, bool) or not isinstance(slip_every, int) or not 1 <= slip_every <= MAX_LAYERS:
+            ctx.fail(f"{path}.slip_sheet.every", "expected a whole number of layers (a sheet on top of every n-th)")
+        slip_thickness = ctx.number(slip, "thickness", f"{path}.slip_sheet.thickness")
+        if not 0 < slip_thickness <= 50:
+            ctx.fail(f"{path}.slip_sheet.thickness", "must be in (0, 50] mm")
+    auto = table.get("approach_auto", False)
+    if not isinstance(auto, bool):
+        ctx.fail(f"{path}.approach_auto", "must be true or false")
+    if auto and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
+        ctx.fail(f"{path}.approach_auto", "turns the x-y part of approach and retreat: each needs one of 1 mm or more")
+    mode = table.get("mode", "stack")
+    if mode not in ("stack", "unstack"):
+        ctx.fail(f"{path}.mode", 'expected "stack" (place the boxes) or "unstack" (take them off, top layer first)')
+    return Pallet(
+        name,
+        origin,
+        x_point,
+        xy_point,
+        size,
+        box,
+        layers,
+        tuple(cycle),
+        sense,
+        orientation,
+        entry_dz,
+        approach,
+        retreat,
+        pick,
+        patterns,
+        overhang,
+        support,
+        slip_every,
+        slip_thickness,
+        mode,
+        auto,
+        pick_lift,
+    )
+
+
+def _offset(ctx: _Context, values, path: str) -> tuple[float, float, float]:
+    numbers = ctx.numbers(values, 3, path)
+    if max(abs(v) for v in numbers) > MAX_SIZE_MM:
+        ctx.fail(path, f"every value must be within +-{MAX_SIZE_MM:g} mm")
+    if numbers[2] <= 0:
+        ctx.fail(path, "z must be above the target (> 0): the arm comes from above")
+    return numbers
+
+
+def _patterns(ctx: _Context, table: dict, path: str) -> dict:
+    if not table:
+        ctx.fail(path, "expected at least one pattern")
+    out = {}
+    for key, value in table.items():
+        where = f"{path}.{key}"
+        if isinstance(value, dict):
+            ctx.no_unknown(value, FAMILY_KEYS, where)
+            family = ctx.require(value, "family", f"{where}.family")
+            if family not in FAMILIES:
+                ctx.fail(f"{where}.family", f"unknown family {family!r}; known: {', '.join(FAMILIES)}")
+            flags = {}
+            for flag in ("mirror", "label_out"):
+                flags[flag] = value.get(flag, False)
+                if not isinstance(flags[flag], bool):
+                    ctx.fail(f"{where}.{flag}", "must be true or false")
+            out[key] = FamilySpec(family, **flags)
+        elif isinstance(value, list) and value:
+            boxes = tuple(ctx.numbers(box, 3, f"{where}[{i}]") for i, box in enumerate(value))
+            for i, box in enumerate(boxes):
+                if max(abs(v) for v in box[:2]) > MAX_SIZE_MM or abs(box[2]) > 360:
+                    ctx.fail(f"{where}[{i}]", f"x, y within +-{MAX_SIZE_MM:g} mm and the angle within +-360 deg")
+            out[key] = boxes
+        else:
+            ctx.fail(where, "expected a list of [x, y, angle] boxes or a table { family = ... }")
+    return out
+
+
+def pallets_of(cell) -> tuple[Pallet, ...]:
+    """A cell's pallets ([[pallet]]; none: ())."""
+    return cell.sections.get("pallet") or ()
+
+
+def facts(target) -> dict:
+    """The pallet kind's table [program.pallet] of a target (targets/<t>.toml), checked against its keys."""
+    from codegen.protocol import get_kind  # the registry imports this package: asked when called
+
+    return get_kind("pallet").facts(target)
+
+
+__all__ = ["FAMILIES", "FamilySpec", "Pallet", "pallets_of", "parse_pallets"]

@@ -1,0 +1,269 @@
+"""Point correction (source 000): one camera reading moves every taught pose of the station rigidly."""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+
+from codegen import derived
+from codegen.guard import (
+    GUARD_CODES,
+    INVALID_READING,
+    READING_RANGE_DEG,
+    ROTATION_OVER_LIMIT,
+    SHIFT_OVER_LIMIT,
+    TAUGHT_RANGE_MM,
+    UNKNOWN_STATION,
+    reading_in_range,
+)
+from codegen.kinds.stations.base import Case, StationKind
+from codegen.model.vision import SECOND_LOOK_MM
+from codegen.poses import concat, invert, matrix_from_rotation_translation, planar_motions, rotz, wrap_deg
+from codegen.reference import ExpectedTrace, path_moves
+
+MARK_DECIMALS = 6
+
+
+@dataclass(frozen=True)
+class PointSpec:
+    """The mark at calibration: x mm, y mm, theta deg in the robot base frame."""
+
+    mark: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Reading:
+    """What the camera reports: station id (barcode) and the mark in the base frame, mm and deg."""
+
+    station_id: int
+    x: float
+    y: float
+    theta: float
+
+
+@dataclass(frozen=True)
+class PointDetail:
+    shift_mm: float
+    rotation_deg: float  # wrap(tn_theta - t_theta), before the camera sign
+    phi_deg: float | None = None  # applied rotation, angle_sign * rotation_deg
+    correction: np.ndarray | None = None  # D
+
+
+def mark2base(x: float, y: float, theta_deg: float) -> np.ndarray:
+    return matrix_from_rotation_translation(rotz(math.radians(theta_deg)), (x, y, 0.0))
+
+
+@lru_cache(maxsize=4096)
+def base2mark(x: float, y: float, theta_deg: float) -> np.ndarray:
+    """Inverse of mark2base (a station's calibration mark: computed once, read-only)."""
+    out = invert(mark2base(x, y, theta_deg))
+    out.flags.writeable = False
+    return out
+
+
+def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> ExpectedTrace:
+    """The trace a correct program produces; enforce_limits=False computes the moves regardless."""
+    station = cell.station_by_id(reading.station_id)
+    if station is None:
+        return ExpectedTrace("halt", UNKNOWN_STATION)
+    if station.kind != PointKind.name:
+        raise ValueError(f"station {station.name} is a {station.kind} station, not a point station")
+    if not reading_in_range(reading.x, reading.y, reading.theta):
+        return ExpectedTrace("halt", INVALID_READING, station)
+    tx, ty, t_theta = station.spec.mark
+    shift = math.hypot(reading.x - tx, reading.y - ty)
+    rotation = wrap_deg(reading.theta - t_theta)
+    # Compared squared, as the programs do (no square root on the controller).
+    if enforce_limits and (reading.x - tx) ** 2 + (reading.y - ty) ** 2 > cell.limits.max_shift_mm**2:
+        return ExpectedTrace("halt", SHIFT_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
+    if enforce_limits and abs(rotation) > cell.limits.max_rotation_deg:
+        return ExpectedTrace("halt", ROTATION_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
+
+    phi = cell.angle_sign * rotation
+    # The part moved rigidly with the mark: partnow2base = marknow2base . base2markcal . part2base
+    marknow2base = mark2base(reading.x, reading.y, t_theta + phi)
+    correction = concat(base2mark(tx, ty, t_theta), marknow2base)  # D: a taught pose P becomes D . P
+    moves = path_moves(cell, station, correction)
+    work, work_new = station.poses[-1].matrix(), moves[len(station.poses) - 1].tcp2base
+    deviation = (
+        float(station.id),
+        float(work_new[0, 3] - work[0, 3]),
+        float(work_new[1, 3] - work[1, 3]),
+        reading.x - tx,
+        reading.y - ty,
+        phi,
+    )
+    return ExpectedTrace("ok", None, station, tuple(moves), deviation, PointDetail(shift, rotation, phi, correction))
+
+
+def _ulp32(value: float) -> float:
+    return float(np.spacing(np.float32(abs(value))))
+
+
+class PointKind(StationKind):
+    name = "point"
+    order = 0
+    station_keys = frozenset({"mark"})
+    model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
+    log_prefixes = ("deviation",)
+    log_names = ("station", "dx1", "dy1", "dx2", "dy2", "dtheta")
+
+    @classmethod
+    def commands(cls) -> list:
+        from codegen.kinds.point.commands import correct
+
+        return [(None, correct)]
+
+    @classmethod
+    def parse(cls, ctx, raw: dict, path: str, pose_format: str) -> PointSpec:
+        mark = ctx.numbers(ctx.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
+        if abs(mark[0]) > TAUGHT_RANGE_MM or abs(mark[1]) > TAUGHT_RANGE_MM:
+            ctx.fail(f"{path}.mark", f"x and y must be within +-{TAUGHT_RANGE_MM:g} mm (float32 on the controller)")
+        if abs(mark[2]) > READING_RANGE_DEG:
+            ctx.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
+        return PointSpec(mark)
+
+    @classmethod
+    def moved(cls, spec: PointSpec, mm: float) -> PointSpec:
+        x, y, theta = spec.mark
+        return replace(spec, mark=(x + mm, y, theta))
+
+    @classmethod
+    def region(cls, cell, station, offsets) -> np.ndarray:
+        # D = Trans(tn) Rz(phi) Trans(-t) with tn = t + (dx, dy): D = Trans(t) . (Trans(d) Rz(phi)) . Trans(-t)
+        x, y, _theta = station.spec.mark
+        corr = planar_motions(offsets)
+        corr[:, :2, 3] += np.array([x, y]) - np.einsum("nij,j->ni", corr[:, :2, :2], [x, y])
+        poses = np.array([p.matrix() for p in station.path])
+        return np.einsum("nij,mjk->nmik", corr, poses)
+
+    @classmethod
+    def cell_context(cls, cell, target, emitter) -> dict:
+        # the derivation's blocks: D = Trans(tn) Rz(phi) Trans(-t) ("frame") and Pn = D . P ("point")
+        return {
+            "correction": derived.printed(target.dialect, "frame"),
+            "point": derived.printed(target.dialect, "point"),
+        }
+
+    @classmethod
+    def station_context(cls, cell, station, target, emitter) -> dict:
+        origin = f"station[{station.id}] {station.name!r}"
+        return {
+            "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
+            "mark": [emitter.number(v, MARK_DECIMALS) for v in station.spec.mark],
+            "messages": {
+                reason: emitter.string(cls.fitted_message(cell, reason, station, target.string_max))
+                for reason in GUARD_CODES
+            },
+        }
+
+    @classmethod
+    def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
+        shift, rot = cell.limits.max_shift_mm, cell.limits.max_rotation_deg
+        tx, ty, t_theta = station.spec.mark
+
+        def reading(dx, dy, dtheta):
+            return Reading(station.id, tx + dx, ty + dy, wrap_deg(t_theta + dtheta))
+
+        cases = []
+        for _ in range(count):
+            r = shift * math.sqrt(rng.random())
+            a = rng.uniform(-math.pi, math.pi)
+            cases.append(Case("random", reading(r * math.cos(a), r * math.sin(a), rng.uniform(-rot, rot))))
+        cases.append(cls.nominal_case(cell, station))
+        for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0.6, 0.8)):
+            cases.append(Case("at_shift_limit", reading(sx * shift, sy * shift, 0.0)))
+            cases.append(Case("inside_shift_limit", reading(sx * (shift - 1e-3), sy * (shift - 1e-3), 0.0)))
+            cases.append(Case("beyond_shift_limit", reading(sx * (shift + 1e-3), sy * (shift + 1e-3), 0.0)))
+        for sign in (1, -1):
+            cases.append(Case("phi_at_limit", reading(0.0, 0.0, sign * rot)))
+            cases.append(Case("phi_at_limit_with_shift", reading(0.3 * shift, -0.4 * shift, sign * rot)))
+            cases.append(Case("inside_rotation_limit", reading(0.0, 0.0, sign * (rot - 1e-3))))
+            cases.append(Case("beyond_rotation_limit", reading(0.0, 0.0, sign * (rot + 1e-3))))
+        for k in range(8):  # the region's corners: shift and rotation both near their limits
+            a = k * math.pi / 4
+            for sign in (1, -1):
+                dx, dy = 0.999 * shift * math.cos(a), 0.999 * shift * math.sin(a)
+                cases.append(Case("corner", reading(dx, dy, sign * 0.999 * rot)))
+        cases.append(Case("far_beyond", reading(5 * shift, 0.0, 0.0)))
+        cases.append(Case("far_beyond", reading(0.0, 0.0, min(179.0, 5 * rot))))
+        for bad in (
+            (math.nan, ty, t_theta),
+            (tx, math.inf, t_theta),
+            (tx, ty, math.nan),
+            (tx, ty, -math.inf),
+            (-math.inf, ty, t_theta),
+            (2e5, ty, t_theta),
+            (tx, -2e5, t_theta),
+            (tx, ty, 400.0),
+        ):
+            cases.append(Case("invalid_reading", Reading(station.id, *bad)))
+        return cases
+
+    @classmethod
+    def nominal_case(cls, cell, station) -> Case:
+        return Case("zero_shift", Reading(station.id, *station.spec.mark))
+
+    @classmethod
+    def edge_spec(cls) -> PointSpec:
+        """A mark near 180 deg, so readings around it wrap."""
+        return PointSpec((300.0, 200.0, 179.5))
+
+    @classmethod
+    def accepted(cls, cell, reading: Reading) -> tuple[list[ExpectedTrace], bool]:
+        """The reference trace, plus the other side of a limit when the reading is within float32
+        resolution of it (a float32 controller may decide either way there)."""
+        reference = expected_trace(cell, reading)
+        station = cell.station_by_id(reading.station_id)
+        if reference.reason == INVALID_READING or station is None:
+            return [reference], False
+        tx, ty, t_theta = station.spec.mark
+        limits = cell.limits
+        scale = max(abs(reading.x), abs(reading.y), abs(tx), abs(ty))
+        eps_shift = 8 * limits.max_shift_mm * _ulp32(scale) + 4 * _ulp32(limits.max_shift_mm**2)
+        margin_shift = limits.max_shift_mm**2 - ((reading.x - tx) ** 2 + (reading.y - ty) ** 2)
+        eps_rot = 4 * _ulp32(max(abs(reading.theta), abs(t_theta), 360.0))
+        margin_rot = limits.max_rotation_deg - abs(wrap_deg(reading.theta - t_theta))
+        shift_options = [margin_shift < 0] if abs(margin_shift) > eps_shift else [False, True]
+        rot_options = [margin_rot < 0] if abs(margin_rot) > eps_rot else [False, True]
+        if len(shift_options) == 1 and len(rot_options) == 1:
+            return [reference], False
+        free = expected_trace(cell, reading, enforce_limits=False)
+        out = []
+        for shift_over in shift_options:
+            for rot_over in rot_options:
+                if shift_over:
+                    out.append(replace(free, status="halt", reason=SHIFT_OVER_LIMIT, moves=(), logged=None))
+                elif rot_over:
+                    out.append(replace(free, status="halt", reason=ROTATION_OVER_LIMIT, moves=(), logged=None))
+                else:
+                    out.append(free)
+        return out, True
+
+    @classmethod
+    def answer(cls, cell, target, reading: Reading) -> dict:
+        names = target.program["inputs"]
+        return {
+            names["station"]: reading.station_id,
+            names["x"]: reading.x,
+            names["y"]: reading.y,
+            names["theta"]: reading.theta,
+        }
+
+    @classmethod
+    def second_look(cls, reading: Reading) -> Reading:
+        return replace(reading, x=reading.x + SECOND_LOOK_MM, y=reading.y + SECOND_LOOK_MM)
+
+    @classmethod
+    def previous(cls, cell, target, station) -> dict:
+        """The station read at its calibration mark: the reading a stale vision PC would replay."""
+        return cls.answer(cell, target, Reading(station.id, *station.spec.mark))
+
+    @classmethod
+    def describe(cls, reading: Reading) -> str:
+        return f"station {reading.station_id} reading ({reading.x!r}, {reading.y!r}, {reading.theta!r})"
+

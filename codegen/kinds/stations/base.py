@@ -1,0 +1,184 @@
+"""The base of the station kinds: the [[station]] hooks every kind of the cell's station program provides."""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, replace
+from typing import Any, ClassVar
+
+from codegen.guard import halt_message
+from codegen.kinds.stations.program import station_program
+from codegen.protocol import ProgramKind, station_kinds
+
+
+@dataclass(frozen=True)
+class Case:
+    """One verify case: a category for the report, the kind's description of the situation and how
+    the simulated vision PC answers (codegen.model.vision.BEHAVIOURS)."""
+
+    category: str
+    reading: Any  # the kind's case type; has station_id
+    vision: str = "prompt"
+    gripper: str = "prompt"  # how the simulated gripper answers the work pose's signal (codegen.sim.gripper)
+    start: str = "home"  # where the arm stands when the program starts: "home", "away" from it, or "retreat":
+    # at its station's taught retreat (where a stopped cycle leaves it)
+
+
+class StationKind(ProgramKind):
+    """A kind whose [[station]] tables (`mode = "<name>"`) share the cell's station program: a station's spec,
+    its partial templates/<t>/kinds/<name>.j2 in that program, its float64 reference, its verify cases and its
+    report figures. Nothing outside a kind's package names its spec or case."""
+
+    station_mode = True
+
+    # The parts of the cell model the kind's programs depend on; the model-level mutation tests
+    # perturb each one ("angle_sign", "calibration", "derivation") and verify must notice.
+    model_inputs: ClassVar[frozenset[str]] = frozenset()
+    log_prefixes: ClassVar[tuple[str, ...]] = ()  # the program's log lines whose numbers verify reads
+    log_names: ClassVar[tuple[str, ...]] = ()  # those numbers, in order
+
+    # --- cell file -------------------------------------------------------------------------
+    @classmethod
+    def parse(cls, ctx, raw: dict, path: str, pose_format: str):
+        """The station's spec from its [[station]] table (ctx: codegen.model.validate helpers)."""
+        raise NotImplementedError
+
+    @classmethod
+    def halt_message(cls, cell, reason: str, station) -> str:
+        """The operator message for a halt of one of the kind's stations (a contract)."""
+        return halt_message(cell, reason, station.name, station.id)
+
+    @classmethod
+    def fitted_message(cls, cell, reason: str, station, limit: int) -> str:
+        """The halt message within a controller's string limit: the station's name is shortened, not
+        the end of the message, so the operator can still tell the reasons apart."""
+        text = cls.halt_message(cell, reason, station)
+        if len(text) <= limit:
+            return text
+        over = len(text) - limit + 3
+        short = replace(station, name=station.name[: max(1, len(station.name) - over)] + "...")
+        return cls.halt_message(cell, reason, short)
+
+    @classmethod
+    def check_station(cls, ctx, path: str, station, cell) -> None:
+        """Checks that need the whole cell (e.g. a calibration the kind reads)."""
+
+    @classmethod
+    def moved(cls, spec, mm: float):
+        """The spec with its calibration moved by `mm` along the base x axis (the mutation tests of a
+        kind whose model_inputs include "calibration")."""
+        return spec
+
+    # --- the station program ---------------------------------------------------------------
+    @classmethod
+    def programs(cls, cell, target) -> list:
+        """The station program, written once for all station kinds: by the first of the registry."""
+        own = list(station_kinds().values())
+        if not cell.stations or cls is not own[0]:
+            return []
+        return [station_program(cell, target, own)]
+
+    # --- rendering -------------------------------------------------------------------------
+    @classmethod
+    def cell_context(cls, cell, target, emitter) -> dict:
+        """Template variables of the kind, shared by its stations."""
+        return {}
+
+    @classmethod
+    def station_context(cls, cell, station, target, emitter) -> dict:
+        """Template variables of one station of this kind."""
+        return {}
+
+    # --- the arm -----------------------------------------------------------------------------
+    @classmethod
+    def arm_poses(cls, cell, station) -> list[tuple[str, Any, str]]:
+        """The poses the arm visits in a station, in order: (pose name, tcp2base at calibration,
+        "joint" or "linear"). Each has one configuration in the program (codegen/robot/)."""
+        return [(p.name, p.matrix(), "joint" if i == 0 else "linear") for i, p in enumerate(station.path)]
+
+    @classmethod
+    def region(cls, cell, station, offsets) -> Any:
+        """Every arm pose corrected by every reading the guard lets through: offsets is (N, 3) of
+        (dx mm, dy mm, rotation deg) over the cell's limits; returns (N, len(arm_poses), 4, 4) tcp2base."""
+        raise NotImplementedError
+
+    # --- reference and verify --------------------------------------------------------------
+    @classmethod
+    def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
+        raise NotImplementedError
+
+    @classmethod
+    def nominal_case(cls, cell, station) -> Case:
+        """The case in which nothing moved since calibration: the program visits the taught poses."""
+        raise NotImplementedError
+
+    @classmethod
+    def edge_spec(cls):
+        """A spec for verify's extra station of edge-case poses, or None if the kind has none."""
+        return None
+
+    @classmethod
+    def accepted(cls, cell, reading) -> tuple[list, bool]:
+        """The reference traces a correct program may produce, and whether the case is on a boundary."""
+        raise NotImplementedError
+
+    @classmethod
+    def truth_problem(cls, cell, reading, reference) -> str | None:
+        """Where the case's physical situation (its simulated devices) demands something the cell's
+        own reference does not do, what: then the cell contradicts its devices (e.g. a camera sign)
+        and every target's run of the case is a mismatch. None: nothing to say."""
+        return None
+
+    @classmethod
+    def answer(cls, cell, target, reading) -> dict:
+        """What the vision PC answers the program's request to read the station (codegen.model.vision.READ),
+        by the program's names (the --input names): the station id, and what else the kind reads."""
+        return {target.program["inputs"]["station"]: reading.station_id}
+
+    @classmethod
+    def second_look(cls, reading):
+        """The reading of a second answer to the same request (codegen.model.vision "twice"), or None when the
+        kind's answer does not change: a program that uses it whole moves correctly for it too."""
+        return None
+
+    @classmethod
+    def previous(cls, cell, target, station) -> dict:
+        """What the vision PC's variables hold from the previous cycle when the program starts: a
+        plausible reading of the station (a program that does not wait for its answer uses it)."""
+        return {target.program["inputs"]["station"]: station.id}
+
+    @classmethod
+    def inputs(cls, cell, target, reading) -> dict:
+        """Values the controller holds when the program starts besides the vision PC's (--input names)."""
+        return {}
+
+    @classmethod
+    def camera(cls, cell, reading):
+        """The simulated camera the vision PC photographs with for this case (None: the kind takes no photos)."""
+        return None
+
+    @classmethod
+    def describe(cls, reading) -> str:
+        return f"station {reading.station_id}"
+
+    @classmethod
+    def new_stats(cls) -> Any:
+        """The kind's own report figures (None: it has none)."""
+        return None
+
+    @classmethod
+    def add_stats(cls, stats, reading, logged: list[float]) -> None:
+        """Add a passing case's logged numbers to the figures."""
+
+    @classmethod
+    def merge_stats(cls, into, part) -> None:
+        """Add the figures of another chunk of cases."""
+
+    @classmethod
+    def summary(cls, stats) -> dict | None:
+        return None
+
+    @classmethod
+    def report_lines(cls, summaries: list[dict]) -> list[str]:
+        """The kind's figures as text lines for the `codegen verify` report (summaries: per target)."""
+        return []

@@ -1,0 +1,115 @@
+"""The cell's station program: the stations' template variables and the program's files (templates/<t>/program.*)."""
+
+from __future__ import annotations
+
+from codegen.controllers import Target
+from codegen.emit import Emitter
+from codegen.guard import (
+    GUARD_CODES,
+    NO_ANSWER,
+    READING_RANGE_DEG,
+    READING_RANGE_MM,
+    UNKNOWN_STATION_TEXT,
+    halt_message,
+)
+from codegen.model import vision
+from codegen.model.cell import Cell
+from codegen.model.motion import segments
+from codegen.protocol import ProgramFile, ProgramPlan, get_kind
+from codegen.render import environment, file_stem, merged, shared_context
+from codegen.robot.emission import station_arm
+
+
+def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> dict:
+    origin = f"station[{station.id}] {station.name!r}"
+    taught = len(station.poses)
+    segs = segments(cell.motion, taught, station.retreat is not None)
+    poses = [
+        {
+            "name": emitter.comment(pose.name),
+            "ident": emitter.identifier(f"p{station.id}_", pose.name, f"{origin} pose {pose.name!r}")
+            if i < taught
+            else emitter.identifier(f"r{station.id}_", station.poses[-1].name, f"{origin} retreat"),
+            "numbers": emitter.pose(pose),
+            "motion": "joint" if i == 0 else "linear",
+            "retreat": i == taught,
+            # the segment into the pose ([cell.motion]): the work speed or the travel speed, a blend or a stop
+            "slow": seg.exact or i == taught,
+            "blend": seg.zone_mm > 0,
+            "exact": seg.exact,
+        }
+        for i, (pose, seg) in enumerate(zip(station.path, segs, strict=True))
+    ]
+    arm = station_arm(cell, target, station)  # the kind's arm poses; the station's poses are the last ones
+    for pose, config in zip(poses, arm[len(arm) - len(poses) :] if arm else [None] * len(poses), strict=True):
+        pose["config"] = config
+    kind = get_kind(station.kind)
+    own = kind.station_context(cell, station, target, emitter)
+    shared = {
+        "kind": station.kind,
+        "id": station.id,
+        "name": emitter.comment(station.name),
+        "ident": emitter.identifier("st_", station.name, origin),
+        "poses": poses,
+        "work": poses[taught - 1],
+        "arm": arm,
+    }
+    return merged(shared, own, f"station context of the {station.kind} kind")
+
+
+def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
+    """The station program's own variables: the guard's numbers, the stations, the vision handshake, and
+    each station kind's partial (templates/<t>/kinds/<kind>.j2, a set of macros the program calls)."""
+    emitter = Emitter(target)
+    number = emitter.number
+    stations = [_station_context(cell, station, target, emitter) for station in cell.stations]
+    emitter.identifier("", cell.name, "cell name")  # the program's name: after the stations' (as its messages)
+    used = {station.kind for station in cell.stations}
+    out = {
+        "guard": {
+            "angle_sign": str(cell.angle_sign),
+            "max_shift_sq": number(cell.limits.max_shift_mm**2, 6),
+            "max_rotation": number(cell.limits.max_rotation_deg, 6),
+            "max_shift_text": f"{cell.limits.max_shift_mm:g}",
+            "max_rotation_text": f"{cell.limits.max_rotation_deg:g}",
+        },
+        "codes": GUARD_CODES,
+        "reading_range": {
+            "mm": number(READING_RANGE_MM, 1),
+            "deg": number(READING_RANGE_DEG, 1),
+            "mm_whole": number(READING_RANGE_MM, 0),
+            "deg_whole": number(READING_RANGE_DEG, 0),
+        },
+        "stations": stations,
+        "kinds_used": [kind.name for kind in station_kinds if kind.name in used],
+        "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
+        "vision": {
+            "read": vision.READ,
+            "photo": vision.PHOTO,
+            "poll_s": number(vision.POLL_S, 2),
+            "polls": vision.polls(cell.vision),
+            "timeout_s": number(cell.vision.timeout_s, 3),
+            "timeout_text": f"{cell.vision.timeout_s:g}",
+            "no_answer": emitter.string(halt_message(cell, NO_ANSWER, None, 0)),
+        },
+    }
+    for kind in station_kinds:
+        out = merged(out, kind.cell_context(cell, target, emitter), f"cell context of the {kind.name} kind")
+    # each kind's partial: macros (interface, constants, data, helpers, start, station) the program calls
+    env = environment()
+    ctx = {**shared_context(cell, target), **out}
+    partials = {
+        kind.name: env.get_template(f"{target.name}/kinds/{kind.name}.j2").make_module(ctx) for kind in station_kinds
+    }
+    return {**out, "partial": partials, "used": [partials[kind] for kind in out["kinds_used"]]}
+
+
+def station_program(cell: Cell, target: Target, station_kinds: list) -> ProgramPlan:
+    """The program of the cell's stations: its files from the target's `files` ("{cell}.src" from the template
+    "program.src.j2", "{cell}_node.script" from "program_node.script.j2")."""
+    stem = file_stem(cell, target)
+    files = tuple(
+        ProgramFile(pattern.format(cell=stem), f"{target.name}/{pattern.format(cell='program')}.j2")
+        for pattern in target.files
+    )
+    return ProgramPlan("station", stem, files, program_context(cell, target, station_kinds))

@@ -1,0 +1,64 @@
+"""The vision PC handshake: the cell's [cell.vision] settings and the protocol every station program follows."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+# The protocol, the same on every controller. The program writes the command, then request = ack + 1;
+# the vision PC does what the command asks, writes its answer and then ack = request. The program uses
+# an answer only when ack equals its own request: a reading from an earlier cycle (a vision PC that
+# failed to update, or answered another request) never passes, it ends in the timeout's halt.
+READ = 1  # read the station: its id (barcode) and, for a point-mode station, the mark
+PHOTO = 2  # photograph the mark from where the arm stands (frame mode): pixels u, v and image angle
+POLL_S = 0.05  # how often a program looks at the acknowledgement while it waits
+TIMEOUT_S = 5.0  # default [cell.vision] timeout_s
+
+
+@dataclass(frozen=True)
+class VisionSettings:
+    """[cell.vision]: how long a program waits for an answer before it halts with a message."""
+
+    timeout_s: float = TIMEOUT_S
+
+
+def parse_settings(ctx, cell_table: dict) -> VisionSettings:
+    """[cell.vision] of a cell file (optional); errors name the key."""
+    if "vision" not in cell_table:
+        return VisionSettings()
+    table = ctx.table(cell_table, "vision", "cell.vision")
+    ctx.no_unknown(table, {"timeout_s"}, "cell.vision")
+    timeout = ctx.number(table, "timeout_s", "cell.vision.timeout_s") if "timeout_s" in table else TIMEOUT_S
+    if not 4 * POLL_S <= timeout <= 600:
+        ctx.fail("cell.vision.timeout_s", f"must be between {4 * POLL_S:g} and 600 s, got {timeout}")
+    return VisionSettings(timeout)
+
+
+def polls(settings: VisionSettings) -> int:
+    """The number of POLL_S waits a program makes before it gives up (the timeout, rounded up)."""
+    return math.ceil(settings.timeout_s / POLL_S - 1e-9)
+
+
+# How a simulated vision PC answers (verify's cases): on time, late, never, not at all but with the
+# last cycle's reading still in its registers, twice, with another sequence number, or promptly after
+# a late answer to the previous cycle's last request (which that cycle gave up on) arrives first.
+PREVIOUS_REQUEST = 41  # the previous cycle's last answered request
+BEHAVIOURS = ("prompt", "late", "too_late", "never", "stale", "twice", "other_sequence", "late_previous")
+UNANSWERED = frozenset({"too_late", "never", "stale", "other_sequence"})  # a correct program halts
+SECOND_LOOK_MM = 0.5  # "twice": the second answer reads the mark this much further along x and y
+PROMPT_S = 0.02  # a prompt answer's latency (less than one poll: most runs wait once)
+
+
+def latency(settings: VisionSettings, behaviour: str) -> float:
+    """How long the simulated vision PC takes: prompt; late, within the timeout; too late, after it."""
+    return {"late": 0.8 * settings.timeout_s, "too_late": settings.timeout_s + 1.0}.get(behaviour, PROMPT_S)
+
+
+def answered(target, behaviour: str) -> dict:
+    """The handshake's variables at the start, by the program's names: the previous cycle's request
+    answered, or (late_previous) one request more that it gave up on."""
+    names = target.program.get("photo")
+    if names is None:
+        return {}
+    unanswered = PREVIOUS_REQUEST + 1 if behaviour == "late_previous" else PREVIOUS_REQUEST
+    return {names["request"]: unanswered, names["ack"]: PREVIOUS_REQUEST}

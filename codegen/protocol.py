@@ -1,0 +1,170 @@
+"""The program-kind protocol and its registry: each package under codegen/kinds/ defines one ProgramKind."""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import pkgutil
+from dataclasses import dataclass, field
+from functools import cache
+from typing import Any, ClassVar
+
+
+@dataclass(frozen=True)
+class ProgramFile:
+    """One file of a program: its name under <cell>/<target>/ and the template it is rendered from."""
+
+    name: str
+    template: str  # under templates/, e.g. "<target>/kinds/pallet.src.j2"
+
+
+@dataclass(frozen=True)
+class ProgramPlan:
+    """One program a kind writes for a target: its name (a report row), its files (the program file first) and
+    the template variables the kind adds to the shared ones (codegen.render.shared_context)."""
+
+    kind: str
+    ident: str
+    files: tuple[ProgramFile, ...]
+    context: dict = field(default_factory=dict, compare=False)
+    index: int = 0  # which of the kind's programs, where it writes several (a cell's pallets)
+
+
+class ProgramKind:
+    """What a program kind owns (its package codegen/kinds/<name>/, its templates templates/<t>/kinds/<name>*.j2,
+    its table [program.<name>] in targets/<t>.toml): its cell-file tables and their validation, its programs per
+    target and their template context, its reach proof, its identities, its verify section and its commands.
+    Nothing outside a kind's package names it: cell, render, generate, verify and cli loop over the registry."""
+
+    name: ClassVar[str] = ""  # "" for an abstract base: not registered
+    order: ClassVar[int] = 100  # where the kind comes in reports and programs, lowest first
+    tables: ClassVar[frozenset[str]] = frozenset()  # top-level tables of a cell file the kind owns
+    cell_tables: ClassVar[frozenset[str]] = frozenset()  # [cell.<name>] tables of this kind
+    station_keys: ClassVar[frozenset[str]] = frozenset()  # [[station]] keys of this kind (station kinds)
+    station_mode: ClassVar[bool] = False  # its stations are [[station]] tables with `mode = "<name>"`
+    target_keys: ClassVar[dict[str, type]] = {}  # its [program.<name>] table: key -> type
+    registry: ClassVar[dict[str, type[ProgramKind]]] = {}
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.name:
+            ProgramKind.registry[cls.name] = cls
+
+    # --- cell file -------------------------------------------------------------------------
+    @classmethod
+    def parse_section(cls, ctx, data: dict, cell) -> Any:
+        """The kind's part of the cell model from its top-level tables (None: the cell has none); cell is
+        the cell as far as it is known (targets, pose format, robot, io, motion), ctx the validator."""
+        return None
+
+    @classmethod
+    def standalone(cls, data: dict) -> bool:
+        """Whether the kind's tables in a cell file make a cell without [[station]] (no camera, no limits)."""
+        return False
+
+    @classmethod
+    def parse_settings(cls, ctx, cell_table: dict):
+        """The kind's settings from its [cell.<name>] tables (kept in Cell.settings[kind name])."""
+        return None
+
+    @classmethod
+    def check_cell(cls, ctx, cell) -> None:
+        """Checks that need the whole cell (the signals the kind's programs use, the arm)."""
+
+    @classmethod
+    def section(cls, cell) -> Any:
+        """The kind's part of a cell (parse_section's result), or None."""
+        return cell.sections.get(cls.name)
+
+    # --- controllers -----------------------------------------------------------------------
+    @classmethod
+    def facts(cls, target) -> dict:
+        """The kind's [program.<name>] table of a target, checked against target_keys ({}: none)."""
+        return _facts(cls, target.name)
+
+    # --- programs --------------------------------------------------------------------------
+    @classmethod
+    def programs(cls, cell, target) -> list[ProgramPlan]:
+        """The kind's programs for one target, with their template context (EmitError: cannot be written)."""
+        return []
+
+    @classmethod
+    def reach(cls, cell, targets: list[str]) -> list:
+        """The kind's reach proof for the targets with an arm (codegen.robot.expect.Margins each; ReachError)."""
+        return []
+
+    @classmethod
+    def identities(cls, check) -> list:
+        """The kind's identities for `codegen derive --check` (codegen.derivation._check makes each one)."""
+        return []
+
+    # --- verify ----------------------------------------------------------------------------
+    @classmethod
+    def verify_section(cls, cell, files: tuple, targets: tuple, seed: int):
+        """(the kind's verify section or None, the files that are not its programs)."""
+        return None, files
+
+    # --- command line ----------------------------------------------------------------------
+    @classmethod
+    def commands(cls) -> list[tuple[str | None, Any]]:
+        """The kind's click commands: (the group they belong to, e.g. "calibrate", or None, command)."""
+        return []
+
+
+class TargetFactsError(Exception):
+    """A [program.<kind>] table of a targets/<t>.toml that names an unknown key or has the wrong type."""
+
+
+@cache
+def _facts(kind: type[ProgramKind], target_name: str) -> dict:
+    from codegen.controllers import get_target
+
+    target = get_target(target_name)
+    table = target.kind_tables.get(kind.name, {})
+    where = f"targets/{target_name}.toml: program.{kind.name}"
+    for key, value in table.items():
+        want = kind.target_keys.get(key)
+        if want is None:
+            raise TargetFactsError(f"{where}.{key}: unknown key; known: {', '.join(kind.target_keys)}")
+        if isinstance(value, bool) is not (want is bool) or not isinstance(value, want):
+            raise TargetFactsError(f"{where}.{key}: expected {want.__name__}")
+    return dict(table)
+
+
+@cache
+def kinds() -> dict[str, type[ProgramKind]]:
+    """Every kind package under codegen/kinds (found, not named: each registers itself when its `kind`
+    module is imported), in the order of `order` then by name."""
+    package = importlib.import_module("codegen.kinds")
+    for info in pkgutil.iter_modules(package.__path__):
+        if info.ispkg and importlib.util.find_spec(f"codegen.kinds.{info.name}.kind") is not None:
+            importlib.import_module(f"codegen.kinds.{info.name}.kind")
+    registered = ProgramKind.registry
+    out = {name: registered[name] for name in sorted(registered, key=lambda n: (registered[n].order, n))}
+    from codegen.controllers import target_names
+
+    for target in target_names():  # a kind table no kind reads, or a fact of the wrong type, is refused here
+        unknown = sorted(set(_target_tables(target)) - set(out))
+        if unknown:
+            raise TargetFactsError(f"targets/{target}.toml: program.{unknown[0]}: no program kind of this name")
+        for kind in out.values():
+            _facts(kind, target)
+    return out
+
+
+def _target_tables(target_name: str) -> dict:
+    from codegen.controllers import get_target
+
+    return get_target(target_name).kind_tables
+
+
+def get_kind(name: str) -> type[ProgramKind]:
+    known = kinds()
+    if name not in known:
+        raise KeyError(f"unknown program kind {name!r}; known: {', '.join(known)}")
+    return known[name]
+
+
+def station_kinds() -> dict[str, type[ProgramKind]]:
+    """The kinds whose stations are [[station]] tables (they share the cell's station program), in order."""
+    return {name: kind for name, kind in kinds().items() if kind.station_mode}
