@@ -49,8 +49,8 @@ def station(i: int, params: tuple[float, ...]) -> str:
 
 def passing_cell(count: int, folder: Path):
     """count stations that the envelope check accepts (random candidates, refused ones dropped)."""
+    from codegen.kinds.stations.envelope import ReachError, check_target
     from codegen.model.cell import load_cell
-    from codegen.robot.envelope import ReachError, check_target
 
     rng = random.Random(7)
     kept: list[tuple[float, ...]] = []
@@ -73,8 +73,8 @@ def passing_cell(count: int, folder: Path):
 
 
 def timed_check(path) -> float:
+    from codegen.kinds.stations.envelope import check
     from codegen.model.cell import load_cell
-    from codegen.robot.envelope import check
 
     cell = load_cell(path)  # a fresh cell: nothing cached
     start = time.perf_counter()

@@ -30,9 +30,9 @@ def full_stack(runs: int) -> None:
     """Seconds for the full_stack case of the EUR pallet (5 layers, 30 boxes, with the arm) per target."""
     from pathlib import Path
 
-    from codegen.model.cell import load_cell
     from codegen.kinds.pallet import verify as pv
     from codegen.kinds.pallet.cycle import PalletCase
+    from codegen.model.cell import load_cell
 
     cell = load_cell(Path(__file__).resolve().parents[1] / "codegen" / "examples" / "pallets" / "eur_pallet.toml")
     for target in cell.targets:

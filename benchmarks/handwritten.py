@@ -26,11 +26,12 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, reading_in_range
-from codegen.kinds.stations.base import Case
+from codegen.kinds.stations.cases import Case
+from codegen.kinds.stations.joints import JOINT_TOLERANCE_DEG, expected_joints
+from codegen.kinds.stations.region import station_plan
+from codegen.reference import home_move
 from codegen.robot import solve
 from codegen.robot.config import FORMS, with_status
-from codegen.robot.expect import JOINT_TOLERANCE_DEG, expected_joints, home_move
-from codegen.robot.region import station_plan
 from codegen.verify import TOLERANCES, _pose_errors, _truth_problem, accepted_traces
 
 F = np.float32

@@ -136,8 +136,10 @@ def diff(cell: str | None, out_dir: str) -> None:
     type=click.Choice(target_names()),
     help="Only this target (repeatable).",
 )
-@click.option("--cases", default=1000, show_default=True, help="Random readings per station.")
-@step_limit_option("A run taking more steps is a runaway: a mismatch; that target's remaining cases are skipped.")
+@click.option(
+    "--cases", default=1000, show_default=True, type=click.IntRange(min=0), help="Random readings per station."
+)
+@step_limit_option("A run taking more steps is a runaway: a mismatch; that program's remaining cases are skipped.")
 @click.option("--seed", default=0, show_default=True)
 @click.option(
     "--jobs",
@@ -157,155 +159,51 @@ def verify(
     jobs: int,
     as_json: bool,
 ) -> None:
-    """Interpret programs on random, edge, out-of-limit and invalid readings; compare with the reference.
+    """Run every program of every kind on its cases and the common scenarios; compare with the reference.
 
-    Without FILES the programs are generated fresh (with an extra station of edge-case poses);
-    with FILES (a .src finds its .dat beside it) the files on disk are verified.
+    Without FILES the programs are generated fresh; with FILES the files on disk are verified, each matched to
+    the cell's program of its name (a .src finds its .dat among the files or beside it).
     """
-    import os
-    import re
-    import time
     from pathlib import Path
 
-    from codegen import verify as v
-    from codegen import verify_runs as runs
-    from codegen.dialects import is_companion
     from codegen.dialects.core.values import RunError
+    from codegen.emit import EmitError
+    from codegen.robot.taught import ReachError
+    from codegen.verify.engine import Options, verify_cell
+    from codegen.verify.programs import ProgramFilesError
 
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
         cell = None
     model = _load(cell)
-    files_given = bool(files)
-    if cases < 0:
-        raise UserError("--cases must be >= 0")
-    from codegen.protocol import kinds
+    for t in targets:
+        if t not in model.targets:
+            raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
 
-    sections = {}
-    for kind in kinds().values():  # the kinds with programs of their own: their cases, their report
-        try:
-            section, files = kind.verify_section(model, files, targets, seed)
-        except ValueError as exc:  # files that hold none of the kind's programs for the targets asked
-            raise UserError(str(exc)) from None
-        except RunError as exc:  # a program that cannot be loaded here
-            raise click.ClickException(str(exc)) from None
-        if section is not None:
-            sections[f"{kind.name}s"] = section
-    if not model.stations and files:  # files that are none of this cell's programs: nothing would judge them
-        names = ", ".join(Path(f).name for f in files)
-        raise UserError(
-            f"{names}: not a program of {model.name} (each program is named as codegen generate names it)"
-        )
-    if any(x is not None for x in sections.values()) and (not model.stations or (files_given and not files)):
-        _finish_sections(model, sections, as_json)
-    from codegen.emit import EmitError
-    from codegen.generate import GenerateError, check_envelope
+    def run(progress) -> object:
+        options = Options(cases, seed, jobs, step_limit, progress)
+        return verify_cell(model, [Path(f) for f in files], targets, options)
 
-    try:
-        check_envelope(model, None)  # the reference's joints need every taught pose within the arm's reach
-    except GenerateError as exc:
-        raise UserError(f"{model.source}: {exc}") from None
-    verify_cell = model
-    if files:
-        sources = []
-        for f in files:
-            path = Path(f)
-            if is_companion(path):
-                continue
-            try:
-                name = targets[0] if len(targets) == 1 else v.target_of_file(path)
-                source = runs.file_source(name, path)
-                source.load()  # a syntax error is reported before any case runs
-                sources.append(source)
-                stamp = re.search(r"sha256 ([0-9a-f]{64})", source.text)
-                if stamp and stamp.group(1) != model.sha256:
-                    click.echo(
-                        f"warning: {path} says it was generated from another cell file (sha256 "
-                        f"{stamp.group(1)[:12]}...) than {model.source}; verifying against {model.name}",
-                        err=True,
-                    )
-            except (ValueError, RunError) as exc:
-                raise UserError(str(exc)) from None
-        from codegen.generate import mixed_stamps
-
-        mixed = mixed_stamps([Path(f) for source in sources for f in source.files])
-        if mixed:
-            click.echo(f"warning: {mixed}", err=True)
-        if not sources:
-            raise UserError("no program to verify: a data file is read together with its program; give the program")
-    else:
-        names = list(targets) or list(model.targets)
-        verify_cell = v.edge_cell(model) if model.robot is None else model
-        try:
-            sources = runs.fresh_sources(verify_cell, names)
-        except EmitError as exc:
-            raise UserError(f"{model.source}: {exc}") from None
-    case_list = v.build_cases(verify_cell, cases, seed)
-    edge = None if files else v.edge_only_cell(model)  # with an arm: the edge poses' programs, without it
-    if edge is not None:
-        edge_sources = runs.fresh_sources(edge, names)
-        edge_cases = v.build_cases(edge, cases, seed)
-    total = len(case_list) * len(sources)
-    workers = jobs if jobs > 0 else (os.cpu_count() or 1)
-    start = time.perf_counter()
     try:
         if sys.stderr.isatty():
-            with click.progressbar(length=total, label="verifying", file=sys.stderr, show_pos=True) as bar:
-                reports = runs.run_verify(
-                    model, sources, case_list, workers, bar.update, verify_cell, step_limit=step_limit
-                )
+            with click.progressbar(length=0, label="verifying", file=sys.stderr) as bar:
+                report = run(bar.update)
         else:
-            reports = runs.run_verify(model, sources, case_list, workers, None, verify_cell, step_limit=step_limit)
-        if edge is not None:
-            extra = runs.run_verify(
-                edge, edge_sources, edge_cases, workers, None, edge, sweep=False, step_limit=step_limit
-            )
-            reports = [runs.merge_reports([r, e]) for r, e in zip(reports, extra, strict=True)]
-    except RunError as exc:  # a program that cannot be loaded here (e.g. nested too deeply)
+            report = run(None)
+    except (ProgramFilesError, ReachError, EmitError) as exc:
+        raise UserError(f"{model.source}: {exc}" if not isinstance(exc, ProgramFilesError) else str(exc)) from None
+    except RunError as exc:  # a program that cannot be loaded here
         raise click.ClickException(str(exc)) from None
-    wall = time.perf_counter() - start
-    summaries = [r.summary() for r in reports]
-    ok = all(s["mismatches"] == 0 for s in summaries) and all(x is None or x.ok for x in sections.values())
+    for warning in report.warnings:
+        click.echo(f"warning: {warning}", err=True)
+    if not report.rows:
+        raise UserError(f"{model.source}: no program to verify for the targets asked")
     if as_json:
-        _dump(
-            {
-                "cell": model.name,
-                "seed": seed,
-                "random_per_station": cases,
-                "ok": ok,
-                "wall_seconds": wall,
-                "workers": workers,
-                "targets": summaries,
-                **{key: x.summaries() for key, x in sections.items() if x is not None},
-            }
-        )
+        _dump(report.as_json())
     else:
-        for line in runs.report_lines(model, verify_cell, case_list, cases, seed, summaries, wall, workers):
+        for line in report.lines():
             click.echo(line)
-        for section in sections.values():
-            for line in [] if section is None else section.lines():
-                click.echo(line)
-    sys.exit(0 if ok else 1)
-
-
-def _finish_sections(model, named: dict, as_json: bool) -> None:
-    """A cell (or files) with pallet, conveyor or laser programs only: report them and exit (0: all matched)."""
-    sections = [s for s in named.values() if s is not None]
-    if not any(s.reports for s in sections):
-        raise UserError(
-            f"{model.source}: no program verified (no pallet, conveyor or laser program for the targets asked)"
-        )
-    ok = all(s.ok for s in sections)
-    if as_json:
-        out = {"cell": model.name, "ok": ok}
-        out.update({key: x.summaries() for key, x in named.items() if x is not None})
-        _dump(out)
-    else:
-        for section in sections:
-            for line in section.lines():
-                click.echo(line)
-    sys.exit(0 if ok else 1)
-
+    sys.exit(0 if report.ok else 1)
 
 
 def _add_kind_commands() -> None:

@@ -98,8 +98,8 @@ def run(
     from codegen.poses import POSE_FORMATS
     from codegen.sim.gripper import Gripper
     from codegen.sim.vision_pc import VisionPC
-    from codegen.verify import target_of_file
-    from codegen.verify_runs import load_program_file
+    from codegen.verify.programs import load_file as load_program_file
+    from codegen.verify.programs import target_of_file
 
     path = Path(file)
     if is_companion(path):

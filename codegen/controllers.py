@@ -160,3 +160,9 @@ def target_of_suffix(suffix: str) -> Target | None:
         if suffix.lower() in target.suffixes:
             return target
     return None
+
+
+def numbered_names(target_name: str, number: int) -> tuple[str, str]:
+    """The controller's numbered tool and load variables (e.g. TOOL_DATA[3], LOAD_DATA[3])."""
+    facts = get_target(target_name).program["tool_data"]
+    return facts["tool"].format(n=number), facts["load"].format(n=number)

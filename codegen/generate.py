@@ -10,7 +10,6 @@ from codegen.model.cell import Cell
 from codegen.output import replace_cell, written_by_codegen
 from codegen.protocol import kinds
 from codegen.render import RenderedFile, cell_dir, render
-from codegen.robot.envelope import TargetEnvelope, check
 from codegen.robot.taught import ReachError
 
 STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
@@ -35,19 +34,19 @@ def check_rendered(files: list[RenderedFile]) -> None:
             raise GenerateError(f"{f.relpath}: generated program does not parse: {exc}") from exc
 
 
-def check_envelope(cell: Cell, targets: list[str] | None) -> list[TargetEnvelope]:
-    """The envelope check of every requested target with an arm: the stations' correction regions
-    (codegen/robot/envelope.py) and each kind's own reach proof (its programs' poses)."""
+def check_envelope(cell: Cell, targets: list[str] | None) -> list:
+    """Each kind's reach proof for every requested target with an arm (the stations' correction regions, a
+    pallet's full cycle, a belt's window, ...): each target's margins, or a GenerateError naming the pose."""
     names = list(targets or cell.targets)
     try:
-        return [*check(cell, names), *(m for kind in kinds().values() for m in kind.reach(cell, names))]
+        return [m for kind in kinds().values() for m in kind.reach(cell, names)]
     except ReachError as exc:
         raise GenerateError(str(exc)) from None
 
 
 def generate(
     cell: Cell, targets: list[str] | None, out_dir: Path
-) -> tuple[list[Path], list[str], list[TargetEnvelope]]:
+) -> tuple[list[Path], list[str], list]:
     """Check the envelope, render, check, then replace the cell's output folder whole (codegen.output):
     the regenerated targets' programs are the new ones, everything codegen did not write stays.
     Returns the written paths, what was left alone and each target's margins."""

@@ -98,11 +98,84 @@ class ProgramKind:
         """The kind's identities for `codegen derive --check` (codegen.derivation._check makes each one)."""
         return []
 
-    # --- verify ----------------------------------------------------------------------------
+    # --- verify (codegen/verify/: the engine runs every kind through these) ---------------------
+    # Each scenario every kind runs (codegen.verify.plan.SCENARIOS) -> "" where the kind runs it, else the
+    # reason it cannot apply to the kind's programs (a test holds every kind to this table).
+    scenarios: ClassVar[dict[str, str]] = {}
+    report_key: ClassVar[str] = ""  # the kind's rows also under this key of verify's JSON ("" : name + "s")
+
     @classmethod
-    def verify_section(cls, cell, files: tuple, targets: tuple, seed: int):
-        """(the kind's verify section or None, the files that are not its programs)."""
-        return None, files
+    def verify_models(cls, cell) -> list[tuple[Any, bool]]:
+        """The cells the kind's fresh programs are made from and judged against (default: the cell itself)."""
+        return [(cell, True)]
+
+    @classmethod
+    def verify_cases(cls, cell, source, count: int, seed: int) -> list:
+        """The cases of one of the kind's programs (source: codegen.verify.programs.ProgramSource): its own
+        and the common scenarios' (codegen.verify.plan.Case or the kind's picklable equivalent)."""
+        return []
+
+    @classmethod
+    def sweeps(cls, cell, source, workers: int) -> list[range]:
+        """Bulk runs of the program in ranges (e.g. every station id that is no station), or none."""
+        return []
+
+    @classmethod
+    def sweep(cls, cell, source, program, ids: range, step_limit: int, row) -> None:
+        """Run the bulk range `ids` on the program, counting into the report row."""
+
+    @classmethod
+    def setup(cls, cell, source, case):
+        """How the case runs (codegen.verify.plan.Setup): inputs, simulated devices, start joints, ..."""
+        raise NotImplementedError
+
+    @classmethod
+    def judge(cls, cell, source, case, trace, setup):
+        """The run's codegen.verify.plan.Judgement: what a correct program does here (from the kind's float64
+        reference; a device's log where the reference depends on the run, such as a belt's parts)."""
+        raise NotImplementedError
+
+    @classmethod
+    def scenario_of(cls, case) -> str:
+        return getattr(case, "scenario", "nominal")
+
+    @classmethod
+    def log_prefixes_of(cls, cell) -> tuple[str, ...]:
+        """The program's log lines whose numbers the expectations' `logged` name."""
+        return ()
+
+    @classmethod
+    def describe(cls, cell, case) -> str:
+        """The case's situation in a mismatch line, after its category."""
+        return ""
+
+    @classmethod
+    def new_figures(cls):
+        """The kind's own report figures of a program (None: it has none)."""
+        return None
+
+    @classmethod
+    def add_figures(cls, figures, case, judged) -> None:
+        """Count a passing case's figures (Judgement.figures) in the program's."""
+
+    @classmethod
+    def merge_figures(cls, into, part) -> None:
+        """Add the figures of another chunk of cases."""
+
+    @classmethod
+    def summary(cls, row) -> dict:
+        """The kind's own keys in a row's JSON."""
+        return {}
+
+    @classmethod
+    def legacy_summary(cls, row) -> dict:
+        """A row as the kind's own JSON list (report_key) has it."""
+        return row.summary()
+
+    @classmethod
+    def report_lines(cls, rows: list) -> list[str]:
+        """The kind's own figures as text lines of the report (rows: its programs')."""
+        return []
 
     # --- command line ----------------------------------------------------------------------
     @classmethod

@@ -7,6 +7,10 @@ from typing import Any
 
 import numpy as np
 
+from codegen.model.motion import segments
+from codegen.poses import concat
+from codegen.robot.cache import per_cell
+
 JOINT = "joint"
 LINEAR = "linear"
 
@@ -25,9 +29,6 @@ class Move:
 def path_moves(cell, station, correction: np.ndarray) -> list[Move]:
     """The moves through a station's path (its taught poses, then the retreat) with each pose moved by
     the correction (a taught pose P becomes correction . P), and each segment's speed and zone."""
-    from codegen.model.motion import segments
-    from codegen.poses import concat
-
     segs = segments(cell.motion, len(station.poses), station.retreat is not None)
     return [
         Move(
@@ -53,3 +54,19 @@ class ExpectedTrace:
     moves: tuple[Move, ...] = ()
     logged: tuple[float, ...] | None = None  # the numbers of the program's log line(s), in order
     detail: Any = None  # the kind's own figures (kinds/<kind>.py), e.g. the correction or the photos
+
+
+_HOME: dict = {}
+
+
+def home_move(cell, target: str) -> tuple[Move, np.ndarray] | None:
+    """The program's first motion, to the home joints, with the cell's tool; None without an arm."""
+    robot = cell.robot
+    if robot is None or target not in robot.arms:
+        return None
+
+    def compute():
+        home = np.asarray(robot.home[target], dtype=float)
+        return Move(JOINT, "home", robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange, exact=True), home
+
+    return per_cell(_HOME, cell, (target,), compute)

@@ -1,4 +1,4 @@
-"""Render a cell's programs for each target through Jinja templates: every kind's programs, checked and in memory."""
+"""Render a cell's programs for each target through Jinja templates (every kind's), in memory; the arm's variables."""
 
 from __future__ import annotations
 
@@ -7,15 +7,18 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from codegen import __version__, data_dir
-from codegen.controllers import Target, get_target
+from codegen.controllers import Target, get_target, numbered_names
+from codegen.decimals import format_literal
 from codegen.emit import Emitter, folder_name
 from codegen.guard import NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, halt_message
 from codegen.model import io as signals
 from codegen.model.cell import Cell
+from codegen.poses import FORMAT_DECIMALS, native_values
 from codegen.protocol import ProgramPlan, kinds
-from codegen.robot.emission import cell_robot
 
 TEMPLATES_DIR = data_dir("templates")
+JOINT_DECIMALS = {"deg": 4, "rad": 6}  # 1e-4 deg; 1e-6 rad = 6e-5 deg
+MASS_DECIMALS = 3
 
 
 @dataclass(frozen=True)
@@ -107,9 +110,23 @@ def file_stem(cell: Cell, target: Target) -> str:
     return Emitter(target).identifier("", cell.name, "cell name").lower()
 
 
-def plans(cell: Cell, target: Target) -> list[ProgramPlan]:
-    """Every program of every kind for one target, in the kinds' order."""
-    return [plan for kind in kinds().values() for plan in kind.programs(cell, target)]
+def plans(cell: Cell, target: Target, only=None) -> list[ProgramPlan]:
+    """Every program of every kind (of the kinds named `only`, if given) for one target, in the kinds' order."""
+    return [
+        plan for name, kind in kinds().items() if only is None or name in only for plan in kind.programs(cell, target)
+    ]
+
+
+def render_plan(
+    cell: Cell, target: Target, plan: ProgramPlan, env=None, shared: dict | None = None
+) -> list[RenderedFile]:
+    """One program's files, rendered in memory."""
+    env = env or environment()
+    ctx = merged(shared or shared_context(cell, target), plan.context, f"the context of the {plan.kind} kind")
+    return [
+        RenderedFile(f"{cell_dir(cell)}/{target.name}/{f.name}", env.get_template(f.template).render(ctx))
+        for f in plan.files
+    ]
 
 
 def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
@@ -120,9 +137,7 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
         target = get_target(name)
         shared = shared_context(cell, target)
         for plan in plans(cell, target):
-            ctx = merged(shared, plan.context, f"the context of the {plan.kind} kind")
-            for f in plan.files:
-                out.append(RenderedFile(f"{cell_dir(cell)}/{name}/{f.name}", env.get_template(f.template).render(ctx)))
+            out.extend(render_plan(cell, target, plan, env, shared))
     paths = [f.relpath for f in out]
     if len(set(paths)) != len(paths):  # a generator bug: one file would silently replace another
         raise RuntimeError(f"two files render to {sorted(p for p in paths if paths.count(p) > 1)[0]}")
@@ -132,3 +147,56 @@ def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
 def output_names(cell: Cell, target: Target) -> list[str]:
     """Every file name the cell's programs have for a target (the program files first, each with its own)."""
     return [f.name for plan in plans(cell, target) for f in plan.files]
+
+
+# --- the arm's template variables ------------------------------------------------------------
+
+
+def joints_literal(values, unit: str) -> list[str]:
+    scale = math.pi / 180.0 if unit == "rad" else 1.0
+    return [format_literal(v * scale, JOINT_DECIMALS[unit]) for v in values]
+
+
+def cell_robot(cell, target) -> dict | None:
+    """The arm, its home joints and the tool for one target; None when the cell gives it no arm."""
+    robot = cell.robot
+    if robot is None or target.name not in robot.arms:
+        return None
+    unit = target.program["joint_unit"]
+    fmt = target.pose_format
+    tool = (
+        native_values(robot.tool.tcp, cell.pose_format, fmt)
+        if robot.tool.tcp
+        else native_values((0.0, 0.0, 0.0, 0.0, 0.0, 0.0), "xyzabc", fmt)
+    )
+    cog = native_values((*robot.tool.cog_mm, 0.0, 0.0, 0.0), "xyzabc", fmt)[:3]
+    decimals = FORMAT_DECIMALS[fmt]
+    return {
+        "model": robot.arms[target.name].model,
+        "home": joints_literal(robot.home[target.name], unit),
+        "tool": [format_literal(v, d) for v, d in zip(tool, decimals, strict=True)],
+        "mass": format_literal(robot.tool.mass_kg, MASS_DECIMALS),
+        "cog": [format_literal(v, d) for v, d in zip(cog, decimals[:3], strict=True)],
+        "tool_given": robot.tool_given,
+        "tool_data": _numbered(target, robot.tool.numbered.get(target.name)),
+    }
+
+
+def _numbered(target, number: int | None) -> dict | None:
+    """The controller's numbered tool and load the program selects, or None (it declares its own)."""
+    if number is None:
+        return None
+    tool, load = numbered_names(target.name, number)
+    return {"tool": tool, "load": load}
+
+
+LITERALS = {  # a target's configuration form -> its template variables
+    "confdata": lambda value, unit: {"robconf": ", ".join(str(v) for v in value)},
+    "status_turn": lambda value, unit: {"s": str(value[0]), "t": str(value[1])},
+    "joints": lambda value, unit: {"joints": joints_literal(value, unit)},
+}
+
+
+def configuration_literal(target, value) -> dict:
+    """A configuration value (codegen/robot/config.py FORMS) as the target's template variables."""
+    return LITERALS[target.configuration](value, target.program["joint_unit"])

@@ -15,10 +15,11 @@ from lark import Token, Tree
 from codegen import derived
 from codegen.controllers import get_target, target_names
 from codegen.dialects import get_dialect, parse_program
-from codegen.protocol import get_kind
 from codegen.model.cell import STATION_ID_MAX, load_cell
+from codegen.protocol import get_kind
+from codegen.reference import home_move
 from codegen.render import render
-from codegen.robot.expect import arm_of, home_move
+from codegen.robot.expect import arm_of
 from codegen.verify import build_cases, inputs_for, run_options, verify
 from codegen.verify_runs import ProgramSource, fresh_programs, load_program, run_verify, sweep_unknown_ids
 

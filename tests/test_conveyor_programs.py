@@ -10,12 +10,12 @@ from click.testing import CliRunner
 
 from codegen.cli import main
 from codegen.controllers import get_target
-from codegen.sim.belt import Belt, ConveyorLine, Part, part_y
-from codegen.sim.bus import RegisterBus
 from codegen.kinds.conveyor.judge import tolerances_mm
 from codegen.kinds.conveyor.verify import cases, verify_conveyor
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
+from codegen.sim.belt import Belt, BeltLine, Part, part_y
+from codegen.sim.bus import RegisterBus
 from codegen.verify_runs import load_program
 
 CELL = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
@@ -159,7 +159,7 @@ def test_the_interpreter_tracks_the_belt_from_the_moment_tracking_starts():
     )
     program = load_program(get_target("ur"), text, "track", {})
     belt = Belt(100.0, 8.0, 16, 0)  # 800 counts per second: 100 mm/s
-    line = ConveyorLine(belt, [], RegisterBus(get_target("ur").kind_tables["conveyor"]["names"]))
+    line = BeltLine(belt, [], RegisterBus(get_target("ur").kind_tables["conveyor"]["names"]))
     trace = program.run({}, devices=(line,))
     (move,) = trace.moves  # commanded at t = 1 s; a first move from an unknown pose takes 1 s: it ends at 2 s
     assert move.tcp2base[:3, 3] == pytest.approx([500.0, 100.0, 200.0], abs=1e-3)
@@ -174,7 +174,7 @@ def test_a_direction_that_is_not_a_unit_vector_is_refused():
         "  track_conveyor_linear(p[0, 2, 0, 0, 0, 0], 8000.0)\nend\n"
     )
     program = load_program(get_target("ur"), text, "track", {})
-    line = ConveyorLine(Belt(100.0, 8.0), [], RegisterBus(get_target("ur").kind_tables["conveyor"]["names"]))
+    line = BeltLine(Belt(100.0, 8.0), [], RegisterBus(get_target("ur").kind_tables["conveyor"]["names"]))
     with pytest.raises(Exception, match="unit vector"):
         program.run({}, devices=(line,))
 
@@ -233,8 +233,8 @@ def test_a_tracking_arm_is_proven_as_far_as_it_may_follow_the_part(tmp_path):
     """UR follows the part past the window's end for the gripper's timeout and the lift: at the cell's
     fastest belt (belt_speed_max_mm_s) that is proven reachable too; at 2 m/s it is not (2.5 m further:
     the arm would have to change its configuration)."""
-    from codegen.kinds.conveyor.reach import follow_mm
     from codegen.generate import GenerateError, check_envelope
+    from codegen.kinds.conveyor.reach import follow_mm
 
     cell = load_cell(CELL)
     assert follow_mm(cell, "ur") == pytest.approx(200.0 * (1.0 + 60.0 / 250.0)) and follow_mm(cell, "kuka") == 0.0

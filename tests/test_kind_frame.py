@@ -8,10 +8,10 @@ import pytest
 
 from codegen.controllers import get_target, target_names
 from codegen.kinds.frame import FrameCase, expected_frame_trace
-from codegen.sim.camera import CameraModel
 from codegen.kinds.frame.kind import NOT_CONVERGED
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
+from codegen.sim.camera import CameraModel
 from codegen.verify import build_cases
 from codegen.verify_runs import fresh_sources, load_program, run_verify
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from codegen.kinds.laser.procedure import Procedure, run
-from codegen.sim.beams import Pin, Sensors, entry_along
 from codegen.poses import rotmat_from_zyx_deg
+from codegen.sim.beams import Pin, Sensors, entry_along
 
 GUESS = np.eye(4)
 GUESS[2, 3] = 200.0  # the tool as the cell names it: 200 mm along the flange's z

@@ -11,12 +11,12 @@ from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid.interpreter import load
 from codegen.kinds.laser import program as lp
-from codegen.sim.beams import Pin
-from codegen.sim.beam_station import LaserStation
 from codegen.model.cell import load_cell
 from codegen.model.io import signal_name
 from codegen.render import render
 from codegen.robot.expect import arm_of
+from codegen.sim.beam_station import BeamStation
+from codegen.sim.beams import Pin
 from codegen.verify_runs import load_program
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
@@ -307,7 +307,7 @@ def run_program(laser_program, tool: np.ndarray, noise: float = 0.0, hysteresis:
         signal_name(target, "input", laser.beam_x["abb"]): "x",
         signal_name(target, "input", laser.beam_y["abb"]): "y",
     }
-    station = LaserStation(laser.sensor_frame.matrix(), Pin(tool, laser.pin_radius_mm), inputs, noise=noise,
+    station = BeamStation(laser.sensor_frame.matrix(), Pin(tool, laser.pin_radius_mm), inputs, noise=noise,
                            hysteresis=hysteresis, seed=seed)
     return program.run({}, devices=(station,), arm=arm_of(cell, "abb"), start_joints=cell.robot.home["abb"],
                        keep=tuple(lp.kept_names(target).values()), signal_cycle_s=target.program["signal_cycle_s"],
@@ -354,7 +354,8 @@ def test_the_program_stops_with_the_operator_s_message(laser_program, dz, messag
     tool[:3, 3] += tool[:3, 2] * dz
     trace = run_program(laser_program, tool)
     assert trace.halted and trace.halt_message == message
-    assert trace.moves[-1].tcp2base[2, 3] > cell.sections["laser"].sensor_frame.matrix()[2, 3]  # stopped above the beams
+    beams_z = cell.sections["laser"].sensor_frame.matrix()[2, 3]
+    assert trace.moves[-1].tcp2base[2, 3] > beams_z  # stopped above the beams
 
 
 def test_a_name_for_both_data_and_a_routine_is_refused():

@@ -12,10 +12,10 @@ from codegen.controllers import get_target
 from codegen.dialects.core.machine import Machine, MoveEvent
 from codegen.dialects.core.watch import Path
 from codegen.kinds.laser.reference import expected
-from codegen.sim.beams import Pin
-from codegen.sim.beam_station import LaserStation
 from codegen.kinds.laser.verify import cases, rotation, station_for
 from codegen.model.cell import load_cell
+from codegen.sim.beam_station import BeamStation
+from codegen.sim.beams import Pin
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
 
@@ -95,7 +95,7 @@ def test_the_station_sees_the_pin_where_the_geometry_puts_it():
     neither does beam X, and grown by 0.05 it does."""
     tool = np.eye(4)
     tool[2, 3] = 100.0
-    station = LaserStation(np.eye(4), Pin(tool, 1.5), {"x": "x", "y": "y"})
+    station = BeamStation(np.eye(4), Pin(tool, 1.5), {"x": "x", "y": "y"})
 
     def flange(x, tip_z):
         out = np.diag([1.0, -1.0, -1.0, 1.0])
@@ -141,7 +141,7 @@ def test_without_the_rim_correction_a_tilted_pin_is_found_off():
     cell = load_cell(CELL)
     tool = cell.robot.tool.tcp2flange.copy()
     tool[:3, :3] = rotation((0, 1, 0), 2.0) @ tool[:3, :3]
-    station = LaserStation(cell.sections["laser"].sensor_frame.matrix(), Pin(tool, 1.5), {"a": "x", "b": "y"})
+    station = BeamStation(cell.sections["laser"].sensor_frame.matrix(), Pin(tool, 1.5), {"a": "x", "b": "y"})
     want = expected(cell, station)
     assert np.abs(want.tcp - tool[:3, 3]).max() < 1e-4
     rim = 1.5 * math.sin(math.radians(2.0))

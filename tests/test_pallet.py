@@ -14,12 +14,12 @@ from click.testing import CliRunner
 
 from codegen import derived
 from codegen.cli import main
-from codegen.model.cell import CellError, load_cell
 from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.patterns import Box, column, interlock, pinwheel, split_row
 from codegen.kinds.pallet.report import load_pallet_file
 from codegen.kinds.pallet.stack import FrameError, pallet2base, placements
+from codegen.model.cell import CellError, load_cell
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "codegen" / "examples" / "pallets"

@@ -5,9 +5,9 @@ from pathlib import Path
 import pytest
 
 from codegen.controllers import get_target
-from codegen.model.cell import load_cell
 from codegen.kinds.pallet.program import pallet_file_names, pallet_identifiers
 from codegen.kinds.pallet.verify import fresh_pallet_programs, verify_pallet
+from codegen.model.cell import load_cell
 from codegen.render import render
 from codegen.verify_runs import load_program
 

@@ -12,10 +12,10 @@ from click.testing import CliRunner
 from robot_chains import CATALOGUE_CHAINS, chain_frames, ikpy_chain
 
 from codegen.cli import main
+from codegen.kinds.stations.region import arm_poses
 from codegen.model.cell import DEMO_CELL, EXAMPLES_DIR, CellError, load_cell
 from codegen.render import render
 from codegen.robot.arms import catalogue
-from codegen.robot.taught import arm_poses
 
 DEMO_TEXT = DEMO_CELL.read_text()
 BENCH = EXAMPLES_DIR / "thermometer_bench.toml"

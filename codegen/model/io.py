@@ -81,4 +81,5 @@ def polls(settings: SignalSettings) -> int:
     return math.ceil(settings.timeout_s / POLL_S - 1e-9)
 
 
-GRIPPER_BEHAVIOURS = ("prompt", "silent", "stuck")  # silent: never confirms the action; stuck: never releases
+GRIPPER_BEHAVIOURS = ("prompt", "silent", "stuck", "late")  # silent: never confirms; stuck: never releases
+LATE_SHARE = 0.8  # a late gripper confirms after this share of the program's timeout

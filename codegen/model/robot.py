@@ -153,12 +153,6 @@ def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
     return Tool(tcp, matrix, mass, cog, _numbered(ctx, table.get("numbered", {})))
 
 
-def numbered_names(target_name: str, number: int) -> tuple[str, str]:
-    """The controller's numbered tool and load variables (e.g. TOOL_DATA[3], LOAD_DATA[3])."""
-    facts = get_target(target_name).program["tool_data"]
-    return facts["tool"].format(n=number), facts["load"].format(n=number)
-
-
 def _numbered(ctx, table) -> dict:
     """[cell.tool] numbered = { <target> = n }: the program selects the controller's numbered tool and
     load n (which must hold the cell's tool) instead of declaring its own."""

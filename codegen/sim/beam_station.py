@@ -1,4 +1,4 @@
-"""The laser sensor station as a device beside the controller: two beams whose switching outputs follow the pin."""
+"""Two displacement sensors beside the controller, a device: crossed beams whose switching outputs follow the pin."""
 
 # Each sensor's switching output is on while its beam meets the pin (a reading within its range). The
 # controller reads it once per cycle (codegen/dialects/core/watch.py calls switch(name, t, flange2base) in
@@ -15,7 +15,7 @@ import numpy as np
 from codegen.sim.beams import Pin, entry_along
 
 
-class LaserStation:
+class BeamStation:
     """sensor2base: the true sensor frame; pin: the true tool; inputs: {input name: "x" or "y"} (the
     program's spelling of each beam's input); reach: mm from each sensor to the crossing; noise: mm (one
     standard deviation of where an edge switches); hysteresis: mm; seed: the noise's."""

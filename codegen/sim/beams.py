@@ -1,4 +1,4 @@
-"""Two simulated laser displacement sensors and the pin they see (source 003's automatic TCP method)."""
+"""Two simulated displacement sensors with crossed beams and the pin they see (source 003's automatic TCP method)."""
 
 # The sensor frame S: beam X runs along S's +x from its sensor at x = -reach, beam Y along +y from
 # y = -reach; both lie in S's plane z = 0 and cross at its origin. A sensor reads the distance from

@@ -91,12 +91,12 @@ class RobotEncoder:
 
 
 @dataclass
-class ConveyorLine:
+class BeltLine:
     """The belt, its camera and the PLC's part queue beside the controller, a device of Program.run.
 
     The camera sees each part cross its line at part.seen_s; the PLC queues it with the encoder's count
     then and presents the oldest one the program has not taken (its number, the count, x and z, through
-    the target's bus: codegen/conveyor/bus.py). The program takes it by writing its number back; then the
+    the target's bus: codegen/sim/bus.py). The program takes it by writing its number back; then the
     next is presented. With the queue empty and no part to come, the line's cycle stop turns on.
     taken: seq -> when the program took it."""
 

@@ -7,7 +7,7 @@ from codegen.model.io import signal_name
 # The queue's protocol (the same on every controller): the part's number (seq), the encoder's count when
 # the camera saw it (count), where it lies across the belt (x) and its top (z), and the line's cycle stop;
 # the program takes a part by writing its number back (ack). Registers carry x and z as floats in mm
-# (targets/<t>.toml conveyor_names); groups of digital inputs (conveyor_signals) are 16 bits wide and
+# (a [program.<kind>] table's names); groups of digital inputs (its signals) are 16 bits wide and
 # carry x and z in 0.1 mm, offset by 32768 so that a negative x fits (raw = round(10 x) + 32768), and the
 # encoder's live count as a group of its own.
 OFFSET = 32768
@@ -24,7 +24,7 @@ def decode_mm(raw: int) -> float:
 
 
 class RegisterBus:
-    """Registers the device writes and reads by name (conveyor_names); the PLC's counter now is a live
+    """Registers the device writes and reads by name (the table's names); the PLC's counter now is a live
     register (its count at the reading's moment). The controller's own encoder input (the device's
     encoder()) counts the same belt from another zero: it serves the tracking only."""
 

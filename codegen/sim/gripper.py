@@ -13,13 +13,15 @@ GRIPPER_S = 0.02  # how long the simulated gripper takes to confirm (less than o
 class Gripper:
     """A gripper (or a machine's clamp) beside the controller, a device of Program.run: GRIPPER_S after
     the program sets the output to the value, the feedback input turns on; after it sets the other
-    value, off ("silent": it never turns on; "stuck": it never turns off). It starts closed from the
-    previous cycle: the feedback on (verify's start state)."""
+    value, off ("silent": it never turns on; "stuck": it never turns off; "late": it confirms each action only
+    after late_s, within the program's timeout). It starts closed from the previous cycle: the feedback on
+    (verify's start state)."""
 
     output: str
     feedback: str | None
     value: bool = True
     behaviour: str = "prompt"
+    late_s: float = GRIPPER_S
     _due: tuple | None = None  # (time, feedback then)
     _seen: object = None  # the output's value the device last acted on
 
@@ -33,7 +35,8 @@ class Gripper:
         if out is not None and out != self._seen:
             self._seen, on = out, out == self.value
             blocked = (on and self.behaviour == "silent") or (not on and self.behaviour == "stuck")
-            self._due = None if blocked else (machine.clock + GRIPPER_S, on)
+            delay = self.late_s if self.behaviour == "late" else GRIPPER_S
+            self._due = None if blocked else (machine.clock + delay, on)
         if self._due is not None and machine.clock >= self._due[0]:
             machine.signals[self.feedback] = self._due[1]
             self._due = None

@@ -5,12 +5,14 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.controllers import get_target
+from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.program import SKIPPED, STOPPED, TOO_LATE, lead_seconds
-from codegen.kinds.conveyor.section import conveyor_of, facts
+from codegen.kinds.conveyor.section import conveyor_of
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.sim.belt import part_pose, part_y
 from codegen.sim.bus import SCALE
-from codegen.verify import TOLERANCES, _pose_errors
+from codegen.verify.checks import TOLERANCES
+from codegen.verify.checks import pose_errors as _pose_errors
 
 
 def tolerances_mm(cell, target) -> tuple[float, float]:

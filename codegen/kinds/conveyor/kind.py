@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from codegen.emit import Emitter
-from codegen.kinds.conveyor import reach
+from codegen.kinds.conveyor import reach, verify
 from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
 from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
@@ -53,11 +53,48 @@ class ConveyorKind(ProgramKind):
     def reach(cls, cell, targets: list[str]) -> list:
         return reach.check(cell, targets)
 
-    @classmethod
-    def verify_section(cls, cell, files: tuple, targets: tuple, seed: int):
-        from codegen.kinds.conveyor.verify import conveyor_section
+    # --- verify -------------------------------------------------------------------------------
+    report_key = "conveyors"
+    scenarios = verify.SCENARIOS
 
-        return conveyor_section(cell, files, targets, seed)
+    @classmethod
+    def verify_cases(cls, cell, source, count: int, seed: int) -> list:
+        return verify.cases(cell, seed)
+
+    @classmethod
+    def setup(cls, cell, source, case):
+        return verify.setup(cell, source.target, case)
+
+    @classmethod
+    def judge(cls, cell, source, case, trace, setup):
+        return verify.judge(cell, source.target, case, trace, setup)
+
+    @classmethod
+    def new_figures(cls):
+        return verify.BeltFigures()
+
+    @classmethod
+    def add_figures(cls, figures, case, judged) -> None:
+        figures.picked += judged[0]
+        figures.skipped += judged[1]
+
+    @classmethod
+    def merge_figures(cls, into, part) -> None:
+        into.picked += part.picked
+        into.skipped += part.skipped
+
+    @classmethod
+    def summary(cls, row) -> dict:
+        figures = row.figures or verify.BeltFigures()
+        return {"parts_picked": figures.picked, "parts_skipped": figures.skipped}
+
+    @classmethod
+    def legacy_summary(cls, row) -> dict:
+        return verify.legacy_summary(row)
+
+    @classmethod
+    def report_lines(cls, rows: list) -> list[str]:
+        return verify.report_lines(rows)
 
     @classmethod
     def commands(cls) -> list:

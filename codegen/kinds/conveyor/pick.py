@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from codegen.kinds.conveyor.section import facts
+from codegen.kinds.conveyor.facts import facts
 
 KEYS = frozenset(
     {

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.emit import EmitError, Emitter
-from codegen.kinds.conveyor.section import conveyor_of, facts
+from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.cell import TaughtPose
 from codegen.poses import zyx_deg_from_rotmat
 from codegen.sim import bus

@@ -115,10 +115,3 @@ def check_pick(ctx, counts_per_mm: float, camera_offset_mm: float, pick) -> None
 def conveyor_of(cell) -> Conveyor | None:
     """A cell's [conveyor], or None."""
     return cell.sections.get("conveyor")
-
-
-def facts(target) -> dict:
-    """The conveyor kind's table [program.conveyor] of a target (targets/<t>.toml), checked against its keys."""
-    from codegen.protocol import get_kind  # the registry imports this package: asked when called
-
-    return get_kind("conveyor").facts(target)

@@ -1,51 +1,66 @@
-"""Verify pick-from-belt programs: each case run against a simulated belt, judged by where each part really is."""
+"""Verify pick-from-belt programs: each case run against a simulated belt; the parts judged where they really are,
+every move against the pick plan, the common scenarios (the arm away, the gripper silent, a bad reading)."""
 
 from __future__ import annotations
 
 import random
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
-from codegen import sections
+import numpy as np
+
 from codegen.controllers import get_target
-from codegen.kinds.conveyor.judge import judge
-from codegen.kinds.conveyor.program import SKIPPED, TOO_LATE
-from codegen.kinds.conveyor.section import conveyor_of, facts
+from codegen.emit import Emitter
+from codegen.guard import NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, halt_message
+from codegen.kinds.conveyor import plan
+from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.judge import judge as judge_parts
+from codegen.kinds.conveyor.program import BAD_READING, SKIPPED, TOO_LATE
+from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.io import signal_name
-from codegen.robot.expect import arm_of
-from codegen.sim.belt import Belt, ConveyorLine, Part
+from codegen.reference import home_move
+from codegen.sim.belt import Belt, BeltLine, Part
 from codegen.sim.bus import bus_for
 from codegen.sim.gripper import Gripper
-from codegen.verify import tally
+from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, PlannedOutput, Setup
 
 # a run's statements: the bundled cell's longest case takes 86,000 (UR polls the queue every 8 ms); a program
 # that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after minutes
 STEP_LIMIT = 200_000
 COUNTER_BITS = 16  # the count the program reads: UR's filtered count [0; 65536[ (URScript manual), a 16-bit group
+SCENARIOS = {
+    "start_away": "",
+    "start_mid_cycle": "",  # the arm where a stopped cycle left it: at the place
+    "gripper_silent": "",
+    "gripper_stuck": "",
+    "device_late": "the belt's parts come at random gaps, speeds and a varying speed in every case",
+    "device_silent": "a belt that brings no part is the line waiting: the program waits for the next part or the "
+    "line's stop, as it should",
+    "reading_out_of_range": "",  # the camera reports a part outside x_range_mm
+}
+SCENARIO_OF = {
+    "start_away": "start_away",
+    "start_mid_cycle": "start_mid_cycle",
+    "gripper_silent": "gripper_silent",
+    "gripper_stuck": "gripper_stuck",
+    "part_out_of_range": "reading_out_of_range",
+}
 
 
 @dataclass(frozen=True)
 class BeltCase:
-    """A run: the belt (speed, wobble, where the counter starts) and the parts the camera sees."""
+    """A run: the belt (speed, wobble, where the counter starts), the parts the camera sees, how the gripper
+    answers and where the arm starts."""
 
     category: str
     belt: Belt
     parts: tuple[Part, ...]
     robot_zero: int = 0  # the controller's own encoder against the PLC's counter
+    gripper: str = "prompt"
+    start: str = "home"
 
-
-@dataclass
-class ConveyorReport(sections.SectionReport):
-    picked: int = 0
-    skipped: int = 0
-
-    def figures(self) -> dict:
-        return {
-            "parts_picked": self.picked,
-            "parts_skipped": self.skipped,
-            "pos_max_mm": self.max_pos_mm,
-            "rot_max_deg": self.max_rot_deg,
-        }
+    @property
+    def scenario(self) -> str:
+        return SCENARIO_OF.get(self.category, "nominal")
 
 
 def cases(cell, seed: int = 0) -> list[BeltCase]:
@@ -83,6 +98,17 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     fast = Belt(pick.belt_speed_max_mm_s, e, COUNTER_BITS, rng.randrange(span))
     quick = tuple(_random_part(rng, pick, seq, seen) for seq, seen in ((1, 0.5), (2, 2.0), (3, 3.5), (4, 12.0)))
     out.append(BeltCase("fast_belt", fast, quick, rng.randrange(-(2**30), 2**30)))
+    first = out[0]
+    one = replace(first, parts=first.parts[:1])
+    (x0, x1), _ = pick.x_range_mm, pick.z_range_mm
+    wrong = replace(one.parts[0], x=x1 + 0.5 * (x1 - x0))
+    out += [
+        replace(one, category="start_away", start="away"),
+        replace(one, category="start_mid_cycle", start="mid_cycle"),
+        replace(one, category="gripper_silent", gripper="silent"),
+        replace(one, category="gripper_stuck", gripper="stuck"),
+        replace(one, category="part_out_of_range", parts=(wrong,)),
+    ]
     return out
 
 
@@ -91,77 +117,109 @@ def _random_part(rng, pick, seq: int, seen_s: float) -> Part:
     return Part(seq, seen_s, rng.uniform(x0, x1), rng.uniform(z0, z1))
 
 
-def run_case(cell, target_name: str, program, case: BeltCase):
+def setup(cell, target_name: str, case: BeltCase) -> Setup:
     target = get_target(target_name)
-    line = ConveyorLine(case.belt, list(case.parts), bus_for(target, facts(target)), robot_zero=case.robot_zero)
+    line = BeltLine(case.belt, list(case.parts), bus_for(target, facts(target)), robot_zero=case.robot_zero)
     output = signal_name(target, "output", cell.io.output[target_name])
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
-    gripper = Gripper(output, feedback, cell.io.value, "prompt")
-    arm = arm_of(cell, target_name)
-    trace = program.run(
-        {},
-        devices=(line, gripper),
-        signals={feedback: False},
-        arm=arm,
-        start_joints=None if arm is None else cell.robot.home[target_name],
-        step_limit=STEP_LIMIT,
-    )
-    return trace, line, output
+    gripper = Gripper(output, feedback, cell.io.value, case.gripper)
+    return Setup({}, (line, gripper), {feedback: False}, _start_joints(cell, target_name, case), step_limit=STEP_LIMIT)
 
 
-def verify_conveyor(
-    cell, target_name: str, program, files: list[str], seed: int = 0, first_only: bool = False
-) -> ConveyorReport:
-    """Every case on one target's program (first_only: stop at the first mismatch)."""
-    report = ConveyorReport(target_name, files)
-    started = time.perf_counter()
-    for case in cases(cell, seed):
-        try:
-            trace, line, output = run_case(cell, target_name, program, case)
-            problem, pos, rot = judge(cell, target_name, case, trace, line, output)
-            skipped = sum(1 for m in trace.messages if m.startswith((SKIPPED, TOO_LATE)))
-            picked = len(case.parts) - skipped
-        except Exception as exc:  # a run error is this case's mismatch
-            problem, pos, rot, skipped, picked = f"run error: {exc}", 0.0, 0.0, 0, 0
-        report.skipped += skipped
-        report.picked += picked
-        if tally(report, problem, pos, rot, case.category) and first_only:
-            break
-    report.seconds = time.perf_counter() - started
-    return report
-
-
-def fresh_program(cell, target_name: str):
-    """The cell's pick program for a target, rendered and parsed: (program, file names); None: none."""
-    from codegen.kinds.conveyor.program import conveyor_file_names, picks_on
-
-    target = get_target(target_name)
-    if not picks_on(cell, target):
+def _start_joints(cell, target_name: str, case: BeltCase):
+    robot = cell.robot
+    if robot is None or target_name not in robot.arms:
         return None
-    return sections.fresh_program(cell, target_name, conveyor_file_names(cell, target))
+    home = np.asarray(robot.home[target_name], dtype=float)
+    if case.start == "away":
+        return home + np.array(START_AWAY_DEG)
+    if case.start == "mid_cycle":  # at the place, where a cycle stopped after a release leaves the arm
+        from codegen.robot import solve
+
+        arm = robot.arms[target_name]
+        flange = solve.flange_poses(conveyor_of(cell).pick.place.matrix(), robot.tool.tcp2flange)
+        joints, _ = solve.nearest(arm, solve.branches(arm, flange), home)
+        return joints
+    return home
 
 
-def _row(r: ConveyorReport) -> str:
-    return (
-        f"{'belt':9} {r.target:8} {r.cases:6d} {r.mismatches:5d} {r.picked:7d} {r.skipped:8d}  "
-        f"{r.max_pos_mm:10.2e}  {r.max_rot_deg:11.2e}"
-    )
+def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgement:
+    """Where the program stops (the restart rule, the gripper's silences, a bad reading), else every part
+    judged where it really is (codegen/kinds/conveyor/judge.py) and every move against the pick plan."""
+    target = get_target(target_name)
+    line = setup.devices[0]
+    emitter = Emitter(target)
+    output = signal_name(target, "output", cell.io.output[target_name])
+    home = home_move(cell, target_name)
+    mode = conveyor_of(cell).pick.tracking[target_name]
+    refuses = case.start != "home" and target.program.get("restart") == "at_home"
+    if refuses and home is not None:
+        message = emitter.string(halt_message(cell, NOT_AT_HOME, None, 0))
+        return Judgement([Expectation(message, output_names=frozenset({output}))])
+    first = [] if home is None else [_home(cell, home)]
+    events = [o for o in trace.outputs if o.name == output]
+    closes = [o for o in events if o.value == cell.io.value]
+    opens = [o for o in events if o.value != cell.io.value][1:]
+    names = frozenset({output})
+    if case.category == "part_out_of_range":  # the camera's reading is refused before the arm moves for it
+        outputs = plan.outputs(cell, output, [], [], True)
+        return Judgement([Expectation(emitter.string(BAD_READING), tuple(first), outputs, output_names=names)])
+    stops = {"gripper_silent": (NO_FEEDBACK, plan.GRIP[mode]), "gripper_stuck": (NOT_RELEASED, plan.RELEASE[mode])}
+    if case.category in stops:  # the first part's moves up to the grip (never confirmed) or the release (never)
+        reason, count = stops[case.category]
+        moves = [plan.planned(segment, cell) for segment in plan.PICK[mode][:count]]
+        after = len(first) + plan.GRIP[mode]
+        outputs = [*plan.outputs(cell, output, [], [], True)]
+        outputs.append(PlannedOutput(output, cell.io.value, after, "on the part"))
+        if case.category == "gripper_stuck":
+            at = len(first) + plan.RELEASE[mode]
+            outputs.append(PlannedOutput(output, not cell.io.value, at, "at the place"))
+        message = emitter.string(halt_message(cell, reason, None, 0))
+        return Judgement([Expectation(message, (*first, *moves), tuple(outputs), output_names=names)])
+    problem, pos, rot = judge_parts(cell, target_name, case, trace, line, output)
+    if problem is not None:
+        return Judgement([], problem=problem)
+    moves = plan.lay_over(cell, mode, len(first), trace.moves, closes, opens)
+    if isinstance(moves, str):
+        return Judgement([], problem=moves)
+    skipped = sum(1 for m in trace.messages if m.startswith((SKIPPED, TOO_LATE)))
+    outputs = plan.outputs(cell, output, closes, opens, True)
+    expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
+    return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
 
 
-def conveyor_section(cell, files: tuple, targets: tuple, seed: int) -> tuple[sections.Section | None, tuple]:
-    """The pick programs among FILES (or fresh ones) verified against simulated belts; the other files
-    are returned."""
-    from codegen.kinds.conveyor.program import conveyor_file_names
+def _home(cell, home) -> PlannedMove:
+    percent = cell.motion.joint_speed_percent
+    return PlannedMove("home", home[0].kind, home[0].tcp2base, True, None, 0.0, percent, joints=home[1])
 
-    if conveyor_of(cell) is None or conveyor_of(cell).pick is None:
-        return None, files
 
-    def verify(cell, name, program, names):
-        return verify_conveyor(cell, name, program, names, seed)
+@dataclass
+class BeltFigures:
+    picked: int = 0
+    skipped: int = 0
 
-    reports, rest = sections.collect(
-        cell, files, targets, lambda target: conveyor_file_names(cell, target), fresh_program, verify
-    )
-    header = "conveyor  target    cases  fail  picked  skipped  pos max mm  rot max deg"
-    passed, failed = "every part gripped where it is", "MISMATCHES in the conveyor programs"
-    return sections.Section(reports, header, _row, passed, failed), rest
+
+def legacy_summary(row) -> dict:
+    """A row as `codegen verify --json` lists it under "conveyors"."""
+    s = row.summary()
+    figures = row.figures or BeltFigures()
+    return {
+        "target": row.target,
+        "files": row.files,
+        "cases": row.cases,
+        "mismatches": row.mismatches,
+        "parts_picked": figures.picked,
+        "parts_skipped": figures.skipped,
+        "pos_max_mm": s["position_error_mm"]["max"],
+        "rot_max_deg": s["orientation_error_deg"]["max"],
+        "first_mismatches": row.first_mismatches,
+    }
+
+
+def report_lines(rows: list) -> list[str]:
+    lines = ["conveyor  target    cases  fail  picked  skipped"]
+    for r in rows:
+        figures = r.figures or BeltFigures()
+        counts = f"{r.cases:6d} {r.mismatches:5d} {figures.picked:7d} {figures.skipped:8d}"
+        lines.append(f"{'belt':9} {r.target:8} {counts}")
+    return lines

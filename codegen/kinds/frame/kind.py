@@ -22,7 +22,8 @@ from codegen.guard import (
     UNKNOWN_STATION,
     pixels_in_range,
 )
-from codegen.kinds.stations.base import Case, StationKind
+from codegen.kinds.stations.base import StationKind
+from codegen.kinds.stations.cases import Case
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
 from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
 from codegen.sim.camera import CameraModel, SimulatedCamera
@@ -390,7 +391,7 @@ class FrameKind(StationKind):
         return camera_for(cell, case)
 
     @classmethod
-    def describe(cls, case: FrameCase) -> str:
+    def describe_reading(cls, case: FrameCase) -> str:
         return f"station {case.station_id} mark moved ({case.dx!r}, {case.dy!r}, {case.alpha!r}) camera {case.camera}"
 
     @classmethod
@@ -411,7 +412,7 @@ class FrameKind(StationKind):
         into.errors_deg.extend(part.errors_deg)
 
     @classmethod
-    def summary(cls, stats: FrameStats) -> dict:
+    def stats_summary(cls, stats: FrameStats) -> dict:
         photos = stats.photos
         return {
             "converged_cases": len(photos),
@@ -423,7 +424,7 @@ class FrameKind(StationKind):
         }
 
     @classmethod
-    def report_lines(cls, summaries: list[dict]) -> list[str]:
+    def stats_lines(cls, summaries: list[dict]) -> list[str]:
         frames = [s for s in summaries if s[cls.name]["converged_cases"]]
         if not frames:
             return []

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from codegen.emit import Emitter
-from codegen.kinds.laser import reach
+from codegen.kinds.laser import plan, reach
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
 from codegen.kinds.laser.section import laser_of, parse_laser
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
@@ -16,6 +16,8 @@ class LaserKind(ProgramKind):
     target_keys = {
         "files": list,  # source 003's automatic TCP program: file patterns with {laser}
         "names": dict,  # that program's globals verify reads (edges, hits, centres, axis, tcp)
+        "stored_tool": dict,  # where the program stores the TCP found for later programs: name and x, y, z fields
+        "circle_blend_mm": float,  # the first half circle blends into the second by this much (0: it stops)
     }
 
     @classmethod
@@ -56,11 +58,60 @@ class LaserKind(ProgramKind):
 
         return derivation.laser_identities(check)
 
-    @classmethod
-    def verify_section(cls, cell, files: tuple, targets: tuple, seed: int):
-        from codegen.kinds.laser.verify import laser_section
+    # --- verify -------------------------------------------------------------------------------
+    report_key = "lasers"
+    scenarios = {
+        "start_away": "",
+        "start_mid_cycle": "",  # the arm where a stopped calibration left it: at the first circle's start
+        "gripper_silent": "the calibration program uses no gripper",
+        "gripper_stuck": "the calibration program uses no gripper",
+        "device_late": "the sensors switch with the pin's position, seen once per input cycle of the controller",
+        "device_silent": "",  # sensors that never switch
+        "reading_out_of_range": "",  # a TCP or an axis beyond offset_max_mm of the tool's data
+    }
 
-        return laser_section(cell, files, targets, seed)
+    @classmethod
+    def verify_cases(cls, cell, source, count: int, seed: int) -> list:
+        from codegen.kinds.laser.verify import cases
+
+        return cases(cell, seed)
+
+    @classmethod
+    def setup(cls, cell, source, case):
+        return plan.setup(cell, source.target, case)
+
+    @classmethod
+    def judge(cls, cell, source, case, trace, setup):
+        return plan.judge(cell, source.target, case, trace)
+
+    @classmethod
+    def new_figures(cls):
+        return plan.LaserFigures()
+
+    @classmethod
+    def add_figures(cls, figures, case, judged) -> None:
+        plan.add(figures, judged)
+
+    @classmethod
+    def merge_figures(cls, into, part) -> None:
+        plan.merge(into, part)
+
+    @classmethod
+    def summary(cls, row) -> dict:
+        f = row.figures or plan.LaserFigures()
+        return {
+            "tcp_truth_max_mm": f.truth_max_mm,
+            "tcp_with_frame_error_mm": f.frame_error_mm,
+            "motion_s": f.motion_s,
+        }
+
+    @classmethod
+    def legacy_summary(cls, row) -> dict:
+        return plan.legacy_summary(row)
+
+    @classmethod
+    def report_lines(cls, rows: list) -> list[str]:
+        return plan.report_lines(rows)
 
     @classmethod
     def commands(cls) -> list:

@@ -29,7 +29,8 @@ import math
 import numpy as np
 
 from codegen.emit import EmitError, Emitter
-from codegen.kinds.laser.section import facts, laser_of
+from codegen.kinds.laser.facts import facts
+from codegen.kinds.laser.section import laser_of
 from codegen.model.cell import TaughtPose
 from codegen.model.io import signal_name
 from codegen.poses import zyx_deg_from_rotmat

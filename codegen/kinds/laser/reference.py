@@ -15,7 +15,7 @@ import numpy as np
 
 from codegen.kinds.laser.program import DOWN, EDGES_PER_BEAM, circle_points
 from codegen.kinds.laser.section import laser_of
-from codegen.sim.beam_station import LaserStation
+from codegen.sim.beam_station import BeamStation
 
 SCAN_MM = 0.1  # path step of the scan (an interruption is 2 pin radii long, at least 0.4 mm: never stepped over)
 BISECT = 50
@@ -38,7 +38,7 @@ class Expected:
 class Geometry:
     """The program's poses in the named S and what the sensors (in the true S) make of them."""
 
-    def __init__(self, cell, station: LaserStation) -> None:
+    def __init__(self, cell, station: BeamStation) -> None:
         self.laser = laser_of(cell)
         self.sensor2base = laser_of(cell).sensor_frame.matrix()
         self.guess = cell.robot.tool.tcp2flange
@@ -117,7 +117,7 @@ def from_measured(cell, edges: list[float], hits: list[float]) -> tuple:
     return centres, axis, tcp
 
 
-def expected(cell, station: LaserStation) -> Expected:
+def expected(cell, station: BeamStation) -> Expected:
     """What the program must find with this station (its true pin and sensor frame, hysteresis, no noise)."""
     geo = Geometry(cell, station)
     laser = laser_of(cell)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from codegen.kinds.laser.facts import facts
 from codegen.model.cell import TaughtPose
 from codegen.model.io import per_target
 
@@ -120,10 +121,3 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
 def laser_of(cell) -> Laser | None:
     """A cell's [laser] station, or None."""
     return cell.sections.get("laser")
-
-
-def facts(target) -> dict:
-    """The laser kind's table [program.laser] of a target (targets/<t>.toml), checked against its keys."""
-    from codegen.protocol import get_kind  # the registry imports this package: asked when called
-
-    return get_kind("laser").facts(target)

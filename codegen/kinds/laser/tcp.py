@@ -197,8 +197,8 @@ _TCP_LINE = re.compile(r"^tcp\s*=[^\n]*$", re.MULTILINE)
 def write_to_cell(cell_path: Path, result: ToolFit, source: str) -> None:
     """Set the tcp of the cell's [cell.tool] (in the cell's pose format), keeping the rest as written; the
     edited file must load and pass the envelope check before it replaces the old one."""
+    from codegen.kinds.stations.envelope import ReachError, check
     from codegen.model.cell import CellError, load_cell, replace_cell_file
-    from codegen.robot.envelope import ReachError, check
 
     cell = load_cell(cell_path)
     match = _TOOL.search(cell_path.read_text(encoding="utf-8"))

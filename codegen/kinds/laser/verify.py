@@ -1,24 +1,27 @@
-"""Verify laser TCP programs: each case run against the simulated station, judged by the exact-edge reference."""
+"""The laser TCP program's cases against the simulated station, what it measured judged by the exact-edge reference."""
 
 from __future__ import annotations
 
 import math
-import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from codegen import sections
-from codegen.controllers import get_target
 from codegen.kinds.laser import program as lp
-from codegen.kinds.laser.reference import Expected, expected, from_measured
+from codegen.kinds.laser.reference import Expected, from_measured
 from codegen.kinds.laser.section import laser_of
 from codegen.model.io import signal_name
-from codegen.robot.expect import arm_of
-from codegen.sim.beam_station import LaserStation
+from codegen.sim.beam_station import BeamStation
 from codegen.sim.beams import Pin
-from codegen.verify import tally
 
+# A laser case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS; the others are its own)
+SCENARIO_OF = {
+    "start_away": "start_away",
+    "start_mid_cycle": "start_mid_cycle",
+    "sensors_silent": "device_silent",
+    "tool_too_long": "reading_out_of_range",
+    "steep_axis": "reading_out_of_range",
+}
 STEP_LIMIT = 2_000_000  # a UR thread runs a few statements per 2 ms cycle for a minute of motion
 NOISE_MM = 0.01  # the switching point's standard deviation (the issue's sensor noise)
 HYSTERESIS_MM = 0.05  # the sensors' switching hysteresis (a setting of the sensor: five times its noise)
@@ -47,6 +50,12 @@ class LaserCase:
     noise: float = NOISE_MM
     truth: bool = True
     seed: int = 0
+    start: str = "home"
+    dead: bool = False  # the sensors never switch (a sensor unplugged, its range set to nothing)
+
+    @property
+    def scenario(self) -> str:
+        return SCENARIO_OF.get(self.category, "nominal")
 
 
 def cases(cell, seed: int = 0) -> list[LaserCase]:
@@ -81,10 +90,16 @@ def cases(cell, seed: int = 0) -> list[LaserCase]:
     steep[:3, :3] = rotation((0, 1, 0), 35.0) @ steep[:3, :3]
     steep[0, 3] += 7.0
     out.append(LaserCase("steep_axis", steep, seed=seed + 7))
+    quiet = out[0]
+    out += [
+        replace(quiet, category="start_away", start="away"),
+        replace(quiet, category="start_mid_cycle", start="mid_cycle"),
+        replace(quiet, category="sensors_silent", dead=True),
+    ]
     return out
 
 
-def station_for(cell, target, case: LaserCase) -> LaserStation:
+def station_for(cell, target, case: LaserCase) -> BeamStation:
     laser = laser_of(cell)
     frame = laser.sensor_frame.matrix()
     if case.sensor_error is not None:
@@ -93,8 +108,9 @@ def station_for(cell, target, case: LaserCase) -> LaserStation:
         signal_name(target, "input", laser.beam_x[target.name]): "x",
         signal_name(target, "input", laser.beam_y[target.name]): "y",
     }
-    return LaserStation(frame, Pin(case.tool, laser.pin_radius_mm), inputs, noise=case.noise,
-                        hysteresis=HYSTERESIS_MM, seed=case.seed)
+    range_mm = 0.0 if case.dead else 200.0
+    return BeamStation(frame, Pin(case.tool, laser.pin_radius_mm), inputs, range_mm=range_mm, noise=case.noise,
+                       hysteresis=HYSTERESIS_MM, seed=case.seed)
 
 
 @dataclass(frozen=True)
@@ -128,21 +144,6 @@ def tolerances(cell, target, noise: float) -> Tolerances:
     contact = laser.search_speed_mm_s * cycle / 2 + 6 * noise / math.sqrt(2)
     tcp = contact + centre + laser.pin_radius_mm * axis + FLOAT32_MM
     return Tolerances(edge, centre, axis, hit, tcp)
-
-
-@dataclass
-class LaserReport(sections.SectionReport):
-    truth_max_mm: float = 0.0  # the largest |TCP found - true TCP| where the truth is held
-    frame_error_mm: float = 0.0  # |TCP found - true TCP| with the sensor frame off
-    motion_s: float = 0.0  # the program's motion time (the longest case that wrote a TCP)
-
-    def figures(self) -> dict:
-        return {
-            "pos_max_mm": self.max_pos_mm,  # edges, hits, TCP
-            "tcp_truth_max_mm": self.truth_max_mm,
-            "tcp_with_frame_error_mm": self.frame_error_mm,
-            "motion_s": self.motion_s,
-        }
 
 
 def _flat(value) -> list[float]:
@@ -259,74 +260,3 @@ def _moves_problem(cell, trace, circles: int = 2) -> str | None:
             return f"the move to {label} turns the tool {angle:.4f} deg from the flange's z along the sensor's -z"
         i += 1
     return None
-
-
-def run_case(cell, target_name: str, program, case: LaserCase):
-    target = get_target(target_name)
-    arm = arm_of(cell, target_name)
-    return program.run(
-        {},
-        devices=(station_for(cell, target, case),),
-        arm=arm,
-        start_joints=None if arm is None else cell.robot.home[target_name],
-        keep=tuple(lp.kept_names(target).values()),
-        signal_cycle_s=float(target.program["signal_cycle_s"]),
-        step_limit=STEP_LIMIT,
-    )
-
-
-def verify_laser(cell, target_name: str, program, files: list[str], seed: int = 0, first_only: bool = False):
-    target = get_target(target_name)
-    report = LaserReport(target_name, files)
-    started = time.perf_counter()
-    for case in cases(cell, seed):
-        # the reference's station: no noise (the edges where the geometry puts them), the same hysteresis
-        want = expected(cell, station_for(cell, target, LaserCase(case.category, case.tool, case.sensor_error, 0.0)))
-        tol = tolerances(cell, target, case.noise)
-        truth = 0.0
-        try:
-            trace = run_case(cell, target_name, program, case)
-            problem, pos, truth = judge(cell, target, case, trace, want, tol)
-            if want.halt is None and problem is None:
-                report.motion_s = max(report.motion_s, trace.moves[-1].end_time if trace.moves else 0.0)
-        except Exception as exc:  # a run error is this case's mismatch
-            problem, pos = f"run error: {exc}", 0.0
-        if case.truth:
-            report.truth_max_mm = max(report.truth_max_mm, truth)
-        else:
-            report.frame_error_mm = max(report.frame_error_mm, truth)
-        if tally(report, problem, pos, 0.0, case.category) and first_only:
-            break
-    report.seconds = time.perf_counter() - started
-    return report
-
-
-def fresh_program(cell, target_name: str):
-    """The cell's laser TCP program for a target, rendered and parsed: (program, file names); None: none."""
-    target = get_target(target_name)
-    if not lp.calibrates_on(cell, target):
-        return None
-    return sections.fresh_program(cell, target_name, lp.laser_file_names(cell, target))
-
-
-def _row(r: LaserReport) -> str:
-    return (
-        f"{'tcp':10} {r.target:6} {r.cases:6d} {r.mismatches:5d}  {r.max_pos_mm:10.4f}  {r.truth_max_mm:15.4f}"
-        f"  {r.frame_error_mm:12.4f}  {r.motion_s:8.1f}"
-    )
-
-
-def laser_section(cell, files: tuple, targets: tuple, seed: int) -> tuple[sections.Section | None, tuple]:
-    """The laser programs among FILES (or fresh ones) verified against the simulated station; the rest returned."""
-    if laser_of(cell) is None:
-        return None, files
-
-    def verify(cell, name, program, names):
-        return verify_laser(cell, name, program, names, seed)
-
-    reports, rest = sections.collect(
-        cell, files, targets, lambda target: lp.laser_file_names(cell, target), fresh_program, verify
-    )
-    header = "laser tcp  target  cases  fail  ref max mm  tcp-true max mm  frame err mm  motion s"
-    passed, failed = "every TCP found where the reference finds it", "MISMATCHES in the laser programs"
-    return sections.Section(reports, header, _row, passed, failed), rest

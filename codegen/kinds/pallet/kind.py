@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from codegen.emit import Emitter
-from codegen.kinds.pallet import reach
+from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.program import check_level, pallet_context, pallet_file_names, pallet_identifiers
 from codegen.kinds.pallet.section import pallets_of
@@ -67,11 +67,49 @@ class PalletKind(ProgramKind):
 
         return [*derivation.pallet_identities(check), *derivation.box_pose_identities(check)]
 
-    @classmethod
-    def verify_section(cls, cell, files: tuple, targets: tuple, seed: int):
-        from codegen.kinds.pallet.verify import pallet_section
+    # --- verify -------------------------------------------------------------------------------
+    report_key = "pallets"
+    scenarios = verify.SCENARIOS
 
-        return pallet_section(cell, files, targets, seed)
+    @classmethod
+    def verify_cases(cls, cell, source, count: int, seed: int) -> list:
+        return verify.verify_cases(cell, source.index, seed)
+
+    @classmethod
+    def setup(cls, cell, source, case):
+        return verify.setup(cell, source.index, source.target, case)
+
+    @classmethod
+    def judge(cls, cell, source, case, trace, setup):
+        return verify.judge(cell, source.index, source.target, case)
+
+    @classmethod
+    def describe(cls, cell, case) -> str:
+        return f"layer {case.data.layer} box {case.data.box}"
+
+    @classmethod
+    def new_figures(cls):
+        return verify.PalletFigures()
+
+    @classmethod
+    def add_figures(cls, figures, case, judged) -> None:
+        figures.boxes += judged
+
+    @classmethod
+    def merge_figures(cls, into, part) -> None:
+        into.boxes += part.boxes
+
+    @classmethod
+    def summary(cls, row) -> dict:
+        return {"boxes_placed": 0 if row.figures is None else row.figures.boxes}
+
+    @classmethod
+    def legacy_summary(cls, row) -> dict:
+        return verify.legacy_summary(row)
+
+    @classmethod
+    def report_lines(cls, rows: list) -> list[str]:
+        return verify.report_lines(rows)
 
     @classmethod
     def commands(cls) -> list:

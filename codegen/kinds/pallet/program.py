@@ -17,13 +17,14 @@ from codegen.kinds.pallet.cycle import (
     held_message,
     layer_counts,
 )
+from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.patterns import layout
 from codegen.kinds.pallet.reach import PICK_KEY, configurations
-from codegen.kinds.pallet.section import Pallet, facts, pallets_of
+from codegen.kinds.pallet.section import Pallet, pallets_of
 from codegen.kinds.pallet.stack import sides
 from codegen.model.cell import TaughtPose
 from codegen.poses import zyx_deg_from_rotmat
-from codegen.robot.emission import configuration_literal
+from codegen.render import configuration_literal
 
 LEVEL_TOL = 1e-9  # a level pallet: its z is the base's z (a dialect without a pose product needs one)
 

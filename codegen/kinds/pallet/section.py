@@ -224,11 +224,5 @@ def pallets_of(cell) -> tuple[Pallet, ...]:
     return cell.sections.get("pallet") or ()
 
 
-def facts(target) -> dict:
-    """The pallet kind's table [program.pallet] of a target (targets/<t>.toml), checked against its keys."""
-    from codegen.protocol import get_kind  # the registry imports this package: asked when called
-
-    return get_kind("pallet").facts(target)
-
 
 __all__ = ["FAMILIES", "FamilySpec", "Pallet", "pallets_of", "parse_pallets"]

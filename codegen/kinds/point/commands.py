@@ -27,12 +27,12 @@ def _parse_mark(value: str) -> tuple[float, float, float]:
 def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None:
     """Reference result for one reading: guard outcome and every corrected pose."""
     from codegen.kinds.point.correct import correct_report, format_report
-    from codegen.kinds.point.kind import PointKind, Reading
+    from codegen.kinds.point.reference import NAME, Reading
 
     model = _load(cell)
     x, y, theta = _parse_mark(mark)
     station = model.station_by_id(station_id)
-    if station is not None and station.kind != PointKind.name:
+    if station is not None and station.kind != NAME:
         raise UserError(
             f"{model.source}: station {station_id} ({station.name}) is a {station.kind} station: only point "
             "stations are corrected from one reading (see `codegen verify` for the others)"

@@ -3,25 +3,15 @@
 from __future__ import annotations
 
 import random
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Any, ClassVar
 
 from codegen.guard import halt_message
+from codegen.kinds.stations import judge
+from codegen.kinds.stations.cases import Case, build_cases, describe_case, edge_cell, edge_only_cell
+from codegen.kinds.stations.envelope import check
 from codegen.kinds.stations.program import station_program
 from codegen.protocol import ProgramKind, station_kinds
-
-
-@dataclass(frozen=True)
-class Case:
-    """One verify case: a category for the report, the kind's description of the situation and how
-    the simulated vision PC answers (codegen.model.vision.BEHAVIOURS)."""
-
-    category: str
-    reading: Any  # the kind's case type; has station_id
-    vision: str = "prompt"
-    gripper: str = "prompt"  # how the simulated gripper answers the work pose's signal (codegen.sim.gripper)
-    start: str = "home"  # where the arm stands when the program starts: "home", "away" from it, or "retreat":
-    # at its station's taught retreat (where a stopped cycle leaves it)
 
 
 class StationKind(ProgramKind):
@@ -76,7 +66,111 @@ class StationKind(ProgramKind):
         own = list(station_kinds().values())
         if not cell.stations or cls is not own[0]:
             return []
-        return [station_program(cell, target, own)]
+        return station_program(cell, target, own)
+
+    @classmethod
+    def reach(cls, cell, targets: list[str]) -> list:
+        """The stations' envelope check (every taught pose over the correction region), once: by the first."""
+        if not cell.stations or not cls.leads():
+            return []
+        return check(cell, targets)
+
+    @classmethod
+    def leads(cls) -> bool:
+        """Whether this kind speaks for the station program (the first station kind of the registry)."""
+        return cls is next(iter(station_kinds().values()))
+
+    # --- verify: the station program's cases, judged (the first station kind's program) ---------------
+    report_key = "targets"  # verify's JSON: the station program's rows
+    scenarios = {  # codegen.verify.plan.SCENARIOS: every one runs (kinds/stations/cases.py SCENARIO_OF)
+        "start_away": "",
+        "start_mid_cycle": "",
+        "gripper_silent": "",
+        "gripper_stuck": "",
+        "device_late": "",
+        "device_silent": "",
+        "reading_out_of_range": "",
+    }
+
+    @classmethod
+    def verify_models(cls, cell) -> list:
+        """The cell; without an arm, the cell with an extra station of edge-case poses (the pose conventions'
+        edges); with one, the edge poses as a cell of their own without the arm, beside it (no arm need reach
+        them). The edge programs count in the station program's row."""
+        if not cls.leads() or not cell.stations:
+            return []
+        if cell.robot is None:
+            return [(edge_cell(cell), True)]
+        edge = edge_only_cell(cell)
+        return [(cell, True)] + ([] if edge is None else [(edge, False)])
+
+    @classmethod
+    def verify_cases(cls, cell, source, count: int, seed: int) -> list:
+        return build_cases(cell, count, seed)
+
+    @classmethod
+    def sweeps(cls, cell, source, workers: int) -> list[range]:
+        return judge.sweeps(workers) if source.sweep else []
+
+    @classmethod
+    def sweep(cls, cell, source, program, ids: range, step_limit: int, row) -> None:
+        judge.sweep(cell, source.target, program, ids, step_limit, row)
+
+    @classmethod
+    def setup(cls, cell, source, case):
+        return judge.setup(cell, source.target, case)
+
+    @classmethod
+    def judge(cls, cell, source, case, trace, setup):
+        return judge.judge(cell, source.target, case, trace)
+
+    @classmethod
+    def log_prefixes_of(cls, cell) -> tuple[str, ...]:
+        return judge.log_prefixes()
+
+    @classmethod
+    def describe(cls, cell, case) -> str:
+        return describe_case(cell, case.reading)
+
+    @classmethod
+    def new_figures(cls):
+        return judge.new_figures() or None
+
+    @classmethod
+    def add_figures(cls, figures, case, judged) -> None:
+        judge.add_figures(figures, judged)
+
+    @classmethod
+    def merge_figures(cls, into, part) -> None:
+        judge.merge_figures(into, part)
+
+    @classmethod
+    def summary(cls, row) -> dict:
+        """Each station kind's own figures under its name."""
+        out = {}
+        for name, kind in station_kinds().items():
+            stats = None if row.figures is None else row.figures.get(name)
+            own = kind.stats_summary(kind.new_stats() if stats is None else stats)
+            if own is not None:
+                out[name] = own
+        return out
+
+    @classmethod
+    def legacy_summary(cls, row) -> dict:
+        out = row.summary()
+        out["unknown_ids_checked"] = row.swept
+        return out
+
+    @classmethod
+    def report_lines(cls, rows: list) -> list[str]:
+        summaries = [cls.legacy_summary(row) for row in rows]
+        out = []
+        for kind in station_kinds().values():  # each kind's own figures, as a table of its own
+            out.extend(kind.stats_lines(summaries))
+        swept = sum(row.swept for row in rows)
+        if swept:
+            out.append(f"{swept} runs of the other station ids (each id that is not a station must stop before moving)")
+        return out
 
     # --- rendering -------------------------------------------------------------------------
     @classmethod
@@ -158,7 +252,7 @@ class StationKind(ProgramKind):
         return None
 
     @classmethod
-    def describe(cls, reading) -> str:
+    def describe_reading(cls, reading) -> str:
         return f"station {reading.station_id}"
 
     @classmethod
@@ -175,10 +269,10 @@ class StationKind(ProgramKind):
         """Add the figures of another chunk of cases."""
 
     @classmethod
-    def summary(cls, stats) -> dict | None:
+    def stats_summary(cls, stats) -> dict | None:
         return None
 
     @classmethod
-    def report_lines(cls, summaries: list[dict]) -> list[str]:
+    def stats_lines(cls, summaries: list[dict]) -> list[str]:
         """The kind's figures as text lines for the `codegen verify` report (summaries: per target)."""
         return []

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from codegen.controllers import Target
-from codegen.emit import Emitter
+from codegen.emit import EmitError, Emitter
 from codegen.guard import (
     GUARD_CODES,
     NO_ANSWER,
@@ -12,12 +14,13 @@ from codegen.guard import (
     UNKNOWN_STATION_TEXT,
     halt_message,
 )
+from codegen.kinds.stations.region import station_plan
 from codegen.model import vision
 from codegen.model.cell import Cell
 from codegen.model.motion import segments
 from codegen.protocol import ProgramFile, ProgramPlan, get_kind
-from codegen.render import environment, file_stem, merged, shared_context
-from codegen.robot.emission import station_arm
+from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, shared_context
+from codegen.robot.taught import ReachError, configuration
 
 
 def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> dict:
@@ -55,6 +58,30 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         "arm": arm,
     }
     return merged(shared, own, f"station context of the {station.kind} kind")
+
+
+def station_arm(cell, target, station) -> list[dict]:
+    """Each arm pose's configuration literal, in the order of the kind's arm_poses; [] without an arm.
+    `named`: whether the program names the whole configuration (it holds over the correction region);
+    else it names what holds (the status without the turn; the configuration with the check off)."""
+    robot = cell.robot
+    if robot is None or target.name not in robot.arms:
+        return []
+    arm = robot.arms[target.name]
+    unit = target.program["joint_unit"]
+    literal = LITERALS[target.configuration]
+    try:
+        taught, named_poses = station_plan(cell, target.name, station)
+    except ReachError as exc:  # a taught pose the arm cannot take: no configuration to write
+        raise EmitError(str(exc)) from None
+    return [
+        {
+            **literal(configuration(target.configuration, arm, pose.joints), unit),
+            "named": named,
+            "taught_joints": joints_literal(pose.joints, unit),  # where the arm stands at the taught pose
+        }
+        for pose, named in zip(taught, named_poses, strict=True)
+    ]
 
 
 def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
@@ -104,12 +131,23 @@ def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
     return {**out, "partial": partials, "used": [partials[kind] for kind in out["kinds_used"]]}
 
 
-def station_program(cell: Cell, target: Target, station_kinds: list) -> ProgramPlan:
-    """The program of the cell's stations: its files from the target's `files` ("{cell}.src" from the template
-    "program.src.j2", "{cell}_node.script" from "program_node.script.j2")."""
+def station_program(cell: Cell, target: Target, station_kinds: list) -> list[ProgramPlan]:
+    """The programs of the cell's stations, from the target's `files`: each program file with its data files
+    ("{cell}.src" and "{cell}.dat" from "program.src.j2" and "program.dat.j2"; a UR socket program and its
+    Script-node twin "{cell}_node.script" from "program_node.script.j2" are two programs), one context."""
+    from codegen.dialects import get_dialect
+
     stem = file_stem(cell, target)
-    files = tuple(
-        ProgramFile(pattern.format(cell=stem), f"{target.name}/{pattern.format(cell='program')}.j2")
-        for pattern in target.files
-    )
-    return ProgramPlan("station", stem, files, program_context(cell, target, station_kinds))
+    companions = get_dialect(target.dialect).companions
+    context = program_context(cell, target, station_kinds)
+    plans: list[list[ProgramFile]] = []
+    for pattern in target.files:
+        f = ProgramFile(pattern.format(cell=stem), f"{target.name}/{pattern.format(cell='program')}.j2")
+        if Path(pattern).suffix.lower() in companions:
+            owner = next(p for p in plans if Path(p[0].name).stem == Path(f.name).stem)
+            owner.append(f)
+        else:
+            plans.append([f])
+    # the programs are the first station kind's: it speaks for the others in verify
+    name = station_kinds[0].name
+    return [ProgramPlan(name, Path(files[0].name).stem, tuple(files), context, i) for i, files in enumerate(plans)]

@@ -1,4 +1,4 @@
-"""Each arm pose over the correction region: the joints the controller takes, and whether the taught
+"""The stations' arm poses, and each over the correction region: the joints the controller takes, and whether the taught
 configuration can be named in the program (its turn and quadrant fields hold over the whole region)."""
 
 from __future__ import annotations
@@ -12,8 +12,9 @@ import numpy as np
 from codegen.controllers import get_target
 from codegen.protocol import get_kind
 from codegen.robot import solve
+from codegen.robot.cache import per_cell
 from codegen.robot.config import FORMS
-from codegen.robot.taught import ArmPose, arm_poses, configuration, select
+from codegen.robot.taught import JOINTS_MATCH_DEG, ArmPose, ReachError, configuration, select
 
 MIN_DIRECTIONS = 16  # directions on each ring of the shift disc, at least
 RING_SPACING_MM = 5.0  # and at most this far apart on the boundary
@@ -59,15 +60,6 @@ def offsets(max_shift_mm: float, max_rotation_deg: float) -> np.ndarray:
 
 _CACHE: dict = {}
 _PLANS: dict = {}
-
-
-def per_cell(store: dict, cell, key: tuple, compute):
-    """compute() once per cell object and key (cells are frozen but hold dicts: not hashable). The
-    entry keeps its cell, so an id reused by a later cell is not mistaken for it."""
-    hit = store.get((id(cell), *key))
-    if hit is None or hit[0] is not cell:
-        hit = store[(id(cell), *key)] = (cell, compute())
-    return hit[1]
 
 
 def station_region(cell, target: str, station) -> StationRegion:
@@ -142,3 +134,39 @@ def move_joints(arm, form: str, pose: ArmPose, solutions: np.ndarray, previous: 
         found = ~np.isnan(q).any(axis=-1)
         full = bool(np.all(FORMS[form].many(arm, q[found]) == np.asarray(value)))
     return q, b, full
+
+
+def arm_poses(cell, target: str, station) -> list[ArmPose]:
+    """The station's arm poses with their taught joints, in the order the program visits them."""
+    robot = cell.robot
+    arm, home = robot.arms[target], np.asarray(robot.home[target], dtype=float)
+    given = station.config.get(target, {})
+    poses = get_kind(station.kind).arm_poses(cell, station)
+    flange2base = solve.flange_poses(np.array([p[1] for p in poses]), robot.tool.tcp2flange)
+    solutions = solve.branches(arm, flange2base)
+    out: list[ArmPose] = []
+    previous = home
+    for (name, tcp2base, motion), sols in zip(poses, solutions, strict=True):
+        where = f"station {station.id} {station.name!r} pose {name!r} ({target}, {arm.model})"
+        if np.isnan(sols).all():
+            raise ReachError(f"{where}: out of reach (no inverse kinematics solution for the tool's flange)")
+        config = given.get(name)
+        if config is None:
+            joints, branch = solve.nearest(arm, sols, previous if motion == "linear" else home)
+            if np.isnan(joints).any():
+                raise ReachError(f"{where}: no solution within the joint limits")
+        elif config.form == "joints":
+            joints, branch = solve.nearest(arm, sols, np.asarray(config.value))
+            if np.isnan(joints).any() or np.max(np.abs(joints - config.value)) > JOINTS_MATCH_DEG:
+                raise ReachError(
+                    f"{where}: the taught joints {list(config.value)} do not reach this pose "
+                    f"(nearest solution {np.round(joints, 2).tolist()})"
+                )
+        else:
+            joints, branch = select(config.form, arm, sols, config.value)
+            if np.isnan(joints).any():
+                raise ReachError(f"{where}: the arm cannot take this pose in configuration {config.value}")
+        joints = np.where(np.abs(joints) < solve.BOUNDARY_DEG, 0.0, joints)  # an axis at 0 is not negative
+        out.append(ArmPose(name, motion, tcp2base, joints, int(branch)))
+        previous = joints
+    return out

@@ -11,7 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.robot.region import offsets, remember_plan, station_region
+from codegen.kinds.stations.region import offsets, remember_plan, station_region
+from codegen.robot.margins import singular_distance, wrist_angle
 from codegen.robot.taught import ReachError, configuration
 
 
@@ -65,20 +66,6 @@ class TargetEnvelope:
                 for m in self.stations
             ],
         }
-
-
-def wrist_angle(arm, joints: np.ndarray) -> np.ndarray:
-    """The wrist axis in the kinematic model (0 and +-180 deg are singular): OPW theta5, UR's q5."""
-    kin = arm.kin
-    if arm.family == "opw":
-        return kin.signs[4] * joints[..., 4] + kin.offsets_deg[4]
-    return joints[..., 4]
-
-
-def singular_distance(angle: np.ndarray) -> np.ndarray:
-    """Degrees from the nearest multiple of 180 deg."""
-    r = np.mod(angle, 180.0)
-    return np.minimum(r, 180.0 - r)
 
 
 def check_target(cell, target: str) -> TargetEnvelope:

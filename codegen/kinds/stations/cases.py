@@ -1,0 +1,258 @@
+"""The station program's cases: each station's readings, the vision PC's and the gripper's behaviours, where the
+arm starts, unknown stations; their simulated devices and the reference traces a correct program may produce."""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from codegen.controllers import Target, get_target
+from codegen.emit import Emitter
+from codegen.guard import (
+    NO_ANSWER,
+    NO_FEEDBACK,
+    NOT_AT_HOME,
+    NOT_RELEASED,
+    UNKNOWN_STATION,
+    UNKNOWN_STATION_TEXT,
+    halt_message,
+)
+from codegen.kinds.stations.region import station_plan
+from codegen.model import io as signals
+from codegen.model import vision
+from codegen.model.cell import STATION_ID_MAX, Cell, Station, TaughtPose
+from codegen.poses import native_values
+from codegen.protocol import get_kind, station_kinds
+from codegen.reference import ExpectedTrace, home_move
+from codegen.robot.expect import tool_inputs
+from codegen.sim.gripper import Gripper
+from codegen.sim.vision_pc import VisionPC
+from codegen.verify.plan import START_AWAY_DEG
+
+# A station case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS; the others are the kind's own)
+SCENARIO_OF = {
+    "start_away": "start_away",
+    "start_retreat": "start_mid_cycle",
+    "gripper_silent": "gripper_silent",
+    "gripper_stuck": "gripper_stuck",
+    "vision_late": "device_late",
+    "vision_never": "device_silent",
+    "invalid_reading": "reading_out_of_range",
+    "frame_invalid_pixels": "reading_out_of_range",
+}
+
+
+@dataclass(frozen=True)
+class Case:
+    """One verify case: a category for the report, the kind's description of the situation and how
+    the simulated vision PC answers (codegen.model.vision.BEHAVIOURS)."""
+
+    category: str
+    reading: Any  # the kind's case type; has station_id
+    vision: str = "prompt"
+    gripper: str = "prompt"  # how the simulated gripper answers the work pose's signal (codegen.sim.gripper)
+    start: str = "home"  # where the arm stands when the program starts: "home", "away" from it, or "retreat":
+    # at its station's taught retreat (where a stopped cycle leaves it)
+
+    @property
+    def scenario(self) -> str:
+        """The common scenario the case runs (codegen.verify.plan.SCENARIOS), or its own category."""
+        return SCENARIO_OF.get(self.category, self.category)
+
+
+@dataclass(frozen=True)
+class UnknownStation:
+    """A station id the cell does not have: every program must halt with the unknown-station message."""
+
+    station_id: int
+
+
+def _kind_of_case(cell: Cell, reading):
+    if isinstance(reading, UnknownStation):
+        return None
+    return get_kind(cell.station_by_id(reading.station_id).kind)
+
+
+def inputs_for(cell: Cell, target: Target, reading, behaviour: str = "prompt") -> dict:
+    """What the controller holds when the program starts: the vision PC's variables from the previous
+    cycle (a plausible reading of the station, its request answered), the controller's numbered
+    tool and the kind's own values."""
+    kind = _kind_of_case(cell, reading)
+    tools = tool_inputs(cell, target.name)  # the controller's numbered tool, where the program selects one
+    previous, answered = _previous_reading(cell, target, reading), vision.answered(target, behaviour)
+    if kind is None:
+        return {**previous, **answered, **tools}
+    return {**previous, **answered, **kind.inputs(cell, target, reading), **tools}
+
+
+
+
+def start_joints(cell: Cell, target: Target, case: Case):
+    """Where the arm stands when the program starts (deg): at home, away from it or at the case's
+    station's taught retreat; None without an arm."""
+    home = home_move(cell, target.name)
+    if home is None:
+        return None
+    if case.start == "retreat":
+        taught, _ = station_plan(cell, target.name, cell.station_by_id(case.reading.station_id))
+        return next(pose.joints for pose in taught if pose.name == "retreat")
+    return home[1] + (np.array(START_AWAY_DEG) if case.start == "away" else 0.0)
+
+
+def _previous_reading(cell: Cell, target: Target, reading) -> dict:
+    """The vision PC's variables from the previous cycle: a reading of the case's station (an unknown
+    station's case: of the cell's first station)."""
+    station = cell.station_by_id(reading.station_id) if _kind_of_case(cell, reading) else cell.stations[0]
+    return get_kind(station.kind).previous(cell, target, station)
+
+
+def _gripper_signals(cell: Cell, target_name: str) -> tuple[str, str] | None:
+    """The work pose's output and feedback as the target's program names them, or None (no feedback)."""
+    io, target = cell.io, get_target(target_name)
+    if io is None or not io.feedback or not target.program.get("signals"):
+        return None
+    return (
+        signals.signal_name(target, "output", io.output[target_name]),
+        signals.signal_name(target, "input", io.feedback[target_name]),
+    )
+
+
+def run_options(cell: Cell, target: Target, case: Case) -> dict:
+    """Keyword arguments of Program.run for a case: its devices, where the arm starts and, with a gripper,
+    its feedback on (the gripper closed from the last cycle)."""
+    options = {"devices": devices_for(cell, target, case), "start_joints": start_joints(cell, target, case)}
+    gripper = _gripper_signals(cell, target.name)
+    if gripper is not None:
+        options["signals"] = {gripper[1]: True}
+    return options
+
+
+def devices_for(cell: Cell, target: Target, case: Case) -> tuple:
+    """The simulated devices of a case: the vision PC, and the gripper where the cell has a work-pose
+    signal with feedback."""
+    out: tuple = (vision_pc(cell, target, case),)
+    gripper = _gripper_signals(cell, target.name)
+    if gripper is not None:
+        out += (Gripper(*gripper, cell.io.value, case.gripper),)
+    return out
+
+
+def vision_pc(cell: Cell, target: Target, case: Case) -> VisionPC:
+    """The simulated vision PC of a case: it answers with the case's reading, by the case's behaviour."""
+    kind = _kind_of_case(cell, case.reading)
+    if kind is None:
+        answer = {target.program["inputs"]["station"]: case.reading.station_id}
+        camera = None
+    else:
+        answer, camera = kind.answer(cell, target, case.reading), kind.camera(cell, case.reading)
+    latency = vision.latency(cell.vision, case.vision)
+    previous = _previous_reading(cell, target, case.reading)
+    return VisionPC.for_target(target, answer, camera, case.vision, latency, previous)
+
+
+# --- cases -----------------------------------------------------------------------------------
+
+
+def edge_cell(cell: Cell) -> Cell:
+    """The cell plus one station whose taught poses sit on the conventions' edges."""
+    edge_poses_xyzabc = {
+        "yaw_wraps_plus": (520.0, 80.0, 310.0, 179.99, 12.0, 171.0),
+        "yaw_wraps_minus": (530.0, 60.0, 300.0, -179.99, -8.0, -169.0),
+        "b_plus_90": (540.0, 40.0, 320.0, 30.0, 90.0, 0.0),
+        "b_minus_90": (510.0, 90.0, 330.0, -45.0, -89.9999, 20.0),
+        "rotvec_pi": (500.0, 100.0, 300.0, 0.0, 0.0, 180.0),
+        "rotvec_near_pi": (505.0, 95.0, 305.0, 0.002, 0.001, 179.998),
+    }
+    poses = tuple(
+        TaughtPose(name, native_values(values, "xyzabc", cell.pose_format), cell.pose_format)
+        for name, values in edge_poses_xyzabc.items()
+    )
+    new_id = max(s.id for s in cell.stations) + 1
+    kind = next((k for k in station_kinds().values() if k.edge_spec() is not None), None)
+    if new_id > STATION_ID_MAX or kind is None:
+        return cell
+    station = Station(new_id, "verify_edge_poses", poses, kind.name, kind.edge_spec())
+    return replace(cell, stations=(*cell.stations, station))
+
+
+def edge_only_cell(cell: Cell) -> Cell | None:
+    """For a cell with an arm: its edge-case poses (which no arm need reach: they test the pose
+    conventions) as a cell of their own without the arm, verified beside the cell's programs."""
+    edge = edge_cell(replace(cell, robot=None))
+    if cell.robot is None or len(edge.stations) == len(cell.stations):
+        return None
+    return replace(edge, stations=edge.stations[-1:])
+
+
+def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
+    """Each station's cases from its kind (one random sequence for the cell), then its first case again
+    with the vision PC late, silent, replaying the last cycle, answering twice, answering another
+    request or sending a late answer to the previous cycle first; then unknown stations."""
+    rng = random.Random(seed)
+    cases: list[Case] = []
+    for station in cell.stations:
+        own = get_kind(station.kind).cases(cell, station, count, rng)
+        cases.extend(own)
+        cases.extend(Case(f"vision_{b}", own[0].reading, b) for b in vision.BEHAVIOURS[1:] if own)
+        if own and cell.io is not None and cell.io.feedback:  # the gripper never confirms, or never releases
+            cases.append(Case("gripper_silent", own[0].reading, gripper="silent"))
+            cases.append(Case("gripper_stuck", own[0].reading, gripper="stuck"))
+    if cell.robot is not None and cases:  # the program started with the arm away from home, or at a retreat
+        cases.append(Case("start_away", cases[0].reading, start="away"))
+        if cell.motion.retreat_mm > 0:
+            cases.append(Case("start_retreat", cases[0].reading, start="retreat"))
+    known = {s.id for s in cell.stations}
+    for station_id in (0, -1, max(known) + 1, STATION_ID_MAX, 99999):
+        if station_id not in known:
+            cases.append(Case("unknown_station", UnknownStation(station_id)))
+    return cases
+
+
+# --- comparison ------------------------------------------------------------------------------
+
+
+def _truth_problem(cell: Cell, case: Case, reference: ExpectedTrace) -> str | None:
+    kind = _kind_of_case(cell, case.reading)
+    if kind is None or case.vision in vision.UNANSWERED:  # the camera's view never reaches the program
+        return None
+    return kind.truth_problem(cell, case.reading, reference)
+
+
+def accepted_traces(cell: Cell, case: Case) -> tuple[list[ExpectedTrace], bool]:
+    if case.vision in vision.UNANSWERED:  # the program must not use what it did not get: it halts at home
+        return [ExpectedTrace("halt", NO_ANSWER)], False
+    kind = _kind_of_case(cell, case.reading)
+    if kind is None:
+        return [ExpectedTrace("halt", UNKNOWN_STATION)], False
+    accepted, boundary = kind.accepted(cell, case.reading)
+    second = kind.second_look(case.reading) if case.vision == "twice" else None
+    if second is not None:  # answered twice within one poll: either answer, used whole, is correct
+        more, more_boundary = kind.accepted(cell, second)
+        accepted, boundary = [*accepted, *more], boundary or more_boundary
+    if case.gripper == "stuck":  # it stops at home, before it asks the vision PC
+        return [ExpectedTrace("halt", NOT_RELEASED)], False
+    if case.gripper == "silent":  # the station stops at its work pose, the signal set, with the message
+        accepted = [
+            replace(t, status="halt", reason=NO_FEEDBACK, moves=t.moves[: len(t.station.poses)])
+            if t.status == "ok"
+            else t
+            for t in accepted
+        ]
+    return accepted, boundary
+
+
+def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
+    if trace.reason == UNKNOWN_STATION:
+        return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
+    if trace.reason in (NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED):
+        return emitter.string(halt_message(cell, trace.reason, None, 0))
+    kind = get_kind(trace.station.kind)
+    return emitter.string(kind.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))
+
+
+def describe_case(cell: Cell, reading) -> str:
+    kind = _kind_of_case(cell, reading)
+    return f"station {reading.station_id}" if kind is None else kind.describe_reading(reading)

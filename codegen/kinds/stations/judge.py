@@ -1,0 +1,184 @@
+"""The station program's runs judged: each reference trace as the plan every kind's run is checked against (the
+home move, the station's moves, the way home, the gripper's outputs, the log), the sweep of unknown ids, figures."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.dialects.core.values import RunError, StepLimitError
+from codegen.emit import Emitter
+from codegen.guard import NOT_AT_HOME, UNKNOWN_STATION_TEXT
+from codegen.kinds.stations.cases import (
+    Case,
+    UnknownStation,
+    _kind_of_case,
+    _truth_problem,
+    accepted_traces,
+    expected_message,
+    inputs_for,
+    run_options,
+)
+from codegen.kinds.stations.joints import expected_joints
+from codegen.model import io as signals
+from codegen.model.cell import STATION_ID_MAX
+from codegen.protocol import station_kinds
+from codegen.reference import ExpectedTrace, home_move
+from codegen.robot.expect import arm_of
+from codegen.verify.checks import TOLERANCES, log_numbers
+from codegen.verify.plan import Expectation, Judgement, PlannedMove, PlannedOutput, Setup
+
+
+def setup(cell, target_name: str, case) -> Setup:
+    target = get_target(target_name)
+    options = run_options(cell, target, case)
+    return Setup(
+        inputs_for(cell, target, case.reading, case.vision),
+        options["devices"],
+        options.get("signals", {}),
+        options["start_joints"],
+    )
+
+
+def judge(cell, target_name: str, case, trace) -> Judgement:
+    """The reference traces a correct program may produce in the case, as plans of the same moves the run has."""
+    target = get_target(target_name)
+    accepted, boundary = accepted_traces(cell, case)
+    truth = _truth_problem(cell, case, accepted[0])
+    if case.start == "away" and target.program.get("restart") == "at_home":
+        accepted, truth = [ExpectedTrace("halt", NOT_AT_HOME)], None
+    emitter = Emitter(target)
+    plans = [_plan(cell, target, case.reading, t, trace, emitter) for t in accepted]
+    figures = None
+    kind = _kind_of_case(cell, case.reading)
+    if kind is not None and kind.new_stats() is not None:
+        figures = (kind.name, case.reading, log_numbers(trace.messages, log_prefixes()))
+    return Judgement(plans, boundary, figures=figures, truth=truth)
+
+
+def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitter) -> Expectation:
+    home = home_move(cell, target.name)
+    if expected.reason == NOT_AT_HOME:
+        home = None  # it stops before its first motion
+    moves = list(expected.moves)
+    back = home is not None and expected.status == "ok" and cell.motion.return_home
+    planned = [_planned(m) for m in moves]
+    joints = _joints(cell, target.name, expected, moves, trace, home, back)
+    if home is not None:
+        planned = [_planned(home[0]), *planned]
+        if back:
+            planned.append(_planned(home[0]))
+    if joints is not None:
+        planned = [replace(p, joints=q) for p, q in zip(planned, joints, strict=True)]
+    halt = expected_message(cell, expected, reading, emitter) if expected.status == "halt" else None
+    return Expectation(
+        halt,
+        tuple(planned),
+        _outputs(cell, target, expected, 0 if home is None else 1),
+        logged=_logged(cell, target, reading, expected),
+    )
+
+
+def _planned(move) -> PlannedMove:
+    return PlannedMove(
+        move.pose_name, move.kind, move.tcp2base, move.exact, move.speed_mm_s, move.zone_mm, move.joint_percent
+    )
+
+
+def _joints(cell, target_name: str, expected: ExpectedTrace, moves: list, trace, home, back: bool) -> list | None:
+    """The joints the controller's rule gives each move (home, the station's moves with the configuration the
+    program names, home again), from the run's own analytic solutions where its poses match (else not known:
+    the pose check names the difference first)."""
+    if home is None or arm_of(cell, target_name) is None:
+        return None
+    count = 1 + len(moves) + back
+    if len(trace.moves) != count:
+        return None
+    out = [home[1]]
+    if expected.station is not None and moves:
+        solved = [g.solutions for g in trace.moves[1 : 1 + len(moves)]]
+        out += expected_joints(cell, target_name, expected.station, tuple(moves), home[1], solved)
+    if back:
+        out.append(home[1])
+    return None if any(np.isnan(q).any() for q in out) else out
+
+
+def _outputs(cell, target, expected: ExpectedTrace, before: int) -> tuple[PlannedOutput, ...]:
+    """The work pose's output: released at home (before the vision PC is asked), set after the move to the work
+    pose; not at all where the program stops before its first motion or the station stops before the work pose."""
+    io = cell.io
+    if io is None or not target.program.get("signals"):
+        return ()
+    name = signals.signal_name(target, "output", io.output[target.name])
+    out = []
+    if expected.reason != NOT_AT_HOME:
+        out.append(PlannedOutput(name, not io.value, before, "at home, released"))
+    station = expected.station
+    if station is not None and len(expected.moves) >= len(station.poses):
+        out.append(PlannedOutput(name, io.value, before + len(station.poses), "at the work pose"))
+    return tuple(out)
+
+
+def _logged(cell, target, reading, expected: ExpectedTrace) -> tuple | None:
+    if expected.status != "ok":
+        return None
+    names = _kind_of_case(cell, reading).log_names
+    decimals = target.program.get("log_decimals")
+    tolerance = 0.5 * 10.0**-decimals + 1e-3 if decimals is not None else TOLERANCES[target.numbers][0]
+    return tuple((name, float(value), tolerance) for name, value in zip(names, expected.logged, strict=True))
+
+
+def sweep(cell, target_name: str, program, ids: range, step_limit: int, row) -> None:
+    """Every id of `ids` that is not a station must stop with the unknown-station message before any move: an
+    extra dispatch branch (a misread barcode that moves the robot) is caught wherever in the barcode range it is."""
+    known = {s.id for s in cell.stations}
+    target = get_target(target_name)
+    text = Emitter(target).string(UNKNOWN_STATION_TEXT)
+    arm = arm_of(cell, target_name)
+    before = 0 if home_move(cell, target_name) is None else 1  # the home move comes first
+    for station_id in ids:
+        if station_id in known:
+            continue
+        row.swept += 1
+        case = Case("unknown_station", UnknownStation(station_id))
+        try:
+            inputs, options = inputs_for(cell, target, case.reading), run_options(cell, target, case)
+            got = program.run(inputs, step_limit=step_limit, arm=arm, **options)
+            problem = None
+            if len(got.moves) != before or not got.halted or got.halt_message != f"{text}{station_id}":
+                problem = f"{len(got.moves) - before} moves, halt message {got.halt_message!r}"
+        except StepLimitError as exc:
+            row.mismatch(f"unknown station id {station_id}: {exc}; the sweep stopped")
+            break
+        except RunError as exc:
+            problem = f"run error: {exc}"
+        if problem is not None:
+            row.mismatch(f"unknown station id {station_id}: {problem}")
+
+
+def sweeps(workers: int) -> list[range]:
+    """The barcode range 0..STATION_ID_MAX in as many pieces as workers (two at least)."""
+    step = -(-(STATION_ID_MAX + 1) // max(2, workers))
+    return [range(i, min(i + step, STATION_ID_MAX + 1)) for i in range(0, STATION_ID_MAX + 1, step)]
+
+
+def new_figures() -> dict:
+    return {name: kind.new_stats() for name, kind in station_kinds().items() if kind.new_stats() is not None}
+
+
+def add_figures(figures: dict, judged) -> None:
+    name, reading, logged = judged
+    station_kinds()[name].add_stats(figures[name], reading, logged)
+
+
+def merge_figures(into: dict, part: dict) -> None:
+    for name, kind in station_kinds().items():
+        if name in part:
+            kind.merge_stats(into[name], part[name])
+
+
+def log_prefixes() -> tuple[str, ...]:
+    """The station program's log lines whose numbers verify reads (every station kind's)."""
+    return tuple(prefix for kind in station_kinds().values() for prefix in kind.log_prefixes)

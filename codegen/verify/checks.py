@@ -1,0 +1,274 @@
+"""The checks every trace of every kind gets: the stop, each move's pose, speed, zone, tool, payload and joints,
+every output in order, what the program stores for later programs, the numbers of its log lines."""
+
+from __future__ import annotations
+
+import math
+import re
+from functools import lru_cache
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.dialects import get_dialect
+from codegen.verify.plan import TOOL_LOAD, Expectation
+
+# Tolerances from the numeric model: a float32 controller over a +-2,000 mm workspace stores positions with a
+# step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings through the correction stays far below
+# these bounds, a wrong formula far above them.
+TOLERANCES = {"float32": (0.005, 0.001), "float64": (1e-9, 1e-9)}  # mm, deg
+# Both sides solve the same inverse kinematics for poses that agree within the pose tolerance (float32:
+# 0.005 mm, 0.001 deg). With the wrist at least the cell's wrist margin (5 deg) from its singularity, 0.001 deg
+# of orientation moves axes 4 and 6 by at most 0.001 / sin(5 deg) = 0.012 deg; 0.005 mm moves a shoulder axis
+# by far less. A different solution or turn differs by degrees.
+JOINT_TOLERANCE_DEG = 0.05
+# A payload's mass and centre of gravity as the program writes them: float32 (1e-5 relative) and 3 decimals
+LOAD_TOLERANCE = (1e-3, 1e-5)
+NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|(?<!\w)[-+]?(?:nan|inf)\b")
+
+
+def pose_errors(a: list, b: list) -> tuple[float, float]:
+    """Position distance (mm) and rotation angle (deg) between two 4x4 poses given as lists; the angle from
+    ||Ra - Rb||_F = 2 sqrt(2) sin(angle / 2), exact for any angle."""
+    (a0, a1, a2, _), (b0, b1, b2, _) = a, b
+    position = math.dist((a0[3], a1[3], a2[3]), (b0[3], b1[3], b2[3]))
+    distance = math.dist(a0[:3] + a1[:3] + a2[:3], b0[:3] + b1[:3] + b2[:3])  # Frobenius norm of Ra - Rb
+    return position, math.degrees(2.0 * math.asin(min(1.0, distance / (2.0 * math.sqrt(2.0)))))
+
+
+@lru_cache(maxsize=256)
+def move_settings(target_name: str, kind: str, exact: bool, own_tool: bool, speed_mm_s, zone_mm, percent) -> dict:
+    """What a target's facts and the plan ask of a move, as the interpreter records it (read once per target
+    and segment, not per move of every case)."""
+    target = get_target(target_name)
+    return get_dialect(target.dialect).move_settings(
+        target.program, kind, exact, own_tool, speed_mm_s, zone_mm, percent
+    )
+
+
+def log_numbers(messages: list[str], prefixes: tuple[str, ...]) -> list[float]:
+    """The numbers of the log lines that start with one of the prefixes, in order."""
+    out = []
+    for message in messages:
+        if message.startswith(prefixes):
+            out.extend(float(n) for n in NUMBER.findall(message))
+    return out
+
+
+class Checker:
+    """The common checks of one target's runs against a cell: build once per target, call check() per run."""
+
+    def __init__(self, cell, target_name: str) -> None:
+        self.cell = cell
+        self.target = get_target(target_name)
+        self.pos_tol, self.rot_tol = TOLERANCES[self.target.numbers]
+        robot = cell.robot
+        self.arm = None if robot is None else robot.arms.get(target_name)
+        self.own_tool = robot is not None and robot.tool_given
+        self.tool = None if robot is None else robot.tool
+        self.tool_load = None if not self.own_tool else (robot.tool.mass_kg, *robot.tool.cog_mm)
+        self.tcp2flange = None if robot is None else robot.tool.tcp2flange
+
+    def check(self, expected: Expectation, trace, log_prefixes: tuple[str, ...] = ()) -> tuple[str | None, list, list]:
+        """(problem or None, position errors, orientation errors) of one run against one expectation."""
+        problem = self._stop(expected, trace)
+        if problem is not None:
+            return problem, [], []
+        problem, pos, rot = self._moves(expected, trace)
+        if problem is not None:
+            return problem, pos, rot
+        problem = self._outputs(expected, trace) or self._stored(expected, trace)
+        problem = problem or self._logged(expected, trace, log_prefixes)
+        return problem, pos, rot
+
+    # --- the stop ------------------------------------------------------------------------------
+    @staticmethod
+    def _stop(expected: Expectation, trace) -> str | None:
+        if expected.halt is not None:
+            if not trace.halted:
+                return f"expected a stop ({expected.halt!r}), the program did not stop ({len(trace.moves)} moves)"
+            if trace.halt_message != expected.halt:
+                return f"stop message {trace.halt_message!r}, expected {expected.halt!r}"
+        elif trace.halted:
+            return f"unexpected stop: {trace.halt_message!r}"
+        return None
+
+    # --- the moves -----------------------------------------------------------------------------
+    def _moves(self, expected: Expectation, trace) -> tuple[str | None, list, list]:
+        got, planned = trace.moves, expected.moves
+        if len(got) != len(planned):
+            return f"{len(got)} moves, expected {len(planned)}", [], []
+        pos_errors, rot_errors = [], []
+        target_name = self.target.name
+        for i, (g, e) in enumerate(zip(got, planned, strict=True)):
+            where = f"move {i + 1} ({e.name}, line {g.line})"
+            if g.kind != e.kind:
+                return f"{where} is {g.kind}, expected {e.kind}", pos_errors, rot_errors
+            settings = move_settings(
+                target_name, e.kind, e.exact, self.own_tool, e.speed_mm_s, e.zone_mm, e.joint_percent
+            )
+            for key, want in settings.items():
+                have = g.settings.get(key)
+                numbers = isinstance(want, float) and isinstance(have, float)
+                if have != want and not (numbers and math.isclose(have, want, rel_tol=1e-6)):  # float32 values
+                    stop = " (the arm must stop exactly at this pose)" if e.exact else ""
+                    return f"{where}: {key} {have}, expected {want}{stop}", pos_errors, rot_errors
+            if e.tcp2base is not None:
+                pos, rot = pose_errors(g.tcp2base.tolist(), e.tcp2base.tolist())
+                pos_errors.append(pos)
+                rot_errors.append(rot)
+                pos_tol, rot_tol = e.tolerance or (self.pos_tol, self.rot_tol)
+                if not pos <= pos_tol or not rot <= rot_tol:
+                    return (
+                        f"{where}: position error {pos:.6f} mm, orientation error {rot:.6f} deg "
+                        f"(tolerance {pos_tol} mm, {rot_tol} deg)",
+                        pos_errors,
+                        rot_errors,
+                    )
+        if self.arm is not None:
+            problem = self._arm(expected, got)
+            if problem is not None:
+                return problem, pos_errors, rot_errors
+        return None, pos_errors, rot_errors
+
+    def _arm(self, expected: Expectation, got: list) -> str | None:
+        """Each move's joints against the plan's (where it has them), the tool in force (the flange's pose from
+        the joints against the TCP's) against the cell's tool, and the payload in force against the plan's."""
+        joints = [g.joints for g in got]
+        for i, (g, e, q) in enumerate(zip(got, expected.moves, joints, strict=True)):
+            where = f"move {i + 1} ({e.name}, line {g.line})"
+            if q is None:
+                return f"{where}: the arm's joints are not known"
+            if expected.joints_checked and e.joints is not None:
+                error = float(np.max(np.abs(q - e.joints)))
+                if not error <= JOINT_TOLERANCE_DEG:
+                    return (
+                        f"{where}: the arm ends at joints {_text(q)}, the controller's rule gives {_text(e.joints)} "
+                        f"({error:.3f} deg apart; tolerance {JOINT_TOLERANCE_DEG} deg)"
+                    )
+            if self.tool_load is not None:
+                want = self.tool_load if e.payload == TOOL_LOAD else tuple(e.payload)
+                have = g.settings.get("load")
+                if have is None or not _same_load(have, want):
+                    return f"{where}: payload {have}, expected (mass kg, centre of gravity mm) {want}"
+        if got and self.tcp2flange is not None:
+            flange2base = self.arm.kin.fk(np.array(joints))
+            tcp2flange = np.linalg.solve(flange2base, np.array([g.tcp2base for g in got]))
+            for i, (g, e, tool) in enumerate(zip(got, expected.moves, tcp2flange, strict=True)):
+                if e.tool is None:
+                    continue
+                want = self.tcp2flange if isinstance(e.tool, str) else e.tool
+                pos, rot = pose_errors(tool.tolist(), want.tolist())
+                pos_tol = self.pos_tol if e.tool_tolerance is None else e.tool_tolerance
+                if not pos <= pos_tol or not rot <= self.rot_tol:
+                    offset = tool[:3, 3] - want[:3, 3]
+                    whose = "the cell's" if isinstance(e.tool, str) else "the one planned"
+                    return (
+                        f"move {i + 1} ({e.name}, line {g.line}): the tool in force is not {whose}: its TCP "
+                        f"{_text(offset, 3)} mm from it (flange frame), turned {rot:.4f} deg"
+                    )
+        return None
+
+    # --- outputs, stored data, log -----------------------------------------------------------
+    @staticmethod
+    def _outputs(expected: Expectation, trace) -> str | None:
+        """Every digital output the run set, in order, against the plan's: name, value, after which move, and
+        never while the arm moves."""
+        if expected.outputs is None:
+            return None
+        got, want = trace.outputs, expected.outputs
+        if expected.output_names is not None:  # the others are a device's protocol (a queue's bits): its to judge
+            got = [event for event in got if event.name in expected.output_names]
+        for i, event in enumerate(got):
+            if i >= len(want):
+                return (
+                    f"output {event.name} (line {event.line}) set to {event.value} after move {event.after_moves}: "
+                    "not in the plan"
+                )
+            w = want[i]
+            if (event.name, event.value, event.after_moves) != (w.name, w.value, w.after_moves):
+                return (
+                    f"output {event.name} (line {event.line}) set to {event.value} after move {event.after_moves}, "
+                    f"expected {w.name} set to {w.value} after move {w.after_moves} ({w.what})"
+                )
+            if event.moving:
+                return f"output {event.name} (line {event.line}) set while the arm moves: it must wait until it stands"
+        if len(got) < len(want):
+            missing = want[len(got)]
+            return f"output {missing.name} never set to {missing.value} ({missing.what}); {len(got)} of {len(want)} set"
+        return None
+
+    @staticmethod
+    def _stored(expected: Expectation, trace) -> str | None:
+        for item in expected.stored:
+            have = _kept(trace.kept, item.name)
+            if have is None:
+                have = item.if_unset
+            if not _same_value(have, item.value, item.tolerance):
+                want = _shown(item.value)
+                return f"{item.name} holds {_shown(have)} when the program ends, expected {want} ({item.what})"
+        return None
+
+    def _logged(self, expected: Expectation, trace, prefixes: tuple[str, ...]) -> str | None:
+        if expected.logged is None:
+            return None
+        numbers = log_numbers(trace.messages, prefixes)
+        if len(numbers) != len(expected.logged):
+            return f"log line has {len(numbers)} numbers, expected {len(expected.logged)}: {trace.messages!r}"
+        for have, (name, want, tolerance) in zip(numbers, expected.logged, strict=True):
+            if not abs(have - want) <= tolerance:
+                return f"logged {name} = {have}, expected {want:.6f} (tolerance {tolerance})"
+        return None
+
+
+def _kept(kept: dict, name: str):
+    """A kept name's value, or a field of it ("name.field.field": a record's fields, in any case)."""
+    first, *path = name.split(".")
+    value = kept.get(first)
+    for field in path:
+        if not isinstance(value, dict):
+            return None
+        value = next((v for k, v in value.items() if str(k).lower() == field.lower()), None)
+    return value
+
+
+def _same_load(have, want) -> bool:
+    """Mass and centre of gravity equal to float32 rounding or the written decimals (kg, mm)."""
+    absolute, relative = LOAD_TOLERANCE
+    return len(have) == len(want) and all(
+        abs(h - w) <= absolute + relative * abs(w) for h, w in zip(have, want, strict=True)
+    )
+
+
+def _flat(value) -> list | None:
+    if isinstance(value, dict):
+        value = [value[k] for k in sorted(value)]
+    if isinstance(value, list | tuple | np.ndarray):
+        out = []
+        for v in value:
+            inner = _flat(v)
+            if inner is None:
+                return None
+            out.extend(inner)
+        return out
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+        return None
+    return [float(value)]
+
+
+def _same_value(have, want, tolerance: float) -> bool:
+    a, b = _flat(have), _flat(want)
+    if a is None or b is None:
+        return have == want
+    return len(a) == len(b) and all(abs(x - y) <= tolerance for x, y in zip(a, b, strict=True))
+
+
+def _shown(value) -> str:
+    flat = _flat(value)
+    if flat is None:
+        return repr(value)
+    return "[" + ", ".join(f"{v:g}" for v in flat) + "]" if len(flat) != 1 else f"{flat[0]:g}"
+
+
+def _text(q, decimals: int = 3) -> str:
+    return "[" + ", ".join(f"{v:.{decimals}f}" for v in q) + "]"

@@ -1,0 +1,102 @@
+"""verify_cell: every program of a cell (fresh, or the files given) run on its kind's cases and the common
+scenarios, each trace judged by the kind and the common checks, one report."""
+
+from __future__ import annotations
+
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
+from codegen.protocol import get_kind, kinds
+from codegen.verify.programs import ProgramSource, file_sources, fresh_sources
+from codegen.verify.report import Report, Row
+from codegen.verify.runner import ONE_PROGRAM_FROM, run_tasks
+
+CHUNK_CASES = 2000  # at most this many cases a task: a worker holds one chunk's expectations at a time
+
+
+@dataclass(frozen=True)
+class Options:
+    """How much verify runs: random cases per station (or per program, as each kind reads it), the seed, the
+    worker processes (0: one per core), the step limit of a run (a runaway loop stops there), a progress
+    callback (cases done)."""
+
+    cases: int = 1000
+    seed: int = 0
+    jobs: int = 0
+    step_limit: int = DEFAULT_STEP_LIMIT
+    progress: object = None
+
+
+def verify_cell(cell, files=(), targets=(), options: Options | None = None) -> Report:
+    """The only entry of verify. files: paths of programs on disk (grouped into programs by each language's
+    rule and matched to the cell's programs by name); none: every program of every kind, rendered fresh, for
+    the targets asked (default: the cell's). ProgramFilesError: files that are not the cell's programs;
+    RunError: a program that does not load here."""
+    options = options or Options()
+    names = list(targets) or list(cell.targets)
+    warnings: list[str] = []
+    for kind in kinds().values():  # the reference's joints need every pose of every program within reach
+        kind.reach(cell, names)
+    if files:
+        sources, warnings = file_sources(cell, [Path(f) for f in files], tuple(targets))
+        for source in sources:
+            source.load()  # a file that does not load is reported before any case runs
+    else:
+        sources = _fresh(cell, names)
+    rows = _rows(sources)
+    workers = options.jobs or os.cpu_count() or 1
+    start = time.perf_counter()
+    tasks, pinned = _tasks(cell, sources, options, workers)
+    run_tasks(tasks, rows, workers, options.progress, pinned)
+    report = Report(cell.name, rows, options.seed, options.cases, time.perf_counter() - start, workers, warnings)
+    return report
+
+
+def _fresh(cell, names: list[str]) -> list[ProgramSource]:
+    """Each kind's programs rendered from the models it verifies them against (a kind may add variants of the
+    cell, e.g. extra edge-case stations, counted in the same row)."""
+    out: list[ProgramSource] = []
+    rows: dict[tuple, int] = {}
+
+    def row_of(plan, target: str) -> int:
+        key = (plan.kind, target, plan.index)
+        return rows.setdefault(key, len(rows))
+
+    for kind in kinds().values():
+        for model, sweep in kind.verify_models(cell):
+            out += fresh_sources(model, names, None if model is cell else model, row_of, {kind.name}, sweep)
+    return sorted(out, key=lambda s: s.row)
+
+
+def _rows(sources: list[ProgramSource]) -> list[Row]:
+    rows: dict[int, Row] = {}
+    for source in sources:
+        if source.row not in rows:
+            rows[source.row] = Row(source.kind, source.target, source.ident, list(source.origin))
+        elif source.model is None:  # the cell's own program names the row's files
+            rows[source.row].files = list(source.origin)
+    return [rows[i] for i in sorted(rows)]
+
+
+def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
+    """(cell, source, cases or a bulk range, step limit) tasks; for a large cell each source's tasks pinned to
+    one worker (the workers sharing a program would each load it)."""
+    tasks, owner = [], []
+    for source in sources:
+        kind = get_kind(source.kind)
+        model = source.model or cell
+        cases = kind.verify_cases(model, source, options.cases, options.seed)
+        chunk = max(1, min(CHUNK_CASES, -(-len(cases) // max(4, 2 * workers))))
+        own = [(cell, source, cases[i : i + chunk], options.step_limit) for i in range(0, len(cases), chunk)]
+        own += [(cell, source, ids, options.step_limit) for ids in kind.sweeps(model, source, workers)]
+        tasks += own
+        owner += [source.row] * len(own)
+    large = len(cell.stations) >= ONE_PROGRAM_FROM and len(sources) > 1
+    if not large or workers <= 1 or len(sources) < workers:
+        return tasks, None
+    programs = sorted(set(owner))
+    worker_of = {row: i % workers for i, row in enumerate(programs)}
+    return tasks, [worker_of[row] for row in owner]

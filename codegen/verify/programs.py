@@ -1,0 +1,150 @@
+"""The programs verify runs: fresh from the cell (each kind renders only its own) or the files given, each matched
+to the kind and program of the cell it is (by its file name), as picklable sources a worker loads itself."""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from codegen.controllers import get_target, target_of_suffix
+from codegen.dialects import dialect_of_suffix, get_dialect
+from codegen.dialects.core.files import SourceFile, read_source
+from codegen.dialects.core.values import RunError
+from codegen.render import cell_dir, plans, render_plan
+
+STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
+
+
+class ProgramFilesError(ValueError):
+    """Files given to verify that are not the cell's programs (or cannot be told apart); exit 2."""
+
+
+@dataclass(frozen=True)
+class ProgramSource:
+    """One program as text (picklable): the kind and target it is for, which of the kind's programs (its plan
+    index), its files (the program file first) and where they come from; `model` is the cell it was made from
+    and is judged against (None: the cell verify was asked about) and `row` the report row it counts in."""
+
+    kind: str
+    target: str
+    ident: str
+    index: int
+    files: tuple[SourceFile, ...]
+    origin: tuple[str, ...]  # the files' paths as given, or <fresh>/<cell>/<target>/<file>
+    row: int = 0
+    model: object = field(default=None, compare=False)
+    sweep: bool = True  # the kind's bulk runs too (ProgramKind.sweeps), not only its cases
+
+    @property
+    def label(self) -> str:
+        return Path(self.origin[0]).name
+
+    def load(self):
+        dialect = get_dialect(get_target(self.target).dialect)
+        try:
+            return dialect.load_files(list(self.files))
+        except RecursionError:
+            raise RunError(f"{self.origin[0]}: statements or expressions nested too deeply to run here") from None
+
+
+def fresh_sources(cell, targets: list[str], model=None, row_of=None, only=None, sweep=True) -> list[ProgramSource]:
+    """Every program of every kind (of the kinds `only`, if given) for the targets, rendered from `cell` (each
+    kind's own files only)."""
+    out = []
+    for name in targets:
+        target = get_target(name)
+        for plan in plans(cell, target, only):
+            rendered = render_plan(cell, target, plan)
+            files = tuple(SourceFile(f"<fresh>/{r.relpath}", r.text) for r in rendered)
+            origin = tuple(f"<fresh>/{cell_dir(cell)}/{name}/{f.name}" for f in plan.files)
+            row = len(out) if row_of is None else row_of(plan, name)
+            out.append(ProgramSource(plan.kind, name, plan.ident, plan.index, files, origin, row, model, sweep))
+    return out
+
+
+def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[list[ProgramSource], list[str]]:
+    """The given files grouped into programs (each language's rule: a program file with its data list, ...) and
+    each matched to the cell's program of that name; warnings (another cell file's stamp). A file that is
+    none of the cell's programs is a ProgramFilesError naming it."""
+    by_target: dict[str, list[Path]] = {}
+    for path in paths:
+        target = _target_of(path, targets)
+        by_target.setdefault(target, []).append(path)
+    out, warnings = [], []
+    for target_name, group in by_target.items():
+        target = get_target(target_name)
+        dialect = get_dialect(target.dialect)
+        known = {}  # program file name -> (plan, its file names)
+        for plan in plans(cell, target):
+            known[plan.files[0].name.lower()] = plan
+        group = [*group, *_companions_beside(group, dialect)]
+        files = [read_source(path, dialect.encodings) for path in group]
+        try:
+            programs = dialect.programs(files)
+        except RunError as exc:  # a data file given without its program
+            raise ProgramFilesError(str(exc)) from None
+        for program in programs:
+            main = Path(program[0].name)
+            plan = known.get(main.name.lower())
+            if plan is None:
+                names = ", ".join(sorted(p.files[0].name for p in known.values())) or "none"
+                raise ProgramFilesError(
+                    f"{main}: not a program of {cell.name} for {target_name} (its programs, named as "
+                    f"`codegen generate` names them: {names})"
+                )
+            for f in program:
+                stamp = STAMP.search(f.text[:2000])
+                if stamp and stamp.group(1) != cell.sha256:
+                    warnings.append(
+                        f"{f.name} says it was generated from another cell file (sha256 {stamp.group(1)[:12]}...) "
+                        f"than {cell.source}; verifying against {cell.name}"
+                    )
+            origin = tuple(f.name for f in program)
+            out.append(ProgramSource(plan.kind, target_name, plan.ident, plan.index, tuple(program), origin, len(out)))
+    return out, warnings
+
+
+def _companions_beside(paths: list[Path], dialect) -> list[Path]:
+    """The data files beside each given program file that were not given themselves (a .src's .dat)."""
+    given = {p.resolve() for p in paths}
+    out = []
+    for path in paths:
+        if path.suffix.lower() not in dialect.suffixes:
+            continue
+        for suffix in dialect.companions:
+            for candidate in (path.with_suffix(suffix), path.with_suffix(suffix.upper())):
+                if candidate.is_file() and candidate.resolve() not in given:
+                    out.append(candidate)
+                    given.add(candidate.resolve())
+                    break
+    return out
+
+
+def _target_of(path: Path, targets: tuple[str, ...]) -> str:
+    """The target of a program file: the one asked for, else the one its suffix names."""
+    if len(targets) == 1:
+        dialect = dialect_of_suffix(path.suffix)
+        if dialect is not None and dialect is not get_dialect(get_target(targets[0]).dialect):
+            raise ProgramFilesError(f"{path}: a {dialect.name} file, not a program of --target {targets[0]}")
+        return targets[0]
+    target = target_of_suffix(path.suffix)
+    if target is None or (targets and target.name not in targets):
+        raise ProgramFilesError(f"{path}: cannot tell the target from the suffix; use --target")
+    return target.name
+
+
+def target_of_file(path: Path) -> str:
+    """The target a program file's suffix names (ValueError: none does)."""
+    target = target_of_suffix(Path(path).suffix)
+    if target is None:
+        raise ValueError(f"{path}: cannot tell the target from the suffix; use --target")
+    return target.name
+
+
+def load_file(target, path: Path):
+    """One program file on disk, with its data files beside it (RunError: it cannot be read or loaded)."""
+    dialect = get_dialect(target.dialect)
+    paths = [Path(path), *_companions_beside([Path(path)], dialect)]
+    files = [read_source(p, dialect.encodings) for p in paths]
+    return dialect.load_files(dialect.programs(files)[0])

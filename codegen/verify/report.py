@@ -1,0 +1,176 @@
+"""Verify's report: a row per program (cases, mismatches, errors, arm margins, the kind's figures), text and JSON."""
+
+from __future__ import annotations
+
+from array import array
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from codegen.protocol import get_kind
+from codegen.robot.expect import ArmStats
+
+FIRST_MISMATCHES = 10  # how many mismatches a row names
+
+
+@dataclass
+class Row:
+    """One program's results: its kind, target, name and files, the counts, every compared move's errors
+    (8 bytes each), the first mismatches, the time spent running (one core), the arm's least margins and the
+    kind's own figures."""
+
+    kind: str
+    target: str
+    program: str
+    files: list[str]
+    cases: int = 0
+    mismatches: int = 0
+    halts: int = 0
+    boundary: int = 0
+    moves: int = 0
+    swept: int = 0  # bulk runs (the station ids that are not stations, each checked to stop before moving)
+    pos_errors: array = field(default_factory=lambda: array("d"))
+    rot_errors: array = field(default_factory=lambda: array("d"))
+    first_mismatches: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+    categories: dict[str, int] = field(default_factory=dict)
+    scenarios: dict[str, int] = field(default_factory=dict)
+    arm: ArmStats = field(default_factory=ArmStats)
+    figures: object = None
+
+    def mismatch(self, text: str) -> None:
+        self.mismatches += 1
+        if len(self.first_mismatches) < FIRST_MISMATCHES:
+            self.first_mismatches.append(text)
+
+    def merge(self, part: Row) -> None:
+        self.cases += part.cases
+        self.mismatches += part.mismatches
+        self.halts += part.halts
+        self.boundary += part.boundary
+        self.moves += part.moves
+        self.swept += part.swept
+        self.pos_errors.extend(part.pos_errors)
+        self.rot_errors.extend(part.rot_errors)
+        self.first_mismatches.extend(part.first_mismatches[: FIRST_MISMATCHES - len(self.first_mismatches)])
+        self.seconds += part.seconds
+        self.arm.merge(part.arm)
+        for mine, theirs in ((self.categories, part.categories), (self.scenarios, part.scenarios)):
+            for key, count in theirs.items():
+                mine[key] = mine.get(key, 0) + count
+        kind = get_kind(self.kind)
+        if part.figures is not None:
+            if self.figures is None:
+                self.figures = kind.new_figures()
+            kind.merge_figures(self.figures, part.figures)
+
+    def summary(self) -> dict:
+        """The row's JSON: the keys every row has, then the kind's own (ProgramKind.summary)."""
+
+        def stats(values):
+            if not values:
+                return {"max": 0.0, "p99": 0.0}
+            arr = np.frombuffer(values, dtype=float)
+            return {"max": float(arr.max()), "p99": float(np.percentile(arr, 99))}
+
+        out = {
+            "kind": self.kind,
+            "target": self.target,
+            "program": self.program,
+            "files": self.files,
+            "cases": self.cases,
+            "categories": self.categories,
+            "scenarios": self.scenarios,
+            "mismatches": self.mismatches,
+            "halts": self.halts,
+            "boundary_cases": self.boundary,
+            "moves_compared": self.moves,
+            "position_error_mm": stats(self.pos_errors),
+            "orientation_error_deg": stats(self.rot_errors),
+            "seconds": self.seconds,
+            "cases_per_second": self.cases / self.seconds if self.seconds else None,
+            "bulk_runs": self.swept,
+        }
+        if self.arm.moves:
+            out["arm"] = self.arm.summary()
+        out.update(get_kind(self.kind).summary(self))
+        out["first_mismatches"] = self.first_mismatches
+        return out
+
+
+@dataclass
+class Report:
+    """verify_cell's result: the cell, a row per program, what was run and how long it took (wall)."""
+
+    cell: str
+    rows: list[Row]
+    seed: int
+    cases: int
+    wall_seconds: float = 0.0
+    workers: int = 1
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return bool(self.rows) and all(r.mismatches == 0 for r in self.rows)
+
+    def as_json(self) -> dict:
+        """Every row under "programs"; each kind's rows also under the kind's own key (ProgramKind.report_key)."""
+        out = {
+            "cell": self.cell,
+            "seed": self.seed,
+            "random_per_station": self.cases,
+            "ok": self.ok,
+            "wall_seconds": self.wall_seconds,
+            "workers": self.workers,
+            "programs": [r.summary() for r in self.rows],
+        }
+        for row in self.rows:
+            key = get_kind(row.kind).report_key
+            out.setdefault(key, []).append(get_kind(row.kind).legacy_summary(row))
+        return out
+
+    def lines(self) -> list[str]:
+        """The text report: one line per program, its first mismatches, each kind's own table, the arm's margins,
+        the runs and the verdict."""
+        out = [f"cell {self.cell}: {len(self.rows)} programs (seed {self.seed})"]
+        out.append(
+            f"{'program':<26}{'kind':<9}{'target':<7}{'cases':>7}{'fail':>6}{'halts':>7}{'bound':>7}{'pos max mm':>11}"
+            f"{'pos p99':>10}{'rot max deg':>12}{'rot p99':>10}{'cases/s':>8}"
+        )
+        for row in self.rows:
+            s = row.summary()
+            out.append(
+                f"{_fit(row.program, 25):<26}{row.kind:<9}{row.target:<7}{s['cases']:>7}{s['mismatches']:>6}"
+                f"{s['halts']:>7}{s['boundary_cases']:>7}{s['position_error_mm']['max']:>11.2e}"
+                f"{s['position_error_mm']['p99']:>10.2e}{s['orientation_error_deg']['max']:>12.2e}"
+                f"{s['orientation_error_deg']['p99']:>10.2e}{s['cases_per_second'] or 0:>8.0f}"
+            )
+            if len({Path(f).name for f in row.files}) and any(not f.startswith("<fresh>") for f in row.files):
+                out.append(f"  files: {', '.join(row.files)}")
+            out.extend(f"  MISMATCH {line}" for line in row.first_mismatches)
+        kinds = list(dict.fromkeys(row.kind for row in self.rows))
+        for kind in kinds:
+            out.extend(get_kind(kind).report_lines([row for row in self.rows if row.kind == kind]))
+        for row in self.rows:
+            if row.arm.moves:
+                arm = row.arm.summary()
+                out.append(
+                    f"arm {row.target} {row.program}: {arm['moves']} moves solved to joints; least margin to a joint "
+                    f"limit {arm['joint_margin_deg']:.1f} deg, of axis 5 from its singularity "
+                    f"{arm['wrist_margin_deg']:.1f} deg"
+                )
+        runs = sum(r.cases for r in self.rows)
+        bulk = sum(r.swept for r in self.rows)
+        extra = f" and {bulk} bulk runs" if bulk else ""
+        out.append(
+            f"{runs} runs{extra} in {self.wall_seconds:.1f} s wall, {self.workers} worker(s); cases/s = one program "
+            "on one core"
+        )
+        out.append("verify: all traces match the reference" if self.ok else "verify: MISMATCHES")
+        return out
+
+
+def _fit(text: str, width: int) -> str:
+    return text if len(text) <= width else text[: width - 3] + "..."

@@ -1,0 +1,148 @@
+"""Runs a program's cases (and bulk sweeps) against its kind's judgement and the common checks, in worker processes."""
+
+from __future__ import annotations
+
+import gc
+import time
+
+from codegen.dialects.core.machine import frozen_heap
+from codegen.dialects.core.values import RunError, StepLimitError
+from codegen.protocol import get_kind
+from codegen.verify.checks import Checker
+from codegen.verify.report import Row
+
+_LOADED: dict = {}  # source -> program, in a worker (each program parsed once per process)
+ONE_PROGRAM_FROM = 300  # stations: from here a worker holds one program at a time (a large cell's memory)
+
+
+def _program(source, large: bool):
+    if large and any(loaded != source for loaded in _LOADED):
+        _LOADED.clear()  # a large cell's next program: the last one goes
+        gc.collect()
+    if source not in _LOADED:
+        _LOADED[source] = source.load()
+    return _LOADED[source]
+
+
+def run_chunk(task) -> tuple[int, Row]:
+    """One task: (cell, source, cases or a bulk range, step limit). Returns (the source's row, the partial row)."""
+    cell, source, work, step_limit = task
+    model = source.model or cell
+    kind = get_kind(source.kind)
+    row = Row(source.kind, source.target, source.ident, list(source.origin))
+    program = _program(source, len(model.stations) >= ONE_PROGRAM_FROM)
+    start = time.perf_counter()
+    with frozen_heap():
+        if isinstance(work, range):
+            kind.sweep(model, source, program, work, step_limit, row)
+        else:
+            _run_cases(model, kind, source, program, work, step_limit, row)
+            row.seconds = time.perf_counter() - start  # the cases' time alone: cases/s is one program on one core
+    return source.row, row
+
+
+def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: Row) -> None:
+    checker = Checker(model, source.target)
+    arm = checker.arm
+    prefixes = kind.log_prefixes_of(model)
+    for case in cases:
+        row.cases += 1
+        row.categories[case.category] = row.categories.get(case.category, 0) + 1
+        scenario = kind.scenario_of(case)
+        row.scenarios[scenario] = row.scenarios.get(scenario, 0) + 1
+        runaway = False
+        pos, rot, figures, trace = [], [], None, None
+        try:
+            setup = kind.setup(model, source, case)
+            trace = program.run(setup.inputs, **setup.run_options(arm, step_limit))
+            judgement = kind.judge(model, source, case, trace, setup)
+        except StepLimitError as exc:
+            problem, runaway = f"run error: {exc}; the remaining cases were not run", True
+        except RunError as exc:
+            problem = f"run error: {exc}"
+        else:
+            row.boundary += judgement.boundary
+            problem = judgement.problem
+            if problem is None and not judgement.accepted:
+                problem = "the kind expects nothing of this case"
+            if problem is None:
+                for expected in judgement.accepted:
+                    problem, pos, rot = checker.check(expected, trace, prefixes)
+                    if problem is None:
+                        row.halts += trace.halted
+                        figures = judgement.figures
+                        pos, rot = [*pos, *judgement.errors[0]], [*rot, *judgement.errors[1]]
+                        break
+            if problem is None and judgement.truth is not None:
+                problem = judgement.truth
+        row.pos_errors.extend(pos)
+        row.rot_errors.extend(rot)
+        if problem is None:
+            row.moves += len(pos)
+            row.arm.add(model, source.target, trace.moves)
+            if figures:
+                if row.figures is None:
+                    row.figures = kind.new_figures()
+                kind.add_figures(row.figures, case, figures)
+        else:
+            row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}")
+        if runaway:
+            break
+
+
+def run_tasks(tasks: list, rows: list[Row], jobs: int, progress=None, pinned: list[int] | None = None) -> None:
+    """Every task, in `jobs` processes (pinned: the worker of each task, so a worker's tasks run in order and
+    each loads its program once); each partial merged into its row."""
+
+    def collect(result) -> None:
+        index, part = result
+        rows[index].merge(part)
+        if progress is not None:
+            progress(part.cases + part.swept)
+
+    if jobs <= 1 or len(tasks) <= 1:
+        for task in tasks:
+            collect(run_chunk(task))
+        return
+    if pinned is not None:
+        for result in _run_pinned(tasks, pinned, jobs):
+            collect(result)
+        return
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=_fork()) as pool:
+        for result in pool.map(run_chunk, tasks):
+            collect(result)
+
+
+def _fork():
+    """Workers forked where the system can (they start at once, with the parent's modules)."""
+    import multiprocessing
+
+    return multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
+
+
+def _forkserver():
+    """Workers started from a clean server process where the system has one: a pool's worker forked from this
+    process after another pool's threads started could inherit a lock one of them held."""
+    import multiprocessing
+
+    if "forkserver" not in multiprocessing.get_all_start_methods():
+        return None
+    context = multiprocessing.get_context("forkserver")
+    context.set_forkserver_preload(["codegen.verify.runner"])  # imported once, in the server
+    return context
+
+
+def _run_pinned(tasks: list, workers: list[int], jobs: int):
+    """Each task in the worker process given for it (one single-process pool each), results as they end."""
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    pools = [ProcessPoolExecutor(max_workers=1, mp_context=_forkserver()) for _ in range(jobs)]
+    try:
+        futures = [pools[worker].submit(run_chunk, task) for task, worker in zip(tasks, workers, strict=True)]
+        for future in as_completed(futures):
+            yield future.result()
+    finally:  # after an error, without waiting for the other workers' chunks
+        for pool in pools:
+            pool.shutdown(wait=False, cancel_futures=True)
