@@ -132,41 +132,65 @@ class Checker:
         return None, pos_errors, rot_errors
 
     def _arm(self, expected: Expectation, got: list) -> str | None:
-        """Each move's joints against the plan's (where it has them), the tool in force (the flange's pose from
-        the joints against the TCP's) against the cell's tool, and the payload in force against the plan's."""
-        joints = [g.joints for g in got]
-        for i, (g, e, q) in enumerate(zip(got, expected.moves, joints, strict=True)):
-            where = f"move {i + 1} ({e.name}, line {g.line})"
-            if q is None:
-                return f"{where}: the arm's joints are not known"
-            if expected.joints_checked and e.joints is not None:
-                error = float(np.max(np.abs(q - e.joints)))
+        """Each move's joints against the plan's (where it has them), the payload in force against the plan's,
+        and the tool in force (the flange's pose from the joints against the TCP's) against the cell's tool."""
+        if any(g.joints is None for g in got):
+            i = next(i for i, g in enumerate(got) if g.joints is None)
+            return f"move {i + 1} ({expected.moves[i].name}, line {got[i].line}): the arm's joints are not known"
+        if not got:
+            return None
+        joints = np.array([g.joints for g in got])
+        planned = expected.planned_joints() if expected.planned_joints is not None else None
+        if expected.joints_checked:
+            for i, e in enumerate(expected.moves):
+                q = e.joints if planned is None else planned[i]
+                if q is None:
+                    continue
+                error = float(np.max(np.abs(joints[i] - q)))
                 if not error <= JOINT_TOLERANCE_DEG:
                     return (
-                        f"{where}: the arm ends at joints {_text(q)}, the controller's rule gives {_text(e.joints)} "
-                        f"({error:.3f} deg apart; tolerance {JOINT_TOLERANCE_DEG} deg)"
+                        f"move {i + 1} ({e.name}, line {got[i].line}): the arm ends at joints {_text(joints[i])}, the "
+                        f"controller's rule gives {_text(q)} ({error:.3f} deg apart; tolerance "
+                        f"{JOINT_TOLERANCE_DEG} deg)"
                     )
-            if self.tool_load is not None:
+        if self.tool_load is not None:
+            for i, (g, e) in enumerate(zip(got, expected.moves, strict=True)):
                 want = self.tool_load if e.payload == TOOL_LOAD else tuple(e.payload)
                 have = g.settings.get("load")
                 if have is None or not _same_load(have, want):
-                    return f"{where}: payload {have}, expected (mass kg, centre of gravity mm) {want}"
-        if got and self.tcp2flange is not None:
-            flange2base = self.arm.kin.fk(np.array(joints))
-            tcp2flange = np.linalg.solve(flange2base, np.array([g.tcp2base for g in got]))
-            for i, (g, e, tool) in enumerate(zip(got, expected.moves, tcp2flange, strict=True)):
-                if e.tool is None:
-                    continue
-                want = self.tcp2flange if isinstance(e.tool, str) else e.tool
-                pos, rot = pose_errors(tool.tolist(), want.tolist())
-                pos_tol = self.pos_tol if e.tool_tolerance is None else e.tool_tolerance
-                if not pos <= pos_tol or not rot <= self.rot_tol:
-                    offset = tool[:3, 3] - want[:3, 3]
-                    whose = "the cell's" if isinstance(e.tool, str) else "the one planned"
                     return (
-                        f"move {i + 1} ({e.name}, line {g.line}): the tool in force is not {whose}: its TCP "
-                        f"{_text(offset, 3)} mm from it (flange frame), turned {rot:.4f} deg"
+                        f"move {i + 1} ({e.name}, line {g.line}): payload {have}, expected (mass kg, centre of "
+                        f"gravity mm) {want}"
                     )
+        if self.tcp2flange is None:
+            return None
+        return self._tools(expected, got, joints)
+
+    def _tools(self, expected: Expectation, got: list, joints: np.ndarray) -> str | None:
+        """The tool in force at every move, all moves at once: tcp2flange = flange2base^-1 tcp2base."""
+        checked = [i for i, e in enumerate(expected.moves) if e.tool is not None]
+        if not checked:
+            return None
+        flange2base = self.arm.kin.fk(joints[checked])
+        tcp2base = np.array([got[i].tcp2base for i in checked])
+        rotation = np.swapaxes(flange2base[:, :3, :3], 1, 2)  # a rigid transform's inverse
+        tool_rot = rotation @ tcp2base[:, :3, :3]
+        tool_pos = np.einsum("nij,nj->ni", rotation, tcp2base[:, :3, 3] - flange2base[:, :3, 3])
+        want = np.array([self.tcp2flange if isinstance(expected.moves[i].tool, str) else expected.moves[i].tool
+                         for i in checked])
+        pos = np.linalg.norm(tool_pos - want[:, :3, 3], axis=1)
+        frobenius = np.linalg.norm((tool_rot - want[:, :3, :3]).reshape(len(checked), 9), axis=1)
+        rot = np.degrees(2.0 * np.arcsin(np.minimum(1.0, frobenius / (2.0 * np.sqrt(2.0)))))
+        for k, i in enumerate(checked):
+            e = expected.moves[i]
+            pos_tol = self.pos_tol if e.tool_tolerance is None else e.tool_tolerance
+            if not pos[k] <= pos_tol or not rot[k] <= self.rot_tol:
+                offset = tool_pos[k] - want[k][:3, 3]
+                whose = "the cell's" if isinstance(e.tool, str) else "the one planned"
+                return (
+                    f"move {i + 1} ({e.name}, line {got[i].line}): the tool in force is not {whose}: its TCP "
+                    f"{_text(offset, 3)} mm from it (flange frame), turned {rot[k]:.4f} deg"
+                )
         return None
 
     # --- outputs, stored data, log -----------------------------------------------------------

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -115,6 +116,8 @@ class Expectation:
     stored: tuple[Stored, ...] = ()
     logged: tuple[tuple[str, float, float], ...] | None = None
     joints_checked: bool = True  # the moves' joints are compared with the plan's (False: limits only)
+    # the moves' joints, computed only when the poses matched (the controller's rule solves them), or None
+    planned_joints: Callable[[], list | None] | None = field(default=None, compare=False)
     output_names: frozenset[str] | None = None  # the outputs the plan speaks for (None: every output of the run)
 
 

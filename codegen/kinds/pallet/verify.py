@@ -127,21 +127,24 @@ def judge(cell, index: int, target_name: str, case: Case) -> Judgement:
     moves = list(want.moves)
     outputs = [PlannedOutput(output, value, after, "gripper") for value, after in want.outputs]
     planned = [PlannedMove(m.name, m.kind, m.tcp2base, m.exact, m.speed_mm_s, 0.0, _percent(cell, m)) for m in moves]
+    planned_joints = None
     if home is not None and (moves or outputs):  # with an arm the program goes home first
         planned.insert(0, PlannedMove("home", home[0].kind, home[0].tcp2base, True, None, 0.0, _percent(cell, home[0]),
                                       joints=home[1]))
         outputs = [replace(o, after_moves=o.after_moves + 1) for o in outputs]
-        try:
-            named = configurations(cell, pallet, target_name)
-            joints = joints_of(cell, target_name, moves, "verify", pallet, named)
-        except ReachError:
-            joints = None
-        if joints is not None:
-            planned = [planned[0], *(replace(p, joints=q) for p, q in zip(planned[1:], joints, strict=True))]
+
+        def planned_joints() -> list | None:  # by the controller's rule, with the configurations the program names
+            try:
+                named = configurations(cell, pallet, target_name)
+                return [home[1], *joints_of(cell, target_name, moves, "verify", pallet, named)]
+            except ReachError:
+                return None
+
     message = None if want.halt is None else Emitter(target).string(want.halt)
     stored = _stored(layer_name, box_name, want.counters, start_counters)
     boxes = sum(1 for m in moves if m.name.endswith("target"))
-    return Judgement([Expectation(message, tuple(planned), tuple(outputs), stored)], figures=boxes)
+    expectation = Expectation(message, tuple(planned), tuple(outputs), stored, planned_joints=planned_joints)
+    return Judgement([expectation], figures=boxes)
 
 
 def _percent(cell, move) -> float | None:
