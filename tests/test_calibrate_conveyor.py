@@ -4,7 +4,7 @@ import json
 import math
 from pathlib import Path
 
-import belt_sim
+from support import belt_sim
 import numpy as np
 import pytest
 from click.testing import CliRunner

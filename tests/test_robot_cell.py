@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from robot_chains import CATALOGUE_CHAINS, chain_frames, ikpy_chain
+from support.robot_chains import CATALOGUE_CHAINS, chain_frames, ikpy_chain
 
 from codegen.cli import main
 from codegen.kinds.stations.region import arm_poses

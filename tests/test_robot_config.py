@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from robot_select import nearest, select_abb, select_kuka, turn_variants
+from support.robot_select import nearest, select_abb, select_kuka, turn_variants
 
 from codegen.robot import solve
 from codegen.robot.arms import Arm

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from robot_chains import VENDOR_CHAINS, ikpy_chain
+from support.robot_chains import VENDOR_CHAINS, ikpy_chain
 
 from codegen.robot.kinematics import Kinematics, wrap_deg
 from codegen.robot.opw import OPW

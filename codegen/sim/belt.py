@@ -81,13 +81,15 @@ def part_pose(belt2base: np.ndarray, belt: Belt, part: Part, camera_y: float, t:
 @dataclass(frozen=True)
 class RobotEncoder:
     """The controller's own encoder input on the same belt: the same counts from another zero (it was
-    enabled at another moment than the PLC's counter)."""
+    enabled at another moment than the PLC's counter), counted backwards where the program takes the wiring's A
+    as B (sign -1), not at all where it reads inputs the encoder is not wired to (sign 0)."""
 
     belt: Belt
     zero: int
+    sign: int = 1
 
     def unwrapped_count(self, t: float) -> int:
-        return self.belt.unwrapped_count(t) + self.zero
+        return self.sign * self.belt.unwrapped_count(t) + self.zero
 
 
 @dataclass
@@ -105,12 +107,20 @@ class BeltLine:
     bus: object
     encoder_index: int = 0
     robot_zero: int = 0  # where the controller's own encoder counts from, against the PLC's counter
+    wiring: tuple[int, int] | None = None  # the inputs the encoder's A and B are wired to (None: as the program says)
     taken: dict = field(default_factory=dict)
     _presented: int = 0
     _stopped: bool = False
 
-    def encoder(self, index: int):
-        return RobotEncoder(self.belt, self.robot_zero) if index == self.encoder_index else None
+    def encoder(self, index: int, a: int | None = None, b: int | None = None):
+        """The encoder on the controller's decoder `index`, read through the inputs a (A) and b (B)."""
+        if index != self.encoder_index:
+            return None
+        if self.wiring is None or (a, b) == tuple(self.wiring):
+            return RobotEncoder(self.belt, self.robot_zero)
+        if (b, a) == tuple(self.wiring):
+            return RobotEncoder(self.belt, self.robot_zero, -1)
+        return RobotEncoder(self.belt, self.robot_zero, 0)
 
     def live(self, name: str, t: float):
         return self.bus.live(self.belt, name, t)

@@ -28,6 +28,9 @@ class Options:
     jobs: int = 0
     step_limit: int = DEFAULT_STEP_LIMIT
     progress: object = None
+    first_mismatch: bool = False  # a program's cases stop at its first mismatch (a yes-or-no answer, fast)
+    sweeps: bool = True  # the kinds' bulk runs too
+    scenarios: frozenset[str] | None = None  # only the cases of these scenarios (None: every case)
 
 
 def verify_cell(cell, files=(), targets=(), options: Options | None = None) -> Report:
@@ -46,13 +49,18 @@ def verify_cell(cell, files=(), targets=(), options: Options | None = None) -> R
             source.load()  # a file that does not load is reported before any case runs
     else:
         sources = _fresh(cell, names)
+    start = time.perf_counter()
+    rows, workers = verify_sources(cell, sources, options)
+    return Report(cell.name, rows, options.seed, options.cases, time.perf_counter() - start, workers, warnings)
+
+
+def verify_sources(cell, sources: list[ProgramSource], options: Options) -> tuple[list[Row], int]:
+    """The rows of the given programs (verify_cell's work once it has them; tests give their own programs)."""
     rows = _rows(sources)
     workers = options.jobs or os.cpu_count() or 1
-    start = time.perf_counter()
     tasks, pinned = _tasks(cell, sources, options, workers)
     run_tasks(tasks, rows, workers, options.progress, pinned)
-    report = Report(cell.name, rows, options.seed, options.cases, time.perf_counter() - start, workers, warnings)
-    return report
+    return rows, workers
 
 
 def _fresh(cell, names: list[str]) -> list[ProgramSource]:
@@ -82,16 +90,20 @@ def _rows(sources: list[ProgramSource]) -> list[Row]:
 
 
 def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
-    """(cell, source, cases or a bulk range, step limit) tasks; for a large cell each source's tasks pinned to
-    one worker (the workers sharing a program would each load it)."""
+    """(cell, source, cases or a bulk range, step limit, first mismatch) tasks; for a large cell each source's tasks
+    pinned to one worker (the workers sharing a program would each load it)."""
     tasks, owner = [], []
     for source in sources:
         kind = get_kind(source.kind)
         model = source.model or cell
         cases = kind.verify_cases(model, source, options.cases, options.seed)
+        if options.scenarios is not None:
+            cases = [case for case in cases if kind.scenario_of(case) in options.scenarios]
         chunk = max(1, min(CHUNK_CASES, -(-len(cases) // max(4, 2 * workers))))
-        own = [(cell, source, cases[i : i + chunk], options.step_limit) for i in range(0, len(cases), chunk)]
-        own += [(cell, source, ids, options.step_limit) for ids in kind.sweeps(model, source, workers)]
+        limit, first = options.step_limit, options.first_mismatch
+        own = [(cell, source, cases[i : i + chunk], limit, first) for i in range(0, len(cases), chunk)]
+        if options.sweeps:
+            own += [(cell, source, ids, limit, first) for ids in kind.sweeps(model, source, workers)]
         tasks += own
         owner += [source.row] * len(own)
     large = len(cell.stations) >= ONE_PROGRAM_FROM and len(sources) > 1

@@ -25,8 +25,9 @@ def _program(source, large: bool):
 
 
 def run_chunk(task) -> tuple[int, Row]:
-    """One task: (cell, source, cases or a bulk range, step limit). Returns (the source's row, the partial row)."""
-    cell, source, work, step_limit = task
+    """One task: (cell, source, cases or a bulk range, step limit, stop at the first mismatch). Returns (the
+    source's row, the partial row)."""
+    cell, source, work, step_limit, first = task
     model = source.model or cell
     kind = get_kind(source.kind)
     row = Row(source.kind, source.target, source.ident, list(source.origin))
@@ -36,12 +37,12 @@ def run_chunk(task) -> tuple[int, Row]:
         if isinstance(work, range):
             kind.sweep(model, source, program, work, step_limit, row)
         else:
-            _run_cases(model, kind, source, program, work, step_limit, row)
+            _run_cases(model, kind, source, program, work, step_limit, row, first)
             row.seconds = time.perf_counter() - start  # the cases' time alone: cases/s is one program on one core
     return source.row, row
 
 
-def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: Row) -> None:
+def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: Row, first: bool = False) -> None:
     checker = Checker(model, source.target)
     arm = checker.arm
     prefixes = kind.log_prefixes_of(model)
@@ -85,8 +86,8 @@ def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: 
                     row.figures = kind.new_figures()
                 kind.add_figures(row.figures, case, figures)
         else:
-            row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}")
-        if runaway:
+            row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}".replace("  ", " "))
+        if runaway or (first and problem is not None):
             break
 
 

@@ -41,10 +41,12 @@ def _encoder(fr, index, where: str):
     index = int(index)
     if index not in (0, 1):
         raise RunError(f"{where}: encoder_index must be 0 or 1")
-    if not fr.m.extra.get("encoders", {}).get(index):
+    enabled = fr.m.extra.get("encoders", {}).get(index)
+    if not enabled:
         return None
+    _decoder, a, b = enabled
     for device in fr.m.devices:
-        belt = getattr(device, "encoder", lambda _i: None)(index)
+        belt = getattr(device, "encoder", lambda _i, _a, _b: None)(index, a, b)
         if belt is not None:
             return belt
     raise RunError(f"{where}: no encoder is wired to index {index} here (codegen verify attaches a simulated belt)")
@@ -98,7 +100,8 @@ def builtins(pose_of, number_of) -> dict:
             raise RunError(f"{where}: encoder_index 0 or 1, decoder_type 0..4")
         if decoder and (a not in ENCODER_INPUTS or b not in ENCODER_INPUTS):
             raise RunError(f"{where}: the encoder's A and B inputs must be 8..11 (e-Series)")
-        fr.m.extra.setdefault("encoders", {})[index] = decoder
+        # the decoder and which inputs the program takes as A and B: swapped against the wiring, it counts backwards
+        fr.m.extra.setdefault("encoders", {})[index] = (decoder, a, b) if decoder else None
 
     def get_tick_count(fr, args, kwargs, where):
         belt = _encoder(fr, args[0] if args else kwargs.get("encoder_index", 0), where)

@@ -110,6 +110,12 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
                 0,
                 0,
             )
+    for seq, t in {**skipped, **too_late}.items():  # given up after the arm moved for it: it was in the window
+        read = line.taken.get(seq)
+        moved = read is not None and any(read < m.end_time <= t for m in trace.moves)
+        if moved and counted_y(cell, case, parts[seq], read) > end + one_count:  # it was gone already when read
+            y = counted_y(cell, case, parts[seq], read)
+            return f"part {seq} was past the window's end when read ({y:.1f} mm), yet the arm moved for it", 0, 0
     fastest = case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
     for seq, t in too_late.items():  # already too close to the intercept point to come down in time
         latest = pick.intercept_mm - lead_seconds(cell) * fastest - pick.capture_mm

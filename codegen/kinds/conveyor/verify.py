@@ -26,6 +26,8 @@ from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedM
 # a run's statements: the bundled cell's longest case takes 86,000 (UR polls the queue every 8 ms); a program
 # that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after minutes
 STEP_LIMIT = 200_000
+PAST_END_MM = 40.0  # the part_past_the_window case: this far past the window's end when the program reads it
+DECISION_S = 1.0  # about when the program first reads the queue (after its home move and the gripper's release)
 COUNTER_BITS = 16  # the count the program reads: UR's filtered count [0; 65536[ (URScript manual), a 16-bit group
 SCENARIOS = {
     "start_away": "",
@@ -100,6 +102,11 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     out.append(BeltCase("fast_belt", fast, quick, rng.randrange(-(2**30), 2**30)))
     first = out[0]
     one = replace(first, parts=first.parts[:1])
+    # a part the camera saw while the line stood still before the program started: when the program reads it, it
+    # is PAST_END_MM beyond the window's end (the program must skip it, not chase it)
+    slow = replace(first.belt, wobble=0.0)
+    seen = -(pick.window_mm[1] + PAST_END_MM + conveyor.camera_offset_mm) / slow.speed_mm_s + DECISION_S
+    out.append(replace(one, category="part_past_the_window", belt=slow, parts=(replace(one.parts[0], seen_s=seen),)))
     (x0, x1), _ = pick.x_range_mm, pick.z_range_mm
     wrong = replace(one.parts[0], x=x1 + 0.5 * (x1 - x0))
     out += [
@@ -119,7 +126,9 @@ def _random_part(rng, pick, seq: int, seen_s: float) -> Part:
 
 def setup(cell, target_name: str, case: BeltCase) -> Setup:
     target = get_target(target_name)
-    line = BeltLine(case.belt, list(case.parts), bus_for(target, facts(target)), robot_zero=case.robot_zero)
+    wiring = conveyor_of(cell).pick.encoder_inputs.get(target_name)  # the installation: A and B as the cell says
+    line = BeltLine(case.belt, list(case.parts), bus_for(target, facts(target)), robot_zero=case.robot_zero,
+                    wiring=None if not wiring else tuple(wiring))
     output = signal_name(target, "output", cell.io.output[target_name])
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
     gripper = Gripper(output, feedback, cell.io.value, case.gripper)

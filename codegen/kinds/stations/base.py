@@ -63,22 +63,23 @@ class StationKind(ProgramKind):
     @classmethod
     def programs(cls, cell, target) -> list:
         """The station program, written once for all station kinds: by the first of the registry."""
-        own = list(station_kinds().values())
-        if not cell.stations or cls is not own[0]:
+        if not cell.stations or not cls.leads(cell):
             return []
-        return station_program(cell, target, own)
+        return station_program(cell, target, list(station_kinds().values()), cls.name)
 
     @classmethod
     def reach(cls, cell, targets: list[str]) -> list:
         """The stations' envelope check (every taught pose over the correction region), once: by the first."""
-        if not cell.stations or not cls.leads():
+        if not cell.stations or not cls.leads(cell):
             return []
         return check(cell, targets)
 
     @classmethod
-    def leads(cls) -> bool:
-        """Whether this kind speaks for the station program (the first station kind of the registry)."""
-        return cls is next(iter(station_kinds().values()))
+    def leads(cls, cell) -> bool:
+        """Whether this kind speaks for the cell's station program: the first of the registry's station kinds
+        that the cell's stations use (its programs are that kind's in verify and the report)."""
+        used = {station.kind for station in cell.stations}
+        return cls is next((k for k in station_kinds().values() if k.name in used), None)
 
     # --- verify: the station program's cases, judged (the first station kind's program) ---------------
     report_key = "targets"  # verify's JSON: the station program's rows
@@ -97,7 +98,7 @@ class StationKind(ProgramKind):
         """The cell; without an arm, the cell with an extra station of edge-case poses (the pose conventions'
         edges); with one, the edge poses as a cell of their own without the arm, beside it (no arm need reach
         them). The edge programs count in the station program's row."""
-        if not cls.leads() or not cell.stations:
+        if not cell.stations or not cls.leads(cell):
             return []
         if cell.robot is None:
             return [(edge_cell(cell), True)]

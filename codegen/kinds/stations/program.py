@@ -131,7 +131,7 @@ def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
     return {**out, "partial": partials, "used": [partials[kind] for kind in out["kinds_used"]]}
 
 
-def station_program(cell: Cell, target: Target, station_kinds: list) -> list[ProgramPlan]:
+def station_program(cell: Cell, target: Target, station_kinds: list, lead: str) -> list[ProgramPlan]:
     """The programs of the cell's stations, from the target's `files`: each program file with its data files
     ("{cell}.src" and "{cell}.dat" from "program.src.j2" and "program.dat.j2"; a UR socket program and its
     Script-node twin "{cell}_node.script" from "program_node.script.j2" are two programs), one context."""
@@ -148,6 +148,5 @@ def station_program(cell: Cell, target: Target, station_kinds: list) -> list[Pro
             owner.append(f)
         else:
             plans.append([f])
-    # the programs are the first station kind's: it speaks for the others in verify
-    name = station_kinds[0].name
-    return [ProgramPlan(name, Path(files[0].name).stem, tuple(files), context, i) for i, files in enumerate(plans)]
+    # the programs are the lead kind's: it speaks for the others in verify
+    return [ProgramPlan(lead, Path(files[0].name).stem, tuple(files), context, i) for i, files in enumerate(plans)]

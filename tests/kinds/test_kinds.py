@@ -1,0 +1,23 @@
+"""Every program kind on the one base (tests/kinds/kind_base.py): its programs, its scenarios, the mutation harness."""
+
+from kind_base import KindTests
+
+
+class TestPoint(KindTests):
+    kind = "point"
+
+
+class TestFrame(KindTests):
+    kind = "frame"
+
+
+class TestPallet(KindTests):
+    kind = "pallet"
+
+
+class TestConveyor(KindTests):
+    kind = "conveyor"
+
+
+class TestLaser(KindTests):
+    kind = "laser"

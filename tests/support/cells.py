@@ -1,0 +1,80 @@
+"""The example cells every kind's tests run on, a two-station cell with any names, and hostile text."""
+
+from __future__ import annotations
+
+from functools import cache
+from pathlib import Path
+
+from hypothesis import strategies as st
+from lark import Token
+
+from codegen.controllers import target_names
+from codegen.model.cell import EXAMPLES_DIR, load_cell
+
+REPO = Path(__file__).resolve().parents[2]
+EXAMPLES = {path.stem: path for path in sorted(EXAMPLES_DIR.rglob("*.toml"))}  # together they use every kind
+
+
+@cache
+def example(name: str):
+    """An example cell, loaded once per test session (cells are frozen)."""
+    return load_cell(EXAMPLES[name])
+
+
+def kind_targets() -> list[tuple[str, str, str]]:
+    """(kind, target, example cell) for every kind's programs of every target in the examples: the first example
+    cell that has them."""
+    from codegen.controllers import get_target
+    from codegen.render import plans
+
+    out: dict[tuple[str, str], str] = {}
+    for name in EXAMPLES:
+        cell = example(name)
+        for target in cell.targets:
+            for plan in plans(cell, get_target(target)):
+                out.setdefault((plan.kind, target), name)
+    return [(kind, target, cell) for (kind, target), cell in sorted(out.items())]
+
+
+HOSTILE = st.lists(
+    st.sampled_from(
+        ['"', "'", "\n", "\r", ";", "!", "#", "//", "%d", "END", "ENDPROC", "end", "\\", "{", "}", "[", "]", ":=",
+         "é", "汉", "\x00", "\t", " ", "a", "Z", "_", "9", "$"]
+    ),
+    min_size=1,
+    max_size=60,
+).map("".join)
+
+
+def cell_text(station_names: list[str], pose_names: list[str] | None = None) -> str:
+    """A two-station cell with the given names (TOML-escaped), same numbers every time."""
+
+    def q(text: str) -> str:
+        return '"' + "".join(c if c.isprintable() and c not in '"\\' else f"\\u{ord(c):04x}" for c in text) + '"'
+
+    pose_names = pose_names or ["approach", "work"]
+    stations = []
+    for i, name in enumerate(station_names, start=1):
+        stations.append(
+            f"[[station]]\nid = {i}\nname = {q(name)}\nmark = [{600 + i}.5, -250.0, {i}.0]\n[station.poses]\n"
+            f"{q(pose_names[0])} = [650.0, -100.0, 400.0, 90.0, 0.0, 180.0]\n"
+            f"{q(pose_names[1])} = [700.0, -100.0, 300.0, 90.0, 10.0, 180.0]\n"
+        )
+    return (
+        f'[cell]\nname = "bench"\ntargets = {list(target_names())!r}\n[cell.camera]\nangle_sign = -1\n'
+        "[cell.limits]\nmax_shift_mm = 10.0\nmax_rotation_deg = 10.0\n" + "\n".join(stations)
+    )
+
+
+def shape(tree) -> tuple:
+    """The statement structure of a parse tree: rule names and token types, no values."""
+    if isinstance(tree, Token):
+        return (tree.type,)
+    if tree is None:
+        return ("-",)
+    return (tree.data, *(shape(c) for c in tree.children))
+
+
+def replace_once(text: str, old: str, new: str) -> str:
+    assert old in text, f"{old!r} not in program"
+    return text.replace(old, new, 1)
