@@ -207,7 +207,7 @@ def verify(
 
 
 def _add_kind_commands() -> None:
-    """Each program kind's commands on their group (`codegen pallet`, `codegen calibrate conveyor`, ...)."""
+    """Each program kind's commands on their group (top level, or `codegen calibrate ...`)."""
     from codegen.protocol import kinds
 
     groups = {None: main, "calibrate": calibrate}

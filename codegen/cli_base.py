@@ -48,4 +48,4 @@ def main() -> None:
 
 @main.group()
 def calibrate() -> None:
-    """Calibration computations (hand-eye, TCP, conveyor)."""
+    """Calibration computations (each kind's: camera, tool, belt)."""

@@ -1,4 +1,4 @@
-"""Symbolic derivation of the correction transform and proof of its identities (sympy: here, pallet/derivation.py)."""
+"""Symbolic derivation of the correction transform and proof of its identities (sympy: here and in the kinds)."""
 
 from __future__ import annotations
 
@@ -293,16 +293,19 @@ def cse_blocks(derivation: Derivation | None = None) -> dict[str, dict]:
     exprs = exported_expressions(derivation)
     new_d, _new_alpha = frame_update(+1)
     exprs["new_dx"], exprs["new_dy"] = new_d[0], new_d[1]
-    from codegen.kinds.pallet.derivation import level_box_position
-
-    exprs["box_px"], exprs["box_py"] = level_box_position()
-    blocks = {}
-    for block, names in (
+    groups = [
         ("frame", ("frame_cos", "frame_sin", "frame_x", "frame_y")),
         ("point", ("point_x", "point_y")),
         ("refine", ("new_dx", "new_dy")),
-        ("box", ("box_px", "box_py")),
-    ):
+    ]
+    from codegen.protocol import kinds
+
+    for kind in kinds().values():  # each kind's own closed forms the controllers evaluate
+        for block, outputs in kind.printed_blocks().items():
+            exprs.update(outputs)
+            groups.append((block, tuple(outputs)))
+    blocks = {}
+    for block, names in groups:
         temps, reduced = sp.cse(
             [exprs[n] for n in names], symbols=sp.numbered_symbols(f"{block}_t"), optimizations="basic"
         )

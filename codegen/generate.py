@@ -3,16 +3,13 @@
 from __future__ import annotations
 
 import difflib
-import re
 from pathlib import Path
 
 from codegen.model.cell import Cell
-from codegen.output import replace_cell, written_by_codegen
+from codegen.output import mixed_set, replace_cell, written_by_codegen
 from codegen.protocol import kinds
 from codegen.render import RenderedFile, cell_dir, render
 from codegen.robot.taught import ReachError
-
-STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
 
 
 class GenerateError(Exception):
@@ -36,7 +33,7 @@ def check_rendered(files: list[RenderedFile]) -> None:
 
 def check_envelope(cell: Cell, targets: list[str] | None) -> list:
     """Each kind's reach proof for every requested target with an arm (the stations' correction regions, a
-    pallet's full cycle, a belt's window, ...): each target's margins, or a GenerateError naming the pose."""
+    stack's full cycle, a belt's window, ...): each target's margins, or a GenerateError naming the pose."""
     names = list(targets or cell.targets)
     try:
         return [m for kind in kinds().values() for m in kind.reach(cell, names)]
@@ -44,9 +41,7 @@ def check_envelope(cell: Cell, targets: list[str] | None) -> list:
         raise GenerateError(str(exc)) from None
 
 
-def generate(
-    cell: Cell, targets: list[str] | None, out_dir: Path
-) -> tuple[list[Path], list[str], list]:
+def generate(cell: Cell, targets: list[str] | None, out_dir: Path) -> tuple[list[Path], list[str], list]:
     """Check the envelope, render, check, then replace the cell's output folder whole (codegen.output):
     the regenerated targets' programs are the new ones, everything codegen did not write stays.
     Returns the written paths, what was left alone and each target's margins."""
@@ -61,18 +56,13 @@ def generate(
 
 def mixed_stamps(paths: list[Path]) -> str | None:
     """A message when the given generated files name different cell files in their headers."""
-    stamps = {}
+    named = []
     for path in paths:
         try:
-            match = STAMP.search(path.read_text(encoding="utf-8", errors="replace")[:2000])
+            named.append((str(path), path.read_text(encoding="utf-8", errors="replace")[:2000]))
         except OSError:
             continue
-        if match:
-            stamps.setdefault(match.group(1), []).append(path)
-    if len(stamps) < 2:
-        return None
-    parts = "; ".join(f"sha256 {h[:12]}...: {', '.join(str(p) for p in ps)}" for h, ps in stamps.items())
-    return f"these files come from different cell files (a mixed set): {parts}"
+    return mixed_set(named)
 
 
 def diff(cell: Cell, out_dir: Path) -> str:

@@ -69,4 +69,3 @@ def halt_message(cell, reason: str, station_name: str | None, station_id: int) -
     if reason == ROTATION_OVER_LIMIT:
         return f"station {name}: mark rotation over {limits.max_rotation_deg:g} deg, recalibrate"
     raise ValueError(f"not a halt reason: {reason!r}")
-

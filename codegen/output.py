@@ -4,10 +4,33 @@ from __future__ import annotations
 
 import ctypes
 import os
+import re
 import shutil
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+
+STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
+
+
+def stamp_of(text: str) -> str | None:
+    """The cell file's hash a generated file names in its header (None: it names none)."""
+    match = STAMP.search(text[:2000])
+    return match.group(1) if match else None
+
+
+def mixed_set(named_texts: list[tuple[str, str]]) -> str | None:
+    """A message when the given generated files (name, text) name different cell files in their headers."""
+    stamps: dict[str, list[str]] = {}
+    for name, text in named_texts:
+        stamp = stamp_of(text)
+        if stamp:
+            stamps.setdefault(stamp, []).append(name)
+    if len(stamps) < 2:
+        return None
+    parts = "; ".join(f"sha256 {h[:12]}...: {', '.join(ns)}" for h, ns in stamps.items())
+    return f"these files come from different cell files (a mixed set): {parts}"
+
 
 try:
     import fcntl
@@ -25,9 +48,7 @@ class OutputBusy(Exception):
     """Another process is writing the same cell's output folder."""
 
 
-def replace_cell(
-    out_dir: Path, cell: str, files: dict[str, str], targets: list[str]
-) -> tuple[list[Path], list[str]]:
+def replace_cell(out_dir: Path, cell: str, files: dict[str, str], targets: list[str]) -> tuple[list[Path], list[str]]:
     """Make `out_dir/cell` hold `files` (path below the cell folder -> text) for `targets`, and keep
     what the folder held for its other targets and besides. The new folder is written in full beside
     the old one and switched in by one atomic exchange, so a kill at any moment leaves the complete

@@ -15,7 +15,7 @@ class ProgramFile:
     """One file of a program: its name under <cell>/<target>/ and the template it is rendered from."""
 
     name: str
-    template: str  # under templates/, e.g. "<target>/kinds/pallet.src.j2"
+    template: str  # under templates/, e.g. "<target>/kinds/<kind>.src.j2"
 
 
 @dataclass(frozen=True)
@@ -27,7 +27,7 @@ class ProgramPlan:
     ident: str
     files: tuple[ProgramFile, ...]
     context: dict = field(default_factory=dict, compare=False)
-    index: int = 0  # which of the kind's programs, where it writes several (a cell's pallets)
+    index: int = 0  # which of the kind's programs, where it writes several (one per table of its section)
 
 
 class ProgramKind:
@@ -97,6 +97,12 @@ class ProgramKind:
     def identities(cls, check) -> list:
         """The kind's identities for `codegen derive --check` (codegen.derivation._check makes each one)."""
         return []
+
+    @classmethod
+    def printed_blocks(cls) -> dict:
+        """The kind's closed forms the controllers evaluate: block -> {output name: sympy expression}, printed
+        per dialect into derived.json (codegen.derived.printed(dialect, block)); imports sympy when asked."""
+        return {}
 
     # --- verify (codegen/verify/: the engine runs every kind through these) ---------------------
     # Each scenario every kind runs (codegen.verify.plan.SCENARIOS) -> "" where the kind runs it, else the

@@ -108,8 +108,9 @@ def test_rapid_local_declarations_are_typed():
 
 
 def test_long_expressions_compile_and_deep_recursion_is_a_clear_error():
+    from support.programs import load_program
+
     from codegen.controllers import get_target
-    from codegen.verify_runs import load_program
 
     terms = " + ".join(["1"] * 200)
     text = f'MODULE T\nVAR num x;\nPROC main()\n  x := {terms};\n  TPWrite "" \\Num:=x;\nENDPROC\nENDMODULE\n'
@@ -144,6 +145,6 @@ def test_an_elif_chain_of_thousands_compiles():
     program = load_urscript("\n".join(lines), "big.script")
     for station_id, message in ((1, "s1"), (400, "s400"), (401, "s401"), (4999, "s4999"), (5001, "unknown")):
         assert program.run({"input_integer_register_24": station_id}).messages == [message]
-    body = "".join(f"  ELSEIF x = {i} THEN\n    TPWrite \"r{i}\";\n" for i in range(2, 3001))
+    body = "".join(f'  ELSEIF x = {i} THEN\n    TPWrite "r{i}";\n' for i in range(2, 3001))
     head = 'MODULE T\nVAR num x := 2999;\nPROC main()\n  IF x = 1 THEN\n    TPWrite "r1";\n'
     assert rapid_program(f"{head}{body}  ENDIF\nENDPROC\nENDMODULE\n").run({}).messages == ["r2999"]

@@ -25,8 +25,15 @@ def _ur(selector: str) -> list[str]:
 
 @pytest.mark.parametrize(
     ("selector", "expected"),
-    [("3", "branch 2"), ("7", "branch 6"), ("3.0", "branch 2"), ("13", "else"), ('"3"', "else"), ("True", "branch 0"),
-     ("[3]", "else")],
+    [
+        ("3", "branch 2"),
+        ("7", "branch 6"),
+        ("3.0", "branch 2"),
+        ("13", "else"),
+        ('"3"', "else"),
+        ("True", "branch 0"),
+        ("[3]", "else"),
+    ],
 )
 def test_a_long_elif_chain_takes_the_branch_the_comparisons_take(selector, expected):
     """Twelve `s == n` branches (a table): an int, a float equal to one, a number in none, a string and a

@@ -21,6 +21,7 @@ REPO = Path(__file__).resolve().parents[1]
 DEMO = REPO / "codegen" / "examples" / "agv_machine_tending.toml"
 CELL = "agv_machine_tending"
 
+
 def _killed_generate(limit: int, mode: str, args: list[str]) -> int:
     """Run `codegen generate` in a forked process (a real process: its own files, locks and death)
     that kills itself with SIGKILL, as a power cut or a CI timeout would, at its `limit`-th
@@ -43,8 +44,17 @@ def _killed_generate(limit: int, mode: str, args: list[str]) -> int:
 
                 return step
 
-            for owner, name in [(os, "mkdir"), (os, "fsync"), (os, "rename"), (os, "symlink"), (shutil, "rmtree"),
-                                (shutil, "copy2"), (shutil, "copytree"), (output, "_exchange"), (output, "_write")]:
+            for owner, name in [
+                (os, "mkdir"),
+                (os, "fsync"),
+                (os, "rename"),
+                (os, "symlink"),
+                (shutil, "rmtree"),
+                (shutil, "copy2"),
+                (shutil, "copytree"),
+                (output, "_exchange"),
+                (output, "_write"),
+            ]:
                 setattr(owner, name, counted(getattr(owner, name)))
             if mode == "no-exchange":
                 output._exchange = lambda a, b: False

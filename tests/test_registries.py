@@ -136,3 +136,37 @@ def test_a_controller_is_named_only_in_its_own_files():
             if re.search(rf"\b{re.escape(word)}\b", text):
                 offenders.append(f"{path.relative_to(REPO)}: {word}")
     assert not offenders, offenders
+
+
+def test_a_program_kind_is_named_only_in_its_own_files():
+    """Outside its package codegen/kinds/<kind>/ and its templates templates/<t>/kinds/<kind>*.j2, no source
+    names a kind with programs of its own (cell, render, generate, verify and cli loop over the registry). The
+    dialects are left out: a language's own built-ins carry their manual's words (URScript's
+    track_conveyor_linear). The station kinds' names are common words (a point, a frame): their packages are
+    held to the same rule by the registry tests above."""
+    offenders = []
+    for word in ("pallet", "conveyor", "laser"):
+        own = (REPO / "codegen" / "kinds" / word,)
+        for path in [*(REPO / "codegen").rglob("*.py"), *(REPO / "templates").rglob("*.j2")]:
+            if any(folder in path.parents for folder in own) or path.name.startswith(f"{word}."):
+                continue
+            if REPO / "codegen" / "dialects" in path.parents:
+                continue
+            if re.search(rf"\b{word}s?\b", path.read_text(encoding="utf-8"), re.IGNORECASE):
+                offenders.append(f"{path.relative_to(REPO)}: {word}")
+    assert not offenders, offenders
+
+
+def test_the_readme_lists_each_kinds_scenarios_as_the_kind_declares_them():
+    """The README's scenario table: "runs" (or "runs (...)") exactly where the kind runs the scenario."""
+    from codegen.verify.plan import SCENARIOS
+
+    text = (REPO / "README.md").read_text(encoding="utf-8")
+    table = text.split("| scenario | point, frame | pallet | conveyor | laser |", 1)[1].split("\n\n", 1)[0]
+    rows = [line.strip("|").split("|") for line in table.strip().splitlines()[1:]]
+    assert len(rows) == len(SCENARIOS)
+    columns = {"point": 1, "frame": 1, "pallet": 2, "conveyor": 3, "laser": 4}
+    for row, scenario in zip(rows, SCENARIOS, strict=True):
+        for kind, column in columns.items():
+            runs = row[column].strip().startswith("runs")
+            assert runs == (kinds()[kind].scenarios[scenario] == ""), (scenario, kind, row[column])

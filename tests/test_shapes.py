@@ -9,7 +9,7 @@ import pytest
 from codegen.dialects.core import shapes
 from codegen.dialects.core.shapes import ShapeCache
 from codegen.model.cell import load_cell
-from codegen.verify_runs import fresh_sources
+from codegen.verify.programs import fresh_sources
 
 CELLS = (
     "codegen/examples/agv_machine_tending.toml",

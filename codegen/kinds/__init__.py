@@ -1,1 +1,1 @@
-"""The program kinds, one package each (point, frame, pallet, conveyor, laser); codegen.protocol discovers them."""
+"""The program kinds, one package each with its kind.py; codegen.protocol discovers them (nothing names them)."""

@@ -56,8 +56,11 @@ def per_target(ctx, table: dict, key: str, targets, required: bool, prefix: str 
         path = f"{prefix}.{key}.{target}"
         facts = get_target(target).program.get("signals")
         if facts is None:  # a program that cannot set the signal must not be made without it
-            ctx.fail(prefix, f"{target} programs have no digital I/O instructions (targets/{target}.toml): "
-                     f"take {target} out of cell.targets or the signal out of the cell")
+            ctx.fail(
+                prefix,
+                f"{target} programs have no digital I/O instructions (targets/{target}.toml): "
+                f"take {target} out of cell.targets or the signal out of the cell",
+            )
         if target not in raw:
             ctx.fail(path, "missing: every target of the cell names the signal")
         value = raw[target]

@@ -100,9 +100,7 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
         _margin(ctx, table, "wrist_margin_deg", DEFAULT_WRIST_MARGIN_DEG),
     )
     if not tool_given:
-        ctx.warnings.append(
-            f"{ctx.source}: cell.tool: not given: the programs move the flange (no TCP, no payload)"
-        )
+        ctx.warnings.append(f"{ctx.source}: cell.tool: not given: the programs move the flange (no TCP, no payload)")
     return Robot(arms, home, tool, tool_given, margins)
 
 

@@ -75,8 +75,8 @@ def require_margins(subject: str, robot, joint_deg: float, wrist_deg: float, wor
 
 @dataclass(frozen=True)
 class Margins:
-    """The least margins of a target's arm over the poses a program commands (a pallet's cycle, a
-    conveyor's window); a subclass names what was checked (subject) and its own report keys (keys)."""
+    """The least margins of a target's arm over the poses a program commands (a kind's whole cycle or
+    window); a subclass names what was checked (subject) and its own report keys (keys)."""
 
     target: str
     model: str

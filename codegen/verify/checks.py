@@ -176,8 +176,9 @@ class Checker:
         rotation = np.swapaxes(flange2base[:, :3, :3], 1, 2)  # a rigid transform's inverse
         tool_rot = rotation @ tcp2base[:, :3, :3]
         tool_pos = np.einsum("nij,nj->ni", rotation, tcp2base[:, :3, 3] - flange2base[:, :3, 3])
-        want = np.array([self.tcp2flange if isinstance(expected.moves[i].tool, str) else expected.moves[i].tool
-                         for i in checked])
+        want = np.array(
+            [self.tcp2flange if isinstance(expected.moves[i].tool, str) else expected.moves[i].tool for i in checked]
+        )
         pos = np.linalg.norm(tool_pos - want[:, :3, 3], axis=1)
         frobenius = np.linalg.norm((tool_rot - want[:, :3, :3]).reshape(len(checked), 9), axis=1)
         rot = np.degrees(2.0 * np.arcsin(np.minimum(1.0, frobenius / (2.0 * np.sqrt(2.0)))))

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
@@ -56,6 +56,8 @@ def verify_cell(cell, files=(), targets=(), options: Options | None = None) -> R
 
 def verify_sources(cell, sources: list[ProgramSource], options: Options) -> tuple[list[Row], int]:
     """The rows of the given programs (verify_cell's work once it has them; tests give their own programs)."""
+    numbers = {row: i for i, row in enumerate(sorted({s.row for s in sources}))}  # rows 0.. in their order
+    sources = [replace(s, row=numbers[s.row]) for s in sources]
     rows = _rows(sources)
     workers = options.jobs or os.cpu_count() or 1
     tasks, pinned = _tasks(cell, sources, options, workers)
@@ -100,6 +102,8 @@ def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
         if options.scenarios is not None:
             cases = [case for case in cases if kind.scenario_of(case) in options.scenarios]
         chunk = max(1, min(CHUNK_CASES, -(-len(cases) // max(4, 2 * workers))))
+        if options.first_mismatch:  # one answer per program: its cases in one run, stopped at the first mismatch
+            chunk = max(1, len(cases))
         limit, first = options.step_limit, options.first_mismatch
         own = [(cell, source, cases[i : i + chunk], limit, first) for i in range(0, len(cases), chunk)]
         if options.sweeps:

@@ -3,7 +3,6 @@ to the kind and program of the cell it is (by its file name), as picklable sourc
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -11,9 +10,9 @@ from codegen.controllers import get_target, target_of_suffix
 from codegen.dialects import dialect_of_suffix, get_dialect
 from codegen.dialects.core.files import SourceFile, read_source
 from codegen.dialects.core.values import RunError
+from codegen.output import mixed_set, stamp_of
+from codegen.protocol import get_kind
 from codegen.render import cell_dir, plans, render_plan
-
-STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
 
 
 class ProgramFilesError(ValueError):
@@ -41,11 +40,7 @@ class ProgramSource:
         return Path(self.origin[0]).name
 
     def load(self):
-        dialect = get_dialect(get_target(self.target).dialect)
-        try:
-            return dialect.load_files(list(self.files))
-        except RecursionError:
-            raise RunError(f"{self.origin[0]}: statements or expressions nested too deeply to run here") from None
+        return load_files(get_target(self.target), list(self.files), self.origin[0])
 
 
 def fresh_sources(cell, targets: list[str], model=None, row_of=None, only=None, sweep=True) -> list[ProgramSource]:
@@ -65,8 +60,8 @@ def fresh_sources(cell, targets: list[str], model=None, row_of=None, only=None, 
 
 def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[list[ProgramSource], list[str]]:
     """The given files grouped into programs (each language's rule: a program file with its data list, ...) and
-    each matched to the cell's program of that name; warnings (another cell file's stamp). A file that is
-    none of the cell's programs is a ProgramFilesError naming it."""
+    each matched to the cell's program of that name (another name: the cell's station program, where it has one);
+    warnings (another cell file's stamp). A file that is none of the cell's programs is a ProgramFilesError."""
     by_target: dict[str, list[Path]] = {}
     for path in paths:
         target = _target_of(path, targets)
@@ -78,6 +73,8 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
         known = {}  # program file name -> (plan, its file names)
         for plan in plans(cell, target):
             known[plan.files[0].name.lower()] = plan
+        # a program under a name of its own (a hand-edited copy) is the station program, where the cell has one
+        fallback = next((p for p in known.values() if get_kind(p.kind).station_mode), None)
         group = [*group, *_companions_beside(group, dialect)]
         files = [read_source(path, dialect.encodings) for path in group]
         try:
@@ -86,7 +83,7 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
             raise ProgramFilesError(str(exc)) from None
         for program in programs:
             main = Path(program[0].name)
-            plan = known.get(main.name.lower())
+            plan = known.get(main.name.lower(), fallback)
             if plan is None:
                 names = ", ".join(sorted(p.files[0].name for p in known.values())) or "none"
                 raise ProgramFilesError(
@@ -94,15 +91,16 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
                     f"`codegen generate` names them: {names})"
                 )
             for f in program:
-                stamp = STAMP.search(f.text[:2000])
-                if stamp and stamp.group(1) != cell.sha256:
+                stamp = stamp_of(f.text)
+                if stamp and stamp != cell.sha256:
                     warnings.append(
-                        f"{f.name} says it was generated from another cell file (sha256 {stamp.group(1)[:12]}...) "
+                        f"{f.name} says it was generated from another cell file (sha256 {stamp[:12]}...) "
                         f"than {cell.source}; verifying against {cell.name}"
                     )
             origin = tuple(f.name for f in program)
             out.append(ProgramSource(plan.kind, target_name, plan.ident, plan.index, tuple(program), origin, len(out)))
-    return out, warnings
+    mixed = mixed_set([(f.name, f.text) for source in out for f in source.files])
+    return out, [mixed, *warnings] if mixed else warnings
 
 
 def _companions_beside(paths: list[Path], dialect) -> list[Path]:
@@ -147,4 +145,13 @@ def load_file(target, path: Path):
     dialect = get_dialect(target.dialect)
     paths = [Path(path), *_companions_beside([Path(path)], dialect)]
     files = [read_source(p, dialect.encodings) for p in paths]
-    return dialect.load_files(dialect.programs(files)[0])
+    return load_files(target, dialect.programs(files)[0], str(path))
+
+
+def load_files(target, files: list[SourceFile], name: str):
+    """One program from its files (the program file first); a program nested deeper than Python's stack
+    is a RunError naming `name`, as any other program this tool cannot run."""
+    try:
+        return get_dialect(target.dialect).load_files(files)
+    except RecursionError:
+        raise RunError(f"{name}: statements or expressions nested too deeply to run here") from None

@@ -42,6 +42,11 @@ def run_chunk(task) -> tuple[int, Row]:
     return source.row, row
 
 
+def run_cases(cell, source, cases: list, step_limit: int, first: bool = False) -> Row:
+    """A program's row for the given cases of its kind (in this process)."""
+    return run_chunk((cell, source, cases, step_limit, first))[1]
+
+
 def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: Row, first: bool = False) -> None:
     checker = Checker(model, source.target)
     arm = checker.arm

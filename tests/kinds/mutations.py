@@ -63,8 +63,11 @@ MODEL = {
     "start_tolerance_30deg": ("arm", lambda c: motion(c, start_tolerance_deg=30.0), frozenset({"start_away"})),
     "window_end_100mm_later": ("conveyor", window_end, ALL),
     "encoder_a_b_swapped": ("conveyor", encoder_swapped, ALL),
-    "search_10x_faster": ("laser", lambda c: laser(c, search_speed_mm_s=10 * c.sections["laser"].search_speed_mm_s),
-                          ALL),
+    "search_10x_faster": (
+        "laser",
+        lambda c: laser(c, search_speed_mm_s=10 * c.sections["laser"].search_speed_mm_s),
+        ALL,
+    ),
 }
 
 # name -> target -> (pattern, replacement) on the first match in the program's files; where a kind's program has

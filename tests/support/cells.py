@@ -38,8 +38,36 @@ def kind_targets() -> list[tuple[str, str, str]]:
 
 HOSTILE = st.lists(
     st.sampled_from(
-        ['"', "'", "\n", "\r", ";", "!", "#", "//", "%d", "END", "ENDPROC", "end", "\\", "{", "}", "[", "]", ":=",
-         "é", "汉", "\x00", "\t", " ", "a", "Z", "_", "9", "$"]
+        [
+            '"',
+            "'",
+            "\n",
+            "\r",
+            ";",
+            "!",
+            "#",
+            "//",
+            "%d",
+            "END",
+            "ENDPROC",
+            "end",
+            "\\",
+            "{",
+            "}",
+            "[",
+            "]",
+            ":=",
+            "é",
+            "汉",
+            "\x00",
+            "\t",
+            " ",
+            "a",
+            "Z",
+            "_",
+            "9",
+            "$",
+        ]
     ),
     min_size=1,
     max_size=60,
@@ -78,3 +106,30 @@ def shape(tree) -> tuple:
 def replace_once(text: str, old: str, new: str) -> str:
     assert old in text, f"{old!r} not in program"
     return text.replace(old, new, 1)
+
+
+# a small point-station cell of every target
+MINIMAL_CELL = """\
+[cell]
+name = "bench"
+targets = {TARGETS}
+pose_format = "xyzabc"
+[cell.camera]
+angle_sign = -1
+[cell.limits]
+max_shift_mm = 10.0
+max_rotation_deg = 10.0
+[[station]]
+id = 1
+name = "lathe_1"
+mark = [600.0, -250.0, 2.0]
+[station.poses]
+approach = [650.0, -100.0, 400.0, 90.0, 0.0, 180.0]
+chuck = [700.0, -100.0, 300.0, 90.0, 0.0, 180.0]
+[[station]]
+id = 2
+name = "mill_1"
+mark = [640.0, 210.0, 0.0]
+[station.poses]
+vise = [700.0, 50.0, 260.0, -90.0, 15.0, 180.0]
+""".replace("{TARGETS}", repr(list(target_names())).replace("'", '"'))

@@ -43,8 +43,9 @@ def regex_edit(pattern: str, replacement, count: int = 1):
     return edit
 
 
-def verify(cell, source_list, cases: int = 3, seed: int = 0, first_mismatch: bool = False, sweeps: bool = False,
-           scenarios=None):
+def verify(
+    cell, source_list, cases: int = 3, seed: int = 0, first_mismatch: bool = False, sweeps: bool = False, scenarios=None
+):
     """The engine's rows for the programs (in this process; the kinds' bulk runs only when asked; only the cases
     of the scenarios named, if any)."""
     options = Options(cases, seed, 1, first_mismatch=first_mismatch, sweeps=sweeps, scenarios=scenarios)
@@ -54,3 +55,23 @@ def verify(cell, source_list, cases: int = 3, seed: int = 0, first_mismatch: boo
 
 def verify_one(cell, source: ProgramSource, **options):
     return verify(cell, [replace(source, row=0)], **options)[0]
+
+
+def load_program(target, text: str, filename: str = "program", companions: dict | None = None):
+    """A program from its text (and its data files by suffix), for the interpreter's own tests."""
+    from codegen.dialects.core.files import SourceFile
+    from codegen.verify.programs import load_files
+
+    stem = filename.rsplit(".", 1)[0]
+    rest = [SourceFile(stem + suffix, body) for suffix, body in (companions or {}).items()]
+    return load_files(target, [SourceFile(filename, text), *rest], filename)
+
+
+def run_case(cell, target: str, program, case, kind: str):
+    """One of a kind's cases run on a loaded program, set up as verify sets it up: (trace, setup)."""
+    from codegen.protocol import get_kind
+    from codegen.robot.expect import arm_of
+
+    source = first(cell, target, kind)
+    setup = get_kind(kind).setup(cell, source, case)
+    return program.run(setup.inputs, **setup.run_options(arm_of(cell, target), 2_000_000)), setup

@@ -69,8 +69,8 @@ def decode_text(raw: bytes, name: str, encodings: tuple[str, ...]) -> str:
             first_bad = exc.start if first_bad is None else first_bad
             continue
         return text.replace("\r\n", "\n").replace("\r", "\n")
-    tried = ", ".join(("UTF-8", *(e for e in encodings if e.lower() not in ("utf-8", "utf8"))))
-    raise RunError(f"{name}: byte {first_bad} is not text in any encoding this controller uses ({tried})")
+    tried = " or ".join(("UTF-8", *(e for e in encodings if e.replace("_", "-").lower() not in ("utf-8", "utf8"))))
+    raise RunError(f"{name}: not {tried} text (byte {first_bad})")
 
 
 def read_source(path: Path, encodings: tuple[str, ...]) -> SourceFile:

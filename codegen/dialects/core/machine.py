@@ -160,8 +160,8 @@ class Machine:
         self.arm_until = 0.0
         self.last_move: MoveEvent | None = None
         self.signals: dict[str, bool] = {}  # digital inputs and outputs by name (devices set the inputs)
-        # a controller's conveyor tracking: an object whose offset_mm(t) (3 mm, base frame) lies over every
-        # commanded pose while it is on (codegen/dialects/<d>/conveyor.py), None: off
+        # a controller's belt tracking: an object whose offset_mm(t) (3 mm, base frame) lies over every
+        # commanded pose while it is on (a dialect's tracking built-ins), None: off
         self.tracking = None
         self._last_tcp2base: np.ndarray | None = None
         # inputs that switch with the tool's pose while it moves (codegen/dialects/core/watch.py): the moves'
@@ -191,7 +191,7 @@ class Machine:
         the program waits for it (the clock reaches its end) unless the controller runs ahead of its
         motion (an advance run, a fly-by point): then the clock stays and the arm is moving
         until an instruction that waits for it (Machine.arrive). seconds: the move's duration where the
-        caller knows it (a move relative to a tracked conveyor); via: a circular move's circle point (its
+        caller knows it (a move relative to a tracked belt); via: a circular move's circle point (its
         duration is the arc's length over the speed); path: the move's own path where the dialect knows it
         better (codegen/dialects/core/watch.py Path: a circle whose orientation turns)."""
         self.trace.moves.append(event)
@@ -270,7 +270,7 @@ class Machine:
         self.trace.message_times.append(self.clock)
 
     def tool_pose(self) -> np.ndarray | None:
-        """Where the tool is now (base frame): the last move's pose, moved by the tracked conveyor's
+        """Where the tool is now (base frame): the last move's pose, moved by the tracked belt's
         travel since that move's end while tracking is on; None before any move with a known pose."""
         if self.tracking is not None:
             return self.tracking.pose_now(self)

@@ -3,7 +3,7 @@
 # A controller reads its inputs once per cycle (targets/<t>.toml signal_cycle_s): an input that changes
 # while the arm moves (a beam the tool crosses) is seen at the first cycle after it changed, and what the
 # controller latches there (an interrupt's latched position, a search's point, a thread's reading of the
-# pose) is the tool's pose at that cycle. Devices that switch with the tool's pose (codegen/laser/station.py) answer
+# pose) is the tool's pose at that cycle. Devices that switch with the tool's pose (codegen/sim/beam_station.py) answer
 # switch(name, t, flange2base) for each cycle in increasing time: their state may depend on the previous
 # cycle (hysteresis, noise), so an input's history is evaluated once, forward, and shared by every reader.
 

@@ -140,8 +140,11 @@ def check_circle(start: np.ndarray | None, via: np.ndarray, end: np.ndarray, whe
     if start is None:  # where the previous motion ends is not known while the program runs (a joint target)
         return
     p0, p1, p2 = start[:3, 3], via[:3, 3], end[:3, 3]
-    for a, b, what in ((p0, p1, "CirPoint from the start"), (p0, p2, "ToPoint from the start"),
-                       (p1, p2, "CirPoint from ToPoint")):
+    for a, b, what in (
+        (p0, p1, "CirPoint from the start"),
+        (p0, p2, "ToPoint from the start"),
+        (p1, p2, "CirPoint from ToPoint"),
+    ):
         if np.linalg.norm(b - a) < CIRCLE_MIN_MM:
             raise RunError(f"{where}: MoveC: {what} is closer than {CIRCLE_MIN_MM} mm: no circle")
     u, v = p1 - p0, p2 - p0

@@ -127,8 +127,13 @@ def _random_part(rng, pick, seq: int, seen_s: float) -> Part:
 def setup(cell, target_name: str, case: BeltCase) -> Setup:
     target = get_target(target_name)
     wiring = conveyor_of(cell).pick.encoder_inputs.get(target_name)  # the installation: A and B as the cell says
-    line = BeltLine(case.belt, list(case.parts), bus_for(target, facts(target)), robot_zero=case.robot_zero,
-                    wiring=None if not wiring else tuple(wiring))
+    line = BeltLine(
+        case.belt,
+        list(case.parts),
+        bus_for(target, facts(target)),
+        robot_zero=case.robot_zero,
+        wiring=None if not wiring else tuple(wiring),
+    )
     output = signal_name(target, "output", cell.io.output[target_name])
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
     gripper = Gripper(output, feedback, cell.io.value, case.gripper)

@@ -1,6 +1,6 @@
 """Source 003's laser-sensor TCP geometry in sympy: circle centres, the tool axis, the tip, the pin's radius.
 
-Proven with the check codegen/derivation.py passes in, as codegen/pallet/derivation.py."""
+Proven with the check codegen/derivation.py passes in, as every kind's derivation."""
 
 # The sensor frame S (DESIGN.md section 1.5): the two beams lie in S's xy-plane (z = 0) and cross at right
 # angles at its origin; beam X runs along S's x from a sensor on its -x side, beam Y along S's y. The tool

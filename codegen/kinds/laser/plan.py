@@ -119,8 +119,11 @@ def _roles(cell, target, trace, written: bool, found: bool) -> tuple[PlannedMove
     top_z, searched = 0.0, 0
     for i, move in enumerate(trace.moves):
         if i == 0 and home is not None:
-            out.append(PlannedMove("home", "joint", home[0].tcp2base, True, None, 0.0, motion.joint_speed_percent,
-                                   joints=home[1]))
+            out.append(
+                PlannedMove(
+                    "home", "joint", home[0].tcp2base, True, None, 0.0, motion.joint_speed_percent, joints=home[1]
+                )
+            )
             continue
         if move.tcp2base is None:
             return f"move {i + 1} (line {move.line}): its pose is not known"
@@ -131,8 +134,17 @@ def _roles(cell, target, trace, written: bool, found: bool) -> tuple[PlannedMove
         if on_mid or (half == 1 and on_start):  # a half circle: the first ends at mid, the second back at start
             first = on_mid
             half = 1 if first else 0
-            out.append(PlannedMove(f"half circle {2 - first}", move.kind, None, not first or blend == 0.0,
-                                   laser.circle_speed_mm_s, blend if first else 0.0, tool=tool))
+            out.append(
+                PlannedMove(
+                    f"half circle {2 - first}",
+                    move.kind,
+                    None,
+                    not first or blend == 0.0,
+                    laser.circle_speed_mm_s,
+                    blend if first else 0.0,
+                    tool=tool,
+                )
+            )
             circles += not first  # the second half closes a circle
             continue
         half = 0
@@ -141,8 +153,17 @@ def _roles(cell, target, trace, written: bool, found: bool) -> tuple[PlannedMove
             speed = None if final else motion.speed_mm_s
             name = "home" if final else "a joint move"
             pose = home[0].tcp2base if final and tool == "cell" else None  # a joint target's pose: with its tool
-            planned = PlannedMove(name, "joint", pose, True, speed, 0.0, motion.joint_speed_percent,
-                                  joints=home[1] if final else None, tool=tool)
+            planned = PlannedMove(
+                name,
+                "joint",
+                pose,
+                True,
+                speed,
+                0.0,
+                motion.joint_speed_percent,
+                joints=home[1] if final else None,
+                tool=tool,
+            )
         elif circles == 2 and stage == 0 and np.linalg.norm(point - above) > NEAR_MM:
             planned = PlannedMove("to the search's top", "linear", None, True, motion.work_speed_mm_s, 0.0, tool=tool)
             stage, top_z, searched = 1, point[2], 0
@@ -221,5 +242,3 @@ def report_lines(rows: list) -> list[str]:
             f"  {f.frame_error_mm:12.4f}  {f.motion_s:8.1f}"
         )
     return lines
-
-

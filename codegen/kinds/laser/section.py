@@ -62,8 +62,9 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
         return None
     table = ctx.table(data, "laser", "laser")
     ctx.no_unknown(table, KEYS, "laser")
-    frame = ctx.pose("sensor_frame", ctx.require(table, "sensor_frame", "laser.sensor_frame"), "laser.sensor_frame",
-                     pose_format)
+    frame = ctx.pose(
+        "sensor_frame", ctx.require(table, "sensor_frame", "laser.sensor_frame"), "laser.sensor_frame", pose_format
+    )
     radius = _bounded(ctx, table, "pin_radius_mm", 1.0, 0.0, 25.0, "mm")
     if radius < PIN_MIN_MM:
         ctx.fail("laser.pin_radius_mm", f"must be at least {PIN_MIN_MM} mm (a thinner pin is not a beam's target)")
@@ -92,14 +93,20 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
     if clearance <= offset:
         ctx.fail("laser.clearance_mm", f"must exceed offset_max_mm ({offset:g}): the search must start above the tip")
     if depths[0] <= offset + radius:
-        ctx.fail("laser.depths_mm", f"d1 must exceed offset_max_mm + pin_radius_mm ({offset + radius:g} mm): "
-                 "the circles must see the pin's side, not its end")
+        ctx.fail(
+            "laser.depths_mm",
+            f"d1 must exceed offset_max_mm + pin_radius_mm ({offset + radius:g} mm): "
+            "the circles must see the pin's side, not its end",
+        )
     from codegen.controllers import get_target
 
     for target in targets:
         if not facts(get_target(target)).get("files"):
-            ctx.fail("laser", f"codegen has no laser TCP program for {get_target(target).title}: take {target} out "
-                     "of cell.targets for this cell")
+            ctx.fail(
+                "laser",
+                f"codegen has no laser TCP program for {get_target(target).title}: take {target} out "
+                "of cell.targets for this cell",
+            )
     beams = {}
     for key in ("beam_x", "beam_y"):
         beams[key] = per_target(ctx, table, key, targets, required=True, prefix="laser")
@@ -114,8 +121,9 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
                 f"{target} sees its inputs every {cycle * 1000:g} ms: at {circle_speed:g} mm/s the pin moves "
                 f"{circle_speed * cycle:.3f} mm between two looks, more than half its radius: slow the circles",
             )
-    return Laser(frame, radius, circle, depths, clearance, offset, circle_speed, search_speed, beams["beam_x"],
-                 beams["beam_y"])
+    return Laser(
+        frame, radius, circle, depths, clearance, offset, circle_speed, search_speed, beams["beam_x"], beams["beam_y"]
+    )
 
 
 def laser_of(cell) -> Laser | None:

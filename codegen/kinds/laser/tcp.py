@@ -122,7 +122,7 @@ def fit(path: Path, rows: list[tuple[int, str, np.ndarray]], method: str = "tcp"
         )
     solution, *_ = np.linalg.lstsq(system, -translations.reshape(-1), rcond=None)
     tcp, point = solution[:3], solution[3:]
-    errors = (np.einsum("nij,j->ni", rotations, tcp) + translations - point)  # (n, 3)
+    errors = np.einsum("nij,j->ni", rotations, tcp) + translations - point  # (n, 3)
     residuals = np.linalg.norm(errors, axis=1)
     dof = 3 * n - 6
     sigma2 = float(np.sum(errors**2) / dof) if dof > 0 else float("nan")

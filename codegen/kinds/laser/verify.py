@@ -109,8 +109,15 @@ def station_for(cell, target, case: LaserCase) -> BeamStation:
         signal_name(target, "input", laser.beam_y[target.name]): "y",
     }
     range_mm = 0.0 if case.dead else 200.0
-    return BeamStation(frame, Pin(case.tool, laser.pin_radius_mm), inputs, range_mm=range_mm, noise=case.noise,
-                       hysteresis=HYSTERESIS_MM, seed=case.seed)
+    return BeamStation(
+        frame,
+        Pin(case.tool, laser.pin_radius_mm),
+        inputs,
+        range_mm=range_mm,
+        noise=case.noise,
+        hysteresis=HYSTERESIS_MM,
+        seed=case.seed,
+    )
 
 
 @dataclass(frozen=True)
@@ -165,7 +172,7 @@ def _halt_problem(want: Expected, trace) -> str | None:
         return f"ran to the end; the reference stops ({want.halt})"
     if want.halt.startswith("circle"):
         number = want.halt.split()[1]
-        ok = message.startswith(lp.CIRCLE_EDGES.strip()) and message[len(lp.CIRCLE_EDGES):].strip().startswith(number)
+        ok = message.startswith(lp.CIRCLE_EDGES.strip()) and message[len(lp.CIRCLE_EDGES) :].strip().startswith(number)
     else:
         ok = message.startswith(texts[want.halt])
     return None if ok else f"stopped with {message!r}; the reference stops with {want.halt}"

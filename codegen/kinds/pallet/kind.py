@@ -72,6 +72,13 @@ class PalletKind(ProgramKind):
     scenarios = verify.SCENARIOS
 
     @classmethod
+    def printed_blocks(cls) -> dict:
+        from codegen.kinds.pallet.derivation import level_box_position  # sympy: only the derivation pays for it
+
+        box_px, box_py = level_box_position()
+        return {"box": {"box_px": box_px, "box_py": box_py}}
+
+    @classmethod
     def verify_cases(cls, cell, source, count: int, seed: int) -> list:
         return verify.verify_cases(cell, source.index, seed)
 

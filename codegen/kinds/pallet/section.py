@@ -224,5 +224,4 @@ def pallets_of(cell) -> tuple[Pallet, ...]:
     return cell.sections.get("pallet") or ()
 
 
-
 __all__ = ["FAMILIES", "FamilySpec", "Pallet", "pallets_of", "parse_pallets"]

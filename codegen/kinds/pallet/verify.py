@@ -129,8 +129,12 @@ def judge(cell, index: int, target_name: str, case: Case) -> Judgement:
     planned = [PlannedMove(m.name, m.kind, m.tcp2base, m.exact, m.speed_mm_s, 0.0, _percent(cell, m)) for m in moves]
     planned_joints = None
     if home is not None and (moves or outputs):  # with an arm the program goes home first
-        planned.insert(0, PlannedMove("home", home[0].kind, home[0].tcp2base, True, None, 0.0, _percent(cell, home[0]),
-                                      joints=home[1]))
+        planned.insert(
+            0,
+            PlannedMove(
+                "home", home[0].kind, home[0].tcp2base, True, None, 0.0, _percent(cell, home[0]), joints=home[1]
+            ),
+        )
         outputs = [replace(o, after_moves=o.after_moves + 1) for o in outputs]
 
         def planned_joints() -> list | None:  # by the controller's rule, with the configurations the program names

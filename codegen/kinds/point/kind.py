@@ -193,4 +193,3 @@ class PointKind(StationKind):
     @classmethod
     def describe_reading(cls, reading: Reading) -> str:
         return f"station {reading.station_id} reading ({reading.x!r}, {reading.y!r}, {reading.theta!r})"
-

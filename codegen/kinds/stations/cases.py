@@ -88,8 +88,6 @@ def inputs_for(cell: Cell, target: Target, reading, behaviour: str = "prompt") -
     return {**previous, **answered, **kind.inputs(cell, target, reading), **tools}
 
 
-
-
 def start_joints(cell: Cell, target: Target, case: Case):
     """Where the arm stands when the program starts (deg): at home, away from it or at the case's
     station's taught retreat; None without an arm."""

@@ -157,7 +157,7 @@ _FORKED: dict = {}  # the cell a forked worker checks (inherited, not pickled)
 def check(cell, only: list[str] | None = None) -> list[TargetEnvelope]:
     """Every target with an arm (of `only`, if given); [] when the cell names no robot. A large cell's
     targets are checked in parallel processes; what the programs need of each station comes back."""
-    if cell.robot is None or not cell.stations:  # a cell of pallets alone: codegen/pallet/reach.py
+    if cell.robot is None or not cell.stations:  # a cell without stations: its kinds prove their own reach
         return []
     targets = [target for target in cell.targets if target in cell.robot.arms and (only is None or target in only)]
     if not targets:

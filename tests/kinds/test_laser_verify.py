@@ -7,14 +7,11 @@ import re
 
 import pytest
 from click.testing import CliRunner
+from support.programs import edited, first, verify_one
 
 from codegen.cli import main
-from codegen.controllers import get_target
-from codegen.kinds.laser import program as lp
-from codegen.kinds.laser.verify import TRUTH_MM, verify_laser
+from codegen.kinds.laser.verify import TRUTH_MM
 from codegen.model.cell import load_cell
-from codegen.render import render
-from codegen.verify_runs import load_program
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
 
@@ -32,21 +29,30 @@ def test_the_bundled_cell_verifies_on_every_target_within_a_tenth_of_the_truth()
     lasers = {r["target"]: r for r in report["lasers"]}
     assert set(lasers) == {"ur", "kuka", "abb"}
     for summary in lasers.values():
-        assert summary["cases"] == 10 and summary["mismatches"] == 0
+        assert summary["cases"] == 13 and summary["mismatches"] == 0
         assert 0 < summary["tcp_truth_max_mm"] < TRUTH_MM
         assert 0.15 < summary["tcp_with_frame_error_mm"] < 0.35
         assert 10.0 < summary["motion_s"] < 60.0  # source 003: about a minute
 
 
 def _mutated(cell, target_name: str, old: re.Pattern, new: str):
-    target = get_target(target_name)
-    names = lp.laser_file_names(cell, target)
-    files = {f.relpath.rsplit("/", 1)[1]: f for f in render(cell, [target_name])}
-    main_file = files[names[0]]
-    text, count = old.subn(new, main_file.text, count=1)
-    assert count == 1, f"{target_name}: the mutation found nothing to change"
-    companions = {"." + n.rsplit(".", 1)[1]: files[n].text for n in names[1:]}
-    return load_program(target, text, f"<mutant>/{main_file.relpath}", companions)
+    program = first(cell, target_name, "laser")
+    found = []
+
+    def edit(text: str) -> str:
+        if found:
+            return text
+        changed, count = old.subn(new, text, count=1)
+        found.extend([True] * count)
+        return changed
+
+    mutant = edited(program, edit)
+    assert found, f"{target_name}: the mutation found nothing to change"
+    return mutant
+
+
+def verify_laser(cell, target_name, program, _files, first_only=False):
+    return verify_one(cell, program, first_mismatch=first_only)
 
 
 @pytest.mark.parametrize("target_name", ["ur", "kuka", "abb"])

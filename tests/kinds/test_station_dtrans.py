@@ -1,9 +1,9 @@
 """Decompose/Trans target."""
 
-from target_base import TargetTests, replace_once
+from station_base import StationTests, replace_once
 
 
-class TestDTrans(TargetTests):
+class TestDTrans(StationTests):
     target = "dtrans"
 
     def mutate(self, mutation, text, dat):

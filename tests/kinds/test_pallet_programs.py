@@ -3,15 +3,12 @@
 from pathlib import Path
 
 import pytest
+from support.programs import edited, sources, verify, verify_one
 
-from codegen.controllers import get_target
-from codegen.kinds.pallet.program import pallet_file_names, pallet_identifiers
-from codegen.kinds.pallet.verify import fresh_pallet_programs, verify_pallet
 from codegen.model.cell import load_cell
 from codegen.render import render
-from codegen.verify_runs import load_program
 
-PALLETS = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "pallets"
+PALLETS = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallets"
 TARGETS = ("ur", "kuka", "abb", "dtrans")
 
 
@@ -26,22 +23,21 @@ def test_every_stacking_program_matches_the_reference(cell, target):
     a gripper that never closes or never opens: every move, gripper output, stop and the counters left."""
     if target not in cell.targets:
         pytest.skip(f"{cell.name} has no {target} program (the EUR cell has no UR: see its file)")
-    for index, (program, files) in enumerate(fresh_pallet_programs(cell, target)):
-        report = verify_pallet(cell, index, target, program, files)
+    for index, report in enumerate(verify(cell, sources(cell, target, "pallet"), cases=1)):
         assert report.cases >= 12 and report.mismatches == 0, report.first_mismatches
-        assert report.boxes >= cell.sections["pallet"][index].layers * 6  # the full stack at least
+        assert report.figures.boxes >= cell.sections["pallet"][index].layers * 6  # the full stack at least
 
 
 def _mutant_mismatches(cell, target: str, file_suffix: str, old: str, new: str) -> list[str]:
-    spec = get_target(target)
-    files = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell, [target])}
-    names = pallet_file_names(spec, pallet_identifiers(cell, spec)[0])
-    texts = {"." + n.rsplit(".", 1)[1]: files[n] for n in names}
-    main = "." + names[0].rsplit(".", 1)[1]
-    assert texts[file_suffix].count(old) >= 1, f"{old!r} not in the {target} program"
-    texts[file_suffix] = texts[file_suffix].replace(old, new, 1)
-    program = load_program(spec, texts.pop(main), "mutant", texts)
-    return verify_pallet(cell, 0, target, program, names, first_only=True).first_mismatches
+    """The first pallet's program with `old` replaced once in its file of that suffix: its first mismatch."""
+    program = sources(cell, target, "pallet")[0]
+    (own,) = [f for f in program.files if f.suffix == file_suffix]
+    assert own.text.count(old) >= 1, f"{old!r} not in the {target} program"
+
+    def edit(text: str) -> str:
+        return text.replace(old, new, 1) if text == own.text else text
+
+    return verify_one(cell, edited(program, edit), first_mismatch=True).first_mismatches
 
 
 # (target, file, old, new): a wrong layer height, the cycle swapped, a counter that is not persistent, the
@@ -144,7 +140,7 @@ def test_the_controllers_choice_of_joints_is_checked_against_the_plan():
     # the same pose in another configuration (UR: the solution nearest another qnear): the joints differ
     wrist_flip = "qnear=[-0.3, -1.2, -1.8, -1.5, 1.57, 0.5]"
     found = _mutant_mismatches(cell, "ur", ".script", "qnear=pal_qnear(row)", wrist_flip)
-    assert found and "entry, line" in found[0] and "planned [" in found[0], found
+    assert found and "entry, line" in found[0] and "the controller's rule gives [" in found[0], found
 
 
 @pytest.mark.parametrize(

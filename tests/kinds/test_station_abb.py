@@ -1,8 +1,7 @@
 """ABB RAPID target; the independent checker rapidchecker must accept every generated module."""
 
-
 from rapidcheck import rapidchecker, rapidchecker_raw
-from target_base import TargetTests, cell_text, replace_once
+from station_base import StationTests, cell_text, replace_once
 
 from codegen.model.cell import load_cell
 from codegen.render import render
@@ -10,7 +9,7 @@ from codegen.render import render
 WORK = "MoveL vis_apply(corr, p1_chuck), vis_work, fine, vis_tool;"  # the work pose of station 1
 
 
-class TestABB(TargetTests):
+class TestABB(StationTests):
     target = "abb"
     motion_mutations = ["speed_x25", "zone_on_work_pose"]
     arm_mutations = ["robconf_changed", "check_always_on", "tool0", "light_tool", "out_of_reach", "no_home"]
@@ -62,7 +61,7 @@ def test_rapidchecker_accepts_hostile_names(tmp_path):
 
 def test_rapidchecker_lacks_local_routines(tmp_path):
     """The one construct the check removes: rapidchecker rejects a LOCAL PROC and accepts LOCAL data."""
-    module = "MODULE m\n  LOCAL CONST num A := 1;\n\n  LOCAL PROC p()\n    TPWrite \"x\";\n  ENDPROC\nENDMODULE\n"
+    module = 'MODULE m\n  LOCAL CONST num A := 1;\n\n  LOCAL PROC p()\n    TPWrite "x";\n  ENDPROC\nENDMODULE\n'
     raw = rapidchecker_raw(module, tmp_path / "local.mod")
     assert raw.returncode != 0 and "LOCAL" in raw.stdout
     assert rapidchecker(module, tmp_path / "local.mod").returncode == 0

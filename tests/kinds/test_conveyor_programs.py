@@ -7,31 +7,34 @@ from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
+from support.programs import edited, first, load_program, verify_one
 
 from codegen.cli import main
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.judge import tolerances_mm
-from codegen.kinds.conveyor.verify import cases, verify_conveyor
+from codegen.kinds.conveyor.verify import cases
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.sim.belt import Belt, BeltLine, Part, part_y
 from codegen.sim.bus import RegisterBus
-from codegen.verify_runs import load_program
 
-CELL = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
+CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
 
 
-SUFFIX = {"ur": ".script", "kuka": ".src", "abb": ".mod"}
+SUFFIX_END = {"ur": "end\n", "kuka": "END\n", "abb": "ENDMODULE\n"}  # the program file, not its data list
 
 
 def _program(cell, old: str | None = None, new: str | None = None, target: str = "ur"):
-    files = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell, [target])}
-    text = files["cnv_belt_pick" + SUFFIX[target]]
-    if old is not None:
-        assert text.count(old) >= 1, f"{old!r} not in the program"
-        text = text.replace(old, new)
-    companions = {".dat": files["cnv_belt_pick.dat"]} if target == "kuka" else {}
-    return load_program(get_target(target), text, "mutant", companions)
+    """The pick program for a target, every `old` in its program file replaced by `new`."""
+    program = first(cell, target, "conveyor")
+    if old is None:
+        return program
+    assert any(old in f.text for f in program.files), f"{old!r} not in the program"
+    return edited(program, lambda text: text.replace(old, new) if text.endswith(SUFFIX_END[target]) else text)
+
+
+def _verify(cell, program, first_mismatch: bool = False):
+    return verify_one(cell, program, first_mismatch=first_mismatch)
 
 
 def test_the_bundled_pick_programs_verify_with_every_part_where_it_is():
@@ -41,14 +44,16 @@ def test_the_bundled_pick_programs_verify_with_every_part_where_it_is():
     assert result.exit_code == 0, result.output
     reports = {r["target"]: r for r in json.loads(result.stdout)["conveyors"]}
     assert set(reports) == {"ur", "kuka", "abb"}
-    assert all(r["mismatches"] == 0 and r["cases"] == 5 and r["parts_picked"] >= 10 for r in reports.values())
+    assert all(r["mismatches"] == 0 and r["cases"] == 11 and r["parts_picked"] >= 10 for r in reports.values())
     assert reports["ur"]["pos_max_mm"] < 2 / 8.122679 and max(r["pos_max_mm"] for r in reports.values()) < 3.0
 
 
 def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
     cell = load_cell(CELL)
     found = {c.category: c for c in cases(cell)}
-    assert set(found) == {"constant_speed", "varying_speed", "rollover", "part_too_late", "fast_belt"}
+    belts = {"constant_speed", "varying_speed", "rollover", "part_too_late", "fast_belt", "part_past_the_window"}
+    scenarios = {"start_away", "start_mid_cycle", "gripper_silent", "gripper_stuck", "part_out_of_range"}
+    assert set(found) == belts | scenarios
     assert found["varying_speed"].belt.wobble > 0
     rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel
     first = rollover.parts[0]
@@ -87,7 +92,7 @@ INTERCEPT_MUTATIONS = [
 @pytest.mark.parametrize(("target", "old", "new", "says"), INTERCEPT_MUTATIONS)
 def test_an_intercept_that_misses_the_part_fails_verify(target, old, new, says):
     cell = load_cell(CELL)
-    report = verify_conveyor(cell, target, _program(cell, old, new, target), ["mutant"], first_only=True)
+    report = _verify(cell, _program(cell, old, new, target), first_mismatch=True)
     assert report.mismatches > 0, report.summary()
     assert any(says in m for m in report.first_mismatches), report.first_mismatches
 
@@ -99,14 +104,14 @@ def test_a_belt_whose_counter_counts_up_verifies_on_every_target(tmp_path):
     path.write_text(CELL.read_text().replace("counts_per_mm = -8.122679", "counts_per_mm = 8.122679"))
     cell = load_cell(path)
     for target in ("ur", "kuka", "abb"):
-        report = verify_conveyor(cell, target, _program(cell, target=target), ["fresh"])
-        assert report.mismatches == 0 and report.picked >= 10, report.summary()
+        report = _verify(cell, _program(cell, target=target))
+        assert report.mismatches == 0 and report.figures.picked >= 10, report.summary()
 
 
 @pytest.mark.parametrize(("old", "new", "says"), MUTATIONS)
 def test_a_program_that_misses_the_part_fails_verify(old, new, says):
     cell = load_cell(CELL)
-    report = verify_conveyor(cell, "ur", _program(cell, old, new), ["mutant"], first_only=True)
+    report = _verify(cell, _program(cell, old, new), first_mismatch=True)
     assert report.mismatches > 0, report.summary()
     assert any(says in m for m in report.first_mismatches), report.first_mismatches
 

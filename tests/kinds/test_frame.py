@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from support import stations
 
 from codegen.controllers import get_target, target_names
 from codegen.kinds.frame import FrameCase, expected_frame_trace
@@ -12,10 +13,8 @@ from codegen.kinds.frame.kind import NOT_CONVERGED
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.sim.camera import CameraModel
-from codegen.verify import build_cases
-from codegen.verify_runs import fresh_sources, load_program, run_verify
 
-BENCH = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "thermometer_bench.toml"
+BENCH = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "thermometer_bench.toml"
 
 
 @pytest.fixture(scope="module")
@@ -79,10 +78,10 @@ def test_reference_loop_converges_and_halts(bench):
 
 @pytest.mark.parametrize("target", target_names())
 def test_frame_mode_verifies(bench, target):
-    cases = build_cases(bench, 12, 5)
-    (report,) = run_verify(bench, fresh_sources(bench, [target]), cases, sweep=False)
+    cases = stations.build_cases(bench, 12, 5)
+    report = stations.verify(bench, stations.source(bench, target), cases)
     assert report.mismatches == 0, report.first_mismatches
-    stats = report.kind_stats["frame"]
+    stats = report.figures["frame"]
     assert stats.photos and max(stats.photos) >= 3  # hand-eye errors need more than two photos
     assert max(stats.errors_mm) < 0.03
     assert report.categories["frame_camera_too_weak"] == 4 and report.categories["frame_camera_diverges"] == 4
@@ -113,19 +112,16 @@ def _source_sign_printed(dialect: str):
 @pytest.mark.parametrize("target", target_names())
 def test_source_update_sign_fails_verify(bench, target, monkeypatch):
     from codegen import derived
-    from codegen.verify import verify
 
     dialect = get_target(target).dialect
-    right = render(bench, [target])
+    right = stations.files(bench, target)
     monkeypatch.setattr(derived, "printed", _source_sign_printed(dialect))
-    files = render(bench, [target])
+    text, dat = stations.files(bench, target)
     monkeypatch.undo()
-    main = next(f for f in files if not f.relpath.endswith(".dat"))
-    assert main.text != next(f for f in right if not f.relpath.endswith(".dat")).text
-    dat = {"." + f.relpath.rsplit(".", 1)[1]: f.text for f in files if f.relpath.endswith(".dat")}
-    program = load_program(get_target(target), main.text, "mutant", dat)
-    cases = [c for c in build_cases(bench, 12, 6) if c.category.startswith("frame_handeye")]
-    report = verify(bench, [target], {target: (program, ["mutant"])}, cases)[0]
+    assert text != right[0]
+    program = stations.source(bench, target, text, dat)
+    cases = [c for c in stations.build_cases(bench, 12, 6) if c.category.startswith("frame_handeye")]
+    report = stations.verify(bench, program, cases)
     assert report.mismatches > 0
 
 
@@ -140,7 +136,7 @@ def test_dtrans_needs_a_level_frame(tmp_path):
     tilted = load_cell(path)
     with pytest.raises(EmitError, match="frame must be level"):
         render(tilted, ["dtrans"])
-    (report,) = run_verify(tilted, fresh_sources(tilted, ["kuka"]), build_cases(tilted, 8, 2), sweep=False)
+    report = stations.verify(tilted, stations.source(tilted, "kuka"), stations.build_cases(tilted, 8, 2))
     assert report.mismatches == 0  # KRL composes a tilted frame with `:`
 
 
@@ -157,7 +153,7 @@ def test_run_without_camera_says_so():
 
     from codegen.cli import main
 
-    program = Path(__file__).resolve().parents[1] / "generated" / "thermometer_bench" / "kuka" / "thermometer_bench.src"
+    program = Path(__file__).resolve().parents[2] / "generated" / "thermometer_bench" / "kuka" / "thermometer_bench.src"
     result = CliRunner().invoke(main, ["run", str(program), "--input", "VIS_STATION=1"])
     assert result.exit_code == 1
     assert "no camera is attached" in result.output
@@ -180,7 +176,7 @@ def test_kuka_base_data(tmp_path):
     assert cell.stations[0].spec.base_data == 3
     src = next(f for f in render(cell, ["kuka"]) if f.relpath.endswith(".src"))
     assert "$BASE = BASE_DATA[3] : OFFSET" in src.text
-    (report,) = run_verify(cell, fresh_sources(cell, ["kuka"]), build_cases(cell, 8, 3), sweep=False)
+    report = stations.verify(cell, stations.source(cell, "kuka"), stations.build_cases(cell, 8, 3))
     assert report.mismatches == 0, report.first_mismatches
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("base_data = 3", "base_data = 40"), encoding="utf-8")
@@ -202,7 +198,7 @@ def test_a_cell_of_frame_stations_only(tmp_path):
         for f in render(cell, [target]):
             for name in point_inputs:
                 assert name.split("[")[0] not in f.text, (target, name)
-        (report,) = run_verify(cell, fresh_sources(cell, [target]), build_cases(cell, 8, 1), sweep=False)
+        report = stations.verify(cell, stations.source(cell, target), stations.build_cases(cell, 8, 1))
         assert report.mismatches == 0, report.first_mismatches
 
 
@@ -214,10 +210,10 @@ def test_a_cell_whose_angle_sign_contradicts_its_camera_fails_verify(bench, targ
     from dataclasses import replace
 
     wrong = replace(bench, angle_sign=-bench.angle_sign)  # a cell the loader would refuse
-    (report,) = run_verify(wrong, fresh_sources(wrong, [target]), build_cases(wrong, 12, 5), sweep=False)
+    report = stations.verify(wrong, stations.source(wrong, target), stations.build_cases(wrong, 12, 5))
     assert report.mismatches > 0
     assert any("angle_sign +1 and the camera's image" in m for m in report.first_mismatches)
-    (right,) = run_verify(bench, fresh_sources(bench, [target]), build_cases(bench, 12, 5), sweep=False)
+    right = stations.verify(bench, stations.source(bench, target), stations.build_cases(bench, 12, 5))
     assert right.mismatches == 0, right.first_mismatches
 
 

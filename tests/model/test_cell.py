@@ -8,7 +8,7 @@ import subprocess
 import sys
 
 import pytest
-from conftest import MINIMAL_CELL
+from support.cells import MINIMAL_CELL
 
 from codegen.model.cell import CellError, load_cell
 

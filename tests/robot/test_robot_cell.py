@@ -53,8 +53,18 @@ def test_catalogue_forward_kinematics_agrees_with_the_vendor_model(model):
 
 def test_catalogue_lists_the_arms_the_issue_names_with_sources():
     names = set(catalogue())
-    for model in ("UR3e", "UR5e", "UR10e", "UR16e", "IRB 140", "IRB 1200-5/0.9", "IRB 1600-10/1.45",
-                  "IRB 4600-60/2.05", "KR 6 R900 sixx", "KR 10 R1100 sixx"):
+    for model in (
+        "UR3e",
+        "UR5e",
+        "UR10e",
+        "UR16e",
+        "IRB 140",
+        "IRB 1200-5/0.9",
+        "IRB 1600-10/1.45",
+        "IRB 4600-60/2.05",
+        "KR 6 R900 sixx",
+        "KR 10 R1100 sixx",
+    ):
         assert model in names
     assert any(name.startswith("KR 210 R2700") for name in names)
     for arm in catalogue().values():
@@ -80,10 +90,16 @@ def test_every_home_position_is_reached_back_through_inverse_kinematics():
         ('abb = "IRB 1600-10/1.45"\n', 'abb = "IRB 1600-10/1.45"\ndtrans = "UR5e"\n', "cell.robot.dtrans"),
         ("mass_kg = 1.5", "mass_kg = 0.0", "cell.tool.mass_kg"),
         ("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0]", "cell.tool.cog_mm"),
-        ("home = { ur = [180.0, -90.0, 90.0, -90.0, -90.0, 0.0] }", "home = { kuka = [0, -90, 90, 0, 170, 0] }",
-         "cell.robot.home.kuka[4]: axis 5 at 170 deg is outside its limits"),
-        ('abb = "IRB 1600-10/1.45"\n', 'abb = "IRB 1600-10/1.45"\njoint_margin_deg = -1\n',
-         "cell.robot.joint_margin_deg"),
+        (
+            "home = { ur = [180.0, -90.0, 90.0, -90.0, -90.0, 0.0] }",
+            "home = { kuka = [0, -90, 90, 0, 170, 0] }",
+            "cell.robot.home.kuka[4]: axis 5 at 170 deg is outside its limits",
+        ),
+        (
+            'abb = "IRB 1600-10/1.45"\n',
+            'abb = "IRB 1600-10/1.45"\njoint_margin_deg = -1\n',
+            "cell.robot.joint_margin_deg",
+        ),
     ],
 )
 def test_robot_section_errors_name_the_key(tmp_path, old, new, message):
@@ -113,8 +129,8 @@ def test_a_custom_arm_by_its_parameters(tmp_path):
 
 def test_station_config_is_validated(tmp_path):
     text = DEMO_TEXT.replace(
-        'chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n',
-        'chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n[station.config.abb]\nchuk = [0, 0, 0, 0]\n',
+        "chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n",
+        "chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n[station.config.abb]\nchuk = [0, 0, 0, 0]\n",
         1,
     )
     with pytest.raises(CellError, match=r"station\[1\]\.config\.abb\.chuk: no such pose"):
@@ -123,8 +139,8 @@ def test_station_config_is_validated(tmp_path):
 
 def test_a_configuration_the_pose_cannot_take_is_refused_at_generate(tmp_path):
     text = DEMO_TEXT.replace(
-        'chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n',
-        'chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n[station.config.abb]\napproach = [1, 0, 0, 0]\n',
+        "chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n",
+        "chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n[station.config.abb]\napproach = [1, 0, 0, 0]\n",
         1,
     )
     result = generate(tmp_path, write_cell(tmp_path, text))
@@ -139,7 +155,7 @@ def test_taught_joints_name_the_solution(tmp_path):
     flipped = joints.copy()
     flipped[4] = -flipped[4]  # another wrist: does not reach the pose
     text = DEMO_TEXT.replace(
-        'chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n',
+        "chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n",
         "chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n[station.config.ur]\n"
         f"approach = {{ joints = [{', '.join(f'{v:.4f}' for v in flipped)}] }}\n",
         1,
@@ -166,14 +182,23 @@ def test_demo_cells_pass_with_their_margins_printed(tmp_path):
     [
         # the gate's shelf moved 255 mm further out: taught within reach, but not every correction of its
         # retreat (50 mm above it, [cell.motion] retreat_mm), which reaches further than the shelf
-        ("shelf = [-60.5, -905.2, 388.0", "shelf = [-60.5, -1160.0, 388.0",
-         "station 7 'warehouse_gate' pose 'retreat' (ur, UR10e): out of reach or beyond a joint limit"),
+        (
+            "shelf = [-60.5, -905.2, 388.0",
+            "shelf = [-60.5, -1160.0, 388.0",
+            "station 7 'warehouse_gate' pose 'retreat' (ur, UR10e): out of reach or beyond a joint limit",
+        ),
         # the gauge lowered towards the wrist singularity of the ABB arm (axis 5 near 0)
-        ("gauge = [452.3, 561.8, 142.5", "gauge = [452.3, 561.8, 110.0",
-         "station 6 'inspection_table' pose 'gauge' (abb, IRB 1600-10/1.45): the wrist comes within 3.11 deg"),
+        (
+            "gauge = [452.3, 561.8, 142.5",
+            "gauge = [452.3, 561.8, 110.0",
+            "station 6 'inspection_table' pose 'gauge' (abb, IRB 1600-10/1.45): the wrist comes within 3.11 deg",
+        ),
         # lowered further: the corrections cross the singularity, the wrist would flip
-        ("gauge = [452.3, 561.8, 142.5", "gauge = [452.3, 561.8, 62.5",
-         "station 6 'inspection_table' pose 'gauge' (abb, IRB 1600-10/1.45): the arm would change configuration"),
+        (
+            "gauge = [452.3, 561.8, 142.5",
+            "gauge = [452.3, 561.8, 62.5",
+            "station 6 'inspection_table' pose 'gauge' (abb, IRB 1600-10/1.45): the arm would change configuration",
+        ),
     ],
 )
 def test_a_station_outside_the_envelope_is_refused(tmp_path, old, new, message):
@@ -251,18 +276,15 @@ def test_the_controllers_numbered_tool_instead_of_a_declared_one(tmp_path):
     cell = load_cell(write_cell(tmp_path, text))
     src, dat = (f.text for f in render(cell, ["kuka"]))
     assert "  $TOOL = TOOL_DATA[3]\n  $LOAD = LOAD_DATA[3]\n" in src and "DECL FRAME VIS_TOOL" not in dat
-    from codegen.verify import build_cases, verify
-    from codegen.verify_runs import fresh_programs
+    from support import stations
 
-    cases = [c for c in build_cases(cell, 3, 1) if c.reading.station_id == 1]
-    assert verify(cell, ["kuka"], fresh_programs(cell, ["kuka"]), cases)[0].mismatches == 0
-    from codegen.dialects.krl.interpreter import load
-
-    other = load(src.replace("TOOL_DATA[3]", "TOOL_DATA[4]"), "other.src", dat)  # a tool the controller lacks
-    report = verify(cell, ["kuka"], {"kuka": (other, ["other"])}, cases)[0]
+    cases = [c for c in stations.build_cases(cell, 3, 1) if c.reading.station_id == 1]
+    assert stations.verify(cell, stations.source(cell, "kuka"), cases).mismatches == 0
+    other = stations.source(cell, "kuka", src.replace("TOOL_DATA[3]", "TOOL_DATA[4]"), dat, "other")  # a tool lacking
+    report = stations.verify(cell, other, cases)
     line = src.splitlines().index("  $TOOL = TOOL_DATA[3]") + 1  # where the tool is selected
     assert report.mismatches == report.cases
-    assert f"other.src:{line}:3: FRAME.X has no value" in report.first_mismatches[0]
+    assert f"other/agv_machine_tending.src:{line}:3: FRAME.X has no value" in report.first_mismatches[0]
     bad = DEMO_TEXT.replace("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0, 80.0]\nnumbered = { abb = 1 }")
     with pytest.raises(CellError, match=r"cell.tool.numbered.abb: the abb controller has no numbered tools here"):
         load_cell(write_cell(tmp_path, bad, "bad.toml"))
@@ -282,7 +304,7 @@ def _many_stations(count: int, bad: int | None = None) -> str:
 
 
 def test_a_large_cell_is_checked_in_parallel_with_the_same_result(tmp_path, monkeypatch):
-    from codegen.robot import envelope
+    from codegen.kinds.stations import envelope
 
     path = write_cell(tmp_path, _many_stations(60))
     parallel = load_cell(path)

@@ -21,7 +21,7 @@ from codegen.kinds.pallet.report import load_pallet_file
 from codegen.kinds.pallet.stack import FrameError, pallet2base, placements
 from codegen.model.cell import CellError, load_cell
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 EXAMPLES = REPO / "codegen" / "examples" / "pallets"
 TESTMAT = (EXAMPLES / "testmat_pallet.toml").read_text()
 

@@ -1,4 +1,4 @@
-"""KUKA's laser TCP program: KRL interrupts on an input switching while the arm moves, $POS_INT, CIRC, the program."""
+"""KRL's interrupts, CIRC and constant-orientation LIN and their misuse, in the interpreter."""
 
 from __future__ import annotations
 
@@ -7,15 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError
 from codegen.dialects.krl.interpreter import load
-from codegen.kinds.laser import program as lp
-from codegen.kinds.laser.verify import LaserCase, fresh_program, station_for
-from codegen.model.cell import load_cell
-from codegen.render import render
-from codegen.robot.expect import arm_of
-from codegen.verify_runs import load_program
 
 CYCLE = 0.012  # targets/kuka.toml signal_cycle_s
 CELL = "codegen/examples/laser/laser_tcp.toml"
@@ -152,9 +145,13 @@ def test_nothing_fires_without_a_switching_device_or_on_other_conditions():
 def test_circ_runs_the_arc_through_the_auxiliary_point_in_its_length_over_the_path_speed():
     """A half circle of radius 50 mm at 0.1 m/s: pi 50 / 100 s; the gate at robot x 1042 seen on the arc
     (x = 1050 + 50 cos(angle), y = 50 sin(angle): base y = -(x - 1000)); the start's orientation held."""
-    body = ON_OFF.replace("SEEN(21)", "SEEN(21)") + START.replace("LIN {X 0, Y 0,", "LIN {X 0, Y -100,") + (
-        "$ORI_TYPE = #CONSTANT\n$CIRC_TYPE = #BASE\nINTERRUPT ON 21\n"
-        "CIRC {X 50, Y -50, Z 500, A 0, B 0, C 0}, {X 0, Y 0, Z 500, A 45, B 0, C 0}\nWAIT SEC 0"
+    body = (
+        ON_OFF.replace("SEEN(21)", "SEEN(21)")
+        + START.replace("LIN {X 0, Y 0,", "LIN {X 0, Y -100,")
+        + (
+            "$ORI_TYPE = #CONSTANT\n$CIRC_TYPE = #BASE\nINTERRUPT ON 21\n"
+            "CIRC {X 50, Y -50, Z 500, A 0, B 0, C 0}, {X 0, Y 0, Z 500, A 45, B 0, C 0}\nWAIT SEC 0"
+        )
     )
     trace = run(body)
     assert trace.moves[-1].end_time == pytest.approx(1.0 + math.pi * 50 / 100, abs=1e-6)
@@ -168,8 +165,11 @@ def test_circ_runs_the_arc_through_the_auxiliary_point_in_its_length_over_the_pa
 
 
 def test_lin_with_constant_orientation_keeps_the_start_orientation():
-    trace = run("$BASE = $NULLFRAME\nLIN {X 0, Y 0, Z 500, A 0, B 0, C 0}\n$ORI_TYPE = #CONSTANT\n"
-                "LIN {X 10, Y 0, Z 500, A 30, B 0, C 0}", devices=())
+    trace = run(
+        "$BASE = $NULLFRAME\nLIN {X 0, Y 0, Z 500, A 0, B 0, C 0}\n$ORI_TYPE = #CONSTANT\n"
+        "LIN {X 10, Y 0, Z 500, A 30, B 0, C 0}",
+        devices=(),
+    )
     assert np.allclose(trace.moves[1].tcp2base[:3, :3], np.eye(3))
     assert np.allclose(trace.moves[1].tcp2base[:3, 3], [10, 0, 500], atol=1e-4)
 
@@ -189,18 +189,40 @@ CIRC_ON = "$BASE = $NULLFRAME\n$VEL.CP = 0.1\nLIN {X 0, Y 0, Z 500, A 0, B 0, C 
         ("INTERRUPT DECL 20 WHEN $IN[5] DO BACK(1)", "BACK has an OUT parameter"),
         ("INTERRUPT DECL 20 WHEN $IN[5] DO NOWHERE(1)", "no routine NOWHERE"),
         ("N = $POS_INT.X", r"t\.src:2:\d+: \$POS_INT has no value: no interrupt has fired"),
-        ("INTERRUPT DECL 20 WHEN $IN[5]==TRUE DO MOVES(1)\n" + START + "INTERRUPT ON 20\n" + OUT_AND_BACK
-         + "WAIT SEC 0", r"t\.src:\d+: a motion in the interrupt routine MOVES"),
-        ("INTERRUPT DECL 20 WHEN $IN[5]==TRUE DO WAITS(1)\n" + START + "INTERRUPT ON 20\n" + OUT_AND_BACK
-         + "WAIT SEC 0", r"t\.src:\d+:\d+: an advance-run stop in the interrupt routine WAITS"),
-        (CIRC_ON + "CIRC {X 10, Y 10, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}",
-         r"t\.src:5:\d+: CIRC with \$ORI_TYPE not set"),
-        (CIRC_ON + "$ORI_TYPE = #CONSTANT\nCIRC {X 10, Y 10, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}",
-         r"CIRC with \$CIRC_TYPE not set"),
-        (CIRC_ON + "$ORI_TYPE = #CONSTANT\n$CIRC_TYPE = #BASE\n"
-         "CIRC {X 10, Y 0, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}", "lie on one line"),
-        (CIRC_ON + "CIRC {X 10, Y 10, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}, CA 90",
-         "CA .* not modelled"),
+        (
+            "INTERRUPT DECL 20 WHEN $IN[5]==TRUE DO MOVES(1)\n"
+            + START
+            + "INTERRUPT ON 20\n"
+            + OUT_AND_BACK
+            + "WAIT SEC 0",
+            r"t\.src:\d+: a motion in the interrupt routine MOVES",
+        ),
+        (
+            "INTERRUPT DECL 20 WHEN $IN[5]==TRUE DO WAITS(1)\n"
+            + START
+            + "INTERRUPT ON 20\n"
+            + OUT_AND_BACK
+            + "WAIT SEC 0",
+            r"t\.src:\d+:\d+: an advance-run stop in the interrupt routine WAITS",
+        ),
+        (
+            CIRC_ON + "CIRC {X 10, Y 10, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}",
+            r"t\.src:5:\d+: CIRC with \$ORI_TYPE not set",
+        ),
+        (
+            CIRC_ON
+            + "$ORI_TYPE = #CONSTANT\nCIRC {X 10, Y 10, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}",
+            r"CIRC with \$CIRC_TYPE not set",
+        ),
+        (
+            CIRC_ON + "$ORI_TYPE = #CONSTANT\n$CIRC_TYPE = #BASE\n"
+            "CIRC {X 10, Y 0, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}",
+            "lie on one line",
+        ),
+        (
+            CIRC_ON + "CIRC {X 10, Y 10, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}, CA 90",
+            "CA .* not modelled",
+        ),
         ("$ORI_TYPE = #SIDEWAYS", r"\$ORI_TYPE takes #CONSTANT, #JOINT, #VARIABLE"),
     ],
 )
@@ -213,68 +235,3 @@ def test_misuse_is_refused_naming_the_line(body, says):
     )
     with pytest.raises(RunError, match=says):
         run(body, routines=routines)
-
-
-# --- the program -----------------------------------------------------------------------------------
-
-
-def _program(cell, drop_wait_before_off: bool = False):
-    target = get_target("kuka")
-    if not drop_wait_before_off:
-        return fresh_program(cell, "kuka")[0]
-    names = lp.laser_file_names(cell, target)
-    files = {f.relpath.rsplit("/", 1)[1]: f for f in render(cell, ["kuka"])}
-    lines = files[names[0]].text.split("\n")
-    kept = [line for i, line in enumerate(lines)
-            if not ("WAIT SEC 0 " in line and i + 1 < len(lines) and "INTERRUPT OFF" in lines[i + 1])]
-    assert len(kept) == len(lines) - 3  # the circles' and the search's two
-    return load_program(target, "\n".join(kept), f"<fresh>/{files[names[0]].relpath}", {".dat": files[names[1]].text})
-
-
-def _run(cell, program, tool: np.ndarray, cycle: float = CYCLE):
-    target = get_target("kuka")
-    station = station_for(cell, target, LaserCase("test", tool, noise=0.0))
-    return program.run({}, devices=(station,), arm=arm_of(cell, "kuka"), start_joints=cell.robot.home["kuka"],
-                       keep=tuple(lp.kept_names(target).values()), signal_cycle_s=cycle, step_limit=2_000_000)
-
-
-def _bent(guess: np.ndarray, shift, degrees: float) -> np.ndarray:
-    """The tip moved by shift (flange frame), the pin turned by degrees about the flange's y."""
-    tool = guess.copy()
-    tool[:3, 3] += shift
-    a = math.radians(degrees)
-    tool[:3, :3] = np.array([[math.cos(a), 0, math.sin(a)], [0, 1, 0], [-math.sin(a), 0, math.cos(a)]]) @ tool[:3, :3]
-    return tool
-
-
-@pytest.fixture(scope="module")
-def cell():
-    return load_cell(CELL)
-
-
-@pytest.mark.parametrize(
-    ("shift", "degrees", "cycle", "within"),
-    [
-        ((0.0, 0.0, 0.0), 0.0, CYCLE, 0.1),  # straight
-        ((1.2, -0.8, 0.7), 0.5, CYCLE, 0.1),  # bent: the tip aside and longer, the axis tilted
-        # tilted 3 deg, read every 4 ms (edges 0.04 mm apart on the circles): the end face's rim meets the beam
-        # 1.5 sin(3 deg) = 0.08 mm below the tip; corrected, the TCP within 0.02 mm
-        ((0.4, 0.3, -0.5), 3.0, 0.004, 0.02),
-    ],
-)
-def test_the_program_finds_the_tcp(cell, shift, degrees, cycle, within):
-    tool = _bent(cell.robot.tool.tcp2flange, shift, degrees)
-    trace = _run(cell, _program(cell), tool, cycle)
-    assert not trace.halted, trace.halt_message
-    assert trace.messages[-1].startswith(lp.WRITTEN)
-    tcp = np.array(trace.kept["LSR_TCP"], dtype=float)
-    assert np.linalg.norm(tcp - tool[:3, 3]) < within
-    assert all(v != 0 for v in trace.kept["LSR_EDGE"])  # 16 edges stored
-    assert trace.moves[0].kind == "joint" and trace.moves[-1].kind == "joint"  # from home, back home
-
-
-def test_the_program_without_an_advance_run_stop_before_interrupt_off_loses_the_edges(cell):
-    trace = _run(cell, _program(cell, drop_wait_before_off=True), cell.robot.tool.tcp2flange.copy())
-    assert trace.halted
-    assert trace.halt_message.startswith(lp.CIRCLE_EDGES[:40]) and trace.halt_message.endswith("1")
-    assert all(v == 0 for v in trace.kept["LSR_EDGE"])

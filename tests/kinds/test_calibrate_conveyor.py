@@ -4,16 +4,16 @@ import json
 import math
 from pathlib import Path
 
-from support import belt_sim
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from support import belt_sim
 
 from codegen.cli import main
 from codegen.kinds.conveyor.calibrate import unwrap
 from codegen.model.cell import load_cell
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 EXAMPLE = REPO / "codegen" / "examples" / "conveyor_touches.csv"
 
 

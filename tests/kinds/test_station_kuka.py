@@ -1,6 +1,6 @@
 """KUKA KRL target."""
 
-from target_base import TargetTests, replace_once
+from station_base import StationTests, replace_once
 
 WORK = "  TARGET = CORR : P1_CHUCK\n  $VEL.CP = 0.0500\n  LIN TARGET\n"  # the work pose of station 1 (slow)
 BASE_RESET = "  $BASE = $ROBROOT ; the robot's base ($NULLFRAME is the world: not the same on a track or a platform)\n"
@@ -8,7 +8,7 @@ HALT_RETURN = "    VIS_PAR[1] = {PAR_TYPE #EMPTY}\n    VIS_HALT()\n    RETURN\n"
 LIN_TARGET = "{X 600,Y 0,Z 700,A 0,B 90,C 0}"  # a first motion that is no PTP to a full position
 
 
-class TestKUKA(TargetTests):
+class TestKUKA(StationTests):
     target = "kuka"
     motion_mutations = ["no_base_reset", "approximated_work_pose", "ptp_at_full_speed"]
     arm_mutations = ["status_changed", "turn_changed", "no_tool", "no_load", "out_of_reach", "lin_first"]
@@ -51,10 +51,10 @@ def test_the_base_is_the_robot_base_on_a_platform():
 
     from codegen.controllers import get_target
     from codegen.dialects.krl.interpreter import load
+    from codegen.kinds.stations.cases import inputs_for, run_options
     from codegen.model.cell import load_cell
     from codegen.protocol import get_kind
     from codegen.render import render
-    from codegen.verify import inputs_for, run_options
 
     cell, target = load_cell(), get_target("kuka")
     files = {f.relpath.rsplit(".", 1)[1]: f.text for f in render(cell, ["kuka"])}

@@ -12,7 +12,7 @@ from click.testing import CliRunner
 from codegen.cli import main
 from codegen.model.cell import load_cell
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 GENERATED = REPO / "generated" / "agv_machine_tending"
 
 
@@ -76,7 +76,8 @@ def test_verify_fresh_output_json():
     assert result.exit_code == 0, result.output
     data = json.loads(result.output)
     assert data["ok"] is True
-    assert [t["target"] for t in data["targets"]] == ["ur", "kuka", "abb", "dtrans"]
+    assert [t["target"] for t in data["targets"]] == ["ur", "ur", "kuka", "abb", "dtrans"]  # UR: socket and node
+    assert [t["program"] for t in data["targets"][:2]] == ["agv_machine_tending", "agv_machine_tending_node"]
     for t in data["targets"]:
         assert t["mismatches"] == 0 and t["cases"] > 100
         assert t["categories"]["unknown_station"] >= 4 and t["categories"]["invalid_reading"] >= 8
@@ -89,7 +90,8 @@ def test_verify_catches_a_hand_edited_file(tmp_path):
     edited.write_text(source.replace("  if dx * dx + dy * dy > MAX_SHIFT_SQ:", "  if dx * dx > MAX_SHIFT_SQ:"))
     result = invoke("verify", edited, "--cases", "5")
     assert result.exit_code == 1
-    assert "MISMATCH" in result.output and "expected a halt (shift_over_limit)" in result.output
+    assert "MISMATCH" in result.output and "expected a stop ('station " in result.output
+    assert "mark shift over 10 mm" in result.output
 
 
 def test_verify_files_on_disk_pass():
@@ -101,7 +103,7 @@ def test_verify_files_on_disk_pass():
 
 def test_verify_refuses_to_verify_nothing():
     result = invoke("verify", GENERATED / "kuka" / "agv_machine_tending.dat", "--cases", "2")
-    assert result.exit_code == 2 and "no program to verify" in result.output
+    assert result.exit_code == 2 and "read together with its program" in result.output
 
 
 def test_verify_warns_when_the_file_comes_from_another_cell():
@@ -119,21 +121,21 @@ def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path):
     ran every case to the step limit before, for minutes); --step-limit sets the limit."""
     from pathlib import Path
 
-    generated = Path(__file__).resolve().parents[1] / "generated" / "agv_machine_tending" / "ur"
+    generated = Path(__file__).resolve().parents[2] / "generated" / "agv_machine_tending" / "ur"
     text = (generated / "agv_machine_tending.script").read_text()
     looped = text.replace("  def st_lathe_1():\n", "  def st_lathe_1():\n    while True:\n      sync()\n    end\n", 1)
     assert looped != text
     path = tmp_path / "agv_machine_tending.script"
     path.write_text(looped)
-    demo = Path(__file__).resolve().parents[1] / "codegen" / "examples" / "agv_machine_tending.toml"
+    demo = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "agv_machine_tending.toml"
     result = CliRunner().invoke(
         main, ["verify", str(demo), str(path), "--cases", "50", "--jobs", "1", "--step-limit", "5000", "--json"]
     )
     assert result.exit_code == 1
     report = json.loads(result.output)["targets"][0]
     assert report["mismatches"] == 2 and all("step limit 5000 reached" in m for m in report["first_mismatches"])
+    from codegen.kinds.stations.cases import build_cases
     from codegen.model.cell import load_cell
-    from codegen.verify import build_cases
 
     assert report["cases"] < len(build_cases(load_cell(demo), 50, 0))  # the chunk with station 1 stopped
 
@@ -155,16 +157,18 @@ def _socket_and_node(tmp_path: Path, broken: str) -> list[Path]:
 
 def test_two_programs_of_one_target_are_two_rows_each_run(tmp_path):
     """Each file given is run on its own: the broken one fails beside its untouched twin, either way round."""
+    from codegen.kinds.stations.cases import build_cases
     from codegen.model.cell import DEMO_CELL
-    from codegen.verify import build_cases
-    from codegen.verify_runs import file_source, run_verify
+    from codegen.verify.engine import Options, verify_sources
+    from codegen.verify.programs import file_sources
 
     cell = load_cell(DEMO_CELL)
     cases = build_cases(cell, 3, 1)
     for broken in ("agv_machine_tending.script", "agv_machine_tending_node.script"):
         paths = _socket_and_node(tmp_path / broken, broken)
         for order in (paths, paths[::-1]):
-            reports = run_verify(cell, [file_source("ur", p) for p in order], cases, sweep=False)
+            sources, _warnings = file_sources(cell, order, ("ur",))
+            reports, _ = verify_sources(cell, sources, Options(cases=3, seed=1, jobs=1, sweeps=False))
             assert [Path(r.files[0]).name for r in reports] == [p.name for p in order]
             for path, report in zip(order, reports, strict=True):
                 assert report.cases == len(cases)

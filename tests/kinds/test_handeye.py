@@ -13,7 +13,7 @@ from codegen.cli import main
 from codegen.kinds.frame.handeye import HandEyeError, fit, read_points
 from codegen.model.cell import CellError, load_cell
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "codegen" / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "codegen" / "examples"
 
 
 def grid_csv(tmp_path: Path, theta_deg=-2.0, sx=0.02, sy=0.018, tx=5.0, ty=-3.0, points=None) -> Path:

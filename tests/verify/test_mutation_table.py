@@ -12,14 +12,13 @@ import re
 from pathlib import Path
 
 import pytest
+from support import stations
 
 from codegen.controllers import get_target
 from codegen.model.cell import load_cell
-from codegen.verify import build_cases, verify
-from codegen.verify_runs import file_source
 
-REPO = Path(__file__).resolve().parents[1]
-CELLS = sorted((REPO / "codegen" / "examples").glob("*.toml"))
+REPO = Path(__file__).resolve().parents[2]
+CELLS = sorted((REPO / "codegen" / "examples").glob("*.toml"))  # the cells of stations
 
 
 def _bump(match: re.Match, by: float) -> str:
@@ -114,26 +113,27 @@ def checked_in():
     out = {}
     for path in CELLS:
         cell = load_cell(path)
-        cases = build_cases(cell, 6, 11)
+        cases = stations.build_cases(cell, 6, 11)
         for target in cell.targets:
             folder = REPO / "generated" / path.stem / target
-            program = next(p for p in sorted(folder.iterdir()) if p.suffix in get_target(target).suffixes[:1])
-            out[path.stem, target] = (cell, cases, file_source(target, program))
+            suffixes = get_target(target).suffixes
+            text = (folder / f"{path.stem}{suffixes[0]}").read_text(encoding="utf-8")
+            data = folder / f"{path.stem}{suffixes[-1]}"
+            dat = data.read_text(encoding="utf-8") if len(set(suffixes)) > 1 and data.is_file() else None
+            out[path.stem, target] = (cell, cases, (text, dat))
     return out
 
 
 @pytest.mark.parametrize("cell_name", [p.stem for p in CELLS])
 @pytest.mark.parametrize(("kind", "target"), ROWS)
 def test_verify_fails_the_edit(checked_in, cell_name, kind, target):
-    cell, cases, source = checked_in[cell_name, target]
+    cell, cases, (text, dat) = checked_in[cell_name, target]
     pattern, replacement = TABLE[kind][target]
-    text, count = re.subn(pattern, replacement, source.text, count=1, flags=re.MULTILINE)
-    companions = dict(source.companions)
-    if count == 0 and ".dat" in companions:  # the data list holds the constants and poses of KRL
-        companions[".dat"], count = re.subn(pattern, replacement, companions[".dat"], count=1, flags=re.MULTILINE)
+    text, count = re.subn(pattern, replacement, text, count=1, flags=re.MULTILINE)
+    if count == 0 and dat is not None:  # the data list holds the constants and poses of KRL
+        dat, count = re.subn(pattern, replacement, dat, count=1, flags=re.MULTILINE)
     assert count == 1, f"{kind}: nothing to edit in {cell_name}'s {target} program"
-    mutant = type(source)(target, text, f"{kind}.mutant", tuple(companions.items()), source.files)
-    report = verify(cell, [target], {target: (mutant.load(), [kind])}, cases)[0]
+    report = stations.verify(cell, stations.source(cell, target, text, dat, kind), cases)
     assert report.mismatches > 0, f"verify missed {kind} in {cell_name}'s {target} program"
 
 
@@ -172,10 +172,9 @@ HANDSHAKE = {
 
 @pytest.mark.parametrize(("kind", "target"), [(k, t) for k, per in HANDSHAKE.items() for t in per])
 def test_verify_fails_a_broken_handshake(checked_in, kind, target):
-    cell, cases, source = checked_in["thermometer_bench", target]
+    cell, cases, (text, dat) = checked_in["thermometer_bench", target]
     pattern, replacement = HANDSHAKE[kind][target]
-    text, count = re.subn(pattern, replacement, source.text, count=1, flags=re.MULTILINE)
+    text, count = re.subn(pattern, replacement, text, count=1, flags=re.MULTILINE)
     assert count == 1, f"{kind}: nothing to edit in the {target} program"
-    mutant = type(source)(target, text, f"{kind}.mutant", source.companions, source.files)
-    report = verify(cell, [target], {target: (mutant.load(), [kind])}, cases)[0]
+    report = stations.verify(cell, stations.source(cell, target, text, dat, kind), cases)
     assert report.mismatches > 0, f"verify missed {kind} in the {target} program"
