@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import json
 import random
+import sys
 from dataclasses import dataclass
 from functools import cache
 
 import sympy as sp
 
+from codegen.derived import CACHE_PATH
+from codegen.dialects import printers
+from codegen.protocol import kinds
 from codegen.symrot import rot2, rotx3, roty3, rotz3
 
 # Symbols, named after the frames they belong to (DESIGN.md section 1.1).
@@ -189,7 +194,6 @@ def identities(derivation: Derivation | None = None) -> list[Identity]:
         )
     )
     result.extend(frame_identities())
-    from codegen.protocol import kinds
 
     for kind in kinds().values():  # each kind's own identities (its package's derivation)
         result.extend(kind.identities(_check))
@@ -298,7 +302,6 @@ def cse_blocks(derivation: Derivation | None = None) -> dict[str, dict]:
         ("point", ("point_x", "point_y")),
         ("refine", ("new_dx", "new_dy")),
     ]
-    from codegen.protocol import kinds
 
     for kind in kinds().values():  # each kind's own closed forms the controllers evaluate
         for block, outputs in kind.printed_blocks().items():
@@ -358,7 +361,6 @@ def describe(derivation: Derivation | None = None) -> str:
 
 def build_cache() -> dict:
     """Everything later steps need from the derivation, as plain JSON data."""
-    from codegen.dialects import printers  # the per-dialect printers subclass sympy printers
 
     d = derive()
     blocks = cse_blocks(d)
@@ -389,11 +391,6 @@ def build_cache() -> dict:
 
 
 if __name__ == "__main__":
-    import json
-    import sys
-
-    from codegen.derived import CACHE_PATH
-
     text = json.dumps(build_cache(), indent=1, sort_keys=True) + "\n"
     if "--write" in sys.argv:
         CACHE_PATH.write_text(text, encoding="utf-8")

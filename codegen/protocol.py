@@ -9,6 +9,8 @@ from dataclasses import dataclass, field
 from functools import cache
 from typing import Any, ClassVar
 
+from codegen.controllers import get_target, target_names
+
 
 @dataclass(frozen=True)
 class ProgramFile:
@@ -196,8 +198,6 @@ class TargetFactsError(Exception):
 
 @cache
 def _facts(kind: type[ProgramKind], target_name: str) -> dict:
-    from codegen.controllers import get_target
-
     target = get_target(target_name)
     table = target.kind_tables.get(kind.name, {})
     where = f"targets/{target_name}.toml: program.{kind.name}"
@@ -220,7 +220,6 @@ def kinds() -> dict[str, type[ProgramKind]]:
             importlib.import_module(f"codegen.kinds.{info.name}.kind")
     registered = ProgramKind.registry
     out = {name: registered[name] for name in sorted(registered, key=lambda n: (registered[n].order, n))}
-    from codegen.controllers import target_names
 
     for target in target_names():  # a kind table no kind reads, or a fact of the wrong type, is refused here
         unknown = sorted(set(_target_tables(target)) - set(out))
@@ -232,8 +231,6 @@ def kinds() -> dict[str, type[ProgramKind]]:
 
 
 def _target_tables(target_name: str) -> dict:
-    from codegen.controllers import get_target
-
     return get_target(target_name).kind_tables
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
+import tempfile
 import tomllib
 from dataclasses import dataclass, field, replace
 from functools import cached_property, lru_cache
@@ -155,8 +157,6 @@ def read_cell_data(path: Path) -> tuple[dict, bytes]:
 def replace_cell_file(path: Path, text: str, check=None) -> None:
     """Replace a cell file by an edited text (a calibration's --write) once the edited file loads and
     `check(cell)` accepts it; otherwise the file stays as it was and the error goes to the caller."""
-    import os
-    import tempfile
 
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
@@ -172,7 +172,7 @@ def replace_cell_file(path: Path, text: str, check=None) -> None:
 
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
-    ctx = _Context(source)
+    ctx = CellValidator(source)
     known_tables = {"cell", "station"}.union(*(k.tables for k in kinds().values()))
     top_unknown = set(data) - known_tables
     if top_unknown:
@@ -316,7 +316,7 @@ def _retreat(station: Station, retreat_mm: float, pose_format: str) -> TaughtPos
     return TaughtPose("retreat", values, pose_format)
 
 
-class _Context(Validator):
+class CellValidator(Validator):
     """The validator with the [[station]] and taught-pose rules of the cell file."""
 
     def station(self, raw, index: int, pose_format: str) -> Station:

@@ -6,6 +6,8 @@ import math
 import re
 from dataclasses import dataclass, field
 
+from codegen.controllers import get_target
+
 SIGNAL_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,31}")  # a configured I/O signal's name (RAPID: EIO)
 TIMEOUT_S = 2.0
 POLL_S = 0.05  # how often a program looks at the feedback while it waits (as the vision handshake)
@@ -44,7 +46,6 @@ def parse_settings(ctx, cell_table: dict, targets) -> SignalSettings | None:
 
 def per_target(ctx, table: dict, key: str, targets, required: bool, prefix: str = "cell.io") -> dict:
     """A signal per target of the cell (table[key][target]), checked against the target's signal facts."""
-    from codegen.controllers import get_target
 
     if key not in table:
         if required:

@@ -9,6 +9,7 @@ import numpy as np
 from codegen.controllers import numbered_names
 from codegen.poses import native_values
 from codegen.robot.margins import singular_distance, wrist_angle
+from codegen.robot.taught import ReachError
 
 
 def tool_inputs(cell, target: str) -> dict:
@@ -65,8 +66,6 @@ def require_margins(subject: str, robot, joint_deg: float, wrist_deg: float, wor
     """ReachError unless the least joint and wrist margins over a program's poses meet the cell's."""
     need = robot.margins
     if joint_deg < need.joint_deg or wrist_deg < need.wrist_deg:
-        from codegen.robot.taught import ReachError
-
         raise ReachError(
             f"{subject}: {joint_deg:.1f} deg to a joint limit ({worst}) and the wrist {wrist_deg:.1f} deg from its "
             f"singularity; the cell asks {need.joint_deg:g} and {need.wrist_deg:g} deg"

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import gc
+import multiprocessing
 import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
 
 from codegen.dialects.core.machine import frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
@@ -114,7 +116,6 @@ def run_tasks(tasks: list, rows: list[Row], jobs: int, progress=None, pinned: li
         for result in _run_pinned(tasks, pinned, jobs):
             collect(result)
         return
-    from concurrent.futures import ProcessPoolExecutor
 
     with ProcessPoolExecutor(max_workers=jobs, mp_context=_fork()) as pool:
         for result in pool.map(run_chunk, tasks):
@@ -123,7 +124,6 @@ def run_tasks(tasks: list, rows: list[Row], jobs: int, progress=None, pinned: li
 
 def _fork():
     """Workers forked where the system can (they start at once, with the parent's modules)."""
-    import multiprocessing
 
     return multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
 
@@ -131,7 +131,6 @@ def _fork():
 def _forkserver():
     """Workers started from a clean server process where the system has one: a pool's worker forked from this
     process after another pool's threads started could inherit a lock one of them held."""
-    import multiprocessing
 
     if "forkserver" not in multiprocessing.get_all_start_methods():
         return None
@@ -142,7 +141,6 @@ def _forkserver():
 
 def _run_pinned(tasks: list, workers: list[int], jobs: int):
     """Each task in the worker process given for it (one single-process pool each), results as they end."""
-    from concurrent.futures import ProcessPoolExecutor, as_completed
 
     pools = [ProcessPoolExecutor(max_workers=1, mp_context=_forkserver()) for _ in range(jobs)]
     try:

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from codegen.kinds.conveyor.section import belt2base, conveyor_of
+from codegen.model.cell import CellError, load_cell, replace_cell_file
 
 ROLES = ("belt", "side")
 MIN_TOUCHES = 2
@@ -249,7 +250,6 @@ def report_lines(result: ConveyorFit, path: Path) -> list[str]:
 def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_length_mm: float | None) -> None:
     """Replace (or add) the cell's [conveyor] table, keeping a camera offset this calibration did not
     measure; the comments before the next table stay; the edited file must load before it replaces the old."""
-    from codegen.model.cell import CellError, load_cell, replace_cell_file
 
     previous = conveyor_of(load_cell(cell_path))
     camera = result.camera_offset_mm
@@ -306,7 +306,6 @@ def cell_settings(cell_path: Path | None) -> tuple[int | None, float | None]:
     """The counter width and working length a cell's [conveyor] names, if any."""
     if cell_path is None:
         return None, None
-    from codegen.model.cell import load_cell
 
     conveyor = conveyor_of(load_cell(cell_path))
     return (None, None) if conveyor is None else (conveyor.counter_bits, conveyor.working_length_mm)

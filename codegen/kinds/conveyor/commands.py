@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from codegen.cli_base import UserError
 from codegen.cli_base import dump as _dump
+from codegen.kinds.conveyor import calibrate as cc
+from codegen.model.cell import CellError
 
 
 @click.command("conveyor")
@@ -39,10 +43,6 @@ def calibrate_conveyor(touches, counter_bits, working_length, camera_counts, for
     """Encoder scale, belt frame and camera offset (source 002) from a CSV x,y,z,count[,role] of a cone on
     the belt touched at two or more places (mm, base frame; upstream first) and optionally one point beside
     the belt (role side, at the height of the cone's tip) that fixes the frame's roll."""
-    from pathlib import Path
-
-    from codegen.kinds.conveyor import calibrate as cc
-    from codegen.model.cell import CellError
 
     path = Path(touches)
     try:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from codegen.emit import Emitter
 from codegen.kinds.conveyor import reach, verify
+from codegen.kinds.conveyor.commands import calibrate_conveyor
 from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
 from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
@@ -98,6 +99,4 @@ class ConveyorKind(ProgramKind):
 
     @classmethod
     def commands(cls) -> list:
-        from codegen.kinds.conveyor.commands import calibrate_conveyor
-
         return [("calibrate", calibrate_conveyor)]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
 
 KEYS = frozenset(
@@ -71,7 +72,6 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         ctx.fail(f"{path}.approach_dz", "must be in (0, 1000] mm: the gripper comes down from above")
     place = ctx.pose("place", ctx.require(table, "place", f"{path}.place"), f"{path}.place", pose_format)
     tracking = ctx.table(table, "tracking", f"{path}.tracking")
-    from codegen.controllers import get_target
 
     for target, mode in tracking.items():
         if target not in targets:

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from codegen.kinds.conveyor.pick import parse_pick
+
 COUNTER_BITS = (16, 24, 32)
 KEYS = frozenset(
     {"counter_bits", "counts_per_mm", "origin", "direction", "z_axis", "camera_offset_mm", "working_length_mm", "pick"}
@@ -78,8 +80,6 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
                 ctx.fail("conveyor.working_length_mm", "must be in (0, 100000] mm")
             out[key] = value
     if "pick" in table:
-        from codegen.kinds.conveyor.pick import parse_pick
-
         missing = [k for k in ("counts_per_mm", "camera_offset_mm") if k not in out]
         if missing:
             ctx.fail("conveyor.pick", f"needs the calibrated belt: {', '.join(missing)} (codegen calibrate conveyor)")

@@ -18,6 +18,7 @@ from codegen.kinds.conveyor.program import BAD_READING, SKIPPED, TOO_LATE
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.io import signal_name
 from codegen.reference import home_move
+from codegen.robot import solve
 from codegen.sim.belt import Belt, BeltLine, Part
 from codegen.sim.bus import bus_for
 from codegen.sim.gripper import Gripper
@@ -148,8 +149,6 @@ def _start_joints(cell, target_name: str, case: BeltCase):
     if case.start == "away":
         return home + np.array(START_AWAY_DEG)
     if case.start == "mid_cycle":  # at the place, where a cycle stopped after a release leaves the arm
-        from codegen.robot import solve
-
         arm = robot.arms[target_name]
         flange = solve.flange_poses(conveyor_of(cell).pick.place.matrix(), robot.tool.tcp2flange)
         joints, _ = solve.nearest(arm, solve.branches(arm, flange), home)

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from codegen.cli_base import UserError
 from codegen.cli_base import dump as _dump
+from codegen.kinds.frame.handeye import HandEyeError, fit, read_points, write_to_cell
 
 
 @click.command("handeye")
@@ -20,9 +23,6 @@ from codegen.cli_base import dump as _dump
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def calibrate_handeye(points: str, affine: bool, cell_path: str | None, as_json: bool) -> None:
     """Fit pixel -> robot mm from a 9-point CSV (header u,v,x,y) by least squares (source 001 eq. 2)."""
-    from pathlib import Path
-
-    from codegen.kinds.frame.handeye import HandEyeError, fit, read_points, write_to_cell
 
     path = Path(points)
     try:

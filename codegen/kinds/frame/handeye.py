@@ -10,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
+from codegen.model.cell import CellError, image_angle_sign, replace_cell_file
+
 
 class HandEyeError(Exception):
     """A point file or point set that cannot give a calibration; the message names file and row."""
@@ -178,7 +180,6 @@ def _with_angle_sign(text: str, sign: int) -> str:
 
 def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
     """Replace (or add) the [cell.camera.handeye] table, keeping the rest of the file as written."""
-    from codegen.model.cell import CellError, image_angle_sign, replace_cell_file
 
     text = cell_path.read_text(encoding="utf-8")
     table = toml_table(result, source)

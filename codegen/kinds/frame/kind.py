@@ -22,6 +22,7 @@ from codegen.guard import (
     UNKNOWN_STATION,
     pixels_in_range,
 )
+from codegen.kinds.frame.commands import calibrate_handeye
 from codegen.kinds.stations.base import StationKind
 from codegen.kinds.stations.cases import Case
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
@@ -171,8 +172,6 @@ class FrameKind(StationKind):
 
     @classmethod
     def commands(cls) -> list:
-        from codegen.kinds.frame.commands import calibrate_handeye
-
         return [("calibrate", calibrate_handeye)]
 
     @classmethod

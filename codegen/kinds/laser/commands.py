@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import click
 
 from codegen.cli_base import UserError
 from codegen.cli_base import dump as _dump
+from codegen.kinds.laser.tcp import ToolCalibrationError, fit, read_poses, report_lines, write_to_cell
+from codegen.model.cell import CellError
 
 
 @click.command("tcp")
@@ -34,10 +38,6 @@ from codegen.cli_base import dump as _dump
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def calibrate_tcp(poses: str, method: str, max_uncertainty: float, cell_path: str | None, as_json: bool) -> None:
     """The TCP from flange poses (CSV header x,y,z,a,b,c[,role]: mm, deg, base frame) touching one fixed point."""
-    from pathlib import Path
-
-    from codegen.kinds.laser.tcp import ToolCalibrationError, fit, read_poses, report_lines, write_to_cell
-    from codegen.model.cell import CellError
 
     path = Path(poses)
     try:

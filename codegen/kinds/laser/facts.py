@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+from codegen.protocol import get_kind
+
 
 def facts(target) -> dict:
     """[program.laser] of a target, checked against the kind's keys ({}: the target has none)."""
-    from codegen.protocol import get_kind  # the registry imports this package: asked when called
 
     return get_kind("laser").facts(target)

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from codegen.emit import Emitter
 from codegen.kinds.laser import plan, reach
+from codegen.kinds.laser.commands import calibrate_tcp
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
 from codegen.kinds.laser.section import laser_of, parse_laser
+from codegen.kinds.laser.verify import cases
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
 
 
@@ -72,8 +74,6 @@ class LaserKind(ProgramKind):
 
     @classmethod
     def verify_cases(cls, cell, source, count: int, seed: int) -> list:
-        from codegen.kinds.laser.verify import cases
-
         return cases(cell, seed)
 
     @classmethod
@@ -115,6 +115,4 @@ class LaserKind(ProgramKind):
 
     @classmethod
     def commands(cls) -> list:
-        from codegen.kinds.laser.commands import calibrate_tcp
-
         return [("calibrate", calibrate_tcp)]

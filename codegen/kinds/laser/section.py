@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from codegen.controllers import get_target
 from codegen.kinds.laser.facts import facts
 from codegen.model.cell import TaughtPose
 from codegen.model.io import per_target
@@ -98,7 +99,6 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             f"d1 must exceed offset_max_mm + pin_radius_mm ({offset + radius:g} mm): "
             "the circles must see the pin's side, not its end",
         )
-    from codegen.controllers import get_target
 
     for target in targets:
         if not facts(get_target(target)).get("files"):

@@ -11,6 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
+from codegen.kinds.stations.envelope import ReachError, check
+from codegen.model.cell import CellError, load_cell, replace_cell_file
 from codegen.poses import matrix_from_xyzabc, native_values, rotmat_from_zyx_deg, zyx_deg_from_rotmat
 
 METHODS = {"tcp": (), "tcp-z": ("z",), "tcp-zx": ("z", "x")}  # the orientation rows each method needs
@@ -197,8 +199,6 @@ _TCP_LINE = re.compile(r"^tcp\s*=[^\n]*$", re.MULTILINE)
 def write_to_cell(cell_path: Path, result: ToolFit, source: str) -> None:
     """Set the tcp of the cell's [cell.tool] (in the cell's pose format), keeping the rest as written; the
     edited file must load and pass the envelope check before it replaces the old one."""
-    from codegen.kinds.stations.envelope import ReachError, check
-    from codegen.model.cell import CellError, load_cell, replace_cell_file
 
     cell = load_cell(cell_path)
     match = _TOOL.search(cell_path.read_text(encoding="utf-8"))

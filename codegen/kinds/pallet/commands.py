@@ -8,6 +8,8 @@ import click
 
 from codegen.cli_base import UserError
 from codegen.cli_base import dump as _dump
+from codegen.kinds.pallet.pictures import pictures
+from codegen.kinds.pallet.report import load_pallet_file, report, text
 from codegen.model.cell import EXAMPLES_DIR, CellError
 
 TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
@@ -20,8 +22,6 @@ TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
 def pallet(cell, as_json, svg_dir) -> None:
     """Every box of every [[pallet]] of CELL (default: source 004's test pallet) with its target, entry,
     approach and retreat in the pallet and the base frame; overlapping or overhanging boxes are refused."""
-    from codegen.kinds.pallet.pictures import pictures
-    from codegen.kinds.pallet.report import load_pallet_file, report, text
 
     try:
         data = load_pallet_file(cell or TESTMAT)

@@ -5,6 +5,7 @@ from __future__ import annotations
 from codegen.emit import Emitter
 from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
+from codegen.kinds.pallet.commands import pallet as pallet_command
 from codegen.kinds.pallet.program import check_level, pallet_context, pallet_file_names, pallet_identifiers
 from codegen.kinds.pallet.section import pallets_of
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
@@ -73,7 +74,7 @@ class PalletKind(ProgramKind):
 
     @classmethod
     def printed_blocks(cls) -> dict:
-        from codegen.kinds.pallet.derivation import level_box_position  # sympy: only the derivation pays for it
+        from codegen.kinds.pallet.derivation import level_box_position  # sympy: only the derivation pays
 
         box_px, box_py = level_box_position()
         return {"box": {"box_px": box_px, "box_py": box_py}}
@@ -120,6 +121,4 @@ class PalletKind(ProgramKind):
 
     @classmethod
     def commands(cls) -> list:
-        from codegen.kinds.pallet.commands import pallet
-
-        return [(None, pallet)]
+        return [(None, pallet_command)]

@@ -10,6 +10,7 @@ import numpy as np
 
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.patterns import cell_angle
+from codegen.kinds.pallet.reach import full_cycle
 from codegen.kinds.pallet.section import Pallet, pallets_of
 from codegen.kinds.pallet.stack import layer_top, placements
 from codegen.model.cell import load_cell
@@ -29,7 +30,6 @@ def _pose(pose: np.ndarray, pallet2base: np.ndarray) -> dict:
 def cycle_estimate(cell, pallet: Pallet) -> dict:
     """Seconds per pallet from the full cycle's moves (the reference's: codegen/pallet/cycle.py), each
     one's path length over its programmed speed: no acceleration, no gripper time, no home move."""
-    from codegen.kinds.pallet.reach import full_cycle
 
     moves = full_cycle(cell, pallet)
     travel = work = 0.0

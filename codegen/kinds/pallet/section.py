@@ -4,10 +4,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:  # the cell's validation helpers (codegen.model.cell builds on this module)
-    from codegen.model.cell import _Context
+from codegen.model.cell import CellValidator
 
 PALLET_KEYS = frozenset(
     {
@@ -77,7 +75,7 @@ class Pallet:
     pick_lift: float = PICK_LIFT_MM  # the box comes off (goes onto) Q straight along the base's z, mm
 
 
-def parse_pallets(ctx: _Context, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
+def parse_pallets(ctx: CellValidator, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
     raw = data.get("pallet", [])
     if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
         ctx.fail("pallet", "expected [[pallet]] tables")
@@ -89,14 +87,14 @@ def parse_pallets(ctx: _Context, data: dict, pose_format: str = "xyzabc") -> tup
     return pallets
 
 
-def _positive(ctx: _Context, values, count: int, path: str, limit: float = MAX_SIZE_MM) -> tuple[float, ...]:
+def _positive(ctx: CellValidator, values, count: int, path: str, limit: float = MAX_SIZE_MM) -> tuple[float, ...]:
     numbers = ctx.numbers(values, count, path)
     if not all(0 < v <= limit for v in numbers):
         ctx.fail(path, f"every value must be in (0, {limit:g}] mm")
     return numbers
 
 
-def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
+def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pallet:
     ctx.no_unknown(table, PALLET_KEYS, path)
     name = ctx.name(table, "name", f"{path}.name")
     frame = ctx.table(table, "frame", f"{path}.frame")
@@ -182,7 +180,7 @@ def _pallet(ctx: _Context, table: dict, path: str, pose_format: str) -> Pallet:
     )
 
 
-def _offset(ctx: _Context, values, path: str) -> tuple[float, float, float]:
+def _offset(ctx: CellValidator, values, path: str) -> tuple[float, float, float]:
     numbers = ctx.numbers(values, 3, path)
     if max(abs(v) for v in numbers) > MAX_SIZE_MM:
         ctx.fail(path, f"every value must be within +-{MAX_SIZE_MM:g} mm")
@@ -191,7 +189,7 @@ def _offset(ctx: _Context, values, path: str) -> tuple[float, float, float]:
     return numbers
 
 
-def _patterns(ctx: _Context, table: dict, path: str) -> dict:
+def _patterns(ctx: CellValidator, table: dict, path: str) -> dict:
     if not table:
         ctx.fail(path, "expected at least one pattern")
     out = {}

@@ -7,6 +7,8 @@ import click
 from codegen.cli_base import UserError
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
+from codegen.kinds.point.correct import correct_report, format_report
+from codegen.kinds.point.reference import NAME, Reading
 
 
 def _parse_mark(value: str) -> tuple[float, float, float]:
@@ -26,8 +28,6 @@ def _parse_mark(value: str) -> tuple[float, float, float]:
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None:
     """Reference result for one reading: guard outcome and every corrected pose."""
-    from codegen.kinds.point.correct import correct_report, format_report
-    from codegen.kinds.point.reference import NAME, Reading
 
     model = _load(cell)
     x, y, theta = _parse_mark(mark)

@@ -17,6 +17,7 @@ from codegen.guard import (
     SHIFT_OVER_LIMIT,
     TAUGHT_RANGE_MM,
 )
+from codegen.kinds.point.commands import correct
 from codegen.kinds.point.reference import NAME, PointSpec, Reading, expected_trace
 from codegen.kinds.stations.base import StationKind
 from codegen.kinds.stations.cases import Case
@@ -41,8 +42,6 @@ class PointKind(StationKind):
 
     @classmethod
     def commands(cls) -> list:
-        from codegen.kinds.point.commands import correct
-
         return [(None, correct)]
 
     @classmethod

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from codegen.controllers import Target
+from codegen.dialects import get_dialect
 from codegen.emit import EmitError, Emitter
 from codegen.guard import (
     GUARD_CODES,
@@ -135,7 +136,6 @@ def station_program(cell: Cell, target: Target, station_kinds: list, lead: str) 
     """The programs of the cell's stations, from the target's `files`: each program file with its data files
     ("{cell}.src" and "{cell}.dat" from "program.src.j2" and "program.dat.j2"; a UR socket program and its
     Script-node twin "{cell}_node.script" from "program_node.script.j2" are two programs), one context."""
-    from codegen.dialects import get_dialect
 
     stem = file_stem(cell, target)
     companions = get_dialect(target.dialect).companions
