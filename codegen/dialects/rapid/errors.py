@@ -40,6 +40,10 @@ ERROR_NUMBERS = {
     # ERR_WHLSEARCH's value, not confirmed, so internal values here as for the others)
     "ERR_SIGSUPSEARCH": 1004,  # the searched input already has the value its flank goes to at the start
     "ERR_WHLSEARCH": 1005,  # no hit before ToPoint (or more than one with \Sup)
+    "ERR_TP_MAXTIME": 1006,  # TPReadFK / TPReadNum \MaxTime without the operator's answer
+    "ERR_REFUNKPRC": 1007,  # late binding (%"name"%): no procedure of that name
+    "ERR_CALLPROC": 1008,  # late binding: the procedure does not take these arguments
+    "ERR_ARGNOTPRESENT": 1009,  # an optional parameter read while it is not present
 }
 ERROR_NAMES = {number: name for name, number in ERROR_NUMBERS.items()}
 ERROR_CONSTANTS = {name: f32(number) for name, number in ERROR_NUMBERS.items()}

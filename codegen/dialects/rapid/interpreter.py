@@ -1,58 +1,158 @@
-"""RAPID interpreter: num in float32, trig in degrees, pose/robtarget records and Pose* functions."""
+"""RAPID interpreter: num in float32, trig in degrees, records, a task's modules, ERROR handlers, GOTO, signals."""
 
 from __future__ import annotations
 
 import math
-import re
 
-from lark import Token, Tree
+from lark import Tree
 
 from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.files import Finding, SourceFile
 from codegen.dialects.core.machine import Program
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Inline, Src, indent
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
-from codegen.dialects.rapid import errors, interrupts, messages, search, waits
-from codegen.dialects.rapid.builtins import RECORDS, builtins, num, type_text, zero
-from codegen.dialects.rapid.messages import PREDEFINED_VALUES
+from codegen.dialects.rapid import dataops, errors, interrupts, messages, motionset, pendant, search, signals, waits
+from codegen.dialects.rapid.builtins import builtins
+from codegen.dialects.rapid.calls import ABSENT, Calls
+from codegen.dialects.rapid.flow import Labels
+from codegen.dialects.rapid.functions import TABLE as FUNCTIONS
+from codegen.dialects.rapid.names import Names
+from codegen.dialects.rapid.types import (
+    ALIASES,
+    CLOCK,
+    NOT_MODELLED,
+    OPAQUE,
+    RECORDS,
+    SCALARS,
+    SIGNAL_TYPES,
+    num,
+    type_text,
+    zero,
+)
 
 
 def parse(text: str, filename: str = "<rapid>", positions: bool = True) -> Tree:
     return parse_with_grammar(__file__, text, filename, positions)
 
 
-_PREDEFINED = re.compile(r"^(V\d+|VMAX|FINE|Z\d+|TOOL0|WOBJ0|LOAD0)$")
+class Skip(Exception):
+    """`codegen check`: the construct being compiled was reported; the compiler goes on with the next one."""
 
 
-class RAPIDCompiler(Compiler):
+class RAPIDCompiler(Labels, Calls, Names, Compiler):
     name = "rapid"
     case_insensitive = True
     index_base = 1
     COERCE_UNCHANGED = {"NUM": "_F32", "BOOL": "bool"}
-    RECORD_TYPES = frozenset(RECORDS)
     KWARGS_ERROR = "has no optional parameters"
     LIKE_UNCHANGED = frozenset({F32, bool})
 
-    def __init__(self, filename: str) -> None:
+    def __init__(self, filename: str, findings: list | None = None) -> None:
         super().__init__(filename)
-        self.data: list = []  # (key, type, dims, init closure)
+        self.findings = findings  # `codegen check`: every finding is collected here instead of raised
+        self.records = dict(RECORDS)  # built-in and the program's own record types
+        self.aliases = dict(ALIASES)
+        self.RECORD_TYPES = frozenset(self.records)
+        self.ns["_divzero"] = errors.divzero
+        self.ns["_ABSENT"] = ABSENT
         self.handler = None  # the routine being compiled: its ERROR handler (compiled) and numbers
         self.in_handler = False  # compiling an error handler's statements
         self.handler_node = None  # the routine being compiled: its error_clause node
-        self.ns["_divzero"] = errors.divzero
-        self.storage: dict[str, str] = {}  # the module's data: VAR, PERS or CONST by name
-        self.trap_names: set[str] = set()  # the module's TRAP routines (known before any routine is compiled)
+        self.storage: dict[str, str] = {}  # module data by key: VAR, PERS or CONST
+        self.data_types: dict = {}  # module data by key: its type
+        self.scope: dict[str, str] = {}  # the module being compiled: names whose key differs (LOCAL ones)
+        self.user_routines: set[str] = set()  # PROC and FUNC keys of the task
+        self.trap_names: set[str] = set()  # TRAP keys (known before any routine is compiled)
         self.traps: dict = {}  # TRAP routines by key: run by their interrupts only (interrupts.py)
+        self.routine_decls: dict = {}  # key -> (required parameters, OptionalSpec or None, returns)
+        self.optional: dict = {}  # Routine -> its OptionalSpec
+        self.signal_names: dict[str, str] = {}  # an undeclared signal by upper-case name -> as first spelt
+        self.signal_kinds: dict[str, str] = {}  # ... -> DI, DO, GI, GO, AI or AO
+        self.current_optional: frozenset = frozenset()  # the routine being compiled: its optional parameters
+        self.for_counters: frozenset = frozenset()
+        self.local_storage: dict[str, str] = {}
+        self.label_stack: list[set] = []
+        self._counter: str | None = None  # a FOR loop's counter, for the loop's body
+
+    # --- findings ----------------------------------------------------------------------------
+    def position(self, node) -> tuple[int, int]:
+        meta = getattr(node, "meta", None)
+        line = getattr(node, "line", None) or (getattr(meta, "line", None) if meta and not meta.empty else None)
+        column = getattr(node, "column", None) or (getattr(meta, "column", None) if meta and not meta.empty else None)
+        return line or 0, column or 0
+
+    def fail(self, node, message: str, code: str = "error"):
+        """A construct the interpreter refuses: a RunError naming file:line:column (check: a finding, and
+        the statement is skipped)."""
+        if self.findings is None:
+            raise RunError(f"{self.where(node)}: {message}")
+        self.report(node, message, code)
+        raise Skip
+
+    def report(self, node, message: str, code: str, severity: str | None = None) -> None:
+        """An error (a RunError when loading; check: a finding, and compiling goes on) or a warning (check only)."""
+        severity = severity or ("unsupported" if code == "unsupported" else "error")
+        if self.findings is None:
+            if severity == "warning":
+                return
+            raise RunError(f"{self.where(node)}: {message}")
+        line, column = self.position(node)
+        self.findings.append(Finding(self.filename, line, column, severity, code, message))
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        return builtins(self)
+        return {**FUNCTIONS, **builtins(self), **pendant.BUILTINS, **motionset.BUILTINS}
 
     def number(self, text: str):
         return f32(float(text))
 
     def string_value(self, text: str) -> str:
-        return text[1:-1].replace('""', '"').replace("\\\\", "\\")
+        out, body, i = [], text[1:-1], 0
+        while i < len(body):
+            c = body[i]
+            if c == '"':  # "" in a string: one quote
+                out.append('"')
+                i += 2
+            elif c == "\\" and body[i + 1 : i + 2] == "\\":
+                out.append("\\")
+                i += 2
+            elif c == "\\":  # \hh: the character with that code
+                out.append(chr(int(body[i + 1 : i + 3], 16)))
+                i += 3
+            else:
+                out.append(c)
+                i += 1
+        return "".join(out)
+
+    def resolve_type(self, token, conformant=None, dims: int = 0):
+        """A declared type by name (aliases resolved): refused when the language has no such type, or the
+        interpreter does not model it; an array type (element, size or None) for conformant or dims."""
+        upper = str(token).upper()
+        seen = set()
+        while upper in self.aliases and upper not in ALIASES and upper not in seen:  # a program's own ALIAS
+            seen.add(upper)
+            upper = self.aliases[upper]
+        if upper not in SCALARS and upper not in self.records and upper not in OPAQUE and upper not in ALIASES:
+            if upper in NOT_MODELLED:
+                self.fail(token, f"data type {token} is not modelled by the interpreter", "unsupported")
+            self.fail(token, f"unknown data type {token}", "unknown-type")
+        stars = len(conformant.children) if conformant is not None and conformant.children else (1 if conformant else 0)
+        for _ in range(stars):
+            upper = (upper, None)
+        return upper
+
+    def zero_of(self, type_name):
+        if isinstance(type_name, tuple):
+            element, size = type_name
+            return [self.zero_of(element) for _ in range(size or 0)]
+        if type_name in SIGNAL_TYPES:
+            return Record(type_name, {"NAME": ""})
+        if type_name == CLOCK:
+            return dataops.clock_zero()
+        if type_name in ALIASES:
+            return zero(ALIASES[type_name])
+        return zero(type_name, self.records)
 
     def coerce(self, type_name, value, where):
         if type_name is None:
@@ -60,21 +160,24 @@ class RAPIDCompiler(Compiler):
         if type_name == "NUM":
             return value if type(value) is F32 else f32(num(value, where))
         if isinstance(type_name, tuple):  # (element type, size) array
-            return self.coerce_array(type_name, value, where, type_name[0].lower())
+            element = type_name[0]
+            while isinstance(element, tuple):
+                element = element[0]
+            return self.coerce_array(type_name, value, where, str(element).lower())
         if type_name == "DNUM":
             return float(num(value, where))
-        if type_name == "BOOL":
+        if type_name in ("BOOL", "SWITCH"):
             if not isinstance(value, bool):
-                raise RunError(f"{where}: expected a bool")
+                raise RunError(f"{where}: expected a bool, got {type_text(value)}")
             return value
         if type_name == "STRING":
             if not isinstance(value, str):
-                raise RunError(f"{where}: expected a string")
+                raise RunError(f"{where}: expected a string, got {type_text(value)}")
             if len(value) > 80:
                 raise RunError(f"{where}: string longer than 80 characters")
             return value
-        if type_name in RECORDS:
-            fields = RECORDS[type_name]
+        fields = self.records.get(type_name)
+        if fields is not None:
             if isinstance(value, Record):
                 if value.type != type_name:
                     raise RunError(f"{where}: expected {type_name.lower()}, got {str(value.type).lower()}")
@@ -84,7 +187,13 @@ class RAPIDCompiler(Compiler):
                     raise RunError(f"{where}: {type_name.lower()} has {len(fields)} components, got {len(value)}")
                 return Record(type_name, {k: self.coerce(t, v, where) for (k, t), v in zip(fields, value, strict=True)})
             raise RunError(f"{where}: expected {type_name.lower()}, got {type_text(value)}")
-        return value  # speeddata, zonedata, tooldata...: opaque here
+        if type_name in ALIASES:  # the manual's aliases (intnum, errnum, byte...): stored as their type
+            return self.coerce(ALIASES[type_name], value, where)
+        if type_name in OPAQUE:
+            if not (isinstance(value, Record) and value.type == type_name):
+                raise RunError(f"{where}: expected {type_name.lower()}, got {type_text(value)}")
+            return value
+        return value
 
     def element_type(self, type_name):
         return type_name[0] if isinstance(type_name, tuple) else type_name
@@ -98,29 +207,15 @@ class RAPIDCompiler(Compiler):
             storage = self.storage.get(key)
             if key in machine.globals and storage not in (None, "PERS"):
                 raise RunError(f"input {name}: {storage} data gets its initial value at each start (PERS keeps one)")
+        if self.signal_names:  # named in the trace: the signals the program uses without declaring them
+            machine.trace.simulated_io = self.simulated_io()
         super().inject_inputs(machine)
 
+    def simulated_io(self) -> dict[str, str]:
+        """The signals the program uses without declaring them (simulated I/O): name -> kind in words."""
+        return {name: signals.KIND_NAMES[self.signal_kinds[key]] for key, name in self.signal_names.items()}
+
     # --- expressions -------------------------------------------------------------------------
-    def var_reader(self, token):
-        key = self.norm(name := str(token))  # the reader keeps the name: a kept token keeps the parse tree's memory
-        where = self.where(token)
-        predefined = key if _PREDEFINED.match(key) else PREDEFINED_VALUES.get(key)
-        if predefined is None:
-            predefined = errors.ERROR_CONSTANTS.get(key)
-
-        def read(fr):
-            if key in fr.vars:
-                return fr.vars[key]
-            if key in fr.m.globals:
-                return fr.m.globals[key]
-            if predefined is not None:
-                return predefined
-            if key == "ERRNO":  # the system variable: the most recent error's number
-                return fr.m.extra.get("ERRNO", f32(0))
-            raise RunError(f"{where}: undefined variable {name}")
-
-        return read
-
     def e_intdiv(self, node):
         left, right = self.expr(node.children[0]), self.expr(node.children[2])
         return lambda fr: f32(int(float(left(fr)) / float(right(fr))))
@@ -150,29 +245,22 @@ class RAPIDCompiler(Compiler):
 
     def e_index(self, node):
         base_node, *index_nodes = node.children
-        if len(index_nodes) != 1:
-            self.fail(node, "multi-dimensional arrays are not supported")
-        return super().e_index(Tree("index", [base_node, index_nodes[0]], node.meta))
-
-    def call_args(self, args_node):
-        positional, named = [], {}
-        for arg in args_node.children if args_node is not None else []:
-            if isinstance(arg, Tree) and arg.data == "opt_arg":
-                name, value = arg.children
-                named[str(name).upper()] = self.src(value) if value is not None else "True"
-            else:
-                positional.append(arg)
-        return positional, named
+        for index_node in index_nodes[:-1]:  # a{i, j}: (a{i}){j}
+            base_node = Tree("index", [base_node, index_node], node.meta)
+        return super().e_index(Tree("index", [base_node, index_nodes[-1]], node.meta))
 
     def e_call(self, node):
         name, args_node = node.children
-        signal = waits.signal_function(self, node, str(name), args_node)
+        upper = str(name).upper()
+        if upper == "PRESENT" and self.data_key(upper) not in self.user_routines:
+            return self.present(node, args_node)
+        special = dataops.FUNCTIONS.get(upper)
+        if special is not None and self.data_key(upper) not in self.user_routines:
+            return special(self, node, args_node)
+        signal = signals.signal_function(self, node, str(name), args_node)
         if signal is not None:
             return signal
-        positional, named = self.call_args(args_node)
-        args = [self.src(a) for a in positional]
-        setters = self.ref_setters(str(name), positional)
-        return self.call_source(str(name), args, named, setters, self.where(node))
+        return self.resolved_call(node, str(name), args_node, as_function=True)
 
     def new_variable(self, fr, key, value, where):
         raise RunError(f"{where}: assignment to undeclared variable {key}")
@@ -201,7 +289,10 @@ class RAPIDCompiler(Compiler):
     # --- statements --------------------------------------------------------------------------
     def stmt(self, node):
         """A statement of a routine with an ERROR handler runs under it (errors.protect)."""
-        compiled = super().stmt(node)
+        try:
+            compiled = super().stmt(node)
+        except Skip:
+            return Inline(self, [])
         if self.handler is None or self.in_handler:
             return compiled
         handler, errnos = self.handler
@@ -209,13 +300,15 @@ class RAPIDCompiler(Compiler):
 
     def s_proc_call(self, node):
         name, args_node = node.children
-        key = str(name).upper()
+        key, upper = self.data_key(str(name)), str(name).upper()
         if key in self.trap_names:
             self.fail(node, f"{name} is a TRAP routine: it runs when its interrupt comes (CONNECT), it is not called")
-        special = SPECIAL.get(key)
-        if special is not None:
-            return special(self, node, args_node)
-        return self.s_call_stmt(node)
+        if key not in self.user_routines:
+            special = SPECIAL.get(upper)
+            if special is not None:
+                return special(self, node, args_node)
+        call = self.resolved_call(node, str(name), args_node)
+        return Inline(self, self.guarded([call], self.where(node)))
 
     def s_connect_stmt(self, node):
         return interrupts.connect(self, node)
@@ -265,7 +358,15 @@ class RAPIDCompiler(Compiler):
         for child in body_node.children:
             if isinstance(child, Tree) and child.data == "data_decl":
                 self.fail(child, "declarations are only allowed at the start of a routine")
-        return self.block(body_node.children)
+        counter, self._counter = self._counter, None
+        if counter is None or self.local_types is None:
+            return self.block(body_node.children)
+        saved = self.local_types, self.for_counters
+        self.local_types, self.for_counters = {**saved[0], counter: "NUM"}, saved[1] | {counter}
+        try:
+            return self.block(body_node.children)
+        finally:
+            self.local_types, self.for_counters = saved
 
     def s_for_stmt(self, node):
         """The counter is a local of the loop, set from the loop's own count at every pass."""
@@ -275,79 +376,89 @@ class RAPIDCompiler(Compiler):
         def store(fr, i):
             fr.vars[key] = f32(i)
 
+        self._counter = key  # the loop's body (body_block) sees it as a routine datum
         return self.for_loop(node, start, stop, step, body, number=float, store=store)
 
     def s_test_stmt(self, node):
         return self.switch(node, self.body_block)
 
     # --- declarations and routines -------------------------------------------------------------
-    def decl(self, node):
+    def decl(self, node, key: str | None = None):
+        """(key, make): make(fr) -> (type, initial value) of a data declaration."""
         _local, _task, storage, type_name, name, dims, init = node.children
-        key, type_key = str(name).upper(), str(type_name).upper()
         where = self.where(node)
         size_exprs = [self.expr(d) for d in dims.children] if dims is not None else []
-        if len(size_exprs) > 1:
-            self.fail(dims, "multi-dimensional arrays are not supported")
+        base = self.resolve_type(type_name)
         value = self.expr(init) if init is not None else None
+        if value is not None and base in OPAQUE:
+            self.fail(node, f"{type_name} data takes no initial value")
         if str(storage).upper() == "CONST" and value is None:
             self.fail(node, f"CONST {name} needs a value")
 
         def make(fr):
-            if size_exprs:
-                size = int(size_exprs[0](fr))
-                full_type = (type_key, size)
-                initial = value(fr) if value is not None else [zero(type_key) for _ in range(size)]
-                return full_type, self.coerce(full_type, initial, where)
-            return type_key, self.coerce(type_key, value(fr), where) if value is not None else zero(type_key)
+            full_type = base
+            for size in reversed([int(num(s(fr), where)) for s in size_exprs]):
+                full_type = (full_type, size)
+            if value is None:
+                return full_type, self.zero_of(full_type)
+            return full_type, self.coerce(full_type, value(fr), where)
 
-        return key, make
+        return key or str(name).upper(), make
 
     def static_type(self, node):
         """A declaration's type when it is known without running (array sizes as literals)."""
         _local, _task, _storage, type_name, _name, dims, _init = node.children
-        type_key = str(type_name).upper()
-        if dims is None:
-            return type_key
-        sizes = dims.children
-        if len(sizes) == 1 and isinstance(sizes[0], Tree) and sizes[0].data == "number":
-            return (type_key, int(float(str(sizes[0].children[0]))))
+        full = self.resolve_type(type_name)
+        for size in reversed(dims.children if dims is not None else []):
+            if not (isinstance(size, Tree) and size.data == "number"):
+                return None
+            full = (full, int(float(str(size.children[0]))))
+        return full
+
+    def static_type_of(self, node):
+        """The type of a variable node (a routine's or module's datum), when known."""
+        if isinstance(node, Tree) and node.data == "var":
+            upper = str(node.children[0]).upper()
+            if self.local_types is not None and upper in self.local_types:
+                return self.local_types[upper]
+            return self.data_types.get(self.data_key(upper))
         return None
 
-    def routine(self, node, returns: bool) -> None:
-        handler = node.children[-1]
-        self.handler_node = handler if isinstance(handler, Tree) and handler.data == "error_clause" else None
-        children = [
-            c
-            for c in node.children
-            if not (isinstance(c, Token) and c.type == "LOCAL") and c is not None and c is not self.handler_node
-        ]
-        if returns:
-            return_type, name, *rest = children
+    def routine(self, node, key: str) -> None:
+        """Compile a PROC, FUNC or TRAP whose parameters task.py has read (routine_decls)."""
+        c = node.children
+        clauses = {x.data: x for x in c if isinstance(x, Tree) and x.data.endswith("_clause")}
+        if "undo_clause" in clauses:
+            self.fail(clauses["undo_clause"], "an UNDO handler is not modelled by the interpreter", "unsupported")
+        self.handler_node = clauses.get("error_clause")  # BACKWARD: only backward execution runs it (never here)
+        if node.data == "func":
+            _local, return_type, name, _params, body = c[:5]
+        elif node.data == "trap":
+            (_local, name, body), return_type = c[:3], None
         else:
-            name, *rest = children
-            return_type = None
-        params_node = rest[0] if len(rest) == 2 else None
-        body = rest[-1]
-        params = []
-        for param in params_node.children if params_node is not None else []:
-            optional, mode, ptype, pname, conformant = param.children
-            if optional is not None:
-                self.fail(param, "optional parameters of user routines are not supported")
-            type_key = str(ptype).upper()
-            full_type = (type_key, None) if conformant is not None else type_key
-            params.append((str(pname).upper(), str(mode).upper() if mode else "IN", full_type))
-        decls = []  # (name, static type, initialiser)
+            (_local, name, _params, body), return_type = c[:4], None
+        required, spec = self.routine_decls[key][:2]
+        decls, storage = [], {}
 
         def declare(child):
-            key, make = self.decl(child)
+            dkey, make = self.decl(child)
             static_type = self.static_type(child)
-            decls.append((key, static_type, self._local_init(child, static_type, make)))
+            storage[dkey] = str(child.children[2]).upper()
+            decls.append((dkey, static_type, self._local_init(child, static_type, make)))
 
         message = "declarations are only allowed at the start of a routine"
         statements = self.routine_statements(body, "data_decl", declare, message)
-        local_types = {p: t for p, _m, t in params} | {k: t for k, t, _init in decls}
-        return_type = str(return_type).upper() if return_type else None
-        self.define_routine(str(name).upper(), name, params, return_type, node, statements, decls, local_types)
+        optional = spec.params if spec is not None else {}
+        local_types = {p: t for p, _m, t in required} | {p: t for p, (t, _m) in optional.items()}
+        local_types |= {k: t for k, t, _init in decls}
+        return_type = self.resolve_type(return_type) if return_type is not None else None
+        self.current_optional, self.local_storage = frozenset(optional), storage
+        try:
+            routine = self.define_routine(key, name, required, return_type, node, statements, decls, local_types)
+        finally:
+            self.current_optional, self.local_storage = frozenset(), {}
+        if spec is not None:
+            self.optional[routine] = spec
 
     def compile_routine_body(self, routine, statements, local_types=None) -> None:
         """The body, and its ERROR handler first (in the routine's scope: its data covers the handler)."""
@@ -387,65 +498,23 @@ class RAPIDCompiler(Compiler):
         """A local's initialiser: its zero value shared by every call when it has no initial
         value and a known size (values are never changed in place)."""
         if node.children[-1] is None and static_type is not None:
-            if isinstance(static_type, tuple):
-                return constant([zero(static_type[0])] * static_type[1])
-            return constant(zero(static_type))
+            return constant(self.zero_of(static_type))
         return lambda fr: make(fr)[1]
 
 
 SPECIAL = {  # instructions compiled from their argument nodes (names, variables written, switches)
     **waits.SPECIAL,
     **interrupts.SPECIAL,
+    **signals.SPECIAL,
+    **pendant.SPECIAL,
+    **dataops.SPECIAL,
     "UIMSGBOX": messages.ui_msg_box,
     "SEARCHL": search.search_l,
 }
 
 
-def _routine_name(item) -> str:
-    named = [c for c in item.children if c is not None and not (isinstance(c, Token) and c.type == "LOCAL")]
-    return str(named[1 if item.data == "func" else 0])
-
-
 def load(text: str, filename: str = "<rapid>") -> Program:
-    tree = parse(text, filename)
-    compiler = RAPIDCompiler(filename)
-    module = tree.children[0]
-    compiler.user_routines = set()
-    seen = set()
-    for item in module.children:
-        if isinstance(item, Tree) and item.data in ("proc", "func", "trap"):
-            name = _routine_name(item)
-            if name.upper() in seen:
-                compiler.fail(item, f"routine {name} defined twice")
-            seen.add(name.upper())
-            (compiler.trap_names if item.data == "trap" else compiler.user_routines).add(name.upper())
-    data = []
-    for item in module.children:
-        if not isinstance(item, Tree):
-            continue
-        if item.data == "data_decl":
-            key = str(item.children[4]).upper()
-            if key in compiler.storage:  # names are case-insensitive: LSR_X and lsr_x are one datum
-                compiler.fail(item, f"{item.children[4]} declared twice in the module (names ignore case)")
-            if key in seen:  # one name, one object in a scope (RAPID overview, scope rules; recalled)
-                compiler.fail(item, f"{item.children[4]} names both data and a routine (names ignore case)")
-            data.append(compiler.decl(item))
-            compiler.storage[key] = str(item.children[2]).upper()
-        elif item.data == "proc":
-            compiler.routine(item, returns=False)
-        elif item.data == "func":
-            compiler.routine(item, returns=True)
-        elif item.data == "trap":  # compiled as a procedure without parameters, kept apart: never called
-            compiler.routine(item, returns=False)
-            key = _routine_name(item).upper()
-            compiler.traps[key] = compiler.routines.pop(key)
-    if "MAIN" not in compiler.routines:
-        raise RunError(f"{filename}: no PROC main")
+    """A program of one file (its module, or the modules of an old-style .prg)."""
+    from codegen.dialects.rapid.task import load_task
 
-    def init(fr):
-        for key, make in data:
-            type_name, value = make(fr)
-            fr.m.global_types[key] = type_name
-            fr.m.globals[key] = value
-
-    return Program(str(module.children[0]), compiler, init, "MAIN")
+    return load_task([SourceFile(filename, text)])
