@@ -39,7 +39,7 @@ class Calls:
         required, spec = [], OptionalSpec()
         for item in params_node.children if params_node is not None else []:
             alternative = item.data == "alt_param"
-            param = item.children[0] if alternative else item
+            param = item.children[0] if alternative else item  # a param or an opt_param: the same children
             optional, mode, ptype, pname, conformant = param.children
             key = str(pname).upper()
             mode_key = str(mode).upper() if mode else "IN"

@@ -62,6 +62,9 @@ class RAPIDCompiler(Labels, Calls, Names, Compiler):
         self.storage: dict[str, str] = {}  # module data by key: VAR, PERS or CONST
         self.data_types: dict = {}  # module data by key: its type
         self.scope: dict[str, str] = {}  # the module being compiled: names whose key differs (LOCAL ones)
+        self.scopes: dict[str, dict] = {}  # every module's scope by module name
+        self.local_owner: dict[str, str] = {}  # a LOCAL datum's or routine's key -> its module (seen only there)
+        self.module_name = ""  # the module being compiled
         self.user_routines: set[str] = set()  # PROC and FUNC keys of the task
         self.trap_names: set[str] = set()  # TRAP keys (known before any routine is compiled)
         self.traps: dict = {}  # TRAP routines by key: run by their interrupts only (interrupts.py)

@@ -34,7 +34,9 @@ class Names:
         """The key of a module datum or routine as the current module sees it (a LOCAL one of a module whose
         name another module also declares is kept under its own key)."""
         upper = name.upper()
-        return self.scope.get(upper, upper)
+        key = self.scope.get(upper, upper)
+        owner = self.local_owner.get(key)
+        return key if owner is None or owner == self.module_name else f"{upper}@{owner}:hidden"
 
     def named_constant(self, upper: str):
         """Predefined data, error numbers and the UIMsgBox and string constants by name; None if not one."""
@@ -51,7 +53,7 @@ class Names:
                 absent = self.const(_absent(name, where))
                 return Src(f"(V[{upper!r}] if {upper!r} in V else {absent}(fr))")
             return Src(f"V[{upper!r}]")
-        key = self.scope.get(upper, upper)
+        key = self.data_key(upper)
         kind = self.data_types.get(key)
         if kind is not None:
             if kind in SIGNAL_TYPES:  # a signal variable read as a value: the signal's value
@@ -86,7 +88,7 @@ class Names:
             if self.local_storage.get(upper) == "CONST":
                 self.fail(token, f"{name} is a CONST: it cannot be assigned")
             return [f"V[{upper!r}] = {self.coerce_source(self.local_types[upper], value, where)}"]
-        key = self.scope.get(upper, upper)
+        key = self.data_key(upper)
         if key in self.data_types:
             if self.storage.get(key) == "CONST":
                 self.fail(token, f"{name} is a CONST: it cannot be assigned")

@@ -240,15 +240,16 @@ def alias_io(compiler, node, args_node) -> Callable:
         compiler.fail(node, "AliasIO: the second argument is a signal variable")
     key = compiler.data_key(str(target.children[0]))
     kind = compiler.data_types.get(key)
-    if kind not in SIGNAL_TYPES:
-        compiler.fail(target, f"AliasIO: {target.children[0]} is not a signal variable (signaldi, signaldo...)")
-    store, where = compiler.lvalue(target), compiler.where(node)
+    local = compiler.local_types is not None and key in compiler.local_types
+    if kind not in SIGNAL_TYPES or local:
+        compiler.fail(target, f"AliasIO: {target.children[0]} is not a signal variable of the module (signaldo...)")
+    where = compiler.where(node)
 
     def run(fr):
         signal = name if read is None else read(fr)
         if not isinstance(signal, str) or not signal:
             raise RunError(f"{where}: AliasIO: the configured signal is a name or a string")
-        store(fr, Record(kind, {"NAME": signal}))
+        fr.m.globals[key] = Record(kind, {"NAME": signal})
 
     return run
 

@@ -21,6 +21,17 @@ MODULE_ATTRIBUTES = {"SYSMODULE", "NOSTEPIN", "VIEWONLY", "READONLY", "NOVIEW"}
 _WHERE = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<column>\d+): (?P<message>.*)$", re.DOTALL)
 
 
+_MULTI_INDEX = re.compile(r"\{[^}\n]*,")  # a{i, j} somewhere (or a declaration's {2, 3}): index trees to nest
+
+
+def _nest_indexes(tree) -> None:
+    """a{i, j} as (a{i}){j}: the compiler reads and stores elements of nested arrays one index at a time."""
+    for node in tree.iter_subtrees():
+        while node.data == "index" and len(node.children) > 2:
+            base, first, *rest = node.children
+            node.children = [Tree("index", [base, first], node.meta), *rest]
+
+
 class _Symbol:
     __slots__ = ("kind", "local", "module", "name", "node")
 
@@ -58,33 +69,38 @@ def _long_names(compiler: RAPIDCompiler, tree) -> None:
             compiler.report(token, f"name {token} has {len(token)} characters: at most {IDENTIFIER_MAX}", "name-length")
 
 
-def load_task(files: list[SourceFile], findings: list | None = None) -> Program | None:
+def load_task(files: list[SourceFile], findings: list | None = None, out: dict | None = None) -> Program | None:
     """The program of a task's modules (their files in any order; one of them has PROC main). findings: `codegen
     check` collects every finding there and gets None back when one is an error; else the first error raises."""
     modules = []  # (file name, module tree)
     for f in files:
         tree = parse(f.text, f.name)
+        if _MULTI_INDEX.search(f.text):
+            _nest_indexes(tree)
         modules += [(f.name, m) for m in tree.children if isinstance(m, Tree) and m.data == "module"]
     compiler = RAPIDCompiler(files[0].name, findings)
+    if out is not None:  # `codegen check` reads the compiler's tables even when the task does not load
+        out["compiler"] = compiler
     symbols, by_module = _symbols(compiler, modules)
     _types(compiler, symbols)
     _keys(compiler, symbols, by_module)
+    compiler.scopes = {module: entry["scope"] for (module, _file), entry in by_module.items()}
     _signals(compiler, modules)
     data = []
     for module, file in by_module:
-        compiler.filename, compiler.scope = file, by_module[(module, file)]["scope"]
+        _enter(compiler, module, file, by_module)
         for symbol in by_module[(module, file)]["symbols"]:
             if symbol.kind in ("proc", "func", "trap"):
                 _guard(compiler, _declare_routine, compiler, symbol)
     for module, file in by_module:
-        compiler.filename, compiler.scope = file, by_module[(module, file)]["scope"]
+        _enter(compiler, module, file, by_module)
         for symbol in by_module[(module, file)]["symbols"]:
             if symbol.kind == "data":
                 made = _guard(compiler, compiler.decl, symbol.node, compiler.data_key(str(symbol.name)))
                 if made is not None:
                     data.append(made)
     for module, file in by_module:
-        compiler.filename, compiler.scope = file, by_module[(module, file)]["scope"]
+        _enter(compiler, module, file, by_module)
         for symbol in by_module[(module, file)]["symbols"]:
             if symbol.kind in ("proc", "func", "trap"):
                 key = compiler.data_key(str(symbol.name))
@@ -197,8 +213,10 @@ def _keys(compiler: RAPIDCompiler, symbols, by_module) -> None:
             if symbol.local and len(group) > 1:
                 key = f"{upper}@{symbol.module}"
                 by_module[(symbol.module, _file_of(by_module, symbol))]["scope"][upper] = key
-    for (_module, file), entry in by_module.items():
-        compiler.filename, compiler.scope = file, entry["scope"]
+            elif symbol.local:
+                compiler.local_owner[upper] = symbol.module
+    for (module, file), entry in by_module.items():
+        compiler.filename, compiler.scope, compiler.module_name = file, entry["scope"], module
         for symbol in entry["symbols"]:
             key = compiler.data_key(str(symbol.name))
             if symbol.kind == "data":
@@ -216,6 +234,10 @@ def _keys(compiler: RAPIDCompiler, symbols, by_module) -> None:
                 compiler.user_routines.add(key)
             elif symbol.kind == "trap":
                 compiler.trap_names.add(key)
+
+
+def _enter(compiler: RAPIDCompiler, module: str, file: str, by_module) -> None:
+    compiler.filename, compiler.scope, compiler.module_name = file, by_module[(module, file)]["scope"], module
 
 
 def _file_of(by_module, symbol) -> str:

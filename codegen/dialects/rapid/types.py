@@ -110,6 +110,13 @@ def text(value, where: str, what: str = "a string") -> str:
 
 
 def rec(value, type_name: str, where: str) -> Record:
+    """value as a record of type_name: the record itself, or an aggregate of its components (nums, records)."""
+    if isinstance(value, list) and type_name in RECORDS and len(value) == len(RECORDS[type_name]):
+        fields = RECORDS[type_name]
+        out = {}
+        for (key, kind), item in zip(fields, value, strict=True):
+            out[key] = rec(item, kind, where) if kind in RECORDS else (f32(num(item, where)) if kind == "NUM" else item)
+        return Record(type_name, out)
     if not isinstance(value, Record) or value.type != type_name:
         raise RunError(f"{where}: expected {type_name.lower()}, got {type_text(value)}")
     return value
