@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 from lark import Tree
 
 from codegen.dialects.core.source import Src
@@ -20,6 +22,17 @@ from codegen.dialects.rapid.types import SIGNAL_TYPES
 # predefined data of the system modules (tool0, v100, ...) are global data the program may not redeclare (a
 # program's own declaration is used, and `codegen check` warns).
 CONSTANTS = {**PREDEFINED_VALUES, **errors.ERROR_CONSTANTS, **STRINGS}
+# A name a program reads as a value without declaring it, and that no signal instruction names, is taken as a signal
+# of the I/O configuration when it is spelt as signals usually are (the EIO's names are not in the program: the
+# manual's examples and public programs name them di1, DI10_1, diPartReady, DO_Lamp, gi_Recipe...): the prefix di,
+# do, gi, go, ai or ao, then a digit, an underscore or (after a lower-case prefix) an upper-case letter. A guess,
+# so `codegen check` warns of each one; any other undeclared name is an error.
+_SIGNAL_NAME = re.compile(r"^(?:(di|do|gi|go|ai|ao)[0-9_A-Z]|(DI|DO|GI|GO|AI|AO|Di|Do|Gi|Go|Ai|Ao)[0-9_])")
+
+
+def implicit_signal_kind(name: str) -> str | None:
+    match = _SIGNAL_NAME.match(name)
+    return None if match is None else (match.group(1) or match.group(2)).upper()
 
 
 def read_errno(fr):
@@ -74,6 +87,13 @@ class Names:
             return Src(f"{self.const(reader)}(fr)")
         if upper in self.routine_keys():
             self.fail(token, f"{name} is a routine, not data")
+        kind = implicit_signal_kind(name)
+        if kind is not None:
+            self.signal_names[upper], self.signal_kinds[upper] = name, kind
+            what = signals.KIND_NAMES[kind]
+            message = f"{name} is not declared: taken as the {what} {name} of the I/O configuration (simulated)"
+            self.report(token, message, "implicit-signal", "warning")
+            return Src(f"{self.const(signals.reader(kind, lambda fr: name))}(fr)")
         self.report(token, f"undefined variable {name}", "undefined-name")
         return Src(f"{self.const(_undefined(name, where))}(fr)")
 

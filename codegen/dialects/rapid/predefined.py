@@ -70,6 +70,10 @@ PREDEFINED["LOAD0"] = _record("LOADDATA", LOAD0)
 PREDEFINED["TOOL0"] = _record("TOOLDATA", (True, IDENTITY, LOAD0))
 PREDEFINED["WOBJ0"] = _record("WOBJDATA", (False, True, "", IDENTITY, IDENTITY))
 
+# The system module USER's data (RobotWare's USER.sys, as recalled): variables a program may use without declaring
+# them, as every task has them: VAR num reg1 ... reg5 (0 at the start) and VAR clock clock1.
+USER_DATA = {**{f"REG{i}": "NUM" for i in range(1, 6)}, "CLOCK1": "CLOCK"}
+
 # A predefined datum by identity: a move's settings name it (values are never changed in place, so a variable
 # that was given v100 holds this very record until it is given another value).
 NAMES: dict[int, str] = {id(record): name for name, record in PREDEFINED.items()}

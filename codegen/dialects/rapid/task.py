@@ -11,6 +11,7 @@ from codegen.dialects.core.machine import Program
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import signals
 from codegen.dialects.rapid.interpreter import RAPIDCompiler, Skip, parse
+from codegen.dialects.rapid.predefined import USER_DATA
 from codegen.dialects.rapid.types import IDENTIFIER_MAX
 
 # A task's program (ABB, "Technical reference manual - RAPID overview", Program structure; as recalled): the
@@ -85,8 +86,8 @@ def load_task(files: list[SourceFile], findings: list | None = None, out: dict |
     _types(compiler, symbols)
     _keys(compiler, symbols, by_module)
     compiler.scopes = {module: entry["scope"] for (module, _file), entry in by_module.items()}
+    data = _user_data(compiler, files)
     _signals(compiler, modules)
-    data = []
     for module, file in by_module:
         _enter(compiler, module, file, by_module)
         for symbol in by_module[(module, file)]["symbols"]:
@@ -238,6 +239,20 @@ def _keys(compiler: RAPIDCompiler, symbols, by_module) -> None:
 
 def _enter(compiler: RAPIDCompiler, module: str, file: str, by_module) -> None:
     compiler.filename, compiler.scope, compiler.module_name = file, by_module[(module, file)]["scope"], module
+
+
+_USER_NAMES = re.compile(r"\b(reg[1-5]|clock1)\b", re.IGNORECASE)
+
+
+def _user_data(compiler: RAPIDCompiler, files) -> list:
+    """The USER module's variables (reg1..reg5, clock1) the program uses without declaring them itself."""
+    used = {m.upper() for f in files for m in _USER_NAMES.findall(f.text)}
+    data = []
+    for name, kind in USER_DATA.items():
+        if name in used and name not in compiler.data_types:
+            compiler.data_types[name], compiler.storage[name] = kind, "VAR"
+            data.append((name, lambda fr, kind=kind: (kind, compiler.zero_of(kind))))
+    return data
 
 
 def _file_of(by_module, symbol) -> str:

@@ -94,6 +94,20 @@ class Checker:
             return self.fits(target[0], value[0])
         return False
 
+    def why(self, target, value, path: str) -> str:
+        """Where an aggregate does not fit its type: the innermost component that does not (for messages)."""
+        target, value = self.base(target), self.base(value)
+        if isinstance(value, tuple) and value[0] == "AGG":
+            items = value[1]
+            fields = self.c.records.get(target) if isinstance(target, str) else None
+            if fields is not None and len(fields) == len(items):
+                for (key, kind), item in zip(fields, items, strict=True):
+                    if not self.fits(kind, item):
+                        return self.why(kind, item, f"{path}.{key.lower()}")
+            if fields is not None:
+                return f"{path} is {shown(target)} of {len(fields)} components, the aggregate has {len(items)}"
+        return f"{path} is {shown(target)}, not {shown(value)}"
+
     # --- routines and statements ------------------------------------------------------------------
     def routine(self, node) -> None:
         c = node.children
@@ -123,12 +137,12 @@ class Checker:
             _l, _t, _s, type_name, name, dims, init = node.children
             self.env[str(name).upper()] = declared = self.declared(type_name, dims)
             if init is not None and not self.fits(declared, value := self.expr(init)):
-                self.report(init, f"{name} is {shown(declared)}, its initial value is {shown(value)}")
+                self.report(init, f"initial value: {self.why(declared, value, str(name))}")
         elif kind == "assign":
             target, value_node = node.children
             have, value = self.expr(target), self.expr(value_node)
             if not self.fits(have, value):
-                self.report(value_node, f"the assignment stores {shown(value)} in {shown(have)}")
+                self.report(value_node, f"assignment: {self.why(have, value, 'the target')}")
         elif kind in ("if_stmt", "elseif_clause", "while_stmt", "compact_if"):
             self.condition(node.children[0])
             for child in node.children[1:]:

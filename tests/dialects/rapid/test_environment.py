@@ -220,3 +220,22 @@ def test_an_instruction_the_interpreter_does_not_model_is_refused_by_name_when_l
         load(mod("TPWrite \"a\";\nTriggL p, v100, trigg, fine, tool0;"), "t.mod")
     with pytest.raises(RunError, match=r"^t\.mod:4:1: unknown routine DoTheThing"):
         load(mod("DoTheThing;"), "t.mod")
+
+
+def test_the_user_modules_registers_and_clock_need_no_declaration():
+    body = 'reg1 := 2;\nIncr reg1;\nClkStart clock1;\nWaitTime 0.5;\nTPWrite "" \\Num:=reg1 + ClkRead(clock1) + reg5;'
+    program = load(mod(body), "t.mod")
+    assert program.run({}).messages == ["3.5"]
+    assert program.run({}).messages == ["3.5"]  # VAR data: every run starts from 0
+
+
+def test_an_undeclared_name_spelt_as_a_signal_is_read_as_one_and_check_warns():
+    from codegen.dialects.core.files import SourceFile
+    from codegen.dialects.rapid import Rapid
+
+    body = 'IF DI_PART_OK = 1 AND diDoor = 0 TPWrite "ok";'
+    assert run(body, signals={"DI_PART_OK": True}).messages == ["ok"]
+    found = Rapid.check_files([SourceFile("t.mod", mod(body))])
+    assert [(f.line, f.severity, f.code) for f in found] == [(4, "warning", "implicit-signal")] * 2
+    with pytest.raises(RunError, match=r"t\.mod:4:\d+: undefined variable done"):
+        load(mod('IF done = 1 TPWrite "x";'), "t.mod")
