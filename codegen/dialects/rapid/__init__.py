@@ -11,6 +11,7 @@ uses signals it does not declare): signal name -> "digital input", "digital outp
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from codegen.dialects import Dialect
@@ -95,6 +96,4 @@ def _in_backup(name: str) -> bool:
 
 
 def _has_main(text: str) -> bool:
-    import re
-
     return re.search(r"^\s*PROC\s+main\s*\(", text, re.IGNORECASE | re.MULTILINE) is not None

@@ -8,6 +8,7 @@ from codegen.dialects.core.machine import Frame
 from codegen.dialects.core.source import Inline, Src
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import errors
+from codegen.dialects.rapid.catalogue import NOT_MODELLED
 
 # Sources: ABB, "Technical reference manual - RAPID overview", Basic characteristics, Routines (parameters) and
 # Procedure call (late binding); as recalled, the text was not readable during this work:
@@ -132,8 +133,6 @@ class Calls:
                     self.report(node, f"{name}: {shown} are alternatives (one of them)", "arguments")
 
     def unknown_routine(self, node, name: str) -> None:
-        from codegen.dialects.rapid.catalogue import NOT_MODELLED
-
         if name.upper() in NOT_MODELLED:
             self.fail(node, f"{name} is not modelled by the interpreter", "unsupported")
         self.report(node, f"unknown routine {name}: defined in none of the program's modules", "undefined-routine")

@@ -8,7 +8,10 @@ from lark import Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
 from codegen.dialects.core.values import RunError
+from codegen.dialects.rapid import typecheck
+from codegen.dialects.rapid.compiler import parse
 from codegen.dialects.rapid.predefined import PREDEFINED
+from codegen.dialects.rapid.task import load_task
 
 SYNTAX_MAX = 10  # syntax errors reported per file (each further one after blanking the line of the one before)
 _SYNTAX = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<column>\d+): (?P<message>.*)$", re.DOTALL)
@@ -22,8 +25,6 @@ INPUT_FUNCTIONS = {"DINPUT", "TESTDI", "GINPUT", "AINPUT"}
 def syntax_findings(files: list[SourceFile]) -> list[Finding]:
     """Each file's syntax errors: the first, then (the line blanked) the next, up to SYNTAX_MAX, stopping at an
     error that is likely the first one's echo (an END... or ELSE of a blanked statement)."""
-    from codegen.dialects.rapid.interpreter import parse
-
     found = []
     for f in files:
         lines = f.text.split("\n")
@@ -48,10 +49,6 @@ def syntax_findings(files: list[SourceFile]) -> list[Finding]:
 
 def check_task(files: list[SourceFile], max_tcp_mm_s: float | None = None) -> list[Finding]:
     """Every finding of the task's files (codegen.dialects.core.files.Finding), in file and line order."""
-    from codegen.dialects.rapid import typecheck
-    from codegen.dialects.rapid.interpreter import parse
-    from codegen.dialects.rapid.task import load_task
-
     findings = syntax_findings(files)
     if findings:
         return findings

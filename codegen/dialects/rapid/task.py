@@ -6,11 +6,11 @@ import re
 
 from lark import Token, Tree
 
-from codegen.dialects.core.files import SourceFile
+from codegen.dialects.core.files import Finding, SourceFile
 from codegen.dialects.core.machine import Program
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import signals
-from codegen.dialects.rapid.interpreter import RAPIDCompiler, Skip, parse
+from codegen.dialects.rapid.compiler import RAPIDCompiler, Skip, parse
 from codegen.dialects.rapid.predefined import USER_DATA
 from codegen.dialects.rapid.types import IDENTIFIER_MAX
 
@@ -130,9 +130,7 @@ def load_task(files: list[SourceFile], findings: list | None = None, out: dict |
     return program
 
 
-def compiler_finding(file: str, line: int, column: int, message: str):
-    from codegen.dialects.core.files import Finding
-
+def compiler_finding(file: str, line: int, column: int, message: str) -> Finding:
     return Finding(file, line, column, "error", "error", message)
 
 

@@ -7,7 +7,6 @@ import pytest
 
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid.interpreter import load
-from codegen.dialects.rapid.pendant import Operator
 from codegen.signals import Gripper
 
 TARGET = "[[{x}, 0, 500], [1, 0, 0, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]]"
@@ -116,6 +115,8 @@ def test_tp_write_values_and_tp_erase():
 
 
 def test_tp_read_fk_and_tp_read_num_take_the_operators_answers_in_order():
+    from codegen.dialects.rapid.pendant import Operator  # the run's operator (codegen run --answer)
+
     body = 'TPReadFK key, "Go on?", "Yes", stEmpty, stEmpty, stEmpty, "No";\nTPReadNum n, "How many?";'
     body += '\nTPWrite "" \\Num:=key * 100 + n;'
     trace = run(body, "VAR num key;\nVAR num n;", devices=[Operator([5, 12])])
