@@ -122,11 +122,11 @@ def _read(compiler, node, args_node, keys: int) -> Callable:
                 raise error
             flag(fr, f32(error.errno))
             return
+        if not math.isfinite(answer):
+            raise RunError(f"{where}: {name}: the operator's answer is not a number")
         if keys and (answer != int(answer) or not 1 <= answer <= keys or not texts[int(answer) - 1]):
             shown = [i + 1 for i, t in enumerate(texts) if t]
             raise RunError(f"{where}: {name}: the operator's answer {answer:g} is not one of the keys {shown}")
-        if not math.isfinite(answer):
-            raise RunError(f"{where}: {name}: the operator's answer is not a number")
         if flag is not None:
             flag(fr, f32(0))
         store(fr, f32(answer))
