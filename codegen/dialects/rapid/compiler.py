@@ -231,6 +231,9 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
         call = self.resolved_call(node, str(name), args_node)
         return Inline(self, self.guarded([call], self.where(node)))
 
+    def s_placeholder(self, node):
+        self.fail(node, f"<{node.children[0]}> is a placeholder: the routine is not finished", "unsupported")
+
     def s_connect_stmt(self, node):
         return interrupts.connect(self, node)
 
