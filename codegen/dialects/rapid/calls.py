@@ -10,12 +10,15 @@ from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import errors
 from codegen.dialects.rapid.catalogue import NOT_MODELLED
 
-# Sources: ABB, "Technical reference manual - RAPID overview", Basic characteristics, Routines (parameters) and
-# Procedure call (late binding); as recalled, the text was not readable during this work:
-# - a parameter written \Name is optional: the call may leave it out; Present(Name) tells whether it was given;
-#   reading one that is not present is an error; `\switch Name` takes no value (\Name in the call);
-#   optional parameters joined by | are alternatives: at most one of them is given;
-# - an argument \Name?Par passes the caller's optional parameter Par on only where it is present itself;
+# Sources: ABB, "RAPID Reference Manual - Basic Characteristics RAPID", 3.2 Parameters and 7.6 Using function calls
+# in expressions (read at yumpu.com/en/document/view/5679047, pages 88, 105, 106):
+# - "An optional parameter is denoted by a backslash" (PROC routine2 (num required_par \num optional_par)); "the
+#   value of an optional parameter that is omitted in a routine call may not be referenced"; optional arguments
+#   "may be declared to exclude each other" (joined by | here): only one of them may be present;
+# - an argument \Name?Par (ReadBin (File \Time?Maxtime)) is passed on only where the caller's optional parameter
+#   Par is present itself, and "simply considered to be omitted" otherwise.
+# As recalled (the text was not found): Present(Name) tells whether an optional parameter was given; `\switch Name`
+# takes no value (\Name in the call);
 # - %expression% Arguments: the procedure whose name the string expression gives (late binding); no such procedure
 #   is the error ERR_REFUNKPRC, wrong arguments ERR_CALLPROC (both recoverable in an ERROR handler).
 ABSENT = object()  # a conditional argument whose parameter is not present: as if not given
