@@ -38,4 +38,10 @@ RobOS RunMode SocketGetStatus STCalcForce STCalcTorque STIsCalib STIsClosed STIs
 StrDigCmp StrToByte TaskRunMec TaskRunRob TasksInSync TestAndSet TestSignRead TextGet TextTabFreeToUse TextTabGet
 Type UIAlphaEntry UIClientExist UIDnumEntry UIDnumTune UIListView UIMessageBox UINumEntry UINumTune
 """
-NOT_MODELLED = frozenset(name.upper() for name in (_INSTRUCTIONS + _FUNCTIONS).split())
+# Options' instructions and functions public programs call (Externally Guided Motion; YuMi's SmartGripper module).
+_OPTIONS = """
+EGMActJoint EGMActPose EGMGetId EGMGetState EGMReset EGMRunJoint EGMRunPose EGMSetupAI EGMSetupAO EGMSetupGI
+EGMSetupLTAPP EGMSetupUC EGMStop EGMStreamStart EGMStreamStop g_Init g_Calibrate g_GripIn g_GripOut g_MoveTo g_JogIn
+g_JogOut g_Stop g_BlowOn1 g_BlowOff1 g_VacuumOn1 g_VacuumOff1 g_GetPos g_IsCalibrated
+"""
+NOT_MODELLED = frozenset(name.upper() for name in (_INSTRUCTIONS + _FUNCTIONS + _OPTIONS).split())

@@ -65,8 +65,11 @@ def _guard(compiler, fn, *args):
 
 
 def _long_names(compiler: RAPIDCompiler, tree) -> None:
-    for token in tree.scan_values(lambda v: isinstance(v, Token) and v.type == "NAME"):
-        if len(token) > IDENTIFIER_MAX:
+    """Names longer than the controller takes, each once (where it is first written)."""
+    seen = set()
+    for token in tree.scan_values(lambda v: isinstance(v, Token) and v.type == "NAME" and len(v) > IDENTIFIER_MAX):
+        if token.upper() not in seen:
+            seen.add(token.upper())
             compiler.report(token, f"name {token} has {len(token)} characters: at most {IDENTIFIER_MAX}", "name-length")
 
 
