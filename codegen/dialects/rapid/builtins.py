@@ -12,8 +12,10 @@ from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.rapid import motionset
 from codegen.dialects.rapid.messages import err_write
 from codegen.dialects.rapid.motion import (
+    ACTIVE_KEY,
     check_circle,
     conf_now,
+    make_active,
     move_event,
     move_load,
     move_setting,
@@ -125,7 +127,7 @@ def builtins(compiler) -> dict:
             no_motion_in_trap(fr, where, "MoveJ" if kind == "joint" else "MoveL")
             timing = move_timing(args, kwargs, where)
             m, target = target_pose(compiler, args[0], kwargs.get("WOBJ"), where)
-            event = move_event(fr, kind, m, target, args, timing, where)
+            event = move_event(fr, kind, m, target, args, timing, where, wobj=kwargs.get("WOBJ"))
             fr.m.move(event, motionset.speed(fr.m, timing[0]), timing[1])
 
         return run
@@ -148,19 +150,27 @@ def builtins(compiler) -> dict:
         m, target = target_pose(compiler, args[1], kwargs.get("WOBJ"), where)
         last = fr.m.last_move
         check_circle(None if last is None else last.tcp2base, via, m, where)
-        event = move_event(fr, "linear", m, target, rest, timing, where)
+        event = move_event(fr, "linear", m, target, rest, timing, where, wobj=kwargs.get("WOBJ"))
         event.settings["circle_point"] = [float(v) for v in via[:3, 3]]
         fr.m.move(event, motionset.speed(fr.m, timing[0]), timing[1], via=via)
 
     def c_rob_t(fr, args, kwargs, where):
         """CRobT(\\Tool:=tool \\WObj:=wobj): the robtarget where the arm is now (where the clock finds it on
         the path of a move under way: in a TRAP, the cycle its interrupt came), for that tool in that work
-        object. Without \\Tool or \\WObj the controller takes the active ones (assumed, as recalled: RAPID
-        functions, CRobT), which the interpreter does not keep: both are required here."""
-        if args or set(kwargs) != {"TOOL", "WOBJ"}:
-            raise RunError(f"{where}: CRobT takes \\Tool:= and \\WObj:= here (the active ones are not tracked)")
-        tool2flange = tool_matrix(kwargs["TOOL"], where)
-        base2wobj = np.linalg.inv(wobj_matrix(compiler, kwargs["WOBJ"], where))
+        object. Without \\Tool or \\WObj the active ones: those of the latest move instruction (RAPID functions,
+        CRobT, as recalled); before any move there are none here (an error)."""
+        if args or set(kwargs) - {"TOOL", "WOBJ"}:
+            raise RunError(f"{where}: CRobT takes \\Tool and \\WObj only")
+        tool, wobj = kwargs.get("TOOL"), kwargs.get("WOBJ")
+        if tool is None or "WOBJ" not in kwargs:
+            active = fr.m.extra.get(ACTIVE_KEY)
+            if active is None:
+                shown = "before any move (no move has made a tool and a work object the active ones)"
+                raise RunError(f"{where}: CRobT takes \\Tool:= and \\WObj:= {shown}")
+            tool = active[0] if tool is None else tool
+            wobj = active[1] if "WOBJ" not in kwargs else wobj
+        tool2flange = tool_matrix(tool, where)
+        base2wobj = np.linalg.inv(wobj_matrix(compiler, wobj, where))
         tcp2base, active = tcp_now(fr.m)
         if tcp2base is None:
             raise RunError(f"{where}: CRobT: the arm's pose is not known here (no move to a pose yet)")
@@ -185,6 +195,7 @@ def builtins(compiler) -> dict:
         posemath.check_finite(q, where, "joint target")
         speed, zone, tool = (move_setting(args, i) for i in (1, 2, 3))
         settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
+        make_active(fr, args, kwargs.get("WOBJ"))
         motionset.apply(fr.m, settings)
         event = MoveEvent("joint", None, int(where.split(":")[1]), settings)
         fr.m.arm.to_joints(event, q, where)

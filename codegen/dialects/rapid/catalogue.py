@@ -30,7 +30,7 @@ _FUNCTIONS = """
 AbsDnum ArgName ByteToStr CalcJointT CalcRobT CalcRotAxisFrame CalcRotAxFrameZ CDate CorrRead CPos CSpeedOverride
 CTime CTool CWObj DecToHex DefAccFrame DefDFrame DefFrame DnumToNum DnumToStr EventType ExecHandler ExecLevel
 FileSize FileTimeDnum FSSize GetMecUnitName GetNextMechUnit GetNextSym GetServiceInfo GetSignalOrigin GetSysInfo
-GetTaskName GetTime HexToDec IndInpos IndSpeed IOUnitState IsFile IsMechUnitActive IsPers IsStopMoveAct
+GetMotorTorque GetTaskName GetTime HexToDec IndInpos IndSpeed IOUnitState IsFile IsMechUnitActive IsPers IsStopMoveAct
 IsStopStateEvent IsSyncMoveOn IsSysId IsVar MirPos ModExist ModTime NonMotionMode NumToDnum OpMode ORobT
 ParIdPosValid ParIdRobValid PathLevel PathRecValidBwd PathRecValidFwd PFRestart PPMovedInManMode ProgMemFree
 RawBytesLen ReadBin ReadDir ReadMotor ReadNum ReadStr ReadStrBin ReadVar RemainingRetries RMQGetSlotName RobName

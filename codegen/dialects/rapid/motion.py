@@ -101,9 +101,20 @@ def move_setting(args, i: int) -> str:
     return (name_of(args[i]) if len(args) > i else None) or "custom"
 
 
-def move_event(fr, kind: str, m: np.ndarray, target: Record, args, timing, where: str, solve=True) -> MoveEvent:
+ACTIVE_KEY = "<active tool and wobj>"  # Machine.extra: (tooldata, wobjdata or None) of the latest move instruction
+
+
+def make_active(fr, args, wobj) -> None:
+    """The move's tool and work object become the active ones (CRobT and CPos without \\Tool or \\WObj)."""
+    fr.m.extra[ACTIVE_KEY] = (args[3] if len(args) > 3 else None, wobj)
+
+
+def move_event(
+    fr, kind: str, m: np.ndarray, target: Record, args, timing, where: str, solve=True, wobj=None
+) -> MoveEvent:
     """The MoveEvent of a move to m (args: the target, speed, zone and tool as MoveJ / MoveL take them), its
-    tool made the active one and (solve) its joints left to the arm by the configuration rules."""
+    tool (and work object) made the active ones and (solve) its joints left to the arm by the configuration rules."""
+    make_active(fr, args, wobj)
     speed, zone, tool = (move_setting(args, i) for i in (1, 2, 3))
     settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
     settings["tcp_mm_s"], settings["zone_mm"] = timing[0], zone_radius(args[2] if len(args) > 2 else None)

@@ -94,7 +94,7 @@ def search_l(compiler, node, args_node) -> Callable:
                 f"{where}: SearchL: {signal} is already {int(before)} when the search starts",
             )
         args = [target, speed_value, "FINE", tool(fr)]
-        event = move_event(fr, "linear", target_m, target, args, (mm_s, False), where, solve=False)
+        event = move_event(fr, "linear", target_m, target, args, (mm_s, False), where, solve=False, wobj=wobj_value)
         m.move(event, motionset.speed(m, mm_s), runs_ahead=True)
         hits = _hits(m, watching, signal, edge, before, t0, event.end_time, stop is not None and stop != "SUP")
         if hits and stop is not None and stop != "SUP":

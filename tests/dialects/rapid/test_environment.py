@@ -240,3 +240,11 @@ def test_an_undeclared_name_spelt_as_a_signal_is_read_as_one_and_check_warns():
     assert [(f.line, f.severity, f.code) for f in found] == [(4, "warning", "implicit-signal")] * 2
     with pytest.raises(RunError, match=r"t\.mod:4:\d+: undefined variable done"):
         load(mod('IF done = 1 TPWrite "x";'), "t.mod")
+
+
+def test_crobt_without_tool_or_wobj_takes_those_of_the_latest_move():
+    decls = "PERS wobjdata table := [FALSE, TRUE, \"\", [[100, 0, 0], [1, 0, 0, 0]], [[0, 0, 0], [1, 0, 0, 0]]];"
+    body = f"MoveL {P400}, v100, fine, tool0 \\WObj:=table;\np := CRobT();\nTPWrite \"\" \\Num:=p.trans.x + CPos().x;"
+    assert run(body, decls + "\nVAR robtarget p;").messages == ["800"]  # 400 in the table's frame, twice
+    with pytest.raises(RunError, match=r"t\.mod:4:\d+: CRobT takes \\Tool:= and \\WObj:= before any move"):
+        run("p := CRobT();", "VAR robtarget p;")
