@@ -36,8 +36,10 @@ PULSES_KEY = "<pulses>"  # Machine.extra: a digital output's pulse end time by s
 SIGNAL_ARGS = {
     "SET": "DO", "RESET": "DO", "SETDO": "DO", "PULSEDO": "DO", "INVERTDO": "DO", "WAITDO": "DO", "DOUTPUT": "DO",
     "WAITDI": "DI", "DINPUT": "DI", "TESTDI": "DI", "ISIGNALDI": "DI", "SEARCHL": "DI",
-    "SETGO": "GO", "GOUTPUT": "GO", "GINPUT": "GI", "SETAO": "AO", "AOUTPUT": "AO", "AINPUT": "AI",
+    "MOVEJDO": "DO", "MOVELDO": "DO", "SETGO": "GO", "GOUTPUT": "GO", "GINPUT": "GI",
+    "SETAO": "AO", "AOUTPUT": "AO", "AINPUT": "AI",
 }  # fmt: skip
+SIGNAL_INDEX = {"MOVEJDO": 4, "MOVELDO": 4}  # the signal's place among the positional arguments (else the first)
 KIND_NAMES = {"DI": "digital input", "DO": "digital output", "GI": "group input", "GO": "group output",
               "AI": "analog input", "AO": "analog output"}  # fmt: skip
 GROUP_MAX = 2**23
@@ -54,8 +56,10 @@ def signal_uses(tree) -> list[tuple[str, str, object]]:
         if kind is None or args_node is None:
             continue
         positional = [a for a in args_node.children if not (isinstance(a, Tree) and a.data == "opt_arg")]
-        if positional and isinstance(positional[0], Tree) and positional[0].data == "var":
-            found.append((str(positional[0].children[0]), kind, positional[0].children[0]))
+        at = SIGNAL_INDEX.get(str(name).upper(), 0)
+        arg = positional[at] if len(positional) > at else None
+        if isinstance(arg, Tree) and arg.data == "var":
+            found.append((str(arg.children[0]), kind, arg.children[0]))
     return found
 
 
@@ -226,6 +230,34 @@ def wait_signal(kind: str):
     return compile_
 
 
+def move_do(name: str):
+    """MoveJDO / MoveLDO ToPoint, Speed, Zone, Tool [\\WObj], Signal, Value: the move, and the digital output set when
+    the arm reaches the point (RAPID instructions, MoveLDO, as recalled: at a stop point, or in the middle of the
+    corner path of a fly-by point: here when the move ends either way)."""
+    move = name[:-2]  # MOVEJ / MOVEL
+
+    def compile_(compiler, node, args_node) -> Callable:
+        positional, named = _positional(compiler, node, args_node, 6, "ToPoint, Speed, Zone, Tool, Signal and Value",
+                                        {"WOBJ"})  # fmt: skip
+        if named.get("WOBJ", True) is None:
+            compiler.fail(node, f"{node.children[0]} \\WObj needs a value (\\WObj:=...)")
+        parts = [compiler.expr(n) for n in positional[:4]]
+        wobj = compiler.expr(named["WOBJ"]) if "WOBJ" in named else None
+        signal, value = signal_ref(compiler, node, positional[4]), compiler.expr(positional[5])
+        where, run_move = compiler.where(node), compiler.builtins[move]
+
+        def run(fr):
+            m = fr.m
+            kwargs = {"WOBJ": wobj(fr)} if wobj is not None else {}
+            run_move(fr, [p(fr) for p in parts], kwargs, where)
+            on = _digital(value(fr), where)
+            _later(m, signal(fr), on, where, max(0.0, m.last_move.end_time - m.clock))
+
+        return run
+
+    return compile_
+
+
 def alias_io(compiler, node, args_node) -> Callable:
     """AliasIO FromSignal, ToSignal: the signal variable ToSignal stands for the configured signal FromSignal (a
     string, or the signal's name)."""
@@ -296,4 +328,6 @@ SPECIAL = {
     "WAITDI": wait_signal("DI"),
     "WAITDO": wait_signal("DO"),
     "ALIASIO": alias_io,
+    "MOVEJDO": move_do("MOVEJDO"),
+    "MOVELDO": move_do("MOVELDO"),
 }

@@ -248,3 +248,10 @@ def test_crobt_without_tool_or_wobj_takes_those_of_the_latest_move():
     assert run(body, decls + "\nVAR robtarget p;").messages == ["800"]  # 400 in the table's frame, twice
     with pytest.raises(RunError, match=r"t\.mod:4:\d+: CRobT takes \\Tool:= and \\WObj:= before any move"):
         run("p := CRobT();", "VAR robtarget p;")
+
+
+def test_move_l_do_sets_its_output_when_the_arm_reaches_the_point():
+    trace = run(f"MoveL {P0}, v100, fine, tool0;\nMoveLDO {P400}, v100, z10, tool0, doGlue, 1;\nWaitTime 0;")
+    (event,) = trace.outputs
+    assert (event.name, event.value, event.line) == ("doGlue", True, 5)
+    assert event.time == pytest.approx(trace.moves[1].end_time) and len(trace.moves) == 2
