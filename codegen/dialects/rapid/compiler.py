@@ -107,7 +107,21 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
     def make_builtins(self) -> dict:
         return {**FUNCTIONS, **builtins(self), **pendant.BUILTINS, **motionset.BUILTINS}
 
+    def e_number(self, node):
+        text = str(node.children[0])
+        if len(text) > 2 and text[1] in "xXoObB":
+            try:
+                self.number(text)
+            except ValueError:
+                base = {"x": "hexadecimal", "o": "octal", "b": "binary"}[text[1].lower()]
+                self.fail(node, f"{text} is not a {base} number")
+        return super().e_number(node)
+
     def number(self, text: str):
+        if len(text) > 2 and text[1] in "xXoObB":
+            if text[0] != "0":
+                raise ValueError(text)
+            return f32(int(text[2:], {"x": 16, "o": 8, "b": 2}[text[1].lower()]))
         return f32(float(text))
 
     def string_value(self, text: str) -> str:

@@ -210,3 +210,9 @@ def test_a_placeholder_is_refused_by_name_and_predefined_error_numbers_are_known
         load(mod('TPWrite "a";\n<SMT>'), "t.mod")
     handler = "x := 1 / 0;\nERROR\n  IF ERRNO = ERR_PATHDIST OR ERRNO = ERR_DIVZERO TPWrite \"handled\";\n  TRYNEXT;"
     assert messages(handler, "VAR num x;") == ["handled"]
+
+
+def test_hexadecimal_octal_and_binary_literals():
+    assert messages('TPWrite "" \\Num:=0xFF + 0o10 + 0b101;') == ["268"]
+    with pytest.raises(RunError, match=r"t\.mod:4:\d+: 0b102 is not a binary number"):
+        messages('TPWrite "" \\Num:=0b102;')
