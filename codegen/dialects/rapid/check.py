@@ -62,7 +62,7 @@ def check_task(files: list[SourceFile], max_tcp_mm_s: float | None = None) -> li
                                     match["message"]))  # fmt: skip
         else:
             findings.append(Finding(files[0].name, 0, 0, "error", "load", str(exc)))
-    trees = [(f.name, parse(f.text, f.name)) for f in files]
+    trees = out.get("trees") or [(f.name, parse(f.text, f.name)) for f in files]
     compiler = out.get("compiler")
     if compiler is not None:
         findings += typecheck.check(compiler, trees)

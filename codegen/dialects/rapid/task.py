@@ -76,12 +76,15 @@ def _long_names(compiler: RAPIDCompiler, tree) -> None:
 def load_task(files: list[SourceFile], findings: list | None = None, out: dict | None = None) -> Program | None:
     """The program of a task's modules (their files in any order; one of them has PROC main). findings: `codegen
     check` collects every finding there and gets None back when one is an error; else the first error raises."""
-    modules = []  # (file name, module tree)
+    modules, trees = [], []  # (file name, module tree), (file name, file tree)
     for f in files:
         tree = parse(f.text, f.name)
         if _MULTI_INDEX.search(f.text):
             _nest_indexes(tree)
+        trees.append((f.name, tree))
         modules += [(f.name, m) for m in tree.children if isinstance(m, Tree) and m.data == "module"]
+    if out is not None:
+        out["trees"] = trees
     compiler = RAPIDCompiler(files[0].name, findings)
     if out is not None:  # `codegen check` reads the compiler's tables even when the task does not load
         out["compiler"] = compiler
