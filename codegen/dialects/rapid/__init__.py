@@ -1,11 +1,30 @@
-"""RAPID (ABB): printer, grammar and interpreter."""
+"""RAPID (ABB): printer, grammar and interpreter; a program is the modules of one task.
+
+MoveEvent.settings of a RAPID move: "speed", "zone", "tool" (a predefined datum's name in upper case, e.g. "V100",
+"FINE", "TOOL0", else "custom"), "load" (mass kg, cog x, y, z mm of the move's tooldata; None for tool0),
+"tcp_mm_s" (the programmed TCP speed), "zone_mm" (the zone's pzone_tcp, 0 at a stop point), "circle_point"
+(MoveC); and from the instruction on, on every later move (codegen/dialects/rapid/motionset.py): "accset" {"acc",
+"ramp", "line"}, "velset" {"override", "max", "line"}, "singarea" {"mode", "line"}, "confj" / "confl" {"on",
+"line"}, "gripload" {"mass", "cog", "line"}. Trace.simulated_io (an attribute set on the trace of a program that
+uses signals it does not declare): signal name -> "digital input", "digital output", ... (simulated I/O).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
 
 from codegen.dialects import Dialect
+
+# Where a controller backup keeps a task's modules: RAPID/<task>/PROGMOD/*.mod and RAPID/<task>/SYSMOD/*.sys
+# (ABB, "Operating manual - IRC5 with FlexPendant", backup; as recalled).
+TASK_SUBFOLDERS = {"PROGMOD", "SYSMOD"}
 
 
 class Rapid(Dialect):
     name = "rapid"
-    suffixes = (".mod",)
+    suffixes = (".mod", ".sys")  # .prg (RobotWare 5, several modules) is the dtrans dialect's suffix
+    encodings = ("cp1252",)  # RobotWare's text files: Windows-1252 (Latin-1) where not UTF-8
 
     @classmethod
     def move_settings(
@@ -21,3 +40,60 @@ class Rapid(Dialect):
         # the cell's speeds and zone ([cell.motion]) as the program's own speeddata and zonedata
         blend = zone_mm > 0 and not exact
         return {"tcp_mm_s": speed_mm_s, "zone_mm": zone_mm if blend else 0.0, "tool": tool}
+
+    @classmethod
+    def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
+        return cls.module("interpreter").load(text, filename)
+
+    @classmethod
+    def programs(cls, files: list) -> list[list]:
+        """The modules given together are one task's program (all .mod and .sys files of a folder, or files named
+        together), the file with PROC main first; files from several tasks of a controller backup (RAPID/<task>/
+        PROGMOD and SYSMOD) make one program per task. A task whose files define main twice is refused (RunError)."""
+        from codegen.dialects.core.values import RunError
+
+        groups: dict[str, list] = {}
+        for f in files:
+            groups.setdefault(_task_of(f.name), []).append(f)
+        if len(groups) > 1 and not all(_in_backup(f.name) for f in files):
+            groups = {"": list(files)}
+        out = []
+        for group in groups.values():
+            mains = [f for f in group if _has_main(f.text)]
+            if len(mains) > 1:
+                both = f"{mains[0].name} and {mains[1].name}"
+                raise RunError(f"{both} both define PROC main: give the modules of one task")
+            out.append(mains + [f for f in group if f not in mains])
+        return out
+
+    @classmethod
+    def load_files(cls, files: list):
+        """One program from a task's modules (SourceFile, as programs() groups them)."""
+        from codegen.dialects.rapid.task import load_task
+
+        return load_task(list(files))
+
+    @classmethod
+    def check_files(cls, files: list, max_tcp_mm_s: float | None = None) -> list:
+        """Every finding of `codegen check` in a task's files: syntax errors, refusals, undefined names and routines,
+        type errors, and the field checks (a wait on an input without \\MaxTime, a move with a tool or work object
+        without a value or with tool0 where the program has its own tool, names over 32 characters, speeds over
+        max_tcp_mm_s where given)."""
+        from codegen.dialects.rapid.check import check_task
+
+        return check_task(list(files), max_tcp_mm_s)
+
+
+def _task_of(name: str) -> str:
+    parent = Path(name).parent
+    if parent.name.upper() in TASK_SUBFOLDERS:
+        parent = parent.parent
+    return str(parent)
+
+
+def _in_backup(name: str) -> bool:
+    return Path(name).parent.name.upper() in TASK_SUBFOLDERS
+
+
+def _has_main(text: str) -> bool:
+    return re.search(r"^\s*PROC\s+main\s*\(", text, re.IGNORECASE | re.MULTILINE) is not None

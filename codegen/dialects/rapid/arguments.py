@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from lark import Tree
+from lark import Token, Tree
 
 
 def split_args(compiler, node, args_node, switches: set[str], refusal: str = "{name} has no argument \\{arg}"):
@@ -14,6 +14,9 @@ def split_args(compiler, node, args_node, switches: set[str], refusal: str = "{n
             key = str(arg.children[0]).upper()
             if key not in switches:
                 compiler.fail(arg, refusal.format(name=node.children[0], arg=arg.children[0]))
+            if isinstance(arg.children[1], Token):  # \\Name?Parameter
+                shown = f"{node.children[0]}: a conditional argument (\\{arg.children[0]}?...)"
+                compiler.fail(arg, f"{shown} is not modelled here", "unsupported")
             named[key] = arg.children[1]
         else:
             positional.append(arg)

@@ -1,150 +1,39 @@
-"""RAPID data types (pose, robtarget...) and builtin functions (trig in degrees, Pose*, TPWrite, MoveJ/MoveL)."""
+"""RAPID built-in routines: pose math (Pose*, Offs, OrientZYX), TPWrite, stops, MoveJ/MoveL/MoveC/MoveAbsJ, CRobT."""
 
 from __future__ import annotations
 
 import math
-import operator
 
 import numpy as np
 
 from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent, halt, pause
-from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed
+from codegen.dialects.core.values import Record, RunError, f32
+from codegen.dialects.rapid import motionset
 from codegen.dialects.rapid.messages import err_write
-
-# Record types by field order (aggregates [a, b, ...] are positional).
-RECORDS = {
-    "POS": [("X", "NUM"), ("Y", "NUM"), ("Z", "NUM")],
-    "ORIENT": [("Q1", "NUM"), ("Q2", "NUM"), ("Q3", "NUM"), ("Q4", "NUM")],
-    "POSE": [("TRANS", "POS"), ("ROT", "ORIENT")],
-    "CONFDATA": [("CF1", "NUM"), ("CF4", "NUM"), ("CF6", "NUM"), ("CFX", "NUM")],
-    "EXTJOINT": [(f"EAX_{c}", "NUM") for c in "ABCDEF"],
-    "ROBTARGET": [("TRANS", "POS"), ("ROT", "ORIENT"), ("ROBCONF", "CONFDATA"), ("EXTAX", "EXTJOINT")],
-    "LOADDATA": [("MASS", "NUM"), ("COG", "POS"), ("AOM", "ORIENT"), ("IX", "NUM"), ("IY", "NUM"), ("IZ", "NUM")],
-    "TOOLDATA": [("ROBHOLD", "BOOL"), ("TFRAME", "POSE"), ("TLOAD", "LOADDATA")],
-    "ROBJOINT": [(f"RAX_{i}", "NUM") for i in range(1, 7)],  # rax_1..rax_6 (RAPID data types, robjoint)
-    "JOINTTARGET": [("ROBAX", "ROBJOINT"), ("EXTAX", "EXTJOINT")],
-    "WOBJDATA": [("ROBHOLD", "BOOL"), ("UFPROG", "BOOL"), ("UFMEC", "STRING"), ("UFRAME", "POSE"), ("OFRAME", "POSE")],
-    "SPEEDDATA": [("V_TCP", "NUM"), ("V_ORI", "NUM"), ("V_LEAX", "NUM"), ("V_REAX", "NUM")],
-    "ZONEDATA": [
-        ("FINEP", "BOOL"),
-        *((k, "NUM") for k in ("PZONE_TCP", "PZONE_ORI", "PZONE_EAX", "ZONE_ORI", "ZONE_LEAX", "ZONE_REAX")),
-    ],
-}
-SCALARS = {"NUM", "DNUM", "BOOL", "STRING"}
-
-STRING_MAX = 80  # characters of a RAPID string (RAPID kernel manual, string; targets/abb.toml string_max)
-
-# Move timing (ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", speeddata
-# and zonedata, as recalled; the manual's text was not found during this work):
-# - speeddata [v_tcp mm/s, v_ori deg/s, v_leax mm/s, v_reax deg/s]; the predefined vN have v_tcp = N
-#   mm/s (v5 ... v7000); vmax: the robot type's maximum TCP speed, 5000 mm/s in the manual's table
-#   (uncertain: later manuals give it as the robot's own maximum, MaxRobSpeed); a move's \V:=n replaces v_tcp;
-# - zonedata [finep, pzone_tcp, ...]: finep TRUE is a stop point (the move ends before the next
-#   instruction runs, as the predefined fine); FALSE a fly-by point (z0 ... z200): program execution
-#   runs ahead while the arm moves.
-
-
-def _zero(type_name: str):
-    if type_name in RECORDS:
-        return Record(type_name, {k: _zero(t) for k, t in RECORDS[type_name]})
-    return {"NUM": f32(0), "DNUM": 0.0, "BOOL": False, "STRING": ""}.get(type_name, f32(0))
-
-
-_ZEROS = {name: _zero(name) for name in [*RECORDS, *SCALARS]}
-
-
-def zero(type_name: str):
-    """The value RAPID gives a declared variable without an initial value."""
-    return _ZEROS.get(type_name, _ZEROS["NUM"])  # shared: values are never changed in place
-
-
-def type_text(value) -> str:
-    """A value's RAPID data type, for messages."""
-    if isinstance(value, Record):
-        return str(value.type).lower()
-    if isinstance(value, bool):
-        return "bool"
-    if isinstance(value, str):
-        return "string"
-    if isinstance(value, list):
-        return "array"
-    if isinstance(value, int | float | np.number):
-        return "num"
-    return type(value).__name__
-
-
-def num(value, where: str) -> float:
-    if type(value) is F32:  # the common case first
-        return float(value)
-    if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-        raise RunError(f"{where}: expected a num, got {type_text(value)}")
-    return float(value)
-
-
-def rec(value, type_name: str, where: str) -> Record:
-    if not isinstance(value, Record) or value.type != type_name:
-        raise RunError(f"{where}: expected {type_name.lower()}, got {type_text(value)}")
-    return value
-
-
-def vec(rec: Record, keys) -> list[float]:
-    if keys == "XYZ":
-        return list(map(float, _xyz(rec)))
-    if keys == QUAT_KEYS:
-        return list(map(float, _quat(rec)))
-    return [float(rec[k]) for k in keys]
-
-
-QUAT_KEYS = ("Q1", "Q2", "Q3", "Q4")
-_xyz = operator.itemgetter("X", "Y", "Z")  # a pos record's numbers
-_quat = operator.itemgetter(*QUAT_KEYS)  # an orient record's numbers
-
-
-def pose_record(trans, quat) -> Record:
-    x, y, z = trans
-    q1, q2, q3, q4 = quat
-    return Record(
-        "POSE",
-        {
-            "TRANS": Record("POS", {"X": f32(x), "Y": f32(y), "Z": f32(z)}),
-            "ROT": Record("ORIENT", {"Q1": f32(q1), "Q2": f32(q2), "Q3": f32(q3), "Q4": f32(q4)}),
-        },
-    )
+from codegen.dialects.rapid.motion import (
+    ACTIVE_KEY,
+    check_circle,
+    conf_now,
+    make_active,
+    move_event,
+    move_load,
+    move_setting,
+    move_timing,
+    no_motion_in_trap,
+    robtarget_from,
+    target_pose,
+    tcp_now,
+    tool_matrix,
+    wobj_matrix,
+)
+from codegen.dialects.rapid.predefined import VMAX_TCP
+from codegen.dialects.rapid.types import QUAT_KEYS, num, orient_record, pos_record, pose_record, rec, vec
 
 
 def builtins(compiler) -> dict:
     """The RAPID functions and procedures the interpreter provides, by upper-case name; compiler
     supplies the coercions of record aggregates."""
-    from codegen.dialects.rapid.motion import (  # the motion helpers build on this module's types
-        check_circle,
-        conf_now,
-        move_event,
-        move_load,
-        move_setting,
-        move_timing,
-        no_motion_in_trap,
-        robtarget_from,
-        target_pose,
-        tcp_now,
-        tool_matrix,
-        wobj_matrix,
-    )
-
-    def trig(fn):
-        return lambda fr, a, k, w: f32(fn(math.radians(num(a[0], w))))
-
-    def atan2(fr, args, kwargs, where):
-        return f32(math.degrees(math.atan2(num(args[0], where), num(args[1], where))))
-
-    def sqrt(fr, args, kwargs, where):
-        value = num(args[0], where)
-        if value < 0:
-            raise RunError(f"{where}: Sqrt of a negative number")
-        return f32(math.sqrt(value))
-
-    def abs_(fr, args, kwargs, where):
-        return f32(abs(num(args[0], where)))
 
     def orient_zyx(fr, args, kwargs, where):
         z, y, x = (num(a, where) for a in args)
@@ -215,32 +104,31 @@ def builtins(compiler) -> dict:
         moved["TRANS"] = Record("POS", {k: f32(trans[k] + d) for k, d in zip("XYZ", (dx, dy, dz), strict=True)})
         return moved
 
-    def num_to_str(fr, args, kwargs, where):
-        decimals = int(num(args[1], where))
-        if not 0 <= decimals <= STRING_MAX:
-            raise RunError(f"{where}: NumToStr decimals {decimals}: a string holds at most {STRING_MAX} characters")
-        text = format_fixed(num(args[0], where), decimals)
-        if len(text) > STRING_MAX:
-            raise RunError(f"{where}: NumToStr result longer than {STRING_MAX} characters")
-        return text
-
-    def tpwrite(fr, args, kwargs, where):
-        text = args[0]
-        if not isinstance(text, str):
-            raise RunError(f"{where}: TPWrite needs a string")
-        if "NUM" in kwargs:
-            text += num_text(kwargs["NUM"])
-        if len(text) > STRING_MAX:
-            raise RunError(f"{where}: TPWrite text longer than {STRING_MAX} characters")
-        fr.m.message(text)
+    def rel_tool(fr, args, kwargs, where):
+        """RelTool(Point, Dx, Dy, Dz [\\Rx] [\\Ry] [\\Rz]): the robtarget displaced in its own (the tool's) frame:
+        by (Dx, Dy, Dz) mm, and turned about its x axis, then the new y, then the new z (deg); robconf and
+        external axes unchanged (RAPID functions, RelTool, as recalled)."""
+        if len(args) != 4 or set(kwargs) - {"RX", "RY", "RZ"}:
+            raise RunError(f"{where}: RelTool takes a robtarget, Dx, Dy, Dz [\\Rx] [\\Ry] [\\Rz]")
+        point = args[0]
+        if type(point) is not Record or point.type != "ROBTARGET":
+            point = compiler.coerce("ROBTARGET", point, where)
+        offset = [num(a, where) for a in args[1:]]
+        t, q = vec(point["TRANS"], "XYZ"), vec(point["ROT"], QUAT_KEYS)
+        moved_t = [a + b for a, b in zip(t, posemath.quat_rotate(q, offset), strict=True)]
+        turn = _intrinsic_xyz(*(num(kwargs.get(k, 0), where) for k in ("RX", "RY", "RZ")))
+        moved = point.shallow()
+        moved["TRANS"] = pos_record(moved_t)
+        moved["ROT"] = orient_record(posemath.quat_multiply(q, turn))
+        return moved
 
     def move(kind):
         def run(fr, args, kwargs, where):
             no_motion_in_trap(fr, where, "MoveJ" if kind == "joint" else "MoveL")
             timing = move_timing(args, kwargs, where)
             m, target = target_pose(compiler, args[0], kwargs.get("WOBJ"), where)
-            event = move_event(fr, kind, m, target, args, timing, where)
-            fr.m.move(event, *timing)
+            event = move_event(fr, kind, m, target, args, timing, where, wobj=kwargs.get("WOBJ"))
+            fr.m.move(event, motionset.speed(fr.m, timing[0]), timing[1])
 
         return run
 
@@ -262,34 +150,36 @@ def builtins(compiler) -> dict:
         m, target = target_pose(compiler, args[1], kwargs.get("WOBJ"), where)
         last = fr.m.last_move
         check_circle(None if last is None else last.tcp2base, via, m, where)
-        event = move_event(fr, "linear", m, target, rest, timing, where)
+        event = move_event(fr, "linear", m, target, rest, timing, where, wobj=kwargs.get("WOBJ"))
         event.settings["circle_point"] = [float(v) for v in via[:3, 3]]
-        fr.m.move(event, *timing, via=via)
+        fr.m.move(event, motionset.speed(fr.m, timing[0]), timing[1], via=via)
 
     def c_rob_t(fr, args, kwargs, where):
         """CRobT(\\Tool:=tool \\WObj:=wobj): the robtarget where the arm is now (where the clock finds it on
         the path of a move under way: in a TRAP, the cycle its interrupt came), for that tool in that work
-        object. Without \\Tool or \\WObj the controller takes the active ones (assumed, as recalled: RAPID
-        functions, CRobT), which the interpreter does not keep: both are required here."""
-        if args or set(kwargs) != {"TOOL", "WOBJ"}:
-            raise RunError(f"{where}: CRobT takes \\Tool:= and \\WObj:= here (the active ones are not tracked)")
-        tool2flange = tool_matrix(kwargs["TOOL"], where)
-        base2wobj = np.linalg.inv(wobj_matrix(compiler, kwargs["WOBJ"], where))
+        object. Without \\Tool or \\WObj the active ones: those of the latest move instruction (RAPID functions,
+        CRobT, as recalled); before any move there are none here (an error)."""
+        if args or set(kwargs) - {"TOOL", "WOBJ"}:
+            raise RunError(f"{where}: CRobT takes \\Tool and \\WObj only")
+        tool, wobj = kwargs.get("TOOL"), kwargs.get("WOBJ")
+        if tool is None or "WOBJ" not in kwargs:
+            active = fr.m.extra.get(ACTIVE_KEY)
+            if active is None:
+                shown = "before any move (no move has made a tool and a work object the active ones)"
+                raise RunError(f"{where}: CRobT takes \\Tool:= and \\WObj:= {shown}")
+            tool = active[0] if tool is None else tool
+            wobj = active[1] if "WOBJ" not in kwargs else wobj
+        tool2flange = tool_matrix(tool, where)
+        base2wobj = np.linalg.inv(wobj_matrix(compiler, wobj, where))
         tcp2base, active = tcp_now(fr.m)
         if tcp2base is None:
             raise RunError(f"{where}: CRobT: the arm's pose is not known here (no move to a pose yet)")
         pose = base2wobj @ tcp2base @ np.linalg.inv(active) @ tool2flange
         return robtarget_from(pose, conf_now(fr.m), where)
 
-    def configuration_check(name):
-        def run(fr, args, kwargs, where):
-            # ConfJ \On / \Off, ConfL \On / \Off: the configuration check of MoveJ / MoveL (on by default)
-            switches = set(kwargs)
-            if len(switches & {"ON", "OFF"}) != 1 or args:
-                raise RunError(f"{where}: {name} takes \\On or \\Off")
-            fr.m.extra[name] = "ON" in switches
-
-        return run
+    def c_pos(fr, args, kwargs, where):
+        """CPos(\\Tool \\WObj): the position (pos) of CRobT's robtarget."""
+        return c_rob_t(fr, args, kwargs, where)["TRANS"]
 
     def c_joint_t(fr, args, kwargs, where):
         """CJointT(): the arm's current joint angles (deg) as a jointtarget (RAPID functions)."""
@@ -305,17 +195,14 @@ def builtins(compiler) -> dict:
         posemath.check_finite(q, where, "joint target")
         speed, zone, tool = (move_setting(args, i) for i in (1, 2, 3))
         settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
+        make_active(fr, args, kwargs.get("WOBJ"))
+        motionset.apply(fr.m, settings)
         event = MoveEvent("joint", None, int(where.split(":")[1]), settings)
         fr.m.arm.to_joints(event, q, where)
-        fr.m.move(event, *move_timing(args, kwargs, where))
+        mm_s, runs_ahead = move_timing(args, kwargs, where)
+        fr.m.move(event, motionset.speed(fr.m, mm_s), runs_ahead)
 
     return {
-        "SIN": trig(math.sin),
-        "COS": trig(math.cos),
-        "TAN": trig(math.tan),
-        "ATAN2": atan2,
-        "SQRT": sqrt,
-        "ABS": abs_,
         "ORIENTZYX": orient_zyx,
         "EULERZYX": euler_zyx,
         "NORIENT": norient,
@@ -323,8 +210,7 @@ def builtins(compiler) -> dict:
         "POSEINV": pose_inv,
         "POSEVECT": pose_vect,
         "OFFS": offs,
-        "NUMTOSTR": num_to_str,
-        "TPWRITE": tpwrite,
+        "RELTOOL": rel_tool,
         "ERRWRITE": err_write,
         "STOP": pause,  # the program resumes at the next instruction when the operator presses start
         "EXIT": halt,
@@ -334,14 +220,15 @@ def builtins(compiler) -> dict:
         "MOVEC": move_c,
         "CROBT": c_rob_t,
         "CJOINTT": c_joint_t,
-        "CONFJ": configuration_check("CONFJ"),
-        "CONFL": configuration_check("CONFL"),
+        "CPOS": c_pos,
+        "MAXROBSPEED": lambda fr, a, k, w: f32(VMAX_TCP),
     }
 
 
-def num_text(value) -> str:
-    """TPWrite \\Num: integers without decimals, else up to 6 significant digits (as the FlexPendant)."""
-    v = float(value)
-    if v == int(v) and abs(v) < 1e9:
-        return str(int(v))
-    return f"{v:.6g}"
+def _intrinsic_xyz(rx: float, ry: float, rz: float) -> tuple[float, ...]:
+    """The quaternion of turns about x, then the new y, then the new z (deg): Rx . Ry . Rz."""
+    qx = posemath.quat_from_zyx_deg(0, 0, rx)
+    qy = posemath.quat_from_zyx_deg(0, ry, 0)
+    qz = posemath.quat_from_zyx_deg(rz, 0, 0)
+    return posemath.quat_multiply(posemath.quat_multiply(qx, qy), qz)
+

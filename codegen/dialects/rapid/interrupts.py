@@ -11,8 +11,8 @@ from codegen.dialects.core.machine import Frame
 from codegen.dialects.core.values import RunError, f32
 from codegen.dialects.rapid import errors
 from codegen.dialects.rapid.arguments import split_args
-from codegen.dialects.rapid.builtins import num
 from codegen.dialects.rapid.motion import TRAP_KEY
+from codegen.dialects.rapid.types import num
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", CONNECT,
 # ISignalDI, IDelete and the data type intnum, as recalled (no copy of the manual's text could be read during

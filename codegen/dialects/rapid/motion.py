@@ -3,29 +3,28 @@
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 
 from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent
 from codegen.dialects.core.values import Record, RunError, f32
-from codegen.dialects.rapid.builtins import QUAT_KEYS, num, type_text, vec
+from codegen.dialects.rapid import motionset
+from codegen.dialects.rapid.predefined import TOOL0, WOBJ0, name_of
+from codegen.dialects.rapid.types import QUAT_KEYS, num, type_text, vec
 
 QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
-VMAX_TCP = 5000.0
-_SPEED_NAME = re.compile(r"^V(\d+)$")
 
 
 def move_load(fr, args, where: str) -> tuple | None:
     """The move's tooldata becomes the active tool: its TCP for the arm, its load (mass kg, centre of
     gravity mm) for the trace. tool0 is the flange."""
     tool = args[3] if len(args) > 3 else None
-    if not isinstance(tool, Record):
-        if tool != "TOOL0":
-            raise RunError(f"{where}: the move names no tooldata")
+    if tool is TOOL0:
         fr.m.arm.tcp2flange = np.eye(4)
         return None
+    if not isinstance(tool, Record) or tool.type != "TOOLDATA":
+        raise RunError(f"{where}: the move names no tooldata")
     if not tool["ROBHOLD"]:
         raise RunError(f"{where}: a stationary tool (robhold FALSE) is not supported")
     frame = tool["TFRAME"]
@@ -57,10 +56,10 @@ def frame_matrix(frame: Record) -> np.ndarray:
 
 def wobj_matrix(compiler, wobj, where: str) -> np.ndarray:
     """A work object's frame in the base frame: uframe . oframe (wobj0, or none given: the identity)."""
-    if wobj in (None, "WOBJ0"):
+    if wobj is None or wobj is WOBJ0:
         return np.eye(4)
     if not isinstance(wobj, Record):
-        raise RunError(f"{where}: unknown work object {wobj}")
+        raise RunError(f"{where}: expected wobjdata, got {type_text(wobj)}")
     wobj = compiler.coerce("WOBJDATA", wobj, where)
     if wobj["ROBHOLD"]:
         raise RunError(f"{where}: a work object held by the robot is not supported")
@@ -71,7 +70,7 @@ def wobj_matrix(compiler, wobj, where: str) -> np.ndarray:
 
 def tool_matrix(tool, where: str) -> np.ndarray:
     """A tooldata's TCP in the flange frame (tool0: the flange)."""
-    if tool == "TOOL0":
+    if tool is TOOL0:
         return np.eye(4)
     if not isinstance(tool, Record) or tool.type != "TOOLDATA":
         raise RunError(f"{where}: expected tooldata, got {type_text(tool)}")
@@ -92,23 +91,34 @@ def target_pose(compiler, target, wobj, where: str) -> tuple[np.ndarray, Record]
     if abs(norm - 1.0) > QUATERNION_TOLERANCE:
         raise RunError(f"{where}: orientation not normalised (|q| = {norm:.9f})")
     m = posemath.matrix_from_abb(t + q)
-    if wobj is not None and wobj != "WOBJ0":  # tcp2base = uframe . oframe . target (wobj0: identity)
+    if wobj is not None and wobj is not WOBJ0:  # tcp2base = uframe . oframe . target (wobj0: identity)
         m = wobj_matrix(compiler, wobj, where) @ m
     return m, target
 
 
 def move_setting(args, i: int) -> str:
-    """A predefined speeddata, zonedata or tooldata by its name; any other value as 'custom'."""
-    value = args[i] if len(args) > i else None
-    return value.upper() if isinstance(value, str) else "custom"
+    """A predefined speeddata, zonedata or tooldata by its name (upper case); any other value as 'custom'."""
+    return (name_of(args[i]) if len(args) > i else None) or "custom"
 
 
-def move_event(fr, kind: str, m: np.ndarray, target: Record, args, timing, where: str, solve=True) -> MoveEvent:
+ACTIVE_KEY = "<active tool and wobj>"  # Machine.extra: (tooldata, wobjdata or None) of the latest move instruction
+
+
+def make_active(fr, args, wobj) -> None:
+    """The move's tool and work object become the active ones (CRobT and CPos without \\Tool or \\WObj)."""
+    fr.m.extra[ACTIVE_KEY] = (args[3] if len(args) > 3 else None, wobj)
+
+
+def move_event(
+    fr, kind: str, m: np.ndarray, target: Record, args, timing, where: str, solve=True, wobj=None
+) -> MoveEvent:
     """The MoveEvent of a move to m (args: the target, speed, zone and tool as MoveJ / MoveL take them), its
-    tool made the active one and (solve) its joints left to the arm by the configuration rules."""
+    tool (and work object) made the active ones and (solve) its joints left to the arm by the configuration rules."""
+    make_active(fr, args, wobj)
     speed, zone, tool = (move_setting(args, i) for i in (1, 2, 3))
     settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
     settings["tcp_mm_s"], settings["zone_mm"] = timing[0], zone_radius(args[2] if len(args) > 2 else None)
+    motionset.apply(fr.m, settings)
     event = MoveEvent(kind, m, int(where.split(":")[1]), settings)
     if solve:
         solve_event(fr, kind, event, target, where)
@@ -191,22 +201,16 @@ def robtarget_from(pose: np.ndarray, conf, where: str) -> Record:
 
 
 def zone_radius(zone) -> float:
-    """The TCP zone of a move in mm: 0 for fine (or a zonedata with finep), a predefined zN's N, a
-    zonedata's pzone_tcp."""
+    """The TCP zone of a move in mm: 0 for a stop point (fine, or a zonedata with finep), else its pzone_tcp."""
     if isinstance(zone, Record) and zone.type == "ZONEDATA":
         return 0.0 if zone["FINEP"] else float(zone["PZONE_TCP"])
-    match = re.fullmatch(r"Z(\d+)", str(zone).upper())
-    return float(match.group(1)) if match else 0.0
+    return 0.0
 
 
 def speed_of(speed_arg, kwargs, where: str) -> float:
     """A move's TCP speed (mm/s): the speeddata's v_tcp (a predefined vN: N, vmax: VMAX_TCP), or \\V."""
     if isinstance(speed_arg, Record) and speed_arg.type == "SPEEDDATA":
         speed = float(speed_arg["V_TCP"])
-    elif isinstance(speed_arg, str) and speed_arg.upper() == "VMAX":
-        speed = VMAX_TCP
-    elif isinstance(speed_arg, str) and (match := _SPEED_NAME.match(speed_arg.upper())):
-        speed = float(match.group(1))
     else:
         raise RunError(f"{where}: the move's speed is not a speeddata ({type_text(speed_arg)})")
     if "V" in kwargs:
@@ -222,6 +226,4 @@ def move_timing(args, kwargs, where: str) -> tuple[float, bool]:
     zone = args[2] if len(args) > 2 else None
     if isinstance(zone, Record) and zone.type == "ZONEDATA":
         return speed, not zone["FINEP"]
-    if not isinstance(zone, str):
-        raise RunError(f"{where}: the move's zone is not a zonedata ({type_text(zone)})")
-    return speed, zone.upper() != "FINE"
+    raise RunError(f"{where}: the move's zone is not a zonedata ({type_text(zone)})")

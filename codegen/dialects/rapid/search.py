@@ -10,9 +10,8 @@ from lark import Tree
 
 from codegen.dialects.core.machine import MoveEvent
 from codegen.dialects.core.values import RunError
-from codegen.dialects.rapid import errors
+from codegen.dialects.rapid import errors, motionset
 from codegen.dialects.rapid.arguments import split_args
-from codegen.dialects.rapid.builtins import vec
 from codegen.dialects.rapid.motion import (
     move_event,
     no_motion_in_trap,
@@ -22,6 +21,7 @@ from codegen.dialects.rapid.motion import (
     target_pose,
     wobj_matrix,
 )
+from codegen.dialects.rapid.types import vec
 
 # SearchL [\Stop] | [\PStop] | [\SStop] | [\Sup] Signal [\Flanks] | [\PosFlank] | [\NegFlank] SearchPoint ToPoint
 # Speed Tool [\WObj] (ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", SearchL,
@@ -94,8 +94,8 @@ def search_l(compiler, node, args_node) -> Callable:
                 f"{where}: SearchL: {signal} is already {int(before)} when the search starts",
             )
         args = [target, speed_value, "FINE", tool(fr)]
-        event = move_event(fr, "linear", target_m, target, args, (mm_s, False), where, solve=False)
-        m.move(event, mm_s, runs_ahead=True)
+        event = move_event(fr, "linear", target_m, target, args, (mm_s, False), where, solve=False, wobj=wobj_value)
+        m.move(event, motionset.speed(m, mm_s), runs_ahead=True)
         hits = _hits(m, watching, signal, edge, before, t0, event.end_time, stop is not None and stop != "SUP")
         if hits and stop is not None and stop != "SUP":
             _stop_at(m, event, hits[0][1], hits[0][0])

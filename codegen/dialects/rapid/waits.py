@@ -1,4 +1,4 @@
-"""RAPID instructions compiled from their argument nodes: WaitUntil, WaitTime, WaitRob, BookErrNo, SetDO, WaitDI."""
+"""RAPID instructions compiled from their argument nodes: WaitUntil, WaitTime, WaitRob, BookErrNo."""
 
 from __future__ import annotations
 
@@ -6,11 +6,10 @@ from collections.abc import Callable
 
 from lark import Tree
 
-from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import errors
 from codegen.dialects.rapid.arguments import split_args
-from codegen.dialects.rapid.builtins import num
+from codegen.dialects.rapid.types import num
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", WaitUntil,
 # WaitTime and WaitRob, as recalled (the manual's text was not found during this work):
@@ -100,111 +99,9 @@ def book_errno(compiler, node, args_node) -> Callable:
     return lambda fr: store(fr, errors.book_errno(fr, where))
 
 
-# SetDO Signal, Value and WaitDI Signal, Value [\MaxTime] [\TimeFlag] (RAPID instructions, as recalled):
-# the signal is a digital output or input of the controller's I/O configuration (EIO), named as written;
-# the program does not declare it. SetDO sets the output when the instruction runs (after a fine point:
-# once the arm stands there); WaitDI waits until the input has the value, with \MaxTime as WaitUntil's.
-def _signal(compiler, node, arg) -> str:
-    if not (isinstance(arg, Tree) and arg.data == "var"):
-        compiler.fail(node, f"{node.children[0]}: the signal is a name of the I/O configuration")
-    return str(arg.children[0])
-
-
-def _digital(value, where: str) -> bool:
-    number = num(value, where)
-    if number not in (0, 1):
-        raise RunError(f"{where}: a digital signal's value is 0 or 1, got {number:g}")
-    return bool(number)
-
-
-def set_do(compiler, node, args_node) -> Callable:
-    positional, _named = split_args(compiler, node, args_node, set())
-    if len(positional) != 2:
-        compiler.fail(node, "SetDO takes a signal and a value")
-    name, value, where = _signal(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)
-    return lambda fr: fr.m.set_output(name, _digital(value(fr), where), where)
-
-
-def wait_di(compiler, node, args_node) -> Callable:
-    positional, named = split_args(compiler, node, args_node, {"MAXTIME", "TIMEFLAG"})
-    if len(positional) != 2:
-        compiler.fail(node, "WaitDI takes a signal and a value")
-    name, value, where = _signal(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)
-    max_time = _value(compiler, node, named, "MAXTIME")
-    flag = compiler.lvalue(named["TIMEFLAG"]) if named.get("TIMEFLAG") is not None and max_time is not None else None
-
-    def run(fr):
-        want, m = _digital(value(fr), where), fr.m
-        came = m.signals.get(name, False) == want
-        if not came:
-            seconds = None if max_time is None else num(max_time(fr), where)
-            came = m.wait_for(lambda: m.signals.get(name, False) == want, where, seconds, "WaitDI")
-            if flag is not None:
-                flag(fr, not came)
-            elif not came:
-                raise errors.wait_maxtime(where, "WaitDI", seconds)
-        elif flag is not None:
-            flag(fr, False)
-
-    return run
-
-
-# SetGO Signal, Value and the functions GInput(Signal), GOutput(Signal), DInput(Signal) (RAPID instructions and
-# functions, as recalled): a group of digital signals of the I/O configuration read or written as one
-# number (GInput: up to 23 bits, a num; the group's width is the configuration's: 16 here is checked
-# against nothing but the value's range), a digital input as 0 or 1. An input's value is what the
-# devices set, or a device's live value (an encoder's count).
-GROUP_MAX = 2**23
-
-
-def set_go(compiler, node, args_node) -> Callable:
-    positional, _named = split_args(compiler, node, args_node, set())
-    if len(positional) != 2:
-        compiler.fail(node, "SetGO takes a signal and a value")
-    name, value, where = _signal(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)
-
-    def run(fr):
-        number = num(value(fr), where)
-        if number != int(number) or not 0 <= number < GROUP_MAX:
-            raise RunError(f"{where}: SetGO {name}: {number:g} is not a whole number in 0..{GROUP_MAX - 1}")
-        fr.m.outputs[name] = int(number)
-        fr.m.output_written(where)
-
-    return run
-
-
-def signal_function(compiler, node, name: str, args_node):
-    """GInput(signal) and DInput(signal) as expression sources, else None."""
-    key = name.upper()
-    if key not in ("GINPUT", "DINPUT", "GOUTPUT"):
-        return None
-    positional, _named = split_args(compiler, node, args_node, set())
-    if len(positional) != 1:
-        compiler.fail(node, f"{name} takes one signal")
-    signal = _signal(compiler, node, positional[0])
-    if key == "GINPUT":
-
-        def read(fr):
-            value = fr.m.input_signal(signal, 0)
-            return float(int(value))
-    elif key == "GOUTPUT":  # what the program last wrote with SetGO (0 before)
-
-        def read(fr):
-            return float(fr.m.outputs.get(signal, 0))
-    else:
-
-        def read(fr):
-            return float(bool(fr.m.input_signal(signal)))
-
-    return Src(f"{compiler.const(read)}(fr)")
-
-
 SPECIAL = {
-    "SETGO": set_go,
     "WAITUNTIL": wait_until,
     "WAITTIME": wait_time,
     "WAITROB": wait_rob,
     "BOOKERRNO": book_errno,
-    "SETDO": set_do,
-    "WAITDI": wait_di,
 }

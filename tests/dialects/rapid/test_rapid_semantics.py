@@ -89,7 +89,7 @@ def test_vmax_speeddata_records_zonedata_records_and_the_v_argument():
 def test_every_move_instruction_needs_a_speed_and_a_zone():
     joints = "CONST jointtarget j := [[0, 0, 0, 0, 30, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];"
     with pytest.raises(RunError, match=r"t\.mod:\d+:1: the move's TCP speed must be above 0 mm/s"):
-        run("MoveAbsJ j, v0, fine, tool0;", joints)
+        run("MoveAbsJ j, stopped, fine, tool0;", joints + "\nCONST speeddata stopped := [0, 500, 5000, 1000];")
     with pytest.raises(RunError, match=r"t\.mod:\d+:1: the move's zone is not a zonedata"):
         run("MoveJ p0, v100, 5, tool0;")
 
