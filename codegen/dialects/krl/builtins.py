@@ -50,6 +50,10 @@ STRUCTS = {
         ("PAR_BOOL", "BOOL"),
     ],
     "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
+    # the path and approximation parameters of the advance run ($VEL, $ACC, $APO: KSS 8.1-8.4 System Variables)
+    "VEL_STRUC": [("CP", "REAL"), ("ORI1", "REAL"), ("ORI2", "REAL")],  # m/s, deg/s, deg/s
+    "ACC_STRUC": [("CP", "REAL"), ("ORI1", "REAL"), ("ORI2", "REAL")],  # m/s2, deg/s2, deg/s2
+    "APO_STRUC": [("CVEL", "INT"), ("CPTP", "INT"), ("CDIS", "REAL"), ("CORI", "REAL")],  # %, %, mm, deg
 }
 # Message types the operator must acknowledge (KSS 8 system integrators manual, Set_KrlMsg: #QUIT, and
 # #WAITING until the program clears it); #NOTIFY and #STATE need none.
@@ -60,10 +64,35 @@ SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
 CART = ("FRAME", "POS", "E6POS")
 
 
-def new_value(type_name: str):
-    if type_name in STRUCTS:
-        return Record(type_name, {k: UNINIT for k, _ in STRUCTS[type_name]})
-    return UNINIT
+def new_value(type_name: str, structs: dict = STRUCTS):
+    """A declared variable's value before it is given one: UNINIT, a record of UNINIT components (a
+    component of a user-defined structure type that is itself a user structure: its record)."""
+    fields = structs.get(type_name)
+    if fields is None:
+        return UNINIT
+    return Record(
+        type_name,
+        {k: (new_value(t, structs) if t in structs and t not in STRUCTS else UNINIT) for k, t in fields},
+    )
+
+
+def type_name_of(value) -> str:
+    """A value's KRL type as a message names it (never a Python type name)."""
+    if isinstance(value, bool):
+        return "BOOL"
+    if isinstance(value, int | np.integer):
+        return "INT"
+    if isinstance(value, float | np.floating):
+        return "REAL"
+    if isinstance(value, str):
+        return "an ENUM value" if value.startswith("#") else "CHAR"
+    if isinstance(value, Record):
+        return value.type or "an aggregate"
+    if isinstance(value, list):
+        return "an array"
+    if value is UNINIT:
+        return "no value"
+    return "a value of no KRL type"
 
 
 def frame(values=(0, 0, 0, 0, 0, 0)) -> Record:
@@ -78,7 +107,7 @@ def valid(value, where: str, what: str):
 
 def cart(value, where: str) -> Record:
     if not isinstance(value, Record) or value.type not in CART:
-        raise RunError(f"{where}: expected FRAME, POS or E6POS, got {getattr(value, 'type', type(value).__name__)}")
+        raise RunError(f"{where}: expected FRAME, POS or E6POS, got {type_name_of(value)}")
     v = value
     if (
         v["X"] is UNINIT

@@ -11,7 +11,7 @@ from codegen.dialects.core.machine import Frame
 from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.krl.builtins import UNINIT
 from codegen.dialects.krl.io import IO_MAX
-from codegen.dialects.krl.motion import motion_base
+from codegen.dialects.krl.position import motion_base
 from codegen.poses import invert
 
 # KSS 8 programming manual, interrupt programming: priorities 1..128 (KUKA's own routines use 3, 19
@@ -90,7 +90,7 @@ def _input_number(node) -> int | None:
 
 
 def _mentions_input(compiler, node) -> bool:
-    groups = getattr(compiler, "signal_groups", {})
+    groups = compiler.scope.signals
     for sub in node.iter_subtrees() if isinstance(node, Tree) else ():
         if _input_number(sub) is not None:
             return True
