@@ -9,6 +9,7 @@ import re
 import numpy as np
 
 from codegen.dialects import posemath
+from codegen.dialects.core.machine import pause
 from codegen.dialects.core.values import Record, RunError, f32, format_general
 
 
@@ -126,12 +127,38 @@ def cart_matrix(value: Record) -> np.ndarray:
     return posemath.matrix_from_xyzabc(xyzabc(value))
 
 
+# KUKA's functions the interpreter does not model: a call is refused by name (not "unknown routine")
+NOT_MODELLED = {
+    name: what
+    for what, names in {
+        "string functions": "STRLEN STRCLEAR STRCOPY STRADD STRCOMP STRFIND STRDECLLEN SWRITE SREAD",
+        "channel I/O": "CWRITE CREAD COPEN CCLOSE CIOCTL",
+        "Ethernet KRL": "EKI_INIT EKI_OPEN EKI_CLOSE EKI_CLEAR EKI_SEND EKI_SETINT EKI_SETREAL EKI_SETSTRING "
+        "EKI_GETINT EKI_GETREAL EKI_GETSTRING EKI_GETBOOL EKI_SETBOOL EKI_CHECK EKI_LOCK EKI_UNLOCK",
+        "error handling": "ERR_RAISE ERR_CLEAR",
+        "kinematics functions": "INVERSE FORWARD",
+        "KUKA's technology packages": "P00 H50 USER_GRP USERSPOT A20 A10",
+        "messages of KSS 5": "MSG_SEND SET_KRLDLG EXISTS_KRLDLG CLEAR_KRLMSG",
+    }.items()
+    for name in names.split()
+}
+
+
 def builtins() -> dict:
     """The KRL functions and procedures the interpreter provides, by upper-case name."""
 
     def trig(fn):
         def call(fr, args, kwargs, where):
             return f32(fn(math.radians(float(valid(args[0], where, "argument")))))
+
+        return call
+
+    def arc(fn):
+        def call(fr, args, kwargs, where):
+            value = float(valid(args[0], where, "argument"))
+            if not -1.0 <= value <= 1.0:
+                raise RunError(f"{where}: ACOS / ASIN of {value:g}: the argument must be in -1..1")
+            return f32(math.degrees(fn(value)))
 
         return call
 
@@ -203,7 +230,27 @@ def builtins() -> dict:
             fr.m.extra["VEL_PTP"] = percent
         return None
 
+    def msg(kind: str):
+        """MsgNotify / MsgQuit (KSS 8.3's MsgLib, recalled: the text first, then the module and the number):
+        a notification, or a message the operator acknowledges (the program stands until then: the run's stop)."""
+
+        def call(fr, args, kwargs, where):
+            text = valid(args[0], where, f"{kind} text")
+            if not isinstance(text, str):
+                raise RunError(f"{where}: {kind}: the text is a CHAR array")
+            fr.m.message(text)
+            if kind == "MsgQuit":
+                fr.m.arrive(where)
+                pause(fr)
+            return None
+
+        return call
+
     return {
+        "ACOS": arc(math.acos),
+        "ASIN": arc(math.asin),
+        "MSGNOTIFY": msg("MsgNotify"),
+        "MSGQUIT": msg("MsgQuit"),
         "SIN": trig(math.sin),
         "COS": trig(math.cos),
         "TAN": trig(math.tan),

@@ -71,6 +71,9 @@ class KRLCompiler(
         return {**builtins(), **bas.functions()}
 
     def number(self, text: str):
+        if text.startswith("'"):  # 'Hff' / 'B0101'
+            base = 16 if text[1] in "Hh" else 2
+            return int(text[2:-1], base)
         if any(c in text for c in ".eE"):
             return f32(float(text))
         return int(text)
@@ -108,14 +111,6 @@ class KRLCompiler(
     # --- expressions -------------------------------------------------------------------------
     def e_enum(self, node):
         return Src(repr("#" + str(node.children[0]).upper()))
-
-    def e_based_number(self, node):
-        text = str(node.children[0])[1:-1]
-        base = 16 if text[0] in "Hh" else 2
-        try:
-            return Src(self.const(int(text[1:], base)))
-        except ValueError:
-            self.fail(node, f"{node.children[0]} is not a {'hexadecimal' if base == 16 else 'binary'} number")
 
     def e_whole(self, node):
         return self.expr(node.children[0])
@@ -254,8 +249,9 @@ class KRLCompiler(
                 fr.m.extra["$LOAD"] = self.coerce("LOAD", value(fr), where)
 
             return set_load
-        if is_var and self.local_types is not None and name in self.local_types:
-            self.check_static(value_node, self.local_types[name], node)
+        declared = self.static_type(target_node)
+        if declared is not None:
+            self.check_static(value_node, declared, node)
         return super().s_assign(node)
 
     # --- statements --------------------------------------------------------------------------
@@ -327,6 +323,12 @@ class KRLCompiler(
 
     def s_brake_stmt(self, node):
         self.fail(node, "BRAKE (in an interrupt routine) is not modelled by this interpreter")
+
+    def s_analog_stmt(self, node):
+        self.fail(node, f"{node.children[0]} {node.children[1]} (cyclic analog I/O) is not modelled by this interpreter")
+
+    def s_on_error_stmt(self, node):
+        self.fail(node, "ON_ERROR_PROCEED (error handling, $ERR) is not modelled by this interpreter")
 
     def s_resume_stmt(self, node):
         self.fail(node, "RESUME (in an interrupt routine) is not modelled by this interpreter")

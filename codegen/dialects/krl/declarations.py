@@ -9,6 +9,7 @@ from lark import Token, Tree
 
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
 from codegen.dialects.krl.builtins import CART, SIMPLE, STRUCTS, UNINIT, new_value, type_name_of
+from codegen.dialects.krl.motion import SYSTEM_ARRAYS
 from codegen.dialects.krl.sysvars import SHARED_STRUCTS
 
 # KSS 8 programming manual for system integrators, "Variables and declarations": arrays have up to three
@@ -30,6 +31,7 @@ class Declarations:
         self.enums: dict[str, frozenset] = {}
         self.RECORD_TYPES = frozenset(self.structs)
         self.data_decls: list = []
+        self.static_types: dict = {}  # a data list's names (storage key) -> declared type, for the static checks
 
     def known_type(self, name: str) -> bool:
         return name in SIMPLE or name in self.structs or name in self.enums or name == "ANY"
@@ -134,6 +136,9 @@ class Declarations:
             name, dims, init = item.children
             key = str(name).upper()
             where = self.where(item)
+            if isinstance(dims, Token):  # NAME[]: an array parameter, sized by the caller's array
+                out.append((key, "CHAR" if type_name == "CHAR" else (type_name, None), constant(UNINIT)))
+                continue
             if dims is not None:
                 sizes = [int(str(t)) for t in dims.children]
                 if type_name == "CHAR":  # the last dimension is the text's length
@@ -168,6 +173,22 @@ class Declarations:
             inner = [inner] * size
         return inner
 
+    def static_type(self, target):
+        """The declared type of an assignment's target (a variable, a component, an element), None if unknown."""
+        if isinstance(target, Tree) and target.data == "var":
+            key = str(target.children[0]).upper()
+            if self.local_types is not None and key in self.local_types:
+                return self.local_types[key]
+            store = self.scope.data.get(key)
+            return self.static_types.get(store) if store is not None else None
+        if isinstance(target, Tree) and target.data == "field":
+            outer = self.static_type(target.children[0])
+            return self.struct_fields.get(outer, {}).get(str(target.children[1]).upper()) if isinstance(outer, str) else None
+        if isinstance(target, Tree) and target.data == "index":
+            outer = self.static_type(target.children[0])
+            return outer[0] if isinstance(outer, tuple) and len(target.children) == 2 else None
+        return None
+
     def check_static(self, node, type_name, where_node) -> None:
         """A literal of another type assigned or declared (DECL INT N = "abc"): the controller's compiler
         refuses it, so does the interpreter, before the program runs."""
@@ -180,8 +201,11 @@ class Declarations:
             (have == "number" and number)
             or (have == "CHAR" and type_name == "CHAR")
             or (have == "BOOL" and type_name == "BOOL")
-            or (have == "an ENUM value" and type_name in self.enums)
+            or (have == "an ENUM value" and type_name in self.enums
+                and "#" + str(node.children[0]).upper() in self.enums[type_name])
         )
+        if have == "an ENUM value" and type_name in self.enums and not ok:
+            self.fail(where_node, f"type error: #{node.children[0]} is not a value of {type_name}")
         if not ok:
             shown = "a number" if have == "number" else have
             self.fail(where_node, f"type error: cannot assign {shown} to {type_name}")
@@ -202,7 +226,14 @@ class Declarations:
 
     def data_item(self, child, storage: dict[str, str]) -> None:
         if child.data == "decl":
-            items = [(storage.get(k, k), t, init) for k, t, init in self.decl_items(child)]
+            items = []
+            for key, type_name, init in self.decl_items(child):
+                if key in SYSTEM_ARRAYS:  # TOOL_DATA...: the interpreter's own (its values: --input, assignments)
+                    if self.element_type(type_name) != SYSTEM_ARRAYS[key][0]:
+                        self.fail(child, f"{key} is an array of {SYSTEM_ARRAYS[key][0]} (KUKA's $config.dat)")
+                    continue
+                items.append((storage.get(key, key), type_name, init))
+                self.static_types[storage.get(key, key)] = type_name
             self.data_decls.append(("decl", items))
         elif child.data == "signal_decl":
             self.s_signal_decl(child)

@@ -5,7 +5,7 @@ from __future__ import annotations
 from lark import Tree
 
 from codegen.dialects.core.source import Src
-from codegen.dialects.core.values import RunError
+from codegen.dialects.core.values import F32, RunError
 
 IO_MAX = 4096  # $IN[1..4096], $OUT[1..4096] (kuka.toml signals)
 
@@ -86,7 +86,7 @@ def pulse(compiler, node):
         n, value, t = _number(index(fr), where, "$OUT"), state(fr), seconds(fr)
         if not isinstance(value, bool):
             raise RunError(f"{where}: PULSE: the state is TRUE or FALSE")
-        if isinstance(t, bool) or not isinstance(t, int | float) or not 0.012 <= float(t) <= 2**31 / 1000:
+        if isinstance(t, bool) or not isinstance(t, int | float | F32) or not 0.012 <= float(t) <= 2**31 / 1000:
             raise RunError(f"{where}: PULSE: the time is a number of seconds (at least 0.012 s)")
         if stops:
             fr.m.arrive(where)

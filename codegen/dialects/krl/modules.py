@@ -10,10 +10,12 @@ from lark import Token, Tree
 
 from codegen.dialects.core.files import SourceFile
 from codegen.dialects.core.machine import Program
+from codegen.dialects.core.shapes import ShapeCache
 from codegen.dialects.core.values import RunError
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.environment import CONFIG_DAT, is_config
 from codegen.dialects.krl.environment import NAME as CONFIG_NAME
+from codegen.dialects.krl.motion import SYSTEM_ARRAYS
 from codegen.dialects.krl.names import Scope
 from codegen.dialects.krl.syntax import parse
 
@@ -63,20 +65,35 @@ def _calls(tree) -> set[str]:
     }
 
 
+def _callable(module: Module, tree) -> set[str]:
+    """What other modules may call of a module: its main routine (named like it) and its GLOBAL ones."""
+    names = {module.name}
+    for i, node in enumerate(_routines(tree)):
+        if i == 0 or node.children[0] is not None:
+            names.add(routine_name(node))
+    return names
+
+
 def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
-    """Which files make one program each, the program file first: each .src no other module calls, with its
-    .dat and every other module and $config.dat given (a file that does not parse counts as a program)."""
+    """Which files make one program each, the program file first: each .src none of whose routines another
+    module calls, with its .dat, every other module and $config.dat given (a library is every program's; a
+    file that does not parse counts as a program)."""
     modules, configs = group_modules(files)
     with_src = [m for m in modules if m.src is not None]
     if not with_src:
         raise RunError(f"{files[0].name}: no program file (.src) among the files: a data list is read with its program")
-    called: set[str] = set()
+    calls, offers = {}, {}
     for module in with_src:
         try:
-            called |= _calls(parse(module.src.text, module.src.name, positions=False)) - {module.name}
+            tree = parse(module.src.text, module.src.name, positions=False)
         except RunError:
             continue
-    mains = [m for m in with_src if m.name not in called] or with_src[:1]
+        offers[module.name] = _callable(module, tree)
+        calls[module.name] = _calls(tree) - offers[module.name]
+    libraries = {
+        name for name, offered in offers.items() if any(offered & called for other, called in calls.items() if other != name)
+    }
+    mains = [m for m in with_src if m.name not in libraries] or with_src[:1]
     out = []
     for main in mains:
         rest = [f for m in modules if m is not main for f in (m.src, m.dat) if f is not None]
@@ -120,6 +137,7 @@ class Linker:
             raise RunError(f"{main.name}: a data list is read together with its program: give the program file first")
         self.compiler = KRLCompiler(main.name)
         self.compiler.findings = findings
+        self.compiler._shapes = ShapeCache(f"<{main.name}: compiled>")  # named by the program, not its first file
 
     def fail_or_keep(self, exc: RunError) -> None:
         if self.findings is None:
@@ -161,26 +179,29 @@ class Linker:
         compiler.user_routines = {key for table in [global_routines, *own_routines.values()] for key in table.values()}
         compiler.signatures = {key: modes for key, (_kind, modes) in signatures.items()}
         compiler.routine_signatures = signatures
-        config_signals: dict = {}
-        scopes = {}
-        for module in everything:
-            scope = Scope(
-                module.name,
-                {**global_data, **own_data.get(id(module), {})},
-                {**global_routines, **own_routines.get(id(module), {})},
-                config_signals if module.config else dict(config_signals),
-                external.get(id(module), set()),
-            )
-            scopes[id(module)] = scope
+        config_signals: dict = {}  # $config.dat's signals: every module's (a module's own: its scope's copy)
+
+        def scope_of(module: Module) -> Scope:
+            if id(module) not in scopes:
+                scopes[id(module)] = Scope(
+                    module.name,
+                    {**global_data, **own_data.get(id(module), {})},
+                    {**global_routines, **own_routines.get(id(module), {})},
+                    config_signals if module.config else dict(config_signals),
+                    external.get(id(module), set()),
+                )
+            return scopes[id(module)]
+
+        scopes: dict[int, Scope] = {}
         main_key = None
         for module in [*config_modules, *[m for m in modules if m is not main], main]:  # pass 2: data lists
-            compiler.scope = scopes[id(module)]
+            compiler.scope = scope_of(module)
             for name, tree in module.trees:
                 compiler.filename = name
                 for defdat in _data_body(tree):
                     self.guarded(compiler.data_list, defdat, own_data[id(module)])
         for module in modules:  # pass 3: routines
-            compiler.scope = scopes[id(module)]
+            compiler.scope = scope_of(module)
             for name, tree in module.trees:
                 compiler.filename = name
                 for i, node in enumerate(_routines(tree)):
@@ -230,6 +251,8 @@ class Linker:
                         is_global = module.config or (public and any(
                             isinstance(t, Token) and t.type == "GLOBAL" for t in item.children))
                         for key in names:
+                            if key in SYSTEM_ARRAYS:  # the controller's numbered data: the interpreter's own
+                                continue
                             if module.config or is_global:
                                 previous = where.get(key)
                                 if previous is not None and not module.config and previous != name:

@@ -156,7 +156,8 @@ def whole_frame(compiler, target, where: str, lacks: str, fr=None):
         missing = [k for k, _ in XYZABC if k not in target]
         if missing:
             raise RunError(f"{where}: " + lacks.format(", ".join(missing)))
-        target = compiler.coerce("FRAME", target, where)
+        kind = "E6POS" if any(k.startswith("E") for k in target) else "POS" if "S" in target or "T" in target else "FRAME"
+        target = compiler.coerce(kind, target, where)
     return target
 
 

@@ -9,7 +9,7 @@ from lark import Token, Tree
 from codegen.dialects.core.source import LazyStore, Src
 from codegen.dialects.core.values import RunError
 from codegen.dialects.krl import sysvars
-from codegen.dialects.krl.builtins import UNINIT, frame, new_value, valid
+from codegen.dialects.krl.builtins import NOT_MODELLED, UNINIT, frame, new_value, valid
 from codegen.dialects.krl.interrupts import pos_int
 from codegen.dialects.krl.motion import SYSTEM_ARRAYS
 from codegen.dialects.krl.position import ACTIVE_BASE_AT_START
@@ -33,6 +33,28 @@ class Scope:
     routines: dict[str, str] = field(default_factory=dict)
     signals: dict = field(default_factory=dict)  # NAME -> (bank, first, last, single)
     external: set[str] = field(default_factory=set)  # routines declared EXT here
+
+
+class ScopedStore(LazyStore):
+    """A by-reference argument's setter compiled when first used, in the scope and file of its call."""
+
+    __slots__ = ("filename", "scope")
+
+    def __init__(self, compiler, node) -> None:
+        super().__init__(compiler, node)
+        self.scope, self.filename = compiler.scope, compiler.filename
+
+    def __call__(self, fr, value) -> None:
+        if self.fn is None:
+            compiler = self.compiler
+            saved = compiler.scope, compiler.filename
+            compiler.scope, compiler.filename = self.scope, self.filename
+            try:
+                super().__call__(fr, value)
+            finally:
+                compiler.scope, compiler.filename = saved
+            return
+        self.fn(fr, value)
 
 
 SPECIAL_READS = {"$NULLFRAME", "$WORLD", "$BASE", "$ROBROOT", "$POS_INT", "$ORI_TYPE", "$CIRC_TYPE", "$TOOL", "$LOAD"}
@@ -153,6 +175,8 @@ class ScopedNames:
             return found
         if key in self.builtins:
             return None
+        if key in NOT_MODELLED:
+            self.fail(token, f"{token} ({NOT_MODELLED[key]}) is not modelled by this interpreter")
         if key in self.scope.external:
             self.fail(token, f"unknown routine {token}: declared EXT, defined in none of the program's files")
         self.fail(token, f"unknown routine {token}: defined in none of the program's files, nor one modelled here")
@@ -176,6 +200,6 @@ class ScopedNames:
         if callee not in self.user_routines:
             return [None] * len(arg_nodes)
         return [
-            LazyStore(self, node) if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole") else None
+            ScopedStore(self, node) if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole") else None
             for node in arg_nodes
         ]

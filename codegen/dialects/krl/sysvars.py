@@ -50,10 +50,10 @@ TABLE: dict[str, tuple[str, int | None, object]] = {
     "$IN_HOME": ("BOOL", None, None),  # computed, read-only
     "$MOVE_BCO": ("BOOL", None, None),  # computed, read-only
     "$ROB_TIMER": ("INT", None, None),  # computed, read-only
-    "$H_POS": ("E6AXIS", None, None),  # computed: XHOME of $config.dat
+    "$H_POS": ("E6AXIS", None, None),  # the home position ($IN_HOME): the inline form sets it, else XHOME
 }
 READ_ONLY = frozenset({"$TIMER_FLAG", "$STOPMESS", "$NUM_AX", "$EX_AX_NUM", "$POS_ACT", "$AXIS_ACT", "$IN_HOME",
-                       "$MOVE_BCO", "$ROB_TIMER", "$H_POS"})
+                       "$MOVE_BCO", "$ROB_TIMER"})
 RECORDED_ONLY = frozenset({"$GEAR_JERK", "$COLLMON_TOL_PRO", "$WORKSPACE", "$JERK", "$EX_AX_IGNORE",
                            "$SPL_ORI_JOINT_AUTO", "$CIRC_MODE", "$BWDSTART"})
 # Not modelled, refused by name where a program uses them (what they would do is not in the trace)
@@ -184,8 +184,8 @@ def axis_act(fr, where: str) -> Record:
 
 
 def home_position(fr, where: str) -> Record:
-    """$H_POS: the home position, XHOME of $config.dat."""
-    home = fr.m.globals.get("XHOME", UNINIT)
+    """$H_POS: the home position as the program set it (the HOME inline form: $H_POS = XHOME), else XHOME."""
+    home = fr.m.extra.get("$H_POS") or fr.m.globals.get("XHOME", UNINIT)
     if not isinstance(home, Record):
         raise RunError(f"{where}: $H_POS: XHOME has no value ($config.dat)")
     return home
@@ -250,6 +250,10 @@ def write(fr, name: str, value, where: str) -> None:
         m.extra["$APO.CDIS"] = float(value["CDIS"])
     elif name == "$VEL_AXIS" and value[0] is not UNINIT:
         m.extra["VEL_PTP"] = float(value[0])
+    elif name == "$ACC_AXIS" and value[0] is not UNINIT:
+        m.extra["ACC_PTP"] = float(value[0])
+    if name == "$ACC" and value["CP"] is not UNINIT:
+        m.extra["$ACC.CP"] = float(value["CP"])
 
 
 def mirror_path_field(extra: dict, name: str, field: str, value: float) -> None:
