@@ -75,13 +75,13 @@ def vel_ptp(fr, percent: float, where: str) -> None:
     if percent <= 0:
         raise RunError(f"{where}: BAS(#VEL_PTP, {percent:g}): a PTP at 0 % does not move")
     value = config(fr, "DEF_VEL_PTP") * (min(percent, 100.0) / 100.0)
-    write(fr, "$VEL_AXIS", [int(round(value))] * AXES, where)
+    write(fr, "$VEL_AXIS", [round(value)] * AXES, where)
     fr.m.extra["VEL_PTP"] = float(value)
 
 
 def acc_ptp(fr, percent: float, where: str) -> None:
     value = config(fr, "DEF_ACC_PTP") * (min(percent, 100.0) / 100.0)
-    write(fr, "$ACC_AXIS", [int(round(value))] * AXES, where)
+    write(fr, "$ACC_AXIS", [round(value)] * AXES, where)
 
 
 def vel_cp(fr, speed: float, where: str) -> None:
@@ -239,12 +239,12 @@ def _arg(args, i: int, where: str, what: str):
 def svel_joint(fr, args, kwargs, where):
     """SVEL_JOINT(percent): the axes' speed of an SPTP, % (stored in $VEL_AXIS[1], the inline form's way)."""
     percent = _number(_arg(args, 0, where, "SVEL_JOINT"), where, "SVEL_JOINT percent")
-    return int(round(config(fr, "DEF_VEL_PTP") * min(percent, 100.0) / 100.0))
+    return round(config(fr, "DEF_VEL_PTP") * min(percent, 100.0) / 100.0)
 
 
 def sacc_joint(fr, args, kwargs, where):
     """SACC_JOINT(pdat): the axes' acceleration %, PDAT.ACC."""
-    return int(round(_number(_arg(args, 0, where, "SACC_JOINT")["ACC"], where, "PDAT.ACC")))
+    return round(_number(_arg(args, 0, where, "SACC_JOINT")["ACC"], where, "PDAT.ACC"))
 
 
 def stool2(fr, args, kwargs, where):
@@ -341,4 +341,5 @@ def functions() -> dict:
         "SGEAR_JERK": recorded_only("SGEAR_JERK"),
         "SJERK": recorded_only("SJERK"),
         "USE_CM_PRO_VALUES": recorded_only("USE_CM_PRO_VALUES"),
+        "SET_CD_PARAMS": recorded_only("SET_CD_PARAMS"),  # the inline forms' collision detection: none here
     }

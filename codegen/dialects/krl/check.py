@@ -34,9 +34,10 @@ STOPS = ("wait_sec", "wait_for", "halt_stmt")
 def finding_of(exc: RunError, default_file: str) -> Finding:
     text = str(exc)
     match = WHERE.match(text)
-    file, line, column, message = (
-        (match["file"], int(match["line"]), int(match["column"]), match["message"]) if match else (default_file, 0, 0, text)
-    )
+    if match:
+        file, line, column, message = match["file"], int(match["line"]), int(match["column"]), match["message"]
+    else:
+        file, line, column, message = default_file, 0, 0, text
     if not match and ": " in text and text.split(": ", 1)[0].endswith((".src", ".dat")):
         file, message = text.split(": ", 1)
     code, severity = next(((c, s) for words, c, s in CODES if words in message), ("load", "error"))
@@ -243,6 +244,7 @@ def _walk(node, file: str, routines: dict, state: dict) -> list[Finding]:
                 line, column = _start(sub)
                 return [Finding(file, line, column, "warning", "motion-before-tool-base",
                                 f"a motion before {missing} is set (BAS(#INITMOV, 0), the inline form's "
-                                "BAS(#PTP_PARAMS ...), or an assignment): it moves with what the previous program left")]
+                                "BAS(#PTP_PARAMS ...), or an assignment): it moves with what the previous program "
+                                "left")]
             return []
     return []

@@ -325,7 +325,8 @@ class KRLCompiler(
         self.fail(node, "BRAKE (in an interrupt routine) is not modelled by this interpreter")
 
     def s_analog_stmt(self, node):
-        self.fail(node, f"{node.children[0]} {node.children[1]} (cyclic analog I/O) is not modelled by this interpreter")
+        what = f"{node.children[0]} {node.children[1]}"
+        self.fail(node, f"{what} (cyclic analog I/O) is not modelled by this interpreter")
 
     def s_on_error_stmt(self, node):
         self.fail(node, "ON_ERROR_PROCEED (error handling, $ERR) is not modelled by this interpreter")
@@ -377,7 +378,7 @@ class KRLCompiler(
                 continue
             if child.data in DECLARATIONS:
                 if statements:
-                    self.fail(child, "a declaration after the first statement of a routine (KRL: declarations come first)")
+                    self.fail(child, "a declaration after the first statement of a routine (KRL: declarations first)")
                 if child.data == "decl":
                     decls.extend(self.decl_items(child))
                 elif child.data == "signal_decl":

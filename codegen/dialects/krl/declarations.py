@@ -45,7 +45,7 @@ class Declarations:
             _global, name, *items = node.children
             fields, last = [], None
             for item in items:
-                type_token, field_name, dims = item.children
+                type_token, field_name, _dims = item.children
                 if field_name is None:  # one name: the type of the field before
                     type_token, field_name = None, type_token
                 last = str(type_token).upper() if type_token is not None else last
@@ -58,11 +58,12 @@ class Declarations:
             self.RECORD_TYPES = frozenset(self.structs)
 
     def check_types(self) -> None:
-        """Every component of every structure has a known type (after all modules declared theirs)."""
+        """A component of a type no module declares is one of the controller's own types (ESYS, a technology
+        package's): the interpreter records it as it is (ANY). A variable of such a type is refused."""
         for name, fields in self.structs.items():
-            for field_name, type_name in fields:
-                if not self.known_type(type_name):
-                    raise RunError(f"{self.filename}: STRUC {name}: component {field_name} has the unknown type {type_name}")
+            if any(not self.known_type(t) for _f, t in fields):
+                self.structs[name] = [(f, t if self.known_type(t) else "ANY") for f, t in fields]
+                self.struct_fields[name] = dict(self.structs[name])
 
     # --- values of a type -------------------------------------------------------------------------
     def coerce(self, type_name, value, where):
@@ -97,7 +98,8 @@ class Declarations:
         if type_name in self.enums:
             if not isinstance(value, str) or value.upper() not in self.enums[type_name]:
                 shown = value if isinstance(value, str) and value.startswith("#") else type_name_of(value)
-                raise RunError(f"{where}: {shown} is not a value of {type_name} ({', '.join(sorted(self.enums[type_name]))})")
+                values = ", ".join(sorted(self.enums[type_name]))
+                raise RunError(f"{where}: {shown} is not a value of {type_name} ({values})")
             return value.upper()
         if type_name in self.structs:
             return self.coerce_record(type_name, value, where)
@@ -151,7 +153,8 @@ class Declarations:
                     value_init = self.expr(init) if init is not None else None
                     if value_init is not None:
                         self.check_static(init, "CHAR", item)
-                    out.append((key, "CHAR", (lambda fr, v=value_init, w=where: self.coerce("CHAR", v(fr), w) if v else UNINIT)))
+                    text = lambda fr, v=value_init, w=where: self.coerce("CHAR", v(fr), w) if v else UNINIT  # noqa: E731
+                    out.append((key, "CHAR", text))
                     continue
                 if init is not None:
                     self.fail(init, "an array is declared without a value (its elements are set one by one)")
@@ -183,7 +186,8 @@ class Declarations:
             return self.static_types.get(store) if store is not None else None
         if isinstance(target, Tree) and target.data == "field":
             outer = self.static_type(target.children[0])
-            return self.struct_fields.get(outer, {}).get(str(target.children[1]).upper()) if isinstance(outer, str) else None
+            fields = self.struct_fields.get(outer, {}) if isinstance(outer, str) else {}
+            return fields.get(str(target.children[1]).upper())
         if isinstance(target, Tree) and target.data == "index":
             outer = self.static_type(target.children[0])
             return outer[0] if isinstance(outer, tuple) and len(target.children) == 2 else None

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from lark import Tree
+from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.machine import Frame
@@ -99,9 +99,21 @@ def _mentions_input(compiler, node) -> bool:
     return False
 
 
+def _signal_as_input(compiler, node):
+    """A SIGNAL name of one input as the element $IN[k] it names (any other node as it is)."""
+    if isinstance(node, Tree) and node.data == "var":
+        group = compiler.scope.signals.get(str(node.children[0]).upper())
+        if group is not None and group[0] == "$IN" and group[3]:
+            return Tree("index", [Tree("var", [Token("NAME", "$IN")]), Tree("number", [Token("INT", str(group[1]))])])
+    if isinstance(node, Tree):
+        return Tree(node.data, [_signal_as_input(compiler, c) for c in node.children], node.meta)
+    return node
+
+
 def watched_input(compiler, node) -> tuple[str | None, str | None]:
-    """("$IN[k]", "rising" | "falling") for a condition on one input, (None, None) for one that mentions no
-    input (never seen to become TRUE here); a compile error for any other condition on inputs."""
+    """("$IN[k]", "rising" | "falling") for a condition on one input (or a SIGNAL name of one), (None, None) for
+    one that mentions no input (never seen to become TRUE here); a compile error for any other on inputs."""
+    node = _signal_as_input(compiler, node)
     number, rising = _input_number(node), True
     if number is None and isinstance(node, Tree) and node.data == "not_":
         number, rising = _input_number(node.children[1]), False

@@ -86,15 +86,17 @@ def pulse(compiler, node):
         n, value, t = _number(index(fr), where, "$OUT"), state(fr), seconds(fr)
         if not isinstance(value, bool):
             raise RunError(f"{where}: PULSE: the state is TRUE or FALSE")
-        if isinstance(t, bool) or not isinstance(t, int | float | F32) or not 0.012 <= float(t) <= 2**31 / 1000:
+        number = not isinstance(t, bool) and isinstance(t, int | float | F32)
+        if not number or not 0.012 <= float(t) <= 2**31 / 1000:
             raise RunError(f"{where}: PULSE: the time is a number of seconds (at least 0.012 s)")
         if stops:
             fr.m.arrive(where)
         name = f"$OUT[{n}]"
         fr.m.set_output(name, value, where)
         end = fr.m.trace.outputs[-1]
-        from_end = type(end)(name, not value, end.line, fr.m.clock + float(t), end.moving, end.after_moves, end.tcp2base)
-        fr.m.trace.outputs.append(from_end)
+        later = fr.m.clock + float(t)
+        back = type(end)(name, not value, end.line, later, end.moving, end.after_moves, end.tcp2base)
+        fr.m.trace.outputs.append(back)
         fr.m.signals[name] = not value  # the pulse's end: what the program reads after it (assumed)
 
     return run

@@ -91,7 +91,9 @@ def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
         offers[module.name] = _callable(module, tree)
         calls[module.name] = _calls(tree) - offers[module.name]
     libraries = {
-        name for name, offered in offers.items() if any(offered & called for other, called in calls.items() if other != name)
+        name
+        for name, offered in offers.items()
+        if any(offered & called for other, called in calls.items() if other != name)
     }
     mains = [m for m in with_src if m.name not in libraries] or with_src[:1]
     out = []
@@ -123,7 +125,8 @@ def routine_name(node) -> str:
 
 
 def _decl_names(decl) -> list[str]:
-    return [str(item.children[0]).upper() for item in decl.children if isinstance(item, Tree) and item.data == "decl_item"]
+    items = [item for item in decl.children if isinstance(item, Tree) and item.data == "decl_item"]
+    return [str(item.children[0]).upper() for item in items]
 
 
 class Linker:
@@ -256,7 +259,8 @@ class Linker:
                             if module.config or is_global:
                                 previous = where.get(key)
                                 if previous is not None and not module.config and previous != name:
-                                    self.fail_or_keep(RunError(f"{name}: {key} is declared GLOBAL twice (also in {previous})"))
+                                    twice = f"{name}: {key} is declared GLOBAL twice (also in {previous})"
+                                    self.fail_or_keep(RunError(twice))
                                 where[key] = name
                                 global_data[key] = key
                             store = key if module is main or module.config or is_global else f"{module.name}:{key}"

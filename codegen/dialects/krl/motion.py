@@ -150,13 +150,15 @@ def whole_frame(compiler, target, where: str, lacks: str, fr=None):
     """A bare aggregate {X .., .., C ..} as a FRAME, refused when it lacks a component (no current pose here
     to fill it from; lacks: the message, {} the missing names); a bare {A1 .., ..} as an E6AXIS (the axes it
     does not name stay where they are, where the interpreter knows that); any other value as it is."""
-    if isinstance(target, Record) and target.type is None and any(k.startswith("A") and k[1:].isdigit() for k in target):
+    bare = isinstance(target, Record) and target.type is None
+    if bare and any(k.startswith("A") and k[1:].isdigit() for k in target):
         return axis_aggregate(compiler, target, where, fr)
     if isinstance(target, Record) and target.type is None:
         missing = [k for k, _ in XYZABC if k not in target]
         if missing:
             raise RunError(f"{where}: " + lacks.format(", ".join(missing)))
-        kind = "E6POS" if any(k.startswith("E") for k in target) else "POS" if "S" in target or "T" in target else "FRAME"
+        kind = "POS" if "S" in target or "T" in target else "FRAME"
+        kind = "E6POS" if any(k.startswith("E") for k in target) else kind
         target = compiler.coerce(kind, target, where)
     return target
 

@@ -71,8 +71,16 @@ class ScopedNames:
         key = str(token).upper()
         found = self.scope.data.get(key)
         if found is None:
-            self.fail(token, f"undefined variable {token}")
+            self.note(token, f"undefined variable {token}")
+            return key
         return found
+
+    def note(self, token, message: str) -> None:
+        """A compile error: raised, or for codegen check kept while the statement compiles on (so that every
+        undefined name of it is found)."""
+        if self.findings is None:
+            self.fail(token, message)
+        self.findings.append(RunError(f"{self.where(token)}: {message}"))
 
     def var_source(self, token) -> Src:
         """A routine's variables directly; a module's or global data through the globals; system variables."""
@@ -80,16 +88,16 @@ class ScopedNames:
         key = name.upper()
         if self.local_types is not None and key in self.local_types:
             return Src(f"(V[{key!r}] if V[{key!r}] is not _UNINIT else {self.const(self.var_reader(token))}(fr))")
-        if key.startswith("$") or (key in SYSTEM_ARRAYS and key not in self.scope.data):
+        if (key.startswith("$") or key in SYSTEM_ARRAYS) and key not in self.scope.data:
             return Src(f"{self.const(self.var_reader(token))}(fr)")
-        store = repr(self.storage(token))
-        return Src(f"(G[{store}] if G.get({store}, _UNINIT) is not _UNINIT else {self.const(self.var_reader(token))}(fr))")
+        store, reader = repr(self.storage(token)), self.const(self.var_reader(token))
+        return Src(f"(G[{store}] if G.get({store}, _UNINIT) is not _UNINIT else {reader}(fr))")
 
     def var_reader(self, token):
         name = str(token)  # the reader keeps the name: a kept token keeps the parse tree's memory
         key = name.upper()
         where = self.where(token)
-        if key.startswith("$"):
+        if key.startswith("$") and key not in self.scope.data:
             return self.system_reader(token)
         if key in SYSTEM_ARRAYS and key not in self.scope.data:  # the controller's numbered data ($config.dat)
             type_name, size, _shape = SYSTEM_ARRAYS[key]
@@ -152,7 +160,7 @@ class ScopedNames:
         if self.local_types is not None and key in self.local_types:
             return super().var_store_lines(node, value)
         where = self.where(token)
-        if key.startswith("$"):
+        if key.startswith("$") and key not in self.scope.data:
             if key in REFUSED:
                 self.fail(token, f"{token} is not modelled by this interpreter ({REFUSED[key]})")
             if not sysvars.known(key):
@@ -178,8 +186,10 @@ class ScopedNames:
         if key in NOT_MODELLED:
             self.fail(token, f"{token} ({NOT_MODELLED[key]}) is not modelled by this interpreter")
         if key in self.scope.external:
-            self.fail(token, f"unknown routine {token}: declared EXT, defined in none of the program's files")
-        self.fail(token, f"unknown routine {token}: defined in none of the program's files, nor one modelled here")
+            self.note(token, f"unknown routine {token}: declared EXT, defined in none of the program's files")
+        else:
+            self.note(token, f"unknown routine {token}: defined in none of the program's files, nor one modelled here")
+        return None
 
     def e_call(self, node):
         name, args_node = node.children
@@ -200,6 +210,7 @@ class ScopedNames:
         if callee not in self.user_routines:
             return [None] * len(arg_nodes)
         return [
-            ScopedStore(self, node) if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole") else None
+            ScopedStore(self, node) if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole")
+            else None
             for node in arg_nodes
         ]

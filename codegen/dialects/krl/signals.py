@@ -40,7 +40,7 @@ class SignalGroups:
         first = _bank_index(first_node)
         last = _bank_index(last_node) if last_node is not None else first
         if first is None or last is None or first[0] != last[0]:
-            self.fail(node, f"SIGNAL {name}: expected $IN[n], $OUT[n], or $IN[a] TO $IN[b] / $OUT[a] TO $OUT[b] with numbers")
+            self.fail(node, f"SIGNAL {name}: expected $IN[n], $OUT[n], $IN[a] TO $IN[b] or $OUT[a] TO $OUT[b]")
         (bank, a), (_bank, b) = first, last
         single = last_node is None
         if bank not in ANALOG and (not 1 <= a <= b <= IO_MAX or b - a + 1 > MAX_BITS):

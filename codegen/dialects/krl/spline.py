@@ -49,7 +49,8 @@ class WithClauses:
             root = _root(target)
             name = str(root.children[0]).upper() if isinstance(root, Tree) and root.data == "var" else None
             if name not in WITH_ALLOWED:
-                self.fail(item, f"WITH {name or 'this'}: the interpreter models WITH for {', '.join(sorted(WITH_ALLOWED))}")
+                allowed = ", ".join(sorted(WITH_ALLOWED))
+                self.fail(item, f"WITH {name or 'this'}: the interpreter models WITH for {allowed}")
             out.append(self.s_assign(Tree("assign", [target, value], item.meta)))
         return out
 

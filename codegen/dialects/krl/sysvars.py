@@ -38,6 +38,7 @@ TABLE: dict[str, tuple[str, int | None, object]] = {
     "$TIMER_STOP": ("BOOL", TIMERS, None),  # computed
     "$TIMER_FLAG": ("BOOL", TIMERS, None),  # computed, read-only
     "$STOPMESS": ("BOOL", None, False),  # read-only: no stop message is ever pending here
+    "$MODE_OP": ("ENUM", None, "#AUT"),  # read-only: the interpreter runs a program as in automatic mode (assumed)
     "$NUM_AX": ("INT", None, AXES),
     "$EX_AX_NUM": ("INT", None, 0),  # no external axes modelled
     "$WORKSPACE": ("WORKSPACE", 8, None),  # recorded only: a violation never stops the arm here
@@ -52,8 +53,10 @@ TABLE: dict[str, tuple[str, int | None, object]] = {
     "$ROB_TIMER": ("INT", None, None),  # computed, read-only
     "$H_POS": ("E6AXIS", None, None),  # the home position ($IN_HOME): the inline form sets it, else XHOME
 }
-READ_ONLY = frozenset({"$TIMER_FLAG", "$STOPMESS", "$NUM_AX", "$EX_AX_NUM", "$POS_ACT", "$AXIS_ACT", "$IN_HOME",
-                       "$MOVE_BCO", "$ROB_TIMER"})
+READ_ONLY = frozenset(
+    {"$TIMER_FLAG", "$STOPMESS", "$MODE_OP", "$NUM_AX", "$EX_AX_NUM", "$POS_ACT", "$AXIS_ACT", "$IN_HOME", "$MOVE_BCO",
+     "$ROB_TIMER"}
+)
 RECORDED_ONLY = frozenset({"$GEAR_JERK", "$COLLMON_TOL_PRO", "$WORKSPACE", "$JERK", "$EX_AX_IGNORE",
                            "$SPL_ORI_JOINT_AUTO", "$CIRC_MODE", "$BWDSTART"})
 # Not modelled, refused by name where a program uses them (what they would do is not in the trace)
@@ -63,7 +66,6 @@ REFUSED = {
     "$CYCFLAG": "cyclical flags (an expression the controller evaluates every cycle) are not modelled",
     "$WORKSTATE": "workspace monitoring is not modelled",
     "$ERR": "error handling (ON_ERROR_PROCEED, $ERR) is not modelled",
-    "$MODE_OP": "the operating mode is not modelled",
     "$OUT_C": "outputs set in the main run ($OUT_C) are not modelled",
     "$PRO_IP": "the program pointer is not modelled",
 }
@@ -104,7 +106,7 @@ def _timers(m) -> list:
 
 def timer_values(m) -> list[int]:
     now = m.clock
-    return [int(round(v if stopped else v + (now - t0) * 1000.0)) for v, t0, stopped in _timers(m)]
+    return [round(v if stopped else v + (now - t0) * 1000.0) for v, t0, stopped in _timers(m)]
 
 
 def set_timers(m, values: list, where: str) -> None:
@@ -209,7 +211,7 @@ COMPUTED = {
     "$IN_HOME": in_home,
     "$H_POS": home_position,
     "$MOVE_BCO": lambda fr, where: fr.m.last_move is None,
-    "$ROB_TIMER": lambda fr, where: int(round(fr.m.clock * 1000.0)),
+    "$ROB_TIMER": lambda fr, where: round(fr.m.clock * 1000.0),
     "$TIMER": lambda fr, where: timer_values(fr.m),
     "$TIMER_STOP": lambda fr, where: [stopped for _v, _t, stopped in _timers(fr.m)],
     "$TIMER_FLAG": lambda fr, where: [v >= 0 for v in timer_values(fr.m)],

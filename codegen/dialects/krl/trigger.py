@@ -47,7 +47,7 @@ class TriggerStatements:
             self.fail(onstart, "TRIGGER: ONSTART goes with PATH")
         inner = action.children[0]
         if inner.data != "assign":
-            self.fail(inner, "TRIGGER ... DO a subprogram call is not modelled by this interpreter (only an output set)")
+            self.fail(inner, "TRIGGER ... DO a subprogram call is not modelled by this interpreter (an output set is)")
         target, value_node = inner.children
         output = self.output_name(target)
         if output is None:
@@ -76,7 +76,7 @@ class TriggerStatements:
         if isinstance(target, Tree) and target.data == "var":
             group = self.scope.signals.get(str(target.children[0]).upper())
             if group is not None and group[0] == "$OUT":
-                bank, first, last, single = group
+                _bank, first, last, single = group
                 names = [(f"$OUT[{n}]", None if single else bit) for bit, n in enumerate(range(first, last + 1))]
                 return lambda fr: names
         return None
@@ -103,7 +103,7 @@ def fire(m, event, t0: float, speed_mm_s: float) -> None:
             t = t0 + mm / speed_mm_s
         t += trigger.delay_ms / 1000.0
         if t < t0 - 1e-9:
-            raise RunError(f"{trigger.where}: TRIGGER: the switching point lies before its motion starts (not modelled)")
+            raise RunError(f"{trigger.where}: TRIGGER: the switching point lies before its motion (not modelled)")
         pose = _pose_at(start, end, t0, t1, t)
         line = int(trigger.where.split(":")[1]) if trigger.where.count(":") >= 2 else 0
         for name, bit in trigger.store:

@@ -18,11 +18,9 @@ def kept(body: str, names: str, decls: str = "", dat: str = "", routines: str = 
 
 def test_ext_declarations_in_a_data_list_and_a_routine():
     """EXT BAS (BAS_COMMAND :IN, REAL :IN) in every teach-pendant .dat; EXT / EXTFCT in a routine's declarations."""
-    decls = "EXT BAS (BAS_COMMAND :IN,REAL :IN )\nEXTFCT REAL TWICE (REAL :IN)\nDECL REAL X"
+    decls = "EXT BAS (BAS_COMMAND :IN,REAL :IN )\nEXTFCT REAL TWICE (REAL :IN)"
     routines = "DEFFCT REAL TWICE(V:IN)\nDECL REAL V\nRETURN 2 * V\nENDFCT\n"
-    assert kept("X = TWICE(2.5)", "X", dat="DECL REAL X", decls=decls.replace("\nDECL REAL X", ""), routines=routines) == {
-        "X": 5.0
-    }
+    assert kept("X = TWICE(2.5)", "X", dat="DECL REAL X", decls=decls, routines=routines) == {"X": 5.0}
 
 
 def test_an_ext_routine_defined_nowhere_is_refused_when_loaded():
@@ -90,8 +88,8 @@ def test_ptp_to_axis_values_without_a_type():
 def test_spline_motions_and_with_apply_to_their_motion_only():
     body = (
         INI + f"SPTP {POSE} WITH $VEL_AXIS[1] = SVEL_JOINT(40.0)\n"
-        "SLIN {X 500,Y 100,Z 600,A 0,B 90,C 0} WITH $VEL = SVEL_CP(0.3, , LDEFAULT), $TOOL = {X 0,Y 0,Z 100,A 0,B 0,C 0}"
-        " C_SPL\nLIN {X 500,Y 100,Z 500,A 0,B 90,C 0}\n"
+        "SLIN {X 500,Y 100,Z 600,A 0,B 90,C 0} WITH $VEL = SVEL_CP(0.3, , LDEFAULT), "
+        "$TOOL = {X 0,Y 0,Z 100,A 0,B 0,C 0} C_SPL\nLIN {X 500,Y 100,Z 500,A 0,B 90,C 0}\n"
         "SCIRC {X 500,Y 150,Z 550,A 0,B 90,C 0}, {X 500,Y 200,Z 500,A 0,B 90,C 0}"
     )
     trace = run(body.replace("SCIRC", "$ORI_TYPE = #CONSTANT\n$CIRC_TYPE = #BASE\nSCIRC"))
@@ -175,8 +173,18 @@ def test_global_routines_and_public_data_of_other_modules():
 def test_two_modules_own_data_of_one_name_apart():
     main = "DEF CELL()\nN = 1\nBUMP()\nEND\n"
     lib = "DEF LIB()\nEND\nGLOBAL DEF BUMP()\nN = N + 100\nEND\n"
-    program_ = KRL.load_files(files(
-        cell_src=main, cell_dat="DEFDAT CELL\nDECL INT N=0\nENDDAT\n", lib_src=lib, lib_dat="DEFDAT LIB\nDECL INT N=5\nENDDAT\n"
-    ))
+    lib_dat = "DEFDAT LIB\nDECL INT N=5\nENDDAT\n"
+    program_ = KRL.load_files(
+        files(cell_src=main, cell_dat="DEFDAT CELL\nDECL INT N=0\nENDDAT\n", lib_src=lib, lib_dat=lib_dat)
+    )
     trace = program_.run({}, keep=("N", "LIB:N"))
     assert trace.kept == {"N": 1, "LIB:N": 105}  # the library's own N, stored apart from the program's
+
+
+def test_an_interrupt_on_a_signal_name_of_one_input():
+    dat = "SIGNAL STOP_BUTTON $IN[5]\nDECL BOOL STOPPED=FALSE"
+    routines = "DEF ON_STOP()\nSTOPPED = TRUE\nEND\n"
+    body = "INTERRUPT DECL 20 WHEN STOP_BUTTON == TRUE DO ON_STOP()\nINTERRUPT ON 20"
+    assert program(body, dat=dat, routines=routines).run({}).halted is False
+    with pytest.raises(RunError, match="INTERRUPT DECL: the interpreter models a condition on one input"):
+        program(body.replace("STOP_BUTTON == TRUE", "STOP_BUTTON AND $IN[6]"), dat=dat, routines=routines)
