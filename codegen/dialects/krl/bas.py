@@ -27,30 +27,16 @@ from codegen.dialects.krl.sysvars import read, set_tool, write
 #   base, then #VEL_CP v. #PTP_DAT / #CP_DAT: the PDAT_ACT / LDAT_ACT part with its own VEL; #FRAMES: FDAT_ACT's.
 # Not modelled (refused by name): #EX_BASE, #GROUP, #OUT_SYNC, #OUT_ASYNC, #ACC_GLUE; an IPO_FRAME #TCP
 # (an external TCP).
-DEFAULTS = {  # $config.dat's defaults where the program's $config.dat does not declare one (KSS 8 as shipped)
-    "DEF_VEL_PTP": 100,
-    "DEF_ACC_PTP": 50,
-    "DEF_VEL_CP": 2.0,
-    "DEF_ACC_CP": 2.3,
-    "DEF_VEL_ORI1": 200.0,
-    "DEF_VEL_ORI2": 200.0,
-    "DEF_ACC_ORI1": 100.0,
-    "DEF_ACC_ORI2": 100.0,
-    "DEF_APO_CPTP": 50,
-    "DEF_APO_CDIS": 3.0,
-    "DEF_APO_CVEL": 100,
-    "DEF_APO_CORI": 5.0,
-    "DEF_ADVANCE": 3,
-    "DEF_CIRC_TYP": "#BASE",
-}
 REFUSED = {"#EX_BASE", "#GROUP", "#OUT_SYNC", "#OUT_ASYNC", "#ACC_GLUE"}
 AXES = 6
 
 
 def config(fr, name: str):
-    """A DEF_ value of the program's $config.dat (a global), else KUKA's shipped default."""
+    """A DEF_ value of the program's $config.dat (a global: the built-in one declares every one BAS reads)."""
     value = fr.m.globals.get(name, UNINIT)
-    return DEFAULTS[name] if value is UNINIT else value
+    if value is UNINIT:
+        raise RunError(f"BAS: $config.dat's {name} has no value")
+    return value
 
 
 def _number(value, where: str, what: str) -> float:

@@ -77,6 +77,17 @@ def new_value(type_name: str, structs: dict = STRUCTS):
     )
 
 
+def shown(value) -> str:
+    """A value as a message shows it: a number as KRL writes it, a text quoted, else its KRL type."""
+    if isinstance(value, bool):
+        return "TRUE" if value else "FALSE"
+    if isinstance(value, int | float | np.number):
+        return format_general(value)
+    if isinstance(value, str):
+        return value if value.startswith("#") else f'"{value}"'
+    return type_name_of(value)
+
+
 def type_name_of(value) -> str:
     """A value's KRL type as a message names it (never a Python type name)."""
     if isinstance(value, bool):

@@ -378,7 +378,7 @@ class KRLCompiler(
                 continue
             if child.data in DECLARATIONS:
                 if statements:
-                    self.fail(child, "a declaration after the first statement of a routine (KRL: declarations first)")
+                    self.fail(child, "a declaration after the first statement (KRL: declarations come first)")
                 if child.data == "decl":
                     decls.extend(self.decl_items(child))
                 elif child.data == "signal_decl":

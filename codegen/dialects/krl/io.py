@@ -6,6 +6,7 @@ from lark import Tree
 
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import F32, RunError
+from codegen.dialects.krl.builtins import shown
 
 IO_MAX = 4096  # $IN[1..4096], $OUT[1..4096] (kuka.toml signals)
 
@@ -21,7 +22,7 @@ def _bank(node) -> str | None:
 
 def _number(value, where: str, bank: str) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= IO_MAX:
-        raise RunError(f"{where}: {bank}[{value!r}]: the index must be 1..{IO_MAX}")
+        raise RunError(f"{where}: {bank}[{shown(value)}]: the index must be 1..{IO_MAX}")
     return value
 
 

@@ -10,7 +10,7 @@ from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent
 from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.krl import trigger
-from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, valid, xyzabc
+from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, shown, valid, xyzabc
 from codegen.dialects.krl.position import base2robot, record_base
 from codegen.dialects.krl.sysvars import axis_act
 
@@ -115,7 +115,7 @@ def path_variable_store(compiler, target_node, value_node, node):
     def store(fr):
         number = value(fr)
         if isinstance(number, bool | str | Record) or not float(number) > 0:
-            raise RunError(f"{where}: {key[0]}.{key[1]} must be a positive number, got {number!r}")
+            raise RunError(f"{where}: {key[0]}.{key[1]} must be a positive number, got {shown(number)}")
         fr.m.extra[f"{key[0]}.{key[1]}"] = float(number)
 
     return store
@@ -245,7 +245,7 @@ def orientation_store(compiler, target_node, value_node, node):
     def store(fr):
         v = value(fr)
         if not isinstance(v, str) or v.upper() not in allowed:
-            raise RunError(f"{where}: {key} takes {', '.join(sorted(allowed))}, got {v!r}")
+            raise RunError(f"{where}: {key} takes {', '.join(sorted(allowed))}, got {shown(v)}")
         fr.m.extra[key] = v.upper()
 
     return store

@@ -6,7 +6,7 @@ import numpy as np
 
 from codegen.dialects import posemath
 from codegen.dialects.core.values import Record, RunError, f32
-from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, type_name_of
+from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, shown, type_name_of
 from codegen.dialects.krl.position import base2robot
 from codegen.poses import invert
 
@@ -242,9 +242,9 @@ def write(fr, name: str, value, where: str) -> None:
         set_timer_stops(m, value, where)
         return
     if name == "$ADVANCE" and (isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 5):
-        raise RunError(f"{where}: $ADVANCE takes 0..5, got {value!r}")
+        raise RunError(f"{where}: $ADVANCE takes 0..5, got {shown(value)}")
     if name == "$OV_PRO" and (isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 100):
-        raise RunError(f"{where}: $OV_PRO takes 0..100 (%), got {value!r}")
+        raise RunError(f"{where}: $OV_PRO takes 0..100 (%), got {shown(value)}")
     m.extra[name] = value
     if name == "$VEL" and value["CP"] is not UNINIT:
         m.extra["$VEL.CP"] = float(value["CP"])
