@@ -174,7 +174,7 @@ def early_outputs(name: str, tree) -> list[Finding]:
         for stmt in (c for c in body.children if isinstance(c, Tree)):
             if stmt.data in ("motion_stmt", "circ_stmt"):
                 moved = stmt
-                approximated = any(isinstance(c, Token) and c.type == "APPROX" for c in stmt.children)
+                approximated = any(isinstance(c, Tree) and c.data == "approx" for c in stmt.children)
             elif stmt.data == "continue_stmt":
                 continued = True
                 continue

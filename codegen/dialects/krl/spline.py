@@ -24,12 +24,12 @@ WITH_ALLOWED = frozenset({
 def motion_parts(children) -> tuple:
     """([keyword, target] or [keyword, aux, end, CA name or None, CA value or None], approximation token or
     None, WITH clause or None) of a motion_stmt or circ_stmt, whichever side of WITH its approximation stands."""
-    approx = next((c for c in children if isinstance(c, Token) and c.type == "APPROX"), None)
+    approx = next((c for c in children if isinstance(c, Tree) and c.data == "approx"), None)
     with_clause = next((c for c in children if isinstance(c, Tree) and c.data == "with_clause"), None)
     rest = [c for c in children if c is None or (c is not approx and c is not with_clause)]
     while len(rest) > (2 if isinstance(children[0], Token) and children[0].type == "MOTION" else 5):
         rest.pop()  # the placeholders of the approximation and WITH left out
-    return rest, approx, with_clause
+    return rest, approx.children[0] if approx is not None else None, with_clause
 
 
 def _root(node):

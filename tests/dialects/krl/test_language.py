@@ -107,6 +107,13 @@ def test_with_on_a_conventional_motion():
     assert trace.moves[1].settings["acc_cp"] == pytest.approx(1.0)
 
 
+def test_the_inline_forms_double_approximation():
+    """KSS 8.3's LIN inline form writes LIN XP2 C_DIS C_DIS."""
+    lines = f"PTP {POSE}\nLIN {{X 500,Y 50,Z 600,A 0,B 90,C 0}} C_DIS C_DIS\nLIN {{X 500,Y 90,Z 600,A 0,B 90,C 0}}"
+    trace = run(INI + lines)
+    assert [m.settings["approx"] for m in trace.moves] == [None, "C_DIS", None]
+
+
 def test_relative_motions_are_refused_by_name():
     with pytest.raises(RunError, match=r"t\.src:3:1: SLIN_REL \(a relative motion\) is not modelled"):
         program("SLIN_REL {X 10}")
