@@ -148,9 +148,36 @@ def cp_dat(fr, where: str) -> None:
     fr.m.extra["$ORI_TYPE"] = ori.upper() if isinstance(ori, str) else "#VAR"
 
 
+INITMOV_DEFAULTS = (
+    "DEF_VEL_PTP", "DEF_ACC_PTP", "DEF_VEL_CP", "DEF_VEL_ORI1", "DEF_VEL_ORI2", "DEF_ACC_CP", "DEF_ACC_ORI1",
+    "DEF_ACC_ORI2", "DEF_APO_CPTP", "DEF_APO_CDIS", "DEF_APO_CVEL", "DEF_APO_CORI", "DEF_ADVANCE", "DEF_CIRC_TYP",
+)
+
+
 def initmov(fr, where: str) -> None:
+    """BAS(#INITMOV): what it sets is worked out once per program and its $config.dat values (the same run after
+    run: the verify engine's thousands of cases), then stored in one step."""
     m = fr.m
     m.arrive(where)
+    values = tuple(map(m.globals.get, INITMOV_DEFAULTS))
+    cache = m.program.compiler.__dict__.setdefault("initmov_cache", {})
+    updates = cache.get(values)
+    if updates is None:
+        saved, m.extra = m.extra, {}
+        try:
+            _initmov(fr, where)
+            updates = cache[values] = m.extra
+        finally:
+            m.extra = saved
+    m.extra.update(updates)
+    tools = m.extra.get("TOOL_DATA")
+    if tools is not None and tools[0]["X"] is not UNINIT:
+        set_tool(fr, tools[0], where)
+        write(fr, "$ACT_TOOL", 1, where)
+
+
+def _initmov(fr, where: str) -> None:
+    m = fr.m
     acc_ptp(fr, 100.0, where)
     vel_ptp(fr, 100.0, where)
     acc_cp(fr, 100.0, where)
@@ -163,10 +190,6 @@ def initmov(fr, where: str) -> None:
     m.extra["$CIRC_TYPE"] = str(config(fr, "DEF_CIRC_TYP")).upper()
     m.extra["$BASE"] = frame()  # BASE(0): $WORLD
     write(fr, "$ACT_BASE", 0, where)
-    tools = m.extra.get("TOOL_DATA")
-    if tools is not None and tools[0]["X"] is not UNINIT:
-        set_tool(fr, tools[0], where)
-        write(fr, "$ACT_TOOL", 1, where)
 
 
 def bas(fr, args, kwargs, where):

@@ -27,7 +27,7 @@ from codegen.dialects.krl.motion import (
 from codegen.dialects.krl.names import Scope, ScopedNames
 from codegen.dialects.krl.signals import SignalGroups
 from codegen.dialects.krl.spline import KINDS, WithClauses, motion_parts
-from codegen.dialects.krl.sysvars import mirror_path_field, set_tool, timers_running
+from codegen.dialects.krl.sysvars import set_tool, timers_running
 from codegen.dialects.krl.trigger import TriggerStatements
 
 EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
@@ -224,14 +224,6 @@ class KRLCompiler(
             or io.output_store(self, target_node, value_node, node)
         )
         if system_store is not None:
-            if isinstance(target_node, Tree) and target_node.data == "field":
-                name, field = str(target_node.children[0].children[0]).upper(), str(target_node.children[1]).upper()
-
-                def store_and_mirror(fr):
-                    system_store(fr)
-                    mirror_path_field(fr.m.extra, name, field, fr.m.extra[f"{name}.{field}"])
-
-                return store_and_mirror
             return system_store
         name = str(target_node.children[0]).upper() if is_var else None
         if name in ("$BASE", "$TOOL", "$LOAD"):

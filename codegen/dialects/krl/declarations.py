@@ -85,6 +85,8 @@ class Declarations:
             if not low <= rounded <= high:
                 raise RunError(f"{where}: value {value:.6g} out of the INT range {low}..{high} (32-bit)")
             return rounded
+        if type(value) is Record and value.type == type_name:  # a record of its own type: as it is
+            return value
         if type_name == "BOOL":
             if not isinstance(value, bool):
                 raise RunError(f"{where}: cannot assign {type_name_of(value)} to BOOL")

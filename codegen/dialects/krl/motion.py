@@ -213,10 +213,12 @@ def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
 def commanded(m, event: MoveEvent, speed: float, via=None) -> None:
     """The move recorded: the advance run goes on (unless $ADVANCE is 0: then the program waits for each
     motion); the tool it was planned with kept ($POS_ACT), the TRIGGERs on it switched."""
-    t0 = max(m.clock, m.arm_until)
-    m.move(event, speed, runs_ahead=m.extra.get("$ADVANCE") != 0, via=via)
-    m.extra["TOOL_AT_MOVE"] = m.arm.tcp2flange
-    if "TRIGGERS" in m.extra:
+    extra = m.extra
+    triggers = "TRIGGERS" in extra
+    t0 = max(m.clock, m.arm_until) if triggers else 0.0
+    m.move(event, speed, runs_ahead=extra.get("$ADVANCE") != 0, via=via)
+    extra["TOOL_AT_MOVE"] = m.arm.tcp2flange
+    if triggers:
         trigger.fire(m, event, t0, speed)
 
 

@@ -6,7 +6,17 @@ import numpy as np
 
 from codegen.dialects import posemath
 from codegen.dialects.core.values import Record, RunError, f32
-from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, shown, type_name_of
+from codegen.dialects.krl.builtins import (
+    UNINIT,
+    XYZABC,
+    cart,
+    cart_matrix,
+    frame,
+    new_value,
+    shown,
+    type_name_of,
+    xyzabc,
+)
 from codegen.dialects.krl.position import base2robot
 from codegen.poses import invert
 
@@ -227,7 +237,15 @@ def read(fr, name: str, where: str, structs: dict):
     value = extra.get(name)
     if value is None:
         value = extra[name] = initial(name, structs)
+    fast = PATH_FIELDS.get(name)
+    if fast is not None and fast[1] in extra and (value[fast[0]] is UNINIT or float(value[fast[0]]) != extra[fast[1]]):
+        value = value.shallow()  # `$VEL.CP = x` / `$APO.CDIS = x` store the number alone (motion.py): the record too
+        value[fast[0]] = f32(extra[fast[1]])
+        extra[name] = value
     return value
+
+
+PATH_FIELDS = {"$VEL": ("CP", "$VEL.CP"), "$APO": ("CDIS", "$APO.CDIS")}
 
 
 def write(fr, name: str, value, where: str) -> None:
@@ -258,16 +276,6 @@ def write(fr, name: str, value, where: str) -> None:
         m.extra["$ACC.CP"] = float(value["CP"])
 
 
-def mirror_path_field(extra: dict, name: str, field: str, value: float) -> None:
-    """`$VEL.CP = x` / `$APO.CDIS = x` set by the fast store (codegen/dialects/krl/motion.py): the record too."""
-    record = extra.get(name)
-    if record is None:
-        record = new_value("VEL_STRUC" if name == "$VEL" else "APO_STRUC")
-    record = record.shallow()
-    record[field] = f32(value)
-    extra[name] = record
-
-
 def world() -> Record:
     return frame()
 
@@ -281,6 +289,6 @@ def tool_of(fr, where: str) -> Record:
 
 def set_tool(fr, value, where: str) -> None:
     tool = cart(value, where)
-    posemath.check_finite(tuple(float(tool[k]) for k, _ in XYZABC), where, "$TOOL")
+    posemath.check_finite(xyzabc(tool), where, "$TOOL")
     fr.m.extra["$TOOL"] = tool
     fr.m.arm.tcp2flange = cart_matrix(tool)
