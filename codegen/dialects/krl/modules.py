@@ -76,8 +76,8 @@ def _callable(module: Module, tree) -> set[str]:
 
 def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
     """Which files make one program each, the program file first: each .src none of whose routines another
-    module calls, with its .dat, every other module and $config.dat given (a library is every program's; a
-    file that does not parse counts as a program)."""
+    module calls, with its .dat, the modules others call (libraries), the data lists without a .src and
+    $config.dat (a file that does not parse counts as a program)."""
     modules, configs = group_modules(files)
     with_src = [m for m in modules if m.src is not None]
     if not with_src:
@@ -96,9 +96,10 @@ def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
         if any(offered & called for other, called in calls.items() if other != name)
     }
     mains = [m for m in with_src if m.name not in libraries] or with_src[:1]
+    shared = [m for m in modules if m.src is None or m.name in libraries or m not in mains]  # libraries, data
     out = []
     for main in mains:
-        rest = [f for m in modules if m is not main for f in (m.src, m.dat) if f is not None]
+        rest = [f for m in shared if m is not main for f in (m.src, m.dat) if f is not None]
         out.append([main.src, *([main.dat] if main.dat else []), *rest, *configs])
     return out
 

@@ -166,8 +166,9 @@ def test_global_routines_and_public_data_of_other_modules():
     lib = "DEF LIB()\nEND\nGLOBAL DEF COUNT_PART(N:IN)\nDECL INT N\nTOTAL = TOTAL + N\nHIDDEN = 1\nEND\n" \
           "GLOBAL DEFFCT INT STEP_OF()\nRETURN STEP_SIZE\nENDFCT\n"
     lib_dat = "DEFDAT LIB PUBLIC\nDECL GLOBAL INT TOTAL=0\nDECL INT HIDDEN=0\nDECL INT STEP_SIZE=10\nENDDAT\n"
-    group = KRL.programs(files(cell_src=main, lib_src=lib, lib_dat=lib_dat))
-    assert [[f.name for f in g] for g in group] == [["cell.src", "lib.src", "lib.dat"]]
+    group = KRL.programs(files(cell_src=main, lib_src=lib, lib_dat=lib_dat, other_src="DEF OTHER()\nEND\n"))
+    names = [[f.name for f in g] for g in group]
+    assert names == [["cell.src", "lib.src", "lib.dat"], ["other.src", "lib.src", "lib.dat"]]  # two programs, one lib
     assert KRL.load_files(group[0]).run({}, keep=("TOTAL",)).kept == {"TOTAL": 12}
     hidden = main.replace("END\n", "HIDDEN = 2\nEND\n", 1)
     with pytest.raises(RunError, match=r"cell\.src:4:1: undefined variable HIDDEN"):
