@@ -19,6 +19,7 @@ from codegen.dialects.krl.builtins import (
 )
 from codegen.dialects.krl.position import base2robot
 from codegen.poses import invert
+from codegen.robot.config import FORMS
 
 # Sources: KUKA, "System Variables for KUKA System Software 8.1, 8.2, 8.3 and 8.4" (V2, 2016), for the types
 # and ranges; KUKA's BAS.SRC (KSS 8, BAS(#INITMOV)) for what the start section sets. What the manual does
@@ -174,7 +175,12 @@ def pos_act(fr, where: str) -> Record:
     tcp = _tcp_now(fr, where, "$POS_ACT")
     values = posemath.xyzabc_from_matrix(invert(base2robot(fr.m.extra)) @ tcp)
     out = {k: f32(v) for (k, _), v in zip(XYZABC, values, strict=True)}
-    return Record("E6POS", {**out, "S": UNINIT, "T": UNINIT, **{f"E{i}": f32(0.0) for i in range(1, 7)}})
+    status = turn = UNINIT
+    arm = fr.m.arm
+    joints = arm.current(where) if arm.arm is not None else None
+    if joints is not None:  # the configuration the arm stands in (Status, Turn)
+        status, turn = (int(v) for v in FORMS["status_turn"].of(arm.arm, joints))
+    return Record("E6POS", {**out, "S": status, "T": turn, **{f"E{i}": f32(0.0) for i in range(1, 7)}})
 
 
 def axis_act(fr, where: str) -> Record:

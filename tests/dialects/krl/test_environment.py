@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from codegen.dialects.core.values import RunError
@@ -100,6 +101,9 @@ def test_pos_act_and_axis_act_are_where_the_arm_arrived():
     trace = program(body, dat="DECL E6POS P\nDECL E6AXIS Q").run({}, arm=find_arm("KR 10 R1100 sixx"), keep=("P", "Q"))
     assert (float(trace.kept["P"]["X"]), float(trace.kept["P"]["Y"])) == pytest.approx((500.0, 50.0), abs=1e-3)
     assert float(trace.kept["Q"]["A1"]) == pytest.approx(trace.moves[1].joints[0], abs=1e-3)
+    assert (trace.kept["P"]["S"], trace.kept["P"]["T"]) == (2, 35)  # the configuration it stands in
+    back = program(body + "\nPTP P", dat="DECL E6POS P\nDECL E6AXIS Q").run({}, arm=find_arm("KR 10 R1100 sixx"))
+    assert np.allclose(back.moves[2].joints, back.moves[1].joints, atol=1e-3)  # PTP $POS_ACT: where it stands
     with pytest.raises(RunError, match=r"\$POS_ACT: the arm's position is not known here"):
         program("P = $POS_ACT", dat="DECL E6POS P").run({})
 
