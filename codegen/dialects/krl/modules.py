@@ -133,7 +133,7 @@ def _decl_names(decl) -> list[str]:
 class Linker:
     """Compile a program's modules into one KRLCompiler (findings: codegen check collects errors there)."""
 
-    def __init__(self, files: list[SourceFile], findings: list | None = None) -> None:
+    def __init__(self, files: list[SourceFile], findings: list | None = None, strict: bool = True) -> None:
         self.files = files
         self.findings = findings
         main = files[0]
@@ -141,6 +141,7 @@ class Linker:
             raise RunError(f"{main.name}: a data list is read together with its program: give the program file first")
         self.compiler = KRLCompiler(main.name)
         self.compiler.findings = findings
+        self.compiler.strict_names = strict
         self.compiler._shapes = ShapeCache(f"<{main.name}: compiled>")  # named by the program, not its first file
 
     def fail_or_keep(self, exc: RunError) -> None:
@@ -299,8 +300,9 @@ def load_files(files: list[SourceFile]) -> Program:
 
 
 def load(text: str, filename: str, dat_text: str | None = None) -> Program:
-    """A .src (with its .dat beside it when given) compiled into a runnable program."""
+    """A .src (with its .dat beside it when given) compiled into a runnable program, as Dialect.load has always
+    done: a name or routine defined nowhere fails when the statement runs (load_files and check refuse it)."""
     files = [SourceFile(filename, text)]
     if dat_text is not None:
         files.append(SourceFile(str(Path(filename).with_suffix(".dat")), dat_text))
-    return load_files(files)
+    return Linker(files, strict=False).link()

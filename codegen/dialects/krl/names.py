@@ -66,21 +66,25 @@ class ScopedNames:
 
     scope: Scope
 
+    strict_names = True  # an undefined name fails the load (KRL's compiler refuses it), else the statement at run
+
     def storage(self, token) -> str:
-        """The globals' key of a data name this module sees; a compile error for one it does not."""
+        """The globals' key of a data name this module sees; for one it does not: a compile error, or with
+        strict_names off "?NAME", which no global has (its read and its store fail when they run)."""
         key = str(token).upper()
         found = self.scope.data.get(key)
         if found is None:
             self.note(token, f"undefined variable {token}")
-            return key
+            return "?" + key
         return found
 
     def note(self, token, message: str) -> None:
-        """A compile error: raised, or for codegen check kept while the statement compiles on (so that every
-        undefined name of it is found)."""
-        if self.findings is None:
+        """A compile error: raised; for codegen check kept while the statement compiles on (so that every
+        undefined name of it is found); without strict_names left to the statement when it runs."""
+        if self.findings is not None:
+            self.findings.append(RunError(f"{self.where(token)}: {message}"))
+        elif self.strict_names:
             self.fail(token, message)
-        self.findings.append(RunError(f"{self.where(token)}: {message}"))
 
     def var_source(self, token) -> Src:
         """A routine's variables directly; a module's or global data through the globals; system variables."""
@@ -113,6 +117,12 @@ class ScopedNames:
 
             return read_local
         store = self.storage(token)
+        if store.startswith("?"):
+
+            def undefined(fr):
+                raise RunError(f"{where}: undefined variable {name}")
+
+            return undefined
 
         def read(fr):
             return valid(fr.m.globals.get(store, UNINIT), where, name)
@@ -171,6 +181,8 @@ class ScopedNames:
         if key in SYSTEM_ARRAYS and key not in self.scope.data:
             return [f"{self.const(self.new_variable)}(fr, {key!r}, {value}, {where!r})"]
         store = self.storage(token)
+        if store.startswith("?"):
+            return [f"{self.const(self.new_variable)}(fr, {key!r}, {value}, {where!r})"]
         coerce = self.const(self.coerce)
         return [f"G[{store!r}] = {coerce}(m.global_types.get({store!r}), {value}, {where!r})"]
 
@@ -189,7 +201,7 @@ class ScopedNames:
             self.note(token, f"unknown routine {token}: declared EXT, defined in none of the program's files")
         else:
             self.note(token, f"unknown routine {token}: defined in none of the program's files, nor one modelled here")
-        return None
+        return key  # not strict: the call fails when it runs (unknown routine)
 
     def e_call(self, node):
         name, args_node = node.children
