@@ -25,6 +25,7 @@ from codegen.dialects.krl.motion import (
     system_inputs,
 )
 from codegen.dialects.krl.names import Scope, ScopedNames
+from codegen.dialects.krl.relative import relative_target
 from codegen.dialects.krl.signals import SignalGroups
 from codegen.dialects.krl.spline import KINDS, WithClauses, motion_parts
 from codegen.dialects.krl.sysvars import set_tool, timers_running
@@ -327,12 +328,17 @@ class KRLCompiler(
         self.fail(node, "RESUME (in an interrupt routine) is not modelled by this interpreter")
 
     def s_motion_stmt(self, node):
-        rest, approx, with_clause = motion_parts(node.children)
+        reference = next((c for c in node.children if isinstance(c, Tree) and c.data == "reference"), None)
+        rest, approx, with_clause = motion_parts([c for c in node.children if c is not reference])
         motion, target = rest
         keyword = str(motion).upper()
-        self.refuse_relative(node, keyword)
         static = {"approx": str(approx).upper() if approx is not None else None}
         value, where, line = self.expr(target), self.where(node), self.line(node)
+        if keyword.endswith("_REL"):
+            value = relative_target(value, "#" + str(reference.children[0]).upper() if reference else "#BASE", where)
+            keyword = keyword[: -len("_REL")]
+        elif reference is not None:
+            self.fail(reference, f"{keyword} ... #{reference.children[0]}: only a relative motion has one")
         run = motion_run(self, KINDS[keyword], static, value, where, line)
         return self.around(self.with_statements(with_clause) if with_clause is not None else [], run)
 

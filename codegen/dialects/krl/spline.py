@@ -12,8 +12,8 @@ from codegen.dialects.core.values import RunError
 # not modelled: the trace has no dynamics). C_SPL approximates one (recorded as the motion's approximation).
 # WITH $var = value, ...: the system variables the inline form sets for this motion; they apply to this
 # motion only (recalled from the manual, not confirmed here): the interpreter sets them, moves, and restores
-# the values they had. The relative motions (SPTP_REL, SLIN_REL, SCIRC_REL, PTP_REL, LIN_REL, CIRC_REL) are not
-# modelled.
+# the values they had. The relative motions PTP_REL / LIN_REL / SPTP_REL / SLIN_REL: codegen/dialects/krl/relative.py;
+# a relative circle (CIRC_REL, SCIRC_REL) is not modelled.
 KINDS = {"PTP": "joint", "SPTP": "joint", "LIN": "linear", "SLIN": "linear"}
 WITH_ALLOWED = frozenset({
     "$VEL", "$ACC", "$APO", "$VEL_AXIS", "$ACC_AXIS", "$TOOL", "$BASE", "$LOAD", "$IPO_MODE", "$ORI_TYPE",

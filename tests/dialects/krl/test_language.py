@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 
 from codegen.dialects.core.values import RunError
+from codegen.robot.arms import find_arm
 
 from .helpers import INI, KRL, files, program, run
 
@@ -114,9 +115,18 @@ def test_the_inline_forms_double_approximation():
     assert [m.settings["approx"] for m in trace.moves] == [None, "C_DIS", None]
 
 
-def test_relative_motions_are_refused_by_name():
-    with pytest.raises(RunError, match=r"t\.src:3:1: SLIN_REL \(a relative motion\) is not modelled"):
-        program("SLIN_REL {X 10}")
+def test_relative_motions():
+    """LIN_REL {Z -100} shifts along the base's axes, #TOOL along the tool's; PTP_REL {A1 10} adds to an axis."""
+    body = INI + f"PTP {POSE}\nLIN_REL {{Z -100}} C_DIS\nSLIN_REL {{X 50}} #TOOL\nPTP_REL {{A1 10}}"
+    trace = run(body, arm=find_arm("KR 10 R1100 sixx"))
+    down, along_tool, turned = trace.moves[1:]
+    assert down.tcp2base[:3, 3].tolist() == pytest.approx([500.0, 0.0, 500.0], abs=1e-3)
+    assert along_tool.tcp2base[:3, 3].tolist() == pytest.approx([500.0, 0.0, 450.0], abs=1e-3)  # tool x: down (B 90)
+    assert turned.joints[0] == pytest.approx(along_tool.joints[0] + 10.0, abs=1e-3)
+    with pytest.raises(RunError, match=r"t\.src:3:1: SCIRC_REL \(a relative motion\) is not modelled"):
+        program("SCIRC_REL {X 10}, {X 20}")
+    with pytest.raises(RunError, match="a relative rotation"):
+        run(INI + f"PTP {POSE}\nLIN_REL {{A 10}}")
 
 
 def test_trigger_switches_an_output_at_the_end_and_on_the_path():
