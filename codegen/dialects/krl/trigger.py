@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from lark import Tree
 
-from codegen.dialects.core.machine import SignalEvent
+from codegen.dialects.core.machine import Frame, SignalEvent
 from codegen.dialects.core.values import RunError
 
 # KSS 8 programming manual for system integrators, "Path-related switching actions (TRIGGER)":
@@ -18,10 +18,13 @@ from codegen.dialects.core.values import RunError
 # - the trigger statement does not stop the advance run; it belongs to the next motion statement.
 # What the interpreter models: the action sets an output ($OUT[n], or a SIGNAL name of outputs), recorded at
 # the moment of the switching point in the program's clock (the move's start and end as the clock has them, a
-# PATH point at the path speed), with the arm moving then. The switching point of an approximated point (the
-# middle of its approximation arc) is not modelled: the trace has no arcs, the point is the programmed one.
-# A switching point outside its motion is refused, and so is any other action (a subprogram called with PRIO,
-# a variable set): when it would run relative to the program is not modelled.
+# PATH point at the path speed), with the arm moving then; or it calls a subprogram (DO name(constants) PRIO = p)
+# that runs at that moment beside the motion, as an interrupt routine does (codegen/dialects/krl/interrupts.py:
+# it may not move the arm or wait; the outputs it sets are recorded at the switching point; the variables it
+# sets change when the interpreter plans the motion, so a program that reads them in the advance run, before
+# the switching point, sees them early: not modelled). The switching point of an approximated point (the middle
+# of its approximation arc) is not modelled: the trace has no arcs, the point is the programmed one. A switching
+# point outside its motion is refused, and so is a variable set as the action.
 
 
 @dataclass
@@ -30,7 +33,7 @@ class Trigger:
     at: float  # DISTANCE 0 / 1, or PATH mm
     onstart: bool
     delay_ms: float
-    store: object  # fr, value, event -> None: sets the output
+    store: object  # [(output name, bit)], or the subprogram's key and its arguments: ("call", key, args)
     value: object
     where: str
 
@@ -46,14 +49,16 @@ class TriggerStatements:
         if onstart is not None and kind != "PATH":
             self.fail(onstart, "TRIGGER: ONSTART goes with PATH")
         inner = action.children[0]
-        if inner.data != "assign":
-            self.fail(inner, "TRIGGER ... DO a subprogram call is not modelled by this interpreter (an output set is)")
-        target, value_node = inner.children
-        output = self.output_name(target)
-        if output is None:
-            self.fail(inner, "TRIGGER ... DO: the interpreter models an output set ($OUT[n] or a SIGNAL of outputs)")
-        at, delay, value, where = self.expr(at_node), (self.expr(delay_node) if delay_node is not None else None), \
-            self.expr(value_node), self.where(node)
+        if inner.data == "assign":
+            target, value_node = inner.children
+            output = self.output_name(target)
+            if output is None:
+                self.fail(inner, "TRIGGER ... DO: a variable set is not modelled (an output set or a subprogram is)")
+            value = self.expr(value_node)
+        else:
+            output, value = self.trigger_call(inner), (lambda fr: None)
+        at, delay, where = self.expr(at_node), (self.expr(delay_node) if delay_node is not None else None), \
+            self.where(node)
 
         def run(fr):
             distance = float(at(fr))
@@ -65,6 +70,23 @@ class TriggerStatements:
             fr.m.extra["TRIGGERS"] = (*pending, new)
 
         return run
+
+    def trigger_call(self, node):
+        """fr -> ("call", routine key, arguments) of DO name(constants): a DEF of the program."""
+        name, args_node = node.children
+        key = self.scope.routines.get(str(name).upper())
+        if key is None or self.routine_signatures.get(key, ("",))[0] != "DEF":
+            self.fail(node, f"TRIGGER ... DO {name}(): a DEF of the program's files is called")
+        arg_nodes = args_node.children if args_node is not None else []
+        modes = self.routine_signatures[key][1]
+        if len(modes) != len(arg_nodes) or "OUT" in modes:
+            self.fail(node, f"TRIGGER ... DO {name}(): {len(modes)} IN arguments (constants)")
+        for arg in arg_nodes:
+            inner = arg.children[0] if isinstance(arg, Tree) and arg.data == "neg" else arg
+            if not (isinstance(inner, Tree) and inner.data in ("number", "true", "false", "enum", "string")):
+                self.fail(arg, f"TRIGGER ... DO {name}(): the interpreter passes constants")
+        args = [self.expr(a) for a in arg_nodes]
+        return lambda fr: ("call", key, [a(fr) for a in args])
 
     def output_name(self, target):
         """fr -> [(output name, bit)] of an assignment target that is an output or a SIGNAL of outputs, or None."""
@@ -105,6 +127,9 @@ def fire(m, event, t0: float, speed_mm_s: float) -> None:
         if t < t0 - 1e-9:
             raise RunError(f"{trigger.where}: TRIGGER: the switching point lies before its motion (not modelled)")
         pose = _pose_at(start, end, t0, t1, t)
+        if isinstance(trigger.store, tuple):
+            _call(m, trigger, t)
+            continue
         line = int(trigger.where.split(":")[1]) if trigger.where.count(":") >= 2 else 0
         for name, bit in trigger.store:
             value = trigger.value if bit is None else bool((int(trigger.value) >> bit) & 1)
@@ -123,3 +148,27 @@ def _pose_at(start, end, t0: float, t1: float, t: float):
     pose = end.copy()
     pose[:3, 3] = start[:3, 3] + s * (end[:3, 3] - start[:3, 3])
     return pose
+
+
+def _call(m, trigger: Trigger, t: float) -> None:
+    """The trigger's subprogram at the switching point t: the clock stands there while it runs (its outputs are
+    recorded then); it runs in the main run (an advance-run stop in it waits for nothing); it may not move the arm
+    or wait."""
+    _kind, key, args = trigger.store
+    label = f"the TRIGGER's subprogram ({trigger.where})"
+
+    def no_move(event, *a, **k):
+        raise RunError(f"{m.program.name}:{event.line}: a motion in {label}: not modelled")
+
+    def no_wait(*a, **k):
+        raise RunError(f"{trigger.where}: a wait in {label}: not modelled")
+
+    saved = m.clock
+    m.clock = max(saved, t)
+    m.move, m.arrive, m.elapse, m.wait_for = no_move, (lambda where: None), no_wait, no_wait
+    try:
+        m.program.compiler.call_routine(Frame(m, m.globals, m.global_types), key, list(args), {}, trigger.where)
+    finally:
+        for attr in ("move", "arrive", "elapse", "wait_for"):
+            del m.__dict__[attr]
+        m.clock = saved

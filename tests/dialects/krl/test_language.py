@@ -144,9 +144,18 @@ def test_trigger_switches_an_output_at_the_end_and_on_the_path():
     assert by_name["$OUT[7]"].tcp2base[1, 3] == pytest.approx(80.0)
 
 
-def test_trigger_calling_a_subprogram_is_refused_by_name():
-    with pytest.raises(RunError, match=r"t\.src:3:\d+: TRIGGER \.\.\. DO a subprogram call is not modelled"):
-        program("TRIGGER WHEN DISTANCE=0 DELAY=0 DO SUB() PRIO=-1", routines="DEF SUB()\nEND\n")
+def test_trigger_calls_a_subprogram_at_its_switching_point():
+    body = (
+        INI + f"PTP {POSE}\n$VEL.CP = 0.1\nTRIGGER WHEN DISTANCE=0 DELAY=50 DO GLUE_ON(3) PRIO=-1\n"
+        "LIN {X 500,Y 100,Z 600,A 0,B 90,C 0}\nWAIT SEC 0"
+    )
+    routines = "DEF GLUE_ON(N:IN)\nDECL INT N\n$OUT[N] = TRUE\nCALLS = CALLS + 1\nEND\n"
+    trace = program(body, dat="DECL INT CALLS=0", routines=routines).run({}, keep=("CALLS",))
+    lin, [glue] = trace.moves[1], trace.outputs
+    assert (glue.name, glue.moving, trace.kept) == ("$OUT[3]", True, {"CALLS": 1})
+    assert glue.time == pytest.approx(lin.end_time - 1.0 + 0.05)  # 100 mm at 0.1 m/s: it starts 1 s before its end
+    with pytest.raises(RunError, match=r"TRIGGER \.\.\. DO GLUE_ON\(\): the interpreter passes constants"):
+        program("TRIGGER WHEN DISTANCE=0 DELAY=0 DO GLUE_ON(CALLS) PRIO=-1", dat="DECL INT CALLS=0", routines=routines)
 
 
 def test_signals_declared_and_undeclared_io_are_named_in_the_trace():
