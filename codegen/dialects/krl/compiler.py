@@ -8,9 +8,9 @@ from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import pause
 from codegen.dialects.core.source import Src
-from codegen.dialects.core.values import F32, Record, RunError, Signal, f32
+from codegen.dialects.core.values import F32, Record, RunError, Signal, f32, index_value, op_error
 from codegen.dialects.krl import bas, io
-from codegen.dialects.krl.builtins import UNINIT, builtins, cart, valid, xyzabc
+from codegen.dialects.krl.builtins import UNINIT, builtins, cart, type_name_of, valid, xyzabc
 from codegen.dialects.krl.declarations import DECLARATIONS, Declarations
 from codegen.dialects.krl.goto import GotoBlocks
 from codegen.dialects.krl.interrupts import InterruptStatements
@@ -35,6 +35,20 @@ EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
 NO_SKIP = frozenset()
 TIMED = ("$TIMER", "$TIMER_FLAG", "$ROB_TIMER")  # a WAIT FOR on these waits for the clock
 CYCLE_S = 0.012  # the interpreter's controller cycle (targets/kuka.toml signal_cycle_s: 12 ms, assumed)
+
+
+def operand_error(where: str, exc: Exception) -> RunError:
+    """An operator on values it does not take, in KRL's words (Python's message names Python's types)."""
+    if isinstance(exc, TypeError):
+        return RunError(f"{where}: type mismatch (an operator or an index on values of types it does not take)")
+    return op_error(where, exc)
+
+
+def element(seq, index, offset: int, where: str):
+    """seq[index] where the quick path did not take it: an array's element (or a record's component by number)."""
+    if not isinstance(seq, list | Record | str):
+        raise RunError(f"{where}: {type_name_of(seq)} is not an array")
+    return index_value(seq, index, offset, where)
 
 
 class KRLCompiler(
@@ -65,7 +79,7 @@ class KRLCompiler(
         self.signatures: dict[str, list] = {}  # routine key -> its parameters' modes
         self.user_routines = set()
         self.findings: list | None = None  # codegen check: compile errors collected instead of raised
-        self.ns.update(_UNINIT=UNINIT, _valid=valid)
+        self.ns.update(_UNINIT=UNINIT, _valid=valid, _operror=operand_error, _index=element)
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:

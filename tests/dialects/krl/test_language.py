@@ -215,3 +215,15 @@ def test_an_interrupt_on_a_signal_name_of_one_input():
     assert program(body, dat=dat, routines=routines).run({}).halted is False
     with pytest.raises(RunError, match="INTERRUPT DECL: the interpreter models a condition on one input"):
         program(body.replace("STOP_BUTTON == TRUE", "STOP_BUTTON AND $IN[6]"), dat=dat, routines=routines)
+
+
+@pytest.mark.parametrize(
+    ("body", "says"),
+    [
+        ("R = R[1,2]", r"t\.src:5:5: REAL is not an array$"),
+        ("F = F + 1", r"t\.src:5:1: type mismatch \(an operator or an index on values of types it does not take\)$"),
+    ],
+)
+def test_type_mismatches_name_no_python_types(body, says):
+    with pytest.raises(RunError, match=says):
+        program(f"R = 1.5\nF = {{X 1,Y 2,Z 3,A 0,B 0,C 0}}\n{body}", dat="DECL REAL R\nDECL FRAME F").run({})
