@@ -227,3 +227,13 @@ def test_an_interrupt_on_a_signal_name_of_one_input():
 def test_type_mismatches_name_no_python_types(body, says):
     with pytest.raises(RunError, match=says):
         program(f"R = 1.5\nF = {{X 1,Y 2,Z 3,A 0,B 0,C 0}}\n{body}", dat="DECL REAL R\nDECL FRAME F").run({})
+
+
+def test_another_modules_main_routine_is_called_by_its_name_and_its_local_ones_are_not():
+    lib = "DEF LIB(N:IN)\nDECL INT N\nHELPER()\nTOTAL = TOTAL + N\nEND\nDEF HELPER()\nTOTAL = TOTAL + 100\nEND\n"
+    lib_dat = "DEFDAT LIB PUBLIC\nDECL GLOBAL INT TOTAL=0\nENDDAT\n"
+    main = "DEF CELL()\nEXT LIB (INT :IN)\nLIB(5)\nEND\n"
+    group = KRL.programs(files(cell_src=main, lib_src=lib, lib_dat=lib_dat))[0]
+    assert KRL.load_files(group).run({}, keep=("TOTAL",)).kept == {"TOTAL": 105}
+    with pytest.raises(RunError, match=r"cell\.src:4:1: unknown routine HELPER"):
+        KRL.load_files(files(cell_src=main.replace("LIB(5)", "LIB(5)\nHELPER()"), lib_src=lib, lib_dat=lib_dat))
