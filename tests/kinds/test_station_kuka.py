@@ -6,6 +6,7 @@ WORK = "  TARGET = CORR : P1_CHUCK\n  $VEL.CP = 0.0500\n  LIN TARGET\n"  # the w
 BASE_RESET = "  $BASE = $ROBROOT ; the robot's base ($NULLFRAME is the world: not the same on a track or a platform)\n"
 HALT_RETURN = "    VIS_PAR[1] = {PAR_TYPE #EMPTY}\n    VIS_HALT()\n    RETURN\n"  # a station's guard halt
 LIN_TARGET = "{X 600,Y 0,Z 700,A 0,B 90,C 0}"  # a first motion that is no PTP to a full position
+INITMOV = "  BAS(#INITMOV, 0)\n"
 
 
 class TestKUKA(StationTests):
@@ -35,7 +36,8 @@ class TestKUKA(StationTests):
             "no_load": lambda: (replace_once(text, "  $LOAD = VIS_LOAD\n", ""), dat),
             "out_of_reach": lambda: (text, replace_once(dat, "P1_CHUCK={X 738.5000", "P1_CHUCK={X 2738.5000")),
             "lin_first": lambda: (replace_once(text, "  PTP VIS_HOME\n", f"  LIN {LIN_TARGET}\n"), dat),
-            "no_base_reset": lambda: (replace_once(text, BASE_RESET, ""), dat),
+            # BAS(#INITMOV) sets $BASE = $WORLD (KUKA's BAS.SRC): a program that never sets its base has neither
+            "no_base_reset": lambda: (replace_once(replace_once(text, BASE_RESET, ""), INITMOV, ""), dat),
             "ptp_at_full_speed": lambda: (replace_once(text, "BAS(#VEL_PTP, 30.0)", "BAS(#VEL_PTP, 100)"), dat),
             "approximated_work_pose": lambda: (
                 replace_once(text, WORK, WORK.replace("TARGET\n", "TARGET C_DIS\n")),

@@ -4,9 +4,29 @@ from codegen.dialects import Dialect
 
 
 class KRL(Dialect):
+    """The interpreter models the language of the KSS 8 programming manual for system integrators (modules of a
+    .src and a .dat, GLOBAL routines and PUBLIC data of other modules, EXT, ENUM/STRUC, arrays of up to three
+    dimensions, GOTO, TRIGGER WHEN DISTANCE/PATH, PTP/LIN/CIRC and SPTP/SLIN/SCIRC with WITH, the inline forms'
+    PDAT/LDAT/FDAT and their BAS calls), the controller's environment (a built-in $config.dat, BAS, the system
+    variables of codegen/dialects/krl/sysvars.py, $IN/$OUT and SIGNAL names as simulated I/O) and refuses by
+    name, with file:line, what it does not model. Texts are UTF-8 or Windows-1252 (the controller's backups).
+
+    MoveEvent.settings of a KRL motion (codegen/dialects/krl/motion.py path_settings): "approx" (C_PTP, C_DIS,
+    C_VEL, C_ORI, C_SPL or None), "load" ((mass, x, y, z) of $LOAD or None), "cdis" ($APO.CDIS mm, with C_DIS),
+    "ov_pro" ($OV_PRO %, None until the program sets it); a LIN or CIRC: "vel_cp" ($VEL.CP m/s), "acc_cp" ($ACC.CP
+    m/s2); a PTP: "vel_ptp" and "acc_ptp" ($VEL_AXIS[1] / $ACC_AXIS[1] %: BAS(#VEL_PTP ...), BAS(#INITMOV)); a
+    CIRC also "circ": True. Outputs: every $OUT[n] set (also by a SIGNAL name, PULSE or a TRIGGER) is a SignalEvent
+    named $OUT[n]; messages (Set_KrlMsg, MsgNotify) are trace.messages.
+
+    Assumed where the controller's state is not the program's (each marked where it is modelled): the tool and base
+    active at the start are neither the flange nor the world; TOOL_DATA / BASE_DATA / LOAD_DATA are unknown unless
+    given (--input, a $config.dat); $OV_PRO is 100 and $MODE_OP #AUT until the program sets them; timers stand at 0.
+    """
+
     name = "krl"
     suffixes = (".src",)
     companions = (".dat",)  # the data list of a .src: declarations and initial values
+    encodings = ("cp1252",)  # KUKA controllers write Windows-1252 (backups, WorkVisual projects)
 
     @classmethod
     def move_settings(
@@ -25,3 +45,17 @@ class KRL(Dialect):
     @classmethod
     def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
         return cls.module("interpreter").load(text, filename, (companions or {}).get(".dat"))
+
+    @classmethod
+    def programs(cls, files: list) -> list[list]:
+        """Each .src none of whose routines another given module calls is a program: with its .dat, the other
+        modules (their GLOBAL routines and PUBLIC data) and a $config.dat given (KRL's scope rules)."""
+        return cls.module("modules").programs(files)
+
+    @classmethod
+    def load_files(cls, files: list):
+        return cls.module("modules").load_files(files)
+
+    @classmethod
+    def check_files(cls, files: list) -> list:
+        return cls.module("check").check_files(files)

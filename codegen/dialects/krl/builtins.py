@@ -9,6 +9,7 @@ import re
 import numpy as np
 
 from codegen.dialects import posemath
+from codegen.dialects.core.machine import pause
 from codegen.dialects.core.values import Record, RunError, f32, format_general
 
 
@@ -50,6 +51,10 @@ STRUCTS = {
         ("PAR_BOOL", "BOOL"),
     ],
     "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
+    # the path and approximation parameters of the advance run ($VEL, $ACC, $APO: KSS 8.1-8.4 System Variables)
+    "VEL_STRUC": [("CP", "REAL"), ("ORI1", "REAL"), ("ORI2", "REAL")],  # m/s, deg/s, deg/s
+    "ACC_STRUC": [("CP", "REAL"), ("ORI1", "REAL"), ("ORI2", "REAL")],  # m/s2, deg/s2, deg/s2
+    "APO_STRUC": [("CVEL", "INT"), ("CPTP", "INT"), ("CDIS", "REAL"), ("CORI", "REAL")],  # %, %, mm, deg
 }
 # Message types the operator must acknowledge (KSS 8 system integrators manual, Set_KrlMsg: #QUIT, and
 # #WAITING until the program clears it); #NOTIFY and #STATE need none.
@@ -60,10 +65,46 @@ SIMPLE = {"INT", "REAL", "BOOL", "CHAR", "ENUM"}
 CART = ("FRAME", "POS", "E6POS")
 
 
-def new_value(type_name: str):
-    if type_name in STRUCTS:
-        return Record(type_name, {k: UNINIT for k, _ in STRUCTS[type_name]})
-    return UNINIT
+def new_value(type_name: str, structs: dict = STRUCTS):
+    """A declared variable's value before it is given one: UNINIT, a record of UNINIT components (a
+    component of a user-defined structure type that is itself a user structure: its record)."""
+    fields = structs.get(type_name)
+    if fields is None:
+        return UNINIT
+    return Record(
+        type_name,
+        {k: (new_value(t, structs) if t in structs and t not in STRUCTS else UNINIT) for k, t in fields},
+    )
+
+
+def shown(value) -> str:
+    """A value as a message shows it: a number as KRL writes it, a text quoted, else its KRL type."""
+    if isinstance(value, bool):
+        return "TRUE" if value else "FALSE"
+    if isinstance(value, int | float | np.number):
+        return format_general(value)
+    if isinstance(value, str):
+        return value if value.startswith("#") else f'"{value}"'
+    return type_name_of(value)
+
+
+def type_name_of(value) -> str:
+    """A value's KRL type as a message names it (never a Python type name)."""
+    if isinstance(value, bool):
+        return "BOOL"
+    if isinstance(value, int | np.integer):
+        return "INT"
+    if isinstance(value, float | np.floating):
+        return "REAL"
+    if isinstance(value, str):
+        return "an ENUM value" if value.startswith("#") else "CHAR"
+    if isinstance(value, Record):
+        return value.type or "an aggregate"
+    if isinstance(value, list):
+        return "an array"
+    if value is UNINIT:
+        return "no value"
+    return "a value of no KRL type"
 
 
 def frame(values=(0, 0, 0, 0, 0, 0)) -> Record:
@@ -78,7 +119,7 @@ def valid(value, where: str, what: str):
 
 def cart(value, where: str) -> Record:
     if not isinstance(value, Record) or value.type not in CART:
-        raise RunError(f"{where}: expected FRAME, POS or E6POS, got {getattr(value, 'type', type(value).__name__)}")
+        raise RunError(f"{where}: expected FRAME, POS or E6POS, got {type_name_of(value)}")
     v = value
     if (
         v["X"] is UNINIT
@@ -97,12 +138,38 @@ def cart_matrix(value: Record) -> np.ndarray:
     return posemath.matrix_from_xyzabc(xyzabc(value))
 
 
+# KUKA's functions the interpreter does not model: a call is refused by name (not "unknown routine")
+NOT_MODELLED = {
+    name: what
+    for what, names in {
+        "string functions": "STRLEN STRCLEAR STRCOPY STRADD STRCOMP STRFIND STRDECLLEN SWRITE SREAD",
+        "channel I/O": "CWRITE CREAD COPEN CCLOSE CIOCTL",
+        "Ethernet KRL": "EKI_INIT EKI_OPEN EKI_CLOSE EKI_CLEAR EKI_SEND EKI_SETINT EKI_SETREAL EKI_SETSTRING "
+        "EKI_GETINT EKI_GETREAL EKI_GETSTRING EKI_GETBOOL EKI_SETBOOL EKI_CHECK EKI_LOCK EKI_UNLOCK",
+        "error handling": "ERR_RAISE ERR_CLEAR",
+        "kinematics functions": "INVERSE FORWARD",
+        "KUKA's technology packages": "P00 H50 USER_GRP USERSPOT A20 A10",
+        "messages of KSS 5": "MSG_SEND SET_KRLDLG EXISTS_KRLDLG CLEAR_KRLMSG",
+    }.items()
+    for name in names.split()
+}
+
+
 def builtins() -> dict:
     """The KRL functions and procedures the interpreter provides, by upper-case name."""
 
     def trig(fn):
         def call(fr, args, kwargs, where):
             return f32(fn(math.radians(float(valid(args[0], where, "argument")))))
+
+        return call
+
+    def arc(fn):
+        def call(fr, args, kwargs, where):
+            value = float(valid(args[0], where, "argument"))
+            if not -1.0 <= value <= 1.0:
+                raise RunError(f"{where}: ACOS / ASIN of {value:g}: the argument must be in -1..1")
+            return f32(math.degrees(fn(value)))
 
         return call
 
@@ -174,7 +241,27 @@ def builtins() -> dict:
             fr.m.extra["VEL_PTP"] = percent
         return None
 
+    def msg(kind: str):
+        """MsgNotify / MsgQuit (KSS 8.3's MsgLib, recalled: the text first, then the module and the number):
+        a notification, or a message the operator acknowledges (the program stands until then: the run's stop)."""
+
+        def call(fr, args, kwargs, where):
+            text = valid(args[0], where, f"{kind} text")
+            if not isinstance(text, str):
+                raise RunError(f"{where}: {kind}: the text is a CHAR array")
+            fr.m.message(text)
+            if kind == "MsgQuit":
+                fr.m.arrive(where)
+                pause(fr)
+            return None
+
+        return call
+
     return {
+        "ACOS": arc(math.acos),
+        "ASIN": arc(math.asin),
+        "MSGNOTIFY": msg("MsgNotify"),
+        "MSGQUIT": msg("MsgQuit"),
         "SIN": trig(math.sin),
         "COS": trig(math.cos),
         "TAN": trig(math.tan),

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from lark import Tree
+from lark import Token, Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.machine import Frame
 from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.krl.builtins import UNINIT
 from codegen.dialects.krl.io import IO_MAX
-from codegen.dialects.krl.motion import motion_base
+from codegen.dialects.krl.position import motion_base
 from codegen.poses import invert
 
 # KSS 8 programming manual, interrupt programming: priorities 1..128 (KUKA's own routines use 3, 19
@@ -90,7 +90,7 @@ def _input_number(node) -> int | None:
 
 
 def _mentions_input(compiler, node) -> bool:
-    groups = getattr(compiler, "signal_groups", {})
+    groups = compiler.scope.signals
     for sub in node.iter_subtrees() if isinstance(node, Tree) else ():
         if _input_number(sub) is not None:
             return True
@@ -99,9 +99,21 @@ def _mentions_input(compiler, node) -> bool:
     return False
 
 
+def _signal_as_input(compiler, node):
+    """A SIGNAL name of one input as the element $IN[k] it names (any other node as it is)."""
+    if isinstance(node, Tree) and node.data == "var":
+        group = compiler.scope.signals.get(str(node.children[0]).upper())
+        if group is not None and group[0] == "$IN" and group[3]:
+            return Tree("index", [Tree("var", [Token("NAME", "$IN")]), Tree("number", [Token("INT", str(group[1]))])])
+    if isinstance(node, Tree):
+        return Tree(node.data, [_signal_as_input(compiler, c) for c in node.children], node.meta)
+    return node
+
+
 def watched_input(compiler, node) -> tuple[str | None, str | None]:
-    """("$IN[k]", "rising" | "falling") for a condition on one input, (None, None) for one that mentions no
-    input (never seen to become TRUE here); a compile error for any other condition on inputs."""
+    """("$IN[k]", "rising" | "falling") for a condition on one input (or a SIGNAL name of one), (None, None) for
+    one that mentions no input (never seen to become TRUE here); a compile error for any other on inputs."""
+    node = _signal_as_input(compiler, node)
     number, rising = _input_number(node), True
     if number is None and isinstance(node, Tree) and node.data == "not_":
         number, rising = _input_number(node.children[1]), False

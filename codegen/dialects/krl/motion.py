@@ -9,14 +9,12 @@ import numpy as np
 from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent
 from codegen.dialects.core.values import Record, RunError, f32
-from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, valid, xyzabc
-from codegen.poses import invert
+from codegen.dialects.krl import trigger
+from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, shown, valid, xyzabc
+from codegen.dialects.krl.position import base2robot, record_base
+from codegen.dialects.krl.sysvars import axis_act
 
 AXES = ("AXIS", "E6AXIS")
-# $BASE keeps its value from program to program (KSS 8 system variables): a program starts in whatever
-# base was active. The interpreter assumes one that is not the robot's base, so a program that moves
-# without setting $BASE ($NULLFRAME, or a BASE_DATA) moves somewhere else in its trace.
-ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
 # The controller's numbered data ($config.dat; KSS 8 system variables): type, count, how `--input` gives one
 SYSTEM_ARRAYS = {
     "BASE_DATA": ("FRAME", 32, "X,Y,Z,A,B,C"),
@@ -94,11 +92,6 @@ def robroot(machine) -> None:
             machine.extra["$ROBROOT"] = frame(value)
 
 
-def world2robot(root: Record):
-    """The world in the robot's base frame: the inverse of $ROBROOT as a 4x4 matrix."""
-    return invert(cart_matrix(root))
-
-
 # The path variables a program sets for its moves (KSS 8 system variables): $VEL.CP, the LIN path
 # speed (m/s), and $APO.CDIS, the distance (mm) at which C_DIS approximation starts.
 PATH_FIELDS = {("$VEL", "CP"), ("$APO", "CDIS")}
@@ -122,22 +115,26 @@ def path_variable_store(compiler, target_node, value_node, node):
     def store(fr):
         number = value(fr)
         if isinstance(number, bool | str | Record) or not float(number) > 0:
-            raise RunError(f"{where}: {key[0]}.{key[1]} must be a positive number, got {number!r}")
+            raise RunError(f"{where}: {key[0]}.{key[1]} must be a positive number, got {shown(number)}")
         fr.m.extra[f"{key[0]}.{key[1]}"] = float(number)
 
     return store
 
 
 def path_settings(static: dict, kind: str, extra: dict) -> dict:
-    """What a PTP or LIN records: its approximation, the load, and for a LIN the path speed and for
-    C_DIS the approximation distance the program set."""
-    out = {**static, "load": load_of(extra.get("$LOAD")), "cdis": None}
+    """What a PTP or LIN records (MoveEvent.settings): "approx" (C_PTP, C_DIS, C_VEL, C_ORI, C_SPL or None),
+    "load" (load_of), "cdis" ($APO.CDIS mm, for C_DIS), for a LIN "vel_cp" ($VEL.CP m/s) and "acc_cp" ($ACC.CP
+    m/s2), for a PTP "vel_ptp" and "acc_ptp" ($VEL_AXIS[1] / $ACC_AXIS[1] %: BAS(#VEL_PTP ...)), and "ov_pro"
+    ($OV_PRO %); None: the program (or BAS) did not set it."""
+    out = {**static, "load": load_of(extra.get("$LOAD")), "cdis": None, "ov_pro": extra.get("$OV_PRO")}
     if static["approx"] == "C_DIS":
         out["cdis"] = extra.get("$APO.CDIS")
     if kind == "linear":
         out["vel_cp"] = extra.get("$VEL.CP")
+        out["acc_cp"] = extra.get("$ACC.CP")
     else:
         out["vel_ptp"] = extra.get("VEL_PTP")
+        out["acc_ptp"] = extra.get("ACC_PTP")
     return out
 
 
@@ -149,15 +146,36 @@ def load_of(load) -> tuple | None:
     return (float(load["M"]), *(float(cm[k]) if cm is not UNINIT else 0.0 for k in ("X", "Y", "Z")))
 
 
-def whole_frame(compiler, target, where: str, lacks: str):
+def whole_frame(compiler, target, where: str, lacks: str, fr=None):
     """A bare aggregate {X .., .., C ..} as a FRAME, refused when it lacks a component (no current pose here
-    to fill it from; lacks: the message, {} the missing names); any other value as it is."""
+    to fill it from; lacks: the message, {} the missing names); a bare {A1 .., ..} as an E6AXIS (the axes it
+    does not name stay where they are, where the interpreter knows that); any other value as it is."""
+    bare = isinstance(target, Record) and target.type is None
+    if bare and any(k.startswith("A") and k[1:].isdigit() for k in target):
+        return axis_aggregate(compiler, target, where, fr)
     if isinstance(target, Record) and target.type is None:
         missing = [k for k, _ in XYZABC if k not in target]
         if missing:
             raise RunError(f"{where}: " + lacks.format(", ".join(missing)))
-        target = compiler.coerce("FRAME", target, where)
+        kind = "POS" if "S" in target or "T" in target else "FRAME"
+        kind = "E6POS" if any(k.startswith("E") for k in target) else kind
+        target = compiler.coerce(kind, target, where)
     return target
+
+
+def axis_aggregate(compiler, target: Record, where: str, fr) -> Record:
+    """{A1 .., A2 .., ...} as the motion's E6AXIS: every axis named, or the others from where they stand."""
+    names = [f"A{i}" for i in range(1, 7)]
+    missing = [k for k in names if k not in target]
+    values = dict(target)
+    if missing:
+        try:
+            now = axis_act(fr, where)
+        except RunError:
+            raise RunError(f"{where}: the axis target lacks {', '.join(missing)} and where those axes stand is not "
+                           "known here") from None
+        values = {**{k: now[k] for k in missing}, **values}
+    return compiler.coerce("E6AXIS", Record(None, values), where)
 
 
 def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
@@ -165,15 +183,18 @@ def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
     recorded in the robot's base frame with the controller's configuration rule; the advance run goes on."""
 
     def run(fr):
-        target = whole_frame(compiler, value(fr), where, "aggregate target lacks {} (no current pose here)")
-        settings = path_settings(static, kind, fr.m.extra)
+        target = whole_frame(compiler, value(fr), where, "aggregate target lacks {} (no current pose here)", fr)
+        extra = fr.m.extra
+        settings = path_settings(static, kind, extra)
+        if "$IPO_MODE" in extra and extra["$IPO_MODE"] != "#BASE":
+            raise RunError(f"{where}: $IPO_MODE {extra['$IPO_MODE']} (an external TCP) is not modelled")
         if isinstance(target, Record) and target.type in AXES:  # axis values: no solution to choose
             if kind != "joint":
                 raise RunError(f"{where}: LIN takes a cartesian target")
             q = [float(valid(target[f"A{i}"], where, f"{target.type}.A{i}")) for i in range(1, 7)]
             event = MoveEvent(kind, None, line, settings)
             fr.m.arm.to_joints(event, q, where)
-            fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
+            commanded(fr.m, event, tcp_speed(extra))
             return
         pose = cart(target, where)
         posemath.check_finite(xyzabc(pose), where, "motion target")
@@ -184,43 +205,29 @@ def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
         event = MoveEvent(kind, tcp2base, line, settings)
         fr.m.arm.to_pose(event, where, *motion_rule(kind, pose, fr.m.arm, where))
         record_base(fr.m, event, base)
-        fr.m.move(event, tcp_speed(fr.m.extra), runs_ahead=True)  # the advance run goes on
+        commanded(fr.m, event, tcp_speed(extra))
 
     return run
 
 
-def base2robot(extra: dict) -> np.ndarray:
-    """The active $BASE in the robot's base frame (4x4 mm): $BASE is in the world, the trace in the robot's
-    base frame ($ROBROOT); a program that never set $BASE moves in the one active when it started."""
-    base = extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
-    out = cart_matrix(base) if xyzabc(base) != (0, 0, 0, 0, 0, 0) else np.eye(4)  # $NULLFRAME: identity
-    if "$ROBROOT" in extra:
-        out = world2robot(extra["$ROBROOT"]) @ out
-    return out
-
-
-def record_base(machine, event: MoveEvent, base: np.ndarray) -> None:
-    """Keep the $BASE a move was planned in: $POS_INT is in the base of the motion under way."""
-    machine.extra.setdefault("MOVE_BASES", {})[id(event)] = base
-
-
-def motion_base(machine, t: float) -> np.ndarray:
-    """The $BASE (robot's base frame) of the move under way at time t, or of the last one that ended by
-    then; the program's $BASE before any move."""
-    bases = machine.extra.get("MOVE_BASES", {})
-    watching = machine.watching
-    for seg in reversed(watching.segments if watching is not None else []):
-        if seg.t0 <= t and id(seg.end) in bases:
-            return bases[id(seg.end)]
-    return base2robot(machine.extra)
+def commanded(m, event: MoveEvent, speed: float, via=None) -> None:
+    """The move recorded: the advance run goes on (unless $ADVANCE is 0: then the program waits for each
+    motion); the tool it was planned with kept ($POS_ACT), the TRIGGERs on it switched."""
+    extra = m.extra
+    triggers = "TRIGGERS" in extra
+    t0 = max(m.clock, m.arm_until) if triggers else 0.0
+    m.move(event, speed, runs_ahead=extra.get("$ADVANCE") != 0, via=via)
+    extra["TOOL_AT_MOVE"] = m.arm.tcp2flange
+    if triggers:
+        trigger.fire(m, event, t0, speed)
 
 
 # $ORI_TYPE and $CIRC_TYPE (KSS 8 system variables, recalled, not confirmed from the manual here):
 # $ORI_TYPE #CONSTANT keeps the start's orientation over a LIN or CIRC (the end point's orientation is
-# disregarded), #VARIABLE and #JOINT change it to the end's; $CIRC_TYPE #BASE holds a CIRC's orientation
+# disregarded), #VAR and #JOINT change it to the end's; $CIRC_TYPE #BASE holds a CIRC's orientation
 # in the base, #PATH turns it with the path's tangent. The interpreter runs CIRC with #CONSTANT and #BASE
 # only (the core's circular path holds the start's orientation), and assumes no default for either.
-ORI_TYPES = frozenset({"#CONSTANT", "#VARIABLE", "#JOINT"})
+ORI_TYPES = frozenset({"#CONSTANT", "#VAR", "#JOINT"})
 CIRC_TYPES = frozenset({"#BASE", "#PATH"})
 ORIENTATION_VARIABLES = {"$ORI_TYPE": ORI_TYPES, "$CIRC_TYPE": CIRC_TYPES}
 
@@ -240,7 +247,7 @@ def orientation_store(compiler, target_node, value_node, node):
     def store(fr):
         v = value(fr)
         if not isinstance(v, str) or v.upper() not in allowed:
-            raise RunError(f"{where}: {key} takes {', '.join(sorted(allowed))}, got {v!r}")
+            raise RunError(f"{where}: {key} takes {', '.join(sorted(allowed))}, got {shown(v)}")
         fr.m.extra[key] = v.upper()
 
     return store
@@ -308,7 +315,7 @@ def circ_run(compiler, static: dict, aux_value, end_value, where: str, line: int
         event = MoveEvent("linear", end, line, settings)
         fr.m.arm.to_pose(event, where, *motion_rule("linear", end_pose, fr.m.arm, where))
         record_base(fr.m, event, base2robot(extra))
-        fr.m.move(event, tcp_speed(extra), runs_ahead=True, via=aux)  # the advance run goes on
+        commanded(fr.m, event, tcp_speed(extra), via=aux)
 
     return run
 

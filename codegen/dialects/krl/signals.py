@@ -17,42 +17,62 @@ from codegen.dialects.krl.io import IO_MAX
 MAX_BITS = 32
 
 
+ANALOG = ("$ANIN", "$ANOUT")  # SIGNAL name $ANOUT[n] ($config.dat's channels): declared, refused where used
+
+
 def _bank_index(node) -> tuple[str, int] | None:
-    """('$IN' | '$OUT', n) of a constant element $IN[n], else None."""
+    """('$IN' | '$OUT' | '$ANIN' | '$ANOUT', n) of a constant element $IN[n], else None."""
     if isinstance(node, Tree) and node.data == "index" and len(node.children) == 2:
         base, index = node.children
         bank = str(base.children[0]).upper() if isinstance(base, Tree) and base.data == "var" else None
-        if bank in ("$IN", "$OUT") and isinstance(index, Tree) and index.data == "number":
+        if bank in ("$IN", "$OUT", *ANALOG) and isinstance(index, Tree) and index.data == "number":
             return bank, int(str(index.children[0]))
     return None
 
 
 class SignalGroups:
-    """Compiler mixin: SIGNAL declarations and the names they declare in expressions and assignments."""
-
-    signal_groups: dict  # NAME -> (bank, first, last)
+    """Compiler mixin: SIGNAL declarations and the names they declare in expressions and assignments: one
+    input or output (SIGNAL name $IN[n]: a BOOL) or consecutive ones (SIGNAL name $IN[a] TO $IN[b]: an INT).
+    A module's signals are its own; $config.dat's are every module's (scope.signals)."""
 
     def s_signal_decl(self, node):
         name, first_node, last_node = node.children
-        first, last = _bank_index(first_node), _bank_index(last_node)
+        first = _bank_index(first_node)
+        last = _bank_index(last_node) if last_node is not None else first
         if first is None or last is None or first[0] != last[0]:
-            self.fail(node, f"SIGNAL {name}: expected $IN[a] TO $IN[b] or $OUT[a] TO $OUT[b] with numbers")
+            self.fail(node, f"SIGNAL {name}: expected $IN[n], $OUT[n], $IN[a] TO $IN[b] or $OUT[a] TO $OUT[b]")
         (bank, a), (_bank, b) = first, last
-        if not 1 <= a < b <= IO_MAX or b - a + 1 > MAX_BITS:
-            self.fail(node, f"SIGNAL {name}: {b - a + 1} signals from {bank}[{a}]: 2..{MAX_BITS}, within 1..{IO_MAX}")
-        if not hasattr(self, "signal_groups"):
-            self.signal_groups = {}
-        self.signal_groups[str(name).upper()] = (bank, a, b)
+        single = last_node is None
+        if bank not in ANALOG and (not 1 <= a <= b <= IO_MAX or b - a + 1 > MAX_BITS):
+            self.fail(
+                node,
+                f"SIGNAL {name}: {b - a + 1} signals from {bank}[{a}]: one, or 2..{MAX_BITS} with TO (a group), "
+                f"within 1..{IO_MAX}",
+            )
+        self.scope.signals[str(name).upper()] = (bank, a, b, single)
         return lambda fr: None
 
     def _group(self, token) -> tuple | None:
-        return getattr(self, "signal_groups", {}).get(str(token).upper())
+        group = self.scope.signals.get(str(token).upper())
+        if group is not None and group[0] in ANALOG:
+            self.fail(token, f"{token} is an analog signal ({group[0]}[{group[1]}]): analog I/O is not modelled")
+        return group
 
     def e_var(self, node):
         group = self._group(node.children[0])
         if group is None:
             return super().e_var(node)
-        bank, a, b = group
+        bank, a, b, single = group
+        if single:
+            stops = bank == "$IN" and not self.take_continue()
+            where, name = self.where(node), f"{bank}[{a}]"
+
+            def read_one(fr):
+                if stops:
+                    fr.m.arrive(where)
+                return fr.m.input_signal(name) if bank == "$IN" else fr.m.signals.get(name, False)
+
+            return Src(f"{self.const(read_one)}(fr)")
         stops = bank == "$IN" and not self.take_continue()
         where = self.where(node)
 
@@ -75,11 +95,22 @@ class SignalGroups:
         group = self._group(target_node.children[0]) if is_var else None
         if group is None:
             return super().s_assign(node)
-        bank, a, b = group
+        bank, a, b, single = group
         if bank != "$OUT":
-            self.fail(node, f"{target_node.children[0]}: a group of inputs cannot be written")
+            self.fail(node, f"{target_node.children[0]}: inputs cannot be written (the devices set them)")
         value, where, stops = self.expr(value_node), self.where(node), not self.take_continue()
         bits = b - a + 1
+        if single:
+
+            def store_one(fr):
+                v = value(fr)
+                if not isinstance(v, bool):
+                    raise RunError(f"{where}: {target_node.children[0]} ($OUT[{a}]) takes TRUE or FALSE")
+                if stops:
+                    fr.m.arrive(where)
+                fr.m.set_output(f"$OUT[{a}]", v, where)
+
+            return store_one
 
         def store(fr):
             v = value(fr)

@@ -223,7 +223,7 @@ CIRC_ON = "$BASE = $NULLFRAME\n$VEL.CP = 0.1\nLIN {X 0, Y 0, Z 500, A 0, B 0, C 
             CIRC_ON + "CIRC {X 10, Y 10, Z 500, A 0, B 0, C 0}, {X 20, Y 0, Z 500, A 0, B 0, C 0}, CA 90",
             "CA .* not modelled",
         ),
-        ("$ORI_TYPE = #SIDEWAYS", r"\$ORI_TYPE takes #CONSTANT, #JOINT, #VARIABLE"),
+        ("$ORI_TYPE = #SIDEWAYS", r"\$ORI_TYPE takes #CONSTANT, #JOINT, #VAR,"),
     ],
 )
 def test_misuse_is_refused_naming_the_line(body, says):

@@ -1,0 +1,250 @@
+"""`codegen check` of KRL programs: every error the controller's compiler or the interpreter finds, and field checks."""
+
+from __future__ import annotations
+
+import re
+
+from lark import Token, Tree
+
+from codegen.dialects.core.files import Finding, SourceFile
+from codegen.dialects.core.values import RunError
+from codegen.dialects.krl.modules import Linker, routine_name
+from codegen.dialects.krl.syntax import parse
+
+NAME_MAX = 24  # characters of a KRL name (KSS 8 programming manual, names: up to 24 characters)
+SYNTAX_MAX = 20  # syntax errors reported per file (each further one is found with the bad line left out)
+WHERE = re.compile(r"^(?P<file>.+?):(?P<line>\d+):(?P<column>\d+): (?P<message>.*)$", re.DOTALL)
+CODES = (  # (words of a message, code, severity)
+    ("syntax error", "syntax", "error"),
+    ("not modelled", "unsupported", "unsupported"),
+    ("not supported", "unsupported", "unsupported"),
+    ("undefined variable", "undefined-name", "error"),
+    ("unknown routine", "undefined-routine", "error"),
+    ("no routine", "undefined-routine", "error"),
+    ("type error", "type", "error"),
+    ("cannot assign", "type", "error"),
+    ("unknown type", "type", "error"),
+    ("is not a value of", "type", "error"),
+)
+# Statements after which the arm has arrived: they stop the advance run (KSS 8 programming manual for system
+# integrators, "Advance run stop"), unless a CONTINUE stands before the I/O access.
+STOPS = ("wait_sec", "wait_for", "halt_stmt")
+
+
+def finding_of(exc: RunError, default_file: str) -> Finding:
+    text = str(exc)
+    match = WHERE.match(text)
+    if match:
+        file, line, column, message = match["file"], int(match["line"]), int(match["column"]), match["message"]
+    else:
+        file, line, column, message = default_file, 0, 0, text
+    if not match and ": " in text and text.split(": ", 1)[0].endswith((".src", ".dat")):
+        file, message = text.split(": ", 1)
+    code, severity = next(((c, s) for words, c, s in CODES if words in message), ("load", "error"))
+    return Finding(file, line, column, severity, code, message)
+
+
+def repaired(file: SourceFile, findings: list[Finding]) -> SourceFile:
+    """The file with each line that does not parse left out (its syntax error a finding), so that the rest is
+    checked too."""
+    lines = file.text.split("\n")
+    for _ in range(SYNTAX_MAX):
+        try:
+            parse("\n".join(lines), file.name, positions=False)
+            return SourceFile(file.name, "\n".join(lines))
+        except RunError as exc:
+            finding = finding_of(exc, file.name)
+            findings.append(finding)
+            if not 1 <= finding.line <= len(lines) or not lines[finding.line - 1].strip():
+                break
+            lines[finding.line - 1] = ""
+    return SourceFile(file.name, "")
+
+
+def check_files(files: list[SourceFile]) -> list[Finding]:
+    """Every finding of one program's files (as KRL.programs groups them): syntax, what the interpreter does not
+    model, undefined names and routines, type errors, and the field checks below."""
+    findings: list[Finding] = []
+    texts = [repaired(f, findings) for f in files]
+    errors: list[RunError] = []
+    trees = []
+    try:
+        Linker(texts, errors).link()
+    except RunError as exc:
+        errors.append(exc)
+    findings.extend(finding_of(e, files[0].name) for e in errors)
+    for f in texts:
+        try:
+            trees.append((f.name, parse(f.text, f.name)))
+        except RunError:
+            continue
+    inputs = {"$IN"} | {name for _file, tree in trees for name in _input_signals(tree)}
+    for name, tree in trees:
+        findings.extend(long_names(name, tree))
+        findings.extend(waits(name, tree, inputs))
+        findings.extend(early_outputs(name, tree))
+    if trees:
+        findings.extend(unset_frames(trees))
+    unique = {}
+    for f in findings:
+        unique.setdefault((f.file, f.line, f.code, f.message), f)
+    return sorted(unique.values(), key=lambda f: (f.file, f.line, f.column))
+
+
+# --- field checks ----------------------------------------------------------------------------------
+
+
+def _declared_names(tree):
+    for sub in tree.iter_subtrees_topdown():
+        if sub.data == "decl_item" or sub.data == "label" or sub.data == "param":
+            yield sub.children[0]
+        elif sub.data in ("def_routine", "def_function"):
+            yield sub.children[1 if sub.data == "def_routine" else 2]
+        elif sub.data in ("signal_decl",):
+            yield sub.children[0]
+        elif sub.data in ("enum_decl", "struc_decl"):
+            yield sub.children[1]
+
+
+def long_names(name: str, tree) -> list[Finding]:
+    out = []
+    for token in _declared_names(tree):
+        if isinstance(token, Token) and len(str(token)) > NAME_MAX:
+            out.append(Finding(name, token.line, token.column, "error", "name-too-long",
+                               f"{token} has {len(str(token))} characters: a KRL name has up to {NAME_MAX}"))
+    return out
+
+
+def _mentions(node, names: set[str]) -> bool:
+    return any(sub.data == "var" and str(sub.children[0]).upper() in names for sub in node.iter_subtrees())
+
+
+def _input_signals(tree) -> set[str]:
+    """The names SIGNAL gives inputs in a file."""
+    out = set()
+    for sub in tree.iter_subtrees():
+        if sub.data == "signal_decl":
+            bank = sub.children[1].children[0] if isinstance(sub.children[1], Tree) else None
+            if isinstance(bank, Tree) and bank.data == "var" and str(bank.children[0]).upper() == "$IN":
+                out.add(str(sub.children[0]).upper())
+    return out
+
+
+def waits(name: str, tree, inputs: set[str]) -> list[Finding]:
+    """WAIT FOR on an input without a timeout: KRL's WAIT FOR has none; a program that does not also wait for
+    a timer ($TIMER_FLAG[n], $TIMER[n]) waits for ever if the device never answers."""
+    out = []
+    for sub in tree.iter_subtrees_topdown():
+        if sub.data == "wait_for" and isinstance(sub.children[0], Tree):
+            cond = sub.children[0]
+            if _mentions(cond, inputs) and not _mentions(cond, {"$TIMER_FLAG", "$TIMER", "$ROB_TIMER"}):
+                line, column = _start(sub)
+                out.append(Finding(name, line, column, "warning", "wait-without-timeout",
+                                   "WAIT FOR an input without a timeout: the program waits for ever if the device "
+                                   "never answers (wait for a $TIMER_FLAG too, or poll with a time limit)"))
+    return out
+
+
+def _start(node) -> tuple[int, int]:
+    meta = getattr(node, "meta", None)
+    if meta is not None and not getattr(meta, "empty", True):
+        return meta.line, meta.column
+    for token in node.scan_values(lambda t: isinstance(t, Token)):
+        return token.line, token.column
+    return 0, 0
+
+
+def _is_output_store(node) -> bool:
+    if node.data != "assign":
+        return node.data == "call_stmt" and str(node.children[0]).upper() == "PULSE"
+    target = node.children[0]
+    return (isinstance(target, Tree) and target.data == "index" and isinstance(target.children[0], Tree)
+            and target.children[0].data == "var" and str(target.children[0].children[0]).upper() == "$OUT")
+
+
+def early_outputs(name: str, tree) -> list[Finding]:
+    """An output set after CONTINUE, after a motion with no advance-run stop between: the controller sets it
+    while the arm still moves to the point before (the advance run), not when the arm is there; and an output
+    set without CONTINUE right after an approximated motion: its advance-run stop ends the approximation."""
+    out = []
+    for body in tree.iter_subtrees_topdown():
+        if body.data != "body":
+            continue
+        moved, approximated, continued = None, None, False
+        for stmt in (c for c in body.children if isinstance(c, Tree)):
+            if stmt.data in ("motion_stmt", "circ_stmt"):
+                moved = stmt
+                approximated = any(isinstance(c, Tree) and c.data == "approx" for c in stmt.children)
+            elif stmt.data == "continue_stmt":
+                continued = True
+                continue
+            elif _is_output_store(stmt) and moved is not None:
+                line, column = _start(stmt)
+                if continued:
+                    out.append(Finding(name, line, column, "warning", "output-in-advance-run",
+                                       f"the output is set in the advance run (CONTINUE): while the arm still moves to "
+                                       f"the point of line {_start(moved)[0]}, not when it is there"))
+                elif approximated:
+                    out.append(Finding(name, line, column, "warning", "approximation-lost",
+                                       f"setting an output stops the advance run: the approximation of line "
+                                       f"{_start(moved)[0]} is not possible (TRIGGER or CONTINUE)"))
+                moved = None
+            elif stmt.data in STOPS:
+                moved = None
+            continued = False
+    return out
+
+
+FRAME_SETTERS = {"#INITMOV", "#TOOL", "#BASE", "#FRAMES", "#PTP_PARAMS", "#CP_PARAMS"}
+
+
+def unset_frames(trees) -> list[Finding]:
+    """The program's first motion before $TOOL and $BASE are set (by an assignment, BAS(#INITMOV), BAS(#TOOL /
+    #BASE / #PTP_PARAMS / #CP_PARAMS / #FRAMES) or the motion's WITH): it moves with the tool and base the
+    previous program left. Followed through the main routine and the routines it calls, in program order."""
+    name, tree = trees[0]
+    routines = {routine_name(n): (file, n) for file, t in trees for n in t.children
+                if isinstance(n, Tree) and n.data in ("def_routine", "def_function")}
+    main = next((n for n in tree.children if isinstance(n, Tree) and n.data == "def_routine"), None)
+    if main is None:
+        return []
+    state = {"tool": False, "base": False, "seen": set(), "moved": False}
+    return _walk(main, name, routines, state)
+
+
+def _walk(node, file: str, routines: dict, state: dict) -> list[Finding]:
+    for sub in node.iter_subtrees_topdown():
+        if sub.data == "assign" or sub.data == "with_item":
+            root = sub.children[0]
+            while isinstance(root, Tree) and root.data != "var":
+                root = root.children[0]
+            target = str(root.children[0]).upper() if isinstance(root, Tree) else ""
+            state["tool"] |= target == "$TOOL"
+            state["base"] |= target == "$BASE"
+        elif sub.data in ("call_stmt", "call"):
+            called = str(sub.children[0]).upper()
+            args = sub.children[1].children if sub.children[1] is not None else []
+            if called == "BAS" and args and isinstance(args[0], Tree) and args[0].data == "enum":
+                command = "#" + str(args[0].children[0]).upper()
+                if command in FRAME_SETTERS:
+                    state["tool"] |= command != "#BASE"
+                    state["base"] |= command != "#TOOL"
+            elif called in routines and called not in state["seen"]:
+                state["seen"].add(called)
+                found = _walk(routines[called][1], routines[called][0], routines, state)
+                if state["moved"]:
+                    return found
+        elif sub.data in ("motion_stmt", "circ_stmt"):
+            with_clause = next((c for c in sub.children if isinstance(c, Tree) and c.data == "with_clause"), None)
+            if with_clause is not None:
+                _walk(with_clause, file, routines, state)
+            state["moved"] = True
+            if not (state["tool"] and state["base"]):
+                missing = " and ".join(n for n, ok in (("$TOOL", state["tool"]), ("$BASE", state["base"])) if not ok)
+                line, column = _start(sub)
+                return [Finding(file, line, column, "warning", "motion-before-tool-base",
+                                f"a motion before {missing} is set (BAS(#INITMOV, 0), the inline form's "
+                                "BAS(#PTP_PARAMS ...), or an assignment): it moves with what the previous program "
+                                "left")]
+            return []
+    return []

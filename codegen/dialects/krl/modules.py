@@ -1,0 +1,308 @@
+"""KRL programs of several files: modules (.src with .dat), which files make one program, and linking them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+
+from lark import Token, Tree
+
+from codegen.dialects.core.files import SourceFile
+from codegen.dialects.core.machine import Program
+from codegen.dialects.core.shapes import ShapeCache
+from codegen.dialects.core.values import RunError
+from codegen.dialects.krl.compiler import KRLCompiler
+from codegen.dialects.krl.environment import CONFIG_DAT, is_config
+from codegen.dialects.krl.environment import NAME as CONFIG_NAME
+from codegen.dialects.krl.motion import SYSTEM_ARRAYS
+from codegen.dialects.krl.names import Scope
+from codegen.dialects.krl.syntax import parse
+
+# A program is its module (the program file, a .src, with its .dat) and the modules it may call: on the
+# controller every module's global routines and data are there (see codegen/dialects/krl/names.py for the
+# scope rules), so a program of several files is all of them. Which of the given .src files are programs:
+# those whose main routine no other given module calls (a module called by another is a library). A .dat
+# alone is a module of data (a PUBLIC data list of global names); $config.dat is the controller's (it
+# replaces the interpreter's built-in one: codegen/dialects/krl/environment.py).
+
+
+@dataclass
+class Module:
+    name: str  # upper-case stem, e.g. CELL
+    src: SourceFile | None = None
+    dat: SourceFile | None = None
+    trees: list = field(default_factory=list)  # (file, parse tree)
+    config: bool = False
+
+
+def group_modules(files: list[SourceFile], first_is_program: bool = False) -> tuple[list[Module], list[SourceFile]]:
+    """The modules of the given files in their order, and the $config.dat files among them (first_is_program:
+    the first file is a program file whatever its name)."""
+    modules: dict[str, Module] = {}
+    configs = []
+    for i, f in enumerate(files):
+        if is_config(f.name):
+            configs.append(f)
+            continue
+        module = modules.setdefault(f.stem.upper(), Module(f.stem.upper()))
+        if f.suffix == ".src" or (first_is_program and i == 0):
+            if module.src is not None:
+                raise RunError(f"{f.name}: a second module {module.name} (also {module.src.name})")
+            module.src = f
+        else:
+            if module.dat is not None:
+                raise RunError(f"{f.name}: a second data list {module.name} (also {module.dat.name})")
+            module.dat = f
+    return list(modules.values()), configs
+
+
+def _calls(tree) -> set[str]:
+    return {
+        str(sub.children[0]).upper()
+        for sub in tree.iter_subtrees()
+        if sub.data in ("call", "call_stmt") and isinstance(sub.children[0], Token)
+    }
+
+
+def _callable(module: Module, tree) -> set[str]:
+    """What other modules may call of a module: its main routine (named like it) and its GLOBAL ones."""
+    names = {module.name}
+    for i, node in enumerate(_routines(tree)):
+        if i == 0 or node.children[0] is not None:
+            names.add(routine_name(node))
+    return names
+
+
+def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
+    """Which files make one program each, the program file first: each .src none of whose routines another
+    module calls, with its .dat, the modules others call (libraries), the data lists without a .src and
+    $config.dat (a file that does not parse counts as a program)."""
+    modules, configs = group_modules(files)
+    with_src = [m for m in modules if m.src is not None]
+    if not with_src:
+        raise RunError(f"{files[0].name}: no program file (.src) among the files: a data list is read with its program")
+    calls, offers = {}, {}
+    for module in with_src:
+        try:
+            tree = parse(module.src.text, module.src.name, positions=False)
+        except RunError:
+            continue
+        offers[module.name] = _callable(module, tree)
+        calls[module.name] = _calls(tree) - offers[module.name]
+    libraries = {
+        name
+        for name, offered in offers.items()
+        if any(offered & called for other, called in calls.items() if other != name)
+    }
+    mains = [m for m in with_src if m.name not in libraries] or with_src[:1]
+    shared = [m for m in modules if m.src is None or m.name in libraries or m not in mains]  # libraries, data
+    out = []
+    for main in mains:
+        rest = [f for m in shared if m is not main for f in (m.src, m.dat) if f is not None]
+        out.append([main.src, *([main.dat] if main.dat else []), *rest, *configs])
+    return out
+
+
+@cache
+def _builtin_config():
+    return parse(CONFIG_DAT, CONFIG_NAME)
+
+
+def _data_body(tree):
+    for item in tree.children:
+        if isinstance(item, Tree) and item.data == "defdat":
+            yield item
+
+
+def _routines(tree):
+    for item in tree.children:
+        if isinstance(item, Tree) and item.data in ("def_routine", "def_function"):
+            yield item
+
+
+def routine_name(node) -> str:
+    return str(node.children[1 if node.data == "def_routine" else 2]).upper()
+
+
+def _decl_names(decl) -> list[str]:
+    items = [item for item in decl.children if isinstance(item, Tree) and item.data == "decl_item"]
+    return [str(item.children[0]).upper() for item in items]
+
+
+class Linker:
+    """Compile a program's modules into one KRLCompiler (findings: codegen check collects errors there)."""
+
+    def __init__(self, files: list[SourceFile], findings: list | None = None, strict: bool = True) -> None:
+        self.files = files
+        self.findings = findings
+        main = files[0]
+        if main.suffix == ".dat":
+            raise RunError(f"{main.name}: a data list is read together with its program: give the program file first")
+        self.compiler = KRLCompiler(main.name)
+        self.compiler.findings = findings
+        self.compiler.strict_names = strict
+        self.compiler._shapes = ShapeCache(f"<{main.name}: compiled>")  # named by the program, not its first file
+
+    def fail_or_keep(self, exc: RunError) -> None:
+        if self.findings is None:
+            raise exc
+        self.findings.append(exc)
+
+    def parse_all(self) -> tuple[list[Module], list[Module]]:
+        modules, configs = group_modules(self.files, first_is_program=True)
+        config_modules = [Module("$CONFIG", trees=[(CONFIG_NAME, _builtin_config())], config=True)]
+        for f in configs:
+            try:
+                config_modules.append(Module("$CONFIG", dat=f, trees=[(f.name, parse(f.text, f.name))], config=True))
+            except RunError as exc:
+                self.fail_or_keep(exc)
+        for module in modules:
+            for f in (module.dat, module.src):
+                if f is None:
+                    continue
+                try:
+                    module.trees.append((f.name, parse(f.text, f.name)))
+                except RunError as exc:
+                    self.fail_or_keep(exc)
+        return config_modules, modules
+
+    def link(self) -> Program:
+        compiler = self.compiler
+        config_modules, modules = self.parse_all()
+        main = modules[0]
+        everything = [*config_modules, *modules]
+        for module in everything:  # pass 1: the types (every module's, before any declaration uses one)
+            for name, tree in module.trees:
+                compiler.filename = name
+                for sub in tree.iter_subtrees_topdown():
+                    if sub.data in ("enum_decl", "struc_decl"):
+                        self.guarded(compiler.declare_types, sub)
+        compiler.filename = main.src.name if main.src else main.name
+        self.guarded(compiler.check_types)
+        global_data, own_data, global_routines, own_routines, external, signatures = self.names(everything, main)
+        compiler.user_routines = {key for table in [global_routines, *own_routines.values()] for key in table.values()}
+        compiler.signatures = {key: modes for key, (_kind, modes) in signatures.items()}
+        compiler.routine_signatures = signatures
+        config_signals: dict = {}  # $config.dat's signals: every module's (a module's own: its scope's copy)
+
+        def scope_of(module: Module) -> Scope:
+            if id(module) not in scopes:
+                scopes[id(module)] = Scope(
+                    module.name,
+                    {**global_data, **own_data.get(id(module), {})},
+                    {**global_routines, **own_routines.get(id(module), {})},
+                    config_signals if module.config else dict(config_signals),
+                    external.get(id(module), set()),
+                )
+            return scopes[id(module)]
+
+        scopes: dict[int, Scope] = {}
+        main_key = None
+        for module in [*config_modules, *[m for m in modules if m is not main], main]:  # pass 2: data lists
+            compiler.scope = scope_of(module)
+            for name, tree in module.trees:
+                compiler.filename = name
+                for defdat in _data_body(tree):
+                    self.guarded(compiler.data_list, defdat, own_data[id(module)])
+        for module in modules:  # pass 3: routines
+            compiler.scope = scope_of(module)
+            for name, tree in module.trees:
+                compiler.filename = name
+                for i, node in enumerate(_routines(tree)):
+                    key = compiler.scope.routines[routine_name(node)]
+                    if module is main and i == 0:
+                        main_key = key
+                    self.guarded(compiler.routine, node, key)
+        compiler.filename = main.src.name if main.src else main.name
+        if main_key is None:
+            self.fail_or_keep(RunError(f"{compiler.filename}: no routine (DEF) to run"))
+        program = Program(compiler.filename, compiler, compiler.init_data, main_key)
+        try:
+            program.unknown_inputs(())  # the data lists' values, now: a wrong one is reported as the file's
+        except RunError as exc:
+            self.fail_or_keep(exc)
+        return program
+
+    def guarded(self, fn, *args) -> None:
+        try:
+            fn(*args)
+        except RunError as exc:
+            self.fail_or_keep(exc)
+
+    def names(self, everything: list[Module], main: Module):
+        """Every module's data and routines by name -> storage key: (global data, own data by module, global
+        routines, own routines by module, EXT names by module, routine signatures by key)."""
+        global_data: dict[str, str] = {}
+        own_data: dict[int, dict] = {}
+        global_routines: dict[str, str] = {}
+        own_routines: dict[int, dict] = {}
+        external: dict[int, set] = {}
+        signatures: dict[str, tuple] = {}
+        where: dict[str, str] = {}
+        for module in everything:
+            mine, routines, ext = own_data.setdefault(id(module), {}), own_routines.setdefault(id(module), {}), set()
+            external[id(module)] = ext
+            for name, tree in module.trees:
+                for sub in tree.iter_subtrees_topdown():
+                    if sub.data in ("ext_routine", "ext_function"):
+                        ext.add(str(sub.children[1 if sub.data == "ext_routine" else 2]).upper())
+                for defdat in _data_body(tree):
+                    public = defdat.children[1] is not None
+                    for item in defdat.children[-1].children:
+                        if not isinstance(item, Tree) or item.data not in ("decl", "signal_decl"):
+                            continue
+                        names = _decl_names(item) if item.data == "decl" else []
+                        is_global = module.config or (public and any(
+                            isinstance(t, Token) and t.type == "GLOBAL" for t in item.children))
+                        for key in names:
+                            if key in SYSTEM_ARRAYS:  # the controller's numbered data: the interpreter's own
+                                continue
+                            if module.config or is_global:
+                                previous = where.get(key)
+                                if previous is not None and not module.config and previous != name:
+                                    twice = f"{name}: {key} is declared GLOBAL twice (also in {previous})"
+                                    self.fail_or_keep(RunError(twice))
+                                where[key] = name
+                                global_data[key] = key
+                            store = key if module is main or module.config or is_global else f"{module.name}:{key}"
+                            mine[key] = store
+                for i, node in enumerate(_routines(tree)):
+                    key = routine_name(node)
+                    is_global = node.children[0] is not None or (i == 0 and name.lower().endswith(".src"))
+                    store = key if module is main or is_global else f"{module.name}:{key}"
+                    if is_global:
+                        if key in global_routines:
+                            also = where["routine " + key]
+                            self.fail_or_keep(RunError(f"{name}: routine {key} is defined twice (also in {also})"))
+                        where["routine " + key] = name
+                        global_routines[key] = store
+                    if key in routines:
+                        self.fail_or_keep(RunError(f"{name}: routine {key} defined twice"))
+                    routines[key] = store
+                    signatures[store] = _signature(node)
+        return global_data, own_data, global_routines, own_routines, external, signatures
+
+
+def _signature(node) -> tuple[str, list[str]]:
+    function = node.data == "def_function"
+    params = node.children[3] if function else node.children[2]
+    modes = []
+    for param in params.children if params is not None else []:
+        mode = param.children[2]
+        modes.append(str(mode).upper() if mode is not None else "IN")
+    return ("DEFFCT" if function else "DEF", modes)
+
+
+def load_files(files: list[SourceFile]) -> Program:
+    """One program from its files (the program file first, as programs() groups them)."""
+    return Linker(files).link()
+
+
+def load(text: str, filename: str, dat_text: str | None = None) -> Program:
+    """A .src (with its .dat beside it when given) compiled into a runnable program, as Dialect.load has always
+    done: a name or routine defined nowhere fails when the statement runs (load_files and check refuse it)."""
+    files = [SourceFile(filename, text)]
+    if dat_text is not None:
+        files.append(SourceFile(str(Path(filename).with_suffix(".dat")), dat_text))
+    return Linker(files, strict=False).link()

@@ -1,0 +1,44 @@
+"""Where a KRL motion is: the active $BASE in the robot's base frame ($ROBROOT), the base of the move under way."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from codegen.dialects.core.machine import MoveEvent
+from codegen.dialects.core.values import Record
+from codegen.dialects.krl.builtins import cart_matrix, frame, xyzabc
+from codegen.poses import invert
+
+# $BASE keeps its value from program to program (KSS 8 system variables): a program starts in whatever
+# base was active. The interpreter assumes one that is not the robot's base, so a program that moves
+# without setting $BASE ($NULLFRAME, or a BASE_DATA) moves somewhere else in its trace.
+ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
+def world2robot(root: Record):
+    """The world in the robot's base frame: the inverse of $ROBROOT as a 4x4 matrix."""
+    return invert(cart_matrix(root))
+
+
+def base2robot(extra: dict) -> np.ndarray:
+    """The active $BASE in the robot's base frame (4x4 mm): $BASE is in the world, the trace in the robot's
+    base frame ($ROBROOT); a program that never set $BASE moves in the one active when it started."""
+    base = extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
+    out = cart_matrix(base) if xyzabc(base) != (0, 0, 0, 0, 0, 0) else np.eye(4)  # $NULLFRAME: identity
+    if "$ROBROOT" in extra:
+        out = world2robot(extra["$ROBROOT"]) @ out
+    return out
+
+
+def record_base(machine, event: MoveEvent, base: np.ndarray) -> None:
+    """Keep the $BASE a move was planned in: $POS_INT is in the base of the motion under way."""
+    machine.extra.setdefault("MOVE_BASES", {})[id(event)] = base
+
+
+def motion_base(machine, t: float) -> np.ndarray:
+    """The $BASE (robot's base frame) of the move under way at time t, or of the last one that ended by
+    then; the program's $BASE before any move."""
+    bases = machine.extra.get("MOVE_BASES", {})
+    watching = machine.watching
+    for seg in reversed(watching.segments if watching is not None else []):
+        if seg.t0 <= t and id(seg.end) in bases:
+            return bases[id(seg.end)]
+    return base2robot(machine.extra)
