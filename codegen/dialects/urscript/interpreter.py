@@ -13,7 +13,7 @@ from codegen.dialects.core.arm import remember_joint_target
 from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import MoveEvent, Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
-from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
+from codegen.dialects.core.values import F32, Record, RunError, describe, f32, format_general, show
 from codegen.dialects.urscript import circle, conveyor, threads
 from codegen.robot import solve
 
@@ -52,13 +52,13 @@ def _num(value, where: str, what: str):
     if type(value) is F32:  # the common case first
         return value
     if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-        raise RunError(f"{where}: {what} must be a number, got {type(value).__name__}")
+        raise RunError(f"{where}: {what} must be a number, got {describe(value)}")
     return value
 
 
 def _pose(value, where: str) -> URPose:
     if not isinstance(value, URPose):
-        raise RunError(f"{where}: expected a pose p[...], got {type(value).__name__}")
+        raise RunError(f"{where}: expected a pose p[...], got {describe(value)}")
     return value
 
 
@@ -254,7 +254,7 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
                 raise RunError(f"{where}: get_standard_digital_in(n) takes one argument, the input's number")
             index = args[0] if args else kwargs["n"]
             if type(index) is not int or not 0 <= index <= DIGITAL_MAX:
-                raise RunError(f"{where}: get_standard_digital_in(n) takes an integer 0..{DIGITAL_MAX}, got {index!r}")
+                raise RunError(f"{where}: get_standard_digital_in(n) takes an integer 0..{DIGITAL_MAX}, got {show(index)}")
             return bool(fr.m.input_signal(f"standard_digital_in[{index}]", False))
 
         def get_actual_tcp_pose(fr, args, kwargs, where):
