@@ -92,15 +92,16 @@ class ProgramCode(Protocol):
 class Routine:
     """A user procedure or function: parameters, compiled body, declared return type."""
 
-    __slots__ = ("body", "decls", "entry", "line", "name", "params", "return_type")
+    __slots__ = ("body", "decls", "defaults", "entry", "line", "name", "params", "return_type")
 
-    def __init__(self, name, params, body, return_type=None, line=0, decls=None) -> None:
+    def __init__(self, name, params, body, return_type=None, line=0, decls=None, defaults=None) -> None:
         self.name = name
         self.params = params  # list of (name, mode, type or None)
         self.body = body
         self.return_type = return_type
         self.line = line
         self.decls = decls or []  # (name, type, init closure) local declarations
+        self.defaults = defaults or {}  # parameter name -> its default value's closure (fr -> value)
         self.entry = None  # the compiled call (Compiler.entry)
 
 
@@ -388,6 +389,11 @@ class Program:
             self._snapshot = (globals_, types, machine.extra)
         return self._snapshot
 
+    def prepare(self) -> None:
+        """Run the program's set-up once now (module data, constant definitions: what every run starts from),
+        so that a RunError there is the program's, reported once when it is loaded."""
+        self._prepare(DEFAULT_STEP_LIMIT)
+
     def unknown_inputs(self, names) -> list[str]:
         """The input names this program has no variable or register for (a misspelt --input)."""
         globals_, _types, _extra = self._prepare(DEFAULT_STEP_LIMIT)
@@ -466,7 +472,6 @@ class Program:
             key = self.compiler.norm(name)
             machine.trace.kept[name] = machine.globals.get(key, machine.outputs.get(name))
         return machine.trace
-
 
     @staticmethod
     def _kept(exc: RunError, machine: Machine) -> RunError:
