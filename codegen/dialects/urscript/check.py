@@ -246,7 +246,7 @@ def check_files(dialect, files: list, options=None) -> list[Finding]:
             continue
         builtins = interpreter.URScriptCompiler(source.name).builtins
         found = Checker(tree, source.name, builtins, getattr(options, "arm", None)).run()
-        findings.extend(found)
+        findings.extend(sorted(found, key=lambda f: (f.line, f.column)))
         if any(f.severity in ("error", "unsupported") for f in found):
             continue  # loading would stop at the first of them again
         try:
