@@ -45,8 +45,12 @@ class ArmState:
         self.pending: list[_Pending] = []
 
     def stand_at(self, q_deg) -> None:
-        """The arm stands at these joints (deg) when the program starts."""
+        """The arm stands at these joints (deg) when the program starts: a first move to a pose goes from
+        there by the controller's rule (the solution nearest them; a linear move keeps their configuration)."""
         self.joints = np.asarray(q_deg, dtype=float)
+        if self.arm is not None:
+            self.branch = _joint_target(self.arm, self.joints)[1]
+            self.known = True
 
     def actual(self, where: str) -> np.ndarray:
         """Where the arm's joints are now (deg): after the moves so far, or where it stood at the start."""

@@ -115,7 +115,8 @@ PYTHON_KINDS = {
     "tuple": "an array",
     "dict": "a record",
     "function": "a routine",
-}
+    "Record": "a record",
+}  # a dialect adds the kinds of its own values (a pose, a struct)
 
 
 def describe(value) -> str:
@@ -149,7 +150,8 @@ _OPERANDS = (
     (re.compile(r'can only concatenate (\w+) \(not "([\w.]+)"\) to \w+'), "{a} + {b}"),
     (re.compile(rf"{_K} object is not subscriptable"), "an index of {a}"),
     (re.compile(rf"{_K} object is not iterable"), "the elements of {a}"),
-    (re.compile(rf"object of type {_K} has no len\(\)"), "the length of {a}"),
+    (re.compile(rf"object of type {_K} has no len\(\)"), "{a} has no elements"),
+    (re.compile(rf"can't multiply sequence by non-int of type {_K}"), "an array * {a}"),
     (re.compile(rf"{_K} object cannot be interpreted as an integer"), "{a} as an integer"),
     (re.compile(rf"must be real number, not {_K}"), "{a} as a number"),
     (re.compile(rf"argument must be a string or a (?:real )?number, not {_K}"), "{a} as a number"),

@@ -103,7 +103,7 @@ class Checker:
                 reason = environment.NOT_MODELLED[name]
                 self.add(token, "unsupported", "unsupported", f"{name} is not modelled: {reason}")
             else:
-                self.add(token, "error", "undefined-function", f"{name} is not defined: no such function")
+                self.add(token, "error", "undefined-function", f"{name} {environment.UNDEFINED}")
 
     def undefined_names(self) -> None:
         assigned = set(self.functions) | set(self.threads)

@@ -38,8 +38,15 @@ SETTINGS = {
     "set_tool_digital_io_config": (1, 4),
     "zero_ftsensor": (0, 0),
     "rtde_set_watchdog": (2, 3),
+    "tool_wrench_limit_disable": (0, 0),
+    "motion_version_set": (1, 1),
+    "set_runstate_standard_digital_outputs": (1, 1),
+    "set_runstate_configurable_digital_outputs": (1, 1),
+    "set_runstate_tool_digital_outputs": (1, 1),
+    "set_runstate_outputs": (1, 1),
 }
 FLAG_MAX = 31
+UNDEFINED = "is not defined: not a function of the program nor a built-in modelled here"
 
 # Built-ins of the URScript manual's script directory that this interpreter does not model, and why; a
 # program that calls one is refused when it is loaded, naming the call's file:line.
@@ -104,6 +111,10 @@ NOT_MODELLED = {
         "the remote-TCP motion functions are not modelled",
     ),
     "servoc": "a servo move in tool space is not modelled (servoj is)",
+    "inv": "matrix algebra is not modelled (element-wise arithmetic of arrays is)",
+    "transpose": "matrix algebra is not modelled (element-wise arithmetic of arrays is)",
+    "wrench_trans": "wrenches are not simulated (get_tcp_force is the zero wrench)",
+    "time": "the wall clock is not simulated (the program's clock is its moves, sleeps and waits)",
     "tool_contact": "contact detection needs the forces of a real process",
     "tool_contact_direction": "contact detection needs the forces of a real process",
     "pose_dist": "the manual gives no formula for its metric",

@@ -22,7 +22,8 @@ from lark import Token, Tree
 from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
-from codegen.dialects.urscript import circle, conveyor, environment, io, motion, threads, urmath
+from codegen.dialects.core.source import Src
+from codegen.dialects.urscript import arrays, circle, conveyor, environment, io, motion, threads, urmath
 from codegen.dialects.urscript.values import URPose, num, pose
 
 INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
@@ -99,6 +100,28 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
             return True
         return super().device_write(machine, name, value)
 
+    # --- arithmetic: numbers inline, arrays element-wise (arrays.py) ----------------------------
+    def _arithmetic(self, node, symbol: str, scalar: str | None = None) -> Src:
+        """a <symbol> b where neither is an array (both are evaluated first, once), else arrays.py; scalar: the
+        numbers' form where it is a call (division), else the operator inline."""
+        left, right = (self.src(c) for c in node.children)
+        a, b = self.temp(), self.temp()
+        slow = f"{self.const(arrays.operation(symbol))}({a}, {b}, {self.where(node)!r})"
+        fast = f"({a} {symbol} {b})" if scalar is None else f"{scalar}({a}, {b})"
+        return Src(f"({fast} if (type({a} := {left}) is not list) & (type({b} := {right}) is not list) else {slow})")
+
+    def e_add(self, node):
+        return self._arithmetic(node, "+")
+
+    def e_sub(self, node):
+        return self._arithmetic(node, "-")
+
+    def e_mul(self, node):
+        return self._arithmetic(node, "*")
+
+    def e_div(self, node):
+        return self._arithmetic(node, "/", self.const(self.divide))
+
     # --- rules beyond the common ones ---------------------------------------------------------
     def e_pose_lit(self, node):
         parts = [self.expr(c) for c in node.children[1:]]
@@ -138,9 +161,7 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
         reason = environment.NOT_MODELLED.get(name)
         if reason is not None:
             self.fail(token, f"{name} is not modelled: {reason}")
-        self.fail(
-            token, f"{name} is not defined: no function of that name in the program or among URScript's built-ins"
-        )
+        self.fail(token, f"{name} {environment.UNDEFINED}")
 
     def s_global_stmt(self, node):
         key, value_node = str(node.children[0]), node.children[1]

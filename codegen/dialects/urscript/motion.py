@@ -107,7 +107,14 @@ def _no_thread(fr, name: str, where: str) -> None:
 
 
 def _tool_pose(fr, where: str, name: str) -> np.ndarray:
-    pose_now = fr.m.pose_now()
+    """Where the TCP is now: after the moves so far, else where the arm stands (its joints and kinematics)."""
+    machine = fr.m
+    pose_now = machine.pose_now()
+    if pose_now is None and machine.last_move is not None and machine.arm.arm is not None:
+        machine.arm.resolve()  # a move to joints: its pose from the kinematics
+        pose_now = machine.last_move.tcp2base
+    if pose_now is None and machine.arm.arm is not None and machine.arm.joints is not None:
+        pose_now = machine.arm.arm.kin.fk(np.asarray(machine.arm.joints, dtype=float)) @ machine.arm.tcp2flange
     if pose_now is None:
         raise RunError(f"{where}: {name}: the arm's pose is not known here (no move to a pose before it)")
     return pose_now
@@ -129,9 +136,13 @@ def builtins() -> dict:
                 raise RunError(f"{where}: {name} needs a > 0, v > 0, r >= 0 and t >= 0")
             seconds = settings.get("t") or None
             speed = settings["v"] * MM_PER_M
+            if isinstance(target, list) and name != "movej":  # "forward kinematics is used" (movel's page)
+                arm = fr.m.arm
+                if arm.arm is None:
+                    raise RunError(f"{where}: {name} to joint positions needs the arm's kinematics (--robot)")
+                q = np.degrees(joints(target, where, 6, f"{name} q"))
+                target = URPose(posemath.ur_from_matrix(arm.arm.kin.fk(q) @ arm.tcp2flange))
             if isinstance(target, list):  # joint positions (rad): no solution to choose
-                if name != "movej":
-                    raise RunError(f"{where}: {name} to joint positions: not modelled here (give a pose p[...])")
                 event = MoveEvent(kind, None, line_of(where), settings)
                 conveyor.tracked_move(fr, event, 0.0, where)  # refused while tracking
                 fr.m.arm.to_joints(event, np.degrees(joints(target, where, 6, "movej q")), where)
@@ -265,9 +276,10 @@ def builtins() -> dict:
             return URPose(posemath.ur_from_matrix(pose_now(fr, where, "get_actual_tcp_pose")))
         found, tcp2flange = (None, None) if machine.watching is None else machine.watching.pose_at(machine.clock)
         # the flange there, with the TCP active now
-        found = machine.pose_now() if found is None else found @ np.linalg.inv(tcp2flange) @ machine.arm.tcp2flange
         if found is None:
-            raise RunError(f"{where}: get_actual_tcp_pose: the arm's pose is not known here (no move to a pose)")
+            found = _tool_pose(fr, where, "get_actual_tcp_pose")
+        else:
+            found = found @ np.linalg.inv(tcp2flange) @ machine.arm.tcp2flange
         return URPose(posemath.ur_from_matrix(found))
 
     def get_actual_joint_positions(fr, args, kwargs, where):

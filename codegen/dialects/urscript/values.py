@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from codegen.dialects import posemath
-from codegen.dialects.core.values import F32, Record, RunError, describe, f32, format_general
+from codegen.dialects.core.values import F32, PYTHON_KINDS, Record, RunError, describe, f32, format_general
 
 MM_PER_M = 1000.0
 
@@ -29,6 +29,9 @@ class Struct(Record):
 
     def __init__(self, fields) -> None:
         super().__init__("struct", fields)
+
+
+PYTHON_KINDS.update({"URPose": "a pose", "Struct": "a struct", "URThread": "a thread"})  # in messages
 
 
 def num(value, where: str, what: str):

@@ -68,6 +68,26 @@ def test_math_functions():
     assert [float(v) for v in got] == pytest.approx([1024, 3, 60, 2, 3, 4], abs=1e-4)
 
 
+def test_arithmetic_on_arrays_is_element_wise():
+    got = run(
+        "a = [1, 2, 3]\nb = [0.5, 0.5, 0.5]\n"
+        'textmsg("", a + b)\ntextmsg("", 2 * a)\ntextmsg("", a - b)\ntextmsg("", a * b)\ntextmsg("", a / 2)\n'
+        'textmsg("", [[1, 2], [3, 4]] * 0.5)'
+    ).messages
+    assert got == [
+        "[1.5, 2.5, 3.5]",
+        "[2, 4, 6]",
+        "[0.5, 1.5, 2.5]",
+        "[0.5, 1, 1.5]",
+        "[0.5, 1, 1.5]",
+        "[[0.5, 1], [1.5, 2]]",
+    ]
+    with pytest.raises(RunError, match=r"t\.script:2:\d+: \+ of arrays of 2 and 3 elements"):
+        run("x = [1, 2] + [1, 2, 3]")
+    with pytest.raises(RunError, match=r"t\.script:2:\d+: a matrix product is not modelled"):
+        run("x = [[1, 2], [3, 4]] * [1, 2]")
+
+
 def test_movep_and_the_settings_of_each_move():
     trace = run(
         "set_tcp(p[0, 0, 0.1, 0, 0, 0])\nset_target_payload(2.0, [0, 0, 0.05])\n"
@@ -109,6 +129,20 @@ def test_speedj_servoj_and_the_kinematics_with_the_arm():
     moved, turned, servo = trace.moves
     assert turned.joints[0] - moved.joints[0] == pytest.approx(math.degrees(0.05), abs=1e-6)
     assert servo.joints[0] == pytest.approx(math.degrees(3.2)) and servo.settings["t"] == pytest.approx(0.1)
+
+
+def test_a_first_move_to_a_pose_goes_from_where_the_arm_stands_and_movel_takes_joints():
+    trace = run(
+        "movel(p[0.6, 0.2, 0.4, -2.2214, 2.2214, 0])\nmovel([3.2, -1.57, 1.57, -1.57, -1.57, 0])\n"
+        'textmsg("", get_target_tcp_pose())',
+        arm=find_arm("UR10e"),
+        start_joints=HOME,
+    )
+    first, second = trace.moves
+    assert first.kind == "linear" and np.allclose(first.tcp2base[:3, 3], [600, 200, 400], atol=1e-3)
+    assert second.kind == "linear" and second.joints[0] == pytest.approx(math.degrees(3.2), abs=1e-3)
+    with pytest.raises(RunError, match=r"t\.script:2:\d+: movel to joint positions needs the arm's kinematics"):
+        run("movel([3.2, -1.57, 1.57, -1.57, -1.57, 0])")
 
 
 def test_outputs_are_signal_events_and_inputs_nothing_provides_are_named_simulated():
