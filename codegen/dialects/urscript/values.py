@@ -94,7 +94,7 @@ def arguments(name: str, params: tuple[str, ...], defaults: dict, args, kwargs, 
 
 
 def _takes(name: str, params: tuple[str, ...], defaults: dict) -> str:
-    """"f(a, b) takes one argument" / "... 2 arguments" / "... 1 to 3 arguments" """
+    """How a message states what a built-in takes: f(a, b) takes one argument, 2 arguments, 1 to 3 arguments."""
     required = sum(1 for p in params if p not in defaults)
     count = len(params)
     if required == count:
