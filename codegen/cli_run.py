@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import sys
+from contextlib import suppress
 from pathlib import Path
 
 import click
@@ -191,7 +192,7 @@ def run(
 ) -> None:
     """Run one program in the built-in interpreter; print its log, moves (and joints) and how it ended.
 
-    FILES: the program's file, or its files (the modules of a task, the .src and .dat of KRL modules), or a
+    FILES: the program's file, or its files (the modules of a task, a program with its data files), or a
     folder holding them."""
     from codegen.decimals import unsigned_zero
     from codegen.dialects import is_companion
@@ -273,6 +274,8 @@ def run(
         if trace is None:
             click.echo(f"error: {exc}", err=True)
             sys.exit(1)
+        with suppress(RunError):  # the joints of the moves made, where the controller's rules give them
+            exc.solve_joints()
         if isinstance(exc, StepLimitError):
             trace.ended = f"{exc}: raise --step-limit, or end the run with --max-moves or --max-seconds"
     native = POSE_FORMATS[target.pose_format][2]

@@ -184,11 +184,14 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
 
         return run
 
-    def new_variable(self, fr, key, value, where):
-        if key in self.global_names:  # declared global in a function: assigned, it is the program's
-            fr.m.globals[key] = value
-        else:
-            fr.vars[key] = value
+    def var_store_lines(self, node, value: str) -> list[str]:
+        """A name declared global before (a `global x` above, in source order): stored as the program's
+        variable, also where it does not exist yet; any other as the core stores it."""
+        token = node if isinstance(node, Token) else node.children[0]
+        key = str(token)
+        if key in self.global_names and not (self.local_types is not None and key in self.local_types):
+            return [f"if {key!r} in V and V is not G: V[{key!r}] = {value}", f"else: G[{key!r}] = {value}"]
+        return super().var_store_lines(node, value)
 
     def s_label_stmt(self, node):
         return lambda fr: None  # `$ 3 "MoveJ"`: PolyScope's mark of the program node (Program Label)

@@ -103,8 +103,11 @@ def builtins() -> dict:
         top = BOOLEAN_REGISTER_MAX if kind == "boolean" else REGISTER_MAX
 
         def read(fr, args, kwargs, where):
-            a = arguments(f"read_input_{kind}_register", ("address",), {}, args, kwargs, where)
-            index = _port(a["address"], top, where, f"read_input_{kind}_register")
+            if kwargs or len(args) != 1:  # the common call, read_input_integer_register(24), takes no binding
+                args = [arguments(f"read_input_{kind}_register", ("address",), {}, args, kwargs, where)["address"]]
+            index = args[0]
+            if type(index) is not int or not 0 <= index <= top:
+                _port(index, top, where, f"read_input_{kind}_register")
             key = f"input_{kind}_register_{index}"
             live = fr.m.input_signal(key, None)  # a device's value that changes with time (a counter)
             value = fr.m.inputs.get(key, 0) if live is None else live

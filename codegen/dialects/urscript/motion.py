@@ -35,7 +35,7 @@ import numpy as np
 from codegen.dialects import posemath
 from codegen.dialects.core.arm import remember_joint_target
 from codegen.dialects.core.machine import MoveEvent
-from codegen.dialects.core.values import RunError, f32
+from codegen.dialects.core.values import F32, RunError, f32
 from codegen.dialects.urscript import conveyor, threads
 from codegen.dialects.urscript.values import MM_PER_M, URPose, arguments, joints, matrix, num, pose, vector
 from codegen.poses import rotmat_from_rotvec
@@ -125,13 +125,27 @@ def builtins() -> dict:
         params, defaults = MOVES[name]
         kind = KIND[name]
 
+        numeric = params[1:]
+        named = frozenset(numeric)
+
         def run(fr, args, kwargs, where):
-            _no_thread(fr, name, where)
-            settle(fr, where)
-            a = arguments(name, params, defaults, args, kwargs, where)
-            target = a[params[0]]
-            numbers = {k: num(a[k], where, f"{name} {k}") for k in params[1:]}
-            settings = base_settings(fr, name, numbers)
+            extra = fr.m.extra
+            if threads.KEY in extra:
+                _no_thread(fr, name, where)
+            if SPEED_KEY in extra:
+                settle(fr, where)
+            if len(args) == 1 and kwargs.keys() <= named:  # the everyday call: movel(p, a=1.2, v=0.25)
+                target, given = args[0], kwargs
+            else:
+                given = arguments(name, params, defaults, args, kwargs, where)
+                target = given[params[0]]
+            settings = {}
+            for key in numeric:
+                value = given.get(key, defaults[key])
+                settings[key] = float(value if type(value) is F32 else num(value, where, f"{name} {key}"))
+            settings["load"] = extra.get("payload")
+            settings["tcp"] = extra.get("tcp")
+            settings["move"] = name
             if not settings["v"] > 0 or not settings["a"] > 0 or settings["r"] < 0 or settings.get("t", 0.0) < 0:
                 raise RunError(f"{where}: {name} needs a > 0, v > 0, r >= 0 and t >= 0")
             seconds = settings.get("t") or None

@@ -75,6 +75,8 @@ def matrix(value, where: str, what: str = "pose") -> np.ndarray:
 def arguments(name: str, params: tuple[str, ...], defaults: dict, args, kwargs, where: str) -> dict:
     """A built-in's arguments by parameter name: positional ones in order, then named ones, then the
     defaults the manual gives; a RunError for one too many, an unknown name or one missing."""
+    if not kwargs and len(args) == len(params):  # the common call: every argument in order
+        return dict(zip(params, args, strict=True))
     given = len(args) + len(kwargs)
     if len(args) > len(params):
         raise RunError(f"{where}: {_takes(name, params, defaults)}: too many arguments ({given} given)")
