@@ -258,8 +258,8 @@ class Machine:
         return self.signals.get(name, default)
 
     def simulated(self, name: str) -> None:
-        """A signal the program uses that nothing here provides (no device, no declaration): simulated I/O,
-        named once in the trace."""
+        """A signal the program reads that nothing has set (no device, no declaration, no --signal): simulated
+        I/O, named once in the trace (dropped at the end where a device set it after all)."""
         if name not in self.trace.simulated:
             self.trace.simulated.append(name)
 
@@ -466,6 +466,8 @@ class Program:
         except RunError as exc:  # what ran until then stays readable (codegen run prints it)
             raise self._kept(exc, machine) from None
         machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
+        if trace.simulated:  # an input a device set after all (a gripper's feedback) was not simulated
+            trace.simulated = [name for name in trace.simulated if name not in machine.signals]
         trace.steps = machine.steps
         trace.clock = machine.clock
         for name in keep:

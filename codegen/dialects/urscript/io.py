@@ -48,8 +48,7 @@ def read_input(fr, name: str, default=False):
     machine = fr.m
     value = machine.input_signal(name, None)
     if value is None:
-        if not machine.devices:
-            machine.simulated(name)
+        machine.simulated(name)
         return default
     return value
 

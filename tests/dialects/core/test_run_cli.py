@@ -170,3 +170,14 @@ def test_no_python_names_in_the_cores_messages_of_other_languages(tmp_path, name
     path.write_text(text)
     result = invoke("run", path)
     assert result.exit_code != 0 and not PYTHON_WORDS.search(result.output), result.output
+
+
+def test_inputs_nothing_provides_are_named_as_simulated_io(tmp_path):
+    path = tmp_path / "sim.script"
+    path.write_text("def p():\n  x = get_tool_digital_in(0)\n  y = get_standard_digital_in(3)\nend\n")
+    result = invoke("run", path)
+    assert "simulated I/O (no device or declaration provides it): tool_digital_in[0], standard_digital_in[3]" in (
+        result.output
+    )
+    given = json.loads(invoke("run", path, "--signal", "standard_digital_in[3]=1", "--json").output)
+    assert given["simulated_io"] == ["tool_digital_in[0]"]
