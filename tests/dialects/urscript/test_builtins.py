@@ -222,3 +222,18 @@ def test_a_wait_nothing_ends_stops_at_the_time_limit():
         "movel(p[0.5, 0.1, 0.4, 0, 3.1416, 0])\nwhile not get_standard_digital_in(2):\n  sync()\nend", max_seconds=2
     )
     assert len(trace.moves) == 1 and trace.clock == pytest.approx(2.0, abs=0.01) and "time limit" in trace.ended
+
+
+def test_analog_outputs_registers_stopj_and_popup():
+    trace = run(
+        "set_standard_analog_out(1, 0.25)\nwrite_output_float_register(30, 1.5)\n"
+        "write_output_boolean_register(70, True)\n"
+        'textmsg("", read_output_float_register(30))\ntextmsg("", read_output_boolean_register(70))\n'
+        'textmsg("", get_standard_analog_in(0))\nstopj(2.0)\npopup("check the gripper", title="Cell", blocking=True)',
+    )
+    assert trace.messages == ["1.5", "True", "0", "check the gripper"]
+    assert trace.simulated == ["standard_analog_in[0]"]
+    with pytest.raises(RunError, match=r"t\.script:2:\d+: set_standard_analog_out\(n, f\) takes f in \[0; 1\]"):
+        run("set_standard_analog_out(0, 2.0)")
+    with pytest.raises(RunError, match=r"t\.script:2:\d+: write_output_boolean_register takes True or False"):
+        run("write_output_boolean_register(70, 1)")
