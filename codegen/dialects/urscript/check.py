@@ -7,7 +7,8 @@
 #   undefined-name); then whatever else loading refuses (a pose of 5 numbers, a thread with parameters ...).
 # - wait-without-timeout ("warning"): `while not get_standard_digital_in(0): sync() end` and its kin: a loop
 #   whose condition reads an input (digital, analog, a register, a flag) and whose body only waits (sync,
-#   sleep) and counts nothing: the program hangs for ever if the input never comes.
+#   sleep) and counts nothing: the program hangs for ever if the input never comes (a loop that also ends on a
+#   second input, an operator's stop, is not reported).
 # - motion-before-tcp ("warning"): a move (movej, movel, movep, movec, speedl, speedj, servoj) the program
 #   makes before its first set_tcp, in program order (a function's body where it is called): the arm moves
 #   with whatever TCP the installation holds.
@@ -37,7 +38,7 @@ JOINT_SPEED_DEG_S = {
 FAMILY_MAX_DEG_S = max(max(v) for v in JOINT_SPEED_DEG_S.values())
 MOTION = ("movej", "movel", "movep", "movec", "speedl", "speedj", "servoj")
 WAIT_BODY = ("sync", "sleep")  # what a bare wait loop does in its body
-INPUT_READS = ("_digital_in", "_analog_in", "read_input_", "get_flag", "is_steady")
+INPUT_READS = ("_digital_in", "_analog_in", "read_input_", "get_flag")  # what a device or a peer sets
 
 
 def _line(node) -> tuple[int, int]:
@@ -130,7 +131,7 @@ class Checker:
         for loop in self.tree.find_data("while_stmt"):
             condition, body = loop.children
             reads = [name for name, _call in _calls(condition) if any(part in name for part in INPUT_READS)]
-            if not reads:
+            if len(reads) != 1:  # none, or a second input the loop also ends on (an operator's stop)
                 continue
             statements = [c for c in body.children if isinstance(c, Tree) and c.data != "label_stmt"]
             only_waits = all(

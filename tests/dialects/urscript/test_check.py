@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 from click.testing import CliRunner
 
@@ -93,3 +94,15 @@ def test_the_command_reports_all_files_and_exits_by_the_worst(tmp_path):
     data = json.loads(every.output)
     assert [f["file"].rsplit("/", 1)[-1] for f in data["findings"]] == ["bad.script"] * 6 + ["wait.script"]
     assert data["counts"] == {"error": 2, "unsupported": 2, "warning": 3} and data["exit"] == 2
+
+
+def test_a_wait_that_also_ends_on_an_operators_stop_is_not_reported():
+    text = "def w():\n  while read_input_integer_register(46) == 0 and not read_input_boolean_register(64):\n"
+    text += "    sync()\n  end\nend\n"
+    assert findings(text) == []
+
+
+def test_the_generated_programs_check_clean():
+    generated = Path(__file__).resolve().parents[3] / "generated"
+    result = CliRunner().invoke(main, ["check", *sorted(str(p) for p in generated.glob("*/ur"))])
+    assert result.exit_code == 0 and result.output.startswith("clean: "), result.output
