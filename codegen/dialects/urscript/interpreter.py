@@ -140,6 +140,8 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
 
     def e_call(self, node):
         callee, args_node = node.children
+        if isinstance(callee, Tree) and callee.data == "field":  # conn.method(): an object rpc_factory made
+            self.fail(node, f"{_dotted(callee)}() is not modelled: objects with methods (XML-RPC, fieldbus) are not")
         if not (isinstance(callee, Tree) and callee.data == "var"):
             self.fail(node, "only named functions can be called")
         name = str(callee.children[0])
@@ -213,6 +215,15 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
             str(name_token), name_token, params, None, node, body.children, unique=False, defaults=defaults
         )
         return lambda fr: None  # defined at compile time
+
+
+def _dotted(node) -> str:
+    """a.b.c of a field access."""
+    if isinstance(node, Tree) and node.data == "field":
+        return f"{_dotted(node.children[0])}.{node.children[1]}"
+    if isinstance(node, Tree) and node.data == "var":
+        return str(node.children[0])
+    return "..."
 
 
 def _is_constant(node) -> bool:
