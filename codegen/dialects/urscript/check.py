@@ -96,7 +96,7 @@ class Checker:
     def callees(self) -> None:
         for call in self.tree.find_data("call"):
             if isinstance(call.children[0], Tree) and call.children[0].data == "field":
-                self.add(call, "unsupported", "unsupported", "a method of an object (XML-RPC, fieldbus) is not modelled")
+                self.add(call, "unsupported", "unsupported", "a method of an object (XML-RPC, fieldbus): not modelled")
         for name, call in _calls(self.tree):
             if name in self.functions or name in self.builtins:
                 continue
