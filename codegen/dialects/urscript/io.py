@@ -59,17 +59,26 @@ def builtins() -> dict:
     for bank, top in DIGITAL.items():
 
         def set_out(fr, args, kwargs, where, bank=bank, top=top):
-            a = arguments(f"set_{bank}_digital_out", ("n", "b"), {}, args, kwargs, where)
-            n = _port(a["n"], top, where, f"set_{bank}_digital_out(n, b)")
-            if not isinstance(a["b"], bool):
-                raise RunError(f"{where}: set_{bank}_digital_out(n, b) takes True or False, got {describe(a['b'])}")
-            fr.m.set_output(f"{bank}_digital_out[{n}]", a["b"], where)
+            if len(args) == 2 and not kwargs:  # the everyday call, without binding
+                n, b = args
+            else:
+                a = arguments(f"set_{bank}_digital_out", ("n", "b"), {}, args, kwargs, where)
+                n, b = a["n"], a["b"]
+            if type(n) is not int or not 0 <= n <= top:
+                _port(n, top, where, f"set_{bank}_digital_out(n, b)")
+            if not isinstance(b, bool):
+                raise RunError(f"{where}: set_{bank}_digital_out(n, b) takes True or False, got {describe(b)}")
+            fr.m.set_output(f"{bank}_digital_out[{n}]", b, where)
 
         def get_in(fr, args, kwargs, where, bank=bank, top=top):
             # the input as the controller reads it now (Machine.input_signal: at this cycle where a device
             # switches it with the tool's pose while the arm moves; in a thread's slice, that slice's cycle)
-            a = arguments(f"get_{bank}_digital_in", ("n",), {}, args, kwargs, where)
-            n = _port(a["n"], top, where, f"get_{bank}_digital_in(n)")
+            if len(args) == 1 and not kwargs:
+                n = args[0]
+            else:
+                n = arguments(f"get_{bank}_digital_in", ("n",), {}, args, kwargs, where)["n"]
+            if type(n) is not int or not 0 <= n <= top:
+                _port(n, top, where, f"get_{bank}_digital_in(n)")
             return bool(read_input(fr, f"{bank}_digital_in[{n}]"))
 
         def get_out(fr, args, kwargs, where, bank=bank, top=top):
@@ -115,9 +124,13 @@ def builtins() -> dict:
             return int(value) if kind == "integer" else f32(value)
 
         def write(fr, args, kwargs, where):
-            a = arguments(f"write_output_{kind}_register", ("address", "value"), {}, args, kwargs, where)
-            index = _port(a["address"], top, where, f"write_output_{kind}_register")
-            value = a["value"]
+            if len(args) == 2 and not kwargs:
+                index, value = args
+            else:
+                a = arguments(f"write_output_{kind}_register", ("address", "value"), {}, args, kwargs, where)
+                index, value = a["address"], a["value"]
+            if type(index) is not int or not 0 <= index <= top:
+                _port(index, top, where, f"write_output_{kind}_register")
             if kind == "boolean":
                 if not isinstance(value, bool):
                     raise RunError(f"{where}: write_output_boolean_register takes True or False")
@@ -128,8 +141,12 @@ def builtins() -> dict:
             fr.m.output_written(where)
 
         def read_output(fr, args, kwargs, where):
-            a = arguments(f"read_output_{kind}_register", ("address",), {}, args, kwargs, where)
-            index = _port(a["address"], top, where, f"read_output_{kind}_register")
+            if len(args) == 1 and not kwargs:
+                index = args[0]
+            else:
+                index = arguments(f"read_output_{kind}_register", ("address",), {}, args, kwargs, where)["address"]
+            if type(index) is not int or not 0 <= index <= top:
+                _port(index, top, where, f"read_output_{kind}_register")
             name = f"output_{kind}_register_{index}"  # what the program wrote, else what it held at the start
             value = fr.m.outputs.get(name, fr.m.inputs.get(name, 0))
             if kind == "boolean":
@@ -145,8 +162,10 @@ def builtins() -> dict:
         table[f"read_output_{kind}_register"] = read_output
 
     def textmsg(fr, args, kwargs, where):
-        a = arguments("textmsg", ("s1", "s2"), {"s2": ""}, args, kwargs, where)
-        fr.m.message(to_text(a["s1"]) + to_text(a["s2"]))
+        if kwargs or not 1 <= len(args) <= 2:
+            a = arguments("textmsg", ("s1", "s2"), {"s2": ""}, args, kwargs, where)
+            args = (a["s1"], a["s2"])
+        fr.m.message("".join(to_text(a) for a in args))
 
     def popup(fr, args, kwargs, where):
         # the operator's dialog; a blocking one waits for the operator, who confirms at once here
@@ -174,8 +193,8 @@ def builtins() -> dict:
         fr.m.elapse(STEP_TIME_S if watching is None else watching.cycle, where)
 
     def sleep(fr, args, kwargs, where):
-        a = arguments("sleep", ("t",), {}, args, kwargs, where)
-        seconds = float(num(a["t"], where, "sleep time"))
+        value = args[0] if len(args) == 1 and not kwargs else arguments("sleep", ("t",), {}, args, kwargs, where)["t"]
+        seconds = float(num(value, where, "sleep time"))
         if not seconds >= 0 or not math.isfinite(seconds):
             raise RunError(f"{where}: sleep time must be a finite number of seconds >= 0, got {seconds}")
         thread = threads.current(fr)

@@ -297,7 +297,8 @@ def builtins() -> dict:
         return URPose(posemath.ur_from_matrix(found))
 
     def get_actual_joint_positions(fr, args, kwargs, where):
-        arguments("get_actual_joint_positions", (), {}, args, kwargs, where)
+        if args or kwargs:
+            arguments("get_actual_joint_positions", (), {}, args, kwargs, where)
         return [f32(v) for v in np.radians(fr.m.arm.actual(where))]
 
     def get_forward_kin(fr, args, kwargs, where):

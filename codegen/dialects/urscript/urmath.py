@@ -84,8 +84,13 @@ def _pose_of(m: np.ndarray) -> URPose:
 
 def builtins() -> dict:
     def pose_trans(fr, args, kwargs, where):
-        a = arguments("pose_trans", ("p_from", "p_from_to"), {}, args, kwargs, where)
-        first, second = pose(a["p_from"], where, "p_from"), pose(a["p_from_to"], where, "p_from_to")
+        if len(args) == 2 and not kwargs:
+            first, second = args
+        else:
+            a = arguments("pose_trans", ("p_from", "p_from_to"), {}, args, kwargs, where)
+            first, second = a["p_from"], a["p_from_to"]
+        if type(first) is not URPose or type(second) is not URPose:
+            first, second = pose(first, where, "p_from"), pose(second, where, "p_from_to")
         return URPose(posemath.ur_concat(tuple(first.values()), tuple(second.values())))
 
     def pose_inv(fr, args, kwargs, where):
@@ -133,8 +138,7 @@ def builtins() -> dict:
         return [f32(v) for v in rpy_of(_rotation(*vector(a["rotation_vector"], where, "rotation_vector")))]
 
     def norm(fr, args, kwargs, where):
-        a = arguments("norm", ("a",), {}, args, kwargs, where)
-        value = a["a"]
+        value = args[0] if len(args) == 1 and not kwargs else arguments("norm", ("a",), {}, args, kwargs, where)["a"]
         if isinstance(value, URPose):
             return f32(math.sqrt(sum(float(v) ** 2 for v in list(value.values())[:3])))
         if isinstance(value, list):
