@@ -45,10 +45,14 @@ class ArmState:
         self.pending: list[_Pending] = []
 
     def stand_at(self, q_deg) -> None:
-        """The arm stands at these joints (deg) when the program starts: a first move to a pose goes from
-        there by the controller's rule (the solution nearest them; a linear move keeps their configuration)."""
+        """The arm stands at these joints (deg) when the program starts."""
         self.joints = np.asarray(q_deg, dtype=float)
-        if self.arm is not None:
+
+    def from_start(self) -> None:
+        """A controller that solves a first move to a pose from where the arm stands (UR: the solution nearest
+        the joints, a linear move keeping their configuration), where the run knows them (--start): they count
+        as the last move's (KRL needs a PTP first whatever the joints: its dialect does not call this)."""
+        if not self.known and self.arm is not None and self.joints is not None:
             self.branch = _joint_target(self.arm, self.joints)[1]
             self.known = True
 

@@ -119,6 +119,7 @@ def builtin(pose_of, number_of, in_thread):
                 raise RunError(f"{where}: movec: {exc}") from None
             end = arc.end_pose()
         event = MoveEvent("circular", end, int(where.split(":")[1]), settings)
+        machine.arm.from_start()  # where the arm stands, when the run knows it
         machine.arm.to_pose(event, where, "keep")  # the configuration of the start, as movel
         speed = settings["v"] * MM_PER_M
         if arc is None:  # from a pose the run does not know: its time, not its path

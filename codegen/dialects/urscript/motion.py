@@ -93,6 +93,7 @@ def settle(fr, where: str) -> None:
     settings = {**mode.settings, "t": seconds}
     if mode.name == "speedl":
         event = MoveEvent("linear", mode.pose_at(machine.clock), line_of(mode.where), settings)
+        machine.arm.from_start()
         machine.arm.to_pose(event, mode.where, "keep")
     else:
         event = MoveEvent("joint", None, line_of(mode.where), settings)
@@ -165,7 +166,10 @@ def builtins() -> dict:
             event = MoveEvent(kind, matrix(target, where, f"{name} target"), line_of(where), settings)
             tracked = conveyor.tracked_move(fr, event, speed, where)  # None: not tracking
             # movej to a pose: the solution nearest the current joints; movel, movep keep the configuration
-            fr.m.arm.to_pose(event, where, "nearest" if name == "movej" else "keep")
+            arm = fr.m.arm
+            if not arm.known:
+                arm.from_start()
+            arm.to_pose(event, where, "nearest" if name == "movej" else "keep")
             fr.m.move(event, speed, seconds=seconds if tracked is None else tracked)  # they return on arrival
 
         return run
@@ -195,6 +199,7 @@ def builtins() -> dict:
                 return
             if name == "speedl":
                 event = MoveEvent("linear", _travel(start, velocity, seconds), line_of(where), settings)
+                machine.arm.from_start()
                 machine.arm.to_pose(event, where, "keep")
             else:
                 event = MoveEvent("joint", None, line_of(where), settings)
