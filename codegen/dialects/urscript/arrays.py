@@ -49,3 +49,70 @@ def operation(symbol: str):
         return _apply(symbol, a, b, where)
 
     return op
+
+
+# --- which expressions are never arrays (their arithmetic needs no test for one) -------------------------
+# Built-ins that return an array (a list of numbers); every other built-in returns a number, a pose, a string,
+# a boolean, a struct or nothing.
+LIST_BUILTINS = frozenset(
+    {
+        "get_actual_joint_positions",
+        "get_target_joint_positions",
+        "get_inverse_kin",
+        "rpy2rotvec",
+        "rotvec2rpy",
+        "normalize",
+        "pose_to_list",
+        "get_tcp_force",
+    }
+)
+NEVER_LIST_RULES = frozenset({"number", "string", "true", "false", "compare", "and_", "or_", "not_", "xor"})
+ARITHMETIC_RULES = frozenset({"add", "sub", "mul", "div", "mod", "neg"})
+
+
+class NeverLists:
+    """The program's variables that only ever hold values that are not arrays (every assignment to them, in
+    any function, is such a value; a parameter or a variable assigned element by element may be an array),
+    found once when the program is compiled; `never(node)` says whether an expression is never an array."""
+
+    def __init__(self, tree, builtins: dict, functions: set[str]) -> None:
+        self.builtins = frozenset(name for name in builtins if name not in functions and name not in LIST_BUILTINS)
+        values: dict[str, list] = {}
+        excluded: set[str] = set()
+        for node in tree.iter_subtrees():
+            if node.data == "assign":
+                target = node.children[0]
+                if hasattr(target, "data") and target.data == "var":
+                    values.setdefault(str(target.children[0]), []).append(node.children[1])
+                else:  # x[i] = v, x.f = v: x holds an array or a record
+                    while hasattr(target, "data") and target.data in ("index", "field"):
+                        target = target.children[0]
+                    if hasattr(target, "data") and target.data == "var":
+                        excluded.add(str(target.children[0]))
+            elif node.data in ("global_stmt", "local_stmt") and node.children[1] is not None:
+                values.setdefault(str(node.children[0]), []).append(node.children[1])
+            elif node.data == "param":
+                excluded.add(str(node.children[0]))
+        self.names = set(values) - excluded
+        changed = True
+        while changed:
+            changed = False
+            for name in list(self.names):
+                if not all(self.never(value) for value in values[name]):
+                    self.names.discard(name)
+                    changed = True
+
+    def never(self, node) -> bool:
+        kind = getattr(node, "data", None)
+        if kind is None:
+            return False
+        if kind in NEVER_LIST_RULES or kind in ("pose_lit", "run_thread"):
+            return True
+        if kind in ARITHMETIC_RULES:
+            return all(self.never(c) for c in node.children if hasattr(c, "data"))
+        if kind == "var":
+            return str(node.children[0]) in self.names
+        if kind == "call":
+            callee = node.children[0]
+            return getattr(callee, "data", None) == "var" and str(callee.children[0]) in self.builtins
+        return False

@@ -69,6 +69,7 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
         self.defined: set[str] = set()  # every function and thread the program defines (known before compiling)
         self.global_names: set[str] = set()  # names a `global` statement makes the program's
         self.thread_names: set[str] = set()  # every thread the program defines
+        self.never_lists: arrays.NeverLists | None = None  # which expressions are never arrays (set by load)
 
     def make_builtins(self) -> dict:
         return {
@@ -102,12 +103,21 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
 
     # --- arithmetic: numbers inline, arrays element-wise (arrays.py) ----------------------------
     def _arithmetic(self, node, symbol: str, scalar: str | None = None) -> Src:
-        """a <symbol> b where neither is an array (both are evaluated first, once), else arrays.py; scalar: the
-        numbers' form where it is a call (division), else the operator inline."""
-        left, right = (self.src(c) for c in node.children)
+        """a <symbol> b inline where neither is an array, else arrays.py (element-wise); an operand the program
+        never makes an array (arrays.NeverLists) is not tested. scalar: the numbers' form where it is a call
+        (division), else the operator inline. The operands are evaluated once, left first."""
+        left_node, right_node = node.children
+        left, right = self.src(left_node), self.src(right_node)
+        never = self.never_lists.never if self.never_lists is not None else (lambda n: False)
+        left_plain, right_plain = never(left_node), never(right_node)
         a, b = self.temp(), self.temp()
+        if left_plain and right_plain:
+            return Src(f"({left} {symbol} {right})" if scalar is None else f"{scalar}({left}, {right})")
         slow = f"{self.const(arrays.operation(symbol))}({a}, {b}, {self.where(node)!r})"
         fast = f"({a} {symbol} {b})" if scalar is None else f"{scalar}({a}, {b})"
+        if right_plain:  # the right operand is evaluated after the left one's test, in either branch
+            fast, slow = fast.replace(b, f"({right})"), slow.replace(f", {b},", f", ({right}),")
+            return Src(f"({fast} if type({a} := {left}) is not list else {slow})")
         return Src(f"({fast} if (type({a} := {left}) is not list) & (type({b} := {right}) is not list) else {slow})")
 
     def e_add(self, node):
@@ -247,6 +257,7 @@ def load(text: str, filename: str = "<urscript>") -> Program:
     compiler.user_routines = set(compiler.defined)
     thread_names = {str(d.children[0]) for d in tree.find_data("threaddef")}
     compiler.thread_names = thread_names
+    compiler.never_lists = arrays.NeverLists(tree, compiler.builtins, compiler.defined)
     top = [c for c in tree.children if isinstance(c, Tree)]
     programs = [c for c in top if c.data == "funcdef"]
     if len(top) == 1 and len(programs) == 1:

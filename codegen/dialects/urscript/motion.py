@@ -47,6 +47,7 @@ MOVES = {  # parameters and the manual's defaults
     "movep": (("pose", "a", "v", "r"), {"a": 1.2, "v": 0.25, "r": 0.0}),
 }
 KIND = {"movej": "joint", "movel": "linear", "movep": "process"}
+NUMBER = frozenset({F32, float, int})  # a move's numbers that need no check (bool is not int here)
 SPEED_KEY = "urscript_speed"  # Machine.extra: the speedl / speedj under way (SpeedMode)
 
 
@@ -128,9 +129,13 @@ def builtins() -> dict:
 
         numeric = params[1:]
         named = frozenset(numeric)
+        timed = "t" in named
+        default_a, default_v = defaults["a"], defaults["v"]
+        joint_rule = "nearest" if name == "movej" else "keep"  # movej: nearest the joints; movel, movep: keep
 
         def run(fr, args, kwargs, where):
-            extra = fr.m.extra
+            machine = fr.m
+            extra = machine.extra
             if threads.KEY in extra:
                 _no_thread(fr, name, where)
             if SPEED_KEY in extra:
@@ -140,37 +145,38 @@ def builtins() -> dict:
             else:
                 given = arguments(name, params, defaults, args, kwargs, where)
                 target = given[params[0]]
-            settings = {}
-            for key in numeric:
-                value = given.get(key, defaults[key])
-                settings[key] = float(value if type(value) is F32 else num(value, where, f"{name} {key}"))
+            a, v, r = given.get("a", default_a), given.get("v", default_v), given.get("r", 0.0)
+            t = given.get("t", 0.0)
+            if not (type(a) in NUMBER and type(v) in NUMBER and type(r) in NUMBER and type(t) in NUMBER):
+                a, v, r, t = (num(x, where, f"{name} {k}") for x, k in ((a, "a"), (v, "v"), (r, "r"), (t, "t")))
+            a, v, r, t = float(a), float(v), float(r), float(t)
+            if not (v > 0 and a > 0 and r >= 0 and t >= 0):
+                raise RunError(f"{where}: {name} needs a > 0, v > 0, r >= 0 and t >= 0")
+            settings = {"a": a, "v": v, "t": t, "r": r} if timed else {"a": a, "v": v, "r": r}
             settings["load"] = extra.get("payload")
             settings["tcp"] = extra.get("tcp")
             settings["move"] = name
-            if not settings["v"] > 0 or not settings["a"] > 0 or settings["r"] < 0 or settings.get("t", 0.0) < 0:
-                raise RunError(f"{where}: {name} needs a > 0, v > 0, r >= 0 and t >= 0")
-            seconds = settings.get("t") or None
-            speed = settings["v"] * MM_PER_M
-            if isinstance(target, list) and name != "movej":  # "forward kinematics is used" (movel's page)
-                arm = fr.m.arm
-                if arm.arm is None:
-                    raise RunError(f"{where}: {name} to joint positions needs the arm's kinematics (--robot)")
-                q = np.degrees(joints(target, where, 6, f"{name} q"))
-                target = URPose(posemath.ur_from_matrix(arm.arm.kin.fk(q) @ arm.tcp2flange))
-            if isinstance(target, list):  # joint positions (rad): no solution to choose
-                event = MoveEvent(kind, None, line_of(where), settings)
-                conveyor.tracked_move(fr, event, 0.0, where)  # refused while tracking
-                fr.m.arm.to_joints(event, np.degrees(joints(target, where, 6, "movej q")), where)
-                fr.m.move(event, speed, seconds=seconds)
-                return
-            event = MoveEvent(kind, matrix(target, where, f"{name} target"), line_of(where), settings)
-            tracked = conveyor.tracked_move(fr, event, speed, where)  # None: not tracking
-            # movej to a pose: the solution nearest the current joints; movel, movep keep the configuration
-            arm = fr.m.arm
+            line = int(where.rsplit(":", 2)[1])
+            if type(target) is list:
+                if name != "movej":  # "forward kinematics is used" (movel's page)
+                    arm = machine.arm
+                    if arm.arm is None:
+                        raise RunError(f"{where}: {name} to joint positions needs the arm's kinematics (--robot)")
+                    q = np.degrees(joints(target, where, 6, f"{name} q"))
+                    target = URPose(posemath.ur_from_matrix(arm.arm.kin.fk(q) @ arm.tcp2flange))
+                else:  # joint positions (rad): no solution to choose
+                    event = MoveEvent(kind, None, line, settings)
+                    conveyor.tracked_move(fr, event, 0.0, where)  # refused while tracking
+                    machine.arm.to_joints(event, np.degrees(joints(target, where, 6, "movej q")), where)
+                    machine.move(event, v * MM_PER_M, seconds=t or None)
+                    return
+            event = MoveEvent(kind, matrix(target, where, f"{name} target"), line, settings)
+            tracked = conveyor.tracked_move(fr, event, v * MM_PER_M, where)  # None: not tracking
+            arm = machine.arm
             if not arm.known:
                 arm.from_start()
-            arm.to_pose(event, where, "nearest" if name == "movej" else "keep")
-            fr.m.move(event, speed, seconds=seconds if tracked is None else tracked)  # they return on arrival
+            arm.to_pose(event, where, joint_rule)
+            machine.move(event, v * MM_PER_M, seconds=(t or None) if tracked is None else tracked)  # on arrival
 
         return run
 

@@ -36,7 +36,8 @@ PYTHON_KINDS.update({"URPose": "a pose", "Struct": "a struct", "URThread": "a th
 
 def num(value, where: str, what: str):
     """A number argument (int or float32), else a RunError naming what it is."""
-    if type(value) is F32:  # the common case first
+    kind = type(value)
+    if kind is F32 or kind is float or kind is int:  # the common cases first
         return value
     if isinstance(value, bool) or not isinstance(value, int | float | np.number):
         raise RunError(f"{where}: {what} must be a number, got {describe(value)}")
