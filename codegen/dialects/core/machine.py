@@ -201,7 +201,7 @@ class Machine:
             self.deliver()
         if self.move_limit is not None and len(self.trace.moves) >= self.move_limit:
             raise LimitReached(f"{self.move_limit} moves made (the run's limit of moves)")
-        if self.clock > self.time_limit:
+        if self.arm_until > self.time_limit:  # the motion commanded so far (a program may run ahead of it)
             self.past_time_limit()
 
     def past_time_limit(self) -> None:
