@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -83,3 +85,13 @@ def test_check_of_a_data_file_alone_is_a_finding(tmp_path):
     data.write_text("DEFDAT T\nENDDAT\n")
     result = CliRunner().invoke(main, ["check", str(data)])
     assert result.exit_code == 2 and "t.dat" in result.output, result.output
+
+
+def test_check_takes_the_programs_of_several_controllers_at_once():
+    from pathlib import Path
+
+    demo = Path(__file__).resolve().parents[3] / "generated" / "agv_machine_tending"
+    result = CliRunner().invoke(main, ["check", str(demo), "--json"])
+    data = json.loads(result.output)
+    assert result.exit_code == 0 and data["targets"] == ["abb", "dtrans", "kuka", "ur"], result.output
+    assert len(data["programs"]) == 5 and data["findings"] == []
