@@ -101,17 +101,33 @@ class Dialect:
         return cls.load(main.text, main.name, {f.suffix: f.text for f in rest})
 
     @classmethod
-    def check_files(cls, files: list) -> list:
+    def check_files(cls, files: list, options=None) -> list:
         """Every finding of `codegen check` in one program's files (codegen.dialects.core.files.Finding),
-        without running it: by default what loading reports first."""
-        from codegen.dialects.core.files import Finding
+        without running it. What every language shares, a dialect's override adding its own checks (calling
+        this first): each file's syntax errors (every file parsed, so a syntax error in one does not hide
+        another's), then, where all parse, what loading the program refuses (an unsupported statement, an
+        undefined routine: severity "unsupported" where the message says what is not modelled). options:
+        codegen.dialects.core.files.CheckOptions (the arm, from --robot), or None."""
+        from codegen.dialects.core.files import finding_of
         from codegen.dialects.core.values import RunError
 
+        findings = []
+        for f in files:
+            try:
+                cls.parse(f.text, f.name, positions=False)
+            except RunError as exc:
+                findings.append(finding_of(exc, [f], "syntax"))
+            except RecursionError:
+                findings.append(finding_of(f"{f.name}: statements or expressions nested too deeply", [f], "syntax"))
+        if findings:
+            return findings
         try:
             cls.load_files(files)
         except RunError as exc:
-            return [Finding(files[0].name, 0, 0, "error", "load", str(exc))]
-        return []
+            findings.append(finding_of(exc, files))
+        except RecursionError:
+            findings.append(finding_of(f"{files[0].name}: statements or expressions nested too deeply", files))
+        return findings
 
 
 @cache
