@@ -139,11 +139,12 @@ class Judgement:
     errors: tuple[list, list] = ((), ())  # position (mm) and rotation (deg) errors the kind measured itself
 
 
-def refuses_start(cell, target, case) -> str | None:
-    """The restart rule (targets/<t>.toml restart = "at_home"): a program started anywhere but at home stops
-    before it moves, with this message (as the target prints it); None where the target's programs may start
-    away from home, or the cell has no arm to be away with."""
-    if case.start == "home" or target.program.get("restart") != "at_home":
+def refuses_start(cell, target, case, allowed: tuple[str, ...] = ("home",)) -> str | None:
+    """The restart rule (targets/<t>.toml restart = "at_home"): a program started anywhere but where its kind
+    lets it start (`allowed`: home, and a station's retreat for the station program) stops before it moves,
+    with this message (as the target prints it); None where the target's programs may start anywhere, or the
+    cell has no arm to be away with."""
+    if case.start in allowed or target.program.get("restart") != "at_home":
         return None
     if cell.robot is None or target.name not in cell.robot.arms:
         return None

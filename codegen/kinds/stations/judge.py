@@ -43,7 +43,7 @@ def judge(cell, target_name: str, case, trace) -> Judgement:
     target = get_target(target_name)
     accepted, boundary = accepted_traces(cell, case)
     truth = _truth_problem(cell, case, accepted[0])
-    if refuses_start(cell, target, case) is not None:
+    if refuses_start(cell, target, case, allowed=("home", "retreat")) is not None:
         accepted, truth = [ExpectedTrace("halt", NOT_AT_HOME)], None
     emitter = Emitter(target)
     plans = [_plan(cell, target, case.reading, t, trace, emitter) for t in accepted]
