@@ -1,0 +1,253 @@
+"""Every string of a cell file is inert in every program: hostile text leaves the programs' structure as it was."""
+
+from __future__ import annotations
+
+import copy
+import re
+import tomllib
+
+import pytest
+from support.cells import EXAMPLES, shape
+
+from codegen.dialects import parse_program
+from codegen.emit import EmitError
+from codegen.generate import check_rendered
+from codegen.model.cell import cell_from_dict
+from codegen.model.validate import CellError
+from codegen.render import render
+from codegen.robot import arms
+
+# Hostile text, each after a tag naming the site it stands in (k<n>): newlines, quotes, every language's comment
+# and statement characters, the words that end a routine or a module, a whole move, Jinja's own braces, text far
+# beyond every limit; and the Unicode line and paragraph separators, NEL, CR, NUL and other controls.
+PAYLOADS = {
+    "code": "\"\n  movej([0, -1.57, 0, -1.57, 0, 0])\n  # ; ! // ' ENDPROC\nENDMODULE\nEND\nDEF evil()\nDECL INT evil\n"
+    "  PROC evil()\n  MoveJ p, v100, z10, tool0;\n{{ x }} {% if %} %s $OUT[1]=TRUE \\" + "W" * 1100,
+    "unicode": "\u2028ENDPROC\u2029END\x85DEF\r\nmovel(p)\r\x00\t\x0b\x0c\u200b\u202e\u6c49\u00e9\ufeff",
+}
+_TAG = re.compile(r"k(\d+)(?!\d)")
+
+
+def _catalogue() -> dict[str, dict]:
+    return {arm["model"]: arm for arm in tomllib.loads(arms.CATALOGUE.read_text(encoding="utf-8"))["arm"]}
+
+
+def with_custom_arms(data: dict) -> dict:
+    """The cell with each catalogue arm written out as a custom arm (its model, vendor and source then strings of
+    the cell file)."""
+    out = copy.deepcopy(data)
+    robot = out.get("cell", {}).get("robot", {})
+    catalogue = _catalogue()
+    for target in out["cell"]["targets"]:
+        if isinstance(robot.get(target), str):
+            robot[target] = copy.deepcopy(catalogue[robot[target]])
+    return out
+
+
+def strings(value) -> set[str]:
+    """Every string of a TOML document: each table's keys and each string value (in arrays too)."""
+    if isinstance(value, str):
+        return {value}
+    if isinstance(value, dict):
+        return set(value).union(*(strings(v) for v in value.values()))
+    if isinstance(value, list):
+        return set().union(*(strings(v) for v in value))
+    return set()
+
+
+def renamed(value, new: dict[str, str]):
+    """The document with each string in `new` (a key or a value, wherever it stands) replaced."""
+    if isinstance(value, str):
+        return new.get(value, value)
+    if isinstance(value, dict):
+        return {new.get(k, k): renamed(v, new) for k, v in value.items()}
+    if isinstance(value, list):
+        return [renamed(v, new) for v in value]
+    return value
+
+
+def load(data: dict):
+    return cell_from_dict(data, source="hostile.toml", sha256="0" * 64)
+
+
+def structure(files) -> list[tuple]:
+    return [shape(parse_program(f.relpath, f.text, positions=False)) for f in files]
+
+
+def hostile_render(data: dict, payload: str) -> tuple[list, dict[str, str]]:
+    """Every string of the cell replaced at once by its tag and the payload, less those refused: the loader's
+    refusals (exit 2) first, one string at a time, then the generator's (EmitError: exit 2), until it renders.
+    Returns the files and each string's fate ("loader", "generate" or "rendered")."""
+    sites = sorted(strings(data))
+    hostile = {s: f"k{i}{payload}" for i, s in enumerate(sites)}
+    fate: dict[str, str] = {}
+    for s in sites:
+        try:
+            load(renamed(data, {s: hostile[s]}))
+        except CellError:
+            fate[s] = "loader"
+    while True:
+        accepted = {s: text for s, text in hostile.items() if s not in fate}
+        try:
+            files = render(load(renamed(data, accepted)))
+        except (CellError, EmitError) as exc:
+            tag = _TAG.search(str(exc))
+            assert tag is not None, f"refused, naming no hostile string: {exc}"
+            site = sites[int(tag.group(1))]
+            assert site not in fate, f"{site!r} refused twice: {exc}"
+            fate[site] = "loader" if isinstance(exc, CellError) else "generate"
+            continue
+        fate.update(dict.fromkeys(accepted, "rendered"))
+        return files, fate
+
+
+def _flat(tree, out: list) -> list:
+    out.append(tree[0])
+    for child in tree[1:]:
+        _flat(child, out)
+    return out
+
+
+def first_difference(got: tuple, want: tuple) -> str:
+    a, b = _flat(got, []), _flat(want, [])
+    i = next((i for i, (x, y) in enumerate(zip(a, b, strict=False)) if x != y), min(len(a), len(b)))
+    return f"at node {i}: {a[max(0, i - 4) : i + 4]} where the clean cell has {b[max(0, i - 4) : i + 4]}"
+
+
+FATES: dict[str, dict[str, dict[str, str]]] = {}  # example -> payload -> string -> fate (the summary below)
+
+
+@pytest.mark.parametrize("example", sorted(EXAMPLES))
+def test_hostile_strings_leave_every_program_as_it_was(example):
+    """Each example with its arms written out as custom arms (so their model is the cell's text): every string of
+    the file, key or value, replaced by hostile text at once, less those the loader or the generator refuses
+    (exit 2). Every program still parses and has the clean cell's structure (the grammar's rules and token types
+    in order: the same routines, declarations, statements and moves)."""
+    data = with_custom_arms(tomllib.loads(EXAMPLES[example].read_text(encoding="utf-8")))
+    clean = render(load(data))
+    want = structure(clean)
+    for name, payload in PAYLOADS.items():
+        files, fate = hostile_render(data, payload)
+        FATES.setdefault(example, {})[name] = fate
+        check_rendered(files)  # what generate checks before it writes: ASCII, a final newline, the grammar
+        assert len(files) == len(clean)
+        for f, got, expected in zip(files, structure(files), want, strict=True):
+            if got != expected:
+                pytest.fail(f"{name}: {f.relpath}: not the clean cell's structure, {first_difference(got, expected)}")
+        rendered = {s for s, what in fate.items() if what == "rendered"}
+        robot = data["cell"].get("robot", {})
+        models = {arm["model"] for arm in robot.values() if isinstance(arm, dict) and "model" in arm}
+        assert models | {data["cell"]["name"]} <= rendered, "the test must put hostile text into the programs"
+
+
+def test_summary():
+    """Which strings each example's loader and generator refuse (exit 2) and which render (run with -s)."""
+    for example, payloads in FATES.items():
+        for name, fate in payloads.items():
+            counts = {what: sum(1 for v in fate.values() if v == what) for what in ("loader", "generate", "rendered")}
+            refused = sorted(s for s, v in fate.items() if v == "generate")
+            print(f"{example} {name}: {counts}; refused at generate: {refused}")
+
+
+# The issue's reproducer: an arm's model that, printed as it is, is a statement of the target's language.
+STATEMENTS = {
+    "ur": "MyUR\n  movej([0, -1.57, 0, -1.57, 0, 0])\n  #",
+    "kuka": "MyKR\nDECL INT EVIL=1\n;",
+    "abb": "MyIRB\n  PROC evil()\n  ENDPROC\n  !",
+}
+
+
+@pytest.mark.parametrize("target", sorted(STATEMENTS))
+@pytest.mark.parametrize("example", sorted(EXAMPLES))
+def test_an_arm_model_that_is_a_statement_adds_none(example, target):
+    data = with_custom_arms(tomllib.loads(EXAMPLES[example].read_text(encoding="utf-8")))
+    if target not in data["cell"]["targets"]:
+        pytest.skip(f"{example} has no {target} programs")
+    want = structure(render(load(data), [target]))
+    data["cell"]["robot"][target]["model"] = STATEMENTS[target]
+    files = render(load(data), [target])
+    for f, got, expected in zip(files, structure(files), want, strict=True):
+        assert got == expected, f"{f.relpath}: {first_difference(got, expected)}"
+
+
+# --- names the program itself uses, and the language's own ------------------------------------------------
+
+
+def _example(name: str, **edits) -> dict:
+    """An example's TOML tables with edits: {"a.b.c": value} sets a key (list indices as numbers)."""
+    data = tomllib.loads(EXAMPLES[name].read_text(encoding="utf-8"))
+    for path, value in edits.items():
+        *parents, last = [int(p) if p.isdigit() else p for p in path.split(".")]
+        table = data
+        for key in parents:
+            table = table[key]
+        table[last] = value
+    return data
+
+
+@pytest.mark.parametrize(
+    ("example", "key", "value", "own"),
+    [
+        ("laser_tcp", "laser.beam_x.abb", "lsr_tool", "lsr_tool"),  # the laser program's tooldata
+        ("laser_tcp", "laser.beam_y.abb", "LSR_TOOL", "LSR_TOOL"),  # RAPID ignores case
+        ("testmat_pallet", "cell.io.output.abb", "stack_tool", "stack_tool"),  # the pallet program's tooldata
+        ("belt_pick", "cell.io.feedback.abb", "cnv_tool", "cnv_tool"),  # the conveyor program's tooldata
+        ("agv_machine_tending", "cell.io.output.abb", "vis_stop", "vis_stop"),  # the station program's routine
+        ("laser_tcp", "laser.beam_x.abb", "lsr_edge", "lsr_edge"),  # a name verify reads (targets/abb.toml)
+    ],
+)
+def test_a_signal_named_like_the_programs_own_data_is_refused(example, key, value, own):
+    with pytest.raises(EmitError, match=rf"{re.escape(key)} and the program's own name {own} both map"):
+        render(load(_example(example, **{key: value})), ["abb"])
+
+
+@pytest.mark.parametrize("value", ["TRUE", "false", "tool0", "v100", "Z50", "fine", "wobj0", "load0", "num", "MoveL"])
+def test_a_signal_named_like_a_word_or_predefined_name_of_rapid_is_refused(value):
+    with pytest.raises(EmitError, match=rf"laser.beam_x.abb: '{value}' is a word or predefined name of"):
+        render(load(_example("laser_tcp", **{"laser.beam_x.abb": value})), ["abb"])
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "ident"),
+    [
+        ("abb", "v100", "v100_"),  # predefined speeddata
+        ("abb", "tool0", "tool0_"),
+        ("abb", "MODULE", "MODULE_"),  # a word RAPID reserves
+        ("kuka", "BAS", "BAS_"),  # a built-in routine
+        ("kuka", "TOOL_DATA", "TOOL_DATA_"),  # a system array
+        ("kuka", "TRUE", "TRUE_"),
+        ("ur", "textmsg", "textmsg_"),  # a built-in function
+        ("ur", "movej", "movej_"),
+    ],
+)
+def test_a_cell_named_like_a_predefined_name_gets_another_identifier(target, name, ident):
+    program = render(load(_example("agv_machine_tending", **{"cell.name": name})), [target])[0]
+    assert program.relpath.split("/")[-1].startswith(ident.lower() + "."), program.relpath
+    assert re.search(rf"^(MODULE|DEF|def) {ident}\b", program.text, re.MULTILINE), program.relpath
+
+
+@pytest.mark.parametrize(
+    ("target", "key", "value", "own"),
+    [
+        ("ur", "pallet.0.name", "grip", "pal_grip"),  # the pallet program's gripper routine
+        ("kuka", "pallet.0.name", "layer", "PAL_LAYER"),  # the layer counter
+        ("abb", "cell.name", "main", "main"),  # the station program's entry routine
+    ],
+)
+def test_a_cell_name_mapped_onto_the_programs_own_is_refused(target, key, value, own):
+    data = _example("agv_machine_tending" if key == "cell.name" else "testmat_pallet", **{key: value})
+    with pytest.raises(EmitError, match=rf"the program's own name {own} both map to the identifier {own}"):
+        render(load(data), [target])
+
+
+def test_the_refusal_is_exit_2_through_generate(tmp_path):
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    text = EXAMPLES["laser_tcp"].read_text(encoding="utf-8").replace('abb = "diLaserX"', 'abb = "lsr_tool"')
+    (tmp_path / "cell.toml").write_text(text, encoding="utf-8")
+    result = CliRunner().invoke(main, ["generate", str(tmp_path / "cell.toml"), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "laser.beam_x.abb and the program's own name lsr_tool both map to the identifier lsr_tool" in result.output
+    assert "Traceback" not in result.output and not (tmp_path / "out").exists()
