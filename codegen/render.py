@@ -91,7 +91,7 @@ def environment():
         return _checked(value, context.name)
 
     @jinja2.pass_context
-    def join(context, items, separator: str = "", attribute=None) -> Code:
+    def join(context, items, separator: str = Code(""), attribute=None) -> Code:
         if attribute is not None:
             items = (context.environment.getattr(item, attribute) for item in items)
         return Code(_checked(separator, context.name).join(_checked(item, context.name) for item in items))
@@ -121,10 +121,21 @@ def merged(shared: dict, own: dict, what: str) -> dict:
     return {**shared, **own}
 
 
+def program_emitter(cell: Cell, target: Target) -> Emitter:
+    """A program's names: the generator's own reserved (Emitter), then the cell's signals ([cell.io]) every program
+    of the cell may use, before the program maps any name of the cell."""
+    emitter = Emitter(target)
+    if cell.io is not None and target.program.get("signals"):
+        for key, signal in (("output", cell.io.output), ("feedback", cell.io.feedback)):
+            if signal.get(target.name) is not None:
+                emitter.signal(signal[target.name], f"cell.io.{key}.{target.name}")
+    return emitter
+
+
 def shared_context(cell: Cell, target: Target) -> dict:
     """The template variables every program of every kind reads: the header, the cell's speeds, its signals
     ([cell.io]) and its arm and tool."""
-    emitter = Emitter(target)
+    emitter = program_emitter(cell, target)
     number, figure = emitter.number, emitter.figure
     return {
         "version": owned(__version__),

@@ -251,3 +251,84 @@ def test_the_refusal_is_exit_2_through_generate(tmp_path):
     assert result.exit_code == 2, result.output
     assert "laser.beam_x.abb and the program's own name lsr_tool both map to the identifier lsr_tool" in result.output
     assert "Traceback" not in result.output and not (tmp_path / "out").exists()
+
+
+def test_the_generators_own_names_are_its_code_not_its_comments():
+    from codegen.emit import own_names
+
+    abb = own_names("abb")
+    assert {"lsr_tool", "stack_tool", "cnv_tool", "vis_stop", "main", "giCnvSeq", "lsr_edge"} <= abb
+    assert {"PAL_LAYER", "VIS_SIGNAL"} <= own_names("kuka")
+    assert {"vis_stop", "pal_grip", "p"} <= own_names("ur")  # p: a pose literal p[...]
+    assert not {"the", "calibration", "arm", "gripper"} & (abb | own_names("ur") | own_names("kuka"))
+
+
+# --- the one path: what the templates may print ----------------------------------------------------------------
+
+
+def _station_plan(target: str):
+    from codegen.controllers import get_target
+    from codegen.render import plans, shared_context
+
+    cell = load(with_custom_arms(tomllib.loads(EXAMPLES["agv_machine_tending"].read_text(encoding="utf-8"))))
+    return cell, get_target(target), plans(cell, get_target(target))[0], shared_context(cell, get_target(target))
+
+
+@pytest.mark.parametrize(
+    ("target", "key", "value", "template", "shown"),
+    [
+        ("ur", ("robot", "model"), "UR10e", "ur/body.j2", r"'UR10e' \(str\)"),  # a cell's text, as it was printed
+        ("abb", ("robot", "model"), "IRB 1600", "abb/program.mod.j2", r"'IRB 1600' \(str\)"),
+        ("kuka", ("speeds", "joint_percent"), 25.0, "kuka/program.src.j2", r"25.0 \(float\)"),  # a number not formatted
+        ("ur", ("cell", "comment"), True, "ur/body.j2", r"True \(bool\)"),
+        ("abb", ("cell", "source"), None, "abb/program.mod.j2", r"None \(NoneType\)"),
+    ],
+)
+def test_a_value_that_did_not_pass_through_the_emitter_is_refused(target, key, value, template, shown):
+    from codegen.render import UnmarkedText, render_plan
+
+    cell, target, plan, shared = _station_plan(target)
+    shared[key[0]][key[1]] = value
+    with pytest.raises(UnmarkedText, match=rf"{re.escape(template)}: the template prints {shown}"):
+        render_plan(cell, target, plan, shared=shared)
+
+
+@pytest.mark.parametrize(
+    ("source", "values", "printed"),
+    [
+        ('{{ "a" ~ x ~ 1 }}', {"x": "b"}, None),  # `~` of a plain string
+        ('{{ xs | join(", ") }}', {"xs": ["a"]}, None),
+        ("{{ x | upper }}", {"x": "a"}, None),
+        ("{{ x[1:] }}", {"x": "ab"}, None),
+        ('{{ "a" ~ x ~ 1 }}', {"x": "b", "code": True}, "ab1"),
+        ('{{ xs | join(", ") }}|{{ xs | map("upper") | join }}', {"xs": ["a", "b"], "code": True}, "a, b|AB"),
+        ("{{ x[1:] | upper }}", {"x": "ab", "code": True}, "B"),
+        ('{% macro m(y) %}<{{ y }}>{% endmacro %}{{ m(x) ~ m("t") }}', {"x": "a", "code": True}, "<a><t>"),
+        ('{{ "e" if x }}{{ n * 2 }}', {"x": False, "n": 3, "code": True}, "6"),
+    ],
+)
+def test_the_templates_own_text_stays_printable_and_nothing_else_is(source, values, printed):
+    from codegen.emit import owned
+    from codegen.render import UnmarkedText, environment
+
+    template = environment().from_string(source)
+    if values.pop("code", False):
+        assert template.render(**owned(values)) == printed
+    else:
+        with pytest.raises(UnmarkedText, match="did not pass through the emitter"):
+            template.render(**values)
+
+
+def test_only_the_emitter_and_the_renderer_make_printable_text():
+    """Code is made in codegen/emit.py (and by codegen/render.py for the templates' own text); `owned` marks the
+    generator's facts, never a cell's value."""
+    package = EXAMPLES["agv_machine_tending"].parents[1]
+    makers = sorted(
+        str(path.relative_to(package))
+        for path in package.rglob("*.py")
+        if re.search(r"\bCode\(", path.read_text(encoding="utf-8"))
+    )
+    assert makers == ["emit.py", "render.py"]
+    for path in package.rglob("*.py"):
+        for line in path.read_text(encoding="utf-8").splitlines():
+            assert not re.search(r"\bowned\([^)]*\bcell\b", line), f"{path.name}: {line.strip()}"

@@ -67,7 +67,7 @@ def conveyor_context(cell, target, emitter) -> dict:
     place = pick.place.matrix()
     above = place.copy()
     above[2, 3] += pick.approach_dz
-    ident = conveyor_ident(cell, target)
+    ident = emitter.identifier("cnv_", cell.name, "the conveyor program")
     return {
         "ident": ident,
         "frame": emitter.pose(TaughtPose("belt", _xyzabc(frame), "xyzabc")),

@@ -95,7 +95,7 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         circles.append({name: [number(v, 4) for v in xyz] for name, xyz in circle_points(laser, k).items()})
     dz = laser.depths_mm[1] - laser.depths_mm[0]
     return {
-        "ident": laser_ident(cell, target),
+        "ident": emitter.identifier("tcp_", cell.name, "the laser TCP program"),
         "sensor": emitter.pose(laser.sensor_frame),
         "down": emitter.pose(TaughtPose("down", _xyzabc(down), "xyzabc")),
         "guess": [number(v, 4) for v in guess[:3, 3]],

@@ -20,7 +20,7 @@ from codegen.model import vision
 from codegen.model.cell import Cell
 from codegen.model.motion import segments
 from codegen.protocol import ProgramFile, ProgramPlan, get_kind
-from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, shared_context
+from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, program_emitter, shared_context
 from codegen.robot.taught import ReachError, configuration
 
 
@@ -88,7 +88,7 @@ def station_arm(cell, target, station) -> list[dict]:
 def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
     """The station program's own variables: the guard's numbers, the stations, the vision handshake, and
     each station kind's partial (templates/<t>/kinds/<kind>.j2, a set of macros the program calls)."""
-    emitter = Emitter(target)
+    emitter = program_emitter(cell, target)
     number, figure = emitter.number, emitter.figure
     stations = [_station_context(cell, station, target, emitter) for station in cell.stations]
     emitter.identifier("", cell.name, "cell name")  # the program's name: after the stations' (as its messages)
