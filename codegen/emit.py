@@ -129,6 +129,23 @@ def own_names(target_name: str) -> frozenset[str]:
     return frozenset(names)
 
 
+@cache
+def language_names(target_name: str) -> frozenset[str]:
+    """The words the target's language reserves and the names its standard environment defines (predefined data,
+    built-in routines and types)."""
+    dialect = get_dialect(get_target(target_name).dialect)
+    return dialect.keywords() | dialect.predefined()
+
+
+@cache
+def _keyed(target_name: str, names) -> frozenset[str]:
+    """Names as the target compares identifiers (upper case where it ignores case)."""
+    target = get_target(target_name)
+    return frozenset(
+        names(target_name) if target.identifier_case_sensitive else (n.upper() for n in names(target_name))
+    )
+
+
 class Emitter:
     """Per program: maps cell names to identifiers, detects collisions, formats literals. The generator's own
     names (own_names) are reserved before any of the cell's: a cell name that would take one is an EmitError
@@ -137,9 +154,8 @@ class Emitter:
     def __init__(self, target: Target) -> None:
         self.target = target
         self._taken: dict[str, str] = {}  # comparable identifier -> what it was made from
-        self._own = {self._key(name) for name in own_names(target.name)}
-        dialect = get_dialect(target.dialect)
-        self._words = {self._key(word) for word in dialect.keywords() | dialect.predefined()}
+        self._own = _keyed(target.name, own_names)
+        self._words = _keyed(target.name, language_names)
 
     def _reserved(self, ident: str) -> bool:
         """A word the language reserves or a name its standard environment defines (predefined data,

@@ -17,14 +17,16 @@ from codegen.model.validate import CellError
 from codegen.render import render
 from codegen.robot import arms
 
-# Hostile text, each after a tag naming the site it stands in (k<n>): newlines, quotes, every language's comment
-# and statement characters, the words that end a routine or a module, a whole move, Jinja's own braces, text far
-# beyond every limit; and the Unicode line and paragraph separators, NEL, CR, NUL and other controls.
-PAYLOADS = {
-    "code": "\"\n  movej([0, -1.57, 0, -1.57, 0, 0])\n  # ; ! // ' ENDPROC\nENDMODULE\nEND\nDEF evil()\nDECL INT evil\n"
-    "  PROC evil()\n  MoveJ p, v100, z10, tool0;\n{{ x }} {% if %} %s $OUT[1]=TRUE \\" + "W" * 1100,
-    "unicode": "\u2028ENDPROC\u2029END\x85DEF\r\nmovel(p)\r\x00\t\x0b\x0c\u200b\u202e\u6c49\u00e9\ufeff",
-}
+# Hostile text, after a tag naming the string it stands for (k<n>): first every character that could end a string,
+# a comment or a line in one of the languages (quotes, backslash, CR, LF, the Unicode line and paragraph separators,
+# NEL, NUL, ; ! # //), so that each falls within the shortest limit (80 characters); then the words that end a
+# routine or a module, a declaration and a whole move of each language, Jinja's own braces, other controls and
+# non-ASCII, and text far beyond every limit (identifiers, strings, comments).
+PAYLOAD = (
+    "\"'\\\r\n\u2028\u2029\x85\x00;!#//\t\x0b\x0c ENDPROC\nENDMODULE\nEND\nDEF evil()\nDECL INT evil\n  PROC evil()\n"
+    "  movej([0, -1.57, 0, -1.57, 0, 0])\n  MoveJ p, v100, z10, tool0;\n{{ x }} {% if %} %s $OUT[1]=TRUE "
+    "\u200b\u202e\u6c49\u00e9\ufeff" + "W" * 1100
+)
 _TAG = re.compile(r"k(\d+)(?!\d)")
 
 
@@ -114,7 +116,7 @@ def first_difference(got: tuple, want: tuple) -> str:
     return f"at node {i}: {a[max(0, i - 4) : i + 4]} where the clean cell has {b[max(0, i - 4) : i + 4]}"
 
 
-FATES: dict[str, dict[str, dict[str, str]]] = {}  # example -> payload -> string -> fate (the summary below)
+FATES: dict[str, dict[str, str]] = {}  # example -> string -> fate (the summary below)
 
 
 @pytest.mark.parametrize("example", sorted(EXAMPLES))
@@ -126,27 +128,24 @@ def test_hostile_strings_leave_every_program_as_it_was(example):
     data = with_custom_arms(tomllib.loads(EXAMPLES[example].read_text(encoding="utf-8")))
     clean = render(load(data))
     want = structure(clean)
-    for name, payload in PAYLOADS.items():
-        files, fate = hostile_render(data, payload)
-        FATES.setdefault(example, {})[name] = fate
-        check_rendered(files)  # what generate checks before it writes: ASCII, a final newline, the grammar
-        assert len(files) == len(clean)
-        for f, got, expected in zip(files, structure(files), want, strict=True):
-            if got != expected:
-                pytest.fail(f"{name}: {f.relpath}: not the clean cell's structure, {first_difference(got, expected)}")
-        rendered = {s for s, what in fate.items() if what == "rendered"}
-        robot = data["cell"].get("robot", {})
-        models = {arm["model"] for arm in robot.values() if isinstance(arm, dict) and "model" in arm}
-        assert models | {data["cell"]["name"]} <= rendered, "the test must put hostile text into the programs"
+    files, fate = hostile_render(data, PAYLOAD)
+    FATES[example] = fate
+    check_rendered(files)  # what generate checks before it writes: ASCII, a final newline, the grammar
+    assert len(files) == len(clean)
+    for f, got, expected in zip(files, structure(files), want, strict=True):
+        if got != expected:
+            pytest.fail(f"{f.relpath}: not the clean cell's structure, {first_difference(got, expected)}")
+    rendered = {s for s, what in fate.items() if what == "rendered"}
+    robot = data["cell"].get("robot", {})
+    models = {arm["model"] for arm in robot.values() if isinstance(arm, dict) and "model" in arm}
+    assert models | {data["cell"]["name"]} <= rendered, "the test must put hostile text into the programs"
 
 
 def test_summary():
     """Which strings each example's loader and generator refuse (exit 2) and which render (run with -s)."""
-    for example, payloads in FATES.items():
-        for name, fate in payloads.items():
-            counts = {what: sum(1 for v in fate.values() if v == what) for what in ("loader", "generate", "rendered")}
-            refused = sorted(s for s, v in fate.items() if v == "generate")
-            print(f"{example} {name}: {counts}; refused at generate: {refused}")
+    for example, fate in FATES.items():
+        counts = {what: sum(1 for v in fate.values() if v == what) for what in ("loader", "generate", "rendered")}
+        print(f"{example}: {counts}; rendered: {sorted(s[:24] for s, v in fate.items() if v == 'rendered')}")
 
 
 # The issue's reproducer: an arm's model that, printed as it is, is a statement of the target's language.
