@@ -208,7 +208,7 @@ def render_plan(
     env = env or environment()
     ctx = merged(shared or shared_context(cell, target), plan.context, f"the context of the {plan.kind} kind")
     return [
-        RenderedFile(f"{cell_dir(cell)}/{target.name}/{f.name}", env.get_template(f.template).render(ctx))
+        RenderedFile(f"{cell_dir(cell)}/{target.name}/{f.name}", str(env.get_template(f.template).render(ctx)))
         for f in plan.files
     ]
 
