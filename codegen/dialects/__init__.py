@@ -9,6 +9,7 @@ from functools import cache
 from pathlib import Path
 from typing import ClassVar
 
+_TERMINAL = re.compile(r"^([A-Z_]+): /(.*)/$", re.MULTILINE)
 _RESERVED = re.compile(r"^NAME(?:\.\d+)?: /\(\?!(\(\?i:)?\(([\w|]+)\)", re.MULTILINE)
 
 
@@ -39,7 +40,22 @@ class Dialect:
     def keywords(cls) -> frozenset[str]:
         """The words the language reserves, as its grammar's NAME terminal excludes them (upper case
         where the language ignores case); a generated identifier must not be one."""
-        return _keywords(Path(importlib.import_module(cls.__module__).__file__).parent / "grammar.lark")
+        return _keywords(cls._grammar())
+
+    @classmethod
+    def terminal(cls, name: str) -> str | None:
+        """The regular expression of one of the grammar's terminals (e.g. STRING, COMMENT), or None."""
+        return _terminals(cls._grammar()).get(name)
+
+    @classmethod
+    def predefined(cls) -> frozenset[str]:
+        """The names the controller's standard environment defines (built-in routines, predefined data, data
+        types; upper case where the language ignores case): a generated name must not be one."""
+        return frozenset()
+
+    @classmethod
+    def _grammar(cls) -> Path:
+        return Path(importlib.import_module(cls.__module__).__file__).parent / "grammar.lark"
 
     @classmethod
     def printer(cls):
@@ -137,6 +153,12 @@ def _keywords(grammar: Path) -> frozenset[str]:
         return frozenset()
     caseless, words = match.group(1), match.group(2).split("|")
     return frozenset(w.upper() for w in words) if caseless else frozenset(words)
+
+
+@cache
+def _terminals(grammar: Path) -> dict[str, str]:
+    text = grammar.read_text(encoding="utf-8") if grammar.is_file() else ""
+    return {m.group(1): m.group(2) for m in _TERMINAL.finditer(text)}
 
 
 @cache

@@ -18,6 +18,13 @@ class URScript(Dialect):
     suffixes = (".script",)
 
     @classmethod
+    def predefined(cls) -> frozenset[str]:
+        """The built-in functions the interpreter models (URScript manual)."""
+        from codegen.dialects.urscript.interpreter import URScriptCompiler  # lark: only when asked
+
+        return frozenset(URScriptCompiler("<names>").builtins)
+
+    @classmethod
     def move_settings(
         cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:
