@@ -10,6 +10,7 @@ from pathlib import Path
 
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.protocol import get_kind, kinds
+from codegen.verify.edits import edits
 from codegen.verify.programs import ProgramSource, file_sources, fresh_sources
 from codegen.verify.report import Report, Row
 from codegen.verify.runner import ONE_PROGRAM_FROM, run_tasks
@@ -51,6 +52,10 @@ def verify_cell(cell, files=(), targets=(), options: Options | None = None) -> R
         sources = _fresh(cell, names)
     start = time.perf_counter()
     rows, workers = verify_sources(cell, sources, options)
+    if files:  # what a hand edit changes, beside the program the cell generates
+        numbers = sorted({s.row for s in sources})
+        for row, lines in edits(cell, sources, options.step_limit, options.seed).items():
+            rows[numbers.index(row)].edits = lines
     return Report(cell.name, rows, options.seed, options.cases, time.perf_counter() - start, workers, warnings)
 
 

@@ -38,11 +38,22 @@ class Row:
     scenarios: dict[str, int] = field(default_factory=dict)
     arm: ArmStats = field(default_factory=ArmStats)
     figures: object = None
+    edits: list[str] = field(default_factory=list)  # a given program's changes against the generated one (edits.py)
 
-    def mismatch(self, text: str) -> None:
+    alike: dict[str, int] = field(default_factory=dict)  # a shown mismatch's problem -> further cases with it
+
+    def mismatch(self, text: str, problem: str | None = None) -> None:
+        """One case's mismatch: shown (the first FIRST_MISMATCHES problems, each once), or counted with the shown
+        one of the same problem (`problem`: the text without the case, default the whole text)."""
         self.mismatches += 1
-        if len(self.first_mismatches) < FIRST_MISMATCHES:
+        self._show(text, problem or text, 1)
+
+    def _show(self, text: str, problem: str, count: int) -> None:
+        if problem in self.alike:
+            self.alike[problem] += count
+        elif len(self.first_mismatches) < FIRST_MISMATCHES:
             self.first_mismatches.append(text)
+            self.alike[problem] = count - 1
 
     def merge(self, part: Row) -> None:
         self.cases += part.cases
@@ -53,7 +64,9 @@ class Row:
         self.swept += part.swept
         self.pos_errors.extend(part.pos_errors)
         self.rot_errors.extend(part.rot_errors)
-        self.first_mismatches.extend(part.first_mismatches[: FIRST_MISMATCHES - len(self.first_mismatches)])
+        problems = {text: problem for problem, text in zip(part.alike, part.first_mismatches, strict=True)}
+        for text in part.first_mismatches:
+            self._show(text, problems[text], part.alike[problems[text]] + 1)
         self.seconds += part.seconds
         self.arm.merge(part.arm)
         for mine, theirs in ((self.categories, part.categories), (self.scenarios, part.scenarios)):
@@ -96,6 +109,8 @@ class Row:
             out["arm"] = self.arm.summary()
         out.update(get_kind(self.kind).summary(self))
         out["first_mismatches"] = self.first_mismatches
+        out["mismatches_alike"] = [self.alike[p] for p in self.alike]  # per first mismatch: further cases alike
+        out["edits"] = self.edits
         return out
 
 
@@ -149,7 +164,9 @@ class Report:
             )
             if len({Path(f).name for f in row.files}) and any(not f.startswith("<fresh>") for f in row.files):
                 out.append(f"  files: {', '.join(row.files)}")
-            out.extend(f"  MISMATCH {line}" for line in row.first_mismatches)
+            out.extend(f"  {line}" for line in row.edits)
+            for line, alike in zip(row.first_mismatches, row.alike.values(), strict=True):
+                out.append(f"  MISMATCH {line}" + (f" (and {alike} more cases alike)" if alike else ""))
         kinds = list(dict.fromkeys(row.kind for row in self.rows))
         for kind in kinds:
             out.extend(get_kind(kind).report_lines([row for row in self.rows if row.kind == kind]))

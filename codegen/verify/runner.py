@@ -74,6 +74,7 @@ def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: 
             if problem is None and not judgement.accepted:
                 problem = "the kind expects nothing of this case"
             if problem is None:
+                problems = []
                 for expected in judgement.accepted:
                     problem, pos, rot = checker.check(expected, trace, prefixes)
                     if problem is None:
@@ -81,6 +82,9 @@ def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: 
                         figures = judgement.figures
                         pos, rot = [*pos, *judgement.errors[0]], [*rot, *judgement.errors[1]]
                         break
+                    problems.append(((expected.halt is not None) != trace.halted, problem, pos, rot))
+                else:  # none accepted: the difference from the expectation that stops (or goes on) as the run did
+                    _, problem, pos, rot = min(problems, key=lambda p: p[0])
             if problem is None and judgement.truth is not None:
                 problem = judgement.truth
         row.pos_errors.extend(pos)
@@ -93,7 +97,7 @@ def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: 
                     row.figures = kind.new_figures()
                 kind.add_figures(row.figures, case, figures)
         else:
-            row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}".replace("  ", " "))
+            row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}".replace("  ", " "), problem)
         if runaway or (first and problem is not None):
             break
 
