@@ -69,7 +69,7 @@ MUTATIONS = [
     ("CNV_CAMERA_Y = -1200.0970", "CNV_CAMERA_Y = -1190.0970", "gripped"),
     ("CNV_COUNTS_PER_MM = -8.122679000", "CNV_COUNTS_PER_MM = -8.222679000", "gripped"),
     ("> CNV_END:", "> CNV_END + 1000:", "past the window's end"),
-    ("    movel(cnv_on_part(x, y, z, CNV_DZ), a=1.2, v=0.5000)\n", "", "above it before the descent"),
+    ("    movel(cnv_on_part(x, y, z, CNV_DZ), a=1.2, v=0.5000, r=0.0100)\n", "", "above it before the descent"),
     ("CNV_DZ = 60.0000", "CNV_DZ = 0.0", "in height"),
     ("if cnv_y(seen) > CNV_END:", "if cnv_y(seen) > CNV_END or read_input_boolean_register(64):", "in the window"),
 ]
@@ -78,10 +78,10 @@ MUTATIONS = [
 # the intercepting programs (target, old, new, says): the lead ignored, the speed never measured again on a
 # varying belt, no unwinding of the counter, the camera's line 10 mm off
 INTERCEPT_MUTATIONS = [
-    ("kuka", "WHILE Y < CNV_INTERCEPT - V * CNV_LEAD", "WHILE Y < CNV_INTERCEPT", "gripped"),
+    ("kuka", "WHILE Y + V * CNV_LATENCY < CNV_INTERCEPT - V * CNV_LEAD", "WHILE Y < CNV_INTERCEPT", "gripped"),
     ("kuka", "      V = (Y - MARK) / (POLLS * CNV_POLL)\n", "", "gripped"),
     ("kuka", "CNV_UNWIND(CNV_ENC - SEEN)", "(CNV_ENC - SEEN)", ""),
-    ("abb", "WHILE y < CNV_INTERCEPT - v * CNV_LEAD DO", "WHILE y < CNV_INTERCEPT DO", "gripped"),
+    ("abb", "WHILE y + v * CNV_LATENCY < CNV_INTERCEPT - v * CNV_LEAD DO", "WHILE y < CNV_INTERCEPT DO", "gripped"),
     ("abb", "        v := (y - mark) / (polls * CNV_POLL);\n", "", "gripped"),
     ("abb", "cnv_unwind(GInput(giCnvEncoder) - seen)", "(GInput(giCnvEncoder) - seen)", ""),
     # the lead without the gripper's 0.05 s to hold the part (grip_s): the part is 3-10 mm on by then

@@ -21,6 +21,10 @@ class ConveyorKind(ProgramKind):
         "signals": dict,  # the queue as groups of digital signals (ranges of numbered signals, or named signals)
         "encoder_inputs": list,  # the lowest and highest digital input an encoder's A and B may use
         "tracking": list,  # how the pick program follows the belt: "native", "intercept"
+        "blends": dict,  # per tracking mode, the moves the program blends into the next (plan.py)
+        "unit": str,  # native (ABB): the belt's mechanical unit unless the cell names another
+        "unit_signals": dict,  # native (ABB): the tracking option's signals the program uses
+        "trigger": bool,  # native (UR): the camera's trigger wired to the robot, its own encoder latched there
     }
 
     @classmethod
