@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+TRIGGER_S = 0.01  # the camera's trigger pulse (s): longer than a controller's input cycle
+
 
 @dataclass(frozen=True)
 class Belt:
@@ -213,6 +215,7 @@ class BeltLine:
     taken: dict = field(default_factory=dict)
     unit: TrackingUnit | None = None  # the belt as the controller's mechanical unit (its tracking option)
     latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus)
+    trigger: str | None = None  # the controller's input the camera's trigger is wired to (a pulse per part)
     _presented: int = 0
     _stopped: bool = False
 
@@ -231,6 +234,8 @@ class BeltLine:
         return self.unit if self.unit is not None and self.unit.name.upper() == name.upper() else None
 
     def live(self, name: str, t: float):
+        if name == self.trigger:  # on for TRIGGER_S from each part's moment at the camera's line
+            return any(part.seen_s <= t < part.seen_s + TRIGGER_S for part in self.parts)
         return self.bus.live(self.belt, name, max(0.0, t - self.latency_s))
 
     def _next(self):

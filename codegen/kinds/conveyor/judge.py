@@ -6,7 +6,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
-from codegen.kinds.conveyor.program import LOST, SKIPPED, STOPPED, TOO_CLOSE, TOO_LATE, lead_seconds
+from codegen.kinds.conveyor.program import EARLY, LOST, SKIPPED, STOPPED, TOO_CLOSE, TOO_LATE, lead_seconds
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.sim.belt import part_pose, part_y
@@ -14,7 +14,7 @@ from codegen.sim.bus import SCALE
 from codegen.verify.checks import TOLERANCES
 from codegen.verify.checks import pose_errors as _pose_errors
 
-SKIPS = (SKIPPED, TOO_LATE, TOO_CLOSE, LOST)  # the messages of a part given up
+SKIPS = (SKIPPED, TOO_LATE, TOO_CLOSE, LOST, EARLY)  # the messages of a part given up
 
 
 def tolerances_mm(cell, target) -> tuple[float, float]:
@@ -29,6 +29,8 @@ def tolerances_mm(cell, target) -> tuple[float, float]:
     floats = TOLERANCES[target.numbers][0]
     e = abs(conveyor.counts_per_mm)
     along = pick.capture_mm if pick.tracking[target.name] == "intercept" else 2.0 / e
+    if target.name in pick.trigger_input:  # the count latched by a thread up to a frame after the trigger
+        along += pick.belt_speed_max_mm_s * facts(target)["trigger"]
     if target.name in pick.unit:
         per_m = round(e * 1000.0)
         along += abs(1.0 - e * 1000.0 / per_m) * (conveyor.camera_offset_mm + pick.window_mm[1] + 1000.0)
@@ -127,7 +129,10 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     parts = {p.seq: p for p in case.parts}
     skipped, too_late = _numbered(trace, SKIPPED), _numbered(trace, TOO_LATE)
     unit = getattr(line, "unit", None)
-    too_close, lost = _numbered(trace, TOO_CLOSE), _numbered(trace, LOST)
+    too_close, lost, early = _numbered(trace, TOO_CLOSE), _numbered(trace, LOST), _numbered(trace, EARLY)
+    for seq in early:  # no count of the robot's own: it was seen before the program started
+        if parts[seq].seen_s >= 0.0:
+            return f"part {seq} given up as seen before the program started, yet the camera saw it after", 0, 0
     problem = _unit(unit, too_close, lost)
     if problem is not None:
         return problem, 0.0, 0.0
@@ -149,7 +154,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
         latest = pick.intercept_mm - lead_seconds(cell) * fastest - pick.capture_mm
         if part_y(case.belt, parts[seq], j.camera_y, t) < latest:
             return f"part {seq} given up as too late, in time for the intercept", 0.0, 0.0
-    given_up = {*skipped, *too_late, *too_close, *lost}
+    given_up = {*skipped, *too_late, *too_close, *lost, *early}
     picked = [p for p in case.parts if p.seq not in given_up]
     closes = [o for o in trace.outputs if o.name == output and o.value == cell.io.value]
     opens = [o for o in trace.outputs if o.name == output and o.value != cell.io.value][1:]  # after the first

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from codegen.emit import Emitter
-from codegen.kinds.conveyor import reach, verify
+from codegen.kinds.conveyor import budget, reach, verify
 from codegen.kinds.conveyor.commands import calibrate_conveyor
 from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
 from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
@@ -24,7 +24,7 @@ class ConveyorKind(ProgramKind):
         "blends": dict,  # per tracking mode, the moves the program blends into the next (plan.py)
         "unit": str,  # native (ABB): the belt's mechanical unit unless the cell names another
         "unit_signals": dict,  # native (ABB): the tracking option's signals the program uses
-        "trigger": bool,  # native (UR): the camera's trigger wired to the robot, its own encoder latched there
+        "trigger": float,  # native (UR): the frame (s) a thread latches the robot's own encoder at the trigger in
     }
 
     @classmethod
@@ -40,6 +40,7 @@ class ConveyorKind(ProgramKind):
         conveyor = conveyor_of(cell)
         if conveyor is not None and conveyor.pick is not None and (cell.io is None or not cell.io.feedback):
             ctx.fail("cell.io", "a cell with [conveyor.pick] needs [cell.io] with feedback: the gripper and its sensor")
+        budget.check(ctx, cell)
 
     @classmethod
     def programs(cls, cell, target) -> list[ProgramPlan]:

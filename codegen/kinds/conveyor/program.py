@@ -24,6 +24,8 @@ TOO_LATE = "conveyor: too late to intercept, skipped: part "  # an intercepting 
 TOO_CLOSE = "conveyor: too close to the part before, skipped: part "  # ABB native: the queue did not take it
 LOST = "conveyor: lost from the start window, skipped: part "  # ABB native: WaitWObj's error handler
 PUT_DOWN = "conveyor: a part held at the start: put down at the place"
+EARLY = "conveyor: seen before the program started, skipped: part "  # UR: no count of its own encoder for it
+PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
 SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
 MASS_DECIMALS = 3
@@ -163,6 +165,8 @@ def conveyor_context(cell, target, emitter) -> dict:
         "stopped": emitter.string(STOPPED),
         "put_down": emitter.string(PUT_DOWN),
         "too_close": emitter.string(TOO_CLOSE),
+        "early": emitter.string(EARLY),
+        "pair_mm": number(PAIR_MM, 1),
         "lost": emitter.string(LOST),
         "place_blocked": emitter.string(place_blocked(cell)),
     }

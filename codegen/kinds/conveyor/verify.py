@@ -25,7 +25,7 @@ from codegen.verify.plan import Expectation, Judgement, PlannedOutput, Setup
 
 # a run's statements: the bundled cell's longest case takes 86,000 (UR polls the queue every 8 ms); a program
 # that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after minutes
-STEP_LIMIT = 200_000
+STEP_LIMIT = 600_000
 PAST_END_MM = 40.0  # the part_past_the_window case: this far past the window's end when the program reads it
 DECISION_S = 1.0  # about when the program first reads the queue (after its home move and the gripper's release)
 COUNTER_BITS = 16  # the count the program reads: UR's filtered count [0; 65536[ (URScript manual), a 16-bit group
@@ -159,6 +159,9 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         wiring=None if not wiring else tuple(wiring),
         unit=unit,
         latency_s=case.latency_s,
+        trigger=signal_name(target, "input", pick.trigger_input[target_name])
+        if target_name in pick.trigger_input
+        else None,
     )
     output = signal_name(target, "output", cell.io.output[target_name])
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
