@@ -103,7 +103,10 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
         for seq in range(1, 5):
             parts.append(_random_part(rng, pick, seq, t))
             t += rng.uniform(9.0, 14.0)
-        out.append(BeltCase(category, belt, tuple(parts), rng.randrange(-(2**30), 2**30), **timing()))
+        zero = rng.randrange(-(2**30), 2**30)
+        if category == "rollover":  # the controller's own encoder on the same wrap (UR's filtered count)
+            zero = 0
+        out.append(BeltCase(category, belt, tuple(parts), zero, **timing()))
     belt = Belt(min(70.0, pick.belt_speed_max_mm_s), e, COUNTER_BITS, rng.randrange(span))
     # parts 2 and 3 come right behind part 1: while the arm works on it they travel on (part 2 too late for
     # an intercept or past the window's end, part 3 past the end when the program takes it); part 4 later
@@ -121,10 +124,11 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     slow = replace(first.belt, wobble=0.0)
     seen = -(pick.window_mm[1] + PAST_END_MM + conveyor.camera_offset_mm) / slow.speed_mm_s + DECISION_S
     out.append(replace(one, category="part_past_the_window", belt=slow, parts=(replace(one.parts[0], seen_s=seen),)))
-    if pick.min_gap_mm > 0:  # a part that follows the one before closer than the minimum distance
-        gap_s = 0.5 * pick.min_gap_mm / slow.speed_mm_s
-        two = (one.parts[0], _random_part(rng, pick, 2, one.parts[0].seen_s + gap_s))
-        out.append(replace(one, category="part_too_close", belt=slow, parts=two))
+    if pick.min_gap_mm > 0:  # a part half the minimum distance behind another on a slow belt: both reach the window
+        crawl = replace(slow, speed_mm_s=min(20.0, pick.belt_speed_max_mm_s))
+        lead = one.parts[0]
+        close = _random_part(rng, pick, 2, lead.seen_s + 0.5 * pick.min_gap_mm / crawl.speed_mm_s)
+        out.append(replace(one, category="part_too_close", belt=crawl, parts=(lead, close)))
     (x0, x1), _ = pick.x_range_mm, pick.z_range_mm
     wrong = replace(one.parts[0], x=x1 + 0.5 * (x1 - x0))
     out += [
