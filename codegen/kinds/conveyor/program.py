@@ -13,6 +13,7 @@ from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.plan import blends, carried
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.cell import TaughtPose
+from codegen.model.io import POLL_S as IO_POLL_S
 from codegen.poses import FORMAT_DECIMALS, native_values, zyx_deg_from_rotmat
 from codegen.sim import bus
 
@@ -87,8 +88,8 @@ def _point(emitter, target, values) -> list[str]:
 
 
 def _payload(cell, target, emitter) -> dict | None:
-    """The part (mass, centre of gravity in the tool frame: RAPID GripLoad's loaddata) and the tool with the part
-    (mass, centre of gravity in the flange frame: UR set_target_payload, KRL $LOAD)."""
+    """The part (mass, centre of gravity in the tool frame: a payload's load data) and the tool with the part
+    (mass, centre of gravity in the flange frame: a load at the flange)."""
     robot = cell.robot
     if robot is None or target.name not in robot.arms:
         return None
@@ -158,7 +159,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "blend": blends(cell, target, mode),
         "place_clear": _signal(emitter, pick.place_clear.get(target.name)),
         "place_timeout_s": number(timeout, 3),
-        "place_polls": number(math.ceil(timeout / 0.05 - 1e-9), 0),  # looks, 0.05 s apart (UR and KRL)
+        "place_polls": number(math.ceil(timeout / IO_POLL_S - 1e-9), 0),  # looks at it, as at the gripper's sensor
         "too_late": emitter.string(TOO_LATE),
         "skipped": emitter.string(SKIPPED),
         "bad_reading": emitter.string(BAD_READING),

@@ -23,9 +23,12 @@ from codegen.sim.bus import bus_for
 from codegen.sim.gripper import Gripper
 from codegen.verify.plan import Expectation, Judgement, PlannedOutput, Setup
 
-# a run's statements: the bundled cell's longest case takes 86,000 (UR polls the queue every 8 ms); a program
-# that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after minutes
-STEP_LIMIT = 600_000
+# a run's statements: the bundled cell's longest case takes about 90,000 (an intercept polls the encoder every 12 ms); a
+# program that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after
+# minutes; a program whose thread latches the camera's trigger runs a few statements every controller frame: three
+# times as many (UR's longest case about 250,000)
+STEP_LIMIT = 200_000
+THREAD_STEPS = 3
 PAST_END_MM = 40.0  # the part_past_the_window case: this far past the window's end when the program reads it
 DECISION_S = 1.0  # about when the program first reads the queue (after its home move and the gripper's release)
 COUNTER_BITS = 16  # the count the program reads: UR's filtered count [0; 65536[ (URScript manual), a 16-bit group
@@ -131,7 +134,7 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
         out.append(replace(one, category="part_too_close", belt=crawl, parts=(lead, close)))
     (x0, x1), _ = pick.x_range_mm, pick.z_range_mm
     wrong = replace(one.parts[0], x=x1 + 0.5 * (x1 - x0))
-    out += [
+    scenarios = [
         replace(one, category="start_away", start="away"),
         replace(one, category="start_mid_cycle", start="mid_cycle", held=True),
         replace(one, category="gripper_silent", gripper="silent"),
@@ -139,8 +142,10 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
         replace(one, category="part_out_of_range", parts=(wrong,)),
     ]
     if pick.place_clear:
-        out.append(replace(one, category="place_blocked", place="blocked"))
-    return out
+        scenarios.append(replace(one, category="place_blocked", place="blocked"))
+    short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
+    rest = [c for c in out if c not in short]
+    return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
 
 
 def _random_part(rng, pick, seq: int, seen_s: float) -> Part:
@@ -176,7 +181,8 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     if target_name in pick.place_clear:
         signals[signal_name(target, "input", pick.place_clear[target_name])] = case.place == "clear"
     joints = start_joints(cell, target_name, case.start)
-    return Setup({}, (line, gripper), signals, joints, step_limit=STEP_LIMIT)
+    limit = STEP_LIMIT * (THREAD_STEPS if target_name in pick.trigger_input else 1)
+    return Setup({}, (line, gripper), signals, joints, step_limit=limit)
 
 
 def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgement:
