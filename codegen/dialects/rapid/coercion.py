@@ -101,3 +101,4 @@ class Coercions:
         if isinstance(old, str):
             return self.coerce("STRING", value, where)
         return super().coerce_like(old, value, where)
+

@@ -325,3 +325,4 @@ def _initialiser(data):
             pending = [entry for entry, _exc in failed]
 
     return init
+
