@@ -10,9 +10,11 @@ import pytest
 from support.programs import edited, first, run_case, verify_one
 
 from codegen.controllers import get_target
+from codegen.emit import EmitError
 from codegen.kinds.conveyor import native
 from codegen.kinds.conveyor.verify import cases
-from codegen.model.cell import load_cell
+from codegen.model.cell import CellError, load_cell
+from codegen.render import render
 from codegen.verify.runner import run_cases
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
@@ -108,3 +110,35 @@ def test_the_ur_latches_its_own_encoder_at_the_trigger(cell):
     assert case.latency_s > 0.008  # the PLC's count is that old: about 0.5 mm at 60 mm/s
     row = run_cases(cell, first(cell, "ur", "conveyor"), [case], 600_000)
     assert row.mismatches == 0 and max(row.pos_errors) < 2 / 8.122679 + 60 * 0.002, row.first_mismatches
+
+
+def _cell_with(tmp_path, old: str, new: str):
+    text = CELL.read_text()
+    assert old in text, old
+    path = tmp_path / "belt_pick.toml"
+    path.write_text(text.replace(old, new))
+    return load_cell(path)
+
+
+def test_the_cell_names_its_belts_unit_among_the_options_units(tmp_path):
+    """unit = { abb = "CNV2" }: the program activates and coordinates with CNV2, the simulated controller has CNV2
+    (0 mismatches); a name that is none of the facts' units is refused naming the key."""
+    line = "min_gap_mm = 100.0"
+    cell = _cell_with(tmp_path, line, f'{line}\nunit = {{ abb = "CNV2" }}')
+    program = first(cell, "abb", "conveyor")
+    text = program.files[0].text
+    assert "ActUnit CNV2;" in text and '[FALSE, FALSE, "CNV2",' in text and "c2RemAllPObj" in text
+    row = verify_one(cell, program, scenarios=NOMINAL)
+    assert row.mismatches == 0, row.first_mismatches
+    for name in ("ENDPROC", "CNV7", "cnv1"):
+        with pytest.raises(
+            CellError, match=rf"conveyor\.pick\.unit\.abb: expected a conveyor's mechanical unit .*{name}"
+        ):
+            _cell_with(tmp_path, line, f'{line}\nunit = {{ abb = "{name}" }}')
+
+
+def test_a_place_signal_named_as_a_word_of_rapid_is_refused_at_generate(tmp_path):
+    """The place's input is written as the cell names it: a name RAPID defines (an instruction) is refused."""
+    cell = _cell_with(tmp_path, 'abb = "diCnvPlaceClear"', 'abb = "WaitDI"')
+    with pytest.raises(EmitError, match=r"conveyor\.pick\.place_clear\.abb: 'WaitDI' is a word or predefined name"):
+        render(cell)

@@ -23,6 +23,7 @@ class ConveyorKind(ProgramKind):
         "tracking": list,  # how the pick program follows the belt: "native", "intercept"
         "blends": dict,  # per tracking mode, the moves the program blends into the next (plan.py)
         "unit": str,  # native (ABB): the belt's mechanical unit unless the cell names another
+        "units": list,  # native (ABB): the mechanical units a cell may name for its belt
         "unit_signals": dict,  # native (ABB): the tracking option's signals the program uses
         "trigger": float,  # native (UR): the frame (s) a thread latches the robot's own encoder at the trigger in
     }

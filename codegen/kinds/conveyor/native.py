@@ -73,7 +73,7 @@ def context(cell, target, emitter) -> dict:
         unit = settings(cell, target)
         number = emitter.number
         out["unit"] = {
-            "name": emitter.reserve(unit.name, "the belt's mechanical unit"),
+            "name": emitter.reserve(unit.name, "the belt's mechanical unit"),  # one of the facts' units
             "frame": _pose(emitter, unit.frame, "unit"),
             "uframe": _pose(emitter, BELT_IN_UNIT, "uframe"),
             "counts_per_m": number(unit.counts_per_m, 0),

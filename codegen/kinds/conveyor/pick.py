@@ -209,14 +209,18 @@ def _encoder_pair(ctx, inputs: dict, target: str, path: str) -> None:
 
 
 def _named(ctx, table: dict, key: str, needed: list[str], path: str) -> dict:
-    """A name per target that needs one (the belt's mechanical unit), default the target's facts' name."""
+    """A name per target that needs one (the belt's mechanical unit): one of the names the target's facts list
+    (`units`), default the facts' `unit`."""
     given = ctx.table(table, key, f"{path}.{key}") if key in table else {}
     ctx.no_unknown(given, set(needed), f"{path}.{key}")
     out = {}
     for target in needed:
+        names = facts(get_target(target))[f"{key}s"]
         value = given.get(target, facts(get_target(target))[key])
-        if not isinstance(value, str) or not value.isidentifier() or not value.isascii() or len(value) > 16:
-            ctx.fail(f"{path}.{key}.{target}", f"expected a mechanical unit's name (letters, digits, _), got {value!r}")
+        if not isinstance(value, str) or value not in names:
+            ctx.fail(
+                f"{path}.{key}.{target}", f"expected a conveyor's mechanical unit ({', '.join(names)}), got {value!r}"
+            )
         out[target] = value
     return out
 

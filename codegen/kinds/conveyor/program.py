@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from codegen.emit import EmitError, Emitter, owned
+from codegen.emit import Code, EmitError, Emitter, owned
 from codegen.kinds.conveyor import native
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.plan import blends, carried
@@ -103,11 +103,10 @@ def _payload(cell, target, emitter) -> dict | None:
     }
 
 
-def _signal(emitter, value) -> str | None:
-    """A digital input as the cell names it: a number, or a configured signal's name."""
-    if value is None:
-        return None
-    return emitter.number(value, 0) if isinstance(value, int) else emitter.reserve(value, "a signal of the cell")
+def _signal(emitter, value, origin: str) -> Code | None:
+    """A digital input as the cell names it: a number, or a configured signal's name (never a word of the language
+    or one of the program's own names)."""
+    return None if value is None else emitter.signal(value, origin)
 
 
 def conveyor_context(cell, target, emitter) -> dict:
@@ -160,7 +159,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "speed_window_s": number(SPEED_WINDOW_S, 3),
         "payload": _payload(cell, target, emitter),
         "blend": blends(cell, target, mode),
-        "place_clear": _signal(emitter, pick.place_clear.get(target.name)),
+        "place_clear": _signal(emitter, pick.place_clear.get(target.name), f"conveyor.pick.place_clear.{target.name}"),
         "place_timeout_s": number(timeout, 3),
         "place_polls": number(math.ceil(timeout / IO_POLL_S - 1e-9), 0),  # looks at it, as at the gripper's sensor
         "too_late": emitter.string(TOO_LATE),
