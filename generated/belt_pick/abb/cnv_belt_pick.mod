@@ -24,6 +24,8 @@ MODULE cnv_belt_pick
   ! The program empties no queue: the PLC's queue and the unit's are fed by the same camera trigger and stay
   ! in step; a part the PLC presents that the unit's queue did not take (too close to the one before) or
   ! has dropped (past the window's end) is skipped with a message, and so is one lost while WaitWObj waited.
+  ! The unit's queue is emptied by its signal c1RemAllPObj (the encoder interface's, as the option's
+  ! documents name it, to be checked there): pulse it only when the PLC's queue is emptied too, or the two part.
   !
   ! The camera sees each part cross its line; the PLC queues it with the encoder's count at that moment and
   ! presents the oldest one on 16-bit group inputs of the I/O configuration: giCnvSeq its number,
