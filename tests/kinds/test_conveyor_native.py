@@ -142,3 +142,22 @@ def test_a_place_signal_named_as_a_word_of_rapid_is_refused_at_generate(tmp_path
     cell = _cell_with(tmp_path, 'abb = "diCnvPlaceClear"', 'abb = "WaitDI"')
     with pytest.raises(EmitError, match=r"conveyor\.pick\.place_clear\.abb: 'WaitDI' is a word or predefined name"):
         render(cell)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "key", "other"),
+    [
+        ("place_clear = { ur = 2,", "place_clear = { ur = 1,", "conveyor.pick.place_clear.ur", "cell.io.feedback.ur"),
+        (
+            "trigger_input = { ur = 3 }",
+            "trigger_input = { ur = 2 }",
+            "conveyor.pick.place_clear.ur",
+            "conveyor.pick.trigger_input.ur",
+        ),
+        ("kuka = 19, abb =", "kuka = 18, abb =", "conveyor.pick.place_clear.kuka", "cell.io.feedback.kuka"),
+    ],
+)
+def test_an_input_that_says_two_things_is_refused(tmp_path, old, new, key, other):
+    """The place's input on the gripper's sensor or on the camera's trigger: refused naming both keys."""
+    with pytest.raises(CellError, match=rf"{re.escape(key)}: input \d+ is {re.escape(other)}"):
+        _cell_with(tmp_path, old, new)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from codegen.kinds.conveyor import budget, reach, verify
 from codegen.kinds.conveyor.commands import calibrate_conveyor
+from codegen.kinds.conveyor.pick import check_inputs
 from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
 from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
@@ -41,6 +42,8 @@ class ConveyorKind(ProgramKind):
         conveyor = conveyor_of(cell)
         if conveyor is not None and conveyor.pick is not None and (cell.io is None or not cell.io.feedback):
             ctx.fail("cell.io", "a cell with [conveyor.pick] needs [cell.io] with feedback: the gripper and its sensor")
+        if conveyor is not None and conveyor.pick is not None:
+            check_inputs(ctx, conveyor.pick, cell.io.feedback)
         budget.check(ctx, cell)
 
     @classmethod

@@ -239,3 +239,20 @@ def _numbered_input(ctx, table: dict, key: str, needed: list[str], path: str) ->
             ctx.fail(f"{path}.{key}.{target}", f"expected a digital input number {low}..{high}, got {value!r}")
         out[target] = value
     return out
+
+
+def check_inputs(ctx, pick: Pick, feedback: dict) -> None:
+    """Per target, the inputs the pick program reads are distinct: the gripper's sensor ([cell.io] feedback), the
+    encoder's A and B, the camera's trigger and the place's input."""
+    for target in pick.tracking:
+        named = [(f"cell.io.feedback.{target}", feedback.get(target))]
+        named += [(f"conveyor.pick.encoder_inputs.{target}", v) for v in pick.encoder_inputs.get(target, ())]
+        named += [
+            (f"conveyor.pick.{key}.{target}", getattr(pick, key).get(target))
+            for key in ("trigger_input", "place_clear")
+        ]
+        seen: dict = {}
+        for key, value in named:
+            if value is not None and value in seen:
+                ctx.fail(key, f"input {value} is {seen[value]} too: each input of the program says one thing")
+            seen.setdefault(value, key)
