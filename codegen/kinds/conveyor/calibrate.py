@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass
 from itertools import pairwise
@@ -10,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from codegen.csvfile import CsvError, number, read_rows, whole
 from codegen.kinds.conveyor.section import belt2base, conveyor_of
 from codegen.model.cell import CellError, load_cell, replace_cell_file
 
@@ -37,33 +37,22 @@ def read_touches(path: Path) -> list[Touch]:
     """Rows of a CSV with header x,y,z,count[,role] (mm in the base frame, the raw counter value), in
     the order the cone was touched as the belt carried it (upstream first)."""
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConveyorCalibrationError(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
-    rows = list(csv.reader(text.splitlines()))
-    if not rows:
-        raise ConveyorCalibrationError(f"{path}: empty file; expected a header x,y,z,count[,role]")
-    header = [h.strip().lower() for h in rows[0]]
-    if header[:4] != ["x", "y", "z", "count"] or header[4:] not in ([], ["role"]):
-        raise ConveyorCalibrationError(
-            f"{path}:1: header must be x,y,z,count or x,y,z,count,role, got {','.join(rows[0])}"
-        )
+        _header, rows = read_rows(path, (("x", "y", "z", "count"), ("x", "y", "z", "count", "role")))
+    except CsvError as exc:
+        raise ConveyorCalibrationError(str(exc)) from None
     out = []
-    for line, row in enumerate(rows[1:], start=2):
-        if not row or all(not cell.strip() for cell in row):
-            continue
-        if len(row) != len(header):
-            raise ConveyorCalibrationError(f"{path}:{line}: expected {len(header)} values, got {len(row)}")
+    for row in rows:
+        line = row.line
         try:
-            position = [float(v) for v in row[:3]]
-            count = int(row[3].strip())
+            position = [number(v) for v in row.cells[:3]]
+            count = whole(row.cells[3])
         except ValueError:
             raise ConveyorCalibrationError(f"{path}:{line}: x, y, z must be numbers and count a whole number") from None
-        if not all(math.isfinite(v) and abs(v) <= POSITION_LIMIT_MM for v in position):
+        if not all(abs(v) <= POSITION_LIMIT_MM for v in position):
             raise ConveyorCalibrationError(f"{path}:{line}: positions must be finite, within +-10,000 mm")
         if not -(2**63) <= count < 2**64:
             raise ConveyorCalibrationError(f"{path}:{line}: count out of range")
-        role = row[4].strip().lower() if len(row) > 4 else "belt"
+        role = row.cells[4].strip().lower() if len(row.cells) > 4 else "belt"
         if role not in ROLES:
             raise ConveyorCalibrationError(f"{path}:{line}: role must be belt or side, got {role!r}")
         out.append(Touch(line, role, np.array(position), count))
