@@ -18,6 +18,7 @@ MIN_TOUCHES = 2
 SPAN_SHARE = 0.5  # source 002: the touches span at least half (better three quarters) of the working length
 MAX_RESIDUAL_MM = 0.5  # a touch further than this from the fitted line: a slipped cone or a misread count
 POSITION_LIMIT_MM = 10_000.0
+COUNT_MIN, COUNT_MAX = -(2**63), 2**64 - 1  # a counter value: signed or unsigned, at most 64 bits
 MIN_SPAN_MM = 10.0  # touches closer than this along the belt: no direction and no scale
 
 
@@ -50,7 +51,7 @@ def read_touches(path: Path) -> list[Touch]:
             raise ConveyorCalibrationError(f"{path}:{line}: x, y, z must be numbers and count a whole number") from None
         if not all(abs(v) <= POSITION_LIMIT_MM for v in position):
             raise ConveyorCalibrationError(f"{path}:{line}: positions must be finite, within +-10,000 mm")
-        if not -(2**63) <= count < 2**64:
+        if not COUNT_MIN <= count <= COUNT_MAX:
             raise ConveyorCalibrationError(f"{path}:{line}: count out of range")
         role = row.cells[4].strip().lower() if len(row.cells) > 4 else "belt"
         if role not in ROLES:
