@@ -11,7 +11,8 @@ import numpy as np
 
 from codegen.csvfile import CsvError, number, read_rows, whole
 from codegen.kinds.conveyor.section import belt2base, conveyor_of
-from codegen.model.cell import CellError, load_cell, replace_cell_file
+from codegen.model.cell import CellError, load_cell, read_cell_data, replace_cell_file
+from codegen.robot.taught import ReachError
 
 ROLES = ("belt", "side")
 MIN_TOUCHES = 2
@@ -239,7 +240,8 @@ def report_lines(result: ConveyorFit, path: Path) -> list[str]:
 
 def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_length_mm: float | None) -> None:
     """Replace (or add) the cell's [conveyor] table, keeping a camera offset this calibration did not
-    measure; the comments before the next table stay; the edited file must load before it replaces the old."""
+    measure; the comments before the next table stay; the edited file must load and pass every kind's reach
+    proof (a belt's window, ...) before it replaces the old one (its mode and a symlink kept)."""
 
     previous = conveyor_of(load_cell(cell_path))
     camera = result.camera_offset_mm
@@ -260,16 +262,19 @@ def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_len
     if working_length_mm is not None:
         lines.append(f"working_length_mm = {working_length_mm:.12g}")
     table = "\n".join(lines) + "\n"
-    try:
-        text = cell_path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConveyorCalibrationError(f"{cell_path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
+    text = read_cell_data(cell_path)[1].decode("utf-8")  # CellError: the command's message
     start, end = _table_span(text, "conveyor")
     new = text[:start] + table + text[end:] if start is not None else text.rstrip("\n") + "\n\n" + table
     try:
         replace_cell_file(cell_path, new)
     except CellError as exc:
         raise ConveyorCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
+    except ReachError as exc:
+        raise ConveyorCalibrationError(f"{cell_path}: with this belt the cell would not generate: {exc}") from None
+    except OSError as exc:
+        raise ConveyorCalibrationError(
+            f"{cell_path}: cannot write: {exc.strerror or exc}; the file was left as it was"
+        ) from None
 
 
 def _table_span(text: str, name: str) -> tuple[int | None, int]:

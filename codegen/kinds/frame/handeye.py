@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from codegen.csvfile import CsvError, number, read_rows
-from codegen.model.cell import CellError, image_angle_sign, replace_cell_file
+from codegen.model.cell import CellError, image_angle_sign, read_cell_data, replace_cell_file
+from codegen.robot.taught import ReachError
 
 PIXEL_LIMIT = 100_000.0  # an image's pixel coordinates (the largest sensors are some 20,000 px wide)
 POSITION_LIMIT_MM = 10_000.0  # robot positions, as the other calibrations take them
@@ -176,9 +177,13 @@ def _with_angle_sign(text: str, sign: int) -> str:
 
 
 def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
-    """Replace (or add) the [cell.camera.handeye] table, keeping the rest of the file as written."""
+    """Replace (or add) the [cell.camera.handeye] table, keeping the rest of the file as written; the edited file
+    must load and pass every kind's reach proof before it replaces the old one (its mode and a symlink kept)."""
 
-    text = cell_path.read_text(encoding="utf-8")
+    try:
+        text = read_cell_data(cell_path)[1].decode("utf-8")
+    except CellError as exc:
+        raise HandEyeError(str(exc)) from None
     table = toml_table(result, source)
     if _TABLE.search(text):
         new = _TABLE.sub(lambda m: table + "\n", text, count=1)
@@ -189,6 +194,10 @@ def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
         new = text[: match.end()].rstrip("\n") + "\n\n" + table + "\n" + text[match.end() :]
     new = _with_angle_sign(new, image_angle_sign(result.matrix))
     try:
-        replace_cell_file(cell_path, new)  # the edited file must still be a valid cell
+        replace_cell_file(cell_path, new)  # the edited file must still be a valid cell that generates
     except CellError as exc:
         raise HandEyeError(f"{cell_path}: edited file would not load: {exc}") from None
+    except ReachError as exc:
+        raise HandEyeError(f"{cell_path}: with this calibration the cell would not generate: {exc}") from None
+    except OSError as exc:
+        raise HandEyeError(f"{cell_path}: cannot write: {exc.strerror or exc}; the file was left as it was") from None
