@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import sys
 
 import click
@@ -14,6 +15,8 @@ from codegen.controllers import target_names
 
 MAX_CASES = 1_000_000  # verify's random readings per station: a million runs each; more is a typing slip
 MAX_JOBS = 256  # worker processes: beyond the machine's cores each only costs memory
+# a folder the user gave that cannot take the output (no permission, read-only, a file on the way): exit 2
+FOLDER_REFUSED = frozenset({errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOTDIR, errno.EEXIST, errno.EISDIR})
 
 
 @main.command()
@@ -68,7 +71,7 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
     from codegen.emit import EmitError
     from codegen.generate import GenerateError
     from codegen.generate import generate as run_generate
-    from codegen.output import OutputBusy
+    from codegen.output import OutputBusy, OutputInTheWay
 
     model = _load(cell)
     for t in targets:
@@ -80,10 +83,12 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
         raise UserError(f"{model.source}: {exc}") from None
     except OutputBusy as exc:
         raise click.ClickException(str(exc)) from None
+    except OutputInTheWay as exc:
+        raise UserError(str(exc)) from None
     except OSError as exc:
-        raise click.ClickException(
-            f"{out_dir}: cannot write ({exc.strerror or exc}); previous output left as it was"
-        ) from None
+        error = UserError if exc.errno in FOLDER_REFUSED else click.ClickException  # the user's to fix: exit 2
+        where = exc.filename or out_dir
+        raise error(f"{where}: cannot write ({exc.strerror or exc}); previous output left as it was") from None
 
     if as_json:
         _dump(
