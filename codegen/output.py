@@ -316,3 +316,16 @@ def _sync_one(folder: Path) -> None:
         os.fsync(fd)
     finally:
         os.close(fd)
+
+
+def write_file(path: Path, text: str) -> None:
+    """A file of an output folder written in one step: beside it, flushed, then renamed into place, so a kill
+    leaves the old file or the new one; a symlink in its place is replaced, never written through (what it
+    names is not touched). The permissions a normal write gives (the umask applies)."""
+    temporary = path.parent / f".{path.name}.{secrets.token_hex(4)}.tmp"
+    try:
+        _write(temporary, text)
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise

@@ -11,6 +11,7 @@ from codegen.cli_base import dump as _dump
 from codegen.kinds.pallet.pictures import pictures
 from codegen.kinds.pallet.report import load_pallet_file, report, text
 from codegen.model.cell import EXAMPLES_DIR, CellError
+from codegen.output import write_file
 
 TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
 
@@ -38,7 +39,7 @@ def pallet(cell, as_json, svg_dir) -> None:
             folder.mkdir(parents=True, exist_ok=True)
             for p in data.pallets:
                 for name, svg in pictures(p).items():
-                    (folder / name).write_text(svg, encoding="utf-8")
+                    write_file(folder / name, svg)  # in one step; a symlink replaced, not followed
         except OSError as exc:
             raise UserError(f"{folder}: cannot write the pictures: {exc.strerror or exc}") from None
     if as_json:
