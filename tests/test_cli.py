@@ -217,6 +217,7 @@ BELT = EXAMPLES_DIR / "conveyor_touches.csv"
 TOUCHES = EXAMPLES_DIR / "agv_gripper_touches.csv"
 
 
+UR_DEMO = Path(__file__).resolve().parents[1] / "generated/agv_machine_tending/ur/agv_machine_tending.script"
 BAD_OPTIONS = [
     (
         [
@@ -293,6 +294,9 @@ BAD_OPTIONS = [
     (["generate", "--out", ""], "--out"),
     (["diff", "--out", ""], "--out"),
     (["pallet", "--svg", ""], "--svg"),
+    (["run", str(UR_DEMO), "--max-seconds", "nan"], "--max-seconds"),
+    (["run", str(UR_DEMO), "--max-seconds", "inf"], "--max-seconds"),
+    (["run", str(UR_DEMO), "--max-moves", "1_0"], "--max-moves"),
 ]
 
 
