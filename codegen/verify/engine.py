@@ -8,7 +8,6 @@ import time
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.protocol import get_kind, kinds
 from codegen.verify.edits import edits
 from codegen.verify.programs import ProgramSource, file_sources, fresh_sources
@@ -27,7 +26,7 @@ class Options:
     cases: int = 1000
     seed: int = 0
     jobs: int = 0
-    step_limit: int = DEFAULT_STEP_LIMIT
+    step_limit: int | None = None  # None: each kind's own (Setup.step_limit), else the interpreter's default
     progress: object = None
     first_mismatch: bool = False  # a program's cases stop at its first mismatch (a yes-or-no answer, fast)
     sweeps: bool = True  # the kinds' bulk runs too

@@ -7,7 +7,7 @@ import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-from codegen.dialects.core.machine import frozen_heap
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.protocol import get_kind
 from codegen.verify.checks import Checker
@@ -37,7 +37,7 @@ def run_chunk(task) -> tuple[int, Row]:
     start = time.perf_counter()
     with frozen_heap():
         if isinstance(work, range):
-            kind.sweep(model, source, program, work, step_limit, row)
+            kind.sweep(model, source, program, work, step_limit or DEFAULT_STEP_LIMIT, row)
         else:
             _run_cases(model, kind, source, program, work, step_limit, row, first)
             row.seconds = time.perf_counter() - start  # the cases' time alone: cases/s is one program on one core
