@@ -11,6 +11,9 @@ from codegen.cli_base import UserError, calibrate, main, step_limit_option
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.controllers import target_names
+from codegen.view import command as view_command
+
+main.add_command(view_command.view)
 
 
 @main.command()
@@ -149,6 +152,7 @@ def diff(cell: str | None, out_dir: str) -> None:
     help="Worker processes (0: one per CPU).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
+@click.option("--html", "html_file", type=click.Path(dir_okay=False), help="Also write the report as a page.")
 def verify(
     cell: str | None,
     files: tuple[str, ...],
@@ -158,6 +162,7 @@ def verify(
     seed: int,
     jobs: int,
     as_json: bool,
+    html_file: str | None,
 ) -> None:
     """Run every program of every kind on its cases and the common scenarios; compare with the reference.
 
@@ -179,9 +184,10 @@ def verify(
     for t in targets:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
+    view_command.check_html(html_file)
 
     def run(progress) -> object:
-        options = Options(cases, seed, jobs, step_limit, progress)
+        options = Options(cases, seed, jobs, step_limit, progress, keep_replays=html_file is not None)
         return verify_cell(model, [Path(f) for f in files], targets, options)
 
     try:
@@ -203,6 +209,8 @@ def verify(
     else:
         for line in report.lines():
             click.echo(line)
+    if html_file is not None:
+        view_command.write_report(model, report, html_file)
     sys.exit(0 if report.ok else 1)
 
 
