@@ -35,13 +35,14 @@ def view(cell: str | None, targets: tuple[str, ...], out_file: str | None) -> No
     for t in targets:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
+    path = Path(out_file or f"{model.name}.html")
+    check_html(str(path))  # before the work: a file codegen did not write is left alone
     try:
         html = cell_page(model, list(targets) or list(model.targets))
     except (ReachError, EmitError) as exc:
         raise UserError(f"{model.source}: {exc}") from None
     except RunError as exc:
         raise click.ClickException(str(exc)) from None
-    path = Path(out_file or f"{model.name}.html")
     _write(path, html)
     click.echo(f"wrote {path} ({len(html.encode()) / 1e6:.1f} MB)")
 

@@ -126,13 +126,22 @@
     return s;
   }
 
+  // the scene's size (mm): what is drawn at no size of its own (dots, axes) scales with it
+  const extent = new THREE.Box3();
+  data.objects.forEach((o) => {
+    if (o.pose) extent.expandByPoint(new THREE.Vector3(o.pose[3], o.pose[7], o.pose[11]));
+    (o.points || []).forEach((p) => extent.expandByPoint(new THREE.Vector3(...p)));
+    if (o.position) extent.expandByPoint(new THREE.Vector3(...o.position));
+  });
+  const sceneSize = extent.isEmpty() ? 1000 : Math.max(200, extent.getSize(new THREE.Vector3()).length());
+  const axisSize = (size) => Math.min(size, sceneSize * 0.05);
   const LABELLED = new Set(["mark", "pallet", "pick", "place", "sensor", "belt", "camera", "window", "bench"]);
   const labels = new THREE.Group();
   const cellGroup = new THREE.Group();
   function addObject(o) {
     if (o.type === "frame") {
-      cellGroup.add(triad(o.pose, o.size));
-      const dot = new THREE.Mesh(new THREE.SphereGeometry(o.size / 8, 12, 8), material(o.role));
+      cellGroup.add(triad(o.pose, axisSize(o.size)));
+      const dot = new THREE.Mesh(new THREE.SphereGeometry(axisSize(o.size) / 8, 12, 8), material(o.role));
       dot.position.set(o.pose[3], o.pose[7], o.pose[11]);
       cellGroup.add(dot);
     } else if (o.type === "box") {
@@ -148,7 +157,7 @@
     } else if (o.type === "line") {
       cellGroup.add(lineObject(o.points, PALETTE[o.role], o.dashed));
     } else if (o.type === "point") {
-      const dot = new THREE.Mesh(new THREE.SphereGeometry(6, 12, 8), material(o.role));
+      const dot = new THREE.Mesh(new THREE.SphereGeometry(sceneSize * 0.004, 12, 8), material(o.role));
       dot.position.set(...o.position);
       cellGroup.add(dot);
     }
@@ -201,11 +210,12 @@
     } else {
       toolMesh = null;
     }
-    tcpDot = new THREE.Mesh(new THREE.SphereGeometry(Math.max(5, reach * 0.012), 16, 10), material("tcp"));
+    const size = Math.max(sceneSize, arm ? reach * 2 : 0);
+    tcpDot = new THREE.Mesh(new THREE.SphereGeometry(size * 0.008, 16, 10), material("tcp"));
     armGroup.add(tcpDot);
     tcpTriad = new THREE.Group();
     for (let i = 0; i < 3; i++) {
-      const end = [0, 0, 0]; end[i] = Math.max(40, reach * 0.08);
+      const end = [0, 0, 0]; end[i] = size * 0.04;
       tcpTriad.add(lineObject([[0, 0, 0], end], AXIS_COLOURS[i]));
     }
     tcpTriad.matrixAutoUpdate = false;
@@ -281,13 +291,13 @@
         const points = run.moves.filter((m) => m.pose).map((m) => origin(m.pose));
         if (points.length > 1) dynamic.add(lineObject(points, PALETTE.path, false, 2));
         points.forEach((p) => {
-          const dot = new THREE.Mesh(new THREE.SphereGeometry(4, 8, 6), material("path"));
+          const dot = new THREE.Mesh(new THREE.SphereGeometry(sceneSize * 0.0025, 8, 6), material("path"));
           dot.position.set(...p); dynamic.add(dot);
         });
         (run.reference || []).forEach((pose, k) => {
           if (!pose) return;
-          dynamic.add(triad(pose, 30));
-          const dot = new THREE.Mesh(new THREE.SphereGeometry(7, 12, 8), material("reference", 0.6));
+          dynamic.add(triad(pose, axisSize(30)));
+          const dot = new THREE.Mesh(new THREE.SphereGeometry(sceneSize * 0.005, 12, 8), material("reference", 0.6));
           dot.position.set(...origin(pose)); dynamic.add(dot);
         });
       });
