@@ -46,6 +46,7 @@ def test_the_wheel_carries_templates_targets_grammars_and_the_derivation(wheel):
     expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in (REPO / "codegen").rglob("*.lark")}
     expected |= {"codegen/derived.json", "codegen/kinds/point/kind.py", "codegen/kinds/pallet/kind.py"}
     expected |= {"codegen/examples/agv_machine_tending.toml"}
+    expected |= {f"codegen/view/static/{p.name}" for p in (REPO / "codegen" / "view" / "static").iterdir()}
     assert expected <= names, sorted(expected - names)
 
 

@@ -73,7 +73,7 @@ def _pallet(pallet) -> list[dict]:
         top = layer_top(pallet, p.layer)
         turn = rotmat_from_zyx_deg(p.box.ccw_deg, 0.0, 0.0)
         centre = pallet2base @ matrix_from_rotation_translation(turn, (p.box.x, p.box.y, top - bz / 2))
-        out.append(box(centre, (bx - 2.0, by - 2.0, bz - 2.0), "box", f"{pallet.name}: layer {p.layer} box {p.number}"))
+        out.append(box(centre, (bx - 2.0, by - 2.0, bz), "box", f"{pallet.name}: layer {p.layer} box {p.number}"))
         nx, ny = label_normal(p.box)  # the label on the long side at -y at angle 0
         face = by / 2 - 1.0 + LABEL_MM / 2
         label = pallet2base @ matrix_from_rotation_translation(

@@ -16,6 +16,7 @@ from codegen.view.objects import cell_objects
 from codegen.view.runs import ProgramRuns, Run, nominal_runs
 from codegen.view.scene import arm_description, flat
 
+TOUCH_MM = 2.0  # the TCP this near a box's top centre is on it (the box's place, as the pallet's plan puts it)
 GENERATOR = "codegen view"  # the page's <meta name="generator">: a file that has it is one codegen may replace
 STATIC = Path(__file__).with_name("static")
 TEMPLATES = data_dir("templates") / "view"
@@ -87,7 +88,58 @@ def view_json(cell, target: str, programs: list[dict]) -> dict:
 def cell_data(cell, targets: list[str]) -> dict:
     """The page's data: the cell's objects and, per target, the nominal run of each program."""
     views = [view_json(cell, t, [program_json(p) for p in nominal_runs(cell, t)]) for t in targets]
-    return {"generator": GENERATOR, "cell": cell.name, "objects": cell_objects(cell), "views": views}
+    return page_data(cell, views)
+
+
+def page_data(cell, views: list[dict]) -> dict:
+    """The cell's objects and the views, each run with the boxes it places or takes (mark_boxes)."""
+    objects = cell_objects(cell)
+    for view in views:
+        for program in view["programs"]:
+            for run in program["runs"]:
+                run["boxes"] = mark_boxes(objects, run)
+    return {"generator": GENERATOR, "cell": cell.name, "objects": objects, "views": views}
+
+
+def mark_boxes(objects: list[dict], run: dict) -> list[list[int]]:
+    """The boxes a run places or takes: [object index, the move whose end puts the TCP on the box's top centre first
+    (within TOUCH_MM), 1 where the run places boxes (it reaches the lower ones first: the box is there from that move
+    on), 0 where it takes them (the box is there up to that move)]. The page draws a box that is not there as a
+    ghost; a box the run never reaches stays as the cell has it. A box's label goes with its box; a slip sheet lies
+    on its layer once the layer's last box is placed, and is gone before the layer's first box is taken."""
+    boxes = [i for i, o in enumerate(objects) if o["type"] == "box" and o["role"] == "box"]
+    poses = [(k, m["pose"]) for k, m in enumerate(run["moves"]) if m["pose"] is not None]
+    if not boxes or not poses:
+        return []
+    tops = np.array([_top(objects[i]) for i in boxes])
+    tcp = np.array([pose[3:12:4] for _k, pose in poses])
+    near = np.linalg.norm(tops[:, None, :] - tcp[None, :, :], axis=2) <= TOUCH_MM
+    touched = [(i, poses[int(np.argmax(row))][0], top[2]) for i, row, top in zip(boxes, near, tops, strict=True)]
+    touched = sorted((t for t, row in zip(touched, near, strict=True) if row.any()), key=lambda t: t[1])
+    if not touched:
+        return []
+    placing = int(touched[0][2] <= touched[-1][2])
+    out = [[i, k, placing] for i, k, _z in touched]
+    out += [[i + 1, k, placing] for i, k, _z in touched if i + 1 < len(objects) and objects[i + 1]["role"] == "label"]
+    for index, sheet in enumerate(objects):
+        if sheet["role"] == "sheet":
+            below = [k for i, k, _z in touched if _under(sheet, _top(objects[i]))]
+            if below:
+                out.append([index, max(below), 1] if placing else [index, min(below) - 1, 0])
+    return out
+
+
+def _under(sheet: dict, point: np.ndarray) -> bool:
+    """Whether a box's top centre lies under the sheet (within its outline, its top at the sheet's bottom)."""
+    pose = np.reshape(sheet["pose"], (4, 4))
+    local = pose[:3, :3].T @ (point - pose[:3, 3])
+    length, width, height = sheet["size"]
+    return abs(local[0]) <= length / 2 and abs(local[1]) <= width / 2 and abs(local[2] + height / 2) <= TOUCH_MM
+
+
+def _top(box: dict) -> np.ndarray:
+    pose = np.reshape(box["pose"], (4, 4))
+    return pose[:3, 3] + pose[:3, 2] * box["size"][2] / 2
 
 
 def embedded_json(data: dict) -> str:

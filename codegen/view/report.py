@@ -11,8 +11,7 @@ from markupsafe import Markup, escape
 
 from codegen.protocol import kinds
 from codegen.verify.programs import fresh_sources
-from codegen.view.objects import cell_objects
-from codegen.view.page import GENERATOR, program_json, render, view_json
+from codegen.view.page import page_data, program_json, render, view_json
 from codegen.view.runs import ProgramRuns, Run
 
 PLOT_W, PLOT_H, PAD = 460, 190, 38  # an error plot's size and its margin for the axes (px)
@@ -163,11 +162,10 @@ def report_page(cell, report) -> str:
         programs = [p for row in rows for p in replays(cell, row)]
         if programs:
             views.append(view_json(cell, target, programs))
-    data = {"generator": GENERATOR, "cell": cell.name, "objects": cell_objects(cell), "views": views}
     return render(
         "report.html.j2",
         f"codegen verify: cell {cell.name}",
-        data,
+        page_data(cell, views),
         report=report,
         sections=sections,
         runs=sum(r.cases for r in report.rows),

@@ -11,6 +11,7 @@ import re
 import numpy as np
 import pytest
 
+from codegen.kinds.pallet.stack import placements
 from codegen.model.cell import EXAMPLES_DIR, load_cell
 from codegen.protocol import get_kind
 from codegen.robot.expect import arm_of
@@ -179,15 +180,40 @@ def _show(browser, fragment: str):
     return state, links, browser.screenshot()
 
 
+def test_each_pallet_run_places_or_takes_every_box_of_its_pallet(pages):
+    """The boxes a pallet program's run reaches, in the page: every box of its pallet (the stacking program places
+    them, the unstacking one takes them), each at the move that ends on the box's top centre, in the pallet's
+    order (placements: layer by layer from the bottom)."""
+    cell, _path, html = pages["eur_pallet"]
+    data = _data(html)
+    pallets = cell.sections["pallet"]
+    for view in data["views"]:
+        for index, program in enumerate(view["programs"]):
+            pallet = pallets[index]
+            (run,) = program["runs"]
+            boxes = [e for e in run["boxes"] if data["objects"][e[0]]["role"] == "box"]
+            assert [data["objects"][i]["label"] for i, _k, _p in sorted(boxes, key=lambda e: e[1])] == [
+                f"{pallet.name}: layer {p.layer} box {p.number}"
+                for p in (placements(pallet) if pallet.mode == "stack" else reversed(placements(pallet)))
+            ]
+            assert {placing for _i, _k, placing in boxes} == {1 if pallet.mode == "stack" else 0}
+            for i, k, _p in boxes:
+                box = data["objects"][i]
+                pose = np.reshape(box["pose"], (4, 4))
+                top = pose[:3, 3] + pose[:3, 2] * box["size"][2] / 2
+                assert np.linalg.norm(np.array(run["moves"][k]["pose"][3:12:4]) - top) < 1e-3
+
+
 def test_the_arm_and_the_boxes_are_on_the_screen_where_they_must_be(pages, browser):
-    """The pallet cell at the end of the KUKA stacking cycle: the arm's orange at the middle of its links, the boxes'
-    carton at the middle of the top of every box of the top layer that is in view; nothing orange in an empty
-    corner."""
+    """The pallet cell on KUKA: at the start of the stacking cycle the top layer's boxes are not there yet (drawn as
+    ghosts); at its end the arm's orange is at the middle of its links, the boxes' carton at the middle of the top
+    of every box of the top layer that is in view; nothing orange in an empty corner."""
     cell, path, _html = pages["eur_pallet"]
     browser.open(path)
     data = browser.evaluate("codegenView.data")
     view = next(i for i, v in enumerate(data["views"]) if v["target"] == "kuka")
     moves = len(data["views"][view]["programs"][0]["runs"][0]["moves"])
+    _state, _links, empty = _show(browser, "#target=kuka&program=0&m=1&labels=0")
     state, links, image = _show(browser, f"#target=kuka&program=0&m={moves}&labels=0")
     assert state["move"] == moves - 1 and state["joints"] is not None
     assert sum(_near(image, xy, is_arm) for xy in links) >= 4, "the arm's links are not orange on the screen"
@@ -206,6 +232,7 @@ def test_the_arm_and_the_boxes_are_on_the_screen_where_they_must_be(pages, brows
     on_screen = browser.evaluate(f"{json.dumps(faces)}.map(p => codegenView.project(p))")
     carton = sum(_near(image, xy, is_box) for xy in on_screen)
     assert carton >= 0.7 * len(faces), f"{carton} of {len(faces)} top boxes show their carton"
+    assert sum(_near(empty, xy, is_box) for xy in on_screen) == 0, "the top layer is there before it is stacked"
 
 
 def test_the_slider_moves_the_arm(pages, browser):

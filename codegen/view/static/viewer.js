@@ -138,7 +138,9 @@
   const LABELLED = new Set(["mark", "pallet", "pick", "place", "sensor", "belt", "camera", "window", "bench"]);
   const labels = new THREE.Group();
   const cellGroup = new THREE.Group();
-  function addObject(o) {
+  const meshes = []; // per object: the meshes drawn for it (a box's: its faces and its edges)
+  function addObject(o, index) {
+    meshes[index] = [];
     if (o.type === "frame") {
       cellGroup.add(triad(o.pose, axisSize(o.size)));
       const dot = new THREE.Mesh(new THREE.SphereGeometry(axisSize(o.size) / 8, 12, 8), material(o.role));
@@ -148,11 +150,13 @@
       const mesh = new THREE.Mesh(new THREE.BoxGeometry(...o.size), material(o.role, o.opacity));
       mesh.applyMatrix4(matrix(o.pose));
       cellGroup.add(mesh);
+      meshes[index].push(mesh);
       if (o.role !== "label") {
         const edges = new THREE.LineSegments(new THREE.EdgesGeometry(mesh.geometry),
           new THREE.LineBasicMaterial({ color: 0x000000, transparent: true, opacity: 0.25 }));
         edges.applyMatrix4(matrix(o.pose));
         cellGroup.add(edges);
+        meshes[index].push(edges);
       }
     } else if (o.type === "line") {
       cellGroup.add(lineObject(o.points, PALETTE[o.role], o.dashed));
@@ -225,6 +229,20 @@
     const p = arm.params;
     return arm.family === "ur" ? Math.abs(p.a2) + Math.abs(p.a3) + p.d1
       : p.c1 + p.c2 + Math.hypot(p.a2, p.c3) + p.c4 + Math.abs(p.a1);
+  }
+
+  function showBoxes(run, move) { // a box the run places is there from its move on, one it takes up to its move
+    const there = new Map();
+    if (run) run.boxes.forEach(([index, at, placing]) => there.set(index, placing ? move >= at : move <= at));
+    meshes.forEach((list, index) => list.forEach((mesh) => {
+      const ghost = there.has(index) && !there.get(index);
+      if (mesh.userData.opacity === undefined) mesh.userData.opacity = mesh.material.opacity;
+      const transparent = ghost || mesh.userData.opacity < 1;
+      if (mesh.material.transparent !== transparent) mesh.material.needsUpdate = true; // the shader's OPAQUE
+      mesh.material.transparent = transparent;
+      mesh.material.opacity = ghost ? 0.12 : mesh.userData.opacity;
+      mesh.material.depthWrite = !ghost;
+    }));
   }
 
   function poseArm(view, q, tcp) {
@@ -346,6 +364,7 @@
     const view = data.views[current.view];
     const tcp = poseArm(view, q, pose);
     current.position = index + s;
+    showBoxes(data.views[current.view].programs[current.program].runs[a.run], a.move);
     current.joints = q;
     current.tcp = tcp;
     slider.value = String(time);
