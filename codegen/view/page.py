@@ -16,7 +16,7 @@ from codegen.view.objects import cell_objects
 from codegen.view.runs import ProgramRuns, Run, nominal_runs
 from codegen.view.scene import arm_description, flat
 
-TOUCH_MM = 2.0  # the TCP this near a box's top centre is on it (the box's place, as the pallet's plan puts it)
+TOUCH_MM = 2.0  # the TCP this near a box's top centre is on it (where a stacking plan puts the TCP)
 GENERATOR = "codegen view"  # the page's <meta name="generator">: a file that has it is one codegen may replace
 STATIC = Path(__file__).with_name("static")
 TEMPLATES = data_dir("templates") / "view"

@@ -14,7 +14,7 @@ from codegen.robot.expect import arm_of
 from codegen.verify.plan import SCENARIOS
 from codegen.verify.programs import ProgramSource, fresh_sources
 
-STEP_LIMIT = 2_000_000  # a full pallet's cycle runs well under this; a runaway stops here
+STEP_LIMIT = 2_000_000  # the longest nominal run (a full stack of boxes) runs well under this; a runaway stops here
 
 
 @dataclass
@@ -69,8 +69,8 @@ def describe(cell, kind, case) -> str:
 
 def nominal_runs(cell, target: str) -> list[ProgramRuns]:
     """Each program of the target with its nominal run: the first candidate case that runs to its end without a stop
-    (one per station for the station program: one pass of each station; for the other kinds one run: a full pallet
-    cycle, a part from the belt, a TCP calibration)."""
+    (one per station for the station program: one pass of each station; for the other kinds one run: a full stack,
+    a part from the belt, a TCP calibration)."""
     out = []
     for source in fresh_sources(cell, [target]):
         kind = get_kind(source.kind)

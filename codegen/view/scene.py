@@ -6,12 +6,13 @@ import numpy as np
 
 POSE_DECIMALS = 6  # a 4x4's entries in the page: 1e-6 of a unit vector, 1e-6 mm
 FRAME_MM = 60.0  # a taught pose's axes, drawn this long
+SLAB_MM = 20.0  # a bench's, a platform's, a belt's and a table's thickness as drawn (the cell gives none)
 ROLES = (  # the colour roles the page knows (codegen/view/static/viewer.js PALETTE)
     "frame",
     "mark",
     "taught",
     "bench",
-    "pallet",
+    "wood",
     "box",
     "label",
     "sheet",

@@ -7,7 +7,7 @@
 
   const PALETTE = {
     arm: 0xff6a00, joint: 0x3a3a3a, base: 0x505050, tool: 0x4a4a4a, tcp: 0x000000, path: 0x1f77b4,
-    reference: 0x00b050, frame: 0x7f7f7f, mark: 0xd62728, taught: 0x9467bd, bench: 0xaab4c0, pallet: 0x8c5a2b,
+    reference: 0x00b050, frame: 0x7f7f7f, mark: 0xd62728, taught: 0x9467bd, bench: 0xaab4c0, wood: 0x8c5a2b,
     box: 0xc8a165, label: 0xffffff, sheet: 0xf0ead8, pick: 0x9aa5b1, belt: 0x3c3c3c, window: 0x17becf,
     camera: 0xe377c2, place: 0x9aa5b1, beam: 0xff0000, sensor: 0x2f4f6f, floor: 0xdddddd,
   };
@@ -135,7 +135,7 @@
   });
   const sceneSize = extent.isEmpty() ? 1000 : Math.max(200, extent.getSize(new THREE.Vector3()).length());
   const axisSize = (size) => Math.min(size, sceneSize * 0.05);
-  const LABELLED = new Set(["mark", "pallet", "pick", "place", "sensor", "belt", "camera", "window", "bench"]);
+  const LABELLED = new Set(["mark", "wood", "pick", "place", "sensor", "belt", "camera", "window", "bench"]);
   const labels = new THREE.Group();
   const cellGroup = new THREE.Group();
   const meshes = []; // per object: the meshes drawn for it (a box's: its faces and its edges)
