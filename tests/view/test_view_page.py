@@ -270,3 +270,19 @@ def test_a_target_without_an_arm_shows_the_tools_poses(pages, browser):
     tcp = browser.evaluate(f"codegenView.project({json.dumps(state['tcp'][3:12:4])})")
     assert _near(image, tcp, lambda p: max(p) < 60), "the TCP's dot is not on the screen"
     assert browser.errors() == []
+
+
+def test_a_cells_strings_stay_text_in_the_page(write_cell, browser, tmp_path):
+    """A station named like markup: the page holds it as text (in the data, exactly), and no element comes of it."""
+    name = 'lathe </script><script>alert(1)</script> "x" &amp;'
+    text = (EXAMPLES_DIR / "agv_machine_tending.toml").read_text(encoding="utf-8")
+    cell = load_cell(write_cell(text.replace('name = "lathe_1"', f"name = {json.dumps(name)}")))
+    html = cell_page(cell, ["ur"])
+    assert "<script>alert" not in html
+    assert any(o["label"].startswith(f"{name}: ") for o in _data(html)["objects"])
+    path = tmp_path / "page.html"
+    path.write_text(html, encoding="utf-8")
+    browser.open(path)
+    assert browser.errors() == []
+    assert browser.evaluate("document.querySelectorAll('script').length") == 3
+    assert browser.evaluate("document.body.innerHTML.includes('<script>alert')") is False

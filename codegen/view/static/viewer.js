@@ -215,6 +215,7 @@
       toolMesh = null;
     }
     const size = Math.max(sceneSize, arm ? reach * 2 : 0);
+    armGroup.add(triad([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], size * 0.08)); // the base (= world) frame
     tcpDot = new THREE.Mesh(new THREE.SphereGeometry(size * 0.008, 16, 10), material("tcp"));
     armGroup.add(tcpDot);
     tcpTriad = new THREE.Group();
