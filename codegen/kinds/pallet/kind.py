@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from codegen.emit import Emitter
 from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
@@ -10,6 +9,7 @@ from codegen.kinds.pallet.program import check_level, pallet_context, pallet_fil
 from codegen.kinds.pallet.scene import objects as scene_objects
 from codegen.kinds.pallet.section import pallets_of
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
+from codegen.render import program_emitter
 
 
 class PalletKind(ProgramKind):
@@ -46,7 +46,7 @@ class PalletKind(ProgramKind):
         pallets = pallets_of(cell)
         if not pallets:
             return []
-        emitter = Emitter(target)
+        emitter = program_emitter(cell, target)
         out = []
         for index, (pallet, ident) in enumerate(zip(pallets, pallet_identifiers(cell, target), strict=True)):
             check_level(pallet, target)
