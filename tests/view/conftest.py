@@ -54,8 +54,10 @@ class Browser:
         self.events: list[dict] = []
         target = self.send("Target.createTarget", {"url": "about:blank"})["targetId"]
         self.session = self.send("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
-        for method in ("Page.enable", "Runtime.enable"):
+        for method in ("Page.enable", "Runtime.enable", "Network.enable"):
             self.send(method, session=True)
+        offline = {"offline": True, "latency": 0, "downloadThroughput": -1, "uploadThroughput": -1}
+        self.send("Network.emulateNetworkConditions", offline, session=True)  # no network: the page must not need one
         metrics = {"width": WIDTH, "height": HEIGHT, "deviceScaleFactor": 1, "mobile": False}
         self.send("Emulation.setDeviceMetricsOverride", metrics, session=True)
 
@@ -91,14 +93,24 @@ class Browser:
         return result["result"].get("value")
 
     def open(self, path: Path, fragment: str = "") -> None:
-        """Load a page from disk and wait until its viewer says it is ready."""
+        """Load a page from disk with the network off and wait until its viewer says it is ready; AssertionError if
+        the page asked for anything but its own file (a script, a style, an image, a font, an address)."""
         self.events.clear()
-        self.send("Page.navigate", {"url": path.resolve().as_uri() + fragment}, session=True)
+        url = path.resolve().as_uri()
+        self.send("Page.navigate", {"url": url + fragment}, session=True)
         deadline = time.monotonic() + LOAD_TIMEOUT_S
         while not self.evaluate("!!(window.codegenView && window.codegenView.ready)"):
             if time.monotonic() > deadline:
                 raise TimeoutError(f"{path.name}: not ready after {LOAD_TIMEOUT_S:g} s")
             time.sleep(0.05)
+        requests = self.requests()
+        assert url in requests, f"{path.name}: the browser did not report loading it"  # the record works
+        asked = [u for u in requests if u != url and not u.startswith(("data:", "blob:"))]
+        assert asked == [], f"{path.name} asked for more than its own file: {asked}"
+
+    def requests(self) -> list[str]:
+        """The addresses the page asked for since it was opened."""
+        return [e["params"]["request"]["url"] for e in self.events if e.get("method") == "Network.requestWillBeSent"]
 
     def errors(self) -> list[str]:
         """What the page reported as an error: exceptions, console errors and the viewer's own list."""
