@@ -12,6 +12,9 @@ from codegen.cli_base import Folder, Number, UserError, calibrate, main, step_li
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.controllers import target_names
+from codegen.view import command as view_command
+
+main.add_command(view_command.view)
 
 MAX_CASES = 1_000_000  # verify's random readings per station: a million runs each; more is a typing slip
 MAX_JOBS = 256  # worker processes: beyond the machine's cores each only costs memory
@@ -165,6 +168,7 @@ def diff(cell: str | None, out_dir: str) -> None:
     help="Worker processes (0: one per CPU).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
+@click.option("--html", "html_file", type=click.Path(dir_okay=False), help="Also write the report as a page.")
 def verify(
     cell: str | None,
     files: tuple[str, ...],
@@ -174,6 +178,7 @@ def verify(
     seed: int,
     jobs: int,
     as_json: bool,
+    html_file: str | None,
 ) -> None:
     """Run every program of every kind on its cases and the common scenarios; compare with the reference.
 
@@ -195,9 +200,10 @@ def verify(
     for t in targets:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
+    view_command.check_html(html_file)
 
     def run(progress) -> object:
-        options = Options(cases, seed, jobs, step_limit, progress)
+        options = Options(cases, seed, jobs, step_limit, progress, keep_replays=html_file is not None)
         return verify_cell(model, [Path(f) for f in files], targets, options)
 
     try:
@@ -219,6 +225,8 @@ def verify(
     else:
         for line in report.lines():
             click.echo(line)
+    if html_file is not None:
+        view_command.write_report(model, report, html_file)
     sys.exit(0 if report.ok else 1)
 
 

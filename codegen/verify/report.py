@@ -15,6 +15,21 @@ FIRST_MISMATCHES = 10  # how many mismatches a row names
 
 
 @dataclass
+class Replay:
+    """A case a row keeps for the report page (Options.keep_replays): the report's words for it, its largest position
+    (mm) and rotation (deg) error, where the arm started (deg), the trace, the reference's poses of the expectation it
+    was compared with (4x4 mm each, None where the plan leaves a pose to the kind) and its mismatch (None: passed)."""
+
+    what: str
+    pos_max: float
+    rot_max: float
+    start_joints: object
+    trace: object
+    reference: list | None
+    problem: str | None = None
+
+
+@dataclass
 class Row:
     """One program's results: its kind, target, name and files, the counts, every compared move's errors
     (8 bytes each), the first mismatches, the time spent running (one core), the arm's least margins and the
@@ -39,6 +54,8 @@ class Row:
     arm: ArmStats = field(default_factory=ArmStats)
     figures: object = None
     edits: list[str] = field(default_factory=list)  # a given program's changes against the generated one (edits.py)
+    worst: Replay | None = None  # kept when asked: the passing case with the largest position error
+    failed: Replay | None = None  # kept when asked: a mismatching case (the first of its chunk)
 
     alike: dict[str, int] = field(default_factory=dict)  # a shown mismatch's problem -> further cases with it
 
@@ -72,6 +89,10 @@ class Row:
         for mine, theirs in ((self.categories, part.categories), (self.scenarios, part.scenarios)):
             for key, count in theirs.items():
                 mine[key] = mine.get(key, 0) + count
+        if part.worst is not None and (self.worst is None or part.worst.pos_max > self.worst.pos_max):
+            self.worst = part.worst
+        if self.failed is None:
+            self.failed = part.failed
         kind = get_kind(self.kind)
         if part.figures is not None:
             if self.figures is None:

@@ -6,6 +6,7 @@ from codegen.kinds.conveyor import budget, reach, verify
 from codegen.kinds.conveyor.commands import calibrate_conveyor
 from codegen.kinds.conveyor.pick import check_inputs
 from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
+from codegen.kinds.conveyor.scene import objects as scene_objects
 from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
 from codegen.render import program_emitter
@@ -105,6 +106,10 @@ class ConveyorKind(ProgramKind):
     @classmethod
     def report_lines(cls, rows: list) -> list[str]:
         return verify.report_lines(rows)
+
+    @classmethod
+    def scene(cls, cell) -> list[dict]:
+        return [] if cls.section(cell) is None else scene_objects(cell, cls.section(cell))
 
     @classmethod
     def commands(cls) -> list:
