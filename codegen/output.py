@@ -38,7 +38,7 @@ def mixed_set(named_texts: list[tuple[str, str]]) -> str | None:
 
 try:
     import fcntl
-except ImportError:  # not POSIX: no lock (documented in the README)
+except ImportError:  # not POSIX: no lock (documented in docs/generate.md)
     fcntl = None
 
 STAGE = ".{cell}.codegen-new-{token}"  # the new set being written (or, after the exchange, the old set)

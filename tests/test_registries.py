@@ -173,19 +173,19 @@ def test_a_program_kind_is_named_only_in_its_own_files():
     assert not offenders, offenders
 
 
-def test_the_readme_lists_each_kinds_scenarios_as_the_kind_declares_them():
-    """The README's scenario table: a column for every kind (kinds that share a column are named together),
+def test_the_docs_list_each_kinds_scenarios_as_the_kind_declares_them():
+    """The scenario table of docs/verify.md: a column for every kind (kinds that share a column are named together),
     "runs" (or "runs (...)") exactly where the kind runs the scenario, a row for every scenario."""
     from codegen.verify.plan import SCENARIOS
 
-    text = (REPO / "README.md").read_text(encoding="utf-8")
+    text = (REPO / "docs" / "verify.md").read_text(encoding="utf-8")
     header = next(line for line in text.splitlines() if line.startswith("| scenario |"))
     table = text.split(header, 1)[1].split("\n\n", 1)[0]
     columns = {}
     for column, names in enumerate(header.strip("|").split("|")[1:], start=1):
         for name in names.split(","):
             columns[name.strip()] = column
-    assert set(columns) == set(kinds()), f"the README's scenario table has columns {sorted(columns)}"
+    assert set(columns) == set(kinds()), f"docs/verify.md's scenario table has columns {sorted(columns)}"
     rows = [line.strip("|").split("|") for line in table.strip().splitlines()[1:]]
     assert len(rows) == len(SCENARIOS), "a row for every scenario, in codegen.verify.plan.SCENARIOS's order"
     for row, scenario in zip(rows, SCENARIOS, strict=True):
