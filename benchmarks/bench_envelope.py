@@ -14,6 +14,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from record import Figures
+
+FIGURES = Figures(__file__)
+
 HEAD = """[cell]
 name = "bench_envelope"
 targets = ["ur", "kuka", "abb", "dtrans"]
@@ -104,20 +108,24 @@ def main() -> int:
 
     ok = True
     demo = min(timed_check(DEMO_CELL) for _ in range(3))
-    print(f"envelope, demo cell (7 stations, 3 arms): {demo:6.3f} s (goal <= 0.5 s)")
+    FIGURES.line(f"envelope, demo cell (7 stations, 3 arms): {demo:6.3f} s (goal <= 0.5 s)")
     ok &= demo <= 0.5
     with tempfile.TemporaryDirectory() as tmp:
         path, dropped = passing_cell(args.stations, Path(tmp))
         big = timed_check(path)
     refused = f"{dropped} random candidates refused"
-    print(f"envelope, {args.stations} stations (3 arms, {refused}): {big:6.2f} s (goal <= 5 s)")
+    FIGURES.line(f"envelope, {args.stations} stations (3 arms, {refused}): {big:6.2f} s (goal <= 5 s)")
     ok &= big <= 5.0
     for model in ("KR 10 R1100 sixx", "IRB 1600-10/1.45", "UR10e"):
         us = ik_us_per_pose(model)
-        print(f"inverse kinematics, all 8 solutions, {model}: {us:5.2f} us per pose (batch of 100,000; goal <= 20)")
+        FIGURES.line(
+            f"inverse kinematics, all 8 solutions, {model}: {us:5.2f} us per pose (batch of 100,000; goal <= 20)"
+        )
         ok &= us <= 20.0
     return 0 if ok else 1
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    code = main()
+    FIGURES.write()  # the figures into docs/benchmarks.md, dated, with the machine
+    sys.exit(code)

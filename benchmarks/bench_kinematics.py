@@ -20,6 +20,9 @@ import sys
 import time
 
 import numpy as np
+from record import Figures
+
+FIGURES = Figures(__file__)
 
 ARMS = ("KR 10 R1100 sixx", "UR10e")
 BATCHES = (1, 4, 100, 10_000)
@@ -58,7 +61,7 @@ def main() -> int:
 
     rng = np.random.default_rng(0)
     missed = 0
-    print(f"{'arm':<18} {'call':<4} {'poses':>6} {'us/call':>10} {'us/pose':>9}  goal")
+    FIGURES.line(f"{'arm':<18} {'call':<4} {'poses':>6} {'us/call':>10} {'us/pose':>9}  goal")
     for name in ARMS:
         arm = catalogue()[name]
         limits = np.clip(arm.limits, -179.0, 179.0)
@@ -73,9 +76,11 @@ def main() -> int:
                 goal = goal_for(function, batch, arm.family)
                 verdict = "" if goal is None else f"<= {goal:g} us/call: " + ("ok" if us <= goal else "OVER GOAL")
                 missed += goal is not None and us > goal
-                print(f"{name:<18} {function:<4} {batch:>6} {us:>10.1f} {us / batch:>9.2f}  {verdict}")
+                FIGURES.line(f"{name:<18} {function:<4} {batch:>6} {us:>10.1f} {us / batch:>9.2f}  {verdict}")
     return 1 if missed else 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    code = main()
+    FIGURES.write()  # the figures into docs/benchmarks.md, dated, with the machine
+    sys.exit(code)

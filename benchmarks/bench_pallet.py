@@ -10,8 +10,12 @@ import argparse
 import statistics
 import time
 
+from record import Figures
+
 from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.patterns import Box, split_row
+
+FIGURES = Figures(__file__)
 
 SIZE = (50.0, 40.0)  # box footprint, mm
 PALLET = (1300.0, 1600.0)  # 40 rows of split-row, 26 and 25 boxes: 1,020 boxes
@@ -51,7 +55,7 @@ def full_stack(runs: int) -> None:
         assert row.mismatches == 0, row.first_mismatches
         low, high = min(times), max(times)
         boxes = row.figures.boxes if row.figures is not None else 0
-        print(f"  {target}: full EUR stack ({boxes} boxes) verified in {low:.3f}-{high:.3f} s (goal <= 1 s)")
+        FIGURES.line(f"  {target}: full EUR stack ({boxes} boxes) verified in {low:.3f}-{high:.3f} s (goal <= 1 s)")
 
 
 def main() -> None:
@@ -60,9 +64,10 @@ def main() -> None:
     runs = parser.parse_args().runs
     times, count = zip(*(once() for _ in range(runs)), strict=True)
     median, low, high = statistics.median(times), min(times), max(times)
-    print(f"{count[0]} boxes: median {median:.3f} s, range {low:.3f}-{high:.3f} s (goal <= 0.2 s)")
+    FIGURES.line(f"{count[0]} boxes: median {median:.3f} s, range {low:.3f}-{high:.3f} s (goal <= 0.2 s)")
     full_stack(runs)
 
 
 if __name__ == "__main__":
     main()
+    FIGURES.write()  # the figures into docs/benchmarks.md, dated, with the machine

@@ -14,6 +14,10 @@ import tempfile
 import time
 from pathlib import Path
 
+from record import Figures
+
+FIGURES = Figures(__file__)
+
 
 def make_cell(stations: int, seed: int = 1) -> str:
     rng = random.Random(seed)
@@ -55,13 +59,15 @@ def main() -> int:
         start = time.perf_counter()
         generate(cell, None, Path(tmp) / "out")
         generate_s = time.perf_counter() - start
-    print(f"{args.stations} stations, 4 targets, {len(files)} files, {size / 1e6:.1f} MB")
+    FIGURES.line(f"{args.stations} stations, 4 targets, {len(files)} files, {size / 1e6:.1f} MB")
     goals = {"render": (render_s, 2.0), "check": (check_s, 2.0), "generate": (generate_s, 3.0)}
     for name, (seconds, goal) in goals.items():
-        print(f"{name:8} {seconds:6.2f} s (goal <= {goal:.2f} s): {'ok' if seconds <= goal else 'OVER GOAL'}")
-    print("check: the grammar check of every program; generate: render + check + atomic write")
+        FIGURES.line(f"{name:8} {seconds:6.2f} s (goal <= {goal:.2f} s): {'ok' if seconds <= goal else 'OVER GOAL'}")
+    FIGURES.line("check: the grammar check of every program; generate: render + check + atomic write")
     return 0 if all(seconds <= goal for seconds, goal in goals.values()) else 1
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    code = main()
+    FIGURES.write()  # the figures into docs/benchmarks.md, dated, with the machine
+    sys.exit(code)

@@ -20,6 +20,10 @@ import sys
 import tempfile
 from pathlib import Path
 
+from record import Figures
+
+FIGURES = Figures(__file__)
+
 CHILD = r"""
 import json, random, resource, sys, time
 from pathlib import Path
@@ -70,8 +74,8 @@ def main() -> int:
     parser.add_argument("--targets", default="ur,kuka,abb,dtrans")
     args = parser.parse_args()
     sizes = [int(v) for v in args.sizes.split(",")]
-    print(f"{args.cases} verified readings per size and target, one core, a fresh process each")
-    print(f"{'stations':>8} {'target':<7} {'warm/s':>8} {'vs 8':>6} {'first/s':>8} {'load s':>7} {'peak MB':>8}")
+    FIGURES.line(f"{args.cases} verified readings per size and target, one core, a fresh process each")
+    FIGURES.line(f"{'stations':>8} {'target':<7} {'warm/s':>8} {'vs 8':>6} {'first/s':>8} {'load s':>7} {'peak MB':>8}")
     first: dict[str, float] = {}
     ok = True
     for stations in sizes:
@@ -80,7 +84,7 @@ def main() -> int:
             ok = ok and result["mismatches"] == 0
             first.setdefault(target, result["cases_per_s"])
             ratio = result["cases_per_s"] / first[target]
-            print(
+            FIGURES.line(
                 f"{stations:>8} {target:<7} {result['cases_per_s']:>8.0f} {ratio:>6.2f} "
                 f"{result['first_per_s']:>8.0f} {result['load_s']:>7.2f} {result['peak_mb']:>8.0f}"
             )
@@ -88,4 +92,6 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    code = main()
+    FIGURES.write()  # the figures into docs/benchmarks.md, dated, with the machine
+    sys.exit(code)

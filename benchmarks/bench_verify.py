@@ -28,6 +28,10 @@ import subprocess
 import sys
 import time
 
+from record import Figures
+
+FIGURES = Figures(__file__)
+
 _STATE: dict = {}
 
 
@@ -98,14 +102,14 @@ def main() -> int:
     parser.add_argument("--targets", default="ur,kuka,abb,dtrans")
     parser.add_argument("--no-full", action="store_true", help="skip the full `codegen verify` run")
     args = parser.parse_args()
-    print("verified cases/s per dialect (reference + interpreter + comparison), median / best; the same cases")
-    print("by the hand-written yardstick (benchmarks/handwritten.py) on one core, and the ratio of the medians:")
-    print(f"  {'target':<7} {'one core':>17} {'two cores':>17} {'hand-written':>17} {'ratio':>6}")
+    FIGURES.line("verified cases/s per dialect (reference + interpreter + comparison), median / best; the same cases")
+    FIGURES.line("by the hand-written yardstick (benchmarks/handwritten.py) on one core, and the ratio of the medians:")
+    FIGURES.line(f"  {'target':<7} {'one core':>17} {'two cores':>17} {'hand-written':>17} {'ratio':>6}")
     for target in args.targets.split(","):
         one = one_core(target, args.repeat)
         hand = hand_written(target, args.repeat)
         two = two_cores(target, args.repeat)
-        print(
+        FIGURES.line(
             f"  {target:<7} {statistics.median(one):8.0f} / {max(one):6.0f} "
             f"{statistics.median(two):8.0f} / {max(two):6.0f} "
             f"{statistics.median(hand):8.0f} / {max(hand):6.0f} {statistics.median(one) / statistics.median(hand):6.2f}"
@@ -115,10 +119,12 @@ def main() -> int:
     start = time.perf_counter()
     proc = subprocess.run([sys.executable, "-m", "codegen", "verify"], capture_output=True, text=True)
     wall = time.perf_counter() - start
-    print(proc.stdout.strip())
-    print(f"full `codegen verify` on the demo cell: {wall:.1f} s wall incl. start-up (goal <= 15 s)")
+    FIGURES.line(proc.stdout.strip())
+    FIGURES.line(f"full `codegen verify` on the demo cell: {wall:.1f} s wall incl. start-up (goal <= 15 s)")
     return proc.returncode
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    code = main()
+    FIGURES.write()  # the figures into docs/benchmarks.md, dated, with the machine
+    sys.exit(code)

@@ -9,6 +9,10 @@ from __future__ import annotations
 
 import math
 
+from record import Figures
+
+FIGURES = Figures(__file__)
+
 
 def photos(angle_deg: float, sign: int, scale_error: float = 0.03, limit: int = 60) -> int | None:
     true_x, true_y, true_a = 40.0 * math.cos(0.3), 40.0 * math.sin(0.3), angle_deg
@@ -29,11 +33,12 @@ def photos(angle_deg: float, sign: int, scale_error: float = 0.03, limit: int = 
 
 
 def main() -> None:
-    print(f"{'angle':>6} {'R(+alpha)':>10} {'R(-alpha) printed':>18}  (photos; '-' = not within 60)")
+    FIGURES.line(f"{'angle':>6} {'R(+alpha)':>10} {'R(-alpha) printed':>18}  (photos; '-' = not within 60)")
     for angle in (0, 5, 10, 20, 25, 29, 31, 40):
         good, printed = photos(angle, +1), photos(angle, -1)
-        print(f"{angle:>6} {good if good else '-':>10} {printed if printed else '-':>18}")
+        FIGURES.line(f"{angle:>6} {good if good else '-':>10} {printed if printed else '-':>18}")
 
 
 if __name__ == "__main__":
     main()
+    FIGURES.write()  # the figures into docs/benchmarks.md, dated, with the machine
