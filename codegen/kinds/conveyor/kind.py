@@ -25,7 +25,7 @@ class ConveyorKind(ProgramKind):
 
     @classmethod
     def parse_section(cls, ctx, data: dict, cell):
-        return parse_conveyor(ctx, data, cell.targets, cell.pose_format)
+        return parse_conveyor(ctx, data, cell.targets, cell.pose_format, cell.motion)
 
     @classmethod
     def standalone(cls, data: dict) -> bool:

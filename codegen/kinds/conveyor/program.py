@@ -6,6 +6,7 @@ import numpy as np
 
 from codegen.emit import EmitError, Emitter
 from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.pick import POLL_S, lead_s
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.cell import TaughtPose
 from codegen.poses import zyx_deg_from_rotmat
@@ -16,16 +17,11 @@ SKIPPED = "conveyor: skipped (past the window's end): part "
 BAD_READING = "conveyor: a part outside x_range_mm or z_range_mm: check the camera"
 STOPPED = "conveyor: the line stopped"
 TOO_LATE = "conveyor: too late to intercept, skipped: part "  # an intercepting arm that arrived after the part
-POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
 
 
 def lead_seconds(cell) -> float:
-    """How long before the part reaches the intercept point an intercepting arm starts down: the descent
-    of approach_dz at the work speed, as the controller's straight move takes it (no acceleration in the
-    interpreter's clock, nor in this lead: a real arm needs its measured descent time here), and the
-    gripper's time to hold the part once its output is set (grip_s)."""
-    pick = conveyor_of(cell).pick
-    return pick.approach_dz / cell.motion.work_speed_mm_s + pick.grip_s
+    """The cell's intercept lead (codegen/kinds/conveyor/pick.py lead_s)."""
+    return lead_s(conveyor_of(cell).pick, cell.motion.work_speed_mm_s)
 
 
 def conveyor_ident(cell, target) -> str:

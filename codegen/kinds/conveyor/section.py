@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.kinds.conveyor.pick import parse_pick
+from codegen.kinds.conveyor.pick import check_lead, parse_pick
 
 COUNTER_BITS = (16, 24, 32)
 KEYS = frozenset(
@@ -46,13 +46,14 @@ def belt2base(origin, direction, z_axis) -> np.ndarray:
     return out
 
 
-def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> Conveyor | None:
+def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc", motion=None) -> Conveyor | None:
+    """[conveyor]; with the cell's [cell.motion] (motion) an intercepting pick's lead is checked too."""
     if "conveyor" not in data:
         return None
     table = ctx.table(data, "conveyor", "conveyor")
     ctx.no_unknown(table, KEYS, "conveyor")
-    bits = table.get("counter_bits", 32)
-    if bits not in COUNTER_BITS or isinstance(bits, bool):
+    bits = ctx.integer(table, "counter_bits", "conveyor.counter_bits", min(COUNTER_BITS), max(COUNTER_BITS), 32)
+    if bits not in COUNTER_BITS:
         widths = ", ".join(map(str, COUNTER_BITS))
         ctx.fail("conveyor.counter_bits", f"expected one of {widths} (the encoder counter's width)")
     out = {"counter_bits": bits}
@@ -61,7 +62,9 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
         if not 1e-3 <= abs(value) <= 1e6:
             ctx.fail("conveyor.counts_per_mm", "must be a signed scale of 0.001 to 1e6 counts per mm")
         out["counts_per_mm"] = value
-    for key in ("origin", "direction", "z_axis"):
+    if "origin" in table:
+        out["origin"] = ctx.point(table["origin"], "conveyor.origin")
+    for key in ("direction", "z_axis"):
         if key in table:
             out[key] = ctx.numbers(table[key], 3, f"conveyor.{key}")
     frame_keys = [k for k in ("counts_per_mm", "origin", "direction", "z_axis") if k in out]
@@ -85,6 +88,8 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
             ctx.fail("conveyor.pick", f"needs the calibrated belt: {', '.join(missing)} (codegen calibrate conveyor)")
         out["pick"] = parse_pick(ctx, ctx.table(table, "pick", "conveyor.pick"), targets, pose_format)
         check_pick(ctx, out["counts_per_mm"], out["camera_offset_mm"], out["pick"])
+        if motion is not None:
+            check_lead(ctx, out["pick"], motion.work_speed_mm_s)
     return Conveyor(**out)
 
 
@@ -104,6 +109,12 @@ def check_pick(ctx, counts_per_mm: float, camera_offset_mm: float, pick) -> None
             "conveyor.pick.window_mm",
             f"the camera's line to the window's end is {counts:.0f} counts; the programs' 16-bit count "
             f"allows {COUNTER_RANGE // 4}: bring the window closer to the camera",
+        )
+    if end - start < 2.0 / abs(counts_per_mm):
+        ctx.fail(
+            "conveyor.pick.window_mm",
+            f"{end - start:g} mm wide, less than two counts of the encoder ({2.0 / abs(counts_per_mm):.3g} mm): "
+            "the programs could not tell a part inside it from one outside",
         )
     if 2.0 / abs(counts_per_mm) > pick.capture_mm:
         ctx.fail(

@@ -14,11 +14,13 @@ from codegen.guard import NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, halt_message
 from codegen.kinds.conveyor import plan
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.judge import judge as judge_parts
+from codegen.kinds.conveyor.pick import VARYING_PERIOD_S, VARYING_SPEED_MM_S, VARYING_SWING
 from codegen.kinds.conveyor.program import BAD_READING, SKIPPED, TOO_LATE
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.io import signal_name
 from codegen.reference import home_move
 from codegen.robot import solve
+from codegen.robot.expect import tool_inputs
 from codegen.sim.belt import Belt, BeltLine, Part
 from codegen.sim.bus import bus_for
 from codegen.sim.gripper import Gripper
@@ -81,11 +83,11 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     out = []
     for category, speed, wobble, start in (
         ("constant_speed", 60.0, 0.0, rng.randrange(span)),
-        ("varying_speed", 60.0, 0.4, rng.randrange(span)),
+        ("varying_speed", VARYING_SPEED_MM_S, VARYING_SWING, rng.randrange(span)),
         ("rollover", 80.0, 0.0, near_wrap),
     ):
         speed = min(speed, pick.belt_speed_max_mm_s / (1.0 + wobble))  # never faster than the cell says
-        belt = Belt(speed, e, COUNTER_BITS, start, wobble, period_s=5.0)
+        belt = Belt(speed, e, COUNTER_BITS, start, wobble, period_s=VARYING_PERIOD_S)
         parts, t = [], 0.5
         for seq in range(1, 5):
             parts.append(_random_part(rng, pick, seq, t))
@@ -138,7 +140,13 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     output = signal_name(target, "output", cell.io.output[target_name])
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
     gripper = Gripper(output, feedback, cell.io.value, case.gripper)
-    return Setup({}, (line, gripper), {feedback: False}, _start_joints(cell, target_name, case), step_limit=STEP_LIMIT)
+    return Setup(
+        tool_inputs(cell, target_name),
+        (line, gripper),
+        {feedback: False},
+        _start_joints(cell, target_name, case),
+        step_limit=STEP_LIMIT,
+    )
 
 
 def _start_joints(cell, target_name: str, case: BeltCase):
