@@ -441,8 +441,7 @@ class Program:
         machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
         machine.trace.steps = machine.steps
         for name in keep:
-            key = self.compiler.norm(name)
-            machine.trace.kept[name] = machine.globals.get(key, machine.outputs.get(name))
+            machine.trace.kept[name] = self.compiler.kept(machine, name)
         return machine.trace
 
 
