@@ -77,7 +77,7 @@ def test_validator_integer_refuses_floats_booleans_and_out_of_range():
         with pytest.raises(CellError, match=r"^cell\.toml: ") as info:
             ctx.integer({"n": value}, "n", "x.n", 16, 32)
         assert says in str(info.value)
-    with pytest.raises(CellError, match="x.n: missing"):
+    with pytest.raises(CellError, match=r"x\.n: missing"):
         ctx.integer({}, "n", "x.n", 16, 32)
 
 
