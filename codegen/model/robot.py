@@ -179,7 +179,7 @@ def _numbered(ctx, table) -> dict:
     if not isinstance(table, dict):
         ctx.fail("cell.tool.numbered", "expected a table: target = tool number")
     out = {}
-    for target, number in table.items():
+    for target in table:
         path = f"cell.tool.numbered.{target}"
         try:
             facts = get_target(target).program.get("tool_data")
@@ -187,9 +187,7 @@ def _numbered(ctx, table) -> dict:
             ctx.fail(path, "unknown target")
         if not facts:
             ctx.fail(path, f"the {target} controller has no numbered tools here")
-        if isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= facts["max"]:
-            ctx.fail(path, f"expected a tool number 1..{facts['max']}, got {number!r}")
-        out[target] = number
+        out[target] = ctx.integer(table, target, path, 1, facts["max"])  # the controller's tool number
     return out
 
 
@@ -220,10 +218,7 @@ def parse_station_config(ctx, raw, path: str, robot: Robot | None, pose_names: l
 def _integers(ctx, value, count: int, low: int, high: int, path: str) -> tuple[int, ...]:
     if not isinstance(value, list) or len(value) != count:
         ctx.fail(path, f"expected {count} integers")
-    for i, v in enumerate(value):
-        if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
-            ctx.fail(f"{path}[{i}]", f"expected an integer in {low}..{high}, got {v!r}")
-    return tuple(value)
+    return tuple(ctx.integer(dict(enumerate(value)), i, f"{path}[{i}]", low, high) for i in range(count))
 
 
 def _pose_config(ctx, value, path: str, form: str, arm: Arm) -> PoseConfig:
@@ -239,9 +234,9 @@ def _pose_config(ctx, value, path: str, form: str, arm: Arm) -> PoseConfig:
     if form == "status_turn":
         if not isinstance(value, dict) or set(value) != {"s", "t"}:
             ctx.fail(path, "expected { s = status, t = turn } or { joints = [...] }")
-        s = _integers(ctx, [value["s"]], 1, 0, 7, f"{path}.s")[0]
-        t = _integers(ctx, [value["t"]], 1, 0, 63, f"{path}.t")[0]
-        return PoseConfig(form, (s, t))
+        return PoseConfig(
+            form, (ctx.integer(value, "s", f"{path}.s", 0, 7), ctx.integer(value, "t", f"{path}.t", 0, 63))
+        )
     if form == "joints":
         joints = ctx.numbers(value, 6, path)
         try:

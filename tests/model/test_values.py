@@ -129,3 +129,28 @@ def test_a_custom_arms_payload_is_the_limit(tmp_path):
 )
 def test_values_the_programs_would_write_as_zero_are_refused(tmp_path, old, new, says):
     assert says in error_of(edited(tmp_path, "laser_tcp", old, new))
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "says"),
+    [
+        ("max_iterations = 10", "max_iterations = 10.0", "cell.refine.max_iterations: expected a whole number"),
+        ("max_iterations = 10", f"max_iterations = {HUGE}", "cell.refine.max_iterations: expected a whole number"),
+    ],
+)
+def test_the_frame_refinements_count_is_a_whole_number(tmp_path, old, new, says):
+    assert says in error_of(edited(tmp_path, "thermometer_bench", old, new))
+
+
+@pytest.mark.parametrize(
+    ("config", "says"),
+    [
+        ("[station.config.abb]\nchuck = [0, 0, 0.0, 0]\n", "config.abb.chuck[2]: expected a whole number"),
+        ("[station.config.abb]\nchuck = [0, 0, 9, 0]\n", "config.abb.chuck[2]: expected a whole number in -8..7"),
+        ("[station.config.kuka]\nchuck = { s = 2.0, t = 0 }\n", "config.kuka.chuck.s: expected a whole number"),
+        (f"[station.config.kuka]\nchuck = {{ s = 2, t = {HUGE} }}\n", "config.kuka.chuck.t: expected a whole number"),
+    ],
+)
+def test_a_poses_configuration_takes_whole_numbers_in_range(tmp_path, config, says):
+    taught = "chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n"
+    assert says in error_of(edited(tmp_path, "agv_machine_tending", taught, taught + config))
