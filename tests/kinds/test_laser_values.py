@@ -73,3 +73,18 @@ def test_a_numbered_kuka_tool_verifies_and_receives_the_tcp_found(tmp_path):
     assert "TOOL_DATA[3]" in programs[0].files[0].text
     rows = verify(cell, programs, cases=1, scenarios=frozenset({"nominal"}))
     assert rows[0].cases >= 5 and rows[0].mismatches == 0, rows[0].first_mismatches[:2]
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("circle_speed_mm_s = 10.0", "circle_speed_mm_s = 1e-300"),  # generated, the speed written as 0.000
+        ("search_speed_mm_s = 2.0", "search_speed_mm_s = 0.5"),
+    ],
+)
+def test_speeds_below_the_programs_least_are_refused(tmp_path, old, new):
+    """A laser speed the programs would write as 0 (KRL's $VEL.CP in m/s to 4 decimals), as [cell.motion]'s."""
+    key = old.split(" ")[0]
+    assert f"laser.{key}: must be in [1, " in error_of(edited(tmp_path, (old, new)))
+    laser = load_cell(edited(tmp_path, (old, f"{key} = 1.0"))).sections["laser"]
+    assert getattr(laser, key) == 1.0
