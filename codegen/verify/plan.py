@@ -8,6 +8,10 @@ from typing import Any
 
 import numpy as np
 
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
+from codegen.emit import Emitter
+from codegen.guard import NOT_AT_HOME, halt_message
+
 START_AWAY_DEG = (25.0, -15.0, 10.0, 0.0, 0.0, 0.0)  # the arm left away from home (the start_away scenario)
 TOOL_LOAD = "tool"  # a planned move's payload: the cell's tool alone ([cell.tool] mass and centre of gravity)
 
@@ -47,13 +51,14 @@ class Setup:
     step_limit: int | None = None
     signal_cycle_s: float | None = None
 
-    def run_options(self, arm, default_step_limit: int) -> dict:
+    def run_options(self, arm, step_limit: int | None) -> dict:
+        """Program.run's keywords; the step limit asked (verify --step-limit) wins over the kind's own."""
         options = {
             "devices": self.devices,
             "signals": self.signals,
             "start_joints": self.start_joints,
             "keep": self.keep,
-            "step_limit": self.step_limit or default_step_limit,
+            "step_limit": step_limit or self.step_limit or DEFAULT_STEP_LIMIT,
             "arm": arm,
         }
         if self.signal_cycle_s is not None:
@@ -134,3 +139,15 @@ class Judgement:
     figures: object = None
     truth: str | None = None  # where the run met the plan but the physical situation demands otherwise
     errors: tuple[list, list] = ((), ())  # position (mm) and rotation (deg) errors the kind measured itself
+
+
+def refuses_start(cell, target, case, allowed: tuple[str, ...] = ("home",)) -> str | None:
+    """The restart rule (targets/<t>.toml restart = "at_home"): a program started anywhere but where its kind
+    lets it start (`allowed`: home, and a station's retreat for the station program) stops before it moves,
+    with this message (as the target prints it); None where the target's programs may start anywhere, or the
+    cell has no arm to be away with."""
+    if case.start in allowed or target.program.get("restart") != "at_home":
+        return None
+    if cell.robot is None or target.name not in cell.robot.arms:
+        return None
+    return Emitter(target).string(halt_message(cell, NOT_AT_HOME, None, 0))

@@ -47,7 +47,7 @@ def test_a_400_digit_integer_is_one_message_naming_the_key(tmp_path, command):
 
 def test_an_integer_too_long_for_python_to_read_is_named(tmp_path):
     """tomllib raises ValueError (not its TOMLDecodeError) for an integer of more than 4300 digits."""
-    path = edited(tmp_path, "belt_pick", "timeout_s = 1.0", "timeout_s = 1" + "0" * 5000)
+    path = edited(tmp_path, "belt_pick", "timeout_s = 0.5", "timeout_s = 1" + "0" * 5000)
     assert "a number with thousands of digits" in error_of(path)
 
 

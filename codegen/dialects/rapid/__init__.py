@@ -1,7 +1,8 @@
 """RAPID (ABB): printer, grammar and interpreter; a program is the modules of one task.
 
 MoveEvent.settings of a RAPID move: "speed", "zone", "tool" (a predefined datum's name in upper case, e.g. "V100",
-"FINE", "TOOL0", else "custom"), "load" (mass kg, cog x, y, z mm of the move's tooldata; None for tool0),
+"FINE", "TOOL0", else "custom"), "load" (mass kg, cog x, y, z mm at the flange: the move's tooldata's, with the payload
+of a GripLoad in force; None for tool0),
 "tcp_mm_s" (the programmed TCP speed), "zone_mm" (the zone's pzone_tcp, 0 at a stop point), "circle_point"
 (MoveC); and from the instruction on, on every later move (codegen/dialects/rapid/motionset.py): "accset" {"acc",
 "ramp", "line"}, "velset" {"override", "max", "line"}, "singarea" {"mode", "line"}, "confj" / "confl" {"on",
@@ -25,6 +26,30 @@ class Rapid(Dialect):
     name = "rapid"
     suffixes = (".mod", ".sys")  # .prg (RobotWare 5, several modules) is the dtrans dialect's suffix
     encodings = ("cp1252",)  # RobotWare's text files: Windows-1252 (Latin-1) where not UTF-8
+
+    @classmethod
+    def predefined(cls) -> frozenset[str]:
+        """The instructions and functions (modelled or by the manual's name), the predefined data (v100, z10, fine,
+        tool0, wobj0, load0...), the predefined constants and the data types, in upper case."""
+        from codegen.dialects.rapid import catalogue, names, predefined, types
+        from codegen.dialects.rapid.compiler import SPECIAL, RAPIDCompiler  # lark: only when asked
+
+        return frozenset(
+            name.upper()
+            for name in (
+                *RAPIDCompiler("<names>").builtins,
+                *SPECIAL,
+                *catalogue.NOT_MODELLED,
+                *predefined.PREDEFINED,
+                *predefined.USER_DATA,
+                *names.CONSTANTS,
+                *types.RECORDS,
+                *types.SCALARS,
+                *types.ALIASES,
+                *types.OPAQUE,
+                *types.NOT_MODELLED,
+            )
+        )
 
     @classmethod
     def move_settings(

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.kinds.conveyor.pick import check_lead, parse_pick
+from codegen.kinds.conveyor.pick import parse_pick
 
 COUNTER_BITS = (16, 24, 32)
 KEYS = frozenset(
@@ -46,8 +46,7 @@ def belt2base(origin, direction, z_axis) -> np.ndarray:
     return out
 
 
-def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc", motion=None) -> Conveyor | None:
-    """[conveyor]; with the cell's [cell.motion] (motion) an intercepting pick's lead is checked too."""
+def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> Conveyor | None:
     if "conveyor" not in data:
         return None
     table = ctx.table(data, "conveyor", "conveyor")
@@ -88,8 +87,6 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc", mot
             ctx.fail("conveyor.pick", f"needs the calibrated belt: {', '.join(missing)} (codegen calibrate conveyor)")
         out["pick"] = parse_pick(ctx, ctx.table(table, "pick", "conveyor.pick"), targets, pose_format)
         check_pick(ctx, out["counts_per_mm"], out["camera_offset_mm"], out["pick"])
-        if motion is not None:
-            check_lead(ctx, out["pick"], motion.work_speed_mm_s)
     return Conveyor(**out)
 
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from codegen import derived
 from codegen.controllers import get_target
-from codegen.emit import EmitError
+from codegen.emit import EmitError, owned
 from codegen.guard import (
     GUARD_CODES,
     INVALID_READING,
@@ -23,6 +23,7 @@ from codegen.guard import (
     pixels_in_range,
 )
 from codegen.kinds.frame.commands import calibrate_handeye
+from codegen.kinds.frame.scene import objects as scene_objects
 from codegen.kinds.stations.base import StationKind
 from codegen.kinds.stations.cases import Case
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
@@ -171,6 +172,10 @@ class FrameKind(StationKind):
     log_names = ("station", "dx", "dy", "alpha", "photos")
 
     @classmethod
+    def station_scene(cls, cell, station) -> list[dict]:
+        return scene_objects(cell, station)
+
+    @classmethod
     def commands(cls) -> list:
         return [("calibrate", calibrate_handeye)]
 
@@ -247,14 +252,14 @@ class FrameKind(StationKind):
     def cell_context(cls, cell, target, emitter) -> dict:
         number, refine = emitter.number, cell.settings[cls.name]
         return {
-            "refine": derived.printed(target.dialect, "refine"),
+            "refine": owned(derived.printed(target.dialect, "refine")),
             "handeye": None if cell.handeye is None else [number(v, 9) for row in cell.handeye for v in row],
             "tolerance": {
                 "mm_sq": number(refine.tolerance_mm**2, 9),
                 "deg": number(refine.tolerance_deg, 6),
-                "mm_text": f"{refine.tolerance_mm:g}",
-                "deg_text": f"{refine.tolerance_deg:g}",
-                "photos": str(refine.max_iterations),
+                "mm_text": emitter.figure(refine.tolerance_mm),
+                "deg_text": emitter.figure(refine.tolerance_deg),
+                "photos": refine.max_iterations,
             },
             "pixel_range": number(PIXEL_RANGE, 1),
         }
@@ -269,6 +274,7 @@ class FrameKind(StationKind):
                 "in the x-y plane (level_frames_only)"
             )
         base_data = target.program.get("base_data")
+        base_data_name = base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None
         return {
             "frame": {
                 "ident": emitter.identifier(f"f{station.id}_", station.name, f"{origin} frame"),
@@ -280,7 +286,7 @@ class FrameKind(StationKind):
             },
             "wobj": emitter.identifier(f"w{station.id}_", station.name, f"{origin} work object"),
             "base_data": spec.base_data,
-            "base_data_name": base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None,
+            "base_data_name": owned(base_data_name),
             "messages": {
                 reason: emitter.string(cls.fitted_message(cell, reason, station, target.string_max))
                 for reason in (*GUARD_CODES, NOT_CONVERGED)

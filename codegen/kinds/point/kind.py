@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from codegen import derived
+from codegen.emit import owned
 from codegen.guard import (
     GUARD_CODES,
     INVALID_READING,
@@ -19,6 +20,7 @@ from codegen.guard import (
 )
 from codegen.kinds.point.commands import correct
 from codegen.kinds.point.reference import NAME, PointSpec, Reading, expected_trace
+from codegen.kinds.point.scene import objects as scene_objects
 from codegen.kinds.stations.base import StationKind
 from codegen.kinds.stations.cases import Case
 from codegen.model.vision import SECOND_LOOK_MM
@@ -39,6 +41,10 @@ class PointKind(StationKind):
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("deviation",)
     log_names = ("station", "dx1", "dy1", "dx2", "dy2", "dtheta")
+
+    @classmethod
+    def station_scene(cls, cell, station) -> list[dict]:
+        return scene_objects(cell, station)
 
     @classmethod
     def commands(cls) -> list:
@@ -71,8 +77,8 @@ class PointKind(StationKind):
     def cell_context(cls, cell, target, emitter) -> dict:
         # the derivation's blocks: D = Trans(tn) Rz(phi) Trans(-t) ("frame") and Pn = D . P ("point")
         return {
-            "correction": derived.printed(target.dialect, "frame"),
-            "point": derived.printed(target.dialect, "point"),
+            "correction": owned(derived.printed(target.dialect, "frame")),
+            "point": owned(derived.printed(target.dialect, "point")),
         }
 
     @classmethod
