@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
 from codegen.model.io import per_target
+from codegen.model.validate import kind_of
 from codegen.sim.bus import GROUP_BITS, OFFSET, SCALE
 
 KEYS = frozenset(
@@ -232,12 +233,15 @@ def _encoder_inputs(ctx, table: dict, tracking: dict, path: str) -> dict:
         if target not in raw:
             ctx.fail(path, f"missing {target}: the digital inputs of the encoder's A and B signals")
         pair = raw[target]
-        if not isinstance(pair, list) or len(pair) != 2:
+        if (
+            not isinstance(pair, list)
+            or len(pair) != 2
+            or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
+        ):
             ctx.fail(f"{path}.{target}", "expected [A, B]: two digital input numbers")
-        pair = tuple(ctx.integer(dict(enumerate(pair)), i, f"{path}.{target}[{i}]", low, high) for i in range(2))
-        if pair[0] == pair[1]:
+        if pair[0] == pair[1] or not all(low <= v <= high for v in pair):
             ctx.fail(f"{path}.{target}", f"expected two different inputs in {low}..{high}")
-        out[target] = pair
+        out[target] = tuple(pair)
     return out
 
 
@@ -265,9 +269,12 @@ def _numbered_input(ctx, table: dict, key: str, needed: list[str], path: str) ->
     out = {}
     for target in needed:
         low, high = get_target(target).program["signals"]["range"]
-        if target not in given:
+        value = given.get(target)
+        if value is None:
             ctx.fail(f"{path}.{key}", f"missing {target}: the digital input the camera's trigger is wired to")
-        out[target] = ctx.integer(given, target, f"{path}.{key}.{target}", low, high)  # a digital input's number
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            ctx.fail(f"{path}.{key}.{target}", f"expected a digital input number {low}..{high}, got {kind_of(value)}")
+        out[target] = value
     return out
 
 
