@@ -2,8 +2,8 @@
 
 Each row is a kind of edit a person or a generator bug could make, written as a regular expression
 per target (the first match is changed). A target without a row for a kind has no such construct;
-the README lists those and why. Speed, acceleration, zone and base edits are the motion mutations of
-tests/target_base.py; extra dispatch ids and halts the program goes on from are tested there too.
+docs/kinds/point.md lists those and why. Speed, acceleration, zone and base edits are the motion mutations
+of tests/kinds/station_base.py; extra dispatch ids and halts the program goes on from are tested there too.
 """
 
 from __future__ import annotations
