@@ -131,9 +131,9 @@ def test_the_controllers_choice_of_joints_is_checked_against_the_plan():
     found = _mutant_mismatches(cell, "abb", ".mod", "    MoveAbsJ stack_home", "    ! MoveAbsJ stack_home")
     assert found and "moves, expected" in found[0], found
     # box 1's configuration with axis 5 negative (cfx 1): the same pose with the wrist flipped
-    conf = "STACK_CONF{12} := [[-1, -1, -2, "
+    conf = "STACK_CONF{12} := [[-1, 0, -2, "
     found = _mutant_mismatches(cell, "abb", ".mod", conf + "0]", conf + "1]")
-    assert found and "cannot reach this pose in configuration [-1, -1, -2, 1]" in found[0], found
+    assert found and "cannot reach this pose in configuration [-1, 0, -2, 1]" in found[0], found
     # box 1's Status with the other A5 sign (bit 2)
     found = _mutant_mismatches(cell, "kuka", ".dat", "PAL_S[1]=2\n", "PAL_S[1]=6\n")
     assert found and "cannot reach this pose in configuration [6, 2]" in found[0], found

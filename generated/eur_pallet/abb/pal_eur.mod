@@ -24,8 +24,8 @@ MODULE pal_eur
   LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[-600.0000, 1100.0000, -500.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [[0, 0, 0], [1, 0, 0, 0]]];
   ! Q, where the boxes are picked, in the base frame, and 100.0000 mm above it (the arm
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen
-  LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, -1, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, -1, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
   ! (deg, counterclockwise about the pallet's z)
@@ -41,7 +41,7 @@ MODULE pal_eur
   LOCAL CONST num STACK_RY{12} := [-14.8969, 42.4264, -21.0494, -10.2899, 40.2492, 22.6554, -14.8969, 42.4264, -21.0494, -10.2899, 40.2492, 22.6554];
   ! the arm's configuration (cf1, cf4, cf6, cfx) at each box's entry, chosen by codegen from the arm's
   ! model (IRB 4600-60/2.05) and proven for every layer: a box turned 90 deg may need another wrist position
-  LOCAL CONST confdata STACK_CONF{12} := [[1, 0, 3, 0], [1, -1, 1, 0], [1, 0, 0, 0], [0, -1, 1, 0], [1, 0, 0, 0], [0, -1, 1, 0], [0, -1, 2, 0], [0, 0, 0, 0], [0, -1, 1, 0], [1, 0, 0, 0], [0, -1, 1, 0], [1, 0, 0, 0]];
+  LOCAL CONST confdata STACK_CONF{12} := [[1, 0, 3, 0], [1, 0, 1, 0], [1, 0, 0, 0], [0, 0, 1, 0], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 2, 0], [0, 0, 0, 0], [0, 0, 1, 0], [1, 0, 0, 0], [0, 0, 1, 0], [1, 0, 0, 0]];
   ! each pattern's first row and number of boxes
   LOCAL CONST num STACK_FIRST{2} := [1, 7];
   LOCAL CONST num STACK_COUNT{2} := [6, 6];

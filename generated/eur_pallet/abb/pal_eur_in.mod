@@ -26,8 +26,8 @@ MODULE pal_eur_in
   LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[600.0000, -1100.0000, -500.0000], [0.000000000, 0.000000000, 0.000000000, 1.000000000]], [[0, 0, 0], [1, 0, 0, 0]]];
   ! Q, where the boxes are put down, in the base frame, and 100.0000 mm above it (the arm
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen
-  LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, -1, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, -1, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
   ! (deg, counterclockwise about the pallet's z)
@@ -42,7 +42,7 @@ MODULE pal_eur_in
   LOCAL CONST num STACK_RY{8} := [0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000];
   ! the arm's configuration (cf1, cf4, cf6, cfx) at each box's entry, chosen by codegen from the arm's
   ! model (IRB 4600-60/2.05) and proven for every layer: a box turned 90 deg may need another wrist position
-  LOCAL CONST confdata STACK_CONF{8} := [[-1, -1, 2, 0], [-1, -1, 2, 0], [-2, -1, 1, 0], [-2, -1, 1, 0], [-1, -1, 2, 0], [-1, -1, 2, 0], [-2, -1, 1, 0], [-2, -1, 1, 0]];
+  LOCAL CONST confdata STACK_CONF{8} := [[-1, 0, 2, 0], [-1, 0, 2, 0], [-2, 0, 1, 0], [-2, 0, 1, 0], [-1, 0, 2, 0], [-1, 0, 2, 0], [-2, 0, 1, 0], [-2, 0, 1, 0]];
   ! each pattern's first row and number of boxes
   LOCAL CONST num STACK_FIRST{1} := [1];
   LOCAL CONST num STACK_COUNT{1} := [8];
