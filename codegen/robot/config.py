@@ -57,7 +57,6 @@ from codegen.robot.arms import Arm
 from codegen.robot.kinematics import wrap_deg, wrap_deg_float
 from codegen.robot.opw import OPW
 
-
 BOUNDARY_MM = 1e-6  # a wrist centre this close to axis 1 is on it (mm)
 BOUNDARY_SIN = math.radians(solve.BOUNDARY_DEG)  # the wrist centre this close to the lower arm's line: on it (sine)
 
