@@ -18,6 +18,7 @@ class ProgramFile:
 
     name: str
     template: str  # under templates/, e.g. "<target>/kinds/<kind>.src.j2"
+    context: dict = field(default_factory=dict, compare=False)  # variables of this file alone (beside the plan's)
 
 
 @dataclass(frozen=True)

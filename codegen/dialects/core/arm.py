@@ -48,6 +48,13 @@ class ArmState:
         """The arm stands at these joints (deg) when the program starts."""
         self.joints = np.asarray(q_deg, dtype=float)
 
+    def standing_pose(self) -> np.ndarray | None:
+        """Before any move: where the active tool's TCP is with the arm at its start joints (the controller reads
+        its encoders); None without the arm's model or its start joints."""
+        if self.arm is None or self.joints is None or self.pending:
+            return None
+        return self.arm.kin.fk(self.joints) @ self.tcp2flange
+
     def actual(self, where: str) -> np.ndarray:
         """Where the arm's joints are now (deg): after the moves so far, or where it stood at the start."""
         self.resolve()

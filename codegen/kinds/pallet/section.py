@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+from codegen.kinds.pallet.interlocks import PalletIO, check_pallets_io, parse_io
 from codegen.model.cell import CellValidator
 
 PALLET_KEYS = frozenset(
@@ -28,16 +29,22 @@ PALLET_KEYS = frozenset(
         "slip_sheet",
         "mode",
         "approach_auto",
+        "io",
+        "box_mass_kg",
+        "box_cog_mm",
+        "zone_mm",
     }
 )
 FRAME_KEYS = frozenset({"origin", "x_point", "xy_point"})
 FAMILIES = ("column", "interlock", "pinwheel", "split-row")
 FAMILY_KEYS = frozenset({"family", "mirror", "label_out"})
-SLIP_KEYS = frozenset({"every", "thickness"})
+SLIP_KEYS = frozenset({"every", "thickness", "pick", "lift"})
 MAX_LAYERS = 200
 MAX_SIZE_MM = 5000.0
 PICK_LIFT_MM = 100.0  # the default lift above Q
 MAX_PICK_LIFT_MM = 2000.0
+MAX_BOX_KG = 2000.0
+MAX_ZONE_MM = 200.0  # the largest blending zone the controllers predefine (RAPID z200)
 
 
 @dataclass(frozen=True)
@@ -73,17 +80,26 @@ class Pallet:
     mode: str = "stack"  # "stack": place the boxes from Q; "unstack": take them off, top layer first, to Q
     approach_auto: bool = False  # approach and retreat from the side away from the layer's earlier boxes
     pick_lift: float = PICK_LIFT_MM  # the box comes off (goes onto) Q straight along the base's z, mm
+    # the inputs the program waits for, the PLC's reset and selection (interlocks.py)
+    io: PalletIO = field(default_factory=PalletIO)
+    box_mass_kg: float = 0.0  # the carried box: its mass (0: the payload is the tool's alone)
+    box_cog_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)  # its centre of gravity in the TCP frame
+    slip_pick: object = None  # where the slip sheets are picked (TaughtPose, base frame), or None: no sheets placed
+    slip_lift: float = PICK_LIFT_MM  # the sheet comes off its stack straight along the base's z, mm
+    zone_mm: float = 0.0  # blending where the arm passes a pose (0: it stops at each)
 
 
-def parse_pallets(ctx: CellValidator, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
+def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
+    """The [[pallet]] tables of a cell file (cell: as far as it is known: pose format, targets, motion)."""
     raw = data.get("pallet", [])
     if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
         ctx.fail("pallet", "expected [[pallet]] tables")
-    pallets = tuple(_pallet(ctx, table, f"pallet[{i}]", pose_format) for i, table in enumerate(raw))
+    pallets = tuple(_pallet(ctx, table, f"pallet[{i}]", cell) for i, table in enumerate(raw))
     names = [p.name for p in pallets]
     for i, name in enumerate(names):
         if name in names[:i]:
             ctx.fail(f"pallet[{i}].name", f"pallet {name!r} named twice")
+    check_pallets_io(ctx, pallets, cell.targets)
     return pallets
 
 
@@ -94,7 +110,8 @@ def _positive(ctx: CellValidator, values, count: int, path: str, limit: float = 
     return numbers
 
 
-def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pallet:
+def _pallet(ctx: CellValidator, table: dict, path: str, cell) -> Pallet:
+    pose_format = cell.pose_format
     ctx.no_unknown(table, PALLET_KEYS, path)
     name = ctx.name(table, "name", f"{path}.name")
     frame = ctx.table(table, "frame", f"{path}.frame")
@@ -136,7 +153,7 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
     support = ctx.finite(table.get("support_min", 0.6), f"{path}.support_min")
     if not 0 <= support <= 1:
         ctx.fail(f"{path}.support_min", "must be a share in [0, 1]")
-    slip_every, slip_thickness = 0, 0.0
+    slip_every, slip_thickness, slip_pick, slip_lift = 0, 0.0, None, PICK_LIFT_MM
     if "slip_sheet" in table:
         slip = ctx.table(table, "slip_sheet", f"{path}.slip_sheet")
         ctx.no_unknown(slip, SLIP_KEYS, f"{path}.slip_sheet")
@@ -146,6 +163,17 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
         slip_thickness = ctx.number(slip, "thickness", f"{path}.slip_sheet.thickness")
         if not 0 < slip_thickness <= 50:
             ctx.fail(f"{path}.slip_sheet.thickness", "must be in (0, 50] mm")
+        if table.get("mode", "stack") == "unstack":
+            ctx.fail(
+                f"{path}.slip_sheet",
+                "an unstacking program would grip the slip sheet on a layer with its box: codegen places slip "
+                "sheets when stacking only",
+            )
+        where = f"{path}.slip_sheet.pick"
+        slip_pick = ctx.pose("slip_pick", ctx.require(slip, "pick", where), where, pose_format)
+        slip_lift = ctx.finite(slip.get("lift", PICK_LIFT_MM), f"{path}.slip_sheet.lift")
+        if not 0 < slip_lift <= MAX_PICK_LIFT_MM:
+            ctx.fail(f"{path}.slip_sheet.lift", f"must be in (0, {MAX_PICK_LIFT_MM:g}] mm: straight up from the pick")
     auto = table.get("approach_auto", False)
     if not isinstance(auto, bool):
         ctx.fail(f"{path}.approach_auto", "must be true or false")
@@ -154,6 +182,19 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
     mode = table.get("mode", "stack")
     if mode not in ("stack", "unstack"):
         ctx.fail(f"{path}.mode", 'expected "stack" (place the boxes) or "unstack" (take them off, top layer first)')
+    io_table = ctx.table(table, "io", f"{path}.io") if "io" in table else None
+    io = parse_io(ctx, io_table, path, cell.targets, mode, slip_pick is not None)
+    mass = ctx.finite(table.get("box_mass_kg", 0.0), f"{path}.box_mass_kg")
+    if not 0 <= mass <= MAX_BOX_KG:
+        ctx.fail(f"{path}.box_mass_kg", f"must be in [0, {MAX_BOX_KG:g}] kg")
+    cog = (0.0, 0.0, box[2] / 2)  # the TCP on the box's top, its z into the box: the box's centre
+    if "box_cog_mm" in table:
+        cog = ctx.numbers(table["box_cog_mm"], 3, f"{path}.box_cog_mm")
+        if max(abs(v) for v in cog) > MAX_SIZE_MM:
+            ctx.fail(f"{path}.box_cog_mm", f"every value must be within +-{MAX_SIZE_MM:g} mm")
+    zone = ctx.finite(table.get("zone_mm", cell.motion.zone_mm), f"{path}.zone_mm")
+    if not 0 <= zone <= MAX_ZONE_MM:
+        ctx.fail(f"{path}.zone_mm", f"must be in [0, {MAX_ZONE_MM:g}] mm")
     return Pallet(
         name,
         origin,
@@ -177,6 +218,12 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
         mode,
         auto,
         pick_lift,
+        io,
+        mass,
+        cog,
+        slip_pick,
+        slip_lift,
+        zone,
     )
 
 
