@@ -53,6 +53,25 @@ def encoder_swapped(cell):
     return section(cell, "conveyor", pick=replace(conveyor.pick, encoder_inputs=inputs))
 
 
+def pallets(cell, **changes):
+    """Every pallet of the cell changed alike."""
+    return replace(
+        cell, sections={**cell.sections, "pallet": tuple(replace(p, **changes) for p in cell.sections["pallet"])}
+    )
+
+
+def pallet_timeout(cell, factor: float):
+    return replace(
+        cell,
+        sections={
+            **cell.sections,
+            "pallet": tuple(
+                replace(p, io=replace(p.io, timeout_s=factor * p.io.timeout_s)) for p in cell.sections["pallet"]
+            ),
+        },
+    )
+
+
 # name -> (what it needs of the cell: "arm", "tool" or a kind's section; the perturbed cell; the scenarios that
 # reveal it, ALL: any case)
 MODEL = {
@@ -63,6 +82,18 @@ MODEL = {
     "start_tolerance_30deg": ("arm", lambda c: motion(c, start_tolerance_deg=30.0), frozenset({"start_away"})),
     "window_end_100mm_later": ("conveyor", window_end, ALL),
     "encoder_a_b_swapped": ("conveyor", encoder_swapped, ALL),
+    "pallet_box_payload_x2": (
+        "pallet",
+        lambda c: pallets(c, box_mass_kg=2 * c.sections["pallet"][0].box_mass_kg),
+        ALL,
+    ),
+    "pallet_blends_off": ("pallet", lambda c: pallets(c, zone_mm=0.0), ALL),
+    "pallet_way_home_retreat_x2": (
+        "pallet",
+        lambda c: motion(c, retreat_mm=2 * c.motion.retreat_mm),
+        frozenset({"start_away", "start_mid_cycle"}),
+    ),
+    "pallet_interlock_timeout_x2": ("pallet", lambda c: pallet_timeout(c, 2.0), frozenset({"part_missing"})),
     "search_10x_faster": (
         "laser",
         lambda c: laser(c, search_speed_mm_s=10 * c.sections["laser"].search_speed_mm_s),
@@ -95,6 +126,30 @@ TEXT = {
     "start_check_removed": {  # the stop the check calls, a message instead
         "ur": (r'^(\s+)\w+_stop\(("start with the arm at home[^"]*")\)', r"\1textmsg(\2)"),
         "abb": (r'^(\s+)\w+_stop ("start with the arm at home[^"]*");', r"\1TPWrite \2;"),
+    },
+    "pallet_interlock_not_awaited": {  # the wait for a box at Q (or Q clear), then the stop's message
+        "ur": (r'^\s*pal_wait\(\d+, "[^"]*(no box at the pick place|pick place is not clear)[^"]*"\)\n', ""),
+        "kuka": (r"^\s*IF NOT PAL_(PART|CLEAR)\(\) THEN\n\s*RETURN\n\s*ENDIF\n", ""),
+        "abb": (
+            r"WaitDI (diCartonAtQ|diPartAtQ|diQClear), 1 \\MaxTime:=STACK_WAIT \\TimeFlag:=late;",
+            "late := FALSE;",
+        ),
+        "dtrans": (r"^(\s*)If DIn\((3|7)\) <> True Then\n", r"\1If False Then\n"),
+    },
+    "pallet_carried_payload_dropped": {
+        "ur": (r"^\s*set_target_payload\([^\n]*# the tool and the box\n", ""),
+        "kuka": (r"^\s*\$LOAD = PAL_LOAD_BOX\n", ""),
+        "abb": (r"^\s*GripLoad stack_box;\n", ""),
+    },
+    "pallet_way_home_skipped": {
+        "ur": (r"^(\s*)if pal_away:", r"\1if False:"),
+        "kuka": (r"^(\s*)IF AWAY THEN", r"\1IF FALSE THEN"),
+        "abb": (r"^\s*MoveL RelTool\(CRobT\(\\Tool:=stack_tool[^\n]*\n", ""),  # the retreat along the tool's z
+    },
+    "pallet_blend_on_the_place": {
+        "ur": (r"(movel\(pal_pose\(x, y, z, a\), a=[\d.]+, v=[\d.]+)\)", r"\1, r=0.001)"),
+        "kuka": (r"^(\s+LIN TARGET)\b([^\n]*)\n", r"\1 C_DIS\n"),
+        "abb": (r"(MoveL target, stack_work, )fine,", r"\1stack_zone,"),
     },
     "camera_range_check_removed": {
         "ur": (r"if x < CNV_X_MIN or x > CNV_X_MAX or", "if False and x > CNV_X_MAX or"),

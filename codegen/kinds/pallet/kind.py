@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from codegen.emit import Emitter
+from codegen.emit import EmitError, Emitter
 from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
@@ -53,6 +53,11 @@ class PalletKind(ProgramKind):
         if not pallets:
             return []
         facts = cls.facts(target)
+        if facts.get("task") and cell.stations:
+            raise EmitError(
+                f"{target.name}: the cell's station program and its pallet programs would each have a PROC main in "
+                "one task: give the pallets a cell file of their own"
+            )
         emitter = Emitter(target)
         contexts, owns = [], identifiers(cell, target)
         for index, pallet in enumerate(pallets):
