@@ -119,7 +119,8 @@ def text(result: dict) -> str:
             lines.append(
                 f"  cycle estimate: {cycle['seconds']:g} s per pallet ({cycle['travel_mm']:g} mm at "
                 f"{cycle['speed_mm_s']:g} mm/s, {cycle['work_mm']:g} mm at {cycle['work_speed_mm_s']:g} mm/s; "
-                f"{cycle['stops']} exact stops, {cycle['blends']} blended poses saving {cycle['corner_saving_mm']:g} mm; "
+                f"{cycle['stops']} exact stops, {cycle['blends']} blended poses saving "
+                f"{cycle['corner_saving_mm']:g} mm; "
                 "no acceleration, no gripper time)"
             )
     return "\n".join(lines)
