@@ -310,6 +310,13 @@ def test_the_cycle_estimate_counts_the_stops_and_the_blended_corners(eur):
     assert estimate["blends"] > 0 and estimate["stops"] > 0 and estimate["corner_saving_mm"] > 0
 
 
+def test_the_testmat_cycle_stops_at_pick_and_place_alone(testmat):
+    """30 boxes of 8 moves and the move off the pallet (241): each box stops at Q and at its target, the last move
+    stops above Q (61 stops); every other pose but the first (the cycle's start, no corner) blends (179)."""
+    estimate = cycle_estimate(testmat, testmat.sections["pallet"][0])
+    assert (estimate["stops"], estimate["blends"]) == (61, 179)
+
+
 # --- the way home -----------------------------------------------------------------------------------------------------
 
 

@@ -60,8 +60,8 @@ def cycle_estimate(cell, pallet: Pallet) -> dict:
         "work_speed_mm_s": cell.motion.work_speed_mm_s,
         "stops": sum(1 for m in moves if m.exact or zone == 0),
         "blends": len(blended),
-        "corner_saving_mm": round(saving, 1),
-        "seconds": round(seconds, 1),
+        "corner_saving_mm": round(float(saving), 1),
+        "seconds": round(float(seconds), 1),
     }
 
 
