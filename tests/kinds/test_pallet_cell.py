@@ -12,10 +12,9 @@ from test_pallet_programs import mutant_mismatches
 from codegen.controllers import get_target
 from codegen.dialects.core.files import SourceFile
 from codegen.dialects.rapid import Rapid
-from codegen.emit import EmitError
 from codegen.kinds.pallet import verify as pallet_verify
 from codegen.kinds.pallet.cycle import PalletCase
-from codegen.kinds.pallet.messages import counters_message
+from codegen.kinds.pallet.messages import all_messages, counters_message
 from codegen.kinds.pallet.report import cycle_estimate
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
@@ -204,7 +203,7 @@ def test_a_dtrans_reload_clears_the_counters_and_the_program_stops(testmat):
     case = Case("counters_reloaded", pallet_verify.PalletRun(0, PalletCase("counters_reloaded", 2, 3)))
     assert pallet_verify.setup(testmat, source, case).inputs == {}
     (expectation,) = pallet_verify.judge(testmat, source, case, None).accepted
-    assert expectation.halt == counters_message(testmat.sections["pallet"][0]) and expectation.moves == ()
+    assert expectation.halt == counters_message(testmat.sections["pallet"][0], 80) and expectation.moves == ()
 
 
 # --- one ABB task -------------------------------------------------------------------------------------------------
@@ -371,13 +370,17 @@ def test_the_ur_script_node_twin_is_a_program_of_its_own(testmat):
     assert found, found
 
 
-def test_an_operator_message_beyond_the_controllers_limit_is_refused(tmp_path):
-    """KRL's Msg_txt and RAPID's strings hold 80 characters: a pallet name that makes a message longer is refused
-    at generate (a cut message would hide what the operator must do)."""
+def test_a_long_pallet_name_is_shortened_in_the_messages_never_the_instruction(tmp_path):
+    """KRL's Msg_txt and RAPID's strings hold 80 characters: where a pallet's name would make a message longer, the
+    message shows the name's start and "...", then all of what the operator must do (a cut end would hide it); every
+    program of the cell shows that text, and verify expects it."""
     long = "a" * 40
     cell = _load(tmp_path, TESTMAT_TEXT.replace('name = "testmat"', f'name = "{long}"', 1))
-    with pytest.raises(EmitError, match="the kuka controller shows 80"):
-        render(cell, ["kuka"])
+    files = render(cell, ["kuka", "abb", "ur"])
+    want = "pallet " + "a" * 7 + "...: a box is in the gripper (sensor on): take it out, start again"  # 80 characters
+    assert len(want) == 80 and sum(want in f.text for f in files) == 4  # .src, the ABB module, both UR forms
+    messages = all_messages(cell.sections["pallet"][0], 80)
+    assert all(len(m) <= 80 and (long in m or len(m) == 80) for m in messages), messages  # shortened to fit only
     for f in render(load_cell(PALLETS / "eur_pallet.toml"), ["kuka", "abb"]):
         for message in re.findall(r'(?:MSG_TXT\[\] = |stack_stop |TPWrite )"([^"]*)"', f.text):
-            assert len(message) <= 80, message
+            assert len(message) <= 80 and "..." not in message, message

@@ -301,10 +301,14 @@ class KRLCompiler(
     def s_wait_for(self, node):
         """WAIT FOR stops the advance run; a condition on a timer is waited for cycle by cycle (the clock runs
         while a timer it reads runs), any other until a device makes it true."""
-        timed = any(
-            isinstance(sub, Tree) and sub.data == "var" and str(sub.children[0]).upper() in TIMED
-            for sub in node.children[0].iter_subtrees()
-        ) if isinstance(node.children[0], Tree) else False
+        timed = (
+            any(
+                isinstance(sub, Tree) and sub.data == "var" and str(sub.children[0]).upper() in TIMED
+                for sub in node.children[0].iter_subtrees()
+            )
+            if isinstance(node.children[0], Tree)
+            else False
+        )
         if not timed:
             return self.wait_until(node.children[0], node, "WAIT FOR", arrive=True)
         cond, where = self.expr(node.children[0]), self.where(node)

@@ -8,8 +8,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.emit import Emitter
-from codegen.guard import NOT_AT_HOME, halt_message
 from codegen.kinds.laser import program as lp
 from codegen.kinds.laser.facts import facts
 from codegen.kinds.laser.reference import expected
@@ -27,7 +25,7 @@ from codegen.kinds.laser.verify import (
 )
 from codegen.reference import home_move
 from codegen.robot import solve
-from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored
+from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored, refuses_start
 
 NEAR_MM = 5 * FLOAT32_MM  # a move ends at one of the procedure's fixed points when this close to it
 
@@ -74,9 +72,8 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     """What it measured against the exact-edge reference (codegen/kinds/laser/verify.py), its moves against the
     procedure's roles and speeds, the tool data it stores; a start away or mid-cycle: the restart rule."""
     target = get_target(target_name)
-    emitter = Emitter(target)
-    if case.start != "home" and target.program.get("restart") == "at_home" and cell.robot is not None:
-        message = emitter.string(halt_message(cell, NOT_AT_HOME, None, 0))
+    message = refuses_start(cell, target, case)
+    if message is not None:
         return Judgement([Expectation(message, (), (), _stored(cell, target, None, 0.0))])
     want = expected(cell, station_for(cell, target, replace(case, noise=0.0)))
     tol = tolerances(cell, target, case.noise)

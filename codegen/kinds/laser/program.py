@@ -28,11 +28,10 @@ import math
 
 import numpy as np
 
-from codegen.emit import EmitError, Emitter
+from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.laser.facts import facts
 from codegen.kinds.laser.section import laser_of
 from codegen.model.cell import TaughtPose
-from codegen.model.io import signal_name
 from codegen.poses import zyx_deg_from_rotmat
 
 DOWN = np.diag([1.0, -1.0, -1.0])
@@ -96,7 +95,7 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         circles.append({name: [number(v, 4) for v in xyz] for name, xyz in circle_points(laser, k).items()})
     dz = laser.depths_mm[1] - laser.depths_mm[0]
     return {
-        "ident": laser_ident(cell, target),
+        "ident": emitter.identifier("tcp_", cell.name, "the laser TCP program"),
         "sensor": emitter.pose(laser.sensor_frame),
         "down": emitter.pose(TaughtPose("down", _xyzabc(down), "xyzabc")),
         "guess": [number(v, 4) for v in guess[:3, 3]],
@@ -110,11 +109,11 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         "circle_speed": number(laser.circle_speed_mm_s, 3),
         "search_speed": number(laser.search_speed_mm_s, 3),
         "edges": EDGES_PER_BEAM,
-        "beam_x": signal_name(target, "input", laser.beam_x[target.name]),
-        "beam_y": signal_name(target, "input", laser.beam_y[target.name]),
-        "beam_x_raw": laser.beam_x[target.name],
-        "beam_y_raw": laser.beam_y[target.name],
-        "names": kept_names(target),
+        "beam_x": emitter.signal_ref("input", laser.beam_x[target.name], f"laser.beam_x.{target.name}"),
+        "beam_y": emitter.signal_ref("input", laser.beam_y[target.name], f"laser.beam_y.{target.name}"),
+        "beam_x_raw": emitter.signal(laser.beam_x[target.name], f"laser.beam_x.{target.name}"),
+        "beam_y_raw": emitter.signal(laser.beam_y[target.name], f"laser.beam_y.{target.name}"),
+        "names": owned(kept_names(target)),
         "circle_edges": emitter.string(CIRCLE_EDGES),
         "no_tip": emitter.string(NO_TIP),
         "axis_tilt": emitter.string(AXIS_TILT),

@@ -14,6 +14,7 @@ from codegen.kinds.pallet.messages import (
     empty_message,
     full_message,
     held_message,
+    message_limit,
     wait_message,
 )
 from codegen.kinds.pallet.section import Pallet
@@ -163,7 +164,9 @@ class _Run:
 
     def wait(self, interlock: str) -> str | None:
         """The program waits for an interlock input: the stop's message if it never comes on."""
-        return wait_message(self.pallet, interlock) if self.case.missing == interlock else None
+        if self.case.missing != interlock:
+            return None
+        return wait_message(self.pallet, interlock, message_limit(self.cell))
 
     def grip(self, box: bool = True) -> str | None:
         """Grip a box (its payload from the confirmed grip on) or a slip sheet (light: the tool's payload stays)."""
@@ -188,16 +191,17 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     """What the pallet's program does in this case: the checks before any move (a full or empty pallet, reset by
     the PLC or not; counters outside the stack; a box in the gripper), then each item from the counters."""
     start, done = (case.layer, case.box), done_counters(pallet)
+    limit = message_limit(cell)
     keys = [item.key for item in items(pallet)]
     if start == done and case.reset and pallet.io.reset:  # a swapped pallet: the PLC resets its counters
         start = keys[0]
     if start == done:
-        message = full_message(pallet) if pallet.mode == "stack" else empty_message(pallet)
+        message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
         return Expected((), (), message, start, start)
     if start not in keys:
-        return Expected((), (), counters_message(pallet), start, start)
+        return Expected((), (), counters_message(pallet, limit), start, start)
     if case.closed:  # a box in the gripper: opening it anywhere would drop it
-        return Expected((), (), held_message(pallet), start, start)
+        return Expected((), (), held_message(pallet, limit), start, start)
     run = _Run(cell, pallet, case, start)
     todo = [item for item in items(pallet)][keys.index(start) :]
     halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from codegen.emit import EmitError, Emitter
+from codegen.emit import EmitError
 from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
@@ -10,6 +10,7 @@ from codegen.kinds.pallet.program import check_level, file_name, identifiers, pa
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.verify import FORMS_PER_PALLET
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
+from codegen.render import program_emitter
 
 
 class PalletKind(ProgramKind):
@@ -23,6 +24,7 @@ class PalletKind(ProgramKind):
         "counters": dict,  # layer and box: the counters' names for --input and verify
         "kept": dict,  # layer and box: where the program reports the counters, if not in counters
         "store": str,  # where the counters outlive a reload and a regeneration: a file, "plc", "program"
+        "declares": list,  # the words that begin a declaration in the language (after others: LOCAL, GLOBAL)
         "registers": int,  # the first register of the counters, where the controller keeps them in the PLC
         "registers_max": int,  # the last register the counters may use
         "level_only": bool,  # no pose product: a level pallet only
@@ -58,7 +60,7 @@ class PalletKind(ProgramKind):
                 f"{target.name}: the cell's station program and its pallet programs would each have a PROC main in "
                 "one task: give the pallets a cell file of their own"
             )
-        emitter = Emitter(target)
+        emitter = program_emitter(cell, target)
         contexts, owns = [], identifiers(cell, target)
         for index, pallet in enumerate(pallets):
             check_level(pallet, target)

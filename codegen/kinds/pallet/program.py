@@ -8,17 +8,17 @@ import math
 import numpy as np
 
 from codegen import derived
-from codegen.emit import EmitError, Emitter
+from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import above_pick, layer_counts, safe_pose, sheet_below, start_counters
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import counter_register
 from codegen.kinds.pallet.messages import (
-    check_lengths,
     counters_message,
     empty_message,
     full_message,
     held_message,
+    message_limit,
     select_message,
     wait_message,
 )
@@ -35,7 +35,7 @@ POLL_S = 0.05  # how often a program looks at an interlock input while it waits 
 
 
 def file_name(target, pattern: str, own: dict) -> str:
-    """A file of one pallet's program: the pattern with the pallet's identifier, the store with the store's (a KRL
+    """A file of one pallet's program: the pattern with the pallet's identifier, the store with the store's (a
     data list is named as its DEFDAT)."""
     if pattern == facts(target).get("store") and "store" in own:
         return own["store"].lower() + pattern[pattern.index(".") :]
@@ -100,7 +100,7 @@ def pallet_identifiers(cell, target) -> list[str]:
 
 def carried_load(cell, pallet: Pallet) -> tuple[float, float, float, float] | None:
     """The payload while the box is in the gripper: the tool's and the box's mass and their common centre of
-    gravity in the flange frame (KRL $LOAD, UR set_target_payload); None: no box mass or no tool given."""
+    gravity in the flange frame (each target's payload instruction); None: no box mass or no tool given."""
     robot = cell.robot
     if robot is None or not robot.tool_given or pallet.box_mass_kg == 0:
         return None
@@ -132,7 +132,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     pose (with an arm: chosen at generate time, codegen/kinds/pallet/reach.py), the counters and their store, the
     interlocks, the payload, the zone and the messages."""
     number = emitter.number
-    check_lengths(pallet, target)
+    limit = message_limit(cell)
     frame = frame_matrix(pallet)
     named = configurations(cell, pallet, target.name)
     own = identifiers(cell, target)[index]
@@ -185,9 +185,9 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
             "layers": [n for n in range(2, pallet.layers + 1) if sheet_below(pallet, n)],
         }
     interlocks = {
-        name: {
+        owned(name): {
             "signal": _signal(emitter, target, signals[target.name]),
-            "message": emitter.string(wait_message(pallet, name)),
+            "message": emitter.string(wait_message(pallet, name, limit)),
         }
         for name, signals in pallet.io.inputs().items()
     }
@@ -206,7 +206,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "level": level,
         "frame_turn_deg": number(math.degrees(math.atan2(frame[1, 0], frame[0, 0])), 6),
         "rows": rows,
-        "position": derived.printed(target.dialect, "box")["outputs"],  # a box's x, y on a level pallet
+        "position": owned(derived.printed(target.dialect, "box")["outputs"]),  # a box's x, y on a level pallet
         "patterns": patterns,
         "cycle": [names.index(name) + 1 for name in pallet.cycle],
         "layers": pallet.layers,
@@ -229,7 +229,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "way_home_mm": number(cell.motion.retreat_mm, 4),
         "way_home_m": number(cell.motion.retreat_mm / 1000.0, 6),
         "registers": registers,
-        "counters": {"layer": layer_name, "box": box_name},
+        "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name
         "store": own.get("store"),
         "start": {"layer": first[0], "box": first[1]},
         "auto": pallet.approach_auto,
@@ -248,10 +248,10 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "poll_s": number(POLL_S, 2),
         "reset": None if reset is None else _signal(emitter, target, reset),
         "select": None if select is None else _signal(emitter, target, select),
-        "empty": emitter.string(empty_message(pallet)),
-        "full": emitter.string(full_message(pallet)),
-        "held": emitter.string(held_message(pallet)),
-        "bad_counters": emitter.string(counters_message(pallet)),
+        "empty": emitter.string(empty_message(pallet, limit)),
+        "full": emitter.string(full_message(pallet, limit)),
+        "held": emitter.string(held_message(pallet, limit)),
+        "bad_counters": emitter.string(counters_message(pallet, limit)),
         "release": emitter.comment(facts(target).get("minimum_release", "")),
     }
 
@@ -273,8 +273,8 @@ def task_context(cell, target, emitter, contexts: list[dict]) -> dict:
     return {
         "pallets": contexts,
         "no_select": emitter.string(select_message()),
-        "main": facts(target)["files"][0].split(".")[0],
-        "data": facts(target)["store"].split(".")[0],
+        "main": owned(facts(target)["files"][0].split(".")[0]),
+        "data": owned(facts(target)["store"].split(".")[0]),
     }
 
 

@@ -61,11 +61,6 @@ SCENARIOS = {
     "reading_out_of_range": "",  # the counters the cell PLC or the operator set, out of the stack
 }
 MISSING = {"part_missing": "part_present", "place_not_clear": "place_clear", "sheet_missing": "sheet_ready"}
-# a counter declared in a file the program's regeneration replaces (not its store), per language
-DECLARED = {
-    "krl": r"^\s*DECL\b[^\n;]*\b{name}\b",
-    "rapid": r"^\s*(LOCAL\s+|TASK\s+)?(PERS|VAR|CONST)\s+\w+\s+{name}\b",
-}
 
 
 @dataclass(frozen=True)
@@ -278,7 +273,7 @@ def _way_home(cell, pallet, target, home, start) -> list[PlannedMove]:
     arm = cell.robot.arms[target.name]
     here = arm.kin.fk(q) @ tcp2flange
     back = here @ np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -cell.motion.retreat_mm], [0, 0, 0, 1.0]])
-    # the first motion a joint move where the arm stands (KRL's BCO run; on every controller the arm's joints are then
+    # the first motion a joint move where the arm stands (a BCO run; on every controller the arm's joints are then
     # the path's start: the retreat keeps its configuration)
     way = [PlannedMove("where the arm stands", "joint", here, True, None, 0.0, percent, joints=q)]
     way.append(PlannedMove("back along the tool's z", "linear", back, True, cell.motion.work_speed_mm_s, 0.0))
@@ -299,9 +294,11 @@ def _declared_outside_store(source, target, names: tuple[str, str]) -> str | Non
     """After a reload the counters hold what their store kept: a counter declared in another of the program's files
     (one a regeneration replaces, its value with it) fails."""
     store = facts(target).get("store", "")
-    pattern = DECLARED.get(target.dialect)
-    if pattern is None or "." not in store:
+    words = facts(target).get("declares")
+    if not words or "." not in store:
         return None
+    # a line whose first words are a declaration's (LOCAL PERS num, DECL GLOBAL INT) and that names the counter
+    pattern = rf"^[ \t]*(?:\w+[ \t]+)*?(?:{'|'.join(map(re.escape, words))})\b[^\n]*\b{{name}}\b"
     store_suffix = store[store.index(".") :].lower()
     for f in source.files:
         name = f.name.rsplit("/", 1)[-1].lower()
