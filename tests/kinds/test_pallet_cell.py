@@ -359,6 +359,32 @@ def test_slip_sheets_are_placed_from_the_dispenser(eur):
     assert found, found
 
 
+SHEETS = TESTMAT_TEXT.replace(
+    "zone_mm = 2.0 ",
+    "slip_sheet = { every = 2, thickness = 3.0, pick = [450.0, 300.0, 50.0, 0.0, 0.0, 180.0], lift = 30.0 }\n"
+    "zone_mm = 2.0 ",
+    1,
+).replace(
+    "timeout_s = 10.0", 'sheet_ready = { ur = 5, kuka = 22, abb = "diSheetReady", dtrans = 6 }\ntimeout_s = 10.0', 1
+)
+
+
+def test_the_ur_program_places_slip_sheets(tmp_path):
+    """The EUR cell has no UR: source 004's pallet with a sheet on every second layer runs every case on the UR (the
+    sheet missing, a restart at a sheet); a sheet put down 3 mm low, or never put down, fails."""
+    cell = _load(tmp_path, SHEETS)
+    program = sources(cell, "ur", "pallet")[0]
+    row = verify_one(cell, program, cases=1)
+    assert row.mismatches == 0 and {"part_missing", "restart"} <= set(row.scenarios), row.first_mismatches
+    for old, new in [
+        ("z = pal_top(pal_layer - 1) + PAL_SLIP", "z = pal_top(pal_layer - 1)"),
+        ("      if pal_sheet_below(pal_layer):\n        pal_box = 0", "      if False:\n        pal_box = 0"),
+    ]:
+        assert old in program.files[0].text, old
+        mutant = edited(program, lambda text, old=old, new=new: text.replace(old, new))
+        assert verify_one(cell, mutant, cases=1, first_mismatch=True).first_mismatches, old
+
+
 # --- the UR forms, the release, messages ---------------------------------------------------------------------------
 
 

@@ -157,7 +157,7 @@ MODULE pal_eur
         ! the sheet is down: the layer's first box
         pal_eur_box := 1;
         MoveL entry, stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
-      ELSE
+      ENDIF
       target := stack_target(pal_eur_layer, pal_eur_box);
       row := stack_row(pal_eur_layer, pal_eur_box);
       entry := Offs(target, 0, 0, 300.0000);
@@ -190,7 +190,6 @@ MODULE pal_eur
       ENDIF
       MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      ENDIF
     ENDWHILE
     ! off the pallet before the message
     MoveJ stack_above_q, stack_travel, fine, stack_tool;

@@ -218,7 +218,7 @@ MovL PAL_SHEET_PICK
     // the sheet is down: the layer's first box
     pal_box = 1
     MovL entry
-  Else
+  EndIf
   pattern = pal_pattern(pal_layer)
   row = PAL_FIRST[pattern] + pal_box - 1
   x = PAL_X[row]
@@ -255,7 +255,6 @@ MovL PAL_PICK
   EndIf
   MovL pal_pose(x + PAL_RX[row], y + PAL_RY[row], z + 60.0000, a)
   MovL entry
-  EndIf
 EndWhile
 // off the pallet before the message
 MovJ PAL_ABOVE
