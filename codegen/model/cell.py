@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import os
-import tempfile
 import tomllib
 from dataclasses import dataclass, field, replace
 from functools import cached_property, lru_cache
@@ -22,6 +20,7 @@ from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot, parse_station_config
 from codegen.model.validate import CellError, Validator, kind_of
 from codegen.model.vision import VisionSettings
+from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
 from codegen.protocol import get_kind, kinds, station_kinds
 
@@ -141,6 +140,11 @@ def read_cell_data(path: Path) -> tuple[dict, bytes]:
         raw = path.read_bytes()
     except OSError as exc:
         raise CellError(f"{path}: cannot read cell file: {exc.strerror or exc}") from None
+    return parse_cell_bytes(raw, path), raw
+
+
+def parse_cell_bytes(raw: bytes, path: Path) -> dict:
+    """A cell file's TOML tables from its bytes; a CellError naming `path` when they are no cell file's."""
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -151,24 +155,25 @@ def read_cell_data(path: Path) -> tuple[dict, bytes]:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except tomllib.TOMLDecodeError as exc:
         raise CellError(f"{path}: TOML syntax error: {exc}") from None
-    return data, raw
+    return data
 
 
-def replace_cell_file(path: Path, text: str, check=None) -> None:
-    """Replace a cell file by an edited text (a calibration's --write) once the edited file loads and
-    `check(cell)` accepts it; otherwise the file stays as it was and the error goes to the caller."""
+def replace_cell_file(path: Path, text: str) -> None:
+    """Replace a cell file by an edited text (a calibration's --write) once the edited text loads and passes
+    every kind's reach proof (the cell still generates); the file keeps its mode, a symlink stays and its target
+    is replaced (codegen.output.replace_file). Otherwise the file stays as it was and the error goes to the
+    caller: CellError, ReachError, or OSError when the file cannot be written."""
 
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        cell = load_cell(tmp)
-        if check is not None:
-            check(cell)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    os.replace(tmp, path)
+    def accept(written: Path) -> None:
+        raw = written.read_bytes()  # what is on disk, named as the cell file it will become
+        try:
+            cell = cell_from_dict(parse_cell_bytes(raw, path), source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+        except RecursionError:
+            raise CellError(f"{path}: tables or arrays nested too deeply") from None
+        for kind in kinds().values():
+            kind.reach(cell, list(cell.targets))
+
+    replace_file(path, text, accept)
 
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:

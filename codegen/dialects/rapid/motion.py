@@ -35,19 +35,21 @@ def move_load(fr, args, where: str) -> tuple | None:
     mass = float(load["MASS"])
     if not mass > 0:
         raise RunError(f"{where}: a tool the robot holds must have a mass above 0 kg (tooldata tload)")
-    return (mass, *vec(load["COG"], "XYZ"))
+    return with_payload(fr.m, mass, vec(load["COG"], "XYZ"))
 
 
-def with_payload(tool_load: tuple | None, gripload: dict | None, tcp2flange: np.ndarray) -> tuple | None:
-    """The payload in force: the tool's load and the one GripLoad connected (its centre of gravity "defined using the
-    tool coordinate system": RAPID data types, loaddata), as one mass and centre of gravity in the flange frame; load0
-    (0.001 kg, the predefined "no load") or none: the tool's alone."""
-    if tool_load is None or gripload is None or gripload["mass"] <= motionset.NO_LOAD_KG + 1e-9:  # float32 load0
-        return tool_load
-    mass, cog = float(gripload["mass"]), np.asarray(gripload["cog"], dtype=float)
-    carried = tcp2flange[:3, :3] @ cog + tcp2flange[:3, 3]
-    total = tool_load[0] + mass
-    return (total, *((tool_load[0] * np.asarray(tool_load[1:]) + mass * carried) / total).tolist())
+NO_PAYLOAD_KG = 0.001  # load0's mass: GripLoad load0 (or as light) leaves no payload
+
+
+def with_payload(machine, mass: float, cog: list) -> tuple:
+    """The load at the flange: the tool's (centre of gravity in the wrist frame) with the payload GripLoad put in
+    force (its centre of gravity in the tool frame: RAPID Reference Manual, loaddata), as one mass and centre."""
+    grip = (motionset.current(machine) or {}).get("gripload")
+    if grip is None or grip["mass"] <= NO_PAYLOAD_KG * (1.0 + 1e-6):  # load0 as a float32 num holds it
+        return (mass, *cog)
+    part = machine.arm.tcp2flange @ np.array([*grip["cog"], 1.0])
+    total = mass + grip["mass"]
+    return (total, *((mass * np.asarray(cog) + grip["mass"] * part[:3]) / total).tolist())
 
 
 TRAP_KEY = "<trap>"  # Machine.extra: the TRAP routine running now (codegen/dialects/rapid/interrupts.py)
@@ -131,7 +133,6 @@ def move_event(
     settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
     settings["tcp_mm_s"], settings["zone_mm"] = timing[0], zone_radius(args[2] if len(args) > 2 else None)
     motionset.apply(fr.m, settings)
-    settings["load"] = with_payload(settings["load"], settings.get("gripload"), fr.m.arm.tcp2flange)
     event = MoveEvent(kind, m, int(where.split(":")[1]), settings)
     if solve:
         solve_event(fr, kind, event, target, where)

@@ -24,7 +24,6 @@ from codegen.dialects.rapid.types import num, rec
 #   "singarea": {"mode": "wrist" | "off", "line": n}
 #   "confj", "confl": {"on": bool, "line": n}
 #   "gripload": {"mass": kg, "cog": [x, y, z] mm, "line": n}
-NO_LOAD_KG = 0.001  # load0's mass: the predefined "no payload"
 SETTINGS_KEY = "<motion settings>"  # Machine.extra: the settings above (a new dict at each change)
 
 

@@ -23,6 +23,7 @@ from codegen.guard import (
     pixels_in_range,
 )
 from codegen.kinds.frame.commands import calibrate_handeye
+from codegen.kinds.frame.scene import objects as scene_objects
 from codegen.kinds.stations.base import StationKind
 from codegen.kinds.stations.cases import Case
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
@@ -169,6 +170,10 @@ class FrameKind(StationKind):
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("frame",)
     log_names = ("station", "dx", "dy", "alpha", "photos")
+
+    @classmethod
+    def station_scene(cls, cell, station) -> list[dict]:
+        return scene_objects(cell, station)
 
     @classmethod
     def commands(cls) -> list:

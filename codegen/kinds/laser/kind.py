@@ -5,6 +5,7 @@ from __future__ import annotations
 from codegen.kinds.laser import plan, reach
 from codegen.kinds.laser.commands import calibrate_tcp
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
+from codegen.kinds.laser.scene import objects as scene_objects
 from codegen.kinds.laser.section import laser_of, parse_laser
 from codegen.kinds.laser.verify import cases
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
@@ -112,6 +113,10 @@ class LaserKind(ProgramKind):
     @classmethod
     def report_lines(cls, rows: list) -> list[str]:
         return plan.report_lines(rows)
+
+    @classmethod
+    def scene(cls, cell) -> list[dict]:
+        return [] if cls.section(cell) is None else scene_objects(cell, cls.section(cell))
 
     @classmethod
     def commands(cls) -> list:

@@ -7,6 +7,7 @@ from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
 from codegen.kinds.pallet.program import check_level, file_name, identifiers, pallet_context, task_context
+from codegen.kinds.pallet.scene import objects as scene_objects
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.verify import FORMS_PER_PALLET
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
@@ -155,6 +156,10 @@ class PalletKind(ProgramKind):
     @classmethod
     def report_lines(cls, rows: list) -> list[str]:
         return verify.report_lines(rows)
+
+    @classmethod
+    def scene(cls, cell) -> list[dict]:
+        return scene_objects(cell, cls.section(cell) or ())
 
     @classmethod
     def commands(cls) -> list:
