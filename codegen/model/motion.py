@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 SPEED_MAX_MM_S = 5000.0  # a TCP speed beyond this is no programming speed of these arms
-# the programs write a TCP speed to 0.1 mm/s (KRL's $VEL.CP in m/s to 4 decimals): below 1 mm/s that is
+# the programs write a TCP speed to 0.1 mm/s (one controller takes it in m/s to 4 decimals): below 1 mm/s that is
 # more than 5 % off, and below 0.05 mm/s the program would say 0
 SPEED_MIN_MM_S = 1.0
 ZONE_MAX_MM = 200.0  # the largest blending zone the controllers predefine (RAPID z200)
