@@ -23,6 +23,7 @@ from codegen.model.vision import VisionSettings
 from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
 from codegen.protocol import get_kind, kinds, station_kinds
+from codegen.readfile import ReadError, read_regular
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
 QUATERNION_TOLERANCE = 1e-6
@@ -124,6 +125,11 @@ def image_angle_sign(pixel_to_mm) -> int:
     return -1 if a * d - b * c < 0 else 1
 
 
+# a cell of 10,000 stations is about 5 MB; beyond this bound a file is no cell this tool can work with
+CELL_FILE_MAX_BYTES = 64 << 20
+CELL_FILE_BOUND = "a cell of 10,000 stations is about 5 MB"
+
+
 def load_cell(path: str | Path | None = None) -> Cell:
     """Load and validate a cell file; None means the bundled demo cell."""
     path = Path(path) if path is not None else DEMO_CELL
@@ -137,9 +143,9 @@ def load_cell(path: str | Path | None = None) -> Cell:
 def read_cell_data(path: Path) -> tuple[dict, bytes]:
     """A cell file's TOML tables and its bytes; a CellError naming the file when it cannot be read."""
     try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise CellError(f"{path}: cannot read cell file: {exc.strerror or exc}") from None
+        raw = read_regular(path, CELL_FILE_MAX_BYTES, "a cell file (TOML)", CELL_FILE_BOUND, "cannot read cell file")
+    except ReadError as exc:
+        raise CellError(str(exc)) from None
     return parse_cell_bytes(raw, path), raw
 
 
