@@ -23,13 +23,14 @@ from codegen.model.vision import VisionSettings
 from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
 from codegen.protocol import get_kind, kinds, station_kinds
+from codegen.readfile import ReadError, read_regular
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
 QUATERNION_TOLERANCE = 1e-6
 QUATERNION_BOUND = 10.0  # a quaternion that far from unit length is a typing error, not a rotation
-# Orientation values per cell pose format: Euler angles in degrees, rotation vector components in
-# radians (a float32 step at 360 deg is 3e-5 deg; at 1e20 it is more than a turn)
-ORIENTATION_BOUNDS = {"xyzabc": (360.0, "deg"), "ur": (2 * math.pi, "rad")}
+# The unit of the orientation values per cell pose format: Euler angles in degrees, rotation vector
+# components in radians, each within one turn (Validator.angles; abb: a quaternion, normalised)
+ORIENTATION_UNITS = {"xyzabc": "deg", "ur": "rad"}
 
 EXAMPLES_DIR = Path(__file__).parents[1] / "examples"
 DEMO_CELL = EXAMPLES_DIR / "agv_machine_tending.toml"
@@ -124,6 +125,11 @@ def image_angle_sign(pixel_to_mm) -> int:
     return -1 if a * d - b * c < 0 else 1
 
 
+# a cell of 10,000 stations is about 5 MB; beyond this bound a file is no cell this tool can work with
+CELL_FILE_MAX_BYTES = 64 << 20
+CELL_FILE_BOUND = "a cell of 10,000 stations is about 5 MB"
+
+
 def load_cell(path: str | Path | None = None) -> Cell:
     """Load and validate a cell file; None means the bundled demo cell."""
     path = Path(path) if path is not None else DEMO_CELL
@@ -137,9 +143,9 @@ def load_cell(path: str | Path | None = None) -> Cell:
 def read_cell_data(path: Path) -> tuple[dict, bytes]:
     """A cell file's TOML tables and its bytes; a CellError naming the file when it cannot be read."""
     try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise CellError(f"{path}: cannot read cell file: {exc.strerror or exc}") from None
+        raw = read_regular(path, CELL_FILE_MAX_BYTES, "a cell file (TOML)", CELL_FILE_BOUND, "cannot read cell file")
+    except ReadError as exc:
+        raise CellError(str(exc)) from None
     return parse_cell_bytes(raw, path), raw
 
 
@@ -155,6 +161,8 @@ def parse_cell_bytes(raw: bytes, path: Path) -> dict:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except tomllib.TOMLDecodeError as exc:
         raise CellError(f"{path}: TOML syntax error: {exc}") from None
+    except ValueError:  # an integer too long for Python to read (more than 4300 digits)
+        raise CellError(f"{path}: a number with thousands of digits: no controller's number holds it") from None
     return data
 
 
@@ -360,21 +368,21 @@ class CellValidator(Validator):
     def pose(self, pose_name: str, values, pose_path: str, pose_format: str) -> TaughtPose:
         if not pose_name.strip():
             self.fail(pose_path, "pose name must not be empty")
-        numbers = self.numbers(values, POSE_FORMATS[pose_format][0], pose_path)
-        if pose_format in ORIENTATION_BOUNDS:
-            bound, unit = ORIENTATION_BOUNDS[pose_format]
-            if max(abs(v) for v in numbers[3:]) > bound:
-                self.fail(
-                    pose_path,
-                    f"orientation values must be within +-{bound:g} {unit}: a float32 controller "
-                    "keeps an angle beyond that too coarsely to move where it was taught",
-                )
+        numbers = self.orientation(
+            self.numbers(values, POSE_FORMATS[pose_format][0], pose_path), pose_path, pose_format
+        )
         if pose_format == "abb":
             numbers = self.normalise_quaternion(numbers, pose_path)
         bound = TAUGHT_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
         if max(abs(v) for v in numbers[:3]) > bound:
             self.fail(pose_path, f"position must be within +-{bound:g} (cell units)")
         return TaughtPose(pose_name, numbers, pose_format)
+
+    def orientation(self, numbers: tuple[float, ...], path: str, pose_format: str) -> tuple[float, ...]:
+        """A pose's values with its orientation (after x, y, z) checked: angles within one turn."""
+        if pose_format in ORIENTATION_UNITS:
+            self.angles(numbers[3:], path, ORIENTATION_UNITS[pose_format], "orientation values")
+        return numbers
 
     def normalise_quaternion(self, numbers: tuple[float, ...], path: str) -> tuple[float, ...]:
         q = numbers[3:]

@@ -107,6 +107,10 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
             else:
                 machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
 
+    def kept(self, machine: Machine, name: str):
+        """A name's value when the run ended (Program.run keep): a global variable or a written output."""
+        return machine.globals.get(self.norm(name), machine.outputs.get(name))
+
     def accepts_input(self, name: str, globals_: dict) -> bool:
         """Whether an injected input names something the program has (a global variable, or an element
         of a global array within its bounds)."""

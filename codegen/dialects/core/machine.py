@@ -472,8 +472,7 @@ class Program:
         trace.steps = machine.steps
         trace.clock = machine.clock
         for name in keep:
-            key = self.compiler.norm(name)
-            machine.trace.kept[name] = machine.globals.get(key, machine.outputs.get(name))
+            machine.trace.kept[name] = self.compiler.kept(machine, name)
         return machine.trace
 
     @staticmethod

@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
 from codegen.model.io import per_target
+from codegen.model.validate import kind_of
+from codegen.sim.bus import GROUP_BITS, OFFSET, SCALE
 
 KEYS = frozenset(
     {
@@ -39,6 +41,8 @@ KEYS = frozenset(
 # [program.conveyor] tracking: what codegen writes for the controller)
 TRACKING = ("native", "intercept")
 MAX_MM = 10_000.0
+# x and z on a 16-bit group of inputs (codegen/sim/bus.py): 0.1 mm steps around OFFSET
+GROUP_MM = ((0 - OFFSET) / SCALE, (2**GROUP_BITS - 1 - OFFSET) / SCALE)
 
 
 @dataclass(frozen=True)
@@ -85,11 +89,29 @@ class Pick:
         return 0.5 * (low + high)
 
 
-def _interval(ctx, table: dict, key: str, path: str, default=None) -> tuple[float, float]:
+def _interval(ctx, table: dict, key: str, path: str, default=None, least: float = 0.0) -> tuple[float, float]:
     values = ctx.numbers(table.get(key, default) if default is not None else ctx.require(table, key, path), 2, path)
     if not values[0] < values[1] or max(abs(v) for v in values) > MAX_MM:
         ctx.fail(path, f"expected [low, high] with low < high, within +-{MAX_MM:g} mm")
+    if values[1] - values[0] < least:
+        ctx.fail(
+            path,
+            f"{values[1] - values[0]:g} mm wide; at least {least:g} mm: the part queue carries a part's x and z "
+            f"in {1 / SCALE:g} mm steps (a 16-bit group), a narrower range holds no reading",
+        )
     return values
+
+
+def _reading_range(ctx, values: tuple[float, float], path: str, targets) -> None:
+    """A range of x or z the camera's readings must fall in: within what a 16-bit group carries where the
+    target reads the queue so."""
+    grouped = [t for t in targets if not facts(get_target(t)).get("names")]
+    low, high = GROUP_MM
+    if grouped and not (low <= values[0] and values[1] <= high):
+        ctx.fail(
+            path,
+            f"{grouped[0]} reads the part queue as 16-bit groups of inputs: x and z within {low:g}..{high:g} mm",
+        )
 
 
 def _seconds(ctx, table: dict, key: str, path: str, top: float) -> tuple[float, float]:
@@ -116,15 +138,18 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
     path = "conveyor.pick"
     ctx.no_unknown(table, KEYS, path)
     window = _interval(ctx, table, "window_mm", f"{path}.window_mm")
-    x_range = _interval(ctx, table, "x_range_mm", f"{path}.x_range_mm")
-    z_range = _interval(ctx, table, "z_range_mm", f"{path}.z_range_mm", [0.0, 100.0])
-    orientation = ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, f"{path}.tool_orientation")
+    x_range = _interval(ctx, table, "x_range_mm", f"{path}.x_range_mm", least=1 / SCALE)
+    z_range = _interval(ctx, table, "z_range_mm", f"{path}.z_range_mm", [0.0, 100.0], least=1 / SCALE)
+    where = f"{path}.tool_orientation"
+    orientation = ctx.angles(ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, where), where)
     approach_dz = ctx.number(table, "approach_dz", f"{path}.approach_dz") if "approach_dz" in table else 60.0
     if not 0 < approach_dz <= 1000:
         ctx.fail(f"{path}.approach_dz", "must be in (0, 1000] mm: the gripper comes down from above")
     place = ctx.pose("place", ctx.require(table, "place", f"{path}.place"), f"{path}.place", pose_format)
     tracking = _tracking(ctx, table, targets, path)
-    inputs = ctx.table(table, "encoder_inputs", f"{path}.encoder_inputs") if "encoder_inputs" in table else {}
+    for key, values in (("x_range_mm", x_range), ("z_range_mm", z_range)):
+        _reading_range(ctx, values, f"{path}.{key}", tracking)
+    inputs = _encoder_inputs(ctx, table, tracking, f"{path}.encoder_inputs")
     intercept = window[0] + 0.25 * (window[1] - window[0])
     if "intercept_mm" in table:
         intercept = ctx.number(table, "intercept_mm", f"{path}.intercept_mm")
@@ -146,10 +171,6 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
     place_clear = per_target(ctx, table, "place_clear", listed, required=False, prefix=path)
     timeout = _bounded(ctx, table, "place_timeout_s", f"{path}.place_timeout_s", 10.0, 0.2, 600, "s")
     gap = _bounded(ctx, table, "min_gap_mm", f"{path}.min_gap_mm", 0.0, 0.0, window[1] - window[0], "mm")
-    for target in [
-        t for t, mode in tracking.items() if mode == "native" and facts(get_target(t)).get("encoder_inputs")
-    ]:
-        _encoder_pair(ctx, inputs, target, path)
     natives = [t for t, mode in tracking.items() if mode == "native"]
     return Pick(
         window,
@@ -159,7 +180,7 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         approach_dz,
         place,
         dict(tracking),
-        {t: tuple(inputs[t]) for t in tracking if t in inputs},
+        inputs,
         intercept,
         capture,
         grip_s,
@@ -193,19 +214,35 @@ def _tracking(ctx, table: dict, targets, path: str) -> dict:
     return dict(tracking)
 
 
-def _encoder_pair(ctx, inputs: dict, target: str, path: str) -> None:
-    low, high = facts(get_target(target)).get("encoder_inputs", [0, 4095])
-    if target not in inputs:
-        ctx.fail(f"{path}.encoder_inputs", f"missing {target}: the digital inputs of the encoder's A and B signals")
-    pair = inputs[target]
-    if (
-        not isinstance(pair, list)
-        or len(pair) != 2
-        or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
-    ):
-        ctx.fail(f"{path}.encoder_inputs.{target}", "expected [A, B]: two digital input numbers")
-    if pair[0] == pair[1] or not all(low <= v <= high for v in pair):
-        ctx.fail(f"{path}.encoder_inputs.{target}", f"expected two different inputs in {low}..{high}")
+def _encoder_inputs(ctx, table: dict, tracking: dict, path: str) -> dict:
+    """[conveyor.pick] encoder_inputs = { <target> = [A, B] }: the digital inputs of the encoder's A and B
+    signals, for each target whose native tracking reads the encoder on the robot's inputs (its facts'
+    encoder_inputs), and for no other (an intercepting program reads the PLC's count, ABB's unit its own)."""
+    raw = ctx.table(table, "encoder_inputs", path) if "encoder_inputs" in table else {}
+    reading = [t for t, mode in tracking.items() if mode == "native" and facts(get_target(t)).get("encoder_inputs")]
+    for key in raw:
+        if key not in reading:
+            why = f"{key} does not read the encoder on its own inputs" if key in tracking else "not a tracking target"
+            allowed = ", ".join(reading) if reading else "none"
+            ctx.fail(
+                f"{path}.{key}", f"{why}: only a target tracking natively on the robot's inputs; allowed: {allowed}"
+            )
+    out = {}
+    for target in reading:
+        low, high = facts(get_target(target))["encoder_inputs"]
+        if target not in raw:
+            ctx.fail(path, f"missing {target}: the digital inputs of the encoder's A and B signals")
+        pair = raw[target]
+        if (
+            not isinstance(pair, list)
+            or len(pair) != 2
+            or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
+        ):
+            ctx.fail(f"{path}.{target}", "expected [A, B]: two digital input numbers")
+        if pair[0] == pair[1] or not all(low <= v <= high for v in pair):
+            ctx.fail(f"{path}.{target}", f"expected two different inputs in {low}..{high}")
+        out[target] = tuple(pair)
+    return out
 
 
 def _named(ctx, table: dict, key: str, needed: list[str], path: str) -> dict:
@@ -236,7 +273,7 @@ def _numbered_input(ctx, table: dict, key: str, needed: list[str], path: str) ->
         if value is None:
             ctx.fail(f"{path}.{key}", f"missing {target}: the digital input the camera's trigger is wired to")
         if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-            ctx.fail(f"{path}.{key}.{target}", f"expected a digital input number {low}..{high}, got {value!r}")
+            ctx.fail(f"{path}.{key}.{target}", f"expected a digital input number {low}..{high}, got {kind_of(value)}")
         out[target] = value
     return out
 

@@ -18,6 +18,7 @@ from codegen.kinds.conveyor.program import BAD_READING, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, start_joints
 from codegen.model.io import signal_name
+from codegen.robot.expect import tool_inputs
 from codegen.sim.belt import Belt, BeltLine, Part, TrackingUnit
 from codegen.sim.bus import bus_for
 from codegen.sim.gripper import Gripper
@@ -182,7 +183,7 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         signals[signal_name(target, "input", pick.place_clear[target_name])] = case.place == "clear"
     joints = start_joints(cell, target_name, case.start)
     limit = STEP_LIMIT * (THREAD_STEPS if target_name in pick.trigger_input else 1)
-    return Setup({}, (line, gripper), signals, joints, step_limit=limit)
+    return Setup(tool_inputs(cell, target_name), (line, gripper), signals, joints, step_limit=limit)
 
 
 def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgement:

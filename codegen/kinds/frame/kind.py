@@ -204,11 +204,9 @@ class FrameKind(StationKind):
         ctx.no_unknown(table, {"tolerance_mm", "tolerance_deg", "max_iterations"}, "cell.refine")
         tol_mm = ctx.finite(table.get("tolerance_mm", Refine.tolerance_mm), "cell.refine.tolerance_mm")
         tol_deg = ctx.finite(table.get("tolerance_deg", Refine.tolerance_deg), "cell.refine.tolerance_deg")
-        iterations = table.get("max_iterations", Refine.max_iterations)
+        iterations = ctx.integer(table, "max_iterations", "cell.refine.max_iterations", 1, 100, Refine.max_iterations)
         if tol_mm <= 0 or tol_deg <= 0:
             ctx.fail("cell.refine", "tolerances must be positive")
-        if isinstance(iterations, bool) or not isinstance(iterations, int) or not 1 <= iterations <= 100:
-            ctx.fail("cell.refine.max_iterations", f"expected an integer in 1..100, got {iterations!r}")
         return Refine(tol_mm, tol_deg, iterations)
 
     @classmethod

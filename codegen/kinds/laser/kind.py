@@ -7,7 +7,7 @@ from codegen.kinds.laser.commands import calibrate_tcp
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
 from codegen.kinds.laser.scene import objects as scene_objects
 from codegen.kinds.laser.section import laser_of, parse_laser
-from codegen.kinds.laser.verify import cases
+from codegen.kinds.laser.verify import cases, check_goal
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
 from codegen.render import program_emitter
 
@@ -38,6 +38,8 @@ class LaserKind(ProgramKind):
             ctx.fail(
                 "laser", "a cell with [laser] needs [cell.robot] and [cell.tool]: the arm and the tool to calibrate"
             )
+        if laser_of(cell) is not None:
+            check_goal(ctx, cell)
 
     @classmethod
     def programs(cls, cell, target) -> list[ProgramPlan]:

@@ -7,7 +7,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from codegen.controllers import get_target
+from codegen.controllers import get_target, numbered_names
 from codegen.kinds.laser import program as lp
 from codegen.kinds.laser.facts import facts
 from codegen.kinds.laser.reference import expected
@@ -25,6 +25,7 @@ from codegen.kinds.laser.verify import (
 )
 from codegen.reference import home_move
 from codegen.robot import solve
+from codegen.robot.expect import tool_inputs
 from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored, refuses_start
 
 NEAR_MM = 5 * FLOAT32_MM  # a move ends at one of the procedure's fixed points when this close to it
@@ -33,19 +34,26 @@ NEAR_MM = 5 * FLOAT32_MM  # a move ends at one of the procedure's fixed points w
 def setup(cell, target_name: str, case: LaserCase) -> Setup:
     target = get_target(target_name)
     return Setup(
-        {},
+        tool_inputs(cell, target_name),
         (station_for(cell, target, case),),
         {},
         _start_joints(cell, target_name, case),
-        tuple(lp.kept_names(target).values()) + _stored_names(target),
+        tuple(lp.kept_names(target).values()) + _stored_names(cell, target),
         STEP_LIMIT,
         float(target.program["signal_cycle_s"]),
     )
 
 
-def _stored_names(target) -> tuple[str, ...]:
+def _stored_names(cell, target) -> tuple[str, ...]:
     stored = facts(target).get("stored_tool")
-    return () if stored is None else (stored["name"],)
+    return () if stored is None else (_stored_name(cell, target, stored),)
+
+
+def _stored_name(cell, target, stored: dict) -> str:
+    """Where the program stores the TCP found: the controller's numbered tool the cell names
+    ([cell.tool] numbered), else the program's own tool data."""
+    number = cell.robot.tool.numbered.get(target.name) if cell.robot is not None else None
+    return stored["name"] if number is None else numbered_names(target.name, number)[0]
 
 
 def _start_joints(cell, target_name: str, case: LaserCase):
@@ -184,7 +192,7 @@ def _stored(cell, target, tcp, tolerance: float) -> tuple[Stored, ...]:
     what = "the TCP found" if tcp is not None else "the tool's data unchanged"
     tol = max(tolerance, FLOAT32_MM) if tcp is not None else FLOAT32_MM
     return tuple(
-        Stored(f"{stored['name']}.{field}", float(v), tol, what)
+        Stored(f"{_stored_name(cell, target, stored)}.{field}", float(v), tol, what)
         for field, v in zip(stored["fields"], values, strict=True)
     )
 

@@ -9,6 +9,7 @@ from codegen.controllers import get_target
 from codegen.kinds.laser.facts import facts
 from codegen.model.cell import TaughtPose
 from codegen.model.io import per_target
+from codegen.model.motion import SPEED_MIN_MM_S
 
 PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
 DEPTH_STEP_MIN_MM = 2.0
@@ -58,6 +59,17 @@ def _bounded(ctx, table: dict, key: str, default: float, low: float, high: float
     return value
 
 
+def _speed(ctx, table: dict, key: str, default: float, high: float) -> float:
+    """A TCP speed of the procedure: at least the programs' least speed (SPEED_MIN_MM_S, as [cell.motion]'s)."""
+    path = f"laser.{key}"
+    value = ctx.number(table, key, path) if key in table else default
+    if not SPEED_MIN_MM_S <= value <= high:
+        ctx.fail(
+            path, f"must be in [{SPEED_MIN_MM_S:g}, {high:g}] mm/s (the programs write it to 0.1 mm/s), got {value:g}"
+        )
+    return value
+
+
 def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
     if "laser" not in data:
         return None
@@ -81,8 +93,8 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             f"d2 - d1 must be at least {DEPTH_STEP_MIN_MM:g} mm: the axis is the centres' difference over it, a "
             "smaller step multiplies their errors",
         )
-    circle_speed = _bounded(ctx, table, "circle_speed_mm_s", 10.0, 0.0, 250.0, "mm/s")
-    search_speed = _bounded(ctx, table, "search_speed_mm_s", 2.0, 0.0, 50.0, "mm/s")
+    circle_speed = _speed(ctx, table, "circle_speed_mm_s", 10.0, 250.0)
+    search_speed = _speed(ctx, table, "search_speed_mm_s", 2.0, 50.0)
     # the circle starts at 45 deg between the beams and must cross each twice: the axis may lie offset_max_mm
     # from where the tool's data puts it, and the pin is radius_mm wide
     if offset + radius >= circle / math.sqrt(2.0):

@@ -19,6 +19,7 @@ from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
+from codegen.robot.expect import tool_inputs
 from codegen.robot.taught import ReachError
 from codegen.sim.gripper import Gripper
 from codegen.verify.plan import (
@@ -167,7 +168,7 @@ def setup(cell, source, case: Case) -> Setup:
     if case.category == "counters_reloaded" and not _reload_proof(target):
         counters = {}  # a reload cleared the program's own variables: they hold what their declaration gives
     return Setup(
-        counters,
+        {**counters, **tool_inputs(cell, target.name)},
         (gripper,),
         _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
         _start_joints(cell, index, source.target, case),
