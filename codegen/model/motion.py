@@ -8,7 +8,7 @@ import numpy as np
 
 from codegen.model.schema import Key, Table
 
-# the programs write a TCP speed to 0.1 mm/s (KRL's $VEL.CP in m/s to 4 decimals): below 1 mm/s that is
+# the programs write a TCP speed to 0.1 mm/s (one controller takes it in m/s to 4 decimals): below 1 mm/s that is
 # more than 5 % off, and below 0.05 mm/s the program would say 0; beyond 5000 mm/s is no programming speed
 # of these arms
 _SPEED = {"type": "number", "unit": "mm/s", "low": 1.0, "high": 5000.0}

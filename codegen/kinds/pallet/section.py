@@ -14,10 +14,9 @@ FAMILY_KEYS = FAMILY.allowed
 SLIP_KEYS = SLIP_SHEET.allowed
 # The most boxes a stack (every layer), a pattern or the patterns together may hold. The programs hold every
 # box of the cycle's patterns in tables (7 to 9 numbers a box) and count boxes in a layer and layers; their
-# counters would hold far more (KRL INT and UR's integer registers are 32-bit; RAPID's num is an exact
-# integer up to 8388608, RAPID kernel manual, num), and no documented limit of the tables' length was found
-# for KRL, RAPID or URScript. What binds is codegen's own work: verify runs the whole stack in the
-# interpreter within its default step limit (200,000 steps; a box takes 53 to 63 of them on the four
+# counters would hold far more (each controller's integers: targets/<t>.toml), and no documented limit of the
+# tables' length was found for any of the controllers. What binds is codegen's own work: verify runs the whole
+# stack in the interpreter within its default step limit (200,000 steps; a box takes 53 to 63 of them on the four
 # targets: about 3,300 boxes), and generate solves every move of the whole stack for each arm (8 moves a
 # box, about 2 ms a box). 2,000 keeps both within that with room, and is far more than a pallet of cartons
 # holds (a EUR pallet of 200 x 150 mm cartons: 32 a layer).
