@@ -6,13 +6,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from codegen.controllers import get_target
+from codegen.kinds.pallet.keys import IO
 from codegen.model.io import per_target
 
-IO_KEYS = frozenset(
-    {"part_present", "place_clear", "pallet_present", "sheet_ready", "reset", "select", "registers", "timeout_s"}
-)
-TIMEOUT_S = 10.0  # how long the program waits for an interlock before it stops with a message
-TIMEOUT_RANGE_S = (0.5, 600.0)
+IO_KEYS = IO.allowed
+TIMEOUT_S = IO.default("timeout_s")  # how long the program waits for an interlock before it stops with a message
 
 # What each interlock input says when it is on (the program waits for it), and the operator's message when it does
 # not come on in time
@@ -75,8 +73,8 @@ def parse_io(ctx, table: dict | None, path: str, targets, mode: str, sheets: boo
         required = key in (need, "pallet_present") or (key == "sheet_ready" and sheets)
         signals[key] = per_target(ctx, table, key, targets, required, prefix=where)
     timeout = ctx.number(table, "timeout_s", f"{where}.timeout_s") if "timeout_s" in table else TIMEOUT_S
-    low, high = TIMEOUT_RANGE_S
-    if not low <= timeout <= high:
+    if not IO["timeout_s"].contains(timeout):
+        low, high = IO["timeout_s"].bounds
         ctx.fail(f"{where}.timeout_s", f"must be between {low:g} and {high:g} s, got {timeout:g}")
     select_targets = [t for t in targets if _facts(t).get("task")]
     select = per_target(ctx, table, "select", select_targets, False, prefix=where) if "select" in table else {}

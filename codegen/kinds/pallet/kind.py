@@ -6,6 +6,7 @@ from codegen.emit import EmitError
 from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
+from codegen.kinds.pallet.keys import KEYS
 from codegen.kinds.pallet.program import check_level, file_name, identifiers, pallet_context, task_context
 from codegen.kinds.pallet.scene import objects as scene_objects
 from codegen.kinds.pallet.section import pallets_of
@@ -17,7 +18,7 @@ from codegen.render import program_emitter
 class PalletKind(ProgramKind):
     name = "pallet"
     order = 20
-    tables = frozenset({"pallet"})
+    cell_file = KEYS
     target_keys = {
         "files": list,  # a program's files per [[pallet]] ("...{pallet}..."); with `task`, the task's modules too
         "node_files": list,  # a second program per [[pallet]]: the same program in another form (a Script node's)
