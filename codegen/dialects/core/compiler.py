@@ -131,6 +131,11 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
     def element_type(self, type_name):
         return type_name
 
+    def kept_value(self, machine: Machine, name: str):
+        """What a kept name (Program.run keep=...) holds when the run ends: a global of the program, else an
+        output the run wrote (None: neither)."""
+        return machine.globals.get(self.norm(name), machine.outputs.get(name))
+
     # --- variables by name, for devices (Machine.read_variable / write_variable) ---------------
     def device_read(self, machine: Machine, name: str):
         """A global (name) or an element of one (name[index]) by its name in the program (None when it

@@ -271,10 +271,11 @@ class Machine:
 
     def tool_pose(self) -> np.ndarray | None:
         """Where the tool is now (base frame): the last move's pose, moved by the tracked belt's
-        travel since that move's end while tracking is on; None before any move with a known pose."""
+        travel since that move's end while tracking is on; before any move, where the arm stood at the start
+        (its joints and model known), else None."""
         if self.tracking is not None:
             return self.tracking.pose_now(self)
-        return None if self.last_move is None else self.last_move.tcp2base
+        return self.arm.standing_pose() if self.last_move is None else self.last_move.tcp2base
 
     def arrive(self, where: str) -> None:
         """An instruction that waits until the arm stands still (an advance-run stop, an in-position
@@ -441,8 +442,7 @@ class Program:
         machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
         machine.trace.steps = machine.steps
         for name in keep:
-            key = self.compiler.norm(name)
-            machine.trace.kept[name] = machine.globals.get(key, machine.outputs.get(name))
+            machine.trace.kept[name] = self.compiler.kept_value(machine, name)
         return machine.trace
 
 

@@ -112,6 +112,15 @@ class KRLCompiler(
         finally:
             machine.inputs = original
 
+    def kept_value(self, machine, name: str):
+        """A kept name: the controller's numbered data (TOOL_DATA[n]: what a program wrote into $config.dat, or
+        the value it was given) as well as the program's globals."""
+        match = SYSTEM_ARRAY.fullmatch(name.upper())
+        if match is None:
+            return super().kept_value(machine, name)
+        values, index = machine.extra.get(match.group(1)), int(match.group(2))
+        return values[index - 1] if values is not None and 1 <= index <= len(values) else None
+
     def stmt(self, node):
         """A statement compiled; for codegen check, a statement that does not compile is a finding and the
         rest goes on."""
@@ -301,10 +310,14 @@ class KRLCompiler(
     def s_wait_for(self, node):
         """WAIT FOR stops the advance run; a condition on a timer is waited for cycle by cycle (the clock runs
         while a timer it reads runs), any other until a device makes it true."""
-        timed = any(
-            isinstance(sub, Tree) and sub.data == "var" and str(sub.children[0]).upper() in TIMED
-            for sub in node.children[0].iter_subtrees()
-        ) if isinstance(node.children[0], Tree) else False
+        timed = (
+            any(
+                isinstance(sub, Tree) and sub.data == "var" and str(sub.children[0]).upper() in TIMED
+                for sub in node.children[0].iter_subtrees()
+            )
+            if isinstance(node.children[0], Tree)
+            else False
+        )
         if not timed:
             return self.wait_until(node.children[0], node, "WAIT FOR", arrive=True)
         cond, where = self.expr(node.children[0]), self.where(node)
