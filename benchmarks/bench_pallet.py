@@ -27,29 +27,31 @@ def once() -> tuple[float, int]:
 
 
 def full_stack(runs: int) -> None:
-    """Seconds for the full_stack case of the EUR pallet (5 layers, 30 boxes, with the arm) per target."""
+    """Seconds for the full_stack case of the EUR pallet (5 layers, 30 boxes, with the arm) per target: the
+    program run and judged as `codegen verify` does (codegen.verify.runner), the program loaded once."""
     from pathlib import Path
 
-    from codegen.kinds.pallet import verify as pv
+    from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
     from codegen.kinds.pallet.cycle import PalletCase
     from codegen.model.cell import load_cell
+    from codegen.verify.plan import Case
+    from codegen.verify.programs import fresh_sources
+    from codegen.verify.runner import run_cases
 
     cell = load_cell(Path(__file__).resolve().parents[1] / "codegen" / "examples" / "pallets" / "eur_pallet.toml")
+    case = Case("full_stack", PalletCase("full_stack", 1, 1), "nominal", "home")
     for target in cell.targets:
-        (program, files), *_ = pv.fresh_pallet_programs(cell, target)
-        original = pv.cases
-        pv.cases = lambda pallet, rng: [PalletCase("full_stack", 1, 1)]
-        try:
-            times = []
-            for _ in range(runs):
-                start = time.perf_counter()
-                report = pv.verify_pallet(cell, 0, target, program, files)
-                times.append(time.perf_counter() - start)
-        finally:
-            pv.cases = original
-        assert report.mismatches == 0, report.first_mismatches
+        source = next(s for s in fresh_sources(cell, [target], only=["pallet"]) if s.index == 0)
+        source.load()
+        times = []
+        for _ in range(runs):
+            start = time.perf_counter()
+            row = run_cases(cell, source, [case], DEFAULT_STEP_LIMIT)
+            times.append(time.perf_counter() - start)
+        assert row.mismatches == 0, row.first_mismatches
         low, high = min(times), max(times)
-        print(f"  {target}: full EUR stack ({report.boxes} boxes) verified in {low:.3f}-{high:.3f} s (goal <= 1 s)")
+        boxes = row.figures.boxes if row.figures is not None else 0
+        print(f"  {target}: full EUR stack ({boxes} boxes) verified in {low:.3f}-{high:.3f} s (goal <= 1 s)")
 
 
 def main() -> None:

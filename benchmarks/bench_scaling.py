@@ -25,26 +25,27 @@ import json, random, resource, sys, time
 from pathlib import Path
 sys.path.insert(0, {bench!r})
 from bench_render import make_cell
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
+from codegen.kinds.stations.cases import build_cases
 from codegen.model.cell import load_cell
-from codegen.verify import build_cases, verify
-from codegen.verify_runs import fresh_sources
+from codegen.verify.programs import fresh_sources
+from codegen.verify.runner import run_cases
 
 stations, target, count, folder = {stations}, {target!r}, {cases}, Path({folder!r})
 path = folder / "cell.toml"
 path.write_text(make_cell(stations), encoding="utf-8")
 cell = load_cell(path)
 start = time.perf_counter()
-(source,) = fresh_sources(cell, [target])
+source = next(s for s in fresh_sources(cell, [target]) if not s.ident.endswith("_node"))
 program = source.load()
 load_s = time.perf_counter() - start
 cases = build_cases(cell, max(1, -(-count // stations)), 0)
 cases = random.Random(0).sample(cases, min(count, len(cases)))
-programs = {{target: (program, list(source.files))}}
 start = time.perf_counter()
-first = verify(cell, [target], programs, cases)[0]  # the first pass compiles each station's code on first use
+first = run_cases(cell, source, cases, DEFAULT_STEP_LIMIT)  # the first pass compiles each station's code on first use
 first_s = time.perf_counter() - start
 start = time.perf_counter()
-report = verify(cell, [target], programs, cases)[0]  # warm: every station's code compiled
+report = run_cases(cell, source, cases, DEFAULT_STEP_LIMIT)  # warm: every station's code compiled
 run_s = time.perf_counter() - start
 peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 print(json.dumps({{"cases": report.cases, "mismatches": report.mismatches + first.mismatches,

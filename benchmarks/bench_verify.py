@@ -33,23 +33,26 @@ _STATE: dict = {}
 
 def _load(target: str) -> None:
     """Worker initialiser: build the case set and load the program once."""
+    from codegen.kinds.stations.cases import build_cases, edge_cell
     from codegen.model.cell import load_cell
-    from codegen.verify import build_cases, edge_cell
-    from codegen.verify_runs import fresh_programs
+    from codegen.verify.programs import fresh_sources
 
     model = load_cell()
     cell = edge_cell(model) if model.robot is None else model  # with an arm the edge poses are verified apart
-    _STATE.update(cell=cell, cases=build_cases(cell, 1000, 0), programs=fresh_programs(cell, [target]))
+    source = next(s for s in fresh_sources(cell, [target]) if not s.ident.endswith("_node"))  # the station program
+    source.load()
+    _STATE.update(cell=cell, cases=build_cases(cell, 1000, 0), source=source)
 
 
 def _verify_slice(args: tuple[str, int, int]) -> tuple[int, int]:
     """Verify cases[start::step] with the loaded program: (cases, mismatches)."""
-    from codegen.verify import verify
+    from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
+    from codegen.verify.runner import run_cases
 
-    target, start, step = args
+    _target, start, step = args
     cases = _STATE["cases"][start::step]
-    report = verify(_STATE["cell"], [target], _STATE["programs"], cases)[0]
-    return report.cases, report.mismatches
+    row = run_cases(_STATE["cell"], _STATE["source"], cases, DEFAULT_STEP_LIMIT)
+    return row.cases, row.mismatches
 
 
 def one_core(target: str, repeat: int) -> list[float]:

@@ -1,7 +1,7 @@
 """Issue 16's yardstick: a verified case of the demo cell written by hand in Python, without the interpreter.
 
 What a case costs when the program is not interpreted. Per case, as `codegen verify` does:
-  - the reference: verify's accepted traces and the physical check (codegen/verify.py), unchanged;
+  - the reference: verify's accepted traces and the physical check (codegen/kinds/stations/cases.py), unchanged;
   - the program written by hand for a point station (source 000), in float32 scalars as a controller
     computes: the reading's guards (range, shift squared, rotation), the correction D from the reading
     and the station's mark, and every taught pose moved by D; a halt where the guards say so;
@@ -26,13 +26,13 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, reading_in_range
-from codegen.kinds.stations.cases import Case
+from codegen.kinds.stations.cases import Case, _truth_problem, accepted_traces
 from codegen.kinds.stations.joints import JOINT_TOLERANCE_DEG, expected_joints
 from codegen.kinds.stations.region import station_plan
 from codegen.reference import home_move
 from codegen.robot import solve
 from codegen.robot.config import FORMS, with_status
-from codegen.verify import TOLERANCES, _pose_errors, _truth_problem, accepted_traces
+from codegen.verify.checks import TOLERANCES, pose_errors
 
 F = np.float32
 
@@ -90,7 +90,7 @@ def case(cell, target: str, one: Case) -> str | None:
         return f"halt {status}, expected the moves"
     pos_tol, rot_tol = TOLERANCES["float32"]
     for got, want in zip(poses, expected.moves, strict=True):
-        position, orientation = _pose_errors(got.tolist(), want.tcp2base.tolist())
+        position, orientation = pose_errors(got.tolist(), want.tcp2base.tolist())
         if not (position <= pos_tol and orientation <= rot_tol):
             return f"{want.pose_name}: {position:.6f} mm, {orientation:.6f} deg"
     home = home_move(cell, target)

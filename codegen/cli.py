@@ -6,7 +6,7 @@ import sys
 
 import click
 
-from codegen import cli_run  # noqa: F401  (it registers its command on the group)
+from codegen import cli_check, cli_run  # noqa: F401  (they register their commands)
 from codegen.cli_base import UserError, calibrate, main, step_limit_option
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load

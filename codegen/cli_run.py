@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 import sys
+from contextlib import suppress
+from pathlib import Path
 
 import click
 
@@ -31,8 +33,92 @@ def _parse_input(text: str):
         raise UserError(f"--input {name}: not a number: {value!r}") from None
 
 
+def program_files(paths: tuple[str, ...], target_name: str | None):
+    """(target, dialect, files as SourceFile) of the paths given: files and folders (every file of a folder, and
+    of its subfolders, whose suffix is a language's); the language from --target, else from the suffixes (all
+    of one language). A program file given alone brings the data files of its name beside it (a .dat beside
+    its .src). Each file is decoded with the language's encodings (dialects/core/files.py read_source)."""
+    from codegen.controllers import get_target, target_of_suffix
+    from codegen.dialects import dialect_of_suffix, get_dialect
+    from codegen.dialects.core.files import read_source
+    from codegen.dialects.core.values import RunError
+
+    given: list[Path] = []
+    folders = [Path(t) for t in paths if Path(t).is_dir()]
+    for text in paths:
+        path = Path(text)
+        if path.is_dir():
+            found = sorted(p for p in path.rglob("*") if p.is_file() and dialect_of_suffix(p.suffix) is not None)
+            if not found:
+                raise UserError(f"{path}: no program files in this folder")
+            given.extend(found)
+        else:
+            given.append(path)
+    if target_name is not None:
+        target = get_target(target_name)
+        dialect = get_dialect(target.dialect)
+        own = dialect.suffixes + dialect.companions
+        given = [p for p in given if p.suffix.lower() in own or not any(f in p.parents for f in folders)]
+        for path in given:
+            if path.suffix.lower() not in own:
+                raise UserError(f"{path}: not a file of {target.title} (its files end in {', '.join(own)})")
+    else:
+        languages: dict[str, Path] = {}
+        for path in given:
+            found_dialect = dialect_of_suffix(path.suffix)
+            if found_dialect is None:
+                raise UserError(f"{path}: cannot tell the target from the suffix; use --target")
+            languages.setdefault(found_dialect.name, path)
+        if len(languages) > 1:
+            shown = ", ".join(f"{path.name} ({name})" for name, path in languages.items())
+            raise UserError(f"files of several languages: {shown}; give one program's files or use --target")
+        dialect = get_dialect(next(iter(languages)))
+        targets = (target_of_suffix(p.suffix) for p in given)
+        target = next((t for t in targets if t is not None and t.dialect == dialect.name), None)
+        if target is None:
+            raise UserError(f"{given[0]}: cannot tell the target from the suffix; use --target")
+    if not given:
+        raise UserError("no program files of that target among the files given")
+    if len(paths) == 1 and not folders and given[0].suffix.lower() in dialect.suffixes:
+        for suffix in dialect.companions:  # the data files of the program's name beside it
+            for companion in (given[0].with_suffix(suffix), given[0].with_suffix(suffix.upper())):
+                if companion.is_file() and companion not in given:
+                    given.append(companion)
+                    break
+    try:
+        files = [read_source(p, dialect.encodings) for p in dict.fromkeys(given)]
+    except RunError as exc:
+        raise UserError(str(exc)) from None
+    return target, dialect, files
+
+
+def program_groups(dialect, files) -> list[list]:
+    """The programs the files make (Dialect.programs: each program file first); a UserError where they make none."""
+    from codegen.dialects.core.values import RunError
+
+    try:
+        groups = dialect.programs(files)
+    except RunError as exc:
+        raise UserError(str(exc)) from None
+    if not groups:
+        raise UserError(f"{files[0].name}: a data file, read together with its program: give the program file too")
+    return groups
+
+
+def load_group(dialect, group):
+    """One program from its files (Dialect.load_files), its load errors as one message each (exit 2)."""
+    from codegen.dialects.core.values import RunError
+
+    try:
+        return dialect.load_files(group)
+    except RecursionError:
+        raise UserError(f"{group[0].name}: statements or expressions nested too deeply to run here") from None
+    except RunError as exc:
+        raise UserError(str(exc)) from None
+
+
 @main.command()
-@click.argument("file", type=click.Path(exists=True, dir_okay=False))
+@click.argument("files", nargs=-1, required=True, type=click.Path(exists=True))
 @click.option(
     "--target",
     "target_name",
@@ -75,10 +161,24 @@ def _parse_input(text: str):
     help="Where the arm stands when the program starts: J1,...,J6 in deg (a program that checks it before "
     "it moves, e.g. UR get_actual_joint_positions(), RAPID CJointT(), needs it).",
 )
-@step_limit_option("Stop a runaway program after this many steps.")
+@step_limit_option("Stop a runaway program after this many steps (what ran until then is shown).")
+@click.option(
+    "--max-moves",
+    "max_moves",
+    type=click.IntRange(min=1),
+    default=None,
+    help="End the run cleanly after this many moves (a cell program that loops for ever), keeping what ran.",
+)
+@click.option(
+    "--max-seconds",
+    "max_seconds",
+    type=click.FloatRange(min=0.0),
+    default=None,
+    help="End the run cleanly once the program's clock (its moves, waits and sleeps) passes this many seconds.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def run(
-    file: str,
+    files: tuple[str, ...],
     target_name: str | None,
     inputs: tuple[str, ...],
     signal_values: tuple[str, ...],
@@ -86,28 +186,30 @@ def run(
     start: str | None,
     robot: str | None,
     step_limit: int,
+    max_moves: int | None,
+    max_seconds: float | None,
     as_json: bool,
 ) -> None:
-    """Run one program in the built-in interpreter; print its log, moves (and joints) and halt."""
-    from pathlib import Path
+    """Run one program in the built-in interpreter; print its log, moves (and joints) and how it ended.
 
-    from codegen.controllers import get_target
+    FILES: the program's file, or its files (the modules of a task, a program with its data files), or a
+    folder holding them."""
     from codegen.decimals import unsigned_zero
     from codegen.dialects import is_companion
-    from codegen.dialects.core.values import RunError
+    from codegen.dialects.core.trace import halt_text
+    from codegen.dialects.core.values import RunError, StepLimitError
     from codegen.poses import POSE_FORMATS
     from codegen.sim.gripper import Gripper
     from codegen.sim.vision_pc import VisionPC
-    from codegen.verify.programs import load_file as load_program_file
-    from codegen.verify.programs import target_of_file
 
-    path = Path(file)
-    if is_companion(path):
-        raise UserError(f"{path}: a data file, read together with its program: run the program file")
-    try:
-        target = get_target(target_name or target_of_file(path))
-    except ValueError as exc:
-        raise UserError(str(exc)) from None
+    if len(files) == 1 and is_companion(Path(files[0])):
+        raise UserError(f"{files[0]}: a data file, read together with its program: run the program file")
+    target, dialect, sources = program_files(files, target_name)
+    groups = program_groups(dialect, sources)
+    if len(groups) > 1:
+        names = ", ".join(g[0].name for g in groups)
+        raise UserError(f"these files make {len(groups)} programs ({names}): run one program at a time")
+    path = Path(groups[0][0].name)
     values = dict(_parse_input(i) for i in inputs)
     gripper_names = None
     if gripper is not None:
@@ -139,11 +241,11 @@ def run(
         if arm.vendor != target.vendor:
             where = f"--robot {robot!r}"
             raise UserError(f"{where}: an arm of the {arm.vendor} controller; this program is for {target.name}")
+    program = load_group(dialect, groups[0])
     try:
-        program = load_program_file(target, path)
-    except RunError as exc:
+        unknown = program.unknown_inputs(values)
+    except RunError as exc:  # the program's data, set up once before its runs, fails
         raise UserError(str(exc)) from None
-    unknown = program.unknown_inputs(values)
     if unknown:
         names = [*target.program["inputs"].values(), *target.program.get("photo", {}).values()]
         raise UserError(
@@ -156,10 +258,26 @@ def run(
         devices = [VisionPC.for_target(target, reading)]
         if gripper is not None:
             devices.append(Gripper(*gripper_names))
-        trace = program.run(values, step_limit=step_limit, devices=devices, arm=arm, signals=on, start_joints=joints)
+        trace = program.run(
+            values,
+            step_limit=step_limit,
+            devices=devices,
+            arm=arm,
+            signals=on,
+            start_joints=joints,
+            max_moves=max_moves,
+            max_seconds=max_seconds,
+        )
+        failure = None
     except RunError as exc:
-        click.echo(f"error: {exc}", err=True)
-        sys.exit(1)
+        trace, failure = getattr(exc, "trace", None), exc
+        if trace is None:
+            click.echo(f"error: {exc}", err=True)
+            sys.exit(1)
+        with suppress(RunError):  # the joints of the moves made, where the controller's rules give them
+            exc.solve_joints()
+        if isinstance(exc, StepLimitError):
+            trace.ended = f"{exc}: raise --step-limit, or end the run with --max-moves or --max-seconds"
     native = POSE_FORMATS[target.pose_format][2]
     moves = [
         {
@@ -175,15 +293,23 @@ def run(
         _dump(
             {
                 "file": str(path),
+                "files": [f.name for f in groups[0]],
                 "target": target.name,
                 "inputs": values,
                 "messages": trace.messages,
                 "moves": moves,
+                "outputs": [{"name": o.name, "value": o.value, "line": o.line, "time": o.time} for o in trace.outputs],
                 "halted": trace.halted,
                 "halt_message": trace.halt_message,
+                "ended": trace.ended,
+                "error": None if failure is None else str(failure),
+                "simulated_io": trace.simulated,
+                "clock_s": round(trace.clock, 6),
                 "steps": trace.steps,
             }
         )
+        if failure is not None:
+            sys.exit(1)
         return
     for message in trace.messages:
         click.echo(f"message: {message}")
@@ -191,7 +317,17 @@ def run(
         shown = "(a joint position)" if m["pose"] is None else " ".join(unsigned_zero(f"{v:.4f}") for v in m["pose"])
         joints = "" if m["joints"] is None else "  joints " + " ".join(unsigned_zero(f"{v:.3f}") for v in m["joints"])
         click.echo(f"{m['motion']:<6} (line {m['line']}): {shown}{joints}")
+    for o in trace.outputs:
+        click.echo(f"output (line {o.line}): {o.name} = {'on' if o.value else 'off'} at {o.time:.3f} s")
+    if trace.simulated:
+        click.echo(f"simulated I/O (no device or declaration provides it): {', '.join(trace.simulated)}")
+    if failure is not None:
+        click.echo(f"error: {failure}", err=True)
+        click.echo(f"stopped by an error after {len(moves)} moves and {trace.steps} steps ({trace.clock:.3f} s)")
+        sys.exit(1)
     if trace.halted:
-        click.echo(f"HALT: {trace.halt_message}")
+        click.echo(f"HALT: {halt_text(trace)}")
+    elif trace.ended is not None:
+        click.echo(f"ended: {trace.ended}, after {len(moves)} moves and {trace.steps} steps ({trace.clock:.3f} s)")
     else:
         click.echo(f"ended after {trace.steps} steps")

@@ -8,8 +8,7 @@ from pathlib import Path
 
 from codegen import __version__, data_dir
 from codegen.controllers import Target, get_target, numbered_names
-from codegen.decimals import format_literal
-from codegen.emit import Emitter, folder_name
+from codegen.emit import Code, Emitter, folder_name, owned
 from codegen.guard import NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, halt_message
 from codegen.model import io as signals
 from codegen.model.cell import Cell
@@ -27,18 +26,91 @@ class RenderedFile:
     text: str
 
 
-def environment():
-    """The templates' Jinja environment (StrictUndefined: a missing variable is an error, not an empty text)."""
-    import jinja2  # imported where used: `codegen correct` must not pay for it
+class UnmarkedText(RuntimeError):
+    """A template printed a value that did not pass through the emitter (a generator bug, never the cell's)."""
 
-    return jinja2.Environment(
+
+def _checked(value, where: str) -> Code:
+    """What a template may print: text the emitter made or the generator owns (Code), a whole number; nothing
+    else (a plain string could be a cell's value, a float has no fixed decimals)."""
+    if isinstance(value, Code):
+        return value
+    if isinstance(value, int) and not isinstance(value, bool):
+        return Code(str(value))
+    import jinja2  # loaded already: only a template calls this
+
+    if isinstance(value, jinja2.Undefined):  # an inline if without else: empty; a missing variable: its error
+        return Code(str(value))
+    shown = repr(value)
+    raise UnmarkedText(
+        f"{where}: the template prints {shown[:80]}{'...' if len(shown) > 80 else ''} ({type(value).__name__}), "
+        "which did not pass through the emitter (codegen/emit.py)"
+    )
+
+
+def environment():
+    """The templates' Jinja environment (StrictUndefined: a missing variable is an error, not an empty text).
+    Every `{{ }}` prints only Code (codegen/emit.py) or a whole number: the template's own text (its literals,
+    what its macros return, `~` and `join` of printable parts) stays Code; any other value is an UnmarkedText
+    error naming the template, so a cell's value reaches a program only through the emitter."""
+    import jinja2  # imported where used: `codegen correct` must not pay for it
+    from jinja2.compiler import CodeGenerator
+
+    class MarkingCodeGenerator(CodeGenerator):
+        def visit_Const(self, node, frame) -> None:
+            value = node.as_const(frame.eval_ctx)
+            if isinstance(value, str):  # the template's own text
+                self.write(f"environment.literal({value!r})")
+            else:
+                super().visit_Const(node, frame)
+
+        def visit_Concat(self, node, frame) -> None:  # `~`: printable parts only
+            self.write(f"environment.joined({self.name!r}, (")
+            for part in node.nodes:
+                self.visit(part, frame)
+                self.write(", ")
+            self.write("))")
+
+    class ProgramEnvironment(jinja2.Environment):
+        code_generator_class = MarkingCodeGenerator
+
+        @staticmethod
+        def concat(parts) -> Code:  # a template's, a macro's or a block's output: its text and checked values
+            return Code("".join(parts))
+
+        @staticmethod
+        def literal(text: str) -> Code:
+            return Code(text)
+
+        @staticmethod
+        def joined(where: str, parts) -> Code:
+            return Code("".join(_checked(part, where) for part in parts))
+
+    @jinja2.pass_context
+    def finalize(context, value) -> Code:
+        return _checked(value, context.name)
+
+    @jinja2.pass_context
+    def join(context, items, separator: str = Code(""), attribute=None) -> Code:
+        if attribute is not None:
+            items = (context.environment.getattr(item, attribute) for item in items)
+        return Code(_checked(separator, context.name).join(_checked(item, context.name) for item in items))
+
+    @jinja2.pass_context
+    def upper(context, value) -> Code:
+        return _checked(value, context.name).upper()
+
+    env = ProgramEnvironment(
         loader=jinja2.FileSystemLoader(str(TEMPLATES_DIR)),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,
         keep_trailing_newline=True,
         autoescape=False,
+        finalize=finalize,
     )
+    env.filters.update(join=join, upper=upper)
+    return env
 
 
 def merged(shared: dict, own: dict, what: str) -> dict:
@@ -49,20 +121,30 @@ def merged(shared: dict, own: dict, what: str) -> dict:
     return {**shared, **own}
 
 
+def program_emitter(cell: Cell, target: Target) -> Emitter:
+    """A program's names: the generator's own reserved (Emitter), then the cell's signals ([cell.io]) every program
+    of the cell may use, before the program maps any name of the cell."""
+    emitter = Emitter(target)
+    if cell.io is not None and target.program.get("signals"):
+        for key, signal in (("output", cell.io.output), ("feedback", cell.io.feedback)):
+            if signal.get(target.name) is not None:
+                emitter.signal(signal[target.name], f"cell.io.{key}.{target.name}")
+    return emitter
+
+
 def shared_context(cell: Cell, target: Target) -> dict:
     """The template variables every program of every kind reads: the header, the cell's speeds, its signals
     ([cell.io]) and its arm and tool."""
-    emitter = Emitter(target)
-    number = emitter.number
+    emitter = program_emitter(cell, target)
+    number, figure = emitter.number, emitter.figure
     return {
-        "version": __version__,
+        "version": owned(__version__),
         "cell": {
-            "name": cell.name,
             "ident": emitter.identifier("", cell.name, "cell name"),
             "file": file_stem(cell, target),
             "comment": emitter.comment(cell.name),
             "source": emitter.comment(Path(cell.source).name),
-            "sha256": cell.sha256,
+            "sha256": emitter.comment(cell.sha256),
         },
         "speeds": {  # [cell.motion]
             "travel_mm_s": number(cell.motion.speed_mm_s, 1),
@@ -74,7 +156,7 @@ def shared_context(cell: Cell, target: Target) -> dict:
             # a RAPID zonedata scaled from the cell's zone as the predefined zN are: 1.5 N mm, 0.15 N deg
             "zone_ori_mm": number(1.5 * cell.motion.zone_mm, 1),
             "zone_deg": number(0.15 * cell.motion.zone_mm, 2),
-            "retreat_mm": f"{cell.motion.retreat_mm:g}",
+            "retreat_mm": figure(cell.motion.retreat_mm),
             "return_home": cell.motion.return_home,
             # a program that refuses to start away from home (targets/<t>.toml restart = "at_home")
             "start_tol_deg": number(cell.motion.start_tolerance_deg, 3),
@@ -85,18 +167,20 @@ def shared_context(cell: Cell, target: Target) -> dict:
         "io": None
         if cell.io is None or not target.program.get("signals")
         else {  # [cell.io]: the work pose's output and its feedback, as the controller names them
-            "output": cell.io.output[target.name],
-            "feedback": cell.io.feedback.get(target.name),
+            "output": emitter.signal(cell.io.output[target.name], f"cell.io.output.{target.name}"),
+            "feedback": None
+            if cell.io.feedback.get(target.name) is None
+            else emitter.signal(cell.io.feedback[target.name], f"cell.io.feedback.{target.name}"),
             "value": cell.io.value,
             "polls": signals.polls(cell.io),
             "poll_s": number(signals.POLL_S, 2),
             "timeout_s": number(cell.io.timeout_s, 3),
-            "timeout_text": f"{cell.io.timeout_s:g}",
+            "timeout_text": figure(cell.io.timeout_s),
             "no_feedback": emitter.string(halt_message(cell, NO_FEEDBACK, None, 0)),
             "not_released": emitter.string(halt_message(cell, NOT_RELEASED, None, 0)),
         },
-        "target": target,
-        "robot": cell_robot(cell, target),
+        "target": {"program": owned(target.program)},  # the controller's facts (targets/<t>.toml [program])
+        "robot": cell_robot(cell, target, emitter),
     }
 
 
@@ -124,7 +208,7 @@ def render_plan(
     env = env or environment()
     ctx = merged(shared or shared_context(cell, target), plan.context, f"the context of the {plan.kind} kind")
     return [
-        RenderedFile(f"{cell_dir(cell)}/{target.name}/{f.name}", env.get_template(f.template).render(ctx))
+        RenderedFile(f"{cell_dir(cell)}/{target.name}/{f.name}", str(env.get_template(f.template).render(ctx)))
         for f in plan.files
     ]
 
@@ -152,12 +236,12 @@ def output_names(cell: Cell, target: Target) -> list[str]:
 # --- the arm's template variables ------------------------------------------------------------
 
 
-def joints_literal(values, unit: str) -> list[str]:
+def joints_literal(values, unit: str) -> list[Code]:
     scale = math.pi / 180.0 if unit == "rad" else 1.0
-    return [format_literal(v * scale, JOINT_DECIMALS[unit]) for v in values]
+    return [Emitter.number(v * scale, JOINT_DECIMALS[unit]) for v in values]
 
 
-def cell_robot(cell, target) -> dict | None:
+def cell_robot(cell, target, emitter: Emitter) -> dict | None:
     """The arm, its home joints and the tool for one target; None when the cell gives it no arm."""
     robot = cell.robot
     if robot is None or target.name not in robot.arms:
@@ -171,12 +255,13 @@ def cell_robot(cell, target) -> dict | None:
     )
     cog = native_values((*robot.tool.cog_mm, 0.0, 0.0, 0.0), "xyzabc", fmt)[:3]
     decimals = FORMAT_DECIMALS[fmt]
+    number = emitter.number
     return {
-        "model": robot.arms[target.name].model,
+        "model": emitter.comment(robot.arms[target.name].model),
         "home": joints_literal(robot.home[target.name], unit),
-        "tool": [format_literal(v, d) for v, d in zip(tool, decimals, strict=True)],
-        "mass": format_literal(robot.tool.mass_kg, MASS_DECIMALS),
-        "cog": [format_literal(v, d) for v, d in zip(cog, decimals[:3], strict=True)],
+        "tool": [number(v, d) for v, d in zip(tool, decimals, strict=True)],
+        "mass": number(robot.tool.mass_kg, MASS_DECIMALS),
+        "cog": [number(v, d) for v, d in zip(cog, decimals[:3], strict=True)],
         "tool_given": robot.tool_given,
         "tool_data": _numbered(target, robot.tool.numbered.get(target.name)),
     }
@@ -187,12 +272,12 @@ def _numbered(target, number: int | None) -> dict | None:
     if number is None:
         return None
     tool, load = numbered_names(target.name, number)
-    return {"tool": tool, "load": load}
+    return owned({"tool": tool, "load": load})
 
 
 LITERALS = {  # a target's configuration form -> its template variables
-    "confdata": lambda value, unit: {"robconf": ", ".join(str(v) for v in value)},
-    "status_turn": lambda value, unit: {"s": str(value[0]), "t": str(value[1])},
+    "confdata": lambda value, unit: {"robconf": Code(", ".join(str(int(v)) for v in value))},
+    "status_turn": lambda value, unit: {"s": Code(str(int(value[0]))), "t": Code(str(int(value[1])))},
     "joints": lambda value, unit: {"joints": joints_literal(value, unit)},
 }
 

@@ -17,10 +17,13 @@ from codegen.render import render
 REPO = Path(__file__).resolve().parents[1]
 
 
-@pytest.mark.parametrize("cell_file", sorted(p.name for p in (REPO / "codegen" / "examples").glob("*.toml")))
+EXAMPLES = REPO / "codegen" / "examples"
+
+
+@pytest.mark.parametrize("cell_file", sorted(p.relative_to(EXAMPLES).as_posix() for p in EXAMPLES.rglob("*.toml")))
 def test_committed_generated_output_is_fresh(cell_file):
     """Fails when generated/ is stale: run `codegen generate CELL` for every example cell and commit the result."""
-    text = diff(load_cell(REPO / "codegen" / "examples" / cell_file), REPO / "generated")
+    text = diff(load_cell(EXAMPLES / cell_file), REPO / "generated")
     assert text == "", "generated/ is stale; run `codegen generate`:\n" + text[:3000]
 
 

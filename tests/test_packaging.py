@@ -44,8 +44,10 @@ def test_the_wheel_carries_templates_targets_grammars_and_the_derivation(wheel):
     expected = {f"codegen/targets/{p.name}" for p in (REPO / "targets").glob("*.toml")}
     expected |= {f"codegen/templates/{p.relative_to(REPO / 'templates')}" for p in (REPO / "templates").rglob("*.j2")}
     expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in (REPO / "codegen").rglob("*.lark")}
-    expected |= {"codegen/derived.json", "codegen/kinds/point/kind.py", "codegen/kinds/pallet/kind.py"}
-    expected |= {"codegen/examples/agv_machine_tending.toml"}
+    expected |= {"codegen/derived.json"}
+    expected |= {f"codegen/kinds/{p.parent.name}/kind.py" for p in (REPO / "codegen" / "kinds").glob("*/kind.py")}
+    expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in (REPO / "codegen" / "examples").rglob("*.toml")}
+    expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in (REPO / "codegen" / "examples").rglob("*.csv")}
     assert expected <= names, sorted(expected - names)
 
 

@@ -44,10 +44,24 @@ def test_targets_are_discovered_from_their_files():
 
 @pytest.mark.parametrize("path", sorted((REPO / "targets").glob("*.toml")), ids=lambda p: p.stem)
 def test_every_target_fact_is_read_by_code(path):
+    """Every fact of a target is read: a top-level key or a [program] key by some code; a kind's own table
+    [program.<kind>] is read by the kind (the registry refuses a table no kind has, and keys the kind does not
+    declare), and each key it declares is read in the kind's own package."""
     facts = tomllib.loads(path.read_text(encoding="utf-8"))
     unread = [key for key in facts if key != "program" and not _readers(key)]
-    unread += [f"program.{key}" for key in facts["program"] if not _readers(key, "program")]
+    own = set(kinds())
+    unread += [f"program.{key}" for key in facts["program"] if key not in own and not _readers(key, "program")]
     assert not unread, f"{path.name}: facts no code reads (make them comments): {unread}"
+
+
+@pytest.mark.parametrize("name", sorted(kinds()))
+def test_every_fact_a_kind_declares_is_read_in_its_package(name):
+    kind = kinds()[name]
+    package = REPO / "codegen" / "kinds" / name
+    text = "\n".join(p.read_text(encoding="utf-8") for p in package.rglob("*.py"))
+    text += "\n".join(p.read_text(encoding="utf-8") for p in (REPO / "templates").rglob(f"kinds/{name}*.j2"))
+    unread = [key for key in kind.target_keys if not re.search(rf'\["{key}"\]|\.get\("{key}"|\b{key}\b', text)]
+    assert not unread, f"{name}: [program.{name}] keys its package never reads: {unread}"
 
 
 def test_the_key_check_can_fail():
@@ -144,8 +158,10 @@ def test_a_program_kind_is_named_only_in_its_own_files():
     dialects are left out: a language's own built-ins carry their manual's words (URScript's
     track_conveyor_linear). The station kinds' names are common words (a point, a frame): their packages are
     held to the same rule by the registry tests above."""
+    from codegen.protocol import station_kinds
+
     offenders = []
-    for word in ("pallet", "conveyor", "laser"):
+    for word in sorted(set(kinds()) - set(station_kinds())):
         own = (REPO / "codegen" / "kinds" / word,)
         for path in [*(REPO / "codegen").rglob("*.py"), *(REPO / "templates").rglob("*.j2")]:
             if any(folder in path.parents for folder in own) or path.name.startswith(f"{word}."):
@@ -158,14 +174,20 @@ def test_a_program_kind_is_named_only_in_its_own_files():
 
 
 def test_the_readme_lists_each_kinds_scenarios_as_the_kind_declares_them():
-    """The README's scenario table: "runs" (or "runs (...)") exactly where the kind runs the scenario."""
+    """The README's scenario table: a column for every kind (kinds that share a column are named together),
+    "runs" (or "runs (...)") exactly where the kind runs the scenario, a row for every scenario."""
     from codegen.verify.plan import SCENARIOS
 
     text = (REPO / "README.md").read_text(encoding="utf-8")
-    table = text.split("| scenario | point, frame | pallet | conveyor | laser |", 1)[1].split("\n\n", 1)[0]
+    header = next(line for line in text.splitlines() if line.startswith("| scenario |"))
+    table = text.split(header, 1)[1].split("\n\n", 1)[0]
+    columns = {}
+    for column, names in enumerate(header.strip("|").split("|")[1:], start=1):
+        for name in names.split(","):
+            columns[name.strip()] = column
+    assert set(columns) == set(kinds()), f"the README's scenario table has columns {sorted(columns)}"
     rows = [line.strip("|").split("|") for line in table.strip().splitlines()[1:]]
-    assert len(rows) == len(SCENARIOS)
-    columns = {"point": 1, "frame": 1, "pallet": 2, "conveyor": 3, "laser": 4}
+    assert len(rows) == len(SCENARIOS), "a row for every scenario, in codegen.verify.plan.SCENARIOS's order"
     for row, scenario in zip(rows, SCENARIOS, strict=True):
         for kind, column in columns.items():
             runs = row[column].strip().startswith("runs")

@@ -9,6 +9,7 @@ from functools import cache
 from pathlib import Path
 from typing import ClassVar
 
+_TERMINAL = re.compile(r"^([A-Z_]+): /(.*)/$", re.MULTILINE)
 _RESERVED = re.compile(r"^NAME(?:\.\d+)?: /\(\?!(\(\?i:)?\(([\w|]+)\)", re.MULTILINE)
 
 
@@ -39,7 +40,22 @@ class Dialect:
     def keywords(cls) -> frozenset[str]:
         """The words the language reserves, as its grammar's NAME terminal excludes them (upper case
         where the language ignores case); a generated identifier must not be one."""
-        return _keywords(Path(importlib.import_module(cls.__module__).__file__).parent / "grammar.lark")
+        return _keywords(cls._grammar())
+
+    @classmethod
+    def terminal(cls, name: str) -> str | None:
+        """The regular expression of one of the grammar's terminals (e.g. STRING, COMMENT), or None."""
+        return _terminals(cls._grammar()).get(name)
+
+    @classmethod
+    def predefined(cls) -> frozenset[str]:
+        """The names the controller's standard environment defines (built-in routines, predefined data, data
+        types; upper case where the language ignores case): a generated name must not be one."""
+        return frozenset()
+
+    @classmethod
+    def _grammar(cls) -> Path:
+        return Path(importlib.import_module(cls.__module__).__file__).parent / "grammar.lark"
 
     @classmethod
     def printer(cls):
@@ -101,17 +117,33 @@ class Dialect:
         return cls.load(main.text, main.name, {f.suffix: f.text for f in rest})
 
     @classmethod
-    def check_files(cls, files: list) -> list:
+    def check_files(cls, files: list, options=None) -> list:
         """Every finding of `codegen check` in one program's files (codegen.dialects.core.files.Finding),
-        without running it: by default what loading reports first."""
-        from codegen.dialects.core.files import Finding
+        without running it. What every language shares, a dialect's override adding its own checks (calling
+        this first): each file's syntax errors (every file parsed, so a syntax error in one does not hide
+        another's), then, where all parse, what loading the program refuses (an unsupported statement, an
+        undefined routine: severity "unsupported" where the message says what is not modelled). options:
+        codegen.dialects.core.files.CheckOptions (the arm, from --robot), or None."""
+        from codegen.dialects.core.files import finding_of
         from codegen.dialects.core.values import RunError
 
+        findings = []
+        for f in files:
+            try:
+                cls.parse(f.text, f.name, positions=False)
+            except RunError as exc:
+                findings.append(finding_of(exc, [f], "syntax"))
+            except RecursionError:
+                findings.append(finding_of(f"{f.name}: statements or expressions nested too deeply", [f], "syntax"))
+        if findings:
+            return findings
         try:
             cls.load_files(files)
         except RunError as exc:
-            return [Finding(files[0].name, 0, 0, "error", "load", str(exc))]
-        return []
+            findings.append(finding_of(exc, files))
+        except RecursionError:
+            findings.append(finding_of(f"{files[0].name}: statements or expressions nested too deeply", files))
+        return findings
 
 
 @cache
@@ -121,6 +153,12 @@ def _keywords(grammar: Path) -> frozenset[str]:
         return frozenset()
     caseless, words = match.group(1), match.group(2).split("|")
     return frozenset(w.upper() for w in words) if caseless else frozenset(words)
+
+
+@cache
+def _terminals(grammar: Path) -> dict[str, str]:
+    text = grammar.read_text(encoding="utf-8") if grammar.is_file() else ""
+    return {m.group(1): m.group(2) for m in _TERMINAL.finditer(text)}
 
 
 @cache

@@ -8,6 +8,9 @@ from typing import Any
 
 import numpy as np
 
+from codegen.emit import Emitter
+from codegen.guard import NOT_AT_HOME, halt_message
+
 START_AWAY_DEG = (25.0, -15.0, 10.0, 0.0, 0.0, 0.0)  # the arm left away from home (the start_away scenario)
 TOOL_LOAD = "tool"  # a planned move's payload: the cell's tool alone ([cell.tool] mass and centre of gravity)
 
@@ -134,3 +137,15 @@ class Judgement:
     figures: object = None
     truth: str | None = None  # where the run met the plan but the physical situation demands otherwise
     errors: tuple[list, list] = ((), ())  # position (mm) and rotation (deg) errors the kind measured itself
+
+
+def refuses_start(cell, target, case, allowed: tuple[str, ...] = ("home",)) -> str | None:
+    """The restart rule (targets/<t>.toml restart = "at_home"): a program started anywhere but where its kind
+    lets it start (`allowed`: home, and a station's retreat for the station program) stops before it moves,
+    with this message (as the target prints it); None where the target's programs may start anywhere, or the
+    cell has no arm to be away with."""
+    if case.start in allowed or target.program.get("restart") != "at_home":
+        return None
+    if cell.robot is None or target.name not in cell.robot.arms:
+        return None
+    return Emitter(target).string(halt_message(cell, NOT_AT_HOME, None, 0))

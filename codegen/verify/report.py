@@ -127,7 +127,7 @@ class Report:
             "programs": [r.summary() for r in self.rows],
         }
         for row in self.rows:
-            key = get_kind(row.kind).report_key
+            key = get_kind(row.kind).report_key or f"{row.kind}s"
             out.setdefault(key, []).append(get_kind(row.kind).legacy_summary(row))
         return out
 

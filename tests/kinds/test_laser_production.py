@@ -4,11 +4,14 @@ range is the tool as designed's, the way in and out passes a safe pose, a stop i
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from support.programs import first, run_case
 
+from codegen.cli import main
 from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.laser import program as lp
@@ -173,3 +176,27 @@ def test_a_restart_from_any_pose_the_calibration_takes_is_in_the_station_s_colum
     for what, pose in path(cell):
         x, y, z = _in_s(cell, pose)
         assert np.hypot(x, y) < column["r"] - 1.0 and column["low"] + 1.0 < z < column["high"] - 1.0, what
+
+
+@pytest.mark.parametrize(
+    ("target_name", "name", "refusal"),
+    [
+        ("abb", "here", "the program's own name here"),  # a variable of the program's main routine
+        ("abb", "tool0", "a word or predefined name"),  # RAPID's predefined tool: no program may write it
+        ("ur", "norm", "a word or predefined name"),  # a URScript built-in
+        ("ur", "lsr_found", "laser.production_tool.ur"),  # refused by the section: the program's own prefix
+    ],
+)
+def test_a_production_tool_named_like_the_program_s_own_or_the_language_s_names_is_refused(
+    tmp_path, target_name, name, refusal
+):
+    """The production tool's name is the cell's, written as it is: one the program uses itself, or one the language
+    reserves or predefines, is refused with the key named (exit 2), nothing written."""
+    text = Path(CELL).read_text(encoding="utf-8")
+    old = {"abb": 'abb = "tPin"', "ur": 'ur = "pin_tcp"'}[target_name]
+    path = tmp_path / "laser_tcp.toml"
+    path.write_text(text.replace(old, f'{target_name} = "{name}"'))
+    result = CliRunner().invoke(main, ["generate", str(path), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert f"laser.production_tool.{target_name}" in result.output and refusal in result.output, result.output
+    assert "Traceback" not in result.output and not (tmp_path / "out").exists()

@@ -103,7 +103,7 @@ def test_verify_files_on_disk_pass():
 
 def test_verify_refuses_to_verify_nothing():
     result = invoke("verify", GENERATED / "kuka" / "agv_machine_tending.dat", "--cases", "2")
-    assert result.exit_code == 2 and "read together with its program" in result.output
+    assert result.exit_code == 2 and "a data list is read with its program" in result.output
 
 
 def test_verify_warns_when_the_file_comes_from_another_cell():

@@ -21,6 +21,13 @@ def _summaries(rows):
     return [{k: v for k, v in r.summary().items() if k not in ("seconds", "cases_per_second")} for r in rows]
 
 
+def _same_rows(got, want) -> None:
+    """Row by row, naming the keys that differ."""
+    assert len(got) == len(want)
+    for a, b in zip(_summaries(got), _summaries(want), strict=True):
+        assert a == b, {k: (a.get(k), b.get(k)) for k in {*a, *b} if a.get(k) != b.get(k)}
+
+
 def test_one_program_at_a_time_gives_the_rows_of_all_at_once(monkeypatch):
     """The demo cell treated as large (ONE_PROGRAM_FROM = 1): a worker lets a program go when the next
     program's task comes, and every row (cases, mismatches, halts, errors) is the one of the tasks over all
@@ -33,7 +40,7 @@ def test_one_program_at_a_time_gives_the_rows_of_all_at_once(monkeypatch):
     monkeypatch.setattr(runner, "ONE_PROGRAM_FROM", 1)
     monkeypatch.setattr(engine, "ONE_PROGRAM_FROM", 1)
     apart, _ = verify_sources(cell, sources, options)
-    assert _summaries(apart) == _summaries(together)
+    _same_rows(apart, together)
     assert len(runner._LOADED) == 1  # the last program only
 
 
@@ -48,7 +55,7 @@ def test_programs_pinned_to_workers_give_the_same_rows(monkeypatch):
     counted = []
     pinned, _ = verify_sources(cell, sources, Options(cases=1, jobs=2, progress=counted.append, sweeps=False))
     assert [r.target for r in pinned] == ["ur", "kuka", "abb"]
-    assert _summaries(pinned) == _summaries(alone)
+    _same_rows(pinned, alone)
     assert sum(counted) == sum(r.cases for r in alone)
 
 

@@ -55,6 +55,14 @@ class ArmState:
             return None
         return self.arm.kin.fk(self.joints) @ self.tcp2flange
 
+    def from_start(self) -> None:
+        """A controller that solves a first move to a pose from where the arm stands (UR: the solution nearest
+        the joints, a linear move keeping their configuration), where the run knows them (--start): they count
+        as the last move's (a language that needs a joint move first whatever the joints does not call this)."""
+        if not self.known and self.arm is not None and self.joints is not None:
+            self.branch = _joint_target(self.arm, self.joints)[1]
+            self.known = True
+
     def actual(self, where: str) -> np.ndarray:
         """Where the arm's joints are now (deg): after the moves so far, or where it stood at the start."""
         self.resolve()

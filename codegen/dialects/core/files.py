@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -55,6 +56,45 @@ class Finding:
         }
 
 
+@dataclass(frozen=True)
+class CheckOptions:
+    """What `codegen check` knows beyond the files (Dialect.check_files(files, options)): the arm the program is
+    for (codegen.robot.arms.Arm, from --robot; None: a language's checks that need the arm's limits take the
+    controller family's documented limits, or are skipped where there are none)."""
+
+    arm: object | None = None
+
+
+PLACE = re.compile(r"^(?P<file>.+?):(?P<line>\d+)(?::(?P<column>\d+))?: (?P<message>.*)$", re.DOTALL)
+NOT_MODELLED = ("is not modelled", "not modelled here", "unsupported")
+
+
+def finding_of(error: Exception | str, files: list, code: str = "load") -> Finding:
+    """A Finding from a RunError's message "file:line:column: message" (the file one of `files`, SourceFile or
+    names; else the first), severity "unsupported" where the message says what is not modelled, else "error"."""
+    text = str(error)
+    names = [getattr(f, "name", f) for f in files]
+    file, line, column, message = names[0] if names else "", 0, 0, text
+    for name in sorted(names, key=len, reverse=True):  # a known file's name first (it may hold a colon)
+        if text.startswith(name + ":"):
+            rest = PLACE.match("x:" + text[len(name) + 1 :])
+            if rest is not None:
+                file, line, column, message = name, int(rest["line"]), int(rest["column"] or 0), rest["message"]
+            else:
+                file, message = name, text[len(name) + 1 :].strip()
+            break
+    else:
+        match = PLACE.match(text)
+        if match is not None:
+            file, line, column, message = match["file"], int(match["line"]), int(match["column"] or 0), match["message"]
+        elif text.startswith(file + ":"):
+            message = text[len(file) + 1 :].strip()
+    severity = "unsupported" if any(words in message for words in NOT_MODELLED) else "error"
+    if message.startswith("syntax error"):
+        code = "syntax"
+    return Finding(file, line, column, severity, "unsupported" if severity == "unsupported" else code, message)
+
+
 def decode_text(raw: bytes, name: str, encodings: tuple[str, ...]) -> str:
     """A program file's bytes as text: UTF-8 (a byte-order mark dropped), else each of the controller's
     other encodings in turn (a Windows-1252 controller backup); a RunError naming the file and the first
@@ -69,8 +109,11 @@ def decode_text(raw: bytes, name: str, encodings: tuple[str, ...]) -> str:
             first_bad = exc.start if first_bad is None else first_bad
             continue
         return text.replace("\r\n", "\n").replace("\r", "\n")
-    tried = " or ".join(("UTF-8", *(e for e in encodings if e.replace("_", "-").lower() not in ("utf-8", "utf8"))))
-    raise RunError(f"{name}: not {tried} text (byte {first_bad})")
+    others = [e for e in encodings if e.replace("_", "-").lower() not in ("utf-8", "utf8")]
+    if not others:  # a controller whose programs are UTF-8 only
+        raise RunError(f"{name}: not UTF-8 text (byte {first_bad}): this controller's programs are UTF-8")
+    tried = ", ".join(("UTF-8", *others))
+    raise RunError(f"{name}: byte {first_bad} is not text in any encoding this controller uses ({tried})")
 
 
 def read_source(path: Path, encodings: tuple[str, ...]) -> SourceFile:

@@ -1,61 +1,24 @@
-"""The machine a compiled program runs on: routines, frames, run state, traces and the program."""
+"""The machine a compiled program runs on: routines, frames, run state and the program (its traces: trace.py)."""
 
 from __future__ import annotations
 
 import gc
+import math
 from collections.abc import Iterable
 from contextlib import contextmanager
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Protocol
+from typing import Protocol
 
 import numpy as np
 
 from codegen.dialects.core.arm import ArmState
 from codegen.dialects.core.shared import SHARE_FROM, SharedGlobals
-from codegen.dialects.core.values import Halt, RunError, Signal, StepLimitError
+from codegen.dialects.core.trace import MoveEvent, SignalEvent, Trace
+from codegen.dialects.core.values import Halt, LimitReached, RunError, Signal, StepLimitError
 
-if TYPE_CHECKING:
-    from codegen.dialects.core.compiler import Compiler
+__all__ = ["MoveEvent", "SignalEvent", "Trace"]  # re-exported: callers import them here (they live in trace.py)
 
 DEFAULT_STEP_LIMIT = 200_000
 UNKNOWN_TRAVEL_S = 1.0  # assumed duration of a move whose start or end pose the clock does not know
-
-
-@dataclass
-class MoveEvent:
-    kind: str  # "joint" or "linear"
-    tcp2base: np.ndarray | None  # 4x4 float64, mm (a joint target's: filled when the run's moves are solved)
-    line: int
-    settings: dict = field(default_factory=dict)  # how the arm moves there, in the dialect's terms
-    joints: np.ndarray | None = None  # deg, where the arm's axes end (None: the run has no arm)
-    solutions: np.ndarray | None = None  # (8, 6) deg: every analytic solution of the pose (a pose target)
-    end_time: float = 0.0  # when the arm arrives, in the program's clock (s)
-
-
-@dataclass
-class SignalEvent:
-    """A digital output the program set: its name in the program's terms, the value, where, when (s),
-    whether the arm was still moving then and how many moves the program had commanded before it."""
-
-    name: str
-    value: bool
-    line: int
-    time: float
-    moving: bool
-    after_moves: int
-    tcp2base: np.ndarray | None = None  # where the tool is at that moment (base frame), where known
-
-
-@dataclass
-class Trace:
-    messages: list[str] = field(default_factory=list)
-    message_times: list[float] = field(default_factory=list)  # when each message was written (s)
-    moves: list[MoveEvent] = field(default_factory=list)
-    outputs: list[SignalEvent] = field(default_factory=list)
-    halted: bool = False
-    halt_message: str | None = None
-    steps: int = 0
-    kept: dict = field(default_factory=dict)  # Program.run(keep=...): those names' values when the run ended
 
 
 def halt(fr, *_ignored) -> None:
@@ -107,18 +70,38 @@ def travel_seconds(start: np.ndarray | None, end: np.ndarray | None, speed_mm_s:
     return float(np.linalg.norm(end[:3, 3] - start[:3, 3])) / speed_mm_s
 
 
+class ProgramCode(Protocol):
+    """What a run needs of the compiler that built the program (codegen/dialects/core/compiler.py Compiler:
+    named here by its methods, so that the machine does not import the compiler that imports it)."""
+
+    routines: dict
+
+    def norm(self, name: str) -> str: ...
+
+    def inject_inputs(self, machine: Machine) -> None: ...
+
+    def accepts_input(self, name: str, globals_: dict) -> bool: ...
+
+    def call_routine(self, fr: Frame, name: str, args: list, kwargs: dict, where: str, arg_setters=None): ...
+
+    def device_read(self, machine: Machine, name: str): ...
+
+    def device_write(self, machine: Machine, name: str, value) -> bool: ...
+
+
 class Routine:
     """A user procedure or function: parameters, compiled body, declared return type."""
 
-    __slots__ = ("body", "decls", "entry", "line", "name", "params", "return_type")
+    __slots__ = ("body", "decls", "defaults", "entry", "line", "name", "params", "return_type")
 
-    def __init__(self, name, params, body, return_type=None, line=0, decls=None) -> None:
+    def __init__(self, name, params, body, return_type=None, line=0, decls=None, defaults=None) -> None:
         self.name = name
         self.params = params  # list of (name, mode, type or None)
         self.body = body
         self.return_type = return_type
         self.line = line
         self.decls = decls or []  # (name, type, init closure) local declarations
+        self.defaults = defaults or {}  # parameter name -> its default value's closure (fr -> value)
         self.entry = None  # the compiled call (Compiler.entry)
 
 
@@ -153,6 +136,8 @@ class Machine:
         self.trace = Trace()
         self.step_limit = step_limit
         self.steps = 0
+        self.move_limit: int | None = None  # Program.run(max_moves=...): the run ends after that many moves
+        self.time_limit = math.inf  # Program.run(max_seconds=...): the run ends once the clock passes it
         self.extra: dict = {}  # dialect state ($BASE, message handles, ...)
         # Time (s since the program started): the program's clock, and when the arm finishes the moves
         # commanded so far (later than the clock while a controller's program runs ahead of its motion)
@@ -214,6 +199,14 @@ class Machine:
         if not runs_ahead:
             self.clock = self.arm_until
             self.deliver()
+        if self.move_limit is not None and len(self.trace.moves) >= self.move_limit:
+            raise LimitReached(f"{self.move_limit} moves made (the run's limit of moves)")
+        if self.arm_until > self.time_limit:  # the motion commanded so far (a program may run ahead of it)
+            self.past_time_limit()
+
+    def past_time_limit(self) -> None:
+        """The clock passed the run's time limit: the run ends here (LimitReached)."""
+        raise LimitReached(f"the program's clock passed {self.time_limit:g} s (the run's time limit)")
 
     def cut_move(self, event: MoveEvent, t: float, pose: np.ndarray) -> None:
         """The last commanded move ends early: at time t, at this pose (a search that stops at its hit; no
@@ -264,6 +257,12 @@ class Machine:
                 return value
         return self.signals.get(name, default)
 
+    def simulated(self, name: str) -> None:
+        """A signal the program reads that nothing has set (no device, no declaration, no --signal): simulated
+        I/O, named once in the trace (dropped at the end where a device set it after all)."""
+        if name not in self.trace.simulated:
+            self.trace.simulated.append(name)
+
     def message(self, text: str) -> None:
         """A message the operator sees (the teach pendant's log or a dialog), with the moment."""
         self.trace.messages.append(text)
@@ -302,6 +301,8 @@ class Machine:
         self.clock = end
         self.deliver()
         self.wait(where)
+        if self.clock > self.time_limit:
+            self.past_time_limit()
 
     def next_device_time(self) -> float | None:
         times = [t for d in self.devices if hasattr(d, "next_time") and (t := d.next_time(self)) is not None]
@@ -319,7 +320,14 @@ class Machine:
             due = self.next_device_time()
             if due is not None and due <= self.clock:
                 due = self.clock  # due now: act again
+            if self.clock > self.time_limit:
+                self.past_time_limit()
             if due is None or (deadline is not None and due > deadline):
+                if deadline is None and self.time_limit < math.inf:  # the run's time limit ends the wait
+                    self.clock = max(self.clock, self.time_limit)
+                    raise LimitReached(
+                        f"{where}: {keyword} a condition that nothing here makes true, until the run's time limit"
+                    )
                 if deadline is None:
                     raise RunError(f"{where}: {keyword} a condition that nothing here makes true (waits forever)")
                 self.clock = deadline
@@ -363,7 +371,7 @@ class Program:
     every run starts from a shallow copy of it (values are never changed in place).
     """
 
-    def __init__(self, name: str, compiler: Compiler, init, main: str | None, body=None) -> None:
+    def __init__(self, name: str, compiler: ProgramCode, init, main: str | None, body=None) -> None:
         self.name = name
         self.compiler = compiler
         self.routines: dict[str, Routine] = compiler.routines
@@ -382,6 +390,11 @@ class Program:
             self._snapshot = (globals_, types, machine.extra)
         return self._snapshot
 
+    def prepare(self) -> None:
+        """Run the program's set-up once now (module data, constant definitions: what every run starts from),
+        so that a RunError there is the program's, reported once when it is loaded."""
+        self._prepare(DEFAULT_STEP_LIMIT)
+
     def unknown_inputs(self, names) -> list[str]:
         """The input names this program has no variable or register for (a misspelt --input)."""
         globals_, _types, _extra = self._prepare(DEFAULT_STEP_LIMIT)
@@ -397,15 +410,23 @@ class Program:
         start_joints=None,
         keep: tuple[str, ...] = (),
         signal_cycle_s: float | None = None,
+        max_moves: int | None = None,
+        max_seconds: float | None = None,
     ) -> Trace:
         """One run from the initial globals with these inputs; devices (simulated equipment beside
         the controller) act whenever the program waits; arm (codegen.robot.arms.Arm): the arm whose
         joints each move must reach by the controller's rules (None: poses only); signals: digital
         inputs by name at the start; start_joints: where the arm stands (deg; None: unknown); keep: names
         of globals or written outputs whose values the trace keeps from the end of the run; signal_cycle_s: how
-        often the controller reads its inputs (a device that switches with the tool's pose needs it)."""
+        often the controller reads its inputs (a device that switches with the tool's pose needs it);
+        max_moves, max_seconds: the run ends cleanly after that many moves, or once the program's clock passes
+        that many seconds (an endless cell program), its trace kept and Trace.ended saying why. A step limit
+        reached raises StepLimitError, whose `trace` holds what ran until then (as any RunError of the run)."""
         globals_, types, extra = self._prepare(step_limit)
         machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices), arm, signal_cycle_s)
+        machine.move_limit = max_moves
+        if max_seconds is not None:
+            machine.time_limit = max_seconds
         machine.signals.update(signals or {})
         if start_joints is not None:  # where the arm stands when the program starts (deg)
             machine.arm.stand_at(start_joints)
@@ -426,6 +447,7 @@ class Program:
 
     def _run(self, machine: Machine, keep: tuple[str, ...]) -> Trace:
         frame = Frame(machine, machine.globals, machine.global_types)
+        trace = machine.trace
         try:
             self.compiler.inject_inputs(machine)
             if self.main is not None:
@@ -435,15 +457,33 @@ class Program:
                 if isinstance(signal, Signal) and signal.kind in ("break", "continue"):
                     raise RunError(f"{self.name}: {signal.kind} outside a loop")
         except RecursionError:
-            raise RunError(f"{self.name}: routine calls nested too deeply (runaway recursion?)") from None
+            message = f"{self.name}: routine calls nested too deeply (runaway recursion?)"
+            raise self._kept(RunError(message), machine) from None
         except Halt as halt:
-            machine.trace.halted = True
-            machine.trace.halt_message = halt.args[0] if halt.args else None
+            trace.halted = True
+            trace.halt_message = halt.args[0] if halt.args else None
+        except LimitReached as limit:
+            trace.ended = str(limit)
+        except RunError as exc:  # what ran until then stays readable (codegen run prints it)
+            raise self._kept(exc, machine) from None
         machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
-        machine.trace.steps = machine.steps
+        if trace.simulated:  # an input a device set after all (a gripper's feedback) was not simulated
+            trace.simulated = [name for name in trace.simulated if name not in machine.signals]
+        trace.steps = machine.steps
+        trace.clock = machine.clock
         for name in keep:
             machine.trace.kept[name] = self.compiler.kept_value(machine, name)
         return machine.trace
+
+    @staticmethod
+    def _kept(exc: RunError, machine: Machine) -> RunError:
+        """The error with the run's trace until then (exc.trace); exc.solve_joints() solves its moves' joints
+        where a caller wants them (not here: verify's runs that fail by design would pay for it)."""
+        trace = machine.trace
+        trace.steps, trace.clock, trace.ended = machine.steps, machine.clock, str(exc)
+        exc.trace = trace
+        exc.solve_joints = machine.arm.resolve
+        return exc
 
 
 @contextmanager

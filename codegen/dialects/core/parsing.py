@@ -15,11 +15,15 @@ LINE_MAX = 10_000  # characters per program line: the generated ones stay under 
 
 
 @cache
-def grammar_parser(interpreter_file: str, positions: bool = True) -> Lark:
+def grammar_parser(interpreter_file: str, positions: bool = True, postlex=None) -> Lark:
     """The LALR parser of the grammar.lark beside a dialect's interpreter; without positions it
     parses twice as fast (syntax errors still carry them). With positions, each tree's meta has the
-    line and column where it starts (start_positions), all the interpreter reads."""
-    parser = Lark.open("grammar.lark", rel_to=interpreter_file, parser="lalr", propagate_positions=False)
+    line and column where it starts (start_positions), all the interpreter reads. postlex: a dialect's
+    filter of the token stream (lark's postlex: e.g. line ends inside brackets dropped), one object per
+    dialect (the parsers are cached by it)."""
+    parser = Lark.open(
+        "grammar.lark", rel_to=interpreter_file, parser="lalr", propagate_positions=False, postlex=postlex
+    )
     if positions:
         lalr = parser.parser.parser.parser  # lark's LALR parser: its callbacks build the tree, rule by rule
         lalr.callbacks = {rule: start_positions(build) for rule, build in lalr.callbacks.items()}
@@ -76,10 +80,10 @@ def _bounded(text: str, filename: str) -> str:
     return text
 
 
-def parse_with_grammar(interpreter_file: str, text: str, filename: str, positions: bool = True) -> Tree:
+def parse_with_grammar(interpreter_file: str, text: str, filename: str, positions: bool = True, postlex=None) -> Tree:
     """Parse a program; a syntax error becomes a RunError naming file:line:column."""
     text = _bounded(text, filename)
-    parser = grammar_parser(interpreter_file, positions)
+    parser = grammar_parser(interpreter_file, positions, postlex)
     try:
         return parser.parse(text)
     except UnexpectedInput as exc:
@@ -92,13 +96,15 @@ def grammar_recognizer(interpreter_file: str) -> Recognizer:
     return Recognizer(grammar_parser(interpreter_file, False))
 
 
-def check_with_grammar(interpreter_file: str, text: str, filename: str) -> None:
+def check_with_grammar(interpreter_file: str, text: str, filename: str, postlex=None) -> None:
     """Raise as parse_with_grammar would, without building a tree: the recognizer says yes to a
     program lark would parse; whatever it does not accept, lark parses for the verdict and the
-    message (generate's check of every program it writes: issue 16)."""
+    message (generate's check of every program it writes: issue 16). The recognizer sees the tokens
+    without the postlex: a text it accepts has nothing the postlex would drop (a grammar that has no place
+    for the dropped tokens), so it accepts only what the full parse accepts."""
     text = _bounded(text, filename)
     if not grammar_recognizer(interpreter_file).accepts(text):
-        parse_with_grammar(interpreter_file, text, filename, positions=False)
+        parse_with_grammar(interpreter_file, text, filename, positions=False, postlex=postlex)
 
 
 # What a user calls the terminals whose pattern is not a word or a symbol of the language.

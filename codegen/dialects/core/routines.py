@@ -64,6 +64,35 @@ class Routines:
 
     BY_REFERENCE = ("OUT", "INOUT", "VAR", "PERS", "OUT_REF")
     KWARGS_ERROR: str | None = None  # message when a user routine is called with named arguments
+    BIND_ARGUMENTS = False  # the language binds named arguments to parameters, and has default values
+
+    @staticmethod
+    def binder(routine: Routine):
+        """(machine, args, kwargs, where) -> the arguments in parameter order: the positional ones, then
+        each parameter's named argument, else its default value (Routine.defaults, evaluated at the call
+        with the globals only), else an error naming the parameter."""
+        names = [p[0] for p in routine.params]
+        count, name, defaults = len(names), routine.name, routine.defaults
+
+        def bind(m, a, k, w):
+            if len(a) > count:
+                raise RunError(f"{w}: {name} takes {count} arguments, got {len(a)}")
+            for key in k:
+                if key not in names:
+                    raise RunError(f"{w}: {name} has no parameter {key}")
+                if names.index(key) < len(a):
+                    raise RunError(f"{w}: {name}: argument {key} given twice")
+            out = list(a)
+            for pname in names[len(a) :]:
+                if pname in k:
+                    out.append(k[pname])
+                elif pname in defaults:
+                    out.append(defaults[pname](Frame(m, m.globals, m.global_types)))
+                else:
+                    raise RunError(f"{w}: {name}: no value for its parameter {pname} (and it has no default)")
+            return out
+
+        return bind
 
     def entry(self, routine: Routine):
         """The routine's call as one compiled function (fr, args, kwargs, where, setters): count
@@ -72,13 +101,14 @@ class Routines:
         if routine.entry is not None:
             return routine.entry
         name, count = routine.name, len(routine.params)
-        lines = [
-            "m = fr.m",
-            "m.steps += 1",
-            "if m.steps > m.step_limit: raise _steplimit(w, m)",
-            f"if len(a) != {count}:",
-            f"    raise _RunError(f'{{w}}: {name} takes {count} arguments, got {{len(a)}}')",
-        ]
+        lines = ["m = fr.m", "m.steps += 1", "if m.steps > m.step_limit: raise _steplimit(w, m)"]
+        if self.BIND_ARGUMENTS:  # named arguments and default values: bound where the call is not plain
+            lines += [f"if k or len(a) != {count}:", f"    a = {self.const(self.binder(routine))}(m, a, k, w)"]
+        else:
+            lines += [
+                f"if len(a) != {count}:",
+                f"    raise _RunError(f'{{w}}: {name} takes {count} arguments, got {{len(a)}}')",
+            ]
         if self.KWARGS_ERROR:
             lines += ["if k:", f"    raise _RunError(f'{{w}}: {name} {self.KWARGS_ERROR}')"]
         lines += ["f = _Frame(m)", "V = f.vars", "T = f.types"]
@@ -141,14 +171,25 @@ class Routines:
         return statements
 
     def define_routine(
-        self, key: str, name, params, return_type, node, statements, decls=None, local_types=None, unique=True
+        self,
+        key: str,
+        name,
+        params,
+        return_type,
+        node,
+        statements,
+        decls=None,
+        local_types=None,
+        unique=True,
+        defaults=None,
     ) -> Routine:
         """Register a routine under key (a second definition fails when unique) and compile its
-        body; params are (name, mode, type) and checked by check_params first."""
+        body; params are (name, mode, type) and checked by check_params first; defaults: a parameter's
+        default value (closure) by name, where the language has them (BIND_ARGUMENTS)."""
         if unique and key in self.routines:
             self.fail(name, f"routine {name} defined twice")
         self.check_params(node, name, params)
-        routine = Routine(str(name), params, None, return_type, self.line(node), decls)
+        routine = Routine(str(name), params, None, return_type, self.line(node), decls, defaults)
         self.routines[key] = routine
         self.compile_routine_body(routine, statements, local_types)
         return routine

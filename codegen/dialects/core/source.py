@@ -4,16 +4,12 @@ from __future__ import annotations
 
 import re
 import sys
-from typing import TYPE_CHECKING
 
 import numpy as np
 from lark import Token
 
 from codegen.dialects.core.shapes import ShapeCache
 from codegen.dialects.core.values import RunError
-
-if TYPE_CHECKING:
-    from codegen.dialects.core.compiler import Compiler
 
 # numbers by value, the floats by their bits (-0.0 is not 0.0; float.hex keeps the sign but gives every NaN one
 # text: no literal is a Python-float NaN, and a NaN's payload and sign change no result)
@@ -36,7 +32,7 @@ class Inline:
 
     __slots__ = ("compiler", "fn", "lines")
 
-    def __init__(self, compiler: Compiler, lines: list[str]) -> None:
+    def __init__(self, compiler: SourceBuilder, lines: list[str]) -> None:
         self.compiler = compiler
         self.lines = lines
         self.fn = None
@@ -53,7 +49,7 @@ class LazyStore:
 
     __slots__ = ("compiler", "context", "fn", "node")
 
-    def __init__(self, compiler: Compiler, node) -> None:
+    def __init__(self, compiler: SourceBuilder, node) -> None:
         self.compiler, self.node, self.fn = compiler, node, None
         self.context = (compiler.local_types, compiler.routine_name)
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from lark import Token, Tree
 
-from codegen.dialects.core.values import F32, RunError, f32
+from codegen.dialects.core.values import F32, RunError, f32, show
 
 
 class Stores:
@@ -143,7 +143,7 @@ class Stores:
             try:
                 return f32(value)
             except (TypeError, ValueError):
-                raise RunError(f"{where}: cannot store {value!r} in a number") from None
+                raise RunError(f"{where}: cannot store {show(value)} in a number") from None
         return value
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 
@@ -22,6 +23,11 @@ class StepLimitError(RunError):
 
 class Halt(Exception):
     """The program stopped itself (halt / HALT / EXIT / Stop)."""
+
+
+class LimitReached(Exception):
+    """The run reached a limit its caller set (Program.run's max_moves, max_seconds): it ends cleanly there,
+    its trace kept (Trace.ended says why); not a RunError: nothing in the compiled code catches it."""
 
 
 class Signal:
@@ -89,13 +95,127 @@ def constant(value):
 # --- errors raised by generated code ------------------------------------------------------------
 
 
+# What a message calls a value's kind: the controller's words, never a Python type's name (issue 29).
+PYTHON_KINDS = {
+    "NoneType": "no value",
+    "bool": "a boolean",
+    "int": "an integer",
+    "float": "a number",
+    "float32": "a number",
+    "float64": "a number",
+    "numpy.float32": "a number",
+    "numpy.float64": "a number",
+    "numpy.int64": "an integer",
+    "numpy.int32": "an integer",
+    "numpy.bool": "a boolean",
+    "numpy.bool_": "a boolean",
+    "numpy.ndarray": "an array",
+    "str": "a string",
+    "list": "an array",
+    "tuple": "an array",
+    "dict": "a record",
+    "function": "a routine",
+    "Record": "a record",
+}  # a dialect adds the kinds of its own values (a pose, a struct)
+
+
+def describe(value) -> str:
+    """A value's kind as a message names it ("a number", "a string", "an array", "a FRAME", "no value")."""
+    record_type = getattr(value, "type", None) if isinstance(value, dict) else None
+    if isinstance(record_type, str) and record_type:
+        return f"a {record_type}"
+    kind = PYTHON_KINDS.get(type(value).__name__)
+    if kind is None and isinstance(value, np.generic):
+        kind = "a number" if isinstance(value, np.floating) else "an integer"
+    if kind is None:
+        kind = getattr(value, "kind_name", None) or "a value of another kind"
+    return kind
+
+
+def show(value, limit: int = 40) -> str:
+    """A value as a message shows it: a number's digits, a string in quotes, else its kind."""
+    if isinstance(value, bool | int | float | np.number) and not isinstance(value, np.bool_):
+        return format_general(value)
+    if isinstance(value, str):
+        return repr(value if len(value) <= limit else value[:limit] + "...")
+    return describe(value)
+
+
+_K = r"'?([\w.]+)'?"  # a Python type's name, quoted or not
+# Python's own words for an operator refused: (pattern, what the message says: {op} and {a}, {b} the kinds)
+_OPERANDS = (
+    (re.compile(rf"unsupported operand type\(s\) for ([^:]+): {_K} and {_K}"), "{a} {op} {b}"),
+    (re.compile(rf"'([^']+)' not supported between instances of {_K} and {_K}"), "{a} {op} {b}"),
+    (re.compile(rf"bad operand type for unary ([^:]+): {_K}"), "{op} of {a}"),
+    (re.compile(r'can only concatenate (\w+) \(not "([\w.]+)"\) to \w+'), "{a} + {b}"),
+    (re.compile(rf"{_K} object is not subscriptable"), "an index of {a}"),
+    (re.compile(rf"{_K} object is not iterable"), "the elements of {a}"),
+    (re.compile(rf"object of type {_K} has no len\(\)"), "{a} has no elements"),
+    (re.compile(rf"can't multiply sequence by non-int of type {_K}"), "an array * {a}"),
+    (re.compile(rf"{_K} object cannot be interpreted as an integer"), "{a} as an integer"),
+    (re.compile(rf"must be real number, not {_K}"), "{a} as a number"),
+    (re.compile(rf"argument must be a string or a (?:real )?number, not {_K}"), "{a} as a number"),
+)
+_UFUNC = re.compile(r"ufunc '(\w+)'")
+_UFUNC_OPS = {
+    "add": "+",
+    "subtract": "-",
+    "multiply": "*",
+    "divide": "/",
+    "true_divide": "/",
+    "remainder": "%",
+    "less": "<",
+    "less_equal": "<=",
+    "greater": ">",
+    "greater_equal": ">=",
+    "equal": "==",
+    "not_equal": "!=",
+}
+_DTYPE = re.compile(r"dtype\('([^']+)'\)")
+
+
+def _dtype_word(dtype: str) -> str:
+    kind = dtype.lstrip("<>|=")[:1]
+    return {"U": "a string", "S": "a string", "f": "a number", "i": "an integer", "b": "a boolean"}.get(kind, "a value")
+
+
+_INVALID = (
+    (re.compile(r"cannot convert float NaN to integer"), "not a number where an integer is needed"),
+    (re.compile(r"cannot convert float infinity to integer"), "an infinite number where an integer is needed"),
+    (re.compile(r"math domain error"), "outside the function's domain"),
+    (re.compile(r"math range error|result too large|too large to convert|out of range"), "a number out of range"),
+    (re.compile(r"invalid literal for int\(\)"), "text that is not an integer"),
+    (re.compile(r"could not convert string to float"), "text that is not a number"),
+)
+
+
+def _kind_word(python_name: str) -> str:
+    return PYTHON_KINDS.get(python_name) or PYTHON_KINDS.get(python_name.rsplit(".", 1)[-1]) or "a value"
+
+
 def op_error(where: str, exc: Exception) -> RunError:
-    """An operator applied to values it does not take, as the controller would refuse it."""
+    """An operator applied to values it does not take, as the controller would refuse it; the message names
+    the operator and the kinds of its operands in the program's words, never Python's."""
     if isinstance(exc, ZeroDivisionError):
         return RunError(f"{where}: division by zero")
+    text = str(exc)
     if isinstance(exc, ValueError | OverflowError):  # int(nan), int(inf) as an index...
-        return RunError(f"{where}: invalid value ({exc})")
-    return RunError(f"{where}: type mismatch ({exc})")
+        said = next((words for pattern, words in _INVALID if pattern.search(text)), None)
+        said = said or "a value the operation does not take"
+        return RunError(f"{where}: invalid value ({said})")
+    ufunc = _UFUNC.search(text)
+    if ufunc is not None:  # numpy's words for a number and a string
+        op = _UFUNC_OPS.get(ufunc.group(1), ufunc.group(1))
+        kinds = [_dtype_word(d) for d in _DTYPE.findall(text)] + ["a value", "a value"]
+        return RunError(f"{where}: type mismatch ({kinds[0]} {op} {kinds[1]})")
+    for pattern, form in _OPERANDS:
+        match = pattern.search(text)
+        if match is not None:
+            groups = list(match.groups())
+            op = groups.pop(0) if "{op}" in form else ""
+            kinds = [_kind_word(g) for g in groups] + ["", ""]
+            return RunError(f"{where}: type mismatch ({form.format(op=op, a=kinds[0], b=kinds[1])})")
+    return RunError(f"{where}: type mismatch (a value of a kind this operation does not take)")
 
 
 def index_value(seq, index, offset: int, where: str):
@@ -112,12 +232,17 @@ def index_value(seq, index, offset: int, where: str):
     return seq[i]
 
 
+def _record_name(value) -> str:
+    record_type = getattr(value, "type", None) if isinstance(value, dict) else None
+    return record_type if isinstance(record_type, str) and record_type else describe(value)
+
+
 def no_field(value, name: str, where: str):
-    raise RunError(f"{where}: no field {name} in {getattr(value, 'type', type(value).__name__)}")
+    raise RunError(f"{where}: no field {name} in {_record_name(value)}")
 
 
 def no_field_to_set(value, name: str, where: str):
-    raise RunError(f"{where}: no field {name} in {getattr(value, 'type', '?')}")
+    raise RunError(f"{where}: no field {name} in {_record_name(value)}")
 
 
 def bad_index(index: int, where: str):

@@ -1,5 +1,7 @@
 """KRL (KUKA Robot Language, KSS 8): printer, grammar and interpreter."""
 
+import re
+
 from codegen.dialects import Dialect
 
 
@@ -27,6 +29,26 @@ class KRL(Dialect):
     suffixes = (".src",)
     companions = (".dat",)  # the data list of a .src: declarations and initial values
     encodings = ("cp1252",)  # KUKA controllers write Windows-1252 (backups, WorkVisual projects)
+
+    @classmethod
+    def predefined(cls) -> frozenset[str]:
+        """The built-in functions, the data types, the numbered system arrays (TOOL_DATA...) and every name of the
+        built-in $config.dat (its types, enumerations and data); $ names cannot be a generated name."""
+        from codegen.dialects.krl import builtins, environment, motion
+        from codegen.dialects.krl.compiler import KRLCompiler  # lark: only when asked
+
+        config = re.sub(r";[^\n]*", " ", environment.CONFIG_DAT)
+        return frozenset(
+            name.upper()
+            for name in (
+                *KRLCompiler("<names>").builtins,
+                *builtins.STRUCTS,
+                *builtins.SIMPLE,
+                *builtins.CART,
+                *motion.SYSTEM_ARRAYS,
+                *re.findall(r"[A-Za-z_][A-Za-z0-9_]*", config),
+            )
+        )
 
     @classmethod
     def move_settings(

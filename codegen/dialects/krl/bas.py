@@ -149,8 +149,20 @@ def cp_dat(fr, where: str) -> None:
 
 
 INITMOV_DEFAULTS = (
-    "DEF_VEL_PTP", "DEF_ACC_PTP", "DEF_VEL_CP", "DEF_VEL_ORI1", "DEF_VEL_ORI2", "DEF_ACC_CP", "DEF_ACC_ORI1",
-    "DEF_ACC_ORI2", "DEF_APO_CPTP", "DEF_APO_CDIS", "DEF_APO_CVEL", "DEF_APO_CORI", "DEF_ADVANCE", "DEF_CIRC_TYP",
+    "DEF_VEL_PTP",
+    "DEF_ACC_PTP",
+    "DEF_VEL_CP",
+    "DEF_VEL_ORI1",
+    "DEF_VEL_ORI2",
+    "DEF_ACC_CP",
+    "DEF_ACC_ORI1",
+    "DEF_ACC_ORI2",
+    "DEF_APO_CPTP",
+    "DEF_APO_CDIS",
+    "DEF_APO_CVEL",
+    "DEF_APO_CORI",
+    "DEF_ADVANCE",
+    "DEF_CIRC_TYP",
 )
 
 
@@ -181,10 +193,23 @@ def _initmov(fr, where: str) -> None:
     acc_ptp(fr, 100.0, where)
     vel_ptp(fr, 100.0, where)
     acc_cp(fr, 100.0, where)
-    _set_fields(fr, "$VEL", where, CP=float(config(fr, "DEF_VEL_CP")), ORI1=float(config(fr, "DEF_VEL_ORI1")),
-                ORI2=float(config(fr, "DEF_VEL_ORI2")))
-    _set_fields(fr, "$APO", where, CPTP=int(config(fr, "DEF_APO_CPTP")), CDIS=float(config(fr, "DEF_APO_CDIS")),
-                CVEL=int(config(fr, "DEF_APO_CVEL")), CORI=float(config(fr, "DEF_APO_CORI")))
+    _set_fields(
+        fr,
+        "$VEL",
+        where,
+        CP=float(config(fr, "DEF_VEL_CP")),
+        ORI1=float(config(fr, "DEF_VEL_ORI1")),
+        ORI2=float(config(fr, "DEF_VEL_ORI2")),
+    )
+    _set_fields(
+        fr,
+        "$APO",
+        where,
+        CPTP=int(config(fr, "DEF_APO_CPTP")),
+        CDIS=float(config(fr, "DEF_APO_CDIS")),
+        CVEL=int(config(fr, "DEF_APO_CVEL")),
+        CORI=float(config(fr, "DEF_APO_CORI")),
+    )
     write(fr, "$ADVANCE", int(config(fr, "DEF_ADVANCE")), where)
     m.extra["$ORI_TYPE"] = "#VAR"
     m.extra["$CIRC_TYPE"] = str(config(fr, "DEF_CIRC_TYP")).upper()

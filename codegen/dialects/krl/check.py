@@ -110,8 +110,16 @@ def long_names(name: str, tree) -> list[Finding]:
     out = []
     for token in _declared_names(tree):
         if isinstance(token, Token) and len(str(token)) > NAME_MAX:
-            out.append(Finding(name, token.line, token.column, "error", "name-too-long",
-                               f"{token} has {len(str(token))} characters: a KRL name has up to {NAME_MAX}"))
+            out.append(
+                Finding(
+                    name,
+                    token.line,
+                    token.column,
+                    "error",
+                    "name-too-long",
+                    f"{token} has {len(str(token))} characters: a KRL name has up to {NAME_MAX}",
+                )
+            )
     return out
 
 
@@ -139,9 +147,17 @@ def waits(name: str, tree, inputs: set[str]) -> list[Finding]:
             cond = sub.children[0]
             if _mentions(cond, inputs) and not _mentions(cond, {"$TIMER_FLAG", "$TIMER", "$ROB_TIMER"}):
                 line, column = _start(sub)
-                out.append(Finding(name, line, column, "warning", "wait-without-timeout",
-                                   "WAIT FOR an input without a timeout: the program waits for ever if the device "
-                                   "never answers (wait for a $TIMER_FLAG too, or poll with a time limit)"))
+                out.append(
+                    Finding(
+                        name,
+                        line,
+                        column,
+                        "warning",
+                        "wait-without-timeout",
+                        "WAIT FOR an input without a timeout: the program waits for ever if the device "
+                        "never answers (wait for a $TIMER_FLAG too, or poll with a time limit)",
+                    )
+                )
     return out
 
 
@@ -158,8 +174,13 @@ def _is_output_store(node) -> bool:
     if node.data != "assign":
         return node.data == "call_stmt" and str(node.children[0]).upper() == "PULSE"
     target = node.children[0]
-    return (isinstance(target, Tree) and target.data == "index" and isinstance(target.children[0], Tree)
-            and target.children[0].data == "var" and str(target.children[0].children[0]).upper() == "$OUT")
+    return (
+        isinstance(target, Tree)
+        and target.data == "index"
+        and isinstance(target.children[0], Tree)
+        and target.children[0].data == "var"
+        and str(target.children[0].children[0]).upper() == "$OUT"
+    )
 
 
 def early_outputs(name: str, tree) -> list[Finding]:
@@ -181,13 +202,29 @@ def early_outputs(name: str, tree) -> list[Finding]:
             elif _is_output_store(stmt) and moved is not None:
                 line, column = _start(stmt)
                 if continued:
-                    out.append(Finding(name, line, column, "warning", "output-in-advance-run",
-                                       f"the output is set in the advance run (CONTINUE): while the arm still moves to "
-                                       f"the point of line {_start(moved)[0]}, not when it is there"))
+                    out.append(
+                        Finding(
+                            name,
+                            line,
+                            column,
+                            "warning",
+                            "output-in-advance-run",
+                            f"the output is set in the advance run (CONTINUE): while the arm still moves to "
+                            f"the point of line {_start(moved)[0]}, not when it is there",
+                        )
+                    )
                 elif approximated:
-                    out.append(Finding(name, line, column, "warning", "approximation-lost",
-                                       f"setting an output stops the advance run: the approximation of line "
-                                       f"{_start(moved)[0]} is not possible (TRIGGER or CONTINUE)"))
+                    out.append(
+                        Finding(
+                            name,
+                            line,
+                            column,
+                            "warning",
+                            "approximation-lost",
+                            f"setting an output stops the advance run: the approximation of line "
+                            f"{_start(moved)[0]} is not possible (TRIGGER or CONTINUE)",
+                        )
+                    )
                 moved = None
             elif stmt.data in STOPS:
                 moved = None
@@ -203,8 +240,12 @@ def unset_frames(trees) -> list[Finding]:
     #BASE / #PTP_PARAMS / #CP_PARAMS / #FRAMES) or the motion's WITH): it moves with the tool and base the
     previous program left. Followed through the main routine and the routines it calls, in program order."""
     name, tree = trees[0]
-    routines = {routine_name(n): (file, n) for file, t in trees for n in t.children
-                if isinstance(n, Tree) and n.data in ("def_routine", "def_function")}
+    routines = {
+        routine_name(n): (file, n)
+        for file, t in trees
+        for n in t.children
+        if isinstance(n, Tree) and n.data in ("def_routine", "def_function")
+    }
     main = next((n for n in tree.children if isinstance(n, Tree) and n.data == "def_routine"), None)
     if main is None:
         return []
@@ -242,9 +283,17 @@ def _walk(node, file: str, routines: dict, state: dict) -> list[Finding]:
             if not (state["tool"] and state["base"]):
                 missing = " and ".join(n for n, ok in (("$TOOL", state["tool"]), ("$BASE", state["base"])) if not ok)
                 line, column = _start(sub)
-                return [Finding(file, line, column, "warning", "motion-before-tool-base",
-                                f"a motion before {missing} is set (BAS(#INITMOV, 0), the inline form's "
-                                "BAS(#PTP_PARAMS ...), or an assignment): it moves with what the previous program "
-                                "left")]
+                return [
+                    Finding(
+                        file,
+                        line,
+                        column,
+                        "warning",
+                        "motion-before-tool-base",
+                        f"a motion before {missing} is set (BAS(#INITMOV, 0), the inline form's "
+                        "BAS(#PTP_PARAMS ...), or an assignment): it moves with what the previous program "
+                        "left",
+                    )
+                ]
             return []
     return []

@@ -17,8 +17,9 @@ from codegen.dialects.krl.sysvars import SHARED_STRUCTS
 # DECL CHAR NAMES[16,24] is 16 texts); STRUC name type field, ... and ENUM name value, ... declare types, in a
 # routine's declaration section or a data list (GLOBAL in a PUBLIC one: every module's). "ANY" is the
 # interpreter's type of a component it records as it is (the inline forms' circle modes, jerk limits).
-DECLARATIONS = frozenset({"decl", "signal_decl", "ext_routine", "ext_function", "enum_decl", "struc_decl",
-                          "import_decl"})
+DECLARATIONS = frozenset(
+    {"decl", "signal_decl", "ext_routine", "ext_function", "enum_decl", "struc_decl", "import_decl"}
+)
 MAX_DIMS = 3
 
 
@@ -207,8 +208,11 @@ class Declarations:
             (have == "number" and number)
             or (have == "CHAR" and type_name == "CHAR")
             or (have == "BOOL" and type_name == "BOOL")
-            or (have == "an ENUM value" and type_name in self.enums
-                and "#" + str(node.children[0]).upper() in self.enums[type_name])
+            or (
+                have == "an ENUM value"
+                and type_name in self.enums
+                and "#" + str(node.children[0]).upper() in self.enums[type_name]
+            )
         )
         if have == "an ENUM value" and type_name in self.enums and not ok:
             self.fail(where_node, f"type error: #{node.children[0]} is not a value of {type_name}")

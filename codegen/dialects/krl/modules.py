@@ -253,8 +253,9 @@ class Linker:
                         if not isinstance(item, Tree) or item.data not in ("decl", "signal_decl"):
                             continue
                         names = _decl_names(item) if item.data == "decl" else []
-                        is_global = module.config or (public and any(
-                            isinstance(t, Token) and t.type == "GLOBAL" for t in item.children))
+                        is_global = module.config or (
+                            public and any(isinstance(t, Token) and t.type == "GLOBAL" for t in item.children)
+                        )
                         for key in names:
                             if key in SYSTEM_ARRAYS:  # the controller's numbered data: the interpreter's own
                                 continue

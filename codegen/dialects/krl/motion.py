@@ -172,8 +172,9 @@ def axis_aggregate(compiler, target: Record, where: str, fr) -> Record:
         try:
             now = axis_act(fr, where)
         except RunError:
-            raise RunError(f"{where}: the axis target lacks {', '.join(missing)} and where those axes stand is not "
-                           "known here") from None
+            raise RunError(
+                f"{where}: the axis target lacks {', '.join(missing)} and where those axes stand is not known here"
+            ) from None
         values = {**{k: now[k] for k in missing}, **values}
     return compiler.coerce("E6AXIS", Record(None, values), where)
 

@@ -222,7 +222,8 @@ class ScopedNames:
         if callee not in self.user_routines:
             return [None] * len(arg_nodes)
         return [
-            ScopedStore(self, node) if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole")
+            ScopedStore(self, node)
+            if isinstance(node, Tree) and node.data in ("var", "index", "field", "whole")
             else None
             for node in arg_nodes
         ]

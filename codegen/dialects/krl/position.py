@@ -13,6 +13,8 @@ from codegen.poses import invert
 # base was active. The interpreter assumes one that is not the robot's base, so a program that moves
 # without setting $BASE ($NULLFRAME, or a BASE_DATA) moves somewhere else in its trace.
 ACTIVE_BASE_AT_START = (250.0, -120.0, 40.0, 30.0, 0.0, 0.0)
+
+
 def world2robot(root: Record):
     """The world in the robot's base frame: the inverse of $ROBROOT as a 4x4 matrix."""
     return invert(cart_matrix(root))

@@ -15,10 +15,27 @@ from codegen.dialects.core.values import RunError
 # the values they had. The relative motions PTP_REL / LIN_REL / SPTP_REL / SLIN_REL: codegen/dialects/krl/relative.py;
 # a relative circle (CIRC_REL, SCIRC_REL) is not modelled.
 KINDS = {"PTP": "joint", "SPTP": "joint", "LIN": "linear", "SLIN": "linear"}
-WITH_ALLOWED = frozenset({
-    "$VEL", "$ACC", "$APO", "$VEL_AXIS", "$ACC_AXIS", "$TOOL", "$BASE", "$LOAD", "$IPO_MODE", "$ORI_TYPE",
-    "$CIRC_TYPE", "$GEAR_JERK", "$COLLMON_TOL_PRO", "$JERK", "$EX_AX_IGNORE", "$CIRC_MODE", "$SPL_ORI_JOINT_AUTO",
-})
+WITH_ALLOWED = frozenset(
+    {
+        "$VEL",
+        "$ACC",
+        "$APO",
+        "$VEL_AXIS",
+        "$ACC_AXIS",
+        "$TOOL",
+        "$BASE",
+        "$LOAD",
+        "$IPO_MODE",
+        "$ORI_TYPE",
+        "$CIRC_TYPE",
+        "$GEAR_JERK",
+        "$COLLMON_TOL_PRO",
+        "$JERK",
+        "$EX_AX_IGNORE",
+        "$CIRC_MODE",
+        "$SPL_ORI_JOINT_AUTO",
+    }
+)
 
 
 def motion_parts(children) -> tuple:

@@ -65,11 +65,31 @@ TABLE: dict[str, tuple[str, int | None, object]] = {
     "$H_POS": ("E6AXIS", None, None),  # the home position ($IN_HOME): the inline form sets it, else XHOME
 }
 READ_ONLY = frozenset(
-    {"$TIMER_FLAG", "$STOPMESS", "$MODE_OP", "$NUM_AX", "$EX_AX_NUM", "$POS_ACT", "$AXIS_ACT", "$IN_HOME", "$MOVE_BCO",
-     "$ROB_TIMER"}
+    {
+        "$TIMER_FLAG",
+        "$STOPMESS",
+        "$MODE_OP",
+        "$NUM_AX",
+        "$EX_AX_NUM",
+        "$POS_ACT",
+        "$AXIS_ACT",
+        "$IN_HOME",
+        "$MOVE_BCO",
+        "$ROB_TIMER",
+    }
 )
-RECORDED_ONLY = frozenset({"$GEAR_JERK", "$COLLMON_TOL_PRO", "$WORKSPACE", "$JERK", "$EX_AX_IGNORE",
-                           "$SPL_ORI_JOINT_AUTO", "$CIRC_MODE", "$BWDSTART"})
+RECORDED_ONLY = frozenset(
+    {
+        "$GEAR_JERK",
+        "$COLLMON_TOL_PRO",
+        "$WORKSPACE",
+        "$JERK",
+        "$EX_AX_IGNORE",
+        "$SPL_ORI_JOINT_AUTO",
+        "$CIRC_MODE",
+        "$BWDSTART",
+    }
+)
 # Not modelled, refused by name where a program uses them (what they would do is not in the trace)
 REFUSED = {
     "$ANIN": "analog inputs are not modelled",
@@ -82,8 +102,16 @@ REFUSED = {
 }
 H_POS_TOL_DEG = 0.1  # $IN_HOME: the axes within this of $H_POS (assumed: the tolerance is machine data)
 SHARED_STRUCTS = {
-    "WORKSPACE": [*XYZABC, ("X1", "REAL"), ("Y1", "REAL"), ("Z1", "REAL"), ("X2", "REAL"), ("Y2", "REAL"),
-                  ("Z2", "REAL"), ("MODE", "ENUM")],
+    "WORKSPACE": [
+        *XYZABC,
+        ("X1", "REAL"),
+        ("Y1", "REAL"),
+        ("Z1", "REAL"),
+        ("X2", "REAL"),
+        ("Y2", "REAL"),
+        ("Z2", "REAL"),
+        ("MODE", "ENUM"),
+    ],
     "JERK_STRUC": [("CP", "REAL"), ("ORI", "REAL"), ("AX", "ANY")],
     "CIRC_MODE": [("AUX_PT", "ANY"), ("TARGET_PT", "ANY")],
 }

@@ -57,16 +57,20 @@ class TriggerStatements:
             value = self.expr(value_node)
         else:
             output, value = self.trigger_call(inner), (lambda fr: None)
-        at, delay, where = self.expr(at_node), (self.expr(delay_node) if delay_node is not None else None), \
-            self.where(node)
+        at, delay, where = (
+            self.expr(at_node),
+            (self.expr(delay_node) if delay_node is not None else None),
+            self.where(node),
+        )
 
         def run(fr):
             distance = float(at(fr))
             if kind == "DISTANCE" and distance not in (0.0, 1.0):
                 raise RunError(f"{where}: TRIGGER WHEN DISTANCE takes 0 (the start point) or 1 (the end point)")
             pending = fr.m.extra.get("TRIGGERS", ())
-            new = Trigger(kind, distance, onstart is not None, float(delay(fr)) if delay else 0.0, output(fr),
-                          value(fr), where)
+            new = Trigger(
+                kind, distance, onstart is not None, float(delay(fr)) if delay else 0.0, output(fr), value(fr), where
+            )
             fr.m.extra["TRIGGERS"] = (*pending, new)
 
         return run
@@ -116,12 +120,16 @@ def fire(m, event, t0: float, speed_mm_s: float) -> None:
             t = t0 if trigger.at == 0.0 else t1
         else:
             if length is None or not speed_mm_s:
-                raise RunError(f"{trigger.where}: TRIGGER WHEN PATH: the motion's path is not known here (a PTP "
-                               "to axis values, or the first motion)")
+                raise RunError(
+                    f"{trigger.where}: TRIGGER WHEN PATH: the motion's path is not known here (a PTP "
+                    "to axis values, or the first motion)"
+                )
             mm = trigger.at if trigger.onstart else length + trigger.at
             if not -1e-6 <= mm <= length + 1e-6:
-                raise RunError(f"{trigger.where}: TRIGGER WHEN PATH = {trigger.at:g}: the switching point lies "
-                               "outside its motion (not modelled)")
+                raise RunError(
+                    f"{trigger.where}: TRIGGER WHEN PATH = {trigger.at:g}: the switching point lies "
+                    "outside its motion (not modelled)"
+                )
             t = t0 + mm / speed_mm_s
         t += trigger.delay_ms / 1000.0
         if t < t0 - 1e-9:

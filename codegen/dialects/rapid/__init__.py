@@ -27,6 +27,30 @@ class Rapid(Dialect):
     encodings = ("cp1252",)  # RobotWare's text files: Windows-1252 (Latin-1) where not UTF-8
 
     @classmethod
+    def predefined(cls) -> frozenset[str]:
+        """The instructions and functions (modelled or by the manual's name), the predefined data (v100, z10, fine,
+        tool0, wobj0, load0...), the predefined constants and the data types, in upper case."""
+        from codegen.dialects.rapid import catalogue, names, predefined, types
+        from codegen.dialects.rapid.compiler import SPECIAL, RAPIDCompiler  # lark: only when asked
+
+        return frozenset(
+            name.upper()
+            for name in (
+                *RAPIDCompiler("<names>").builtins,
+                *SPECIAL,
+                *catalogue.NOT_MODELLED,
+                *predefined.PREDEFINED,
+                *predefined.USER_DATA,
+                *names.CONSTANTS,
+                *types.RECORDS,
+                *types.SCALARS,
+                *types.ALIASES,
+                *types.OPAQUE,
+                *types.NOT_MODELLED,
+            )
+        )
+
+    @classmethod
     def move_settings(
         cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:

@@ -231,4 +231,3 @@ def _intrinsic_xyz(rx: float, ry: float, rz: float) -> tuple[float, ...]:
     qy = posemath.quat_from_zyx_deg(0, ry, 0)
     qz = posemath.quat_from_zyx_deg(rz, 0, 0)
     return posemath.quat_multiply(posemath.quat_multiply(qx, qy), qz)
-

@@ -101,4 +101,3 @@ class Coercions:
         if isinstance(old, str):
             return self.coerce("STRING", value, where)
         return super().coerce_like(old, value, where)
-

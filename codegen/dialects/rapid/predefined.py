@@ -16,8 +16,33 @@ from codegen.dialects.rapid.types import RECORDS
 #   zone_ori, zone_leax, zone_reax] in the table below;
 # - tool0 [TRUE, [[0, 0, 0], [1, 0, 0, 0]], load0] (the flange), wobj0 [FALSE, TRUE, "", identity, identity] (the
 #   world frame), load0 [0.001, [0, 0, 0.001], [1, 0, 0, 0], 0, 0, 0].
-SPEEDS = (5, 10, 20, 30, 40, 50, 60, 80, 100, 150, 200, 300, 400, 500, 600, 800, 1000, 1500, 2000, 2500, 3000,
-          4000, 5000, 6000, 7000)
+SPEEDS = (
+    5,
+    10,
+    20,
+    30,
+    40,
+    50,
+    60,
+    80,
+    100,
+    150,
+    200,
+    300,
+    400,
+    500,
+    600,
+    800,
+    1000,
+    1500,
+    2000,
+    2500,
+    3000,
+    4000,
+    5000,
+    6000,
+    7000,
+)
 VMAX_TCP = 5000.0
 ROTATIONS = (1, 2, 5, 10, 20, 50, 100)
 LINEARS = (10, 20, 50, 100, 200, 500, 1000)

@@ -325,4 +325,3 @@ def _initialiser(data):
             pending = [entry for entry, _exc in failed]
 
     return init
-

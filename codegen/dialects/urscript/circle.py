@@ -23,7 +23,7 @@ import numpy as np
 
 from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent
-from codegen.dialects.core.values import RunError
+from codegen.dialects.core.values import RunError, show
 from codegen.dialects.core.watch import Path
 from codegen.poses import rotmat_from_rotvec, rotvec_from_rotmat
 
@@ -98,7 +98,7 @@ def builtin(pose_of, number_of, in_thread):
         settings = {k: float(number_of(bound[k], where, f"movec {k}")) for k in ("a", "v", "r")}
         mode = bound["mode"]
         if isinstance(mode, bool) or mode not in (0, 1):
-            raise RunError(f"{where}: movec mode must be 0 (unconstrained) or 1 (fixed), got {mode!r}")
+            raise RunError(f"{where}: movec mode must be 0 (unconstrained) or 1 (fixed), got {show(mode)}")
         if not settings["v"] > 0 or not settings["a"] > 0 or not settings["r"] >= 0:
             raise RunError(f"{where}: movec needs a > 0, v > 0 and r >= 0")
         if fr.m.tracking is not None:
@@ -119,6 +119,7 @@ def builtin(pose_of, number_of, in_thread):
                 raise RunError(f"{where}: movec: {exc}") from None
             end = arc.end_pose()
         event = MoveEvent("circular", end, int(where.split(":")[1]), settings)
+        machine.arm.from_start()  # where the arm stands, when the run knows it
         machine.arm.to_pose(event, where, "keep")  # the configuration of the start, as movel
         speed = settings["v"] * MM_PER_M
         if arc is None:  # from a pose the run does not know: its time, not its path

@@ -1,351 +1,85 @@
 """URScript interpreter: float32 numbers, radians, poses in metres with rotation vectors."""
 
+# The language as the URScript manual (The URScript Programming Language, e-Series SW 5.x) defines it:
+# - Function: `def f(a, b=1): ... end`; a call gives the arguments in order, may leave out those with a
+#   default value and may name them (`f(1, b=2)`); arguments are passed by value.
+# - Scoping rules: a variable assigned in a function is the function's own unless a global of that name
+#   exists; `global x [= value]` makes x the program's, `local x [= value]` the function's even where a
+#   global x exists. The program's own body (the outermost `def`) holds the globals.
+# - Program Label: PolyScope's `$ n "text"` lines only mark where the program is: no effect.
+# - Threads (threads.py); an expression goes on over lines inside (), [] and p[] (Brackets below: the manual's
+#   examples write long lists over lines, as Python does; assumed: the manual has no chapter on line breaks).
+# - A call of a function that neither the program nor this interpreter defines is refused when the program is
+#   loaded, naming its file:line: a built-in of the script directory not modelled with the reason
+#   (environment.py NOT_MODELLED), any other name as not defined.
+
 from __future__ import annotations
 
-import math
 import re
 
-import numpy as np
 from lark import Token, Tree
 
-from codegen.dialects import posemath
-from codegen.dialects.core.arm import remember_joint_target
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import MoveEvent, Program, halt
+from codegen.dialects.core.machine import Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
-from codegen.dialects.core.values import F32, Record, RunError, f32, format_general
-from codegen.dialects.urscript import circle, conveyor, threads
-from codegen.robot import solve
+from codegen.dialects.core.source import Src
+from codegen.dialects.urscript import arrays, circle, conveyor, environment, io, motion, threads, urmath
+from codegen.dialects.urscript.values import URPose, num, pose
 
 INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
-# movej/movel keyword arguments and their defaults (URScript manual, module motion): acceleration a,
-# speed v (rad/s^2, rad/s for movej; m/s^2, m/s for movel), blend radius r (m; 0: stop at the pose)
-# One controller cycle, sync()'s wait: 500 Hz on the e-Series (URScript manual, sync(); get_steptime()).
-STEP_TIME_S = 0.002
-DIGITAL_MAX = 7  # standard digital I/O 0..7 of the control box (ur.toml signals)
-# The clock's move time is the TCP distance over a TCP speed: movel's v is one (m/s); movej's v is a
-# joint speed (rad/s), taken as the speed of a TCP 1 m from the axis (enough to order waits).
-MM_PER_M = 1000.0
-MOVE_DEFAULTS = {"joint": {"a": 1.4, "v": 1.05, "r": 0.0}, "linear": {"a": 1.2, "v": 0.25, "r": 0.0}}
-REGISTER_MAX = 47  # registers 0..23 fieldbus, 24..47 RTDE clients (URScript manual)
-BOOLEAN_REGISTER_MAX = 127  # boolean registers 0..63 fieldbus, 64..127 RTDE clients (URScript manual)
-STRING_MAX = 1023  # characters of a string result (URScript manual, str_cat; ur.toml string_max)
+REGISTER_MAX = io.REGISTER_MAX
+
+
+class Brackets:
+    """Lark postlex: a line end inside (), [] or p[] does not end the statement (the expression goes on)."""
+
+    always_accept = ("_NL",)
+    OPEN = frozenset({"LPAR", "LSQB", "POSE_OPEN"})
+    CLOSE = frozenset({"RPAR", "RSQB"})
+
+    def process(self, stream):
+        depth = 0
+        for token in stream:
+            kind = token.type
+            if kind in self.OPEN:
+                depth += 1
+            elif kind in self.CLOSE:
+                depth = max(0, depth - 1)
+            elif kind == "_NL" and depth:
+                continue
+            yield token
+
+
+BRACKETS = Brackets()
 
 
 def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tree:
-    return parse_with_grammar(__file__, text, filename, positions)
-
-
-class URPose(Record):
-    """p[x, y, z, rx, ry, rz] (m, rad), indexable 0..5."""
-
-    KEYS = ("x", "y", "z", "rx", "ry", "rz")
-
-    def __init__(self, values) -> None:
-        super().__init__("pose", zip(self.KEYS, (f32(v) for v in values), strict=True))
-
-    def copy(self) -> URPose:
-        return URPose(self.values())
-
-
-def _num(value, where: str, what: str):
-    if type(value) is F32:  # the common case first
-        return value
-    if isinstance(value, bool) or not isinstance(value, int | float | np.number):
-        raise RunError(f"{where}: {what} must be a number, got {type(value).__name__}")
-    return value
-
-
-def _pose(value, where: str) -> URPose:
-    if not isinstance(value, URPose):
-        raise RunError(f"{where}: expected a pose p[...], got {type(value).__name__}")
-    return value
-
-
-def _joints(value, where: str, count: int = 6) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != count:
-        raise RunError(f"{where}: expected a list of {count} numbers")
-    out = np.array([float(_num(v, where, "list element")) for v in value])
-    posemath.check_finite(tuple(out), where, "list")
-    return out
-
-
-def _to_text(value) -> str:
-    if isinstance(value, str):
-        return value
-    if isinstance(value, URPose):
-        return "p[" + ", ".join(format_general(v) for v in value.values()) + "]"
-    if isinstance(value, list):
-        return "[" + ", ".join(_to_text(v) for v in value) + "]"
-    return format_general(value)
-
-
-def _unary(fn):
-    def call(fr, args, kwargs, where):
-        if len(args) != 1:
-            raise RunError(f"{where}: expected 1 argument")
-        return f32(fn(float(_num(args[0], where, "argument"))))
-
-    return call
+    return parse_with_grammar(__file__, text, filename, positions, postlex=BRACKETS)
 
 
 class URScriptCompiler(threads.ThreadStatements, Compiler):
     name = "urscript"
     index_base = 0
+    BIND_ARGUMENTS = True  # named arguments and default values (Function)
 
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
         self.threads: dict = {}  # thread definitions by name (codegen/dialects/urscript/threads.py)
         self.thread_runs: list[tuple[str, object]] = []  # (name, node) of each `run name()`, checked by load()
+        self.defined: set[str] = set()  # every function and thread the program defines (known before compiling)
+        self.global_names: set[str] = set()  # names a `global` statement makes the program's
+        self.thread_names: set[str] = set()  # every thread the program defines
+        self.never_lists: arrays.NeverLists | None = None  # which expressions are never arrays (set by load)
 
     def make_builtins(self) -> dict:
-        def pose_trans(fr, args, kwargs, where):
-            a, b = (_pose(v, where) for v in args)
-            return URPose(posemath.ur_concat(tuple(a.values()), tuple(b.values())))
-
-        def pose_inv(fr, args, kwargs, where):
-            from codegen.poses import invert
-
-            m = posemath.matrix_from_ur_cached(_pose(args[0], where).values())
-            return URPose(posemath.ur_from_matrix(invert(m)))
-
-        def pose_add(fr, args, kwargs, where):
-            # Not a rigid transform: positions add, rotations compose in the base frame.
-            a, b = (_pose(v, where) for v in args)
-            ma, mb = posemath.matrix_from_ur_cached(a.values()), posemath.matrix_from_ur_cached(b.values())
-            out = np.eye(4)
-            out[:3, :3] = mb[:3, :3] @ ma[:3, :3]
-            out[:3, 3] = ma[:3, 3] + mb[:3, 3]
-            return URPose(posemath.ur_from_matrix(out))
-
-        def move(kind):
-            def run(fr, args, kwargs, where):
-                if not args:
-                    raise RunError(f"{where}: move{kind[0]} needs a target")
-                if threads.current(fr) is not None:
-                    raise RunError(f"{where}: move{kind[0]} from a thread: not modelled here (the main program moves)")
-                target = args[0]
-                line = int(where.split(":")[1])
-                settings = {key: float(kwargs.get(key, default)) for key, default in MOVE_DEFAULTS[kind].items()}
-                settings["load"] = fr.m.extra.get("payload")
-                if isinstance(target, list):  # joint positions (rad): no solution to choose
-                    if kind != "joint":
-                        raise RunError(f"{where}: movel takes a pose")
-                    event = MoveEvent(kind, None, line, settings)
-                    conveyor.tracked_move(fr, event, 0.0, where)  # refused while tracking
-                    fr.m.arm.to_joints(event, np.degrees(_joints(target, where)), where)
-                    fr.m.move(event, settings["v"] * MM_PER_M)
-                    return
-                pose = _pose(target, where)
-                posemath.check_finite(pose.values(), where, "move target")
-                event = MoveEvent(kind, posemath.matrix_from_ur(pose.values()), line, settings)
-                seconds = conveyor.tracked_move(fr, event, settings["v"] * MM_PER_M, where)  # None: not tracking
-                # movej to a pose: the solution nearest the current joints; movel keeps the configuration
-                fr.m.arm.to_pose(event, where, "nearest" if kind == "joint" else "keep")
-                fr.m.move(event, settings["v"] * MM_PER_M, seconds=seconds)  # movej, movel return on arrival
-
-            return run
-
-        def set_tcp(fr, args, kwargs, where):
-            # the TCP in the flange frame (m, rotation vector rad): the active tool from here on
-            pose = _pose(args[0] if args else kwargs.get("pose"), where)
-            posemath.check_finite(pose.values(), where, "tcp")
-            fr.m.arm.tcp2flange = posemath.matrix_from_ur(pose.values())
-
-        def set_target_payload(fr, args, kwargs, where):
-            # set_target_payload(m, cog, inertia, transition_time): kg, m (URScript manual)
-            if len(args) < 2:
-                raise RunError(f"{where}: set_target_payload needs a mass and a centre of gravity")
-            mass = float(_num(args[0], where, "mass"))
-            cog = [1000.0 * float(_num(v, where, "centre of gravity")) for v in _joints(args[1], where, 3)]
-            if not mass >= 0:
-                raise RunError(f"{where}: payload mass {mass} kg")
-            fr.m.extra["payload"] = (mass, *cog)
-
-        def get_inverse_kin(fr, args, kwargs, where):
-            # the solution nearest qnear (rad), a runtime exception when there is none (URScript manual)
-            pose = _pose(args[0] if args else kwargs.get("x"), where)
-            posemath.check_finite(pose.values(), where, "get_inverse_kin pose")
-            qnear = kwargs.get("qnear", args[1] if len(args) > 1 else None)
-            arm = fr.m.arm
-            if arm.arm is None:
-                raise RunError(f"{where}: get_inverse_kin needs the arm's kinematics (name the arm: --robot)")
-            near = np.degrees(_joints(qnear, where)) if qnear is not None else arm.current(where)
-            if near is None:
-                raise RunError(f"{where}: get_inverse_kin without qnear before the arm's joints are known")
-            tcp2base = posemath.matrix_from_ur(pose.values())
-            solutions = solve.branches(arm.arm, solve.flange_poses(tcp2base, arm.tcp2flange))
-            q, branch = solve.nearest(arm.arm, solutions, near)
-            if np.isnan(q).any():
-                raise RunError(f"{where}: get_inverse_kin: no solution (the pose is out of reach)")
-            out = [f32(v) for v in np.radians(q)]
-            remember_joint_target(arm.arm, np.degrees(np.array([float(v) for v in out])), branch)  # as movej reads it
-            return out
-
-        def textmsg(fr, args, kwargs, where):
-            text = "".join(_to_text(a) for a in args)
-            fr.m.message(text)
-
-        def register(kind):
-            top = BOOLEAN_REGISTER_MAX if kind == "boolean" else REGISTER_MAX
-
-            def read(fr, args, kwargs, where):
-                index = int(args[0])
-                if not 0 <= index <= top:
-                    raise RunError(f"{where}: register {index} out of range 0..{top}")
-                key = f"input_{kind}_register_{index}"
-                live = fr.m.input_signal(key, None)  # a device's value that changes with time (a counter)
-                value = fr.m.inputs.get(key, 0) if live is None else live
-                if kind == "boolean":
-                    return bool(value)
-                return int(value) if kind == "integer" else f32(value)
-
-            return read
-
-        def write_output_integer_register(fr, args, kwargs, where):
-            index = int(args[0])
-            if not 0 <= index <= REGISTER_MAX:
-                raise RunError(f"{where}: register {index} out of range 0..{REGISTER_MAX}")
-            fr.m.outputs[f"output_integer_register_{index}"] = int(args[1])
-            fr.m.output_written(where)
-
-        def read_output_integer_register(fr, args, kwargs, where):
-            index = int(args[0])
-            if not 0 <= index <= REGISTER_MAX:
-                raise RunError(f"{where}: register {index} out of range 0..{REGISTER_MAX}")
-            name = f"output_integer_register_{index}"  # what the program wrote, else what it held at the start
-            return int(fr.m.outputs.get(name, fr.m.inputs.get(name, 0)))
-
-        def sync(fr, args, kwargs, where):
-            # "uses up the remaining 'physical' time a thread has in the current frame" (URScript manual)
-            if args or kwargs:
-                raise RunError(f"{where}: sync() takes no arguments")
-            thread = threads.current(fr)
-            if thread is not None:  # a thread: its slice ends here, the next one is the next cycle's
-                thread.scheduler.pause(thread)
-                return
-            watching = fr.m.watching  # the main program: one controller cycle; devices act in between
-            fr.m.elapse(STEP_TIME_S if watching is None else watching.cycle, where)
-
-        def sleep(fr, args, kwargs, where):
-            if len(args) + len(kwargs) != 1 or (kwargs and "t" not in kwargs):
-                raise RunError(f"{where}: sleep(t) takes one argument, the time in s")
-            seconds = float(_num(args[0] if args else kwargs["t"], where, "sleep time"))
-            if not seconds >= 0 or not math.isfinite(seconds):
-                raise RunError(f"{where}: sleep time must be a finite number of seconds >= 0, got {seconds}")
-            thread = threads.current(fr)
-            if thread is not None:  # a thread: no slices until then (physical time, like sync)
-                thread.wake = fr.m.clock + seconds
-                thread.scheduler.pause(thread)
-                return
-            fr.m.elapse(seconds, where)
-
-        def set_standard_digital_out(fr, args, kwargs, where):
-            index = int(_num(args[0], where, "digital output"))
-            if not 0 <= index <= DIGITAL_MAX or not isinstance(args[1], bool):
-                raise RunError(f"{where}: set_standard_digital_out(n, b) takes n 0..{DIGITAL_MAX} and True or False")
-            fr.m.set_output(f"standard_digital_out[{index}]", args[1], where)
-
-        def get_standard_digital_in(fr, args, kwargs, where):
-            # n: "an integer in [0:7]", returns a bool (URScript manual, e-Series 17.12): the input as the
-            # controller reads it now (Machine.input_signal: at this cycle where a device switches it with the
-            # tool's pose while the arm moves; in a thread's slice, that slice's cycle)
-            if len(args) + len(kwargs) != 1 or (kwargs and "n" not in kwargs):
-                raise RunError(f"{where}: get_standard_digital_in(n) takes one argument, the input's number")
-            index = args[0] if args else kwargs["n"]
-            if type(index) is not int or not 0 <= index <= DIGITAL_MAX:
-                raise RunError(f"{where}: get_standard_digital_in(n) takes an integer 0..{DIGITAL_MAX}, got {index!r}")
-            return bool(fr.m.input_signal(f"standard_digital_in[{index}]", False))
-
-        def get_actual_tcp_pose(fr, args, kwargs, where):
-            # the TCP in the base frame (m, rotation vector) "based on the actual robot encoder readings"
-            # (URScript manual, e-Series 15.6): where the arm is at the clock (on a move's path at a thread's
-            # cycle), with the TCP active now
-            if args or kwargs:
-                raise RunError(f"{where}: get_actual_tcp_pose() takes no arguments")
-            machine = fr.m
-            machine.arm.resolve()
-            pose, tcp2flange = (None, None) if machine.watching is None else machine.watching.pose_at(machine.clock)
-            # the flange there, with the TCP active now
-            pose = machine.pose_now() if pose is None else pose @ np.linalg.inv(tcp2flange) @ machine.arm.tcp2flange
-            if pose is None:
-                raise RunError(f"{where}: get_actual_tcp_pose: the arm's pose is not known here (no move to a pose)")
-            return URPose(posemath.ur_from_matrix(pose))
-
-        def get_actual_joint_positions(fr, args, kwargs, where):
-            return [f32(v) for v in np.radians(fr.m.arm.actual(where))]
-
-        def is_steady(fr, args, kwargs, where):
-            return not fr.m.moving  # moves return when the arm has arrived: at rest after every move
-
-        def popup(fr, args, kwargs, where):
-            # the operator's dialog; a blocking one waits for the operator, who confirms at once here
-            text = _to_text(args[0])
-            if len(text) > STRING_MAX:
-                raise RunError(f"{where}: popup text longer than {STRING_MAX} characters")
-            fr.m.message(text)
-
-        def atan2(fr, args, kwargs, where):
-            return f32(math.atan2(float(args[0]), float(args[1])))
-
-        def norm(fr, args, kwargs, where):
-            value = args[0]
-            if isinstance(value, URPose):
-                return f32(math.sqrt(sum(float(v) ** 2 for v in list(value.values())[:3])))
-            if isinstance(value, list):
-                return f32(math.sqrt(sum(float(v) ** 2 for v in value)))
-            return abs(_num(value, where, "norm argument"))
-
-        def pose_tolist(fr, args, kwargs, where):
-            return list(_pose(args[0], where).values())
-
-        def to_str(fr, args, kwargs, where):
-            return _to_text(args[0])
-
-        def str_cat(fr, args, kwargs, where):
-            text = _to_text(args[0]) + _to_text(args[1])
-            if len(text) > STRING_MAX:
-                raise RunError(f"{where}: str_cat result longer than {STRING_MAX} characters")
-            return text
-
         return {
-            "pose_trans": pose_trans,
-            "pose_inv": pose_inv,
-            "pose_add": pose_add,
-            "movej": move("joint"),
-            "movel": move("linear"),
-            "set_tcp": set_tcp,
-            "set_target_payload": set_target_payload,
-            "get_inverse_kin": get_inverse_kin,
-            "textmsg": textmsg,
+            **urmath.builtins(),
+            **io.builtins(),
+            **motion.builtins(),
+            **environment.builtins(),
+            **conveyor.builtins(pose, num),
+            "movec": circle.builtin(pose, num, threads.current),
             "halt": halt,
-            "read_input_integer_register": register("integer"),
-            "read_input_float_register": register("float"),
-            "read_input_boolean_register": register("boolean"),
-            **conveyor.builtins(_pose, _num),
-            "write_output_integer_register": write_output_integer_register,
-            "read_output_integer_register": read_output_integer_register,
-            "sync": sync,
-            "sleep": sleep,
-            "is_steady": is_steady,
-            "get_actual_joint_positions": get_actual_joint_positions,
-            "set_standard_digital_out": set_standard_digital_out,
-            "get_standard_digital_in": get_standard_digital_in,
-            "get_actual_tcp_pose": get_actual_tcp_pose,
-            "movec": circle.builtin(_pose, _num, threads.current),
-            "popup": popup,
-            "sin": _unary(math.sin),
-            "cos": _unary(math.cos),
-            "tan": _unary(math.tan),
-            "sqrt": _unary(math.sqrt),
-            "d2r": _unary(math.radians),
-            "r2d": _unary(math.degrees),
-            "atan2": atan2,
-            "norm": norm,
-            "floor": _unary(math.floor),
-            "pose_to_list": pose_tolist,
-            "to_str": to_str,
-            "str_cat": str_cat,
         }
 
     # --- registers by name, for devices: input_* and output_* are the controller's registers ------
@@ -367,6 +101,37 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
             return True
         return super().device_write(machine, name, value)
 
+    # --- arithmetic: numbers inline, arrays element-wise (arrays.py) ----------------------------
+    def _arithmetic(self, node, symbol: str, scalar: str | None = None) -> Src:
+        """a <symbol> b inline where neither is an array, else arrays.py (element-wise); an operand the program
+        never makes an array (arrays.NeverLists) is not tested. scalar: the numbers' form where it is a call
+        (division), else the operator inline. The operands are evaluated once, left first."""
+        left_node, right_node = node.children
+        left, right = self.src(left_node), self.src(right_node)
+        never = self.never_lists.never if self.never_lists is not None else (lambda n: False)
+        left_plain, right_plain = never(left_node), never(right_node)
+        a, b = self.temp(), self.temp()
+        if left_plain and right_plain:
+            return Src(f"({left} {symbol} {right})" if scalar is None else f"{scalar}({left}, {right})")
+        slow = f"{self.const(arrays.operation(symbol))}({a}, {b}, {self.where(node)!r})"
+        fast = f"({a} {symbol} {b})" if scalar is None else f"{scalar}({a}, {b})"
+        if right_plain:  # the right operand is evaluated after the left one's test, in either branch
+            fast, slow = fast.replace(b, f"({right})"), slow.replace(f", {b},", f", ({right}),")
+            return Src(f"({fast} if type({a} := {left}) is not list else {slow})")
+        return Src(f"({fast} if (type({a} := {left}) is not list) & (type({b} := {right}) is not list) else {slow})")
+
+    def e_add(self, node):
+        return self._arithmetic(node, "+")
+
+    def e_sub(self, node):
+        return self._arithmetic(node, "-")
+
+    def e_mul(self, node):
+        return self._arithmetic(node, "*")
+
+    def e_div(self, node):
+        return self._arithmetic(node, "/", self.const(self.divide))
+
     # --- rules beyond the common ones ---------------------------------------------------------
     def e_pose_lit(self, node):
         parts = [self.expr(c) for c in node.children[1:]]
@@ -375,7 +140,7 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
             self.fail(node, f"a pose has 6 numbers, got {len(parts)}")
 
         def make(fr):
-            return URPose([_num(p(fr), where, "pose component") for p in parts])
+            return URPose([num(p(fr), where, "pose component") for p in parts])
 
         return make
 
@@ -385,9 +150,12 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
 
     def e_call(self, node):
         callee, args_node = node.children
+        if isinstance(callee, Tree) and callee.data == "field":  # conn.method(): an object rpc_factory made
+            self.fail(node, f"{_dotted(callee)}() is not modelled: objects with methods (XML-RPC, fieldbus) are not")
         if not (isinstance(callee, Tree) and callee.data == "var"):
             self.fail(node, "only named functions can be called")
         name = str(callee.children[0])
+        self.check_callee(name, callee.children[0])
         positional, named = [], {}
         for arg in args_node.children if args_node is not None else []:
             if isinstance(arg, Tree) and arg.data == "kwarg":
@@ -396,8 +164,23 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
                 positional.append(self.src(arg))
         return self.call_source(name, positional, named, None, self.where(node))
 
+    def check_callee(self, name: str, token) -> None:
+        """A function the program defines or a built-in this interpreter models; else refused now, at load."""
+        if name in self.defined or name in self.builtins:
+            return
+        if name in self.thread_names:
+            self.fail(token, f"{name} is a thread: start it with run {name}()")
+        reason = environment.NOT_MODELLED.get(name)
+        if reason is not None:
+            self.fail(token, f"{name} is not modelled: {reason}")
+        self.fail(token, f"{name} {environment.UNDEFINED}")
+
     def s_global_stmt(self, node):
-        key, value = str(node.children[0]), self.expr(node.children[1])
+        key, value_node = str(node.children[0]), node.children[1]
+        self.global_names.add(key)
+        if value_node is None:  # `global x`: the name is the program's from here on
+            return lambda fr: None
+        value = self.expr(value_node)
 
         def run(fr):
             fr.m.globals[key] = value(fr)
@@ -405,20 +188,52 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
         return run
 
     def s_local_stmt(self, node):
-        key, value = str(node.children[0]), self.expr(node.children[1])
+        key, value_node = str(node.children[0]), node.children[1]
+        value = self.expr(value_node) if value_node is not None else (lambda fr: None)
 
         def run(fr):
             fr.vars[key] = value(fr)
 
         return run
 
+    def var_store_lines(self, node, value: str) -> list[str]:
+        """A name declared global before (a `global x` above, in source order): stored as the program's
+        variable, also where it does not exist yet; any other as the core stores it."""
+        token = node if isinstance(node, Token) else node.children[0]
+        key = str(token)
+        if key in self.global_names and not (self.local_types is not None and key in self.local_types):
+            return [f"if {key!r} in V and V is not G: V[{key!r}] = {value}", f"else: G[{key!r}] = {value}"]
+        return super().var_store_lines(node, value)
+
+    def s_label_stmt(self, node):
+        return lambda fr: None  # `$ 3 "MoveJ"`: PolyScope's mark of the program node (Program Label)
+
+    def s_critical_stmt(self, node):
+        return lambda fr: None  # one thread runs at a time here: nothing interleaves with a critical section
+
     def s_funcdef(self, node):
         name_token, params_node, body = node.children
         if str(name_token) in self.threads:
             self.fail(name_token, f"{name_token} is defined as a thread already")
-        params = [(str(p), "IN", None) for p in (params_node.children if params_node is not None else [])]
-        self.define_routine(str(name_token), name_token, params, None, node, body.children, unique=False)
+        params, defaults = [], {}
+        for param in params_node.children if params_node is not None else []:
+            pname, default = str(param.children[0]), param.children[1]
+            params.append((pname, "IN", None))
+            if default is not None:
+                defaults[pname] = self.expr(default)
+        self.define_routine(
+            str(name_token), name_token, params, None, node, body.children, unique=False, defaults=defaults
+        )
         return lambda fr: None  # defined at compile time
+
+
+def _dotted(node) -> str:
+    """a.b.c of a field access."""
+    if isinstance(node, Tree) and node.data == "field":
+        return f"{_dotted(node.children[0])}.{node.children[1]}"
+    if isinstance(node, Tree) and node.data == "var":
+        return str(node.children[0])
+    return "..."
 
 
 def _is_constant(node) -> bool:
@@ -433,10 +248,16 @@ def _is_constant(node) -> bool:
 def load(text: str, filename: str = "<urscript>") -> Program:
     """Parse and compile; the outermost `def` is the program, its variables are the globals.
 
-    Its leading constant assignments and function definitions run once; the rest on every run.
+    Its leading constant assignments and function definitions run once, when the program is loaded (an
+    error there is the program's, reported once); the rest on every run.
     """
     tree = parse(text, filename)
     compiler = URScriptCompiler(filename)
+    compiler.defined = {str(d.children[0]) for d in tree.find_data("funcdef")}
+    compiler.user_routines = set(compiler.defined)
+    thread_names = {str(d.children[0]) for d in tree.find_data("threaddef")}
+    compiler.thread_names = thread_names
+    compiler.never_lists = arrays.NeverLists(tree, compiler.builtins, compiler.defined)
     top = [c for c in tree.children if isinstance(c, Tree)]
     programs = [c for c in top if c.data == "funcdef"]
     if len(top) == 1 and len(programs) == 1:
@@ -446,7 +267,7 @@ def load(text: str, filename: str = "<urscript>") -> Program:
         statements, name = top, filename
     split = 0
     while split < len(statements) and (
-        statements[split].data in ("funcdef", "threaddef")
+        statements[split].data in ("funcdef", "threaddef", "label_stmt")
         or (statements[split].data == "assign" and _is_constant(statements[split].children[1]))
     ):
         split += 1
@@ -459,5 +280,13 @@ def load(text: str, filename: str = "<urscript>") -> Program:
             statement(fr)
 
     rest = compiler.block(statements[split:])
+
+    def body(fr):
+        signal = rest(fr)
+        motion.settle(fr, filename)  # a speedl / speedj under way stops with the program
+        return signal
+
     compiler.check_thread_runs()
-    return Program(name, compiler, prefix, None, threads.ending_threads(rest))
+    program = Program(name, compiler, prefix, None, threads.ending_threads(body))
+    program.prepare()
+    return program

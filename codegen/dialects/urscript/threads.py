@@ -35,7 +35,7 @@ import math
 from greenlet import getcurrent, greenlet
 
 from codegen.dialects.core.machine import Frame, Routine
-from codegen.dialects.core.values import RunError, StepLimitError
+from codegen.dialects.core.values import RunError, StepLimitError, describe
 
 THREAD_FRAME_STEPS = 10_000  # statements a thread may run within one frame (assumed, see above)
 STEP_TIME_S = 0.002  # the e-Series frame, where the run has no signal cycle of its own (ordinary runs)
@@ -124,7 +124,7 @@ class Scheduler:
 
     def kill(self, thread: URThread, where: str) -> None:
         if not isinstance(thread, URThread):
-            raise RunError(f"{where}: kill takes a thread's handle (what run returned), got {type(thread).__name__}")
+            raise RunError(f"{where}: kill takes a thread's handle (what run returned), got {describe(thread)}")
         if thread.state == "killed":
             raise RunError(f"{where}: kill: the thread {thread.name} was killed already (its handle is invalid)")
         watcher = thread.watcher
@@ -134,7 +134,7 @@ class Scheduler:
 
     def join(self, fr, thread: URThread, where: str) -> None:
         if not isinstance(thread, URThread):
-            raise RunError(f"{where}: join takes a thread's handle (what run returned), got {type(thread).__name__}")
+            raise RunError(f"{where}: join takes a thread's handle (what run returned), got {describe(thread)}")
         if thread.state == "killed":
             raise RunError(f"{where}: join: the thread {thread.name} was killed (its handle is invalid)")
         if thread is self.current:

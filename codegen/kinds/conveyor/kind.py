@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from codegen.emit import Emitter
 from codegen.kinds.conveyor import reach, verify
 from codegen.kinds.conveyor.commands import calibrate_conveyor
 from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
 from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
+from codegen.render import program_emitter
 
 
 class ConveyorKind(ProgramKind):
@@ -43,7 +43,7 @@ class ConveyorKind(ProgramKind):
         "kinds/conveyor.script.j2"."""
         if not picks_on(cell, target):
             return []
-        context = conveyor_context(cell, target, Emitter(target))
+        context = conveyor_context(cell, target, program_emitter(cell, target))
         files = tuple(
             ProgramFile(name, f"{target.name}/kinds/{pattern.format(conveyor='conveyor')}.j2")
             for pattern, name in zip(cls.facts(target)["files"], conveyor_file_names(cell, target), strict=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from codegen.emit import EmitError, Emitter
+from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.cell import TaughtPose
@@ -67,7 +67,7 @@ def conveyor_context(cell, target, emitter) -> dict:
     place = pick.place.matrix()
     above = place.copy()
     above[2, 3] += pick.approach_dz
-    ident = conveyor_ident(cell, target)
+    ident = emitter.identifier("cnv_", cell.name, "the conveyor program")
     return {
         "ident": ident,
         "frame": emitter.pose(TaughtPose("belt", _xyzabc(frame), "xyzabc")),
@@ -82,9 +82,12 @@ def conveyor_context(cell, target, emitter) -> dict:
         "approach_dz": number(pick.approach_dz, 4),
         "place": emitter.pose(pick.place),
         "place_above": emitter.pose(TaughtPose("place_above", _xyzabc(above), "xyzabc")),
-        "encoder_inputs": list(pick.encoder_inputs.get(target.name, ())),
-        "registers": facts(target).get("registers"),  # UR
-        "signals": facts(target).get("signals"),  # signal groups (codegen/conveyor/bus.py)
+        "encoder_inputs": [
+            emitter.signal(v, f"conveyor.pick.encoder_inputs.{target.name}")
+            for v in pick.encoder_inputs.get(target.name, ())
+        ],
+        "registers": owned(facts(target).get("registers")),  # UR
+        "signals": owned(facts(target).get("signals")),  # signal groups (codegen/conveyor/bus.py)
         "group_offset": bus.OFFSET,  # x and z on a 16-bit group: raw = round(scale x) + offset
         "group_scale": number(bus.SCALE, 1),
         "counter_span": 2**bus.GROUP_BITS,  # the 16-bit count's range: a difference is unwound by it

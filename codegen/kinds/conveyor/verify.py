@@ -10,7 +10,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
-from codegen.guard import NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, halt_message
+from codegen.guard import NO_FEEDBACK, NOT_RELEASED, halt_message
 from codegen.kinds.conveyor import plan
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.judge import judge as judge_parts
@@ -22,7 +22,7 @@ from codegen.robot import solve
 from codegen.sim.belt import Belt, BeltLine, Part
 from codegen.sim.bus import bus_for
 from codegen.sim.gripper import Gripper
-from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, PlannedOutput, Setup
+from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, PlannedOutput, Setup, refuses_start
 
 # a run's statements: the bundled cell's longest case takes 86,000 (UR polls the queue every 8 ms); a program
 # that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after minutes
@@ -165,9 +165,8 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     output = signal_name(target, "output", cell.io.output[target_name])
     home = home_move(cell, target_name)
     mode = conveyor_of(cell).pick.tracking[target_name]
-    refuses = case.start != "home" and target.program.get("restart") == "at_home"
-    if refuses and home is not None:
-        message = emitter.string(halt_message(cell, NOT_AT_HOME, None, 0))
+    message = refuses_start(cell, target, case)
+    if message is not None:
         return Judgement([Expectation(message, output_names=frozenset({output}))])
     first = [] if home is None else [_home(cell, home)]
     events = [o for o in trace.outputs if o.name == output]

@@ -12,7 +12,7 @@ import numpy as np
 
 from codegen import derived
 from codegen.controllers import get_target
-from codegen.emit import EmitError
+from codegen.emit import EmitError, owned
 from codegen.guard import (
     GUARD_CODES,
     INVALID_READING,
@@ -249,14 +249,14 @@ class FrameKind(StationKind):
     def cell_context(cls, cell, target, emitter) -> dict:
         number, refine = emitter.number, cell.settings[cls.name]
         return {
-            "refine": derived.printed(target.dialect, "refine"),
+            "refine": owned(derived.printed(target.dialect, "refine")),
             "handeye": None if cell.handeye is None else [number(v, 9) for row in cell.handeye for v in row],
             "tolerance": {
                 "mm_sq": number(refine.tolerance_mm**2, 9),
                 "deg": number(refine.tolerance_deg, 6),
-                "mm_text": f"{refine.tolerance_mm:g}",
-                "deg_text": f"{refine.tolerance_deg:g}",
-                "photos": str(refine.max_iterations),
+                "mm_text": emitter.figure(refine.tolerance_mm),
+                "deg_text": emitter.figure(refine.tolerance_deg),
+                "photos": refine.max_iterations,
             },
             "pixel_range": number(PIXEL_RANGE, 1),
         }
@@ -271,6 +271,7 @@ class FrameKind(StationKind):
                 "in the x-y plane (level_frames_only)"
             )
         base_data = target.program.get("base_data")
+        base_data_name = base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None
         return {
             "frame": {
                 "ident": emitter.identifier(f"f{station.id}_", station.name, f"{origin} frame"),
@@ -282,7 +283,7 @@ class FrameKind(StationKind):
             },
             "wobj": emitter.identifier(f"w{station.id}_", station.name, f"{origin} work object"),
             "base_data": spec.base_data,
-            "base_data_name": base_data["name"].format(n=spec.base_data) if base_data and spec.base_data else None,
+            "base_data_name": owned(base_data_name),
             "messages": {
                 reason: emitter.string(cls.fitted_message(cell, reason, station, target.string_max))
                 for reason in (*GUARD_CODES, NOT_CONVERGED)

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from codegen.emit import Emitter
 from codegen.kinds.laser import plan, reach
 from codegen.kinds.laser.commands import calibrate_tcp
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
 from codegen.kinds.laser.section import check_production_tools, laser_of, parse_laser
 from codegen.kinds.laser.verify import cases
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
+from codegen.render import program_emitter
 
 
 class LaserKind(ProgramKind):
@@ -56,7 +56,7 @@ class LaserKind(ProgramKind):
         """Source 003's automatic TCP program of a cell with [laser]: "tcp_<cell>.mod" from "kinds/laser.mod.j2"."""
         if not calibrates_on(cell, target):
             return []
-        context = laser_context(cell, target, Emitter(target))
+        context = laser_context(cell, target, program_emitter(cell, target))
         files = tuple(
             ProgramFile(name, f"{target.name}/kinds/{pattern.format(laser='laser', data='laser_data')}.j2")
             for pattern, name in zip(cls.facts(target)["files"], laser_file_names(cell, target), strict=True)

@@ -34,11 +34,10 @@ import math
 
 import numpy as np
 
-from codegen.emit import EmitError, Emitter
+from codegen.emit import Code, EmitError, Emitter, owned
 from codegen.kinds.laser.facts import facts
 from codegen.kinds.laser.section import laser_of, production_tool
 from codegen.model.cell import TaughtPose
-from codegen.model.io import signal_name
 from codegen.poses import zyx_deg_from_rotmat
 
 DOWN = np.diag([1.0, -1.0, -1.0])
@@ -73,6 +72,17 @@ def production_name(cell, target) -> str:
     spec = facts(target)["production_tool"]
     value = production_tool(cell, target.name)
     return spec["name"].format(n=value, name=value)
+
+
+def production_code(cell, target, emitter: Emitter) -> Code:
+    """The production tool as the program writes it: the controller's numbered tool (the target's pattern around
+    the cell's number), or the cell's name of data the controller has, written as it is (emitter.given_name: a
+    word or predefined name of the language, or one of the program's own, is refused)."""
+    spec = facts(target)["production_tool"]
+    value = production_tool(cell, target.name)
+    if spec["form"] == "number":
+        return emitter.numbered(spec["name"], value, f"laser.production_tool.{target.name}")
+    return emitter.given_name(value, f"laser.production_tool.{target.name}", "tool")
 
 
 def safe_point(laser) -> tuple[float, float, float]:
@@ -140,9 +150,11 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
     dz = laser.depths_mm[1] - laser.depths_mm[0]
     column = zone(laser)
     return {
-        "ident": laser_ident(cell, target),
-        "data_ident": emitter.reserve(data_ident(cell, target), "the production tool's data module"),
-        "production": emitter.reserve(production_name(cell, target), "the production tool"),
+        "ident": emitter.identifier("tcp_", cell.name, "the laser TCP program"),
+        "data_ident": emitter.identifier("tcp_", f"{cell.name}_tool", "the production tool's data module")
+        if any("{data}" in pattern for pattern in facts(target)["files"])
+        else None,
+        "production": production_code(cell, target, emitter),
         "safe": [number(v, 4) for v in safe_point(laser)],
         "safe_height": number(laser.safe_height_mm, 4),
         "zone_r": number(column["r"], 4),
@@ -163,11 +175,11 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         "circle_speed": number(laser.circle_speed_mm_s, 3),
         "search_speed": number(laser.search_speed_mm_s, 3),
         "edges": EDGES_PER_BEAM,
-        "beam_x": signal_name(target, "input", laser.beam_x[target.name]),
-        "beam_y": signal_name(target, "input", laser.beam_y[target.name]),
-        "beam_x_raw": laser.beam_x[target.name],
-        "beam_y_raw": laser.beam_y[target.name],
-        "names": kept_names(target),
+        "beam_x": emitter.signal_ref("input", laser.beam_x[target.name], f"laser.beam_x.{target.name}"),
+        "beam_y": emitter.signal_ref("input", laser.beam_y[target.name], f"laser.beam_y.{target.name}"),
+        "beam_x_raw": emitter.signal(laser.beam_x[target.name], f"laser.beam_x.{target.name}"),
+        "beam_y_raw": emitter.signal(laser.beam_y[target.name], f"laser.beam_y.{target.name}"),
+        "names": owned(kept_names(target)),
         "circle_edges": emitter.string(CIRCLE_EDGES),
         "no_tip": emitter.string(NO_TIP),
         "axis_tilt": emitter.string(AXIS_TILT),

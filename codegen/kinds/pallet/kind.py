@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from codegen.emit import Emitter
 from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
 from codegen.kinds.pallet.program import check_level, pallet_context, pallet_file_names, pallet_identifiers
 from codegen.kinds.pallet.section import pallets_of
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
+from codegen.render import program_emitter
 
 
 class PalletKind(ProgramKind):
@@ -45,7 +45,7 @@ class PalletKind(ProgramKind):
         pallets = pallets_of(cell)
         if not pallets:
             return []
-        emitter = Emitter(target)
+        emitter = program_emitter(cell, target)
         out = []
         for index, (pallet, ident) in enumerate(zip(pallets, pallet_identifiers(cell, target), strict=True)):
             check_level(pallet, target)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from codegen import derived
-from codegen.emit import EmitError, Emitter
+from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import (
     above_pick,
@@ -113,7 +113,7 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
         "level": level,
         "frame_turn_deg": number(math.degrees(math.atan2(frame[1, 0], frame[0, 0])), 6),
         "rows": rows,
-        "position": derived.printed(target.dialect, "box")["outputs"],  # a box's x, y on a level pallet
+        "position": owned(derived.printed(target.dialect, "box")["outputs"]),  # a box's x, y on a level pallet
         "patterns": patterns,
         "cycle": [names.index(name) + 1 for name in pallet.cycle],
         "layers": pallet.layers,

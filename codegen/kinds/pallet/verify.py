@@ -9,7 +9,6 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
-from codegen.guard import NOT_AT_HOME, halt_message
 from codegen.kinds.pallet.cycle import PalletCase, cases, expected
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.program import counter_names, counter_registers
@@ -28,6 +27,7 @@ from codegen.verify.plan import (
     PlannedOutput,
     Setup,
     Stored,
+    refuses_start,
 )
 
 # A pallet case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS; the others are its own)
@@ -116,11 +116,10 @@ def judge(cell, index: int, target_name: str, case: Case) -> Judgement:
     pallet_case: PalletCase = case.data
     want = expected(cell, pallet, pallet_case)
     home = home_move(cell, target_name)
-    refuses = case.start != "home" and target.program.get("restart") == "at_home"
+    message = refuses_start(cell, target, case)
     layer_name, box_name = kept_names(target, index)
     start_counters = (pallet_case.layer, pallet_case.box)
-    if refuses and home is not None:
-        message = Emitter(target).string(halt_message(cell, NOT_AT_HOME, None, 0))
+    if message is not None:
         stored = _stored(layer_name, box_name, start_counters, start_counters)
         return Judgement([Expectation(message, (), (), stored)])
     output = signal_name(target, "output", cell.io.output[target_name])

@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from codegen import derived
+from codegen.emit import owned
 from codegen.guard import (
     GUARD_CODES,
     INVALID_READING,
@@ -71,8 +72,8 @@ class PointKind(StationKind):
     def cell_context(cls, cell, target, emitter) -> dict:
         # the derivation's blocks: D = Trans(tn) Rz(phi) Trans(-t) ("frame") and Pn = D . P ("point")
         return {
-            "correction": derived.printed(target.dialect, "frame"),
-            "point": derived.printed(target.dialect, "point"),
+            "correction": owned(derived.printed(target.dialect, "frame")),
+            "point": owned(derived.printed(target.dialect, "point")),
         }
 
     @classmethod

@@ -24,7 +24,7 @@ from codegen.protocol import station_kinds
 from codegen.reference import ExpectedTrace, home_move
 from codegen.robot.expect import arm_of
 from codegen.verify.checks import TOLERANCES, log_numbers
-from codegen.verify.plan import Expectation, Judgement, PlannedMove, PlannedOutput, Setup
+from codegen.verify.plan import Expectation, Judgement, PlannedMove, PlannedOutput, Setup, refuses_start
 
 
 def setup(cell, target_name: str, case) -> Setup:
@@ -43,7 +43,7 @@ def judge(cell, target_name: str, case, trace) -> Judgement:
     target = get_target(target_name)
     accepted, boundary = accepted_traces(cell, case)
     truth = _truth_problem(cell, case, accepted[0])
-    if case.start == "away" and target.program.get("restart") == "at_home":
+    if refuses_start(cell, target, case, allowed=("home", "retreat")) is not None:
         accepted, truth = [ExpectedTrace("halt", NOT_AT_HOME)], None
     emitter = Emitter(target)
     plans = [_plan(cell, target, case.reading, t, trace, emitter) for t in accepted]

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from codegen.controllers import Target
 from codegen.dialects import get_dialect
-from codegen.emit import EmitError, Emitter
+from codegen.emit import EmitError, Emitter, owned
 from codegen.guard import (
     GUARD_CODES,
     NO_ANSWER,
@@ -20,7 +20,7 @@ from codegen.model import vision
 from codegen.model.cell import Cell
 from codegen.model.motion import segments
 from codegen.protocol import ProgramFile, ProgramPlan, get_kind
-from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, shared_context
+from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, program_emitter, shared_context
 from codegen.robot.taught import ReachError, configuration
 
 
@@ -88,20 +88,20 @@ def station_arm(cell, target, station) -> list[dict]:
 def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
     """The station program's own variables: the guard's numbers, the stations, the vision handshake, and
     each station kind's partial (templates/<t>/kinds/<kind>.j2, a set of macros the program calls)."""
-    emitter = Emitter(target)
-    number = emitter.number
+    emitter = program_emitter(cell, target)
+    number, figure = emitter.number, emitter.figure
     stations = [_station_context(cell, station, target, emitter) for station in cell.stations]
     emitter.identifier("", cell.name, "cell name")  # the program's name: after the stations' (as its messages)
     used = {station.kind for station in cell.stations}
     out = {
         "guard": {
-            "angle_sign": str(cell.angle_sign),
+            "angle_sign": cell.angle_sign,
             "max_shift_sq": number(cell.limits.max_shift_mm**2, 6),
             "max_rotation": number(cell.limits.max_rotation_deg, 6),
-            "max_shift_text": f"{cell.limits.max_shift_mm:g}",
-            "max_rotation_text": f"{cell.limits.max_rotation_deg:g}",
+            "max_shift_text": figure(cell.limits.max_shift_mm),
+            "max_rotation_text": figure(cell.limits.max_rotation_deg),
         },
-        "codes": GUARD_CODES,
+        "codes": owned(GUARD_CODES),
         "reading_range": {
             "mm": number(READING_RANGE_MM, 1),
             "deg": number(READING_RANGE_DEG, 1),
@@ -117,7 +117,7 @@ def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
             "poll_s": number(vision.POLL_S, 2),
             "polls": vision.polls(cell.vision),
             "timeout_s": number(cell.vision.timeout_s, 3),
-            "timeout_text": f"{cell.vision.timeout_s:g}",
+            "timeout_text": figure(cell.vision.timeout_s),
             "no_answer": emitter.string(halt_message(cell, NO_ANSWER, None, 0)),
         },
     }

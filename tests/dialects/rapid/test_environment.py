@@ -7,7 +7,7 @@ import pytest
 
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid.interpreter import load
-from codegen.signals import Gripper
+from codegen.sim.gripper import Gripper
 
 TARGET = "[[{x}, 0, 500], [1, 0, 0, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]]"
 P0, P400 = TARGET.format(x=0), TARGET.format(x=400)

@@ -9,7 +9,7 @@ import pytest
 from codegen.controllers import get_target
 from codegen.dialects.rapid.interpreter import load
 from codegen.robot.arms import find_arm
-from codegen.vision import VisionPC
+from codegen.sim.vision_pc import VisionPC
 
 DEMO = Path(__file__).parents[3] / "generated" / "agv_machine_tending" / "abb" / "agv_machine_tending.mod"
 AFTER = "    vis_release;\n"  # the first: right after the move home, before the station is asked for

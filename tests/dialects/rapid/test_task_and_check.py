@@ -10,7 +10,7 @@ import pytest
 from codegen.dialects.core.files import SourceFile, read_source
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import Rapid
-from codegen.signals import Gripper
+from codegen.sim.gripper import Gripper
 
 TRAY = Path(__file__).parent / "programs" / "tray_cell"
 

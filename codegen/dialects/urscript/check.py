@@ -1,0 +1,262 @@
+"""`codegen check` of URScript: syntax, unsupported and undefined names, and the field's checks (waits, TCP, speeds)."""
+
+# What it reports, each with file:line:column:
+# - syntax errors (every file); a call of a function neither the program nor the interpreter defines ("error",
+#   undefined-function), or of a built-in not modelled ("unsupported", with why: environment.py): all of them,
+#   not only the first; a variable read but assigned, declared or a parameter nowhere in the program ("error",
+#   undefined-name); then whatever else loading refuses (a pose of 5 numbers, a thread with parameters ...).
+# - wait-without-timeout ("warning"): `while not get_standard_digital_in(0): sync() end` and its kin: a loop
+#   whose condition reads an input (digital, analog, a register, a flag) and whose body only waits (sync,
+#   sleep) and counts nothing: the program hangs for ever if the input never comes (a loop that also ends on a
+#   second input, an operator's stop, is not reported).
+# - motion-before-tcp ("warning"): a move (movej, movel, movep, movec, speedl, speedj, servoj) the program
+#   makes before its first set_tcp, in program order (a function's body where it is called): the arm moves
+#   with whatever TCP the installation holds.
+# - speed-over-arm ("warning"): a joint speed the program states as a number (movej's and servoj's v, rad/s of
+#   the leading axis; speedj's qd per axis) over the arm's fastest joint (--robot; without it, over the
+#   fastest joint of any e-Series arm). The arms' joint speeds: UR e-Series user manuals, technical
+#   specifications (UR3e base, shoulder, elbow 180 deg/s, wrists 360 deg/s; UR5e 180 deg/s; UR10e and UR16e
+#   base and shoulder 120 deg/s, the others 180 deg/s): not confirmed in the manuals at hand. TCP speeds are
+#   not checked: their limit is the installation's safety setting, which the program does not state.
+
+from __future__ import annotations
+
+import math
+
+from lark import Token, Tree
+
+from codegen.dialects.core.files import Finding, finding_of
+from codegen.dialects.core.values import RunError
+from codegen.dialects.urscript import environment
+
+JOINT_SPEED_DEG_S = {
+    "UR3e": (180.0, 180.0, 180.0, 360.0, 360.0, 360.0),
+    "UR5e": (180.0,) * 6,
+    "UR10e": (120.0, 120.0, 180.0, 180.0, 180.0, 180.0),
+    "UR16e": (120.0, 120.0, 180.0, 180.0, 180.0, 180.0),
+}
+FAMILY_MAX_DEG_S = max(max(v) for v in JOINT_SPEED_DEG_S.values())
+MOTION = ("movej", "movel", "movep", "movec", "speedl", "speedj", "servoj")
+WAIT_BODY = ("sync", "sleep")  # what a bare wait loop does in its body
+INPUT_READS = ("_digital_in", "_analog_in", "read_input_", "get_flag")  # what a device or a peer sets
+
+
+def _line(node) -> tuple[int, int]:
+    meta = getattr(node, "meta", None)
+    if isinstance(node, Token):
+        return node.line or 0, node.column or 0
+    if meta is not None and not meta.empty:
+        return meta.line, meta.column
+    return 0, 0
+
+
+def _calls(node):
+    """Every call in a subtree: (name, call node)."""
+    for call in node.find_data("call"):
+        callee = call.children[0]
+        if isinstance(callee, Tree) and callee.data == "var":
+            yield str(callee.children[0]), call
+
+
+def _number(node) -> float | None:
+    """A number literal's value (a negated one too), else None."""
+    if isinstance(node, Tree) and node.data == "number":
+        return float(str(node.children[0]))
+    if isinstance(node, Tree) and node.data == "neg":
+        inner = _number(node.children[0])
+        return None if inner is None else -inner
+    return None
+
+
+class Checker:
+    """The static checks of one program file's tree (the builtins: the interpreter's table)."""
+
+    def __init__(self, tree: Tree, filename: str, builtins: dict, arm=None) -> None:
+        self.tree, self.filename, self.builtins = tree, filename, builtins
+        self.findings: list[Finding] = []
+        self.functions = {str(d.children[0]): d for d in tree.find_data("funcdef")}
+        self.threads = {str(d.children[0]): d for d in tree.find_data("threaddef")}
+        limits = JOINT_SPEED_DEG_S.get(getattr(arm, "model", None) or "")
+        self.joint_max_deg_s = limits if limits is not None else (FAMILY_MAX_DEG_S,) * 6
+        self.arm_name = getattr(arm, "model", None) if limits is not None else "any e-Series arm"
+
+    def add(self, node, severity: str, code: str, message: str) -> None:
+        line, column = _line(node)
+        self.findings.append(Finding(self.filename, line, column, severity, code, message))
+
+    def run(self) -> list[Finding]:
+        self.callees()
+        self.undefined_names()
+        self.waits()
+        self.motion_before_tcp()
+        self.speeds()
+        return self.findings
+
+    # --- names ----------------------------------------------------------------------------------
+    def callees(self) -> None:
+        for call in self.tree.find_data("call"):
+            if isinstance(call.children[0], Tree) and call.children[0].data == "field":
+                self.add(call, "unsupported", "unsupported", "a method of an object (XML-RPC, fieldbus): not modelled")
+        for name, call in _calls(self.tree):
+            if name in self.functions or name in self.builtins:
+                continue
+            token = call.children[0].children[0]
+            if name in self.threads:
+                self.add(token, "error", "thread-called", f"{name} is a thread: start it with run {name}()")
+            elif name in environment.NOT_MODELLED:
+                reason = environment.NOT_MODELLED[name]
+                self.add(token, "unsupported", "unsupported", f"{name} is not modelled: {reason}")
+            else:
+                self.add(token, "error", "undefined-function", f"{name} {environment.UNDEFINED}")
+
+    def undefined_names(self) -> None:
+        assigned = set(self.functions) | set(self.threads)
+        for node in self.tree.iter_subtrees():
+            if node.data in ("global_stmt", "local_stmt") or node.data == "param":
+                assigned.add(str(node.children[0]))
+            elif node.data == "assign":
+                target = node.children[0]
+                while isinstance(target, Tree) and target.data in ("index", "field"):
+                    target = target.children[0]
+                if isinstance(target, Tree) and target.data == "var":
+                    assigned.add(str(target.children[0]))
+        called = {id(call.children[0]) for _name, call in _calls(self.tree)}
+        reported = set()
+        for node in self.tree.find_data("var"):
+            name = str(node.children[0])
+            if id(node) in called or name in assigned or name in reported:
+                continue
+            reported.add(name)
+            self.add(node, "error", "undefined-name", f"{name} is read but never assigned in the program")
+
+    # --- waits ----------------------------------------------------------------------------------
+    def waits(self) -> None:
+        for loop in self.tree.find_data("while_stmt"):
+            condition, body = loop.children
+            reads = [name for name, _call in _calls(condition) if any(part in name for part in INPUT_READS)]
+            if len(reads) != 1:  # none, or a second input the loop also ends on (an operator's stop)
+                continue
+            statements = [c for c in body.children if isinstance(c, Tree) and c.data != "label_stmt"]
+            only_waits = all(
+                s.data == "expr_stmt"
+                and isinstance(s.children[0], Tree)
+                and s.children[0].data == "call"
+                and str(s.children[0].children[0].children[0]) in WAIT_BODY
+                for s in statements
+            )
+            if only_waits:
+                self.add(
+                    loop,
+                    "warning",
+                    "wait-without-timeout",
+                    f"a wait on {reads[0]}(...) without a timeout: the program waits for ever if it never "
+                    "comes (count the cycles and stop after a time)",
+                )
+
+    # --- motion before the TCP is set -----------------------------------------------------------
+    def motion_before_tcp(self) -> None:
+        state = {"tcp": False, "reported": False}
+        main = self.main_statements()
+        self.walk(main, state, set())
+
+    def main_statements(self) -> list:
+        top = [c for c in self.tree.children if isinstance(c, Tree)]
+        defs = [c for c in top if c.data == "funcdef"]
+        if len(top) == 1 and len(defs) == 1:
+            return [c for c in defs[0].children[2].children if isinstance(c, Tree)]
+        return [c for c in top if c.data not in ("funcdef", "threaddef")]
+
+    def walk(self, statements, state: dict, entered: set) -> None:
+        for statement in statements:
+            if state["reported"] or statement.data in ("funcdef", "threaddef"):
+                continue
+            if statement.data in ("if_stmt", "while_stmt", "elif_clause", "else_clause", "body"):
+                for child in statement.children:
+                    if isinstance(child, Tree) and child.data in ("body", "elif_clause", "else_clause"):
+                        self.walk(child.children if child.data == "body" else [child], state, entered)
+                    elif isinstance(child, Tree):
+                        self.walk_calls(child, state, entered)
+                continue
+            self.walk_calls(statement, state, entered)
+
+    def walk_calls(self, node, state: dict, entered: set) -> None:
+        for name, call in sorted(_calls(node), key=lambda c: _line(c[1])):
+            if state["reported"]:
+                return
+            if name == "set_tcp":
+                state["tcp"] = True
+            elif name in MOTION and not state["tcp"]:
+                state["reported"] = True
+                self.add(
+                    call,
+                    "warning",
+                    "motion-before-tcp",
+                    f"{name} before the program sets its TCP (set_tcp): the arm moves with whatever TCP the "
+                    "installation holds",
+                )
+            elif name in self.functions and name not in entered:
+                entered.add(name)
+                body = self.functions[name].children[2]
+                self.walk([c for c in body.children if isinstance(c, Tree)], state, entered)
+
+    # --- speeds ---------------------------------------------------------------------------------
+    def speeds(self) -> None:
+        fastest = max(self.joint_max_deg_s)
+        for name, call in _calls(self.tree):
+            if name not in ("movej", "servoj", "speedj"):
+                continue
+            args = call.children[1].children if call.children[1] is not None else []
+            positional = [a for a in args if not (isinstance(a, Tree) and a.data == "kwarg")]
+            named = {str(a.children[0]): a.children[1] for a in args if isinstance(a, Tree) and a.data == "kwarg"}
+            if name in ("movej", "servoj"):
+                node = named.get("v", positional[2] if len(positional) > 2 else None)
+                value = None if node is None else _number(node)
+                if value is not None and math.degrees(abs(value)) > fastest + 1e-6:
+                    self.add(
+                        node,
+                        "warning",
+                        "speed-over-arm",
+                        f"{name} v={value:g} rad/s ({math.degrees(value):.0f} deg/s) is over the fastest joint of "
+                        f"{self.arm_name} ({fastest:.0f} deg/s)",
+                    )
+                continue
+            node = named.get("qd", positional[0] if positional else None)
+            if isinstance(node, Tree) and node.data == "list_lit":
+                for axis, element in enumerate(c for c in node.children if c is not None):
+                    value = _number(element)
+                    top = self.joint_max_deg_s[axis] if axis < 6 else fastest
+                    if value is not None and math.degrees(abs(value)) > top + 1e-6:
+                        self.add(
+                            element,
+                            "warning",
+                            "speed-over-arm",
+                            f"speedj: axis {axis + 1} at {value:g} rad/s ({math.degrees(value):.0f} deg/s) is over "
+                            f"its {top:.0f} deg/s on {self.arm_name}",
+                        )
+
+
+def check_files(dialect, files: list, options=None) -> list[Finding]:
+    """Every finding of URScript files (each file is a program of its own)."""
+    interpreter = dialect.module("interpreter")
+    findings: list[Finding] = []
+    for source in files:
+        try:
+            tree = interpreter.parse(source.text, source.name)
+        except RunError as exc:
+            findings.append(finding_of(exc, [source], "syntax"))
+            continue
+        except RecursionError:
+            findings.append(finding_of(f"{source.name}: statements or expressions nested too deeply", [source]))
+            continue
+        builtins = interpreter.URScriptCompiler(source.name).builtins
+        found = Checker(tree, source.name, builtins, getattr(options, "arm", None)).run()
+        findings.extend(sorted(found, key=lambda f: (f.line, f.column)))
+        if any(f.severity in ("error", "unsupported") for f in found):
+            continue  # loading would stop at the first of them again
+        try:
+            interpreter.load(source.text, source.name)
+        except RunError as exc:
+            findings.append(finding_of(exc, [source]))
+        except RecursionError:
+            findings.append(finding_of(f"{source.name}: statements or expressions nested too deeply", [source]))
+    return findings
