@@ -2,15 +2,24 @@
 
 from __future__ import annotations
 
+import errno
 import sys
 
 import click
 
 from codegen import cli_check, cli_run  # noqa: F401  (they register their commands)
-from codegen.cli_base import UserError, calibrate, main, step_limit_option
+from codegen.cli_base import Folder, Number, UserError, calibrate, main, step_limit_option
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.controllers import target_names
+from codegen.view import command as view_command
+
+main.add_command(view_command.view)
+
+MAX_CASES = 1_000_000  # verify's random readings per station: a million runs each; more is a typing slip
+MAX_JOBS = 256  # worker processes: beyond the machine's cores each only costs memory
+# a folder the user gave that cannot take the output (no permission, read-only, a file on the way): exit 2
+FOLDER_REFUSED = frozenset({errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOTDIR, errno.EEXIST, errno.EISDIR})
 
 
 @main.command()
@@ -56,7 +65,7 @@ def derive(check: bool, as_json: bool) -> None:
 @main.command()
 @click.argument("cell", required=False, type=click.Path(dir_okay=False))
 @click.option("--target", "targets", multiple=True, help="Only this target (repeatable); default: the cell's targets.")
-@click.option("--out", "out_dir", default="generated", show_default=True, type=click.Path(file_okay=False))
+@click.option("--out", "out_dir", default="generated", show_default=True, type=Folder())
 @click.option("--json", "as_json", is_flag=True, help="Report written files and the arm's margins as JSON.")
 def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: bool) -> None:
     """Write the programs of every target under OUT/<cell>/<target>/ (all or nothing)."""
@@ -65,7 +74,7 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
     from codegen.emit import EmitError
     from codegen.generate import GenerateError
     from codegen.generate import generate as run_generate
-    from codegen.output import OutputBusy
+    from codegen.output import OutputBusy, OutputInTheWay
 
     model = _load(cell)
     for t in targets:
@@ -77,10 +86,12 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
         raise UserError(f"{model.source}: {exc}") from None
     except OutputBusy as exc:
         raise click.ClickException(str(exc)) from None
+    except OutputInTheWay as exc:
+        raise UserError(str(exc)) from None
     except OSError as exc:
-        raise click.ClickException(
-            f"{out_dir}: cannot write ({exc.strerror or exc}); previous output left as it was"
-        ) from None
+        error = UserError if exc.errno in FOLDER_REFUSED else click.ClickException  # the user's to fix: exit 2
+        where = exc.filename or out_dir
+        raise error(f"{where}: cannot write ({exc.strerror or exc}); previous output left as it was") from None
 
     if as_json:
         _dump(
@@ -102,7 +113,7 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
 
 @main.command()
 @click.argument("cell", required=False, type=click.Path(dir_okay=False))
-@click.option("--out", "out_dir", default="generated", show_default=True, type=click.Path(file_okay=False))
+@click.option("--out", "out_dir", default="generated", show_default=True, type=Folder())
 def diff(cell: str | None, out_dir: str) -> None:
     """Unified diff of fresh output against OUT; exit 1 when they differ. No CELL: every bundled
     example cell (all the cells whose output is committed under generated/)."""
@@ -137,27 +148,37 @@ def diff(cell: str | None, out_dir: str) -> None:
     help="Only this target (repeatable).",
 )
 @click.option(
-    "--cases", default=1000, show_default=True, type=click.IntRange(min=0), help="Random readings per station."
+    "--cases",
+    default=1000,
+    show_default=True,
+    type=Number(0, MAX_CASES, integer=True),
+    help="Random readings per station.",
 )
-@step_limit_option("A run taking more steps is a runaway: a mismatch; that program's remaining cases are skipped.")
-@click.option("--seed", default=0, show_default=True)
+@step_limit_option(
+    "A run taking more steps is a runaway: a mismatch; that program's remaining cases are skipped. Default: "
+    "200,000, or a kind's own where its runs need more (a long measuring cycle).",
+    kinds_own=True,
+)
+@click.option("--seed", default=0, show_default=True, type=Number(0, integer=True))
 @click.option(
     "--jobs",
     default=0,
     show_default=True,
-    type=click.IntRange(min=0),
+    type=Number(0, MAX_JOBS, integer=True),
     help="Worker processes (0: one per CPU).",
 )
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
+@click.option("--html", "html_file", type=click.Path(dir_okay=False), help="Also write the report as a page.")
 def verify(
     cell: str | None,
     files: tuple[str, ...],
     targets: tuple[str, ...],
     cases: int,
-    step_limit: int,
+    step_limit: int | None,
     seed: int,
     jobs: int,
     as_json: bool,
+    html_file: str | None,
 ) -> None:
     """Run every program of every kind on its cases and the common scenarios; compare with the reference.
 
@@ -179,9 +200,10 @@ def verify(
     for t in targets:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
+    view_command.check_html(html_file)
 
     def run(progress) -> object:
-        options = Options(cases, seed, jobs, step_limit, progress)
+        options = Options(cases, seed, jobs, step_limit, progress, keep_replays=html_file is not None)
         return verify_cell(model, [Path(f) for f in files], targets, options)
 
     try:
@@ -203,6 +225,8 @@ def verify(
     else:
         for line in report.lines():
             click.echo(line)
+    if html_file is not None:
+        view_command.write_report(model, report, html_file)
     sys.exit(0 if report.ok else 1)
 
 

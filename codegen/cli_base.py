@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import json
+import math
 
 import click
 
+from codegen.csvfile import number, whole
 from codegen.model.cell import CellError, load_cell
 
 EXIT_BAD_INPUT = 2
@@ -15,6 +17,78 @@ class UserError(click.ClickException):
     """A bad input: message to stderr, exit 2, no traceback."""
 
     exit_code = EXIT_BAD_INPUT
+
+
+class Number(click.ParamType):
+    """A finite number written in decimal digits (no nan, inf or 1_000: the calibration files' syntax) within
+    [low, high] (`above`: strictly above low); `integer`: a whole number; `count` > 1: that many, comma-separated,
+    as a tuple. Every numeric option of every command takes one, so each says its range in its error."""
+
+    name = "number"
+
+    def __init__(self, low=None, high=None, *, above=False, integer=False, count=1):
+        self.low, self.high, self.above, self.integer, self.count = low, high, above, integer, count
+
+    def convert(self, value, param, ctx):
+        if self.count == 1 and isinstance(value, int | float) and not isinstance(value, bool):
+            return self._checked(value)  # a default
+        if self.count > 1 and isinstance(value, tuple):
+            return value
+        parts = str(value).split(",") if self.count > 1 else [str(value)]
+        if len(parts) != self.count:
+            self.fail(f"expected {self.count} comma-separated {self._what()}s, got {value!r}", param, ctx)
+        values = []
+        for part in parts:
+            try:
+                values.append(whole(part) if self.integer else number(part))
+            except ValueError:
+                self.fail(f"{part.strip()!r} is not a {self._what()} (decimal digits; no nan or inf)", param, ctx)
+            if not self._within(values[-1]):
+                self.fail(f"{part.strip()} is not {self._range()}", param, ctx)
+        return tuple(values) if self.count > 1 else values[0]
+
+    def _checked(self, value):
+        if not self._within(value):
+            self.fail(f"{value} is not {self._range()}")
+        return value
+
+    def _within(self, value) -> bool:
+        if isinstance(value, float) and not math.isfinite(value):
+            return False
+        if self.low is not None and (value <= self.low if self.above else value < self.low):
+            return False
+        return self.high is None or value <= self.high
+
+    def _what(self) -> str:
+        return "whole number" if self.integer else "number"
+
+    def _range(self) -> str:
+        low, high = _shown(self.low), _shown(self.high)
+        if low and high and not self.above:
+            return f"within {low} .. {high}"
+        parts = [f"above {low}" if self.above else f"at least {low}"] if low else []
+        if high:
+            parts.append(f"at most {high}")
+        return " and ".join(parts) or "finite"
+
+    def get_metavar(self, param, ctx=None) -> str:
+        return ",".join(["INTEGER" if self.integer else "NUMBER"] * self.count)
+
+
+def _shown(bound) -> str:
+    return "" if bound is None else f"{bound:,}" if isinstance(bound, int) else f"{bound:,g}"
+
+
+class Folder(click.Path):
+    """A folder to write into: never the empty path (which would be the current folder, unasked)."""
+
+    def __init__(self):
+        super().__init__(file_okay=False)
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and not value.strip():
+            self.fail("an empty path; give a folder", param, ctx)
+        return super().convert(value, param, ctx)
 
 
 def load(cell_path):
@@ -27,12 +101,14 @@ def load(cell_path):
     return cell
 
 
-def step_limit_option(help_text: str):
-    """--step-limit of the commands that run programs (the interpreter's default)."""
+def step_limit_option(help_text: str, kinds_own: bool = False):
+    """--step-limit of the commands that run programs: the interpreter's default, or (kinds_own) none, so that
+    each kind's runs keep their own limit unless one is given."""
     from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 
+    default = None if kinds_own else DEFAULT_STEP_LIMIT
     return click.option(
-        "--step-limit", default=DEFAULT_STEP_LIMIT, show_default=True, type=click.IntRange(min=1), help=help_text
+        "--step-limit", default=default, show_default=not kinds_own, type=Number(1, integer=True), help=help_text
     )
 
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from codegen.cli_base import UserError, main, step_limit_option
+from codegen.cli_base import Number, UserError, main, step_limit_option
 from codegen.cli_base import dump as _dump
 from codegen.controllers import all_targets, target_names
 
@@ -165,14 +165,14 @@ def load_group(dialect, group):
 @click.option(
     "--max-moves",
     "max_moves",
-    type=click.IntRange(min=1),
+    type=Number(1, integer=True),
     default=None,
     help="End the run cleanly after this many moves (a cell program that loops for ever), keeping what ran.",
 )
 @click.option(
     "--max-seconds",
     "max_seconds",
-    type=click.FloatRange(min=0.0),
+    type=Number(0.0),
     default=None,
     help="End the run cleanly once the program's clock (its moves, waits and sleeps) passes this many seconds.",
 )

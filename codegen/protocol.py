@@ -185,6 +185,13 @@ class ProgramKind:
         """The kind's own figures as text lines of the report (rows: its programs')."""
         return []
 
+    # --- the cell's page (codegen/view/) ------------------------------------------------------
+    @classmethod
+    def scene(cls, cell) -> list[dict]:
+        """The kind's objects of the cell as the page draws them (codegen.view.scene's vocabulary): its stations'
+        or its section's (none: [])."""
+        return []
+
     # --- command line ----------------------------------------------------------------------
     @classmethod
     def commands(cls) -> list[tuple[str | None, Any]]:

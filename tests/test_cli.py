@@ -6,6 +6,7 @@ import json
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -208,3 +209,151 @@ def test_a_huge_expression_is_refused_before_parsing(tmp_path):
     path.write_text("def p():\n  x = " + "+".join(["1"] * 200_000) + "\nend\n")
     result = CliRunner().invoke(main, ["run", str(path)])
     assert result.exit_code == 2 and "huge.script:2:1: line longer than 10000 characters" in result.output
+
+
+REPO_ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES_DIR = REPO_ROOT / "codegen" / "examples"
+BELT = EXAMPLES_DIR / "conveyor_touches.csv"
+TOUCHES = EXAMPLES_DIR / "agv_gripper_touches.csv"
+
+
+UR_DEMO = Path(__file__).resolve().parents[1] / "generated/agv_machine_tending/ur/agv_machine_tending.script"
+BAD_OPTIONS = [
+    (
+        [
+            "calibrate",
+            "conveyor",
+            BELT,
+            "--counter-bits",
+            "16",
+            "--working-length",
+            "1500",
+            "--max-residual",
+            "nan",
+        ],
+        "--max-residual",
+    ),
+    (
+        [
+            "calibrate",
+            "conveyor",
+            BELT,
+            "--counter-bits",
+            "16",
+            "--working-length",
+            "1500",
+            "--max-residual",
+            "1_0",
+        ],
+        "--max-residual",
+    ),
+    (["calibrate", "conveyor", BELT, "--counter-bits", "16", "--working-length", "nan"], "--working-length"),
+    (["calibrate", "conveyor", BELT, "--counter-bits", "16", "--working-length", "inf"], "--working-length"),
+    (["calibrate", "conveyor", BELT, "--counter-bits", "16", "--working-length", "1e9"], "--working-length"),
+    (
+        [
+            "calibrate",
+            "conveyor",
+            BELT,
+            "--counter-bits",
+            "16",
+            "--working-length",
+            "1500",
+            "--camera-counts",
+            "1e30,5",
+        ],
+        "--camera-counts",
+    ),
+    (
+        ["calibrate", "conveyor", BELT, "--working-length", "1500", "--camera-counts", f"{10**30},5"],
+        "--camera-counts",
+    ),
+    (
+        [
+            "calibrate",
+            "conveyor",
+            BELT,
+            "--counter-bits",
+            "16",
+            "--working-length",
+            "1500",
+            "--camera-counts",
+            "1,2,3",
+        ],
+        "--camera-counts",
+    ),
+    (["calibrate", "tcp", TOUCHES, "--max-uncertainty", "-1"], "--max-uncertainty"),
+    (["calibrate", "tcp", TOUCHES, "--max-uncertainty", "nan"], "--max-uncertainty"),
+    (["calibrate", "tcp", TOUCHES, "--max-uncertainty", "0"], "--max-uncertainty"),
+    (["verify", "--cases", "-1"], "--cases"),
+    (["verify", "--cases", "1_000"], "--cases"),
+    (["verify", "--seed", "-1"], "--seed"),  # a laser cell's cases came from numpy, which takes no negative seed
+    (["verify", "--jobs", "100000"], "--jobs"),
+    (["verify", "--step-limit", "0"], "--step-limit"),
+    (["correct", "--station", "1_0", "--mark", "1,2,3"], "--station"),
+    (["generate", "--out", ""], "--out"),
+    (["diff", "--out", ""], "--out"),
+    (["pallet", "--svg", ""], "--svg"),
+    (["run", str(UR_DEMO), "--max-seconds", "nan"], "--max-seconds"),
+    (["run", str(UR_DEMO), "--max-seconds", "inf"], "--max-seconds"),
+    (["run", str(UR_DEMO), "--max-moves", "1_0"], "--max-moves"),
+]
+
+
+@pytest.mark.parametrize(
+    ("args", "option"), BAD_OPTIONS, ids=[f"{a[0]} {o}={a[a.index(o) + 1]}" for a, o in BAD_OPTIONS]
+)
+def test_options_take_finite_numbers_within_their_range(args, option, tmp_path, monkeypatch):
+    """One parameter type (cli_base.Number, cli_base.Folder) for every numeric or folder option: exit 2, one
+    message naming the option; nan, inf, 1_000 and values out of range never reach the command."""
+    monkeypatch.chdir(tmp_path)  # an empty --out or --svg was the current folder
+    result = run(*map(str, args))
+    assert result.exit_code == 2, result.output
+    errors = [line for line in result.output.splitlines() if line.startswith("Error")]
+    assert len(errors) == 1 and f"'{option}'" in errors[0], result.output
+
+
+def test_generate_into_an_empty_path_writes_nothing(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    result = run("generate", str(EXAMPLES_DIR / "agv_machine_tending.toml"), "--out", "")
+    assert result.exit_code == 2 and list(tmp_path.iterdir()) == [], result.output
+
+
+def test_camera_counts_and_a_residual_bound_reach_the_fit():
+    got = json.loads(
+        run("calibrate", "conveyor", str(BELT), "--working-length", "1500", "--counter-bits", "16",
+            "--camera-counts", "3625,59413", "--max-residual", "0.3", "--json").output
+    )  # fmt: skip
+    assert got["camera_offset_mm"] == pytest.approx(1200.1, abs=0.05)
+
+
+@pytest.mark.parametrize(
+    "cell",
+    ["agv_machine_tending.toml", "conveyor/belt_pick.toml", "laser/laser_tcp.toml", "pallets/testmat_pallet.toml"],
+)
+def test_the_step_limit_reaches_every_kinds_runs(cell):
+    """verify --step-limit 1: every run of every kind stops at its first step (the conveyor's and the laser's
+    own limits applied in its place, and the runaways went unnoticed)."""
+    from codegen.model.cell import load_cell
+
+    path = EXAMPLES_DIR / cell
+    target = load_cell(path).targets[0]
+    result = run("verify", str(path), "--target", target, "--cases", "1", "--jobs", "1", "--step-limit", "1")
+    mismatches = [line for line in result.output.splitlines() if line.strip().startswith("MISMATCH ")]
+    assert result.exit_code == 1 and mismatches, result.output
+    assert all("step limit 1 reached" in line for line in mismatches), result.output
+
+
+def test_every_command_shows_its_help():
+    """The option types print their metavar (a help page is the first place a bad type breaks)."""
+    import click
+
+    def walk(group, path):
+        for name, command in group.commands.items():
+            yield [*path, name]
+            if isinstance(command, click.Group):
+                yield from walk(command, [*path, name])
+
+    for path in walk(main, []):
+        result = run(*path, "--help")
+        assert result.exit_code == 0, (path, result.output)

@@ -114,7 +114,7 @@ def test_a_kill_at_any_step_leaves_the_old_or_the_new_set(sets, tmp_path, mode):
         returncode = _killed_generate(step, mode, [*command, "--out", str(out)])
         folder = out / CELL
         if mode == "no-exchange" and not folder.exists():  # killed between the fallback's two renames
-            (aside,) = out.glob(f".{CELL}.old-*")
+            (aside,) = out.glob(f".{CELL}.codegen-old-*")
             assert _files(aside) == old
             outcomes.append("aside")
         else:
@@ -240,3 +240,134 @@ def test_only_what_codegen_wrote_is_replaced(tmp_path):
     assert (ur / "notes.txt").read_text() == "mine" and "notes.txt: not written by codegen, kept" in result.output
     assert not (ur / "old_name.script").exists()
     assert CliRunner().invoke(main, ["diff", str(DEMO), "--out", str(tmp_path)]).exit_code == 0
+
+
+def _one_message(result, *says: str) -> None:
+    assert result.exit_code == 2, result.output
+    assert isinstance(result.exception, SystemExit) and "Traceback" not in result.output
+    errors = [line for line in result.output.splitlines() if line.strip()]
+    assert len(errors) == 1 and all(s in errors[0] for s in says), result.output
+
+
+def _tree(folder: Path) -> dict[str, bytes | str]:
+    """Every path below `folder`: a file's bytes, a symlink's target, a folder's "/"."""
+    tree = {}
+    for path in sorted(folder.rglob("*")):
+        name = path.relative_to(folder).as_posix()
+        if path.is_symlink():
+            tree[name] = "-> " + os.readlink(path)
+        elif path.is_dir():
+            tree[name] = "/"
+        else:
+            tree[name] = path.read_bytes()
+    return tree
+
+
+def test_a_file_where_the_cell_folder_goes_stays_and_nothing_is_written(tmp_path):
+    """The exchange used to swap the new set in and move the user's file to .<cell>.new-<pid>, then report
+    "cannot write": every later run failed until someone removed it."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / CELL).write_text("my notes")
+    result = CliRunner().invoke(main, ["generate", str(DEMO), "--out", str(out)])
+    _one_message(result, f"{out / CELL}: a file, where the cell's output folder goes; nothing was written")
+    assert {k: v for k, v in _tree(out).items() if not k.endswith(".lock")} == {CELL: b"my notes"}
+
+
+def test_a_symlink_where_the_cell_folder_goes_stays_and_its_folder_is_untouched(tmp_path):
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "keep.txt").write_text("k")
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / CELL).symlink_to(mine)
+    result = CliRunner().invoke(main, ["generate", str(DEMO), "--out", str(out)])
+    _one_message(result, f"{out / CELL}: a symlink (to {mine}); codegen replaces the cell's folder whole")
+    assert (out / CELL).is_symlink() and os.readlink(out / CELL) == str(mine)
+    assert _tree(mine) == {"keep.txt": b"k"}
+    assert sorted(p.name for p in out.iterdir()) == [f".{CELL}.lock", CELL]
+
+
+@pytest.mark.parametrize("cell_folder", [True, False], ids=["with the cell folder", "without"])
+def test_folders_that_look_like_staging_folders_are_the_users(tmp_path, cell_folder):
+    """A user's .<cell>.new-backup/ was deleted and .<cell>.old-2024/ renamed into place; a run now touches only
+    the folders its own journal (in the lock file) names, whatever the names beside it look like."""
+    out = tmp_path / "out"
+    out.mkdir()
+    if cell_folder:
+        _generate([str(DEMO), "--out", str(out)])
+    names = [f".{CELL}.new-backup", f".{CELL}.old-2024", f".{CELL}.new-123", f".{CELL}.codegen-old-1-0123abcd"]
+    for name in names:
+        (out / name).mkdir()
+        (out / name / "mine.txt").write_text(name)
+    before = {k: v for k, v in _tree(out).items() if k.startswith(tuple(names))}
+    _generate([str(DEMO), "--out", str(out)])
+    assert {k: v for k, v in _tree(out).items() if k.startswith(tuple(names))} == before
+    assert (out / CELL / "ur" / f"{CELL}.script").is_file()
+
+
+def test_a_journal_naming_a_users_folder_in_another_form_is_not_followed(tmp_path):
+    """Only the names codegen makes for this cell are acted on: a journal line naming a path, another cell's
+    folder or the cell folder itself is ignored."""
+    out = tmp_path / "out"
+    _generate([str(DEMO), "--out", str(out)])
+    (tmp_path / "precious").mkdir()
+    (out / "other").mkdir()
+    lock = out / f".{CELL}.lock"
+    header = lock.read_text()
+    lines = ["stage ../precious", "stage other", f"aside {CELL}", "stage .other.codegen-new-1-0123abcd"]
+    lock.write_text(header + "".join(line + "\n" for line in lines))
+    (out / ".other.codegen-new-1-0123abcd").mkdir()
+    _generate([str(DEMO), "--out", str(out)])
+    assert (tmp_path / "precious").is_dir() and (out / "other").is_dir()
+    assert (out / ".other.codegen-new-1-0123abcd").is_dir() and lock.read_text() == header
+
+
+def test_a_lock_file_that_is_not_codegens_is_refused(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / f".{CELL}.lock").write_text("my lock of something else\n")
+    result = CliRunner().invoke(main, ["generate", str(DEMO), "--out", str(out)])
+    _one_message(result, f"{out / f'.{CELL}.lock'}: not codegen's lock file")
+    assert (out / f".{CELL}.lock").read_text() == "my lock of something else\n"
+    assert sorted(p.name for p in out.iterdir()) == [f".{CELL}.lock"]
+
+
+def test_a_symlinked_lock_file_is_not_written_through(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (tmp_path / "target.txt").write_text("t")
+    (out / f".{CELL}.lock").symlink_to(tmp_path / "target.txt")
+    result = CliRunner().invoke(main, ["generate", str(DEMO), "--out", str(out)])
+    _one_message(result, "a symlink where codegen keeps its lock file; nothing was written")
+    assert (tmp_path / "target.txt").read_text() == "t"
+
+
+def test_an_out_folder_that_cannot_be_written_gets_one_message(tmp_path, monkeypatch):
+    _generate([str(DEMO), "--out", str(tmp_path / "out")])
+    before = _tree(tmp_path / "out")
+    os.chmod(tmp_path / "out", 0o555)
+    if os.geteuid() == 0:  # root writes anyway: make the folder refuse as it refuses everyone else
+        real_mkdir = os.mkdir
+
+        def refused(path, *a, **k):
+            if Path(path).parent == tmp_path / "out":
+                raise PermissionError(13, "Permission denied", str(path))
+            return real_mkdir(path, *a, **k)
+
+        monkeypatch.setattr(os, "mkdir", refused)
+    try:
+        result = CliRunner().invoke(main, ["generate", str(DEMO), "--out", str(tmp_path / "out")])
+    finally:
+        os.chmod(tmp_path / "out", 0o755)
+    _one_message(result, "cannot write (Permission denied); previous output left as it was")
+    assert _tree(tmp_path / "out") == before
+
+
+@pytest.mark.parametrize("what", ["file", "file's child"])
+def test_an_out_that_is_a_file_gets_one_message(tmp_path, what):
+    (tmp_path / "f").write_text("mine")
+    out = tmp_path / "f" if what == "file" else tmp_path / "f" / "sub"
+    result = CliRunner().invoke(main, ["generate", str(DEMO), "--out", str(out)])
+    assert result.exit_code == 2 and "Traceback" not in result.output, result.output
+    assert (tmp_path / "f").read_text() == "mine" and sorted(p.name for p in tmp_path.iterdir()) == ["f"]

@@ -48,6 +48,7 @@ def test_the_wheel_carries_templates_targets_grammars_and_the_derivation(wheel):
     expected |= {f"codegen/kinds/{p.parent.name}/kind.py" for p in (REPO / "codegen" / "kinds").glob("*/kind.py")}
     expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in (REPO / "codegen" / "examples").rglob("*.toml")}
     expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in (REPO / "codegen" / "examples").rglob("*.csv")}
+    expected |= {f"codegen/view/static/{p.name}" for p in (REPO / "codegen" / "view" / "static").iterdir()}
     assert expected <= names, sorted(expected - names)
 
 

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import os
-import tempfile
 import tomllib
 from dataclasses import dataclass, field, replace
 from functools import cached_property, lru_cache
@@ -22,15 +20,16 @@ from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot, parse_station_config
 from codegen.model.validate import CellError, Validator, kind_of
 from codegen.model.vision import VisionSettings
+from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
 from codegen.protocol import get_kind, kinds, station_kinds
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
 QUATERNION_TOLERANCE = 1e-6
 QUATERNION_BOUND = 10.0  # a quaternion that far from unit length is a typing error, not a rotation
-# Orientation values per cell pose format: Euler angles in degrees, rotation vector components in
-# radians (a float32 step at 360 deg is 3e-5 deg; at 1e20 it is more than a turn)
-ORIENTATION_BOUNDS = {"xyzabc": (360.0, "deg"), "ur": (2 * math.pi, "rad")}
+# The unit of the orientation values per cell pose format: Euler angles in degrees, rotation vector
+# components in radians, each within one turn (Validator.angles; abb: a quaternion, normalised)
+ORIENTATION_UNITS = {"xyzabc": "deg", "ur": "rad"}
 
 EXAMPLES_DIR = Path(__file__).parents[1] / "examples"
 DEMO_CELL = EXAMPLES_DIR / "agv_machine_tending.toml"
@@ -141,6 +140,11 @@ def read_cell_data(path: Path) -> tuple[dict, bytes]:
         raw = path.read_bytes()
     except OSError as exc:
         raise CellError(f"{path}: cannot read cell file: {exc.strerror or exc}") from None
+    return parse_cell_bytes(raw, path), raw
+
+
+def parse_cell_bytes(raw: bytes, path: Path) -> dict:
+    """A cell file's TOML tables from its bytes; a CellError naming `path` when they are no cell file's."""
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -151,24 +155,27 @@ def read_cell_data(path: Path) -> tuple[dict, bytes]:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except tomllib.TOMLDecodeError as exc:
         raise CellError(f"{path}: TOML syntax error: {exc}") from None
-    return data, raw
+    except ValueError:  # an integer too long for Python to read (more than 4300 digits)
+        raise CellError(f"{path}: a number with thousands of digits: no controller's number holds it") from None
+    return data
 
 
-def replace_cell_file(path: Path, text: str, check=None) -> None:
-    """Replace a cell file by an edited text (a calibration's --write) once the edited file loads and
-    `check(cell)` accepts it; otherwise the file stays as it was and the error goes to the caller."""
+def replace_cell_file(path: Path, text: str) -> None:
+    """Replace a cell file by an edited text (a calibration's --write) once the edited text loads and passes
+    every kind's reach proof (the cell still generates); the file keeps its mode, a symlink stays and its target
+    is replaced (codegen.output.replace_file). Otherwise the file stays as it was and the error goes to the
+    caller: CellError, ReachError, or OSError when the file cannot be written."""
 
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        cell = load_cell(tmp)
-        if check is not None:
-            check(cell)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    os.replace(tmp, path)
+    def accept(written: Path) -> None:
+        raw = written.read_bytes()  # what is on disk, named as the cell file it will become
+        try:
+            cell = cell_from_dict(parse_cell_bytes(raw, path), source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+        except RecursionError:
+            raise CellError(f"{path}: tables or arrays nested too deeply") from None
+        for kind in kinds().values():
+            kind.reach(cell, list(cell.targets))
+
+    replace_file(path, text, accept)
 
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
@@ -355,21 +362,21 @@ class CellValidator(Validator):
     def pose(self, pose_name: str, values, pose_path: str, pose_format: str) -> TaughtPose:
         if not pose_name.strip():
             self.fail(pose_path, "pose name must not be empty")
-        numbers = self.numbers(values, POSE_FORMATS[pose_format][0], pose_path)
-        if pose_format in ORIENTATION_BOUNDS:
-            bound, unit = ORIENTATION_BOUNDS[pose_format]
-            if max(abs(v) for v in numbers[3:]) > bound:
-                self.fail(
-                    pose_path,
-                    f"orientation values must be within +-{bound:g} {unit}: a float32 controller "
-                    "keeps an angle beyond that too coarsely to move where it was taught",
-                )
+        numbers = self.orientation(
+            self.numbers(values, POSE_FORMATS[pose_format][0], pose_path), pose_path, pose_format
+        )
         if pose_format == "abb":
             numbers = self.normalise_quaternion(numbers, pose_path)
         bound = TAUGHT_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
         if max(abs(v) for v in numbers[:3]) > bound:
             self.fail(pose_path, f"position must be within +-{bound:g} (cell units)")
         return TaughtPose(pose_name, numbers, pose_format)
+
+    def orientation(self, numbers: tuple[float, ...], path: str, pose_format: str) -> tuple[float, ...]:
+        """A pose's values with its orientation (after x, y, z) checked: angles within one turn."""
+        if pose_format in ORIENTATION_UNITS:
+            self.angles(numbers[3:], path, ORIENTATION_UNITS[pose_format], "orientation values")
+        return numbers
 
     def normalise_quaternion(self, numbers: tuple[float, ...], path: str) -> tuple[float, ...]:
         q = numbers[3:]

@@ -7,6 +7,9 @@ from dataclasses import dataclass
 import numpy as np
 
 SPEED_MAX_MM_S = 5000.0  # a TCP speed beyond this is no programming speed of these arms
+# the programs write a TCP speed to 0.1 mm/s (one controller takes it in m/s to 4 decimals): below 1 mm/s that is
+# more than 5 % off, and below 0.05 mm/s the program would say 0
+SPEED_MIN_MM_S = 1.0
 ZONE_MAX_MM = 200.0  # the largest blending zone the controllers predefine (RAPID z200)
 
 
@@ -54,8 +57,12 @@ def parse_settings(ctx, cell_table: dict) -> MotionSettings:
     values = {}
     for key in ("speed_mm_s", "work_speed_mm_s"):
         value = ctx.number(table, key, f"cell.motion.{key}") if key in table else getattr(default, key)
-        if not 0 < value <= SPEED_MAX_MM_S:
-            ctx.fail(f"cell.motion.{key}", f"must be in (0, {SPEED_MAX_MM_S:g}] mm/s, got {value}")
+        if not SPEED_MIN_MM_S <= value <= SPEED_MAX_MM_S:
+            ctx.fail(
+                f"cell.motion.{key}",
+                f"must be in [{SPEED_MIN_MM_S:g}, {SPEED_MAX_MM_S:g}] mm/s (the programs write it to 0.1 mm/s), "
+                f"got {value:g}",
+            )
         values[key] = value
     zone = ctx.number(table, "zone_mm", "cell.motion.zone_mm") if "zone_mm" in table else default.zone_mm
     if not 0 <= zone <= ZONE_MAX_MM:

@@ -11,6 +11,7 @@ from codegen.poses import POSE_FORMATS
 from codegen.robot.arms import Arm, ArmError, arm_from_table, catalogue, check_inside, find_arm
 
 TOOL_MASS_MAX_KG = 1000.0
+TOOL_MASS_MIN_KG = 0.001  # the programs write the mass in kg to 3 decimals (render.py MASS_DECIMALS): less says 0
 DEFAULT_JOINT_MARGIN_DEG = 5.0  # codegen's choice: room for the path between two checked readings
 DEFAULT_WRIST_MARGIN_DEG = 5.0
 TOOL_OFFSET_MAX_MM = 2000.0
@@ -95,6 +96,8 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
             home[target] = joints
         else:
             home[target] = arm.home_deg
+    if tool_given:
+        _check_payload(ctx, tool, arms, table)
     margins = Margins(
         _margin(ctx, table, "joint_margin_deg", DEFAULT_JOINT_MARGIN_DEG),
         _margin(ctx, table, "wrist_margin_deg", DEFAULT_WRIST_MARGIN_DEG),
@@ -102,6 +105,19 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
     if not tool_given:
         ctx.warnings.append(f"{ctx.source}: cell.tool: not given: the programs move the flange (no TCP, no payload)")
     return Robot(arms, home, tool, tool_given, margins)
+
+
+def _check_payload(ctx, tool: Tool, arms: dict, table: dict) -> None:
+    """The tool within each arm's payload (the catalogue's from the vendor's data sheet, or the custom arm's
+    payload_kg): the part it carries comes on top, so a heavier tool can never work."""
+    for target, arm in arms.items():
+        if arm.payload_kg is not None and tool.mass_kg > arm.payload_kg:
+            where = "its table" if isinstance(table[target], dict) else "its data sheet, codegen/robot/catalogue.toml"
+            ctx.fail(
+                "cell.tool.mass_kg",
+                f"{tool.mass_kg:g} kg is more than the {arm.model}'s payload of {arm.payload_kg:g} kg "
+                f"(cell.robot.{target}, {where}): the arm cannot carry the tool, let alone a part",
+            )
 
 
 def _margin(ctx, table: dict, key: str, default: float) -> float:
@@ -134,15 +150,21 @@ def _arm(ctx, value, path: str, target: str) -> Arm:
 def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
     ctx.no_unknown(table, {"tcp", "mass_kg", "cog_mm", "numbered"}, "cell.tool")
     count, to_matrix = POSE_FORMATS[pose_format][0], POSE_FORMATS[pose_format][1]
-    tcp = ctx.numbers(ctx.require(table, "tcp", "cell.tool.tcp"), count, "cell.tool.tcp")
+    tcp = ctx.orientation(
+        ctx.numbers(ctx.require(table, "tcp", "cell.tool.tcp"), count, "cell.tool.tcp"), "cell.tool.tcp", pose_format
+    )
     if pose_format == "abb":
         tcp = ctx.normalise_quaternion(tcp, "cell.tool.tcp")
     scale = 1000.0 if pose_format == "ur" else 1.0
     if max(abs(v) for v in tcp[:3]) * scale > TOOL_OFFSET_MAX_MM:
         ctx.fail("cell.tool.tcp", f"the TCP must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
     mass = ctx.number(table, "mass_kg", "cell.tool.mass_kg")
-    if not 0 < mass <= TOOL_MASS_MAX_KG:
-        ctx.fail("cell.tool.mass_kg", f"expected a mass in (0, {TOOL_MASS_MAX_KG:g}] kg (a moving tool has mass)")
+    if not TOOL_MASS_MIN_KG <= mass <= TOOL_MASS_MAX_KG:
+        ctx.fail(
+            "cell.tool.mass_kg",
+            f"expected a mass in [{TOOL_MASS_MIN_KG:g}, {TOOL_MASS_MAX_KG:g}] kg (a moving tool has mass; the "
+            "programs write it to 1 g)",
+        )
     cog = ctx.numbers(ctx.require(table, "cog_mm", "cell.tool.cog_mm"), 3, "cell.tool.cog_mm")
     if max(abs(v) for v in cog) > TOOL_OFFSET_MAX_MM:
         ctx.fail("cell.tool.cog_mm", f"the centre of gravity must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
@@ -157,7 +179,7 @@ def _numbered(ctx, table) -> dict:
     if not isinstance(table, dict):
         ctx.fail("cell.tool.numbered", "expected a table: target = tool number")
     out = {}
-    for target, number in table.items():
+    for target in table:
         path = f"cell.tool.numbered.{target}"
         try:
             facts = get_target(target).program.get("tool_data")
@@ -165,9 +187,7 @@ def _numbered(ctx, table) -> dict:
             ctx.fail(path, "unknown target")
         if not facts:
             ctx.fail(path, f"the {target} controller has no numbered tools here")
-        if isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= facts["max"]:
-            ctx.fail(path, f"expected a tool number 1..{facts['max']}, got {number!r}")
-        out[target] = number
+        out[target] = ctx.integer(table, target, path, 1, facts["max"])  # the controller's tool number
     return out
 
 
@@ -198,10 +218,7 @@ def parse_station_config(ctx, raw, path: str, robot: Robot | None, pose_names: l
 def _integers(ctx, value, count: int, low: int, high: int, path: str) -> tuple[int, ...]:
     if not isinstance(value, list) or len(value) != count:
         ctx.fail(path, f"expected {count} integers")
-    for i, v in enumerate(value):
-        if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
-            ctx.fail(f"{path}[{i}]", f"expected an integer in {low}..{high}, got {v!r}")
-    return tuple(value)
+    return tuple(ctx.integer(dict(enumerate(value)), i, f"{path}[{i}]", low, high) for i in range(count))
 
 
 def _pose_config(ctx, value, path: str, form: str, arm: Arm) -> PoseConfig:
@@ -217,9 +234,9 @@ def _pose_config(ctx, value, path: str, form: str, arm: Arm) -> PoseConfig:
     if form == "status_turn":
         if not isinstance(value, dict) or set(value) != {"s", "t"}:
             ctx.fail(path, "expected { s = status, t = turn } or { joints = [...] }")
-        s = _integers(ctx, [value["s"]], 1, 0, 7, f"{path}.s")[0]
-        t = _integers(ctx, [value["t"]], 1, 0, 63, f"{path}.t")[0]
-        return PoseConfig(form, (s, t))
+        return PoseConfig(
+            form, (ctx.integer(value, "s", f"{path}.s", 0, 7), ctx.integer(value, "t", f"{path}.t", 0, 63))
+        )
     if form == "joints":
         joints = ctx.numbers(value, 6, path)
         try:

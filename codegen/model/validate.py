@@ -4,6 +4,13 @@ from __future__ import annotations
 
 import math
 
+from codegen.guard import TAUGHT_RANGE_MM
+
+# One turn, the bound of every angle a cell file gives (orientations, pattern angles, offsets): the same
+# rotation can always be written within it, and a float32 step at 360 deg is 3e-5 deg
+ANGLE_BOUNDS = {"deg": 360.0, "rad": 2 * math.pi}
+DIGITS_SHOWN = 12  # a number in a message is shown with at most this many digits
+
 
 class CellError(Exception):
     """A cell file that cannot be used; the message names the file and the line or key path."""
@@ -42,10 +49,45 @@ class Validator:
     def finite(self, value, path: str) -> float:
         if isinstance(value, bool) or not isinstance(value, int | float):
             self.fail(path, f"expected a number, got {kind_of(value)}")
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # an integer beyond a float64 (a controller's numbers are 32-bit)
+            self.fail(path, f"expected a finite number, got {kind_of(value)}")
         if not math.isfinite(value):
             self.fail(path, f"expected a finite number, got {value}")
         return value
+
+    def integer(self, table: dict, key: str, path: str, low: int, high: int, default: int | None = None) -> int:
+        """An integer key in low..high (default: the value when the key is absent; None: the key is required).
+        A number with a decimal point (16.0) is refused: the key counts something, and a float there is a
+        typing error the programs would print as a REAL."""
+        value = self.require(table, key, path) if default is None or key in table else default
+        if isinstance(value, bool) or not isinstance(value, int):
+            self.fail(path, f"expected a whole number (no decimal point) in {low}..{high}, got {kind_of(value)}")
+        if not low <= value <= high:
+            self.fail(path, f"expected a whole number in {low}..{high}, got {kind_of(value)}")
+        return value
+
+    def point(self, value, path: str) -> tuple[float, float, float]:
+        """A taught point x, y, z (mm) within TAUGHT_RANGE_MM, as a taught pose's position."""
+        numbers = self.numbers(value, 3, path)
+        if max(abs(v) for v in numbers) > TAUGHT_RANGE_MM:
+            self.fail(path, f"a taught point: within +-{TAUGHT_RANGE_MM:g} mm (float32 on the controller)")
+        return numbers
+
+    def angles(
+        self, values: tuple[float, ...], path: str, unit: str = "deg", what: str = "angles"
+    ) -> tuple[float, ...]:
+        """Angles within one turn (ANGLE_BOUNDS, deg or rad), as the taught poses' orientation: beyond it a
+        float32 controller keeps the angle too coarsely (at 1e9 deg a float32 step is 64 deg)."""
+        bound = ANGLE_BOUNDS[unit]
+        if values and max(abs(v) for v in values) > bound:
+            self.fail(
+                path,
+                f"{what} must be within +-{bound:g} {unit}: a float32 controller keeps an angle beyond one turn "
+                "too coarsely (at 1e9 deg a float32 step is 64 deg)",
+            )
+        return values
 
     def name(self, table: dict, key: str, path: str) -> str:
         value = self.require(table, key, path)
@@ -65,6 +107,8 @@ def kind_of(value) -> str:
     """A value's kind as an error message names it."""
     if isinstance(value, bool):
         return "a boolean"
+    if isinstance(value, int) and abs(value) >= 10**DIGITS_SHOWN:
+        return f"an integer of {_digits(value)} digits"
     if isinstance(value, int | float):
         return f"the number {value}"
     if isinstance(value, str):
@@ -74,3 +118,9 @@ def kind_of(value) -> str:
     if isinstance(value, dict):
         return "a table"
     return type(value).__name__
+
+
+def _digits(value: int) -> str:
+    """How many decimal digits an integer has (without converting a huge one to text: Python refuses
+    integers of more than 4300 digits there)."""
+    return str(len(str(abs(value)))) if value.bit_length() < 10_000 else f"about {int(value.bit_length() * 0.30103)}"

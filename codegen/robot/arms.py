@@ -18,6 +18,7 @@ FAMILIES = {"opw": OPW, "ur": URDH}
 _OPW_KEYS = ("a1", "a2", "b", "c1", "c2", "c3", "c4")
 _UR_KEYS = ("d1", "a2", "a3", "d4", "d5", "d6")
 PARAM_BOUND_MM = 10_000.0  # no arm in the catalogue is within a factor of three of this
+PAYLOAD_BOUND_KG = 2_500.0  # over ten times the catalogue's largest payload (210 kg): a typing error beyond
 
 
 class ArmError(Exception):
@@ -49,9 +50,32 @@ class Arm:
 
 
 def _number(value, path: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-        raise ArmError(f"{path}: expected a finite number, got {value!r}")
-    return float(value)
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ArmError(f"{path}: expected a finite number, got {_shown(value)}")
+    try:
+        number = float(value)
+    except OverflowError:  # an integer beyond a float64
+        number = math.inf
+    if not math.isfinite(number):
+        raise ArmError(f"{path}: expected a finite number, got {_shown(value)}")
+    return number
+
+
+def _shown(value) -> str:
+    """A value as a message shows it (an integer of hundreds of digits by its length)."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) >= 10**12:
+        return f"an integer of {len(str(abs(value))) if value.bit_length() < 10_000 else 'thousands of'} digits"
+    return repr(value) if not isinstance(value, list | dict) else f"a {type(value).__name__}"
+
+
+def _positive(table: dict, key: str, path: str, high: float, unit: str) -> float | None:
+    """An optional positive number within high (reach_mm, payload_kg)."""
+    if table.get(key) is None:
+        return None
+    value = _number(table[key], f"{path}.{key}")
+    if not 0 < value <= high:
+        raise ArmError(f"{path}.{key}: expected a value in (0, {high:g}] {unit}, got {value:g}")
+    return value
 
 
 def _numbers(value, count: int, path: str) -> tuple[float, ...]:
@@ -70,8 +94,8 @@ def arm_from_table(table: dict, path: str, model: str | None = None) -> Arm:
         if key not in table:
             raise ArmError(f"{path}.{key}: missing")
     family = table["family"]
-    if family not in FAMILIES:
-        raise ArmError(f"{path}.family: expected one of {', '.join(FAMILIES)}, got {family!r}")
+    if not isinstance(family, str) or family not in FAMILIES:
+        raise ArmError(f"{path}.family: expected one of {', '.join(FAMILIES)}, got {_shown(family)}")
     params = table["params"]
     if not isinstance(params, dict):
         raise ArmError(f"{path}.params: expected a table")
@@ -89,6 +113,8 @@ def arm_from_table(table: dict, path: str, model: str | None = None) -> Arm:
             raise ArmError(f"{path}.params.{key}: beyond +-{PARAM_BOUND_MM:g} mm")
     if family == "opw":
         values["offsets_deg"] = _numbers(params.get("offsets_deg", [0] * 6), 6, f"{path}.params.offsets_deg")
+        if max(abs(v) for v in values["offsets_deg"]) > 360:
+            raise ArmError(f"{path}.params.offsets_deg: expected angles within +-360 deg (one turn)")
         signs = params.get("signs", [1] * 6)
         bad = [s for s in signs if isinstance(s, bool) or s not in (1, -1)] if isinstance(signs, list) else [signs]
         if bad or len(signs) != 6:
@@ -110,8 +136,6 @@ def arm_from_table(table: dict, path: str, model: str | None = None) -> Arm:
     name = model or table.get("model")
     if not isinstance(name, str) or not name.strip():
         raise ArmError(f"{path}.model: expected a non-empty string")
-    reach = table.get("reach_mm")
-    payload = table.get("payload_kg")
     return Arm(
         model=name,
         vendor=vendor,
@@ -119,8 +143,8 @@ def arm_from_table(table: dict, path: str, model: str | None = None) -> Arm:
         kin=kin,
         limits_deg=limits,
         home_deg=home,
-        reach_mm=None if reach is None else _number(reach, f"{path}.reach_mm"),
-        payload_kg=None if payload is None else _number(payload, f"{path}.payload_kg"),
+        reach_mm=_positive(table, "reach_mm", path, PARAM_BOUND_MM, "mm"),
+        payload_kg=_positive(table, "payload_kg", path, PAYLOAD_BOUND_KG, "kg"),
         source=str(table.get("source", "")),
     )
 

@@ -7,6 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+TRIGGER_S = 0.01  # the camera's trigger pulse (s): longer than a controller's input cycle
+
 
 @dataclass(frozen=True)
 class Belt:
@@ -92,6 +94,108 @@ class RobotEncoder:
         return self.sign * self.belt.unwrapped_count(t) + self.zero
 
 
+@dataclass(frozen=True)
+class UnitSettings:
+    """A controller's tracking option's configuration of a belt as a mechanical unit: its name, counts per metre
+    (a whole number), its base frame (4x4 in the robot's base: at the sync point, x along the travel), the
+    queue tracking distance (sync point to the start window's start, mm), the start window's width, the minimum
+    distance between two queued objects (a sync closer to the last queued one is ignored) and the tracking
+    range's end (mm past the sync point)."""
+
+    name: str
+    counts_per_m: int
+    frame: np.ndarray = field(compare=False)
+    start_mm: float
+    width_mm: float
+    min_gap_mm: float
+    max_mm: float
+
+
+@dataclass
+class TrackingUnit:
+    """The belt as a mechanical unit of the controller (an encoder interface with a sync input at the camera's
+    line): the encoder counts up as the belt travels (|counts per mm| a count each); each part the camera sees
+    is a sync, queued with the count then unless it comes within min_gap_mm of the last queued one. An object
+    is in the queue from its sync until it leaves the start window ([start_mm, start_mm + width_mm] past the
+    sync point), is connected, or dropped. Connected, its position is its travel since its sync by the
+    configured counts per metre (0 with none connected). Records what happened to each part for the judge."""
+
+    settings: UnitSettings
+    belt: Belt
+    parts: list
+    active: bool = False
+    connected: Part | None = None
+    done: set = field(default_factory=set)  # connected (and later dropped) parts' numbers
+    connections: list = field(default_factory=list)  # (seq, t) of each connection
+    drops: list = field(default_factory=list)  # (seq, t)
+    lost_waiting: list = field(default_factory=list)  # (seq, t): lost while the program waited for it
+    _queue: list | None = None
+
+    @property
+    def name(self) -> str:
+        return self.settings.name
+
+    def board(self, t: float) -> int:
+        return math.floor(abs(self.belt.counts_per_mm) * self.belt.travel_mm(t))
+
+    def queued(self) -> list:
+        """The parts whose sync the unit took (oldest first), and each one's count then."""
+        if self._queue is None:
+            out, last = [], None
+            per_mm = self.settings.counts_per_m / 1000.0
+            for part in sorted(self.parts, key=lambda p: p.seen_s):
+                count = self.board(part.seen_s)
+                if last is None or (count - last) / per_mm >= self.settings.min_gap_mm:
+                    out.append((part, count))
+                    last = count
+            self._queue = out
+        return self._queue
+
+    def ignored(self) -> set:
+        """The numbers of the parts whose sync came too close to the last queued one."""
+        taken = {p.seq for p, _ in self.queued()}
+        return {p.seq for p in self.parts if p.seq not in taken}
+
+    def position_of(self, count: int, t: float) -> float:
+        return (self.board(t) - count) / (self.settings.counts_per_m / 1000.0)
+
+    def _time_at(self, count: int, position_mm: float) -> float:
+        """When an object synced at `count` has travelled position_mm by the unit's reckoning."""
+        counts = math.ceil(position_mm * self.settings.counts_per_m / 1000.0) + count
+        return self.belt.time_at(counts / abs(self.belt.counts_per_mm))
+
+    def position_mm(self, t: float) -> float:
+        if self.connected is None:
+            return 0.0
+        count = next(c for p, c in self.queued() if p is self.connected)
+        return self.position_of(count, t)
+
+    def connect(self, t: float, rel_mm: float = 0.0) -> tuple[int | None, float, bool]:
+        """WaitWObj at t: the oldest object still in the queue, connected once it is inside the start window (and
+        rel_mm past the sync point): (its part's number, when, True); (number, when, False): it left the start
+        window first (lost); (None, inf, False): no object will come."""
+        end = self.settings.start_mm + self.settings.width_mm
+        for part, count in self.queued():
+            if part.seq in self.done or self._time_at(count, end) <= max(t, part.seen_s):
+                continue  # connected before, or out of the start window already (dropped from the queue)
+            due = max(t, part.seen_s, self._time_at(count, max(self.settings.start_mm, rel_mm)))
+            if rel_mm > end:
+                lost = max(t, self._time_at(count, end))
+                self.done.add(part.seq)
+                self.lost_waiting.append((part.seq, lost))
+                return part.seq, lost, False
+            self.connected = part
+            self.done.add(part.seq)
+            self.connections.append((part.seq, due))
+            return part.seq, due, True
+        return None, math.inf, False
+
+    def drop(self, t: float) -> None:
+        if self.connected is not None:
+            self.drops.append((self.connected.seq, t))
+        self.connected = None
+
+
 @dataclass
 class BeltLine:
     """The belt, its camera and the PLC's part queue beside the controller, a device of Program.run.
@@ -109,6 +213,9 @@ class BeltLine:
     robot_zero: int = 0  # where the controller's own encoder counts from, against the PLC's counter
     wiring: tuple[int, int] | None = None  # the inputs the encoder's A and B are wired to (None: as the program says)
     taken: dict = field(default_factory=dict)
+    unit: TrackingUnit | None = None  # the belt as the controller's mechanical unit (its tracking option)
+    latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus)
+    trigger: str | None = None  # the controller's input the camera's trigger is wired to (a pulse per part)
     _presented: int = 0
     _stopped: bool = False
 
@@ -122,8 +229,14 @@ class BeltLine:
             return RobotEncoder(self.belt, self.robot_zero, -1)
         return RobotEncoder(self.belt, self.robot_zero, 0)
 
+    def mechanical_unit(self, name: str) -> TrackingUnit | None:
+        """The belt as the controller's mechanical unit of this name, where its tracking option is configured."""
+        return self.unit if self.unit is not None and self.unit.name.upper() == name.upper() else None
+
     def live(self, name: str, t: float):
-        return self.bus.live(self.belt, name, t)
+        if name == self.trigger:  # on for TRIGGER_S from each part's moment at the camera's line
+            return any(part.seen_s <= t < part.seen_s + TRIGGER_S for part in self.parts)
+        return self.bus.live(self.belt, name, max(0.0, t - self.latency_s))
 
     def _next(self):
         return self.parts[self._presented] if self._presented < len(self.parts) else None

@@ -11,6 +11,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect
+from codegen.dialects.core.trace import halt_text
 from codegen.verify.plan import TOOL_LOAD, Expectation
 
 # Tolerances from the numeric model: a float32 controller over a +-2,000 mm workspace stores positions with a
@@ -88,9 +89,9 @@ class Checker:
             if not trace.halted:
                 return f"expected a stop ({expected.halt!r}), the program did not stop ({len(trace.moves)} moves)"
             if trace.halt_message != expected.halt:
-                return f"stop message {trace.halt_message!r}, expected {expected.halt!r}"
+                return f"stop message {halt_text(trace)!r}, expected {expected.halt!r}"
         elif trace.halted:
-            return f"unexpected stop: {trace.halt_message!r}"
+            return f"unexpected stop: {halt_text(trace)!r}"
         return None
 
     # --- the moves -----------------------------------------------------------------------------

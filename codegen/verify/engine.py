@@ -8,8 +8,8 @@ import time
 from dataclasses import dataclass, replace
 from pathlib import Path
 
-from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.protocol import get_kind, kinds
+from codegen.verify.edits import edits
 from codegen.verify.programs import ProgramSource, file_sources, fresh_sources
 from codegen.verify.report import Report, Row
 from codegen.verify.runner import ONE_PROGRAM_FROM, run_tasks
@@ -26,11 +26,12 @@ class Options:
     cases: int = 1000
     seed: int = 0
     jobs: int = 0
-    step_limit: int = DEFAULT_STEP_LIMIT
+    step_limit: int | None = None  # None: each kind's own (Setup.step_limit), else the interpreter's default
     progress: object = None
     first_mismatch: bool = False  # a program's cases stop at its first mismatch (a yes-or-no answer, fast)
     sweeps: bool = True  # the kinds' bulk runs too
     scenarios: frozenset[str] | None = None  # only the cases of these scenarios (None: every case)
+    keep_replays: bool = False  # each row keeps its worst case's and first mismatch's run (report.Replay: the page)
 
 
 def verify_cell(cell, files=(), targets=(), options: Options | None = None) -> Report:
@@ -51,6 +52,10 @@ def verify_cell(cell, files=(), targets=(), options: Options | None = None) -> R
         sources = _fresh(cell, names)
     start = time.perf_counter()
     rows, workers = verify_sources(cell, sources, options)
+    if files:  # what a hand edit changes, beside the program the cell generates
+        numbers = sorted({s.row for s in sources})
+        for row, lines in edits(cell, sources, options.step_limit, options.seed).items():
+            rows[numbers.index(row)].edits = lines
     return Report(cell.name, rows, options.seed, options.cases, time.perf_counter() - start, workers, warnings)
 
 
@@ -92,8 +97,8 @@ def _rows(sources: list[ProgramSource]) -> list[Row]:
 
 
 def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
-    """(cell, source, cases or a bulk range, step limit, first mismatch) tasks; for a large cell each source's tasks
-    pinned to one worker (the workers sharing a program would each load it)."""
+    """(cell, source, cases or a bulk range, step limit, first mismatch, keep replays) tasks; for a large cell each
+    source's tasks pinned to one worker (the workers sharing a program would each load it)."""
     tasks, owner = [], []
     for source in sources:
         kind = get_kind(source.kind)
@@ -104,10 +109,10 @@ def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
         chunk = max(1, min(CHUNK_CASES, -(-len(cases) // max(4, 2 * workers))))
         if options.first_mismatch:  # one answer per program: its cases in one run, stopped at the first mismatch
             chunk = max(1, len(cases))
-        limit, first = options.step_limit, options.first_mismatch
-        own = [(cell, source, cases[i : i + chunk], limit, first) for i in range(0, len(cases), chunk)]
+        limit, first, keep = options.step_limit, options.first_mismatch, options.keep_replays
+        own = [(cell, source, cases[i : i + chunk], limit, first, keep) for i in range(0, len(cases), chunk)]
         if options.sweeps:
-            own += [(cell, source, ids, limit, first) for ids in kind.sweeps(model, source, workers)]
+            own += [(cell, source, ids, limit, first, keep) for ids in kind.sweeps(model, source, workers)]
         tasks += own
         owner += [source.row] * len(own)
     large = len(cell.stations) >= ONE_PROGRAM_FROM and len(sources) > 1

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.emit import Emitter
 from codegen.guard import NOT_AT_HOME, halt_message
 
@@ -50,13 +51,14 @@ class Setup:
     step_limit: int | None = None
     signal_cycle_s: float | None = None
 
-    def run_options(self, arm, default_step_limit: int) -> dict:
+    def run_options(self, arm, step_limit: int | None) -> dict:
+        """Program.run's keywords; the step limit asked (verify --step-limit) wins over the kind's own."""
         options = {
             "devices": self.devices,
             "signals": self.signals,
             "start_joints": self.start_joints,
             "keep": self.keep,
-            "step_limit": self.step_limit or default_step_limit,
+            "step_limit": step_limit or self.step_limit or DEFAULT_STEP_LIMIT,
             "arm": arm,
         }
         if self.signal_cycle_s is not None:

@@ -15,6 +15,21 @@ FIRST_MISMATCHES = 10  # how many mismatches a row names
 
 
 @dataclass
+class Replay:
+    """A case a row keeps for the report page (Options.keep_replays): the report's words for it, its largest position
+    (mm) and rotation (deg) error, where the arm started (deg), the trace, the reference's poses of the expectation it
+    was compared with (4x4 mm each, None where the plan leaves a pose to the kind) and its mismatch (None: passed)."""
+
+    what: str
+    pos_max: float
+    rot_max: float
+    start_joints: object
+    trace: object
+    reference: list | None
+    problem: str | None = None
+
+
+@dataclass
 class Row:
     """One program's results: its kind, target, name and files, the counts, every compared move's errors
     (8 bytes each), the first mismatches, the time spent running (one core), the arm's least margins and the
@@ -38,11 +53,24 @@ class Row:
     scenarios: dict[str, int] = field(default_factory=dict)
     arm: ArmStats = field(default_factory=ArmStats)
     figures: object = None
+    edits: list[str] = field(default_factory=list)  # a given program's changes against the generated one (edits.py)
+    worst: Replay | None = None  # kept when asked: the passing case with the largest position error
+    failed: Replay | None = None  # kept when asked: a mismatching case (the first of its chunk)
 
-    def mismatch(self, text: str) -> None:
+    alike: dict[str, int] = field(default_factory=dict)  # a shown mismatch's problem -> further cases with it
+
+    def mismatch(self, text: str, problem: str | None = None) -> None:
+        """One case's mismatch: shown (the first FIRST_MISMATCHES problems, each once), or counted with the shown
+        one of the same problem (`problem`: the text without the case, default the whole text)."""
         self.mismatches += 1
-        if len(self.first_mismatches) < FIRST_MISMATCHES:
+        self._show(text, problem or text, 1)
+
+    def _show(self, text: str, problem: str, count: int) -> None:
+        if problem in self.alike:
+            self.alike[problem] += count
+        elif len(self.first_mismatches) < FIRST_MISMATCHES:
             self.first_mismatches.append(text)
+            self.alike[problem] = count - 1
 
     def merge(self, part: Row) -> None:
         self.cases += part.cases
@@ -53,12 +81,18 @@ class Row:
         self.swept += part.swept
         self.pos_errors.extend(part.pos_errors)
         self.rot_errors.extend(part.rot_errors)
-        self.first_mismatches.extend(part.first_mismatches[: FIRST_MISMATCHES - len(self.first_mismatches)])
+        problems = {text: problem for problem, text in zip(part.alike, part.first_mismatches, strict=True)}
+        for text in part.first_mismatches:
+            self._show(text, problems[text], part.alike[problems[text]] + 1)
         self.seconds += part.seconds
         self.arm.merge(part.arm)
         for mine, theirs in ((self.categories, part.categories), (self.scenarios, part.scenarios)):
             for key, count in theirs.items():
                 mine[key] = mine.get(key, 0) + count
+        if part.worst is not None and (self.worst is None or part.worst.pos_max > self.worst.pos_max):
+            self.worst = part.worst
+        if self.failed is None:
+            self.failed = part.failed
         kind = get_kind(self.kind)
         if part.figures is not None:
             if self.figures is None:
@@ -96,6 +130,8 @@ class Row:
             out["arm"] = self.arm.summary()
         out.update(get_kind(self.kind).summary(self))
         out["first_mismatches"] = self.first_mismatches
+        out["mismatches_alike"] = [self.alike[p] for p in self.alike]  # per first mismatch: further cases alike
+        out["edits"] = self.edits
         return out
 
 
@@ -149,7 +185,9 @@ class Report:
             )
             if len({Path(f).name for f in row.files}) and any(not f.startswith("<fresh>") for f in row.files):
                 out.append(f"  files: {', '.join(row.files)}")
-            out.extend(f"  MISMATCH {line}" for line in row.first_mismatches)
+            out.extend(f"  {line}" for line in row.edits)
+            for line, alike in zip(row.first_mismatches, row.alike.values(), strict=True):
+                out.append(f"  MISMATCH {line}" + (f" (and {alike} more cases alike)" if alike else ""))
         kinds = list(dict.fromkeys(row.kind for row in self.rows))
         for kind in kinds:
             out.extend(get_kind(kind).report_lines([row for row in self.rows if row.kind == kind]))

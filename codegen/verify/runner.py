@@ -7,11 +7,11 @@ import multiprocessing
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-from codegen.dialects.core.machine import frozen_heap
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.protocol import get_kind
 from codegen.verify.checks import Checker
-from codegen.verify.report import Row
+from codegen.verify.report import Replay, Row
 
 _LOADED: dict = {}  # source -> program, in a worker (each program parsed once per process)
 ONE_PROGRAM_FROM = 300  # stations: from here a worker holds one program at a time (a large cell's memory)
@@ -27,9 +27,9 @@ def _program(source, large: bool):
 
 
 def run_chunk(task) -> tuple[int, Row]:
-    """One task: (cell, source, cases or a bulk range, step limit, stop at the first mismatch). Returns (the
-    source's row, the partial row)."""
-    cell, source, work, step_limit, first = task
+    """One task: (cell, source, cases or a bulk range, step limit, stop at the first mismatch, keep the worst case's
+    and the first mismatch's run). Returns (the source's row, the partial row)."""
+    cell, source, work, step_limit, first, keep = task
     model = source.model or cell
     kind = get_kind(source.kind)
     row = Row(source.kind, source.target, source.ident, list(source.origin))
@@ -37,19 +37,21 @@ def run_chunk(task) -> tuple[int, Row]:
     start = time.perf_counter()
     with frozen_heap():
         if isinstance(work, range):
-            kind.sweep(model, source, program, work, step_limit, row)
+            kind.sweep(model, source, program, work, step_limit or DEFAULT_STEP_LIMIT, row)
         else:
-            _run_cases(model, kind, source, program, work, step_limit, row, first)
+            _run_cases(model, kind, source, program, work, step_limit, row, first, keep)
             row.seconds = time.perf_counter() - start  # the cases' time alone: cases/s is one program on one core
     return source.row, row
 
 
 def run_cases(cell, source, cases: list, step_limit: int, first: bool = False) -> Row:
     """A program's row for the given cases of its kind (in this process)."""
-    return run_chunk((cell, source, cases, step_limit, first))[1]
+    return run_chunk((cell, source, cases, step_limit, first, False))[1]
 
 
-def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: Row, first: bool = False) -> None:
+def _run_cases(
+    model, kind, source, program, cases: list, step_limit: int, row: Row, first: bool = False, keep: bool = False
+) -> None:
     checker = Checker(model, source.target)
     arm = checker.arm
     prefixes = kind.log_prefixes_of(model)
@@ -59,7 +61,7 @@ def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: 
         scenario = kind.scenario_of(case)
         row.scenarios[scenario] = row.scenarios.get(scenario, 0) + 1
         runaway = False
-        pos, rot, figures, trace = [], [], None, None
+        pos, rot, figures, trace, setup, expected = [], [], None, None, None, None
         try:
             setup = kind.setup(model, source, case)
             trace = program.run(setup.inputs, **setup.run_options(arm, step_limit))
@@ -74,6 +76,7 @@ def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: 
             if problem is None and not judgement.accepted:
                 problem = "the kind expects nothing of this case"
             if problem is None:
+                problems = []
                 for expected in judgement.accepted:
                     problem, pos, rot = checker.check(expected, trace, prefixes)
                     if problem is None:
@@ -81,8 +84,13 @@ def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: 
                         figures = judgement.figures
                         pos, rot = [*pos, *judgement.errors[0]], [*rot, *judgement.errors[1]]
                         break
+                    problems.append(((expected.halt is not None) != trace.halted, problem, pos, rot, expected))
+                else:  # none accepted: the difference from the expectation that stops (or goes on) as the run did
+                    _, problem, pos, rot, expected = min(problems, key=lambda p: p[0])
             if problem is None and judgement.truth is not None:
                 problem = judgement.truth
+            if expected is None and judgement.accepted:
+                expected = judgement.accepted[0]
         row.pos_errors.extend(pos)
         row.rot_errors.extend(rot)
         if problem is None:
@@ -93,9 +101,32 @@ def _run_cases(model, kind, source, program, cases: list, step_limit: int, row: 
                     row.figures = kind.new_figures()
                 kind.add_figures(row.figures, case, figures)
         else:
-            row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}".replace("  ", " "))
+            row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}".replace("  ", " "), problem)
+        if keep:
+            _keep(row, kind, model, case, setup, trace, expected, pos, rot, problem)
         if runaway or (first and problem is not None):
             break
+
+
+def _keep(row: Row, kind, model, case, setup, trace, expected, pos, rot, problem) -> None:
+    """The case as a Replay where it is the row's worst so far (the largest position error of a passing case) or its
+    first mismatch."""
+    worst = problem is None and bool(pos) and (row.worst is None or max(pos) > row.worst.pos_max)
+    if not worst and (problem is None or row.failed is not None):
+        return
+    replay = Replay(
+        f"{case.category} {kind.describe(model, case)}".strip(),
+        max(pos, default=0.0),
+        max(rot, default=0.0),
+        None if setup is None else setup.start_joints,
+        trace,
+        None if expected is None else [m.tcp2base for m in expected.moves],
+        problem,
+    )
+    if worst:
+        row.worst = replay
+    else:
+        row.failed = replay
 
 
 def run_tasks(tasks: list, rows: list[Row], jobs: int, progress=None, pinned: list[int] | None = None) -> None:

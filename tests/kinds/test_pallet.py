@@ -346,3 +346,34 @@ def test_the_printed_box_position_is_the_pose_product():
         )
         want = (frame @ p.target)[:2, 3]
         assert [got["box_px"], got["box_py"]] == pytest.approx(want, abs=1e-9)
+
+
+def test_svg_files_replace_a_symlink_without_writing_through_it(tmp_path):
+    """A symlink named like a layer's picture: the picture replaces the link, the file it named is untouched."""
+    mine = tmp_path / "mine.txt"
+    mine.write_text("mine")
+    folder = tmp_path / "svg"
+    folder.mkdir()
+    (folder / "testmat_layer01.svg").symlink_to(mine)
+    result = CliRunner().invoke(main, ["pallet", "--svg", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert mine.read_text() == "mine"
+    layer = folder / "testmat_layer01.svg"
+    assert not layer.is_symlink() and layer.read_text().startswith("<svg")
+    assert sorted(p.name for p in folder.iterdir()) == [f"testmat_layer{n:02d}.svg" for n in range(1, 6)]
+
+
+@pytest.mark.parametrize("blocked", ["folder is a file", "picture is a folder"])
+def test_svg_into_a_place_that_cannot_take_it_gets_one_message(tmp_path, blocked):
+    folder = tmp_path / "svg"
+    if blocked == "folder is a file":
+        folder.write_text("mine")
+        where = folder / "sub"
+    else:
+        (folder / "testmat_layer02.svg").mkdir(parents=True)
+        where = folder
+    result = CliRunner().invoke(main, ["pallet", "--svg", str(where)])
+    assert result.exit_code == 2 and "Traceback" not in result.output, result.output
+    errors = [line for line in result.output.splitlines() if line.startswith("Error")]
+    assert len(errors) == 1 and "cannot write the pictures" in errors[0], result.output
+    assert not list(tmp_path.rglob("*.tmp"))

@@ -107,6 +107,10 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
             else:
                 machine.globals[key] = self.coerce(machine.global_types.get(key), value, name)
 
+    def kept(self, machine: Machine, name: str):
+        """A name's value when the run ended (Program.run keep): a global variable or a written output."""
+        return machine.globals.get(self.norm(name), machine.outputs.get(name))
+
     def accepts_input(self, name: str, globals_: dict) -> bool:
         """Whether an injected input names something the program has (a global variable, or an element
         of a global array within its bounds)."""
@@ -130,11 +134,6 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
 
     def element_type(self, type_name):
         return type_name
-
-    def kept_value(self, machine: Machine, name: str):
-        """What a kept name (Program.run keep=...) holds when the run ends: a global of the program, else an
-        output the run wrote (None: neither)."""
-        return machine.globals.get(self.norm(name), machine.outputs.get(name))
 
     # --- variables by name, for devices (Machine.read_variable / write_variable) ---------------
     def device_read(self, machine: Machine, name: str):

@@ -82,6 +82,8 @@ class ProgramCode(Protocol):
 
     def accepts_input(self, name: str, globals_: dict) -> bool: ...
 
+    def kept(self, machine: Machine, name: str): ...
+
     def call_routine(self, fr: Frame, name: str, args: list, kwargs: dict, where: str, arg_setters=None): ...
 
     def device_read(self, machine: Machine, name: str): ...
@@ -472,7 +474,7 @@ class Program:
         trace.steps = machine.steps
         trace.clock = machine.clock
         for name in keep:
-            machine.trace.kept[name] = self.compiler.kept_value(machine, name)
+            machine.trace.kept[name] = self.compiler.kept(machine, name)
         return machine.trace
 
     @staticmethod

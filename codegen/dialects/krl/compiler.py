@@ -99,6 +99,16 @@ class KRLCompiler(
             return 1 <= int(match.group(2)) <= SYSTEM_ARRAYS[match.group(1)][1]
         return name.upper() == "$ROBROOT" or super().accepts_input(name, globals_)
 
+    def kept(self, machine, name: str):
+        """As the base class; BASE_DATA[n], TOOL_DATA[n], LOAD_DATA[n]: the controller's numbered data (what a
+        program wrote into $config.dat, or the value it was given)."""
+        match = SYSTEM_ARRAY.fullmatch(name.upper())
+        if match is None:
+            return super().kept(machine, name)
+        values = machine.extra.get(match.group(1))
+        index = int(match.group(2))
+        return values[index - 1] if values is not None and 1 <= index <= len(values) else None
+
     def inject_inputs(self, machine) -> None:
         """BASE_DATA[n]=x,y,z,a,b,c, TOOL_DATA[n]=x,y,z,a,b,c and LOAD_DATA[n]=m,x,y,z (mass kg, centre of
         gravity mm) set the controller's numbered bases, tools and loads, as $config.dat holds them."""
@@ -111,15 +121,6 @@ class KRLCompiler(
             super().inject_inputs(machine)
         finally:
             machine.inputs = original
-
-    def kept_value(self, machine, name: str):
-        """A kept name: the controller's numbered data (TOOL_DATA[n]: what a program wrote into $config.dat, or
-        the value it was given) as well as the program's globals."""
-        match = SYSTEM_ARRAY.fullmatch(name.upper())
-        if match is None:
-            return super().kept_value(machine, name)
-        values, index = machine.extra.get(match.group(1)), int(match.group(2))
-        return values[index - 1] if values is not None and 1 <= index <= len(values) else None
 
     def stmt(self, node):
         """A statement compiled; for codegen check, a statement that does not compile is a finding and the

@@ -1,7 +1,8 @@
 """RAPID (ABB): printer, grammar and interpreter; a program is the modules of one task.
 
 MoveEvent.settings of a RAPID move: "speed", "zone", "tool" (a predefined datum's name in upper case, e.g. "V100",
-"FINE", "TOOL0", else "custom"), "load" (mass kg, cog x, y, z mm of the move's tooldata; None for tool0),
+"FINE", "TOOL0", else "custom"), "load" (mass kg, cog x, y, z mm at the flange: the move's tooldata's, with the payload
+of a GripLoad in force; None for tool0),
 "tcp_mm_s" (the programmed TCP speed), "zone_mm" (the zone's pzone_tcp, 0 at a stop point), "circle_point"
 (MoveC); and from the instruction on, on every later move (codegen/dialects/rapid/motionset.py): "accset" {"acc",
 "ramp", "line"}, "velset" {"override", "max", "line"}, "singarea" {"mode", "line"}, "confj" / "confl" {"on",

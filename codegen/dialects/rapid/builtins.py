@@ -9,7 +9,7 @@ import numpy as np
 from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent, halt, pause
 from codegen.dialects.core.values import Record, RunError, f32
-from codegen.dialects.rapid import motionset
+from codegen.dialects.rapid import motionset, tracking
 from codegen.dialects.rapid.messages import err_write
 from codegen.dialects.rapid.motion import (
     ACTIVE_KEY,
@@ -125,6 +125,11 @@ def builtins(compiler) -> dict:
     def move(kind):
         def run(fr, args, kwargs, where):
             no_motion_in_trap(fr, where, "MoveJ" if kind == "joint" else "MoveL")
+            moving = tracking.coordinated(compiler, kwargs.get("WOBJ"), where)
+            if moving is not None:  # a work object a conveyor moves (codegen/dialects/rapid/tracking.py)
+                tracking.move(compiler, fr, kind, moving, args, kwargs, where)
+                return
+            tracking.leave(fr)
             timing = move_timing(args, kwargs, where)
             m, target = target_pose(compiler, args[0], kwargs.get("WOBJ"), where)
             event = move_event(fr, kind, m, target, args, timing, where, wobj=kwargs.get("WOBJ"))
@@ -193,6 +198,7 @@ def builtins(compiler) -> dict:
             target = compiler.coerce("JOINTTARGET", target, where)
         q = vec(target["ROBAX"], tuple(f"RAX_{i}" for i in range(1, 7)))
         posemath.check_finite(q, where, "joint target")
+        tracking.leave(fr)
         speed, zone, tool = (move_setting(args, i) for i in (1, 2, 3))
         settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
         make_active(fr, args, kwargs.get("WOBJ"))

@@ -12,7 +12,18 @@ from codegen.dialects.core.files import Finding
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Inline, Src, indent
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
-from codegen.dialects.rapid import dataops, errors, interrupts, messages, motionset, pendant, search, signals, waits
+from codegen.dialects.rapid import (
+    dataops,
+    errors,
+    interrupts,
+    messages,
+    motionset,
+    pendant,
+    search,
+    signals,
+    tracking,
+    waits,
+)
 from codegen.dialects.rapid.builtins import builtins
 from codegen.dialects.rapid.calls import ABSENT, Calls
 from codegen.dialects.rapid.coercion import Coercions
@@ -105,7 +116,7 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        return {**FUNCTIONS, **builtins(self), **pendant.BUILTINS, **motionset.BUILTINS}
+        return {**FUNCTIONS, **builtins(self), **pendant.BUILTINS, **motionset.BUILTINS, **tracking.builtins(self)}
 
     def e_number(self, node):
         text = str(node.children[0])

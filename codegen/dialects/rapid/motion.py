@@ -35,7 +35,21 @@ def move_load(fr, args, where: str) -> tuple | None:
     mass = float(load["MASS"])
     if not mass > 0:
         raise RunError(f"{where}: a tool the robot holds must have a mass above 0 kg (tooldata tload)")
-    return (mass, *vec(load["COG"], "XYZ"))
+    return with_payload(fr.m, mass, vec(load["COG"], "XYZ"))
+
+
+NO_PAYLOAD_KG = 0.001  # load0's mass: GripLoad load0 (or as light) leaves no payload
+
+
+def with_payload(machine, mass: float, cog: list) -> tuple:
+    """The load at the flange: the tool's (centre of gravity in the wrist frame) with the payload GripLoad put in
+    force (its centre of gravity in the tool frame: RAPID Reference Manual, loaddata), as one mass and centre."""
+    grip = (motionset.current(machine) or {}).get("gripload")
+    if grip is None or grip["mass"] <= NO_PAYLOAD_KG * (1.0 + 1e-6):  # load0 as a float32 num holds it
+        return (mass, *cog)
+    part = machine.arm.tcp2flange @ np.array([*grip["cog"], 1.0])
+    total = mass + grip["mass"]
+    return (total, *((mass * np.asarray(cog) + grip["mass"] * part[:3]) / total).tolist())
 
 
 TRAP_KEY = "<trap>"  # Machine.extra: the TRAP routine running now (codegen/dialects/rapid/interrupts.py)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass
 from itertools import pairwise
@@ -10,14 +9,17 @@ from pathlib import Path
 
 import numpy as np
 
+from codegen.csvfile import CsvError, number, read_rows, whole
 from codegen.kinds.conveyor.section import belt2base, conveyor_of
-from codegen.model.cell import CellError, load_cell, replace_cell_file
+from codegen.model.cell import CellError, load_cell, read_cell_data, replace_cell_file
+from codegen.robot.taught import ReachError
 
 ROLES = ("belt", "side")
 MIN_TOUCHES = 2
 SPAN_SHARE = 0.5  # source 002: the touches span at least half (better three quarters) of the working length
 MAX_RESIDUAL_MM = 0.5  # a touch further than this from the fitted line: a slipped cone or a misread count
 POSITION_LIMIT_MM = 10_000.0
+COUNT_MIN, COUNT_MAX = -(2**63), 2**64 - 1  # a counter value: signed or unsigned, at most 64 bits
 MIN_SPAN_MM = 10.0  # touches closer than this along the belt: no direction and no scale
 
 
@@ -37,33 +39,22 @@ def read_touches(path: Path) -> list[Touch]:
     """Rows of a CSV with header x,y,z,count[,role] (mm in the base frame, the raw counter value), in
     the order the cone was touched as the belt carried it (upstream first)."""
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConveyorCalibrationError(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
-    rows = list(csv.reader(text.splitlines()))
-    if not rows:
-        raise ConveyorCalibrationError(f"{path}: empty file; expected a header x,y,z,count[,role]")
-    header = [h.strip().lower() for h in rows[0]]
-    if header[:4] != ["x", "y", "z", "count"] or header[4:] not in ([], ["role"]):
-        raise ConveyorCalibrationError(
-            f"{path}:1: header must be x,y,z,count or x,y,z,count,role, got {','.join(rows[0])}"
-        )
+        _header, rows = read_rows(path, (("x", "y", "z", "count"), ("x", "y", "z", "count", "role")))
+    except CsvError as exc:
+        raise ConveyorCalibrationError(str(exc)) from None
     out = []
-    for line, row in enumerate(rows[1:], start=2):
-        if not row or all(not cell.strip() for cell in row):
-            continue
-        if len(row) != len(header):
-            raise ConveyorCalibrationError(f"{path}:{line}: expected {len(header)} values, got {len(row)}")
+    for row in rows:
+        line = row.line
         try:
-            position = [float(v) for v in row[:3]]
-            count = int(row[3].strip())
+            position = [number(v) for v in row.cells[:3]]
+            count = whole(row.cells[3])
         except ValueError:
             raise ConveyorCalibrationError(f"{path}:{line}: x, y, z must be numbers and count a whole number") from None
-        if not all(math.isfinite(v) and abs(v) <= POSITION_LIMIT_MM for v in position):
+        if not all(abs(v) <= POSITION_LIMIT_MM for v in position):
             raise ConveyorCalibrationError(f"{path}:{line}: positions must be finite, within +-10,000 mm")
-        if not -(2**63) <= count < 2**64:
+        if not COUNT_MIN <= count <= COUNT_MAX:
             raise ConveyorCalibrationError(f"{path}:{line}: count out of range")
-        role = row[4].strip().lower() if len(row) > 4 else "belt"
+        role = row.cells[4].strip().lower() if len(row.cells) > 4 else "belt"
         if role not in ROLES:
             raise ConveyorCalibrationError(f"{path}:{line}: role must be belt or side, got {role!r}")
         out.append(Touch(line, role, np.array(position), count))
@@ -249,7 +240,8 @@ def report_lines(result: ConveyorFit, path: Path) -> list[str]:
 
 def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_length_mm: float | None) -> None:
     """Replace (or add) the cell's [conveyor] table, keeping a camera offset this calibration did not
-    measure; the comments before the next table stay; the edited file must load before it replaces the old."""
+    measure; the comments before the next table stay; the edited file must load and pass every kind's reach
+    proof (a belt's window, ...) before it replaces the old one (its mode and a symlink kept)."""
 
     previous = conveyor_of(load_cell(cell_path))
     camera = result.camera_offset_mm
@@ -270,16 +262,19 @@ def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_len
     if working_length_mm is not None:
         lines.append(f"working_length_mm = {working_length_mm:.12g}")
     table = "\n".join(lines) + "\n"
-    try:
-        text = cell_path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ConveyorCalibrationError(f"{cell_path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
+    text = read_cell_data(cell_path)[1].decode("utf-8")  # CellError: the command's message
     start, end = _table_span(text, "conveyor")
     new = text[:start] + table + text[end:] if start is not None else text.rstrip("\n") + "\n\n" + table
     try:
         replace_cell_file(cell_path, new)
     except CellError as exc:
         raise ConveyorCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
+    except ReachError as exc:
+        raise ConveyorCalibrationError(f"{cell_path}: with this belt the cell would not generate: {exc}") from None
+    except OSError as exc:
+        raise ConveyorCalibrationError(
+            f"{cell_path}: cannot write: {exc.strerror or exc}; the file was left as it was"
+        ) from None
 
 
 def _table_span(text: str, name: str) -> tuple[int | None, int]:

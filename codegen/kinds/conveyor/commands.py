@@ -6,10 +6,12 @@ from pathlib import Path
 
 import click
 
-from codegen.cli_base import UserError
+from codegen.cli_base import Number, UserError
 from codegen.cli_base import dump as _dump
 from codegen.kinds.conveyor import calibrate as cc
 from codegen.model.cell import CellError
+
+WORKING_LENGTH_MAX_MM = 100_000.0  # what the cell's [conveyor] working_length_mm takes
 
 
 @click.command("conveyor")
@@ -20,15 +22,21 @@ from codegen.model.cell import CellError
     default=None,
     help="The encoder counter's width, for its rollover (default: the cell's [conveyor], else 32).",
 )
-@click.option("--working-length", type=click.FloatRange(min=1.0), help="The belt's working length (mm): the span rule.")
 @click.option(
-    "--camera-counts", help="L3,L4: the counts when the block passed the camera and when it stood at the origin."
+    "--working-length",
+    type=Number(1.0, WORKING_LENGTH_MAX_MM),
+    help="The belt's working length (mm): the span rule.",
+)
+@click.option(
+    "--camera-counts",
+    type=Number(cc.COUNT_MIN, cc.COUNT_MAX, integer=True, count=2),
+    help="L3,L4: the counts when the block passed the camera and when it stood at the origin.",
 )
 @click.option("--force", is_flag=True, help="Accept touches that span less than half the working length (a warning).")
 @click.option(
     "--max-residual",
-    type=click.FloatRange(min=0.001),
-    default=0.5,
+    type=Number(0.001, cc.POSITION_LIMIT_MM),
+    default=cc.MAX_RESIDUAL_MM,
     show_default=True,
     help="Refuse a touch further from the fitted line (mm).",
 )
@@ -49,14 +57,7 @@ def calibrate_conveyor(touches, counter_bits, working_length, camera_counts, for
         cell_bits, cell_length = cc.cell_settings(Path(cell_path) if cell_path else None)
         bits = int(counter_bits) if counter_bits else (cell_bits or 32)
         length = working_length if working_length is not None else cell_length
-        camera = None
-        if camera_counts is not None:
-            try:
-                l3, l4 = (int(v) for v in camera_counts.split(","))
-            except ValueError:
-                raise UserError(f"--camera-counts {camera_counts}: expected two whole counts L3,L4") from None
-            camera = (l3, l4)
-        result = cc.fit(path, cc.read_touches(path), bits, length, camera, force, max_residual)
+        result = cc.fit(path, cc.read_touches(path), bits, length, camera_counts, force, max_residual)
         if cell_path is not None:
             cc.write_to_cell(Path(cell_path), result, path.name, length)
     except (cc.ConveyorCalibrationError, CellError) as exc:

@@ -6,7 +6,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
-from codegen.kinds.conveyor.program import SKIPPED, STOPPED, TOO_LATE, lead_seconds
+from codegen.kinds.conveyor.program import EARLY, LOST, SKIPPED, STOPPED, TOO_CLOSE, TOO_LATE, lead_seconds
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.sim.belt import part_pose, part_y
@@ -14,16 +14,26 @@ from codegen.sim.bus import SCALE
 from codegen.verify.checks import TOLERANCES
 from codegen.verify.checks import pose_errors as _pose_errors
 
+SKIPS = (SKIPPED, TOO_LATE, TOO_CLOSE, LOST, EARLY)  # the messages of a part given up
+
 
 def tolerances_mm(cell, target) -> tuple[float, float]:
     """(along the belt, across it and in height): what the program can know of a part's place. Along:
     tracking knows the belt's travel in whole counts, once where tracking starts and once in the tracking
-    offset (2 / |E|); an intercept meets the part where it predicts it, within the gripper's capture
-    range (capture_mm, the cell's). Across and in height: x and z as the queue carries them (exact in
-    registers; in 0.1 mm on a 16-bit group: half of that); both plus the controller's float arithmetic."""
+    offset (2 / |E|); a mechanical unit's tracking also scales the travel by its counts per metre, a whole
+    number (its rounding over the tracking range's end); an intercept meets the part where it predicts it,
+    within the gripper's capture range (capture_mm, the cell's). Across and in height: x and z as the queue
+    carries them (exact in registers; in 0.1 mm on a 16-bit group: half of that); both plus the controller's
+    float arithmetic."""
     conveyor, pick = conveyor_of(cell), conveyor_of(cell).pick
     floats = TOLERANCES[target.numbers][0]
-    along = pick.capture_mm if pick.tracking[target.name] == "intercept" else 2.0 / abs(conveyor.counts_per_mm)
+    e = abs(conveyor.counts_per_mm)
+    along = pick.capture_mm if pick.tracking[target.name] == "intercept" else 2.0 / e
+    if target.name in pick.trigger_input:  # the count latched by a thread up to a frame after the trigger
+        along += pick.belt_speed_max_mm_s * facts(target)["trigger"]
+    if target.name in pick.unit:
+        per_m = round(e * 1000.0)
+        along += abs(1.0 - e * 1000.0 / per_m) * (conveyor.camera_offset_mm + pick.window_mm[1] + 1000.0)
     across = 0.0 if facts(target).get("names") else 0.5 / SCALE
     return along + floats, across + floats
 
@@ -35,6 +45,21 @@ def counted_y(cell, case, part, t: float) -> float:
     if delta > 2 ** (bits - 1):
         delta -= 2**bits
     return -conveyor_of(cell).camera_offset_mm + delta / conveyor_of(cell).counts_per_mm
+
+
+def _unit(unit, too_close: dict, lost: dict) -> str | None:
+    """A part given up as too close to the one before only when the unit's queue ignored its sync; as lost only
+    when it left the start window while WaitWObj waited for it."""
+    if unit is None:
+        return None if not too_close and not lost else "a part given up for a mechanical unit's queue, with none"
+    for seq in too_close:
+        if seq not in unit.ignored():
+            return f"part {seq} given up as too close to the one before, yet the unit's queue took it"
+    waited = {seq for seq, _t in unit.lost_waiting}
+    for seq in lost:
+        if seq not in waited:
+            return f"part {seq} given up as lost from the start window, yet it was not"
+    return None
 
 
 def _numbered(trace, prefix: str) -> dict[int, float]:
@@ -103,6 +128,14 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
         return f"parts taken {list(line.taken)}, expected {[p.seq for p in case.parts]} (each once, in order)", 0.0, 0.0
     parts = {p.seq: p for p in case.parts}
     skipped, too_late = _numbered(trace, SKIPPED), _numbered(trace, TOO_LATE)
+    unit = getattr(line, "unit", None)
+    too_close, lost, early = _numbered(trace, TOO_CLOSE), _numbered(trace, LOST), _numbered(trace, EARLY)
+    for seq in early:  # no count of the robot's own: it was seen before the program started
+        if parts[seq].seen_s >= 0.0:
+            return f"part {seq} given up as seen before the program started, yet the camera saw it after", 0, 0
+    problem = _unit(unit, too_close, lost)
+    if problem is not None:
+        return problem, 0.0, 0.0
     for seq, t in skipped.items():
         if counted_y(cell, case, parts[seq], t) <= end - one_count:
             return (
@@ -121,7 +154,8 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
         latest = pick.intercept_mm - lead_seconds(cell) * fastest - pick.capture_mm
         if part_y(case.belt, parts[seq], j.camera_y, t) < latest:
             return f"part {seq} given up as too late, in time for the intercept", 0.0, 0.0
-    picked = [p for p in case.parts if p.seq not in skipped and p.seq not in too_late]
+    given_up = {*skipped, *too_late, *too_close, *lost, *early}
+    picked = [p for p in case.parts if p.seq not in given_up]
     closes = [o for o in trace.outputs if o.name == output and o.value == cell.io.value]
     opens = [o for o in trace.outputs if o.name == output and o.value != cell.io.value][1:]  # after the first
     if len(closes) != len(picked) or len(opens) != len(picked):
@@ -129,9 +163,17 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     for part in picked:
         if counted_y(cell, case, part, line.taken[part.seq]) > end:
             return f"part {part.seq} picked although it was past the window's end when taken", 0.0, 0.0
+    if unit is not None:  # each part picked on the object the unit connected for it
+        connected = [seq for seq, _t in unit.connections]
+        for part, close in zip(picked, closes, strict=True):
+            on = [seq for seq, t in unit.connections if t <= close.time]
+            if not on or on[-1] != part.seq:
+                return f"part {part.seq} gripped while the work object follows part {on[-1] if on else None}", 0, 0
+        if [p.seq for p in picked if p.seq in connected] != [p.seq for p in picked]:
+            return f"parts picked {[p.seq for p in picked]}, the unit connected {connected}", 0.0, 0.0
     # the gripper holds the part grip_s after its output (an intercepting arm stands while the part travels
     # on; a tracking arm follows it, so the moment does not matter there)
-    hold = 0.0 if j.tracking else pick.grip_s
+    hold = 0.0 if j.tracking else case.grip_s
     for part, close, release in zip(picked, closes, opens, strict=True):
         y = part_y(case.belt, part, j.camera_y, close.time + hold)
         if not pick.window_mm[0] - j.along <= y <= end + j.along:

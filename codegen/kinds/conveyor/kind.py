@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
-from codegen.kinds.conveyor import reach, verify
+from codegen.kinds.conveyor import budget, reach, verify
 from codegen.kinds.conveyor.commands import calibrate_conveyor
+from codegen.kinds.conveyor.pick import check_inputs
 from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
+from codegen.kinds.conveyor.scene import objects as scene_objects
 from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
 from codegen.render import program_emitter
@@ -21,6 +23,11 @@ class ConveyorKind(ProgramKind):
         "signals": dict,  # the queue as groups of digital signals (ranges of numbered signals, or named signals)
         "encoder_inputs": list,  # the lowest and highest digital input an encoder's A and B may use
         "tracking": list,  # how the pick program follows the belt: "native", "intercept"
+        "blends": dict,  # per tracking mode, the moves the program blends into the next (plan.py)
+        "unit": str,  # native (ABB): the belt's mechanical unit unless the cell names another
+        "units": list,  # native (ABB): the mechanical units a cell may name for its belt
+        "unit_signals": dict,  # native (ABB): the tracking option's signals the program uses
+        "trigger": float,  # native (UR): the frame (s) a thread latches the robot's own encoder at the trigger in
     }
 
     @classmethod
@@ -36,6 +43,9 @@ class ConveyorKind(ProgramKind):
         conveyor = conveyor_of(cell)
         if conveyor is not None and conveyor.pick is not None and (cell.io is None or not cell.io.feedback):
             ctx.fail("cell.io", "a cell with [conveyor.pick] needs [cell.io] with feedback: the gripper and its sensor")
+        if conveyor is not None and conveyor.pick is not None:
+            check_inputs(ctx, conveyor.pick, cell.io.feedback)
+        budget.check(ctx, cell)
 
     @classmethod
     def programs(cls, cell, target) -> list[ProgramPlan]:
@@ -96,6 +106,10 @@ class ConveyorKind(ProgramKind):
     @classmethod
     def report_lines(cls, rows: list) -> list[str]:
         return verify.report_lines(rows)
+
+    @classmethod
+    def scene(cls, cell) -> list[dict]:
+        return [] if cls.section(cell) is None else scene_objects(cell, cls.section(cell))
 
     @classmethod
     def commands(cls) -> list:

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
+from codegen.model.io import per_target
+from codegen.model.validate import kind_of
+from codegen.sim.bus import GROUP_BITS, OFFSET, SCALE
 
 KEYS = frozenset(
     {
@@ -17,16 +20,29 @@ KEYS = frozenset(
         "place",
         "tracking",
         "encoder_inputs",
+        "trigger_input",
         "intercept_mm",
         "capture_mm",
         "grip_s",
         "belt_speed_max_mm_s",
+        "belt_accel_mm_s2",
+        "count_latency_s",
+        "motion_start_s",
+        "part_mass_kg",
+        "part_cog_mm",
+        "place_clear",
+        "place_timeout_s",
+        "min_gap_mm",
+        "unit",
     }
 )
-# "native": the controller's own conveyor tracking (UR track_conveyor_linear); "intercept": the arm waits
-# above a point of the belt and comes down as the part arrives there (targets/<t>.toml conveyor_tracking)
+# "native": the controller's own conveyor tracking (UR track_conveyor_linear, ABB's Conveyor Tracking option);
+# "intercept": the arm waits above a point of the belt and comes down as the part arrives there (targets/<t>.toml
+# [program.conveyor] tracking: what codegen writes for the controller)
 TRACKING = ("native", "intercept")
 MAX_MM = 10_000.0
+# x and z on a 16-bit group of inputs (codegen/sim/bus.py): 0.1 mm steps around OFFSET
+GROUP_MM = ((0 - OFFSET) / SCALE, (2**GROUP_BITS - 1 - OFFSET) / SCALE)
 
 
 @dataclass(frozen=True)
@@ -37,7 +53,12 @@ class Pick:
     the gripper at a part in the belt frame (deg, Z-Y-X); approach_dz: the gripper comes down onto the part
     and onto the place from this far above (mm); place: where the parts go (TaughtPose, base frame);
     tracking: per target, how it follows the belt; encoder_inputs: per target, the encoder's A and B
-    inputs."""
+    inputs; trigger_input: per target, the robot's input the camera's trigger is wired to (a native UR
+    program latches its own encoder there); part_mass_kg, part_cog_mm: the part (its centre of gravity in the
+    tool frame), the payload while the gripper holds it; place_clear: per target, the input that says the
+    place is free (none: the program does not ask), waited for place_timeout_s; min_gap_mm: how close a part may
+    follow the one before and still be picked (ABB native: the queue's minimum distance); unit: per target, the
+    belt's mechanical unit (ABB native)."""
 
     window_mm: tuple[float, float]
     x_range_mm: tuple[float, float]
@@ -49,30 +70,136 @@ class Pick:
     encoder_inputs: dict
     intercept_mm: float = 0.0  # intercept: where along the belt the gripper meets the part
     capture_mm: float = 3.0  # intercept: how far off the gripper may meet the part and still hold it
-    grip_s: float = 0.0  # intercept: from the gripper's output to its hold on the part (the part travels on)
+    grip_s: tuple[float, float] = (0.0, 0.0)  # from the gripper's output to its hold on the part (least, most)
     belt_speed_max_mm_s: float = 200.0  # the fastest the belt runs: how far a tracking arm may follow past the end
+    belt_accel_mm_s2: float = 0.0  # the fastest the belt's speed changes (intercept: its speed estimate's error)
+    count_latency_s: tuple[float, float] = (0.0, 0.0)  # intercept: the count's age when the program reads it
+    motion_start_s: tuple[float, float] = (0.0, 0.0)  # intercept: from the move instruction to the arm moving
+    part_mass_kg: float = 0.0
+    part_cog_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    place_clear: dict = field(default_factory=dict)
+    place_timeout_s: float = 10.0
+    min_gap_mm: float = 0.0
+    unit: dict = field(default_factory=dict)
+    trigger_input: dict = field(default_factory=dict)
+
+    def mean(self, key: str) -> float:
+        """The middle of a (least, most) interval of the cell (grip_s, count_latency_s, motion_start_s)."""
+        low, high = getattr(self, key)
+        return 0.5 * (low + high)
 
 
-def _interval(ctx, table: dict, key: str, path: str, default=None) -> tuple[float, float]:
+def _interval(ctx, table: dict, key: str, path: str, default=None, least: float = 0.0) -> tuple[float, float]:
     values = ctx.numbers(table.get(key, default) if default is not None else ctx.require(table, key, path), 2, path)
     if not values[0] < values[1] or max(abs(v) for v in values) > MAX_MM:
         ctx.fail(path, f"expected [low, high] with low < high, within +-{MAX_MM:g} mm")
+    if values[1] - values[0] < least:
+        ctx.fail(
+            path,
+            f"{values[1] - values[0]:g} mm wide; at least {least:g} mm: the part queue carries a part's x and z "
+            f"in {1 / SCALE:g} mm steps (a 16-bit group), a narrower range holds no reading",
+        )
     return values
+
+
+def _reading_range(ctx, values: tuple[float, float], path: str, targets) -> None:
+    """A range of x or z the camera's readings must fall in: within what a 16-bit group carries where the
+    target reads the queue so."""
+    grouped = [t for t in targets if not facts(get_target(t)).get("names")]
+    low, high = GROUP_MM
+    if grouped and not (low <= values[0] and values[1] <= high):
+        ctx.fail(
+            path,
+            f"{grouped[0]} reads the part queue as 16-bit groups of inputs: x and z within {low:g}..{high:g} mm",
+        )
+
+
+def _seconds(ctx, table: dict, key: str, path: str, top: float) -> tuple[float, float]:
+    """A duration the cell states as a number or as [least, most] (s), each in [0, top]."""
+    value = table.get(key, 0.0)
+    low, high = (value, value) if isinstance(value, int | float) and not isinstance(value, bool) else (None, None)
+    if low is None:
+        low, high = ctx.numbers(value, 2, path)
+    else:
+        low = high = ctx.finite(value, path)
+    if not 0 <= low <= high <= top:
+        ctx.fail(path, f"must be a duration in [0, {top:g}] s, or [least, most] within it")
+    return float(low), float(high)
+
+
+def _bounded(ctx, table: dict, key: str, path: str, default: float, low: float, high: float, what: str) -> float:
+    value = ctx.number(table, key, path) if key in table else default
+    if not low <= value <= high:
+        ctx.fail(path, f"must be in [{low:g}, {high:g}] {what}")
+    return value
 
 
 def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
     path = "conveyor.pick"
     ctx.no_unknown(table, KEYS, path)
     window = _interval(ctx, table, "window_mm", f"{path}.window_mm")
-    x_range = _interval(ctx, table, "x_range_mm", f"{path}.x_range_mm")
-    z_range = _interval(ctx, table, "z_range_mm", f"{path}.z_range_mm", [0.0, 100.0])
-    orientation = ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, f"{path}.tool_orientation")
+    x_range = _interval(ctx, table, "x_range_mm", f"{path}.x_range_mm", least=1 / SCALE)
+    z_range = _interval(ctx, table, "z_range_mm", f"{path}.z_range_mm", [0.0, 100.0], least=1 / SCALE)
+    where = f"{path}.tool_orientation"
+    orientation = ctx.angles(ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, where), where)
     approach_dz = ctx.number(table, "approach_dz", f"{path}.approach_dz") if "approach_dz" in table else 60.0
     if not 0 < approach_dz <= 1000:
         ctx.fail(f"{path}.approach_dz", "must be in (0, 1000] mm: the gripper comes down from above")
     place = ctx.pose("place", ctx.require(table, "place", f"{path}.place"), f"{path}.place", pose_format)
-    tracking = ctx.table(table, "tracking", f"{path}.tracking")
+    tracking = _tracking(ctx, table, targets, path)
+    for key, values in (("x_range_mm", x_range), ("z_range_mm", z_range)):
+        _reading_range(ctx, values, f"{path}.{key}", tracking)
+    inputs = _encoder_inputs(ctx, table, tracking, f"{path}.encoder_inputs")
+    intercept = window[0] + 0.25 * (window[1] - window[0])
+    if "intercept_mm" in table:
+        intercept = ctx.number(table, "intercept_mm", f"{path}.intercept_mm")
+        if not window[0] <= intercept <= window[1]:
+            ctx.fail(f"{path}.intercept_mm", "must lie in the window")
+    grip_s = _seconds(ctx, table, "grip_s", f"{path}.grip_s", 2.0)
+    speed = _bounded(ctx, table, "belt_speed_max_mm_s", f"{path}.belt_speed_max_mm_s", 200.0, 1e-3, 5000, "mm/s")
+    accel = _bounded(ctx, table, "belt_accel_mm_s2", f"{path}.belt_accel_mm_s2", 0.0, 0.0, 100_000, "mm/s2")
+    capture = ctx.number(table, "capture_mm", f"{path}.capture_mm") if "capture_mm" in table else 3.0
+    if not 0 < capture <= 50:
+        ctx.fail(f"{path}.capture_mm", "must be in (0, 50] mm")
+    mass = ctx.number(table, "part_mass_kg", f"{path}.part_mass_kg")
+    if not 0 < mass <= 1000:
+        ctx.fail(f"{path}.part_mass_kg", "must be in (0, 1000] kg: the payload while the gripper holds a part")
+    cog = ctx.numbers(table.get("part_cog_mm", [0.0, 0.0, 0.0]), 3, f"{path}.part_cog_mm")
+    if max(abs(v) for v in cog) > 2000:
+        ctx.fail(f"{path}.part_cog_mm", "must lie within 2000 mm of the TCP (tool frame)")
+    listed = list(tracking)
+    place_clear = per_target(ctx, table, "place_clear", listed, required=False, prefix=path)
+    timeout = _bounded(ctx, table, "place_timeout_s", f"{path}.place_timeout_s", 10.0, 0.2, 600, "s")
+    gap = _bounded(ctx, table, "min_gap_mm", f"{path}.min_gap_mm", 0.0, 0.0, window[1] - window[0], "mm")
+    natives = [t for t, mode in tracking.items() if mode == "native"]
+    return Pick(
+        window,
+        x_range,
+        z_range,
+        orientation,
+        approach_dz,
+        place,
+        dict(tracking),
+        inputs,
+        intercept,
+        capture,
+        grip_s,
+        speed,
+        accel,
+        _seconds(ctx, table, "count_latency_s", f"{path}.count_latency_s", 1.0),
+        _seconds(ctx, table, "motion_start_s", f"{path}.motion_start_s", 1.0),
+        mass,
+        cog,
+        place_clear,
+        timeout,
+        gap,
+        _named(ctx, table, "unit", [t for t in natives if facts(get_target(t)).get("unit")], path),
+        _numbered_input(ctx, table, "trigger_input", [t for t in natives if facts(get_target(t)).get("trigger")], path),
+    )
 
+
+def _tracking(ctx, table: dict, targets, path: str) -> dict:
+    tracking = ctx.table(table, "tracking", f"{path}.tracking")
     for target, mode in tracking.items():
         if target not in targets:
             ctx.fail(f"{path}.tracking.{target}", f"not one of the cell's targets ({', '.join(targets)})")
@@ -84,49 +211,85 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
             ctx.fail(f"{path}.tracking.{target}", f"{mode!r}: what codegen builds for {target}: {have}")
     if not tracking:
         ctx.fail(f"{path}.tracking", 'expected at least one target, e.g. { ur = "native" }')
-    inputs = ctx.table(table, "encoder_inputs", f"{path}.encoder_inputs") if "encoder_inputs" in table else {}
-    intercept = window[0] + 0.25 * (window[1] - window[0])
-    if "intercept_mm" in table:
-        intercept = ctx.number(table, "intercept_mm", f"{path}.intercept_mm")
-        if not window[0] <= intercept <= window[1]:
-            ctx.fail(f"{path}.intercept_mm", "must lie in the window")
-    grip_s = ctx.number(table, "grip_s", f"{path}.grip_s") if "grip_s" in table else 0.0
-    if not 0 <= grip_s <= 2:
-        ctx.fail(f"{path}.grip_s", "must be in [0, 2] s: the gripper's time from its output to holding the part")
-    speed = (
-        ctx.number(table, "belt_speed_max_mm_s", f"{path}.belt_speed_max_mm_s")
-        if "belt_speed_max_mm_s" in table
-        else 200.0
-    )
-    if not 0 < speed <= 5000:
-        ctx.fail(f"{path}.belt_speed_max_mm_s", "must be in (0, 5000] mm/s")
-    capture = ctx.number(table, "capture_mm", f"{path}.capture_mm") if "capture_mm" in table else 3.0
-    if not 0 < capture <= 50:
-        ctx.fail(f"{path}.capture_mm", "must be in (0, 50] mm")
-    for target in [t for t, mode in tracking.items() if mode == "native"]:
-        low, high = facts(get_target(target)).get("encoder_inputs", [0, 4095])
-        if target not in inputs:
-            ctx.fail(f"{path}.encoder_inputs", f"missing {target}: the digital inputs of the encoder's A and B signals")
-        pair = inputs[target]
+    return dict(tracking)
+
+
+def _encoder_inputs(ctx, table: dict, tracking: dict, path: str) -> dict:
+    """[conveyor.pick] encoder_inputs = { <target> = [A, B] }: the digital inputs of the encoder's A and B
+    signals, for each target whose native tracking reads the encoder on the robot's inputs (its facts'
+    encoder_inputs), and for no other (an intercepting program reads the PLC's count, ABB's unit its own)."""
+    raw = ctx.table(table, "encoder_inputs", path) if "encoder_inputs" in table else {}
+    reading = [t for t, mode in tracking.items() if mode == "native" and facts(get_target(t)).get("encoder_inputs")]
+    for key in raw:
+        if key not in reading:
+            why = f"{key} does not read the encoder on its own inputs" if key in tracking else "not a tracking target"
+            allowed = ", ".join(reading) if reading else "none"
+            ctx.fail(
+                f"{path}.{key}", f"{why}: only a target tracking natively on the robot's inputs; allowed: {allowed}"
+            )
+    out = {}
+    for target in reading:
+        low, high = facts(get_target(target))["encoder_inputs"]
+        if target not in raw:
+            ctx.fail(path, f"missing {target}: the digital inputs of the encoder's A and B signals")
+        pair = raw[target]
         if (
             not isinstance(pair, list)
             or len(pair) != 2
             or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
         ):
-            ctx.fail(f"{path}.encoder_inputs.{target}", "expected [A, B]: two digital input numbers")
+            ctx.fail(f"{path}.{target}", "expected [A, B]: two digital input numbers")
         if pair[0] == pair[1] or not all(low <= v <= high for v in pair):
-            ctx.fail(f"{path}.encoder_inputs.{target}", f"expected two different inputs in {low}..{high}")
-    return Pick(
-        window,
-        x_range,
-        z_range,
-        orientation,
-        approach_dz,
-        place,
-        dict(tracking),
-        {t: tuple(inputs[t]) for t in tracking if t in inputs},
-        intercept,
-        capture,
-        grip_s,
-        speed,
-    )
+            ctx.fail(f"{path}.{target}", f"expected two different inputs in {low}..{high}")
+        out[target] = tuple(pair)
+    return out
+
+
+def _named(ctx, table: dict, key: str, needed: list[str], path: str) -> dict:
+    """A name per target that needs one (the belt's mechanical unit): one of the names the target's facts list
+    (`units`), default the facts' `unit`."""
+    given = ctx.table(table, key, f"{path}.{key}") if key in table else {}
+    ctx.no_unknown(given, set(needed), f"{path}.{key}")
+    out = {}
+    for target in needed:
+        names = facts(get_target(target))[f"{key}s"]
+        value = given.get(target, facts(get_target(target))[key])
+        if not isinstance(value, str) or value not in names:
+            ctx.fail(
+                f"{path}.{key}.{target}", f"expected a conveyor's mechanical unit ({', '.join(names)}), got {value!r}"
+            )
+        out[target] = value
+    return out
+
+
+def _numbered_input(ctx, table: dict, key: str, needed: list[str], path: str) -> dict:
+    """A digital input number per target that needs one (the camera's trigger wired to the robot)."""
+    given = ctx.table(table, key, f"{path}.{key}") if key in table else {}
+    ctx.no_unknown(given, set(needed), f"{path}.{key}")
+    out = {}
+    for target in needed:
+        low, high = get_target(target).program["signals"]["range"]
+        value = given.get(target)
+        if value is None:
+            ctx.fail(f"{path}.{key}", f"missing {target}: the digital input the camera's trigger is wired to")
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            ctx.fail(f"{path}.{key}.{target}", f"expected a digital input number {low}..{high}, got {kind_of(value)}")
+        out[target] = value
+    return out
+
+
+def check_inputs(ctx, pick: Pick, feedback: dict) -> None:
+    """Per target, the inputs the pick program reads are distinct: the gripper's sensor ([cell.io] feedback), the
+    encoder's A and B, the camera's trigger and the place's input."""
+    for target in pick.tracking:
+        named = [(f"cell.io.feedback.{target}", feedback.get(target))]
+        named += [(f"conveyor.pick.encoder_inputs.{target}", v) for v in pick.encoder_inputs.get(target, ())]
+        named += [
+            (f"conveyor.pick.{key}.{target}", getattr(pick, key).get(target))
+            for key in ("trigger_input", "place_clear")
+        ]
+        seen: dict = {}
+        for key, value in named:
+            if value is not None and value in seen:
+                ctx.fail(key, f"input {value} is {seen[value]} too: each input of the program says one thing")
+            seen.setdefault(value, key)

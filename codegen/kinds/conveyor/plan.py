@@ -1,39 +1,45 @@
-"""The pick program's motion plan: each part's segments (joint or straight, travel or work speed, exact stops) per
-tracking mode, laid over a run by its gripper's outputs (the grip and the release anchor each picked part)."""
+"""The pick program's motion plan: each part's segments (joint or straight, travel or work speed, exact stop or
+blended, the payload in force) per tracking mode, the way home at the start, laid over a run by its gripper's
+outputs (the grip and the release anchor each picked part)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from codegen.verify.plan import PlannedMove, PlannedOutput
+import numpy as np
+
+from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.section import conveyor_of
+from codegen.verify.plan import TOOL_LOAD, PlannedMove, PlannedOutput
 
 
 @dataclass(frozen=True)
 class Segment:
+    key: str  # the template's name of the move (its blend: targets/<t>.toml [program.conveyor] blends)
     name: str
     kind: str  # "joint" or "linear"
-    speed: str  # "travel" or "work" ([cell.motion]); a joint move: the controller's joint speed
-    exact: bool = True  # every move of the pick programs stops at its pose (no blending)
+    speed: str  # "travel" or "work" ([cell.motion]); "home": the controller's own (its facts' speed and zone)
+    held: bool = False  # the part's payload in force (from the grip confirmed to the release)
 
 
 # Each picked part, as the program moves for it; the grip comes after `grip`, the release after `release` moves.
 PICK = {
-    "native": (  # wait across from the part at the window's start, then follow the belt (track_conveyor_linear)
-        Segment("wait above the window's start", "joint", "travel"),
-        Segment("above the part", "linear", "travel"),
-        Segment("on the part", "linear", "work"),
-        Segment("lift", "linear", "work"),
-        Segment("above the place", "joint", "travel"),
-        Segment("place", "linear", "work"),
-        Segment("lift from the place", "linear", "work"),
+    "native": (  # wait across from the part at the window's start, then follow the belt
+        Segment("wait", "wait above the window's start", "joint", "travel"),
+        Segment("above_part", "above the part", "linear", "travel"),
+        Segment("on_part", "on the part", "linear", "work"),
+        Segment("lift", "lift", "linear", "work", True),
+        Segment("above_place", "above the place", "joint", "travel", True),
+        Segment("place", "place", "linear", "work", True),
+        Segment("lift_place", "lift from the place", "linear", "work"),
     ),
     "intercept": (  # wait above the meeting point, come down as the part arrives
-        Segment("above the intercept", "joint", "travel"),
-        Segment("on the part", "linear", "work"),
-        Segment("lift", "linear", "work"),
-        Segment("above the place", "joint", "travel"),
-        Segment("place", "linear", "work"),
-        Segment("lift from the place", "linear", "work"),
+        Segment("wait", "above the intercept", "joint", "travel"),
+        Segment("on_part", "on the part", "linear", "work"),
+        Segment("lift", "lift", "linear", "work", True),
+        Segment("above_place", "above the place", "joint", "travel", True),
+        Segment("place", "place", "linear", "work", True),
+        Segment("lift_place", "lift from the place", "linear", "work"),
     ),
 }
 GRIP = {"native": 3, "intercept": 2}  # moves of a part before its grip
@@ -41,15 +47,51 @@ RELEASE = {"native": 6, "intercept": 5}  # moves of a part before its release
 # a part given up after the arm moved for it: the moves made for it (the waiting move; while tracking, the
 # whole descent and its lift)
 GIVEN_UP = {"native": ((0,), (0, 1, 2, 3)), "intercept": ((0,),)}
+# The way home at the start from wherever a stop left the arm: a joint move to where it stands (the controller's
+# first motion), back out along the tool's axis, a safe pose above the belt, home; a part held is then put down
+# at the place before the first pick.
+AWAY = (
+    Segment("here", "where the arm stands", "joint", "home"),
+    Segment("back_out", "back out along the tool's axis", "linear", "work"),
+    Segment("safe", "the safe pose above the belt", "joint", "travel"),
+)
+HOME = Segment("home", "home", "joint", "home")
+PUT_DOWN = (  # a part held at the start
+    Segment("above_place", "above the place", "joint", "travel", True),
+    Segment("place", "place", "linear", "work", True),
+    Segment("lift_place", "lift from the place", "linear", "work"),
+)
 
 
-def planned(segment: Segment, cell) -> PlannedMove:
-    speed = cell.motion.speed_mm_s if segment.speed == "travel" else cell.motion.work_speed_mm_s
+def blends(cell, target, mode: str) -> dict[str, bool]:
+    """Which moves of the pick blend into the next ([cell.motion] zone_mm; the target's program blends the
+    segments its facts list: the travel moves a move follows at once), by segment key."""
+    listed = set(facts(target).get("blends", {}).get(mode, ()))
+    zone = cell.motion.zone_mm > 0
+    keys = {s.key for s in PICK[mode]}
+    return {key: zone and key in listed for key in sorted(keys)}
+
+
+def carried(cell) -> tuple[float, float, float, float]:
+    """The payload while the gripper holds a part: the tool's and the part's mass (kg) and their common centre of
+    gravity in the flange frame (mm; the part's is given in the tool frame)."""
+    tool, pick = cell.robot.tool, conveyor_of(cell).pick
+    part = tool.tcp2flange @ np.array([*pick.part_cog_mm, 1.0])
+    mass = tool.mass_kg + pick.part_mass_kg
+    cog = (tool.mass_kg * np.asarray(tool.cog_mm, dtype=float) + pick.part_mass_kg * part[:3]) / mass
+    return (mass, *(float(v) for v in cog))
+
+
+def planned(segment: Segment, cell, target, mode: str | None = None, pose=None, joints=None) -> PlannedMove:
+    speed = {"travel": cell.motion.speed_mm_s, "work": cell.motion.work_speed_mm_s}.get(segment.speed)
     percent = cell.motion.joint_speed_percent if segment.kind == "joint" else None
-    return PlannedMove(segment.name, segment.kind, None, segment.exact, speed, 0.0, percent)
+    blend = mode is not None and blends(cell, target, mode).get(segment.key, False)
+    payload = carried(cell) if segment.held and cell.robot is not None and cell.robot.tool_given else TOOL_LOAD
+    zone = cell.motion.zone_mm if blend else 0.0
+    return PlannedMove(segment.name, segment.kind, pose, not blend, speed, zone, percent, joints, payload)
 
 
-def lay_over(cell, mode: str, first: int, moves: list, closes: list, opens: list) -> list[PlannedMove] | str:
+def lay_over(cell, target, mode: str, first: int, moves: list, closes: list, opens: list) -> list[PlannedMove] | str:
     """The plan of the moves from index `first` on: each picked part's segments where its grip (a close) and its
     release (an open) put them; the moves between as a part given up (GIVEN_UP). A run whose moves fit no such
     plan is named where it leaves it (the returned text)."""
@@ -58,29 +100,34 @@ def lay_over(cell, mode: str, first: int, moves: list, closes: list, opens: list
     i = first
     for close, open_ in zip(closes, opens, strict=False):
         start = close.after_moves - grip
-        gap = _given_up(cell, mode, moves[i:start], i)
+        gap = _given_up(cell, target, mode, moves[i:start], i)
         if isinstance(gap, str):
             return gap
         out += gap
         if start < i or open_.after_moves != start + release:
             return f"the grip after move {close.after_moves} and the release after move {open_.after_moves} fit no pick"
-        out += [planned(s, cell) for s in segments]
+        out += [planned(s, cell, target, mode) for s in segments]
         i = start + len(segments)
-    tail = _given_up(cell, mode, moves[i:], i)
+    tail = _given_up(cell, target, mode, moves[i:], i)
     if isinstance(tail, str):
         return tail
     return out + tail
 
 
-def _given_up(cell, mode: str, moves: list, offset: int) -> list[PlannedMove] | str:
-    """Moves for parts given up: each a run of the waiting move and, while tracking, the descent and lift."""
+def _given_up(cell, target, mode: str, moves: list, offset: int) -> list[PlannedMove] | str:
+    """Moves for parts given up: each a run of the waiting move and, while tracking, the descent and lift (the lift
+    of a part given up holds nothing)."""
     segments, out, i = PICK[mode], [], 0
     patterns = sorted(GIVEN_UP[mode], key=len, reverse=True)
     while i < len(moves):
         for pattern in patterns:
             kinds = [segments[k].kind for k in pattern]
             if [m.kind for m in moves[i : i + len(pattern)]] == kinds and _starts_part(moves, i, len(pattern)):
-                out += [planned(segments[k], cell) for k in pattern]
+                for k in pattern:
+                    segment = segments[k]
+                    unheld = Segment(segment.key, segment.name, segment.kind, segment.speed)
+                    # the lift of a part left on the belt stops before the tracking ends
+                    out.append(planned(unheld, cell, target, mode if k != len(pattern) - 1 else None))
                 i += len(pattern)
                 break
         else:
@@ -94,10 +141,11 @@ def _starts_part(moves: list, i: int, length: int) -> bool:
     return after >= len(moves) or moves[after].kind == "joint"
 
 
-def outputs(cell, name: str, closes: list, opens: list, release_first: bool) -> tuple[PlannedOutput, ...]:
-    """The gripper's outputs a pick run sets: released at home (after the home move), then a grip and a release
-    per picked part at the moves the plan puts them."""
-    out = [PlannedOutput(name, not cell.io.value, 1, "at home, released")] if release_first else []
+def outputs(cell, name: str, closes: list, opens: list, release_at: int | None) -> tuple[PlannedOutput, ...]:
+    """The gripper's outputs a pick run sets: released once at the start (after move release_at: at home with
+    nothing held, at the place with a part held; None: not at all), then a grip and a release per picked part
+    at the moves the plan puts them."""
+    out = [] if release_at is None else [PlannedOutput(name, not cell.io.value, release_at, "released at the start")]
     for close, open_ in zip(closes, opens, strict=False):
         out.append(PlannedOutput(name, cell.io.value, close.after_moves, "on the part"))
         out.append(PlannedOutput(name, not cell.io.value, open_.after_moves, "at the place"))

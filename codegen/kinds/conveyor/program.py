@@ -1,14 +1,20 @@
-"""Template variables of a pick-from-belt program: the belt frame and scale, the window, the part queue's names."""
+"""Template variables of a pick-from-belt program: the belt frame and scale, the window, the part queue's names,
+the payload while a part is held, the way home, the place's interlock."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from codegen.emit import EmitError, Emitter, owned
+from codegen.emit import Code, EmitError, Emitter, owned
+from codegen.kinds.conveyor import native
 from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.plan import blends, carried
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.cell import TaughtPose
-from codegen.poses import zyx_deg_from_rotmat
+from codegen.model.io import POLL_S as IO_POLL_S
+from codegen.poses import FORMAT_DECIMALS, native_values, zyx_deg_from_rotmat
 from codegen.sim import bus
 
 # the program's messages (the skip and stop texts verify reads back)
@@ -16,16 +22,29 @@ SKIPPED = "conveyor: skipped (past the window's end): part "
 BAD_READING = "conveyor: a part outside x_range_mm or z_range_mm: check the camera"
 STOPPED = "conveyor: the line stopped"
 TOO_LATE = "conveyor: too late to intercept, skipped: part "  # an intercepting arm that arrived after the part
+TOO_CLOSE = "conveyor: too close to the part before, skipped: part "  # ABB native: the queue did not take it
+LOST = "conveyor: lost from the start window, skipped: part "  # ABB native: WaitWObj's error handler
+PUT_DOWN = "conveyor: a part held at the start: put down at the place"
+EARLY = "conveyor: seen before the program started, skipped: part "  # UR: no count of its own encoder for it
+PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
+SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
+MASS_DECIMALS = 3
+
+
+def place_blocked(cell) -> str:
+    """The stop of a program whose place did not come clear in time."""
+    return f"the place is not clear after {conveyor_of(cell).pick.place_timeout_s:g} s"
 
 
 def lead_seconds(cell) -> float:
     """How long before the part reaches the intercept point an intercepting arm starts down: the descent
     of approach_dz at the work speed, as the controller's straight move takes it (no acceleration in the
-    interpreter's clock, nor in this lead: a real arm needs its measured descent time here), and the
-    gripper's time to hold the part once its output is set (grip_s)."""
+    interpreter's clock, nor in this lead: a real arm needs its measured descent time here), the arm's
+    start after the move instruction and the gripper's time to hold the part once its output is set (the
+    middles of motion_start_s and grip_s)."""
     pick = conveyor_of(cell).pick
-    return pick.approach_dz / cell.motion.work_speed_mm_s + pick.grip_s
+    return pick.approach_dz / cell.motion.work_speed_mm_s + pick.mean("grip_s") + pick.mean("motion_start_s")
 
 
 def conveyor_ident(cell, target) -> str:
@@ -55,10 +74,46 @@ def _xyzabc(pose: np.ndarray) -> tuple[float, ...]:
     return tuple(float(v) for v in (*pose[:3, 3], *zyx_deg_from_rotmat(pose[:3, :3])))
 
 
+def safe_belt(cell) -> tuple[float, float, float]:
+    """The safe pose above the belt on the way home (belt frame, mm): above the window's start at the near edge of
+    x_range_mm, approach_dz above the highest part (a pose the reach proof covers)."""
+    pick = conveyor_of(cell).pick
+    return pick.x_range_mm[0], pick.window_mm[0], pick.z_range_mm[1] + pick.approach_dz
+
+
+def _point(emitter, target, values) -> list[str]:
+    """Three coordinates (mm) in the target's unit (UR: m)."""
+    native3 = native_values((*values, 0.0, 0.0, 0.0), "xyzabc", target.pose_format)[:3]
+    return [emitter.number(v, d) for v, d in zip(native3, FORMAT_DECIMALS[target.pose_format][:3], strict=True)]
+
+
+def _payload(cell, target, emitter) -> dict | None:
+    """The part (mass, centre of gravity in the tool frame: a payload's load data) and the tool with the part
+    (mass, centre of gravity in the flange frame: a load at the flange)."""
+    robot = cell.robot
+    if robot is None or target.name not in robot.arms:
+        return None
+    pick = conveyor_of(cell).pick
+    mass, *cog = carried(cell)
+    return {
+        "part_mass": emitter.number(pick.part_mass_kg, MASS_DECIMALS),
+        "part_cog": _point(emitter, target, pick.part_cog_mm),
+        "mass": emitter.number(mass, MASS_DECIMALS),
+        "cog": _point(emitter, target, cog),
+    }
+
+
+def _signal(emitter, value, origin: str) -> Code | None:
+    """A digital input as the cell names it: a number, or a configured signal's name (never a word of the language
+    or one of the program's own names)."""
+    return None if value is None else emitter.signal(value, origin)
+
+
 def conveyor_context(cell, target, emitter) -> dict:
     """Numbers in the target's notation: the belt frame (belt2base), the direction of travel signed so
     that the encoder's ticks count along it, ticks per metre, counts per mm, the camera's line, the
-    window, the ranges, the gripper's orientation on a part, the place and the registers' numbers."""
+    window, the ranges, the gripper's orientation on a part, the place and the registers' numbers, the
+    payloads, the safe pose, the blends, the native tracking's configuration (ABB)."""
     belt, pick = conveyor_of(cell), conveyor_of(cell).pick
     number = emitter.number
     frame = belt.frame()
@@ -68,8 +123,12 @@ def conveyor_context(cell, target, emitter) -> dict:
     above = place.copy()
     above[2, 3] += pick.approach_dz
     ident = emitter.identifier("cnv_", cell.name, "the conveyor program")
-    return {
+    mode = pick.tracking[target.name]
+    timeout = pick.place_timeout_s
+    out = {
         "ident": ident,
+        "mode": mode,
+        "native": mode == "native",
         "frame": emitter.pose(TaughtPose("belt", _xyzabc(frame), "xyzabc")),
         "direction": [number(sign * v, 9) for v in belt.direction],
         "ticks_per_m": number(abs(e) * 1000.0, 6),
@@ -82,21 +141,38 @@ def conveyor_context(cell, target, emitter) -> dict:
         "approach_dz": number(pick.approach_dz, 4),
         "place": emitter.pose(pick.place),
         "place_above": emitter.pose(TaughtPose("place_above", _xyzabc(above), "xyzabc")),
+        "safe": [number(v, 4) for v in safe_belt(cell)],
         "encoder_inputs": [
             emitter.signal(v, f"conveyor.pick.encoder_inputs.{target.name}")
             for v in pick.encoder_inputs.get(target.name, ())
         ],
         "registers": owned(facts(target).get("registers")),  # UR
-        "signals": owned(facts(target).get("signals")),  # signal groups (codegen/conveyor/bus.py)
+        "signals": owned(facts(target).get("signals")),  # signal groups (codegen/sim/bus.py)
         "group_offset": bus.OFFSET,  # x and z on a 16-bit group: raw = round(scale x) + offset
         "group_scale": number(bus.SCALE, 1),
         "counter_span": 2**bus.GROUP_BITS,  # the 16-bit count's range: a difference is unwound by it
         "counter_half": 2 ** (bus.GROUP_BITS - 1),
         "intercept": number(pick.intercept_mm, 4),  # intercept: the gripper meets the part here (belt y)
-        "lead_s": number(lead_seconds(cell), 6),  # intercept: the descent's duration
+        "lead_s": number(lead_seconds(cell), 6),  # intercept: the descent's duration and the latencies' middles
+        "latency_s": number(pick.mean("count_latency_s"), 6),  # intercept: the count's age, its middle
         "poll_s": number(POLL_S, 3),
+        "speed_window_s": number(SPEED_WINDOW_S, 3),
+        "payload": _payload(cell, target, emitter),
+        "blend": blends(cell, target, mode),
+        "place_clear": _signal(emitter, pick.place_clear.get(target.name), f"conveyor.pick.place_clear.{target.name}"),
+        "place_timeout_s": number(timeout, 3),
+        "place_polls": number(math.ceil(timeout / IO_POLL_S - 1e-9), 0),  # looks at it, as at the gripper's sensor
         "too_late": emitter.string(TOO_LATE),
         "skipped": emitter.string(SKIPPED),
         "bad_reading": emitter.string(BAD_READING),
         "stopped": emitter.string(STOPPED),
+        "put_down": emitter.string(PUT_DOWN),
+        "too_close": emitter.string(TOO_CLOSE),
+        "early": emitter.string(EARLY),
+        "pair_mm": number(PAIR_MM, 1),
+        "lost": emitter.string(LOST),
+        "place_blocked": emitter.string(place_blocked(cell)),
     }
+    if mode == "native":
+        out.update(native.context(cell, target, emitter))
+    return out

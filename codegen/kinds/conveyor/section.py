@@ -51,8 +51,8 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
         return None
     table = ctx.table(data, "conveyor", "conveyor")
     ctx.no_unknown(table, KEYS, "conveyor")
-    bits = table.get("counter_bits", 32)
-    if bits not in COUNTER_BITS or isinstance(bits, bool):
+    bits = ctx.integer(table, "counter_bits", "conveyor.counter_bits", min(COUNTER_BITS), max(COUNTER_BITS), 32)
+    if bits not in COUNTER_BITS:
         widths = ", ".join(map(str, COUNTER_BITS))
         ctx.fail("conveyor.counter_bits", f"expected one of {widths} (the encoder counter's width)")
     out = {"counter_bits": bits}
@@ -61,7 +61,9 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
         if not 1e-3 <= abs(value) <= 1e6:
             ctx.fail("conveyor.counts_per_mm", "must be a signed scale of 0.001 to 1e6 counts per mm")
         out["counts_per_mm"] = value
-    for key in ("origin", "direction", "z_axis"):
+    if "origin" in table:
+        out["origin"] = ctx.point(table["origin"], "conveyor.origin")
+    for key in ("direction", "z_axis"):
         if key in table:
             out[key] = ctx.numbers(table[key], 3, f"conveyor.{key}")
     frame_keys = [k for k in ("counts_per_mm", "origin", "direction", "z_axis") if k in out]
@@ -104,6 +106,12 @@ def check_pick(ctx, counts_per_mm: float, camera_offset_mm: float, pick) -> None
             "conveyor.pick.window_mm",
             f"the camera's line to the window's end is {counts:.0f} counts; the programs' 16-bit count "
             f"allows {COUNTER_RANGE // 4}: bring the window closer to the camera",
+        )
+    if end - start < 2.0 / abs(counts_per_mm):
+        ctx.fail(
+            "conveyor.pick.window_mm",
+            f"{end - start:g} mm wide, less than two counts of the encoder ({2.0 / abs(counts_per_mm):.3g} mm): "
+            "the programs could not tell a part inside it from one outside",
         )
     if 2.0 / abs(counts_per_mm) > pick.capture_mm:
         ctx.fail(

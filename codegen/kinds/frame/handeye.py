@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import math
 import re
 from dataclasses import dataclass
@@ -10,7 +9,12 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen.model.cell import CellError, image_angle_sign, replace_cell_file
+from codegen.csvfile import CsvError, number, read_rows
+from codegen.model.cell import CellError, image_angle_sign, read_cell_data, replace_cell_file
+from codegen.robot.taught import ReachError
+
+PIXEL_LIMIT = 100_000.0  # an image's pixel coordinates (the largest sensors are some 20,000 px wide)
+POSITION_LIMIT_MM = 10_000.0  # robot positions, as the other calibrations take them
 
 
 class HandEyeError(Exception):
@@ -43,29 +47,21 @@ class HandEyeFit:
 def read_points(path: Path) -> np.ndarray:
     """Rows (u, v, x, y) from a CSV with header u,v,x,y; errors name the file and line."""
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise HandEyeError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    reader = csv.reader(text.splitlines())
-    rows = list(reader)
-    if not rows:
-        raise HandEyeError(f"{path}: empty file; expected a header u,v,x,y")
-    header = [h.strip().lower() for h in rows[0]]
-    if header != ["u", "v", "x", "y"]:
-        raise HandEyeError(f"{path}:1: header must be u,v,x,y (pixels, then robot mm), got {','.join(rows[0])}")
+        _header, rows = read_rows(path, (("u", "v", "x", "y"),))
+    except CsvError as exc:
+        raise HandEyeError(str(exc)) from None
     points = []
-    for line_no, row in enumerate(rows[1:], start=2):
-        if not row or all(not cell.strip() for cell in row):
-            continue
-        if len(row) != 4:
-            raise HandEyeError(f"{path}:{line_no}: expected 4 values u,v,x,y, got {len(row)}")
+    for row in rows:
         try:
-            values = [float(cell) for cell in row]
+            values = [number(cell) for cell in row.cells]
         except ValueError:
-            raise HandEyeError(f"{path}:{line_no}: not a number in {','.join(row)}") from None
-        if not all(math.isfinite(v) for v in values):
-            raise HandEyeError(f"{path}:{line_no}: values must be finite")
-        points.append((line_no, *values))
+            raise HandEyeError(f"{path}:{row.line}: not a number in {','.join(row.cells)}") from None
+        if max(abs(v) for v in values[:2]) > PIXEL_LIMIT or max(abs(v) for v in values[2:]) > POSITION_LIMIT_MM:
+            raise HandEyeError(
+                f"{path}:{row.line}: pixels must lie within +-{PIXEL_LIMIT:,.0f} px and robot positions within "
+                f"+-{POSITION_LIMIT_MM:,.0f} mm"
+            )
+        points.append((row.line, *values))
     return np.array(points, dtype=float) if points else np.zeros((0, 5))
 
 
@@ -135,6 +131,8 @@ def fit(points: np.ndarray, model: str = "similarity", source: str = "<points>")
         scale = (float(sx), float(sy))
     uv1 = np.column_stack([points[:, 1], points[:, 2], np.ones(len(points))])
     residuals = np.linalg.norm(uv1 @ matrix.T - points[:, 3:5], axis=1)
+    if not (np.all(np.isfinite(matrix)) and np.all(np.isfinite(residuals))):
+        raise HandEyeError(f"{source}: the fit does not converge to finite numbers; check the points' units")
     return HandEyeFit(
         model=model,
         matrix=tuple(tuple(float(v) for v in row) for row in matrix),
@@ -179,9 +177,13 @@ def _with_angle_sign(text: str, sign: int) -> str:
 
 
 def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
-    """Replace (or add) the [cell.camera.handeye] table, keeping the rest of the file as written."""
+    """Replace (or add) the [cell.camera.handeye] table, keeping the rest of the file as written; the edited file
+    must load and pass every kind's reach proof before it replaces the old one (its mode and a symlink kept)."""
 
-    text = cell_path.read_text(encoding="utf-8")
+    try:
+        text = read_cell_data(cell_path)[1].decode("utf-8")
+    except CellError as exc:
+        raise HandEyeError(str(exc)) from None
     table = toml_table(result, source)
     if _TABLE.search(text):
         new = _TABLE.sub(lambda m: table + "\n", text, count=1)
@@ -192,6 +194,10 @@ def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
         new = text[: match.end()].rstrip("\n") + "\n\n" + table + "\n" + text[match.end() :]
     new = _with_angle_sign(new, image_angle_sign(result.matrix))
     try:
-        replace_cell_file(cell_path, new)  # the edited file must still be a valid cell
+        replace_cell_file(cell_path, new)  # the edited file must still be a valid cell that generates
     except CellError as exc:
         raise HandEyeError(f"{cell_path}: edited file would not load: {exc}") from None
+    except ReachError as exc:
+        raise HandEyeError(f"{cell_path}: with this calibration the cell would not generate: {exc}") from None
+    except OSError as exc:
+        raise HandEyeError(f"{cell_path}: cannot write: {exc.strerror or exc}; the file was left as it was") from None

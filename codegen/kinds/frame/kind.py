@@ -23,6 +23,7 @@ from codegen.guard import (
     pixels_in_range,
 )
 from codegen.kinds.frame.commands import calibrate_handeye
+from codegen.kinds.frame.scene import objects as scene_objects
 from codegen.kinds.stations.base import StationKind
 from codegen.kinds.stations.cases import Case
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
@@ -171,6 +172,10 @@ class FrameKind(StationKind):
     log_names = ("station", "dx", "dy", "alpha", "photos")
 
     @classmethod
+    def station_scene(cls, cell, station) -> list[dict]:
+        return scene_objects(cell, station)
+
+    @classmethod
     def commands(cls) -> list:
         return [("calibrate", calibrate_handeye)]
 
@@ -199,11 +204,9 @@ class FrameKind(StationKind):
         ctx.no_unknown(table, {"tolerance_mm", "tolerance_deg", "max_iterations"}, "cell.refine")
         tol_mm = ctx.finite(table.get("tolerance_mm", Refine.tolerance_mm), "cell.refine.tolerance_mm")
         tol_deg = ctx.finite(table.get("tolerance_deg", Refine.tolerance_deg), "cell.refine.tolerance_deg")
-        iterations = table.get("max_iterations", Refine.max_iterations)
+        iterations = ctx.integer(table, "max_iterations", "cell.refine.max_iterations", 1, 100, Refine.max_iterations)
         if tol_mm <= 0 or tol_deg <= 0:
             ctx.fail("cell.refine", "tolerances must be positive")
-        if isinstance(iterations, bool) or not isinstance(iterations, int) or not 1 <= iterations <= 100:
-            ctx.fail("cell.refine.max_iterations", f"expected an integer in 1..100, got {iterations!r}")
         return Refine(tol_mm, tol_deg, iterations)
 
     @classmethod

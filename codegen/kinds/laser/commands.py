@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from codegen.cli_base import UserError
+from codegen.cli_base import Number, UserError
 from codegen.cli_base import dump as _dump
 from codegen.kinds.laser.tcp import ToolCalibrationError, fit, read_poses, report_lines, write_to_cell
 from codegen.model.cell import CellError
@@ -24,7 +24,7 @@ from codegen.model.cell import CellError
 @click.option(
     "--max-uncertainty",
     "max_uncertainty",
-    type=float,
+    type=Number(0.0, above=True),
     default=0.1,
     show_default=True,
     help="Warn when a TCP coordinate's standard uncertainty is above this (mm).",

@@ -5,8 +5,9 @@ from __future__ import annotations
 from codegen.kinds.laser import plan, reach
 from codegen.kinds.laser.commands import calibrate_tcp
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
+from codegen.kinds.laser.scene import objects as scene_objects
 from codegen.kinds.laser.section import check_production_tools, laser_of, parse_laser
-from codegen.kinds.laser.verify import cases
+from codegen.kinds.laser.verify import cases, check_goal
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
 from codegen.render import program_emitter
 
@@ -50,6 +51,7 @@ class LaserKind(ProgramKind):
                 f"at most {shortest / 2:g} mm with [laser]: half the shortest segment the calibration blends "
                 "(from the safe pose down above the start, and from there down to it)",
             )
+        check_goal(ctx, cell)
 
     @classmethod
     def programs(cls, cell, target) -> list[ProgramPlan]:
@@ -125,6 +127,10 @@ class LaserKind(ProgramKind):
     @classmethod
     def report_lines(cls, rows: list) -> list[str]:
         return plan.report_lines(rows)
+
+    @classmethod
+    def scene(cls, cell) -> list[dict]:
+        return [] if cls.section(cell) is None else scene_objects(cell, cls.section(cell))
 
     @classmethod
     def commands(cls) -> list:

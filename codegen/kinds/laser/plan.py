@@ -29,6 +29,7 @@ from codegen.kinds.laser.verify import (
 from codegen.poses import native_values
 from codegen.reference import home_move
 from codegen.robot import solve
+from codegen.robot.expect import tool_inputs
 from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored
 
 NEAR_MM = 5 * FLOAT32_MM  # a move ends at one of the procedure's fixed points when this close to it
@@ -47,8 +48,9 @@ def _xyzabc(cell, tcp) -> tuple:
 
 
 # How verify gives a target's production tool its value before the run (the last calibration's), by the form of
-# the target's data: KRL's TOOL_DATA[n] as X, Y, Z, A, B, C; a RAPID tooldata; an installation variable the program
-# only writes (none: what it holds is judged as it was where the program does not write it)
+# the target's data ([program.laser] production_tool preset): a numbered tool as X, Y, Z, A, B, C; a tooldata
+# record; an installation variable the program only writes (none: what it holds is judged as it was where the
+# program does not write it)
 PRESETS = {
     "TOOL_DATA": _xyzabc,
     "tooldata": _tooldata,
@@ -65,7 +67,9 @@ def _preset(cell, target, tcp) -> dict:
 def setup(cell, target_name: str, case: LaserCase) -> Setup:
     target = get_target(target_name)
     return Setup(
-        _preset(cell, target, previous_tcp(cell, case)),
+        # the controller's numbered tool and load where the cell names one ([cell.tool] numbered), the production
+        # tool as the last calibration left it over it (a numbered production tool is that tool)
+        {**tool_inputs(cell, target_name), **_preset(cell, target, previous_tcp(cell, case))},
         (station_for(cell, target, case),),
         {},
         _start_joints(cell, target_name, case),
@@ -109,7 +113,7 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     if case.start == "away":
         message = Emitter(target).string(lp.START_AWAY)
         stored = _stored(cell, target, None, 0.0, previous)
-        in_place = (_in_place(cell, target_name, case),)  # KRL's BCO run where the arm stands, before it looks
+        in_place = (_in_place(cell, target_name, case),)  # a first joint move run where the arm stands (BCO)
         return Judgement([Expectation(message, (), (), stored), Expectation(message, in_place, (), stored)])
     want = expected(cell, station_for(cell, target, replace(case, noise=0.0)))
     tol = tolerances(cell, target, case.noise)
@@ -128,7 +132,7 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
 
 
 def _in_place(cell, target_name: str, case: LaserCase) -> PlannedMove:
-    """A joint move where the arm stands (KRL's BCO run before it reads where the TCP is)."""
+    """A joint move where the arm stands (a target's BCO run before the program reads where the TCP is)."""
     robot = cell.robot
     joints = _start_joints(cell, target_name, case)
     pose = robot.arms[target_name].kin.fk(np.asarray(joints)) @ robot.tool.tcp2flange

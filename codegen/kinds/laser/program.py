@@ -41,7 +41,7 @@ from codegen.model.cell import TaughtPose
 from codegen.poses import zyx_deg_from_rotmat
 
 DOWN = np.diag([1.0, -1.0, -1.0])
-# the operator's messages: within 80 characters with their numbers (KRL Msg_txt CHAR[80], a RAPID string 80;
+# the operator's messages: within 80 characters with their numbers (each target's message text holds 80;
 # tests/kinds/test_laser_messages.py holds every one to its controller's string_max with the longest numbers)
 CIRCLE_EDGES = "laser: beams not crossed twice each, check tool data and sensors, circle "
 NO_TIP = "laser: no tip found within clearance_mm of the tool data"

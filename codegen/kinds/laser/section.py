@@ -11,6 +11,7 @@ from codegen.dialects import get_dialect
 from codegen.kinds.laser.facts import facts
 from codegen.model.cell import TaughtPose
 from codegen.model.io import per_target
+from codegen.model.motion import SPEED_MIN_MM_S
 
 PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
 DEPTH_STEP_MIN_MM = 2.0
@@ -43,9 +44,10 @@ class Laser:
     and axis may lie from [cell.tool] (the circles must cross both beams; a TCP found farther is not
     written); circle_speed_mm_s, search_speed_mm_s: the TCP's speed on the circles and in the search;
     beam_x, beam_y: each sensor's switching output, per target (an input number or name); production_tool:
-    per target, the tool the production programs use, which gets the TCP found (KRL: the number n of
-    TOOL_DATA[n]; RAPID: the name of the production task's PERS tooldata; UR: the name of an installation
-    variable, a pose; a KRL target may leave it to [cell.tool] numbered); safe_height_mm: the safe pose's
+    per target, the tool the production programs use, which gets the TCP found (a numbered tool's number
+    where the target's [program.laser] production_tool form is "number", else the name of the production data:
+    a task's persistent tooldata, an installation variable; a target with numbered tools may leave it to
+    [cell.tool] numbered); safe_height_mm: the safe pose's
     height above the beams' plane (S's z), straight above the circles' start: the way in and the way out."""
 
     sensor_frame: TaughtPose
@@ -67,6 +69,17 @@ def _bounded(ctx, table: dict, key: str, default: float, low: float, high: float
     value = ctx.number(table, key, path) if key in table else default
     if not low < value <= high:
         ctx.fail(path, f"must be in ({low:g}, {high:g}] {why}, got {value:g}")
+    return value
+
+
+def _speed(ctx, table: dict, key: str, default: float, high: float) -> float:
+    """A TCP speed of the procedure: at least the programs' least speed (SPEED_MIN_MM_S, as [cell.motion]'s)."""
+    path = f"laser.{key}"
+    value = ctx.number(table, key, path) if key in table else default
+    if not SPEED_MIN_MM_S <= value <= high:
+        ctx.fail(
+            path, f"must be in [{SPEED_MIN_MM_S:g}, {high:g}] mm/s (the programs write it to 0.1 mm/s), got {value:g}"
+        )
     return value
 
 
@@ -93,8 +106,8 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             f"d2 - d1 must be at least {DEPTH_STEP_MIN_MM:g} mm: the axis is the centres' difference over it, a "
             "smaller step multiplies their errors",
         )
-    circle_speed = _bounded(ctx, table, "circle_speed_mm_s", 10.0, 0.0, 250.0, "mm/s")
-    search_speed = _bounded(ctx, table, "search_speed_mm_s", 2.0, 0.0, 50.0, "mm/s")
+    circle_speed = _speed(ctx, table, "circle_speed_mm_s", 10.0, 250.0)
+    search_speed = _speed(ctx, table, "search_speed_mm_s", 2.0, 50.0)
     # the circle starts at 45 deg between the beams and must cross each twice: the axis may lie offset_max_mm
     # from where the tool's data puts it, and the pin is radius_mm wide
     if offset + radius >= circle / math.sqrt(2.0):
@@ -192,8 +205,8 @@ def _production_tools(ctx, table: dict, targets) -> dict:
 
 
 def check_production_tools(ctx, laser: Laser, robot, targets) -> None:
-    """Every target of the cell names its production tool, here or (KRL) as [cell.tool] numbered, the
-    same one where both are given: the programs that use the cell's tool use that one."""
+    """Every target of the cell names its production tool, here or (a target with numbered tools) as
+    [cell.tool] numbered, the same one where both are given: the programs that use the cell's tool use that one."""
     numbered = robot.tool.numbered if robot is not None else {}
     for target in targets:
         given, number = laser.production_tool.get(target), numbered.get(target)

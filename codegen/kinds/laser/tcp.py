@@ -3,7 +3,6 @@ geometry of the pose set and the standard uncertainty the controllers' wizards d
 
 from __future__ import annotations
 
-import csv
 import math
 import re
 from dataclasses import dataclass
@@ -11,9 +10,10 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen.kinds.stations.envelope import ReachError, check
-from codegen.model.cell import CellError, load_cell, replace_cell_file
+from codegen.csvfile import CsvError, number, read_rows
+from codegen.model.cell import CellError, load_cell, read_cell_data, replace_cell_file
 from codegen.poses import matrix_from_xyzabc, native_values, rotmat_from_zyx_deg, zyx_deg_from_rotmat
+from codegen.robot.taught import ReachError
 
 METHODS = {"tcp": (), "tcp-z": ("z",), "tcp-zx": ("z", "x")}  # the orientation rows each method needs
 ROLES = ("point", "z", "x")
@@ -21,6 +21,8 @@ MIN_POINTS = 3
 DUPLICATE_MM, DUPLICATE_DEG = 0.01, 0.01  # two touches closer than this are one touch
 RANK_RELATIVE = 1e-3  # smallest / largest singular value of the system below this: rank-deficient
 SAME_ORIENTATION_DEG = 0.1  # the z and x rows keep the orientation of the last point row
+POSITION_LIMIT_MM = 10_000.0
+ANGLE_LIMIT_DEG = 360.0  # as taught poses: a larger angle is the same turn, read with less precision
 
 
 class ToolCalibrationError(Exception):
@@ -66,28 +68,21 @@ class ToolFit:
 def read_poses(path: Path) -> list[tuple[int, str, np.ndarray]]:
     """(line, role, flange2base) per row of a CSV with header x,y,z,a,b,c[,role] (mm, deg, xyzabc)."""
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ToolCalibrationError(f"{path}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
-    rows = list(csv.reader(text.splitlines()))
-    if not rows:
-        raise ToolCalibrationError(f"{path}: empty file; expected a header x,y,z,a,b,c[,role]")
-    header = [h.strip().lower() for h in rows[0]]
-    if header[:6] != ["x", "y", "z", "a", "b", "c"] or header[6:] not in ([], ["role"]):
-        raise ToolCalibrationError(f"{path}:1: header must be x,y,z,a,b,c or x,y,z,a,b,c,role, got {','.join(rows[0])}")
+        _header, rows = read_rows(path, (("x", "y", "z", "a", "b", "c"), ("x", "y", "z", "a", "b", "c", "role")))
+    except CsvError as exc:
+        raise ToolCalibrationError(str(exc)) from None
     out = []
-    for line, row in enumerate(rows[1:], start=2):
-        if not row or all(not cell.strip() for cell in row):
-            continue
-        if len(row) != len(header):
-            raise ToolCalibrationError(f"{path}:{line}: expected {len(header)} values, got {len(row)}")
+    for row in rows:
+        line = row.line
         try:
-            values = [float(v) for v in row[:6]]
+            values = [number(v) for v in row.cells[:6]]
         except ValueError:
             raise ToolCalibrationError(f"{path}:{line}: x..c must be numbers") from None
-        if not all(math.isfinite(v) for v in values) or max(abs(v) for v in values[:3]) > 10_000:
-            raise ToolCalibrationError(f"{path}:{line}: expected finite values, positions within +-10,000 mm")
-        role = row[6].strip().lower() if len(row) > 6 else "point"
+        if max(abs(v) for v in values[:3]) > POSITION_LIMIT_MM or max(abs(v) for v in values[3:]) > ANGLE_LIMIT_DEG:
+            raise ToolCalibrationError(
+                f"{path}:{line}: expected positions within +-10,000 mm and angles within +-360 deg"
+            )
+        role = row.cells[6].strip().lower() if len(row.cells) > 6 else "point"
         if role not in ROLES:
             raise ToolCalibrationError(f"{path}:{line}: role must be one of {', '.join(ROLES)}, got {role!r}")
         out.append((line, role, matrix_from_xyzabc(values)))
@@ -99,6 +94,12 @@ def _angle_deg(a: np.ndarray, b: np.ndarray) -> float:
     return math.degrees(math.acos(max(-1.0, min(1.0, cos))))
 
 
+def _angles_deg(rotations: np.ndarray) -> np.ndarray:
+    """The rotation angle between every two of the rotations (n x n, deg): trace(Ra^T Rb) = 1 + 2 cos(angle)."""
+    flat = rotations.reshape(len(rotations), 9)
+    return np.degrees(np.arccos(np.clip((flat @ flat.T - 1.0) / 2.0, -1.0, 1.0)))
+
+
 def fit(path: Path, rows: list[tuple[int, str, np.ndarray]], method: str = "tcp") -> ToolFit:
     """Least squares for R_i tcp + t_i = point over the point rows; the orientation rows after it."""
     points = [(line, pose) for line, role, pose in rows if role == "point"]
@@ -108,12 +109,15 @@ def fit(path: Path, rows: list[tuple[int, str, np.ndarray]], method: str = "tcp"
             raise ToolCalibrationError(f"{path}: more than one row with role {role}")
     if len(points) < MIN_POINTS:
         raise ToolCalibrationError(f"{path}: {len(points)} touches of the point; at least {MIN_POINTS} are needed")
-    for i, (line_i, a) in enumerate(points):
-        for line_j, b in points[:i]:
-            if np.linalg.norm(a[:3, 3] - b[:3, 3]) < DUPLICATE_MM and _angle_deg(a, b) < DUPLICATE_DEG:
-                raise ToolCalibrationError(f"{path}:{line_i}: the same pose as line {line_j} (a duplicate touch)")
     rotations = np.array([pose[:3, :3] for _, pose in points])
     translations = np.array([pose[:3, 3] for _, pose in points])
+    apart_deg = _angles_deg(rotations)
+    apart_mm = np.linalg.norm(translations[:, None, :] - translations[None, :, :], axis=2)
+    same = np.tril((apart_mm < DUPLICATE_MM) & (apart_deg < DUPLICATE_DEG), k=-1)  # j < i: a later row repeats
+    if same.any():
+        i = int(np.argmax(same.any(axis=1)))
+        j = int(np.argmax(same[i]))
+        raise ToolCalibrationError(f"{path}:{points[i][0]}: the same pose as line {points[j][0]} (a duplicate touch)")
     n = len(points)
     system = np.concatenate([rotations, -np.broadcast_to(np.eye(3), (n, 3, 3))], axis=2).reshape(3 * n, 6)
     singular = np.linalg.svd(system, compute_uv=False)
@@ -130,7 +134,7 @@ def fit(path: Path, rows: list[tuple[int, str, np.ndarray]], method: str = "tcp"
     sigma2 = float(np.sum(errors**2) / dof) if dof > 0 else float("nan")
     covariance = sigma2 * np.linalg.inv(system.T @ system)
     uncertainty = np.sqrt(np.diag(covariance)[:3])
-    spread = max(_angle_deg(a, b) for i, (_, a) in enumerate(points) for _, b in points[:i])
+    spread = float(apart_deg.max())
     missing = [role for role in METHODS[method] if role not in extra]
     if missing:
         raise ToolCalibrationError(f"{path}: method {method} needs a row with role {missing[0]}")
@@ -198,16 +202,17 @@ _TCP_LINE = re.compile(r"^tcp\s*=[^\n]*$", re.MULTILINE)
 
 def write_to_cell(cell_path: Path, result: ToolFit, source: str) -> None:
     """Set the tcp of the cell's [cell.tool] (in the cell's pose format), keeping the rest as written; the
-    edited file must load and pass the envelope check before it replaces the old one."""
+    edited file must load and pass every kind's reach proof before it replaces the old one (its mode and a symlink
+    kept)."""
 
     cell = load_cell(cell_path)
-    match = _TOOL.search(cell_path.read_text(encoding="utf-8"))
+    text = read_cell_data(cell_path)[1].decode("utf-8")
+    match = _TOOL.search(text)
     if match is None or cell.robot is None:
         raise ToolCalibrationError(f"{cell_path}: no [cell.tool] table (with the tool's mass_kg and cog_mm) to set")
     orientation = result.orientation or tuple(zyx_deg_from_rotmat(_flange_orientation(cell)))
     values = native_values((*result.tcp, *orientation), "xyzabc", cell.pose_format)
     line = f"tcp = [{', '.join(f'{v:.6g}' for v in values)}]   # `codegen calibrate tcp` from {source}"
-    text = cell_path.read_text(encoding="utf-8")
     body = match.group(0)
     if _TCP_LINE.search(body):
         body = _TCP_LINE.sub(lambda _m: line, body, count=1)
@@ -215,11 +220,15 @@ def write_to_cell(cell_path: Path, result: ToolFit, source: str) -> None:
         body = body.rstrip("\n") + "\n" + line + "\n"
     new = text[: match.start()] + body + text[match.end() :]
     try:
-        replace_cell_file(cell_path, new, check)  # the arm must still take every corrected pose with the new tool
+        replace_cell_file(cell_path, new)  # the arm must still take every pose of every kind with the new tool
     except CellError as exc:
         raise ToolCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
     except ReachError as exc:
         raise ToolCalibrationError(f"{cell_path}: with this tool the cell would not generate: {exc}") from None
+    except OSError as exc:
+        raise ToolCalibrationError(
+            f"{cell_path}: cannot write: {exc.strerror or exc}; the file was left as it was"
+        ) from None
 
 
 def _flange_orientation(cell) -> np.ndarray:

@@ -7,6 +7,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from codegen.controllers import get_target
 from codegen.kinds.laser import program as lp
 from codegen.kinds.laser.reference import Expected, from_measured
 from codegen.kinds.laser.section import laser_of
@@ -170,6 +171,39 @@ def tolerances(cell, target, noise: float) -> Tolerances:
     contact = laser.search_speed_mm_s * cycle / 2 + 6 * noise / math.sqrt(2)
     tcp = contact + centre + laser.pin_radius_mm * axis + FLOAT32_MM
     return Tolerances(edge, centre, axis, hit, tcp)
+
+
+def check_goal(ctx, cell) -> None:
+    """What the model (tolerances, the sensors' noise aside) says each target's program can meet: the TCP
+    within the TRUTH_MM goal, and offset_max_mm above the TCP's error (a correct tool found farther than
+    offset_max_mm from the tool as designed stops as too far)."""
+    laser = laser_of(cell)
+    for name in cell.targets:
+        target = get_target(name)
+        cycle = float(target.program["signal_cycle_s"])
+        tcp = tolerances(cell, target, 0.0).tcp
+        reads = f"{name} reads its inputs every {cycle * 1000:g} ms"
+        if tcp > TRUTH_MM:
+            contact = laser.search_speed_mm_s * cycle / 2  # the search's term of the TCP's error
+            room = TRUTH_MM - (tcp - contact)
+            if room <= 0:
+                ctx.fail(
+                    "laser.circle_speed_mm_s",
+                    f"{reads}: at {laser.circle_speed_mm_s:g} mm/s the circles' centres alone put the TCP up to "
+                    f"{tcp - contact:.3f} mm off, beyond the {TRUTH_MM:g} mm goal: slow the circles",
+                )
+            ctx.fail(
+                "laser.search_speed_mm_s",
+                f"{reads}: at {laser.search_speed_mm_s:g} mm/s the tip search sees the tip up to "
+                f"{laser.search_speed_mm_s * cycle:.3f} mm late, and the TCP may be {tcp:.3f} mm off, beyond the "
+                f"{TRUTH_MM:g} mm goal: at most {room / (cycle / 2):.3g} mm/s here",
+            )
+        if laser.offset_max_mm < tcp:
+            ctx.fail(
+                "laser.offset_max_mm",
+                f"{reads}: it finds a correct tool's TCP up to {tcp:.3f} mm off (the circles' and the search's "
+                f"speeds): an offset_max_mm below that stops a correct tool as too far",
+            )
 
 
 def _flat(value) -> list[float]:

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.kinds.pallet import checks
-from codegen.kinds.pallet.patterns import layout
-from codegen.kinds.pallet.section import Pallet, parse_pallets
-from codegen.kinds.pallet.stack import FrameError, pallet2base
+from codegen.kinds.pallet.patterns import TooManyBoxes, layout
+from codegen.kinds.pallet.section import BOXES_MAX, Pallet, parse_pallets
+from codegen.kinds.pallet.stack import FrameError, pallet2base, pattern_of
 
 ENTRY_CLEARANCE_MM = 10.0  # the carried box's bottom this far above the layer's tops at the entry
 
@@ -36,7 +36,14 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
     layouts = {}
     for name in pallet.patterns:
         where = f"{path}.patterns.{name}"
-        boxes = layout(pallet, name)
+        try:
+            boxes = layout(pallet, name)
+        except TooManyBoxes as exc:
+            ctx.fail(
+                where,
+                f"{exc.count} boxes of {footprint[0]:g} x {footprint[1]:g} mm make this family's layer; at most "
+                f"{BOXES_MAX} a stack (verify runs the whole stack, generate solves each of its moves for every arm)",
+            )
         if not boxes:
             ctx.fail(where, f"no box of {footprint[0]:g} x {footprint[1]:g} mm fits this family on the pallet")
         for i, j, area in checks.overlaps(boxes, footprint):
@@ -49,6 +56,7 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
                     f"(overhang_mm allows {pallet.overhang_mm:g})",
                 )
         layouts[name] = boxes
+    _check_counts(ctx, pallet, path, layouts)
     seen = set()
     for layer in range(2, pallet.layers + 1):
         below, above = pallet.cycle[(layer - 2) % len(pallet.cycle)], pallet.cycle[(layer - 1) % len(pallet.cycle)]
@@ -64,6 +72,20 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
                 f"the layer below (support_min {pallet.support_min:.0%})"
             )
     return warnings
+
+
+def _check_counts(ctx, pallet: Pallet, path: str, layouts: dict) -> None:
+    """The patterns together and the whole stack within BOXES_MAX (each pattern is, once made)."""
+    together = sum(len(boxes) for boxes in layouts.values())
+    if together > BOXES_MAX:
+        ctx.fail(f"{path}.patterns", f"{together} boxes in the patterns together; at most {BOXES_MAX}")
+    stack = sum(len(layouts[pattern_of(pallet, layer)]) for layer in range(1, pallet.layers + 1))
+    if stack > BOXES_MAX:
+        ctx.fail(
+            f"{path}.layers",
+            f"{pallet.layers} layers of the cycle's patterns make {stack} boxes; at most {BOXES_MAX} a stack "
+            "(verify runs the whole stack in the interpreter, generate solves each of its moves for every arm)",
+        )
 
 
 def frame_matrix(pallet: Pallet) -> np.ndarray:

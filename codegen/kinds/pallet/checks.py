@@ -9,6 +9,7 @@ import numpy as np
 from codegen.kinds.pallet.patterns import Box
 
 AREA_TOL = 1e-6  # share of a box's area: boxes that only touch do not overlap
+CHUNK = 256  # rows of the bounding-box comparison at a time (256 x 2,000 boxes x 2: 1 MB)
 
 
 def corners(box: Box, length: float, width: float) -> np.ndarray:
@@ -47,13 +48,18 @@ def _area(polygon: np.ndarray) -> float:
 
 
 def _candidates(a: list[np.ndarray], b: list[np.ndarray]) -> list[tuple[int, int]]:
-    """Pairs whose bounding boxes overlap (a vectorised first pass; the clip runs on these only)."""
+    """Pairs whose bounding boxes overlap (a vectorised first pass; the clip runs on these only), in order
+    of i, then j. Compared CHUNK rows of a at a time: the comparison's memory stays CHUNK x len(b) x 2."""
     if not a or not b:
         return []
     lo_a, hi_a = np.array([c.min(0) for c in a]), np.array([c.max(0) for c in a])
     lo_b, hi_b = np.array([c.min(0) for c in b]), np.array([c.max(0) for c in b])
-    hit = np.all((lo_a[:, None] < hi_b[None]) & (lo_b[None] < hi_a[:, None]), axis=2)
-    return [(int(i), int(j)) for i, j in zip(*np.nonzero(hit), strict=True)]
+    out = []
+    for start in range(0, len(a), CHUNK):
+        lo, hi = lo_a[start : start + CHUNK], hi_a[start : start + CHUNK]
+        hit = np.all((lo[:, None] < hi_b[None]) & (lo_b[None] < hi[:, None]), axis=2)
+        out.extend((int(i) + start, int(j)) for i, j in zip(*np.nonzero(hit), strict=True))
+    return out
 
 
 def overlaps(boxes: tuple[Box, ...], size: tuple[float, float]) -> list[tuple[int, int, float]]:

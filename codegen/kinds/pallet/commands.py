@@ -6,11 +6,12 @@ from pathlib import Path
 
 import click
 
-from codegen.cli_base import UserError
+from codegen.cli_base import Folder, UserError
 from codegen.cli_base import dump as _dump
 from codegen.kinds.pallet.pictures import pictures
 from codegen.kinds.pallet.report import load_pallet_file, report, text
 from codegen.model.cell import EXAMPLES_DIR, CellError
+from codegen.output import write_file
 
 TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
 
@@ -18,7 +19,7 @@ TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
 @click.command("pallet")
 @click.argument("cell", required=False, type=click.Path(dir_okay=False))
 @click.option("--json", "as_json", is_flag=True, help="JSON (keys in DESIGN.md 4) instead of text.")
-@click.option("--svg", "svg_dir", type=click.Path(file_okay=False), help="Write one SVG per layer into this folder.")
+@click.option("--svg", "svg_dir", type=Folder(), help="Write one SVG per layer into this folder.")
 def pallet(cell, as_json, svg_dir) -> None:
     """Every box of every [[pallet]] of CELL (default: source 004's test pallet) with its target, entry,
     approach and retreat in the pallet and the base frame; overlapping or overhanging boxes are refused."""
@@ -38,7 +39,7 @@ def pallet(cell, as_json, svg_dir) -> None:
             folder.mkdir(parents=True, exist_ok=True)
             for p in data.pallets:
                 for name, svg in pictures(p).items():
-                    (folder / name).write_text(svg, encoding="utf-8")
+                    write_file(folder / name, svg)  # in one step; a symlink replaced, not followed
         except OSError as exc:
             raise UserError(f"{folder}: cannot write the pictures: {exc.strerror or exc}") from None
     if as_json:

@@ -6,6 +6,7 @@ from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
 from codegen.kinds.pallet.program import check_level, pallet_context, pallet_file_names, pallet_identifiers
+from codegen.kinds.pallet.scene import objects as scene_objects
 from codegen.kinds.pallet.section import pallets_of
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
 from codegen.render import program_emitter
@@ -118,6 +119,10 @@ class PalletKind(ProgramKind):
     @classmethod
     def report_lines(cls, rows: list) -> list[str]:
         return verify.report_lines(rows)
+
+    @classmethod
+    def scene(cls, cell) -> list[dict]:
+        return scene_objects(cell, cls.section(cell) or ())
 
     @classmethod
     def commands(cls) -> list:

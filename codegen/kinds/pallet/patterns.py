@@ -5,7 +5,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from codegen.kinds.pallet.section import FamilySpec, Pallet
+from codegen.kinds.pallet.section import BOXES_MAX, FamilySpec, Pallet
+
+FIT_CAP = 10**9  # a count of boxes along one side beyond this is only ever refused (and keeps int() finite)
+
+
+class TooManyBoxes(ValueError):
+    """A family that would put more than the limit of boxes on the layer (counted before any is made)."""
+
+    def __init__(self, count: int) -> None:
+        super().__init__(f"{count} boxes")
+        self.count = count
 
 
 @dataclass(frozen=True)
@@ -25,7 +35,7 @@ def layout(pallet: Pallet, name: str) -> tuple[Box, ...]:
         sign = -1.0 if pallet.angle_sense == "cw" else 1.0
         return tuple(Box(x, y, sign * angle) for x, y, angle in spec)
     length, width = pallet.size
-    boxes = FAMILIES[spec.family](length, width, pallet.box[0], pallet.box[1])
+    boxes = FAMILIES[spec.family](length, width, pallet.box[0], pallet.box[1])  # TooManyBoxes beyond BOXES_MAX
     if spec.label_out:
         boxes = [_label_out(b, length, width) for b in boxes]
     if spec.mirror:
@@ -66,38 +76,61 @@ def _grid(nx: int, ny: int, step_x: float, step_y: float, angle: float, x0: floa
     return [Box(x0 + (i + 0.5) * step_x, y0 + (j + 0.5) * step_y, angle) for j in range(ny) for i in range(nx)]
 
 
-def column(length: float, width: float, bl: float, bw: float) -> list[Box]:
+def _fit(length: float, size: float) -> int:
+    """How many of `size` fit in `length` (negative when even half of one does not: split_row's shift)."""
+    return int(min(length // size, FIT_CAP))
+
+
+def _limited(count: int, limit: int) -> None:
+    """A layout is made only once its count is known to be within the limit (a box of 1 mm on a EUR pallet
+    would make 960,000 of them)."""
+    if count > limit:
+        raise TooManyBoxes(count)
+
+
+def column(length: float, width: float, bl: float, bw: float, limit: int = BOXES_MAX) -> list[Box]:
     """Every box the same way (the way that holds more), in rows, centred: boxes stand on boxes."""
-    along = (int(length // bl), int(width // bw))
-    across = (int(length // bw), int(width // bl))
+    along = (_fit(length, bl), _fit(width, bw))
+    across = (_fit(length, bw), _fit(width, bl))
     if along[0] * along[1] >= across[0] * across[1]:
         nx, ny = along
+        _limited(nx * ny, limit)
         return _centred(_grid(nx, ny, bl, bw, 0.0), nx * bl, ny * bw, length, width)
     nx, ny = across
+    _limited(nx * ny, limit)
     return _centred(_grid(nx, ny, bw, bl, 90.0), nx * bw, ny * bl, length, width)
 
 
-def interlock(length: float, width: float, bl: float, bw: float) -> list[Box]:
+def interlock(length: float, width: float, bl: float, bw: float, limit: int = BOXES_MAX) -> list[Box]:
     """A block of boxes along x from the pallet's x = 0 edge, then a block turned 90 deg: the split that
     holds the most boxes with both blocks present (its mirror on the next layer crosses the seams);
     a column layout where no such split fits."""
-    best: tuple[int, list[Box]] | None = None
-    rows_along, rows_across = int(width // bw), int(width // bl)
-    for i in range(1, int(length // bl) + 1):
-        k = int((length - i * bl) // bw)
-        if k < 1 or rows_along < 1 or rows_across < 1:
-            continue
-        left = _grid(i, rows_along, bl, bw, 0.0, 0.0, (width - rows_along * bw) / 2)
-        right = _grid(k, rows_across, bw, bl, 90.0, i * bl, (width - rows_across * bl) / 2)
-        if best is None or len(left) + len(right) > best[0]:
-            best = (len(left) + len(right), left + right)
-    return best[1] if best is not None else column(length, width, bl, bw)
+    rows_along, rows_across = _fit(width, bw), _fit(width, bl)
+    best: tuple[int, int, int] | None = None  # count, i, k
+    if rows_along >= 1 and rows_across >= 1:
+        # a block of i boxes along holds at least i: past limit + 1 a split either exceeds the limit or has
+        # no room left for the turned block (k falls as i grows), so the search ends there
+        for i in range(1, min(_fit(length, bl), limit + 1) + 1):
+            k = _fit(length - i * bl, bw)
+            if k < 1:
+                continue
+            count = i * rows_along + k * rows_across
+            if best is None or count > best[0]:
+                best = (count, i, k)
+    if best is None:
+        return column(length, width, bl, bw, limit)
+    count, i, k = best
+    _limited(count, limit)
+    left = _grid(i, rows_along, bl, bw, 0.0, 0.0, (width - rows_along * bw) / 2)
+    right = _grid(k, rows_across, bw, bl, 90.0, i * bl, (width - rows_across * bl) / 2)
+    return left + right
 
 
-def pinwheel(length: float, width: float, bl: float, bw: float) -> list[Box]:
+def pinwheel(length: float, width: float, bl: float, bw: float, limit: int = BOXES_MAX) -> list[Box]:
     """Units of four boxes turning about a centre (square side length + width), tiled and centred."""
     side = bl + bw
-    nx, ny = int(length // side), int(width // side)
+    nx, ny = _fit(length, side), _fit(width, side)
+    _limited(4 * nx * ny, limit)
     unit = [
         (bl / 2, bw / 2, 0.0),
         (bl + bw / 2, bl / 2, 90.0),
@@ -108,11 +141,12 @@ def pinwheel(length: float, width: float, bl: float, bw: float) -> list[Box]:
     return _centred(boxes, nx * side, ny * side, length, width)
 
 
-def split_row(length: float, width: float, bl: float, bw: float) -> list[Box]:
+def split_row(length: float, width: float, bl: float, bw: float, limit: int = BOXES_MAX) -> list[Box]:
     """Rows along x, every second row shifted half a box (one box fewer): the joints of one row are
     split by the boxes of the next, as bricks in a wall; centred."""
-    rows, full = int(width // bw), int(length // bl)
-    shifted = int((length - bl / 2) // bl)
+    rows, full = _fit(width, bw), _fit(length, bl)
+    shifted = _fit(length - bl / 2, bl)
+    _limited((rows + 1) // 2 * full + rows // 2 * max(shifted, 0), limit)
     boxes = []
     for j in range(rows):
         count, x0 = (full, 0.0) if j % 2 == 0 else (shifted, bl / 2)

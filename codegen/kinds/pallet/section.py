@@ -35,6 +35,15 @@ FAMILIES = ("column", "interlock", "pinwheel", "split-row")
 FAMILY_KEYS = frozenset({"family", "mirror", "label_out"})
 SLIP_KEYS = frozenset({"every", "thickness"})
 MAX_LAYERS = 200
+# The most boxes a stack (every layer), a pattern or the patterns together may hold. The programs hold every
+# box of the cycle's patterns in tables (7 to 9 numbers a box) and count boxes in a layer and layers; their
+# counters would hold far more (each controller's integers: targets/<t>.toml), and no documented limit of the
+# tables' length was found for any of the controllers. What binds is codegen's own work: verify runs the whole
+# stack in the interpreter within its default step limit (200,000 steps; a box takes 53 to 63 of them on the four
+# targets: about 3,300 boxes), and generate solves every move of the whole stack for each arm (8 moves a
+# box, about 2 ms a box). 2,000 keeps both within that with room, and is far more than a pallet of cartons
+# holds (a EUR pallet of 200 x 150 mm cartons: 32 a layer).
+BOXES_MAX = 2000
 MAX_SIZE_MM = 5000.0
 PICK_LIFT_MM = 100.0  # the default lift above Q
 MAX_PICK_LIFT_MM = 2000.0
@@ -99,26 +108,25 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
     name = ctx.name(table, "name", f"{path}.name")
     frame = ctx.table(table, "frame", f"{path}.frame")
     ctx.no_unknown(frame, FRAME_KEYS, f"{path}.frame")
-    points = [
-        ctx.numbers(ctx.require(frame, k, f"{path}.frame.{k}"), 3, f"{path}.frame.{k}") for k in sorted(FRAME_KEYS)
-    ]
+    points = [ctx.point(ctx.require(frame, k, f"{path}.frame.{k}"), f"{path}.frame.{k}") for k in sorted(FRAME_KEYS)]
     origin, x_point, xy_point = points  # sorted: origin, x_point, xy_point
     size = _positive(ctx, ctx.require(table, "size", f"{path}.size"), 2, f"{path}.size")
     box = _positive(ctx, ctx.require(table, "box", f"{path}.box"), 3, f"{path}.box")
-    layers = ctx.require(table, "layers", f"{path}.layers")
-    if isinstance(layers, bool) or not isinstance(layers, int) or not 1 <= layers <= MAX_LAYERS:
-        ctx.fail(f"{path}.layers", f"expected a whole number of layers in 1..{MAX_LAYERS}")
+    layers = ctx.integer(table, "layers", f"{path}.layers", 1, MAX_LAYERS)
     patterns = _patterns(ctx, ctx.table(table, "patterns", f"{path}.patterns"), f"{path}.patterns")
     cycle = ctx.require(table, "cycle", f"{path}.cycle")
     if not isinstance(cycle, list) or not cycle:
         ctx.fail(f"{path}.cycle", "expected a non-empty list of pattern names")
+    if len(cycle) > MAX_LAYERS:
+        ctx.fail(f"{path}.cycle", f"{len(cycle)} patterns; at most {MAX_LAYERS}, the most layers a stack has")
     for i, entry in enumerate(cycle):
         if not isinstance(entry, str) or entry not in patterns:
             ctx.fail(f"{path}.cycle[{i}]", f"no pattern {entry!r}; the patterns: {', '.join(patterns)}")
     sense = table.get("angle_sense", "ccw")
     if sense not in ("cw", "ccw"):
         ctx.fail(f"{path}.angle_sense", 'expected "cw" (clockwise, as source 004\'s editor) or "ccw"')
-    orientation = ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, f"{path}.tool_orientation")
+    where = f"{path}.tool_orientation"
+    orientation = ctx.angles(ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, where), where)
     entry_dz = ctx.number(table, "entry_dz", f"{path}.entry_dz")
     if not 0 < entry_dz <= MAX_SIZE_MM:
         ctx.fail(f"{path}.entry_dz", f"must be in (0, {MAX_SIZE_MM:g}] mm: the entry is above the target")
@@ -140,9 +148,7 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
     if "slip_sheet" in table:
         slip = ctx.table(table, "slip_sheet", f"{path}.slip_sheet")
         ctx.no_unknown(slip, SLIP_KEYS, f"{path}.slip_sheet")
-        slip_every = ctx.require(slip, "every", f"{path}.slip_sheet.every")
-        if isinstance(slip_every, bool) or not isinstance(slip_every, int) or not 1 <= slip_every <= MAX_LAYERS:
-            ctx.fail(f"{path}.slip_sheet.every", "expected a whole number of layers (a sheet on top of every n-th)")
+        slip_every = ctx.integer(slip, "every", f"{path}.slip_sheet.every", 1, MAX_LAYERS)  # on every n-th layer
         slip_thickness = ctx.number(slip, "thickness", f"{path}.slip_sheet.thickness")
         if not 0 < slip_thickness <= 50:
             ctx.fail(f"{path}.slip_sheet.thickness", "must be in (0, 50] mm")
@@ -207,10 +213,13 @@ def _patterns(ctx: CellValidator, table: dict, path: str) -> dict:
                     ctx.fail(f"{where}.{flag}", "must be true or false")
             out[key] = FamilySpec(family, **flags)
         elif isinstance(value, list) and value:
+            if len(value) > BOXES_MAX:
+                ctx.fail(where, f"{len(value)} boxes; at most {BOXES_MAX} a pattern (the most a stack may hold)")
             boxes = tuple(ctx.numbers(box, 3, f"{where}[{i}]") for i, box in enumerate(value))
             for i, box in enumerate(boxes):
-                if max(abs(v) for v in box[:2]) > MAX_SIZE_MM or abs(box[2]) > 360:
-                    ctx.fail(f"{where}[{i}]", f"x, y within +-{MAX_SIZE_MM:g} mm and the angle within +-360 deg")
+                if max(abs(v) for v in box[:2]) > MAX_SIZE_MM:
+                    ctx.fail(f"{where}[{i}]", f"x, y within +-{MAX_SIZE_MM:g} mm")
+                ctx.angles(box[2:], f"{where}[{i}]", what="the angle")
             out[key] = boxes
         else:
             ctx.fail(where, "expected a list of [x, y, angle] boxes or a table { family = ... }")
@@ -222,4 +231,4 @@ def pallets_of(cell) -> tuple[Pallet, ...]:
     return cell.sections.get("pallet") or ()
 
 
-__all__ = ["FAMILIES", "FamilySpec", "Pallet", "pallets_of", "parse_pallets"]
+__all__ = ["BOXES_MAX", "FAMILIES", "FamilySpec", "Pallet", "pallets_of", "parse_pallets"]

@@ -16,6 +16,7 @@ from codegen.kinds.pallet.reach import configurations, joints_of
 from codegen.kinds.pallet.section import pallets_of
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
+from codegen.robot.expect import tool_inputs
 from codegen.robot.taught import ReachError
 from codegen.sim.gripper import Gripper
 from codegen.verify.plan import (
@@ -77,7 +78,7 @@ def setup(cell, index: int, target_name: str, case: Case) -> Setup:
     late = LATE_SHARE * cell.io.timeout_s
     gripper = Gripper(output, feedback, cell.io.value, pallet_case.gripper, late)
     return Setup(
-        {layer_name: pallet_case.layer, box_name: pallet_case.box},
+        {layer_name: pallet_case.layer, box_name: pallet_case.box, **tool_inputs(cell, target_name)},
         (gripper,),
         {feedback: pallet_case.closed},
         _start_joints(cell, index, target_name, case),

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import click
 
-from codegen.cli_base import UserError
+from codegen.cli_base import Number, UserError
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.kinds.point.correct import correct_report, format_report
@@ -23,7 +23,9 @@ def _parse_mark(value: str) -> tuple[float, float, float]:
 
 @click.command("correct")
 @click.argument("cell", required=False, type=click.Path(dir_okay=False))
-@click.option("--station", "station_id", required=True, type=int, help="Station id read by the camera.")
+@click.option(
+    "--station", "station_id", required=True, type=Number(integer=True), help="Station id read by the camera."
+)
 @click.option("--mark", required=True, help="Mark now: X,Y,THETA (base frame, mm, deg, as the camera reports).")
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None:

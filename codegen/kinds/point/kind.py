@@ -20,6 +20,7 @@ from codegen.guard import (
 )
 from codegen.kinds.point.commands import correct
 from codegen.kinds.point.reference import NAME, PointSpec, Reading, expected_trace
+from codegen.kinds.point.scene import objects as scene_objects
 from codegen.kinds.stations.base import StationKind
 from codegen.kinds.stations.cases import Case
 from codegen.model.vision import SECOND_LOOK_MM
@@ -40,6 +41,10 @@ class PointKind(StationKind):
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("deviation",)
     log_names = ("station", "dx1", "dy1", "dx2", "dy2", "dtheta")
+
+    @classmethod
+    def station_scene(cls, cell, station) -> list[dict]:
+        return scene_objects(cell, station)
 
     @classmethod
     def commands(cls) -> list:

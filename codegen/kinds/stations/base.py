@@ -34,6 +34,16 @@ class StationKind(ProgramKind):
         raise NotImplementedError
 
     @classmethod
+    def scene(cls, cell) -> list[dict]:
+        """The kind's stations in the cell's page (station_scene of each)."""
+        return [o for station in cell.stations if station.kind == cls.name for o in cls.station_scene(cell, station)]
+
+    @classmethod
+    def station_scene(cls, cell, station) -> list[dict]:
+        """One of the kind's stations in the cell's page (codegen.view.scene's vocabulary)."""
+        return []
+
+    @classmethod
     def halt_message(cls, cell, reason: str, station) -> str:
         """The operator message for a halt of one of the kind's stations (a contract)."""
         return halt_message(cell, reason, station.name, station.id)

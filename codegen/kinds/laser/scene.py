@@ -1,0 +1,28 @@
+"""The two crossed beams in the cell's page (codegen/view/): the sensor frame, the beams, the sensors."""
+
+from __future__ import annotations
+
+from dataclasses import fields
+
+import numpy as np
+
+from codegen.sim.beams import Sensors
+from codegen.view.scene import box, frame, line, point, translated
+
+REACH_MM = next(f.default for f in fields(Sensors) if f.name == "reach")  # each sensor to the crossing
+BODY_MM = (40.0, 30.0, 30.0)  # a sensor's body as drawn (along its beam first)
+
+
+def objects(cell, laser) -> list[dict]:
+    """The sensor frame S, its two beams crossing at S's origin (X along +x from its sensor at -x, Y along +y from
+    its sensor at -y, as codegen.sim.beams has them) and the two sensors."""
+    sensor2base = laser.sensor_frame.matrix()
+    out = [frame(sensor2base, "sensor frame S", "sensor", 50.0)]
+    for name, axis in (("X", np.array([1.0, 0.0, 0.0])), ("Y", np.array([0.0, 1.0, 0.0]))):
+        ends = [sensor2base @ np.array([*(s * REACH_MM * axis), 1.0]) for s in (-1.0, 1.0)]
+        out.append(line(ends, "beam", f"beam {name}"))
+        body = translated(sensor2base, -(REACH_MM + BODY_MM[0] / 2) * axis)
+        size = BODY_MM if name == "X" else (BODY_MM[1], BODY_MM[0], BODY_MM[2])
+        out.append(box(body, size, "sensor", f"sensor {name}"))
+    out.append(point(sensor2base[:3, 3], "beam", "crossing"))
+    return out

@@ -1,0 +1,192 @@
+"""A program given to verify beside the one the cell generates: the lines changed, what they change in a run."""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections import Counter
+from pathlib import Path
+
+from codegen.dialects.core.trace import Trace, halt_text
+from codegen.dialects.core.values import RunError
+from codegen.protocol import get_kind
+from codegen.verify.checks import Checker
+from codegen.verify.plan import SCENARIOS
+from codegen.verify.programs import ProgramSource, fresh_sources
+
+EDIT_CASES = 16  # cases each program and its generated twin run: the kind's first category (one a station), from home
+SHOWN_LINES = 8  # changed lines named per program (the rest counted)
+TIME_STEP_S = 1e-6  # a clock difference below this is the same time (both clocks sum the same float64 terms)
+
+
+def edits(cell, sources: list[ProgramSource], step_limit: int, seed: int) -> dict[int, list[str]]:
+    """Per report row: the changed lines of each given program against the generated one and what they change in
+    its first nominal runs (cycle time, waits, messages, outputs, move settings, moves, the stop). Rows whose
+    programs are as generated have none. A difference is reported whether or not verify judges it a mismatch."""
+    out: dict[int, list[str]] = {}
+    for source in sources:
+        if source.model is not None:
+            continue
+        twin = _twin(cell, source)
+        if twin is None:
+            continue
+        changed = _changed_lines(source, twin)
+        if not changed:
+            continue
+        out.setdefault(source.row, []).extend(changed + _effects(cell, source, twin, step_limit, seed))
+    return out
+
+
+def _twin(cell, source: ProgramSource) -> ProgramSource | None:
+    for fresh in fresh_sources(cell, [source.target], only={source.kind}):
+        if fresh.index == source.index:
+            return fresh
+    return None
+
+
+def _pairs(source: ProgramSource, twin: ProgramSource):
+    """(given file, generated file) of one program: the program files, then the others by suffix."""
+    yield source.files[0], twin.files[0]
+    theirs = {Path(f.name).suffix.lower(): f for f in twin.files[1:]}
+    for mine in source.files[1:]:
+        other = theirs.get(Path(mine.name).suffix.lower())
+        if other is not None:
+            yield mine, other
+
+
+def _changed_lines(source: ProgramSource, twin: ProgramSource) -> list[str]:
+    """`file:line` and the text of each line added, removed or changed against the generated program."""
+    out: list[str] = []
+    for mine, theirs in _pairs(source, twin):
+        a, b = theirs.text.splitlines(), mine.text.splitlines()
+        name = Path(mine.name).name
+        for op, a0, a1, b0, b1 in difflib.SequenceMatcher(None, a, b, autojunk=False).get_opcodes():
+            if op == "equal":
+                continue
+            for i in range(b0, b1):
+                out.append(f"{name}:{i + 1} {'changed' if op == 'replace' else 'added'}: {b[i].strip()}")
+            if op == "delete" or (op == "replace" and a1 - a0 > b1 - b0):
+                gone = a[a0 + (b1 - b0) if op == "replace" else a0 : a1]
+                out.extend(f"{name}: removed after line {b0}: {text.strip()}" for text in gone)
+    if len(out) > SHOWN_LINES:
+        out = [*out[:SHOWN_LINES], f"... and {len(out) - SHOWN_LINES} more changed lines"]
+    return [f"EDIT {line}" for line in out]
+
+
+def _effects(cell, source: ProgramSource, twin: ProgramSource, step_limit: int, seed: int) -> list[str]:
+    """What the changes do in the first nominal runs, as differences of the two traces (each said once)."""
+    kind = get_kind(source.kind)
+    cases = [c for c in kind.verify_cases(cell, source, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
+    cases = [c for c in cases if c.category == cases[0].category][:EDIT_CASES] if cases else []
+    arm = Checker(cell, source.target).arm
+    try:
+        programs = (source.load(), twin.load())
+    except RunError as exc:
+        return [f"EDIT effect not known: {exc}"]
+    seen: dict[str, None] = {}
+    for case in cases:
+        traces = []
+        for program in programs:
+            setup = kind.setup(cell, source, case)
+            try:
+                traces.append(program.run(setup.inputs, **setup.run_options(arm, step_limit)))
+            except RunError as exc:
+                traces.append(exc)
+        for text in _differences(*traces):
+            seen.setdefault(f"EDIT effect: {text}", None)
+    return list(seen) or ["EDIT effect: none in the nominal runs (moves, outputs, messages, settings, time alike)"]
+
+
+def _differences(mine: Trace | RunError, theirs: Trace | RunError) -> list[str]:
+    if isinstance(mine, RunError) or isinstance(theirs, RunError):
+        if isinstance(mine, RunError) and not isinstance(theirs, RunError):
+            return [f"the run stops with an error where the generated program's does not: {mine}"]
+        return []
+    out = []
+    if mine.halted != theirs.halted or (mine.halted and mine.halt_message != theirs.halt_message):
+        said = f"stops ({halt_text(mine)!r})" if mine.halted else "does not stop"
+        out.append(f"the program {said} where the generated program {_stop_of(theirs)}")
+    if len(mine.moves) != len(theirs.moves):
+        out.append(f"{len(mine.moves)} moves where the generated program makes {len(theirs.moves)}")
+    out += _settings(mine, theirs) + _timing(mine, theirs)
+    extra = Counter(mine.messages) - Counter(theirs.messages)
+    missing = Counter(theirs.messages) - Counter(mine.messages)
+    out += [f"writes {m!r} (the generated program does not)" for m in extra]
+    out += [f"does not write {m!r}" for m in missing]
+    out += _outputs(mine, theirs)
+    return out
+
+
+def _stop_of(trace: Trace) -> str:
+    return f"stops ({halt_text(trace)!r})" if trace.halted else "does not"
+
+
+def _settings(mine: Trace, theirs: Trace) -> list[str]:
+    """Move settings the given program has and the generated one has not (or other values): each difference
+    once, with the moves it holds on (from the first move's line)."""
+    spans: dict[tuple, list[int]] = {}
+    for i, (m, t) in enumerate(zip(mine.moves, theirs.moves, strict=False)):
+        for key in sorted(set(m.settings) | set(t.settings)):
+            have, want = _plain(m.settings.get(key)), _plain(t.settings.get(key))
+            if have != want:
+                spans.setdefault((key, _shown(have), _shown(want)), []).append(i)
+    out = []
+    for (key, have, want), moves in spans.items():
+        first, last = moves[0], moves[-1]
+        which = f"move {first + 1}" if first == last else f"moves {first + 1}-{last + 1}"
+        out.append(f"{which} (from line {mine.moves[first].line}) {key} {have}, generated {want}")
+    return out
+
+
+def _plain(value):
+    if isinstance(value, dict):
+        return {k: v for k, v in value.items() if k != "line"}  # where a setting was written is the diff's
+    return value
+
+
+def _shown(value) -> str:
+    if value is None:
+        return "not set"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} {_shown(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
+def _timing(mine: Trace, theirs: Trace) -> list[str]:
+    """Where the given program's clock departs from the generated one's: before the first move whose arrival
+    differs (a wait, a slower move), and the whole run's time."""
+    out = []
+    before = 0.0
+    for i, (m, t) in enumerate(zip(mine.moves, theirs.moves, strict=False)):
+        delta = m.end_time - t.end_time
+        if abs(delta - before) > TIME_STEP_S:
+            out.append(f"reaches move {i + 1} (line {m.line}) {_seconds(delta - before, 'later', 'earlier')}")
+            before = delta
+            break
+    total = mine.clock - theirs.clock
+    if abs(total) > TIME_STEP_S and math.isfinite(total):
+        out.append(
+            f"the run takes {_seconds(total, 'longer', 'less')} ({mine.clock:.2f} s, generated {theirs.clock:.2f} s)"
+        )
+    return out
+
+
+def _seconds(delta: float, more: str, less: str) -> str:
+    amount = f"{abs(delta):.2f}" if abs(delta) >= 0.005 else f"{abs(delta):.2g}"
+    return f"{amount} s {more if delta > 0 else less} than the generated program"
+
+
+def _outputs(mine: Trace, theirs: Trace) -> list[str]:
+    def key(e):
+        return (e.name, e.value, e.after_moves)
+
+    have, want = Counter(map(key, mine.outputs)), Counter(map(key, theirs.outputs))
+    lines = {key(e): e.line for e in mine.outputs}
+    out = [
+        f"sets {n} {v} after move {k} (line {lines[(n, v, k)]}); the generated program does not"
+        for n, v, k in have - want
+    ]
+    out += [f"does not set {n} {v} after move {k} as the generated program does" for n, v, k in want - have]
+    return out

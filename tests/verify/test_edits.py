@@ -1,0 +1,103 @@
+"""verify of a hand-edited demo program names each edit (the line and its text) and what it changes in a run."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from codegen.model.cell import EXAMPLES_DIR, load_cell
+from codegen.verify.engine import Options, verify_cell
+
+DEMO = EXAMPLES_DIR / "agv_machine_tending.toml"
+GENERATED = Path(__file__).resolve().parents[2] / "generated" / "agv_machine_tending"
+FILES = {
+    "abb": "abb/agv_machine_tending.mod",
+    "ur": "ur/agv_machine_tending.script",
+    "kuka": "kuka/agv_machine_tending.src",
+}
+# the line after which each edit goes: station 1's move to the chuck (its work pose), in each language
+AFTER = {"abb": "MoveL vis_apply(corr, p1_chuck)", "ur": "movel(pose_trans(corr, p1_chuck)", "kuka": "P1_CHUCK"}
+SHIFTS = frozenset({"random", "zero_shift", "inside_shift_limit"})  # cases that reach the work pose
+FAST = Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"random"}))
+
+
+@pytest.fixture(scope="module")
+def cell():
+    return load_cell(DEMO)
+
+
+def edited(tmp_path: Path, target: str, text: str, before: bool = False) -> tuple[Path, int]:
+    """The demo's program for the target with one line added after (or before) station 1's move to the chuck;
+    the file (under its own name, with its data file) and the added line's number."""
+    source = GENERATED / FILES[target]
+    lines = source.read_text().splitlines()
+    at = next(
+        i for i, line in enumerate(lines) if AFTER[target] in line and not line.lstrip().startswith(("TARGET", ";"))
+    )
+    if target == "kuka":  # the KRL motion to the chuck is the LIN after the TARGET line that names it
+        at = next(i for i in range(at, len(lines)) if lines[i].lstrip().startswith("LIN"))
+    at = at if before else at + 1
+    lines.insert(at, "    " + text)
+    path = tmp_path / source.name
+    path.write_text("\n".join(lines) + "\n")
+    for companion in source.parent.glob(source.stem + ".*"):
+        if companion != source:
+            (tmp_path / companion.name).write_text(companion.read_text())
+    return path, at + 1
+
+
+def verify(cell, path: Path, target: str, options: Options = FAST):
+    report = verify_cell(cell, [path], (target,), options)
+    (row,) = report.rows
+    return report, row
+
+
+@pytest.mark.parametrize(
+    ("target", "text", "effect"),
+    [
+        ("abb", "WaitTime 0.5;", "reaches move 4 (line {n_next}) 0.50 s later than the generated program"),
+        ("ur", "sleep(0.5)", "reaches move 4 (line {n_next}) 0.50 s later than the generated program"),
+        ("kuka", "WAIT SEC 0.5", "0.50 s later than the generated program"),
+        ("abb", 'TPWrite "at the chuck";', "writes 'at the chuck' (the generated program does not)"),
+        ("abb", "Set doLamp;", "sets doLamp True after move 3 (line {n}); the generated program does not"),
+    ],
+)
+def test_a_hand_edit_is_named_with_its_effect(cell, tmp_path, target, text, effect):
+    path, n = edited(tmp_path, target, text)
+    report, row = verify(cell, path, target)
+    assert row.edits[0] == f"EDIT {path.name}:{n} added: {text}"
+    effects = [e.removeprefix("EDIT effect: ") for e in row.edits[1:]]
+    lines = path.read_text().splitlines()
+    n_next = next(i + 1 for i in range(n, len(lines)) if lines[i].lstrip().startswith(("MoveL", "movel", "LIN")))
+    assert effect.format(n=n, n_next=n_next) in " | ".join(effects), row.edits
+    assert any(line.startswith(f"  EDIT {path.name}:{n}") for line in report.lines())
+    assert report.as_json()["programs"][0]["edits"] == row.edits
+
+
+def test_a_speed_change_is_named_on_the_moves_it_holds_for(cell, tmp_path):
+    path, n = edited(tmp_path, "abb", "VelSet 50, 800;", before=True)
+    _, row = verify(cell, path, "abb")
+    assert row.edits[0] == f"EDIT {path.name}:{n} added: VelSet 50, 800;"
+    settings = [e for e in row.edits if "velset {override 50, max 800}, generated not set" in e]
+    assert settings and settings[0].startswith(f"EDIT effect: moves 3-5 (from line {n + 1}) velset"), row.edits
+    assert any("s longer than the generated program" in e for e in row.edits)
+    assert row.mismatches == 0  # slower is allowed: verify judges the path, the edit is reported
+
+
+def test_an_output_edit_fails_once_per_problem(cell, tmp_path):
+    """The same difference in many cases is one MISMATCH line with their count."""
+    path, n = edited(tmp_path, "abb", "Set doLamp;")
+    report, row = verify(cell, path, "abb", Options(cases=1, jobs=1, sweeps=False, scenarios=SHIFTS))
+    shown = [line for line in report.lines() if line.startswith("  MISMATCH")]
+    assert row.mismatches > 1 and len(shown) == 1, shown
+    assert f"output doLamp (line {n})" in shown[0]
+    assert shown[0].endswith(f"(and {row.mismatches - 1} more cases alike)")
+
+
+def test_a_program_as_generated_has_no_edits(cell, tmp_path):
+    source = GENERATED / FILES["abb"]
+    path = tmp_path / source.name
+    path.write_text(source.read_text())
+    _, row = verify(cell, path, "abb")
+    assert row.edits == [] and row.mismatches == 0
