@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from codegen.kinds.laser import plan, reach
 from codegen.kinds.laser.commands import calibrate_tcp
+from codegen.kinds.laser.keys import KEYS
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
 from codegen.kinds.laser.scene import objects as scene_objects
 from codegen.kinds.laser.section import check_production_tools, laser_of, parse_laser
@@ -15,7 +16,7 @@ from codegen.render import program_emitter
 class LaserKind(ProgramKind):
     name = "laser"
     order = 40
-    tables = frozenset({"laser"})
+    cell_file = KEYS
     target_keys = {
         "files": list,  # source 003's automatic TCP program: file patterns with {laser}
         "names": dict,  # that program's globals verify reads (edges, hits, centres, axis, tcp)

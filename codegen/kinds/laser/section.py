@@ -9,30 +9,16 @@ from dataclasses import dataclass
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect
 from codegen.kinds.laser.facts import facts
+from codegen.kinds.laser.keys import LASER, TOOL_PATTERN
 from codegen.model.cell import TaughtPose
 from codegen.model.io import per_target
 from codegen.model.motion import SPEED_MIN_MM_S
 
 PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
 DEPTH_STEP_MIN_MM = 2.0
-KEYS = frozenset(
-    {
-        "sensor_frame",
-        "pin_radius_mm",
-        "circle_mm",
-        "depths_mm",
-        "clearance_mm",
-        "offset_max_mm",
-        "circle_speed_mm_s",
-        "search_speed_mm_s",
-        "beam_x",
-        "beam_y",
-        "production_tool",
-        "safe_height_mm",
-    }
-)
+KEYS = LASER.allowed
 OWN_PREFIX = "lsr_"  # the program's own names: a production tool's name must not start so
-TOOL_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+TOOL_NAME = re.compile(TOOL_PATTERN)
 
 
 @dataclass(frozen=True)
@@ -64,19 +50,21 @@ class Laser:
     safe_height_mm: float
 
 
-def _bounded(ctx, table: dict, key: str, default: float, low: float, high: float, why: str) -> float:
+def _bounded(ctx, table: dict, key: str, why: str) -> float:
     path = f"laser.{key}"
-    value = ctx.number(table, key, path) if key in table else default
-    if not low < value <= high:
+    value = ctx.number(table, key, path) if key in table else LASER.default(key)
+    low, high = LASER[key].bounds
+    if not LASER[key].contains(value):
         ctx.fail(path, f"must be in ({low:g}, {high:g}] {why}, got {value:g}")
     return value
 
 
-def _speed(ctx, table: dict, key: str, default: float, high: float) -> float:
+def _speed(ctx, table: dict, key: str) -> float:
     """A TCP speed of the procedure: at least the programs' least speed (SPEED_MIN_MM_S, as [cell.motion]'s)."""
     path = f"laser.{key}"
-    value = ctx.number(table, key, path) if key in table else default
-    if not SPEED_MIN_MM_S <= value <= high:
+    value = ctx.number(table, key, path) if key in table else LASER.default(key)
+    high = LASER[key].high
+    if not LASER[key].contains(value):
         ctx.fail(
             path, f"must be in [{SPEED_MIN_MM_S:g}, {high:g}] mm/s (the programs write it to 0.1 mm/s), got {value:g}"
         )
@@ -91,14 +79,16 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
     frame = ctx.pose(
         "sensor_frame", ctx.require(table, "sensor_frame", "laser.sensor_frame"), "laser.sensor_frame", pose_format
     )
-    radius = _bounded(ctx, table, "pin_radius_mm", 1.0, 0.0, 25.0, "mm")
+    radius = _bounded(ctx, table, "pin_radius_mm", "mm")
     if radius < PIN_MIN_MM:
         ctx.fail("laser.pin_radius_mm", f"must be at least {PIN_MIN_MM} mm (a thinner pin is not a beam's target)")
-    circle = _bounded(ctx, table, "circle_mm", 10.0, 0.0, 100.0, "mm")
-    offset = _bounded(ctx, table, "offset_max_mm", 3.0, 0.0, 50.0, "mm")
-    clearance = _bounded(ctx, table, "clearance_mm", 10.0, 0.0, 200.0, "mm")
-    depths = ctx.numbers(table.get("depths_mm", [5.0, 15.0]), 2, "laser.depths_mm")
-    if not 0 < depths[0] < depths[1] <= 200:
+    circle = _bounded(ctx, table, "circle_mm", "mm")
+    offset = _bounded(ctx, table, "offset_max_mm", "mm")
+    clearance = _bounded(ctx, table, "clearance_mm", "mm")
+    depths = ctx.numbers(table.get("depths_mm", list(LASER.default("depths_mm"))), 2, "laser.depths_mm")
+    if not (
+        LASER["depths_mm"].contains(depths[0]) and depths[0] < depths[1] and LASER["depths_mm"].contains(depths[1])
+    ):
         ctx.fail("laser.depths_mm", "expected [d1, d2] with 0 < d1 < d2 <= 200 mm: the guessed tip below the beams")
     if depths[1] - depths[0] < DEPTH_STEP_MIN_MM:
         ctx.fail(
@@ -106,8 +96,8 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             f"d2 - d1 must be at least {DEPTH_STEP_MIN_MM:g} mm: the axis is the centres' difference over it, a "
             "smaller step multiplies their errors",
         )
-    circle_speed = _speed(ctx, table, "circle_speed_mm_s", 10.0, 250.0)
-    search_speed = _speed(ctx, table, "search_speed_mm_s", 2.0, 50.0)
+    circle_speed = _speed(ctx, table, "circle_speed_mm_s")
+    search_speed = _speed(ctx, table, "search_speed_mm_s")
     # the circle starts at 45 deg between the beams and must cross each twice: the axis may lie offset_max_mm
     # from where the tool's data puts it, and the pin is radius_mm wide
     if offset + radius >= circle / math.sqrt(2.0):
@@ -146,7 +136,7 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
                 f"{target} sees its inputs every {cycle * 1000:g} ms: at {circle_speed:g} mm/s the pin moves "
                 f"{circle_speed * cycle:.3f} mm between two looks, more than half its radius: slow the circles",
             )
-    safe = _bounded(ctx, table, "safe_height_mm", 100.0, 0.0, 1000.0, "mm")
+    safe = _bounded(ctx, table, "safe_height_mm", "mm")
     if safe < clearance + offset:
         ctx.fail(
             "laser.safe_height_mm",

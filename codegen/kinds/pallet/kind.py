@@ -5,6 +5,7 @@ from __future__ import annotations
 from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
+from codegen.kinds.pallet.keys import KEYS
 from codegen.kinds.pallet.program import check_level, pallet_context, pallet_file_names, pallet_identifiers
 from codegen.kinds.pallet.scene import objects as scene_objects
 from codegen.kinds.pallet.section import pallets_of
@@ -15,7 +16,7 @@ from codegen.render import program_emitter
 class PalletKind(ProgramKind):
     name = "pallet"
     order = 20
-    tables = frozenset({"pallet"})
+    cell_file = KEYS
     target_keys = {
         "files": list,  # a stacking program's files per [[pallet]] ("...{pallet}...")
         "counters": dict,  # layer and box: the counters' names for --input and verify

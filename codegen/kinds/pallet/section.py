@@ -5,36 +5,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from codegen.kinds.pallet.keys import FAMILIES, FAMILY, FRAME, MAX_LAYERS, MAX_SIZE_MM, PALLET, SLIP_SHEET
 from codegen.model.cell import CellValidator
 
-PALLET_KEYS = frozenset(
-    {
-        "name",
-        "frame",
-        "size",
-        "box",
-        "layers",
-        "cycle",
-        "angle_sense",
-        "tool_orientation",
-        "entry_dz",
-        "approach",
-        "retreat",
-        "pick",
-        "pick_lift",
-        "patterns",
-        "overhang_mm",
-        "support_min",
-        "slip_sheet",
-        "mode",
-        "approach_auto",
-    }
-)
-FRAME_KEYS = frozenset({"origin", "x_point", "xy_point"})
-FAMILIES = ("column", "interlock", "pinwheel", "split-row")
-FAMILY_KEYS = frozenset({"family", "mirror", "label_out"})
-SLIP_KEYS = frozenset({"every", "thickness"})
-MAX_LAYERS = 200
+PALLET_KEYS = PALLET.allowed
+FRAME_KEYS = FRAME.allowed
+FAMILY_KEYS = FAMILY.allowed
+SLIP_KEYS = SLIP_SHEET.allowed
 # The most boxes a stack (every layer), a pattern or the patterns together may hold. The programs hold every
 # box of the cycle's patterns in tables (7 to 9 numbers a box) and count boxes in a layer and layers; their
 # counters would hold far more (each controller's integers: targets/<t>.toml), and no documented limit of the
@@ -44,9 +21,8 @@ MAX_LAYERS = 200
 # box, about 2 ms a box). 2,000 keeps both within that with room, and is far more than a pallet of cartons
 # holds (a EUR pallet of 200 x 150 mm cartons: 32 a layer).
 BOXES_MAX = 2000
-MAX_SIZE_MM = 5000.0
-PICK_LIFT_MM = 100.0  # the default lift above Q
-MAX_PICK_LIFT_MM = 2000.0
+PICK_LIFT_MM = PALLET.default("pick_lift")  # the default lift above Q
+MAX_PICK_LIFT_MM = PALLET["pick_lift"].high
 
 
 @dataclass(frozen=True)
@@ -122,11 +98,13 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
     for i, entry in enumerate(cycle):
         if not isinstance(entry, str) or entry not in patterns:
             ctx.fail(f"{path}.cycle[{i}]", f"no pattern {entry!r}; the patterns: {', '.join(patterns)}")
-    sense = table.get("angle_sense", "ccw")
-    if sense not in ("cw", "ccw"):
+    sense = table.get("angle_sense", PALLET.default("angle_sense"))
+    if sense not in PALLET["angle_sense"].choices:
         ctx.fail(f"{path}.angle_sense", 'expected "cw" (clockwise, as source 004\'s editor) or "ccw"')
     where = f"{path}.tool_orientation"
-    orientation = ctx.angles(ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, where), where)
+    orientation = ctx.angles(
+        ctx.numbers(table.get("tool_orientation", list(PALLET.default("tool_orientation"))), 3, where), where
+    )
     entry_dz = ctx.number(table, "entry_dz", f"{path}.entry_dz")
     if not 0 < entry_dz <= MAX_SIZE_MM:
         ctx.fail(f"{path}.entry_dz", f"must be in (0, {MAX_SIZE_MM:g}] mm: the entry is above the target")
@@ -137,12 +115,11 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
     pick_lift = ctx.finite(table.get("pick_lift", PICK_LIFT_MM), f"{path}.pick_lift")
     if not 0 < pick_lift <= MAX_PICK_LIFT_MM:
         ctx.fail(f"{path}.pick_lift", f"must be in (0, {MAX_PICK_LIFT_MM:g}] mm: the lift straight up from Q")
-    overhang = table.get("overhang_mm", 0.0)
-    overhang = ctx.finite(overhang, f"{path}.overhang_mm")
-    if not 0 <= overhang <= 200:
+    overhang = ctx.finite(table.get("overhang_mm", PALLET.default("overhang_mm")), f"{path}.overhang_mm")
+    if not PALLET["overhang_mm"].contains(overhang):
         ctx.fail(f"{path}.overhang_mm", "must be in [0, 200] mm")
-    support = ctx.finite(table.get("support_min", 0.6), f"{path}.support_min")
-    if not 0 <= support <= 1:
+    support = ctx.finite(table.get("support_min", PALLET.default("support_min")), f"{path}.support_min")
+    if not PALLET["support_min"].contains(support):
         ctx.fail(f"{path}.support_min", "must be a share in [0, 1]")
     slip_every, slip_thickness = 0, 0.0
     if "slip_sheet" in table:
@@ -150,15 +127,15 @@ def _pallet(ctx: CellValidator, table: dict, path: str, pose_format: str) -> Pal
         ctx.no_unknown(slip, SLIP_KEYS, f"{path}.slip_sheet")
         slip_every = ctx.integer(slip, "every", f"{path}.slip_sheet.every", 1, MAX_LAYERS)  # on every n-th layer
         slip_thickness = ctx.number(slip, "thickness", f"{path}.slip_sheet.thickness")
-        if not 0 < slip_thickness <= 50:
+        if not SLIP_SHEET["thickness"].contains(slip_thickness):
             ctx.fail(f"{path}.slip_sheet.thickness", "must be in (0, 50] mm")
-    auto = table.get("approach_auto", False)
+    auto = table.get("approach_auto", PALLET.default("approach_auto"))
     if not isinstance(auto, bool):
         ctx.fail(f"{path}.approach_auto", "must be true or false")
     if auto and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
         ctx.fail(f"{path}.approach_auto", "turns the x-y part of approach and retreat: each needs one of 1 mm or more")
-    mode = table.get("mode", "stack")
-    if mode not in ("stack", "unstack"):
+    mode = table.get("mode", PALLET.default("mode"))
+    if mode not in PALLET["mode"].choices:
         ctx.fail(f"{path}.mode", 'expected "stack" (place the boxes) or "unstack" (take them off, top layer first)')
     return Pallet(
         name,
@@ -208,7 +185,7 @@ def _patterns(ctx: CellValidator, table: dict, path: str) -> dict:
                 ctx.fail(f"{where}.family", f"unknown family {family!r}; known: {', '.join(FAMILIES)}")
             flags = {}
             for flag in ("mirror", "label_out"):
-                flags[flag] = value.get(flag, False)
+                flags[flag] = value.get(flag, FAMILY.default(flag))
                 if not isinstance(flags[flag], bool):
                     ctx.fail(f"{where}.{flag}", "must be true or false")
             out[key] = FamilySpec(family, **flags)
