@@ -60,7 +60,6 @@ def io_table() -> Table:
                 default=TIMEOUT_S,
             ),
         },
-        kinds=("point", "frame", "pallet", "conveyor"),
     )
 
 

@@ -14,7 +14,7 @@ from codegen.model.schema import Key, Table
 _SPEED = {"type": "number", "unit": "mm/s", "low": 1.0, "high": 5000.0}
 # [cell.motion]: the definition the loader reads (its keys, ranges and defaults)
 TABLE = Table(
-    "How the arm moves through a station, a pallet, a pick or the laser procedure (optional; every key has a default).",
+    "How the arm moves through each kind's program (optional; every key has a default).",
     {
         "speed_mm_s": Key(
             **_SPEED, default=250.0, doc="TCP speed of the linear moves on the way (and RAPID's joint moves)"

@@ -97,6 +97,7 @@ class KindKeys:
     tables: dict[str, Key] = field(default_factory=dict)
     cell_tables: dict[str, Key] = field(default_factory=dict)
     station_keys: dict[str, Key] = field(default_factory=dict)
+    reads: tuple[str, ...] = ()  # the shared [cell.<name>] tables its programs use (e.g. "io")
 
 
 def _num(value) -> str:

@@ -106,7 +106,7 @@ def cell_table() -> Table:
             "table",
             io.io_table().doc,
             table=io.io_table(),
-            kinds=io.io_table().kinds,
+            kinds=tuple(k.name for k in kinds().values() if k.cell_file and "io" in k.cell_file.reads),
             controllers=", ".join(io.signal_targets()),
         ),
     }

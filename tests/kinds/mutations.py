@@ -101,6 +101,24 @@ MODEL = {
     ),
 }
 
+
+def _kuka_last(match) -> str:
+    """The laser TCP's distance from the production tool's stored value (TOOL_DATA[3] of the bundled cell)."""
+    return (
+        "DIST = SQRT("
+        + " + ".join(
+            f"(LSR_TCP[{i}] - TOOL_DATA[3].{a}) * (LSR_TCP[{i}] - TOOL_DATA[3].{a})"
+            for i, a in ((1, "X"), (2, "Y"), (3, "Z"))
+        )
+        + ")"
+    )
+
+
+def _abb_last(match) -> str:
+    """A laser TCP coordinate less the production tool's stored one (tPin of the bundled cell)."""
+    return f"(lsr_tcp{{{match.group(1)}}} - tPin.tframe.trans.{'xyz'[int(match.group(1)) - 1]})"
+
+
 # name -> target -> (pattern, replacement) on the first match in the program's files; where a kind's program has
 # no match the class does not apply to it (the matrix test lists that)
 TEXT = {
@@ -167,12 +185,50 @@ TEXT = {
         "abb": (r"IF off > LSR_OFFSET_MAX THEN", "IF FALSE THEN"),
     },
     "tcp_not_written": {
-        "ur": (r"^\s*set_tcp\(p\[lsr_tcp\[0\][^\n]*\n", ""),
-        "kuka": (r"^\s*LSR_TOOL_DATA\.X = LSR_TCP\[1\]\n", ""),
-        "abb": (r"^\s*lsr_tool\.tframe\.trans := [^\n]*\n", ""),
+        "ur": (r"^\s*global \w+ = p\[lsr_tcp\[0\][^\n]*\n", ""),
+        "kuka": (r"^\s*TOOL_DATA\[\d+\]\.X = LSR_TCP\[1\]\n", ""),
+        "abb": (r"^\s*\w+\.tframe\.trans := \[lsr_tcp[^\n]*\n", ""),
     },
+    # the TCP found written into the program's own data, not into the production tool the cell names
     "tcp_written_into_other_data": {
-        "kuka": (r"LSR_TOOL_DATA\.X = LSR_TCP\[1\]", "GUESS.X = LSR_TCP[1]"),
-        "abb": (r"lsr_tool\.tframe\.trans := ", "lsr_guess.tframe.trans := "),
+        "ur": (r"global \w+ = p\[lsr_tcp\[0\]", "global lsr_result = p[lsr_tcp[0]"),
+        "kuka": (r"TOOL_DATA\[\d+\]\.([XYZ]) = LSR_TCP", r"LSR_NOMINAL.\1 = LSR_TCP", 0),
+        "abb": (r"\w+\.tframe\.trans := \[lsr_tcp", "lsr_guess.tframe.trans := [lsr_tcp"),
+    },
+    # the range check against the production tool's last value instead of the tool as designed (a tool that bends
+    # a little at each calibration drifts without an alarm; the UR program never reads the installation variable)
+    "tcp_range_against_the_last_result": {
+        "kuka": (r"DIST = SQRT\(D\[1\] \* D\[1\] \+ D\[2\] \* D\[2\] \+ D\[3\] \* D\[3\]\)", _kuka_last),
+        "abb": (r"\(lsr_tcp\{(\d)\} - LSR_GUESS_TCP\{\d\}\)", _abb_last, 0),
+    },
+    # straight from home to above the beams, as before the safe pose (the first joint move to the safe pose)
+    "approach_not_through_the_safe_pose": {
+        "ur": (r"(movej\(lsr_at\([^,]+, [^,]+, )[^)]+\)", r"\1LSR_CLEAR)"),
+        "kuka": (r"PTP LSR_SAFE", "PTP LSR_ABOVE[1]"),
+        "abb": (r"MoveJ lsr_at\(LSR_SAFE\)", "MoveJ lsr_at(LSR_ABOVE{1})"),
+    },
+    # a restart in the station goes home from where the arm stands, not out along the tool's axis first
+    "no_way_out_after_a_stop": {
+        "ur": (r"^\s*movel\(pose_trans\(LSR_S, p\[lsr_p[^\n]*\n\s*movel\(lsr_at\([^\n]*\n", ""),
+        "kuka": (r"^\s*LIN HERE[^\n]*\n\s*LIN LSR_SAFE\n", ""),
+        "abb": (r"^\s*MoveL here, [^\n]*\n\s*MoveL lsr_at\(LSR_SAFE\), lsr_work, fine, [^\n]*\n", ""),
+    },
+    # a start anywhere taken for a stop in the station: out and home from wherever the arm stands
+    "start_zone_check_removed": {
+        "ur": (r"if sqrt\(lsr_p\[0\][^\n]*:", "if False:"),
+        "kuka": (r"IF \(SQRT\(HERE[^\n]*THEN", "IF FALSE THEN"),
+        "abb": (r"IF Sqrt\(here\.trans\.x[^\n]*\n[^\n]*THEN", "IF FALSE THEN"),
+    },
+    # a blend where the program measures: the circle's start, where the interrupts go on
+    "blend_where_it_measures": {
+        "ur": (r"(movel\(lsr_at\([^)]*\), a=[\d.]+, v=LSR_V_WORK)\)(\n  lsr_nx = 0)", r"\1, r=0.005)\2"),
+        "kuka": (r"(LIN LSR_START\[K\])\n", r"\1 C_DIS\n"),
+        "abb": (r"(MoveL lsr_at\(LSR_START\{k\}\), lsr_work, )fine", r"\1z5"),
+    },
+    # an exact stop on a travel move (above the start on the way in)
+    "travel_not_blended": {
+        "ur": (r"(movel\(lsr_at\([^)]*\), a=[\d.]+, v=LSR_V_WORK), r=[\d.]+\)", r"\1)"),
+        "kuka": (r"(LIN LSR_ABOVE\[1\]) C_DIS", r"\1"),
+        "abb": (r"(MoveL lsr_at\(LSR_ABOVE\{1\}\), lsr_work, )lsr_zone", r"\1fine"),
     },
 }

@@ -122,6 +122,11 @@ BAD = [
     (LASER, "laser.depths_mm", [5.0, 201.0]),
     (LASER, "laser.beam_x", DELETE),
     (LASER, "laser.power", 1.0),
+    (LASER, "laser.production_tool.kuka", 17),
+    (LASER, "laser.production_tool.ur", 3),
+    (LASER, "laser.production_tool.abb", "t Pin"),
+    (LASER, "laser.production_tool.dtrans", "tPin"),
+    (LASER, "laser.safe_height_mm", 1001.0),
 ]
 # (example, key path, value): accepted by both (the ranges' bounds that are allowed, the defaults written out)
 GOOD = [
@@ -151,6 +156,8 @@ GOOD = [
     (BELT, "conveyor.pick.capture_mm", 50.0),
     (BELT, "conveyor.counter_bits", 16),
     (LASER, "laser.search_speed_mm_s", 1.0),
+    (LASER, "laser.production_tool.kuka", 16),
+    (LASER, "laser.safe_height_mm", 1000.0),
 ]
 
 

@@ -49,9 +49,9 @@ class ArmState:
         self.joints = np.asarray(q_deg, dtype=float)
 
     def standing_pose(self) -> np.ndarray | None:
-        """Before any move: where the active tool's TCP is with the arm at its start joints (the controller reads
-        its encoders); None without the arm's model or its start joints."""
-        if self.arm is None or self.joints is None or self.pending:
+        """The active tool's TCP where the arm stood when the program started (base frame; None without the
+        arm's model or its start joints): what a controller reads as the actual pose before the first move."""
+        if self.arm is None or self.joints is None:
             return None
         return self.arm.kin.fk(self.joints) @ self.tcp2flange
 

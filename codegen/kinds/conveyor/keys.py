@@ -156,4 +156,4 @@ CONVEYOR = Table(
         "pick": Key("table", PICK.doc, table=PICK),
     },
 )
-KEYS = KindKeys(tables={"conveyor": Key("table", CONVEYOR.doc, table=CONVEYOR)})
+KEYS = KindKeys(tables={"conveyor": Key("table", CONVEYOR.doc, table=CONVEYOR)}, reads=("io",))

@@ -19,6 +19,7 @@ REFINE = Table(
     },
 )
 KEYS = KindKeys(
+    reads=("io",),
     cell_tables={"refine": Key("table", REFINE.doc, table=REFINE)},
     station_keys={
         "frame": Key(
@@ -34,7 +35,7 @@ KEYS = KindKeys(
             "integer",
             "the controller's base number the program writes the frame to",
             low=1,
-            controllers="kuka (BASE_DATA)",
+            controllers="those with numbered base data (BASE_DATA[n])",
         ),
     },
 )

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 from codegen.controllers import get_target
+from codegen.dialects import get_dialect
 from codegen.kinds.laser.facts import facts
-from codegen.kinds.laser.keys import LASER
+from codegen.kinds.laser.keys import LASER, TOOL_PATTERN
 from codegen.model.cell import TaughtPose
 from codegen.model.io import per_target
 from codegen.model.motion import SPEED_MIN_MM_S
@@ -15,6 +17,8 @@ from codegen.model.motion import SPEED_MIN_MM_S
 PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
 DEPTH_STEP_MIN_MM = 2.0
 KEYS = LASER.allowed
+OWN_PREFIX = "lsr_"  # the program's own names: a production tool's name must not start so
+TOOL_NAME = re.compile(TOOL_PATTERN)
 
 
 @dataclass(frozen=True)
@@ -25,7 +29,12 @@ class Laser:
     tip search starts this far above the plane and ends as far below; offset_max_mm: how far the true tip
     and axis may lie from [cell.tool] (the circles must cross both beams; a TCP found farther is not
     written); circle_speed_mm_s, search_speed_mm_s: the TCP's speed on the circles and in the search;
-    beam_x, beam_y: each sensor's switching output, per target (an input number or name)."""
+    beam_x, beam_y: each sensor's switching output, per target (an input number or name); production_tool:
+    per target, the tool the production programs use, which gets the TCP found (a numbered tool's number
+    where the target's [program.laser] production_tool form is "number", else the name of the production data:
+    a task's persistent tooldata, an installation variable; a target with numbered tools may leave it to
+    [cell.tool] numbered); safe_height_mm: the safe pose's
+    height above the beams' plane (S's z), straight above the circles' start: the way in and the way out."""
 
     sensor_frame: TaughtPose
     pin_radius_mm: float
@@ -37,6 +46,8 @@ class Laser:
     search_speed_mm_s: float
     beam_x: dict
     beam_y: dict
+    production_tool: dict
+    safe_height_mm: float
 
 
 def _bounded(ctx, table: dict, key: str, why: str) -> float:
@@ -125,9 +136,88 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
                 f"{target} sees its inputs every {cycle * 1000:g} ms: at {circle_speed:g} mm/s the pin moves "
                 f"{circle_speed * cycle:.3f} mm between two looks, more than half its radius: slow the circles",
             )
+    safe = _bounded(ctx, table, "safe_height_mm", "mm")
+    if safe < clearance + offset:
+        ctx.fail(
+            "laser.safe_height_mm",
+            f"must be at least clearance_mm + offset_max_mm ({clearance + offset:g} mm): the safe pose lies above "
+            "every pose of the calibration",
+        )
+    production = _production_tools(ctx, table, targets)
     return Laser(
-        frame, radius, circle, depths, clearance, offset, circle_speed, search_speed, beams["beam_x"], beams["beam_y"]
+        frame,
+        radius,
+        circle,
+        depths,
+        clearance,
+        offset,
+        circle_speed,
+        search_speed,
+        beams["beam_x"],
+        beams["beam_y"],
+        production,
+        safe,
     )
+
+
+def _production_tools(ctx, table: dict, targets) -> dict:
+    """[laser] production_tool = { <target> = n or name }: checked against the target's form of it
+    ([program.laser] production_tool: "number" 1..max, or "name", an identifier the program may use)."""
+    raw = table.get("production_tool", {})
+    if not isinstance(raw, dict):
+        ctx.fail("laser.production_tool", "expected a table: target = the production tool (number or name)")
+    ctx.no_unknown(raw, set(targets), "laser.production_tool")
+    out = {}
+    for target_name, value in raw.items():
+        path = f"laser.production_tool.{target_name}"
+        target = get_target(target_name)
+        spec = facts(target)["production_tool"]
+        if spec["form"] == "number":
+            if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= spec["max"]:
+                ctx.fail(path, f"expected a tool number 1..{spec['max']}, got {value!r}")
+        else:
+            if (
+                not isinstance(value, str)
+                or not TOOL_NAME.fullmatch(value)
+                or len(value) > target.identifier_max
+                or value.upper() in get_dialect(target.dialect).keywords()
+                or value in get_dialect(target.dialect).keywords()
+            ):
+                ctx.fail(
+                    path,
+                    f"expected the name of the production tool's data (a letter, then letters, digits or _; "
+                    f"{target.identifier_max} at most; not a word {target.title} reserves), got {value!r}",
+                )
+            if value.lower().startswith(OWN_PREFIX):
+                ctx.fail(path, f"must not start with {OWN_PREFIX}: the calibration program's own names do")
+        out[target_name] = value
+    return out
+
+
+def check_production_tools(ctx, laser: Laser, robot, targets) -> None:
+    """Every target of the cell names its production tool, here or (a target with numbered tools) as
+    [cell.tool] numbered, the same one where both are given: the programs that use the cell's tool use that one."""
+    numbered = robot.tool.numbered if robot is not None else {}
+    for target in targets:
+        given, number = laser.production_tool.get(target), numbered.get(target)
+        if given is None and number is None:
+            ctx.fail(
+                f"laser.production_tool.{target}",
+                "missing: the tool the production programs use, which gets the TCP found",
+            )
+        if given is not None and number is not None and given != number:
+            ctx.fail(
+                f"laser.production_tool.{target}",
+                f"must be cell.tool.numbered.{target} ({number}): the cell's programs use that tool",
+            )
+
+
+def production_tool(cell, target_name: str):
+    """The production tool of a target: its number or its name ([laser] production_tool, else the cell's
+    numbered tool)."""
+    laser = laser_of(cell)
+    given = laser.production_tool.get(target_name)
+    return given if given is not None else cell.robot.tool.numbered[target_name]
 
 
 def laser_of(cell) -> Laser | None:

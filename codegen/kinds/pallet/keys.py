@@ -222,4 +222,4 @@ PALLET = Table(
         ),
     },
 )
-KEYS = KindKeys(tables={"pallet": Key("tables", PALLET.doc, table=PALLET)})
+KEYS = KindKeys(tables={"pallet": Key("tables", PALLET.doc, table=PALLET)}, reads=("io",))

@@ -6,6 +6,7 @@ from codegen.guard import TAUGHT_RANGE_MM
 from codegen.model.schema import Key, KindKeys
 
 KEYS = KindKeys(
+    reads=("io",),
     station_keys={
         "mark": Key(
             "numbers",
