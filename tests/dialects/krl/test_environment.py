@@ -159,6 +159,16 @@ def test_pulse_sets_an_output_for_a_time():
     assert [(o.name, o.value, o.time) for o in trace.outputs] == [("$OUT[6]", True, 0.0), ("$OUT[6]", False, 0.5)]
 
 
+def test_pulse_of_a_signal_name_of_one_output():
+    # SIGNAL SACO $OUT[3] in $config.dat: the name is that one output (a group of several is refused by name)
+    config = "DEFDAT $CONFIG\nSIGNAL SACO $OUT[3]\nSIGNAL PAIR $OUT[4] TO $OUT[5]\nENDDAT\n"
+    main = "DEF CELL()\nPULSE(SACO, TRUE, 0.5)\nWAIT SEC 1\nEND\n"
+    trace = KRL.load_files(files(cell_src=main, config_dat=config)).run({})
+    assert [(o.name, o.value, o.time) for o in trace.outputs] == [("$OUT[3]", True, 0.0), ("$OUT[3]", False, 0.5)]
+    with pytest.raises(RunError, match=r"cell\.src:2:1: PULSE: PAIR is 2 signals \$OUT\[4\] TO \$OUT\[5\]"):
+        KRL.load_files(files(cell_src=main.replace("SACO", "PAIR"), config_dat=config))
+
+
 USER_PDAT = "DEFDAT  $CONFIG\nSTRUC PDAT REAL VEL,ACC,APO_DIST\nDECL PDAT PMINE={VEL 40.0,ACC 50.0,APO_DIST 5.0}\n"
 
 
