@@ -16,6 +16,7 @@ from codegen.model.cell import load_cell
 CELL = "codegen/examples/laser/laser_tcp.toml"
 
 
+@pytest.mark.slow
 def test_the_bundled_cell_verifies_on_every_target_within_a_tenth_of_the_truth():
     """Fourteen cases per target (the tool as designed, three bent, one tilted 6 deg, the sensor frame off,
     a tool too long, one too short, one whose tip is in the beam where the search starts, one whose axis is
