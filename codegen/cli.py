@@ -156,7 +156,7 @@ def diff(cell: str | None, out_dir: str) -> None:
 )
 @step_limit_option(
     "A run taking more steps is a runaway: a mismatch; that program's remaining cases are skipped. Default: "
-    "200,000, or a kind's own where its runs need more (a laser's measuring cycle).",
+    "200,000, or a kind's own where its runs need more (a long measuring cycle).",
     kinds_own=True,
 )
 @click.option("--seed", default=0, show_default=True, type=Number(0, integer=True))

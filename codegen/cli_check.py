@@ -136,3 +136,22 @@ def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as
         )
         click.echo(f"{len(findings)} finding{'s' if len(findings) != 1 else ''} in {files_text}: {shown}")
     sys.exit(code)
+
+
+@main.command()
+@click.option("--out", "out_file", type=click.Path(dir_okay=False), help="Write to this file instead of printing.")
+@click.option("--markdown", "as_markdown", is_flag=True, help="The cell-file reference as Markdown instead.")
+def schema(out_file: str | None, as_markdown: bool) -> None:
+    """Print the cell file's JSON Schema (draft 2020-12), or its reference page, from the loader's definition."""
+    from pathlib import Path
+
+    from codegen.model.tables import reference_text, schema_text
+
+    text = reference_text() if as_markdown else schema_text()
+    if out_file is None:
+        click.echo(text, nl=False)
+        return
+    try:
+        Path(out_file).write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise UserError(f"{out_file}: cannot write: {exc.strerror or exc}") from None

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import re
-import stat
 from dataclasses import dataclass
 from pathlib import Path
+
+from codegen.readfile import ReadError, read_regular
 
 MAX_BYTES = 1 << 20  # 1 MiB: a calibration of 1,000 touches at 100 characters a row is a tenth of it
 MAX_ROWS = 1_000  # data rows: a calibration takes 3 to a few dozen; more is a wrong file, and bounds the work
@@ -63,20 +63,9 @@ def read_rows(path: Path, headers: tuple[tuple[str, ...], ...]) -> tuple[tuple[s
 
 def _read_text(path: Path) -> str:
     try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
-    except OSError as exc:
-        raise CsvError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    try:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            raise CsvError(f"{path}: not a regular file (a folder, pipe or device); give a CSV file")
-        with os.fdopen(fd, "rb", closefd=False) as handle:
-            data = handle.read(MAX_BYTES + 1)
-    except OSError as exc:
-        raise CsvError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    finally:
-        os.close(fd)
-    if len(data) > MAX_BYTES:
-        raise CsvError(f"{path}: larger than {MAX_BYTES >> 20} MiB; a calibration file has at most {MAX_ROWS:,} rows")
+        data = read_regular(path, MAX_BYTES, "a CSV file", f"a calibration file has at most {MAX_ROWS:,} rows")
+    except ReadError as exc:
+        raise CsvError(str(exc)) from None
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -192,15 +192,27 @@ class Emitter:
         language reserves or defines, or one of the program's own, is refused (EmitError naming both)."""
         if isinstance(value, int) and not isinstance(value, bool):
             return Code(str(value))
+        return self.given_name(value, origin, "signal")
+
+    def given_name(self, value, origin: str, what: str) -> Code:
+        """A name of something the controller has (a configured signal, another program's data such as a
+        production tool), written as it is: a name the language reserves or defines, or one of the program's
+        own, is refused (EmitError naming both)."""
         if not isinstance(value, str) or not _IDENT.fullmatch(value) or len(value) > self.target.identifier_max:
-            raise EmitError(f"{self.target.name}: {origin}: {value!r} is not a signal name the program can use")
+            raise EmitError(f"{self.target.name}: {origin}: {value!r} is not a {what} name the program can use")
         if self._reserved(value):
             raise EmitError(
                 f"{self.target.name}: {origin}: {value!r} is a word or predefined name of {self.target.title}; "
-                "the program cannot name a signal so"
+                f"the program cannot name a {what} so"
             )
         self._claim(value, origin)
         return Code(value)
+
+    def numbered(self, pattern: str, n, origin: str) -> Code:
+        """The controller's numbered data (a pattern of the target's facts around a whole number: TOOL_DATA[{n}])."""
+        if isinstance(n, bool) or not isinstance(n, int):
+            raise EmitError(f"{self.target.name}: {origin}: {n!r} is not a whole number")
+        return Code(pattern.format(n=n))
 
     def signal_ref(self, direction: str, value, origin: str) -> Code:
         """The signal as the program reads or sets it ("input" or "output"): the target's pattern around it."""

@@ -18,6 +18,7 @@ class ProgramFile:
 
     name: str
     template: str  # under templates/, e.g. "<target>/kinds/<kind>.src.j2"
+    context: dict = field(default_factory=dict, compare=False)  # variables of this file alone (beside the plan's)
 
 
 @dataclass(frozen=True)
@@ -40,6 +41,9 @@ class ProgramKind:
 
     name: ClassVar[str] = ""  # "" for an abstract base: not registered
     order: ClassVar[int] = 100  # where the kind comes in reports and programs, lowest first
+    # the kind's part of the cell file's definition (codegen.model.schema.KindKeys): its tables and keys, their
+    # types, ranges and defaults; tables, cell_tables and station_keys follow from it
+    cell_file: ClassVar[Any] = None
     tables: ClassVar[frozenset[str]] = frozenset()  # top-level tables of a cell file the kind owns
     cell_tables: ClassVar[frozenset[str]] = frozenset()  # [cell.<name>] tables of this kind
     station_keys: ClassVar[frozenset[str]] = frozenset()  # [[station]] keys of this kind (station kinds)
@@ -49,6 +53,10 @@ class ProgramKind:
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
+        if "cell_file" in cls.__dict__ and cls.cell_file is not None:
+            cls.tables = frozenset(cls.cell_file.tables)
+            cls.cell_tables = frozenset(cls.cell_file.cell_tables)
+            cls.station_keys = frozenset(cls.cell_file.station_keys)
         if cls.name:
             ProgramKind.registry[cls.name] = cls
 

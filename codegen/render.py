@@ -207,10 +207,13 @@ def render_plan(
     """One program's files, rendered in memory."""
     env = env or environment()
     ctx = merged(shared or shared_context(cell, target), plan.context, f"the context of the {plan.kind} kind")
-    return [
-        RenderedFile(f"{cell_dir(cell)}/{target.name}/{f.name}", str(env.get_template(f.template).render(ctx)))
-        for f in plan.files
-    ]
+    out = []
+    for f in plan.files:  # a file's own variables (e.g. which of a task's modules it is) beside the plan's
+        own = merged(ctx, f.context, f"the context of {f.name}") if f.context else ctx
+        out.append(
+            RenderedFile(f"{cell_dir(cell)}/{target.name}/{f.name}", str(env.get_template(f.template).render(own)))
+        )
+    return out
 
 
 def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:

@@ -19,6 +19,7 @@ def run(*args):
     return CliRunner().invoke(main, list(args))
 
 
+@pytest.mark.slow
 def test_derive_check_exits_0():
     result = run("derive", "--check")
     assert result.exit_code == 0, result.output

@@ -185,8 +185,8 @@ def _example(name: str, **edits) -> dict:
 @pytest.mark.parametrize(
     ("example", "key", "value", "own"),
     [
-        ("laser_tcp", "laser.beam_x.abb", "lsr_tool", "lsr_tool"),  # the laser program's tooldata
-        ("laser_tcp", "laser.beam_y.abb", "LSR_TOOL", "LSR_TOOL"),  # RAPID ignores case
+        ("laser_tcp", "laser.beam_x.abb", "lsr_guess", "lsr_guess"),  # the laser program's tooldata
+        ("laser_tcp", "laser.beam_y.abb", "LSR_GUESS", "LSR_GUESS"),  # RAPID ignores case
         ("testmat_pallet", "cell.io.output.abb", "stack_tool", "stack_tool"),  # the pallet program's tooldata
         ("belt_pick", "cell.io.feedback.abb", "cnv_tool", "cnv_tool"),  # the conveyor program's tooldata
         ("agv_machine_tending", "cell.io.output.abb", "vis_stop", "vis_stop"),  # the station program's routine
@@ -228,7 +228,7 @@ def test_a_cell_named_like_a_predefined_name_gets_another_identifier(target, nam
     ("target", "key", "value", "own"),
     [
         ("ur", "pallet.0.name", "grip", "pal_grip"),  # the pallet program's gripper routine
-        ("kuka", "pallet.0.name", "layer", "PAL_LAYER"),  # the layer counter
+        ("kuka", "pallet.0.name", "frame", "PAL_FRAME"),  # the pallet frame (each pallet's counters: PAL_<name>_LAYER)
         ("abb", "cell.name", "main", "main"),  # the station program's entry routine
     ],
 )
@@ -243,11 +243,11 @@ def test_the_refusal_is_exit_2_through_generate(tmp_path):
 
     from codegen.cli import main
 
-    text = EXAMPLES["laser_tcp"].read_text(encoding="utf-8").replace('abb = "diLaserX"', 'abb = "lsr_tool"')
+    text = EXAMPLES["laser_tcp"].read_text(encoding="utf-8").replace('abb = "diLaserX"', 'abb = "lsr_guess"')
     (tmp_path / "cell.toml").write_text(text, encoding="utf-8")
     result = CliRunner().invoke(main, ["generate", str(tmp_path / "cell.toml"), "--out", str(tmp_path / "out")])
     assert result.exit_code == 2, result.output
-    assert "laser.beam_x.abb and the program's own name lsr_tool both map to the identifier lsr_tool" in result.output
+    assert "laser.beam_x.abb and the program's own name lsr_guess both map to the identifier lsr_guess" in result.output
     assert "Traceback" not in result.output and not (tmp_path / "out").exists()
 
 
@@ -255,8 +255,8 @@ def test_the_generators_own_names_are_its_code_not_its_comments():
     from codegen.emit import own_names
 
     abb = own_names("abb")
-    assert {"lsr_tool", "stack_tool", "cnv_tool", "vis_stop", "main", "giCnvSeq", "lsr_edge"} <= abb
-    assert {"PAL_LAYER", "VIS_SIGNAL"} <= own_names("kuka")
+    assert {"lsr_guess", "stack_tool", "cnv_tool", "vis_stop", "main", "giCnvSeq", "lsr_edge"} <= abb
+    assert {"PAL_FRAME", "VIS_SIGNAL"} <= own_names("kuka")
     assert {"vis_stop", "pal_grip", "p"} <= own_names("ur")  # p: a pose literal p[...]
     assert not {"the", "calibration", "arm", "gripper"} & (abb | own_names("ur") | own_names("kuka"))
 

@@ -102,6 +102,7 @@ def sets(tmp_path_factory):
     return old, new, new_cell, base / "old_set"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mode", ["exchange", "no-exchange"])
 def test_a_kill_at_any_step_leaves_the_old_or_the_new_set(sets, tmp_path, mode):
     old, new, new_cell, old_set = sets
@@ -130,6 +131,7 @@ def test_a_kill_at_any_step_leaves_the_old_or_the_new_set(sets, tmp_path, mode):
     assert step > 15 and outcomes[0] == "old" and outcomes[-1] == "new"  # the kills covered every step
 
 
+@pytest.mark.slow
 def test_random_kills_of_a_large_cell(tmp_path):
     """Kills at random moments while a 100-station cell's programs are replaced (two: every step is
     killed in turn by test_a_kill_at_any_step_leaves_the_old_or_the_new_set; the suite's five minutes)."""
@@ -179,6 +181,7 @@ def test_files_get_the_permissions_of_a_normal_write(tmp_path):
     assert modes == {"0o644"}
 
 
+@pytest.mark.slow
 def test_diff_and_verify_name_a_mixed_set(sets, tmp_path):
     *_, new_cell, old_set = sets
     old_cell = old_set.parent / "old" / f"{CELL}.toml"
@@ -191,6 +194,7 @@ def test_diff_and_verify_name_a_mixed_set(sets, tmp_path):
     assert "different cell files (a mixed set)" in result.output
 
 
+@pytest.mark.slow
 def test_two_real_runs_at_once_never_mix(sets, tmp_path):
     *_, new_cell, old_set = sets
     old_cell = old_set.parent / "old" / f"{CELL}.toml"

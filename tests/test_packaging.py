@@ -63,6 +63,7 @@ def _probe(python: str, cwd: Path) -> list[str]:
     return proc.stdout.split()
 
 
+@pytest.mark.slow
 def test_installed_wheel_finds_its_own_files_from_any_directory(wheel, tmp_path):
     python = _fresh_python(tmp_path)
     _pip("install", "--no-deps", str(wheel), python=python)
@@ -71,6 +72,7 @@ def test_installed_wheel_finds_its_own_files_from_any_directory(wheel, tmp_path)
     assert names == ",".join(target_names())
 
 
+@pytest.mark.slow
 def test_editable_install_reads_the_checkout(tmp_path):
     """An editable install reads templates/ of the checkout, so a template edit needs no reinstall."""
     python = _fresh_python(tmp_path)

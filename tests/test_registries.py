@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 import tomllib
 from pathlib import Path
+from string import Formatter
 
 import pytest
 from setuptools import find_packages
@@ -108,7 +109,8 @@ def test_every_file_suffix_has_one_dialect():
 
 def test_kinds_are_registered_with_a_template_per_target():
     """A station kind has its partial of the station program per target; a kind with programs of its own has a
-    template for each file its [program.<kind>] table names (targets without the table write none of them)."""
+    template for each file its [program.<kind>] table names (targets without the table write none of them): the
+    pattern with {<kind>} as the kind's name and any other placeholder {x} as <kind>_x."""
     from codegen.protocol import station_kinds
 
     assert {"point", "frame", "pallet", "conveyor", "laser"} <= set(kinds())
@@ -118,7 +120,8 @@ def test_kinds_are_registered_with_a_template_per_target():
                 assert (REPO / "templates" / name / "kinds" / f"{kind_name}.j2").is_file(), (name, kind_name)
                 continue
             for pattern in kind.facts(get_target(name)).get("files", []):
-                template = pattern.format(**{kind_name: kind_name})
+                fields = {f for _, f, _, _ in Formatter().parse(pattern) if f}
+                template = pattern.format(**{f: kind_name if f == kind_name else f"{kind_name}_{f}" for f in fields})
                 assert (REPO / "templates" / name / "kinds" / f"{template}.j2").is_file(), (name, template)
 
 
@@ -153,9 +156,9 @@ def test_a_controller_is_named_only_in_its_own_files():
 
 
 def test_a_program_kind_is_named_only_in_its_own_files():
-    """Outside its package codegen/kinds/<kind>/ and its templates templates/<t>/kinds/<kind>*.j2, no source
-    names a kind with programs of its own (cell, render, generate, verify and cli loop over the registry). The
-    dialects are left out: a language's own built-ins carry their manual's words (URScript's
+    """Outside its package codegen/kinds/<kind>/ and its templates templates/<t>/kinds/<kind>.*.j2 and <kind>_*.j2,
+    no source names a kind with programs of its own (cell, render, generate, verify and cli loop over the
+    registry). The dialects are left out: a language's own built-ins carry their manual's words (URScript's
     track_conveyor_linear). The station kinds' names are common words (a point, a frame): their packages are
     held to the same rule by the registry tests above."""
     from codegen.protocol import station_kinds
@@ -164,7 +167,7 @@ def test_a_program_kind_is_named_only_in_its_own_files():
     for word in sorted(set(kinds()) - set(station_kinds())):
         own = (REPO / "codegen" / "kinds" / word,)
         for path in [*(REPO / "codegen").rglob("*.py"), *(REPO / "templates").rglob("*.j2")]:
-            if any(folder in path.parents for folder in own) or path.name.startswith(f"{word}."):
+            if any(folder in path.parents for folder in own) or path.name.startswith((f"{word}.", f"{word}_")):
                 continue
             if REPO / "codegen" / "dialects" in path.parents:
                 continue

@@ -46,6 +46,7 @@ def _compiled(name: str, params: str, body: str, namespace: dict):
     return scope[name]
 
 
+@pytest.mark.slow
 def test_every_function_of_the_bundled_programs_is_what_compile_makes(monkeypatch):
     """Each function every bundled cell's programs compile to, on every target: the code (bytecode,
     constants, names, locals, lines; nested code too), defaults and name equal compile()'s, and

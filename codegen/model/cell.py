@@ -14,17 +14,25 @@ import numpy as np
 
 from codegen.controllers import target_names
 from codegen.guard import READING_RANGE_MM, TAUGHT_RANGE_MM
-from codegen.model import io, motion, vision
+from codegen.model import io, motion, tables, vision
 from codegen.model.io import SignalSettings
 from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot, parse_station_config
+from codegen.model.tables import (
+    CAMERA,
+    CELL_POSE_FORMATS,
+    DEFAULT_MODE,
+    LIMITS,
+    STATION_ID_MAX,
+    VISION_TABLES,
+)
 from codegen.model.validate import CellError, Validator, kind_of
 from codegen.model.vision import VisionSettings
 from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
 from codegen.protocol import get_kind, kinds, station_kinds
+from codegen.readfile import ReadError, read_regular
 
-CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
 QUATERNION_TOLERANCE = 1e-6
 QUATERNION_BOUND = 10.0  # a quaternion that far from unit length is a typing error, not a rotation
 # The unit of the orientation values per cell pose format: Euler angles in degrees, rotation vector
@@ -105,16 +113,8 @@ class Cell:
 
 # --- loading ---------------------------------------------------------------------------------
 
-# and the kinds' cell_tables
-_CELL_KEYS = {"name", "targets", "pose_format", "camera", "limits", "robot", "tool", "vision", "motion", "io"}
-_CAMERA_KEYS = {"angle_sign", "handeye"}
-_HANDEYE_KEYS = {"pixel_to_mm"}
-_LIMIT_KEYS = {"max_shift_mm", "max_rotation_deg"}
-_STATION_KEYS = {"id", "name", "poses", "mode", "config"}  # and the keys of the station's kind
-STATION_ID_MAX = 32767  # the largest 16-bit signed integer, which every target reads without loss
 STATIONS_MAX = 5000  # the scale issue's largest cell: its programs load and run here (a UR program in about 35 s)
 POSES_MAX = 1000  # a station's poses are one run: 1,000 take about a tenth of verify's step limit
-DEFAULT_MODE = "point"  # the cell file's contract: a station without `mode` is a point station
 
 
 def image_angle_sign(pixel_to_mm) -> int:
@@ -122,6 +122,11 @@ def image_angle_sign(pixel_to_mm) -> int:
     since a turn of the mark then turns the other way in the image's axes."""
     (a, b, _), (c, d, _) = pixel_to_mm
     return -1 if a * d - b * c < 0 else 1
+
+
+# a cell of 10,000 stations is about 5 MB; beyond this bound a file is no cell this tool can work with
+CELL_FILE_MAX_BYTES = 64 << 20
+CELL_FILE_BOUND = "a cell of 10,000 stations is about 5 MB"
 
 
 def load_cell(path: str | Path | None = None) -> Cell:
@@ -137,9 +142,9 @@ def load_cell(path: str | Path | None = None) -> Cell:
 def read_cell_data(path: Path) -> tuple[dict, bytes]:
     """A cell file's TOML tables and its bytes; a CellError naming the file when it cannot be read."""
     try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise CellError(f"{path}: cannot read cell file: {exc.strerror or exc}") from None
+        raw = read_regular(path, CELL_FILE_MAX_BYTES, "a cell file (TOML)", CELL_FILE_BOUND, "cannot read cell file")
+    except ReadError as exc:
+        raise CellError(str(exc)) from None
     return parse_cell_bytes(raw, path), raw
 
 
@@ -180,13 +185,14 @@ def replace_cell_file(path: Path, text: str) -> None:
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
     ctx = CellValidator(source)
-    known_tables = {"cell", "station"}.union(*(k.tables for k in kinds().values()))
+    known_tables = tables.file_table().allowed
     top_unknown = set(data) - known_tables
     if top_unknown:
         listed = ", ".join(f"[{t}]" for t in sorted(known_tables))
         ctx.fail(sorted(top_unknown)[0], f"unknown table; expected {listed}")
     cell_table = ctx.table(data, "cell", "cell")
-    ctx.no_unknown(cell_table, _CELL_KEYS.union(*(k.cell_tables for k in kinds().values())), "cell")
+    definition = tables.cell_table()  # the cell file's definition (codegen/model/tables.py), with the kinds' tables
+    ctx.no_unknown(cell_table, definition.allowed, "cell")
 
     name = ctx.name(cell_table, "name", "cell.name")
     known_targets = target_names()
@@ -201,7 +207,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
             ctx.fail(f"cell.targets[{i}]", f"target {target!r} listed twice")
         targets.append(target)
 
-    pose_format = cell_table.get("pose_format", "xyzabc")
+    pose_format = cell_table.get("pose_format", definition.default("pose_format"))
     if pose_format not in CELL_POSE_FORMATS:
         ctx.fail("cell.pose_format", f"unknown pose format {pose_format!r}; known: {', '.join(CELL_POSE_FORMATS)}")
 
@@ -210,18 +216,19 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     # a cell of a kind that reads no mark (its tables alone: kind.standalone) needs no camera and no limits
     vision_free = not data.get("station") and any(kind.standalone(data) for kind in kinds().values())
     if vision_free:
-        unused = {"camera": {"angle_sign": 1}, "limits": {"max_shift_mm": 10.0, "max_rotation_deg": 10.0}}
+        camera_unused, limits_unused = VISION_TABLES
+        unused = {camera_unused: {"angle_sign": 1}, limits_unused: {"max_shift_mm": 10.0, "max_rotation_deg": 10.0}}
         cell_table = {**unused, **cell_table}
     camera = ctx.table(cell_table, "camera", "cell.camera")
-    ctx.no_unknown(camera, _CAMERA_KEYS, "cell.camera")
+    ctx.no_unknown(camera, CAMERA.allowed, "cell.camera")
     angle_sign = ctx.require(camera, "angle_sign", "cell.camera.angle_sign")
-    if isinstance(angle_sign, bool) or angle_sign not in (1, -1):
+    if isinstance(angle_sign, bool) or angle_sign not in CAMERA["angle_sign"].choices:
         ctx.fail("cell.camera.angle_sign", f"expected 1 or -1, got {angle_sign!r}")
 
     handeye = None
     if "handeye" in camera:
         he = ctx.table(camera, "handeye", "cell.camera.handeye")
-        ctx.no_unknown(he, _HANDEYE_KEYS, "cell.camera.handeye")
+        ctx.no_unknown(he, CAMERA["handeye"].table.allowed, "cell.camera.handeye")
         rows = ctx.require(he, "pixel_to_mm", "cell.camera.handeye.pixel_to_mm")
         if not isinstance(rows, list) or len(rows) != 2:
             ctx.fail("cell.camera.handeye.pixel_to_mm", "expected 2 rows of 3 numbers [[a, b, tx], [c, d, ty]]")
@@ -244,15 +251,16 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     settings = {kind.name: kind.parse_settings(ctx, cell_table) for kind in kinds().values()}
 
     limits_table = ctx.table(cell_table, "limits", "cell.limits")
-    ctx.no_unknown(limits_table, _LIMIT_KEYS, "cell.limits")
+    ctx.no_unknown(limits_table, LIMITS.allowed, "cell.limits")
     max_shift = ctx.number(limits_table, "max_shift_mm", "cell.limits.max_shift_mm")
     max_rot = ctx.number(limits_table, "max_rotation_deg", "cell.limits.max_rotation_deg")
-    if max_shift <= 0:
+    shift_key, rot_key = LIMITS["max_shift_mm"], LIMITS["max_rotation_deg"]
+    if max_shift <= shift_key.low:
         ctx.fail("cell.limits.max_shift_mm", f"must be positive, got {max_shift}")
-    if max_shift > READING_RANGE_MM:
-        ctx.fail("cell.limits.max_shift_mm", f"must be at most {READING_RANGE_MM:g} mm")
-    if max_rot <= 0 or max_rot >= 180:
-        ctx.fail("cell.limits.max_rotation_deg", f"must be in (0, 180) degrees, got {max_rot}")
+    if max_shift > shift_key.high:
+        ctx.fail("cell.limits.max_shift_mm", f"must be at most {shift_key.high:g} mm")
+    if not rot_key.contains(max_rot):
+        ctx.fail("cell.limits.max_rotation_deg", f"must be in {rot_key.range_text()} degrees, got {max_rot}")
 
     stations_raw = data.get("station", [] if vision_free else None)
     if not isinstance(stations_raw, list) or not (stations_raw or vision_free):
@@ -341,11 +349,12 @@ class CellValidator(Validator):
         if not isinstance(mode, str) or mode not in known:
             self.fail(f"{path}.mode", f"expected one of {', '.join(map(repr, known))}, got {mode!r}")
         kind = known[mode]
-        for key in sorted(set(raw) - _STATION_KEYS - kind.station_keys):
+        common = tables.station_table().allowed
+        for key in sorted(set(raw) - common - kind.station_keys):
             owners = [k.name for k in known.values() if key in k.station_keys]
             if owners:
                 self.fail(f"{path}.{key}", f'only {owners[0]} stations (mode = "{owners[0]}") have this key')
-            allowed = ", ".join(sorted(_STATION_KEYS | kind.station_keys))
+            allowed = ", ".join(sorted(common | kind.station_keys))
             self.fail(f"{path}.{key}", f"unknown key; allowed: {allowed}")
         spec = kind.parse(self, raw, path, pose_format)
         poses_raw = self.table(raw, "poses", f"{path}.poses")

@@ -5,12 +5,62 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+from functools import cache
 
-from codegen.controllers import get_target
+from codegen.controllers import get_target, target_names
+from codegen.model.schema import Key, Table
 
-SIGNAL_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,31}")  # a configured I/O signal's name (RAPID: EIO)
+SIGNAL_PATTERN = r"[A-Za-z][A-Za-z0-9_]{0,31}"  # a configured I/O signal's name (RAPID: EIO)
+SIGNAL_NAME = re.compile(SIGNAL_PATTERN)
 TIMEOUT_S = 2.0
 POLL_S = 0.05  # how often a program looks at the feedback while it waits (as the vision handshake)
+
+
+def signal_key(target: str, doc: str) -> Key:
+    """A digital signal as one controller names it (targets/<t>.toml signals): a number in its range or a name."""
+    facts = get_target(target).program["signals"]
+    if facts["form"] == "index":
+        low, high = facts["range"]
+        return Key("integer", doc, low=low, high=high, controllers=target)
+    return Key("string", doc, pattern=SIGNAL_PATTERN, controllers=target)
+
+
+def signal_targets() -> tuple[str, ...]:
+    """The controllers whose programs set and read digital signals."""
+    return tuple(t for t in target_names() if get_target(t).program.get("signals"))
+
+
+def signals(doc: str, required: bool = False) -> Key:
+    """A signal per target of the cell (its number or name there)."""
+    return Key(
+        "map",
+        doc,
+        required=required,
+        names=signal_targets(),
+        per_name={t: signal_key(t, f"the signal on {t}") for t in signal_targets()},
+        controllers=", ".join(signal_targets()),
+    )
+
+
+@cache
+def io_table() -> Table:
+    """[cell.io]: the definition the loader reads."""
+    return Table(
+        "The work pose's output (a gripper, a clamp) and the feedback input that confirms it (optional).",
+        {
+            "output": signals("the output the program sets at the work pose, per target of the cell", required=True),
+            "value": Key("boolean", "the value the output is set to", default=True),
+            "feedback": signals("the input that confirms the action, per target (none: no feedback)"),
+            "timeout_s": Key(
+                "number",
+                "how long the program waits for the feedback",
+                unit="s",
+                low=4 * POLL_S,
+                high=600.0,
+                default=TIMEOUT_S,
+            ),
+        },
+    )
 
 
 @dataclass(frozen=True)
@@ -32,15 +82,17 @@ def parse_settings(ctx, cell_table: dict, targets) -> SignalSettings | None:
     if "io" not in cell_table:
         return None
     table = ctx.table(cell_table, "io", "cell.io")
-    ctx.no_unknown(table, {"output", "value", "feedback", "timeout_s"}, "cell.io")
-    output = per_target(ctx, table, "output", targets, required=True)
-    feedback = per_target(ctx, table, "feedback", targets, required=False)
-    value = table.get("value", True)
+    definition = io_table()
+    ctx.no_unknown(table, definition.allowed, "cell.io")
+    output = per_target(ctx, table, "output", targets, required=definition["output"].required)
+    feedback = per_target(ctx, table, "feedback", targets, required=definition["feedback"].required)
+    value = table.get("value", definition.default("value"))
     if not isinstance(value, bool):
         ctx.fail("cell.io.value", f"must be true or false, got {value!r}")
     timeout = ctx.number(table, "timeout_s", "cell.io.timeout_s") if "timeout_s" in table else TIMEOUT_S
-    if not 4 * POLL_S <= timeout <= 600:
-        ctx.fail("cell.io.timeout_s", f"must be between {4 * POLL_S:g} and 600 s, got {timeout}")
+    low, high = definition["timeout_s"].bounds
+    if not definition["timeout_s"].contains(timeout):
+        ctx.fail("cell.io.timeout_s", f"must be between {low:g} and {high:g} s, got {timeout}")
     return SignalSettings(output, value, feedback, timeout)
 
 

@@ -6,11 +6,60 @@ from dataclasses import dataclass
 
 import numpy as np
 
-SPEED_MAX_MM_S = 5000.0  # a TCP speed beyond this is no programming speed of these arms
-# the programs write a TCP speed to 0.1 mm/s (KRL's $VEL.CP in m/s to 4 decimals): below 1 mm/s that is
-# more than 5 % off, and below 0.05 mm/s the program would say 0
-SPEED_MIN_MM_S = 1.0
-ZONE_MAX_MM = 200.0  # the largest blending zone the controllers predefine (RAPID z200)
+from codegen.model.schema import Key, Table
+
+# the programs write a TCP speed to 0.1 mm/s (one controller takes it in m/s to 4 decimals): below 1 mm/s that is
+# more than 5 % off, and below 0.05 mm/s the program would say 0; beyond 5000 mm/s is no programming speed
+# of these arms
+_SPEED = {"type": "number", "unit": "mm/s", "low": 1.0, "high": 5000.0}
+# [cell.motion]: the definition the loader reads (its keys, ranges and defaults)
+TABLE = Table(
+    "How the arm moves through each kind's program (optional; every key has a default).",
+    {
+        "speed_mm_s": Key(
+            **_SPEED, default=250.0, doc="TCP speed of the linear moves on the way (and RAPID's joint moves)"
+        ),
+        "work_speed_mm_s": Key(**_SPEED, default=50.0, doc="the last move into the work pose and the retreat from it"),
+        # the largest blending zone the controllers predefine (RAPID z200)
+        "zone_mm": Key(
+            "number",
+            "blending where the arm passes a pose (0: it stops at each; never at the work pose)",
+            unit="mm",
+            low=0.0,
+            high=200.0,
+            default=0.0,
+        ),
+        "retreat_mm": Key(
+            "number",
+            "after the work pose, back along the tool's z axis by this much (0: no retreat)",
+            unit="mm",
+            low=0.0,
+            high=1000.0,
+            default=50.0,
+        ),
+        "return_home": Key("boolean", "after the station, a joint move home", default=True),
+        "start_tolerance_deg": Key(
+            "number",
+            "how far from home a program that checks where it starts lets a joint be",
+            unit="deg",
+            low=0.0,
+            open_low=True,
+            high=30.0,
+            default=2.0,
+        ),
+        "joint_speed_percent": Key(
+            "number",
+            "joint moves' axis speed, percent of top speed, where a controller sets it so",
+            unit="%",
+            low=0.0,
+            open_low=True,
+            high=100.0,
+            default=30.0,
+        ),
+    },
+)
+SPEED_MIN_MM_S, SPEED_MAX_MM_S = TABLE["speed_mm_s"].bounds
+ZONE_MAX_MM = TABLE["zone_mm"].high
 
 
 @dataclass(frozen=True)
@@ -24,27 +73,16 @@ class MotionSettings:
     (0: no retreat); return_home: after the station, a joint move home; start_tolerance_deg: how far
     from home a program that checks where it starts (targets/<t>.toml restart = "at_home") lets a joint be."""
 
-    speed_mm_s: float = 250.0
-    work_speed_mm_s: float = 50.0
-    zone_mm: float = 0.0
-    retreat_mm: float = 50.0
-    return_home: bool = True
-    start_tolerance_deg: float = 2.0  # a program that refuses to start elsewhere: every joint this close to home
-    joint_speed_percent: float = 30.0  # joint moves' axis speed, percent of top speed, where a controller sets it so
+    speed_mm_s: float = TABLE.default("speed_mm_s")
+    work_speed_mm_s: float = TABLE.default("work_speed_mm_s")
+    zone_mm: float = TABLE.default("zone_mm")
+    retreat_mm: float = TABLE.default("retreat_mm")
+    return_home: bool = TABLE.default("return_home")
+    start_tolerance_deg: float = TABLE.default("start_tolerance_deg")  # every joint this close to home
+    joint_speed_percent: float = TABLE.default("joint_speed_percent")
 
 
-START_TOLERANCE_MAX_DEG = 30.0
-
-
-_KEYS = {
-    "speed_mm_s",
-    "work_speed_mm_s",
-    "zone_mm",
-    "retreat_mm",
-    "return_home",
-    "start_tolerance_deg",
-    "joint_speed_percent",
-}
+START_TOLERANCE_MAX_DEG = TABLE["start_tolerance_deg"].high
 
 
 def parse_settings(ctx, cell_table: dict) -> MotionSettings:
@@ -52,7 +90,7 @@ def parse_settings(ctx, cell_table: dict) -> MotionSettings:
     if "motion" not in cell_table:
         return MotionSettings()
     table = ctx.table(cell_table, "motion", "cell.motion")
-    ctx.no_unknown(table, _KEYS, "cell.motion")
+    ctx.no_unknown(table, TABLE.allowed, "cell.motion")
     default = MotionSettings()
     values = {}
     for key in ("speed_mm_s", "work_speed_mm_s"):
@@ -65,22 +103,22 @@ def parse_settings(ctx, cell_table: dict) -> MotionSettings:
             )
         values[key] = value
     zone = ctx.number(table, "zone_mm", "cell.motion.zone_mm") if "zone_mm" in table else default.zone_mm
-    if not 0 <= zone <= ZONE_MAX_MM:
+    if not TABLE["zone_mm"].contains(zone):
         ctx.fail("cell.motion.zone_mm", f"must be in [0, {ZONE_MAX_MM:g}] mm, got {zone}")
-    retreat = ctx.number(table, "retreat_mm", "cell.motion.retreat_mm") if "retreat_mm" in table else 50.0
-    if not 0 <= retreat <= 1000:
-        ctx.fail("cell.motion.retreat_mm", f"must be in [0, 1000] mm, got {retreat}")
+    retreat = ctx.number(table, "retreat_mm", "cell.motion.retreat_mm") if "retreat_mm" in table else default.retreat_mm
+    if not TABLE["retreat_mm"].contains(retreat):
+        ctx.fail("cell.motion.retreat_mm", f"must be in {TABLE['retreat_mm'].range_text()} mm, got {retreat}")
     home = table.get("return_home", default.return_home)
     if not isinstance(home, bool):
         ctx.fail("cell.motion.return_home", f"must be true or false, got {home!r}")
     key = "start_tolerance_deg"
     tolerance = ctx.number(table, key, f"cell.motion.{key}") if key in table else default.start_tolerance_deg
-    if not 0 < tolerance <= START_TOLERANCE_MAX_DEG:
+    if not TABLE[key].contains(tolerance):
         ctx.fail(f"cell.motion.{key}", f"must be in (0, {START_TOLERANCE_MAX_DEG:g}] deg, got {tolerance}")
     key = "joint_speed_percent"
     percent = ctx.number(table, key, f"cell.motion.{key}") if key in table else default.joint_speed_percent
-    if not 0 < percent <= 100:
-        ctx.fail(f"cell.motion.{key}", f"must be in (0, 100] percent, got {percent}")
+    if not TABLE[key].contains(percent):
+        ctx.fail(f"cell.motion.{key}", f"must be in {TABLE[key].range_text()} percent, got {percent}")
     return MotionSettings(values["speed_mm_s"], values["work_speed_mm_s"], zone, retreat, home, tolerance, percent)
 
 

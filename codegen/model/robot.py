@@ -2,19 +2,105 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from functools import cache
 
 import numpy as np
 
-from codegen.controllers import get_target
+from codegen.controllers import get_target, target_names
+from codegen.model.schema import Key, Table
 from codegen.poses import POSE_FORMATS
 from codegen.robot.arms import Arm, ArmError, arm_from_table, catalogue, check_inside, find_arm
 
-TOOL_MASS_MAX_KG = 1000.0
-TOOL_MASS_MIN_KG = 0.001  # the programs write the mass in kg to 3 decimals (render.py MASS_DECIMALS): less says 0
-DEFAULT_JOINT_MARGIN_DEG = 5.0  # codegen's choice: room for the path between two checked readings
-DEFAULT_WRIST_MARGIN_DEG = 5.0
 TOOL_OFFSET_MAX_MM = 2000.0
+_MARGIN = {"type": "number", "unit": "deg", "low": 0.0, "high": 90.0}
+# [cell.robot] without its per-target keys (robot_table() adds them): the definition the loader reads
+ROBOT_KEYS = {
+    "home": Key(
+        "map",
+        "the home joints per target (default: the arm's catalogue home)",
+        unit="deg",
+        values=Key("numbers", "joint positions a1..a6", unit="deg", count=6),
+    ),
+    # codegen's choice: room for the path between two checked readings
+    "joint_margin_deg": Key(
+        **_MARGIN, default=5.0, doc="every axis this far inside its limits over the correction region"
+    ),
+    "wrist_margin_deg": Key(**_MARGIN, default=5.0, doc="the wrist axis this far from its singular angle"),
+}
+# the programs write the mass in kg to 3 decimals (render.py MASS_DECIMALS): less than 1 g says 0
+TOOL = Table(
+    "The tool the arm carries: its TCP and load (needs [cell.robot]; without it the programs move the flange).",
+    {
+        "tcp": Key(
+            "pose",
+            "the TCP in the flange frame, in the cell's pose format",
+            required=True,
+            count=(6, 7),
+            low=-TOOL_OFFSET_MAX_MM,
+            high=TOOL_OFFSET_MAX_MM,
+        ),
+        "mass_kg": Key("number", "the tool's mass", unit="kg", low=0.001, high=1000.0, required=True),
+        "cog_mm": Key(
+            "numbers",
+            "the centre of gravity in the flange frame",
+            unit="mm",
+            count=3,
+            required=True,
+            low=-TOOL_OFFSET_MAX_MM,
+            high=TOOL_OFFSET_MAX_MM,
+        ),
+        "numbered": Key(
+            "map",
+            "the controller's numbered tool and load to select instead of declaring the tool, per target",
+            names=None,
+        ),
+    },
+)
+TOOL_MASS_MIN_KG, TOOL_MASS_MAX_KG = TOOL["mass_kg"].bounds
+DEFAULT_JOINT_MARGIN_DEG = ROBOT_KEYS["joint_margin_deg"].default
+DEFAULT_WRIST_MARGIN_DEG = ROBOT_KEYS["wrist_margin_deg"].default
+
+
+def arm_targets() -> tuple[str, ...]:
+    """The controllers that drive an arm model (configuration other than none)."""
+    return tuple(t for t in target_names() if get_target(t).configuration != "none")
+
+
+@cache
+def robot_table() -> Table:
+    """[cell.robot]: an arm per target that drives one (a catalogue name or a custom arm's table), its home and
+    margins."""
+    arm = Key(
+        "either",
+        "the arm this controller drives: a catalogue model name (codegen/robot/catalogue.toml) or a custom arm's table",
+        alternatives=(Key("string", "a catalogue model", non_empty=True), Key("map", "a custom arm")),
+    )
+    per_target = {t: replace(arm, controllers=t) for t in arm_targets()}
+    return Table(
+        "The arm per target and its home (optional: without it nothing about the arm is checked).",
+        {**per_target, **ROBOT_KEYS},
+    )
+
+
+@cache
+def tool_table() -> Table:
+    """[cell.tool] with its numbered tools per controller that has them."""
+    numbered = {
+        t: Key(
+            "integer",
+            f"the {t} controller's tool number",
+            low=1,
+            high=get_target(t).program["tool_data"]["max"],
+            controllers=t,
+        )
+        for t in target_names()
+        if get_target(t).program.get("tool_data")
+    }
+    key = TOOL["numbered"]
+    return TOOL.merged(
+        {"numbered": Key("map", key.doc, names=tuple(numbered), per_name=numbered, controllers=", ".join(numbered))}
+    )
 
 
 @dataclass(frozen=True)
@@ -69,7 +155,7 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
         return None
     table = ctx.table(cell_table, "robot", "cell.robot")
     with_arm = [t for t in targets if configuration_of(t) != "none"]
-    allowed = {*with_arm, "home", "joint_margin_deg", "wrist_margin_deg"}
+    allowed = {*with_arm, *ROBOT_KEYS}
     for key in sorted(set(table) - allowed):
         if key in targets:
             ctx.fail(f"cell.robot.{key}", f"the {key} target drives no arm model (no robot in its language)")
@@ -124,8 +210,8 @@ def _margin(ctx, table: dict, key: str, default: float) -> float:
     if key not in table:
         return default
     value = ctx.number(table, key, f"cell.robot.{key}")
-    if not 0 <= value <= 90:
-        ctx.fail(f"cell.robot.{key}", f"expected degrees in [0, 90], got {value:g}")
+    if not ROBOT_KEYS[key].contains(value):
+        ctx.fail(f"cell.robot.{key}", f"expected degrees in {ROBOT_KEYS[key].range_text()}, got {value:g}")
     return value
 
 
@@ -148,7 +234,7 @@ def _arm(ctx, value, path: str, target: str) -> Arm:
 
 
 def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
-    ctx.no_unknown(table, {"tcp", "mass_kg", "cog_mm", "numbered"}, "cell.tool")
+    ctx.no_unknown(table, TOOL.allowed, "cell.tool")
     count, to_matrix = POSE_FORMATS[pose_format][0], POSE_FORMATS[pose_format][1]
     tcp = ctx.orientation(
         ctx.numbers(ctx.require(table, "tcp", "cell.tool.tcp"), count, "cell.tool.tcp"), "cell.tool.tcp", pose_format

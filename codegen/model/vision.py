@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from codegen.model.schema import Key, Table
+
 # The protocol, the same on every controller. The program writes the command, then request = ack + 1;
 # the vision PC does what the command asks, writes its answer and then ack = request. The program uses
 # an answer only when ack equals its own request: a reading from an earlier cycle (a vision PC that
@@ -12,7 +14,22 @@ from dataclasses import dataclass
 READ = 1  # read the station: its id (barcode) and, for a point-mode station, the mark
 PHOTO = 2  # photograph the mark from where the arm stands (frame mode): pixels u, v and image angle
 POLL_S = 0.05  # how often a program looks at the acknowledgement while it waits
-TIMEOUT_S = 5.0  # default [cell.vision] timeout_s
+# [cell.vision]: the definition the loader reads; a timeout of at least four polls, at most ten minutes
+TABLE = Table(
+    "The vision PC handshake (optional).",
+    {
+        "timeout_s": Key(
+            "number",
+            "how long a program waits for the vision PC's answer before it halts with a message",
+            unit="s",
+            low=4 * POLL_S,
+            high=600.0,
+            default=5.0,
+        ),
+    },
+    kinds=("point", "frame"),
+)
+TIMEOUT_S = TABLE.default("timeout_s")
 
 
 @dataclass(frozen=True)
@@ -27,10 +44,11 @@ def parse_settings(ctx, cell_table: dict) -> VisionSettings:
     if "vision" not in cell_table:
         return VisionSettings()
     table = ctx.table(cell_table, "vision", "cell.vision")
-    ctx.no_unknown(table, {"timeout_s"}, "cell.vision")
+    ctx.no_unknown(table, TABLE.allowed, "cell.vision")
     timeout = ctx.number(table, "timeout_s", "cell.vision.timeout_s") if "timeout_s" in table else TIMEOUT_S
-    if not 4 * POLL_S <= timeout <= 600:
-        ctx.fail("cell.vision.timeout_s", f"must be between {4 * POLL_S:g} and 600 s, got {timeout}")
+    low, high = TABLE["timeout_s"].bounds
+    if not TABLE["timeout_s"].contains(timeout):
+        ctx.fail("cell.vision.timeout_s", f"must be between {low:g} and {high:g} s, got {timeout}")
     return VisionSettings(timeout)
 
 

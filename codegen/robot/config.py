@@ -28,6 +28,21 @@
 #   Turn bit i (i = 0..5): 1 when axis i+1 < 0 deg, 0 when >= 0.
 # UR: get_inverse_kin(x, qnear) returns "the solution closest to qnear" (URScript manual); UR's staff on the
 # UR forum ("Get_inverse_kin closest solution criteria"): "the sum of squared error", so Euclidean in joints.
+#
+# At a boundary. A pose the cell plans exactly on a boundary (Q straight ahead of the arm: axis 1 at 0; a
+# vertical tool: axis 4 at 0 and axis 6 at 180) comes out of the float64 inverse kinematics as 0 +- 1e-12 or
+# 180 +- 1e-12: its sign is rounding. A value within BOUNDARY_DEG (solve.py) of a multiple of 90 deg, and a
+# wrist or elbow side within BOUNDARY_MM (BOUNDARY_SIN) of 0, is taken as the boundary itself (at_boundary),
+# and the manuals' definitions then give the boundary's own configuration: KUKA Turn bit i is 1 only for
+# axis i+1 < 0 deg (Siemens' TU, the same bits: "bit = 0: 0 <= theta < 360"), so an axis at 0 has its bit 0;
+# Status bit 2 is 0 for 0 <= A5 < 180; ABB's quadrant of 0 .. 90 deg is 0 (floor(angle / 90): 0 -> 0,
+# 180 -> 2, -180 -> -2); cfx counts the boundaries as above. The controller computes the same pose in its own
+# floating point and lands within that margin of the boundary, on either side: the configuration named for
+# the boundary selects a value within the margin on its own side or the boundary itself, and one the margin
+# beyond (a Turn bit 1 for an axis at +-1e-7 deg) selects the next turn, as the definition reads (which
+# KSS then refuses or runs the long way: verify fails such a program). KUKA's own behaviour near 0 is not
+# in its manual; robot-forum.com reports (KSS 5.5) that a PTP disregards the Turn bit of an axis within about
+# 2 deg of 0 and takes the shorter way, which the rule here does not rely on.
 
 from __future__ import annotations
 
@@ -42,17 +57,48 @@ from codegen.robot.arms import Arm
 from codegen.robot.kinematics import wrap_deg, wrap_deg_float
 from codegen.robot.opw import OPW
 
+BOUNDARY_MM = 1e-6  # a wrist centre this close to axis 1 is on it (mm)
+BOUNDARY_SIN = math.radians(solve.BOUNDARY_DEG)  # the wrist centre this close to the lower arm's line: on it (sine)
+
+
+def at_boundary(joints_deg) -> np.ndarray:
+    """Axis values with each one within BOUNDARY_DEG of a multiple of 90 deg set to it (no negative zero): the
+    boundaries of the quadrants, the signs and the status bits are multiples of 90."""
+    q = np.asarray(joints_deg, dtype=float)
+    nearest = 90.0 * np.round(q / 90.0)
+    return np.where(np.abs(q - nearest) <= solve.BOUNDARY_DEG, nearest + 0.0, q)
+
+
+def _at_boundary_one(q: list[float]) -> list[float]:
+    """at_boundary of one pose's axis values as Python floats (the same operations)."""
+    out = []
+    for v in q:
+        nearest = 90.0 * round(v / 90.0)
+        out.append(nearest + 0.0 if abs(v - nearest) <= solve.BOUNDARY_DEG else v)
+    return out
+
+
+def _side(value, margin: float) -> np.ndarray:
+    """A signed distance within the margin of 0 as 0."""
+    return np.where(np.abs(value) <= margin, 0.0, value)
+
+
+def _side_float(value: float, margin: float) -> float:
+    """_side of one Python float."""
+    return 0.0 if abs(value) <= margin else value
+
 
 def abb_quadrant(joints_deg: np.ndarray) -> np.ndarray:
-    """The confdata quadrant of an axis value: floor(angle / 90 deg), integers of the input's shape."""
-    return np.floor(np.asarray(joints_deg, dtype=float) / 90.0).astype(int)
+    """The confdata quadrant of an axis value: floor(angle / 90 deg) of the value at its boundary (at_boundary),
+    integers of the input's shape."""
+    return np.floor(at_boundary(joints_deg) / 90.0).astype(int)
 
 
 def abb_confdata(kin: OPW, joints_deg: np.ndarray) -> np.ndarray:
     """(..., 6) axis values -> (..., 4) int (cf1, cf4, cf6, cfx) for an ABB 6-axis serial arm."""
-    q = np.asarray(joints_deg, dtype=float)
-    behind_axis1 = kin.wrist_x_axis1(q) < 0.0
-    behind_lower_arm = kin.elbow_side(q) < 0.0
+    q = at_boundary(joints_deg)
+    behind_axis1 = _side(kin.wrist_x_axis1(q), BOUNDARY_MM) < 0.0
+    behind_lower_arm = _side(kin.elbow_side(q), BOUNDARY_SIN) < 0.0
     axis5_negative = q[..., 4] < 0.0
     cfx = 4 * behind_axis1.astype(int) + 2 * behind_lower_arm.astype(int) + axis5_negative.astype(int)
     return np.concatenate([abb_quadrant(q[..., [0, 3, 5]]), cfx[..., None]], axis=-1)
@@ -82,25 +128,30 @@ def _one_pose(solutions: np.ndarray, values) -> bool:
 
 
 def _kuka_status_one(kin: OPW, q: list[float]) -> int:
+    q = _at_boundary_one(q)
     x, _ = kin.sides_one(q)
     a5 = q[4]
     a5_bit = (-180.0 <= a5 < 0.0) or a5 >= 180.0
-    return int(x < 0.0) | int(wrap_deg_float(q[2] - kin.stretched_q3_deg) >= 0.0) << 1 | int(a5_bit) << 2
+    a3 = _side_float(wrap_deg_float(q[2] - kin.stretched_q3_deg), solve.BOUNDARY_DEG)
+    return int(_side_float(x, BOUNDARY_MM) < 0.0) | int(a3 >= 0.0) << 1 | int(a5_bit) << 2
 
 
 def _abb_cfx_one(kin: OPW, q: list[float]) -> int:
+    q = _at_boundary_one(q)
     x, elbow = kin.sides_one(q)
-    return 4 * int(x < 0.0) + 2 * int(elbow < 0.0) + int(q[4] < 0.0)
+    side, elbow = _side_float(x, BOUNDARY_MM), _side_float(elbow, BOUNDARY_SIN)
+    return 4 * int(side < 0.0) + 2 * int(elbow < 0.0) + int(q[4] < 0.0)
 
 
 def kuka_status(kin: OPW, joints_deg: np.ndarray) -> int | np.ndarray:
-    """Status bits 0-2 of axis values: an int for one (6,) pose, an int array (...) for a batch."""
+    """Status bits 0-2 of axis values (at their boundaries): an int for one (6,) pose, an int array (...) for a
+    batch."""
     one = _finite_one(joints_deg)
     if one is not None:
         return _kuka_status_one(kin, one)
-    q = np.asarray(joints_deg, dtype=float)
-    overhead = kin.wrist_x_axis1(q) < 0.0
-    a3_from_stretched = wrap_deg(q[..., 2] - kin.stretched_q3_deg)  # A3 - phi, the folded side as negative
+    q = at_boundary(joints_deg)
+    overhead = _side(kin.wrist_x_axis1(q), BOUNDARY_MM) < 0.0
+    a3_from_stretched = _side(wrap_deg(q[..., 2] - kin.stretched_q3_deg), solve.BOUNDARY_DEG)  # A3 - phi
     a3_at_or_above = a3_from_stretched >= 0.0
     a5 = q[..., 4]
     a5_bit = ((a5 >= -180.0) & (a5 < 0.0)) | (a5 >= 180.0)
@@ -109,11 +160,12 @@ def kuka_status(kin: OPW, joints_deg: np.ndarray) -> int | np.ndarray:
 
 
 def kuka_turn(joints_deg: np.ndarray) -> int | np.ndarray:
-    """Turn: bit i set when axis i+1 < 0 deg; an int for one (6,) pose, an int array (...) for a batch."""
+    """Turn: bit i set when axis i+1 < 0 deg (an axis at 0, its boundary, has its bit 0); an int for one (6,)
+    pose, an int array (...) for a batch."""
     one = _finite_one(joints_deg)
     if one is not None:
-        return sum(1 << axis for axis, value in enumerate(one) if value < 0.0)
-    negative = np.asarray(joints_deg, dtype=float) < 0.0
+        return sum(1 << axis for axis, value in enumerate(_at_boundary_one(one)) if value < 0.0)
+    negative = at_boundary(joints_deg) < 0.0
     return _scalar_or_array(np.sum(negative.astype(int) << np.arange(6), axis=-1))
 
 
@@ -124,11 +176,11 @@ def by_confdata(arm: Arm, solutions: np.ndarray, conf) -> tuple[np.ndarray, np.n
     if _one_pose(solutions, conf):
         return _first_one(arm, solutions, lambda row: _by_confdata_row(arm, row, conf))
     q = solutions.copy()
-    for axis, quadrant in ((0, cf1), (3, cf4), (5, cf6)):
+    for axis, quadrant in ((0, cf1), (3, cf4), (5, cf6)):  # the quadrant [90 k, 90 (k + 1)) at its boundaries
         q[..., axis] = solve.shift_into(q[..., axis], 90.0 * quadrant - solve.BOUNDARY_DEG)
     match = (abb_confdata(arm.kin, np.nan_to_num(q))[..., 3] == cfx) & solve.inside(arm, q) & ~np.isnan(q).any(axis=-1)
     for axis, quadrant in ((0, cf1), (3, cf4), (5, cf6)):
-        match &= q[..., axis] < 90.0 * (quadrant + 1) + solve.BOUNDARY_DEG
+        match &= q[..., axis] < 90.0 * (quadrant + 1) - solve.BOUNDARY_DEG
     return solve.first(q, match)
 
 
@@ -138,10 +190,10 @@ def by_status_turn(arm: Arm, solutions: np.ndarray, status: int, turn: int) -> t
     if _one_pose(solutions, (status, turn)):
         return _first_one(arm, solutions, lambda row: _by_status_turn_row(arm, row, status, turn))
     q = solutions.copy()
-    for axis in range(6):
+    for axis in range(6):  # bit 1: the axis below 0 beyond its boundary; bit 0: at or above it
         negative = bool(turn >> axis & 1)
         if negative:
-            q[..., axis] = np.where(q[..., axis] > solve.BOUNDARY_DEG, q[..., axis] - solve.TURN, q[..., axis])
+            q[..., axis] = np.where(q[..., axis] >= -solve.BOUNDARY_DEG, q[..., axis] - solve.TURN, q[..., axis])
         else:
             q[..., axis] = np.where(q[..., axis] < -solve.BOUNDARY_DEG, q[..., axis] + solve.TURN, q[..., axis])
     s = kuka_status(arm.kin, np.nan_to_num(q))
@@ -168,14 +220,14 @@ def _by_confdata_row(arm: Arm, row: list[float], conf) -> list[float] | None:
         q[axis] = solve.shift_into_float(q[axis], 90.0 * quadrant - solve.BOUNDARY_DEG)
     if _abb_cfx_one(arm.kin, q) != conf[3]:
         return None
-    if not all(q[axis] < 90.0 * (quadrant + 1) + solve.BOUNDARY_DEG for axis, quadrant in quadrants):
+    if not all(q[axis] < 90.0 * (quadrant + 1) - solve.BOUNDARY_DEG for axis, quadrant in quadrants):
         return None
     return q
 
 
 def _by_status_turn_row(arm: Arm, row: list[float], status: int, turn: int) -> list[float] | None:
     q = [
-        (v - solve.TURN if v > solve.BOUNDARY_DEG else v)
+        (v - solve.TURN if v >= -solve.BOUNDARY_DEG else v)
         if turn >> axis & 1
         else (v + solve.TURN if v < -solve.BOUNDARY_DEG else v)
         for axis, v in enumerate(row)

@@ -10,8 +10,10 @@ from codegen.robot.arms import Arm
 from codegen.robot.kinematics import ceil_float
 
 TURN = 360.0
-# An axis on a quadrant or sign boundary (a vertical tool puts a wrist axis at exactly 0) satisfies the
-# configuration on either side: the analytic solution's rounding (1e-12 deg) must not turn it by 360.
+# An axis within this of a quadrant or sign boundary (a vertical tool puts a wrist axis at exactly 0) is at the
+# boundary: the analytic solution's rounding (1e-12 deg) and a float32 controller's (below 1e-6 deg at the
+# bundled cells' boundaries, measured) decide nothing. The configuration there is the boundary's own, as the
+# manuals define it (codegen/robot/config.py, "At a boundary").
 BOUNDARY_DEG = 1e-6
 LIMIT_SLACK_DEG = 1e-9  # a value this far beyond a joint limit is the analytic solution's rounding: inside
 

@@ -157,8 +157,8 @@ def test_each_command_parses(command, monkeypatch):
 
 
 def test_the_cheap_commands_run(tmp_path, monkeypatch):
-    """Each page's commands in order, in a copy of the examples and their generated programs (so --write and
-    generate change the copy): each must exit 0. Repeated commands run once."""
+    """Each page's commands in order, in a copy of the examples, their generated programs and the pages (so
+    --write, generate and schema --out change the copy): each must exit 0. Repeated commands run once."""
     seen: set[tuple[str, ...]] = set()
     runner = CliRunner()
     failures = []
@@ -166,6 +166,7 @@ def test_the_cheap_commands_run(tmp_path, monkeypatch):
         folder = tmp_path / page.stem
         shutil.copytree(REPO / "codegen" / "examples", folder / "codegen" / "examples")
         shutil.copytree(REPO / "generated", folder / "generated", ignore=shutil.ignore_patterns(".*"))
+        shutil.copytree(REPO / "docs", folder / "docs")  # the reference page codegen schema writes
         monkeypatch.chdir(folder)
         for command in commands(page):
             shell = any("$" in a or "*" in a for a in command.args)

@@ -53,6 +53,25 @@ def encoder_swapped(cell):
     return section(cell, "conveyor", pick=replace(conveyor.pick, encoder_inputs=inputs))
 
 
+def pallets(cell, **changes):
+    """Every pallet of the cell changed alike."""
+    return replace(
+        cell, sections={**cell.sections, "pallet": tuple(replace(p, **changes) for p in cell.sections["pallet"])}
+    )
+
+
+def pallet_timeout(cell, factor: float):
+    return replace(
+        cell,
+        sections={
+            **cell.sections,
+            "pallet": tuple(
+                replace(p, io=replace(p.io, timeout_s=factor * p.io.timeout_s)) for p in cell.sections["pallet"]
+            ),
+        },
+    )
+
+
 # name -> (what it needs of the cell: "arm", "tool" or a kind's section; the perturbed cell; the scenarios that
 # reveal it, ALL: any case)
 MODEL = {
@@ -63,12 +82,42 @@ MODEL = {
     "start_tolerance_30deg": ("arm", lambda c: motion(c, start_tolerance_deg=30.0), frozenset({"start_away"})),
     "window_end_100mm_later": ("conveyor", window_end, ALL),
     "encoder_a_b_swapped": ("conveyor", encoder_swapped, ALL),
+    "pallet_box_payload_x2": (
+        "pallet",
+        lambda c: pallets(c, box_mass_kg=2 * c.sections["pallet"][0].box_mass_kg),
+        ALL,
+    ),
+    "pallet_blends_off": ("pallet", lambda c: pallets(c, zone_mm=0.0), ALL),
+    "pallet_way_home_retreat_x2": (
+        "pallet",
+        lambda c: motion(c, retreat_mm=2 * c.motion.retreat_mm),
+        frozenset({"start_away", "start_mid_cycle"}),
+    ),
+    "pallet_interlock_timeout_x2": ("pallet", lambda c: pallet_timeout(c, 2.0), frozenset({"part_missing"})),
     "search_10x_faster": (
         "laser",
         lambda c: laser(c, search_speed_mm_s=10 * c.sections["laser"].search_speed_mm_s),
         ALL,
     ),
 }
+
+
+def _kuka_last(match) -> str:
+    """The laser TCP's distance from the production tool's stored value (TOOL_DATA[3] of the bundled cell)."""
+    return (
+        "DIST = SQRT("
+        + " + ".join(
+            f"(LSR_TCP[{i}] - TOOL_DATA[3].{a}) * (LSR_TCP[{i}] - TOOL_DATA[3].{a})"
+            for i, a in ((1, "X"), (2, "Y"), (3, "Z"))
+        )
+        + ")"
+    )
+
+
+def _abb_last(match) -> str:
+    """A laser TCP coordinate less the production tool's stored one (tPin of the bundled cell)."""
+    return f"(lsr_tcp{{{match.group(1)}}} - tPin.tframe.trans.{'xyz'[int(match.group(1)) - 1]})"
+
 
 # name -> target -> (pattern, replacement) on the first match in the program's files; where a kind's program has
 # no match the class does not apply to it (the matrix test lists that)
@@ -96,6 +145,30 @@ TEXT = {
         "ur": (r'^(\s+)\w+_stop\(("start with the arm at home[^"]*")\)', r"\1textmsg(\2)"),
         "abb": (r'^(\s+)\w+_stop ("start with the arm at home[^"]*");', r"\1TPWrite \2;"),
     },
+    "pallet_interlock_not_awaited": {  # the wait for a box at Q (or Q clear), then the stop's message
+        "ur": (r'^\s*pal_wait\(\d+, "[^"]*(no box at the pick place|pick place is not clear)[^"]*"\)\n', ""),
+        "kuka": (r"^\s*IF NOT PAL_(PART|CLEAR)\(\) THEN\n\s*RETURN\n\s*ENDIF\n", ""),
+        "abb": (
+            r"WaitDI (diCartonAtQ|diPartAtQ|diQClear), 1 \\MaxTime:=STACK_WAIT \\TimeFlag:=late;",
+            "late := FALSE;",
+        ),
+        "dtrans": (r"^(\s*)If DIn\((3|7)\) <> True Then\n", r"\1If False Then\n"),
+    },
+    "pallet_carried_payload_dropped": {
+        "ur": (r"^\s*set_target_payload\([^\n]*# the tool and the box\n", ""),
+        "kuka": (r"^\s*\$LOAD = PAL_LOAD_BOX\n", ""),
+        "abb": (r"^\s*GripLoad stack_box;\n", ""),
+    },
+    "pallet_way_home_skipped": {
+        "ur": (r"^(\s*)if pal_away:", r"\1if False:"),
+        "kuka": (r"^(\s*)IF AWAY THEN", r"\1IF FALSE THEN"),
+        "abb": (r"^\s*MoveL RelTool\(CRobT\(\\Tool:=stack_tool[^\n]*\n", ""),  # the retreat along the tool's z
+    },
+    "pallet_blend_on_the_place": {
+        "ur": (r"(movel\(pal_pose\(x, y, z, a\), a=[\d.]+, v=[\d.]+)\)", r"\1, r=0.001)"),
+        "kuka": (r"^(\s+LIN TARGET)\b([^\n]*)\n", r"\1 C_DIS\n"),
+        "abb": (r"(MoveL target, stack_work, )fine,", r"\1stack_zone,"),
+    },
     "camera_range_check_removed": {
         "ur": (r"if x < CNV_X_MIN or x > CNV_X_MAX or", "if False and x > CNV_X_MAX or"),
         "kuka": (r"IF \(PART_X < CNV_X_MIN\) OR \(PART_X > CNV_X_MAX\) OR", "IF FALSE AND (PART_X > CNV_X_MAX) OR"),
@@ -112,12 +185,50 @@ TEXT = {
         "abb": (r"IF off > LSR_OFFSET_MAX THEN", "IF FALSE THEN"),
     },
     "tcp_not_written": {
-        "ur": (r"^\s*set_tcp\(p\[lsr_tcp\[0\][^\n]*\n", ""),
-        "kuka": (r"^\s*LSR_TOOL_DATA\.X = LSR_TCP\[1\]\n", ""),
-        "abb": (r"^\s*lsr_tool\.tframe\.trans := [^\n]*\n", ""),
+        "ur": (r"^\s*global \w+ = p\[lsr_tcp\[0\][^\n]*\n", ""),
+        "kuka": (r"^\s*TOOL_DATA\[\d+\]\.X = LSR_TCP\[1\]\n", ""),
+        "abb": (r"^\s*\w+\.tframe\.trans := \[lsr_tcp[^\n]*\n", ""),
     },
+    # the TCP found written into the program's own data, not into the production tool the cell names
     "tcp_written_into_other_data": {
-        "kuka": (r"LSR_TOOL_DATA\.X = LSR_TCP\[1\]", "GUESS.X = LSR_TCP[1]"),
-        "abb": (r"lsr_tool\.tframe\.trans := ", "lsr_guess.tframe.trans := "),
+        "ur": (r"global \w+ = p\[lsr_tcp\[0\]", "global lsr_result = p[lsr_tcp[0]"),
+        "kuka": (r"TOOL_DATA\[\d+\]\.([XYZ]) = LSR_TCP", r"LSR_NOMINAL.\1 = LSR_TCP", 0),
+        "abb": (r"\w+\.tframe\.trans := \[lsr_tcp", "lsr_guess.tframe.trans := [lsr_tcp"),
+    },
+    # the range check against the production tool's last value instead of the tool as designed (a tool that bends
+    # a little at each calibration drifts without an alarm; the UR program never reads the installation variable)
+    "tcp_range_against_the_last_result": {
+        "kuka": (r"DIST = SQRT\(D\[1\] \* D\[1\] \+ D\[2\] \* D\[2\] \+ D\[3\] \* D\[3\]\)", _kuka_last),
+        "abb": (r"\(lsr_tcp\{(\d)\} - LSR_GUESS_TCP\{\d\}\)", _abb_last, 0),
+    },
+    # straight from home to above the beams, as before the safe pose (the first joint move to the safe pose)
+    "approach_not_through_the_safe_pose": {
+        "ur": (r"(movej\(lsr_at\([^,]+, [^,]+, )[^)]+\)", r"\1LSR_CLEAR)"),
+        "kuka": (r"PTP LSR_SAFE", "PTP LSR_ABOVE[1]"),
+        "abb": (r"MoveJ lsr_at\(LSR_SAFE\)", "MoveJ lsr_at(LSR_ABOVE{1})"),
+    },
+    # a restart in the station goes home from where the arm stands, not out along the tool's axis first
+    "no_way_out_after_a_stop": {
+        "ur": (r"^\s*movel\(pose_trans\(LSR_S, p\[lsr_p[^\n]*\n\s*movel\(lsr_at\([^\n]*\n", ""),
+        "kuka": (r"^\s*LIN HERE[^\n]*\n\s*LIN LSR_SAFE\n", ""),
+        "abb": (r"^\s*MoveL here, [^\n]*\n\s*MoveL lsr_at\(LSR_SAFE\), lsr_work, fine, [^\n]*\n", ""),
+    },
+    # a start anywhere taken for a stop in the station: out and home from wherever the arm stands
+    "start_zone_check_removed": {
+        "ur": (r"if sqrt\(lsr_p\[0\][^\n]*:", "if False:"),
+        "kuka": (r"IF \(SQRT\(HERE[^\n]*THEN", "IF FALSE THEN"),
+        "abb": (r"IF Sqrt\(here\.trans\.x[^\n]*\n[^\n]*THEN", "IF FALSE THEN"),
+    },
+    # a blend where the program measures: the circle's start, where the interrupts go on
+    "blend_where_it_measures": {
+        "ur": (r"(movel\(lsr_at\([^)]*\), a=[\d.]+, v=LSR_V_WORK)\)(\n  lsr_nx = 0)", r"\1, r=0.005)\2"),
+        "kuka": (r"(LIN LSR_START\[K\])\n", r"\1 C_DIS\n"),
+        "abb": (r"(MoveL lsr_at\(LSR_START\{k\}\), lsr_work, )fine", r"\1z5"),
+    },
+    # an exact stop on a travel move (above the start on the way in)
+    "travel_not_blended": {
+        "ur": (r"(movel\(lsr_at\([^)]*\), a=[\d.]+, v=LSR_V_WORK), r=[\d.]+\)", r"\1)"),
+        "kuka": (r"(LIN LSR_ABOVE\[1\]) C_DIS", r"\1"),
+        "abb": (r"(MoveL lsr_at\(LSR_ABOVE\{1\}\), lsr_work, )lsr_zone", r"\1fine"),
     },
 }

@@ -95,6 +95,7 @@ class StationTests:
         deadline=None,
         suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.differing_executors],
     )
+    @pytest.mark.slow
     @given(a=HOSTILE, b=HOSTILE, pose=HOSTILE)
     def test_hostile_names_cannot_change_the_program_structure(self, tmp_path_factory, a, b, pose):
         folder = tmp_path_factory.mktemp("hostile")
@@ -153,6 +154,7 @@ class StationTests:
         report = stations.verify(cell, program, stations.build_cases(cell, 10, 4))
         assert report.mismatches > 0, f"verify missed the mutation {mutation}"
 
+    @pytest.mark.slow
     def test_an_extra_dispatch_id_anywhere_in_the_range_is_caught(self):
         """A misread barcode must not move the robot: the sweep of every id finds one extra branch."""
         cell = example("agv_machine_tending")

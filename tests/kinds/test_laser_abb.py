@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from support.programs import load_program
+from support.programs import first
 
 from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError
@@ -14,7 +14,6 @@ from codegen.dialects.rapid.interpreter import load
 from codegen.kinds.laser import program as lp
 from codegen.model.cell import load_cell
 from codegen.model.io import signal_name
-from codegen.render import render
 from codegen.robot.expect import arm_of
 from codegen.sim.beam_station import BeamStation
 from codegen.sim.beams import Pin
@@ -27,11 +26,9 @@ CELL = "codegen/examples/laser/laser_tcp.toml"
 
 @pytest.fixture(scope="module")
 def laser_program():
+    """The program module with the system module that declares the production tool (one task)."""
     cell = load_cell(CELL)
-    target = get_target("abb")
-    names = lp.laser_file_names(cell, target)
-    main = next(f for f in render(cell, ["abb"]) if f.relpath.endswith("/" + names[0]))
-    return cell, target, load_program(target, main.text, f"<fresh>/{main.relpath}", {})
+    return cell, get_target("abb"), first(cell, "abb", "laser").load()
 
 
 def bent(tool: np.ndarray, shift, degrees: float, about) -> np.ndarray:

@@ -111,7 +111,8 @@ def test_the_station_sees_the_pin_where_the_geometry_puts_it():
 def test_the_reference_finds_straight_and_bent_tools_and_stops_where_the_program_must():
     """Exact edges (no cycle, no noise) with the sensors' hysteresis: the TCP of the tool as designed and of
     the bent and tilted ones within 1e-4 mm of the truth (the pin's radius and the hysteresis cancel, the rim
-    is corrected exactly); a tool 4.5 mm too long is found but not written; 7 mm too short, the first circle
+    is corrected exactly); a tool 4.5 mm too long, or 3.6 mm longer than designed and 2.4 mm longer than the last
+    calibration found, is found but not written; 7 mm too short, the first circle
     misses; 9 mm too long, the tip is in the beam where the search starts."""
     cell = load_cell(CELL)
     target = get_target("ur")
@@ -123,7 +124,7 @@ def test_the_reference_finds_straight_and_bent_tools_and_stops_where_the_program
         elif case.category == "sensor_frame_error":
             assert want.halt is None
             assert np.linalg.norm(want.tcp - case.tool[:3, 3]) > 0.1  # the frame's error passes into the TCP
-        elif case.category == "tool_too_long":
+        elif case.category in ("tool_too_long", "drifted_since_last"):  # beyond the range of the tool as designed
             assert want.halt == "too_far"
             assert want.tcp[2] == pytest.approx(case.tool[2, 3], abs=1e-4)
         elif case.category == "tip_in_the_beam":
@@ -159,12 +160,26 @@ def test_without_the_rim_correction_a_tilted_pin_is_found_off():
         ('abb = "diLaserY"', 'abb = "dilaserx"', "laser.beam_y.abb"),
         ("circle_mm = 10.0", "circle_mm = 6.0", "laser.circle_mm"),
         ("clearance_mm = 8.0", "clearance_mm = 2.0", "laser.clearance_mm"),
+        ('ur = "pin_tcp", kuka = 3, abb = "tPin"', 'ur = "pin_tcp", kuka = 3', "laser.production_tool.abb"),
+        ("kuka = 3, abb", 'kuka = "TOOL_DATA[3]", abb', "laser.production_tool.kuka"),
+        ("kuka = 3, abb", "kuka = 17, abb", "laser.production_tool.kuka"),
+        ('abb = "tPin"', 'abb = "MODULE"', "laser.production_tool.abb"),
+        ('abb = "tPin"', 'abb = "lsr_guess"', "laser.production_tool.abb"),
+        ('ur = "pin_tcp"', "ur = 3", "laser.production_tool.ur"),
+        ('ur = "pin_tcp"', 'ur = "pin tcp"', "laser.production_tool.ur"),
+        ("cog_mm = [0.0, 0.0, 70.0]", "cog_mm = [0.0, 0.0, 70.0]\nnumbered = { kuka = 4 }", "production_tool.kuka"),
+        ("safe_height_mm = 100.0", "safe_height_mm = 10.0", "laser.safe_height_mm"),
+        ("zone_mm = 5.0", "zone_mm = 8.0", "cell.motion.zone_mm"),
     ],
 )
 def test_a_laser_section_that_cannot_work_is_refused_naming_its_key(tmp_path, old, new, key):
     """Steps too close for an axis, a pin no beam sees, circles faster than the slowest controller looks
     (KUKA: 100 mm/s x 12 ms = 1.2 mm > half the radius), one RAPID signal named twice in other cases, circles
-    that cannot cross both beams, a search starting below the tip: exit 2, the key named, nothing written."""
+    that cannot cross both beams, a search starting below the tip; a target without its production tool, one
+    that is not the target's form (a KRL tool number 1..16, a RAPID or URScript name that is no reserved word
+    and not the program's own), a KRL production tool other than the cell's numbered tool; a safe pose below the
+    search's top; a blend longer than half the way down to the circles' start: exit 2, the key named, nothing
+    written."""
     from click.testing import CliRunner
 
     from codegen.cli import main
@@ -175,4 +190,5 @@ def test_a_laser_section_that_cannot_work_is_refused_naming_its_key(tmp_path, ol
     cell.write_text(text.replace(old, new))
     result = CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")])
     assert result.exit_code == 2 and key in result.output, result.output
+    assert "Traceback" not in result.output and not (tmp_path / "out").exists()
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").rglob("*.script"))

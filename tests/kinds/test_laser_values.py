@@ -14,6 +14,7 @@ UR_ONLY = (
     ('abb = "IRB 1600-10/1.45"\n', ""),
     ('beam_x = { ur = 2, kuka = 21, abb = "diLaserX" }', "beam_x = { ur = 2 }"),
     ('beam_y = { ur = 3, kuka = 22, abb = "diLaserY" }', "beam_y = { ur = 3 }"),
+    ('production_tool = { ur = "pin_tcp", kuka = 3, abb = "tPin" }', 'production_tool = { ur = "pin_tcp" }'),
 )
 
 

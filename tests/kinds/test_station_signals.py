@@ -29,7 +29,7 @@ def _demo_dict() -> dict:
     [
         ("vision", {"timeout_s": 0.1}, r"cell\.vision\.timeout_s: must be between 0\.2 and 600 s"),
         ("vision", {"timeout": 5}, r"cell\.vision\.timeout: unknown key"),
-        ("motion", {"speed_mm_s": 0}, r"cell\.motion\.speed_mm_s: must be in \(0, 5000\] mm/s"),
+        ("motion", {"speed_mm_s": 0}, r"cell\.motion\.speed_mm_s: must be in \[1, 5000\] mm/s"),
         ("motion", {"zone_mm": 300}, r"cell\.motion\.zone_mm: must be in \[0, 200\] mm"),
         ("motion", {"retreat_mm": -5}, r"cell\.motion\.retreat_mm: must be in \[0, 1000\] mm"),
         ("motion", {"return_home": "yes"}, r"cell\.motion\.return_home: must be true or false"),

@@ -234,3 +234,22 @@ def test_sizes_beyond_what_verify_can_run_are_refused_at_load(write_cell):
     long_station = head + station.format(i=1).replace("w = [650, -100, 400, 90, 0, 180]\n", poses)
     with pytest.raises(CellError, match=r"station\[1\]\.poses: 1001 poses; at most 1000 per station"):
         load_cell(write_cell(long_station))
+
+
+def test_a_cell_file_that_is_a_pipe_or_too_large_is_refused_at_once(tmp_path):
+    """A FIFO given as the cell would block a plain read for ever: refused before any byte is read; a file
+    beyond the bound is refused without being read whole."""
+    import os
+    import subprocess
+    import sys
+
+    fifo = tmp_path / "cell.toml"
+    os.mkfifo(fifo)
+    code = "from codegen.model.cell import load_cell; import sys; load_cell(sys.argv[1])"
+    run = subprocess.run([sys.executable, "-c", code, str(fifo)], capture_output=True, text=True, timeout=60)
+    assert run.returncode != 0 and "not a regular file (a folder, pipe or device)" in run.stderr
+    big = tmp_path / "big.toml"
+    with big.open("wb") as handle:
+        handle.truncate((64 << 20) + 1)
+    with pytest.raises(CellError, match="larger than 64 MiB"):
+        load_cell(big)

@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from codegen.cli import main
@@ -71,6 +72,7 @@ def test_run_reports_syntax_errors_with_position(tmp_path):
     assert "broken.script:2:" in result.output and "syntax error" in result.output
 
 
+@pytest.mark.slow
 def test_verify_fresh_output_json():
     result = invoke("verify", "--cases", "5", "--json")
     assert result.exit_code == 0, result.output

@@ -48,6 +48,13 @@ class ArmState:
         """The arm stands at these joints (deg) when the program starts."""
         self.joints = np.asarray(q_deg, dtype=float)
 
+    def standing_pose(self) -> np.ndarray | None:
+        """The active tool's TCP where the arm stood when the program started (base frame; None without the
+        arm's model or its start joints): what a controller reads as the actual pose before the first move."""
+        if self.arm is None or self.joints is None:
+            return None
+        return self.arm.kin.fk(self.joints) @ self.tcp2flange
+
     def from_start(self) -> None:
         """A controller that solves a first move to a pose from where the arm stands (UR: the solution nearest
         the joints, a linear move keeping their configuration), where the run knows them (--start): they count

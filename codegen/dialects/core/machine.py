@@ -82,6 +82,8 @@ class ProgramCode(Protocol):
 
     def accepts_input(self, name: str, globals_: dict) -> bool: ...
 
+    def kept(self, machine: Machine, name: str): ...
+
     def call_routine(self, fr: Frame, name: str, args: list, kwargs: dict, where: str, arg_setters=None): ...
 
     def device_read(self, machine: Machine, name: str): ...
@@ -270,10 +272,11 @@ class Machine:
 
     def tool_pose(self) -> np.ndarray | None:
         """Where the tool is now (base frame): the last move's pose, moved by the tracked belt's
-        travel since that move's end while tracking is on; None before any move with a known pose."""
+        travel since that move's end while tracking is on; before any move, where the arm stood at the start
+        (its joints and model known), else None."""
         if self.tracking is not None:
             return self.tracking.pose_now(self)
-        return None if self.last_move is None else self.last_move.tcp2base
+        return self.arm.standing_pose() if self.last_move is None else self.last_move.tcp2base
 
     def arrive(self, where: str) -> None:
         """An instruction that waits until the arm stands still (an advance-run stop, an in-position

@@ -100,7 +100,8 @@ class KRLCompiler(
         return name.upper() == "$ROBROOT" or super().accepts_input(name, globals_)
 
     def kept(self, machine, name: str):
-        """As the base class; BASE_DATA[n], TOOL_DATA[n], LOAD_DATA[n]: the controller's numbered data."""
+        """As the base class; BASE_DATA[n], TOOL_DATA[n], LOAD_DATA[n]: the controller's numbered data (what a
+        program wrote into $config.dat, or the value it was given)."""
         match = SYSTEM_ARRAY.fullmatch(name.upper())
         if match is None:
             return super().kept(machine, name)

@@ -13,7 +13,7 @@ from __future__ import annotations
 # not declared here: the interpreter does not know a controller's tools and bases (codegen/dialects/krl/
 # motion.py SYSTEM_ARRAYS: --input TOOL_DATA[n]=... or a given $config.dat sets them; without, a program that
 # uses one is refused when it reads it).
-NAME = "$config.dat"  # the name the built-in module's messages carry
+NAME = "built-in $config.dat"  # the name the built-in module's messages carry (not a file of the user's)
 CONFIG_DAT = (
     "\n".join(
         (

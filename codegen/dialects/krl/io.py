@@ -73,14 +73,29 @@ def input_read(compiler, node) -> Src | None:
     return Src(f"{compiler.const(read)}(fr, {index})")
 
 
+def _pulsed(compiler, node, first):
+    """The output number of PULSE's first argument: $OUT[n], or a SIGNAL name of one output ($OUT[n])."""
+    if _bank(first) == "$OUT":
+        return compiler.expr(first.children[1])
+    is_name = isinstance(first, Tree) and first.data == "var"
+    group = compiler._group(first.children[0]) if is_name else None
+    if group is not None:
+        bank, a, b, _single = group
+        if bank == "$OUT" and a == b:
+            return lambda fr: a
+        what = f"{bank}[{a}]" if a == b else f"{b - a + 1} signals {bank}[{a}] TO {bank}[{b}]"
+        compiler.fail(node, f"PULSE: {first.children[0]} is {what}; a pulse is of one output ($OUT[n])")
+    compiler.fail(node, "PULSE($OUT[n], state, seconds): the interpreter models a pulse of one output")
+
+
 def pulse(compiler, node):
     """PULSE($OUT[n], state, seconds): the output takes state for that time, then the other value (KSS 8
     programming manual, PULSE: like an output set it stops the advance run unless after CONTINUE; the pulse
     runs on while the program goes on, recorded as two output events, the second at its end)."""
     args = node.children[1].children if node.children[1] is not None else []
-    if len(args) != 3 or any(a is None for a in args) or _bank(args[0]) != "$OUT":
+    if len(args) != 3 or any(a is None for a in args):
         compiler.fail(node, "PULSE($OUT[n], state, seconds): the interpreter models a pulse of one output")
-    index, state, seconds = (compiler.expr(a) for a in (args[0].children[1], args[1], args[2]))
+    index, state, seconds = _pulsed(compiler, node, args[0]), compiler.expr(args[1]), compiler.expr(args[2])
     where, stops = compiler.where(node), not compiler.take_continue()
 
     def run(fr):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -109,6 +110,52 @@ def _builtin_config():
     return parse(CONFIG_DAT, CONFIG_NAME)
 
 
+def _declared(trees: list) -> tuple[set[str], set[str]]:
+    """The types (ENUM, STRUC) and the data names (DECL, SIGNAL) some data lists declare."""
+    types, data = set(), set()
+    for _name, tree in trees:
+        for defdat in _data_body(tree):
+            for item in defdat.children[-1].children:
+                if not isinstance(item, Tree):
+                    continue
+                if item.data in ("enum_decl", "struc_decl"):
+                    types.add(str(item.children[1]).upper())
+                elif item.data == "decl":
+                    data.update(_decl_names(item))
+                elif item.data == "signal_decl":
+                    data.add(str(item.children[0]).upper())
+    return types, data
+
+
+def _builtin_beside(trees: list):
+    """The built-in $config.dat beside the given ones: what they declare is theirs (their ENUM, STRUC, DECL,
+    SIGNAL), the built-in fills only what they lack, and its data of a type they redeclare keeps its name
+    without its value (a value written for the built-in type is not checked against theirs)."""
+    types, data = _declared(trees)
+    tree = copy.deepcopy(_builtin_config())
+    for defdat in _data_body(tree):
+        body = defdat.children[-1]
+        kept = []
+        for item in body.children:
+            if isinstance(item, Tree) and item.data in ("enum_decl", "struc_decl"):
+                if str(item.children[1]).upper() in types:
+                    continue
+            elif isinstance(item, Tree) and item.data == "decl":
+                items = [c for c in item.children if isinstance(c, Tree) and c.data == "decl_item"]
+                type_name = next(str(t).upper() for t in item.children if isinstance(t, Token) and t.type == "NAME")
+                for sub in items:
+                    if type_name in types:
+                        sub.children[2] = None
+                mine = [sub for sub in items if str(sub.children[0]).upper() not in data]
+                if not mine:
+                    continue
+                item.children = [c for c in item.children if not (isinstance(c, Tree) and c.data == "decl_item")]
+                item.children += mine
+            kept.append(item)
+        body.children = kept
+    return tree
+
+
 def _data_body(tree):
     for item in tree.children:
         if isinstance(item, Tree) and item.data == "defdat":
@@ -151,12 +198,14 @@ class Linker:
 
     def parse_all(self) -> tuple[list[Module], list[Module]]:
         modules, configs = group_modules(self.files, first_is_program=True)
-        config_modules = [Module("$CONFIG", trees=[(CONFIG_NAME, _builtin_config())], config=True)]
+        given = []
         for f in configs:
             try:
-                config_modules.append(Module("$CONFIG", dat=f, trees=[(f.name, parse(f.text, f.name))], config=True))
+                given.append(Module("$CONFIG", dat=f, trees=[(f.name, parse(f.text, f.name))], config=True))
             except RunError as exc:
                 self.fail_or_keep(exc)
+        builtin = _builtin_beside([t for m in given for t in m.trees]) if given else _builtin_config()
+        config_modules = [Module("$CONFIG", trees=[(CONFIG_NAME, builtin)], config=True), *given]
         for module in modules:
             for f in (module.dat, module.src):
                 if f is None:

@@ -24,7 +24,7 @@ TASK_SUBFOLDERS = {"PROGMOD", "SYSMOD"}
 
 class Rapid(Dialect):
     name = "rapid"
-    suffixes = (".mod", ".sys")  # .prg (RobotWare 5, several modules) is the dtrans dialect's suffix
+    suffixes = (".mod", ".sys", ".modx")  # .modx: RobotWare 7 module (same syntax); .prg (RobotWare 5): dtrans
     encodings = ("cp1252",)  # RobotWare's text files: Windows-1252 (Latin-1) where not UTF-8
 
     @classmethod

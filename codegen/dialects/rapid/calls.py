@@ -41,15 +41,19 @@ class Calls:
     def parameters(self, params_node) -> tuple[list, OptionalSpec | None]:
         """The required parameters [(name, mode, type)] and the optional ones of a routine's parameter list."""
         required, spec = [], OptionalSpec()
+        after_optional = False
         for item in params_node.children if params_node is not None else []:
             alternative = item.data == "alt_param"
             param = item.children[0] if alternative else item  # a param or an opt_param: the same children
             optional, mode, ptype, pname, conformant = param.children
             key = str(pname).upper()
             mode_key = str(mode).upper() if mode else "IN"
-            if optional is None:
-                if alternative:
-                    self.fail(item, "only optional parameters (\\name) are alternatives (|)")
+            if alternative and not after_optional:
+                self.fail(item, "only optional parameters (\\name) are alternatives (|)")
+            # the backslash of a group of alternatives stands before its first one: \switch on | switch off
+            # (RAPID kernel manual, parameter declarations); one before each of them is read the same way
+            after_optional = optional is not None or alternative
+            if not after_optional:
                 full = self.resolve_type(ptype, conformant)
                 required.append((key, mode_key, full))
                 continue

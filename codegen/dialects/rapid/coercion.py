@@ -32,8 +32,7 @@ class Coercions:
             if upper in NOT_MODELLED:
                 self.fail(token, f"data type {token} is not modelled by the interpreter", "unsupported")
             self.fail(token, f"unknown data type {token}", "unknown-type")
-        stars = len(conformant.children) if conformant is not None and conformant.children else (1 if conformant else 0)
-        for _ in range(stars):
+        for _ in conformant.children if conformant is not None else ():  # one conformant_dim per dimension
             upper = (upper, None)
         return upper
 

@@ -21,7 +21,7 @@ from codegen.dialects.rapid.types import STRING_MAX, num, rec
 #   gets the error number and the program goes on;
 # - TPReadNum TPAnswer, TPText [\MaxTime] [\DIBreak] [\DOBreak] [\BreakFlag]: the same with a number the
 #   operator types. \DIBreak and \DOBreak are not modelled (refused).
-# The operator here is Operator (a device given to the run, e.g. by `codegen run --answer`): answers in order.
+# The operator here is Operator (a device given to Program.run; `codegen run` gives none): answers in order.
 # Without one, or once its answers are used, a read without \MaxTime stops the run with a message naming that.
 ANSWERS_KEY = "<operator answers used>"  # Machine.extra: how many answers this run took
 
@@ -114,7 +114,8 @@ def _read(compiler, node, args_node, keys: int) -> Callable:
         if answer is None:
             if max_time is None:
                 raise RunError(
-                    f"{where}: {name} waits for the operator's answer; none was given (codegen run --answer)"
+                    f"{where}: {name} waits for the operator's answer and no operator answers in this run "
+                    f"(codegen run has none): give {name} \\MaxTime to go on without an answer"
                 )
             m.elapse(num(max_time(fr), where), where)
             error = errors.RapidError(errors.ERROR_NUMBERS["ERR_TP_MAXTIME"], f"{where}: {name} \\MaxTime passed")

@@ -121,8 +121,7 @@ class Checker:
         for item in params.children if isinstance(params, Tree) else []:
             param = item.children[0] if item.data == "alt_param" else item
             _opt, _mode, ptype, pname, conformant = param.children
-            kind = self.declared(ptype)
-            self.env[str(pname).upper()] = (kind, None) if conformant is not None and kind else kind
+            self.env[str(pname).upper()] = self.declared(ptype, conformant)
         for clause in [body, *(x.children[-1] for x in c if isinstance(x, Tree) and x.data.endswith("_clause"))]:
             self.block(clause)
 

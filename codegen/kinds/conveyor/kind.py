@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from codegen.kinds.conveyor import budget, reach, verify
 from codegen.kinds.conveyor.commands import calibrate_conveyor
+from codegen.kinds.conveyor.keys import KEYS
 from codegen.kinds.conveyor.pick import check_inputs
 from codegen.kinds.conveyor.program import conveyor_context, conveyor_file_names, picks_on
 from codegen.kinds.conveyor.scene import objects as scene_objects
@@ -15,7 +16,7 @@ from codegen.render import program_emitter
 class ConveyorKind(ProgramKind):
     name = "conveyor"
     order = 30
-    tables = frozenset({"conveyor"})
+    cell_file = KEYS
     target_keys = {
         "files": list,  # the pick-from-belt program of a cell with [conveyor.pick]
         "registers": dict,  # the part queue's registers by role (seq, count, x, z, ack, stop)

@@ -6,41 +6,12 @@ from dataclasses import dataclass, field
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.keys import MAX_MM, PICK, TRACKING
 from codegen.model.io import per_target
 from codegen.model.validate import kind_of
 from codegen.sim.bus import GROUP_BITS, OFFSET, SCALE
 
-KEYS = frozenset(
-    {
-        "window_mm",
-        "x_range_mm",
-        "z_range_mm",
-        "tool_orientation",
-        "approach_dz",
-        "place",
-        "tracking",
-        "encoder_inputs",
-        "trigger_input",
-        "intercept_mm",
-        "capture_mm",
-        "grip_s",
-        "belt_speed_max_mm_s",
-        "belt_accel_mm_s2",
-        "count_latency_s",
-        "motion_start_s",
-        "part_mass_kg",
-        "part_cog_mm",
-        "place_clear",
-        "place_timeout_s",
-        "min_gap_mm",
-        "unit",
-    }
-)
-# "native": the controller's own conveyor tracking (UR track_conveyor_linear, ABB's Conveyor Tracking option);
-# "intercept": the arm waits above a point of the belt and comes down as the part arrives there (targets/<t>.toml
-# [program.conveyor] tracking: what codegen writes for the controller)
-TRACKING = ("native", "intercept")
-MAX_MM = 10_000.0
+KEYS = PICK.allowed
 # x and z on a 16-bit group of inputs (codegen/sim/bus.py): 0.1 mm steps around OFFSET
 GROUP_MM = ((0 - OFFSET) / SCALE, (2**GROUP_BITS - 1 - OFFSET) / SCALE)
 
@@ -143,7 +114,7 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
     where = f"{path}.tool_orientation"
     orientation = ctx.angles(ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, where), where)
     approach_dz = ctx.number(table, "approach_dz", f"{path}.approach_dz") if "approach_dz" in table else 60.0
-    if not 0 < approach_dz <= 1000:
+    if not PICK["approach_dz"].contains(approach_dz):
         ctx.fail(f"{path}.approach_dz", "must be in (0, 1000] mm: the gripper comes down from above")
     place = ctx.pose("place", ctx.require(table, "place", f"{path}.place"), f"{path}.place", pose_format)
     tracking = _tracking(ctx, table, targets, path)
@@ -159,10 +130,10 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
     speed = _bounded(ctx, table, "belt_speed_max_mm_s", f"{path}.belt_speed_max_mm_s", 200.0, 1e-3, 5000, "mm/s")
     accel = _bounded(ctx, table, "belt_accel_mm_s2", f"{path}.belt_accel_mm_s2", 0.0, 0.0, 100_000, "mm/s2")
     capture = ctx.number(table, "capture_mm", f"{path}.capture_mm") if "capture_mm" in table else 3.0
-    if not 0 < capture <= 50:
+    if not PICK["capture_mm"].contains(capture):
         ctx.fail(f"{path}.capture_mm", "must be in (0, 50] mm")
     mass = ctx.number(table, "part_mass_kg", f"{path}.part_mass_kg")
-    if not 0 < mass <= 1000:
+    if not PICK["part_mass_kg"].contains(mass):
         ctx.fail(f"{path}.part_mass_kg", "must be in (0, 1000] kg: the payload while the gripper holds a part")
     cog = ctx.numbers(table.get("part_cog_mm", [0.0, 0.0, 0.0]), 3, f"{path}.part_cog_mm")
     if max(abs(v) for v in cog) > 2000:

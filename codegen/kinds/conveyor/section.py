@@ -7,12 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from codegen.kinds.conveyor.keys import CONVEYOR, COUNTER_BITS
 from codegen.kinds.conveyor.pick import parse_pick
 
-COUNTER_BITS = (16, 24, 32)
-KEYS = frozenset(
-    {"counter_bits", "counts_per_mm", "origin", "direction", "z_axis", "camera_offset_mm", "working_length_mm", "pick"}
-)
+KEYS = CONVEYOR.allowed
 UNIT_TOL = 1e-6
 
 
@@ -51,7 +49,14 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
         return None
     table = ctx.table(data, "conveyor", "conveyor")
     ctx.no_unknown(table, KEYS, "conveyor")
-    bits = ctx.integer(table, "counter_bits", "conveyor.counter_bits", min(COUNTER_BITS), max(COUNTER_BITS), 32)
+    bits = ctx.integer(
+        table,
+        "counter_bits",
+        "conveyor.counter_bits",
+        min(COUNTER_BITS),
+        max(COUNTER_BITS),
+        CONVEYOR.default("counter_bits"),
+    )
     if bits not in COUNTER_BITS:
         widths = ", ".join(map(str, COUNTER_BITS))
         ctx.fail("conveyor.counter_bits", f"expected one of {widths} (the encoder counter's width)")
@@ -78,7 +83,7 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
     for key in ("camera_offset_mm", "working_length_mm"):
         if key in table:
             value = ctx.number(table, key, f"conveyor.{key}")
-            if key == "working_length_mm" and not 0 < value <= 100_000:
+            if key == "working_length_mm" and not CONVEYOR[key].contains(value):
                 ctx.fail("conveyor.working_length_mm", "must be in (0, 100000] mm")
             out[key] = value
     if "pick" in table:

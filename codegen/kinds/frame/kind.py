@@ -23,6 +23,7 @@ from codegen.guard import (
     pixels_in_range,
 )
 from codegen.kinds.frame.commands import calibrate_handeye
+from codegen.kinds.frame.keys import KEYS, REFINE
 from codegen.kinds.frame.scene import objects as scene_objects
 from codegen.kinds.stations.base import StationKind
 from codegen.kinds.stations.cases import Case
@@ -38,9 +39,9 @@ FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyo
 class Refine:
     """[cell.refine]: when the refinement loop stops (source 001: 0.02 mm and 0.04 deg)."""
 
-    tolerance_mm: float = 0.02
-    tolerance_deg: float = 0.04
-    max_iterations: int = 10
+    tolerance_mm: float = REFINE.default("tolerance_mm")
+    tolerance_deg: float = REFINE.default("tolerance_deg")
+    max_iterations: int = REFINE.default("max_iterations")
 
 
 @dataclass(frozen=True)
@@ -165,8 +166,7 @@ def _stats(values: list[float]) -> dict:
 class FrameKind(StationKind):
     name = "frame"
     order = 1
-    station_keys = frozenset({"frame", "photo", "base_data"})
-    cell_tables = frozenset({"refine"})
+    cell_file = KEYS
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("frame",)
     log_names = ("station", "dx", "dy", "alpha", "photos")
@@ -184,7 +184,11 @@ class FrameKind(StationKind):
         frame = ctx.pose("frame", ctx.require(raw, "frame", f"{path}.frame"), f"{path}.frame", pose_format)
         photo = ctx.pose("photo", ctx.require(raw, "photo", f"{path}.photo"), f"{path}.photo", pose_format)
         base_data = raw.get("base_data")
-        if base_data is not None and (isinstance(base_data, bool) or not isinstance(base_data, int) or base_data < 1):
+        if base_data is not None and (
+            isinstance(base_data, bool)
+            or not isinstance(base_data, int)
+            or base_data < KEYS.station_keys["base_data"].low
+        ):
             ctx.fail(f"{path}.base_data", f"expected a controller base number from 1, got {base_data!r}")
         return FrameSpec(frame, photo, base_data)
 
@@ -201,11 +205,14 @@ class FrameKind(StationKind):
         if "refine" not in cell_table:
             return Refine()
         table = ctx.table(cell_table, "refine", "cell.refine")
-        ctx.no_unknown(table, {"tolerance_mm", "tolerance_deg", "max_iterations"}, "cell.refine")
+        ctx.no_unknown(table, REFINE.allowed, "cell.refine")
         tol_mm = ctx.finite(table.get("tolerance_mm", Refine.tolerance_mm), "cell.refine.tolerance_mm")
         tol_deg = ctx.finite(table.get("tolerance_deg", Refine.tolerance_deg), "cell.refine.tolerance_deg")
-        iterations = ctx.integer(table, "max_iterations", "cell.refine.max_iterations", 1, 100, Refine.max_iterations)
-        if tol_mm <= 0 or tol_deg <= 0:
+        low, high = REFINE["max_iterations"].bounds
+        iterations = ctx.integer(
+            table, "max_iterations", "cell.refine.max_iterations", low, high, Refine.max_iterations
+        )
+        if not (REFINE["tolerance_mm"].contains(tol_mm) and REFINE["tolerance_deg"].contains(tol_deg)):
             ctx.fail("cell.refine", "tolerances must be positive")
         return Refine(tol_mm, tol_deg, iterations)
 

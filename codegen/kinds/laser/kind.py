@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from codegen.kinds.laser import plan, reach
 from codegen.kinds.laser.commands import calibrate_tcp
+from codegen.kinds.laser.keys import KEYS
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
 from codegen.kinds.laser.scene import objects as scene_objects
-from codegen.kinds.laser.section import laser_of, parse_laser
+from codegen.kinds.laser.section import check_production_tools, laser_of, parse_laser
 from codegen.kinds.laser.verify import cases, check_goal
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
 from codegen.render import program_emitter
@@ -15,11 +16,12 @@ from codegen.render import program_emitter
 class LaserKind(ProgramKind):
     name = "laser"
     order = 40
-    tables = frozenset({"laser"})
+    cell_file = KEYS
     target_keys = {
         "files": list,  # source 003's automatic TCP program: file patterns with {laser}
         "names": dict,  # that program's globals verify reads (edges, hits, centres, axis, tcp)
-        "stored_tool": dict,  # where the program stores the TCP found for later programs: name and x, y, z fields
+        "production_tool": dict,  # the production tool the TCP found goes into: form, name, fields, unit
+        "joint_zone": bool,  # the program blends into and out of its joint moves (the safe pose)
         "circle_blend_mm": float,  # the first half circle blends into the second by this much (0: it stops)
     }
 
@@ -33,13 +35,24 @@ class LaserKind(ProgramKind):
 
     @classmethod
     def check_cell(cls, ctx, cell) -> None:
-        robot = cell.robot
-        if laser_of(cell) is not None and (robot is None or not robot.tool_given):
+        robot, laser = cell.robot, laser_of(cell)
+        if laser is None:
+            return
+        if robot is None or not robot.tool_given:
             ctx.fail(
                 "laser", "a cell with [laser] needs [cell.robot] and [cell.tool]: the arm and the tool to calibrate"
             )
-        if laser_of(cell) is not None:
-            check_goal(ctx, cell)
+        check_production_tools(ctx, laser, robot, cell.targets)
+        # the approach blends above the circles' start (between the way down from the safe pose and the last
+        # clearance_mm + d1 to the start) and at the safe pose: a blend reaches at most half a segment
+        shortest = min(laser.clearance_mm + laser.depths_mm[0], laser.safe_height_mm - laser.clearance_mm)
+        if cell.motion.zone_mm > shortest / 2:
+            ctx.fail(
+                "cell.motion.zone_mm",
+                f"at most {shortest / 2:g} mm with [laser]: half the shortest segment the calibration blends "
+                "(from the safe pose down above the start, and from there down to it)",
+            )
+        check_goal(ctx, cell)
 
     @classmethod
     def programs(cls, cell, target) -> list[ProgramPlan]:
@@ -48,7 +61,7 @@ class LaserKind(ProgramKind):
             return []
         context = laser_context(cell, target, program_emitter(cell, target))
         files = tuple(
-            ProgramFile(name, f"{target.name}/kinds/{pattern.format(laser='laser')}.j2")
+            ProgramFile(name, f"{target.name}/kinds/{pattern.format(laser='laser', data='laser_data')}.j2")
             for pattern, name in zip(cls.facts(target)["files"], laser_file_names(cell, target), strict=True)
         )
         return [ProgramPlan(cls.name, context["ident"], files, {"laser": context})]
@@ -66,13 +79,13 @@ class LaserKind(ProgramKind):
     # --- verify -------------------------------------------------------------------------------
     report_key = "lasers"
     scenarios = {
-        "start_away": "",
-        "start_mid_cycle": "",  # the arm where a stopped calibration left it: at the first circle's start
+        "start_away": "",  # away from home and from the station: stopped before the arm moves
+        "start_mid_cycle": "",  # where a stopped calibration left it (the first circle's start): out, home, again
         "gripper_silent": "the calibration program uses no gripper",
         "gripper_stuck": "the calibration program uses no gripper",
         "device_late": "the sensors switch with the pin's position, seen once per input cycle of the controller",
         "device_silent": "",  # sensors that never switch
-        "reading_out_of_range": "",  # a TCP or an axis beyond offset_max_mm of the tool's data
+        "reading_out_of_range": "",  # a TCP or an axis beyond offset_max_mm of the tool as designed
     }
 
     @classmethod

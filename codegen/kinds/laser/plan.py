@@ -1,5 +1,6 @@
-"""The laser TCP program's runs judged: its moves by role (the circles, the tip search, the moves between) against the
-procedure's speeds, the tool data it writes for later programs read where it is stored, the restart rule."""
+"""The laser TCP program's runs judged: its moves by role (the way in through the safe pose, the circles, the tip
+search, the way out, the way home after a stop) against the procedure's speeds and blends, the production tool it
+writes read where it is stored, the start rule."""
 
 from __future__ import annotations
 
@@ -7,7 +8,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from codegen.controllers import get_target, numbered_names
+from codegen.controllers import get_target
+from codegen.emit import Emitter
 from codegen.kinds.laser import program as lp
 from codegen.kinds.laser.facts import facts
 from codegen.kinds.laser.reference import expected
@@ -17,43 +19,74 @@ from codegen.kinds.laser.verify import (
     STEP_LIMIT,
     TRUTH_MM,
     LaserCase,
+    previous_tcp,
     station_for,
     tolerances,
 )
 from codegen.kinds.laser.verify import (
     judge as judge_measures,
 )
+from codegen.poses import native_values
 from codegen.reference import home_move
 from codegen.robot import solve
 from codegen.robot.expect import tool_inputs
-from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored, refuses_start
+from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored
 
 NEAR_MM = 5 * FLOAT32_MM  # a move ends at one of the procedure's fixed points when this close to it
+
+
+def _tooldata(cell, tcp) -> list:
+    """A RAPID tooldata with the TCP at tcp (mm), the cell's orientation and load."""
+    tool = cell.robot.tool
+    quaternion = native_values(tool.tcp, cell.pose_format, "abb")[3:]
+    return [True, [list(map(float, tcp)), list(quaternion)], [tool.mass_kg, list(tool.cog_mm), [1, 0, 0, 0], 0, 0, 0]]
+
+
+def _xyzabc(cell, tcp) -> tuple:
+    abc = native_values(cell.robot.tool.tcp, cell.pose_format, "xyzabc")[3:]
+    return (*map(float, tcp), *abc)
+
+
+# How verify gives a target's production tool its value before the run (the last calibration's), by the form of
+# the target's data ([program.laser] production_tool preset): a numbered tool as X, Y, Z, A, B, C; a tooldata
+# record; an installation variable the program only writes (none: what it holds is judged as it was where the
+# program does not write it)
+PRESETS = {
+    "TOOL_DATA": _xyzabc,
+    "tooldata": _tooldata,
+    "none": None,
+}
+
+
+def _preset(cell, target, tcp) -> dict:
+    spec = facts(target)["production_tool"]
+    make = PRESETS[spec["preset"]]
+    return {} if make is None else {lp.production_name(cell, target): make(cell, tcp)}
 
 
 def setup(cell, target_name: str, case: LaserCase) -> Setup:
     target = get_target(target_name)
     return Setup(
-        tool_inputs(cell, target_name),
+        # the controller's numbered tool and load where the cell names one ([cell.tool] numbered), the production
+        # tool as the last calibration left it over it (a numbered production tool is that tool)
+        {**tool_inputs(cell, target_name), **_preset(cell, target, previous_tcp(cell, case))},
         (station_for(cell, target, case),),
         {},
         _start_joints(cell, target_name, case),
-        tuple(lp.kept_names(target).values()) + _stored_names(cell, target),
+        (*lp.kept_names(target).values(), lp.production_name(cell, target)),
         STEP_LIMIT,
         float(target.program["signal_cycle_s"]),
     )
 
 
-def _stored_names(cell, target) -> tuple[str, ...]:
-    stored = facts(target).get("stored_tool")
-    return () if stored is None else (_stored_name(cell, target, stored),)
-
-
-def _stored_name(cell, target, stored: dict) -> str:
-    """Where the program stores the TCP found: the controller's numbered tool the cell names
-    ([cell.tool] numbered), else the program's own tool data."""
-    number = cell.robot.tool.numbered.get(target.name) if cell.robot is not None else None
-    return stored["name"] if number is None else numbered_names(target.name, number)[0]
+def _pose_in_s(cell, point, rotation=None) -> np.ndarray:
+    """The TCP at point (S, mm) in the base frame, in the calibration's orientation (or rotation, base frame)."""
+    laser = laser_of(cell)
+    sensor2base = laser.sensor_frame.matrix()
+    out = np.eye(4)
+    out[:3, :3] = sensor2base[:3, :3] @ lp.DOWN @ cell.robot.tool.tcp2flange[:3, :3] if rotation is None else rotation
+    out[:3, 3] = sensor2base[:3, :3] @ np.asarray(point, dtype=float) + sensor2base[:3, 3]
+    return out
 
 
 def _start_joints(cell, target_name: str, case: LaserCase):
@@ -64,12 +97,7 @@ def _start_joints(cell, target_name: str, case: LaserCase):
     if case.start == "away":
         return home + np.array(START_AWAY_DEG)
     if case.start == "mid_cycle":  # where a stopped calibration leaves the arm: at the first circle's start
-        laser = laser_of(cell)
-        start = np.array(lp.circle_points(laser, 0)["start"])
-        sensor2base = laser.sensor_frame.matrix()
-        tcp2base = np.eye(4)
-        tcp2base[:3, :3] = sensor2base[:3, :3] @ lp.DOWN @ robot.tool.tcp2flange[:3, :3]
-        tcp2base[:3, 3] = sensor2base[:3, :3] @ start + sensor2base[:3, 3]
+        tcp2base = _pose_in_s(cell, lp.circle_points(laser_of(cell), 0)["start"])
         arm = robot.arms[target_name]
         joints, _ = solve.nearest(arm, solve.branches(arm, solve.flange_poses(tcp2base, robot.tool.tcp2flange)), home)
         return joints
@@ -78,122 +106,169 @@ def _start_joints(cell, target_name: str, case: LaserCase):
 
 def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     """What it measured against the exact-edge reference (codegen/kinds/laser/verify.py), its moves against the
-    procedure's roles and speeds, the tool data it stores; a start away or mid-cycle: the restart rule."""
+    procedure's roles, speeds and blends, the production tool it leaves; started away from home and the station
+    above the sensors: a stop before any move."""
     target = get_target(target_name)
-    message = refuses_start(cell, target, case)
-    if message is not None:
-        return Judgement([Expectation(message, (), (), _stored(cell, target, None, 0.0))])
+    previous = previous_tcp(cell, case)
+    if case.start == "away":
+        message = Emitter(target).string(lp.START_AWAY)
+        stored = _stored(cell, target, None, 0.0, previous)
+        in_place = (_in_place(cell, target_name, case),)  # a first joint move run where the arm stands (BCO)
+        return Judgement([Expectation(message, (), (), stored), Expectation(message, in_place, (), stored)])
     want = expected(cell, station_for(cell, target, replace(case, noise=0.0)))
     tol = tolerances(cell, target, case.noise)
     problem, worst, truth = judge_measures(cell, target, case, trace, want, tol)
     if problem is not None:
         return Judgement([], problem=problem)
     written = want.halt is None
-    moves = _roles(cell, target, trace, written, want.hits is not None)
+    moves = _roles(cell, target, case, trace, want.hits is not None)
     if isinstance(moves, str):
         return Judgement([], problem=moves)
-    if written and facts(target).get("stored_tool") is None and moves:  # no tool data: the active TCP holds it
-        found = cell.robot.tool.tcp2flange.copy()
-        found[:3, 3] = want.tcp
-        moves = (*moves[:-1], replace(moves[-1], tool=found, tool_tolerance=tol.tcp + FLOAT32_MM))
     halt = None if written else trace.halt_message  # the message itself: judged above
-    stored = _stored(cell, target, want.tcp if written else None, tol.tcp)
+    stored = _stored(cell, target, want.tcp if written else None, tol.tcp, previous)
     motion = trace.moves[-1].end_time if written and trace.moves else 0.0
     figures = (case.truth, truth, motion, worst)
     return Judgement([Expectation(halt, moves, (), stored)], figures=figures, errors=([worst], []))
 
 
-def _roles(cell, target, trace, written: bool, found: bool) -> tuple[PlannedMove, ...] | str:
-    """Each move's role from where it ends (the procedure's fixed points in S) and so its speed: home and the
-    joint moves at the travel speeds, a half circle at circle_speed, the tip search at search_speed, every other
-    move at the work speed; each stops exactly (the first half of a circle may blend into the second by the
-    target's circle_blend_mm). After both circles and the move to the search's top: where the reference finds
-    the tip (found), the two moves down and back up are the search; where it finds none, a move down is, the
-    moves back up are not. Once the TCP is written, the tool in force may be the new one (its value is judged
-    where it is stored)."""
+def _in_place(cell, target_name: str, case: LaserCase) -> PlannedMove:
+    """A joint move where the arm stands (a target's BCO run before the program reads where the TCP is)."""
+    robot = cell.robot
+    joints = _start_joints(cell, target_name, case)
+    pose = robot.arms[target_name].kin.fk(np.asarray(joints)) @ robot.tool.tcp2flange
+    return PlannedMove(
+        "the first motion where the arm stands",
+        "joint",
+        pose,
+        True,
+        None,
+        0.0,
+        cell.motion.joint_speed_percent,
+        joints=joints,
+    )
+
+
+def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMove, ...] | str:
+    """Each move's role, from where it ends, and so its speed and blend. Started mid-cycle: the way home after a
+    stop first (a joint move where the arm stands, where the program makes one; straight up in S to the safe
+    height, the orientation kept; the safe pose: work speed, exact stops). Then home, the safe pose (a joint move,
+    blended where the target blends joint moves) and above the start (blended: the way down goes on); a half
+    circle at circle_speed (the first may blend into the second by the target's circle_blend_mm); the tip search
+    at search_speed; the way out to the safe pose (blended as the way in) and home; every other move at the work
+    speed with an exact stop (the program measures or decides there). After both circles and the move to the
+    search's top: where the reference finds the tip (found), the two moves down and back up are the search; where
+    it finds none, a move down is, the moves back up are not. The tool in force is the cell's throughout."""
     laser = laser_of(cell)
     sensor2base = laser.sensor_frame.matrix()
     base2sensor = np.linalg.inv(sensor2base)
     mids = [np.array(lp.circle_points(laser, k)["mid"]) for k in (0, 1)]
     above = np.array(lp.circle_points(laser, 0)["above"])  # both circles' (the same point above the beams)
     starts = [np.array(lp.circle_points(laser, k)["start"]) for k in (0, 1)]
+    safe = np.array(lp.safe_point(laser))
     blend = float(facts(target).get("circle_blend_mm", 0.0))
     motion = cell.motion
+    zone = motion.zone_mm
+    joint_zone = zone if facts(target)["joint_zone"] else 0.0
     home = home_move(cell, target.name)
-    out, circles, half, stage = [], 0, 0, 0  # stage after the circles: 0 before the top, 1 searching, 2 done
+    moves = list(trace.moves)
+    out: list[PlannedMove] = []
+    if case.start != "home":
+        first = _in_place(cell, target.name, case)
+        here = moves[0].tcp2base if moves and moves[0].kind == "joint" else None
+        if here is not None and np.linalg.norm(here[:3, 3] - first.tcp2base[:3, 3]) <= NEAR_MM:
+            out.append(first)
+        begin = (base2sensor @ first.tcp2base)[:3, 3]
+        up = _pose_in_s(cell, (begin[0], begin[1], safe[2]), first.tcp2base[:3, :3])
+        out.append(PlannedMove("back out along the tool's axis", "linear", up, True, motion.work_speed_mm_s))
+        out.append(PlannedMove("to the safe pose", "linear", _pose_in_s(cell, safe), True, motion.work_speed_mm_s))
+    if home is not None:
+        out.append(
+            PlannedMove("home", "joint", home[0].tcp2base, True, None, 0.0, motion.joint_speed_percent, joints=home[1])
+        )
+    out.append(
+        PlannedMove(
+            "to the safe pose",
+            "joint",
+            _pose_in_s(cell, safe),
+            joint_zone == 0.0,
+            motion.speed_mm_s,
+            joint_zone,
+            motion.joint_speed_percent,
+        )
+    )
+    out.append(
+        PlannedMove("above the start", "linear", _pose_in_s(cell, above), zone == 0.0, motion.work_speed_mm_s, zone)
+    )
+    fixed = len(out)
+    if len(moves) < fixed:
+        return out[: len(moves)] if trace.halted else f"{len(moves)} moves, expected at least {fixed}"
+    circles, half, stage = 0, 0, 0  # stage after the circles: 0 before the top, 1 searching, 2 done
     top_z, searched = 0.0, 0
-    for i, move in enumerate(trace.moves):
-        if i == 0 and home is not None:
-            out.append(
-                PlannedMove(
-                    "home", "joint", home[0].tcp2base, True, None, 0.0, motion.joint_speed_percent, joints=home[1]
-                )
-            )
-            continue
+    for i in range(fixed, len(moves)):
+        move = moves[i]
         if move.tcp2base is None:
             return f"move {i + 1} (line {move.line}): its pose is not known"
         point = (base2sensor @ move.tcp2base)[:3, 3]
         on_mid = any(np.linalg.norm(point - m) <= NEAR_MM for m in mids)
         on_start = any(np.linalg.norm(point - s) <= NEAR_MM for s in starts)
-        tool = "cell" if not (written and circles == 2) else None
         if on_mid or (half == 1 and on_start):  # a half circle: the first ends at mid, the second back at start
-            first = on_mid
-            half = 1 if first else 0
+            first_half = on_mid
+            half = 1 if first_half else 0
             out.append(
                 PlannedMove(
-                    f"half circle {2 - first}",
+                    f"half circle {2 - first_half}",
                     move.kind,
                     None,
-                    not first or blend == 0.0,
+                    not first_half or blend == 0.0,
                     laser.circle_speed_mm_s,
-                    blend if first else 0.0,
-                    tool=tool,
+                    blend if first_half else 0.0,
                 )
             )
-            circles += not first  # the second half closes a circle
+            circles += not first_half  # the second half closes a circle
             continue
         half = 0
-        if move.kind == "joint":
-            final = i == len(trace.moves) - 1 and home is not None
-            speed = None if final else motion.speed_mm_s
-            name = "home" if final else "a joint move"
-            pose = home[0].tcp2base if final and tool == "cell" else None  # a joint target's pose: with its tool
+        if move.kind == "joint":  # the way out ends home
+            final = home[0].tcp2base if home is not None else None
             planned = PlannedMove(
-                name,
+                "home",
                 "joint",
-                pose,
+                final,
                 True,
-                speed,
+                None,
                 0.0,
                 motion.joint_speed_percent,
-                joints=home[1] if final else None,
-                tool=tool,
+                joints=home[1] if home is not None else None,
+            )
+        elif circles == 2 and np.linalg.norm(point - safe) <= NEAR_MM:
+            safe_pose = _pose_in_s(cell, safe)
+            planned = PlannedMove(
+                "to the safe pose", "linear", safe_pose, joint_zone == 0.0, motion.work_speed_mm_s, joint_zone
             )
         elif circles == 2 and stage == 0 and np.linalg.norm(point - above) > NEAR_MM:
-            planned = PlannedMove("to the search's top", "linear", None, True, motion.work_speed_mm_s, 0.0, tool=tool)
+            planned = PlannedMove("to the search's top", "linear", None, True, motion.work_speed_mm_s, 0.0)
             stage, top_z, searched = 1, point[2], 0
         elif stage == 1 and ((found and searched < 2) or (not found and point[2] < top_z - NEAR_MM)):
-            planned = PlannedMove("tip search", "linear", None, True, laser.search_speed_mm_s, 0.0, tool=tool)
+            planned = PlannedMove("tip search", "linear", None, True, laser.search_speed_mm_s, 0.0)
             searched += 1
         else:
             stage = 2 if stage == 1 else stage
-            planned = PlannedMove("a straight move", "linear", None, True, motion.work_speed_mm_s, 0.0, tool=tool)
+            planned = PlannedMove("a straight move", "linear", None, True, motion.work_speed_mm_s, 0.0)
         out.append(planned)
     return tuple(out)
 
 
-def _stored(cell, target, tcp, tolerance: float) -> tuple[Stored, ...]:
-    """The tool data the program leaves for later programs: the TCP found (or, where it stopped or refused, the
-    tool's data as it was), read where the target's program stores it (its [program.laser] stored_tool)."""
-    stored = facts(target).get("stored_tool")
-    if stored is None:
-        return ()
-    values = cell.robot.tool.tcp2flange[:3, 3] if tcp is None else np.asarray(tcp)
-    what = "the TCP found" if tcp is not None else "the tool's data unchanged"
-    tol = max(tolerance, FLOAT32_MM) if tcp is not None else FLOAT32_MM
+def _stored(cell, target, tcp, tolerance: float, previous: np.ndarray) -> tuple[Stored, ...]:
+    """The production tool as the program leaves it: the TCP found, or where it stopped or refused, the last
+    calibration's as it was (X, Y, Z as the target's production tool names them, in its units)."""
+    spec = facts(target)["production_tool"]
+    name = lp.production_name(cell, target)
+    unit = float(spec["unit_mm"])
+    values = previous if tcp is None else np.asarray(tcp)
+    what = "the TCP found" if tcp is not None else "the production tool unchanged"
+    tol = (max(tolerance, FLOAT32_MM) if tcp is not None else FLOAT32_MM) * unit
     return tuple(
-        Stored(f"{_stored_name(cell, target, stored)}.{field}", float(v), tol, what)
-        for field, v in zip(stored["fields"], values, strict=True)
+        Stored(f"{name}.{field}", float(v) * unit, tol, what, if_unset=float(p) * unit)
+        for field, v, p in zip(spec["fields"], values, previous, strict=True)
     )
 
 

@@ -1,11 +1,16 @@
 """Template variables of source 003's automatic TCP program: sensor frame, circles, search, names verify reads."""
 
 # The program (every controller the same way; templates/<t>/laser.*.j2):
-# 1. Home, the cell's tool (its data is the guess), the TCP's orientation in the sensor frame S `down`
-#    (the flange's z along S's -z).
-# 2. Per circle k (depth d_k): straight to `above` (S z = +clearance), down to `start` (45 deg between the
-#    beams, the guessed tip d_k below their plane), each beam's switching output watched on both edges,
-#    two half circles (via `via1` to `mid`, via `via2` back to `start`) at the circle speed, then back up.
+# 0. The start: the cell's tool as designed ([cell.tool]: its data is the guess) is the tool of every move. The
+#    arm at home, or else in the station's column above the sensors (S's z between ZONE_LOW and ZONE_HIGH, at most
+#    ZONE_R from S's z axis: every pose the calibration takes, with room for a stop): a calibration stopped there
+#    backs out straight up (S's z: the tool's axis in every pose of the calibration) to the safe height, goes to
+#    the safe pose and home. Anywhere else it stops before it moves (START_AWAY): no path from there is known.
+# 1. Home, the safe pose (`safe`: safe_height_mm straight above the circles' start, the flange's z along S's -z),
+#    blended into the way down (where the target blends joint moves), then above the start, blended.
+# 2. Per circle k (depth d_k): down to `start` (45 deg between the beams, the guessed tip d_k below their plane),
+#    each beam's switching output watched on both edges, two half circles (via `via1` to `mid`, via `via2` back to
+#    `start`) at the circle speed, then back up to `above` (exact: the count decides what follows).
 #    Each edge stores the TCP where the controller saw it (S): beam X (the line y = 0) the y, beam Y the x;
 #    exactly four per beam (two crossings, in and out), else the program stops with CIRCLE_EDGES.
 # 3. The circle's centre e_k = -(mean of beam Y's four x, mean of beam X's four y): where the axis met the
@@ -19,8 +24,9 @@
 #    the beam: the tip is rho |u_x| u_z / sqrt(1 - u_x^2) above it (identity laser_tip_on_beam), on the axis:
 #    tip = u rim / u_z.
 # 5. TCP (flange frame) = guess + DOWN (tip - contact), DOWN = diag(1, -1, -1) (the flange's orientation in S);
-#    farther than offset_max from the guess: TOO_FAR, not written; else written into the tool's data (the
-#    controller's own tool for this tool) and reported.
+#    farther than offset_max from the tool as designed (never the last result: a tool that bends a little each
+#    time must not drift without an alarm): TOO_FAR, not written; else written into the production tool (the
+#    cell's [laser] production_tool) and reported. Then the safe pose and home.
 
 from __future__ import annotations
 
@@ -28,19 +34,22 @@ import math
 
 import numpy as np
 
-from codegen.emit import EmitError, Emitter, owned
+from codegen.emit import Code, EmitError, Emitter, owned
 from codegen.kinds.laser.facts import facts
-from codegen.kinds.laser.section import laser_of
+from codegen.kinds.laser.section import laser_of, production_tool
 from codegen.model.cell import TaughtPose
 from codegen.poses import zyx_deg_from_rotmat
 
 DOWN = np.diag([1.0, -1.0, -1.0])
-# the operator's messages: within 80 characters with their numbers (the shortest controller message, string_max)
+# the operator's messages: within 80 characters with their numbers (each target's message text holds 80;
+# tests/kinds/test_laser_messages.py holds every one to its controller's string_max with the longest numbers)
 CIRCLE_EDGES = "laser: beams not crossed twice each, check tool data and sensors, circle "
 NO_TIP = "laser: no tip found within clearance_mm of the tool data"
 AXIS_TILT = "laser: axis tilted beyond offset_max_mm, check the sensors"
-TOO_FAR = "laser: TCP beyond offset_max_mm of the tool data, not written"
+TOO_FAR = "laser: TCP beyond offset_max_mm of the tool as designed, not written"
 WRITTEN = "laser: TCP written, flange frame mm: "
+START_AWAY = "laser: start with the arm at home or above the sensors"
+NUMBER_MAX = "-2000.000"  # the widest number a message carries: a TCP within 2,000 mm of the flange, 3 decimals
 EDGES_PER_BEAM = 4
 
 
@@ -48,9 +57,54 @@ def laser_ident(cell, target) -> str:
     return Emitter(target).identifier("tcp_", cell.name, "the laser TCP program")
 
 
+def data_ident(cell, target) -> str:
+    """The module that declares the production tool where a target's program needs one (RAPID's system module)."""
+    return Emitter(target).identifier("tcp_", f"{cell.name}_tool", "the production tool's data module")
+
+
 def laser_file_names(cell, target) -> list[str]:
-    ident = laser_ident(cell, target).lower()
-    return [name.format(laser=ident) for name in facts(target).get("files", [])]
+    ident, data = laser_ident(cell, target).lower(), data_ident(cell, target).lower()
+    return [name.format(laser=ident, data=data) for name in facts(target).get("files", [])]
+
+
+def production_name(cell, target) -> str:
+    """The production tool as the program names it: TOOL_DATA[3], tPin, pin_tcp."""
+    spec = facts(target)["production_tool"]
+    value = production_tool(cell, target.name)
+    return spec["name"].format(n=value, name=value)
+
+
+def production_code(cell, target, emitter: Emitter) -> Code:
+    """The production tool as the program writes it: the controller's numbered tool (the target's pattern around
+    the cell's number), or the cell's name of data the controller has, written as it is (emitter.given_name: a
+    word or predefined name of the language, or one of the program's own, is refused)."""
+    spec = facts(target)["production_tool"]
+    value = production_tool(cell, target.name)
+    if spec["form"] == "number":
+        return emitter.numbered(spec["name"], value, f"laser.production_tool.{target.name}")
+    return emitter.given_name(value, f"laser.production_tool.{target.name}", "tool")
+
+
+def safe_point(laser) -> tuple[float, float, float]:
+    """The safe pose's position in S (mm): safe_height_mm straight above the circles' start."""
+    h = laser.circle_mm / math.sqrt(2.0)
+    return (h, h, laser.safe_height_mm)
+
+
+def zone(laser) -> dict[str, float]:
+    """The station's column in S where a stopped calibration may back out (mm): every pose the program takes lies
+    at most `r` from S's z axis (the circles circle_mm; the search's line within offset_max_mm of S's origin at
+    the plane, tilted at most 2 offset_max_mm / (d_2 - d_1) up to d_1 + clearance_mm away from it) and between
+    `low` and `high` (the deepest circle or the search's bottom, the safe height); offset_max_mm more on each
+    side for the stopping distance of a move near the sensors (a few mm at most)."""
+    slope = 2.0 * laser.offset_max_mm / (laser.depths_mm[1] - laser.depths_mm[0])
+    search = laser.offset_max_mm + slope * (laser.depths_mm[0] + laser.clearance_mm)
+    margin = laser.offset_max_mm
+    return {
+        "r": max(laser.circle_mm, search) + margin,
+        "low": -max(laser.depths_mm[1], laser.clearance_mm) - margin,
+        "high": laser.safe_height_mm + margin,
+    }
 
 
 def calibrates_on(cell, target) -> bool:
@@ -94,8 +148,20 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
     for k in (0, 1):
         circles.append({name: [number(v, 4) for v in xyz] for name, xyz in circle_points(laser, k).items()})
     dz = laser.depths_mm[1] - laser.depths_mm[0]
+    column = zone(laser)
     return {
         "ident": emitter.identifier("tcp_", cell.name, "the laser TCP program"),
+        "data_ident": emitter.identifier("tcp_", f"{cell.name}_tool", "the production tool's data module")
+        if any("{data}" in pattern for pattern in facts(target)["files"])
+        else None,
+        "production": production_code(cell, target, emitter),
+        "safe": [number(v, 4) for v in safe_point(laser)],
+        "safe_height": number(laser.safe_height_mm, 4),
+        "zone_r": number(column["r"], 4),
+        "zone_low": number(column["low"], 4),
+        "zone_high": number(column["high"], 4),
+        "joint_zone": bool(facts(target)["joint_zone"]),
+        "blend": cell.motion.zone_mm > 0,
         "sensor": emitter.pose(laser.sensor_frame),
         "down": emitter.pose(TaughtPose("down", _xyzabc(down), "xyzabc")),
         "guess": [number(v, 4) for v in guess[:3, 3]],
@@ -119,4 +185,5 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         "axis_tilt": emitter.string(AXIS_TILT),
         "too_far": emitter.string(TOO_FAR),
         "written": emitter.string(WRITTEN),
+        "start_away": emitter.string(START_AWAY),
     }

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.kinds.laser.program import DOWN, circle_points
+from codegen.kinds.laser.program import DOWN, circle_points, safe_point
 from codegen.kinds.laser.section import laser_of
 from codegen.robot import solve
 from codegen.robot.expect import Margins, margins, require_margins
@@ -30,9 +30,9 @@ class LaserReach(Margins):
 
 
 def path(cell) -> list[tuple[str, np.ndarray]]:
-    """The TCP's poses in the order the program takes them (base frame): each circle from above, around
-    and back up; the search line from clearance above to clearance below the plane, with the axis found
-    anywhere within offset_max_mm of S's origin (the four corners)."""
+    """The TCP's poses in the order the program takes them (base frame): the safe pose, each circle from above,
+    around and back up; the search line from clearance above to clearance below the plane, with the axis found
+    anywhere within offset_max_mm of S's origin (the four corners); the safe pose again (the way out)."""
     laser = laser_of(cell)
     sensor2base = laser.sensor_frame.matrix()
     rot = DOWN @ cell.robot.tool.tcp2flange[:3, :3]
@@ -43,7 +43,7 @@ def path(cell) -> list[tuple[str, np.ndarray]]:
         out[:3, 3] = point
         return sensor2base @ out
 
-    out = []
+    out = [("the safe pose", pose(safe_point(laser)))]
     for k in (0, 1):
         points = circle_points(laser, k)
         start = np.array(points["start"])
@@ -57,6 +57,7 @@ def path(cell) -> list[tuple[str, np.ndarray]]:
     for dx, dy in ((m, m), (-m, m), (-m, -m), (m, -m)):
         out.append(("the tip search's top", pose((dx, dy, laser.clearance_mm))))
         out.append(("the tip search's bottom", pose((dx, dy, -laser.clearance_mm))))
+    out.append(("the safe pose", pose(safe_point(laser))))
     return out
 
 

@@ -3,30 +3,22 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 from codegen.controllers import get_target
+from codegen.dialects import get_dialect
 from codegen.kinds.laser.facts import facts
+from codegen.kinds.laser.keys import LASER, TOOL_PATTERN
 from codegen.model.cell import TaughtPose
 from codegen.model.io import per_target
 from codegen.model.motion import SPEED_MIN_MM_S
 
 PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
 DEPTH_STEP_MIN_MM = 2.0
-KEYS = frozenset(
-    {
-        "sensor_frame",
-        "pin_radius_mm",
-        "circle_mm",
-        "depths_mm",
-        "clearance_mm",
-        "offset_max_mm",
-        "circle_speed_mm_s",
-        "search_speed_mm_s",
-        "beam_x",
-        "beam_y",
-    }
-)
+KEYS = LASER.allowed
+OWN_PREFIX = "lsr_"  # the program's own names: a production tool's name must not start so
+TOOL_NAME = re.compile(TOOL_PATTERN)
 
 
 @dataclass(frozen=True)
@@ -37,7 +29,12 @@ class Laser:
     tip search starts this far above the plane and ends as far below; offset_max_mm: how far the true tip
     and axis may lie from [cell.tool] (the circles must cross both beams; a TCP found farther is not
     written); circle_speed_mm_s, search_speed_mm_s: the TCP's speed on the circles and in the search;
-    beam_x, beam_y: each sensor's switching output, per target (an input number or name)."""
+    beam_x, beam_y: each sensor's switching output, per target (an input number or name); production_tool:
+    per target, the tool the production programs use, which gets the TCP found (a numbered tool's number
+    where the target's [program.laser] production_tool form is "number", else the name of the production data:
+    a task's persistent tooldata, an installation variable; a target with numbered tools may leave it to
+    [cell.tool] numbered); safe_height_mm: the safe pose's
+    height above the beams' plane (S's z), straight above the circles' start: the way in and the way out."""
 
     sensor_frame: TaughtPose
     pin_radius_mm: float
@@ -49,21 +46,25 @@ class Laser:
     search_speed_mm_s: float
     beam_x: dict
     beam_y: dict
+    production_tool: dict
+    safe_height_mm: float
 
 
-def _bounded(ctx, table: dict, key: str, default: float, low: float, high: float, why: str) -> float:
+def _bounded(ctx, table: dict, key: str, why: str) -> float:
     path = f"laser.{key}"
-    value = ctx.number(table, key, path) if key in table else default
-    if not low < value <= high:
+    value = ctx.number(table, key, path) if key in table else LASER.default(key)
+    low, high = LASER[key].bounds
+    if not LASER[key].contains(value):
         ctx.fail(path, f"must be in ({low:g}, {high:g}] {why}, got {value:g}")
     return value
 
 
-def _speed(ctx, table: dict, key: str, default: float, high: float) -> float:
+def _speed(ctx, table: dict, key: str) -> float:
     """A TCP speed of the procedure: at least the programs' least speed (SPEED_MIN_MM_S, as [cell.motion]'s)."""
     path = f"laser.{key}"
-    value = ctx.number(table, key, path) if key in table else default
-    if not SPEED_MIN_MM_S <= value <= high:
+    value = ctx.number(table, key, path) if key in table else LASER.default(key)
+    high = LASER[key].high
+    if not LASER[key].contains(value):
         ctx.fail(
             path, f"must be in [{SPEED_MIN_MM_S:g}, {high:g}] mm/s (the programs write it to 0.1 mm/s), got {value:g}"
         )
@@ -78,14 +79,16 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
     frame = ctx.pose(
         "sensor_frame", ctx.require(table, "sensor_frame", "laser.sensor_frame"), "laser.sensor_frame", pose_format
     )
-    radius = _bounded(ctx, table, "pin_radius_mm", 1.0, 0.0, 25.0, "mm")
+    radius = _bounded(ctx, table, "pin_radius_mm", "mm")
     if radius < PIN_MIN_MM:
         ctx.fail("laser.pin_radius_mm", f"must be at least {PIN_MIN_MM} mm (a thinner pin is not a beam's target)")
-    circle = _bounded(ctx, table, "circle_mm", 10.0, 0.0, 100.0, "mm")
-    offset = _bounded(ctx, table, "offset_max_mm", 3.0, 0.0, 50.0, "mm")
-    clearance = _bounded(ctx, table, "clearance_mm", 10.0, 0.0, 200.0, "mm")
-    depths = ctx.numbers(table.get("depths_mm", [5.0, 15.0]), 2, "laser.depths_mm")
-    if not 0 < depths[0] < depths[1] <= 200:
+    circle = _bounded(ctx, table, "circle_mm", "mm")
+    offset = _bounded(ctx, table, "offset_max_mm", "mm")
+    clearance = _bounded(ctx, table, "clearance_mm", "mm")
+    depths = ctx.numbers(table.get("depths_mm", list(LASER.default("depths_mm"))), 2, "laser.depths_mm")
+    if not (
+        LASER["depths_mm"].contains(depths[0]) and depths[0] < depths[1] and LASER["depths_mm"].contains(depths[1])
+    ):
         ctx.fail("laser.depths_mm", "expected [d1, d2] with 0 < d1 < d2 <= 200 mm: the guessed tip below the beams")
     if depths[1] - depths[0] < DEPTH_STEP_MIN_MM:
         ctx.fail(
@@ -93,8 +96,8 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             f"d2 - d1 must be at least {DEPTH_STEP_MIN_MM:g} mm: the axis is the centres' difference over it, a "
             "smaller step multiplies their errors",
         )
-    circle_speed = _speed(ctx, table, "circle_speed_mm_s", 10.0, 250.0)
-    search_speed = _speed(ctx, table, "search_speed_mm_s", 2.0, 50.0)
+    circle_speed = _speed(ctx, table, "circle_speed_mm_s")
+    search_speed = _speed(ctx, table, "search_speed_mm_s")
     # the circle starts at 45 deg between the beams and must cross each twice: the axis may lie offset_max_mm
     # from where the tool's data puts it, and the pin is radius_mm wide
     if offset + radius >= circle / math.sqrt(2.0):
@@ -133,9 +136,88 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
                 f"{target} sees its inputs every {cycle * 1000:g} ms: at {circle_speed:g} mm/s the pin moves "
                 f"{circle_speed * cycle:.3f} mm between two looks, more than half its radius: slow the circles",
             )
+    safe = _bounded(ctx, table, "safe_height_mm", "mm")
+    if safe < clearance + offset:
+        ctx.fail(
+            "laser.safe_height_mm",
+            f"must be at least clearance_mm + offset_max_mm ({clearance + offset:g} mm): the safe pose lies above "
+            "every pose of the calibration",
+        )
+    production = _production_tools(ctx, table, targets)
     return Laser(
-        frame, radius, circle, depths, clearance, offset, circle_speed, search_speed, beams["beam_x"], beams["beam_y"]
+        frame,
+        radius,
+        circle,
+        depths,
+        clearance,
+        offset,
+        circle_speed,
+        search_speed,
+        beams["beam_x"],
+        beams["beam_y"],
+        production,
+        safe,
     )
+
+
+def _production_tools(ctx, table: dict, targets) -> dict:
+    """[laser] production_tool = { <target> = n or name }: checked against the target's form of it
+    ([program.laser] production_tool: "number" 1..max, or "name", an identifier the program may use)."""
+    raw = table.get("production_tool", {})
+    if not isinstance(raw, dict):
+        ctx.fail("laser.production_tool", "expected a table: target = the production tool (number or name)")
+    ctx.no_unknown(raw, set(targets), "laser.production_tool")
+    out = {}
+    for target_name, value in raw.items():
+        path = f"laser.production_tool.{target_name}"
+        target = get_target(target_name)
+        spec = facts(target)["production_tool"]
+        if spec["form"] == "number":
+            if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= spec["max"]:
+                ctx.fail(path, f"expected a tool number 1..{spec['max']}, got {value!r}")
+        else:
+            if (
+                not isinstance(value, str)
+                or not TOOL_NAME.fullmatch(value)
+                or len(value) > target.identifier_max
+                or value.upper() in get_dialect(target.dialect).keywords()
+                or value in get_dialect(target.dialect).keywords()
+            ):
+                ctx.fail(
+                    path,
+                    f"expected the name of the production tool's data (a letter, then letters, digits or _; "
+                    f"{target.identifier_max} at most; not a word {target.title} reserves), got {value!r}",
+                )
+            if value.lower().startswith(OWN_PREFIX):
+                ctx.fail(path, f"must not start with {OWN_PREFIX}: the calibration program's own names do")
+        out[target_name] = value
+    return out
+
+
+def check_production_tools(ctx, laser: Laser, robot, targets) -> None:
+    """Every target of the cell names its production tool, here or (a target with numbered tools) as
+    [cell.tool] numbered, the same one where both are given: the programs that use the cell's tool use that one."""
+    numbered = robot.tool.numbered if robot is not None else {}
+    for target in targets:
+        given, number = laser.production_tool.get(target), numbered.get(target)
+        if given is None and number is None:
+            ctx.fail(
+                f"laser.production_tool.{target}",
+                "missing: the tool the production programs use, which gets the TCP found",
+            )
+        if given is not None and number is not None and given != number:
+            ctx.fail(
+                f"laser.production_tool.{target}",
+                f"must be cell.tool.numbered.{target} ({number}): the cell's programs use that tool",
+            )
+
+
+def production_tool(cell, target_name: str):
+    """The production tool of a target: its number or its name ([laser] production_tool, else the cell's
+    numbered tool)."""
+    laser = laser_of(cell)
+    given = laser.production_tool.get(target_name)
+    return given if given is not None else cell.robot.tool.numbered[target_name]
 
 
 def laser_of(cell) -> Laser | None:

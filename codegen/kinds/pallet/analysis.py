@@ -7,7 +7,7 @@ import numpy as np
 from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.patterns import TooManyBoxes, layout
 from codegen.kinds.pallet.section import BOXES_MAX, Pallet, parse_pallets
-from codegen.kinds.pallet.stack import FrameError, pallet2base, pattern_of
+from codegen.kinds.pallet.stack import FrameError, pallet2base, pattern_of, placements
 
 ENTRY_CLEARANCE_MM = 10.0  # the carried box's bottom this far above the layer's tops at the entry
 
@@ -57,6 +57,7 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
                 )
         layouts[name] = boxes
     _check_counts(ctx, pallet, path, layouts)
+    _check_zone(ctx, pallet, path)  # every box's poses: once the stack is known to be within BOXES_MAX
     seen = set()
     for layer in range(2, pallet.layers + 1):
         below, above = pallet.cycle[(layer - 2) % len(pallet.cycle)], pallet.cycle[(layer - 1) % len(pallet.cycle)]
@@ -72,6 +73,31 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
                 f"the layer below (support_min {pallet.support_min:.0%})"
             )
     return warnings
+
+
+def _check_zone(ctx, pallet: Pallet, path: str) -> None:
+    """The blending zone fits every segment it blends: at most half of each path the arm passes a pose on (the lift
+    above Q, entry to approach, approach to target, target to retreat, retreat to entry; the sheet's lift and its
+    entry), so the arm reaches each exact stop along its own line."""
+    if pallet.zone_mm == 0:
+        return
+    segments = [("the lift above Q (pick_lift)", pallet.pick_lift)]
+    if pallet.slip_pick is not None:
+        segments += [("the lift above the sheet stack (slip_sheet.lift)", pallet.slip_lift)]
+        segments += [("a slip sheet's entry above it (entry_dz)", pallet.entry_dz)]
+    for p in placements(pallet):
+        where = f"layer {p.layer} box {p.number}"
+        for name, a, b in (("entry to approach", p.entry, p.approach), ("approach to target", p.approach, p.target)):
+            segments.append((f"{where}: {name}", float(np.linalg.norm(b[:3, 3] - a[:3, 3]))))
+        for name, a, b in (("target to retreat", p.target, p.retreat), ("retreat to entry", p.retreat, p.entry)):
+            segments.append((f"{where}: {name}", float(np.linalg.norm(b[:3, 3] - a[:3, 3]))))
+    name, shortest = min(segments, key=lambda s: s[1])
+    if pallet.zone_mm > shortest / 2 + 1e-9:
+        ctx.fail(
+            f"{path}.zone_mm",
+            f"{pallet.zone_mm:g} mm is more than half of the {shortest:.1f} mm of {name}: the arm would blend past "
+            f"the next pose (zone_mm <= {shortest / 2:.1f})",
+        )
 
 
 def _check_counts(ctx, pallet: Pallet, path: str, layouts: dict) -> None:
@@ -92,9 +118,9 @@ def frame_matrix(pallet: Pallet) -> np.ndarray:
     return pallet2base(pallet.origin, pallet.x_point, pallet.xy_point)
 
 
-def checked_pallets(ctx, data: dict, pose_format: str = "xyzabc") -> tuple[Pallet, ...]:
+def checked_pallets(ctx, data: dict, cell) -> tuple[Pallet, ...]:
     """The file's [[pallet]] tables, validated and checked; the warnings go to ctx."""
-    pallets = parse_pallets(ctx, data, pose_format)
+    pallets = parse_pallets(ctx, data, cell)
     for i, pallet in enumerate(pallets):
         ctx.warnings.extend(f"{ctx.source}: {w}" for w in check_pallet(ctx, pallet, f"pallet[{i}]"))
     return pallets

@@ -1,4 +1,5 @@
-"""The float64 reference of a stacking program: from its counters, every move and gripper output to the full pallet."""
+"""The float64 reference of a pallet program: from its counters, every move, gripper output, payload and stop to the
+full (empty) pallet, with the interlocks it waits for and the slip sheets it places."""
 
 from __future__ import annotations
 
@@ -8,39 +9,44 @@ import numpy as np
 
 from codegen.guard import NO_FEEDBACK, NOT_RELEASED, halt_message
 from codegen.kinds.pallet.analysis import frame_matrix
+from codegen.kinds.pallet.messages import (
+    counters_message,
+    empty_message,
+    full_message,
+    held_message,
+    message_limit,
+    wait_message,
+)
 from codegen.kinds.pallet.section import Pallet
-from codegen.kinds.pallet.stack import placements
+from codegen.kinds.pallet.stack import Placement, layer_top, placements
+from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
 
-FULL = "pallet_full"
-COUNTERS = "pallet_counters"
-
-
-def full_message(pallet: Pallet) -> str:
-    return f"pallet {pallet.name} is full: swap it, then set layer 1 and box 1"
-
-
-def empty_message(pallet: Pallet) -> str:
-    top = layer_counts(pallet)[pallet.layers]
-    return f"pallet {pallet.name} is empty: bring a full one, then set layer {pallet.layers} and box {top}"
-
-
-def held_message(pallet: Pallet) -> str:
-    return f"pallet {pallet.name}: the gripper holds a box (its sensor is on): take it out, then start again"
-
-
-def counters_message(pallet: Pallet) -> str:
-    return f"pallet {pallet.name}: layer or box counter out of range"
+__all__ = [
+    "Expected",
+    "ExpectedMove",
+    "Item",
+    "PalletCase",
+    "above_pick",
+    "expected",
+    "items",
+    "layer_counts",
+    "safe_pose",
+    "start_counters",
+]
 
 
 @dataclass(frozen=True)
 class PalletCase:
-    """A run of the stacking program: its counters when it starts and how the gripper answers."""
+    """A run of the pallet program: its counters when it starts, how the gripper answers, an interlock input that
+    never comes on (None: each is on), whether the PLC's reset input is on."""
 
     category: str
     layer: int
     box: int
     gripper: str = "prompt"  # codegen.sim.gripper.Gripper behaviours
     closed: bool = False  # the gripper's sensor on at the start: it holds a box (a cycle stopped mid-way)
+    missing: str | None = None  # an interlock (codegen/kinds/pallet/interlocks.py WAITS) whose input stays off
+    reset: bool = False  # the PLC asks for the counters of a swapped pallet to start again
 
 
 @dataclass(frozen=True)
@@ -49,15 +55,31 @@ class ExpectedMove:
     tcp2base: np.ndarray  # 4x4 mm
     name: str  # for the report: "layer 2 box 3 entry"
     speed_mm_s: float
-    exact: bool  # a stop at the pose (no blending)
+    exact: bool  # a stop at the pose (no blending): a pick, place or contact pose, or where a wait follows
+    carrying: bool = False  # a box in the gripper (its grip confirmed): the payload is the tool's and the box's
 
 
 @dataclass(frozen=True)
 class Expected:
     moves: tuple[ExpectedMove, ...]
     outputs: tuple[tuple[bool, int], ...]  # (gripper output value, moves commanded before it)
-    halt: str | None  # the operator's message, None: the program ends (the pallet is full)
-    counters: tuple[int, int]  # layer and box when the run ends: the box to place next
+    halt: str | None  # the operator's message, None: the program ends (the pallet is full or empty)
+    counters: tuple[int, int]  # layer and box when the run ends: what to do next
+    start: tuple[int, int] = (0, 0)  # the counters the program worked from (after a reset)
+
+
+@dataclass(frozen=True)
+class Item:
+    """One thing the program does on the pallet, named by the counters: a box (number >= 1) or the slip sheet
+    below a layer (number 0)."""
+
+    layer: int
+    number: int
+    placement: Placement | None  # None: the slip sheet
+
+    @property
+    def key(self) -> tuple[int, int]:
+        return self.layer, self.number
 
 
 def layer_counts(pallet: Pallet) -> dict[int, int]:
@@ -67,9 +89,30 @@ def layer_counts(pallet: Pallet) -> dict[int, int]:
     return counts
 
 
-def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
-    """What the pallet's program does in this case (stacking or unstacking, as the pallet's mode)."""
-    return (unstacking if pallet.mode == "unstack" else stacking)(cell, pallet, case)
+def sheet_below(pallet: Pallet, layer: int) -> bool:
+    """A slip sheet to place below this layer (on top of every slip_every-th layer, when the cell gives its pick)."""
+    return pallet.slip_pick is not None and layer > 1 and (layer - 1) % pallet.slip_every == 0
+
+
+def items(pallet: Pallet) -> list[Item]:
+    """What the program does, in its order: stacking, layer by layer from the bottom, the sheet below a layer
+    first; unstacking, the reverse (no sheets)."""
+    out = []
+    for p in placements(pallet):
+        if p.number == 1 and sheet_below(pallet, p.layer):
+            out.append(Item(p.layer, 0, None))
+        out.append(Item(p.layer, p.number, p))
+    return out if pallet.mode == "stack" else out[::-1]
+
+
+def start_counters(pallet: Pallet) -> tuple[int, int]:
+    """The counters of a new pallet: stacking layer 1 box 1, unstacking the top layer's last box."""
+    return items(pallet)[0].key
+
+
+def done_counters(pallet: Pallet) -> tuple[int, int]:
+    """The counters once the pallet is full (layers + 1, box 1) or empty (0, 0)."""
+    return (pallet.layers + 1, 1) if pallet.mode == "stack" else (0, 0)
 
 
 def above_pick(pallet: Pallet) -> np.ndarray:
@@ -80,121 +123,171 @@ def above_pick(pallet: Pallet) -> np.ndarray:
     return above
 
 
-def _in_range(pallet: Pallet, counts: dict[int, int], case: PalletCase) -> bool:
-    return 1 <= case.layer <= pallet.layers and 1 <= case.box <= counts[case.layer]
+def _tool(pallet: Pallet) -> np.ndarray:
+    return rotmat_from_zyx_deg(*pallet.tool_orientation)
 
 
-def unstacking(cell, pallet: Pallet, case: PalletCase) -> Expected:
-    """Release at the start; then per box from the counters, the top layer first and each layer in the
-    reverse of its placing order: entry (joint), approach, target (slow, exact), grip, retreat (slow),
-    entry, above Q (joint), Q (slow), release, above Q (slow); the counters move to the next box once
-    the grip is confirmed (the box has left the pallet). An empty pallet (layer 0, box 0) or counters out
-    of range stop before any move."""
-    counts = layer_counts(pallet)
-    grip, start = cell.io.value, (case.layer, case.box)
-    if start == (0, 0):
-        return Expected((), (), empty_message(pallet), start)
-    if not _in_range(pallet, counts, case):
-        return Expected((), (), counters_message(pallet), start)
-    if case.closed:  # a box in the gripper: opening it anywhere would drop it
-        return Expected((), (), held_message(pallet), start)
-    frame, pick, above = frame_matrix(pallet), pallet.pick.matrix(), above_pick(pallet)
-    travel, work = cell.motion.speed_mm_s, cell.motion.work_speed_mm_s
-    moves: list[ExpectedMove] = []
-    outputs: list[tuple[bool, int]] = [(not grip, 0)]
-    counters = start
-    for p in reversed(placements(pallet)):
-        if (p.layer, p.number) > start:
-            continue
-        where = f"layer {p.layer} box {p.number}"
-        moves.append(ExpectedMove("joint", frame @ p.entry, f"{where} entry", travel, True))
-        moves.append(ExpectedMove("linear", frame @ p.approach, f"{where} approach", travel, True))
-        moves.append(ExpectedMove("linear", frame @ p.target, f"{where} target", work, True))
-        outputs.append((grip, len(moves)))
-        if case.gripper == "silent":
-            return Expected(tuple(moves), tuple(outputs), halt_message(cell, NO_FEEDBACK, None, 0), counters)
-        if p.number > 1:
-            counters = (p.layer, p.number - 1)
-        else:
-            counters = (p.layer - 1, counts[p.layer - 1]) if p.layer > 1 else (0, 0)
-        moves.append(ExpectedMove("linear", frame @ p.retreat, f"{where} retreat", work, True))
-        moves.append(ExpectedMove("linear", frame @ p.entry, f"{where} entry", travel, True))
-        moves.append(ExpectedMove("joint", above, f"{where} above Q", travel, True))
-        moves.append(ExpectedMove("linear", pick, f"{where} place at Q", work, True))
-        outputs.append((not grip, len(moves)))
-        if case.gripper == "stuck":  # the box never leaves the gripper at Q: it is off the pallet
-            return Expected(tuple(moves), tuple(outputs), halt_message(cell, NOT_RELEASED, None, 0), counters)
-        moves.append(ExpectedMove("linear", above, f"{where} lift from Q", work, True))
-    return Expected(tuple(moves), tuple(outputs), None, counters)
+def sheet_target(pallet: Pallet, layer: int) -> np.ndarray:
+    """The slip sheet below a layer, in the pallet frame: the gripper on the sheet's top at the pallet's centre,
+    the tool as at box angle 0."""
+    z = layer_top(pallet, layer - 1) + pallet.slip_thickness
+    return matrix_from_rotation_translation(_tool(pallet), (pallet.size[0] / 2, pallet.size[1] / 2, z))
 
 
-def stacking(cell, pallet: Pallet, case: PalletCase) -> Expected:
-    """Release at the start; then per box from the counters: above Q (joint), Q (slow), grip, above Q
-    (slow), entry (joint), approach,
-    target (slow, exact), release, retreat (slow), entry; the counters advance once the release is
-    confirmed. A full pallet or counters out of range stop before any move."""
-    counts = layer_counts(pallet)
-    grip = cell.io.value
-    if case.layer == pallet.layers + 1 and case.box == 1:
-        return Expected((), (), full_message(pallet), (case.layer, case.box))
-    if not _in_range(pallet, counts, case):
-        return Expected((), (), counters_message(pallet), (case.layer, case.box))
-    if case.closed:  # a box in the gripper: opening it anywhere would drop it
-        return Expected((), (), held_message(pallet), (case.layer, case.box))
-    frame, pick, above = frame_matrix(pallet), pallet.pick.matrix(), above_pick(pallet)
-    travel, work = cell.motion.speed_mm_s, cell.motion.work_speed_mm_s
-    moves: list[ExpectedMove] = []
-    outputs: list[tuple[bool, int]] = [(not grip, 0)]
-    counters = (case.layer, case.box)
-    for p in placements(pallet):
-        if (p.layer, p.number) < (case.layer, case.box):
-            continue
-        where = f"layer {p.layer} box {p.number}"
-        moves.append(ExpectedMove("joint", above, f"{where} above Q", travel, True))
-        moves.append(ExpectedMove("linear", pick, f"{where} pick", work, True))
-        outputs.append((grip, len(moves)))
-        if case.gripper == "silent":
-            return Expected(tuple(moves), tuple(outputs), halt_message(cell, NO_FEEDBACK, None, 0), counters)
-        moves.append(ExpectedMove("linear", above, f"{where} lift from Q", work, True))
-        moves.append(ExpectedMove("joint", frame @ p.entry, f"{where} entry", travel, True))
-        moves.append(ExpectedMove("linear", frame @ p.approach, f"{where} approach", travel, True))
-        moves.append(ExpectedMove("linear", frame @ p.target, f"{where} target", work, True))
-        outputs.append((not grip, len(moves)))
-        if case.gripper == "stuck":  # the box never leaves the gripper: the counters stay at it
-            return Expected(tuple(moves), tuple(outputs), halt_message(cell, NOT_RELEASED, None, 0), counters)
-        counters = (p.layer, p.number + 1) if p.number < counts[p.layer] else (p.layer + 1, 1)
-        moves.append(ExpectedMove("linear", frame @ p.retreat, f"{where} retreat", work, True))
-        moves.append(ExpectedMove("linear", frame @ p.entry, f"{where} entry", travel, True))
-    return Expected(tuple(moves), tuple(outputs), None, counters)
+def safe_pose(pallet: Pallet) -> np.ndarray:
+    """Above the pallet's centre, entry_dz over the full stack (pallet frame): the way home after a stop passes it."""
+    z = layer_top(pallet, pallet.layers) + pallet.entry_dz
+    return matrix_from_rotation_translation(_tool(pallet), (pallet.size[0] / 2, pallet.size[1] / 2, z))
 
 
-def cases(pallet: Pallet, rng) -> list[PalletCase]:
-    """The full stack from its first box (stacking: layer 1 box 1; unstacking: the top layer's last box);
-    restarts at random boxes (the counters preset, as a restart finds them); a full (empty) pallet;
-    counters out of range; the gripper never closing, never opening."""
-    counts = layer_counts(pallet)
-    if pallet.mode == "unstack":
-        out = [PalletCase("full_unstack", pallet.layers, counts[pallet.layers])]
-        for _ in range(3):
-            layer = rng.randint(1, pallet.layers)
-            out.append(PalletCase("restart", layer, rng.randint(1, counts[layer])))
-        out += [PalletCase("restart", 1, 1), PalletCase("pallet_empty", 0, 0)]
-        out += [PalletCase("bad_counters", 0, 1), PalletCase("bad_counters", 1, counts[1] + 1)]
-        out += [PalletCase("bad_counters", pallet.layers + 1, 1), PalletCase("bad_counters", 2, 0)]
-        top = (pallet.layers, counts[pallet.layers])
-        out += [PalletCase("gripper_silent", *top, "silent"), PalletCase("held_at_start", *top, closed=True)]
-        out.append(PalletCase("gripper_stuck_at_q", *top, "stuck"))
-        return out
-    out = [PalletCase("full_stack", 1, 1)]
-    for _ in range(3):
-        layer = rng.randint(1, pallet.layers)
-        out.append(PalletCase("restart", layer, rng.randint(1, counts[layer])))
-    out.append(PalletCase("restart", pallet.layers, counts[pallet.layers]))  # the last box
-    out.append(PalletCase("pallet_full", pallet.layers + 1, 1))
-    out += [PalletCase("bad_counters", 0, 1), PalletCase("bad_counters", 1, counts[1] + 1)]
-    out += [PalletCase("bad_counters", pallet.layers + 1, 2), PalletCase("bad_counters", 2, 0)]
-    out += [PalletCase("gripper_silent", 1, 1, "silent"), PalletCase("held_at_start", 1, 1, closed=True)]
-    # it never lets the box go at the target: the counters must stay at that box
-    layer = min(2, pallet.layers)
-    out.append(PalletCase("gripper_stuck_at_target", layer, counts[layer], "stuck"))
+def _lifted(pose: np.ndarray, mm: float) -> np.ndarray:
+    out = pose.copy()
+    out[2, 3] += mm
     return out
+
+
+class _Run:
+    """The reference's record of one run: moves, gripper outputs, where it stops and the counters."""
+
+    def __init__(self, cell, pallet: Pallet, case: PalletCase, counters: tuple[int, int]) -> None:
+        self.cell, self.pallet, self.case = cell, pallet, case
+        self.frame = frame_matrix(pallet)
+        self.travel, self.work = cell.motion.speed_mm_s, cell.motion.work_speed_mm_s
+        self.moves: list[ExpectedMove] = []
+        self.outputs: list[tuple[bool, int]] = [(not cell.io.value, 0)]  # released at the start
+        self.counters = counters
+        self.carrying = False
+
+    def move(self, kind: str, pose: np.ndarray, name: str, slow: bool, exact: bool) -> None:
+        speed = self.work if slow else self.travel
+        self.moves.append(ExpectedMove(kind, pose, name, speed, exact, self.carrying))
+
+    def wait(self, interlock: str) -> str | None:
+        """The program waits for an interlock input: the stop's message if it never comes on."""
+        if self.case.missing != interlock:
+            return None
+        return wait_message(self.pallet, interlock, message_limit(self.cell))
+
+    def grip(self, box: bool = True) -> str | None:
+        """Grip a box (its payload from the confirmed grip on) or a slip sheet (light: the tool's payload stays)."""
+        self.outputs.append((self.cell.io.value, len(self.moves)))
+        if self.case.gripper == "silent":
+            return halt_message(self.cell, NO_FEEDBACK, None, 0)
+        self.carrying = box
+        return None
+
+    def release(self) -> str | None:
+        self.outputs.append((not self.cell.io.value, len(self.moves)))
+        if self.case.gripper == "stuck":
+            return halt_message(self.cell, NOT_RELEASED, None, 0)
+        self.carrying = False
+        return None
+
+    def result(self, halt: str | None, start: tuple[int, int]) -> Expected:
+        return Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start)
+
+
+def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
+    """What the pallet's program does in this case: the checks before any move (a full or empty pallet, reset by
+    the PLC or not; counters outside the stack; a box in the gripper), then each item from the counters."""
+    start, done = (case.layer, case.box), done_counters(pallet)
+    limit = message_limit(cell)
+    keys = [item.key for item in items(pallet)]
+    if start == done and case.reset and pallet.io.reset:  # a swapped pallet: the PLC resets its counters
+        start = keys[0]
+    if start == done:
+        message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
+        return Expected((), (), message, start, start)
+    if start not in keys:
+        return Expected((), (), counters_message(pallet, limit), start, start)
+    if case.closed:  # a box in the gripper: opening it anywhere would drop it
+        return Expected((), (), held_message(pallet, limit), start, start)
+    run = _Run(cell, pallet, case, start)
+    todo = [item for item in items(pallet)][keys.index(start) :]
+    halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
+    return run.result(halt, start)
+
+
+def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
+    """Per box: above Q (joint; the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), entry
+    (joint), approach, target (slow, exact), release, retreat (slow), entry; the counters advance once the release
+    is confirmed. Per slip sheet the same from the sheet stack onto the pallet's centre. At the end: above Q, off
+    the pallet, before the message."""
+    pallet, frame = run.pallet, run.frame
+    pick, above = pallet.pick.matrix(), above_pick(pallet)
+    for i, item in enumerate(todo):
+        after = todo[i + 1].key if i + 1 < len(todo) else done
+        where = f"layer {item.layer} " + (f"box {item.number}" if item.number else "sheet")
+        if item.placement is None:
+            source, lift = pallet.slip_pick.matrix(), pallet.slip_lift
+            entry = frame @ _lifted(sheet_target(pallet, item.layer), pallet.entry_dz)
+            path = ((entry, "entry", False, False), (frame @ sheet_target(pallet, item.layer), "target", True, True))
+            retreat = ((entry, "entry", True, False),)
+            interlocks, named = ("pallet_present", "sheet_ready"), "the sheet stack"
+        else:
+            p = item.placement
+            source, lift = pick, pallet.pick_lift
+            path = (
+                (frame @ p.entry, "entry", False, False),
+                (frame @ p.approach, "approach", False, False),
+                (frame @ p.target, "target", True, True),
+            )
+            retreat = ((frame @ p.retreat, "retreat", True, False), (frame @ p.entry, "entry", False, False))
+            interlocks, named = ("pallet_present", "part_present"), "Q"
+        run.move("joint", _lifted(source, lift), f"{where} above {named}", False, False)
+        for interlock in interlocks:
+            halt = run.wait(interlock)
+            if halt:
+                return halt
+        run.move("linear", source, f"{where} pick", True, True)
+        halt = run.grip(item.placement is not None)
+        if halt:
+            return halt
+        run.move("linear", _lifted(source, lift), f"{where} lift from {named}", True, False)
+        for n, (pose, name, slow, exact) in enumerate(path):
+            run.move("joint" if n == 0 else "linear", pose, f"{where} {name}", slow, exact)
+        halt = run.release()
+        if halt:
+            return halt
+        run.counters = after
+        for pose, name, slow, exact in retreat:
+            run.move("linear", pose, f"{where} {name}", slow, exact)
+    run.move("joint", above, "off the pallet: above Q", False, True)
+    return None
+
+
+def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
+    """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
+    order: entry (joint), approach, target (slow, exact), grip; the counters move to the next box once the grip is
+    confirmed (the box has left the pallet); retreat (slow), entry, above Q (joint; Q clear waited for), Q (slow,
+    exact), release; for the next box the pallet waited for at Q; above Q (slow)."""
+    pallet, frame = run.pallet, run.frame
+    pick, above = pallet.pick.matrix(), above_pick(pallet)
+    halt = run.wait("pallet_present")
+    if halt:
+        return halt
+    for i, item in enumerate(todo):
+        p, last = item.placement, i + 1 == len(todo)
+        where = f"layer {p.layer} box {p.number}"
+        run.move("joint", frame @ p.entry, f"{where} entry", False, False)
+        run.move("linear", frame @ p.approach, f"{where} approach", False, False)
+        run.move("linear", frame @ p.target, f"{where} target", True, True)
+        halt = run.grip()
+        if halt:
+            return halt
+        run.counters = done if last else todo[i + 1].key
+        run.move("linear", frame @ p.retreat, f"{where} retreat", True, False)
+        run.move("linear", frame @ p.entry, f"{where} entry", False, False)
+        run.move("joint", above, f"{where} above Q", False, False)
+        halt = run.wait("place_clear")
+        if halt:
+            return halt
+        run.move("linear", pick, f"{where} place at Q", True, True)
+        halt = run.release()
+        if halt:
+            return halt
+        halt = None if last else run.wait("pallet_present")
+        if halt:
+            return halt
+        run.move("linear", above, f"{where} lift from Q", True, last)
+    return None

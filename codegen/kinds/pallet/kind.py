@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from codegen.emit import EmitError
 from codegen.kinds.pallet import reach, verify
 from codegen.kinds.pallet.analysis import checked_pallets
 from codegen.kinds.pallet.commands import pallet as pallet_command
-from codegen.kinds.pallet.program import check_level, pallet_context, pallet_file_names, pallet_identifiers
+from codegen.kinds.pallet.keys import KEYS
+from codegen.kinds.pallet.program import check_level, file_name, identifiers, pallet_context, task_context
 from codegen.kinds.pallet.scene import objects as scene_objects
 from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.verify import FORMS_PER_PALLET
 from codegen.protocol import ProgramFile, ProgramKind, ProgramPlan
 from codegen.render import program_emitter
 
@@ -15,19 +18,25 @@ from codegen.render import program_emitter
 class PalletKind(ProgramKind):
     name = "pallet"
     order = 20
-    tables = frozenset({"pallet"})
+    cell_file = KEYS
     target_keys = {
-        "files": list,  # a stacking program's files per [[pallet]] ("...{pallet}...")
+        "files": list,  # a program's files per [[pallet]] ("...{pallet}..."); with `task`, the task's modules too
+        "node_files": list,  # a second program per [[pallet]]: the same program in another form (a Script node's)
+        "task": bool,  # every pallet's program in one task: its files once, "{pallet}" files once per pallet
         "counters": dict,  # layer and box: the counters' names for --input and verify
         "kept": dict,  # layer and box: where the program reports the counters, if not in counters
-        "registers": int,  # the first register of the counters, where the controller keeps none
+        "store": str,  # where the counters outlive a reload and a regeneration: a file, "plc", "program"
+        "declares": list,  # the words that begin a declaration in the language (after others: LOCAL, GLOBAL)
+        "registers": int,  # the first register of the counters, where the controller keeps them in the PLC
         "registers_max": int,  # the last register the counters may use
         "level_only": bool,  # no pose product: a level pallet only
+        "joint_blend": bool,  # a joint move may blend into the next (false: it stops at its point)
+        "minimum_release": str,  # the controller software the programs need (a header line)
     }
 
     @classmethod
     def parse_section(cls, ctx, data: dict, cell):
-        return checked_pallets(ctx, data, cell.pose_format) or None
+        return checked_pallets(ctx, data, cell) or None
 
     @classmethod
     def standalone(cls, data: dict) -> bool:
@@ -42,22 +51,49 @@ class PalletKind(ProgramKind):
 
     @classmethod
     def programs(cls, cell, target) -> list[ProgramPlan]:
-        """Each [[pallet]]'s stacking program: "pal_<name>.src" from the template "kinds/pallet.src.j2"."""
+        """Each [[pallet]]'s program: "pal_<name>.src" from the template "kinds/pallet.src.j2" (a data list, a
+        Script-node twin); where the target runs them in one task, one program of every pallet's module."""
         pallets = pallets_of(cell)
         if not pallets:
             return []
-        emitter = program_emitter(cell, target)
-        out = []
-        for index, (pallet, ident) in enumerate(zip(pallets, pallet_identifiers(cell, target), strict=True)):
-            check_level(pallet, target)
-            context = pallet_context(cell, pallet, index, ident, target, emitter)
-            names = pallet_file_names(target, context["ident"])
-            files = tuple(
-                ProgramFile(file_name, f"{target.name}/kinds/{pattern.format(pallet='pallet')}.j2")
-                for pattern, file_name in zip(cls.facts(target)["files"], names, strict=True)
+        facts = cls.facts(target)
+        if facts.get("task") and cell.stations:
+            raise EmitError(
+                f"{target.name}: the cell's station program and its pallet programs would each have a PROC main in "
+                "one task: give the pallets a cell file of their own"
             )
-            out.append(ProgramPlan(cls.name, context["ident"], files, {"pallet": context}, index))
-        return out
+        emitter = program_emitter(cell, target)
+        contexts, owns = [], identifiers(cell, target)
+        for index, pallet in enumerate(pallets):
+            check_level(pallet, target)
+            contexts.append(pallet_context(cell, pallet, index, target, emitter))
+
+        def files(patterns: list[str], index: int) -> list[ProgramFile]:
+            return [
+                ProgramFile(file_name(target, p, owns[index]), f"{target.name}/kinds/{p.format(pallet='pallet')}.j2")
+                for p in patterns
+            ]
+
+        if facts.get("task"):  # one program: the task's modules once, each pallet's module with its variables
+            out = []
+            for pattern in facts["files"]:
+                if "{pallet}" not in pattern:
+                    out += files([pattern], 0)
+                    continue
+                for index, context in enumerate(contexts):
+                    (own,) = files([pattern], index)
+                    out.append(ProgramFile(own.name, own.template, {"pallet": context}))
+            ident = out[0].name.split(".")[0]
+            return [ProgramPlan(cls.name, ident, tuple(out), task_context(cell, target, emitter, contexts), 0)]
+        plans = []
+        forms = [facts["files"], *([facts["node_files"]] if "node_files" in facts else [])]
+        for index, context in enumerate(contexts):
+            for form, patterns in enumerate(forms):
+                own = files(patterns, index)
+                ident = own[0].name.split(".")[0]
+                number = FORMS_PER_PALLET * index + form
+                plans.append(ProgramPlan(cls.name, ident, tuple(own), {"pallet": context}, number))
+        return plans
 
     @classmethod
     def reach(cls, cell, targets: list[str]) -> list:
@@ -82,19 +118,21 @@ class PalletKind(ProgramKind):
 
     @classmethod
     def verify_cases(cls, cell, source, count: int, seed: int) -> list:
-        return verify.verify_cases(cell, source.index, seed)
+        return verify.verify_cases(cell, source, seed)
 
     @classmethod
     def setup(cls, cell, source, case):
-        return verify.setup(cell, source.index, source.target, case)
+        return verify.setup(cell, source, case)
 
     @classmethod
     def judge(cls, cell, source, case, trace, setup):
-        return verify.judge(cell, source.index, source.target, case)
+        return verify.judge(cell, source, case, trace)
 
     @classmethod
     def describe(cls, cell, case) -> str:
-        return f"layer {case.data.layer} box {case.data.box}"
+        run = case.data
+        pallet = "" if run.pallet < 0 else f"pallet {pallets_of(cell)[run.pallet].name} "
+        return f"{pallet}layer {run.case.layer} box {run.case.box}"
 
     @classmethod
     def new_figures(cls):

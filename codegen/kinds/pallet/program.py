@@ -1,4 +1,5 @@
-"""Template variables of a stacking program: the pallet's frame, pattern tables and cycle as data, the counters."""
+"""Template variables of a pallet program: the pallet's frame, pattern tables and cycle as data, the counters and where
+they are kept, the interlocks, the carried payload, the blending zone, the way home and the messages."""
 
 from __future__ import annotations
 
@@ -9,17 +10,20 @@ import numpy as np
 from codegen import derived
 from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import (
-    above_pick,
+from codegen.kinds.pallet.cycle import above_pick, layer_counts, safe_pose, sheet_below, start_counters
+from codegen.kinds.pallet.facts import facts
+from codegen.kinds.pallet.interlocks import counter_register
+from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
     full_message,
     held_message,
-    layer_counts,
+    message_limit,
+    select_message,
+    wait_message,
 )
-from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.patterns import layout
-from codegen.kinds.pallet.reach import PICK_KEY, configurations
+from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEET_KEY, configurations
 from codegen.kinds.pallet.section import Pallet, pallets_of
 from codegen.kinds.pallet.stack import sides
 from codegen.model.cell import TaughtPose
@@ -27,60 +31,117 @@ from codegen.poses import zyx_deg_from_rotmat
 from codegen.render import configuration_literal
 
 LEVEL_TOL = 1e-9  # a level pallet: its z is the base's z (a dialect without a pose product needs one)
+POLL_S = 0.05  # how often a program looks at an interlock input while it waits for it (as the gripper's feedback)
 
 
-def pallet_file_names(target, pallet_ident: str) -> list[str]:
-    return [name.format(pallet=pallet_ident.lower()) for name in facts(target)["files"]]
+def file_name(target, pattern: str, own: dict) -> str:
+    """A file of one pallet's program: the pattern with the pallet's identifier, the store with the store's (a
+    data list is named as its DEFDAT)."""
+    if pattern == facts(target).get("store") and "store" in own:
+        return own["store"].lower() + pattern[pattern.index(".") :]
+    return pattern.format(pallet=own["ident"].lower())
 
 
-def counter_registers(target, index: int) -> tuple[int, int] | None:
-    """The registers of pallet `index`'s layer and box counters, where the controller keeps them outside
-    the program (targets/<t>.toml pallet_registers), else None."""
-    first = facts(target).get("registers")
-    if first is None:
+def counter_registers(cell, target, index: int) -> tuple[int, int] | None:
+    """The PLC registers of pallet `index`'s layer and box counters, where the controller keeps them there
+    (targets/<t>.toml [program.pallet] registers; the cell's [pallet.io] registers), else None."""
+    if "registers" not in facts(target):
         return None
-    last = facts(target)["registers_max"]
-    if first + 2 * index + 1 > last:
-        raise EmitError(
-            f"{target.name}: pallet {index + 1}'s counters would need registers {first + 2 * index} and "
-            f"{first + 2 * index + 1}; the controller's last is {last} ({(last - first + 1) // 2} pallets per cell)"
-        )
-    return first + 2 * index, first + 2 * index + 1
+    first = counter_register(pallets_of(cell)[index], index, target.name)
+    return first, first + 1
 
 
-def counter_names(target, index: int) -> tuple[str, str]:
-    """The names of pallet `index`'s layer and box counters (`codegen run --input`, verify)."""
-    names, registers = facts(target)["counters"], counter_registers(target, index)
-    numbers = {"layer": registers[0], "box": registers[1]} if registers else {}
-    return names["layer"].format(**numbers), names["box"].format(**numbers)
+def counter_names(cell, target, index: int) -> tuple[str, str]:
+    """The names of pallet `index`'s layer and box counters (`codegen run --input`, verify): registers, or the
+    identifiers of the store (each pallet's own, where the store holds several)."""
+    names, registers = facts(target)["counters"], counter_registers(cell, target, index)
+    if registers is not None:
+        return names["layer"].format(layer=registers[0]), names["box"].format(box=registers[1])
+    idents = identifiers(cell, target)[index]
+    return idents["layer"], idents["box"]
 
 
-def pallet_identifiers(cell, target) -> list[str]:
-    """Each pallet's program identifier ("pal_" and its name); the counters' names are taken first, so a
-    pallet whose program would be named like a counter is refused (EmitError naming both)."""
+def identifiers(cell, target) -> list[dict]:
+    """Per pallet, the identifiers its program uses that the cell names: the program ("pal_" and the pallet's name),
+    its counters and its store; the generator's own and the counters' are taken first, so a pallet whose program
+    would be named like one of them is refused (EmitError naming both)."""
     emitter = Emitter(target)
     if cell.stations:  # the vision program's name (and so its files' names)
         emitter.identifier("", cell.name, "the cell's program")
-    for index in range(len(pallets_of(cell))):
-        for name in counter_names(target, index):
-            emitter.reserve(name, f"the pallet counter {name}")
-    return [emitter.identifier("pal_", p.name, f"pallet {p.name!r}") for p in pallets_of(cell)]
+    for name in facts(target)["files"]:
+        if "{pallet}" not in name:
+            emitter.reserve(name.split(".")[0], f"the pallet task's module {name}")
+    out = []
+    pallets = pallets_of(cell)
+    patterns = facts(target)["counters"]
+    for pallet in pallets:
+        own = {}
+        if "{pallet}" in patterns["layer"]:  # each pallet's counters in a store of several: their own names
+            for key in ("layer", "box"):
+                own[key] = emitter.identifier("pal_", f"{pallet.name}_{key}", f"pallet {pallet.name!r}'s {key} counter")
+        elif "registers" not in facts(target):  # the program's own variables, one pair per program
+            for key in ("layer", "box"):
+                own[key] = emitter.reserve(patterns[key], f"the pallet counter {patterns[key]}")
+        out.append(own)
+    for pallet, own in zip(pallets, out, strict=True):
+        own["ident"] = emitter.identifier("pal_", pallet.name, f"pallet {pallet.name!r}")
+        if facts(target).get("task"):  # its entry routine, called from the task's main (not named as its module)
+            own["entry"] = emitter.identifier("pal_", f"{pallet.name}_run", f"pallet {pallet.name!r}'s program")
+        store = facts(target).get("store", "")
+        if "{pallet}" in store:
+            stem = store.split(".")[0].replace("{pallet}", "")
+            own["store"] = emitter.identifier("pal_", f"{pallet.name}{stem}", f"pallet {pallet.name!r}'s counters")
+    return out
 
 
-def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter) -> dict:
-    """Numbers in the target's notation: the frame (pallet2base), the patterns of the cycle flattened
-    into one table (x, y mm, angle deg counterclockwise; each pattern's first row and count), the
-    cycle as pattern numbers, the layer heights, the offsets of entry, approach and retreat, the tool's
-    orientation at angle 0, the pick pose and the pose above it, the configuration of each row's entry and
-    of the pose above Q (with an arm: chosen at generate time, codegen/pallet/reach.py), the counters' names
-    and the stop messages."""
+def pallet_identifiers(cell, target) -> list[str]:
+    return [own["ident"] for own in identifiers(cell, target)]
+
+
+def carried_load(cell, pallet: Pallet) -> tuple[float, float, float, float] | None:
+    """The payload while the box is in the gripper: the tool's and the box's mass and their common centre of
+    gravity in the flange frame (each target's payload instruction); None: no box mass or no tool given."""
+    robot = cell.robot
+    if robot is None or not robot.tool_given or pallet.box_mass_kg == 0:
+        return None
+    tool = robot.tool
+    box_cog = tool.tcp2flange[:3, :3] @ np.asarray(pallet.box_cog_mm) + tool.tcp2flange[:3, 3]
+    mass = tool.mass_kg + pallet.box_mass_kg
+    cog = (tool.mass_kg * np.asarray(tool.cog_mm) + pallet.box_mass_kg * box_cog) / mass
+    return (mass, *(float(v) for v in cog))
+
+
+def _xyzabc(pose) -> tuple[float, ...]:
+    return tuple(float(v) for v in (*pose[:3, 3], *zyx_deg_from_rotmat(pose[:3, :3])))
+
+
+def _load(emitter, values) -> dict:
+    """A payload: mass (kg), centre of gravity in mm and in m."""
+    return {
+        "mass": emitter.number(values[0], 3),
+        "cog": [emitter.number(v, 4) for v in values[1:]],
+        "cog_m": [emitter.number(v / 1000.0, 7) for v in values[1:]],
+    }
+
+
+def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
+    """Numbers in the target's notation: the frame (pallet2base), the patterns of the cycle flattened into one table
+    (x, y mm, angle deg counterclockwise; each pattern's first row and count), the cycle as pattern numbers, the
+    layer heights, the offsets of entry, approach and retreat, the tool's orientation at angle 0, the pick pose and
+    the pose above it, the slip sheets' pick, the safe pose of the way home, the configuration of each joint move's
+    pose (with an arm: chosen at generate time, codegen/kinds/pallet/reach.py), the counters and their store, the
+    interlocks, the payload, the zone and the messages."""
     number = emitter.number
+    limit = message_limit(cell)
     frame = frame_matrix(pallet)
-    frame_xyzabc = _xyzabc(frame)
     named = configurations(cell, pallet, target.name)
+    own = identifiers(cell, target)[index]
 
     def conf(key) -> dict | None:
         return None if named is None else {**configuration_literal(target, named.values[key]), "named": True}
+
+    def pose(name: str, matrix: np.ndarray) -> list[str]:
+        return emitter.pose(TaughtPose(name, _xyzabc(matrix), "xyzabc"))
 
     names = list(dict.fromkeys(pallet.cycle))  # each pattern once, in the cycle's order
     rows, patterns = [], []
@@ -103,11 +164,43 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
         )
     level = bool(np.allclose(frame[:3, 2], (0.0, 0.0, 1.0), atol=LEVEL_TOL))
     counts = layer_counts(pallet)
+    first = start_counters(pallet)
+    load = carried_load(cell, pallet)
+    box_tcp = (pallet.box_mass_kg, *pallet.box_cog_mm)
+    registers = counter_registers(cell, target, index)
+    layer_name, box_name = counter_names(cell, target, index)
+    timeout = pallet.io.timeout_s
+    sheet = None
+    if pallet.slip_pick is not None:
+        above_sheet = pallet.slip_pick.matrix().copy()
+        above_sheet[2, 3] += pallet.slip_lift
+        sheet = {
+            "pick": emitter.pose(pallet.slip_pick),
+            "above": pose("above_sheet", above_sheet),
+            "lift": number(pallet.slip_lift, 4),
+            "x": number(pallet.size[0] / 2, 4),
+            "y": number(pallet.size[1] / 2, 4),
+            "conf": conf(SHEET_KEY) if named is not None and SHEET_KEY in named.values else None,
+            "entry_conf": conf(SHEET_ENTRY_KEY) if named is not None and SHEET_ENTRY_KEY in named.values else None,
+            "layers": [n for n in range(2, pallet.layers + 1) if sheet_below(pallet, n)],
+        }
+    interlocks = {
+        owned(name): {
+            "signal": _signal(emitter, target, signals[target.name]),
+            "message": emitter.string(wait_message(pallet, name, limit)),
+        }
+        for name, signals in pallet.io.inputs().items()
+    }
+    reset = pallet.io.reset.get(target.name)
+    select = pallet.io.select.get(target.name)
+    zone = pallet.zone_mm
     return {
         "name": emitter.comment(pallet.name),
-        "ident": ident,
-        "file": ident.lower(),
-        "frame": emitter.pose(TaughtPose("frame", tuple(float(v) for v in frame_xyzabc), "xyzabc")),
+        "ident": own["ident"],
+        "entry": own.get("entry", own["ident"]),
+        "file": own["ident"].lower(),
+        "index": index + 1,
+        "frame": emitter.pose(TaughtPose("frame", _xyzabc(frame), "xyzabc")),
         "frame_rotation": [[number(v, 9) for v in row] for row in frame[:3, :3]],
         "frame_origin": [number(v, 4) for v in frame[:3, 3]],
         "level": level,
@@ -121,28 +214,68 @@ def pallet_context(cell, pallet: Pallet, index: int, ident: str, target, emitter
         "box_height": number(pallet.box[2], 4),
         "slip_every": pallet.slip_every,
         "slip_thickness": number(pallet.slip_thickness, 4),
+        "sheet": sheet,
         "entry_dz": number(pallet.entry_dz, 4),
         "approach": [number(v, 4) for v in pallet.approach],
         "retreat": [number(v, 4) for v in pallet.retreat],
         "tool_orientation": [number(v, 6) for v in pallet.tool_orientation],
         "tool": emitter.pose(TaughtPose("tool", (0.0, 0.0, 0.0, *pallet.tool_orientation), "xyzabc")),
         "pick": emitter.pose(pallet.pick),
-        "pick_above": emitter.pose(TaughtPose("above_q", _xyzabc(above_pick(pallet)), "xyzabc")),
+        "pick_above": pose("above_q", above_pick(pallet)),
         "pick_lift": number(pallet.pick_lift, 4),
         "pick_conf": conf(PICK_KEY),
-        "registers": counter_registers(target, index),
+        "safe": pose("safe", frame @ safe_pose(pallet)),
+        "safe_conf": conf(SAFE_KEY),
+        "way_home_mm": number(cell.motion.retreat_mm, 4),
+        "way_home_m": number(cell.motion.retreat_mm / 1000.0, 6),
+        "registers": registers,
+        "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name
+        "store": own.get("store"),
+        "start": {"layer": first[0], "box": first[1]},
         "auto": pallet.approach_auto,
         "unstack": pallet.mode == "unstack",  # take the boxes off, top layer first, each layer in reverse
         "top_count": counts[pallet.layers],
-        "empty": emitter.string(empty_message(pallet)),
-        "full": emitter.string(full_message(pallet)),
-        "held": emitter.string(held_message(pallet)),
-        "bad_counters": emitter.string(counters_message(pallet)),
+        "load": None if load is None else _load(emitter, load),
+        "box_load": None if pallet.box_mass_kg == 0 else _load(emitter, box_tcp),
+        "zone": None if zone == 0 else {"mm": number(zone, 1), "m": number(zone / 1000.0, 4)},
+        "zone_ori_mm": number(1.5 * zone, 1),  # a RAPID zonedata scaled as the predefined zN are: 1.5 N mm, 0.15 N deg
+        "zone_deg": number(0.15 * zone, 2),
+        "joint_blend": facts(target).get("joint_blend", True) and zone > 0,
+        "interlocks": interlocks,
+        "timeout_s": number(timeout, 3),
+        "timeout_text": emitter.comment(f"{timeout:g}"),
+        "polls": signal_polls_for(timeout),
+        "poll_s": number(POLL_S, 2),
+        "reset": None if reset is None else _signal(emitter, target, reset),
+        "select": None if select is None else _signal(emitter, target, select),
+        "empty": emitter.string(empty_message(pallet, limit)),
+        "full": emitter.string(full_message(pallet, limit)),
+        "held": emitter.string(held_message(pallet, limit)),
+        "bad_counters": emitter.string(counters_message(pallet, limit)),
+        "release": emitter.comment(facts(target).get("minimum_release", "")),
     }
 
 
-def _xyzabc(pose) -> tuple[float, ...]:
-    return tuple(float(v) for v in (*pose[:3, 3], *zyx_deg_from_rotmat(pose[:3, :3])))
+def signal_polls_for(timeout_s: float) -> int:
+    return math.ceil(timeout_s / POLL_S - 1e-9)
+
+
+def _signal(emitter, target, value) -> str:
+    """An input as the program names it: its number, or its configured name (an identifier of the program)."""
+    if isinstance(value, int):
+        return emitter.number(value, 0)
+    return emitter.identifier("", value, f"the signal {value}")
+
+
+def task_context(cell, target, emitter, contexts: list[dict]) -> dict:
+    """What the task's own modules print (a controller whose pallet programs share one task): the main module
+    starting the program whose select input is on, and the store of every pallet's counters."""
+    return {
+        "pallets": contexts,
+        "no_select": emitter.string(select_message()),
+        "main": owned(facts(target)["files"][0].split(".")[0]),
+        "data": owned(facts(target)["store"].split(".")[0]),
+    }
 
 
 def check_level(pallet: Pallet, target) -> None:
@@ -154,3 +287,16 @@ def check_level(pallet: Pallet, target) -> None:
             f"pallet {pallet.name!r}: the {target.name} program needs a level pallet (its z the base's z): "
             "the dialect has no pose product to tilt the boxes"
         )
+
+
+__all__ = [
+    "carried_load",
+    "check_level",
+    "counter_names",
+    "counter_registers",
+    "file_name",
+    "identifiers",
+    "pallet_context",
+    "pallet_identifiers",
+    "task_context",
+]

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.pallet.cycle import PalletCase, expected, layer_counts
+from codegen.kinds.pallet.analysis import frame_matrix
+from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, expected, safe_pose, start_counters
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
@@ -32,11 +33,15 @@ class PalletReach(Margins):
 
 def full_cycle(cell, pallet):
     """The moves of a whole stack (or unstack) from its first box, as the reference has them."""
-    first = (1, 1) if pallet.mode == "stack" else (pallet.layers, layer_counts(pallet)[pallet.layers])
-    return expected(cell, pallet, PalletCase("full", *first)).moves
+    return expected(cell, pallet, PalletCase("full", *start_counters(pallet))).moves
 
 
-PICK_KEY = "Q"  # the configuration key of the joint move above Q (a box's key: its pattern and number)
+# The configuration keys of the joint moves (a box's entry: its pattern and number)
+PICK_KEY = "Q"  # above Q
+SHEET_KEY = "sheet stack"  # above the slip sheets' stack
+SHEET_ENTRY_KEY = "sheet entry"  # above a slip sheet's place on the pallet
+SAFE_KEY = "safe"  # above the pallet's centre, on the way home after a stop
+SAFE_NAME = "safe above the pallet"  # the way home's move there (codegen/kinds/pallet/verify.py)
 
 
 @dataclass(frozen=True)
@@ -50,16 +55,32 @@ class Named:
 
     def key(self, pallet, move) -> object:
         """The configuration key of a joint move (by its reference name), None: a move that names none."""
-        words = move.name.split()
-        if move.kind != "joint" or words[0] != "layer":
+        if move.kind != "joint":
             return None
         if move.name.endswith("above Q"):
             return PICK_KEY
+        if move.name == SAFE_NAME:
+            return SAFE_KEY
+        words = move.name.split()
+        if words[0] != "layer":
+            return None
+        if words[2] == "sheet":
+            return SHEET_KEY if move.name.endswith("sheet stack") else SHEET_ENTRY_KEY
         return (pattern_of(pallet, int(words[1])), int(words[3])) if words[-1] == "entry" else None
 
 
-def joints_of(cell, target: str, moves, where: str, pallet=None, named: Named | None = None) -> list[np.ndarray]:
-    """Each move's joints for the target's arm with the cell's tool, from home: a joint move to a pose the
+def _branch(arm, joints: np.ndarray) -> int:
+    """The analytic branch (configuration) of given joints."""
+    solutions = solve.branches(arm, arm.kin.fk(joints)[None])[0]
+    _, chosen = solve.nearest(arm, solutions, joints)
+    return int(chosen)
+
+
+def joints_of(
+    cell, target: str, moves, where: str, pallet=None, named: Named | None = None, start=None
+) -> list[np.ndarray]:
+    """Each move's joints for the target's arm with the cell's tool, from home (or the start joints): a joint
+    move to a pose the
     program names a configuration for (named) takes the solution of that configuration (the controller's
     rule: codegen/robot/config.py), another joint move the solution nearest the joints before it (the
     rule where the program names none); a linear move keeps the configuration (its branch) and may not
@@ -68,7 +89,8 @@ def joints_of(cell, target: str, moves, where: str, pallet=None, named: Named | 
     arm = robot.arms[target]
     poses = np.array([m.tcp2base for m in moves]).reshape(-1, 4, 4)
     solutions = solve.branches(arm, solve.flange_poses(poses, robot.tool.tcp2flange))
-    q, branch, out = np.asarray(robot.home[target], dtype=float), None, []
+    q = np.asarray(robot.home[target] if start is None else start, dtype=float)
+    branch, out = None if start is None else _branch(arm, q), []
     for move, sols in zip(moves, solutions, strict=True):
         at = f"{where} {move.name} ({target}, {arm.model})"
         key = None if named is None else named.key(pallet, move)
@@ -110,7 +132,14 @@ def configurations(cell, pallet, target: str) -> Named | None:
         key = named.key(pallet, move)
         if key is not None and key not in values:
             values[key] = FORMS[form].of(arm, joints)
+    safe = [safe_move(cell, pallet)]  # the way home's pose above the pallet: as reached from home
+    values[SAFE_KEY] = FORMS[form].of(arm, joints_of(cell, target, safe, f"pallet {pallet.name!r}")[0])
     return Named(form, values)
+
+
+def safe_move(cell, pallet):
+    """The way home's joint move above the pallet's centre (tcp2base)."""
+    return ExpectedMove("joint", frame_matrix(pallet) @ safe_pose(pallet), SAFE_NAME, cell.motion.speed_mm_s, True)
 
 
 def check_pallet(cell, pallet, target: str) -> PalletReach:
@@ -124,6 +153,8 @@ def check_pallet(cell, pallet, target: str) -> PalletReach:
     named = configurations(cell, pallet, target)
     worst_joint, worst_wrist, worst = np.inf, np.inf, ""
     planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
+    moves = [*moves, safe_move(cell, pallet)]  # and the way home's pose above the pallet, from home
+    planned += joints_of(cell, target, moves[-1:], f"pallet {pallet.name!r}", pallet, named)
     for move, joints in zip(moves, planned, strict=True):
         joint, wrist = margins(arm, joints)
         if joint < worst_joint:

@@ -1,18 +1,21 @@
-"""Verify stacking programs: each case's setup and the float64 reference's moves, outputs and counters as the plan."""
+"""Verify pallet programs: each case's setup and the float64 reference's moves, payload, outputs and counters as the
+plan; the way home after a stop; the counters where a reload leaves them."""
 
 from __future__ import annotations
 
 import random
+import re
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
-from codegen.kinds.pallet.cycle import PalletCase, cases, expected
+from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, done_counters, expected, items, start_counters
 from codegen.kinds.pallet.facts import facts
-from codegen.kinds.pallet.program import counter_names, counter_registers
-from codegen.kinds.pallet.reach import configurations, joints_of
+from codegen.kinds.pallet.messages import select_message
+from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers
+from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
@@ -21,6 +24,7 @@ from codegen.robot.taught import ReachError
 from codegen.sim.gripper import Gripper
 from codegen.verify.plan import (
     START_AWAY_DEG,
+    TOOL_LOAD,
     Case,
     Expectation,
     Judgement,
@@ -28,10 +32,12 @@ from codegen.verify.plan import (
     PlannedOutput,
     Setup,
     Stored,
-    refuses_start,
 )
 
-# A pallet case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS; the others are its own)
+FORMS_PER_PALLET = 2  # codegen/kinds/pallet/kind.py: a plan's index is 2 x its pallet's + its form
+
+# A pallet case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS, or the kind's own: a box or a
+# sheet that never comes, the pallet not in place, the counters as a reload leaves them)
 SCENARIO_OF = {
     "gripper_silent": "gripper_silent",
     "gripper_stuck_at_target": "gripper_stuck",
@@ -40,49 +46,133 @@ SCENARIO_OF = {
     "bad_counters": "reading_out_of_range",
     "start_away": "start_away",
     "start_mid_cycle": "start_mid_cycle",
+    "part_missing": "part_missing",
+    "place_not_clear": "part_missing",
+    "sheet_missing": "part_missing",
+    "pallet_absent": "pallet_absent",
+    "counters_reloaded": "counters_reloaded",
 }
 SCENARIOS = {
-    "start_away": "",
-    "start_mid_cycle": "",
+    "start_away": "",  # the way home: back along the tool's z, above the pallet, home
+    "start_mid_cycle": "",  # at a box's target, as a stop leaves the arm: the way home, then the next box
     "gripper_silent": "",
     "gripper_stuck": "",
     "device_late": "",  # the gripper confirms late, within its timeout
     "device_silent": "its one device is the gripper: gripper_silent and gripper_stuck are its silences",
     "reading_out_of_range": "",  # the counters the cell PLC or the operator set, out of the stack
 }
+MISSING = {"part_missing": "part_present", "place_not_clear": "place_clear", "sheet_missing": "sheet_ready"}
 
 
-def verify_cases(cell, index: int, seed: int) -> list[Case]:
-    """The pallet's cases (codegen/kinds/pallet/cycle.py) and the common ones made from its first: the gripper
-    late within its timeout, the arm away from home, the arm where a stopped cycle left it (at a box's target)."""
+@dataclass(frozen=True)
+class PalletRun:
+    """One case of a program: which of the cell's pallets it works (a task runs several) and the reference's case."""
+
+    pallet: int
+    case: PalletCase
+
+
+def pallet_indices(cell, source) -> list[int]:
+    """The pallets a program works: every one where the target runs them in one task, else the plan's."""
+    if facts(get_target(source.target)).get("task"):
+        return list(range(len(pallets_of(cell))))
+    return [source.index // FORMS_PER_PALLET]
+
+
+def own_cases(pallet, rng) -> list[PalletCase]:
+    """The whole pallet from its first item; restarts at random items and at the last (the counters preset, as a
+    restart finds them), at a slip sheet; a full (empty) pallet, reset by the PLC or not, the reset ignored on a
+    pallet not done; counters out of range; the gripper never closing or never opening; an interlock input that
+    never comes on; the counters mid-pallet in their store after a reload of the program."""
+    todo = items(pallet)
+    keys = [item.key for item in todo]
+    first, done = start_counters(pallet), done_counters(pallet)
+    stack = pallet.mode == "stack"
+    out = [PalletCase("full_stack" if stack else "full_unstack", *first)]
+    out += [PalletCase("restart", *keys[rng.randrange(len(keys))]) for _ in range(3)]
+    out.append(PalletCase("restart", *keys[-1]))
+    out += [PalletCase("restart", *key) for key in keys if key[1] == 0][:1]  # a slip sheet next
+    out.append(PalletCase("pallet_full" if stack else "pallet_empty", *done))
+    if pallet.io.reset:
+        out.append(PalletCase("pallet_changed", *done, reset=True))
+        out.append(PalletCase("reset_ignored", *keys[len(keys) // 2], reset=True))
+    counts = {}
+    for layer, number in keys:
+        counts[layer] = max(counts.get(layer, 0), number)
+    bad = [(0, 1), (1, counts[1] + 1), (pallet.layers + 1, 2), (2, 0) if (2, 0) not in keys else (1, 0)]
+    out += [PalletCase("bad_counters", *key) for key in bad if key not in keys and key != done]
+    out += [PalletCase("gripper_silent", *first, "silent"), PalletCase("held_at_start", *first, closed=True)]
+    if stack:  # it never lets the box go at the target: the counters must stay at that box
+        last_of_2 = max(key for key in keys if key[0] == min(2, pallet.layers))
+        out.append(PalletCase("gripper_stuck_at_target", *last_of_2, "stuck"))
+        out.append(PalletCase("part_missing", *first, missing="part_present"))
+        sheets = [key for key in keys if key[1] == 0]
+        if sheets:
+            out.append(PalletCase("sheet_missing", *sheets[0], missing="sheet_ready"))
+    else:
+        out.append(PalletCase("gripper_stuck_at_q", *first, "stuck"))
+        out.append(PalletCase("place_not_clear", *first, missing="place_clear"))
+    out.append(PalletCase("pallet_absent", *keys[min(2, len(keys) - 1)], missing="pallet_present"))
+    out.append(PalletCase("counters_reloaded", *keys[len(keys) // 3]))
+    return out
+
+
+def verify_cases(cell, source, seed: int) -> list[Case]:
+    """Each pallet's cases and the common ones made from its first: the gripper late within its timeout, the arm away
+    from home, the arm where a stopped cycle left it (at a box's target); a task with several pallets: none selected."""
+    out = []
+    for index in pallet_indices(cell, source):
+        own = own_cases(pallets_of(cell)[index], random.Random(seed + index))
+        first = own[0]
+        own += [
+            replace(first, category="gripper_late", gripper="late"),
+            replace(first, category="start_away"),
+            replace(first, category="start_mid_cycle"),
+        ]
+        out += [Case(c.category, PalletRun(index, c), SCENARIO_OF.get(c.category, c.category), _start(c)) for c in own]
+    if len(pallet_indices(cell, source)) > 1:  # the task's main: no pallet selected
+        first = out[0].data
+        out.append(Case("none_selected", PalletRun(-1, first.case), "none_selected"))
+    return out
+
+
+def _start(case: PalletCase) -> str:
+    return {"start_away": "away", "start_mid_cycle": "mid_cycle"}.get(case.category, "home")
+
+
+def _signals(cell, target, pallet, case: PalletCase, select: int | None, all_pallets) -> dict:
+    """The inputs at the start: the gripper's feedback, each interlock on (but the one a case leaves off), the PLC's
+    reset, the select inputs of a task (this pallet's on)."""
+    out = {signal_name(target, "input", cell.io.feedback[target.name]): case.closed}
+    for name, signals in pallet.io.inputs().items():
+        out[signal_name(target, "input", signals[target.name])] = name != case.missing
+    if target.name in pallet.io.reset:
+        out[signal_name(target, "input", pallet.io.reset[target.name])] = case.reset
+    for i, other in enumerate(all_pallets):
+        if target.name in other.io.select:
+            out[signal_name(target, "input", other.io.select[target.name])] = i == select
+    return out
+
+
+def setup(cell, source, case: Case) -> Setup:
+    target, run = get_target(source.target), case.data
+    index = max(run.pallet, 0)
     pallet = pallets_of(cell)[index]
-    own = cases(pallet, random.Random(seed))
-    first = own[0]
-    extra = [
-        replace(first, category="gripper_late", gripper="late"),
-        replace(first, category="start_away"),
-        replace(first, category="start_mid_cycle"),
-    ]
-    return [Case(c.category, c, SCENARIO_OF.get(c.category, c.category), _start(c.category)) for c in own + extra]
-
-
-def _start(category: str) -> str:
-    return {"start_away": "away", "start_mid_cycle": "mid_cycle"}.get(category, "home")
-
-
-def setup(cell, index: int, target_name: str, case: Case) -> Setup:
-    target, pallet_case = get_target(target_name), case.data
-    layer_name, box_name = counter_names(target, index)
-    output = signal_name(target, "output", cell.io.output[target_name])
-    feedback = signal_name(target, "input", cell.io.feedback[target_name])
+    layer_name, box_name = counter_names(cell, target, index)
+    output = signal_name(target, "output", cell.io.output[target.name])
+    feedback = signal_name(target, "input", cell.io.feedback[target.name])
     late = LATE_SHARE * cell.io.timeout_s
-    gripper = Gripper(output, feedback, cell.io.value, pallet_case.gripper, late)
+    gripper = Gripper(output, feedback, cell.io.value, run.case.gripper, late)
+    select = None if run.pallet < 0 else run.pallet
+    counters = {layer_name: run.case.layer, box_name: run.case.box}
+    if case.category == "counters_reloaded" and not _reload_proof(target):
+        counters = {}  # a reload cleared the program's own variables: they hold what their declaration gives
     return Setup(
-        {layer_name: pallet_case.layer, box_name: pallet_case.box, **tool_inputs(cell, target_name)},
+        {**counters, **tool_inputs(cell, target.name)},
         (gripper,),
-        {feedback: pallet_case.closed},
-        _start_joints(cell, index, target_name, case),
-        kept_names(target, index),
+        _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
+        _start_joints(cell, index, source.target, case),
+        kept_names(cell, target, index),
     )
 
 
@@ -93,74 +183,139 @@ def _start_joints(cell, index: int, target_name: str, case: Case):
     if case.start == "away":
         return home[1] + np.array(START_AWAY_DEG)
     if case.start == "mid_cycle":  # where a stopped cycle leaves the arm: at its first box's target, released
-        want = expected(cell, pallets_of(cell)[index], case.data)
+        pallet = pallets_of(cell)[index]
+        want = expected(cell, pallet, case.data.case)
         target_move = next(i for i, m in enumerate(want.moves) if m.name.endswith("target"))
-        named = configurations(cell, pallets_of(cell)[index], target_name)
-        return joints_of(cell, target_name, want.moves, "restart", pallets_of(cell)[index], named)[target_move]
+        named = configurations(cell, pallet, target_name)
+        return joints_of(cell, target_name, want.moves, "restart", pallet, named)[target_move]
     return np.asarray(cell.robot.home[target_name], dtype=float)
 
 
-def kept_names(target, index: int) -> tuple[str, str]:
-    """Where the run leaves the counters: the program's own persistent variables, or the outputs it reports
-    them in (the [program.pallet] table's `kept`)."""
+def kept_names(cell, target, index: int) -> tuple[str, str]:
+    """Where the run leaves the counters: their store, or the outputs the program reports them in (the
+    [program.pallet] table's `kept`)."""
     names = facts(target).get("kept")
     if names is None:
-        return counter_names(target, index)
-    registers = counter_registers(target, index)
+        return counter_names(cell, target, index)
+    registers = counter_registers(cell, target, index)
     return names["layer"].format(layer=registers[0]), names["box"].format(box=registers[1])
 
 
-def judge(cell, index: int, target_name: str, case: Case) -> Judgement:
-    """The reference's moves (home first, with an arm), the gripper's outputs and the counters at the end; a
-    start away from home or mid-cycle: the target's restart rule (refused at home-only targets)."""
-    pallet, target = pallets_of(cell)[index], get_target(target_name)
-    pallet_case: PalletCase = case.data
+def judge(cell, source, case: Case, trace) -> Judgement:
+    """The reference's moves (with an arm: the way home from where the arm starts, then home), the payload at each,
+    the gripper's outputs and the counters at the end; after a reload, the counters in their store alone."""
+    target, run = get_target(source.target), case.data
+    if run.pallet < 0:  # a task whose select inputs are all off: it stops before any move
+        return Judgement([Expectation(Emitter(target).string(select_message()), (), ())])
+    pallet = pallets_of(cell)[run.pallet]
+    pallet_case = run.case
+    if case.category == "counters_reloaded" and not _reload_proof(target):
+        pallet_case = replace(pallet_case, layer=0, box=0)  # declared without a value: 0 after the reload
     want = expected(cell, pallet, pallet_case)
-    home = home_move(cell, target_name)
-    message = refuses_start(cell, target, case)
-    layer_name, box_name = kept_names(target, index)
-    start_counters = (pallet_case.layer, pallet_case.box)
-    if message is not None:
-        stored = _stored(layer_name, box_name, start_counters, start_counters)
-        return Judgement([Expectation(message, (), (), stored)])
-    output = signal_name(target, "output", cell.io.output[target_name])
-    moves = list(want.moves)
-    outputs = [PlannedOutput(output, value, after, "gripper") for value, after in want.outputs]
-    planned = [PlannedMove(m.name, m.kind, m.tcp2base, m.exact, m.speed_mm_s, 0.0, _percent(cell, m)) for m in moves]
-    planned_joints = None
-    if home is not None and (moves or outputs):  # with an arm the program goes home first
-        planned.insert(
-            0,
-            PlannedMove(
-                "home", home[0].kind, home[0].tcp2base, True, None, 0.0, _percent(cell, home[0]), joints=home[1]
-            ),
+    layer_name, box_name = kept_names(cell, target, run.pallet)
+    output = signal_name(target, "output", cell.io.output[target.name])
+    load = carried_load(cell, pallet)
+    zone = pallet.zone_mm
+    joint_blend = facts(target).get("joint_blend", True)
+
+    def planned(m) -> PlannedMove:
+        exact = m.exact or (m.kind == "joint" and not joint_blend) or zone == 0
+        payload = load if m.carrying and load is not None else TOOL_LOAD
+        return PlannedMove(
+            m.name, m.kind, m.tcp2base, exact, m.speed_mm_s, 0.0 if exact else zone, _percent(cell, m), payload=payload
         )
-        outputs = [replace(o, after_moves=o.after_moves + 1) for o in outputs]
+
+    moves = [planned(m) for m in want.moves]
+    outputs = [PlannedOutput(output, value, after, "gripper") for value, after in want.outputs]
+    home = home_move(cell, target.name)
+    planned_joints = None
+    if home is not None and (want.moves or want.outputs):  # with an arm the program goes home first
+        start = _start_joints(cell, run.pallet, target.name, case)
+        way = _way_home(cell, pallet, target, home, start)
+        moves = [*way, *moves]
+        outputs = [replace(o, after_moves=o.after_moves + len(way)) for o in outputs]
 
         def planned_joints() -> list | None:  # by the controller's rule, with the configurations the program names
             try:
-                named = configurations(cell, pallet, target_name)
-                return [home[1], *joints_of(cell, target_name, moves, "verify", pallet, named)]
+                named = configurations(cell, pallet, target.name)
+                head = _way_joints(cell, pallet, target.name, way[:-1], start, named) if len(way) > 1 else []
+                return [*head, home[1], *joints_of(cell, target.name, want.moves, "verify", pallet, named)]
             except ReachError:
                 return None
 
     message = None if want.halt is None else Emitter(target).string(want.halt)
-    stored = _stored(layer_name, box_name, want.counters, start_counters)
-    boxes = sum(1 for m in moves if m.name.endswith("target"))
-    expectation = Expectation(message, tuple(planned), tuple(outputs), stored, planned_joints=planned_joints)
-    return Judgement([expectation], figures=boxes)
+    stored = (
+        Stored(layer_name, want.counters[0], 0.0, "the layer counter", pallet_case.layer),
+        Stored(box_name, want.counters[1], 0.0, "the box counter", pallet_case.box),
+    )
+    boxes = sum(1 for m in want.moves if m.name.endswith("target") and " box " in m.name)
+    expectation = Expectation(message, tuple(moves), tuple(outputs), stored, planned_joints=planned_joints)
+    reloaded = case.category == "counters_reloaded"
+    problem = _declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
+    return Judgement([expectation], figures=boxes, problem=problem)
+
+
+def _reload_proof(target) -> bool:
+    """The counters outlive a reload of the program: kept in a file of their own or in the PLC (targets/<t>.toml
+    [program.pallet] store), not in the program's own variables."""
+    return facts(target).get("store", "program") != "program"
+
+
+def _way_home(cell, pallet, target, home, start) -> list[PlannedMove]:
+    """From where the arm starts: at home, the move home; elsewhere (a stop in the cycle) the way home: (a joint move
+    where the arm stands, where the target's first motion must be one), back along the tool's z by the cell's
+    retreat_mm, above the pallet's centre, home."""
+    tcp2flange = cell.robot.tool.tcp2flange
+    percent = cell.motion.joint_speed_percent
+    home_planned = PlannedMove("home", "joint", home[0].tcp2base, True, None, 0.0, percent, joints=home[1])
+    q = np.asarray(start, dtype=float)
+    if np.max(np.abs(q - home[1])) <= cell.motion.start_tolerance_deg:
+        return [home_planned]
+    arm = cell.robot.arms[target.name]
+    here = arm.kin.fk(q) @ tcp2flange
+    back = here @ np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -cell.motion.retreat_mm], [0, 0, 0, 1.0]])
+    # the first motion a joint move where the arm stands (a BCO run; on every controller the arm's joints are then
+    # the path's start: the retreat keeps its configuration)
+    way = [PlannedMove("where the arm stands", "joint", here, True, None, 0.0, percent, joints=q)]
+    way.append(PlannedMove("back along the tool's z", "linear", back, True, cell.motion.work_speed_mm_s, 0.0))
+    safe = safe_move(cell, pallet)
+    way.append(PlannedMove(safe.name, "joint", safe.tcp2base, True, safe.speed_mm_s, 0.0, percent))
+    return [*way, home_planned]
+
+
+def _way_joints(cell, pallet, target_name: str, way: list[PlannedMove], start, named) -> list:
+    """The way home's joints before home: where the arm stands (a joint move there), the retreat keeping its
+    configuration, the safe pose in the configuration the program names."""
+    head = [np.asarray(start, dtype=float)] if way[0].kind == "joint" else []
+    rest = [ExpectedMove(m.kind, m.tcp2base, m.name, m.speed_mm_s or 0.0, True) for m in way[len(head) :]]
+    return [*head, *joints_of(cell, target_name, rest, "verify: the way home", pallet, named, start=start)]
+
+
+def _declared_outside_store(source, target, names: tuple[str, str]) -> str | None:
+    """After a reload the counters hold what their store kept: a counter declared in another of the program's files
+    (one a regeneration replaces, its value with it) fails."""
+    store = facts(target).get("store", "")
+    words = facts(target).get("declares")
+    if not words or "." not in store:
+        return None
+    # a line whose first words are a declaration's (LOCAL PERS num, DECL GLOBAL INT) and that names the counter
+    pattern = rf"^[ \t]*(?:\w+[ \t]+)*?(?:{'|'.join(map(re.escape, words))})\b[^\n]*\b{{name}}\b"
+    store_suffix = store[store.index(".") :].lower()
+    for f in source.files:
+        name = f.name.rsplit("/", 1)[-1].lower()
+        if name.endswith(store_suffix) and (name.startswith("pallet_data") or name.endswith("_count" + store_suffix)):
+            continue
+        for counter in names:
+            if re.search(pattern.format(name=re.escape(counter)), f.text, re.M | re.I):
+                return (
+                    f"{counter} is declared in {name}, which a regeneration replaces: a reload sets it back "
+                    f"(the counters belong in {store.replace('{pallet}', '<pallet>')} alone)"
+                )
+    return None
 
 
 def _percent(cell, move) -> float | None:
     return cell.motion.joint_speed_percent if move.kind == "joint" else None
-
-
-def _stored(layer_name: str, box_name: str, counters: tuple[int, int], start: tuple[int, int]) -> tuple:
-    """The counters where the program keeps them when it ends (a name never written: the start value stays)."""
-    return (
-        Stored(layer_name, counters[0], 0.0, "the layer counter", start[0]),
-        Stored(box_name, counters[1], 0.0, "the box counter", start[1]),
-    )
 
 
 @dataclass

@@ -19,6 +19,7 @@ from codegen.guard import (
     TAUGHT_RANGE_MM,
 )
 from codegen.kinds.point.commands import correct
+from codegen.kinds.point.keys import KEYS
 from codegen.kinds.point.reference import NAME, PointSpec, Reading, expected_trace
 from codegen.kinds.point.scene import objects as scene_objects
 from codegen.kinds.stations.base import StationKind
@@ -37,7 +38,7 @@ def _ulp32(value: float) -> float:
 class PointKind(StationKind):
     name = NAME
     order = 0
-    station_keys = frozenset({"mark"})
+    cell_file = KEYS
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("deviation",)
     log_names = ("station", "dx1", "dy1", "dx2", "dy2", "dtheta")

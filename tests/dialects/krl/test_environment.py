@@ -157,3 +157,31 @@ def test_workspaces_are_recorded_only():
 def test_pulse_sets_an_output_for_a_time():
     trace = run("PULSE($OUT[6], TRUE, 0.5)\nWAIT SEC 1")
     assert [(o.name, o.value, o.time) for o in trace.outputs] == [("$OUT[6]", True, 0.0), ("$OUT[6]", False, 0.5)]
+
+
+def test_pulse_of_a_signal_name_of_one_output():
+    # SIGNAL SACO $OUT[3] in $config.dat: the name is that one output (a group of several is refused by name)
+    config = "DEFDAT $CONFIG\nSIGNAL SACO $OUT[3]\nSIGNAL PAIR $OUT[4] TO $OUT[5]\nENDDAT\n"
+    main = "DEF CELL()\nPULSE(SACO, TRUE, 0.5)\nWAIT SEC 1\nEND\n"
+    trace = KRL.load_files(files(cell_src=main, config_dat=config)).run({})
+    assert [(o.name, o.value, o.time) for o in trace.outputs] == [("$OUT[3]", True, 0.0), ("$OUT[3]", False, 0.5)]
+    with pytest.raises(RunError, match=r"cell\.src:2:1: PULSE: PAIR is 2 signals \$OUT\[4\] TO \$OUT\[5\]"):
+        KRL.load_files(files(cell_src=main.replace("SACO", "PAIR"), config_dat=config))
+
+
+USER_PDAT = "DEFDAT  $CONFIG\nSTRUC PDAT REAL VEL,ACC,APO_DIST\nDECL PDAT PMINE={VEL 40.0,ACC 50.0,APO_DIST 5.0}\n"
+
+
+def test_a_given_config_dat_s_types_take_the_place_of_the_built_in_ones():
+    # a controller's own $config.dat declares STRUC PDAT (its own components): the built-in's PDAT and its data
+    # written for it (PDEFAULT's APO_MODE...) give way; what the given one lacks (XHOME, FDAT...) is still there
+    main = f"DEF CELL()\n{INI}PTP XHOME\nN = PMINE.VEL + FHOME.TOOL_NO\nEND\n"
+    trace = KRL.load_files(files(cell_src=main, config_dat=USER_PDAT + "DECL REAL N\nENDDAT\n")).run({}, keep=("N",))
+    assert list(trace.moves[0].joints) == [0.0, -90.0, 90.0, 0.0, 0.0, 0.0]
+    assert trace.kept == {"N": 41.0}
+
+
+def test_a_fault_in_a_given_config_dat_names_its_own_line():
+    config = USER_PDAT + "DECL PDAT PBAD={VEL 1.0,APO_MODE #CDIS}\nENDDAT\n"
+    with pytest.raises(RunError, match=r"^\$config\.dat:4:\d+: PDAT has no component APO_MODE"):
+        KRL.load_files(files(cell_src=f"DEF CELL()\n{INI}PTP XHOME\nEND\n", config_dat=config)).run({})

@@ -237,3 +237,9 @@ def test_another_modules_main_routine_is_called_by_its_name_and_its_local_ones_a
     assert KRL.load_files(group).run({}, keep=("TOTAL",)).kept == {"TOTAL": 105}
     with pytest.raises(RunError, match=r"cell\.src:4:1: unknown routine HELPER"):
         KRL.load_files(files(cell_src=main.replace("LIB(5)", "LIB(5)\nHELPER()"), lib_src=lib, lib_dat=lib_dat))
+
+
+def test_elseif_is_named_as_not_krl_with_its_line():
+    body = "N = 1\nIF N == 1 THEN\nN = 2\n  ELSEIF N == 2 THEN\nN = 3\nENDIF"
+    with pytest.raises(RunError, match=r"^t\.src:6:3: syntax error: KRL has no ELSEIF: nest an IF .* or use SWITCH$"):
+        program(body, decls="DECL INT N")

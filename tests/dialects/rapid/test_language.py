@@ -216,3 +216,26 @@ def test_hexadecimal_octal_and_binary_literals():
     assert messages('TPWrite "" \\Num:=0xFF + 0o10 + 0b101;') == ["268"]
     with pytest.raises(RunError, match=r"t\.mod:4:\d+: 0b102 is not a binary number"):
         messages('TPWrite "" \\Num:=0b102;')
+
+
+def test_alternatives_share_the_backslash_of_the_first_one():
+    # RAPID kernel manual, parameter declarations: \switch on | switch off (at most one of them in a call)
+    routines = 'PROC grip(\\switch pick | switch place)\n  IF Present(pick) TPWrite "pick";\n'
+    routines += '  IF Present(place) TPWrite "place";\nENDPROC'
+    assert messages("grip \\pick;\ngrip \\place;\ngrip;", routines=routines) == ["pick", "place"]
+    with pytest.raises(RunError, match=r"\\Pick and \\Place are alternatives|\\Place and \\Pick are alternatives"):
+        messages("grip \\pick \\place;", routines=routines)
+    with pytest.raises(RunError, match=r"only optional parameters \(\\name\) are alternatives"):
+        messages("grip 1;", routines="PROC grip(num a | num b)\nENDPROC")
+
+
+@pytest.mark.parametrize(
+    ("param", "decl", "index"),
+    [("{*,*}", "{2,3} := [[1, 2, 3], [4, 5, 6]]", "{i,3}"), ("{*,*,*}", "{1,2,2} := [[[1, 2], [3, 6]]]", "{1,i,2}")],
+)
+def test_open_array_parameters_of_two_and_three_dimensions(param, decl, index):
+    routines = f"FUNC num pick(num i, num a{param})\n  RETURN a{index} + Dim(a, 2);\nENDFUNC"
+    body = 'TPWrite "" \\Num:=pick(2, grid);'
+    assert messages(body, f"VAR num grid{decl};", routines) == ["9" if param == "{*,*}" else "8"]
+    source = [SourceFile("t.mod", mod(body, f"VAR num grid{decl};", routines))]
+    assert [f.message for f in Rapid.check_files(source)] == []

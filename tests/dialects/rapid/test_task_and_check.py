@@ -189,3 +189,15 @@ def test_the_rapid_modules_import_each_other_without_a_circle():
         return any(n == goal or (n not in seen and reaches(n, goal, (*seen, n))) for n in graph.get(start, ()))
 
     assert [m for m in graph if reaches(m, m)] == []
+
+
+def test_a_folder_of_robotware_7_modules_is_read(tmp_path):
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    (tmp_path / "Main.modx").write_text('MODULE Main\n  PROC main()\n    TPWrite "seven";\n  ENDPROC\nENDMODULE\n')
+    result = CliRunner().invoke(main, ["run", "--target", "abb", str(tmp_path)])
+    assert result.exit_code == 0 and "message: seven" in result.output
+    result = CliRunner().invoke(main, ["run", str(tmp_path)])  # named, not "no program files"
+    assert result.exit_code == 2 and "Main.modx: cannot tell the target from the suffix; use --target" in result.output

@@ -1,0 +1,149 @@
+"""A pallet's [pallet.io]: the cell's inputs the program waits for (box at Q, Q clear, pallet in place, sheet ready),
+the PLC's counter reset and program selection, the PLC registers of the counters; validated by key path."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from codegen.controllers import get_target
+from codegen.kinds.pallet.keys import IO
+from codegen.model.io import per_target
+
+IO_KEYS = IO.allowed
+TIMEOUT_S = IO.default("timeout_s")  # how long the program waits for an interlock before it stops with a message
+
+# What each interlock input says when it is on (the program waits for it), and the operator's message when it does
+# not come on in time
+WAITS = {
+    "part_present": "a box at the pick place",
+    "place_clear": "the pick place clear",
+    "pallet_present": "a pallet in place",
+    "sheet_ready": "a slip sheet ready",
+}
+MISSED = {
+    "part_present": "no box at the pick place",
+    "place_clear": "the pick place is not clear",
+    "pallet_present": "no pallet in place",
+    "sheet_ready": "no slip sheet ready",
+}
+
+
+@dataclass(frozen=True)
+class PalletIO:
+    """Per target, the input (its number or configured name) that is on when: a box lies at Q ready to be picked
+    (stacking), Q is clear to put a box down (unstacking), the pallet stands in place, a slip sheet is ready at the
+    sheet stack; reset: the PLC asks for the counters of a swapped pallet to start again (honoured only on a full
+    or empty pallet); select: the PLC asks for this pallet's program (a controller whose pallet programs share one
+    task, several pallets); registers: the first of the PLC's two integer registers that hold the counters (a
+    controller that keeps them in the PLC). Every wait lasts at most timeout_s, then the program stops with a
+    message."""
+
+    part_present: dict = field(default_factory=dict)
+    place_clear: dict = field(default_factory=dict)
+    pallet_present: dict = field(default_factory=dict)
+    sheet_ready: dict = field(default_factory=dict)
+    reset: dict = field(default_factory=dict)
+    select: dict = field(default_factory=dict)
+    registers: dict = field(default_factory=dict)
+    timeout_s: float = TIMEOUT_S
+
+    def inputs(self) -> dict[str, dict]:
+        """The interlocks the program waits for: name -> (target -> signal), those the cell gives."""
+        return {name: getattr(self, name) for name in WAITS if getattr(self, name)}
+
+
+def parse_io(ctx, table: dict | None, path: str, targets, mode: str, sheets: bool) -> PalletIO:
+    """[pallet.io] of one pallet: pallet_present, and part_present (stacking) or place_clear (unstacking), are
+    required; sheet_ready when the pallet places slip sheets; reset optional; select and registers per target."""
+    where = f"{path}.io"
+    if table is None:
+        ctx.fail(
+            where,
+            "missing: the inputs the program waits for (pallet_present, and part_present when stacking or "
+            "place_clear when unstacking), per target",
+        )
+    ctx.no_unknown(table, IO_KEYS, where)
+    need, refuse = ("part_present", "place_clear") if mode == "stack" else ("place_clear", "part_present")
+    if refuse in table:
+        ctx.fail(f"{where}.{refuse}", f"not an input of a {mode}ing pallet: it waits for {WAITS[need]} ({need})")
+    if "sheet_ready" in table and not sheets:
+        ctx.fail(f"{where}.sheet_ready", "the pallet places no slip sheets (slip_sheet.pick)")
+    signals = {}
+    for key in ("part_present", "place_clear", "pallet_present", "sheet_ready", "reset"):
+        required = key in (need, "pallet_present") or (key == "sheet_ready" and sheets)
+        signals[key] = per_target(ctx, table, key, targets, required, prefix=where)
+    timeout = ctx.number(table, "timeout_s", f"{where}.timeout_s") if "timeout_s" in table else TIMEOUT_S
+    if not IO["timeout_s"].contains(timeout):
+        low, high = IO["timeout_s"].bounds
+        ctx.fail(f"{where}.timeout_s", f"must be between {low:g} and {high:g} s, got {timeout:g}")
+    select_targets = [t for t in targets if _facts(t).get("task")]
+    select = per_target(ctx, table, "select", select_targets, False, prefix=where) if "select" in table else {}
+    if "select" in table:
+        ctx.no_unknown(table["select"], set(select_targets), f"{where}.select")
+    registers = _registers(ctx, table.get("registers"), f"{where}.registers", targets)
+    return PalletIO(**signals, select=select, registers=registers, timeout_s=timeout)
+
+
+def _facts(target: str) -> dict:
+    return get_target(target).kind_tables.get("pallet", {})
+
+
+def _registers(ctx, raw, path: str, targets) -> dict:
+    """The first register of the counters per target that keeps them in the PLC (its facts' range)."""
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict):
+        ctx.fail(path, "expected a table: the first register per target (the layer's; the box's is the next)")
+    out = {}
+    for target, value in raw.items():
+        facts = _facts(target) if target in targets else {}
+        if "registers" not in facts:
+            ctx.fail(f"{path}.{target}", "this target keeps the counters in the program's own data, not in registers")
+        low, high = facts["registers"], facts["registers_max"]
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value < high:
+            ctx.fail(
+                f"{path}.{target}",
+                f"expected a register {low}..{high - 1} (the layer's; the box's is the next, at most {high})",
+            )
+        out[target] = value
+    return out
+
+
+def check_pallets_io(ctx, pallets, targets) -> None:
+    """Across the pallets of a cell: a program selection input per pallet where the programs share one task and the
+    cell has several pallets, and no two pallets' counters in one register."""
+    shared = [t for t in targets if _facts(t).get("task")]
+    if len(pallets) > 1:
+        for i, pallet in enumerate(pallets):
+            for target in shared:
+                if target not in pallet.io.select:
+                    ctx.fail(
+                        f"pallet[{i}].io.select.{target}",
+                        f"missing: the {target} pallet programs run in one task, which starts the one whose select "
+                        "input is on",
+                    )
+    for target in targets:
+        if "registers" not in _facts(target):
+            continue
+        used: dict[int, int] = {}
+        for i, pallet in enumerate(pallets):
+            first = counter_register(pallet, i, target)
+            for register in (first, first + 1):
+                if register in used:
+                    ctx.fail(
+                        f"pallet[{i}].io.registers.{target}",
+                        f"register {register} holds pallet[{used[register]}]'s counters too",
+                    )
+                used[register] = i
+            if first + 1 > _facts(target)["registers_max"]:
+                ctx.fail(
+                    f"pallet[{i}].io.registers.{target}",
+                    f"pallet {i + 1}'s counters would need registers {first} and {first + 1}, beyond "
+                    f"{_facts(target)['registers_max']}: give registers = {{ {target} = n }}",
+                )
+
+
+def counter_register(pallet, index: int, target: str) -> int:
+    """The first of the PLC registers of a pallet's counters: the cell's, or the target's first + 2 per pallet."""
+    given = pallet.io.registers.get(target)
+    return given if given is not None else _facts(target)["registers"] + 2 * index

@@ -1,0 +1,71 @@
+"""The operator messages of a pallet program: each within the shortest string of the cell's controllers, the pallet's
+name shortened where it would not fit, never the instruction."""
+
+from __future__ import annotations
+
+from codegen.controllers import get_target
+from codegen.kinds.pallet.interlocks import MISSED
+from codegen.kinds.pallet.section import Pallet
+from codegen.kinds.pallet.stack import placements
+
+ELLIPSIS = "..."
+
+
+def message_limit(cell) -> int:
+    """The characters an operator message may have in every program of the cell: the shortest string of its targets
+    (targets/<t>.toml string_max: 80 where a message text or a string holds 80), so each program shows the same text."""
+    return min(get_target(name).string_max for name in cell.targets)
+
+
+def _named(pattern: str, pallet: Pallet, limit: int) -> str:
+    """The message with the pallet's name; a name that would make it longer than `limit` shortened to its start and
+    "..." (the emitter would cut the end: what the operator must do)."""
+    text = pattern.format(name=pallet.name)
+    if len(text) <= limit:
+        return text
+    room = max(0, limit - len(pattern.format(name="")) - len(ELLIPSIS))
+    return pattern.format(name=pallet.name[:room] + ELLIPSIS)
+
+
+def _top_count(pallet: Pallet) -> int:
+    return sum(1 for p in placements(pallet) if p.layer == pallet.layers)
+
+
+def full_message(pallet: Pallet, limit: int) -> str:
+    then = "reset its counters from the PLC" if pallet.io.reset else "set layer 1 and box 1"
+    return _named(f"pallet {{name}} is full: swap it, then {then}", pallet, limit)
+
+
+def empty_message(pallet: Pallet, limit: int) -> str:
+    if pallet.io.reset:
+        return _named("pallet {name} is empty: bring a full one, then reset its counters from the PLC", pallet, limit)
+    pattern = f"pallet {{name}} is empty: bring a full one, set layer {pallet.layers} box {_top_count(pallet)}"
+    return _named(pattern, pallet, limit)
+
+
+def held_message(pallet: Pallet, limit: int) -> str:
+    return _named("pallet {name}: a box is in the gripper (sensor on): take it out, start again", pallet, limit)
+
+
+def counters_message(pallet: Pallet, limit: int) -> str:
+    return _named("pallet {name}: layer or box counter out of range", pallet, limit)
+
+
+def wait_message(pallet: Pallet, interlock: str, limit: int) -> str:
+    """The stop after an interlock input stayed off for the timeout (unstacking at Q: the box is in the gripper)."""
+    held = "; the box is in the gripper" if interlock == "place_clear" else ""
+    return _named(f"pallet {{name}}: {MISSED[interlock]} in {pallet.io.timeout_s:g} s{held}", pallet, limit)
+
+
+def select_message() -> str:
+    return "no pallet program selected: the PLC sets one select input"
+
+
+def all_messages(pallet: Pallet, limit: int) -> list[str]:
+    return [
+        full_message(pallet, limit),
+        empty_message(pallet, limit),
+        held_message(pallet, limit),
+        counters_message(pallet, limit),
+        *(wait_message(pallet, name, limit) for name in pallet.io.inputs()),
+    ]

@@ -1,0 +1,412 @@
+"""What a commissioning engineer needs of a pallet program: interlocks from the cell, counters a reload leaves, one ABB
+task, the carried payload, blends, the way home, slip sheets placed, the UR's PLC registers and Script-node form,
+messages within the controller's limit. Each a mutation verify catches or a refusal with the cell's key."""
+
+import re
+from pathlib import Path
+
+import pytest
+from support.programs import edited, sources, verify_one
+from test_pallet_programs import mutant_mismatches
+
+from codegen.controllers import get_target
+from codegen.dialects.core.files import SourceFile
+from codegen.dialects.rapid import Rapid
+from codegen.kinds.pallet import verify as pallet_verify
+from codegen.kinds.pallet.cycle import PalletCase
+from codegen.kinds.pallet.messages import all_messages, counters_message
+from codegen.kinds.pallet.report import cycle_estimate
+from codegen.model.cell import CellError, load_cell
+from codegen.render import render
+from codegen.verify.plan import Case
+
+PALLETS = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallets"
+TESTMAT_TEXT = (PALLETS / "testmat_pallet.toml").read_text()
+IO_TABLE = TESTMAT_TEXT[TESTMAT_TEXT.index("[pallet.io]") : TESTMAT_TEXT.index("[pallet.patterns]")]
+
+
+@pytest.fixture(scope="module")
+def testmat():
+    return load_cell(PALLETS / "testmat_pallet.toml")
+
+
+@pytest.fixture(scope="module")
+def eur():
+    return load_cell(PALLETS / "eur_pallet.toml")
+
+
+def _load(tmp_path, text: str):
+    path = tmp_path / "cell.toml"
+    path.write_text(text)
+    return load_cell(path)
+
+
+# --- interlocks ---------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new", "case"),
+    [
+        (
+            "ur",
+            "pal_testmat.script",
+            '    pal_wait(2, "pallet testmat: no box at the pick place in 10 s")\n',
+            "",
+            "part_missing",
+        ),
+        (
+            "ur",
+            "pal_testmat.script",
+            '    pal_wait(3, "pallet testmat: no pallet in place in 10 s")\n',
+            "",
+            "pallet_absent",
+        ),
+        ("kuka", "pal_testmat.src", "    IF NOT PAL_PART() THEN\n      RETURN\n    ENDIF\n", "", "part_missing"),
+        ("kuka", "pal_testmat.src", "    IF NOT PAL_PALLET() THEN\n      RETURN\n    ENDIF\n", "", "pallet_absent"),
+        (
+            "abb",
+            "pal_testmat.mod",
+            "WaitDI diPartAtQ, 1 \\MaxTime:=STACK_WAIT \\TimeFlag:=late;",
+            "late := FALSE;",
+            "part_missing",
+        ),
+        (
+            "abb",
+            "pal_testmat.mod",
+            "WaitDI diPalletIn, 1 \\MaxTime:=STACK_WAIT \\TimeFlag:=late;",
+            "late := FALSE;",
+            "pallet_absent",
+        ),
+        ("dtrans", "pal_testmat.prg", "  If DIn(3) <> True Then\n", "  If False Then\n", "part_missing"),
+        ("dtrans", "pal_testmat.prg", "  If DIn(4) <> True Then\n", "  If False Then\n", "pallet_absent"),
+    ],
+)
+def test_a_program_that_does_not_wait_for_an_interlock_fails(testmat, target, name, old, new, case):
+    """Without the wait for the box at Q (or the pallet in place) the arm comes down on nothing: verify's case with
+    that input never on expects the stop with the operator's message, and the program moves on."""
+    found = mutant_mismatches(testmat, target, name, old, new)
+    assert found and found[0].startswith(case) and "expected a stop" in found[0], found
+
+
+def test_the_unstacking_program_waits_for_a_clear_pick_place_and_stacking_for_a_sheet(eur):
+    found = mutant_mismatches(
+        eur, "kuka", "pal_eur_in.src", "    IF NOT PAL_CLEAR() THEN\n      RETURN\n    ENDIF\n", ""
+    )
+    assert found and found[0].startswith("place_not_clear"), found
+    found = mutant_mismatches(
+        eur, "kuka", "pal_eur.src", "      IF NOT PAL_SHEET() THEN\n        RETURN\n      ENDIF\n", ""
+    )
+    assert found and found[0].startswith("sheet_missing"), found
+
+
+def test_the_plcs_reset_restarts_a_swapped_pallet_only(testmat):
+    """The reset input starts a full pallet again at layer 1, box 1; on a pallet not full it does nothing (a PLC bit
+    left on must not make the arm place into occupied slots)."""
+    ignored = "    if get_standard_digital_in(4) == True:   # the PLC: the pallet was swapped\n"
+    found = mutant_mismatches(testmat, "ur", "pal_testmat.script", ignored, "    if False:\n")
+    assert found and found[0].startswith("pallet_changed"), found
+    always = "  if not pal_valid(pal_layer, pal_box):\n"
+    reset = "  if get_standard_digital_in(4) == True:\n    pal_layer = 1\n    pal_box = 1\n  end\n" + always
+    found = mutant_mismatches(testmat, "ur", "pal_testmat.script", always, reset)
+    assert found and found[0].startswith("reset_ignored"), found
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "says"),
+    [
+        (IO_TABLE, "", r"pallet\[0\]\.io: missing: the inputs the program waits for"),
+        ("part_present = {", "place_clear = {", r"pallet\[0\]\.io\.place_clear: not an input of a stacking pallet"),
+        ("pallet_present = { ur = 3,", "pallet_present = { ur = 9,", r"pallet\[0\]\.io\.pallet_present\.ur: expected"),
+        ("timeout_s = 10.0\n", "timeout_s = 0.1\n", r"pallet\[0\]\.io\.timeout_s: must be between"),
+        (
+            "zone_mm = 2.0 ",
+            "zone_mm = 5.0 ",
+            r"pallet\[0\]\.zone_mm: 5 mm is more than half of the 7\.2 mm of layer 1 box 1: entry to approach",
+        ),
+        (
+            "pick_lift = 30.0 ",
+            'mode = "unstack"\nslip_sheet = { every = 2, thickness = 3.0 }\npick_lift = 30.0 ',
+            "slip_sheet: an unstacking",
+        ),
+        (
+            "pick_lift = 30.0 ",
+            "slip_sheet = { every = 2, thickness = 3.0 }\npick_lift = 30.0 ",
+            r"slip_sheet\.pick: missing",
+        ),
+    ],
+)
+def test_a_pallet_without_its_interlocks_or_with_a_zone_past_its_poses_is_refused_by_key(tmp_path, old, new, says):
+    assert old in TESTMAT_TEXT
+    with pytest.raises(CellError, match=says):
+        _load(tmp_path, TESTMAT_TEXT.replace(old, new, 1))
+
+
+# --- counters that a reload leaves ------------------------------------------------------------------------------
+
+
+def test_the_counters_are_declared_in_their_store_alone(testmat, eur):
+    """KRL: GLOBAL in the data list <pallet>_count.dat; RAPID: PERS in pallet_data.mod; nowhere in a file a
+    regeneration replaces (loading it again would set them back)."""
+    for cell in (testmat, eur):
+        files = {f.relpath: f.text for f in render(cell, ["kuka", "abb"])}
+        for path, text in files.items():
+            declared = re.findall(
+                r"^\s*(?:DECL\b[^\n]*|(?:LOCAL\s+)?(?:PERS|VAR)\s+num)\s+(PAL_(?:TESTMAT|EUR|EUR_IN)_(?:LAYER|BOX))\b",
+                text,
+                re.M | re.I,
+            )
+            store = path.endswith("_count.dat") or path.endswith("pallet_data.mod")
+            assert bool(declared) == store, (path, declared)
+
+
+def test_counters_moved_into_the_regenerated_program_fail_the_reload(testmat):
+    """Declared in the program's own .dat (KRL) or module (RAPID), the counters would start again at their declared
+    values when a regenerated program is loaded: the counters_reloaded case fails though every restart passes."""
+    program = sources(testmat, "kuka", "pallet")[0]
+
+    def krl(text: str) -> str:
+        text = text.replace("DECL GLOBAL INT PAL_TESTMAT_LAYER=1\nDECL GLOBAL INT PAL_TESTMAT_BOX=1\n", "")
+        return text.replace(
+            "DECL REAL PAL_HEIGHT=", "DECL INT PAL_TESTMAT_LAYER=1\nDECL INT PAL_TESTMAT_BOX=1\nDECL REAL PAL_HEIGHT="
+        )
+
+    found = verify_one(testmat, edited(program, krl), first_mismatch=True).first_mismatches
+    assert found and found[0].startswith("counters_reloaded") and "pal_testmat.dat" in found[0], found
+    program = sources(testmat, "abb", "pallet")[0]
+
+    def rapid(text: str) -> str:
+        text = text.replace("  PERS num pal_testmat_layer := 1;\n  PERS num pal_testmat_box := 1;\n", "")
+        counters = "  LOCAL PERS num pal_testmat_layer := 1;\n  LOCAL PERS num pal_testmat_box := 1;\n"
+        return text.replace("  LOCAL PERS wobjdata stack_wobj", counters + "  LOCAL PERS wobjdata stack_wobj")
+
+    found = verify_one(testmat, edited(program, rapid), first_mismatch=True).first_mismatches
+    assert found and found[0].startswith("counters_reloaded") and "pal_testmat.mod" in found[0], found
+
+
+def test_the_ur_counters_are_plc_data_on_fieldbus_registers(testmat):
+    """Input integer registers 0..23 are the fieldbus PLC's, 24..47 the RTDE clients' (URScript manual): the
+    counters are in 0 and 1; a program reading them from the RTDE range finds nothing and stops."""
+    facts = get_target("ur").kind_tables["pallet"]
+    assert facts["registers"] == 0 and facts["registers_max"] == 23
+    text = sources(testmat, "ur", "pallet")[0].files[0].text
+    assert "read_input_integer_register(0)" in text and "write_output_integer_register(1, box)" in text
+    found = mutant_mismatches(
+        testmat, "ur", "pal_testmat.script", "read_input_integer_register(0)", "read_input_integer_register(24)"
+    )
+    assert found, found
+
+
+def test_a_dtrans_reload_clears_the_counters_and_the_program_stops(testmat):
+    """The dtrans dialect keeps nothing across a reload (its globals are declared without a value): the reload case
+    expects the stop at the counter check, before any move."""
+    source = sources(testmat, "dtrans", "pallet")[0]
+    case = Case("counters_reloaded", pallet_verify.PalletRun(0, PalletCase("counters_reloaded", 2, 3)))
+    assert pallet_verify.setup(testmat, source, case).inputs == {}
+    (expectation,) = pallet_verify.judge(testmat, source, case, None).accepted
+    assert expectation.halt == counters_message(testmat.sections["pallet"][0], 80) and expectation.moves == ()
+
+
+# --- one ABB task -------------------------------------------------------------------------------------------------
+
+
+def test_the_abb_pallet_programs_are_one_task_with_one_main(eur):
+    """pallet_main.mod has the task's one PROC main and starts the pallet whose select input is on; each pallet's
+    module has one global routine; RAPID's loader takes the four modules as one task (two mains would be refused)."""
+    files = [SourceFile(f.relpath, f.text) for f in render(eur, ["abb"])]
+    assert [f.name.rsplit("/", 1)[1] for f in files] == [
+        "pallet_main.mod",
+        "pal_eur.mod",
+        "pal_eur_in.mod",
+        "pallet_data.mod",
+    ]
+    assert sum(len(re.findall(r"^\s*PROC main\(\)", f.text, re.M)) for f in files) == 1
+    (task,) = Rapid.programs(files)
+    assert task[0].name.endswith("pallet_main.mod")
+    for f in files[1:3]:
+        assert len(re.findall(r"^  PROC \w+\(\)", f.text, re.M)) == 1  # the entry; every other routine LOCAL
+    twice = files[1].text.replace("  PROC pal_eur_run()", "  PROC main()\n  ENDPROC\n\n  PROC pal_eur_run()")
+    with pytest.raises(Exception, match="both define PROC main"):
+        Rapid.programs([files[0], SourceFile(files[1].name, twice), *files[2:]])
+
+
+def test_two_krl_pallet_programs_share_a_controller_without_a_clash(eur):
+    """Given together, as a controller holds them, the EUR cell's KRL files are two programs, each loading beside the
+    other's modules: their routines and data are local to their modules but the counters, named per pallet."""
+    from codegen.dialects import get_dialect
+
+    files = [SourceFile(f.relpath, f.text) for f in render(eur, ["kuka"])]
+    krl = get_dialect("krl")
+    programs = krl.programs(files)
+    assert [p[0].name.rsplit("/", 1)[1] for p in programs] == ["pal_eur.src", "pal_eur_in.src"]
+    for program in programs:
+        assert len(program) == 4  # its .src and .dat, and both pallets' counter data lists (GLOBAL, named apart)
+        krl.load_files(program)
+
+
+def test_the_task_starts_the_selected_pallet_and_none_without_a_selection(eur):
+    found = mutant_mismatches(eur, "abb", "pallet_main.mod", "DInput(diRunEur) = 1", "DInput(diRunEurIn) = 1")
+    assert found, found
+    found = mutant_mismatches(
+        eur,
+        "abb",
+        "pallet_main.mod",
+        '      ErrWrite "Pallet program stopped"',
+        '      pal_eur_run;\n      ErrWrite "x"',
+    )
+    assert found and any(line.startswith("none_selected") for line in found), found
+
+
+# --- the carried payload --------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new"),
+    [
+        (
+            "ur",
+            "pal_testmat.script",
+            "    set_target_payload(0.850, [0.0000000, 0.0000000, 0.0548824])   # the tool and the box\n",
+            "",
+        ),
+        ("kuka", "pal_testmat.src", "    $LOAD = PAL_LOAD_BOX\n", ""),
+        ("abb", "pal_testmat.mod", "      GripLoad stack_box;\n", ""),
+        # on before the grip is confirmed, or left on after the release
+        ("kuka", "pal_testmat.src", "    LIN PAL_PICK\n", "    $LOAD = PAL_LOAD_BOX\n    LIN PAL_PICK\n"),
+        ("abb", "pal_testmat.mod", "      stack_release;\n      GripLoad load0;\n", "      stack_release;\n"),
+    ],
+)
+def test_the_box_payload_is_in_force_from_the_grip_to_the_release(testmat, target, name, old, new):
+    """The tool and the box (0.8 + 0.05 kg, their common centre of gravity) from the confirmed grip to the
+    confirmed release: verify compares the payload in force at every move with the plan's."""
+    found = mutant_mismatches(testmat, target, name, old, new)
+    assert found and "payload" in found[0], found
+
+
+# --- blends ----------------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new"),
+    [
+        ("kuka", "pal_testmat.src", "    LIN TARGET ; no approximation", "    LIN TARGET C_DIS ; no approximation"),
+        (
+            "abb",
+            "pal_testmat.mod",
+            "STACK_AY{row}, 5.0000), stack_travel, stack_zone,",
+            "STACK_AY{row}, 5.0000), stack_travel, fine,",
+        ),
+        ("ur", "pal_testmat.script", "z + 5.0000, a), a=1.2, v=0.2500, r=0.0020)", "z + 5.0000, a), a=1.2, v=0.2500)"),
+    ],
+)
+def test_travel_blends_and_the_arm_stops_at_pick_place_and_contact(testmat, target, name, old, new):
+    found = mutant_mismatches(testmat, target, name, old, new)
+    assert found and ("approx" in found[0] or "zone" in found[0] or " r " in found[0]), found
+
+
+def test_the_cycle_estimate_counts_the_stops_and_the_blended_corners(eur):
+    """Each blended pose shortens the path by the zone's corner; the estimate names its stops and blends."""
+    estimate = cycle_estimate(eur, eur.sections["pallet"][0])
+    assert estimate["blends"] > 0 and estimate["stops"] > 0 and estimate["corner_saving_mm"] > 0
+
+
+def test_the_testmat_cycle_stops_at_pick_and_place_alone(testmat):
+    """30 boxes of 8 moves and the move off the pallet (241): each box stops at Q and at its target, the last move
+    stops above Q (61 stops); every other pose but the first (the cycle's start, no corner) blends (179)."""
+    estimate = cycle_estimate(testmat, testmat.sections["pallet"][0])
+    assert (estimate["stops"], estimate["blends"]) == (61, 179)
+
+
+# --- the way home -----------------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new"),
+    [
+        ("ur", "pal_testmat.script", "  if pal_away:\n", "  if False:\n"),
+        ("kuka", "pal_testmat.src", "    BACK = $POS_ACT : PAL_BACK\n", "    BACK = $POS_ACT\n"),
+        ("abb", "pal_testmat.mod", "      MoveJ stack_safe, stack_travel, fine, stack_tool;\n", ""),
+    ],
+)
+def test_after_a_stop_the_program_backs_out_and_goes_home_above_the_pallet(testmat, target, name, old, new):
+    """Started away from home or where a stop left it (at a box's target), the program moves where the arm stands,
+    back along the tool's z, above the pallet's centre and home before the cycle."""
+    found = mutant_mismatches(testmat, target, name, old, new)
+    assert found and found[0].startswith(("start_away", "start_mid_cycle")), found
+
+
+def test_the_full_message_comes_with_the_arm_off_the_pallet(testmat):
+    found = mutant_mismatches(
+        testmat, "kuka", "pal_testmat.src", "  PTP PAL_ABOVE ; off the pallet before the message\n", ""
+    )
+    assert found, found
+
+
+# --- slip sheets ------------------------------------------------------------------------------------------------------
+
+
+def test_slip_sheets_are_placed_from_the_dispenser(eur):
+    """The EUR pallet's sheets: box 0 of layers 3 and 5, taken from the dispenser and put on the layer below at the
+    pallet's centre; one not placed, or placed at the wrong height, fails."""
+    found = mutant_mismatches(
+        eur,
+        "kuka",
+        "pal_eur.src",
+        "BOX.Z = PAL_TOP(PAL_EUR_LAYER - 1) + PAL_SLIP",
+        "BOX.Z = PAL_TOP(PAL_EUR_LAYER - 1)",
+    )
+    assert found and "position error" in found[0], found
+    found = mutant_mismatches(eur, "abb", "pal_eur.mod", "          pal_eur_box := 0;\n", "")
+    assert found, found
+
+
+SHEETS = TESTMAT_TEXT.replace(
+    "zone_mm = 2.0 ",
+    "slip_sheet = { every = 2, thickness = 3.0, pick = [450.0, 300.0, 50.0, 0.0, 0.0, 180.0], lift = 30.0 }\n"
+    "zone_mm = 2.0 ",
+    1,
+).replace(
+    "timeout_s = 10.0", 'sheet_ready = { ur = 5, kuka = 22, abb = "diSheetReady", dtrans = 6 }\ntimeout_s = 10.0', 1
+)
+
+
+def test_the_ur_program_places_slip_sheets(tmp_path):
+    """The EUR cell has no UR: source 004's pallet with a sheet on every second layer runs every case on the UR (the
+    sheet missing, a restart at a sheet); a sheet put down 3 mm low, or never put down, fails."""
+    cell = _load(tmp_path, SHEETS)
+    program = sources(cell, "ur", "pallet")[0]
+    row = verify_one(cell, program, cases=1)
+    assert row.mismatches == 0 and {"part_missing", "restart"} <= set(row.scenarios), row.first_mismatches
+    for old, new in [
+        ("z = pal_top(pal_layer - 1) + PAL_SLIP", "z = pal_top(pal_layer - 1)"),
+        ("      if pal_sheet_below(pal_layer):\n        pal_box = 0", "      if False:\n        pal_box = 0"),
+    ]:
+        assert old in program.files[0].text, old
+        mutant = edited(program, lambda text, old=old, new=new: text.replace(old, new))
+        assert verify_one(cell, mutant, cases=1, first_mismatch=True).first_mismatches, old
+
+
+# --- the UR forms, the release, messages ---------------------------------------------------------------------------
+
+
+def test_the_ur_script_node_twin_is_a_program_of_its_own(testmat):
+    programs = sources(testmat, "ur", "pallet")
+    assert [p.ident for p in programs] == ["pal_testmat", "pal_testmat_node"]
+    assert "def pal_testmat():" not in programs[1].files[0].text and "needs PolyScope 5.10" in programs[1].files[0].text
+    found = mutant_mismatches(testmat, "ur", "pal_testmat_node.script", "PAL_HEIGHT = 26.0000", "PAL_HEIGHT = 25.0000")
+    assert found, found
+
+
+def test_a_long_pallet_name_is_shortened_in_the_messages_never_the_instruction(tmp_path):
+    """KRL's Msg_txt and RAPID's strings hold 80 characters: where a pallet's name would make a message longer, the
+    message shows the name's start and "...", then all of what the operator must do (a cut end would hide it); every
+    program of the cell shows that text, and verify expects it."""
+    long = "a" * 40
+    cell = _load(tmp_path, TESTMAT_TEXT.replace('name = "testmat"', f'name = "{long}"', 1))
+    files = render(cell, ["kuka", "abb", "ur"])
+    want = "pallet " + "a" * 7 + "...: a box is in the gripper (sensor on): take it out, start again"  # 80 characters
+    assert len(want) == 80 and sum(want in f.text for f in files) == 4  # .src, the ABB module, both UR forms
+    messages = all_messages(cell.sections["pallet"][0], 80)
+    assert all(len(m) <= 80 and (long in m or len(m) == 80) for m in messages), messages  # shortened to fit only
+    for f in render(load_cell(PALLETS / "eur_pallet.toml"), ["kuka", "abb"]):
+        for message in re.findall(r'(?:MSG_TXT\[\] = |stack_stop |TPWrite )"([^"]*)"', f.text):
+            assert len(message) <= 80 and "..." not in message, message
