@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -23,6 +24,7 @@ from codegen.verify.runner import run_cases
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
 
 
+UR_QUEUE = get_target("ur").kind_tables["conveyor"]  # the part queue's registers (targets/ur.toml)
 SUFFIX_END = {"ur": "end\n", "kuka": "END\n", "abb": "ENDMODULE\n"}  # the program file, not its data list
 
 
@@ -87,6 +89,23 @@ def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
         assert low <= case.latency_s <= high and pick.grip_s[0] <= case.grip_s <= pick.grip_s[1]
 
 
+def test_the_part_queue_lies_in_the_registers_a_plc_can_write():
+    """A PROFINET or EtherNet/IP PLC writes integer and float registers 0..23 and boolean registers 0..63 only:
+    [24:47] and [64:127] "cannot be accessed by FieldBus/PLC interfaces, since it is reserved for external RTDE
+    clients" (URScript manual, e-Series, read_input_integer_register, read_input_boolean_register); the names
+    that devices and --input use are the same registers."""
+    kinds = {"seq": "input_integer", "count": "input_integer", "encoder": "input_integer", "x": "input_float"}
+    kinds |= {"z": "input_float", "ack": "output_integer", "stop": "input_boolean"}
+    registers, names = UR_QUEUE["registers"], UR_QUEUE["names"]
+    assert set(registers) == set(names) == set(kinds)
+    for role, kind in kinds.items():
+        assert 0 <= registers[role] <= (63 if kind.endswith("boolean") else 23), role
+        assert names[role] == f"{kind}_register_{registers[role]}", role
+    program = _program(load_cell(CELL)).files[0].text
+    for kind, number in re.findall(r"(?:read|write)_(\w+?)_register\((\d+)", program):
+        assert f"{kind}_register_{number}" in names.values(), (kind, number)
+
+
 # (old, new, what the verdict must say): each a program that moves somewhere else than the part is
 MUTATIONS = [
     ("CNV_DIR = p[0.499994000, -0.866029000,", "CNV_DIR = p[-0.499994000, 0.866029000,", "gripped"),
@@ -104,7 +123,7 @@ MUTATIONS = [
     ("CNV_DZ = 60.0000", "CNV_DZ = 0.0", "in height"),
     (
         "if cnv_own_y(mine) > CNV_END:",
-        "if cnv_own_y(mine) > CNV_END or read_input_boolean_register(64):",
+        f"if cnv_own_y(mine) > CNV_END or read_input_boolean_register({UR_QUEUE['registers']['stop']}):",
         "in the window",
     ),
     # the part's place from the PLC's copy of a count (late by its cycle and the fieldbus), not the robot's own
@@ -209,7 +228,7 @@ def test_the_interpreter_tracks_the_belt_from_the_moment_tracking_starts():
     )
     program = load_program(get_target("ur"), text, "track", {})
     belt = Belt(100.0, 8.0, 16, 0)  # 800 counts per second: 100 mm/s
-    line = BeltLine(belt, [], RegisterBus(get_target("ur").kind_tables["conveyor"]["names"]))
+    line = BeltLine(belt, [], RegisterBus(UR_QUEUE["names"]))
     trace = program.run({}, devices=(line,))
     (move,) = trace.moves  # commanded at t = 1 s; a first move from an unknown pose takes 1 s: it ends at 2 s
     assert move.tcp2base[:3, 3] == pytest.approx([500.0, 100.0, 200.0], abs=1e-3)
@@ -224,7 +243,7 @@ def test_a_direction_that_is_not_a_unit_vector_is_refused():
         "  track_conveyor_linear(p[0, 2, 0, 0, 0, 0], 8000.0)\nend\n"
     )
     program = load_program(get_target("ur"), text, "track", {})
-    line = BeltLine(Belt(100.0, 8.0), [], RegisterBus(get_target("ur").kind_tables["conveyor"]["names"]))
+    line = BeltLine(Belt(100.0, 8.0), [], RegisterBus(UR_QUEUE["names"]))
     with pytest.raises(Exception, match="unit vector"):
         program.run({}, devices=(line,))
 
