@@ -185,9 +185,12 @@ def test_counters_moved_into_the_regenerated_program_fail_the_reload(testmat):
 
 def test_the_ur_counters_are_plc_data_on_fieldbus_registers(testmat):
     """Input integer registers 0..23 are the fieldbus PLC's, 24..47 the RTDE clients' (URScript manual): the
-    counters are in 0 and 1; a program reading them from the RTDE range finds nothing and stops."""
+    counters are in 0 and 1 (10 pallets up to 19: 21-23 hold the belt's queue, [program.conveyor]); a program
+    reading them from the RTDE range finds nothing and stops."""
     facts = get_target("ur").kind_tables["pallet"]
-    assert facts["registers"] == 0 and facts["registers_max"] == 23
+    belt = get_target("ur").kind_tables["conveyor"]["registers"]
+    assert facts["registers"] == 0 and facts["registers_max"] == 20
+    assert facts["registers_max"] < min(belt[k] for k in ("seq", "count", "encoder", "ack"))
     text = sources(testmat, "ur", "pallet")[0].files[0].text
     assert "read_input_integer_register(0)" in text and "write_output_integer_register(1, box)" in text
     found = mutant_mismatches(
