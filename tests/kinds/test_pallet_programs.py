@@ -2,9 +2,13 @@
 
 from pathlib import Path
 
+import numpy as np
 import pytest
+from support.cells import EXAMPLES, example
 from support.programs import edited, sources, verify, verify_one
 
+from codegen.kinds.pallet.reach import configurations, full_cycle, joints_of, safe_move
+from codegen.kinds.pallet.section import pallets_of
 from codegen.model.cell import load_cell
 from codegen.render import render
 
@@ -175,3 +179,31 @@ def test_a_program_that_opens_a_gripper_holding_a_box_fails_verify(target, name,
     cell = load_cell(PALLETS / "testmat_pallet.toml")
     found = mutant_mismatches(cell, target, name, old, new)
     assert found and found[0].startswith("held_at_start"), found
+
+
+PALLET_CELLS = [name for name in EXAMPLES if pallets_of(example(name))]
+
+
+@pytest.mark.parametrize("name", PALLET_CELLS)
+def test_the_safe_pose_continues_from_the_cycle_s_joints(name):
+    """The way home's joint move above the pallet takes the solution the program names for it: every axis within
+    half a turn of its value at the cycle's first entry onto the pallet, so the way there after a stop
+    turns no axis the long way (a UR arm once turned its base a full turn there, stretched out above the table: the
+    safe pose's joints were the ones nearest home)."""
+    cell = example(name)
+    checked = 0
+    for target in cell.targets:
+        for pallet in pallets_of(cell):
+            named = configurations(cell, pallet, target)
+            if named is None:
+                continue
+            where = f"{name} {target} {pallet.name}"
+            moves = full_cycle(cell, pallet)
+            cycle = joints_of(cell, target, moves, where, pallet, named)
+            safe = joints_of(cell, target, [safe_move(cell, pallet)], where, pallet, named)[0]
+            keys = [named.key(pallet, m) for m in moves]
+            entry = next(q for key, q in zip(keys, cycle, strict=True) if isinstance(key, tuple))
+            turn = np.abs(safe - entry)
+            assert np.max(turn) <= 180.0, f"{where}: the first entry -> safe turns axis {np.argmax(turn) + 1}: {turn}"
+            checked += 1
+    assert checked > 0

@@ -121,19 +121,23 @@ def configurations(cell, pallet, target: str) -> Named | None:
     """The configurations the target's program names for a pallet, chosen at generate time: each box's
     (pattern, number) that of its entry where the full cycle first reaches it from home by the nearest
     rule (stacking: the lowest layer using the pattern; unstacking: the highest), Q's at the first time
-    above Q; None without an arm."""
+    above Q, the safe pose's the one nearest the first entry's joints; None without an arm."""
     form = get_target(target).configuration
     if cell.robot is None or target not in cell.robot.arms or form not in FORMS:
         return None
     arm = cell.robot.arms[target]
     moves = full_cycle(cell, pallet)
-    named, values = Named(form, {}), {}
+    named, values, entry = Named(form, {}), {}, None
     for move, joints in zip(moves, joints_of(cell, target, moves, f"pallet {pallet.name!r}"), strict=True):
         key = named.key(pallet, move)
         if key is not None and key not in values:
             values[key] = FORMS[form].of(arm, joints)
-    safe = [safe_move(cell, pallet)]  # the way home's pose above the pallet: as reached from home
-    values[SAFE_KEY] = FORMS[form].of(arm, joints_of(cell, target, safe, f"pallet {pallet.name!r}")[0])
+        if entry is None and isinstance(key, tuple):
+            entry = joints
+    # the way home's pose above the pallet: the solution nearest the cycle's first entry onto the pallet (its
+    # branch, each axis' turn as the cycle has it), so the way there from the pallet turns no axis the long way
+    safe = [safe_move(cell, pallet)]
+    values[SAFE_KEY] = FORMS[form].of(arm, joints_of(cell, target, safe, f"pallet {pallet.name!r}", start=entry)[0])
     return Named(form, values)
 
 
@@ -153,7 +157,7 @@ def check_pallet(cell, pallet, target: str) -> PalletReach:
     named = configurations(cell, pallet, target)
     worst_joint, worst_wrist, worst = np.inf, np.inf, ""
     planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
-    moves = [*moves, safe_move(cell, pallet)]  # and the way home's pose above the pallet, from home
+    moves = [*moves, safe_move(cell, pallet)]  # and the way home's pose above the pallet, as named
     planned += joints_of(cell, target, moves[-1:], f"pallet {pallet.name!r}", pallet, named)
     for move, joints in zip(moves, planned, strict=True):
         joint, wrist = margins(arm, joints)

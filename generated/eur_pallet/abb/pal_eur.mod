@@ -39,7 +39,7 @@ MODULE pal_eur
   LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the way home after a stop passes above the pallet's centre (base frame)
-  LOCAL CONST robtarget stack_safe := [[0.0000, 1500.0000, 1056.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [1, 0, -1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget stack_safe := [[0.0000, 1500.0000, 1056.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [1, 0, 3, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the slip sheets: their pick at the sheet stack and 100.0000 mm above it (base frame); their place at the
   ! pallet's centre (x, y mm, pallet frame) on the layer below, in the configuration codegen chose
   LOCAL CONST robtarget stack_sheet_pick := [[1200.0000, 800.0000, -200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];

@@ -37,7 +37,7 @@ MODULE pal_eur_in
   LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the way home after a stop passes above the pallet's centre (base frame)
-  LOCAL CONST robtarget stack_safe := [[0.0000, -1500.0000, 1050.0000], [0.000000000, 0.000000000, 1.000000000, 0.000000000], [-1, 0, -1, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST robtarget stack_safe := [[0.0000, -1500.0000, 1050.0000], [0.000000000, 0.000000000, 1.000000000, 0.000000000], [-1, 0, 3, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
   ! (deg, counterclockwise about the pallet's z)
