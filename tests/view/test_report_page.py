@@ -87,7 +87,7 @@ def test_a_mismatching_program_lists_its_mismatches_and_replays_one(tmp_path, br
     """The pallet program made for a tool 10 mm shorter, judged against the cell: every case mismatches; the page
     names each mismatch the row keeps, and replays one with its mismatch."""
     cell = load_cell(TESTMAT)
-    report = _report(cell, sources(_shorter_tool(cell), "ur"), cases=1)
+    report = _report(cell, sources(_shorter_tool(cell), "ur")[:1], cases=1)  # the socket form (the node form alike)
     (row,) = report.rows
     assert row.mismatches > 0 and row.failed is not None and row.worst is None
     path = tmp_path / "bad.html"
