@@ -11,12 +11,14 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
+from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, done_counters, expected, items, start_counters
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.messages import select_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.sweep import sweeps
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
@@ -252,6 +254,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     expectation = Expectation(message, tuple(moves), tuple(outputs), stored, planned_joints=planned_joints)
     reloaded = case.category == "counters_reloaded"
     problem = _declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
+    problem = problem or sweeps(pallet, frame_matrix(pallet), want.moves)
     return Judgement([expectation], figures=boxes, problem=problem)
 
 
