@@ -158,6 +158,9 @@ Double y = 0.0
 Double z = 0.0
 Double a = 0.0
 Point entry = PAL_PICK
+Point transit = PAL_PICK
+Point over = PAL_PICK
+Double oz = 0.0
 Call pal_release()
 While pal_layer <= PAL_LAYERS
   pattern = pal_pattern(pal_layer)
@@ -181,7 +184,16 @@ MovL PAL_PICK
   Call pal_grip()
   MovL PAL_ABOVE
   entry = pal_pose(x, y, z + 26.0000, a)
-  MovJ entry
+  // above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
+  transit = pal_pose(x, y, z + 36.0000, a)
+  oz = PAL_OZ + z + 36.0000
+  If oz < 80.0000 Then
+    oz = 80.0000
+  EndIf
+  over = Trans(600.0000, 300.0000, oz, 180.000000, 0.000000, 0.000000)
+  MovL over
+  MovJ transit
+  MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 5.0000, a)
   MovL pal_pose(x, y, z, a)
   Call pal_release()
