@@ -7,8 +7,9 @@ MODULE pal_eur
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_eur_run (this
   ! module's one global routine); the counters are in pallet_data.mod.
   ! Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q (slow, fine),
-  ! grip, back up (slow), then in the pallet's work object entry (joint move), approach and target (slow,
-  ! fine), release, retreat (slow), entry.
+  ! grip, back up (slow), up to the transit height (300.0000 mm over the layer's top), then in the pallet's work
+  ! object above the entry at that height (joint move), entry, approach and target (slow, fine), release,
+  ! retreat (slow), entry.
   ! Per slip sheet (box 0 of a layer: the sheet below it): above the sheet stack (the pallet and a sheet
   ! waited for), down to it, grip, back up, above the pallet's centre, down onto the layer, release, back up.
   ! Where the arm passes a pose the move blends (stack_zone, 30.0 mm); it stops (fine) at every pick, place

@@ -8,8 +8,9 @@ MODULE pal_eur_in
   ! module's one global routine); the counters are in pallet_data.mod.
   ! The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
   ! placing order: in the pallet's work object entry (joint move), approach and target (slow, fine), grip,
-  ! retreat (slow), entry; then above Q (joint move; Q clear waited for), down to Q (slow, fine), release,
-  ! (the pallet waited for again) back up (slow).
+  ! retreat (slow), entry, up to the transit height (300.0000 mm over the layer's top); then over Q at that
+  ! height (joint move), above Q (Q clear waited for), down to Q (slow, fine), release, (the pallet waited for
+  ! again) back up (slow).
   ! Where the arm passes a pose the move blends (stack_zone, 30.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's

@@ -6,8 +6,9 @@
 // the speeds and a safe start position on the controller.
 //
 // The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
-// placing order: over the pallet entry (joint move), approach and target, grip, retreat, entry; then above Q
-// (joint move; Q clear waited for), down to Q, release, (the pallet waited for again) back up. The box pose is
+// placing order: over the pallet entry (joint move), approach and target, grip, retreat, entry, up to the
+// transit height (300.0000 mm over the layer's top); then over Q at that height (joint move), above Q (Q clear
+// waited for), down to Q, release, (the pallet waited for again) back up. The box pose is
 // computed here from the counters: the pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
 // The dialect has no pose product, so the pallet must be level (codegen refuses a tilted one).

@@ -7,8 +7,9 @@ MODULE pal_testmat
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_testmat_run (this
   ! module's one global routine); the counters are in pallet_data.mod.
   ! Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q (slow, fine),
-  ! grip, back up (slow), then in the pallet's work object entry (joint move), approach and target (slow,
-  ! fine), release, retreat (slow), entry.
+  ! grip, back up (slow), up to the transit height (36.0000 mm over the layer's top), then in the pallet's work
+  ! object above the entry at that height (joint move), entry, approach and target (slow, fine), release,
+  ! retreat (slow), entry.
   ! Where the arm passes a pose the move blends (stack_zone, 2.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's

@@ -5,8 +5,9 @@
 // The dialect has no robot model and no speeds: the poses are the active tool's; set the tool, its load,
 // the speeds and a safe start position on the controller.
 //
-// Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q, grip, back up, then
-// over the pallet entry (joint move), approach and target, release, retreat, entry.
+// Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q, grip, back up, up to
+// the transit height (36.0000 mm over the layer's top), above the entry at that height (joint move), entry,
+// approach and target, release, retreat, entry.
 // The box pose is computed here from the counters: the pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
 // The dialect has no pose product, so the pallet must be level (codegen refuses a tilted one).
