@@ -121,7 +121,7 @@ def test_the_plcs_reset_restarts_a_swapped_pallet_only(testmat):
         (
             "zone_mm = 2.0 ",
             "zone_mm = 5.0 ",
-            r"pallet\[0\]\.zone_mm: 5 mm is more than half of the 7\.2 mm of layer 1 box 1: entry to approach",
+            r"pallet\[0\]\.zone_mm: 5 mm is more than half of the 8\.7 mm of layer 1 box 1: approach to target",
         ),
         (
             "pick_lift = 30.0 ",
@@ -313,10 +313,10 @@ def test_the_cycle_estimate_counts_the_stops_and_the_blended_corners(eur):
 
 
 def test_the_testmat_cycle_stops_at_pick_and_place_alone(testmat):
-    """30 boxes of 8 moves and the move off the pallet (241): each box stops at Q and at its target, the last move
-    stops above Q (61 stops); every other pose but the first (the cycle's start, no corner) blends (179)."""
+    """30 boxes of 10 moves and the move off the pallet (301): each box stops at Q and at its target, the last move
+    stops above Q (61 stops); every other pose but the first (the cycle's start, no corner) blends (239)."""
     estimate = cycle_estimate(testmat, testmat.sections["pallet"][0])
-    assert (estimate["stops"], estimate["blends"]) == (61, 179)
+    assert (estimate["stops"], estimate["blends"]) == (61, 239)
 
 
 # --- the way home -----------------------------------------------------------------------------------------------------

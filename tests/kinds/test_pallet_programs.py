@@ -162,7 +162,7 @@ def test_the_controllers_choice_of_joints_is_checked_against_the_plan():
     # the same pose in another configuration (UR: the solution nearest another qnear): the joints differ
     wrist_flip = "qnear=[-0.3, -1.2, -1.8, -1.5, 1.57, 0.5]"
     found = mutant_mismatches(cell, "ur", "pal_testmat.script", "qnear=pal_qnear(row)", wrist_flip)
-    assert found and "entry, line" in found[0] and "the controller's rule gives [" in found[0], found
+    assert found and "transit, line" in found[0] and "the controller's rule gives [" in found[0], found
 
 
 @pytest.mark.parametrize(

@@ -9,8 +9,6 @@ from codegen.kinds.pallet.patterns import TooManyBoxes, layout
 from codegen.kinds.pallet.section import BOXES_MAX, Pallet, parse_pallets
 from codegen.kinds.pallet.stack import FrameError, pallet2base, pattern_of, placements
 
-ENTRY_CLEARANCE_MM = 10.0  # the carried box's bottom this far above the layer's tops at the entry
-
 
 def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
     """Fails (ctx.fail: file, key path) on what cannot be stacked; returns the warnings."""
@@ -24,13 +22,12 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
             f"{path}.frame: the pallet's z points down in the base frame (the tool would come from below): "
             "teach xy_point on the other side of the x axis"
         )
-    clearance = pallet.entry_dz - pallet.box[2]
-    if clearance < ENTRY_CLEARANCE_MM:
-        warnings.append(
-            f"{path}.entry_dz: {pallet.entry_dz:g} mm above the target: a box in the gripper hangs "
-            f"{pallet.box[2]:g} mm below the tool, so at the entry its bottom is {max(0.0, -clearance):g} mm below "
-            "the tops of the boxes already in the layer and the joint move into the entry may sweep through "
-            f"them (entry_dz >= box height + {ENTRY_CLEARANCE_MM:g} mm keeps it above)"
+    if pallet.entry_dz < pallet.box[2]:
+        ctx.fail(
+            f"{path}.entry_dz",
+            f"{pallet.entry_dz:g} mm above the target is less than the box's height ({pallet.box[2]:g} mm, box): "
+            f"at the entry the carried box's bottom would be {pallet.box[2] - pallet.entry_dz:g} mm below the tops "
+            f"of the boxes already in the layer (entry_dz >= {pallet.box[2]:g})",
         )
     footprint = pallet.box[:2]
     layouts = {}

@@ -30,8 +30,11 @@ __all__ = [
     "expected",
     "items",
     "layer_counts",
+    "risen",
     "safe_pose",
     "start_counters",
+    "transit_dz",
+    "transit_pose",
 ]
 
 
@@ -140,6 +143,26 @@ def safe_pose(pallet: Pallet) -> np.ndarray:
     return matrix_from_rotation_translation(_tool(pallet), (pallet.size[0] / 2, pallet.size[1] / 2, z))
 
 
+def transit_dz(pallet: Pallet) -> float:
+    """How high over the top of the layer a box goes onto (is taken from) the carried box travels: its height and
+    transit_clearance_mm, or the entry's height if that is higher."""
+    return max(pallet.box[2] + pallet.transit_clearance_mm, pallet.entry_dz)
+
+
+def transit_pose(pose: np.ndarray, pallet: Pallet, layer: int) -> np.ndarray:
+    """A pose (pallet frame) raised to the transit height over the top of the layer: above the entry."""
+    out = pose.copy()
+    out[2, 3] = layer_top(pallet, layer) + transit_dz(pallet)
+    return out
+
+
+def risen(pose: np.ndarray, z: float) -> np.ndarray:
+    """A pose (base frame) raised straight up to the base's z (kept where it is higher already)."""
+    out = pose.copy()
+    out[2, 3] = max(out[2, 3], z)
+    return out
+
+
 def _lifted(pose: np.ndarray, mm: float) -> np.ndarray:
     out = pose.copy()
     out[2, 3] += mm
@@ -209,8 +232,9 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
 
 
 def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
-    """Per box: above Q (joint; the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), entry
-    (joint), approach, target (slow, exact), release, retreat (slow), entry; the counters advance once the release
+    """Per box: above Q (joint; the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to
+    the transit height (transit_pose: the box clear of the layer's top), above the entry at that height (joint), the
+    entry, approach, target (slow, exact), release, retreat (slow), entry; the counters advance once the release
     is confirmed. Per slip sheet the same from the sheet stack onto the pallet's centre. At the end: above Q, off
     the pallet, before the message."""
     pallet, frame = run.pallet, run.frame
@@ -221,13 +245,17 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
         if item.placement is None:
             source, lift = pallet.slip_pick.matrix(), pallet.slip_lift
             entry = frame @ _lifted(sheet_target(pallet, item.layer), pallet.entry_dz)
+            joint = "entry"  # the joint move onto the pallet: a sheet's to its entry, a box's above its entry
             path = ((entry, "entry", False, False), (frame @ sheet_target(pallet, item.layer), "target", True, True))
             retreat = ((entry, "entry", True, False),)
             interlocks, named = ("pallet_present", "sheet_ready"), "the sheet stack"
         else:
             p = item.placement
             source, lift = pick, pallet.pick_lift
+            transit, joint = frame @ transit_pose(p.entry, pallet, p.layer), "transit"
             path = (
+                (risen(_lifted(source, lift), transit[2, 3]), "up from Q", False, False),
+                (transit, "transit", False, False),
                 (frame @ p.entry, "entry", False, False),
                 (frame @ p.approach, "approach", False, False),
                 (frame @ p.target, "target", True, True),
@@ -244,8 +272,8 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
         if halt:
             return halt
         run.move("linear", _lifted(source, lift), f"{where} lift from {named}", True, False)
-        for n, (pose, name, slow, exact) in enumerate(path):
-            run.move("joint" if n == 0 else "linear", pose, f"{where} {name}", slow, exact)
+        for pose, name, slow, exact in path:
+            run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
         halt = run.release()
         if halt:
             return halt
@@ -259,8 +287,9 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
 def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
     """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
     order: entry (joint), approach, target (slow, exact), grip; the counters move to the next box once the grip is
-    confirmed (the box has left the pallet); retreat (slow), entry, above Q (joint; Q clear waited for), Q (slow,
-    exact), release; for the next box the pallet waited for at Q; above Q (slow)."""
+    confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height (transit_pose), over Q
+    at that height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the
+    pallet waited for at Q; above Q (slow)."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     halt = run.wait("pallet_present")
@@ -278,7 +307,10 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | Non
         run.counters = done if last else todo[i + 1].key
         run.move("linear", frame @ p.retreat, f"{where} retreat", True, False)
         run.move("linear", frame @ p.entry, f"{where} entry", False, False)
-        run.move("joint", above, f"{where} above Q", False, False)
+        transit = frame @ transit_pose(p.entry, pallet, p.layer)
+        run.move("linear", transit, f"{where} transit", False, False)
+        run.move("joint", risen(above, transit[2, 3]), f"{where} over Q", False, False)
+        run.move("linear", above, f"{where} above Q", False, False)
         halt = run.wait("place_clear")
         if halt:
             return halt

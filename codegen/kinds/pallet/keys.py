@@ -183,6 +183,15 @@ PALLET = Table(
         "overhang_mm": Key(
             "number", "how far a box may reach beyond the pallet's edge", unit="mm", low=0.0, high=200.0, default=0.0
         ),
+        "transit_clearance_mm": Key(
+            "number",
+            "the carried box's bottom this far above the stack's top where it travels over the pallet (the entry at "
+            "least the box's height above the target)",
+            unit="mm",
+            low=0.0,
+            high=MAX_SIZE_MM,
+            default=10.0,
+        ),
         "support_min": Key(
             "number", "warn when less of a box's bottom rests on the layer below", low=0.0, high=1.0, default=0.6
         ),

@@ -10,7 +10,7 @@ import numpy as np
 from codegen import derived
 from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import above_pick, layer_counts, safe_pose, sheet_below, start_counters
+from codegen.kinds.pallet.cycle import above_pick, layer_counts, safe_pose, sheet_below, start_counters, transit_dz
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import counter_register
 from codegen.kinds.pallet.messages import (
@@ -216,6 +216,8 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "slip_thickness": number(pallet.slip_thickness, 4),
         "sheet": sheet,
         "entry_dz": number(pallet.entry_dz, 4),
+        "transit_dz": number(transit_dz(pallet), 4),  # the transit height over the layer's top (cycle.transit_dz)
+        "centre": [number(pallet.size[0] / 2, 4), number(pallet.size[1] / 2, 4)],
         "approach": [number(v, 4) for v in pallet.approach],
         "retreat": [number(v, 4) for v in pallet.retreat],
         "tool_orientation": [number(v, 6) for v in pallet.tool_orientation],

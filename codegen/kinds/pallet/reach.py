@@ -57,7 +57,7 @@ class Named:
         """The configuration key of a joint move (by its reference name), None: a move that names none."""
         if move.kind != "joint":
             return None
-        if move.name.endswith("above Q"):
+        if move.name.endswith(("above Q", "over Q")):
             return PICK_KEY
         if move.name == SAFE_NAME:
             return SAFE_KEY
@@ -66,7 +66,7 @@ class Named:
             return None
         if words[2] == "sheet":
             return SHEET_KEY if move.name.endswith("sheet stack") else SHEET_ENTRY_KEY
-        return (pattern_of(pallet, int(words[1])), int(words[3])) if words[-1] == "entry" else None
+        return (pattern_of(pallet, int(words[1])), int(words[3])) if words[-1] in ("entry", "transit") else None
 
 
 def _branch(arm, joints: np.ndarray) -> int:

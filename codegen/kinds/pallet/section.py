@@ -67,6 +67,7 @@ class Pallet:
     slip_pick: object = None  # where the slip sheets are picked (TaughtPose, base frame), or None: no sheets placed
     slip_lift: float = PICK_LIFT_MM  # the sheet comes off its stack straight along the base's z, mm
     zone_mm: float = 0.0  # blending where the arm passes a pose (0: it stops at each)
+    transit_clearance_mm: float = 10.0  # the carried box's bottom above the stack's top where it travels over it
 
 
 def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
@@ -130,6 +131,11 @@ def _pallet(ctx: CellValidator, table: dict, path: str, cell) -> Pallet:
     overhang = ctx.finite(table.get("overhang_mm", PALLET.default("overhang_mm")), f"{path}.overhang_mm")
     if not PALLET["overhang_mm"].contains(overhang):
         ctx.fail(f"{path}.overhang_mm", "must be in [0, 200] mm")
+    transit = ctx.finite(
+        table.get("transit_clearance_mm", PALLET.default("transit_clearance_mm")), f"{path}.transit_clearance_mm"
+    )
+    if not PALLET["transit_clearance_mm"].contains(transit):
+        ctx.fail(f"{path}.transit_clearance_mm", f"must be in [0, {MAX_SIZE_MM:g}] mm")
     support = ctx.finite(table.get("support_min", PALLET.default("support_min")), f"{path}.support_min")
     if not PALLET["support_min"].contains(support):
         ctx.fail(f"{path}.support_min", "must be a share in [0, 1]")
@@ -204,6 +210,7 @@ def _pallet(ctx: CellValidator, table: dict, path: str, cell) -> Pallet:
         slip_pick,
         slip_lift,
         zone,
+        transit,
     )
 
 

@@ -11,12 +11,24 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
-from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, done_counters, expected, items, start_counters
+from codegen.kinds.pallet.analysis import frame_matrix
+from codegen.kinds.pallet.cycle import (
+    ExpectedMove,
+    PalletCase,
+    done_counters,
+    expected,
+    items,
+    risen,
+    start_counters,
+    transit_dz,
+)
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.messages import select_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.stack import layer_top
+from codegen.kinds.pallet.sweep import sweeps
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
@@ -231,7 +243,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     planned_joints = None
     if home is not None and (want.moves or want.outputs):  # with an arm the program goes home first
         start = _start_joints(cell, run.pallet, target.name, case)
-        way = _way_home(cell, pallet, target, home, start)
+        way = _way_home(cell, pallet, target, home, start, want.start[0])
         moves = [*way, *moves]
         outputs = [replace(o, after_moves=o.after_moves + len(way)) for o in outputs]
 
@@ -252,6 +264,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     expectation = Expectation(message, tuple(moves), tuple(outputs), stored, planned_joints=planned_joints)
     reloaded = case.category == "counters_reloaded"
     problem = _declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
+    problem = problem or sweeps(pallet, frame_matrix(pallet), want.moves)
     return Judgement([expectation], figures=boxes, problem=problem)
 
 
@@ -261,10 +274,11 @@ def _reload_proof(target) -> bool:
     return facts(target).get("store", "program") != "program"
 
 
-def _way_home(cell, pallet, target, home, start) -> list[PlannedMove]:
+def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove]:
     """From where the arm starts: at home, the move home; elsewhere (a stop in the cycle) the way home: (a joint move
     where the arm stands, where the target's first motion must be one), back along the tool's z by the cell's
-    retreat_mm, above the pallet's centre, home."""
+    retreat_mm, straight up to the transit height over the layer the counters name (at the pallet's centre; kept
+    where it is higher already), above the pallet's centre, home."""
     tcp2flange = cell.robot.tool.tcp2flange
     percent = cell.motion.joint_speed_percent
     home_planned = PlannedMove("home", "joint", home[0].tcp2base, True, None, 0.0, percent, joints=home[1])
@@ -278,6 +292,9 @@ def _way_home(cell, pallet, target, home, start) -> list[PlannedMove]:
     # the path's start: the retreat keeps its configuration)
     way = [PlannedMove("where the arm stands", "joint", here, True, None, 0.0, percent, joints=q)]
     way.append(PlannedMove("back along the tool's z", "linear", back, True, cell.motion.work_speed_mm_s, 0.0))
+    centre = (pallet.size[0] / 2, pallet.size[1] / 2, layer_top(pallet, layer) + transit_dz(pallet), 1.0)
+    up = risen(back, float((frame_matrix(pallet) @ np.array(centre))[2]))
+    way.append(PlannedMove("up to the transit height", "linear", up, True, cell.motion.work_speed_mm_s, 0.0))
     safe = safe_move(cell, pallet)
     way.append(PlannedMove(safe.name, "joint", safe.tcp2base, True, safe.speed_mm_s, 0.0, percent))
     return [*way, home_planned]

@@ -16,5 +16,5 @@ KEYS = KindKeys(
             low=-TAUGHT_RANGE_MM,
             high=TAUGHT_RANGE_MM,
         ),
-    }
+    },
 )

@@ -7,8 +7,9 @@ MODULE pal_eur
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_eur_run (this
   ! module's one global routine); the counters are in pallet_data.mod.
   ! Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q (slow, fine),
-  ! grip, back up (slow), then in the pallet's work object entry (joint move), approach and target (slow,
-  ! fine), release, retreat (slow), entry.
+  ! grip, back up (slow), up to the transit height (300.0000 mm over the layer's top), then in the pallet's work
+  ! object above the entry at that height (joint move), entry, approach and target (slow, fine), release,
+  ! retreat (slow), entry.
   ! Per slip sheet (box 0 of a layer: the sheet below it): above the sheet stack (the pallet and a sheet
   ! waited for), down to it, grip, back up, above the pallet's centre, down onto the layer, release, back up.
   ! Where the arm passes a pose the move blends (stack_zone, 30.0 mm); it stops (fine) at every pick, place
@@ -92,6 +93,10 @@ MODULE pal_eur
   PROC pal_eur_run()
     VAR robtarget target;
     VAR robtarget entry;
+    VAR robtarget transit;
+    VAR robtarget over;
+    VAR robtarget back;
+    VAR pose up;
     VAR num row;
     VAR bool held;
     VAR bool late;
@@ -128,7 +133,14 @@ MODULE pal_eur
         OR Abs(now.robax.rax_5 - stack_home.robax.rax_5) > 2.000 OR Abs(now.robax.rax_6 - stack_home.robax.rax_6) > 2.000 THEN
       ! where the arm stands: the path starts from its joints
       MoveAbsJ now\NoEOffs, v200, fine, stack_tool;
-      MoveL RelTool(CRobT(\Tool:=stack_tool \WObj:=wobj0), 0, 0, -50.0000), stack_work, fine, stack_tool;
+      back := RelTool(CRobT(\Tool:=stack_tool \WObj:=wobj0), 0, 0, -50.0000);
+      MoveL back, stack_work, fine, stack_tool;
+      ! straight up to the transit height over the layer the counters name (at the pallet's centre)
+      up := PoseMult(stack_wobj.uframe, [[600.0000, 400.0000, stack_top(pal_eur_layer) + 300.0000], [1, 0, 0, 0]]);
+      IF up.trans.z > back.trans.z THEN
+        back.trans.z := up.trans.z;
+      ENDIF
+      MoveL back, stack_work, fine, stack_tool;
       MoveJ stack_safe, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
@@ -161,6 +173,13 @@ MODULE pal_eur
       target := stack_target(pal_eur_layer, pal_eur_box);
       row := stack_row(pal_eur_layer, pal_eur_box);
       entry := Offs(target, 0, 0, 300.0000);
+      ! above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
+      transit := Offs(target, 0, 0, 300.0000);
+      up := PoseMult(stack_wobj.uframe, [transit.trans, [1, 0, 0, 0]]);
+      over := stack_above_q;
+      IF up.trans.z > over.trans.z THEN
+        over.trans.z := up.trans.z;
+      ENDIF
       MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
       WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
@@ -174,7 +193,9 @@ MODULE pal_eur
       stack_grip;
       GripLoad stack_box;
       MoveL stack_above_q, stack_work, stack_zone, stack_tool;
-      MoveJ entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL over, stack_travel, stack_zone, stack_tool;
+      MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       stack_release;

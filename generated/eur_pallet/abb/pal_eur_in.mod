@@ -8,8 +8,9 @@ MODULE pal_eur_in
   ! module's one global routine); the counters are in pallet_data.mod.
   ! The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
   ! placing order: in the pallet's work object entry (joint move), approach and target (slow, fine), grip,
-  ! retreat (slow), entry; then above Q (joint move; Q clear waited for), down to Q (slow, fine), release,
-  ! (the pallet waited for again) back up (slow).
+  ! retreat (slow), entry, up to the transit height (300.0000 mm over the layer's top); then over Q at that
+  ! height (joint move), above Q (Q clear waited for), down to Q (slow, fine), release, (the pallet waited for
+  ! again) back up (slow).
   ! Where the arm passes a pose the move blends (stack_zone, 30.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
@@ -79,6 +80,10 @@ MODULE pal_eur_in
   PROC pal_eur_in_run()
     VAR robtarget target;
     VAR robtarget entry;
+    VAR robtarget transit;
+    VAR robtarget over;
+    VAR robtarget back;
+    VAR pose up;
     VAR num row;
     VAR bool held;
     VAR bool late;
@@ -115,7 +120,14 @@ MODULE pal_eur_in
         OR Abs(now.robax.rax_5 - stack_home.robax.rax_5) > 2.000 OR Abs(now.robax.rax_6 - stack_home.robax.rax_6) > 2.000 THEN
       ! where the arm stands: the path starts from its joints
       MoveAbsJ now\NoEOffs, v200, fine, stack_tool;
-      MoveL RelTool(CRobT(\Tool:=stack_tool \WObj:=wobj0), 0, 0, -50.0000), stack_work, fine, stack_tool;
+      back := RelTool(CRobT(\Tool:=stack_tool \WObj:=wobj0), 0, 0, -50.0000);
+      MoveL back, stack_work, fine, stack_tool;
+      ! straight up to the transit height over the layer the counters name (at the pallet's centre)
+      up := PoseMult(stack_wobj.uframe, [[600.0000, 400.0000, stack_top(pal_eur_in_layer) + 300.0000], [1, 0, 0, 0]]);
+      IF up.trans.z > back.trans.z THEN
+        back.trans.z := up.trans.z;
+      ENDIF
+      MoveL back, stack_work, fine, stack_tool;
       MoveJ stack_safe, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
@@ -129,6 +141,13 @@ MODULE pal_eur_in
       target := stack_target(pal_eur_in_layer, pal_eur_in_box);
       row := stack_row(pal_eur_in_layer, pal_eur_in_box);
       entry := Offs(target, 0, 0, 300.0000);
+      ! above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
+      transit := Offs(target, 0, 0, 300.0000);
+      up := PoseMult(stack_wobj.uframe, [transit.trans, [1, 0, 0, 0]]);
+      over := stack_above_q;
+      IF up.trans.z > over.trans.z THEN
+        over.trans.z := up.trans.z;
+      ENDIF
       MoveJ entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
@@ -145,7 +164,9 @@ MODULE pal_eur_in
       ENDIF
       MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
+      MoveL transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveJ over, stack_travel, stack_zone, stack_tool;
+      MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
         stack_stop "pallet eur_in: the pick place is not clear in 10 s? the box is in the gripper";

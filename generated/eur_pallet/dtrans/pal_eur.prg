@@ -5,8 +5,9 @@
 // The dialect has no robot model and no speeds: the poses are the active tool's; set the tool, its load,
 // the speeds and a safe start position on the controller.
 //
-// Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q, grip, back up, then
-// over the pallet entry (joint move), approach and target, release, retreat, entry. Per slip sheet (box 0 of a layer:
+// Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q, grip, back up, up to
+// the transit height (300.0000 mm over the layer's top), above the entry at that height (joint move), entry,
+// approach and target, release, retreat, entry. Per slip sheet (box 0 of a layer:
 // the sheet below it) the same from the sheet stack onto the pallet's centre.
 // The box pose is computed here from the counters: the pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
@@ -192,6 +193,9 @@ Double y = 0.0
 Double z = 0.0
 Double a = 0.0
 Point entry = PAL_PICK
+Point transit = PAL_PICK
+Point over = PAL_PICK
+Double oz = 0.0
 Call pal_release()
 While pal_layer <= PAL_LAYERS
   If pal_box == 0 Then
@@ -240,7 +244,16 @@ MovL PAL_PICK
   Call pal_grip()
   MovL PAL_ABOVE
   entry = pal_pose(x, y, z + 300.0000, a)
-  MovJ entry
+  // above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
+  transit = pal_pose(x, y, z + 300.0000, a)
+  oz = PAL_OZ + z + 300.0000
+  If oz < 200.0000 Then
+    oz = 200.0000
+  EndIf
+  over = Trans(1300.0000, 0.0000, oz, 180.000000, 0.000000, 0.000000)
+  MovL over
+  MovJ transit
+  MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)
   Call pal_release()

@@ -6,8 +6,9 @@
 // the speeds and a safe start position on the controller.
 //
 // The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
-// placing order: over the pallet entry (joint move), approach and target, grip, retreat, entry; then above Q
-// (joint move; Q clear waited for), down to Q, release, (the pallet waited for again) back up. The box pose is
+// placing order: over the pallet entry (joint move), approach and target, grip, retreat, entry, up to the
+// transit height (300.0000 mm over the layer's top); then over Q at that height (joint move), above Q (Q clear
+// waited for), down to Q, release, (the pallet waited for again) back up. The box pose is
 // computed here from the counters: the pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
 // The dialect has no pose product, so the pallet must be level (codegen refuses a tilted one).
@@ -158,6 +159,9 @@ Double y = 0.0
 Double z = 0.0
 Double a = 0.0
 Point entry = PAL_PICK
+Point transit = PAL_PICK
+Point over = PAL_PICK
+Double oz = 0.0
 Call pal_release()
 Call pal_wait(8)
 If DIn(8) <> True Then
@@ -172,6 +176,13 @@ While pal_layer >= 1
   a = PAL_A[row]
   z = pal_top(pal_layer)
   entry = pal_pose(x, y, z + 300.0000, a)
+  // above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
+  transit = pal_pose(x, y, z + 300.0000, a)
+  oz = PAL_OZ + z + 300.0000
+  If oz < 200.0000 Then
+    oz = 200.0000
+  EndIf
+  over = Trans(1300.0000, 0.0000, oz, 180.000000, 0.000000, 0.000000)
   MovJ entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)
@@ -187,7 +198,9 @@ While pal_layer >= 1
   EndIf
   MovL pal_pose(x + PAL_RX[row], y + PAL_RY[row], z + 60.0000, a)
   MovL entry
-  MovJ PAL_ABOVE
+  MovL transit
+  MovJ over
+  MovL PAL_ABOVE
   Call pal_wait(7)
   If DIn(7) <> True Then
     TPWrite 0, "pallet eur_in: the pick place is not clear in 10 s? the box is in the gripper"

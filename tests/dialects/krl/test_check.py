@@ -23,7 +23,7 @@ def test_every_error_of_every_file_with_its_line():
     src = (
         "DEF T()\n"  # 1
         "DECL INT I\n"  # 2
-        "I = \"text\"\n"  # 3: a type error
+        'I = "text"\n'  # 3: a type error
         "J = 3\n"  # 4: an undefined name
         "MISSING(1)\n"  # 5: a routine defined nowhere
         "I = = 2\n"  # 6: a syntax error
@@ -32,7 +32,7 @@ def test_every_error_of_every_file_with_its_line():
         "$WORKSTATE[1] = TRUE\n"  # 9: not modelled
         "END\n"
     )
-    dat = "DEFDAT T\nDECL INT N = \"abc\"\nDECL REAL R\nR = Q\nENDDAT\n"
+    dat = 'DEFDAT T\nDECL INT N = "abc"\nDECL REAL R\nR = Q\nENDDAT\n'
     found = check(src, dat)
     assert (3, "type") in codes(found) and (4, "undefined-name") in codes(found)
     assert (5, "undefined-routine") in codes(found) and (6, "syntax") in codes(found) and (7, "syntax") in codes(found)

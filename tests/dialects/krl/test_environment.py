@@ -22,7 +22,7 @@ FOLD_LIN = (
 )
 INLINE_DAT = (
     "DECL E6POS XP1={X 400,Y 0,Z 500,A 0,B 90,C 0,S 2,T 35,E1 0,E2 0,E3 0,E4 0,E5 0,E6 0}\n"
-    "DECL FDAT FP1={TOOL_NO 1,BASE_NO 2,IPO_FRAME #BASE,POINT2[] \" \",TQ_STATE FALSE}\n"
+    'DECL FDAT FP1={TOOL_NO 1,BASE_NO 2,IPO_FRAME #BASE,POINT2[] " ",TQ_STATE FALSE}\n'
     "DECL PDAT PPDAT1={VEL 50.0,ACC 80.0,APO_DIST 100.0,APO_MODE #CDIS,GEAR_JERK 50.0,EXAX_IGN 0}\n"
     "DECL E6POS XP2={X 400,Y 50,Z 500,A 0,B 90,C 0,S 2,T 35,E1 0,E2 0,E3 0,E4 0,E5 0,E6 0}\n"
     "DECL LDAT LCPDAT1={VEL 2.0,ACC 50.0,APO_DIST 25.0,APO_FAC 50.0,AXIS_VEL 100.0,AXIS_ACC 100.0,ORI_TYP #VAR,"
@@ -33,9 +33,7 @@ INLINE_DAT = (
 def test_initmov_sets_what_bas_src_sets():
     """BAS(#INITMOV, 0): DEF_VEL_CP 2 m/s, PTP at 100 % of DEF_VEL_PTP, DEF_ACC_PTP 50 %, $APO.CDIS 3 mm,
     $BASE = $WORLD (the robot's base here), $ADVANCE 3."""
-    trace = program(INI + f"PTP {POSE}\nLIN {{X 500,Y 10,Z 600,A 0,B 90,C 0}} C_DIS").run(
-        {}, keep=()
-    )
+    trace = program(INI + f"PTP {POSE}\nLIN {{X 500,Y 10,Z 600,A 0,B 90,C 0}} C_DIS").run({}, keep=())
     ptp, lin = trace.moves
     assert (ptp.settings["vel_ptp"], ptp.settings["acc_ptp"]) == (100.0, 50.0)
     assert (lin.settings["vel_cp"], lin.settings["cdis"], lin.settings["acc_cp"]) == (2.0, 3.0, pytest.approx(2.3))
@@ -55,7 +53,9 @@ def test_the_inline_forms_set_speed_tool_and_base_from_their_data():
     ptp, lin = trace.moves
     assert (ptp.settings["vel_ptp"], ptp.settings["acc_ptp"]) == (50.0, 40.0)  # 80 % of DEF_ACC_PTP 50
     assert (lin.settings["vel_cp"], lin.settings["cdis"], lin.settings["acc_cp"]) == (
-        pytest.approx(0.4), 25.0, pytest.approx(2.3 * 0.5)
+        pytest.approx(0.4),
+        25.0,
+        pytest.approx(2.3 * 0.5),
     )
     assert ptp.tcp2base[:3, 3].tolist() == pytest.approx([100.0, 600.0, 500.0])  # BASE_DATA[2] turned 90 deg
     assert trace.kept == {"TOOL_Z": 120.0}  # FDAT's TOOL_NO 1: TOOL_DATA[1]
@@ -67,8 +67,10 @@ def test_a_tool_the_controller_has_but_the_interpreter_does_not_know_is_refused(
 
 
 def test_a_given_config_dat_replaces_the_built_in_names():
-    config = "DEFDAT $CONFIG\nE6AXIS XHOME={A1 10,A2 -80,A3 80,A4 0,A5 30,A6 0,E1 0,E2 0,E3 0,E4 0,E5 0,E6 0}\n" \
-             "SIGNAL GRIPPER_OPEN $OUT[5]\nDECL FRAME TOOL_DATA[16]\n" + TOOL + "\nENDDAT\n"
+    config = (
+        "DEFDAT $CONFIG\nE6AXIS XHOME={A1 10,A2 -80,A3 80,A4 0,A5 30,A6 0,E1 0,E2 0,E3 0,E4 0,E5 0,E6 0}\n"
+        "SIGNAL GRIPPER_OPEN $OUT[5]\nDECL FRAME TOOL_DATA[16]\n" + TOOL + "\nENDDAT\n"
+    )
     main = f"DEF CELL()\n{INI}PTP XHOME\nGRIPPER_OPEN = TRUE\nPTP {POSE}\nEND\n"
     built_in = KRL.load_files(files(cell_src=main.replace("GRIPPER_OPEN = TRUE\n", ""))).run({})
     assert list(built_in.moves[0].joints) == [0.0, -90.0, 90.0, 0.0, 0.0, 0.0]  # KSS's XHOME as shipped

@@ -59,7 +59,7 @@ def test_a_goto_loop_counts_steps():
 def test_enum_and_struc_declared_in_a_data_list():
     dat = (
         "ENUM COLOR_T RED,GREEN,BLUE\nSTRUC PART_T INT COUNT,REAL WEIGHT,COLOR_T COLOR,CHAR NAME[12]\n"
-        "DECL PART_T PART={COUNT 2,WEIGHT 1.5,COLOR #GREEN,NAME[] \"bolt\"}\nDECL INT N\nDECL BOOL IS_GREEN"
+        'DECL PART_T PART={COUNT 2,WEIGHT 1.5,COLOR #GREEN,NAME[] "bolt"}\nDECL INT N\nDECL BOOL IS_GREEN'
     )
     body = "PART.COUNT = PART.COUNT + 1\nN = PART.COUNT\nIS_GREEN = PART.COLOR == #GREEN"
     assert kept(body, "N IS_GREEN", dat=dat) == {"N": 3, "IS_GREEN": True}
@@ -69,7 +69,7 @@ def test_enum_and_struc_declared_in_a_data_list():
 
 def test_a_literal_of_another_type_is_refused_before_the_program_runs():
     """DECL INT N = "abc" in a .dat: one message naming the file and line (no traceback)."""
-    with pytest.raises(RunError, match=r'^t\.dat:3:\d+: type error: cannot assign CHAR to INT$'):
+    with pytest.raises(RunError, match=r"^t\.dat:3:\d+: type error: cannot assign CHAR to INT$"):
         program("", dat='DECL INT N = "abc"')
     with pytest.raises(RunError, match=r"^t\.src:3:1: type error: cannot assign CHAR to INT$"):
         program('I = "abc"', "DECL INT I")
@@ -163,7 +163,10 @@ def test_signals_declared_and_undeclared_io_are_named_in_the_trace():
     body = "IF READY THEN\nLAMP = TRUE\nENDIF\n$OUT[2] = $IN[9]\nCODE = 5"
     trace = program(body, dat=dat).run({}, signals={"$IN[4]": True})
     assert [(o.name, o.value) for o in trace.outputs] == [
-        ("$OUT[12]", True), ("$OUT[2]", False), ("$OUT[20]", True), ("$OUT[22]", True)
+        ("$OUT[12]", True),
+        ("$OUT[2]", False),
+        ("$OUT[20]", True),
+        ("$OUT[22]", True),
     ]
 
 
@@ -182,8 +185,10 @@ def test_windows_1252_text_is_read():
 
 def test_global_routines_and_public_data_of_other_modules():
     main = "DEF CELL()\nCOUNT_PART(2)\nTOTAL = TOTAL + STEP_OF()\nEND\n"
-    lib = "DEF LIB()\nEND\nGLOBAL DEF COUNT_PART(N:IN)\nDECL INT N\nTOTAL = TOTAL + N\nHIDDEN = 1\nEND\n" \
-          "GLOBAL DEFFCT INT STEP_OF()\nRETURN STEP_SIZE\nENDFCT\n"
+    lib = (
+        "DEF LIB()\nEND\nGLOBAL DEF COUNT_PART(N:IN)\nDECL INT N\nTOTAL = TOTAL + N\nHIDDEN = 1\nEND\n"
+        "GLOBAL DEFFCT INT STEP_OF()\nRETURN STEP_SIZE\nENDFCT\n"
+    )
     lib_dat = "DEFDAT LIB PUBLIC\nDECL GLOBAL INT TOTAL=0\nDECL INT HIDDEN=0\nDECL INT STEP_SIZE=10\nENDDAT\n"
     group = KRL.programs(files(cell_src=main, lib_src=lib, lib_dat=lib_dat, other_src="DEF OTHER()\nEND\n"))
     names = [[f.name for f in g] for g in group]

@@ -20,7 +20,11 @@ def pickcell():
     texts = [read_source(p, KRL.encodings) for p in sorted(PICKCELL.iterdir())]
     [group] = KRL.programs(texts)
     assert [Path(f.name).name for f in group] == [
-        "pickcell.src", "pickcell.dat", "cellutil.src", "cellutil.dat", "$config.dat"
+        "pickcell.src",
+        "pickcell.dat",
+        "cellutil.src",
+        "cellutil.dat",
+        "$config.dat",
     ]
     return KRL.load_files(group)
 

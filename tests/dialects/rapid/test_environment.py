@@ -78,7 +78,7 @@ def test_signals_read_by_functions_and_as_values():
     body = (
         'SetDO doLamp, 1;\nSetGO goCode, 5;\nTPWrite "" \\Num:=doLamp + DOutput(doLamp) + GOutput(goCode);'
         '\nTPWrite "" \\Num:=diReady + DInput(diReady) + GInput(giRecipe);\nTPWrite "" \\Bool:=TestDI(diReady);'
-        '\nWaitDI diReady, 1;\nWaitUntil diReady = 1;'
+        "\nWaitDI diReady, 1;\nWaitUntil diReady = 1;"
     )
     trace = run(body, signals={"diReady": True, "giRecipe": 7})
     assert trace.messages == ["7", "9", "TRUE"]
@@ -221,7 +221,7 @@ def test_crobt_and_cjointt_read_where_the_arm_is():
 
 def test_an_instruction_the_interpreter_does_not_model_is_refused_by_name_when_loaded():
     with pytest.raises(RunError, match=r"^t\.mod:5:1: TriggL is not modelled"):
-        load(mod("TPWrite \"a\";\nTriggL p, v100, trigg, fine, tool0;"), "t.mod")
+        load(mod('TPWrite "a";\nTriggL p, v100, trigg, fine, tool0;'), "t.mod")
     with pytest.raises(RunError, match=r"^t\.mod:4:1: unknown routine DoTheThing"):
         load(mod("DoTheThing;"), "t.mod")
 
@@ -246,8 +246,8 @@ def test_an_undeclared_name_spelt_as_a_signal_is_read_as_one_and_check_warns():
 
 
 def test_crobt_without_tool_or_wobj_takes_those_of_the_latest_move():
-    decls = "PERS wobjdata table := [FALSE, TRUE, \"\", [[100, 0, 0], [1, 0, 0, 0]], [[0, 0, 0], [1, 0, 0, 0]]];"
-    body = f"MoveL {P400}, v100, fine, tool0 \\WObj:=table;\np := CRobT();\nTPWrite \"\" \\Num:=p.trans.x + CPos().x;"
+    decls = 'PERS wobjdata table := [FALSE, TRUE, "", [[100, 0, 0], [1, 0, 0, 0]], [[0, 0, 0], [1, 0, 0, 0]]];'
+    body = f'MoveL {P400}, v100, fine, tool0 \\WObj:=table;\np := CRobT();\nTPWrite "" \\Num:=p.trans.x + CPos().x;'
     assert run(body, decls + "\nVAR robtarget p;").messages == ["800"]  # 400 in the table's frame, twice
     with pytest.raises(RunError, match=r"t\.mod:4:\d+: CRobT takes \\Tool:= and \\WObj:= before any move"):
         run("p := CRobT();", "VAR robtarget p;")

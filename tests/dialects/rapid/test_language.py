@@ -126,8 +126,8 @@ def test_two_dimensional_arrays():
 
 def test_test_case_default():
     routines = (
-        "PROC pick(num n)\n  TEST n\n  CASE 1, 2:\n    TPWrite \"low\";\n  CASE 3:\n    TPWrite \"three\";\n"
-        "  DEFAULT:\n    TPWrite \"other\";\n  ENDTEST\nENDPROC"
+        'PROC pick(num n)\n  TEST n\n  CASE 1, 2:\n    TPWrite "low";\n  CASE 3:\n    TPWrite "three";\n'
+        '  DEFAULT:\n    TPWrite "other";\n  ENDTEST\nENDPROC'
     )
     assert messages("pick 2;\npick 3;\npick 9;", routines=routines) == ["low", "three", "other"]
 
@@ -174,10 +174,10 @@ def task(*modules: tuple[str, str]):
 def test_routines_data_and_records_of_another_module_and_local_names_per_module():
     main = (
         "MODULE Main\n  LOCAL VAR num n := 1;\n  PROC main()\n    VAR item it;\n    it := first;\n"
-        '    helper;\n    TPWrite it.label \\Num:=n + shared;\n  ENDPROC\nENDMODULE\n'
+        "    helper;\n    TPWrite it.label \\Num:=n + shared;\n  ENDPROC\nENDMODULE\n"
     )
     lib = (
-        "MODULE Lib(SYSMODULE)\n  RECORD item\n    string label;\n  ENDRECORD\n  CONST item first := [\"first \"];\n"
+        'MODULE Lib(SYSMODULE)\n  RECORD item\n    string label;\n  ENDRECORD\n  CONST item first := ["first "];\n'
         "  PERS num shared := 10;\n  LOCAL VAR num n := 100;\n  PROC helper()\n    n := n + 1;\n"
         '    TPWrite "lib " \\Num:=n;\n  ENDPROC\nENDMODULE\n'
     )
@@ -208,7 +208,7 @@ def test_module_data_may_be_initialised_from_data_of_a_later_module():
 def test_a_placeholder_is_refused_by_name_and_predefined_error_numbers_are_known():
     with pytest.raises(RunError, match=r"t\.mod:5:1: <SMT> is a placeholder"):
         load(mod('TPWrite "a";\n<SMT>'), "t.mod")
-    handler = "x := 1 / 0;\nERROR\n  IF ERRNO = ERR_PATHDIST OR ERRNO = ERR_DIVZERO TPWrite \"handled\";\n  TRYNEXT;"
+    handler = 'x := 1 / 0;\nERROR\n  IF ERRNO = ERR_PATHDIST OR ERRNO = ERR_DIVZERO TPWrite "handled";\n  TRYNEXT;'
     assert messages(handler, "VAR num x;") == ["handled"]
 
 

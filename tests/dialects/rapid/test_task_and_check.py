@@ -154,7 +154,7 @@ def test_check_reports_every_finding_of_a_module_with_file_and_line():
 
 def test_check_of_a_clean_task_across_modules_is_empty_and_of_a_late_module_names_it():
     main = "MODULE M\n  PROC main()\n    helper 2;\n  ENDPROC\nENDMODULE\n"
-    lib = "MODULE L\n  PROC helper(num n)\n    TPWrite \"\" \\Num:=n;\n  ENDPROC\nENDMODULE\n"
+    lib = 'MODULE L\n  PROC helper(num n)\n    TPWrite "" \\Num:=n;\n  ENDPROC\nENDMODULE\n'
     assert check(("m.mod", main), ("l.mod", lib)) == []
     wrong = lib.replace("helper(num n)", "helper(string s)").replace("\\Num:=n", "\\Num:=1")
     assert codes(check(("m.mod", main), ("l.mod", wrong))) == [("m.mod", 3, "type")]
