@@ -133,6 +133,7 @@ def test_deeply_nested_blocks_compile():
     assert rapid_program(text).run({}).messages == ["deep"]
 
 
+@pytest.mark.slow
 def test_an_elif_chain_of_thousands_compiles():
     """A dispatch over 5,000 stations: Python's compiler nests an elif chain, so a long one continues in
     a function of its own (it failed with "maximum recursion depth exceeded during compilation")."""

@@ -8,6 +8,7 @@ from hypothesis import strategies as st
 from codegen.dialects.core.values import f32, format_fixed, format_general
 
 
+@pytest.mark.slow
 @settings(max_examples=3000, deadline=None)
 @given(st.floats(width=32, allow_nan=True, allow_infinity=True))
 def test_format_general_is_the_shortest_positional_float32_text(value):
@@ -30,6 +31,7 @@ def test_format_fixed_rounds_half_away_from_zero_without_minus_zero():
     assert format_fixed(float("nan"), 2) == "nan"
 
 
+@pytest.mark.slow
 @settings(max_examples=5000, deadline=None)
 @given(st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-(2**70), 2**70)))
 @pytest.mark.filterwarnings("ignore:overflow:RuntimeWarning")

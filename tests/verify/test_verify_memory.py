@@ -28,6 +28,7 @@ def _same_rows(got, want) -> None:
         assert a == b, {k: (a.get(k), b.get(k)) for k in {*a, *b} if a.get(k) != b.get(k)}
 
 
+@pytest.mark.slow
 def test_one_program_at_a_time_gives_the_rows_of_all_at_once(monkeypatch):
     """The demo cell treated as large (ONE_PROGRAM_FROM = 1): a worker lets a program go when the next
     program's task comes, and every row (cases, mismatches, halts, errors) is the one of the tasks over all
@@ -44,6 +45,7 @@ def test_one_program_at_a_time_gives_the_rows_of_all_at_once(monkeypatch):
     assert len(runner._LOADED) == 1  # the last program only
 
 
+@pytest.mark.slow
 def test_programs_pinned_to_workers_give_the_same_rows(monkeypatch):
     """As many programs as workers or more (a large cell): each worker process runs whole programs, loading
     each once; the rows, in the programs' order, are those of one process, and progress counts every case."""
