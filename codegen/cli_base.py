@@ -7,6 +7,7 @@ import math
 
 import click
 
+from codegen.controllers import all_targets, target_names
 from codegen.csvfile import number, whole
 from codegen.model.cell import CellError, load_cell
 
@@ -109,6 +110,18 @@ def step_limit_option(help_text: str, kinds_own: bool = False):
     default = None if kinds_own else DEFAULT_STEP_LIMIT
     return click.option(
         "--step-limit", default=default, show_default=not kinds_own, type=Number(1, integer=True), help=help_text
+    )
+
+
+def file_target_option():
+    """--target of the commands that take program files: the controller, else the one each file's suffix names."""
+    return click.option(
+        "--target",
+        "target_name",
+        type=click.Choice(target_names()),
+        help="Controller (default: from the file suffixes): "
+        + "; ".join(f"{t.name} = {t.title}" for t in all_targets())
+        + ".",
     )
 
 

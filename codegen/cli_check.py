@@ -7,10 +7,9 @@ import sys
 
 import click
 
-from codegen.cli_base import UserError, main
+from codegen.cli_base import UserError, file_target_option, main
 from codegen.cli_base import dump as _dump
 from codegen.cli_run import program_files, program_groups
-from codegen.controllers import all_targets, target_names
 
 EXIT_CLEAN, EXIT_FINDINGS, EXIT_REFUSED = 0, 1, 2  # refused: a file does not parse or uses what is not modelled
 
@@ -54,14 +53,7 @@ def _check_group(dialect, group, options) -> list:
 
 @main.command()
 @click.argument("files", nargs=-1, required=True, type=click.Path(exists=True))
-@click.option(
-    "--target",
-    "target_name",
-    type=click.Choice(target_names()),
-    help="Controller (default: from the file suffixes): "
-    + "; ".join(f"{t.name} = {t.title}" for t in all_targets())
-    + ".",
-)
+@file_target_option()
 @click.option(
     "--robot",
     "robot",

@@ -9,9 +9,8 @@ from pathlib import Path
 
 import click
 
-from codegen.cli_base import Number, UserError, main, step_limit_option
+from codegen.cli_base import Number, UserError, file_target_option, main, step_limit_option
 from codegen.cli_base import dump as _dump
-from codegen.controllers import all_targets, target_names
 
 
 def _parse_input(text: str):
@@ -119,14 +118,7 @@ def load_group(dialect, group):
 
 @main.command()
 @click.argument("files", nargs=-1, required=True, type=click.Path(exists=True))
-@click.option(
-    "--target",
-    "target_name",
-    type=click.Choice(target_names()),
-    help="Controller (default: from the file suffix): "
-    + "; ".join(f"{t.name} = {t.title}" for t in all_targets())
-    + ".",
-)
+@file_target_option()
 @click.option(
     "--input",
     "inputs",
