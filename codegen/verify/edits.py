@@ -158,12 +158,10 @@ def _timing(mine: Trace, theirs: Trace) -> list[str]:
     """Where the given program's clock departs from the generated one's: before the first move whose arrival
     differs (a wait, a slower move), and the whole run's time."""
     out = []
-    before = 0.0
     for i, (m, t) in enumerate(zip(mine.moves, theirs.moves, strict=False)):
         delta = m.end_time - t.end_time
-        if abs(delta - before) > TIME_STEP_S:
-            out.append(f"reaches move {i + 1} (line {m.line}) {_seconds(delta - before, 'later', 'earlier')}")
-            before = delta
+        if abs(delta) > TIME_STEP_S:
+            out.append(f"reaches move {i + 1} (line {m.line}) {_seconds(delta, 'later', 'earlier')}")
             break
     total = mine.clock - theirs.clock
     if abs(total) > TIME_STEP_S and math.isfinite(total):
