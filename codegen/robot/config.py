@@ -31,18 +31,19 @@
 #
 # At a boundary. A pose the cell plans exactly on a boundary (Q straight ahead of the arm: axis 1 at 0; a
 # vertical tool: axis 4 at 0 and axis 6 at 180) comes out of the float64 inverse kinematics as 0 +- 1e-12 or
-# 180 +- 1e-12: its sign is rounding. A value within BOUNDARY_DEG (solve.py) of a multiple of 90 deg, and a
-# wrist or elbow side within BOUNDARY_MM (BOUNDARY_SIN) of 0, is taken as the boundary itself (at_boundary),
-# and the manuals' definitions then give the boundary's own configuration: KUKA Turn bit i is 1 only for
-# axis i+1 < 0 deg (Siemens' TU, the same bits: "bit = 0: 0 <= theta < 360"), so an axis at 0 has its bit 0;
-# Status bit 2 is 0 for 0 <= A5 < 180; ABB's quadrant of 0 .. 90 deg is 0 (floor(angle / 90): 0 -> 0,
-# 180 -> 2, -180 -> -2); cfx counts the boundaries as above. The controller computes the same pose in its own
-# floating point and lands within that margin of the boundary, on either side: the configuration named for
-# the boundary selects a value within the margin on its own side or the boundary itself, and one the margin
-# beyond (a Turn bit 1 for an axis at +-1e-7 deg) selects the next turn, as the definition reads (which
-# KSS then refuses or runs the long way: verify fails such a program). KUKA's own behaviour near 0 is not
-# in its manual; robot-forum.com reports (KSS 5.5) that a PTP disregards the Turn bit of an axis within about
-# 2 deg of 0 and takes the shorter way, which the rule here does not rely on.
+# 180 +- 1e-12: its sign is rounding, and so is the controller's, whose own arithmetic lands on either side.
+# No manual states which side the controller then takes. So a generated program never names such a field
+# (holding, named_in_full below: a field that changes when any axis moves by ROUNDING_MARGIN_DEG): a KUKA
+# PTP then gives the Status without the Turn ("the Turn value that results in the shortest possible path"),
+# an ABB joint move runs with the configuration check off ("the closest configuration"), each the manual's
+# rule for a target without that field, and codegen plans the move by the same rule (Form.loose). For
+# hand-written programs the interpreter still reads a field named at a boundary as the boundary's own
+# value (at_boundary, within BOUNDARY_DEG): KUKA Turn bit i is 1 only for axis i+1 < 0 deg (Siemens' TU,
+# the same bits: "bit = 0: 0 <= theta < 360"), so an axis at 0 has its bit 0; Status bit 2 is 0 for
+# 0 <= A5 < 180; ABB's quadrant of 0 .. 90 deg is 0 (floor(angle / 90): 0 -> 0, 180 -> 2, -180 -> -2); cfx
+# counts the boundaries as above; the configuration named for the boundary selects a value within the margin
+# on its own side or the boundary itself. robot-forum.com reports (KSS 5.5) that a PTP disregards the Turn
+# bit of an axis within about 2 deg of 0 and takes the shorter way; nothing here relies on it.
 
 from __future__ import annotations
 
@@ -250,27 +251,75 @@ def abb_quadrants(q: np.ndarray) -> np.ndarray:
 class Form:
     """How a controller's program names an arm configuration: `of` gives the program's value for joints,
     `select` the joints a move naming that value takes among the analytic solutions (q, branch), `many`
-    the values of a batch of joints (..., 6) as an array (..., k)."""
+    the values of a batch of joints (..., 6) as an array (..., k). Where a field of the value depends on
+    rounding (holding), the program names only `kept` (the fields that hold: their columns) and the move
+    takes `loose`'s joints: the controller's own rule for a target without the rest (q, branch). A form of
+    axis values (`exact`) names them as they are: no field of it is decided by a boundary."""
 
     of: Callable
     select: Callable
     many: Callable
+    kept: tuple[int, ...]
+    loose: Callable
+    exact: bool = False
 
 
 FORMS = {  # a target's `configuration` fact -> its form
+    # ABB without the configuration check (ConfJ \Off): "the robot moves to the specified position and
+    # orientation with the closest configuration" (Basic Characteristics RAPID, Robot configuration)
     "confdata": Form(
         lambda arm, q: (*(int(v) for v in abb_quadrants(q)), int(abb_confdata(arm.kin, q)[3])),
         by_confdata,
         lambda arm, q: abb_confdata(arm.kin, q),
+        (),
+        lambda arm, solutions, value, previous: solve.nearest(arm, solutions, previous),
     ),
+    # KUKA, a PTP with S and no T: the programmed Status, "the Turn value that results in the shortest
+    # possible path" (KSS 8 manual, Status and Turn, as quoted in robot-forum.com thread 42877)
     "status_turn": Form(
         lambda arm, q: (int(kuka_status(arm.kin, q)), int(kuka_turn(q))),
         lambda arm, solutions, value: by_status_turn(arm, solutions, *value),
         lambda arm, q: np.stack([np.asarray(kuka_status(arm.kin, q)), np.asarray(kuka_turn(q))], axis=-1),
+        (0,),
+        lambda arm, solutions, value, previous: solve.nearest(arm, with_status(arm, solutions, value[0]), previous),
     ),
     "joints": Form(
         lambda arm, q: tuple(float(v) for v in q),
         lambda arm, solutions, value: solve.nearest(arm, solutions, np.asarray(value, dtype=float)),
         lambda arm, q: np.asarray(q, dtype=float),
+        (0, 1, 2, 3, 4, 5),
+        lambda arm, solutions, value, previous: solve.nearest(arm, solutions, np.asarray(value, dtype=float)),
+        exact=True,
     ),
 }
+
+# A configuration field holds at joints when every axis moved by this much either way leaves it as it is.
+# The controller computes a target's axes from the printed pose (4 decimals mm, 6 decimals deg) in its own
+# arithmetic (KRL REAL and RAPID num are 32-bit floats: 6e-8 relative, 1e-5 deg on 180 deg, 1e-4 mm on
+# 2 m), so its axis values lie within about 1e-4 deg of codegen's away from a singularity; 0.01 deg is a
+# hundred times that. A field that does not hold (a vertical tool: axis 4 at 0, axis 6 at a multiple of
+# 90; a target straight ahead: axis 1 at 0) depends on rounding: the program does not name it.
+ROUNDING_MARGIN_DEG = 0.01
+_NUDGES = np.concatenate([np.zeros((1, 6)), ROUNDING_MARGIN_DEG * np.eye(6), -ROUNDING_MARGIN_DEG * np.eye(6)])
+
+
+def holding(form: str, arm: Arm, joints) -> np.ndarray:
+    """Per field of the form's value (..., k), bool: the field is the same for the joints with any one axis
+    moved by ROUNDING_MARGIN_DEG either way (it does not depend on rounding)."""
+    q = np.asarray(joints, dtype=float)[..., None, :] + _NUDGES  # (..., 13, 6)
+    values = np.asarray(FORMS[form].many(arm, q))
+    if FORMS[form].exact:
+        return np.ones(values.shape[:-2] + values.shape[-1:], dtype=bool)
+    return np.all(values == values[..., :1, :], axis=-2)
+
+
+def named_in_full(form: str, arm: Arm, joints) -> bool:
+    """Every field of the configuration at all these joints (..., 6) holds: the program can name it whole.
+    ValueError where even the fields a program names without the rest (Form.kept) do not hold: the arm is at
+    a singularity there."""
+    held = holding(form, arm, joints)
+    held = held.reshape(-1, held.shape[-1])
+    kept = list(FORMS[form].kept)
+    if kept and not held[:, kept].all():
+        raise ValueError("the arm's configuration there depends on rounding (a singular pose)")
+    return bool(held.all())

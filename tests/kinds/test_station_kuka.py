@@ -9,13 +9,17 @@ LIN_TARGET = "{X 600,Y 0,Z 700,A 0,B 90,C 0}"  # a first motion that is no PTP t
 INITMOV = "  BAS(#INITMOV, 0)\n"
 
 
+P3_APPROACH = "P3_APPROACH={X 600.0000,Y 40.0000,Z 450.0000,A -90.000000,B 15.000000,C 180.000000"
+
+
 class TestKUKA(StationTests):
     target = "kuka"
     motion_mutations = ["no_base_reset", "approximated_work_pose", "ptp_at_full_speed"]
+    arm_stations = (1, 3)  # station 3's approach names S and T (station 1's, A4 at 0, names S alone)
     arm_mutations = ["status_changed", "turn_changed", "no_tool", "no_load", "out_of_reach", "lin_first"]
     arm_words = {
-        "status_changed": ("cannot reach this pose in configuration [6, 34]",),
-        "turn_changed": ("cannot reach this pose in configuration [2, 35]",),
+        "status_changed": ("cannot reach this pose in configuration [6, 10]",),
+        "turn_changed": ("cannot reach this pose in configuration [2, 11]",),
         "no_tool": ("position error", "joints"),
         "no_load": ("load None",),
         "out_of_reach": ("out of reach", "cannot reach"),
@@ -30,8 +34,9 @@ class TestKUKA(StationTests):
             "calibration_number": lambda: (text, replace_once(dat, "X 612.400000", "X 612.450000")),
             "extra_dispatch_id": lambda: (replace_once(text, "  CASE 1\n", "  CASE 1, 20000\n"), dat),
             "halt_goes_on": lambda: (replace_once(text, HALT_RETURN, HALT_RETURN.replace("    RETURN\n", "")), dat),
-            "status_changed": lambda: (text, replace_once(dat, "C 180.000000,S 2,T 34", "C 180.000000,S 6,T 34")),
-            "turn_changed": lambda: (text, replace_once(dat, "C 180.000000,S 2,T 34", "C 180.000000,S 2,T 35")),
+            # station 3's approach (a PTP): its tool tilted 15 deg, every axis clear of 0, so it names S and T
+            "status_changed": lambda: (text, replace_once(dat, P3_APPROACH + ",S 2,T 10", P3_APPROACH + ",S 6,T 10")),
+            "turn_changed": lambda: (text, replace_once(dat, P3_APPROACH + ",S 2,T 10", P3_APPROACH + ",S 2,T 11")),
             "no_tool": lambda: (replace_once(text, "  $TOOL = VIS_TOOL\n", ""), dat),
             "no_load": lambda: (replace_once(text, "  $LOAD = VIS_LOAD\n", ""), dat),
             "out_of_reach": lambda: (text, replace_once(dat, "P1_CHUCK={X 738.5000", "P1_CHUCK={X 2738.5000")),

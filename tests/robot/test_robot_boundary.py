@@ -11,7 +11,18 @@ from codegen.kinds.pallet.reach import PICK_KEY, configurations
 from codegen.kinds.pallet.section import pallets_of
 from codegen.robot import solve
 from codegen.robot.arms import Arm
-from codegen.robot.config import FORMS, abb_confdata, abb_quadrant, by_confdata, by_status_turn, kuka_status, kuka_turn
+from codegen.robot.config import (
+    FORMS,
+    ROUNDING_MARGIN_DEG,
+    abb_confdata,
+    abb_quadrant,
+    by_confdata,
+    by_status_turn,
+    holding,
+    kuka_status,
+    kuka_turn,
+    named_in_full,
+)
 from codegen.robot.opw import OPW
 
 KR6_R700 = OPW(25, -35, 0, 400, 315, 365, 80, (0, 90, 0, 0, 0, 0), (-1, 1, 1, -1, 1, -1))
@@ -85,6 +96,8 @@ def test_the_eur_cells_boundary_poses_name_the_boundarys_configuration():
     assert turn >> 3 & 1 == 0
     confdata = configurations(cell, eur, "abb")
     assert all(value[1] == 0 for value in confdata.values.values()), confdata.values
+    # and the programs name neither: the Turn and the quadrants there are decided by rounding (not whole)
+    assert status_turn.whole is False and confdata.whole is False
 
 
 def test_the_margin_is_far_above_the_rounding_and_far_below_a_real_turn():
@@ -92,3 +105,39 @@ def test_the_margin_is_far_above_the_rounding_and_far_below_a_real_turn():
     assert solve.BOUNDARY_DEG == 1e-6
     assert kuka_turn(np.array([-1e-3, 0, 0, 0, 30.0, 0])) == 1
     assert FORMS["confdata"].of(_arm(IRB2400, IRB2400_LIMITS), np.array([0, 0, 0, -1e-3, 30.0, 0]))[1] == -1
+
+
+@pytest.mark.parametrize("noise", NOISE)
+def test_a_field_on_its_boundary_does_not_hold_whatever_the_rounding(noise):
+    """A vertical tool puts KUKA's A4 at 0: the Turn depends on the rounding's sign there, the Status does not;
+    ABB's cf1, cf4 and cf6 on a multiple of 90 deg depend on it too. The decision is the same for every sign
+    and size of the rounding."""
+    kuka = _arm(KR6_R700, KR6_LIMITS)
+    q = np.array([20.0, -60.0, 100.0, noise, 50.0, 10.0])
+    assert holding("status_turn", kuka, q).tolist() == [True, False]
+    assert named_in_full("status_turn", kuka, q) is False
+    abb = _arm(IRB2400, IRB2400_LIMITS)
+    for axis, column in ((0, 0), (3, 1), (5, 2)):
+        q = np.array([20.0, 10.0, 10.0, 30.0, 40.0, 100.0])
+        q[axis] = 90.0 + noise
+        held = holding("confdata", abb, q).tolist()
+        assert held[column] is False and held.count(False) == 1, (axis, held)
+
+
+def test_a_field_a_margin_away_from_its_boundary_holds():
+    """0.02 deg from the boundary (twice the margin) the field is the controller's to compute as codegen does;
+    the margin is a hundred times the 1e-4 deg a 32-bit controller's axis values differ by."""
+    assert ROUNDING_MARGIN_DEG == 0.01
+    kuka = _arm(KR6_R700, KR6_LIMITS)
+    for a4 in (0.02, -0.02):
+        assert named_in_full("status_turn", kuka, np.array([20.0, -60.0, 100.0, a4, 50.0, 10.0])) is True
+    abb = _arm(IRB2400, IRB2400_LIMITS)
+    assert named_in_full("confdata", abb, np.array([20.0, 10.0, 10.0, 30.0, 40.0, 90.02])) is True
+    assert named_in_full("joints", abb, np.array([0.0, 0.0, 0.0, 0.0, 40.0, 0.0])) is True  # axis values: exact
+
+
+def test_status_on_its_boundary_is_a_singular_pose_and_refused():
+    """Status bit 2 is A5's sign: A5 at 0 is the wrist's singularity; a program cannot name even the Status."""
+    kuka = _arm(KR6_R700, KR6_LIMITS)
+    with pytest.raises(ValueError, match="singular"):
+        named_in_full("status_turn", kuka, np.array([20.0, -60.0, 100.0, 10.0, 0.0, 10.0]))

@@ -138,7 +138,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     own = identifiers(cell, target)[index]
 
     def conf(key) -> dict | None:
-        return None if named is None else {**configuration_literal(target, named.values[key]), "named": True}
+        return None if named is None else {**configuration_literal(target, named.values[key]), "named": named.whole}
 
     def pose(name: str, matrix: np.ndarray) -> list[str]:
         return emitter.pose(TaughtPose(name, _xyzabc(matrix), "xyzabc"))
@@ -226,6 +226,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "pick_above": pose("above_q", above_pick(pallet)),
         "pick_lift": number(pallet.pick_lift, 4),
         "pick_conf": conf(PICK_KEY),
+        "conf_whole": named is not None and named.whole,  # else the program names only what holds (reach.py)
         "safe": pose("safe", frame @ safe_pose(pallet)),
         "safe_conf": conf(SAFE_KEY),
         "way_home_mm": number(cell.motion.retreat_mm, 4),

@@ -12,7 +12,7 @@ from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, expected, safe_
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
-from codegen.robot.config import FORMS
+from codegen.robot.config import FORMS, named_in_full
 from codegen.robot.expect import Margins, margins, require_margins
 from codegen.robot.taught import ReachError
 
@@ -52,6 +52,7 @@ class Named:
 
     form: str
     values: dict  # (pattern, number) or PICK_KEY -> the form's value
+    whole: bool = True  # the program names every field; else only the form's kept ones (config.Form)
 
     def key(self, pallet, move) -> object:
         """The configuration key of a joint move (by its reference name), None: a move that names none."""
@@ -94,7 +95,9 @@ def joints_of(
     for move, sols in zip(moves, solutions, strict=True):
         at = f"{where} {move.name} ({target}, {arm.model})"
         key = None if named is None else named.key(pallet, move)
-        if key is not None and key in named.values:
+        if key is not None and key in named.values and not named.whole:
+            joints, chosen = FORMS[named.form].loose(arm, sols, named.values[key], q)
+        elif key is not None and key in named.values:
             joints, chosen = FORMS[named.form].select(arm, sols, named.values[key])
             if np.isnan(joints).any():
                 raise ReachError(
@@ -127,9 +130,11 @@ def configurations(cell, pallet, target: str) -> Named | None:
         return None
     arm = cell.robot.arms[target]
     moves = full_cycle(cell, pallet)
-    named, values, entry = Named(form, {}), {}, None
+    named, values, entry, at = Named(form, {}), {}, None, []
     for move, joints in zip(moves, joints_of(cell, target, moves, f"pallet {pallet.name!r}"), strict=True):
         key = named.key(pallet, move)
+        if key is not None:
+            at.append(joints)  # every joint move's joints: where its configuration must hold
         if key is not None and key not in values:
             values[key] = FORMS[form].of(arm, joints)
         if entry is None and isinstance(key, tuple):
@@ -137,8 +142,15 @@ def configurations(cell, pallet, target: str) -> Named | None:
     # the way home's pose above the pallet: the solution nearest the cycle's first entry onto the pallet (its
     # branch, each axis' turn as the cycle has it), so the way there from the pallet turns no axis the long way
     safe = [safe_move(cell, pallet)]
-    values[SAFE_KEY] = FORMS[form].of(arm, joints_of(cell, target, safe, f"pallet {pallet.name!r}", start=entry)[0])
-    return Named(form, values)
+    at.append(joints_of(cell, target, safe, f"pallet {pallet.name!r}", start=entry)[0])
+    values[SAFE_KEY] = FORMS[form].of(arm, at[-1])
+    # one rule for the whole program: where any joint move's configuration lies on a boundary (a vertical
+    # tool), the program names none in full and each joint move takes the controller's rule without it
+    try:
+        whole = named_in_full(form, arm, np.array(at))
+    except ValueError as exc:
+        raise ReachError(f"pallet {pallet.name!r} ({target}, {arm.model}): {exc}") from None
+    return Named(form, values, whole)
 
 
 def safe_move(cell, pallet):

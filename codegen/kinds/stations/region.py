@@ -13,7 +13,7 @@ from codegen.controllers import get_target
 from codegen.protocol import get_kind
 from codegen.robot import solve
 from codegen.robot.cache import per_cell
-from codegen.robot.config import FORMS
+from codegen.robot.config import FORMS, named_in_full
 from codegen.robot.taught import JOINTS_MATCH_DEG, ArmPose, ReachError, configuration, select
 
 MIN_DIRECTIONS = 16  # directions on each ring of the shift disc, at least
@@ -124,7 +124,7 @@ def move_joints(arm, form: str, pose: ArmPose, solutions: np.ndarray, previous: 
     value = configuration(form, arm, pose.joints)
     if pose.motion == "joint" and named is not False:
         q, b = select(form, arm, solutions, value)
-        if named or not np.isnan(q).any():
+        if named or (not np.isnan(q).any() and _holds(form, arm, q, pose)):
             return q, b, True
     q, b = solve.nearest(arm, solutions, previous)
     if named is not None:
@@ -132,8 +132,17 @@ def move_joints(arm, form: str, pose: ArmPose, solutions: np.ndarray, previous: 
     full = pose.motion == "linear" and form != "confdata"  # LIN ignores S and T: naming them is harmless
     if form == "confdata" and pose.motion == "linear":
         found = ~np.isnan(q).any(axis=-1)
-        full = bool(np.all(FORMS[form].many(arm, q[found]) == np.asarray(value)))
+        full = bool(np.all(FORMS[form].many(arm, q[found]) == np.asarray(value))) and _holds(form, arm, q[found], pose)
     return q, b, full
+
+
+def _holds(form: str, arm, q: np.ndarray, pose: ArmPose) -> bool:
+    """The configuration at every corrected pose's joints is decided away from its boundaries (not by rounding:
+    codegen/robot/config.py named_in_full); ReachError at a singular pose."""
+    try:
+        return named_in_full(form, arm, q)
+    except ValueError as exc:
+        raise ReachError(f"pose {pose.name!r} ({arm.model}): {exc}") from None
 
 
 def arm_poses(cell, target: str, station) -> list[ArmPose]:

@@ -402,10 +402,16 @@ MODULE agv_machine_tending
     ENDIF
     corr := vis_correction(m6_inspection_table);
     vis_log 6, m6_inspection_table, vis_apply(corr, p6_gauge), p6_gauge;
+    ConfJ \Off;
     MoveJ vis_apply(corr, p6_approach), vis_travel, fine, vis_tool;
+    ConfJ \On;
+    ConfL \Off;
     MoveL vis_apply(corr, p6_gauge), vis_work, fine, vis_tool;
+    ConfL \On;
     vis_signal;
+    ConfL \Off;
     MoveL vis_apply(corr, r6_gauge), vis_work, vis_zone, vis_tool;
+    ConfL \On;
   ENDPROC
 
   LOCAL PROC st_warehouse_gate()

@@ -47,7 +47,6 @@ MODULE pal_eur
   LOCAL CONST robtarget stack_sheet_above := [[1200.0000, 800.0000, -100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST num STACK_SHEET_X := 600.0000;
   LOCAL CONST num STACK_SHEET_Y := 400.0000;
-  LOCAL CONST confdata STACK_SHEET_CONF := [1, 0, -1, 0];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
   ! (deg, counterclockwise about the pallet's z)
@@ -61,9 +60,6 @@ MODULE pal_eur
   LOCAL CONST num STACK_AY{12} := [-14.8969, 42.4264, -21.0494, -10.2899, 40.2492, 22.6554, -14.8969, 42.4264, -21.0494, -10.2899, 40.2492, 22.6554];
   LOCAL CONST num STACK_RX{12} := [-39.7251, 0.0000, 36.8364, 41.1597, 13.4164, 35.8711, 39.7251, 0.0000, -36.8364, -41.1597, -13.4164, -35.8711];
   LOCAL CONST num STACK_RY{12} := [-14.8969, 42.4264, -21.0494, -10.2899, 40.2492, 22.6554, -14.8969, 42.4264, -21.0494, -10.2899, 40.2492, 22.6554];
-  ! the arm's configuration (cf1, cf4, cf6, cfx) at each box's entry, chosen by codegen from the arm's
-  ! model (IRB 4600-60/2.05) and proven for every layer: a box turned 90 deg may need another wrist position
-  LOCAL CONST confdata STACK_CONF{12} := [[1, 0, 3, 0], [1, 0, 1, 0], [1, 0, 0, 0], [0, 0, 1, 0], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 2, 0], [0, 0, 0, 0], [0, 0, 1, 0], [1, 0, 0, 0], [0, 0, 1, 0], [1, 0, 0, 0]];
   ! each pattern's first row and number of boxes
   LOCAL CONST num STACK_FIRST{2} := [1, 7];
   LOCAL CONST num STACK_COUNT{2} := [6, 6];
@@ -120,9 +116,11 @@ MODULE pal_eur
     IF held THEN
       stack_stop "pallet eur: a box is in the gripper (sensor on): take it out, start again";
     ENDIF
-    ! a joint move goes to the configuration its robtarget names (ConfJ \On: Q's and each box's, chosen
-    ! by codegen); a linear move keeps the closest one (ConfL \Off: codegen proved none of them changes it)
-    ConfJ \On;
+    ! the tool's pose puts axis 1, 4 or 6 on a quadrant boundary at a joint move's target (a vertical tool:
+    ! axis 4 at 0, axis 6 at a multiple of 90), where the quadrant in a robtarget would be decided by
+    ! rounding: every move takes the closest configuration (ConfJ, ConfL \Off), which codegen proved is
+    ! the one it planned, from every start verify runs
+    ConfJ \Off;
     ConfL \Off;
     ! the way home: at home (every axis within 2.000 deg) a joint move home; elsewhere (a stop in the
     ! cycle) a joint move where the arm stands, 50.0000 mm back along the tool's z, above the pallet's
@@ -254,7 +252,6 @@ MODULE pal_eur
     t := stack_q;
     t.trans := [STACK_SHEET_X, STACK_SHEET_Y, stack_top(layer - 1) + STACK_SLIP];
     t.rot := OrientZYX(STACK_A0, STACK_B0, STACK_C0);
-    t.robconf := STACK_SHEET_CONF;
     RETURN t;
   ENDFUNC
 
@@ -271,14 +268,13 @@ MODULE pal_eur
 
   LOCAL FUNC robtarget stack_target(num layer, num box)
     ! the box's target in the pallet's work object: Trans(x, y, z) Rz(angle) Rz(a0) Ry(b0) Rx(c0),
-    ! where Rz(angle) Rz(a0) = Rz(angle + a0); robconf the row's (STACK_CONF), external axes as Q's
+    ! where Rz(angle) Rz(a0) = Rz(angle + a0); robconf and external axes as Q's
     VAR num row;
     VAR robtarget t;
     row := stack_row(layer, box);
     t := stack_q;
     t.trans := [STACK_X{row}, STACK_Y{row}, stack_top(layer)];
     t.rot := OrientZYX(STACK_A{row} + STACK_A0, STACK_B0, STACK_C0);
-    t.robconf := STACK_CONF{row};
     RETURN t;
   ENDFUNC
 

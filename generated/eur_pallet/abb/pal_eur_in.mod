@@ -51,9 +51,6 @@ MODULE pal_eur_in
   LOCAL CONST num STACK_AY{8} := [0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000];
   LOCAL CONST num STACK_RX{8} := [0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000];
   LOCAL CONST num STACK_RY{8} := [0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000, 0.0000];
-  ! the arm's configuration (cf1, cf4, cf6, cfx) at each box's entry, chosen by codegen from the arm's
-  ! model (IRB 4600-60/2.05) and proven for every layer: a box turned 90 deg may need another wrist position
-  LOCAL CONST confdata STACK_CONF{8} := [[-1, 0, 2, 0], [-1, 0, 2, 0], [-2, 0, 1, 0], [-2, 0, 1, 0], [-1, 0, 2, 0], [-1, 0, 2, 0], [-2, 0, 1, 0], [-2, 0, 1, 0]];
   ! each pattern's first row and number of boxes
   LOCAL CONST num STACK_FIRST{1} := [1];
   LOCAL CONST num STACK_COUNT{1} := [8];
@@ -107,9 +104,11 @@ MODULE pal_eur_in
     IF held THEN
       stack_stop "pallet eur_in: a box is in the gripper (sensor on): take it out, start again";
     ENDIF
-    ! a joint move goes to the configuration its robtarget names (ConfJ \On: Q's and each box's, chosen
-    ! by codegen); a linear move keeps the closest one (ConfL \Off: codegen proved none of them changes it)
-    ConfJ \On;
+    ! the tool's pose puts axis 1, 4 or 6 on a quadrant boundary at a joint move's target (a vertical tool:
+    ! axis 4 at 0, axis 6 at a multiple of 90), where the quadrant in a robtarget would be decided by
+    ! rounding: every move takes the closest configuration (ConfJ, ConfL \Off), which codegen proved is
+    ! the one it planned, from every start verify runs
+    ConfJ \Off;
     ConfL \Off;
     ! the way home: at home (every axis within 2.000 deg) a joint move home; elsewhere (a stop in the
     ! cycle) a joint move where the arm stands, 50.0000 mm back along the tool's z, above the pallet's
@@ -223,14 +222,13 @@ MODULE pal_eur_in
 
   LOCAL FUNC robtarget stack_target(num layer, num box)
     ! the box's target in the pallet's work object: Trans(x, y, z) Rz(angle) Rz(a0) Ry(b0) Rx(c0),
-    ! where Rz(angle) Rz(a0) = Rz(angle + a0); robconf the row's (STACK_CONF), external axes as Q's
+    ! where Rz(angle) Rz(a0) = Rz(angle + a0); robconf and external axes as Q's
     VAR num row;
     VAR robtarget t;
     row := stack_row(layer, box);
     t := stack_q;
     t.trans := [STACK_X{row}, STACK_Y{row}, stack_top(layer)];
     t.rot := OrientZYX(STACK_A{row} + STACK_A0, STACK_B0, STACK_C0);
-    t.robconf := STACK_CONF{row};
     RETURN t;
   ENDFUNC
 

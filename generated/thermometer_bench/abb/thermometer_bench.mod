@@ -299,8 +299,14 @@ MODULE thermometer_bench
     ENDIF
     corr := vis_correction(m2_tray);
     vis_log 2, m2_tray, vis_apply(corr, p2_slot), p2_slot;
+    ConfJ \Off;
     MoveJ vis_apply(corr, p2_approach), vis_travel, fine, vis_tool;
+    ConfJ \On;
+    ConfL \Off;
     MoveL vis_apply(corr, p2_slot), vis_work, fine, vis_tool;
+    ConfL \On;
+    ConfL \Off;
     MoveL vis_apply(corr, r2_slot), vis_work, fine, vis_tool;
+    ConfL \On;
   ENDPROC
 ENDMODULE
