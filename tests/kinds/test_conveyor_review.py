@@ -5,10 +5,14 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
-from support.programs import edited, first
+from support.programs import edited, first, run_case
 
+from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError
+from codegen.kinds.conveyor import plan
+from codegen.kinds.conveyor.verify import cases
 from codegen.model.cell import load_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
@@ -41,3 +45,36 @@ def test_no_kuka_function_moves_the_arm(cell):
     moving = [f.splitlines()[0] for f in functions if MOTION.search(f)]
     assert not moving, moving
     assert re.search(r"^DEF CNV_PLACE_PART\(PLACED:OUT\)", _src(cell), re.MULTILINE)
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb"])
+def test_no_move_blends_into_a_wait_or_an_output(target):
+    """The moves after which the program waits or sets the gripper stop there (no zone, r 0), on every target."""
+    listed = get_target(target).kind_tables["conveyor"].get("blends", {})
+    for mode, keys in listed.items():
+        assert not set(keys) & plan.WAITS_AFTER[mode], (target, mode, keys)
+        assert set(keys) <= {s.key for s in plan.PICK[mode]}
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb"])
+def test_no_blend_is_longer_than_half_of_either_move_it_joins(cell, target):
+    """Blends cannot overlap (UR user manual, blend parameters): on the nominal run every blended move's zone is at
+    most half the move and half the next one."""
+    case = next(c for c in cases(cell) if c.category == "constant_speed")
+    trace, _setup = run_case(cell, target, first(cell, target, "conveyor").load(), case, "conveyor")
+    zone = cell.motion.zone_mm
+    blended = [i for i, m in enumerate(trace.moves) if _zone(m.settings) > 0 and 0 < i < len(trace.moves) - 1]
+    assert blended or target == "ur"
+    for i in blended:
+        before = np.linalg.norm(trace.moves[i].tcp2base[:3, 3] - trace.moves[i - 1].tcp2base[:3, 3])
+        after = np.linalg.norm(trace.moves[i + 1].tcp2base[:3, 3] - trace.moves[i].tcp2base[:3, 3])
+        assert zone <= 0.5 * min(before, after), (target, i, trace.moves[i].line, before, after)
+
+
+def _zone(settings: dict) -> float:
+    """The move's blend (mm) as the dialect records it."""
+    for key, scale in (("r", 1000.0), ("cdis", 1.0), ("zone_mm", 1.0)):
+        value = settings.get(key)
+        if isinstance(value, int | float) and value:
+            return float(value) * scale
+    return 0.0

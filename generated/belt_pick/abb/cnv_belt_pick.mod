@@ -228,7 +228,7 @@ MODULE cnv_belt_pick
     above.trans := [x, 0, z + CNV_DZ];
     down := cnv_on_belt;
     down.trans := [x, 0, z];
-    MoveL above, cnv_travel, cnv_zone, cnv_tool \WObj:=cnv_track;
+    MoveL above, cnv_travel, fine, cnv_tool \WObj:=cnv_track;
     MoveL down, cnv_work, fine, cnv_tool \WObj:=cnv_track;
     IF cnv_y(seen) > CNV_END THEN
       ! it reached the window's end while the gripper came down: leave it
