@@ -99,7 +99,9 @@ PICK = Table(
             "number", "the fastest the belt's speed changes", unit="mm/s2", low=0.0, high=100_000.0, default=0.0
         ),
         "count_latency_s": _seconds("intercept: the count's age when the program reads it", 1.0),
-        "motion_start_s": _seconds("intercept: from the move instruction to the arm moving", 1.0),
+        "motion_start_s": _seconds(
+            "intercept: the program's planning time, from its last read of the encoder to the arm moving", 1.0
+        ),
         "part_mass_kg": Key(
             "number",
             "the part: the payload while the gripper holds it",
