@@ -78,3 +78,12 @@ def _zone(settings: dict) -> float:
         if isinstance(value, int | float) and value:
             return float(value) * scale
     return 0.0
+
+
+def test_the_abb_parts_load_has_the_inertia_of_its_box(cell):
+    """0.8 kg, 120 x 80 x 40 mm: ix = 0.8 (0.08^2 + 0.04^2) / 12, iy = 0.8 (0.12^2 + 0.04^2) / 12, iz = 0.8 (0.12^2 +
+    0.08^2) / 12 kg m2 (a solid box about its centre of gravity)."""
+    text = first(cell, "abb", "conveyor").files[0].text
+    line = next(x for x in text.splitlines() if "loaddata cnv_part" in x)
+    ix, iy, iz = (float(v) for v in line.rstrip("];").split(",")[-3:])
+    assert (ix, iy, iz) == pytest.approx((0.000533, 0.001067, 0.001387), abs=1e-6)

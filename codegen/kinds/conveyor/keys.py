@@ -120,6 +120,14 @@ PICK = Table(
             high=2000.0,
             default=(0.0, 0.0, 0.0),
         ),
+        "part_size_mm": Key(
+            "numbers",
+            "the part as a box along the tool frame's axes: its moments of inertia (none: a point mass)",
+            unit="mm",
+            count=3,
+            low=0.0,
+            high=5000.0,
+        ),
         "place_clear": signals("per target, the input that says the place is free (none: the program does not ask)"),
         "place_timeout_s": Key(
             "number", "how long the program waits for place_clear", unit="s", low=0.2, high=600.0, default=10.0

@@ -102,11 +102,23 @@ def _payload(cell, target, emitter) -> dict | None:
     pick = conveyor_of(cell).pick
     mass, *cog = carried(cell)
     return {
+        "part_inertia": [emitter.number(v, 6) for v in part_inertia(cell)],
         "part_mass": emitter.number(pick.part_mass_kg, MASS_DECIMALS),
         "part_cog": _point(emitter, target, pick.part_cog_mm),
         "mass": emitter.number(mass, MASS_DECIMALS),
         "cog": _point(emitter, target, cog),
     }
+
+
+def part_inertia(cell) -> tuple[float, float, float]:
+    """The part's moments of inertia about its centre of gravity along the tool frame's axes (kg m2): a solid box of
+    part_size_mm (I = m (b2 + c2) / 12), or a point mass (0, 0, 0) where the cell gives no size."""
+    pick = conveyor_of(cell).pick
+    if pick.part_size_mm is None:
+        return 0.0, 0.0, 0.0
+    a, b, c = (v / 1000.0 for v in pick.part_size_mm)
+    m = pick.part_mass_kg
+    return m * (b * b + c * c) / 12.0, m * (a * a + c * c) / 12.0, m * (a * a + b * b) / 12.0
 
 
 def _signal(emitter, value, origin: str) -> Code | None:
