@@ -83,3 +83,25 @@ def test_verify_applies_the_counts_age(tmp_path):
     late = edited(program, lambda text: text.replace("DECL REAL CNV_LATENCY=0.095000", "DECL REAL CNV_LATENCY=0.0"))
     row = verify_one(cell, late, first_mismatch=True, scenarios=frozenset({"nominal"}))
     assert row.mismatches > 0 and any("gripped" in m for m in row.first_mismatches), row.first_mismatches
+
+
+def test_the_lead_holds_the_programs_planning_time(tmp_path):
+    """A planning time of 90-100 ms from the last encoder read to the arm moving (motion_start_s; capture 6 mm): the
+    .dat names the lead's three terms (0.240 s descent, 0.050 s hold, 0.095 s planning), the program meets the part;
+    a lead without the planning time meets it about 6 mm late."""
+    cell = cell_with(
+        tmp_path,
+        **{
+            "motion_start_s = [0.004, 0.012]": "motion_start_s = [0.090, 0.100]",
+            "capture_mm = 3.0": "capture_mm = 6.0",
+        },
+    )
+    program = first(cell, "kuka", "conveyor")
+    data = next(f.text for f in program.files if f.name.endswith(".dat"))
+    assert "(0.240000, no acceleration" in data and "(0.050000, grip_s)" in data and "(0.095000, motion_start_s" in data
+    assert "DECL REAL CNV_LEAD=0.385000" in data
+    row = verify_one(cell, program, scenarios=frozenset({"nominal"}))
+    assert row.mismatches == 0, row.first_mismatches
+    late = edited(program, lambda text: text.replace("DECL REAL CNV_LEAD=0.385000", "DECL REAL CNV_LEAD=0.290000"))
+    row = verify_one(cell, late, first_mismatch=True, scenarios=frozenset({"nominal"}))
+    assert row.mismatches > 0 and any("gripped" in m for m in row.first_mismatches), row.first_mismatches

@@ -119,7 +119,7 @@ MUTATIONS = [
     ("CNV_CAMERA_Y = -1200.0970", "CNV_CAMERA_Y = -1190.0970", "gripped"),
     ("CNV_COUNTS_PER_MM = -8.122679000", "CNV_COUNTS_PER_MM = -8.222679000", "gripped"),
     ("> CNV_END:", "> CNV_END + 1000:", "past the window's end"),
-    ("    movel(cnv_on_part(x, y, z, CNV_DZ), a=1.2, v=0.5000, r=0.0100)\n", "", "above it before the descent"),
+    ("    movel(cnv_on_part(x, y, z, CNV_DZ), a=1.2, v=0.5000)\n", "", "above it before the descent"),
     ("CNV_DZ = 60.0000", "CNV_DZ = 0.0", "in height"),
     (
         "if cnv_own_y(mine) > CNV_END:",

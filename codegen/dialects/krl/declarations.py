@@ -141,6 +141,8 @@ class Declarations:
             name, dims, init = item.children
             key = str(name).upper()
             where = self.where(item)
+            if self.known_type(key):  # e.g. AXIS, FRAME: KSS's own structure types (whether KSS refuses: unconfirmed)
+                self.fail(name, f"{name} is the name of a data type: a variable named so is refused or misread on KSS")
             if isinstance(dims, Token):  # NAME[]: an array parameter, sized by the caller's array
                 out.append((key, "CHAR" if type_name == "CHAR" else (type_name, None), constant(UNINIT)))
                 continue

@@ -99,7 +99,9 @@ PICK = Table(
             "number", "the fastest the belt's speed changes", unit="mm/s2", low=0.0, high=100_000.0, default=0.0
         ),
         "count_latency_s": _seconds("intercept: the count's age when the program reads it", 1.0),
-        "motion_start_s": _seconds("intercept: from the move instruction to the arm moving", 1.0),
+        "motion_start_s": _seconds(
+            "intercept: the program's planning time, from its last read of the encoder to the arm moving", 1.0
+        ),
         "part_mass_kg": Key(
             "number",
             "the part: the payload while the gripper holds it",
@@ -117,6 +119,14 @@ PICK = Table(
             low=-2000.0,
             high=2000.0,
             default=(0.0, 0.0, 0.0),
+        ),
+        "part_size_mm": Key(
+            "numbers",
+            "the part as a box along the tool frame's axes: its moments of inertia (none: a point mass)",
+            unit="mm",
+            count=3,
+            low=0.0,
+            high=5000.0,
         ),
         "place_clear": signals("per target, the input that says the place is free (none: the program does not ask)"),
         "place_timeout_s": Key(

@@ -53,6 +53,7 @@ class Pick:
     min_gap_mm: float = 0.0
     unit: dict = field(default_factory=dict)
     trigger_input: dict = field(default_factory=dict)
+    part_size_mm: tuple[float, float, float] | None = None  # the part as a box along the tool frame's axes (inertia)
 
     def mean(self, key: str) -> float:
         """The middle of a (least, most) interval of the cell (grip_s, count_latency_s, motion_start_s)."""
@@ -138,6 +139,11 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
     cog = ctx.numbers(table.get("part_cog_mm", [0.0, 0.0, 0.0]), 3, f"{path}.part_cog_mm")
     if max(abs(v) for v in cog) > 2000:
         ctx.fail(f"{path}.part_cog_mm", "must lie within 2000 mm of the TCP (tool frame)")
+    size = None
+    if "part_size_mm" in table:
+        size = ctx.numbers(table["part_size_mm"], 3, f"{path}.part_size_mm")
+        if not all(0 < v <= 5000 for v in size):
+            ctx.fail(f"{path}.part_size_mm", "must be three sizes in (0, 5000] mm (the part as a box)")
     listed = list(tracking)
     place_clear = per_target(ctx, table, "place_clear", listed, required=False, prefix=path)
     timeout = _bounded(ctx, table, "place_timeout_s", f"{path}.place_timeout_s", 10.0, 0.2, 600, "s")
@@ -166,6 +172,7 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         gap,
         _named(ctx, table, "unit", [t for t in natives if facts(get_target(t)).get("unit")], path),
         _numbered_input(ctx, table, "trigger_input", [t for t in natives if facts(get_target(t)).get("trigger")], path),
+        part_size_mm=size,
     )
 
 

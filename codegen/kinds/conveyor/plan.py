@@ -42,6 +42,12 @@ PICK = {
         Segment("lift_place", "lift from the place", "linear", "work"),
     ),
 }
+# the moves after which every pick program waits (for the part, the place's interlock, the queue) or sets an output (the
+# grip, the release) before it commands the next: none of them blends (a blend into a wait does not stop the arm there)
+WAITS_AFTER = {
+    "native": frozenset({"wait", "on_part", "above_place", "place", "lift_place"}),
+    "intercept": frozenset({"wait", "on_part", "above_place", "place", "lift_place"}),
+}
 GRIP = {"native": 3, "intercept": 2}  # moves of a part before its grip
 RELEASE = {"native": 6, "intercept": 5}  # moves of a part before its release
 # a part given up after the arm moved for it: the moves made for it (the waiting move; while tracking, the

@@ -37,14 +37,20 @@ def place_blocked(cell) -> str:
     return f"the place is not clear after {conveyor_of(cell).pick.place_timeout_s:g} s"
 
 
+def lead_parts(cell) -> tuple[float, float, float]:
+    """The lead's terms (s): the descent of approach_dz at the work speed, the gripper's hold (grip_s) and the program's
+    planning time (motion_start_s: from its last read of the encoder to the arm moving), the intervals' middles."""
+    pick = conveyor_of(cell).pick
+    return pick.approach_dz / cell.motion.work_speed_mm_s, pick.mean("grip_s"), pick.mean("motion_start_s")
+
+
 def lead_seconds(cell) -> float:
     """How long before the part reaches the intercept point an intercepting arm starts down: the descent
     of approach_dz at the work speed, as the controller's straight move takes it (no acceleration in the
     interpreter's clock, nor in this lead: a real arm needs its measured descent time here), the arm's
     start after the move instruction and the gripper's time to hold the part once its output is set (the
     middles of motion_start_s and grip_s)."""
-    pick = conveyor_of(cell).pick
-    return pick.approach_dz / cell.motion.work_speed_mm_s + pick.mean("grip_s") + pick.mean("motion_start_s")
+    return sum(lead_parts(cell))
 
 
 def conveyor_ident(cell, target) -> str:
@@ -96,11 +102,23 @@ def _payload(cell, target, emitter) -> dict | None:
     pick = conveyor_of(cell).pick
     mass, *cog = carried(cell)
     return {
+        "part_inertia": [emitter.number(v, 6) for v in part_inertia(cell)],
         "part_mass": emitter.number(pick.part_mass_kg, MASS_DECIMALS),
         "part_cog": _point(emitter, target, pick.part_cog_mm),
         "mass": emitter.number(mass, MASS_DECIMALS),
         "cog": _point(emitter, target, cog),
     }
+
+
+def part_inertia(cell) -> tuple[float, float, float]:
+    """The part's moments of inertia about its centre of gravity along the tool frame's axes (kg m2): a solid box of
+    part_size_mm (I = m (b2 + c2) / 12), or a point mass (0, 0, 0) where the cell gives no size."""
+    pick = conveyor_of(cell).pick
+    if pick.part_size_mm is None:
+        return 0.0, 0.0, 0.0
+    a, b, c = (v / 1000.0 for v in pick.part_size_mm)
+    m = pick.part_mass_kg
+    return m * (b * b + c * c) / 12.0, m * (a * a + c * c) / 12.0, m * (a * a + b * b) / 12.0
 
 
 def _signal(emitter, value, origin: str) -> Code | None:
@@ -154,6 +172,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "counter_half": 2 ** (bus.GROUP_BITS - 1),
         "intercept": number(pick.intercept_mm, 4),  # intercept: the gripper meets the part here (belt y)
         "lead_s": number(lead_seconds(cell), 6),  # intercept: the descent's duration and the latencies' middles
+        "lead_parts": [number(v, 6) for v in lead_parts(cell)],  # intercept: the descent, the hold, the planning
         "latency_s": number(pick.mean("count_latency_s"), 6),  # intercept: the count's age, its middle
         "poll_s": number(POLL_S, 3),
         "speed_window_s": number(SPEED_WINDOW_S, 3),
