@@ -31,6 +31,9 @@ class ProgramPlan:
     files: tuple[ProgramFile, ...]
     context: dict = field(default_factory=dict, compare=False)
     index: int = 0  # which of the kind's programs, where it writes several (one per table of its section)
+    # the routine a run starts at where the program has none of the language's own entry (a RAPID module loaded into
+    # the production task, whose main calls it): verify runs it as after "PP to Routine"; None: the language's entry
+    entry: str | None = None
 
 
 class ProgramKind:

@@ -34,13 +34,14 @@ class ProgramSource:
     row: int = 0
     model: object = field(default=None, compare=False)
     sweep: bool = True  # the kind's bulk runs too (ProgramKind.sweeps), not only its cases
+    entry: str | None = None  # the routine a run starts at (ProgramPlan.entry; None: the language's entry)
 
     @property
     def label(self) -> str:
         return Path(self.origin[0]).name
 
     def load(self):
-        return load_files(get_target(self.target), list(self.files), self.origin[0])
+        return load_files(get_target(self.target), list(self.files), self.origin[0], self.entry)
 
 
 def fresh_sources(cell, targets: list[str], model=None, row_of=None, only=None, sweep=True) -> list[ProgramSource]:
@@ -54,7 +55,8 @@ def fresh_sources(cell, targets: list[str], model=None, row_of=None, only=None, 
             files = tuple(SourceFile(f"<fresh>/{r.relpath}", r.text) for r in rendered)
             origin = tuple(f"<fresh>/{cell_dir(cell)}/{name}/{f.name}" for f in plan.files)
             row = len(out) if row_of is None else row_of(plan, name)
-            out.append(ProgramSource(plan.kind, name, plan.ident, plan.index, files, origin, row, model, sweep))
+            entry = plan.entry
+            out.append(ProgramSource(plan.kind, name, plan.ident, plan.index, files, origin, row, model, sweep, entry))
     return out
 
 
@@ -98,7 +100,11 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
                         f"than {cell.source}; verifying against {cell.name}"
                     )
             origin = tuple(f.name for f in program)
-            out.append(ProgramSource(plan.kind, target_name, plan.ident, plan.index, tuple(program), origin, len(out)))
+            out.append(
+                ProgramSource(
+                    plan.kind, target_name, plan.ident, plan.index, tuple(program), origin, len(out), entry=plan.entry
+                )
+            )
     mixed = mixed_set([(f.name, f.text) for source in out for f in source.files])
     return out, [mixed, *warnings] if mixed else warnings
 
@@ -148,10 +154,12 @@ def load_file(target, path: Path):
     return load_files(target, dialect.programs(files)[0], str(path))
 
 
-def load_files(target, files: list[SourceFile], name: str):
-    """One program from its files (the program file first); a program nested deeper than Python's stack
-    is a RunError naming `name`, as any other program this tool cannot run."""
+def load_files(target, files: list[SourceFile], name: str, entry: str | None = None):
+    """One program from its files (the program file first), started at `entry` where given (a routine of a program
+    without the language's own entry); a program nested deeper than Python's stack is a RunError naming `name`, as
+    any other program this tool cannot run."""
+    dialect = get_dialect(target.dialect)
     try:
-        return get_dialect(target.dialect).load_files(files)
+        return dialect.load_files(files) if entry is None else dialect.load_files(files, entry=entry)
     except RecursionError:
         raise RunError(f"{name}: statements or expressions nested too deeply to run here") from None

@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
 from support.programs import first
 
 from codegen.controllers import get_target
+from codegen.dialects.core.files import SourceFile
 from codegen.dialects.core.values import RunError
+from codegen.dialects.rapid import Rapid
 from codegen.dialects.rapid.interpreter import load
 from codegen.kinds.laser import program as lp
 from codegen.model.cell import load_cell
@@ -41,7 +44,7 @@ def bent(tool: np.ndarray, shift, degrees: float, about) -> np.ndarray:
     return out
 
 
-def run_program(laser_program, tool: np.ndarray, noise: float = 0.0, hysteresis: float = 0.0, seed: int = 0):
+def run_program(laser_program, tool: np.ndarray, noise: float = 0.0, hysteresis: float = 0.0, seed: int = 0, keep=()):
     cell, target, program = laser_program
     laser = cell.sections["laser"]
     inputs = {
@@ -61,7 +64,7 @@ def run_program(laser_program, tool: np.ndarray, noise: float = 0.0, hysteresis:
         devices=(station,),
         arm=arm_of(cell, "abb"),
         start_joints=cell.robot.home["abb"],
-        keep=tuple(lp.kept_names(target).values()),
+        keep=(*lp.kept_names(target).values(), *keep),
         signal_cycle_s=target.program["signal_cycle_s"],
         step_limit=2_000_000,
     )
@@ -121,3 +124,23 @@ def test_a_name_for_both_data_and_a_routine_is_refused():
     )
     with pytest.raises(RunError, match="names both data and a routine"):
         load(text, "clash.mod")
+
+
+def test_the_module_loads_into_a_production_task_whose_main_calls_its_entry(laser_program):
+    """The production task has its own PROC main: the laser module declares none (two global routines of one name
+    clash in a task) and its entry routine, called from that main, calibrates and writes the production tool."""
+    cell, target, _ = laser_program
+    files = list(first(cell, "abb", "laser").files)
+    assert not any(re.search(r"^\s*PROC\s+main\s*\(", f.text, re.I | re.M) for f in files)
+    entry = first(cell, "abb", "laser").entry
+    production = SourceFile(
+        "production.mod",
+        f"MODULE production\n  PROC main()\n    {entry};\n    MoveAbsJ [[0, 0, 0, 0, 90, 0], "
+        "[9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]]\\NoEOffs, v200, fine, tool0;\n  ENDPROC\nENDMODULE\n",
+    )
+    (task,) = Rapid.programs([*files, production])
+    name = lp.production_name(cell, target)
+    trace = run_program((cell, target, Rapid.load_files(task)), cell.robot.tool.tcp2flange, keep=(name,))
+    assert not trace.halted and trace.messages[-1].startswith(lp.WRITTEN)
+    trans = trace.kept[name]["TFRAME"]["TRANS"]
+    assert [float(trans[k]) for k in "XYZ"] == pytest.approx([float(v) for v in trace.kept["lsr_tcp"]])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -92,3 +93,23 @@ def test_the_program_without_an_advance_run_stop_before_interrupt_off_loses_the_
     assert trace.halted
     assert trace.halt_message.startswith(lp.CIRCLE_EDGES[:40]) and trace.halt_message.endswith("1")
     assert all(v == 0 for v in trace.kept["LSR_EDGE"])
+
+
+def test_a_stop_after_a_run_that_wrote_the_tcp_shows_its_circle_number(cell):
+    """The data list keeps what a run left (a partial aggregate sets only the components it names): a run after
+    one that reported the TCP (three REAL message parameters) stops at the first circle with the circle's number,
+    each message parameter holding one value (the interpreter refuses a KrlMsgPar_T with two)."""
+    target = get_target("kuka")
+    program = _program(cell)
+    dat = next(f.text for f in first(cell, "kuka", "laser").files if f.name.lower().endswith(".dat"))
+    names = tuple(dict.fromkeys(re.findall(r"^DECL\s+\w+\s+(\w+)", dat, re.M)))
+    station = station_for(cell, target, LaserCase("test", cell.robot.tool.tcp2flange, noise=0.0))
+    options = {"arm": arm_of(cell, "kuka"), "start_joints": cell.robot.home["kuka"], "signal_cycle_s": CYCLE}
+    written = program.run({}, devices=(station,), keep=names, step_limit=2_000_000, **options)
+    assert not written.halted and written.messages[-1].startswith(lp.WRITTEN)
+    left = {name: value for name, value in written.kept.items() if value is not None}
+    short = cell.robot.tool.tcp2flange.copy()
+    short[:3, 3] += short[:3, 2] * -7.0  # the first circle passes under the tip
+    station = station_for(cell, target, LaserCase("test", short, noise=0.0))
+    stopped = program.run(left, devices=(station,), step_limit=2_000_000, **options)
+    assert stopped.halted and stopped.halt_message == lp.CIRCLE_EDGES + "1"

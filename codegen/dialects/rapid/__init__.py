@@ -92,11 +92,12 @@ class Rapid(Dialect):
         return out
 
     @classmethod
-    def load_files(cls, files: list):
-        """One program from a task's modules (SourceFile, as programs() groups them)."""
+    def load_files(cls, files: list, entry: str | None = None):
+        """One program from a task's modules (SourceFile, as programs() groups them); entry: a global routine
+        without parameters the run starts at instead of main (as after PP to Routine; the task needs no main)."""
         from codegen.dialects.rapid.task import load_task
 
-        return load_task(list(files))
+        return load_task(list(files), entry=entry)
 
     @classmethod
     def check_files(cls, files: list, max_tcp_mm_s: float | None = None) -> list:

@@ -73,9 +73,12 @@ def _long_names(compiler: RAPIDCompiler, tree) -> None:
             compiler.report(token, f"name {token} has {len(token)} characters: at most {IDENTIFIER_MAX}", "name-length")
 
 
-def load_task(files: list[SourceFile], findings: list | None = None, out: dict | None = None) -> Program | None:
-    """The program of a task's modules (their files in any order; one of them has PROC main). findings: `codegen
-    check` collects every finding there and gets None back when one is an error; else the first error raises."""
+def load_task(
+    files: list[SourceFile], findings: list | None = None, out: dict | None = None, entry: str | None = None
+) -> Program | None:
+    """The program of a task's modules (their files in any order; one of them has PROC main, or the run starts at
+    entry: a global PROC without parameters, as after PP to Routine). findings: `codegen check` collects every
+    finding there and gets None back when one is an error; else the first error raises."""
     modules, trees = [], []  # (file name, module tree), (file name, file tree)
     for f in files:
         tree = parse(f.text, f.name)
@@ -116,7 +119,7 @@ def load_task(files: list[SourceFile], findings: list | None = None, out: dict |
                 if symbol.kind == "trap" and key in compiler.routines:
                     compiler.traps[key] = compiler.routines.pop(key)
     compiler.scope = {}
-    main = _main(compiler, symbols, files)
+    main = _main(compiler, symbols, files) if entry is None else _entry(compiler, symbols, files, entry)
     if findings is not None and any(f.severity != "warning" for f in findings):
         return None
     program = Program(main[1] if main else "", compiler, _initialiser(data), main[0] if main else None)
@@ -287,6 +290,17 @@ def _declare_routine(compiler: RAPIDCompiler, symbol) -> None:
     compiler.routine_decls[key] = (required, spec, symbol.kind == "func")
 
 
+def _entry(compiler: RAPIDCompiler, symbols, files, entry: str) -> tuple[str, str]:
+    """PP to Routine (ABB, "Operating manual - IRC5 with FlexPendant", as recalled: the program pointer set to a
+    routine without parameters, the program started there): the global PROC entry."""
+    found = [s for s in symbols if s.kind == "proc" and not s.local and str(s.name).upper() == entry.upper()]
+    key = compiler.data_key(entry)
+    if not found or key not in compiler.routines or compiler.routine_decls[key][0]:
+        names = ", ".join(f.name for f in files)
+        raise RunError(f"{names}: no global PROC {entry} without parameters to start at")
+    return key, str(found[0].module)
+
+
 def _main(compiler: RAPIDCompiler, symbols, files) -> tuple[str, str] | None:
     mains = [s for s in symbols if s.kind == "proc" and str(s.name).upper() == "MAIN"]
     names = ", ".join(f.name for f in files)
@@ -294,7 +308,9 @@ def _main(compiler: RAPIDCompiler, symbols, files) -> tuple[str, str] | None:
         message = f"{names}: no PROC main" + (" in the task's modules" if len(files) > 1 else "")
         if compiler.findings is None:
             raise RunError(message)
-        compiler.findings.append(compiler_finding(files[0].name, 0, 0, message.split(": ", 1)[1]))
+        # `codegen check`: modules without main are loaded into a task whose main calls them
+        text = message.split(": ", 1)[1] + " (modules another task's main calls: load them there)"
+        compiler.findings.append(Finding(files[0].name, 0, 0, "warning", "no-main", text))
         return None
     local = (k for k in compiler.routines if k.startswith("MAIN@"))
     key = "MAIN" if "MAIN" in compiler.routines else next(local, "MAIN")

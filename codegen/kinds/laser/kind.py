@@ -23,6 +23,7 @@ class LaserKind(ProgramKind):
         "production_tool": dict,  # the production tool the TCP found goes into: form, name, fields, unit
         "joint_zone": bool,  # the program blends into and out of its joint moves (the safe pose)
         "circle_blend_mm": float,  # the first half circle blends into the second by this much (0: it stops)
+        "entry_routine": bool,  # the program is a routine of the production task, not a program with its own main
     }
 
     @classmethod
@@ -64,7 +65,7 @@ class LaserKind(ProgramKind):
             ProgramFile(name, f"{target.name}/kinds/{pattern.format(laser='laser', data='laser_data')}.j2")
             for pattern, name in zip(cls.facts(target)["files"], laser_file_names(cell, target), strict=True)
         )
-        return [ProgramPlan(cls.name, context["ident"], files, {"laser": context})]
+        return [ProgramPlan(cls.name, context["ident"], files, {"laser": context}, entry=context["entry"])]
 
     @classmethod
     def reach(cls, cell, targets: list[str]) -> list:

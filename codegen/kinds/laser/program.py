@@ -154,6 +154,10 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         "data_ident": emitter.identifier("tcp_", f"{cell.name}_tool", "the production tool's data module")
         if any("{data}" in pattern for pattern in facts(target)["files"])
         else None,
+        # the entry routine where the program is a module of the production task (whose main is its own)
+        "entry": emitter.identifier("tcp_", f"{cell.name}_run", "the laser TCP program's entry routine")
+        if facts(target).get("entry_routine")
+        else None,
         "production": production_code(cell, target, emitter),
         "safe": [number(v, 4) for v in safe_point(laser)],
         "safe_height": number(laser.safe_height_mm, 4),

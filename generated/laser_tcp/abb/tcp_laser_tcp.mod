@@ -45,7 +45,10 @@ MODULE tcp_laser_tcp
   ! The results stay in the module's data (read them in the program data window): lsr_edge (the edges: circle 1
   ! beam X 1..4, beam Y 1..4, then circle 2), lsr_centre (e1x e1y e2x e2y), lsr_axis (ux uy uz),
   ! lsr_hit (the search points down and up, x y z in S) and lsr_tcp (x y z, flange frame).
-  ! The module's one task-wide name is the entry routine main; the rest is LOCAL.
+  ! Load this module into the production task (beside the modules declaring tPin): a task has one PROC
+  ! main, its own, so this module has none. Its one task-wide name is the entry routine tcp_laser_tcp_run (no
+  ! parameters): the production main calls it (e.g. `IF DInput(diCalibrate) = 1 tcp_laser_tcp_run;`), or the operator
+  ! starts it with PP to Routine; the rest is LOCAL. A stop (lsr_stop) ends with EXIT: the next start is from main.
 
   ! The sensor frame S as a work object: the user frame is S in the base frame (mm, quaternion)
   LOCAL PERS wobjdata lsr_sensor := [FALSE, TRUE, "",
@@ -113,7 +116,7 @@ MODULE tcp_laser_tcp
   LOCAL VAR num lsr_count_y;
   LOCAL VAR num lsr_first;
 
-  PROC main()
+  PROC tcp_laser_tcp_run()
     VAR jointtarget now;
     VAR robtarget here;
     VAR num sx;
