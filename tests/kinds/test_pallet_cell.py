@@ -83,9 +83,50 @@ def _load(tmp_path, text: str):
 )
 def test_a_program_that_does_not_wait_for_an_interlock_fails(testmat, target, name, old, new, case):
     """Without the wait for the box at Q (or the pallet in place) the arm comes down on nothing: verify's case with
-    that input never on expects the stop with the operator's message, and the program moves on."""
+    that input never on expects the stop with the operator's message, and the program moves on (or, the pallet's
+    wait above Q left out, picks the box and stops only at the transit height, with another message)."""
     found = mutant_mismatches(testmat, target, name, old, new)
-    assert found and found[0].startswith(case) and "expected a stop" in found[0], found
+    assert found and found[0].startswith(case) and ("expected a stop" in found[0] or "stop message" in found[0]), found
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new"),
+    [
+        (
+            "ur",
+            "pal_testmat.script",
+            '    pal_wait(3, "pallet testmat: no pallet in place in 10 s, the box is in the gripper")',
+            "",
+        ),
+        ("kuka", "pal_testmat.src", "    IF NOT PAL_PALLET_BOX() THEN", "    IF FALSE THEN"),
+        (
+            "abb",
+            "pal_testmat.mod",
+            "      WaitDI diPalletIn, 1 \\MaxTime:=STACK_WAIT \\TimeFlag:=late;\n      IF late THEN\n"
+            '        stack_stop "pallet testmat: no pallet in place in 10 s, the box is in the gripper";',
+            '      late := FALSE;\n      IF late THEN\n        stack_stop "";',
+        ),
+        (
+            "dtrans",
+            "pal_testmat.prg",
+            '  If DIn(4) <> True Then\n    TPWrite 0, "pallet testmat: no pallet in place in 10 s, the box',
+            '  If False Then\n    TPWrite 0, "x',
+        ),
+    ],
+)
+def test_a_program_that_carries_the_box_over_a_pallet_taken_away_fails(testmat, target, name, old, new):
+    """The pallet taken away while the arm was at Q: without the second wait, at the transit height, the arm swings
+    the box over where the pallet was (and stops only above Q for the next box); verify's pallet_taken case expects
+    the stop at the transit height with the box held."""
+    found = mutant_mismatches(testmat, target, name, old, new)
+    expected = "expected 'pallet testmat: no pallet in place in 10 s, the box is in the gripper'"
+    assert found and found[0].startswith("pallet_taken") and expected in found[0], found
+
+
+def test_the_sheet_waits_for_the_pallet_again_before_it_goes_over_it(eur):
+    found = mutant_mismatches(eur, "kuka", "pal_eur.src", "      IF NOT PAL_PALLET_SHEET() THEN", "      IF FALSE THEN")
+    expected = "expected 'pallet eur: no pallet in place in 10 s, the sheet is in the gripper'"
+    assert found and found[0].startswith("pallet_taken pallet eur layer 3 box 0") and expected in found[0], found
 
 
 def test_the_unstacking_program_waits_for_a_clear_pick_place_and_stacking_for_a_sheet(eur):
@@ -145,8 +186,8 @@ def test_a_pallet_without_its_interlocks_or_with_a_zone_past_its_poses_is_refuse
 
 
 def test_the_counters_are_declared_in_their_store_alone(testmat, eur):
-    """KRL: GLOBAL in the data list <pallet>_count.dat; RAPID: PERS in pallet_data.mod; nowhere in a file a
-    regeneration replaces (loading it again would set them back)."""
+    """KRL: GLOBAL in the data list <pallet>_count.dat; RAPID: PERS in the system module pallet_data.sys; nowhere in
+    a file a regeneration replaces (loading it again would set them back)."""
     for cell in (testmat, eur):
         files = {f.relpath: f.text for f in render(cell, ["kuka", "abb"])}
         for path, text in files.items():
@@ -155,7 +196,7 @@ def test_the_counters_are_declared_in_their_store_alone(testmat, eur):
                 text,
                 re.M | re.I,
             )
-            store = path.endswith("_count.dat") or path.endswith("pallet_data.mod")
+            store = path.endswith("_count.dat") or path.endswith("pallet_data.sys")
             assert bool(declared) == store, (path, declared)
 
 
@@ -220,7 +261,7 @@ def test_the_abb_pallet_programs_are_one_task_with_one_main(eur):
         "pallet_main.mod",
         "pal_eur.mod",
         "pal_eur_in.mod",
-        "pallet_data.mod",
+        "pallet_data.sys",
     ]
     assert sum(len(re.findall(r"^\s*PROC main\(\)", f.text, re.M)) for f in files) == 1
     (task,) = Rapid.programs(files)

@@ -14,7 +14,7 @@ from codegen.render import render
 
 PALLETS = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallets"
 TARGETS = ("ur", "kuka", "abb", "dtrans")
-OWN_SCENARIOS = {"part_missing", "pallet_absent", "counters_reloaded", "start_away", "start_mid_cycle"}
+OWN_SCENARIOS = {"part_missing", "pallet_absent", "pallet_taken", "counters_reloaded", "start_away", "start_mid_cycle"}
 
 
 @pytest.fixture(scope="module", params=["testmat_pallet.toml", "eur_pallet.toml"])
@@ -85,7 +85,8 @@ MUTATIONS = [
     ),
     ("abb", "pal_testmat.mod", "STACK_HEIGHT := 26.0000;", "STACK_HEIGHT := 25.0000;"),
     ("abb", "pal_testmat.mod", "STACK_CYCLE{2} := [1, 2];", "STACK_CYCLE{2} := [2, 1];"),
-    ("abb", "pallet_data.mod", "PERS num pal_testmat_layer := 1;", "VAR num pal_testmat_layer := 1;"),  # reset at main
+    ("abb", "pallet_data.sys", "PERS num pal_testmat_layer := 1;", "VAR num pal_testmat_layer := 1;"),  # reset at main
+    ("abb", "pallet_data.sys", "MODULE pallet_data(SYSMODULE)", "MODULE pallet_data"),  # a program load replaces it
     ("abb", "pal_testmat.mod", "OrientZYX(STACK_A{row} + STACK_A0", "OrientZYX(-STACK_A{row} + STACK_A0"),
     (
         "abb",

@@ -68,3 +68,32 @@ def test_a_path_over_the_full_stack_and_the_final_descents_pass():
     assert sweeps(pallet, frame, _over_the_top(pallet, frame, moves, 5 * 26 + 26 + 1)) is None
     # 1 mm lower than the full stack plus a box: the top layer's later boxes cross the earlier ones
     assert sweeps(pallet, frame, _over_the_top(pallet, frame, moves, 5 * 26 + 26 - 1)) is not None
+
+
+def _sheet_direct(moves):
+    """The plan with each slip sheet carried straight from above the sheet stack to its entry in a joint move (no rise
+    to the transit height first)."""
+    out = []
+    for move in moves:
+        if move.sheet and move.name.endswith((" up from the sheet stack", " transit")):
+            continue
+        joint = move.sheet and move.name.endswith(" entry") and out[-1].name.endswith("lift from the sheet stack")
+        out.append(replace(move, kind="joint") if joint else move)
+    return out
+
+
+def test_the_carried_slip_sheet_rises_to_the_transit_height_before_it_swings():
+    """The EUR cell's sheets lie in a stack below the pallet's top: carried straight from above it to the sheet's
+    entry, the sheet (taken as the pallet's size) passes below the tops of layer 2; the plan rises first and passes."""
+    pallet, frame, moves = _plan("eur_pallet.toml")
+    sheets = [m for m in moves if m.sheet]
+    assert [m.name for m in sheets[:5]] == [
+        "layer 3 sheet lift from the sheet stack",
+        "layer 3 sheet up from the sheet stack",
+        "layer 3 sheet transit",
+        "layer 3 sheet entry",
+        "layer 3 sheet target",
+    ]
+    assert sweeps(pallet, frame, moves) is None
+    found = sweeps(pallet, frame, _sheet_direct(moves))
+    assert found is not None and found.startswith("layer 3 sheet entry") and "carried sheet's bottom" in found, found

@@ -3,7 +3,7 @@ full (empty) pallet, with the interlocks it waits for and the slip sheets it pla
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -50,6 +50,7 @@ class PalletCase:
     closed: bool = False  # the gripper's sensor on at the start: it holds a box (a cycle stopped mid-way)
     missing: str | None = None  # an interlock (codegen/kinds/pallet/interlocks.py WAITS) whose input stays off
     reset: bool = False  # the PLC asks for the counters of a swapped pallet to start again
+    taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
 
 @dataclass(frozen=True)
@@ -60,6 +61,8 @@ class ExpectedMove:
     speed_mm_s: float
     exact: bool  # a stop at the pose (no blending): a pick, place or contact pose, or where a wait follows
     carrying: bool = False  # a box in the gripper (its grip confirmed): the payload is the tool's and the box's
+    checked: bool = False  # an interlock input is read right after it (where that read stops the advance run, a stop)
+    sheet: bool = False  # a slip sheet in the gripper (weightless: no payload; its sweep is checked as a box's)
 
 
 @dataclass(frozen=True)
@@ -180,30 +183,36 @@ class _Run:
         self.outputs: list[tuple[bool, int]] = [(not cell.io.value, 0)]  # released at the start
         self.counters = counters
         self.carrying = False
+        self.gripped = False  # a grip made (the pallet may be taken away after it: case.taken)
+        self.sheet = False  # a slip sheet in the gripper
 
     def move(self, kind: str, pose: np.ndarray, name: str, slow: bool, exact: bool) -> None:
         speed = self.work if slow else self.travel
-        self.moves.append(ExpectedMove(kind, pose, name, speed, exact, self.carrying))
+        self.moves.append(ExpectedMove(kind, pose, name, speed, exact, self.carrying, sheet=self.sheet))
 
-    def wait(self, interlock: str) -> str | None:
-        """The program waits for an interlock input: the stop's message if it never comes on."""
-        if self.case.missing != interlock:
+    def wait(self, interlock: str, held: str | None = None) -> str | None:
+        """The program waits for an interlock input (held: what is in the gripper meanwhile, for the message): the
+        stop's message if it never comes on."""
+        if self.moves:
+            self.moves[-1] = replace(self.moves[-1], checked=True)
+        taken = interlock == "pallet_present" and self.case.taken and self.gripped
+        if self.case.missing != interlock and not taken:
             return None
-        return wait_message(self.pallet, interlock, message_limit(self.cell))
+        return wait_message(self.pallet, interlock, message_limit(self.cell), held)
 
     def grip(self, box: bool = True) -> str | None:
         """Grip a box (its payload from the confirmed grip on) or a slip sheet (light: the tool's payload stays)."""
         self.outputs.append((self.cell.io.value, len(self.moves)))
         if self.case.gripper == "silent":
             return halt_message(self.cell, NO_FEEDBACK, None, 0)
-        self.carrying = box
+        self.carrying, self.sheet, self.gripped = box, not box, True
         return None
 
     def release(self) -> str | None:
         self.outputs.append((not self.cell.io.value, len(self.moves)))
         if self.case.gripper == "stuck":
             return halt_message(self.cell, NOT_RELEASED, None, 0)
-        self.carrying = False
+        self.carrying = self.sheet = False
         return None
 
     def result(self, halt: str | None, start: tuple[int, int]) -> Expected:
@@ -233,26 +242,34 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
 
 def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
     """Per box: above Q (joint; the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to
-    the transit height (transit_pose: the box clear of the layer's top), above the entry at that height (joint), the
+    the transit height (transit_pose: the box clear of the layer's top), the pallet waited for again (it may have been
+    taken away while the arm was at Q), above the entry at that height (joint), the
     entry, approach, target (slow, exact), release, retreat (slow), entry; the counters advance once the release
-    is confirmed. Per slip sheet the same from the sheet stack onto the pallet's centre. At the end: above Q, off
-    the pallet, before the message."""
+    is confirmed. Per slip sheet the same from the sheet stack onto the pallet's centre (the transit height over the
+    sheet's place: its top + transit_dz). At the end: above Q, off the pallet, before the message."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
+    joint = "transit"  # the joint move onto the pallet: above the entry at the transit height
     for i, item in enumerate(todo):
         after = todo[i + 1].key if i + 1 < len(todo) else done
         where = f"layer {item.layer} " + (f"box {item.number}" if item.number else "sheet")
-        if item.placement is None:
+        if item.placement is None:  # like a box: up to the transit height, over the sheet's place, straight down
             source, lift = pallet.slip_pick.matrix(), pallet.slip_lift
-            entry = frame @ _lifted(sheet_target(pallet, item.layer), pallet.entry_dz)
-            joint = "entry"  # the joint move onto the pallet: a sheet's to its entry, a box's above its entry
-            path = ((entry, "entry", False, False), (frame @ sheet_target(pallet, item.layer), "target", True, True))
+            placed = sheet_target(pallet, item.layer)
+            entry = frame @ _lifted(placed, pallet.entry_dz)
+            transit = frame @ _lifted(placed, transit_dz(pallet))
+            path = (
+                (risen(_lifted(source, lift), transit[2, 3]), "up from the sheet stack", False, False),
+                (transit, "transit", False, False),
+                (entry, "entry", False, False),
+                (frame @ placed, "target", True, True),
+            )
             retreat = ((entry, "entry", True, False),)
             interlocks, named = ("pallet_present", "sheet_ready"), "the sheet stack"
         else:
             p = item.placement
             source, lift = pick, pallet.pick_lift
-            transit, joint = frame @ transit_pose(p.entry, pallet, p.layer), "transit"
+            transit = frame @ transit_pose(p.entry, pallet, p.layer)
             path = (
                 (risen(_lifted(source, lift), transit[2, 3]), "up from Q", False, False),
                 (transit, "transit", False, False),
@@ -273,6 +290,10 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
             return halt
         run.move("linear", _lifted(source, lift), f"{where} lift from {named}", True, False)
         for pose, name, slow, exact in path:
+            if name == joint:  # the pallet still in place before the load goes over it (taken away meanwhile?)
+                halt = run.wait("pallet_present", "box" if item.placement is not None else "sheet")
+                if halt:
+                    return halt
             run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
         halt = run.release()
         if halt:

@@ -51,10 +51,12 @@ def counters_message(pallet: Pallet, limit: int) -> str:
     return _named("pallet {name}: layer or box counter out of range", pallet, limit)
 
 
-def wait_message(pallet: Pallet, interlock: str, limit: int) -> str:
-    """The stop after an interlock input stayed off for the timeout (unstacking at Q: the box is in the gripper)."""
-    held = "; the box is in the gripper" if interlock == "place_clear" else ""
-    return _named(f"pallet {{name}}: {MISSED[interlock]} in {pallet.io.timeout_s:g} s{held}", pallet, limit)
+def wait_message(pallet: Pallet, interlock: str, limit: int, held: str | None = None) -> str:
+    """The stop after an interlock input stayed off for the timeout, with what the gripper holds meanwhile (held: "box"
+    or "sheet"; unstacking at Q: the box)."""
+    held = held or ("box" if interlock == "place_clear" else None)
+    then = f", the {held} is in the gripper" if held else ""  # a ";" is not a safe character (codegen/emit.py)
+    return _named(f"pallet {{name}}: {MISSED[interlock]} in {pallet.io.timeout_s:g} s{then}", pallet, limit)
 
 
 def select_message() -> str:
@@ -68,4 +70,13 @@ def all_messages(pallet: Pallet, limit: int) -> list[str]:
         held_message(pallet, limit),
         counters_message(pallet, limit),
         *(wait_message(pallet, name, limit) for name in pallet.io.inputs()),
+        *(wait_message(pallet, "pallet_present", limit, held) for held in rechecked(pallet)),
     ]
+
+
+def rechecked(pallet: Pallet) -> tuple[str, ...]:
+    """What a stacking program carries when it asks again for the pallet before the load goes over it: a box, and a
+    slip sheet where it places them (unstacking: none, it carries no load onto the pallet)."""
+    if pallet.mode != "stack":
+        return ()
+    return ("box", "sheet") if pallet.slip_pick is not None else ("box",)

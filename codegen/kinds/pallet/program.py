@@ -19,6 +19,7 @@ from codegen.kinds.pallet.messages import (
     full_message,
     held_message,
     message_limit,
+    rechecked,
     select_message,
     wait_message,
 )
@@ -191,6 +192,15 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         }
         for name, signals in pallet.io.inputs().items()
     }
+    # the pallet asked for again before the carried load goes over it (it may have been taken away meanwhile)
+    present = pallet.io.pallet_present[target.name]
+    rechecks = {
+        held: {
+            "signal": _signal(emitter, target, present),
+            "message": emitter.string(wait_message(pallet, "pallet_present", limit, held)),
+        }
+        for held in rechecked(pallet)
+    }
     reset = pallet.io.reset.get(target.name)
     select = pallet.io.select.get(target.name)
     zone = pallet.zone_mm
@@ -234,6 +244,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "registers": registers,
         "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name
         "store": own.get("store"),
+        "store_file": _store_file(target, own),  # the file of the counters (None: they are not kept in one)
         "start": {"layer": first[0], "box": first[1]},
         "auto": pallet.approach_auto,
         "unstack": pallet.mode == "unstack",  # take the boxes off, top layer first, each layer in reverse
@@ -245,6 +256,8 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "zone_deg": number(0.15 * zone, 2),
         "joint_blend": facts(target).get("joint_blend", True) and zone > 0,
         "interlocks": interlocks,
+        "rechecks": rechecks,
+        "check_zone": not facts(target).get("input_stops", False),  # a move before an input's check may blend
         "timeout_s": number(timeout, 3),
         "timeout_text": emitter.comment(f"{timeout:g}"),
         "polls": signal_polls_for(timeout),
@@ -257,6 +270,12 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "bad_counters": emitter.string(counters_message(pallet, limit)),
         "release": emitter.comment(facts(target).get("minimum_release", "")),
     }
+
+
+def _store_file(target, own: dict) -> str | None:
+    """The file the counters are kept in, where the target keeps them in a file of their own (its facts' store)."""
+    store = facts(target).get("store", "")
+    return owned(file_name(target, store, own)) if "." in store else None
 
 
 def signal_polls_for(timeout_s: float) -> int:

@@ -28,6 +28,7 @@ from codegen.kinds.pallet.program import carried_load, counter_names, counter_re
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import layer_top
+from codegen.kinds.pallet.station import PalletTaken
 from codegen.kinds.pallet.sweep import sweeps
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
@@ -49,7 +50,8 @@ from codegen.verify.plan import (
 FORMS_PER_PALLET = 2  # codegen/kinds/pallet/kind.py: a plan's index is 2 x its pallet's + its form
 
 # A pallet case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS, or the kind's own: a box or a
-# sheet that never comes, the pallet not in place, the counters as a reload leaves them)
+# sheet that never comes, the pallet not in place, the pallet taken away after the pick, the counters as a reload
+# leaves them)
 SCENARIO_OF = {
     "gripper_silent": "gripper_silent",
     "gripper_stuck_at_target": "gripper_stuck",
@@ -62,6 +64,7 @@ SCENARIO_OF = {
     "place_not_clear": "part_missing",
     "sheet_missing": "part_missing",
     "pallet_absent": "pallet_absent",
+    "pallet_taken": "pallet_taken",
     "counters_reloaded": "counters_reloaded",
 }
 SCENARIOS = {
@@ -95,7 +98,8 @@ def own_cases(pallet, rng) -> list[PalletCase]:
     """The whole pallet from its first item; restarts at random items and at the last (the counters preset, as a
     restart finds them), at a slip sheet; a full (empty) pallet, reset by the PLC or not, the reset ignored on a
     pallet not done; counters out of range; the gripper never closing or never opening; an interlock input that
-    never comes on; the counters mid-pallet in their store after a reload of the program."""
+    never comes on; the pallet taken away after the pick; the counters mid-pallet in their store after a reload of
+    the program."""
     todo = items(pallet)
     keys = [item.key for item in todo]
     first, done = start_counters(pallet), done_counters(pallet)
@@ -114,17 +118,21 @@ def own_cases(pallet, rng) -> list[PalletCase]:
     bad = [(0, 1), (1, counts[1] + 1), (pallet.layers + 1, 2), (2, 0) if (2, 0) not in keys else (1, 0)]
     out += [PalletCase("bad_counters", *key) for key in bad if key not in keys and key != done]
     out += [PalletCase("gripper_silent", *first, "silent"), PalletCase("held_at_start", *first, closed=True)]
+    sheets = [key for key in keys if key[1] == 0]  # slip sheets (stacking only)
     if stack:  # it never lets the box go at the target: the counters must stay at that box
         last_of_2 = max(key for key in keys if key[0] == min(2, pallet.layers))
         out.append(PalletCase("gripper_stuck_at_target", *last_of_2, "stuck"))
         out.append(PalletCase("part_missing", *first, missing="part_present"))
-        sheets = [key for key in keys if key[1] == 0]
         if sheets:
             out.append(PalletCase("sheet_missing", *sheets[0], missing="sheet_ready"))
     else:
         out.append(PalletCase("gripper_stuck_at_q", *first, "stuck"))
         out.append(PalletCase("place_not_clear", *first, missing="place_clear"))
     out.append(PalletCase("pallet_absent", *keys[min(2, len(keys) - 1)], missing="pallet_present"))
+    # the pallet taken away once the gripper closed (at Q: the arm must not carry the box, or a sheet, over its place)
+    out.append(PalletCase("pallet_taken", *first, taken=True))
+    if sheets:
+        out.append(PalletCase("pallet_taken", *sheets[0], taken=True))
     out.append(PalletCase("counters_reloaded", *keys[len(keys) // 3]))
     return out
 
@@ -175,13 +183,17 @@ def setup(cell, source, case: Case) -> Setup:
     feedback = signal_name(target, "input", cell.io.feedback[target.name])
     late = LATE_SHARE * cell.io.timeout_s
     gripper = Gripper(output, feedback, cell.io.value, run.case.gripper, late)
+    devices = (gripper,)
+    if run.case.taken:  # the pallet taken away once the gripper closes
+        present = signal_name(target, "input", pallet.io.pallet_present[target.name])
+        devices += (PalletTaken(output, cell.io.value, present),)
     select = None if run.pallet < 0 else run.pallet
     counters = {layer_name: run.case.layer, box_name: run.case.box}
     if case.category == "counters_reloaded" and not _reload_proof(target):
         counters = {}  # a reload cleared the program's own variables: they hold what their declaration gives
     return Setup(
         {**counters, **tool_inputs(cell, target.name)},
-        (gripper,),
+        devices,
         _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
         _start_joints(cell, index, source.target, case),
         kept_names(cell, target, index),
@@ -229,9 +241,10 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     load = carried_load(cell, pallet)
     zone = pallet.zone_mm
     joint_blend = facts(target).get("joint_blend", True)
+    input_stops = facts(target).get("input_stops", False)
 
     def planned(m) -> PlannedMove:
-        exact = m.exact or (m.kind == "joint" and not joint_blend) or zone == 0
+        exact = m.exact or (m.kind == "joint" and not joint_blend) or (m.checked and input_stops) or zone == 0
         payload = load if m.carrying and load is not None else TOOL_LOAD
         return PlannedMove(
             m.name, m.kind, m.tcp2base, exact, m.speed_mm_s, 0.0 if exact else zone, _percent(cell, m), payload=payload
@@ -264,6 +277,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     expectation = Expectation(message, tuple(moves), tuple(outputs), stored, planned_joints=planned_joints)
     reloaded = case.category == "counters_reloaded"
     problem = _declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
+    problem = problem or (_store_not_kept(source, target) if reloaded else None)
     problem = problem or sweeps(pallet, frame_matrix(pallet), want.moves)
     return Judgement([expectation], figures=boxes, problem=problem)
 
@@ -329,6 +343,27 @@ def _declared_outside_store(source, target, names: tuple[str, str]) -> str | Non
                     f"(the counters belong in {store.replace('{pallet}', '<pallet>')} alone)"
                 )
     return None
+
+
+def _store_not_kept(source, target) -> str | None:
+    """The store's module carries the attribute that keeps it through a program load (targets/<t>.toml
+    [program.pallet] store_attribute: RAPID's SYSMODULE, a system module): without it a load of the program replaces
+    the store, and the counters with it."""
+    attribute, store = facts(target).get("store_attribute"), facts(target).get("store", "")
+    if attribute is None:
+        return None
+    for f in source.files:
+        if f.name.rsplit("/", 1)[-1].lower() != store.lower():
+            continue
+        header = re.search(r"^[ \t]*MODULE[ \t]+\w+[ \t]*(?:\(([^)]*)\))?", f.text, re.M | re.I)
+        given = {a.strip().upper() for a in (header.group(1) or "").split(",")} if header else set()
+        if attribute.upper() not in given:
+            return (
+                f"{store} is not a {attribute} module: loading the program replaces it, and the counters with it "
+                f"(the store must be a {attribute} module, loaded once)"
+            )
+        return None
+    return f"{store}, the counters' store, is not among the program's files"
 
 
 def _percent(cell, move) -> float | None:

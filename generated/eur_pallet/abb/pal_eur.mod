@@ -5,21 +5,23 @@ MODULE pal_eur
   ! generated, do not edit: change the cell file and run `codegen generate`
   !
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_eur_run (this
-  ! module's one global routine); the counters are in pallet_data.mod.
+  ! module's one global routine); the counters are in the system module pallet_data.sys (loaded once).
   ! Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q (slow, fine),
-  ! grip, back up (slow), up to the transit height (300.0000 mm over the layer's top), then in the pallet's work
-  ! object above the entry at that height (joint move), entry, approach and target (slow, fine), release,
-  ! retreat (slow), entry.
+  ! grip, back up (slow), up to the transit height (300.0000 mm over the layer's top), the pallet waited for
+  ! again (it may have been taken away meanwhile), then in the pallet's work object above the entry at that
+  ! height (joint move), entry, approach and target (slow, fine), release, retreat (slow), entry.
   ! Per slip sheet (box 0 of a layer: the sheet below it): above the sheet stack (the pallet and a sheet
-  ! waited for), down to it, grip, back up, above the pallet's centre, down onto the layer, release, back up.
+  ! waited for), down to it, grip, back up, up to the transit height over the sheet's place, the pallet waited
+  ! for again, above the sheet's place at that height (joint move), down onto the layer, release, back up.
   ! Where the arm passes a pose the move blends (stack_zone, 30.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
   ! x, y at the layer's top z, the tool turned by the row's angle (counterclockwise) about the pallet's z.
   ! Counters: pal_eur_layer (1 = bottom) and pal_eur_box (1 = the first of the layer's pattern;
   ! 0 = the slip sheet below the layer)
-  ! are persistent (PERS) in pallet_data.mod: they keep their values when the program stops, when it is started
-  ! again from main, across a power failure, and when this module is loaded again after a regeneration. They
+  ! are persistent (PERS) in the system module pallet_data.sys: they keep their values when the program stops,
+  ! when it is started again from main, across a power failure, and when the program is loaded again after a
+  ! regeneration (a program load replaces the program modules, not a system module). They
   ! move only once the gripper's sensor confirmed the release, so a restart resumes at
   ! the first box not yet placed. Layer 6, box 1 means the pallet is full.
   ! With the PLC's input diResetEur on (an empty pallet in place) such a pallet starts again at
@@ -158,10 +160,24 @@ MODULE pal_eur
         ENDIF
         MoveL stack_sheet_pick, stack_work, fine, stack_tool;
         stack_grip;
-        MoveL stack_sheet_above, stack_work, stack_zone, stack_tool;
         target := stack_sheet(pal_eur_layer);
         entry := Offs(target, 0, 0, 300.0000);
-        MoveJ entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+        ! like a box: straight up above the sheet stack to the transit height over the sheet's place, over it
+        transit := Offs(target, 0, 0, 300.0000);
+        up := PoseMult(stack_wobj.uframe, [transit.trans, [1, 0, 0, 0]]);
+        over := stack_sheet_above;
+        IF up.trans.z > over.trans.z THEN
+          over.trans.z := up.trans.z;
+        ENDIF
+        MoveL stack_sheet_above, stack_work, stack_zone, stack_tool;
+        MoveL over, stack_travel, stack_zone, stack_tool;
+        ! the pallet still in place before the sheet goes over it
+        WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet eur: no pallet in place in 10 s, the sheet is in the gripper";
+        ENDIF
+        MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+        MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
         MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
         stack_release;
         ! the sheet is down: the layer's first box
@@ -192,6 +208,11 @@ MODULE pal_eur
       GripLoad stack_box;
       MoveL stack_above_q, stack_work, stack_zone, stack_tool;
       MoveL over, stack_travel, stack_zone, stack_tool;
+      ! the pallet still in place before the box goes over it (it may have been taken away while the arm was at Q)
+      WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      IF late THEN
+        stack_stop "pallet eur: no pallet in place in 10 s, the box is in the gripper";
+      ENDIF
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;

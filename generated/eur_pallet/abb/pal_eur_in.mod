@@ -5,7 +5,7 @@ MODULE pal_eur_in
   ! generated, do not edit: change the cell file and run `codegen generate`
   !
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_eur_in_run (this
-  ! module's one global routine); the counters are in pallet_data.mod.
+  ! module's one global routine); the counters are in the system module pallet_data.sys (loaded once).
   ! The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
   ! placing order: in the pallet's work object entry (joint move), approach and target (slow, fine), grip,
   ! retreat (slow), entry, up to the transit height (300.0000 mm over the layer's top); then over Q at that
@@ -16,8 +16,9 @@ MODULE pal_eur_in
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
   ! x, y at the layer's top z, the tool turned by the row's angle (counterclockwise) about the pallet's z.
   ! Counters: pal_eur_in_layer (1 = bottom) and pal_eur_in_box (1 = the first of the layer's pattern)
-  ! are persistent (PERS) in pallet_data.mod: they keep their values when the program stops, when it is started
-  ! again from main, across a power failure, and when this module is loaded again after a regeneration. They
+  ! are persistent (PERS) in the system module pallet_data.sys: they keep their values when the program stops,
+  ! when it is started again from main, across a power failure, and when the program is loaded again after a
+  ! regeneration (a program load replaces the program modules, not a system module). They
   ! move only once the gripper's sensor confirmed the grip (the box has left the pallet), so a restart resumes at
   ! the top box still on the pallet. Layer 0, box 0 means the pallet is empty.
   ! With the PLC's input diResetEurIn on (a full pallet in place) such a pallet starts again at
@@ -168,7 +169,7 @@ MODULE pal_eur_in
       MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
-        stack_stop "pallet eur_in: the pick place is not clear in 10 s? the box is in the gripper";
+        stack_stop "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper";
       ENDIF
       MoveL stack_q, stack_work, fine, stack_tool;
       stack_release;

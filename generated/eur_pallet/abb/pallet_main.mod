@@ -5,9 +5,10 @@ MODULE pallet_main
   ! generated, do not edit: change the cell file and run `codegen generate`
   !
   ! One task runs every pallet program of the cell (one arm stacks and unstacks through one pick place): a
-  ! task has one PROC main, here; each pallet's module has its entry routine and LOCAL data; pallet_data.mod
-  ! keeps the counters. Load into the task: this module and pal_eur.mod, pal_eur_in.mod (again after each
-  ! regeneration), and pallet_data.mod once.
+  ! task has one PROC main, here; each pallet's module has its entry routine and LOCAL data; the system module
+  ! pallet_data.sys keeps the counters. Load into the task: this module and pal_eur.mod, pal_eur_in.mod as the
+  ! program (again after each regeneration: a program load replaces the program modules), and pallet_data.sys
+  ! once, as a system module (its header says how); a program load leaves it and its counters.
   ! The PLC selects the program: main starts the first pallet whose select input is on:
   !   diRunEur: pallet eur (stacking)
   !   diRunEurIn: pallet eur_in (unstacking)

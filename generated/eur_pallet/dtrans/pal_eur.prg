@@ -216,7 +216,22 @@ MovL PAL_SHEET_PICK
     MovL PAL_SHEET_ABOVE
     z = pal_top(pal_layer - 1) + PAL_SLIP
     entry = pal_pose(PAL_SHEET_X, PAL_SHEET_Y, z + 300.0000, 0.0)
-    MovJ entry
+    // like a box: straight up above the sheet stack to the transit height over the sheet's place, over it
+    transit = pal_pose(PAL_SHEET_X, PAL_SHEET_Y, z + 300.0000, 0.0)
+    oz = PAL_OZ + z + 300.0000
+    If oz < -100.0000 Then
+      oz = -100.0000
+    EndIf
+    over = Trans(1200.0000, 800.0000, oz, 180.000000, 0.000000, 0.000000)
+    MovL over
+    // the pallet still in place before the sheet goes over it
+    Call pal_wait(4)
+    If DIn(4) <> True Then
+      TPWrite 0, "pallet eur: no pallet in place in 10 s, the sheet is in the gripper"
+      Halt
+    EndIf
+MovJ transit
+    MovL entry
     MovL pal_pose(PAL_SHEET_X, PAL_SHEET_Y, z, 0.0)
     Call pal_release()
     // the sheet is down: the layer's first box
@@ -252,7 +267,13 @@ MovL PAL_PICK
   EndIf
   over = Trans(1300.0000, 0.0000, oz, 180.000000, 0.000000, 0.000000)
   MovL over
-  MovJ transit
+  // the pallet still in place before the box goes over it (it may have been taken away while the arm was at Q)
+  Call pal_wait(4)
+  If DIn(4) <> True Then
+    TPWrite 0, "pallet eur: no pallet in place in 10 s, the box is in the gripper"
+    Halt
+  EndIf
+MovJ transit
   MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)

@@ -203,7 +203,7 @@ While pal_layer >= 1
   MovL PAL_ABOVE
   Call pal_wait(7)
   If DIn(7) <> True Then
-    TPWrite 0, "pallet eur_in: the pick place is not clear in 10 s? the box is in the gripper"
+    TPWrite 0, "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper"
     Halt
   EndIf
 MovL PAL_PICK

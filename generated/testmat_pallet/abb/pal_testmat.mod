@@ -5,18 +5,19 @@ MODULE pal_testmat
   ! generated, do not edit: change the cell file and run `codegen generate`
   !
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_testmat_run (this
-  ! module's one global routine); the counters are in pallet_data.mod.
+  ! module's one global routine); the counters are in the system module pallet_data.sys (loaded once).
   ! Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q (slow, fine),
-  ! grip, back up (slow), up to the transit height (36.0000 mm over the layer's top), then in the pallet's work
-  ! object above the entry at that height (joint move), entry, approach and target (slow, fine), release,
-  ! retreat (slow), entry.
+  ! grip, back up (slow), up to the transit height (36.0000 mm over the layer's top), the pallet waited for
+  ! again (it may have been taken away meanwhile), then in the pallet's work object above the entry at that
+  ! height (joint move), entry, approach and target (slow, fine), release, retreat (slow), entry.
   ! Where the arm passes a pose the move blends (stack_zone, 2.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
   ! x, y at the layer's top z, the tool turned by the row's angle (counterclockwise) about the pallet's z.
   ! Counters: pal_testmat_layer (1 = bottom) and pal_testmat_box (1 = the first of the layer's pattern)
-  ! are persistent (PERS) in pallet_data.mod: they keep their values when the program stops, when it is started
-  ! again from main, across a power failure, and when this module is loaded again after a regeneration. They
+  ! are persistent (PERS) in the system module pallet_data.sys: they keep their values when the program stops,
+  ! when it is started again from main, across a power failure, and when the program is loaded again after a
+  ! regeneration (a program load replaces the program modules, not a system module). They
   ! move only once the gripper's sensor confirmed the release, so a restart resumes at
   ! the first box not yet placed. Layer 6, box 1 means the pallet is full.
   ! With the PLC's input diPalletReset on (an empty pallet in place) such a pallet starts again at
@@ -157,6 +158,11 @@ MODULE pal_testmat
       GripLoad stack_box;
       MoveL stack_above_q, stack_work, stack_zone, stack_tool;
       MoveL over, stack_travel, stack_zone, stack_tool;
+      ! the pallet still in place before the box goes over it (it may have been taken away while the arm was at Q)
+      WaitDI diPalletIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      IF late THEN
+        stack_stop "pallet testmat: no pallet in place in 10 s, the box is in the gripper";
+      ENDIF
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;

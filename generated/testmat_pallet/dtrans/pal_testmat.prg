@@ -193,7 +193,13 @@ MovL PAL_PICK
   EndIf
   over = Trans(600.0000, 300.0000, oz, 180.000000, 0.000000, 0.000000)
   MovL over
-  MovJ transit
+  // the pallet still in place before the box goes over it (it may have been taken away while the arm was at Q)
+  Call pal_wait(4)
+  If DIn(4) <> True Then
+    TPWrite 0, "pallet testmat: no pallet in place in 10 s, the box is in the gripper"
+    Halt
+  EndIf
+MovJ transit
   MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 5.0000, a)
   MovL pal_pose(x, y, z, a)

@@ -1,0 +1,26 @@
+"""The pallet station in verify: the pallet taken away once the gripper closes (a device of Program.run)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from codegen.dialects.core.machine import Machine
+
+
+@dataclass
+class PalletTaken:
+    """The pallet-present input goes off at the first wait after the program sets the gripper's output to grip (the
+    arm at the pick place, or on the pallet when unstacking) and stays off: the pallet was taken away meanwhile."""
+
+    output: str  # the gripper's output
+    value: bool  # the output's value that closes the gripper
+    present: str  # the pallet-present input
+
+    def next_time(self, machine: Machine) -> float | None:
+        return None
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        if machine.signals.get(self.present) is False or machine.signals.get(self.output) != self.value:
+            return False
+        machine.signals[self.present] = False
+        return True
