@@ -16,7 +16,9 @@ class Belt:
 
     speed_mm_s: the mean speed; wobble: the share by which the speed swings, sinusoidally with period
     period_s (0: constant); counts_per_mm: signed (negative: the counter runs down as the belt travels);
-    counter_bits: the counter's width (it rolls over at 2**bits); start_count: its raw value at t = 0."""
+    counter_bits: the counter's width (it rolls over at 2**bits); start_count: its raw value at t = 0; stops: the
+    intervals (when it stops, how long it stands, s) in which the belt stands: it stops and starts again at once,
+    its motion between them as if the standing time were cut out of the clock."""
 
     speed_mm_s: float
     counts_per_mm: float
@@ -24,14 +26,26 @@ class Belt:
     start_count: int = 0
     wobble: float = 0.0
     period_s: float = 4.0
+    stops: tuple[tuple[float, float], ...] = ()
+
+    def running_s(self, t: float) -> float:
+        """How long the belt has run by t: t less the time it stood before t."""
+        return t - sum(min(max(t - start, 0.0), length) for start, length in self.stops)
+
+    def standing(self, t: float) -> bool:
+        return any(start <= t < start + length for start, length in self.stops)
 
     def travel_mm(self, t: float) -> float:
-        """s(t) = v t + v wobble T / (2 pi) (1 - cos(2 pi t / T)): the speed v (1 + wobble sin(2 pi t / T))."""
+        """s(t) = v r + v wobble T / (2 pi) (1 - cos(2 pi r / T)), r the time it has run: the speed
+        v (1 + wobble sin(2 pi r / T)) while it runs."""
+        r = self.running_s(t)
         w = 2.0 * math.pi / self.period_s
-        return self.speed_mm_s * (t + self.wobble * (1.0 - math.cos(w * t)) / w)
+        return self.speed_mm_s * (r + self.wobble * (1.0 - math.cos(w * r)) / w)
 
     def speed_at(self, t: float) -> float:
-        return self.speed_mm_s * (1.0 + self.wobble * math.sin(2.0 * math.pi * t / self.period_s))
+        if self.standing(t):
+            return 0.0
+        return self.speed_mm_s * (1.0 + self.wobble * math.sin(2.0 * math.pi * self.running_s(t) / self.period_s))
 
     def unwrapped_count(self, t: float) -> int:
         """The counter as if it had no width: the start count plus whole counts of travel."""
@@ -47,10 +61,11 @@ class Belt:
         return raw
 
     def time_at(self, travel_mm: float) -> float:
-        """The first t >= 0 with s(t) = travel_mm (s increases: the speed stays positive)."""
+        """The first t >= 0 with s(t) = travel_mm (s never decreases: the speed stays positive while it runs)."""
         if travel_mm <= 0.0:
             return 0.0
-        low, high = 0.0, travel_mm / (self.speed_mm_s * (1.0 - abs(self.wobble))) + 1.0
+        stood = sum(length for _start, length in self.stops)
+        low, high = 0.0, travel_mm / (self.speed_mm_s * (1.0 - abs(self.wobble))) + 1.0 + stood
         for _ in range(80):
             mid = 0.5 * (low + high)
             low, high = (mid, high) if self.travel_mm(mid) < travel_mm else (low, mid)
@@ -203,7 +218,8 @@ class BeltLine:
     The camera sees each part cross its line at part.seen_s; the PLC queues it with the encoder's count
     then and presents the oldest one the program has not taken (its number, the count, x and z, through
     the target's bus: codegen/sim/bus.py). The program takes it by writing its number back; then the
-    next is presented. With the queue empty and no part to come, the line's cycle stop turns on.
+    next is presented. With the queue empty and no part to come, the line's cycle stop turns on (not before
+    stop_s).
     taken: seq -> when the program took it."""
 
     belt: Belt
@@ -216,6 +232,7 @@ class BeltLine:
     unit: TrackingUnit | None = None  # the belt as the controller's mechanical unit (its tracking option)
     latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus)
     trigger: str | None = None  # the controller's input the camera's trigger is wired to (a pulse per part)
+    stop_s: float = 0.0  # the line's cycle stop not before this (s): with no part to come, the program waits till then
     _presented: int = 0
     _stopped: bool = False
 
@@ -243,8 +260,10 @@ class BeltLine:
 
     def next_time(self, machine) -> float | None:
         part = self._next()
-        if part is None or (self._presented and self._presented not in self.taken):
+        if self._presented and self._presented not in self.taken:
             return None
+        if part is None:  # the line's cycle stop, when it is still to come
+            return None if self._stopped or machine.clock >= self.stop_s else self.stop_s
         return max(part.seen_s, machine.clock)
 
     def on_wait(self, machine, where: str) -> bool:
@@ -254,7 +273,7 @@ class BeltLine:
             return False  # the program has not taken the part on show
         part = self._next()
         if part is None:
-            if not self._stopped:
+            if not self._stopped and machine.clock >= self.stop_s:
                 self._stopped = True
                 self.bus.stop(machine)
                 return True

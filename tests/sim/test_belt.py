@@ -48,3 +48,26 @@ def test_the_units_queue_and_position():
     assert unit.position_mm(3.0) == 0.0
     seq, due, connected = unit.connect(15.0)  # part 3 left the start window at 14 s: none will come
     assert seq is None and not connected
+
+
+def test_a_stopped_belt_stands_for_its_interval_then_runs_on_from_where_it_stood():
+    """100 mm/s, standing from 2 s to 5 s: 200 mm at 2 s and still at 4.9 s (the count too, its speed 0), 250 mm at
+    5.5 s; the first moment it reaches 200 mm is 2 s, 250 mm at 5.5 s (time_at across the plateau)."""
+    belt = Belt(100.0, 10.0, 16, stops=((2.0, 3.0),))
+    assert [belt.travel_mm(t) for t in (1.0, 2.0, 3.5, 4.9, 5.0, 5.5)] == pytest.approx([100, 200, 200, 200, 200, 250])
+    assert belt.count(2.0) == belt.count(4.9) and belt.count(5.5) - belt.count(2.0) == 500
+    assert (belt.speed_at(1.0), belt.speed_at(3.0), belt.speed_at(6.0)) == (100.0, 0.0, 100.0)
+    assert belt.time_at(200.0) == pytest.approx(2.0, abs=1e-9) and belt.time_at(250.0) == pytest.approx(5.5, abs=1e-9)
+
+
+def test_the_line_stops_not_before_its_stop_time_when_no_part_comes():
+    """With no part to come the cycle stop turns on at stop_s, not at once (a line without parts for a while)."""
+
+    class Machine:
+        clock = 0.0
+
+    line = BeltLine(Belt(100.0, 10.0), [], RegisterBus(NAMES), stop_s=30.0)
+    machine = Machine()
+    assert line.next_time(machine) == 30.0 and line.on_wait(machine, "") is False
+    machine.clock = 30.0
+    assert line.next_time(machine) is None

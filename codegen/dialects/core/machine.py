@@ -193,7 +193,7 @@ class Machine:
             else:
                 seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
         self.arm_until = start + seconds
-        event.end_time = self.arm_until
+        event.start_time, event.end_time = start, self.arm_until
         if self.watching is not None:
             self.watching.record(start, self.arm_until, self._last_tcp2base, event, via, self.arm.tcp2flange, path)
         self._last_tcp2base = event.tcp2base

@@ -16,6 +16,7 @@ class MoveEvent:
     joints: np.ndarray | None = None  # deg, where the arm's axes end (None: the run has no arm)
     solutions: np.ndarray | None = None  # (8, 6) deg: every analytic solution of the pose (a pose target)
     end_time: float = 0.0  # when the arm arrives, in the program's clock (s)
+    start_time: float = 0.0  # when the arm sets off (the previous move's end, or the instruction's moment) (s)
 
 
 @dataclass

@@ -132,6 +132,23 @@ PICK = Table(
         "place_timeout_s": Key(
             "number", "how long the program waits for place_clear", unit="s", low=0.2, high=600.0, default=10.0
         ),
+        "no_part_s": Key(
+            "number",
+            "how long the program waits for the next part before it says none came (it goes on waiting)",
+            unit="s",
+            low=1.0,
+            high=3600.0,
+            default=30.0,
+        ),
+        "belt_stop_s": Key(
+            "number",
+            "how long the encoder may stand still while a part is on its way before the program says the belt "
+            "stands (the arm waits above the belt)",
+            unit="s",
+            low=0.5,
+            high=600.0,
+            default=2.0,
+        ),
         "min_gap_mm": Key(
             "number", "how close a part may follow the one before and still be picked", unit="mm", low=0.0, default=0.0
         ),

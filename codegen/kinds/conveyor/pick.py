@@ -29,7 +29,8 @@ class Pick:
     tool frame), the payload while the gripper holds it; place_clear: per target, the input that says the
     place is free (none: the program does not ask), waited for place_timeout_s; min_gap_mm: how close a part may
     follow the one before and still be picked (ABB native: the queue's minimum distance); unit: per target, the
-    belt's mechanical unit (ABB native)."""
+    belt's mechanical unit (ABB native); no_part_s: the wait for the next part says so once after this long (and
+    goes on); belt_stop_s: the encoder still this long while a part is on its way: the belt stands (a message)."""
 
     window_mm: tuple[float, float]
     x_range_mm: tuple[float, float]
@@ -54,6 +55,8 @@ class Pick:
     unit: dict = field(default_factory=dict)
     trigger_input: dict = field(default_factory=dict)
     part_size_mm: tuple[float, float, float] | None = None  # the part as a box along the tool frame's axes (inertia)
+    no_part_s: float = 30.0  # the wait for the next part: a message after this long, then on waiting
+    belt_stop_s: float = 2.0  # the encoder still this long while a part is on its way: the belt stands (a message)
 
     def mean(self, key: str) -> float:
         """The middle of a (least, most) interval of the cell (grip_s, count_latency_s, motion_start_s)."""
@@ -173,6 +176,8 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         _named(ctx, table, "unit", [t for t in natives if facts(get_target(t)).get("unit")], path),
         _numbered_input(ctx, table, "trigger_input", [t for t in natives if facts(get_target(t)).get("trigger")], path),
         part_size_mm=size,
+        no_part_s=_bounded(ctx, table, "no_part_s", f"{path}.no_part_s", 30.0, 1.0, 3600, "s"),
+        belt_stop_s=_bounded(ctx, table, "belt_stop_s", f"{path}.belt_stop_s", 2.0, 0.5, 600, "s"),
     )
 
 

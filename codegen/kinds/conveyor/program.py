@@ -26,6 +26,7 @@ TOO_CLOSE = "conveyor: too close to the part before, skipped: part "  # ABB nati
 LOST = "conveyor: lost from the start window, skipped: part "  # ABB native: WaitWObj's error handler
 PUT_DOWN = "conveyor: a part held at the start: put down at the place"
 EARLY = "conveyor: seen before the program started, skipped: part "  # UR: no count of its own encoder for it
+STANDS = "conveyor: the belt stands, the arm waits above it: part "  # the encoder still while a part is on its way
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
 SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
@@ -35,6 +36,16 @@ MASS_DECIMALS = 3
 def place_blocked(cell) -> str:
     """The stop of a program whose place did not come clear in time."""
     return f"the place is not clear after {conveyor_of(cell).pick.place_timeout_s:g} s"
+
+
+def no_part(cell) -> str:
+    """The notification of a wait for the next part that lasted no_part_s (the program goes on waiting)."""
+    return f"conveyor: no part for {conveyor_of(cell).pick.no_part_s:g} s, still waiting"
+
+
+def reads(seconds: float) -> int:
+    """How many reads POLL_S apart make this long (the waits for a part and for the belt count their reads)."""
+    return math.ceil(seconds / POLL_S - 1e-9)
 
 
 def lead_parts(cell) -> tuple[float, float, float]:
@@ -191,6 +202,12 @@ def conveyor_context(cell, target, emitter) -> dict:
         "pair_mm": number(PAIR_MM, 1),
         "lost": emitter.string(LOST),
         "place_blocked": emitter.string(place_blocked(cell)),
+        "no_part": emitter.string(no_part(cell)),
+        "no_part_s": number(pick.no_part_s, 3),
+        "no_part_polls": reads(pick.no_part_s),  # reads of the queue, CNV_POLL apart: the wait's message
+        "stands": emitter.string(STANDS),
+        "belt_stop_s": number(pick.belt_stop_s, 3),
+        "stand_polls": reads(pick.belt_stop_s),  # reads of the encoder without a count: the belt stands
     }
     if mode == "native":
         out.update(native.context(cell, target, emitter))

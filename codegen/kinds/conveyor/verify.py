@@ -14,7 +14,7 @@ from codegen.kinds.conveyor import native, plan
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.judge import SKIPS
 from codegen.kinds.conveyor.judge import judge as judge_parts
-from codegen.kinds.conveyor.program import BAD_READING, place_blocked
+from codegen.kinds.conveyor.program import BAD_READING, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, start_joints
 from codegen.model.io import signal_name
@@ -49,7 +49,11 @@ SCENARIO_OF = {
     "gripper_stuck": "gripper_stuck",
     "part_out_of_range": "reading_out_of_range",
     "place_blocked": "device_silent",
+    "belt_stands": "belt_stands",  # the kind's own: the belt stands while a part is on its way
+    "no_part": "no_part",  # the kind's own: no part comes for longer than no_part_s
 }
+STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
+NO_PART_EXTRA_S = 5.0  # the no_part case: the line's cycle stop comes this long after no_part_s
 
 
 @dataclass(frozen=True)
@@ -68,6 +72,7 @@ class BeltCase:
     place: str = "clear"
     latency_s: float = 0.0
     grip_s: float = 0.0
+    stop_s: float = 0.0  # the line's cycle stop not before this (s)
 
     @property
     def scenario(self) -> str:
@@ -144,6 +149,12 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     ]
     if pick.place_clear:
         scenarios.append(replace(one, category="place_blocked", place="blocked"))
+    # the belt stands (then runs again at once) while the part is halfway from the camera's line to the window: the
+    # arm waits above the belt and must stay there; and a line with no part for longer than no_part_s
+    halfway = slow.time_at(0.5 * (conveyor.camera_offset_mm + pick.window_mm[0])) + one.parts[0].seen_s
+    stands = replace(slow, stops=((halfway, pick.belt_stop_s + STAND_EXTRA_S),))
+    scenarios.append(replace(one, category="belt_stands", belt=stands))
+    scenarios.append(replace(one, category="no_part", parts=(), stop_s=pick.no_part_s + NO_PART_EXTRA_S))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
@@ -169,6 +180,7 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         wiring=None if not wiring else tuple(wiring),
         unit=unit,
         latency_s=case.latency_s,
+        stop_s=case.stop_s,
         trigger=signal_name(target, "input", pick.trigger_input[target_name])
         if target_name in pick.trigger_input
         else None,
@@ -217,6 +229,9 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
             outputs.append(PlannedOutput(output, not cell.io.value, at, "at the place"))
         expected = Expectation(emitter.string(message), (*first, *moves), tuple(outputs), output_names=names)
         return Judgement([expected])
+    problem = waits(cell, case, trace)
+    if problem is not None:
+        return Judgement([], problem=problem)
     problem, pos, rot = judge_parts(cell, target_name, case, trace, line, output)
     if problem is not None:
         return Judgement([], problem=problem)
@@ -227,6 +242,35 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
     expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
     return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
+
+
+def waits(cell, case: BeltCase, trace) -> str | None:
+    """The waits' messages: no part for no_part_s said once, and only when the wait for a part lasted that long;
+    while the belt stands with a part on its way, no move (the arm stays above the belt) and, once it has stood
+    belt_stop_s, the belt's standing said once for that part (while it stands; never while it runs)."""
+    pick = conveyor_of(cell).pick
+    said = [t for m, t in zip(trace.messages, trace.message_times, strict=True) if m == no_part(cell)]
+    moments = sorted([0.0, *(p.seen_s for p in case.parts)])
+    longest = max(b - a for a, b in zip(moments, [*moments[1:], max(case.stop_s, moments[-1])], strict=True))
+    if len(said) > 1 or (said and said[0] < pick.no_part_s) or (said and longest < pick.no_part_s):
+        return f"'no part' said at {said} s; the longest wait for a part {longest:g} s (no_part_s {pick.no_part_s:g})"
+    if case.category == "no_part" and not said:
+        return f"no part came for {case.stop_s:g} s, and the program did not say so (no_part_s {pick.no_part_s:g})"
+    stands = [(m, t) for m, t in zip(trace.messages, trace.message_times, strict=True) if m.startswith(STANDS)]
+    for start, length in case.belt.stops:
+        for move in trace.moves:
+            if move.start_time < start + length and move.end_time > start:
+                return (
+                    f"a move (line {move.line}) from {move.start_time:.3f} s to {move.end_time:.3f} s while the belt "
+                    f"stood ({start:.3f} s to {start + length:.3f} s)"
+                )
+        inside = [(m, t) for m, t in stands if start + pick.belt_stop_s - 1e-9 <= t <= start + length]
+        if length > pick.belt_stop_s + 1.0 and len(inside) != 1:
+            return f"the belt stood {length:g} s from {start:.3f} s: said {len(inside)} times in it ({stands})"
+    for _m, t in stands:
+        if not any(start + pick.belt_stop_s - 1e-9 <= t <= start + length for start, length in case.belt.stops):
+            return f"the belt's standing said at {t:.3f} s, when it had not stood {pick.belt_stop_s:g} s"
+    return None
 
 
 @dataclass

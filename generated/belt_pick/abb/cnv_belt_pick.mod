@@ -36,6 +36,8 @@ MODULE cnv_belt_pick
   ! encoder how far it has travelled since (counts per mm from `codegen calibrate conveyor`, the 16-bit count
   ! unwound across its wrap) and skips it with a message when it is past the window's end.
   ! The digital input diCnvStop (the line's cycle stop), with no part waiting, ends the program.
+  ! No part for 30.000 s: a message, and the program waits on. A belt that stands while a part is on its way
+  ! (no count for 2.000 s): a message; the arm stays above the belt and goes on when it moves again.
   ! The payload: the tool's, and the part's (GripLoad) from the grip confirmed to the release confirmed.
   ! A start away from home (after a stop anywhere in the cycle) backs out along the tool's axis and goes
   ! home through a safe pose above the belt; a part the gripper still holds (its sensor on) is then put down
@@ -98,6 +100,10 @@ MODULE cnv_belt_pick
   LOCAL CONST num CNV_DZ := 60.0000;
   ! s: how often the program reads the encoder while the part comes
   LOCAL CONST num CNV_POLL := 0.012;
+  ! s: no part this long: a message, and the program waits on
+  LOCAL CONST num CNV_NO_PART := 30.000;
+  ! reads of the encoder (CNV_POLL apart, 2.000 s) without a count while a part is on its way: the belt stands
+  LOCAL CONST num CNV_STAND_POLLS := 167;
   ! x and z on a group: raw = round(10.0 * mm) + 32768
   LOCAL CONST num CNV_OFFSET := 32768;
   LOCAL CONST num CNV_SCALE := 10.0;
@@ -128,6 +134,7 @@ MODULE cnv_belt_pick
     VAR num z;
     VAR bool running := TRUE;
     VAR bool held;
+    VAR bool idle;
     VAR bool away := FALSE;
     VAR jointtarget now;
     ! a part the gripper holds from a stopped cycle (its sensor on): carried with its payload, put down at the place
@@ -170,8 +177,13 @@ MODULE cnv_belt_pick
     ENDIF
     last := GOutput(goCnvAck);
     WHILE running DO
-      ! the next part, or the line's cycle stop with none waiting
-      WaitUntil GInput(giCnvSeq) <> last OR DInput(diCnvStop) = 1;
+      ! the next part, or the line's cycle stop with none waiting; none for CNV_NO_PART s: a message, once, and on
+      ! waiting (a belt without parts is no fault: \TimeFlag makes the time running out no error)
+      WaitUntil GInput(giCnvSeq) <> last OR DInput(diCnvStop) = 1 \MaxTime:=CNV_NO_PART \TimeFlag:=idle;
+      IF idle TPWrite "conveyor: no part for 30 s, still waiting";
+      WHILE idle DO
+        WaitUntil GInput(giCnvSeq) <> last OR DInput(diCnvStop) = 1 \MaxTime:=CNV_NO_PART \TimeFlag:=idle;
+      ENDWHILE
       IF GInput(giCnvSeq) = last THEN
         running := FALSE;
       ELSE
@@ -220,6 +232,8 @@ MODULE cnv_belt_pick
       TPWrite "conveyor: skipped (past the window's end): part " \Num:=seq;
       RETURN;
     ENDIF
+    ! the arm stays above the belt until the part is in the window by the PLC's count (WaitWObj connects it then)
+    cnv_arrive seq, seen, CNV_START;
     IF NOT cnv_connect() THEN
       TPWrite "conveyor: lost from the start window, skipped: part " \Num:=seq;
       RETURN;
@@ -255,6 +269,27 @@ MODULE cnv_belt_pick
   ERROR
     RETURN FALSE;
   ENDFUNC
+
+  LOCAL PROC cnv_arrive(num seq, num seen, num y)
+    ! wait until the part is at y along the belt by the PLC's count; meanwhile the encoder's count still for
+    ! CNV_STAND_POLLS reads (CNV_POLL apart, 2.000 s): the belt stands, said once (the wait goes on: the
+    ! arm stays above the belt until the belt moves the part there)
+    VAR num count;
+    VAR num still := 0;
+    count := GInput(giCnvEncoder);
+    WHILE cnv_y(seen) < y DO
+      WaitTime CNV_POLL;
+      IF GInput(giCnvEncoder) = count THEN
+        IF still <= CNV_STAND_POLLS THEN
+          still := still + 1;
+        ENDIF
+        IF still = CNV_STAND_POLLS TPWrite "conveyor: the belt stands, the arm waits above it: part " \Num:=seq;
+      ELSE
+        still := 0;
+        count := GInput(giCnvEncoder);
+      ENDIF
+    ENDWHILE
+  ENDPROC
 
   LOCAL PROC cnv_place_part()
     ! the part held, above the place: its interlock, down, release, back up
