@@ -153,6 +153,13 @@ def load_group(dialect, group):
     help="Where the arm stands when the program starts: J1,...,J6 in deg (a program that checks it before "
     "it moves, e.g. UR get_actual_joint_positions(), RAPID CJointT(), needs it).",
 )
+@click.option(
+    "--answer",
+    "answers",
+    multiple=True,
+    help="The operator's answer to the next dialog the program shows (repeatable, in order): a softkey's number "
+    "or its label, e.g. 'Yes'. Without one, a dialog waiting for an answer stops the run.",
+)
 @step_limit_option("Stop a runaway program after this many steps (what ran until then is shown).")
 @click.option(
     "--max-moves",
@@ -177,6 +184,7 @@ def run(
     gripper: str | None,
     start: str | None,
     robot: str | None,
+    answers: tuple[str, ...],
     step_limit: int,
     max_moves: int | None,
     max_seconds: float | None,
@@ -192,6 +200,7 @@ def run(
     from codegen.dialects.core.values import RunError, StepLimitError
     from codegen.poses import POSE_FORMATS
     from codegen.sim.gripper import Gripper
+    from codegen.sim.operator import Operator
     from codegen.sim.vision_pc import VisionPC
 
     if len(files) == 1 and is_companion(Path(files[0])):
@@ -250,6 +259,8 @@ def run(
         devices = [VisionPC.for_target(target, reading)]
         if gripper is not None:
             devices.append(Gripper(*gripper_names))
+        if answers:
+            devices.append(Operator(answers))
         trace = program.run(
             values,
             step_limit=step_limit,

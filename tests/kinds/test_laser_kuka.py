@@ -10,14 +10,18 @@ import pytest
 from support.programs import first, load_program
 
 from codegen.controllers import get_target
+from codegen.kinds.laser import confirm
 from codegen.kinds.laser import program as lp
-from codegen.kinds.laser.verify import LaserCase, station_for
+from codegen.kinds.laser.verify import LaserCase, cases, station_for
 from codegen.model.cell import load_cell
 from codegen.render import render
 from codegen.robot.expect import arm_of
+from codegen.sim.operator import Operator
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
 CYCLE = 0.012  # targets/kuka.toml signal_cycle_s
+TOOL = "TOOL_DATA[3]"  # the cell's production tool
+BEFORE = (0.4, -0.3, 180.9, 0.0, 0.0, 0.0)  # its X, Y, Z, A, B, C before the run (the last calibration's)
 
 
 # --- the program -----------------------------------------------------------------------------------
@@ -39,12 +43,12 @@ def _program(cell, drop_wait_before_off: bool = False):
     return load_program(target, "\n".join(kept), f"<fresh>/{files[names[0]].relpath}", {".dat": files[names[1]].text})
 
 
-def _run(cell, program, tool: np.ndarray, cycle: float = CYCLE):
+def _run(cell, program, tool: np.ndarray, cycle: float = CYCLE, answers=(confirm.YES,)):
     target = get_target("kuka")
     station = station_for(cell, target, LaserCase("test", tool, noise=0.0))
     return program.run(
-        {},
-        devices=(station,),
+        {TOOL: BEFORE},
+        devices=(station, Operator(answers)),
         arm=arm_of(cell, "kuka"),
         start_joints=cell.robot.home["kuka"],
         keep=tuple(lp.kept_names(target).values()),
@@ -105,11 +109,118 @@ def test_a_stop_after_a_run_that_wrote_the_tcp_shows_its_circle_number(cell):
     names = tuple(dict.fromkeys(re.findall(r"^DECL\s+\w+\s+(\w+)", dat, re.M)))
     station = station_for(cell, target, LaserCase("test", cell.robot.tool.tcp2flange, noise=0.0))
     options = {"arm": arm_of(cell, "kuka"), "start_joints": cell.robot.home["kuka"], "signal_cycle_s": CYCLE}
-    written = program.run({}, devices=(station,), keep=names, step_limit=2_000_000, **options)
+    given, devices = {TOOL: BEFORE}, (station, Operator([confirm.YES]))
+    written = program.run(given, devices=devices, keep=names, step_limit=2_000_000, **options)
     assert not written.halted and written.messages[-1].startswith(lp.WRITTEN)
     left = {name: value for name, value in written.kept.items() if value is not None}
     short = cell.robot.tool.tcp2flange.copy()
     short[:3, 3] += short[:3, 2] * -7.0  # the first circle passes under the tip
     station = station_for(cell, target, LaserCase("test", short, noise=0.0))
-    stopped = program.run(left, devices=(station,), step_limit=2_000_000, **options)
+    stopped = program.run({**left, **given}, devices=(station,), step_limit=2_000_000, **options)
     assert stopped.halted and stopped.halt_message == lp.CIRCLE_EDGES + "1"
+
+
+# --- the operator's confirmation before the production tool changes ---------------------------------------------
+
+
+def _edited(cell, old: str, new: str):
+    """The program with one piece of its text replaced (a mutation the judge must catch)."""
+    target = get_target("kuka")
+    names = lp.laser_file_names(cell, target)
+    files = {f.relpath.rsplit("/", 1)[1]: f for f in render(cell, ["kuka"])}
+    text = files[names[0]].text
+    assert old in text
+    name, dat = f"<edited>/{files[names[0]].relpath}", files[names[1]].text
+    return load_program(target, text.replace(old, new), name, {".dat": dat})
+
+
+def _shown(trace, prefix: str) -> list[float]:
+    return [float(v) for v in next(m for m in trace.messages if m.startswith(prefix))[len(prefix) :].split()]
+
+
+def test_the_program_shows_the_old_and_new_tcp_and_writes_it_on_yes(cell):
+    """Before TOOL_DATA[3] changes: its X, Y, Z now and the TCP found in two notifications, then the dialog; the
+    operator's Yes writes the TCP found."""
+    tool = _bent(cell.robot.tool.tcp2flange, (1.2, -0.8, 0.7), 0.5)
+    trace = _run(cell, _program(cell), tool)
+    said = confirm.texts(cell, get_target("kuka"))
+    assert _shown(trace, said["tool_now"]) == pytest.approx(BEFORE[:3], abs=1e-4)
+    tcp = [float(v) for v in trace.kept["LSR_TCP"]]
+    assert _shown(trace, said["tcp_found"]) == pytest.approx(tcp, abs=1e-4)
+    asked = trace.messages.index(said["confirm"])
+    assert asked < len(trace.messages) - 1 and trace.messages[asked + 1].startswith(lp.WRITTEN)
+    written = trace.kept.get(TOOL) if TOOL in trace.kept else None
+    assert written is None or [float(written[k]) for k in "XYZ"] == pytest.approx(tcp, abs=1e-4)
+
+
+def test_the_operator_s_no_leaves_the_production_tool_unchanged_and_says_so(cell):
+    target = get_target("kuka")
+    program = _program(cell)
+    station = station_for(cell, target, LaserCase("test", cell.robot.tool.tcp2flange, noise=0.0))
+    options = {"arm": arm_of(cell, "kuka"), "start_joints": cell.robot.home["kuka"], "signal_cycle_s": CYCLE}
+    trace = program.run({TOOL: BEFORE}, devices=(station, Operator([confirm.NO])), keep=(TOOL,), **options)
+    said = confirm.texts(cell, target)
+    assert not trace.halted and trace.messages[-1] == said["not_written"]
+    assert not any(m.startswith(lp.WRITTEN) for m in trace.messages)
+    assert [float(trace.kept[TOOL][k]) for k in ("X", "Y", "Z", "A", "B", "C")] == pytest.approx(BEFORE)
+    assert trace.moves[-1].kind == "joint"  # the way out, home
+
+
+@pytest.mark.parametrize(
+    ("category", "old", "new", "problem"),
+    [
+        ("confirmation_refused", None, None, None),
+        ("as_designed", None, None, None),
+        # the tool written whatever the operator answers
+        ("confirmation_refused", "  RETURN ANSWER == 1\n", "  RETURN TRUE\n", "TCP not written, tool 3 unchanged"),
+        # Yes not taken: the tool never written
+        ("as_designed", "  RETURN ANSWER == 1\n", "  RETURN FALSE\n", "expected the TCP written"),
+        # the question never asked
+        ("as_designed", "IF LSR_CONFIRM() THEN", "IF TRUE THEN", "no message 'laser: tool 3 now"),
+    ],
+)
+def test_verify_judges_the_operator_s_answer(cell, category, old, new, problem):
+    """Verify's laser cases on KUKA: the operator answers Yes, and No in "confirmation_refused", whose expectation is
+    the production tool unchanged and the message that says so; a program that writes anyway, never writes or never
+    asks is a mismatch."""
+    from support.programs import run_case
+
+    from codegen.kinds.laser import plan
+
+    source = first(cell, "kuka", "laser")
+    every = cases(cell, 0) + confirm.cases(get_target("kuka"), cases(cell, 0)[0])
+    case = next(c for c in every if c.category == category)
+    program = source.load() if old is None else _edited(cell, old, new)
+    trace, _ = run_case(cell, "kuka", program, case, "laser")
+    judged = plan.judge(cell, "kuka", case, trace)
+    if problem is None:
+        assert judged.problem is None and len(judged.accepted) == 1
+        stored = {s.name: s for s in judged.accepted[0].stored}
+        value = trace.kept[TOOL]
+        for field, s in zip("XYZ", (stored[f"{TOOL}.{k}"] for k in "XYZ"), strict=True):
+            assert abs(float(value[field]) - s.value) <= s.tolerance, (field, s.what)
+        if category == "confirmation_refused":
+            assert stored[f"{TOOL}.X"].what == "the production tool unchanged"
+    else:
+        assert judged.problem is not None and problem in judged.problem, judged.problem
+
+
+def test_only_a_target_that_asks_runs_the_refused_case(cell):
+    quiet = cases(cell, 0)[0]
+    assert [c.category for c in confirm.cases(get_target("kuka"), quiet)] == ["confirmation_refused"]
+    assert confirm.cases(get_target("ur"), quiet) == [] and confirm.cases(get_target("abb"), quiet) == []
+
+
+def test_the_confirmation_s_messages_fit_msg_txt_with_the_widest_numbers():
+    """Msg_txt is CHAR[80] (targets/kuka.toml string_max): each message with the widest tool number (16) and the
+    widest numbers it carries (a TCP within 2,000 mm of the flange); the softkeys' labels within Sk_Txt CHAR[10]."""
+    string_max = get_target("kuka").string_max
+    numbers = " ".join([lp.NUMBER_MAX] * 3)
+    for text, carried in (
+        (confirm.TOOL_NOW, numbers),
+        (confirm.TCP_FOUND, numbers),
+        (confirm.CONFIRM, ""),
+        (confirm.NOT_WRITTEN, ""),
+    ):
+        assert len(text.format(tool="tool 16") + carried) <= string_max, text
+    assert all(len(label) <= 10 for label in (confirm.YES, confirm.NO))

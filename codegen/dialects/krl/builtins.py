@@ -50,6 +50,7 @@ STRUCTS = {
         ("PAR_REAL", "REAL"),
         ("PAR_BOOL", "BOOL"),
     ],
+    "KRLMSGDLGSK_T": [("SK_TYPE", "ENUM"), ("SK_TXT", "CHAR")],  # a dialog's softkey (codegen/dialects/krl/dialogs.py)
     "KRLMSGOPT_T": [("VL_STOP", "BOOL"), ("CLEAR_P_RESET", "BOOL"), ("CLEAR_P_SAW", "BOOL"), ("LOG_TO_DB", "BOOL")],
     # the path and approximation parameters of the advance run ($VEL, $ACC, $APO: KSS 8.1-8.4 System Variables)
     "VEL_STRUC": [("CP", "REAL"), ("ORI1", "REAL"), ("ORI2", "REAL")],  # m/s, deg/s, deg/s
@@ -138,6 +139,24 @@ def cart_matrix(value: Record) -> np.ndarray:
     return posemath.matrix_from_xyzabc(xyzabc(value))
 
 
+def message_text(msg, params, where: str) -> str:
+    """A KrlMsg_T's text as the operator sees it: %1 to %3 replaced by the KrlMsgPar_T parameters' values (#EMPTY
+    or none: left as written); a parameter with other than one value is refused."""
+    text = valid(msg["MSG_TXT"], where, "KrlMsg_T.Msg_txt")
+
+    def param(match):
+        i = int(match.group(1))
+        par = params[i - 1] if isinstance(params, list) and i <= len(params) else None
+        if par is None or par["PAR_TYPE"] in (UNINIT, "#EMPTY"):
+            return match.group(0)
+        values = [(k, par[k]) for k in ("PAR_TXT", "PAR_INT", "PAR_REAL", "PAR_BOOL") if par[k] is not UNINIT]
+        if len(values) != 1:
+            raise RunError(f"{where}: KrlMsgPar_T[{i}] needs exactly one value, has {len(values)}")
+        return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
+
+    return _MSG_PARAM.sub(param, text)
+
+
 # KUKA's functions the interpreter does not model: a call is refused by name (not "unknown routine")
 NOT_MODELLED = {
     name: what
@@ -149,7 +168,7 @@ NOT_MODELLED = {
         "error handling": "ERR_RAISE ERR_CLEAR",
         "kinematics functions": "INVERSE FORWARD",
         "KUKA's technology packages": "P00 H50 USER_GRP USERSPOT A20 A10",
-        "messages of KSS 5": "MSG_SEND SET_KRLDLG EXISTS_KRLDLG CLEAR_KRLMSG",
+        "messages of KSS 5": "MSG_SEND CLEAR_KRLMSG",
     }.items()
     for name in names.split()
 }
@@ -200,19 +219,7 @@ def builtins() -> dict:
         kind, msg, params, opt = args
         if isinstance(opt, Record) and opt["VL_STOP"] is True:  # KrlMsgOpt_T.VL_Stop: an advance-run stop
             fr.m.arrive(where)
-        text = valid(msg["MSG_TXT"], where, "KrlMsg_T.Msg_txt")
-
-        def param(match):
-            i = int(match.group(1))
-            par = params[i - 1] if isinstance(params, list) and i <= len(params) else None
-            if par is None or par["PAR_TYPE"] in (UNINIT, "#EMPTY"):
-                return match.group(0)
-            values = [(k, par[k]) for k in ("PAR_TXT", "PAR_INT", "PAR_REAL", "PAR_BOOL") if par[k] is not UNINIT]
-            if len(values) != 1:
-                raise RunError(f"{where}: KrlMsgPar_T[{i}] needs exactly one value, has {len(values)}")
-            return format_general(values[0][1]) if values[0][0] != "PAR_TXT" else values[0][1]
-
-        fr.m.message(_MSG_PARAM.sub(param, text))
+        fr.m.message(message_text(msg, params, where))
         handle = fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
         if str(kind).upper() in ACKNOWLEDGED:  # shown until the operator acknowledges it
             fr.m.extra["waiting"] = {**fr.m.extra.get("waiting", {}), handle: fr.m.trace.messages[-1]}

@@ -8,7 +8,7 @@ from lark import Token, Tree
 
 from codegen.dialects.core.source import LazyStore, Src
 from codegen.dialects.core.values import RunError
-from codegen.dialects.krl import sysvars
+from codegen.dialects.krl import dialogs, sysvars
 from codegen.dialects.krl.builtins import NOT_MODELLED, UNINIT, frame, new_value, valid
 from codegen.dialects.krl.interrupts import pos_int
 from codegen.dialects.krl.motion import SYSTEM_ARRAYS
@@ -209,6 +209,9 @@ class ScopedNames:
         routine = self.routine_key(name)
         args = [self.src(a) if a is not None else "None" for a in arg_nodes]
         if routine is None:
+            key = str(name).upper()
+            if key in dialogs.OUT_PARAMETERS:
+                return self.builtin_with_out(node, key, name, arg_nodes, args)
             return self.call_source(str(name), args, {}, [None] * len(args), self.where(node))
         params = self.signatures.get(routine)
         if params is not None and len(params) != len(arg_nodes):
@@ -217,6 +220,21 @@ class ScopedNames:
             self.fail(node, f"{name}: an argument left out (only KUKA's spline functions have optional ones)")
         setters = self.ref_setters(routine, arg_nodes)
         return self.call_source(routine, args, {}, setters, self.where(node))
+
+    def builtin_with_out(self, node, key: str, name, arg_nodes, args: list[str]):
+        """A call of a built-in function with OUT parameters (dialogs.OUT_PARAMETERS): the arguments there are
+        variables (a compile error names the line otherwise); those it writes (dialogs.WRITTEN) get a setter."""
+        setters = [None] * len(arg_nodes)
+        for i in dialogs.OUT_PARAMETERS[key]:
+            arg = arg_nodes[i] if i < len(arg_nodes) else None
+            if arg is None:
+                continue  # too few arguments: the function says so when it runs
+            if not (isinstance(arg, Tree) and arg.data in ("var", "index", "field", "whole")):
+                self.fail(arg if isinstance(arg, Tree) else node, f"{name}: argument {i + 1} is OUT: give a variable")
+            if i in dialogs.WRITTEN.get(key, ()):
+                setters[i], args[i] = ScopedStore(self, arg), "None"
+        where = self.where(node)
+        return Src(f"{self.const(self.builtins[key])}(fr, [{', '.join(args)}], {{}}, {where!r}, {self.const(setters)})")
 
     def ref_setters(self, callee: str, arg_nodes) -> list:
         if callee not in self.user_routines:

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from codegen.kinds.laser import plan, reach
+from codegen.controllers import get_target
+from codegen.kinds.laser import confirm, plan, reach
 from codegen.kinds.laser.commands import calibrate_tcp
 from codegen.kinds.laser.keys import KEYS
 from codegen.kinds.laser.program import calibrates_on, laser_context, laser_file_names
@@ -24,6 +25,7 @@ class LaserKind(ProgramKind):
         "joint_zone": bool,  # the program blends into and out of its joint moves (the safe pose)
         "circle_blend_mm": float,  # the first half circle blends into the second by this much (0: it stops)
         "entry_routine": bool,  # the program is a routine of the production task, not a program with its own main
+        "confirm": bool,  # the operator confirms the production tool's change (old and new X, Y, Z shown, Yes/No)
     }
 
     @classmethod
@@ -60,7 +62,8 @@ class LaserKind(ProgramKind):
         """Source 003's automatic TCP program of a cell with [laser]: "tcp_<cell>.mod" from "kinds/laser.mod.j2"."""
         if not calibrates_on(cell, target):
             return []
-        context = laser_context(cell, target, program_emitter(cell, target))
+        emitter = program_emitter(cell, target)
+        context = {**laser_context(cell, target, emitter), **confirm.context(cell, target, emitter)}
         files = tuple(
             ProgramFile(name, f"{target.name}/kinds/{pattern.format(laser='laser', data='laser_data')}.j2")
             for pattern, name in zip(cls.facts(target)["files"], laser_file_names(cell, target), strict=True)
@@ -91,7 +94,8 @@ class LaserKind(ProgramKind):
 
     @classmethod
     def verify_cases(cls, cell, source, count: int, seed: int) -> list:
-        return cases(cell, seed)
+        out = cases(cell, seed)
+        return out + confirm.cases(get_target(source.target), out[0])
 
     @classmethod
     def setup(cls, cell, source, case):

@@ -10,6 +10,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
+from codegen.kinds.laser import confirm
 from codegen.kinds.laser import program as lp
 from codegen.kinds.laser.facts import facts
 from codegen.kinds.laser.reference import expected
@@ -70,7 +71,7 @@ def setup(cell, target_name: str, case: LaserCase) -> Setup:
         # the controller's numbered tool and load where the cell names one ([cell.tool] numbered), the production
         # tool as the last calibration left it over it (a numbered production tool is that tool)
         {**tool_inputs(cell, target_name), **_preset(cell, target, previous_tcp(cell, case))},
-        (station_for(cell, target, case),),
+        (station_for(cell, target, case), *confirm.devices(target, case)),
         {},
         _start_joints(cell, target_name, case),
         (*lp.kept_names(target).values(), lp.production_name(cell, target)),
@@ -120,7 +121,11 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     problem, worst, truth = judge_measures(cell, target, case, trace, want, tol)
     if problem is not None:
         return Judgement([], problem=problem)
-    written = want.halt is None
+    written = want.halt is None and not confirm.refused(target, case)  # the operator's No: the tool unchanged
+    if want.halt is None:
+        problem = confirm.problem(cell, target, case, trace, previous, _flat_tcp(target, trace))
+        if problem is not None:
+            return Judgement([], problem=problem)
     moves = _roles(cell, target, case, trace, want.hits is not None)
     if isinstance(moves, str):
         return Judgement([], problem=moves)
@@ -129,6 +134,12 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     motion = trace.moves[-1].end_time if written and trace.moves else 0.0
     figures = (case.truth, truth, motion, worst)
     return Judgement([Expectation(halt, moves, (), stored)], figures=figures, errors=([worst], []))
+
+
+def _flat_tcp(target, trace) -> list[float]:
+    """The TCP the program found (its own global, flange frame mm)."""
+    value = trace.kept.get(lp.kept_names(target)["tcp"]) or []
+    return [float(v) for v in (value.values() if isinstance(value, dict) else value)][:3]
 
 
 def _in_place(cell, target_name: str, case: LaserCase) -> PlannedMove:

@@ -9,6 +9,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.laser import program as lp
+from codegen.kinds.laser.confirm import REFUSED, YES
 from codegen.kinds.laser.reference import Expected, from_measured
 from codegen.kinds.laser.section import laser_of
 from codegen.model.io import signal_name
@@ -23,6 +24,7 @@ SCENARIO_OF = {
     "tool_too_long": "reading_out_of_range",
     "steep_axis": "reading_out_of_range",
     "drifted_since_last": "reading_out_of_range",
+    REFUSED: "operator_refuses",  # the operator answers No to writing the production tool (where the target asks)
 }
 STEP_LIMIT = 2_000_000  # a UR thread runs a few statements per 2 ms cycle for a minute of motion
 NOISE_MM = 0.01  # the switching point's standard deviation (the sensor noise)
@@ -58,6 +60,7 @@ class LaserCase:
     start: str = "home"
     dead: bool = False  # the sensors never switch (a sensor unplugged, its range set to nothing)
     previous: tuple | None = None  # the production tool's TCP before the run (mm; None: as designed + PREVIOUS_MM)
+    answer: str = YES  # the operator's answer where the program asks before it writes the production tool
 
     @property
     def scenario(self) -> str:
