@@ -91,7 +91,7 @@ class LaserKind(ProgramKind):
 
     @classmethod
     def verify_cases(cls, cell, source, count: int, seed: int) -> list:
-        return cases(cell, seed)
+        return cases(cell, seed) + plan.production_cases(cell, source.target)
 
     @classmethod
     def setup(cls, cell, source, case):
