@@ -50,6 +50,9 @@ class Setup:
     keep: tuple[str, ...] = ()
     step_limit: int | None = None
     signal_cycle_s: float | None = None
+    # the case ends in the controller's error naming this (a name the installation lacks): the run's error is the
+    # kind's to judge, with what ran until then; None: an error is a mismatch
+    error: str | None = None
 
     def run_options(self, arm, step_limit: int | None) -> dict:
         """Program.run's keywords; the step limit asked (verify --step-limit) wins over the kind's own."""

@@ -64,7 +64,7 @@ def _run_cases(
         pos, rot, figures, trace, setup, expected = [], [], None, None, None, None
         try:
             setup = kind.setup(model, source, case)
-            trace = program.run(setup.inputs, **setup.run_options(arm, step_limit))
+            trace = _run(program, setup, arm, step_limit)
             judgement = kind.judge(model, source, case, trace, setup)
         except StepLimitError as exc:
             problem, runaway = f"run error: {exc}; the remaining cases were not run", True
@@ -106,6 +106,18 @@ def _run_cases(
             _keep(row, kind, model, case, setup, trace, expected, pos, rot, problem)
         if runaway or (first and problem is not None):
             break
+
+
+def _run(program, setup, arm, step_limit: int):
+    """One case's run; where the case ends in the controller's error naming setup.error, the trace until then
+    (its `ended` the error), else the error raised."""
+    try:
+        return program.run(setup.inputs, **setup.run_options(arm, step_limit))
+    except RunError as exc:
+        trace = getattr(exc, "trace", None)
+        if setup.error is None or trace is None or isinstance(exc, StepLimitError) or setup.error not in str(exc):
+            raise
+        return trace
 
 
 def _keep(row: Row, kind, model, case, setup, trace, expected, pos, rot, problem) -> None:

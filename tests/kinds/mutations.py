@@ -189,6 +189,11 @@ TEXT = {
         "kuka": (r"^\s*TOOL_DATA\[\d+\]\.X = LSR_TCP\[1\]\n", ""),
         "abb": (r"^\s*\w+\.tframe\.trans := \[lsr_tcp[^\n]*\n", ""),
     },
+    # the production tool not read before the calibration: an installation without it goes unnoticed, the TCP
+    # found written into a variable of the program's own, lost with it (the case installation_without_tool)
+    "production_tool_not_read_first": {
+        "ur": (r"^(\s*lsr_before = )\w+\n", r"\1p[0, 0, 0, 0, 0, 0]\n"),
+    },
     # the TCP found written into the program's own data, not into the production tool the cell names
     "tcp_written_into_other_data": {
         "ur": (r"global \w+ = p\[lsr_tcp\[0\]", "global lsr_result = p[lsr_tcp[0]"),

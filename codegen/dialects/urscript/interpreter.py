@@ -12,6 +12,14 @@
 # - A call of a function that neither the program nor this interpreter defines is refused when the program is
 #   loaded, naming its file:line: a built-in of the script directory not modelled with the reason
 #   (environment.py NOT_MODELLED), any other name as not defined.
+# - Installation variables (PolyScope manual, Variables: "can be used by multiple programs and their names and
+#   values are persisted together with the robot installation"): a PolyScope program's preamble defines each as a
+#   global before the program's own lines (`global i_var_1=p[...]` beside set_tcp and the other installation
+#   settings: assumed from programs PolyScope generated, the manuals at hand do not print the preamble). A run is
+#   given them as inputs named installation.NAME (INSTALLATION): each a global before the program starts, unless
+#   the program's own set-up assigns the name (its lines run after the preamble). A name read that neither the
+#   program nor the installation defines stops the run with an error naming it (the controller refuses it too:
+#   "Compile error: name '...' is not defined", as users report; the manuals at hand do not describe the error).
 
 from __future__ import annotations
 
@@ -23,11 +31,15 @@ from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Src
+from codegen.dialects.core.values import MISSING, RunError, f32
 from codegen.dialects.urscript import arrays, circle, conveyor, environment, io, motion, threads, urmath
 from codegen.dialects.urscript.values import URPose, num, pose
 
 INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
 REGISTER_MAX = io.REGISTER_MAX
+INSTALLATION = "installation."  # an input installation.NAME: the installation variable NAME (a global at the start)
+IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+POSE_SIZE = 6  # six numbers given for an installation variable: a pose p[x, y, z, rx, ry, rz] (m, rad)
 
 
 class Brackets:
@@ -84,9 +96,38 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
 
     # --- registers by name, for devices: input_* and output_* are the controller's registers ------
     def accepts_input(self, name: str, globals_: dict) -> bool:
-        """Input registers (input_integer_register_24, ...) are read by index at run time."""
+        """Input registers (input_integer_register_24, ...) are read by index at run time; installation.NAME is
+        an installation variable (any name: the installation may hold variables the program does not use)."""
+        if name.startswith(INSTALLATION):
+            return IDENTIFIER.fullmatch(name[len(INSTALLATION) :]) is not None
         match = INPUT_REGISTER.fullmatch(name)
         return (match is not None and int(match.group(1)) <= REGISTER_MAX) or super().accepts_input(name, globals_)
+
+    def inject_inputs(self, machine) -> None:
+        """The installation's variables first (the preamble's globals), then the inputs that are the program's."""
+        for name, value in machine.inputs.items():
+            if name.startswith(INSTALLATION):
+                key = name[len(INSTALLATION) :]
+                if key not in machine.globals:  # the program's own set-up assigns it after the preamble
+                    machine.globals[key] = installation_value(value, name)
+        super().inject_inputs(machine)
+
+    def var_reader(self, token):
+        """A name neither the program nor the installation defines: an error naming both."""
+        name, where = str(token), self.where(token)
+
+        def read(fr):
+            value = fr.vars.get(name, MISSING)
+            if value is MISSING:
+                value = fr.m.globals.get(name, MISSING)
+                if value is MISSING:
+                    raise RunError(
+                        f"{where}: {name} is not defined: not a variable of the program, nor of the installation "
+                        f"(an installation variable is given to a run as {INSTALLATION}{name})"
+                    )
+            return value
+
+        return read
 
     def device_read(self, machine, name: str):
         if name.startswith("input_"):
@@ -225,6 +266,16 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
             str(name_token), name_token, params, None, node, body.children, unique=False, defaults=defaults
         )
         return lambda fr: None  # defined at compile time
+
+
+def installation_value(value, name: str):
+    """An installation variable's value as the program sees it: six numbers a pose (the installation variables
+    of a TCP or a feature), other numbers a list, a number, a bool or a string as it is."""
+    if isinstance(value, URPose | bool | str | int | float):
+        return f32(value) if type(value) is float else value
+    if isinstance(value, tuple | list) and all(isinstance(v, int | float) and not isinstance(v, bool) for v in value):
+        return URPose(value) if len(value) == POSE_SIZE else [f32(v) for v in value]
+    raise RunError(f"{name}: an installation variable is a number, a bool, a string, a list or a pose")
 
 
 def _dotted(node) -> str:

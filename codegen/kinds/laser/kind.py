@@ -95,7 +95,7 @@ class LaserKind(ProgramKind):
     @classmethod
     def verify_cases(cls, cell, source, count: int, seed: int) -> list:
         out = cases(cell, seed)
-        return out + confirm.cases(get_target(source.target), out[0])
+        return out + confirm.cases(get_target(source.target), out[0]) + plan.production_cases(cell, source.target)
 
     @classmethod
     def setup(cls, cell, source, case):

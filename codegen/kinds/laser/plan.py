@@ -48,21 +48,32 @@ def _xyzabc(cell, tcp) -> tuple:
     return (*map(float, tcp), *abc)
 
 
+def _pose_m(cell, tcp) -> tuple:
+    """An installation variable holding a pose: the TCP at tcp (mm) in m, the cell's orientation (rotation vector)."""
+    rotation = native_values(cell.robot.tool.tcp, cell.pose_format, "ur")[3:]
+    return (*(float(v) / 1000.0 for v in tcp), *map(float, rotation))
+
+
 # How verify gives a target's production tool its value before the run (the last calibration's), by the form of
 # the target's data ([program.laser] production_tool preset): a numbered tool as X, Y, Z, A, B, C; a tooldata
-# record; an installation variable the program only writes (none: what it holds is judged as it was where the
-# program does not write it)
+# record; an installation variable (a pose), given as the input the target's production_tool names (input: the
+# program's name of it where none is given); none: nothing, what it holds is judged as it was where the program
+# does not write it
 PRESETS = {
     "TOOL_DATA": _xyzabc,
     "tooldata": _tooldata,
+    "installation": _pose_m,
     "none": None,
 }
 
 
-def _preset(cell, target, tcp) -> dict:
+def _preset(cell, target, tcp, case: LaserCase) -> dict:
     spec = facts(target)["production_tool"]
     make = PRESETS[spec["preset"]]
-    return {} if make is None else {lp.production_name(cell, target): make(cell, tcp)}
+    if make is None or case.without_production_tool:
+        return {}
+    name = lp.production_name(cell, target)
+    return {spec.get("input", "{name}").format(name=name): make(cell, tcp)}
 
 
 def setup(cell, target_name: str, case: LaserCase) -> Setup:
@@ -70,14 +81,27 @@ def setup(cell, target_name: str, case: LaserCase) -> Setup:
     return Setup(
         # the controller's numbered tool and load where the cell names one ([cell.tool] numbered), the production
         # tool as the last calibration left it over it (a numbered production tool is that tool)
-        {**tool_inputs(cell, target_name), **_preset(cell, target, previous_tcp(cell, case))},
+        {**tool_inputs(cell, target_name), **_preset(cell, target, previous_tcp(cell, case), case)},
         (station_for(cell, target, case), *confirm.devices(target, case)),
         {},
         _start_joints(cell, target_name, case),
         (*lp.kept_names(target).values(), lp.production_name(cell, target)),
         STEP_LIMIT,
         float(target.program["signal_cycle_s"]),
+        lp.production_name(cell, target) if case.without_production_tool else None,
     )
+
+
+def production_cases(cell, target_name: str) -> list[LaserCase]:
+    """Where the production tool is an installation variable: an installation without it (the program must stop
+    with the controller's error naming it before it moves, not write the TCP into a variable of its own)."""
+    if facts(get_target(target_name))["production_tool"]["preset"] != "installation":
+        return []
+    return [
+        LaserCase(
+            "installation_without_tool", cell.robot.tool.tcp2flange.copy(), noise=0.0, without_production_tool=True
+        )
+    ]
 
 
 def _pose_in_s(cell, point, rotation=None) -> np.ndarray:
@@ -111,6 +135,8 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     above the sensors: a stop before any move."""
     target = get_target(target_name)
     previous = previous_tcp(cell, case)
+    if case.without_production_tool:
+        return _without_production_tool(cell, target, trace)
     if case.start == "away":
         message = Emitter(target).string(lp.START_AWAY)
         stored = _stored(cell, target, None, 0.0, previous)
@@ -140,6 +166,21 @@ def _flat_tcp(target, trace) -> list[float]:
     """The TCP the program found (its own global, flange frame mm)."""
     value = trace.kept.get(lp.kept_names(target)["tcp"]) or []
     return [float(v) for v in (value.values() if isinstance(value, dict) else value)][:3]
+
+
+def _without_production_tool(cell, target, trace) -> Judgement:
+    """The installation without the production tool: the run ends in the error naming it (the runner hands over
+    only such an error) before any move, message or output: the read that stops it is the program's first."""
+    name = lp.production_name(cell, target)
+    if trace.ended is None or name not in trace.ended:
+        return Judgement(
+            [],
+            problem=f"the installation has no {name}: expected the error that it is not defined, "
+            f"the program ran ({len(trace.moves)} moves{', stopped' if trace.halted else ''})",
+        )
+    if trace.messages:
+        return Judgement([], problem=f"the installation has no {name}: messages before the stop: {trace.messages!r}")
+    return Judgement([Expectation(None, (), (), ())])
 
 
 def _in_place(cell, target_name: str, case: LaserCase) -> PlannedMove:

@@ -49,6 +49,7 @@ AXIS_TILT = "laser: axis tilted beyond offset_max_mm, check the sensors"
 TOO_FAR = "laser: TCP beyond offset_max_mm of the tool as designed, not written"
 WRITTEN = "laser: TCP written, flange frame mm: "
 START_AWAY = "laser: start with the arm at home or above the sensors"
+BEFORE = "laser: production tool before, flange frame mm: "  # where a target's program shows the tool it replaces
 NUMBER_MAX = "-2000.000"  # the widest number a message carries: a TCP within 2,000 mm of the flange, 3 decimals
 EDGES_PER_BEAM = 4
 
@@ -190,4 +191,5 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         "too_far": emitter.string(TOO_FAR),
         "written": emitter.string(WRITTEN),
         "start_away": emitter.string(START_AWAY),
+        "before": emitter.string(BEFORE),
     }

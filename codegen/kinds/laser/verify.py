@@ -25,6 +25,7 @@ SCENARIO_OF = {
     "steep_axis": "reading_out_of_range",
     "drifted_since_last": "reading_out_of_range",
     REFUSED: "operator_refuses",  # the operator answers No to writing the production tool (where the target asks)
+    "installation_without_tool": "production_tool_missing",  # the kind's own: the production tool not defined
 }
 STEP_LIMIT = 2_000_000  # a UR thread runs a few statements per 2 ms cycle for a minute of motion
 NOISE_MM = 0.01  # the switching point's standard deviation (the sensor noise)
@@ -61,6 +62,7 @@ class LaserCase:
     dead: bool = False  # the sensors never switch (a sensor unplugged, its range set to nothing)
     previous: tuple | None = None  # the production tool's TCP before the run (mm; None: as designed + PREVIOUS_MM)
     answer: str = YES  # the operator's answer where the program asks before it writes the production tool
+    without_production_tool: bool = False  # the installation has no production tool (an installation variable)
 
     @property
     def scenario(self) -> str:
