@@ -42,7 +42,7 @@ TABLE = {
     "moves_reordered": {
         "ur": (r"^(\s+movej\([^\n]*\n)(\s+movel\([^\n]*\n)", r"\2\1"),
         "kuka": (
-            r"^(\s+TARGET = [^\n]*\n\s+PTP [^\n]*\n)(\s+TARGET = [^\n]*\n\s+\$VEL\.CP = [^\n]*\n\s+LIN [^\n]*\n)",
+            r"^(\s+TARGET\w* = [^\n]*\n\s+PTP [^\n]*\n)(\s+TARGET = [^\n]*\n\s+\$VEL\.CP = [^\n]*\n\s+LIN [^\n]*\n)",
             r"\2\1",
         ),
         "abb": (  # the configuration-check lines go with their move
