@@ -104,16 +104,23 @@ def program_groups(dialect, files) -> list[list]:
     return groups
 
 
-def load_group(dialect, group):
-    """One program from its files (Dialect.load_files), its load errors as one message each (exit 2)."""
+def load_group(dialect, group, entry: str | None = None):
+    """One program from its files (Dialect.load_files), started at the routine entry where given; its load errors
+    as one message each (exit 2)."""
     from codegen.dialects.core.values import RunError
 
+    if entry is not None and dialect.entry_routines is None:
+        raise UserError(f"--entry {entry}: a {dialect.name} program starts only at its own entry")
     try:
-        return dialect.load_files(group)
+        return dialect.load_files(group) if entry is None else dialect.load_files(group, entry=entry)
     except RecursionError:
         raise UserError(f"{group[0].name}: statements or expressions nested too deeply to run here") from None
     except RunError as exc:
-        raise UserError(str(exc)) from None
+        hint = ""
+        if entry is None and dialect.entry_routines and "no PROC main" in str(exc):
+            how = dialect.entry_routines
+            hint = f" (modules a production program's main calls: start at their routine with --entry NAME, as {how})"
+        raise UserError(str(exc) + hint) from None
 
 
 @main.command()
@@ -160,6 +167,13 @@ def load_group(dialect, group):
     help="The operator's answer to the next dialog the program shows (repeatable, in order): a softkey's number "
     "or its label, e.g. 'Yes'. Without one, a dialog waiting for an answer stops the run.",
 )
+@click.option(
+    "--entry",
+    "entry",
+    default=None,
+    help="Start at this routine instead of the program's main (RAPID: as after PP to Routine; a global PROC "
+    "without parameters, e.g. a module loaded into the production task, which has no main of its own).",
+)
 @step_limit_option("Stop a runaway program after this many steps (what ran until then is shown).")
 @click.option(
     "--max-moves",
@@ -185,6 +199,7 @@ def run(
     start: str | None,
     robot: str | None,
     answers: tuple[str, ...],
+    entry: str | None,
     step_limit: int,
     max_moves: int | None,
     max_seconds: float | None,
@@ -242,7 +257,7 @@ def run(
         if arm.vendor != target.vendor:
             where = f"--robot {robot!r}"
             raise UserError(f"{where}: an arm of the {arm.vendor} controller; this program is for {target.name}")
-    program = load_group(dialect, groups[0])
+    program = load_group(dialect, groups[0], entry)
     try:
         unknown = program.unknown_inputs(values)
     except RunError as exc:  # the program's data, set up once before its runs, fails

@@ -358,3 +358,23 @@ def test_every_command_shows_its_help():
     for path in walk(main, []):
         result = run(*path, "--help")
         assert result.exit_code == 0, (path, result.output)
+
+
+def test_run_starts_a_rapid_module_without_main_at_its_entry_routine(tmp_path):
+    """A module loaded into the production task has no main: run names --entry, which starts it there (PP to
+    Routine); a routine that does not exist, or --entry for a language without it, is one clear error (exit 2)."""
+    module = tmp_path / "cal.mod"
+    module.write_text(
+        'MODULE cal\n  PROC cal_run()\n    TPWrite "cal ran";\n  ENDPROC\n'
+        '  LOCAL PROC helper()\n    TPWrite "no";\n  ENDPROC\nENDMODULE\n'
+    )
+    without = run("run", str(module))
+    assert without.exit_code == 2 and "--entry NAME" in without.output, without.output
+    ran = run("run", str(module), "--entry", "cal_run")
+    assert ran.exit_code == 0 and "cal ran" in ran.output, ran.output
+    local = run("run", str(module), "--entry", "helper")
+    assert local.exit_code == 2 and "no global PROC helper" in local.output, local.output
+    script = tmp_path / "p.script"
+    script.write_text('def p():\n  textmsg("x")\nend\n')
+    other = run("run", str(script), "--entry", "p")
+    assert other.exit_code == 2 and "starts only at its own entry" in other.output, other.output

@@ -25,6 +25,9 @@ class Dialect:
     suffixes: ClassVar[tuple[str, ...]] = ()  # program files, e.g. (".src",)
     companions: ClassVar[tuple[str, ...]] = ()  # data files read together with a program, e.g. a data list
     encodings: ClassVar[tuple[str, ...]] = ()  # the controller's text encodings besides UTF-8 (its backups')
+    # how the controller starts a program at a routine of its own choosing (e.g. RAPID's "PP to Routine"), None:
+    # only at the program's entry; load_files(files, entry=NAME) then starts there
+    entry_routines: ClassVar[str | None] = None
     registry: ClassVar[dict[str, type[Dialect]]] = {}
 
     def __init_subclass__(cls, **kwargs) -> None:

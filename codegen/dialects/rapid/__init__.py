@@ -26,6 +26,7 @@ class Rapid(Dialect):
     name = "rapid"
     suffixes = (".mod", ".sys", ".modx")  # .modx: RobotWare 7 module (same syntax); .prg (RobotWare 5): dtrans
     encodings = ("cp1252",)  # RobotWare's text files: Windows-1252 (Latin-1) where not UTF-8
+    entry_routines = "PP to Routine"  # a global PROC without parameters (the task then needs no main)
 
     @classmethod
     def predefined(cls) -> frozenset[str]:
