@@ -88,7 +88,7 @@ def test_an_installation_without_the_production_tool_stops_the_program_before_an
     case = LaserCase("test", cell.robot.tool.tcp2flange.copy(), noise=0.0, without_production_tool=True)
     with pytest.raises(RunError) as error:
         run_case(cell, "ur", program, case, "laser")
-    assert "pin_tcp is not defined" in str(error.value)
+    assert "undefined variable pin_tcp" in str(error.value)
     assert error.value.trace.moves == [] and error.value.trace.messages == []
 
 

@@ -122,8 +122,8 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
                 value = fr.m.globals.get(name, MISSING)
                 if value is MISSING:
                     raise RunError(
-                        f"{where}: {name} is not defined: not a variable of the program, nor of the installation "
-                        f"(an installation variable is given to a run as {INSTALLATION}{name})"
+                        f"{where}: undefined variable {name}: neither the program's nor the installation's "
+                        f"(a run is given an installation variable as {INSTALLATION}{name})"
                     )
             return value
 

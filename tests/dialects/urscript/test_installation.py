@@ -35,7 +35,7 @@ def test_a_name_neither_the_program_nor_the_installation_defines_stops_the_run_w
     with pytest.raises(RunError) as error:
         program.run({}, keep=("pin_tcp",))
     message = str(error.value)
-    assert message.startswith("t.script:2:") and "pin_tcp is not defined" in message and "installation" in message
+    assert message.startswith("t.script:2:") and "undefined variable pin_tcp" in message and "installation" in message
     assert error.value.trace.moves == [] and error.value.trace.messages == []
 
 
@@ -74,4 +74,4 @@ def test_codegen_run_gives_the_installation_variable(tmp_path):
     assert "message: before: p[0.0004, -0.0003, 0.1812, 0, 0, 0]" in given.output
     missing = runner.invoke(main, ["run", str(path)])
     assert missing.exit_code == 1
-    assert "pin_tcp is not defined" in missing.output and "after 0 moves" in missing.output
+    assert "undefined variable pin_tcp" in missing.output and "after 0 moves" in missing.output
