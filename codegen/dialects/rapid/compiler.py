@@ -457,6 +457,7 @@ SPECIAL = {  # instructions compiled from their argument nodes (names, variables
     **signals.SPECIAL,
     **pendant.SPECIAL,
     **dataops.SPECIAL,
+    **motionset.SPECIAL,
     "UIMSGBOX": messages.ui_msg_box,
     "SEARCHL": search.search_l,
 }

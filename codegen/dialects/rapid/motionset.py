@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from codegen.dialects.core.values import RunError
+from codegen.dialects.rapid.arguments import split_args
 from codegen.dialects.rapid.types import num, rec
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types" (RobotWare 6/7),
@@ -79,12 +82,26 @@ def configuration_check(name: str):
     return run
 
 
-def grip_load(fr, args, kwargs, where) -> None:
-    if len(args) != 1 or kwargs:
-        raise RunError(f"{where}: GripLoad takes one loaddata")
-    load = rec(args[0], "LOADDATA", where)
-    cog = load["COG"]
-    _record(fr, "gripload", {"mass": float(load["MASS"]), "cog": [float(cog[k]) for k in "XYZ"]}, where)
+def grip_load(compiler, node, args_node) -> Callable:
+    """GripLoad Load: its syntax takes "< persistent (PERS) of loaddata >" (RAPID Instructions, GripLoad, as
+    recalled: a CONST or VAR loaddata, or an aggregate, is refused when the module is loaded)."""
+    positional, named = split_args(compiler, node, args_node, set())
+    if len(positional) != 1 or named:
+        compiler.fail(node, "GripLoad takes one loaddata")
+    arg = positional[0]
+    if getattr(arg, "data", None) != "var":  # a parse tree's variable (lark's Tree; not imported here)
+        compiler.fail(node, "GripLoad takes a persistent (PERS) loaddata, not a value")
+    storage = compiler.storage.get(compiler.data_key(str(arg.children[0])))
+    if storage in ("CONST", "VAR"):
+        compiler.fail(node, f"GripLoad takes a persistent (PERS) loaddata: {arg.children[0]} is {storage}")
+    value, where = compiler.expr(arg), compiler.where(node)
+
+    def run(fr) -> None:
+        load = rec(value(fr), "LOADDATA", where)
+        cog = load["COG"]
+        _record(fr, "gripload", {"mass": float(load["MASS"]), "cog": [float(cog[k]) for k in "XYZ"]}, where)
+
+    return run
 
 
 def speed(m, mm_s: float) -> float:
@@ -109,5 +126,5 @@ BUILTINS = {
     "SINGAREA": sing_area,
     "CONFJ": configuration_check("CONFJ"),
     "CONFL": configuration_check("CONFL"),
-    "GRIPLOAD": grip_load,
 }
+SPECIAL = {"GRIPLOAD": grip_load}  # compiled from its argument node (whether it names PERS data)

@@ -32,7 +32,7 @@ MODULE pal_eur_in
   ! The box in the gripper (GripLoad from the confirmed grip to the confirmed release): its mass (kg) and
   ! centre of gravity in the tool coordinate system (mm; RAPID data types, loaddata: a payload's centre of
   ! gravity is defined in the tool coordinate system; the tool's own load stays in stack_tool)
-  LOCAL CONST loaddata stack_box := [12.000, [0.0000, 0.0000, 125.0000], [1, 0, 0, 0], 0, 0, 0];
+  LOCAL PERS loaddata stack_box := [12.000, [0.0000, 0.0000, 125.0000], [1, 0, 0, 0], 0, 0, 0];
   LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[600.0000, -1100.0000, -500.0000], [0.000000000, 0.000000000, 0.000000000, 1.000000000]], [[0, 0, 0], [1, 0, 0, 0]]];
   ! Q, where the boxes are put down, in the base frame, and 100.0000 mm above it (the arm
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen

@@ -31,7 +31,7 @@ MODULE pal_testmat
   ! The box in the gripper (GripLoad from the confirmed grip to the confirmed release): its mass (kg) and
   ! centre of gravity in the tool coordinate system (mm; RAPID data types, loaddata: a payload's centre of
   ! gravity is defined in the tool coordinate system; the tool's own load stays in stack_tool)
-  LOCAL CONST loaddata stack_box := [0.050, [0.0000, 0.0000, 13.0000], [1, 0, 0, 0], 0, 0, 0];
+  LOCAL PERS loaddata stack_box := [0.050, [0.0000, 0.0000, 13.0000], [1, 0, 0, 0], 0, 0, 0];
   LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[650.0000, -50.0000, 50.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [[0, 0, 0], [1, 0, 0, 0]]];
   ! Q, where the boxes are picked, in the base frame, and 30.0000 mm above it (the arm
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen
