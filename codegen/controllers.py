@@ -82,6 +82,7 @@ _PROGRAM = {
     "restart": str,  # "at_home": refuses to start away from home; "bco": a PTP home from anywhere; "none"
     "signals": dict,  # digital I/O ([cell.io]): form "index" (range) or "name"; output and input ("...{n}...")
     "signal_cycle_s": float,  # how often the controller sees an input change while the arm moves (s)
+    "minimum_release": str,  # the controller software every program needs (a header line of each program)
 }
 _PROGRAM_REQUIRED = ("joint_move", "linear_move", "inputs")
 

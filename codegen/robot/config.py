@@ -253,14 +253,15 @@ class Form:
     `select` the joints a move naming that value takes among the analytic solutions (q, branch), `many`
     the values of a batch of joints (..., 6) as an array (..., k). Where a field of the value depends on
     rounding (holding), the program names only `kept` (the fields that hold: their columns) and the move
-    takes `loose`'s joints: the controller's own rule for a target without the rest (q, branch). A form of
+    takes the solution nearest where the arm stands among `candidates` (the solutions the kept fields allow):
+    the controller's own rule for a target without the rest (config.loose). A form of
     axis values (`exact`) names them as they are: no field of it is decided by a boundary."""
 
     of: Callable
     select: Callable
     many: Callable
     kept: tuple[int, ...]
-    loose: Callable
+    candidates: Callable
     exact: bool = False
 
 
@@ -272,7 +273,7 @@ FORMS = {  # a target's `configuration` fact -> its form
         by_confdata,
         lambda arm, q: abb_confdata(arm.kin, q),
         (),
-        lambda arm, solutions, value, previous: solve.nearest(arm, solutions, previous),
+        lambda arm, solutions, value: solutions,
     ),
     # KUKA, a PTP with S and no T: the programmed Status, "the Turn value that results in the shortest
     # possible path" (KSS 8 manual, Status and Turn, as quoted in robot-forum.com thread 42877)
@@ -281,14 +282,14 @@ FORMS = {  # a target's `configuration` fact -> its form
         lambda arm, solutions, value: by_status_turn(arm, solutions, *value),
         lambda arm, q: np.stack([np.asarray(kuka_status(arm.kin, q)), np.asarray(kuka_turn(q))], axis=-1),
         (0,),
-        lambda arm, solutions, value, previous: solve.nearest(arm, with_status(arm, solutions, value[0]), previous),
+        lambda arm, solutions, value: with_status(arm, solutions, value[0]),
     ),
     "joints": Form(
         lambda arm, q: tuple(float(v) for v in q),
         lambda arm, solutions, value: solve.nearest(arm, solutions, np.asarray(value, dtype=float)),
         lambda arm, q: np.asarray(q, dtype=float),
         (0, 1, 2, 3, 4, 5),
-        lambda arm, solutions, value, previous: solve.nearest(arm, solutions, np.asarray(value, dtype=float)),
+        lambda arm, solutions, value: solutions,
         exact=True,
     ),
 }
@@ -323,3 +324,52 @@ def named_in_full(form: str, arm: Arm, joints) -> bool:
     if kept and not held[:, kept].all():
         raise ValueError("the arm's configuration there depends on rounding (a singular pose)")
     return bool(held.all())
+
+
+def nearest_margin(arm: Arm, solutions: np.ndarray, q_ref) -> tuple[float, int]:
+    """How much nearer (Euclidean, deg) the nearest solution to q_ref is than the next one (another turn of one
+    axis within the limits, or another branch), and the axis whose other turn is that next one (-1: a branch).
+    A margin under ROUNDING_MARGIN_DEG is a tie (an axis half a turn from q_ref either way): the controller's
+    "closest configuration" or "shortest turn" is then decided by rounding. inf where only one solution exists."""
+    ref = [float(v) for v in q_ref]
+    branches = []  # (distance^2, per axis (best, second best) squared distance) per branch with a solution
+    for row in np.asarray(solutions, dtype=float).reshape(-1, 6).tolist():
+        if not all(math.isfinite(v) for v in row):
+            continue
+        per_axis, total = [], 0.0
+        for value, near, (low, high) in zip(row, ref, arm.limits_deg, strict=True):
+            turns = math.floor((near - value) / solve.TURN)
+            candidates = sorted(
+                (v - near) ** 2
+                for v in (value + solve.TURN * k for k in (turns - 1, turns, turns + 1, turns + 2))
+                if low - solve.LIMIT_SLACK_DEG <= v <= high + solve.LIMIT_SLACK_DEG
+            )
+            if not candidates:
+                break
+            per_axis.append((candidates[0], candidates[1] if len(candidates) > 1 else math.inf))
+            total += candidates[0]
+        else:
+            branches.append((total, per_axis))
+    if not branches:
+        return math.inf, -1
+    branches.sort(key=lambda b: b[0])
+    best, per_axis = branches[0]
+    nearest = math.sqrt(best)
+    others = [(math.sqrt(b[0]), -1) for b in branches[1:]]
+    others += [(math.sqrt(best - d1 + d2), axis) for axis, (d1, d2) in enumerate(per_axis) if d2 < math.inf]
+    if not others:
+        return math.inf, -1
+    gap, axis = min(others)
+    return gap - nearest, axis
+
+
+def loose(form: str, arm: Arm, solutions: np.ndarray, value, previous) -> tuple[np.ndarray, np.ndarray]:
+    """The joints a joint move takes where the program names only the form's kept fields: the solution nearest
+    the joints before it among those the kept fields allow (q, branch); ValueError where two are equally near
+    (nearest_margin: the controller's choice would be decided by rounding), naming the axis."""
+    candidates = FORMS[form].candidates(arm, solutions, value)
+    margin, axis = nearest_margin(arm, candidates, previous)
+    if margin < ROUNDING_MARGIN_DEG:
+        what = f"axis {axis + 1} is half a turn away either way" if axis >= 0 else "two configurations are as near"
+        raise ValueError(f"from joints {np.round(np.asarray(previous, dtype=float), 2).tolist()} {what}")
+    return solve.nearest(arm, candidates, previous)

@@ -368,7 +368,7 @@ def test_the_testmat_cycle_stops_at_pick_and_place_alone(testmat):
     [
         ("ur", "pal_testmat.script", "  if pal_away:\n", "  if False:\n"),
         ("kuka", "pal_testmat.src", "    BACK = $POS_ACT : PAL_BACK\n", "    BACK = $POS_ACT\n"),
-        ("abb", "pal_testmat.mod", "      MoveJ stack_safe, stack_travel, fine, stack_tool;\n", ""),
+        ("abb", "pal_testmat.mod", "      MoveAbsJ stack_safe_axes\\NoEOffs, stack_travel, fine, stack_tool;\n", ""),
     ],
 )
 def test_after_a_stop_the_program_backs_out_and_goes_home_above_the_pallet(testmat, target, name, old, new):
@@ -380,7 +380,7 @@ def test_after_a_stop_the_program_backs_out_and_goes_home_above_the_pallet(testm
 
 def test_the_full_message_comes_with_the_arm_off_the_pallet(testmat):
     found = mutant_mismatches(
-        testmat, "kuka", "pal_testmat.src", "  PTP PAL_ABOVE ; off the pallet before the message\n", ""
+        testmat, "kuka", "pal_testmat.src", "  PTP PAL_ABOVE_AXES ; off the pallet before the message\n", ""
     )
     assert found, found
 

@@ -213,3 +213,19 @@ def test_the_safe_pose_continues_from_the_cycle_s_joints(name):
             assert np.max(turn) <= 180.0, f"{where}: the first entry -> safe turns axis {np.argmax(turn) + 1}: {turn}"
             checked += 1
     assert checked > 0
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new"),
+    [
+        ("kuka", "pal_eur.src", "    PTP PAL_ABOVE_AXES\n", "    PTP PAL_ABOVE\n"),
+        ("abb", "pal_eur.mod", "      MoveAbsJ stack_above_q_axes\\NoEOffs,", "      MoveJ stack_above_q,"),
+    ],
+)
+def test_the_move_above_q_is_a_joint_target_where_the_nearest_turn_would_be_a_tie(target, name, old, new):
+    """The EUR cell's home has axis 6 at 0 and above Q needs it at 180: a PTP naming no Turn (KRL) or a MoveJ with the
+    configuration check off (RAPID) would turn it either way, by rounding. The program goes there in axis values;
+    the pose instead is refused by verify as not unique."""
+    cell = example("eur_pallet")
+    found = mutant_mismatches(cell, target, name, old, new)
+    assert found and "the nearest solution is not unique (axis 6 half a turn away either way" in found[0], found

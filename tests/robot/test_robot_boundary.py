@@ -3,6 +3,8 @@ the rounding; a configuration named for the boundary selects the boundary side o
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from support.cells import example
@@ -22,6 +24,7 @@ from codegen.robot.config import (
     kuka_status,
     kuka_turn,
     named_in_full,
+    nearest_margin,
 )
 from codegen.robot.opw import OPW
 
@@ -141,3 +144,18 @@ def test_status_on_its_boundary_is_a_singular_pose_and_refused():
     kuka = _arm(KR6_R700, KR6_LIMITS)
     with pytest.raises(ValueError, match="singular"):
         named_in_full("status_turn", kuka, np.array([20.0, -60.0, 100.0, 10.0, 0.0, 10.0]))
+
+
+def test_a_half_turn_either_way_is_a_tie_and_a_degree_off_is_not():
+    """From axis 6 at 0 a target at 180 is as near at -180: the controller's nearest solution is not unique (margin
+    0, axis 6); from axis 6 at 1 deg the +180 turn is 2 deg nearer than the -180 one."""
+    kuka = _arm(KR6_R700, KR6_LIMITS)
+    solutions = np.full((8, 6), np.nan)
+    solutions[0] = [20.0, -60.0, 100.0, 0.0, 50.0, 180.0]
+    margin, axis = nearest_margin(kuka, solutions, np.array([20.0, -60.0, 100.0, 0.0, 50.0, 0.0]))
+    assert margin < 1e-9 and axis == 5
+    margin, axis = nearest_margin(kuka, solutions, np.array([20.0, -60.0, 100.0, 0.0, 50.0, 1.0]))
+    assert axis == 5 and margin == pytest.approx(math.hypot(181.0, 0.0) - 179.0, abs=1e-9)
+    solutions[0, 5] = 90.0  # a quarter turn: the other turn is 270 away, the limits (+-350) hold both
+    margin, _ = nearest_margin(kuka, solutions, np.array([20.0, -60.0, 100.0, 0.0, 50.0, 0.0]))
+    assert margin == pytest.approx(270.0 - 90.0, abs=1e-9)

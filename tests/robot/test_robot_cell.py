@@ -91,7 +91,8 @@ def test_every_home_position_is_reached_back_through_inverse_kinematics():
         ("mass_kg = 1.5", "mass_kg = 0.0", "cell.tool.mass_kg"),
         ("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0]", "cell.tool.cog_mm"),
         (
-            "home = { ur = [180.0, -90.0, 90.0, -90.0, -90.0, 0.0] }",
+            "home = { ur = [180.0, -90.0, 90.0, -90.0, -90.0, 0.0], kuka = [0.0, -90.0, 90.0, 0.0, 90.0, 30.0], "
+            "abb = [0.0, 0.0, 0.0, 0.0, 90.0, 30.0] }",
             "home = { kuka = [0, -90, 90, 0, 170, 0] }",
             "cell.robot.home.kuka[4]: axis 5 at 170 deg is outside its limits",
         ),
@@ -319,3 +320,18 @@ def test_a_large_cell_is_checked_in_parallel_with_the_same_result(tmp_path, monk
     monkeypatch.undo()
     with pytest.raises(envelope.ReachError, match=r"station 47 'lathe_47' pose 'chuck' \(ur, UR10e\): out of reach"):
         envelope.check(refused)
+
+
+def test_a_first_pose_half_a_turn_from_home_for_some_readings_is_refused_at_generate(tmp_path):
+    """The demo with KUKA's catalogue home (axis 6 at 0): the grinder's approach (a vertical tool: no Turn named)
+    has axis 6 about 180 deg from home for some readings, so the controller's shortest turn would go one way for
+    some readings and the other way for others. generate refuses it, naming the pose and what to change; the
+    demo's home (axis 6 at 30) is taken."""
+    home = "kuka = [0.0, -90.0, 90.0, 0.0, 90.0, 30.0]"
+    assert home in DEMO_TEXT
+    text = DEMO_TEXT.replace(home, "kuka = [0.0, -90.0, 90.0, 0.0, 90.0, 0.0]", 1)
+    result = generate(tmp_path, write_cell(tmp_path, text), "--target", "kuka")
+    assert result.exit_code == 2, result.output
+    assert "station 5 'grinder' pose 'approach' (kuka, KR 10 R1100 sixx)" in result.output
+    assert "about half a turn away for some readings" in result.output and "[cell.robot.home]" in result.output
+    assert generate(tmp_path, write_cell(tmp_path, DEMO_TEXT), "--target", "kuka").exit_code == 0

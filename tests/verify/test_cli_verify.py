@@ -41,11 +41,11 @@ def test_run_prints_moves_and_log():
 
 def test_run_json_and_halt():
     path = GENERATED / "abb" / "agv_machine_tending.mod"
-    result = invoke("run", path, "--input", "vis_station=42", "--start", "0,0,0,0,90,0", "--json")
+    result = invoke("run", path, "--input", "vis_station=42", "--start", "0,0,0,0,90,30", "--json")
     data = json.loads(result.output)
     assert data["halted"] is True and data["halt_message"] == "unknown station id 42"
     (home,) = data["moves"]  # only the home move: without --robot known by its joints alone
-    assert home["joints"] == [0, 0, 0, 0, 90, 0] and home["pose"] is None
+    assert home["joints"] == [0, 0, 0, 0, 90, 30] and home["pose"] is None  # the demo's home (axis 6 at 30)
 
 
 def test_run_with_the_arm_solves_every_move():
@@ -57,7 +57,7 @@ def test_run_with_the_arm_solves_every_move():
     # home, approach, work pose, retreat, home
     assert [m["motion"] for m in data["moves"]] == ["joint", "joint", "linear", "linear", "joint"]
     assert all(m["joints"] is not None and m["pose"] is not None for m in data["moves"])
-    assert data["moves"][0]["joints"] == [0, -90, 90, 0, 90, 0]
+    assert data["moves"][0]["joints"] == [0, -90, 90, 0, 90, 30]  # the demo's home (axis 6 at 30)
     wrong = invoke("run", path, "--robot", "IRB 140")
     assert wrong.exit_code == 2 and "an arm of the abb controller; this program is for kuka" in wrong.output
     unknown = invoke("run", path, "--robot", "KR 1")

@@ -9,7 +9,7 @@ import numpy as np
 from codegen.dialects.core.values import RunError
 from codegen.robot import solve
 from codegen.robot.arms import Arm
-from codegen.robot.config import FORMS, with_status
+from codegen.robot.config import FORMS, ROUNDING_MARGIN_DEG, nearest_margin, with_status
 
 # The tool active when a program starts is whatever the last program left (set by an instruction or a
 # system variable; or named by each move): the interpreter assumes one that is not the flange, so a
@@ -132,13 +132,17 @@ class ArmState:
             if np.isnan(q).any():
                 raise RunError(f"{p.where}: the {arm.model} cannot reach this pose in configuration {list(p.value)}")
         elif p.rule == "status":
-            q, branch = solve.nearest(arm, with_status(arm, sols, p.value), self.joints)
+            candidates = with_status(arm, sols, p.value)
+            q, branch = solve.nearest(arm, candidates, self.joints)
             if np.isnan(q).any():
                 raise RunError(f"{p.where}: the {arm.model} cannot reach this pose with S {p.value}")
+            self._decided(p, candidates, q)
         else:
             q, branch = solve.nearest(arm, sols, self.joints)
             if np.isnan(q).any():
                 raise RunError(f"{p.where}: no solution within the joint limits of the {arm.model}")
+            if p.rule == "nearest":
+                self._decided(p, sols, q)
             if p.rule == "keep" and branch != self.branch:
                 raise RunError(
                     f"{p.where}: a linear move would change the arm's configuration (from joints "
@@ -152,6 +156,19 @@ class ArmState:
                     f"{list(p.check)} (configuration check on: the controller stops)"
                 )
         return q, int(branch)
+
+    def _decided(self, p: _Pending, candidates: np.ndarray, q: np.ndarray) -> None:
+        """A joint move to the solution nearest where the arm stands (the controller's closest configuration or
+        shortest turn) must have one: with two equally near (an axis half a turn away either way, or two
+        branches), which one the controller takes is decided by its rounding: RunError."""
+        margin, axis = nearest_margin(self.arm, candidates, self.joints)
+        if margin < ROUNDING_MARGIN_DEG:
+            what = f"axis {axis + 1} half a turn away either way" if axis >= 0 else "two configurations"
+            raise RunError(
+                f"{p.where}: from joints {_text(self.joints)} the nearest solution is not unique ({what}, "
+                f"{margin:.2g} deg apart): the controller's choice is decided by rounding; name the "
+                "configuration or move to a joint position first"
+            )
 
     def _check_limits(self, q: np.ndarray, where: str) -> None:
         low, high = self.arm.limits[:, 0], self.arm.limits[:, 1]

@@ -26,6 +26,7 @@ from codegen.dialects.rapid.motion import (
     tcp_now,
     tool_matrix,
     wobj_matrix,
+    zone_radius,
 )
 from codegen.dialects.rapid.predefined import VMAX_TCP
 from codegen.dialects.rapid.types import QUAT_KEYS, num, orient_record, pos_record, pose_record, rec, vec
@@ -202,10 +203,11 @@ def builtins(compiler) -> dict:
         speed, zone, tool = (move_setting(args, i) for i in (1, 2, 3))
         settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
         make_active(fr, args, kwargs.get("WOBJ"))
+        mm_s, runs_ahead = move_timing(args, kwargs, where)
+        settings["tcp_mm_s"], settings["zone_mm"] = mm_s, zone_radius(args[2] if len(args) > 2 else None)
         motionset.apply(fr.m, settings)
         event = MoveEvent("joint", None, int(where.split(":")[1]), settings)
         fr.m.arm.to_joints(event, q, where)
-        mm_s, runs_ahead = move_timing(args, kwargs, where)
         fr.m.move(event, motionset.speed(fr.m, mm_s), runs_ahead)
 
     return {

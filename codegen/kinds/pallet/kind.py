@@ -33,7 +33,6 @@ class PalletKind(ProgramKind):
         "level_only": bool,  # no pose product: a level pallet only
         "joint_blend": bool,  # a joint move may blend into the next (false: it stops at its point)
         "input_stops": bool,  # reading an input stops the advance run: the move before a check ends exactly
-        "minimum_release": str,  # the controller software the programs need (a header line)
     }
 
     @classmethod

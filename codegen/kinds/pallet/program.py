@@ -138,6 +138,12 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     named = configurations(cell, pallet, target.name)
     own = identifiers(cell, target)[index]
 
+    def axes(key) -> list | None:
+        """A fixed pose's axis values (deg) where the program goes there as a joint target (reach.Named.anchors)."""
+        if named is None or key not in named.anchors:
+            return None
+        return [number(float(v), 6) for v in named.anchors[key]]
+
     def conf(key) -> dict | None:
         return None if named is None else {**configuration_literal(target, named.values[key]), "named": named.whole}
 
@@ -183,6 +189,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
             "y": number(pallet.size[1] / 2, 4),
             "conf": conf(SHEET_KEY) if named is not None and SHEET_KEY in named.values else None,
             "entry_conf": conf(SHEET_ENTRY_KEY) if named is not None and SHEET_ENTRY_KEY in named.values else None,
+            "axes": axes(SHEET_KEY),
             "layers": [n for n in range(2, pallet.layers + 1) if sheet_below(pallet, n)],
         }
     interlocks = {
@@ -236,6 +243,8 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "pick_above": pose("above_q", above_pick(pallet)),
         "pick_lift": number(pallet.pick_lift, 4),
         "pick_conf": conf(PICK_KEY),
+        "pick_axes": axes(PICK_KEY),  # above Q as a joint target (anchors), None: the pose
+        "safe_axes": axes(SAFE_KEY),
         "conf_whole": named is not None and named.whole,  # else the program names only what holds (reach.py)
         "safe": pose("safe", frame @ safe_pose(pallet)),
         "safe_conf": conf(SAFE_KEY),
@@ -268,7 +277,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "full": emitter.string(full_message(pallet, limit)),
         "held": emitter.string(held_message(pallet, limit)),
         "bad_counters": emitter.string(counters_message(pallet, limit)),
-        "release": emitter.comment(facts(target).get("minimum_release", "")),
+        "release": emitter.comment(target.program.get("minimum_release", "")),
     }
 
 

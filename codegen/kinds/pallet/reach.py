@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import itertools
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -12,7 +13,7 @@ from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, expected, safe_
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
-from codegen.robot.config import FORMS, named_in_full
+from codegen.robot.config import FORMS, loose, named_in_full
 from codegen.robot.expect import Margins, margins, require_margins
 from codegen.robot.taught import ReachError
 
@@ -53,6 +54,15 @@ class Named:
     form: str
     values: dict  # (pattern, number) or PICK_KEY -> the form's value
     whole: bool = True  # the program names every field; else only the form's kept ones (config.Form)
+    # where the program names no configuration in full: the fixed poses its joint moves go to (above Q, above the
+    # sheet stack, the safe pose) as axis values (key -> joints): each move from one of them has one nearest
+    # solution, whatever the turns the arm took before (no axis winds up from box to box)
+    anchors: dict = field(default_factory=dict)
+
+    def anchor(self, move) -> object:
+        """The anchor of a joint move to a fixed pose the program names in axis values, None: another move."""
+        key = anchor_key(move)
+        return key if key in self.anchors else None
 
     def key(self, pallet, move) -> object:
         """The configuration key of a joint move (by its reference name), None: a move that names none."""
@@ -68,6 +78,18 @@ class Named:
         if words[2] == "sheet":
             return SHEET_KEY if move.name.endswith("sheet stack") else SHEET_ENTRY_KEY
         return (pattern_of(pallet, int(words[1])), int(words[3])) if words[-1] in ("entry", "transit") else None
+
+
+def anchor_key(move) -> object:
+    """The key of a joint move to one of the fixed poses (above Q, above the sheet stack, the safe pose), None:
+    another move (a box's entry or transit, over Q at a layer's height: computed while the program runs)."""
+    if move.kind != "joint":
+        return None
+    if move.name.endswith("above Q"):
+        return PICK_KEY
+    if move.name.endswith("sheet stack"):
+        return SHEET_KEY
+    return SAFE_KEY if move.name == SAFE_NAME else None
 
 
 def _branch(arm, joints: np.ndarray) -> int:
@@ -95,8 +117,18 @@ def joints_of(
     for move, sols in zip(moves, solutions, strict=True):
         at = f"{where} {move.name} ({target}, {arm.model})"
         key = None if named is None else named.key(pallet, move)
-        if key is not None and key in named.values and not named.whole:
-            joints, chosen = FORMS[named.form].loose(arm, sols, named.values[key], q)
+        anchor = None if named is None else named.anchor(move)
+        if anchor is not None:  # a joint target: the axis values the program names
+            joints, chosen = FORMS["joints"].select(arm, sols, named.anchors[anchor])
+        elif key is not None and key in named.values and not named.whole:
+            try:
+                joints, chosen = loose(named.form, arm, sols, named.values[key], q)
+            except ValueError as exc:
+                raise ReachError(
+                    f"{at}: {exc}: which way the controller turns is decided by rounding (the program names no "
+                    "turn at a vertical tool); turn [cell.robot.home]'s axis a few degrees toward the side the arm "
+                    "should take"
+                ) from None
         elif key is not None and key in named.values:
             joints, chosen = FORMS[named.form].select(arm, sols, named.values[key])
             if np.isnan(joints).any():
@@ -130,7 +162,7 @@ def configurations(cell, pallet, target: str) -> Named | None:
         return None
     arm = cell.robot.arms[target]
     moves = full_cycle(cell, pallet)
-    named, values, entry, at = Named(form, {}), {}, None, []
+    named, values, entry, at, first = Named(form, {}), {}, None, [], {}
     for move, joints in zip(moves, joints_of(cell, target, moves, f"pallet {pallet.name!r}"), strict=True):
         key = named.key(pallet, move)
         if key is not None:
@@ -139,6 +171,9 @@ def configurations(cell, pallet, target: str) -> Named | None:
             values[key] = FORMS[form].of(arm, joints)
         if entry is None and isinstance(key, tuple):
             entry = joints
+        anchor = anchor_key(move)
+        if anchor is not None and anchor not in first:
+            first[anchor] = joints
     # the way home's pose above the pallet: the solution nearest the cycle's first entry onto the pallet (its
     # branch, each axis' turn as the cycle has it), so the way there from the pallet turns no axis the long way
     safe = [safe_move(cell, pallet)]
@@ -150,7 +185,38 @@ def configurations(cell, pallet, target: str) -> Named | None:
         whole = named_in_full(form, arm, np.array(at))
     except ValueError as exc:
         raise ReachError(f"pallet {pallet.name!r} ({target}, {arm.model}): {exc}") from None
-    return Named(form, values, whole)
+    if whole:
+        return Named(form, values, True)
+    return Named(form, values, False, _anchors(cell, target, moves, pallet, Named(form, values, False), first, at[-1]))
+
+
+def _anchors(cell, target: str, moves, pallet, named: Named, first: dict, safe: np.ndarray) -> dict:
+    """The fixed poses' axis values: where the cycle first reaches each, an axis that stands half a turn or more
+    from 0 taken on whichever side (one turn apart, within the limits) keeps the whole cycle farthest from the
+    joint limits (from home the side of a half turn is a tie: the plan picks it, the program names it)."""
+    arm = cell.robot.arms[target]
+    options = []
+    for key, q in first.items():
+        turns = [q]
+        for axis in range(6):
+            for step in (-solve.TURN, solve.TURN):
+                other = q.copy()
+                other[axis] += step
+                if abs(q[axis]) >= 179.0 and solve.inside_float(other.tolist(), arm.limits_deg):
+                    turns.append(other)
+        options.append([(key, t) for t in turns])
+    best, best_margin = {**first, SAFE_KEY: safe}, -np.inf
+    for choice in itertools.product(*options):
+        anchors = {**dict(choice), SAFE_KEY: safe}
+        trial = Named(named.form, named.values, False, anchors)
+        try:
+            planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, trial)
+        except ReachError:
+            continue
+        margin = margins(arm, np.array(planned))[0]
+        if margin > best_margin:
+            best, best_margin = anchors, margin
+    return best
 
 
 def safe_move(cell, pallet):

@@ -13,7 +13,7 @@ from codegen.controllers import get_target
 from codegen.protocol import get_kind
 from codegen.robot import solve
 from codegen.robot.cache import per_cell
-from codegen.robot.config import FORMS, named_in_full
+from codegen.robot.config import FORMS, named_in_full, nearest_margin
 from codegen.robot.taught import JOINTS_MATCH_DEG, ArmPose, ReachError, configuration, select
 
 MIN_DIRECTIONS = 16  # directions on each ring of the shift disc, at least
@@ -95,6 +95,19 @@ def _compute(cell, target: str, station) -> StationRegion:
     previous = home
     for m, pose in enumerate(taught):
         q, b, full = move_joints(arm, form, pose, solutions[:, m], previous)
+        if (
+            pose.motion == "joint"
+            and not full
+            and form != "joints"
+            and not _one_way(arm, form, pose, solutions[:, m], previous)
+        ):
+            # the controller's nearest solution would turn an axis one way for some readings and the other way
+            # for others: the program names the full configuration after all where it takes every reading (at
+            # a boundary: the boundary's own value, codegen/robot/config.py), else the cell must change
+            q, b = select(form, arm, solutions[:, m], configuration(form, arm, pose.joints))
+            if np.isnan(q).any():
+                raise ReachError(_two_ways(cell, target, station, pose))
+            full = True
         joints.append(q)
         branches.append(b)
         named.append(full)
@@ -134,6 +147,32 @@ def move_joints(arm, form: str, pose: ArmPose, solutions: np.ndarray, previous: 
         found = ~np.isnan(q).any(axis=-1)
         full = bool(np.all(FORMS[form].many(arm, q[found]) == np.asarray(value))) and _holds(form, arm, q[found], pose)
     return q, b, full
+
+
+# Over the sampled region a tie's margin (how much nearer the nearest solution is than the next) changes by at most
+# about twice the change of the reading's rotation: samples this far from a tie cannot have one between them.
+REGION_TIE_DEG = 2.0 * ROTATION_SPACING_DEG
+
+
+def _one_way(arm, form: str, pose: ArmPose, solutions: np.ndarray, previous: np.ndarray) -> bool:
+    """A joint move the program names only partly (the controller's nearest solution) has one nearest solution
+    at every reading of the region (none half a turn of an axis from the pose before it, nor two branches as
+    near): it turns each axis the same way whatever the reading."""
+    value = configuration(form, arm, pose.joints)
+    for sols, before in zip(solutions, previous, strict=True):
+        if nearest_margin(arm, FORMS[form].candidates(arm, sols, value), before)[0] < REGION_TIE_DEG:
+            return False
+    return True
+
+
+def _two_ways(cell, target: str, station, pose: ArmPose) -> str:
+    arm = cell.robot.arms[target]
+    return (
+        f"station {station.id} {station.name!r} pose {pose.name!r} ({target}, {arm.model}): from the pose before it "
+        "an axis is about half a turn away for some readings: the controller would turn it one way for some "
+        "readings and the other way for others, and no configuration the program could name takes every reading; "
+        "give [cell.robot.home] another axis value, or teach the pose turned"
+    )
 
 
 def _holds(form: str, arm, q: np.ndarray, pose: ArmPose) -> bool:

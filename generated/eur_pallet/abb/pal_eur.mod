@@ -41,12 +41,17 @@ MODULE pal_eur
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen
   LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  ! above Q in axis values (codegen's plan), where a joint move goes there: from it every pose's closest
+  ! configuration is unique (the configuration check is off: see main)
+  LOCAL CONST jointtarget stack_above_q_axes := [[0.000000, 29.273688, 26.478757, 0.000000, 34.247555, 180.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the way home after a stop passes above the pallet's centre (base frame)
   LOCAL CONST robtarget stack_safe := [[0.0000, 1500.0000, 1056.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [1, 0, 3, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST jointtarget stack_safe_axes := [[90.000000, 23.338149, -20.049219, 0.000000, 86.711070, 270.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the slip sheets: their pick at the sheet stack and 100.0000 mm above it (base frame); their place at the
   ! pallet's centre (x, y mm, pallet frame) on the layer below, in the configuration codegen chose
   LOCAL CONST robtarget stack_sheet_pick := [[1200.0000, 800.0000, -200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget stack_sheet_above := [[1200.0000, 800.0000, -100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST jointtarget stack_sheet_above_axes := [[33.690068, 50.109460, 13.996055, 0.000000, 25.894485, -146.309932], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST num STACK_SHEET_X := 600.0000;
   LOCAL CONST num STACK_SHEET_Y := 400.0000;
 
@@ -141,7 +146,7 @@ MODULE pal_eur
         back.trans.z := up.trans.z;
       ENDIF
       MoveL back, stack_work, fine, stack_tool;
-      MoveJ stack_safe, stack_travel, fine, stack_tool;
+      MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
     GripLoad load0;
@@ -149,7 +154,7 @@ MODULE pal_eur
     WHILE pal_eur_layer <= STACK_LAYERS DO
       IF pal_eur_box = 0 THEN
         ! the slip sheet below this layer, from the sheet stack onto the pallet's centre
-        MoveJ stack_sheet_above, stack_travel, stack_zone, stack_tool;
+        MoveAbsJ stack_sheet_above_axes\NoEOffs, stack_travel, stack_zone, stack_tool;
         WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
         IF late THEN
           stack_stop "pallet eur: no pallet in place in 10 s";
@@ -194,7 +199,7 @@ MODULE pal_eur
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
       ENDIF
-      MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
+      MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, stack_zone, stack_tool;
       WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
         stack_stop "pallet eur: no pallet in place in 10 s";
@@ -232,7 +237,7 @@ MODULE pal_eur
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
     ENDWHILE
     ! off the pallet before the message
-    MoveJ stack_above_q, stack_travel, fine, stack_tool;
+    MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, fine, stack_tool;
     TPWrite "pallet eur is full: swap it, then reset its counters from the PLC";
   ENDPROC
 

@@ -40,6 +40,7 @@ MODULE pal_eur_in
   LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the way home after a stop passes above the pallet's centre (base frame)
   LOCAL CONST robtarget stack_safe := [[0.0000, -1500.0000, 1050.0000], [0.000000000, 0.000000000, 1.000000000, 0.000000000], [-1, 0, 3, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST jointtarget stack_safe_axes := [[-90.000000, 23.285416, -19.622270, 0.000000, 86.336854, 270.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
   ! (deg, counterclockwise about the pallet's z)
@@ -128,7 +129,7 @@ MODULE pal_eur_in
         back.trans.z := up.trans.z;
       ENDIF
       MoveL back, stack_work, fine, stack_tool;
-      MoveJ stack_safe, stack_travel, fine, stack_tool;
+      MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
     GripLoad load0;

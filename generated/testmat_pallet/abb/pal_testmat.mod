@@ -37,8 +37,12 @@ MODULE pal_testmat
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen
   LOCAL CONST robtarget stack_q := [[600.0000, 300.0000, 50.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget stack_above_q := [[600.0000, 300.0000, 80.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  ! above Q in axis values (codegen's plan), where a joint move goes there: from it every pose's closest
+  ! configuration is unique (the configuration check is off: see main)
+  LOCAL CONST jointtarget stack_above_q_axes := [[26.565051, 58.726148, -2.873640, 0.000000, 34.147492, -153.434949], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the way home after a stop passes above the pallet's centre (base frame)
   LOCAL CONST robtarget stack_safe := [[702.0000, -11.0000, 206.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [-1, 0, -3, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  LOCAL CONST jointtarget stack_safe_axes := [[-0.897724, 50.219540, -7.077581, 0.000000, 46.858042, -180.897724], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
   ! (deg, counterclockwise about the pallet's z)
@@ -128,7 +132,7 @@ MODULE pal_testmat
         back.trans.z := up.trans.z;
       ENDIF
       MoveL back, stack_work, fine, stack_tool;
-      MoveJ stack_safe, stack_travel, fine, stack_tool;
+      MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
     GripLoad load0;
@@ -144,7 +148,7 @@ MODULE pal_testmat
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
       ENDIF
-      MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
+      MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, stack_zone, stack_tool;
       WaitDI diPalletIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
         stack_stop "pallet testmat: no pallet in place in 10 s";
@@ -179,7 +183,7 @@ MODULE pal_testmat
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
     ENDWHILE
     ! off the pallet before the message
-    MoveJ stack_above_q, stack_travel, fine, stack_tool;
+    MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, fine, stack_tool;
     TPWrite "pallet testmat is full: swap it, then reset its counters from the PLC";
   ENDPROC
 
