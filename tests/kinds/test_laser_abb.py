@@ -112,6 +112,7 @@ def test_the_program_stops_with_the_operator_s_message(laser_program, dz, messag
     assert trace.halted and trace.halt_message == message
     beams_z = cell.sections["laser"].sensor_frame.matrix()[2, 3]
     assert trace.moves[-1].tcp2base[2, 3] > beams_z  # stopped above the beams
+    assert [trace.motion_settings[k]["on"] for k in ("confj", "confl")] == [True, True]  # checks on before the stop
 
 
 def test_a_name_for_both_data_and_a_routine_is_refused():
@@ -144,3 +145,20 @@ def test_the_module_loads_into_a_production_task_whose_main_calls_its_entry(lase
     assert not trace.halted and trace.messages[-1].startswith(lp.WRITTEN)
     trans = trace.kept[name]["TFRAME"]["TRANS"]
     assert [float(trans[k]) for k in "XYZ"] == pytest.approx([float(v) for v in trace.kept["lsr_tcp"]])
+
+
+def test_the_production_main_goes_on_with_the_configuration_checks_on(laser_program):
+    """The routine switches ConfJ and ConfL off for its computed poses; a routine call keeps what it leaves (RAPID
+    resets them only at a program load or a start from main): the production main's next move runs with both on."""
+    cell, target, _ = laser_program
+    plan = first(cell, "abb", "laser")
+    production = SourceFile(
+        "production.mod",
+        f"MODULE production\n  PROC main()\n    {plan.entry};\n    MoveJ Offs(CRobT(), 0, 0, 10), "
+        "v200, fine, tool0;\n  ENDPROC\nENDMODULE\n",
+    )
+    (task,) = Rapid.programs([*plan.files, production])
+    trace = run_program((cell, target, Rapid.load_files(task)), cell.robot.tool.tcp2flange)
+    assert not trace.halted
+    settings = trace.moves[-1].settings
+    assert settings["speed"] == "V200" and settings["confj"]["on"] and settings["confl"]["on"]

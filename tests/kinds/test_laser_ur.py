@@ -102,3 +102,18 @@ def test_verify_runs_the_installation_without_the_production_tool(laser):
     unread = edited(source, regex_edit(r"^(\s*lsr_before = )pin_tcp\n", r"\1p[0, 0, 0, 0, 0, 0]\n"), "unread")
     row = verify_one(cell, unread, scenarios=frozenset({"production_tool_missing"}))
     assert row.mismatches == 1 and "the installation has no pin_tcp" in row.first_mismatches[0], row.first_mismatches
+
+
+def test_the_next_node_moves_with_the_production_tool_just_written(laser):
+    """The node ends with set_tcp(pin_tcp): a Move node after it that uses the active TCP moves with the calibrated
+    tool, not with the tool as designed the calibration moved with."""
+    cell, _ = laser
+    source = first(cell, "ur", "laser")
+    node = "  movel(pose_add(get_actual_tcp_pose(), p[0, 0, 0.01, 0, 0, 0]), a=1.2, v=0.25)\n"  # the production's next
+    program = edited(source, lambda text: text.rstrip("\n") + "\n" + node, "next node").load()
+    case = LaserCase("test", _tool(cell, offset=(1.2, -0.8, 0.7)), noise=0.0, seed=7)
+    trace = run_case(cell, "ur", program, case, "laser")[0]
+    assert not trace.halted, trace.halt_message
+    written = [float(v) for v in trace.kept["pin_tcp"].values()]
+    assert np.linalg.norm(np.array(written[:3]) * 1000.0 - case.tool[:3, 3]) < 0.03
+    assert list(trace.moves[-1].settings["tcp"]) == pytest.approx(written, abs=1e-9)

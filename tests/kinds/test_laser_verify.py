@@ -95,3 +95,17 @@ def test_verify_catches_a_contact_from_the_down_hit_alone(target_name):
     old, new = patterns[target_name]
     report = verify_laser(cell, target_name, _mutated(cell, target_name, old, new), [], first_only=True)
     assert report.mismatches == 1 and "its own edges and hits" in report.first_mismatches[0]
+
+
+@pytest.mark.parametrize("where", ["return", "stop"])
+def test_verify_catches_an_abb_routine_that_leaves_the_configuration_check_off(where):
+    """The routine's last ConfL \\On removed (on the way back to the caller, or before a stop): the production
+    task's main goes on with ConfL \\Off (a routine call keeps it); the judge reads the settings the run ended with."""
+    cell = load_cell(CELL)
+    patterns = {
+        "return": re.compile(r"(MoveAbsJ lsr_home[^\n]*\n(?:\s*!.*\n)?\s*ConfJ \\On;\n\s*)ConfL \\On;"),
+        "stop": re.compile(r"(ErrWrite [^\n]*\n(?:\s*!.*\n)?\s*ConfJ \\On;\n\s*)ConfL \\On;"),
+    }
+    program = _mutated(cell, "abb", patterns[where], r"\g<1>")
+    report = verify_laser(cell, "abb", program, [])
+    assert report.mismatches >= 1 and "ends with ConfL \\Off" in report.first_mismatches[0]

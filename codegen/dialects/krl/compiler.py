@@ -35,6 +35,16 @@ EXIT = frozenset({"exit"})  # the signal kind that ends a KRL loop
 NO_SKIP = frozenset()
 TIMED = ("$TIMER", "$TIMER_FLAG", "$ROB_TIMER")  # a WAIT FOR on these waits for the clock
 CYCLE_S = 0.012  # the interpreter's controller cycle (targets/kuka.toml signal_cycle_s: 12 ms, assumed)
+# An aggregate's values are constants: a literal, an enumeration value, a signed number or an aggregate (KSS
+# refuses a variable or an expression there when it compiles the module; see targets/kuka.toml, aggregates)
+CONSTANT_VALUES = frozenset({"number", "string", "true", "false", "enum", "aggregate"})
+
+
+def constant_value(node) -> bool:
+    """Whether an aggregate's value is a constant (a negative number is one)."""
+    while isinstance(node, Tree) and node.data == "neg":
+        node = node.children[0]
+    return isinstance(node, Tree) and node.data in CONSTANT_VALUES
 
 
 def operand_error(where: str, exc: Exception) -> RunError:
@@ -189,6 +199,12 @@ class KRLCompiler(
         fields = []
         for item in children:
             name, _brackets, value = item.children
+            if not constant_value(value):
+                self.fail(
+                    value,
+                    f"{str(name).upper()} in an aggregate is a variable or an expression: an aggregate takes "
+                    "constants only; assign that component on its own (NAME.COMPONENT = value)",
+                )
             fields.append(f"{str(name).upper()!r}: {self.src(value)}")
         record = f"_Record(None, {{{', '.join(fields)}}})"
         if type_name is None:

@@ -40,6 +40,7 @@ def _record(fr, key: str, value: dict, where: str) -> None:
     settings = dict(m.extra.get(SETTINGS_KEY) or {})  # extra is copied per run: never changed in place
     settings[key] = {**value, "line": line}
     m.extra[SETTINGS_KEY] = settings
+    m.trace.motion_settings = settings  # those in force when the run ends (a routine's caller goes on with them)
 
 
 def acc_set(fr, args, kwargs, where) -> None:

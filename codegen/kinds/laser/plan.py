@@ -34,6 +34,10 @@ from codegen.robot.expect import tool_inputs
 from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored
 
 NEAR_MM = 5 * FLOAT32_MM  # a move ends at one of the procedure's fixed points when this close to it
+# The motion settings a routine of the production task must leave as a program starts with them: a routine call
+# keeps what the routine set (RAPID resets ConfJ, ConfL to \On only at a program load or a start from main), so
+# the production moves after the calibration would run without their configuration check
+RESTORED = {"confj": "ConfJ", "confl": "ConfL"}
 
 
 def _tooldata(cell, tcp) -> list:
@@ -137,6 +141,9 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     previous = previous_tcp(cell, case)
     if case.without_production_tool:
         return _without_production_tool(cell, target, trace)
+    problem = _settings_left(trace)
+    if problem is not None:
+        return Judgement([], problem=problem)
     if case.start == "away":
         message = Emitter(target).string(lp.START_AWAY)
         stored = _stored(cell, target, None, 0.0, previous)
@@ -160,6 +167,17 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     motion = trace.moves[-1].end_time if written and trace.moves else 0.0
     figures = (case.truth, truth, motion, worst)
     return Judgement([Expectation(halt, moves, (), stored)], figures=figures, errors=([worst], []))
+
+
+def _settings_left(trace) -> str | None:
+    """A configuration check the run switched off and left off when it ended (returned or stopped)."""
+    left = getattr(trace, "motion_settings", None) or {}
+    for key, shown in RESTORED.items():
+        if key in left and not left[key]["on"]:
+            return (
+                f"the program ends with {shown} \\Off (line {left[key]['line']}): the production moves after it keep it"
+            )
+    return None
 
 
 def _flat_tcp(target, trace) -> list[float]:

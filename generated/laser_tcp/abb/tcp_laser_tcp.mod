@@ -49,6 +49,10 @@ MODULE tcp_laser_tcp
   ! main, its own, so this module has none. Its one task-wide name is the entry routine tcp_laser_tcp_run (no
   ! parameters): the production main calls it (e.g. `IF DInput(diCalibrate) = 1 tcp_laser_tcp_run;`), or the operator
   ! starts it with PP to Routine; the rest is LOCAL. A stop (lsr_stop) ends with EXIT: the next start is from main.
+  ! The routine switches the configuration checks off (ConfJ, ConfL \Off) and on again (\On, as RAPID starts a
+  ! program) on every way out: when it returns, before a stop, and in its ERROR handler before the error goes on
+  ! to the caller. A routine call keeps the motion settings a routine leaves (only a program load or a start from
+  ! main resets them): a production main that runs with a check off switches it off again after the call.
 
   ! The sensor frame S as a work object: the user frame is S in the base frame (mm, quaternion)
   LOCAL PERS wobjdata lsr_sensor := [FALSE, TRUE, "",
@@ -200,6 +204,14 @@ MODULE tcp_laser_tcp
     ! the way out: the safe pose, then home
     MoveL lsr_at(LSR_SAFE), lsr_work, lsr_zone, lsr_guess \WObj:=lsr_sensor;
     MoveAbsJ lsr_home\NoEOffs, v200, fine, lsr_guess;
+    ! the configuration checks on again: the production task's moves after the call keep what this leaves
+    ConfJ \On;
+    ConfL \On;
+  ERROR
+    ! an error this routine does not handle: the checks on again, then the error to the caller's handler
+    ConfJ \On;
+    ConfL \On;
+    RAISE;
   ENDPROC
 
   LOCAL PROC lsr_circle(num k)
@@ -298,6 +310,9 @@ MODULE tcp_laser_tcp
     ! the operator sees the message (event log and FlexPendant), the program stops there; a restart
     ! ends the cycle without moving
     ErrWrite "Laser TCP program stopped", message;
+    ! the configuration checks on again (as the entry routine leaves them when it returns)
+    ConfJ \On;
+    ConfL \On;
     Stop;
     EXIT;
   ENDPROC

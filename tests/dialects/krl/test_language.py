@@ -75,6 +75,21 @@ def test_a_literal_of_another_type_is_refused_before_the_program_runs():
         program('I = "abc"', "DECL INT I")
 
 
+@pytest.mark.parametrize(
+    "value",
+    ["N", "N + 1", "-N", "F.X", "A[1]", "SQRT(2.0)", "LIMIT"],
+    ids=["variable", "expression", "negated", "component", "element", "call", "named constant"],
+)
+def test_an_aggregate_takes_constants_only(value):
+    """{X N} is refused when the module loads (KSS compiles it so), naming the line; constants pass."""
+    decls = "DECL INT N\nDECL FRAME F\nDECL REAL A[2]"
+    with pytest.raises(RunError, match=r"^t\.src:\d+:\d+: X in an aggregate is a variable or an expression"):
+        program(f"F = {{X {value}, Y 0}}", decls, dat="DECL CONST REAL LIMIT = 2.0")
+    dat = "STRUC PAIR_T FRAME F, INT K, CHAR T[4], BOOL B\nDECL PAIR_T P\nDECL INT N\nDECL REAL X"
+    body = 'P = {F {X -1.5, Y +2, Z 3E2}, K -4, T[] "ab", B TRUE}\nX = P.F.X\nN = P.K'
+    assert kept(body, "N X", dat=dat) == {"N": -4, "X": -1.5}
+
+
 def test_halt_without_a_message_stops_with_none():
     trace = run("HALT")
     assert trace.halted and trace.halt_message is None and trace.messages == []
