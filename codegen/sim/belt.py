@@ -233,6 +233,10 @@ class BeltLine:
     latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus)
     trigger: str | None = None  # the controller's input the camera's trigger is wired to (a pulse per part)
     stop_s: float = 0.0  # the line's cycle stop not before this (s): with no part to come, the program waits till then
+    # the controller beside the belt: each sleep of the program (a pass of a polling loop) ends this much later than it
+    # asks (the pass's statements, the interpreter's cycle): a program that counts its passes as exact sleeps
+    # measures the belt's speed wrong (Machine.elapse)
+    sleep_overhead_s: float = 0.0
     _presented: int = 0
     _stopped: bool = False
 

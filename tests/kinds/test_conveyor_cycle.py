@@ -93,8 +93,8 @@ CHANGES = [
     (
         "blend at the place",
         "ur",
-        r"movel\(CNV_PLACE, a=1\.2, v=0\.2500\)",
-        "movel(CNV_PLACE, a=1.2, v=0.2500, r=0.0100)",
+        r"movel\(CNV_PLACE, a=1\.200, v=0\.2500\)",
+        "movel(CNV_PLACE, a=1.200, v=0.2500, r=0.0100)",
         NOMINAL,
         "must stop exactly",
     ),

@@ -109,7 +109,7 @@ def test_the_ur_latches_its_own_encoder_at_the_trigger(cell):
     case = next(c for c in cases(cell) if c.category == "constant_speed")
     assert case.latency_s > 0.008  # the PLC's count is that old: about 0.5 mm at 60 mm/s
     row = run_cases(cell, first(cell, "ur", "conveyor"), [case], 600_000)
-    assert row.mismatches == 0 and max(row.pos_errors) < 2 / 8.122679 + 60 * 0.002, row.first_mismatches
+    assert row.mismatches == 0 and max(row.pos_errors) < 2 / 8.122679 + 40 * 0.002, row.first_mismatches
 
 
 def _cell_with(tmp_path, old: str, new: str):

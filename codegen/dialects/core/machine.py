@@ -57,17 +57,65 @@ class Device(Protocol):
         ...
 
 
-def travel_seconds(start: np.ndarray | None, end: np.ndarray | None, speed_mm_s: float | None) -> float:
+def travel_seconds(
+    start: np.ndarray | None, end: np.ndarray | None, speed_mm_s: float | None, accel_mm_s2: float | None = None
+) -> float:
     """How long a move takes in the interpreter's clock: the TCP's straight-line distance over the
-    programmed TCP speed (a pure rotation takes none). A move whose start or end pose is not known
-    while the program runs (the first move, from wherever the arm stands; a joint target, whose pose
-    comes from the arm's kinematics when the run ends) takes UNKNOWN_TRAVEL_S. Enough to order waits,
-    timeouts and a photo against the motion."""
+    programmed TCP speed (a pure rotation takes none); with a path acceleration (a dialect that knows the
+    one in force), from standstill to standstill: a trapezoid, or a triangle where the move is too short to
+    reach the speed (ramp_seconds). A move whose start or end pose is not known while the program runs (the
+    first move, from wherever the arm stands; a joint target, whose pose comes from the arm's kinematics when
+    the run ends) takes UNKNOWN_TRAVEL_S. Enough to order waits, timeouts and a photo against the motion."""
     if not speed_mm_s or speed_mm_s <= 0:
         return 0.0
     if start is None or end is None:
         return UNKNOWN_TRAVEL_S
-    return float(np.linalg.norm(end[:3, 3] - start[:3, 3])) / speed_mm_s
+    return ramp_seconds(float(np.linalg.norm(end[:3, 3] - start[:3, 3])), speed_mm_s, accel_mm_s2)
+
+
+def ramp_seconds(distance_mm: float, speed_mm_s: float, accel_mm_s2: float | None) -> float:
+    """A straight move of distance_mm from standstill to standstill at speed_mm_s with accel_mm_s2 up and down
+    (None or 0: no ramp, distance over speed): d / v + v / a where the move reaches v (d >= v^2 / a), else the
+    triangle 2 sqrt(d / a)."""
+    if not accel_mm_s2 or accel_mm_s2 <= 0:
+        return distance_mm / speed_mm_s
+    if distance_mm >= speed_mm_s**2 / accel_mm_s2:
+        return distance_mm / speed_mm_s + speed_mm_s / accel_mm_s2
+    return 2.0 * math.sqrt(distance_mm / accel_mm_s2)
+
+
+def ramp_time_at(s_mm: float, distance_mm: float, speed_mm_s: float, accel_mm_s2: float | None) -> float:
+    """When a move as ramp_seconds times it has covered s_mm of its distance_mm (s from its start)."""
+    if not accel_mm_s2 or accel_mm_s2 <= 0:
+        return s_mm / speed_mm_s
+    peak = min(speed_mm_s, math.sqrt(max(0.0, distance_mm) * accel_mm_s2))  # a triangle peaks below the speed
+    ramp = peak * peak / (2.0 * accel_mm_s2)  # the distance of each ramp
+    total = ramp_seconds(distance_mm, speed_mm_s, accel_mm_s2)
+    s = min(max(s_mm, 0.0), distance_mm)
+    if s <= ramp:
+        return math.sqrt(2.0 * s / accel_mm_s2)
+    if s <= distance_mm - ramp:
+        return peak / accel_mm_s2 + (s - ramp) / peak
+    return total - math.sqrt(2.0 * (distance_mm - s) / accel_mm_s2)
+
+
+def ramp_distance_at(t: float, distance_mm: float, speed_mm_s: float, accel_mm_s2: float | None) -> float:
+    """How far a move as ramp_seconds times it has come t s after its start (mm, the inverse of ramp_time_at)."""
+    total = ramp_seconds(distance_mm, speed_mm_s, accel_mm_s2)
+    if t <= 0.0:
+        return 0.0
+    if t >= total:
+        return distance_mm
+    if not accel_mm_s2 or accel_mm_s2 <= 0:
+        return t * speed_mm_s
+    peak = min(speed_mm_s, math.sqrt(max(0.0, distance_mm) * accel_mm_s2))
+    up = peak / accel_mm_s2
+    if t <= up:
+        return 0.5 * accel_mm_s2 * t * t
+    if t <= total - up:
+        return 0.5 * peak * up + peak * (t - up)
+    left = total - t
+    return distance_mm - 0.5 * accel_mm_s2 * left * left
 
 
 class ProgramCode(Protocol):
@@ -147,6 +195,9 @@ class Machine:
         self.arm_until = 0.0
         self.last_move: MoveEvent | None = None
         self.signals: dict[str, bool] = {}  # digital inputs and outputs by name (devices set the inputs)
+        # how much later than it asks each sleep of the program ends (a device that models the controller's loop
+        # passes: codegen/sim/belt.py BeltLine; 0: exactly)
+        self.sleep_overhead_s = max((float(getattr(d, "sleep_overhead_s", 0.0)) for d in devices), default=0.0)
         # a controller's belt tracking: an object whose offset_mm(t) (3 mm, base frame) lies over every
         # commanded pose while it is on (a dialect's tracking built-ins), None: off
         self.tracking = None
@@ -173,6 +224,7 @@ class Machine:
         seconds: float | None = None,
         via: np.ndarray | None = None,
         path=None,
+        accel_mm_s2: float | None = None,
     ) -> None:
         """Record a commanded move. It starts when the previous one ends and takes travel_seconds;
         the program waits for it (the clock reaches its end) unless the controller runs ahead of its
@@ -180,7 +232,8 @@ class Machine:
         until an instruction that waits for it (Machine.arrive). seconds: the move's duration where the
         caller knows it (a move relative to a tracked belt); via: a circular move's circle point (its
         duration is the arc's length over the speed); path: the move's own path where the dialect knows it
-        better (codegen/dialects/core/watch.py Path: a circle whose orientation turns)."""
+        better (codegen/dialects/core/watch.py Path: a circle whose orientation turns); accel_mm_s2: a straight
+        move's path acceleration where the dialect models it (travel_seconds)."""
         self.trace.moves.append(event)
         start = max(self.clock, self.arm_until)
         if seconds is None and path is not None and speed_mm_s:
@@ -191,7 +244,7 @@ class Machine:
 
                 seconds = Path(self._last_tcp2base, event.tcp2base, via).length / speed_mm_s
             else:
-                seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
+                seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s, accel_mm_s2)
         self.arm_until = start + seconds
         event.start_time, event.end_time = start, self.arm_until
         if self.watching is not None:
@@ -289,8 +342,9 @@ class Machine:
 
     def elapse(self, seconds: float, where: str) -> None:
         """The program sleeps (WAIT SEC, sleep, WaitTime): the arm finishes its moves first (where
-        the controller's sleep waits for it: callers decide), the devices act at every event in between."""
-        end = self.clock + max(0.0, seconds)
+        the controller's sleep waits for it: callers decide), the devices act at every event in between; a sleep
+        ends sleep_overhead_s later than it asks (where a device models the controller so)."""
+        end = self.clock + max(0.0, seconds) + (self.sleep_overhead_s if seconds > 0 else 0.0)
         self.wait(where)
         while True:
             due = self.next_device_time()

@@ -151,7 +151,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
             return f"part {seq} was past the window's end when read ({y:.1f} mm), yet the arm moved for it", 0, 0
     fastest = case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
     for seq, t in too_late.items():  # already too close to the intercept point to come down in time
-        latest = pick.intercept_mm - lead_seconds(cell) * fastest - pick.capture_mm
+        latest = pick.intercept_mm - lead_seconds(cell, j.target) * fastest - pick.capture_mm
         if part_y(case.belt, parts[seq], j.camera_y, t) < latest:
             return f"part {seq} given up as too late, in time for the intercept", 0.0, 0.0
     given_up = {*skipped, *too_late, *too_close, *lost, *early}
