@@ -53,12 +53,14 @@ MODULE cnv_belt_pick
   LOCAL PERS wobjdata cnv_wobj := [FALSE, TRUE, "",
     [[799.9730, -299.9570, 149.9990], [0.965779722, -0.004497208, 0.016851649, 0.258776593]],
     [[0, 0, 0], [1, 0, 0, 0]]];
-  ! The work object the unit CNV1 moves: its user frame in the unit's frame turns x along the travel into the
-  ! belt frame's y (so coordinates here are the belt frame's: x across, y along the travel from the part's sync
-  ! point, z up); the object frame stays the identity
+  ! The work object the unit CNV1 moves: a coordinated work object (ufprog FALSE), whose user frame the
+  ! controller takes from the unit's system parameters (the program's uframe is not used: RAPID reference, wobjdata,
+  ! uframe), so the uframe stays the identity; the object frame, in that user frame, turns x along the travel into
+  ! the belt frame's y (so coordinates here are the belt frame's: x across, y along the travel from the part's sync
+  ! point, z up)
   TASK PERS wobjdata cnv_track := [FALSE, FALSE, "CNV1",
-    [[0.0000, 0.0000, 0.0000], [0.707106781, 0.000000000, 0.000000000, -0.707106781]],
-    [[0, 0, 0], [1, 0, 0, 0]]];
+    [[0, 0, 0], [1, 0, 0, 0]],
+    [[0.0000, 0.0000, 0.0000], [0.707106781, 0.000000000, 0.000000000, -0.707106781]]];
   ! The arm (IRB 1600-10/1.45): the tool (TCP in the flange frame [mm], load [kg, mm]; a point mass)
   ! and the home position [deg]
   LOCAL PERS tooldata cnv_tool := [TRUE,
