@@ -43,3 +43,44 @@ def test_the_belts_turn_is_in_the_object_frame_of_the_coordinated_work_object(ce
     assert old in in_uframe.files[0].text
     row = _row(cell, in_uframe, ("constant_speed",))
     assert row.mismatches == 1 and "gripped" in row.first_mismatches[0], row.first_mismatches
+
+
+def _moves_before_drops(text: str) -> list[str]:
+    """The move instruction before each DropWObj after the arm first moved (the one at the start drops a connection a
+    stop left, before any move)."""
+    lines = [line.strip() for line in text.splitlines()]
+    moves = ("MoveL ", "MoveJ ", "MoveAbsJ ")
+    out, last = [], None
+    for line in lines:
+        if line.startswith(moves):
+            last = line
+        elif line.startswith("DropWObj") and last is not None:
+            out.append(last)
+        elif line.startswith(("PROC ", "LOCAL PROC ", "LOCAL FUNC ")):
+            last = None if line.startswith("PROC main") else last
+    return out
+
+
+def test_the_arm_leaves_the_belt_in_a_fixed_work_object_before_it_disconnects(cell):
+    """Every DropWObj once the arm has moved follows a move in a fixed work object (off the belt), as public programs
+    do; the skip after a descent that reached the window's end left it at a fine point in cnv_track before."""
+    text = first(cell, "abb", "conveyor").files[0].text
+    before = _moves_before_drops(text)
+    assert len(before) >= 2 and not [m for m in before if "cnv_track" in m], before
+    off = "    MoveJ cnv_on_part(x, CNV_START, z + CNV_DZ), cnv_travel, fine, cnv_tool \\WObj:=cnv_wobj;\n"
+    mutant = text.replace(off, "")  # up in cnv_track, then DropWObj there (the program before)
+    assert mutant != text and [m for m in _moves_before_drops(mutant) if "cnv_track" in m]
+
+
+def test_a_grip_not_confirmed_while_tracking_leaves_the_belt_and_skips_the_part(cell):
+    """The gripper silent while the arm follows the part: released, up in cnv_track, above the window's start in the
+    fixed work object, DropWObj, the part skipped with a message; the program runs on to the line's stop. A program
+    that stops there (connected, over a running belt, the gripper closed) fails verify's gripper_silent case."""
+    program = first(cell, "abb", "conveyor")
+    row = _row(cell, program, ("gripper_silent",))
+    assert row.mismatches == 0, row.first_mismatches
+    handler = "    IF ERRNO = ERR_WAIT_MAXTIME THEN\n      RETURN FALSE;\n"
+    stops = handler.replace("RETURN FALSE;", 'cnv_stop "no feedback from the gripper in 0.5 s";')
+    stopping = edited(program, lambda t: t.replace(handler, stops))
+    row = _row(cell, stopping, ("gripper_silent",))
+    assert row.mismatches == 1 and "did not hold" in row.first_mismatches[0], row.first_mismatches

@@ -6,7 +6,16 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
-from codegen.kinds.conveyor.program import EARLY, LOST, SKIPPED, STOPPED, TOO_CLOSE, TOO_LATE, lead_seconds
+from codegen.kinds.conveyor.program import (
+    EARLY,
+    LOST,
+    NOT_HELD,
+    SKIPPED,
+    STOPPED,
+    TOO_CLOSE,
+    TOO_LATE,
+    lead_seconds,
+)
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.sim.belt import part_pose, part_y
@@ -14,7 +23,7 @@ from codegen.sim.bus import SCALE
 from codegen.verify.checks import TOLERANCES
 from codegen.verify.checks import pose_errors as _pose_errors
 
-SKIPS = (SKIPPED, TOO_LATE, TOO_CLOSE, LOST, EARLY)  # the messages of a part given up
+SKIPS = (SKIPPED, TOO_LATE, TOO_CLOSE, LOST, EARLY, NOT_HELD)  # the messages of a part given up
 
 
 def tolerances_mm(cell, target) -> tuple[float, float]:

@@ -14,7 +14,7 @@ from codegen.kinds.conveyor import native, plan
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.judge import SKIPS
 from codegen.kinds.conveyor.judge import judge as judge_parts
-from codegen.kinds.conveyor.program import BAD_READING, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.program import BAD_READING, NOT_HELD, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, start_joints
 from codegen.model.io import signal_name
@@ -227,6 +227,8 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         "gripper_stuck": (halt_message(cell, NOT_RELEASED, None, 0), plan.RELEASE[mode]),
         "place_blocked": (place_blocked(cell), plan.RELEASE[mode] - 1),
     }
+    if case.category == "gripper_silent" and mode in facts(target).get("skips_unheld", ()):
+        return _not_held(cell, target, mode, trace, first, start_outputs, output, names, emitter)
     if case.category in stops:  # the first part's moves up to the stop: the grip, the release, above the place
         message, count = stops[case.category]
         moves = [plan.planned(segment, cell, target, mode) for segment in plan.PICK[mode][:count]]
@@ -249,6 +251,25 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
     expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
     return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
+
+
+def _not_held(cell, target, mode: str, trace, first, start_outputs, output, names, emitter) -> Judgement:
+    """A grip never confirmed while the arm follows the part: released at once, up off the part (still following it),
+    above the window's start in the fixed frame (GIVEN_UP's longest run), disconnected; the part skipped with a
+    message; the program goes on to the line's stop (no stop while connected to the running belt)."""
+    if not any(m.startswith(NOT_HELD) for m in trace.messages):
+        return Judgement([], problem=f"a part the gripper did not hold, not skipped with a message ({trace.messages})")
+    pattern = max(plan.GIVEN_UP[mode], key=len)
+    moves = plan._given_up(cell, target, mode, trace.moves[len(first) : len(first) + len(pattern)], len(first))
+    if isinstance(moves, str):
+        return Judgement([], problem=moves)
+    at = len(first) + plan.GRIP[mode]
+    outputs = (
+        *start_outputs,
+        PlannedOutput(output, cell.io.value, at, "on the part"),
+        PlannedOutput(output, not cell.io.value, at, "released on the belt"),
+    )
+    return Judgement([Expectation(None, (*first, *moves), outputs, output_names=names)])
 
 
 def waits(cell, case: BeltCase, trace) -> str | None:

@@ -248,20 +248,52 @@ MODULE cnv_belt_pick
     MoveL above, cnv_travel, fine, cnv_tool \WObj:=cnv_track;
     MoveL down, cnv_work, fine, cnv_tool \WObj:=cnv_track;
     IF cnv_y(seen) > CNV_END THEN
-      ! it reached the window's end while the gripper came down: leave it
-      MoveL above, cnv_work, fine, cnv_tool \WObj:=cnv_track;
-      DropWObj cnv_track;
+      ! it reached the window's end while the gripper came down: leave it (up in cnv_track, off the belt in a fixed
+      ! work object, then disconnect)
+      cnv_leave x, z;
       TPWrite "conveyor: skipped (past the window's end): part " \Num:=seq;
       RETURN;
     ENDIF
-    ! the grip at a fine point on the object: the arm follows it meanwhile
-    cnv_grip;
+    ! the grip at a fine point on the object: the arm follows it meanwhile. No hold in time: released, the arm
+    ! leaves the belt and disconnects, the part is skipped (no stop while connected to a running belt)
+    IF NOT cnv_hold() THEN
+      cnv_release;
+      cnv_leave x, z;
+      TPWrite "conveyor: the gripper did not hold it, skipped: part " \Num:=seq;
+      RETURN;
+    ENDIF
     MoveL above, cnv_work, cnv_zone, cnv_tool \WObj:=cnv_track;
     ! off the belt in a fixed work object, then disconnect
     MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
     DropWObj cnv_track;
     cnv_place_part;
   ENDPROC
+
+  LOCAL PROC cnv_leave(num x, num z)
+    ! off a part it follows without it: up in cnv_track (the arm still follows the object), then above the window's
+    ! start in the fixed work object (the belt's frame, where it waits for the next part), then disconnect
+    VAR robtarget above;
+    above := cnv_on_belt;
+    above.trans := [x, 0, z + CNV_DZ];
+    MoveL above, cnv_work, fine, cnv_tool \WObj:=cnv_track;
+    MoveJ cnv_on_part(x, CNV_START, z + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
+    DropWObj cnv_track;
+  ENDPROC
+
+  LOCAL FUNC bool cnv_hold()
+    ! grip the part on the belt: doGripClose set to 1 after the fine point, then wait until diGripClosed is 1;
+    ! not in 0.5 s: FALSE (the caller releases, leaves the belt and skips the part)
+    SetDO doGripClose, 1;
+    WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
+    ! confirmed: the payload now
+    GripLoad cnv_part;
+    RETURN TRUE;
+  ERROR
+    IF ERRNO = ERR_WAIT_MAXTIME THEN
+      RETURN FALSE;
+    ENDIF
+    RAISE;
+  ENDFUNC
 
   LOCAL FUNC bool cnv_connect()
     ! WaitWObj: the oldest object of the unit's queue, connected once it is in the start window; an object
@@ -337,20 +369,6 @@ MODULE cnv_belt_pick
     ErrWrite "Conveyor program stopped", message;
     Stop;
     EXIT;
-  ENDPROC
-
-  LOCAL PROC cnv_grip()
-    ! grip the part on the belt: doGripClose (I/O configuration) set to 1 after the fine point,
-    ! then wait until diGripClosed is 1; not in 0.5 s: stop with a message
-    SetDO doGripClose, 1;
-    WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
-    ! confirmed: the payload now
-    GripLoad cnv_part;
-  ERROR
-    IF ERRNO = ERR_WAIT_MAXTIME THEN
-      cnv_stop "no feedback from the gripper in 0.5 s";
-    ENDIF
-    RAISE;
   ENDPROC
 
   LOCAL PROC cnv_release()
