@@ -237,6 +237,7 @@ class BeltLine:
     # asks (the pass's statements, the interpreter's cycle): a program that counts its passes as exact sleeps
     # measures the belt's speed wrong (Machine.elapse)
     sleep_overhead_s: float = 0.0
+    pulses: tuple = ()  # moments the camera's trigger pulses with no part queued for it (a double pulse, a dropped part)
     _presented: int = 0
     _stopped: bool = False
 
@@ -256,7 +257,8 @@ class BeltLine:
 
     def live(self, name: str, t: float):
         if name == self.trigger:  # on for TRIGGER_S from each part's moment at the camera's line
-            return any(part.seen_s <= t < part.seen_s + TRIGGER_S for part in self.parts)
+            moments = [*(part.seen_s for part in self.parts), *self.pulses]
+            return any(seen <= t < seen + TRIGGER_S for seen in moments)
         return self.bus.live(self.belt, name, max(0.0, t - self.latency_s))
 
     def _next(self):

@@ -75,3 +75,25 @@ def test_the_kuka_program_times_the_belts_speed_with_its_timer(cell):
     assert "(POLLS * CNV_POLL)" in next(f.text for f in counted.files if f.name.endswith(".src"))
     row = _row(cell, counted, chosen)
     assert row.mismatches >= 1 and "mm along the belt" in row.first_mismatches[0], row.first_mismatches
+
+
+def test_a_stray_trigger_pulse_does_not_make_ur_skip_the_parts_after_the_wrap(cell):
+    """The camera's trigger pulses once with no part queued (a double pulse): the UR program's latched count of it is
+    never claimed. Once the belt has run half the robot's count's wrap (32768 counts, 4.0 m) past it, it unwound to a
+    place upstream and every later part was skipped as seen before the program started; passed over while the PLC
+    presents no part once it is past the window's end, the next part 4.3 m of belt later is picked. (Before, the
+    matching loop also spun for ever on a latch upstream of the part: `while mine < 0` with mine -2; it ends there
+    now, and the program without the pass-over skips the part with that message.)"""
+    case = next(c for c in cases(cell) if c.category == "constant_speed")
+    belt = case.belt
+    later = case.parts[0].seen_s + 4300.0 / belt.speed_mm_s
+    parts = (case.parts[0], replace(case.parts[1], seen_s=later))
+    stray = replace(case, category="stray_pulse", parts=parts, pulses=(case.parts[0].seen_s + 1.0,))
+    program = first(cell, "ur", "conveyor")
+    row = run_cases(cell, replace(program, row=0), [stray], 2_000_000, False)
+    assert row.mismatches == 0 and row.figures.picked == 2, row.first_mismatches
+    kept = edited(
+        program, lambda text: text.replace("      sleep(CNV_POLL)\n      cnv_forget()\n", "      sleep(CNV_POLL)\n")
+    )
+    row = run_cases(cell, replace(kept, row=0), [stray], 2_000_000, False)
+    assert row.mismatches == 1 and "seen before the program started" in row.first_mismatches[0], row.first_mismatches

@@ -203,6 +203,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "too_close": emitter.string(TOO_CLOSE),
         "early": emitter.string(EARLY),
         "pair_mm": number(PAIR_MM, 1),
+        "wrap_m": number(2**15 / abs(e) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
         "lost": emitter.string(LOST),
         "not_held": emitter.string(NOT_HELD),
         "place_blocked": emitter.string(place_blocked(cell)),

@@ -79,6 +79,7 @@ class BeltCase:
     latency_s: float = 0.0
     grip_s: float = 0.0
     stop_s: float = 0.0  # the line's cycle stop not before this (s)
+    pulses: tuple = ()  # trigger pulses no part made (a double pulse, a part the PLC dropped): moments (s)
 
     @property
     def scenario(self) -> str:
@@ -188,6 +189,7 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         latency_s=case.latency_s,
         stop_s=case.stop_s,
         sleep_overhead_s=SLEEP_OVERHEAD_S,
+        pulses=case.pulses,
         trigger=signal_name(target, "input", pick.trigger_input[target_name])
         if target_name in pick.trigger_input
         else None,
