@@ -237,7 +237,7 @@ class BeltLine:
     # asks (the pass's statements, the interpreter's cycle): a program that counts its passes as exact sleeps
     # measures the belt's speed wrong (Machine.elapse)
     sleep_overhead_s: float = 0.0
-    pulses: tuple = ()  # moments the camera's trigger pulses with no part queued for it (a double pulse, a dropped part)
+    pulses: tuple = ()  # moments the camera's trigger pulses with no part queued (a double pulse, a dropped part)
     _presented: int = 0
     _stopped: bool = False
 
