@@ -84,3 +84,27 @@ def test_a_grip_not_confirmed_while_tracking_leaves_the_belt_and_skips_the_part(
     stopping = edited(program, lambda t: t.replace(handler, stops))
     row = _row(cell, stopping, ("gripper_silent",))
     assert row.mismatches == 1 and "did not hold" in row.first_mismatches[0], row.first_mismatches
+
+
+def test_a_start_after_a_stop_before_waitwobj_empties_the_units_queue(cell):
+    """A run took part 1 from the PLC (SetGO goCnvAck) and stopped before WaitWObj: its object is still in CNV1's
+    queue when the program starts again from main, and the PLC presents part 2. The program pulses c1RemAllPObj at its
+    start (and skips any part of the PLC's seen before then), so WaitWObj connects part 2's object; without the pulse
+    it connects part 1's and grips on the wrong object."""
+    one = next(c for c in cases(cell) if c.category == "constant_speed")
+    first_part, second = one.parts[0], one.parts[1]
+    case = replace(
+        one,
+        category="restart_after_ack",
+        before=(replace(first_part, seq=1, seen_s=-3.0),),
+        parts=(replace(second, seq=2, seen_s=2.0),),
+    )
+    program = first(cell, "abb", "conveyor")
+    assert "    PulseDO c1RemAllPObj;\n" in program.files[0].text
+    row = run_cases(cell, replace(program, row=0), [case], 600_000, False)
+    assert row.mismatches == 0 and row.figures.picked == 1, row.first_mismatches
+    kept = edited(program, lambda text: text.replace("    PulseDO c1RemAllPObj;\n", ""))
+    row = run_cases(cell, replace(kept, row=0), [case], 600_000, False)
+    assert row.mismatches == 1 and "while the work object follows part 1" in row.first_mismatches[0], (
+        row.first_mismatches
+    )

@@ -44,7 +44,15 @@ def settings(cell, target) -> UnitSettings:
         width_mm=end - start,
         min_gap_mm=pick.min_gap_mm,
         max_mm=belt.camera_offset_mm + end + follow_mm(cell, target.name),
+        remove_all=_remove_all(cell, target),
     )
+
+
+def _remove_all(cell, target) -> str | None:
+    """The unit's signal that empties its queue (targets/<t>.toml [program.conveyor] unit_signals), by its name."""
+    pattern = facts(target).get("unit_signals", {}).get("remove_all")
+    name = conveyor_of(cell).pick.unit[target.name]
+    return None if pattern is None else pattern.format(n=_number(name))
 
 
 def margin_mm(cell) -> float:

@@ -80,6 +80,7 @@ class BeltCase:
     grip_s: float = 0.0
     stop_s: float = 0.0  # the line's cycle stop not before this (s)
     pulses: tuple = ()  # trigger pulses no part made (a double pulse, a part the PLC dropped): moments (s)
+    before: tuple = ()  # parts a stopped run took from the PLC before this start (their objects still queued)
 
     @property
     def scenario(self) -> str:
@@ -178,7 +179,7 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     wiring = pick.encoder_inputs.get(target_name)  # the installation: A and B as the cell says
     unit = None
     if target_name in pick.unit:  # the belt as the controller's mechanical unit (its tracking option)
-        unit = TrackingUnit(native.settings(cell, target), case.belt, list(case.parts))
+        unit = TrackingUnit(native.settings(cell, target), case.belt, [*case.before, *case.parts])
     line = BeltLine(
         case.belt,
         list(case.parts),

@@ -21,11 +21,11 @@ MODULE cnv_belt_pick
   !   start window width           250.0 mm (the pick window; past its end an object leaves the queue)
   !   minimum distance             100.0 mm (a sync closer to the last queued object is ignored)
   !   tracking range, maximum      1329.7 mm past the sync switch (the window's end and the follow)
-  ! The program empties no queue: the PLC's queue and the unit's are fed by the same camera trigger and stay
-  ! in step; a part the PLC presents that the unit's queue did not take (too close to the one before) or
-  ! has dropped (past the window's end) is skipped with a message, and so is one lost while WaitWObj waited.
-  ! The unit's queue is emptied by its signal c1RemAllPObj (the encoder interface's, as the option's
-  ! documents name it, to be checked there): pulse it only when the PLC's queue is emptied too, or the two part.
+  ! The PLC's queue and the unit's are fed by the same camera trigger and stay in step: at its start the program
+  ! empties the unit's queue (a pulse of its signal c1RemAllPObj, the encoder interface's, as the
+  ! option's documents name it, to be checked there) and skips every part of the PLC's seen before then; a part the
+  ! PLC presents that the unit's queue did not take (too close to the one before) or has dropped (past the window's
+  ! end) is skipped with a message, and so is one lost while WaitWObj waited.
   !
   ! The camera sees each part cross its line; the PLC queues it with the encoder's count at that moment and
   ! presents the oldest one on 16-bit group inputs of the I/O configuration: giCnvSeq its number,
@@ -125,6 +125,10 @@ MODULE cnv_belt_pick
   ! the count of the last part the unit's queue took (a part closer than CNV_MIN_GAP to it is not in it)
   LOCAL VAR num cnv_prev;
   LOCAL VAR bool cnv_queued := FALSE;
+  ! the PLC's count when the program emptied the unit's queue at its start; TRUE while a part the PLC queued before
+  ! then may still come (until the belt has carried any such part past the window's end)
+  LOCAL VAR num cnv_flushed;
+  LOCAL VAR bool cnv_flushing := FALSE;
 
   PROC main()
     ! last: the number of the last part taken, as the ack output holds it (GOutput): a restart does not
@@ -162,6 +166,12 @@ MODULE cnv_belt_pick
     ActUnit CNV1;
     ! a connection a stop left: dropped (the arm no longer follows an object)
     DropWObj cnv_track;
+    ! both queues emptied at the start: the unit's (c1RemAllPObj: objects not connected, e.g. one a stop
+    ! before WaitWObj left after the PLC's part was taken), and of the PLC's every part seen before that moment (by
+    ! the PLC's count then), each skipped with a message: the two stay in step
+    PulseDO c1RemAllPObj;
+    cnv_flushed := GInput(giCnvEncoder);
+    cnv_flushing := TRUE;
     IF away THEN
       ! where it stands, in joints (the first motion), back out along the tool's axis, the safe pose
       MoveAbsJ now\NoEOffs, v200, fine, cnv_tool;
@@ -220,6 +230,15 @@ MODULE cnv_belt_pick
     cnv_queued := TRUE;
     IF cnv_y(seen) > CNV_END + CNV_MARGIN THEN
       TPWrite "conveyor: skipped (past the window's end): part " \Num:=seq;
+      RETURN;
+    ENDIF
+    IF cnv_flushing AND cnv_unwind(GInput(giCnvEncoder) - cnv_flushed) / CNV_COUNTS_PER_MM > CNV_END - CNV_CAMERA_Y THEN
+      ! any part seen before the start is past the window's end by now
+      cnv_flushing := FALSE;
+    ENDIF
+    IF cnv_flushing AND cnv_unwind(cnv_flushed - seen) / CNV_COUNTS_PER_MM >= 0 THEN
+      ! seen before the unit's queue was emptied at the start: its object is gone
+      TPWrite "conveyor: queued before the start, skipped: part " \Num:=seq;
       RETURN;
     ENDIF
     ! wait above the window's start, across from the part
