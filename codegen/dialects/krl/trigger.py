@@ -7,7 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 from lark import Tree
 
-from codegen.dialects.core.machine import Frame, SignalEvent, ramp_distance_at, ramp_time_at
+from codegen.dialects.core.machine import Frame, SignalEvent
+from codegen.dialects.core.ramp import ramp_distance_at, ramp_time_at
 from codegen.dialects.core.values import RunError
 
 # KSS 8 programming manual for system integrators, "Path-related switching actions (TRIGGER)":
