@@ -124,6 +124,7 @@ class UnitSettings:
     width_mm: float
     min_gap_mm: float
     max_mm: float
+    remove_all: str | None = None  # the encoder interface's output that empties the queue of objects not connected
 
 
 @dataclass
@@ -144,6 +145,7 @@ class TrackingUnit:
     connections: list = field(default_factory=list)  # (seq, t) of each connection
     drops: list = field(default_factory=list)  # (seq, t)
     lost_waiting: list = field(default_factory=list)  # (seq, t): lost while the program waited for it
+    flushes: list = field(default_factory=list)  # moments the queue was emptied (remove_all set)
     _queue: list | None = None
 
     @property
@@ -205,6 +207,13 @@ class TrackingUnit:
             return part.seq, due, True
         return None, math.inf, False
 
+    def remove_all(self, t: float) -> None:
+        """The queue emptied at t (its remove_all signal): every object synced by then and not connected leaves it."""
+        self.flushes.append(t)
+        for part, _count in self.queued():
+            if part.seen_s <= t and part is not self.connected:
+                self.done.add(part.seq)
+
     def drop(self, t: float) -> None:
         if self.connected is not None:
             self.drops.append((self.connected.seq, t))
@@ -233,8 +242,14 @@ class BeltLine:
     latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus)
     trigger: str | None = None  # the controller's input the camera's trigger is wired to (a pulse per part)
     stop_s: float = 0.0  # the line's cycle stop not before this (s): with no part to come, the program waits till then
+    # the controller beside the belt: each sleep of the program (a pass of a polling loop) ends this much later than it
+    # asks (the pass's statements, the interpreter's cycle): a program that counts its passes as exact sleeps
+    # measures the belt's speed wrong (Machine.elapse)
+    sleep_overhead_s: float = 0.0
+    pulses: tuple = ()  # moments the camera's trigger pulses with no part queued (a double pulse, a dropped part)
     _presented: int = 0
     _stopped: bool = False
+    _outputs_seen: int = 0
 
     def encoder(self, index: int, a: int | None = None, b: int | None = None):
         """The encoder on the controller's decoder `index`, read through the inputs a (A) and b (B)."""
@@ -252,8 +267,20 @@ class BeltLine:
 
     def live(self, name: str, t: float):
         if name == self.trigger:  # on for TRIGGER_S from each part's moment at the camera's line
-            return any(part.seen_s <= t < part.seen_s + TRIGGER_S for part in self.parts)
+            moments = [*(part.seen_s for part in self.parts), *self.pulses]
+            return any(seen <= t < seen + TRIGGER_S for seen in moments)
         return self.bus.live(self.belt, name, max(0.0, t - self.latency_s))
+
+    def _flush(self, machine) -> None:
+        """The unit's queue emptied at each rise of its remove_all output the program set since the last look."""
+        name = None if self.unit is None else self.unit.settings.remove_all
+        if name is None:
+            return
+        outputs = machine.trace.outputs
+        for event in outputs[self._outputs_seen :]:
+            if event.name == name and event.value:
+                self.unit.remove_all(event.time)
+        self._outputs_seen = len(outputs)
 
     def _next(self):
         return self.parts[self._presented] if self._presented < len(self.parts) else None
@@ -267,6 +294,7 @@ class BeltLine:
         return max(part.seen_s, machine.clock)
 
     def on_wait(self, machine, where: str) -> bool:
+        self._flush(machine)
         if self._presented and self._presented not in self.taken and self.bus.ack(machine) == self._presented:
             self.taken[self._presented] = machine.clock
         if self._presented and self._presented not in self.taken:

@@ -88,7 +88,7 @@ def test_a_slow_grip_on_an_intercept_is_refused_by_the_timing_budget(tmp_path, g
     capture. The intercept's timing budget (codegen/kinds/conveyor/budget.py) holds the belt's speed change
     over the lead, which the grip lengthens."""
     says = error_of(edited(tmp_path, ("grip_s = [0.045, 0.055]", f"grip_s = {grip}")))
-    assert "conveyor.pick.capture_mm: the intercept's timing budget (kuka) at the belt's 60 mm/s is" in says
+    assert "conveyor.pick.capture_mm: the intercept's timing budget (kuka) at the belt's 40 mm/s is" in says
     assert "the belt's speed change (10 mm/s2) over the lead" in says
 
 
@@ -97,6 +97,7 @@ def test_a_natively_tracking_target_is_not_held_to_the_intercepts_budget(tmp_pat
         tmp_path,
         ('kuka = "intercept", ', ""),
         ("kuka = 19, ", ""),
+        ("timer = { kuka = 1 }", ""),
         ("grip_s = [0.045, 0.055]", "grip_s = 2.0"),
     )
     assert conveyor_of(load_cell(path)).pick.grip_s == (2.0, 2.0)

@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 from support.programs import edited, first
 
+from codegen.controllers import get_target
 from codegen.kinds.conveyor.program import STANDS, lead_seconds, no_part
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.verify import cases
@@ -93,13 +94,13 @@ def test_a_program_that_moves_while_the_belt_stands_fails_verify(cell):
     assert row.mismatches == 1 and "while the belt stood" in row.first_mismatches[0], row.first_mismatches
 
 
-def _intercept_stop(cell, before_mm: float):
+def _intercept_stop(cell, before_mm: float, target: str = "kuka"):
     """The belt_stands case with the belt stopping when the part is before_mm upstream of where an intercepting arm
     starts down (at the belt's speed, the lead's and the count's age's middles)."""
     conveyor, pick = conveyor_of(cell), conveyor_of(cell).pick
     case = next(c for c in cases(cell) if c.category == "belt_stands")
     v = case.belt.speed_mm_s
-    trigger = pick.intercept_mm - v * (lead_seconds(cell) + pick.mean("count_latency_s"))
+    trigger = pick.intercept_mm - v * (lead_seconds(cell, get_target(target)) + pick.mean("count_latency_s"))
     at = case.parts[0].seen_s + (trigger - before_mm + conveyor.camera_offset_mm) / v
     return replace(case, category=f"belt_stands_{before_mm:g}", belt=replace(case.belt, stops=((at, 6.0),)))
 
@@ -116,12 +117,16 @@ def test_an_intercept_stopped_near_its_descent_picks_after_the_restart_or_skips_
 
 
 def test_without_the_fresh_measure_after_a_stand_the_intercept_misses(cell):
-    """The belt stops 2 mm before the arm would come down: a program that goes on with the speed it measured while the
+    """The belt stops 1 mm before the arm would come down: a program that goes on with the speed it measured while the
     belt stood (zero) comes down once a later measure catches up, too late: it meets the part off the gripper's capture
     range. With the fresh measure it skips the part as too late (the test above)."""
-    fresh = "        Y1 = CNV_Y(SEEN)\n        WAIT SEC 0.100\n        Y = CNV_Y(SEEN)\n        V = (Y - Y1) / 0.100\n"
+    fresh = (
+        "        Y1 = CNV_Y(SEEN)\n        T1 = $TIMER[1]\n        WAIT SEC 0.100\n        Y = CNV_Y(SEEN)\n"
+        "        T2 = $TIMER[1]\n        V = (Y - Y1) * 1000.0 / (T2 - T1)\n"
+    )
     source = edited(first(cell, "kuka", "conveyor"), lambda text: text.replace(fresh, ""))
-    row = _row(cell, source, [_intercept_stop(cell, 2.0)])
+    assert _row(cell, first(cell, "kuka", "conveyor"), [_intercept_stop(cell, 1.0)]).mismatches == 0
+    row = _row(cell, source, [_intercept_stop(cell, 1.0)])
     assert row.mismatches == 1 and "mm along the belt" in row.first_mismatches[0], row.first_mismatches
 
 
@@ -136,7 +141,7 @@ def test_abbs_intercept_waits_out_a_standing_belt_too(tmp_path):
     path = tmp_path / "belt_pick.toml"
     path.write_text(text)
     cell = load_cell(path)
-    chosen = [*_waits(cell), _intercept_stop(cell, 20.0), _intercept_stop(cell, 2.0)]
+    chosen = [*_waits(cell), _intercept_stop(cell, 20.0, "abb"), _intercept_stop(cell, 2.0, "abb")]
     row = _row(cell, first(cell, "abb", "conveyor"), chosen)
     assert row.cases == 4 and row.mismatches == 0, row.first_mismatches
     assert (row.figures.picked, row.figures.skipped) == (2, 1)

@@ -11,6 +11,7 @@ from typing import Protocol
 import numpy as np
 
 from codegen.dialects.core.arm import ArmState
+from codegen.dialects.core.ramp import ramp_seconds
 from codegen.dialects.core.shared import SHARE_FROM, SharedGlobals
 from codegen.dialects.core.trace import MoveEvent, SignalEvent, Trace
 from codegen.dialects.core.values import Halt, LimitReached, RunError, Signal, StepLimitError
@@ -57,17 +58,20 @@ class Device(Protocol):
         ...
 
 
-def travel_seconds(start: np.ndarray | None, end: np.ndarray | None, speed_mm_s: float | None) -> float:
+def travel_seconds(
+    start: np.ndarray | None, end: np.ndarray | None, speed_mm_s: float | None, accel_mm_s2: float | None = None
+) -> float:
     """How long a move takes in the interpreter's clock: the TCP's straight-line distance over the
-    programmed TCP speed (a pure rotation takes none). A move whose start or end pose is not known
-    while the program runs (the first move, from wherever the arm stands; a joint target, whose pose
-    comes from the arm's kinematics when the run ends) takes UNKNOWN_TRAVEL_S. Enough to order waits,
-    timeouts and a photo against the motion."""
+    programmed TCP speed (a pure rotation takes none); with a path acceleration (a dialect that knows the
+    one in force), from standstill to standstill: a trapezoid, or a triangle where the move is too short to
+    reach the speed (ramp_seconds). A move whose start or end pose is not known while the program runs (the
+    first move, from wherever the arm stands; a joint target, whose pose comes from the arm's kinematics when
+    the run ends) takes UNKNOWN_TRAVEL_S. Enough to order waits, timeouts and a photo against the motion."""
     if not speed_mm_s or speed_mm_s <= 0:
         return 0.0
     if start is None or end is None:
         return UNKNOWN_TRAVEL_S
-    return float(np.linalg.norm(end[:3, 3] - start[:3, 3])) / speed_mm_s
+    return ramp_seconds(float(np.linalg.norm(end[:3, 3] - start[:3, 3])), speed_mm_s, accel_mm_s2)
 
 
 class ProgramCode(Protocol):
@@ -147,6 +151,9 @@ class Machine:
         self.arm_until = 0.0
         self.last_move: MoveEvent | None = None
         self.signals: dict[str, bool] = {}  # digital inputs and outputs by name (devices set the inputs)
+        # how much later than it asks each sleep of the program ends (a device that models the controller's loop
+        # passes: codegen/sim/belt.py BeltLine; 0: exactly)
+        self.sleep_overhead_s = max((float(getattr(d, "sleep_overhead_s", 0.0)) for d in devices), default=0.0)
         # a controller's belt tracking: an object whose offset_mm(t) (3 mm, base frame) lies over every
         # commanded pose while it is on (a dialect's tracking built-ins), None: off
         self.tracking = None
@@ -173,6 +180,7 @@ class Machine:
         seconds: float | None = None,
         via: np.ndarray | None = None,
         path=None,
+        accel_mm_s2: float | None = None,
     ) -> None:
         """Record a commanded move. It starts when the previous one ends and takes travel_seconds;
         the program waits for it (the clock reaches its end) unless the controller runs ahead of its
@@ -180,7 +188,8 @@ class Machine:
         until an instruction that waits for it (Machine.arrive). seconds: the move's duration where the
         caller knows it (a move relative to a tracked belt); via: a circular move's circle point (its
         duration is the arc's length over the speed); path: the move's own path where the dialect knows it
-        better (codegen/dialects/core/watch.py Path: a circle whose orientation turns)."""
+        better (codegen/dialects/core/watch.py Path: a circle whose orientation turns); accel_mm_s2: a straight
+        move's path acceleration where the dialect models it (travel_seconds)."""
         self.trace.moves.append(event)
         start = max(self.clock, self.arm_until)
         if seconds is None and path is not None and speed_mm_s:
@@ -191,7 +200,7 @@ class Machine:
 
                 seconds = Path(self._last_tcp2base, event.tcp2base, via).length / speed_mm_s
             else:
-                seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s)
+                seconds = travel_seconds(self._last_tcp2base, event.tcp2base, speed_mm_s, accel_mm_s2)
         self.arm_until = start + seconds
         event.start_time, event.end_time = start, self.arm_until
         if self.watching is not None:
@@ -289,8 +298,9 @@ class Machine:
 
     def elapse(self, seconds: float, where: str) -> None:
         """The program sleeps (WAIT SEC, sleep, WaitTime): the arm finishes its moves first (where
-        the controller's sleep waits for it: callers decide), the devices act at every event in between."""
-        end = self.clock + max(0.0, seconds)
+        the controller's sleep waits for it: callers decide), the devices act at every event in between; a sleep
+        ends sleep_overhead_s later than it asks (where a device models the controller so)."""
+        end = self.clock + max(0.0, seconds) + (self.sleep_overhead_s if seconds > 0 else 0.0)
         self.wait(where)
         while True:
             due = self.next_device_time()

@@ -60,6 +60,13 @@ def tcp_speed(extra: dict) -> float:
     return extra.get("$VEL.CP", DEFAULT_VEL_CP) * 1000.0
 
 
+def tcp_accel(extra: dict) -> float | None:
+    """A LIN's path acceleration in mm/s2: $ACC.CP (m/s2: KSS 8 System Variables, $ACC) as the program or
+    BAS(#INITMOV) set it (DEF_ACC_CP), None while nothing set it (the clock then counts no ramp)."""
+    acc = extra.get("$ACC.CP")
+    return None if acc is None else acc * 1000.0
+
+
 def system_inputs(machine) -> dict | None:
     """Set the inputs that name the controller's numbered data (BASE_DATA[n], TOOL_DATA[n], LOAD_DATA[n])
     in machine.extra; the other inputs, or None when there are none of those."""
@@ -206,18 +213,20 @@ def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
         event = MoveEvent(kind, tcp2base, line, settings)
         fr.m.arm.to_pose(event, where, *motion_rule(kind, pose, fr.m.arm, where))
         record_base(fr.m, event, base)
-        commanded(fr.m, event, tcp_speed(extra))
+        commanded(fr.m, event, tcp_speed(extra), accel=tcp_accel(extra) if kind == "linear" else None)
 
     return run
 
 
-def commanded(m, event: MoveEvent, speed: float, via=None) -> None:
+def commanded(m, event: MoveEvent, speed: float, via=None, accel: float | None = None) -> None:
     """The move recorded: the advance run goes on (unless $ADVANCE is 0: then the program waits for each
-    motion); the tool it was planned with kept ($POS_ACT), the TRIGGERs on it switched."""
+    motion); the tool it was planned with kept ($POS_ACT), the TRIGGERs on it switched. accel: a LIN's path
+    acceleration (mm/s2): its time a trapezoid from standstill to standstill (an approximated LIN's blend,
+    which does not stop, is not modelled: its time is the longer one)."""
     extra = m.extra
     triggers = "TRIGGERS" in extra
     t0 = max(m.clock, m.arm_until) if triggers else 0.0
-    m.move(event, speed, runs_ahead=extra.get("$ADVANCE") != 0, via=via)
+    m.move(event, speed, runs_ahead=extra.get("$ADVANCE") != 0, via=via, accel_mm_s2=accel)
     extra["TOOL_AT_MOVE"] = m.arm.tcp2flange
     if triggers:
         trigger.fire(m, event, t0, speed)

@@ -8,6 +8,7 @@ import numpy as np
 from lark import Tree
 
 from codegen.dialects.core.machine import Frame, SignalEvent
+from codegen.dialects.core.ramp import ramp_distance_at, ramp_time_at
 from codegen.dialects.core.values import RunError
 
 # KSS 8 programming manual for system integrators, "Path-related switching actions (TRIGGER)":
@@ -112,6 +113,8 @@ def fire(m, event, t0: float, speed_mm_s: float) -> None:
     """The triggers pending for this motion (event, from t0 to its end_time) switch their outputs."""
     triggers = m.extra.pop("TRIGGERS", ())
     t1 = event.end_time
+    accel = event.settings.get("acc_cp") if event.kind == "linear" else None  # a LIN's ramps ($ACC.CP, m/s2)
+    accel = None if accel is None else accel * 1000.0
     start = m.trace.moves[-2].tcp2base if len(m.trace.moves) > 1 else None
     end = event.tcp2base
     length = float(np.linalg.norm(end[:3, 3] - start[:3, 3])) if start is not None and end is not None else None
@@ -130,11 +133,11 @@ def fire(m, event, t0: float, speed_mm_s: float) -> None:
                     f"{trigger.where}: TRIGGER WHEN PATH = {trigger.at:g}: the switching point lies "
                     "outside its motion (not modelled)"
                 )
-            t = t0 + mm / speed_mm_s
+            t = t0 + ramp_time_at(mm, length, speed_mm_s, accel)
         t += trigger.delay_ms / 1000.0
         if t < t0 - 1e-9:
             raise RunError(f"{trigger.where}: TRIGGER: the switching point lies before its motion (not modelled)")
-        pose = _pose_at(start, end, t0, t1, t)
+        pose = _pose_at(start, end, t0, t1, t, speed_mm_s, accel)
         if isinstance(trigger.store, tuple):
             _call(m, trigger, t)
             continue
@@ -147,12 +150,17 @@ def fire(m, event, t0: float, speed_mm_s: float) -> None:
             m.trace.outputs.append(SignalEvent(name, value, line, t, t < t1, len(m.trace.moves), pose))
 
 
-def _pose_at(start, end, t0: float, t1: float, t: float):
+def _pose_at(start, end, t0: float, t1: float, t: float, speed_mm_s: float = 0.0, accel: float | None = None):
+    """The TCP at t on a straight move from t0 to t1 (its ramps, where the move has an acceleration)."""
     if end is None:
         return None
     if start is None or t >= t1 or t1 <= t0:
         return end if t >= t1 else start
-    s = max(0.0, (t - t0) / (t1 - t0))
+    length = float(np.linalg.norm(end[:3, 3] - start[:3, 3]))
+    if accel and speed_mm_s and length > 0.0:
+        s = ramp_distance_at(t - t0, length, speed_mm_s, accel) / length
+    else:
+        s = max(0.0, (t - t0) / (t1 - t0))
     pose = end.copy()
     pose[:3, 3] = start[:3, 3] + s * (end[:3, 3] - start[:3, 3])
     return pose

@@ -31,7 +31,10 @@ from codegen.dialects.rapid.types import QUAT_KEYS, num, type_text, vec
 #   MinimumDistance, MaximumDistance of a conveyor; ConnectedObjectPosition.
 # Modelled so (the simulated unit: codegen/sim/belt.py TrackingUnit): the unit moves its base frame along its own
 # x axis by the connected object's travel since its sync (its position; 0 with none connected, as after DropWObj);
-# a coordinated work object's frame is unit frame . Trans(position, 0, 0) . uframe . oframe. WaitWObj connects the
+# a coordinated work object's frame is unit frame . Trans(position, 0, 0) . oframe: "When coordinated external axes
+# are used (ufprog is FALSE), the user coordinate system is defined in the system parameters" (ABB, RAPID reference /
+# Basic Characteristics, wobjdata, uframe), so the program's uframe is not used (the MultiMove manual's coordinated
+# work object has an identity uframe and its offset in the oframe). WaitWObj connects the
 # oldest queued object once it is inside the start window (and \RelDist past the sync point); an object that left
 # the start window while WaitWObj waited for it raises ERR_CNV_DROPPED (the error's name for this case is not
 # confirmed: the generated programs handle any error of WaitWObj as the part lost); WaitWObj on a work object
@@ -130,7 +133,8 @@ def move(compiler, fr, kind: str, wobj: Record, args, kwargs, where: str) -> Non
         target = compiler.coerce("ROBTARGET", target, where)
     t, q = vec(target["TRANS"], "XYZ"), vec(target["ROT"], QUAT_KEYS)
     posemath.check_finite(t + q, where, "move target")
-    relative = frame_matrix(wobj["UFRAME"]) @ frame_matrix(wobj["OFRAME"]) @ posemath.matrix_from_abb(t + q)
+    # the user frame is the unit's (its system parameters): the program's uframe is not used; the object frame in it
+    relative = frame_matrix(wobj["OFRAME"]) @ posemath.matrix_from_abb(t + q)
     follow = Follow(unit, relative)
     machine = fr.m
     start = max(machine.clock, machine.arm_until)

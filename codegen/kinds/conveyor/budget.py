@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from codegen.controllers import get_target
+from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.program import POLL_S, SPEED_WINDOW_S, lead_seconds
 from codegen.kinds.conveyor.section import conveyor_of
 
@@ -22,19 +24,21 @@ class Term:
         return self.per_speed * speed + self.fixed
 
 
-def terms(cell) -> list[Term]:
-    """The intercepting program's errors where the gripper meets the part (mm, at a belt speed v):
+def terms(cell, target: str) -> list[Term]:
+    """The intercepting program's errors on a target where the gripper meets the part (mm, at a belt speed v):
     - it reads the encoder every POLL_S: it starts down up to one read late (v POLL_S);
     - the count's age through the PLC and the fieldbus (count_latency_s): the program adds its middle; half
       its spread remains (v spread / 2); the arm's start after the move instruction (motion_start_s) and the
       gripper's time to hold (grip_s) likewise, their middles in the lead;
+    - the speed's time, measured with the controller's timer in whole units (KUKA $TIMER: ms): one unit over the
+      estimate's window, over the horizon it predicts (v horizon unit / window);
     - the count's resolution: a read in whole counts (1 / |E|);
     - the speed estimate: a difference of two reads in whole counts over the estimate's window (at most one
       count over SPEED_READS reads), over the horizon it predicts (the lead and the count's age);
     - the belt's speed change (belt_accel_mm_s2): the estimate is half its window old when the arm starts
       down, and the speed goes on changing over the lead (a (window / 2 + read) horizon + a horizon^2 / 2)."""
     pick, e = conveyor_of(cell).pick, abs(conveyor_of(cell).counts_per_mm)
-    horizon = lead_seconds(cell) + pick.mean("count_latency_s")
+    horizon = lead_seconds(cell, get_target(target)) + pick.mean("count_latency_s")
     window = min(SPEED_WINDOW_S, SPEED_READS * POLL_S)
     a = pick.belt_accel_mm_s2
 
@@ -42,8 +46,11 @@ def terms(cell) -> list[Term]:
         low, high = getattr(pick, key)
         return 0.5 * (high - low)
 
+    # a time measured with a timer in whole units (the speed over the window's measured time): off by one unit
+    unit = facts(get_target(target)).get("timer_s", 0.0)
     return [
         Term(f"the encoder read every {POLL_S:g} s", POLL_S),
+        Term(f"the speed's time measured in whole {unit:g} s over {window:g} s", horizon * unit / window),
         Term(f"the count's age {_span(pick.count_latency_s)} s (PLC and fieldbus)", spread("count_latency_s")),
         Term(f"the arm's start {_span(pick.motion_start_s)} s after the move", spread("motion_start_s")),
         Term(f"the gripper's hold {_span(pick.grip_s)} s", spread("grip_s")),
@@ -62,16 +69,16 @@ def _span(interval: tuple[float, float]) -> str:
     return f"{low:g}" if low == high else f"{low:g}-{high:g}"
 
 
-def total_mm(cell, speed: float | None = None) -> float:
+def total_mm(cell, target: str, speed: float | None = None) -> float:
     pick = conveyor_of(cell).pick
     v = pick.belt_speed_max_mm_s if speed is None else speed
-    return sum(term.mm(v) for term in terms(cell))
+    return sum(term.mm(v) for term in terms(cell, target))
 
 
-def allowed_speed(cell) -> float:
-    """The fastest belt the budget holds at within capture_mm (0: none)."""
+def allowed_speed(cell, target: str) -> float:
+    """The fastest belt the budget holds at within capture_mm on a target (0: none)."""
     pick = conveyor_of(cell).pick
-    parts = terms(cell)
+    parts = terms(cell, target)
     fixed, slope = sum(t.fixed for t in parts), sum(t.per_speed for t in parts)
     return max(0.0, (pick.capture_mm - fixed) / slope) if slope > 0 else float("inf")
 
@@ -87,16 +94,18 @@ def check(ctx, cell) -> None:
     if not targets:
         return
     v = pick.belt_speed_max_mm_s
-    total = total_mm(cell)
-    if total <= pick.capture_mm:
+    for target in targets:  # each intercepting target's lead (its program's path acceleration)
+        total = total_mm(cell, target)
+        if total <= pick.capture_mm:
+            continue
+        largest = sorted(terms(cell, target), key=lambda term: term.mm(v), reverse=True)[:3]
+        shown = "; ".join(f"{term.what}: {term.mm(v):.2f} mm" for term in largest)
+        allowed = allowed_speed(cell, target)
+        speed = f"at most {allowed:.0f} mm/s" if allowed >= 1.0 else "no belt speed"
+        ctx.fail(
+            "conveyor.pick.capture_mm",
+            f"the intercept's timing budget ({target}) at the belt's {v:g} mm/s is {total:.2f} mm, over "
+            f"capture_mm {pick.capture_mm:g} mm; largest: {shown}; within it the belt may run {speed} "
+            "(belt_speed_max_mm_s)",
+        )
         return
-    largest = sorted(terms(cell), key=lambda term: term.mm(v), reverse=True)[:3]
-    shown = "; ".join(f"{term.what}: {term.mm(v):.2f} mm" for term in largest)
-    allowed = allowed_speed(cell)
-    speed = f"at most {allowed:.0f} mm/s" if allowed >= 1.0 else "no belt speed"
-    ctx.fail(
-        "conveyor.pick.capture_mm",
-        f"the intercept's timing budget ({', '.join(targets)}) at the belt's {v:g} mm/s is {total:.2f} mm, over "
-        f"capture_mm {pick.capture_mm:g} mm; largest: {shown}; within it the belt may run {speed} "
-        "(belt_speed_max_mm_s)",
-    )

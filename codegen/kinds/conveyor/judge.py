@@ -6,7 +6,18 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
-from codegen.kinds.conveyor.program import EARLY, LOST, SKIPPED, STOPPED, TOO_CLOSE, TOO_LATE, lead_seconds
+from codegen.kinds.conveyor.native import margin_mm
+from codegen.kinds.conveyor.program import (
+    EARLY,
+    FLUSHED,
+    LOST,
+    NOT_HELD,
+    SKIPPED,
+    STOPPED,
+    TOO_CLOSE,
+    TOO_LATE,
+    lead_seconds,
+)
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.sim.belt import part_pose, part_y
@@ -14,7 +25,7 @@ from codegen.sim.bus import SCALE
 from codegen.verify.checks import TOLERANCES
 from codegen.verify.checks import pose_errors as _pose_errors
 
-SKIPS = (SKIPPED, TOO_LATE, TOO_CLOSE, LOST, EARLY)  # the messages of a part given up
+SKIPS = (SKIPPED, TOO_LATE, TOO_CLOSE, LOST, EARLY, NOT_HELD, FLUSHED)  # the messages of a part given up
 
 
 def tolerances_mm(cell, target) -> tuple[float, float]:
@@ -130,6 +141,13 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     skipped, too_late = _numbered(trace, SKIPPED), _numbered(trace, TOO_LATE)
     unit = getattr(line, "unit", None)
     too_close, lost, early = _numbered(trace, TOO_CLOSE), _numbered(trace, LOST), _numbered(trace, EARLY)
+    flushed = _numbered(trace, FLUSHED)
+    for seq, t in flushed.items():  # skipped as queued before the unit's queue was emptied at the start
+        if unit is None or not unit.flushes or parts[seq].seen_s > unit.flushes[0]:
+            return f"part {seq} given up as queued before the start, yet it was not", 0.0, 0.0
+        # the program asks first whether a part is past the window's end (by the PLC's count, with its margin)
+        if counted_y(cell, case, parts[seq], t) > pick.window_mm[1] + margin_mm(cell) + one_count:
+            return f"part {seq} given up as queued before the start, yet it was past the window's end", 0.0, 0.0
     for seq in early:  # no count of the robot's own: it was seen before the program started
         if parts[seq].seen_s >= 0.0:
             return f"part {seq} given up as seen before the program started, yet the camera saw it after", 0, 0
@@ -143,7 +161,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
                 0,
                 0,
             )
-    for seq, t in {**skipped, **too_late}.items():  # given up after the arm moved for it: it was in the window
+    for seq, t in {**skipped, **too_late, **lost}.items():  # given up after the arm moved for it: it was in the window
         read = line.taken.get(seq)
         moved = read is not None and any(read < m.end_time <= t for m in trace.moves)
         if moved and counted_y(cell, case, parts[seq], read) > end + one_count:  # it was gone already when read
@@ -151,10 +169,10 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
             return f"part {seq} was past the window's end when read ({y:.1f} mm), yet the arm moved for it", 0, 0
     fastest = case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
     for seq, t in too_late.items():  # already too close to the intercept point to come down in time
-        latest = pick.intercept_mm - lead_seconds(cell) * fastest - pick.capture_mm
+        latest = pick.intercept_mm - lead_seconds(cell, j.target) * fastest - pick.capture_mm
         if part_y(case.belt, parts[seq], j.camera_y, t) < latest:
             return f"part {seq} given up as too late, in time for the intercept", 0.0, 0.0
-    given_up = {*skipped, *too_late, *too_close, *lost, *early}
+    given_up = {*skipped, *too_late, *too_close, *lost, *early, *flushed}
     picked = [p for p in case.parts if p.seq not in given_up]
     closes = [o for o in trace.outputs if o.name == output and o.value == cell.io.value]
     opens = [o for o in trace.outputs if o.name == output and o.value != cell.io.value][1:]  # after the first

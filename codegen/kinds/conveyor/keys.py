@@ -152,6 +152,12 @@ PICK = Table(
         "min_gap_mm": Key(
             "number", "how close a part may follow the one before and still be picked", unit="mm", low=0.0, default=0.0
         ),
+        "timer": Key(
+            "map",
+            "per intercepting target that needs it (KUKA: $TIMER[n]): the controller's timer the program measures the "
+            "belt's speed over (one no other program uses)",
+            values=Key("integer", "a timer's number", low=1),
+        ),
         "unit": Key(
             "map",
             "per target that needs it (ABB native): the belt's mechanical unit",

@@ -13,8 +13,10 @@ from codegen.model.cell import TaughtPose
 from codegen.poses import zyx_deg_from_rotmat
 from codegen.sim.belt import UnitSettings
 
-# The coordinated work object's user frame in the unit's frame (x along the travel, z up): turned -90 deg about z,
-# so that the program's coordinates are the belt frame's (x across the belt, y along the travel, z up).
+# The coordinated work object's object frame in its user frame, the unit's frame (x along the travel, z up: the
+# controller takes a coordinated work object's user frame from the unit's system parameters, not from the program's
+# uframe): turned -90 deg about z, so that the program's coordinates are the belt frame's (x across the belt, y along
+# the travel, z up).
 BELT_IN_UNIT = np.array([[0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
 
 
@@ -42,7 +44,15 @@ def settings(cell, target) -> UnitSettings:
         width_mm=end - start,
         min_gap_mm=pick.min_gap_mm,
         max_mm=belt.camera_offset_mm + end + follow_mm(cell, target.name),
+        remove_all=_remove_all(cell, target),
     )
+
+
+def _remove_all(cell, target) -> str | None:
+    """The unit's signal that empties its queue (targets/<t>.toml [program.conveyor] unit_signals), by its name."""
+    pattern = facts(target).get("unit_signals", {}).get("remove_all")
+    name = conveyor_of(cell).pick.unit[target.name]
+    return None if pattern is None else pattern.format(n=_number(name))
 
 
 def margin_mm(cell) -> float:
@@ -75,7 +85,7 @@ def context(cell, target, emitter) -> dict:
         out["unit"] = {
             "name": emitter.reserve(unit.name, "the belt's mechanical unit"),  # one of the facts' units
             "frame": _pose(emitter, unit.frame, "unit"),
-            "uframe": _pose(emitter, BELT_IN_UNIT, "uframe"),
+            "oframe": _pose(emitter, BELT_IN_UNIT, "oframe"),
             "counts_per_m": number(unit.counts_per_m, 0),
             "start_mm": number(unit.start_mm, 1),
             "width_mm": number(unit.width_mm, 1),

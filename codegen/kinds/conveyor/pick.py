@@ -57,6 +57,7 @@ class Pick:
     part_size_mm: tuple[float, float, float] | None = None  # the part as a box along the tool frame's axes (inertia)
     no_part_s: float = 30.0  # the wait for the next part: a message after this long, then on waiting
     belt_stop_s: float = 2.0  # the encoder still this long while a part is on its way: the belt stands (a message)
+    timer: dict = field(default_factory=dict)  # intercept: the controller's numbered timer the program measures with
 
     def mean(self, key: str) -> float:
         """The middle of a (least, most) interval of the cell (grip_s, count_latency_s, motion_start_s)."""
@@ -178,7 +179,26 @@ def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
         part_size_mm=size,
         no_part_s=_bounded(ctx, table, "no_part_s", f"{path}.no_part_s", 30.0, 1.0, 3600, "s"),
         belt_stop_s=_bounded(ctx, table, "belt_stop_s", f"{path}.belt_stop_s", 2.0, 0.5, 600, "s"),
+        timer=_timer(ctx, table, [t for t, mode in tracking.items() if mode == "intercept"], path),
     )
+
+
+def _timer(ctx, table: dict, intercepts: list[str], path: str) -> dict:
+    """Per intercepting target whose program measures the belt's speed over one of the controller's numbered timers
+    (targets/<t>.toml [program.conveyor] timers: how many there are), the one the cell gives it."""
+    needed = [t for t in intercepts if facts(get_target(t)).get("timers")]
+    given = ctx.table(table, "timer", f"{path}.timer") if "timer" in table else {}
+    ctx.no_unknown(given, set(needed), f"{path}.timer")
+    out = {}
+    for target in needed:
+        count = facts(get_target(target))["timers"]
+        value = given.get(target)
+        if value is None:
+            ctx.fail(f"{path}.timer", f"missing {target}: the controller's timer (1..{count}) the program may use")
+        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= count:
+            ctx.fail(f"{path}.timer.{target}", f"expected a timer number 1..{count}, got {kind_of(value)}")
+        out[target] = value
+    return out
 
 
 def _tracking(ctx, table: dict, targets, path: str) -> dict:

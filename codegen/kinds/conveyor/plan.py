@@ -51,8 +51,9 @@ WAITS_AFTER = {
 GRIP = {"native": 3, "intercept": 2}  # moves of a part before its grip
 RELEASE = {"native": 6, "intercept": 5}  # moves of a part before its release
 # a part given up after the arm moved for it: the moves made for it (the waiting move; while tracking, the
-# whole descent and its lift)
-GIVEN_UP = {"native": ((0,), (0, 1, 2, 3)), "intercept": ((0,),)}
+# whole descent and its lift; where the program leaves the belt in a fixed work object before it disconnects (ABB),
+# then the move above the window's start)
+GIVEN_UP = {"native": ((0,), (0, 1, 2, 3), (0, 1, 2, 3, 0)), "intercept": ((0,),)}
 # The way home at the start from wherever a stop left the arm: a joint move to where it stands (the controller's
 # first motion), back out along the tool's axis, a safe pose above the belt, home; a part held is then put down
 # at the place before the first pick.
@@ -133,7 +134,7 @@ def _given_up(cell, target, mode: str, moves: list, offset: int) -> list[Planned
                     segment = segments[k]
                     unheld = Segment(segment.key, segment.name, segment.kind, segment.speed)
                     # the lift of a part left on the belt stops before the tracking ends
-                    out.append(planned(unheld, cell, target, mode if k != len(pattern) - 1 else None))
+                    out.append(planned(unheld, cell, target, mode if segment.key != "lift" else None))
                 i += len(pattern)
                 break
         else:

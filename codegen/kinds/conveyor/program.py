@@ -12,6 +12,7 @@ from codegen.kinds.conveyor import native
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.plan import blends, carried
 from codegen.kinds.conveyor.section import conveyor_of
+from codegen.kinds.conveyor.timing import descent_seconds, path_acc_mm_s2
 from codegen.model.cell import TaughtPose
 from codegen.model.io import POLL_S as IO_POLL_S
 from codegen.poses import FORMAT_DECIMALS, native_values, zyx_deg_from_rotmat
@@ -27,6 +28,8 @@ LOST = "conveyor: lost from the start window, skipped: part "  # ABB native: Wai
 PUT_DOWN = "conveyor: a part held at the start: put down at the place"
 EARLY = "conveyor: seen before the program started, skipped: part "  # UR: no count of its own encoder for it
 STANDS = "conveyor: the belt stands, the arm waits above it: part "  # the encoder still while a part is on its way
+FLUSHED = "conveyor: queued before the start, skipped: part "  # ABB native: the unit's queue emptied at the start
+NOT_HELD = "conveyor: the gripper did not hold it, skipped: part "  # ABB native: left on the belt, the arm off it
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
 SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
@@ -48,20 +51,19 @@ def reads(seconds: float) -> int:
     return math.ceil(seconds / POLL_S - 1e-9)
 
 
-def lead_parts(cell) -> tuple[float, float, float]:
-    """The lead's terms (s): the descent of approach_dz at the work speed, the gripper's hold (grip_s) and the program's
-    planning time (motion_start_s: from its last read of the encoder to the arm moving), the intervals' middles."""
+def lead_parts(cell, target) -> tuple[float, float, float]:
+    """The lead's terms (s): the descent (descent_seconds), the gripper's hold (grip_s) and the program's planning
+    time (motion_start_s: from its last read of the encoder to the arm moving), the intervals' middles."""
     pick = conveyor_of(cell).pick
-    return pick.approach_dz / cell.motion.work_speed_mm_s, pick.mean("grip_s"), pick.mean("motion_start_s")
+    return descent_seconds(cell, target), pick.mean("grip_s"), pick.mean("motion_start_s")
 
 
-def lead_seconds(cell) -> float:
-    """How long before the part reaches the intercept point an intercepting arm starts down: the descent
-    of approach_dz at the work speed, as the controller's straight move takes it (no acceleration in the
-    interpreter's clock, nor in this lead: a real arm needs its measured descent time here), the arm's
-    start after the move instruction and the gripper's time to hold the part once its output is set (the
-    middles of motion_start_s and grip_s)."""
-    return sum(lead_parts(cell))
+def lead_seconds(cell, target) -> float:
+    """How long before the part reaches the intercept point an intercepting arm starts down: the descent of
+    approach_dz at the work speed with the program's path acceleration, the arm's start after the move
+    instruction and the gripper's time to hold the part once its output is set (the middles of motion_start_s
+    and grip_s)."""
+    return sum(lead_parts(cell, target))
 
 
 def conveyor_ident(cell, target) -> str:
@@ -182,8 +184,10 @@ def conveyor_context(cell, target, emitter) -> dict:
         "counter_span": 2**bus.GROUP_BITS,  # the 16-bit count's range: a difference is unwound by it
         "counter_half": 2 ** (bus.GROUP_BITS - 1),
         "intercept": number(pick.intercept_mm, 4),  # intercept: the gripper meets the part here (belt y)
-        "lead_s": number(lead_seconds(cell), 6),  # intercept: the descent's duration and the latencies' middles
-        "lead_parts": [number(v, 6) for v in lead_parts(cell)],  # intercept: the descent, the hold, the planning
+        "lead_s": number(lead_seconds(cell, target), 6),  # intercept: the descent's duration and the latencies' middles
+        "lead_parts": [number(v, 6) for v in lead_parts(cell, target)],  # intercept: descent, hold, planning
+        "path_acc": None if path_acc_mm_s2(target) is None else number(path_acc_mm_s2(target) / 1000.0, 3),
+        "timer": pick.timer.get(target.name),  # intercept: the controller's timer the speed is measured over
         "latency_s": number(pick.mean("count_latency_s"), 6),  # intercept: the count's age, its middle
         "poll_s": number(POLL_S, 3),
         "speed_window_s": number(SPEED_WINDOW_S, 3),
@@ -200,7 +204,10 @@ def conveyor_context(cell, target, emitter) -> dict:
         "too_close": emitter.string(TOO_CLOSE),
         "early": emitter.string(EARLY),
         "pair_mm": number(PAIR_MM, 1),
+        "wrap_m": number(2**15 / abs(e) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
         "lost": emitter.string(LOST),
+        "not_held": emitter.string(NOT_HELD),
+        "flushed": emitter.string(FLUSHED),
         "place_blocked": emitter.string(place_blocked(cell)),
         "no_part": emitter.string(no_part(cell)),
         "no_part_s": number(pick.no_part_s, 3),

@@ -6,7 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from codegen.controllers import get_target
 from codegen.kinds.conveyor.section import conveyor_of
+from codegen.kinds.conveyor.timing import descent_seconds
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.robot import solve
 from codegen.robot.expect import Margins, margins, require_margins
@@ -30,11 +32,12 @@ class ConveyorReach(Margins):
 
 def follow_mm(cell, target: str) -> float:
     """How far past the window's end a tracking arm may still follow the part: the belt at its fastest for
-    the gripper's timeout and the lift (an intercepting arm does not follow: 0)."""
+    the gripper's timeout and the lift (approach_dz at the work speed with the program's path acceleration's
+    ramps, where the target's program sets one: descent_seconds; an intercepting arm does not follow: 0)."""
     pick = conveyor_of(cell).pick
     if pick.tracking[target] != "native":
         return 0.0
-    seconds = (cell.io.timeout_s if cell.io is not None else 0.0) + pick.approach_dz / cell.motion.work_speed_mm_s
+    seconds = (cell.io.timeout_s if cell.io is not None else 0.0) + descent_seconds(cell, get_target(target))
     return pick.belt_speed_max_mm_s * seconds
 
 

@@ -14,7 +14,7 @@ from codegen.kinds.conveyor import native, plan
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.judge import SKIPS
 from codegen.kinds.conveyor.judge import judge as judge_parts
-from codegen.kinds.conveyor.program import BAD_READING, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.program import BAD_READING, NOT_HELD, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, start_joints
 from codegen.model.io import signal_name
@@ -52,8 +52,14 @@ SCENARIO_OF = {
     "belt_stands": "belt_stands",  # the kind's own: the belt stands while a part is on its way
     "no_part": "no_part",  # the kind's own: no part comes for longer than no_part_s
 }
+# each sleep of the program ends this much later than it asks (a pass of a polling loop: its statements and the
+# controller's interpreter cycle; assumed, no manual here states it): a program that times the belt by its passes
+# counted as exact sleeps measures its speed wrong
+SLEEP_OVERHEAD_S = 0.002
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
-NO_PART_EXTRA_S = 5.0  # the no_part case: the line's cycle stop comes this long after no_part_s
+# the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
+# late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
+NO_PART_EXTRA_S = 10.0
 
 
 @dataclass(frozen=True)
@@ -73,6 +79,8 @@ class BeltCase:
     latency_s: float = 0.0
     grip_s: float = 0.0
     stop_s: float = 0.0  # the line's cycle stop not before this (s)
+    pulses: tuple = ()  # trigger pulses no part made (a double pulse, a part the PLC dropped): moments (s)
+    before: tuple = ()  # parts a stopped run took from the PLC before this start (their objects still queued)
 
     @property
     def scenario(self) -> str:
@@ -171,7 +179,7 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     wiring = pick.encoder_inputs.get(target_name)  # the installation: A and B as the cell says
     unit = None
     if target_name in pick.unit:  # the belt as the controller's mechanical unit (its tracking option)
-        unit = TrackingUnit(native.settings(cell, target), case.belt, list(case.parts))
+        unit = TrackingUnit(native.settings(cell, target), case.belt, [*case.before, *case.parts])
     line = BeltLine(
         case.belt,
         list(case.parts),
@@ -181,6 +189,8 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         unit=unit,
         latency_s=case.latency_s,
         stop_s=case.stop_s,
+        sleep_overhead_s=SLEEP_OVERHEAD_S,
+        pulses=case.pulses,
         trigger=signal_name(target, "input", pick.trigger_input[target_name])
         if target_name in pick.trigger_input
         else None,
@@ -220,6 +230,8 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         "gripper_stuck": (halt_message(cell, NOT_RELEASED, None, 0), plan.RELEASE[mode]),
         "place_blocked": (place_blocked(cell), plan.RELEASE[mode] - 1),
     }
+    if case.category == "gripper_silent" and mode in facts(target).get("skips_unheld", ()):
+        return _not_held(cell, target, mode, trace, first, start_outputs, output, names, emitter)
     if case.category in stops:  # the first part's moves up to the stop: the grip, the release, above the place
         message, count = stops[case.category]
         moves = [plan.planned(segment, cell, target, mode) for segment in plan.PICK[mode][:count]]
@@ -242,6 +254,25 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
     expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
     return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
+
+
+def _not_held(cell, target, mode: str, trace, first, start_outputs, output, names, emitter) -> Judgement:
+    """A grip never confirmed while the arm follows the part: released at once, up off the part (still following it),
+    above the window's start in the fixed frame (GIVEN_UP's longest run), disconnected; the part skipped with a
+    message; the program goes on to the line's stop (no stop while connected to the running belt)."""
+    if not any(m.startswith(NOT_HELD) for m in trace.messages):
+        return Judgement([], problem=f"a part the gripper did not hold, not skipped with a message ({trace.messages})")
+    pattern = max(plan.GIVEN_UP[mode], key=len)
+    moves = plan._given_up(cell, target, mode, trace.moves[len(first) : len(first) + len(pattern)], len(first))
+    if isinstance(moves, str):
+        return Judgement([], problem=moves)
+    at = len(first) + plan.GRIP[mode]
+    outputs = (
+        *start_outputs,
+        PlannedOutput(output, cell.io.value, at, "on the part"),
+        PlannedOutput(output, not cell.io.value, at, "released on the belt"),
+    )
+    return Judgement([Expectation(None, (*first, *moves), outputs, output_names=names)])
 
 
 def waits(cell, case: BeltCase, trace) -> str | None:

@@ -155,7 +155,8 @@ def test_trigger_switches_an_output_at_the_end_and_on_the_path():
     lin = trace.moves[1]
     by_name = {o.name: o for o in trace.outputs}
     assert by_name["$OUT[3]"].time == pytest.approx(lin.end_time - 0.2) and by_name["$OUT[3]"].moving
-    assert by_name["$OUT[7]"].time == pytest.approx(lin.end_time - 0.02 / 0.1)  # 20 mm before, at 0.1 m/s
+    # 20 mm before, at 0.1 m/s, and the LIN's deceleration ramp at $ACC.CP 2.3 m/s2 (BAS(#INITMOV)): v / 2a more
+    assert by_name["$OUT[7]"].time == pytest.approx(lin.end_time - 0.02 / 0.1 - 0.1 / (2 * 2.3))
     assert by_name["$OUT[7]"].tcp2base[1, 3] == pytest.approx(80.0)
 
 
@@ -168,7 +169,8 @@ def test_trigger_calls_a_subprogram_at_its_switching_point():
     trace = program(body, dat="DECL INT CALLS=0", routines=routines).run({}, keep=("CALLS",))
     lin, [glue] = trace.moves[1], trace.outputs
     assert (glue.name, glue.moving, trace.kept) == ("$OUT[3]", True, {"CALLS": 1})
-    assert glue.time == pytest.approx(lin.end_time - 1.0 + 0.05)  # 100 mm at 0.1 m/s: it starts 1 s before its end
+    # 100 mm at 0.1 m/s with its ramps at 2.3 m/s2: it starts 1 s + v / a before its end
+    assert glue.time == pytest.approx(lin.end_time - 1.0 - 0.1 / 2.3 + 0.05)
     with pytest.raises(RunError, match=r"TRIGGER \.\.\. DO GLUE_ON\(\): the interpreter passes constants"):
         program("TRIGGER WHEN DISTANCE=0 DELAY=0 DO GLUE_ON(CALLS) PRIO=-1", dat="DECL INT CALLS=0", routines=routines)
 

@@ -39,8 +39,11 @@ def test_it_runs_three_parts_with_every_move_and_its_outputs():
     assert trace.moves[2].tcp2base[:3, 3].tolist() == pytest.approx([600.0, -300.0, 220.0])  # BASE_DATA[1], tool
     assert trace.moves[5].tcp2base[:3, 3].tolist() == pytest.approx([400.0, 400.0, 150.0])  # BASE_DATA[2] turned
     assert [o.value for o in trace.outputs] == [True, False, True, False, True, False, True]
-    opened_on_the_way = trace.outputs[2]  # the TRIGGER: 20 mm before the table, at 0.2 m/s
-    assert opened_on_the_way.moving and opened_on_the_way.time == pytest.approx(trace.moves[5].end_time - 0.1)
+    # the TRIGGER: 20 mm before the table, at 0.2 m/s, then the LIN's deceleration at $ACC.CP 2.3 m/s2 (DEF_ACC_CP):
+    # 20 mm less the ramp's v^2 / 2a at v, then the ramp in v / a: 0.02 / 0.2 + 0.2 / (2 x 2.3) s before the end
+    opened_on_the_way = trace.outputs[2]
+    before = 0.02 / 0.2 + 0.2 / (2 * 2.3)
+    assert opened_on_the_way.moving and opened_on_the_way.time == pytest.approx(trace.moves[5].end_time - before)
     assert trace.messages == ["Zyklus fertig"]
 
 
