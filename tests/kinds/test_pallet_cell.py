@@ -354,10 +354,11 @@ def test_the_cycle_estimate_counts_the_stops_and_the_blended_corners(eur):
 
 
 def test_the_testmat_cycle_stops_at_pick_and_place_alone(testmat):
-    """30 boxes of 10 moves and the move off the pallet (301): each box stops at Q and at its target, the last move
-    stops above Q (61 stops); every other pose but the first (the cycle's start, no corner) blends (239)."""
+    """30 boxes of 10 moves, 29 of them 2 more (from the entry before over Q, then down above Q) and the 2 moves off
+    the pallet (331): each box stops at Q and at its target, the last move stops above Q (61 stops); every other pose
+    but the first (the cycle's start, no corner) blends (269)."""
     estimate = cycle_estimate(testmat, testmat.sections["pallet"][0])
-    assert (estimate["stops"], estimate["blends"]) == (61, 239)
+    assert (estimate["stops"], estimate["blends"]) == (61, 331 - 61 - 1)
 
 
 # --- the way home -----------------------------------------------------------------------------------------------------
@@ -379,9 +380,9 @@ def test_after_a_stop_the_program_backs_out_and_goes_home_above_the_pallet(testm
 
 
 def test_the_full_message_comes_with_the_arm_off_the_pallet(testmat):
-    found = mutant_mismatches(
-        testmat, "kuka", "pal_testmat.src", "  PTP PAL_ABOVE ; off the pallet before the message\n", ""
-    )
+    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  LIN PAL_ABOVE\n  PAL_MSG", "  PAL_MSG")
+    assert found, found
+    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  PTP HIGH\n  $VEL.CP", "  $VEL.CP")
     assert found, found
 
 

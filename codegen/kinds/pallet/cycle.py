@@ -63,6 +63,7 @@ class ExpectedMove:
     carrying: bool = False  # a box in the gripper (its grip confirmed): the payload is the tool's and the box's
     checked: bool = False  # an interlock input is read right after it (where that read stops the advance run, a stop)
     sheet: bool = False  # a slip sheet in the gripper (weightless: no payload; its sweep is checked as a box's)
+    joints: np.ndarray | None = None  # the arm's joints there, where known (the sweep follows a joint move by them)
 
 
 @dataclass(frozen=True)
@@ -241,15 +242,18 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
 
 
 def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
-    """Per box: above Q (joint; the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to
-    the transit height (transit_pose: the box clear of the layer's top), the pallet waited for again (it may have been
-    taken away while the arm was at Q), above the entry at that height (joint), the
-    entry, approach, target (slow, exact), release, retreat (slow), entry; the counters advance once the release
-    is confirmed. Per slip sheet the same from the sheet stack onto the pallet's centre (the transit height over the
-    sheet's place: its top + transit_dz). At the end: above Q, off the pallet, before the message."""
+    """Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint, then
+    straight down) above Q (the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to the
+    transit height (transit_pose: the box clear of the layer's top), the pallet waited for again (it may have been
+    taken away while the arm was at Q), above the entry at that height (joint), the entry, approach, target (slow,
+    exact), release, retreat (slow), entry; the counters advance once the release is confirmed. Per slip sheet the
+    same from the sheet stack onto the pallet's centre (the transit height over the sheet's place: its top +
+    transit_dz). At the end: over Q at the last entry's height (joint), above Q, off the pallet, before the
+    message. The gripper, empty or holding a box, crosses the stack only above the entry or transit height."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     joint = "transit"  # the joint move onto the pallet: above the entry at the transit height
+    height = 0.0  # the entry the empty gripper leaves the pallet from (base z, mm)
     for i, item in enumerate(todo):
         after = todo[i + 1].key if i + 1 < len(todo) else done
         where = f"layer {item.layer} " + (f"box {item.number}" if item.number else "sheet")
@@ -279,7 +283,11 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
             )
             retreat = ((frame @ p.retreat, "retreat", True, False), (frame @ p.entry, "entry", False, False))
             interlocks, named = ("pallet_present", "part_present"), "Q"
-        run.move("joint", _lifted(source, lift), f"{where} above {named}", False, False)
+        if i > 0:  # the empty gripper at the entry before: over the pick at that height first, then down to it
+            run.move("joint", risen(_lifted(source, lift), height), f"{where} over {named}", False, False)
+            run.move("linear", _lifted(source, lift), f"{where} above {named}", False, False)
+        else:
+            run.move("joint", _lifted(source, lift), f"{where} above {named}", False, False)
         for interlock in interlocks:
             halt = run.wait(interlock)
             if halt:
@@ -301,16 +309,19 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
         run.counters = after
         for pose, name, slow, exact in retreat:
             run.move("linear", pose, f"{where} {name}", slow, exact)
-    run.move("joint", above, "off the pallet: above Q", False, True)
+        height = retreat[-1][0][2, 3]  # the entry's: the empty gripper clear of the stack's top
+    run.move("joint", risen(above, height), "off the pallet: over Q", False, False)
+    run.move("linear", above, "off the pallet: above Q", False, True)
     return None
 
 
 def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
     """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
-    order: entry (joint), approach, target (slow, exact), grip; the counters move to the next box once the grip is
-    confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height (transit_pose), over Q
-    at that height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the
-    pallet waited for at Q; above Q (slow)."""
+    order: (after the box before it: straight up over Q to this box's transit height) above the entry at the transit
+    height (transit_pose, joint), entry, approach, target (slow, exact), grip; the counters move to the next box once
+    the grip is confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height, over Q at that
+    height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the pallet waited for at
+    Q; above Q (slow). The empty gripper, like the carried box, crosses the stack only at the transit height."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     halt = run.wait("pallet_present")
@@ -319,7 +330,11 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | Non
     for i, item in enumerate(todo):
         p, last = item.placement, i + 1 == len(todo)
         where = f"layer {p.layer} box {p.number}"
-        run.move("joint", frame @ p.entry, f"{where} entry", False, False)
+        transit = frame @ transit_pose(p.entry, pallet, p.layer)
+        if i > 0:  # the arm above Q, empty: straight up to this box's transit height first
+            run.move("linear", risen(above, transit[2, 3]), f"{where} up from Q", False, False)
+        run.move("joint", transit, f"{where} transit", False, False)
+        run.move("linear", frame @ p.entry, f"{where} entry", False, False)
         run.move("linear", frame @ p.approach, f"{where} approach", False, False)
         run.move("linear", frame @ p.target, f"{where} target", True, True)
         halt = run.grip()
@@ -328,7 +343,6 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | Non
         run.counters = done if last else todo[i + 1].key
         run.move("linear", frame @ p.retreat, f"{where} retreat", True, False)
         run.move("linear", frame @ p.entry, f"{where} entry", False, False)
-        transit = frame @ transit_pose(p.entry, pallet, p.layer)
         run.move("linear", transit, f"{where} transit", False, False)
         run.move("joint", risen(above, transit[2, 3]), f"{where} over Q", False, False)
         run.move("linear", above, f"{where} above Q", False, False)

@@ -29,7 +29,7 @@ from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import layer_top
 from codegen.kinds.pallet.station import PalletTaken
-from codegen.kinds.pallet.sweep import sweeps
+from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
@@ -278,8 +278,26 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     reloaded = case.category == "counters_reloaded"
     problem = _declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
     problem = problem or (_store_not_kept(source, target) if reloaded else None)
-    problem = problem or sweeps(pallet, frame_matrix(pallet), want.moves)
+    problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
     return Judgement([expectation], figures=boxes, problem=problem)
+
+
+def _swept(cell, pallet, target_name: str, moves) -> tuple[list, object, float]:
+    """The moves the sweep follows, the arm's forward kinematics (tcp2base) and the empty gripper's width: with an
+    arm, from home, each move with the joints the program moves through (a joint move is a straight line in joint
+    space); without one, the TCP's straight segments from the first move."""
+    home = home_move(cell, target_name)
+    if home is None:
+        return list(moves), None, EMPTY_GRIPPER_MM
+    try:
+        named = configurations(cell, pallet, target_name)
+        joints = joints_of(cell, target_name, moves, "verify: the sweep", pallet, named)
+    except ReachError:
+        return list(moves), None, EMPTY_GRIPPER_MM
+    arm, tcp2flange = cell.robot.arms[target_name], cell.robot.tool.tcp2flange
+    start = ExpectedMove("joint", home[0].tcp2base, "home", 0.0, True, joints=np.asarray(home[1], dtype=float))
+    out = [start, *(replace(m, joints=q) for m, q in zip(moves, joints, strict=True))]
+    return out, (lambda q: arm.kin.fk(q) @ tcp2flange), EMPTY_GRIPPER_MM
 
 
 def _reload_proof(target) -> bool:

@@ -7,10 +7,12 @@ MODULE pal_eur_in
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_eur_in_run (this
   ! module's one global routine); the counters are in the system module pallet_data.sys (loaded once).
   ! The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
-  ! placing order: in the pallet's work object entry (joint move), approach and target (slow, fine), grip,
-  ! retreat (slow), entry, up to the transit height (300.0000 mm over the layer's top); then over Q at that
-  ! height (joint move), above Q (Q clear waited for), down to Q (slow, fine), release, (the pallet waited for
-  ! again) back up (slow).
+  ! placing order: (after the box before it, the empty gripper straight up over Q to this box's transit
+  ! height) in the pallet's work object above the entry at the transit height (300.0000 mm over the layer's
+  ! top; joint move), entry, approach and target (slow, fine), grip, retreat (slow), entry, up to the transit
+  ! height; then over Q at that height (joint move), above Q (Q clear waited for), down to Q (slow, fine),
+  ! release, (the pallet waited for again) back up (slow). The gripper, empty or holding a box, crosses the
+  ! stack only at the transit height.
   ! Where the arm passes a pose the move blends (stack_zone, 30.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
@@ -85,6 +87,7 @@ MODULE pal_eur_in
     VAR num row;
     VAR bool held;
     VAR bool late;
+    VAR bool up_q;
     VAR jointtarget now;
     ! the counters as a restart finds them: an empty pallet, or numbers outside the stack, stop
     ! before any move
@@ -137,6 +140,8 @@ MODULE pal_eur_in
     IF late THEN
       stack_stop "pallet eur_in: no pallet in place in 10 s";
     ENDIF
+    ! the arm comes from home: no box put down at Q yet
+    up_q := FALSE;
     WHILE pal_eur_in_layer >= 1 DO
       target := stack_target(pal_eur_in_layer, pal_eur_in_box);
       row := stack_row(pal_eur_in_layer, pal_eur_in_box);
@@ -148,7 +153,13 @@ MODULE pal_eur_in
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
       ENDIF
-      MoveJ entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      IF up_q THEN
+        ! the empty gripper straight up over Q to this box's transit height
+        MoveL over, stack_travel, stack_zone, stack_tool;
+      ENDIF
+      ! above the entry at the transit height (the gripper clear of the stack), then down to the entry
+      MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       stack_grip;
@@ -183,6 +194,7 @@ MODULE pal_eur_in
       ELSE
         MoveL stack_above_q, stack_work, fine, stack_tool;
       ENDIF
+      up_q := TRUE;
     ENDWHILE
     TPWrite "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
   ENDPROC

@@ -6,10 +6,12 @@
 // the speeds and a safe start position on the controller.
 //
 // The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
-// placing order: over the pallet entry (joint move), approach and target, grip, retreat, entry, up to the
-// transit height (300.0000 mm over the layer's top); then over Q at that height (joint move), above Q (Q clear
-// waited for), down to Q, release, (the pallet waited for again) back up. The box pose is
-// computed here from the counters: the pallet frame (level: a
+// placing order: (after the box before it, the empty gripper straight up over Q to this box's transit height)
+// above the entry at the transit height (300.0000 mm over the layer's top; joint move), entry, approach and
+// target, grip, retreat, entry, up to the transit height; then over Q at that height (joint move), above Q (Q
+// clear waited for), down to Q, release, (the pallet waited for again) back up. The gripper, empty or holding a
+// box, crosses the stack only at the transit height. The box pose is computed here from the counters: the
+// pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
 // The dialect has no pose product, so the pallet must be level (codegen refuses a tilted one).
 // Counters: pal_layer (1 = bottom) and pal_box (1 = the first box of the layer's pattern), global
@@ -162,6 +164,7 @@ Point entry = PAL_PICK
 Point transit = PAL_PICK
 Point over = PAL_PICK
 Double oz = 0.0
+Int up = 0
 Call pal_release()
 Call pal_wait(8)
 If DIn(8) <> True Then
@@ -183,7 +186,13 @@ While pal_layer >= 1
     oz = 200.0000
   EndIf
   over = Trans(1300.0000, 0.0000, oz, 180.000000, 0.000000, 0.000000)
-  MovJ entry
+  If up == 1 Then
+    // the empty gripper straight up over Q to this box's transit height
+    MovL over
+  EndIf
+  // above the entry at the transit height (the gripper clear of the stack), then down to the entry
+  MovJ transit
+  MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)
   Call pal_grip()
@@ -216,5 +225,6 @@ MovL PAL_PICK
     EndIf
 EndIf
   MovL PAL_ABOVE
+  up = 1
 EndWhile
 TPWrite 0, "pallet eur_in is empty: bring a full one, then reset its counters from the PLC"

@@ -6,7 +6,8 @@ MODULE pal_testmat
   !
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_testmat_run (this
   ! module's one global routine); the counters are in the system module pallet_data.sys (loaded once).
-  ! Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q (slow, fine),
+  ! Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint
+  ! move, then straight down) above Q (the pallet in place and a box at Q waited for), down to Q (slow, fine),
   ! grip, back up (slow), up to the transit height (36.0000 mm over the layer's top), the pallet waited for
   ! again (it may have been taken away meanwhile), then in the pallet's work object above the entry at that
   ! height (joint move), entry, approach and target (slow, fine), release, retreat (slow), entry.
@@ -85,6 +86,9 @@ MODULE pal_testmat
     VAR num row;
     VAR bool held;
     VAR bool late;
+    VAR bool up_q;
+    VAR num up_z;
+    VAR robtarget high;
     VAR jointtarget now;
     ! the counters as a restart finds them: a full pallet, or numbers outside the stack, stop
     ! before any move
@@ -133,6 +137,9 @@ MODULE pal_testmat
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
     GripLoad load0;
     stack_release;
+    ! the arm comes from home
+    up_q := FALSE;
+    up_z := 0;
     WHILE pal_testmat_layer <= STACK_LAYERS DO
       target := stack_target(pal_testmat_layer, pal_testmat_box);
       row := stack_row(pal_testmat_layer, pal_testmat_box);
@@ -144,7 +151,17 @@ MODULE pal_testmat
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
       ENDIF
-      MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
+      IF up_q THEN
+        ! the empty gripper from the entry before: over Q at that height, then straight down
+        high := stack_above_q;
+        IF up_z > high.trans.z THEN
+          high.trans.z := up_z;
+        ENDIF
+        MoveJ high, stack_travel, stack_zone, stack_tool;
+        MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
+      ELSE
+        MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
+      ENDIF
       WaitDI diPalletIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
         stack_stop "pallet testmat: no pallet in place in 10 s";
@@ -177,9 +194,17 @@ MODULE pal_testmat
       ENDIF
       MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 5.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      up := PoseMult(stack_wobj.uframe, [entry.trans, [1, 0, 0, 0]]);
+      up_z := up.trans.z;
+      up_q := TRUE;
     ENDWHILE
-    ! off the pallet before the message
-    MoveJ stack_above_q, stack_travel, fine, stack_tool;
+    ! off the pallet before the message: over Q at the last entry's height, then straight down
+    high := stack_above_q;
+    IF up_z > high.trans.z THEN
+      high.trans.z := up_z;
+    ENDIF
+    MoveJ high, stack_travel, stack_zone, stack_tool;
+    MoveL stack_above_q, stack_travel, fine, stack_tool;
     TPWrite "pallet testmat is full: swap it, then reset its counters from the PLC";
   ENDPROC
 

@@ -5,7 +5,8 @@
 // The dialect has no robot model and no speeds: the poses are the active tool's; set the tool, its load,
 // the speeds and a safe start position on the controller.
 //
-// Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q, grip, back up, up to
+// Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint
+// move, then straight down) above Q (the pallet in place and a box at Q waited for), down to Q, grip, back up, up to
 // the transit height (36.0000 mm over the layer's top), above the entry at that height (joint move), entry,
 // approach and target, release, retreat, entry.
 // The box pose is computed here from the counters: the pallet frame (level: a
@@ -162,6 +163,8 @@ Point entry = PAL_PICK
 Point transit = PAL_PICK
 Point over = PAL_PICK
 Double oz = 0.0
+Int up = 0
+Double upz = 0.0
 Call pal_release()
 While pal_layer <= PAL_LAYERS
   pattern = pal_pattern(pal_layer)
@@ -170,7 +173,18 @@ While pal_layer <= PAL_LAYERS
   y = PAL_Y[row]
   a = PAL_A[row]
   z = pal_top(pal_layer)
-  MovJ PAL_ABOVE
+  If up == 1 Then
+    // the empty gripper from the entry before: over Q at that height, then straight down
+    oz = upz
+    If oz < 80.0000 Then
+      oz = 80.0000
+    EndIf
+    over = Trans(600.0000, 300.0000, oz, 180.000000, 0.000000, 0.000000)
+    MovJ over
+    MovL PAL_ABOVE
+  Else
+    MovJ PAL_ABOVE
+  EndIf
   Call pal_wait(4)
   If DIn(4) <> True Then
     TPWrite 0, "pallet testmat: no pallet in place in 10 s"
@@ -212,7 +226,15 @@ MovJ transit
   EndIf
   MovL pal_pose(x + PAL_RX[row], y + PAL_RY[row], z + 5.0000, a)
   MovL entry
+  up = 1
+  upz = PAL_OZ + z + 26.0000
 EndWhile
-// off the pallet before the message
-MovJ PAL_ABOVE
+// off the pallet before the message: over Q at the last entry's height, then straight down
+oz = upz
+If oz < 80.0000 Then
+  oz = 80.0000
+EndIf
+over = Trans(600.0000, 300.0000, oz, 180.000000, 0.000000, 0.000000)
+MovJ over
+MovL PAL_ABOVE
 TPWrite 0, "pallet testmat is full: swap it, then reset its counters from the PLC"
