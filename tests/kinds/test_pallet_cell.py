@@ -61,8 +61,8 @@ def _load(tmp_path, text: str):
             "",
             "pallet_absent",
         ),
-        ("kuka", "pal_testmat.src", "    IF NOT PAL_PART() THEN\n      RETURN\n    ENDIF\n", "", "part_missing"),
-        ("kuka", "pal_testmat.src", "    IF NOT PAL_PALLET() THEN\n      RETURN\n    ENDIF\n", "", "pallet_absent"),
+        ("kuka", "pal_testmat.src", "      IF NOT PAL_PART() THEN\n", "      IF FALSE THEN\n", "part_missing"),
+        ("kuka", "pal_testmat.src", "      IF NOT PAL_PALLET() THEN\n", "      IF FALSE THEN\n", "pallet_absent"),
         (
             "abb",
             "pal_testmat.mod",
@@ -130,12 +130,11 @@ def test_the_sheet_waits_for_the_pallet_again_before_it_goes_over_it(eur):
 
 
 def test_the_unstacking_program_waits_for_a_clear_pick_place_and_stacking_for_a_sheet(eur):
-    found = mutant_mismatches(
-        eur, "kuka", "pal_eur_in.src", "    IF NOT PAL_CLEAR() THEN\n      RETURN\n    ENDIF\n", ""
-    )
+    clear = "    IF NOT PAL_CLEAR() THEN\n      RETURN\n    ENDIF\n"  # in the cycle and before a held box's put-down
+    found = mutant_mismatches(eur, "kuka", "pal_eur_in.src", clear, "", count=0)
     assert found and found[0].startswith("place_not_clear"), found
     found = mutant_mismatches(
-        eur, "kuka", "pal_eur.src", "      IF NOT PAL_SHEET() THEN\n        RETURN\n      ENDIF\n", ""
+        eur, "kuka", "pal_eur.src", "        IF NOT PAL_SHEET() THEN\n          RETURN\n        ENDIF\n", ""
     )
     assert found and found[0].startswith("sheet_missing"), found
 
@@ -448,7 +447,7 @@ def test_a_long_pallet_name_is_shortened_in_the_messages_never_the_instruction(t
     long = "a" * 40
     cell = _load(tmp_path, TESTMAT_TEXT.replace('name = "testmat"', f'name = "{long}"', 1))
     files = render(cell, ["kuka", "abb", "ur"])
-    want = "pallet " + "a" * 7 + "...: a box is in the gripper (sensor on): take it out, start again"  # 80 characters
+    want = "pallet " + "a" * 15 + "...: no pallet in place in 10 s, the box is in the gripper"  # 80 characters
     assert len(want) == 80 and sum(want in f.text for f in files) == 4  # .src, the ABB module, both UR forms
     messages = all_messages(cell.sections["pallet"][0], 80)
     assert all(len(m) <= 80 and (long in m or len(m) == 80) for m in messages), messages  # shortened to fit only

@@ -13,7 +13,6 @@ from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
     full_message,
-    held_message,
     message_limit,
     wait_message,
 )
@@ -222,23 +221,50 @@ class _Run:
 
 def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     """What the pallet's program does in this case: the checks before any move (a full or empty pallet, reset by
-    the PLC or not; counters outside the stack; a box in the gripper), then each item from the counters."""
+    the PLC or not; counters outside the stack), then each item from the counters. A box held at the start (a cycle
+    stopped on the way) is finished: stacking, it is the item the counters name (they move only after a confirmed
+    release), carried from home onto its place; unstacking, it left the pallet (the counters moved at the grip), and
+    is put down at Q first, even when it was the last box."""
     start, done = (case.layer, case.box), done_counters(pallet)
     limit = message_limit(cell)
     keys = [item.key for item in items(pallet)]
-    if start == done and case.reset and pallet.io.reset:  # a swapped pallet: the PLC resets its counters
+    put_down = case.closed and pallet.mode == "unstack"
+    if start == done and case.reset and pallet.io.reset and not put_down:  # a swapped pallet: the PLC resets it
         start = keys[0]
-    if start == done:
+    if start == done and not put_down:
         message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
         return Expected((), (), message, start, start)
-    if start not in keys:
+    if start not in keys and start != done:
         return Expected((), (), counters_message(pallet, limit), start, start)
-    if case.closed:  # a box in the gripper: opening it anywhere would drop it
-        return Expected((), (), held_message(pallet, limit), start, start)
     run = _Run(cell, pallet, case, start)
-    todo = [item for item in items(pallet)][keys.index(start) :]
-    halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
+    todo = [item for item in items(pallet)][keys.index(start) :] if start in keys else []
+    if case.closed:  # no release at the start: the gripper holds the item
+        run.outputs = []
+        run.carrying = put_down or todo[0].placement is not None
+        run.sheet = not run.carrying
+    if put_down:
+        halt = _put_down(run)
+        halt = halt or (_unstacking(run, todo, done, from_q=True) if todo else None)
+    else:
+        halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
     return run.result(halt, start)
+
+
+def _put_down(run: _Run) -> str | None:
+    """Unstacking, a box held at the start: above Q (joint), Q clear waited for, Q (slow, exact), release, above Q
+    (slow, exact)."""
+    pallet = run.pallet
+    above = above_pick(pallet)
+    run.move("joint", above, "held box above Q", False, False)
+    halt = run.wait("place_clear")
+    if halt:
+        return halt
+    run.move("linear", pallet.pick.matrix(), "held box place at Q", True, True)
+    halt = run.release()
+    if halt:
+        return halt
+    run.move("linear", above, "held box lift from Q", True, True)
+    return None
 
 
 def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
@@ -283,6 +309,20 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
             )
             retreat = ((frame @ p.retreat, "retreat", True, False), (frame @ p.entry, "entry", False, False))
             interlocks, named = ("pallet_present", "part_present"), "Q"
+        if i == 0 and (run.carrying or run.sheet):  # held at the start: from home onto its place
+            halt = run.wait("pallet_present", "box" if item.placement is not None else "sheet")
+            if halt:
+                return halt
+            for pose, name, slow, exact in path[1:]:
+                run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
+            halt = run.release()
+            if halt:
+                return halt
+            run.counters = after
+            for pose, name, slow, exact in retreat:
+                run.move("linear", pose, f"{where} {name}", slow, exact)
+            height = retreat[-1][0][2, 3]
+            continue
         if i > 0:  # the empty gripper at the entry before: over the pick at that height first, then down to it
             run.move("joint", risen(_lifted(source, lift), height), f"{where} over {named}", False, False)
             run.move("linear", _lifted(source, lift), f"{where} above {named}", False, False)
@@ -315,13 +355,14 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
     return None
 
 
-def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
+def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool = False) -> str | None:
     """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
     order: (after the box before it: straight up over Q to this box's transit height) above the entry at the transit
     height (transit_pose, joint), entry, approach, target (slow, exact), grip; the counters move to the next box once
     the grip is confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height, over Q at that
     height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the pallet waited for at
-    Q; above Q (slow). The empty gripper, like the carried box, crosses the stack only at the transit height."""
+    Q; above Q (slow). The empty gripper, like the carried box, crosses the stack only at the transit height. from_q:
+    the arm starts above Q (a held box put down there first)."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     halt = run.wait("pallet_present")
@@ -331,7 +372,7 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | Non
         p, last = item.placement, i + 1 == len(todo)
         where = f"layer {p.layer} box {p.number}"
         transit = frame @ transit_pose(p.entry, pallet, p.layer)
-        if i > 0:  # the arm above Q, empty: straight up to this box's transit height first
+        if i > 0 or from_q:  # the arm above Q, empty: straight up to this box's transit height first
             run.move("linear", risen(above, transit[2, 3]), f"{where} up from Q", False, False)
         run.move("joint", transit, f"{where} transit", False, False)
         run.move("linear", frame @ p.entry, f"{where} entry", False, False)

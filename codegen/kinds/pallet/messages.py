@@ -43,10 +43,6 @@ def empty_message(pallet: Pallet, limit: int) -> str:
     return _named(pattern, pallet, limit)
 
 
-def held_message(pallet: Pallet, limit: int) -> str:
-    return _named("pallet {name}: a box is in the gripper (sensor on): take it out, start again", pallet, limit)
-
-
 def counters_message(pallet: Pallet, limit: int) -> str:
     return _named("pallet {name}: layer or box counter out of range", pallet, limit)
 
@@ -67,7 +63,6 @@ def all_messages(pallet: Pallet, limit: int) -> list[str]:
     return [
         full_message(pallet, limit),
         empty_message(pallet, limit),
-        held_message(pallet, limit),
         counters_message(pallet, limit),
         *(wait_message(pallet, name, limit) for name in pallet.io.inputs()),
         *(wait_message(pallet, "pallet_present", limit, held) for held in rechecked(pallet)),

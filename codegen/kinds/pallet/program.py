@@ -17,7 +17,6 @@ from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
     full_message,
-    held_message,
     message_limit,
     rechecked,
     select_message,
@@ -266,7 +265,6 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "select": None if select is None else _signal(emitter, target, select),
         "empty": emitter.string(empty_message(pallet, limit)),
         "full": emitter.string(full_message(pallet, limit)),
-        "held": emitter.string(held_message(pallet, limit)),
         "bad_counters": emitter.string(counters_message(pallet, limit)),
         "release": emitter.comment(facts(target).get("minimum_release", "")),
     }

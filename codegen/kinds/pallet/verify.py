@@ -118,6 +118,12 @@ def own_cases(pallet, rng) -> list[PalletCase]:
     bad = [(0, 1), (1, counts[1] + 1), (pallet.layers + 1, 2), (2, 0) if (2, 0) not in keys else (1, 0)]
     out += [PalletCase("bad_counters", *key) for key in bad if key not in keys and key != done]
     out += [PalletCase("gripper_silent", *first, "silent"), PalletCase("held_at_start", *first, closed=True)]
+    # a box held at the start (a stop on the way): stacking, the box the counters name (a sheet, where one is next);
+    # unstacking, the box gripped before the counters' (the last one: the counters say empty)
+    out.append(PalletCase("held_at_start", *keys[len(keys) // 2], closed=True))
+    out += [PalletCase("held_at_start", *key, closed=True) for key in keys if key[1] == 0][:1]
+    if not stack:
+        out.append(PalletCase("held_at_start", *done, closed=True))
     sheets = [key for key in keys if key[1] == 0]  # slip sheets (stacking only)
     if stack:  # it never lets the box go at the target: the counters must stay at that box
         last_of_2 = max(key for key in keys if key[0] == min(2, pallet.layers))
@@ -257,6 +263,8 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     if home is not None and (want.moves or want.outputs):  # with an arm the program goes home first
         start = _start_joints(cell, run.pallet, target.name, case)
         way = _way_home(cell, pallet, target, home, start, want.start[0])
+        if pallet_case.closed and (pallet.mode == "unstack" or want.start[1] != 0) and load is not None:
+            way = [replace(m, payload=load) for m in way]  # a box held since the start: its payload on the way home
         moves = [*way, *moves]
         outputs = [replace(o, after_moves=o.after_moves + len(way)) for o in outputs]
 

@@ -105,6 +105,8 @@ MODULE pal_eur
     VAR jointtarget now;
     ! the counters as a restart finds them: a full pallet, or numbers outside the stack, stop
     ! before any move
+    ! the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
+    held := DInput(diGripClosed) = 1;
     IF pal_eur_layer = 6 AND pal_eur_box = 1 THEN
       IF DInput(diResetEur) = 1 THEN
         ! the PLC: the pallet was swapped
@@ -117,10 +119,11 @@ MODULE pal_eur
     IF NOT stack_valid() THEN
       stack_stop "pallet eur: layer or box counter out of range";
     ENDIF
-    ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
-    WaitDI diGripClosed, 0 \MaxTime:=0.1 \TimeFlag:=held;
-    IF held THEN
-      stack_stop "pallet eur: a box is in the gripper (sensor on): take it out, start again";
+    ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
+    IF held AND pal_eur_box <> 0 THEN
+      GripLoad stack_box;
+    ELSE
+      GripLoad load0;
     ENDIF
     ! the tool's pose puts axis 1, 4 or 6 on a quadrant boundary at a joint move's target (a vertical tool:
     ! axis 4 at 0, axis 6 at a multiple of 90), where the quadrant in a robtarget would be decided by
@@ -148,35 +151,16 @@ MODULE pal_eur
       MoveJ stack_safe, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
-    GripLoad load0;
-    stack_release;
+    IF NOT held THEN
+      ! the gripper opened at the start only when it holds nothing
+      stack_release;
+    ENDIF
     ! the arm comes from home
     up_q := FALSE;
     up_z := 0;
     WHILE pal_eur_layer <= STACK_LAYERS DO
       IF pal_eur_box = 0 THEN
         ! the slip sheet below this layer, from the sheet stack onto the pallet's centre
-        IF up_q THEN
-          ! the empty gripper from the entry before: over the sheet stack at that height, then straight down
-          high := stack_sheet_above;
-          IF up_z > high.trans.z THEN
-            high.trans.z := up_z;
-          ENDIF
-          MoveJ high, stack_travel, stack_zone, stack_tool;
-          MoveL stack_sheet_above, stack_travel, stack_zone, stack_tool;
-        ELSE
-          MoveJ stack_sheet_above, stack_travel, stack_zone, stack_tool;
-        ENDIF
-        WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
-        IF late THEN
-          stack_stop "pallet eur: no pallet in place in 10 s";
-        ENDIF
-        WaitDI diSheetReady, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
-        IF late THEN
-          stack_stop "pallet eur: no slip sheet ready in 10 s";
-        ENDIF
-        MoveL stack_sheet_pick, stack_work, fine, stack_tool;
-        stack_grip;
         target := stack_sheet(pal_eur_layer);
         entry := Offs(target, 0, 0, 300.0000);
         ! like a box: straight up above the sheet stack to the transit height over the sheet's place, over it
@@ -186,8 +170,31 @@ MODULE pal_eur
         IF up.trans.z > over.trans.z THEN
           over.trans.z := up.trans.z;
         ENDIF
-        MoveL stack_sheet_above, stack_work, stack_zone, stack_tool;
-        MoveL over, stack_travel, stack_zone, stack_tool;
+        IF NOT held THEN
+          IF up_q THEN
+            ! the empty gripper from the entry before: over the sheet stack at that height, then straight down
+            high := stack_sheet_above;
+            IF up_z > high.trans.z THEN
+              high.trans.z := up_z;
+            ENDIF
+            MoveJ high, stack_travel, stack_zone, stack_tool;
+            MoveL stack_sheet_above, stack_travel, stack_zone, stack_tool;
+          ELSE
+            MoveJ stack_sheet_above, stack_travel, stack_zone, stack_tool;
+          ENDIF
+          WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+          IF late THEN
+            stack_stop "pallet eur: no pallet in place in 10 s";
+          ENDIF
+          WaitDI diSheetReady, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+          IF late THEN
+            stack_stop "pallet eur: no slip sheet ready in 10 s";
+          ENDIF
+          MoveL stack_sheet_pick, stack_work, fine, stack_tool;
+          stack_grip;
+          MoveL stack_sheet_above, stack_work, stack_zone, stack_tool;
+          MoveL over, stack_travel, stack_zone, stack_tool;
+        ENDIF
         ! the pallet still in place before the sheet goes over it
         WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
         IF late THEN
@@ -197,6 +204,7 @@ MODULE pal_eur
         MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
         MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
         stack_release;
+        held := FALSE;
         ! the sheet is down: the layer's first box
         pal_eur_box := 1;
         MoveL entry, stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
@@ -214,30 +222,33 @@ MODULE pal_eur
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
       ENDIF
-      IF up_q THEN
-        ! the empty gripper from the entry before: over Q at that height, then straight down
-        high := stack_above_q;
-        IF up_z > high.trans.z THEN
-          high.trans.z := up_z;
+      IF NOT held THEN
+        ! (held: the box held since the start, the counters name it: from home onto its place)
+        IF up_q THEN
+          ! the empty gripper from the entry before: over Q at that height, then straight down
+          high := stack_above_q;
+          IF up_z > high.trans.z THEN
+            high.trans.z := up_z;
+          ENDIF
+          MoveJ high, stack_travel, stack_zone, stack_tool;
+          MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
+        ELSE
+          MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
         ENDIF
-        MoveJ high, stack_travel, stack_zone, stack_tool;
-        MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
-      ELSE
-        MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
+        WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet eur: no pallet in place in 10 s";
+        ENDIF
+        WaitDI diCartonAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet eur: no box at the pick place in 10 s";
+        ENDIF
+        MoveL stack_q, stack_work, fine, stack_tool;
+        stack_grip;
+        GripLoad stack_box;
+        MoveL stack_above_q, stack_work, stack_zone, stack_tool;
+        MoveL over, stack_travel, stack_zone, stack_tool;
       ENDIF
-      WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
-      IF late THEN
-        stack_stop "pallet eur: no pallet in place in 10 s";
-      ENDIF
-      WaitDI diCartonAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
-      IF late THEN
-        stack_stop "pallet eur: no box at the pick place in 10 s";
-      ENDIF
-      MoveL stack_q, stack_work, fine, stack_tool;
-      stack_grip;
-      GripLoad stack_box;
-      MoveL stack_above_q, stack_work, stack_zone, stack_tool;
-      MoveL over, stack_travel, stack_zone, stack_tool;
       ! the pallet still in place before the box goes over it (it may have been taken away while the arm was at Q)
       WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
@@ -249,6 +260,7 @@ MODULE pal_eur
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       stack_release;
       GripLoad load0;
+      held := FALSE;
       ! the box is down and the gripper open: the next box (box 0: the slip sheet below the next layer)
       pal_eur_box := pal_eur_box + 1;
       IF pal_eur_box > stack_boxes(pal_eur_layer) THEN

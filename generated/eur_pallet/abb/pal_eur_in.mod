@@ -91,7 +91,9 @@ MODULE pal_eur_in
     VAR jointtarget now;
     ! the counters as a restart finds them: an empty pallet, or numbers outside the stack, stop
     ! before any move
-    IF pal_eur_in_layer = 0 AND pal_eur_in_box = 0 THEN
+    ! the gripper's sensor on: an item held since a stop on the way, finished below (put down at Q)
+    held := DInput(diGripClosed) = 1;
+    IF pal_eur_in_layer = 0 AND pal_eur_in_box = 0 AND NOT held THEN
       IF DInput(diResetEurIn) = 1 THEN
         ! the PLC: the pallet was swapped
         pal_eur_in_layer := 5;
@@ -100,13 +102,15 @@ MODULE pal_eur_in
         stack_stop "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
       ENDIF
     ENDIF
-    IF NOT stack_valid() THEN
+    ! (the last box held: the pallet is empty after it)
+    IF NOT stack_valid() AND NOT (held AND pal_eur_in_layer = 0 AND pal_eur_in_box = 0) THEN
       stack_stop "pallet eur_in: layer or box counter out of range";
     ENDIF
-    ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
-    WaitDI diGripClosed, 0 \MaxTime:=0.1 \TimeFlag:=held;
+    ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
     IF held THEN
-      stack_stop "pallet eur_in: a box is in the gripper (sensor on): take it out, start again";
+      GripLoad stack_box;
+    ELSE
+      GripLoad load0;
     ENDIF
     ! the tool's pose puts axis 1, 4 or 6 on a quadrant boundary at a joint move's target (a vertical tool:
     ! axis 4 at 0, axis 6 at a multiple of 90), where the quadrant in a robtarget would be decided by
@@ -134,14 +138,31 @@ MODULE pal_eur_in
       MoveJ stack_safe, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
-    GripLoad load0;
-    stack_release;
-    WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
-    IF late THEN
-      stack_stop "pallet eur_in: no pallet in place in 10 s";
+    IF NOT held THEN
+      ! the gripper opened at the start only when it holds nothing
+      stack_release;
     ENDIF
     ! the arm comes from home: no box put down at Q yet
     up_q := FALSE;
+    IF held THEN
+      ! the box gripped before the stop left the pallet (the counters moved): put it down at Q first
+      MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
+      WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      IF late THEN
+        stack_stop "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper";
+      ENDIF
+      MoveL stack_q, stack_work, fine, stack_tool;
+      stack_release;
+      GripLoad load0;
+      MoveL stack_above_q, stack_work, fine, stack_tool;
+      up_q := TRUE;
+    ENDIF
+    IF pal_eur_in_layer >= 1 THEN
+      WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      IF late THEN
+        stack_stop "pallet eur_in: no pallet in place in 10 s";
+      ENDIF
+    ENDIF
     WHILE pal_eur_in_layer >= 1 DO
       target := stack_target(pal_eur_in_layer, pal_eur_in_box);
       row := stack_row(pal_eur_in_layer, pal_eur_in_box);

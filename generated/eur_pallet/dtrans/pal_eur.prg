@@ -168,6 +168,11 @@ Function Point pal_pose(Double x, Double y, Double z, Double a)
 EndFunction
 
 // main: a full pallet, or counters outside the stack, stop before any move
+// the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
+Int held = 0
+If DIn(2) == True Then
+  held = 1
+EndIf
 If pal_layer == 6 And pal_box == 1 Then
   If DIn(5) == True Then
     // the PLC: the pallet was swapped
@@ -182,11 +187,6 @@ If pal_valid(pal_layer, pal_box) == 0 Then
   TPWrite 0, "pallet eur: layer or box counter out of range"
   Halt
 EndIf
-// a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
-If DIn(2) == True Then
-  TPWrite 0, "pallet eur: a box is in the gripper (sensor on): take it out, start again"
-  Halt
-EndIf
 Int pattern = 0
 Int row = 0
 Double x = 0.0
@@ -199,35 +199,15 @@ Point over = PAL_PICK
 Double oz = 0.0
 Int up = 0
 Double upz = 0.0
-Call pal_release()
+Double hz = 0.0
+Point high = PAL_PICK
+If held == 0 Then
+  // the gripper opened at the start only when it holds nothing
+  Call pal_release()
+EndIf
 While pal_layer <= PAL_LAYERS
   If pal_box == 0 Then
     // the slip sheet below this layer, from the sheet stack onto the pallet's centre
-    If up == 1 Then
-      // the empty gripper from the entry before: over the sheet stack at that height, then straight down
-      oz = upz
-      If oz < -100.0000 Then
-        oz = -100.0000
-      EndIf
-      over = Trans(1200.0000, 800.0000, oz, 180.000000, 0.000000, 0.000000)
-      MovJ over
-      MovL PAL_SHEET_ABOVE
-    Else
-      MovJ PAL_SHEET_ABOVE
-    EndIf
-    Call pal_wait(4)
-    If DIn(4) <> True Then
-      TPWrite 0, "pallet eur: no pallet in place in 10 s"
-      Halt
-    EndIf
-    Call pal_wait(6)
-    If DIn(6) <> True Then
-      TPWrite 0, "pallet eur: no slip sheet ready in 10 s"
-      Halt
-    EndIf
-MovL PAL_SHEET_PICK
-    Call pal_grip()
-    MovL PAL_SHEET_ABOVE
     z = pal_top(pal_layer - 1) + PAL_SLIP
     entry = pal_pose(PAL_SHEET_X, PAL_SHEET_Y, z + 300.0000, 0.0)
     // like a box: straight up above the sheet stack to the transit height over the sheet's place, over it
@@ -237,7 +217,34 @@ MovL PAL_SHEET_PICK
       oz = -100.0000
     EndIf
     over = Trans(1200.0000, 800.0000, oz, 180.000000, 0.000000, 0.000000)
-    MovL over
+    If held == 0 Then
+      If up == 1 Then
+        // the empty gripper from the entry before: over the sheet stack at that height, then straight down
+        hz = upz
+        If hz < -100.0000 Then
+          hz = -100.0000
+        EndIf
+        high = Trans(1200.0000, 800.0000, hz, 180.000000, 0.000000, 0.000000)
+        MovJ high
+        MovL PAL_SHEET_ABOVE
+      Else
+        MovJ PAL_SHEET_ABOVE
+      EndIf
+      Call pal_wait(4)
+      If DIn(4) <> True Then
+        TPWrite 0, "pallet eur: no pallet in place in 10 s"
+        Halt
+      EndIf
+      Call pal_wait(6)
+      If DIn(6) <> True Then
+        TPWrite 0, "pallet eur: no slip sheet ready in 10 s"
+        Halt
+      EndIf
+MovL PAL_SHEET_PICK
+      Call pal_grip()
+      MovL PAL_SHEET_ABOVE
+      MovL over
+    EndIf
     // the pallet still in place before the sheet goes over it
     Call pal_wait(4)
     If DIn(4) <> True Then
@@ -248,6 +255,7 @@ MovJ transit
     MovL entry
     MovL pal_pose(PAL_SHEET_X, PAL_SHEET_Y, z, 0.0)
     Call pal_release()
+    held = 0
     // the sheet is down: the layer's first box
     pal_box = 1
     MovL entry
@@ -260,31 +268,6 @@ MovJ transit
   y = PAL_Y[row]
   a = PAL_A[row]
   z = pal_top(pal_layer)
-  If up == 1 Then
-    // the empty gripper from the entry before: over Q at that height, then straight down
-    oz = upz
-    If oz < 200.0000 Then
-      oz = 200.0000
-    EndIf
-    over = Trans(1300.0000, 0.0000, oz, 180.000000, 0.000000, 0.000000)
-    MovJ over
-    MovL PAL_ABOVE
-  Else
-    MovJ PAL_ABOVE
-  EndIf
-  Call pal_wait(4)
-  If DIn(4) <> True Then
-    TPWrite 0, "pallet eur: no pallet in place in 10 s"
-    Halt
-  EndIf
-  Call pal_wait(3)
-  If DIn(3) <> True Then
-    TPWrite 0, "pallet eur: no box at the pick place in 10 s"
-    Halt
-  EndIf
-MovL PAL_PICK
-  Call pal_grip()
-  MovL PAL_ABOVE
   entry = pal_pose(x, y, z + 300.0000, a)
   // above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
   transit = pal_pose(x, y, z + 300.0000, a)
@@ -293,7 +276,35 @@ MovL PAL_PICK
     oz = 200.0000
   EndIf
   over = Trans(1300.0000, 0.0000, oz, 180.000000, 0.000000, 0.000000)
-  MovL over
+  If held == 0 Then
+    // (held: the box held since the start, the counters name it: from home onto its place)
+    If up == 1 Then
+      // the empty gripper from the entry before: over Q at that height, then straight down
+      hz = upz
+      If hz < 200.0000 Then
+        hz = 200.0000
+      EndIf
+      high = Trans(1300.0000, 0.0000, hz, 180.000000, 0.000000, 0.000000)
+      MovJ high
+      MovL PAL_ABOVE
+    Else
+      MovJ PAL_ABOVE
+    EndIf
+    Call pal_wait(4)
+    If DIn(4) <> True Then
+      TPWrite 0, "pallet eur: no pallet in place in 10 s"
+      Halt
+    EndIf
+    Call pal_wait(3)
+    If DIn(3) <> True Then
+      TPWrite 0, "pallet eur: no box at the pick place in 10 s"
+      Halt
+    EndIf
+MovL PAL_PICK
+    Call pal_grip()
+    MovL PAL_ABOVE
+    MovL over
+  EndIf
   // the pallet still in place before the box goes over it (it may have been taken away while the arm was at Q)
   Call pal_wait(4)
   If DIn(4) <> True Then
@@ -305,6 +316,7 @@ MovJ transit
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)
   Call pal_release()
+  held = 0
   // the box is down: the next one (box 0: the slip sheet below the next layer)
   pal_box = pal_box + 1
   If pal_box > PAL_COUNT[pattern] Then
@@ -320,11 +332,11 @@ MovJ transit
   upz = PAL_OZ + z + 300.0000
 EndWhile
 // off the pallet before the message: over Q at the last entry's height, then straight down
-oz = upz
-If oz < 200.0000 Then
-  oz = 200.0000
+hz = upz
+If hz < 200.0000 Then
+  hz = 200.0000
 EndIf
-over = Trans(1300.0000, 0.0000, oz, 180.000000, 0.000000, 0.000000)
-MovJ over
+high = Trans(1300.0000, 0.0000, hz, 180.000000, 0.000000, 0.000000)
+MovJ high
 MovL PAL_ABOVE
 TPWrite 0, "pallet eur is full: swap it, then reset its counters from the PLC"

@@ -135,7 +135,12 @@ Function Point pal_pose(Double x, Double y, Double z, Double a)
 EndFunction
 
 // main: an empty pallet, or counters outside the stack, stop before any move
-If pal_layer == 0 And pal_box == 0 Then
+// the gripper's sensor on: an item held since a stop on the way, finished below (put down at Q)
+Int held = 0
+If DIn(2) == True Then
+  held = 1
+EndIf
+If pal_layer == 0 And pal_box == 0 And held == 0 Then
   If DIn(9) == True Then
     // the PLC: the pallet was swapped
     pal_layer = 5
@@ -145,13 +150,9 @@ If pal_layer == 0 And pal_box == 0 Then
     Halt
   EndIf
 EndIf
-If pal_valid(pal_layer, pal_box) == 0 Then
+// (the last box held: the pallet is empty after it)
+If pal_valid(pal_layer, pal_box) == 0 And Not (held == 1 And pal_layer == 0 And pal_box == 0) Then
   TPWrite 0, "pallet eur_in: layer or box counter out of range"
-  Halt
-EndIf
-// a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
-If DIn(2) == True Then
-  TPWrite 0, "pallet eur_in: a box is in the gripper (sensor on): take it out, start again"
   Halt
 EndIf
 Int pattern = 0
@@ -165,11 +166,29 @@ Point transit = PAL_PICK
 Point over = PAL_PICK
 Double oz = 0.0
 Int up = 0
-Call pal_release()
-Call pal_wait(8)
-If DIn(8) <> True Then
-  TPWrite 0, "pallet eur_in: no pallet in place in 10 s"
-  Halt
+If held == 0 Then
+  // the gripper opened at the start only when it holds nothing
+  Call pal_release()
+EndIf
+If held == 1 Then
+  // the box gripped before the stop left the pallet (the counters moved): put it down at Q first
+  MovJ PAL_ABOVE
+  Call pal_wait(7)
+  If DIn(7) <> True Then
+    TPWrite 0, "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper"
+    Halt
+  EndIf
+MovL PAL_PICK
+  Call pal_release()
+  MovL PAL_ABOVE
+  up = 1
+EndIf
+If pal_layer >= 1 Then
+  Call pal_wait(8)
+  If DIn(8) <> True Then
+    TPWrite 0, "pallet eur_in: no pallet in place in 10 s"
+    Halt
+  EndIf
 EndIf
 While pal_layer >= 1
   pattern = pal_pattern(pal_layer)
