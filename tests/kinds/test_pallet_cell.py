@@ -50,7 +50,7 @@ def _load(tmp_path, text: str):
         (
             "ur",
             "pal_testmat.script",
-            '    pal_wait(2, "pallet testmat: no box at the pick place in 10 s")\n',
+            '      pal_wait_on(2, "pallet testmat: no box at the pick place for 10 s, still waiting")\n',
             "",
             "part_missing",
         ),
@@ -83,10 +83,12 @@ def _load(tmp_path, text: str):
 )
 def test_a_program_that_does_not_wait_for_an_interlock_fails(testmat, target, name, old, new, case):
     """Without the wait for the box at Q (or the pallet in place) the arm comes down on nothing: verify's case with
-    that input never on expects the stop with the operator's message, and the program moves on (or, the pallet's
-    wait above Q left out, picks the box and stops only at the transit height, with another message)."""
+    that input off expects the stop with the operator's message (the pallet), or the message that it waits on and
+    the wait (the box at Q, which comes only after that message), and the program moves on (or, the pallet's wait
+    above Q left out, picks the box and stops only at the transit height, with another message)."""
     found = mutant_mismatches(testmat, target, name, old, new)
-    assert found and found[0].startswith(case) and ("expected a stop" in found[0] or "stop message" in found[0]), found
+    said = ("expected a stop", "stop message", "no notification")
+    assert found and found[0].startswith(case) and any(s in found[0] for s in said), found
 
 
 @pytest.mark.parametrize(
@@ -454,3 +456,26 @@ def test_a_long_pallet_name_is_shortened_in_the_messages_never_the_instruction(t
     for f in render(load_cell(PALLETS / "eur_pallet.toml"), ["kuka", "abb"]):
         for message in re.findall(r'(?:MSG_TXT\[\] = |stack_stop |TPWrite )"([^"]*)"', f.text):
             assert len(message) <= 80 and "..." not in message, message
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new"),
+    [
+        (
+            "kuka",
+            "pal_testmat.src",
+            "      PAL_PAR[1] = {PAR_TYPE #EMPTY}\n"
+            "      PAL_HANDLE = SET_KRLMSG(#NOTIFY, PAL_MSG, PAL_PAR[], PAL_OPT)\n",
+            "      PAL_HALT()\n      RETURN FALSE\n",
+        ),
+        ("abb", "pal_testmat.mod", "          WaitDI diPartAtQ, 1;\n", '          stack_stop "no box";\n'),
+        ("ur", "pal_testmat.script", "pal_wait_on(2, ", "pal_wait(2, "),
+        ("dtrans", "pal_testmat.prg", "      While DIn(3) <> True\n", "      Halt\n      While DIn(3) <> True\n"),
+    ],
+)
+def test_a_gap_in_the_infeed_is_waited_out_with_a_message(testmat, target, name, old, new):
+    """No box at the pick place for the timeout: the program tells the operator once and waits on (a palletizer's
+    infeed has gaps); verify's part_missing case brings the box only after that message. A program that stops there
+    (as it once did) fails."""
+    found = mutant_mismatches(testmat, target, name, old, new)
+    assert found and found[0].startswith("part_missing"), found

@@ -9,11 +9,13 @@ import numpy as np
 
 from codegen.guard import NO_FEEDBACK, NOT_RELEASED, halt_message
 from codegen.kinds.pallet.analysis import frame_matrix
+from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
     full_message,
     message_limit,
+    still_waiting_message,
     wait_message,
 )
 from codegen.kinds.pallet.section import Pallet
@@ -47,7 +49,9 @@ class PalletCase:
     box: int
     gripper: str = "prompt"  # codegen.sim.gripper.Gripper behaviours
     closed: bool = False  # the gripper's sensor on at the start: it holds a box (a cycle stopped mid-way)
-    missing: str | None = None  # an interlock (codegen/kinds/pallet/interlocks.py WAITS) whose input stays off
+    # an interlock (codegen/kinds/pallet/interlocks.py WAITS) whose input stays off (one of WAITS_ON: until the program
+    # said it waits on)
+    missing: str | None = None
     reset: bool = False  # the PLC asks for the counters of a swapped pallet to start again
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
@@ -72,6 +76,7 @@ class Expected:
     halt: str | None  # the operator's message, None: the program ends (the pallet is full or empty)
     counters: tuple[int, int]  # layer and box when the run ends: what to do next
     start: tuple[int, int] = (0, 0)  # the counters the program worked from (after a reset)
+    said: tuple[str, ...] = ()  # the notifications of a wait on the supply that lasted the timeout (it waited on)
 
 
 @dataclass(frozen=True)
@@ -185,6 +190,7 @@ class _Run:
         self.carrying = False
         self.gripped = False  # a grip made (the pallet may be taken away after it: case.taken)
         self.sheet = False  # a slip sheet in the gripper
+        self.said: list[str] = []  # the waits on the supply that lasted the timeout: their notifications
 
     def move(self, kind: str, pose: np.ndarray, name: str, slow: bool, exact: bool) -> None:
         speed = self.work if slow else self.travel
@@ -197,6 +203,10 @@ class _Run:
             self.moves[-1] = replace(self.moves[-1], checked=True)
         taken = interlock == "pallet_present" and self.case.taken and self.gripped
         if self.case.missing != interlock and not taken:
+            return None
+        if interlock in WAITS_ON:  # a gap in the supply (discharge): said once, then the program waits on
+            if not self.said:
+                self.said.append(still_waiting_message(self.pallet, interlock, message_limit(self.cell)))
             return None
         return wait_message(self.pallet, interlock, message_limit(self.cell), held)
 
@@ -216,7 +226,7 @@ class _Run:
         return None
 
     def result(self, halt: str | None, start: tuple[int, int]) -> Expected:
-        return Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start)
+        return Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start, tuple(self.said))
 
 
 def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:

@@ -12,7 +12,7 @@ from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import above_pick, layer_counts, safe_pose, sheet_below, start_counters, transit_dz
 from codegen.kinds.pallet.facts import facts
-from codegen.kinds.pallet.interlocks import counter_register
+from codegen.kinds.pallet.interlocks import WAITS_ON, counter_register
 from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
@@ -20,6 +20,7 @@ from codegen.kinds.pallet.messages import (
     message_limit,
     rechecked,
     select_message,
+    still_waiting_message,
     wait_message,
 )
 from codegen.kinds.pallet.patterns import layout
@@ -187,7 +188,11 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     interlocks = {
         owned(name): {
             "signal": _signal(emitter, target, signals[target.name]),
-            "message": emitter.string(wait_message(pallet, name, limit)),
+            # a wait on the supply (discharge) says so after the timeout and waits on; the others stop
+            "on": name in WAITS_ON,
+            "message": emitter.string(
+                still_waiting_message(pallet, name, limit) if name in WAITS_ON else wait_message(pallet, name, limit)
+            ),
         }
         for name, signals in pallet.io.inputs().items()
     }
@@ -196,6 +201,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     rechecks = {
         held: {
             "signal": _signal(emitter, target, present),
+            "on": False,
             "message": emitter.string(wait_message(pallet, "pallet_present", limit, held)),
         }
         for held in rechecked(pallet)

@@ -23,12 +23,13 @@ from codegen.kinds.pallet.cycle import (
     transit_dz,
 )
 from codegen.kinds.pallet.facts import facts
-from codegen.kinds.pallet.messages import select_message
+from codegen.kinds.pallet.interlocks import WAITS_ON
+from codegen.kinds.pallet.messages import message_limit, select_message, still_waiting_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import layer_top
-from codegen.kinds.pallet.station import PalletTaken
+from codegen.kinds.pallet.station import PalletTaken, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
@@ -193,6 +194,10 @@ def setup(cell, source, case: Case) -> Setup:
     if run.case.taken:  # the pallet taken away once the gripper closes
         present = signal_name(target, "input", pallet.io.pallet_present[target.name])
         devices += (PalletTaken(output, cell.io.value, present),)
+    if run.case.missing in WAITS_ON:  # the supply comes once the program said it waits on
+        signal = signal_name(target, "input", getattr(pallet.io, run.case.missing)[target.name])
+        message = Emitter(target).string(still_waiting_message(pallet, run.case.missing, message_limit(cell)))
+        devices += (SupplyLate(signal, message),)
     select = None if run.pallet < 0 else run.pallet
     counters = {layer_name: run.case.layer, box_name: run.case.box}
     if case.category == "counters_reloaded" and not _reload_proof(target):
@@ -287,6 +292,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     problem = _declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
     problem = problem or (_store_not_kept(source, target) if reloaded else None)
     problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
+    problem = problem or _unsaid(target, want.said, trace)
     return Judgement([expectation], figures=boxes, problem=problem)
 
 
@@ -306,6 +312,15 @@ def _swept(cell, pallet, target_name: str, moves) -> tuple[list, object, float]:
     start = ExpectedMove("joint", home[0].tcp2base, "home", 0.0, True, joints=np.asarray(home[1], dtype=float))
     out = [start, *(replace(m, joints=q) for m, q in zip(moves, joints, strict=True))]
     return out, (lambda q: arm.kin.fk(q) @ tcp2flange), EMPTY_GRIPPER_MM
+
+
+def _unsaid(target, said: tuple[str, ...], trace) -> str | None:
+    """A wait on the supply that lasted the timeout is told to the operator (the program then waits on)."""
+    for message in said:
+        text = Emitter(target).string(message)
+        if text not in getattr(trace, "messages", ()):
+            return f"no notification {text!r}: a wait on the supply that lasted the timeout must say so, then wait on"
+    return None
 
 
 def _reload_proof(target) -> bool:

@@ -188,7 +188,9 @@ MODULE pal_eur
           ENDIF
           WaitDI diSheetReady, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
           IF late THEN
-            stack_stop "pallet eur: no slip sheet ready in 10 s";
+            ! a gap in the line's supply is no fault: said once, then the program waits on
+            TPWrite "pallet eur: no slip sheet ready for 10 s, still waiting";
+            WaitDI diSheetReady, 1;
           ENDIF
           MoveL stack_sheet_pick, stack_work, fine, stack_tool;
           stack_grip;
@@ -241,7 +243,9 @@ MODULE pal_eur
         ENDIF
         WaitDI diCartonAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
         IF late THEN
-          stack_stop "pallet eur: no box at the pick place in 10 s";
+          ! a gap in the line's supply is no fault: said once, then the program waits on
+          TPWrite "pallet eur: no box at the pick place for 10 s, still waiting";
+          WaitDI diCartonAtQ, 1;
         ENDIF
         MoveL stack_q, stack_work, fine, stack_tool;
         stack_grip;

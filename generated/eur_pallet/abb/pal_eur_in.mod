@@ -149,7 +149,9 @@ MODULE pal_eur_in
       MoveJ stack_above_q, stack_travel, stack_zone, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
-        stack_stop "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper";
+        ! a gap in the line's supply is no fault: said once, then the program waits on
+        TPWrite "pallet eur_in: the pick place is not clear for 10 s, still waiting";
+        WaitDI diQClear, 1;
       ENDIF
       MoveL stack_q, stack_work, fine, stack_tool;
       stack_release;
@@ -201,7 +203,9 @@ MODULE pal_eur_in
       MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
-        stack_stop "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper";
+        ! a gap in the line's supply is no fault: said once, then the program waits on
+        TPWrite "pallet eur_in: the pick place is not clear for 10 s, still waiting";
+        WaitDI diQClear, 1;
       ENDIF
       MoveL stack_q, stack_work, fine, stack_tool;
       stack_release;

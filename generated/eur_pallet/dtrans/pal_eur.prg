@@ -237,8 +237,11 @@ While pal_layer <= PAL_LAYERS
       EndIf
       Call pal_wait(6)
       If DIn(6) <> True Then
-        TPWrite 0, "pallet eur: no slip sheet ready in 10 s"
-        Halt
+        TPWrite 0, "pallet eur: no slip sheet ready for 10 s, still waiting"
+        // a gap in the line's supply is no fault: said once, then the program waits on
+        While DIn(6) <> True
+          Sleep 0.05
+        EndWhile
       EndIf
 MovL PAL_SHEET_PICK
       Call pal_grip()
@@ -297,8 +300,11 @@ MovJ transit
     EndIf
     Call pal_wait(3)
     If DIn(3) <> True Then
-      TPWrite 0, "pallet eur: no box at the pick place in 10 s"
-      Halt
+      TPWrite 0, "pallet eur: no box at the pick place for 10 s, still waiting"
+      // a gap in the line's supply is no fault: said once, then the program waits on
+      While DIn(3) <> True
+        Sleep 0.05
+      EndWhile
     EndIf
 MovL PAL_PICK
     Call pal_grip()

@@ -175,8 +175,11 @@ If held == 1 Then
   MovJ PAL_ABOVE
   Call pal_wait(7)
   If DIn(7) <> True Then
-    TPWrite 0, "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper"
-    Halt
+    TPWrite 0, "pallet eur_in: the pick place is not clear for 10 s, still waiting"
+    // a gap in the line's supply is no fault: said once, then the program waits on
+    While DIn(7) <> True
+      Sleep 0.05
+    EndWhile
   EndIf
 MovL PAL_PICK
   Call pal_release()
@@ -231,8 +234,11 @@ While pal_layer >= 1
   MovL PAL_ABOVE
   Call pal_wait(7)
   If DIn(7) <> True Then
-    TPWrite 0, "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper"
-    Halt
+    TPWrite 0, "pallet eur_in: the pick place is not clear for 10 s, still waiting"
+    // a gap in the line's supply is no fault: said once, then the program waits on
+    While DIn(7) <> True
+      Sleep 0.05
+    EndWhile
   EndIf
 MovL PAL_PICK
   Call pal_release()

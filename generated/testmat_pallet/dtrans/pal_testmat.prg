@@ -207,8 +207,11 @@ While pal_layer <= PAL_LAYERS
     EndIf
     Call pal_wait(3)
     If DIn(3) <> True Then
-      TPWrite 0, "pallet testmat: no box at the pick place in 10 s"
-      Halt
+      TPWrite 0, "pallet testmat: no box at the pick place for 10 s, still waiting"
+      // a gap in the line's supply is no fault: said once, then the program waits on
+      While DIn(3) <> True
+        Sleep 0.05
+      EndWhile
     EndIf
 MovL PAL_PICK
     Call pal_grip()
