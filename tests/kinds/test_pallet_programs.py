@@ -78,10 +78,10 @@ MUTATIONS = [
         "kuka",
         "pal_testmat.src",
         "    IF NOT PAL_RELEASE() THEN\n      RETURN ; the box is still in the gripper: the counters stay at it\n"
-        "    ENDIF\n    $LOAD = PAL_LOAD\n    ; the box is down (the sensor confirmed it): the next one\n"
-        "    PAL_TESTMAT_BOX = PAL_TESTMAT_BOX + 1\n",
+        "    ENDIF\n    $LOAD = PAL_LOAD\n    HELD = FALSE\n"
+        "    ; the box is down (the sensor confirmed it): the next one\n    PAL_TESTMAT_BOX = PAL_TESTMAT_BOX + 1\n",
         "    PAL_TESTMAT_BOX = PAL_TESTMAT_BOX + 1\n    IF NOT PAL_RELEASE() THEN\n      RETURN\n    ENDIF\n"
-        "    $LOAD = PAL_LOAD\n",
+        "    $LOAD = PAL_LOAD\n    HELD = FALSE\n",
     ),
     ("abb", "pal_testmat.mod", "STACK_HEIGHT := 26.0000;", "STACK_HEIGHT := 25.0000;"),
     ("abb", "pal_testmat.mod", "STACK_CYCLE{2} := [1, 2];", "STACK_CYCLE{2} := [2, 1];"),
@@ -91,9 +91,10 @@ MUTATIONS = [
     (
         "abb",
         "pal_testmat.mod",
-        "      stack_release;\n      GripLoad load0;\n      ! the box is down and the gripper open: the next box\n"
-        "      pal_testmat_box := pal_testmat_box + 1;\n",
-        "      pal_testmat_box := pal_testmat_box + 1;\n      stack_release;\n      GripLoad load0;\n",
+        "      stack_release;\n      GripLoad load0;\n      held := FALSE;\n"
+        "      ! the box is down and the gripper open: the next box\n      pal_testmat_box := pal_testmat_box + 1;\n",
+        "      pal_testmat_box := pal_testmat_box + 1;\n      stack_release;\n      GripLoad load0;\n"
+        "      held := FALSE;\n",
     ),
     ("dtrans", "pal_testmat.prg", "Double PAL_HEIGHT = 26.0000", "Double PAL_HEIGHT = 25.0000"),
     ("dtrans", "pal_testmat.prg", "Int PAL_CYCLE[2] = {0, 1}", "Int PAL_CYCLE[2] = {1, 0}"),
@@ -102,8 +103,8 @@ MUTATIONS = [
     (
         "dtrans",
         "pal_testmat.prg",
-        "  Call pal_release()\n  // the box is down",
-        "  pal_box = pal_box + 1\n  Call pal_release()\n  pal_box = pal_box - 1\n  // the box is down",
+        "  Call pal_release()\n  held = 0\n  // the box is down",
+        "  pal_box = pal_box + 1\n  Call pal_release()\n  pal_box = pal_box - 1\n  held = 0\n  // the box is down",
     ),
 ]
 
@@ -173,15 +174,49 @@ def test_the_controllers_choice_of_joints_is_checked_against_the_plan():
 @pytest.mark.parametrize(
     ("target", "name", "old", "new"),
     [
-        ("ur", "pal_testmat.script", "  if get_standard_digital_in(1) == True:\n", "  if False:\n"),
-        ("kuka", "pal_testmat.src", "  IF $IN[18] THEN\n", "  IF FALSE THEN\n"),
-        ("abb", "pal_testmat.mod", "    IF held THEN\n", "    IF FALSE THEN\n"),
-        ("dtrans", "pal_testmat.prg", "If DIn(2) == True Then\n", "If False Then\n"),
+        ("ur", "pal_testmat.script", "  if not pal_held:   # the gripper opened", "  if True:   # the gripper opened"),
+        ("kuka", "pal_testmat.src", "  IF NOT HELD THEN ; the gripper opened", "  IF TRUE THEN ; the gripper opened"),
+        ("abb", "pal_testmat.mod", "    IF NOT held THEN\n      ! the gripper opened", "    IF TRUE THEN\n      ! the"),
+        ("dtrans", "pal_testmat.prg", "If held == 0 Then\n  // the gripper opened", "If 0 == 0 Then\n  // the"),
     ],
 )
 def test_a_program_that_opens_a_gripper_holding_a_box_fails_verify(target, name, old, new):
-    """Started with a box in the gripper (a cycle stopped on the way), the program must stop, not open it."""
+    """Started with a box in the gripper (a cycle stopped on the way), the program must not open it at the start."""
     cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = mutant_mismatches(cell, target, name, old, new)
+    assert found and found[0].startswith("held_at_start"), found
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new"),
+    [
+        ("ur", "pal_testmat.script", "  pal_held = get_standard_digital_in(1) == True\n", "  pal_held = False\n"),
+        ("kuka", "pal_testmat.src", "  HELD = $IN[18]\n", "  HELD = $IN[18]\n  IF HELD THEN\n    HALT\n  ENDIF\n"),
+        ("abb", "pal_testmat.mod", "    held := DInput(diGripClosed) = 1;\n", "    held := FALSE;\n"),
+        ("dtrans", "pal_testmat.prg", "  held = 1\n", "  Halt\n"),
+    ],
+)
+def test_a_box_held_at_the_start_is_placed_where_the_counters_say(target, name, old, new):
+    """Stacking, a box held at the start is the one the counters name (they move only after a confirmed release): the
+    program carries it from home onto its place and goes on; one that stops there (as it once did), or takes it for
+    an empty gripper, fails verify."""
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = mutant_mismatches(cell, target, name, old, new)
+    assert found and found[0].startswith("held_at_start"), found
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new"),
+    [
+        ("kuka", "pal_eur_in.src", "  IF HELD THEN\n    ; the box gripped", "  IF FALSE THEN\n    ; the box gripped"),
+        ("abb", "pal_eur_in.mod", "    IF held THEN\n      ! the box gripped", "    IF FALSE THEN\n      ! the"),
+        ("dtrans", "pal_eur_in.prg", "If held == 1 Then\n  // the box gripped", "If held == 2 Then\n  // the"),
+    ],
+)
+def test_an_unstacking_program_puts_a_held_box_down_at_q_first(target, name, old, new):
+    """Unstacking, a box held at the start left the pallet (the counters moved at the grip): it goes down at Q (Q
+    clear waited for) before the next box, also when it was the last; without the put-down verify fails."""
+    cell = load_cell(PALLETS / "eur_pallet.toml")
     found = mutant_mismatches(cell, target, name, old, new)
     assert found and found[0].startswith("held_at_start"), found
 

@@ -1,4 +1,5 @@
-"""The carried box's sweep over the stack: the plan's straight segments, checked against the boxes already placed."""
+"""The gripper's sweep over the stack: the carried box against the boxes already placed, the empty gripper against the
+boxes on the pallet; the plan's straight segments, or a joint move through the arm's joint space."""
 
 from __future__ import annotations
 
@@ -97,3 +98,74 @@ def test_the_carried_slip_sheet_rises_to_the_transit_height_before_it_swings():
     assert sweeps(pallet, frame, moves) is None
     found = sweeps(pallet, frame, _sheet_direct(moves))
     assert found is not None and found.startswith("layer 3 sheet entry") and "carried sheet's bottom" in found, found
+
+
+def _with_joints(cell, pallet, moves, target: str):
+    """The moves from home with the joints the program moves through (verify's sweep), the arm's fk and the empty
+    gripper's width."""
+    from codegen.kinds.pallet.verify import _swept
+
+    return _swept(cell, pallet, target, moves)
+
+
+def _unstack_plan():
+    cell = load_cell(EXAMPLES / "eur_pallet.toml")
+    pallet = next(p for p in pallets_of(cell) if p.mode == "unstack")
+    return cell, pallet, expected(cell, pallet, PalletCase("t", *start_counters(pallet))).moves
+
+
+def _unstack_direct(moves):
+    """The unstacking plan as it was: from above Q (z 200) the empty gripper in one joint move straight to the next
+    box's entry (no rise over Q, no joint move above the entry at the transit height)."""
+    out = []
+    for move in moves:
+        if move.name.endswith(" up from Q") or (move.kind == "joint" and move.name.endswith(" transit")):
+            continue
+        if move.name.endswith(" entry") and (not out or out[-1].name.endswith(" lift from Q")):
+            move = replace(move, kind="joint")
+        out.append(move)
+    return out
+
+
+def test_the_empty_gripper_from_q_straight_to_the_next_entry_dips_into_the_top_layer():
+    """The unstacking plan's empty gripper rises over Q to the transit height, swings above the next box's entry and
+    comes down: passes on both arms, followed through joint space. The joint move from above Q straight to the entry
+    (the arm's joints a straight line between the two) takes the gripper's face below the top of a near-corner box of
+    the top layer still on the pallet, with the 100 mm face and with the TCP point alone."""
+    cell, pallet, moves = _unstack_plan()
+    frame = frame_matrix(pallet)
+    names = [m.name for m in moves[:3]]
+    assert names == ["layer 5 box 8 transit", "layer 5 box 8 entry", "layer 5 box 8 approach"], names
+    for target in ("kuka", "abb"):
+        swept, fk, width = _with_joints(cell, pallet, moves, target)
+        assert fk is not None
+        assert sweeps(pallet, frame, swept, fk, width) is None
+        old, fk, width = _with_joints(cell, pallet, _unstack_direct(moves), target)
+        for face in (width, 0.0):
+            found = sweeps(pallet, frame, old, fk, face)
+            assert found is not None and "empty gripper's face" in found and "top of layer 5 box" in found, found
+
+
+def test_the_empty_gripper_leaving_a_stacked_box_swings_over_q_at_the_entry_height():
+    """Stacking: from the entry of the box just placed the empty gripper swings over Q at that height, then comes
+    straight down; a joint move from the entry straight down to above Q (200 mm over Q, below the top layers) passes
+    through the boxes just placed (a straight segment; through the KR 210's joint space)."""
+    cell = load_cell(EXAMPLES / "eur_pallet.toml")
+    pallet = next(p for p in pallets_of(cell) if p.mode == "stack")
+    moves = expected(cell, pallet, PalletCase("t", *start_counters(pallet))).moves
+    frame = frame_matrix(pallet)
+    direct = []
+    for move in moves:
+        if move.kind == "joint" and move.name.endswith((" over Q", " over the sheet stack")):
+            continue
+        if move.name.endswith((" above Q", " above the sheet stack")) and direct and direct[-1].name.endswith("entry"):
+            move = replace(move, kind="joint")
+        direct.append(move)
+    assert sweeps(pallet, frame, moves) is None
+    found = sweeps(pallet, frame, direct)
+    assert found is not None and "empty gripper's face" in found, found
+    for target in ("kuka", "abb"):
+        assert sweeps(pallet, frame, *_with_joints(cell, pallet, moves, target)) is None
+    # through the KR 210's joint space the direct move dips below the layer just placed (the IRB 4600's clears it)
+    found = sweeps(pallet, frame, *_with_joints(cell, pallet, direct, "kuka"))
+    assert found is not None and "empty gripper's face" in found, found

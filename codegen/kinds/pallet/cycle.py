@@ -9,12 +9,13 @@ import numpy as np
 
 from codegen.guard import NO_FEEDBACK, NOT_RELEASED, halt_message
 from codegen.kinds.pallet.analysis import frame_matrix
+from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
     full_message,
-    held_message,
     message_limit,
+    still_waiting_message,
     wait_message,
 )
 from codegen.kinds.pallet.section import Pallet
@@ -48,7 +49,9 @@ class PalletCase:
     box: int
     gripper: str = "prompt"  # codegen.sim.gripper.Gripper behaviours
     closed: bool = False  # the gripper's sensor on at the start: it holds a box (a cycle stopped mid-way)
-    missing: str | None = None  # an interlock (codegen/kinds/pallet/interlocks.py WAITS) whose input stays off
+    # an interlock (codegen/kinds/pallet/interlocks.py WAITS) whose input stays off (one of WAITS_ON: until the program
+    # said it waits on)
+    missing: str | None = None
     reset: bool = False  # the PLC asks for the counters of a swapped pallet to start again
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
@@ -63,6 +66,7 @@ class ExpectedMove:
     carrying: bool = False  # a box in the gripper (its grip confirmed): the payload is the tool's and the box's
     checked: bool = False  # an interlock input is read right after it (where that read stops the advance run, a stop)
     sheet: bool = False  # a slip sheet in the gripper (weightless: no payload; its sweep is checked as a box's)
+    joints: np.ndarray | None = None  # the arm's joints there, where known (the sweep follows a joint move by them)
 
 
 @dataclass(frozen=True)
@@ -72,6 +76,7 @@ class Expected:
     halt: str | None  # the operator's message, None: the program ends (the pallet is full or empty)
     counters: tuple[int, int]  # layer and box when the run ends: what to do next
     start: tuple[int, int] = (0, 0)  # the counters the program worked from (after a reset)
+    said: tuple[str, ...] = ()  # the notifications of a wait on the supply that lasted the timeout (it waited on)
 
 
 @dataclass(frozen=True)
@@ -185,6 +190,7 @@ class _Run:
         self.carrying = False
         self.gripped = False  # a grip made (the pallet may be taken away after it: case.taken)
         self.sheet = False  # a slip sheet in the gripper
+        self.said: list[str] = []  # the waits on the supply that lasted the timeout: their notifications
 
     def move(self, kind: str, pose: np.ndarray, name: str, slow: bool, exact: bool) -> None:
         speed = self.work if slow else self.travel
@@ -197,6 +203,10 @@ class _Run:
             self.moves[-1] = replace(self.moves[-1], checked=True)
         taken = interlock == "pallet_present" and self.case.taken and self.gripped
         if self.case.missing != interlock and not taken:
+            return None
+        if interlock in WAITS_ON:  # a gap in the supply (discharge): said once, then the program waits on
+            if not self.said:
+                self.said.append(still_waiting_message(self.pallet, interlock, message_limit(self.cell)))
             return None
         return wait_message(self.pallet, interlock, message_limit(self.cell), held)
 
@@ -216,40 +226,70 @@ class _Run:
         return None
 
     def result(self, halt: str | None, start: tuple[int, int]) -> Expected:
-        return Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start)
+        return Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start, tuple(self.said))
 
 
 def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     """What the pallet's program does in this case: the checks before any move (a full or empty pallet, reset by
-    the PLC or not; counters outside the stack; a box in the gripper), then each item from the counters."""
+    the PLC or not; counters outside the stack), then each item from the counters. A box held at the start (a cycle
+    stopped on the way) is finished: stacking, it is the item the counters name (they move only after a confirmed
+    release), carried from home onto its place; unstacking, it left the pallet (the counters moved at the grip), and
+    is put down at Q first, even when it was the last box."""
     start, done = (case.layer, case.box), done_counters(pallet)
     limit = message_limit(cell)
     keys = [item.key for item in items(pallet)]
-    if start == done and case.reset and pallet.io.reset:  # a swapped pallet: the PLC resets its counters
+    put_down = case.closed and pallet.mode == "unstack"
+    if start == done and case.reset and pallet.io.reset and not put_down:  # a swapped pallet: the PLC resets it
         start = keys[0]
-    if start == done:
+    if start == done and not put_down:
         message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
         return Expected((), (), message, start, start)
-    if start not in keys:
+    if start not in keys and start != done:
         return Expected((), (), counters_message(pallet, limit), start, start)
-    if case.closed:  # a box in the gripper: opening it anywhere would drop it
-        return Expected((), (), held_message(pallet, limit), start, start)
     run = _Run(cell, pallet, case, start)
-    todo = [item for item in items(pallet)][keys.index(start) :]
-    halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
+    todo = [item for item in items(pallet)][keys.index(start) :] if start in keys else []
+    if case.closed:  # no release at the start: the gripper holds the item
+        run.outputs = []
+        run.carrying = put_down or todo[0].placement is not None
+        run.sheet = not run.carrying
+    if put_down:
+        halt = _put_down(run)
+        halt = halt or (_unstacking(run, todo, done, from_q=True) if todo else None)
+    else:
+        halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
     return run.result(halt, start)
 
 
+def _put_down(run: _Run) -> str | None:
+    """Unstacking, a box held at the start: above Q (joint), Q clear waited for, Q (slow, exact), release, above Q
+    (slow, exact)."""
+    pallet = run.pallet
+    above = above_pick(pallet)
+    run.move("joint", above, "held box above Q", False, False)
+    halt = run.wait("place_clear")
+    if halt:
+        return halt
+    run.move("linear", pallet.pick.matrix(), "held box place at Q", True, True)
+    halt = run.release()
+    if halt:
+        return halt
+    run.move("linear", above, "held box lift from Q", True, True)
+    return None
+
+
 def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
-    """Per box: above Q (joint; the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to
-    the transit height (transit_pose: the box clear of the layer's top), the pallet waited for again (it may have been
-    taken away while the arm was at Q), above the entry at that height (joint), the
-    entry, approach, target (slow, exact), release, retreat (slow), entry; the counters advance once the release
-    is confirmed. Per slip sheet the same from the sheet stack onto the pallet's centre (the transit height over the
-    sheet's place: its top + transit_dz). At the end: above Q, off the pallet, before the message."""
+    """Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint, then
+    straight down) above Q (the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to the
+    transit height (transit_pose: the box clear of the layer's top), the pallet waited for again (it may have been
+    taken away while the arm was at Q), above the entry at that height (joint), the entry, approach, target (slow,
+    exact), release, retreat (slow), entry; the counters advance once the release is confirmed. Per slip sheet the
+    same from the sheet stack onto the pallet's centre (the transit height over the sheet's place: its top +
+    transit_dz). At the end: over Q at the last entry's height (joint), above Q, off the pallet, before the
+    message. The gripper, empty or holding a box, crosses the stack only above the entry or transit height."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     joint = "transit"  # the joint move onto the pallet: above the entry at the transit height
+    height = 0.0  # the entry the empty gripper leaves the pallet from (base z, mm)
     for i, item in enumerate(todo):
         after = todo[i + 1].key if i + 1 < len(todo) else done
         where = f"layer {item.layer} " + (f"box {item.number}" if item.number else "sheet")
@@ -279,7 +319,25 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
             )
             retreat = ((frame @ p.retreat, "retreat", True, False), (frame @ p.entry, "entry", False, False))
             interlocks, named = ("pallet_present", "part_present"), "Q"
-        run.move("joint", _lifted(source, lift), f"{where} above {named}", False, False)
+        if i == 0 and (run.carrying or run.sheet):  # held at the start: from home onto its place
+            halt = run.wait("pallet_present", "box" if item.placement is not None else "sheet")
+            if halt:
+                return halt
+            for pose, name, slow, exact in path[1:]:
+                run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
+            halt = run.release()
+            if halt:
+                return halt
+            run.counters = after
+            for pose, name, slow, exact in retreat:
+                run.move("linear", pose, f"{where} {name}", slow, exact)
+            height = retreat[-1][0][2, 3]
+            continue
+        if i > 0:  # the empty gripper at the entry before: over the pick at that height first, then down to it
+            run.move("joint", risen(_lifted(source, lift), height), f"{where} over {named}", False, False)
+            run.move("linear", _lifted(source, lift), f"{where} above {named}", False, False)
+        else:
+            run.move("joint", _lifted(source, lift), f"{where} above {named}", False, False)
         for interlock in interlocks:
             halt = run.wait(interlock)
             if halt:
@@ -301,16 +359,20 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
         run.counters = after
         for pose, name, slow, exact in retreat:
             run.move("linear", pose, f"{where} {name}", slow, exact)
-    run.move("joint", above, "off the pallet: above Q", False, True)
+        height = retreat[-1][0][2, 3]  # the entry's: the empty gripper clear of the stack's top
+    run.move("joint", risen(above, height), "off the pallet: over Q", False, False)
+    run.move("linear", above, "off the pallet: above Q", False, True)
     return None
 
 
-def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
+def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool = False) -> str | None:
     """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
-    order: entry (joint), approach, target (slow, exact), grip; the counters move to the next box once the grip is
-    confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height (transit_pose), over Q
-    at that height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the
-    pallet waited for at Q; above Q (slow)."""
+    order: (after the box before it: straight up over Q to this box's transit height) above the entry at the transit
+    height (transit_pose, joint), entry, approach, target (slow, exact), grip; the counters move to the next box once
+    the grip is confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height, over Q at that
+    height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the pallet waited for at
+    Q; above Q (slow). The empty gripper, like the carried box, crosses the stack only at the transit height. from_q:
+    the arm starts above Q (a held box put down there first)."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     halt = run.wait("pallet_present")
@@ -319,7 +381,11 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | Non
     for i, item in enumerate(todo):
         p, last = item.placement, i + 1 == len(todo)
         where = f"layer {p.layer} box {p.number}"
-        run.move("joint", frame @ p.entry, f"{where} entry", False, False)
+        transit = frame @ transit_pose(p.entry, pallet, p.layer)
+        if i > 0 or from_q:  # the arm above Q, empty: straight up to this box's transit height first
+            run.move("linear", risen(above, transit[2, 3]), f"{where} up from Q", False, False)
+        run.move("joint", transit, f"{where} transit", False, False)
+        run.move("linear", frame @ p.entry, f"{where} entry", False, False)
         run.move("linear", frame @ p.approach, f"{where} approach", False, False)
         run.move("linear", frame @ p.target, f"{where} target", True, True)
         halt = run.grip()
@@ -328,7 +394,6 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | Non
         run.counters = done if last else todo[i + 1].key
         run.move("linear", frame @ p.retreat, f"{where} retreat", True, False)
         run.move("linear", frame @ p.entry, f"{where} entry", False, False)
-        transit = frame @ transit_pose(p.entry, pallet, p.layer)
         run.move("linear", transit, f"{where} transit", False, False)
         run.move("joint", risen(above, transit[2, 3]), f"{where} over Q", False, False)
         run.move("linear", above, f"{where} above Q", False, False)

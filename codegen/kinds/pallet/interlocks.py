@@ -27,6 +27,10 @@ MISSED = {
     "sheet_ready": "no slip sheet ready",
 }
 
+# The waits on the line's supply and discharge (a box at Q, a sheet ready, Q clear): a gap there is no fault, so after
+# timeout_s the program says so once and waits on; the others (the pallet in place) stop with the message
+WAITS_ON = ("part_present", "sheet_ready", "place_clear")
+
 
 @dataclass(frozen=True)
 class PalletIO:

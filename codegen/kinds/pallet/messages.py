@@ -4,7 +4,7 @@ name shortened where it would not fit, never the instruction."""
 from __future__ import annotations
 
 from codegen.controllers import get_target
-from codegen.kinds.pallet.interlocks import MISSED
+from codegen.kinds.pallet.interlocks import MISSED, WAITS_ON
 from codegen.kinds.pallet.section import Pallet
 from codegen.kinds.pallet.stack import placements
 
@@ -43,10 +43,6 @@ def empty_message(pallet: Pallet, limit: int) -> str:
     return _named(pattern, pallet, limit)
 
 
-def held_message(pallet: Pallet, limit: int) -> str:
-    return _named("pallet {name}: a box is in the gripper (sensor on): take it out, start again", pallet, limit)
-
-
 def counters_message(pallet: Pallet, limit: int) -> str:
     return _named("pallet {name}: layer or box counter out of range", pallet, limit)
 
@@ -59,6 +55,12 @@ def wait_message(pallet: Pallet, interlock: str, limit: int, held: str | None = 
     return _named(f"pallet {{name}}: {MISSED[interlock]} in {pallet.io.timeout_s:g} s{then}", pallet, limit)
 
 
+def still_waiting_message(pallet: Pallet, interlock: str, limit: int) -> str:
+    """The notification after a wait on the supply or discharge (interlocks.WAITS_ON) lasted the timeout: the program
+    waits on."""
+    return _named(f"pallet {{name}}: {MISSED[interlock]} for {pallet.io.timeout_s:g} s, still waiting", pallet, limit)
+
+
 def select_message() -> str:
     return "no pallet program selected: the PLC sets one select input"
 
@@ -67,9 +69,11 @@ def all_messages(pallet: Pallet, limit: int) -> list[str]:
     return [
         full_message(pallet, limit),
         empty_message(pallet, limit),
-        held_message(pallet, limit),
         counters_message(pallet, limit),
-        *(wait_message(pallet, name, limit) for name in pallet.io.inputs()),
+        *(
+            still_waiting_message(pallet, name, limit) if name in WAITS_ON else wait_message(pallet, name, limit)
+            for name in pallet.io.inputs()
+        ),
         *(wait_message(pallet, "pallet_present", limit, held) for held in rechecked(pallet)),
     ]
 

@@ -12,15 +12,15 @@ from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import above_pick, layer_counts, safe_pose, sheet_below, start_counters, transit_dz
 from codegen.kinds.pallet.facts import facts
-from codegen.kinds.pallet.interlocks import counter_register
+from codegen.kinds.pallet.interlocks import WAITS_ON, counter_register
 from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
     full_message,
-    held_message,
     message_limit,
     rechecked,
     select_message,
+    still_waiting_message,
     wait_message,
 )
 from codegen.kinds.pallet.patterns import layout
@@ -195,7 +195,11 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     interlocks = {
         owned(name): {
             "signal": _signal(emitter, target, signals[target.name]),
-            "message": emitter.string(wait_message(pallet, name, limit)),
+            # a wait on the supply (discharge) says so after the timeout and waits on; the others stop
+            "on": name in WAITS_ON,
+            "message": emitter.string(
+                still_waiting_message(pallet, name, limit) if name in WAITS_ON else wait_message(pallet, name, limit)
+            ),
         }
         for name, signals in pallet.io.inputs().items()
     }
@@ -204,6 +208,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     rechecks = {
         held: {
             "signal": _signal(emitter, target, present),
+            "on": False,
             "message": emitter.string(wait_message(pallet, "pallet_present", limit, held)),
         }
         for held in rechecked(pallet)
@@ -275,7 +280,6 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "select": None if select is None else _signal(emitter, target, select),
         "empty": emitter.string(empty_message(pallet, limit)),
         "full": emitter.string(full_message(pallet, limit)),
-        "held": emitter.string(held_message(pallet, limit)),
         "bad_counters": emitter.string(counters_message(pallet, limit)),
         "release": emitter.comment(target.program.get("minimum_release", "")),
     }

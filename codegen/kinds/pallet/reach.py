@@ -80,14 +80,15 @@ class Named:
         return (pattern_of(pallet, int(words[1])), int(words[3])) if words[-1] in ("entry", "transit") else None
 
 
-def anchor_key(move) -> object:
+def anchor_key(move, any_motion: bool = False) -> object:
     """The key of a joint move to one of the fixed poses (above Q, above the sheet stack, the safe pose), None:
-    another move (a box's entry or transit, over Q at a layer's height: computed while the program runs)."""
-    if move.kind != "joint":
+    another move (a box's entry or transit, over Q at a layer's height: computed while the program runs);
+    any_motion: a linear move there too (where the cycle reaches the pose, e.g. unstacking's way down to Q)."""
+    if move.kind != "joint" and not any_motion:
         return None
     if move.name.endswith("above Q"):
         return PICK_KEY
-    if move.name.endswith("sheet stack"):
+    if move.name.endswith("above the sheet stack"):
         return SHEET_KEY
     return SAFE_KEY if move.name == SAFE_NAME else None
 
@@ -171,7 +172,7 @@ def configurations(cell, pallet, target: str) -> Named | None:
             values[key] = FORMS[form].of(arm, joints)
         if entry is None and isinstance(key, tuple):
             entry = joints
-        anchor = anchor_key(move)
+        anchor = anchor_key(move, any_motion=True)
         if anchor is not None and anchor not in first:
             first[anchor] = joints
     # the way home's pose above the pallet: the solution nearest the cycle's first entry onto the pallet (its

@@ -1,4 +1,5 @@
-"""The pallet station in verify: the pallet taken away once the gripper closes (a device of Program.run)."""
+"""The pallet station in verify: the pallet taken away once the gripper closes, a supply that comes only after the
+program said it waits on (devices of Program.run)."""
 
 from __future__ import annotations
 
@@ -23,4 +24,22 @@ class PalletTaken:
         if machine.signals.get(self.present) is False or machine.signals.get(self.output) != self.value:
             return False
         machine.signals[self.present] = False
+        return True
+
+
+@dataclass
+class SupplyLate:
+    """A supply (discharge) input that stays off until the program has told the operator it waits on it (its
+    notification among the run's messages), then comes on: a gap in the line longer than the program's timeout."""
+
+    signal: str  # the interlock's input
+    message: str  # the notification the program shows when the wait lasted its timeout
+
+    def next_time(self, machine: Machine) -> float | None:
+        return None
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        if machine.signals.get(self.signal) or self.message not in machine.trace.messages:
+            return False
+        machine.signals[self.signal] = True
         return True

@@ -23,13 +23,14 @@ from codegen.kinds.pallet.cycle import (
     transit_dz,
 )
 from codegen.kinds.pallet.facts import facts
-from codegen.kinds.pallet.messages import select_message
+from codegen.kinds.pallet.interlocks import WAITS_ON
+from codegen.kinds.pallet.messages import message_limit, select_message, still_waiting_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import layer_top
-from codegen.kinds.pallet.station import PalletTaken
-from codegen.kinds.pallet.sweep import sweeps
+from codegen.kinds.pallet.station import PalletTaken, SupplyLate
+from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
@@ -118,6 +119,12 @@ def own_cases(pallet, rng) -> list[PalletCase]:
     bad = [(0, 1), (1, counts[1] + 1), (pallet.layers + 1, 2), (2, 0) if (2, 0) not in keys else (1, 0)]
     out += [PalletCase("bad_counters", *key) for key in bad if key not in keys and key != done]
     out += [PalletCase("gripper_silent", *first, "silent"), PalletCase("held_at_start", *first, closed=True)]
+    # a box held at the start (a stop on the way): stacking, the box the counters name (a sheet, where one is next);
+    # unstacking, the box gripped before the counters' (the last one: the counters say empty)
+    out.append(PalletCase("held_at_start", *keys[len(keys) // 2], closed=True))
+    out += [PalletCase("held_at_start", *key, closed=True) for key in keys if key[1] == 0][:1]
+    if not stack:
+        out.append(PalletCase("held_at_start", *done, closed=True))
     sheets = [key for key in keys if key[1] == 0]  # slip sheets (stacking only)
     if stack:  # it never lets the box go at the target: the counters must stay at that box
         last_of_2 = max(key for key in keys if key[0] == min(2, pallet.layers))
@@ -187,6 +194,10 @@ def setup(cell, source, case: Case) -> Setup:
     if run.case.taken:  # the pallet taken away once the gripper closes
         present = signal_name(target, "input", pallet.io.pallet_present[target.name])
         devices += (PalletTaken(output, cell.io.value, present),)
+    if run.case.missing in WAITS_ON:  # the supply comes once the program said it waits on
+        signal = signal_name(target, "input", getattr(pallet.io, run.case.missing)[target.name])
+        message = Emitter(target).string(still_waiting_message(pallet, run.case.missing, message_limit(cell)))
+        devices += (SupplyLate(signal, message),)
     select = None if run.pallet < 0 else run.pallet
     counters = {layer_name: run.case.layer, box_name: run.case.box}
     if case.category == "counters_reloaded" and not _reload_proof(target):
@@ -257,6 +268,8 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     if home is not None and (want.moves or want.outputs):  # with an arm the program goes home first
         start = _start_joints(cell, run.pallet, target.name, case)
         way = _way_home(cell, pallet, target, home, start, want.start[0])
+        if pallet_case.closed and (pallet.mode == "unstack" or want.start[1] != 0) and load is not None:
+            way = [replace(m, payload=load) for m in way]  # a box held since the start: its payload on the way home
         moves = [*way, *moves]
         outputs = [replace(o, after_moves=o.after_moves + len(way)) for o in outputs]
 
@@ -278,8 +291,36 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     reloaded = case.category == "counters_reloaded"
     problem = _declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
     problem = problem or (_store_not_kept(source, target) if reloaded else None)
-    problem = problem or sweeps(pallet, frame_matrix(pallet), want.moves)
+    problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
+    problem = problem or _unsaid(target, want.said, trace)
     return Judgement([expectation], figures=boxes, problem=problem)
+
+
+def _swept(cell, pallet, target_name: str, moves) -> tuple[list, object, float]:
+    """The moves the sweep follows, the arm's forward kinematics (tcp2base) and the empty gripper's width: with an
+    arm, from home, each move with the joints the program moves through (a joint move is a straight line in joint
+    space); without one, the TCP's straight segments from the first move."""
+    home = home_move(cell, target_name)
+    if home is None:
+        return list(moves), None, EMPTY_GRIPPER_MM
+    try:
+        named = configurations(cell, pallet, target_name)
+        joints = joints_of(cell, target_name, moves, "verify: the sweep", pallet, named)
+    except ReachError:
+        return list(moves), None, EMPTY_GRIPPER_MM
+    arm, tcp2flange = cell.robot.arms[target_name], cell.robot.tool.tcp2flange
+    start = ExpectedMove("joint", home[0].tcp2base, "home", 0.0, True, joints=np.asarray(home[1], dtype=float))
+    out = [start, *(replace(m, joints=q) for m, q in zip(moves, joints, strict=True))]
+    return out, (lambda q: arm.kin.fk(q) @ tcp2flange), EMPTY_GRIPPER_MM
+
+
+def _unsaid(target, said: tuple[str, ...], trace) -> str | None:
+    """A wait on the supply that lasted the timeout is told to the operator (the program then waits on)."""
+    for message in said:
+        text = Emitter(target).string(message)
+        if text not in getattr(trace, "messages", ()):
+            return f"no notification {text!r}: a wait on the supply that lasted the timeout must say so, then wait on"
+    return None
 
 
 def _reload_proof(target) -> bool:

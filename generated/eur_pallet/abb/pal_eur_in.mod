@@ -7,10 +7,12 @@ MODULE pal_eur_in
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_eur_in_run (this
   ! module's one global routine); the counters are in the system module pallet_data.sys (loaded once).
   ! The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
-  ! placing order: in the pallet's work object entry (joint move), approach and target (slow, fine), grip,
-  ! retreat (slow), entry, up to the transit height (300.0000 mm over the layer's top); then over Q at that
-  ! height (joint move), above Q (Q clear waited for), down to Q (slow, fine), release, (the pallet waited for
-  ! again) back up (slow).
+  ! placing order: (after the box before it, the empty gripper straight up over Q to this box's transit
+  ! height) in the pallet's work object above the entry at the transit height (300.0000 mm over the layer's
+  ! top; joint move), entry, approach and target (slow, fine), grip, retreat (slow), entry, up to the transit
+  ! height; then over Q at that height (joint move), above Q (Q clear waited for), down to Q (slow, fine),
+  ! release, (the pallet waited for again) back up (slow). The gripper, empty or holding a box, crosses the
+  ! stack only at the transit height.
   ! Where the arm passes a pose the move blends (stack_zone, 30.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
@@ -38,6 +40,9 @@ MODULE pal_eur_in
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen
   LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget stack_above_q := [[1300.0000, 0.0000, 200.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  ! above Q in axis values (codegen's plan), where a joint move goes there: from it every pose's closest
+  ! configuration is unique (the configuration check is off: see main)
+  LOCAL CONST jointtarget stack_above_q_axes := [[0.000000, 29.273688, 26.478757, 0.000000, 34.247555, 180.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the way home after a stop passes above the pallet's centre (base frame)
   LOCAL CONST robtarget stack_safe := [[0.0000, -1500.0000, 1050.0000], [0.000000000, 0.000000000, 1.000000000, 0.000000000], [-1, 0, 3, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST jointtarget stack_safe_axes := [[-90.000000, 23.285416, -19.622270, 0.000000, 86.336854, 270.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
@@ -86,10 +91,13 @@ MODULE pal_eur_in
     VAR num row;
     VAR bool held;
     VAR bool late;
+    VAR bool up_q;
     VAR jointtarget now;
     ! the counters as a restart finds them: an empty pallet, or numbers outside the stack, stop
     ! before any move
-    IF pal_eur_in_layer = 0 AND pal_eur_in_box = 0 THEN
+    ! the gripper's sensor on: an item held since a stop on the way, finished below (put down at Q)
+    held := DInput(diGripClosed) = 1;
+    IF pal_eur_in_layer = 0 AND pal_eur_in_box = 0 AND NOT held THEN
       IF DInput(diResetEurIn) = 1 THEN
         ! the PLC: the pallet was swapped
         pal_eur_in_layer := 5;
@@ -98,13 +106,15 @@ MODULE pal_eur_in
         stack_stop "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
       ENDIF
     ENDIF
-    IF NOT stack_valid() THEN
+    ! (the last box held: the pallet is empty after it)
+    IF NOT stack_valid() AND NOT (held AND pal_eur_in_layer = 0 AND pal_eur_in_box = 0) THEN
       stack_stop "pallet eur_in: layer or box counter out of range";
     ENDIF
-    ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
-    WaitDI diGripClosed, 0 \MaxTime:=0.1 \TimeFlag:=held;
+    ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
     IF held THEN
-      stack_stop "pallet eur_in: a box is in the gripper (sensor on): take it out, start again";
+      GripLoad stack_box;
+    ELSE
+      GripLoad load0;
     ENDIF
     ! the tool's pose puts axis 1, 4 or 6 on a quadrant boundary at a joint move's target (a vertical tool:
     ! axis 4 at 0, axis 6 at a multiple of 90), where the quadrant in a robtarget would be decided by
@@ -132,11 +142,32 @@ MODULE pal_eur_in
       MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
-    GripLoad load0;
-    stack_release;
-    WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
-    IF late THEN
-      stack_stop "pallet eur_in: no pallet in place in 10 s";
+    IF NOT held THEN
+      ! the gripper opened at the start only when it holds nothing
+      stack_release;
+    ENDIF
+    ! the arm comes from home: no box put down at Q yet
+    up_q := FALSE;
+    IF held THEN
+      ! the box gripped before the stop left the pallet (the counters moved): put it down at Q first
+      MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, stack_zone, stack_tool;
+      WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      IF late THEN
+        ! a gap in the line's supply is no fault: said once, then the program waits on
+        TPWrite "pallet eur_in: the pick place is not clear for 10 s, still waiting";
+        WaitDI diQClear, 1;
+      ENDIF
+      MoveL stack_q, stack_work, fine, stack_tool;
+      stack_release;
+      GripLoad load0;
+      MoveL stack_above_q, stack_work, fine, stack_tool;
+      up_q := TRUE;
+    ENDIF
+    IF pal_eur_in_layer >= 1 THEN
+      WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      IF late THEN
+        stack_stop "pallet eur_in: no pallet in place in 10 s";
+      ENDIF
     ENDIF
     WHILE pal_eur_in_layer >= 1 DO
       target := stack_target(pal_eur_in_layer, pal_eur_in_box);
@@ -149,7 +180,13 @@ MODULE pal_eur_in
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
       ENDIF
-      MoveJ entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      IF up_q THEN
+        ! the empty gripper straight up over Q to this box's transit height
+        MoveL over, stack_travel, stack_zone, stack_tool;
+      ENDIF
+      ! above the entry at the transit height (the gripper clear of the stack), then down to the entry
+      MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       stack_grip;
@@ -170,7 +207,9 @@ MODULE pal_eur_in
       MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
-        stack_stop "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper";
+        ! a gap in the line's supply is no fault: said once, then the program waits on
+        TPWrite "pallet eur_in: the pick place is not clear for 10 s, still waiting";
+        WaitDI diQClear, 1;
       ENDIF
       MoveL stack_q, stack_work, fine, stack_tool;
       stack_release;
@@ -184,6 +223,7 @@ MODULE pal_eur_in
       ELSE
         MoveL stack_above_q, stack_work, fine, stack_tool;
       ENDIF
+      up_q := TRUE;
     ENDWHILE
     TPWrite "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
   ENDPROC

@@ -6,10 +6,12 @@
 // the speeds and a safe start position on the controller.
 //
 // The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
-// placing order: over the pallet entry (joint move), approach and target, grip, retreat, entry, up to the
-// transit height (300.0000 mm over the layer's top); then over Q at that height (joint move), above Q (Q clear
-// waited for), down to Q, release, (the pallet waited for again) back up. The box pose is
-// computed here from the counters: the pallet frame (level: a
+// placing order: (after the box before it, the empty gripper straight up over Q to this box's transit height)
+// above the entry at the transit height (300.0000 mm over the layer's top; joint move), entry, approach and
+// target, grip, retreat, entry, up to the transit height; then over Q at that height (joint move), above Q (Q
+// clear waited for), down to Q, release, (the pallet waited for again) back up. The gripper, empty or holding a
+// box, crosses the stack only at the transit height. The box pose is computed here from the counters: the
+// pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
 // The dialect has no pose product, so the pallet must be level (codegen refuses a tilted one).
 // Counters: pal_layer (1 = bottom) and pal_box (1 = the first box of the layer's pattern), global
@@ -133,7 +135,12 @@ Function Point pal_pose(Double x, Double y, Double z, Double a)
 EndFunction
 
 // main: an empty pallet, or counters outside the stack, stop before any move
-If pal_layer == 0 And pal_box == 0 Then
+// the gripper's sensor on: an item held since a stop on the way, finished below (put down at Q)
+Int held = 0
+If DIn(2) == True Then
+  held = 1
+EndIf
+If pal_layer == 0 And pal_box == 0 And held == 0 Then
   If DIn(9) == True Then
     // the PLC: the pallet was swapped
     pal_layer = 5
@@ -143,13 +150,9 @@ If pal_layer == 0 And pal_box == 0 Then
     Halt
   EndIf
 EndIf
-If pal_valid(pal_layer, pal_box) == 0 Then
+// (the last box held: the pallet is empty after it)
+If pal_valid(pal_layer, pal_box) == 0 And Not (held == 1 And pal_layer == 0 And pal_box == 0) Then
   TPWrite 0, "pallet eur_in: layer or box counter out of range"
-  Halt
-EndIf
-// a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
-If DIn(2) == True Then
-  TPWrite 0, "pallet eur_in: a box is in the gripper (sensor on): take it out, start again"
   Halt
 EndIf
 Int pattern = 0
@@ -162,11 +165,33 @@ Point entry = PAL_PICK
 Point transit = PAL_PICK
 Point over = PAL_PICK
 Double oz = 0.0
-Call pal_release()
-Call pal_wait(8)
-If DIn(8) <> True Then
-  TPWrite 0, "pallet eur_in: no pallet in place in 10 s"
-  Halt
+Int up = 0
+If held == 0 Then
+  // the gripper opened at the start only when it holds nothing
+  Call pal_release()
+EndIf
+If held == 1 Then
+  // the box gripped before the stop left the pallet (the counters moved): put it down at Q first
+  MovJ PAL_ABOVE
+  Call pal_wait(7)
+  If DIn(7) <> True Then
+    TPWrite 0, "pallet eur_in: the pick place is not clear for 10 s, still waiting"
+    // a gap in the line's supply is no fault: said once, then the program waits on
+    While DIn(7) <> True
+      Sleep 0.05
+    EndWhile
+  EndIf
+MovL PAL_PICK
+  Call pal_release()
+  MovL PAL_ABOVE
+  up = 1
+EndIf
+If pal_layer >= 1 Then
+  Call pal_wait(8)
+  If DIn(8) <> True Then
+    TPWrite 0, "pallet eur_in: no pallet in place in 10 s"
+    Halt
+  EndIf
 EndIf
 While pal_layer >= 1
   pattern = pal_pattern(pal_layer)
@@ -183,7 +208,13 @@ While pal_layer >= 1
     oz = 200.0000
   EndIf
   over = Trans(1300.0000, 0.0000, oz, 180.000000, 0.000000, 0.000000)
-  MovJ entry
+  If up == 1 Then
+    // the empty gripper straight up over Q to this box's transit height
+    MovL over
+  EndIf
+  // above the entry at the transit height (the gripper clear of the stack), then down to the entry
+  MovJ transit
+  MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)
   Call pal_grip()
@@ -203,8 +234,11 @@ While pal_layer >= 1
   MovL PAL_ABOVE
   Call pal_wait(7)
   If DIn(7) <> True Then
-    TPWrite 0, "pallet eur_in: the pick place is not clear in 10 s, the box is in the gripper"
-    Halt
+    TPWrite 0, "pallet eur_in: the pick place is not clear for 10 s, still waiting"
+    // a gap in the line's supply is no fault: said once, then the program waits on
+    While DIn(7) <> True
+      Sleep 0.05
+    EndWhile
   EndIf
 MovL PAL_PICK
   Call pal_release()
@@ -216,5 +250,6 @@ MovL PAL_PICK
     EndIf
 EndIf
   MovL PAL_ABOVE
+  up = 1
 EndWhile
 TPWrite 0, "pallet eur_in is empty: bring a full one, then reset its counters from the PLC"

@@ -6,7 +6,8 @@ MODULE pal_testmat
   !
   ! One module of the task's pallet programs: pallet_main.mod's PROC main calls pal_testmat_run (this
   ! module's one global routine); the counters are in the system module pallet_data.sys (loaded once).
-  ! Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q (slow, fine),
+  ! Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint
+  ! move, then straight down) above Q (the pallet in place and a box at Q waited for), down to Q (slow, fine),
   ! grip, back up (slow), up to the transit height (36.0000 mm over the layer's top), the pallet waited for
   ! again (it may have been taken away meanwhile), then in the pallet's work object above the entry at that
   ! height (joint move), entry, approach and target (slow, fine), release, retreat (slow), entry.
@@ -89,9 +90,14 @@ MODULE pal_testmat
     VAR num row;
     VAR bool held;
     VAR bool late;
+    VAR bool up_q;
+    VAR num up_z;
+    VAR robtarget high;
     VAR jointtarget now;
     ! the counters as a restart finds them: a full pallet, or numbers outside the stack, stop
     ! before any move
+    ! the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
+    held := DInput(diGripClosed) = 1;
     IF pal_testmat_layer = 6 AND pal_testmat_box = 1 THEN
       IF DInput(diPalletReset) = 1 THEN
         ! the PLC: the pallet was swapped
@@ -104,10 +110,11 @@ MODULE pal_testmat
     IF NOT stack_valid() THEN
       stack_stop "pallet testmat: layer or box counter out of range";
     ENDIF
-    ! a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
-    WaitDI diGripClosed, 0 \MaxTime:=0.1 \TimeFlag:=held;
-    IF held THEN
-      stack_stop "pallet testmat: a box is in the gripper (sensor on): take it out, start again";
+    ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
+    IF held AND pal_testmat_box <> 0 THEN
+      GripLoad stack_box;
+    ELSE
+      GripLoad load0;
     ENDIF
     ! the tool's pose puts axis 1, 4 or 6 on a quadrant boundary at a joint move's target (a vertical tool:
     ! axis 4 at 0, axis 6 at a multiple of 90), where the quadrant in a robtarget would be decided by
@@ -135,8 +142,13 @@ MODULE pal_testmat
       MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
     ENDIF
     MoveAbsJ stack_home\NoEOffs, v200, fine, stack_tool;
-    GripLoad load0;
-    stack_release;
+    IF NOT held THEN
+      ! the gripper opened at the start only when it holds nothing
+      stack_release;
+    ENDIF
+    ! the arm comes from home
+    up_q := FALSE;
+    up_z := 0;
     WHILE pal_testmat_layer <= STACK_LAYERS DO
       target := stack_target(pal_testmat_layer, pal_testmat_box);
       row := stack_row(pal_testmat_layer, pal_testmat_box);
@@ -148,20 +160,35 @@ MODULE pal_testmat
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
       ENDIF
-      MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, stack_zone, stack_tool;
-      WaitDI diPalletIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
-      IF late THEN
-        stack_stop "pallet testmat: no pallet in place in 10 s";
+      IF NOT held THEN
+        ! (held: the box held since the start, the counters name it: from home onto its place)
+        IF up_q THEN
+          ! the empty gripper from the entry before: over Q at that height, then straight down
+          high := stack_above_q;
+          IF up_z > high.trans.z THEN
+            high.trans.z := up_z;
+          ENDIF
+          MoveJ high, stack_travel, stack_zone, stack_tool;
+          MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
+        ELSE
+          MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, stack_zone, stack_tool;
+        ENDIF
+        WaitDI diPalletIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet testmat: no pallet in place in 10 s";
+        ENDIF
+        WaitDI diPartAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          ! a gap in the line's supply is no fault: said once, then the program waits on
+          TPWrite "pallet testmat: no box at the pick place for 10 s, still waiting";
+          WaitDI diPartAtQ, 1;
+        ENDIF
+        MoveL stack_q, stack_work, fine, stack_tool;
+        stack_grip;
+        GripLoad stack_box;
+        MoveL stack_above_q, stack_work, stack_zone, stack_tool;
+        MoveL over, stack_travel, stack_zone, stack_tool;
       ENDIF
-      WaitDI diPartAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
-      IF late THEN
-        stack_stop "pallet testmat: no box at the pick place in 10 s";
-      ENDIF
-      MoveL stack_q, stack_work, fine, stack_tool;
-      stack_grip;
-      GripLoad stack_box;
-      MoveL stack_above_q, stack_work, stack_zone, stack_tool;
-      MoveL over, stack_travel, stack_zone, stack_tool;
       ! the pallet still in place before the box goes over it (it may have been taken away while the arm was at Q)
       WaitDI diPalletIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
@@ -173,6 +200,7 @@ MODULE pal_testmat
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       stack_release;
       GripLoad load0;
+      held := FALSE;
       ! the box is down and the gripper open: the next box
       pal_testmat_box := pal_testmat_box + 1;
       IF pal_testmat_box > stack_boxes(pal_testmat_layer) THEN
@@ -181,9 +209,17 @@ MODULE pal_testmat
       ENDIF
       MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 5.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      up := PoseMult(stack_wobj.uframe, [entry.trans, [1, 0, 0, 0]]);
+      up_z := up.trans.z;
+      up_q := TRUE;
     ENDWHILE
-    ! off the pallet before the message
-    MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, fine, stack_tool;
+    ! off the pallet before the message: over Q at the last entry's height, then straight down
+    high := stack_above_q;
+    IF up_z > high.trans.z THEN
+      high.trans.z := up_z;
+    ENDIF
+    MoveJ high, stack_travel, stack_zone, stack_tool;
+    MoveL stack_above_q, stack_travel, fine, stack_tool;
     TPWrite "pallet testmat is full: swap it, then reset its counters from the PLC";
   ENDPROC
 

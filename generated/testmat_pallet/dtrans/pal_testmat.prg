@@ -5,7 +5,8 @@
 // The dialect has no robot model and no speeds: the poses are the active tool's; set the tool, its load,
 // the speeds and a safe start position on the controller.
 //
-// Per box: above Q (joint move; the pallet in place and a box at Q waited for), down to Q, grip, back up, up to
+// Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint
+// move, then straight down) above Q (the pallet in place and a box at Q waited for), down to Q, grip, back up, up to
 // the transit height (36.0000 mm over the layer's top), above the entry at that height (joint move), entry,
 // approach and target, release, retreat, entry.
 // The box pose is computed here from the counters: the pallet frame (level: a
@@ -133,6 +134,11 @@ Function Point pal_pose(Double x, Double y, Double z, Double a)
 EndFunction
 
 // main: a full pallet, or counters outside the stack, stop before any move
+// the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
+Int held = 0
+If DIn(2) == True Then
+  held = 1
+EndIf
 If pal_layer == 6 And pal_box == 1 Then
   If DIn(5) == True Then
     // the PLC: the pallet was swapped
@@ -147,11 +153,6 @@ If pal_valid(pal_layer, pal_box) == 0 Then
   TPWrite 0, "pallet testmat: layer or box counter out of range"
   Halt
 EndIf
-// a box left in the gripper (a cycle stopped on the way): opening it anywhere would drop it
-If DIn(2) == True Then
-  TPWrite 0, "pallet testmat: a box is in the gripper (sensor on): take it out, start again"
-  Halt
-EndIf
 Int pattern = 0
 Int row = 0
 Double x = 0.0
@@ -162,7 +163,14 @@ Point entry = PAL_PICK
 Point transit = PAL_PICK
 Point over = PAL_PICK
 Double oz = 0.0
-Call pal_release()
+Int up = 0
+Double upz = 0.0
+Double hz = 0.0
+Point high = PAL_PICK
+If held == 0 Then
+  // the gripper opened at the start only when it holds nothing
+  Call pal_release()
+EndIf
 While pal_layer <= PAL_LAYERS
   pattern = pal_pattern(pal_layer)
   row = PAL_FIRST[pattern] + pal_box - 1
@@ -170,20 +178,6 @@ While pal_layer <= PAL_LAYERS
   y = PAL_Y[row]
   a = PAL_A[row]
   z = pal_top(pal_layer)
-  MovJ PAL_ABOVE
-  Call pal_wait(4)
-  If DIn(4) <> True Then
-    TPWrite 0, "pallet testmat: no pallet in place in 10 s"
-    Halt
-  EndIf
-  Call pal_wait(3)
-  If DIn(3) <> True Then
-    TPWrite 0, "pallet testmat: no box at the pick place in 10 s"
-    Halt
-  EndIf
-MovL PAL_PICK
-  Call pal_grip()
-  MovL PAL_ABOVE
   entry = pal_pose(x, y, z + 26.0000, a)
   // above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
   transit = pal_pose(x, y, z + 36.0000, a)
@@ -192,7 +186,38 @@ MovL PAL_PICK
     oz = 80.0000
   EndIf
   over = Trans(600.0000, 300.0000, oz, 180.000000, 0.000000, 0.000000)
-  MovL over
+  If held == 0 Then
+    // (held: the box held since the start, the counters name it: from home onto its place)
+    If up == 1 Then
+      // the empty gripper from the entry before: over Q at that height, then straight down
+      hz = upz
+      If hz < 80.0000 Then
+        hz = 80.0000
+      EndIf
+      high = Trans(600.0000, 300.0000, hz, 180.000000, 0.000000, 0.000000)
+      MovJ high
+      MovL PAL_ABOVE
+    Else
+      MovJ PAL_ABOVE
+    EndIf
+    Call pal_wait(4)
+    If DIn(4) <> True Then
+      TPWrite 0, "pallet testmat: no pallet in place in 10 s"
+      Halt
+    EndIf
+    Call pal_wait(3)
+    If DIn(3) <> True Then
+      TPWrite 0, "pallet testmat: no box at the pick place for 10 s, still waiting"
+      // a gap in the line's supply is no fault: said once, then the program waits on
+      While DIn(3) <> True
+        Sleep 0.05
+      EndWhile
+    EndIf
+MovL PAL_PICK
+    Call pal_grip()
+    MovL PAL_ABOVE
+    MovL over
+  EndIf
   // the pallet still in place before the box goes over it (it may have been taken away while the arm was at Q)
   Call pal_wait(4)
   If DIn(4) <> True Then
@@ -204,6 +229,7 @@ MovJ transit
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 5.0000, a)
   MovL pal_pose(x, y, z, a)
   Call pal_release()
+  held = 0
   // the box is down: the next one
   pal_box = pal_box + 1
   If pal_box > PAL_COUNT[pattern] Then
@@ -212,7 +238,15 @@ MovJ transit
   EndIf
   MovL pal_pose(x + PAL_RX[row], y + PAL_RY[row], z + 5.0000, a)
   MovL entry
+  up = 1
+  upz = PAL_OZ + z + 26.0000
 EndWhile
-// off the pallet before the message
-MovJ PAL_ABOVE
+// off the pallet before the message: over Q at the last entry's height, then straight down
+hz = upz
+If hz < 80.0000 Then
+  hz = 80.0000
+EndIf
+high = Trans(600.0000, 300.0000, hz, 180.000000, 0.000000, 0.000000)
+MovJ high
+MovL PAL_ABOVE
 TPWrite 0, "pallet testmat is full: swap it, then reset its counters from the PLC"
