@@ -150,21 +150,19 @@ def test_the_controllers_choice_of_joints_is_checked_against_the_plan():
     names (chosen by codegen per box and for Q). Without the program's home move the run lacks a move; a box named
     in another configuration (RAPID cfx, KRL Status, UR qnear) is refused or moves the arm otherwise than the plan."""
     cell = load_cell(PALLETS / "testmat_pallet.toml")
-    # without the home move the first motion is the joint move above Q, which names no Turn (KRL) or runs
-    # without the configuration check (RAPID: axis 4 is at 0 under the vertical tool): from an arm that
-    # stands anywhere its joints are not known (the interpreter refuses it; KSS refuses it as the BCO run)
+    # without the home move the run lacks it (the first motion is then the joint target above Q)
     found = mutant_mismatches(cell, "kuka", "pal_testmat.src", "  PTP PAL_HOME", "  ;PTP PAL_HOME")
-    assert found and "the first motion (BCO run) must be a PTP to a full position" in found[0], found
+    assert found and "moves, expected" in found[0], found
     found = mutant_mismatches(cell, "abb", "pal_testmat.mod", "    MoveAbsJ stack_home", "    ! MoveAbsJ stack_home")
-    assert found and "the first motion goes to a pose from wherever the arm stands" in found[0], found
+    assert found and "moves, expected" in found[0], found
     # the configuration check on: every box's robtarget carries Q's robconf (the program names none, its
     # quadrants being on boundaries), which boxes in other quadrants of axis 1 or 6 cannot take
     found = mutant_mismatches(cell, "abb", "pal_testmat.mod", "    ConfJ \\Off;", "    ConfJ \\On;")
     assert found and "cannot reach this pose in configuration" in found[0], found
     # box 1's Status with the other A5 sign (bit 2)
-    # (the wrist flipped: axes 4 and 6 half a turn away from the plan's)
+    # (the wrist flipped: axis 4 half a turn away either way, or axes 4 and 6 half a turn from the plan's)
     found = mutant_mismatches(cell, "kuka", "pal_testmat.dat", "PAL_S[1]=2\n", "PAL_S[1]=6\n")
-    assert found and "box 1 transit" in found[0] and "(180.000 deg apart" in found[0], found
+    assert found and ("(180.000 deg apart" in found[0] or "the nearest solution is not unique" in found[0]), found
     # the same pose in another configuration (UR: the solution nearest another qnear): the joints differ
     wrist_flip = "qnear=[-0.3, -1.2, -1.8, -1.5, 1.57, 0.5]"
     found = mutant_mismatches(cell, "ur", "pal_testmat.script", "qnear=pal_qnear(row)", wrist_flip)

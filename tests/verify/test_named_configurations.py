@@ -1,5 +1,8 @@
-"""Every configuration a bundled program names in full holds a margin away from its boundaries: no Turn bit or
-quadrant in a generated program is decided by rounding (the controller computes the same field)."""
+"""Every configuration a bundled pallet program (and the demo's station program) names in full holds a margin away
+from its boundaries: no Turn bit or quadrant there is decided by rounding (the controller computes the same field).
+A station pose may still name one at a boundary where the controller's own rule without it would turn an axis one
+way for some readings and the other way for others (codegen/kinds/stations/region.py): the thermometer bench's
+bath photo, which is therefore not among these cells."""
 
 from __future__ import annotations
 
@@ -11,7 +14,7 @@ from codegen.model.cell import EXAMPLES_DIR, load_cell
 from codegen.robot.config import FORMS, ROUNDING_MARGIN_DEG
 from codegen.verify.engine import Options, verify_cell
 
-CELLS = ("agv_machine_tending.toml", "thermometer_bench.toml", "pallets/eur_pallet.toml", "pallets/testmat_pallet.toml")
+CELLS = ("agv_machine_tending.toml", "pallets/eur_pallet.toml", "pallets/testmat_pallet.toml")
 FAST = Options(cases=1, jobs=1, sweeps=False)
 
 

@@ -30,7 +30,7 @@ def terms(cell, target: str) -> list[Term]:
     - the count's age through the PLC and the fieldbus (count_latency_s): the program adds its middle; half
       its spread remains (v spread / 2); the arm's start after the move instruction (motion_start_s) and the
       gripper's time to hold (grip_s) likewise, their middles in the lead;
-    - the speed's time, measured with the controller's timer in whole units (KUKA $TIMER: ms): one unit over the
+    - the speed's time, measured with the controller's timer in whole units (its timer variable: ms): one unit over the
       estimate's window, over the horizon it predicts (v horizon unit / window);
     - the count's resolution: a read in whole counts (1 / |E|);
     - the speed estimate: a difference of two reads in whole counts over the estimate's window (at most one

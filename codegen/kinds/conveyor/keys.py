@@ -154,7 +154,7 @@ PICK = Table(
         ),
         "timer": Key(
             "map",
-            "per intercepting target that needs it (KUKA: $TIMER[n]): the controller's timer the program measures the "
+            "per intercepting target that needs it: the controller's timer ($TIMER[n]) the program measures the "
             "belt's speed over (one no other program uses)",
             values=Key("integer", "a timer's number", low=1),
         ),

@@ -23,7 +23,7 @@ def run_edited(*lines: str):
     reading = {"vis_station": 1, "vis_x": 612.4, "vis_y": -285.0, "vis_theta": 1.8}
     device = VisionPC.for_target(get_target("abb"), reading)
     trace = load(edited, "edited.mod").run(
-        {}, devices=[device], arm=find_arm("IRB 1600-10/1.45"), start_joints=[0, 0, 0, 0, 90, 0]
+        {}, devices=[device], arm=find_arm("IRB 1600-10/1.45"), start_joints=[0, 0, 0, 0, 90, 30]
     )
     return trace, first_line
 
