@@ -54,6 +54,7 @@ class KindTests:
                 assert not re.search(r"(?<![\w.])-0(\.0+)?(?![\d.])", f.text), "printed -0"
                 parse_program(f.relpath, f.text)
 
+    @pytest.mark.slow  # a whole verify run: in the slow set (the default run stays near 5 minutes)
     def test_verify_passes(self, cell, programs):
         rows = verify(cell, programs, cases=2)
         for row in rows:
@@ -84,6 +85,7 @@ class KindTests:
         rows = verify(cell, [_as_cell(s) for s in made], cases=2, first_mismatch=True, scenarios=scenarios)
         assert all(row.mismatches > 0 for row in rows), f"verify missed {mutation}: {[r.program for r in rows]}"
 
+    @pytest.mark.slow  # a whole verify run: in the slow set (the default run stays near 5 minutes)
     @pytest.mark.parametrize("mutation", sorted(TEXT))
     def test_an_edited_program_fails(self, cell, target, programs, mutation):
         pattern = TEXT[mutation].get(target)

@@ -56,6 +56,7 @@ def intercept_cell(tmp_path, **changes):
     return load_cell(path)
 
 
+@pytest.mark.slow  # a whole verify run: in the slow set (the default run stays near 5 minutes)
 def test_the_bundled_pick_programs_verify_with_every_part_where_it_is():
     """UR and ABB follow the belt; KUKA intercepts: each part gripped where it really is, within the count
     resolution and the trigger's latch (tracking) or the gripper's capture range (intercept)."""

@@ -288,6 +288,7 @@ def test_two_krl_pallet_programs_share_a_controller_without_a_clash(eur):
         krl.load_files(program)
 
 
+@pytest.mark.slow  # a whole verify run: in the slow set (the default run stays near 5 minutes)
 def test_the_task_starts_the_selected_pallet_and_none_without_a_selection(eur):
     found = mutant_mismatches(eur, "abb", "pallet_main.mod", "DInput(diRunEur) = 1", "DInput(diRunEurIn) = 1")
     assert found, found

@@ -22,6 +22,7 @@ def cell(request):
     return load_cell(PALLETS / request.param)
 
 
+@pytest.mark.slow  # a whole verify run: in the slow set (the default run stays near 5 minutes)
 @pytest.mark.parametrize("target", TARGETS)
 def test_every_pallet_program_matches_the_reference(cell, target):
     """A full stack (or unstack), restarts at random boxes and at a slip sheet, a full (empty) pallet reset by the PLC

@@ -177,6 +177,7 @@ def test_two_programs_of_one_target_are_two_rows_each_run(tmp_path):
                 assert (report.mismatches > 0) == (path.name == broken), (path.name, report.first_mismatches)
 
 
+@pytest.mark.slow  # a whole verify run: in the slow set (the default run stays near 5 minutes)
 def test_verify_reports_a_row_per_file(tmp_path):
     paths = _socket_and_node(tmp_path, "agv_machine_tending_node.script")
     result = invoke("verify", *paths, "--target", "ur", "--cases", "1", "--jobs", "1", "--json")

@@ -28,6 +28,7 @@ def _distance_to_boundary(form: str, joints: np.ndarray) -> float:
     return float(np.min(np.abs(quarters - np.round(quarters))) * 90.0)
 
 
+@pytest.mark.slow  # a whole verify run: in the slow set (the default run stays near 5 minutes)
 @pytest.mark.parametrize("name", CELLS)
 @pytest.mark.parametrize("target", ["kuka", "abb"])
 def test_a_full_configuration_is_named_only_away_from_its_boundaries(monkeypatch, name, target):
