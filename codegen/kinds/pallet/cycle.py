@@ -325,13 +325,9 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
                 return halt
             for pose, name, slow, exact in path[1:]:
                 run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
-            halt = run.release()
+            halt, height = _release_and_back_out(run, retreat, after, where)
             if halt:
                 return halt
-            run.counters = after
-            for pose, name, slow, exact in retreat:
-                run.move("linear", pose, f"{where} {name}", slow, exact)
-            height = retreat[-1][0][2, 3]
             continue
         if i > 0:  # the empty gripper at the entry before: over the pick at that height first, then down to it
             run.move("joint", risen(_lifted(source, lift), height), f"{where} over {named}", False, False)
@@ -353,13 +349,9 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
                 if halt:
                     return halt
             run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
-        halt = run.release()
+        halt, height = _release_and_back_out(run, retreat, after, where)
         if halt:
             return halt
-        run.counters = after
-        for pose, name, slow, exact in retreat:
-            run.move("linear", pose, f"{where} {name}", slow, exact)
-        height = retreat[-1][0][2, 3]  # the entry's: the empty gripper clear of the stack's top
     run.move("joint", risen(above, height), "off the pallet: over Q", False, False)
     run.move("linear", above, "off the pallet: above Q", False, True)
     return None
@@ -409,3 +401,15 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
             return halt
         run.move("linear", above, f"{where} lift from Q", True, last)
     return None
+
+
+def _release_and_back_out(run, retreat, after, where: str):
+    """Release the item, move the counters on once the release is confirmed, back out along the retreat: (the
+    halt, None) or (None, the height the empty gripper ends at: the entry's, clear of the stack's top)."""
+    halt = run.release()
+    if halt:
+        return halt, None
+    run.counters = after
+    for pose, name, slow, exact in retreat:
+        run.move("linear", pose, f"{where} {name}", slow, exact)
+    return None, retreat[-1][0][2, 3]
