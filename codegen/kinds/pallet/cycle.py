@@ -15,6 +15,7 @@ from codegen.kinds.pallet.messages import (
     empty_message,
     full_message,
     message_limit,
+    reset_held_message,
     still_waiting_message,
     wait_message,
 )
@@ -53,6 +54,7 @@ class PalletCase:
     # said it waits on)
     missing: str | None = None
     reset: bool = False  # the PLC asks for the counters of a swapped pallet to start again
+    reset_held: bool = False  # the PLC keeps that reset on after the program's answer (a level input, not a request)
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
 
@@ -72,7 +74,9 @@ class ExpectedMove:
 @dataclass(frozen=True)
 class Expected:
     moves: tuple[ExpectedMove, ...]
-    outputs: tuple[tuple[bool, int], ...]  # (gripper output value, moves commanded before it)
+    # (which output: "gripper" or "done", its value, moves commanded before it); "done" is the pallet's full (empty)
+    # output, where the cell gives one
+    outputs: tuple[tuple[str, bool, int], ...]
     halt: str | None  # the operator's message, None: the program ends (the pallet is full or empty)
     counters: tuple[int, int]  # layer and box when the run ends: what to do next
     start: tuple[int, int] = (0, 0)  # the counters the program worked from (after a reset)
@@ -185,7 +189,7 @@ class _Run:
         self.frame = frame_matrix(pallet)
         self.travel, self.work = cell.motion.speed_mm_s, cell.motion.work_speed_mm_s
         self.moves: list[ExpectedMove] = []
-        self.outputs: list[tuple[bool, int]] = [(not cell.io.value, 0)]  # released at the start
+        self.outputs: list[tuple[str, bool, int]] = [("gripper", not cell.io.value, 0)]  # released at the start
         self.counters = counters
         self.carrying = False
         self.gripped = False  # a grip made (the pallet may be taken away after it: case.taken)
@@ -212,14 +216,14 @@ class _Run:
 
     def grip(self, box: bool = True) -> str | None:
         """Grip a box (its payload from the confirmed grip on) or a slip sheet (light: the tool's payload stays)."""
-        self.outputs.append((self.cell.io.value, len(self.moves)))
+        self.outputs.append(("gripper", self.cell.io.value, len(self.moves)))
         if self.case.gripper == "silent":
             return halt_message(self.cell, NO_FEEDBACK, None, 0)
         self.carrying, self.sheet, self.gripped = box, not box, True
         return None
 
     def release(self) -> str | None:
-        self.outputs.append((not self.cell.io.value, len(self.moves)))
+        self.outputs.append(("gripper", not self.cell.io.value, len(self.moves)))
         if self.case.gripper == "stuck":
             return halt_message(self.cell, NOT_RELEASED, None, 0)
         self.carrying = self.sheet = False
@@ -230,8 +234,9 @@ class _Run:
 
 
 def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
-    """What the pallet's program does in this case: the checks before any move (a full or empty pallet, reset by
-    the PLC or not; counters outside the stack), then each item from the counters. A box held at the start (a cycle
+    """What the pallet's program does in this case: the done output set from the counters, the checks before any
+    move (a full or empty pallet, reset by the PLC through the handshake or not; counters outside the stack), then
+    each item from the counters, and the done output on once the pallet is done. A box held at the start (a cycle
     stopped on the way) is finished: stacking, it is the item the counters name (they move only after a confirmed
     release), carried from home onto its place; unstacking, it left the pallet (the counters moved at the grip), and
     is put down at Q first, even when it was the last box."""
@@ -239,17 +244,24 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     limit = message_limit(cell)
     keys = [item.key for item in items(pallet)]
     put_down = case.closed and pallet.mode == "unstack"
-    if start == done and case.reset and pallet.io.reset and not put_down:  # a swapped pallet: the PLC resets it
-        start = keys[0]
+    said = [("done", start == done, 0)]  # the PLC's full (empty) output, from the counters, before anything else
     if start == done and not put_down:
-        message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
-        return Expected((), (), message, start, start)
+        if case.reset and pallet.io.reset:  # the handshake: the done output off answers the PLC, which drops reset
+            said.append(("done", False, 0))
+            if case.reset_held:  # the reset stays on: no swap confirmed, the counters stay
+                said.append(("done", True, 0))
+                return Expected((), tuple(said), reset_held_message(pallet, limit), start, start)
+            start = keys[0]
+        else:
+            message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
+            return Expected((), tuple(said), message, start, start)
     if start not in keys and start != done:
-        return Expected((), (), counters_message(pallet, limit), start, start)
+        return Expected((), tuple(said), counters_message(pallet, limit), start, start)
     run = _Run(cell, pallet, case, start)
     todo = [item for item in items(pallet)][keys.index(start) :] if start in keys else []
+    run.outputs = [*said, *run.outputs]
     if case.closed:  # no release at the start: the gripper holds the item
-        run.outputs = []
+        run.outputs = said
         run.carrying = put_down or todo[0].placement is not None
         run.sheet = not run.carrying
     if put_down:
@@ -257,6 +269,8 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         halt = halt or (_unstacking(run, todo, done, from_q=True) if todo else None)
     else:
         halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
+    if halt is None:  # the pallet is done: the PLC's cue to swap it
+        run.outputs.append(("done", True, len(run.moves)))
     return run.result(halt, start)
 
 

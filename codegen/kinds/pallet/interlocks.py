@@ -1,5 +1,5 @@
 """A pallet's [pallet.io]: the cell's inputs the program waits for (box at Q, Q clear, pallet in place, sheet ready),
-the PLC's counter reset and program selection, the PLC registers of the counters; validated by key path."""
+the PLC's counter reset and its handshake output, program selection, the PLC registers of the counters."""
 
 from __future__ import annotations
 
@@ -37,7 +37,9 @@ class PalletIO:
     """Per target, the input (its number or configured name) that is on when: a box lies at Q ready to be picked
     (stacking), Q is clear to put a box down (unstacking), the pallet stands in place, a slip sheet is ready at the
     sheet stack; reset: the PLC asks for the counters of a swapped pallet to start again (honoured only on a full
-    or empty pallet); select: the PLC asks for this pallet's program (a controller whose pallet programs share one
+    or empty pallet, and only once the PLC drops it in answer: a reset input left on never starts a pallet again);
+    done: the output that is on while the pallet is full (empty), the PLC's cue to swap it, turned off to answer a
+    reset; select: the PLC asks for this pallet's program (a controller whose pallet programs share one
     task, several pallets); registers: the first of the PLC's two integer registers that hold the counters (a
     controller that keeps them in the PLC). Every wait lasts at most timeout_s, then the program stops with a
     message."""
@@ -47,6 +49,7 @@ class PalletIO:
     pallet_present: dict = field(default_factory=dict)
     sheet_ready: dict = field(default_factory=dict)
     reset: dict = field(default_factory=dict)
+    done: dict = field(default_factory=dict)
     select: dict = field(default_factory=dict)
     registers: dict = field(default_factory=dict)
     timeout_s: float = TIMEOUT_S
@@ -85,7 +88,15 @@ def parse_io(ctx, table: dict | None, path: str, targets, mode: str, sheets: boo
     if "select" in table:
         ctx.no_unknown(table["select"], set(select_targets), f"{where}.select")
     registers = _registers(ctx, table.get("registers"), f"{where}.registers", targets)
-    return PalletIO(**signals, select=select, registers=registers, timeout_s=timeout)
+    done = per_target(ctx, table, "done", targets, False, prefix=where) if "done" in table else {}
+    for target in signals["reset"]:
+        if target not in done:
+            ctx.fail(
+                f"{where}.done.{target}" if "done" in table else f"{where}.done",
+                f"missing: the output the {target} program turns off to answer the reset (on while the pallet is "
+                f"{'full' if mode == 'stack' else 'empty'}); a reset without it could start a pallet not yet swapped",
+            )
+    return PalletIO(**signals, done=done, select=select, registers=registers, timeout_s=timeout)
 
 
 def _facts(target: str) -> dict:

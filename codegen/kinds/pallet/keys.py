@@ -90,13 +90,20 @@ _TASK_TARGETS = tuple(t for t in target_names() if _pallet_facts(t).get("task"))
 _REGISTER_TARGETS = tuple(t for t in target_names() if "registers" in _pallet_facts(t))
 IO = Table(
     "The cell's inputs the program waits for (each at most timeout_s, then a stop with a message), the PLC's counter "
-    "reset and program selection, the PLC registers of the counters.",
+    "reset with its handshake output (done) and program selection, the PLC registers of the counters.",
     {
         "part_present": signals("stacking: on when a box lies at the pick place Q (required when stacking)"),
         "place_clear": signals("unstacking: on when Q is clear for a box (required when unstacking)"),
         "pallet_present": signals("on when the pallet stands in place", required=True),
         "sheet_ready": signals("on when a slip sheet is ready at its stack (required with slip_sheet)"),
-        "reset": signals("on when the PLC starts a swapped pallet's counters again (honoured on a full or empty one)"),
+        "reset": signals(
+            "on when the PLC asks for a swapped pallet's counters to start again (honoured on a full or empty one, "
+            "once the PLC drops it in answer to the done output going off)"
+        ),
+        "done": signals(
+            "an output: on while the pallet is full (stacking) or empty (unstacking); the program turns it off to "
+            "acknowledge the reset (required with reset)"
+        ),
         "select": _per_target(
             "the input that selects this pallet's program where the pallets share one task (required with several "
             "pallets)",

@@ -61,6 +61,12 @@ def still_waiting_message(pallet: Pallet, interlock: str, limit: int) -> str:
     return _named(f"pallet {{name}}: {MISSED[interlock]} for {pallet.io.timeout_s:g} s, still waiting", pallet, limit)
 
 
+def reset_held_message(pallet: Pallet, limit: int) -> str:
+    """The stop when the PLC keeps its reset on after the program answered it (the done output off): a reset input
+    left on (a level, not a request) never starts a pallet again; the counters stay as they were."""
+    return _named(f"pallet {{name}}: the PLC's reset did not go off in {pallet.io.timeout_s:g} s, counters kept", pallet, limit)
+
+
 def select_message() -> str:
     return "no pallet program selected: the PLC sets one select input"
 
@@ -70,6 +76,7 @@ def all_messages(pallet: Pallet, limit: int) -> list[str]:
         full_message(pallet, limit),
         empty_message(pallet, limit),
         counters_message(pallet, limit),
+        *([reset_held_message(pallet, limit)] if pallet.io.reset else []),
         *(
             still_waiting_message(pallet, name, limit) if name in WAITS_ON else wait_message(pallet, name, limit)
             for name in pallet.io.inputs()

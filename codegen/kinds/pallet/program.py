@@ -19,6 +19,7 @@ from codegen.kinds.pallet.messages import (
     full_message,
     message_limit,
     rechecked,
+    reset_held_message,
     select_message,
     still_waiting_message,
     wait_message,
@@ -214,6 +215,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         for held in rechecked(pallet)
     }
     reset = pallet.io.reset.get(target.name)
+    done_out = pallet.io.done.get(target.name)
     select = pallet.io.select.get(target.name)
     zone = pallet.zone_mm
     return {
@@ -277,6 +279,9 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "polls": signal_polls_for(timeout),
         "poll_s": number(POLL_S, 2),
         "reset": None if reset is None else _signal(emitter, target, reset),
+        # the output on while the pallet is full (empty); turned off to answer the PLC's reset
+        "done_out": None if done_out is None else _signal(emitter, target, done_out),
+        "reset_held": emitter.string(reset_held_message(pallet, limit)),
         "select": None if select is None else _signal(emitter, target, select),
         "empty": emitter.string(empty_message(pallet, limit)),
         "full": emitter.string(full_message(pallet, limit)),

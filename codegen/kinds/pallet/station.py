@@ -1,5 +1,5 @@
 """The pallet station in verify: the pallet taken away once the gripper closes, a supply that comes only after the
-program said it waits on (devices of Program.run)."""
+program said it waits on, the PLC answering the reset handshake (devices of Program.run)."""
 
 from __future__ import annotations
 
@@ -42,4 +42,23 @@ class SupplyLate:
         if machine.signals.get(self.signal) or self.message not in machine.trace.messages:
             return False
         machine.signals[self.signal] = True
+        return True
+
+
+@dataclass
+class ResetAnswered:
+    """The PLC's side of the counter reset: it holds the reset input on until the program turns the pallet's done
+    output off (the program's answer), then drops it. It knows nothing of the counters: whether the program reset
+    them, and only after that answer, is the plan's to judge."""
+
+    reset: str  # the PLC's reset input
+    done: str  # the pallet's done output
+
+    def next_time(self, machine: Machine) -> float | None:
+        return None
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        if not machine.signals.get(self.reset) or machine.signals.get(self.done) is not False:
+            return False
+        machine.signals[self.reset] = False
         return True

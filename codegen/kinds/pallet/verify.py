@@ -29,7 +29,7 @@ from codegen.kinds.pallet.program import carried_load, counter_names, counter_re
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import layer_top
-from codegen.kinds.pallet.station import PalletTaken, SupplyLate
+from codegen.kinds.pallet.station import PalletTaken, ResetAnswered, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
@@ -112,6 +112,8 @@ def own_cases(pallet, rng) -> list[PalletCase]:
     out.append(PalletCase("pallet_full" if stack else "pallet_empty", *done))
     if pallet.io.reset:
         out.append(PalletCase("pallet_changed", *done, reset=True))
+        # the PLC keeps its reset on after the program's answer (a level input, not a request): no new pallet
+        out.append(PalletCase("reset_held", *done, reset=True, reset_held=True))
         out.append(PalletCase("reset_ignored", *keys[len(keys) // 2], reset=True))
     counts = {}
     for layer, number in keys:
@@ -194,6 +196,9 @@ def setup(cell, source, case: Case) -> Setup:
     if run.case.taken:  # the pallet taken away once the gripper closes
         present = signal_name(target, "input", pallet.io.pallet_present[target.name])
         devices += (PalletTaken(output, cell.io.value, present),)
+    if run.case.reset and not run.case.reset_held and target.name in pallet.io.reset:  # the PLC answers the handshake
+        reset = signal_name(target, "input", pallet.io.reset[target.name])
+        devices += (ResetAnswered(reset, signal_name(target, "output", pallet.io.done[target.name])),)
     if run.case.missing in WAITS_ON:  # the supply comes once the program said it waits on
         signal = signal_name(target, "input", getattr(pallet.io, run.case.missing)[target.name])
         message = Emitter(target).string(still_waiting_message(pallet, run.case.missing, message_limit(cell)))
@@ -262,16 +267,25 @@ def judge(cell, source, case: Case, trace) -> Judgement:
         )
 
     moves = [planned(m) for m in want.moves]
-    outputs = [PlannedOutput(output, value, after, "gripper") for value, after in want.outputs]
+    names = {"gripper": output}
+    if target.name in pallet.io.done:  # the PLC's full (empty) output
+        names["done"] = signal_name(target, "output", pallet.io.done[target.name])
+    what = {"gripper": "gripper", "done": "the pallet's done output (full or empty)"}
+    outputs = [PlannedOutput(names[w], value, after, what[w]) for w, value, after in want.outputs if w in names]
     home = home_move(cell, target.name)
     planned_joints = None
-    if home is not None and (want.moves or want.outputs):  # with an arm the program goes home first
+    if home is not None and (want.moves or any(w == "gripper" for w, _, _ in want.outputs)):  # home first
         start = _start_joints(cell, run.pallet, target.name, case)
         way = _way_home(cell, pallet, target, home, start, want.start[0])
         if pallet_case.closed and (pallet.mode == "unstack" or want.start[1] != 0) and load is not None:
             way = [replace(m, payload=load) for m in way]  # a box held since the start: its payload on the way home
         moves = [*way, *moves]
-        outputs = [replace(o, after_moves=o.after_moves + len(way)) for o in outputs]
+        # the done output is set from the counters before the way home (after 0 moves); the rest after it
+        start_done = names.get("done")
+        outputs = [
+            o if (o.name == start_done and o.after_moves == 0) else replace(o, after_moves=o.after_moves + len(way))
+            for o in outputs
+        ]
 
         def planned_joints() -> list | None:  # by the controller's rule, with the configurations the program names
             try:
