@@ -1,4 +1,4 @@
-"""The FlexPendant: TPWrite, TPErase, TPReadFK and TPReadNum, and the simulated operator who answers them."""
+"""The FlexPendant: TPWrite, TPErase, TPReadFK and TPReadNum, answered by the run's simulated operator."""
 
 from __future__ import annotations
 
@@ -12,46 +12,58 @@ from codegen.dialects.rapid.functions import num_text, value_text
 from codegen.dialects.rapid.types import STRING_MAX, num, rec
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types" (RobotWare 6/7),
-# TPWrite, TPErase, TPReadFK, TPReadNum, as recalled (the manual's text was not readable during this work):
+# TPWrite, TPErase, TPReadFK, TPReadNum, as recalled (the manual's own text was not found during this work):
 # - TPWrite String [\Num] | [\Bool] | [\Pos] | [\Orient] | [\Dnum]: the string and the value's text on the
 #   FlexPendant's display, at most 80 characters; TPErase clears the display (the trace keeps what was written);
 # - TPReadFK TPAnswer, TPText, TPFK1 ... TPFK5 [\MaxTime] [\DIBreak] [\DOBreak] [\BreakFlag]: the text is shown
-#   with up to five function keys (stEmpty: no key); the program waits until the operator presses one: TPAnswer
-#   (num) gets its number 1..5; \MaxTime (s) without an answer: ERR_TP_MAXTIME, or with \BreakFlag the flag
-#   gets the error number and the program goes on;
+#   with up to five function keys (stEmpty, the predefined "" (functions.py), or "": no key there); the program
+#   waits until the operator presses one: TPAnswer (num) gets its number 1..5; \MaxTime (s) without an answer:
+#   ERR_TP_MAXTIME, or with \BreakFlag the flag gets the error number and the program goes on;
 # - TPReadNum TPAnswer, TPText [\MaxTime] [\DIBreak] [\DOBreak] [\BreakFlag]: the same with a number the
-#   operator types. \DIBreak and \DOBreak are not modelled (refused).
-# The operator here is Operator (a device given to Program.run; `codegen run` gives none): answers in order.
-# Without one, or once its answers are used, a read without \MaxTime stops the run with a message naming that.
-ANSWERS_KEY = "<operator answers used>"  # Machine.extra: how many answers this run took
+#   operator types. \DIBreak and \DOBreak are not modelled (refused when the program is loaded, naming the line).
+# Confirmed by ABB's PC SDK reference (developercenter.robotstudio.com/api/pcsdk, the remote operator dialog that
+# answers these instructions): UIInstructionType.TPReadFK "is used to display a question to the operator, who
+# responds by selecting one out of 2-5 displayed function keys"; UITPReadFKEventArgs: TPText "the information text
+# to be written on the display", TPFK1..TPFK5 "the text to be written on function key 1..5"; UITPFunctionKey: "if
+# the function key 1 is pressed then 1 is returned, and so on". Public programs pass "" for a key they leave empty
+# (as stEmpty) and test the \BreakFlag variable against ERR_TP_MAXTIME. Not confirmed here: the limits of the
+# keys' texts; whether \BreakFlag is set to 0 when the operator answers (modelled so).
+# The operator is the run's simulated operator (codegen/sim/operator.py: a device with press(machine, labels),
+# `codegen run --answer`): TPReadFK's answer is a key's number or its label (compared without case), TPReadNum's a
+# number. Without one, or once its answers are used, a read without \MaxTime stops the run with a message naming
+# the line; with \MaxTime, that time passes without an answer.
+KEYS = 5  # TPReadFK's function keys, TPFK1 ... TPFK5
 
 
-class Operator:
-    """The person at the FlexPendant: answers the program's questions (TPReadFK: a key 1..5, TPReadNum: a
-    number) in the order given. A device of the run (Program.run(devices=[...])): it acts on nothing else."""
-
-    def __init__(self, answers) -> None:
-        self.answers = [float(a) for a in answers]
-
-    def on_wait(self, machine, where: str) -> bool:
-        return False
-
-    def next_time(self, machine) -> None:
-        return None
-
-    def answer(self, machine) -> float | None:
-        used = machine.extra.get(ANSWERS_KEY, 0)
-        if used >= len(self.answers):
-            return None
-        machine.extra[ANSWERS_KEY] = used + 1
-        return self.answers[used]
+def _operator(m):
+    """The run's operator: the device that presses a dialog's keys (None: nobody answers)."""
+    return next((d for d in m.devices if hasattr(d, "press")), None)
 
 
-def _operator_answer(m) -> float | None:
-    for device in m.devices:
-        if isinstance(device, Operator):
-            return device.answer(m)
-    return None
+def _press(m, labels: list[str | None]):
+    operator = _operator(m)
+    return None if operator is None else operator.press(m, labels)
+
+
+def _number(answer, where: str, name: str) -> float:
+    """TPReadNum: the number the operator typed."""
+    if isinstance(answer, str):
+        try:
+            answer = float(answer.strip())
+        except ValueError:
+            raise RunError(f"{where}: {name}: the operator's answer {answer!r} is not a number") from None
+    if isinstance(answer, bool) or not isinstance(answer, int | float) or not math.isfinite(answer):
+        raise RunError(f"{where}: {name}: the operator's answer {answer!r} is not a number")
+    return float(answer)
+
+
+def _key(answer, labels: list[str | None], where: str, name: str) -> float:
+    """TPReadFK: the number of the key the operator pressed, one shown (a label, not stEmpty)."""
+    shown = [i for i, label in enumerate(labels, 1) if label is not None]
+    if isinstance(answer, bool) or not isinstance(answer, int | float) or answer not in shown:
+        keys = ", ".join(f"{i} {labels[i - 1]}" for i in shown)
+        raise RunError(f"{where}: {name}: the operator's answer {answer!r} is not one of the keys shown ({keys})")
+    return float(answer)
 
 
 def _show(m, value, where: str, what: str) -> str:
@@ -106,16 +118,19 @@ def _read(compiler, node, args_node, keys: int) -> Callable:
 
     def run(fr):
         m = fr.m
-        _show(m, prompt(fr), where, name)
+        text = _show(m, prompt(fr), where, name)
         texts = [label(fr) for label in labels]
         if any(not isinstance(t, str) for t in texts):
             raise RunError(f"{where}: {name}: each function key's text is a string (stEmpty: no key)")
-        answer = _operator_answer(m)
+        shown = [t or None for t in texts]  # stEmpty (""): no key there
+        if keys and not any(shown):
+            raise RunError(f"{where}: {name}: no function key has a text: nothing could answer it")
+        answer = _press(m, shown)
         if answer is None:
             if max_time is None:
                 raise RunError(
-                    f"{where}: {name} waits for the operator's answer and no operator answers in this run "
-                    f"(codegen run has none): give {name} \\MaxTime to go on without an answer"
+                    f"{where}: {name}: the program waits for the operator's answer to {text!r} and no operator "
+                    f"answers in this run (codegen run --answer): or give {name} \\MaxTime to go on without one"
                 )
             m.elapse(num(max_time(fr), where), where)
             error = errors.RapidError(errors.ERROR_NUMBERS["ERR_TP_MAXTIME"], f"{where}: {name} \\MaxTime passed")
@@ -123,20 +138,16 @@ def _read(compiler, node, args_node, keys: int) -> Callable:
                 raise error
             flag(fr, f32(error.errno))
             return
-        if not math.isfinite(answer):
-            raise RunError(f"{where}: {name}: the operator's answer is not a number")
-        if keys and (answer != int(answer) or not 1 <= answer <= keys or not texts[int(answer) - 1]):
-            shown = [i + 1 for i, t in enumerate(texts) if t]
-            raise RunError(f"{where}: {name}: the operator's answer {answer:g} is not one of the keys {shown}")
+        value = _key(answer, shown, where, name) if keys else _number(answer, where, name)
         if flag is not None:
             flag(fr, f32(0))
-        store(fr, f32(answer))
+        store(fr, f32(value))
 
     return run
 
 
 SPECIAL = {
-    "TPREADFK": lambda compiler, node, args_node: _read(compiler, node, args_node, 5),
+    "TPREADFK": lambda compiler, node, args_node: _read(compiler, node, args_node, KEYS),
     "TPREADNUM": lambda compiler, node, args_node: _read(compiler, node, args_node, 0),
 }
 BUILTINS = {"TPWRITE": tp_write, "TPERASE": tp_erase}

@@ -131,6 +131,14 @@ NOT_MODELLED = {
     "set_pos": "the simulated arm is moved by motion commands only",
     "powerdown": "stopping the controller is not modelled",
     "protective_stop": "a protective stop is not modelled (halt ends the program)",
+    **dict.fromkeys(
+        (
+            "request_float_from_primary_client",
+            "request_integer_from_primary_client",
+            "request_string_from_primary_client",
+        ),
+        "the operator answers Yes/No questions only (request_boolean_from_primary_client)",
+    ),
 }
 
 

@@ -32,7 +32,7 @@ from codegen.dialects.core.machine import Program, halt
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import MISSING, RunError, f32
-from codegen.dialects.urscript import arrays, circle, conveyor, environment, io, motion, threads, urmath
+from codegen.dialects.urscript import arrays, circle, conveyor, environment, io, motion, pendant, threads, urmath
 from codegen.dialects.urscript.values import URPose, num, pose
 
 INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
@@ -90,6 +90,7 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
             **motion.builtins(),
             **environment.builtins(),
             **conveyor.builtins(pose, num),
+            **pendant.builtins(),
             "movec": circle.builtin(pose, num, threads.current),
             "halt": halt,
         }

@@ -115,19 +115,19 @@ def test_tp_write_values_and_tp_erase():
 
 
 def test_tp_read_fk_and_tp_read_num_take_the_operators_answers_in_order():
-    from codegen.dialects.rapid.pendant import Operator  # the run's operator (Program.run's devices)
+    from codegen.sim.operator import Operator  # the run's operator (Program.run's devices, codegen run --answer)
 
     body = 'TPReadFK key, "Go on?", "Yes", stEmpty, stEmpty, stEmpty, "No";\nTPReadNum n, "How many?";'
     body += '\nTPWrite "" \\Num:=key * 100 + n;'
     trace = run(body, "VAR num key;\nVAR num n;", devices=[Operator([5, 12])])
     assert trace.messages == ["Go on?", "How many?", "512"]
-    with pytest.raises(RunError, match=r"t\.mod:5:1: TPReadFK: the operator's answer 2 is not one of .* \[1, 5\]"):
+    with pytest.raises(RunError, match=r"t\.mod:5:1: TPReadFK: the operator.s answer 2 is not one .*\(1 Yes, 5 No\)"):
         run(body, "VAR num key;\nVAR num n;", devices=[Operator([2])])
-    with pytest.raises(RunError, match=r"t\.mod:5:1: TPReadFK waits for the operator's answer") as refused:
+    with pytest.raises(RunError, match=r"t\.mod:5:1: TPReadFK: the program waits for the operator") as refused:
         run(body, "VAR num key;\nVAR num n;")
-    # the message names only what exists: codegen run has no option that answers; \MaxTime goes on without one
+    # the message names how a run gets an operator, and \MaxTime, which goes on without one
     text = str(refused.value)
-    assert "--answer" not in text and text.endswith("give TPReadFK \\MaxTime to go on without an answer")
+    assert "(codegen run --answer)" in text and text.endswith("give TPReadFK \\MaxTime to go on without one")
 
 
 def test_tp_read_num_max_time_without_an_answer_sets_the_break_flag():
