@@ -144,13 +144,52 @@ def test_the_unstacking_program_waits_for_a_clear_pick_place_and_stacking_for_a_
 def test_the_plcs_reset_restarts_a_swapped_pallet_only(testmat):
     """The reset input starts a full pallet again at layer 1, box 1; on a pallet not full it does nothing (a PLC bit
     left on must not make the arm place into occupied slots)."""
-    ignored = "    if get_standard_digital_in(4) == True:   # the PLC: the pallet was swapped\n"
+    ignored = "    if get_standard_digital_in(4) == True:\n"
     found = mutant_mismatches(testmat, "ur", "pal_testmat.script", ignored, "    if False:\n")
     assert found and found[0].startswith("pallet_changed"), found
     always = "  if not pal_valid(pal_layer, pal_box):\n"
     reset = "  if get_standard_digital_in(4) == True:\n    pal_layer = 1\n    pal_box = 1\n  end\n" + always
     found = mutant_mismatches(testmat, "ur", "pal_testmat.script", always, reset)
     assert found and found[0].startswith("reset_ignored"), found
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
+def test_a_reset_counts_only_once_the_plc_drops_it_in_answer_to_the_done_output(testmat, target):
+    """The handshake: a reset honoured without waiting for the PLC to drop it (a level left on) starts a full pallet
+    again and fails the reset_held case; a program that never turns the done output off to answer gets no drop from
+    the PLC and fails pallet_changed."""
+    name, waited, skipped, answer = {
+        "ur": (
+            "pal_testmat.script",
+            "      while get_standard_digital_in(4) == True:\n",
+            "      while False:\n",
+            "      set_standard_digital_out(2, False)\n",
+        ),
+        "kuka": (
+            "pal_testmat.src",
+            "      IF NOT PAL_RESET_OFF() THEN\n",
+            "      IF FALSE THEN\n",
+            "      $OUT[22] = FALSE\n",
+        ),
+        "abb": (
+            "pal_testmat.mod",
+            "        WaitDI diPalletReset, 0 \\MaxTime:=STACK_WAIT \\TimeFlag:=late;\n",
+            "        late := FALSE;\n",
+            "        SetDO doPalletFull, 0;\n",
+        ),
+        "dtrans": ("pal_testmat.prg", "    While DIn(5) == True\n", "    While False\n", "    SetDO 3, False\n"),
+    }[target]
+    found = mutant_mismatches(testmat, target, name, waited, skipped)
+    assert found and found[0].startswith("reset_held"), found
+    found = mutant_mismatches(testmat, target, name, answer, "")
+    assert found and found[0].startswith("pallet_changed"), found
+
+
+def test_a_reset_without_its_done_output_is_refused_by_key(tmp_path):
+    text = TESTMAT_TEXT.replace('done = { ur = 2, kuka = 22, abb = "doPalletFull", dtrans = 3 }', "# no done output", 1)
+    assert text != TESTMAT_TEXT
+    with pytest.raises(CellError, match=r"pallet\[0\]\.io\.done: missing: the output the \w+ program turns off"):
+        _load(tmp_path, text)
 
 
 @pytest.mark.parametrize(
@@ -382,7 +421,7 @@ def test_after_a_stop_the_program_backs_out_and_goes_home_above_the_pallet(testm
 
 
 def test_the_full_message_comes_with_the_arm_off_the_pallet(testmat):
-    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  LIN PAL_ABOVE\n  PAL_MSG", "  PAL_MSG")
+    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  LIN PAL_ABOVE\n  $OUT[22]", "  $OUT[22]")
     assert found, found
     found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  PTP HIGH\n  $VEL.CP", "  $VEL.CP")
     assert found, found
