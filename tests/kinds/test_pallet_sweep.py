@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import PalletCase, expected, start_counters
+from codegen.kinds.pallet.cycle import PalletCase, expected, safe_pose, sheet_below, start_counters
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.sweep import sweeps
 from codegen.model.cell import load_cell
@@ -169,3 +169,17 @@ def test_the_empty_gripper_leaving_a_stacked_box_swings_over_q_at_the_entry_heig
     # through the KR 210's joint space the direct move dips below the layer just placed (the IRB 4600's clears it)
     found = sweeps(pallet, frame, *_with_joints(cell, pallet, direct, "kuka"))
     assert found is not None and "empty gripper's face" in found, found
+
+
+def test_the_way_home_passes_over_the_full_stack_with_a_held_box_clear_of_it():
+    """The safe pose above the pallet's centre, which the way home after a stop passes with a held box: the box's
+    bottom at least the transit clearance over the full stack's top (measured in the pallet frame from the box's
+    height and the layers, not from the planner's transit height)."""
+    for name in ("testmat_pallet.toml", "eur_pallet.toml"):
+        cell = load_cell(EXAMPLES / name)
+        for pallet in pallets_of(cell):
+            top = pallet.layers * pallet.box[2] + sum(
+                pallet.slip_thickness for layer in range(2, pallet.layers + 1) if sheet_below(pallet, layer)
+            )
+            bottom = safe_pose(pallet)[2, 3] - pallet.box[2]
+            assert bottom - top >= pallet.transit_clearance_mm - 1e-9, (name, pallet.name, bottom - top)

@@ -150,8 +150,9 @@ def sheet_target(pallet: Pallet, layer: int) -> np.ndarray:
 
 
 def safe_pose(pallet: Pallet) -> np.ndarray:
-    """Above the pallet's centre, entry_dz over the full stack (pallet frame): the way home after a stop passes it."""
-    z = layer_top(pallet, pallet.layers) + pallet.entry_dz
+    """Above the pallet's centre at the transit height over the full stack (pallet frame): the way home after a stop
+    passes it, a held box clear of the stack's top by transit_clearance_mm as on every transit."""
+    z = layer_top(pallet, pallet.layers) + transit_dz(pallet)
     return matrix_from_rotation_translation(_tool(pallet), (pallet.size[0] / 2, pallet.size[1] / 2, z))
 
 

@@ -64,7 +64,8 @@ def still_waiting_message(pallet: Pallet, interlock: str, limit: int) -> str:
 def reset_held_message(pallet: Pallet, limit: int) -> str:
     """The stop when the PLC keeps its reset on after the program answered it (the done output off): a reset input
     left on (a level, not a request) never starts a pallet again; the counters stay as they were."""
-    return _named(f"pallet {{name}}: the PLC's reset did not go off in {pallet.io.timeout_s:g} s, counters kept", pallet, limit)
+    pattern = f"pallet {{name}}: the PLC's reset did not go off in {pallet.io.timeout_s:g} s, counters kept"
+    return _named(pattern, pallet, limit)
 
 
 def select_message() -> str:
