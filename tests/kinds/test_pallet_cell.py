@@ -357,7 +357,12 @@ def test_the_task_starts_the_selected_pallet_and_none_without_a_selection(eur):
         ("abb", "pal_testmat.mod", "      GripLoad stack_box;\n", ""),
         # on before the grip is confirmed, or left on after the release
         ("kuka", "pal_testmat.src", "    LIN PAL_PICK\n", "    $LOAD = PAL_LOAD_BOX\n    LIN PAL_PICK\n"),
-        ("abb", "pal_testmat.mod", "      stack_release;\n      GripLoad load0;\n", "      stack_release;\n"),
+        (
+            "abb",
+            "pal_testmat.mod",
+            "      pal_testmat_layer := -pal_testmat_layer;\n      GripLoad load0;\n",
+            "      pal_testmat_layer := -pal_testmat_layer;\n",
+        ),
     ],
 )
 def test_the_box_payload_is_in_force_from_the_grip_to_the_release(testmat, target, name, old, new):
@@ -441,7 +446,7 @@ def test_slip_sheets_are_placed_from_the_dispenser(eur):
         "BOX.Z = PAL_TOP(PAL_EUR_LAYER - 1)",
     )
     assert found and "position error" in found[0], found
-    found = mutant_mismatches(eur, "abb", "pal_eur.mod", "          pal_eur_box := 0;\n", "")
+    found = mutant_mismatches(eur, "abb", "pal_eur.mod", "\n          pal_eur_box := 0;\n", "\n")
     assert found, found
 
 
@@ -519,3 +524,47 @@ def test_a_gap_in_the_infeed_is_waited_out_with_a_message(testmat, target, name,
     (as it once did) fails."""
     found = mutant_mismatches(testmat, target, name, old, new)
     assert found and found[0].startswith("part_missing"), found
+
+
+# --- a stop during a release ------------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "mark"),
+    [
+        ("ur", "pal_testmat.script", "    pal_report(-pal_layer, pal_box)   # marked"),
+        ("kuka", "pal_testmat.src", "    PAL_TESTMAT_LAYER = -PAL_TESTMAT_LAYER ; marked"),
+        ("abb", "pal_testmat.mod", "      pal_testmat_layer := -pal_testmat_layer;\n      stack_release;"),
+        ("dtrans", "pal_testmat.prg", "  pal_layer = 0 - pal_layer  // marked"),
+    ],
+)
+def test_the_counters_are_marked_while_a_box_is_released(testmat, target, name, mark):
+    """Before the gripper opens at the target the counters are marked (the layer negative), so a stop before the
+    sensor confirms the release is found at the next start; a program without the mark fails verify (a stuck
+    gripper leaves the counters unmarked)."""
+    unmarked = {"ur": "    #", "kuka": "    ;", "abb": "      stack_release;", "dtrans": "  //"}[target]
+    found = mutant_mismatches(testmat, target, name, mark, unmarked)
+    assert found, found
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "answered", "ignored"),
+    [
+        (
+            "ur",
+            "pal_testmat.script",
+            'request_boolean_from_primary_client("pallet testmat: stopped in a release. Is the item below the gripper '
+            'down?")',
+            "False",
+        ),
+        ("kuka", "pal_testmat.src", "      ANSWER = PAL_ASK()\n", "      ANSWER = 2\n"),
+        ("abb", "pal_testmat.mod", "        IF answer = 1 THEN\n", "        IF FALSE THEN\n"),
+    ],
+)
+def test_after_a_stop_in_a_release_the_operator_decides_whether_the_item_is_down(
+    testmat, target, name, answered, ignored
+):
+    """The operator's Yes moves the counters on (the box is down, also past the last box: the pallet full); a program
+    that does not ask, or ignores the answer, places the box again onto the one already there."""
+    found = mutant_mismatches(testmat, target, name, answered, ignored)
+    assert found and found[0].startswith("stopped_in_release"), found

@@ -78,11 +78,12 @@ MUTATIONS = [
     (
         "kuka",
         "pal_testmat.src",
-        "    IF NOT PAL_RELEASE() THEN\n      RETURN ; the box is still in the gripper: the counters stay at it\n"
-        "    ENDIF\n    $LOAD = PAL_LOAD\n    HELD = FALSE\n"
+        "    IF NOT PAL_RELEASE() THEN\n"
+        "      RETURN ; the box is still in the gripper: the counters stay at it, marked\n"
+        "    ENDIF\n    PAL_TESTMAT_LAYER = -PAL_TESTMAT_LAYER\n    $LOAD = PAL_LOAD\n    HELD = FALSE\n"
         "    ; the box is down (the sensor confirmed it): the next one\n    PAL_TESTMAT_BOX = PAL_TESTMAT_BOX + 1\n",
         "    PAL_TESTMAT_BOX = PAL_TESTMAT_BOX + 1\n    IF NOT PAL_RELEASE() THEN\n      RETURN\n    ENDIF\n"
-        "    $LOAD = PAL_LOAD\n    HELD = FALSE\n",
+        "    PAL_TESTMAT_LAYER = -PAL_TESTMAT_LAYER\n    $LOAD = PAL_LOAD\n    HELD = FALSE\n",
     ),
     ("abb", "pal_testmat.mod", "STACK_HEIGHT := 26.0000;", "STACK_HEIGHT := 25.0000;"),
     ("abb", "pal_testmat.mod", "STACK_CYCLE{2} := [1, 2];", "STACK_CYCLE{2} := [2, 1];"),
@@ -92,10 +93,11 @@ MUTATIONS = [
     (
         "abb",
         "pal_testmat.mod",
-        "      stack_release;\n      GripLoad load0;\n      held := FALSE;\n"
-        "      ! the box is down and the gripper open: the next box\n      pal_testmat_box := pal_testmat_box + 1;\n",
-        "      pal_testmat_box := pal_testmat_box + 1;\n      stack_release;\n      GripLoad load0;\n"
-        "      held := FALSE;\n",
+        "      stack_release;\n      pal_testmat_layer := -pal_testmat_layer;\n      GripLoad load0;\n"
+        "      held := FALSE;\n      ! the box is down and the gripper open: the next box\n"
+        "      pal_testmat_box := pal_testmat_box + 1;\n",
+        "      pal_testmat_box := pal_testmat_box + 1;\n      stack_release;\n"
+        "      pal_testmat_layer := -pal_testmat_layer;\n      GripLoad load0;\n      held := FALSE;\n",
     ),
     ("dtrans", "pal_testmat.prg", "Double PAL_HEIGHT = 26.0000", "Double PAL_HEIGHT = 25.0000"),
     ("dtrans", "pal_testmat.prg", "Int PAL_CYCLE[2] = {0, 1}", "Int PAL_CYCLE[2] = {1, 0}"),
@@ -104,8 +106,9 @@ MUTATIONS = [
     (
         "dtrans",
         "pal_testmat.prg",
-        "  Call pal_release()\n  held = 0\n  // the box is down",
-        "  pal_box = pal_box + 1\n  Call pal_release()\n  pal_box = pal_box - 1\n  held = 0\n  // the box is down",
+        "  Call pal_release()\n  pal_layer = 0 - pal_layer\n  held = 0\n  // the box is down",
+        "  pal_box = pal_box + 1\n  Call pal_release()\n  pal_box = pal_box - 1\n  pal_layer = 0 - pal_layer\n"
+        "  held = 0\n  // the box is down",
     ),
 ]
 

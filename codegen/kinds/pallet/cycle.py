@@ -15,6 +15,7 @@ from codegen.kinds.pallet.messages import (
     empty_message,
     full_message,
     message_limit,
+    released_message,
     reset_held_message,
     still_waiting_message,
     wait_message,
@@ -22,6 +23,8 @@ from codegen.kinds.pallet.messages import (
 from codegen.kinds.pallet.section import Pallet
 from codegen.kinds.pallet.stack import Placement, layer_top, placements
 from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
+
+YES, NO = "Yes", "No"  # the operator's answers to the question after a stop during a release (softkeys 1 and 2)
 
 __all__ = [
     "Expected",
@@ -55,6 +58,9 @@ class PalletCase:
     missing: str | None = None
     reset: bool = False  # the PLC asks for the counters of a swapped pallet to start again
     reset_held: bool = False  # the PLC keeps that reset on after the program's answer (a level input, not a request)
+    # stacking, the counters marked as a stop during a release leaves them (layer negative): the operator's answer to
+    # "is the item down?" (YES, NO), None: the program cannot ask (it stops with a message)
+    answer: str | None = None
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
 
@@ -81,6 +87,7 @@ class Expected:
     counters: tuple[int, int]  # layer and box when the run ends: what to do next
     start: tuple[int, int] = (0, 0)  # the counters the program worked from (after a reset)
     said: tuple[str, ...] = ()  # the notifications of a wait on the supply that lasted the timeout (it waited on)
+    asked: bool = False  # the operator was asked whether an item released before a stop is down
 
 
 @dataclass(frozen=True)
@@ -245,6 +252,16 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     limit = message_limit(cell)
     keys = [item.key for item in items(pallet)]
     put_down = case.closed and pallet.mode == "unstack"
+    asked = False
+    if pallet.mode == "stack" and start[0] < 0:  # a stop came during a release: is the item down?
+        start = (-start[0], start[1])
+        if start in keys and not case.closed:  # the gripper holds nothing: only the operator can tell
+            if case.answer is None:
+                return Expected((), (), released_message(pallet, limit), (-start[0], start[1]), start)
+            asked = True
+            if case.answer == YES:  # down: the counters move on as after a confirmed release
+                following = keys.index(start) + 1
+                start = keys[following] if following < len(keys) else done
     said = [("done", start == done, 0)]  # the PLC's full (empty) output, from the counters, before anything else
     if start == done and not put_down:
         if case.reset and pallet.io.reset:  # the handshake: the done output off answers the PLC, which drops reset
@@ -255,9 +272,9 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
             start = keys[0]
         else:
             message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
-            return Expected((), tuple(said), message, start, start)
+            return Expected((), tuple(said), message, start, start, asked=asked)
     if start not in keys and start != done:
-        return Expected((), tuple(said), counters_message(pallet, limit), start, start)
+        return Expected((), tuple(said), counters_message(pallet, limit), start, start, asked=asked)
     run = _Run(cell, pallet, case, start)
     todo = [item for item in items(pallet)][keys.index(start) :] if start in keys else []
     run.outputs = [*said, *run.outputs]
@@ -272,7 +289,7 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
     if halt is None:  # the pallet is done: the PLC's cue to swap it
         run.outputs.append(("done", True, len(run.moves)))
-    return run.result(halt, start)
+    return replace(run.result(halt, start), asked=asked)
 
 
 def _put_down(run: _Run) -> str | None:
@@ -340,7 +357,7 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
                 return halt
             for pose, name, slow, exact in path[1:]:
                 run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
-            halt, height = _release_and_back_out(run, retreat, after, where)
+            halt, height = _release_and_back_out(run, retreat, item.key, after, where)
             if halt:
                 return halt
             continue
@@ -364,7 +381,7 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
                 if halt:
                     return halt
             run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
-        halt, height = _release_and_back_out(run, retreat, after, where)
+        halt, height = _release_and_back_out(run, retreat, item.key, after, where)
         if halt:
             return halt
     run.move("joint", risen(above, height), "off the pallet: over Q", False, False)
@@ -418,9 +435,12 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
     return None
 
 
-def _release_and_back_out(run, retreat, after, where: str):
-    """Release the item, move the counters on once the release is confirmed, back out along the retreat: (the
-    halt, None) or (None, the height the empty gripper ends at: the entry's, clear of the stack's top)."""
+def _release_and_back_out(run, retreat, key, after, where: str):
+    """Release the item: the counters marked first (the layer negative: a stop before the sensor confirms leaves the
+    question whether the item is down to the next start), moved on once the release is confirmed; back out along
+    the retreat: (the halt, None) or (None, the height the empty gripper ends at: the entry's, clear of the stack's
+    top)."""
+    run.counters = (-key[0], key[1])
     halt = run.release()
     if halt:
         return halt, None

@@ -33,6 +33,7 @@ class PalletKind(ProgramKind):
         "level_only": bool,  # no pose product: a level pallet only
         "joint_blend": bool,  # a joint move may blend into the next (false: it stops at its point)
         "input_stops": bool,  # reading an input stops the advance run: the move before a check ends exactly
+        "asks": bool,  # the program can ask the operator Yes/No (after a stop during a release: is the item down?)
     }
 
     @classmethod

@@ -68,6 +68,17 @@ def reset_held_message(pallet: Pallet, limit: int) -> str:
     return _named(pattern, pallet, limit)
 
 
+def released_question(pallet: Pallet, limit: int) -> str:
+    """The operator's question at the start after a stop during a release (stacking: the counters marked, the gripper
+    empty): Yes, the item is down, the counters move on; No, it is placed again."""
+    return _named("pallet {name}: stopped in a release. Is the item below the gripper down?", pallet, limit)
+
+
+def released_message(pallet: Pallet, limit: int) -> str:
+    """The stop where the program cannot ask (or the question went unanswered): the counters keep their mark."""
+    return _named("pallet {name}: stopped in a release: check the item, then set the counters", pallet, limit)
+
+
 def select_message() -> str:
     return "no pallet program selected: the PLC sets one select input"
 
@@ -78,6 +89,7 @@ def all_messages(pallet: Pallet, limit: int) -> list[str]:
         empty_message(pallet, limit),
         counters_message(pallet, limit),
         *([reset_held_message(pallet, limit)] if pallet.io.reset else []),
+        *([released_question(pallet, limit), released_message(pallet, limit)] if pallet.mode == "stack" else []),
         *(
             still_waiting_message(pallet, name, limit) if name in WAITS_ON else wait_message(pallet, name, limit)
             for name in pallet.io.inputs()

@@ -10,7 +10,16 @@ import numpy as np
 from codegen import derived
 from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import above_pick, layer_counts, safe_pose, sheet_below, start_counters, transit_dz
+from codegen.kinds.pallet.cycle import (
+    NO,
+    YES,
+    above_pick,
+    layer_counts,
+    safe_pose,
+    sheet_below,
+    start_counters,
+    transit_dz,
+)
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import WAITS_ON, counter_register
 from codegen.kinds.pallet.messages import (
@@ -19,6 +28,8 @@ from codegen.kinds.pallet.messages import (
     full_message,
     message_limit,
     rechecked,
+    released_message,
+    released_question,
     reset_held_message,
     select_message,
     still_waiting_message,
@@ -282,6 +293,12 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         # the output on while the pallet is full (empty); turned off to answer the PLC's reset
         "done_out": None if done_out is None else _signal(emitter, target, done_out),
         "reset_held": emitter.string(reset_held_message(pallet, limit)),
+        # stacking, after a stop during a release: the operator's question (where the target asks), else a stop
+        "asks": bool(facts(target).get("asks")),
+        "question": emitter.string(released_question(pallet, limit)),
+        "released": emitter.string(released_message(pallet, limit)),
+        "yes": emitter.string(YES),
+        "no": emitter.string(NO),
         "select": None if select is None else _signal(emitter, target, select),
         "empty": emitter.string(empty_message(pallet, limit)),
         "full": emitter.string(full_message(pallet, limit)),

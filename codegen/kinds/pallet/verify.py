@@ -13,6 +13,8 @@ from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import (
+    NO,
+    YES,
     ExpectedMove,
     PalletCase,
     done_counters,
@@ -24,7 +26,7 @@ from codegen.kinds.pallet.cycle import (
 )
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import WAITS_ON
-from codegen.kinds.pallet.messages import message_limit, select_message, still_waiting_message
+from codegen.kinds.pallet.messages import message_limit, released_question, select_message, still_waiting_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
@@ -36,6 +38,7 @@ from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
 from codegen.robot.taught import ReachError
 from codegen.sim.gripper import Gripper
+from codegen.sim.operator import Operator
 from codegen.verify.plan import (
     START_AWAY_DEG,
     TOOL_LOAD,
@@ -151,7 +154,8 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
     from home, the arm where a stopped cycle left it (at a box's target); a task with several pallets: none selected."""
     out = []
     for index in pallet_indices(cell, source):
-        own = own_cases(pallets_of(cell)[index], random.Random(seed + index))
+        pallet = pallets_of(cell)[index]
+        own = own_cases(pallet, random.Random(seed + index)) + _release_cases(pallet, get_target(source.target))
         first = own[0]
         own += [
             replace(first, category="gripper_late", gripper="late"),
@@ -163,6 +167,25 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
         first = out[0].data
         out.append(Case("none_selected", PalletRun(-1, first.case), "none_selected"))
     return out
+
+
+def _release_cases(pallet, target) -> list[PalletCase]:
+    """Stacking, a stop during a release (the counters marked, the layer negative): with the gripper empty the
+    operator says whether the item is down (Yes: the counters move on, also past the last box; No: it is placed
+    again), or a program that cannot ask stops with a message; with the item still held it is finished."""
+    if pallet.mode != "stack":
+        return []
+    keys = [item.key for item in items(pallet)]
+    mid, last = keys[len(keys) // 2], keys[-1]
+    out = [PalletCase("stopped_in_release", -mid[0], mid[1], closed=True)]
+    if not facts(target).get("asks"):
+        return [*out, PalletCase("stopped_in_release", -mid[0], mid[1])]
+    return [
+        *out,
+        PalletCase("stopped_in_release", -mid[0], mid[1], answer=YES),
+        PalletCase("stopped_in_release", -mid[0], mid[1], answer=NO),
+        PalletCase("stopped_in_release", -last[0], last[1], answer=YES),
+    ]
 
 
 def _start(case: PalletCase) -> str:
@@ -203,6 +226,8 @@ def setup(cell, source, case: Case) -> Setup:
         signal = signal_name(target, "input", getattr(pallet.io, run.case.missing)[target.name])
         message = Emitter(target).string(still_waiting_message(pallet, run.case.missing, message_limit(cell)))
         devices += (SupplyLate(signal, message),)
+    if run.case.answer is not None:  # the operator at the pendant answers the question after a stop in a release
+        devices += (Operator([run.case.answer]),)
     select = None if run.pallet < 0 else run.pallet
     counters = {layer_name: run.case.layer, box_name: run.case.box}
     if case.category == "counters_reloaded" and not _reload_proof(target):
@@ -307,6 +332,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     problem = problem or (_store_not_kept(source, target) if reloaded else None)
     problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
     problem = problem or _unsaid(target, want.said, trace)
+    problem = problem or (_unasked(cell, pallet, target, trace) if want.asked else None)
     return Judgement([expectation], figures=boxes, problem=problem)
 
 
@@ -334,6 +360,14 @@ def _unsaid(target, said: tuple[str, ...], trace) -> str | None:
         text = Emitter(target).string(message)
         if text not in getattr(trace, "messages", ()):
             return f"no notification {text!r}: a wait on the supply that lasted the timeout must say so, then wait on"
+    return None
+
+
+def _unasked(cell, pallet, target, trace) -> str | None:
+    """After a stop during a release with the gripper empty, the operator is asked whether the item is down."""
+    text = Emitter(target).string(released_question(pallet, message_limit(cell)))
+    if text not in getattr(trace, "messages", ()):
+        return f"the operator was not asked {text!r}: only the operator can tell whether the released item is down"
     return None
 
 

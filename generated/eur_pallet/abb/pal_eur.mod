@@ -107,6 +107,7 @@ MODULE pal_eur
     VAR num row;
     VAR bool held;
     VAR bool late;
+    VAR num answer;
     VAR bool up_q;
     VAR num up_z;
     VAR robtarget high;
@@ -115,6 +116,30 @@ MODULE pal_eur
     ! before any move
     ! the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
     held := DInput(diGripClosed) = 1;
+    IF pal_eur_layer < 0 THEN
+      ! a stop came during a release (the counters marked): is the item down?
+      pal_eur_layer := -pal_eur_layer;
+      IF stack_valid() AND NOT held THEN
+        ! nothing in the gripper: only the operator can tell
+        TPReadFK answer, "pallet eur: stopped in a release. Is the item below the gripper down?", "Yes", stEmpty, stEmpty, stEmpty, "No";
+        IF answer = 1 THEN
+          ! down: the counters move on as after a confirmed release
+          IF pal_eur_box = 0 THEN
+            pal_eur_box := 1;
+          ELSE
+            pal_eur_box := pal_eur_box + 1;
+            IF pal_eur_box > stack_boxes(pal_eur_layer) THEN
+              pal_eur_box := 1;
+              pal_eur_layer := pal_eur_layer + 1;
+              IF stack_sheet_below(pal_eur_layer) THEN
+                pal_eur_box := 0;
+              ENDIF
+            ENDIF
+          ENDIF
+        ENDIF
+        ! key 5, "No": not down, placed again
+      ENDIF
+    ENDIF
     ! the PLC's "pallet full" output: on while the counters say so
     IF pal_eur_layer = 6 AND pal_eur_box = 1 THEN
       SetDO doEurFull, 1;
@@ -226,7 +251,10 @@ MODULE pal_eur
         MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
         MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
         MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
+        ! marked until the release is confirmed: a stop meanwhile leaves the question to the start
+        pal_eur_layer := -pal_eur_layer;
         stack_release;
+        pal_eur_layer := -pal_eur_layer;
         held := FALSE;
         ! the sheet is down: the layer's first box
         pal_eur_box := 1;
@@ -283,7 +311,10 @@ MODULE pal_eur
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
+      ! marked until the release is confirmed: a stop meanwhile leaves the question to the start
+      pal_eur_layer := -pal_eur_layer;
       stack_release;
+      pal_eur_layer := -pal_eur_layer;
       GripLoad load0;
       held := FALSE;
       ! the box is down and the gripper open: the next box (box 0: the slip sheet below the next layer)

@@ -93,6 +93,7 @@ MODULE pal_testmat
     VAR num row;
     VAR bool held;
     VAR bool late;
+    VAR num answer;
     VAR bool up_q;
     VAR num up_z;
     VAR robtarget high;
@@ -101,6 +102,27 @@ MODULE pal_testmat
     ! before any move
     ! the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
     held := DInput(diGripClosed) = 1;
+    IF pal_testmat_layer < 0 THEN
+      ! a stop came during a release (the counters marked): is the item down?
+      pal_testmat_layer := -pal_testmat_layer;
+      IF stack_valid() AND NOT held THEN
+        ! nothing in the gripper: only the operator can tell
+        TPReadFK answer, "pallet testmat: stopped in a release. Is the item below the gripper down?", "Yes", stEmpty, stEmpty, stEmpty, "No";
+        IF answer = 1 THEN
+          ! down: the counters move on as after a confirmed release
+          IF pal_testmat_box = 0 THEN
+            pal_testmat_box := 1;
+          ELSE
+            pal_testmat_box := pal_testmat_box + 1;
+            IF pal_testmat_box > stack_boxes(pal_testmat_layer) THEN
+              pal_testmat_box := 1;
+              pal_testmat_layer := pal_testmat_layer + 1;
+            ENDIF
+          ENDIF
+        ENDIF
+        ! key 5, "No": not down, placed again
+      ENDIF
+    ENDIF
     ! the PLC's "pallet full" output: on while the counters say so
     IF pal_testmat_layer = 6 AND pal_testmat_box = 1 THEN
       SetDO doPalletFull, 1;
@@ -214,7 +236,10 @@ MODULE pal_testmat
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
+      ! marked until the release is confirmed: a stop meanwhile leaves the question to the start
+      pal_testmat_layer := -pal_testmat_layer;
       stack_release;
+      pal_testmat_layer := -pal_testmat_layer;
       GripLoad load0;
       held := FALSE;
       ! the box is down and the gripper open: the next box

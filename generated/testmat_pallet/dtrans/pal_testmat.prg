@@ -142,6 +142,16 @@ Int held = 0
 If DIn(2) == True Then
   held = 1
 EndIf
+// a stop came during a release (the counters marked): with nothing in the gripper only the operator can tell
+// whether the item is down (this dialect cannot ask): the mark stays, the program stops with a message
+If pal_layer < 0 Then
+  pal_layer = 0 - pal_layer
+  If held == 0 And pal_valid(pal_layer, pal_box) == 1 Then
+    pal_layer = 0 - pal_layer
+    TPWrite 0, "pallet testmat: stopped in a release: check the item, then set the counters"
+    Halt
+  EndIf
+EndIf
 // the PLC's "pallet full" output: on while the counters say so
 If pal_layer == 6 And pal_box == 1 Then
   SetDO 3, True
@@ -249,7 +259,9 @@ MovJ transit
   MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 5.0000, a)
   MovL pal_pose(x, y, z, a)
+  pal_layer = 0 - pal_layer  // marked until the release is confirmed: a stop meanwhile leaves the question
   Call pal_release()
+  pal_layer = 0 - pal_layer
   held = 0
   // the box is down: the next one
   pal_box = pal_box + 1
