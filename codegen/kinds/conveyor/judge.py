@@ -227,3 +227,37 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
             j.worst_rot,
         )
     return None, j.worst_pos, j.worst_rot
+
+
+def not_held(cell, target_name: str, case, trace, output: str, first: int) -> tuple[str | None, float, float]:
+    """A grip never confirmed (every target, every mode): no stop; the gripper's output set on the part where it
+    really is, then back to release before the next move; that move straight up approach_dz off the part (with
+    tracking still relative to the belt at its end, an intercept above the point it met it); then the part skipped
+    with a message, and the program on to the line's stop (never a stop on the running belt)."""
+    j = _Judge(cell, target_name, case)
+    part = case.parts[0]
+    if trace.halted:
+        return f"a part the gripper did not hold: stopped on the running belt ({trace.halt_message!r})", 0.0, 0.0
+    events = [o for o in trace.outputs if o.name == output][1:]  # after the release at the start
+    if len(events) != 2 or events[0].value != cell.io.value or events[1].value == cell.io.value:
+        return f"the gripper's outputs {[(o.value, o.after_moves) for o in events]}: expected a grip, a release", 0, 0
+    close, release = events
+    k = close.after_moves
+    if release.after_moves != k or k < first + 2 or k >= len(trace.moves):
+        return f"the grip after move {k}, the release after move {release.after_moves}: not both on the part", 0, 0
+    hold = 0.0 if j.tracking else case.grip_s
+    problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, j.part_at(part, close.time + hold))
+    down, lift = trace.moves[k - 1], trace.moves[k]
+    if problem is None and (down.kind != "linear" or lift.kind != "linear"):
+        problem = f"part {part.seq}: the descent and the lift off the part must be straight moves"
+    if problem is None:
+        above = j.beside(lift, part, j.pick.approach_dz, close.tcp2base)
+        problem = j.off(f"part {part.seq}: the lift off it, released (line {lift.line})", lift.tcp2base, above)
+    if problem is not None:
+        return problem, j.worst_pos, j.worst_rot
+    said = _numbered(trace, NOT_HELD)
+    if list(said) != [part.seq] or said[part.seq] < lift.end_time:
+        return f"part {part.seq} not skipped with a message once the arm was off it ({trace.messages})", 0, 0
+    if trace.messages[-1] != STOPPED:
+        return f"the program did not end at the line's stop (last message {trace.messages[-1:]})", 0, 0
+    return None, j.worst_pos, j.worst_rot

@@ -29,7 +29,6 @@ class ConveyorKind(ProgramKind):
         "units": list,  # native (ABB): the mechanical units a cell may name for its belt
         "unit_signals": dict,  # native (ABB): the tracking option's signals the program uses
         "timers": int,  # intercept: how many numbered timers ([conveyor.pick] timer gives the program one)
-        "skips_unheld": list,  # the modes whose program skips a part the gripper did not hold (no stop)
         "timer_s": float,  # intercept: the numbered timers' unit (a time measured is off by up to one)
         "path_acc_m_s2": float,  # the path acceleration the program sets for its straight moves (the descent's ramp)
         "trigger": float,  # native (UR): the frame (s) a thread latches the robot's own encoder at the trigger in

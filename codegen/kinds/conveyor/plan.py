@@ -50,10 +50,10 @@ WAITS_AFTER = {
 }
 GRIP = {"native": 3, "intercept": 2}  # moves of a part before its grip
 RELEASE = {"native": 6, "intercept": 5}  # moves of a part before its release
-# a part given up after the arm moved for it: the moves made for it (the waiting move; while tracking, the
-# whole descent and its lift; where the program leaves the belt in a fixed work object before it disconnects (ABB),
-# then the move above the window's start)
-GIVEN_UP = {"native": ((0,), (0, 1, 2, 3), (0, 1, 2, 3, 0)), "intercept": ((0,),)}
+# a part given up after the arm moved for it: the moves made for it (the waiting move; the whole descent and its lift:
+# a part that reached the window's end while the arm came down, or a grip not confirmed in time; where the program
+# leaves the belt in a fixed work object before it disconnects (ABB native), then the move above the window's start)
+GIVEN_UP = {"native": ((0,), (0, 1, 2, 3), (0, 1, 2, 3, 0)), "intercept": ((0,), (0, 1, 2))}
 # The way home at the start from wherever a stop left the arm: a joint move to where it stands (the controller's
 # first motion), back out along the tool's axis, a safe pose above the belt, home; a part held is then put down
 # at the place before the first pick.

@@ -9,12 +9,13 @@ from dataclasses import dataclass, replace
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
-from codegen.guard import NO_FEEDBACK, NOT_RELEASED, halt_message
+from codegen.guard import NOT_RELEASED, halt_message
 from codegen.kinds.conveyor import native, plan
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.judge import SKIPS
 from codegen.kinds.conveyor.judge import judge as judge_parts
-from codegen.kinds.conveyor.program import BAD_READING, NOT_HELD, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.judge import not_held as judge_not_held
+from codegen.kinds.conveyor.program import BAD_READING, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, start_joints
 from codegen.model.io import signal_name
@@ -226,12 +227,11 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     if case.category == "part_out_of_range":  # the camera's reading is refused before the arm moves for it
         return Judgement([Expectation(emitter.string(BAD_READING), tuple(first), start_outputs, output_names=names)])
     stops = {
-        "gripper_silent": (halt_message(cell, NO_FEEDBACK, None, 0), plan.GRIP[mode]),
         "gripper_stuck": (halt_message(cell, NOT_RELEASED, None, 0), plan.RELEASE[mode]),
         "place_blocked": (place_blocked(cell), plan.RELEASE[mode] - 1),
     }
-    if case.category == "gripper_silent" and mode in facts(target).get("skips_unheld", ()):
-        return _not_held(cell, target, mode, trace, first, start_outputs, output, names, emitter)
+    if case.category == "gripper_silent":  # every target: the part left on the belt, no stop there
+        return _not_held(cell, target_name, case, trace, first, start_outputs, output, names)
     if case.category in stops:  # the first part's moves up to the stop: the grip, the release, above the place
         message, count = stops[case.category]
         moves = [plan.planned(segment, cell, target, mode) for segment in plan.PICK[mode][:count]]
@@ -256,14 +256,17 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
 
 
-def _not_held(cell, target, mode: str, trace, first, start_outputs, output, names, emitter) -> Judgement:
-    """A grip never confirmed while the arm follows the part: released at once, up off the part (still following it),
-    above the window's start in the fixed frame (GIVEN_UP's longest run), disconnected; the part skipped with a
-    message; the program goes on to the line's stop (no stop while connected to the running belt)."""
-    if not any(m.startswith(NOT_HELD) for m in trace.messages):
-        return Judgement([], problem=f"a part the gripper did not hold, not skipped with a message ({trace.messages})")
-    pattern = max(plan.GIVEN_UP[mode], key=len)
-    moves = plan._given_up(cell, target, mode, trace.moves[len(first) : len(first) + len(pattern)], len(first))
+def _not_held(cell, target_name: str, case, trace, first, start_outputs, output, names) -> Judgement:
+    """A grip never confirmed while the arm is on the part (every target): released at once, up off the part by
+    approach_dz (a tracking arm still following it), the part skipped with a message, the program on to the line's
+    stop (judge.not_held: where the part really is); the moves as a part given up (plan.GIVEN_UP: the descent and
+    its lift, then where the program leaves the belt), without the payload."""
+    target = get_target(target_name)
+    mode = conveyor_of(cell).pick.tracking[target_name]
+    problem, pos, rot = judge_not_held(cell, target_name, case, trace, output, len(first))
+    if problem is not None:
+        return Judgement([], problem=problem)
+    moves = plan._given_up(cell, target, mode, trace.moves[len(first) :], len(first))
     if isinstance(moves, str):
         return Judgement([], problem=moves)
     at = len(first) + plan.GRIP[mode]
@@ -272,7 +275,8 @@ def _not_held(cell, target, mode: str, trace, first, start_outputs, output, name
         PlannedOutput(output, cell.io.value, at, "on the part"),
         PlannedOutput(output, not cell.io.value, at, "released on the belt"),
     )
-    return Judgement([Expectation(None, (*first, *moves), outputs, output_names=names)])
+    expected = Expectation(None, (*first, *moves), outputs, output_names=names)
+    return Judgement([expected], figures=(0, 1), errors=([pos], [rot]))
 
 
 def waits(cell, case: BeltCase, trace) -> str | None:

@@ -299,9 +299,18 @@ MODULE cnv_belt_pick
     DropWObj cnv_track;
   ENDPROC
 
+  LOCAL FUNC bool cnv_connect()
+    ! WaitWObj: the oldest object of the unit's queue, connected once it is in the start window; an object
+    ! lost from the start window meanwhile sends WaitWObj to this handler (the part is lost: FALSE)
+    WaitWObj cnv_track;
+    RETURN TRUE;
+  ERROR
+    RETURN FALSE;
+  ENDFUNC
+
   LOCAL FUNC bool cnv_hold()
     ! grip the part on the belt: doGripClose set to 1 after the fine point, then wait until diGripClosed is 1;
-    ! not in 0.5 s: FALSE (the caller releases, leaves the belt and skips the part)
+    ! not in 0.5 s: FALSE (the caller releases, lifts off the part and skips it: no stop on the belt)
     SetDO doGripClose, 1;
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
     ! confirmed: the payload now
@@ -312,15 +321,6 @@ MODULE cnv_belt_pick
       RETURN FALSE;
     ENDIF
     RAISE;
-  ENDFUNC
-
-  LOCAL FUNC bool cnv_connect()
-    ! WaitWObj: the oldest object of the unit's queue, connected once it is in the start window; an object
-    ! lost from the start window meanwhile sends WaitWObj to this handler (the part is lost: FALSE)
-    WaitWObj cnv_track;
-    RETURN TRUE;
-  ERROR
-    RETURN FALSE;
   ENDFUNC
 
   LOCAL PROC cnv_arrive(num seq, num seen, num y)
