@@ -568,3 +568,25 @@ def test_after_a_stop_in_a_release_the_operator_decides_whether_the_item_is_down
     that does not ask, or ignores the answer, places the box again onto the one already there."""
     found = mutant_mismatches(testmat, target, name, answered, ignored)
     assert found and found[0].startswith("stopped_in_release"), found
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "undo"),
+    [
+        (
+            "ur",
+            "pal_testmat.script",
+            "        set_standard_digital_out(0, False)   # the grip not confirmed: the gripper",
+        ),
+        ("kuka", "pal_testmat.src", "      $OUT[17] = FALSE ; the grip not confirmed: the gripper"),
+        ("abb", "pal_testmat.mod", "      SetDO doGripClose, 0;\n      stack_stop"),
+        ("dtrans", "pal_testmat.prg", "      SetDO 1, False  // the grip not confirmed: the gripper"),
+    ],
+)
+def test_a_grip_not_confirmed_opens_the_gripper_before_the_stop(testmat, target, name, undo):
+    """A vacuum left on after the grip's timeout would lift a box held below the sensor's threshold on the way home;
+    a program that stops without opening the gripper again fails the gripper_silent case."""
+    kept = {"abb": "      stack_stop"}.get(target, "      ;")  # the line left as a comment
+    comment = {"ur": "#", "kuka": ";", "dtrans": "//"}.get(target)
+    found = mutant_mismatches(testmat, target, name, undo, kept if comment is None else f"      {comment} removed:")
+    assert found and found[0].startswith("gripper_silent"), found

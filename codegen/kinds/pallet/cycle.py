@@ -225,7 +225,8 @@ class _Run:
     def grip(self, box: bool = True) -> str | None:
         """Grip a box (its payload from the confirmed grip on) or a slip sheet (light: the tool's payload stays)."""
         self.outputs.append(("gripper", self.cell.io.value, len(self.moves)))
-        if self.case.gripper == "silent":
+        if self.case.gripper == "silent":  # opened again before the stop: nothing carried off half-held
+            self.outputs.append(("gripper", not self.cell.io.value, len(self.moves)))
             return halt_message(self.cell, NO_FEEDBACK, None, 0)
         self.carrying, self.sheet, self.gripped = box, not box, True
         return None

@@ -422,6 +422,8 @@ MODULE pal_eur
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
+      ! the grip not confirmed: the gripper opened again, nothing carried off half-held
+      SetDO doGripClose, 0;
       stack_stop "no feedback from the gripper in 2 s";
     ENDIF
     RAISE;

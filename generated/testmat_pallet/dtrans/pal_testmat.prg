@@ -77,6 +77,7 @@ Sub pal_grip()
   Int polls = 0
   While DIn(2) <> True
     If polls >= IO_POLLS Then
+      SetDO 1, False  // the grip not confirmed: the gripper opened again
       TPWrite 0, "no feedback from the gripper in 2 s"
       Halt
     EndIf
