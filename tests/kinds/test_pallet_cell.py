@@ -153,6 +153,7 @@ def test_the_plcs_reset_restarts_a_swapped_pallet_only(testmat):
     assert found and found[0].startswith("reset_ignored"), found
 
 
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
 @pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
 def test_a_reset_counts_only_once_the_plc_drops_it_in_answer_to_the_done_output(testmat, target):
     """The handshake: a reset honoured without waiting for the PLC to drop it (a level left on) starts a full pallet
@@ -529,6 +530,7 @@ def test_a_gap_in_the_infeed_is_waited_out_with_a_message(testmat, target, name,
 # --- a stop during a release ------------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
 @pytest.mark.parametrize(
     ("target", "name", "mark"),
     [
@@ -547,6 +549,7 @@ def test_the_counters_are_marked_while_a_box_is_released(testmat, target, name, 
     assert found, found
 
 
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
 @pytest.mark.parametrize(
     ("target", "name", "answered", "ignored"),
     [
@@ -570,6 +573,7 @@ def test_after_a_stop_in_a_release_the_operator_decides_whether_the_item_is_down
     assert found and found[0].startswith("stopped_in_release"), found
 
 
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
 @pytest.mark.parametrize(
     ("target", "name", "undo"),
     [
