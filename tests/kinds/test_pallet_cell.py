@@ -594,3 +594,28 @@ def test_a_grip_not_confirmed_opens_the_gripper_before_the_stop(testmat, target,
     comment = {"ur": "#", "kuka": ";", "dtrans": "//"}.get(target)
     found = mutant_mismatches(testmat, target, name, undo, kept if comment is None else f"      {comment} removed:")
     assert found and found[0].startswith("gripper_silent"), found
+
+
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
+@pytest.mark.parametrize(
+    ("target", "name", "check", "grip"),
+    [
+        (
+            "kuka",
+            "pal_testmat.src",
+            "  IF HELD AND NOT PAL_TESTMAT_HOLDS THEN",
+            "  PAL_TESTMAT_HOLDS = TRUE ; confirmed",
+        ),
+        ("abb", "pal_testmat.mod", "    IF held AND NOT pal_testmat_holds THEN", "    pal_testmat_holds := TRUE;"),
+    ],
+)
+def test_an_item_another_program_gripped_is_not_taken_for_this_pallets(testmat, target, name, check, grip):
+    """The store's flag says which program gripped what the gripper holds: a program that does not look at it takes
+    another pallet's item for its own (held_by_another); one that never sets it at the grip leaves the flag wrong
+    after a stop with the item held (gripper_stuck_at_target)."""
+    unchecked = check.replace(" AND NOT", " AND FALSE AND NOT")
+    found = mutant_mismatches(testmat, target, name, check, unchecked)
+    assert found and found[0].startswith("held_by_another"), found
+    unset = grip.replace("TRUE", "FALSE")
+    found = mutant_mismatches(testmat, target, name, grip, unset)
+    assert found and any(f.startswith("gripper_stuck_at_target") for f in found), found

@@ -13,6 +13,7 @@ from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
+    foreign_message,
     full_message,
     message_limit,
     released_message,
@@ -61,6 +62,7 @@ class PalletCase:
     # stacking, the counters marked as a stop during a release leaves them (layer negative): the operator's answer to
     # "is the item down?" (YES, NO), None: the program cannot ask (it stops with a message)
     answer: str | None = None
+    foreign: bool = False  # the item held at the start was gripped by another pallet's program of the same arm
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
 
@@ -88,6 +90,7 @@ class Expected:
     start: tuple[int, int] = (0, 0)  # the counters the program worked from (after a reset)
     said: tuple[str, ...] = ()  # the notifications of a wait on the supply that lasted the timeout (it waited on)
     asked: bool = False  # the operator was asked whether an item released before a stop is down
+    holds: bool = False  # at the end, the gripper holds an item this program gripped (its store's flag)
 
 
 @dataclass(frozen=True)
@@ -202,6 +205,7 @@ class _Run:
         self.carrying = False
         self.gripped = False  # a grip made (the pallet may be taken away after it: case.taken)
         self.sheet = False  # a slip sheet in the gripper
+        self.holds = case.closed  # this program gripped what the gripper holds (a held item at the start: its own)
         self.said: list[str] = []  # the waits on the supply that lasted the timeout: their notifications
 
     def move(self, kind: str, pose: np.ndarray, name: str, slow: bool, exact: bool) -> None:
@@ -228,18 +232,19 @@ class _Run:
         if self.case.gripper == "silent":  # opened again before the stop: nothing carried off half-held
             self.outputs.append(("gripper", not self.cell.io.value, len(self.moves)))
             return halt_message(self.cell, NO_FEEDBACK, None, 0)
-        self.carrying, self.sheet, self.gripped = box, not box, True
+        self.carrying, self.sheet, self.gripped, self.holds = box, not box, True, True
         return None
 
     def release(self) -> str | None:
         self.outputs.append(("gripper", not self.cell.io.value, len(self.moves)))
         if self.case.gripper == "stuck":
             return halt_message(self.cell, NOT_RELEASED, None, 0)
-        self.carrying = self.sheet = False
+        self.carrying = self.sheet = self.holds = False
         return None
 
     def result(self, halt: str | None, start: tuple[int, int]) -> Expected:
-        return Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start, tuple(self.said))
+        said = tuple(self.said)
+        return Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start, said, holds=self.holds)
 
 
 def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
@@ -253,12 +258,14 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     limit = message_limit(cell)
     keys = [item.key for item in items(pallet)]
     put_down = case.closed and pallet.mode == "unstack"
+    if case.closed and case.foreign:  # not this program's item: it stops before anything else
+        return Expected((), (), foreign_message(pallet, limit), start, start)
     asked = False
     if pallet.mode == "stack" and start[0] < 0:  # a stop came during a release: is the item down?
         start = (-start[0], start[1])
         if start in keys and not case.closed:  # the gripper holds nothing: only the operator can tell
             if case.answer is None:
-                return Expected((), (), released_message(pallet, limit), (-start[0], start[1]), start)
+                return Expected((), (), released_message(pallet, limit), (-start[0], start[1]), start, holds=False)
             asked = True
             if case.answer == YES:  # down: the counters move on as after a confirmed release
                 following = keys.index(start) + 1
@@ -269,13 +276,13 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
             said.append(("done", False, 0))
             if case.reset_held:  # the reset stays on: no swap confirmed, the counters stay
                 said.append(("done", True, 0))
-                return Expected((), tuple(said), reset_held_message(pallet, limit), start, start)
+                return Expected((), tuple(said), reset_held_message(pallet, limit), start, start, holds=case.closed)
             start = keys[0]
         else:
             message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
-            return Expected((), tuple(said), message, start, start, asked=asked)
+            return Expected((), tuple(said), message, start, start, asked=asked, holds=case.closed)
     if start not in keys and start != done:
-        return Expected((), tuple(said), counters_message(pallet, limit), start, start, asked=asked)
+        return Expected((), tuple(said), counters_message(pallet, limit), start, start, asked=asked, holds=case.closed)
     run = _Run(cell, pallet, case, start)
     todo = [item for item in items(pallet)][keys.index(start) :] if start in keys else []
     run.outputs = [*said, *run.outputs]

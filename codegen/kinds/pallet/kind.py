@@ -23,7 +23,7 @@ class PalletKind(ProgramKind):
         "files": list,  # a program's files per [[pallet]] ("...{pallet}..."); with `task`, the task's modules too
         "node_files": list,  # a second program per [[pallet]]: the same program in another form (a Script node's)
         "task": bool,  # every pallet's program in one task: its files once, "{pallet}" files once per pallet
-        "counters": dict,  # layer and box: the counters' names for --input and verify
+        "counters": dict,  # layer and box: the counters' names for --input and verify; holds: the grip flag's
         "kept": dict,  # layer and box: where the program reports the counters, if not in counters
         "store": str,  # where the counters outlive a reload and a regeneration: a file, "plc", "program"
         "store_attribute": str,  # the module attribute the store's file carries (a program load leaves its module)

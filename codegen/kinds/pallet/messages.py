@@ -79,6 +79,12 @@ def released_message(pallet: Pallet, limit: int) -> str:
     return _named("pallet {name}: stopped in a release: check the item, then set the counters", pallet, limit)
 
 
+def foreign_message(pallet: Pallet, limit: int) -> str:
+    """The stop at the start when the gripper holds an item this program did not grip (another pallet's program of the
+    same arm did): it is not this pallet's to finish."""
+    return _named("pallet {name}: the item held is another program's: finish it there or remove it", pallet, limit)
+
+
 def select_message() -> str:
     return "no pallet program selected: the PLC sets one select input"
 

@@ -25,6 +25,7 @@ from codegen.kinds.pallet.interlocks import WAITS_ON, counter_register
 from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
+    foreign_message,
     full_message,
     message_limit,
     rechecked,
@@ -74,6 +75,14 @@ def counter_names(cell, target, index: int) -> tuple[str, str]:
     return idents["layer"], idents["box"]
 
 
+def holds_name(cell, target, index: int) -> str | None:
+    """The flag in pallet `index`'s store that says its program gripped what the gripper holds (set at a confirmed
+    grip, cleared at a confirmed release), where the target keeps one ([program.pallet] counters.holds)."""
+    if "holds" not in facts(target)["counters"]:
+        return None
+    return identifiers(cell, target)[index].get("holds")
+
+
 def identifiers(cell, target) -> list[dict]:
     """Per pallet, the identifiers its program uses that the cell names: the program ("pal_" and the pallet's name),
     its counters and its store; the generator's own and the counters' are taken first, so a pallet whose program
@@ -90,7 +99,7 @@ def identifiers(cell, target) -> list[dict]:
     for pallet in pallets:
         own = {}
         if "{pallet}" in patterns["layer"]:  # each pallet's counters in a store of several: their own names
-            for key in ("layer", "box"):
+            for key in [k for k in ("layer", "box", "holds") if k in patterns]:
                 own[key] = emitter.identifier("pal_", f"{pallet.name}_{key}", f"pallet {pallet.name!r}'s {key} counter")
         elif "registers" not in facts(target):  # the program's own variables, one pair per program
             for key in ("layer", "box"):
@@ -225,6 +234,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         }
         for held in rechecked(pallet)
     }
+    holds = holds_name(cell, target, index)
     reset = pallet.io.reset.get(target.name)
     done_out = pallet.io.done.get(target.name)
     select = pallet.io.select.get(target.name)
@@ -270,6 +280,8 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "way_home_m": number(cell.motion.retreat_mm / 1000.0, 6),
         "registers": registers,
         "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name
+        "holds": None if holds is None else owned(holds),  # the flag: this program gripped what the gripper holds
+        "foreign": emitter.string(foreign_message(pallet, limit)),
         "store": own.get("store"),
         "store_file": _store_file(target, own),  # the file of the counters (None: they are not kept in one)
         "start": {"layer": first[0], "box": first[1]},
@@ -352,6 +364,7 @@ __all__ = [
     "counter_names",
     "counter_registers",
     "file_name",
+    "holds_name",
     "identifiers",
     "pallet_context",
     "pallet_identifiers",

@@ -27,7 +27,7 @@ from codegen.kinds.pallet.cycle import (
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.messages import message_limit, released_question, select_message, still_waiting_message
-from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers
+from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers, holds_name
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import layer_top
@@ -156,6 +156,8 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
     for index in pallet_indices(cell, source):
         pallet = pallets_of(cell)[index]
         own = own_cases(pallet, random.Random(seed + index)) + _release_cases(pallet, get_target(source.target))
+        if holds_name(cell, get_target(source.target), index) is not None:  # the program can tell whose item it is
+            own.append(PalletCase("held_by_another", *start_counters(pallet), closed=True, foreign=True))
         first = own[0]
         own += [
             replace(first, category="gripper_late", gripper="late"),
@@ -230,6 +232,9 @@ def setup(cell, source, case: Case) -> Setup:
         devices += (Operator([run.case.answer]),)
     select = None if run.pallet < 0 else run.pallet
     counters = {layer_name: run.case.layer, box_name: run.case.box}
+    holds = holds_name(cell, target, index)
+    if holds is not None:  # its store's flag: this program gripped what the gripper holds
+        counters[holds] = run.case.closed and not run.case.foreign
     if case.category == "counters_reloaded" and not _reload_proof(target):
         counters = {}  # a reload cleared the program's own variables: they hold what their declaration gives
     return Setup(
@@ -237,7 +242,7 @@ def setup(cell, source, case: Case) -> Setup:
         devices,
         _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
         _start_joints(cell, index, source.target, case),
-        kept_names(cell, target, index),
+        (*kept_names(cell, target, index), *([] if holds is None else [holds])),
     )
 
 
@@ -325,6 +330,10 @@ def judge(cell, source, case: Case, trace) -> Judgement:
         Stored(layer_name, want.counters[0], 0.0, "the layer counter", pallet_case.layer),
         Stored(box_name, want.counters[1], 0.0, "the box counter", pallet_case.box),
     )
+    holds = holds_name(cell, target, run.pallet)
+    if holds is not None:
+        preset = pallet_case.closed and not pallet_case.foreign
+        stored += (Stored(holds, want.holds, 0.0, "the flag: this program gripped what the gripper holds", preset),)
     boxes = sum(1 for m in want.moves if m.name.endswith("target") and " box " in m.name)
     expectation = Expectation(message, tuple(moves), tuple(outputs), stored, planned_joints=planned_joints)
     reloaded = case.category == "counters_reloaded"

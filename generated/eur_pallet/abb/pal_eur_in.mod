@@ -100,6 +100,10 @@ MODULE pal_eur_in
     ! before any move
     ! the gripper's sensor on: an item held since a stop on the way, finished below (put down at Q)
     held := DInput(diGripClosed) = 1;
+    IF held AND NOT pal_eur_in_holds THEN
+      ! not this program's item: another pallet's program of this arm gripped it
+      stack_stop "pallet eur_in: the item held is another program's: finish it there or remove it";
+    ENDIF
     ! the PLC's "pallet empty" output: on while the counters say so
     IF pal_eur_in_layer = 0 AND pal_eur_in_box = 0 THEN
       SetDO doEurInEmpty, 1;
@@ -305,6 +309,8 @@ MODULE pal_eur_in
     ! then wait until diGripClosed is 1; not in 2 s: stop with a message
     SetDO doGripClose, 1;
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
+    ! confirmed: this program's item in the gripper
+    pal_eur_in_holds := TRUE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       ! the grip not confirmed: the gripper opened again, nothing carried off half-held
@@ -319,6 +325,8 @@ MODULE pal_eur_in
     ! then wait until diGripClosed is 0; not in 2 s: stop with a message
     SetDO doGripClose, 0;
     WaitDI diGripClosed, 0 \MaxTime:=IO_TIMEOUT;
+    ! confirmed: nothing in the gripper
+    pal_eur_in_holds := FALSE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       stack_stop "the gripper did not release in 2 s (its feedback stays on)";

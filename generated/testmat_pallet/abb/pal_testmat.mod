@@ -102,6 +102,10 @@ MODULE pal_testmat
     ! before any move
     ! the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
     held := DInput(diGripClosed) = 1;
+    IF held AND NOT pal_testmat_holds THEN
+      ! not this program's item: another pallet's program of this arm gripped it
+      stack_stop "pallet testmat: the item held is another program's: finish it there or remove it";
+    ENDIF
     IF pal_testmat_layer < 0 THEN
       ! a stop came during a release (the counters marked): is the item down?
       pal_testmat_layer := -pal_testmat_layer;
@@ -325,6 +329,8 @@ MODULE pal_testmat
     ! then wait until diGripClosed is 1; not in 2 s: stop with a message
     SetDO doGripClose, 1;
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
+    ! confirmed: this program's item in the gripper
+    pal_testmat_holds := TRUE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       ! the grip not confirmed: the gripper opened again, nothing carried off half-held
@@ -339,6 +345,8 @@ MODULE pal_testmat
     ! then wait until diGripClosed is 0; not in 2 s: stop with a message
     SetDO doGripClose, 0;
     WaitDI diGripClosed, 0 \MaxTime:=IO_TIMEOUT;
+    ! confirmed: nothing in the gripper
+    pal_testmat_holds := FALSE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       stack_stop "the gripper did not release in 2 s (its feedback stays on)";
