@@ -48,8 +48,8 @@ MODULE pal_eur
   ! above Q in axis values (codegen's plan), where a joint move goes there: from it every pose's closest
   ! configuration is unique (the configuration check is off: see main)
   LOCAL CONST jointtarget stack_above_q_axes := [[0.000000, 29.273688, 26.478757, 0.000000, 34.247555, 180.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  ! the way home after a stop passes above the pallet's centre (base frame)
-  LOCAL CONST robtarget stack_safe := [[0.0000, 1500.0000, 1056.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [1, 0, 3, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  ! the way home after a stop passes above the pallet's centre, in axis values (codegen's plan; base frame
+  ! [0.0000, 1500.0000, 1056.0000] mm)
   LOCAL CONST jointtarget stack_safe_axes := [[90.000000, 23.338149, -20.049219, 0.000000, 86.711070, 270.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the slip sheets: their pick at the sheet stack and 100.0000 mm above it (base frame); their place at the
   ! pallet's centre (x, y mm, pallet frame) on the layer below, in the configuration codegen chose

@@ -44,8 +44,8 @@ MODULE pal_testmat
   ! above Q in axis values (codegen's plan), where a joint move goes there: from it every pose's closest
   ! configuration is unique (the configuration check is off: see main)
   LOCAL CONST jointtarget stack_above_q_axes := [[26.565051, 58.726148, -2.873640, 0.000000, 34.147492, -153.434949], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  ! the way home after a stop passes above the pallet's centre (base frame)
-  LOCAL CONST robtarget stack_safe := [[702.0000, -11.0000, 216.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [-1, 0, -3, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+  ! the way home after a stop passes above the pallet's centre, in axis values (codegen's plan; base frame
+  ! [702.0000, -11.0000, 216.0000] mm)
   LOCAL CONST jointtarget stack_safe_axes := [[-0.897724, 49.424070, -7.117769, 0.000000, 47.693699, -180.897724], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
