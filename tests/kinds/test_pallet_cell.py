@@ -619,3 +619,25 @@ def test_an_item_another_program_gripped_is_not_taken_for_this_pallets(testmat, 
     unset = grip.replace("TRUE", "FALSE")
     found = mutant_mismatches(testmat, target, name, grip, unset)
     assert found and any(f.startswith("gripper_stuck_at_target") for f in found), found
+
+
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
+@pytest.mark.parametrize(
+    ("target", "name", "check", "unchecked"),
+    [
+        (
+            "ur",
+            "pal_testmat.script",
+            "    if get_standard_digital_in(1) != True:   # the item",
+            "    if False:   # the item",
+        ),
+        ("kuka", "pal_testmat.src", "    IF NOT $IN[18] THEN ; the item", "    IF FALSE THEN ; the item"),
+        ("abb", "pal_testmat.mod", "      IF DInput(diGripClosed) = 0 THEN\n", "      IF FALSE THEN\n"),
+        ("dtrans", "pal_testmat.prg", "  If DIn(2) <> True Then\n    // the item", "  If False Then\n    // the item"),
+    ],
+)
+def test_a_box_lost_on_the_way_is_not_counted_as_placed(testmat, target, name, check, unchecked):
+    """Before the release the gripper's sensor must still see the box: a program that does not look releases an
+    empty gripper, sees it open at once and counts the box as placed (a hole the next layer bridges)."""
+    found = mutant_mismatches(testmat, target, name, check, unchecked)
+    assert found and found[0].startswith("box_lost"), found

@@ -94,7 +94,7 @@ class DTransCompiler(Compiler):
             return point([_num(a, where) for a in args])
 
         def din(fr, args, kwargs, where):
-            return fr.m.signals.get(f"DI[{_io_index(args[0], where)}]", False)
+            return fr.m.input_signal(f"DI[{_io_index(args[0], where)}]", False)  # a live device's value first
 
         def sqrt(fr, args, kwargs, where):
             value = _num(args[0], where)

@@ -15,6 +15,7 @@ from codegen.kinds.pallet.messages import (
     empty_message,
     foreign_message,
     full_message,
+    lost_message,
     message_limit,
     released_message,
     reset_held_message,
@@ -63,6 +64,7 @@ class PalletCase:
     # "is the item down?" (YES, NO), None: the program cannot ask (it stops with a message)
     answer: str | None = None
     foreign: bool = False  # the item held at the start was gripped by another pallet's program of the same arm
+    lost: bool = False  # the first item gripped slips out of the gripper on its way to the pallet
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
 
@@ -443,11 +445,22 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
     return None
 
 
+def _still_held(run) -> str | None:
+    """Stacking, at the target before the release: the gripper's sensor still says it holds the item (a box lost on
+    the way must not be counted as placed): the stop's message if it does not."""
+    if run.case.lost and run.gripped:
+        return lost_message(run.pallet, message_limit(run.cell))
+    return None
+
+
 def _release_and_back_out(run, retreat, key, after, where: str):
     """Release the item: the counters marked first (the layer negative: a stop before the sensor confirms leaves the
     question whether the item is down to the next start), moved on once the release is confirmed; back out along
     the retreat: (the halt, None) or (None, the height the empty gripper ends at: the entry's, clear of the stack's
     top)."""
+    halt = _still_held(run)
+    if halt:
+        return halt, None
     run.counters = (-key[0], key[1])
     halt = run.release()
     if halt:

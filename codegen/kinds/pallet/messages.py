@@ -85,6 +85,12 @@ def foreign_message(pallet: Pallet, limit: int) -> str:
     return _named("pallet {name}: the item held is another program's: finish it there or remove it", pallet, limit)
 
 
+def lost_message(pallet: Pallet, limit: int) -> str:
+    """The stop at the target when the gripper's sensor no longer sees the item it gripped: lost on the way, not
+    counted as placed."""
+    return _named("pallet {name}: the item was lost from the gripper on the way: find it", pallet, limit)
+
+
 def select_message() -> str:
     return "no pallet program selected: the PLC sets one select input"
 

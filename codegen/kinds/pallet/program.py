@@ -27,6 +27,7 @@ from codegen.kinds.pallet.messages import (
     empty_message,
     foreign_message,
     full_message,
+    lost_message,
     message_limit,
     rechecked,
     released_message,
@@ -282,6 +283,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name
         "holds": None if holds is None else owned(holds),  # the flag: this program gripped what the gripper holds
         "foreign": emitter.string(foreign_message(pallet, limit)),
+        "lost": emitter.string(lost_message(pallet, limit)),
         "store": own.get("store"),
         "store_file": _store_file(target, own),  # the file of the counters (None: they are not kept in one)
         "start": {"layer": first[0], "box": first[1]},

@@ -1,5 +1,5 @@
 """The pallet station in verify: the pallet taken away once the gripper closes, a supply that comes only after the
-program said it waits on, the PLC answering the reset handshake (devices of Program.run)."""
+program said it waits on, the PLC answering the reset handshake, a box lost from the gripper (devices of Program.run)."""
 
 from __future__ import annotations
 
@@ -62,3 +62,32 @@ class ResetAnswered:
             return False
         machine.signals[self.reset] = False
         return True
+
+
+@dataclass
+class BoxLost:
+    """The box slips out of the gripper on its way: once the arm was commanded a move after the device first saw the
+    grip confirmed (the lift), the feedback input reads off while the output still says grip, and stays off.
+    Whether the program notices before it counts the box as placed is the plan's to judge."""
+
+    output: str  # the gripper's output
+    value: bool  # the output's value that closes the gripper
+    feedback: str  # the gripper's feedback input
+    _held_at: int | None = None  # the moves commanded when the device first saw the grip confirmed
+    _machine: Machine | None = None
+
+    def next_time(self, machine: Machine) -> float | None:
+        return None
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        self._machine = machine
+        held = machine.signals.get(self.output) == self.value and machine.signals.get(self.feedback)
+        if self._held_at is None and held:
+            self._held_at = len(machine.trace.moves)
+        return False
+
+    def live(self, name: str, t: float):
+        """The feedback as the program reads it: off once the box is lost (None: the other devices' value)."""
+        if name != self.feedback or self._held_at is None or self._machine is None:
+            return None
+        return False if len(self._machine.trace.moves) > self._held_at else None

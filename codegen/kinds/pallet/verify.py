@@ -31,7 +31,7 @@ from codegen.kinds.pallet.program import carried_load, counter_names, counter_re
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import layer_top
-from codegen.kinds.pallet.station import PalletTaken, ResetAnswered, SupplyLate
+from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
@@ -135,6 +135,7 @@ def own_cases(pallet, rng) -> list[PalletCase]:
         last_of_2 = max(key for key in keys if key[0] == min(2, pallet.layers))
         out.append(PalletCase("gripper_stuck_at_target", *last_of_2, "stuck"))
         out.append(PalletCase("part_missing", *first, missing="part_present"))
+        out.append(PalletCase("box_lost", *first, lost=True))  # not counted as placed
         if sheets:
             out.append(PalletCase("sheet_missing", *sheets[0], missing="sheet_ready"))
     else:
@@ -228,6 +229,8 @@ def setup(cell, source, case: Case) -> Setup:
         signal = signal_name(target, "input", getattr(pallet.io, run.case.missing)[target.name])
         message = Emitter(target).string(still_waiting_message(pallet, run.case.missing, message_limit(cell)))
         devices += (SupplyLate(signal, message),)
+    if run.case.lost:  # the box slips out of the gripper on its way
+        devices += (BoxLost(output, cell.io.value, feedback),)
     if run.case.answer is not None:  # the operator at the pendant answers the question after a stop in a release
         devices += (Operator([run.case.answer]),)
     select = None if run.pallet < 0 else run.pallet

@@ -255,6 +255,10 @@ MODULE pal_eur
         MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
         MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
         MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
+        IF DInput(diGripClosed) = 0 THEN
+          ! the item no longer in the gripper: lost on the way, not placed
+          stack_stop "pallet eur: the item was lost from the gripper on the way: find it";
+        ENDIF
         ! marked until the release is confirmed: a stop meanwhile leaves the question to the start
         pal_eur_layer := -pal_eur_layer;
         stack_release;
@@ -315,6 +319,10 @@ MODULE pal_eur
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
+      IF DInput(diGripClosed) = 0 THEN
+        ! the item no longer in the gripper: lost on the way, not placed
+        stack_stop "pallet eur: the item was lost from the gripper on the way: find it";
+      ENDIF
       ! marked until the release is confirmed: a stop meanwhile leaves the question to the start
       pal_eur_layer := -pal_eur_layer;
       stack_release;

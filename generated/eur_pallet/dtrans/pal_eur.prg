@@ -289,6 +289,11 @@ MovL PAL_SHEET_PICK
 MovJ transit
     MovL entry
     MovL pal_pose(PAL_SHEET_X, PAL_SHEET_Y, z, 0.0)
+    If DIn(2) <> True Then
+      // the item no longer in the gripper: lost on the way, not placed
+      TPWrite 0, "pallet eur: the item was lost from the gripper on the way: find it"
+      Halt
+    EndIf
     pal_layer = 0 - pal_layer  // marked until the release is confirmed: a stop meanwhile leaves the question
     Call pal_release()
     pal_layer = 0 - pal_layer
@@ -355,6 +360,11 @@ MovJ transit
   MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)
+  If DIn(2) <> True Then
+    // the item no longer in the gripper: lost on the way, not placed
+    TPWrite 0, "pallet eur: the item was lost from the gripper on the way: find it"
+    Halt
+  EndIf
   pal_layer = 0 - pal_layer  // marked until the release is confirmed: a stop meanwhile leaves the question
   Call pal_release()
   pal_layer = 0 - pal_layer

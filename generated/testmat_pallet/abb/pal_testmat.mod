@@ -240,6 +240,10 @@ MODULE pal_testmat
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
+      IF DInput(diGripClosed) = 0 THEN
+        ! the item no longer in the gripper: lost on the way, not placed
+        stack_stop "pallet testmat: the item was lost from the gripper on the way: find it";
+      ENDIF
       ! marked until the release is confirmed: a stop meanwhile leaves the question to the start
       pal_testmat_layer := -pal_testmat_layer;
       stack_release;

@@ -260,6 +260,11 @@ MovJ transit
   MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 5.0000, a)
   MovL pal_pose(x, y, z, a)
+  If DIn(2) <> True Then
+    // the item no longer in the gripper: lost on the way, not placed
+    TPWrite 0, "pallet testmat: the item was lost from the gripper on the way: find it"
+    Halt
+  EndIf
   pal_layer = 0 - pal_layer  // marked until the release is confirmed: a stop meanwhile leaves the question
   Call pal_release()
   pal_layer = 0 - pal_layer
