@@ -1,5 +1,5 @@
-"""The pallet station in verify: the pallet taken away once the gripper closes, a supply that comes only after the
-program said it waits on, the PLC answering the reset handshake, a box lost from the gripper (devices of Program.run)."""
+"""The pallet station in verify (devices of Program.run): the pallet taken away, a late supply, the PLC's reset
+handshake, a box lost from the gripper."""
 
 from __future__ import annotations
 
