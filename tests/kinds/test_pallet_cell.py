@@ -641,3 +641,13 @@ def test_a_box_lost_on_the_way_is_not_counted_as_placed(testmat, target, name, c
     empty gripper, sees it open at once and counts the box as placed (a hole the next layer bridges)."""
     found = mutant_mismatches(testmat, target, name, check, unchecked)
     assert found and found[0].startswith("box_lost"), found
+
+
+def test_an_unstacking_pallet_whose_wait_above_q_would_hang_the_box_into_one_at_q_is_refused(tmp_path):
+    """Unstacking, the program waits above Q for Q clear with a box in the gripper: above Q must clear a box still
+    lying there (pick_lift >= the box's height + transit_clearance_mm), named by key."""
+    text = (PALLETS / "eur_pallet.toml").read_text()
+    low = text.replace("pick_lift = 260.0 ", "pick_lift = 100.0 ", 1)
+    assert low != text
+    with pytest.raises(CellError, match=r"pallet\[1\]\.pick_lift: 100 mm: unstacking.*160 mm too low"):
+        _load(tmp_path, low)

@@ -29,6 +29,14 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
             f"at the entry the carried box's bottom would be {pallet.box[2] - pallet.entry_dz:g} mm below the tops "
             f"of the boxes already in the layer (entry_dz >= {pallet.box[2]:g})",
         )
+    clear_of_q = pallet.box[2] + pallet.transit_clearance_mm
+    if pallet.mode == "unstack" and pallet.pick_lift < clear_of_q:
+        ctx.fail(
+            f"{path}.pick_lift",
+            f"{pallet.pick_lift:g} mm: unstacking, the program waits above Q for Q clear with a box in the gripper, "
+            f"whose bottom would be {clear_of_q - pallet.pick_lift:g} mm too low to clear a box still lying at Q "
+            f"(pick_lift >= the box's height + transit_clearance_mm = {clear_of_q:g})",
+        )
     footprint = pallet.box[:2]
     layouts = {}
     for name in pallet.patterns:
