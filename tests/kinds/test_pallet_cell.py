@@ -651,3 +651,26 @@ def test_an_unstacking_pallet_whose_wait_above_q_would_hang_the_box_into_one_at_
     assert low != text
     with pytest.raises(CellError, match=r"pallet\[1\]\.pick_lift: 100 mm: unstacking.*160 mm too low"):
         _load(tmp_path, low)
+
+
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
+@pytest.mark.parametrize(
+    ("target", "name", "grip"),
+    [
+        ("ur", "pal_testmat.script", "  if pal_held:   # an item held since a stop"),
+        ("kuka", "pal_testmat.src", "  IF HELD THEN ; an item held since a stop"),
+        ("abb", "pal_testmat.mod", "    IF held THEN\n      ! an item held since a stop"),
+        ("dtrans", "pal_testmat.prg", "If held == 1 Then\n  SetDO 1, True"),
+    ],
+)
+def test_an_item_held_at_the_start_is_gripped_again_before_the_arm_moves(testmat, target, name, grip):
+    """A stop (or a release that did not finish) may leave the gripper's output off with the item still in it: the
+    program sets it to grip before the way home; one that does not carries the item on a decaying grip."""
+    never = {
+        "ur": "  if False:   # an item held since a stop",
+        "kuka": "  IF FALSE THEN ; an item held since a stop",
+        "abb": "    IF FALSE THEN\n      ! an item held since a stop",
+        "dtrans": "If False Then\n  SetDO 1, True",
+    }[target]
+    found = mutant_mismatches(testmat, target, name, grip, never)
+    assert found and found[0].startswith("held_at_start"), found

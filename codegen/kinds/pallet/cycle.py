@@ -268,11 +268,15 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         if start in keys and not case.closed:  # the gripper holds nothing: only the operator can tell
             if case.answer is None:
                 return Expected((), (), released_message(pallet, limit), (-start[0], start[1]), start, holds=False)
+            # (the gripper empty: no output set before the question)
             asked = True
             if case.answer == YES:  # down: the counters move on as after a confirmed release
                 following = keys.index(start) + 1
                 start = keys[following] if following < len(keys) else done
-    said = [("done", start == done, 0)]  # the PLC's full (empty) output, from the counters, before anything else
+    # a held item: the gripper's output set to grip again first (a stop, or a release that did not finish, may have
+    # left it off while the item is still in the gripper); then the PLC's full (empty) output, from the counters
+    said = [("gripper", cell.io.value, 0)] if case.closed else []
+    said.append(("done", start == done, 0))
     if start == done and not put_down:
         if case.reset and pallet.io.reset:  # the handshake: the done output off answers the PLC, which drops reset
             said.append(("done", False, 0))

@@ -313,10 +313,13 @@ def judge(cell, source, case: Case, trace) -> Judgement:
         if pallet_case.closed and (pallet.mode == "unstack" or want.start[1] != 0) and load is not None:
             way = [replace(m, payload=load) for m in way]  # a box held since the start: its payload on the way home
         moves = [*way, *moves]
-        # the done output is set from the counters before the way home (after 0 moves); the rest after it
-        start_done = names.get("done")
+        # set from the counters and the sensor before the way home (after 0 moves): the done output, the grip on a
+        # held item; the rest after it
+        before = {(names.get("done"), True), (names.get("done"), False), (output, cell.io.value)}
         outputs = [
-            o if (o.name == start_done and o.after_moves == 0) else replace(o, after_moves=o.after_moves + len(way))
+            o
+            if ((o.name, o.value) in before and o.after_moves == 0)
+            else replace(o, after_moves=o.after_moves + len(way))
             for o in outputs
         ]
 

@@ -120,6 +120,11 @@ MODULE pal_eur
       ! not this program's item: another pallet's program of this arm gripped it
       stack_stop "pallet eur: the item held is another program's: finish it there or remove it";
     ENDIF
+    IF held THEN
+      ! an item held since a stop: the gripper kept closed (the stop, or a release that did not finish, may have
+      ! left the output off with the item still in it)
+      SetDO doGripClose, 1;
+    ENDIF
     IF pal_eur_layer < 0 THEN
       ! a stop came during a release (the counters marked): is the item down?
       pal_eur_layer := -pal_eur_layer;

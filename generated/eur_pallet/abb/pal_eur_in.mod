@@ -104,6 +104,11 @@ MODULE pal_eur_in
       ! not this program's item: another pallet's program of this arm gripped it
       stack_stop "pallet eur_in: the item held is another program's: finish it there or remove it";
     ENDIF
+    IF held THEN
+      ! an item held since a stop: the gripper kept closed (the stop, or a release that did not finish, may have
+      ! left the output off with the item still in it)
+      SetDO doGripClose, 1;
+    ENDIF
     ! the PLC's "pallet empty" output: on while the counters say so
     IF pal_eur_in_layer = 0 AND pal_eur_in_box = 0 THEN
       SetDO doEurInEmpty, 1;

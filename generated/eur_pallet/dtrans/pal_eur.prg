@@ -177,6 +177,10 @@ Int held = 0
 If DIn(2) == True Then
   held = 1
 EndIf
+// an item held since a stop: the gripper kept closed (the stop may have left the output off)
+If held == 1 Then
+  SetDO 1, True
+EndIf
 // a stop came during a release (the counters marked): with nothing in the gripper only the operator can tell
 // whether the item is down (this dialect cannot ask): the mark stays, the program stops with a message
 If pal_layer < 0 Then

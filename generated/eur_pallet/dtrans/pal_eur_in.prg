@@ -144,6 +144,10 @@ Int held = 0
 If DIn(2) == True Then
   held = 1
 EndIf
+// an item held since a stop: the gripper kept closed (the stop may have left the output off)
+If held == 1 Then
+  SetDO 1, True
+EndIf
 // the PLC's "pallet empty" output: on while the counters say so
 If pal_layer == 0 And pal_box == 0 Then
   SetDO 4, True

@@ -106,6 +106,11 @@ MODULE pal_testmat
       ! not this program's item: another pallet's program of this arm gripped it
       stack_stop "pallet testmat: the item held is another program's: finish it there or remove it";
     ENDIF
+    IF held THEN
+      ! an item held since a stop: the gripper kept closed (the stop, or a release that did not finish, may have
+      ! left the output off with the item still in it)
+      SetDO doGripClose, 1;
+    ENDIF
     IF pal_testmat_layer < 0 THEN
       ! a stop came during a release (the counters marked): is the item down?
       pal_testmat_layer := -pal_testmat_layer;
