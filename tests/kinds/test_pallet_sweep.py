@@ -136,11 +136,15 @@ def test_the_empty_gripper_from_q_straight_to_the_next_entry_dips_into_the_top_l
     frame = frame_matrix(pallet)
     names = [m.name for m in moves[:3]]
     assert names == ["layer 5 box 8 transit", "layer 5 box 8 entry", "layer 5 box 8 approach"], names
+    # the plan as it was came down to Q from z 200 (the default 100 mm lift; the cell lifts higher since it must
+    # clear a box lying at Q): the direct joint move from there
+    low = replace(pallet, pick_lift=100.0)
+    low_moves = expected(cell, low, PalletCase("t", *start_counters(low))).moves
     for target in ("kuka", "abb"):
         swept, fk, width = _with_joints(cell, pallet, moves, target)
         assert fk is not None
         assert sweeps(pallet, frame, swept, fk, width) is None
-        old, fk, width = _with_joints(cell, pallet, _unstack_direct(moves), target)
+        old, fk, width = _with_joints(cell, low, _unstack_direct(low_moves), target)
         for face in (width, 0.0):
             found = sweeps(pallet, frame, old, fk, face)
             assert found is not None and "empty gripper's face" in found and "top of layer 5 box" in found, found
