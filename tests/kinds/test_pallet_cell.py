@@ -674,3 +674,11 @@ def test_an_item_held_at_the_start_is_gripped_again_before_the_arm_moves(testmat
     }[target]
     found = mutant_mismatches(testmat, target, name, grip, never)
     assert found and found[0].startswith("held_at_start"), found
+
+
+@pytest.mark.slow  # a whole verify of the task: the slow set
+def test_a_grip_clears_the_other_pallets_flags_of_the_task(eur):
+    """One ABB task runs both EUR pallets: a grip of one program clears the other's flag, else a flag left set (its
+    item taken out of the gripper by hand) would make this program's item look like the other's after a stop."""
+    found = mutant_mismatches(eur, "abb", "pal_eur.mod", "    pal_eur_in_holds := FALSE;\n", "")
+    assert found and found[0].startswith("stale_flag"), found

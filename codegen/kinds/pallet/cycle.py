@@ -64,6 +64,7 @@ class PalletCase:
     # "is the item down?" (YES, NO), None: the program cannot ask (it stops with a message)
     answer: str | None = None
     foreign: bool = False  # the item held at the start was gripped by another pallet's program of the same arm
+    stale: bool = False  # another pallet's flag left set (its item taken out by hand): cleared by this program's grip
     lost: bool = False  # the first item gripped slips out of the gripper on its way to the pallet
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
@@ -93,6 +94,7 @@ class Expected:
     said: tuple[str, ...] = ()  # the notifications of a wait on the supply that lasted the timeout (it waited on)
     asked: bool = False  # the operator was asked whether an item released before a stop is down
     holds: bool = False  # at the end, the gripper holds an item this program gripped (its store's flag)
+    gripped: bool = False  # the program confirmed a grip (where one task runs every pallet: the others' flags cleared)
 
 
 @dataclass(frozen=True)
@@ -246,7 +248,8 @@ class _Run:
 
     def result(self, halt: str | None, start: tuple[int, int]) -> Expected:
         said = tuple(self.said)
-        return Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start, said, holds=self.holds)
+        out = Expected(tuple(self.moves), tuple(self.outputs), halt, self.counters, start, said, holds=self.holds)
+        return replace(out, gripped=self.gripped)
 
 
 def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:

@@ -282,6 +282,12 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "registers": registers,
         "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name
         "holds": None if holds is None else owned(holds),  # the flag: this program gripped what the gripper holds
+        # one task: the other pallets' flags, cleared by this program's grip
+        "other_holds": [
+            owned(name)
+            for i in range(len(pallets_of(cell)))
+            if i != index and facts(target).get("task") and (name := holds_name(cell, target, i)) is not None
+        ],
         "foreign": emitter.string(foreign_message(pallet, limit)),
         "lost": emitter.string(lost_message(pallet, limit)),
         "store": own.get("store"),

@@ -159,6 +159,8 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
         own = own_cases(pallet, random.Random(seed + index)) + _release_cases(pallet, get_target(source.target))
         if holds_name(cell, get_target(source.target), index) is not None:  # the program can tell whose item it is
             own.append(PalletCase("held_by_another", *start_counters(pallet), closed=True, foreign=True))
+        if _other_flags(cell, get_target(source.target), index):  # another pallet's flag left set, then a grip
+            own.append(PalletCase("stale_flag", *start_counters(pallet), stale=True))
         first = own[0]
         own += [
             replace(first, category="gripper_late", gripper="late"),
@@ -238,6 +240,9 @@ def setup(cell, source, case: Case) -> Setup:
     holds = holds_name(cell, target, index)
     if holds is not None:  # its store's flag: this program gripped what the gripper holds
         counters[holds] = run.case.closed and not run.case.foreign
+    others = _other_flags(cell, target, index)
+    for name in others:  # the other pallets' flags of one task: left set where the case says so
+        counters[name] = run.case.stale
     if case.category == "counters_reloaded" and not _reload_proof(target):
         counters = {}  # a reload cleared the program's own variables: they hold what their declaration gives
     return Setup(
@@ -245,7 +250,7 @@ def setup(cell, source, case: Case) -> Setup:
         devices,
         _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
         _start_joints(cell, index, source.target, case),
-        (*kept_names(cell, target, index), *([] if holds is None else [holds])),
+        (*kept_names(cell, target, index), *([] if holds is None else [holds]), *others),
     )
 
 
@@ -340,6 +345,9 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     if holds is not None:
         preset = pallet_case.closed and not pallet_case.foreign
         stored += (Stored(holds, want.holds, 0.0, "the flag: this program gripped what the gripper holds", preset),)
+    for name in _other_flags(cell, target, run.pallet):  # a grip of this program clears the task's other flags
+        what = "another pallet's flag, cleared by this program's grip"
+        stored += (Stored(name, pallet_case.stale and not want.gripped, 0.0, what, pallet_case.stale),)
     boxes = sum(1 for m in want.moves if m.name.endswith("target") and " box " in m.name)
     expectation = Expectation(message, tuple(moves), tuple(outputs), stored, planned_joints=planned_joints)
     reloaded = case.category == "counters_reloaded"
@@ -376,6 +384,15 @@ def _unsaid(target, said: tuple[str, ...], trace) -> str | None:
         if text not in getattr(trace, "messages", ()):
             return f"no notification {text!r}: a wait on the supply that lasted the timeout must say so, then wait on"
     return None
+
+
+def _other_flags(cell, target, index: int) -> list[str]:
+    """Where one task runs every pallet's program: the other pallets' holds flags (this program's grip clears
+    them, so a flag left set by an item taken out by hand never makes another pallet's item look like theirs)."""
+    if not facts(target).get("task"):
+        return []
+    names = [holds_name(cell, target, i) for i in range(len(pallets_of(cell)))]
+    return [name for i, name in enumerate(names) if i != index and name is not None]
 
 
 def _unasked(cell, pallet, target, trace) -> str | None:

@@ -316,6 +316,8 @@ MODULE pal_eur_in
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
     ! confirmed: this program's item in the gripper
     pal_eur_in_holds := TRUE;
+    ! (not another pallet's: a flag left set when its item was taken out by hand)
+    pal_eur_holds := FALSE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       ! the grip not confirmed: the gripper opened again, nothing carried off half-held
