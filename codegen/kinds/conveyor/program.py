@@ -66,6 +66,16 @@ def lead_seconds(cell, target) -> float:
     return sum(lead_parts(cell, target))
 
 
+def down_seconds(cell, target) -> float:
+    """Intercept: how much earlier than the lead the arm leaves its wait, clear of the tallest part, for the part's
+    own approach height: that descent for the lowest part (z_range_mm's span at the work speed with the program's
+    path acceleration), the arm's start (motion_start_s, its longest), the belt's speed measured afresh there
+    (SPEED_WINDOW_S) and two reads of the encoder (the read that finds the part due, one to spare)."""
+    pick = conveyor_of(cell).pick
+    span = pick.z_range_mm[1] - pick.z_range_mm[0]
+    return descent_seconds(cell, target, span) + pick.motion_start_s[1] + SPEED_WINDOW_S + 2 * POLL_S
+
+
 def conveyor_ident(cell, target) -> str:
     """The program's name ("cnv_" and the cell's name, as the target spells identifiers)."""
     return Emitter(target).identifier("cnv_", cell.name, "the conveyor program")
@@ -186,6 +196,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "intercept": number(pick.intercept_mm, 4),  # intercept: the gripper meets the part here (belt y)
         "lead_s": number(lead_seconds(cell, target), 6),  # intercept: the descent's duration and the latencies' middles
         "lead_parts": [number(v, 6) for v in lead_parts(cell, target)],  # intercept: descent, hold, planning
+        "down_s": number(down_seconds(cell, target), 6),  # intercept: the way down to the part's approach height
         "path_acc": None if path_acc_mm_s2(target) is None else number(path_acc_mm_s2(target) / 1000.0, 3),
         "timer": pick.timer.get(target.name),  # intercept: the controller's timer the speed is measured over
         "latency_s": number(pick.mean("count_latency_s"), 6),  # intercept: the count's age, its middle

@@ -241,8 +241,8 @@ MODULE cnv_belt_pick
       TPWrite "conveyor: queued before the start, skipped: part " \Num:=seq;
       RETURN;
     ENDIF
-    ! wait above the window's start, across from the part
-    MoveJ cnv_on_part(x, CNV_START, z + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
+    ! wait above the window's start, across from the part, clear of the tallest part (a part before it may pass under)
+    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
     y := cnv_y(seen);
     IF y > CNV_END - CNV_MARGIN THEN
       ! at the window's end: once it is surely past it, the unit's queue has dropped it too
@@ -290,12 +290,13 @@ MODULE cnv_belt_pick
 
   LOCAL PROC cnv_leave(num x, num z)
     ! off a part it follows without it: up in cnv_track (the arm still follows the object), then above the window's
-    ! start in the fixed work object (the belt's frame, where it waits for the next part), then disconnect
+    ! start in the fixed work object clear of the tallest part (the belt's frame, where it waits for the next part), then
+    ! disconnect
     VAR robtarget above;
     above := cnv_on_belt;
     above.trans := [x, 0, z + CNV_DZ];
     MoveL above, cnv_work, fine, cnv_tool \WObj:=cnv_track;
-    MoveJ cnv_on_part(x, CNV_START, z + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
+    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
     DropWObj cnv_track;
   ENDPROC
 
