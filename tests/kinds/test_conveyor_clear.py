@@ -1,0 +1,57 @@
+"""The wait above the belt clear of the tallest part the cell allows (z_range_mm's top + approach_dz) on every target;
+the intercept down to the part's own approach height only as the part nears: a wait at the part's own height fails
+verify."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+from support.programs import edited, first
+
+from codegen.kinds.conveyor import budget
+from codegen.kinds.conveyor.verify import cases
+from codegen.model.cell import load_cell
+from codegen.verify.runner import run_cases
+
+CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
+ABB_WAIT = "MoveJ cnv_on_part(x, CNV_START, {z}), cnv_travel, fine, cnv_tool \\WObj:=cnv_wobj;\n    y := cnv_y(seen);"
+# (target, the program's text, the wait at the part's own approach height, what verify says)
+OWN_HEIGHT = [
+    ("kuka", "  BOX.Z = CNV_SAFE_Z\n  CLEAR =", "  BOX.Z = PART_Z + CNV_DZ\n  CLEAR =", "the wait for it"),
+    ("ur", "cnv_on_part(x, CNV_START, CNV_Z_MAX, CNV_DZ)", "cnv_on_part(x, CNV_START, z, CNV_DZ)", "the wait for it"),
+    ("abb", ABB_WAIT.format(z="CNV_Z_MAX + CNV_DZ"), ABB_WAIT.format(z="z + CNV_DZ"), "the wait for it"),
+    # the intercept straight down (the moves then fit no pick: each case fails its own way) from its wait onto the part (no stage at the part's approach height)
+    ("kuka", "      LIN ABOVE ; down to the part's own", "      ; down to the part's own", ""),
+]
+
+
+@pytest.fixture(scope="module")
+def cell():
+    return load_cell(CELL)
+
+
+def _run(cell, program):
+    chosen = [c for c in cases(cell) if c.category in ("constant_speed", "gripper_silent")]
+    return run_cases(cell, replace(program, row=0), chosen, 600_000, False)
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb"])
+def test_the_wait_is_clear_of_the_tallest_part(cell, target):
+    row = _run(cell, first(cell, target, "conveyor"))
+    assert row.cases == 2 and row.mismatches == 0, row.first_mismatches
+
+
+@pytest.mark.parametrize(("target", "old", "new", "says"), OWN_HEIGHT)
+def test_a_wait_at_the_parts_own_height_fails_verify(cell, target, old, new, says):
+    program = first(cell, target, "conveyor")
+    assert sum(f.text.count(old) for f in program.files) == 1
+    row = _run(cell, edited(program, lambda t: t.replace(old, new)))
+    assert row.mismatches == 2 and all(says in m for m in row.first_mismatches), row.first_mismatches
+
+
+def test_the_timed_descent_stays_approach_dz():
+    """The budget counts the descent of approach_dz only (the way down from the clear height is the first stage's):
+    2.94 mm of the gripper's 3 mm at 40 mm/s, as before the wait moved up."""
+    assert budget.total_mm(load_cell(CELL), "kuka") == pytest.approx(2.936, abs=1e-3)
