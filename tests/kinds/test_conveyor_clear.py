@@ -22,7 +22,8 @@ OWN_HEIGHT = [
     ("kuka", "  BOX.Z = CNV_SAFE_Z\n  CLEAR =", "  BOX.Z = PART_Z + CNV_DZ\n  CLEAR =", "the wait for it"),
     ("ur", "cnv_on_part(x, CNV_START, CNV_Z_MAX, CNV_DZ)", "cnv_on_part(x, CNV_START, z, CNV_DZ)", "the wait for it"),
     ("abb", ABB_WAIT.format(z="CNV_Z_MAX + CNV_DZ"), ABB_WAIT.format(z="z + CNV_DZ"), "the wait for it"),
-    # the intercept straight down (the moves then fit no pick: each case fails its own way) from its wait onto the part (no stage at the part's approach height)
+    # the intercept straight down from its wait onto the part (no stage at the part's approach height): each case fails
+    # its own way
     ("kuka", "      LIN ABOVE ; down to the part's own", "      ; down to the part's own", ""),
 ]
 

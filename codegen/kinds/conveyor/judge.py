@@ -122,7 +122,7 @@ class _Judge:
         want = self.pick.z_range_mm[1] + self.pick.approach_dz
         height = float(self.frame[:3, 2] @ (move.tcp2base[:3, 3] - self.frame[:3, 3]))
         if abs(height - want) > self.across:
-            return f"{what} (line {move.line}): {height:.4f} mm above the belt, not {want:g} (clear of the tallest part)"
+            return f"{what} (line {move.line}): {height:.4f} mm above the belt, not {want:g} (the tallest part's)"
         return None
 
     def beside(self, move, part, dz: float, anchor) -> np.ndarray:
