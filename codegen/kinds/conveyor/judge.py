@@ -17,7 +17,6 @@ from codegen.kinds.conveyor.program import (
     STOPPED,
     TOO_CLOSE,
     TOO_LATE,
-    down_seconds,
     lead_seconds,
 )
 from codegen.kinds.conveyor.section import conveyor_of
@@ -180,9 +179,8 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
             y = counted_y(cell, case, parts[seq], read)
             return f"part {seq} was past the window's end when read ({y:.1f} mm), yet the arm moved for it", 0, 0
     fastest = case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
-    for seq, t in too_late.items():  # already too close to the intercept point to come down in time
-        ahead = lead_seconds(cell, j.target) + down_seconds(cell, j.target)  # the first stage's threshold
-        latest = pick.intercept_mm - ahead * fastest - pick.capture_mm
+    for seq, t in too_late.items():  # already too close to the intercept point to come down onto it in time
+        latest = pick.intercept_mm - lead_seconds(cell, j.target) * fastest - pick.capture_mm
         if part_y(case.belt, parts[seq], j.camera_y, t) < latest:
             return f"part {seq} given up as too late, in time for the intercept", 0.0, 0.0
     given_up = {*skipped, *too_late, *too_close, *lost, *early, *flushed}
@@ -215,8 +213,6 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
         if problem is None and (k < GRIP[j.mode] or k >= len(trace.moves)):
             problem = f"part {part.seq}: no descent and lift around the grip"
         if problem is None:
-            problem = j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
-        if problem is None:
             down, before, lift = trace.moves[k - 1], trace.moves[k - 2], trace.moves[k]
             if down.kind != "linear" or lift.kind != "linear":
                 problem = f"part {part.seq}: the descent and the lift must be straight moves"
@@ -230,6 +226,8 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
                     lift.tcp2base,
                     j.beside(lift, part, pick.approach_dz, down.tcp2base),
                 )
+        if problem is None:  # after the moves around the grip: without the move above the part, that is the wait
+            problem = j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
         if problem is not None:
             return problem, j.worst_pos, j.worst_rot
         pos, rot = _pose_errors(release.tcp2base.tolist(), pick.place.matrix().tolist())
@@ -262,13 +260,13 @@ def not_held(cell, target_name: str, case, trace, output: str, first: int) -> tu
         return f"the grip after move {k}, the release after move {release.after_moves}: not both on the part", 0, 0
     hold = 0.0 if j.tracking else case.grip_s
     problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, j.part_at(part, close.time + hold))
-    problem = problem or j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
     down, lift = trace.moves[k - 1], trace.moves[k]
     if problem is None and (down.kind != "linear" or lift.kind != "linear"):
         problem = f"part {part.seq}: the descent and the lift off the part must be straight moves"
     if problem is None:
         above = j.beside(lift, part, j.pick.approach_dz, close.tcp2base)
         problem = j.off(f"part {part.seq}: the lift off it, released (line {lift.line})", lift.tcp2base, above)
+    problem = problem or j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
     if problem is not None:
         return problem, j.worst_pos, j.worst_rot
     said = _numbered(trace, NOT_HELD)
