@@ -222,9 +222,9 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
                     before.tcp2base,
                     j.beside(before, part, pick.approach_dz, down.tcp2base),
                 ) or j.off(
-                    f"part {part.seq}: the lift (line {lift.line})",
+                    f"part {part.seq}: the lift to the clear height (line {lift.line})",
                     lift.tcp2base,
-                    j.beside(lift, part, pick.approach_dz, down.tcp2base),
+                    j.beside(lift, part, pick.z_range_mm[1] + pick.approach_dz - part.z, down.tcp2base),
                 )
         if problem is None:  # after the moves around the grip: without the move above the part, that is the wait
             problem = j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
