@@ -121,8 +121,8 @@ def test_without_the_fresh_measure_after_a_stand_the_intercept_misses(cell):
     belt stood (zero) comes down once a later measure catches up, too late: it meets the part off the gripper's capture
     range. With the fresh measure it skips the part as too late (the test above)."""
     fresh = (
-        "        Y1 = CNV_Y(SEEN)\n        T1 = $TIMER[1]\n        WAIT SEC 0.100\n        Y = CNV_Y(SEEN)\n"
-        "        T2 = $TIMER[1]\n        V = (Y - Y1) * 1000.0 / (T2 - T1)\n"
+        "          Y1 = CNV_Y(SEEN)\n          T1 = $TIMER[1]\n          WAIT SEC 0.100\n          Y = CNV_Y(SEEN)\n"
+        "          T2 = $TIMER[1]\n          V = (Y - Y1) * 1000.0 / (T2 - T1)\n"
     )
     source = edited(first(cell, "kuka", "conveyor"), lambda text: text.replace(fresh, ""))
     assert _row(cell, first(cell, "kuka", "conveyor"), [_intercept_stop(cell, 1.0)]).mismatches == 0

@@ -6,10 +6,8 @@ from dataclasses import dataclass
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
-from codegen.kinds.conveyor.program import POLL_S, SPEED_WINDOW_S, lead_seconds
+from codegen.kinds.conveyor.program import POLL_S, SPEED_READS, SPEED_WINDOW_S, lead_seconds
 from codegen.kinds.conveyor.section import conveyor_of
-
-SPEED_READS = 8  # the program measures the belt's speed again every 8 reads of the encoder
 
 
 @dataclass(frozen=True)

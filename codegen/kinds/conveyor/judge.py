@@ -7,6 +7,7 @@ import numpy as np
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.native import margin_mm
+from codegen.kinds.conveyor.plan import GRIP
 from codegen.kinds.conveyor.program import (
     EARLY,
     FLUSHED,
@@ -91,7 +92,8 @@ class _Judge:
         self.camera_y = -conveyor.camera_offset_mm
         self.grip = np.eye(4)
         self.grip[:3, :3] = rotmat_from_zyx_deg(*pick.tool_orientation)
-        self.tracking = pick.tracking[target_name] == "native"
+        self.mode = pick.tracking[target_name]
+        self.tracking = self.mode == "native"
         self.along, self.across = tolerances_mm(cell, self.target)
         self.rot_tol = TOLERANCES[self.target.numbers][1]
         self.worst_pos = self.worst_rot = 0.0
@@ -111,6 +113,15 @@ class _Judge:
                 f"{what}: {error[1]:+.4f} mm along the belt, {error[0]:+.4f} across, {error[2]:+.4f} in height, "
                 f"{rot:.5f} deg (tolerance {self.along:.4f}, {self.across:.4f} mm)"
             )
+        return None
+
+    def clear(self, what: str, move) -> str | None:
+        """A wait above the belt: its height in the belt frame approach_dz above the tallest part z_range_mm allows
+        (a part before the one awaited may pass under it)."""
+        want = self.pick.z_range_mm[1] + self.pick.approach_dz
+        height = float(self.frame[:3, 2] @ (move.tcp2base[:3, 3] - self.frame[:3, 3]))
+        if abs(height - want) > self.across:
+            return f"{what} (line {move.line}): {height:.4f} mm above the belt, not {want:g} (the tallest part's)"
         return None
 
     def beside(self, move, part, dz: float, anchor) -> np.ndarray:
@@ -168,7 +179,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
             y = counted_y(cell, case, parts[seq], read)
             return f"part {seq} was past the window's end when read ({y:.1f} mm), yet the arm moved for it", 0, 0
     fastest = case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
-    for seq, t in too_late.items():  # already too close to the intercept point to come down in time
+    for seq, t in too_late.items():  # already too close to the intercept point to come down onto it in time
         latest = pick.intercept_mm - lead_seconds(cell, j.target) * fastest - pick.capture_mm
         if part_y(case.belt, parts[seq], j.camera_y, t) < latest:
             return f"part {seq} given up as too late, in time for the intercept", 0.0, 0.0
@@ -199,7 +210,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
         held = j.part_at(part, close.time + hold)
         problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, held)
         k = close.after_moves  # the moves commanded before the grip
-        if problem is None and (k < 2 or k >= len(trace.moves)):
+        if problem is None and (k < GRIP[j.mode] or k >= len(trace.moves)):
             problem = f"part {part.seq}: no descent and lift around the grip"
         if problem is None:
             down, before, lift = trace.moves[k - 1], trace.moves[k - 2], trace.moves[k]
@@ -211,10 +222,12 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
                     before.tcp2base,
                     j.beside(before, part, pick.approach_dz, down.tcp2base),
                 ) or j.off(
-                    f"part {part.seq}: the lift (line {lift.line})",
+                    f"part {part.seq}: the lift to the clear height (line {lift.line})",
                     lift.tcp2base,
-                    j.beside(lift, part, pick.approach_dz, down.tcp2base),
+                    j.beside(lift, part, pick.z_range_mm[1] + pick.approach_dz - part.z, down.tcp2base),
                 )
+        if problem is None:  # after the moves around the grip: without the move above the part, that is the wait
+            problem = j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
         if problem is not None:
             return problem, j.worst_pos, j.worst_rot
         pos, rot = _pose_errors(release.tcp2base.tolist(), pick.place.matrix().tolist())
@@ -243,7 +256,7 @@ def not_held(cell, target_name: str, case, trace, output: str, first: int) -> tu
         return f"the gripper's outputs {[(o.value, o.after_moves) for o in events]}: expected a grip, a release", 0, 0
     close, release = events
     k = close.after_moves
-    if release.after_moves != k or k < first + 2 or k >= len(trace.moves):
+    if release.after_moves != k or k < first + GRIP[j.mode] or k >= len(trace.moves):
         return f"the grip after move {k}, the release after move {release.after_moves}: not both on the part", 0, 0
     hold = 0.0 if j.tracking else case.grip_s
     problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, j.part_at(part, close.time + hold))
@@ -253,6 +266,7 @@ def not_held(cell, target_name: str, case, trace, output: str, first: int) -> tu
     if problem is None:
         above = j.beside(lift, part, j.pick.approach_dz, close.tcp2base)
         problem = j.off(f"part {part.seq}: the lift off it, released (line {lift.line})", lift.tcp2base, above)
+    problem = problem or j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
     if problem is not None:
         return problem, j.worst_pos, j.worst_rot
     said = _numbered(trace, NOT_HELD)

@@ -24,7 +24,7 @@ class Segment:
 
 # Each picked part, as the program moves for it; the grip comes after `grip`, the release after `release` moves.
 PICK = {
-    "native": (  # wait across from the part at the window's start, then follow the belt
+    "native": (  # wait across from the part at the window's start clear of the tallest part, then follow the belt
         Segment("wait", "wait above the window's start", "joint", "travel"),
         Segment("above_part", "above the part", "linear", "travel"),
         Segment("on_part", "on the part", "linear", "work"),
@@ -33,8 +33,9 @@ PICK = {
         Segment("place", "place", "linear", "work", True),
         Segment("lift_place", "lift from the place", "linear", "work"),
     ),
-    "intercept": (  # wait above the meeting point, come down as the part arrives
+    "intercept": (  # wait above the meeting point clear of the tallest part, come down as the part arrives
         Segment("wait", "above the intercept", "joint", "travel"),
+        Segment("above_part", "above the part", "linear", "work"),
         Segment("on_part", "on the part", "linear", "work"),
         Segment("lift", "lift", "linear", "work", True),
         Segment("above_place", "above the place", "joint", "travel", True),
@@ -46,14 +47,15 @@ PICK = {
 # grip, the release) before it commands the next: none of them blends (a blend into a wait does not stop the arm there)
 WAITS_AFTER = {
     "native": frozenset({"wait", "on_part", "above_place", "place", "lift_place"}),
-    "intercept": frozenset({"wait", "on_part", "above_place", "place", "lift_place"}),
+    "intercept": frozenset({"wait", "above_part", "on_part", "above_place", "place", "lift_place"}),
 }
-GRIP = {"native": 3, "intercept": 2}  # moves of a part before its grip
-RELEASE = {"native": 6, "intercept": 5}  # moves of a part before its release
-# a part given up after the arm moved for it: the moves made for it (the waiting move; the whole descent and its lift:
+GRIP = {"native": 3, "intercept": 3}  # moves of a part before its grip
+RELEASE = {"native": 6, "intercept": 6}  # moves of a part before its release
+# a part given up after the arm moved for it: the moves made for it (the waiting move; an intercept's move down to the
+# part's approach height; the whole descent and its lift:
 # a part that reached the window's end while the arm came down, or a grip not confirmed in time; where the program
 # leaves the belt in a fixed work object before it disconnects (ABB native), then the move above the window's start)
-GIVEN_UP = {"native": ((0,), (0, 1, 2, 3), (0, 1, 2, 3, 0)), "intercept": ((0,), (0, 1, 2))}
+GIVEN_UP = {"native": ((0,), (0, 1, 2, 3), (0, 1, 2, 3, 0)), "intercept": ((0,), (0, 1), (0, 1, 2, 3))}
 # The way home at the start from wherever a stop left the arm: a joint move to where it stands (the controller's
 # first motion), back out along the tool's axis, a safe pose above the belt, home; a part held is then put down
 # at the place before the first pick.

@@ -33,6 +33,7 @@ NOT_HELD = "conveyor: the gripper did not hold it, skipped: part "  # ABB native
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
 SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
+SPEED_READS = 8  # intercept: the program measures the belt's speed again every 8 reads of the encoder
 MASS_DECIMALS = 3
 
 
@@ -64,6 +65,28 @@ def lead_seconds(cell, target) -> float:
     instruction and the gripper's time to hold the part once its output is set (the middles of motion_start_s
     and grip_s)."""
     return sum(lead_parts(cell, target))
+
+
+def down_fixed_seconds(cell) -> float:
+    """Intercept: the first stage's time besides its descent (from z_range_mm's top to the part's own approach height,
+    which the program works out per part): the arm's start (motion_start_s, its longest), the belt's speed measured
+    afresh at the part's approach height (SPEED_WINDOW_S) and two reads of the encoder (the read that finds the part
+    due, one to spare)."""
+    return conveyor_of(cell).pick.motion_start_s[1] + SPEED_WINDOW_S + 2 * POLL_S
+
+
+def drift_mm(cell, target) -> float:
+    """Intercept: how much sooner than the first stage predicts the part may arrive (mm): the belt's speed change
+    (belt_accel_mm_s2) over the first stage, its speed up to SPEED_READS reads and half a window old and changing on
+    over the stage's horizon (the lead, down_fixed_seconds, the descent from z_range_mm's top to its bottom and the
+    count's age: its longest), as the timing budget counts it over the lead. The first stage comes down this much
+    earlier, so that a belt speeding up does not leave the descent onto the part too late."""
+    pick = conveyor_of(cell).pick
+    span = pick.z_range_mm[1] - pick.z_range_mm[0]
+    horizon = lead_seconds(cell, target) + down_fixed_seconds(cell) + descent_seconds(cell, target, span)
+    horizon += pick.count_latency_s[1]
+    age = SPEED_READS * POLL_S + 0.5 * min(SPEED_WINDOW_S, SPEED_READS * POLL_S)
+    return pick.belt_accel_mm_s2 * (age * horizon + 0.5 * horizon**2)
 
 
 def conveyor_ident(cell, target) -> str:
@@ -186,6 +209,8 @@ def conveyor_context(cell, target, emitter) -> dict:
         "intercept": number(pick.intercept_mm, 4),  # intercept: the gripper meets the part here (belt y)
         "lead_s": number(lead_seconds(cell, target), 6),  # intercept: the descent's duration and the latencies' middles
         "lead_parts": [number(v, 6) for v in lead_parts(cell, target)],  # intercept: descent, hold, planning
+        "down_s": number(down_fixed_seconds(cell), 6),  # intercept: the first stage's time but its descent
+        "drift_mm": number(drift_mm(cell, target), 4),  # intercept: the first stage this much earlier (a speeding belt)
         "path_acc": None if path_acc_mm_s2(target) is None else number(path_acc_mm_s2(target) / 1000.0, 3),
         "timer": pick.timer.get(target.name),  # intercept: the controller's timer the speed is measured over
         "latency_s": number(pick.mean("count_latency_s"), 6),  # intercept: the count's age, its middle

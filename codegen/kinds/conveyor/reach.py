@@ -32,12 +32,14 @@ class ConveyorReach(Margins):
 
 def follow_mm(cell, target: str) -> float:
     """How far past the window's end a tracking arm may still follow the part: the belt at its fastest for
-    the gripper's timeout and the lift (approach_dz at the work speed with the program's path acceleration's
-    ramps, where the target's program sets one: descent_seconds; an intercepting arm does not follow: 0)."""
+    the gripper's timeout and the lift (from the lowest part to the clear height, z_range_mm's top + approach_dz,
+    at the work speed with the program's path acceleration's ramps, where the target's program sets one:
+    descent_seconds; an intercepting arm does not follow: 0)."""
     pick = conveyor_of(cell).pick
     if pick.tracking[target] != "native":
         return 0.0
-    seconds = (cell.io.timeout_s if cell.io is not None else 0.0) + descent_seconds(cell, get_target(target))
+    lift = pick.z_range_mm[1] - pick.z_range_mm[0] + pick.approach_dz  # from the lowest part to the clear height
+    seconds = (cell.io.timeout_s if cell.io is not None else 0.0) + descent_seconds(cell, get_target(target), lift)
     return pick.belt_speed_max_mm_s * seconds
 
 

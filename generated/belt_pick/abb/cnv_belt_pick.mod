@@ -20,7 +20,7 @@ MODULE cnv_belt_pick
   !   queue tracking distance      1050.1 mm (the sync switch to the start window)
   !   start window width           250.0 mm (the pick window; past its end an object leaves the queue)
   !   minimum distance             100.0 mm (a sync closer to the last queued object is ignored)
-  !   tracking range, maximum      1329.7 mm past the sync switch (the window's end and the follow)
+  !   tracking range, maximum      1341.7 mm past the sync switch (the window's end and the follow)
   ! The PLC's queue and the unit's are fed by the same camera trigger and stay in step: at its start the program
   ! empties the unit's queue (a pulse of its signal c1RemAllPObj, the encoder interface's, as the
   ! option's documents name it, to be checked there) and skips every part of the PLC's seen before then; a part the
@@ -241,8 +241,8 @@ MODULE cnv_belt_pick
       TPWrite "conveyor: queued before the start, skipped: part " \Num:=seq;
       RETURN;
     ENDIF
-    ! wait above the window's start, across from the part
-    MoveJ cnv_on_part(x, CNV_START, z + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
+    ! wait above the window's start, across from the part, clear of the tallest part (a part before it may pass under)
+    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
     y := cnv_y(seen);
     IF y > CNV_END - CNV_MARGIN THEN
       ! at the window's end: once it is surely past it, the unit's queue has dropped it too
@@ -281,8 +281,10 @@ MODULE cnv_belt_pick
       TPWrite "conveyor: the gripper did not hold it, skipped: part " \Num:=seq;
       RETURN;
     ENDIF
+    ! the part held: straight up to the clear height while following it (its bottom clear of the tallest part still
+    ! on the belt), off the belt in a fixed work object, then disconnect
+    above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];
     MoveL above, cnv_work, cnv_zone, cnv_tool \WObj:=cnv_track;
-    ! off the belt in a fixed work object, then disconnect
     MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
     DropWObj cnv_track;
     cnv_place_part;
@@ -290,12 +292,13 @@ MODULE cnv_belt_pick
 
   LOCAL PROC cnv_leave(num x, num z)
     ! off a part it follows without it: up in cnv_track (the arm still follows the object), then above the window's
-    ! start in the fixed work object (the belt's frame, where it waits for the next part), then disconnect
+    ! start in the fixed work object clear of the tallest part (the belt's frame, where it waits for the next part), then
+    ! disconnect
     VAR robtarget above;
     above := cnv_on_belt;
     above.trans := [x, 0, z + CNV_DZ];
     MoveL above, cnv_work, fine, cnv_tool \WObj:=cnv_track;
-    MoveJ cnv_on_part(x, CNV_START, z + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
+    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
     DropWObj cnv_track;
   ENDPROC
 
