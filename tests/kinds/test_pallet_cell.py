@@ -682,3 +682,17 @@ def test_a_grip_clears_the_other_pallets_flags_of_the_task(eur):
     item taken out of the gripper by hand) would make this program's item look like the other's after a stop."""
     found = mutant_mismatches(eur, "abb", "pal_eur.mod", "    pal_eur_in_holds := FALSE;\n", "")
     assert found and found[0].startswith("stale_flag"), found
+
+
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
+@pytest.mark.parametrize(
+    ("target", "name", "rise"),
+    [("kuka", "pal_eur.src", "    IF BACK.Z < "), ("abb", "pal_eur.mod", "      IF back.trans.z < ")],
+)
+def test_the_way_home_rises_over_every_pallet_of_the_arm(eur, target, name, rise):
+    """A stop over the bottom layer of one pallet: the way home rises straight up to the transit height over the
+    highest full stack of the arm's pallets before its joint move (the other pallet may be full); a program that
+    rises only to its own layer's transit height, or not at all, fails the way home (start_away, start_mid_cycle)."""
+    never = rise.replace("IF ", "IF FALSE AND ")
+    found = mutant_mismatches(eur, target, name, rise, never)
+    assert found and found[0].startswith(("start_mid_cycle", "start_away")), found

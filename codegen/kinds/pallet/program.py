@@ -38,7 +38,7 @@ from codegen.kinds.pallet.messages import (
     wait_message,
 )
 from codegen.kinds.pallet.patterns import layout
-from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEET_KEY, configurations
+from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEET_KEY, configurations, way_up_z
 from codegen.kinds.pallet.section import Pallet, pallets_of
 from codegen.kinds.pallet.stack import sides
 from codegen.model.cell import TaughtPose
@@ -278,6 +278,9 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "safe": pose("safe", frame @ safe_pose(pallet)),
         "safe_conf": conf(SAFE_KEY),
         "way_home_mm": number(cell.motion.retreat_mm, 4),
+        # the way home rises straight up to this base z (mm, m) first: over every pallet of the arm, full or not
+        "way_up_mm": number(way_up_z(cell), 4),
+        "way_up_m": number(way_up_z(cell) / 1000.0, 6),
         "way_home_m": number(cell.motion.retreat_mm / 1000.0, 6),
         "registers": registers,
         "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name

@@ -220,6 +220,13 @@ def _anchors(cell, target: str, moves, pallet, named: Named, first: dict, safe: 
     return best
 
 
+def way_up_z(cell) -> float:
+    """How high (base z, mm) the way home rises straight up before its joint move to the safe pose: the highest of
+    the safe poses of the cell's pallets (each at the transit height over its full stack), so the arm, with or
+    without a box, swings over any of the arm's pallets, full or not, wherever a stop left it."""
+    return max(float((frame_matrix(p) @ safe_pose(p))[2, 3]) for p in pallets_of(cell))
+
+
 def safe_move(cell, pallet):
     """The way home's joint move above the pallet's centre (tcp2base)."""
     return ExpectedMove("joint", frame_matrix(pallet) @ safe_pose(pallet), SAFE_NAME, cell.motion.speed_mm_s, True)

@@ -22,15 +22,13 @@ from codegen.kinds.pallet.cycle import (
     items,
     risen,
     start_counters,
-    transit_dz,
 )
 from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.messages import message_limit, released_question, select_message, still_waiting_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers, holds_name
-from codegen.kinds.pallet.reach import configurations, joints_of, safe_move
+from codegen.kinds.pallet.reach import configurations, joints_of, safe_move, way_up_z
 from codegen.kinds.pallet.section import pallets_of
-from codegen.kinds.pallet.stack import layer_top
 from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
 from codegen.model.io import LATE_SHARE, signal_name
@@ -427,8 +425,7 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
     # the path's start: the retreat keeps its configuration)
     way = [PlannedMove("where the arm stands", "joint", here, True, None, 0.0, percent, joints=q)]
     way.append(PlannedMove("back along the tool's z", "linear", back, True, cell.motion.work_speed_mm_s, 0.0))
-    centre = (pallet.size[0] / 2, pallet.size[1] / 2, layer_top(pallet, layer) + transit_dz(pallet), 1.0)
-    up = risen(back, float((frame_matrix(pallet) @ np.array(centre))[2]))
+    up = risen(back, way_up_z(cell))  # over every pallet of the arm, full or not
     way.append(PlannedMove("up to the transit height", "linear", up, True, cell.motion.work_speed_mm_s, 0.0))
     safe = safe_move(cell, pallet)
     way.append(PlannedMove(safe.name, "joint", safe.tcp2base, True, safe.speed_mm_s, 0.0, percent))

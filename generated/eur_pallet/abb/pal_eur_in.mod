@@ -158,10 +158,10 @@ MODULE pal_eur_in
       MoveAbsJ now\NoEOffs, v200, fine, stack_tool;
       back := RelTool(CRobT(\Tool:=stack_tool \WObj:=wobj0), 0, 0, -50.0000);
       MoveL back, stack_work, fine, stack_tool;
-      ! straight up to the transit height over the layer the counters name (at the pallet's centre)
-      up := PoseMult(stack_wobj.uframe, [[600.0000, 400.0000, stack_top(pal_eur_in_layer) + 300.0000], [1, 0, 0, 0]]);
-      IF up.trans.z > back.trans.z THEN
-        back.trans.z := up.trans.z;
+      ! straight up to z 1056.0000 mm (base): the transit height over the highest full stack of the task's
+      ! pallets, so the joint move below swings over any of them, whatever a stop left on them
+      IF back.trans.z < 1056.0000 THEN
+        back.trans.z := 1056.0000;
       ENDIF
       MoveL back, stack_work, fine, stack_tool;
       MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
