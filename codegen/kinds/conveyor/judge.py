@@ -118,7 +118,7 @@ class _Judge:
     def clear(self, what: str, move) -> str | None:
         """A wait above the belt: its height in the belt frame approach_dz above the tallest part z_range_mm allows
         (a part before the one awaited may pass under it)."""
-        want = self.pick.z_range_mm[1] + self.pick.approach_dz
+        want = self.pick.clear_mm
         height = float(self.frame[:3, 2] @ (move.tcp2base[:3, 3] - self.frame[:3, 3]))
         if abs(height - want) > self.across:
             return f"{what} (line {move.line}): {height:.4f} mm above the belt, not {want:g} (the tallest part's)"
@@ -139,8 +139,8 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     the skip's message, it was past the window's end (or, too late, within the descent's travel of the
     intercept point at the belt's fastest); each picked part is gripped where it really is at that
     moment (float64: the belt's travel since the camera saw it), inside the window, after a straight
-    descent of approach_dz along the belt's normal and before a lift of approach_dz; each is put down at
-    the place; the program ends at the line's stop."""
+    descent of approach_dz along the belt's normal and before a straight lift that puts the held part's bottom at the
+    clear height (Pick.lift_dz); each is put down at the place; the program ends at the line's stop."""
     j = _Judge(cell, target_name, case)
     pick, end = j.pick, j.pick.window_mm[1]
     one_count = 1.0 / abs(conveyor_of(cell).counts_per_mm)
@@ -224,7 +224,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
                 ) or j.off(
                     f"part {part.seq}: the lift to the clear height (line {lift.line})",
                     lift.tcp2base,
-                    j.beside(lift, part, pick.z_range_mm[1] + pick.approach_dz - part.z, down.tcp2base),
+                    j.beside(lift, part, pick.lift_dz, down.tcp2base),
                 )
         if problem is None:  # after the moves around the grip: without the move above the part, that is the wait
             problem = j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])

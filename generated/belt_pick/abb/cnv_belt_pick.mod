@@ -20,7 +20,7 @@ MODULE cnv_belt_pick
   !   queue tracking distance      1050.1 mm (the sync switch to the start window)
   !   start window width           250.0 mm (the pick window; past its end an object leaves the queue)
   !   minimum distance             100.0 mm (a sync closer to the last queued object is ignored)
-  !   tracking range, maximum      1341.7 mm past the sync switch (the window's end and the follow)
+  !   tracking range, maximum      1362.5 mm past the sync switch (the window's end and the follow)
   ! The PLC's queue and the unit's are fed by the same camera trigger and stay in step: at its start the program
   ! empties the unit's queue (a pulse of its signal c1RemAllPObj, the encoder interface's, as the
   ! option's documents name it, to be checked there) and skips every part of the PLC's seen before then; a part the
@@ -281,9 +281,10 @@ MODULE cnv_belt_pick
       TPWrite "conveyor: the gripper did not hold it, skipped: part " \Num:=seq;
       RETURN;
     ENDIF
-    ! the part held: straight up to the clear height while following it (its bottom clear of the tallest part still
-    ! on the belt), off the belt in a fixed work object, then disconnect
-    above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];
+    ! the part held: straight up while following it until its bottom is at the clear height (CNV_Z_MAX + CNV_DZ:
+    ! CNV_DZ clear of the tallest part still on the belt, the gripper's tip the part's own height higher), off the
+    ! belt in a fixed work object, then disconnect
+    above.trans := [x, 0, z + CNV_Z_MAX + CNV_DZ];
     MoveL above, cnv_work, cnv_zone, cnv_tool \WObj:=cnv_track;
     MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
     DropWObj cnv_track;
