@@ -12,7 +12,7 @@ from codegen.emit import Emitter
 from codegen.guard import NOT_RELEASED, halt_message
 from codegen.kinds.conveyor import native, plan
 from codegen.kinds.conveyor.facts import facts
-from codegen.kinds.conveyor.judge import SKIPS
+from codegen.kinds.conveyor.judge import SKIPS, left_low
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.program import BAD_READING, STANDS, no_part, place_blocked
@@ -246,6 +246,7 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     if problem is not None:
         return Judgement([], problem=problem)
     problem, pos, rot = judge_parts(cell, target_name, case, trace, line, output)
+    problem = problem or left_low(cell, target_name, case, trace, len(first), closes)
     if problem is not None:
         return Judgement([], problem=problem)
     moves = plan.lay_over(cell, target, mode, len(first), trace.moves, closes, opens)
