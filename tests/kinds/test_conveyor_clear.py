@@ -58,18 +58,19 @@ def test_the_timed_descent_stays_approach_dz():
     assert budget.total_mm(load_cell(CELL), "kuka") == pytest.approx(2.936, abs=1e-3)
 
 
-# (target, the program's text, the lift with the part held only to its own approach height) on the bundled cell (ABB
-# native) and, with ABB intercepting, ABB's intercept
-UR_LIFT = "movel(cnv_on_part(x, y, {z}, CNV_DZ), a=1.200, v=0.2500)\n    stop_conveyor_tracking()\n    cnv_place_part()"
+# (target, the program's text, the lift with the part held that puts the gripper's tip, not the part's bottom, at the
+# clear height: an 80 mm part hangs 60 mm above the belt, below the tallest part) on the bundled cell (ABB native) and,
+# with ABB intercepting, ABB's intercept
+UR_LIFT = "movel(cnv_on_part(x, y, {z}), a=1.200, v=0.2500)\n    stop_conveyor_tracking()\n    cnv_place_part()"
 ABB_LIFT = "MoveL {pose}, cnv_work, cnv_zone, cnv_tool \\WObj:=cnv_wobj;\n    MoveJ cnv_place_above"
 LOW_LIFT = [
-    ("ur", UR_LIFT.format(z="CNV_Z_MAX"), UR_LIFT.format(z="z")),
-    ("kuka", "  LIN CLEAR C_DIS\n", "  LIN ABOVE C_DIS\n"),
-    ("abb", "    above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];\n", ""),
+    ("ur", UR_LIFT.format(z="z, CNV_Z_MAX + CNV_DZ"), UR_LIFT.format(z="CNV_Z_MAX, CNV_DZ")),
+    ("kuka", "  LIN LIFTED C_DIS\n", "  LIN CLEAR C_DIS\n"),
+    ("abb", "    above.trans := [x, 0, z + CNV_Z_MAX + CNV_DZ];\n", "    above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];\n"),
     (
         "abb intercept",
+        ABB_LIFT.format(pose="cnv_on_part(x, CNV_INTERCEPT, z + CNV_Z_MAX + CNV_DZ)"),
         ABB_LIFT.format(pose="cnv_on_part(x, CNV_INTERCEPT, CNV_Z_MAX + CNV_DZ)"),
-        ABB_LIFT.format(pose="above"),
     ),
 ]
 
@@ -85,8 +86,9 @@ def _cell_for(target: str, tmp_path):
 
 @pytest.mark.parametrize("target", ["ur", "kuka", "abb", "abb intercept"])
 def test_the_part_held_is_lifted_to_the_clear_height(tmp_path, target):
-    """After the grip the arm lifts the part straight up to the height it waits at (z_range_mm's top + approach_dz):
-    a part held at its own approach height hangs lower than the tallest part still on the belt."""
+    """After the grip the arm lifts the part straight up until the part's bottom is at the height the empty gripper
+    waits at (z_range_mm's top + approach_dz): the gripper's tip there would leave a tall part held hanging lower than
+    the tallest part still on the belt."""
     cell = _cell_for(target, tmp_path)
     program = first(cell, target.split()[0], "conveyor")
     chosen = [c for c in cases(cell) if c.category == "constant_speed"]
@@ -95,7 +97,7 @@ def test_the_part_held_is_lifted_to_the_clear_height(tmp_path, target):
 
 
 @pytest.mark.parametrize(("target", "old", "new"), LOW_LIFT)
-def test_a_lift_only_to_the_parts_own_approach_height_fails_verify(tmp_path, target, old, new):
+def test_a_lift_of_the_tip_only_to_the_clear_height_fails_verify(tmp_path, target, old, new):
     cell = _cell_for(target, tmp_path)
     program = first(cell, target.split()[0], "conveyor")
     assert sum(f.text.count(old) for f in program.files) == 1

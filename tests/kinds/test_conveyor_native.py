@@ -43,8 +43,9 @@ ABB_CHANGES = [
     # DropWObj before the lift: the lift goes to the work object's place with no object connected
     (
         "DropWObj before the lift",
-        "    above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];\n    MoveL above, cnv_work, cnv_zone",
-        "    above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];\n    DropWObj cnv_track;\n    MoveL above, cnv_work, cnv_zone",
+        "    above.trans := [x, 0, z + CNV_Z_MAX + CNV_DZ];\n    MoveL above, cnv_work, cnv_zone",
+        "    above.trans := [x, 0, z + CNV_Z_MAX + CNV_DZ];\n    DropWObj cnv_track;\n"
+        "    MoveL above, cnv_work, cnv_zone",
         "",
     ),
     ("WaitWObj removed", "    WaitWObj cnv_track;\n", "", ""),

@@ -18,7 +18,7 @@ GRASP_TIMEOUT = "    IF POLLS >= CNV_IO_POLLS THEN\n"
 HALT_KUKA = GRASP_TIMEOUT + '      CNV_MSG.MSG_TXT[] = "no feedback from the gripper in 0.5 s"\n      CNV_HALT()\n'
 HALT_UR = '        stop_conveyor_tracking()\n        cnv_stop("no feedback from the gripper in 0.5 s")\n'
 HALTED = "did not hold: stopped on the running belt"
-LIFT = "      movel(cnv_on_part(x, y, z, CNV_DZ), a=1.200, v=0.2500)\n"
+LIFT = "      movel(cnv_on_part(x, y, CNV_Z_MAX, CNV_DZ), a=1.200, v=0.2500)\n"
 UNTRACK = "      stop_conveyor_tracking()\n"
 SKIP = '      textmsg(str_cat("conveyor: the gripper'
 # (target, the program's text, the broken text, what verify says): the halt at the part the programs had, and a release
@@ -26,7 +26,7 @@ SKIP = '      textmsg(str_cat("conveyor: the gripper'
 BROKEN = [
     ("kuka", GRASP_TIMEOUT + "      RETURN FALSE\n", HALT_KUKA + "      RETURN FALSE\n", HALTED),
     ("ur", "        return False\n", HALT_UR, HALTED),
-    ("kuka", "    $OUT[17] = FALSE\n    LIN ABOVE\n", "    $OUT[17] = FALSE\n", "not both on the part"),
+    ("kuka", "    $OUT[17] = FALSE\n    LIN CLEAR\n", "    $OUT[17] = FALSE\n", "not both on the part"),
     ("ur", LIFT + UNTRACK + SKIP, UNTRACK + LIFT + SKIP, "the lift off it, released"),
 ]
 

@@ -340,7 +340,7 @@ def test_a_window_the_arm_cannot_follow_is_refused_at_generate(tmp_path):
     ):
         check_envelope(load_cell(path), None)
     reports = check_envelope(load_cell(CELL), None)
-    assert [r.poses for r in reports if hasattr(r, "poses")] == [2 * 2 * 2 * 12 + 2] * 3  # x, z, on/above; place
+    assert [r.poses for r in reports if hasattr(r, "poses")] == [2 * 2 * 3 * 12 + 2] * 3  # x, z, on/above/lifted; place
 
 
 def test_a_tracking_arm_is_proven_as_far_as_it_may_follow_the_part(tmp_path):
@@ -352,9 +352,9 @@ def test_a_tracking_arm_is_proven_as_far_as_it_may_follow_the_part(tmp_path):
     from codegen.kinds.conveyor.reach import follow_mm
 
     cell = load_cell(CELL)
-    # the grip's timeout, the lift from the lowest part (5 mm) to the clear height (80 + 60 mm): 135 mm at 250 mm/s and
-    # its ramps at movel's a = 1.2 m/s2 (250 / 1200 s)
-    assert follow_mm(cell, "ur") == pytest.approx(40.0 * (0.5 + 135.0 / 250.0 + 250.0 / 1200.0))
+    # the grip's timeout and a release's (0.5 s each), the lift with a part held (its bottom from its top z to the clear
+    # height, 80 + 60 mm): 140 mm at 250 mm/s and its ramps at movel's a = 1.2 m/s2 (250 / 1200 s)
+    assert follow_mm(cell, "ur") == pytest.approx(40.0 * (2 * 0.5 + 140.0 / 250.0 + 250.0 / 1200.0))
     assert follow_mm(cell, "kuka") == 0.0
     path = tmp_path / "cell.toml"
     text = CELL.read_text().replace("belt_speed_max_mm_s = 40.0", "belt_speed_max_mm_s = 2000.0")

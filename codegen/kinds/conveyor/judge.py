@@ -118,7 +118,7 @@ class _Judge:
     def clear(self, what: str, move) -> str | None:
         """A wait above the belt: its height in the belt frame approach_dz above the tallest part z_range_mm allows
         (a part before the one awaited may pass under it)."""
-        want = self.pick.z_range_mm[1] + self.pick.approach_dz
+        want = self.pick.clear_mm
         height = float(self.frame[:3, 2] @ (move.tcp2base[:3, 3] - self.frame[:3, 3]))
         if abs(height - want) > self.across:
             return f"{what} (line {move.line}): {height:.4f} mm above the belt, not {want:g} (the tallest part's)"
@@ -139,8 +139,8 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     the skip's message, it was past the window's end (or, too late, within the descent's travel of the
     intercept point at the belt's fastest); each picked part is gripped where it really is at that
     moment (float64: the belt's travel since the camera saw it), inside the window, after a straight
-    descent of approach_dz along the belt's normal and before a lift of approach_dz; each is put down at
-    the place; the program ends at the line's stop."""
+    descent of approach_dz along the belt's normal and before a straight lift that puts the held part's bottom at the
+    clear height (Pick.lift_dz); each is put down at the place; the program ends at the line's stop."""
     j = _Judge(cell, target_name, case)
     pick, end = j.pick, j.pick.window_mm[1]
     one_count = 1.0 / abs(conveyor_of(cell).counts_per_mm)
@@ -224,7 +224,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
                 ) or j.off(
                     f"part {part.seq}: the lift to the clear height (line {lift.line})",
                     lift.tcp2base,
-                    j.beside(lift, part, pick.z_range_mm[1] + pick.approach_dz - part.z, down.tcp2base),
+                    j.beside(lift, part, pick.lift_dz, down.tcp2base),
                 )
         if problem is None:  # after the moves around the grip: without the move above the part, that is the wait
             problem = j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
@@ -242,10 +242,32 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     return None, j.worst_pos, j.worst_rot
 
 
+def left_low(cell, target_name: str, case, trace, first: int, closes: list) -> str | None:
+    """Where the arm stays after a straight move it follows with a joint move, or with none (the program ends, halts or
+    waits for the next part there), from move `first` on: above the place, or at the clear height above the belt;
+    only a lift with a part held (the move after a grip, its bottom at the clear height) is higher. Never at a part's
+    approach height, below the tallest part the belt may bring."""
+    j = _Judge(cell, target_name, case)
+    above = j.pick.place.matrix().copy()
+    above[2, 3] += j.pick.approach_dz
+    held = {c.after_moves for c in closes}
+    moves = trace.moves
+    for i in range(first, len(moves)):
+        if moves[i].kind != "linear" or i in held or (i + 1 < len(moves) and moves[i + 1].kind != "joint"):
+            continue
+        pos, _rot = _pose_errors(moves[i].tcp2base.tolist(), above.tolist())
+        if pos > TOLERANCES[j.target.numbers][0]:
+            problem = j.clear(f"the arm left after move {i + 1}", moves[i])
+            if problem is not None:
+                return problem
+    return None
+
+
 def not_held(cell, target_name: str, case, trace, output: str, first: int) -> tuple[str | None, float, float]:
     """A grip never confirmed (every target, every mode): no stop; the gripper's output set on the part where it
-    really is, then back to release before the next move; that move straight up approach_dz off the part (with
-    tracking still relative to the belt at its end, an intercept above the point it met it); then the part skipped
+    really is, then back to release before the next move; that move straight up off the part to the clear height
+    (with tracking still relative to the belt at its end, an intercept above the point it met it: the arm never left
+    at the part's approach height, where the program could end, stop or wait for the next part); then the part skipped
     with a message, and the program on to the line's stop (never a stop on the running belt)."""
     j = _Judge(cell, target_name, case)
     part = case.parts[0]
@@ -264,7 +286,7 @@ def not_held(cell, target_name: str, case, trace, output: str, first: int) -> tu
     if problem is None and (down.kind != "linear" or lift.kind != "linear"):
         problem = f"part {part.seq}: the descent and the lift off the part must be straight moves"
     if problem is None:
-        above = j.beside(lift, part, j.pick.approach_dz, close.tcp2base)
+        above = j.beside(lift, part, j.pick.clear_mm - part.z, close.tcp2base)
         problem = j.off(f"part {part.seq}: the lift off it, released (line {lift.line})", lift.tcp2base, above)
     problem = problem or j.clear(f"part {part.seq}: the wait for it", trace.moves[k - GRIP[j.mode]])
     if problem is not None:

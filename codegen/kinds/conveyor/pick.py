@@ -59,6 +59,18 @@ class Pick:
     belt_stop_s: float = 2.0  # the encoder still this long while a part is on its way: the belt stands (a message)
     timer: dict = field(default_factory=dict)  # intercept: the controller's numbered timer the program measures with
 
+    @property
+    def clear_mm(self) -> float:
+        """The clear height (mm above the belt): the empty gripper's tip waits and leaves a part approach_dz above the
+        tallest part z_range_mm allows (a part before the one awaited may pass under it)."""
+        return self.z_range_mm[1] + self.approach_dz
+
+    @property
+    def lift_dz(self) -> float:
+        """The lift with a part held (mm above the held part's top): the part's bottom at the clear height, so the tip
+        at z_range_mm's top + the part's own height (its z) + approach_dz; the travel to the place starts there."""
+        return self.clear_mm
+
     def mean(self, key: str) -> float:
         """The middle of a (least, most) interval of the cell (grip_s, count_latency_s, motion_start_s)."""
         low, high = getattr(self, key)

@@ -52,10 +52,11 @@ WAITS_AFTER = {
 GRIP = {"native": 3, "intercept": 3}  # moves of a part before its grip
 RELEASE = {"native": 6, "intercept": 6}  # moves of a part before its release
 # a part given up after the arm moved for it: the moves made for it (the waiting move; an intercept's move down to the
-# part's approach height; the whole descent and its lift:
+# part's approach height and back up to the clear height (the lift's segment, nothing held); the whole descent and its
+# lift to the clear height:
 # a part that reached the window's end while the arm came down, or a grip not confirmed in time; where the program
 # leaves the belt in a fixed work object before it disconnects (ABB native), then the move above the window's start)
-GIVEN_UP = {"native": ((0,), (0, 1, 2, 3), (0, 1, 2, 3, 0)), "intercept": ((0,), (0, 1), (0, 1, 2, 3))}
+GIVEN_UP = {"native": ((0,), (0, 1, 2, 3), (0, 1, 2, 3, 0)), "intercept": ((0,), (0, 1, 3), (0, 1, 2, 3))}
 # The way home at the start from wherever a stop left the arm: a joint move to where it stands (the controller's
 # first motion), back out along the tool's axis, a safe pose above the belt, home; a part held is then put down
 # at the place before the first pick.

@@ -30,6 +30,7 @@ EARLY = "conveyor: seen before the program started, skipped: part "  # UR: no co
 STANDS = "conveyor: the belt stands, the arm waits above it: part "  # the encoder still while a part is on its way
 FLUSHED = "conveyor: queued before the start, skipped: part "  # ABB native: the unit's queue emptied at the start
 NOT_HELD = "conveyor: the gripper did not hold it, skipped: part "  # ABB native: left on the belt, the arm off it
+NOT_OPENED = "conveyor: the gripper did not release the part it failed to grip"  # its stop, once off the belt
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
 SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
@@ -232,6 +233,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "wrap_m": number(2**15 / abs(e) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
         "lost": emitter.string(LOST),
         "not_held": emitter.string(NOT_HELD),
+        "not_opened": emitter.string(NOT_OPENED),
         "flushed": emitter.string(FLUSHED),
         "place_blocked": emitter.string(place_blocked(cell)),
         "no_part": emitter.string(no_part(cell)),

@@ -31,21 +31,24 @@ class ConveyorReach(Margins):
 
 
 def follow_mm(cell, target: str) -> float:
-    """How far past the window's end a tracking arm may still follow the part: the belt at its fastest for
-    the gripper's timeout and the lift (from the lowest part to the clear height, z_range_mm's top + approach_dz,
-    at the work speed with the program's path acceleration's ramps, where the target's program sets one:
-    descent_seconds; an intercepting arm does not follow: 0)."""
+    """How far past the window's end a tracking arm may still follow the part: the belt at its fastest for the
+    gripper's timeout twice (the grip; after a grip not confirmed, the wait for the gripper to read open, which a
+    program may make before it leaves the belt) and the longer lift (the part held: lift_dz, its bottom to the clear
+    height; none held: from the lowest part's top to the clear height), at the work speed with the program's path
+    acceleration's ramps, where the target's program sets one: descent_seconds; an intercepting arm does not
+    follow: 0)."""
     pick = conveyor_of(cell).pick
     if pick.tracking[target] != "native":
         return 0.0
-    lift = pick.z_range_mm[1] - pick.z_range_mm[0] + pick.approach_dz  # from the lowest part to the clear height
-    seconds = (cell.io.timeout_s if cell.io is not None else 0.0) + descent_seconds(cell, get_target(target), lift)
+    lift = max(pick.lift_dz, pick.clear_mm - pick.z_range_mm[0])
+    timeout = cell.io.timeout_s if cell.io is not None else 0.0
+    seconds = 2.0 * timeout + descent_seconds(cell, get_target(target), lift)
     return pick.belt_speed_max_mm_s * seconds
 
 
 def lines(cell, beyond_mm: float = 0.0) -> list[tuple[str, list[np.ndarray]]]:
     """The paths the gripper follows relative to the belt, as base-frame poses (4x4): at each corner of
-    the ranges across the belt and in height, on the part and above it, from the window's start to its
+    the ranges across the belt and in height, on the part, above it and lifted with it, from the window's start to its
     end and beyond_mm past it (the arm follows the part along them); then the place and above it."""
     conveyor, pick = conveyor_of(cell), conveyor_of(cell).pick
     frame = conveyor.frame()
@@ -54,7 +57,7 @@ def lines(cell, beyond_mm: float = 0.0) -> list[tuple[str, list[np.ndarray]]]:
     out = []
     for x in pick.x_range_mm:
         for z in pick.z_range_mm:
-            for dz, what in ((pick.approach_dz, "above the part"), (0.0, "on the part")):
+            for dz, what in ((pick.approach_dz, "above the part"), (0.0, "on the part"), (pick.lift_dz, "lifted")):
                 path = []
                 for y in np.linspace(pick.window_mm[0], pick.window_mm[1] + beyond_mm, STEPS):
                     place = np.eye(4)

@@ -20,7 +20,7 @@ MODULE cnv_belt_pick
   !   queue tracking distance      1050.1 mm (the sync switch to the start window)
   !   start window width           250.0 mm (the pick window; past its end an object leaves the queue)
   !   minimum distance             100.0 mm (a sync closer to the last queued object is ignored)
-  !   tracking range, maximum      1341.7 mm past the sync switch (the window's end and the follow)
+  !   tracking range, maximum      1362.5 mm past the sync switch (the window's end and the follow)
   ! The PLC's queue and the unit's are fed by the same camera trigger and stay in step: at its start the program
   ! empties the unit's queue (a pulse of its signal c1RemAllPObj, the encoder interface's, as the
   ! option's documents name it, to be checked there) and skips every part of the PLC's seen before then; a part the
@@ -221,6 +221,7 @@ MODULE cnv_belt_pick
     VAR robtarget above;
     VAR robtarget down;
     VAR num y;
+    VAR bool opened;
     IF cnv_queued AND Abs(cnv_unwind(seen - cnv_prev) / CNV_COUNTS_PER_MM) < CNV_MIN_GAP THEN
       ! its sync came too close to the last queued part's: the unit's queue did not take it
       TPWrite "conveyor: too close to the part before, skipped: part " \Num:=seq;
@@ -269,34 +270,37 @@ MODULE cnv_belt_pick
     IF cnv_y(seen) > CNV_END THEN
       ! it reached the window's end while the gripper came down: leave it (up in cnv_track, off the belt in a fixed
       ! work object, then disconnect)
-      cnv_leave x, z;
+      cnv_leave x;
       TPWrite "conveyor: skipped (past the window's end): part " \Num:=seq;
       RETURN;
     ENDIF
-    ! the grip at a fine point on the object: the arm follows it meanwhile. No hold in time: released, the arm
-    ! leaves the belt and disconnects, the part is skipped (no stop while connected to a running belt)
+    ! the grip at a fine point on the object: the arm follows it meanwhile. No hold in time: released (its feedback
+    ! awaited without a stop), the arm up to the clear height and off the belt, disconnected, the part skipped; a
+    ! gripper that never read open stops the program only then (never a stop while connected to a running belt)
     IF NOT cnv_hold() THEN
-      cnv_release;
-      cnv_leave x, z;
+      opened := cnv_let_go();
+      cnv_leave x;
+      IF NOT opened cnv_stop "conveyor: the gripper did not release the part it failed to grip";
       TPWrite "conveyor: the gripper did not hold it, skipped: part " \Num:=seq;
       RETURN;
     ENDIF
-    ! the part held: straight up to the clear height while following it (its bottom clear of the tallest part still
-    ! on the belt), off the belt in a fixed work object, then disconnect
-    above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];
+    ! the part held: straight up while following it until its bottom is at the clear height (CNV_Z_MAX + CNV_DZ:
+    ! CNV_DZ clear of the tallest part still on the belt, the gripper's tip the part's own height higher), off the
+    ! belt in a fixed work object, then disconnect
+    above.trans := [x, 0, z + CNV_Z_MAX + CNV_DZ];
     MoveL above, cnv_work, cnv_zone, cnv_tool \WObj:=cnv_track;
     MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
     DropWObj cnv_track;
     cnv_place_part;
   ENDPROC
 
-  LOCAL PROC cnv_leave(num x, num z)
-    ! off a part it follows without it: up in cnv_track (the arm still follows the object), then above the window's
-    ! start in the fixed work object clear of the tallest part (the belt's frame, where it waits for the next part), then
-    ! disconnect
+  LOCAL PROC cnv_leave(num x)
+    ! off a part it follows without it: straight up to the clear height in cnv_track (the arm still follows the
+    ! object), then above the window's start in the fixed work object at that height (the belt's frame, where it waits
+    ! for the next part), then disconnect
     VAR robtarget above;
     above := cnv_on_belt;
-    above.trans := [x, 0, z + CNV_DZ];
+    above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];
     MoveL above, cnv_work, fine, cnv_tool \WObj:=cnv_track;
     MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
     DropWObj cnv_track;
@@ -318,6 +322,19 @@ MODULE cnv_belt_pick
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
     ! confirmed: the payload now
     GripLoad cnv_part;
+    RETURN TRUE;
+  ERROR
+    IF ERRNO = ERR_WAIT_MAXTIME THEN
+      RETURN FALSE;
+    ENDIF
+    RAISE;
+  ENDFUNC
+
+  LOCAL FUNC bool cnv_let_go()
+    ! a grip not confirmed, the gripper on the part on the running belt: doGripClose set to 0, then wait until
+    ! diGripClosed is 0, not in 0.5 s: FALSE, without a stop (the caller lifts the arm off the belt first)
+    SetDO doGripClose, 0;
+    WaitDI diGripClosed, 0 \MaxTime:=IO_TIMEOUT;
     RETURN TRUE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
