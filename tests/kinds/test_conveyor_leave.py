@@ -72,6 +72,7 @@ def _edit(pairs):
     return apply
 
 
+@pytest.mark.slow  # a whole verify per mutation: the slow set
 @pytest.mark.parametrize(("name", "target", "pairs", "says"), LOW, ids=[row[0] for row in LOW])
 def test_an_arm_left_at_the_parts_approach_height_fails_verify(tmp_path, name, target, pairs, says):
     cell = _cell_for(target, tmp_path)

@@ -173,6 +173,7 @@ def _edited(cell, target: str, edits):
     return program
 
 
+@pytest.mark.slow  # a whole verify per mutation: the slow set
 @pytest.mark.parametrize(("target", "edits", "says"), INTERCEPT_MUTATIONS)
 def test_an_intercept_that_misses_the_part_fails_verify(tmp_path, target, edits, says):
     cell = intercept_cell(tmp_path)

@@ -125,12 +125,14 @@ def test_a_program_that_carries_the_box_over_a_pallet_taken_away_fails(testmat, 
     assert found and found[0].startswith("pallet_taken") and expected in found[0], found
 
 
+@pytest.mark.slow  # a whole verify per mutation: the slow set
 def test_the_sheet_waits_for_the_pallet_again_before_it_goes_over_it(eur):
     found = mutant_mismatches(eur, "kuka", "pal_eur.src", "      IF NOT PAL_PALLET_SHEET() THEN", "      IF FALSE THEN")
     expected = "expected 'pallet eur: no pallet in place in 10 s, the sheet is in the gripper'"
     assert found and found[0].startswith("pallet_taken pallet eur layer 3 box 0") and expected in found[0], found
 
 
+@pytest.mark.slow  # a whole verify per mutation: the slow set
 def test_the_unstacking_program_waits_for_a_clear_pick_place_and_stacking_for_a_sheet(eur):
     clear = "    IF NOT PAL_CLEAR() THEN\n      RETURN\n    ENDIF\n"  # in the cycle and before a held box's put-down
     found = mutant_mismatches(eur, "kuka", "pal_eur_in.src", clear, "", count=0)
@@ -241,6 +243,7 @@ def test_the_counters_are_declared_in_their_store_alone(testmat, eur):
             assert bool(declared) == store, (path, declared)
 
 
+@pytest.mark.slow  # a whole verify per mutation: the slow set
 def test_counters_moved_into_the_regenerated_program_fail_the_reload(testmat):
     """Declared in the program's own .dat (KRL) or module (RAPID), the counters would start again at their declared
     values when a regenerated program is loaded: the counters_reloaded case fails though every restart passes."""
@@ -461,6 +464,7 @@ SHEETS = TESTMAT_TEXT.replace(
 )
 
 
+@pytest.mark.slow  # a whole verify per mutation: the slow set
 def test_the_ur_program_places_slip_sheets(tmp_path):
     """The EUR cell has no UR: source 004's pallet with a sheet on every second layer runs every case on the UR (the
     sheet missing, a restart at a sheet); a sheet put down 3 mm low, or never put down, fails."""

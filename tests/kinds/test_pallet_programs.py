@@ -207,6 +207,7 @@ def test_a_box_held_at_the_start_is_placed_where_the_counters_say(target, name, 
     assert found and found[0].startswith("held_at_start"), found
 
 
+@pytest.mark.slow  # a whole verify per mutation: the slow set
 @pytest.mark.parametrize(
     ("target", "name", "old", "new"),
     [
