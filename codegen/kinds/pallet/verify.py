@@ -4,7 +4,6 @@ plan; the way home after a stop; the counters where a reload leaves them."""
 from __future__ import annotations
 
 import random
-import re
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -28,6 +27,7 @@ from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.messages import message_limit, released_question, select_message, still_waiting_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers, holds_name
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move, way_up_z
+from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
@@ -241,7 +241,7 @@ def setup(cell, source, case: Case) -> Setup:
     others = _other_flags(cell, target, index)
     for name in others:  # the other pallets' flags of one task: left set where the case says so
         counters[name] = run.case.stale
-    if case.category == "counters_reloaded" and not _reload_proof(target):
+    if case.category == "counters_reloaded" and not reload_proof(target):
         counters = {}  # a reload cleared the program's own variables: they hold what their declaration gives
     return Setup(
         {**counters, **tool_inputs(cell, target.name)},
@@ -285,7 +285,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
         return Judgement([Expectation(Emitter(target).string(select_message()), (), ())])
     pallet = pallets_of(cell)[run.pallet]
     pallet_case = run.case
-    if case.category == "counters_reloaded" and not _reload_proof(target):
+    if case.category == "counters_reloaded" and not reload_proof(target):
         pallet_case = replace(pallet_case, layer=0, box=0)  # declared without a value: 0 after the reload
     want = expected(cell, pallet, pallet_case)
     layer_name, box_name = kept_names(cell, target, run.pallet)
@@ -349,8 +349,8 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     boxes = sum(1 for m in want.moves if m.name.endswith("target") and " box " in m.name)
     expectation = Expectation(message, tuple(moves), tuple(outputs), stored, planned_joints=planned_joints)
     reloaded = case.category == "counters_reloaded"
-    problem = _declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
-    problem = problem or (_store_not_kept(source, target) if reloaded else None)
+    problem = declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
+    problem = problem or (store_not_kept(source, target) if reloaded else None)
     problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
     problem = problem or _unsaid(target, want.said, trace)
     problem = problem or (_unasked(cell, pallet, target, trace) if want.asked else None)
@@ -401,12 +401,6 @@ def _unasked(cell, pallet, target, trace) -> str | None:
     return None
 
 
-def _reload_proof(target) -> bool:
-    """The counters outlive a reload of the program: kept in a file of their own or in the PLC (targets/<t>.toml
-    [program.pallet] store), not in the program's own variables."""
-    return facts(target).get("store", "program") != "program"
-
-
 def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove]:
     """From where the arm starts: at home, the move home; elsewhere (a stop in the cycle) the way home: (a joint move
     where the arm stands, where the target's first motion must be one), back along the tool's z by the cell's
@@ -438,50 +432,6 @@ def _way_joints(cell, pallet, target_name: str, way: list[PlannedMove], start, n
     head = [np.asarray(start, dtype=float)] if way[0].kind == "joint" else []
     rest = [ExpectedMove(m.kind, m.tcp2base, m.name, m.speed_mm_s or 0.0, True) for m in way[len(head) :]]
     return [*head, *joints_of(cell, target_name, rest, "verify: the way home", pallet, named, start=start)]
-
-
-def _declared_outside_store(source, target, names: tuple[str, str]) -> str | None:
-    """After a reload the counters hold what their store kept: a counter declared in another of the program's files
-    (one a regeneration replaces, its value with it) fails."""
-    store = facts(target).get("store", "")
-    words = facts(target).get("declares")
-    if not words or "." not in store:
-        return None
-    # a line whose first words are a declaration's (LOCAL PERS num, DECL GLOBAL INT) and that names the counter
-    pattern = rf"^[ \t]*(?:\w+[ \t]+)*?(?:{'|'.join(map(re.escape, words))})\b[^\n]*\b{{name}}\b"
-    store_suffix = store[store.index(".") :].lower()
-    for f in source.files:
-        name = f.name.rsplit("/", 1)[-1].lower()
-        if name.endswith(store_suffix) and (name.startswith("pallet_data") or name.endswith("_count" + store_suffix)):
-            continue
-        for counter in names:
-            if re.search(pattern.format(name=re.escape(counter)), f.text, re.M | re.I):
-                return (
-                    f"{counter} is declared in {name}, which a regeneration replaces: a reload sets it back "
-                    f"(the counters belong in {store.replace('{pallet}', '<pallet>')} alone)"
-                )
-    return None
-
-
-def _store_not_kept(source, target) -> str | None:
-    """The store's module carries the attribute that keeps it through a program load (targets/<t>.toml
-    [program.pallet] store_attribute: RAPID's SYSMODULE, a system module): without it a load of the program replaces
-    the store, and the counters with it."""
-    attribute, store = facts(target).get("store_attribute"), facts(target).get("store", "")
-    if attribute is None:
-        return None
-    for f in source.files:
-        if f.name.rsplit("/", 1)[-1].lower() != store.lower():
-            continue
-        header = re.search(r"^[ \t]*MODULE[ \t]+\w+[ \t]*(?:\(([^)]*)\))?", f.text, re.M | re.I)
-        given = {a.strip().upper() for a in (header.group(1) or "").split(",")} if header else set()
-        if attribute.upper() not in given:
-            return (
-                f"{store} is not a {attribute} module: loading the program replaces it, and the counters with it "
-                f"(the store must be a {attribute} module, loaded once)"
-            )
-        return None
-    return f"{store}, the counters' store, is not among the program's files"
 
 
 def _percent(cell, move) -> float | None:

@@ -1,0 +1,57 @@
+"""The counters' store after a reload of a pallet program: kept where the target keeps them, declared nowhere else."""
+
+from __future__ import annotations
+
+import re
+
+from codegen.kinds.pallet.facts import facts
+
+
+def reload_proof(target) -> bool:
+    """The counters outlive a reload of the program: kept in a file of their own or in the PLC (targets/<t>.toml
+    [program.pallet] store), not in the program's own variables."""
+    return facts(target).get("store", "program") != "program"
+
+
+def declared_outside_store(source, target, names: tuple[str, str]) -> str | None:
+    """After a reload the counters hold what their store kept: a counter declared in another of the program's files
+    (one a regeneration replaces, its value with it) fails."""
+    store = facts(target).get("store", "")
+    words = facts(target).get("declares")
+    if not words or "." not in store:
+        return None
+    # a line whose first words are a declaration's (LOCAL PERS num, DECL GLOBAL INT) and that names the counter
+    pattern = rf"^[ \t]*(?:\w+[ \t]+)*?(?:{'|'.join(map(re.escape, words))})\b[^\n]*\b{{name}}\b"
+    store_suffix = store[store.index(".") :].lower()
+    for f in source.files:
+        name = f.name.rsplit("/", 1)[-1].lower()
+        if name.endswith(store_suffix) and (name.startswith("pallet_data") or name.endswith("_count" + store_suffix)):
+            continue
+        for counter in names:
+            if re.search(pattern.format(name=re.escape(counter)), f.text, re.M | re.I):
+                return (
+                    f"{counter} is declared in {name}, which a regeneration replaces: a reload sets it back "
+                    f"(the counters belong in {store.replace('{pallet}', '<pallet>')} alone)"
+                )
+    return None
+
+
+def store_not_kept(source, target) -> str | None:
+    """The store's module carries the attribute that keeps it through a program load (targets/<t>.toml
+    [program.pallet] store_attribute: RAPID's SYSMODULE, a system module): without it a load of the program replaces
+    the store, and the counters with it."""
+    attribute, store = facts(target).get("store_attribute"), facts(target).get("store", "")
+    if attribute is None:
+        return None
+    for f in source.files:
+        if f.name.rsplit("/", 1)[-1].lower() != store.lower():
+            continue
+        header = re.search(r"^[ \t]*MODULE[ \t]+\w+[ \t]*(?:\(([^)]*)\))?", f.text, re.M | re.I)
+        given = {a.strip().upper() for a in (header.group(1) or "").split(",")} if header else set()
+        if attribute.upper() not in given:
+            return (
+                f"{store} is not a {attribute} module: loading the program replaces it, and the counters with it "
+                f"(the store must be a {attribute} module, loaded once)"
+            )
+        return None
+    return f"{store}, the counters' store, is not among the program's files"
