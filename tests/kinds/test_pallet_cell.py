@@ -651,7 +651,7 @@ def test_an_unstacking_pallet_whose_wait_above_q_would_hang_the_box_into_one_at_
     """Unstacking, the program waits above Q for Q clear with a box in the gripper: above Q must clear a box still
     lying there (pick_lift >= the box's height + transit_clearance_mm), named by key."""
     text = (PALLETS / "eur_pallet.toml").read_text()
-    low = text.replace("pick_lift = 260.0 ", "pick_lift = 100.0 ", 1)
+    low = text.replace("pick_lift = 300.0 ", "pick_lift = 100.0 ", 1)
     assert low != text
     with pytest.raises(CellError, match=r"pallet\[1\]\.pick_lift: 100 mm: unstacking.*160 mm too low"):
         _load(tmp_path, low)
