@@ -14,6 +14,7 @@ from codegen.kinds.conveyor import budget
 from codegen.kinds.conveyor.verify import cases
 from codegen.model.cell import load_cell
 from codegen.verify.runner import run_cases
+from tests.kinds.test_conveyor_programs import intercept_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
 ABB_WAIT = "MoveJ cnv_on_part(x, CNV_START, {z}), cnv_travel, fine, cnv_tool \\WObj:=cnv_wobj;\n    y := cnv_y(seen);"
@@ -77,11 +78,7 @@ LOW_LIFT = [
 
 def _cell_for(target: str, tmp_path):
     """The bundled cell, or with ABB intercepting (a controller without the Conveyor Tracking option)."""
-    if not target.endswith("intercept"):
-        return load_cell(CELL)
-    path = tmp_path / "belt_pick.toml"
-    path.write_text(CELL.read_text().replace('abb = "native" }', 'abb = "intercept" }'))
-    return load_cell(path)
+    return intercept_cell(tmp_path) if target.endswith("intercept") else load_cell(CELL)
 
 
 @pytest.mark.parametrize("target", ["ur", "kuka", "abb", "abb intercept"])

@@ -14,6 +14,7 @@ from codegen.kinds.conveyor.program import NOT_HELD, NOT_OPENED
 from codegen.kinds.conveyor.verify import cases
 from codegen.model.cell import load_cell
 from codegen.verify.runner import run_cases
+from tests.kinds.test_conveyor_programs import intercept_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
 UR_NOT_HELD = "      set_standard_digital_out(0, False)\n      movel(cnv_on_part(x, y, {z}, CNV_DZ)"
@@ -56,11 +57,7 @@ LOW = [
 
 def _cell_for(target: str, tmp_path):
     """The bundled cell, or with ABB intercepting (a controller without the Conveyor Tracking option)."""
-    if not target.endswith("intercept"):
-        return load_cell(CELL)
-    path = tmp_path / "belt_pick.toml"
-    path.write_text(CELL.read_text().replace('abb = "native" }', 'abb = "intercept" }'))
-    return load_cell(path)
+    return intercept_cell(tmp_path) if target.endswith("intercept") else load_cell(CELL)
 
 
 def _edit(pairs):
