@@ -11,7 +11,7 @@ from typing import Protocol
 import numpy as np
 
 from codegen.dialects.core.arm import ArmState
-from codegen.dialects.core.ramp import ramp_seconds
+from codegen.dialects.core.ramp import travel_seconds
 from codegen.dialects.core.shared import SHARE_FROM, SharedGlobals
 from codegen.dialects.core.trace import MoveEvent, SignalEvent, Trace
 from codegen.dialects.core.values import Halt, LimitReached, RunError, Signal, StepLimitError
@@ -19,7 +19,6 @@ from codegen.dialects.core.values import Halt, LimitReached, RunError, Signal, S
 __all__ = ["MoveEvent", "SignalEvent", "Trace"]  # re-exported: callers import them here (they live in trace.py)
 
 DEFAULT_STEP_LIMIT = 200_000
-UNKNOWN_TRAVEL_S = 1.0  # assumed duration of a move whose start or end pose the clock does not know
 
 
 def halt(fr, *_ignored) -> None:
@@ -56,22 +55,6 @@ class Device(Protocol):
         """When the device will next act on its own (an answer due), or None: nothing planned
         (optional: a device without it acts only when the program waits)."""
         ...
-
-
-def travel_seconds(
-    start: np.ndarray | None, end: np.ndarray | None, speed_mm_s: float | None, accel_mm_s2: float | None = None
-) -> float:
-    """How long a move takes in the interpreter's clock: the TCP's straight-line distance over the
-    programmed TCP speed (a pure rotation takes none); with a path acceleration (a dialect that knows the
-    one in force), from standstill to standstill: a trapezoid, or a triangle where the move is too short to
-    reach the speed (ramp_seconds). A move whose start or end pose is not known while the program runs (the
-    first move, from wherever the arm stands; a joint target, whose pose comes from the arm's kinematics when
-    the run ends) takes UNKNOWN_TRAVEL_S. Enough to order waits, timeouts and a photo against the motion."""
-    if not speed_mm_s or speed_mm_s <= 0:
-        return 0.0
-    if start is None or end is None:
-        return UNKNOWN_TRAVEL_S
-    return ramp_seconds(float(np.linalg.norm(end[:3, 3] - start[:3, 3])), speed_mm_s, accel_mm_s2)
 
 
 class ProgramCode(Protocol):

@@ -1,8 +1,12 @@
-"""A straight move's time with its ramps: a trapezoid (or a triangle) of speed from standstill to standstill."""
+"""A move's time in the interpreter's clock: distance over speed, with ramps a trapezoid (or a triangle) of speed."""
 
 from __future__ import annotations
 
 import math
+
+import numpy as np
+
+UNKNOWN_TRAVEL_S = 1.0  # assumed duration of a move whose start or end pose the clock does not know
 
 
 def ramp_seconds(distance_mm: float, speed_mm_s: float, accel_mm_s2: float | None) -> float:
@@ -48,3 +52,19 @@ def ramp_distance_at(t: float, distance_mm: float, speed_mm_s: float, accel_mm_s
         return 0.5 * peak * up + peak * (t - up)
     left = total - t
     return distance_mm - 0.5 * accel_mm_s2 * left * left
+
+
+def travel_seconds(
+    start: np.ndarray | None, end: np.ndarray | None, speed_mm_s: float | None, accel_mm_s2: float | None = None
+) -> float:
+    """How long a move takes in the interpreter's clock: the TCP's straight-line distance over the
+    programmed TCP speed (a pure rotation takes none); with a path acceleration (a dialect that knows the
+    one in force), from standstill to standstill: a trapezoid, or a triangle where the move is too short to
+    reach the speed (ramp_seconds). A move whose start or end pose is not known while the program runs (the
+    first move, from wherever the arm stands; a joint target, whose pose comes from the arm's kinematics when
+    the run ends) takes UNKNOWN_TRAVEL_S. Enough to order waits, timeouts and a photo against the motion."""
+    if not speed_mm_s or speed_mm_s <= 0:
+        return 0.0
+    if start is None or end is None:
+        return UNKNOWN_TRAVEL_S
+    return ramp_seconds(float(np.linalg.norm(end[:3, 3] - start[:3, 3])), speed_mm_s, accel_mm_s2)

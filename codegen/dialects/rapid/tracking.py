@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.dialects import posemath
-from codegen.dialects.core.machine import travel_seconds
+from codegen.dialects.core.ramp import travel_seconds
 from codegen.dialects.core.values import Record, RunError
 from codegen.dialects.rapid import motionset
 from codegen.dialects.rapid.errors import ERROR_NUMBERS, RapidError

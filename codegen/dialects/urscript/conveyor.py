@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from codegen.dialects import posemath
-from codegen.dialects.core.machine import travel_seconds
+from codegen.dialects.core.ramp import travel_seconds
 from codegen.dialects.core.values import RunError
 
 FILTERED_RANGE = 65536  # encoder_get_tick_count: [0; 65536[
