@@ -54,37 +54,8 @@ def environment():
     what its macros return, `~` and `join` of printable parts) stays Code; any other value is an UnmarkedText
     error naming the template, so a cell's value reaches a program only through the emitter."""
     import jinja2  # imported where used: `codegen correct` must not pay for it
-    from jinja2.compiler import CodeGenerator
 
-    class MarkingCodeGenerator(CodeGenerator):
-        def visit_Const(self, node, frame) -> None:
-            value = node.as_const(frame.eval_ctx)
-            if isinstance(value, str):  # the template's own text
-                self.write(f"environment.literal({value!r})")
-            else:
-                super().visit_Const(node, frame)
-
-        def visit_Concat(self, node, frame) -> None:  # `~`: printable parts only
-            self.write(f"environment.joined({self.name!r}, (")
-            for part in node.nodes:
-                self.visit(part, frame)
-                self.write(", ")
-            self.write("))")
-
-    class ProgramEnvironment(jinja2.Environment):
-        code_generator_class = MarkingCodeGenerator
-
-        @staticmethod
-        def concat(parts) -> Code:  # a template's, a macro's or a block's output: its text and checked values
-            return Code("".join(parts))
-
-        @staticmethod
-        def literal(text: str) -> Code:
-            return Code(text)
-
-        @staticmethod
-        def joined(where: str, parts) -> Code:
-            return Code("".join(_checked(part, where) for part in parts))
+    from codegen.jinjadoor import marking_environment
 
     @jinja2.pass_context
     def finalize(context, value) -> Code:
@@ -100,7 +71,7 @@ def environment():
     def upper(context, value) -> Code:
         return _checked(value, context.name).upper()
 
-    env = ProgramEnvironment(
+    env = marking_environment(Code, _checked)(
         loader=jinja2.FileSystemLoader(str(TEMPLATES_DIR)),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,

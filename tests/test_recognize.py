@@ -141,7 +141,7 @@ def test_generate_check_refuses_a_broken_program():
 
 @pytest.mark.parametrize("name", DIALECTS)
 def test_tree_starts_are_larks(name):
-    """The interpreter's parser sets only where each tree starts (parsing.start_positions): the same line
+    """The interpreter's parser sets only where each tree starts (larkdoor.start_positions): the same line
     and column as lark's propagate_positions, for every tree of every bundled program."""
     from lark import Lark
 

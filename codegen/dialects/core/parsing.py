@@ -5,9 +5,10 @@ from __future__ import annotations
 import re
 from functools import cache
 
-from lark import Lark, Token, Tree
+from lark import Lark, Tree
 from lark.exceptions import UnexpectedInput
 
+from codegen.dialects.core.larkdoor import mark_starts
 from codegen.dialects.core.recognize import Recognizer
 from codegen.dialects.core.values import RunError
 
@@ -18,55 +19,15 @@ LINE_MAX = 10_000  # characters per program line: the generated ones stay under 
 def grammar_parser(interpreter_file: str, positions: bool = True, postlex=None) -> Lark:
     """The LALR parser of the grammar.lark beside a dialect's interpreter; without positions it
     parses twice as fast (syntax errors still carry them). With positions, each tree's meta has the
-    line and column where it starts (start_positions), all the interpreter reads. postlex: a dialect's
+    line and column where it starts (larkdoor.mark_starts), all the interpreter reads. postlex: a dialect's
     filter of the token stream (lark's postlex: e.g. line ends inside brackets dropped), one object per
     dialect (the parsers are cached by it)."""
     parser = Lark.open(
         "grammar.lark", rel_to=interpreter_file, parser="lalr", propagate_positions=False, postlex=postlex
     )
     if positions:
-        lalr = parser.parser.parser.parser  # lark's LALR parser: its callbacks build the tree, rule by rule
-        lalr.callbacks = {rule: start_positions(build) for rule, build in lalr.callbacks.items()}
+        mark_starts(parser)
     return parser
-
-
-class Start:
-    """Where a tree starts: the part of lark's Meta the interpreter reads, in a quarter of the memory."""
-
-    __slots__ = ("column", "container_column", "container_line", "line")
-    empty = False
-
-    def __init__(self, line: int, column: int) -> None:
-        self.line = self.container_line = line
-        self.column = self.container_column = column
-
-
-def start_positions(build):
-    """A tree-building callback that also sets where its tree starts, as lark's propagate_positions does
-    (a tree starts where its first child's text does: a token, or a tree's container, which for a rule
-    inlined into its child is where the rule's text began), without the ends lark also works out (a
-    third of the cost: a 1,000-station program loads seconds faster)."""
-
-    def with_start(children):
-        tree = build(children)
-        if type(tree) is Tree:
-            for child in children:
-                if type(child) is Token:
-                    line, column = child.line, child.column
-                    break
-                if type(child) is Tree and child._meta is not None and not child._meta.empty:
-                    line, column = child._meta.container_line, child._meta.container_column
-                    break
-            else:
-                return tree
-            meta = tree._meta
-            if meta is None:
-                tree._meta = Start(line, column)
-            else:  # a rule inlined into its child: the child keeps its start, its container starts here
-                meta.container_line, meta.container_column = line, column
-        return tree
-
-    return with_start
 
 
 def _bounded(text: str, filename: str) -> str:

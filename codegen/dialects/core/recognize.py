@@ -1,4 +1,4 @@
-"""A fast yes/no grammar check of generated programs: lark's own LALR tables and lexers, memoised per line shape."""
+"""A fast yes/no grammar check of generated programs: lark's LALR tables and lexers, memoised per line shape."""
 
 from __future__ import annotations
 
@@ -6,9 +6,8 @@ import re
 
 from lark import Lark
 from lark.exceptions import UnexpectedCharacters
-from lark.lexer import LexerState
-from lark.parsers.lalr_analysis import Shift
-from lark.utils import TextSlice
+
+from codegen.dialects.core.larkdoor import lexer_state, tables
 
 # A chunk ends where a run of white space holding a line break ends: no token of any of our grammars
 # crosses such a run except white space itself (strings and comments stop at a line break), so a chunk
@@ -27,13 +26,11 @@ class Recognizer:
     names, so most of their lines are a shape already parsed from the same state."""
 
     def __init__(self, parser: Lark) -> None:
-        frontend = parser.parser
-        table = frontend.parser.parser.parse_table
-        start = parser.options.start[0]
+        table = tables(parser)
         self.states = table.states
-        self.start_state = table.start_states[start]
-        self.end_state = table.end_states[start]
-        self.lexers = frontend.lexer.lexers  # parser state -> the terminals it accepts, as lark lexes them
+        self.start_state = table.start_state
+        self.end_state = table.end_state
+        self.lexers = table.lexers  # parser state -> the terminals it accepts, as lark lexes them
         self.after: dict[tuple, tuple | None] = {}  # (stack, chunk shape) -> stack after it, None: rejected
 
     def accepts(self, text: str) -> bool:
@@ -59,7 +56,7 @@ class Recognizer:
 
     def _chunk(self, stack: list, chunk: str) -> tuple | None:
         """The stack after lexing and parsing one chunk from `stack`, None if lark would refuse it."""
-        lex_state = LexerState(TextSlice(chunk, 0, len(chunk)))
+        lex_state = lexer_state(chunk)
         while True:
             try:
                 token = self.lexers[stack[-1]].next_token(lex_state)
@@ -78,15 +75,15 @@ class Recognizer:
             action = states[stack[-1]].get(terminal)
             if action is None:
                 return False
-            kind, arg = action
-            if kind is Shift:
+            shift, arg = action
+            if shift:
                 if end:
                     return False
                 stack.append(arg)
                 return True
-            size = len(arg.expansion)
+            size, rule = arg
             if size:
                 del stack[-size:]
-            stack.append(states[stack[-1]][arg.origin.name][1])
+            stack.append(states[stack[-1]][rule][1])
             if end and stack[-1] == self.end_state:
                 return True

@@ -1,0 +1,99 @@
+"""The one module that reaches into lark's internals: its LALR parser's tree callbacks, parse table and lexers."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from lark import Lark, Token, Tree
+from lark.lexer import LexerState
+from lark.parsers.lalr_analysis import Shift
+from lark.utils import TextSlice
+
+# What this module relies on, by lark's own names (tests/dialects/test_larkdoor.py checks each against the
+# installed lark; pyproject.toml bounds lark to the minor versions where they hold):
+#   Lark.parser                      the ParsingFrontend; .lexer.lexers: parser state -> its contextual lexer
+#   Lark.parser.parser.parser        the LALR _Parser: .callbacks (rule -> tree builder), .parse_table
+#   parse_table.states / start_states / end_states, actions as (Shift, state) or (Reduce, rule)
+#   rule.expansion, rule.origin.name
+#   Tree._meta (None until lark or we set it), LexerState(TextSlice(...)), lexer.next_token(state)
+
+
+class Start:
+    """Where a tree starts: the part of lark's Meta the interpreter reads, in a quarter of the memory."""
+
+    __slots__ = ("column", "container_column", "container_line", "line")
+    empty = False
+
+    def __init__(self, line: int, column: int) -> None:
+        self.line = self.container_line = line
+        self.column = self.container_column = column
+
+
+def start_positions(build: Callable) -> Callable:
+    """A tree-building callback that also sets where its tree starts, as lark's propagate_positions does
+    (a tree starts where its first child's text does: a token, or a tree's container, which for a rule
+    inlined into its child is where the rule's text began), without the ends lark also works out (a
+    third of the cost: a 1,000-station program loads seconds faster)."""
+
+    def with_start(children):
+        tree = build(children)
+        if type(tree) is Tree:
+            for child in children:
+                if type(child) is Token:
+                    line, column = child.line, child.column
+                    break
+                if type(child) is Tree and child._meta is not None and not child._meta.empty:
+                    line, column = child._meta.container_line, child._meta.container_column
+                    break
+            else:
+                return tree
+            meta = tree._meta
+            if meta is None:
+                tree._meta = Start(line, column)
+            else:  # a rule inlined into its child: the child keeps its start, its container starts here
+                meta.container_line, meta.container_column = line, column
+        return tree
+
+    return with_start
+
+
+def mark_starts(parser: Lark) -> None:
+    """Make an LALR parser (built without propagate_positions) give each tree the line and column where it
+    starts (tree.meta.line, .column), by wrapping the callbacks that build its trees, rule by rule."""
+    lalr = parser.parser.parser.parser
+    lalr.callbacks = {rule: start_positions(build) for rule, build in lalr.callbacks.items()}
+
+
+@dataclass(frozen=True)
+class Tables:
+    """An LALR parser's table and contextual lexers, for a parse without lark's parser loop."""
+
+    # parser state -> {terminal or rule name: (True, next state) to shift, or (False, (size, rule name)) to reduce
+    # by a rule of that many symbols}
+    states: dict[int, dict[str, tuple]]
+    start_state: int
+    end_state: int
+    # parser state -> the lexer of the terminals it accepts: .next_token(lexer_state(text)) gives the next token,
+    # raises EOFError at the end of the text and lark.exceptions.UnexpectedCharacters where no terminal matches
+    lexers: dict
+
+
+def tables(parser: Lark) -> Tables:
+    """The table and lexers of an LALR parser with the contextual lexer (lark's default for LALR)."""
+    frontend = parser.parser
+    table = frontend.parser.parser.parse_table
+    start = parser.options.start[0]
+    states = {
+        state: {
+            name: (True, arg) if kind is Shift else (False, (len(arg.expansion), arg.origin.name))
+            for name, (kind, arg) in actions.items()
+        }
+        for state, actions in table.states.items()
+    }
+    return Tables(states, table.start_states[start], table.end_states[start], frontend.lexer.lexers)
+
+
+def lexer_state(text: str) -> LexerState:
+    """A fresh lexing position at the start of `text`, for a lexer of Tables.lexers."""
+    return LexerState(TextSlice(text, 0, len(text)))
