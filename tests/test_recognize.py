@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from codegen.dialects import dialects
-from codegen.dialects.core.parsing import grammar_parser
+from codegen.dialects.core.parsing import grammar_parser, open_grammar
 from codegen.dialects.core.recognize import Recognizer
 from codegen.generate import GenerateError, check_rendered
 from codegen.render import RenderedFile
@@ -143,11 +143,9 @@ def test_generate_check_refuses_a_broken_program():
 def test_tree_starts_are_larks(name):
     """The interpreter's parser sets only where each tree starts (larkdoor.start_positions): the same line
     and column as lark's propagate_positions, for every tree of every bundled program."""
-    from lark import Lark
-
     dialect = dialects()[name]
     ours = grammar_parser(_interpreter(dialect), True)
-    larks = Lark.open("grammar.lark", rel_to=_interpreter(dialect), parser="lalr", propagate_positions=True)
+    larks = open_grammar(_interpreter(dialect), propagate_positions=True)
     compared = 0
     for path in _programs(dialect):
         text = path.read_text(encoding="utf-8")

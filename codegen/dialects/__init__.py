@@ -10,6 +10,8 @@ from pathlib import Path
 from typing import ClassVar
 
 _TERMINAL = re.compile(r"^([A-Z_]+): /(.*)/$", re.MULTILINE)
+_IMPORT = re.compile(r"^%import terminals \(([\w, ]+)\)$", re.MULTILINE)  # core/terminals.lark's, by name
+SHARED_TERMINALS = Path(__file__).parent / "core" / "terminals.lark"
 _RESERVED = re.compile(r"^NAME(?:\.\d+)?: /\(\?!(\(\?i:)?\(([\w|]+)\)", re.MULTILINE)
 
 
@@ -161,7 +163,10 @@ def _keywords(grammar: Path) -> frozenset[str]:
 @cache
 def _terminals(grammar: Path) -> dict[str, str]:
     text = grammar.read_text(encoding="utf-8") if grammar.is_file() else ""
-    return {m.group(1): m.group(2) for m in _TERMINAL.finditer(text)}
+    own = {m.group(1): m.group(2) for m in _TERMINAL.finditer(text)}
+    imported = {name.strip() for m in _IMPORT.finditer(text) for name in m.group(1).split(",")}
+    shared = _terminals(SHARED_TERMINALS) if imported else {}
+    return {**{name: shared[name] for name in sorted(imported)}, **own}
 
 
 @cache

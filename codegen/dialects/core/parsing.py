@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from functools import cache
+from pathlib import Path
 
 from lark import Lark, Tree
 from lark.exceptions import UnexpectedInput
@@ -13,6 +14,12 @@ from codegen.dialects.core.recognize import Recognizer
 from codegen.dialects.core.values import RunError
 
 LINE_MAX = 10_000  # characters per program line: the generated ones stay under 1,000
+SHARED_GRAMMARS = str(Path(__file__).parent)  # terminals.lark: what the grammars import (`%import terminals`)
+
+
+def open_grammar(interpreter_file: str, **options) -> Lark:
+    """lark's LALR parser of the grammar.lark beside a dialect's interpreter, with lark's options."""
+    return Lark.open("grammar.lark", rel_to=interpreter_file, parser="lalr", import_paths=[SHARED_GRAMMARS], **options)
 
 
 @cache
@@ -22,9 +29,7 @@ def grammar_parser(interpreter_file: str, positions: bool = True, postlex=None) 
     line and column where it starts (larkdoor.mark_starts), all the interpreter reads. postlex: a dialect's
     filter of the token stream (lark's postlex: e.g. line ends inside brackets dropped), one object per
     dialect (the parsers are cached by it)."""
-    parser = Lark.open(
-        "grammar.lark", rel_to=interpreter_file, parser="lalr", propagate_positions=False, postlex=postlex
-    )
+    parser = open_grammar(interpreter_file, propagate_positions=False, postlex=postlex)
     if positions:
         mark_starts(parser)
     return parser
