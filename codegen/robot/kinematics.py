@@ -111,46 +111,17 @@ def trig_table(angle: np.ndarray) -> np.ndarray:
 
 
 _ONE_ZERO = np.array([1.0, 0.0])
-ROT_Z = np.array([0, 2, 4, 1, 0, 4, 4, 4, 3])  # trig_table(a)[..., ROT_Z]: rot_z(a) flattened, [[c, -s, 0], ...]
-# rot_z(a) @ rot_y(b) = [[ca cb, -sa, ca sb], [sa cb, ca, sa sb], [-sb, 0, cb]] flattened: entry by entry the
+ROT_Z = np.array([0, 2, 4, 1, 0, 4, 4, 4, 3])  # trig_table(a)[..., ROT_Z]: Rz(a) flattened, [[c, -s, 0], ...]
+# Rz(a) @ Ry(b) = [[ca cb, -sa, ca sb], [sa cb, ca, sa sb], [-sb, 0, cb]] flattened: entry by entry the
 # product of trig_table(a)[..., ZY_FACTORS[0]] and trig_table(b)[..., ZY_FACTORS[1]], i.e. of
 # [[ca, -sa, ca], [sa, ca, sa], [1, 0, 1]] and [[cb, 1, sb], [cb, 1, sb], [-sb, 1, cb]] (the matrix product's
 # entries exactly: each is one product, its other terms are exact zeros)
 ZY_FACTORS = np.array([[0, 2, 0, 1, 0, 1, 3, 4, 3], [0, 3, 1, 0, 3, 1, 2, 3, 0]])
 
 
-def rot_z(angle: np.ndarray) -> np.ndarray:
-    """(..., 3, 3) rotations about z by angle (rad)."""
-    c, s = np.cos(angle), np.sin(angle)
-    z, o = np.zeros_like(c), np.ones_like(c)
-    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1), np.stack([z, z, o], -1)], -2)
-
-
-def rot_y(angle: np.ndarray) -> np.ndarray:
-    """(..., 3, 3) rotations about y by angle (rad)."""
-    c, s = np.cos(angle), np.sin(angle)
-    z, o = np.zeros_like(c), np.ones_like(c)
-    return np.stack([np.stack([c, z, s], -1), np.stack([z, o, z], -1), np.stack([-s, z, c], -1)], -2)
-
-
-def homogeneous(rotation: np.ndarray, translation: np.ndarray) -> np.ndarray:
-    """(..., 4, 4) from (..., 3, 3) rotations and (..., 3) translations."""
-    shape = rotation.shape[:-2]
-    out = np.zeros((*shape, 4, 4))
-    out[..., :3, :3] = rotation
-    out[..., :3, 3] = translation
-    out[..., 3, 3] = 1.0
-    return out
-
-
-def nan_incomplete_rows(joints: np.ndarray) -> np.ndarray:
-    """Rows (last axis) with any NaN become all NaN, so a branch is either whole or absent."""
-    return np.where(np.isnan(joints).any(axis=-1, keepdims=True), np.nan, joints)
-
-
 def finish_ik(joints_deg: np.ndarray) -> np.ndarray:
-    """nan_incomplete_rows(wrap_deg(joints_deg)), in place on joints_deg (a float array the caller owns): the
-    same numbers in fewer numpy calls for the few poses a call often has."""
+    """wrap_deg(joints_deg) with every row (last axis) that holds a NaN made all NaN (a branch is whole or absent),
+    in place on joints_deg (a float array the caller owns), in few numpy calls for the few poses a call often has."""
     a = joints_deg
     t = a - _HALF_TURN
     t /= _TURN

@@ -19,10 +19,6 @@ def encode_mm(value: float) -> int:
     return round(SCALE * value) + OFFSET
 
 
-def decode_mm(raw: int) -> float:
-    return (raw - OFFSET) / SCALE
-
-
 class RegisterBus:
     """Registers the device writes and reads by name (the table's names); the PLC's counter now is a live
     register (its count at the reading's moment). The controller's own encoder input (the device's

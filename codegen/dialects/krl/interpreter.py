@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from codegen.dialects.core.files import SourceFile, read_source
+from codegen.dialects.core.files import read_source
 from codegen.dialects.core.machine import Program
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.modules import load, load_files, programs
@@ -22,7 +22,3 @@ def load_file(path: Path) -> Program:
     if dat.exists():
         files.append(read_source(dat, ENCODINGS))
     return load_files(files)
-
-
-def as_files(text: str, filename: str) -> list[SourceFile]:
-    return [SourceFile(filename, text)]

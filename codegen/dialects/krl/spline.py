@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from lark import Token, Tree
 
-from codegen.dialects.core.values import RunError
-
 # KSS 8.3 programming manual for system integrators, spline motions: SPTP, SLIN and SCIRC are single spline
 # motions; their path between the points is what the conventional PTP, LIN and CIRC do (a joint-interpolated
 # move, a straight line, a circle), which is all the trace records (the spline's smoother velocity profile is
@@ -97,8 +95,3 @@ class WithClauses:
     def refuse_relative(self, node, keyword: str) -> None:
         if keyword.endswith("_REL"):
             self.fail(node, f"{keyword} (a relative motion) is not modelled by this interpreter")
-
-
-def check_with_target(where: str, extra: dict) -> None:
-    if str(extra.get("$IPO_MODE", "#BASE")).upper() == "#TCP":
-        raise RunError(f"{where}: $IPO_MODE #TCP (an external TCP, the tool fixed) is not modelled")
