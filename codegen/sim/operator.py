@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-USED_KEY = "<dialog answers used>"  # Machine.extra: how many answers this run took
-
 
 class Operator:
     """The person at the teach pendant: answers each dialog the program shows, in the order given, by pressing a
@@ -26,10 +24,10 @@ class Operator:
         """The softkey pressed on a dialog whose softkeys 1, 2, ... carry these labels (None: no key there): its
         number where the answer names a label shown, else the answer as given (the dialect refuses one that is
         no key shown); None: no answer left."""
-        used = machine.extra.get(USED_KEY, 0)
+        used = machine.device_state.get(self, 0)  # how many answers this run took
         if used >= len(self.answers):
             return None
-        machine.extra[USED_KEY] = used + 1
+        machine.device_state[self] = used + 1
         answer = self.answers[used]
         if isinstance(answer, str):
             shown = [str(label).casefold() if label is not None else None for label in labels]

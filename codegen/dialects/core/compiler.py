@@ -6,7 +6,7 @@ import builtins
 import operator
 
 from codegen.dialects.core.expressions import Expressions
-from codegen.dialects.core.machine import Frame, Machine, Routine, step_limit_error
+from codegen.dialects.core.machine import Frame, Machine, Routine, RunState, step_limit_error
 from codegen.dialects.core.routines import Routines
 from codegen.dialects.core.source import SourceBuilder
 from codegen.dialects.core.statements import Statements
@@ -56,6 +56,7 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
         "=": operator.eq,
     }
     int_division = False
+    run_state: type[RunState] = RunState  # the dialect's state of a run (a dataclass in its package)
 
     def __init__(self, filename: str) -> None:
         self.filename = filename
@@ -85,7 +86,12 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
         self._source_depth = 0
         self._input_names: dict[str, tuple[str, int | None]] = {}
 
+    def new_state(self) -> RunState:
+        """The dialect's state at the start of a program's set-up (Machine.state)."""
+        return self.run_state()
+
     # --- tables supplied by dialects ------------------------------------------------------
+
     def make_builtins(self) -> dict:
         return {}
 

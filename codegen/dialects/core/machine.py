@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import gc
 import math
 from collections.abc import Iterable
@@ -57,11 +58,29 @@ class Device(Protocol):
         ...
 
 
+@dataclasses.dataclass
+class RunState:
+    """A dialect's state of one run beyond the program's variables (its system variables, handles, the motion
+    under way): each dialect declares a dataclass on this in its package and its compiler makes it (new_state).
+    A run starts from a copy of the state the program's set-up left (copied: its fields and the dicts, lists and
+    sets they hold)."""
+
+    def copy(self) -> RunState:
+        new = object.__new__(type(self))
+        new.__dict__ = {k: v.copy() if type(v) in CONTAINERS else v for k, v in self.__dict__.items()}
+        return new
+
+
+CONTAINERS = (dict, list, set)  # what RunState.copy copies beside the state itself
+
+
 class ProgramCode(Protocol):
     """What a run needs of the compiler that built the program (codegen/dialects/core/compiler.py Compiler:
     named here by its methods, so that the machine does not import the compiler that imports it)."""
 
     routines: dict
+
+    def new_state(self) -> RunState: ...
 
     def norm(self, name: str) -> str: ...
 
@@ -127,7 +146,9 @@ class Machine:
         self.steps = 0
         self.move_limit: int | None = None  # Program.run(max_moves=...): the run ends after that many moves
         self.time_limit = math.inf  # Program.run(max_seconds=...): the run ends once the clock passes it
-        self.extra: dict = {}  # dialect state ($BASE, message handles, ...)
+        # the dialect's state: its system variables, handles, ... (no program: a device tried alone)
+        self.state = RunState() if program is None else program.compiler.new_state()
+        self.device_state: dict = {}  # a device's own state in this run, by the device (a counter of answers)
         # Time (s since the program started): the program's clock, and when the arm finishes the moves
         # commanded so far (later than the clock while a controller's program runs ahead of its motion)
         self.clock = 0.0
@@ -373,16 +394,16 @@ class Program:
         self.init = init  # callable: module data / constant top-level statements
         self.main = main  # routine to call after init, or None
         self.body = body  # callable run after init when there is no main routine
-        self._snapshot: tuple[dict, dict, dict] | None = None
+        self._snapshot: tuple[dict, dict, RunState] | None = None
 
-    def _prepare(self, step_limit: int) -> tuple[dict, dict, dict]:
+    def _prepare(self, step_limit: int) -> tuple[dict, dict, RunState]:
         if self._snapshot is None:
             machine = Machine(self, {}, step_limit)
             self.init(Frame(machine, machine.globals, machine.global_types))
             globals_, types = machine.globals, machine.global_types
             if len(globals_) >= SHARE_FROM:  # a large program: shared by its runs, not copied (core/shared.py)
                 globals_, types = SharedGlobals(globals_), SharedGlobals(types)
-            self._snapshot = (globals_, types, machine.extra)
+            self._snapshot = (globals_, types, machine.state)
         return self._snapshot
 
     def prepare(self) -> None:
@@ -392,7 +413,7 @@ class Program:
 
     def unknown_inputs(self, names) -> list[str]:
         """The input names this program has no variable or register for (a misspelt --input)."""
-        globals_, _types, _extra = self._prepare(DEFAULT_STEP_LIMIT)
+        globals_, _types, _state = self._prepare(DEFAULT_STEP_LIMIT)
         return [name for name in names if not self.compiler.accepts_input(name, globals_)]
 
     def run(
@@ -417,7 +438,7 @@ class Program:
         max_moves, max_seconds: the run ends cleanly after that many moves, or once the program's clock passes
         that many seconds (an endless cell program), its trace kept and Trace.ended saying why. A step limit
         reached raises StepLimitError, whose `trace` holds what ran until then (as any RunError of the run)."""
-        globals_, types, extra = self._prepare(step_limit)
+        globals_, types, state = self._prepare(step_limit)
         machine = Machine(self, dict(inputs or {}), step_limit, tuple(devices), arm, signal_cycle_s)
         machine.move_limit = max_moves
         if max_seconds is not None:
@@ -432,7 +453,7 @@ class Program:
             machine.globals, machine.global_types = globals_, types
         else:  # values are never changed in place: a shallow copy is the run's own
             machine.globals, machine.global_types = dict(globals_), dict(types)
-        machine.extra = dict(extra)
+        machine.state = state.copy()
         try:
             return self._run(machine, keep)
         finally:

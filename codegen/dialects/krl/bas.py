@@ -62,7 +62,7 @@ def vel_ptp(fr, percent: float, where: str) -> None:
         raise RunError(f"{where}: BAS(#VEL_PTP, {percent:g}): a PTP at 0 % does not move")
     value = config(fr, "DEF_VEL_PTP") * (min(percent, 100.0) / 100.0)
     write(fr, "$VEL_AXIS", [round(value)] * AXES, where)
-    fr.m.extra["VEL_PTP"] = float(value)
+    fr.m.state.sysvars["VEL_PTP"] = float(value)
 
 
 def acc_ptp(fr, percent: float, where: str) -> None:
@@ -94,7 +94,7 @@ def numbered(fr, array: str, n: int, where: str) -> Record:
     type_name, size, _shape = SYSTEM_ARRAYS[array]
     if not 1 <= n <= size:
         raise RunError(f"{where}: {array}[{n}]: the number must be 1..{size}")
-    values = fr.m.extra.get(array) or [new_value(type_name) for _ in range(size)]
+    values = fr.m.state.sysvars.get(array) or [new_value(type_name) for _ in range(size)]
     value = values[n - 1]
     if value["X"] is UNINIT:
         raise RunError(
@@ -110,7 +110,7 @@ def tool(fr, n: int, where: str) -> None:
 
 
 def base(fr, n: int, where: str) -> None:
-    fr.m.extra["$BASE"] = frame() if n <= 0 else numbered(fr, "BASE_DATA", n, where)
+    fr.m.state.sysvars["$BASE"] = frame() if n <= 0 else numbered(fr, "BASE_DATA", n, where)
     write(fr, "$ACT_BASE", n, where)
 
 
@@ -145,7 +145,7 @@ def cp_dat(fr, where: str) -> None:
     acc_cp(fr, _number(ldat["ACC"], where, "LDAT_ACT.ACC"), where)
     _set_fields(fr, "$APO", where, CDIS=_number(ldat["APO_DIST"], where, "LDAT_ACT.APO_DIST"))
     ori = ldat.get("ORI_TYP", UNINIT)
-    fr.m.extra["$ORI_TYPE"] = ori.upper() if isinstance(ori, str) else "#VAR"
+    fr.m.state.sysvars["$ORI_TYPE"] = ori.upper() if isinstance(ori, str) else "#VAR"
 
 
 INITMOV_DEFAULTS = (
@@ -175,14 +175,14 @@ def initmov(fr, where: str) -> None:
     cache = m.program.compiler.__dict__.setdefault("initmov_cache", {})
     updates = cache.get(values)
     if updates is None:
-        saved, m.extra = m.extra, {}
+        saved, m.state.sysvars = m.state.sysvars, {}
         try:
             _initmov(fr, where)
-            updates = cache[values] = m.extra
+            updates = cache[values] = m.state.sysvars
         finally:
-            m.extra = saved
-    m.extra.update(updates)
-    tools = m.extra.get("TOOL_DATA")
+            m.state.sysvars = saved
+    m.state.sysvars.update(updates)
+    tools = m.state.sysvars.get("TOOL_DATA")
     if tools is not None and tools[0]["X"] is not UNINIT:
         set_tool(fr, tools[0], where)
         write(fr, "$ACT_TOOL", 1, where)
@@ -211,9 +211,9 @@ def _initmov(fr, where: str) -> None:
         CORI=float(config(fr, "DEF_APO_CORI")),
     )
     write(fr, "$ADVANCE", int(config(fr, "DEF_ADVANCE")), where)
-    m.extra["$ORI_TYPE"] = "#VAR"
-    m.extra["$CIRC_TYPE"] = str(config(fr, "DEF_CIRC_TYP")).upper()
-    m.extra["$BASE"] = frame()  # BASE(0): $WORLD
+    m.state.sysvars["$ORI_TYPE"] = "#VAR"
+    m.state.sysvars["$CIRC_TYPE"] = str(config(fr, "DEF_CIRC_TYP")).upper()
+    m.state.sysvars["$BASE"] = frame()  # BASE(0): $WORLD
     write(fr, "$ACT_BASE", 0, where)
 
 
@@ -303,7 +303,7 @@ def sload(fr, args, kwargs, where):
     size = SYSTEM_ARRAYS["LOAD_DATA"][1]
     if not 1 <= n <= size:
         raise RunError(f"{where}: SLOAD({n}): the number must be 1..{size}")
-    values = fr.m.extra.get("LOAD_DATA") or [new_value("LOAD") for _ in range(size)]
+    values = fr.m.state.sysvars.get("LOAD_DATA") or [new_value("LOAD") for _ in range(size)]
     return values[n - 1]
 
 
@@ -358,22 +358,21 @@ def recorded_only(name: str):
     return call
 
 
-def functions() -> dict:
-    return {
-        "BAS": bas,
-        "SVEL_JOINT": svel_joint,
-        "SACC_JOINT": sacc_joint,
-        "STOOL2": stool2,
-        "SBASE": sbase,
-        "SIPO_MODE": sipo_mode,
-        "SLOAD": sload,
-        "SAPO_PTP": sapo_ptp,
-        "SAPO": sapo,
-        "SVEL_CP": svel_cp,
-        "SACC_CP": sacc_cp,
-        "SORI_TYP": sori_typ,
-        "SGEAR_JERK": recorded_only("SGEAR_JERK"),
-        "SJERK": recorded_only("SJERK"),
-        "USE_CM_PRO_VALUES": recorded_only("USE_CM_PRO_VALUES"),
-        "SET_CD_PARAMS": recorded_only("SET_CD_PARAMS"),  # the inline forms' collision detection: none here
-    }
+FUNCTIONS = {  # the procedures of KUKA's BAS.SRC the interpreter provides, by upper-case name
+    "BAS": bas,
+    "SVEL_JOINT": svel_joint,
+    "SACC_JOINT": sacc_joint,
+    "STOOL2": stool2,
+    "SBASE": sbase,
+    "SIPO_MODE": sipo_mode,
+    "SLOAD": sload,
+    "SAPO_PTP": sapo_ptp,
+    "SAPO": sapo,
+    "SVEL_CP": svel_cp,
+    "SACC_CP": sacc_cp,
+    "SORI_TYP": sori_typ,
+    "SGEAR_JERK": recorded_only("SGEAR_JERK"),
+    "SJERK": recorded_only("SJERK"),
+    "USE_CM_PRO_VALUES": recorded_only("USE_CM_PRO_VALUES"),
+    "SET_CD_PARAMS": recorded_only("SET_CD_PARAMS"),  # the inline forms' collision detection: none here
+}

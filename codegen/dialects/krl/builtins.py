@@ -174,109 +174,105 @@ NOT_MODELLED = {
 }
 
 
-def builtins() -> dict:
-    """The KRL functions and procedures the interpreter provides, by upper-case name."""
+def trig(fn):
+    def call(fr, args, kwargs, where):
+        return f32(fn(math.radians(float(valid(args[0], where, "argument")))))
 
-    def trig(fn):
-        def call(fr, args, kwargs, where):
-            return f32(fn(math.radians(float(valid(args[0], where, "argument")))))
+    return call
 
-        return call
 
-    def arc(fn):
-        def call(fr, args, kwargs, where):
-            value = float(valid(args[0], where, "argument"))
-            if not -1.0 <= value <= 1.0:
-                raise RunError(f"{where}: ACOS / ASIN of {value:g}: the argument must be in -1..1")
-            return f32(math.degrees(fn(value)))
-
-        return call
-
-    def atan2(fr, args, kwargs, where):
-        y, x = (float(valid(a, where, "argument")) for a in args)
-        return f32(math.degrees(math.atan2(y, x)))
-
-    def sqrt(fr, args, kwargs, where):
+def arc(fn):
+    def call(fr, args, kwargs, where):
         value = float(valid(args[0], where, "argument"))
-        if value < 0:
-            raise RunError(f"{where}: SQRT of a negative number")
-        return f32(math.sqrt(value))
+        if not -1.0 <= value <= 1.0:
+            raise RunError(f"{where}: ACOS / ASIN of {value:g}: the argument must be in -1..1")
+        return f32(math.degrees(fn(value)))
 
-    def abs_(fr, args, kwargs, where):
-        value = valid(args[0], where, "argument")
-        return abs(value)
+    return call
 
-    def inv_pos(fr, args, kwargs, where):
-        from codegen.poses import invert
 
-        value = cart(args[0], where)
-        out = value.copy()
-        for (key, _), v in zip(XYZABC, posemath.xyzabc_from_matrix(invert(cart_matrix(value))), strict=True):
-            out[key] = f32(v)
-        return out
+def atan2(fr, args, kwargs, where):
+    y, x = (float(valid(a, where, "argument")) for a in args)
+    return f32(math.degrees(math.atan2(y, x)))
 
-    def set_krlmsg(fr, args, kwargs, where):
-        kind, msg, params, opt = args
-        if isinstance(opt, Record) and opt["VL_STOP"] is True:  # KrlMsgOpt_T.VL_Stop: an advance-run stop
+
+def sqrt(fr, args, kwargs, where):
+    value = float(valid(args[0], where, "argument"))
+    if value < 0:
+        raise RunError(f"{where}: SQRT of a negative number")
+    return f32(math.sqrt(value))
+
+
+def abs_(fr, args, kwargs, where):
+    value = valid(args[0], where, "argument")
+    return abs(value)
+
+
+def inv_pos(fr, args, kwargs, where):
+    from codegen.poses import invert
+
+    value = cart(args[0], where)
+    out = value.copy()
+    for (key, _), v in zip(XYZABC, posemath.xyzabc_from_matrix(invert(cart_matrix(value))), strict=True):
+        out[key] = f32(v)
+    return out
+
+
+def set_krlmsg(fr, args, kwargs, where):
+    kind, msg, params, opt = args
+    if isinstance(opt, Record) and opt["VL_STOP"] is True:  # KrlMsgOpt_T.VL_Stop: an advance-run stop
+        fr.m.arrive(where)
+    fr.m.message(message_text(msg, params, where))
+    state = fr.m.state
+    handle = state.handle = state.handle + 1
+    if str(kind).upper() in ACKNOWLEDGED:  # shown until the operator acknowledges it
+        state.waiting = {**state.waiting, handle: fr.m.trace.messages[-1]}
+    return handle
+
+
+def exists_krlmsg(fr, args, kwargs, where):
+    """Exists_KrlMsg(handle): TRUE while the message is shown. The interpreter's operator reads an
+    acknowledgement message the first time the program looks for it and acknowledges it: the
+    program stood stopped with that message until then (recorded as the run's stop)."""
+    waiting = fr.m.state.waiting
+    handle = int(valid(args[0], where, "message handle"))
+    if handle in waiting:
+        trace = fr.m.trace
+        if not trace.halted:
+            trace.halted, trace.halt_message = True, waiting[handle]
+        fr.m.state.waiting = {k: v for k, v in waiting.items() if k != handle}
+    return False
+
+
+def msg(kind: str):
+    """MsgNotify / MsgQuit (KSS 8.3's MsgLib, recalled: the text first, then the module and the number):
+    a notification, or a message the operator acknowledges (the program stands until then: the run's stop)."""
+
+    def call(fr, args, kwargs, where):
+        text = valid(args[0], where, f"{kind} text")
+        if not isinstance(text, str):
+            raise RunError(f"{where}: {kind}: the text is a CHAR array")
+        fr.m.message(text)
+        if kind == "MsgQuit":
             fr.m.arrive(where)
-        fr.m.message(message_text(msg, params, where))
-        handle = fr.m.extra["handle"] = fr.m.extra.get("handle", 0) + 1
-        if str(kind).upper() in ACKNOWLEDGED:  # shown until the operator acknowledges it
-            fr.m.extra["waiting"] = {**fr.m.extra.get("waiting", {}), handle: fr.m.trace.messages[-1]}
-        return handle
-
-    def exists_krlmsg(fr, args, kwargs, where):
-        """Exists_KrlMsg(handle): TRUE while the message is shown. The interpreter's operator reads an
-        acknowledgement message the first time the program looks for it and acknowledges it: the
-        program stood stopped with that message until then (recorded as the run's stop)."""
-        waiting = fr.m.extra.get("waiting", {})
-        handle = int(valid(args[0], where, "message handle"))
-        if handle in waiting:
-            trace = fr.m.trace
-            if not trace.halted:
-                trace.halted, trace.halt_message = True, waiting[handle]
-            fr.m.extra["waiting"] = {k: v for k, v in waiting.items() if k != handle}
-        return False
-
-    def bas(fr, args, kwargs, where):
-        """BAS(#INITMOV, 0) sets the default speeds and accelerations; BAS(#VEL_PTP, n) the PTP axis speed
-        in percent of the axes' top speed (KUKA BAS.SRC), recorded with each PTP."""
-        if str(args[0]).upper() == "#VEL_PTP":
-            percent = float(valid(args[1], where, "BAS(#VEL_PTP) percent"))
-            if not 0 < percent <= 100:
-                raise RunError(f"{where}: BAS(#VEL_PTP, {percent:g}): the percent must be in (0, 100]")
-            fr.m.extra["VEL_PTP"] = percent
+            pause(fr)
         return None
 
-    def msg(kind: str):
-        """MsgNotify / MsgQuit (KSS 8.3's MsgLib, recalled: the text first, then the module and the number):
-        a notification, or a message the operator acknowledges (the program stands until then: the run's stop)."""
+    return call
 
-        def call(fr, args, kwargs, where):
-            text = valid(args[0], where, f"{kind} text")
-            if not isinstance(text, str):
-                raise RunError(f"{where}: {kind}: the text is a CHAR array")
-            fr.m.message(text)
-            if kind == "MsgQuit":
-                fr.m.arrive(where)
-                pause(fr)
-            return None
 
-        return call
-
-    return {
-        "ACOS": arc(math.acos),
-        "ASIN": arc(math.asin),
-        "MSGNOTIFY": msg("MsgNotify"),
-        "MSGQUIT": msg("MsgQuit"),
-        "SIN": trig(math.sin),
-        "COS": trig(math.cos),
-        "TAN": trig(math.tan),
-        "ATAN2": atan2,
-        "SQRT": sqrt,
-        "ABS": abs_,
-        "INV_POS": inv_pos,
-        "SET_KRLMSG": set_krlmsg,
-        "EXISTS_KRLMSG": exists_krlmsg,
-        "BAS": bas,
-    }
+BUILTINS = {  # the KRL functions and procedures the interpreter provides, by upper-case name
+    "ACOS": arc(math.acos),
+    "ASIN": arc(math.asin),
+    "MSGNOTIFY": msg("MsgNotify"),
+    "MSGQUIT": msg("MsgQuit"),
+    "SIN": trig(math.sin),
+    "COS": trig(math.cos),
+    "TAN": trig(math.tan),
+    "ATAN2": atan2,
+    "SQRT": sqrt,
+    "ABS": abs_,
+    "INV_POS": inv_pos,
+    "SET_KRLMSG": set_krlmsg,
+    "EXISTS_KRLMSG": exists_krlmsg,
+}

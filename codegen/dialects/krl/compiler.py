@@ -10,7 +10,7 @@ from codegen.dialects.core.machine import pause
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import F32, Record, RunError, Signal, f32, index_value, op_error
 from codegen.dialects.krl import bas, dialogs, io
-from codegen.dialects.krl.builtins import UNINIT, builtins, cart, type_name_of, valid, xyzabc
+from codegen.dialects.krl.builtins import BUILTINS, UNINIT, cart, type_name_of, valid, xyzabc
 from codegen.dialects.krl.declarations import DECLARATIONS, Declarations
 from codegen.dialects.krl.goto import GotoBlocks
 from codegen.dialects.krl.interrupts import InterruptStatements
@@ -28,6 +28,7 @@ from codegen.dialects.krl.names import Scope, ScopedNames
 from codegen.dialects.krl.relative import relative_target
 from codegen.dialects.krl.signals import SignalGroups
 from codegen.dialects.krl.spline import KINDS, WithClauses, motion_parts
+from codegen.dialects.krl.state import KRLState
 from codegen.dialects.krl.sysvars import set_tool, timers_running
 from codegen.dialects.krl.trigger import TriggerStatements
 
@@ -76,6 +77,7 @@ class KRLCompiler(
     name = "krl"
     case_insensitive = True
     index_base = 1
+    run_state = KRLState
     int_division = True
     halt_resumes = True  # HALT stops the program; the operator's start resumes it at the next statement
     COERCE_UNCHANGED = {"REAL": "_F32", "INT": "int", "BOOL": "bool"}
@@ -93,7 +95,7 @@ class KRLCompiler(
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        return {**builtins(), **bas.functions(), **dialogs.BUILTINS}
+        return {**BUILTINS, **bas.FUNCTIONS, **dialogs.BUILTINS}
 
     def number(self, text: str):
         if text.startswith("'"):  # 'Hff' / 'B0101'
@@ -115,7 +117,7 @@ class KRLCompiler(
         match = SYSTEM_ARRAY.fullmatch(name.upper())
         if match is None:
             return super().kept(machine, name)
-        values = machine.extra.get(match.group(1))
+        values = machine.state.sysvars.get(match.group(1))
         index = int(match.group(2))
         return values[index - 1] if values is not None and 1 <= index <= len(values) else None
 
@@ -249,10 +251,10 @@ class KRLCompiler(
 
     def new_variable(self, fr, key, value, where):
         if key == "$BASE":
-            fr.m.extra["$BASE"] = self.coerce("FRAME", value, where)
+            fr.m.state.sysvars["$BASE"] = self.coerce("FRAME", value, where)
             return
         if key in SYSTEM_ARRAYS:  # an element was assigned (the array read first, so it is there)
-            fr.m.extra[key] = value
+            fr.m.state.sysvars[key] = value
             return
         raise RunError(f"{where}: assignment to undeclared variable {key}")
 
@@ -272,14 +274,14 @@ class KRLCompiler(
             if name == "$BASE":
 
                 def set_base(fr):
-                    fr.m.extra["$BASE"] = self.coerce("FRAME", value(fr), where)
+                    fr.m.state.sysvars["$BASE"] = self.coerce("FRAME", value(fr), where)
 
                 return set_base
             if name == "$TOOL":
                 return lambda fr: set_tool(fr, self.coerce("FRAME", value(fr), where), where)
 
             def set_load(fr):
-                fr.m.extra["$LOAD"] = self.coerce("LOAD", value(fr), where)
+                fr.m.state.sysvars["$LOAD"] = self.coerce("LOAD", value(fr), where)
 
             return set_load
         declared = self.static_type(target_node)

@@ -27,7 +27,6 @@ SOFTKEYS = 7  # KrlMsgDlgSK_T softkeys of a dialog: answers 1..7
 PARAMETERS = 3  # KrlMsgPar_T parameters, %1 to %3
 SIZES = {"MODUL": 24, "MSG_TXT": 80}  # KrlMsg_T's CHAR arrays
 SK_TXT_MAX = 10  # KrlMsgDlgSK_T.Sk_Txt is CHAR[10]
-DIALOGS_KEY = "dialogs"  # Machine.extra: handle -> Dialog
 # Set_KrlDlg's and Exists_KrlDlg's OUT parameters (positions): each argument there must be a variable; the
 # compiler writes back the ones listed in WRITTEN
 OUT_PARAMETERS = {"SET_KRLDLG": (0, 1, 2, 3), "EXISTS_KRLDLG": (1,)}
@@ -91,12 +90,12 @@ def set_krldlg(fr, args, kwargs, where, setters=None):
         fr.m.arrive(where)
     text = message_text(msg, params, where)
     m = fr.m
-    dialogs = m.extra.get(DIALOGS_KEY, {})
+    dialogs = m.state.dialogs
     if any(d.answer is None for d in dialogs.values()):
         return -1  # another dialog is still shown: none can be generated
     m.message(text)
-    handle = m.extra["handle"] = m.extra.get("handle", 0) + 1
-    m.extra[DIALOGS_KEY] = {**dialogs, handle: Dialog(text, labels)}
+    handle = m.state.handle = m.state.handle + 1
+    m.state.dialogs = {**dialogs, handle: Dialog(text, labels)}
     return handle
 
 
@@ -113,7 +112,7 @@ def exists_krldlg(fr, args, kwargs, where, setters=None):
     if setters is None or setters[1] is None:
         raise RunError(f"{where}: Exists_KrlDlg: the answer (OUT) is a variable")
     m = fr.m
-    dialog = m.extra.get(DIALOGS_KEY, {}).get(handle)
+    dialog = m.state.dialogs.get(handle)
     if dialog is None:  # no dialog has that handle: none to wait for
         setters[1](fr, 0)
         return False

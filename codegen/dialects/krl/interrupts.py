@@ -178,7 +178,7 @@ class InterruptStatements:
         signal, edge = watched_input(self, condition)
 
         def run(fr):
-            declared = fr.m.extra.setdefault("interrupts", {})
+            declared = fr.m.state.interrupts
             if number not in declared and len(declared) >= MAX_DECLARED:
                 raise RunError(f"{where}: more than {MAX_DECLARED} interrupts declared")
             fr.m.deliver()  # the old declaration's edges up to now
@@ -196,7 +196,7 @@ class InterruptStatements:
             self.fail(node, f"INTERRUPT {action}: expected ON, OFF, ENABLE or DISABLE")
 
         def run(fr):
-            declared = fr.m.extra.setdefault("interrupts", {})
+            declared = fr.m.state.interrupts
             fr.m.deliver()  # the edges up to now reach the interrupts as they were switched until now
             for n in [number] if number is not None else sorted(declared):
                 if n not in declared:
@@ -274,7 +274,7 @@ def _run(machine, it: Interrupt, latched) -> None:
             raise RunError(f"{where}: an advance-run stop in {label} while the arm moves: not modelled")
         real_arrive(where)
 
-    machine.extra["$POS_INT"] = latched
+    machine.state.sysvars["$POS_INT"] = latched
     machine.move, machine.arrive, machine.elapse, machine.wait_for = no_move, arrive, no_wait, no_wait
     try:
         frame = Frame(machine, machine.globals, machine.global_types)
@@ -286,7 +286,7 @@ def _run(machine, it: Interrupt, latched) -> None:
 
 def pos_int(machine, where: str) -> Record:
     """$POS_INT as the program reads it: the pose latched by the last interrupt that fired."""
-    value = machine.extra.get("$POS_INT")
+    value = machine.state.sysvars.get("$POS_INT")
     if value is None:
         raise RunError(f"{where}: $POS_INT has no value: no interrupt has fired (KRL: variable value invalid)")
     if isinstance(value, str):

@@ -55,21 +55,21 @@ def motion_rule(kind: str, pose: Record, arm, where: str) -> tuple:
 DEFAULT_VEL_CP = 0.25
 
 
-def tcp_speed(extra: dict) -> float:
+def tcp_speed(sysvars: dict) -> float:
     """The TCP speed of the next move in mm/s ($VEL.CP as the program set it)."""
-    return extra.get("$VEL.CP", DEFAULT_VEL_CP) * 1000.0
+    return sysvars.get("$VEL.CP", DEFAULT_VEL_CP) * 1000.0
 
 
-def tcp_accel(extra: dict) -> float | None:
+def tcp_accel(sysvars: dict) -> float | None:
     """A LIN's path acceleration in mm/s2: $ACC.CP (m/s2: KSS 8 System Variables, $ACC) as the program or
     BAS(#INITMOV) set it (DEF_ACC_CP), None while nothing set it (the clock then counts no ramp)."""
-    acc = extra.get("$ACC.CP")
+    acc = sysvars.get("$ACC.CP")
     return None if acc is None else acc * 1000.0
 
 
 def system_inputs(machine) -> dict | None:
     """Set the inputs that name the controller's numbered data (BASE_DATA[n], TOOL_DATA[n], LOAD_DATA[n])
-    in machine.extra; the other inputs, or None when there are none of those."""
+    in machine.state.sysvars; the other inputs, or None when there are none of those."""
     if not any(SYSTEM_ARRAY.fullmatch(name.upper()) for name in machine.inputs):
         return None
     rest = {}
@@ -83,9 +83,9 @@ def system_inputs(machine) -> dict | None:
         count = 6 if type_name == "FRAME" else 4
         if not 1 <= index <= size or not isinstance(value, tuple | list) or len(value) != count:
             raise RunError(f"input {name}: expected {array}[1..{size}] = {shape}")
-        values = list(machine.extra.get(array) or [new_value(type_name) for _ in range(size)])
+        values = list(machine.state.sysvars.get(array) or [new_value(type_name) for _ in range(size)])
         values[index - 1] = frame(value) if type_name == "FRAME" else load_record(value)
-        machine.extra[array] = values
+        machine.state.sysvars[array] = values
     return rest
 
 
@@ -96,7 +96,7 @@ def robroot(machine) -> None:
         if name.upper() == "$ROBROOT":
             if not isinstance(value, tuple | list) or len(value) != 6:
                 raise RunError(f"input {name}: expected $ROBROOT = X,Y,Z,A,B,C")
-            machine.extra["$ROBROOT"] = frame(value)
+            machine.state.sysvars["$ROBROOT"] = frame(value)
 
 
 # The path variables a program sets for its moves (KSS 8 system variables): $VEL.CP, the LIN path
@@ -123,25 +123,25 @@ def path_variable_store(compiler, target_node, value_node, node):
         number = value(fr)
         if isinstance(number, bool | str | Record) or not float(number) > 0:
             raise RunError(f"{where}: {key[0]}.{key[1]} must be a positive number, got {shown(number)}")
-        fr.m.extra[f"{key[0]}.{key[1]}"] = float(number)
+        fr.m.state.sysvars[f"{key[0]}.{key[1]}"] = float(number)
 
     return store
 
 
-def path_settings(static: dict, kind: str, extra: dict) -> dict:
+def path_settings(static: dict, kind: str, sysvars: dict) -> dict:
     """What a PTP or LIN records (MoveEvent.settings): "approx" (C_PTP, C_DIS, C_VEL, C_ORI, C_SPL or None),
     "load" (load_of), "cdis" ($APO.CDIS mm, for C_DIS), for a LIN "vel_cp" ($VEL.CP m/s) and "acc_cp" ($ACC.CP
     m/s2), for a PTP "vel_ptp" and "acc_ptp" ($VEL_AXIS[1] / $ACC_AXIS[1] %: BAS(#VEL_PTP ...)), and "ov_pro"
     ($OV_PRO %); None: the program (or BAS) did not set it."""
-    out = {**static, "load": load_of(extra.get("$LOAD")), "cdis": None, "ov_pro": extra.get("$OV_PRO")}
+    out = {**static, "load": load_of(sysvars.get("$LOAD")), "cdis": None, "ov_pro": sysvars.get("$OV_PRO")}
     if static["approx"] == "C_DIS":
-        out["cdis"] = extra.get("$APO.CDIS")
+        out["cdis"] = sysvars.get("$APO.CDIS")
     if kind == "linear":
-        out["vel_cp"] = extra.get("$VEL.CP")
-        out["acc_cp"] = extra.get("$ACC.CP")
+        out["vel_cp"] = sysvars.get("$VEL.CP")
+        out["acc_cp"] = sysvars.get("$ACC.CP")
     else:
-        out["vel_ptp"] = extra.get("VEL_PTP")
-        out["acc_ptp"] = extra.get("ACC_PTP")
+        out["vel_ptp"] = sysvars.get("VEL_PTP")
+        out["acc_ptp"] = sysvars.get("ACC_PTP")
     return out
 
 
@@ -192,28 +192,28 @@ def motion_run(compiler, kind: str, static: dict, value, where: str, line: int):
 
     def run(fr):
         target = whole_frame(compiler, value(fr), where, "aggregate target lacks {} (no current pose here)", fr)
-        extra = fr.m.extra
-        settings = path_settings(static, kind, extra)
-        if "$IPO_MODE" in extra and extra["$IPO_MODE"] != "#BASE":
-            raise RunError(f"{where}: $IPO_MODE {extra['$IPO_MODE']} (an external TCP) is not modelled")
+        sysvars = fr.m.state.sysvars
+        settings = path_settings(static, kind, sysvars)
+        if "$IPO_MODE" in sysvars and sysvars["$IPO_MODE"] != "#BASE":
+            raise RunError(f"{where}: $IPO_MODE {sysvars['$IPO_MODE']} (an external TCP) is not modelled")
         if isinstance(target, Record) and target.type in AXES:  # axis values: no solution to choose
             if kind != "joint":
                 raise RunError(f"{where}: LIN takes a cartesian target")
             q = [float(valid(target[f"A{i}"], where, f"{target.type}.A{i}")) for i in range(1, 7)]
             event = MoveEvent(kind, None, line, settings)
             fr.m.arm.to_joints(event, q, where)
-            commanded(fr.m, event, tcp_speed(extra))
+            commanded(fr.m, event, tcp_speed(sysvars))
             return
         pose = cart(target, where)
         posemath.check_finite(xyzabc(pose), where, "motion target")
-        base = base2robot(fr.m.extra)
+        base = base2robot(fr.m.state.sysvars)
         tcp2base = base @ cart_matrix(pose)
-        if kind == "linear" and fr.m.extra.get("$ORI_TYPE") == "#CONSTANT":
+        if kind == "linear" and fr.m.state.sysvars.get("$ORI_TYPE") == "#CONSTANT":
             tcp2base[:3, :3] = start_orientation(fr, "LIN", where)
         event = MoveEvent(kind, tcp2base, line, settings)
         fr.m.arm.to_pose(event, where, *motion_rule(kind, pose, fr.m.arm, where))
         record_base(fr.m, event, base)
-        commanded(fr.m, event, tcp_speed(extra), accel=tcp_accel(extra) if kind == "linear" else None)
+        commanded(fr.m, event, tcp_speed(sysvars), accel=tcp_accel(sysvars) if kind == "linear" else None)
 
     return run
 
@@ -223,11 +223,11 @@ def commanded(m, event: MoveEvent, speed: float, via=None, accel: float | None =
     motion); the tool it was planned with kept ($POS_ACT), the TRIGGERs on it switched. accel: a LIN's path
     acceleration (mm/s2): its time a trapezoid from standstill to standstill (an approximated LIN's blend,
     which does not stop, is not modelled: its time is the longer one)."""
-    extra = m.extra
-    triggers = "TRIGGERS" in extra
+    sysvars = m.state.sysvars
+    triggers = bool(m.state.triggers)
     t0 = max(m.clock, m.arm_until) if triggers else 0.0
-    m.move(event, speed, runs_ahead=extra.get("$ADVANCE") != 0, via=via, accel_mm_s2=accel)
-    extra["TOOL_AT_MOVE"] = m.arm.tcp2flange
+    m.move(event, speed, runs_ahead=sysvars.get("$ADVANCE") != 0, via=via, accel_mm_s2=accel)
+    m.state.tool_at_move = m.arm.tcp2flange
     if triggers:
         trigger.fire(m, event, t0, speed)
 
@@ -258,7 +258,7 @@ def orientation_store(compiler, target_node, value_node, node):
         v = value(fr)
         if not isinstance(v, str) or v.upper() not in allowed:
             raise RunError(f"{where}: {key} takes {', '.join(sorted(allowed))}, got {shown(v)}")
-        fr.m.extra[key] = v.upper()
+        fr.m.state.sysvars[key] = v.upper()
 
     return store
 
@@ -288,18 +288,18 @@ def circ_run(compiler, static: dict, aux_value, end_value, where: str, line: int
             raise RunError(f"{where}: CIRC takes cartesian points (FRAME, POS, E6POS), its {what} is {pose.type}")
         pose = cart(pose, where)
         posemath.check_finite(xyzabc(pose), where, f"CIRC {what}")
-        return pose, base2robot(fr.m.extra) @ cart_matrix(pose)
+        return pose, base2robot(fr.m.state.sysvars) @ cart_matrix(pose)
 
     def run(fr):
-        extra = fr.m.extra
-        if extra.get("$ORI_TYPE") != "#CONSTANT":
+        sysvars = fr.m.state.sysvars
+        if sysvars.get("$ORI_TYPE") != "#CONSTANT":
             raise RunError(
-                f"{where}: CIRC with $ORI_TYPE {extra.get('$ORI_TYPE', 'not set')}: the interpreter models CIRC "
+                f"{where}: CIRC with $ORI_TYPE {sysvars.get('$ORI_TYPE', 'not set')}: the interpreter models CIRC "
                 "with $ORI_TYPE = #CONSTANT (the start's orientation held): set it before the CIRC"
             )
-        if extra.get("$CIRC_TYPE") != "#BASE":
+        if sysvars.get("$CIRC_TYPE") != "#BASE":
             raise RunError(
-                f"{where}: CIRC with $CIRC_TYPE {extra.get('$CIRC_TYPE', 'not set')}: the interpreter models CIRC "
+                f"{where}: CIRC with $CIRC_TYPE {sysvars.get('$CIRC_TYPE', 'not set')}: the interpreter models CIRC "
                 "with $CIRC_TYPE = #BASE (the orientation held in the base): set it before the CIRC"
             )
         last = fr.m.last_move
@@ -321,11 +321,11 @@ def circ_run(compiler, static: dict, aux_value, end_value, where: str, line: int
                 raise RunError(f"{where}: CIRC: the {what} is where the circle starts")
         if np.linalg.norm(aux[:3, 3] - end[:3, 3]) < CIRC_MIN_MM:
             raise RunError(f"{where}: CIRC: the auxiliary point is the end point")
-        settings = {**path_settings(static, "linear", extra), "circ": True}
+        settings = {**path_settings(static, "linear", sysvars), "circ": True}
         event = MoveEvent("linear", end, line, settings)
         fr.m.arm.to_pose(event, where, *motion_rule("linear", end_pose, fr.m.arm, where))
-        record_base(fr.m, event, base2robot(extra))
-        commanded(fr.m, event, tcp_speed(extra), via=aux)
+        record_base(fr.m, event, base2robot(sysvars))
+        commanded(fr.m, event, tcp_speed(sysvars), via=aux)
 
     return run
 

@@ -107,7 +107,7 @@ class ScopedNames:
             type_name, size, _shape = SYSTEM_ARRAYS[key]
 
             def read_numbered(fr):
-                return fr.m.extra.setdefault(key, [new_value(type_name) for _ in range(size)])
+                return fr.m.state.sysvars.setdefault(key, [new_value(type_name) for _ in range(size)])
 
             return read_numbered
         if self.local_types is not None and key in self.local_types:
@@ -136,17 +136,17 @@ class ScopedNames:
         if key in ("$NULLFRAME", "$WORLD"):
             return lambda fr: frame()
         if key == "$BASE":
-            return lambda fr: fr.m.extra.setdefault("$BASE", frame(ACTIVE_BASE_AT_START))
+            return lambda fr: fr.m.state.sysvars.setdefault("$BASE", frame(ACTIVE_BASE_AT_START))
         if key == "$ROBROOT":  # the robot's base in the world (read-only)
-            return lambda fr: fr.m.extra.get("$ROBROOT") or frame()
+            return lambda fr: fr.m.state.sysvars.get("$ROBROOT") or frame()
         if key == "$POS_INT":
             return lambda fr: pos_int(fr.m, where)
         if key in ("$ORI_TYPE", "$CIRC_TYPE", "$LOAD"):
 
             def read_set(fr):
-                if key not in fr.m.extra:
+                if key not in fr.m.state.sysvars:
                     raise RunError(f"{where}: {key} has no value here (the program sets it: no default is assumed)")
-                return fr.m.extra[key]
+                return fr.m.state.sysvars[key]
 
             return read_set
         if key == "$TOOL":

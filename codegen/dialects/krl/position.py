@@ -20,27 +20,27 @@ def world2robot(root: Record):
     return invert(cart_matrix(root))
 
 
-def base2robot(extra: dict) -> np.ndarray:
+def base2robot(sysvars: dict) -> np.ndarray:
     """The active $BASE in the robot's base frame (4x4 mm): $BASE is in the world, the trace in the robot's
     base frame ($ROBROOT); a program that never set $BASE moves in the one active when it started."""
-    base = extra.get("$BASE") or frame(ACTIVE_BASE_AT_START)
+    base = sysvars.get("$BASE") or frame(ACTIVE_BASE_AT_START)
     out = cart_matrix(base) if xyzabc(base) != (0, 0, 0, 0, 0, 0) else np.eye(4)  # $NULLFRAME: identity
-    if "$ROBROOT" in extra:
-        out = world2robot(extra["$ROBROOT"]) @ out
+    if "$ROBROOT" in sysvars:
+        out = world2robot(sysvars["$ROBROOT"]) @ out
     return out
 
 
 def record_base(machine, event: MoveEvent, base: np.ndarray) -> None:
     """Keep the $BASE a move was planned in: $POS_INT is in the base of the motion under way."""
-    machine.extra.setdefault("MOVE_BASES", {})[id(event)] = base
+    machine.state.move_bases[id(event)] = base
 
 
 def motion_base(machine, t: float) -> np.ndarray:
     """The $BASE (robot's base frame) of the move under way at time t, or of the last one that ended by
     then; the program's $BASE before any move."""
-    bases = machine.extra.get("MOVE_BASES", {})
+    bases = machine.state.move_bases
     watching = machine.watching
     for seg in reversed(watching.segments if watching is not None else []):
         if seg.t0 <= t and id(seg.end) in bases:
             return bases[id(seg.end)]
-    return base2robot(machine.extra)
+    return base2robot(machine.state.sysvars)

@@ -56,7 +56,7 @@ def _shift(fr, offset: Record, reference: str, where: str) -> Record:
     if last is None or last.tcp2base is None:
         raise RunError(f"{where}: a relative motion: where the previous motion ends is not known here")
     shift = np.array([float(valid(offset.get(k, 0.0), where, k)) for k in ("X", "Y", "Z")])
-    base = base2robot(fr.m.extra)
+    base = base2robot(fr.m.state.sysvars)
     pose = last.tcp2base.copy()
     axes = pose[:3, :3] if reference == "#TOOL" else base[:3, :3]
     pose[:3, 3] = pose[:3, 3] + axes @ shift

@@ -76,17 +76,17 @@ class WithClauses:
 
         def run(fr):
             m = fr.m
-            before, tool = dict(m.extra), m.arm.tcp2flange
+            before, tool = dict(m.state.sysvars), m.arm.tcp2flange
             for statement in statements:
                 statement(fr)
-            changed = [k for k, v in m.extra.items() if before.get(k, run) is not v]
+            changed = [k for k, v in m.state.sysvars.items() if before.get(k, run) is not v]
             set_tool = m.arm.tcp2flange
             motion(fr)
             for key in changed:
                 if key in before:
-                    m.extra[key] = before[key]
+                    m.state.sysvars[key] = before[key]
                 else:
-                    m.extra.pop(key, None)
+                    m.state.sysvars.pop(key, None)
             if m.arm.tcp2flange is set_tool:
                 m.arm.tcp2flange = tool
 

@@ -137,9 +137,9 @@ def initial(name: str, structs: dict):
 
 
 def _timers(m) -> list:
-    timers = m.extra.get("TIMERS")
+    timers = m.state.timers
     if timers is None:
-        timers = m.extra["TIMERS"] = [(0.0, 0.0, True)] * TIMERS  # (ms at t0, t0 s, stopped)
+        timers = m.state.timers = [(0.0, 0.0, True)] * TIMERS  # (ms at t0, t0 s, stopped)
     return timers
 
 
@@ -155,7 +155,7 @@ def set_timers(m, values: list, where: str) -> None:
             if isinstance(new, bool) or not isinstance(new, int):
                 raise RunError(f"{where}: $TIMER[{i + 1}] takes an INT (ms), got {type_name_of(new)}")
             timers[i] = (float(new), now, timers[i][2])
-    m.extra["TIMERS"] = timers
+    m.state.timers = timers
 
 
 def set_timer_stops(m, values: list, where: str) -> None:
@@ -168,7 +168,7 @@ def set_timer_stops(m, values: list, where: str) -> None:
             timers[i] = (value + (now - t0) * 1000.0, now, True)
         elif not stop and stopped:
             timers[i] = (value, now, False)
-    m.extra["TIMERS"] = timers
+    m.state.timers = timers
 
 
 def timers_running(m) -> bool:
@@ -192,7 +192,7 @@ def _tcp_now(fr, where: str, what: str) -> np.ndarray:
             "axis values without the arm's model: codegen run --robot)"
         )
     tcp = last.tcp2base
-    tool_then, tool_now = m.extra.get("TOOL_AT_MOVE"), m.arm.tcp2flange
+    tool_then, tool_now = m.state.tool_at_move, m.arm.tcp2flange
     if tool_then is not None and not np.array_equal(tool_then, tool_now):
         tcp = tcp @ invert(tool_then) @ tool_now  # the same flange, the tool set since
     return tcp
@@ -201,7 +201,7 @@ def _tcp_now(fr, where: str, what: str) -> np.ndarray:
 def pos_act(fr, where: str) -> Record:
     """$POS_ACT: the TCP in the active $BASE (E6POS; S and T where the arm's model gives the joints)."""
     tcp = _tcp_now(fr, where, "$POS_ACT")
-    values = posemath.xyzabc_from_matrix(invert(base2robot(fr.m.extra)) @ tcp)
+    values = posemath.xyzabc_from_matrix(invert(base2robot(fr.m.state.sysvars)) @ tcp)
     out = {k: f32(v) for (k, _), v in zip(XYZABC, values, strict=True)}
     status = turn = UNINIT
     arm = fr.m.arm
@@ -231,7 +231,7 @@ def axis_act(fr, where: str) -> Record:
 
 def home_position(fr, where: str) -> Record:
     """$H_POS: the home position as the program set it (the HOME inline form: $H_POS = XHOME), else XHOME."""
-    home = fr.m.extra.get("$H_POS") or fr.m.globals.get("XHOME", UNINIT)
+    home = fr.m.state.sysvars.get("$H_POS") or fr.m.globals.get("XHOME", UNINIT)
     if not isinstance(home, Record):
         raise RunError(f"{where}: $H_POS: XHOME has no value ($config.dat)")
     return home
@@ -267,15 +267,15 @@ def read(fr, name: str, where: str, structs: dict):
     computed = COMPUTED.get(name)
     if computed is not None:
         return computed(fr, where)
-    extra = fr.m.extra
-    value = extra.get(name)
+    store = fr.m.state.sysvars
+    value = store.get(name)
     if value is None:
-        value = extra[name] = initial(name, structs)
+        value = store[name] = initial(name, structs)
     fast = PATH_FIELDS.get(name)
-    if fast is not None and fast[1] in extra and (value[fast[0]] is UNINIT or float(value[fast[0]]) != extra[fast[1]]):
+    if fast is not None and fast[1] in store and (value[fast[0]] is UNINIT or float(value[fast[0]]) != store[fast[1]]):
         value = value.shallow()  # `$VEL.CP = x` / `$APO.CDIS = x` store the number alone (motion.py): the record too
-        value[fast[0]] = f32(extra[fast[1]])
-        extra[name] = value
+        value[fast[0]] = f32(store[fast[1]])
+        store[name] = value
     return value
 
 
@@ -297,17 +297,17 @@ def write(fr, name: str, value, where: str) -> None:
         raise RunError(f"{where}: $ADVANCE takes 0..5, got {shown(value)}")
     if name == "$OV_PRO" and (isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 100):
         raise RunError(f"{where}: $OV_PRO takes 0..100 (%), got {shown(value)}")
-    m.extra[name] = value
+    m.state.sysvars[name] = value
     if name == "$VEL" and value["CP"] is not UNINIT:
-        m.extra["$VEL.CP"] = float(value["CP"])
+        m.state.sysvars["$VEL.CP"] = float(value["CP"])
     elif name == "$APO" and value["CDIS"] is not UNINIT:
-        m.extra["$APO.CDIS"] = float(value["CDIS"])
+        m.state.sysvars["$APO.CDIS"] = float(value["CDIS"])
     elif name == "$VEL_AXIS" and value[0] is not UNINIT:
-        m.extra["VEL_PTP"] = float(value[0])
+        m.state.sysvars["VEL_PTP"] = float(value[0])
     elif name == "$ACC_AXIS" and value[0] is not UNINIT:
-        m.extra["ACC_PTP"] = float(value[0])
+        m.state.sysvars["ACC_PTP"] = float(value[0])
     if name == "$ACC" and value["CP"] is not UNINIT:
-        m.extra["$ACC.CP"] = float(value["CP"])
+        m.state.sysvars["$ACC.CP"] = float(value["CP"])
 
 
 def world() -> Record:
@@ -315,7 +315,7 @@ def world() -> Record:
 
 
 def tool_of(fr, where: str) -> Record:
-    tool = fr.m.extra.get("$TOOL")
+    tool = fr.m.state.sysvars.get("$TOOL")
     if tool is None:
         raise RunError(f"{where}: $TOOL has no value here (the tool active when the program started is not known)")
     return tool
@@ -324,5 +324,5 @@ def tool_of(fr, where: str) -> Record:
 def set_tool(fr, value, where: str) -> None:
     tool = cart(value, where)
     posemath.check_finite(xyzabc(tool), where, "$TOOL")
-    fr.m.extra["$TOOL"] = tool
+    fr.m.state.sysvars["$TOOL"] = tool
     fr.m.arm.tcp2flange = cart_matrix(tool)

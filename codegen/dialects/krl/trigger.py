@@ -68,11 +68,11 @@ class TriggerStatements:
             distance = float(at(fr))
             if kind == "DISTANCE" and distance not in (0.0, 1.0):
                 raise RunError(f"{where}: TRIGGER WHEN DISTANCE takes 0 (the start point) or 1 (the end point)")
-            pending = fr.m.extra.get("TRIGGERS", ())
+            pending = fr.m.state.triggers
             new = Trigger(
                 kind, distance, onstart is not None, float(delay(fr)) if delay else 0.0, output(fr), value(fr), where
             )
-            fr.m.extra["TRIGGERS"] = (*pending, new)
+            fr.m.state.triggers = (*pending, new)
 
         return run
 
@@ -111,7 +111,7 @@ class TriggerStatements:
 
 def fire(m, event, t0: float, speed_mm_s: float) -> None:
     """The triggers pending for this motion (event, from t0 to its end_time) switch their outputs."""
-    triggers = m.extra.pop("TRIGGERS", ())
+    triggers, m.state.triggers = m.state.triggers, ()
     t1 = event.end_time
     accel = event.settings.get("acc_cp") if event.kind == "linear" else None  # a LIN's ramps ($ACC.CP, m/s2)
     accel = None if accel is None else accel * 1000.0

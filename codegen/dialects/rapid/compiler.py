@@ -24,12 +24,13 @@ from codegen.dialects.rapid import (
     tracking,
     waits,
 )
-from codegen.dialects.rapid.builtins import builtins
+from codegen.dialects.rapid.builtins import BUILTINS
 from codegen.dialects.rapid.calls import ABSENT, Calls
 from codegen.dialects.rapid.coercion import Coercions
 from codegen.dialects.rapid.flow import Labels
 from codegen.dialects.rapid.functions import TABLE as FUNCTIONS
 from codegen.dialects.rapid.names import Names
+from codegen.dialects.rapid.state import RapidState
 from codegen.dialects.rapid.types import (
     ALIASES,
     OPAQUE,
@@ -55,6 +56,7 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
     name = "rapid"
     case_insensitive = True
     index_base = 1
+    run_state = RapidState
     COERCE_UNCHANGED = {"NUM": "_F32", "BOOL": "bool"}
     KWARGS_ERROR = "has no optional parameters"
     LIKE_UNCHANGED = frozenset({F32, bool})
@@ -116,7 +118,7 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        return {**FUNCTIONS, **builtins(self), **pendant.BUILTINS, **motionset.BUILTINS, **tracking.builtins(self)}
+        return {**FUNCTIONS, **BUILTINS, **pendant.BUILTINS, **motionset.BUILTINS, **tracking.BUILTINS}
 
     def e_number(self, node):
         text = str(node.children[0])

@@ -99,7 +99,7 @@ def wait_maxtime(where: str, keyword: str, seconds: float) -> RapidError:
 def raise_error(fr, value, where: str, name: str | None) -> RapidError:
     """RAISE errno outside a handler: a number 1-90 or one BookErrNo booked; else ERR_ILLRAISE."""
     number = float(value) if not isinstance(value, bool | str) else None
-    booked = fr.m.extra.get("BOOKED", ())
+    booked = fr.m.state.booked
     if number is None or number != int(number) or not (int(number) in USER_ERRNO or int(number) in booked):
         return RapidError(ERROR_NUMBERS["ERR_ILLRAISE"], f"{where}: RAISE {value}: not an error number 1-90")
     return RapidError(int(number), f"{where}: RAISE {name or int(number)}", name=name)
@@ -107,9 +107,9 @@ def raise_error(fr, value, where: str, name: str | None) -> RapidError:
 
 def book_errno(fr, where: str):
     """BookErrNo: a new error number for the program (internal range, see BOOKED_FIRST)."""
-    booked = fr.m.extra.get("BOOKED", ())
+    booked = fr.m.state.booked
     number = BOOKED_FIRST + len(booked)
-    fr.m.extra["BOOKED"] = (*booked, number)  # a new tuple: extra is copied per run, never shared in place
+    fr.m.state.booked = (*booked, number)
     return f32(number)
 
 
@@ -149,7 +149,7 @@ def protect(run: Callable, handler: Callable, errnos: Callable | None, where: st
 def run_handler(fr, error: RapidError, handler: Callable):
     """Run the routine's handler for error with ERRNO set; an error escaping it other than its own
     RAISE cannot be recovered from (the system error handler stops the program)."""
-    fr.m.extra["ERRNO"] = f32(error.errno)
+    fr.m.state.errno = f32(error.errno)
     outer = fr.vars.get(HANDLER_KEY)
     fr.vars[HANDLER_KEY] = error
     try:

@@ -11,7 +11,6 @@ from codegen.dialects.core.machine import Frame
 from codegen.dialects.core.values import RunError, f32
 from codegen.dialects.rapid import errors
 from codegen.dialects.rapid.arguments import split_args
-from codegen.dialects.rapid.motion import TRAP_KEY
 from codegen.dialects.rapid.types import num
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", CONNECT,
@@ -35,7 +34,6 @@ from codegen.dialects.rapid.types import num
 # was found in figures). A TRAP may not move the arm or wait here. Without a device that switches inputs with
 # the arm's motion (Machine.watching None) no interrupt comes, as before.
 EDGES = {0: "falling", 1: "rising", 2: "both"}
-STATE_KEY = "<interrupts>"  # Machine.extra: the run's interrupts
 
 
 @dataclass
@@ -48,9 +46,9 @@ class Interrupts:
 
 
 def state(machine) -> Interrupts:
-    found = machine.extra.get(STATE_KEY)
-    if found is None:  # Machine.extra is copied per run: the state belongs to this run
-        found = machine.extra[STATE_KEY] = Interrupts()
+    found = machine.state.interrupts
+    if found is None:  # made in the run: the run's own
+        found = machine.state.interrupts = Interrupts()
     return found
 
 
@@ -170,14 +168,14 @@ def run_trap(compiler, machine, trap: str, where: str) -> None:
     """The TRAP routine, at the clock the edge was seen; an error it does not handle itself stops the program
     (no routine of the interrupted program may take it)."""
     routine = compiler.traps[trap]
-    machine.extra[TRAP_KEY] = routine.name
+    machine.state.trap = routine.name
     try:
         compiler.entry(routine)(Frame(machine, machine.globals, machine.global_types), [], {}, where)
     except errors.RapidError as error:
         error.fatal = True
         raise
     finally:
-        machine.extra.pop(TRAP_KEY, None)
+        machine.state.trap = None
 
 
 def i_delete(compiler, node, args_node) -> Callable:

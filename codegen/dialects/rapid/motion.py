@@ -52,13 +52,10 @@ def with_payload(machine, mass: float, cog: list) -> tuple:
     return (total, *((mass * np.asarray(cog) + grip["mass"] * part[:3]) / total).tolist())
 
 
-TRAP_KEY = "<trap>"  # Machine.extra: the TRAP routine running now (codegen/dialects/rapid/interrupts.py)
-
-
 def no_motion_in_trap(fr, where: str, name: str) -> None:
     """A TRAP runs between two cycles of the motion it interrupts: a motion or a wait there is not modelled
     (the controller allows moves in a TRAP with StorePath / RestoPath; the interpreter does not)."""
-    trap = fr.m.extra.get(TRAP_KEY)
+    trap = fr.m.state.trap
     if trap is not None:
         raise RunError(f"{where}: {name} in TRAP {trap}: a TRAP here may not move the arm or wait")
 
@@ -115,12 +112,9 @@ def move_setting(args, i: int) -> str:
     return (name_of(args[i]) if len(args) > i else None) or "custom"
 
 
-ACTIVE_KEY = "<active tool and wobj>"  # Machine.extra: (tooldata, wobjdata or None) of the latest move instruction
-
-
 def make_active(fr, args, wobj) -> None:
     """The move's tool and work object become the active ones (CRobT and CPos without \\Tool or \\WObj)."""
-    fr.m.extra[ACTIVE_KEY] = (args[3] if len(args) > 3 else None, wobj)
+    fr.m.state.active = (args[3] if len(args) > 3 else None, wobj)
 
 
 def move_event(
@@ -142,7 +136,7 @@ def move_event(
 def solve_event(fr, kind: str, event: MoveEvent, target: Record, where: str) -> None:
     """The move's joints by the controller's configuration rules (ConfJ / ConfL), solved with the run's."""
     conf = vec(target["ROBCONF"], ("CF1", "CF4", "CF6", "CFX"))
-    check = fr.m.extra.get("CONFJ" if kind == "joint" else "CONFL", True)
+    check = fr.m.state.configuration_checks.get("CONFJ" if kind == "joint" else "CONFL", True)
     robconf = tuple(int(v) for v in conf)
     if kind == "joint" and check:  # ConfJ on (the default): the robot moves to the programmed configuration
         fr.m.arm.to_pose(event, where, "confdata", robconf)

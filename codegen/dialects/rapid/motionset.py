@@ -27,19 +27,18 @@ from codegen.dialects.rapid.types import num, rec
 #   "singarea": {"mode": "wrist" | "off", "line": n}
 #   "confj", "confl": {"on": bool, "line": n}
 #   "gripload": {"mass": kg, "cog": [x, y, z] mm, "line": n}
-SETTINGS_KEY = "<motion settings>"  # Machine.extra: the settings above (a new dict at each change)
 
 
 def current(m) -> dict | None:
-    return m.extra.get(SETTINGS_KEY)
+    return m.state.settings
 
 
 def _record(fr, key: str, value: dict, where: str) -> None:
     m = fr.m
     line = int(where.split(":")[1]) if where.count(":") >= 2 else 0
-    settings = dict(m.extra.get(SETTINGS_KEY) or {})  # extra is copied per run: never changed in place
+    settings = dict(m.state.settings or {})  # a new dict: the trace keeps the one in force at the end
     settings[key] = {**value, "line": line}
-    m.extra[SETTINGS_KEY] = settings
+    m.state.settings = settings
     m.trace.motion_settings = settings  # those in force when the run ends (a routine's caller goes on with them)
 
 
@@ -59,7 +58,7 @@ def vel_set(fr, args, kwargs, where) -> None:
     if not (override > 0 and top > 0):
         raise RunError(f"{where}: VelSet {override:g}, {top:g}: both must be above 0")
     _record(fr, "velset", {"override": override, "max": top}, where)
-    fr.m.extra["<velset>"] = (override / 100.0, top)
+    fr.m.state.velset = (override / 100.0, top)
 
 
 def sing_area(fr, args, kwargs, where) -> None:
@@ -77,7 +76,7 @@ def configuration_check(name: str):
         switches = set(kwargs)
         if len(switches & {"ON", "OFF"}) != 1 or args or switches - {"ON", "OFF"}:
             raise RunError(f"{where}: {shown} takes \\On or \\Off")
-        fr.m.extra[name] = "ON" in switches
+        fr.m.state.configuration_checks[name] = "ON" in switches
         _record(fr, name.lower(), {"on": "ON" in switches}, where)
 
     return run
@@ -107,7 +106,7 @@ def grip_load(compiler, node, args_node) -> Callable:
 
 def speed(m, mm_s: float) -> float:
     """The TCP speed a move runs at under VelSet (its override, then its maximum)."""
-    velset = m.extra.get("<velset>")
+    velset = m.state.velset
     if velset is None:
         return mm_s
     factor, top = velset
@@ -116,7 +115,7 @@ def speed(m, mm_s: float) -> float:
 
 def apply(m, settings: dict) -> None:
     """The recorded motion settings into a move's MoveEvent.settings."""
-    recorded = m.extra.get(SETTINGS_KEY)
+    recorded = m.state.settings
     if recorded is not None:
         settings.update(recorded)
 

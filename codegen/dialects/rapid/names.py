@@ -37,7 +37,8 @@ def implicit_signal_kind(name: str) -> str | None:
 
 def read_errno(fr):
     """The system variable ERRNO: the most recent error's number."""
-    return fr.m.extra.get("ERRNO", f32(0))
+    errno = fr.m.state.errno
+    return f32(0) if errno is None else errno
 
 
 class Names:

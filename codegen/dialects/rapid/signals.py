@@ -30,7 +30,6 @@ from codegen.dialects.rapid.types import SIGNAL_TYPES, num
 # Here a signal the program uses but does not declare is simulated I/O: inputs are what the devices (or codegen
 # run --signal) set, FALSE / 0 otherwise; outputs are recorded in the trace (SignalEvent: digital ones).
 PULSE_S = 0.2
-PULSES_KEY = "<pulses>"  # Machine.extra: a digital output's pulse end time by signal name (this run's)
 
 # Which argument of an instruction or function is a signal, and of which kind (for the names a program uses).
 SIGNAL_ARGS = {
@@ -144,10 +143,7 @@ def pulse_do(compiler, node, args_node) -> Callable:
             raise RunError(f"{where}: PulseDO \\PLength {seconds:g} s: 0.001 to 2000 s")
         m.set_output(name, True, where)
         _later(m, name, False, where, seconds)
-        pulses = m.extra.get(PULSES_KEY)
-        if pulses is None:  # extra is copied per run: this run's own dict
-            pulses = m.extra[PULSES_KEY] = {}
-        pulses[name] = m.clock + seconds
+        m.state.pulses[name] = m.clock + seconds
 
     return run
 
@@ -164,8 +160,8 @@ def invert_do(compiler, node, args_node) -> Callable:
 
 
 def output_value(m, name: str) -> bool:
-    pulses = m.extra.get(PULSES_KEY)
-    if pulses is not None and name in pulses and m.clock < pulses[name]:
+    pulses = m.state.pulses
+    if name in pulses and m.clock < pulses[name]:
         return True
     return bool(m.signals.get(name, False))
 

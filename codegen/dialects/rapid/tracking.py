@@ -43,7 +43,6 @@ from codegen.dialects.rapid.types import QUAT_KEYS, num, type_text, vec
 # then follows the object (a fine point too) until a move in another work object or DropWObj. Assumed: a unit
 # the controller's configuration does not have (the simulated belt's unit) is refused; DeactUnit with an object
 # connected drops it.
-UNITS_KEY = "<conveyor units>"  # Machine.extra: unit name (upper case) -> the simulated unit, once activated
 
 
 class MecUnit:
@@ -92,7 +91,7 @@ def coordinated(compiler, wobj, where: str) -> Record | None:
 
 def _active(fr, wobj: Record, where: str):
     name = str(wobj["UFMEC"]).upper()
-    unit = fr.m.extra.get(UNITS_KEY, {}).get(name)
+    unit = fr.m.state.units.get(name)
     if unit is None:
         _unit_of_name(fr, name, where)  # a unit the configuration does not have: refused by name
         raise _error("ERR_CNV_NOT_ACT", f"{where}: mechanical unit {wobj['UFMEC']} is not active (ActUnit)")
@@ -155,17 +154,17 @@ def act_unit(fr, args, kwargs, where):
         raise RunError(f"{where}: ActUnit takes a mechanical unit")
     name = _mecunit(args[0], where)
     unit = _unit_of_name(fr, name, where)
-    units = dict(fr.m.extra.get(UNITS_KEY, {}))  # extra is copied per run: a new dict
+    units = dict(fr.m.state.units)
     units[name.upper()] = unit
     unit.active = True
-    fr.m.extra[UNITS_KEY] = units
+    fr.m.state.units = units
 
 
 def deact_unit(fr, args, kwargs, where):
     if len(args) != 1 or kwargs:
         raise RunError(f"{where}: DeactUnit takes a mechanical unit")
     name = _mecunit(args[0], where).upper()
-    units = dict(fr.m.extra.get(UNITS_KEY, {}))
+    units = dict(fr.m.state.units)
     unit = units.pop(name, None)
     if unit is not None:
         fr.m.arrive(where)
@@ -173,7 +172,7 @@ def deact_unit(fr, args, kwargs, where):
             leave(fr)
         unit.drop(fr.m.clock)
         unit.active = False
-    fr.m.extra[UNITS_KEY] = units
+    fr.m.state.units = units
 
 
 def _wobj_arg(compiler, args, where: str, name: str) -> Record:
@@ -183,45 +182,33 @@ def _wobj_arg(compiler, args, where: str, name: str) -> Record:
     return wobj
 
 
-def wait_wobj(compiler):
-    def run(fr, args, kwargs, where):
-        if len(args) != 1 or set(kwargs) - {"RELDIST", "RELPOS", "MAXTIME"}:
-            raise RunError(f"{where}: WaitWObj takes a work object [\\RelDist]")
-        if "RELPOS" in kwargs or "MAXTIME" in kwargs:
-            raise RunError(f"{where}: WaitWObj \\RelPos and \\MaxTime are not modelled")
-        wobj = _wobj_arg(compiler, args, where, "WaitWObj")
-        unit = _active(fr, wobj, where)
-        if unit.connected is not None:
-            raise _error("ERR_CNV_CONNECT", f"{where}: WaitWObj: the work object is connected already (DropWObj)")
-        machine = fr.m
-        rel = num(kwargs["RELDIST"], where) if "RELDIST" in kwargs else 0.0
-        seq, due, connected = unit.connect(machine.clock, rel)  # (the object's part, when, connected or lost)
-        if seq is None:
-            raise RunError(f"{where}: WaitWObj waits for an object that never comes (waits forever)")
-        machine.elapse(due - machine.clock, where)
-        if not connected:
-            raise _error("ERR_CNV_DROPPED", f"{where}: WaitWObj: the object left the start window")
-
-    return run
+def wait_wobj(fr, args, kwargs, where) -> None:
+    if len(args) != 1 or set(kwargs) - {"RELDIST", "RELPOS", "MAXTIME"}:
+        raise RunError(f"{where}: WaitWObj takes a work object [\\RelDist]")
+    if "RELPOS" in kwargs or "MAXTIME" in kwargs:
+        raise RunError(f"{where}: WaitWObj \\RelPos and \\MaxTime are not modelled")
+    wobj = _wobj_arg(fr.m.program.compiler, args, where, "WaitWObj")
+    unit = _active(fr, wobj, where)
+    if unit.connected is not None:
+        raise _error("ERR_CNV_CONNECT", f"{where}: WaitWObj: the work object is connected already (DropWObj)")
+    machine = fr.m
+    rel = num(kwargs["RELDIST"], where) if "RELDIST" in kwargs else 0.0
+    seq, due, connected = unit.connect(machine.clock, rel)  # (the object's part, when, connected or lost)
+    if seq is None:
+        raise RunError(f"{where}: WaitWObj waits for an object that never comes (waits forever)")
+    machine.elapse(due - machine.clock, where)
+    if not connected:
+        raise _error("ERR_CNV_DROPPED", f"{where}: WaitWObj: the object left the start window")
 
 
-def drop_wobj(compiler):
-    def run(fr, args, kwargs, where):
-        if len(args) != 1 or kwargs:
-            raise RunError(f"{where}: DropWObj takes a work object")
-        wobj = _wobj_arg(compiler, args, where, "DropWObj")
-        unit = _active(fr, wobj, where)
-        if isinstance(fr.m.tracking, Follow) and fr.m.tracking.unit is unit:
-            leave(fr)
-        unit.drop(fr.m.clock)
-
-    return run
+def drop_wobj(fr, args, kwargs, where) -> None:
+    if len(args) != 1 or kwargs:
+        raise RunError(f"{where}: DropWObj takes a work object")
+    wobj = _wobj_arg(fr.m.program.compiler, args, where, "DropWObj")
+    unit = _active(fr, wobj, where)
+    if isinstance(fr.m.tracking, Follow) and fr.m.tracking.unit is unit:
+        leave(fr)
+    unit.drop(fr.m.clock)
 
 
-def builtins(compiler) -> dict:
-    return {
-        "ACTUNIT": act_unit,
-        "DEACTUNIT": deact_unit,
-        "WAITWOBJ": wait_wobj(compiler),
-        "DROPWOBJ": drop_wobj(compiler),
-    }
+BUILTINS = {"ACTUNIT": act_unit, "DEACTUNIT": deact_unit, "WAITWOBJ": wait_wobj, "DROPWOBJ": drop_wobj}

@@ -104,7 +104,7 @@ def builtin(pose_of, number_of, in_thread):
         if fr.m.tracking is not None:
             raise RunError(f"{where}: movec while tracking a conveyor: not modelled here")
         settings["mode"] = int(mode)
-        settings["load"] = fr.m.extra.get("payload")
+        settings["load"] = fr.m.state.payload
         machine = fr.m
         start = machine._last_tcp2base
         if start is None and machine.last_move is not None:  # after a move to joints: its pose, where known

@@ -41,7 +41,7 @@ def _encoder(fr, index, where: str):
     index = int(index)
     if index not in (0, 1):
         raise RunError(f"{where}: encoder_index must be 0 or 1")
-    enabled = fr.m.extra.get("encoders", {}).get(index)
+    enabled = fr.m.state.encoders.get(index)
     if not enabled:
         return None
     _decoder, a, b = enabled
@@ -101,7 +101,7 @@ def builtins(pose_of, number_of) -> dict:
         if decoder and (a not in ENCODER_INPUTS or b not in ENCODER_INPUTS):
             raise RunError(f"{where}: the encoder's A and B inputs must be 8..11 (e-Series)")
         # the decoder and which inputs the program takes as A and B: swapped against the wiring, it counts backwards
-        fr.m.extra.setdefault("encoders", {})[index] = (decoder, a, b) if decoder else None
+        fr.m.state.encoders[index] = (decoder, a, b) if decoder else None
 
     def get_tick_count(fr, args, kwargs, where):
         belt = _encoder(fr, args[0] if args else kwargs.get("encoder_index", 0), where)

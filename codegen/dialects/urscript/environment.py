@@ -151,7 +151,7 @@ def builtins() -> dict:
             if not fewest <= given <= most:
                 count = str(fewest) if fewest == most else f"{fewest} to {most}"
                 raise RunError(f"{where}: {name} takes {count} arguments, got {given}")
-            fr.m.extra.setdefault("settings", {})[name] = (tuple(args), dict(kwargs))
+            fr.m.state.settings[name] = (tuple(args), dict(kwargs))
 
         table[name] = setting
 
@@ -163,12 +163,12 @@ def builtins() -> dict:
     def set_flag(fr, args, kwargs, where):
         if len(args) != 2 or not isinstance(args[1], bool):
             raise RunError(f"{where}: set_flag(n, b) takes a flag number and True or False")
-        fr.m.extra[f"flag_{flag(args[0], where, 'set_flag')}"] = args[1]
+        fr.m.state.flags[flag(args[0], where, "set_flag")] = args[1]
 
     def get_flag(fr, args, kwargs, where):
         if len(args) != 1:
             raise RunError(f"{where}: get_flag(n) takes a flag number")
-        return bool(fr.m.extra.get(f"flag_{flag(args[0], where, 'get_flag')}", False))
+        return bool(fr.m.state.flags.get(flag(args[0], where, "get_flag"), False))
 
     table["set_flag"] = set_flag
     table["get_flag"] = get_flag

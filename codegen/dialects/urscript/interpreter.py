@@ -33,6 +33,7 @@ from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import MISSING, RunError, f32
 from codegen.dialects.urscript import arrays, circle, conveyor, environment, io, motion, pendant, threads, urmath
+from codegen.dialects.urscript.state import URScriptState
 from codegen.dialects.urscript.values import URPose, num, pose
 
 INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
@@ -72,6 +73,7 @@ def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tr
 class URScriptCompiler(threads.ThreadStatements, Compiler):
     name = "urscript"
     index_base = 0
+    run_state = URScriptState
     BIND_ARGUMENTS = True  # named arguments and default values (Function)
 
     def __init__(self, filename: str) -> None:

@@ -48,7 +48,6 @@ MOVES = {  # parameters and the manual's defaults
 }
 KIND = {"movej": "joint", "movel": "linear", "movep": "process"}
 NUMBER = frozenset({F32, float, int})  # a move's numbers that need no check (bool is not int here)
-SPEED_KEY = "urscript_speed"  # Machine.extra: the speedl / speedj under way (SpeedMode)
 
 
 def line_of(where: str) -> int:
@@ -58,9 +57,9 @@ def line_of(where: str) -> int:
 def base_settings(fr, name: str, values: dict) -> dict:
     """A move's settings: its numbers, the payload and the TCP the program set (None: not set)."""
     settings = {key: float(value) for key, value in values.items()}
-    extra = fr.m.extra
-    settings["load"] = extra.get("payload")
-    settings["tcp"] = extra.get("tcp")
+    state = fr.m.state
+    settings["load"] = state.payload
+    settings["tcp"] = state.tcp
     settings["move"] = name
     return settings
 
@@ -87,7 +86,7 @@ def _travel(start: np.ndarray, xd: np.ndarray, seconds: float) -> np.ndarray:
 def settle(fr, where: str) -> None:
     """The speed motion under way ends now: its travel is one move in the trace (nothing under way: no effect)."""
     machine = fr.m
-    mode = machine.extra.pop(SPEED_KEY, None)
+    mode, machine.state.speed = machine.state.speed, None
     if mode is None:
         return
     seconds = max(0.0, machine.clock - mode.start_time)
@@ -135,10 +134,10 @@ def builtins() -> dict:
 
         def run(fr, args, kwargs, where):
             machine = fr.m
-            extra = machine.extra
-            if threads.KEY in extra:
+            state = machine.state
+            if state.threads is not None:
                 _no_thread(fr, name, where)
-            if SPEED_KEY in extra:
+            if state.speed is not None:
                 settle(fr, where)
             if len(args) == 1 and kwargs.keys() <= named:  # the everyday call: movel(p, a=1.2, v=0.25)
                 target, given = args[0], kwargs
@@ -153,8 +152,8 @@ def builtins() -> dict:
             if not (v > 0 and a > 0 and r >= 0 and t >= 0):
                 raise RunError(f"{where}: {name} needs a > 0, v > 0, r >= 0 and t >= 0")
             settings = {"a": a, "v": v, "t": t, "r": r} if timed else {"a": a, "v": v, "r": r}
-            settings["load"] = extra.get("payload")
-            settings["tcp"] = extra.get("tcp")
+            settings["load"] = state.payload
+            settings["tcp"] = state.tcp
             settings["move"] = name
             line = int(where.rsplit(":", 2)[1])
             if type(target) is list:
@@ -201,7 +200,7 @@ def builtins() -> dict:
                     raise RunError(f"{where}: speedj: the arm's joints are not known here (codegen run: --start)")
                 velocity = np.degrees(velocity)
             if seconds <= 0:  # until the next motion command or a stop
-                machine.extra[SPEED_KEY] = SpeedMode(name, start, velocity, machine.clock, settings, where)
+                machine.state.speed = SpeedMode(name, start, velocity, machine.clock, settings, where)
                 return
             if name == "speedl":
                 event = MoveEvent("linear", _travel(start, velocity, seconds), line_of(where), settings)
@@ -242,17 +241,17 @@ def builtins() -> dict:
         # the TCP in the flange frame (m, rotation vector rad): the active tool from here on
         a = arguments("set_tcp", ("pose", "tcp_name"), {"tcp_name": ""}, args, kwargs, where)
         fr.m.arm.tcp2flange = matrix(a["pose"], where, "tcp")
-        fr.m.extra["tcp"] = tuple(float(v) for v in pose(a["pose"], where).values())
+        fr.m.state.tcp = tuple(float(v) for v in pose(a["pose"], where).values())
 
     def _payload(fr, mass, cog, where: str, name: str) -> None:
         mass = float(num(mass, where, "mass"))
         if not mass >= 0:
             raise RunError(f"{where}: {name}: payload mass {mass} kg")
         if cog is None:  # the centre of gravity set before, else the flange's centre
-            cog_mm = list(fr.m.extra.get("payload", (0.0, 0.0, 0.0, 0.0))[1:])
+            cog_mm = list((fr.m.state.payload or (0.0, 0.0, 0.0, 0.0))[1:])
         else:
             cog_mm = [MM_PER_M * float(v) for v in vector(cog, where, "centre of gravity")]
-        fr.m.extra["payload"] = (mass, *cog_mm)
+        fr.m.state.payload = (mass, *cog_mm)
 
     def set_target_payload(fr, args, kwargs, where):
         # set_target_payload(m, cog, inertia, transition_time): kg, m (URScript manual)
@@ -270,18 +269,18 @@ def builtins() -> dict:
 
     def set_payload_cog(fr, args, kwargs, where):
         a = arguments("set_payload_cog", ("CoG",), {}, args, kwargs, where)
-        mass = fr.m.extra.get("payload", (0.0,))[0]
+        mass = (fr.m.state.payload or (0.0,))[0]
         _payload(fr, mass, a["CoG"], where, "set_payload_cog")
 
     def get_tcp_offset(fr, args, kwargs, where):
         arguments("get_tcp_offset", (), {}, args, kwargs, where)
-        tcp = fr.m.extra.get("tcp")
+        tcp = fr.m.state.tcp
         if tcp is None:
             raise RunError(f"{where}: get_tcp_offset: the installation's TCP is not known here (the program sets none)")
         return URPose(tcp)
 
     def pose_now(fr, where: str, name: str) -> np.ndarray:
-        mode = fr.m.extra.get(SPEED_KEY)
+        mode = fr.m.state.speed
         if mode is not None and mode.name == "speedl":
             return mode.pose_at(fr.m.clock)
         return _tool_pose(fr, where, name)
@@ -297,7 +296,7 @@ def builtins() -> dict:
         arguments("get_actual_tcp_pose", (), {}, args, kwargs, where)
         machine = fr.m
         machine.arm.resolve()
-        if SPEED_KEY in machine.extra:
+        if machine.state.speed is not None:
             return URPose(posemath.ur_from_matrix(pose_now(fr, where, "get_actual_tcp_pose")))
         found, tcp2flange = (None, None) if machine.watching is None else machine.watching.pose_at(machine.clock)
         # the flange there, with the TCP active now
@@ -347,7 +346,7 @@ def builtins() -> dict:
 
     def is_steady(fr, args, kwargs, where):
         arguments("is_steady", (), {}, args, kwargs, where)
-        return not fr.m.moving and SPEED_KEY not in fr.m.extra  # moves return on arrival: at rest after each
+        return not fr.m.moving and fr.m.state.speed is None  # moves return on arrival: at rest after each
 
     return {
         "movej": move("movej"),

@@ -40,7 +40,6 @@ from codegen.dialects.core.values import RunError, StepLimitError, describe
 THREAD_FRAME_STEPS = 10_000  # statements a thread may run within one frame (assumed, see above)
 STEP_TIME_S = 0.002  # the e-Series frame, where the run has no signal cycle of its own (ordinary runs)
 WATCH_NAME = "<urscript threads>"  # the core watcher's input name: none ("every" fires each cycle)
-KEY = "urscript_threads"  # Machine.extra: the run's Scheduler
 
 
 class Killed(BaseException):
@@ -70,7 +69,7 @@ class URThread:
 
 
 class Scheduler:
-    """The threads of one run (Machine.extra[KEY]) and which of them runs now (None: the main program)."""
+    """The threads of one run (Machine.state.threads) and which of them runs now (None: the main program)."""
 
     def __init__(self, machine, compiler) -> None:
         self.machine, self.compiler = machine, compiler
@@ -204,15 +203,15 @@ class Scheduler:
 
 def scheduler(fr) -> Scheduler:
     machine = fr.m
-    found = machine.extra.get(KEY)
+    found = machine.state.threads
     if found is None:
-        found = machine.extra[KEY] = Scheduler(machine, machine.program.compiler)
+        found = machine.state.threads = Scheduler(machine, machine.program.compiler)
     return found
 
 
 def current(fr) -> URThread | None:
     """The thread running now, None in the main program."""
-    found = fr.m.extra.get(KEY)
+    found = fr.m.state.threads
     return None if found is None else found.current
 
 
@@ -275,7 +274,7 @@ def ending_threads(rest):
         try:
             return rest(fr)
         finally:
-            running = fr.m.extra.get(KEY)
+            running = fr.m.state.threads
             if running is not None:
                 running.shutdown()
 
