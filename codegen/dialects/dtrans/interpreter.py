@@ -77,6 +77,39 @@ def _io_index(value, where: str) -> int:
     return value
 
 
+def _trig(fn):
+    return lambda fr, a, k, w: f32(fn(math.radians(_num(a[0], w))))
+
+
+def trans(fr, args, kwargs, where):
+    if len(args) != 6:
+        raise RunError(f"{where}: Trans takes 6 numbers, got {len(args)}")
+    return point([_num(a, where) for a in args])
+
+
+def din(fr, args, kwargs, where):
+    return fr.m.input_signal(f"DI[{_io_index(args[0], where)}]", False)  # a live device's value first
+
+
+def sqrt(fr, args, kwargs, where):
+    value = _num(args[0], where)
+    if value < 0:
+        raise RunError(f"{where}: sqrt of a negative number")
+    return f32(math.sqrt(value))
+
+
+BUILTINS = {  # the functions the interpreter provides, by name
+    "sin": _trig(math.sin),
+    "cos": _trig(math.cos),
+    "tan": _trig(math.tan),
+    "atan2": lambda fr, a, k, w: f32(math.degrees(math.atan2(_num(a[0], w), _num(a[1], w)))),
+    "sqrt": sqrt,
+    "abs": lambda fr, a, k, w: abs(a[0]) if isinstance(a[0], int) else f32(abs(_num(a[0], w))),
+    "Trans": trans,
+    "DIn": din,
+}
+
+
 class DTransCompiler(Compiler):
     name = "dtrans"
     index_base = 0
@@ -85,33 +118,7 @@ class DTransCompiler(Compiler):
     LIKE_UNCHANGED = frozenset({F32, int})
 
     def make_builtins(self) -> dict:
-        def trig(fn):
-            return lambda fr, a, k, w: f32(fn(math.radians(_num(a[0], w))))
-
-        def trans(fr, args, kwargs, where):
-            if len(args) != 6:
-                raise RunError(f"{where}: Trans takes 6 numbers, got {len(args)}")
-            return point([_num(a, where) for a in args])
-
-        def din(fr, args, kwargs, where):
-            return fr.m.input_signal(f"DI[{_io_index(args[0], where)}]", False)  # a live device's value first
-
-        def sqrt(fr, args, kwargs, where):
-            value = _num(args[0], where)
-            if value < 0:
-                raise RunError(f"{where}: sqrt of a negative number")
-            return f32(math.sqrt(value))
-
-        return {
-            "sin": trig(math.sin),
-            "cos": trig(math.cos),
-            "tan": trig(math.tan),
-            "atan2": lambda fr, a, k, w: f32(math.degrees(math.atan2(_num(a[0], w), _num(a[1], w)))),
-            "sqrt": sqrt,
-            "abs": lambda fr, a, k, w: abs(a[0]) if isinstance(a[0], int) else f32(abs(_num(a[0], w))),
-            "Trans": trans,
-            "DIn": din,
-        }
+        return dict(BUILTINS)
 
     def coerce(self, type_name, value, where):
         if type_name is None:
