@@ -6,8 +6,9 @@ import builtins
 import operator
 
 from codegen.dialects.core.expressions import Expressions
-from codegen.dialects.core.machine import Frame, Machine, Routine, RunState, step_limit_error
+from codegen.dialects.core.machine import Frame, Machine, Routine, step_limit_error
 from codegen.dialects.core.routines import Routines
+from codegen.dialects.core.runstate import RunState
 from codegen.dialects.core.source import SourceBuilder
 from codegen.dialects.core.statements import Statements
 from codegen.dialects.core.stores import Stores

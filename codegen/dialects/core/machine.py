@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import gc
 import math
 from collections.abc import Iterable
@@ -13,6 +12,7 @@ import numpy as np
 
 from codegen.dialects.core.arm import ArmState
 from codegen.dialects.core.ramp import travel_seconds
+from codegen.dialects.core.runstate import RunState
 from codegen.dialects.core.shared import SHARE_FROM, SharedGlobals
 from codegen.dialects.core.trace import MoveEvent, SignalEvent, Trace
 from codegen.dialects.core.values import Halt, LimitReached, RunError, Signal, StepLimitError
@@ -56,22 +56,6 @@ class Device(Protocol):
         """When the device will next act on its own (an answer due), or None: nothing planned
         (optional: a device without it acts only when the program waits)."""
         ...
-
-
-@dataclasses.dataclass
-class RunState:
-    """A dialect's state of one run beyond the program's variables (its system variables, handles, the motion
-    under way): each dialect declares a dataclass on this in its package and its compiler makes it (new_state).
-    A run starts from a copy of the state the program's set-up left (copied: its fields and the dicts, lists and
-    sets they hold)."""
-
-    def copy(self) -> RunState:
-        new = object.__new__(type(self))
-        new.__dict__ = {k: v.copy() if type(v) in CONTAINERS else v for k, v in self.__dict__.items()}
-        return new
-
-
-CONTAINERS = (dict, list, set)  # what RunState.copy copies beside the state itself
 
 
 class ProgramCode(Protocol):

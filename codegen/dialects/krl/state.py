@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from codegen.dialects.core.machine import RunState
+from codegen.dialects.core.runstate import RunState
 
 
 @dataclass

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-from codegen.dialects.core.machine import RunState
+from codegen.dialects.core.runstate import RunState
 
 
 @dataclass

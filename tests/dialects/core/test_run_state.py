@@ -8,7 +8,7 @@ import pytest
 
 from codegen.dialects import dialects
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import RunState
+from codegen.dialects.core.runstate import RunState
 from codegen.dialects.urscript.interpreter import load
 
 
