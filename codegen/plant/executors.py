@@ -55,10 +55,13 @@ class DaskExecutor:
         prefix = f"codegen-{fn.__name__}-{uuid.uuid4().hex}"
         keys = [f"{prefix}-{i}" for i in range(len(tasks))]
         futures = self._submit(fn, tasks, keys, groups)
+        step = self.workers  # results fetched a worker-count at a time: one round trip each, not one per task
         try:
-            for future in futures:
-                yield self._result(future)
-                future.release()
+            for start in range(0, len(futures), step):
+                batch = futures[start : start + step]
+                yield from self._gather(batch)
+                for future in batch:
+                    future.release()
         finally:  # after an error, or results not all taken: the cluster stops the rest
             self.client.cancel([f for f in futures if not f.done()])
 
@@ -83,14 +86,13 @@ class DaskExecutor:
                 futures[i] = future
         return futures
 
-    @staticmethod
-    def _result(future):
+    def _gather(self, futures: list) -> list:
         from distributed import KilledWorker
 
         try:
-            return future.result()
+            return self.client.gather(futures)
         except KilledWorker as exc:
-            raise ClusterError(f"task {future.key}: every worker that ran it died ({exc})") from None
+            raise ClusterError(f"a task's every worker died ({exc})") from None
 
     def _check_workers(self) -> None:
         """Each worker runs this codegen's version: its tasks unpickle into the same code."""
