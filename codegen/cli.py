@@ -225,7 +225,7 @@ def verify(
         else:
             report = run(None)
     except ClusterError as exc:
-        raise UserError(f"--scheduler {scheduler}: {exc}") from None
+        raise UserError(f"--scheduler: {exc}") from None
     except (ProgramFilesError, ReachError, EmitError) as exc:
         raise UserError(f"{model.source}: {exc}" if not isinstance(exc, ProgramFilesError) else str(exc)) from None
     except RunError as exc:  # a program that cannot be loaded here
