@@ -167,6 +167,14 @@ def diff(cell: str | None, out_dir: str) -> None:
     type=Number(0, MAX_JOBS, integer=True),
     help="Worker processes (0: one per CPU).",
 )
+@click.option(
+    "--scheduler",
+    envvar="DASK_SCHEDULER_ADDRESS",
+    show_envvar=True,
+    metavar="ADDRESS",
+    help="Run the cases on the Dask cluster of this scheduler (tcp://host:8786; needs codegen[cluster]); "
+    "--jobs is then unused.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
 @click.option("--html", "html_file", type=click.Path(dir_okay=False), help="Also write the report as a page.")
 def verify(
@@ -177,6 +185,7 @@ def verify(
     step_limit: int | None,
     seed: int,
     jobs: int,
+    scheduler: str | None,
     as_json: bool,
     html_file: str | None,
 ) -> None:
@@ -189,6 +198,7 @@ def verify(
 
     from codegen.dialects.core.values import RunError
     from codegen.emit import EmitError
+    from codegen.plant.executors import ClusterError, executor_for
     from codegen.robot.taught import ReachError
     from codegen.verify.engine import Options, verify_cell
     from codegen.verify.programs import ProgramFilesError
@@ -203,8 +213,10 @@ def verify(
     view_command.check_html(html_file)
 
     def run(progress) -> object:
-        options = Options(cases, seed, jobs, step_limit, progress, keep_replays=html_file is not None)
-        return verify_cell(model, [Path(f) for f in files], targets, options)
+        with executor_for(scheduler, jobs) as executor:
+            replays = html_file is not None
+            options = Options(cases, seed, jobs, step_limit, progress, keep_replays=replays, executor=executor)
+            return verify_cell(model, [Path(f) for f in files], targets, options)
 
     try:
         if sys.stderr.isatty():
@@ -212,6 +224,8 @@ def verify(
                 report = run(bar.update)
         else:
             report = run(None)
+    except ClusterError as exc:
+        raise UserError(f"--scheduler: {exc}") from None
     except (ProgramFilesError, ReachError, EmitError) as exc:
         raise UserError(f"{model.source}: {exc}" if not isinstance(exc, ProgramFilesError) else str(exc)) from None
     except RunError as exc:  # a program that cannot be loaded here

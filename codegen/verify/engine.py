@@ -1,27 +1,31 @@
-"""verify_cell: every program of a cell (fresh, or the files given) run on its kind's cases and the common
-scenarios, each trace judged by the kind and the common checks, one report."""
+"""verify_cell(s): every program of a cell (fresh, or the files given) run on its kind's cases and the common
+scenarios, each trace judged by the kind and the common checks, one report per cell."""
 
 from __future__ import annotations
 
-import os
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from codegen.dialects.core.values import RunError
+from codegen.emit import EmitError
 from codegen.protocol import get_kind, kinds
+from codegen.robot.taught import ReachError
 from codegen.verify.edits import edits
-from codegen.verify.programs import ProgramSource, file_sources, fresh_sources
+from codegen.verify.executor import Executor, LocalExecutor
+from codegen.verify.programs import ProgramFilesError, ProgramSource, file_sources, fresh_sources
 from codegen.verify.report import Report, Row
 from codegen.verify.runner import ONE_PROGRAM_FROM, run_tasks
 
 CHUNK_CASES = 2000  # at most this many cases a task: a worker holds one chunk's expectations at a time
+CELL_ERRORS = (ProgramFilesError, ReachError, EmitError, RunError)  # a cell verify cannot run: exit 2 (load: 1)
 
 
 @dataclass(frozen=True)
 class Options:
     """How much verify runs: random cases per station (or per program, as each kind reads it), the seed, the
     worker processes (0: one per core), the step limit of a run (a runaway loop stops there), a progress
-    callback (cases done)."""
+    callback (cases done), and where the work runs (an executor.Executor; None: `jobs` processes here)."""
 
     cases: int = 1000
     seed: int = 0
@@ -32,42 +36,113 @@ class Options:
     sweeps: bool = True  # the kinds' bulk runs too
     scenarios: frozenset[str] | None = None  # only the cases of these scenarios (None: every case)
     keep_replays: bool = False  # each row keeps its worst case's and first mismatch's run (report.Replay: the page)
+    executor: Executor | None = None
+
+
+@dataclass(frozen=True)
+class CellRun:
+    """One cell for verify_cells: the cell, paths of its programs on disk (none: every program rendered fresh) and
+    the targets (none: the cell's)."""
+
+    cell: object
+    files: tuple = ()
+    targets: tuple = ()
 
 
 def verify_cell(cell, files=(), targets=(), options: Options | None = None) -> Report:
-    """The only entry of verify. files: paths of programs on disk (grouped into programs by each language's
-    rule and matched to the cell's programs by name); none: every program of every kind, rendered fresh, for
-    the targets asked (default: the cell's). ProgramFilesError: files that are not the cell's programs;
-    RunError: a program that does not load here."""
+    """Verify of one cell (verify_cells of one, its error raised). files: paths of programs on disk (grouped into
+    programs by each language's rule and matched to the cell's programs by name); none: every program of every
+    kind, rendered fresh, for the targets asked (default: the cell's). ProgramFilesError: files that are not the
+    cell's programs; RunError: a program that does not load here."""
+    (report,) = verify_cells([CellRun(cell, tuple(files), tuple(targets))], options)
+    if isinstance(report, Exception):
+        raise report
+    return report
+
+
+def verify_cells(runs: list[CellRun], options: Options | None = None) -> list[Report | Exception]:
+    """verify_cell of each run, the work of all of them spread over one executor: first each cell's programs (and
+    the changes of the files given), one task per cell, then every program's case batches, the small cells' together
+    and a large cell's alone. Per run its Report or, where the cell cannot be verified, its error (one of
+    CELL_ERRORS, with the message verify_cell raises), the others verified all the same."""
     options = options or Options()
-    names = list(targets) or list(cell.targets)
-    warnings: list[str] = []
-    for kind in kinds().values():  # the reference's joints need every pose of every program within reach
-        kind.reach(cell, names)
-    if files:
+    executor = options.executor or LocalExecutor(options.jobs)
+    limit, seed = options.step_limit, options.seed
+    prepared = list(executor.map(prepare, [(run.cell, run.files, run.targets, limit, seed) for run in runs]))
+    results: list[Report | Exception] = [_error(p) if isinstance(p, _Failed) else p for p in prepared]
+    ready = [i for i, p in enumerate(results) if not isinstance(p, Exception)]
+    large = [i for i in ready if len(runs[i].cell.stations) >= ONE_PROGRAM_FROM]
+    for batch in [[i for i in ready if i not in large], *([i] for i in large)]:
+        if batch:
+            reports = _verify_batch([runs[i].cell for i in batch], [results[i] for i in batch], options, executor)
+            for i, report in zip(batch, reports, strict=True):
+                results[i] = report
+    return results
+
+
+def prepare(task) -> tuple[list[ProgramSource], list[str], dict[int, list[str]]] | _Failed:
+    """One cell's programs, its warnings and the changes of the files given against the generated programs (per
+    source row), or the reason it cannot be verified: the first task of verify_cells, one per cell."""
+    cell, files, targets, step_limit, seed = task
+    try:
+        names = list(targets) or list(cell.targets)
+        warnings: list[str] = []
+        for kind in kinds().values():  # the reference's joints need every pose of every program within reach
+            kind.reach(cell, names)
+        if not files:
+            return _fresh(cell, names), warnings, {}
         sources, warnings = file_sources(cell, [Path(f) for f in files], tuple(targets))
         for source in sources:
             source.load()  # a file that does not load is reported before any case runs
-    else:
-        sources = _fresh(cell, names)
+        return sources, warnings, edits(cell, sources, step_limit, seed)
+    except CELL_ERRORS as exc:
+        return _Failed(next(cls for cls in CELL_ERRORS if isinstance(exc, cls)), str(exc))
+
+
+def _verify_batch(cells: list, prepared: list, options: Options, executor: Executor) -> list[Report]:
+    """The case batches of some cells in one map: each cell's rows numbered after the cells' before it (a large cell,
+    whose tasks are pinned to workers, comes alone)."""
+    rows, spans, tasks, pinned = [], [], [], None
+    workers = executor.workers
+    for cell, (own, _warnings, _edits) in zip(cells, prepared, strict=True):
+        numbers = {row: len(rows) + i for i, row in enumerate(sorted({s.row for s in own}))}
+        own = [replace(s, row=numbers[s.row]) for s in own]
+        spans.append(range(len(rows), len(rows) + len(numbers)))
+        rows += _rows(own)
+        own_tasks, own_pinned = _tasks(cell, own, options, workers)
+        tasks += own_tasks
+        pinned = own_pinned if len(cells) == 1 else None
     start = time.perf_counter()
-    rows, workers = verify_sources(cell, sources, options)
-    if files:  # what a hand edit changes, beside the program the cell generates
-        numbers = sorted({s.row for s in sources})
-        for row, lines in edits(cell, sources, options.step_limit, options.seed).items():
-            rows[numbers.index(row)].edits = lines
-    return Report(cell.name, rows, options.seed, options.cases, time.perf_counter() - start, workers, warnings)
+    ended = run_tasks(tasks, rows, executor, options.progress, pinned)
+    reports = []
+    for cell, (own, warnings, changes), span in zip(cells, prepared, spans, strict=True):
+        numbers = sorted({s.row for s in own})
+        for row, lines in changes.items():
+            rows[span[numbers.index(row)]].edits = lines
+        wall = max((ended.get(i, start) for i in span), default=start) - start
+        own_rows = rows[span.start : span.stop]
+        reports.append(Report(cell.name, own_rows, options.seed, options.cases, wall, workers, warnings))
+    return reports
 
 
 def verify_sources(cell, sources: list[ProgramSource], options: Options) -> tuple[list[Row], int]:
     """The rows of the given programs (verify_cell's work once it has them; tests give their own programs)."""
-    numbers = {row: i for i, row in enumerate(sorted({s.row for s in sources}))}  # rows 0.. in their order
-    sources = [replace(s, row=numbers[s.row]) for s in sources]
-    rows = _rows(sources)
-    workers = options.jobs or os.cpu_count() or 1
-    tasks, pinned = _tasks(cell, sources, options, workers)
-    run_tasks(tasks, rows, workers, options.progress, pinned)
-    return rows, workers
+    executor = options.executor or LocalExecutor(options.jobs)
+    (report,) = _verify_batch([cell], [(sources, [], {})], options, executor)
+    return report.rows, report.workers
+
+
+@dataclass(frozen=True)
+class _Failed:
+    """A cell's error as a prepare task returns it: its class (one of CELL_ERRORS, as a subclass's own arguments
+    need not come through pickling) and message."""
+
+    error: type
+    message: str
+
+
+def _error(failed: _Failed) -> Exception:
+    return failed.error(failed.message)
 
 
 def _fresh(cell, names: list[str]) -> list[ProgramSource]:

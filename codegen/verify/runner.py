@@ -1,16 +1,15 @@
-"""Runs a program's cases (and bulk sweeps) against its kind's judgement and the common checks, in worker processes."""
+"""Runs a program's cases (and bulk sweeps) against its kind's judgement and the common checks: an executor's tasks."""
 
 from __future__ import annotations
 
 import gc
-import multiprocessing
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
 
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.protocol import get_kind
 from codegen.verify.checks import Checker
+from codegen.verify.executor import Executor
 from codegen.verify.report import Replay, Row
 
 _LOADED: dict = {}  # source -> program, in a worker (each program parsed once per process)
@@ -141,55 +140,16 @@ def _keep(row: Row, kind, model, case, setup, trace, expected, pos, rot, problem
         row.failed = replay
 
 
-def run_tasks(tasks: list, rows: list[Row], jobs: int, progress=None, pinned: list[int] | None = None) -> None:
-    """Every task, in `jobs` processes (pinned: the worker of each task, so a worker's tasks run in order and
-    each loads its program once); each partial merged into its row."""
-
-    def collect(result) -> None:
-        index, part = result
+def run_tasks(
+    tasks: list, rows: list[Row], executor: Executor, progress=None, pinned: list[int] | None = None
+) -> dict[int, float]:
+    """Every task through the executor (pinned: a worker group per task, so a worker's tasks run in order and each
+    loads its program once); each partial merged into its row in the tasks' order, wherever and whenever it ran.
+    Returns when each row's last partial was merged (time.perf_counter)."""
+    ended = {}
+    for index, part in executor.map(run_chunk, tasks, pinned):
         rows[index].merge(part)
+        ended[index] = time.perf_counter()
         if progress is not None:
             progress(part.cases + part.swept)
-
-    if jobs <= 1 or len(tasks) <= 1:
-        for task in tasks:
-            collect(run_chunk(task))
-        return
-    if pinned is not None:
-        for result in _run_pinned(tasks, pinned, jobs):
-            collect(result)
-        return
-
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=_fork()) as pool:
-        for result in pool.map(run_chunk, tasks):
-            collect(result)
-
-
-def _fork():
-    """Workers forked where the system can (they start at once, with the parent's modules)."""
-
-    return multiprocessing.get_context("fork") if "fork" in multiprocessing.get_all_start_methods() else None
-
-
-def _forkserver():
-    """Workers started from a clean server process where the system has one: a pool's worker forked from this
-    process after another pool's threads started could inherit a lock one of them held."""
-
-    if "forkserver" not in multiprocessing.get_all_start_methods():
-        return None
-    context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(["codegen.verify.runner"])  # imported once, in the server
-    return context
-
-
-def _run_pinned(tasks: list, workers: list[int], jobs: int):
-    """Each task in the worker process given for it (one single-process pool each), results as they end."""
-
-    pools = [ProcessPoolExecutor(max_workers=1, mp_context=_forkserver()) for _ in range(jobs)]
-    try:
-        futures = [pools[worker].submit(run_chunk, task) for task, worker in zip(tasks, workers, strict=True)]
-        for future in as_completed(futures):
-            yield future.result()
-    finally:  # after an error, without waiting for the other workers' chunks
-        for pool in pools:
-            pool.shutdown(wait=False, cancel_futures=True)
+    return ended
