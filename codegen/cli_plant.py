@@ -12,7 +12,7 @@ import click
 from codegen.cli_base import UserError, dump
 from codegen.plant.config import PLANT_FILE, Plant, PlantError, discover, load_plant
 from codegen.plant.progress import wanted
-from codegen.plant.results import CellResult, Line, PlantReport, error_result
+from codegen.plant.results import CellResult, Line, PlantReport, cell_kinds, error_result
 from codegen.plant.run import run_plant
 
 
@@ -83,10 +83,6 @@ def _targets(plant: Plant, model, asked: tuple[str, ...] = ()) -> list[str]:
     return [t for t in model.targets if not chosen or t in chosen]
 
 
-def _kinds(model) -> str:
-    return ",".join(dict.fromkeys([*(s.kind for s in model.stations), *model.sections]))
-
-
 def generate_plant(path: str, targets: tuple[str, ...], out_dir: str, as_json: bool) -> None:
     from codegen.cli import write_cell
 
@@ -96,11 +92,11 @@ def generate_plant(path: str, targets: tuple[str, ...], out_dir: str, as_json: b
     def work(model, label, start) -> CellResult:
         names = _targets(plant, model, targets)
         if not names:
-            return CellResult(label, model.name, [Line(label, "-", _kinds(model), None, "skipped", 0.0)])
+            return CellResult(label, model.name, [Line(label, "-", cell_kinds(model), None, "skipped", 0.0)])
         written, left_alone, envelopes = write_cell(model, names, out)
         margins = [e.as_json() for e in envelopes]
         data = {"written": [str(p) for p in written], "left_alone": left_alone, "envelope": margins}
-        line = Line(label, ",".join(names), _kinds(model), None, "written", time.perf_counter() - start)
+        line = Line(label, ",".join(names), cell_kinds(model), None, "written", time.perf_counter() - start)
         return CellResult(label, model.name, [line], data, notes=[f"left alone: {n}" for n in left_alone])
 
     finish(run_plant(plant, "generate", lambda p, _: _cell_step(plant, p, work), wanted()), as_json)
@@ -120,7 +116,7 @@ def diff_plant(path: str, out_dir: str, as_json: bool) -> None:
         line = Line(
             label,
             ",".join(model.targets),
-            _kinds(model),
+            cell_kinds(model),
             None,
             "differs" if text else "ok",
             time.perf_counter() - start,
@@ -171,7 +167,7 @@ def check_plant(path: str, out_dir: str | None, as_json: bool) -> None:
         for target in _targets(plant, model):
             begun = time.perf_counter()
             folder = out / cell_dir(model) / target
-            kinds = _kinds(model)
+            kinds = cell_kinds(model)
             if not folder.is_dir():
                 message = f"{folder}: no programs here (`codegen generate {path}` writes them)"
                 lines.append(Line(label, target, kinds, None, "error", 0.0, message))

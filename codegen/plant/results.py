@@ -73,6 +73,11 @@ class CellResult:
         return cls(data["cell"], data["name"], lines, data["data"], bool(data["cached"]), list(data["notes"]))
 
 
+def cell_kinds(cell) -> str:
+    """The table's kind column: the program kinds of a cell's stations and sections, in the file's order."""
+    return ",".join(dict.fromkeys([*(s.kind for s in cell.stations), *cell.sections]))
+
+
 def error_result(cell: str, message: str, seconds: float = 0.0, name: str = "") -> CellResult:
     """A cell that could not be done: its one row says why."""
     return CellResult(cell, name, [Line(cell, "*", "", None, "error", seconds, message)])

@@ -14,7 +14,7 @@ from codegen.model.cell import CellError, cell_from_dict, read_cell_data
 from codegen.plant.cache import Cache, verify_key
 from codegen.plant.config import Plant
 from codegen.plant.progress import Quiet
-from codegen.plant.results import CellResult, Line, error_result
+from codegen.plant.results import CellResult, Line, cell_kinds, error_result
 from codegen.robot.taught import ReachError
 from codegen.verify.engine import Options, verify_cell
 from codegen.verify.programs import ProgramFilesError
@@ -97,7 +97,8 @@ def _verified(data: dict, raw: bytes, path: Path, label: str, how: PlantVerify, 
         report = verify_cell(cell, [], targets, options)
     except (ProgramFilesError, ReachError, EmitError, RunError) as exc:
         return error_result(label, f"{path}: {exc}", time.perf_counter() - start, cell.name)
-    kinds = ",".join(dict.fromkeys(row.kind for row in report.rows))
+    if not report.rows:
+        return error_result(label, f"{path}: no program to verify for the targets asked", 0.0, cell.name)
     problems = [
         f"MISMATCH {row.target} {row.program}: {row.mismatches} cases; first: {row.first_mismatches[0]}"
         for row in report.rows
@@ -106,7 +107,7 @@ def _verified(data: dict, raw: bytes, path: Path, label: str, how: PlantVerify, 
     line = Line(
         label,
         ",".join(targets),
-        kinds,
+        cell_kinds(cell),
         sum(row.cases for row in report.rows),
         "ok" if report.ok else "mismatch",
         time.perf_counter() - start,
