@@ -2,24 +2,23 @@
 
 from __future__ import annotations
 
-import errno
 import sys
 
 import click
 
-from codegen import cli_check, cli_run  # noqa: F401  (they register their commands)
-from codegen.cli_base import Folder, Number, UserError, calibrate, main, step_limit_option
+from codegen import cli_check, cli_plant, cli_run  # noqa: F401  (they register their commands)
+from codegen.cli_base import Folder, Number, UserError, calibrate, diff_cell, main, step_limit_option, write_cell
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
+from codegen.cli_plant import is_plant_argument
 from codegen.controllers import target_names
 from codegen.view import command as view_command
 
 main.add_command(view_command.view)
 
+PLANT_OUT_HELP = "A plant: default its codegen.toml's `out`, else generated/ in the plant's folder."
 MAX_CASES = 1_000_000  # verify's random readings per station: a million runs each; more is a typing slip
 MAX_JOBS = 256  # worker processes: beyond the machine's cores each only costs memory
-# a folder the user gave that cannot take the output (no permission, read-only, a file on the way): exit 2
-FOLDER_REFUSED = frozenset({errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOTDIR, errno.EEXIST, errno.EISDIR})
 
 
 @main.command()
@@ -63,35 +62,23 @@ def derive(check: bool, as_json: bool) -> None:
 
 
 @main.command()
-@click.argument("cell", required=False, type=click.Path(dir_okay=False))
+@click.argument("cell", required=False, type=click.Path())
 @click.option("--target", "targets", multiple=True, help="Only this target (repeatable); default: the cell's targets.")
-@click.option("--out", "out_dir", default="generated", show_default=True, type=Folder())
+@click.option("--out", "out_dir", default="generated", show_default=True, type=Folder(), help=PLANT_OUT_HELP)
 @click.option("--json", "as_json", is_flag=True, help="Report written files and the arm's margins as JSON.")
 def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: bool) -> None:
-    """Write the programs of every target under OUT/<cell>/<target>/ (all or nothing)."""
+    """Write the programs of every target under OUT/<cell>/<target>/ (all or nothing).
+
+    CELL may be a plant (a folder of cell files, or its codegen.toml): every cell, one table."""
     from pathlib import Path
 
-    from codegen.emit import EmitError
-    from codegen.generate import GenerateError
-    from codegen.generate import generate as run_generate
-    from codegen.output import OutputBusy, OutputInTheWay
-
+    if is_plant_argument(cell):
+        return cli_plant.generate_plant(cell, targets, out_dir, as_json)
     model = _load(cell)
     for t in targets:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
-    try:
-        written, left_alone, envelopes = run_generate(model, list(targets) or None, Path(out_dir))
-    except (EmitError, GenerateError) as exc:
-        raise UserError(f"{model.source}: {exc}") from None
-    except OutputBusy as exc:
-        raise click.ClickException(str(exc)) from None
-    except OutputInTheWay as exc:
-        raise UserError(str(exc)) from None
-    except OSError as exc:
-        error = UserError if exc.errno in FOLDER_REFUSED else click.ClickException  # the user's to fix: exit 2
-        where = exc.filename or out_dir
-        raise error(f"{where}: cannot write ({exc.strerror or exc}); previous output left as it was") from None
+    written, left_alone, envelopes = write_cell(model, list(targets) or None, Path(out_dir))
 
     if as_json:
         _dump(
@@ -112,33 +99,32 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
 
 
 @main.command()
-@click.argument("cell", required=False, type=click.Path(dir_okay=False))
-@click.option("--out", "out_dir", default="generated", show_default=True, type=Folder())
-def diff(cell: str | None, out_dir: str) -> None:
+@click.argument("cell", required=False, type=click.Path())
+@click.option("--out", "out_dir", default="generated", show_default=True, type=Folder(), help=PLANT_OUT_HELP)
+@click.option("--json", "as_json", is_flag=True, help="A plant's table as JSON.")
+def diff(cell: str | None, out_dir: str, as_json: bool) -> None:
     """Unified diff of fresh output against OUT; exit 1 when they differ. No CELL: every bundled
-    example cell (all the cells whose output is committed under generated/)."""
+    example cell (all the cells whose output is committed under generated/). CELL may be a plant (a folder of
+    cell files, or its codegen.toml): every cell's diff, then one table."""
     from pathlib import Path
 
-    from codegen.emit import EmitError
-    from codegen.generate import diff as run_diff
-    from codegen.model.cell import EXAMPLES_DIR
+    from codegen.model.cell import example_cells
 
-    bundled = list(EXAMPLES_DIR.rglob("*.toml"))
-    paths = [cell] if cell is not None else sorted(bundled)
+    if is_plant_argument(cell):
+        return cli_plant.diff_plant(cell, out_dir, as_json)
+    paths = [cell] if cell is not None else example_cells()
     text = ""
     for path in paths:
-        model = _load(path)
-        try:
-            text += run_diff(model, Path(out_dir))
-        except EmitError as exc:
-            raise UserError(f"{model.source}: {exc}") from None
-    if text:
+        text += diff_cell(_load(path), Path(out_dir))
+    if as_json:
+        _dump({"diff": text, "exit": 1 if text else 0})
+    elif text:
         click.echo(text, nl=False)
-        sys.exit(1)
+    sys.exit(1 if text else 0)
 
 
 @main.command()
-@click.argument("cell", required=False, type=click.Path(dir_okay=False))
+@click.argument("cell", required=False, type=click.Path())
 @click.argument("files", nargs=-1, type=click.Path(exists=True, dir_okay=False))
 @click.option(
     "--target",
@@ -177,6 +163,13 @@ def diff(cell: str | None, out_dir: str) -> None:
 )
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
 @click.option("--html", "html_file", type=click.Path(dir_okay=False), help="Also write the report as a page.")
+@click.option("--no-cache", is_flag=True, help="A plant: verify every cell again (no stored result is read).")
+@click.option(
+    "--cache-dir",
+    type=Folder(),
+    help="A plant: the folder of stored results (default: $CODEGEN_CACHE_DIR, the plant's `cache`, or "
+    ".codegen-cache/ in the plant's folder).",
+)
 def verify(
     cell: str | None,
     files: tuple[str, ...],
@@ -188,11 +181,16 @@ def verify(
     scheduler: str | None,
     as_json: bool,
     html_file: str | None,
+    no_cache: bool,
+    cache_dir: str | None,
 ) -> None:
     """Run every program of every kind on its cases and the common scenarios; compare with the reference.
 
     Without FILES the programs are generated fresh; with FILES the files on disk are verified, each matched to
     the cell's program of its name (a .src finds its .dat among the files or beside it).
+
+    CELL may be a plant (a folder of cell files, or its codegen.toml): every cell's programs, fresh, one table;
+    a cell whose inputs are unchanged since a stored result reports "cached" (--no-cache: verify every cell).
     """
     from pathlib import Path
 
@@ -203,6 +201,10 @@ def verify(
     from codegen.verify.engine import Options, verify_cell
     from codegen.verify.programs import ProgramFilesError
 
+    if is_plant_argument(cell):
+        if files or html_file is not None:
+            raise UserError(f"{cell}: a plant is verified from its cells; FILES and --html are for one cell")
+        return cli_plant.verify_plant(cell, targets, cases, seed, step_limit, jobs, as_json, not no_cache, cache_dir)
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
         cell = None

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import errno
 import json
 import math
 
@@ -12,6 +13,8 @@ from codegen.csvfile import number, whole
 from codegen.model.cell import CellError, load_cell
 
 EXIT_BAD_INPUT = 2
+# a folder the user gave that cannot take the output (no permission, read-only, a file on the way): exit 2
+FOLDER_REFUSED = frozenset({errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOTDIR, errno.EEXIST, errno.EISDIR})
 
 
 class UserError(click.ClickException):
@@ -100,6 +103,38 @@ def load(cell_path):
     for warning in cell.warnings:
         click.echo(f"warning: {warning}", err=True)
     return cell
+
+
+def write_cell(model, targets: list[str] | None, out_dir):
+    """`codegen generate` of one loaded cell (codegen.generate.generate): its written paths, what was left alone
+    and the margins; UserError (exit 2) for what the user can fix, ClickException for a busy or failing folder."""
+    from codegen.emit import EmitError
+    from codegen.generate import GenerateError, generate
+    from codegen.output import OutputBusy, OutputInTheWay
+
+    try:
+        return generate(model, targets, out_dir)
+    except (EmitError, GenerateError) as exc:
+        raise UserError(f"{model.source}: {exc}") from None
+    except OutputBusy as exc:
+        raise click.ClickException(str(exc)) from None
+    except OutputInTheWay as exc:
+        raise UserError(str(exc)) from None
+    except OSError as exc:
+        error = UserError if exc.errno in FOLDER_REFUSED else click.ClickException  # the user's to fix: exit 2
+        where = exc.filename or out_dir
+        raise error(f"{where}: cannot write ({exc.strerror or exc}); previous output left as it was") from None
+
+
+def diff_cell(model, out_dir) -> str:
+    """`codegen diff` of one loaded cell: the unified diff against out_dir ('' when identical)."""
+    from codegen.emit import EmitError
+    from codegen.generate import diff
+
+    try:
+        return diff(model, out_dir)
+    except EmitError as exc:
+        raise UserError(f"{model.source}: {exc}") from None
 
 
 def step_limit_option(help_text: str, kinds_own: bool = False):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import inspect
 import sys
+from dataclasses import dataclass
 
 import click
 
@@ -51,38 +52,32 @@ def _check_group(dialect, group, options) -> list:
         return [finding_of(f"{group[0].name}: statements or expressions nested too deeply", group)]
 
 
-@main.command()
-@click.argument("files", nargs=-1, required=True, type=click.Path(exists=True))
-@file_target_option()
-@click.option(
-    "--robot",
-    "robot",
-    default=None,
-    help="The arm (a catalogue model): speeds the program states are checked against its limits.",
-)
-@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
-def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as_json: bool) -> None:
-    """Parse and check programs without running them, like a compiler: every syntax error, unsupported
-    construct, undefined name and the field checks of each language (a wait without a timeout, motion before
-    the tool is set, speeds over the arm's ...), of all files, with file:line.
+@dataclass
+class Checked:
+    """check_files' result: the files, their programs, every finding (in file order), the counts by severity, the
+    exit code, and the targets' titles and names."""
 
-    FILES: program files, or folders holding them (the files of one program are checked together). Exit 0
-    clean, 1 findings (warnings), 2 a file does not parse or uses what the interpreter does not model."""
+    sources: list
+    groups: list
+    findings: list
+    counts: dict[str, int]
+    code: int
+    titles: list[str]
+    names: list[str]
+
+
+def check_files(files: tuple[str, ...], target_name: str | None, arm=None, robot: str | None = None) -> Checked:
+    """Every finding of the files (and folders) given, as `codegen check` reports them; UserError for a file that
+    is no program of a language or an arm of another controller."""
     from codegen.dialects.core.files import SEVERITIES, CheckOptions, Finding
 
-    arm = None
-    if robot is not None:
-        from codegen.robot.arms import catalogue, find_arm
-
-        arm = find_arm(robot)
-        if arm is None:
-            raise UserError(f"--robot {robot!r}: not in the catalogue; it has: {', '.join(catalogue())}")
     sources, groups, findings, titles, names = [], [], [], [], []
     for language_paths in _by_language(files, target_name):
         target, dialect, language_sources = program_files(language_paths, target_name)
         if arm is not None and arm.vendor != target.vendor:
             raise UserError(
-                f"--robot {robot!r}: an arm of the {arm.vendor} controller; these files are for {target.name}"
+                f"--robot {robot or arm.model!r}: an arm of the {arm.vendor} controller; these files are for "
+                f"{target.name}"
             )
         sources += language_sources
         titles.append(target.title)
@@ -100,6 +95,50 @@ def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as
     counts = {severity: sum(f.severity == severity for f in findings) for severity in SEVERITIES}
     refused = counts["error"] + counts["unsupported"]
     code = EXIT_REFUSED if refused else EXIT_FINDINGS if findings else EXIT_CLEAN
+    return Checked(sources, groups, findings, counts, code, titles, names)
+
+
+@main.command()
+@click.argument("files", nargs=-1, required=True, type=click.Path(exists=True))
+@file_target_option()
+@click.option(
+    "--robot",
+    "robot",
+    default=None,
+    help="The arm (a catalogue model): speeds the program states are checked against its limits.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
+def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as_json: bool) -> None:
+    """Parse and check programs without running them, like a compiler: every syntax error, unsupported
+    construct, undefined name and the field checks of each language (a wait without a timeout, motion before
+    the tool is set, speeds over the arm's ...), of all files, with file:line.
+
+    FILES: program files, or folders holding them (the files of one program are checked together). Exit 0
+    clean, 1 findings (warnings), 2 a file does not parse or uses what the interpreter does not model. A plant
+    (its codegen.toml, or a folder holding it or cell files): each cell's programs in the plant's output folder,
+    against each cell's arm, one table."""
+    from codegen.cli_plant import check_plant, is_plant_folder
+
+    if len(files) == 1 and is_plant_folder(files[0]):
+        if target_name is not None or robot is not None:
+            raise UserError(f"{files[0]}: a plant's programs are checked for each cell's targets and arms")
+        return check_plant(files[0], None, as_json)
+    arm = None
+    if robot is not None:
+        from codegen.robot.arms import catalogue, find_arm
+
+        arm = find_arm(robot)
+        if arm is None:
+            raise UserError(f"--robot {robot!r}: not in the catalogue; it has: {', '.join(catalogue())}")
+    result = check_files(files, target_name, arm, robot)
+    findings, sources, groups, counts, code = (
+        result.findings,
+        result.sources,
+        result.groups,
+        result.counts,
+        result.code,
+    )
+    titles, names = result.titles, result.names
     if as_json:
         _dump(
             {

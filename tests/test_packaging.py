@@ -49,6 +49,8 @@ def test_the_wheel_carries_templates_targets_grammars_and_the_derivation(wheel):
     expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in (REPO / "codegen" / "examples").rglob("*.toml")}
     expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in (REPO / "codegen" / "examples").rglob("*.csv")}
     expected |= {f"codegen/view/static/{p.name}" for p in (REPO / "codegen" / "view" / "static").iterdir()}
+    plant = REPO / "codegen" / "examples" / "plant" / "generated"  # the example plant's programs, for `codegen diff`
+    expected |= {f"codegen/{p.relative_to(REPO / 'codegen')}" for p in plant.glob("*/*/*")}
     assert expected <= names, sorted(expected - names)
 
 

@@ -41,6 +41,12 @@ ORIENTATION_UNITS = {"xyzabc": "deg", "ur": "rad"}
 
 EXAMPLES_DIR = Path(__file__).parents[1] / "examples"
 DEMO_CELL = EXAMPLES_DIR / "agv_machine_tending.toml"
+EXAMPLE_PLANT = EXAMPLES_DIR / "plant"  # a plant of its own (codegen.toml, its output beside it)
+
+
+def example_cells() -> list[Path]:
+    """The bundled example cells whose output is committed under generated/ (the example plant's are apart)."""
+    return sorted(p for p in EXAMPLES_DIR.rglob("*.toml") if EXAMPLE_PLANT not in p.parents)
 
 
 @dataclass(frozen=True)

@@ -10,12 +10,12 @@ from pathlib import Path
 import jsonschema
 import pytest
 
-from codegen.model.cell import EXAMPLES_DIR, CellError, cell_from_dict
+from codegen.model.cell import EXAMPLES_DIR, CellError, cell_from_dict, example_cells
 from codegen.model.tables import json_schema, reference_text, schema_text
 
 ROOT = Path(__file__).parents[2]
 SCHEMA_FILE = EXAMPLES_DIR / "cell.schema.json"
-EXAMPLES = sorted(EXAMPLES_DIR.rglob("*.toml"))
+EXAMPLES = example_cells()
 DEMO = "agv_machine_tending.toml"
 FRAME = "thermometer_bench.toml"
 PALLET = "pallets/eur_pallet.toml"

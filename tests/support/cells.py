@@ -9,10 +9,10 @@ from hypothesis import strategies as st
 from lark import Token
 
 from codegen.controllers import target_names
-from codegen.model.cell import EXAMPLES_DIR, load_cell
+from codegen.model.cell import example_cells, load_cell
 
 REPO = Path(__file__).resolve().parents[2]
-EXAMPLES = {path.stem: path for path in sorted(EXAMPLES_DIR.rglob("*.toml"))}  # together they use every kind
+EXAMPLES = {path.stem: path for path in example_cells()}  # together they use every kind
 
 
 @cache

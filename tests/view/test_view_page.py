@@ -12,13 +12,13 @@ import numpy as np
 import pytest
 
 from codegen.kinds.pallet.stack import placements
-from codegen.model.cell import EXAMPLES_DIR, load_cell
+from codegen.model.cell import EXAMPLES_DIR, example_cells, load_cell
 from codegen.protocol import get_kind
 from codegen.robot.expect import arm_of
 from codegen.verify.programs import fresh_sources
 from codegen.view.page import cell_page
 
-CELLS = sorted(p.relative_to(EXAMPLES_DIR).as_posix() for p in EXAMPLES_DIR.rglob("*.toml"))
+CELLS = [p.relative_to(EXAMPLES_DIR).as_posix() for p in example_cells()]
 MAX_BYTES = 3_000_000  # a page to attach to a pull request: a few MB at most
 LOADING = re.compile(r"<(script|link|img|iframe|object|embed)\b[^>]*\b(src|href|data)\s*=", re.IGNORECASE)
 

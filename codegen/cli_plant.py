@@ -1,0 +1,186 @@
+"""The commands on a plant (a folder of cells or its codegen.toml): each cell's generate, diff, verify or check in
+one table."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import click
+
+from codegen.cli_base import UserError, dump
+from codegen.plant.config import PLANT_FILE, Plant, PlantError, discover, load_plant
+from codegen.plant.progress import wanted
+from codegen.plant.results import CellResult, Line, PlantReport, cell_kinds, error_result
+from codegen.plant.run import run_plant
+
+
+def is_plant_argument(path: str | None) -> bool:
+    """A plant rather than one cell: a codegen.toml, or a folder (generate, diff, verify)."""
+    return path is not None and (Path(path).is_dir() or Path(path).name == PLANT_FILE)
+
+
+def is_plant_folder(path: str) -> bool:
+    """check's FILES argument as a plant: a codegen.toml, or a folder holding one or a cell file (a folder of
+    program files alone stays a folder of programs)."""
+    folder = Path(path)
+    if folder.name == PLANT_FILE and folder.is_file():
+        return True
+    return folder.is_dir() and ((folder / PLANT_FILE).is_file() or bool(discover(folder.resolve())[0]))
+
+
+def plant_of(path: str) -> Plant:
+    try:
+        plant = load_plant(path)
+    except PlantError as exc:
+        raise UserError(str(exc)) from None
+    if not plant.cells:
+        raise UserError(f"{path}: no cell files here (a cell file is a .toml with a [cell] table)")
+    return plant
+
+
+def given(name: str) -> bool:
+    """Whether the option was given on the command line (else the plant's default applies)."""
+    source = click.get_current_context().get_parameter_source(name)
+    return source is not None and source.name not in ("DEFAULT", "DEFAULT_MAP")
+
+
+def out_of(plant: Plant, out_dir: str) -> Path:
+    """--out where given, else the plant's `out`, else generated/ in the plant's folder."""
+    if given("out_dir"):
+        return Path(out_dir)
+    return plant.out if plant.out is not None else plant.root / "generated"
+
+
+def finish(report: PlantReport, as_json: bool, before: list[str] = ()) -> None:
+    """Print the table (or its JSON) and exit with the plant's code."""
+    if as_json:
+        dump(report.as_json())
+    else:
+        for text in before:
+            click.echo(text, nl=False)
+        for line in report.lines():
+            click.echo(line)
+    sys.exit(report.exit_code)
+
+
+def _cell_step(plant: Plant, path: Path, work) -> CellResult:
+    """Load a cell and do `work(model, label, start)`; a cell or a command that refuses it is an error row."""
+    from codegen.cli_base import load
+
+    label = plant.label(path)
+    start = time.perf_counter()
+    try:
+        model = load(path)
+        return work(model, label, start)
+    except click.ClickException as exc:
+        return error_result(label, exc.message, time.perf_counter() - start)
+
+
+def _targets(plant: Plant, model, asked: tuple[str, ...] = ()) -> list[str]:
+    chosen = asked or plant.targets
+    return [t for t in model.targets if not chosen or t in chosen]
+
+
+def generate_plant(path: str, targets: tuple[str, ...], out_dir: str, as_json: bool) -> None:
+    from codegen.cli import write_cell
+
+    plant = plant_of(path)
+    out = out_of(plant, out_dir)
+
+    def work(model, label, start) -> CellResult:
+        names = _targets(plant, model, targets)
+        if not names:
+            return CellResult(label, model.name, [Line(label, "-", cell_kinds(model), None, "skipped", 0.0)])
+        written, left_alone, envelopes = write_cell(model, names, out)
+        margins = [e.as_json() for e in envelopes]
+        data = {"written": [str(p) for p in written], "left_alone": left_alone, "envelope": margins}
+        line = Line(label, ",".join(names), cell_kinds(model), None, "written", time.perf_counter() - start)
+        return CellResult(label, model.name, [line], data, notes=[f"left alone: {n}" for n in left_alone])
+
+    finish(run_plant(plant, "generate", lambda p, _: _cell_step(plant, p, work), wanted()), as_json)
+
+
+def diff_plant(path: str, out_dir: str, as_json: bool) -> None:
+    from codegen.cli import diff_cell
+
+    plant = plant_of(path)
+    out = out_of(plant, out_dir)
+    texts: list[str] = []
+
+    def work(model, label, start) -> CellResult:
+        text = diff_cell(model, out)
+        texts.append(text)
+        files = sum(line.startswith("+++ ") or line.startswith("Only in ") for line in text.splitlines())
+        line = Line(
+            label,
+            ",".join(model.targets),
+            cell_kinds(model),
+            None,
+            "differs" if text else "ok",
+            time.perf_counter() - start,
+            f"{files} file(s) differ from {out}" if text else "",
+        )
+        return CellResult(label, model.name, [line], {"diff": text})
+
+    report = run_plant(plant, "diff", lambda p, _: _cell_step(plant, p, work), wanted())
+    finish(report, as_json, texts)
+
+
+def verify_plant(path: str, targets, cases, seed, step_limit, jobs, as_json, use_cache: bool, cache_dir) -> None:
+    from codegen.plant.cache import Cache, cache_folder
+    from codegen.plant.verify import PlantVerify, verify_plant_cell
+
+    plant = plant_of(path)
+    how = PlantVerify(
+        tuple(targets) or plant.targets,
+        cases if given("cases") or plant.cases is None else plant.cases,
+        seed if given("seed") or plant.seed is None else plant.seed,
+        step_limit if step_limit is not None else plant.step_limit,
+        jobs,
+        Cache(cache_folder(cache_dir, plant.cache, plant.root)) if use_cache else None,
+    )
+    report = run_plant(plant, "verify", lambda p, bars: verify_plant_cell(plant, p, how, bars), wanted())
+    finish(report, as_json)
+
+
+def check_plant(path: str, out_dir: str | None, as_json: bool) -> None:
+    """Each cell's programs in the output folder, one row per target, checked against the cell's arm."""
+    from codegen.cli_check import check_files
+    from codegen.render import cell_dir
+    from codegen.robot.expect import arm_of
+
+    plant = plant_of(path)
+    out = Path(out_dir) if out_dir is not None else plant.out if plant.out is not None else plant.root / "generated"
+
+    def step(cell_path: Path, _) -> CellResult:
+        from codegen.cli_base import load
+
+        label = plant.label(cell_path)
+        start = time.perf_counter()
+        try:
+            model = load(cell_path)
+        except click.ClickException as exc:
+            return error_result(label, exc.message, time.perf_counter() - start)
+        lines, data = [], {}
+        for target in _targets(plant, model):
+            begun = time.perf_counter()
+            folder = out / cell_dir(model) / target
+            kinds = cell_kinds(model)
+            if not folder.is_dir():
+                message = f"{folder}: no programs here (`codegen generate {path}` writes them)"
+                lines.append(Line(label, target, kinds, None, "error", 0.0, message))
+                continue
+            try:
+                checked = check_files((str(folder),), target, arm_of(model, target))
+            except click.ClickException as exc:
+                lines.append(Line(label, target, kinds, None, "error", time.perf_counter() - begun, exc.message))
+                continue
+            word = {0: "clean", 1: "findings", 2: "error"}[checked.code]
+            text = "\n".join(f.text() for f in checked.findings)
+            lines.append(Line(label, target, kinds, None, word, time.perf_counter() - begun, text))
+            data[target] = {"findings": [f.as_json() for f in checked.findings], "counts": checked.counts}
+        return CellResult(label, model.name, lines, data)
+
+    finish(run_plant(plant, "check", step, wanted()), as_json)
