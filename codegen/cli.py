@@ -204,7 +204,9 @@ def verify(
     if is_plant_argument(cell):
         if files or html_file is not None:
             raise UserError(f"{cell}: a plant is verified from its cells; FILES and --html are for one cell")
-        return cli_plant.verify_plant(cell, targets, cases, seed, step_limit, jobs, as_json, not no_cache, cache_dir)
+        return cli_plant.verify_plant(
+            cell, targets, cases, seed, step_limit, jobs, scheduler, as_json, not no_cache, cache_dir
+        )
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
         cell = None

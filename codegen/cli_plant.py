@@ -11,9 +11,9 @@ import click
 
 from codegen.cli_base import UserError, dump
 from codegen.plant.config import PLANT_FILE, Plant, PlantError, discover, load_plant
-from codegen.plant.progress import wanted
+from codegen.plant.progress import progress_bars, wanted
 from codegen.plant.results import CellResult, Line, PlantReport, cell_kinds, error_result
-from codegen.plant.run import run_plant
+from codegen.plant.run import plant_report, run_plant
 
 
 def is_plant_argument(path: str | None) -> bool:
@@ -128,9 +128,12 @@ def diff_plant(path: str, out_dir: str, as_json: bool) -> None:
     finish(report, as_json, texts)
 
 
-def verify_plant(path: str, targets, cases, seed, step_limit, jobs, as_json, use_cache: bool, cache_dir) -> None:
+def verify_plant(
+    path: str, targets, cases, seed, step_limit, jobs, scheduler, as_json, use_cache: bool, cache_dir
+) -> None:
     from codegen.plant.cache import Cache, cache_folder
-    from codegen.plant.verify import PlantVerify, verify_plant_cell
+    from codegen.plant.executors import ClusterError, executor_for
+    from codegen.plant.verify import PlantVerify, verify_plant
 
     plant = plant_of(path)
     how = PlantVerify(
@@ -141,8 +144,13 @@ def verify_plant(path: str, targets, cases, seed, step_limit, jobs, as_json, use
         jobs,
         Cache(cache_folder(cache_dir, plant.cache, plant.root)) if use_cache else None,
     )
-    report = run_plant(plant, "verify", lambda p, bars: verify_plant_cell(plant, p, how, bars), wanted())
-    finish(report, as_json)
+    start = time.perf_counter()
+    try:
+        with executor_for(scheduler, jobs) as executor, progress_bars(len(plant.cells), wanted()) as bars:
+            results = verify_plant(plant, how, executor, bars)
+    except ClusterError as exc:
+        raise UserError(f"--scheduler: {exc}") from None
+    finish(plant_report(plant, "verify", results, time.perf_counter() - start), as_json)
 
 
 def check_plant(path: str, out_dir: str | None, as_json: bool) -> None:

@@ -22,6 +22,11 @@ def run_plant(plant: Plant, command: str, step: Step, show_progress: bool = Fals
             bars.cell(plant.label(path))
             results.append(step(path, bars))
             bars.done()
+    return plant_report(plant, command, results, time.perf_counter() - start)
+
+
+def plant_report(plant: Plant, command: str, results: list[CellResult], seconds: float) -> PlantReport:
+    """The plant's report of its cells' results, with a note for each .toml that is no cell."""
     notes = [f"not a cell file (no [cell] table), skipped: {name}" for name in plant.skipped]
     label = plant.name or str(plant.config or plant.root)
-    return PlantReport(command, label, results, time.perf_counter() - start, notes)
+    return PlantReport(command, label, results, seconds, notes)

@@ -8,16 +8,12 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from codegen.dialects.core.values import RunError
-from codegen.emit import EmitError
 from codegen.model.cell import CellError, cell_from_dict, read_cell_data
 from codegen.plant.cache import Cache, verify_key
 from codegen.plant.config import Plant
 from codegen.plant.progress import Quiet
 from codegen.plant.results import CellResult, Line, cell_kinds, error_result
-from codegen.robot.taught import ReachError
-from codegen.verify.engine import Options, verify_cell
-from codegen.verify.programs import ProgramFilesError
+from codegen.verify.engine import CellRun, Options, verify_cells
 
 CACHED = {"ok": "cached", "mismatch": "cached mismatch"}
 
@@ -39,11 +35,49 @@ class PlantVerify:
         return {"targets": sorted(self.targets), "cases": self.cases, "seed": self.seed, "step_limit": self.step_limit}
 
 
-def verify_plant_cell(plant: Plant, path: Path, how: PlantVerify, progress: Quiet | None = None) -> CellResult:
-    """A cell's verify result: from the cache when an entry of its key is there (a failing result too: verify is
-    deterministic, and a cached mismatch still fails the run), else verified and stored. A cell that cannot be
-    verified (bad file, out of reach, ...) is an error row."""
+@dataclass
+class Pending:
+    """A cell whose result is not stored: its model and targets for verify_cells, and what its row needs after."""
+
+    label: str
+    path: Path
+    cell: object
+    targets: list[str]
+    key: str
+    notes: list[str]
+    start: float
+
+
+def verify_plant(plant: Plant, how: PlantVerify, executor=None, progress: Quiet | None = None) -> list[CellResult]:
+    """Every cell's verify result in the plant's order: stored ones from the cache (a failing result too: verify is
+    deterministic, and a cached mismatch still fails the run), the others verified together through one executor
+    (verify_cells: the cells' programs and their case batches spread over its workers) and stored. A cell that
+    cannot be verified (bad file, out of reach, ...) is an error row; the others run all the same."""
     progress = progress or Quiet()
+    looked = [lookup(plant, path, how) for path in plant.cells]
+    pending = [item for item in looked if isinstance(item, Pending)]
+    if pending:
+        progress.cell(f"{len(pending)} of {len(looked)} cells")
+        runs = [CellRun(item.cell, (), tuple(item.targets)) for item in pending]
+        options = Options(how.cases, how.seed, how.jobs, how.step_limit, progress.runs, executor=executor)
+        reports = verify_cells(runs, options)
+        done = iter(finish(item, report, how) for item, report in zip(pending, reports, strict=True))
+        looked = [next(done) if isinstance(item, Pending) else item for item in looked]
+    return looked
+
+
+def verify_plant_cell(plant: Plant, path: Path, how: PlantVerify, progress: Quiet | None = None) -> CellResult:
+    """One cell's verify result (verify_plant of that cell alone, here)."""
+    item = lookup(plant, path, how)
+    if not isinstance(item, Pending):
+        return item
+    options = Options(how.cases, how.seed, how.jobs, how.step_limit, (progress or Quiet()).runs)
+    (report,) = verify_cells([CellRun(item.cell, (), tuple(item.targets))], options)
+    return finish(item, report, how)
+
+
+def lookup(plant: Plant, path: Path, how: PlantVerify) -> CellResult | Pending:
+    """A cell's stored result, its error or skipped row, or what verifying it needs."""
     label = plant.label(path)
     start = time.perf_counter()
     try:
@@ -61,10 +95,27 @@ def verify_plant_cell(plant: Plant, path: Path, how: PlantVerify, progress: Quie
                 how.cache.unreadable.add(key)
         if key in how.cache.unreadable:
             notes.append(f"cache entry {how.cache.path(key)} was unreadable: verified again and rewritten")
-    result = _verified(data, raw, path, label, how, progress, start)
-    result.notes = notes + result.notes
+    try:
+        cell = cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+    except (CellError, RecursionError) as exc:
+        message = str(exc) if isinstance(exc, CellError) else f"{path}: tables or arrays nested too deeply"
+        return error_result(label, message, time.perf_counter() - start)
+    targets = [t for t in cell.targets if not how.targets or t in how.targets]
+    if not targets:
+        line = Line(
+            label, "-", "", None, "skipped", 0.0, f"none of its targets ({', '.join(cell.targets)}) is the plant's"
+        )
+        return CellResult(label, cell.name, [line], notes=list(cell.warnings))
+    return Pending(label, path, cell, targets, key, notes, start)
+
+
+def finish(item: Pending, report, how: PlantVerify) -> CellResult:
+    """The row of a verified cell (its Report, or the error verify_cells gave for it alone), stored in the cache
+    unless it is an error."""
+    result = _row(item, report)
+    result.notes = item.notes + result.notes
     if how.cache is not None and all(line.result != "error" for line in result.lines):
-        problem = how.cache.put(key, result.as_json())
+        problem = how.cache.put(item.key, result.as_json())
         if problem is not None:
             result.notes.append(problem)
     return result
@@ -80,23 +131,11 @@ def _from_cache(stored: dict, label: str, seconds: float) -> CellResult:
     return result
 
 
-def _verified(data: dict, raw: bytes, path: Path, label: str, how: PlantVerify, progress, start: float) -> CellResult:
-    try:
-        cell = cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
-    except (CellError, RecursionError) as exc:
-        message = str(exc) if isinstance(exc, CellError) else f"{path}: tables or arrays nested too deeply"
-        return error_result(label, message, time.perf_counter() - start)
-    targets = [t for t in cell.targets if not how.targets or t in how.targets]
-    if not targets:
-        line = Line(
-            label, "-", "", None, "skipped", 0.0, f"none of its targets ({', '.join(cell.targets)}) is the plant's"
-        )
-        return CellResult(label, cell.name, [line], notes=list(cell.warnings))
-    options = Options(how.cases, how.seed, how.jobs, how.step_limit, progress.runs)
-    try:
-        report = verify_cell(cell, [], targets, options)
-    except (ProgramFilesError, ReachError, EmitError, RunError) as exc:
-        return error_result(label, f"{path}: {exc}", time.perf_counter() - start, cell.name)
+def _row(item: Pending, report) -> CellResult:
+    label, cell, path = item.label, item.cell, item.path
+    seconds = time.perf_counter() - item.start
+    if isinstance(report, Exception):
+        return error_result(label, f"{path}: {report}", seconds, cell.name)
     if not report.rows:
         return error_result(label, f"{path}: no program to verify for the targets asked", 0.0, cell.name)
     problems = [
@@ -106,11 +145,11 @@ def _verified(data: dict, raw: bytes, path: Path, label: str, how: PlantVerify, 
     ]
     line = Line(
         label,
-        ",".join(targets),
+        ",".join(item.targets),
         cell_kinds(cell),
         sum(row.cases for row in report.rows),
         "ok" if report.ok else "mismatch",
-        time.perf_counter() - start,
+        seconds,
         "\n".join(problems),
     )
     return CellResult(label, cell.name, [line], report.as_json(), notes=[*cell.warnings, *report.warnings])

@@ -1,4 +1,4 @@
-"""A tiny plant in tmp_path: copies of small example cells, and a stand-in for verify_cell that counts its calls."""
+"""A tiny plant in tmp_path: copies of small example cells, and a stand-in for verify_cells counting its cells."""
 
 from __future__ import annotations
 
@@ -24,14 +24,17 @@ def plant(tmp_path: Path) -> Path:
 
 
 class FakeVerify:
-    """verify_cell's stand-in: one row per target, passing unless the cell's name is in `failing`; each call
-    recorded by cell name."""
+    """verify_cells' stand-in: per run one row per target, passing unless the cell's name is in `failing`; each
+    cell verified recorded by its name."""
 
     def __init__(self):
         self.calls: list[str] = []
         self.failing: set[str] = set()
 
-    def __call__(self, cell, files=(), targets=(), options=None) -> Report:
+    def __call__(self, runs, options=None) -> list[Report]:
+        return [self.one(run.cell, run.targets, options) for run in runs]
+
+    def one(self, cell, targets, options) -> Report:
         self.calls.append(cell.name)
         rows = []
         for target in targets or cell.targets:
@@ -45,5 +48,5 @@ class FakeVerify:
 @pytest.fixture
 def fake_verify(monkeypatch) -> FakeVerify:
     fake = FakeVerify()
-    monkeypatch.setattr("codegen.plant.verify.verify_cell", fake)
+    monkeypatch.setattr("codegen.plant.verify.verify_cells", fake)
     return fake
