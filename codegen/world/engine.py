@@ -14,7 +14,7 @@ import numpy as np
 
 from codegen.robot.arms import Arm
 from codegen.world.bodies import Body, arm_bodies, self_pairs
-from codegen.world.solids import Box, Capsule, Cylinder, Floor, Solid, World
+from codegen.world.solids import Box, Capsule, Cylinder, Floor, Solid, World, z_along
 
 
 @dataclass(frozen=True)
@@ -41,7 +41,7 @@ def _geometry(shape: Solid) -> tuple[coal.ShapeBase, np.ndarray]:
     length = float(np.linalg.norm(b - a))
     if length == 0.0:
         return coal.Sphere(float(shape.radius)), _at(a)
-    return coal.Capsule(float(shape.radius), length), _z_along((b - a) / length, 0.5 * (a + b))
+    return coal.Capsule(float(shape.radius), length), z_along((b - a) / length, 0.5 * (a + b))
 
 
 def _at(point: np.ndarray) -> np.ndarray:
@@ -50,21 +50,13 @@ def _at(point: np.ndarray) -> np.ndarray:
     return out
 
 
-def _z_along(direction: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """A pose at centre whose z axis is direction (unit)."""
-    helper = np.array([1.0, 0.0, 0.0]) if abs(direction[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    x = np.cross(helper, direction)
-    x /= np.linalg.norm(x)
-    out = np.eye(4)
-    out[:3, 0], out[:3, 1], out[:3, 2], out[:3, 3] = x, np.cross(direction, x), direction, centre
-    return out
-
-
 def _transform(pose: np.ndarray) -> coal.Transform3s:
     return coal.Transform3s(np.ascontiguousarray(pose[:3, :3]), np.ascontiguousarray(pose[:3, 3]))
 
 
-def distance(one: Solid, one2base: np.ndarray, other: Solid, other2base: np.ndarray) -> tuple[float, np.ndarray, ...]:
+def distance(
+    one: Solid, one2base: np.ndarray, other: Solid, other2base: np.ndarray
+) -> tuple[float, np.ndarray, np.ndarray]:
     """The signed distance (mm) between two shapes placed at one2base . one.pose and other2base . other.pose, and the
     nearest points (base frame)."""
     g1, local1 = _geometry(one)
@@ -77,7 +69,7 @@ def distance(one: Solid, one2base: np.ndarray, other: Solid, other2base: np.ndar
     return float(d), np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
 
 
-class Cell:
+class Scene:
     """An arm with its tool and carried part among the world's solids: least distances at given joint values."""
 
     def __init__(self, arm: Arm, world: World, tool=None, part=None, exempt: frozenset[tuple[str, str]] = frozenset(),
@@ -88,107 +80,116 @@ class Cell:
         self.names = list(world.solids)
         self.solids = [world.solids[name] for name in self.names]
         self.pairs = self_pairs(arm, self.bodies) if self_check else ()
-        self._body_geometry = [_geometry(body.shape) for body in self.bodies]
-        self._solid_geometry = [(g, solid.pose @ local) for solid in self.solids for g, local in [_geometry(solid)]]
+        geometry = [_geometry(body.shape) for body in self.bodies]
+        self._body_shape = [g for g, _ in geometry]
+        # body2frame . the coal shape's own pose: the origin of each is its bounding sphere's centre
+        placed = zip(self.bodies, geometry, strict=True)
+        self._body2frame = np.array([body.shape.pose @ local for body, (_, local) in placed])
         self._frames = np.array([body.frame for body in self.bodies])
-        self._body2frame = np.array([body.shape.pose for body in self.bodies])
-        self._body_centre = np.array([_centre(body.shape) for body in self.bodies])[:, :3]
         self._body_radius = np.array([_radius(body.shape) for body in self.bodies])
-        finite = [i for i, s in enumerate(self.solids) if not isinstance(s, Floor)]
-        self._finite = np.array(finite, dtype=int)
-        centres = [(self.solids[i].pose @ _centre(self.solids[i]))[:3] for i in finite]
+        self._solid_shape, self._solid_transform, centres = [], [], []
+        for solid in self.solids:
+            g, local = _geometry(solid)
+            self._solid_shape.append(g)
+            self._solid_transform.append(_transform(solid.pose @ local))
+            centres.append((solid.pose @ local)[:3, 3])
         self._solid_centre = np.array(centres).reshape(-1, 3)
-        self._solid_radius = np.array([_radius(self.solids[i]) for i in finite])
-        self._floors = [i for i, s in enumerate(self.solids) if isinstance(s, Floor)]
+        self._solid_radius = np.array([_radius(solid) for solid in self.solids])
+        floors = [i for i, solid in enumerate(self.solids) if isinstance(solid, Floor)]
+        self._floor_up = {i: np.linalg.inv(self.solids[i].pose)[2] for i in floors}  # a point's height in its frame
         # the robot's base stands on its mounting plane and never moves: its capsule is not measured against a floor
-        self._exempt = {(b, s) for b, s in exempt} | {
-            (body.name, self.names[i]) for body in self.bodies if body.frame == 0 for i in self._floors
-        }
+        skip = {(b, s) for b, s in exempt} | {(body.name, self.names[i]) for body in self.bodies
+                                             if body.frame == 0 for i in floors}
+        index = {name: i for i, name in enumerate(self.names)}
+        self._skip = np.zeros((len(self.bodies), len(self.solids)), dtype=bool)
+        for b, body in enumerate(self.bodies):
+            for one, other in skip:
+                if one == body.name and other in index:
+                    self._skip[b, index[other]] = True
+        pairs = np.array(self.pairs, dtype=int).reshape(-1, 2)
+        self._pair_i, self._pair_j = pairs[:, 0], pairs[:, 1]
+        self._one, self._other = coal.Transform3s(), coal.Transform3s()
+        self._request, self._result = coal.DistanceRequest(), coal.DistanceResult()
         self.queries = 0  # exact distance queries made (for the benchmarks)
 
     def poses(self, joints_deg: np.ndarray) -> np.ndarray:
-        """(n, bodies, 4, 4) body2base of (n, 6) joint values (deg)."""
+        """(n, bodies, 4, 4): each body's coal pose in the base frame (its origin the bounding sphere's centre)."""
         frames = self.arm.kin.link_frames(np.asarray(joints_deg, dtype=float).reshape(-1, 6))
         return frames[:, self._frames] @ self._body2frame
 
     def nearest(self, joints_deg: np.ndarray, below: float = np.inf) -> list[Nearest | None]:
         """Per configuration of (n, 6) joint values, the nearest pair (bodies to solids, and the checked pairs of
         bodies) if its distance is below `below` mm, else None."""
-        poses, centres = self._placed(joints_deg)
-        return [self._nearest_one(poses[n], centres[n], below) for n in range(len(poses))]
+        poses = self.poses(joints_deg)
+        return [self._nearest_one(poses[n], below) for n in range(len(poses))]
 
     def least(self, joints_deg: np.ndarray) -> tuple[int, Nearest | None]:
-        """The sample of (n, 6) joint values with the least distance and its nearest pair: each sample measured only
-        where nearer than the least found so far."""
-        poses, centres = self._placed(joints_deg)
+        """The sample of (n, 6) joint values with the least distance and its nearest pair. The samples are taken in
+        the order of their least lower bound, and measured only while that bound is below the least distance found
+        so far (the bound is a true lower bound: no sample left out can be nearer)."""
+        poses = self.poses(joints_deg)
+        bounds, skip = self._bounds(poses[..., :3, 3])
+        floor = np.where(skip, np.inf, bounds).min(axis=-1)
         best: Nearest | None = None
         where = 0
-        for n in range(len(poses)):
-            found = self._nearest_one(poses[n], centres[n], np.inf if best is None else best.distance)
+        for n in np.argsort(floor, kind="stable").tolist():
+            limit = np.inf if best is None else best.distance
+            if floor[n] >= limit:
+                break
+            found = self._nearest_one(poses[n], limit, (bounds[n], skip))
             if found is not None:
                 best, where = found, n
         return where, best
 
-    def _placed(self, joints_deg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The bodies' poses (n, bodies, 4, 4) and bounding-sphere centres (n, bodies, 3) in the base frame."""
-        poses = self.poses(joints_deg)
-        centre = np.c_[self._body_centre, np.ones(len(self.bodies))]
-        return poses, np.einsum("nbij,bj->nbi", poses[..., :3, :], centre)
+    def _bounds(self, centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Lower bounds of every pair's distance (bounding spheres; a floor's plane) for the bodies' centres (...,
+        bodies, 3), flat on the last axis: body-solid pairs (bodies x solids, row-major), then the checked body
+        pairs; and the skip mask of that layout."""
+        lead = centre.shape[:-2]
+        gap = np.linalg.norm(centre[..., :, None, :] - self._solid_centre, axis=-1)
+        solid_bound = gap - self._body_radius[:, None] - self._solid_radius
+        for s, up in self._floor_up.items():
+            solid_bound[..., s] = centre @ up[:3] + up[3] - self.solids[s].height - self._body_radius
+        pair_bound = (np.linalg.norm(centre[..., self._pair_i, :] - centre[..., self._pair_j, :], axis=-1)
+                      - self._body_radius[self._pair_i] - self._body_radius[self._pair_j])
+        bounds = np.concatenate([solid_bound.reshape(*lead, -1), pair_bound], axis=-1)
+        skip = np.concatenate([self._skip.ravel(), np.zeros(len(self._pair_i), dtype=bool)])
+        return bounds, skip
 
-    def _candidates(self, pose: np.ndarray, centre: np.ndarray) -> list[tuple[float, int, int, bool]]:
-        """(lower bound of the distance, i, j, j is a body) for every pair: bounding spheres, a floor's plane."""
-        out = []
-        if len(self._finite):
-            gap = np.linalg.norm(centre[:, None, :] - self._solid_centre[None], axis=-1)
-            bound = gap - self._body_radius[:, None] - self._solid_radius[None]
-            out += [(bound[b, k], b, int(s), False) for b in range(len(centre)) for k, s in enumerate(self._finite)]
-        for s in self._floors:
-            floor = self.solids[s]
-            up = np.linalg.inv(floor.pose)[2]  # z in the floor's frame of a base-frame point
-            heights = centre @ up[:3] + up[3] - floor.height
-            out += [(heights[b] - self._body_radius[b], b, s, False) for b in range(len(centre))]
-        if self.pairs:
-            i, j = np.array(self.pairs).T
-            bound = np.linalg.norm(centre[i] - centre[j], axis=-1) - self._body_radius[i] - self._body_radius[j]
-            out += [(bound[k], int(i[k]), int(j[k]), True) for k in range(len(i))]
-        return out
-
-    def _nearest_one(self, pose: np.ndarray, centre: np.ndarray, below: float) -> Nearest | None:
+    def _nearest_one(self, pose: np.ndarray, below: float, bounded=None) -> Nearest | None:
+        bounds, skip = self._bounds(pose[:, :3, 3]) if bounded is None else bounded
+        order = np.argsort(bounds, kind="stable")
+        solid_pairs = self._skip.size
+        count = len(self.solids)
         best: Nearest | None = None
         limit = below
-        for bound, b, other, is_body in sorted(self._candidates(pose, centre), key=lambda c: c[0]):
-            if bound >= limit:
+        for k in order.tolist():
+            if bounds[k] >= limit:
                 break
-            one_name = self.bodies[b].name
-            other_name = self.bodies[other].name if is_body else self.names[other]
-            if not is_body and (one_name, other_name) in self._exempt:
+            if skip[k]:
                 continue
-            g1, local1 = self._body_geometry[b]
-            if is_body:
-                g2, local2 = self._body_geometry[other]
-                other2base = pose[other] @ local2
+            if k < solid_pairs:
+                b, s = divmod(k, count)
+                other_shape, other_name = self._solid_shape[s], self.names[s]
+                other = self._solid_transform[s]
             else:
-                g2, other2base = self._solid_geometry[other]
-            result = coal.DistanceResult()
-            request = coal.DistanceRequest()
-            d = coal.distance(g1, _transform(pose[b] @ local1), g2, _transform(other2base), request, result)
+                b, j = int(self._pair_i[k - solid_pairs]), int(self._pair_j[k - solid_pairs])
+                other_shape, other_name = self._body_shape[j], self.bodies[j].name
+                other = self._other
+                other.setTransform(np.ascontiguousarray(pose[j, :3, :3]), np.ascontiguousarray(pose[j, :3, 3]))
+            self._one.setTransform(np.ascontiguousarray(pose[b, :3, :3]), np.ascontiguousarray(pose[b, :3, 3]))
+            self._result.clear()
+            d = coal.distance(self._body_shape[b], self._one, other_shape, other, self._request, self._result)
             self.queries += 1
             if d < limit:
                 limit = d
-                best = Nearest(float(d), one_name, other_name, tuple(result.getNearestPoint1()),
-                               tuple(result.getNearestPoint2()))
+                best = Nearest(float(d), self.bodies[b].name, other_name, tuple(self._result.getNearestPoint1()),
+                               tuple(self._result.getNearestPoint2()))
         return best
 
 
-def _centre(shape) -> np.ndarray:
-    """The centre of a shape's bounding sphere in its own frame, homogeneous."""
-    if isinstance(shape, Capsule):
-        return np.r_[0.5 * (np.asarray(shape.a, dtype=float) + np.asarray(shape.b, dtype=float)), 1.0]
-    return np.array([0.0, 0.0, 0.0, 1.0])
-
-
 def _radius(shape) -> float:
-    """The radius of a shape's bounding sphere about _centre (mm)."""
+    """The radius of a shape's bounding sphere about the origin of its coal pose (mm)."""
     if isinstance(shape, Capsule):
         return 0.5 * float(np.linalg.norm(np.subtract(shape.b, shape.a))) + shape.radius
     return shape.extent

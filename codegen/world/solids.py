@@ -117,7 +117,7 @@ def tool_cylinder(tcp2flange: np.ndarray, radius: float) -> Cylinder:
     length = float(np.linalg.norm(tcp))
     if length <= 0:
         raise ValueError("a tool shape needs a TCP away from the flange")
-    return Cylinder(radius, length, _along(tcp / length, 0.5 * tcp))
+    return Cylinder(radius, length, z_along(tcp / length, 0.5 * tcp))
 
 
 def tool_box(size: tuple[float, float, float], tcp2flange: np.ndarray) -> Box:
@@ -126,7 +126,7 @@ def tool_box(size: tuple[float, float, float], tcp2flange: np.ndarray) -> Box:
     length = float(np.linalg.norm(tcp))
     if length <= 0:
         raise ValueError("a tool shape needs a TCP away from the flange")
-    return Box((size[0], size[1], length), _along(tcp / length, 0.5 * tcp))
+    return Box((size[0], size[1], length), z_along(tcp / length, 0.5 * tcp))
 
 
 def part_box(size: tuple[float, float, float], tcp2flange: np.ndarray, part2tcp: np.ndarray | None = None) -> Box:
@@ -137,7 +137,7 @@ def part_box(size: tuple[float, float, float], tcp2flange: np.ndarray, part2tcp:
     return Box(tuple(size), np.asarray(tcp2flange, dtype=float) @ centre2tcp)
 
 
-def _along(direction: np.ndarray, centre: np.ndarray) -> np.ndarray:
+def z_along(direction: np.ndarray, centre: np.ndarray) -> np.ndarray:
     """A pose at centre whose z axis is direction (a unit vector)."""
     helper = np.array([1.0, 0.0, 0.0]) if abs(direction[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
     x = np.cross(helper, direction)

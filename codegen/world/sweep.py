@@ -21,7 +21,7 @@ import numpy as np
 from codegen import poses
 from codegen.robot import solve
 from codegen.robot.arms import Arm
-from codegen.world.engine import Cell
+from codegen.world.engine import Scene
 
 CLEARANCE_MM = 20.0  # the cell's default clearance_mm (docs/clearance.md says why)
 MAX_SAMPLES = 100_000  # a move that needs more (a joint swinging near a singularity) is reported unresolved
@@ -51,13 +51,13 @@ class Unresolved(ValueError):
     """A path whose joints cannot be followed (no solution, or more than MAX_SAMPLES samples needed)."""
 
 
-def reach(cell: Cell) -> np.ndarray:
+def reach(scene: Scene) -> np.ndarray:
     """(6,) reach_j (mm): a bound on any body point's distance from joint j's axis, whatever the joint values."""
-    frames = cell.arm.kin.link_frames(np.zeros(6))
+    frames = scene.arm.kin.link_frames(np.zeros(6))
     origins = frames[:, :3, 3]
     link = np.linalg.norm(np.diff(origins, axis=0), axis=1)  # |o_(k+1) - o_k|, fixed by the link between them
     out = np.zeros(6)
-    for body in cell.bodies:
+    for body in scene.bodies:
         extent = _extent(body.shape)
         for j in range(1, body.frame + 1):  # joints 1 .. frame move the body
             out[j - 1] = max(out[j - 1], link[j - 1 : body.frame].sum() + extent)
@@ -99,12 +99,12 @@ def linear_path(arm: Arm, tcp2flange: np.ndarray, tcp0: np.ndarray, tcp1: np.nda
     return at
 
 
-def check_path(cell: Cell, path: Path, q_start, clearance_mm: float = CLEARANCE_MM) -> MoveClearance:
+def check_path(scene: Scene, path: Path, q_start, clearance_mm: float = CLEARANCE_MM) -> MoveClearance:
     """The least clearance along path (s from 0 to 1), starting at joints q_start (deg): a joint move, a linear move
     or a blend's corner (any Path: a corner gives its own joints along s)."""
     if clearance_mm <= 0:
         raise ValueError("the clearance is a positive distance (mm)")
-    weights = np.radians(reach(cell))
+    weights = np.radians(reach(scene))
     half = 0.5 * clearance_mm
     s = [0.0, 1.0]
     q = [np.asarray(q_start, dtype=float)]
@@ -129,7 +129,7 @@ def check_path(cell: Cell, path: Path, q_start, clearance_mm: float = CLEARANCE_
         worst = max(worst, travel)
         i += 1
     joints = np.array(q)
-    where, best = cell.least(joints)
+    where, best = scene.least(joints)
     if best is None:
         raise ValueError("the cell has nothing to measure (no solids and no checked pairs of links)")
     return MoveClearance(best.distance, best.distance - 0.5 * worst, best.body, best.other, s[where],

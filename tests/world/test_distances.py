@@ -9,7 +9,7 @@ import pytest
 
 from codegen.robot.arms import ArmError, arm_from_table, catalogue
 from codegen.world.bodies import arm_bodies, self_pairs
-from codegen.world.engine import Cell, distance
+from codegen.world.engine import Scene, distance
 from codegen.world.solids import Box, Capsule, Cylinder, Floor, World, tool_cylinder, translation
 
 
@@ -75,8 +75,8 @@ def test_every_catalogue_arm_has_links_and_stands_clear_of_itself_at_home():
     tool = translation(0.0, 0.0, 150.0)
     for arm in catalogue().values():
         assert arm.links and arm.links_source.startswith("estimates")
-        cell = Cell(arm, World({}), tool=tool_cylinder(tool, 25.0))
-        found = cell.nearest(np.array(arm.home_deg)[None])[0]
+        scene = Scene(arm, World({}), tool=tool_cylinder(tool, 25.0))
+        found = scene.nearest(np.array(arm.home_deg)[None])[0]
         assert found is not None and found.distance > 0, (arm.model, found)
 
 
@@ -96,9 +96,9 @@ def test_self_pairs_skip_neighbours_and_the_allowed_pairs():
 
 def test_a_folded_elbow_reaches_the_base():
     arm = catalogue()["UR5e"]
-    cell = Cell(arm, World({}))
+    scene = Scene(arm, World({}))
     stretched, folded = [0.0, 0.0, 0.0, -90.0, -90.0, 0.0], [0.0, 0.0, 165.0, -90.0, -90.0, 0.0]
-    clear, hit = cell.nearest(np.array([stretched, folded]))
+    clear, hit = scene.nearest(np.array([stretched, folded]))
     assert clear is None or clear.distance > 0
     assert hit is not None and hit.distance < 0 and hit.body in ("base", "shoulder") and hit.other.startswith("wrist")
 

@@ -10,7 +10,7 @@ import pytest
 
 from codegen.robot import solve
 from codegen.robot.arms import catalogue
-from codegen.world.engine import Cell
+from codegen.world.engine import Scene
 from codegen.world.solids import Box, Floor, World, tool_cylinder, translation
 from codegen.world.sweep import CLEARANCE_MM, check_path, joint_path, linear_path, reach
 
@@ -23,13 +23,13 @@ def tip_at(q) -> np.ndarray:
     return (UR5E.kin.fk(np.asarray(q, dtype=float)) @ TOOL)[:3, 3]
 
 
-def swing(plate: Box, tool_radius: float = 25.0) -> tuple[Cell, np.ndarray, np.ndarray]:
+def swing(plate: Box, tool_radius: float = 25.0) -> tuple[Scene, np.ndarray, np.ndarray]:
     """Axis 1 from -60 to +60 deg through home, the tool tip passing through plate's place at home (the arm's own
     links not checked: the plate is the only thing to find)."""
-    cell = Cell(UR5E, World({"plate": plate}), tool=tool_cylinder(TOOL, tool_radius), self_check=False)
+    scene = Scene(UR5E, World({"plate": plate}), tool=tool_cylinder(TOOL, tool_radius), self_check=False)
     start, end = HOME.copy(), HOME.copy()
     start[0], end[0] = -60.0, 60.0
-    return cell, start, end
+    return scene, start, end
 
 
 def tangential_plate(thickness: float) -> Box:
@@ -47,29 +47,29 @@ def tangential_plate(thickness: float) -> Box:
 
 
 def test_a_joint_move_through_a_box_its_end_poses_clear():
-    cell, start, end = swing(tangential_plate(60.0))
-    ends = cell.nearest(np.array([start, end]))
+    scene, start, end = swing(tangential_plate(60.0))
+    ends = scene.nearest(np.array([start, end]))
     assert all(found is None or found.distance > 200.0 for found in ends)  # neither end comes near
-    result = check_path(cell, joint_path(start, end), start)
+    result = check_path(scene, joint_path(start, end), start)
     assert result.distance < 0 and result.other == "plate" and result.body == "tool"
     # home lies halfway; the tool (radius 25) meets the 60 mm plate within +-55 mm of the tip's 509.6 mm circle
     assert result.s == pytest.approx(0.5, abs=55.0 / 509.6 / math.radians(120.0))
 
 
 def test_a_plate_thinner_than_a_coarse_step_is_found():
-    cell, start, end = swing(tangential_plate(1.0), tool_radius=10.0)
+    scene, start, end = swing(tangential_plate(1.0), tool_radius=10.0)
     coarse = np.linspace(start, end, 16)  # the tip moves about 71 mm between these samples, none at home
-    assert all(found is None or found.distance > CLEARANCE_MM for found in cell.nearest(coarse))
-    result = check_path(cell, joint_path(start, end), start)
+    assert all(found is None or found.distance > CLEARANCE_MM for found in scene.nearest(coarse))
+    result = check_path(scene, joint_path(start, end), start)
     assert result.distance < CLEARANCE_MM and result.other == "plate"
     assert result.lower_bound < 0  # the guarantee admits contact
 
 
 def test_the_step_keeps_every_point_within_half_the_clearance():
-    cell, start, end = swing(tangential_plate(1.0))
-    weights = np.radians(reach(cell))
+    scene, start, end = swing(tangential_plate(1.0))
+    weights = np.radians(reach(scene))
     for clearance in (5.0, 20.0):
-        result = check_path(cell, joint_path(start, end), start, clearance)
+        result = check_path(scene, joint_path(start, end), start, clearance)
         needed = weights @ np.abs(end - start) / (clearance / 2.0)
         assert result.samples >= needed + 1
         assert result.distance - result.lower_bound <= clearance / 4.0 + 1e-9
@@ -80,15 +80,15 @@ def test_the_step_keeps_every_point_within_half_the_clearance():
 
 
 def test_a_linear_move_follows_its_line():
-    cell = Cell(UR5E, World({"floor": Floor(0.0)}), tool=tool_cylinder(TOOL, 25.0))
+    scene = Scene(UR5E, World({"floor": Floor(0.0)}), tool=tool_cylinder(TOOL, 25.0))
     start_pose = UR5E.kin.fk(HOME) @ TOOL
     end_pose = start_pose.copy()
-    end_pose[2, 3] -= 400.0  # straight down to 100 mm under the base's top... the tool's end reaches below z = 0
+    end_pose[2, 3] -= 400.0  # straight down from 337.9 mm: the tool's end face ends 62.1 mm below the floor
     path = linear_path(UR5E, TOOL, start_pose, end_pose)
-    result = check_path(cell, path, HOME)
+    result = check_path(scene, path, HOME)
     assert result.body == "tool" and result.other == "floor"
     assert result.s == pytest.approx(1.0)
-    assert result.distance == pytest.approx(end_pose[2, 3] - 0.0, abs=1e-6)  # the tool's end (its TCP) is lowest
+    assert result.distance == pytest.approx(end_pose[2, 3], abs=1e-6)  # the tool's flat end face, at the TCP, is lowest
     assert tip_at(result.joints) == pytest.approx(end_pose[:3, 3], abs=1e-6)
 
 
@@ -102,9 +102,9 @@ def test_ur5e_elbow_under_a_180_mm_pick_height():
     d1, a2 = UR5E.kin.d1, UR5E.kin.a2
     elbow_z = d1 + a2 * math.sin(math.radians(q[1]))  # the elbow's height, DH written out
     assert 55.0 < elbow_z < 75.0  # about 67 mm: under the 180 mm machine top
-    cell = Cell(UR5E, World({"machine_top": Floor(180.0)}), tool=tool_cylinder(TOOL, 25.0))
-    found = cell.nearest(q[None])[0]
+    scene = Scene(UR5E, World({"machine_top": Floor(180.0)}), tool=tool_cylinder(TOOL, 25.0))
+    found = scene.nearest(q[None])[0]
     assert found.other == "machine_top" and found.body in ("upper_arm", "elbow", "forearm")
     assert found.distance < -100.0
-    result = check_path(cell, joint_path(HOME, q), HOME)
+    result = check_path(scene, joint_path(HOME, q), HOME)
     assert result.distance < 0 and not result.clear(CLEARANCE_MM)
