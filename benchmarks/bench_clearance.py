@@ -3,7 +3,7 @@ solids, and one joint move and one linear move checked along their paths.
 
 The cell: a UR5e with a 150 mm tool of radius 30 and a 100 x 80 x 60 mm carried box, the floor, a machine (a box
 800 x 600 x 180 mm in front of the robot) and a fence (a box behind it); the moves start at the catalogue's home.
-Each figure is the median over --repeat rounds (the machine is shared: expect spread). No goal is set yet: these
+Each figure is the median over --repeat rounds (the machine is shared: expect spread). No goal is set: these
 figures are the baseline the cell-level check (every move of a verify) is measured against.
 
 Run: python benchmarks/bench_clearance.py [--repeat N]
