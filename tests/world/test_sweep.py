@@ -108,3 +108,19 @@ def test_ur5e_elbow_under_a_180_mm_pick_height():
     assert found.distance < -100.0
     result = check_path(scene, joint_path(HOME, q), HOME)
     assert result.distance < 0 and not result.clear(CLEARANCE_MM)
+
+
+def test_a_linear_move_turns_about_one_axis_at_an_even_rate():
+    start_pose = UR5E.kin.fk(HOME) @ TOOL
+    c, s = math.cos(math.radians(60.0)), math.sin(math.radians(60.0))
+    end_pose = start_pose.copy()
+    end_pose[:3, :3] = start_pose[:3, :3] @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    end_pose[:3, 3] += (100.0, 50.0, -80.0)
+    path = linear_path(UR5E, TOOL, start_pose, end_pose)
+    q = path(0.25, HOME)
+    here = UR5E.kin.fk(q) @ TOOL
+    c, s = math.cos(math.radians(15.0)), math.sin(math.radians(15.0))  # a quarter of 60 deg about the tool's z
+    assert here[:3, :3] == pytest.approx(start_pose[:3, :3] @ np.array([[c, -s, 0.0], [s, c, 0.0], [0, 0, 1.0]]),
+                                         abs=1e-9)
+    assert here[:3, 3] == pytest.approx(start_pose[:3, 3] + 0.25 * np.array([100.0, 50.0, -80.0]), abs=1e-6)
+    assert np.abs(q - HOME).max() < 30.0  # the solution near the joints before, not another branch
