@@ -26,6 +26,18 @@ class ArmError(Exception):
 
 
 @dataclass(frozen=True)
+class LinkShape:
+    """One capsule of an arm's shape: the segment a-b (mm) fixed in link frame `frame` (the family's link_frames,
+    0 the base .. 6 the flange) and its radius (mm)."""
+
+    name: str
+    frame: int
+    a: tuple[float, float, float]
+    b: tuple[float, float, float]
+    radius: float
+
+
+@dataclass(frozen=True)
 class Arm:
     model: str
     vendor: str  # the controller family that drives it: a target's `vendor` fact (targets/<t>.toml)
@@ -36,6 +48,9 @@ class Arm:
     reach_mm: float | None = None
     payload_kg: float | None = None
     source: str = ""
+    links: tuple[LinkShape, ...] = ()  # the arm's shape (codegen/world); empty: none declared
+    self_allowed: tuple[tuple[int, int], ...] = ()  # link-frame pairs not checked against each other
+    links_source: str = ""
 
     @cached_property
     def limits(self) -> np.ndarray:
@@ -87,6 +102,7 @@ def _numbers(value, count: int, path: str) -> tuple[float, ...]:
 def arm_from_table(table: dict, path: str, model: str | None = None) -> Arm:
     """An arm from its description: catalogue entries and a cell's custom arm share this."""
     allowed = {"model", "vendor", "family", "params", "limits_deg", "home_deg", "reach_mm", "payload_kg", "source"}
+    allowed |= {"links", "self_allowed", "links_source"}
     unknown = sorted(set(table) - allowed)
     if unknown:
         raise ArmError(f"{path}.{unknown[0]}: unknown key; allowed: {', '.join(sorted(allowed))}")
@@ -146,7 +162,52 @@ def arm_from_table(table: dict, path: str, model: str | None = None) -> Arm:
         reach_mm=_positive(table, "reach_mm", path, PARAM_BOUND_MM, "mm"),
         payload_kg=_positive(table, "payload_kg", path, PAYLOAD_BOUND_KG, "kg"),
         source=str(table.get("source", "")),
+        links=_links(table.get("links", []), f"{path}.links"),
+        self_allowed=_pairs(table.get("self_allowed", []), f"{path}.self_allowed"),
+        links_source=str(table.get("links_source", "")),
     )
+
+
+def _links(value, path: str) -> tuple[LinkShape, ...]:
+    """The capsules of an arm's `links` key."""
+    if not isinstance(value, list):
+        raise ArmError(f"{path}: expected a list of tables")
+    out = []
+    for i, row in enumerate(value):
+        where = f"{path}[{i}]"
+        if not isinstance(row, dict):
+            raise ArmError(f"{where}: expected a table {{ name, frame, a, b, radius }}")
+        unknown = sorted(set(row) - {"name", "frame", "a", "b", "radius"})
+        if unknown:
+            raise ArmError(f"{where}.{unknown[0]}: unknown key; allowed: a, b, frame, name, radius")
+        for key in ("name", "frame", "a", "b", "radius"):
+            if key not in row:
+                raise ArmError(f"{where}.{key}: missing")
+        frame = row["frame"]
+        if isinstance(frame, bool) or not isinstance(frame, int) or not 0 <= frame <= 6:
+            raise ArmError(f"{where}.frame: expected an integer 0 .. 6")
+        radius = _number(row["radius"], f"{where}.radius")
+        if not 0 < radius <= PARAM_BOUND_MM:
+            raise ArmError(f"{where}.radius: expected a value in (0, {PARAM_BOUND_MM:g}] mm")
+        a, b = (_numbers(row[key], 3, f"{where}.{key}") for key in ("a", "b"))
+        if max(abs(v) for v in a + b) > PARAM_BOUND_MM:
+            raise ArmError(f"{where}: a point beyond +-{PARAM_BOUND_MM:g} mm")
+        out.append(LinkShape(str(row["name"]), frame, a, b, radius))  # type: ignore[arg-type]
+    return tuple(out)
+
+
+def _pairs(value, path: str) -> tuple[tuple[int, int], ...]:
+    """The link-frame pairs of `self_allowed`."""
+    if not isinstance(value, list):
+        raise ArmError(f"{path}: expected a list of [i, j] pairs")
+    out = []
+    for i, pair in enumerate(value):
+        ok = isinstance(pair, list) and len(pair) == 2
+        ok = ok and all(isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= 6 for v in pair)
+        if not ok:
+            raise ArmError(f"{path}[{i}]: expected a pair [i, j] of link frames 0 .. 6")
+        out.append((min(pair), max(pair)))
+    return tuple(out)
 
 
 def check_inside(joints: tuple[float, ...], limits, path: str) -> None:

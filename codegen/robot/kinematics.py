@@ -28,6 +28,7 @@ class Kinematics(Protocol):
     ik:  (..., 4, 4) flange2base -> (..., 8, 6) axis values wrapped to (-180, 180], one row per branch in
          the family's documented fixed order, a row of NaN where that branch has no solution.
     wrist_center: (..., 6) axis values -> (..., 3) the family's wrist point in the base frame.
+    link_frames: (..., 6) axis values -> (..., 7, 4, 4) a frame per link (0 the base, 6 the flange), base frame.
     """
 
     def fk(self, joints_deg: np.ndarray) -> np.ndarray: ...
@@ -35,6 +36,8 @@ class Kinematics(Protocol):
     def ik(self, flange2base: np.ndarray) -> np.ndarray: ...
 
     def wrist_center(self, joints_deg: np.ndarray) -> np.ndarray: ...
+
+    def link_frames(self, joints_deg: np.ndarray) -> np.ndarray: ...
 
 
 # numpy scalars for the helpers below: an operation with a Python float pays for converting it on every call

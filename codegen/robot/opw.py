@@ -172,6 +172,35 @@ class OPW:
         t = self.theta(joints_deg)
         return np.sin(t[..., 2] + self.psi3)
 
+    def link_frames(self, joints_deg: np.ndarray) -> np.ndarray:
+        """(..., 7, 4, 4): a frame per link in the base frame, mm, each parallel to the base frame at theta = 0:
+        0 the base; 1 turned by theta1 about z at the base origin; 2 at axis 2 (a1, b, c1 in frame 1) turned by
+        theta2 about y; 3 at axis 3 (c2 up frame 2) turned by theta3 about y; 4, 5, 6 at the wrist centre (a2,
+        0, c3 in frame 3) turned by theta4 about z and theta5 about y; 6 the flange (c4 along frame 5's z, turned
+        by theta6 about z) (the paper's chain: R0c = Rz(theta1) Ry(theta2 + theta3), Rce = Rz Ry Rz)."""
+        t = self.theta(joints_deg)
+        steps = (
+            (0, (0.0, 0.0, 0.0)),
+            (1, (self.a1, self.b, self.c1)),
+            (1, (0.0, 0.0, self.c2)),
+            (0, (self.a2, 0.0, self.c3)),
+            (1, (0.0, 0.0, 0.0)),
+            (0, (0.0, 0.0, self.c4)),  # Tz(c4) Rz(theta6) = Rz(theta6) Tz(c4): frame 6 is the flange
+        )  # per joint: the axis it turns about (0: z, 1: y) and its origin in the frame before it
+        out = np.empty((*t.shape[:-1], 7, 4, 4))
+        out[..., 0, :, :] = np.eye(4)
+        for i, (axis, origin) in enumerate(steps):
+            c, s = np.cos(t[..., i]), np.sin(t[..., i])
+            link = np.zeros((*t.shape[:-1], 4, 4))
+            if axis == 0:
+                link[..., 0, 0], link[..., 0, 1], link[..., 1, 0], link[..., 1, 1], link[..., 2, 2] = c, -s, s, c, 1.0
+            else:
+                link[..., 0, 0], link[..., 0, 2], link[..., 2, 0], link[..., 2, 2], link[..., 1, 1] = c, s, -s, c, 1.0
+            link[..., :3, 3] = origin
+            link[..., 3, 3] = 1.0
+            out[..., i + 1, :, :] = out[..., i, :, :] @ link
+        return out
+
     def fk(self, joints_deg: np.ndarray) -> np.ndarray:
         """(..., 6) axis values (deg) -> (..., 4, 4) flange2base (mm)."""
         q = np.asarray(joints_deg, dtype=float)

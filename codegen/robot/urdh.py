@@ -125,6 +125,26 @@ class URDH:
         """(..., 6) axis values (deg) -> (..., 4, 4) flange2base (mm), base = the controller's base frame."""
         return self._frames(joints_deg, 6)
 
+    def link_frames(self, joints_deg: np.ndarray) -> np.ndarray:
+        """(..., 7, 4, 4): DH frames 0 (the base) to 6 (the flange) in the base frame, mm. Frame i turns with
+        link i (the body after joint i); its z axis is joint i + 1's axis."""
+        q = np.radians(np.asarray(joints_deg, dtype=float))
+        d = (self.d1, 0.0, 0.0, self.d4, self.d5, self.d6)
+        a = (0.0, self.a2, self.a3, 0.0, 0.0, 0.0)
+        out = np.empty((*q.shape[:-1], 7, 4, 4))
+        out[..., 0, :, :] = np.eye(4)
+        for i in range(6):  # Rz(q) Tz(d) Tx(a) Rx(alpha), as _frame builds it
+            c, s = np.cos(q[..., i]), np.sin(q[..., i])
+            link = np.zeros((*q.shape[:-1], 4, 4))
+            link[..., 0, 0], link[..., 1, 0] = c, s
+            link[..., 0, 1], link[..., 1, 1] = -s * COS_ALPHA[i], c * COS_ALPHA[i]
+            link[..., 0, 2], link[..., 1, 2] = s * SIN_ALPHA[i], -c * SIN_ALPHA[i]
+            link[..., 0, 3], link[..., 1, 3] = c * a[i], s * a[i]
+            link[..., 2, :] = (0.0, SIN_ALPHA[i], COS_ALPHA[i], d[i])
+            link[..., 3, 3] = 1.0
+            out[..., i + 1, :, :] = out[..., i, :, :] @ link
+        return out
+
     def wrist_center(self, joints_deg: np.ndarray) -> np.ndarray:
         """(..., 3) where axes 5 and 6 meet (DH frame 5's origin, flange - d6 z6), base frame, mm."""
         return self._frames(joints_deg, 5)[..., :3, 3]

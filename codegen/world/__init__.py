@@ -1,0 +1,1 @@
+"""The cell as solid objects: shapes, the arm's capsules, exact distances, swept moves and loads from shape."""

@@ -1,0 +1,195 @@
+"""Exact signed distances between the moving bodies and the cell's solids (and between the arm's own links), by the
+coal collision library; a cheap bounding-sphere test orders the pairs so that only the near ones are measured."""
+
+# coal (the maintained successor of HPP-FCL, itself a fork of FCL) computes signed distances between primitive
+# shapes with its own GJK/EPA and closed forms for capsules, spheres and half-spaces: the distance is exact up to
+# its solver's tolerance (about 1e-8 mm on the shapes here), negative where two shapes overlap (the depth).
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import coal
+import numpy as np
+
+from codegen.robot.arms import Arm
+from codegen.world.bodies import Body, arm_bodies, self_pairs
+from codegen.world.solids import Box, Capsule, Cylinder, Floor, Solid, World, z_along
+
+
+@dataclass(frozen=True)
+class Nearest:
+    """The least distance (mm, negative: overlap depth) at one configuration, between body and other (a solid's name
+    or another body's name), and the two nearest points in the base frame (mm)."""
+
+    distance: float
+    body: str
+    other: str
+    point_body: tuple[float, float, float]
+    point_other: tuple[float, float, float]
+
+
+def _geometry(shape: Solid) -> tuple[coal.ShapeBase, np.ndarray]:
+    """The coal shape and its pose in the shape's own frame (coal's capsules and cylinders are centred on z)."""
+    if isinstance(shape, Box):
+        return coal.Box(*map(float, shape.size)), np.eye(4)
+    if isinstance(shape, Cylinder):
+        return coal.Cylinder(float(shape.radius), float(shape.length)), np.eye(4)
+    if isinstance(shape, Floor):
+        return coal.Halfspace(np.array([0.0, 0.0, 1.0]), float(shape.height)), np.eye(4)
+    a, b = np.asarray(shape.a, dtype=float), np.asarray(shape.b, dtype=float)
+    length = float(np.linalg.norm(b - a))
+    if length == 0.0:
+        return coal.Sphere(float(shape.radius)), _at(a)
+    return coal.Capsule(float(shape.radius), length), z_along((b - a) / length, 0.5 * (a + b))
+
+
+def _at(point: np.ndarray) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, 3] = point
+    return out
+
+
+def _transform(pose: np.ndarray) -> coal.Transform3s:
+    return coal.Transform3s(np.ascontiguousarray(pose[:3, :3]), np.ascontiguousarray(pose[:3, 3]))
+
+
+def distance(
+    one: Solid, one2base: np.ndarray, other: Solid, other2base: np.ndarray
+) -> tuple[float, np.ndarray, np.ndarray]:
+    """The signed distance (mm) between two shapes placed at one2base . one.pose and other2base . other.pose, and the
+    nearest points (base frame)."""
+    g1, local1 = _geometry(one)
+    g2, local2 = _geometry(other)
+    result = coal.DistanceResult()
+    d = coal.distance(
+        g1, _transform(one2base @ one.pose @ local1), g2, _transform(other2base @ other.pose @ local2),
+        coal.DistanceRequest(), result,
+    )
+    return float(d), np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
+
+
+class Scene:
+    """An arm with its tool and carried part among the world's solids: least distances at given joint values."""
+
+    def __init__(self, arm: Arm, world: World, tool=None, part=None, exempt: frozenset[tuple[str, str]] = frozenset(),
+                 self_check: bool = True):
+        """exempt: (body, solid) name pairs not measured (a part lying on the table it is placed on)."""
+        self.arm = arm
+        self.bodies: tuple[Body, ...] = arm_bodies(arm, tool, part)
+        self.names = list(world.solids)
+        self.solids = [world.solids[name] for name in self.names]
+        self.pairs = self_pairs(arm, self.bodies) if self_check else ()
+        geometry = [_geometry(body.shape) for body in self.bodies]
+        self._body_shape = [g for g, _ in geometry]
+        # body2frame . the coal shape's own pose: the origin of each is its bounding sphere's centre
+        placed = zip(self.bodies, geometry, strict=True)
+        self._body2frame = np.array([body.shape.pose @ local for body, (_, local) in placed])
+        self._frames = np.array([body.frame for body in self.bodies])
+        self._body_radius = np.array([_radius(body.shape) for body in self.bodies])
+        self._solid_shape, self._solid_transform, centres = [], [], []
+        for solid in self.solids:
+            g, local = _geometry(solid)
+            self._solid_shape.append(g)
+            self._solid_transform.append(_transform(solid.pose @ local))
+            centres.append((solid.pose @ local)[:3, 3])
+        self._solid_centre = np.array(centres).reshape(-1, 3)
+        self._solid_radius = np.array([_radius(solid) for solid in self.solids])
+        floors = [i for i, solid in enumerate(self.solids) if isinstance(solid, Floor)]
+        self._floor_up = {i: np.linalg.inv(self.solids[i].pose)[2] for i in floors}  # a point's height in its frame
+        # the robot's base stands on its mounting plane and never moves: its capsule is not measured against a floor
+        skip = {(b, s) for b, s in exempt} | {(body.name, self.names[i]) for body in self.bodies
+                                             if body.frame == 0 for i in floors}
+        index = {name: i for i, name in enumerate(self.names)}
+        self._skip = np.zeros((len(self.bodies), len(self.solids)), dtype=bool)
+        for b, body in enumerate(self.bodies):
+            for one, other in skip:
+                if one == body.name and other in index:
+                    self._skip[b, index[other]] = True
+        pairs = np.array(self.pairs, dtype=int).reshape(-1, 2)
+        self._pair_i, self._pair_j = pairs[:, 0], pairs[:, 1]
+        self._one, self._other = coal.Transform3s(), coal.Transform3s()
+        self._request, self._result = coal.DistanceRequest(), coal.DistanceResult()
+        self.queries = 0  # exact distance queries made (for the benchmarks)
+
+    def poses(self, joints_deg: np.ndarray) -> np.ndarray:
+        """(n, bodies, 4, 4): each body's coal pose in the base frame (its origin the bounding sphere's centre)."""
+        frames = self.arm.kin.link_frames(np.asarray(joints_deg, dtype=float).reshape(-1, 6))
+        return frames[:, self._frames] @ self._body2frame
+
+    def nearest(self, joints_deg: np.ndarray, below: float = np.inf) -> list[Nearest | None]:
+        """Per configuration of (n, 6) joint values, the nearest pair (bodies to solids, and the checked pairs of
+        bodies) if its distance is below `below` mm, else None."""
+        poses = self.poses(joints_deg)
+        return [self._nearest_one(poses[n], below) for n in range(len(poses))]
+
+    def least(self, joints_deg: np.ndarray) -> tuple[int, Nearest | None]:
+        """The sample of (n, 6) joint values with the least distance and its nearest pair. The samples are taken in
+        the order of their least lower bound, and measured only while that bound is below the least distance found
+        so far (the bound is a true lower bound: no sample left out can be nearer)."""
+        poses = self.poses(joints_deg)
+        bounds, skip = self._bounds(poses[..., :3, 3])
+        floor = np.where(skip, np.inf, bounds).min(axis=-1)
+        best: Nearest | None = None
+        where = 0
+        for n in np.argsort(floor, kind="stable").tolist():
+            limit = np.inf if best is None else best.distance
+            if floor[n] >= limit:
+                break
+            found = self._nearest_one(poses[n], limit, (bounds[n], skip))
+            if found is not None:
+                best, where = found, n
+        return where, best
+
+    def _bounds(self, centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Lower bounds of every pair's distance (bounding spheres; a floor's plane) for the bodies' centres (...,
+        bodies, 3), flat on the last axis: body-solid pairs (bodies x solids, row-major), then the checked body
+        pairs; and the skip mask of that layout."""
+        lead = centre.shape[:-2]
+        gap = np.linalg.norm(centre[..., :, None, :] - self._solid_centre, axis=-1)
+        solid_bound = gap - self._body_radius[:, None] - self._solid_radius
+        for s, up in self._floor_up.items():
+            solid_bound[..., s] = centre @ up[:3] + up[3] - self.solids[s].height - self._body_radius
+        pair_bound = (np.linalg.norm(centre[..., self._pair_i, :] - centre[..., self._pair_j, :], axis=-1)
+                      - self._body_radius[self._pair_i] - self._body_radius[self._pair_j])
+        bounds = np.concatenate([solid_bound.reshape(*lead, -1), pair_bound], axis=-1)
+        skip = np.concatenate([self._skip.ravel(), np.zeros(len(self._pair_i), dtype=bool)])
+        return bounds, skip
+
+    def _nearest_one(self, pose: np.ndarray, below: float, bounded=None) -> Nearest | None:
+        bounds, skip = self._bounds(pose[:, :3, 3]) if bounded is None else bounded
+        order = np.argsort(bounds, kind="stable")
+        solid_pairs = self._skip.size
+        count = len(self.solids)
+        best: Nearest | None = None
+        limit = below
+        for k in order.tolist():
+            if bounds[k] >= limit:
+                break
+            if skip[k]:
+                continue
+            if k < solid_pairs:
+                b, s = divmod(k, count)
+                other_shape, other_name = self._solid_shape[s], self.names[s]
+                other = self._solid_transform[s]
+            else:
+                b, j = int(self._pair_i[k - solid_pairs]), int(self._pair_j[k - solid_pairs])
+                other_shape, other_name = self._body_shape[j], self.bodies[j].name
+                other = self._other
+                other.setTransform(np.ascontiguousarray(pose[j, :3, :3]), np.ascontiguousarray(pose[j, :3, 3]))
+            self._one.setTransform(np.ascontiguousarray(pose[b, :3, :3]), np.ascontiguousarray(pose[b, :3, 3]))
+            self._result.clear()
+            d = coal.distance(self._body_shape[b], self._one, other_shape, other, self._request, self._result)
+            self.queries += 1
+            if d < limit:
+                limit = d
+                best = Nearest(float(d), self.bodies[b].name, other_name, tuple(self._result.getNearestPoint1()),
+                               tuple(self._result.getNearestPoint2()))
+        return best
+
+
+def _radius(shape) -> float:
+    """The radius of a shape's bounding sphere about the origin of its coal pose (mm)."""
+    if isinstance(shape, Capsule):
+        return 0.5 * float(np.linalg.norm(np.subtract(shape.b, shape.a))) + shape.radius
+    return shape.extent

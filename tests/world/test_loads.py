@@ -1,0 +1,67 @@
+"""Loads from shape against closed forms written out here, and the controllers' forms of them."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from codegen.world import loads
+from codegen.world.solids import translation
+
+
+def turned(axis: str, angle_deg: float, x: float = 0.0, y: float = 0.0, z: float = 0.0) -> np.ndarray:
+    c, s = math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))
+    rotation = {"z": [[c, -s, 0], [s, c, 0], [0, 0, 1]], "y": [[c, 0, s], [0, 1, 0], [-s, 0, c]]}[axis]
+    out = translation(x, y, z)
+    out[:3, :3] = rotation
+    return out
+
+
+def test_box_off_the_flange_parallel_axis_terms():
+    m, (a, b, c), (dx, dz) = 2.0, (0.1, 0.2, 0.05), (0.01, 0.08)  # kg, m, m
+    load = loads.box(m, (100.0, 200.0, 50.0), translation(10.0, 0.0, 80.0))
+    own = [m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12]
+    assert np.diag(load.inertia_cog) == pytest.approx(own, rel=1e-12)
+    expected = np.array([
+        [own[0] + m * dz * dz, 0.0, -m * dx * dz],
+        [0.0, own[1] + m * (dx * dx + dz * dz), 0.0],
+        [-m * dx * dz, 0.0, own[2] + m * dx * dx],
+    ])
+    assert load.about_flange() == pytest.approx(expected, rel=1e-12, abs=1e-15)
+
+
+def test_cylinder_lying_along_flange_x():
+    m, r, h, dz = 1.5, 0.04, 0.3, 0.12
+    load = loads.cylinder(m, 40.0, 300.0, turned("y", 90.0, z=120.0))  # its axis along the flange's x
+    assert load.about_flange() == pytest.approx(np.diag([
+        m * r * r / 2 + m * dz * dz,
+        m * (3 * r * r + h * h) / 12 + m * dz * dz,
+        m * (3 * r * r + h * h) / 12,
+    ]), abs=1e-15)
+
+
+def test_controller_forms_of_a_turned_box():
+    m = 3.0
+    load = loads.box(m, (300.0, 100.0, 60.0), turned("z", 30.0, 0.0, 0.0, 90.0))
+    jx, jy, jz = m * (0.1**2 + 0.06**2) / 12, m * (0.3**2 + 0.06**2) / 12, m * (0.3**2 + 0.1**2) / 12
+    kuka = load.kuka()
+    assert (kuka["M"], kuka["X"], kuka["Y"], kuka["Z"]) == pytest.approx((3.0, 0.0, 0.0, 90.0), abs=1e-12)
+    assert (kuka["A"], kuka["B"], kuka["C"]) == pytest.approx((30.0, 0.0, 0.0), abs=1e-9)
+    assert (kuka["JX"], kuka["JY"], kuka["JZ"]) == pytest.approx((jx, jy, jz), rel=1e-12)
+    mass, cog, aom, ix, iy, iz = load.abb()
+    assert aom == pytest.approx((math.cos(math.radians(15)), 0.0, 0.0, math.sin(math.radians(15))), abs=1e-12)
+    assert cog == pytest.approx((0.0, 0.0, 90.0), abs=1e-12)
+    assert (mass, ix, iy, iz) == pytest.approx((3.0, jx, jy, jz), rel=1e-12)
+    _, cog_m, inertia = load.ur()
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    ixx, iyy = jx * c * c + jy * s * s, jx * s * s + jy * c * c  # R diag(jx, jy) R^T about z
+    ixy = (jx - jy) * c * s
+    assert cog_m == pytest.approx([0.0, 0.0, 0.09])
+    assert inertia == pytest.approx([ixx, iyy, jz, ixy, 0.0, 0.0], rel=1e-12, abs=1e-15)
+
+
+def test_a_load_needs_mass():
+    with pytest.raises(ValueError, match="positive mass"):
+        loads.box(0.0, (1.0, 1.0, 1.0), np.eye(4))

@@ -1,0 +1,126 @@
+"""Moves checked along their whole path: a box between two clear end poses, a plate thinner than a coarse step,
+a linear move solved along its line, and the UR5e posture that puts the elbow under the pick height."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from codegen.robot import solve
+from codegen.robot.arms import catalogue
+from codegen.world.engine import Scene
+from codegen.world.solids import Box, Floor, World, tool_cylinder, translation
+from codegen.world.sweep import CLEARANCE_MM, check_path, joint_path, linear_path, reach
+
+UR5E = catalogue()["UR5e"]
+HOME = np.array(UR5E.home_deg)
+TOOL = translation(0.0, 0.0, 150.0)
+
+
+def tip_at(q) -> np.ndarray:
+    return (UR5E.kin.fk(np.asarray(q, dtype=float)) @ TOOL)[:3, 3]
+
+
+def swing(plate: Box, tool_radius: float = 25.0) -> tuple[Scene, np.ndarray, np.ndarray]:
+    """Axis 1 from -60 to +60 deg through home, the tool tip passing through plate's place at home (the arm's own
+    links not checked: the plate is the only thing to find)."""
+    scene = Scene(UR5E, World({"plate": plate}), tool=tool_cylinder(TOOL, tool_radius), self_check=False)
+    start, end = HOME.copy(), HOME.copy()
+    start[0], end[0] = -60.0, 60.0
+    return scene, start, end
+
+
+def tangential_plate(thickness: float) -> Box:
+    """A plate thin along the tip's direction of travel at home (axis 1 turning), 10 mm into the tool's end."""
+    tip = tip_at(HOME)
+    along = np.cross([0.0, 0.0, 1.0], tip)  # the tip's direction of travel
+    along[2] = 0.0
+    along /= np.linalg.norm(along)
+    pose = np.eye(4)
+    pose[:3, 0] = along
+    pose[:3, 2] = (0.0, 0.0, 1.0)
+    pose[:3, 1] = np.cross(pose[:3, 2], along)
+    pose[:3, 3] = tip - (0.0, 0.0, 40.0 - 10.0)  # 80 mm high, its top 10 mm above the tip
+    return Box((thickness, 60.0, 80.0), pose)
+
+
+def test_a_joint_move_through_a_box_its_end_poses_clear():
+    scene, start, end = swing(tangential_plate(60.0))
+    ends = scene.nearest(np.array([start, end]))
+    assert all(found is None or found.distance > 200.0 for found in ends)  # neither end comes near
+    result = check_path(scene, joint_path(start, end), start)
+    assert result.distance < 0 and result.other == "plate" and result.body == "tool"
+    # home lies halfway; the tool (radius 25) meets the 60 mm plate within +-55 mm of the tip's 509.6 mm circle
+    assert result.s == pytest.approx(0.5, abs=55.0 / 509.6 / math.radians(120.0))
+
+
+def test_a_plate_thinner_than_a_coarse_step_is_found():
+    scene, start, end = swing(tangential_plate(1.0), tool_radius=10.0)
+    coarse = np.linspace(start, end, 16)  # the tip moves about 71 mm between these samples, none at home
+    assert all(found is None or found.distance > CLEARANCE_MM for found in scene.nearest(coarse))
+    result = check_path(scene, joint_path(start, end), start)
+    assert result.distance < CLEARANCE_MM and result.other == "plate"
+    assert result.lower_bound < 0  # the guarantee admits contact
+
+
+def test_the_step_keeps_every_point_within_half_the_clearance():
+    scene, start, end = swing(tangential_plate(1.0))
+    weights = np.radians(reach(scene))
+    for clearance in (5.0, 20.0):
+        result = check_path(scene, joint_path(start, end), start, clearance)
+        needed = weights @ np.abs(end - start) / (clearance / 2.0)
+        assert result.samples >= needed + 1
+        assert result.distance - result.lower_bound <= clearance / 4.0 + 1e-9
+    # the tip's own travel per step stays under the bound: the bound holds for a point the test follows itself
+    steps = np.linspace(start, end, math.ceil(weights @ np.abs(end - start) / 10.0) + 1)
+    tips = np.array([tip_at(q) for q in steps])
+    assert np.linalg.norm(np.diff(tips, axis=0), axis=1).max() <= 10.0
+
+
+def test_a_linear_move_follows_its_line():
+    scene = Scene(UR5E, World({"floor": Floor(0.0)}), tool=tool_cylinder(TOOL, 25.0))
+    start_pose = UR5E.kin.fk(HOME) @ TOOL
+    end_pose = start_pose.copy()
+    end_pose[2, 3] -= 400.0  # straight down from 337.9 mm: the tool's end face ends 62.1 mm below the floor
+    path = linear_path(UR5E, TOOL, start_pose, end_pose)
+    result = check_path(scene, path, HOME)
+    assert result.body == "tool" and result.other == "floor"
+    assert result.s == pytest.approx(1.0)
+    assert result.distance == pytest.approx(end_pose[2, 3], abs=1e-6)  # the tool's flat end face, at the TCP, is lowest
+    assert tip_at(result.joints) == pytest.approx(end_pose[:3, 3], abs=1e-6)
+
+
+def test_ur5e_elbow_under_a_180_mm_pick_height():
+    """Stations at +x, the catalogue's home facing -x: the IK nearest home (UR's qnear) folds the elbow down."""
+    pick = np.eye(4)
+    pick[:3, :3] = np.diag([1.0, -1.0, -1.0])  # tool pointing down
+    pick[:3, 3] = (480.0, 0.0, 180.0)
+    q, branch = solve.nearest(UR5E, solve.branches(UR5E, solve.flange_poses(pick, TOOL)), HOME)
+    assert branch >= 0
+    d1, a2 = UR5E.kin.d1, UR5E.kin.a2
+    elbow_z = d1 + a2 * math.sin(math.radians(q[1]))  # the elbow's height, DH written out
+    assert 55.0 < elbow_z < 75.0  # about 67 mm: under the 180 mm machine top
+    scene = Scene(UR5E, World({"machine_top": Floor(180.0)}), tool=tool_cylinder(TOOL, 25.0))
+    found = scene.nearest(q[None])[0]
+    assert found.other == "machine_top" and found.body in ("upper_arm", "elbow", "forearm")
+    assert found.distance < -100.0
+    result = check_path(scene, joint_path(HOME, q), HOME)
+    assert result.distance < 0 and not result.clear(CLEARANCE_MM)
+
+
+def test_a_linear_move_turns_about_one_axis_at_an_even_rate():
+    start_pose = UR5E.kin.fk(HOME) @ TOOL
+    c, s = math.cos(math.radians(60.0)), math.sin(math.radians(60.0))
+    end_pose = start_pose.copy()
+    end_pose[:3, :3] = start_pose[:3, :3] @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    end_pose[:3, 3] += (100.0, 50.0, -80.0)
+    path = linear_path(UR5E, TOOL, start_pose, end_pose)
+    q = path(0.25, HOME)
+    here = UR5E.kin.fk(q) @ TOOL
+    c, s = math.cos(math.radians(15.0)), math.sin(math.radians(15.0))  # a quarter of 60 deg about the tool's z
+    assert here[:3, :3] == pytest.approx(start_pose[:3, :3] @ np.array([[c, -s, 0.0], [s, c, 0.0], [0, 0, 1.0]]),
+                                         abs=1e-9)
+    assert here[:3, 3] == pytest.approx(start_pose[:3, 3] + 0.25 * np.array([100.0, 50.0, -80.0]), abs=1e-6)
+    assert np.abs(q - HOME).max() < 30.0  # the solution near the joints before, not another branch
