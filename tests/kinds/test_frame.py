@@ -8,8 +8,7 @@ import pytest
 from support import stations
 
 from codegen.controllers import get_target, target_names
-from codegen.kinds.frame import FrameCase, expected_frame_trace
-from codegen.kinds.frame.kind import NOT_CONVERGED
+from codegen.kinds.station.modes.frame import NOT_CONVERGED, FrameCase, expected_frame_trace
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.sim.camera import CameraModel
@@ -24,7 +23,7 @@ def bench():
 
 def test_bench_cell_loads(bench):
     station = bench.stations[0]
-    assert station.kind == "frame" and station.spec.frame is not None and station.spec.photo is not None
+    assert station.mode == "frame" and station.spec.frame is not None and station.spec.photo is not None
     assert bench.handeye is not None and bench.settings["frame"].max_iterations == 10
 
 
@@ -92,8 +91,9 @@ def _source_sign_printed(dialect: str):
     dialect's own printer (the derivation's frame_update(-1), the readable names of the cache)."""
     import sympy as sp
 
-    from codegen import derivation, derived
+    from codegen import derived
     from codegen.dialects import get_dialect
+    from codegen.kinds.station import derivation
 
     printer = get_dialect(dialect).printer()
     names = {sp.cos(derivation.alpha): sp.Symbol("cos_alpha"), sp.sin(derivation.alpha): sp.Symbol("sin_alpha")}

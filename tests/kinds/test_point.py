@@ -10,7 +10,7 @@ import pytest
 
 from codegen import derived
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, UNKNOWN_STATION
-from codegen.kinds.point.reference import Reading, expected_trace
+from codegen.kinds.station.point.reference import Reading, expected_trace
 from codegen.poses import wrap_deg
 
 

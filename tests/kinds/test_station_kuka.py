@@ -58,7 +58,7 @@ def test_the_base_is_the_robot_base_on_a_platform():
 
     from codegen.controllers import get_target
     from codegen.dialects.krl.interpreter import load
-    from codegen.kinds.stations.cases import inputs_for, run_options
+    from codegen.kinds.station.cases import inputs_for, run_options
     from codegen.model.cell import load_cell
     from codegen.protocol import get_kind
     from codegen.render import render

@@ -63,8 +63,8 @@ def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Expec
     station = cell.station_by_id(reading.station_id)
     if station is None:
         return ExpectedTrace("halt", UNKNOWN_STATION)
-    if station.kind != NAME:
-        raise ValueError(f"station {station.name} is a {station.kind} station, not a point station")
+    if station.mode != NAME:
+        raise ValueError(f"station {station.name} is a {station.mode} station, not a point station")
     if not reading_in_range(reading.x, reading.y, reading.theta):
         return ExpectedTrace("halt", INVALID_READING, station)
     tx, ty, t_theta = station.spec.mark

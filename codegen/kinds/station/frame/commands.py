@@ -8,7 +8,7 @@ import click
 
 from codegen.cli_base import UserError
 from codegen.cli_base import dump as _dump
-from codegen.kinds.frame.handeye import HandEyeError, fit, read_points, write_to_cell
+from codegen.kinds.station.frame.handeye import HandEyeError, fit, read_points, write_to_cell
 
 
 @click.command("handeye")
