@@ -283,4 +283,3 @@ def get_kind(name: str) -> type[ProgramKind]:
     if name not in known:
         raise KeyError(f"unknown program kind {name!r}; known: {', '.join(known)}")
     return known[name]
-

@@ -89,9 +89,8 @@ def test_an_unknown_or_missing_target_key_is_refused(tmp_path, monkeypatch):
 
 
 def test_the_example_cells_use_every_kind():
-    from codegen.model.cell import load_cell
-
     from codegen.kinds.station.mode import modes
+    from codegen.model.cell import load_cell
 
     used, modes_used = set(), set()
     for path in (REPO / "codegen" / "examples").rglob("*.toml"):

@@ -6,7 +6,7 @@ import hashlib
 import math
 import tomllib
 from dataclasses import dataclass, field, replace
-from functools import cached_property, lru_cache
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -70,7 +70,7 @@ class Cell:
 
     # The cell's stations as the kind whose section holds them has them (a section with `stations`): read here
     # by the code that has not yet asked that kind for its section.
-    @cached_property
+    @property
     def _stationed(self):
         return next((s for s in self.sections.values() if hasattr(s, "stations")), None)
 

@@ -43,7 +43,9 @@ def cell_table() -> Table:
             "table", robot.robot_table().doc, table=robot.robot_table(), controllers=", ".join(robot.arm_targets())
         ),
         "tool": Key("table", robot.TOOL.doc, table=robot.tool_table()),
-        "vision": Key("table", vision.TABLE.doc, table=vision.TABLE, kinds=_readers("vision")),
+        "vision": Key(
+            "table", vision.TABLE.doc, table=replace(vision.TABLE, kinds=_readers("vision")), kinds=_readers("vision")
+        ),
         "motion": Key("table", motion.TABLE.doc, table=motion.TABLE),
         "io": Key(
             "table",

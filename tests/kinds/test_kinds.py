@@ -3,12 +3,13 @@
 from kind_base import KindTests
 
 
-class TestPoint(KindTests):
-    kind = "point"
+class TestStation(KindTests):
+    kind = "station"  # the first example with stations: point mode
 
 
-class TestFrame(KindTests):
-    kind = "frame"
+class TestStationFrame(KindTests):
+    kind = "station"
+    example = "thermometer_bench"  # frame mode
 
 
 class TestPallet(KindTests):

@@ -43,5 +43,3 @@ def expected_joints(
         out.append(q)
         previous = q
     return out
-
-
