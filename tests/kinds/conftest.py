@@ -6,5 +6,5 @@ from kind_base import targets_of
 def pytest_generate_tests(metafunc):
     kind = getattr(metafunc.cls, "kind", None)
     if kind is not None and "pair" in metafunc.fixturenames:
-        pairs = targets_of(kind, getattr(metafunc.cls, "example", None))
+        pairs = targets_of(kind)
         metafunc.parametrize("pair", pairs, ids=[target for target, _ in pairs])

@@ -17,17 +17,15 @@ from codegen.render import plans, render_plan
 from codegen.verify.plan import SCENARIOS
 
 
-def targets_of(kind: str, example_name: str | None = None) -> list[tuple[str, str]]:
-    """(target, example cell) pairs of a kind (in the given example, or the first that has its programs)."""
-    return [(target, cell) for k, target, cell in kind_targets(example_name) if k == kind]
+def targets_of(kind: str) -> list[tuple[str, str]]:
+    """(target, example cell) pairs of a kind."""
+    return [(target, cell) for k, target, cell in kind_targets() if k == kind]
 
 
 class KindTests:
-    """Subclasses set `kind` (and `example`, an example cell of their own); every test runs for each target the
-    kind writes programs for."""
+    """Subclasses set `kind`; every test runs for each target the kind writes programs for."""
 
     kind: str
-    example: str | None = None
 
     @pytest.fixture
     def cell(self, pair):

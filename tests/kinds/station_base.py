@@ -15,9 +15,10 @@ from support.cells import EXAMPLES, HOSTILE, cell_text, example, replace_once, s
 from codegen import derived
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect, parse_program
+from codegen.kinds.station.keys import STATION_ID_MAX
 from codegen.kinds.station.mode import mode_of
 from codegen.kinds.station.section import with_section
-from codegen.model.cell import STATION_ID_MAX, load_cell
+from codegen.model.cell import load_cell
 from codegen.reference import home_move
 from codegen.render import render
 

@@ -4,12 +4,7 @@ from kind_base import KindTests
 
 
 class TestStation(KindTests):
-    kind = "station"  # the first example with stations: point mode
-
-
-class TestStationFrame(KindTests):
     kind = "station"
-    example = "thermometer_bench"  # frame mode
 
 
 class TestPallet(KindTests):

@@ -21,14 +21,14 @@ def example(name: str):
     return load_cell(EXAMPLES[name])
 
 
-def kind_targets(only: str | None = None) -> list[tuple[str, str, str]]:
+def kind_targets() -> list[tuple[str, str, str]]:
     """(kind, target, example cell) for every kind's programs of every target in the examples: the first example
-    cell that has them (only: that example's)."""
+    cell that has them."""
     from codegen.controllers import get_target
     from codegen.render import plans
 
     out: dict[tuple[str, str], str] = {}
-    for name in EXAMPLES if only is None else [only]:
+    for name in EXAMPLES:
         cell = example(name)
         for target in cell.targets:
             for plan in plans(cell, get_target(target)):

@@ -1,1 +1,1 @@
-"""The cell's station program, shared by the station kinds (point, frame): its base, context and verify."""
+"""The station kind: the cell's [[station]] tables and their one program; point, frame, ... are its modes (modes/)."""

@@ -1,4 +1,4 @@
-"""`codegen calibrate handeye`: the 9-point hand-eye calibration of the frame kind's camera (source 001)."""
+"""`codegen calibrate handeye`: the 9-point hand-eye calibration of the frame mode's camera (source 001)."""
 
 from __future__ import annotations
 

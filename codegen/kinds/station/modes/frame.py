@@ -32,7 +32,7 @@ from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation
 from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
 from codegen.sim.camera import CameraModel, SimulatedCamera
 
-NOT_CONVERGED = "not_converged"  # a halt reason of this kind: the residual stayed over tolerance
+NOT_CONVERGED = "not_converged"  # a halt reason of this mode: the residual stayed over tolerance
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
 
 

@@ -1,4 +1,4 @@
-"""`codegen correct`: the point kind's reference result for one camera reading."""
+"""`codegen correct`: the point mode's reference result for one camera reading."""
 
 from __future__ import annotations
 

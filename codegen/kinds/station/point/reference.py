@@ -18,7 +18,7 @@ from codegen.guard import (
 from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz, wrap_deg
 from codegen.reference import ExpectedTrace, path_moves
 
-NAME = "point"  # the kind's name: a station's `mode`
+NAME = "point"  # the mode's name: a station's `mode`
 
 
 @dataclass(frozen=True)
