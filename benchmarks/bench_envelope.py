@@ -53,7 +53,7 @@ def station(i: int, params: tuple[float, ...]) -> str:
 
 def passing_cell(count: int, folder: Path):
     """count stations that the envelope check accepts (random candidates, refused ones dropped)."""
-    from codegen.kinds.stations.envelope import ReachError, check_target
+    from codegen.kinds.station.envelope import ReachError, check_target
     from codegen.model.cell import load_cell
 
     rng = random.Random(7)
@@ -77,7 +77,7 @@ def passing_cell(count: int, folder: Path):
 
 
 def timed_check(path) -> float:
-    from codegen.kinds.stations.envelope import check
+    from codegen.kinds.station.envelope import check
     from codegen.model.cell import load_cell
 
     cell = load_cell(path)  # a fresh cell: nothing cached

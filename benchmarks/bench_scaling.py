@@ -30,7 +30,7 @@ from pathlib import Path
 sys.path.insert(0, {bench!r})
 from bench_render import make_cell
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
-from codegen.kinds.stations.cases import build_cases
+from codegen.kinds.station.cases import build_cases
 from codegen.model.cell import load_cell
 from codegen.verify.programs import fresh_sources
 from codegen.verify.runner import run_cases

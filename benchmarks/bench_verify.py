@@ -37,7 +37,7 @@ _STATE: dict = {}
 
 def _load(target: str) -> None:
     """Worker initialiser: build the case set and load the program once."""
-    from codegen.kinds.stations.cases import build_cases, edge_cell
+    from codegen.kinds.station.cases import build_cases, edge_cell
     from codegen.model.cell import load_cell
     from codegen.verify.programs import fresh_sources
 

@@ -45,13 +45,14 @@ class ProgramKind:
     name: ClassVar[str] = ""  # "" for an abstract base: not registered
     order: ClassVar[int] = 100  # where the kind comes in reports and programs, lowest first
     # the kind's part of the cell file's definition (codegen.model.schema.KindKeys): its tables and keys, their
-    # types, ranges and defaults; tables, cell_tables and station_keys follow from it
+    # types, ranges and defaults; tables and cell_tables follow from it
     cell_file: ClassVar[Any] = None
     tables: ClassVar[frozenset[str]] = frozenset()  # top-level tables of a cell file the kind owns
     cell_tables: ClassVar[frozenset[str]] = frozenset()  # [cell.<name>] tables of this kind
-    station_keys: ClassVar[frozenset[str]] = frozenset()  # [[station]] keys of this kind (station kinds)
-    station_mode: ClassVar[bool] = False  # its stations are [[station]] tables with `mode = "<name>"`
     target_keys: ClassVar[dict[str, type]] = {}  # its [program.<name>] table: key -> type
+    # its program is named after the cell: a program file given to verify under a name of its own (a hand-edited
+    # copy) is taken for it
+    renamed_copies: ClassVar[bool] = False
     registry: ClassVar[dict[str, type[ProgramKind]]] = {}
 
     def __init_subclass__(cls, **kwargs) -> None:
@@ -59,7 +60,6 @@ class ProgramKind:
         if "cell_file" in cls.__dict__ and cls.cell_file is not None:
             cls.tables = frozenset(cls.cell_file.tables)
             cls.cell_tables = frozenset(cls.cell_file.cell_tables)
-            cls.station_keys = frozenset(cls.cell_file.station_keys)
         if cls.name:
             ProgramKind.registry[cls.name] = cls
 
@@ -69,6 +69,15 @@ class ProgramKind:
         """The kind's part of the cell model from its top-level tables (None: the cell has none); cell is
         the cell as far as it is known (targets, pose format, robot, io, motion), ctx the validator."""
         return None
+
+    @classmethod
+    def listed_names(cls) -> tuple[str, ...]:
+        """The names the cell file's reference lists the kind's tables under (a kind with modes: its modes')."""
+        return (cls.name,)
+
+    @classmethod
+    def json_schema(cls, schema: dict) -> None:
+        """Add the rules between the kind's tables to the cell file's JSON Schema (codegen.model.tables)."""
 
     @classmethod
     def standalone(cls, data: dict) -> bool:
@@ -110,6 +119,23 @@ class ProgramKind:
     def identities(cls, check) -> list:
         """The kind's identities for `codegen derive --check` (codegen.derivation._check makes each one)."""
         return []
+
+    @classmethod
+    def derive(cls) -> Any:
+        """The kind's derivation that its description and identities read (sympy; None: the kind has none)."""
+        return None
+
+    @classmethod
+    def describe_derivation(cls, derivation) -> str:
+        """The kind's derivation for `codegen derive` ("": nothing to say)."""
+        return ""
+
+    @classmethod
+    def derivation_symbols(cls) -> dict:
+        """The kind's conventions for the shared proof and printing (codegen.derivation): "free" symbols every
+        counterexample search draws, "small" angles drawn near 0, "readable" {expression: name} of the printed
+        blocks' common subexpressions."""
+        return {}
 
     @classmethod
     def printed_blocks(cls) -> dict:
@@ -257,8 +283,3 @@ def get_kind(name: str) -> type[ProgramKind]:
     if name not in known:
         raise KeyError(f"unknown program kind {name!r}; known: {', '.join(known)}")
     return known[name]
-
-
-def station_kinds() -> dict[str, type[ProgramKind]]:
-    """The kinds whose stations are [[station]] tables (they share the cell's station program), in order."""
-    return {name: kind for name, kind in kinds().items() if kind.station_mode}

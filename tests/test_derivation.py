@@ -8,6 +8,7 @@ import pytest
 
 from codegen import derivation, derived
 from codegen.kinds.pallet import derivation as pallet_derivation
+from codegen.kinds.station import derivation as station_derivation
 
 EXPECTED = {
     "zero_rotation_is_translation": "holds",
@@ -52,11 +53,11 @@ def test_source_004_pallet_frame_error_for_py_five_degrees_off_square():
 
 @pytest.fixture(scope="module")
 def fresh():
-    return derivation.derive()
+    return station_derivation.derive()
 
 
 def test_identities_have_expected_status(fresh):
-    result = {i.name: i.status for i in derivation.identities(fresh)}
+    result = {i.name: i.status for i in derivation.identities({"station": fresh})}
     assert result == EXPECTED
 
 
@@ -64,13 +65,13 @@ def test_solution_is_the_rigid_formula(fresh):
     # Independent of the solver: Pn = tn + R(phi)(P - t), typed here as the test's own statement.
     import sympy as sp
 
-    s = derivation
+    s = station_derivation
     expected = s.tn + s.rot2(s.phi) * (s.P - s.t)
     assert all(sp.simplify(e) == 0 for e in fresh.Pn - expected)
 
 
 def test_refuted_identity_reports_a_counterexample(fresh):
-    eq13 = next(i for i in derivation.identities(fresh) if i.name == "source_eq13")
+    eq13 = next(i for i in derivation.identities({"station": fresh}) if i.name == "source_eq13")
     assert eq13.detail.startswith("at ") and "residual" in eq13.detail
 
 
@@ -82,10 +83,10 @@ def test_cache_equals_fresh_derivation():
 def test_contraction_factor_is_derived():
     import sympy as sp
 
-    factor = derivation.source_frame_contraction()
-    assert sp.simplify(factor - 2 * sp.Abs(sp.sin(derivation.alpha))) == 0
+    factor = station_derivation.source_frame_contraction()
+    assert sp.simplify(factor - 2 * sp.Abs(sp.sin(station_derivation.alpha))) == 0
     # diverges past 30 degrees: 2 sin(30 deg) = 1
-    assert float(factor.subs(derivation.alpha, sp.pi / 6)) == 1.0
+    assert float(factor.subs(station_derivation.alpha, sp.pi / 6)) == 1.0
 
 
 def test_describe_shows_both_updates():

@@ -143,6 +143,6 @@ def test_wrap_deg_values(angle, expected):
 
 def test_one_wrap():
     from codegen.dialects import posemath
-    from codegen.kinds.point import kind as point
+    from codegen.kinds.station.modes import point
 
     assert posemath.wrap_deg is point.wrap_deg is poses.wrap_deg

@@ -89,13 +89,16 @@ def test_an_unknown_or_missing_target_key_is_refused(tmp_path, monkeypatch):
 
 
 def test_the_example_cells_use_every_kind():
+    from codegen.kinds.station.mode import modes
     from codegen.model.cell import example_cells, load_cell
 
-    used = set()
+    used, modes_used = set(), set()
     for path in example_cells():
         cell = load_cell(path)
-        used |= {s.kind for s in cell.stations} | set(cell.sections)
+        used |= set(cell.sections)
+        modes_used |= {s.mode for s in cell.stations}
     assert used == set(kinds())
+    assert modes_used == set(modes())
 
 
 def test_every_file_suffix_has_one_dialect():
@@ -108,17 +111,17 @@ def test_every_file_suffix_has_one_dialect():
 
 
 def test_kinds_are_registered_with_a_template_per_target():
-    """A station kind has its partial of the station program per target; a kind with programs of its own has a
-    template for each file its [program.<kind>] table names (targets without the table write none of them): the
-    pattern with {<kind>} as the kind's name and any other placeholder {x} as <kind>_x."""
-    from codegen.protocol import station_kinds
+    """Each station mode has its partial of the station program per target (kinds/station_<mode>.j2); a kind with
+    programs of its own has a template for each file its [program.<kind>] table names (targets without the table
+    write none of them): the pattern with {<kind>} as the kind's name and any other placeholder {x} as <kind>_x."""
+    from codegen.kinds.station.mode import modes
 
-    assert {"point", "frame", "pallet", "conveyor", "laser"} <= set(kinds())
+    assert set(kinds()) == {"station", "pallet", "conveyor", "laser"}
+    assert set(modes()) == {"point", "frame"}
     for name in target_names():
+        for mode in modes():
+            assert (REPO / "templates" / name / "kinds" / f"station_{mode}.j2").is_file(), (name, mode)
         for kind_name, kind in kinds().items():
-            if kind_name in station_kinds():
-                assert (REPO / "templates" / name / "kinds" / f"{kind_name}.j2").is_file(), (name, kind_name)
-                continue
             for pattern in kind.facts(get_target(name)).get("files", []):
                 fields = {f for _, f, _, _ in Formatter().parse(pattern) if f}
                 template = pattern.format(**{f: kind_name if f == kind_name else f"{kind_name}_{f}" for f in fields})
@@ -155,25 +158,73 @@ def test_a_controller_is_named_only_in_its_own_files():
     assert not offenders, offenders
 
 
+def _naming(word: str, bare: bool) -> re.Pattern:
+    """How a source names a kind or a station mode: its package or module path, its classes, a lookup or a
+    comparison by its name, a table declared for it; with `bare`, the name as a word at all."""
+    title = word.capitalize()
+    forms = [
+        rf"\b(kinds|modes)[./]{word}\b",
+        rf"\b{title}(Kind|Mode|Spec|Case|Section)\b",
+        rf"(\b(mode|kind)\s*(==|!=)|\bget_(kind|mode)\(|\b(sections|settings|modes\(\)|kinds\(\))(\[|\.get\())\s*[\"']{word}[\"']",
+        rf"\bkinds=\([^)]*[\"']{word}[\"']",
+    ]
+    if bare:
+        forms.append(rf"\b{word}s?\b")
+    return re.compile("|".join(forms), 0 if not bare else re.IGNORECASE)
+
+
+def _names_outside(word: str, own: tuple[Path, ...], template_prefixes: tuple[str, ...], bare: bool) -> list[str]:
+    pattern = _naming(word, bare)
+    offenders = []
+    for path in [*(REPO / "codegen").rglob("*.py"), *(REPO / "templates").rglob("*.j2")]:
+        if path in own or any(folder in path.parents for folder in own) or path.name.startswith(template_prefixes):
+            continue
+        if REPO / "codegen" / "dialects" in path.parents:
+            continue
+        if pattern.search(path.read_text(encoding="utf-8")):
+            offenders.append(f"{path.relative_to(REPO)}: {word}")
+    return offenders
+
+
 def test_a_program_kind_is_named_only_in_its_own_files():
     """Outside its package codegen/kinds/<kind>/ and its templates templates/<t>/kinds/<kind>.*.j2 and <kind>_*.j2,
-    no source names a kind with programs of its own (cell, render, generate, verify and cli loop over the
-    registry). The dialects are left out: a language's own built-ins carry their manual's words (URScript's
-    track_conveyor_linear). The station kinds' names are common words (a point, a frame): their packages are
-    held to the same rule by the registry tests above."""
-    from codegen.protocol import station_kinds
+    no source names a kind (cell, render, generate, verify and cli loop over the registry): not its package, its
+    classes, a lookup or comparison by its name. The dialects are left out: a language's own built-ins carry their
+    manual's words (URScript's track_conveyor_linear). A kind whose name is no word of the cell file's own
+    vocabulary is held to more: its name appears nowhere else at all; the station kind's name is the cell file's
+    [[station]] table and the word every program's operator messages use."""
+    from codegen.kinds.station.keys import NAME
 
     offenders = []
-    for word in sorted(set(kinds()) - set(station_kinds())):
+    for word in sorted(kinds()):
         own = (REPO / "codegen" / "kinds" / word,)
-        for path in [*(REPO / "codegen").rglob("*.py"), *(REPO / "templates").rglob("*.j2")]:
-            if any(folder in path.parents for folder in own) or path.name.startswith((f"{word}.", f"{word}_")):
-                continue
-            if REPO / "codegen" / "dialects" in path.parents:
-                continue
-            if re.search(rf"\b{word}s?\b", path.read_text(encoding="utf-8"), re.IGNORECASE):
-                offenders.append(f"{path.relative_to(REPO)}: {word}")
+        offenders += _names_outside(word, own, (f"{word}.", f"{word}_"), bare=word != NAME)
     assert not offenders, offenders
+
+
+def test_a_station_mode_is_named_only_in_its_own_files():
+    """A station mode is one module codegen/kinds/station/modes/<mode>.py (with its helpers in
+    codegen/kinds/station/<mode>/) and its partial templates/<t>/kinds/station_<mode>.j2: no other source names it
+    (its package, its classes, a lookup, comparison or table by its name). The shared station code asks the
+    registry of modes."""
+    from codegen.kinds.station.mode import modes
+
+    offenders = []
+    station = REPO / "codegen" / "kinds" / "station"
+    for word in sorted(modes()):
+        own = (station / "modes" / f"{word}.py", station / word)
+        offenders += _names_outside(word, own, (f"station_{word}.",), bare=False)
+    assert not offenders, offenders
+
+
+def test_the_naming_check_can_fail():
+    assert _naming("frame", bare=False).search('if station.mode == "frame":')
+    assert _naming("frame", bare=False).search("from codegen.kinds.station.modes.frame import FrameSpec")
+    assert _naming("point", bare=False).search('kinds=("point", "frame")')
+    assert _naming("station", bare=False).search('cell.sections.get("station")')
+    assert not _naming("frame", bare=False).search('"frame": emitter.pose(frame)')  # a pallet's own key
+    assert not _naming("point", bare=False).search('if role == "point":')  # a row of a TCP calibration
+    assert _naming("pallet", bare=True).search("the pallets of the cell")
 
 
 def test_the_docs_list_each_kinds_scenarios_as_the_kind_declares_them():

@@ -27,7 +27,6 @@ TABLE = Table(
             default=5.0,
         ),
     },
-    kinds=("point", "frame"),
 )
 TIMEOUT_S = TABLE.default("timeout_s")
 

@@ -76,7 +76,7 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
         for plan in plans(cell, target):
             known[plan.files[0].name.lower()] = plan
         # a program under a name of its own (a hand-edited copy) is the station program, where the cell has one
-        fallback = next((p for p in known.values() if get_kind(p.kind).station_mode), None)
+        fallback = next((p for p in known.values() if get_kind(p.kind).renamed_copies), None)
         group = [*group, *_companions_beside(group, dialect)]
         files = [read_source(path, dialect.encodings) for path in group]
         try:

@@ -15,8 +15,10 @@ from support.cells import EXAMPLES, HOSTILE, cell_text, example, replace_once, s
 from codegen import derived
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect, parse_program
-from codegen.model.cell import STATION_ID_MAX, load_cell
-from codegen.protocol import get_kind
+from codegen.kinds.station.keys import STATION_ID_MAX
+from codegen.kinds.station.mode import mode_of
+from codegen.kinds.station.section import with_section
+from codegen.model.cell import load_cell
 from codegen.reference import home_move
 from codegen.render import render
 
@@ -62,9 +64,9 @@ class StationTests:
         """Run each station's id with its kind's zero-offset case: the first move is that station's."""
         program = stations.source(cell, self.target).load()
         for station in cell.stations:
-            case = get_kind(station.kind).nominal_case(cell, station)
+            case = mode_of(station).nominal_case(cell, station)
             got = stations.run(cell, self.target, program, case)
-            (want, *_), _ = get_kind(station.kind).accepted(cell, case.reading)
+            (want, *_), _ = mode_of(station).accepted(cell, case.reading)
             assert not got.halted, (station.name, got.halt_message)
             first = 0 if home_move(cell, self.target) is None else 1  # after the home move
             assert len(got.moves) > first, station.name
@@ -123,15 +125,15 @@ class StationTests:
         """Render from a perturbed model, verify against the true cell: every kind must see each one."""
         needs = {"angle_sign_flipped": "angle_sign", "calibration_moved_0_05mm": "calibration"}
         needs["sin_cos_swapped"] = "derivation"
-        kinds_hit = {s.kind for s in cell.stations if needs[mutation] in get_kind(s.kind).model_inputs}
+        kinds_hit = {s.mode for s in cell.stations if needs[mutation] in mode_of(s).model_inputs}
         if not kinds_hit:
             pytest.skip(f"no kind of this cell depends on its {needs[mutation]}")
         mutant = cell
         if mutation == "angle_sign_flipped":
-            mutant = replace(cell, angle_sign=-cell.angle_sign)
+            mutant = with_section(cell, angle_sign=-cell.angle_sign)
         elif mutation == "calibration_moved_0_05mm":
-            moved = tuple(replace(s, spec=get_kind(s.kind).moved(s.spec, 0.05)) for s in cell.stations)
-            mutant = replace(cell, stations=moved)
+            moved = tuple(replace(s, spec=mode_of(s).moved(s.spec, 0.05)) for s in cell.stations)
+            mutant = with_section(cell, stations=moved)
         else:
             monkeypatch.setattr(derived, "printed", _swap_sin_cos(get_target(self.target).dialect))
         text, dat = stations.files(mutant, self.target)
@@ -139,7 +141,7 @@ class StationTests:
         assert (text, dat) != stations.files(cell, self.target), f"{mutation} changed nothing"
         program = stations.source(cell, self.target, text, dat)
         cases = stations.build_cases(cell, 8, 4)
-        kind_of = {station.id: station.kind for station in cell.stations}
+        kind_of = {station.id: station.mode for station in cell.stations}
         for kind in kinds_hit:  # each kind on its own: one must not hide another
             mine = [c for c in cases if kind_of.get(c.reading.station_id) == kind]
             report = stations.verify(cell, program, mine)

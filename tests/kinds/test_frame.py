@@ -8,8 +8,8 @@ import pytest
 from support import stations
 
 from codegen.controllers import get_target, target_names
-from codegen.kinds.frame import FrameCase, expected_frame_trace
-from codegen.kinds.frame.kind import NOT_CONVERGED
+from codegen.kinds.station.modes.frame import NOT_CONVERGED, FrameCase, expected_frame_trace
+from codegen.kinds.station.section import with_section
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.sim.camera import CameraModel
@@ -24,8 +24,8 @@ def bench():
 
 def test_bench_cell_loads(bench):
     station = bench.stations[0]
-    assert station.kind == "frame" and station.spec.frame is not None and station.spec.photo is not None
-    assert bench.handeye is not None and bench.settings["frame"].max_iterations == 10
+    assert station.mode == "frame" and station.spec.frame is not None and station.spec.photo is not None
+    assert bench.handeye is not None and bench.sections["station"].settings["frame"].max_iterations == 10
 
 
 @pytest.mark.parametrize(
@@ -92,8 +92,9 @@ def _source_sign_printed(dialect: str):
     dialect's own printer (the derivation's frame_update(-1), the readable names of the cache)."""
     import sympy as sp
 
-    from codegen import derivation, derived
+    from codegen import derived
     from codegen.dialects import get_dialect
+    from codegen.kinds.station import derivation
 
     printer = get_dialect(dialect).printer()
     names = {sp.cos(derivation.alpha): sp.Symbol("cos_alpha"), sp.sin(derivation.alpha): sp.Symbol("sin_alpha")}
@@ -192,7 +193,7 @@ def test_a_cell_of_frame_stations_only(tmp_path):
     path = tmp_path / "frames.toml"
     path.write_text(text[: text.index("[[station]]\nid = 2")], encoding="utf-8")
     cell = load_cell(path)
-    assert {s.kind for s in cell.stations} == {"frame"}
+    assert {s.mode for s in cell.stations} == {"frame"}
     for target in target_names():
         point_inputs = [v for k, v in get_target(target).program["inputs"].items() if k != "station"]
         for f in render(cell, [target]):
@@ -207,9 +208,8 @@ def test_a_cell_whose_angle_sign_contradicts_its_camera_fails_verify(bench, targ
     """The simulated camera knows nothing of the cell's angle_sign: it reports the mark's turn in its
     image's axes. Programs made from a cell with the other sign, verified against that same cell,
     fail (its own reference agrees with them, the camera does not)."""
-    from dataclasses import replace
 
-    wrong = replace(bench, angle_sign=-bench.angle_sign)  # a cell the loader would refuse
+    wrong = with_section(bench, angle_sign=-bench.angle_sign)  # a cell the loader would refuse
     report = stations.verify(wrong, stations.source(wrong, target), stations.build_cases(wrong, 12, 5))
     assert report.mismatches > 0
     assert any("angle_sign +1 and the camera's image" in m for m in report.first_mismatches)

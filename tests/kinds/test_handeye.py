@@ -10,7 +10,7 @@ import pytest
 from click.testing import CliRunner
 
 from codegen.cli import main
-from codegen.kinds.frame.handeye import HandEyeError, fit, read_points
+from codegen.kinds.station.frame.handeye import HandEyeError, fit, read_points
 from codegen.model.cell import CellError, load_cell
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "codegen" / "examples"

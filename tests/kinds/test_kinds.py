@@ -3,12 +3,8 @@
 from kind_base import KindTests
 
 
-class TestPoint(KindTests):
-    kind = "point"
-
-
-class TestFrame(KindTests):
-    kind = "frame"
+class TestStation(KindTests):
+    kind = "station"
 
 
 class TestPallet(KindTests):

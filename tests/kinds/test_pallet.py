@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from support.closed_forms import evaluate
 
-from codegen import derived
 from codegen.cli import main
 from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.analysis import frame_matrix
@@ -362,7 +362,7 @@ def test_the_printed_box_position_is_the_pose_product():
     turn = math.atan2(frame[1, 0], frame[0, 0])
     assert abs(turn) > 1.0
     for p in placements(pallet):
-        got = derived.evaluate(
+        got = evaluate(
             "box",
             {
                 "PAL_OX": frame[0, 3],

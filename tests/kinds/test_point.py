@@ -7,10 +7,10 @@ import random
 
 import numpy as np
 import pytest
+from support.closed_forms import evaluate
 
-from codegen import derived
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, UNKNOWN_STATION
-from codegen.kinds.point.reference import Reading, expected_trace
+from codegen.kinds.station.point.reference import Reading, expected_trace
 from codegen.poses import wrap_deg
 
 
@@ -26,14 +26,14 @@ def test_closed_form_agrees_with_matrices(demo_cell):
         trace = expected_trace(demo_cell, reading)
         assert trace.status == "ok"
         phi = math.radians(trace.detail.phi_deg)
-        frame = derived.evaluate("frame", {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi})
+        frame = evaluate("frame", {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi})
         d = trace.detail.correction
         assert abs(frame["frame_cos"] - d[0, 0]) < 1e-12
         assert abs(frame["frame_sin"] - d[1, 0]) < 1e-12
         worst = max(worst, abs(frame["frame_x"] - d[0, 3]), abs(frame["frame_y"] - d[1, 3]))
         for pose, move in zip(station.path, trace.moves, strict=True):
             m = pose.matrix()
-            point = derived.evaluate(
+            point = evaluate(
                 "point",
                 {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi, "Px": m[0, 3], "Py": m[1, 3]},
             )

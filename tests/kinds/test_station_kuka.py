@@ -58,14 +58,14 @@ def test_the_base_is_the_robot_base_on_a_platform():
 
     from codegen.controllers import get_target
     from codegen.dialects.krl.interpreter import load
-    from codegen.kinds.stations.cases import inputs_for, run_options
+    from codegen.kinds.station.cases import inputs_for, run_options
+    from codegen.kinds.station.mode import get_mode
     from codegen.model.cell import load_cell
-    from codegen.protocol import get_kind
     from codegen.render import render
 
     cell, target = load_cell(), get_target("kuka")
     files = {f.relpath.rsplit(".", 1)[1]: f.text for f in render(cell, ["kuka"])}
-    case = get_kind("point").nominal_case(cell, cell.stations[0])
+    case = get_mode("point").nominal_case(cell, cell.stations[0])
     inputs = inputs_for(cell, target, case.reading)
     root = {"$ROBROOT": (1500.0, -300.0, 0.0, 90.0, 0.0, 0.0)}
 

@@ -12,7 +12,7 @@ from click.testing import CliRunner
 from support.robot_chains import CATALOGUE_CHAINS, chain_frames, ikpy_chain
 
 from codegen.cli import main
-from codegen.kinds.stations.region import arm_poses
+from codegen.kinds.station.region import arm_poses
 from codegen.model.cell import DEMO_CELL, EXAMPLES_DIR, CellError, load_cell
 from codegen.render import render
 from codegen.robot.arms import catalogue
@@ -305,7 +305,7 @@ def _many_stations(count: int, bad: int | None = None) -> str:
 
 
 def test_a_large_cell_is_checked_in_parallel_with_the_same_result(tmp_path, monkeypatch):
-    from codegen.kinds.stations import envelope
+    from codegen.kinds.station import envelope
 
     path = write_cell(tmp_path, _many_stations(60))
     parallel = load_cell(path)

@@ -7,7 +7,7 @@ from dataclasses import replace
 from codegen.controllers import get_target
 from codegen.dialects.core.files import SourceFile
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
-from codegen.kinds.stations.cases import build_cases, inputs_for, run_options
+from codegen.kinds.station.cases import build_cases, inputs_for, run_options
 from codegen.protocol import get_kind
 from codegen.robot.expect import arm_of
 from codegen.verify.programs import fresh_sources
@@ -18,7 +18,7 @@ __all__ = ["build_cases", "files", "run", "source", "sweep", "verify"]
 
 
 def _fresh(cell, target: str):
-    return next(s for s in fresh_sources(cell, [target]) if get_kind(s.kind).station_mode)
+    return next(s for s in fresh_sources(cell, [target]) if s.kind == "station")
 
 
 def files(cell, target: str) -> tuple[str, str | None]:

@@ -136,7 +136,7 @@ def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path):
     assert result.exit_code == 1
     report = json.loads(result.output)["targets"][0]
     assert report["mismatches"] == 2 and all("step limit 5000 reached" in m for m in report["first_mismatches"])
-    from codegen.kinds.stations.cases import build_cases
+    from codegen.kinds.station.cases import build_cases
     from codegen.model.cell import load_cell
 
     assert report["cases"] < len(build_cases(load_cell(demo), 50, 0))  # the chunk with station 1 stopped
@@ -159,7 +159,7 @@ def _socket_and_node(tmp_path: Path, broken: str) -> list[Path]:
 
 def test_two_programs_of_one_target_are_two_rows_each_run(tmp_path):
     """Each file given is run on its own: the broken one fails beside its untouched twin, either way round."""
-    from codegen.kinds.stations.cases import build_cases
+    from codegen.kinds.station.cases import build_cases
     from codegen.model.cell import DEMO_CELL
     from codegen.verify.engine import Options, verify_sources
     from codegen.verify.programs import file_sources

@@ -7,7 +7,7 @@ import gc
 
 import pytest
 
-from codegen.kinds.stations.cases import build_cases
+from codegen.kinds.station.cases import build_cases
 from codegen.model.cell import load_cell
 from codegen.protocol import get_kind
 from codegen.verify import engine, runner

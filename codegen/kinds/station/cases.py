@@ -20,19 +20,21 @@ from codegen.guard import (
     UNKNOWN_STATION_TEXT,
     halt_message,
 )
-from codegen.kinds.stations.region import station_plan
+from codegen.kinds.station.keys import STATION_ID_MAX
+from codegen.kinds.station.mode import mode_of, modes
+from codegen.kinds.station.region import station_plan
+from codegen.kinds.station.section import Station, stations_of, with_section
 from codegen.model import io as signals
 from codegen.model import vision
-from codegen.model.cell import STATION_ID_MAX, Cell, Station, TaughtPose
+from codegen.model.cell import Cell, TaughtPose
 from codegen.poses import native_values
-from codegen.protocol import get_kind, station_kinds
 from codegen.reference import ExpectedTrace, home_move
 from codegen.robot.expect import tool_inputs
 from codegen.sim.gripper import Gripper
 from codegen.sim.vision_pc import VisionPC
 from codegen.verify.plan import START_AWAY_DEG
 
-# A station case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS; the others are the kind's own)
+# A station case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS; the others are the mode's own)
 SCENARIO_OF = {
     "start_away": "start_away",
     "start_retreat": "start_mid_cycle",
@@ -47,11 +49,11 @@ SCENARIO_OF = {
 
 @dataclass(frozen=True)
 class Case:
-    """One verify case: a category for the report, the kind's description of the situation and how
+    """One verify case: a category for the report, the mode's description of the situation and how
     the simulated vision PC answers (codegen.model.vision.BEHAVIOURS)."""
 
     category: str
-    reading: Any  # the kind's case type; has station_id
+    reading: Any  # the mode's case type; has station_id
     vision: str = "prompt"
     gripper: str = "prompt"  # how the simulated gripper answers the work pose's signal (codegen.sim.gripper)
     start: str = "home"  # where the arm stands when the program starts: "home", "away" from it, or "retreat":
@@ -70,22 +72,22 @@ class UnknownStation:
     station_id: int
 
 
-def _kind_of_case(cell: Cell, reading):
+def _mode_of_case(cell: Cell, reading):
     if isinstance(reading, UnknownStation):
         return None
-    return get_kind(cell.station_by_id(reading.station_id).kind)
+    return mode_of(cell.station_by_id(reading.station_id))
 
 
 def inputs_for(cell: Cell, target: Target, reading, behaviour: str = "prompt") -> dict:
     """What the controller holds when the program starts: the vision PC's variables from the previous
     cycle (a plausible reading of the station, its request answered), the controller's numbered
-    tool and the kind's own values."""
-    kind = _kind_of_case(cell, reading)
+    tool and the mode's own values."""
+    mode = _mode_of_case(cell, reading)
     tools = tool_inputs(cell, target.name)  # the controller's numbered tool, where the program selects one
     previous, answered = _previous_reading(cell, target, reading), vision.answered(target, behaviour)
-    if kind is None:
+    if mode is None:
         return {**previous, **answered, **tools}
-    return {**previous, **answered, **kind.inputs(cell, target, reading), **tools}
+    return {**previous, **answered, **mode.inputs(cell, target, reading), **tools}
 
 
 def start_joints(cell: Cell, target: Target, case: Case):
@@ -103,8 +105,8 @@ def start_joints(cell: Cell, target: Target, case: Case):
 def _previous_reading(cell: Cell, target: Target, reading) -> dict:
     """The vision PC's variables from the previous cycle: a reading of the case's station (an unknown
     station's case: of the cell's first station)."""
-    station = cell.station_by_id(reading.station_id) if _kind_of_case(cell, reading) else cell.stations[0]
-    return get_kind(station.kind).previous(cell, target, station)
+    station = cell.station_by_id(reading.station_id) if _mode_of_case(cell, reading) else cell.stations[0]
+    return mode_of(station).previous(cell, target, station)
 
 
 def _gripper_signals(cell: Cell, target_name: str) -> tuple[str, str] | None:
@@ -140,12 +142,12 @@ def devices_for(cell: Cell, target: Target, case: Case) -> tuple:
 
 def vision_pc(cell: Cell, target: Target, case: Case) -> VisionPC:
     """The simulated vision PC of a case: it answers with the case's reading, by the case's behaviour."""
-    kind = _kind_of_case(cell, case.reading)
-    if kind is None:
+    mode = _mode_of_case(cell, case.reading)
+    if mode is None:
         answer = {target.program["inputs"]["station"]: case.reading.station_id}
         camera = None
     else:
-        answer, camera = kind.answer(cell, target, case.reading), kind.camera(cell, case.reading)
+        answer, camera = mode.answer(cell, target, case.reading), mode.camera(cell, case.reading)
     latency = vision.latency(cell.vision, case.vision)
     previous = _previous_reading(cell, target, case.reading)
     return VisionPC.for_target(target, answer, camera, case.vision, latency, previous)
@@ -168,12 +170,13 @@ def edge_cell(cell: Cell) -> Cell:
         TaughtPose(name, native_values(values, "xyzabc", cell.pose_format), cell.pose_format)
         for name, values in edge_poses_xyzabc.items()
     )
-    new_id = max(s.id for s in cell.stations) + 1
-    kind = next((k for k in station_kinds().values() if k.edge_spec() is not None), None)
-    if new_id > STATION_ID_MAX or kind is None:
+    stations = stations_of(cell)
+    new_id = max(s.id for s in stations) + 1
+    mode = next((m for m in modes().values() if m.edge_spec() is not None), None)
+    if new_id > STATION_ID_MAX or mode is None:
         return cell
-    station = Station(new_id, "verify_edge_poses", poses, kind.name, kind.edge_spec())
-    return replace(cell, stations=(*cell.stations, station))
+    station = Station(new_id, "verify_edge_poses", poses, mode.name, mode.edge_spec())
+    return with_section(cell, stations=(*stations, station))
 
 
 def edge_only_cell(cell: Cell) -> Cell | None:
@@ -182,17 +185,17 @@ def edge_only_cell(cell: Cell) -> Cell | None:
     edge = edge_cell(replace(cell, robot=None))
     if cell.robot is None or len(edge.stations) == len(cell.stations):
         return None
-    return replace(edge, stations=edge.stations[-1:])
+    return with_section(edge, stations=edge.stations[-1:])
 
 
 def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
-    """Each station's cases from its kind (one random sequence for the cell), then its first case again
+    """Each station's cases from its mode (one random sequence for the cell), then its first case again
     with the vision PC late, silent, replaying the last cycle, answering twice, answering another
     request or sending a late answer to the previous cycle first; then unknown stations."""
     rng = random.Random(seed)
     cases: list[Case] = []
     for station in cell.stations:
-        own = get_kind(station.kind).cases(cell, station, count, rng)
+        own = mode_of(station).cases(cell, station, count, rng)
         cases.extend(own)
         cases.extend(Case(f"vision_{b}", own[0].reading, b) for b in vision.BEHAVIOURS[1:] if own)
         if own and cell.io is not None and cell.io.feedback:  # the gripper never confirms, or never releases
@@ -213,22 +216,22 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
 
 
 def _truth_problem(cell: Cell, case: Case, reference: ExpectedTrace) -> str | None:
-    kind = _kind_of_case(cell, case.reading)
-    if kind is None or case.vision in vision.UNANSWERED:  # the camera's view never reaches the program
+    mode = _mode_of_case(cell, case.reading)
+    if mode is None or case.vision in vision.UNANSWERED:  # the camera's view never reaches the program
         return None
-    return kind.truth_problem(cell, case.reading, reference)
+    return mode.truth_problem(cell, case.reading, reference)
 
 
 def accepted_traces(cell: Cell, case: Case) -> tuple[list[ExpectedTrace], bool]:
     if case.vision in vision.UNANSWERED:  # the program must not use what it did not get: it halts at home
         return [ExpectedTrace("halt", NO_ANSWER)], False
-    kind = _kind_of_case(cell, case.reading)
-    if kind is None:
+    mode = _mode_of_case(cell, case.reading)
+    if mode is None:
         return [ExpectedTrace("halt", UNKNOWN_STATION)], False
-    accepted, boundary = kind.accepted(cell, case.reading)
-    second = kind.second_look(case.reading) if case.vision == "twice" else None
+    accepted, boundary = mode.accepted(cell, case.reading)
+    second = mode.second_look(case.reading) if case.vision == "twice" else None
     if second is not None:  # answered twice within one poll: either answer, used whole, is correct
-        more, more_boundary = kind.accepted(cell, second)
+        more, more_boundary = mode.accepted(cell, second)
         accepted, boundary = [*accepted, *more], boundary or more_boundary
     if case.gripper == "stuck":  # it stops at home, before it asks the vision PC
         return [ExpectedTrace("halt", NOT_RELEASED)], False
@@ -247,10 +250,10 @@ def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
     if trace.reason in (NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED):
         return emitter.string(halt_message(cell, trace.reason, None, 0))
-    kind = get_kind(trace.station.kind)
-    return emitter.string(kind.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))
+    mode = mode_of(trace.station)
+    return emitter.string(mode.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))
 
 
 def describe_case(cell: Cell, reading) -> str:
-    kind = _kind_of_case(cell, reading)
-    return f"station {reading.station_id}" if kind is None else kind.describe_reading(reading)
+    mode = _mode_of_case(cell, reading)
+    return f"station {reading.station_id}" if mode is None else mode.describe_reading(reading)

@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from codegen.csvfile import CsvError, number, read_rows
-from codegen.model.cell import CellError, image_angle_sign, read_cell_data, replace_cell_file
+from codegen.kinds.station.section import image_angle_sign
+from codegen.model.cell import CellError, read_cell_data, replace_cell_file
 from codegen.robot.taught import ReachError
 
 PIXEL_LIMIT = 100_000.0  # an image's pixel coordinates (the largest sensors are some 20,000 px wide)

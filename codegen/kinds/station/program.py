@@ -1,4 +1,5 @@
-"""The cell's station program: the stations' template variables and the program's files (templates/<t>/program.*)."""
+"""The cell's station program: the stations' template variables, each mode's partial, the program's files
+(templates/<t>/program.*)."""
 
 from __future__ import annotations
 
@@ -15,11 +16,13 @@ from codegen.guard import (
     UNKNOWN_STATION_TEXT,
     halt_message,
 )
-from codegen.kinds.stations.region import station_plan
+from codegen.kinds.station.mode import mode_of, modes
+from codegen.kinds.station.region import station_plan
+from codegen.kinds.station.section import section_of
 from codegen.model import vision
 from codegen.model.cell import Cell
 from codegen.model.motion import segments
-from codegen.protocol import ProgramFile, ProgramPlan, get_kind
+from codegen.protocol import ProgramFile, ProgramPlan
 from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, program_emitter, shared_context
 from codegen.robot.taught import ReachError, configuration
 
@@ -44,13 +47,12 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         }
         for i, (pose, seg) in enumerate(zip(station.path, segs, strict=True))
     ]
-    arm = station_arm(cell, target, station)  # the kind's arm poses; the station's poses are the last ones
+    arm = station_arm(cell, target, station)  # the mode's arm poses; the station's poses are the last ones
     for pose, config in zip(poses, arm[len(arm) - len(poses) :] if arm else [None] * len(poses), strict=True):
         pose["config"] = config
-    kind = get_kind(station.kind)
-    own = kind.station_context(cell, station, target, emitter)
+    own = mode_of(station).station_context(cell, station, target, emitter)
     shared = {
-        "kind": station.kind,
+        "mode": station.mode,
         "id": station.id,
         "name": emitter.comment(station.name),
         "ident": emitter.identifier("st_", station.name, origin),
@@ -58,7 +60,7 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         "work": poses[taught - 1],
         "arm": arm,
     }
-    return merged(shared, own, f"station context of the {station.kind} kind")
+    return merged(shared, own, f"station context of the {station.mode} mode")
 
 
 def station_arm(cell, target, station) -> list[dict]:
@@ -85,21 +87,22 @@ def station_arm(cell, target, station) -> list[dict]:
     ]
 
 
-def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
+def program_context(cell: Cell, target: Target, kind_name: str) -> dict:
     """The station program's own variables: the guard's numbers, the stations, the vision handshake, and
-    each station kind's partial (templates/<t>/kinds/<kind>.j2, a set of macros the program calls)."""
+    each mode's partial (templates/<t>/kinds/<kind>_<mode>.j2, a set of macros the program calls)."""
+    section = section_of(cell)
     emitter = program_emitter(cell, target)
     number, figure = emitter.number, emitter.figure
-    stations = [_station_context(cell, station, target, emitter) for station in cell.stations]
+    stations = [_station_context(cell, station, target, emitter) for station in section.stations]
     emitter.identifier("", cell.name, "cell name")  # the program's name: after the stations' (as its messages)
-    used = {station.kind for station in cell.stations}
+    used = {station.mode for station in section.stations}
     out = {
         "guard": {
-            "angle_sign": cell.angle_sign,
-            "max_shift_sq": number(cell.limits.max_shift_mm**2, 6),
-            "max_rotation": number(cell.limits.max_rotation_deg, 6),
-            "max_shift_text": figure(cell.limits.max_shift_mm),
-            "max_rotation_text": figure(cell.limits.max_rotation_deg),
+            "angle_sign": section.angle_sign,
+            "max_shift_sq": number(section.limits.max_shift_mm**2, 6),
+            "max_rotation": number(section.limits.max_rotation_deg, 6),
+            "max_shift_text": figure(section.limits.max_shift_mm),
+            "max_rotation_text": figure(section.limits.max_rotation_deg),
         },
         "codes": owned(GUARD_CODES),
         "reading_range": {
@@ -109,7 +112,7 @@ def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
             "deg_whole": number(READING_RANGE_DEG, 0),
         },
         "stations": stations,
-        "kinds_used": [kind.name for kind in station_kinds if kind.name in used],
+        "modes_used": [name for name in modes() if name in used],
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
         "vision": {
             "read": vision.READ,
@@ -121,25 +124,25 @@ def program_context(cell: Cell, target: Target, station_kinds: list) -> dict:
             "no_answer": emitter.string(halt_message(cell, NO_ANSWER, None, 0)),
         },
     }
-    for kind in station_kinds:
-        out = merged(out, kind.cell_context(cell, target, emitter), f"cell context of the {kind.name} kind")
-    # each kind's partial: macros (interface, constants, data, helpers, start, station) the program calls
+    for name, mode in modes().items():
+        out = merged(out, mode.cell_context(cell, target, emitter), f"cell context of the {name} mode")
+    # each mode's partial: macros (interface, constants, data, helpers, start, station) the program calls
     env = environment()
     ctx = {**shared_context(cell, target), **out}
     partials = {
-        kind.name: env.get_template(f"{target.name}/kinds/{kind.name}.j2").make_module(ctx) for kind in station_kinds
+        name: env.get_template(f"{target.name}/kinds/{kind_name}_{name}.j2").make_module(ctx) for name in modes()
     }
-    return {**out, "partial": partials, "used": [partials[kind] for kind in out["kinds_used"]]}
+    return {**out, "partial": partials, "used": [partials[name] for name in out["modes_used"]]}
 
 
-def station_program(cell: Cell, target: Target, station_kinds: list, lead: str) -> list[ProgramPlan]:
+def station_program(cell: Cell, target: Target, kind_name: str) -> list[ProgramPlan]:
     """The programs of the cell's stations, from the target's `files`: each program file with its data files
     ("{cell}.src" and "{cell}.dat" from "program.src.j2" and "program.dat.j2"; a UR socket program and its
     Script-node twin "{cell}_node.script" from "program_node.script.j2" are two programs), one context."""
 
     stem = file_stem(cell, target)
     companions = get_dialect(target.dialect).companions
-    context = program_context(cell, target, station_kinds)
+    context = program_context(cell, target, kind_name)
     plans: list[list[ProgramFile]] = []
     for pattern in target.files:
         f = ProgramFile(pattern.format(cell=stem), f"{target.name}/{pattern.format(cell='program')}.j2")
@@ -148,5 +151,4 @@ def station_program(cell: Cell, target: Target, station_kinds: list, lead: str) 
             owner.append(f)
         else:
             plans.append([f])
-    # the programs are the lead kind's: it speaks for the others in verify
-    return [ProgramPlan(lead, Path(files[0].name).stem, tuple(files), context, i) for i, files in enumerate(plans)]
+    return [ProgramPlan(kind_name, Path(files[0].name).stem, tuple(files), context, i) for i, files in enumerate(plans)]

@@ -1,4 +1,4 @@
-"""The point kind's part of the cell file: a point station's `mark`."""
+"""The point mode's part of the cell file: a point station's `mark`."""
 
 from __future__ import annotations
 

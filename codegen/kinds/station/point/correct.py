@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from codegen.controllers import get_target
 from codegen.guard import halt_message
-from codegen.kinds.point.reference import Reading, expected_trace
+from codegen.kinds.station.point.reference import Reading, expected_trace
 from codegen.model.cell import Cell
 from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS
 

@@ -18,7 +18,7 @@ from codegen.guard import (
 from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz, wrap_deg
 from codegen.reference import ExpectedTrace, path_moves
 
-NAME = "point"  # the kind's name: a station's `mode`
+NAME = "point"  # the mode's name: a station's `mode`
 
 
 @dataclass(frozen=True)
@@ -63,8 +63,8 @@ def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Expec
     station = cell.station_by_id(reading.station_id)
     if station is None:
         return ExpectedTrace("halt", UNKNOWN_STATION)
-    if station.kind != NAME:
-        raise ValueError(f"station {station.name} is a {station.kind} station, not a point station")
+    if station.mode != NAME:
+        raise ValueError(f"station {station.name} is a {station.mode} station, not a point station")
     if not reading_in_range(reading.x, reading.y, reading.theta):
         return ExpectedTrace("halt", INVALID_READING, station)
     tx, ty, t_theta = station.spec.mark

@@ -1,4 +1,4 @@
-"""The station program's runs judged: each reference trace as the plan every kind's run is checked against (the
+"""The station program's runs judged: each reference trace as the plan every run is checked against (the
 home move, the station's moves, the way home, the gripper's outputs, the log), the sweep of unknown ids, figures."""
 
 from __future__ import annotations
@@ -7,20 +7,20 @@ from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
 from codegen.guard import NOT_AT_HOME, UNKNOWN_STATION_TEXT
-from codegen.kinds.stations.cases import (
+from codegen.kinds.station.cases import (
     Case,
     UnknownStation,
-    _kind_of_case,
+    _mode_of_case,
     _truth_problem,
     accepted_traces,
     expected_message,
     inputs_for,
     run_options,
 )
-from codegen.kinds.stations.joints import expected_joints
+from codegen.kinds.station.joints import expected_joints
+from codegen.kinds.station.keys import STATION_ID_MAX
+from codegen.kinds.station.mode import modes
 from codegen.model import io as signals
-from codegen.model.cell import STATION_ID_MAX
-from codegen.protocol import station_kinds
 from codegen.reference import ExpectedTrace, home_move
 from codegen.robot.expect import arm_of
 from codegen.verify.checks import TOLERANCES, log_numbers
@@ -48,9 +48,9 @@ def judge(cell, target_name: str, case, trace) -> Judgement:
     emitter = Emitter(target)
     plans = [_plan(cell, target, case.reading, t, trace, emitter) for t in accepted]
     figures = None
-    kind = _kind_of_case(cell, case.reading)
-    if kind is not None and not trace.halted and kind.new_stats() is not None:  # a completed station's figures
-        figures = (kind.name, case.reading, log_numbers(trace.messages, log_prefixes()))
+    mode = _mode_of_case(cell, case.reading)
+    if mode is not None and not trace.halted and mode.new_stats() is not None:  # a completed station's figures
+        figures = (mode.name, case.reading, log_numbers(trace.messages, log_prefixes()))
     return Judgement(plans, boundary, figures=figures, truth=truth)
 
 
@@ -118,7 +118,7 @@ def _outputs(cell, target, expected: ExpectedTrace, before: int) -> tuple[Planne
 def _logged(cell, target, reading, expected: ExpectedTrace) -> tuple | None:
     if expected.status != "ok":
         return None
-    names = _kind_of_case(cell, reading).log_names
+    names = _mode_of_case(cell, reading).log_names
     decimals = target.program.get("log_decimals")
     tolerance = 0.5 * 10.0**-decimals + 1e-3 if decimals is not None else TOLERANCES[target.numbers][0]
     return tuple((name, float(value), tolerance) for name, value in zip(names, expected.logged, strict=True))
@@ -159,20 +159,20 @@ def sweeps(workers: int) -> list[range]:
 
 
 def new_figures() -> dict:
-    return {name: kind.new_stats() for name, kind in station_kinds().items() if kind.new_stats() is not None}
+    return {name: mode.new_stats() for name, mode in modes().items() if mode.new_stats() is not None}
 
 
 def add_figures(figures: dict, judged) -> None:
     name, reading, logged = judged
-    station_kinds()[name].add_stats(figures[name], reading, logged)
+    modes()[name].add_stats(figures[name], reading, logged)
 
 
 def merge_figures(into: dict, part: dict) -> None:
-    for name, kind in station_kinds().items():
+    for name, mode in modes().items():
         if name in part:
-            kind.merge_stats(into[name], part[name])
+            mode.merge_stats(into[name], part[name])
 
 
 def log_prefixes() -> tuple[str, ...]:
-    """The station program's log lines whose numbers verify reads (every station kind's)."""
-    return tuple(prefix for kind in station_kinds().values() for prefix in kind.log_prefixes)
+    """The station program's log lines whose numbers verify reads (every mode's)."""
+    return tuple(prefix for mode in modes().values() for prefix in mode.log_prefixes)

@@ -10,7 +10,7 @@ from functools import lru_cache
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.protocol import get_kind
+from codegen.kinds.station.mode import mode_of
 from codegen.robot import solve
 from codegen.robot.cache import per_cell
 from codegen.robot.config import FORMS, named_in_full, nearest_margin
@@ -88,7 +88,7 @@ def _compute(cell, target: str, station) -> StationRegion:
     form = get_target(target).configuration
     taught = arm_poses(cell, target, station)
     region_offsets = offsets(cell.limits.max_shift_mm, cell.limits.max_rotation_deg)
-    region = get_kind(station.kind).region(cell, station, region_offsets)  # (N, M, 4, 4)
+    region = mode_of(station).region(cell, station, region_offsets)  # (N, M, 4, 4)
     solutions = solve.branches(arm, solve.flange_poses(region, robot.tool.tcp2flange))  # (N, M, 8, 6)
     home = np.broadcast_to(np.asarray(robot.home[target], dtype=float), (len(region_offsets), 6))
     joints, branches, named = [], [], []
@@ -189,7 +189,7 @@ def arm_poses(cell, target: str, station) -> list[ArmPose]:
     robot = cell.robot
     arm, home = robot.arms[target], np.asarray(robot.home[target], dtype=float)
     given = station.config.get(target, {})
-    poses = get_kind(station.kind).arm_poses(cell, station)
+    poses = mode_of(station).arm_poses(cell, station)
     flange2base = solve.flange_poses(np.array([p[1] for p in poses]), robot.tool.tcp2flange)
     solutions = solve.branches(arm, flange2base)
     out: list[ArmPose] = []

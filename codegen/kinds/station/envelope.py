@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.stations.region import offsets, remember_plan, station_region
+from codegen.kinds.station.region import offsets, remember_plan, station_region
 from codegen.robot.margins import singular_distance, wrist_angle
 from codegen.robot.taught import ReachError, configuration
 

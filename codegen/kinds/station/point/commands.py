@@ -1,4 +1,4 @@
-"""`codegen correct`: the point kind's reference result for one camera reading."""
+"""`codegen correct`: the point mode's reference result for one camera reading."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import click
 from codegen.cli_base import Number, UserError
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
-from codegen.kinds.point.correct import correct_report, format_report
-from codegen.kinds.point.reference import NAME, Reading
+from codegen.kinds.station.point.correct import correct_report, format_report
+from codegen.kinds.station.point.reference import NAME, Reading
 
 
 def _parse_mark(value: str) -> tuple[float, float, float]:
@@ -34,9 +34,9 @@ def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None
     model = _load(cell)
     x, y, theta = _parse_mark(mark)
     station = model.station_by_id(station_id)
-    if station is not None and station.kind != NAME:
+    if station is not None and station.mode != NAME:
         raise UserError(
-            f"{model.source}: station {station_id} ({station.name}) is a {station.kind} station: only point "
+            f"{model.source}: station {station_id} ({station.name}) is a {station.mode} station: only point "
             "stations are corrected from one reading (see `codegen verify` for the others)"
         )
     report = correct_report(model, Reading(station_id, x, y, theta))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.stations.region import move_joints, station_plan
+from codegen.kinds.station.region import move_joints, station_plan
 from codegen.reference import Move
 from codegen.robot import solve
 
@@ -43,41 +43,3 @@ def expected_joints(
         out.append(q)
         previous = q
     return out
-
-
-def arm_problem(cell, target: str, expected, moves: tuple[Move, ...], got: list, home: np.ndarray) -> str | None:
-    """The joints of every move against the controller's rule applied to the reference's poses, and
-    the load the program set against the cell's tool."""
-    station = expected.station
-    want = [home]
-    back = len(moves) > 1 and moves[-1] is moves[0]  # the way home after the station ([cell.motion])
-    inner = moves[1:-1] if back else moves[1:]
-    if station is not None and inner:
-        want += expected_joints(cell, target, station, inner, home, [g.solutions for g in got[1 : 1 + len(inner)]])
-    if back:
-        want.append(home)
-    tool = cell.robot.tool
-    load = (tool.mass_kg, *tool.cog_mm) if cell.robot.tool_given else None
-    for i, (g, e, q) in enumerate(zip(got, moves, want, strict=True)):
-        where = f"move {i + 1} ({e.pose_name}, line {g.line})"
-        if g.joints is None or np.isnan(q).any():
-            return f"{where}: joints {g.joints}, expected {q}"
-        error = float(np.max(np.abs(g.joints - q)))
-        if not error <= JOINT_TOLERANCE_DEG:
-            return (
-                f"{where}: the arm ends at joints {_text(g.joints)}, the controller's rule gives {_text(q)} "
-                f"({error:.3f} deg apart; tolerance {JOINT_TOLERANCE_DEG} deg)"
-            )
-        have = g.settings.get("load")
-        if load is not None and (have is None or not _same_load(have, load)):
-            return f"{where}: load {have}, expected the cell's tool (mass kg, centre of gravity mm) {load}"
-    return None
-
-
-def _same_load(have, want) -> bool:
-    """Mass and centre of gravity equal to float32 rounding (1e-5 relative) or 0.001 (kg, mm)."""
-    return len(have) == len(want) and all(abs(h - w) <= 1e-3 + 1e-5 * abs(w) for h, w in zip(have, want, strict=True))
-
-
-def _text(q) -> str:
-    return "[" + ", ".join(f"{v:.3f}" for v in q) + "]"

@@ -1,4 +1,4 @@
-"""The frame kind's part of the cell file: a frame station's keys and [cell.refine]."""
+"""The frame mode's part of the cell file: a frame station's keys and [cell.refine]."""
 
 from __future__ import annotations
 

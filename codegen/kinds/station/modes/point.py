@@ -1,4 +1,4 @@
-"""Point correction (source 000): one camera reading moves every taught pose of the station rigidly."""
+"""The point mode (source 000): one camera reading moves every taught pose of the station rigidly."""
 
 from __future__ import annotations
 
@@ -18,12 +18,12 @@ from codegen.guard import (
     SHIFT_OVER_LIMIT,
     TAUGHT_RANGE_MM,
 )
-from codegen.kinds.point.commands import correct
-from codegen.kinds.point.keys import KEYS
-from codegen.kinds.point.reference import NAME, PointSpec, Reading, expected_trace
-from codegen.kinds.point.scene import objects as scene_objects
-from codegen.kinds.stations.base import StationKind
-from codegen.kinds.stations.cases import Case
+from codegen.kinds.station.cases import Case
+from codegen.kinds.station.mode import StationMode
+from codegen.kinds.station.point.commands import correct
+from codegen.kinds.station.point.keys import KEYS
+from codegen.kinds.station.point.reference import NAME, PointSpec, Reading, expected_trace
+from codegen.kinds.station.point.scene import objects as scene_objects
 from codegen.model.vision import SECOND_LOOK_MM
 from codegen.poses import planar_motions, wrap_deg
 from codegen.reference import ExpectedTrace
@@ -35,7 +35,7 @@ def _ulp32(value: float) -> float:
     return float(np.spacing(np.float32(abs(value))))
 
 
-class PointKind(StationKind):
+class PointMode(StationMode):
     name = NAME
     order = 0
     cell_file = KEYS

@@ -1,4 +1,4 @@
-"""Frame correction with refinement (source 001): photograph, shift the frame, repeat until the residual is small."""
+"""The frame mode (source 001): photograph, shift the frame, repeat until the residual is small."""
 
 from __future__ import annotations
 
@@ -22,16 +22,17 @@ from codegen.guard import (
     UNKNOWN_STATION,
     pixels_in_range,
 )
-from codegen.kinds.frame.commands import calibrate_handeye
-from codegen.kinds.frame.keys import KEYS, REFINE
-from codegen.kinds.frame.scene import objects as scene_objects
-from codegen.kinds.stations.base import StationKind
-from codegen.kinds.stations.cases import Case
+from codegen.kinds.station.cases import Case
+from codegen.kinds.station.frame.commands import calibrate_handeye
+from codegen.kinds.station.frame.keys import KEYS, REFINE
+from codegen.kinds.station.frame.scene import objects as scene_objects
+from codegen.kinds.station.mode import StationMode
+from codegen.kinds.station.section import section_of
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
 from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
 from codegen.sim.camera import CameraModel, SimulatedCamera
 
-NOT_CONVERGED = "not_converged"  # a halt reason of this kind: the residual stayed over tolerance
+NOT_CONVERGED = "not_converged"  # a halt reason of this mode: the residual stayed over tolerance
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
 
 
@@ -103,7 +104,7 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
     calib2base, photo2frame = spec.frame.matrix(), spec.photo.matrix()
     camera = camera_for(cell, case)
     handeye = np.array(cell.handeye)
-    refine, limits = cell.settings[FrameKind.name], cell.limits
+    refine, limits = section_of(cell).settings[FrameMode.name], cell.limits
     tol_mm, tol_deg = refine.tolerance_mm * (1 + nudge), refine.tolerance_deg * (1 + nudge)
     dx = dy = alpha = 0.0
     moves: list[Move] = []
@@ -163,8 +164,9 @@ def _stats(values: list[float]) -> dict:
     return {"max": float(arr.max()), "p99": float(np.percentile(arr, 99))}
 
 
-class FrameKind(StationKind):
+class FrameMode(StationMode):
     name = "frame"
+    reads_pixels = True
     order = 1
     cell_file = KEYS
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
@@ -219,7 +221,7 @@ class FrameKind(StationKind):
     @classmethod
     def halt_message(cls, cell, reason: str, station) -> str:
         if reason == NOT_CONVERGED:
-            photos = cell.settings[cls.name].max_iterations
+            photos = section_of(cell).settings[cls.name].max_iterations
             return f"station {station.name}: frame not converged after {photos} photos"
         return super().halt_message(cell, reason, station)
 
@@ -257,7 +259,7 @@ class FrameKind(StationKind):
 
     @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:
-        number, refine = emitter.number, cell.settings[cls.name]
+        number, refine = emitter.number, section_of(cell).settings[cls.name]
         return {
             "refine": owned(derived.printed(target.dialect, "refine")),
             "handeye": None if cell.handeye is None else [number(v, 9) for row in cell.handeye for v in row],
@@ -341,7 +343,7 @@ class FrameKind(StationKind):
     @classmethod
     def accepted(cls, cell, case: FrameCase) -> tuple[list[ExpectedTrace], bool]:
         reference = expected_frame_trace(cell, case)
-        refine = cell.settings[cls.name]
+        refine = section_of(cell).settings[cls.name]
         tol_mm, tol_deg = refine.tolerance_mm, refine.tolerance_deg
         residuals = reference.detail.residuals if reference.detail else ()
         near = any(
@@ -360,7 +362,7 @@ class FrameKind(StationKind):
         the tolerance scaled by the camera's scale error and its map's anisotropy, plus four standard
         deviations of the noise. A reference that does not (a cell whose angle_sign contradicts its
         camera's image) is a mismatch for every target."""
-        camera, refine, limits = case.camera, cell.settings[cls.name], cell.limits
+        camera, refine, limits = case.camera, section_of(cell).settings[cls.name], cell.limits
         if camera.fault_at_photo or cell.handeye is None:
             return None
         offset = math.hypot(case.dx, case.dy)

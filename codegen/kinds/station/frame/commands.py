@@ -1,4 +1,4 @@
-"""`codegen calibrate handeye`: the 9-point hand-eye calibration of the frame kind's camera (source 001)."""
+"""`codegen calibrate handeye`: the 9-point hand-eye calibration of the frame mode's camera (source 001)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import click
 
 from codegen.cli_base import UserError
 from codegen.cli_base import dump as _dump
-from codegen.kinds.frame.handeye import HandEyeError, fit, read_points, write_to_cell
+from codegen.kinds.station.frame.handeye import HandEyeError, fit, read_points, write_to_cell
 
 
 @click.command("handeye")

@@ -1,0 +1,1 @@
+"""The station kind: the cell's [[station]] tables and their one program; point, frame, ... are its modes (modes/)."""

@@ -1,0 +1,1 @@
+"""The station modes, one module each registering a StationMode (codegen.kinds.station.mode finds them)."""

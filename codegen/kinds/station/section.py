@@ -1,0 +1,221 @@
+"""The station kind's section of a cell: [cell.camera] (angle sign, hand-eye map), [cell.limits], the modes'
+settings and the [[station]] tables, read and checked (errors name the file and the key path)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from typing import Any
+
+from codegen.guard import READING_RANGE_MM
+from codegen.kinds.station.keys import COMMON_KEYS, NAME, STATION_ID_MAX, VISION_TABLES, camera, default_mode, limits
+from codegen.kinds.station.mode import modes
+from codegen.model import motion
+from codegen.model.cell import TaughtPose
+from codegen.model.robot import parse_station_config
+from codegen.model.validate import kind_of
+from codegen.poses import POSE_FORMATS
+
+STATIONS_MAX = 5000  # the scale issue's largest cell: its programs load and run here (a UR program in about 35 s)
+POSES_MAX = 1000  # a station's poses are one run: 1,000 take about a tenth of verify's step limit
+
+
+@dataclass(frozen=True)
+class Limits:
+    max_shift_mm: float
+    max_rotation_deg: float
+
+
+@dataclass(frozen=True)
+class Station:
+    id: int
+    name: str
+    poses: tuple[TaughtPose, ...]  # visiting order: first joint move, then linear
+    mode: str  # the station's mode (codegen/kinds/station/modes/): the cell file's `mode` key
+    spec: Any  # the mode's own data, e.g. the calibration mark or frame
+    config: dict = field(default_factory=dict, compare=False)  # target -> pose -> PoseConfig ([station.config])
+    retreat: TaughtPose | None = None  # the work pose backed off along its z axis ([cell.motion] retreat_mm)
+
+    @property
+    def path(self) -> tuple[TaughtPose, ...]:
+        """The poses the arm visits in the station: the taught ones (the last is the work pose), then
+        the retreat."""
+        return self.poses if self.retreat is None else (*self.poses, self.retreat)
+
+
+@dataclass(frozen=True)
+class StationSection:
+    """The stations of a cell and what their readings are checked against."""
+
+    angle_sign: int
+    limits: Limits
+    stations: tuple[Station, ...]
+    handeye: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None  # pixel -> mm
+    settings: dict = field(default_factory=dict, compare=False)  # mode name -> its [cell.<table>] settings
+
+    def station_by_id(self, station_id: int) -> Station | None:
+        return self._stations_by_id.get(station_id)
+
+    @cached_property
+    def _stations_by_id(self) -> dict[int, Station]:
+        return {station.id: station for station in self.stations}
+
+
+def section_of(cell) -> StationSection | None:
+    """The cell's station section (None: the cell has no [[station]])."""
+    return cell.sections.get(NAME)
+
+
+def stations_of(cell) -> tuple[Station, ...]:
+    section = section_of(cell)
+    return () if section is None else section.stations
+
+
+def with_section(cell, **changes):
+    """The cell with its station section changed (verify's extra stations, the mutation tests)."""
+    return replace(cell, sections={**cell.sections, NAME: replace(section_of(cell), **changes)})
+
+
+def image_angle_sign(pixel_to_mm) -> int:
+    """The angle sign a camera's image imposes: -1 when the hand-eye map mirrors (negative determinant),
+    since a turn of the mark then turns the other way in the image's axes."""
+    (a, b, _), (c, d, _) = pixel_to_mm
+    return -1 if a * d - b * c < 0 else 1
+
+
+def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
+    """The section from the cell file's tables (None: a cell of a standalone kind without [[station]]); cell: the
+    cell as far as it is known (pose format, arm, motion)."""
+    cell_table = data["cell"]
+    vision_free = not data.get(NAME) and standalone
+    if vision_free:  # a cell of a kind that reads no mark needs no camera and no limits
+        camera_unused, limits_unused = VISION_TABLES
+        unused = {camera_unused: {"angle_sign": 1}, limits_unused: {"max_shift_mm": 10.0, "max_rotation_deg": 10.0}}
+        cell_table = {**unused, **cell_table}
+    angle_sign, handeye = _camera(ctx, cell_table)
+    settings = {name: mode.parse_settings(ctx, cell_table) for name, mode in modes().items()}
+    bounds = _limits(ctx, cell_table)
+
+    stations_raw = data.get(NAME, [] if vision_free else None)
+    if not isinstance(stations_raw, list) or not (stations_raw or vision_free):
+        ctx.fail("station", "expected at least one [[station]] table, or the tables of a program kind that needs none")
+    if len(stations_raw) > STATIONS_MAX:
+        ctx.fail(
+            "station",
+            f"{len(stations_raw)} stations; at most {STATIONS_MAX} (the largest cell whose programs are verified "
+            "to load and run in the interpreter here)",
+        )
+    if not stations_raw:
+        return None
+    pose_format = cell.pose_format
+    stations = [_station(ctx, raw, i + 1, pose_format) for i, raw in enumerate(stations_raw)]
+    stations = [
+        replace(
+            station,
+            config=parse_station_config(
+                ctx, raw.get("config"), f"station[{i}].config", cell.robot, [p.name for p in station.poses]
+            ),
+        )
+        for i, (station, raw) in enumerate(zip(stations, stations_raw, strict=True), start=1)
+    ]
+    if cell.motion.retreat_mm > 0:
+        stations = [replace(s, retreat=_retreat(s, cell.motion.retreat_mm, pose_format)) for s in stations]
+    seen_ids: dict[int, int] = {}
+    seen_names: dict[str, int] = {}
+    for i, station in enumerate(stations, start=1):
+        if station.id in seen_ids:
+            ctx.fail(f"station[{i}].id", f"duplicate station id {station.id} (also station[{seen_ids[station.id]}])")
+        if station.name in seen_names:
+            other = seen_names[station.name]
+            ctx.fail(f"station[{i}].name", f"duplicate station name {station.name!r} (also station[{other}])")
+        seen_ids[station.id] = i
+        seen_names[station.name] = i
+    return StationSection(int(angle_sign), bounds, tuple(stations), handeye, settings)
+
+
+def _camera(ctx, cell_table: dict):
+    table = camera()
+    camera_table = ctx.table(cell_table, "camera", "cell.camera")
+    ctx.no_unknown(camera_table, table.allowed, "cell.camera")
+    angle_sign = ctx.require(camera_table, "angle_sign", "cell.camera.angle_sign")
+    if isinstance(angle_sign, bool) or angle_sign not in table["angle_sign"].choices:
+        ctx.fail("cell.camera.angle_sign", f"expected 1 or -1, got {angle_sign!r}")
+    if "handeye" not in camera_table:
+        return angle_sign, None
+    he = ctx.table(camera_table, "handeye", "cell.camera.handeye")
+    ctx.no_unknown(he, table["handeye"].table.allowed, "cell.camera.handeye")
+    rows = ctx.require(he, "pixel_to_mm", "cell.camera.handeye.pixel_to_mm")
+    if not isinstance(rows, list) or len(rows) != 2:
+        ctx.fail("cell.camera.handeye.pixel_to_mm", "expected 2 rows of 3 numbers [[a, b, tx], [c, d, ty]]")
+    handeye = tuple(ctx.numbers(r, 3, f"cell.camera.handeye.pixel_to_mm[{i}]") for i, r in enumerate(rows))
+    det = handeye[0][0] * handeye[1][1] - handeye[0][1] * handeye[1][0]
+    if max(abs(v) for row in handeye for v in row) > READING_RANGE_MM or not abs(det) >= 1e-12:
+        ctx.fail(
+            "cell.camera.handeye.pixel_to_mm",
+            f"the 2x2 part is singular, or an entry is beyond +-{READING_RANGE_MM:g}",
+        )
+    if angle_sign != image_angle_sign(handeye):
+        ctx.fail(
+            "cell.camera.angle_sign",
+            f"the hand-eye map's determinant is {'negative' if det < 0 else 'positive'}: the image is "
+            f"{'' if det < 0 else 'not '}mirrored, so the camera's angles turn "
+            f"{'against' if det < 0 else 'with'} the frame's and angle_sign must be {image_angle_sign(handeye)} "
+            "(`codegen calibrate handeye POINTS.csv --write CELL` sets it)",
+        )
+    return angle_sign, handeye
+
+
+def _limits(ctx, cell_table: dict) -> Limits:
+    limits_table = ctx.table(cell_table, "limits", "cell.limits")
+    ctx.no_unknown(limits_table, limits().allowed, "cell.limits")
+    max_shift = ctx.number(limits_table, "max_shift_mm", "cell.limits.max_shift_mm")
+    max_rot = ctx.number(limits_table, "max_rotation_deg", "cell.limits.max_rotation_deg")
+    shift_key, rot_key = limits()["max_shift_mm"], limits()["max_rotation_deg"]
+    if max_shift <= shift_key.low:
+        ctx.fail("cell.limits.max_shift_mm", f"must be positive, got {max_shift}")
+    if max_shift > shift_key.high:
+        ctx.fail("cell.limits.max_shift_mm", f"must be at most {shift_key.high:g} mm")
+    if not rot_key.contains(max_rot):
+        ctx.fail("cell.limits.max_rotation_deg", f"must be in {rot_key.range_text()} degrees, got {max_rot}")
+    return Limits(max_shift, max_rot)
+
+
+def _station(ctx, raw, index: int, pose_format: str) -> Station:
+    path = f"station[{index}]"
+    if not isinstance(raw, dict):
+        ctx.fail(path, f"expected a table, got {kind_of(raw)}")
+    station_id = ctx.require(raw, "id", f"{path}.id")
+    if isinstance(station_id, bool) or not isinstance(station_id, int):
+        ctx.fail(f"{path}.id", f"expected an integer, got {kind_of(station_id)}")
+    if not 1 <= station_id <= STATION_ID_MAX:
+        ctx.fail(f"{path}.id", f"must be in 1..{STATION_ID_MAX}, got {station_id}")
+    name = ctx.name(raw, "name", f"{path}.name")
+    known = modes()
+    mode_name = raw.get("mode", default_mode())
+    if not isinstance(mode_name, str) or mode_name not in known:
+        ctx.fail(f"{path}.mode", f"expected one of {', '.join(map(repr, known))}, got {mode_name!r}")
+    mode = known[mode_name]
+    own = frozenset(mode.station_keys())
+    for key in sorted(set(raw) - COMMON_KEYS - own):
+        owners = [m.name for m in known.values() if key in m.station_keys()]
+        if owners:
+            ctx.fail(f"{path}.{key}", f'only {owners[0]} stations (mode = "{owners[0]}") have this key')
+        allowed = ", ".join(sorted(COMMON_KEYS | own))
+        ctx.fail(f"{path}.{key}", f"unknown key; allowed: {allowed}")
+    spec = mode.parse(ctx, raw, path, pose_format)
+    poses_raw = ctx.table(raw, "poses", f"{path}.poses")
+    if not poses_raw:
+        ctx.fail(f"{path}.poses", "a station needs at least one pose")
+    if len(poses_raw) > POSES_MAX:
+        ctx.fail(f"{path}.poses", f"{len(poses_raw)} poses; at most {POSES_MAX} per station")
+    poses = [
+        ctx.pose(pose_name, values, f"{path}.poses.{pose_name}", pose_format) for pose_name, values in poses_raw.items()
+    ]
+    return Station(int(station_id), name, tuple(poses), mode_name, spec)
+
+
+def _retreat(station: Station, retreat_mm: float, pose_format: str) -> TaughtPose:
+    """The station's work pose backed off along its own z axis, in the cell's pose format."""
+    work2base = station.poses[-1].matrix() @ motion.retreat2work(retreat_mm)
+    values = tuple(float(v) + 0.0 for v in POSE_FORMATS[pose_format][2](work2base))  # + 0.0: no -0.0
+    return TaughtPose("retreat", values, pose_format)
