@@ -74,8 +74,8 @@ class CellResult:
 
 
 def cell_kinds(cell) -> str:
-    """The table's kind column: the program kinds of a cell's stations and sections, in the file's order."""
-    return ",".join(dict.fromkeys([*(s.kind for s in cell.stations), *cell.sections]))
+    """The table's kind column: the program kinds of a cell's sections, in the registry's order."""
+    return ",".join(cell.sections)
 
 
 def error_result(cell: str, message: str, seconds: float = 0.0, name: str = "") -> CellResult:

@@ -1,17 +1,7 @@
-"""Loads from shape: mass, centre of gravity and inertia of a solid box or cylinder about the flange, and the forms
-the controllers take them in (KUKA $LOAD, ABB loaddata, UR set_target_payload)."""
+"""Loads from shape: mass, centre of gravity and inertia of a solid box or cylinder about the flange, and the three
+forms controllers take them in (principal axes as Z-Y-X angles, principal axes as a quaternion, the tensor at the
+centre of gravity in flange axes; each target's TOML cites its manual for the form it uses)."""
 
-# Controllers' forms, as their manuals give them:
-# - KUKA: M (kg), CM = {X, Y, Z (mm), A, B, C (deg)} the centre of mass and the orientation of the principal inertia
-#   axes relative to the flange (A about Z, then B about the new Y, then C about the newest X), J = {X, Y, Z} (kg m2)
-#   the moments of inertia about those principal axes through the centre of mass (KUKA, MA KR IONTEC V4, technical
-#   data "Load center of gravity and mass moment of inertia"; the same fields as KRC_ReadLoadData M, X..C, JX..JZ).
-# - ABB loaddata: mass (kg), cog (mm, tool0 frame), aom (the orientation of the principal axes of inertia with origin
-#   in cog, a quaternion in the tool frame), ix, iy, iz (kg m2, about those axes) (Technical reference manual - RAPID
-#   Instructions, Functions and Data types, loaddata; as quoted by ROS-Industrial abb_rapid_msgs/LoadData.msg).
-# - UR set_target_payload(m, cog, inertia): mass (kg), cog (m, from the tool mount), inertia [Ixx, Iyy, Izz, Ixy, Ixz,
-#   Iyz] (kg m2) "with origin in the CoG and the axes aligned with the tool flange axes" (URScript manual, SW 10.6,
-#   set_target_payload).
 # Lengths here are mm and inertias kg m2, as the controllers write them (1 kg mm2 = 1e-6 kg m2).
 
 from __future__ import annotations
@@ -54,24 +44,24 @@ class Load:
             axes[:, 2] = -axes[:, 2]
         return moments, axes
 
-    def kuka(self) -> dict[str, float]:
-        """$LOAD: M, CM (X, Y, Z mm; A, B, C deg of the principal axes) and J (X, Y, Z kg m2)."""
+    def principal_zyx(self) -> dict[str, float]:
+        """Principal axes as Z-Y-X angles: M, CM (X, Y, Z mm; A, B, C deg of the principal axes), J (X, Y, Z kg m2)."""
         moments, axes = self.principal()
         a, b, c = poses.zyx_deg_from_rotmat(axes)
         x, y, z = (float(v) for v in self.cog_mm)
         jx, jy, jz = (float(v) for v in moments)
         return {"M": self.mass, "X": x, "Y": y, "Z": z, "A": a, "B": b, "C": c, "JX": jx, "JY": jy, "JZ": jz}
 
-    def abb(self) -> tuple[float, tuple[float, ...], tuple[float, ...], float, float, float]:
-        """loaddata: mass, cog (mm), aom (q1..q4), ix, iy, iz (kg m2)."""
+    def principal_quaternion(self) -> tuple[float, tuple[float, ...], tuple[float, ...], float, float, float]:
+        """Principal axes as a quaternion: mass, cog (mm), the axes' orientation (q1..q4), the moments (kg m2)."""
         moments, axes = self.principal()
         aom = tuple(float(v) for v in poses.quat_from_rotmat(axes))
         return (self.mass, tuple(float(v) for v in self.cog_mm), aom, *(float(v) for v in moments))
 
-    def ur(self) -> tuple[float, list[float], list[float]]:
-        """set_target_payload's m, cog (m) and inertia [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (kg m2, at the cog, flange
-        axes). Ixy.. are written as the tensor's entries (minus the products of inertia); the manual does not say
-        which sign it means (not confirmed; zero for a load whose axes are the flange's)."""
+    def tensor_at_cog(self) -> tuple[float, list[float], list[float]]:
+        """The tensor at the centre of gravity: m, cog (m) and inertia [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (kg m2, at
+        the cog, flange axes). Ixy.. are written as the tensor's entries (minus the products of inertia); the
+        manual does not say which sign it means (not confirmed; zero for a load whose axes are the flange's)."""
         i = self.inertia_cog
         tensor = [i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]
         return self.mass, [float(v) * 1e-3 for v in self.cog_mm], [float(v) for v in tensor]

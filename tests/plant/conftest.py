@@ -38,7 +38,7 @@ class FakeVerify:
         self.calls.append(cell.name)
         rows = []
         for target in targets or cell.targets:
-            row = Row("point", target, cell.name, [f"<fresh>/{cell.name}"], cases=options.cases)
+            row = Row(next(iter(cell.sections)), target, cell.name, [f"<fresh>/{cell.name}"], cases=options.cases)
             if cell.name in self.failing:
                 row.mismatch("random 1: position off by 3 mm")
             rows.append(row)

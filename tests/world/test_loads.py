@@ -46,15 +46,15 @@ def test_controller_forms_of_a_turned_box():
     m = 3.0
     load = loads.box(m, (300.0, 100.0, 60.0), turned("z", 30.0, 0.0, 0.0, 90.0))
     jx, jy, jz = m * (0.1**2 + 0.06**2) / 12, m * (0.3**2 + 0.06**2) / 12, m * (0.3**2 + 0.1**2) / 12
-    kuka = load.kuka()
+    kuka = load.principal_zyx()
     assert (kuka["M"], kuka["X"], kuka["Y"], kuka["Z"]) == pytest.approx((3.0, 0.0, 0.0, 90.0), abs=1e-12)
     assert (kuka["A"], kuka["B"], kuka["C"]) == pytest.approx((30.0, 0.0, 0.0), abs=1e-9)
     assert (kuka["JX"], kuka["JY"], kuka["JZ"]) == pytest.approx((jx, jy, jz), rel=1e-12)
-    mass, cog, aom, ix, iy, iz = load.abb()
+    mass, cog, aom, ix, iy, iz = load.principal_quaternion()
     assert aom == pytest.approx((math.cos(math.radians(15)), 0.0, 0.0, math.sin(math.radians(15))), abs=1e-12)
     assert cog == pytest.approx((0.0, 0.0, 90.0), abs=1e-12)
     assert (mass, ix, iy, iz) == pytest.approx((3.0, jx, jy, jz), rel=1e-12)
-    _, cog_m, inertia = load.ur()
+    _, cog_m, inertia = load.tensor_at_cog()
     c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
     ixx, iyy = jx * c * c + jy * s * s, jx * s * s + jy * c * c  # R diag(jx, jy) R^T about z
     ixy = (jx - jy) * c * s
