@@ -8,7 +8,7 @@ import sys
 import click
 
 from codegen import cli_check, cli_run  # noqa: F401  (they register their commands)
-from codegen.cli_base import Folder, Number, UserError, calibrate, main, step_limit_option
+from codegen.cli_base import Folder, Number, UserError, calibrate, chosen_format, format_option, main, step_limit_option
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.controllers import target_names
@@ -167,7 +167,8 @@ def diff(cell: str | None, out_dir: str) -> None:
     type=Number(0, MAX_JOBS, integer=True),
     help="Worker processes (0: one per CPU).",
 )
-@click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable report (the same as --format json).")
+@format_option()
 @click.option("--html", "html_file", type=click.Path(dir_okay=False), help="Also write the report as a page.")
 def verify(
     cell: str | None,
@@ -178,6 +179,7 @@ def verify(
     seed: int,
     jobs: int,
     as_json: bool,
+    report_format: str,
     html_file: str | None,
 ) -> None:
     """Run every program of every kind on its cases and the common scenarios; compare with the reference.
@@ -220,11 +222,20 @@ def verify(
         click.echo(f"warning: {warning}", err=True)
     if not report.rows:
         raise UserError(f"{model.source}: no program to verify for the targets asked")
-    if as_json:
+    report_format = chosen_format(report_format, as_json)
+    if report_format == "json":
         _dump(report.as_json())
-    else:
+    elif report_format == "text":
         for line in report.lines():
             click.echo(line)
+    else:
+        from codegen.reports.formats import write
+        from codegen.reports.from_verify import verify_result
+        from codegen.reports.paths import repository_root
+
+        source = model.source if Path(model.source).is_file() else None
+        result = verify_result(report, source, Path("generated"))  # fresh programs: where generate writes them
+        click.echo(write(report_format, [result], repository_root()), nl=False)
     if html_file is not None:
         view_command.write_report(model, report, html_file)
     sys.exit(0 if report.ok else 1)

@@ -7,7 +7,7 @@ import sys
 
 import click
 
-from codegen.cli_base import UserError, file_target_option, main
+from codegen.cli_base import UserError, chosen_format, file_target_option, format_option, main
 from codegen.cli_base import dump as _dump
 from codegen.cli_run import program_files, program_groups
 
@@ -60,8 +60,11 @@ def _check_group(dialect, group, options) -> list:
     default=None,
     help="The arm (a catalogue model): speeds the program states are checked against its limits.",
 )
-@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
-def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as_json: bool) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output (the same as --format json).")
+@format_option()
+def check(
+    files: tuple[str, ...], target_name: str | None, robot: str | None, as_json: bool, report_format: str
+) -> None:
     """Parse and check programs without running them, like a compiler: every syntax error, unsupported
     construct, undefined name and the field checks of each language (a wait without a timeout, motion before
     the tool is set, speeds over the arm's ...), of all files, with file:line.
@@ -77,7 +80,8 @@ def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as
         arm = find_arm(robot)
         if arm is None:
             raise UserError(f"--robot {robot!r}: not in the catalogue; it has: {', '.join(catalogue())}")
-    sources, groups, findings, titles, names = [], [], [], [], []
+    report_format = chosen_format(report_format, as_json)
+    sources, groups, findings, titles, names, programs = [], [], [], [], [], []
     for language_paths in _by_language(files, target_name):
         target, dialect, language_sources = program_files(language_paths, target_name)
         if arm is not None and arm.vendor != target.vendor:
@@ -93,6 +97,7 @@ def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as
             language_groups = []
             findings.append(Finding(language_sources[0].name, 0, 0, "error", "files", exc.message))
         groups += language_groups
+        programs += [(target.name, [f.name for f in group]) for group in language_groups]
         for group in language_groups:
             findings.extend(_check_group(dialect, group, CheckOptions(arm=arm)))
     order = {name: i for i, name in enumerate(f.name for f in sources)}
@@ -100,7 +105,14 @@ def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as
     counts = {severity: sum(f.severity == severity for f in findings) for severity in SEVERITIES}
     refused = counts["error"] + counts["unsupported"]
     code = EXIT_REFUSED if refused else EXIT_FINDINGS if findings else EXIT_CLEAN
-    if as_json:
+    if report_format not in ("text", "json"):
+        from codegen.reports.formats import write
+        from codegen.reports.from_check import check_result
+        from codegen.reports.paths import repository_root
+
+        click.echo(write(report_format, [check_result(programs, findings)], repository_root()), nl=False)
+        sys.exit(code)
+    if report_format == "json":
         _dump(
             {
                 "target": names[0] if len(names) == 1 else None,
