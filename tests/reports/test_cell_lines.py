@@ -17,6 +17,10 @@ targets = [
   "ur",
   "kuka",  # [not a table]
 ]
+grid = [
+  [1, 2],
+  [3, 4],
+]
 note = """
 [[station]]
 fake = 1
@@ -61,7 +65,7 @@ def test_each_key_on_its_own_line():
     for path, line in expected.items():
         assert text[lines[path] - 1].startswith(line), path
     assert ("station", 0, "fake") not in lines and ("station", 2) not in lines  # inside a string, not a table
-    assert ("cell", "targets", "kuka") not in lines
+    assert ("cell", "targets", "kuka") not in lines and ("1",) not in lines  # inside an array
 
 
 def _leaves(data, path=()):
