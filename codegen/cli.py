@@ -114,7 +114,16 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
 @main.command()
 @click.argument("cell", required=False, type=click.Path(dir_okay=False))
 @click.option("--out", "out_dir", default="generated", show_default=True, type=Folder())
-def diff(cell: str | None, out_dir: str) -> None:
+@click.option(
+    "--format",
+    "diff_format",
+    type=click.Choice(["diff", "markdown"]),
+    default="diff",
+    show_default=True,
+    help="A unified diff, or what the change does per program as Markdown (a pull-request comment).",
+)
+@click.option("--no-verify", is_flag=True, help="Markdown: without verify's verdict of the new programs.")
+def diff(cell: str | None, out_dir: str, diff_format: str, no_verify: bool) -> None:
     """Unified diff of fresh output against OUT; exit 1 when they differ. No CELL: every bundled
     example cell (all the cells whose output is committed under generated/)."""
     from pathlib import Path
@@ -125,6 +134,8 @@ def diff(cell: str | None, out_dir: str) -> None:
 
     bundled = list(EXAMPLES_DIR.rglob("*.toml"))
     paths = [cell] if cell is not None else sorted(bundled)
+    if diff_format == "markdown":
+        _markdown_diff(paths, Path(out_dir), no_verify)
     text = ""
     for path in paths:
         model = _load(path)
@@ -135,6 +146,28 @@ def diff(cell: str | None, out_dir: str) -> None:
     if text:
         click.echo(text, nl=False)
         sys.exit(1)
+
+
+def _markdown_diff(paths: list, out_dir, no_verify: bool) -> None:
+    """diff --format markdown: every cell's change, the new programs verified; exit 1 when any changed."""
+    from codegen.emit import EmitError
+    from codegen.reports.markdown import markdown
+    from codegen.reports.program_diff import add_verdicts, cell_change
+    from codegen.robot.taught import ReachError
+    from codegen.verify.engine import verify_cell
+
+    changes = []
+    for path in paths:
+        model = _load(path)
+        try:
+            change = cell_change(model, out_dir)
+            if not no_verify:
+                add_verdicts(change, verify_cell(model))
+        except (EmitError, ReachError) as exc:
+            raise UserError(f"{model.source}: {exc}") from None
+        changes.append(change)
+    click.echo(markdown(changes), nl=False)
+    sys.exit(1 if any(c.programs for c in changes) else 0)
 
 
 @main.command()
