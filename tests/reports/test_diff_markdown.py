@@ -64,23 +64,27 @@ def test_a_moved_pose_and_an_added_station_are_said_per_program(tmp_path):
         assert "<details><summary>raw diff" in part and f"+++ {out}" in part
 
 
-def test_a_speed_and_a_zone_are_said_as_settings(tmp_path):
+def fast(model, files=(), targets=(), options=None):
+    """verify of the new programs with few cases (the verdict's words are the test, not verify's)."""
+    return verify_cell(model, files, targets, Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"random"})))
+
+
+def test_a_speed_and_a_zone_are_said_as_settings_with_the_new_programs_verdict(tmp_path, monkeypatch):
+    monkeypatch.setattr(engine, "verify_cell", fast)
+
     def edit(text):  # the defaults: 50 mm/s into the work pose; the zone here a new setting
         return text.replace("[[station]]", "[cell.motion]\nwork_speed_mm_s = 40.0\nzone_mm = 5.0\n\n[[station]]", 1)
 
     cell, out = setup(tmp_path, edit)
-    result = invoke(cell, out, "--no-verify")
+    result = invoke(cell, out)
+    assert re.search(r"^\| abb \| `bench.mod` \| changed \|.*\| pass: \d+ cases \|$", result.output, re.M)
+    assert "verify of the new programs: all 5 programs match the reference" in result.output
     part = section(result.output, "abb", "bench.mod")
     settings = part[part.index("- speeds, zones, tools:") :]
     assert "40" in settings and "50" in settings and "poses moved" not in part
 
 
 def test_unchanged_programs_are_said_as_generated_with_the_verdict(tmp_path, monkeypatch):
-    def fast(model, files=(), targets=(), options=None):
-        return verify_cell(
-            model, files, targets, Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"random"}))
-        )
-
     monkeypatch.setattr(engine, "verify_cell", fast)
     cell, out = setup(tmp_path, lambda text: text)
     result = invoke(cell, out)
