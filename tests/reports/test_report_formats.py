@@ -188,3 +188,29 @@ def test_verify_command_writes_the_format_asked(cell, tmp_path, monkeypatch):
     assert result.exit_code == 1, result.output
     assert f"::warning file=ur/agv_machine_tending.script,line={line},title=verify/edit" in result.output
     assert re.search(r"^::error file=ur/agv_machine_tending.script,line=\d+,title=verify/pose", result.output, re.M)
+
+
+def test_a_hand_edited_speed_is_a_move_setting_mismatch_at_the_edited_line(cell, tmp_path, sarif_valid):
+    path = copied(tmp_path, "ur", "agv_machine_tending.script")
+    line = edit_line(path, "movel(pose_trans(corr, p1_chuck)", "v=0.0500", "v=0.1000")
+    result = verify_result(verify_cell(cell, [path], ("ur",), FAST), str(DEMO))
+    run = sarif_valid(write("sarif", [result], tmp_path))["runs"][0]
+    at = {(r["ruleId"], *region(r["locations"][0])) for r in run["results"]}
+    assert ("verify/move-setting", "ur/agv_machine_tending.script", line) in at  # the move is the edited line
+    assert ("verify/edit", "ur/agv_machine_tending.script", line) in at
+    assert not any(rule == "verify/pose" for rule, _, _ in at)
+
+
+def test_fresh_programs_are_placed_where_generate_writes_them():
+    from codegen.verify.report import Report, Row
+
+    row = Row("point", "ur", "prog", ["<fresh>/bench/ur/prog.script"], cases=3)
+    row.mismatch(
+        "random station 1 reading (1, 2, 3): move 2 (work, line 40): position error 1 mm",
+        "move 2 (work, line 40): position error 1 mm",
+    )
+    result = verify_result(Report("bench", [row], 0, 3), None, Path("generated"))
+    (finding,) = result.findings
+    assert finding.program == Location(str(Path("generated") / "bench" / "ur" / "prog.script"), 40)
+    assert finding.rule == "verify/pose" and finding.cell is None
+    assert result.cases[0].failure.startswith("1 of 3 cases do not match the reference")
