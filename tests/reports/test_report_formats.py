@@ -214,3 +214,12 @@ def test_fresh_programs_are_placed_where_generate_writes_them():
     assert finding.program == Location(str(Path("generated") / "bench" / "ur" / "prog.script"), 40)
     assert finding.rule == "verify/pose" and finding.cell is None
     assert result.cases[0].failure.startswith("1 of 3 cases do not match the reference")
+
+
+def test_junit_stays_xml_with_control_characters_in_a_message(junit_valid):
+    finding = Finding("check/syntax", "bad \x00 byte \x1b[31m", "error", Location("p.script", 1))
+    case = TestCase(
+        "", "ur", "p.script", ["p.script"], findings=[finding], failure="p.script:1: bad \x00 byte \x1b[31m"
+    )
+    root = junit_valid(write("junit", [CellResult("check", "", None, [case])], Path.cwd()))
+    assert "bad \\x00 byte \\x1b[31m" in next(root.iter("failure")).text
