@@ -15,6 +15,7 @@ FRESH = "<fresh>/"  # verify's name of a program rendered from the cell (verify.
 LINE = re.compile(r"\bline (\d+)\)")  # "move 3 (chuck, line 216)", "output X (line 40)": the checks' own words
 MOVE = re.compile(r"\bmove \d+ \(([^,()]+), line \d+\)")
 EDITED = re.compile(r"^EDIT (?P<file>[^:]+):(?P<line>\d+) (?P<what>changed|added): (?P<text>.*)$")
+REMOVED = re.compile(r"^EDIT (?P<file>[^:]+): removed after line (?P<line>\d+): (?P<text>.*)$")
 
 
 def verify_result(report, cell_file: str | None, fresh_root: Path | None = None) -> CellResult:
@@ -57,11 +58,15 @@ def _placed(name: str, fresh_root: Path | None) -> str:
 def _edit(line: str, files: list[str]) -> Finding | None:
     """A changed or added line of a given program (verify.edits' words) as a finding at that line."""
     match = EDITED.match(line)
-    if match is None:
-        return None
+    if match is not None:
+        message = f"line {match['what']} against the generated program: {match['text']}"
+    else:
+        match = REMOVED.match(line)
+        if match is None:
+            return None
+        message = f"a line of the generated program removed after this line: {match['text']}"
     file = next((f for f in files if Path(f).name == match["file"]), match["file"])
-    message = f"line {match['what']} against the generated program: {match['text']}"
-    return Finding(EDIT.id, message, "warning", Location(file, int(match["line"])))
+    return Finding(EDIT.id, message, "warning", Location(file, max(1, int(match["line"]))))
 
 
 def _cell_keys(cell_file: str | None) -> tuple[dict, dict] | None:

@@ -223,3 +223,16 @@ def test_junit_stays_xml_with_control_characters_in_a_message(junit_valid):
     )
     root = junit_valid(write("junit", [CellResult("check", "", None, [case])], Path.cwd()))
     assert "bad \\x00 byte \\x1b[31m" in next(root.iter("failure")).text
+
+
+def test_a_removed_line_is_a_warning_after_the_line_before_it_and_the_case_passes(cell, tmp_path, junit_valid):
+    path = copied(tmp_path, "ur", "agv_machine_tending.script")
+    lines = path.read_text(encoding="utf-8").splitlines(keepends=True)
+    at = next(i for i, line in enumerate(lines) if "generated, do not edit" in line)
+    path.write_text("".join(lines[:at] + lines[at + 1 :]), encoding="utf-8")
+    result = verify_result(verify_cell(cell, [path], ("ur",), FAST), str(DEMO))
+    (finding,) = result.findings
+    assert (finding.rule, finding.level, finding.program.line) == ("verify/edit", "warning", at)
+    assert "removed after this line: # generated, do not edit" in finding.message
+    (case,) = junit_valid(write("junit", [result], tmp_path)).iter("testcase")
+    assert case.find("failure") is None
