@@ -228,6 +228,7 @@ def verify(
     from codegen.verify.engine import Options, verify_cell
     from codegen.verify.programs import ProgramFilesError
 
+    report_format = chosen_format(report_format, as_json)  # a contradiction is said before any case runs
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
         cell = None
@@ -255,7 +256,6 @@ def verify(
         click.echo(f"warning: {warning}", err=True)
     if not report.rows:
         raise UserError(f"{model.source}: no program to verify for the targets asked")
-    report_format = chosen_format(report_format, as_json)
     if report_format == "json":
         _dump(report.as_json())
     elif report_format == "text":

@@ -188,6 +188,8 @@ def test_verify_command_writes_the_format_asked(cell, tmp_path, monkeypatch):
     assert result.exit_code == 1, result.output
     assert f"::warning file=ur/agv_machine_tending.script,line={line},title=verify/edit" in result.output
     assert re.search(r"^::error file=ur/agv_machine_tending.script,line=\d+,title=verify/pose", result.output, re.M)
+    both = CliRunner().invoke(main, ["verify", str(DEMO), "--json", "--format", "junit"])
+    assert both.exit_code == 2 and "choose one" in both.output
 
 
 def test_a_hand_edited_speed_is_a_move_setting_mismatch_at_the_edited_line(cell, tmp_path, sarif_valid):
