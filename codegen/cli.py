@@ -7,7 +7,18 @@ import sys
 import click
 
 from codegen import cli_check, cli_plant, cli_run  # noqa: F401  (they register their commands)
-from codegen.cli_base import Folder, Number, UserError, calibrate, diff_cell, main, step_limit_option, write_cell
+from codegen.cli_base import (
+    Folder,
+    Number,
+    UserError,
+    calibrate,
+    chosen_format,
+    diff_cell,
+    format_option,
+    main,
+    step_limit_option,
+    write_cell,
+)
 from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.cli_plant import is_plant_argument
@@ -102,7 +113,16 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
 @click.argument("cell", required=False, type=click.Path())
 @click.option("--out", "out_dir", default="generated", show_default=True, type=Folder(), help=PLANT_OUT_HELP)
 @click.option("--json", "as_json", is_flag=True, help="A plant's table as JSON.")
-def diff(cell: str | None, out_dir: str, as_json: bool) -> None:
+@click.option(
+    "--format",
+    "diff_format",
+    type=click.Choice(["diff", "markdown"]),
+    default="diff",
+    show_default=True,
+    help="A unified diff, or what the change does per program as Markdown (a pull-request comment).",
+)
+@click.option("--no-verify", is_flag=True, help="Markdown: without verify's verdict of the new programs.")
+def diff(cell: str | None, out_dir: str, as_json: bool, diff_format: str, no_verify: bool) -> None:
     """Unified diff of fresh output against OUT; exit 1 when they differ. No CELL: every bundled
     example cell (all the cells whose output is committed under generated/). CELL may be a plant (a folder of
     cell files, or its codegen.toml): every cell's diff, then one table."""
@@ -111,8 +131,12 @@ def diff(cell: str | None, out_dir: str, as_json: bool) -> None:
     from codegen.model.cell import example_cells
 
     if is_plant_argument(cell):
+        if diff_format != "diff":
+            raise UserError(f"{cell}: --format {diff_format} is for one cell; a plant reports its table")
         return cli_plant.diff_plant(cell, out_dir, as_json)
     paths = [cell] if cell is not None else example_cells()
+    if diff_format == "markdown":
+        _markdown_diff(paths, Path(out_dir), no_verify)
     text = ""
     for path in paths:
         text += diff_cell(_load(path), Path(out_dir))
@@ -121,6 +145,28 @@ def diff(cell: str | None, out_dir: str, as_json: bool) -> None:
     elif text:
         click.echo(text, nl=False)
     sys.exit(1 if text else 0)
+
+
+def _markdown_diff(paths: list, out_dir, no_verify: bool) -> None:
+    """diff --format markdown: every cell's change, the new programs verified; exit 1 when any changed."""
+    from codegen.emit import EmitError
+    from codegen.reports.markdown import markdown
+    from codegen.reports.program_diff import add_verdicts, cell_change
+    from codegen.robot.taught import ReachError
+    from codegen.verify.engine import verify_cell
+
+    changes = []
+    for path in paths:
+        model = _load(path)
+        try:
+            change = cell_change(model, out_dir)
+            if not no_verify:
+                add_verdicts(change, verify_cell(model))
+        except (EmitError, ReachError) as exc:
+            raise UserError(f"{model.source}: {exc}") from None
+        changes.append(change)
+    click.echo(markdown(changes), nl=False)
+    sys.exit(1 if any(c.programs for c in changes) else 0)
 
 
 @main.command()
@@ -161,7 +207,8 @@ def diff(cell: str | None, out_dir: str, as_json: bool) -> None:
     help="Run the cases on the Dask cluster of this scheduler (tcp://host:8786; needs codegen[cluster]); "
     "--jobs is then unused.",
 )
-@click.option("--json", "as_json", is_flag=True, help="Machine-readable report.")
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable report (the same as --format json).")
+@format_option()
 @click.option("--html", "html_file", type=click.Path(dir_okay=False), help="Also write the report as a page.")
 @click.option("--no-cache", is_flag=True, help="A plant: verify every cell again (no stored result is read).")
 @click.option(
@@ -180,6 +227,7 @@ def verify(
     jobs: int,
     scheduler: str | None,
     as_json: bool,
+    report_format: str,
     html_file: str | None,
     no_cache: bool,
     cache_dir: str | None,
@@ -201,11 +249,14 @@ def verify(
     from codegen.verify.engine import Options, verify_cell
     from codegen.verify.programs import ProgramFilesError
 
+    report_format = chosen_format(report_format, as_json)  # a contradiction is said before any case runs
     if is_plant_argument(cell):
         if files or html_file is not None:
             raise UserError(f"{cell}: a plant is verified from its cells; FILES and --html are for one cell")
+        if report_format not in ("text", "json"):
+            raise UserError(f"{cell}: --format {report_format} is for one cell; a plant reports its table")
         return cli_plant.verify_plant(
-            cell, targets, cases, seed, step_limit, jobs, scheduler, as_json, not no_cache, cache_dir
+            cell, targets, cases, seed, step_limit, jobs, scheduler, report_format == "json", not no_cache, cache_dir
         )
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
@@ -238,11 +289,19 @@ def verify(
         click.echo(f"warning: {warning}", err=True)
     if not report.rows:
         raise UserError(f"{model.source}: no program to verify for the targets asked")
-    if as_json:
+    if report_format == "json":
         _dump(report.as_json())
-    else:
+    elif report_format == "text":
         for line in report.lines():
             click.echo(line)
+    else:
+        from codegen.reports.formats import write
+        from codegen.reports.from_verify import verify_result
+        from codegen.reports.paths import repository_root
+
+        source = model.source if Path(model.source).is_file() else None
+        result = verify_result(report, source, Path("generated"))  # fresh programs: where generate writes them
+        click.echo(write(report_format, [result], repository_root()), nl=False)
     if html_file is not None:
         view_command.write_report(model, report, html_file)
     sys.exit(0 if report.ok else 1)

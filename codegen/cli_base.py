@@ -137,6 +137,27 @@ def diff_cell(model, out_dir) -> str:
         raise UserError(f"{model.source}: {exc}") from None
 
 
+def format_option():
+    """--format of the commands that report findings: their text or JSON, or a format a CI system reads."""
+    from codegen.reports.formats import FORMATS
+
+    return click.option(
+        "--format",
+        "report_format",
+        type=click.Choice(FORMATS),
+        default="text",
+        show_default=True,
+        help="text, json (as --json), junit (JUnit XML), sarif (SARIF 2.1.0) or github (workflow annotations).",
+    )
+
+
+def chosen_format(report_format: str, as_json: bool) -> str:
+    """The format asked for: --json is --format json; with another --format it is a contradiction (exit 2)."""
+    if as_json and report_format not in ("text", "json"):
+        raise UserError(f"--json and --format {report_format}: choose one")
+    return "json" if as_json else report_format
+
+
 def step_limit_option(help_text: str, kinds_own: bool = False):
     """--step-limit of the commands that run programs: the interpreter's default, or (kinds_own) none, so that
     each kind's runs keep their own limit unless one is given."""

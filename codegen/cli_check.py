@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import click
 
-from codegen.cli_base import UserError, file_target_option, main
+from codegen.cli_base import UserError, chosen_format, file_target_option, format_option, main
 from codegen.cli_base import dump as _dump
 from codegen.cli_run import program_files, program_groups
 
@@ -55,7 +55,7 @@ def _check_group(dialect, group, options) -> list:
 @dataclass
 class Checked:
     """check_files' result: the files, their programs, every finding (in file order), the counts by severity, the
-    exit code, and the targets' titles and names."""
+    exit code, the targets' titles and names, and each program as (target, its file names)."""
 
     sources: list
     groups: list
@@ -64,6 +64,7 @@ class Checked:
     code: int
     titles: list[str]
     names: list[str]
+    programs: list[tuple[str, list[str]]]
 
 
 def check_files(files: tuple[str, ...], target_name: str | None, arm=None, robot: str | None = None) -> Checked:
@@ -71,7 +72,7 @@ def check_files(files: tuple[str, ...], target_name: str | None, arm=None, robot
     is no program of a language or an arm of another controller."""
     from codegen.dialects.core.files import SEVERITIES, CheckOptions, Finding
 
-    sources, groups, findings, titles, names = [], [], [], [], []
+    sources, groups, findings, titles, names, programs = [], [], [], [], [], []
     for language_paths in _by_language(files, target_name):
         target, dialect, language_sources = program_files(language_paths, target_name)
         if arm is not None and arm.vendor != target.vendor:
@@ -88,6 +89,7 @@ def check_files(files: tuple[str, ...], target_name: str | None, arm=None, robot
             language_groups = []
             findings.append(Finding(language_sources[0].name, 0, 0, "error", "files", exc.message))
         groups += language_groups
+        programs += [(target.name, [f.name for f in group]) for group in language_groups]
         for group in language_groups:
             findings.extend(_check_group(dialect, group, CheckOptions(arm=arm)))
     order = {name: i for i, name in enumerate(f.name for f in sources)}
@@ -95,7 +97,7 @@ def check_files(files: tuple[str, ...], target_name: str | None, arm=None, robot
     counts = {severity: sum(f.severity == severity for f in findings) for severity in SEVERITIES}
     refused = counts["error"] + counts["unsupported"]
     code = EXIT_REFUSED if refused else EXIT_FINDINGS if findings else EXIT_CLEAN
-    return Checked(sources, groups, findings, counts, code, titles, names)
+    return Checked(sources, groups, findings, counts, code, titles, names, programs)
 
 
 @main.command()
@@ -107,8 +109,11 @@ def check_files(files: tuple[str, ...], target_name: str | None, arm=None, robot
     default=None,
     help="The arm (a catalogue model): speeds the program states are checked against its limits.",
 )
-@click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
-def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as_json: bool) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Machine-readable output (the same as --format json).")
+@format_option()
+def check(
+    files: tuple[str, ...], target_name: str | None, robot: str | None, as_json: bool, report_format: str
+) -> None:
     """Parse and check programs without running them, like a compiler: every syntax error, unsupported
     construct, undefined name and the field checks of each language (a wait without a timeout, motion before
     the tool is set, speeds over the arm's ...), of all files, with file:line.
@@ -119,10 +124,13 @@ def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as
     against each cell's arm, one table."""
     from codegen.cli_plant import check_plant, is_plant_folder
 
+    report_format = chosen_format(report_format, as_json)  # a contradiction is said before anything is read
     if len(files) == 1 and is_plant_folder(files[0]):
         if target_name is not None or robot is not None:
             raise UserError(f"{files[0]}: a plant's programs are checked for each cell's targets and arms")
-        return check_plant(files[0], None, as_json)
+        if report_format not in ("text", "json"):
+            raise UserError(f"{files[0]}: --format {report_format} is for program files; a plant reports its table")
+        return check_plant(files[0], None, report_format == "json")
     arm = None
     if robot is not None:
         from codegen.robot.arms import catalogue, find_arm
@@ -139,7 +147,14 @@ def check(files: tuple[str, ...], target_name: str | None, robot: str | None, as
         result.code,
     )
     titles, names = result.titles, result.names
-    if as_json:
+    if report_format not in ("text", "json"):
+        from codegen.reports.formats import write
+        from codegen.reports.from_check import check_result
+        from codegen.reports.paths import repository_root
+
+        click.echo(write(report_format, [check_result(result.programs, findings)], repository_root()), nl=False)
+        sys.exit(code)
+    if report_format == "json":
         _dump(
             {
                 "target": names[0] if len(names) == 1 else None,

@@ -1,0 +1,1 @@
+"""Reports for reviewers and CI: a neutral findings model, its JUnit, SARIF and GitHub writers, the markdown diff."""

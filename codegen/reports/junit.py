@@ -1,0 +1,66 @@
+"""JUnit XML (the Ant/Jenkins/Surefire form CI systems read): a suite per cell, a test case per target x program."""
+
+from __future__ import annotations
+
+from xml.etree import ElementTree as ET
+
+from codegen.reports.findings import CellResult
+
+
+def junit(results: list[CellResult]) -> str:
+    """The results as one <testsuites> document; a failing case's <failure> holds its mismatches or findings."""
+    root = ET.Element("testsuites", name="codegen")
+    total = failures = 0
+    seconds = 0.0
+    for result in results:
+        failed = sum(case.failed for case in result.cases)
+        time = sum(case.seconds for case in result.cases)
+        suite = ET.SubElement(
+            root,
+            "testsuite",
+            name=f"{result.command} {result.cell}".strip(),
+            tests=str(len(result.cases)),
+            failures=str(failed),
+            errors="0",
+            time=_seconds(time),
+        )
+        if result.cell_file is not None:
+            suite.set("file", result.cell_file)
+        for case in result.cases:
+            element = ET.SubElement(
+                suite,
+                "testcase",
+                name=case.program,
+                classname=".".join(p for p in (result.command, case.cell, case.target) if p),
+                time=_seconds(case.seconds),
+            )
+            if case.failure is not None:
+                first = case.failure.splitlines()[0] if case.failure else ""
+                failure = ET.SubElement(element, "failure", message=first, type=_type(case))
+                failure.text = case.failure
+            text = "\n".join(filter(None, [f"files: {', '.join(case.files)}" if case.files else "", case.output]))
+            if case.cases:
+                text = f"{case.cases} cases\n{text}"
+            if text:
+                ET.SubElement(element, "system-out").text = text
+        total += len(result.cases)
+        failures += failed
+        seconds += time
+    root.set("tests", str(total))
+    root.set("failures", str(failures))
+    root.set("errors", "0")
+    root.set("time", _seconds(seconds))
+    ET.indent(root)
+    return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def _type(case) -> str:
+    """The rules the case's findings break (the first few), as the failure's type."""
+    rules = list(dict.fromkeys(f.rule for f in case.findings if f.level == "error")) or list(
+        dict.fromkeys(f.rule for f in case.findings)
+    )
+    return " ".join(rules[:4]) or "failure"
+
+
+def _seconds(value: float) -> str:
+    return f"{value:.3f}"  # the Surefire time: at most three decimals
