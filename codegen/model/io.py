@@ -128,6 +128,17 @@ def per_target(ctx, table: dict, key: str, targets, required: bool, prefix: str 
     return out
 
 
+def signal_reader(ctx, targets, required: bool):
+    """A signal per target of the cell as the generic loader reads a key (codegen.model.loader.Reader): the key's
+    raw value (None: absent) and its path -> per_target's dict."""
+
+    def read(raw, path: str) -> dict:
+        prefix, key = path.rsplit(".", 1)
+        return per_target(ctx, {} if raw is None else {key: raw}, key, targets, required, prefix=prefix)
+
+    return read
+
+
 def signal_name(target, kind: str, value) -> str:
     """The signal as the interpreter knows it ("output" or "input"): the target's pattern with the index."""
     return target.program["signals"][kind].format(n=value)
