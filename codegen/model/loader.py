@@ -88,7 +88,7 @@ class Loader:
         number = self.ctx.finite(raw, path)
         self._choice(key, number, path)
         if not key.contains(number):
-            self.ctx.fail(path, f"must be {_range(key)}, got {number:g}")
+            self.ctx.fail(path, f"must be {_range(key)} ({key.doc}), got {number:g}")
         return number
 
     def _numbers(self, key: Key, raw: list, path: str) -> tuple[float, ...]:
@@ -99,7 +99,7 @@ class Loader:
             return self.ctx.angles(numbers, path, key.unit)
         for i, number in enumerate(numbers):
             if not key.contains(number):
-                self.ctx.fail(f"{path}[{i}]", f"must be {_range(key)}, got {number:g}")
+                self.ctx.fail(f"{path}[{i}]", f"must be {_range(key)} ({key.doc}), got {number:g}")
         return numbers
 
     def _list(self, key: Key, raw: list, path: str) -> tuple:

@@ -105,7 +105,7 @@ def test_an_explicit_pattern_longer_than_the_bound_is_refused_before_its_boxes_a
         (
             "[13, 26, 90], [39, 26, 90]",
             "[13, 26, 1e9], [39, 26, 90]",
-            "pallet[0].patterns.p1[0][2]: must be in [-5000, 5000], got 1e+09",
+            "pallet[0].patterns.p1[0][2]: must be in [-5000, 5000] (a box: x, y (mm), angle (deg)), got 1e+09",
         ),
         ("[13, 26, 90], [39, 26, 90]", "[13, 26, 400], [39, 26, 90]", "pallet[0].patterns.p1[0]: the angle must be"),
         ("x_point = [750.0, -50.0, 50.0]", "x_point = [1e9, -50.0, 50.0]", "pallet[0].frame.x_point: a taught point"),

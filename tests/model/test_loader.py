@@ -79,12 +79,12 @@ def test_given_values_are_read_as_written():
     ("raw", "says"),
     [
         # a bound (open: the bound itself refused)
-        ({"speed": 0.0}, "demo.speed: must be in (0, 10] mm/s, got 0"),
-        ({"speed": 10.5}, "demo.speed: must be in (0, 10] mm/s, got 10.5"),
+        ({"speed": 0.0}, "demo.speed: must be in (0, 10] mm/s (how fast), got 0"),
+        ({"speed": 10.5}, "demo.speed: must be in (0, 10] mm/s (how fast), got 10.5"),
         ({"count": 6}, "demo.count: expected a whole number in 1..5, got the number 6"),
-        ({"offset": [0, 101]}, "demo.offset[1]: must be in [-100, 100] mm, got 101"),
+        ({"offset": [0, 101]}, "demo.offset[1]: must be in [-100, 100] mm (x, y), got 101"),
         ({"turn": [0, 0, 361]}, "demo.turn: angles must be within +-360 deg"),
-        ({"wait": 3}, "demo.wait: must be in [0, 2] s, got 3"),
+        ({"wait": 3}, "demo.wait: must be in [0, 2] s (a duration), got 3"),
         ({"per": {"right": 10}}, "demo.per.right: expected a whole number in 0..9, got the number 10"),
         # an unknown key, at the top and in a map with its names
         ({"colour": "red"}, "demo.colour: unknown key; allowed: count, flag, inner, name, offset, per, side, speed,"),
@@ -166,19 +166,20 @@ def _edited(tmp_path, example: str, old: str, new: str):
             "eur_pallet",
             "timeout_s = 10.0",
             "timeout_s = 0.1",
-            "pallet[0].io.timeout_s: must be in [0.5, 600] s, got 0.1",
+            "pallet[0].io.timeout_s: must be in [0.5, 600] s (how long each wait lasts), got 0.1",
         ),
         (
             "belt_pick",
             "capture_mm = 3.0",
             "capture_mm = 51.0",
-            "conveyor.pick.capture_mm: must be in (0, 50] mm, got 51",
+            "conveyor.pick.capture_mm: must be in (0, 50] mm (intercept: how far off the gripper may meet the part and "
+            "still hold it), got 51",
         ),
         (
             "laser_tcp",
             "pin_radius_mm = 1.5",
             "pin_radius_mm = 26.0",
-            "laser.pin_radius_mm: must be in (0, 25] mm, got 26",
+            "laser.pin_radius_mm: must be in (0, 25] mm (the calibrated pin's radius (at least 0.2 mm)), got 26",
         ),
     ],
 )
