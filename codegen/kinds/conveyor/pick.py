@@ -106,7 +106,7 @@ def _seconds(ctx, value, path: str) -> tuple[float, float]:
     """A duration the cell states as a number or as [least, most] (s), as (least, most)."""
     low, high = (value, value) if isinstance(value, float) else value
     if not low <= high:
-        ctx.fail(path, f"expected [least, most] with least <= most, got {list(value)}")
+        ctx.fail(path, f"must be a duration, or [least, most] with least <= most, got {list(value)}")
     return float(low), float(high)
 
 

@@ -83,6 +83,12 @@ def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
 
 def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) -> Pallet:
     """One [[pallet]]: its keys as declared (keys.py), then the rules between them."""
+    if "slip_sheet" in table and table.get("mode") == "unstack":  # before the sheet's keys: none of them applies
+        ctx.fail(
+            f"{path}.slip_sheet",
+            "an unstacking program would grip the slip sheet on a layer with its box: codegen places slip "
+            "sheets when stacking only",
+        )
     values = loader.table(PALLET, table, path, readers={"io": lambda raw, where: raw})
     patterns = _patterns(ctx, values["patterns"], f"{path}.patterns")
     cycle = values["cycle"]
@@ -97,12 +103,6 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
         if offset[2] <= 0:
             ctx.fail(f"{path}.{key}", "z must be above the target (> 0): the arm comes from above")
     slip = values["slip_sheet"]
-    if slip is not None and values["mode"] == "unstack":
-        ctx.fail(
-            f"{path}.slip_sheet",
-            "an unstacking program would grip the slip sheet on a layer with its box: codegen places slip "
-            "sheets when stacking only",
-        )
     if values["approach_auto"] and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
         ctx.fail(f"{path}.approach_auto", "turns the x-y part of approach and retreat: each needs one of 1 mm or more")
     io = parse_io(ctx, loader, values["io"], path, cell.targets, values["mode"], slip is not None)
