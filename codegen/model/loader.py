@@ -64,7 +64,8 @@ class Loader:
         if key.type == "pose":
             return self.ctx.pose(path.rsplit(".", 1)[-1], raw, path, self.pose_format)
         if not _has_shape(raw, key.type):
-            self.ctx.fail(path, f"expected {_expected(key)}, got {kind_of(raw)}")
+            wanted = "must be true or false" if key.type == "boolean" else f"expected {_expected(key)}"
+            self.ctx.fail(path, f"{wanted}, got {kind_of(raw)}")
         return getattr(self, f"_{key.type}")(key, raw, path)
 
     def _string(self, key: Key, raw: str, path: str) -> str:

@@ -92,7 +92,7 @@ def test_given_values_are_read_as_written():
         # a wrong type
         ({"count": 2.0}, "demo.count: expected a whole number (no decimal point) in 1..5, got the number 2.0"),
         ({"speed": "fast"}, "demo.speed: expected a number, got the string 'fast'"),
-        ({"flag": "yes"}, "demo.flag: expected true or false, got the string 'yes'"),
+        ({"flag": "yes"}, "demo.flag: must be true or false, got the string 'yes'"),
         ({"offset": [1]}, "demo.offset: expected 2 numbers, got 1"),
         ({"wait": "long"}, "demo.wait: expected a number or a list of 2 numbers, got the string 'long'"),
         ({"inner": 1}, "demo.inner: expected a table, got the number 1"),
