@@ -115,6 +115,8 @@ def load_cell(path: str | Path | None = None) -> Cell:
         return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
     except RecursionError:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
+    except CellError as exc:
+        raise exc.with_line(raw.decode("utf-8", errors="replace")) from None
 
 
 def read_cell_data(path: Path) -> tuple[dict, bytes]:
@@ -155,6 +157,8 @@ def replace_cell_file(path: Path, text: str) -> None:
             cell = cell_from_dict(parse_cell_bytes(raw, path), source=str(path), sha256=hashlib.sha256(raw).hexdigest())
         except RecursionError:
             raise CellError(f"{path}: tables or arrays nested too deeply") from None
+        except CellError as exc:
+            raise exc.with_line(raw.decode("utf-8", errors="replace")) from None
         for kind in kinds().values():
             kind.reach(cell, list(cell.targets))
 

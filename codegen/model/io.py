@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 from functools import cache
 
 from codegen.controllers import get_target, target_names
+from codegen.model.loader import Loader, build
 from codegen.model.schema import Key, Table
 
 SIGNAL_PATTERN = r"[A-Za-z][A-Za-z0-9_]{0,31}"  # a configured I/O signal's name (RAPID: EIO)
@@ -77,23 +78,13 @@ class SignalSettings:
 
 
 def parse_settings(ctx, cell_table: dict, targets) -> SignalSettings | None:
-    """[cell.io] of a cell file (optional); every target of the cell names its output, and its feedback
-    when any does. Errors name the key."""
+    """[cell.io] of a cell file (optional), read by its declaration (io_table); every target of the cell names its
+    output, and its feedback when any does. Errors name the key."""
     if "io" not in cell_table:
         return None
-    table = ctx.table(cell_table, "io", "cell.io")
     definition = io_table()
-    ctx.no_unknown(table, definition.allowed, "cell.io")
-    output = per_target(ctx, table, "output", targets, required=definition["output"].required)
-    feedback = per_target(ctx, table, "feedback", targets, required=definition["feedback"].required)
-    value = table.get("value", definition.default("value"))
-    if not isinstance(value, bool):
-        ctx.fail("cell.io.value", f"must be true or false, got {value!r}")
-    timeout = ctx.number(table, "timeout_s", "cell.io.timeout_s") if "timeout_s" in table else TIMEOUT_S
-    low, high = definition["timeout_s"].bounds
-    if not definition["timeout_s"].contains(timeout):
-        ctx.fail("cell.io.timeout_s", f"must be between {low:g} and {high:g} s, got {timeout}")
-    return SignalSettings(output, value, feedback, timeout)
+    readers = {key: signal_reader(ctx, targets, definition[key].required) for key in ("output", "feedback")}
+    return build(SignalSettings, Loader(ctx).table(definition, cell_table["io"], "cell.io", readers=readers))
 
 
 def per_target(ctx, table: dict, key: str, targets, required: bool, prefix: str = "cell.io") -> dict:
@@ -126,6 +117,17 @@ def per_target(ctx, table: dict, key: str, targets, required: bool, prefix: str 
         out[target] = value
     ctx.no_unknown(raw, set(targets), f"{prefix}.{key}")
     return out
+
+
+def signal_reader(ctx, targets, required: bool):
+    """A signal per target of the cell as the generic loader reads a key (codegen.model.loader.Reader): the key's
+    raw value (None: absent) and its path -> per_target's dict."""
+
+    def read(raw, path: str) -> dict:
+        prefix, key = path.rsplit(".", 1)
+        return per_target(ctx, {} if raw is None else {key: raw}, key, targets, required, prefix=prefix)
+
+    return read
 
 
 def signal_name(target, kind: str, value) -> str:

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from codegen.model.loader import Loader, build
 from codegen.model.schema import Key, Table
 
 # the programs write a TCP speed to 0.1 mm/s (one controller takes it in m/s to 4 decimals): below 1 mm/s that is
@@ -86,40 +87,10 @@ START_TOLERANCE_MAX_DEG = TABLE["start_tolerance_deg"].high
 
 
 def parse_settings(ctx, cell_table: dict) -> MotionSettings:
-    """[cell.motion] of a cell file (optional); errors name the key."""
+    """[cell.motion] of a cell file (optional), read by its declaration (TABLE); errors name the key."""
     if "motion" not in cell_table:
         return MotionSettings()
-    table = ctx.table(cell_table, "motion", "cell.motion")
-    ctx.no_unknown(table, TABLE.allowed, "cell.motion")
-    default = MotionSettings()
-    values = {}
-    for key in ("speed_mm_s", "work_speed_mm_s"):
-        value = ctx.number(table, key, f"cell.motion.{key}") if key in table else getattr(default, key)
-        if not SPEED_MIN_MM_S <= value <= SPEED_MAX_MM_S:
-            ctx.fail(
-                f"cell.motion.{key}",
-                f"must be in [{SPEED_MIN_MM_S:g}, {SPEED_MAX_MM_S:g}] mm/s (the programs write it to 0.1 mm/s), "
-                f"got {value:g}",
-            )
-        values[key] = value
-    zone = ctx.number(table, "zone_mm", "cell.motion.zone_mm") if "zone_mm" in table else default.zone_mm
-    if not TABLE["zone_mm"].contains(zone):
-        ctx.fail("cell.motion.zone_mm", f"must be in [0, {ZONE_MAX_MM:g}] mm, got {zone}")
-    retreat = ctx.number(table, "retreat_mm", "cell.motion.retreat_mm") if "retreat_mm" in table else default.retreat_mm
-    if not TABLE["retreat_mm"].contains(retreat):
-        ctx.fail("cell.motion.retreat_mm", f"must be in {TABLE['retreat_mm'].range_text()} mm, got {retreat}")
-    home = table.get("return_home", default.return_home)
-    if not isinstance(home, bool):
-        ctx.fail("cell.motion.return_home", f"must be true or false, got {home!r}")
-    key = "start_tolerance_deg"
-    tolerance = ctx.number(table, key, f"cell.motion.{key}") if key in table else default.start_tolerance_deg
-    if not TABLE[key].contains(tolerance):
-        ctx.fail(f"cell.motion.{key}", f"must be in (0, {START_TOLERANCE_MAX_DEG:g}] deg, got {tolerance}")
-    key = "joint_speed_percent"
-    percent = ctx.number(table, key, f"cell.motion.{key}") if key in table else default.joint_speed_percent
-    if not TABLE[key].contains(percent):
-        ctx.fail(f"cell.motion.{key}", f"must be in {TABLE[key].range_text()} percent, got {percent}")
-    return MotionSettings(values["speed_mm_s"], values["work_speed_mm_s"], zone, retreat, home, tolerance, percent)
+    return build(MotionSettings, Loader(ctx).table(TABLE, cell_table["motion"], "cell.motion"))
 
 
 def retreat2work(retreat_mm: float) -> np.ndarray:

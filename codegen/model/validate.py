@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 from codegen.guard import TAUGHT_RANGE_MM
+from codegen.model.lines import line_of
 
 # One turn, the bound of every angle a cell file gives (orientations, pattern angles, offsets): the same
 # rotation can always be written within it, and a float32 step at 360 deg is 3e-5 deg
@@ -14,6 +15,18 @@ DIGITS_SHOWN = 12  # a number in a message is shown with at most this many digit
 
 class CellError(Exception):
     """A cell file that cannot be used; the message names the file and the line or key path."""
+
+    def __init__(self, message: str, source: str = "", key: str = "", detail: str = "") -> None:
+        super().__init__(message)
+        self.source, self.key, self.detail = source, key, detail
+
+    def with_line(self, text: str) -> CellError:
+        """The error with the line of its key in the cell file's text ("file: line N: key path: message"), or
+        itself when it names no key or the key is not found in the text."""
+        line = line_of(text, self.key) if self.key else None
+        if line is None:
+            return self
+        return CellError(f"{self.source}: line {line}: {self.key}: {self.detail}", self.source, self.key, self.detail)
 
 
 class Validator:
@@ -25,7 +38,7 @@ class Validator:
         self.warnings: list[str] = []
 
     def fail(self, key: str, message: str):
-        raise CellError(f"{self.source}: {key}: {message}")
+        raise CellError(f"{self.source}: {key}: {message}", self.source, key, message)
 
     def require(self, table: dict, key: str, path: str):
         if key not in table:

@@ -310,7 +310,7 @@ def test_split_row_on_a_pallet_its_shifted_rows_fill_further():
 
 
 def test_a_cycle_entry_that_is_no_name_is_refused(tmp_path):
-    with pytest.raises(CellError, match=r"pallet\[0\]\.cycle\[0\]: no pattern"):
+    with pytest.raises(CellError, match=r"pallet\[0\]\.cycle\[0\]: expected a string, got a list of 1"):
         _load(tmp_path, TESTMAT.replace('cycle = ["p1", "p2"]', 'cycle = [["p1"], "p2"]'))
 
 

@@ -201,7 +201,7 @@ def test_a_reset_without_its_done_output_is_refused_by_key(tmp_path):
         (IO_TABLE, "", r"pallet\[0\]\.io: missing: the inputs the program waits for"),
         ("part_present = {", "place_clear = {", r"pallet\[0\]\.io\.place_clear: not an input of a stacking pallet"),
         ("pallet_present = { ur = 3,", "pallet_present = { ur = 9,", r"pallet\[0\]\.io\.pallet_present\.ur: expected"),
-        ("timeout_s = 10.0\n", "timeout_s = 0.1\n", r"pallet\[0\]\.io\.timeout_s: must be between"),
+        ("timeout_s = 10.0\n", "timeout_s = 0.1\n", r"pallet\[0\]\.io\.timeout_s: must be in \[0\.5, 600\] s"),
         (
             "zone_mm = 2.0 ",
             "zone_mm = 5.0 ",

@@ -102,7 +102,12 @@ def test_an_explicit_pattern_longer_than_the_bound_is_refused_before_its_boxes_a
             "tool_orientation = [0, 0, 999999900.0]",
             r"pallet[0].tool_orientation: angles must be within +-360 deg",
         ),
-        ("[13, 26, 90], [39, 26, 90]", "[13, 26, 1e9], [39, 26, 90]", "pallet[0].patterns.p1[0]: the angle must be"),
+        (
+            "[13, 26, 90], [39, 26, 90]",
+            "[13, 26, 1e9], [39, 26, 90]",
+            "pallet[0].patterns.p1[0][2]: must be in [-5000, 5000] (a box: x, y (mm), angle (deg)), got 1e+09",
+        ),
+        ("[13, 26, 90], [39, 26, 90]", "[13, 26, 400], [39, 26, 90]", "pallet[0].patterns.p1[0]: the angle must be"),
         ("x_point = [750.0, -50.0, 50.0]", "x_point = [1e9, -50.0, 50.0]", "pallet[0].frame.x_point: a taught point"),
         ("origin = [650.0, -50.0, 50.0]", "origin = [650.0, -1e300, 50.0]", "pallet[0].frame.origin: a taught point"),
         ("layers = 5", "layers = 5.0", "pallet[0].layers: expected a whole number (no decimal point) in 1..200"),

@@ -126,6 +126,7 @@ PICK = Table(
             unit="mm",
             count=3,
             low=0.0,
+            open_low=True,
             high=5000.0,
         ),
         "place_clear": signals("per target, the input that says the place is free (none: the program does not ask)"),

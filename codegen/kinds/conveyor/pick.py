@@ -6,12 +6,12 @@ from dataclasses import dataclass, field
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.facts import facts
-from codegen.kinds.conveyor.keys import MAX_MM, PICK, TRACKING
+from codegen.kinds.conveyor.keys import PICK
 from codegen.model.io import per_target
+from codegen.model.loader import Loader, build
 from codegen.model.validate import kind_of
 from codegen.sim.bus import GROUP_BITS, OFFSET, SCALE
 
-KEYS = PICK.allowed
 # x and z on a 16-bit group of inputs (codegen/sim/bus.py): 0.1 mm steps around OFFSET
 GROUP_MM = ((0 - OFFSET) / SCALE, (2**GROUP_BITS - 1 - OFFSET) / SCALE)
 
@@ -77,10 +77,10 @@ class Pick:
         return 0.5 * (low + high)
 
 
-def _interval(ctx, table: dict, key: str, path: str, default=None, least: float = 0.0) -> tuple[float, float]:
-    values = ctx.numbers(table.get(key, default) if default is not None else ctx.require(table, key, path), 2, path)
-    if not values[0] < values[1] or max(abs(v) for v in values) > MAX_MM:
-        ctx.fail(path, f"expected [low, high] with low < high, within +-{MAX_MM:g} mm")
+def _interval(ctx, values: tuple[float, float], path: str, least: float = 0.0) -> tuple[float, float]:
+    """A [low, high] range of the belt: low below high, at least `least` wide."""
+    if not values[0] < values[1]:
+        ctx.fail(path, f"expected [low, high] with low < high, got {list(values)}")
     if values[1] - values[0] < least:
         ctx.fail(
             path,
@@ -102,104 +102,52 @@ def _reading_range(ctx, values: tuple[float, float], path: str, targets) -> None
         )
 
 
-def _seconds(ctx, table: dict, key: str, path: str, top: float) -> tuple[float, float]:
-    """A duration the cell states as a number or as [least, most] (s), each in [0, top]."""
-    value = table.get(key, 0.0)
-    low, high = (value, value) if isinstance(value, int | float) and not isinstance(value, bool) else (None, None)
-    if low is None:
-        low, high = ctx.numbers(value, 2, path)
-    else:
-        low = high = ctx.finite(value, path)
-    if not 0 <= low <= high <= top:
-        ctx.fail(path, f"must be a duration in [0, {top:g}] s, or [least, most] within it")
+def _seconds(ctx, value, path: str) -> tuple[float, float]:
+    """A duration the cell states as a number or as [least, most] (s), as (least, most)."""
+    low, high = (value, value) if isinstance(value, float) else value
+    if not low <= high:
+        ctx.fail(path, f"must be a duration, or [least, most] with least <= most, got {list(value)}")
     return float(low), float(high)
 
 
-def _bounded(ctx, table: dict, key: str, path: str, default: float, low: float, high: float, what: str) -> float:
-    value = ctx.number(table, key, path) if key in table else default
-    if not low <= value <= high:
-        ctx.fail(path, f"must be in [{low:g}, {high:g}] {what}")
-    return value
-
-
-def parse_pick(ctx, table: dict, targets, pose_format: str) -> Pick:
+def parse_pick(ctx, loader: Loader, table, targets) -> Pick:
+    """[conveyor.pick]: its keys as declared (keys.py), then the rules between them and the cell's targets."""
     path = "conveyor.pick"
-    ctx.no_unknown(table, KEYS, path)
-    window = _interval(ctx, table, "window_mm", f"{path}.window_mm")
-    x_range = _interval(ctx, table, "x_range_mm", f"{path}.x_range_mm", least=1 / SCALE)
-    z_range = _interval(ctx, table, "z_range_mm", f"{path}.z_range_mm", [0.0, 100.0], least=1 / SCALE)
-    where = f"{path}.tool_orientation"
-    orientation = ctx.angles(ctx.numbers(table.get("tool_orientation", [0.0, 0.0, 180.0]), 3, where), where)
-    approach_dz = ctx.number(table, "approach_dz", f"{path}.approach_dz") if "approach_dz" in table else 60.0
-    if not PICK["approach_dz"].contains(approach_dz):
-        ctx.fail(f"{path}.approach_dz", "must be in (0, 1000] mm: the gripper comes down from above")
-    place = ctx.pose("place", ctx.require(table, "place", f"{path}.place"), f"{path}.place", pose_format)
-    tracking = _tracking(ctx, table, targets, path)
-    for key, values in (("x_range_mm", x_range), ("z_range_mm", z_range)):
-        _reading_range(ctx, values, f"{path}.{key}", tracking)
-    inputs = _encoder_inputs(ctx, table, tracking, f"{path}.encoder_inputs")
-    intercept = window[0] + 0.25 * (window[1] - window[0])
-    if "intercept_mm" in table:
-        intercept = ctx.number(table, "intercept_mm", f"{path}.intercept_mm")
-        if not window[0] <= intercept <= window[1]:
-            ctx.fail(f"{path}.intercept_mm", "must lie in the window")
-    grip_s = _seconds(ctx, table, "grip_s", f"{path}.grip_s", 2.0)
-    speed = _bounded(ctx, table, "belt_speed_max_mm_s", f"{path}.belt_speed_max_mm_s", 200.0, 1e-3, 5000, "mm/s")
-    accel = _bounded(ctx, table, "belt_accel_mm_s2", f"{path}.belt_accel_mm_s2", 0.0, 0.0, 100_000, "mm/s2")
-    capture = ctx.number(table, "capture_mm", f"{path}.capture_mm") if "capture_mm" in table else 3.0
-    if not PICK["capture_mm"].contains(capture):
-        ctx.fail(f"{path}.capture_mm", "must be in (0, 50] mm")
-    mass = ctx.number(table, "part_mass_kg", f"{path}.part_mass_kg")
-    if not PICK["part_mass_kg"].contains(mass):
-        ctx.fail(f"{path}.part_mass_kg", "must be in (0, 1000] kg: the payload while the gripper holds a part")
-    cog = ctx.numbers(table.get("part_cog_mm", [0.0, 0.0, 0.0]), 3, f"{path}.part_cog_mm")
-    if max(abs(v) for v in cog) > 2000:
-        ctx.fail(f"{path}.part_cog_mm", "must lie within 2000 mm of the TCP (tool frame)")
-    size = None
-    if "part_size_mm" in table:
-        size = ctx.numbers(table["part_size_mm"], 3, f"{path}.part_size_mm")
-        if not all(0 < v <= 5000 for v in size):
-            ctx.fail(f"{path}.part_size_mm", "must be three sizes in (0, 5000] mm (the part as a box)")
-    listed = list(tracking)
-    place_clear = per_target(ctx, table, "place_clear", listed, required=False, prefix=path)
-    timeout = _bounded(ctx, table, "place_timeout_s", f"{path}.place_timeout_s", 10.0, 0.2, 600, "s")
-    gap = _bounded(ctx, table, "min_gap_mm", f"{path}.min_gap_mm", 0.0, 0.0, window[1] - window[0], "mm")
-    natives = [t for t, mode in tracking.items() if mode == "native"]
-    return Pick(
-        window,
-        x_range,
-        z_range,
-        orientation,
-        approach_dz,
-        place,
-        dict(tracking),
-        inputs,
-        intercept,
-        capture,
-        grip_s,
-        speed,
-        accel,
-        _seconds(ctx, table, "count_latency_s", f"{path}.count_latency_s", 1.0),
-        _seconds(ctx, table, "motion_start_s", f"{path}.motion_start_s", 1.0),
-        mass,
-        cog,
-        place_clear,
-        timeout,
-        gap,
-        _named(ctx, table, "unit", [t for t in natives if facts(get_target(t)).get("unit")], path),
-        _numbered_input(ctx, table, "trigger_input", [t for t in natives if facts(get_target(t)).get("trigger")], path),
-        part_size_mm=size,
-        no_part_s=_bounded(ctx, table, "no_part_s", f"{path}.no_part_s", 30.0, 1.0, 3600, "s"),
-        belt_stop_s=_bounded(ctx, table, "belt_stop_s", f"{path}.belt_stop_s", 2.0, 0.5, 600, "s"),
-        timer=_timer(ctx, table, [t for t, mode in tracking.items() if mode == "intercept"], path),
+    keep = {key: (lambda raw, where: raw) for key in ("place_clear", "encoder_inputs")}  # read once tracking is known
+    values = loader.table(PICK, table, path, readers=keep)
+    window = _interval(ctx, values["window_mm"], f"{path}.window_mm")
+    _interval(ctx, values["x_range_mm"], f"{path}.x_range_mm", least=1 / SCALE)
+    _interval(ctx, values["z_range_mm"], f"{path}.z_range_mm", least=1 / SCALE)
+    tracking = _tracking(ctx, values["tracking"], targets, f"{path}.tracking")
+    for key in ("x_range_mm", "z_range_mm"):
+        _reading_range(ctx, values[key], f"{path}.{key}", tracking)
+    values["encoder_inputs"] = _encoder_inputs(
+        ctx, loader, values["encoder_inputs"], tracking, f"{path}.encoder_inputs"
     )
+    if values["intercept_mm"] is None:
+        values["intercept_mm"] = window[0] + 0.25 * (window[1] - window[0])
+    elif not window[0] <= values["intercept_mm"] <= window[1]:
+        ctx.fail(f"{path}.intercept_mm", "must lie in the window")
+    for key in ("grip_s", "count_latency_s", "motion_start_s"):
+        values[key] = _seconds(ctx, values[key], f"{path}.{key}")
+    if values["min_gap_mm"] > window[1] - window[0]:
+        ctx.fail(f"{path}.min_gap_mm", f"must be in [0, {window[1] - window[0]:g}] mm (the window's width)")
+    values["place_clear"] = per_target(ctx, table, "place_clear", list(tracking), required=False, prefix=path)
+    natives = [t for t, mode in tracking.items() if mode == "native"]
+    values["unit"] = _named(
+        ctx, values["unit"] or {}, "unit", [t for t in natives if facts(get_target(t)).get("unit")], path
+    )
+    triggered = [t for t in natives if facts(get_target(t)).get("trigger")]
+    values["trigger_input"] = _numbered_input(ctx, values["trigger_input"] or {}, "trigger_input", triggered, path)
+    intercepts = [t for t, mode in tracking.items() if mode == "intercept"]
+    values["timer"] = _timer(ctx, values["timer"] or {}, intercepts, path)
+    return build(Pick, values, tracking=tracking)
 
 
-def _timer(ctx, table: dict, intercepts: list[str], path: str) -> dict:
+def _timer(ctx, given: dict, intercepts: list[str], path: str) -> dict:
     """Per intercepting target whose program measures the belt's speed over one of the controller's numbered timers
     (targets/<t>.toml [program.conveyor] timers: how many there are), the one the cell gives it."""
     needed = [t for t in intercepts if facts(get_target(t)).get("timers")]
-    given = ctx.table(table, "timer", f"{path}.timer") if "timer" in table else {}
     ctx.no_unknown(given, set(needed), f"{path}.timer")
     out = {}
     for target in needed:
@@ -207,69 +155,57 @@ def _timer(ctx, table: dict, intercepts: list[str], path: str) -> dict:
         value = given.get(target)
         if value is None:
             ctx.fail(f"{path}.timer", f"missing {target}: the controller's timer (1..{count}) the program may use")
-        if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= count:
+        if value > count:
             ctx.fail(f"{path}.timer.{target}", f"expected a timer number 1..{count}, got {kind_of(value)}")
         out[target] = value
     return out
 
 
-def _tracking(ctx, table: dict, targets, path: str) -> dict:
-    tracking = ctx.table(table, "tracking", f"{path}.tracking")
+def _tracking(ctx, tracking: dict, targets, path: str) -> dict:
     for target, mode in tracking.items():
         if target not in targets:
-            ctx.fail(f"{path}.tracking.{target}", f"not one of the cell's targets ({', '.join(targets)})")
-        if mode not in TRACKING:
-            ctx.fail(f"{path}.tracking.{target}", f"expected one of {', '.join(TRACKING)}")
+            ctx.fail(f"{path}.{target}", f"not one of the cell's targets ({', '.join(targets)})")
         modes = facts(get_target(target)).get("tracking", [])
         if mode not in modes:
             have = ", ".join(modes) if modes else "none: codegen has no conveyor program for it"
-            ctx.fail(f"{path}.tracking.{target}", f"{mode!r}: what codegen builds for {target}: {have}")
-    if not tracking:
-        ctx.fail(f"{path}.tracking", 'expected at least one target, e.g. { ur = "native" }')
+            ctx.fail(f"{path}.{target}", f"{mode!r}: what codegen builds for {target}: {have}")
     return dict(tracking)
 
 
-def _encoder_inputs(ctx, table: dict, tracking: dict, path: str) -> dict:
+def _encoder_inputs(ctx, loader: Loader, raw, tracking: dict, path: str) -> dict:
     """[conveyor.pick] encoder_inputs = { <target> = [A, B] }: the digital inputs of the encoder's A and B
     signals, for each target whose native tracking reads the encoder on the robot's inputs (its facts'
     encoder_inputs), and for no other (an intercepting program reads the PLC's count, ABB's unit its own)."""
-    raw = ctx.table(table, "encoder_inputs", path) if "encoder_inputs" in table else {}
     reading = [t for t, mode in tracking.items() if mode == "native" and facts(get_target(t)).get("encoder_inputs")]
-    for key in raw:
+    for key in raw if isinstance(raw, dict) else ():
         if key not in reading:
             why = f"{key} does not read the encoder on its own inputs" if key in tracking else "not a tracking target"
             allowed = ", ".join(reading) if reading else "none"
             ctx.fail(
                 f"{path}.{key}", f"{why}: only a target tracking natively on the robot's inputs; allowed: {allowed}"
             )
+    raw = {} if raw is None else loader.value(PICK["encoder_inputs"], raw, path)
     out = {}
     for target in reading:
         low, high = facts(get_target(target))["encoder_inputs"]
         if target not in raw:
             ctx.fail(path, f"missing {target}: the digital inputs of the encoder's A and B signals")
         pair = raw[target]
-        if (
-            not isinstance(pair, list)
-            or len(pair) != 2
-            or not all(isinstance(v, int) and not isinstance(v, bool) for v in pair)
-        ):
-            ctx.fail(f"{path}.{target}", "expected [A, B]: two digital input numbers")
         if pair[0] == pair[1] or not all(low <= v <= high for v in pair):
             ctx.fail(f"{path}.{target}", f"expected two different inputs in {low}..{high}")
         out[target] = tuple(pair)
     return out
 
 
-def _named(ctx, table: dict, key: str, needed: list[str], path: str) -> dict:
+def _named(ctx, given: dict, key: str, needed: list[str], path: str) -> dict:
     """A name per target that needs one (the belt's mechanical unit): one of the names the target's facts list
     (`units`), default the facts' `unit`."""
-    given = ctx.table(table, key, f"{path}.{key}") if key in table else {}
     ctx.no_unknown(given, set(needed), f"{path}.{key}")
     out = {}
     for target in needed:
         names = facts(get_target(target))[f"{key}s"]
         value = given.get(target, facts(get_target(target))[key])
-        if not isinstance(value, str) or value not in names:
+        if value not in names:
             ctx.fail(
                 f"{path}.{key}.{target}", f"expected a conveyor's mechanical unit ({', '.join(names)}), got {value!r}"
             )
@@ -277,9 +213,8 @@ def _named(ctx, table: dict, key: str, needed: list[str], path: str) -> dict:
     return out
 
 
-def _numbered_input(ctx, table: dict, key: str, needed: list[str], path: str) -> dict:
+def _numbered_input(ctx, given: dict, key: str, needed: list[str], path: str) -> dict:
     """A digital input number per target that needs one (the camera's trigger wired to the robot)."""
-    given = ctx.table(table, key, f"{path}.{key}") if key in table else {}
     ctx.no_unknown(given, set(needed), f"{path}.{key}")
     out = {}
     for target in needed:
@@ -287,7 +222,7 @@ def _numbered_input(ctx, table: dict, key: str, needed: list[str], path: str) ->
         value = given.get(target)
         if value is None:
             ctx.fail(f"{path}.{key}", f"missing {target}: the digital input the camera's trigger is wired to")
-        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        if not low <= value <= high:
             ctx.fail(f"{path}.{key}.{target}", f"expected a digital input number {low}..{high}, got {kind_of(value)}")
         out[target] = value
     return out

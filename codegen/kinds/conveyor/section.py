@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.kinds.conveyor.keys import CONVEYOR, COUNTER_BITS
+from codegen.kinds.conveyor.keys import CONVEYOR
 from codegen.kinds.conveyor.pick import parse_pick
+from codegen.model.loader import Loader, build
 
-KEYS = CONVEYOR.allowed
 UNIT_TOL = 1e-6
 
 
@@ -45,54 +45,30 @@ def belt2base(origin, direction, z_axis) -> np.ndarray:
 
 
 def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> Conveyor | None:
+    """[conveyor]: its keys as declared (keys.py), then the rules between them; [conveyor.pick] once the belt
+    is known calibrated."""
     if "conveyor" not in data:
         return None
-    table = ctx.table(data, "conveyor", "conveyor")
-    ctx.no_unknown(table, KEYS, "conveyor")
-    bits = ctx.integer(
-        table,
-        "counter_bits",
-        "conveyor.counter_bits",
-        min(COUNTER_BITS),
-        max(COUNTER_BITS),
-        CONVEYOR.default("counter_bits"),
-    )
-    if bits not in COUNTER_BITS:
-        widths = ", ".join(map(str, COUNTER_BITS))
-        ctx.fail("conveyor.counter_bits", f"expected one of {widths} (the encoder counter's width)")
-    out = {"counter_bits": bits}
-    if "counts_per_mm" in table:
-        value = ctx.number(table, "counts_per_mm", "conveyor.counts_per_mm")
-        if not 1e-3 <= abs(value) <= 1e6:
-            ctx.fail("conveyor.counts_per_mm", "must be a signed scale of 0.001 to 1e6 counts per mm")
-        out["counts_per_mm"] = value
-    if "origin" in table:
-        out["origin"] = ctx.point(table["origin"], "conveyor.origin")
-    for key in ("direction", "z_axis"):
-        if key in table:
-            out[key] = ctx.numbers(table[key], 3, f"conveyor.{key}")
-    frame_keys = [k for k in ("counts_per_mm", "origin", "direction", "z_axis") if k in out]
+    loader = Loader(ctx, pose_format)
+    values = loader.table(CONVEYOR, data["conveyor"], "conveyor", readers={"pick": lambda raw, where: raw})
+    if values["counts_per_mm"] is not None and abs(values["counts_per_mm"]) < 1e-3:
+        ctx.fail("conveyor.counts_per_mm", "must be a signed scale of 0.001 to 1e6 counts per mm")
+    frame_keys = [k for k in ("counts_per_mm", "origin", "direction", "z_axis") if values[k] is not None]
     if frame_keys and len(frame_keys) != 4:
         ctx.fail("conveyor", "counts_per_mm, origin, direction and z_axis come together (`codegen calibrate conveyor`)")
     if frame_keys:
         for key in ("direction", "z_axis"):
-            if abs(math.hypot(*out[key]) - 1.0) > UNIT_TOL:
+            if abs(math.hypot(*values[key]) - 1.0) > UNIT_TOL:
                 ctx.fail(f"conveyor.{key}", "must be a unit vector")
-        if abs(float(np.dot(out["direction"], out["z_axis"]))) > UNIT_TOL:
+        if abs(float(np.dot(values["direction"], values["z_axis"]))) > UNIT_TOL:
             ctx.fail("conveyor.z_axis", "must be at right angles to direction")
-    for key in ("camera_offset_mm", "working_length_mm"):
-        if key in table:
-            value = ctx.number(table, key, f"conveyor.{key}")
-            if key == "working_length_mm" and not CONVEYOR[key].contains(value):
-                ctx.fail("conveyor.working_length_mm", "must be in (0, 100000] mm")
-            out[key] = value
-    if "pick" in table:
-        missing = [k for k in ("counts_per_mm", "camera_offset_mm") if k not in out]
+    if values["pick"] is not None:
+        missing = [k for k in ("counts_per_mm", "camera_offset_mm") if values[k] is None]
         if missing:
             ctx.fail("conveyor.pick", f"needs the calibrated belt: {', '.join(missing)} (codegen calibrate conveyor)")
-        out["pick"] = parse_pick(ctx, ctx.table(table, "pick", "conveyor.pick"), targets, pose_format)
-        check_pick(ctx, out["counts_per_mm"], out["camera_offset_mm"], out["pick"])
-    return Conveyor(**out)
+        values["pick"] = parse_pick(ctx, loader, values["pick"], targets)
+        check_pick(ctx, values["counts_per_mm"], values["camera_offset_mm"], values["pick"])
+    return build(Conveyor, values)
 
 
 COUNTER_RANGE = 2**16  # the pick programs read a 16-bit count (codegen/conveyor/bus.py)

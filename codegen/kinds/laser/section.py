@@ -3,22 +3,19 @@
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect
 from codegen.kinds.laser.facts import facts
-from codegen.kinds.laser.keys import LASER, TOOL_PATTERN
+from codegen.kinds.laser.keys import LASER
 from codegen.model.cell import TaughtPose
-from codegen.model.io import per_target
-from codegen.model.motion import SPEED_MIN_MM_S
+from codegen.model.io import signal_reader
+from codegen.model.loader import Loader, build
 
 PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
 DEPTH_STEP_MIN_MM = 2.0
-KEYS = LASER.allowed
 OWN_PREFIX = "lsr_"  # the program's own names: a production tool's name must not start so
-TOOL_NAME = re.compile(TOOL_PATTERN)
 
 
 @dataclass(frozen=True)
@@ -50,54 +47,24 @@ class Laser:
     safe_height_mm: float
 
 
-def _bounded(ctx, table: dict, key: str, why: str) -> float:
-    path = f"laser.{key}"
-    value = ctx.number(table, key, path) if key in table else LASER.default(key)
-    low, high = LASER[key].bounds
-    if not LASER[key].contains(value):
-        ctx.fail(path, f"must be in ({low:g}, {high:g}] {why}, got {value:g}")
-    return value
-
-
-def _speed(ctx, table: dict, key: str) -> float:
-    """A TCP speed of the procedure: at least the programs' least speed (SPEED_MIN_MM_S, as [cell.motion]'s)."""
-    path = f"laser.{key}"
-    value = ctx.number(table, key, path) if key in table else LASER.default(key)
-    high = LASER[key].high
-    if not LASER[key].contains(value):
-        ctx.fail(
-            path, f"must be in [{SPEED_MIN_MM_S:g}, {high:g}] mm/s (the programs write it to 0.1 mm/s), got {value:g}"
-        )
-    return value
-
-
 def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
+    """[laser]: its keys as declared (keys.py), then the rules between them and the cell's targets."""
     if "laser" not in data:
         return None
-    table = ctx.table(data, "laser", "laser")
-    ctx.no_unknown(table, KEYS, "laser")
-    frame = ctx.pose(
-        "sensor_frame", ctx.require(table, "sensor_frame", "laser.sensor_frame"), "laser.sensor_frame", pose_format
-    )
-    radius = _bounded(ctx, table, "pin_radius_mm", "mm")
+    readers = {key: signal_reader(ctx, targets, True) for key in ("beam_x", "beam_y")}
+    values = Loader(ctx, pose_format).table(LASER, data["laser"], "laser", readers=readers)
+    radius, circle, offset = values["pin_radius_mm"], values["circle_mm"], values["offset_max_mm"]
+    clearance, depths = values["clearance_mm"], values["depths_mm"]
     if radius < PIN_MIN_MM:
         ctx.fail("laser.pin_radius_mm", f"must be at least {PIN_MIN_MM} mm (a thinner pin is not a beam's target)")
-    circle = _bounded(ctx, table, "circle_mm", "mm")
-    offset = _bounded(ctx, table, "offset_max_mm", "mm")
-    clearance = _bounded(ctx, table, "clearance_mm", "mm")
-    depths = ctx.numbers(table.get("depths_mm", list(LASER.default("depths_mm"))), 2, "laser.depths_mm")
-    if not (
-        LASER["depths_mm"].contains(depths[0]) and depths[0] < depths[1] and LASER["depths_mm"].contains(depths[1])
-    ):
-        ctx.fail("laser.depths_mm", "expected [d1, d2] with 0 < d1 < d2 <= 200 mm: the guessed tip below the beams")
+    if not depths[0] < depths[1]:
+        ctx.fail("laser.depths_mm", "expected [d1, d2] with d1 < d2: the guessed tip below the beams, deeper second")
     if depths[1] - depths[0] < DEPTH_STEP_MIN_MM:
         ctx.fail(
             "laser.depths_mm",
             f"d2 - d1 must be at least {DEPTH_STEP_MIN_MM:g} mm: the axis is the centres' difference over it, a "
             "smaller step multiplies their errors",
         )
-    circle_speed = _speed(ctx, table, "circle_speed_mm_s")
-    search_speed = _speed(ctx, table, "search_speed_mm_s")
     # the circle starts at 45 deg between the beams and must cross each twice: the axis may lie offset_max_mm
     # from where the tool's data puts it, and the pin is radius_mm wide
     if offset + radius >= circle / math.sqrt(2.0):
@@ -114,7 +81,6 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             f"d1 must exceed offset_max_mm + pin_radius_mm ({offset + radius:g} mm): "
             "the circles must see the pin's side, not its end",
         )
-
     for target in targets:
         if not facts(get_target(target)).get("files"):
             ctx.fail(
@@ -122,11 +88,9 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
                 f"codegen has no laser TCP program for {get_target(target).title}: take {target} out "
                 "of cell.targets for this cell",
             )
-    beams = {}
-    for key in ("beam_x", "beam_y"):
-        beams[key] = per_target(ctx, table, key, targets, required=True, prefix="laser")
+    circle_speed = values["circle_speed_mm_s"]
     for target in targets:
-        x, y = beams["beam_x"][target], beams["beam_y"][target]
+        x, y = values["beam_x"][target], values["beam_y"][target]
         if str(x).upper() == str(y).upper():  # a named signal's name ignores case (RAPID)
             ctx.fail(f"laser.beam_y.{target}", "must differ from beam_x: one input per sensor")
         cycle = float(get_target(target).program["signal_cycle_s"])
@@ -136,62 +100,34 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
                 f"{target} sees its inputs every {cycle * 1000:g} ms: at {circle_speed:g} mm/s the pin moves "
                 f"{circle_speed * cycle:.3f} mm between two looks, more than half its radius: slow the circles",
             )
-    safe = _bounded(ctx, table, "safe_height_mm", "mm")
-    if safe < clearance + offset:
+    if values["safe_height_mm"] < clearance + offset:
         ctx.fail(
             "laser.safe_height_mm",
             f"must be at least clearance_mm + offset_max_mm ({clearance + offset:g} mm): the safe pose lies above "
             "every pose of the calibration",
         )
-    production = _production_tools(ctx, table, targets)
-    return Laser(
-        frame,
-        radius,
-        circle,
-        depths,
-        clearance,
-        offset,
-        circle_speed,
-        search_speed,
-        beams["beam_x"],
-        beams["beam_y"],
-        production,
-        safe,
-    )
+    _check_production_tools(ctx, values["production_tool"] or {}, targets)
+    return build(Laser, values, production_tool=values["production_tool"] or {})
 
 
-def _production_tools(ctx, table: dict, targets) -> dict:
-    """[laser] production_tool = { <target> = n or name }: checked against the target's form of it
-    ([program.laser] production_tool: "number" 1..max, or "name", an identifier the program may use)."""
-    raw = table.get("production_tool", {})
-    if not isinstance(raw, dict):
-        ctx.fail("laser.production_tool", "expected a table: target = the production tool (number or name)")
-    ctx.no_unknown(raw, set(targets), "laser.production_tool")
-    out = {}
-    for target_name, value in raw.items():
+def _check_production_tools(ctx, tools: dict, targets) -> None:
+    """[laser] production_tool = { <target> = n or name }, read by its declaration (the target's form of it,
+    [program.laser] production_tool): a target of the cell's, a name the program may use."""
+    ctx.no_unknown(tools, set(targets), "laser.production_tool")
+    for target_name, value in tools.items():
         path = f"laser.production_tool.{target_name}"
         target = get_target(target_name)
-        spec = facts(target)["production_tool"]
-        if spec["form"] == "number":
-            if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= spec["max"]:
-                ctx.fail(path, f"expected a tool number 1..{spec['max']}, got {value!r}")
-        else:
-            if (
-                not isinstance(value, str)
-                or not TOOL_NAME.fullmatch(value)
-                or len(value) > target.identifier_max
-                or value.upper() in get_dialect(target.dialect).keywords()
-                or value in get_dialect(target.dialect).keywords()
-            ):
-                ctx.fail(
-                    path,
-                    f"expected the name of the production tool's data (a letter, then letters, digits or _; "
-                    f"{target.identifier_max} at most; not a word {target.title} reserves), got {value!r}",
-                )
-            if value.lower().startswith(OWN_PREFIX):
-                ctx.fail(path, f"must not start with {OWN_PREFIX}: the calibration program's own names do")
-        out[target_name] = value
-    return out
+        if facts(target)["production_tool"]["form"] == "number":
+            continue
+        keywords = get_dialect(target.dialect).keywords()
+        if len(value) > target.identifier_max or value.upper() in keywords or value in keywords:
+            ctx.fail(
+                path,
+                f"expected the name of the production tool's data ({target.identifier_max} characters at most; "
+                f"not a word {target.title} reserves), got {value!r}",
+            )
+        if value.lower().startswith(OWN_PREFIX):
+            ctx.fail(path, f"must not start with {OWN_PREFIX}: the calibration program's own names do")
 
 
 def check_production_tools(ctx, laser: Laser, robot, targets) -> None:

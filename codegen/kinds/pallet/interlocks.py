@@ -7,9 +7,9 @@ from dataclasses import dataclass, field
 
 from codegen.controllers import get_target
 from codegen.kinds.pallet.keys import IO
-from codegen.model.io import per_target
+from codegen.model.io import signal_reader
+from codegen.model.loader import Loader, build
 
-IO_KEYS = IO.allowed
 TIMEOUT_S = IO.default("timeout_s")  # how long the program waits for an interlock before it stops with a message
 
 # What each interlock input says when it is on (the program waits for it), and the operator's message when it does
@@ -59,7 +59,7 @@ class PalletIO:
         return {name: getattr(self, name) for name in WAITS if getattr(self, name)}
 
 
-def parse_io(ctx, table: dict | None, path: str, targets, mode: str, sheets: bool) -> PalletIO:
+def parse_io(ctx, loader: Loader, table: dict | None, path: str, targets, mode: str, sheets: bool) -> PalletIO:
     """[pallet.io] of one pallet: pallet_present, and part_present (stacking) or place_clear (unstacking), are
     required; sheet_ready when the pallet places slip sheets; reset optional; select and registers per target."""
     where = f"{path}.io"
@@ -69,59 +69,30 @@ def parse_io(ctx, table: dict | None, path: str, targets, mode: str, sheets: boo
             "missing: the inputs the program waits for (pallet_present, and part_present when stacking or "
             "place_clear when unstacking), per target",
         )
-    ctx.no_unknown(table, IO_KEYS, where)
     need, refuse = ("part_present", "place_clear") if mode == "stack" else ("place_clear", "part_present")
-    if refuse in table:
+    if isinstance(table, dict) and refuse in table:
         ctx.fail(f"{where}.{refuse}", f"not an input of a {mode}ing pallet: it waits for {WAITS[need]} ({need})")
-    if "sheet_ready" in table and not sheets:
+    if isinstance(table, dict) and "sheet_ready" in table and not sheets:
         ctx.fail(f"{where}.sheet_ready", "the pallet places no slip sheets (slip_sheet.pick)")
-    signals = {}
-    for key in ("part_present", "place_clear", "pallet_present", "sheet_ready", "reset"):
-        required = key in (need, "pallet_present") or (key == "sheet_ready" and sheets)
-        signals[key] = per_target(ctx, table, key, targets, required, prefix=where)
-    timeout = ctx.number(table, "timeout_s", f"{where}.timeout_s") if "timeout_s" in table else TIMEOUT_S
-    if not IO["timeout_s"].contains(timeout):
-        low, high = IO["timeout_s"].bounds
-        ctx.fail(f"{where}.timeout_s", f"must be between {low:g} and {high:g} s, got {timeout:g}")
-    select_targets = [t for t in targets if _facts(t).get("task")]
-    select = per_target(ctx, table, "select", select_targets, False, prefix=where) if "select" in table else {}
-    if "select" in table:
-        ctx.no_unknown(table["select"], set(select_targets), f"{where}.select")
-    registers = _registers(ctx, table.get("registers"), f"{where}.registers", targets)
-    done = per_target(ctx, table, "done", targets, False, prefix=where) if "done" in table else {}
-    for target in signals["reset"]:
-        if target not in done:
+    required = {need, "pallet_present"} | ({"sheet_ready"} if sheets else set())
+    readers = {key: signal_reader(ctx, targets, key in required) for key in (*WAITS, "reset", "done")}
+    readers["select"] = signal_reader(ctx, [t for t in targets if _facts(t).get("task")], False)
+    values = loader.table(IO, table, where, readers=readers)
+    for target in values["registers"] or {}:
+        if target not in targets:
+            ctx.fail(f"{where}.registers.{target}", f"not one of the cell's targets ({', '.join(targets)})")
+    for target in values["reset"]:
+        if target not in values["done"]:
             ctx.fail(
-                f"{where}.done.{target}" if "done" in table else f"{where}.done",
+                f"{where}.done.{target}" if values["done"] else f"{where}.done",
                 f"missing: the output the {target} program turns off to answer the reset (on while the pallet is "
                 f"{'full' if mode == 'stack' else 'empty'}); a reset without it could start a pallet not yet swapped",
             )
-    return PalletIO(**signals, done=done, select=select, registers=registers, timeout_s=timeout)
+    return build(PalletIO, values)
 
 
 def _facts(target: str) -> dict:
     return get_target(target).kind_tables.get("pallet", {})
-
-
-def _registers(ctx, raw, path: str, targets) -> dict:
-    """The first register of the counters per target that keeps them in the PLC (its facts' range)."""
-    if raw is None:
-        return {}
-    if not isinstance(raw, dict):
-        ctx.fail(path, "expected a table: the first register per target (the layer's; the box's is the next)")
-    out = {}
-    for target, value in raw.items():
-        facts = _facts(target) if target in targets else {}
-        if "registers" not in facts:
-            ctx.fail(f"{path}.{target}", "this target keeps the counters in the program's own data, not in registers")
-        low, high = facts["registers"], facts["registers_max"]
-        if isinstance(value, bool) or not isinstance(value, int) or not low <= value < high:
-            ctx.fail(
-                f"{path}.{target}",
-                f"expected a register {low}..{high - 1} (the layer's; the box's is the next, at most {high})",
-            )
-        out[target] = value
-    return out
 
 
 def check_pallets_io(ctx, pallets, targets) -> None:

@@ -6,13 +6,10 @@ import math
 from dataclasses import dataclass, field
 
 from codegen.kinds.pallet.interlocks import PalletIO, check_pallets_io, parse_io
-from codegen.kinds.pallet.keys import FAMILIES, FAMILY, FRAME, MAX_LAYERS, MAX_SIZE_MM, PALLET, SLIP_SHEET
+from codegen.kinds.pallet.keys import FAMILIES, MAX_LAYERS, PALLET
 from codegen.model.cell import CellValidator
+from codegen.model.loader import Loader, build
 
-PALLET_KEYS = PALLET.allowed
-FRAME_KEYS = FRAME.allowed
-FAMILY_KEYS = FAMILY.allowed
-SLIP_KEYS = SLIP_SHEET.allowed
 # The most boxes a stack (every layer), a pattern or the patterns together may hold. The programs hold every
 # box of the cycle's patterns in tables (7 to 9 numbers a box) and count boxes in a layer and layers; their
 # counters would hold far more (each controller's integers: targets/<t>.toml), and no documented limit of the
@@ -24,7 +21,6 @@ SLIP_KEYS = SLIP_SHEET.allowed
 # holds (a EUR pallet of 200 x 150 mm cartons: 32 a layer).
 BOXES_MAX = 2000
 PICK_LIFT_MM = PALLET.default("pick_lift")  # the default lift above Q
-MAX_PICK_LIFT_MM = PALLET["pick_lift"].high
 
 
 @dataclass(frozen=True)
@@ -75,7 +71,8 @@ def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
     raw = data.get("pallet", [])
     if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
         ctx.fail("pallet", "expected [[pallet]] tables")
-    pallets = tuple(_pallet(ctx, table, f"pallet[{i}]", cell) for i, table in enumerate(raw))
+    loader = Loader(ctx, cell.pose_format)
+    pallets = tuple(_pallet(ctx, loader, table, f"pallet[{i}]", cell) for i, table in enumerate(raw))
     names = [p.name for p in pallets]
     for i, name in enumerate(names):
         if name in names[:i]:
@@ -84,173 +81,60 @@ def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
     return pallets
 
 
-def _positive(ctx: CellValidator, values, count: int, path: str, limit: float = MAX_SIZE_MM) -> tuple[float, ...]:
-    numbers = ctx.numbers(values, count, path)
-    if not all(0 < v <= limit for v in numbers):
-        ctx.fail(path, f"every value must be in (0, {limit:g}] mm")
-    return numbers
-
-
-def _pallet(ctx: CellValidator, table: dict, path: str, cell) -> Pallet:
-    pose_format = cell.pose_format
-    ctx.no_unknown(table, PALLET_KEYS, path)
-    name = ctx.name(table, "name", f"{path}.name")
-    frame = ctx.table(table, "frame", f"{path}.frame")
-    ctx.no_unknown(frame, FRAME_KEYS, f"{path}.frame")
-    points = [ctx.point(ctx.require(frame, k, f"{path}.frame.{k}"), f"{path}.frame.{k}") for k in sorted(FRAME_KEYS)]
-    origin, x_point, xy_point = points  # sorted: origin, x_point, xy_point
-    size = _positive(ctx, ctx.require(table, "size", f"{path}.size"), 2, f"{path}.size")
-    box = _positive(ctx, ctx.require(table, "box", f"{path}.box"), 3, f"{path}.box")
-    layers = ctx.integer(table, "layers", f"{path}.layers", 1, MAX_LAYERS)
-    patterns = _patterns(ctx, ctx.table(table, "patterns", f"{path}.patterns"), f"{path}.patterns")
-    cycle = ctx.require(table, "cycle", f"{path}.cycle")
-    if not isinstance(cycle, list) or not cycle:
-        ctx.fail(f"{path}.cycle", "expected a non-empty list of pattern names")
+def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) -> Pallet:
+    """One [[pallet]]: its keys as declared (keys.py), then the rules between them."""
+    if "slip_sheet" in table and table.get("mode") == "unstack":  # before the sheet's keys: none of them applies
+        ctx.fail(
+            f"{path}.slip_sheet",
+            "an unstacking program would grip the slip sheet on a layer with its box: codegen places slip "
+            "sheets when stacking only",
+        )
+    values = loader.table(PALLET, table, path, readers={"io": lambda raw, where: raw})
+    patterns = _patterns(ctx, values["patterns"], f"{path}.patterns")
+    cycle = values["cycle"]
     if len(cycle) > MAX_LAYERS:
         ctx.fail(f"{path}.cycle", f"{len(cycle)} patterns; at most {MAX_LAYERS}, the most layers a stack has")
     for i, entry in enumerate(cycle):
-        if not isinstance(entry, str) or entry not in patterns:
+        if entry not in patterns:
             ctx.fail(f"{path}.cycle[{i}]", f"no pattern {entry!r}; the patterns: {', '.join(patterns)}")
-    sense = table.get("angle_sense", PALLET.default("angle_sense"))
-    if sense not in PALLET["angle_sense"].choices:
-        ctx.fail(f"{path}.angle_sense", 'expected "cw" (clockwise, as source 004\'s editor) or "ccw"')
-    where = f"{path}.tool_orientation"
-    orientation = ctx.angles(
-        ctx.numbers(table.get("tool_orientation", list(PALLET.default("tool_orientation"))), 3, where), where
-    )
-    entry_dz = ctx.number(table, "entry_dz", f"{path}.entry_dz")
-    if not 0 < entry_dz <= MAX_SIZE_MM:
-        ctx.fail(f"{path}.entry_dz", f"must be in (0, {MAX_SIZE_MM:g}] mm: the entry is above the target")
-    approach = _offset(ctx, ctx.require(table, "approach", f"{path}.approach"), f"{path}.approach")
-    retreat = _offset(ctx, table.get("retreat", list(approach)), f"{path}.retreat")
-    # the pick pose Q, base frame, in the cell's pose format
-    pick = ctx.pose("pick", ctx.require(table, "pick", f"{path}.pick"), f"{path}.pick", pose_format)
-    pick_lift = ctx.finite(table.get("pick_lift", PICK_LIFT_MM), f"{path}.pick_lift")
-    if not 0 < pick_lift <= MAX_PICK_LIFT_MM:
-        ctx.fail(f"{path}.pick_lift", f"must be in (0, {MAX_PICK_LIFT_MM:g}] mm: the lift straight up from Q")
-    overhang = ctx.finite(table.get("overhang_mm", PALLET.default("overhang_mm")), f"{path}.overhang_mm")
-    if not PALLET["overhang_mm"].contains(overhang):
-        ctx.fail(f"{path}.overhang_mm", "must be in [0, 200] mm")
-    transit = ctx.finite(
-        table.get("transit_clearance_mm", PALLET.default("transit_clearance_mm")), f"{path}.transit_clearance_mm"
-    )
-    if not PALLET["transit_clearance_mm"].contains(transit):
-        ctx.fail(f"{path}.transit_clearance_mm", f"must be in [0, {MAX_SIZE_MM:g}] mm")
-    support = ctx.finite(table.get("support_min", PALLET.default("support_min")), f"{path}.support_min")
-    if not PALLET["support_min"].contains(support):
-        ctx.fail(f"{path}.support_min", "must be a share in [0, 1]")
-    slip_every, slip_thickness, slip_pick, slip_lift = 0, 0.0, None, SLIP_SHEET.default("lift")
-    if "slip_sheet" in table:
-        slip = ctx.table(table, "slip_sheet", f"{path}.slip_sheet")
-        ctx.no_unknown(slip, SLIP_KEYS, f"{path}.slip_sheet")
-        slip_every = ctx.integer(slip, "every", f"{path}.slip_sheet.every", 1, MAX_LAYERS)  # on every n-th layer
-        slip_thickness = ctx.number(slip, "thickness", f"{path}.slip_sheet.thickness")
-        if not SLIP_SHEET["thickness"].contains(slip_thickness):
-            ctx.fail(f"{path}.slip_sheet.thickness", "must be in (0, 50] mm")
-        if table.get("mode", PALLET.default("mode")) == "unstack":
-            ctx.fail(
-                f"{path}.slip_sheet",
-                "an unstacking program would grip the slip sheet on a layer with its box: codegen places slip "
-                "sheets when stacking only",
-            )
-        where = f"{path}.slip_sheet.pick"
-        slip_pick = ctx.pose("slip_pick", ctx.require(slip, "pick", where), where, pose_format)
-        slip_lift = ctx.finite(slip.get("lift", slip_lift), f"{path}.slip_sheet.lift")
-        if not SLIP_SHEET["lift"].contains(slip_lift):
-            ctx.fail(
-                f"{path}.slip_sheet.lift", f"must be in {SLIP_SHEET['lift'].range_text()} mm: straight up from the pick"
-            )
-    auto = table.get("approach_auto", PALLET.default("approach_auto"))
-    if not isinstance(auto, bool):
-        ctx.fail(f"{path}.approach_auto", "must be true or false")
-    if auto and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
+    approach = values["approach"]
+    retreat = values["retreat"] if values["retreat"] is not None else approach
+    for key, offset in (("approach", approach), ("retreat", retreat)):
+        if offset[2] <= 0:
+            ctx.fail(f"{path}.{key}", "z must be above the target (> 0): the arm comes from above")
+    slip = values["slip_sheet"]
+    if values["approach_auto"] and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
         ctx.fail(f"{path}.approach_auto", "turns the x-y part of approach and retreat: each needs one of 1 mm or more")
-    mode = table.get("mode", PALLET.default("mode"))
-    if mode not in PALLET["mode"].choices:
-        ctx.fail(f"{path}.mode", 'expected "stack" (place the boxes) or "unstack" (take them off, top layer first)')
-    io_table = ctx.table(table, "io", f"{path}.io") if "io" in table else None
-    io = parse_io(ctx, io_table, path, cell.targets, mode, slip_pick is not None)
-    mass = ctx.finite(table.get("box_mass_kg", PALLET.default("box_mass_kg")), f"{path}.box_mass_kg")
-    if not PALLET["box_mass_kg"].contains(mass):
-        ctx.fail(f"{path}.box_mass_kg", f"must be in {PALLET['box_mass_kg'].range_text()} kg")
-    cog = (0.0, 0.0, box[2] / 2)  # the TCP on the box's top, its z into the box: the box's centre
-    if "box_cog_mm" in table:
-        cog = ctx.numbers(table["box_cog_mm"], 3, f"{path}.box_cog_mm")
-        if max(abs(v) for v in cog) > MAX_SIZE_MM:
-            ctx.fail(f"{path}.box_cog_mm", f"every value must be within +-{MAX_SIZE_MM:g} mm")
-    zone = ctx.finite(table.get("zone_mm", cell.motion.zone_mm), f"{path}.zone_mm")
-    if not PALLET["zone_mm"].contains(zone):
-        ctx.fail(f"{path}.zone_mm", f"must be in {PALLET['zone_mm'].range_text()} mm")
-    return Pallet(
-        name,
-        origin,
-        x_point,
-        xy_point,
-        size,
-        box,
-        layers,
-        tuple(cycle),
-        sense,
-        orientation,
-        entry_dz,
-        approach,
-        retreat,
-        pick,
-        patterns,
-        overhang,
-        support,
-        slip_every,
-        slip_thickness,
-        mode,
-        auto,
-        pick_lift,
-        io,
-        mass,
-        cog,
-        slip_pick,
-        slip_lift,
-        zone,
-        transit,
+    io = parse_io(ctx, loader, values["io"], path, cell.targets, values["mode"], slip is not None)
+    box = values["box"]
+    return build(
+        Pallet,
+        values,
+        flatten={"frame": "", "slip_sheet": "slip_"},
+        cycle=tuple(cycle),
+        patterns=patterns,
+        retreat=retreat,
+        io=io,
+        # the TCP on the box's top, its z into the box: the box's centre
+        box_cog_mm=values["box_cog_mm"] or (0.0, 0.0, box[2] / 2),
+        zone_mm=values["zone_mm"] if values["zone_mm"] is not None else cell.motion.zone_mm,
     )
 
 
-def _offset(ctx: CellValidator, values, path: str) -> tuple[float, float, float]:
-    numbers = ctx.numbers(values, 3, path)
-    if max(abs(v) for v in numbers) > MAX_SIZE_MM:
-        ctx.fail(path, f"every value must be within +-{MAX_SIZE_MM:g} mm")
-    if numbers[2] <= 0:
-        ctx.fail(path, "z must be above the target (> 0): the arm comes from above")
-    return numbers
-
-
-def _patterns(ctx: CellValidator, table: dict, path: str) -> dict:
-    if not table:
-        ctx.fail(path, "expected at least one pattern")
+def _patterns(ctx: CellValidator, patterns: dict, path: str) -> dict:
+    """The patterns as read (boxes, or a family's table): at most BOXES_MAX boxes each, each box's angle within a
+    turn; a family as its FamilySpec."""
     out = {}
-    for key, value in table.items():
+    for key, value in patterns.items():
         where = f"{path}.{key}"
         if isinstance(value, dict):
-            ctx.no_unknown(value, FAMILY_KEYS, where)
-            family = ctx.require(value, "family", f"{where}.family")
-            if family not in FAMILIES:
-                ctx.fail(f"{where}.family", f"unknown family {family!r}; known: {', '.join(FAMILIES)}")
-            flags = {}
-            for flag in ("mirror", "label_out"):
-                flags[flag] = value.get(flag, FAMILY.default(flag))
-                if not isinstance(flags[flag], bool):
-                    ctx.fail(f"{where}.{flag}", "must be true or false")
-            out[key] = FamilySpec(family, **flags)
-        elif isinstance(value, list) and value:
-            if len(value) > BOXES_MAX:
-                ctx.fail(where, f"{len(value)} boxes; at most {BOXES_MAX} a pattern (the most a stack may hold)")
-            boxes = tuple(ctx.numbers(box, 3, f"{where}[{i}]") for i, box in enumerate(value))
-            for i, box in enumerate(boxes):
-                if max(abs(v) for v in box[:2]) > MAX_SIZE_MM:
-                    ctx.fail(f"{where}[{i}]", f"x, y within +-{MAX_SIZE_MM:g} mm")
-                ctx.angles(box[2:], f"{where}[{i}]", what="the angle")
-            out[key] = boxes
-        else:
-            ctx.fail(where, "expected a list of [x, y, angle] boxes or a table { family = ... }")
+            out[key] = FamilySpec(**value)
+            continue
+        if len(value) > BOXES_MAX:
+            ctx.fail(where, f"{len(value)} boxes; at most {BOXES_MAX} a pattern (the most a stack may hold)")
+        for i, box in enumerate(value):
+            ctx.angles(box[2:], f"{where}[{i}]", what="the angle")
+        out[key] = value
     return out
 
 
