@@ -118,10 +118,10 @@ def first_difference(got: tuple, want: tuple) -> str:
 
 def names(value) -> set[str]:
     """The values of every `name` and `model` key of a TOML document (the cell's, the stations', the pallets', the
-    arms')."""
+    arms'), less the names of an arm's link shapes (the clearance check's words: no program prints them)."""
     if isinstance(value, dict):
         own = {v for k, v in value.items() if k in ("name", "model") and isinstance(v, str)}
-        return own.union(*(names(v) for v in value.values()))
+        return own.union(*(names(v) for k, v in value.items() if k != "links"))
     if isinstance(value, list):
         return set().union(*(names(v) for v in value))
     return set()

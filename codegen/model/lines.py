@@ -17,7 +17,7 @@ _PATH_PART = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
 
 
 def line_of(text: str, path: str) -> int | None:
-    """The line (from 1) of the key a message names (e.g. pallet[0].slip_sheet.thickness), or of its nearest
+    """The line (from 1) of the key a message names (e.g. cell.limits.max_shift_mm), or of its nearest
     enclosing key or table the text writes out (a key inside an inline table: the line of the table); None when
     none is found."""
     where = key_lines(text)

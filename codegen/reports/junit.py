@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import re
 from xml.etree import ElementTree as ET
 
 from codegen.reports.findings import CellResult
+
+# characters XML 1.0 does not allow in a document (its Char production); a program's text may hold them
+NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 
 
 def junit(results: list[CellResult]) -> str:
@@ -36,13 +40,13 @@ def junit(results: list[CellResult]) -> str:
             )
             if case.failure is not None:
                 first = case.failure.splitlines()[0] if case.failure else ""
-                failure = ET.SubElement(element, "failure", message=first, type=_type(case))
-                failure.text = case.failure
+                failure = ET.SubElement(element, "failure", message=_xml(first), type=_type(case))
+                failure.text = _xml(case.failure)
             text = "\n".join(filter(None, [f"files: {', '.join(case.files)}" if case.files else "", case.output]))
             if case.cases:
                 text = f"{case.cases} cases\n{text}"
             if text:
-                ET.SubElement(element, "system-out").text = text
+                ET.SubElement(element, "system-out").text = _xml(text)
         total += len(result.cases)
         failures += failed
         seconds += time
@@ -52,6 +56,15 @@ def junit(results: list[CellResult]) -> str:
     root.set("time", _seconds(seconds))
     ET.indent(root)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def _xml(text: str) -> str:
+    """The text with each character XML 1.0 does not allow written as \\xNN (or \\uNNNN): the document stays XML."""
+    return NOT_XML.sub(lambda m: _escaped(ord(m.group())), text)
+
+
+def _escaped(code: int) -> str:
+    return f"\\x{code:02x}" if code < 256 else f"\\u{code:04x}"
 
 
 def _type(case) -> str:
