@@ -84,7 +84,7 @@ def _targets(plant: Plant, model, asked: tuple[str, ...] = ()) -> list[str]:
 
 
 def generate_plant(path: str, targets: tuple[str, ...], out_dir: str, as_json: bool) -> None:
-    from codegen.cli import write_cell
+    from codegen.cli_base import write_cell
 
     plant = plant_of(path)
     out = out_of(plant, out_dir)
@@ -103,7 +103,7 @@ def generate_plant(path: str, targets: tuple[str, ...], out_dir: str, as_json: b
 
 
 def diff_plant(path: str, out_dir: str, as_json: bool) -> None:
-    from codegen.cli import diff_cell
+    from codegen.cli_base import diff_cell
 
     plant = plant_of(path)
     out = out_of(plant, out_dir)
@@ -155,7 +155,7 @@ def verify_plant(
 
 def check_plant(path: str, out_dir: str | None, as_json: bool) -> None:
     """Each cell's programs in the output folder, one row per target, checked against the cell's arm."""
-    from codegen.cli_check import check_files
+    from codegen.checkfiles import check_files
     from codegen.render import cell_dir
     from codegen.robot.expect import arm_of
 

@@ -189,3 +189,24 @@ def test_verify_scheduler_prints_the_local_report(cluster):
         outputs.append((_text_untimed(text.output.splitlines()), _untimed(json.loads(data.output))))
     assert outputs[0] == outputs[1]
     assert "2 worker(s)" in outputs[1][0][-2]
+
+
+@pytest.mark.slow
+def test_a_plant_verified_on_the_cluster_gives_the_local_report(cluster, tmp_path):
+    """`codegen verify PLANT --scheduler ADDRESS`: two cells of the example plant on the two-worker cluster and in
+    local processes, with no stored results: the same table and figures but for their times."""
+    from codegen.model.cell import EXAMPLE_PLANT
+
+    plant = tmp_path / "plant"
+    plant.mkdir()
+    for name in ("pallets/tray_dtrans.toml", "stations/warehouse_dtrans.toml"):
+        (plant / Path(name).name).write_bytes((EXAMPLE_PLANT / name).read_bytes())
+    common = ["verify", str(plant), "--cases", "1", "--seed", "3", "--no-cache", "--json"]
+    runner = CliRunner()
+    local = runner.invoke(main, [*common, "--jobs", "2"])
+    spread = runner.invoke(main, [*common, "--scheduler", cluster.scheduler_address])
+    assert local.exit_code == 0, local.output
+    assert spread.exit_code == 0, spread.output
+    mine, theirs = (_untimed(json.loads(r.output)) for r in (local, spread))
+    assert [row["result"] for row in mine["rows"]] == ["ok", "ok"]
+    assert json.dumps(theirs) == json.dumps(mine)
