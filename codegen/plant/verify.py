@@ -1,5 +1,4 @@
-"""One cell of a plant verified (verify_cell) into its table row, or its stored result when nothing it depends on
-has changed."""
+"""A plant's cells verified together (verify_cells) into their rows, or their stored results where nothing changed."""
 
 from __future__ import annotations
 
@@ -64,16 +63,6 @@ def verify_plant(plant: Plant, how: PlantVerify, executor=None, progress: Quiet 
         done = iter(finish(item, report, how) for item, report in zip(pending, reports, strict=True))
         looked = [next(done) if isinstance(item, Pending) else item for item in looked]
     return looked
-
-
-def verify_plant_cell(plant: Plant, path: Path, how: PlantVerify, progress: Quiet | None = None) -> CellResult:
-    """One cell's verify result (verify_plant of that cell alone, here)."""
-    item = lookup(plant, path, how)
-    if not isinstance(item, Pending):
-        return item
-    options = Options(how.cases, how.seed, how.jobs, how.step_limit, (progress or Quiet()).runs)
-    (report,) = verify_cells([CellRun(item.cell, (), tuple(item.targets))], options)
-    return finish(item, report, how)
 
 
 def lookup(plant: Plant, path: Path, how: PlantVerify) -> CellResult | Pending:
