@@ -10,8 +10,10 @@ from pathlib import Path
 from codegen.model.cell import CellError, cell_from_dict, read_cell_data
 from codegen.plant.cache import Cache, verify_key
 from codegen.plant.config import Plant
+from codegen.plant.findings import stored
 from codegen.plant.progress import Quiet
 from codegen.plant.results import CellResult, Line, cell_kinds, error_result
+from codegen.reports.from_verify import verify_result
 from codegen.verify.engine import CellRun, Options, verify_cells
 
 CACHED = {"ok": "cached", "mismatch": "cached mismatch"}
@@ -60,7 +62,7 @@ def verify_plant(plant: Plant, how: PlantVerify, executor=None, progress: Quiet 
         runs = [CellRun(item.cell, (), tuple(item.targets)) for item in pending]
         options = Options(how.cases, how.seed, how.jobs, how.step_limit, progress.runs, executor=executor)
         reports = verify_cells(runs, options)
-        done = iter(finish(item, report, how) for item, report in zip(pending, reports, strict=True))
+        done = iter(finish(item, report, how, plant) for item, report in zip(pending, reports, strict=True))
         looked = [next(done) if isinstance(item, Pending) else item for item in looked]
     return looked
 
@@ -98,10 +100,12 @@ def lookup(plant: Plant, path: Path, how: PlantVerify) -> CellResult | Pending:
     return Pending(label, path, cell, targets, key, notes, start)
 
 
-def finish(item: Pending, report, how: PlantVerify) -> CellResult:
-    """The row of a verified cell (its Report, or the error verify_cells gave for it alone), stored in the cache
-    unless it is an error."""
+def finish(item: Pending, report, how: PlantVerify, plant: Plant) -> CellResult:
+    """The row of a verified cell (its Report, or the error verify_cells gave for it alone) with its findings (its
+    fresh programs placed where generate writes them), stored in the cache unless it is an error."""
     result = _row(item, report)
+    if not isinstance(report, Exception) and report.rows:
+        result.findings = stored(verify_result(report, str(item.path), plant.output()), plant)
     result.notes = item.notes + result.notes
     if how.cache is not None and all(line.result != "error" for line in result.lines):
         problem = how.cache.put(item.key, result.as_json())
