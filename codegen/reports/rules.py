@@ -82,7 +82,7 @@ EDIT = Rule(
 )
 
 CELL_ERROR = Rule(
-    "codegen/cell",
+    "plant/cell",
     "cell not done",
     "The cell could not be verified or checked: its file does not load, a pose is out of reach, or its programs are "
     "missing or do not load (the message says which). Its other findings are not known.",

@@ -49,7 +49,7 @@ def test_verify_of_a_plant_as_junit_sarif_and_github(repo, plant, fake_verify, j
     assert code == 2
     (run,) = sarif_valid(text)["runs"]
     places = {r["ruleId"]: r for r in run["results"]}
-    assert set(places) == {"verify/pose", "codegen/cell"}
+    assert set(places) == {"verify/pose", "plant/cell"}
     located = places["verify/pose"]["locations"][0]["physicalLocation"]
     assert located["artifactLocation"] == {"uri": "plant/generated/warehouse_dtrans", "uriBaseId": "SRCROOT"}
     assert located["region"] == {"startLine": 7}
@@ -57,7 +57,7 @@ def test_verify_of_a_plant_as_junit_sarif_and_github(repo, plant, fake_verify, j
     lines = (plant / "b" / "gate.toml").read_text().splitlines()
     assert key["physicalLocation"]["artifactLocation"]["uri"] == "plant/b/gate.toml"
     assert lines[key["physicalLocation"]["region"]["startLine"] - 1].startswith("shelf = ")
-    assert places["codegen/cell"]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == "plant/c.toml"
+    assert places["plant/cell"]["locations"][0]["physicalLocation"]["artifactLocation"]["uri"] == "plant/c.toml"
     assert [r["properties"]["cell"] for r in run["results"]] == ["b/gate.toml", "c.toml"]
 
     code, text = _invoke("verify", str(plant), "--format", "github")
@@ -65,7 +65,7 @@ def test_verify_of_a_plant_as_junit_sarif_and_github(repo, plant, fake_verify, j
     annotations = text.splitlines()
     assert len(annotations) == 2
     assert annotations[0].startswith("::error file=plant/generated/warehouse_dtrans,line=7,title=verify/pose (b/gate")
-    assert annotations[1].startswith("::error file=plant/c.toml,title=codegen/cell (c.toml)::")
+    assert annotations[1].startswith("::error file=plant/c.toml,title=plant/cell (c.toml)::")
 
 
 def test_a_cached_result_reports_its_findings_where_the_plant_now_is(repo, plant, fake_verify, sarif_valid):
