@@ -181,10 +181,12 @@ def verify_plant(
 def check_plant(path: str, out_dir: str | None, form: str) -> None:
     """Each cell's programs in the output folder, one row per target, checked against the cell's arm."""
     from dataclasses import replace
+    from functools import partial
 
     from codegen.checkfiles import check_files
+    from codegen.controllers import get_target
     from codegen.plant.findings import stored
-    from codegen.render import cell_dir
+    from codegen.render import cell_dir, plans
     from codegen.reports.findings import CellResult as Findings
     from codegen.reports.from_check import check_result
     from codegen.robot.expect import arm_of
@@ -211,8 +213,11 @@ def check_plant(path: str, out_dir: str | None, form: str) -> None:
                 message = f"{folder}: no programs here (`codegen generate {path}` writes them)"
                 lines.append(Line(label, target, kinds, None, "error", 0.0, message))
                 continue
+            # a program that starts at a routine of its own (a module loaded into the production task, which has
+            # the main) is checked from there, as the kind's plan says
+            entries = {f.name: p.entry for p in plans(model, get_target(target)) if p.entry for f in p.files}
             try:
-                checked = check_files((str(folder),), target, arm_of(model, target))
+                checked = check_files((str(folder),), target, arm_of(model, target), None, partial(_entry, entries))
             except click.ClickException as exc:
                 lines.append(Line(label, target, kinds, None, "error", time.perf_counter() - begun, exc.message))
                 continue
@@ -225,3 +230,8 @@ def check_plant(path: str, out_dir: str | None, form: str) -> None:
         return CellResult(label, model.name, lines, data, findings=stored(found, plant))
 
     finish(run_plant(plant, "check", step, wanted()), plant, form)
+
+
+def _entry(entries: dict[str, str], names: list[str]) -> str | None:
+    """The entry routine of the program of these files (by a file's name), None where it starts at its main."""
+    return next((entries[Path(n).name] for n in names if Path(n).name in entries), None)
