@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import hashlib
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -75,7 +76,9 @@ def lookup(plant: Plant, path: Path, how: PlantVerify) -> CellResult | Pending:
         data, raw = read_cell_data(path)
     except CellError as exc:
         return error_result(label, str(exc), time.perf_counter() - start)
-    key = verify_key(raw, [], how.key_options())
+    # the output folder too: a finding places the fresh programs there (as the plant's folder sees it)
+    out = Path(os.path.relpath(plant.output(), plant.root)).as_posix()
+    key = verify_key(raw, [], {**how.key_options(), "out": out})
     notes = []
     if how.cache is not None:
         stored = how.cache.get(key)

@@ -134,3 +134,14 @@ def test_a_plant_json_report_holds_no_times_and_the_timings_file_does(repo, plan
     assert not keys(json.loads(text)) & {"seconds", "wall_seconds", "cases_per_second", "cases_per_s", "workers"}
     code, text = _invoke("verify", str(plant.parent / "plant" / "a" / "tray.toml"), "--timings", "t.json")
     assert code == 2 and "--timings: for a plant" in text
+
+
+def test_another_output_folder_is_another_cache_entry(repo, plant, fake_verify):
+    """The findings place the fresh programs in the plant's output folder: a plant with another `out` verifies
+    again rather than report the programs where they are not written."""
+    fake_verify.failing, fake_verify.mismatch = {"warehouse_dtrans"}, MISMATCH
+    assert _invoke("verify", str(plant), "--format", "github")[0] == 1
+    (plant / "codegen.toml").write_text('[plant]\nout = "programs"\n')
+    code, text = _invoke("verify", str(plant), "--format", "github")
+    assert code == 1 and fake_verify.calls == ["tray_dtrans", "warehouse_dtrans"] * 2
+    assert text.startswith("::error file=plant/programs/warehouse_dtrans,line=7,")
