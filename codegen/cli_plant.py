@@ -161,6 +161,8 @@ def verify_plant(
     from codegen.plant.verify import PlantVerify, verify_plant
 
     plant = plant_of(path)
+    if timings is not None and not Path(timings).absolute().parent.is_dir():  # said before any case runs
+        raise UserError(f"--timings {timings}: no folder {Path(timings).absolute().parent}")
     how = PlantVerify(
         tuple(targets) or plant.targets,
         cases if given("cases") or plant.cases is None else plant.cases,

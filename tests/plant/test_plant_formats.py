@@ -145,3 +145,8 @@ def test_another_output_folder_is_another_cache_entry(repo, plant, fake_verify):
     code, text = _invoke("verify", str(plant), "--format", "github")
     assert code == 1 and fake_verify.calls == ["tray_dtrans", "warehouse_dtrans"] * 2
     assert text.startswith("::error file=plant/programs/warehouse_dtrans,line=7,")
+
+
+def test_a_timings_file_in_no_folder_is_refused_before_any_cell_runs(repo, plant, fake_verify):
+    code, text = _invoke("verify", str(plant), "--timings", "nowhere/times.json")
+    assert code == 2 and "--timings nowhere/times.json: no folder" in text and fake_verify.calls == []
