@@ -13,6 +13,7 @@ import pytest
 
 from codegen.controllers import target_names
 
+pytestmark = pytest.mark.xdist_group("wheel")  # one worker builds the wheel its tests read
 REPO = Path(__file__).resolve().parents[1]
 PROBE = (
     "from codegen import data_dir; from codegen.controllers import target_names; "
@@ -39,6 +40,7 @@ def wheel(tmp_path_factory) -> Path:
     return path
 
 
+@pytest.mark.slow  # builds a wheel (pip wheel of a copy of the checkout)
 def test_the_wheel_carries_templates_targets_grammars_and_the_derivation(wheel):
     names = set(zipfile.ZipFile(wheel).namelist())
     expected = {f"codegen/targets/{p.name}" for p in (REPO / "targets").glob("*.toml")}
