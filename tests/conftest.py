@@ -1,4 +1,4 @@
-"""Shared fixtures: the demo cell and a helper that writes cell files."""
+"""Shared fixtures: the demo cell, a helper that writes cell files, verify without the kinds' bulk runs."""
 
 from __future__ import annotations
 
@@ -22,3 +22,19 @@ def write_cell(tmp_path: Path):
         return path
 
     return write
+
+
+@pytest.fixture
+def no_sweeps(monkeypatch):
+    """verify's engine without the kinds' bulk runs (every station id that is not a station, run: a whole cell's
+    long run, which the slow tests run on the same programs), for a command-line test that checks something else."""
+    from dataclasses import replace
+
+    from codegen.verify import engine
+
+    real = engine.verify_cell
+
+    def verify_cell(cell, files=(), targets=(), options=None):
+        return real(cell, files, targets, replace(options or engine.Options(), sweeps=False))
+
+    monkeypatch.setattr(engine, "verify_cell", verify_cell)
