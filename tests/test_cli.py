@@ -27,7 +27,6 @@ def test_derive_check_exits_0():
     assert "zero_rotation_is_translation" in result.output
 
 
-@pytest.mark.xdist_group("derivation")  # the worker of tests/test_derivation.py: its proofs proved once
 def test_derive_json():
     result = run("derive", "--check", "--json")
     data = json.loads(result.output)

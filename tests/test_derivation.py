@@ -10,8 +10,6 @@ from codegen import derivation, derived
 from codegen.kinds.pallet import derivation as pallet_derivation
 from codegen.kinds.station import derivation as station_derivation
 
-pytestmark = pytest.mark.xdist_group("derivation")  # the proofs once per process: test_cli's derive in this worker
-
 EXPECTED = {
     "zero_rotation_is_translation": "holds",
     "rigid": "holds",

@@ -13,7 +13,6 @@ import pytest
 
 from codegen.controllers import target_names
 
-pytestmark = pytest.mark.xdist_group("wheel")  # one worker builds the wheel its tests read
 REPO = Path(__file__).resolve().parents[1]
 PROBE = (
     "from codegen import data_dir; from codegen.controllers import target_names; "

@@ -17,7 +17,6 @@ from codegen.verify.programs import fresh_sources
 from codegen.verify.report import Report
 from codegen.view.report import report_page
 
-pytestmark = pytest.mark.xdist_group("report_page")  # one worker runs the demo's verify and starts the browser
 TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
 
 

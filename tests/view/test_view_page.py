@@ -18,7 +18,6 @@ from codegen.robot.expect import arm_of
 from codegen.verify.programs import fresh_sources
 from codegen.view.page import cell_page
 
-pytestmark = pytest.mark.xdist_group("view_page")  # one worker builds the pages and starts the browser
 CELLS = [p.relative_to(EXAMPLES_DIR).as_posix() for p in example_cells()]
 MAX_BYTES = 3_000_000  # a page to attach to a pull request: a few MB at most
 LOADING = re.compile(r"<(script|link|img|iframe|object|embed)\b[^>]*\b(src|href|data)\s*=", re.IGNORECASE)
