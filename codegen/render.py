@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 
 from codegen import __version__, data_dir
@@ -48,6 +49,7 @@ def _checked(value, where: str) -> Code:
     )
 
 
+@cache  # one per process: it keeps the compiled templates (Jinja reloads a template whose file changed)
 def environment():
     """The templates' Jinja environment (StrictUndefined: a missing variable is an error, not an empty text).
     Every `{{ }}` prints only Code (codegen/emit.py) or a whole number: the template's own text (its literals,

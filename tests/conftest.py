@@ -1,5 +1,5 @@
-"""Shared fixtures: the demo cell, a helper that writes cell files, and validators of the report formats (the schemas
-in tests/reports/schemas/, its README.md says where each comes from)."""
+"""Shared fixtures: the demo cell, a helper that writes cell files, verify without the kinds' bulk runs, and validators
+of the report formats (the schemas in tests/reports/schemas/, its README.md says where each comes from)."""
 
 from __future__ import annotations
 
@@ -58,3 +58,19 @@ def junit_valid():
         return ET.fromstring(text)
 
     return valid
+
+
+@pytest.fixture
+def no_sweeps(monkeypatch):
+    """verify's engine without the kinds' bulk runs (every station id that is not a station, run: a whole cell's
+    long run, which the slow tests run on the same programs), for a command-line test that checks something else."""
+    from dataclasses import replace
+
+    from codegen.verify import engine
+
+    real = engine.verify_cell
+
+    def verify_cell(cell, files=(), targets=(), options=None):
+        return real(cell, files, targets, replace(options or engine.Options(), sweeps=False))
+
+    monkeypatch.setattr(engine, "verify_cell", verify_cell)

@@ -144,7 +144,7 @@ class StationTests:
         kind_of = {station.id: station.mode for station in cell.stations}
         for kind in kinds_hit:  # each kind on its own: one must not hide another
             mine = [c for c in cases if kind_of.get(c.reading.station_id) == kind]
-            report = stations.verify(cell, program, mine)
+            report = stations.verify(cell, program, mine, first=True)
             assert report.mismatches > 0, f"verify missed {mutation} in the {kind} stations"
 
     @pytest.mark.parametrize("mutation", ["swap_sin_cos", "flip_sign", "drop_guard", "calibration_number"])
@@ -153,7 +153,7 @@ class StationTests:
         cell = example("agv_machine_tending")
         text, dat = stations.files(cell, self.target)
         program = self.mutant(mutation, text, dat)
-        report = stations.verify(cell, program, stations.build_cases(cell, 10, 4))
+        report = stations.verify(cell, program, stations.build_cases(cell, 10, 4), first=True)
         assert report.mismatches > 0, f"verify missed the mutation {mutation}"
 
     @pytest.mark.slow
@@ -180,7 +180,7 @@ class StationTests:
         text, dat = stations.files(cell, self.target)
         for mutation in self.motion_mutations:
             program = self.mutant(mutation, text, dat)
-            report = stations.verify(cell, program, stations.build_cases(cell, 5, 4))
+            report = stations.verify(cell, program, stations.build_cases(cell, 5, 4), first=True)
             assert report.mismatches > 0, f"verify missed {mutation}"
 
     # Edits only the arm model sees (each target names its own): a configuration changed by hand, the
@@ -195,7 +195,7 @@ class StationTests:
         cases = [c for c in stations.build_cases(cell, 4, 4) if c.reading.station_id in self.arm_stations]
         for mutation in self.arm_mutations:
             program = self.mutant(mutation, text, dat)
-            report = stations.verify(cell, program, cases)
+            report = stations.verify(cell, program, cases, first=True)
             assert report.mismatches > 0, f"verify missed {mutation}"
             assert any(word in report.first_mismatches[0] for word in self.arm_words[mutation]), (
                 mutation,

@@ -36,9 +36,10 @@ def source(cell, target: str, text: str | None = None, dat: str | None = None, l
     return replace(program, files=new, origin=tuple(names), row=0)
 
 
-def verify(cell, program, cases: list, step_limit: int = DEFAULT_STEP_LIMIT) -> Row:
-    """The row of the given station cases on the program (in this process)."""
-    return run_cases(cell, program, cases, step_limit)
+def verify(cell, program, cases: list, step_limit: int = DEFAULT_STEP_LIMIT, first: bool = False) -> Row:
+    """The row of the given station cases on the program (in this process; first: up to its first mismatch, as
+    `codegen verify` stops a program's run there, for a test that asks only whether verify fails it)."""
+    return run_cases(cell, program, cases, step_limit, first)
 
 
 def sweep(cell, program, ids: range) -> Row:

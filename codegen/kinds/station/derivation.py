@@ -54,6 +54,7 @@ def derive() -> Derivation:
 FREE = (tx, ty, t_theta, tnx, tny, phi, Px, Py, a, b, c)  # every counterexample search draws these
 
 
+@cache  # on the derivation, itself once per process: proved once per process
 def point_identities(check) -> list:
     """Source 000's correction and its errata, proven on the derivation."""
     d = derive()
