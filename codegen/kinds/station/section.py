@@ -16,7 +16,7 @@ from codegen.model.robot import parse_station_config
 from codegen.model.validate import kind_of
 from codegen.poses import POSE_FORMATS
 
-STATIONS_MAX = 5000  # the scale issue's largest cell: its programs load and run here (a UR program in about 35 s)
+STATIONS_MAX = 5000  # the largest cell measured: its programs load and run here (a UR program in about 35 s)
 POSES_MAX = 1000  # a station's poses are one run: 1,000 take about a tenth of verify's step limit
 
 
