@@ -77,7 +77,13 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
 
 def _planned(move) -> PlannedMove:
     return PlannedMove(
-        move.pose_name, move.kind, move.tcp2base, move.exact, move.speed_mm_s, move.zone_mm, move.joint_percent
+        name=move.pose_name,
+        kind=move.kind,
+        tcp2base=move.tcp2base,
+        exact=move.exact,
+        speed_mm_s=move.speed_mm_s,
+        zone_mm=move.zone_mm,
+        joint_percent=move.joint_percent,
     )
 
 

@@ -120,7 +120,14 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
             return halt(NOT_CONVERGED)
         tcp2base = concat(photo2frame, frame_offset(dx, dy, alpha), calib2base)
         moves.append(
-            Move(JOINT, "photo", tcp2base, True, cell.motion.speed_mm_s, joint_percent=cell.motion.joint_speed_percent)
+            Move(
+                kind=JOINT,
+                pose_name="photo",
+                tcp2base=tcp2base,
+                exact=True,
+                speed_mm_s=cell.motion.speed_mm_s,
+                joint_percent=cell.motion.joint_speed_percent,
+            )
         )
         photos += 1
         u, v, angle = camera.photo(tcp2base)
