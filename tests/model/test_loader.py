@@ -3,6 +3,7 @@ dataclass built by keyword, and the line each message names."""
 
 from __future__ import annotations
 
+import tomllib
 from dataclasses import dataclass
 
 import jsonschema
@@ -250,3 +251,10 @@ def test_key_lines_follow_headers_arrays_of_tables_and_multi_line_values():
 )
 def test_line_of_a_message_key_path(path, line):
     assert line_of(TOML, path) == line
+
+
+def test_key_lines_read_quoted_keys_and_arrays_of_tables_as_toml_does():
+    text = '[cell]\n"a\\"b" = 1\n\'c\\d\' = 2\n[[pallet]]\n[[pallet]]\n'
+    assert tomllib.loads(text)["cell"] == {'a"b': 1, "c\\d": 2}
+    lines = {("cell",): 1, ("cell", 'a"b'): 2, ("cell", "c\\d"): 3, ("pallet",): 4, ("pallet", 0): 4, ("pallet", 1): 5}
+    assert key_lines(text) == lines
