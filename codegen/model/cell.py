@@ -74,30 +74,19 @@ class Cell:
     warnings: tuple[str, ...] = field(default=(), compare=False)
     sections: dict = field(default_factory=dict, compare=False)  # kind name -> its part of the cell (its tables)
 
-    # The cell's stations as the kind whose section holds them has them (a section with `stations`): read here
-    # by the code that has not yet asked that kind for its section.
-    @property
-    def _stationed(self):
+    def stations_section(self):
+        """The section that carries the cell's stations, whichever kind's it is (a section with `stations`, and the
+        `limits` their readings are held to); None: no section does. Code outside the kinds asks this (the guard's
+        messages, verify's large cells, a program that shares the station program's name) instead of naming the
+        kind."""
         return next((s for s in self.sections.values() if hasattr(s, "stations")), None)
 
     @property
     def stations(self) -> tuple:
-        return () if self._stationed is None else self._stationed.stations
-
-    @property
-    def angle_sign(self) -> int | None:
-        return None if self._stationed is None else self._stationed.angle_sign
-
-    @property
-    def limits(self):
-        return None if self._stationed is None else self._stationed.limits
-
-    @property
-    def handeye(self):
-        return None if self._stationed is None else self._stationed.handeye
-
-    def station_by_id(self, station_id: int):
-        return None if self._stationed is None else self._stationed.station_by_id(station_id)
+        """The stations of stations_section() (none: ()): a kind's check that a one-task controller runs no station
+        program beside its own reads it."""
+        section = self.stations_section()
+        return () if section is None else section.stations
 
 
 # --- loading ---------------------------------------------------------------------------------
