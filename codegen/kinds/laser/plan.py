@@ -211,8 +211,6 @@ def _in_place(cell, target_name: str, case: LaserCase) -> PlannedMove:
         kind="joint",
         tcp2base=pose,
         exact=True,
-        speed_mm_s=None,
-        zone_mm=0.0,
         joint_percent=cell.motion.joint_speed_percent,
         joints=joints,
     )
@@ -274,8 +272,6 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
                 kind="joint",
                 tcp2base=home[0].tcp2base,
                 exact=True,
-                speed_mm_s=None,
-                zone_mm=0.0,
                 joint_percent=motion.joint_speed_percent,
                 joints=home[1],
             )
@@ -320,7 +316,6 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
                 PlannedMove(
                     name=f"half circle {2 - first_half}",
                     kind=move.kind,
-                    tcp2base=None,
                     exact=not first_half or blend == 0.0,
                     speed_mm_s=laser.circle_speed_mm_s,
                     zone_mm=blend if first_half else 0.0,
@@ -336,8 +331,6 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
                 kind="joint",
                 tcp2base=final,
                 exact=True,
-                speed_mm_s=None,
-                zone_mm=0.0,
                 joint_percent=motion.joint_speed_percent,
                 joints=home[1] if home is not None else None,
             )
@@ -353,34 +346,15 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
             )
         elif circles == 2 and stage == 0 and np.linalg.norm(point - above) > NEAR_MM:
             planned = PlannedMove(
-                name="to the search's top",
-                kind="linear",
-                tcp2base=None,
-                exact=True,
-                speed_mm_s=motion.work_speed_mm_s,
-                zone_mm=0.0,
+                name="to the search's top", kind="linear", exact=True, speed_mm_s=motion.work_speed_mm_s
             )
             stage, top_z, searched = 1, point[2], 0
         elif stage == 1 and ((found and searched < 2) or (not found and point[2] < top_z - NEAR_MM)):
-            planned = PlannedMove(
-                name="tip search",
-                kind="linear",
-                tcp2base=None,
-                exact=True,
-                speed_mm_s=laser.search_speed_mm_s,
-                zone_mm=0.0,
-            )
+            planned = PlannedMove(name="tip search", kind="linear", exact=True, speed_mm_s=laser.search_speed_mm_s)
             searched += 1
         else:
             stage = 2 if stage == 1 else stage
-            planned = PlannedMove(
-                name="a straight move",
-                kind="linear",
-                tcp2base=None,
-                exact=True,
-                speed_mm_s=motion.work_speed_mm_s,
-                zone_mm=0.0,
-            )
+            planned = PlannedMove(name="a straight move", kind="linear", exact=True, speed_mm_s=motion.work_speed_mm_s)
         out.append(planned)
     return tuple(out)
 

@@ -423,14 +423,7 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
     tcp2flange = cell.robot.tool.tcp2flange
     percent = cell.motion.joint_speed_percent
     home_planned = PlannedMove(
-        name="home",
-        kind="joint",
-        tcp2base=home[0].tcp2base,
-        exact=True,
-        speed_mm_s=None,
-        zone_mm=0.0,
-        joint_percent=percent,
-        joints=home[1],
+        name="home", kind="joint", tcp2base=home[0].tcp2base, exact=True, joint_percent=percent, joints=home[1]
     )
     q = np.asarray(start, dtype=float)
     if np.max(np.abs(q - home[1])) <= cell.motion.start_tolerance_deg:
@@ -442,14 +435,7 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
     # the path's start: the retreat keeps its configuration)
     way = [
         PlannedMove(
-            name="where the arm stands",
-            kind="joint",
-            tcp2base=here,
-            exact=True,
-            speed_mm_s=None,
-            zone_mm=0.0,
-            joint_percent=percent,
-            joints=q,
+            name="where the arm stands", kind="joint", tcp2base=here, exact=True, joint_percent=percent, joints=q
         )
     ]
     way.append(
@@ -459,7 +445,6 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
             tcp2base=back,
             exact=True,
             speed_mm_s=cell.motion.work_speed_mm_s,
-            zone_mm=0.0,
         )
     )
     up = risen(back, way_up_z(cell))  # over every pallet of the arm, full or not
@@ -470,7 +455,6 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
             tcp2base=up,
             exact=True,
             speed_mm_s=cell.motion.work_speed_mm_s,
-            zone_mm=0.0,
         )
     )
     safe = safe_move(cell, pallet)
@@ -481,7 +465,6 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
             tcp2base=safe.tcp2base,
             exact=True,
             speed_mm_s=safe.speed_mm_s,
-            zone_mm=0.0,
             joint_percent=percent,
         )
     )
