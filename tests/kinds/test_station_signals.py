@@ -28,7 +28,7 @@ def _demo_dict() -> dict:
 @pytest.mark.parametrize(
     ("table", "values", "message"),
     [
-        ("vision", {"timeout_s": 0.1}, r"cell\.vision\.timeout_s: must be between 0\.2 and 600 s"),
+        ("vision", {"timeout_s": 0.1}, r"cell\.vision\.timeout_s: must be in \[0\.2, 600\] s"),
         ("vision", {"timeout": 5}, r"cell\.vision\.timeout: unknown key"),
         ("motion", {"speed_mm_s": 0}, r"cell\.motion\.speed_mm_s: must be in \[1, 5000\] mm/s"),
         ("motion", {"zone_mm": 300}, r"cell\.motion\.zone_mm: must be in \[0, 200\] mm"),

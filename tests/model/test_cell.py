@@ -78,11 +78,11 @@ BAD = {
     ),
     "unknown_target": (
         MINIMAL_CELL.replace("targets = [", 'targets = ["fanuc", '),
-        "cell.targets[0]: unknown target 'fanuc'",
+        "cell.targets[0]: expected one of 'abb', 'dtrans', 'kuka', 'ur' (a controller), got 'fanuc'",
     ),
     "unknown_pose_format": (
         MINIMAL_CELL.replace('pose_format = "xyzabc"', 'pose_format = "euler"'),
-        "cell.pose_format: unknown pose format 'euler'",
+        "cell.pose_format: expected one of 'xyzabc', 'ur', 'abb' (how a taught pose is written), got 'euler'",
     ),
     "zero_shift_limit": (
         MINIMAL_CELL.replace("max_shift_mm = 10.0", "max_shift_mm = 0.0"),
