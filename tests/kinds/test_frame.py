@@ -223,5 +223,17 @@ def test_a_hand_eye_map_that_overflows_is_refused(tmp_path):
     path = tmp_path / "bench.toml"
     huge = "pixel_to_mm = [[1e200, 0.0, 1.0], [0.0, -1e200, 2.0]]"
     path.write_text(re.sub(r"pixel_to_mm = .*", huge, BENCH.read_text()), encoding="utf-8")
-    with pytest.raises(CellError, match=r"cell\.camera\.handeye\.pixel_to_mm: the 2x2 part is singular, or an entry"):
+    with pytest.raises(
+        CellError, match=r"cell\.camera\.handeye\.pixel_to_mm\[0\]\[0\]: must be in \[-100000, 100000\]"
+    ):
+        load_cell(path)
+
+
+def test_a_hand_eye_map_that_cannot_be_inverted_is_refused(tmp_path):
+    import re
+
+    path = tmp_path / "bench.toml"
+    singular = "pixel_to_mm = [[1.0, 2.0, 1.0], [2.0, 4.0, 2.0]]"
+    path.write_text(re.sub(r"pixel_to_mm = .*", singular, BENCH.read_text()), encoding="utf-8")
+    with pytest.raises(CellError, match=r"cell\.camera\.handeye\.pixel_to_mm: the 2x2 part is singular"):
         load_cell(path)

@@ -86,7 +86,7 @@ BAD = {
     ),
     "zero_shift_limit": (
         MINIMAL_CELL.replace("max_shift_mm = 10.0", "max_shift_mm = 0.0"),
-        "cell.limits.max_shift_mm: must be positive",
+        "cell.limits.max_shift_mm: must be in (0, 100000] mm (the largest shift of the mark), got 0",
     ),
     "negative_rotation_limit": (
         MINIMAL_CELL.replace("max_rotation_deg = 10.0", "max_rotation_deg = -1"),
@@ -102,7 +102,8 @@ BAD = {
     ),
     "bad_angle_sign": (
         MINIMAL_CELL.replace("angle_sign = -1", "angle_sign = 2"),
-        "cell.camera.angle_sign: expected 1 or -1, got 2",
+        "cell.camera.angle_sign: expected one of 1, -1 (the sign the camera's angles turn with: -1 when its image is "
+        "mirrored (they turn against the frame's)), got 2",
     ),
     "unknown_key": (
         MINIMAL_CELL.replace("max_shift_mm = 10.0", "max_shift_mm = 10.0\nmax_shfit = 3"),
