@@ -65,8 +65,9 @@ class Loader:
             return self.ctx.pose(path.rsplit(".", 1)[-1], raw, path, self.pose_format)
         if not _has_shape(raw, key.type):
             wanted = "must be true or false" if key.type == "boolean" else f"expected {_expected(key)}"
-            if key.choices:  # the values allowed say more than their type
-                wanted = f"expected one of {_listed(key.choices)} ({key.doc})"
+            if key.choices:  # the values allowed say more than their type (a whole number's decimal point as much)
+                allowed = f"one of {_listed(key.choices)} ({key.doc})"
+                wanted = f"{wanted}, {allowed}" if key.type == "integer" else f"expected {allowed}"
             self.ctx.fail(path, f"{wanted}, got {kind_of(raw)}")
         return getattr(self, f"_{key.type}")(key, raw, path)
 
