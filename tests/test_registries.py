@@ -13,6 +13,7 @@ from setuptools import find_packages
 from codegen import controllers
 from codegen.controllers import TargetError, get_target, target_names
 from codegen.dialects import dialect_of_suffix, dialects, get_dialect
+from codegen.kinds.station.section import stations_of
 from codegen.protocol import kinds
 
 REPO = Path(__file__).resolve().parents[1]
@@ -96,7 +97,7 @@ def test_the_example_cells_use_every_kind():
     for path in example_cells():
         cell = load_cell(path)
         used |= set(cell.sections)
-        modes_used |= {s.mode for s in cell.stations}
+        modes_used |= {s.mode for s in stations_of(cell)}
     assert used == set(kinds())
     assert modes_used == set(modes())
 

@@ -11,13 +11,12 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen.controllers import target_names
 from codegen.guard import TAUGHT_RANGE_MM
 from codegen.model import io, motion, tables, vision
 from codegen.model.io import SignalSettings
+from codegen.model.loader import Loader
 from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot
-from codegen.model.tables import CELL_POSE_FORMATS
 from codegen.model.validate import CellError, Validator
 from codegen.model.vision import VisionSettings
 from codegen.output import replace_file
@@ -74,30 +73,19 @@ class Cell:
     warnings: tuple[str, ...] = field(default=(), compare=False)
     sections: dict = field(default_factory=dict, compare=False)  # kind name -> its part of the cell (its tables)
 
-    # The cell's stations as the kind whose section holds them has them (a section with `stations`): read here
-    # by the code that has not yet asked that kind for its section.
-    @property
-    def _stationed(self):
+    def stations_section(self):
+        """The section that carries the cell's stations, whichever kind's it is (a section with `stations`, and the
+        `limits` their readings are held to); None: no section does. Code outside the kinds asks this (the guard's
+        messages, verify's large cells, a program that shares the station program's name) instead of naming the
+        kind."""
         return next((s for s in self.sections.values() if hasattr(s, "stations")), None)
 
     @property
     def stations(self) -> tuple:
-        return () if self._stationed is None else self._stationed.stations
-
-    @property
-    def angle_sign(self) -> int | None:
-        return None if self._stationed is None else self._stationed.angle_sign
-
-    @property
-    def limits(self):
-        return None if self._stationed is None else self._stationed.limits
-
-    @property
-    def handeye(self):
-        return None if self._stationed is None else self._stationed.handeye
-
-    def station_by_id(self, station_id: int):
-        return None if self._stationed is None else self._stationed.station_by_id(station_id)
+        """The stations of stations_section() (none: ()): a kind's check that a one-task controller runs no station
+        program beside its own reads it."""
+        section = self.stations_section()
+        return () if section is None else section.stations
 
 
 # --- loading ---------------------------------------------------------------------------------
@@ -176,29 +164,16 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
     definition = tables.cell_table()  # the cell file's definition (codegen/model/tables.py), with the kinds' tables
     ctx.no_unknown(cell_table, definition.allowed, "cell")
 
-    name = ctx.name(cell_table, "name", "cell.name")
-    known_targets = target_names()
-    targets_raw = ctx.require(cell_table, "targets", "cell.targets")
-    if not isinstance(targets_raw, list) or not targets_raw:
-        ctx.fail("cell.targets", f"expected a non-empty list of targets from {list(known_targets)}")
-    targets: list[str] = []
-    for i, target in enumerate(targets_raw):
-        if target not in known_targets:
-            ctx.fail(f"cell.targets[{i}]", f"unknown target {target!r}; known: {', '.join(known_targets)}")
-        if target in targets:
-            ctx.fail(f"cell.targets[{i}]", f"target {target!r} listed twice")
-        targets.append(target)
+    written = {key: cell_table[key] for key in tables.OWN_KEYS if key in cell_table}  # its tables: by their sections
+    own = Loader(ctx).table(tables.own_table(), written, "cell")
+    name, targets, pose_format = own["name"], own["targets"], own["pose_format"]
 
-    pose_format = cell_table.get("pose_format", definition.default("pose_format"))
-    if pose_format not in CELL_POSE_FORMATS:
-        ctx.fail("cell.pose_format", f"unknown pose format {pose_format!r}; known: {', '.join(CELL_POSE_FORMATS)}")
-
-    robot = parse_robot(ctx, cell_table, tuple(targets), pose_format)
+    robot = parse_robot(ctx, cell_table, targets, pose_format)
 
     settings = {kind.name: kind.parse_settings(ctx, cell_table) for kind in kinds().values()}
     cell = Cell(
         name=name,
-        targets=tuple(targets),
+        targets=targets,
         pose_format=pose_format,
         settings=settings,
         robot=robot,

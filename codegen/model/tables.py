@@ -13,6 +13,7 @@ from codegen.model.schema import JSON_SCHEMA_DRAFT, Key, Table, json_of_table, m
 from codegen.protocol import kinds
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
+OWN_KEYS = ("name", "targets", "pose_format")  # [cell]'s own values (its other keys are tables)
 
 
 def _readers(table: str) -> tuple[str, ...]:
@@ -59,6 +60,12 @@ def cell_table() -> Table:
         if kind.cell_file is not None:
             own.update(_listed(kind, kind.cell_file.cell_tables))
     return Table("The cell: its name, controllers, pose format and the tables every kind shares.", own)
+
+
+def own_table() -> Table:
+    """[cell]'s own values, as the loader reads them (the tables in it are read by their own sections)."""
+    definition = cell_table()
+    return Table(definition.doc, {name: definition[name] for name in OWN_KEYS})
 
 
 @cache

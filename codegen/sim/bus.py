@@ -44,7 +44,7 @@ class RegisterBus:
 class BitBus:
     """Each role a range [first, last] of numbered inputs (the ack of outputs), least significant bit
     first; the stop a single input; the encoder's current count live on its range. input_name and
-    output_name: the controller's name of signal n (codegen/signals.py signal_name)."""
+    output_name: the controller's name of signal n (codegen/model/io.py signal_name)."""
 
     def __init__(self, signals: dict, input_name, output_name) -> None:
         self.signals, self.input_name, self.output_name = signals, input_name, output_name

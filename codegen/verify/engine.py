@@ -15,7 +15,7 @@ from codegen.verify.edits import edits
 from codegen.verify.executor import Executor, LocalExecutor
 from codegen.verify.programs import ProgramFilesError, ProgramSource, file_sources, fresh_sources
 from codegen.verify.report import Report, Row
-from codegen.verify.runner import ONE_PROGRAM_FROM, run_tasks
+from codegen.verify.runner import large, run_tasks
 
 CHUNK_CASES = 2000  # at most this many cases a task: a worker holds one chunk's expectations at a time
 CELL_ERRORS = (ProgramFilesError, ReachError, EmitError, RunError)  # a cell verify cannot run: exit 2 (load: 1)
@@ -71,8 +71,8 @@ def verify_cells(runs: list[CellRun], options: Options | None = None) -> list[Re
     prepared = list(executor.map(prepare, [(run.cell, run.files, run.targets, limit, seed) for run in runs]))
     results: list[Report | Exception] = [_error(p) if isinstance(p, _Failed) else p for p in prepared]
     ready = [i for i, p in enumerate(results) if not isinstance(p, Exception)]
-    large = [i for i in ready if len(runs[i].cell.stations) >= ONE_PROGRAM_FROM]
-    for batch in [[i for i in ready if i not in large], *([i] for i in large)]:
+    big = [i for i in ready if large(runs[i].cell)]
+    for batch in [[i for i in ready if i not in big], *([i] for i in big)]:
         if batch:
             reports = _verify_batch([runs[i].cell for i in batch], [results[i] for i in batch], options, executor)
             for i, report in zip(batch, reports, strict=True):
@@ -190,8 +190,7 @@ def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
             own += [(cell, source, ids, limit, first, keep) for ids in kind.sweeps(model, source, workers)]
         tasks += own
         owner += [source.row] * len(own)
-    large = len(cell.stations) >= ONE_PROGRAM_FROM and len(sources) > 1
-    if not large or workers <= 1 or len(sources) < workers:
+    if not (large(cell) and len(sources) > 1) or workers <= 1 or len(sources) < workers:
         return tasks, None
     programs = sorted(set(owner))
     worker_of = {row: i % workers for i, row in enumerate(programs)}

@@ -69,7 +69,7 @@ class Setup:
         return options
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PlannedMove:
     """A move the plan has: its name for the report, joint or linear, where the TCP ends (None: the kind judges
     the pose itself, e.g. a part on a moving belt), how it moves (TCP speed mm/s, blending zone mm, an exact

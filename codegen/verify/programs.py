@@ -138,14 +138,6 @@ def _target_of(path: Path, targets: tuple[str, ...]) -> str:
     return target.name
 
 
-def target_of_file(path: Path) -> str:
-    """The target a program file's suffix names (ValueError: none does)."""
-    target = target_of_suffix(Path(path).suffix)
-    if target is None:
-        raise ValueError(f"{path}: cannot tell the target from the suffix; use --target")
-    return target.name
-
-
 def load_file(target, path: Path):
     """One program file on disk, with its data files beside it (RunError: it cannot be read or loaded)."""
     dialect = get_dialect(target.dialect)

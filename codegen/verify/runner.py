@@ -16,6 +16,12 @@ _LOADED: dict = {}  # source -> program, in a worker (each program parsed once p
 ONE_PROGRAM_FROM = 300  # stations: from here a worker holds one program at a time (a large cell's memory)
 
 
+def large(cell) -> bool:
+    """A cell of ONE_PROGRAM_FROM stations or more (in whichever section carries them)."""
+    section = cell.stations_section()
+    return section is not None and len(section.stations) >= ONE_PROGRAM_FROM
+
+
 def _program(source, large: bool):
     if large and any(loaded != source for loaded in _LOADED):
         _LOADED.clear()  # a large cell's next program: the last one goes
@@ -32,7 +38,7 @@ def run_chunk(task) -> tuple[int, Row]:
     model = source.model or cell
     kind = get_kind(source.kind)
     row = Row(source.kind, source.target, source.ident, list(source.origin))
-    program = _program(source, len(model.stations) >= ONE_PROGRAM_FROM)
+    program = _program(source, large(model))
     start = time.perf_counter()
     with frozen_heap():
         if isinstance(work, range):

@@ -98,7 +98,17 @@ def planned(segment: Segment, cell, target, mode: str | None = None, pose=None, 
     blend = mode is not None and blends(cell, target, mode).get(segment.key, False)
     payload = carried(cell) if segment.held and cell.robot is not None and cell.robot.tool_given else TOOL_LOAD
     zone = cell.motion.zone_mm if blend else 0.0
-    return PlannedMove(segment.name, segment.kind, pose, not blend, speed, zone, percent, joints, payload)
+    return PlannedMove(
+        name=segment.name,
+        kind=segment.kind,
+        tcp2base=pose,
+        exact=not blend,
+        speed_mm_s=speed,
+        zone_mm=zone,
+        joint_percent=percent,
+        joints=joints,
+        payload=payload,
+    )
 
 
 def lay_over(cell, target, mode: str, first: int, moves: list, closes: list, opens: list) -> list[PlannedMove] | str:

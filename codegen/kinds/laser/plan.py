@@ -207,13 +207,11 @@ def _in_place(cell, target_name: str, case: LaserCase) -> PlannedMove:
     joints = _start_joints(cell, target_name, case)
     pose = robot.arms[target_name].kin.fk(np.asarray(joints)) @ robot.tool.tcp2flange
     return PlannedMove(
-        "the first motion where the arm stands",
-        "joint",
-        pose,
-        True,
-        None,
-        0.0,
-        cell.motion.joint_speed_percent,
+        name="the first motion where the arm stands",
+        kind="joint",
+        tcp2base=pose,
+        exact=True,
+        joint_percent=cell.motion.joint_speed_percent,
         joints=joints,
     )
 
@@ -249,25 +247,55 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
             out.append(first)
         begin = (base2sensor @ first.tcp2base)[:3, 3]
         up = _pose_in_s(cell, (begin[0], begin[1], safe[2]), first.tcp2base[:3, :3])
-        out.append(PlannedMove("back out along the tool's axis", "linear", up, True, motion.work_speed_mm_s))
-        out.append(PlannedMove("to the safe pose", "linear", _pose_in_s(cell, safe), True, motion.work_speed_mm_s))
+        out.append(
+            PlannedMove(
+                name="back out along the tool's axis",
+                kind="linear",
+                tcp2base=up,
+                exact=True,
+                speed_mm_s=motion.work_speed_mm_s,
+            )
+        )
+        out.append(
+            PlannedMove(
+                name="to the safe pose",
+                kind="linear",
+                tcp2base=_pose_in_s(cell, safe),
+                exact=True,
+                speed_mm_s=motion.work_speed_mm_s,
+            )
+        )
     if home is not None:
         out.append(
-            PlannedMove("home", "joint", home[0].tcp2base, True, None, 0.0, motion.joint_speed_percent, joints=home[1])
+            PlannedMove(
+                name="home",
+                kind="joint",
+                tcp2base=home[0].tcp2base,
+                exact=True,
+                joint_percent=motion.joint_speed_percent,
+                joints=home[1],
+            )
         )
     out.append(
         PlannedMove(
-            "to the safe pose",
-            "joint",
-            _pose_in_s(cell, safe),
-            joint_zone == 0.0,
-            motion.speed_mm_s,
-            joint_zone,
-            motion.joint_speed_percent,
+            name="to the safe pose",
+            kind="joint",
+            tcp2base=_pose_in_s(cell, safe),
+            exact=joint_zone == 0.0,
+            speed_mm_s=motion.speed_mm_s,
+            zone_mm=joint_zone,
+            joint_percent=motion.joint_speed_percent,
         )
     )
     out.append(
-        PlannedMove("above the start", "linear", _pose_in_s(cell, above), zone == 0.0, motion.work_speed_mm_s, zone)
+        PlannedMove(
+            name="above the start",
+            kind="linear",
+            tcp2base=_pose_in_s(cell, above),
+            exact=zone == 0.0,
+            speed_mm_s=motion.work_speed_mm_s,
+            zone_mm=zone,
+        )
     )
     fixed = len(out)
     if len(moves) < fixed:
@@ -286,12 +314,11 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
             half = 1 if first_half else 0
             out.append(
                 PlannedMove(
-                    f"half circle {2 - first_half}",
-                    move.kind,
-                    None,
-                    not first_half or blend == 0.0,
-                    laser.circle_speed_mm_s,
-                    blend if first_half else 0.0,
+                    name=f"half circle {2 - first_half}",
+                    kind=move.kind,
+                    exact=not first_half or blend == 0.0,
+                    speed_mm_s=laser.circle_speed_mm_s,
+                    zone_mm=blend if first_half else 0.0,
                 )
             )
             circles += not first_half  # the second half closes a circle
@@ -300,29 +327,34 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
         if move.kind == "joint":  # the way out ends home
             final = home[0].tcp2base if home is not None else None
             planned = PlannedMove(
-                "home",
-                "joint",
-                final,
-                True,
-                None,
-                0.0,
-                motion.joint_speed_percent,
+                name="home",
+                kind="joint",
+                tcp2base=final,
+                exact=True,
+                joint_percent=motion.joint_speed_percent,
                 joints=home[1] if home is not None else None,
             )
         elif circles == 2 and np.linalg.norm(point - safe) <= NEAR_MM:
             safe_pose = _pose_in_s(cell, safe)
             planned = PlannedMove(
-                "to the safe pose", "linear", safe_pose, joint_zone == 0.0, motion.work_speed_mm_s, joint_zone
+                name="to the safe pose",
+                kind="linear",
+                tcp2base=safe_pose,
+                exact=joint_zone == 0.0,
+                speed_mm_s=motion.work_speed_mm_s,
+                zone_mm=joint_zone,
             )
         elif circles == 2 and stage == 0 and np.linalg.norm(point - above) > NEAR_MM:
-            planned = PlannedMove("to the search's top", "linear", None, True, motion.work_speed_mm_s, 0.0)
+            planned = PlannedMove(
+                name="to the search's top", kind="linear", exact=True, speed_mm_s=motion.work_speed_mm_s
+            )
             stage, top_z, searched = 1, point[2], 0
         elif stage == 1 and ((found and searched < 2) or (not found and point[2] < top_z - NEAR_MM)):
-            planned = PlannedMove("tip search", "linear", None, True, laser.search_speed_mm_s, 0.0)
+            planned = PlannedMove(name="tip search", kind="linear", exact=True, speed_mm_s=laser.search_speed_mm_s)
             searched += 1
         else:
             stage = 2 if stage == 1 else stage
-            planned = PlannedMove("a straight move", "linear", None, True, motion.work_speed_mm_s, 0.0)
+            planned = PlannedMove(name="a straight move", kind="linear", exact=True, speed_mm_s=motion.work_speed_mm_s)
         out.append(planned)
     return tuple(out)
 

@@ -42,7 +42,7 @@ from codegen.poses import zyx_deg_from_rotmat
 
 DOWN = np.diag([1.0, -1.0, -1.0])
 # the operator's messages: within 80 characters with their numbers (each target's message text holds 80;
-# tests/kinds/test_laser_messages.py holds every one to its controller's string_max with the longest numbers)
+# tests/kinds/test_laser_production.py holds every one to its controller's string_max with the longest numbers)
 CIRCLE_EDGES = "laser: beams not crossed twice each, check tool data and sensors, circle "
 NO_TIP = "laser: no tip found within clearance_mm of the tool data"
 AXIS_TILT = "laser: axis tilted beyond offset_max_mm, check the sensors"

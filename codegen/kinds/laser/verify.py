@@ -28,12 +28,12 @@ SCENARIO_OF = {
     "installation_without_tool": "production_tool_missing",  # the kind's own: the production tool not defined
 }
 STEP_LIMIT = 2_000_000  # a UR thread runs a few statements per 2 ms cycle for a minute of motion
-NOISE_MM = 0.01  # the switching point's standard deviation (the issue's sensor noise)
+NOISE_MM = 0.01  # the switching point's standard deviation (the sensors' noise the kind is built for)
 HYSTERESIS_MM = 0.05  # the sensors' switching hysteresis (a setting of the sensor: five times its noise)
 # The production tool before a run: the last calibration's TCP, this far from the tool as designed (flange frame,
 # mm); every case starts from it: the program must neither move with it nor judge the TCP found against it
 PREVIOUS_MM = (0.4, -0.3, 1.2)
-TRUTH_MM = 0.1  # the issue's goal: the TCP found within 0.1 mm of the true one (a requirement, not a model bound)
+TRUTH_MM = 0.1  # the kind's goal: the TCP found within 0.1 mm of the true one (a requirement, not a model bound)
 FLOAT32_MM = 0.002  # float32 positions near 1 m (1.2e-4 mm a step) through a handful of operations
 ORIENTATION_DEG = 1e-3
 AXIS_FLOAT32 = 2e-5  # a unit vector's components through a float32 square root and division

@@ -12,7 +12,7 @@ import sympy as sp
 from codegen.symrot import rotx3, roty3, rotz3
 
 # Palletizing (source 004): the pallet frame from three taught points, O on the pallet, PX on its +x, PY on
-# the +y side; u = PX - O, v = PY - O (DESIGN.md section 1.4).
+# the +y side; u = PX - O, v = PY - O (docs/kinds/pallet.md).
 ux, uy, uz, vx, vy, vz = sp.symbols("ux uy uz vx vy vz", real=True)
 u_pallet, v_pallet = sp.Matrix([ux, uy, uz]), sp.Matrix([vx, vy, vz])
 

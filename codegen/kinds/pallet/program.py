@@ -89,7 +89,7 @@ def identifiers(cell, target) -> list[dict]:
     its counters and its store; the generator's own and the counters' are taken first, so a pallet whose program
     would be named like one of them is refused (EmitError naming both)."""
     emitter = Emitter(target)
-    if cell.stations:  # the vision program's name (and so its files' names)
+    if cell.stations_section() is not None:  # the vision program's name (and so its files' names)
         emitter.identifier("", cell.name, "the cell's program")
     for name in facts(target)["files"]:
         if "{pallet}" not in name:

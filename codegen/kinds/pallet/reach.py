@@ -239,7 +239,13 @@ def way_up_z(cell) -> float:
 
 def safe_move(cell, pallet):
     """The way home's joint move above the pallet's centre (tcp2base)."""
-    return ExpectedMove("joint", frame_matrix(pallet) @ safe_pose(pallet), SAFE_NAME, cell.motion.speed_mm_s, True)
+    return ExpectedMove(
+        kind="joint",
+        tcp2base=frame_matrix(pallet) @ safe_pose(pallet),
+        name=SAFE_NAME,
+        speed_mm_s=cell.motion.speed_mm_s,
+        exact=True,
+    )
 
 
 def check_pallet(cell, pallet, target: str) -> PalletReach:

@@ -299,7 +299,14 @@ def judge(cell, source, case: Case, trace) -> Judgement:
         exact = m.exact or (m.kind == "joint" and not joint_blend) or (m.checked and input_stops) or zone == 0
         payload = load if m.carrying and load is not None else TOOL_LOAD
         return PlannedMove(
-            m.name, m.kind, m.tcp2base, exact, m.speed_mm_s, 0.0 if exact else zone, _percent(cell, m), payload=payload
+            name=m.name,
+            kind=m.kind,
+            tcp2base=m.tcp2base,
+            exact=exact,
+            speed_mm_s=m.speed_mm_s,
+            zone_mm=0.0 if exact else zone,
+            joint_percent=_percent(cell, m),
+            payload=payload,
         )
 
     moves = [planned(m) for m in want.moves]
@@ -370,7 +377,14 @@ def _swept(cell, pallet, target_name: str, moves) -> tuple[list, object, float]:
     except ReachError:
         return list(moves), None, EMPTY_GRIPPER_MM
     arm, tcp2flange = cell.robot.arms[target_name], cell.robot.tool.tcp2flange
-    start = ExpectedMove("joint", home[0].tcp2base, "home", 0.0, True, joints=np.asarray(home[1], dtype=float))
+    start = ExpectedMove(
+        kind="joint",
+        tcp2base=home[0].tcp2base,
+        name="home",
+        speed_mm_s=0.0,
+        exact=True,
+        joints=np.asarray(home[1], dtype=float),
+    )
     out = [start, *(replace(m, joints=q) for m, q in zip(moves, joints, strict=True))]
     return out, (lambda q: arm.kin.fk(q) @ tcp2flange), EMPTY_GRIPPER_MM
 
@@ -408,7 +422,9 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
     where it is higher already), above the pallet's centre, home."""
     tcp2flange = cell.robot.tool.tcp2flange
     percent = cell.motion.joint_speed_percent
-    home_planned = PlannedMove("home", "joint", home[0].tcp2base, True, None, 0.0, percent, joints=home[1])
+    home_planned = PlannedMove(
+        name="home", kind="joint", tcp2base=home[0].tcp2base, exact=True, joint_percent=percent, joints=home[1]
+    )
     q = np.asarray(start, dtype=float)
     if np.max(np.abs(q - home[1])) <= cell.motion.start_tolerance_deg:
         return [home_planned]
@@ -417,12 +433,41 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
     back = here @ np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -cell.motion.retreat_mm], [0, 0, 0, 1.0]])
     # the first motion a joint move where the arm stands (a BCO run; on every controller the arm's joints are then
     # the path's start: the retreat keeps its configuration)
-    way = [PlannedMove("where the arm stands", "joint", here, True, None, 0.0, percent, joints=q)]
-    way.append(PlannedMove("back along the tool's z", "linear", back, True, cell.motion.work_speed_mm_s, 0.0))
+    way = [
+        PlannedMove(
+            name="where the arm stands", kind="joint", tcp2base=here, exact=True, joint_percent=percent, joints=q
+        )
+    ]
+    way.append(
+        PlannedMove(
+            name="back along the tool's z",
+            kind="linear",
+            tcp2base=back,
+            exact=True,
+            speed_mm_s=cell.motion.work_speed_mm_s,
+        )
+    )
     up = risen(back, way_up_z(cell))  # over every pallet of the arm, full or not
-    way.append(PlannedMove("up to the transit height", "linear", up, True, cell.motion.work_speed_mm_s, 0.0))
+    way.append(
+        PlannedMove(
+            name="up to the transit height",
+            kind="linear",
+            tcp2base=up,
+            exact=True,
+            speed_mm_s=cell.motion.work_speed_mm_s,
+        )
+    )
     safe = safe_move(cell, pallet)
-    way.append(PlannedMove(safe.name, "joint", safe.tcp2base, True, safe.speed_mm_s, 0.0, percent))
+    way.append(
+        PlannedMove(
+            name=safe.name,
+            kind="joint",
+            tcp2base=safe.tcp2base,
+            exact=True,
+            speed_mm_s=safe.speed_mm_s,
+            joint_percent=percent,
+        )
+    )
     return [*way, home_planned]
 
 
@@ -430,7 +475,10 @@ def _way_joints(cell, pallet, target_name: str, way: list[PlannedMove], start, n
     """The way home's joints before home: where the arm stands (a joint move there), the retreat keeping its
     configuration, the safe pose in the configuration the program names."""
     head = [np.asarray(start, dtype=float)] if way[0].kind == "joint" else []
-    rest = [ExpectedMove(m.kind, m.tcp2base, m.name, m.speed_mm_s or 0.0, True) for m in way[len(head) :]]
+    rest = [
+        ExpectedMove(kind=m.kind, tcp2base=m.tcp2base, name=m.name, speed_mm_s=m.speed_mm_s or 0.0, exact=True)
+        for m in way[len(head) :]
+    ]
     return [*head, *joints_of(cell, target_name, rest, "verify: the way home", pallet, named, start=start)]
 
 

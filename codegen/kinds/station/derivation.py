@@ -13,7 +13,7 @@ import sympy as sp
 
 from codegen.symrot import rot2, rotx3, roty3, rotz3
 
-# Symbols, named after the frames they belong to (DESIGN.md section 1.1).
+# Symbols, named after the frames they belong to (the point mode's page of the docs).
 # t = calibration mark (tx, ty, t_theta), tn = current mark, P = taught pose, Pn = corrected pose.
 tx, ty, t_theta = sp.symbols("tx ty t_theta", real=True)
 tnx, tny = sp.symbols("tnx tny", real=True)

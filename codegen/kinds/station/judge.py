@@ -20,6 +20,7 @@ from codegen.kinds.station.cases import (
 from codegen.kinds.station.joints import expected_joints
 from codegen.kinds.station.keys import STATION_ID_MAX
 from codegen.kinds.station.mode import modes
+from codegen.kinds.station.section import stations_of
 from codegen.model import io as signals
 from codegen.reference import ExpectedTrace, home_move
 from codegen.robot.expect import arm_of
@@ -77,7 +78,13 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
 
 def _planned(move) -> PlannedMove:
     return PlannedMove(
-        move.pose_name, move.kind, move.tcp2base, move.exact, move.speed_mm_s, move.zone_mm, move.joint_percent
+        name=move.pose_name,
+        kind=move.kind,
+        tcp2base=move.tcp2base,
+        exact=move.exact,
+        speed_mm_s=move.speed_mm_s,
+        zone_mm=move.zone_mm,
+        joint_percent=move.joint_percent,
     )
 
 
@@ -127,7 +134,7 @@ def _logged(cell, target, reading, expected: ExpectedTrace) -> tuple | None:
 def sweep(cell, target_name: str, program, ids: range, step_limit: int, row) -> None:
     """Every id of `ids` that is not a station must stop with the unknown-station message before any move: an
     extra dispatch branch (a misread barcode that moves the robot) is caught wherever in the barcode range it is."""
-    known = {s.id for s in cell.stations}
+    known = {s.id for s in stations_of(cell)}
     target = get_target(target_name)
     text = Emitter(target).string(UNKNOWN_STATION_TEXT)
     arm = arm_of(cell, target_name)

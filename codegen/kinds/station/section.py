@@ -7,16 +7,16 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
 
-from codegen.guard import READING_RANGE_MM
 from codegen.kinds.station.keys import COMMON_KEYS, NAME, STATION_ID_MAX, VISION_TABLES, camera, default_mode, limits
 from codegen.kinds.station.mode import modes
 from codegen.model import motion
 from codegen.model.cell import TaughtPose
+from codegen.model.loader import Loader, build
 from codegen.model.robot import parse_station_config
 from codegen.model.validate import kind_of
 from codegen.poses import POSE_FORMATS
 
-STATIONS_MAX = 5000  # the scale issue's largest cell: its programs load and run here (a UR program in about 35 s)
+STATIONS_MAX = 5000  # the largest cell measured: its programs load and run here (a UR program in about 35 s)
 POSES_MAX = 1000  # a station's poses are one run: 1,000 take about a tenth of verify's step limit
 
 
@@ -134,26 +134,16 @@ def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
 
 
 def _camera(ctx, cell_table: dict):
-    table = camera()
-    camera_table = ctx.table(cell_table, "camera", "cell.camera")
-    ctx.no_unknown(camera_table, table.allowed, "cell.camera")
-    angle_sign = ctx.require(camera_table, "angle_sign", "cell.camera.angle_sign")
-    if isinstance(angle_sign, bool) or angle_sign not in table["angle_sign"].choices:
-        ctx.fail("cell.camera.angle_sign", f"expected 1 or -1, got {angle_sign!r}")
-    if "handeye" not in camera_table:
+    """[cell.camera] read by its declaration (camera()), with the hand-eye map's own rules: a map that inverts, and
+    the angle sign its image imposes."""
+    values = Loader(ctx).table(camera(), ctx.table(cell_table, "camera", "cell.camera"), "cell.camera")
+    angle_sign = values["angle_sign"]
+    if values["handeye"] is None:
         return angle_sign, None
-    he = ctx.table(camera_table, "handeye", "cell.camera.handeye")
-    ctx.no_unknown(he, table["handeye"].table.allowed, "cell.camera.handeye")
-    rows = ctx.require(he, "pixel_to_mm", "cell.camera.handeye.pixel_to_mm")
-    if not isinstance(rows, list) or len(rows) != 2:
-        ctx.fail("cell.camera.handeye.pixel_to_mm", "expected 2 rows of 3 numbers [[a, b, tx], [c, d, ty]]")
-    handeye = tuple(ctx.numbers(r, 3, f"cell.camera.handeye.pixel_to_mm[{i}]") for i, r in enumerate(rows))
+    handeye = values["handeye"]["pixel_to_mm"]
     det = handeye[0][0] * handeye[1][1] - handeye[0][1] * handeye[1][0]
-    if max(abs(v) for row in handeye for v in row) > READING_RANGE_MM or not abs(det) >= 1e-12:
-        ctx.fail(
-            "cell.camera.handeye.pixel_to_mm",
-            f"the 2x2 part is singular, or an entry is beyond +-{READING_RANGE_MM:g}",
-        )
+    if not abs(det) >= 1e-12:
+        ctx.fail("cell.camera.handeye.pixel_to_mm", "the 2x2 part is singular: the map cannot be inverted")
     if angle_sign != image_angle_sign(handeye):
         ctx.fail(
             "cell.camera.angle_sign",
@@ -166,18 +156,8 @@ def _camera(ctx, cell_table: dict):
 
 
 def _limits(ctx, cell_table: dict) -> Limits:
-    limits_table = ctx.table(cell_table, "limits", "cell.limits")
-    ctx.no_unknown(limits_table, limits().allowed, "cell.limits")
-    max_shift = ctx.number(limits_table, "max_shift_mm", "cell.limits.max_shift_mm")
-    max_rot = ctx.number(limits_table, "max_rotation_deg", "cell.limits.max_rotation_deg")
-    shift_key, rot_key = limits()["max_shift_mm"], limits()["max_rotation_deg"]
-    if max_shift <= shift_key.low:
-        ctx.fail("cell.limits.max_shift_mm", f"must be positive, got {max_shift}")
-    if max_shift > shift_key.high:
-        ctx.fail("cell.limits.max_shift_mm", f"must be at most {shift_key.high:g} mm")
-    if not rot_key.contains(max_rot):
-        ctx.fail("cell.limits.max_rotation_deg", f"must be in {rot_key.range_text()} degrees, got {max_rot}")
-    return Limits(max_shift, max_rot)
+    """[cell.limits] read by its declaration (limits())."""
+    return build(Limits, Loader(ctx).table(limits(), ctx.table(cell_table, "limits", "cell.limits"), "cell.limits"))
 
 
 def _station(ctx, raw, index: int, pose_format: str) -> Station:

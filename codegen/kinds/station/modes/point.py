@@ -24,6 +24,7 @@ from codegen.kinds.station.point.commands import correct
 from codegen.kinds.station.point.keys import KEYS
 from codegen.kinds.station.point.reference import NAME, PointSpec, Reading, expected_trace
 from codegen.kinds.station.point.scene import objects as scene_objects
+from codegen.kinds.station.section import section_of
 from codegen.model.vision import SECOND_LOOK_MM
 from codegen.poses import planar_motions, wrap_deg
 from codegen.reference import ExpectedTrace
@@ -96,7 +97,8 @@ class PointMode(StationMode):
 
     @classmethod
     def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
-        shift, rot = cell.limits.max_shift_mm, cell.limits.max_rotation_deg
+        limits = section_of(cell).limits
+        shift, rot = limits.max_shift_mm, limits.max_rotation_deg
         tx, ty, t_theta = station.spec.mark
 
         def reading(dx, dy, dtheta):
@@ -151,11 +153,11 @@ class PointMode(StationMode):
         """The reference trace, plus the other side of a limit when the reading is within float32
         resolution of it (a float32 controller may decide either way there)."""
         reference = expected_trace(cell, reading)
-        station = cell.station_by_id(reading.station_id)
+        station = section_of(cell).station_by_id(reading.station_id)
         if reference.reason == INVALID_READING or station is None:
             return [reference], False
         tx, ty, t_theta = station.spec.mark
-        limits = cell.limits
+        limits = section_of(cell).limits
         scale = max(abs(reading.x), abs(reading.y), abs(tx), abs(ty))
         eps_shift = 8 * limits.max_shift_mm * _ulp32(scale) + 4 * _ulp32(limits.max_shift_mm**2)
         margin_shift = limits.max_shift_mm**2 - ((reading.x - tx) ** 2 + (reading.y - ty) ** 2)
