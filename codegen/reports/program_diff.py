@@ -14,7 +14,6 @@ from codegen.dialects.core.files import SourceFile
 from codegen.dialects.core.trace import halt_text
 from codegen.dialects.core.values import RunError
 from codegen.output import written_by_codegen
-from codegen.protocol import get_kind
 from codegen.render import cell_dir
 from codegen.verify.checks import TOLERANCES, Checker, pose_errors
 from codegen.verify.plan import SCENARIOS
@@ -130,8 +129,8 @@ def _compare(cell, new: ProgramSource, old_files: list[SourceFile], paths: list[
     except RunError as exc:
         change.other.append(f"not compared by running: {exc}")
         return
-    kind = get_kind(new.kind)
-    cases = [c for c in kind.verify_cases(cell, new, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
+    kind = cell.kinds[new.kind].verify
+    cases = [c for c in kind.cases(cell, new, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
     cases = [c for c in cases if c.category == cases[0].category][:RUNS] if cases else []
     arm = Checker(cell, new.target).arm
     tolerance = TOLERANCES[get_target(new.target).numbers]

@@ -9,7 +9,7 @@ import numpy as np
 
 from codegen.emit import Code, EmitError, Emitter, owned
 from codegen.kinds.conveyor import native
-from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.plan import blends, carried
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.timing import descent_seconds, path_acc_mm_s2
@@ -98,7 +98,7 @@ def conveyor_ident(cell, target) -> str:
 def conveyor_file_names(cell, target) -> list[str]:
     """The program's files, named as the program (some controllers require it of a module's files)."""
     ident = conveyor_ident(cell, target).lower()
-    return [name.format(conveyor=ident) for name in facts(target).get("files", [])]
+    return [name.format(conveyor=ident) for name in KIND.facts(target).get("files", [])]
 
 
 def picks_on(cell, target) -> bool:
@@ -106,7 +106,7 @@ def picks_on(cell, target) -> bool:
     pick = None if conveyor_of(cell) is None else conveyor_of(cell).pick
     if pick is None or target.name not in pick.tracking:
         return False
-    if not facts(target).get("files"):
+    if not KIND.facts(target).get("files"):
         raise EmitError(
             f"conveyor.pick.tracking.{target.name}: codegen has no conveyor tracking program for {target.title} yet"
         )
@@ -201,8 +201,8 @@ def conveyor_context(cell, target, emitter) -> dict:
             emitter.signal(v, f"conveyor.pick.encoder_inputs.{target.name}")
             for v in pick.encoder_inputs.get(target.name, ())
         ],
-        "registers": owned(facts(target).get("registers")),  # UR
-        "signals": owned(facts(target).get("signals")),  # signal groups (codegen/sim/bus.py)
+        "registers": owned(KIND.facts(target).get("registers")),  # UR
+        "signals": owned(KIND.facts(target).get("signals")),  # signal groups (codegen/sim/bus.py)
         "group_offset": bus.OFFSET,  # x and z on a 16-bit group: raw = round(scale x) + offset
         "group_scale": number(bus.SCALE, 1),
         "counter_span": 2**bus.GROUP_BITS,  # the 16-bit count's range: a difference is unwound by it

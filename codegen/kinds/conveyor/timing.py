@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import math
 
-from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.section import conveyor_of
 
 
 def path_acc_mm_s2(target) -> float | None:
     """The path acceleration the program sets for its straight moves (mm/s2; targets/<t>.toml [program.conveyor]
     path_acc_m_s2), None where the target's program sets none (no ramp is then known)."""
-    acc = facts(target).get("path_acc_m_s2")
+    acc = KIND.facts(target).get("path_acc_m_s2")
     return None if acc is None else 1000.0 * acc
 
 
