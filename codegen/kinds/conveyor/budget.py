@@ -6,8 +6,8 @@ from dataclasses import dataclass
 
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.kind import KIND
-from codegen.kinds.conveyor.program import POLL_S, SPEED_READS, SPEED_WINDOW_S, lead_seconds
 from codegen.kinds.conveyor.section import conveyor_of
+from codegen.kinds.conveyor.timing import POLL_S, SPEED_READS, SPEED_WINDOW_S, lead_seconds
 
 
 @dataclass(frozen=True)

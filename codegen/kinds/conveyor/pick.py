@@ -7,12 +7,11 @@ from dataclasses import dataclass, field
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.keys import PICK
 from codegen.kinds.conveyor.kind import KIND
-from codegen.model.io import per_target
+from codegen.model.io import GROUP_BITS, OFFSET, SCALE, per_target
 from codegen.model.loader import Loader, build
 from codegen.model.validate import kind_of
-from codegen.sim.bus import GROUP_BITS, OFFSET, SCALE
 
-# x and z on a 16-bit group of inputs (codegen/sim/bus.py): 0.1 mm steps around OFFSET
+# x and z on a 16-bit group of inputs (codegen.model.io): 0.1 mm steps around OFFSET
 GROUP_MM = ((0 - OFFSET) / SCALE, (2**GROUP_BITS - 1 - OFFSET) / SCALE)
 
 

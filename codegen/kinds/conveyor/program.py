@@ -12,7 +12,15 @@ from codegen.kinds.conveyor import native
 from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.plan import blends, carried
 from codegen.kinds.conveyor.section import conveyor_of
-from codegen.kinds.conveyor.timing import descent_seconds, path_acc_mm_s2
+from codegen.kinds.conveyor.timing import (
+    POLL_S,
+    SPEED_READS,
+    SPEED_WINDOW_S,
+    descent_seconds,
+    lead_parts,
+    lead_seconds,
+    path_acc_mm_s2,
+)
 from codegen.model.cell import TaughtPose
 from codegen.model.io import POLL_S as IO_POLL_S
 from codegen.poses import FORMAT_DECIMALS, native_values, zyx_deg_from_rotmat
@@ -32,9 +40,6 @@ FLUSHED = "conveyor: queued before the start, skipped: part "  # ABB native: the
 NOT_HELD = "conveyor: the gripper did not hold it, skipped: part "  # ABB native: left on the belt, the arm off it
 NOT_OPENED = "conveyor: the gripper did not release the part it failed to grip"  # its stop, once off the belt
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
-POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
-SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
-SPEED_READS = 8  # intercept: the program measures the belt's speed again every 8 reads of the encoder
 MASS_DECIMALS = 3
 
 
@@ -51,21 +56,6 @@ def no_part(cell) -> str:
 def reads(seconds: float) -> int:
     """How many reads POLL_S apart make this long (the waits for a part and for the belt count their reads)."""
     return math.ceil(seconds / POLL_S - 1e-9)
-
-
-def lead_parts(cell, target) -> tuple[float, float, float]:
-    """The lead's terms (s): the descent (descent_seconds), the gripper's hold (grip_s) and the program's planning
-    time (motion_start_s: from its last read of the encoder to the arm moving), the intervals' middles."""
-    pick = conveyor_of(cell).pick
-    return descent_seconds(cell, target), pick.mean("grip_s"), pick.mean("motion_start_s")
-
-
-def lead_seconds(cell, target) -> float:
-    """How long before the part reaches the intercept point an intercepting arm starts down: the descent of
-    approach_dz at the work speed with the program's path acceleration, the arm's start after the move
-    instruction and the gripper's time to hold the part once its output is set (the middles of motion_start_s
-    and grip_s)."""
-    return sum(lead_parts(cell, target))
 
 
 def down_fixed_seconds(cell) -> float:

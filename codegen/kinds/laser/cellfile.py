@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 from codegen import protocol
+from codegen.kinds.laser.budget import check_goal
 from codegen.kinds.laser.keys import KEYS
 from codegen.kinds.laser.section import check_production_tools, laser_of, parse_laser
-from codegen.kinds.laser.verify import check_goal
 
 
 class SectionPart(protocol.Section):

@@ -13,18 +13,16 @@ from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.laser import confirm
 from codegen.kinds.laser import program as lp
+from codegen.kinds.laser.budget import FLOAT32_MM, TRUTH_MM, tolerances
 from codegen.kinds.laser.kind import KIND
 from codegen.kinds.laser.reference import expected
 from codegen.kinds.laser.section import laser_of
 from codegen.kinds.laser.verify import (
-    FLOAT32_MM,
     STEP_LIMIT,
-    TRUTH_MM,
     LaserCase,
     cases,
     previous_tcp,
     station_for,
-    tolerances,
 )
 from codegen.kinds.laser.verify import (
     judge as judge_measures,
