@@ -3,6 +3,7 @@ from outside the tree, figures that add up."""
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -57,14 +58,15 @@ def test_loading_a_cell_imports_none_of_the_heavy_modules(path):
 
 
 def _installed_beside(tmp_path: Path) -> dict:
-    """An environment in which a distribution in tmp_path registers the toy kind in the group codegen.kinds, as
-    `pip install` of a package with that entry point would."""
-    info = tmp_path / "site" / "toykind-0.1.dist-info"
-    info.mkdir(parents=True)
+    """An environment in which the toy kind is a distribution of its own in tmp_path (its package copied there) that
+    registers the kind in the group codegen.kinds, as `pip install` of a package with that entry point would."""
+    site = tmp_path / "site"
+    shutil.copytree(TOY, site / "toykind", ignore=shutil.ignore_patterns("__pycache__", "*.toml"))
+    info = site / "toykind-0.1.dist-info"
+    info.mkdir()
     (info / "METADATA").write_text("Metadata-Version: 2.1\nName: toykind\nVersion: 0.1\n", encoding="utf-8")
-    (info / "entry_points.txt").write_text("[codegen.kinds]\ntoy = tests.support.toykind.kind:KIND\n", encoding="utf-8")
-    path = os.pathsep.join([str(tmp_path / "site"), str(REPO), os.environ.get("PYTHONPATH", "")])
-    return {**os.environ, "PYTHONPATH": path}
+    (info / "entry_points.txt").write_text("[codegen.kinds]\ntoy = toykind.kind:KIND\n", encoding="utf-8")
+    return {**os.environ, "PYTHONPATH": os.pathsep.join([str(site), os.environ.get("PYTHONPATH", "")])}
 
 
 def _codegen(env: dict, *args: str) -> subprocess.CompletedProcess:
@@ -89,7 +91,7 @@ def test_a_kind_from_outside_the_tree_registers_through_its_entry_point(tmp_path
     assert report["toys"] == [row]  # its own list, as the kind lists it (every key of the row)
     done = _codegen(env, "toy-greeting", str(cell))
     assert (done.returncode, done.stdout) == (0, "hello from outside\n"), done.stderr
-    assert _codegen(os.environ | {"PYTHONPATH": str(REPO)}, "generate", str(cell), "--out", str(tmp_path)).returncode
+    assert _codegen(dict(os.environ), "generate", str(cell), "--out", str(tmp_path / "without")).returncode == 2
 
 
 def test_a_cell_is_read_by_the_kinds_it_is_loaded_with(tmp_path):

@@ -7,12 +7,14 @@ from pathlib import Path
 
 from codegen.protocol import Kind
 
+PACKAGE = __name__.rpartition(".")[0]  # wherever the package is installed
+
 KIND = Kind(
     "toy",
     order=90,
     templates=Path(__file__).parent / "templates",
-    section="tests.support.toykind.section:ToySection",
-    writer="tests.support.toykind.writer:ToyWriter",
-    verify="tests.support.toykind.verify:ToyVerify",
-    commands="tests.support.toykind.commands:ToyCommands",
+    section=f"{PACKAGE}.section:ToySection",
+    writer=f"{PACKAGE}.writer:ToyWriter",
+    verify=f"{PACKAGE}.verify:ToyVerify",
+    commands=f"{PACKAGE}.commands:ToyCommands",
 )
