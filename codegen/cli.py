@@ -327,11 +327,11 @@ def verify(
 
 def _add_kind_commands() -> None:
     """Each program kind's commands on their group (top level, or `codegen calibrate ...`)."""
-    from codegen.protocol import kinds
+    from codegen.protocol import installed_kinds
 
     groups = {None: main, "calibrate": calibrate}
-    for kind in kinds().values():
-        for group, command in kind.commands():
+    for kind in installed_kinds().values():
+        for group, command in kind.commands.commands():
             groups[group].add_command(command)
 
 

@@ -21,7 +21,7 @@ from codegen.model.validate import CellError, Validator
 from codegen.model.vision import VisionSettings
 from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
-from codegen.protocol import kinds
+from codegen.protocol import Kinds, installed_kinds
 from codegen.readfile import ReadError, read_regular
 
 QUATERNION_TOLERANCE = 1e-6
@@ -72,6 +72,7 @@ class Cell:
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
     sections: dict = field(default_factory=dict, compare=False)  # kind name -> its part of the cell (its tables)
+    kinds: Kinds | None = field(default=None, compare=False, repr=False)  # the kinds the cell was loaded with
 
     def stations_section(self):
         """The section that carries the cell's stations, whichever kind's it is (a section with `stations`, and the
@@ -79,13 +80,6 @@ class Cell:
         messages, verify's large cells, a program that shares the station program's name) instead of naming the
         kind."""
         return next((s for s in self.sections.values() if hasattr(s, "stations")), None)
-
-    @property
-    def stations(self) -> tuple:
-        """The stations of stations_section() (none: ()): a kind's check that a one-task controller runs no station
-        program beside its own reads it."""
-        section = self.stations_section()
-        return () if section is None else section.stations
 
 
 # --- loading ---------------------------------------------------------------------------------
@@ -95,12 +89,13 @@ CELL_FILE_MAX_BYTES = 64 << 20
 CELL_FILE_BOUND = "a cell of 10,000 stations is about 5 MB"
 
 
-def load_cell(path: str | Path | None = None) -> Cell:
-    """Load and validate a cell file; None means the bundled demo cell."""
+def load_cell(path: str | Path | None = None, kinds: Kinds | None = None) -> Cell:
+    """Load and validate a cell file (None: the bundled demo cell) with the program kinds given (default: the installed
+    ones, codegen.protocol.installed_kinds); the cell carries them to generate, verify and the page."""
     path = Path(path) if path is not None else DEMO_CELL
     data, raw = read_cell_data(path)
     try:
-        return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+        return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest(), kinds=kinds)
     except RecursionError:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except CellError as exc:
@@ -133,7 +128,7 @@ def parse_cell_bytes(raw: bytes, path: Path) -> dict:
     return data
 
 
-def replace_cell_file(path: Path, text: str) -> None:
+def replace_cell_file(path: Path, text: str, kinds: Kinds | None = None) -> None:
     """Replace a cell file by an edited text (a calibration's --write) once the edited text loads and passes
     every kind's reach proof (the cell still generates); the file keeps its mode, a symlink stays and its target
     is replaced (codegen.output.replace_file). Otherwise the file stays as it was and the error goes to the
@@ -142,26 +137,29 @@ def replace_cell_file(path: Path, text: str) -> None:
     def accept(written: Path) -> None:
         raw = written.read_bytes()  # what is on disk, named as the cell file it will become
         try:
-            cell = cell_from_dict(parse_cell_bytes(raw, path), source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+            digest = hashlib.sha256(raw).hexdigest()
+            cell = cell_from_dict(parse_cell_bytes(raw, path), source=str(path), sha256=digest, kinds=kinds)
         except RecursionError:
             raise CellError(f"{path}: tables or arrays nested too deeply") from None
         except CellError as exc:
             raise exc.with_line(raw.decode("utf-8", errors="replace")) from None
-        for kind in kinds().values():
-            kind.reach(cell, list(cell.targets))
+        for kind in cell.kinds.values():
+            kind.writer.reach(cell, list(cell.targets))
 
     replace_file(path, text, accept)
 
 
-def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
+def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: Kinds | None = None) -> Cell:
+    """A cell from a cell file's tables, read by the kinds given (default: the installed ones)."""
+    kinds = installed_kinds() if kinds is None else kinds
     ctx = CellValidator(source)
-    known_tables = tables.file_table().allowed
+    known_tables = tables.file_table(kinds).allowed
     top_unknown = set(data) - known_tables
     if top_unknown:
         listed = ", ".join(f"[{t}]" for t in sorted(known_tables))
         ctx.fail(sorted(top_unknown)[0], f"unknown table; expected {listed}")
     cell_table = ctx.table(data, "cell", "cell")
-    definition = tables.cell_table()  # the cell file's definition (codegen/model/tables.py), with the kinds' tables
+    definition = tables.cell_table(kinds)  # the cell file's definition (codegen/model/tables.py) with the kinds'
     ctx.no_unknown(cell_table, definition.allowed, "cell")
 
     written = {key: cell_table[key] for key in tables.OWN_KEYS if key in cell_table}  # its tables: by their sections
@@ -170,7 +168,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
 
     robot = parse_robot(ctx, cell_table, targets, pose_format)
 
-    settings = {kind.name: kind.parse_settings(ctx, cell_table) for kind in kinds().values()}
+    settings = {kind.name: kind.section.settings(ctx, cell_table) for kind in kinds.values()}
     cell = Cell(
         name=name,
         targets=targets,
@@ -183,15 +181,16 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),
+        kinds=kinds,
     )
     sections = {}
-    for kind in kinds().values():  # each kind's own tables, with what the cell knows so far
-        section = kind.parse_section(ctx, data, cell)
+    for kind in kinds.values():  # each kind's own tables, with what the cell knows so far
+        section = kind.section.parse(ctx, data, cell)
         if section is not None:
             sections[kind.name] = section
     cell = replace(cell, sections=sections, warnings=tuple(ctx.warnings))
-    for kind in kinds().values():
-        kind.check_cell(ctx, cell)
+    for kind in kinds.values():
+        kind.section.check(ctx, cell)
     return cell
 
 

@@ -16,7 +16,6 @@ from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.dialects.core.trace import halt_text
 from codegen.dialects.core.values import RunError
 from codegen.output import written_by_codegen
-from codegen.protocol import get_kind
 from codegen.render import cell_dir
 from codegen.verify.checks import TOLERANCES, Checker, pose_errors
 from codegen.verify.plan import SCENARIOS
@@ -143,8 +142,8 @@ def _compare(cell, new: ProgramSource, old_files: list[SourceFile], paths: list[
     except RunError as exc:
         change.other.append(f"not compared by running: {exc}")
         return
-    kind = get_kind(new.kind)
-    cases = [c for c in kind.verify_cases(cell, new, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
+    kind = cell.kinds[new.kind].verify
+    cases = [c for c in kind.cases(cell, new, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
     cases = [c for c in cases if c.category == cases[0].category][:RUNS] if cases else []
     arm = Checker(cell, new.target).arm
     tolerance = TOLERANCES[get_target(new.target).numbers]
@@ -231,13 +230,13 @@ def _removed(cell, new: ProgramSource, old_program, raw: str) -> list[str]:
     """What the old program serves that is no station of the cell now: the kind's sweep (every id that is no station
     must stop before it moves) run on the old program for the numbers of the lines the change removes (a removed
     station's dispatch is among them), where the kind sweeps ids at all."""
-    kind = get_kind(new.kind)
+    kind = cell.kinds[new.kind].verify
     ranges = kind.sweeps(cell, new, 1)
     removed = "\n".join(line for line in raw.splitlines() if line.startswith("-") and not line.startswith("---"))
     ids = sorted({n for n in map(int, re.findall(r"\b\d+\b", removed)) if any(n in r for r in ranges)})
     if not ids:
         return []
-    row = Row(new.kind, new.target, new.ident, [])
+    row = Row(new.kind, new.target, new.ident, [], verify=kind)
     try:
         kind.sweep(cell, new, old_program, ids, DEFAULT_STEP_LIMIT, row)
     except RunError as exc:

@@ -12,7 +12,6 @@ from support.programs import edited, regex_edit, sources, verify
 
 from codegen.controllers import get_target
 from codegen.dialects import parse_program
-from codegen.protocol import get_kind
 from codegen.render import plans, render_plan
 from codegen.verify.plan import SCENARIOS
 
@@ -71,10 +70,10 @@ class KindTests:
             assert row.cases > 0 and row.mismatches == 0, row.first_mismatches
 
     def test_every_common_scenario_runs_or_says_why_not(self, cell, programs):
-        kind = get_kind(self.kind)
+        kind = cell.kinds[self.kind].verify
         assert set(kind.scenarios) == set(SCENARIOS), f"{self.kind} declares {sorted(kind.scenarios)}"
         source = programs[0]
-        ran = {kind.scenario_of(c) for c in kind.verify_cases(cell, source, 1, 0)}
+        ran = {kind.scenario_of(c) for c in kind.cases(cell, source, 1, 0)}
         for scenario, reason in kind.scenarios.items():
             if reason:
                 assert scenario not in ran, f"{scenario} runs although the kind says: {reason}"

@@ -81,7 +81,7 @@ def test_frame_mode_verifies(bench, target):
     cases = stations.build_cases(bench, 12, 5)
     report = stations.verify(bench, stations.source(bench, target), cases)
     assert report.mismatches == 0, report.first_mismatches
-    stats = report.figures["frame"]
+    stats = report.figures.modes["frame"]
     assert stats.photos and max(stats.photos) >= 3  # hand-eye errors need more than two photos
     assert max(stats.errors_mm) < 0.03
     assert report.categories["frame_camera_too_weak"] == 4 and report.categories["frame_camera_diverges"] == 4

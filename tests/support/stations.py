@@ -8,7 +8,6 @@ from codegen.controllers import get_target
 from codegen.dialects.core.files import SourceFile
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.kinds.station.cases import build_cases, inputs_for, run_options
-from codegen.protocol import get_kind
 from codegen.robot.expect import arm_of
 from codegen.verify.programs import fresh_sources
 from codegen.verify.report import Row
@@ -43,8 +42,9 @@ def verify(cell, program, cases: list, step_limit: int = DEFAULT_STEP_LIMIT, fir
 
 
 def sweep(cell, program, ids: range) -> Row:
-    row = Row(program.kind, program.target, program.ident, list(program.origin))
-    get_kind(program.kind).sweep(cell, program, program.load(), ids, DEFAULT_STEP_LIMIT, row)
+    plan = cell.kinds[program.kind].verify
+    row = Row(program.kind, program.target, program.ident, list(program.origin), verify=plan)
+    plan.sweep(cell, program, program.load(), ids, DEFAULT_STEP_LIMIT, row)
     return row
 
 

@@ -9,7 +9,6 @@ import pytest
 
 from codegen.kinds.station.cases import build_cases
 from codegen.model.cell import load_cell
-from codegen.protocol import get_kind
 from codegen.verify import engine, runner
 from codegen.verify.engine import Options, verify_sources
 from codegen.verify.programs import fresh_sources
@@ -66,7 +65,7 @@ def test_the_heap_is_frozen_only_while_cases_run(monkeypatch):
     cell = load_cell(DEMO)
     (source,) = [s for s in fresh_sources(cell, ["ur"]) if not s.ident.endswith("_node")]
     cases = build_cases(cell, 1, 0)[:5]
-    kind = get_kind(source.kind)
+    kind = cell.kinds[source.kind].verify
     judge, frozen = kind.judge, []
 
     def watched(*args):

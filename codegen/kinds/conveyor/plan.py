@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.verify.plan import TOOL_LOAD, PlannedMove, PlannedOutput
 
@@ -76,7 +76,7 @@ PUT_DOWN = (  # a part held at the start
 def blends(cell, target, mode: str) -> dict[str, bool]:
     """Which moves of the pick blend into the next ([cell.motion] zone_mm; the target's program blends the
     segments its facts list: the travel moves a move follows at once), by segment key."""
-    listed = set(facts(target).get("blends", {}).get(mode, ()))
+    listed = set(KIND.facts(target).get("blends", {}).get(mode, ()))
     zone = cell.motion.zone_mm > 0
     keys = {s.key for s in PICK[mode]}
     return {key: zone and key in listed for key in sorted(keys)}

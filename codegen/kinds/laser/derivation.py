@@ -14,6 +14,8 @@ from functools import cache
 
 import sympy as sp
 
+from codegen import protocol
+
 cx, cy, cz = sp.symbols("cx cy cz", real=True)  # the circle's centre (where the axis meets z = 0), mm
 r, rho, dz = sp.symbols("r rho dz", positive=True)  # circle radius, pin radius, height step of the flange
 ux, uy = sp.symbols("ux uy", real=True)
@@ -161,3 +163,8 @@ def laser_identities(check) -> list:
             fixed={rho: sp.Rational(3, 2), ux: sp.Rational(1, 10), uy: sp.Rational(1, 10)},
         ),
     ]
+
+
+class DerivationPart(protocol.Derivation):
+    def identities(self, check) -> list:
+        return laser_identities(check)

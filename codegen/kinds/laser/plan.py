@@ -4,25 +4,25 @@ writes read where it is stored, the start rule."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from codegen import protocol
 from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.laser import confirm
 from codegen.kinds.laser import program as lp
-from codegen.kinds.laser.facts import facts
+from codegen.kinds.laser.budget import FLOAT32_MM, TRUTH_MM, tolerances
+from codegen.kinds.laser.kind import KIND
 from codegen.kinds.laser.reference import expected
 from codegen.kinds.laser.section import laser_of
 from codegen.kinds.laser.verify import (
-    FLOAT32_MM,
     STEP_LIMIT,
-    TRUTH_MM,
     LaserCase,
+    cases,
     previous_tcp,
     station_for,
-    tolerances,
 )
 from codegen.kinds.laser.verify import (
     judge as judge_measures,
@@ -72,7 +72,7 @@ PRESETS = {
 
 
 def _preset(cell, target, tcp, case: LaserCase) -> dict:
-    spec = facts(target)["production_tool"]
+    spec = KIND.facts(target)["production_tool"]
     make = PRESETS[spec["preset"]]
     if make is None or case.without_production_tool:
         return {}
@@ -99,7 +99,7 @@ def setup(cell, target_name: str, case: LaserCase) -> Setup:
 def production_cases(cell, target_name: str) -> list[LaserCase]:
     """Where the production tool is an installation variable: an installation without it (the program must stop
     with the controller's error naming it before it moves, not write the TCP into a variable of its own)."""
-    if facts(get_target(target_name))["production_tool"]["preset"] != "installation":
+    if KIND.facts(get_target(target_name))["production_tool"]["preset"] != "installation":
         return []
     return [
         LaserCase(
@@ -233,10 +233,10 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
     above = np.array(lp.circle_points(laser, 0)["above"])  # both circles' (the same point above the beams)
     starts = [np.array(lp.circle_points(laser, k)["start"]) for k in (0, 1)]
     safe = np.array(lp.safe_point(laser))
-    blend = float(facts(target).get("circle_blend_mm", 0.0))
+    blend = float(KIND.facts(target).get("circle_blend_mm", 0.0))
     motion = cell.motion
     zone = motion.zone_mm
-    joint_zone = zone if facts(target)["joint_zone"] else 0.0
+    joint_zone = zone if KIND.facts(target)["joint_zone"] else 0.0
     home = home_move(cell, target.name)
     moves = list(trace.moves)
     out: list[PlannedMove] = []
@@ -362,7 +362,7 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
 def _stored(cell, target, tcp, tolerance: float, previous: np.ndarray) -> tuple[Stored, ...]:
     """The production tool as the program leaves it: the TCP found, or where it stopped or refused, the last
     calibration's as it was (X, Y, Z as the target's production tool names them, in its units)."""
-    spec = facts(target)["production_tool"]
+    spec = KIND.facts(target)["production_tool"]
     name = lp.production_name(cell, target)
     unit = float(spec["unit_mm"])
     values = previous if tcp is None else np.asarray(tcp)
@@ -375,44 +375,73 @@ def _stored(cell, target, tcp, tolerance: float, previous: np.ndarray) -> tuple[
 
 
 @dataclass
-class LaserFigures:
-    truth_max_mm: float = 0.0  # the largest |TCP found - true TCP| where the truth is held
-    frame_error_mm: float = 0.0  # |TCP found - true TCP| with the sensor frame off
-    motion_s: float = 0.0  # the program's motion time (the longest case that wrote a TCP)
-    ref_max_mm: float = 0.0  # the largest difference from the reference (edges, hits, TCP)
+class LaserFigures(protocol.Figures):
+    # the largest |TCP found - true TCP| where the truth is held
+    truth_max_mm: float = field(default=0.0, metadata={"add": protocol.most})
+    # |TCP found - true TCP| with the sensor frame off
+    frame_error_mm: float = field(default=0.0, metadata={"add": protocol.most})
+    # the program's motion time (the longest case that wrote a TCP)
+    motion_s: float = field(default=0.0, metadata={"add": protocol.most})
+    # the largest difference from the reference (edges, hits, TCP)
+    ref_max_mm: float = field(default=0.0, metadata={"add": protocol.most})
+
+    def count(self, case, judged) -> None:
+        held, truth, motion, worst = judged
+        if held:
+            self.truth_max_mm = max(self.truth_max_mm, truth)
+        else:
+            self.frame_error_mm = max(self.frame_error_mm, truth)
+        self.motion_s = max(self.motion_s, motion)
+        self.ref_max_mm = max(self.ref_max_mm, worst)
+
+    def as_json(self) -> dict:
+        return {
+            "tcp_truth_max_mm": self.truth_max_mm,
+            "tcp_with_frame_error_mm": self.frame_error_mm,
+            "motion_s": self.motion_s,
+            "reference_max_mm": self.ref_max_mm,
+        }
 
 
-def add(figures: LaserFigures, judged) -> None:
-    held, truth, motion, worst = judged
-    if held:
-        figures.truth_max_mm = max(figures.truth_max_mm, truth)
-    else:
-        figures.frame_error_mm = max(figures.frame_error_mm, truth)
-    figures.motion_s = max(figures.motion_s, motion)
-    figures.ref_max_mm = max(figures.ref_max_mm, worst)
+class VerifyPart(protocol.VerifyPlan):
+    """The calibration's cases (the pin's true TCP, the sensors' faults, the operator's answers), judged against the
+    beams' float64 reference and the true TCP."""
 
-
-def merge(into: LaserFigures, part: LaserFigures) -> None:
-    into.truth_max_mm = max(into.truth_max_mm, part.truth_max_mm)
-    into.frame_error_mm = max(into.frame_error_mm, part.frame_error_mm)
-    into.motion_s = max(into.motion_s, part.motion_s)
-    into.ref_max_mm = max(into.ref_max_mm, part.ref_max_mm)
-
-
-def legacy_summary(row) -> dict:
-    """A row as `codegen verify --json` lists it under "lasers"."""
-    f = row.figures or LaserFigures()
-    return {
-        "target": row.target,
-        "files": row.files,
-        "cases": row.cases,
-        "mismatches": row.mismatches,
-        "pos_max_mm": f.ref_max_mm,
-        "tcp_truth_max_mm": f.truth_max_mm,
-        "tcp_with_frame_error_mm": f.frame_error_mm,
-        "motion_s": f.motion_s,
-        "first_mismatches": row.first_mismatches,
+    report_key = "lasers"
+    scenarios = {
+        "start_away": "",  # away from home and from the station: stopped before the arm moves
+        "start_mid_cycle": "",  # where a stopped calibration left it (the first circle's start): out, home, again
+        "gripper_silent": "the calibration program uses no gripper",
+        "gripper_stuck": "the calibration program uses no gripper",
+        "device_late": "the sensors switch with the pin's position, seen once per input cycle of the controller",
+        "device_silent": "",  # sensors that never switch
+        "reading_out_of_range": "",  # a TCP or an axis beyond offset_max_mm of the tool as designed
     }
+    figures = LaserFigures
+    listed = {  # a row as `codegen verify --json` lists it under "lasers"
+        "target": "target",
+        "files": "files",
+        "cases": "cases",
+        "mismatches": "mismatches",
+        "pos_max_mm": "reference_max_mm",
+        "tcp_truth_max_mm": "tcp_truth_max_mm",
+        "tcp_with_frame_error_mm": "tcp_with_frame_error_mm",
+        "motion_s": "motion_s",
+        "first_mismatches": "first_mismatches",
+    }
+
+    def cases(self, cell, source, count: int, seed: int) -> list:
+        out = cases(cell, seed)
+        return out + confirm.cases(get_target(source.target), out[0]) + production_cases(cell, source.target)
+
+    def setup(self, cell, source, case):
+        return setup(cell, source.target, case)
+
+    def judge(self, cell, source, case, trace, setup):
+        return judge(cell, source.target, case, trace)
+
+    def report_lines(self, rows: list) -> list[str]:
+        return report_lines(rows)
 
 
 def report_lines(rows: list) -> list[str]:

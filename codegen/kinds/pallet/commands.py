@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from codegen import protocol
 from codegen.cli_base import Folder, UserError
 from codegen.cli_base import dump as _dump
 from codegen.kinds.pallet.pictures import pictures
@@ -46,3 +47,8 @@ def pallet(cell, as_json, svg_dir) -> None:
         _dump(result)
     else:
         click.echo(text(result))
+
+
+class CommandsPart(protocol.Commands):
+    def commands(self) -> list:
+        return [(None, pallet)]

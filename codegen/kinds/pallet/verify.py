@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from codegen import protocol
 from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.pallet.analysis import frame_matrix
@@ -22,8 +23,8 @@ from codegen.kinds.pallet.cycle import (
     risen,
     start_counters,
 )
-from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import WAITS_ON
+from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import message_limit, released_question, select_message, still_waiting_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers, holds_name
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move, way_up_z
@@ -31,6 +32,7 @@ from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, st
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
+from codegen.kinds.pallet.writer import FORMS_PER_PALLET
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
@@ -48,8 +50,6 @@ from codegen.verify.plan import (
     Setup,
     Stored,
 )
-
-FORMS_PER_PALLET = 2  # codegen/kinds/pallet/kind.py: a plan's index is 2 x its pallet's + its form
 
 # A pallet case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS, or the kind's own: a box or a
 # sheet that never comes, the pallet not in place, the pallet taken away after the pick, the counters as a reload
@@ -91,7 +91,7 @@ class PalletRun:
 
 def pallet_indices(cell, source) -> list[int]:
     """The pallets a program works: every one where the target runs them in one task, else the plan's."""
-    if facts(get_target(source.target)).get("task"):
+    if KIND.facts(get_target(source.target)).get("task"):
         return list(range(len(pallets_of(cell))))
     return [source.index // FORMS_PER_PALLET]
 
@@ -181,7 +181,7 @@ def _release_cases(pallet, target) -> list[PalletCase]:
     keys = [item.key for item in items(pallet)]
     mid, last = keys[len(keys) // 2], keys[-1]
     out = [PalletCase("stopped_in_release", -mid[0], mid[1], closed=True)]
-    if not facts(target).get("asks"):
+    if not KIND.facts(target).get("asks"):
         return [*out, PalletCase("stopped_in_release", -mid[0], mid[1])]
     return [
         *out,
@@ -270,7 +270,7 @@ def _start_joints(cell, index: int, target_name: str, case: Case):
 def kept_names(cell, target, index: int) -> tuple[str, str]:
     """Where the run leaves the counters: their store, or the outputs the program reports them in (the
     [program.pallet] table's `kept`)."""
-    names = facts(target).get("kept")
+    names = KIND.facts(target).get("kept")
     if names is None:
         return counter_names(cell, target, index)
     registers = counter_registers(cell, target, index)
@@ -292,8 +292,8 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     output = signal_name(target, "output", cell.io.output[target.name])
     load = carried_load(cell, pallet)
     zone = pallet.zone_mm
-    joint_blend = facts(target).get("joint_blend", True)
-    input_stops = facts(target).get("input_stops", False)
+    joint_blend = KIND.facts(target).get("joint_blend", True)
+    input_stops = KIND.facts(target).get("input_stops", False)
 
     def planned(m) -> PlannedMove:
         exact = m.exact or (m.kind == "joint" and not joint_blend) or (m.checked and input_stops) or zone == 0
@@ -401,7 +401,7 @@ def _unsaid(target, said: tuple[str, ...], trace) -> str | None:
 def _other_flags(cell, target, index: int) -> list[str]:
     """Where one task runs every pallet's program: the other pallets' holds flags (this program's grip clears
     them, so a flag left set by an item taken out by hand never makes another pallet's item look like theirs)."""
-    if not facts(target).get("task"):
+    if not KIND.facts(target).get("task"):
         return []
     names = [holds_name(cell, target, i) for i in range(len(pallets_of(cell)))]
     return [name for i, name in enumerate(names) if i != index and name is not None]
@@ -487,33 +487,52 @@ def _percent(cell, move) -> float | None:
 
 
 @dataclass
-class PalletFigures:
+class PalletFigures(protocol.Figures):
     boxes: int = 0  # boxes placed (or taken) over the passing cases
 
+    def count(self, case, judged: int) -> None:
+        self.boxes += judged
 
-def legacy_summary(row) -> dict:
-    """A row as `codegen verify --json` lists it under "pallets"."""
-    s = row.summary()
-    return {
-        "target": row.target,
-        "pallet": row.program,
-        "files": row.files,
-        "cases": row.cases,
-        "mismatches": row.mismatches,
-        "boxes_placed": 0 if row.figures is None else row.figures.boxes,
-        "pos_max_mm": s["position_error_mm"]["max"],
-        "rot_max_deg": s["orientation_error_deg"]["max"],
-        "cases_per_s": s["cases_per_second"],
-        "first_mismatches": row.first_mismatches,
+    def as_json(self) -> dict:
+        return {"boxes_placed": self.boxes}
+
+
+class VerifyPart(protocol.VerifyPlan):
+    """A pallet program's cases (a whole stack and its interruptions, each box's pose from the pallet's reference)."""
+
+    report_key = "pallets"
+    scenarios = SCENARIOS
+    figures = PalletFigures
+    listed = {  # a row as `codegen verify --json` lists it under "pallets"
+        "target": "target",
+        "pallet": "program",
+        "files": "files",
+        "cases": "cases",
+        "mismatches": "mismatches",
+        "boxes_placed": "boxes_placed",
+        "pos_max_mm": "position_error_mm.max",
+        "rot_max_deg": "orientation_error_deg.max",
+        "cases_per_s": "cases_per_second",
+        "first_mismatches": "first_mismatches",
     }
 
+    def cases(self, cell, source, count: int, seed: int) -> list:
+        return verify_cases(cell, source, seed)
 
-def report_lines(rows: list) -> list[str]:
-    lines = ["pallet program          target    cases  fail  boxes"]
-    for r in rows:
-        boxes = 0 if r.figures is None else r.figures.boxes
-        lines.append(f"{r.program[:23]:23} {r.target:8} {r.cases:6d} {r.mismatches:5d} {boxes:6d}")
-    return lines
+    def setup(self, cell, source, case):
+        return setup(cell, source, case)
 
+    def judge(self, cell, source, case, trace, setup):
+        return judge(cell, source, case, trace)
 
-__all__ = ["SCENARIOS", "PalletFigures", "judge", "legacy_summary", "report_lines", "setup", "verify_cases"]
+    def describe(self, cell, case) -> str:
+        run = case.data
+        pallet = "" if run.pallet < 0 else f"pallet {pallets_of(cell)[run.pallet].name} "
+        return f"{pallet}layer {run.case.layer} box {run.case.box}"
+
+    def report_lines(self, rows: list) -> list[str]:
+        lines = ["pallet program          target    cases  fail  boxes"]
+        for r in rows:
+            boxes = 0 if r.figures is None else r.figures.boxes
+            lines.append(f"{r.program[:23]:23} {r.target:8} {r.cases:6d} {r.mismatches:5d} {boxes:6d}")
+        return lines

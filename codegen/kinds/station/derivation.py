@@ -11,6 +11,7 @@ from functools import cache
 
 import sympy as sp
 
+from codegen import protocol
 from codegen.symrot import rot2, rotx3, roty3, rotz3
 
 # Symbols, named after the frames they belong to (the point mode's page of the docs).
@@ -289,3 +290,22 @@ def symbols() -> dict:
             sp.sin(alpha): "sin_alpha",
         },
     }
+
+
+class DerivationPart(protocol.Derivation):
+    """Source 000's correction and source 001's frame refinement, derived and proved."""
+
+    def derive(self) -> Derivation:
+        return derive()
+
+    def describe(self, derivation) -> str:
+        return describe()
+
+    def identities(self, check) -> list:
+        return [*point_identities(check), *frame_identities(check)]
+
+    def symbols(self) -> dict:
+        return symbols()
+
+    def printed_blocks(self) -> dict:
+        return printed_blocks()

@@ -7,7 +7,17 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
 
-from codegen.kinds.station.keys import COMMON_KEYS, NAME, STATION_ID_MAX, VISION_TABLES, camera, default_mode, limits
+from codegen import protocol
+from codegen.kinds.station.keys import (
+    COMMON_KEYS,
+    NAME,
+    STATION_ID_MAX,
+    VISION_TABLES,
+    camera,
+    default_mode,
+    kind_keys,
+    limits,
+)
 from codegen.kinds.station.mode import modes
 from codegen.model import motion
 from codegen.model.cell import TaughtPose
@@ -199,3 +209,44 @@ def _retreat(station: Station, retreat_mm: float, pose_format: str) -> TaughtPos
     work2base = station.poses[-1].matrix() @ motion.retreat2work(retreat_mm)
     values = tuple(float(v) + 0.0 for v in POSE_FORMATS[pose_format][2](work2base))  # + 0.0: no -0.0
     return TaughtPose("retreat", values, pose_format)
+
+
+class SectionPart(protocol.Section):
+    """The station kind's tables: [cell.camera], [cell.limits], the modes' settings and the [[station]] tables."""
+
+    @property
+    def keys(self):
+        return kind_keys()  # the modes' keys with the kind's: read once the modes are registered
+
+    def listed_names(self) -> tuple[str, ...]:
+        return tuple(modes())
+
+    def parse(self, ctx, data: dict, cell) -> StationSection | None:
+        standalone = any(kind.section.standalone(data) for kind in cell.kinds.values())
+        return parse(ctx, data, cell, standalone)
+
+    def check(self, ctx, cell) -> None:
+        for i, station in enumerate(stations_of(cell), start=1):
+            modes()[station.mode].check_station(ctx, f"station[{i}]", station, cell)
+
+    def json_schema(self, schema: dict) -> None:
+        """A station's mode's keys (required by its mode, refused by the others'), and [cell.camera] and
+        [cell.limits] with [[station]]."""
+        station = schema["properties"][NAME]["items"]
+        own = {name: mode.station_keys() for name, mode in modes().items()}
+        first = next(iter(own))
+        rules = []
+        for name, keys in own.items():
+            others = {k: False for m, ks in own.items() if m != name for k in ks if k not in keys}
+            condition: dict = {"properties": {"mode": {"enum": [name]}}}
+            if name != first:  # the default mode
+                condition["required"] = ["mode"]
+            then: dict = {"properties": others}
+            required = [k for k, key in keys.items() if key.required]
+            if required:
+                then["required"] = required
+            rules.append({"if": condition, "then": then})
+        station["allOf"] = rules
+        schema["allOf"] = [
+            {"if": {"required": [NAME]}, "then": {"properties": {"cell": {"required": list(VISION_TABLES)}}}}
+        ]

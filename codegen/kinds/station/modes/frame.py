@@ -5,8 +5,9 @@ from __future__ import annotations
 import cmath
 import math
 import random
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,15 +23,16 @@ from codegen.guard import (
     UNKNOWN_STATION,
     pixels_in_range,
 )
-from codegen.kinds.station.cases import Case
-from codegen.kinds.station.frame.commands import calibrate_handeye
 from codegen.kinds.station.frame.keys import KEYS, REFINE
-from codegen.kinds.station.frame.scene import objects as scene_objects
 from codegen.kinds.station.mode import StationMode
 from codegen.kinds.station.section import section_of
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
+from codegen.protocol import Figures
 from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
-from codegen.sim.camera import CameraModel, SimulatedCamera
+
+if TYPE_CHECKING:
+    from codegen.kinds.station.cases import Case
+    from codegen.sim.camera import CameraModel, SimulatedCamera
 
 NOT_CONVERGED = "not_converged"  # a halt reason of this mode: the residual stayed over tolerance
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
@@ -90,6 +92,8 @@ def camera_for(cell, case: FrameCase) -> SimulatedCamera:
     spec = section_of(cell).station_by_id(case.station_id).spec
     calib2base = spec.frame.matrix()
     mark2base = concat(frame_offset(case.dx, case.dy, case.alpha), calib2base)
+    from codegen.sim.camera import SimulatedCamera  # verify's: a cell loads without the simulator
+
     return SimulatedCamera(case.camera, section_of(cell).handeye, calib2base, spec.photo.matrix(), mark2base)
 
 
@@ -157,12 +161,30 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
 
 
 @dataclass
-class FrameStats:
+class FrameStats(Figures):
     """Photos to converge and how far the program's final frame is from where the mark really is."""
 
-    photos: list[int]
-    errors_mm: list[float]
-    errors_deg: list[float]
+    photos: list[int] = field(default_factory=list)
+    errors_mm: list[float] = field(default_factory=list)
+    errors_deg: list[float] = field(default_factory=list)
+
+    def count(self, case: FrameCase, judged: list[float]) -> None:
+        """A passing case's logged numbers."""
+        _station, dx, dy, alpha, photos = judged
+        self.photos.append(int(photos))
+        self.errors_mm.append(math.hypot(dx - case.dx, dy - case.dy))
+        self.errors_deg.append(abs(alpha - case.alpha))
+
+    def as_json(self) -> dict:
+        photos = self.photos
+        return {
+            "converged_cases": len(photos),
+            "photos_mean": float(np.mean(photos)) if photos else None,
+            "photos_max": max(photos) if photos else None,
+            "photos_histogram": {str(k): photos.count(k) for k in sorted(set(photos))},
+            "final_frame_error_mm": _stats(self.errors_mm),
+            "final_frame_error_deg": _stats(self.errors_deg),
+        }
 
 
 def _stats(values: list[float]) -> dict:
@@ -180,13 +202,18 @@ class FrameMode(StationMode):
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("frame",)
     log_names = ("station", "dx", "dy", "alpha", "photos")
+    figures = FrameStats
 
     @classmethod
     def station_scene(cls, cell, station) -> list[dict]:
-        return scene_objects(cell, station)
+        from codegen.kinds.station.frame.scene import objects  # the page's: a cell loads without it
+
+        return objects(cell, station)
 
     @classmethod
     def commands(cls) -> list:
+        from codegen.kinds.station.frame.commands import calibrate_handeye  # click: the command line's alone
+
         return [("calibrate", calibrate_handeye)]
 
     @classmethod
@@ -314,6 +341,9 @@ class FrameMode(StationMode):
     @classmethod
     def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
         """Where the mark really is (within 0.9 of the limits) and how the camera errs."""
+        from codegen.kinds.station.cases import Case  # verify's: a cell loads without the simulator
+        from codegen.sim.camera import CameraModel
+
         limits = section_of(cell).limits
         shift, rot = limits.max_shift_mm, limits.max_rotation_deg
 
@@ -348,6 +378,9 @@ class FrameMode(StationMode):
 
     @classmethod
     def nominal_case(cls, cell, station) -> Case:
+        from codegen.kinds.station.cases import Case  # verify's: a cell loads without the simulator
+        from codegen.sim.camera import CameraModel
+
         return Case("frame_zero_shift", FrameCase(station.id, 0.0, 0.0, 0.0, CameraModel()))
 
     @classmethod
@@ -416,35 +449,6 @@ class FrameMode(StationMode):
     @classmethod
     def describe_reading(cls, case: FrameCase) -> str:
         return f"station {case.station_id} mark moved ({case.dx!r}, {case.dy!r}, {case.alpha!r}) camera {case.camera}"
-
-    @classmethod
-    def new_stats(cls) -> FrameStats:
-        return FrameStats([], [], [])
-
-    @classmethod
-    def add_stats(cls, stats: FrameStats, case: FrameCase, logged: list[float]) -> None:
-        _station, dx, dy, alpha, photos = logged
-        stats.photos.append(int(photos))
-        stats.errors_mm.append(math.hypot(dx - case.dx, dy - case.dy))
-        stats.errors_deg.append(abs(alpha - case.alpha))
-
-    @classmethod
-    def merge_stats(cls, into: FrameStats, part: FrameStats) -> None:
-        into.photos.extend(part.photos)
-        into.errors_mm.extend(part.errors_mm)
-        into.errors_deg.extend(part.errors_deg)
-
-    @classmethod
-    def stats_summary(cls, stats: FrameStats) -> dict:
-        photos = stats.photos
-        return {
-            "converged_cases": len(photos),
-            "photos_mean": float(np.mean(photos)) if photos else None,
-            "photos_max": max(photos) if photos else None,
-            "photos_histogram": {str(k): photos.count(k) for k in sorted(set(photos))},
-            "final_frame_error_mm": _stats(stats.errors_mm),
-            "final_frame_error_deg": _stats(stats.errors_deg),
-        }
 
     @classmethod
     def stats_lines(cls, summaries: list[dict]) -> list[str]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import random
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,16 +19,16 @@ from codegen.guard import (
     SHIFT_OVER_LIMIT,
     TAUGHT_RANGE_MM,
 )
-from codegen.kinds.station.cases import Case
 from codegen.kinds.station.mode import StationMode
-from codegen.kinds.station.point.commands import correct
 from codegen.kinds.station.point.keys import KEYS
 from codegen.kinds.station.point.reference import NAME, PointSpec, Reading, expected_trace
-from codegen.kinds.station.point.scene import objects as scene_objects
 from codegen.kinds.station.section import section_of
 from codegen.model.vision import SECOND_LOOK_MM
 from codegen.poses import planar_motions, wrap_deg
 from codegen.reference import ExpectedTrace
+
+if TYPE_CHECKING:
+    from codegen.kinds.station.cases import Case
 
 MARK_DECIMALS = 6
 
@@ -46,10 +47,14 @@ class PointMode(StationMode):
 
     @classmethod
     def station_scene(cls, cell, station) -> list[dict]:
-        return scene_objects(cell, station)
+        from codegen.kinds.station.point.scene import objects  # the page's: a cell loads without it
+
+        return objects(cell, station)
 
     @classmethod
     def commands(cls) -> list:
+        from codegen.kinds.station.point.commands import correct  # click: the command line's alone
+
         return [(None, correct)]
 
     @classmethod
@@ -97,6 +102,8 @@ class PointMode(StationMode):
 
     @classmethod
     def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
+        from codegen.kinds.station.cases import Case  # verify's: a cell loads without the simulator
+
         limits = section_of(cell).limits
         shift, rot = limits.max_shift_mm, limits.max_rotation_deg
         tx, ty, t_theta = station.spec.mark
@@ -141,6 +148,8 @@ class PointMode(StationMode):
 
     @classmethod
     def nominal_case(cls, cell, station) -> Case:
+        from codegen.kinds.station.cases import Case  # verify's: a cell loads without the simulator
+
         return Case("zero_shift", Reading(station.id, *station.spec.mark))
 
     @classmethod
