@@ -163,7 +163,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: 
     ctx.no_unknown(cell_table, definition.allowed, "cell")
 
     written = {key: cell_table[key] for key in tables.OWN_KEYS if key in cell_table}  # its tables: by their sections
-    own = Loader(ctx).table(tables.own_table(), written, "cell")
+    own = Loader(ctx).table(tables.own_table(kinds), written, "cell")
     name, targets, pose_format = own["name"], own["targets"], own["pose_format"]
 
     robot = parse_robot(ctx, cell_table, targets, pose_format)

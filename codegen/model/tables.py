@@ -66,9 +66,9 @@ def cell_table(kinds: Kinds) -> Table:
     return Table("The cell: its name, controllers, pose format and the tables every kind shares.", own)
 
 
-def own_table() -> Table:
+def own_table(kinds: Kinds) -> Table:
     """[cell]'s own values, as the loader reads them (the tables in it are read by their own sections)."""
-    definition = cell_table()
+    definition = cell_table(kinds)
     return Table(definition.doc, {name: definition[name] for name in OWN_KEYS})
 
 
