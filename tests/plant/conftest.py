@@ -31,6 +31,7 @@ class FakeVerify:
         self.calls: list[str] = []
         self.failing: set[str] = set()
         self.mismatch = "random 1: position off by 3 mm"  # a failing cell's mismatch, as verify words one
+        self.walls: dict[str, float] = {}  # a cell's own wall time in its report, by its name (default 0)
 
     def __call__(self, runs, options=None) -> list[Report]:
         return [self.one(run.cell, run.targets, options) for run in runs]
@@ -43,7 +44,7 @@ class FakeVerify:
             if cell.name in self.failing:
                 row.mismatch(self.mismatch)
             rows.append(row)
-        return Report(cell.name, rows, options.seed, options.cases)
+        return Report(cell.name, rows, options.seed, options.cases, self.walls.get(cell.name, 0.0))
 
 
 @pytest.fixture

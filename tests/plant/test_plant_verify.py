@@ -98,3 +98,15 @@ def test_the_plants_defaults_apply_unless_an_option_is_given(plant, fake_verify)
     assert report["cells"][0]["data"]["seed"] == 3
     result = CliRunner().invoke(main, ["verify", str(plant), "--json", "--no-cache"])
     assert json.loads(result.output)["cells"][0]["data"]["random_per_station"] == 7
+
+
+def test_a_verified_cells_time_is_its_own_not_the_batchs(plant, fake_verify, tmp_path):
+    """The cells are verified together: a row's time is its report's wall time, in the table and in --timings."""
+    fake_verify.walls = {"tray_dtrans": 3.1, "warehouse_dtrans": 32.9}
+    timings = tmp_path / "times.json"
+    result = CliRunner().invoke(main, ["verify", str(plant), "--cases", "2", "--no-cache", "--timings", str(timings)])
+    assert result.exit_code == 0, result.output
+    rows = {line.split()[0]: line for line in result.output.splitlines() if line.startswith(("a/", "b/"))}
+    assert rows["a/tray.toml"].endswith(" 3.1 s") and rows["b/gate.toml"].endswith(" 32.9 s"), result.output
+    seconds = [cell["rows"][0]["seconds"] for cell in json.loads(timings.read_text())["cells"]]
+    assert seconds == [3.1, 32.9]
