@@ -131,8 +131,8 @@ def diff(cell: str | None, out_dir: str, as_json: bool, diff_format: str, no_ver
     from codegen.model.cell import example_cells
 
     if is_plant_argument(cell):
-        if diff_format != "diff":
-            raise UserError(f"{cell}: --format {diff_format} is for one cell; a plant reports its table")
+        if diff_format == "markdown":
+            return cli_plant.markdown_diff_plant(cell, out_dir, no_verify)
         return cli_plant.diff_plant(cell, out_dir, as_json)
     paths = [cell] if cell is not None else example_cells()
     if diff_format == "markdown":

@@ -153,6 +153,36 @@ def diff_plant(path: str, out_dir: str, as_json: bool) -> None:
     finish(report, plant, _form(as_json), texts)
 
 
+def markdown_diff_plant(path: str, out_dir: str, no_verify: bool) -> None:
+    """diff --format markdown of a plant: one document over its changed cells (each cell's programs as for one cell,
+    the new programs of a changed cell verified unless no_verify); exit codes as the plant's diff table has them."""
+    from codegen.reports.markdown import plant_markdown
+    from codegen.reports.program_diff import add_verdicts, cell_change
+    from codegen.verify import engine
+
+    plant = plant_of(path)
+    out = out_of(plant, out_dir)
+    changes = {}
+
+    def work(model, label, start) -> CellResult:
+        try:
+            change = cell_change(model, out)
+            if change.programs and not no_verify:
+                add_verdicts(change, engine.verify_cell(model))
+        except engine.CELL_ERRORS as exc:
+            return error_result(label, f"{model.source}: {exc}", time.perf_counter() - start, model.name)
+        change.cell_file = label  # the plant's document names cell files from the plant's folder
+        changes[label] = change
+        word = "differs" if change.programs else "ok"
+        line = Line(label, ",".join(model.targets), cell_kinds(model), None, word, time.perf_counter() - start)
+        return CellResult(label, model.name, [line])
+
+    report = run_plant(plant, "diff", lambda p, _: _cell_step(plant, p, work), wanted())
+    errors = [(r.cell, r.lines[0].message) for r in report.results if r.cell not in changes]
+    click.echo(plant_markdown(report.plant, list(changes.values()), errors), nl=False)
+    sys.exit(report.exit_code)
+
+
 def verify_plant(
     path: str, targets, cases, seed, step_limit, jobs, scheduler, form: str, use_cache: bool, cache_dir, timings=None
 ) -> None:

@@ -23,6 +23,29 @@ def markdown(changes: list[CellChange]) -> str:
     return "\n".join(out).rstrip() + "\n"
 
 
+def plant_markdown(plant: str, changes: list[CellChange], errors: list[tuple[str, str]]) -> str:
+    """A plant's changed cells, each as markdown() has one; the unchanged ones counted, the cells that could not be
+    diffed named with their messages (cell file, message)."""
+    changed = [c for c in changes if c.programs]
+    cells = len(changes) + len(errors)
+    out = [f"### codegen diff of plant {_inline(plant)}: {len(changed)} of {_cells(cells)} changed", ""]
+    if len(changes) > len(changed):
+        out += [f"{_cells(len(changes) - len(changed))} unchanged (programs as generated).", ""]
+    if errors:
+        out.append(f"{_cells(len(errors))} could not be diffed:")
+        for cell, message in errors:
+            lines = [_inline(line) for line in message.splitlines() if line.strip()] or ["no message"]
+            out.append(f"- `{cell}`: " + "\n  ".join(lines))
+        out.append("")
+    for change in changed:
+        out += _cell(change)
+    return "\n".join(out).rstrip() + "\n"
+
+
+def _cells(n: int) -> str:
+    return f"{n} cell{'s' if n != 1 else ''}"
+
+
 def _verdict_text(change: CellChange) -> str:
     return f"; verify: {change.verify}" if change.verify else ""
 
