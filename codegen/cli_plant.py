@@ -155,7 +155,8 @@ def diff_plant(path: str, out_dir: str, as_json: bool) -> None:
 
 def markdown_diff_plant(path: str, out_dir: str, no_verify: bool) -> None:
     """diff --format markdown of a plant: one document over its changed cells (each cell's programs as for one cell,
-    the new programs of a changed cell verified unless no_verify); exit codes as the plant's diff table has them."""
+    the new programs of a changed cell verified, with the plant's cases, seed and step limit, unless no_verify);
+    exit codes as the plant's diff table has them."""
     from codegen.reports.markdown import plant_markdown
     from codegen.reports.program_diff import add_verdicts, cell_change
     from codegen.verify import engine
@@ -163,12 +164,18 @@ def markdown_diff_plant(path: str, out_dir: str, no_verify: bool) -> None:
     plant = plant_of(path)
     out = out_of(plant, out_dir)
     changes = {}
+    defaults = engine.Options()
+    options = engine.Options(
+        defaults.cases if plant.cases is None else plant.cases,
+        defaults.seed if plant.seed is None else plant.seed,
+        step_limit=plant.step_limit,
+    )
 
     def work(model, label, start) -> CellResult:
         try:
             change = cell_change(model, out)
             if change.programs and not no_verify:
-                add_verdicts(change, engine.verify_cell(model))
+                add_verdicts(change, engine.verify_cell(model, options=options))
         except engine.CELL_ERRORS as exc:
             return error_result(label, f"{model.source}: {exc}", time.perf_counter() - start, model.name)
         change.cell_file = label  # the plant's document names cell files from the plant's folder

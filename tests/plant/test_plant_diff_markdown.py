@@ -65,18 +65,20 @@ def test_a_broken_cell_is_named_with_its_message_and_the_others_are_done(generat
     assert "#### `warehouse_dtrans` (b/gate.toml)" in text and "station 7" in text
 
 
-def test_the_changed_cells_new_programs_alone_are_verified(generated: Path, monkeypatch):
+def test_the_changed_cells_new_programs_alone_are_verified_with_the_plants_options(generated: Path, monkeypatch):
+    (generated / "codegen.toml").write_text("[plant]\ncases = 1\nseed = 7\n", encoding="utf-8")
     verified = []
 
     def fast(model, files=(), targets=(), options=None):
         """verify of the new programs with few cases (the verdict's words are the test, not verify's)."""
-        verified.append(model.name)
-        few = Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"random"}))
+        verified.append((model.name, options.cases, options.seed))
+        few = Options(cases=1, seed=options.seed, jobs=1, sweeps=False, scenarios=frozenset({"random"}))
         return verify_cell(model, files, targets, few)
 
     monkeypatch.setattr(engine, "verify_cell", fast)
     result = _diff(generated)
     assert result.exit_code == 1, result.output
-    assert verified == ["warehouse_dtrans"]
+    assert verified == [("warehouse_dtrans", 1, 7)]
     assert "verify of the new programs: all 1 programs match the reference" in result.output
+    assert ", seed 7)" in result.output
     assert re.search(r"^\| dtrans \| `warehouse_dtrans.prg` \| changed \|.*\| pass: \d+ cases \|$", result.output, re.M)
