@@ -119,7 +119,8 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
     type=click.Choice(["diff", "markdown"]),
     default="diff",
     show_default=True,
-    help="A unified diff, or what the change does per program as Markdown (a pull-request comment).",
+    help="A unified diff, or what the change does per program as Markdown (a pull-request comment; a plant: one "
+    "document over its changed cells).",
 )
 @click.option("--no-verify", is_flag=True, help="Markdown: without verify's verdict of the new programs.")
 def diff(cell: str | None, out_dir: str, as_json: bool, diff_format: str, no_verify: bool) -> None:
