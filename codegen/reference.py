@@ -61,6 +61,7 @@ class ExpectedTrace:
     moves: tuple[Move, ...] = ()
     logged: tuple[float, ...] | None = None  # the numbers of the program's log line(s), in order
     detail: Any = None  # the kind's own figures (kinds/<kind>.py), e.g. the correction or the photos
+    path_start: int = 0  # where the station's path (its taught poses, then the retreat) begins in `moves`
 
 
 _HOME: dict = {}

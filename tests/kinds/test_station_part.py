@@ -118,3 +118,26 @@ def test_the_part_followed_from_grip_to_release():
     assert "the part is dropped there" in _problem([_event(False, (0, 0, 900))], held=True)
     # gripped again on the part it holds: nothing changes, and it is put down at its place
     assert _problem([_event(True, (0, 0, 900)), _event(False, (500, -400, 250))], held=True) is None
+
+
+BENCH = DEMO.parent / "thermometer_bench.toml"
+
+
+def _bench_carrying() -> dict:
+    """The frame-mode bench as two runs: the tray station takes a thermometer (and carries it home), the bath
+    station (a frame station) puts it into the cavity: a station that releases first, started with its part."""
+    data = tomllib.loads(BENCH.read_text(encoding="utf-8"))
+    data["cell"]["io"] = _demo()["cell"]["io"]
+    data["station"][0]["gripper"] = {"cavity": "release"}
+    data["station"][1]["gripper"] = {"slot": "grip"}
+    return data
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
+def test_a_part_carried_from_one_station_into_a_frame_station(target):
+    cell = cell_from_dict(_bench_carrying(), str(BENCH))
+    assert [s.holds_at_start for s in cell.stations] == [True, False]
+    cases = [c for c in stations.build_cases(cell, 1, 3) if c.category != "unknown_station"]
+    assert {c.category for c in cases} >= {"part_held", "gripper_silent", "gripper_stuck"}
+    row = stations.verify(cell, stations.source(cell, target), cases)
+    assert row.mismatches == 0, row.first_mismatches

@@ -233,6 +233,8 @@ def _truth_problem(cell: Cell, case: Case, reference: ExpectedTrace) -> str | No
     mode = _mode_of_case(cell, case.reading)
     if mode is None or case.vision in vision.UNANSWERED:  # the camera's view never reaches the program
         return None
+    if reference.reason in (PART_HELD, NO_PART, NO_FEEDBACK, NOT_RELEASED):  # the gripper's stop, not the mode's
+        return None
     return mode.truth_problem(cell, case.reading, reference)
 
 
@@ -256,7 +258,7 @@ def accepted_traces(cell: Cell, case: Case) -> tuple[list[ExpectedTrace], bool]:
     at = None if stop is None else _first_action(station, stop[0])
     if at is not None:
         accepted = [
-            replace(t, status="halt", reason=stop[1], moves=t.moves[: at + 1]) if t.status == "ok" else t
+            replace(t, status="halt", reason=stop[1], moves=t.moves[: t.path_start + at + 1]) if t.status == "ok" else t
             for t in accepted
         ]
     return accepted, boundary

@@ -130,7 +130,8 @@ def _outputs(cell, target, expected: ExpectedTrace, before: int, held: bool) -> 
     station = expected.station
     if station is not None:
         for i, move in enumerate(expected.moves):
-            action = station.action(move.pose_name) if i < len(station.poses) else None
+            k = i - expected.path_start  # the move's pose in the station's path (photos before it: negative)
+            action = station.action(move.pose_name) if 0 <= k < len(station.poses) else None
             if action is not None:
                 value = (action == GRIP) == io.value
                 out.append(PlannedOutput(name, value, before + i + 1, f"{action} at {move.pose_name}"))
