@@ -127,8 +127,8 @@ def _mismatches(cell, cases, target: str, edit) -> list[str]:
         ("ur", "  vis_gripper_start()\n", "", "(at home, as the gripper starts)"),
         ("kuka", "  IF NOT VIS_GRIPPER_START() THEN\n    RETURN\n  ENDIF\n", "", "(at home, as the gripper starts)"),
         # the gripper opened at the start whatever it holds: a part held there is dropped at home
-        ("ur", "    if get_standard_digital_in(1) == True:\n", "    if False:\n", "the gripper opened with a part"),
-        ("abb", "    IF DInput(diGripClosed) = 1 THEN\n", "    IF FALSE THEN\n", "the gripper opened with a part"),
+        ("ur", "    if get_standard_digital_in(1) == True:\n", "    if False:\n", "part_held"),
+        ("abb", "    IF DInput(diGripClosed) = 1 THEN\n", "    IF FALSE THEN\n", "part_held"),
     ],
 )
 def test_verify_fails_a_broken_signal(demo, target, old, new, says):
