@@ -29,6 +29,7 @@ from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT
 from codegen.kinds.station.cases import Case, _truth_problem, accepted_traces
 from codegen.kinds.station.joints import JOINT_TOLERANCE_DEG, expected_joints
 from codegen.kinds.station.region import station_plan
+from codegen.kinds.station.section import section_of
 from codegen.reference import home_move
 from codegen.robot import solve
 from codegen.robot.config import FORMS, with_status
@@ -47,18 +48,19 @@ def _wrap(angle: np.float32) -> np.float32:
 
 def program(cell, reading) -> tuple[str, list[np.ndarray]]:
     """The station's program by hand in float32: ("ok", moved poses) or ("halt", reason), no moves."""
-    station = cell.station_by_id(reading.station_id)
+    section = section_of(cell)
+    station = section.station_by_id(reading.station_id)
     x, y, theta = F(reading.x), F(reading.y), F(reading.theta)
     if not reading_in_range(float(x), float(y), float(theta)):
         return INVALID_READING, []
     tx, ty, t_theta = (F(v) for v in station.spec.mark)
     dx, dy = x - tx, y - ty
-    if dx * dx + dy * dy > F(cell.limits.max_shift_mm) ** 2:
+    if dx * dx + dy * dy > F(section.limits.max_shift_mm) ** 2:
         return SHIFT_OVER_LIMIT, []
     rotation = _wrap(theta - t_theta)
-    if abs(rotation) > F(cell.limits.max_rotation_deg):
+    if abs(rotation) > F(section.limits.max_rotation_deg):
         return ROTATION_OVER_LIMIT, []
-    phi = F(cell.angle_sign) * rotation * F(math.pi / 180.0)
+    phi = F(section.angle_sign) * rotation * F(math.pi / 180.0)
     c, s = F(math.cos(phi)), F(math.sin(phi))
     ox, oy = x - (c * tx - s * ty), y - (s * tx + c * ty)  # D = T(x, y) Rz(phi) T(-tx, -ty)
     moved = []

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import inspect
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from codegen.cli_base import UserError
@@ -43,7 +44,7 @@ def _check_group(dialect, group, options) -> list:
 
     takes_options = "options" in inspect.signature(dialect.check_files).parameters
     try:
-        return dialect.check_files(group, options) if takes_options else dialect.check_files(group)
+        return dialect.check_files(group, options=options) if takes_options else dialect.check_files(group)
     except RecursionError:
         return [finding_of(f"{group[0].name}: statements or expressions nested too deeply", group)]
 
@@ -63,9 +64,16 @@ class Checked:
     programs: list[tuple[str, list[str]]]
 
 
-def check_files(files: tuple[str, ...], target_name: str | None, arm=None, robot: str | None = None) -> Checked:
+def check_files(
+    files: tuple[str, ...],
+    target_name: str | None,
+    arm=None,
+    robot: str | None = None,
+    entry_of: Callable[[list[str]], str | None] | None = None,
+) -> Checked:
     """Every finding of the files (and folders) given, as `codegen check` reports them; UserError for a file that
-    is no program of a language or an arm of another controller."""
+    is no program of a language or an arm of another controller. entry_of: a program's file names -> the routine
+    it starts at, where its language lets a program start at one of its own (None: its main)."""
     from codegen.dialects.core.files import SEVERITIES, CheckOptions, Finding
 
     sources, groups, findings, titles, names, programs = [], [], [], [], [], []
@@ -87,7 +95,8 @@ def check_files(files: tuple[str, ...], target_name: str | None, arm=None, robot
         groups += language_groups
         programs += [(target.name, [f.name for f in group]) for group in language_groups]
         for group in language_groups:
-            findings.extend(_check_group(dialect, group, CheckOptions(arm=arm)))
+            entry = entry_of([f.name for f in group]) if entry_of is not None and dialect.entry_routines else None
+            findings.extend(_check_group(dialect, group, CheckOptions(arm=arm, entry=entry)))
     order = {name: i for i, name in enumerate(f.name for f in sources)}
     findings.sort(key=lambda f: (order.get(f.file, len(order)), f.line, f.column))
     counts = {severity: sum(f.severity == severity for f in findings) for severity in SEVERITIES}

@@ -217,6 +217,13 @@ def _markdown_diff(paths: list, out_dir, no_verify: bool) -> None:
     help="A plant: the folder of stored results (default: $CODEGEN_CACHE_DIR, the plant's `cache`, or "
     ".codegen-cache/ in the plant's folder).",
 )
+@click.option(
+    "--timings",
+    "timings_file",
+    type=click.Path(dir_okay=False),
+    help="A plant: also write how long each cell took to this JSON file (--json holds what was found alone: the same "
+    "bytes on any machine or cluster).",
+)
 def verify(
     cell: str | None,
     files: tuple[str, ...],
@@ -231,6 +238,7 @@ def verify(
     html_file: str | None,
     no_cache: bool,
     cache_dir: str | None,
+    timings_file: str | None,
 ) -> None:
     """Run every program of every kind on its cases and the common scenarios; compare with the reference.
 
@@ -253,11 +261,21 @@ def verify(
     if is_plant_argument(cell):
         if files or html_file is not None:
             raise UserError(f"{cell}: a plant is verified from its cells; FILES and --html are for one cell")
-        if report_format not in ("text", "json"):
-            raise UserError(f"{cell}: --format {report_format} is for one cell; a plant reports its table")
         return cli_plant.verify_plant(
-            cell, targets, cases, seed, step_limit, jobs, scheduler, report_format == "json", not no_cache, cache_dir
+            cell,
+            targets,
+            cases,
+            seed,
+            step_limit,
+            jobs,
+            scheduler,
+            report_format,
+            not no_cache,
+            cache_dir,
+            timings_file,
         )
+    if timings_file is not None:
+        raise UserError(f"--timings: for a plant; one cell's report has its times ({cell or 'the demo cell'})")
     if cell is not None and Path(cell).suffix.lower() != ".toml":
         files = (cell, *files)
         cell = None
@@ -309,11 +327,11 @@ def verify(
 
 def _add_kind_commands() -> None:
     """Each program kind's commands on their group (top level, or `codegen calibrate ...`)."""
-    from codegen.protocol import kinds
+    from codegen.protocol import installed_kinds
 
     groups = {None: main, "calibrate": calibrate}
-    for kind in kinds().values():
-        for group, command in kind.commands():
+    for kind in installed_kinds().values():
+        for group, command in kind.commands.commands():
             groups[group].add_command(command)
 
 

@@ -20,10 +20,22 @@ from codegen.cli_base import dump as _dump
     default=None,
     help="The arm (a catalogue model): speeds the program states are checked against its limits.",
 )
+@click.option(
+    "--entry",
+    "entry",
+    default=None,
+    help="The routine the program starts at instead of its main (RAPID: as after PP to Routine; a module loaded "
+    "into the production task, which has the main).",
+)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output (the same as --format json).")
 @format_option()
 def check(
-    files: tuple[str, ...], target_name: str | None, robot: str | None, as_json: bool, report_format: str
+    files: tuple[str, ...],
+    target_name: str | None,
+    robot: str | None,
+    entry: str | None,
+    as_json: bool,
+    report_format: str,
 ) -> None:
     """Parse and check programs without running them, like a compiler: every syntax error, unsupported
     construct, undefined name and the field checks of each language (a wait without a timeout, motion before
@@ -37,11 +49,12 @@ def check(
 
     report_format = chosen_format(report_format, as_json)  # a contradiction is said before anything is read
     if len(files) == 1 and is_plant_folder(files[0]):
-        if target_name is not None or robot is not None:
-            raise UserError(f"{files[0]}: a plant's programs are checked for each cell's targets and arms")
-        if report_format not in ("text", "json"):
-            raise UserError(f"{files[0]}: --format {report_format} is for program files; a plant reports its table")
-        return check_plant(files[0], None, report_format == "json")
+        if target_name is not None or robot is not None or entry is not None:
+            raise UserError(f"{files[0]}: a plant's programs are checked for each cell's targets, arms and entries")
+        return check_plant(files[0], None, report_format)
+    from codegen.controllers import get_target
+    from codegen.dialects import get_dialect
+
     arm = None
     if robot is not None:
         from codegen.robot.arms import catalogue, find_arm
@@ -49,7 +62,9 @@ def check(
         arm = find_arm(robot)
         if arm is None:
             raise UserError(f"--robot {robot!r}: not in the catalogue; it has: {', '.join(catalogue())}")
-    result = check_files(files, target_name, arm, robot)
+    result = check_files(files, target_name, arm, robot, None if entry is None else lambda _names: entry)
+    if entry is not None and not any(get_dialect(get_target(t).dialect).entry_routines for t in result.names):
+        raise UserError(f"--entry {entry}: a {', '.join(result.names)} program starts only at its own entry")
     findings, sources, groups, counts, code = (
         result.findings,
         result.sources,

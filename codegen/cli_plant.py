@@ -3,6 +3,7 @@ one table."""
 
 from __future__ import annotations
 
+import json
 import sys
 import time
 from pathlib import Path
@@ -50,19 +51,43 @@ def out_of(plant: Plant, out_dir: str) -> Path:
     """--out where given, else the plant's `out`, else generated/ in the plant's folder."""
     if given("out_dir"):
         return Path(out_dir)
-    return plant.out if plant.out is not None else plant.root / "generated"
+    return plant.output()
 
 
-def finish(report: PlantReport, as_json: bool, before: list[str] = ()) -> None:
-    """Print the table (or its JSON) and exit with the plant's code."""
-    if as_json:
+def finish(
+    report: PlantReport, plant: Plant, form: str = "text", before: list[str] = (), timings: str | None = None
+) -> None:
+    """Print the table, its JSON (no times) or a report format's text (--format junit, sarif, github: every cell's
+    findings), write the times where asked, and exit with the plant's code."""
+    if timings is not None:
+        from codegen.output import write_file
+
+        try:
+            write_file(Path(timings), json.dumps(report.timings(), indent=2) + "\n")
+        except OSError as exc:
+            raise UserError(f"--timings {timings}: cannot write: {exc.strerror or exc}") from None
+    if form == "json":
         dump(report.as_json())
-    else:
+    elif form == "text":
         for text in before:
             click.echo(text, nl=False)
         for line in report.lines():
             click.echo(line)
+    else:
+        from codegen.plant.findings import cell_findings
+        from codegen.reports.formats import write
+        from codegen.reports.paths import repository_root
+
+        results = [
+            cell_findings(result, report.command, plant, path)
+            for result, path in zip(report.results, plant.cells, strict=True)
+        ]
+        click.echo(write(form, results, repository_root()), nl=False)
     sys.exit(report.exit_code)
+
+
+def _form(as_json: bool) -> str:
+    return "json" if as_json else "text"
 
 
 def _cell_step(plant: Plant, path: Path, work) -> CellResult:
@@ -99,7 +124,7 @@ def generate_plant(path: str, targets: tuple[str, ...], out_dir: str, as_json: b
         line = Line(label, ",".join(names), cell_kinds(model), None, "written", time.perf_counter() - start)
         return CellResult(label, model.name, [line], data, notes=[f"left alone: {n}" for n in left_alone])
 
-    finish(run_plant(plant, "generate", lambda p, _: _cell_step(plant, p, work), wanted()), as_json)
+    finish(run_plant(plant, "generate", lambda p, _: _cell_step(plant, p, work), wanted()), plant, _form(as_json))
 
 
 def diff_plant(path: str, out_dir: str, as_json: bool) -> None:
@@ -125,17 +150,19 @@ def diff_plant(path: str, out_dir: str, as_json: bool) -> None:
         return CellResult(label, model.name, [line], {"diff": text})
 
     report = run_plant(plant, "diff", lambda p, _: _cell_step(plant, p, work), wanted())
-    finish(report, as_json, texts)
+    finish(report, plant, _form(as_json), texts)
 
 
 def verify_plant(
-    path: str, targets, cases, seed, step_limit, jobs, scheduler, as_json, use_cache: bool, cache_dir
+    path: str, targets, cases, seed, step_limit, jobs, scheduler, form: str, use_cache: bool, cache_dir, timings=None
 ) -> None:
     from codegen.plant.cache import Cache, cache_folder
     from codegen.plant.executors import ClusterError, executor_for
     from codegen.plant.verify import PlantVerify, verify_plant
 
     plant = plant_of(path)
+    if timings is not None and not Path(timings).absolute().parent.is_dir():  # said before any case runs
+        raise UserError(f"--timings {timings}: no folder {Path(timings).absolute().parent}")
     how = PlantVerify(
         tuple(targets) or plant.targets,
         cases if given("cases") or plant.cases is None else plant.cases,
@@ -150,17 +177,24 @@ def verify_plant(
             results = verify_plant(plant, how, executor, bars)
     except ClusterError as exc:
         raise UserError(f"--scheduler: {exc}") from None
-    finish(plant_report(plant, "verify", results, time.perf_counter() - start), as_json)
+    finish(plant_report(plant, "verify", results, time.perf_counter() - start), plant, form, timings=timings)
 
 
-def check_plant(path: str, out_dir: str | None, as_json: bool) -> None:
+def check_plant(path: str, out_dir: str | None, form: str) -> None:
     """Each cell's programs in the output folder, one row per target, checked against the cell's arm."""
+    from dataclasses import replace
+    from functools import partial
+
     from codegen.checkfiles import check_files
-    from codegen.render import cell_dir
+    from codegen.controllers import get_target
+    from codegen.plant.findings import stored
+    from codegen.render import cell_dir, plans
+    from codegen.reports.findings import CellResult as Findings
+    from codegen.reports.from_check import check_result
     from codegen.robot.expect import arm_of
 
     plant = plant_of(path)
-    out = Path(out_dir) if out_dir is not None else plant.out if plant.out is not None else plant.root / "generated"
+    out = Path(out_dir) if out_dir is not None else plant.output()
 
     def step(cell_path: Path, _) -> CellResult:
         from codegen.cli_base import load
@@ -172,6 +206,7 @@ def check_plant(path: str, out_dir: str | None, as_json: bool) -> None:
         except click.ClickException as exc:
             return error_result(label, exc.message, time.perf_counter() - start)
         lines, data = [], {}
+        found = Findings("check", label, str(cell_path))
         for target in _targets(plant, model):
             begun = time.perf_counter()
             folder = out / cell_dir(model) / target
@@ -180,8 +215,11 @@ def check_plant(path: str, out_dir: str | None, as_json: bool) -> None:
                 message = f"{folder}: no programs here (`codegen generate {path}` writes them)"
                 lines.append(Line(label, target, kinds, None, "error", 0.0, message))
                 continue
+            # a program that starts at a routine of its own (a module loaded into the production task, which has
+            # the main) is checked from there, as the kind's plan says
+            entries = {f.name: p.entry for p in plans(model, get_target(target)) if p.entry for f in p.files}
             try:
-                checked = check_files((str(folder),), target, arm_of(model, target))
+                checked = check_files((str(folder),), target, arm_of(model, target), None, partial(_entry, entries))
             except click.ClickException as exc:
                 lines.append(Line(label, target, kinds, None, "error", time.perf_counter() - begun, exc.message))
                 continue
@@ -189,6 +227,13 @@ def check_plant(path: str, out_dir: str | None, as_json: bool) -> None:
             text = "\n".join(f.text() for f in checked.findings)
             lines.append(Line(label, target, kinds, None, word, time.perf_counter() - begun, text))
             data[target] = {"findings": [f.as_json() for f in checked.findings], "counts": checked.counts}
-        return CellResult(label, model.name, lines, data)
+            programs = check_result(checked.programs, checked.findings).cases
+            found.cases += [replace(case, cell=model.name, program=Path(case.program).name) for case in programs]
+        return CellResult(label, model.name, lines, data, findings=stored(found, plant))
 
-    finish(run_plant(plant, "check", step, wanted()), as_json)
+    finish(run_plant(plant, "check", step, wanted()), plant, form)
+
+
+def _entry(entries: dict[str, str], names: list[str]) -> str | None:
+    """The entry routine of the program of these files (by a file's name), None where it starts at its main."""
+    return next((entries[Path(n).name] for n in names if Path(n).name in entries), None)

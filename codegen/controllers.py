@@ -35,7 +35,7 @@ class Target:
     identifier_case_sensitive: bool
     string_max: int
     vendor: str  # the arms its controller drives (codegen/robot/catalogue.toml), "none" without a robot
-    configuration: str  # how a taught pose names its arm configuration (codegen/robot/section.py)
+    configuration: str  # how a taught pose names its arm configuration (codegen/robot/config.py)
     sources: tuple[str, ...]
     program: dict  # the [program] table: names and settings the templates and verify read
     kind_tables: dict  # [program.<kind>] tables: each program kind's own facts, checked by the kind (codegen.protocol)

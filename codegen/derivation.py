@@ -12,7 +12,7 @@ import sympy as sp
 
 from codegen.derived import CACHE_PATH
 from codegen.dialects import printers
-from codegen.protocol import kinds
+from codegen.protocol import installed_kinds
 
 # --- identities ------------------------------------------------------------------------------
 
@@ -31,8 +31,8 @@ class Identity:
 
 
 def _conventions(key: str) -> list:
-    """Every kind's derivation_symbols()[key], in the registry's order."""
-    return [v for kind in kinds().values() for v in kind.derivation_symbols().get(key, ())]
+    """Every kind's derivation.symbols()[key], in the registry's order."""
+    return [v for kind in installed_kinds().values() for v in kind.derivation.symbols().get(key, ())]
 
 
 def _simplify_zero(expr) -> bool:
@@ -70,14 +70,14 @@ def _check(name: str, statement: str, expected: str, residual, fixed: dict | Non
 
 def derive() -> dict:
     """Each kind's derivation (sympy), by kind name: what its description and identities read."""
-    return {name: kind.derive() for name, kind in kinds().items()}
+    return {name: kind.derivation.derive() for name, kind in installed_kinds().items()}
 
 
 def identities(derivations: dict | None = None) -> list[Identity]:
     """Every kind's identities, in the registry's order, each proven on its kind's derivation (derivations: derive()'s
     result where the caller has it; a kind computes its own once per process either way)."""
     del derivations
-    return [identity for kind in kinds().values() for identity in kind.identities(_check)]
+    return [identity for kind in installed_kinds().values() for identity in kind.derivation.identities(_check)]
 
 
 # --- export for the printers -----------------------------------------------------------------
@@ -87,10 +87,11 @@ def cse_blocks() -> dict[str, dict]:
     """Every kind's printed blocks with common subexpressions eliminated, the kinds' readable names given."""
     exprs, groups = {}, []
     readable = {}
-    for kind in kinds().values():
-        readable.update(kind.derivation_symbols().get("readable", {}))
-    for kind in kinds().values():  # each kind's own closed forms the controllers evaluate
-        for block, outputs in kind.printed_blocks().items():
+    derivations = [kind.derivation for kind in installed_kinds().values()]
+    for derivation in derivations:
+        readable.update(derivation.symbols().get("readable", {}))
+    for derivation in derivations:  # each kind's own closed forms the controllers evaluate
+        for block, outputs in derivation.printed_blocks().items():
             exprs.update(outputs)
             groups.append((block, tuple(outputs)))
     blocks = {}
@@ -108,7 +109,7 @@ def cse_blocks() -> dict[str, dict]:
 def describe(derivations: dict | None = None) -> str:
     """Every kind's derivation as `codegen derive` prints it."""
     d = derive() if derivations is None else derivations
-    texts = [kind.describe_derivation(d[name]) for name, kind in kinds().items()]
+    texts = [kind.derivation.describe(d[name]) for name, kind in installed_kinds().items()]
     return "\n\n".join(text for text in texts if text)
 
 

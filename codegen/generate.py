@@ -7,7 +7,6 @@ from pathlib import Path
 
 from codegen.model.cell import Cell
 from codegen.output import mixed_set, replace_cell, written_by_codegen
-from codegen.protocol import kinds
 from codegen.render import RenderedFile, cell_dir, render
 from codegen.robot.taught import ReachError
 
@@ -36,7 +35,7 @@ def check_envelope(cell: Cell, targets: list[str] | None) -> list:
     stack's full cycle, a belt's window, ...): each target's margins, or a GenerateError naming the pose."""
     names = list(targets or cell.targets)
     try:
-        return [m for kind in kinds().values() for m in kind.reach(cell, names)]
+        return [m for kind in cell.kinds.values() for m in kind.writer.reach(cell, names)]
     except ReachError as exc:
         raise GenerateError(str(exc)) from None
 

@@ -48,7 +48,7 @@ def pixels_in_range(u: float, v: float, angle: float) -> bool:
 _CELL_MESSAGES = {
     NO_ANSWER: lambda cell: no_answer_text(cell.vision.timeout_s),
     NOT_AT_HOME: lambda cell: (
-        f"start with the arm at home{' or a retreat' if cell.stations else ''} "
+        f"start with the arm at home{' or a retreat' if cell.stations_section() is not None else ''} "
         f"(every joint within {cell.motion.start_tolerance_deg:g} deg)"
     ),
     NOT_RELEASED: lambda cell: f"the gripper did not release in {cell.io.timeout_s:g} s (its feedback stays on)",
@@ -59,8 +59,8 @@ _CELL_MESSAGES = {
 
 
 def halt_message(cell, reason: str, station_name: str | None, station_id: int) -> str:
-    """The operator message every generated program shows when it halts (a contract)."""
-    limits = cell.limits
+    """The operator message every generated program shows when it halts (a contract); a reading over its limits:
+    those of the section that carries the cell's stations."""
     if reason == UNKNOWN_STATION:
         return f"{UNKNOWN_STATION_TEXT}{station_id}"
     if reason in _CELL_MESSAGES:
@@ -68,8 +68,9 @@ def halt_message(cell, reason: str, station_name: str | None, station_id: int) -
     name = station_name if station_name is not None else "?"
     if reason == INVALID_READING:
         return f"station {name}: invalid mark reading"
+    if reason not in (SHIFT_OVER_LIMIT, ROTATION_OVER_LIMIT):
+        raise ValueError(f"not a halt reason: {reason!r}")
+    limits = cell.stations_section().limits
     if reason == SHIFT_OVER_LIMIT:
         return f"station {name}: mark shift over {limits.max_shift_mm:g} mm, recalibrate"
-    if reason == ROTATION_OVER_LIMIT:
-        return f"station {name}: mark rotation over {limits.max_rotation_deg:g} deg, recalibrate"
-    raise ValueError(f"not a halt reason: {reason!r}")
+    return f"station {name}: mark rotation over {limits.max_rotation_deg:g} deg, recalibrate"

@@ -15,7 +15,7 @@ JOINT = "joint"
 LINEAR = "linear"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Move:
     kind: str  # JOINT or LINEAR
     pose_name: str
@@ -33,13 +33,13 @@ def path_moves(cell, station, correction: np.ndarray, fixed: frozenset[str] = fr
     segs = segments(cell.motion, len(station.poses), station.retreat is not None, station_stops(station))
     return [
         Move(
-            JOINT if i == 0 else LINEAR,
-            p.name,
-            p.matrix() if p.name in fixed else concat(p.matrix(), correction),
-            s.exact,
-            s.speed_mm_s,
-            s.zone_mm,
-            cell.motion.joint_speed_percent if i == 0 else None,
+            kind=JOINT if i == 0 else LINEAR,
+            pose_name=p.name,
+            tcp2base=p.matrix() if p.name in fixed else concat(p.matrix(), correction),
+            exact=s.exact,
+            speed_mm_s=s.speed_mm_s,
+            zone_mm=s.zone_mm,
+            joint_percent=cell.motion.joint_speed_percent if i == 0 else None,
         )
         for i, (p, s) in enumerate(zip(station.path, segs, strict=True))
     ]
@@ -75,6 +75,8 @@ def home_move(cell, target: str) -> tuple[Move, np.ndarray] | None:
 
     def compute():
         home = np.asarray(robot.home[target], dtype=float)
-        return Move(JOINT, "home", robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange, exact=True), home
+        return Move(
+            kind=JOINT, pose_name="home", tcp2base=robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange, exact=True
+        ), home
 
     return per_cell(_HOME, cell, (target,), compute)

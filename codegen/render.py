@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 
 from codegen import __version__, data_dir
@@ -13,7 +14,7 @@ from codegen.guard import NO_FEEDBACK, NO_PART, NOT_AT_HOME, NOT_RELEASED, PART_
 from codegen.model import io as signals
 from codegen.model.cell import Cell
 from codegen.poses import FORMAT_DECIMALS, native_values
-from codegen.protocol import ProgramPlan, kinds
+from codegen.protocol import ProgramPlan
 
 TEMPLATES_DIR = data_dir("templates")
 JOINT_DECIMALS = {"deg": 4, "rad": 6}  # 1e-4 deg; 1e-6 rad = 6e-5 deg
@@ -48,8 +49,14 @@ def _checked(value, where: str) -> Code:
     )
 
 
-def environment():
-    """The templates' Jinja environment (StrictUndefined: a missing variable is an error, not an empty text).
+def environment(kinds=()):
+    """The templates' Jinja environment: templates/, then the folders of the kinds given that bring their own."""
+    return _environment(tuple(str(k.templates) for k in kinds if k.templates))
+
+
+@cache  # one per process and set of folders: it keeps the compiled templates (Jinja reloads a changed file)
+def _environment(folders: tuple[str, ...]):
+    """The Jinja environment over templates/ and `folders` (StrictUndefined: a missing variable is an error).
     Every `{{ }}` prints only Code (codegen/emit.py) or a whole number: the template's own text (its literals,
     what its macros return, `~` and `join` of printable parts) stays Code; any other value is an UnmarkedText
     error naming the template, so a cell's value reaches a program only through the emitter."""
@@ -72,7 +79,7 @@ def environment():
         return _checked(value, context.name).upper()
 
     env = marking_environment(Code, _checked)(
-        loader=jinja2.FileSystemLoader(str(TEMPLATES_DIR)),
+        loader=jinja2.FileSystemLoader([str(TEMPLATES_DIR), *folders]),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True,
         lstrip_blocks=True,
@@ -169,16 +176,15 @@ def file_stem(cell: Cell, target: Target) -> str:
 
 def plans(cell: Cell, target: Target, only=None) -> list[ProgramPlan]:
     """Every program of every kind (of the kinds named `only`, if given) for one target, in the kinds' order."""
-    return [
-        plan for name, kind in kinds().items() if only is None or name in only for plan in kind.programs(cell, target)
-    ]
+    kinds = cell.kinds.items()
+    return [plan for name, kind in kinds if only is None or name in only for plan in kind.writer.programs(cell, target)]
 
 
 def render_plan(
     cell: Cell, target: Target, plan: ProgramPlan, env=None, shared: dict | None = None
 ) -> list[RenderedFile]:
     """One program's files, rendered in memory."""
-    env = env or environment()
+    env = env or environment(cell.kinds.values())
     ctx = merged(shared or shared_context(cell, target), plan.context, f"the context of the {plan.kind} kind")
     out = []
     for f in plan.files:  # a file's own variables (e.g. which of a task's modules it is) beside the plan's
@@ -191,7 +197,7 @@ def render_plan(
 
 def render(cell: Cell, targets: list[str] | None = None) -> list[RenderedFile]:
     """Every file of every requested target, rendered in memory (nothing written)."""
-    env = environment()
+    env = environment(cell.kinds.values())
     out = []
     for name in targets or list(cell.targets):
         target = get_target(name)

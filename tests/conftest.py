@@ -1,12 +1,16 @@
-"""Shared fixtures: the demo cell and a helper that writes cell files."""
+"""Shared fixtures: the demo cell, a helper that writes cell files, verify without the kinds' bulk runs, and validators
+of the report formats (the schemas in tests/reports/schemas/, its README.md says where each comes from)."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
 
 from codegen.model.cell import DEMO_CELL, load_cell
+
+SCHEMAS = Path(__file__).resolve().parent / "reports" / "schemas"
 
 
 @pytest.fixture(scope="session")
@@ -22,3 +26,51 @@ def write_cell(tmp_path: Path):
         return path
 
     return write
+
+
+@pytest.fixture(scope="session")
+def sarif_valid():
+    """A function that raises where a SARIF text is not valid SARIF 2.1.0 (OASIS's JSON schema) and returns it."""
+    import jsonschema
+
+    schema = json.loads((SCHEMAS / "sarif-schema-2.1.0.json").read_text(encoding="utf-8"))
+    validator = jsonschema.Draft4Validator(schema, format_checker=jsonschema.Draft4Validator.FORMAT_CHECKER)
+
+    def valid(text: str) -> dict:
+        log = json.loads(text)
+        validator.validate(log)
+        return log
+
+    return valid
+
+
+@pytest.fixture(scope="session")
+def junit_valid():
+    """A function that raises where a text is not valid against the Jenkins JUnit schema and returns its root."""
+    from xml.etree import ElementTree as ET
+
+    import xmlschema
+
+    schema = xmlschema.XMLSchema(str(SCHEMAS / "junit-10.xsd"))
+
+    def valid(text: str):
+        schema.validate(text)
+        return ET.fromstring(text)
+
+    return valid
+
+
+@pytest.fixture
+def no_sweeps(monkeypatch):
+    """verify's engine without the kinds' bulk runs (every station id that is not a station, run: a whole cell's
+    long run, which the slow tests run on the same programs), for a command-line test that checks something else."""
+    from dataclasses import replace
+
+    from codegen.verify import engine
+
+    real = engine.verify_cell
+
+    def verify_cell(cell, files=(), targets=(), options=None):
+        return real(cell, files, targets, replace(options or engine.Options(), sweeps=False))
+
+    monkeypatch.setattr(engine, "verify_cell", verify_cell)

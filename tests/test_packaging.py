@@ -39,6 +39,7 @@ def wheel(tmp_path_factory) -> Path:
     return path
 
 
+@pytest.mark.slow  # builds a wheel (pip wheel of a copy of the checkout)
 def test_the_wheel_carries_templates_targets_grammars_and_the_derivation(wheel):
     names = set(zipfile.ZipFile(wheel).namelist())
     expected = {f"codegen/targets/{p.name}" for p in (REPO / "targets").glob("*.toml")}

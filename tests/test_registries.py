@@ -13,7 +13,8 @@ from setuptools import find_packages
 from codegen import controllers
 from codegen.controllers import TargetError, get_target, target_names
 from codegen.dialects import dialect_of_suffix, dialects, get_dialect
-from codegen.protocol import kinds
+from codegen.kinds.station.section import stations_of
+from codegen.protocol import installed_kinds
 
 REPO = Path(__file__).resolve().parents[1]
 CODE = [p for p in (REPO / "codegen").rglob("*.py")] + list((REPO / "templates").rglob("*.j2"))
@@ -50,14 +51,14 @@ def test_every_target_fact_is_read_by_code(path):
     declare), and each key it declares is read in the kind's own package."""
     facts = tomllib.loads(path.read_text(encoding="utf-8"))
     unread = [key for key in facts if key != "program" and not _readers(key)]
-    own = set(kinds())
+    own = set(installed_kinds())
     unread += [f"program.{key}" for key in facts["program"] if key not in own and not _readers(key, "program")]
     assert not unread, f"{path.name}: facts no code reads (make them comments): {unread}"
 
 
-@pytest.mark.parametrize("name", sorted(kinds()))
+@pytest.mark.parametrize("name", sorted(installed_kinds()))
 def test_every_fact_a_kind_declares_is_read_in_its_package(name):
-    kind = kinds()[name]
+    kind = installed_kinds()[name]
     package = REPO / "codegen" / "kinds" / name
     text = "\n".join(p.read_text(encoding="utf-8") for p in package.rglob("*.py"))
     text += "\n".join(p.read_text(encoding="utf-8") for p in (REPO / "templates").rglob(f"kinds/{name}*.j2"))
@@ -96,8 +97,8 @@ def test_the_example_cells_use_every_kind():
     for path in example_cells():
         cell = load_cell(path)
         used |= set(cell.sections)
-        modes_used |= {s.mode for s in cell.stations}
-    assert used == set(kinds())
+        modes_used |= {s.mode for s in stations_of(cell)}
+    assert used == set(installed_kinds())
     assert modes_used == set(modes())
 
 
@@ -116,12 +117,12 @@ def test_kinds_are_registered_with_a_template_per_target():
     write none of them): the pattern with {<kind>} as the kind's name and any other placeholder {x} as <kind>_x."""
     from codegen.kinds.station.mode import modes
 
-    assert set(kinds()) == {"station", "pallet", "conveyor", "laser"}
+    assert set(installed_kinds()) == {"station", "pallet", "conveyor", "laser"}
     assert set(modes()) == {"point", "frame"}
     for name in target_names():
         for mode in modes():
             assert (REPO / "templates" / name / "kinds" / f"station_{mode}.j2").is_file(), (name, mode)
-        for kind_name, kind in kinds().items():
+        for kind_name, kind in installed_kinds().items():
             for pattern in kind.facts(get_target(name)).get("files", []):
                 fields = {f for _, f, _, _ in Formatter().parse(pattern) if f}
                 template = pattern.format(**{f: kind_name if f == kind_name else f"{kind_name}_{f}" for f in fields})
@@ -196,7 +197,7 @@ def test_a_program_kind_is_named_only_in_its_own_files():
     from codegen.kinds.station.keys import NAME
 
     offenders = []
-    for word in sorted(kinds()):
+    for word in sorted(installed_kinds()):
         own = (REPO / "codegen" / "kinds" / word,)
         offenders += _names_outside(word, own, (f"{word}.", f"{word}_"), bare=word != NAME)
     assert not offenders, offenders
@@ -239,10 +240,10 @@ def test_the_docs_list_each_kinds_scenarios_as_the_kind_declares_them():
     for column, names in enumerate(header.strip("|").split("|")[1:], start=1):
         for name in names.split(","):
             columns[name.strip()] = column
-    assert set(columns) == set(kinds()), f"docs/verify.md's scenario table has columns {sorted(columns)}"
+    assert set(columns) == set(installed_kinds()), f"docs/verify.md's scenario table has columns {sorted(columns)}"
     rows = [line.strip("|").split("|") for line in table.strip().splitlines()[1:]]
     assert len(rows) == len(SCENARIOS), "a row for every scenario, in codegen.verify.plan.SCENARIOS's order"
     for row, scenario in zip(rows, SCENARIOS, strict=True):
         for kind, column in columns.items():
             runs = row[column].strip().startswith("runs")
-            assert runs == (kinds()[kind].scenarios[scenario] == ""), (scenario, kind, row[column])
+            assert runs == (installed_kinds()[kind].verify.scenarios[scenario] == ""), (scenario, kind, row[column])

@@ -1,1 +1,2 @@
-"""The program kinds, one package each with its kind.py; codegen.protocol discovers them (nothing names them)."""
+"""The program kinds, one package each whose kind.py makes its Kind; pyproject.toml's entry-point group
+`codegen.kinds` lists them (codegen.protocol.installed_kinds)."""

@@ -11,18 +11,17 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen.controllers import target_names
 from codegen.guard import TAUGHT_RANGE_MM
 from codegen.model import io, motion, tables, vision
 from codegen.model.io import SignalSettings
+from codegen.model.loader import Loader
 from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot
-from codegen.model.tables import CELL_POSE_FORMATS
 from codegen.model.validate import CellError, Validator
 from codegen.model.vision import VisionSettings
 from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
-from codegen.protocol import kinds
+from codegen.protocol import Kinds, installed_kinds
 from codegen.readfile import ReadError, read_regular
 
 QUATERNION_TOLERANCE = 1e-6
@@ -73,31 +72,14 @@ class Cell:
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
     sections: dict = field(default_factory=dict, compare=False)  # kind name -> its part of the cell (its tables)
+    kinds: Kinds | None = field(default=None, compare=False, repr=False)  # the kinds the cell was loaded with
 
-    # The cell's stations as the kind whose section holds them has them (a section with `stations`): read here
-    # by the code that has not yet asked that kind for its section.
-    @property
-    def _stationed(self):
+    def stations_section(self):
+        """The section that carries the cell's stations, whichever kind's it is (a section with `stations`, and the
+        `limits` their readings are held to); None: no section does. Code outside the kinds asks this (the guard's
+        messages, verify's large cells, a program that shares the station program's name) instead of naming the
+        kind."""
         return next((s for s in self.sections.values() if hasattr(s, "stations")), None)
-
-    @property
-    def stations(self) -> tuple:
-        return () if self._stationed is None else self._stationed.stations
-
-    @property
-    def angle_sign(self) -> int | None:
-        return None if self._stationed is None else self._stationed.angle_sign
-
-    @property
-    def limits(self):
-        return None if self._stationed is None else self._stationed.limits
-
-    @property
-    def handeye(self):
-        return None if self._stationed is None else self._stationed.handeye
-
-    def station_by_id(self, station_id: int):
-        return None if self._stationed is None else self._stationed.station_by_id(station_id)
 
 
 # --- loading ---------------------------------------------------------------------------------
@@ -107,12 +89,13 @@ CELL_FILE_MAX_BYTES = 64 << 20
 CELL_FILE_BOUND = "a cell of 10,000 stations is about 5 MB"
 
 
-def load_cell(path: str | Path | None = None) -> Cell:
-    """Load and validate a cell file; None means the bundled demo cell."""
+def load_cell(path: str | Path | None = None, kinds: Kinds | None = None) -> Cell:
+    """Load and validate a cell file (None: the bundled demo cell) with the program kinds given (default: the installed
+    ones, codegen.protocol.installed_kinds); the cell carries them to generate, verify and the page."""
     path = Path(path) if path is not None else DEMO_CELL
     data, raw = read_cell_data(path)
     try:
-        return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+        return cell_from_dict(data, source=str(path), sha256=hashlib.sha256(raw).hexdigest(), kinds=kinds)
     except RecursionError:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except CellError as exc:
@@ -145,7 +128,7 @@ def parse_cell_bytes(raw: bytes, path: Path) -> dict:
     return data
 
 
-def replace_cell_file(path: Path, text: str) -> None:
+def replace_cell_file(path: Path, text: str, kinds: Kinds | None = None) -> None:
     """Replace a cell file by an edited text (a calibration's --write) once the edited text loads and passes
     every kind's reach proof (the cell still generates); the file keeps its mode, a symlink stays and its target
     is replaced (codegen.output.replace_file). Otherwise the file stays as it was and the error goes to the
@@ -154,51 +137,41 @@ def replace_cell_file(path: Path, text: str) -> None:
     def accept(written: Path) -> None:
         raw = written.read_bytes()  # what is on disk, named as the cell file it will become
         try:
-            cell = cell_from_dict(parse_cell_bytes(raw, path), source=str(path), sha256=hashlib.sha256(raw).hexdigest())
+            digest = hashlib.sha256(raw).hexdigest()
+            cell = cell_from_dict(parse_cell_bytes(raw, path), source=str(path), sha256=digest, kinds=kinds)
         except RecursionError:
             raise CellError(f"{path}: tables or arrays nested too deeply") from None
         except CellError as exc:
             raise exc.with_line(raw.decode("utf-8", errors="replace")) from None
-        for kind in kinds().values():
-            kind.reach(cell, list(cell.targets))
+        for kind in cell.kinds.values():
+            kind.writer.reach(cell, list(cell.targets))
 
     replace_file(path, text, accept)
 
 
-def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell:
+def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: Kinds | None = None) -> Cell:
+    """A cell from a cell file's tables, read by the kinds given (default: the installed ones)."""
+    kinds = installed_kinds() if kinds is None else kinds
     ctx = CellValidator(source)
-    known_tables = tables.file_table().allowed
+    known_tables = tables.file_table(kinds).allowed
     top_unknown = set(data) - known_tables
     if top_unknown:
         listed = ", ".join(f"[{t}]" for t in sorted(known_tables))
         ctx.fail(sorted(top_unknown)[0], f"unknown table; expected {listed}")
     cell_table = ctx.table(data, "cell", "cell")
-    definition = tables.cell_table()  # the cell file's definition (codegen/model/tables.py), with the kinds' tables
+    definition = tables.cell_table(kinds)  # the cell file's definition (codegen/model/tables.py) with the kinds'
     ctx.no_unknown(cell_table, definition.allowed, "cell")
 
-    name = ctx.name(cell_table, "name", "cell.name")
-    known_targets = target_names()
-    targets_raw = ctx.require(cell_table, "targets", "cell.targets")
-    if not isinstance(targets_raw, list) or not targets_raw:
-        ctx.fail("cell.targets", f"expected a non-empty list of targets from {list(known_targets)}")
-    targets: list[str] = []
-    for i, target in enumerate(targets_raw):
-        if target not in known_targets:
-            ctx.fail(f"cell.targets[{i}]", f"unknown target {target!r}; known: {', '.join(known_targets)}")
-        if target in targets:
-            ctx.fail(f"cell.targets[{i}]", f"target {target!r} listed twice")
-        targets.append(target)
+    written = {key: cell_table[key] for key in tables.OWN_KEYS if key in cell_table}  # its tables: by their sections
+    own = Loader(ctx).table(tables.own_table(kinds), written, "cell")
+    name, targets, pose_format = own["name"], own["targets"], own["pose_format"]
 
-    pose_format = cell_table.get("pose_format", definition.default("pose_format"))
-    if pose_format not in CELL_POSE_FORMATS:
-        ctx.fail("cell.pose_format", f"unknown pose format {pose_format!r}; known: {', '.join(CELL_POSE_FORMATS)}")
+    robot = parse_robot(ctx, cell_table, targets, pose_format)
 
-    robot = parse_robot(ctx, cell_table, tuple(targets), pose_format)
-
-    settings = {kind.name: kind.parse_settings(ctx, cell_table) for kind in kinds().values()}
+    settings = {kind.name: kind.section.settings(ctx, cell_table) for kind in kinds.values()}
     cell = Cell(
         name=name,
-        targets=tuple(targets),
+        targets=targets,
         pose_format=pose_format,
         settings=settings,
         robot=robot,
@@ -208,15 +181,16 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "") -> Cell
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),
+        kinds=kinds,
     )
     sections = {}
-    for kind in kinds().values():  # each kind's own tables, with what the cell knows so far
-        section = kind.parse_section(ctx, data, cell)
+    for kind in kinds.values():  # each kind's own tables, with what the cell knows so far
+        section = kind.section.parse(ctx, data, cell)
         if section is not None:
             sections[kind.name] = section
     cell = replace(cell, sections=sections, warnings=tuple(ctx.warnings))
-    for kind in kinds().values():
-        kind.check_cell(ctx, cell)
+    for kind in kinds.values():
+        kind.section.check(ctx, cell)
     return cell
 
 

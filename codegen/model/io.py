@@ -15,6 +15,11 @@ SIGNAL_PATTERN = r"[A-Za-z][A-Za-z0-9_]{0,31}"  # a configured I/O signal's name
 SIGNAL_NAME = re.compile(SIGNAL_PATTERN)
 TIMEOUT_S = 2.0
 POLL_S = 0.05  # how often a program looks at the feedback while it waits (as the vision handshake)
+# A number on a group of digital inputs (a PLC's part queue): 16 bits wide, x and z in 0.1 mm offset by 32768 so
+# that a negative x fits (raw = round(10 x) + 32768); an encoder's live count as a group of its own
+GROUP_BITS = 16
+OFFSET = 32768
+SCALE = 10.0  # counts per mm of x and z on a group
 
 
 def signal_key(target: str, doc: str) -> Key:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 
 # an array of tables whose messages count from 1 ([[station]]: station[1] is the first); the others count from 0
@@ -30,7 +31,9 @@ def line_of(text: str, path: str) -> int | None:
 
 
 def key_lines(text: str) -> dict[tuple, int]:
-    """Each table header's and key's path -> its first line: (name, ..., index of an array of tables, ...)."""
+    """Each table header's and key's path -> its first line: (name, ..., index of an array of tables, ...); an array
+    of tables' own path (("station",)) -> its first entry's header. Values spanning lines (arrays, multi-line
+    strings) are skipped over."""
     out: dict[tuple, int] = {}
     current: tuple = ()
     last: dict[tuple, int] = {}  # an array of tables' path -> the index of its last table so far
@@ -44,7 +47,8 @@ def key_lines(text: str) -> dict[tuple, int]:
         if depth == 0:
             header = _HEADER.match(line)
             if header:
-                current = _table_path(_names(header.group(2)), header.group(1) == "[[", last)
+                whole, current = _table_path(_names(header.group(2)), header.group(1) == "[[", last)
+                out.setdefault(whole, number)
                 out.setdefault(current, number)
                 continue
             key = _KEY.match(line)
@@ -54,7 +58,9 @@ def key_lines(text: str) -> dict[tuple, int]:
     return out
 
 
-def _table_path(names: list[str], array: bool, last: dict[tuple, int]) -> tuple:
+def _table_path(names: list[str], array: bool, last: dict[tuple, int]) -> tuple[tuple, tuple]:
+    """A header's path without and with its entry's index (the same for a plain table), each array of tables it
+    passes through at its last entry so far ([station.poses])."""
     path: tuple = ()
     for name in names[:-1]:
         path += (name,)
@@ -63,16 +69,30 @@ def _table_path(names: list[str], array: bool, last: dict[tuple, int]) -> tuple:
     path += (names[-1],)
     if array:
         last[path] = last.get(path, -1) + 1
+        out_of_array = path
         path += (last[path],)
-    return path
+        return out_of_array, path
+    return path, path
 
 
 def _names(dotted: str) -> list[str]:
     out = []
     for match in _PART.finditer(dotted):
-        name = match.group(1)
-        out.append(name[1:-1] if name[:1] in "\"'" else name)
+        out.append(_unquoted(match.group(1)))
     return out
+
+
+def _unquoted(name: str) -> str:
+    """A key as TOML reads it: a literal string's text as written, a basic string's escapes resolved (those JSON
+    shares with TOML; another is kept as written)."""
+    if name[:1] == "'":
+        return name[1:-1]
+    if name[:1] != '"':
+        return name
+    try:
+        return json.loads(name)
+    except ValueError:
+        return name[1:-1]
 
 
 def _scan(line: str, depth: int) -> tuple[int, str]:

@@ -52,7 +52,7 @@ class Loader:
             elif name in raw:
                 out[name] = self.value(key, raw[name], where)
             elif key.required:
-                self.ctx.fail(where, f"missing: {key.doc}")
+                self.ctx.fail(where, f"missing: {key.doc}{_from(key.values, ': ')}")
             else:
                 out[name] = key.default
         return out
@@ -65,6 +65,9 @@ class Loader:
             return self.ctx.pose(path.rsplit(".", 1)[-1], raw, path, self.pose_format)
         if not _has_shape(raw, key.type):
             wanted = "must be true or false" if key.type == "boolean" else f"expected {_expected(key)}"
+            if key.choices:  # the values allowed say more than their type (a whole number's decimal point as much)
+                allowed = f"one of {_listed(key.choices)} ({key.doc})"
+                wanted = f"{wanted}, {allowed}" if key.type == "integer" else f"expected {allowed}"
             self.ctx.fail(path, f"{wanted}, got {kind_of(raw)}")
         return getattr(self, f"_{key.type}")(key, raw, path)
 
@@ -107,7 +110,7 @@ class Loader:
         if key.count is not None and len(raw) != key.count:
             self.ctx.fail(path, f"expected {key.count} values ({key.doc}), got {len(raw)}")
         if key.non_empty and not raw:
-            self.ctx.fail(path, f"expected at least one value ({key.doc})")
+            self.ctx.fail(path, f"expected at least one value ({key.doc}{_from(key.values, ': ')})")
         out = tuple(self.value(key.values, v, f"{path}[{i}]") for i, v in enumerate(raw))
         if key.unique:
             for i, v in enumerate(out):
@@ -142,8 +145,7 @@ class Loader:
 
     def _choice(self, key: Key, value, path: str) -> None:
         if key.choices and value not in key.choices:
-            listed = ", ".join(repr(c) if isinstance(c, str) else str(c) for c in key.choices)
-            self.ctx.fail(path, f"expected one of {listed} ({key.doc}), got {value!r}")
+            self.ctx.fail(path, f"expected one of {_listed(key.choices)} ({key.doc}), got {value!r}")
 
 
 def build(cls: type, values: Mapping[str, Any], flatten: Mapping[str, str] | None = None, **more):
@@ -179,11 +181,20 @@ def _expected(key: Key) -> str:
         "number": "a number",
         "numbers": f"a list of {count}numbers",
         "pose": "a taught pose (a list of numbers)",
-        "list": "a list",
+        "list": f"a list{_from(key.values, ' from ')}",
         "tables": "a list of tables",
         "table": "a table",
         "map": "a table",
     }[key.type]
+
+
+def _from(values: Key | None, lead: str) -> str:
+    """The values a list's entries are chosen from, as a message lists them after `lead` ('' when they are free)."""
+    return "" if values is None or not values.choices else lead + _listed(values.choices)
+
+
+def _listed(choices: tuple) -> str:
+    return ", ".join(repr(c) if isinstance(c, str) else str(c) for c in choices)
 
 
 def _whole_range(key: Key) -> str:

@@ -10,23 +10,25 @@ from functools import cache
 from codegen.controllers import target_names
 from codegen.model import io, motion, robot, vision
 from codegen.model.schema import JSON_SCHEMA_DRAFT, Key, Table, json_of_table, markdown
-from codegen.protocol import kinds
+from codegen.protocol import Kinds, installed_kinds
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
+OWN_KEYS = ("name", "targets", "pose_format")  # [cell]'s own values (its other keys are tables)
 
 
-def _readers(table: str) -> tuple[str, ...]:
+def _readers(kinds: Kinds, table: str) -> tuple[str, ...]:
     """The kinds (as the cell file's reference lists them) whose programs read a shared [cell.<table>]."""
-    return tuple(n for k in kinds().values() if k.cell_file and table in k.cell_file.reads for n in k.listed_names())
+    sections = [k.section for k in kinds.values()]
+    return tuple(n for s in sections if s.keys and table in s.keys.reads for n in s.listed_names())
 
 
-def _listed(kind, keys: dict[str, Key]) -> dict[str, Key]:
+def _listed(section, keys: dict[str, Key]) -> dict[str, Key]:
     """A kind's tables, each listed under the kind (or under what the key names itself)."""
-    return {name: replace(key, kinds=key.kinds or kind.listed_names()) for name, key in keys.items()}
+    return {name: replace(key, kinds=key.kinds or section.listed_names()) for name, key in keys.items()}
 
 
 @cache
-def cell_table() -> Table:
+def cell_table(kinds: Kinds) -> Table:
     """[cell] with its tables and the kinds' [cell.<name>] tables."""
     own = {
         "name": Key("string", "the cell's name (the programs' folder)", required=True, non_empty=True),
@@ -44,48 +46,58 @@ def cell_table() -> Table:
         ),
         "tool": Key("table", robot.TOOL.doc, table=robot.tool_table()),
         "vision": Key(
-            "table", vision.TABLE.doc, table=replace(vision.TABLE, kinds=_readers("vision")), kinds=_readers("vision")
+            "table",
+            vision.TABLE.doc,
+            table=replace(vision.TABLE, kinds=_readers(kinds, "vision")),
+            kinds=_readers(kinds, "vision"),
         ),
         "motion": Key("table", motion.TABLE.doc, table=motion.TABLE),
         "io": Key(
             "table",
             io.io_table().doc,
             table=io.io_table(),
-            kinds=_readers("io"),
+            kinds=_readers(kinds, "io"),
             controllers=", ".join(io.signal_targets()),
         ),
     }
-    for kind in kinds().values():
-        if kind.cell_file is not None:
-            own.update(_listed(kind, kind.cell_file.cell_tables))
+    for section in (kind.section for kind in kinds.values()):
+        if section.keys is not None:
+            own.update(_listed(section, section.keys.cell_tables))
     return Table("The cell: its name, controllers, pose format and the tables every kind shares.", own)
 
 
+def own_table(kinds: Kinds) -> Table:
+    """[cell]'s own values, as the loader reads them (the tables in it are read by their own sections)."""
+    definition = cell_table(kinds)
+    return Table(definition.doc, {name: definition[name] for name in OWN_KEYS})
+
+
 @cache
-def file_table() -> Table:
+def file_table(kinds: Kinds) -> Table:
     """The whole cell file: [cell] and the kinds' top-level tables."""
-    top = {"cell": Key("table", cell_table().doc, table=cell_table(), required=True)}
-    for kind in kinds().values():
-        if kind.cell_file is not None:
-            top.update(_listed(kind, kind.cell_file.tables))
+    top = {"cell": Key("table", cell_table(kinds).doc, table=cell_table(kinds), required=True)}
+    for section in (kind.section for kind in kinds.values()):
+        if section.keys is not None:
+            top.update(_listed(section, section.keys.tables))
     return Table("A codegen cell file.", top)
 
 
-def json_schema() -> dict:
-    """The cell file's JSON Schema (draft 2020-12): a cell has one kind's tables at least, and each kind adds the
-    rules between its tables the definition states (ProgramKind.json_schema)."""
-    out = {"$schema": JSON_SCHEMA_DRAFT, "title": "codegen cell file", **json_of_table(file_table())}
+def json_schema(kinds: Kinds | None = None) -> dict:
+    """The cell file's JSON Schema (draft 2020-12) of the kinds (default: the installed ones): a cell has one kind's
+    tables at least, and each kind adds the rules between its tables the definition states (Section.json_schema)."""
+    kinds = installed_kinds() if kinds is None else kinds
+    out = {"$schema": JSON_SCHEMA_DRAFT, "title": "codegen cell file", **json_of_table(file_table(kinds))}
     out["anyOf"] = [{"required": [name]} for name in out["properties"] if name != "cell"]
-    for kind in kinds().values():
-        kind.json_schema(out)
+    for kind in kinds.values():
+        kind.section.json_schema(out)
     return out
 
 
-def schema_text() -> str:
+def schema_text(kinds: Kinds | None = None) -> str:
     """The JSON Schema as shipped (codegen/examples/cell.schema.json): in definition order, two-space indent."""
-    return json.dumps(json_schema(), indent=2, sort_keys=False) + "\n"
+    return json.dumps(json_schema(kinds), indent=2, sort_keys=False) + "\n"
 
 
-def reference_text() -> str:
-    """The cell-file reference page (docs/cell-file-reference.md)."""
-    return markdown(file_table(), "Cell file reference")
+def reference_text(kinds: Kinds | None = None) -> str:
+    """The cell-file reference page (docs/cell-file-reference.md) of the kinds (default: the installed ones)."""
+    return markdown(file_table(installed_kinds() if kinds is None else kinds), "Cell file reference")

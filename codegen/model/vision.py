@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from codegen.model.loader import Loader, build
 from codegen.model.schema import Key, Table
 
 # The protocol, the same on every controller. The program writes the command, then request = ack + 1;
@@ -39,16 +40,10 @@ class VisionSettings:
 
 
 def parse_settings(ctx, cell_table: dict) -> VisionSettings:
-    """[cell.vision] of a cell file (optional); errors name the key."""
+    """[cell.vision] of a cell file (optional), read by its declaration (TABLE); errors name the key."""
     if "vision" not in cell_table:
         return VisionSettings()
-    table = ctx.table(cell_table, "vision", "cell.vision")
-    ctx.no_unknown(table, TABLE.allowed, "cell.vision")
-    timeout = ctx.number(table, "timeout_s", "cell.vision.timeout_s") if "timeout_s" in table else TIMEOUT_S
-    low, high = TABLE["timeout_s"].bounds
-    if not TABLE["timeout_s"].contains(timeout):
-        ctx.fail("cell.vision.timeout_s", f"must be between {low:g} and {high:g} s, got {timeout}")
-    return VisionSettings(timeout)
+    return build(VisionSettings, Loader(ctx).table(TABLE, cell_table["vision"], "cell.vision"))
 
 
 def polls(settings: VisionSettings) -> int:

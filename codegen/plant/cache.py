@@ -16,7 +16,7 @@ import numpy as np
 import codegen
 from codegen import data_dir
 
-FORMAT = 1  # the entries' layout; another number is another cache
+FORMAT = 2  # the entries' layout; another number is another cache
 CACHE_ENV = "CODEGEN_CACHE_DIR"
 DEFAULT_FOLDER = ".codegen-cache"
 SOURCE_SUFFIXES = frozenset({".py", ".lark", ".json", ".toml", ".j2", ".js", ".css", ".html"})

@@ -56,6 +56,10 @@ class Plant:
     cache: Path | None = None
     skipped: tuple[str, ...] = field(default=())  # TOML files found that are no cell files
 
+    def output(self) -> Path:
+        """The output folder: its `out`, else generated/ in the plant's folder."""
+        return self.out if self.out is not None else self.root / "generated"
+
     def label(self, cell: Path) -> str:
         """A cell's name in the table: its path from the plant's folder."""
         try:

@@ -1,9 +1,11 @@
-"""A plant's results: a row per cell and target (cell, target, kind, cases, result, time), its text table and JSON,
-and the exit code they make."""
+"""A plant's results: a row per cell and target (cell, target, kind, cases, result, time), its text table, its JSON
+(what was found: no times) and its times, and the exit code they make."""
 
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+
+from codegen.plant.timing import split
 
 EXIT_OK, EXIT_DIFFERS, EXIT_BAD = 0, 1, 2
 COLUMNS = ("cell", "target", "kind")  # the text columns as wide as their longest entry
@@ -41,8 +43,9 @@ class Line:
 
 @dataclass
 class CellResult:
-    """One cell's rows, the command's own JSON for it (verify's report, generate's files, ...) and whether it came
-    from the cache."""
+    """One cell's rows, the command's own JSON for it (verify's report, generate's files, ...), whether it came
+    from the cache, and (verify, check) its findings for the report formats (reports.findings.CellResult's JSON, its
+    files relative to the plant's folder)."""
 
     cell: str
     name: str
@@ -50,12 +53,14 @@ class CellResult:
     data: dict | None = None
     cached: bool = False
     notes: list[str] = field(default_factory=list)
+    findings: dict | None = None
 
     @property
     def exit_code(self) -> int:
         return max((RESULTS[line.result] for line in self.lines), default=EXIT_OK)
 
     def as_json(self) -> dict:
+        """Everything, times too (a cache entry)."""
         return {
             "cell": self.cell,
             "name": self.name,
@@ -64,13 +69,27 @@ class CellResult:
             "rows": [asdict(line) for line in self.lines],
             "notes": self.notes,
             "data": self.data,
+            "findings": self.findings,
         }
+
+    def report(self) -> tuple[dict, dict]:
+        """(its entry in the plant's report: as_json without the times, its times: the rows' and the data's)."""
+        data, data_times = split(self.data)
+        found = {k: v for k, v in self.as_json().items() if k != "findings"}  # the formats' (--format) alone
+        found.update(rows=[_untimed(line) for line in self.lines], data=data)
+        times = {"cell": self.cell, "rows": [{"target": line.target, "seconds": line.seconds} for line in self.lines]}
+        return found, {**times, "data": data_times} if data_times else times
 
     @classmethod
     def from_json(cls, data: dict) -> CellResult:
         """The inverse of as_json (a cache entry): a TypeError, KeyError or ValueError where it is not one."""
         lines = [Line(**row) for row in data["rows"]]
-        return cls(data["cell"], data["name"], lines, data["data"], bool(data["cached"]), list(data["notes"]))
+        cached, notes = bool(data["cached"]), list(data["notes"])
+        return cls(data["cell"], data["name"], lines, data["data"], cached, notes, data["findings"])
+
+
+def _untimed(line: Line) -> dict:
+    return {k: v for k, v in asdict(line).items() if k != "seconds"}
 
 
 def cell_kinds(cell) -> str:
@@ -106,15 +125,26 @@ class PlantReport:
         return out
 
     def as_json(self) -> dict:
+        """What was found, without the times: the same plant, options and seed give the same JSON on any machine,
+        cluster or number of workers."""
         return {
             "command": self.command,
             "plant": self.plant,
             "exit": self.exit_code,
-            "seconds": self.seconds,
             "counts": self.counts(),
             "notes": self.notes,
-            "rows": [asdict(line) for r in self.results for line in r.lines],
-            "cells": [r.as_json() for r in self.results],
+            "rows": [_untimed(line) for r in self.results for line in r.lines],
+            "cells": [r.report()[0] for r in self.results],
+        }
+
+    def timings(self) -> dict:
+        """How long it took: the whole run, each cell's rows and (verify) its run's figures (for a cached cell, those
+        of the run that stored it), in the cells' order."""
+        return {
+            "command": self.command,
+            "plant": self.plant,
+            "seconds": self.seconds,
+            "cells": [r.report()[1] for r in self.results],
         }
 
     def lines(self) -> list[str]:

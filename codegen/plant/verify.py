@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import hashlib
+import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -10,8 +11,10 @@ from pathlib import Path
 from codegen.model.cell import CellError, cell_from_dict, read_cell_data
 from codegen.plant.cache import Cache, verify_key
 from codegen.plant.config import Plant
+from codegen.plant.findings import stored
 from codegen.plant.progress import Quiet
 from codegen.plant.results import CellResult, Line, cell_kinds, error_result
+from codegen.reports.from_verify import verify_result
 from codegen.verify.engine import CellRun, Options, verify_cells
 
 CACHED = {"ok": "cached", "mismatch": "cached mismatch"}
@@ -60,7 +63,7 @@ def verify_plant(plant: Plant, how: PlantVerify, executor=None, progress: Quiet 
         runs = [CellRun(item.cell, (), tuple(item.targets)) for item in pending]
         options = Options(how.cases, how.seed, how.jobs, how.step_limit, progress.runs, executor=executor)
         reports = verify_cells(runs, options)
-        done = iter(finish(item, report, how) for item, report in zip(pending, reports, strict=True))
+        done = iter(finish(item, report, how, plant) for item, report in zip(pending, reports, strict=True))
         looked = [next(done) if isinstance(item, Pending) else item for item in looked]
     return looked
 
@@ -73,7 +76,9 @@ def lookup(plant: Plant, path: Path, how: PlantVerify) -> CellResult | Pending:
         data, raw = read_cell_data(path)
     except CellError as exc:
         return error_result(label, str(exc), time.perf_counter() - start)
-    key = verify_key(raw, [], how.key_options())
+    # the output folder too: a finding places the fresh programs there (as the plant's folder sees it)
+    out = Path(os.path.relpath(plant.output(), plant.root)).as_posix()
+    key = verify_key(raw, [], {**how.key_options(), "out": out})
     notes = []
     if how.cache is not None:
         stored = how.cache.get(key)
@@ -98,10 +103,12 @@ def lookup(plant: Plant, path: Path, how: PlantVerify) -> CellResult | Pending:
     return Pending(label, path, cell, targets, key, notes, start)
 
 
-def finish(item: Pending, report, how: PlantVerify) -> CellResult:
-    """The row of a verified cell (its Report, or the error verify_cells gave for it alone), stored in the cache
-    unless it is an error."""
+def finish(item: Pending, report, how: PlantVerify, plant: Plant) -> CellResult:
+    """The row of a verified cell (its Report, or the error verify_cells gave for it alone) with its findings (its
+    fresh programs placed where generate writes them), stored in the cache unless it is an error."""
     result = _row(item, report)
+    if not isinstance(report, Exception) and report.rows:
+        result.findings = stored(verify_result(report, str(item.path), plant.output()), plant)
     result.notes = item.notes + result.notes
     if how.cache is not None and all(line.result != "error" for line in result.lines):
         problem = how.cache.put(item.key, result.as_json())

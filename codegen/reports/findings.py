@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field, replace
 
 LEVELS = ("error", "warning", "note")  # SARIF's result levels; JUnit and GitHub map them too
 
@@ -48,6 +49,7 @@ class TestCase:
     findings: list[Finding] = field(default_factory=list)
     failure: str | None = None
     output: str = ""  # further text beside the verdict (a hand edit's changed lines)
+    error: str | None = None  # why it could not be done at all (a cell that does not load): None where it ran
 
     @property
     def failed(self) -> bool:
@@ -67,3 +69,38 @@ class CellResult:
     @property
     def findings(self) -> list[Finding]:
         return [f for case in self.cases for f in case.findings]
+
+    def as_json(self) -> dict:
+        return asdict(self)
+
+    @classmethod
+    def from_json(cls, data: dict) -> CellResult:
+        """The inverse of as_json: a TypeError, KeyError or ValueError where it is not one."""
+        cases = [TestCase(**{**case, "findings": [_finding(f) for f in case["findings"]]}) for case in data["cases"]]
+        return cls(data["command"], data["cell"], data["cell_file"], cases)
+
+    def moved(self, place: Callable[[str], str]) -> CellResult:
+        """The same results with every file named by place(file): the cell file, each case's files and each place."""
+
+        def at(where: Location | None) -> Location | None:
+            return None if where is None else replace(where, file=place(where.file))
+
+        def finding(f: Finding) -> Finding:
+            return replace(f, program=at(f.program), cell=at(f.cell), related=tuple(at(r) for r in f.related))
+
+        cases = [
+            replace(case, files=[place(f) for f in case.files], findings=[finding(f) for f in case.findings])
+            for case in self.cases
+        ]
+        return replace(self, cell_file=None if self.cell_file is None else place(self.cell_file), cases=cases)
+
+
+def _location(data: dict | None) -> Location | None:
+    return None if data is None else Location(**data)
+
+
+def _finding(data: dict) -> Finding:
+    related = tuple(Location(**r) for r in data["related"])
+    return Finding(
+        **{**data, "program": _location(data["program"]), "cell": _location(data["cell"]), "related": related}
+    )

@@ -7,7 +7,8 @@ import re
 import tomllib
 from pathlib import Path
 
-from codegen.reports.cell_lines import entry_of, key_lines, key_under
+from codegen.model.lines import key_lines
+from codegen.reports.cell_lines import entry_of, key_under
 from codegen.reports.findings import CellResult, Finding, Location, TestCase
 from codegen.reports.rules import EDIT, verify_rule
 

@@ -14,10 +14,11 @@ NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 def junit(results: list[CellResult]) -> str:
     """The results as one <testsuites> document; a failing case's <failure> holds its mismatches or findings."""
     root = ET.Element("testsuites", name="codegen")
-    total = failures = 0
+    total = failures = errors = 0
     seconds = 0.0
     for result in results:
         failed = sum(case.failed for case in result.cases)
+        broken = sum(case.error is not None for case in result.cases)
         time = sum(case.seconds for case in result.cases)
         suite = ET.SubElement(
             root,
@@ -25,7 +26,7 @@ def junit(results: list[CellResult]) -> str:
             name=f"{result.command} {result.cell}".strip(),
             tests=str(len(result.cases)),
             failures=str(failed),
-            errors="0",
+            errors=str(broken),
             time=_seconds(time),
         )
         if result.cell_file is not None:
@@ -38,6 +39,10 @@ def junit(results: list[CellResult]) -> str:
                 classname=".".join(p for p in (result.command, case.cell, case.target) if p),
                 time=_seconds(case.seconds),
             )
+            if case.error is not None:  # it could not run: an error, not a failure (Surefire's distinction)
+                first = case.error.splitlines()[0] if case.error else ""
+                error = ET.SubElement(element, "error", message=_xml(first), type=_type(case))
+                error.text = _xml(case.error)
             if case.failure is not None:
                 first = case.failure.splitlines()[0] if case.failure else ""
                 failure = ET.SubElement(element, "failure", message=_xml(first), type=_type(case))
@@ -49,10 +54,11 @@ def junit(results: list[CellResult]) -> str:
                 ET.SubElement(element, "system-out").text = _xml(text)
         total += len(result.cases)
         failures += failed
+        errors += broken
         seconds += time
     root.set("tests", str(total))
     root.set("failures", str(failures))
-    root.set("errors", "0")
+    root.set("errors", str(errors))
     root.set("time", _seconds(seconds))
     ET.indent(root)
     return '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

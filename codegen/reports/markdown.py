@@ -32,13 +32,14 @@ def _cell(change: CellChange) -> list[str]:
     if change.verify:
         out += [f"verify of the new programs: {change.verify}", ""]
     out += [
-        "| target | program | change | poses moved | largest move | settings | I/O | messages | stops | verify |",
-        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | --- |",
+        "| target | program | change | stations | poses moved | largest move | settings | I/O | messages | stops "
+        "| verify |",
+        "| --- | --- | --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | --- |",
     ]
     for p in change.programs:
         mm, deg = p.largest_move
         largest = f"{mm:.3f} mm, {deg:.3f} deg" if p.moved else ""
-        counts = [len(p.moved), largest, len(p.settings), len(p.io), len(p.messages), len(p.stops)]
+        counts = [len(p.stations), len(p.moved), largest, len(p.settings), len(p.io), len(p.messages), len(p.stops)]
         shown = " | ".join(str(c) if c != 0 else "" for c in counts)
         out.append(f"| {p.target} | `{p.program}` | {p.status} | {shown} | {_verdict(p)} |")
     out.append("")
@@ -54,7 +55,8 @@ def _verdict(p: ProgramChange) -> str:
 
 
 def _details(p: ProgramChange) -> list[str]:
-    out = [f"##### {p.target}: `{p.program}` ({p.status}, {p.changed_lines} changed lines)", ""]
+    files = f"; files changed: {', '.join(f'`{name}`' for name in p.changed_files)}" if p.changed_files else ""
+    out = [f"##### {p.target}: `{p.program}` ({p.status}, {p.changed_lines} changed lines{files})", ""]
     for name, title in ProgramChange.GROUPS:
         items = getattr(p, name)
         if not items:

@@ -5,22 +5,25 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from codegen.controllers import get_target
 from codegen.dialects.core.files import SourceFile
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.dialects.core.trace import halt_text
 from codegen.dialects.core.values import RunError
 from codegen.output import written_by_codegen
-from codegen.protocol import get_kind
 from codegen.render import cell_dir
 from codegen.verify.checks import TOLERANCES, Checker, pose_errors
 from codegen.verify.plan import SCENARIOS
 from codegen.verify.programs import ProgramSource, fresh_sources
+from codegen.verify.report import Row
 
 RUNS = 32  # nominal runs compared per program: the kind's first category (a station each), from home
+HOME_MOVES = 1  # moves a run may make before it reaches its station (the way home first), none of the station's
 TIME_STEP_S = 1e-6  # clocks closer than this are the same time (both sum the same float64 terms)
 
 
@@ -34,6 +37,7 @@ class ProgramChange:
     program: str
     status: str
     files: list[str] = field(default_factory=list)
+    stations: list[str] = field(default_factory=list)  # what the old program serves and the new does not, or back
     moved: list[str] = field(default_factory=list)
     largest_move: tuple[float, float] = (0.0, 0.0)  # mm, deg
     settings: list[str] = field(default_factory=list)
@@ -44,12 +48,14 @@ class ProgramChange:
     motion: list[str] = field(default_factory=list)  # moves added or removed, the run's time
     other: list[str] = field(default_factory=list)
     changed_lines: int = 0
+    changed_files: list[str] = field(default_factory=list)  # the names of its files that differ (it has several)
     raw: str = ""
     ident: str = ""
     verdict: str | None = None
     passed: bool | None = None
 
     GROUPS = (
+        ("stations", "stations added or removed"),
         ("moved", "poses moved"),
         ("settings", "speeds, zones, tools"),
         ("io", "I/O"),
@@ -87,6 +93,8 @@ def cell_change(cell, out_dir: Path, seed: int = 0) -> CellChange:
             change.changed_lines = sum(
                 1 for line in raw.splitlines() if line[:1] in "+-" and not line.startswith(("+++", "---"))
             )
+            if len(paths) > 1:
+                change.changed_files = [p.name for p, f in zip(paths, new.files, strict=True) if _text(p) != f.text]
             if old_files:
                 _compare(cell, new, old_files, paths, change, seed)
             out.programs.append(change)
@@ -99,10 +107,14 @@ def cell_change(cell, out_dir: Path, seed: int = 0) -> CellChange:
     return out
 
 
+def _text(path: Path) -> str:
+    return path.read_text(encoding="utf-8") if path.is_file() else ""
+
+
 def _raw(paths: list[Path], new: ProgramSource) -> str:
     chunks = []
     for path, fresh in zip(paths, new.files, strict=True):
-        old = path.read_text(encoding="utf-8") if path.is_file() else ""
+        old = _text(path)
         if old != fresh.text:
             chunks += difflib.unified_diff(
                 old.splitlines(keepends=True),
@@ -130,8 +142,8 @@ def _compare(cell, new: ProgramSource, old_files: list[SourceFile], paths: list[
     except RunError as exc:
         change.other.append(f"not compared by running: {exc}")
         return
-    kind = get_kind(new.kind)
-    cases = [c for c in kind.verify_cases(cell, new, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
+    kind = cell.kinds[new.kind].verify
+    cases = [c for c in kind.cases(cell, new, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
     cases = [c for c in cases if c.category == cases[0].category][:RUNS] if cases else []
     arm = Checker(cell, new.target).arm
     tolerance = TOLERANCES[get_target(new.target).numbers]
@@ -146,8 +158,10 @@ def _compare(cell, new: ProgramSource, old_files: list[SourceFile], paths: list[
             except RunError as exc:
                 traces.append(exc)
         where = f"{case.category} {kind.describe(cell, case)}".strip()
-        for group, text in _differences(*traces, where, tolerance, largest):
+        for group, text in _differences(*traces, where, tolerance, largest, len(new.files) > 1):
             said[group].setdefault(text, None)
+    for text in _removed(cell, new, programs[0], change.raw):
+        said["stations"].setdefault(text, None)
     for name, _ in ProgramChange.GROUPS:
         getattr(change, name).extend(said[name])
     change.largest_move = (largest[0], largest[1])
@@ -158,8 +172,11 @@ def _compare(cell, new: ProgramSource, old_files: list[SourceFile], paths: list[
         )
 
 
-def _differences(old, new, where: str, tolerance: tuple[float, float], largest: list) -> list[tuple[str, str]]:
-    """(group, sentence) of each difference of the new run from the old on one case."""
+def _differences(
+    old, new, where: str, tolerance: tuple[float, float], largest: list, files: bool = False
+) -> list[tuple[str, str]]:
+    """(group, sentence) of each difference of the new run from the old on one case; files: the program is several
+    files, each move's line named with its file's."""
     if isinstance(old, RunError) or isinstance(new, RunError):
         if isinstance(new, RunError) and not isinstance(old, RunError):
             return [("stops", f"{where}: the new program stops with an error: {new}")]
@@ -167,6 +184,11 @@ def _differences(old, new, where: str, tolerance: tuple[float, float], largest: 
             return [("stops", f"{where}: the old program stopped with an error, the new one runs: {old}")]
         return []
     out = []
+    if old.halted and not new.halted and len(old.moves) <= HOME_MOVES < len(new.moves):
+        text = (
+            f"{where}: added (the old program stops before it moves there: {halt_text(old)!r}; the new one serves it)"
+        )
+        return [("stations", text)]
     if old.halted != new.halted or (new.halted and old.halt_message != new.halt_message):
         was = f"stopped ({halt_text(old)!r})" if old.halted else "ran on"
         now = f"stops ({halt_text(new)!r})" if new.halted else "runs on"
@@ -174,15 +196,16 @@ def _differences(old, new, where: str, tolerance: tuple[float, float], largest: 
     if len(old.moves) != len(new.moves):
         out.append(("motion", f"{where}: {len(new.moves)} moves, were {len(old.moves)}"))
     for i, (a, b) in enumerate(zip(old.moves, new.moves, strict=False)):
+        at = f"{Path(b.file).name} line {b.line}" if files and b.file else f"line {b.line}"
         if a.tcp2base is not None and b.tcp2base is not None:
             mm, deg = pose_errors(a.tcp2base.tolist(), b.tcp2base.tolist())
             if mm > tolerance[0] or deg > tolerance[1]:
                 largest[0], largest[1] = max(largest[0], mm), max(largest[1], deg)
-                out.append(("moved", f"move {i + 1} (line {b.line}) in {where}: {mm:.3f} mm, {deg:.3f} deg"))
+                out.append(("moved", f"move {i + 1} ({at}) in {where}: {mm:.3f} mm, {deg:.3f} deg"))
         for key in sorted(set(a.settings) | set(b.settings)):
             was, now = _plain(a.settings.get(key)), _plain(b.settings.get(key))
             if was != now:
-                out.append(("settings", f"move {i + 1} (line {b.line}): {key} {_shown(now)}, was {_shown(was)}"))
+                out.append(("settings", f"move {i + 1} ({at}): {key} {_shown(now)}, was {_shown(was)}"))
 
     def key(e):
         return (e.name, e.value, e.after_moves)
@@ -201,6 +224,26 @@ def _differences(old, new, where: str, tolerance: tuple[float, float], largest: 
     if abs(total) > TIME_STEP_S and math.isfinite(total):
         out.append(("motion", f"{where}: the run takes {new.clock:.2f} s, was {old.clock:.2f} s"))
     return out
+
+
+def _removed(cell, new: ProgramSource, old_program, raw: str) -> list[str]:
+    """What the old program serves that is no station of the cell now: the kind's sweep (every id that is no station
+    must stop before it moves) run on the old program for the numbers of the lines the change removes (a removed
+    station's dispatch is among them), where the kind sweeps ids at all."""
+    kind = cell.kinds[new.kind].verify
+    ranges = kind.sweeps(cell, new, 1)
+    removed = "\n".join(line for line in raw.splitlines() if line.startswith("-") and not line.startswith("---"))
+    ids = sorted({n for n in map(int, re.findall(r"\b\d+\b", removed)) if any(n in r for r in ranges)})
+    if not ids:
+        return []
+    row = Row(new.kind, new.target, new.ident, [], verify=kind)
+    try:
+        kind.sweep(cell, new, old_program, ids, DEFAULT_STEP_LIMIT, row)
+    except RunError as exc:
+        return [f"not swept: {exc}"]
+    more = row.mismatches - len(row.first_mismatches)
+    said = [f"removed (the old program serves it, the new one stops): {text}" for text in row.first_mismatches]
+    return said + ([f"... and {more} more ids the old program serves"] if more > 0 else [])
 
 
 def _plain(value):

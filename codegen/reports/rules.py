@@ -81,6 +81,13 @@ EDIT = Rule(
     "generated programs are changed through the cell file and `codegen generate`, not by hand.",
 )
 
+CELL_ERROR = Rule(
+    "plant/cell",
+    "cell not done",
+    "The cell could not be verified or checked: its file does not load, a pose is out of reach, or its programs are "
+    "missing or do not load (the message says which). Its other findings are not known.",
+)
+
 # check: the codes of `codegen check` (Finding.code) and what each means
 CHECK = {
     "syntax": "The file does not parse in the controller's language.",
@@ -130,8 +137,9 @@ def rule(rule_id: str) -> Rule:
     for known, _, text in VERIFY:
         if known == rule_id:
             return Rule(known, known.split("/", 1)[1], text)
-    if rule_id == EDIT.id:
-        return EDIT
+    for known in (EDIT, CELL_ERROR):
+        if rule_id == known.id:
+            return known
     code = rule_id.split("/", 1)[1]
     text = CHECK.get(code, f"A finding of codegen check ({code}).")
     return Rule(rule_id, code, text)

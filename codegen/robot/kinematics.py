@@ -13,7 +13,7 @@ SQRT_SLACK = 1e-9  # mm^2: a negative radicand down to -this is rounding, below 
 # ik of at most this many poses runs pose by pose on Python floats (math module) instead of numpy: a numpy call
 # costs about 0.5 us whatever its size, so for a few poses its overhead outweighs the vectorisation (the
 # interpreter and the verifier ask for 1 to 4 poses at a time; the two paths cost the same at about 6 poses).
-# Both paths are the same formulas (tests/test_robot_kinematics_paths.py compares them).
+# Both paths are the same formulas (tests/robot/test_robot_kinematics_paths.py compares them).
 SMALL_BATCH = 6
 # larger batches run through numpy in chunks of this many poses: the temporaries then stay in the CPU's cache
 # (10,000 poses at once spend a third of the time on fresh memory)

@@ -2,17 +2,13 @@
 
 from __future__ import annotations
 
-from codegen.model.io import signal_name
+from codegen.model.io import GROUP_BITS, OFFSET, SCALE, signal_name
 
 # The queue's protocol (the same on every controller): the part's number (seq), the encoder's count when
 # the camera saw it (count), where it lies across the belt (x) and its top (z), and the line's cycle stop;
 # the program takes a part by writing its number back (ack). Registers carry x and z as floats in mm
-# (a [program.<kind>] table's names); groups of digital inputs (its signals) are 16 bits wide and
-# carry x and z in 0.1 mm, offset by 32768 so that a negative x fits (raw = round(10 x) + 32768), and the
-# encoder's live count as a group of its own.
-OFFSET = 32768
-SCALE = 10.0  # counts per mm of x and z on a 16-bit group
-GROUP_BITS = 16
+# (a [program.<kind>] table's names); groups of digital inputs (its signals) carry x, z and the encoder's live
+# count (codegen.model.io GROUP_BITS, OFFSET, SCALE).
 
 
 def encode_mm(value: float) -> int:
@@ -44,7 +40,7 @@ class RegisterBus:
 class BitBus:
     """Each role a range [first, last] of numbered inputs (the ack of outputs), least significant bit
     first; the stop a single input; the encoder's current count live on its range. input_name and
-    output_name: the controller's name of signal n (codegen/signals.py signal_name)."""
+    output_name: the controller's name of signal n (codegen/model/io.py signal_name)."""
 
     def __init__(self, signals: dict, input_name, output_name) -> None:
         self.signals, self.input_name, self.output_name = signals, input_name, output_name

@@ -9,7 +9,6 @@ from pathlib import Path
 
 from codegen.dialects.core.trace import Trace, halt_text
 from codegen.dialects.core.values import RunError
-from codegen.protocol import get_kind
 from codegen.verify.checks import Checker
 from codegen.verify.plan import SCENARIOS
 from codegen.verify.programs import ProgramSource, fresh_sources
@@ -75,8 +74,8 @@ def _changed_lines(source: ProgramSource, twin: ProgramSource) -> list[str]:
 
 def _effects(cell, source: ProgramSource, twin: ProgramSource, step_limit: int, seed: int) -> list[str]:
     """What the changes do in the first nominal runs, as differences of the two traces (each said once)."""
-    kind = get_kind(source.kind)
-    cases = [c for c in kind.verify_cases(cell, source, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
+    kind = cell.kinds[source.kind].verify
+    cases = [c for c in kind.cases(cell, source, 1, seed) if c.start == "home" and c.scenario not in SCENARIOS]
     cases = [c for c in cases if c.category == cases[0].category][:EDIT_CASES] if cases else []
     arm = Checker(cell, source.target).arm
     try:

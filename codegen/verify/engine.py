@@ -9,13 +9,12 @@ from pathlib import Path
 
 from codegen.dialects.core.values import RunError
 from codegen.emit import EmitError
-from codegen.protocol import get_kind, kinds
 from codegen.robot.taught import ReachError
 from codegen.verify.edits import edits
 from codegen.verify.executor import Executor, LocalExecutor
 from codegen.verify.programs import ProgramFilesError, ProgramSource, file_sources, fresh_sources
 from codegen.verify.report import Report, Row
-from codegen.verify.runner import ONE_PROGRAM_FROM, run_tasks
+from codegen.verify.runner import large, run_tasks
 
 CHUNK_CASES = 2000  # at most this many cases a task: a worker holds one chunk's expectations at a time
 CELL_ERRORS = (ProgramFilesError, ReachError, EmitError, RunError)  # a cell verify cannot run: exit 2 (load: 1)
@@ -71,8 +70,8 @@ def verify_cells(runs: list[CellRun], options: Options | None = None) -> list[Re
     prepared = list(executor.map(prepare, [(run.cell, run.files, run.targets, limit, seed) for run in runs]))
     results: list[Report | Exception] = [_error(p) if isinstance(p, _Failed) else p for p in prepared]
     ready = [i for i, p in enumerate(results) if not isinstance(p, Exception)]
-    large = [i for i in ready if len(runs[i].cell.stations) >= ONE_PROGRAM_FROM]
-    for batch in [[i for i in ready if i not in large], *([i] for i in large)]:
+    big = [i for i in ready if large(runs[i].cell)]
+    for batch in [[i for i in ready if i not in big], *([i] for i in big)]:
         if batch:
             reports = _verify_batch([runs[i].cell for i in batch], [results[i] for i in batch], options, executor)
             for i, report in zip(batch, reports, strict=True):
@@ -87,8 +86,8 @@ def prepare(task) -> tuple[list[ProgramSource], list[str], dict[int, list[str]]]
     try:
         names = list(targets) or list(cell.targets)
         warnings: list[str] = []
-        for kind in kinds().values():  # the reference's joints need every pose of every program within reach
-            kind.reach(cell, names)
+        for kind in cell.kinds.values():  # the reference's joints need every pose of every program within reach
+            kind.writer.reach(cell, names)
         if not files:
             return _fresh(cell, names), warnings, {}
         sources, warnings = file_sources(cell, [Path(f) for f in files], tuple(targets))
@@ -108,7 +107,7 @@ def _verify_batch(cells: list, prepared: list, options: Options, executor: Execu
         numbers = {row: len(rows) + i for i, row in enumerate(sorted({s.row for s in own}))}
         own = [replace(s, row=numbers[s.row]) for s in own]
         spans.append(range(len(rows), len(rows) + len(numbers)))
-        rows += _rows(own)
+        rows += _rows(cell, own)
         own_tasks, own_pinned = _tasks(cell, own, options, workers)
         tasks += own_tasks
         pinned = own_pinned if len(cells) == 1 else None
@@ -155,17 +154,18 @@ def _fresh(cell, names: list[str]) -> list[ProgramSource]:
         key = (plan.kind, target, plan.index)
         return rows.setdefault(key, len(rows))
 
-    for kind in kinds().values():
-        for model, sweep in kind.verify_models(cell):
+    for kind in cell.kinds.values():
+        for model, sweep in kind.verify.models(cell):
             out += fresh_sources(model, names, None if model is cell else model, row_of, {kind.name}, sweep)
     return sorted(out, key=lambda s: s.row)
 
 
-def _rows(sources: list[ProgramSource]) -> list[Row]:
+def _rows(cell, sources: list[ProgramSource]) -> list[Row]:
     rows: dict[int, Row] = {}
     for source in sources:
         if source.row not in rows:
-            rows[source.row] = Row(source.kind, source.target, source.ident, list(source.origin))
+            plan = cell.kinds[source.kind].verify
+            rows[source.row] = Row(source.kind, source.target, source.ident, list(source.origin), verify=plan)
         elif source.model is None:  # the cell's own program names the row's files
             rows[source.row].files = list(source.origin)
     return [rows[i] for i in sorted(rows)]
@@ -176,9 +176,9 @@ def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
     source's tasks pinned to one worker (the workers sharing a program would each load it)."""
     tasks, owner = [], []
     for source in sources:
-        kind = get_kind(source.kind)
+        kind = cell.kinds[source.kind].verify
         model = source.model or cell
-        cases = kind.verify_cases(model, source, options.cases, options.seed)
+        cases = kind.cases(model, source, options.cases, options.seed)
         if options.scenarios is not None:
             cases = [case for case in cases if kind.scenario_of(case) in options.scenarios]
         chunk = max(1, min(CHUNK_CASES, -(-len(cases) // max(4, 2 * workers))))
@@ -190,8 +190,7 @@ def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
             own += [(cell, source, ids, limit, first, keep) for ids in kind.sweeps(model, source, workers)]
         tasks += own
         owner += [source.row] * len(own)
-    large = len(cell.stations) >= ONE_PROGRAM_FROM and len(sources) > 1
-    if not large or workers <= 1 or len(sources) < workers:
+    if not (large(cell) and len(sources) > 1) or workers <= 1 or len(sources) < workers:
         return tasks, None
     programs = sorted(set(owner))
     worker_of = {row: i % workers for i, row in enumerate(programs)}

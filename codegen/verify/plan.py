@@ -15,7 +15,7 @@ from codegen.guard import NOT_AT_HOME, halt_message
 START_AWAY_DEG = (25.0, -15.0, 10.0, 0.0, 0.0, 0.0)  # the arm left away from home (the start_away scenario)
 TOOL_LOAD = "tool"  # a planned move's payload: the cell's tool alone ([cell.tool] mass and centre of gravity)
 
-# The scenarios every kind runs, or declares (ProgramKind.scenarios) with the reason it cannot apply.
+# The scenarios every kind runs, or declares (VerifyPlan.scenarios) with the reason it cannot apply.
 SCENARIOS = {
     "start_away": "the program started with the arm away from home",
     "start_mid_cycle": "the program started again where a stopped cycle left the arm (a stop and a restart)",
@@ -69,7 +69,7 @@ class Setup:
         return options
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PlannedMove:
     """A move the plan has: its name for the report, joint or linear, where the TCP ends (None: the kind judges
     the pose itself, e.g. a part on a moving belt), how it moves (TCP speed mm/s, blending zone mm, an exact

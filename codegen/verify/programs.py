@@ -11,7 +11,6 @@ from codegen.dialects import dialect_of_suffix, get_dialect
 from codegen.dialects.core.files import SourceFile, read_source
 from codegen.dialects.core.values import RunError
 from codegen.output import mixed_set, stamp_of
-from codegen.protocol import get_kind
 from codegen.render import cell_dir, plans, render_plan
 
 
@@ -33,7 +32,7 @@ class ProgramSource:
     origin: tuple[str, ...]  # the files' paths as given, or <fresh>/<cell>/<target>/<file>
     row: int = 0
     model: object = field(default=None, compare=False)
-    sweep: bool = True  # the kind's bulk runs too (ProgramKind.sweeps), not only its cases
+    sweep: bool = True  # the kind's bulk runs too (VerifyPlan.sweeps), not only its cases
     entry: str | None = None  # the routine a run starts at (ProgramPlan.entry; None: the language's entry)
 
     @property
@@ -76,7 +75,7 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
         for plan in plans(cell, target):
             known[plan.files[0].name.lower()] = plan
         # a program under a name of its own (a hand-edited copy) is the station program, where the cell has one
-        fallback = next((p for p in known.values() if get_kind(p.kind).renamed_copies), None)
+        fallback = next((p for p in known.values() if cell.kinds[p.kind].writer.renamed_copies), None)
         group = [*group, *_companions_beside(group, dialect)]
         files = [read_source(path, dialect.encodings) for path in group]
         try:
@@ -135,14 +134,6 @@ def _target_of(path: Path, targets: tuple[str, ...]) -> str:
     target = target_of_suffix(path.suffix)
     if target is None or (targets and target.name not in targets):
         raise ProgramFilesError(f"{path}: cannot tell the target from the suffix; use --target")
-    return target.name
-
-
-def target_of_file(path: Path) -> str:
-    """The target a program file's suffix names (ValueError: none does)."""
-    target = target_of_suffix(Path(path).suffix)
-    if target is None:
-        raise ValueError(f"{path}: cannot tell the target from the suffix; use --target")
     return target.name
 
 

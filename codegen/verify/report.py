@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen.protocol import get_kind
+from codegen.protocol import Kind, VerifyPlan
 from codegen.robot.expect import ArmStats
 
 FIRST_MISMATCHES = 10  # how many mismatches a row names
@@ -33,7 +33,7 @@ class Replay:
 class Row:
     """One program's results: its kind, target, name and files, the counts, every compared move's errors
     (8 bytes each), the first mismatches, the time spent running (one core), the arm's least margins and the
-    kind's own figures."""
+    kind's own figures (codegen.protocol.Figures), and the kind's verify plan that reads them."""
 
     kind: str
     target: str
@@ -53,11 +53,17 @@ class Row:
     scenarios: dict[str, int] = field(default_factory=dict)
     arm: ArmStats = field(default_factory=ArmStats)
     figures: object = None
+    # the kind's verify plan (its JSON keys, its list, its report lines); None: a kind of that name without one
+    verify: VerifyPlan | None = field(default=None, compare=False, repr=False)
     edits: list[str] = field(default_factory=list)  # a given program's changes against the generated one (edits.py)
     worst: Replay | None = None  # kept when asked: the passing case with the largest position error
     failed: Replay | None = None  # kept when asked: a mismatching case (the first of its chunk)
 
     alike: dict[str, int] = field(default_factory=dict)  # a shown mismatch's problem -> further cases with it
+
+    @property
+    def plan(self) -> VerifyPlan:
+        return self.verify if self.verify is not None else Kind(self.kind).verify
 
     def mismatch(self, text: str, problem: str | None = None) -> None:
         """One case's mismatch: shown (the first FIRST_MISMATCHES problems, each once), or counted with the shown
@@ -93,14 +99,11 @@ class Row:
             self.worst = part.worst
         if self.failed is None:
             self.failed = part.failed
-        kind = get_kind(self.kind)
         if part.figures is not None:
-            if self.figures is None:
-                self.figures = kind.new_figures()
-            kind.merge_figures(self.figures, part.figures)
+            self.figures = part.figures if self.figures is None else self.figures + part.figures
 
     def summary(self) -> dict:
-        """The row's JSON: the keys every row has, then the kind's own (ProgramKind.summary)."""
+        """The row's JSON: the keys every row has, then the kind's own (its figures')."""
 
         def stats(values):
             if not values:
@@ -128,7 +131,7 @@ class Row:
         }
         if self.arm.moves:
             out["arm"] = self.arm.summary()
-        out.update(get_kind(self.kind).summary(self))
+        out.update(self.plan.figures_json(self.figures))
         out["first_mismatches"] = self.first_mismatches
         out["mismatches_alike"] = [self.alike[p] for p in self.alike]  # per first mismatch: further cases alike
         out["edits"] = self.edits
@@ -152,7 +155,8 @@ class Report:
         return bool(self.rows) and all(r.mismatches == 0 for r in self.rows)
 
     def as_json(self) -> dict:
-        """Every row under "programs"; each kind's rows also under the kind's own key (ProgramKind.report_key)."""
+        """Every row under "programs"; each kind's rows also under the kind's own key (VerifyPlan.report_key), as its
+        list has them (VerifyPlan.listed)."""
         out = {
             "cell": self.cell,
             "seed": self.seed,
@@ -163,8 +167,8 @@ class Report:
             "programs": [r.summary() for r in self.rows],
         }
         for row in self.rows:
-            key = get_kind(row.kind).report_key or f"{row.kind}s"
-            out.setdefault(key, []).append(get_kind(row.kind).legacy_summary(row))
+            key = row.plan.report_key or f"{row.kind}s"
+            out.setdefault(key, []).append(row.plan.listed_row(row.summary()))
         return out
 
     def lines(self) -> list[str]:
@@ -188,9 +192,9 @@ class Report:
             out.extend(f"  {line}" for line in row.edits)
             for line, alike in zip(row.first_mismatches, row.alike.values(), strict=True):
                 out.append(f"  MISMATCH {line}" + (f" (and {alike} more cases alike)" if alike else ""))
-        kinds = list(dict.fromkeys(row.kind for row in self.rows))
-        for kind in kinds:
-            out.extend(get_kind(kind).report_lines([row for row in self.rows if row.kind == kind]))
+        kinds = {row.kind: row.plan for row in self.rows}
+        for kind, plan in kinds.items():
+            out.extend(plan.report_lines([row for row in self.rows if row.kind == kind]))
         for row in self.rows:
             if row.arm.moves:
                 arm = row.arm.summary()

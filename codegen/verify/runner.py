@@ -7,13 +7,18 @@ import time
 
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
-from codegen.protocol import get_kind
 from codegen.verify.checks import Checker
 from codegen.verify.executor import Executor
 from codegen.verify.report import Replay, Row
 
 _LOADED: dict = {}  # source -> program, in a worker (each program parsed once per process)
 ONE_PROGRAM_FROM = 300  # stations: from here a worker holds one program at a time (a large cell's memory)
+
+
+def large(cell) -> bool:
+    """A cell of ONE_PROGRAM_FROM stations or more (in whichever section carries them)."""
+    section = cell.stations_section()
+    return section is not None and len(section.stations) >= ONE_PROGRAM_FROM
 
 
 def _program(source, large: bool):
@@ -30,9 +35,9 @@ def run_chunk(task) -> tuple[int, Row]:
     and the first mismatch's run). Returns (the source's row, the partial row)."""
     cell, source, work, step_limit, first, keep = task
     model = source.model or cell
-    kind = get_kind(source.kind)
+    kind = cell.kinds[source.kind].verify
     row = Row(source.kind, source.target, source.ident, list(source.origin))
-    program = _program(source, len(model.stations) >= ONE_PROGRAM_FROM)
+    program = _program(source, large(model))
     start = time.perf_counter()
     with frozen_heap():
         if isinstance(work, range):
@@ -53,7 +58,7 @@ def _run_cases(
 ) -> None:
     checker = Checker(model, source.target)
     arm = checker.arm
-    prefixes = kind.log_prefixes_of(model)
+    prefixes = kind.log_prefixes(model)
     for case in cases:
         row.cases += 1
         row.categories[case.category] = row.categories.get(case.category, 0) + 1
@@ -97,8 +102,8 @@ def _run_cases(
             row.arm.add(model, source.target, trace.moves)
             if figures:
                 if row.figures is None:
-                    row.figures = kind.new_figures()
-                kind.add_figures(row.figures, case, figures)
+                    row.figures = kind.figures()
+                row.figures.count(case, figures)
         else:
             row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}".replace("  ", " "), problem)
         if keep:

@@ -9,7 +9,6 @@ from pathlib import Path
 import numpy as np
 from markupsafe import Markup, escape
 
-from codegen.protocol import kinds
 from codegen.verify.programs import fresh_sources
 from codegen.view.page import page_data, program_json, render, view_json
 from codegen.view.runs import ProgramRuns, Run
@@ -117,9 +116,8 @@ def plot(rows, attribute: str, unit: str) -> Markup:
 
 def target_table(rows) -> list[dict]:
     """The rows of one target in the kinds' order (each kind a section), with the figures the table shows."""
-    order = {name: i for i, name in enumerate(kinds())}
     out = []
-    for row in sorted(rows, key=lambda r: order.get(r.kind, len(order))):
+    for row in sorted(rows, key=lambda r: (r.plan.kind.order, r.kind)):
         s = row.summary()
         arm = s.get("arm")
         out.append(

@@ -9,7 +9,6 @@ import numpy as np
 
 from codegen.dialects.core.machine import Trace
 from codegen.dialects.core.values import RunError
-from codegen.protocol import get_kind
 from codegen.robot.expect import arm_of
 from codegen.verify.plan import SCENARIOS
 from codegen.verify.programs import ProgramSource, fresh_sources
@@ -50,13 +49,13 @@ def _station_of(case) -> int | None:
 def nominal_cases(cell, source: ProgramSource, kind) -> list:
     """The candidates for a nominal run, in the kind's order: its own cases (not one of the common scenarios, which
     each disturb a run on purpose) that start at home."""
-    cases = kind.verify_cases(cell, source, 1, 0)
+    cases = kind.cases(cell, source, 1, 0)
     return [c for c in cases if kind.scenario_of(c) not in SCENARIOS and getattr(c, "start", "home") == "home"]
 
 
 def run_case(cell, source: ProgramSource, program, case) -> Run:
     """One case run as verify runs it (the kind's setup, the target's arm)."""
-    kind = get_kind(source.kind)
+    kind = cell.kinds[source.kind].verify
     setup = kind.setup(cell, source, case)
     trace = program.run(setup.inputs, **setup.run_options(arm_of(cell, source.target), STEP_LIMIT))
     start = None if setup.start_joints is None else np.asarray(setup.start_joints, dtype=float)
@@ -73,7 +72,7 @@ def nominal_runs(cell, target: str) -> list[ProgramRuns]:
     a part from the belt, a TCP calibration)."""
     out = []
     for source in fresh_sources(cell, [target]):
-        kind = get_kind(source.kind)
+        kind = cell.kinds[source.kind].verify
         entry = ProgramRuns(target, source.ident, source.kind, [(Path(f.name).name, f.text) for f in source.files])
         out.append(entry)
         try:

@@ -1,10 +1,17 @@
-"""Each KindTests subclass runs for every target that has its kind's programs in the example cells."""
+"""Each KindTests subclass runs for every target that has its kind's programs in the example cells (a model
+mutation: for each of them whose cell has what it changes)."""
 
-from kind_base import targets_of
+from kind_base import model_mutations_of, targets_of
 
 
 def pytest_generate_tests(metafunc):
     kind = getattr(metafunc.cls, "kind", None)
-    if kind is not None and "pair" in metafunc.fixturenames:
+    if kind is None or "pair" not in metafunc.fixturenames:
+        return
+    if "model_mutation" in metafunc.fixturenames:
+        both = model_mutations_of(kind)
+        ids = [f"{target}-{mutation}" for (target, _), mutation in both]
+        metafunc.parametrize(("pair", "model_mutation"), both, ids=ids)
+    else:
         pairs = targets_of(kind)
         metafunc.parametrize("pair", pairs, ids=[target for target, _ in pairs])

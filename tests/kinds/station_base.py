@@ -17,12 +17,12 @@ from codegen.controllers import get_target
 from codegen.dialects import get_dialect, parse_program
 from codegen.kinds.station.keys import STATION_ID_MAX
 from codegen.kinds.station.mode import mode_of
-from codegen.kinds.station.section import with_section
+from codegen.kinds.station.section import section_of, stations_of, with_section
 from codegen.model.cell import load_cell
 from codegen.reference import home_move
 from codegen.render import render
 
-STATION_CELLS = [name for name in EXAMPLES if example(name).stations]
+STATION_CELLS = [name for name in EXAMPLES if stations_of(example(name))]
 
 
 def _swap_sin_cos(dialect: str):
@@ -63,7 +63,7 @@ class StationTests:
     def test_every_station_id_runs_its_own_station(self, cell):
         """Run each station's id with its kind's zero-offset case: the first move is that station's."""
         program = stations.source(cell, self.target).load()
-        for station in cell.stations:
+        for station in stations_of(cell):
             case = mode_of(station).nominal_case(cell, station)
             got = stations.run(cell, self.target, program, case)
             (want, *_), _ = mode_of(station).accepted(cell, case.reading)
@@ -125,14 +125,14 @@ class StationTests:
         """Render from a perturbed model, verify against the true cell: every kind must see each one."""
         needs = {"angle_sign_flipped": "angle_sign", "calibration_moved_0_05mm": "calibration"}
         needs["sin_cos_swapped"] = "derivation"
-        kinds_hit = {s.mode for s in cell.stations if needs[mutation] in mode_of(s).model_inputs}
+        kinds_hit = {s.mode for s in stations_of(cell) if needs[mutation] in mode_of(s).model_inputs}
         if not kinds_hit:
             pytest.skip(f"no kind of this cell depends on its {needs[mutation]}")
         mutant = cell
         if mutation == "angle_sign_flipped":
-            mutant = with_section(cell, angle_sign=-cell.angle_sign)
+            mutant = with_section(cell, angle_sign=-section_of(cell).angle_sign)
         elif mutation == "calibration_moved_0_05mm":
-            moved = tuple(replace(s, spec=mode_of(s).moved(s.spec, 0.05)) for s in cell.stations)
+            moved = tuple(replace(s, spec=mode_of(s).moved(s.spec, 0.05)) for s in stations_of(cell))
             mutant = with_section(cell, stations=moved)
         else:
             monkeypatch.setattr(derived, "printed", _swap_sin_cos(get_target(self.target).dialect))
@@ -141,10 +141,10 @@ class StationTests:
         assert (text, dat) != stations.files(cell, self.target), f"{mutation} changed nothing"
         program = stations.source(cell, self.target, text, dat)
         cases = stations.build_cases(cell, 8, 4)
-        kind_of = {station.id: station.mode for station in cell.stations}
+        kind_of = {station.id: station.mode for station in stations_of(cell)}
         for kind in kinds_hit:  # each kind on its own: one must not hide another
             mine = [c for c in cases if kind_of.get(c.reading.station_id) == kind]
-            report = stations.verify(cell, program, mine)
+            report = stations.verify(cell, program, mine, first=True)
             assert report.mismatches > 0, f"verify missed {mutation} in the {kind} stations"
 
     @pytest.mark.parametrize("mutation", ["swap_sin_cos", "flip_sign", "drop_guard", "calibration_number"])
@@ -153,7 +153,7 @@ class StationTests:
         cell = example("agv_machine_tending")
         text, dat = stations.files(cell, self.target)
         program = self.mutant(mutation, text, dat)
-        report = stations.verify(cell, program, stations.build_cases(cell, 10, 4))
+        report = stations.verify(cell, program, stations.build_cases(cell, 10, 4), first=True)
         assert report.mismatches > 0, f"verify missed the mutation {mutation}"
 
     @pytest.mark.slow
@@ -163,7 +163,7 @@ class StationTests:
         text, dat = stations.files(cell, self.target)
         program = self.mutant("extra_dispatch_id", text, dat)
         report = stations.sweep(cell, program, range(STATION_ID_MAX + 1))  # what `codegen verify CELL FILE` sweeps
-        assert report.mismatches == 1 and report.swept == STATION_ID_MAX + 1 - len(cell.stations)
+        assert report.mismatches == 1 and report.swept == STATION_ID_MAX + 1 - len(stations_of(cell))
         assert "unknown station id 20000" in report.first_mismatches[0]
         caught = stations.sweep(cell, program, range(19990, 20010))
         assert caught.mismatches == 1 and "unknown station id 20000" in caught.first_mismatches[0]
@@ -180,7 +180,7 @@ class StationTests:
         text, dat = stations.files(cell, self.target)
         for mutation in self.motion_mutations:
             program = self.mutant(mutation, text, dat)
-            report = stations.verify(cell, program, stations.build_cases(cell, 5, 4))
+            report = stations.verify(cell, program, stations.build_cases(cell, 5, 4), first=True)
             assert report.mismatches > 0, f"verify missed {mutation}"
 
     # Edits only the arm model sees (each target names its own): a configuration changed by hand, the
@@ -195,7 +195,7 @@ class StationTests:
         cases = [c for c in stations.build_cases(cell, 4, 4) if c.reading.station_id in self.arm_stations]
         for mutation in self.arm_mutations:
             program = self.mutant(mutation, text, dat)
-            report = stations.verify(cell, program, cases)
+            report = stations.verify(cell, program, cases, first=True)
             assert report.mismatches > 0, f"verify missed {mutation}"
             assert any(word in report.first_mismatches[0] for word in self.arm_words[mutation]), (
                 mutation,

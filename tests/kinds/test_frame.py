@@ -9,7 +9,7 @@ from support import stations
 
 from codegen.controllers import get_target, target_names
 from codegen.kinds.station.modes.frame import NOT_CONVERGED, FrameCase, expected_frame_trace
-from codegen.kinds.station.section import with_section
+from codegen.kinds.station.section import section_of, stations_of, with_section
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.sim.camera import CameraModel
@@ -23,9 +23,9 @@ def bench():
 
 
 def test_bench_cell_loads(bench):
-    station = bench.stations[0]
+    station = stations_of(bench)[0]
     assert station.mode == "frame" and station.spec.frame is not None and station.spec.photo is not None
-    assert bench.handeye is not None and bench.sections["station"].settings["frame"].max_iterations == 10
+    assert section_of(bench).handeye is not None and bench.sections["station"].settings["frame"].max_iterations == 10
 
 
 @pytest.mark.parametrize(
@@ -81,7 +81,7 @@ def test_frame_mode_verifies(bench, target):
     cases = stations.build_cases(bench, 12, 5)
     report = stations.verify(bench, stations.source(bench, target), cases)
     assert report.mismatches == 0, report.first_mismatches
-    stats = report.figures["frame"]
+    stats = report.figures.modes["frame"]
     assert stats.photos and max(stats.photos) >= 3  # hand-eye errors need more than two photos
     assert max(stats.errors_mm) < 0.03
     assert report.categories["frame_camera_too_weak"] == 4 and report.categories["frame_camera_diverges"] == 4
@@ -174,7 +174,7 @@ def test_kuka_base_data(tmp_path):
     path = tmp_path / "bench.toml"
     path.write_text(text, encoding="utf-8")
     cell = load_cell(path)
-    assert cell.stations[0].spec.base_data == 3
+    assert stations_of(cell)[0].spec.base_data == 3
     src = next(f for f in render(cell, ["kuka"]) if f.relpath.endswith(".src"))
     assert "$BASE = BASE_DATA[3] : OFFSET" in src.text
     report = stations.verify(cell, stations.source(cell, "kuka"), stations.build_cases(cell, 8, 3))
@@ -193,7 +193,7 @@ def test_a_cell_of_frame_stations_only(tmp_path):
     path = tmp_path / "frames.toml"
     path.write_text(text[: text.index("[[station]]\nid = 2")], encoding="utf-8")
     cell = load_cell(path)
-    assert {s.mode for s in cell.stations} == {"frame"}
+    assert {s.mode for s in stations_of(cell)} == {"frame"}
     for target in target_names():
         point_inputs = [v for k, v in get_target(target).program["inputs"].items() if k != "station"]
         for f in render(cell, [target]):
@@ -209,7 +209,7 @@ def test_a_cell_whose_angle_sign_contradicts_its_camera_fails_verify(bench, targ
     image's axes. Programs made from a cell with the other sign, verified against that same cell,
     fail (its own reference agrees with them, the camera does not)."""
 
-    wrong = with_section(bench, angle_sign=-bench.angle_sign)  # a cell the loader would refuse
+    wrong = with_section(bench, angle_sign=-section_of(bench).angle_sign)  # a cell the loader would refuse
     report = stations.verify(wrong, stations.source(wrong, target), stations.build_cases(wrong, 12, 5))
     assert report.mismatches > 0
     assert any("angle_sign +1 and the camera's image" in m for m in report.first_mismatches)
@@ -223,5 +223,17 @@ def test_a_hand_eye_map_that_overflows_is_refused(tmp_path):
     path = tmp_path / "bench.toml"
     huge = "pixel_to_mm = [[1e200, 0.0, 1.0], [0.0, -1e200, 2.0]]"
     path.write_text(re.sub(r"pixel_to_mm = .*", huge, BENCH.read_text()), encoding="utf-8")
-    with pytest.raises(CellError, match=r"cell\.camera\.handeye\.pixel_to_mm: the 2x2 part is singular, or an entry"):
+    with pytest.raises(
+        CellError, match=r"cell\.camera\.handeye\.pixel_to_mm\[0\]\[0\]: must be in \[-100000, 100000\]"
+    ):
+        load_cell(path)
+
+
+def test_a_hand_eye_map_that_cannot_be_inverted_is_refused(tmp_path):
+    import re
+
+    path = tmp_path / "bench.toml"
+    singular = "pixel_to_mm = [[1.0, 2.0, 1.0], [2.0, 4.0, 2.0]]"
+    path.write_text(re.sub(r"pixel_to_mm = .*", singular, BENCH.read_text()), encoding="utf-8")
+    with pytest.raises(CellError, match=r"cell\.camera\.handeye\.pixel_to_mm: the 2x2 part is singular"):
         load_cell(path)

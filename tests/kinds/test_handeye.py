@@ -11,6 +11,7 @@ from click.testing import CliRunner
 
 from codegen.cli import main
 from codegen.kinds.station.frame.handeye import HandEyeError, fit, read_points
+from codegen.kinds.station.section import section_of
 from codegen.model.cell import CellError, load_cell
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "codegen" / "examples"
@@ -106,8 +107,8 @@ def test_cli_writes_into_the_cell(tmp_path):
     data = json.loads(result.output)
     assert len(data["residuals_mm"]) == 9 and data["max_residual_mm"] < 1e-9
     loaded = load_cell(cell)
-    assert loaded.handeye[0][2] == pytest.approx(5.0)
-    assert loaded.angle_sign == 1  # this grid's map does not mirror: the bench's -1 is replaced
+    assert section_of(loaded).handeye[0][2] == pytest.approx(5.0)
+    assert section_of(loaded).angle_sign == 1  # this grid's map does not mirror: the bench's -1 is replaced
     assert cell.read_text().count("[cell.camera.handeye]") == 1
     assert "[[station]]" in cell.read_text() and 'name = "tray"' in cell.read_text()
 
@@ -131,4 +132,4 @@ def test_write_sets_the_angle_sign_the_image_imposes(tmp_path):
     points = EXAMPLES / "thermometer_bench_points.csv"
     result = CliRunner().invoke(main, ["calibrate", "handeye", str(points), "--write", str(cell)])
     assert result.exit_code == 0, result.output
-    assert load_cell(cell).angle_sign == -1
+    assert section_of(load_cell(cell)).angle_sign == -1

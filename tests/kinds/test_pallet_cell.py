@@ -518,7 +518,12 @@ def test_a_long_pallet_name_is_shortened_in_the_messages_never_the_instruction(t
             "      PAL_HANDLE = SET_KRLMSG(#NOTIFY, PAL_MSG, PAL_PAR[], PAL_OPT)\n",
             "      PAL_HALT()\n      RETURN FALSE\n",
         ),
-        ("abb", "pal_testmat.mod", "          WaitDI diPartAtQ, 1;\n", '          stack_stop "no box";\n'),
+        (
+            "abb",
+            "pal_testmat.mod",
+            "          WHILE late DO\n",
+            '          stack_stop "no box";\n          WHILE late DO\n',
+        ),
         ("ur", "pal_testmat.script", "pal_wait_on(2, ", "pal_wait(2, "),
         ("dtrans", "pal_testmat.prg", "      While DIn(3) <> True\n", "      Halt\n      While DIn(3) <> True\n"),
     ],

@@ -11,6 +11,7 @@ from support.closed_forms import evaluate
 
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, UNKNOWN_STATION
 from codegen.kinds.station.point.reference import Reading, expected_trace
+from codegen.kinds.station.section import section_of, stations_of
 from codegen.poses import wrap_deg
 
 
@@ -18,7 +19,7 @@ def test_closed_form_agrees_with_matrices(demo_cell):
     rng = random.Random(2026)
     worst = 0.0
     for _ in range(2000):
-        station = rng.choice(demo_cell.stations)
+        station = rng.choice(stations_of(demo_cell))
         tx, ty, t_theta = station.spec.mark
         reading = Reading(
             station.id, tx + rng.uniform(-7, 7), ty + rng.uniform(-7, 7), t_theta + rng.uniform(-9.9, 9.9)
@@ -45,7 +46,7 @@ def test_closed_form_agrees_with_matrices(demo_cell):
 
 
 def test_zero_shift_gives_taught_poses(demo_cell):
-    station = demo_cell.stations[5]
+    station = stations_of(demo_cell)[5]
     trace = expected_trace(demo_cell, Reading(station.id, *station.spec.mark))
     for pose, move in zip(station.path, trace.moves, strict=True):
         assert np.allclose(move.tcp2base, pose.matrix(), atol=1e-12)
@@ -53,7 +54,7 @@ def test_zero_shift_gives_taught_poses(demo_cell):
 
 
 def test_pure_translation(demo_cell):
-    station = demo_cell.stations[0]
+    station = stations_of(demo_cell)[0]
     tx, ty, t_theta = station.spec.mark
     trace = expected_trace(demo_cell, Reading(station.id, tx + 3, ty - 4, t_theta))
     for pose, move in zip(station.path, trace.moves, strict=True):
@@ -63,7 +64,7 @@ def test_pure_translation(demo_cell):
 
 def test_fixed_poses_stay_as_taught_and_the_others_turn(demo_cell):
     """A reading turned 5 deg moves the machine's poses and leaves the tray's (on the AGV with the robot) alone."""
-    station = demo_cell.stations[0]
+    station = stations_of(demo_cell)[0]
     tx, ty, t_theta = station.spec.mark
     trace = expected_trace(demo_cell, Reading(station.id, tx, ty, t_theta + 5.0))
     moved = {
@@ -75,7 +76,7 @@ def test_fixed_poses_stay_as_taught_and_the_others_turn(demo_cell):
 
 
 def test_guard_order_and_reasons(demo_cell):
-    s = demo_cell.stations[0]
+    s = stations_of(demo_cell)[0]
     tx, ty, t_theta = s.spec.mark
     assert expected_trace(demo_cell, Reading(99, math.nan, 0, 0)).reason == UNKNOWN_STATION
     assert expected_trace(demo_cell, Reading(s.id, math.nan, ty, t_theta)).reason == INVALID_READING
@@ -89,7 +90,7 @@ def test_guard_order_and_reasons(demo_cell):
 
 
 def test_rotation_wraps_at_180(demo_cell):
-    s = demo_cell.station_by_id(6)  # mark theta 178.6 deg
+    s = section_of(demo_cell).station_by_id(6)  # mark theta 178.6 deg
     trace = expected_trace(demo_cell, Reading(6, s.spec.mark[0], s.spec.mark[1], -178.4))
     assert trace.status == "ok"
     assert trace.detail.rotation_deg == pytest.approx(3.0)
@@ -104,7 +105,7 @@ def test_wrap_deg():
 
 
 def test_deviation_line(demo_cell):
-    s = demo_cell.stations[0]
+    s = stations_of(demo_cell)[0]
     tx, ty, t_theta = s.spec.mark
     trace = expected_trace(demo_cell, Reading(s.id, tx + 1, ty + 2, t_theta + 3))
     sid, dx1, dy1, dx2, dy2, dtheta = trace.logged

@@ -2,6 +2,8 @@
 
 from station_base import StationTests, replace_once
 
+from codegen.kinds.station.section import stations_of
+
 WORK = "  TARGET = CORR : P1_CHUCK\n  $VEL.CP = 0.0500\n  LIN TARGET\n"  # the work pose of station 1 (slow)
 BASE_RESET = "  $BASE = $ROBROOT ; the robot's base ($NULLFRAME is the world: not the same on a track or a platform)\n"
 HALT_RETURN = "    VIS_PAR[1] = {PAR_TYPE #EMPTY}\n    VIS_HALT()\n    RETURN\n"  # a station's guard halt
@@ -65,7 +67,7 @@ def test_the_base_is_the_robot_base_on_a_platform():
 
     cell, target = load_cell(), get_target("kuka")
     files = {f.relpath.rsplit(".", 1)[1]: f.text for f in render(cell, ["kuka"])}
-    case = get_mode("point").nominal_case(cell, cell.stations[0])
+    case = get_mode("point").nominal_case(cell, stations_of(cell)[0])
     inputs = inputs_for(cell, target, case.reading)
     root = {"$ROBROOT": (1500.0, -300.0, 0.0, 90.0, 0.0, 0.0)}
 

@@ -15,6 +15,7 @@ from codegen.guard import NO_PART, PART_HELD, halt_message
 from codegen.kinds.station.cases import Case, accepted_traces
 from codegen.kinds.station.part import part_problem
 from codegen.kinds.station.point.reference import Reading
+from codegen.kinds.station.section import stations_of
 from codegen.model.cell import CellError, cell_from_dict, load_cell
 
 DEMO = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "agv_machine_tending.toml"
@@ -53,14 +54,14 @@ def test_the_start_decides_by_what_the_station_does_first():
     """A station that takes a part first, started with one in the gripper, stops at home (the part is not dropped
     there); one that puts a part down first, started empty, stops too; the others go on."""
     cell = load_cell(DEMO)
-    lathe = cell.stations[0]
+    lathe = stations_of(cell)[0]
     reading = Reading(lathe.id, *lathe.spec.mark)
     (held,), _ = accepted_traces(cell, Case("part_held", reading, held=True))
     assert (held.status, held.reason, held.moves) == ("halt", PART_HELD, ())
     (empty,), _ = accepted_traces(cell, Case("zero_shift", reading))
     assert empty.status == "ok" and len(empty.moves) == len(lathe.path)
     placing = cell_from_dict(_place_first(), "cell.toml")
-    station = placing.stations[0]
+    station = stations_of(placing)[0]
     (none,), _ = accepted_traces(placing, Case("part_held", Reading(station.id, *station.spec.mark), held=False))
     assert none.reason == NO_PART
     assert halt_message(cell, NO_PART, None, 0) != halt_message(cell, PART_HELD, None, 0)
@@ -100,7 +101,7 @@ class _Move:
 
 def _problem(events, held: bool = False):
     cell = load_cell(DEMO)
-    station = cell.stations[0]
+    station = stations_of(cell)[0]
     moves = [_Move("chuck_out", (700.0, 0.0, 300.0)), _Move("tray_done", (500.0, -400.0, 250.0))]
     trace = Trace(outputs=events)
     return part_problem(cell, "grip", station, moves, held, trace, 0.005)
@@ -136,7 +137,7 @@ def _bench_carrying() -> dict:
 @pytest.mark.parametrize("target", ["ur", "kuka", "abb", "dtrans"])
 def test_a_part_carried_from_one_station_into_a_frame_station(target):
     cell = cell_from_dict(_bench_carrying(), str(BENCH))
-    assert [s.holds_at_start for s in cell.stations] == [True, False]
+    assert [s.holds_at_start for s in stations_of(cell)] == [True, False]
     cases = [c for c in stations.build_cases(cell, 1, 3) if c.category != "unknown_station"]
     assert {c.category for c in cases} >= {"part_held", "gripper_silent", "gripper_stuck"}
     row = stations.verify(cell, stations.source(cell, target), cases)

@@ -10,6 +10,7 @@ from support.cells import replace_once
 from support.programs import sources
 
 from codegen.dialects.rapid.interpreter import load as load_rapid
+from codegen.kinds.station.section import stations_of
 from codegen.model.cell import CellError, cell_from_dict, load_cell
 from codegen.render import render
 
@@ -28,7 +29,7 @@ def _demo_dict() -> dict:
 @pytest.mark.parametrize(
     ("table", "values", "message"),
     [
-        ("vision", {"timeout_s": 0.1}, r"cell\.vision\.timeout_s: must be between 0\.2 and 600 s"),
+        ("vision", {"timeout_s": 0.1}, r"cell\.vision\.timeout_s: must be in \[0\.2, 600\] s"),
         ("vision", {"timeout": 5}, r"cell\.vision\.timeout: unknown key"),
         ("motion", {"speed_mm_s": 0}, r"cell\.motion\.speed_mm_s: must be in \[1, 5000\] mm/s"),
         ("motion", {"zone_mm": 300}, r"cell\.motion\.zone_mm: must be in \[0, 200\] mm"),
@@ -54,7 +55,7 @@ def test_the_demo_cell_names_its_speeds_zone_signal_and_timeout():
     assert cell.io.output["kuka"] == 17 and cell.io.feedback["abb"] == "diGripClosed"
     assert cell.vision.timeout_s == 5.0
     # the retreat: 50 mm back along the work pose's own z axis (the tool points down: 50 mm up)
-    lathe = cell.stations[0]
+    lathe = stations_of(cell)[0]
     work, retreat = lathe.poses[-1].matrix(), lathe.retreat.matrix()
     assert retreat[:3, 3] - work[:3, 3] == pytest.approx(-50.0 * work[:3, 2])
 

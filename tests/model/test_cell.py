@@ -10,23 +10,24 @@ import sys
 import pytest
 from support.cells import MINIMAL_CELL
 
+from codegen.kinds.station.section import section_of, stations_of
 from codegen.model.cell import CellError, load_cell
 
 
 def test_demo_cell_loads(demo_cell):
     assert demo_cell.name == "agv_machine_tending"
-    assert [s.id for s in demo_cell.stations] == [1, 2, 3, 4, 5, 6, 7]
-    assert demo_cell.angle_sign == -1
-    assert demo_cell.limits.max_shift_mm == 10.0
+    assert [s.id for s in stations_of(demo_cell)] == [1, 2, 3, 4, 5, 6, 7]
+    assert section_of(demo_cell).angle_sign == -1
+    assert section_of(demo_cell).limits.max_shift_mm == 10.0
     # the machines are tended (the finished part out onto the tray, the raw part in); the others are visited
-    assert [len(s.poses) for s in demo_cell.stations] == [11] * 5 + [2, 2]
-    assert [s.holds_at_start for s in demo_cell.stations] == [False] * 5 + [None, None]
+    assert [len(s.poses) for s in stations_of(demo_cell)] == [11] * 5 + [2, 2]
+    assert [s.holds_at_start for s in stations_of(demo_cell)] == [False] * 5 + [None, None]
     assert len(demo_cell.sha256) == 64
 
 
 def test_minimal_cell_keeps_pose_order(write_cell):
     cell = load_cell(write_cell(MINIMAL_CELL))
-    assert [p.name for p in cell.stations[0].poses] == ["approach", "chuck"]
+    assert [p.name for p in stations_of(cell)[0].poses] == ["approach", "chuck"]
 
 
 def _error(write_cell, text: str) -> str:
@@ -79,15 +80,15 @@ BAD = {
     ),
     "unknown_target": (
         MINIMAL_CELL.replace("targets = [", 'targets = ["fanuc", '),
-        "cell.targets[0]: unknown target 'fanuc'",
+        "cell.targets[0]: expected one of 'abb', 'dtrans', 'kuka', 'ur' (a controller), got 'fanuc'",
     ),
     "unknown_pose_format": (
         MINIMAL_CELL.replace('pose_format = "xyzabc"', 'pose_format = "euler"'),
-        "cell.pose_format: unknown pose format 'euler'",
+        "cell.pose_format: expected one of 'xyzabc', 'ur', 'abb' (how a taught pose is written), got 'euler'",
     ),
     "zero_shift_limit": (
         MINIMAL_CELL.replace("max_shift_mm = 10.0", "max_shift_mm = 0.0"),
-        "cell.limits.max_shift_mm: must be positive",
+        "cell.limits.max_shift_mm: must be in (0, 100000] mm (the largest shift of the mark), got 0",
     ),
     "negative_rotation_limit": (
         MINIMAL_CELL.replace("max_rotation_deg = 10.0", "max_rotation_deg = -1"),
@@ -103,7 +104,8 @@ BAD = {
     ),
     "bad_angle_sign": (
         MINIMAL_CELL.replace("angle_sign = -1", "angle_sign = 2"),
-        "cell.camera.angle_sign: expected 1 or -1, got 2",
+        "cell.camera.angle_sign: expected one of 1, -1 (the sign the camera's angles turn with: -1 when its image is "
+        "mirrored (they turn against the frame's)), got 2",
     ),
     "unknown_key": (
         MINIMAL_CELL.replace("max_shift_mm = 10.0", "max_shift_mm = 10.0\nmax_shfit = 3"),
@@ -155,7 +157,7 @@ def test_abb_quaternion_normalised_with_warning(write_cell):
         .replace("[700.0, 50.0, 260.0, -90.0, 15.0, 180.0]", "[700.0, 50.0, 260.0, 0.5, 0.5, 0.5, 0.5]")
     )
     cell = load_cell(write_cell(text))
-    assert cell.stations[0].poses[0].values[3:] == (0.0, 0.0, 0.0, 1.0)
+    assert stations_of(cell)[0].poses[0].values[3:] == (0.0, 0.0, 0.0, 1.0)
     assert len(cell.warnings) == 1
     assert "station[1].poses.approach: quaternion norm 2 normalised" in cell.warnings[0]
 
@@ -175,7 +177,7 @@ def test_ur_pose_format_in_metres(write_cell):
         .replace("[700.0, 50.0, 260.0, -90.0, 15.0, 180.0]", "[0.7, 0.05, 0.26, 0.0, 3.14159, 0.0]")
     )
     cell = load_cell(write_cell(text))
-    m = cell.stations[0].poses[0].matrix()
+    m = stations_of(cell)[0].poses[0].matrix()
     assert math.isclose(m[0, 3], 650.0)
 
 

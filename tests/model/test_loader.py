@@ -3,6 +3,7 @@ dataclass built by keyword, and the line each message names."""
 
 from __future__ import annotations
 
+import tomllib
 from dataclasses import dataclass
 
 import jsonschema
@@ -250,3 +251,40 @@ def test_key_lines_follow_headers_arrays_of_tables_and_multi_line_values():
 )
 def test_line_of_a_message_key_path(path, line):
     assert line_of(TOML, path) == line
+
+
+def test_key_lines_read_quoted_keys_and_arrays_of_tables_as_toml_does():
+    text = '[cell]\n"a\\"b" = 1\n\'c\\d\' = 2\n[[pallet]]\n[[pallet]]\n'
+    assert tomllib.loads(text)["cell"] == {'a"b': 1, "c\\d": 2}
+    lines = {("cell",): 1, ("cell", 'a"b'): 2, ("cell", "c\\d"): 3, ("pallet",): 4, ("pallet", 0): 4, ("pallet", 1): 5}
+    assert key_lines(text) == lines
+
+
+SIDES = Table(
+    "A list chosen from fixed values.",
+    {
+        "sides": Key(
+            "list",
+            "the sides used",
+            required=True,
+            non_empty=True,
+            values=Key("string", "a side", choices=("left", "right")),
+        )
+    },
+)
+
+
+@pytest.mark.parametrize(
+    ("raw", "says"),
+    [
+        ({}, "demo.sides: missing: the sides used: 'left', 'right'"),
+        ({"sides": []}, "demo.sides: expected at least one value (the sides used: 'left', 'right')"),
+        ({"sides": "left"}, "demo.sides: expected a list from 'left', 'right', got the string 'left'"),
+        ({"sides": [3]}, "demo.sides[0]: expected one of 'left', 'right' (a side), got the number 3"),
+        ({"sides": ["up"]}, "demo.sides[0]: expected one of 'left', 'right' (a side), got 'up'"),
+    ],
+)
+def test_a_message_about_a_chosen_value_lists_the_values_allowed(raw, says):
+    with pytest.raises(CellError) as info:
+        Loader(CellValidator("cell.toml")).table(SIDES, raw, "demo")
+    assert str(info.value) == f"cell.toml: {says}"

@@ -30,6 +30,7 @@ class FakeVerify:
     def __init__(self):
         self.calls: list[str] = []
         self.failing: set[str] = set()
+        self.mismatch = "random 1: position off by 3 mm"  # a failing cell's mismatch, as verify words one
 
     def __call__(self, runs, options=None) -> list[Report]:
         return [self.one(run.cell, run.targets, options) for run in runs]
@@ -40,7 +41,7 @@ class FakeVerify:
         for target in targets or cell.targets:
             row = Row(next(iter(cell.sections)), target, cell.name, [f"<fresh>/{cell.name}"], cases=options.cases)
             if cell.name in self.failing:
-                row.mismatch("random 1: position off by 3 mm")
+                row.mismatch(self.mismatch)
             rows.append(row)
         return Report(cell.name, rows, options.seed, options.cases)
 

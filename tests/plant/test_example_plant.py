@@ -16,9 +16,10 @@ from codegen.cli import main
 from codegen.controllers import target_names
 from codegen.generate import diff
 from codegen.kinds.station.mode import modes
+from codegen.kinds.station.section import stations_of
 from codegen.model.cell import EXAMPLE_PLANT, EXAMPLES_DIR, load_cell
 from codegen.plant.config import load_plant
-from codegen.protocol import kinds
+from codegen.protocol import installed_kinds
 
 CELLS = load_plant(EXAMPLE_PLANT).cells
 
@@ -28,8 +29,8 @@ def test_the_example_plant_has_a_dozen_distinct_cells_of_every_kind_and_controll
     assert len(cells) >= 12
     assert len({c.name for c in cells}) == len(cells) and len({c.sha256 for c in cells}) == len(cells)
     assert {t for c in cells for t in c.targets} == set(target_names())
-    assert {k for c in cells for k in c.sections} == set(kinds())
-    assert {s.mode for c in cells for s in c.stations} == set(modes())
+    assert {k for c in cells for k in c.sections} == set(installed_kinds())
+    assert {s.mode for c in cells for s in stations_of(c)} == set(modes())
 
 
 @pytest.mark.parametrize("path", CELLS, ids=lambda p: p.relative_to(EXAMPLE_PLANT).as_posix())

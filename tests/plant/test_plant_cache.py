@@ -6,7 +6,7 @@ import json
 from pathlib import Path
 
 from codegen.plant import cache as cache_module
-from codegen.plant.cache import Cache, cache_folder, verify_key
+from codegen.plant.cache import FORMAT, Cache, cache_folder, verify_key
 
 OPTIONS = {"targets": [], "cases": 5, "seed": 0, "step_limit": None}
 
@@ -62,7 +62,7 @@ def test_a_truncated_foreign_or_other_format_entry_is_not_trusted(tmp_path: Path
         "not json": "\x00\x01",
         "foreign key": whole.replace(key, other),
         "other format": json.dumps({"format": 0, "key": key, "result": {"rows": [1]}}),
-        "no result": json.dumps({"format": 1, "key": key}),
+        "no result": json.dumps({"format": FORMAT, "key": key}),
         "a list": "[]",
     }
     for name, text in cases.items():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 from click.testing import CliRunner
@@ -59,3 +60,27 @@ def test_the_plants_out_folder_and_targets(plant: Path):
     (plant / "codegen.toml").write_text('[plant]\ntargets = ["ur"]\n')
     code, report = _run("generate", str(plant))
     assert code == 0 and set(_results(report).values()) == {"skipped"}
+
+
+def test_a_module_loaded_into_the_production_task_is_checked_from_its_entry(tmp_path: Path):
+    """The ABB laser module has no PROC main by design (the production task's main calls its routine): a plant's
+    check starts it at the routine its plan names, and so does `codegen check --entry`; a wrong routine is an error,
+    a language without entry routines refuses the option."""
+    from codegen.model.cell import EXAMPLES_DIR
+
+    repo = Path(__file__).resolve().parents[2]
+    plant = tmp_path / "plant"
+    shutil.copytree(repo / "generated" / "laser_tcp", plant / "generated" / "laser_tcp")
+    shutil.copyfile(EXAMPLES_DIR / "laser" / "laser_tcp.toml", plant / "laser_tcp.toml")
+    (plant / "codegen.toml").write_text('[plant]\ntargets = ["abb"]\n')
+    code, report = _run("check", str(plant))
+    assert code == 0 and _results(report) == {"laser_tcp.toml abb": "clean"}, report
+    folder = str(plant / "generated" / "laser_tcp" / "abb")
+    runner = CliRunner()
+    alone = runner.invoke(main, ["check", folder])
+    assert alone.exit_code == 1 and "[no-main]" in alone.output
+    assert runner.invoke(main, ["check", folder, "--entry", "tcp_laser_tcp_run"]).exit_code == 0
+    wrong = runner.invoke(main, ["check", folder, "--entry", "main_nope"])
+    assert wrong.exit_code == 2 and "no global PROC main_nope" in wrong.output
+    refused = runner.invoke(main, ["check", str(plant / "generated" / "laser_tcp" / "ur"), "--entry", "x"])
+    assert refused.exit_code == 2 and "--entry x: a ur program starts only at its own entry" in refused.output

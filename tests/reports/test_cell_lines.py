@@ -6,7 +6,8 @@ import tomllib
 
 import pytest
 
-from codegen.reports.cell_lines import entry_of, key_lines, key_under
+from codegen.model.lines import key_lines
+from codegen.reports.cell_lines import entry_of, key_under
 from tests.support.cells import EXAMPLES
 
 TEXT = '''\

@@ -59,9 +59,45 @@ def test_a_moved_pose_and_an_added_station_are_said_per_program(tmp_path):
         assert moved, part
         for _, _line, mm, deg in moved:
             assert float(mm) == pytest.approx(1.0, abs=1e-3) and float(deg) < 1e-3
-        # station 3 is new: the old program does not know it and stops, the new one runs it
-        assert re.search(r"station 3 [^\n]*the new program runs on; the old one stopped", part), part
+        # station 3 is new: the old program does not know it and stops before it moves, the new one serves it
+        stations = part[part.index("- stations added or removed:") : part.index("- poses moved:")]
+        assert re.search(r"station 3 [^\n]*: added \(the old program stops before it moves there", stations)
+        assert "stops:" not in part, part
+        assert re.search(rf"^\| {target} \| `{program}` \| changed \| 1 \| [1-9]", text, re.M), target
         assert "<details><summary>raw diff" in part and f"+++ {out}" in part
+
+
+def test_a_removed_station_is_said_per_program(tmp_path):
+    """Station 2 taken out of the cell: the old program still serves its id, the new one stops there."""
+    cell, out = setup(tmp_path, lambda text: text[: text.index("[[station]]\nid = 2")])
+    result = invoke(cell, out, "--no-verify")
+    assert result.exit_code == 1, result.output
+    for target, program in PROGRAMS.items():
+        part = section(result.output, target, program)
+        (said,) = re.findall(r"  - removed \(the old program serves it, the new one stops\): (.*)", part)
+        assert said.startswith("unknown station id 2: "), said
+        assert re.search(rf"^\| {target} \| `{program}` \| changed \| 1 \|", result.output, re.M), target
+
+
+def test_a_task_of_several_modules_names_the_module_of_each_move(tmp_path):
+    """An ABB pallet task (its main module, the pallet's module, the counters' system module): a moved pick pose's
+    moves are named at their lines in the pallet's module, and the files that changed are listed."""
+    from codegen.model.cell import EXAMPLE_PLANT
+
+    cell = tmp_path / "carton.toml"
+    text = (EXAMPLE_PLANT / "pallets" / "carton_abb.toml").read_text(encoding="utf-8")
+    cell.write_text(text, encoding="utf-8")
+    made = CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")])
+    assert made.exit_code == 0, made.output
+    cell.write_text(text.replace("pick = [600.0, ", "pick = [601.0, ", 1), encoding="utf-8")
+    result = invoke(cell, tmp_path / "out", "--no-verify")
+    assert result.exit_code == 1, result.output
+    part = section(result.output, "abb", "pallet_main.mod")
+    assert "files changed: `pallet_main.mod`, `pal_carton.mod`" in part.splitlines()[0]
+    moved = re.findall(r"move \d+ \((\S+) line (\d+)\) in [^:]*: 1\.000 mm", part)
+    assert moved and {name for name, _ in moved} == {"pal_carton.mod"}, part
+    module = (tmp_path / "out" / "carton_abb" / "abb" / "pal_carton.mod").read_text().splitlines()
+    assert all(re.match(r"\s*(MoveL|MoveJ|MoveAbsJ) ", module[int(line) - 1]) for _, line in moved)
 
 
 def fast(model, files=(), targets=(), options=None):

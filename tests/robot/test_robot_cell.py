@@ -13,6 +13,7 @@ from support.robot_chains import CATALOGUE_CHAINS, chain_frames, ikpy_chain
 
 from codegen.cli import main
 from codegen.kinds.station.region import arm_poses
+from codegen.kinds.station.section import stations_of
 from codegen.model.cell import DEMO_CELL, EXAMPLES_DIR, CellError, load_cell
 from codegen.render import render
 from codegen.robot.arms import catalogue
@@ -122,9 +123,9 @@ def test_a_custom_arm_by_its_parameters(tmp_path):
     )
     cell = load_cell(write_cell(tmp_path, DEMO_TEXT.replace('kuka = "KR 10 R1100 sixx"', custom)))
     same = load_cell(DEMO_CELL)
-    station = cell.stations[0]
+    station = stations_of(cell)[0]
     mine = [p.joints for p in arm_poses(cell, "kuka", station)]
-    theirs = [p.joints for p in arm_poses(same, "kuka", same.stations[0])]
+    theirs = [p.joints for p in arm_poses(same, "kuka", stations_of(same)[0])]
     assert np.allclose(mine, theirs)
 
 
@@ -152,7 +153,7 @@ def test_a_configuration_the_pose_cannot_take_is_refused_at_generate(tmp_path):
 
 def test_taught_joints_name_the_solution(tmp_path):
     cell = load_cell(DEMO_CELL)
-    joints = arm_poses(cell, "ur", cell.stations[0])[0].joints
+    joints = arm_poses(cell, "ur", stations_of(cell)[0])[0].joints
     flipped = joints.copy()
     flipped[4] = -flipped[4]  # another wrist: does not reach the pose
     text = DEMO_TEXT.replace(
@@ -245,7 +246,7 @@ def test_demo_robconf_and_status_turn_agree_with_an_independent_model():
     checked = 0
     for target in ("abb", "kuka"):
         model = cell.robot.arms[target].model
-        for station in cell.stations:
+        for station in stations_of(cell):
             for pose in arm_poses(cell, target, station):
                 frames = chain_frames(model, pose.joints)
                 flange = frames[-1] @ np.eye(4)
@@ -309,7 +310,7 @@ def test_a_large_cell_is_checked_in_parallel_with_the_same_result(tmp_path, monk
 
     path = write_cell(tmp_path, _many_stations(60))
     parallel = load_cell(path)
-    assert len(parallel.stations) >= envelope.PARALLEL_STATIONS
+    assert len(stations_of(parallel)) >= envelope.PARALLEL_STATIONS
     margins = [e.as_json() for e in envelope.check(parallel)]
     files = render(parallel)
     monkeypatch.setattr(envelope, "PARALLEL_STATIONS", 10**6)

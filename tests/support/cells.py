@@ -21,9 +21,10 @@ def example(name: str):
     return load_cell(EXAMPLES[name])
 
 
-def kind_targets() -> list[tuple[str, str, str]]:
+@cache
+def kind_targets() -> tuple[tuple[str, str, str], ...]:
     """(kind, target, example cell) for every kind's programs of every target in the examples: the first example
-    cell that has them."""
+    cell that has them (worked out once per process: every kind's programs are planned for it)."""
     from codegen.controllers import get_target
     from codegen.render import plans
 
@@ -33,7 +34,7 @@ def kind_targets() -> list[tuple[str, str, str]]:
         for target in cell.targets:
             for plan in plans(cell, get_target(target)):
                 out.setdefault((plan.kind, target), name)
-    return [(kind, target, cell) for (kind, target), cell in sorted(out.items())]
+    return tuple((kind, target, cell) for (kind, target), cell in sorted(out.items()))
 
 
 HOSTILE = st.lists(

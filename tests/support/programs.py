@@ -69,9 +69,8 @@ def load_program(target, text: str, filename: str = "program", companions: dict 
 
 def run_case(cell, target: str, program, case, kind: str):
     """One of a kind's cases run on a loaded program, set up as verify sets it up: (trace, setup)."""
-    from codegen.protocol import get_kind
     from codegen.robot.expect import arm_of
 
     source = first(cell, target, kind)
-    setup = get_kind(kind).setup(cell, source, case)
+    setup = cell.kinds[kind].verify.setup(cell, source, case)
     return program.run(setup.inputs, **setup.run_options(arm_of(cell, target), 2_000_000)), setup

@@ -8,7 +8,6 @@ from codegen.controllers import get_target
 from codegen.dialects.core.files import SourceFile
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.kinds.station.cases import build_cases, inputs_for, run_options
-from codegen.protocol import get_kind
 from codegen.robot.expect import arm_of
 from codegen.verify.programs import fresh_sources
 from codegen.verify.report import Row
@@ -36,14 +35,16 @@ def source(cell, target: str, text: str | None = None, dat: str | None = None, l
     return replace(program, files=new, origin=tuple(names), row=0)
 
 
-def verify(cell, program, cases: list, step_limit: int = DEFAULT_STEP_LIMIT) -> Row:
-    """The row of the given station cases on the program (in this process)."""
-    return run_cases(cell, program, cases, step_limit)
+def verify(cell, program, cases: list, step_limit: int = DEFAULT_STEP_LIMIT, first: bool = False) -> Row:
+    """The row of the given station cases on the program (in this process; first: up to its first mismatch, as
+    `codegen verify` stops a program's run there, for a test that asks only whether verify fails it)."""
+    return run_cases(cell, program, cases, step_limit, first)
 
 
 def sweep(cell, program, ids: range) -> Row:
-    row = Row(program.kind, program.target, program.ident, list(program.origin))
-    get_kind(program.kind).sweep(cell, program, program.load(), ids, DEFAULT_STEP_LIMIT, row)
+    plan = cell.kinds[program.kind].verify
+    row = Row(program.kind, program.target, program.ident, list(program.origin), verify=plan)
+    plan.sweep(cell, program, program.load(), ids, DEFAULT_STEP_LIMIT, row)
     return row
 
 

@@ -86,7 +86,7 @@ def test_verify_fresh_output_json():
         assert t["position_error_mm"]["max"] <= 0.005
 
 
-def test_verify_catches_a_hand_edited_file(tmp_path):
+def test_verify_catches_a_hand_edited_file(tmp_path, no_sweeps):
     source = (GENERATED / "ur" / "agv_machine_tending.script").read_text()
     edited = tmp_path / "edited.script"
     edited.write_text(source.replace("  if dx * dx + dy * dy > MAX_SHIFT_SQ:", "  if dx * dx > MAX_SHIFT_SQ:"))
@@ -96,7 +96,7 @@ def test_verify_catches_a_hand_edited_file(tmp_path):
     assert "mark shift over 10 mm" in result.output
 
 
-def test_verify_files_on_disk_pass():
+def test_verify_files_on_disk_pass(no_sweeps):
     files = [GENERATED / "kuka" / "agv_machine_tending.src", GENERATED / "dtrans" / "agv_machine_tending.prg"]
     result = invoke("verify", *files, "--cases", "5")
     assert result.exit_code == 0, result.output
@@ -117,7 +117,7 @@ def test_verify_warns_when_the_file_comes_from_another_cell():
     assert proc.returncode == 1  # the demo cell's readings do not fit the bench program
 
 
-def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path):
+def test_a_runaway_program_stops_verify_at_its_first_runaway_case(tmp_path, no_sweeps):
     """An endless loop in one station: verify reports it once per chunk of cases (a worker's share; station
     1 is in the first chunk and the start_retreat case in the last) and runs no more cases of that chunk (it
     ran every case to the step limit before, for minutes); --step-limit sets the limit."""

@@ -133,7 +133,7 @@ def test_verify_fails_the_edit(checked_in, cell_name, kind, target):
     if count == 0 and dat is not None:  # the data list holds the constants and poses of KRL
         dat, count = re.subn(pattern, replacement, dat, count=1, flags=re.MULTILINE)
     assert count == 1, f"{kind}: nothing to edit in {cell_name}'s {target} program"
-    report = stations.verify(cell, stations.source(cell, target, text, dat, kind), cases)
+    report = stations.verify(cell, stations.source(cell, target, text, dat, kind), cases, first=True)
     assert report.mismatches > 0, f"verify missed {kind} in {cell_name}'s {target} program"
 
 
@@ -176,5 +176,5 @@ def test_verify_fails_a_broken_handshake(checked_in, kind, target):
     pattern, replacement = HANDSHAKE[kind][target]
     text, count = re.subn(pattern, replacement, text, count=1, flags=re.MULTILINE)
     assert count == 1, f"{kind}: nothing to edit in the {target} program"
-    report = stations.verify(cell, stations.source(cell, target, text, dat, kind), cases)
+    report = stations.verify(cell, stations.source(cell, target, text, dat, kind), cases, first=True)
     assert report.mismatches > 0, f"verify missed {kind} in the {target} program"

@@ -9,7 +9,6 @@ import pytest
 
 from codegen.kinds.station.cases import build_cases
 from codegen.model.cell import load_cell
-from codegen.protocol import get_kind
 from codegen.verify import engine, runner
 from codegen.verify.engine import Options, verify_sources
 from codegen.verify.programs import fresh_sources
@@ -39,7 +38,6 @@ def test_one_program_at_a_time_gives_the_rows_of_all_at_once(monkeypatch):
     together, _ = verify_sources(cell, sources, options)
     runner._LOADED.clear()
     monkeypatch.setattr(runner, "ONE_PROGRAM_FROM", 1)
-    monkeypatch.setattr(engine, "ONE_PROGRAM_FROM", 1)
     apart, _ = verify_sources(cell, sources, options)
     _same_rows(apart, together)
     assert len(runner._LOADED) == 1  # the last program only
@@ -53,7 +51,7 @@ def test_programs_pinned_to_workers_give_the_same_rows(monkeypatch):
     sources = [s for s in fresh_sources(cell, ["ur", "kuka", "abb"]) if not s.ident.endswith("_node")]
     alone, _ = verify_sources(cell, sources, Options(cases=1, jobs=1, sweeps=False))
     monkeypatch.setattr(engine, "CHUNK_CASES", 40)  # several chunks per program
-    monkeypatch.setattr(engine, "ONE_PROGRAM_FROM", 1)
+    monkeypatch.setattr(runner, "ONE_PROGRAM_FROM", 1)
     counted = []
     pinned, _ = verify_sources(cell, sources, Options(cases=1, jobs=2, progress=counted.append, sweeps=False))
     assert [r.target for r in pinned] == ["ur", "kuka", "abb"]
@@ -67,7 +65,7 @@ def test_the_heap_is_frozen_only_while_cases_run(monkeypatch):
     cell = load_cell(DEMO)
     (source,) = [s for s in fresh_sources(cell, ["ur"]) if not s.ident.endswith("_node")]
     cases = build_cases(cell, 1, 0)[:5]
-    kind = get_kind(source.kind)
+    kind = cell.kinds[source.kind].verify
     judge, frozen = kind.judge, []
 
     def watched(*args):

@@ -56,7 +56,7 @@ def test_view_writes_cell_html_by_default(tmp_path, monkeypatch):
     assert (tmp_path / "laser_tcp.html").is_file()
 
 
-def test_verify_html_writes_the_report_and_keeps_the_json(tmp_path):
+def test_verify_html_writes_the_report_and_keeps_the_json(tmp_path, no_sweeps):
     """The pallet cell on UR: the page beside the JSON report, whose keys are those of a run without --html."""
     out = tmp_path / "report.html"
     args = ("verify", TESTMAT, "--target", "ur", "--cases", "1", "--jobs", "1", "--json")

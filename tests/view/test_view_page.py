@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from codegen.kinds.pallet.stack import placements
+from codegen.kinds.station.section import stations_of
 from codegen.model.cell import EXAMPLES_DIR, example_cells, load_cell
-from codegen.protocol import get_kind
 from codegen.robot.expect import arm_of
 from codegen.verify.programs import fresh_sources
 from codegen.view.page import cell_page
@@ -70,9 +70,9 @@ def test_every_program_of_every_target_shows_a_nominal_run(pages):
                 assert program["problem"] is None and program["runs"], where
                 assert all(run["halt"] is None and run["moves"] for run in program["runs"]), where
                 whats = [run["what"] for run in program["runs"]]
-                if cell.stations:
+                if stations_of(cell):
                     shown = [int(re.search(r"station (\d+)", w).group(1)) for w in whats]
-                    assert shown == [s.id for s in cell.stations], where
+                    assert shown == [s.id for s in stations_of(cell)], where
                 else:
                     assert len(whats) == 1, where
                 if program["kind"] == "pallet":
@@ -80,8 +80,8 @@ def test_every_program_of_every_target_shows_a_nominal_run(pages):
 
 
 def _case_named(cell, source, what: str):
-    kind = get_kind(source.kind)
-    for case in kind.verify_cases(cell, source, 1, 0):
+    kind = cell.kinds[source.kind].verify
+    for case in kind.cases(cell, source, 1, 0):
         if f"{getattr(case, 'category', 'case')} {kind.describe(cell, case)}".strip() == what:
             return case
     raise AssertionError(f"no case {what!r}")
@@ -100,7 +100,7 @@ def test_the_page_holds_the_interpreters_joints_and_poses(pages, browser, name):
         sources = {(s.kind, s.ident): s for s in fresh_sources(cell, [target])}
         for program in view["programs"]:
             source = sources[(program["kind"], program["program"])]
-            loaded, kind = source.load(), get_kind(source.kind)
+            loaded, kind = source.load(), cell.kinds[source.kind].verify
             for run in program["runs"]:
                 setup = kind.setup(cell, source, _case_named(cell, source, run["what"]))
                 trace = loaded.run(setup.inputs, **setup.run_options(arm_of(cell, target), 2_000_000))

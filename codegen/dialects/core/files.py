@@ -60,9 +60,11 @@ class Finding:
 class CheckOptions:
     """What `codegen check` knows beyond the files (Dialect.check_files(files, options)): the arm the program is
     for (codegen.robot.arms.Arm, from --robot; None: a language's checks that need the arm's limits take the
-    controller family's documented limits, or are skipped where there are none)."""
+    controller family's documented limits, or are skipped where there are none) and the routine it starts at
+    (--entry, where the language lets a program start at a routine of its own: None, its main)."""
 
     arm: object | None = None
+    entry: str | None = None
 
 
 PLACE = re.compile(r"^(?P<file>.+?):(?P<line>\d+)(?::(?P<column>\d+))?: (?P<message>.*)$", re.DOTALL)

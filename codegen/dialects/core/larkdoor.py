@@ -10,7 +10,7 @@ from lark.lexer import LexerState
 from lark.parsers.lalr_analysis import Shift
 from lark.utils import TextSlice
 
-# What this module relies on, by lark's own names (tests/dialects/test_larkdoor.py checks each against the
+# What this module relies on, by lark's own names (tests/dialects/core/test_larkdoor.py checks each against the
 # installed lark; pyproject.toml bounds lark to the minor versions where they hold):
 #   Lark.parser                      the ParsingFrontend; .lexer.lexers: parser state -> its contextual lexer
 #   Lark.parser.parser.parser        the LALR _Parser: .callbacks (rule -> tree builder), .parse_table

@@ -65,7 +65,7 @@ def grammar_recognizer(interpreter_file: str) -> Recognizer:
 def check_with_grammar(interpreter_file: str, text: str, filename: str, postlex=None) -> None:
     """Raise as parse_with_grammar would, without building a tree: the recognizer says yes to a
     program lark would parse; whatever it does not accept, lark parses for the verdict and the
-    message (generate's check of every program it writes: issue 16). The recognizer sees the tokens
+    message (generate's check of every program it writes). The recognizer sees the tokens
     without the postlex: a text it accepts has nothing the postlex would drop (a grammar that has no place
     for the dropped tokens), so it accepts only what the full parse accepts."""
     text = _bounded(text, filename)

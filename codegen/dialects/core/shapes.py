@@ -73,7 +73,7 @@ class ShapeCache:
         scope: dict = {}
         try:
             exec(compile(shape, self.filename, "exec"), {}, scope)  # defines the function: its defaults
-        except Exception:  # a default naming a constant: compiled each time, as before
+        except Exception:  # a default naming a constant: compiled at each call instead
             return None
         fn = scope[_NAME]
         defaults = (fn.__defaults__ or ()) + tuple((fn.__kwdefaults__ or {}).values())

@@ -17,6 +17,7 @@ class MoveEvent:
     solutions: np.ndarray | None = None  # (8, 6) deg: every analytic solution of the pose (a pose target)
     end_time: float = 0.0  # when the arm arrives, in the program's clock (s)
     start_time: float = 0.0  # when the arm sets off (the previous move's end, or the instruction's moment) (s)
+    file: str = ""  # the file of `line` where a program is several files of code (a RAPID task's modules)
 
 
 @dataclass

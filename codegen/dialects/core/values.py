@@ -95,7 +95,7 @@ def constant(value):
 # --- errors raised by generated code ------------------------------------------------------------
 
 
-# What a message calls a value's kind: the controller's words, never a Python type's name (issue 29).
+# What a message calls a value's kind: the controller's words, never a Python type's name.
 PYTHON_KINDS = {
     "NoneType": "no value",
     "bool": "a boolean",

@@ -290,7 +290,7 @@ class KRLCompiler(
         return super().s_assign(node)
 
     # --- statements --------------------------------------------------------------------------
-    # EXIT leaves LOOP, REPEAT and FOR (from WHILE it is passed on as before).
+    # EXIT leaves LOOP, REPEAT and FOR (from WHILE it is passed on to the loop around).
     def s_loop_stmt(self, node):
         return self.loop(self.where(node), self.body_block(node.children[0]), leave=EXIT, skip=NO_SKIP)
 

@@ -24,8 +24,8 @@ MAX_ON = 16
 SYSTEM_HANDLERS = frozenset({"IR_STOPM"})
 ACTIONS = frozenset({"ON", "OFF", "ENABLE", "DISABLE"})
 
-# What the interpreter models of an interrupt that fires (/tmp/laser_facts.md, KUKA section; no KSS 8 manual
-# text was reachable, so each point is marked):
+# What the interpreter models of an interrupt that fires (no KSS 8 manual text was reachable, so each
+# point is marked):
 # - the event is edge-triggered: the routine is called when the condition becomes TRUE, not while it is
 #   TRUE; TRUE already at INTERRUPT ON does not fire (secondary sources: KUKA training material, Euclid
 #   Labs; the manual's wording recalled);

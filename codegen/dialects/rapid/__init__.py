@@ -103,14 +103,14 @@ class Rapid(Dialect):
         return load_task(list(files), entry=entry)
 
     @classmethod
-    def check_files(cls, files: list, max_tcp_mm_s: float | None = None) -> list:
+    def check_files(cls, files: list, max_tcp_mm_s: float | None = None, options=None) -> list:
         """Every finding of `codegen check` in a task's files: syntax errors, refusals, undefined names and routines,
         type errors, and the field checks (a wait on an input without \\MaxTime, a move with a tool or work object
         without a value or with tool0 where the program has its own tool, names over 32 characters, speeds over
-        max_tcp_mm_s where given)."""
+        max_tcp_mm_s where given); options.entry: the task starts at that routine (PP to Routine), not at main."""
         from codegen.dialects.rapid.check import check_task
 
-        return check_task(list(files), max_tcp_mm_s)
+        return check_task(list(files), max_tcp_mm_s, getattr(options, "entry", None))
 
 
 def _task_of(name: str) -> str:

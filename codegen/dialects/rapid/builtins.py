@@ -229,7 +229,7 @@ def move_abs_j(fr, args, kwargs, where):
     mm_s, runs_ahead = move_timing(args, kwargs, where)
     settings["tcp_mm_s"], settings["zone_mm"] = mm_s, zone_radius(args[2] if len(args) > 2 else None)
     motionset.apply(fr.m, settings)
-    event = MoveEvent("joint", None, int(where.split(":")[1]), settings)
+    event = MoveEvent("joint", None, int(where.split(":")[1]), settings, file=where.split(":")[0])
     fr.m.arm.to_joints(event, q, where)
     fr.m.move(event, motionset.speed(fr.m, mm_s), runs_ahead)
 

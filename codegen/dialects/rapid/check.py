@@ -47,14 +47,15 @@ def syntax_findings(files: list[SourceFile]) -> list[Finding]:
     return found
 
 
-def check_task(files: list[SourceFile], max_tcp_mm_s: float | None = None) -> list[Finding]:
-    """Every finding of the task's files (codegen.dialects.core.files.Finding), in file and line order."""
+def check_task(files: list[SourceFile], max_tcp_mm_s: float | None = None, entry: str | None = None) -> list[Finding]:
+    """Every finding of the task's files (codegen.dialects.core.files.Finding), in file and line order; entry: the
+    routine the task starts at (a module loaded into another task's, which has the main: no main needed here)."""
     findings = syntax_findings(files)
     if findings:
         return findings
     out: dict = {}
     try:
-        load_task(files, findings, out)
+        load_task(files, findings, out, entry=entry)
     except RunError as exc:  # a refusal the compiler does not report as a finding
         match = _SYNTAX.match(str(exc))
         if match:

@@ -14,8 +14,8 @@ from codegen.dialects.rapid.arguments import split_args
 from codegen.dialects.rapid.types import num
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", CONNECT,
-# ISignalDI, IDelete and the data type intnum, as recalled (no copy of the manual's text could be read during
-# this work: /tmp/laser_facts.md section 2; every rule below is therefore assumed):
+# ISignalDI, IDelete and the data type intnum, as recalled (no copy of the manual's text could be read, so
+# every rule below is assumed):
 # - CONNECT Interrupt WITH Trap_routine: the intnum variable gets the identity of a new interrupt, handled
 #   by the TRAP routine; the variable must be module data (not declared in a routine); connecting a variable
 #   that is already connected is an error (ERR_ALRDYCNT on the controller: refused here);
@@ -32,7 +32,7 @@ from codegen.dialects.rapid.types import num
 # returns the TCP at that cycle and DInput the input's new value. The interrupt's latency and the TRAP's own
 # start-up time are not modelled (the facts say CRobT in a real TRAP returns the pose a little later: none
 # was found in figures). A TRAP may not move the arm or wait here. Without a device that switches inputs with
-# the arm's motion (Machine.watching None) no interrupt comes, as before.
+# the arm's motion (Machine.watching None) no interrupt comes.
 EDGES = {0: "falling", 1: "rising", 2: "both"}
 
 

@@ -127,7 +127,7 @@ def move_event(
     settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}
     settings["tcp_mm_s"], settings["zone_mm"] = timing[0], zone_radius(args[2] if len(args) > 2 else None)
     motionset.apply(fr.m, settings)
-    event = MoveEvent(kind, m, int(where.split(":")[1]), settings)
+    event = MoveEvent(kind, m, int(where.split(":")[1]), settings, file=where.split(":")[0])
     if solve:
         solve_event(fr, kind, event, target, where)
     return event

@@ -25,8 +25,8 @@ from codegen.dialects.rapid.types import vec
 
 # SearchL [\Stop] | [\PStop] | [\SStop] | [\Sup] Signal [\Flanks] | [\PosFlank] | [\NegFlank] SearchPoint ToPoint
 # Speed Tool [\WObj] (ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", SearchL,
-# as recalled: no copy of the manual's text was readable during this work, /tmp/laser_facts.md section 1; real
-# programs confirm \SStop, \Flanks and \NegFlank as accepted syntax). Assumed, as recalled:
+# as recalled: no copy of the manual's text was readable; real programs confirm \SStop, \Flanks and \NegFlank
+# as accepted syntax). Assumed, as recalled:
 # - the TCP moves linearly to ToPoint (a stop point) while the controller watches the digital input; the
 #   search point is the TCP, in the Tool and work object given, at the moment the input changed: here the
 #   first controller cycle that sees the change (targets/abb.toml signal_cycle_s);

@@ -1,8 +1,8 @@
 """URScript movec: the circular move through a via point, with the orientation its mode gives along the arc."""
 
-# URScript Script Directory (e-Series) 14.21, movec(pose_via, pose_to, a=1.2, v=0.25, r=0, mode=0) (STATED,
-# /tmp/laser_facts.md 10): "TCP moves on the circular arc segment from current pose, through pose_via to
-# pose_to. Accelerates to and moves with constant tool speed v."
+# URScript Script Directory (e-Series) 14.21, movec(pose_via, pose_to, a=1.2, v=0.25, r=0, mode=0) (STATED):
+# "TCP moves on the circular arc segment from current pose, through pose_via to pose_to. Accelerates to and moves
+# with constant tool speed v."
 # - pose_via: "path point (note: only position is used)"; pose_to: "target pose (note: only position is used
 #   in Fixed orientation mode)"; a: tool acceleration (m/s^2), v: tool speed (m/s), r: blend radius (m).
 # - mode 0, Unconstrained: "Interpolate orientation from current pose to target pose (pose_to)".

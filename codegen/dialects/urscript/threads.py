@@ -1,6 +1,6 @@
 """URScript threads (`thread`, `run`, `kill`, `join`): one controller frame at a time while the program spends time."""
 
-# URScript Script Directory (e-Series), 10 Threads (STATED, /tmp/laser_facts.md 9):
+# URScript Script Directory (e-Series), 10 Threads (STATED):
 # - `thread name(): ... end`; "A thread cannot take parameters, and its return value is discarded. Threads
 #   can be nested, forming a thread hierarchy." `h = run name()` starts it and returns a handle; `join h`
 #   "halts the calling thread until the specified thread finishes. If already finished, join has no effect";

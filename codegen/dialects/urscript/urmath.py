@@ -14,7 +14,7 @@
 # - point_dist(p_from, p_to): the distance between the positions. pose_dist: the manual gives no formula
 #   (UR's staff: "more like time ... than actual distance"): not modelled, refused by name.
 # - rpy2rotvec / rotvec2rpy: "Rrpy = Rz(yaw) Ry(pitch) Rx(roll)" (extrinsic X-Y-Z), radians.
-# - norm(a): a number's absolute value, a list's or a pose's euclidean norm (as before: a pose's position);
+# - norm(a): a number's absolute value, a list's or a pose's euclidean norm (a pose's: its position's);
 #   normalize(v): v / norm(v) for a list of numbers.
 # - d2r, r2d, sin, cos, tan, asin, acos, atan, atan2, sqrt, pow, log(b, f) (logarithm of f to the base b),
 #   floor, ceil: float results, stored as float32 (numbers are 32-bit, Numbers, Variables and Types).

@@ -5,9 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from codegen.controllers import get_target
-from codegen.kinds.conveyor.facts import facts
-from codegen.kinds.conveyor.program import POLL_S, SPEED_READS, SPEED_WINDOW_S, lead_seconds
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.section import conveyor_of
+from codegen.kinds.conveyor.timing import POLL_S, SPEED_READS, SPEED_WINDOW_S, lead_seconds
 
 
 @dataclass(frozen=True)
@@ -45,7 +45,7 @@ def terms(cell, target: str) -> list[Term]:
         return 0.5 * (high - low)
 
     # a time measured with a timer in whole units (the speed over the window's measured time): off by one unit
-    unit = facts(get_target(target)).get("timer_s", 0.0)
+    unit = KIND.facts(get_target(target)).get("timer_s", 0.0)
     return [
         Term(f"the encoder read every {POLL_S:g} s", POLL_S),
         Term(f"the speed's time measured in whole {unit:g} s over {window:g} s", horizon * unit / window),

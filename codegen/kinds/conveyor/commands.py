@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from codegen import protocol
 from codegen.cli_base import Number, UserError
 from codegen.cli_base import dump as _dump
 from codegen.kinds.conveyor import calibrate as cc
@@ -69,3 +70,8 @@ def calibrate_conveyor(touches, counter_bits, working_length, camera_counts, for
         click.echo(line)
     if cell_path is not None:
         click.echo(f"wrote [conveyor] into {cell_path}")
+
+
+class CommandsPart(protocol.Commands):
+    def commands(self) -> list:
+        return [("calibrate", calibrate_conveyor)]

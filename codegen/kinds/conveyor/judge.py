@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.native import margin_mm
 from codegen.kinds.conveyor.plan import GRIP
 from codegen.kinds.conveyor.program import (
@@ -42,11 +42,11 @@ def tolerances_mm(cell, target) -> tuple[float, float]:
     e = abs(conveyor.counts_per_mm)
     along = pick.capture_mm if pick.tracking[target.name] == "intercept" else 2.0 / e
     if target.name in pick.trigger_input:  # the count latched by a thread up to a frame after the trigger
-        along += pick.belt_speed_max_mm_s * facts(target)["trigger"]
+        along += pick.belt_speed_max_mm_s * KIND.facts(target)["trigger"]
     if target.name in pick.unit:
         per_m = round(e * 1000.0)
         along += abs(1.0 - e * 1000.0 / per_m) * (conveyor.camera_offset_mm + pick.window_mm[1] + 1000.0)
-    across = 0.0 if facts(target).get("names") else 0.5 / SCALE
+    across = 0.0 if KIND.facts(target).get("names") else 0.5 / SCALE
     return along + floats, across + floats
 
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.reach import follow_mm
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.cell import TaughtPose
@@ -50,7 +50,7 @@ def settings(cell, target) -> UnitSettings:
 
 def _remove_all(cell, target) -> str | None:
     """The unit's signal that empties its queue (targets/<t>.toml [program.conveyor] unit_signals), by its name."""
-    pattern = facts(target).get("unit_signals", {}).get("remove_all")
+    pattern = KIND.facts(target).get("unit_signals", {}).get("remove_all")
     name = conveyor_of(cell).pick.unit[target.name]
     return None if pattern is None else pattern.format(n=_number(name))
 
@@ -94,7 +94,7 @@ def context(cell, target, emitter) -> dict:
             "margin_mm": number(margin_mm(cell), 3),
             "signals": {
                 key: emitter.reserve(name.format(n=_number(unit.name)), "a signal of the option")
-                for key, name in facts(target).get("unit_signals", {}).items()
+                for key, name in KIND.facts(target).get("unit_signals", {}).items()
             },
             "counts_down": conveyor_of(cell).counts_per_mm < 0,
         }

@@ -5,14 +5,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from codegen.controllers import get_target
-from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.keys import PICK
-from codegen.model.io import per_target
+from codegen.kinds.conveyor.kind import KIND
+from codegen.model.io import GROUP_BITS, OFFSET, SCALE, per_target
 from codegen.model.loader import Loader, build
 from codegen.model.validate import kind_of
-from codegen.sim.bus import GROUP_BITS, OFFSET, SCALE
 
-# x and z on a 16-bit group of inputs (codegen/sim/bus.py): 0.1 mm steps around OFFSET
+# x and z on a 16-bit group of inputs (codegen.model.io): 0.1 mm steps around OFFSET
 GROUP_MM = ((0 - OFFSET) / SCALE, (2**GROUP_BITS - 1 - OFFSET) / SCALE)
 
 
@@ -93,7 +92,7 @@ def _interval(ctx, values: tuple[float, float], path: str, least: float = 0.0) -
 def _reading_range(ctx, values: tuple[float, float], path: str, targets) -> None:
     """A range of x or z the camera's readings must fall in: within what a 16-bit group carries where the
     target reads the queue so."""
-    grouped = [t for t in targets if not facts(get_target(t)).get("names")]
+    grouped = [t for t in targets if not KIND.facts(get_target(t)).get("names")]
     low, high = GROUP_MM
     if grouped and not (low <= values[0] and values[1] <= high):
         ctx.fail(
@@ -135,9 +134,9 @@ def parse_pick(ctx, loader: Loader, table, targets) -> Pick:
     values["place_clear"] = per_target(ctx, table, "place_clear", list(tracking), required=False, prefix=path)
     natives = [t for t, mode in tracking.items() if mode == "native"]
     values["unit"] = _named(
-        ctx, values["unit"] or {}, "unit", [t for t in natives if facts(get_target(t)).get("unit")], path
+        ctx, values["unit"] or {}, "unit", [t for t in natives if KIND.facts(get_target(t)).get("unit")], path
     )
-    triggered = [t for t in natives if facts(get_target(t)).get("trigger")]
+    triggered = [t for t in natives if KIND.facts(get_target(t)).get("trigger")]
     values["trigger_input"] = _numbered_input(ctx, values["trigger_input"] or {}, "trigger_input", triggered, path)
     intercepts = [t for t, mode in tracking.items() if mode == "intercept"]
     values["timer"] = _timer(ctx, values["timer"] or {}, intercepts, path)
@@ -147,11 +146,11 @@ def parse_pick(ctx, loader: Loader, table, targets) -> Pick:
 def _timer(ctx, given: dict, intercepts: list[str], path: str) -> dict:
     """Per intercepting target whose program measures the belt's speed over one of the controller's numbered timers
     (targets/<t>.toml [program.conveyor] timers: how many there are), the one the cell gives it."""
-    needed = [t for t in intercepts if facts(get_target(t)).get("timers")]
+    needed = [t for t in intercepts if KIND.facts(get_target(t)).get("timers")]
     ctx.no_unknown(given, set(needed), f"{path}.timer")
     out = {}
     for target in needed:
-        count = facts(get_target(target))["timers"]
+        count = KIND.facts(get_target(target))["timers"]
         value = given.get(target)
         if value is None:
             ctx.fail(f"{path}.timer", f"missing {target}: the controller's timer (1..{count}) the program may use")
@@ -165,7 +164,7 @@ def _tracking(ctx, tracking: dict, targets, path: str) -> dict:
     for target, mode in tracking.items():
         if target not in targets:
             ctx.fail(f"{path}.{target}", f"not one of the cell's targets ({', '.join(targets)})")
-        modes = facts(get_target(target)).get("tracking", [])
+        modes = KIND.facts(get_target(target)).get("tracking", [])
         if mode not in modes:
             have = ", ".join(modes) if modes else "none: codegen has no conveyor program for it"
             ctx.fail(f"{path}.{target}", f"{mode!r}: what codegen builds for {target}: {have}")
@@ -176,7 +175,9 @@ def _encoder_inputs(ctx, loader: Loader, raw, tracking: dict, path: str) -> dict
     """[conveyor.pick] encoder_inputs = { <target> = [A, B] }: the digital inputs of the encoder's A and B
     signals, for each target whose native tracking reads the encoder on the robot's inputs (its facts'
     encoder_inputs), and for no other (an intercepting program reads the PLC's count, ABB's unit its own)."""
-    reading = [t for t, mode in tracking.items() if mode == "native" and facts(get_target(t)).get("encoder_inputs")]
+    reading = [
+        t for t, mode in tracking.items() if mode == "native" and KIND.facts(get_target(t)).get("encoder_inputs")
+    ]
     for key in raw if isinstance(raw, dict) else ():
         if key not in reading:
             why = f"{key} does not read the encoder on its own inputs" if key in tracking else "not a tracking target"
@@ -187,7 +188,7 @@ def _encoder_inputs(ctx, loader: Loader, raw, tracking: dict, path: str) -> dict
     raw = {} if raw is None else loader.value(PICK["encoder_inputs"], raw, path)
     out = {}
     for target in reading:
-        low, high = facts(get_target(target))["encoder_inputs"]
+        low, high = KIND.facts(get_target(target))["encoder_inputs"]
         if target not in raw:
             ctx.fail(path, f"missing {target}: the digital inputs of the encoder's A and B signals")
         pair = raw[target]
@@ -203,8 +204,8 @@ def _named(ctx, given: dict, key: str, needed: list[str], path: str) -> dict:
     ctx.no_unknown(given, set(needed), f"{path}.{key}")
     out = {}
     for target in needed:
-        names = facts(get_target(target))[f"{key}s"]
-        value = given.get(target, facts(get_target(target))[key])
+        names = KIND.facts(get_target(target))[f"{key}s"]
+        value = given.get(target, KIND.facts(get_target(target))[key])
         if value not in names:
             ctx.fail(
                 f"{path}.{key}.{target}", f"expected a conveyor's mechanical unit ({', '.join(names)}), got {value!r}"

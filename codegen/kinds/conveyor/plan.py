@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.verify.plan import TOOL_LOAD, PlannedMove, PlannedOutput
 
@@ -76,7 +76,7 @@ PUT_DOWN = (  # a part held at the start
 def blends(cell, target, mode: str) -> dict[str, bool]:
     """Which moves of the pick blend into the next ([cell.motion] zone_mm; the target's program blends the
     segments its facts list: the travel moves a move follows at once), by segment key."""
-    listed = set(facts(target).get("blends", {}).get(mode, ()))
+    listed = set(KIND.facts(target).get("blends", {}).get(mode, ()))
     zone = cell.motion.zone_mm > 0
     keys = {s.key for s in PICK[mode]}
     return {key: zone and key in listed for key in sorted(keys)}
@@ -98,7 +98,17 @@ def planned(segment: Segment, cell, target, mode: str | None = None, pose=None, 
     blend = mode is not None and blends(cell, target, mode).get(segment.key, False)
     payload = carried(cell) if segment.held and cell.robot is not None and cell.robot.tool_given else TOOL_LOAD
     zone = cell.motion.zone_mm if blend else 0.0
-    return PlannedMove(segment.name, segment.kind, pose, not blend, speed, zone, percent, joints, payload)
+    return PlannedMove(
+        name=segment.name,
+        kind=segment.kind,
+        tcp2base=pose,
+        exact=not blend,
+        speed_mm_s=speed,
+        zone_mm=zone,
+        joint_percent=percent,
+        joints=joints,
+        payload=payload,
+    )
 
 
 def lay_over(cell, target, mode: str, first: int, moves: list, closes: list, opens: list) -> list[PlannedMove] | str:

@@ -9,10 +9,18 @@ import numpy as np
 
 from codegen.emit import Code, EmitError, Emitter, owned
 from codegen.kinds.conveyor import native
-from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.plan import blends, carried
 from codegen.kinds.conveyor.section import conveyor_of
-from codegen.kinds.conveyor.timing import descent_seconds, path_acc_mm_s2
+from codegen.kinds.conveyor.timing import (
+    POLL_S,
+    SPEED_READS,
+    SPEED_WINDOW_S,
+    descent_seconds,
+    lead_parts,
+    lead_seconds,
+    path_acc_mm_s2,
+)
 from codegen.model.cell import TaughtPose
 from codegen.model.io import POLL_S as IO_POLL_S
 from codegen.poses import FORMAT_DECIMALS, native_values, zyx_deg_from_rotmat
@@ -32,9 +40,6 @@ FLUSHED = "conveyor: queued before the start, skipped: part "  # ABB native: the
 NOT_HELD = "conveyor: the gripper did not hold it, skipped: part "  # ABB native: left on the belt, the arm off it
 NOT_OPENED = "conveyor: the gripper did not release the part it failed to grip"  # its stop, once off the belt
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
-POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
-SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
-SPEED_READS = 8  # intercept: the program measures the belt's speed again every 8 reads of the encoder
 MASS_DECIMALS = 3
 
 
@@ -51,21 +56,6 @@ def no_part(cell) -> str:
 def reads(seconds: float) -> int:
     """How many reads POLL_S apart make this long (the waits for a part and for the belt count their reads)."""
     return math.ceil(seconds / POLL_S - 1e-9)
-
-
-def lead_parts(cell, target) -> tuple[float, float, float]:
-    """The lead's terms (s): the descent (descent_seconds), the gripper's hold (grip_s) and the program's planning
-    time (motion_start_s: from its last read of the encoder to the arm moving), the intervals' middles."""
-    pick = conveyor_of(cell).pick
-    return descent_seconds(cell, target), pick.mean("grip_s"), pick.mean("motion_start_s")
-
-
-def lead_seconds(cell, target) -> float:
-    """How long before the part reaches the intercept point an intercepting arm starts down: the descent of
-    approach_dz at the work speed with the program's path acceleration, the arm's start after the move
-    instruction and the gripper's time to hold the part once its output is set (the middles of motion_start_s
-    and grip_s)."""
-    return sum(lead_parts(cell, target))
 
 
 def down_fixed_seconds(cell) -> float:
@@ -98,7 +88,7 @@ def conveyor_ident(cell, target) -> str:
 def conveyor_file_names(cell, target) -> list[str]:
     """The program's files, named as the program (some controllers require it of a module's files)."""
     ident = conveyor_ident(cell, target).lower()
-    return [name.format(conveyor=ident) for name in facts(target).get("files", [])]
+    return [name.format(conveyor=ident) for name in KIND.facts(target).get("files", [])]
 
 
 def picks_on(cell, target) -> bool:
@@ -106,7 +96,7 @@ def picks_on(cell, target) -> bool:
     pick = None if conveyor_of(cell) is None else conveyor_of(cell).pick
     if pick is None or target.name not in pick.tracking:
         return False
-    if not facts(target).get("files"):
+    if not KIND.facts(target).get("files"):
         raise EmitError(
             f"conveyor.pick.tracking.{target.name}: codegen has no conveyor tracking program for {target.title} yet"
         )
@@ -201,8 +191,8 @@ def conveyor_context(cell, target, emitter) -> dict:
             emitter.signal(v, f"conveyor.pick.encoder_inputs.{target.name}")
             for v in pick.encoder_inputs.get(target.name, ())
         ],
-        "registers": owned(facts(target).get("registers")),  # UR
-        "signals": owned(facts(target).get("signals")),  # signal groups (codegen/sim/bus.py)
+        "registers": owned(KIND.facts(target).get("registers")),  # UR
+        "signals": owned(KIND.facts(target).get("signals")),  # signal groups (codegen/sim/bus.py)
         "group_offset": bus.OFFSET,  # x and z on a 16-bit group: raw = round(scale x) + offset
         "group_scale": number(bus.SCALE, 1),
         "counter_span": 2**bus.GROUP_BITS,  # the 16-bit count's range: a difference is unwound by it

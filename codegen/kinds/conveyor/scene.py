@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from codegen import protocol
 from codegen.view.scene import SLAB_MM, box, frame, line, translated
 
 MARGIN_MM = 150.0  # the belt drawn this far beyond its window and the camera's line
@@ -36,3 +37,9 @@ def objects(cell, conveyor) -> list[dict]:
         table[:3, 3] = place[:3, 3] - (0.0, 0.0, PLACE_TABLE_MM[2])
         out.append(box(table, (*PLACE_TABLE_MM[:2], SLAB_MM), "place", "place table"))
     return out
+
+
+class ScenePart(protocol.Scene):
+    def objects(self, cell) -> list[dict]:
+        section = self.kind.section.of(cell)
+        return [] if section is None else objects(cell, section)

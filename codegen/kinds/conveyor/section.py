@@ -71,7 +71,7 @@ def parse_conveyor(ctx, data: dict, targets=(), pose_format: str = "xyzabc") -> 
     return build(Conveyor, values)
 
 
-COUNTER_RANGE = 2**16  # the pick programs read a 16-bit count (codegen/conveyor/bus.py)
+COUNTER_RANGE = 2**16  # the pick programs read a 16-bit count (codegen/sim/bus.py)
 
 
 def check_pick(ctx, counts_per_mm: float, camera_offset_mm: float, pick) -> None:

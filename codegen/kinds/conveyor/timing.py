@@ -4,14 +4,18 @@ from __future__ import annotations
 
 import math
 
-from codegen.kinds.conveyor.facts import facts
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.section import conveyor_of
+
+POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
+SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
+SPEED_READS = 8  # intercept: the program measures the belt's speed again every 8 reads of the encoder
 
 
 def path_acc_mm_s2(target) -> float | None:
     """The path acceleration the program sets for its straight moves (mm/s2; targets/<t>.toml [program.conveyor]
     path_acc_m_s2), None where the target's program sets none (no ramp is then known)."""
-    acc = facts(target).get("path_acc_m_s2")
+    acc = KIND.facts(target).get("path_acc_m_s2")
     return None if acc is None else 1000.0 * acc
 
 
@@ -24,3 +28,18 @@ def descent_seconds(cell, target, distance: float | None = None) -> float:
     if a is None:
         return d / v
     return d / v + v / a if d >= v * v / a else 2.0 * math.sqrt(d / a)
+
+
+def lead_parts(cell, target) -> tuple[float, float, float]:
+    """The lead's terms (s): the descent (descent_seconds), the gripper's hold (grip_s) and the program's planning
+    time (motion_start_s: from its last read of the encoder to the arm moving), the intervals' middles."""
+    pick = conveyor_of(cell).pick
+    return descent_seconds(cell, target), pick.mean("grip_s"), pick.mean("motion_start_s")
+
+
+def lead_seconds(cell, target) -> float:
+    """How long before the part reaches the intercept point an intercepting arm starts down: the descent of
+    approach_dz at the work speed with the program's path acceleration, the arm's start after the move
+    instruction and the gripper's time to hold the part once its output is set (the middles of motion_start_s
+    and grip_s)."""
+    return sum(lead_parts(cell, target))

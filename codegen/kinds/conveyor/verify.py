@@ -7,14 +7,15 @@ import math
 import random
 from dataclasses import dataclass, replace
 
+from codegen import protocol
 from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.guard import NOT_RELEASED, halt_message
 from codegen.kinds.conveyor import native, plan
-from codegen.kinds.conveyor.facts import facts
 from codegen.kinds.conveyor.judge import SKIPS, left_low
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
+from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.program import BAD_READING, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, start_joints
@@ -185,7 +186,7 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     line = BeltLine(
         case.belt,
         list(case.parts),
-        bus_for(target, facts(target)),
+        bus_for(target, KIND.facts(target)),
         robot_zero=case.robot_zero,
         wiring=None if not wiring else tuple(wiring),
         unit=unit,
@@ -311,32 +312,49 @@ def waits(cell, case: BeltCase, trace) -> str | None:
 
 
 @dataclass
-class BeltFigures:
+class BeltFigures(protocol.Figures):
     picked: int = 0
     skipped: int = 0
 
+    def count(self, case, judged: tuple[int, int]) -> None:
+        self.picked += judged[0]
+        self.skipped += judged[1]
 
-def legacy_summary(row) -> dict:
-    """A row as `codegen verify --json` lists it under "conveyors"."""
-    s = row.summary()
-    figures = row.figures or BeltFigures()
-    return {
-        "target": row.target,
-        "files": row.files,
-        "cases": row.cases,
-        "mismatches": row.mismatches,
-        "parts_picked": figures.picked,
-        "parts_skipped": figures.skipped,
-        "pos_max_mm": s["position_error_mm"]["max"],
-        "rot_max_deg": s["orientation_error_deg"]["max"],
-        "first_mismatches": row.first_mismatches,
+    def as_json(self) -> dict:
+        return {"parts_picked": self.picked, "parts_skipped": self.skipped}
+
+
+class VerifyPart(protocol.VerifyPlan):
+    """The belt's parts (each judged against the belt's log of where it was), their interruptions and the queue."""
+
+    report_key = "conveyors"
+    scenarios = SCENARIOS
+    figures = BeltFigures
+    listed = {  # a row as `codegen verify --json` lists it under "conveyors"
+        "target": "target",
+        "files": "files",
+        "cases": "cases",
+        "mismatches": "mismatches",
+        "parts_picked": "parts_picked",
+        "parts_skipped": "parts_skipped",
+        "pos_max_mm": "position_error_mm.max",
+        "rot_max_deg": "orientation_error_deg.max",
+        "first_mismatches": "first_mismatches",
     }
 
+    def cases(self, cell, source, count: int, seed: int) -> list:
+        return cases(cell, seed)
 
-def report_lines(rows: list) -> list[str]:
-    lines = ["conveyor  target    cases  fail  picked  skipped"]
-    for r in rows:
-        figures = r.figures or BeltFigures()
-        counts = f"{r.cases:6d} {r.mismatches:5d} {figures.picked:7d} {figures.skipped:8d}"
-        lines.append(f"{'belt':9} {r.target:8} {counts}")
-    return lines
+    def setup(self, cell, source, case):
+        return setup(cell, source.target, case)
+
+    def judge(self, cell, source, case, trace, setup):
+        return judge(cell, source.target, case, trace, setup)
+
+    def report_lines(self, rows: list) -> list[str]:
+        lines = ["conveyor  target    cases  fail  picked  skipped"]
+        for r in rows:
+            figures = r.figures or BeltFigures()
+            counts = f"{r.cases:6d} {r.mismatches:5d} {figures.picked:7d} {figures.skipped:8d}"
+            lines.append(f"{'belt':9} {r.target:8} {counts}")
+        return lines

@@ -1,1 +1,1 @@
-"""Source 003's automatic tool calibration with two laser displacement sensors (issue 13)."""
+"""Source 003's automatic tool calibration with two laser displacement sensors."""

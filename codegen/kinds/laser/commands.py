@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from codegen import protocol
 from codegen.cli_base import Number, UserError
 from codegen.cli_base import dump as _dump
 from codegen.kinds.laser.tcp import ToolCalibrationError, fit, read_poses, report_lines, write_to_cell
@@ -53,3 +54,8 @@ def calibrate_tcp(poses: str, method: str, max_uncertainty: float, cell_path: st
         click.echo(line)
     if cell_path is not None:
         click.echo(f"wrote the tcp into {cell_path} [cell.tool]")
+
+
+class CommandsPart(protocol.Commands):
+    def commands(self) -> list:
+        return [("calibrate", calibrate_tcp)]

@@ -8,7 +8,7 @@ import numpy as np
 
 from codegen.emit import Emitter
 from codegen.kinds.laser import program as lp
-from codegen.kinds.laser.facts import facts
+from codegen.kinds.laser.kind import KIND
 from codegen.kinds.laser.section import production_tool
 from codegen.sim.operator import Operator
 
@@ -27,13 +27,13 @@ VALUES_MM = 1e-3  # a number the message shows against the value it stands for (
 
 def asks(target) -> bool:
     """Whether the target's program asks the operator before it writes the production tool."""
-    return bool(facts(target).get("confirm"))
+    return bool(KIND.facts(target).get("confirm"))
 
 
 def texts(cell, target) -> dict[str, str]:
     """The messages with the production tool as the operator knows it (a numbered tool: "tool 3")."""
     value = production_tool(cell, target.name)
-    tool = f"tool {value}" if facts(target)["production_tool"]["form"] == "number" else str(value)
+    tool = f"tool {value}" if KIND.facts(target)["production_tool"]["form"] == "number" else str(value)
     return {
         "tool_now": TOOL_NOW.format(tool=tool),
         "tcp_found": TCP_FOUND,

@@ -2,7 +2,7 @@
 
 Proven with the check codegen/derivation.py passes in, as every kind's derivation."""
 
-# The sensor frame S (DESIGN.md section 1.5): the two beams lie in S's xy-plane (z = 0) and cross at right
+# The sensor frame S (docs/kinds/laser.md): the two beams lie in S's xy-plane (z = 0) and cross at right
 # angles at its origin; beam X runs along S's x from a sensor on its -x side, beam Y along S's y. The tool
 # is a pin of radius rho about its axis, direction u = (ux, uy, uz) in S (unit, uz > 0: from the tip up).
 # Moved with a fixed orientation, the flange carries the axis without turning it: on a horizontal circle
@@ -13,6 +13,8 @@ from __future__ import annotations
 from functools import cache
 
 import sympy as sp
+
+from codegen import protocol
 
 cx, cy, cz = sp.symbols("cx cy cz", real=True)  # the circle's centre (where the axis meets z = 0), mm
 r, rho, dz = sp.symbols("r rho dz", positive=True)  # circle radius, pin radius, height step of the flange
@@ -55,7 +57,7 @@ def rim_identity(check):
 
 
 def tip_on_beam_identity(check):
-    """The search's contact, exactly (codegen/laser/program.py): the axis through the beams' crossing (S's
+    """The search's contact, exactly (codegen/kinds/laser/program.py): the axis through the beams' crossing (S's
     origin), the tip T = lam u. The end face (points T + w, w . u = 0, |w| <= rho) meets beam X (y = 0, z = 0)
     where w = (lam (1 - ux^2) / ux, -lam uy, -lam uz) (the only point of the face's plane on the beam), so it
     first touches the beam at |w| = rho: lam = rho ux / sqrt(1 - ux^2), the tip rho ux uz / sqrt(1 - ux^2)
@@ -75,7 +77,7 @@ def tip_on_beam_identity(check):
 
 
 def edge_identity(check):
-    """What the programs use instead of the readings (codegen/laser/program.py): beam X (the line y = 0 of
+    """What the programs use instead of the readings (codegen/kinds/laser/program.py): beam X (the line y = 0 of
     the plane) meets the pin while the axis point's y lies within w = rho sqrt(1 - ux^2) / uz of it: the
     smallest squared distance from the beam's points (X, 0, 0) to the axis through (0, ay, 0) is
     ay^2 uz^2 / (1 - ux^2), even in ay. So a crossing's two edges lie at ay = -+(w -+ h/2) (h: the sensor's
@@ -161,3 +163,8 @@ def laser_identities(check) -> list:
             fixed={rho: sp.Rational(3, 2), ux: sp.Rational(1, 10), uy: sp.Rational(1, 10)},
         ),
     ]
+
+
+class DerivationPart(protocol.Derivation):
+    def identities(self, check) -> list:
+        return laser_identities(check)

@@ -4,25 +4,25 @@ writes read where it is stored, the start rule."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from codegen import protocol
 from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.laser import confirm
 from codegen.kinds.laser import program as lp
-from codegen.kinds.laser.facts import facts
+from codegen.kinds.laser.budget import FLOAT32_MM, TRUTH_MM, tolerances
+from codegen.kinds.laser.kind import KIND
 from codegen.kinds.laser.reference import expected
 from codegen.kinds.laser.section import laser_of
 from codegen.kinds.laser.verify import (
-    FLOAT32_MM,
     STEP_LIMIT,
-    TRUTH_MM,
     LaserCase,
+    cases,
     previous_tcp,
     station_for,
-    tolerances,
 )
 from codegen.kinds.laser.verify import (
     judge as judge_measures,
@@ -72,7 +72,7 @@ PRESETS = {
 
 
 def _preset(cell, target, tcp, case: LaserCase) -> dict:
-    spec = facts(target)["production_tool"]
+    spec = KIND.facts(target)["production_tool"]
     make = PRESETS[spec["preset"]]
     if make is None or case.without_production_tool:
         return {}
@@ -99,7 +99,7 @@ def setup(cell, target_name: str, case: LaserCase) -> Setup:
 def production_cases(cell, target_name: str) -> list[LaserCase]:
     """Where the production tool is an installation variable: an installation without it (the program must stop
     with the controller's error naming it before it moves, not write the TCP into a variable of its own)."""
-    if facts(get_target(target_name))["production_tool"]["preset"] != "installation":
+    if KIND.facts(get_target(target_name))["production_tool"]["preset"] != "installation":
         return []
     return [
         LaserCase(
@@ -207,13 +207,11 @@ def _in_place(cell, target_name: str, case: LaserCase) -> PlannedMove:
     joints = _start_joints(cell, target_name, case)
     pose = robot.arms[target_name].kin.fk(np.asarray(joints)) @ robot.tool.tcp2flange
     return PlannedMove(
-        "the first motion where the arm stands",
-        "joint",
-        pose,
-        True,
-        None,
-        0.0,
-        cell.motion.joint_speed_percent,
+        name="the first motion where the arm stands",
+        kind="joint",
+        tcp2base=pose,
+        exact=True,
+        joint_percent=cell.motion.joint_speed_percent,
         joints=joints,
     )
 
@@ -235,10 +233,10 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
     above = np.array(lp.circle_points(laser, 0)["above"])  # both circles' (the same point above the beams)
     starts = [np.array(lp.circle_points(laser, k)["start"]) for k in (0, 1)]
     safe = np.array(lp.safe_point(laser))
-    blend = float(facts(target).get("circle_blend_mm", 0.0))
+    blend = float(KIND.facts(target).get("circle_blend_mm", 0.0))
     motion = cell.motion
     zone = motion.zone_mm
-    joint_zone = zone if facts(target)["joint_zone"] else 0.0
+    joint_zone = zone if KIND.facts(target)["joint_zone"] else 0.0
     home = home_move(cell, target.name)
     moves = list(trace.moves)
     out: list[PlannedMove] = []
@@ -249,25 +247,55 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
             out.append(first)
         begin = (base2sensor @ first.tcp2base)[:3, 3]
         up = _pose_in_s(cell, (begin[0], begin[1], safe[2]), first.tcp2base[:3, :3])
-        out.append(PlannedMove("back out along the tool's axis", "linear", up, True, motion.work_speed_mm_s))
-        out.append(PlannedMove("to the safe pose", "linear", _pose_in_s(cell, safe), True, motion.work_speed_mm_s))
+        out.append(
+            PlannedMove(
+                name="back out along the tool's axis",
+                kind="linear",
+                tcp2base=up,
+                exact=True,
+                speed_mm_s=motion.work_speed_mm_s,
+            )
+        )
+        out.append(
+            PlannedMove(
+                name="to the safe pose",
+                kind="linear",
+                tcp2base=_pose_in_s(cell, safe),
+                exact=True,
+                speed_mm_s=motion.work_speed_mm_s,
+            )
+        )
     if home is not None:
         out.append(
-            PlannedMove("home", "joint", home[0].tcp2base, True, None, 0.0, motion.joint_speed_percent, joints=home[1])
+            PlannedMove(
+                name="home",
+                kind="joint",
+                tcp2base=home[0].tcp2base,
+                exact=True,
+                joint_percent=motion.joint_speed_percent,
+                joints=home[1],
+            )
         )
     out.append(
         PlannedMove(
-            "to the safe pose",
-            "joint",
-            _pose_in_s(cell, safe),
-            joint_zone == 0.0,
-            motion.speed_mm_s,
-            joint_zone,
-            motion.joint_speed_percent,
+            name="to the safe pose",
+            kind="joint",
+            tcp2base=_pose_in_s(cell, safe),
+            exact=joint_zone == 0.0,
+            speed_mm_s=motion.speed_mm_s,
+            zone_mm=joint_zone,
+            joint_percent=motion.joint_speed_percent,
         )
     )
     out.append(
-        PlannedMove("above the start", "linear", _pose_in_s(cell, above), zone == 0.0, motion.work_speed_mm_s, zone)
+        PlannedMove(
+            name="above the start",
+            kind="linear",
+            tcp2base=_pose_in_s(cell, above),
+            exact=zone == 0.0,
+            speed_mm_s=motion.work_speed_mm_s,
+            zone_mm=zone,
+        )
     )
     fixed = len(out)
     if len(moves) < fixed:
@@ -286,12 +314,11 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
             half = 1 if first_half else 0
             out.append(
                 PlannedMove(
-                    f"half circle {2 - first_half}",
-                    move.kind,
-                    None,
-                    not first_half or blend == 0.0,
-                    laser.circle_speed_mm_s,
-                    blend if first_half else 0.0,
+                    name=f"half circle {2 - first_half}",
+                    kind=move.kind,
+                    exact=not first_half or blend == 0.0,
+                    speed_mm_s=laser.circle_speed_mm_s,
+                    zone_mm=blend if first_half else 0.0,
                 )
             )
             circles += not first_half  # the second half closes a circle
@@ -300,29 +327,34 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
         if move.kind == "joint":  # the way out ends home
             final = home[0].tcp2base if home is not None else None
             planned = PlannedMove(
-                "home",
-                "joint",
-                final,
-                True,
-                None,
-                0.0,
-                motion.joint_speed_percent,
+                name="home",
+                kind="joint",
+                tcp2base=final,
+                exact=True,
+                joint_percent=motion.joint_speed_percent,
                 joints=home[1] if home is not None else None,
             )
         elif circles == 2 and np.linalg.norm(point - safe) <= NEAR_MM:
             safe_pose = _pose_in_s(cell, safe)
             planned = PlannedMove(
-                "to the safe pose", "linear", safe_pose, joint_zone == 0.0, motion.work_speed_mm_s, joint_zone
+                name="to the safe pose",
+                kind="linear",
+                tcp2base=safe_pose,
+                exact=joint_zone == 0.0,
+                speed_mm_s=motion.work_speed_mm_s,
+                zone_mm=joint_zone,
             )
         elif circles == 2 and stage == 0 and np.linalg.norm(point - above) > NEAR_MM:
-            planned = PlannedMove("to the search's top", "linear", None, True, motion.work_speed_mm_s, 0.0)
+            planned = PlannedMove(
+                name="to the search's top", kind="linear", exact=True, speed_mm_s=motion.work_speed_mm_s
+            )
             stage, top_z, searched = 1, point[2], 0
         elif stage == 1 and ((found and searched < 2) or (not found and point[2] < top_z - NEAR_MM)):
-            planned = PlannedMove("tip search", "linear", None, True, laser.search_speed_mm_s, 0.0)
+            planned = PlannedMove(name="tip search", kind="linear", exact=True, speed_mm_s=laser.search_speed_mm_s)
             searched += 1
         else:
             stage = 2 if stage == 1 else stage
-            planned = PlannedMove("a straight move", "linear", None, True, motion.work_speed_mm_s, 0.0)
+            planned = PlannedMove(name="a straight move", kind="linear", exact=True, speed_mm_s=motion.work_speed_mm_s)
         out.append(planned)
     return tuple(out)
 
@@ -330,7 +362,7 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
 def _stored(cell, target, tcp, tolerance: float, previous: np.ndarray) -> tuple[Stored, ...]:
     """The production tool as the program leaves it: the TCP found, or where it stopped or refused, the last
     calibration's as it was (X, Y, Z as the target's production tool names them, in its units)."""
-    spec = facts(target)["production_tool"]
+    spec = KIND.facts(target)["production_tool"]
     name = lp.production_name(cell, target)
     unit = float(spec["unit_mm"])
     values = previous if tcp is None else np.asarray(tcp)
@@ -343,44 +375,73 @@ def _stored(cell, target, tcp, tolerance: float, previous: np.ndarray) -> tuple[
 
 
 @dataclass
-class LaserFigures:
-    truth_max_mm: float = 0.0  # the largest |TCP found - true TCP| where the truth is held
-    frame_error_mm: float = 0.0  # |TCP found - true TCP| with the sensor frame off
-    motion_s: float = 0.0  # the program's motion time (the longest case that wrote a TCP)
-    ref_max_mm: float = 0.0  # the largest difference from the reference (edges, hits, TCP)
+class LaserFigures(protocol.Figures):
+    # the largest |TCP found - true TCP| where the truth is held
+    truth_max_mm: float = field(default=0.0, metadata={"add": protocol.most})
+    # |TCP found - true TCP| with the sensor frame off
+    frame_error_mm: float = field(default=0.0, metadata={"add": protocol.most})
+    # the program's motion time (the longest case that wrote a TCP)
+    motion_s: float = field(default=0.0, metadata={"add": protocol.most})
+    # the largest difference from the reference (edges, hits, TCP)
+    ref_max_mm: float = field(default=0.0, metadata={"add": protocol.most})
+
+    def count(self, case, judged) -> None:
+        held, truth, motion, worst = judged
+        if held:
+            self.truth_max_mm = max(self.truth_max_mm, truth)
+        else:
+            self.frame_error_mm = max(self.frame_error_mm, truth)
+        self.motion_s = max(self.motion_s, motion)
+        self.ref_max_mm = max(self.ref_max_mm, worst)
+
+    def as_json(self) -> dict:
+        return {
+            "tcp_truth_max_mm": self.truth_max_mm,
+            "tcp_with_frame_error_mm": self.frame_error_mm,
+            "motion_s": self.motion_s,
+            "reference_max_mm": self.ref_max_mm,
+        }
 
 
-def add(figures: LaserFigures, judged) -> None:
-    held, truth, motion, worst = judged
-    if held:
-        figures.truth_max_mm = max(figures.truth_max_mm, truth)
-    else:
-        figures.frame_error_mm = max(figures.frame_error_mm, truth)
-    figures.motion_s = max(figures.motion_s, motion)
-    figures.ref_max_mm = max(figures.ref_max_mm, worst)
+class VerifyPart(protocol.VerifyPlan):
+    """The calibration's cases (the pin's true TCP, the sensors' faults, the operator's answers), judged against the
+    beams' float64 reference and the true TCP."""
 
-
-def merge(into: LaserFigures, part: LaserFigures) -> None:
-    into.truth_max_mm = max(into.truth_max_mm, part.truth_max_mm)
-    into.frame_error_mm = max(into.frame_error_mm, part.frame_error_mm)
-    into.motion_s = max(into.motion_s, part.motion_s)
-    into.ref_max_mm = max(into.ref_max_mm, part.ref_max_mm)
-
-
-def legacy_summary(row) -> dict:
-    """A row as `codegen verify --json` lists it under "lasers"."""
-    f = row.figures or LaserFigures()
-    return {
-        "target": row.target,
-        "files": row.files,
-        "cases": row.cases,
-        "mismatches": row.mismatches,
-        "pos_max_mm": f.ref_max_mm,
-        "tcp_truth_max_mm": f.truth_max_mm,
-        "tcp_with_frame_error_mm": f.frame_error_mm,
-        "motion_s": f.motion_s,
-        "first_mismatches": row.first_mismatches,
+    report_key = "lasers"
+    scenarios = {
+        "start_away": "",  # away from home and from the station: stopped before the arm moves
+        "start_mid_cycle": "",  # where a stopped calibration left it (the first circle's start): out, home, again
+        "gripper_silent": "the calibration program uses no gripper",
+        "gripper_stuck": "the calibration program uses no gripper",
+        "device_late": "the sensors switch with the pin's position, seen once per input cycle of the controller",
+        "device_silent": "",  # sensors that never switch
+        "reading_out_of_range": "",  # a TCP or an axis beyond offset_max_mm of the tool as designed
     }
+    figures = LaserFigures
+    listed = {  # a row as `codegen verify --json` lists it under "lasers"
+        "target": "target",
+        "files": "files",
+        "cases": "cases",
+        "mismatches": "mismatches",
+        "pos_max_mm": "reference_max_mm",
+        "tcp_truth_max_mm": "tcp_truth_max_mm",
+        "tcp_with_frame_error_mm": "tcp_with_frame_error_mm",
+        "motion_s": "motion_s",
+        "first_mismatches": "first_mismatches",
+    }
+
+    def cases(self, cell, source, count: int, seed: int) -> list:
+        out = cases(cell, seed)
+        return out + confirm.cases(get_target(source.target), out[0]) + production_cases(cell, source.target)
+
+    def setup(self, cell, source, case):
+        return setup(cell, source.target, case)
+
+    def judge(self, cell, source, case, trace, setup):
+        return judge(cell, source.target, case, trace)
+
+    def report_lines(self, rows: list) -> list[str]:
+        return report_lines(rows)
 
 
 def report_lines(rows: list) -> list[str]:

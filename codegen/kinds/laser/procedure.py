@@ -1,6 +1,6 @@
 """Source 003's automatic TCP method in float64, as a program would run it: two circles, the axis, the tip."""
 
-# In the sensor frame S (codegen/laser/sensors.py), with the flange's z pointing down S's -z (the tool
+# In the sensor frame S (codegen/sim/beams.py), with the flange's z pointing down S's -z (the tool
 # pointing into the beams' plane) and the orientation held throughout:
 # 1. Two horizontal circles of the flange, radius r, the guessed tip depth_1 and depth_2 below the beams'
 #    plane. Sampled finely (the controllers catch a beam's change within an interpolation cycle), each

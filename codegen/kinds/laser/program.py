@@ -35,14 +35,14 @@ import math
 import numpy as np
 
 from codegen.emit import Code, EmitError, Emitter, owned
-from codegen.kinds.laser.facts import facts
+from codegen.kinds.laser.kind import KIND
 from codegen.kinds.laser.section import laser_of, production_tool
 from codegen.model.cell import TaughtPose
 from codegen.poses import zyx_deg_from_rotmat
 
 DOWN = np.diag([1.0, -1.0, -1.0])
 # the operator's messages: within 80 characters with their numbers (each target's message text holds 80;
-# tests/kinds/test_laser_messages.py holds every one to its controller's string_max with the longest numbers)
+# tests/kinds/test_laser_production.py holds every one to its controller's string_max with the longest numbers)
 CIRCLE_EDGES = "laser: beams not crossed twice each, check tool data and sensors, circle "
 NO_TIP = "laser: no tip found within clearance_mm of the tool data"
 AXIS_TILT = "laser: axis tilted beyond offset_max_mm, check the sensors"
@@ -65,12 +65,12 @@ def data_ident(cell, target) -> str:
 
 def laser_file_names(cell, target) -> list[str]:
     ident, data = laser_ident(cell, target).lower(), data_ident(cell, target).lower()
-    return [name.format(laser=ident, data=data) for name in facts(target).get("files", [])]
+    return [name.format(laser=ident, data=data) for name in KIND.facts(target).get("files", [])]
 
 
 def production_name(cell, target) -> str:
     """The production tool as the program names it: TOOL_DATA[3], tPin, pin_tcp."""
-    spec = facts(target)["production_tool"]
+    spec = KIND.facts(target)["production_tool"]
     value = production_tool(cell, target.name)
     return spec["name"].format(n=value, name=value)
 
@@ -79,7 +79,7 @@ def production_code(cell, target, emitter: Emitter) -> Code:
     """The production tool as the program writes it: the controller's numbered tool (the target's pattern around
     the cell's number), or the cell's name of data the controller has, written as it is (emitter.given_name: a
     word or predefined name of the language, or one of the program's own, is refused)."""
-    spec = facts(target)["production_tool"]
+    spec = KIND.facts(target)["production_tool"]
     value = production_tool(cell, target.name)
     if spec["form"] == "number":
         return emitter.numbered(spec["name"], value, f"laser.production_tool.{target.name}")
@@ -112,7 +112,7 @@ def calibrates_on(cell, target) -> bool:
     """Whether the cell has a laser TCP program for this target."""
     if laser_of(cell) is None:
         return False
-    if not facts(target).get("files"):
+    if not KIND.facts(target).get("files"):
         raise EmitError(f"laser: codegen has no laser TCP program for {target.title}")
     return True
 
@@ -132,7 +132,7 @@ def circle_points(laser, k: int) -> dict[str, tuple[float, float, float]]:
 
 def kept_names(target) -> dict[str, str]:
     """The program's globals verify reads when the run ends (targets/<t>.toml laser_names)."""
-    return dict(facts(target)["names"])
+    return dict(KIND.facts(target)["names"])
 
 
 def _xyzabc(matrix: np.ndarray) -> tuple[float, ...]:
@@ -153,11 +153,11 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
     return {
         "ident": emitter.identifier("tcp_", cell.name, "the laser TCP program"),
         "data_ident": emitter.identifier("tcp_", f"{cell.name}_tool", "the production tool's data module")
-        if any("{data}" in pattern for pattern in facts(target)["files"])
+        if any("{data}" in pattern for pattern in KIND.facts(target)["files"])
         else None,
         # the entry routine where the program is a module of the production task (whose main is its own)
         "entry": emitter.identifier("tcp_", f"{cell.name}_run", "the laser TCP program's entry routine")
-        if facts(target).get("entry_routine")
+        if KIND.facts(target).get("entry_routine")
         else None,
         "production": production_code(cell, target, emitter),
         "safe": [number(v, 4) for v in safe_point(laser)],
@@ -165,7 +165,7 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         "zone_r": number(column["r"], 4),
         "zone_low": number(column["low"], 4),
         "zone_high": number(column["high"], 4),
-        "joint_zone": bool(facts(target)["joint_zone"]),
+        "joint_zone": bool(KIND.facts(target)["joint_zone"]),
         "blend": cell.motion.zone_mm > 0,
         "sensor": emitter.pose(laser.sensor_frame),
         "down": emitter.pose(TaughtPose("down", _xyzabc(down), "xyzabc")),

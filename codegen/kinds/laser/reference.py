@@ -1,10 +1,10 @@
 """The laser TCP program's float64 reference: the same moves, every beam edge solved exactly on the path, the TCP."""
 
-# What codegen/laser/program.py's programs do, with the edges where the geometry puts them (no controller
+# What codegen/kinds/laser/program.py's programs do, with the edges where the geometry puts them (no controller
 # cycle, no noise): each circle's edges found on the continuous circle (a scan in steps shorter than the pin
 # is wide, then bisection), the search's on the continuous line; the sensors in their true frame (with the
 # hysteresis the station has), the program's arithmetic in the frame the cell names. The controller sees an
-# edge up to one cycle late (codegen/laser/judge.py's tolerances follow from that).
+# edge up to one cycle late (codegen/kinds/laser/verify.py's tolerances follow from that).
 
 from __future__ import annotations
 

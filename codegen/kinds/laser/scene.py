@@ -6,6 +6,7 @@ from dataclasses import fields
 
 import numpy as np
 
+from codegen import protocol
 from codegen.sim.beams import Sensors
 from codegen.view.scene import box, frame, line, point, translated
 
@@ -26,3 +27,9 @@ def objects(cell, laser) -> list[dict]:
         out.append(box(body, size, "sensor", f"sensor {name}"))
     out.append(point(sensor2base[:3, 3], "beam", "crossing"))
     return out
+
+
+class ScenePart(protocol.Scene):
+    def objects(self, cell) -> list[dict]:
+        section = self.kind.section.of(cell)
+        return [] if section is None else objects(cell, section)

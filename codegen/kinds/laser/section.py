@@ -7,8 +7,8 @@ from dataclasses import dataclass
 
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect
-from codegen.kinds.laser.facts import facts
 from codegen.kinds.laser.keys import LASER
+from codegen.kinds.laser.kind import KIND
 from codegen.model.cell import TaughtPose
 from codegen.model.io import signal_reader
 from codegen.model.loader import Loader, build
@@ -82,7 +82,7 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             "the circles must see the pin's side, not its end",
         )
     for target in targets:
-        if not facts(get_target(target)).get("files"):
+        if not KIND.facts(get_target(target)).get("files"):
             ctx.fail(
                 "laser",
                 f"codegen has no laser TCP program for {get_target(target).title}: take {target} out "
@@ -117,7 +117,7 @@ def _check_production_tools(ctx, tools: dict, targets) -> None:
     for target_name, value in tools.items():
         path = f"laser.production_tool.{target_name}"
         target = get_target(target_name)
-        if facts(target)["production_tool"]["form"] == "number":
+        if KIND.facts(target)["production_tool"]["form"] == "number":
             continue
         keywords = get_dialect(target.dialect).keywords()
         if len(value) > target.identifier_max or value.upper() in keywords or value in keywords:

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from codegen import protocol
 from codegen.kinds.pallet import checks
+from codegen.kinds.pallet.keys import KEYS
 from codegen.kinds.pallet.patterns import TooManyBoxes, layout
-from codegen.kinds.pallet.section import BOXES_MAX, Pallet, parse_pallets
+from codegen.kinds.pallet.section import BOXES_MAX, Pallet, pallets_of, parse_pallets
 from codegen.kinds.pallet.stack import FrameError, pallet2base, pattern_of, placements
 
 
@@ -129,3 +131,21 @@ def checked_pallets(ctx, data: dict, cell) -> tuple[Pallet, ...]:
     for i, pallet in enumerate(pallets):
         ctx.warnings.extend(f"{ctx.source}: {w}" for w in check_pallet(ctx, pallet, f"pallet[{i}]"))
     return pallets
+
+
+class SectionPart(protocol.Section):
+    """The [[pallet]] tables, each checked (its patterns, its zone, its counts), and the cell's [cell.io] they need."""
+
+    keys = KEYS
+
+    def parse(self, ctx, data: dict, cell) -> tuple[Pallet, ...] | None:
+        return checked_pallets(ctx, data, cell) or None
+
+    def standalone(self, data: dict) -> bool:
+        return bool(data.get("pallet"))
+
+    def check(self, ctx, cell) -> None:
+        if pallets_of(cell) and (cell.io is None or not cell.io.feedback):
+            ctx.fail(
+                "cell.io", "a cell with [[pallet]] needs [cell.io] with feedback: the gripper's output and its sensor"
+            )

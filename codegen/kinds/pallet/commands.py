@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from codegen import protocol
 from codegen.cli_base import Folder, UserError
 from codegen.cli_base import dump as _dump
 from codegen.kinds.pallet.pictures import pictures
@@ -18,7 +19,7 @@ TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
 
 @click.command("pallet")
 @click.argument("cell", required=False, type=click.Path(dir_okay=False))
-@click.option("--json", "as_json", is_flag=True, help="JSON (keys in DESIGN.md 4) instead of text.")
+@click.option("--json", "as_json", is_flag=True, help="JSON (keys in docs/kinds/pallet.md) instead of text.")
 @click.option("--svg", "svg_dir", type=Folder(), help="Write one SVG per layer into this folder.")
 def pallet(cell, as_json, svg_dir) -> None:
     """Every box of every [[pallet]] of CELL (default: source 004's test pallet) with its target, entry,
@@ -46,3 +47,8 @@ def pallet(cell, as_json, svg_dir) -> None:
         _dump(result)
     else:
         click.echo(text(result))
+
+
+class CommandsPart(protocol.Commands):
+    def commands(self) -> list:
+        return [(None, pallet)]

@@ -69,7 +69,7 @@ class PalletCase:
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ExpectedMove:
     kind: str  # "joint" or "linear"
     tcp2base: np.ndarray  # 4x4 mm
@@ -214,7 +214,17 @@ class _Run:
 
     def move(self, kind: str, pose: np.ndarray, name: str, slow: bool, exact: bool) -> None:
         speed = self.work if slow else self.travel
-        self.moves.append(ExpectedMove(kind, pose, name, speed, exact, self.carrying, sheet=self.sheet))
+        self.moves.append(
+            ExpectedMove(
+                kind=kind,
+                tcp2base=pose,
+                name=name,
+                speed_mm_s=speed,
+                exact=exact,
+                carrying=self.carrying,
+                sheet=self.sheet,
+            )
+        )
 
     def wait(self, interlock: str, held: str | None = None) -> str | None:
         """The program waits for an interlock input (held: what is in the gripper meanwhile, for the message): the

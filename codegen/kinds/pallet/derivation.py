@@ -9,10 +9,11 @@ from functools import cache
 
 import sympy as sp
 
+from codegen import protocol
 from codegen.symrot import rotx3, roty3, rotz3
 
 # Palletizing (source 004): the pallet frame from three taught points, O on the pallet, PX on its +x, PY on
-# the +y side; u = PX - O, v = PY - O (DESIGN.md section 1.4).
+# the +y side; u = PX - O, v = PY - O (docs/kinds/pallet.md).
 ux, uy, uz, vx, vy, vz = sp.symbols("ux uy uz vx vy vz", real=True)
 u_pallet, v_pallet = sp.Matrix([ux, uy, uz]), sp.Matrix([vx, vy, vz])
 
@@ -107,3 +108,14 @@ def level_box_position() -> tuple[sp.Expr, sp.Expr]:
     the pose product by box_pose_on_a_level_pallet)."""
     ox, oy, cos_g, sin_g, x, y = sp.symbols("PAL_OX PAL_OY PAL_COS PAL_SIN x y", real=True)
     return ox + cos_g * x - sin_g * y, oy + sin_g * x + cos_g * y
+
+
+class DerivationPart(protocol.Derivation):
+    """The pallet frame and a box's pose, proved; the level box's position printed for the controllers."""
+
+    def identities(self, check) -> list:
+        return [*pallet_identities(check), *box_pose_identities(check)]
+
+    def printed_blocks(self) -> dict:
+        box_px, box_py = level_box_position()
+        return {"box": {"box_px": box_px, "box_py": box_py}}

@@ -20,8 +20,8 @@ from codegen.kinds.pallet.cycle import (
     start_counters,
     transit_dz,
 )
-from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import WAITS_ON, counter_register
+from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
@@ -52,7 +52,7 @@ POLL_S = 0.05  # how often a program looks at an interlock input while it waits 
 def file_name(target, pattern: str, own: dict) -> str:
     """A file of one pallet's program: the pattern with the pallet's identifier, the store with the store's (a
     data list is named as its DEFDAT)."""
-    if pattern == facts(target).get("store") and "store" in own:
+    if pattern == KIND.facts(target).get("store") and "store" in own:
         return own["store"].lower() + pattern[pattern.index(".") :]
     return pattern.format(pallet=own["ident"].lower())
 
@@ -60,7 +60,7 @@ def file_name(target, pattern: str, own: dict) -> str:
 def counter_registers(cell, target, index: int) -> tuple[int, int] | None:
     """The PLC registers of pallet `index`'s layer and box counters, where the controller keeps them there
     (targets/<t>.toml [program.pallet] registers; the cell's [pallet.io] registers), else None."""
-    if "registers" not in facts(target):
+    if "registers" not in KIND.facts(target):
         return None
     first = counter_register(pallets_of(cell)[index], index, target.name)
     return first, first + 1
@@ -69,7 +69,7 @@ def counter_registers(cell, target, index: int) -> tuple[int, int] | None:
 def counter_names(cell, target, index: int) -> tuple[str, str]:
     """The names of pallet `index`'s layer and box counters (`codegen run --input`, verify): registers, or the
     identifiers of the store (each pallet's own, where the store holds several)."""
-    names, registers = facts(target)["counters"], counter_registers(cell, target, index)
+    names, registers = KIND.facts(target)["counters"], counter_registers(cell, target, index)
     if registers is not None:
         return names["layer"].format(layer=registers[0]), names["box"].format(box=registers[1])
     idents = identifiers(cell, target)[index]
@@ -79,7 +79,7 @@ def counter_names(cell, target, index: int) -> tuple[str, str]:
 def holds_name(cell, target, index: int) -> str | None:
     """The flag in pallet `index`'s store that says its program gripped what the gripper holds (set at a confirmed
     grip, cleared at a confirmed release), where the target keeps one ([program.pallet] counters.holds)."""
-    if "holds" not in facts(target)["counters"]:
+    if "holds" not in KIND.facts(target)["counters"]:
         return None
     return identifiers(cell, target)[index].get("holds")
 
@@ -89,28 +89,28 @@ def identifiers(cell, target) -> list[dict]:
     its counters and its store; the generator's own and the counters' are taken first, so a pallet whose program
     would be named like one of them is refused (EmitError naming both)."""
     emitter = Emitter(target)
-    if cell.stations:  # the vision program's name (and so its files' names)
+    if cell.stations_section() is not None:  # the vision program's name (and so its files' names)
         emitter.identifier("", cell.name, "the cell's program")
-    for name in facts(target)["files"]:
+    for name in KIND.facts(target)["files"]:
         if "{pallet}" not in name:
             emitter.reserve(name.split(".")[0], f"the pallet task's module {name}")
     out = []
     pallets = pallets_of(cell)
-    patterns = facts(target)["counters"]
+    patterns = KIND.facts(target)["counters"]
     for pallet in pallets:
         own = {}
         if "{pallet}" in patterns["layer"]:  # each pallet's counters in a store of several: their own names
             for key in [k for k in ("layer", "box", "holds") if k in patterns]:
                 own[key] = emitter.identifier("pal_", f"{pallet.name}_{key}", f"pallet {pallet.name!r}'s {key} counter")
-        elif "registers" not in facts(target):  # the program's own variables, one pair per program
+        elif "registers" not in KIND.facts(target):  # the program's own variables, one pair per program
             for key in ("layer", "box"):
                 own[key] = emitter.reserve(patterns[key], f"the pallet counter {patterns[key]}")
         out.append(own)
     for pallet, own in zip(pallets, out, strict=True):
         own["ident"] = emitter.identifier("pal_", pallet.name, f"pallet {pallet.name!r}")
-        if facts(target).get("task"):  # its entry routine, called from the task's main (not named as its module)
+        if KIND.facts(target).get("task"):  # its entry routine, called from the task's main (not named as its module)
             own["entry"] = emitter.identifier("pal_", f"{pallet.name}_run", f"pallet {pallet.name!r}'s program")
-        store = facts(target).get("store", "")
+        store = KIND.facts(target).get("store", "")
         if "{pallet}" in store:
             stem = store.split(".")[0].replace("{pallet}", "")
             own["store"] = emitter.identifier("pal_", f"{pallet.name}{stem}", f"pallet {pallet.name!r}'s counters")
@@ -289,7 +289,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "other_holds": [
             owned(name)
             for i in range(len(pallets_of(cell)))
-            if i != index and facts(target).get("task") and (name := holds_name(cell, target, i)) is not None
+            if i != index and KIND.facts(target).get("task") and (name := holds_name(cell, target, i)) is not None
         ],
         "foreign": emitter.string(foreign_message(pallet, limit)),
         "lost": emitter.string(lost_message(pallet, limit)),
@@ -304,10 +304,10 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "zone": None if zone == 0 else {"mm": number(zone, 1), "m": number(zone / 1000.0, 4)},
         "zone_ori_mm": number(1.5 * zone, 1),  # a RAPID zonedata scaled as the predefined zN are: 1.5 N mm, 0.15 N deg
         "zone_deg": number(0.15 * zone, 2),
-        "joint_blend": facts(target).get("joint_blend", True) and zone > 0,
+        "joint_blend": KIND.facts(target).get("joint_blend", True) and zone > 0,
         "interlocks": interlocks,
         "rechecks": rechecks,
-        "check_zone": not facts(target).get("input_stops", False),  # a move before an input's check may blend
+        "check_zone": not KIND.facts(target).get("input_stops", False),  # a move before an input's check may blend
         "timeout_s": number(timeout, 3),
         "timeout_text": emitter.comment(f"{timeout:g}"),
         "polls": signal_polls_for(timeout),
@@ -317,7 +317,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "done_out": None if done_out is None else _signal(emitter, target, done_out),
         "reset_held": emitter.string(reset_held_message(pallet, limit)),
         # stacking, after a stop during a release: the operator's question (where the target asks), else a stop
-        "asks": bool(facts(target).get("asks")),
+        "asks": bool(KIND.facts(target).get("asks")),
         "question": emitter.string(released_question(pallet, limit)),
         "released": emitter.string(released_message(pallet, limit)),
         "yes": emitter.string(YES),
@@ -332,7 +332,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
 
 def _store_file(target, own: dict) -> str | None:
     """The file the counters are kept in, where the target keeps them in a file of their own (its facts' store)."""
-    store = facts(target).get("store", "")
+    store = KIND.facts(target).get("store", "")
     return owned(file_name(target, store, own)) if "." in store else None
 
 
@@ -353,14 +353,14 @@ def task_context(cell, target, emitter, contexts: list[dict]) -> dict:
     return {
         "pallets": contexts,
         "no_select": emitter.string(select_message()),
-        "main": owned(facts(target)["files"][0].split(".")[0]),
-        "data": owned(facts(target)["store"].split(".")[0]),
+        "main": owned(KIND.facts(target)["files"][0].split(".")[0]),
+        "data": owned(KIND.facts(target)["store"].split(".")[0]),
     }
 
 
 def check_level(pallet: Pallet, target) -> None:
     """A dialect without a pose product places boxes on a level pallet only."""
-    if facts(target).get("level_only") and not np.allclose(
+    if KIND.facts(target).get("level_only") and not np.allclose(
         frame_matrix(pallet)[:3, 2], (0.0, 0.0, 1.0), atol=LEVEL_TOL
     ):
         raise EmitError(

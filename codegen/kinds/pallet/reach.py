@@ -13,6 +13,7 @@ from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, expected, safe_
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
+from codegen.robot.cache import per_cell
 from codegen.robot.config import FORMS, loose, named_in_full
 from codegen.robot.expect import Margins, margins, require_margins
 from codegen.robot.taught import ReachError
@@ -157,7 +158,16 @@ def configurations(cell, pallet, target: str) -> Named | None:
     """The configurations the target's program names for a pallet, chosen at generate time: each box's
     (pattern, number) that of its entry where the full cycle first reaches it from home by the nearest
     rule (stacking: the lowest layer using the pattern; unstacking: the highest), Q's at the first time
-    above Q, the safe pose's the one nearest the first entry's joints; None without an arm."""
+    above Q, the safe pose's the one nearest the first entry's joints; None without an arm. Worked out once per
+    cell, pallet and target (the program, each verify case and the sweep read it)."""
+    key = (id(pallet), target)  # the entry keeps the pallet: its id is not reused while the entry lives
+    return per_cell(_CONFIGURATIONS, cell, key, lambda: (pallet, _configurations(cell, pallet, target)))[1]
+
+
+_CONFIGURATIONS: dict = {}
+
+
+def _configurations(cell, pallet, target: str) -> Named | None:
     form = get_target(target).configuration
     if cell.robot is None or target not in cell.robot.arms or form not in FORMS:
         return None
@@ -229,7 +239,13 @@ def way_up_z(cell) -> float:
 
 def safe_move(cell, pallet):
     """The way home's joint move above the pallet's centre (tcp2base)."""
-    return ExpectedMove("joint", frame_matrix(pallet) @ safe_pose(pallet), SAFE_NAME, cell.motion.speed_mm_s, True)
+    return ExpectedMove(
+        kind="joint",
+        tcp2base=frame_matrix(pallet) @ safe_pose(pallet),
+        name=SAFE_NAME,
+        speed_mm_s=cell.motion.speed_mm_s,
+        exact=True,
+    )
 
 
 def check_pallet(cell, pallet, target: str) -> PalletReach:

@@ -4,20 +4,20 @@ from __future__ import annotations
 
 import re
 
-from codegen.kinds.pallet.facts import facts
+from codegen.kinds.pallet.kind import KIND
 
 
 def reload_proof(target) -> bool:
     """The counters outlive a reload of the program: kept in a file of their own or in the PLC (targets/<t>.toml
     [program.pallet] store), not in the program's own variables."""
-    return facts(target).get("store", "program") != "program"
+    return KIND.facts(target).get("store", "program") != "program"
 
 
 def declared_outside_store(source, target, names: tuple[str, str]) -> str | None:
     """After a reload the counters hold what their store kept: a counter declared in another of the program's files
     (one a regeneration replaces, its value with it) fails."""
-    store = facts(target).get("store", "")
-    words = facts(target).get("declares")
+    store = KIND.facts(target).get("store", "")
+    words = KIND.facts(target).get("declares")
     if not words or "." not in store:
         return None
     # a line whose first words are a declaration's (LOCAL PERS num, DECL GLOBAL INT) and that names the counter
@@ -40,7 +40,7 @@ def store_not_kept(source, target) -> str | None:
     """The store's module carries the attribute that keeps it through a program load (targets/<t>.toml
     [program.pallet] store_attribute: RAPID's SYSMODULE, a system module): without it a load of the program replaces
     the store, and the counters with it."""
-    attribute, store = facts(target).get("store_attribute"), facts(target).get("store", "")
+    attribute, store = KIND.facts(target).get("store_attribute"), KIND.facts(target).get("store", "")
     if attribute is None:
         return None
     for f in source.files:

@@ -1,4 +1,4 @@
-"""`codegen pallet`: every box's poses in the pallet and base frames (JSON keys: DESIGN.md 4), a cycle-time estimate."""
+"""`codegen pallet`: each box's poses in pallet and base frames (JSON: docs/kinds/pallet.md), a cycle-time estimate."""
 
 from __future__ import annotations
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from codegen import protocol
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.patterns import label_normal
 from codegen.kinds.pallet.stack import layer_top, placements
@@ -55,3 +56,8 @@ def _pallet(pallet) -> list[dict]:
         table[:3, 3] = pick[:3, 3] - (0.0, 0.0, bz + SLAB_MM / 2)
         out.append(box(table, (bx * 1.5, by * 1.5, SLAB_MM), "pick", "pick place"))
     return out
+
+
+class ScenePart(protocol.Scene):
+    def objects(self, cell) -> list[dict]:
+        return objects(cell, self.kind.section.of(cell) or ())

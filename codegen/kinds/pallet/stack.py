@@ -20,7 +20,7 @@ class FrameError(ValueError):
 
 
 def pallet2base(origin, x_point, xy_point) -> np.ndarray:
-    """Orthonormal: x along O->PX, z = x cross (PY - O) normalised, y = z cross x (DESIGN.md 1.4; source
+    """Orthonormal: x along O->PX, z = x cross (PY - O) normalised, y = z cross x (docs/kinds/pallet.md; source
     004's eq. 1 takes (PY - O) itself as y, not orthogonal unless PY was taught square)."""
     o, px, py = (np.asarray(p, dtype=float) for p in (origin, x_point, xy_point))
     u, v = px - o, py - o

@@ -19,14 +19,6 @@ PLACE_POSES = ("entry", "approach", "target", "retreat")  # a box's own last des
 EMPTY_GRIPPER_MM = 100.0
 
 
-def _footprint(tcp2pallet: np.ndarray, tool: np.ndarray, size) -> tuple[np.ndarray, float]:
-    """The carried box's footprint (4 x 2, counterclockwise) and its bottom's lowest z, pallet frame."""
-    box2pallet = tcp2pallet[:3, :3] @ tool.T  # the box's axes: the tool's at box angle 0
-    half = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]]) * np.asarray(size[:2]) / 2
-    corners = tcp2pallet[:3, 3] + (half @ box2pallet[:, :2].T) - size[2] * box2pallet[:, 2]
-    return corners[:, :2], float(corners[:, 2].min())
-
-
 def _own(name: str) -> tuple[str, str]:
     """("layer L box N", pose) of a move's name ("layer L sheet", pose: the slip sheet below layer L; "", name: a move
     of no box, as off the pallet at the end or home)."""

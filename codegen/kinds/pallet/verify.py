@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from codegen import protocol
 from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.pallet.analysis import frame_matrix
@@ -22,8 +23,8 @@ from codegen.kinds.pallet.cycle import (
     risen,
     start_counters,
 )
-from codegen.kinds.pallet.facts import facts
 from codegen.kinds.pallet.interlocks import WAITS_ON
+from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import message_limit, released_question, select_message, still_waiting_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers, holds_name
 from codegen.kinds.pallet.reach import configurations, joints_of, safe_move, way_up_z
@@ -31,6 +32,7 @@ from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, st
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
+from codegen.kinds.pallet.writer import FORMS_PER_PALLET
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
@@ -48,8 +50,6 @@ from codegen.verify.plan import (
     Setup,
     Stored,
 )
-
-FORMS_PER_PALLET = 2  # codegen/kinds/pallet/kind.py: a plan's index is 2 x its pallet's + its form
 
 # A pallet case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS, or the kind's own: a box or a
 # sheet that never comes, the pallet not in place, the pallet taken away after the pick, the counters as a reload
@@ -91,7 +91,7 @@ class PalletRun:
 
 def pallet_indices(cell, source) -> list[int]:
     """The pallets a program works: every one where the target runs them in one task, else the plan's."""
-    if facts(get_target(source.target)).get("task"):
+    if KIND.facts(get_target(source.target)).get("task"):
         return list(range(len(pallets_of(cell))))
     return [source.index // FORMS_PER_PALLET]
 
@@ -181,7 +181,7 @@ def _release_cases(pallet, target) -> list[PalletCase]:
     keys = [item.key for item in items(pallet)]
     mid, last = keys[len(keys) // 2], keys[-1]
     out = [PalletCase("stopped_in_release", -mid[0], mid[1], closed=True)]
-    if not facts(target).get("asks"):
+    if not KIND.facts(target).get("asks"):
         return [*out, PalletCase("stopped_in_release", -mid[0], mid[1])]
     return [
         *out,
@@ -270,7 +270,7 @@ def _start_joints(cell, index: int, target_name: str, case: Case):
 def kept_names(cell, target, index: int) -> tuple[str, str]:
     """Where the run leaves the counters: their store, or the outputs the program reports them in (the
     [program.pallet] table's `kept`)."""
-    names = facts(target).get("kept")
+    names = KIND.facts(target).get("kept")
     if names is None:
         return counter_names(cell, target, index)
     registers = counter_registers(cell, target, index)
@@ -292,14 +292,21 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     output = signal_name(target, "output", cell.io.output[target.name])
     load = carried_load(cell, pallet)
     zone = pallet.zone_mm
-    joint_blend = facts(target).get("joint_blend", True)
-    input_stops = facts(target).get("input_stops", False)
+    joint_blend = KIND.facts(target).get("joint_blend", True)
+    input_stops = KIND.facts(target).get("input_stops", False)
 
     def planned(m) -> PlannedMove:
         exact = m.exact or (m.kind == "joint" and not joint_blend) or (m.checked and input_stops) or zone == 0
         payload = load if m.carrying and load is not None else TOOL_LOAD
         return PlannedMove(
-            m.name, m.kind, m.tcp2base, exact, m.speed_mm_s, 0.0 if exact else zone, _percent(cell, m), payload=payload
+            name=m.name,
+            kind=m.kind,
+            tcp2base=m.tcp2base,
+            exact=exact,
+            speed_mm_s=m.speed_mm_s,
+            zone_mm=0.0 if exact else zone,
+            joint_percent=_percent(cell, m),
+            payload=payload,
         )
 
     moves = [planned(m) for m in want.moves]
@@ -370,7 +377,14 @@ def _swept(cell, pallet, target_name: str, moves) -> tuple[list, object, float]:
     except ReachError:
         return list(moves), None, EMPTY_GRIPPER_MM
     arm, tcp2flange = cell.robot.arms[target_name], cell.robot.tool.tcp2flange
-    start = ExpectedMove("joint", home[0].tcp2base, "home", 0.0, True, joints=np.asarray(home[1], dtype=float))
+    start = ExpectedMove(
+        kind="joint",
+        tcp2base=home[0].tcp2base,
+        name="home",
+        speed_mm_s=0.0,
+        exact=True,
+        joints=np.asarray(home[1], dtype=float),
+    )
     out = [start, *(replace(m, joints=q) for m, q in zip(moves, joints, strict=True))]
     return out, (lambda q: arm.kin.fk(q) @ tcp2flange), EMPTY_GRIPPER_MM
 
@@ -387,7 +401,7 @@ def _unsaid(target, said: tuple[str, ...], trace) -> str | None:
 def _other_flags(cell, target, index: int) -> list[str]:
     """Where one task runs every pallet's program: the other pallets' holds flags (this program's grip clears
     them, so a flag left set by an item taken out by hand never makes another pallet's item look like theirs)."""
-    if not facts(target).get("task"):
+    if not KIND.facts(target).get("task"):
         return []
     names = [holds_name(cell, target, i) for i in range(len(pallets_of(cell)))]
     return [name for i, name in enumerate(names) if i != index and name is not None]
@@ -408,7 +422,9 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
     where it is higher already), above the pallet's centre, home."""
     tcp2flange = cell.robot.tool.tcp2flange
     percent = cell.motion.joint_speed_percent
-    home_planned = PlannedMove("home", "joint", home[0].tcp2base, True, None, 0.0, percent, joints=home[1])
+    home_planned = PlannedMove(
+        name="home", kind="joint", tcp2base=home[0].tcp2base, exact=True, joint_percent=percent, joints=home[1]
+    )
     q = np.asarray(start, dtype=float)
     if np.max(np.abs(q - home[1])) <= cell.motion.start_tolerance_deg:
         return [home_planned]
@@ -417,12 +433,41 @@ def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove
     back = here @ np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -cell.motion.retreat_mm], [0, 0, 0, 1.0]])
     # the first motion a joint move where the arm stands (a BCO run; on every controller the arm's joints are then
     # the path's start: the retreat keeps its configuration)
-    way = [PlannedMove("where the arm stands", "joint", here, True, None, 0.0, percent, joints=q)]
-    way.append(PlannedMove("back along the tool's z", "linear", back, True, cell.motion.work_speed_mm_s, 0.0))
+    way = [
+        PlannedMove(
+            name="where the arm stands", kind="joint", tcp2base=here, exact=True, joint_percent=percent, joints=q
+        )
+    ]
+    way.append(
+        PlannedMove(
+            name="back along the tool's z",
+            kind="linear",
+            tcp2base=back,
+            exact=True,
+            speed_mm_s=cell.motion.work_speed_mm_s,
+        )
+    )
     up = risen(back, way_up_z(cell))  # over every pallet of the arm, full or not
-    way.append(PlannedMove("up to the transit height", "linear", up, True, cell.motion.work_speed_mm_s, 0.0))
+    way.append(
+        PlannedMove(
+            name="up to the transit height",
+            kind="linear",
+            tcp2base=up,
+            exact=True,
+            speed_mm_s=cell.motion.work_speed_mm_s,
+        )
+    )
     safe = safe_move(cell, pallet)
-    way.append(PlannedMove(safe.name, "joint", safe.tcp2base, True, safe.speed_mm_s, 0.0, percent))
+    way.append(
+        PlannedMove(
+            name=safe.name,
+            kind="joint",
+            tcp2base=safe.tcp2base,
+            exact=True,
+            speed_mm_s=safe.speed_mm_s,
+            joint_percent=percent,
+        )
+    )
     return [*way, home_planned]
 
 
@@ -430,7 +475,10 @@ def _way_joints(cell, pallet, target_name: str, way: list[PlannedMove], start, n
     """The way home's joints before home: where the arm stands (a joint move there), the retreat keeping its
     configuration, the safe pose in the configuration the program names."""
     head = [np.asarray(start, dtype=float)] if way[0].kind == "joint" else []
-    rest = [ExpectedMove(m.kind, m.tcp2base, m.name, m.speed_mm_s or 0.0, True) for m in way[len(head) :]]
+    rest = [
+        ExpectedMove(kind=m.kind, tcp2base=m.tcp2base, name=m.name, speed_mm_s=m.speed_mm_s or 0.0, exact=True)
+        for m in way[len(head) :]
+    ]
     return [*head, *joints_of(cell, target_name, rest, "verify: the way home", pallet, named, start=start)]
 
 
@@ -439,33 +487,52 @@ def _percent(cell, move) -> float | None:
 
 
 @dataclass
-class PalletFigures:
+class PalletFigures(protocol.Figures):
     boxes: int = 0  # boxes placed (or taken) over the passing cases
 
+    def count(self, case, judged: int) -> None:
+        self.boxes += judged
 
-def legacy_summary(row) -> dict:
-    """A row as `codegen verify --json` lists it under "pallets"."""
-    s = row.summary()
-    return {
-        "target": row.target,
-        "pallet": row.program,
-        "files": row.files,
-        "cases": row.cases,
-        "mismatches": row.mismatches,
-        "boxes_placed": 0 if row.figures is None else row.figures.boxes,
-        "pos_max_mm": s["position_error_mm"]["max"],
-        "rot_max_deg": s["orientation_error_deg"]["max"],
-        "cases_per_s": s["cases_per_second"],
-        "first_mismatches": row.first_mismatches,
+    def as_json(self) -> dict:
+        return {"boxes_placed": self.boxes}
+
+
+class VerifyPart(protocol.VerifyPlan):
+    """A pallet program's cases (a whole stack and its interruptions, each box's pose from the pallet's reference)."""
+
+    report_key = "pallets"
+    scenarios = SCENARIOS
+    figures = PalletFigures
+    listed = {  # a row as `codegen verify --json` lists it under "pallets"
+        "target": "target",
+        "pallet": "program",
+        "files": "files",
+        "cases": "cases",
+        "mismatches": "mismatches",
+        "boxes_placed": "boxes_placed",
+        "pos_max_mm": "position_error_mm.max",
+        "rot_max_deg": "orientation_error_deg.max",
+        "cases_per_s": "cases_per_second",
+        "first_mismatches": "first_mismatches",
     }
 
+    def cases(self, cell, source, count: int, seed: int) -> list:
+        return verify_cases(cell, source, seed)
 
-def report_lines(rows: list) -> list[str]:
-    lines = ["pallet program          target    cases  fail  boxes"]
-    for r in rows:
-        boxes = 0 if r.figures is None else r.figures.boxes
-        lines.append(f"{r.program[:23]:23} {r.target:8} {r.cases:6d} {r.mismatches:5d} {boxes:6d}")
-    return lines
+    def setup(self, cell, source, case):
+        return setup(cell, source, case)
 
+    def judge(self, cell, source, case, trace, setup):
+        return judge(cell, source, case, trace)
 
-__all__ = ["SCENARIOS", "PalletFigures", "judge", "legacy_summary", "report_lines", "setup", "verify_cases"]
+    def describe(self, cell, case) -> str:
+        run = case.data
+        pallet = "" if run.pallet < 0 else f"pallet {pallets_of(cell)[run.pallet].name} "
+        return f"{pallet}layer {run.case.layer} box {run.case.box}"
+
+    def report_lines(self, rows: list) -> list[str]:
+        lines = ["pallet program          target    cases  fail  boxes"]
+        for r in rows:
+            boxes = 0 if r.figures is None else r.figures.boxes
+            lines.append(f"{r.program[:23]:23} {r.target:8} {r.cases:6d} {r.mismatches:5d} {boxes:6d}")
+        return lines

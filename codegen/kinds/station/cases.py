@@ -25,7 +25,7 @@ from codegen.guard import (
 from codegen.kinds.station.keys import GRIP, RELEASE, STATION_ID_MAX
 from codegen.kinds.station.mode import mode_of, modes
 from codegen.kinds.station.region import station_plan
-from codegen.kinds.station.section import Station, stations_of, with_section
+from codegen.kinds.station.section import Station, section_of, stations_of, with_section
 from codegen.model import io as signals
 from codegen.model import vision
 from codegen.model.cell import Cell, TaughtPose
@@ -79,7 +79,7 @@ class UnknownStation:
 def _mode_of_case(cell: Cell, reading):
     if isinstance(reading, UnknownStation):
         return None
-    return mode_of(cell.station_by_id(reading.station_id))
+    return mode_of(section_of(cell).station_by_id(reading.station_id))
 
 
 def inputs_for(cell: Cell, target: Target, reading, behaviour: str = "prompt") -> dict:
@@ -101,7 +101,7 @@ def start_joints(cell: Cell, target: Target, case: Case):
     if home is None:
         return None
     if case.start == "retreat":
-        taught, _ = station_plan(cell, target.name, cell.station_by_id(case.reading.station_id))
+        taught, _ = station_plan(cell, target.name, section_of(cell).station_by_id(case.reading.station_id))
         return next(pose.joints for pose in taught if pose.name == "retreat")
     return home[1] + (np.array(START_AWAY_DEG) if case.start == "away" else 0.0)
 
@@ -109,7 +109,9 @@ def start_joints(cell: Cell, target: Target, case: Case):
 def _previous_reading(cell: Cell, target: Target, reading) -> dict:
     """The vision PC's variables from the previous cycle: a reading of the case's station (an unknown
     station's case: of the cell's first station)."""
-    station = cell.station_by_id(reading.station_id) if _mode_of_case(cell, reading) else cell.stations[0]
+    station = (
+        section_of(cell).station_by_id(reading.station_id) if _mode_of_case(cell, reading) else stations_of(cell)[0]
+    )
     return mode_of(station).previous(cell, target, station)
 
 
@@ -118,7 +120,9 @@ def held_at_start(cell: Cell, case: Case) -> bool:
     (a station that puts a part down first starts with one), else empty (the last cycle put its part down)."""
     if case.held is not None:
         return case.held
-    station = None if isinstance(case.reading, UnknownStation) else cell.station_by_id(case.reading.station_id)
+    if isinstance(case.reading, UnknownStation):
+        return False
+    station = section_of(cell).station_by_id(case.reading.station_id)
     return bool(station is not None and station.holds_at_start)
 
 
@@ -196,9 +200,9 @@ def edge_only_cell(cell: Cell) -> Cell | None:
     """For a cell with an arm: its edge-case poses (which no arm need reach: they test the pose
     conventions) as a cell of their own without the arm, verified beside the cell's programs."""
     edge = edge_cell(replace(cell, robot=None))
-    if cell.robot is None or len(edge.stations) == len(cell.stations):
+    if cell.robot is None or len(stations_of(edge)) == len(stations_of(cell)):
         return None
-    return with_section(edge, stations=edge.stations[-1:])
+    return with_section(edge, stations=stations_of(edge)[-1:])
 
 
 def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
@@ -207,7 +211,7 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
     request or sending a late answer to the previous cycle first; then unknown stations."""
     rng = random.Random(seed)
     cases: list[Case] = []
-    for station in cell.stations:
+    for station in stations_of(cell):
         own = mode_of(station).cases(cell, station, count, rng)
         cases.extend(own)
         cases.extend(Case(f"vision_{b}", own[0].reading, b) for b in vision.BEHAVIOURS[1:] if own)
@@ -219,7 +223,7 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
         cases.append(Case("start_away", cases[0].reading, start="away"))
         if cell.motion.retreat_mm > 0:
             cases.append(Case("start_retreat", cases[0].reading, start="retreat"))
-    known = {s.id for s in cell.stations}
+    known = {s.id for s in stations_of(cell)}
     for station_id in (0, -1, max(known) + 1, STATION_ID_MAX, 99999):
         if station_id not in known:
             cases.append(Case("unknown_station", UnknownStation(station_id)))
@@ -249,7 +253,7 @@ def accepted_traces(cell: Cell, case: Case) -> tuple[list[ExpectedTrace], bool]:
     if second is not None:  # answered twice within one poll: either answer, used whole, is correct
         more, more_boundary = mode.accepted(cell, second)
         accepted, boundary = [*accepted, *more], boundary or more_boundary
-    station = cell.station_by_id(case.reading.station_id)
+    station = section_of(cell).station_by_id(case.reading.station_id)
     if station.holds_at_start is not None and held_at_start(cell, case) != station.holds_at_start:
         # it stops at home before the station (and its guard): the part it holds, or misses, is the operator's
         return [ExpectedTrace("halt", PART_HELD if held_at_start(cell, case) else NO_PART, station)], False

@@ -11,9 +11,10 @@ from functools import cache
 
 import sympy as sp
 
+from codegen import protocol
 from codegen.symrot import rot2, rotx3, roty3, rotz3
 
-# Symbols, named after the frames they belong to (DESIGN.md section 1.1).
+# Symbols, named after the frames they belong to (the point mode's page of the docs).
 # t = calibration mark (tx, ty, t_theta), tn = current mark, P = taught pose, Pn = corrected pose.
 tx, ty, t_theta = sp.symbols("tx ty t_theta", real=True)
 tnx, tny = sp.symbols("tnx tny", real=True)
@@ -54,6 +55,7 @@ def derive() -> Derivation:
 FREE = (tx, ty, t_theta, tnx, tny, phi, Px, Py, a, b, c)  # every counterexample search draws these
 
 
+@cache  # on the derivation, itself once per process: proved once per process
 def point_identities(check) -> list:
     """Source 000's correction and its errata, proven on the derivation."""
     d = derive()
@@ -288,3 +290,22 @@ def symbols() -> dict:
             sp.sin(alpha): "sin_alpha",
         },
     }
+
+
+class DerivationPart(protocol.Derivation):
+    """Source 000's correction and source 001's frame refinement, derived and proved."""
+
+    def derive(self) -> Derivation:
+        return derive()
+
+    def describe(self, derivation) -> str:
+        return describe()
+
+    def identities(self, check) -> list:
+        return [*point_identities(check), *frame_identities(check)]
+
+    def symbols(self) -> dict:
+        return symbols()
+
+    def printed_blocks(self) -> dict:
+        return printed_blocks()

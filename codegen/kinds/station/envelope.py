@@ -12,6 +12,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.station.region import offsets, remember_plan, station_region
+from codegen.kinds.station.section import section_of, stations_of
 from codegen.robot.margins import singular_distance, wrist_angle
 from codegen.robot.taught import ReachError, configuration
 
@@ -71,8 +72,8 @@ class TargetEnvelope:
 def check_target(cell, target: str) -> TargetEnvelope:
     """Raise ReachError naming the station, pose, worst reading and limit; else every station's margins."""
     arm = cell.robot.arms[target]
-    margins = [_station(cell, target, arm, station) for station in cell.stations]
-    samples = len(station_region(cell, target, cell.stations[0]).offsets)
+    margins = [_station(cell, target, arm, station) for station in stations_of(cell)]
+    samples = len(station_region(cell, target, stations_of(cell)[0]).offsets)
     return TargetEnvelope(target, arm.model, samples, tuple(margins))
 
 
@@ -157,17 +158,17 @@ _FORKED: dict = {}  # the cell a forked worker checks (inherited, not pickled)
 def check(cell, only: list[str] | None = None) -> list[TargetEnvelope]:
     """Every target with an arm (of `only`, if given); [] when the cell names no robot. A large cell's
     targets are checked in parallel processes; what the programs need of each station comes back."""
-    if cell.robot is None or not cell.stations:  # a cell without stations: its kinds prove their own reach
+    if cell.robot is None or not stations_of(cell):  # a cell without stations: its kinds prove their own reach
         return []
     targets = [target for target in cell.targets if target in cell.robot.arms and (only is None or target in only)]
     if not targets:
         return []
     cores = min(len(targets), os.cpu_count() or 1)
-    if cores < 2 or len(cell.stations) < PARALLEL_STATIONS or "fork" not in multiprocessing.get_all_start_methods():
+    if cores < 2 or len(stations_of(cell)) < PARALLEL_STATIONS or "fork" not in multiprocessing.get_all_start_methods():
         return [check_target(cell, target) for target in targets]
     workers = os.cpu_count() or 1
-    size = -(-len(cell.stations) // (2 * workers))  # chunks of stations: the work spreads evenly
-    tasks = [(target, i, i + size) for target in targets for i in range(0, len(cell.stations), size)]
+    size = -(-len(stations_of(cell)) // (2 * workers))  # chunks of stations: the work spreads evenly
+    tasks = [(target, i, i + size) for target in targets for i in range(0, len(stations_of(cell)), size)]
     _FORKED["cell"] = cell
     try:
         context = multiprocessing.get_context("fork")
@@ -180,9 +181,10 @@ def check(cell, only: list[str] | None = None) -> list[TargetEnvelope]:
         if error is not None:
             raise ReachError(error)
         margins[target].extend(chunk)
-        for station, (taught, named) in zip(cell.stations[low:], plans, strict=False):
+        for station, (taught, named) in zip(stations_of(cell)[low:], plans, strict=False):
             remember_plan(cell, target, station, taught, named)
-    samples = len(offsets(cell.limits.max_shift_mm, cell.limits.max_rotation_deg))
+    limits = section_of(cell).limits
+    samples = len(offsets(limits.max_shift_mm, limits.max_rotation_deg))
     return [TargetEnvelope(t, cell.robot.arms[t].model, samples, tuple(margins[t])) for t in targets]
 
 
@@ -192,10 +194,10 @@ def _check_forked(task: tuple[str, int, int]):
     cell = _FORKED["cell"]
     arm = cell.robot.arms[target]
     try:
-        chunk = [_station(cell, target, arm, station) for station in cell.stations[low:high]]
+        chunk = [_station(cell, target, arm, station) for station in stations_of(cell)[low:high]]
     except ReachError as exc:
         return None, None, str(exc)
-    regions = [station_region(cell, target, s) for s in cell.stations[low:high]]
+    regions = [station_region(cell, target, s) for s in stations_of(cell)[low:high]]
     return chunk, [(region.taught, region.named) for region in regions], None
 
 

@@ -20,7 +20,7 @@ def expected_joints(
     cell, target: str, station, moves: tuple[Move, ...], start: np.ndarray, solved=None
 ) -> list[np.ndarray]:
     """Per move of the reference: the joints the controller takes, by the rule the program's text
-    sets for that pose (codegen/robot/region.py move_joints). solved: the analytic solutions per move
+    sets for that pose (codegen/kinds/station/region.py move_joints). solved: the analytic solutions per move
     when they are known already (the interpreter's, of a pose verify found equal to the reference's
     within its tolerance): the rule is then applied to them instead of solving again."""
     robot = cell.robot

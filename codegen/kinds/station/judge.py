@@ -3,6 +3,9 @@ home move, the station's moves, the way home, the gripper's outputs, the log), t
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+
+from codegen import protocol
 from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.emit import Emitter
@@ -13,6 +16,10 @@ from codegen.kinds.station.cases import (
     _mode_of_case,
     _truth_problem,
     accepted_traces,
+    build_cases,
+    describe_case,
+    edge_cell,
+    edge_only_cell,
     expected_message,
     held_at_start,
     inputs_for,
@@ -22,6 +29,7 @@ from codegen.kinds.station.joints import expected_joints
 from codegen.kinds.station.keys import GRIP, STATION_ID_MAX
 from codegen.kinds.station.mode import modes
 from codegen.kinds.station.part import part_problem
+from codegen.kinds.station.section import stations_of
 from codegen.model import io as signals
 from codegen.reference import ExpectedTrace, home_move
 from codegen.robot.expect import arm_of
@@ -52,7 +60,7 @@ def judge(cell, target_name: str, case, trace) -> Judgement:
     plans = [_plan(cell, target, case.reading, t, trace, emitter, held) for t in accepted]
     figures = None
     mode = _mode_of_case(cell, case.reading)
-    if mode is not None and not trace.halted and mode.new_stats() is not None:  # a completed station's figures
+    if mode is not None and not trace.halted and mode.figures is not None:  # a completed station's figures
         figures = (mode.name, case.reading, log_numbers(trace.messages, log_prefixes()))
     # the part is followed along a run that makes the planned number of moves (other moves: the plan names them)
     planned = any(len(plan.moves) == len(trace.moves) for plan in plans)
@@ -94,7 +102,13 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
 
 def _planned(move) -> PlannedMove:
     return PlannedMove(
-        move.pose_name, move.kind, move.tcp2base, move.exact, move.speed_mm_s, move.zone_mm, move.joint_percent
+        name=move.pose_name,
+        kind=move.kind,
+        tcp2base=move.tcp2base,
+        exact=move.exact,
+        speed_mm_s=move.speed_mm_s,
+        zone_mm=move.zone_mm,
+        joint_percent=move.joint_percent,
     )
 
 
@@ -121,7 +135,7 @@ def _outputs(cell, target, expected: ExpectedTrace, before: int, held: bool) -> 
     held at the start, else released (before the vision PC is asked); then at each pose of the station where it
     acts, once the arm stands there; not at all where the program stops before its first motion."""
     io = cell.io
-    if io is None or not target.program.get("signals") or not any(s.gripper for s in cell.stations):
+    if io is None or not target.program.get("signals") or not any(s.gripper for s in stations_of(cell)):
         return ()
     name = signals.signal_name(target, "output", io.output[target.name])
     out = []
@@ -150,7 +164,7 @@ def _logged(cell, target, reading, expected: ExpectedTrace) -> tuple | None:
 def sweep(cell, target_name: str, program, ids: range, step_limit: int, row) -> None:
     """Every id of `ids` that is not a station must stop with the unknown-station message before any move: an
     extra dispatch branch (a misread barcode that moves the robot) is caught wherever in the barcode range it is."""
-    known = {s.id for s in cell.stations}
+    known = {s.id for s in stations_of(cell)}
     target = get_target(target_name)
     text = Emitter(target).string(UNKNOWN_STATION_TEXT)
     arm = arm_of(cell, target_name)
@@ -181,21 +195,94 @@ def sweeps(workers: int) -> list[range]:
     return [range(i, min(i + step, STATION_ID_MAX + 1)) for i in range(0, STATION_ID_MAX + 1, step)]
 
 
-def new_figures() -> dict:
-    return {name: mode.new_stats() for name, mode in modes().items() if mode.new_stats() is not None}
-
-
-def add_figures(figures: dict, judged) -> None:
-    name, reading, logged = judged
-    modes()[name].add_stats(figures[name], reading, logged)
-
-
-def merge_figures(into: dict, part: dict) -> None:
-    for name, mode in modes().items():
-        if name in part:
-            mode.merge_stats(into[name], part[name])
-
-
 def log_prefixes() -> tuple[str, ...]:
     """The station program's log lines whose numbers verify reads (every mode's)."""
     return tuple(prefix for mode in modes().values() for prefix in mode.log_prefixes)
+
+
+def _by_mode(mine: dict, theirs: dict) -> dict:
+    return {
+        name: mine[name] + theirs[name] if name in mine and name in theirs else mine.get(name, theirs.get(name))
+        for name in {**mine, **theirs}
+    }
+
+
+@dataclass
+class StationFigures(protocol.Figures):
+    """Each mode's own figures (codegen.kinds.station.mode.StationMode.figures), by the mode's name."""
+
+    modes: dict = field(default_factory=dict, metadata={"add": _by_mode})
+
+    def count(self, case, judged) -> None:
+        name, reading, logged = judged
+        if name not in self.modes:
+            self.modes[name] = modes()[name].figures()
+        self.modes[name].count(reading, logged)
+
+    def as_json(self) -> dict:
+        """Each mode's own figures under its name (none counted yet: its empty figures)."""
+        return {
+            name: (self.modes.get(name) or mode.figures()).as_json()
+            for name, mode in modes().items()
+            if mode.figures is not None
+        }
+
+
+class VerifyPart(protocol.VerifyPlan):
+    """The station program's cases (every mode's, the common scenarios'), judged against each mode's reference, and
+    the sweep of the station ids that are no station."""
+
+    report_key = "targets"  # verify's JSON: the station program's rows
+    scenarios = {  # codegen.verify.plan.SCENARIOS: every one runs (kinds/station/cases.py SCENARIO_OF)
+        "start_away": "",
+        "start_mid_cycle": "",
+        "gripper_silent": "",
+        "gripper_stuck": "",
+        "device_late": "",
+        "device_silent": "",
+        "reading_out_of_range": "",
+    }
+    figures = StationFigures
+    listed = {"*": "*", "unknown_ids_checked": "bulk_runs"}
+
+    def models(self, cell) -> list:
+        """The cell; without an arm, the cell with an extra station of edge-case poses (the pose conventions'
+        edges); with one, the edge poses as a cell of their own without the arm, beside it (no arm need reach
+        them). The edge programs count in the station program's row."""
+        if not stations_of(cell):
+            return []
+        if cell.robot is None:
+            return [(edge_cell(cell), True)]
+        edge = edge_only_cell(cell)
+        return [(cell, True)] + ([] if edge is None else [(edge, False)])
+
+    def cases(self, cell, source, count: int, seed: int) -> list:
+        return build_cases(cell, count, seed)
+
+    def sweeps(self, cell, source, workers: int) -> list[range]:
+        return sweeps(workers) if source.sweep else []
+
+    def sweep(self, cell, source, program, ids: range, step_limit: int, row) -> None:
+        sweep(cell, source.target, program, ids, step_limit, row)
+
+    def setup(self, cell, source, case):
+        return setup(cell, source.target, case)
+
+    def judge(self, cell, source, case, trace, setup):
+        return judge(cell, source.target, case, trace)
+
+    def log_prefixes(self, cell) -> tuple[str, ...]:
+        return log_prefixes()
+
+    def describe(self, cell, case) -> str:
+        return describe_case(cell, case.reading)
+
+    def report_lines(self, rows: list) -> list[str]:
+        summaries = [self.listed_row(row.summary()) for row in rows]
+        out = []
+        for mode in modes().values():  # each mode's own figures, as a table of its own
+            out.extend(mode.stats_lines(summaries))
+        swept = sum(row.swept for row in rows)
+        if swept:
+            out.append(f"{swept} runs of the other station ids (each id that is not a station must stop before moving)")
+        return out

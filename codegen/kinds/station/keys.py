@@ -42,7 +42,7 @@ def camera() -> Table:
         {
             "angle_sign": Key(
                 "integer",
-                "-1 when the camera's image is mirrored (its angles turn against the frame's)",
+                "the sign the camera's angles turn with: -1 when its image is mirrored (they turn against the frame's)",
                 choices=(1, -1),
                 required=True,
             ),
@@ -57,7 +57,13 @@ def camera() -> Table:
                             "2 rows of 3 numbers [[a, b, tx], [c, d, ty]]",
                             required=True,
                             count=2,
-                            values=Key("numbers", "a row", count=3, low=-READING_RANGE_MM, high=READING_RANGE_MM),
+                            values=Key(
+                                "numbers",
+                                "a row [a, b, tx] or [c, d, ty]",
+                                count=3,
+                                low=-READING_RANGE_MM,
+                                high=READING_RANGE_MM,
+                            ),
                         )
                     },
                 ),

@@ -27,6 +27,8 @@ class StationMode:
     log_prefixes: ClassVar[tuple[str, ...]] = ()  # the program's log lines whose numbers verify reads
     log_names: ClassVar[tuple[str, ...]] = ()  # those numbers, in order
     reads_pixels: ClassVar[bool] = False  # the camera answers in pixels: the cell needs [cell.camera.handeye]
+    # the mode's own report figures (codegen.protocol.Figures: count(reading, logged numbers)); None: it has none
+    figures: ClassVar[type | None] = None
     registry: ClassVar[dict[str, type[StationMode]]] = {}
 
     def __init_subclass__(cls, **kwargs) -> None:
@@ -171,23 +173,6 @@ class StationMode:
         return f"station {reading.station_id}"
 
     # --- report figures --------------------------------------------------------------------
-    @classmethod
-    def new_stats(cls) -> Any:
-        """The mode's own report figures (None: it has none)."""
-        return None
-
-    @classmethod
-    def add_stats(cls, stats, reading, logged: list[float]) -> None:
-        """Add a passing case's logged numbers to the figures."""
-
-    @classmethod
-    def merge_stats(cls, into, part) -> None:
-        """Add the figures of another chunk of cases."""
-
-    @classmethod
-    def stats_summary(cls, stats) -> dict | None:
-        return None
-
     @classmethod
     def stats_lines(cls, summaries: list[dict]) -> list[str]:
         """The mode's figures as text lines for the `codegen verify` report (summaries: per target)."""

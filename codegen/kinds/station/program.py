@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from codegen import protocol
 from codegen.controllers import Target
 from codegen.dialects import get_dialect
 from codegen.emit import EmitError, Emitter, owned
@@ -16,10 +17,11 @@ from codegen.guard import (
     UNKNOWN_STATION_TEXT,
     halt_message,
 )
+from codegen.kinds.station.envelope import check
 from codegen.kinds.station.keys import GRIP, RELEASE
 from codegen.kinds.station.mode import mode_of, modes
 from codegen.kinds.station.region import station_plan
-from codegen.kinds.station.section import section_of
+from codegen.kinds.station.section import section_of, stations_of
 from codegen.model import vision
 from codegen.model.cell import Cell
 from codegen.model.motion import segments
@@ -161,3 +163,16 @@ def station_program(cell: Cell, target: Target, kind_name: str) -> list[ProgramP
         else:
             plans.append([f])
     return [ProgramPlan(kind_name, Path(files[0].name).stem, tuple(files), context, i) for i, files in enumerate(plans)]
+
+
+class WriterPart(protocol.Writer):
+    """The station program (every station of the cell, each by its mode) and the stations' envelope proof."""
+
+    renamed_copies = True
+
+    def programs(self, cell, target) -> list[ProgramPlan]:
+        return station_program(cell, target, self.kind.name) if stations_of(cell) else []
+
+    def reach(self, cell, targets: list[str]) -> list:
+        """Every taught pose over the correction region, within reach."""
+        return check(cell, targets) if stations_of(cell) else []

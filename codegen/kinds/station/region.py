@@ -11,6 +11,7 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.station.mode import mode_of
+from codegen.kinds.station.section import section_of
 from codegen.robot import solve
 from codegen.robot.cache import per_cell
 from codegen.robot.config import FORMS, named_in_full, nearest_margin
@@ -87,7 +88,7 @@ def _compute(cell, target: str, station) -> StationRegion:
     arm = robot.arms[target]
     form = get_target(target).configuration
     taught = arm_poses(cell, target, station)
-    region_offsets = offsets(cell.limits.max_shift_mm, cell.limits.max_rotation_deg)
+    region_offsets = offsets(*_bounds(cell))
     region = mode_of(station).region(cell, station, region_offsets)  # (N, M, 4, 4)
     solutions = solve.branches(arm, solve.flange_poses(region, robot.tool.tcp2flange))  # (N, M, 8, 6)
     home = np.broadcast_to(np.asarray(robot.home[target], dtype=float), (len(region_offsets), 6))
@@ -112,7 +113,7 @@ def _compute(cell, target: str, station) -> StationRegion:
         branches.append(b)
         named.append(full)
         previous = np.where(np.isnan(q), previous, q)
-    grid = sampling(cell.limits.max_shift_mm, cell.limits.max_rotation_deg)
+    grid = sampling(*_bounds(cell))
     return StationRegion(
         taught, region_offsets, grid, np.stack(joints, axis=1), np.stack(branches, axis=1), tuple(named)
     )
@@ -218,3 +219,9 @@ def arm_poses(cell, target: str, station) -> list[ArmPose]:
         out.append(ArmPose(name, motion, tcp2base, joints, int(branch)))
         previous = joints
     return out
+
+
+def _bounds(cell) -> tuple[float, float]:
+    """The readings' limits of the cell's stations: the largest shift (mm) and rotation (deg)."""
+    limits = section_of(cell).limits
+    return limits.max_shift_mm, limits.max_rotation_deg

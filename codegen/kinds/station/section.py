@@ -8,7 +8,7 @@ from functools import cached_property
 from itertools import pairwise
 from typing import Any
 
-from codegen.guard import READING_RANGE_MM
+from codegen import protocol
 from codegen.kinds.station.keys import (
     COMMON_KEYS,
     GRIP,
@@ -18,16 +18,18 @@ from codegen.kinds.station.keys import (
     VISION_TABLES,
     camera,
     default_mode,
+    kind_keys,
     limits,
 )
 from codegen.kinds.station.mode import modes
 from codegen.model import motion
 from codegen.model.cell import TaughtPose
+from codegen.model.loader import Loader, build
 from codegen.model.robot import parse_station_config
 from codegen.model.validate import kind_of
 from codegen.poses import POSE_FORMATS
 
-STATIONS_MAX = 5000  # the scale issue's largest cell: its programs load and run here (a UR program in about 35 s)
+STATIONS_MAX = 5000  # the largest cell measured: its programs load and run here (a UR program in about 35 s)
 POSES_MAX = 1000  # a station's poses are one run: 1,000 take about a tenth of verify's step limit
 
 
@@ -164,26 +166,16 @@ def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
 
 
 def _camera(ctx, cell_table: dict):
-    table = camera()
-    camera_table = ctx.table(cell_table, "camera", "cell.camera")
-    ctx.no_unknown(camera_table, table.allowed, "cell.camera")
-    angle_sign = ctx.require(camera_table, "angle_sign", "cell.camera.angle_sign")
-    if isinstance(angle_sign, bool) or angle_sign not in table["angle_sign"].choices:
-        ctx.fail("cell.camera.angle_sign", f"expected 1 or -1, got {angle_sign!r}")
-    if "handeye" not in camera_table:
+    """[cell.camera] read by its declaration (camera()), with the hand-eye map's own rules: a map that inverts, and
+    the angle sign its image imposes."""
+    values = Loader(ctx).table(camera(), ctx.table(cell_table, "camera", "cell.camera"), "cell.camera")
+    angle_sign = values["angle_sign"]
+    if values["handeye"] is None:
         return angle_sign, None
-    he = ctx.table(camera_table, "handeye", "cell.camera.handeye")
-    ctx.no_unknown(he, table["handeye"].table.allowed, "cell.camera.handeye")
-    rows = ctx.require(he, "pixel_to_mm", "cell.camera.handeye.pixel_to_mm")
-    if not isinstance(rows, list) or len(rows) != 2:
-        ctx.fail("cell.camera.handeye.pixel_to_mm", "expected 2 rows of 3 numbers [[a, b, tx], [c, d, ty]]")
-    handeye = tuple(ctx.numbers(r, 3, f"cell.camera.handeye.pixel_to_mm[{i}]") for i, r in enumerate(rows))
+    handeye = values["handeye"]["pixel_to_mm"]
     det = handeye[0][0] * handeye[1][1] - handeye[0][1] * handeye[1][0]
-    if max(abs(v) for row in handeye for v in row) > READING_RANGE_MM or not abs(det) >= 1e-12:
-        ctx.fail(
-            "cell.camera.handeye.pixel_to_mm",
-            f"the 2x2 part is singular, or an entry is beyond +-{READING_RANGE_MM:g}",
-        )
+    if not abs(det) >= 1e-12:
+        ctx.fail("cell.camera.handeye.pixel_to_mm", "the 2x2 part is singular: the map cannot be inverted")
     if angle_sign != image_angle_sign(handeye):
         ctx.fail(
             "cell.camera.angle_sign",
@@ -196,18 +188,8 @@ def _camera(ctx, cell_table: dict):
 
 
 def _limits(ctx, cell_table: dict) -> Limits:
-    limits_table = ctx.table(cell_table, "limits", "cell.limits")
-    ctx.no_unknown(limits_table, limits().allowed, "cell.limits")
-    max_shift = ctx.number(limits_table, "max_shift_mm", "cell.limits.max_shift_mm")
-    max_rot = ctx.number(limits_table, "max_rotation_deg", "cell.limits.max_rotation_deg")
-    shift_key, rot_key = limits()["max_shift_mm"], limits()["max_rotation_deg"]
-    if max_shift <= shift_key.low:
-        ctx.fail("cell.limits.max_shift_mm", f"must be positive, got {max_shift}")
-    if max_shift > shift_key.high:
-        ctx.fail("cell.limits.max_shift_mm", f"must be at most {shift_key.high:g} mm")
-    if not rot_key.contains(max_rot):
-        ctx.fail("cell.limits.max_rotation_deg", f"must be in {rot_key.range_text()} degrees, got {max_rot}")
-    return Limits(max_shift, max_rot)
+    """[cell.limits] read by its declaration (limits())."""
+    return build(Limits, Loader(ctx).table(limits(), ctx.table(cell_table, "limits", "cell.limits"), "cell.limits"))
 
 
 def _station(ctx, raw, index: int, pose_format: str) -> Station:
@@ -269,3 +251,44 @@ def _retreat(station: Station, retreat_mm: float, pose_format: str) -> TaughtPos
     work2base = station.poses[-1].matrix() @ motion.retreat2work(retreat_mm)
     values = tuple(float(v) + 0.0 for v in POSE_FORMATS[pose_format][2](work2base))  # + 0.0: no -0.0
     return TaughtPose("retreat", values, pose_format)
+
+
+class SectionPart(protocol.Section):
+    """The station kind's tables: [cell.camera], [cell.limits], the modes' settings and the [[station]] tables."""
+
+    @property
+    def keys(self):
+        return kind_keys()  # the modes' keys with the kind's: read once the modes are registered
+
+    def listed_names(self) -> tuple[str, ...]:
+        return tuple(modes())
+
+    def parse(self, ctx, data: dict, cell) -> StationSection | None:
+        standalone = any(kind.section.standalone(data) for kind in cell.kinds.values())
+        return parse(ctx, data, cell, standalone)
+
+    def check(self, ctx, cell) -> None:
+        for i, station in enumerate(stations_of(cell), start=1):
+            modes()[station.mode].check_station(ctx, f"station[{i}]", station, cell)
+
+    def json_schema(self, schema: dict) -> None:
+        """A station's mode's keys (required by its mode, refused by the others'), and [cell.camera] and
+        [cell.limits] with [[station]]."""
+        station = schema["properties"][NAME]["items"]
+        own = {name: mode.station_keys() for name, mode in modes().items()}
+        first = next(iter(own))
+        rules = []
+        for name, keys in own.items():
+            others = {k: False for m, ks in own.items() if m != name for k in ks if k not in keys}
+            condition: dict = {"properties": {"mode": {"enum": [name]}}}
+            if name != first:  # the default mode
+                condition["required"] = ["mode"]
+            then: dict = {"properties": others}
+            required = [k for k, key in keys.items() if key.required]
+            if required:
+                then["required"] = required
+            rules.append({"if": condition, "then": then})
+        station["allOf"] = rules
+        schema["allOf"] = [
+            {"if": {"required": [NAME]}, "then": {"properties": {"cell": {"required": list(VISION_TABLES)}}}}
+        ]

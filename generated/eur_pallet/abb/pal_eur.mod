@@ -243,9 +243,12 @@ MODULE pal_eur
           ENDIF
           WaitDI diSheetReady, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
           IF late THEN
-            ! a gap in the line's supply is no fault: said once, then the program waits on
+            ! a gap in the line's supply is no fault: said once, then the program waits on, a timed wait at a time
+            ! (\TimeFlag makes the time running out no error)
             TPWrite "pallet eur: no slip sheet ready for 10 s, still waiting";
-            WaitDI diSheetReady, 1;
+            WHILE late DO
+              WaitDI diSheetReady, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+            ENDWHILE
           ENDIF
           MoveL stack_sheet_pick, stack_work, fine, stack_tool;
           stack_grip;
@@ -305,9 +308,12 @@ MODULE pal_eur
         ENDIF
         WaitDI diCartonAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
         IF late THEN
-          ! a gap in the line's supply is no fault: said once, then the program waits on
+          ! a gap in the line's supply is no fault: said once, then the program waits on, a timed wait at a time
+          ! (\TimeFlag makes the time running out no error)
           TPWrite "pallet eur: no box at the pick place for 10 s, still waiting";
-          WaitDI diCartonAtQ, 1;
+          WHILE late DO
+            WaitDI diCartonAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+          ENDWHILE
         ENDIF
         MoveL stack_q, stack_work, fine, stack_tool;
         stack_grip;

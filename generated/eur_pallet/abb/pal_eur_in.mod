@@ -178,9 +178,12 @@ MODULE pal_eur_in
       MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, stack_zone, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
-        ! a gap in the line's supply is no fault: said once, then the program waits on
+        ! a gap in the line's supply is no fault: said once, then the program waits on, a timed wait at a time
+        ! (\TimeFlag makes the time running out no error)
         TPWrite "pallet eur_in: the pick place is not clear for 10 s, still waiting";
-        WaitDI diQClear, 1;
+        WHILE late DO
+          WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        ENDWHILE
       ENDIF
       MoveL stack_q, stack_work, fine, stack_tool;
       stack_release;
@@ -232,9 +235,12 @@ MODULE pal_eur_in
       MoveL stack_above_q, stack_travel, stack_zone, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
-        ! a gap in the line's supply is no fault: said once, then the program waits on
+        ! a gap in the line's supply is no fault: said once, then the program waits on, a timed wait at a time
+        ! (\TimeFlag makes the time running out no error)
         TPWrite "pallet eur_in: the pick place is not clear for 10 s, still waiting";
-        WaitDI diQClear, 1;
+        WHILE late DO
+          WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        ENDWHILE
       ENDIF
       MoveL stack_q, stack_work, fine, stack_tool;
       stack_release;

@@ -226,9 +226,12 @@ MODULE pal_testmat
         ENDIF
         WaitDI diPartAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
         IF late THEN
-          ! a gap in the line's supply is no fault: said once, then the program waits on
+          ! a gap in the line's supply is no fault: said once, then the program waits on, a timed wait at a time
+          ! (\TimeFlag makes the time running out no error)
           TPWrite "pallet testmat: no box at the pick place for 10 s, still waiting";
-          WaitDI diPartAtQ, 1;
+          WHILE late DO
+            WaitDI diPartAtQ, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+          ENDWHILE
         ENDIF
         MoveL stack_q, stack_work, fine, stack_tool;
         stack_grip;

@@ -5,8 +5,9 @@ from __future__ import annotations
 import cmath
 import math
 import random
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,15 +23,16 @@ from codegen.guard import (
     UNKNOWN_STATION,
     pixels_in_range,
 )
-from codegen.kinds.station.cases import Case
-from codegen.kinds.station.frame.commands import calibrate_handeye
 from codegen.kinds.station.frame.keys import KEYS, REFINE
-from codegen.kinds.station.frame.scene import objects as scene_objects
 from codegen.kinds.station.mode import StationMode
 from codegen.kinds.station.section import section_of
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
+from codegen.protocol import Figures
 from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
-from codegen.sim.camera import CameraModel, SimulatedCamera
+
+if TYPE_CHECKING:
+    from codegen.kinds.station.cases import Case
+    from codegen.sim.camera import CameraModel, SimulatedCamera
 
 NOT_CONVERGED = "not_converged"  # a halt reason of this mode: the residual stayed over tolerance
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
@@ -87,24 +89,27 @@ def frame_offset(dx: float, dy: float, alpha_deg: float) -> np.ndarray:
 
 def camera_for(cell, case: FrameCase) -> SimulatedCamera:
     """A fresh simulated camera for one case (the same noise sequence for every run)."""
-    spec = cell.station_by_id(case.station_id).spec
+    spec = section_of(cell).station_by_id(case.station_id).spec
     calib2base = spec.frame.matrix()
     mark2base = concat(frame_offset(case.dx, case.dy, case.alpha), calib2base)
-    return SimulatedCamera(case.camera, cell.handeye, calib2base, spec.photo.matrix(), mark2base)
+    from codegen.sim.camera import SimulatedCamera  # verify's: a cell loads without the simulator
+
+    return SimulatedCamera(case.camera, section_of(cell).handeye, calib2base, spec.photo.matrix(), mark2base)
 
 
 def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedTrace:
     """Source 001's loop in float64 against the simulated camera, with the update proven in
     derivation.frame_update. nudge scales the tolerances by (1 + nudge): a float32 controller may
     decide the other way when a residual sits on the tolerance."""
-    station = cell.station_by_id(case.station_id)
+    station = section_of(cell).station_by_id(case.station_id)
     if station is None:
         return ExpectedTrace("halt", UNKNOWN_STATION)
     spec = station.spec
     calib2base, photo2frame = spec.frame.matrix(), spec.photo.matrix()
     camera = camera_for(cell, case)
-    handeye = np.array(cell.handeye)
-    refine, limits = section_of(cell).settings[FrameMode.name], cell.limits
+    section = section_of(cell)
+    handeye = np.array(section.handeye)
+    refine, limits = section.settings[FrameMode.name], section.limits
     tol_mm, tol_deg = refine.tolerance_mm * (1 + nudge), refine.tolerance_deg * (1 + nudge)
     dx = dy = alpha = 0.0
     moves: list[Move] = []
@@ -120,7 +125,14 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
             return halt(NOT_CONVERGED)
         tcp2base = concat(photo2frame, frame_offset(dx, dy, alpha), calib2base)
         moves.append(
-            Move(JOINT, "photo", tcp2base, True, cell.motion.speed_mm_s, joint_percent=cell.motion.joint_speed_percent)
+            Move(
+                kind=JOINT,
+                pose_name="photo",
+                tcp2base=tcp2base,
+                exact=True,
+                speed_mm_s=cell.motion.speed_mm_s,
+                joint_percent=cell.motion.joint_speed_percent,
+            )
         )
         photos += 1
         u, v, angle = camera.photo(tcp2base)
@@ -128,7 +140,7 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
             residual = None
             return halt(INVALID_READING)
         res_x, res_y = handeye @ np.array([u, v, 1.0])
-        gamma = cell.angle_sign * angle
+        gamma = section_of(cell).angle_sign * angle
         residual = (math.hypot(res_x, res_y), abs(gamma))
         residuals.append(residual)
         if res_x**2 + res_y**2 < tol_mm**2 and abs(gamma) < tol_deg:
@@ -150,12 +162,30 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
 
 
 @dataclass
-class FrameStats:
+class FrameStats(Figures):
     """Photos to converge and how far the program's final frame is from where the mark really is."""
 
-    photos: list[int]
-    errors_mm: list[float]
-    errors_deg: list[float]
+    photos: list[int] = field(default_factory=list)
+    errors_mm: list[float] = field(default_factory=list)
+    errors_deg: list[float] = field(default_factory=list)
+
+    def count(self, case: FrameCase, judged: list[float]) -> None:
+        """A passing case's logged numbers."""
+        _station, dx, dy, alpha, photos = judged
+        self.photos.append(int(photos))
+        self.errors_mm.append(math.hypot(dx - case.dx, dy - case.dy))
+        self.errors_deg.append(abs(alpha - case.alpha))
+
+    def as_json(self) -> dict:
+        photos = self.photos
+        return {
+            "converged_cases": len(photos),
+            "photos_mean": float(np.mean(photos)) if photos else None,
+            "photos_max": max(photos) if photos else None,
+            "photos_histogram": {str(k): photos.count(k) for k in sorted(set(photos))},
+            "final_frame_error_mm": _stats(self.errors_mm),
+            "final_frame_error_deg": _stats(self.errors_deg),
+        }
 
 
 def _stats(values: list[float]) -> dict:
@@ -173,13 +203,18 @@ class FrameMode(StationMode):
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("frame",)
     log_names = ("station", "dx", "dy", "alpha", "photos")
+    figures = FrameStats
 
     @classmethod
     def station_scene(cls, cell, station) -> list[dict]:
-        return scene_objects(cell, station)
+        from codegen.kinds.station.frame.scene import objects  # the page's: a cell loads without it
+
+        return objects(cell, station)
 
     @classmethod
     def commands(cls) -> list:
+        from codegen.kinds.station.frame.commands import calibrate_handeye  # click: the command line's alone
+
         return [("calibrate", calibrate_handeye)]
 
     @classmethod
@@ -235,7 +270,7 @@ class FrameMode(StationMode):
                     f"{path}.base_data",
                     f"target {name} stores bases 1..{base_data['max']}, got {station.spec.base_data}",
                 )
-        if cell.handeye is None:
+        if section_of(cell).handeye is None:
             ctx.fail(
                 f"{path}.mode",
                 "frame mode reads the camera in pixels and needs [cell.camera.handeye] "
@@ -260,10 +295,11 @@ class FrameMode(StationMode):
 
     @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:
-        number, refine = emitter.number, section_of(cell).settings[cls.name]
+        number, section = emitter.number, section_of(cell)
+        refine, handeye = section.settings[cls.name], section.handeye
         return {
             "refine": owned(derived.printed(target.dialect, "refine")),
-            "handeye": None if cell.handeye is None else [number(v, 9) for row in cell.handeye for v in row],
+            "handeye": None if handeye is None else [number(v, 9) for row in handeye for v in row],
             "tolerance": {
                 "mm_sq": number(refine.tolerance_mm**2, 9),
                 "deg": number(refine.tolerance_deg, 6),
@@ -306,7 +342,11 @@ class FrameMode(StationMode):
     @classmethod
     def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
         """Where the mark really is (within 0.9 of the limits) and how the camera errs."""
-        shift, rot = cell.limits.max_shift_mm, cell.limits.max_rotation_deg
+        from codegen.kinds.station.cases import Case  # verify's: a cell loads without the simulator
+        from codegen.sim.camera import CameraModel
+
+        limits = section_of(cell).limits
+        shift, rot = limits.max_shift_mm, limits.max_rotation_deg
 
         def moved(camera: CameraModel, category: str, fraction: float = 0.9) -> Case:
             r = fraction * shift * math.sqrt(rng.random())
@@ -339,6 +379,9 @@ class FrameMode(StationMode):
 
     @classmethod
     def nominal_case(cls, cell, station) -> Case:
+        from codegen.kinds.station.cases import Case  # verify's: a cell loads without the simulator
+        from codegen.sim.camera import CameraModel
+
         return Case("frame_zero_shift", FrameCase(station.id, 0.0, 0.0, 0.0, CameraModel()))
 
     @classmethod
@@ -363,8 +406,9 @@ class FrameMode(StationMode):
         the tolerance scaled by the camera's scale error and its map's anisotropy, plus four standard
         deviations of the noise. A reference that does not (a cell whose angle_sign contradicts its
         camera's image) is a mismatch for every target."""
-        camera, refine, limits = case.camera, section_of(cell).settings[cls.name], cell.limits
-        if camera.fault_at_photo or cell.handeye is None:
+        section = section_of(cell)
+        camera, refine, limits = case.camera, section.settings[cls.name], section.limits
+        if camera.fault_at_photo or section.handeye is None:
             return None
         offset = math.hypot(case.dx, case.dy)
         if offset > 0.95 * limits.max_shift_mm or abs(case.alpha) > 0.95 * limits.max_rotation_deg:
@@ -372,11 +416,11 @@ class FrameMode(StationMode):
         q = abs(1 - cmath.exp(1j * math.radians(camera.rotation_error_deg)) / (1 + camera.scale_error))
         if q > 0.5 or q ** (refine.max_iterations - 3) * offset >= refine.tolerance_mm / 2:
             return None
-        sign = f"angle_sign {cell.angle_sign:+d} and the camera's image"
+        sign = f"angle_sign {section.angle_sign:+d} and the camera's image"
         if reference.status != "ok":
             reason = reference.reason
             return f"the camera sees the mark within the limits, yet the cell's loop halts ({reason}): {sign}?"
-        singular = _singular_values(cell.handeye)
+        singular = _singular_values(section.handeye)
         mm_bound = refine.tolerance_mm * (1 + abs(camera.scale_error)) + 4 * camera.noise_px * singular[0]
         deg_bound = refine.tolerance_deg * singular[0] / singular[1] + 4 * camera.noise_deg
         _station, dx, dy, alpha, _photos = reference.logged
@@ -393,7 +437,7 @@ class FrameMode(StationMode):
         """A station's calibration frame where the controller keeps it as a numbered base."""
         out = {}
         base_data = target.program.get("base_data")
-        spec = cell.station_by_id(case.station_id).spec
+        spec = section_of(cell).station_by_id(case.station_id).spec
         if base_data and spec.base_data is not None:
             frame = native_values(spec.frame.values, spec.frame.pose_format, "xyzabc")
             out[base_data["name"].format(n=spec.base_data)] = frame
@@ -406,35 +450,6 @@ class FrameMode(StationMode):
     @classmethod
     def describe_reading(cls, case: FrameCase) -> str:
         return f"station {case.station_id} mark moved ({case.dx!r}, {case.dy!r}, {case.alpha!r}) camera {case.camera}"
-
-    @classmethod
-    def new_stats(cls) -> FrameStats:
-        return FrameStats([], [], [])
-
-    @classmethod
-    def add_stats(cls, stats: FrameStats, case: FrameCase, logged: list[float]) -> None:
-        _station, dx, dy, alpha, photos = logged
-        stats.photos.append(int(photos))
-        stats.errors_mm.append(math.hypot(dx - case.dx, dy - case.dy))
-        stats.errors_deg.append(abs(alpha - case.alpha))
-
-    @classmethod
-    def merge_stats(cls, into: FrameStats, part: FrameStats) -> None:
-        into.photos.extend(part.photos)
-        into.errors_mm.extend(part.errors_mm)
-        into.errors_deg.extend(part.errors_deg)
-
-    @classmethod
-    def stats_summary(cls, stats: FrameStats) -> dict:
-        photos = stats.photos
-        return {
-            "converged_cases": len(photos),
-            "photos_mean": float(np.mean(photos)) if photos else None,
-            "photos_max": max(photos) if photos else None,
-            "photos_histogram": {str(k): photos.count(k) for k in sorted(set(photos))},
-            "final_frame_error_mm": _stats(stats.errors_mm),
-            "final_frame_error_deg": _stats(stats.errors_deg),
-        }
 
     @classmethod
     def stats_lines(cls, summaries: list[dict]) -> list[str]:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import random
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,15 +19,16 @@ from codegen.guard import (
     SHIFT_OVER_LIMIT,
     TAUGHT_RANGE_MM,
 )
-from codegen.kinds.station.cases import Case
 from codegen.kinds.station.mode import StationMode
-from codegen.kinds.station.point.commands import correct
 from codegen.kinds.station.point.keys import KEYS
 from codegen.kinds.station.point.reference import NAME, PointSpec, Reading, expected_trace
-from codegen.kinds.station.point.scene import objects as scene_objects
+from codegen.kinds.station.section import section_of
 from codegen.model.vision import SECOND_LOOK_MM
 from codegen.poses import planar_motions, wrap_deg
 from codegen.reference import ExpectedTrace
+
+if TYPE_CHECKING:
+    from codegen.kinds.station.cases import Case
 
 MARK_DECIMALS = 6
 
@@ -61,10 +63,14 @@ class PointMode(StationMode):
 
     @classmethod
     def station_scene(cls, cell, station) -> list[dict]:
-        return scene_objects(cell, station)
+        from codegen.kinds.station.point.scene import objects  # the page's: a cell loads without it
+
+        return objects(cell, station)
 
     @classmethod
     def commands(cls) -> list:
+        from codegen.kinds.station.point.commands import correct  # click: the command line's alone
+
         return [(None, correct)]
 
     @classmethod
@@ -116,7 +122,10 @@ class PointMode(StationMode):
 
     @classmethod
     def cases(cls, cell, station, count: int, rng: random.Random) -> list[Case]:
-        shift, rot = cell.limits.max_shift_mm, cell.limits.max_rotation_deg
+        from codegen.kinds.station.cases import Case  # verify's: a cell loads without the simulator
+
+        limits = section_of(cell).limits
+        shift, rot = limits.max_shift_mm, limits.max_rotation_deg
         tx, ty, t_theta = station.spec.mark
 
         def reading(dx, dy, dtheta):
@@ -159,6 +168,8 @@ class PointMode(StationMode):
 
     @classmethod
     def nominal_case(cls, cell, station) -> Case:
+        from codegen.kinds.station.cases import Case  # verify's: a cell loads without the simulator
+
         return Case("zero_shift", Reading(station.id, *station.spec.mark))
 
     @classmethod
@@ -171,11 +182,11 @@ class PointMode(StationMode):
         """The reference trace, plus the other side of a limit when the reading is within float32
         resolution of it (a float32 controller may decide either way there)."""
         reference = expected_trace(cell, reading)
-        station = cell.station_by_id(reading.station_id)
+        station = section_of(cell).station_by_id(reading.station_id)
         if reference.reason == INVALID_READING or station is None:
             return [reference], False
         tx, ty, t_theta = station.spec.mark
-        limits = cell.limits
+        limits = section_of(cell).limits
         scale = max(abs(reading.x), abs(reading.y), abs(tx), abs(ty))
         eps_shift = 8 * limits.max_shift_mm * _ulp32(scale) + 4 * _ulp32(limits.max_shift_mm**2)
         margin_shift = limits.max_shift_mm**2 - ((reading.x - tx) ** 2 + (reading.y - ty) ** 2)

@@ -9,6 +9,7 @@ from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.kinds.station.point.correct import correct_report, format_report
 from codegen.kinds.station.point.reference import NAME, Reading
+from codegen.kinds.station.section import section_of
 
 
 def _parse_mark(value: str) -> tuple[float, float, float]:
@@ -33,7 +34,7 @@ def correct(cell: str | None, station_id: int, mark: str, as_json: bool) -> None
 
     model = _load(cell)
     x, y, theta = _parse_mark(mark)
-    station = model.station_by_id(station_id)
+    station = section_of(model).station_by_id(station_id)
     if station is not None and station.mode != NAME:
         raise UserError(
             f"{model.source}: station {station_id} ({station.name}) is a {station.mode} station: only point "

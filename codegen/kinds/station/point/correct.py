@@ -5,6 +5,7 @@ from __future__ import annotations
 from codegen.controllers import get_target
 from codegen.guard import halt_message
 from codegen.kinds.station.point.reference import Reading, expected_trace
+from codegen.kinds.station.section import section_of
 from codegen.model.cell import Cell
 from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS
 
@@ -15,7 +16,7 @@ def correct_report(cell: Cell, reading: Reading) -> dict:
     report: dict = {
         "cell": cell.name,
         "reading": {"station_id": reading.station_id, "x_mm": reading.x, "y_mm": reading.y, "theta_deg": reading.theta},
-        "angle_sign": cell.angle_sign,
+        "angle_sign": section_of(cell).angle_sign,
         "station": None
         if trace.station is None
         else {"id": trace.station.id, "name": trace.station.name, "mark": list(trace.station.spec.mark)},

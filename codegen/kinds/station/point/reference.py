@@ -15,6 +15,7 @@ from codegen.guard import (
     UNKNOWN_STATION,
     reading_in_range,
 )
+from codegen.kinds.station.section import section_of
 from codegen.poses import concat, invert, matrix_from_rotation_translation, rotz, wrap_deg
 from codegen.reference import ExpectedTrace, path_moves
 
@@ -61,7 +62,8 @@ def base2mark(x: float, y: float, theta_deg: float) -> np.ndarray:
 
 def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> ExpectedTrace:
     """The trace a correct program produces; enforce_limits=False computes the moves regardless."""
-    station = cell.station_by_id(reading.station_id)
+    section = section_of(cell)
+    station = section.station_by_id(reading.station_id)
     if station is None:
         return ExpectedTrace("halt", UNKNOWN_STATION)
     if station.mode != NAME:
@@ -72,12 +74,12 @@ def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Expec
     shift = math.hypot(reading.x - tx, reading.y - ty)
     rotation = wrap_deg(reading.theta - t_theta)
     # Compared squared, as the programs do (no square root on the controller).
-    if enforce_limits and (reading.x - tx) ** 2 + (reading.y - ty) ** 2 > cell.limits.max_shift_mm**2:
+    if enforce_limits and (reading.x - tx) ** 2 + (reading.y - ty) ** 2 > section.limits.max_shift_mm**2:
         return ExpectedTrace("halt", SHIFT_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
-    if enforce_limits and abs(rotation) > cell.limits.max_rotation_deg:
+    if enforce_limits and abs(rotation) > section.limits.max_rotation_deg:
         return ExpectedTrace("halt", ROTATION_OVER_LIMIT, station, detail=PointDetail(shift, rotation))
 
-    phi = cell.angle_sign * rotation
+    phi = section.angle_sign * rotation
     # The part moved rigidly with the mark: partnow2base = marknow2base . base2markcal . part2base
     marknow2base = mark2base(reading.x, reading.y, t_theta + phi)
     correction = concat(base2mark(tx, ty, t_theta), marknow2base)  # D: a taught pose P becomes D . P
