@@ -110,12 +110,12 @@ def _mismatches(cell, cases, target: str, edit) -> list[str]:
             "",
             "expected standard_digital_out[0] set to True after move 3 (grip at chuck_out)",
         ),
-        # the grip before the move into the chuck: the gripper closes at the approach, where no part is
+        # the grip before the move into the chuck: the gripper closes at the approach, a move before the plan's grip
         (
             "kuka",
             WORK_THEN_SIGNAL,
             SIGNAL_THEN_WORK,
-            "closed at (655.000, -120.000, 420.000) mm",
+            "set to True after move 2, expected $OUT[17] set to True after move 3 (grip at chuck_out)",
         ),
         # CONTINUE: the gripper closes while the arm still moves into the work pose
         ("kuka", "  $OUT[17] = TRUE\n", "  CONTINUE\n  $OUT[17] = TRUE\n", "while the arm moves"),

@@ -62,10 +62,12 @@ def judge(cell, target_name: str, case, trace) -> Judgement:
     mode = _mode_of_case(cell, case.reading)
     if mode is not None and not trace.halted and mode.figures is not None:  # a completed station's figures
         figures = (mode.name, case.reading, log_numbers(trace.messages, log_prefixes()))
-    # the part is followed along a run that makes the planned number of moves (other moves: the plan names them)
+    # the part is followed along a run that makes the planned number of moves (other moves: the plan names them); a
+    # run that met the plan and mishandles it fails with it (a difference from the plan is named as that, where it is)
     planned = any(len(plan.moves) == len(trace.moves) for plan in plans)
-    part = _part(cell, target, accepted, held, trace) if planned else None
-    return Judgement(plans, boundary, part, figures=figures, truth=truth)
+    if truth is None and planned:
+        truth = _part(cell, target, accepted, held, trace)
+    return Judgement(plans, boundary, figures=figures, truth=truth)
 
 
 def _part(cell, target, accepted: list[ExpectedTrace], held: bool, trace) -> str | None:
