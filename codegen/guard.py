@@ -22,6 +22,8 @@ NO_ANSWER = "no_answer"  # the vision PC did not answer the program's request in
 NO_FEEDBACK = "no_feedback"  # the work pose's signal was not confirmed in time (codegen.model.io)
 NOT_RELEASED = "not_released"  # at the start, the work pose's signal released did not show (its feedback stays on)
 NOT_AT_HOME = "not_at_home"  # the program was started with the arm away from home (restart = "at_home")
+PART_HELD = "part_held"  # a station that takes a part first, started with one in the gripper
+NO_PART = "no_part"  # a station that puts a part down first, started with none in the gripper
 
 # The codes a program's guard function returns: 0 ok, then the reasons in the order they are checked.
 GUARD_CODES = {INVALID_READING: 1, SHIFT_OVER_LIMIT: 2, ROTATION_OVER_LIMIT: 3}
@@ -51,6 +53,8 @@ _CELL_MESSAGES = {
     ),
     NOT_RELEASED: lambda cell: f"the gripper did not release in {cell.io.timeout_s:g} s (its feedback stays on)",
     NO_FEEDBACK: lambda cell: f"no feedback from the gripper in {cell.io.timeout_s:g} s",
+    PART_HELD: lambda cell: "the gripper holds a part this station cannot put down: take it out, start again",
+    NO_PART: lambda cell: "the gripper holds no part to put down: give it its part, start again",
 }
 
 

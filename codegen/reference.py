@@ -26,15 +26,16 @@ class Move:
     joint_percent: float | None = None  # a joint move's axis speed in percent ([cell.motion]), where programmed so
 
 
-def path_moves(cell, station, correction: np.ndarray) -> list[Move]:
+def path_moves(cell, station, correction: np.ndarray, fixed: frozenset[str] = frozenset()) -> list[Move]:
     """The moves through a station's path (its taught poses, then the retreat) with each pose moved by
-    the correction (a taught pose P becomes correction . P), and each segment's speed and zone."""
-    segs = segments(cell.motion, len(station.poses), station.retreat is not None)
+    the correction (a taught pose P becomes correction . P; a `fixed` one stays as taught), and each segment's
+    speed and zone (a stop where the gripper acts)."""
+    segs = segments(cell.motion, len(station.poses), station.retreat is not None, station_stops(station))
     return [
         Move(
             kind=JOINT if i == 0 else LINEAR,
             pose_name=p.name,
-            tcp2base=concat(p.matrix(), correction),
+            tcp2base=p.matrix() if p.name in fixed else concat(p.matrix(), correction),
             exact=s.exact,
             speed_mm_s=s.speed_mm_s,
             zone_mm=s.zone_mm,
@@ -42,6 +43,12 @@ def path_moves(cell, station, correction: np.ndarray) -> list[Move]:
         )
         for i, (p, s) in enumerate(zip(station.path, segs, strict=True))
     ]
+
+
+def station_stops(station) -> frozenset[int]:
+    """The indices of a station's taught poses where its gripper acts (the arm stops there)."""
+    acting = {name for name, _ in station.gripper}
+    return frozenset(i for i, p in enumerate(station.poses) if p.name in acting)
 
 
 @dataclass(frozen=True)
@@ -54,6 +61,7 @@ class ExpectedTrace:
     moves: tuple[Move, ...] = ()
     logged: tuple[float, ...] | None = None  # the numbers of the program's log line(s), in order
     detail: Any = None  # the kind's own figures (kinds/<kind>.py), e.g. the correction or the photos
+    path_start: int = 0  # where the station's path (its taught poses, then the retreat) begins in `moves`
 
 
 _HOME: dict = {}

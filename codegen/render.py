@@ -10,7 +10,7 @@ from pathlib import Path
 from codegen import __version__, data_dir
 from codegen.controllers import Target, get_target, numbered_names
 from codegen.emit import Code, Emitter, folder_name, owned
-from codegen.guard import NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, halt_message
+from codegen.guard import NO_FEEDBACK, NO_PART, NOT_AT_HOME, NOT_RELEASED, PART_HELD, halt_message
 from codegen.model import io as signals
 from codegen.model.cell import Cell
 from codegen.poses import FORMAT_DECIMALS, native_values
@@ -156,6 +156,8 @@ def shared_context(cell: Cell, target: Target) -> dict:
             "timeout_text": figure(cell.io.timeout_s),
             "no_feedback": emitter.string(halt_message(cell, NO_FEEDBACK, None, 0)),
             "not_released": emitter.string(halt_message(cell, NOT_RELEASED, None, 0)),
+            "part_held": emitter.string(halt_message(cell, PART_HELD, None, 0)),
+            "no_part": emitter.string(halt_message(cell, NO_PART, None, 0)),
         },
         "target": {"program": owned(target.program)},  # the controller's facts (targets/<t>.toml [program])
         "robot": cell_robot(cell, target, emitter),

@@ -47,7 +47,8 @@ def _hand_matrix(x, y, z, a, b, c):
 
 
 def test_correct_matches_hand_computation():
-    # Demo station 3 (mill_1): mark (640.2, 210.6, 2.4); reading (643.2, 206.6, 5.4); sign -1.
+    # Demo station 3 (mill_1): mark (640.2, 210.6, 2.4); reading (643.2, 206.6, 5.4); sign -1. Its tray poses are
+    # fixed (the tray rides on the AGV with the robot): as taught; the machine's poses are corrected.
     result = run("correct", "--station", "3", "--mark", "643.2,206.6,5.4", "--json")
     assert result.exit_code == 0, result.output
     data = json.loads(result.output)
@@ -60,19 +61,33 @@ def test_correct_matches_hand_computation():
     trans_minus_t[:2, 3] = (-640.2, -210.6)
     d = trans_tn @ rot @ trans_minus_t
     assert np.allclose(np.array(data["correction"]), d, atol=1e-9)
-    taught = {"approach": (600.0, 40.0, 450.0, -90.0, 15.0, 180.0), "vise": (702.6, 55.8, 262.4, -90.0, 15.0, 180.0)}
-    assert [p["name"] for p in data["poses"]] == ["approach", "vise"]
-    assert [p["motion"] for p in data["poses"]] == ["joint", "linear"]
+    above, at = (600.0, 40.0, 450.0, -90.0, 15.0, 180.0), (702.6, 55.8, 262.4, -90.0, 15.0, 180.0)
+    tray = {name: (x, -480.0, z, -90.0, 0.0, 180.0) for name, x, z in _TRAY}
+    taught = {"approach": above, "vise_out": at, "vise_clear": above, **tray, "vise_above": above, "vise": at}
+    assert [p["name"] for p in data["poses"]] == list(taught)
+    assert [p["motion"] for p in data["poses"]] == ["joint"] + ["linear"] * 10
     for pose in data["poses"]:
-        expected = d @ _hand_matrix(*taught[pose["name"]])
+        fixed = pose["name"] in tray
+        expected = (np.eye(4) if fixed else d) @ _hand_matrix(*taught[pose["name"]])
         kuka = pose["targets"]["kuka"]
         assert np.allclose(kuka[:3], expected[:3, 3], atol=1e-4)
         assert np.allclose(_hand_matrix(*kuka)[:3, :3], expected[:3, :3], atol=1e-6)
-        assert math.isclose(kuka[3], -90.0 + math.degrees(phi), abs_tol=1e-9)  # yaw addition
+        assert math.isclose(kuka[3], -90.0 + (0.0 if fixed else math.degrees(phi)), abs_tol=1e-9)  # yaw addition
         ur = pose["targets"]["ur"]
         assert np.allclose(np.array(ur[:3]) * 1000, expected[:3, 3], atol=1e-3)
         w, qx, qy, qz = pose["targets"]["abb"][3:]
         assert math.isclose(w * w + qx * qx + qy * qy + qz * qz, 1.0, abs_tol=1e-6)
+
+
+# the demo's tray poses (x, z; y -480): the finished part put down at x 520, the raw part taken at x 400
+_TRAY = [
+    ("tray_done_above", 520.0, 370.0),
+    ("tray_done", 520.0, 250.0),
+    ("tray_done_up", 520.0, 370.0),
+    ("tray_raw_above", 400.0, 370.0),
+    ("tray_raw", 400.0, 250.0),
+    ("tray_raw_up", 400.0, 370.0),
+]
 
 
 def test_correct_halt_is_reported():

@@ -103,23 +103,28 @@ def retreat2work(retreat_mm: float) -> np.ndarray:
 @dataclass(frozen=True)
 class Segment:
     """How the arm moves to one pose of a station's path: its TCP speed (mm/s), blending zone (mm, 0:
-    it stops there) and whether it must stop exactly there (the work pose)."""
+    it stops there), whether it must stop exactly there (the work pose, a pose where the gripper acts) and whether
+    it goes at the work speed."""
 
     speed_mm_s: float
     zone_mm: float
     exact: bool
+    slow: bool = False
 
 
-def segments(settings: MotionSettings, taught: int, retreat: bool) -> list[Segment]:
+def segments(
+    settings: MotionSettings, taught: int, retreat: bool, stops: frozenset[int] = frozenset()
+) -> list[Segment]:
     """The segments of a path of `taught` poses (the last the work pose), then the retreat: the first
-    move (a joint move) and the work pose stop exactly; the poses in between are passed with the
-    zone; the last move into the work pose and the retreat go at the work speed; the retreat blends
-    into the way home when there is one."""
+    move (a joint move), the work pose and the poses in `stops` (where the gripper acts) stop exactly; the poses in
+    between are passed with the zone; the moves into the work pose and into and out of a stop, and the retreat, go
+    at the work speed; the retreat blends into the way home when there is one."""
     out = []
     for i in range(taught):
-        work = i == taught - 1
-        speed = settings.work_speed_mm_s if work else settings.speed_mm_s
-        out.append(Segment(speed, 0.0 if work or i == 0 else settings.zone_mm, work))
+        exact = i == taught - 1 or i in stops
+        slow = exact or (i - 1) in stops
+        speed = settings.work_speed_mm_s if slow else settings.speed_mm_s
+        out.append(Segment(speed, 0.0 if exact or i == 0 else settings.zone_mm, exact, slow))
     if retreat:
-        out.append(Segment(settings.work_speed_mm_s, settings.zone_mm if settings.return_home else 0.0, False))
+        out.append(Segment(settings.work_speed_mm_s, settings.zone_mm if settings.return_home else 0.0, False, True))
     return out

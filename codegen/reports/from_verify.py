@@ -88,7 +88,7 @@ def _cell_place(keys, cell_file: str | None, text: str, problem: str) -> tuple[L
         return None, None
     data, lines = keys
     entry = entry_of(data, text.removesuffix(problem))
-    path = key_under(lines, entry or (), move.group(1).strip())
+    path = key_under(lines, entry or (), move.group(1).strip(), data)
     if path is None:
         return None, None
     key = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in path).lstrip(".")

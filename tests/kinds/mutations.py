@@ -122,6 +122,17 @@ def _abb_last(match) -> str:
 # name -> target -> (pattern, replacement) on the first match in the program's files; where a kind's program has
 # no match the class does not apply to it (the matrix test lists that)
 TEXT = {
+    # a station's first release after the move out of its place: the part dropped on the travel (the next pose)
+    "release_moved_to_the_travel": {
+        "ur": (r"^(    vis_release\(\)\n)(    movel\([^\n]*\n)", r"\2\1"),
+        "kuka": (
+            r"^(  IF NOT VIS_RELEASE\(\) THEN\n    RETURN\n  ENDIF\n)"
+            r"(  TARGET = [^\n]*\n  \$VEL\.CP = [^\n]*\n  LIN [^\n]*\n)",
+            r"\2\1",
+        ),
+        "abb": (r"^(    vis_release;\n)((?:    Conf\w \\\w+;\n)*    MoveL [^\n]*\n)", r"\2\1"),
+        "dtrans": (r"^(  Call vis_release\(\)\n)(  MovL [^\n]*\n)", r"\2\1"),
+    },
     "payload_dropped": {
         "ur": (r"^\s*set_target_payload\([^\n]*\n", ""),
         "kuka": (r"^\s*\$LOAD = \w+\n", ""),

@@ -34,6 +34,9 @@ def test_closed_form_agrees_with_matrices(demo_cell):
         worst = max(worst, abs(frame["frame_x"] - d[0, 3]), abs(frame["frame_y"] - d[1, 3]))
         for pose, move in zip(station.path, trace.moves, strict=True):
             m = pose.matrix()
+            if pose.name in station.spec.fixed:  # on the AGV with the robot: as taught
+                assert np.array_equal(move.tcp2base, m)
+                continue
             point = evaluate(
                 "point",
                 {"tx": tx, "ty": ty, "tnx": reading.x, "tny": reading.y, "phi": phi, "Px": m[0, 3], "Py": m[1, 3]},
@@ -43,7 +46,7 @@ def test_closed_form_agrees_with_matrices(demo_cell):
 
 
 def test_zero_shift_gives_taught_poses(demo_cell):
-    station = stations_of(demo_cell)[2]
+    station = stations_of(demo_cell)[5]
     trace = expected_trace(demo_cell, Reading(station.id, *station.spec.mark))
     for pose, move in zip(station.path, trace.moves, strict=True):
         assert np.allclose(move.tcp2base, pose.matrix(), atol=1e-12)
@@ -55,7 +58,21 @@ def test_pure_translation(demo_cell):
     tx, ty, t_theta = station.spec.mark
     trace = expected_trace(demo_cell, Reading(station.id, tx + 3, ty - 4, t_theta))
     for pose, move in zip(station.path, trace.moves, strict=True):
-        assert np.allclose(move.tcp2base[:3, 3] - pose.matrix()[:3, 3], [3, -4, 0], atol=1e-12)
+        shift = [0, 0, 0] if pose.name in station.spec.fixed else [3, -4, 0]
+        assert np.allclose(move.tcp2base[:3, 3] - pose.matrix()[:3, 3], shift, atol=1e-12)
+
+
+def test_fixed_poses_stay_as_taught_and_the_others_turn(demo_cell):
+    """A reading turned 5 deg moves the machine's poses and leaves the tray's (on the AGV with the robot) alone."""
+    station = stations_of(demo_cell)[0]
+    tx, ty, t_theta = station.spec.mark
+    trace = expected_trace(demo_cell, Reading(station.id, tx, ty, t_theta + 5.0))
+    moved = {
+        p.name: float(np.linalg.norm(m.tcp2base[:3, 3] - p.matrix()[:3, 3]))
+        for p, m in zip(station.path, trace.moves, strict=True)
+    }
+    assert {name for name, d in moved.items() if d == 0.0} == set(station.spec.fixed) and station.spec.fixed
+    assert all(d > 1.0 for name, d in moved.items() if name not in station.spec.fixed)
 
 
 def test_guard_order_and_reasons(demo_cell):

@@ -17,7 +17,7 @@ class TestABB(StationTests):
     arm_words = {
         "robconf_changed": ("configuration [0, 0, 0, 0]",),
         "check_always_on": ("configuration",),
-        "tool0": ("tool TOOL0",),
+        "tool0": ("tool TOOL0", "a linear move would change the arm's configuration"),
         "light_tool": ("load",),
         "out_of_reach": ("out of reach", "cannot reach"),
         "no_home": ("moves, expected", "first motion"),

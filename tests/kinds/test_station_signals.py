@@ -1,4 +1,5 @@
-"""The controller-ready cell sections ([cell.vision], [cell.motion], [cell.io]) and the work pose's signal."""
+"""The controller-ready cell sections ([cell.vision], [cell.motion], [cell.io]) and the gripper's signal where the
+stations grip and release."""
 
 import re
 from pathlib import Path
@@ -102,10 +103,20 @@ def _mismatches(cell, cases, target: str, edit) -> list[str]:
 @pytest.mark.parametrize(
     ("target", "old", "new", "says"),
     [
-        # the gripper is never closed
-        ("ur", "    vis_signal()\n", "", "never set to True (at the work pose); 1 of 2 set"),
-        # the signal before the work pose: the output changes at the approach
-        ("kuka", WORK_THEN_SIGNAL, SIGNAL_THEN_WORK, "expected $OUT[17] set to True after move 3"),
+        # the gripper never closed on the finished part
+        (
+            "ur",
+            "    vis_signal()\n",
+            "",
+            "expected standard_digital_out[0] set to True after move 3 (grip at chuck_out)",
+        ),
+        # the grip before the move into the chuck: the gripper closes at the approach, a move before the plan's grip
+        (
+            "kuka",
+            WORK_THEN_SIGNAL,
+            SIGNAL_THEN_WORK,
+            "set to True after move 2, expected $OUT[17] set to True after move 3 (grip at chuck_out)",
+        ),
         # CONTINUE: the gripper closes while the arm still moves into the work pose
         ("kuka", "  $OUT[17] = TRUE\n", "  CONTINUE\n  $OUT[17] = TRUE\n", "while the arm moves"),
         # no wait for the feedback: the station goes on without the gripper closed
@@ -113,9 +124,12 @@ def _mismatches(cell, cases, target: str, edit) -> list[str]:
         ("abb", "    WaitDI diGripClosed, 0 \\MaxTime:=IO_TIMEOUT;\n", "", "gripper_stuck"),
         # the feedback read from the wrong input: it never comes
         ("dtrans", "While DIn(2) <> True", "While DIn(3) <> True", "no feedback from the gripper in 2 s"),
-        # no release at the start: a gripper left closed is not seen (its feedback is on already)
-        ("ur", "  vis_release()\n", "", "(at home, released)"),
-        ("kuka", "  IF NOT VIS_RELEASE() THEN\n    RETURN\n  ENDIF\n", "", "(at home, released)"),
+        # nothing done with the gripper at the start: neither opened nor held on to
+        ("ur", "  vis_gripper_start()\n", "", "(at home, as the gripper starts)"),
+        ("kuka", "  IF NOT VIS_GRIPPER_START() THEN\n    RETURN\n  ENDIF\n", "", "(at home, as the gripper starts)"),
+        # the gripper opened at the start whatever it holds: a part held there is dropped at home
+        ("ur", "    if get_standard_digital_in(1) == True:\n", "    if False:\n", "part_held"),
+        ("abb", "    IF DInput(diGripClosed) = 1 THEN\n", "    IF FALSE THEN\n", "part_held"),
     ],
 )
 def test_verify_fails_a_broken_signal(demo, target, old, new, says):

@@ -19,7 +19,9 @@ def test_demo_cell_loads(demo_cell):
     assert [s.id for s in stations_of(demo_cell)] == [1, 2, 3, 4, 5, 6, 7]
     assert section_of(demo_cell).angle_sign == -1
     assert section_of(demo_cell).limits.max_shift_mm == 10.0
-    assert all(len(s.poses) == 2 for s in stations_of(demo_cell))
+    # the machines are tended (the finished part out onto the tray, the raw part in); the others are visited
+    assert [len(s.poses) for s in stations_of(demo_cell)] == [11] * 5 + [2, 2]
+    assert [s.holds_at_start for s in stations_of(demo_cell)] == [False] * 5 + [None, None]
     assert len(demo_cell.sha256) == 64
 
 

@@ -104,3 +104,10 @@ def test_the_entry_a_case_names_and_the_key_under_it():
     assert entry_of(data, "station 9 reading") is None
     assert key_under(lines, ("station", 1), "chuck") == ("station", 1, "poses", "chuck")
     assert key_under(lines, (), "chuck") is None  # two stations have one: not told apart
+
+
+def test_a_moves_key_is_the_pose_not_what_the_gripper_does_there():
+    text = '[[station]]\nid = 1\n[station.poses]\nchuck = [1, 2, 3, 0, 0, 0]\n[station.gripper]\nchuck = "release"\n'
+    data, lines = tomllib.loads(text), key_lines(text)
+    assert key_under(lines, ("station", 0), "chuck") is None  # by the name alone: two keys
+    assert key_under(lines, ("station", 0), "chuck", data) == ("station", 0, "poses", "chuck")

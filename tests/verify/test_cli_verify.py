@@ -11,7 +11,8 @@ import pytest
 from click.testing import CliRunner
 
 from codegen.cli import main
-from codegen.model.cell import load_cell
+from codegen.kinds.station.section import stations_of
+from codegen.model.cell import DEMO_CELL, load_cell
 
 REPO = Path(__file__).resolve().parents[2]
 GENERATED = REPO / "generated" / "agv_machine_tending"
@@ -54,8 +55,9 @@ def test_run_with_the_arm_solves_every_move():
     reading += ["--input", "VIS_THETA=1.8"]
     result = invoke("run", path, *reading, "--gripper", "$OUT[17]=$IN[18]", "--robot", "KR 10 R1100 sixx", "--json")
     data = json.loads(result.output)
-    # home, approach, work pose, retreat, home
-    assert [m["motion"] for m in data["moves"]] == ["joint", "joint", "linear", "linear", "joint"]
+    # home, station 1's taught poses (the first a joint move), its retreat, home
+    taught = len(stations_of(load_cell(DEMO_CELL))[0].poses)
+    assert [m["motion"] for m in data["moves"]] == ["joint", "joint"] + ["linear"] * taught + ["joint"]
     assert all(m["joints"] is not None and m["pose"] is not None for m in data["moves"])
     assert data["moves"][0]["joints"] == [0, -90, 90, 0, 90, 30]  # the demo's home (axis 6 at 30)
     wrong = invoke("run", path, "--robot", "IRB 140")
@@ -160,7 +162,6 @@ def _socket_and_node(tmp_path: Path, broken: str) -> list[Path]:
 def test_two_programs_of_one_target_are_two_rows_each_run(tmp_path):
     """Each file given is run on its own: the broken one fails beside its untouched twin, either way round."""
     from codegen.kinds.station.cases import build_cases
-    from codegen.model.cell import DEMO_CELL
     from codegen.verify.engine import Options, verify_sources
     from codegen.verify.programs import file_sources
 

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import pytest
 
+from codegen.kinds.station.section import stations_of
 from codegen.model.cell import EXAMPLES_DIR, load_cell
 from codegen.verify.engine import Options, verify_cell
 
@@ -25,6 +26,11 @@ FAST = Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"random"}))
 @pytest.fixture(scope="module")
 def cell():
     return load_cell(DEMO)
+
+
+def work_move(cell) -> int:
+    """The number of station 1's move to its work pose in a run: the home move, then its taught poses (the last)."""
+    return 1 + len(stations_of(cell)[0].poses)
 
 
 def edited(tmp_path: Path, target: str, text: str, before: bool = False) -> tuple[Path, int]:
@@ -56,11 +62,11 @@ def verify(cell, path: Path, target: str, options: Options = FAST):
 @pytest.mark.parametrize(
     ("target", "text", "effect"),
     [
-        ("abb", "WaitTime 0.5;", "reaches move 4 (line {n_next}) 0.50 s later than the generated program"),
-        ("ur", "sleep(0.5)", "reaches move 4 (line {n_next}) 0.50 s later than the generated program"),
+        ("abb", "WaitTime 0.5;", "reaches move {work_next} (line {n_next}) 0.50 s later than the generated program"),
+        ("ur", "sleep(0.5)", "reaches move {work_next} (line {n_next}) 0.50 s later than the generated program"),
         ("kuka", "WAIT SEC 0.5", "0.50 s later than the generated program"),
         ("abb", 'TPWrite "at the chuck";', "writes 'at the chuck' (the generated program does not)"),
-        ("abb", "Set doLamp;", "sets doLamp True after move 3 (line {n}); the generated program does not"),
+        ("abb", "Set doLamp;", "sets doLamp True after move {work} (line {n}); the generated program does not"),
     ],
 )
 def test_a_hand_edit_is_named_with_its_effect(cell, tmp_path, target, text, effect):
@@ -70,7 +76,8 @@ def test_a_hand_edit_is_named_with_its_effect(cell, tmp_path, target, text, effe
     effects = [e.removeprefix("EDIT effect: ") for e in row.edits[1:]]
     lines = path.read_text().splitlines()
     n_next = next(i + 1 for i in range(n, len(lines)) if lines[i].lstrip().startswith(("MoveL", "movel", "LIN")))
-    assert effect.format(n=n, n_next=n_next) in " | ".join(effects), row.edits
+    work = work_move(cell)
+    assert effect.format(n=n, n_next=n_next, work=work, work_next=work + 1) in " | ".join(effects), row.edits
     assert any(line.startswith(f"  EDIT {path.name}:{n}") for line in report.lines())
     assert report.as_json()["programs"][0]["edits"] == row.edits
 
@@ -80,7 +87,10 @@ def test_a_speed_change_is_named_on_the_moves_it_holds_for(cell, tmp_path):
     _, row = verify(cell, path, "abb")
     assert row.edits[0] == f"EDIT {path.name}:{n} added: VelSet 50, 800;"
     settings = [e for e in row.edits if "velset {override 50, max 800}, generated not set" in e]
-    assert settings and settings[0].startswith(f"EDIT effect: moves 3-5 (from line {n + 1}) velset"), row.edits
+    work = work_move(cell)  # the setting holds for the work pose, the retreat and the way home
+    assert settings and settings[0].startswith(f"EDIT effect: moves {work}-{work + 2} (from line {n + 1}) velset"), (
+        row.edits
+    )
     assert any("s longer than the generated program" in e for e in row.edits)
     assert row.mismatches == 0  # slower is allowed: verify judges the path, the edit is reported
 

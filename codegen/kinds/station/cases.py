@@ -14,13 +14,15 @@ from codegen.emit import Emitter
 from codegen.guard import (
     NO_ANSWER,
     NO_FEEDBACK,
+    NO_PART,
     NOT_AT_HOME,
     NOT_RELEASED,
+    PART_HELD,
     UNKNOWN_STATION,
     UNKNOWN_STATION_TEXT,
     halt_message,
 )
-from codegen.kinds.station.keys import STATION_ID_MAX
+from codegen.kinds.station.keys import GRIP, RELEASE, STATION_ID_MAX
 from codegen.kinds.station.mode import mode_of, modes
 from codegen.kinds.station.region import station_plan
 from codegen.kinds.station.section import Station, section_of, stations_of, with_section
@@ -58,6 +60,8 @@ class Case:
     gripper: str = "prompt"  # how the simulated gripper answers the work pose's signal (codegen.sim.gripper)
     start: str = "home"  # where the arm stands when the program starts: "home", "away" from it, or "retreat":
     # at its station's taught retreat (where a stopped cycle leaves it)
+    # the gripper holds a part when the program starts (None: as the case's station expects, else empty)
+    held: bool | None = None
 
     @property
     def scenario(self) -> str:
@@ -111,6 +115,17 @@ def _previous_reading(cell: Cell, target: Target, reading) -> dict:
     return mode_of(station).previous(cell, target, station)
 
 
+def held_at_start(cell: Cell, case: Case) -> bool:
+    """Whether the gripper holds a part when the case starts: the case's own word, else what its station expects
+    (a station that puts a part down first starts with one), else empty (the last cycle put its part down)."""
+    if case.held is not None:
+        return case.held
+    if isinstance(case.reading, UnknownStation):
+        return False
+    station = section_of(cell).station_by_id(case.reading.station_id)
+    return bool(station is not None and station.holds_at_start)
+
+
 def _gripper_signals(cell: Cell, target_name: str) -> tuple[str, str] | None:
     """The work pose's output and feedback as the target's program names them, or None (no feedback)."""
     io, target = cell.io, get_target(target_name)
@@ -124,11 +139,11 @@ def _gripper_signals(cell: Cell, target_name: str) -> tuple[str, str] | None:
 
 def run_options(cell: Cell, target: Target, case: Case) -> dict:
     """Keyword arguments of Program.run for a case: its devices, where the arm starts and, with a gripper,
-    its feedback on (the gripper closed from the last cycle)."""
+    its feedback as the gripper starts (on: it holds a part)."""
     options = {"devices": devices_for(cell, target, case), "start_joints": start_joints(cell, target, case)}
     gripper = _gripper_signals(cell, target.name)
     if gripper is not None:
-        options["signals"] = {gripper[1]: True}
+        options["signals"] = {gripper[1]: held_at_start(cell, case)}
     return options
 
 
@@ -200,9 +215,10 @@ def build_cases(cell: Cell, count: int, seed: int) -> list[Case]:
         own = mode_of(station).cases(cell, station, count, rng)
         cases.extend(own)
         cases.extend(Case(f"vision_{b}", own[0].reading, b) for b in vision.BEHAVIOURS[1:] if own)
-        if own and cell.io is not None and cell.io.feedback:  # the gripper never confirms, or never releases
+        if own and station.gripper:  # the gripper never confirms a grip, or never a release; the other start
             cases.append(Case("gripper_silent", own[0].reading, gripper="silent"))
             cases.append(Case("gripper_stuck", own[0].reading, gripper="stuck"))
+            cases.append(Case("part_held", own[0].reading, held=not station.holds_at_start))
     if cell.robot is not None and cases:  # the program started with the arm away from home, or at a retreat
         cases.append(Case("start_away", cases[0].reading, start="away"))
         if cell.motion.retreat_mm > 0:
@@ -221,6 +237,8 @@ def _truth_problem(cell: Cell, case: Case, reference: ExpectedTrace) -> str | No
     mode = _mode_of_case(cell, case.reading)
     if mode is None or case.vision in vision.UNANSWERED:  # the camera's view never reaches the program
         return None
+    if reference.reason in (PART_HELD, NO_PART, NO_FEEDBACK, NOT_RELEASED):  # the gripper's stop, not the mode's
+        return None
     return mode.truth_problem(cell, case.reading, reference)
 
 
@@ -235,22 +253,30 @@ def accepted_traces(cell: Cell, case: Case) -> tuple[list[ExpectedTrace], bool]:
     if second is not None:  # answered twice within one poll: either answer, used whole, is correct
         more, more_boundary = mode.accepted(cell, second)
         accepted, boundary = [*accepted, *more], boundary or more_boundary
-    if case.gripper == "stuck":  # it stops at home, before it asks the vision PC
-        return [ExpectedTrace("halt", NOT_RELEASED)], False
-    if case.gripper == "silent":  # the station stops at its work pose, the signal set, with the message
+    station = section_of(cell).station_by_id(case.reading.station_id)
+    if station.holds_at_start is not None and held_at_start(cell, case) != station.holds_at_start:
+        # it stops at home before the station (and its guard): the part it holds, or misses, is the operator's
+        return [ExpectedTrace("halt", PART_HELD if held_at_start(cell, case) else NO_PART, station)], False
+    # the station stops at its first grip (release) with the message when the gripper never confirms it
+    stop = {"silent": (GRIP, NO_FEEDBACK), "stuck": (RELEASE, NOT_RELEASED)}.get(case.gripper)
+    at = None if stop is None else _first_action(station, stop[0])
+    if at is not None:
         accepted = [
-            replace(t, status="halt", reason=NO_FEEDBACK, moves=t.moves[: len(t.station.poses)])
-            if t.status == "ok"
-            else t
+            replace(t, status="halt", reason=stop[1], moves=t.moves[: t.path_start + at + 1]) if t.status == "ok" else t
             for t in accepted
         ]
     return accepted, boundary
 
 
+def _first_action(station: Station, action: str) -> int | None:
+    """The index in the station's path of the first pose where the gripper does `action`, None: nowhere."""
+    return next((i for i, p in enumerate(station.poses) if station.action(p.name) == action), None)
+
+
 def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
-    if trace.reason in (NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED):
+    if trace.reason in (NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, PART_HELD, NO_PART):
         return emitter.string(halt_message(cell, trace.reason, None, 0))
     mode = mode_of(trace.station)
     return emitter.string(mode.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))

@@ -21,12 +21,14 @@ from codegen.kinds.station.cases import (
     edge_cell,
     edge_only_cell,
     expected_message,
+    held_at_start,
     inputs_for,
     run_options,
 )
 from codegen.kinds.station.joints import expected_joints
-from codegen.kinds.station.keys import STATION_ID_MAX
+from codegen.kinds.station.keys import GRIP, STATION_ID_MAX
 from codegen.kinds.station.mode import modes
+from codegen.kinds.station.part import part_problem
 from codegen.kinds.station.section import stations_of
 from codegen.model import io as signals
 from codegen.reference import ExpectedTrace, home_move
@@ -54,15 +56,32 @@ def judge(cell, target_name: str, case, trace) -> Judgement:
     if refuses_start(cell, target, case, allowed=("home", "retreat")) is not None:
         accepted, truth = [ExpectedTrace("halt", NOT_AT_HOME)], None
     emitter = Emitter(target)
-    plans = [_plan(cell, target, case.reading, t, trace, emitter) for t in accepted]
+    held = held_at_start(cell, case)
+    plans = [_plan(cell, target, case.reading, t, trace, emitter, held) for t in accepted]
     figures = None
     mode = _mode_of_case(cell, case.reading)
     if mode is not None and not trace.halted and mode.figures is not None:  # a completed station's figures
         figures = (mode.name, case.reading, log_numbers(trace.messages, log_prefixes()))
+    # the part is followed along a run that makes the planned number of moves (other moves: the plan names them); a
+    # run that met the plan and mishandles it fails with it (a difference from the plan is named as that, where it is)
+    planned = any(len(plan.moves) == len(trace.moves) for plan in plans)
+    if truth is None and planned:
+        truth = _part(cell, target, accepted, held, trace)
     return Judgement(plans, boundary, figures=figures, truth=truth)
 
 
-def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitter) -> Expectation:
+def _part(cell, target, accepted: list[ExpectedTrace], held: bool, trace) -> str | None:
+    """Where the run drops the part, or closes the gripper where none is (codegen/kinds/station/part.py), against
+    the poses of each trace a correct program may produce: a problem when it has one against every one."""
+    if cell.io is None or not target.program.get("signals"):
+        return None
+    output = signals.signal_name(target, "output", cell.io.output[target.name])
+    tolerance = TOLERANCES[target.numbers][0]
+    problems = [part_problem(cell, output, t.station, t.moves, held, trace, tolerance) for t in accepted]
+    return None if None in problems else problems[0]
+
+
+def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitter, held: bool) -> Expectation:
     home = home_move(cell, target.name)
     if expected.reason == NOT_AT_HOME:
         home = None  # it stops before its first motion
@@ -77,7 +96,7 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
     return Expectation(
         halt,
         tuple(planned),
-        _outputs(cell, target, expected, 0 if home is None else 1),
+        _outputs(cell, target, expected, 0 if home is None else 1, held),
         logged=_logged(cell, target, reading, expected),
         planned_joints=lambda: _joints(cell, target.name, expected, moves, trace, home, back),
     )
@@ -113,19 +132,25 @@ def _joints(cell, target_name: str, expected: ExpectedTrace, moves: list, trace,
     return out  # a NaN: the controller's rule finds no solution there (a mismatch)
 
 
-def _outputs(cell, target, expected: ExpectedTrace, before: int) -> tuple[PlannedOutput, ...]:
-    """The work pose's output: released at home (before the vision PC is asked), set after the move to the work
-    pose; not at all where the program stops before its first motion or the station stops before the work pose."""
+def _outputs(cell, target, expected: ExpectedTrace, before: int, held: bool) -> tuple[PlannedOutput, ...]:
+    """The gripper's output where a station of the cell acts ([station.gripper]): at home, gripped again on a part
+    held at the start, else released (before the vision PC is asked); then at each pose of the station where it
+    acts, once the arm stands there; not at all where the program stops before its first motion."""
     io = cell.io
-    if io is None or not target.program.get("signals"):
+    if io is None or not target.program.get("signals") or not any(s.gripper for s in stations_of(cell)):
         return ()
     name = signals.signal_name(target, "output", io.output[target.name])
     out = []
     if expected.reason != NOT_AT_HOME:
-        out.append(PlannedOutput(name, not io.value, before, "at home, released"))
+        out.append(PlannedOutput(name, io.value if held else not io.value, before, "at home, as the gripper starts"))
     station = expected.station
-    if station is not None and len(expected.moves) >= len(station.poses):
-        out.append(PlannedOutput(name, io.value, before + len(station.poses), "at the work pose"))
+    if station is not None:
+        for i, move in enumerate(expected.moves):
+            k = i - expected.path_start  # the move's pose in the station's path (photos before it: negative)
+            action = station.action(move.pose_name) if 0 <= k < len(station.poses) else None
+            if action is not None:
+                value = (action == GRIP) == io.value
+                out.append(PlannedOutput(name, value, before + i + 1, f"{action} at {move.pose_name}"))
     return tuple(out)
 
 

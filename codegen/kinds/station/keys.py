@@ -12,6 +12,7 @@ from codegen.model import robot
 from codegen.model.schema import Key, KindKeys, Table
 
 NAME = "station"  # the kind's name: its [[station]] tables, its section of the cell
+GRIP, RELEASE = "grip", "release"  # what the gripper does at a station's pose ([station.gripper])
 STATION_ID_MAX = 32767  # the largest 16-bit signed integer, which every target reads without loss
 VISION_TABLES = ("camera", "limits")  # [cell] tables a cell with [[station]] needs (a standalone kind's does not)
 
@@ -125,6 +126,13 @@ def station_table() -> Table:
             names=robot.arm_targets(),
             values=Key("map", "pose -> configuration"),
         ),
+        "gripper": Key(
+            "map",
+            "pose name -> what the gripper ([cell.io]) does once the arm stands at that pose: grip (take a part) or "
+            "release (put it down); a pose not named: neither. Without it the station moves and the gripper stays "
+            "as it is",
+            values=Key("string", "grip or release", choices=(GRIP, RELEASE)),
+        ),
     }
     common = Table("A station the program serves: its id, poses and its kind's keys.", own, kinds=names)
     return common.merged(
@@ -136,7 +144,7 @@ def station_table() -> Table:
     )
 
 
-COMMON_KEYS = frozenset(("id", "name", "mode", "poses", "config"))
+COMMON_KEYS = frozenset(("id", "name", "mode", "poses", "config", "gripper"))
 
 
 @cache

@@ -18,6 +18,7 @@ from codegen.guard import (
     halt_message,
 )
 from codegen.kinds.station.envelope import check
+from codegen.kinds.station.keys import GRIP, RELEASE
 from codegen.kinds.station.mode import mode_of, modes
 from codegen.kinds.station.region import station_plan
 from codegen.kinds.station.section import section_of, stations_of
@@ -25,6 +26,7 @@ from codegen.model import vision
 from codegen.model.cell import Cell
 from codegen.model.motion import segments
 from codegen.protocol import ProgramFile, ProgramPlan
+from codegen.reference import station_stops
 from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, program_emitter, shared_context
 from codegen.robot.taught import ReachError, configuration
 
@@ -32,7 +34,7 @@ from codegen.robot.taught import ReachError, configuration
 def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> dict:
     origin = f"station[{station.id}] {station.name!r}"
     taught = len(station.poses)
-    segs = segments(cell.motion, taught, station.retreat is not None)
+    segs = segments(cell.motion, taught, station.retreat is not None, station_stops(station))
     poses = [
         {
             "name": emitter.comment(pose.name),
@@ -43,9 +45,12 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
             "motion": "joint" if i == 0 else "linear",
             "retreat": i == taught,
             # the segment into the pose ([cell.motion]): the work speed or the travel speed, a blend or a stop
-            "slow": seg.exact or i == taught,
+            "slow": seg.slow,
             "blend": seg.zone_mm > 0,
             "exact": seg.exact,
+            # what the gripper does once the arm stands there ([station.gripper])
+            "grip": i < taught and station.action(pose.name) == GRIP,
+            "release": i < taught and station.action(pose.name) == RELEASE,
         }
         for i, (pose, seg) in enumerate(zip(station.path, segs, strict=True))
     ]
@@ -61,6 +66,8 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         "poses": poses,
         "work": poses[taught - 1],
         "arm": arm,
+        # whether the gripper holds a part when the station starts (None: the gripper does nothing there)
+        "holds_at_start": station.holds_at_start,
     }
     return merged(shared, own, f"station context of the {station.mode} mode")
 
@@ -114,6 +121,8 @@ def program_context(cell: Cell, target: Target, kind_name: str) -> dict:
             "deg_whole": number(READING_RANGE_DEG, 0),
         },
         "stations": stations,
+        # a station's gripper acts: the program checks at the start what the gripper holds
+        "gripping": any(s.gripper for s in section.stations),
         "modes_used": [name for name in modes() if name in used],
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
         "vision": {

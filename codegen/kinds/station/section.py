@@ -5,12 +5,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from itertools import pairwise
 from typing import Any
 
 from codegen import protocol
 from codegen.kinds.station.keys import (
     COMMON_KEYS,
+    GRIP,
     NAME,
+    RELEASE,
     STATION_ID_MAX,
     VISION_TABLES,
     camera,
@@ -45,6 +48,18 @@ class Station:
     spec: Any  # the mode's own data, e.g. the calibration mark or frame
     config: dict = field(default_factory=dict, compare=False)  # target -> pose -> PoseConfig ([station.config])
     retreat: TaughtPose | None = None  # the work pose backed off along its z axis ([cell.motion] retreat_mm)
+    # ([station.gripper]) (pose name, GRIP or RELEASE) in visiting order: what the gripper does at that pose
+    gripper: tuple[tuple[str, str], ...] = ()
+
+    def action(self, pose_name: str) -> str | None:
+        """What the gripper does once the arm stands at the pose (GRIP, RELEASE), None: nothing."""
+        return dict(self.gripper).get(pose_name)
+
+    @property
+    def holds_at_start(self) -> bool | None:
+        """Whether the station expects a part in the gripper when it starts (its first action puts one down), None:
+        the gripper does nothing in the station."""
+        return None if not self.gripper else self.gripper[0][1] == RELEASE
 
     @property
     def path(self) -> tuple[TaughtPose, ...]:
@@ -130,6 +145,13 @@ def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
     ]
     if cell.motion.retreat_mm > 0:
         stations = [replace(s, retreat=_retreat(s, cell.motion.retreat_mm, pose_format)) for s in stations]
+    for i, station in enumerate(stations, start=1):
+        if station.gripper and (cell.io is None or set(cell.io.output) - set(cell.io.feedback)):
+            ctx.fail(
+                f"station[{i}].gripper",
+                "the gripper needs [cell.io] with its feedback on every target: the program confirms each grip and "
+                "release, and whether it holds a part when it starts",
+            )
     seen_ids: dict[int, int] = {}
     seen_names: dict[str, int] = {}
     for i, station in enumerate(stations, start=1):
@@ -201,7 +223,27 @@ def _station(ctx, raw, index: int, pose_format: str) -> Station:
     poses = [
         ctx.pose(pose_name, values, f"{path}.poses.{pose_name}", pose_format) for pose_name, values in poses_raw.items()
     ]
-    return Station(int(station_id), name, tuple(poses), mode_name, spec)
+    gripper = _gripper(ctx, raw, path, [p.name for p in poses])
+    return Station(int(station_id), name, tuple(poses), mode_name, spec, gripper=gripper)
+
+
+def _gripper(ctx, raw: dict, path: str, pose_names: list[str]) -> tuple[tuple[str, str], ...]:
+    """[station.gripper] in visiting order: every name a pose of the station, and grip and release alternating (a
+    part taken is put down before the next is taken; a first release puts down a part the program starts with)."""
+    if "gripper" not in raw:
+        return ()
+    table = ctx.table(raw, "gripper", f"{path}.gripper")
+    for name, action in table.items():
+        if name not in pose_names:
+            ctx.fail(f"{path}.gripper.{name}", f"not a pose of the station; its poses: {', '.join(pose_names)}")
+        if action not in (GRIP, RELEASE):
+            ctx.fail(f"{path}.gripper.{name}", f"expected {GRIP!r} or {RELEASE!r}, got {action!r}")
+    actions = tuple((name, table[name]) for name in pose_names if name in table)
+    for (before, first), (name, second) in pairwise(actions):
+        if first == second:
+            what = "it already holds the part taken" if first == GRIP else "it holds nothing since the release"
+            ctx.fail(f"{path}.gripper.{name}", f"{second} after {first} at {before!r}: {what} (they alternate)")
+    return actions
 
 
 def _retreat(station: Station, retreat_mm: float, pose_format: str) -> TaughtPose:

@@ -154,10 +154,11 @@ def expected_frame_trace(cell, case: FrameCase, nudge: float = 0.0) -> ExpectedT
             residual = None
             return halt(ROTATION_OVER_LIMIT)
     frame2base = concat(frame_offset(dx, dy, alpha), calib2base)
+    start = len(moves)  # the photos come first
     moves.extend(path_moves(cell, station, frame2base))
     deviation = (float(station.id), dx, dy, alpha, float(photos))
     detail = FrameDetail(photos, tuple(residuals), residual, frame2base)
-    return ExpectedTrace("ok", None, station, tuple(moves), deviation, detail)
+    return ExpectedTrace("ok", None, station, tuple(moves), deviation, detail, path_start=start)
 
 
 @dataclass

@@ -37,6 +37,22 @@ def _ulp32(value: float) -> float:
     return float(np.spacing(np.float32(abs(value))))
 
 
+def _fixed(ctx, raw: dict, path: str) -> frozenset[str]:
+    """The station's `fixed` poses: each a pose of the station, the work pose (the last) not among them."""
+    names = raw.get("fixed", [])
+    poses = list(raw.get("poses", {})) if isinstance(raw.get("poses"), dict) else []
+    if not isinstance(names, list):
+        ctx.fail(f"{path}.fixed", "expected a list of pose names")
+    for i, name in enumerate(names):
+        if name not in poses:
+            ctx.fail(f"{path}.fixed[{i}]", f"not a pose of the station; its poses: {', '.join(map(str, poses))}")
+        if name == poses[-1]:
+            ctx.fail(f"{path}.fixed[{i}]", f"{name!r} is the work pose, which the reading moves (the deviation line)")
+    if len(set(names)) != len(names):
+        ctx.fail(f"{path}.fixed", "a pose named twice")
+    return frozenset(names)
+
+
 class PointMode(StationMode):
     name = NAME
     order = 0
@@ -64,7 +80,7 @@ class PointMode(StationMode):
             ctx.fail(f"{path}.mark", f"x and y must be within +-{TAUGHT_RANGE_MM:g} mm (float32 on the controller)")
         if abs(mark[2]) > READING_RANGE_DEG:
             ctx.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
-        return PointSpec(mark)
+        return PointSpec(mark, _fixed(ctx, raw, path))
 
     @classmethod
     def moved(cls, spec: PointSpec, mm: float) -> PointSpec:
@@ -78,7 +94,10 @@ class PointMode(StationMode):
         corr = planar_motions(offsets)
         corr[:, :2, 3] += np.array([x, y]) - np.einsum("nij,j->ni", corr[:, :2, :2], [x, y])
         poses = np.array([p.matrix() for p in station.path])
-        return np.einsum("nij,mjk->nmik", corr, poses)
+        out = np.einsum("nij,mjk->nmik", corr, poses)
+        fixed = [i for i, p in enumerate(station.path) if p.name in station.spec.fixed]
+        out[:, fixed] = poses[fixed]  # on the robot's own carrier: the reading does not move them
+        return out
 
     @classmethod
     def cell_context(cls, cell, target, emitter) -> dict:
@@ -92,6 +111,7 @@ class PointMode(StationMode):
     def station_context(cls, cell, station, target, emitter) -> dict:
         origin = f"station[{station.id}] {station.name!r}"
         return {
+            "fixed": [p.name in station.spec.fixed for p in station.path],
             "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
             "mark": [emitter.number(v, MARK_DECIMALS) for v in station.spec.mark],
             "messages": {

@@ -1,4 +1,4 @@
-"""The point mode's part of the cell file: a point station's `mark`."""
+"""The point mode's part of the cell file: a point station's `mark` and the poses the reading does not move."""
 
 from __future__ import annotations
 
@@ -15,6 +15,13 @@ KEYS = KindKeys(
             required=True,
             low=-TAUGHT_RANGE_MM,
             high=TAUGHT_RANGE_MM,
+        ),
+        "fixed": Key(
+            "list",
+            "poses that ride with the robot (a tray on the AGV that carries it): visited as taught, not moved by the "
+            "reading; not the work pose",
+            values=Key("string", "a pose name"),
+            unique=True,
         ),
     },
 )

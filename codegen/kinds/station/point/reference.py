@@ -24,9 +24,10 @@ NAME = "point"  # the mode's name: a station's `mode`
 
 @dataclass(frozen=True)
 class PointSpec:
-    """The mark at calibration: x mm, y mm, theta deg in the robot base frame."""
+    """The mark at calibration: x mm, y mm, theta deg in the robot base frame; the poses the reading does not move."""
 
     mark: tuple[float, float, float]
+    fixed: frozenset[str] = frozenset()
 
 
 @dataclass(frozen=True)
@@ -82,7 +83,7 @@ def expected_trace(cell, reading: Reading, enforce_limits: bool = True) -> Expec
     # The part moved rigidly with the mark: partnow2base = marknow2base . base2markcal . part2base
     marknow2base = mark2base(reading.x, reading.y, t_theta + phi)
     correction = concat(base2mark(tx, ty, t_theta), marknow2base)  # D: a taught pose P becomes D . P
-    moves = path_moves(cell, station, correction)
+    moves = path_moves(cell, station, correction, station.spec.fixed)
     work, work_new = station.poses[-1].matrix(), moves[len(station.poses) - 1].tcp2base
     deviation = (
         float(station.id),

@@ -24,7 +24,6 @@ MODULE grinding_abb
 
   ! Cell constants
   LOCAL CONST num VIS_TIMEOUT := 5.000;
-  LOCAL CONST num IO_TIMEOUT := 2.000;
   ! the path's speeds (TCP mm/s, then the manual's v-data defaults for orientation and external axes) and
   ! its blending zone ([cell.motion]): the last move into the work pose and the retreat go at vis_work
   LOCAL CONST speeddata vis_travel := [250.0, 500, 5000, 1000];
@@ -69,7 +68,6 @@ MODULE grinding_abb
     ENDIF
     ! home first, in joints (no configuration to choose), with the tool and its load
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
-    vis_release;
     ! ask the vision PC to read the station, then visit the station it names
     vis_ask 1;
     TEST vis_station
@@ -98,32 +96,6 @@ MODULE grinding_abb
     Stop;
     EXIT;
   ENDPROC
-
-  LOCAL PROC vis_signal()
-    ! the work pose's signal ([cell.io]): doGripClose (I/O configuration) set to 1 after the fine point, then wait until
-    ! diGripClosed is 1; not in 2 s: stop with a message
-    SetDO doGripClose, 1;
-    WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
-  ERROR
-    IF ERRNO = ERR_WAIT_MAXTIME THEN
-      vis_stop "no feedback from the gripper in 2 s";
-    ENDIF
-    RAISE;
-  ENDPROC
-
-
-  LOCAL PROC vis_release()
-    ! at the start, the signal released (its feedback must go off): doGripClose (I/O configuration) set to 0 after the fine point, then wait until
-    ! diGripClosed is 0; not in 2 s: stop with a message
-    SetDO doGripClose, 0;
-    WaitDI diGripClosed, 0 \MaxTime:=IO_TIMEOUT;
-  ERROR
-    IF ERRNO = ERR_WAIT_MAXTIME THEN
-      vis_stop "the gripper did not release in 2 s (its feedback stays on)";
-    ENDIF
-    RAISE;
-  ENDPROC
-
 
   LOCAL PROC vis_next()
     ! a request number not used before (above the last request and the last answer): a late answer
@@ -246,7 +218,6 @@ MODULE grinding_abb
     MoveJ vis_apply(corr, p5_approach), vis_travel, fine, vis_tool;
     ConfJ \On;
     MoveL vis_apply(corr, p5_fixture), vis_work, fine, vis_tool;
-    vis_signal;
     MoveL vis_apply(corr, r5_fixture), vis_work, vis_zone, vis_tool;
   ENDPROC
 
@@ -270,7 +241,6 @@ MODULE grinding_abb
     ConfL \Off;
     MoveL vis_apply(corr, p6_gauge), vis_work, fine, vis_tool;
     ConfL \On;
-    vis_signal;
     ConfL \Off;
     MoveL vis_apply(corr, r6_gauge), vis_work, vis_zone, vis_tool;
     ConfL \On;

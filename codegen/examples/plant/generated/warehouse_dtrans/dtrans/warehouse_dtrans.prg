@@ -28,7 +28,6 @@ Double MAX_ROTATION = 10.000000
 Double RANGE_MM = 100000.0
 Double RANGE_DEG = 360.0
 Int VIS_POLLS = 100  // looks at vis_ack, 0.05 s apart: the timeout
-Int IO_POLLS = 40  // looks at the gripper's feedback, 0.05 s apart: the timeout
 
 // Calibration data: mark [x mm, y mm, theta deg] and taught points
 // station 7 warehouse_gate
@@ -36,38 +35,6 @@ Double m7_warehouse_gate[3] = {-120.400000, -640.700000, -91.500000}
 Point p7_approach = Trans(-80.0000, -700.0000, 520.0000, 180.000000, 0.000000, -90.000000)
 Point p7_shelf = Trans(-62.0000, -902.5000, 392.5000, 180.000000, 0.000000, -90.000000)
 Point r7_shelf = Trans(-62.0000, -902.5000, 442.5000, 180.000000, 0.000000, -90.000000)
-
-Sub vis_signal()
-  // the work pose's signal ([cell.io]): digital output 1 set to True (moves return when the arm has
-  // arrived); then wait until digital input 2 is True, not in 2 s: stop
-  SetDO 1, True
-  Int polls = 0
-  While DIn(2) <> True
-    If polls >= IO_POLLS Then
-      TPWrite 0, "no feedback from the gripper in 2 s"
-      Halt
-    EndIf
-    Sleep 0.05
-    polls = polls + 1
-  EndWhile
-EndSub
-
-
-Sub vis_release()
-  // at the start, the signal released (its feedback must go off): digital output 1 set to False (moves return when the arm has
-  // arrived); then wait until digital input 2 is False, not in 2 s: stop
-  SetDO 1, False
-  Int polls = 0
-  While DIn(2) <> False
-    If polls >= IO_POLLS Then
-      TPWrite 0, "the gripper did not release in 2 s (its feedback stays on)"
-      Halt
-    EndIf
-    Sleep 0.05
-    polls = polls + 1
-  EndWhile
-EndSub
-
 
 Sub vis_ask(Int command)
   // the handshake: ask the vision PC (command 1 read, 2 photo) and wait for its answer to
@@ -164,12 +131,10 @@ Sub st_warehouse_gate()
   Call vis_log(7, m7_warehouse_gate, vis_apply(m7_warehouse_gate, p7_shelf), p7_shelf)
   MovJ vis_apply(m7_warehouse_gate, p7_approach)
   MovL vis_apply(m7_warehouse_gate, p7_shelf)
-  Call vis_signal()
   MovL vis_apply(m7_warehouse_gate, r7_shelf)
 EndSub
 
 // main: ask the vision PC to read the station, then visit the station it names
-Call vis_release()
 Call vis_ask(1)
 vis_mark[0] = markp[0]
 vis_mark[1] = markp[1]
