@@ -20,18 +20,18 @@ from codegen.kinds.pallet.cycle import (
     done_counters,
     expected,
     items,
-    risen,
     start_counters,
 )
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import message_limit, released_question, select_message, still_waiting_message
 from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers, holds_name
-from codegen.kinds.pallet.reach import configurations, joints_of, safe_move, way_up_z
+from codegen.kinds.pallet.reach import configurations, joints_of
 from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
+from codegen.kinds.pallet.way_home import joint_percent, way_home, way_joints
 from codegen.kinds.pallet.writer import FORMS_PER_PALLET
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
@@ -305,7 +305,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
             exact=exact,
             speed_mm_s=m.speed_mm_s,
             zone_mm=0.0 if exact else zone,
-            joint_percent=_percent(cell, m),
+            joint_percent=joint_percent(cell, m),
             payload=payload,
         )
 
@@ -319,7 +319,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     planned_joints = None
     if home is not None and (want.moves or any(w == "gripper" for w, _, _ in want.outputs)):  # home first
         start = _start_joints(cell, run.pallet, target.name, case)
-        way = _way_home(cell, pallet, target, home, start, want.start[0])
+        way = way_home(cell, pallet, target, home, start, want.start[0])
         if pallet_case.closed and (pallet.mode == "unstack" or want.start[1] != 0) and load is not None:
             way = [replace(m, payload=load) for m in way]  # a box held since the start: its payload on the way home
         moves = [*way, *moves]
@@ -336,7 +336,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
         def planned_joints() -> list | None:  # by the controller's rule, with the configurations the program names
             try:
                 named = configurations(cell, pallet, target.name)
-                head = _way_joints(cell, pallet, target.name, way[:-1], start, named) if len(way) > 1 else []
+                head = way_joints(cell, pallet, target.name, way[:-1], start, named) if len(way) > 1 else []
                 return [*head, home[1], *joints_of(cell, target.name, want.moves, "verify", pallet, named)]
             except ReachError:
                 return None
@@ -413,77 +413,6 @@ def _unasked(cell, pallet, target, trace) -> str | None:
     if text not in getattr(trace, "messages", ()):
         return f"the operator was not asked {text!r}: only the operator can tell whether the released item is down"
     return None
-
-
-def _way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove]:
-    """From where the arm starts: at home, the move home; elsewhere (a stop in the cycle) the way home: (a joint move
-    where the arm stands, where the target's first motion must be one), back along the tool's z by the cell's
-    retreat_mm, straight up to the transit height over the layer the counters name (at the pallet's centre; kept
-    where it is higher already), above the pallet's centre, home."""
-    tcp2flange = cell.robot.tool.tcp2flange
-    percent = cell.motion.joint_speed_percent
-    home_planned = PlannedMove(
-        name="home", kind="joint", tcp2base=home[0].tcp2base, exact=True, joint_percent=percent, joints=home[1]
-    )
-    q = np.asarray(start, dtype=float)
-    if np.max(np.abs(q - home[1])) <= cell.motion.start_tolerance_deg:
-        return [home_planned]
-    arm = cell.robot.arms[target.name]
-    here = arm.kin.fk(q) @ tcp2flange
-    back = here @ np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -cell.motion.retreat_mm], [0, 0, 0, 1.0]])
-    # the first motion a joint move where the arm stands (a BCO run; on every controller the arm's joints are then
-    # the path's start: the retreat keeps its configuration)
-    way = [
-        PlannedMove(
-            name="where the arm stands", kind="joint", tcp2base=here, exact=True, joint_percent=percent, joints=q
-        )
-    ]
-    way.append(
-        PlannedMove(
-            name="back along the tool's z",
-            kind="linear",
-            tcp2base=back,
-            exact=True,
-            speed_mm_s=cell.motion.work_speed_mm_s,
-        )
-    )
-    up = risen(back, way_up_z(cell))  # over every pallet of the arm, full or not
-    way.append(
-        PlannedMove(
-            name="up to the transit height",
-            kind="linear",
-            tcp2base=up,
-            exact=True,
-            speed_mm_s=cell.motion.work_speed_mm_s,
-        )
-    )
-    safe = safe_move(cell, pallet)
-    way.append(
-        PlannedMove(
-            name=safe.name,
-            kind="joint",
-            tcp2base=safe.tcp2base,
-            exact=True,
-            speed_mm_s=safe.speed_mm_s,
-            joint_percent=percent,
-        )
-    )
-    return [*way, home_planned]
-
-
-def _way_joints(cell, pallet, target_name: str, way: list[PlannedMove], start, named) -> list:
-    """The way home's joints before home: where the arm stands (a joint move there), the retreat keeping its
-    configuration, the safe pose in the configuration the program names."""
-    head = [np.asarray(start, dtype=float)] if way[0].kind == "joint" else []
-    rest = [
-        ExpectedMove(kind=m.kind, tcp2base=m.tcp2base, name=m.name, speed_mm_s=m.speed_mm_s or 0.0, exact=True)
-        for m in way[len(head) :]
-    ]
-    return [*head, *joints_of(cell, target_name, rest, "verify: the way home", pallet, named, start=start)]
-
-
-def _percent(cell, move) -> float | None:
-    return cell.motion.joint_speed_percent if move.kind == "joint" else None
 
 
 @dataclass
