@@ -1,4 +1,4 @@
-"""The derivation's printed closed forms evaluated in float64 (their Python printing in derived.json)."""
+"""The derivation's closed forms evaluated in float64: derived.json's blocks, as sympy's str printer wrote them."""
 
 from __future__ import annotations
 
@@ -6,11 +6,15 @@ import math
 
 from codegen import derived
 
+# the names sympy's str printer gives the functions a block may hold, each as float64 math
+FUNCTIONS = {name: getattr(math, name) for name in ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt")}
+FUNCTIONS |= {"Abs": abs, "pi": math.pi}
+
 
 def evaluate(block: str, inputs: dict[str, float]) -> dict[str, float]:
-    """A cached block's outputs for the given inputs, in float64."""
+    """A cached block's outputs for the given inputs, in float64 (a name outside FUNCTIONS and inputs: NameError)."""
     scope: dict[str, float] = dict(inputs)
-    code = derived.printed("python", block)
+    code = derived.load()["blocks"][block]
     for name, expr in code["temps"]:
-        scope[name] = eval(expr, {"math": math}, scope)  # package data written by codegen/derivation.py
-    return {name: eval(expr, {"math": math}, scope) for name, expr in code["outputs"].items()}
+        scope[name] = eval(expr, {"__builtins__": {}, **FUNCTIONS}, scope)  # package data written by derivation.py
+    return {name: eval(expr, {"__builtins__": {}, **FUNCTIONS}, scope) for name, expr in code["outputs"].items()}
