@@ -12,6 +12,32 @@ from codegen.model.cell import DEMO_CELL, load_cell
 
 SCHEMAS = Path(__file__).resolve().parent / "reports" / "schemas"
 
+# Tests that share an expensive object built once per process, each group run on one xdist worker: the derivation's
+# proofs (the kinds cache them per process; the CLI's derive --check proves the same ones) and the view pages of every
+# bundled cell (a module fixture) with the browser that reads them. By node id prefix: pytest 9 keeps a node's id
+# where xdist 3.8's loadgroup no longer rewrites it, so xdist_group marks would not reach the scheduler.
+GROUPS = {
+    "tests/test_derivation.py": "derivation",
+    "tests/test_cli.py::test_derive_json": "derivation",
+    "tests/view/test_view_page.py": "view_pages",
+}
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """--dist loadgroup with GROUPS: each group one unit of work (units sent largest first), every other test alone."""
+    if config.getoption("dist") != "loadgroup":
+        return None
+    from xdist.scheduler import LoadGroupScheduling
+
+    class Grouped(LoadGroupScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            for prefix, group in GROUPS.items():
+                if nodeid == prefix or nodeid.startswith(prefix + "::"):
+                    return group
+            return super()._split_scope(nodeid)
+
+    return Grouped(config, log)
+
 
 @pytest.fixture(scope="session")
 def demo_cell():
