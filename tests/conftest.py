@@ -4,6 +4,8 @@ of the report formats (the schemas in tests/reports/schemas/, its README.md says
 from __future__ import annotations
 
 import json
+import re
+from functools import cache
 from pathlib import Path
 
 import pytest
@@ -21,10 +23,20 @@ GROUPS = {
     "tests/test_cli.py::test_derive_json": "derivation",
     "tests/view/test_view_page.py": "view_pages",
 }
+ROOT = Path(__file__).resolve().parent.parent
+SHARED_FIXTURE = re.compile(r"""scope=["'](module|class)["']""")  # a fixture the module's tests share
+
+
+@cache
+def _shares_a_fixture(module: str) -> bool:
+    path = ROOT / module
+    return path.suffix == ".py" and path.is_file() and bool(SHARED_FIXTURE.search(path.read_text(encoding="utf-8")))
 
 
 def pytest_xdist_make_scheduler(config, log):
-    """--dist loadgroup with GROUPS: each group one unit of work (units sent largest first), every other test alone."""
+    """--dist loadgroup with GROUPS, and each module that defines a module or class fixture one unit of work (its
+    fixture and the per-cell caches of the cells it holds built once); every other test alone, so the workers stay
+    evenly busy to the end (xdist sends the largest units first)."""
     if config.getoption("dist") != "loadgroup":
         return None
     from xdist.scheduler import LoadGroupScheduling
@@ -34,7 +46,8 @@ def pytest_xdist_make_scheduler(config, log):
             for prefix, group in GROUPS.items():
                 if nodeid == prefix or nodeid.startswith(prefix + "::"):
                     return group
-            return super()._split_scope(nodeid)
+            module = nodeid.split("::", 1)[0]
+            return module if _shares_a_fixture(module) else super()._split_scope(nodeid)
 
     return Grouped(config, log)
 
