@@ -41,7 +41,8 @@ MODULE bath_abb
   LOCAL CONST num MAX_PHOTOS := 10;
   LOCAL CONST num PIXEL_RANGE := 1000000.0;
 
-  ! The arm (IRB 1200-5/0.9): the tool (TCP in the flange frame [mm], load [kg, mm, the principal axes as a quaternion, kg m2]; its inertia from its shape)
+  ! The arm (IRB 1200-5/0.9): the tool (TCP in the flange frame [mm], load [kg, mm, axes
+  ! of moment, kg m2]; its inertia from its shape)
   ! and the home position [deg]
   LOCAL PERS tooldata vis_tool := [TRUE, [[0.0000, 0.0000, 150.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [0.800, [0.0000, 0.0000, 50.0000], [1.000000, 0.000000, 0.000000, 0.000000], 0.001625, 0.001625, 0.000250]];
   LOCAL CONST jointtarget vis_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 45.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];

@@ -61,7 +61,8 @@ MODULE cnv_belt_abb
   TASK PERS wobjdata cnv_track := [FALSE, FALSE, "CNV1",
     [[0, 0, 0], [1, 0, 0, 0]],
     [[0.0000, 0.0000, 0.0000], [0.707106781, 0.000000000, 0.000000000, -0.707106781]]];
-  ! The arm (IRB 1600-10/1.45): the tool (TCP in the flange frame [mm], load [kg, mm, the principal axes as a quaternion, kg m2]; its inertia from its shape)
+  ! The arm (IRB 1600-10/1.45): the tool (TCP in the flange frame [mm], load [kg, mm, axes
+  ! of moment, kg m2]; its inertia from its shape)
   ! and the home position [deg]
   LOCAL PERS tooldata cnv_tool := [TRUE,
     [[0.0000, 0.0000, 150.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]],

@@ -29,7 +29,8 @@ MODULE pal_carton
 
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity
-  ! The arm (IRB 1200-5/0.9): the tool (TCP in the flange frame [mm], load [kg, mm, the principal axes as a quaternion, kg m2]; its inertia from its shape)
+  ! The arm (IRB 1200-5/0.9): the tool (TCP in the flange frame [mm], load [kg, mm, axes
+  ! of moment, kg m2]; its inertia from its shape)
   LOCAL PERS tooldata stack_tool := [TRUE, [[0.0000, 0.0000, 120.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [0.800, [0.0000, 0.0000, 50.0000], [1.000000, 0.000000, 0.000000, 0.000000], 0.001085, 0.001085, 0.000250]];
   LOCAL CONST jointtarget stack_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! The box in the gripper (GripLoad from the confirmed grip to the confirmed release): its mass (kg), centre of

@@ -35,7 +35,8 @@ MODULE grinding_abb
   LOCAL CONST num RANGE_MM := 100000;
   LOCAL CONST num RANGE_DEG := 360;
 
-  ! The arm (IRB 1600-10/1.45): the tool (TCP in the flange frame [mm], load [kg, mm, the principal axes as a quaternion, kg m2]; its inertia from its shape)
+  ! The arm (IRB 1600-10/1.45): the tool (TCP in the flange frame [mm], load [kg, mm, axes
+  ! of moment, kg m2]; its inertia from its shape)
   ! and the home position [deg]
   LOCAL PERS tooldata vis_tool := [TRUE, [[0.0000, 0.0000, 200.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [1.500, [0.0000, 0.0000, 80.0000], [1.000000, 0.000000, 0.000000, 0.000000], 0.005234, 0.005234, 0.000469]];
   LOCAL CONST jointtarget vis_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 30.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
