@@ -167,7 +167,7 @@ class Checker:
                 have = g.settings.get("load")
                 problem = _load_problem(have, want)
                 if problem is not None:
-                    return f"move {i + 1} ({e.name}, line {g.line}): the load in force {problem}"
+                    return f"move {i + 1} ({e.name}, line {g.line}): the payload in force {problem}"
         if self.tcp2flange is None:
             return None
         return self._tools(expected, got, joints)

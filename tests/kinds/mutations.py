@@ -176,7 +176,7 @@ TEXT = {
         "kuka": (r"^\s*\$LOAD = PAL_LOAD_BOX\n", ""),
         "abb": (r"^\s*GripLoad stack_box;\n", ""),
     },
-    "pallet_carried_payload_kept_after_release": {
+    "carried_payload_kept_after_release": {
         "ur": (r"^\s*set_target_payload\([^\n]*# the tool alone\n", "", 0),
         "kuka": (r"^ {4,}\$LOAD = PAL_LOAD\n", "", 0),
         "abb": (r"^\s*GripLoad load0;\n", "", 0),

@@ -53,10 +53,10 @@ def test_a_belt_parts_payload_without_its_inertia_fails_verify():
 @pytest.mark.parametrize("target", sorted(KEPT_AFTER_RELEASE))
 def test_the_boxs_load_kept_after_the_release_fails_verify(target):
     problem = first_mismatch("testmat_pallet", target, "pallet", KEPT_AFTER_RELEASE[target])
-    assert "the load in force is" in problem, problem
+    assert "the payload in force is" in problem, problem
 
 
 @pytest.mark.parametrize("target", sorted(NEVER_ON))
 def test_the_boxs_load_never_switched_on_fails_verify(target):
     problem = first_mismatch("testmat_pallet", target, "pallet", NEVER_ON[target])
-    assert "the load in force is" in problem, problem
+    assert "the payload in force is" in problem, problem
