@@ -15,10 +15,14 @@ from codegen.model import io as signals
 from codegen.model.cell import Cell
 from codegen.poses import FORMAT_DECIMALS, native_values
 from codegen.protocol import ProgramPlan
+from codegen.world import loads
 
 TEMPLATES_DIR = data_dir("templates")
 JOINT_DECIMALS = {"deg": 4, "rad": 6}  # 1e-4 deg; 1e-6 rad = 6e-5 deg
 MASS_DECIMALS = 3
+# a load's inertia numbers as written: kg m2 (1 kg mm2), the principal axes' angles (deg) and quaternion; the
+# verify tolerance on a load's tensor follows from them (codegen/verify/checks.py INERTIA_ABS)
+INERTIA_DECIMALS, AXES_DECIMALS, AOM_DECIMALS = 6, 4, 6
 
 
 @dataclass(frozen=True)
@@ -246,6 +250,24 @@ def cell_robot(cell, target, emitter: Emitter) -> dict | None:
         "cog": [number(v, d) for v, d in zip(cog, decimals[:3], strict=True)],
         "tool_given": robot.tool_given,
         "tool_data": _numbered(target, robot.tool.numbered.get(target.name)),
+        "load": inertia_literal(loads.of_tool(robot.tool, robot.tool_shaped), emitter),
+        "point_mass": not robot.tool_shaped,  # the header says the tool's load has no inertia
+    }
+
+
+def inertia_literal(load: loads.Load, emitter: Emitter) -> dict:
+    """A load's inertia in the forms the controllers take it (each targets/<t>.toml cites its own): the tensor at
+    the centre of gravity in the load's frame's axes (inertia: Ixx, Iyy, Izz, Ixy, Ixz, Iyz), the principal axes
+    as Z-Y-X angles (abc, deg) or a quaternion (aom), and the moments about them (moments); kg m2."""
+    number = emitter.number
+    moments, _ = load.principal()
+    zyx = load.principal_zyx()
+    _, _, aom, *_ = load.principal_quaternion()
+    return {
+        "inertia": [number(v, INERTIA_DECIMALS) for v in load.tensor_at_cog()[2]],
+        "abc": [number(zyx[k], AXES_DECIMALS) for k in "ABC"],
+        "aom": [number(v, AOM_DECIMALS) for v in aom],
+        "moments": [number(v, INERTIA_DECIMALS) for v in moments],
     }
 
 

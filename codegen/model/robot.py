@@ -8,6 +8,7 @@ from functools import cache
 import numpy as np
 
 from codegen.controllers import get_target, target_names
+from codegen.model.loader import Loader
 from codegen.model.schema import Key, Table
 from codegen.poses import POSE_FORMATS
 from codegen.robot.arms import Arm, ArmError, arm_from_table, catalogue, check_inside, find_arm
@@ -55,9 +56,27 @@ TOOL = Table(
             "the controller's numbered tool and load to select instead of declaring the tool, per target",
             names=None,
         ),
+        # the tool's shape from the flange to the TCP, for the clearance of every move (docs/clearance.md)
+        "radius_mm": Key(
+            "number",
+            "the tool as a cylinder of this radius from the flange's centre to the TCP",
+            unit="mm",
+            low=1.0,
+            high=1000.0,
+            default=25.0,
+        ),
+        "box_mm": Key(
+            "numbers",
+            "the tool as a box of this width (x) and depth (y) from the flange to the TCP, instead of a cylinder",
+            unit="mm",
+            count=2,
+            low=1.0,
+            high=2000.0,
+        ),
     },
 )
 TOOL_MASS_MIN_KG, TOOL_MASS_MAX_KG = TOOL["mass_kg"].bounds
+SHAPE_KEYS = {"radius_mm", "box_mm"}  # the tool's shape, which its inertia follows from
 DEFAULT_JOINT_MARGIN_DEG = ROBOT_KEYS["joint_margin_deg"].default
 DEFAULT_WRIST_MARGIN_DEG = ROBOT_KEYS["wrist_margin_deg"].default
 
@@ -110,6 +129,8 @@ class Tool:
     mass_kg: float
     cog_mm: tuple[float, float, float]  # centre of gravity in the flange frame
     numbered: dict = field(default_factory=dict, compare=False)  # target -> the controller's tool number
+    radius_mm: float = TOOL.default("radius_mm")  # its shape: a cylinder from the flange to the TCP
+    box_mm: tuple[float, float] | None = None  # or a box of this width and depth
 
 
 FLANGE = Tool((), np.eye(4), 0.0, (0.0, 0.0, 0.0))
@@ -130,6 +151,7 @@ class Robot:
     tool: Tool
     tool_given: bool
     margins: Margins = Margins(DEFAULT_JOINT_MARGIN_DEG, DEFAULT_WRIST_MARGIN_DEG)
+    tool_shaped: bool = False  # [cell.tool] declares radius_mm or box_mm: its inertia follows from that shape
 
 
 @dataclass(frozen=True)
@@ -190,7 +212,13 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
     )
     if not tool_given:
         ctx.warnings.append(f"{ctx.source}: cell.tool: not given: the programs move the flange (no TCP, no payload)")
-    return Robot(arms, home, tool, tool_given, margins)
+    shaped = tool_given and bool(SHAPE_KEYS & set(cell_table["tool"])) and bool(np.any(tool.tcp2flange[:3, 3]))
+    if tool_given and not shaped:
+        ctx.warnings.append(
+            f"{ctx.source}: cell.tool: no shape (radius_mm or box_mm, and a TCP away from the flange): its load is "
+            "a point mass at cog_mm (no inertia), as the programs' headers say"
+        )
+    return Robot(arms, home, tool, tool_given, margins, shaped)
 
 
 def _check_payload(ctx, tool: Tool, arms: dict, table: dict) -> None:
@@ -256,7 +284,11 @@ def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
         ctx.fail("cell.tool.cog_mm", f"the centre of gravity must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
     matrix = to_matrix(tcp)
     matrix.flags.writeable = False
-    return Tool(tcp, matrix, mass, cog, _numbered(ctx, table.get("numbered", {})))
+    loader = Loader(ctx)
+    shape = {k: loader.value(TOOL[k], table[k], f"cell.tool.{k}") for k in ("radius_mm", "box_mm") if k in table}
+    if len(shape) == 2:
+        ctx.fail("cell.tool.box_mm", "the tool is a cylinder (radius_mm) or a box (box_mm), not both")
+    return Tool(tcp, matrix, mass, cog, _numbered(ctx, table.get("numbered", {})), **shape)
 
 
 def _numbered(ctx, table) -> dict:

@@ -10,6 +10,7 @@ from codegen.controllers import numbered_names
 from codegen.poses import native_values
 from codegen.robot.margins import singular_distance, wrist_angle
 from codegen.robot.taught import ReachError
+from codegen.world import loads
 
 
 def tool_inputs(cell, target: str) -> dict:
@@ -22,7 +23,8 @@ def tool_inputs(cell, target: str) -> dict:
     tool_name, load_name = numbered_names(target, number)
     tool = robot.tool
     tcp = tuple(native_values(tool.tcp, cell.pose_format, "xyzabc"))
-    return {tool_name: tcp, load_name: (tool.mass_kg, *tool.cog_mm)}
+    load = loads.of_tool(tool, robot.tool_shaped).principal_zyx()  # the numbered load's form: M, CM, J
+    return {tool_name: tcp, load_name: tuple(load[k] for k in ("M", "X", "Y", "Z", "A", "B", "C", "JX", "JY", "JZ"))}
 
 
 def arm_of(cell, target: str):

@@ -13,6 +13,7 @@ from codegen.controllers import get_target
 from codegen.dialects import get_dialect
 from codegen.dialects.core.trace import halt_text
 from codegen.verify.plan import TOOL_LOAD, Expectation
+from codegen.world import loads
 
 # Tolerances from the numeric model: a float32 controller over a +-2,000 mm workspace stores positions with a
 # step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings through the correction stays far below
@@ -25,6 +26,12 @@ TOLERANCES = {"float32": (0.005, 0.001), "float64": (1e-9, 1e-9)}  # mm, deg
 JOINT_TOLERANCE_DEG = 0.05
 # A payload's mass and centre of gravity as the program writes them: float32 (1e-5 relative) and 3 decimals
 LOAD_TOLERANCE = (1e-3, 1e-5)
+# Its inertia tensor at the centre of gravity (kg m2), entry by entry: the programs write each inertia number to 6
+# decimals (5e-7 each; a tensor entry sums up to three of them, and the parallel-axis terms of centres written to
+# 1e-4 mm add below 1e-6 for 30 kg a metre off), the principal axes' angles to 4 decimals of a degree or as a
+# quaternion to 6 (2e-6 rad at most: 2 |I| 2e-6 more), and the mass to 3 decimals scales the whole by up to
+# 5e-4 kg / m: INERTIA_ABS + |I|max (INERTIA_REL + MASS_HALF_STEP / m).
+INERTIA_ABS, INERTIA_REL, MASS_HALF_STEP = 5e-6, 1e-5, 5e-4
 NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?|(?<!\w)[-+]?(?:nan|inf)\b")
 
 
@@ -67,7 +74,7 @@ class Checker:
         self.arm = None if robot is None else robot.arms.get(target_name)
         self.own_tool = robot is not None and robot.tool_given
         self.tool = None if robot is None else robot.tool
-        self.tool_load = None if not self.own_tool else (robot.tool.mass_kg, *robot.tool.cog_mm)
+        self.tool_load = None if not self.own_tool else loads.of_tool(robot.tool, robot.tool_shaped).flat()
         self.tcp2flange = None if robot is None else robot.tool.tcp2flange
 
     def check(self, expected: Expectation, trace, log_prefixes: tuple[str, ...] = ()) -> tuple[str | None, list, list]:
@@ -158,11 +165,9 @@ class Checker:
             for i, (g, e) in enumerate(zip(got, expected.moves, strict=True)):
                 want = self.tool_load if e.payload == TOOL_LOAD else tuple(e.payload)
                 have = g.settings.get("load")
-                if have is None or not _same_load(have, want):
-                    return (
-                        f"move {i + 1} ({e.name}, line {g.line}): payload {have}, expected (mass kg, centre of "
-                        f"gravity mm) {want}"
-                    )
+                problem = _load_problem(have, want)
+                if problem is not None:
+                    return f"move {i + 1} ({e.name}, line {g.line}): the payload in force {problem}"
         if self.tcp2flange is None:
             return None
         return self._tools(expected, got, joints)
@@ -258,12 +263,26 @@ def _kept(kept: dict, name: str):
     return value
 
 
-def _same_load(have, want) -> bool:
-    """Mass and centre of gravity equal to float32 rounding or the written decimals (kg, mm)."""
+def _load_problem(have, want) -> str | None:
+    """What differs between the load in force and the plan's (codegen.world.loads.Load.flat): mass and centre of
+    gravity to float32 rounding or the written decimals (kg, mm), the inertia tensor at the centre of gravity in
+    flange axes to the written decimals (kg m2); None: the same."""
+    if have is None:
+        return "is not set"
     absolute, relative = LOAD_TOLERANCE
-    return len(have) == len(want) and all(
-        abs(h - w) <= absolute + relative * abs(w) for h, w in zip(have, want, strict=True)
-    )
+    if len(have) != len(want) or any(
+        abs(h - w) > absolute + relative * abs(w) for h, w in zip(have[:4], want[:4], strict=True)
+    ):
+        return f"is {_text(have[:4], 4)} (mass kg, centre of gravity mm), the plan's {_text(want[:4], 4)}"
+    scale = max(abs(v) for v in want[4:])
+    tolerance = INERTIA_ABS + scale * (INERTIA_REL + MASS_HALF_STEP / max(want[0], MASS_HALF_STEP))
+    error = max(abs(h - w) for h, w in zip(have[4:], want[4:], strict=True))
+    if error > tolerance:
+        return (
+            f"has the inertia {_text(have[4:], 6)} (Ixx, Iyy, Izz, Ixy, Ixz, Iyz kg m2 at the centre of gravity, "
+            f"flange axes), the plan's {_text(want[4:], 6)} ({error:.2e} apart; tolerance {tolerance:.1e})"
+        )
+    return None
 
 
 def _flat(value) -> list | None:

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from codegen import poses
+from codegen.world.solids import tool_box, tool_cylinder
 
 MM2_TO_M2 = 1e-6
 
@@ -66,6 +67,57 @@ class Load:
         tensor = [i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2]]
         return self.mass, [float(v) * 1e-3 for v in self.cog_mm], [float(v) for v in tensor]
 
+    def flat(self) -> tuple[float, ...]:
+        """The load as the interpreters record it and verify compares it: mass (kg), centre of gravity (mm, flange
+        frame), the tensor at the centre of gravity in flange axes (Ixx, Iyy, Izz, Ixy, Ixz, Iyz kg m2)."""
+        i = self.inertia_cog
+        values = (self.mass, *self.cog_mm, i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2])
+        return tuple(float(v) for v in values)
+
+    def moved(self, frame2flange: np.ndarray) -> Load:
+        """The load given in another frame (a load in the tool frame) expressed in the flange frame."""
+        pose = np.asarray(frame2flange, dtype=float)
+        rotation = pose[:3, :3]
+        return Load(self.mass, rotation @ self.cog_mm + pose[:3, 3], rotation @ self.inertia_cog @ rotation.T)
+
+    def expressed_in(self, frame2flange: np.ndarray) -> Load:
+        """The load (flange frame) expressed in another frame whose pose in the flange frame is frame2flange."""
+        pose = np.asarray(frame2flange, dtype=float)
+        rotation = pose[:3, :3].T
+        return Load(self.mass, rotation @ (self.cog_mm - pose[:3, 3]), rotation @ self.inertia_cog @ rotation.T)
+
+
+def point(mass: float, cog_mm) -> Load:
+    """A point mass (no inertia about its centre of gravity): a load given without a shape."""
+    return Load(float(mass), np.asarray(cog_mm, dtype=float).copy(), np.zeros((3, 3)))
+
+
+def from_principal(mass: float, cog_mm, axes2frame: np.ndarray, moments) -> Load:
+    """A load as the controllers write it: principal moments (kg m2) about axes whose orientation (columns) is
+    axes2frame, at the centre of gravity cog_mm."""
+    rotation = np.asarray(axes2frame, dtype=float)
+    inertia = rotation @ np.diag([float(v) for v in moments]) @ rotation.T
+    return Load(float(mass), np.asarray(cog_mm, dtype=float).copy(), inertia)
+
+
+def from_tensor(mass: float, cog_mm, tensor) -> Load:
+    """A load from the tensor at its centre of gravity as [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (kg m2)."""
+    xx, yy, zz, xy, xz, yz = (float(v) for v in tensor)
+    inertia = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    return Load(float(mass), np.asarray(cog_mm, dtype=float).copy(), inertia)
+
+
+def combined(*parts: Load) -> Load:
+    """Loads carried together as one: the masses added, the common centre of gravity, and the tensor about it
+    (each part's own about its centre plus its parallel-axis term from that centre to the common one)."""
+    mass = sum(p.mass for p in parts)
+    cog = sum(p.mass * p.cog_mm for p in parts) / mass
+    inertia = np.zeros((3, 3))
+    for p in parts:
+        d = (p.cog_mm - cog) * 1e-3
+        inertia = inertia + p.inertia_cog + p.mass * (float(d @ d) * np.eye(3) - np.outer(d, d))
+    return Load(float(mass), cog, inertia)
+
 
 def box(mass: float, size_mm, centre2flange: np.ndarray) -> Load:
     """A solid box of size (x, y, z) mm and mass (kg), centred and turned as centre2flange says."""
@@ -88,3 +140,25 @@ def _placed(mass: float, own: np.ndarray, centre2flange: np.ndarray) -> Load:
     pose = np.asarray(centre2flange, dtype=float)
     rotation = pose[:3, :3]
     return Load(mass, pose[:3, 3].copy(), rotation @ own @ rotation.T)
+
+
+def of_tool(tool, shaped: bool) -> Load:
+    """The tool's load: its mass at its declared centre of gravity, with the inertia of its shape ([cell.tool]
+    radius_mm: a solid cylinder, box_mm: a solid box, each from the flange to the TCP; codegen.world.solids) about
+    that centre; a tool without a shape is a point mass there."""
+    if not shaped:
+        return point(tool.mass_kg, tool.cog_mm)
+    if tool.box_mm is not None:
+        shape = tool_box(tool.box_mm, tool.tcp2flange)
+        own = box(tool.mass_kg, shape.size, shape.pose)
+    else:
+        shape = tool_cylinder(tool.tcp2flange, tool.radius_mm)
+        own = cylinder(tool.mass_kg, shape.radius, shape.length, shape.pose)
+    return Load(own.mass, np.asarray(tool.cog_mm, dtype=float), own.inertia_cog)
+
+
+def held_box(mass: float, size_mm, centre2tcp: np.ndarray | None, tcp2flange: np.ndarray) -> Load:
+    """A carried part in the flange frame: a solid box of size_mm whose centre and axes in the TCP frame are
+    centre2tcp, or a point mass where the cell gives no size (centre2tcp: its translation is the centre of gravity)."""
+    pose = np.asarray(tcp2flange, dtype=float) @ np.asarray(centre2tcp, dtype=float)
+    return point(mass, pose[:3, 3]) if size_mm is None else box(mass, size_mm, pose)

@@ -137,6 +137,12 @@ TEXT = {
         "ur": (r"^\s*set_target_payload\([^\n]*\n", ""),
         "kuka": (r"^\s*\$LOAD = \w+\n", ""),
     },
+    # every load's inertia written as zero (a point mass), in each controller's form (tests/kinds/test_loads_verify.py)
+    "inertia_zeroed": {
+        "ur": (r"(set_target_payload\([^\n]*\], )\[[^\]]*\]\)", r"\1[0, 0, 0, 0, 0, 0])", 0),
+        "kuka": (r"J \{X -?[\d.]+,Y -?[\d.]+,Z -?[\d.]+\}", "J {X 0.0,Y 0.0,Z 0.0}", 0),
+        "abb": (r"(\[-?[\d.]+, -?[\d.]+, -?[\d.]+, -?[\d.]+\]), -?[\d.]+, -?[\d.]+, -?[\d.]+\]", r"\1, 0, 0, 0]", 0),
+    },
     "gripper_feedback_not_awaited": {
         "ur": (r"while get_standard_digital_in\((\d+)\) != True:", "while False:"),
         "kuka": (r"WHILE \$IN\[(\d+)\] <> TRUE", "WHILE FALSE"),
@@ -169,6 +175,11 @@ TEXT = {
         "ur": (r"^\s*set_target_payload\([^\n]*# the tool and the box\n", ""),
         "kuka": (r"^\s*\$LOAD = PAL_LOAD_BOX\n", ""),
         "abb": (r"^\s*GripLoad stack_box;\n", ""),
+    },
+    "carried_payload_kept_after_release": {
+        "ur": (r"^\s*set_target_payload\([^\n]*# the tool alone\n", "", 0),
+        "kuka": (r"^ {4,}\$LOAD = PAL_LOAD\n", "", 0),
+        "abb": (r"^\s*GripLoad load0;\n", "", 0),
     },
     "pallet_way_home_skipped": {
         "ur": (r"^(\s*)if pal_away:", r"\1if False:"),

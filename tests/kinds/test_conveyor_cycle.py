@@ -128,8 +128,17 @@ def test_a_program_without_it_fails_verify(cell, what, target, pattern, replacem
 
 
 def test_the_payload_held_is_the_tool_and_the_part_at_the_flange(cell):
-    """0.8 kg 20 mm beyond the TCP (150 mm along the flange's z) with the tool's 1.2 kg at 60 mm: 2 kg at 104 mm."""
-    assert carried(cell) == pytest.approx((2.0, 0.0, 0.0, (1.2 * 60.0 + 0.8 * 170.0) / 2.0))
+    """0.8 kg 20 mm beyond the TCP (150 mm along the flange's z) with the tool's 1.2 kg at 60 mm: 2 kg at 104 mm; the
+    tool a solid cylinder of radius 25 mm from the flange to the TCP, the part a solid box of part_size_mm along the
+    tool's axes, each with its parallel-axis term to the common centre (kg m2)."""
+    a, b, c = (v / 1000.0 for v in cell.sections["conveyor"].pick.part_size_mm)
+    side, axis = 1.2 * (3 * 0.025**2 + 0.15**2) / 12, 1.2 * 0.025**2 / 2
+    d_tool, d_part = 0.104 - 0.060, 0.170 - 0.104
+    ixx = side + 1.2 * d_tool**2 + 0.8 * (b * b + c * c) / 12 + 0.8 * d_part**2
+    iyy = side + 1.2 * d_tool**2 + 0.8 * (a * a + c * c) / 12 + 0.8 * d_part**2
+    izz = axis + 0.8 * (a * a + b * b) / 12
+    expected = (2.0, 0.0, 0.0, (1.2 * 60.0 + 0.8 * 170.0) / 2.0, ixx, iyy, izz, 0.0, 0.0, 0.0)
+    assert carried(cell) == pytest.approx(expected, abs=1e-12)
 
 
 @pytest.mark.parametrize("target", ["ur", "kuka", "abb"])

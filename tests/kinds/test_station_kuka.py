@@ -23,7 +23,7 @@ class TestKUKA(StationTests):
         "status_changed": ("cannot reach this pose in configuration [6, 10]",),
         "turn_changed": ("cannot reach this pose in configuration [2, 11]",),
         "no_tool": ("position error", "joints"),
-        "no_load": ("load None",),
+        "no_load": ("payload in force is not set",),
         "out_of_reach": ("out of reach", "cannot reach"),
         "lin_first": ("BCO",),
     }

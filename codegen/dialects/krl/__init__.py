@@ -14,7 +14,8 @@ class KRL(Dialect):
     name, with file:line, what it does not model. Texts are UTF-8 or Windows-1252 (the controller's backups).
 
     MoveEvent.settings of a KRL motion (codegen/dialects/krl/motion.py path_settings): "approx" (C_PTP, C_DIS,
-    C_VEL, C_ORI, C_SPL or None), "load" ((mass, x, y, z) of $LOAD or None), "cdis" ($APO.CDIS mm, with C_DIS),
+    C_VEL, C_ORI, C_SPL or None), "load" ($LOAD as codegen.world.loads.Load.flat: mass, x, y, z, the tensor at the
+    centre of gravity; or None), "cdis" ($APO.CDIS mm, with C_DIS),
     "ov_pro" ($OV_PRO %, None until the program sets it); a LIN or CIRC: "vel_cp" ($VEL.CP m/s), "acc_cp" ($ACC.CP
     m/s2); a PTP: "vel_ptp" and "acc_ptp" ($VEL_AXIS[1] / $ACC_AXIS[1] %: BAS(#VEL_PTP ...), BAS(#INITMOV)); a
     CIRC also "circ": True. Outputs: every $OUT[n] set (also by a SIGNAL name, PULSE or a TRIGGER) is a SignalEvent

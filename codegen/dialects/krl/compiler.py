@@ -122,8 +122,9 @@ class KRLCompiler(
         return values[index - 1] if values is not None and 1 <= index <= len(values) else None
 
     def inject_inputs(self, machine) -> None:
-        """BASE_DATA[n]=x,y,z,a,b,c, TOOL_DATA[n]=x,y,z,a,b,c and LOAD_DATA[n]=m,x,y,z (mass kg, centre of
-        gravity mm) set the controller's numbered bases, tools and loads, as $config.dat holds them."""
+        """BASE_DATA[n]=x,y,z,a,b,c, TOOL_DATA[n]=x,y,z,a,b,c and LOAD_DATA[n]=m,x,y,z[,a,b,c,jx,jy,jz] (mass kg,
+        centre of gravity mm, principal axes deg, moments kg m2) set the controller's numbered bases, tools and
+        loads, as $config.dat holds them."""
         robroot(machine)
         rest = system_inputs(machine)
         if rest is None:

@@ -13,22 +13,25 @@ from codegen.dialects.krl import trigger
 from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, shown, valid, xyzabc
 from codegen.dialects.krl.position import base2robot, record_base
 from codegen.dialects.krl.sysvars import axis_act
+from codegen.poses import rotmat_from_zyx_deg
+from codegen.world import loads
 
 AXES = ("AXIS", "E6AXIS")
 # The controller's numbered data ($config.dat; KSS 8 system variables): type, count, how `--input` gives one
 SYSTEM_ARRAYS = {
     "BASE_DATA": ("FRAME", 32, "X,Y,Z,A,B,C"),
     "TOOL_DATA": ("FRAME", 16, "X,Y,Z,A,B,C"),
-    "LOAD_DATA": ("LOAD", 16, "M,X,Y,Z (kg, centre of gravity mm)"),
+    "LOAD_DATA": ("LOAD", 16, "M,X,Y,Z[,A,B,C,JX,JY,JZ] (kg, centre of gravity mm, principal axes deg, kg m2)"),
 }
 SYSTEM_ARRAY = re.compile(r"(BASE_DATA|TOOL_DATA|LOAD_DATA)\[(\d+)\]")
 
 
 def load_record(values) -> Record:
-    """A LOAD of mass m (kg) with its centre of gravity at x, y, z (mm) and no inertia (a point mass)."""
-    m, x, y, z = (float(v) for v in values)
-    inertia = Record("INERTIA", {"X": f32(0), "Y": f32(0), "Z": f32(0)})
-    return Record("LOAD", {"M": f32(m), "CM": frame((x, y, z, 0, 0, 0)), "J": inertia})
+    """A LOAD of mass m (kg) with its centre of gravity at x, y, z (mm), its principal axes turned a, b, c (deg)
+    and its moments jx, jy, jz (kg m2) about them; given m, x, y, z alone: a point mass."""
+    m, x, y, z, a, b, c, jx, jy, jz = (*(float(v) for v in values), *(0.0,) * (10 - len(values)))
+    inertia = Record("INERTIA", {"X": f32(jx), "Y": f32(jy), "Z": f32(jz)})
+    return Record("LOAD", {"M": f32(m), "CM": frame((x, y, z, a, b, c)), "J": inertia})
 
 
 def motion_rule(kind: str, pose: Record, arm, where: str) -> tuple:
@@ -80,8 +83,8 @@ def system_inputs(machine) -> dict | None:
             continue
         array, index = match.group(1), int(match.group(2))
         type_name, size, shape = SYSTEM_ARRAYS[array]
-        count = 6 if type_name == "FRAME" else 4
-        if not 1 <= index <= size or not isinstance(value, tuple | list) or len(value) != count:
+        counts = (6,) if type_name == "FRAME" else (4, 10)
+        if not 1 <= index <= size or not isinstance(value, tuple | list) or len(value) not in counts:
             raise RunError(f"input {name}: expected {array}[1..{size}] = {shape}")
         values = list(machine.state.sysvars.get(array) or [new_value(type_name) for _ in range(size)])
         values[index - 1] = frame(value) if type_name == "FRAME" else load_record(value)
@@ -146,11 +149,23 @@ def path_settings(static: dict, kind: str, sysvars: dict) -> dict:
 
 
 def load_of(load) -> tuple | None:
-    """$LOAD as (mass kg, centre of gravity x, y, z mm), or None before the program sets it."""
+    """$LOAD as verify compares a load (codegen.world.loads.Load.flat: mass kg, centre of gravity mm, the tensor at
+    it in flange axes kg m2), or None before the program sets it. M, CM {X, Y, Z, A, B, C}: the centre of mass and
+    the principal axes' orientation relative to the flange, J {X, Y, Z}: the moments about them (targets/kuka.toml
+    cites the form); a part not set counts 0."""
     if not isinstance(load, Record) or load["M"] is UNINIT:
         return None
-    cm = load["CM"]
-    return (float(load["M"]), *(float(cm[k]) if cm is not UNINIT else 0.0 for k in ("X", "Y", "Z")))
+    cm, j = load["CM"], load["J"]
+    x, y, z, a, b, c = (_set(cm, k) for k, _ in XYZABC)
+    moments = [_set(j, k) for k in ("X", "Y", "Z")]
+    return loads.from_principal(float(load["M"]), (x, y, z), rotmat_from_zyx_deg(a, b, c), moments).flat()
+
+
+def _set(record, key: str) -> float:
+    """A component of a record the program may have left (partly) without value: 0 then."""
+    if record is UNINIT or record.get(key, UNINIT) is UNINIT:
+        return 0.0
+    return float(record[key])
 
 
 def whole_frame(compiler, target, where: str, lacks: str, fr=None):

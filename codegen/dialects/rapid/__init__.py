@@ -1,15 +1,15 @@
 """RAPID (ABB): printer, grammar and interpreter; a program is the modules of one task.
 
 MoveEvent.settings of a RAPID move: "speed", "zone", "tool" (a predefined datum's name in upper case, e.g. "V100",
-"FINE", "TOOL0", else "custom"), "load" (mass kg, cog x, y, z mm at the flange: the move's tooldata's, with the payload
-of a GripLoad in force; None for tool0),
+"FINE", "TOOL0", else "custom"), "load" (codegen.world.loads.Load.flat at the flange: mass kg, cog x, y, z mm, the
+tensor at the cog kg m2; the move's tooldata's, with the payload of a GripLoad in force; None for tool0),
 "tcp_mm_s" (the programmed TCP speed), "zone_mm" (the zone's pzone_tcp, 0 at a stop point), "circle_point"
 (MoveC); and from the instruction on, on every later move (codegen/dialects/rapid/motionset.py): "accset" {"acc",
 "ramp", "line"}, "velset" {"override", "max", "line"}, "singarea" {"mode", "line"}, "confj" / "confl" {"on",
-"line"}, "gripload" {"mass", "cog", "line"}; Trace.motion_settings (an attribute set once the program ran one of
-these instructions): those settings as in force when the run ended. Trace.simulated_io (an attribute set on the
-trace of a program that uses signals it does not declare): signal name -> "digital input", "digital output", ...
-(simulated I/O).
+"line"}, "gripload" {"mass", "cog", "aom", "moments", "line"}; Trace.motion_settings (an attribute set once the
+program ran one of these instructions): those settings as in force when the run ended. Trace.simulated_io (an
+attribute set on the trace of a program that uses signals it does not declare): signal name -> "digital input",
+"digital output", ... (simulated I/O).
 """
 
 from __future__ import annotations

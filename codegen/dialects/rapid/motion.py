@@ -12,13 +12,15 @@ from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.rapid import motionset
 from codegen.dialects.rapid.predefined import TOOL0, WOBJ0, name_of
 from codegen.dialects.rapid.types import QUAT_KEYS, num, type_text, vec
+from codegen.poses import rotmat_from_quat
+from codegen.world import loads
 
 QUATERNION_TOLERANCE = 1e-5  # assumed: RAPID rejects an unnormalised orientation in a move
 
 
 def move_load(fr, args, where: str) -> tuple | None:
-    """The move's tooldata becomes the active tool: its TCP for the arm, its load (mass kg, centre of
-    gravity mm) for the trace. tool0 is the flange."""
+    """The move's tooldata becomes the active tool: its TCP for the arm, its load (with the payload in force) for
+    the trace. tool0 is the flange."""
     tool = args[3] if len(args) > 3 else None
     if tool is TOOL0:
         fr.m.arm.tcp2flange = np.eye(4)
@@ -35,21 +37,29 @@ def move_load(fr, args, where: str) -> tuple | None:
     mass = float(load["MASS"])
     if not mass > 0:
         raise RunError(f"{where}: a tool the robot holds must have a mass above 0 kg (tooldata tload)")
-    return with_payload(fr.m, mass, vec(load["COG"], "XYZ"))
+    moments = [float(load[k]) for k in ("IX", "IY", "IZ")]
+    return with_payload(fr.m, _principal(mass, vec(load["COG"], "XYZ"), vec(load["AOM"], QUAT_KEYS), moments))
 
 
 NO_PAYLOAD_KG = 0.001  # load0's mass: GripLoad load0 (or as light) leaves no payload
 
 
-def with_payload(machine, mass: float, cog: list) -> tuple:
-    """The load at the flange: the tool's (centre of gravity in the wrist frame) with the payload GripLoad put in
-    force (its centre of gravity in the tool frame: RAPID Reference Manual, loaddata), as one mass and centre."""
+def _principal(mass: float, cog: list, aom: list, moments: list) -> loads.Load:
+    """A loaddata: mass, cog, aom (the principal axes' orientation, a quaternion; all zero counts as none) and the
+    moments ix, iy, iz about them (targets/abb.toml cites the form)."""
+    axes = np.eye(3) if not any(aom) else rotmat_from_quat(aom)
+    return loads.from_principal(mass, cog, axes, moments)
+
+
+def with_payload(machine, tool_load: loads.Load) -> tuple:
+    """The load at the flange as verify compares it (codegen.world.loads.Load.flat): the tool's (tload: centre of
+    gravity and axes of moment in the wrist frame) with the payload GripLoad put in force (its centre of gravity and
+    axes of moment in the tool frame: RAPID Reference Manual, loaddata), one mass, centre and tensor."""
     grip = (motionset.current(machine) or {}).get("gripload")
     if grip is None or grip["mass"] <= NO_PAYLOAD_KG * (1.0 + 1e-6):  # load0 as a float32 num holds it
-        return (mass, *cog)
-    part = machine.arm.tcp2flange @ np.array([*grip["cog"], 1.0])
-    total = mass + grip["mass"]
-    return (total, *((mass * np.asarray(cog) + grip["mass"] * part[:3]) / total).tolist())
+        return tool_load.flat()
+    payload = _principal(grip["mass"], grip["cog"], grip["aom"], grip["moments"])
+    return loads.combined(tool_load, payload.moved(machine.arm.tcp2flange)).flat()
 
 
 def no_motion_in_trap(fr, where: str, name: str) -> None:

@@ -6,7 +6,7 @@ from collections.abc import Callable
 
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid.arguments import split_args
-from codegen.dialects.rapid.types import num, rec
+from codegen.dialects.rapid.types import QUAT_KEYS, num, rec, vec
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types" (RobotWare 6/7),
 # AccSet, VelSet, SingArea, ConfJ, ConfL, GripLoad, as recalled (the manual's text was not readable during this
@@ -26,7 +26,7 @@ from codegen.dialects.rapid.types import num, rec
 #   "velset":   {"override": %, "max": mm/s, "line": n}
 #   "singarea": {"mode": "wrist" | "off", "line": n}
 #   "confj", "confl": {"on": bool, "line": n}
-#   "gripload": {"mass": kg, "cog": [x, y, z] mm, "line": n}
+#   "gripload": {"mass": kg, "cog": [x, y, z] mm, "aom": [q1..q4], "moments": [ix, iy, iz] kg m2, "line": n}
 
 
 def current(m) -> dict | None:
@@ -98,8 +98,10 @@ def grip_load(compiler, node, args_node) -> Callable:
 
     def run(fr) -> None:
         load = rec(value(fr), "LOADDATA", where)
-        cog = load["COG"]
-        _record(fr, "gripload", {"mass": float(load["MASS"]), "cog": [float(cog[k]) for k in "XYZ"]}, where)
+        cog, aom = load["COG"], load["AOM"]
+        moments = [float(load[k]) for k in ("IX", "IY", "IZ")]
+        values = {"mass": float(load["MASS"]), "cog": [float(cog[k]) for k in "XYZ"], "aom": vec(aom, QUAT_KEYS)}
+        _record(fr, "gripload", {**values, "moments": moments}, where)
 
     return run
 

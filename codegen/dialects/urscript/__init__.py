@@ -3,7 +3,8 @@
 A move's settings (MoveEvent.settings, what the verify engine compares): "a", "v", "r" (the manual's
 acceleration, speed and blend radius, the manual's defaults where the program leaves them out; movej rad/s^2,
 rad/s; movel, movep, movec m/s^2, m/s; r m), "t" (movej/movel's time, s; 0: none; speedl/speedj: how long the
-speed was held), "load" (mass kg, centre of gravity x, y, z mm: set_target_payload / set_payload; None: not
+speed was held), "load" (mass kg, centre of gravity x, y, z mm, the inertia tensor at it in flange axes
+Ixx, Iyy, Izz, Ixy, Ixz, Iyz kg m2: codegen.world.loads.Load.flat, from set_target_payload / set_payload; None: not
 set), "tcp" (the TCP set_tcp made active, p[x, y, z, rx, ry, rz] in m and rad; None: the installation's),
 "move" (the function: movej, movel, movep, speedl, speedj, servoj), movec's "mode", speedl's "xd" and speedj's
 "qd" (the commanded speeds). Every digital output set is a SignalEvent named standard_digital_out[n],

@@ -40,6 +40,7 @@ from codegen.dialects.urscript import conveyor, threads
 from codegen.dialects.urscript.values import MM_PER_M, URPose, arguments, joints, matrix, num, pose, vector
 from codegen.poses import rotmat_from_rotvec
 from codegen.robot import solve
+from codegen.world import loads
 
 MOVES = {  # parameters and the manual's defaults
     "movej": (("q", "a", "v", "t", "r"), {"a": 1.4, "v": 1.05, "t": 0.0, "r": 0.0}),
@@ -47,6 +48,7 @@ MOVES = {  # parameters and the manual's defaults
     "movep": (("pose", "a", "v", "r"), {"a": 1.2, "v": 0.25, "r": 0.0}),
 }
 KIND = {"movej": "joint", "movel": "linear", "movep": "process"}
+KEEPS_INERTIA = ("set_payload_mass", "set_payload_cog")  # the setters of one part of the load: the rest stays
 NUMBER = frozenset({F32, float, int})  # a move's numbers that need no check (bool is not int here)
 
 
@@ -243,21 +245,30 @@ def builtins() -> dict:
         fr.m.arm.tcp2flange = matrix(a["pose"], where, "tcp")
         fr.m.state.tcp = tuple(float(v) for v in pose(a["pose"], where).values())
 
-    def _payload(fr, mass, cog, where: str, name: str) -> None:
+    def _payload(fr, mass, cog, where: str, name: str, inertia=None) -> None:
+        # the load as verify compares it (codegen.world.loads.Load.flat): mass kg, cog mm, the tensor at the cog
+        # in flange axes [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] kg m2 (targets/ur.toml cites the form). Without an inertia
+        # the call keeps the one set before (set_payload_mass, set_payload_cog) or, set_payload and
+        # set_target_payload without it, a point mass (zero tensor: the manual's default not confirmed here).
         mass = float(num(mass, where, "mass"))
         if not mass >= 0:
             raise RunError(f"{where}: {name}: payload mass {mass} kg")
+        before = fr.m.state.payload or (0.0,) * 10
         if cog is None:  # the centre of gravity set before, else the flange's centre
-            cog_mm = list((fr.m.state.payload or (0.0, 0.0, 0.0, 0.0))[1:])
+            cog_mm = list(before[1:4])
         else:
             cog_mm = [MM_PER_M * float(v) for v in vector(cog, where, "centre of gravity")]
-        fr.m.state.payload = (mass, *cog_mm)
+        if inertia is None:
+            tensor = list(before[4:]) if name in KEEPS_INERTIA else [0.0] * 6
+        else:
+            tensor = [float(v) for v in joints(inertia, where, 6, "inertia")]
+        fr.m.state.payload = tuple(loads.from_tensor(mass, cog_mm, tensor).flat())
 
     def set_target_payload(fr, args, kwargs, where):
-        # set_target_payload(m, cog, inertia, transition_time): kg, m (URScript manual)
+        # set_target_payload(m, cog, inertia, transition_time): kg, m, kg m2 (URScript manual)
         params = ("m", "cog", "inertia", "transition_time")
         a = arguments("set_target_payload", params, {"inertia": None, "transition_time": 0.0}, args, kwargs, where)
-        _payload(fr, a["m"], a["cog"], where, "set_target_payload")
+        _payload(fr, a["m"], a["cog"], where, "set_target_payload", a["inertia"])
 
     def set_payload(fr, args, kwargs, where):
         a = arguments("set_payload", ("m", "cog"), {"cog": None}, args, kwargs, where)

@@ -11,6 +11,7 @@ import numpy as np
 from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.verify.plan import TOOL_LOAD, PlannedMove, PlannedOutput
+from codegen.world import loads
 
 
 @dataclass(frozen=True)
@@ -82,14 +83,26 @@ def blends(cell, target, mode: str) -> dict[str, bool]:
     return {key: zone and key in listed for key in sorted(keys)}
 
 
-def carried(cell) -> tuple[float, float, float, float]:
-    """The payload while the gripper holds a part: the tool's and the part's mass (kg) and their common centre of
-    gravity in the flange frame (mm; the part's is given in the tool frame)."""
-    tool, pick = cell.robot.tool, conveyor_of(cell).pick
-    part = tool.tcp2flange @ np.array([*pick.part_cog_mm, 1.0])
-    mass = tool.mass_kg + pick.part_mass_kg
-    cog = (tool.mass_kg * np.asarray(tool.cog_mm, dtype=float) + pick.part_mass_kg * part[:3]) / mass
-    return (mass, *(float(v) for v in cog))
+def part_load(cell) -> loads.Load:
+    """The part in the gripper in the tool frame (a payload's frame): a solid box of part_size_mm along the tool
+    frame's axes centred at part_cog_mm, or a point mass there where the cell gives no size."""
+    pick = conveyor_of(cell).pick
+    centre2tcp = np.eye(4)
+    centre2tcp[:3, 3] = pick.part_cog_mm
+    return loads.held_box(pick.part_mass_kg, pick.part_size_mm, centre2tcp, np.eye(4))
+
+
+def carried_load(cell) -> loads.Load:
+    """The load while the gripper holds a part: the tool's and the part's as one, in the flange frame (mass, common
+    centre of gravity, the tensor about it with the parallel-axis terms)."""
+    robot = cell.robot
+    tool = loads.of_tool(robot.tool, robot.tool_shaped)
+    return loads.combined(tool, part_load(cell).moved(robot.tool.tcp2flange))
+
+
+def carried(cell) -> tuple[float, ...]:
+    """The planned load while the gripper holds a part, as verify compares it (codegen.world.loads.Load.flat)."""
+    return carried_load(cell).flat()
 
 
 def planned(segment: Segment, cell, target, mode: str | None = None, pose=None, joints=None) -> PlannedMove:

@@ -10,7 +10,7 @@ import numpy as np
 from codegen.emit import Code, EmitError, Emitter, owned
 from codegen.kinds.conveyor import native
 from codegen.kinds.conveyor.kind import KIND
-from codegen.kinds.conveyor.plan import blends, carried
+from codegen.kinds.conveyor.plan import blends, carried_load, part_load
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.timing import (
     POLL_S,
@@ -24,6 +24,7 @@ from codegen.kinds.conveyor.timing import (
 from codegen.model.cell import TaughtPose
 from codegen.model.io import POLL_S as IO_POLL_S
 from codegen.poses import FORMAT_DECIMALS, native_values, zyx_deg_from_rotmat
+from codegen.render import inertia_literal
 from codegen.sim import bus
 
 # the program's messages (the skip and stop texts verify reads back)
@@ -121,31 +122,20 @@ def _point(emitter, target, values) -> list[str]:
 
 
 def _payload(cell, target, emitter) -> dict | None:
-    """The part (mass, centre of gravity in the tool frame: a payload's load data) and the tool with the part
-    (mass, centre of gravity in the flange frame: a load at the flange)."""
+    """The part (mass, centre of gravity and inertia in the tool frame: a payload's load data) and the tool with the
+    part (mass, centre of gravity and inertia in the flange frame: a load at the flange)."""
     robot = cell.robot
     if robot is None or target.name not in robot.arms:
         return None
-    pick = conveyor_of(cell).pick
-    mass, *cog = carried(cell)
+    part, held = part_load(cell), carried_load(cell)
     return {
-        "part_inertia": [emitter.number(v, 6) for v in part_inertia(cell)],
-        "part_mass": emitter.number(pick.part_mass_kg, MASS_DECIMALS),
-        "part_cog": _point(emitter, target, pick.part_cog_mm),
-        "mass": emitter.number(mass, MASS_DECIMALS),
-        "cog": _point(emitter, target, cog),
+        "part_mass": emitter.number(part.mass, MASS_DECIMALS),
+        "part_cog": _point(emitter, target, part.cog_mm),
+        "part": inertia_literal(part, emitter),
+        "mass": emitter.number(held.mass, MASS_DECIMALS),
+        "cog": _point(emitter, target, held.cog_mm),
+        "held": inertia_literal(held, emitter),
     }
-
-
-def part_inertia(cell) -> tuple[float, float, float]:
-    """The part's moments of inertia about its centre of gravity along the tool frame's axes (kg m2): a solid box of
-    part_size_mm (I = m (b2 + c2) / 12), or a point mass (0, 0, 0) where the cell gives no size."""
-    pick = conveyor_of(cell).pick
-    if pick.part_size_mm is None:
-        return 0.0, 0.0, 0.0
-    a, b, c = (v / 1000.0 for v in pick.part_size_mm)
-    m = pick.part_mass_kg
-    return m * (b * b + c * c) / 12.0, m * (a * a + c * c) / 12.0, m * (a * a + b * b) / 12.0
 
 
 def _signal(emitter, value, origin: str) -> Code | None:

@@ -42,8 +42,9 @@ from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEE
 from codegen.kinds.pallet.section import Pallet, pallets_of
 from codegen.kinds.pallet.stack import sides
 from codegen.model.cell import TaughtPose
-from codegen.poses import zyx_deg_from_rotmat
-from codegen.render import configuration_literal
+from codegen.poses import rotmat_from_zyx_deg, zyx_deg_from_rotmat
+from codegen.render import configuration_literal, inertia_literal
+from codegen.world import loads
 
 LEVEL_TOL = 1e-9  # a level pallet: its z is the base's z (a dialect without a pose product needs one)
 POLL_S = 0.05  # how often a program looks at an interlock input while it waits for it (as the gripper's feedback)
@@ -121,29 +122,39 @@ def pallet_identifiers(cell, target) -> list[str]:
     return [own["ident"] for own in identifiers(cell, target)]
 
 
-def carried_load(cell, pallet: Pallet) -> tuple[float, float, float, float] | None:
-    """The payload while the box is in the gripper: the tool's and the box's mass and their common centre of
-    gravity in the flange frame (each target's payload instruction); None: no box mass or no tool given."""
-    robot = cell.robot
-    if robot is None or not robot.tool_given or pallet.box_mass_kg == 0:
+def box_load(pallet: Pallet) -> loads.Load | None:
+    """The box in the gripper in the TCP frame (a payload's frame): a solid box of the pallet's box size, its centre
+    at box_cog_mm, its edges along the pallet's axes at box angle 0 (the tool turns with it: tool_orientation);
+    None: no box mass."""
+    if pallet.box_mass_kg == 0:
         return None
-    tool = robot.tool
-    box_cog = tool.tcp2flange[:3, :3] @ np.asarray(pallet.box_cog_mm) + tool.tcp2flange[:3, 3]
-    mass = tool.mass_kg + pallet.box_mass_kg
-    cog = (tool.mass_kg * np.asarray(tool.cog_mm) + pallet.box_mass_kg * box_cog) / mass
-    return (mass, *(float(v) for v in cog))
+    centre2tcp = np.eye(4)
+    centre2tcp[:3, :3] = rotmat_from_zyx_deg(*pallet.tool_orientation).T
+    centre2tcp[:3, 3] = pallet.box_cog_mm
+    return loads.held_box(pallet.box_mass_kg, pallet.box, centre2tcp, np.eye(4))
+
+
+def carried_load(cell, pallet: Pallet) -> loads.Load | None:
+    """The load while the box is in the gripper: the tool's and the box's as one, in the flange frame (mass, common
+    centre of gravity, the tensor about it with the parallel-axis terms); None: no box mass or no tool given."""
+    robot = cell.robot
+    box = box_load(pallet)
+    if robot is None or not robot.tool_given or box is None:
+        return None
+    return loads.combined(loads.of_tool(robot.tool, robot.tool_shaped), box.moved(robot.tool.tcp2flange))
 
 
 def _xyzabc(pose) -> tuple[float, ...]:
     return tuple(float(v) for v in (*pose[:3, 3], *zyx_deg_from_rotmat(pose[:3, :3])))
 
 
-def _load(emitter, values) -> dict:
-    """A payload: mass (kg), centre of gravity in mm and in m."""
+def _load(emitter, load: loads.Load) -> dict:
+    """A payload: mass (kg), centre of gravity in mm and in m, its inertia in the controllers' forms."""
     return {
-        "mass": emitter.number(values[0], 3),
-        "cog": [emitter.number(v, 4) for v in values[1:]],
-        "cog_m": [emitter.number(v / 1000.0, 7) for v in values[1:]],
+        "mass": emitter.number(load.mass, 3),
+        "cog": [emitter.number(v, 4) for v in load.cog_mm],
+        "cog_m": [emitter.number(v / 1000.0, 7) for v in load.cog_mm],
+        **inertia_literal(load, emitter),
     }
 
 
@@ -194,8 +205,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     level = bool(np.allclose(frame[:3, 2], (0.0, 0.0, 1.0), atol=LEVEL_TOL))
     counts = layer_counts(pallet)
     first = start_counters(pallet)
-    load = carried_load(cell, pallet)
-    box_tcp = (pallet.box_mass_kg, *pallet.box_cog_mm)
+    load, box = carried_load(cell, pallet), box_load(pallet)
     registers = counter_registers(cell, target, index)
     layer_name, box_name = counter_names(cell, target, index)
     timeout = pallet.io.timeout_s
@@ -300,7 +310,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "unstack": pallet.mode == "unstack",  # take the boxes off, top layer first, each layer in reverse
         "top_count": counts[pallet.layers],
         "load": None if load is None else _load(emitter, load),
-        "box_load": None if pallet.box_mass_kg == 0 else _load(emitter, box_tcp),
+        "box_load": None if box is None else _load(emitter, box),
         "zone": None if zone == 0 else {"mm": number(zone, 1), "m": number(zone / 1000.0, 4)},
         "zone_ori_mm": number(1.5 * zone, 1),  # a RAPID zonedata scaled as the predefined zN are: 1.5 N mm, 0.15 N deg
         "zone_deg": number(0.15 * zone, 2),

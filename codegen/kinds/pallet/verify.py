@@ -290,7 +290,8 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     want = expected(cell, pallet, pallet_case)
     layer_name, box_name = kept_names(cell, target, run.pallet)
     output = signal_name(target, "output", cell.io.output[target.name])
-    load = carried_load(cell, pallet)
+    carried = carried_load(cell, pallet)
+    load = None if carried is None else carried.flat()
     zone = pallet.zone_mm
     joint_blend = KIND.facts(target).get("joint_blend", True)
     input_stops = KIND.facts(target).get("input_stops", False)

@@ -156,7 +156,8 @@ def test_conf_and_grip_load_are_recorded():
     body = f"ConfL \\Off;\nGripLoad piece;\nMoveL {P0}, v100, fine, tool0;"
     settings = run(body, "PERS loaddata piece := [2.5, [0, 0, 40], [1, 0, 0, 0], 0, 0, 0];").moves[0].settings
     assert settings["confl"] == {"on": False, "line": 4}
-    assert settings["gripload"] == {"mass": 2.5, "cog": [0.0, 0.0, 40.0], "line": 5}
+    grip = {"mass": 2.5, "cog": [0.0, 0.0, 40.0], "aom": [1.0, 0.0, 0.0, 0.0], "moments": [0.0, 0.0, 0.0], "line": 5}
+    assert settings["gripload"] == grip
 
 
 # --- data instructions, clocks and functions --------------------------------------------------------

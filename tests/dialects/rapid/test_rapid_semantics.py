@@ -302,7 +302,7 @@ def test_local_routines_and_data_behave_as_the_others():
     trace = run(body, decls, routines)
     assert trace.messages == ["c11"]
     assert trace.moves[0].tcp2base[:3, 3].tolist() == [400.0, 0.0, 500.0]
-    assert trace.moves[0].settings["load"] == (1.0, 0.0, 0.0, 50.0)
+    assert trace.moves[0].settings["load"] == (1.0, 0.0, 0.0, 50.0, *(0.0,) * 6)
 
 
 def test_offs_moves_a_target_in_its_work_object():

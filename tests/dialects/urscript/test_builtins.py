@@ -101,7 +101,7 @@ def test_movep_and_the_settings_of_each_move():
     assert linear.settings["r"] == pytest.approx(0.01) and linear.settings["t"] == 0.0
     assert process.settings["a"] == pytest.approx(1.1) and process.settings["r"] == pytest.approx(0.02)
     assert joint.settings["t"] == 2.5 and joint.end_time - process.end_time == pytest.approx(2.5)
-    assert linear.settings["load"] == pytest.approx((2.0, 0.0, 0.0, 50.0))
+    assert linear.settings["load"] == pytest.approx((2.0, 0.0, 0.0, 50.0, *(0.0,) * 6))  # no inertia given
     assert joint.settings["tcp"] == pytest.approx((0.0, 0.0, 0.1, 0.0, 0.0, 0.0))
 
 

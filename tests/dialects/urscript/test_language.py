@@ -215,7 +215,7 @@ def test_a_polyscope_style_program_runs_with_every_move():
     first_pick = trace.moves[2]
     assert abs(first_pick.tcp2base[2, 3] - 300.0) < 1e-3 and first_pick.settings["v"] == pytest.approx(0.1)
     assert first_pick.settings["tcp"] == pytest.approx((0.0, 0.0, 0.15, 0.0, 0.0, 0.0))
-    assert first_pick.settings["load"] == pytest.approx((1.5, 0.0, 0.0, 60.0))
+    assert first_pick.settings["load"] == pytest.approx((1.5, 0.0, 0.0, 60.0, *(0.0,) * 6))
     gripper = [(o.value, o.line) for o in trace.outputs if o.name == "standard_digital_out[0]"]
     assert gripper[:2] == [(True, 24), (False, 24)]
     assert trace.messages[0] == "cycle 1"
