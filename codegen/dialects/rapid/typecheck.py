@@ -299,6 +299,12 @@ class Checker:
 
     def e_add(self, node):
         left, right = (self.base(self.expr(c)) for c in node.children)
+        if "POS" in (left, right) and (self.fits("POS", left) and self.fits("POS", right)):
+            return "POS"  # an aggregate of three nums beside a pos is one
+        if isinstance(left, tuple) or isinstance(right, tuple):
+            if None not in (left, right):
+                self.report(node, f"+ of {shown(left)} and {shown(right)}")
+            return None
         if left in NUMERIC and right in NUMERIC:
             return "NUM" if "DNUM" not in (left, right) else "DNUM"
         if left == right and left in ("STRING", "POS"):
