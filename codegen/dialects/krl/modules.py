@@ -59,11 +59,14 @@ def group_modules(files: list[SourceFile], first_is_program: bool = False) -> tu
 
 
 def _calls(tree) -> set[str]:
-    return {
-        str(sub.children[0]).upper()
-        for sub in tree.iter_subtrees()
-        if sub.data in ("call", "call_stmt") and isinstance(sub.children[0], Token)
-    }
+    """The routines a module calls: by name, and those its interrupts call (INTERRUPT DECL ... DO name())."""
+    called = set()
+    for sub in tree.iter_subtrees():
+        if sub.data in ("call", "call_stmt") and isinstance(sub.children[0], Token):
+            called.add(str(sub.children[0]).upper())
+        elif sub.data == "interrupt_decl":
+            called.update(str(c).upper() for c in sub.children if isinstance(c, Token) and c.type == "NAME")
+    return called
 
 
 def _callable(module: Module, tree) -> set[str]:
@@ -78,7 +81,8 @@ def _callable(module: Module, tree) -> set[str]:
 def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
     """Which files make one program each, the program file first: each .src none of whose routines another
     module calls, with its .dat, the modules others call (libraries), the data lists without a .src and
-    $config.dat (a file that does not parse counts as a program)."""
+    $config.dat. Where a .src does not parse, which module calls which is not known: the files are one program,
+    that file first (loading it names its syntax error's line, check reports every file's findings)."""
     modules, configs = group_modules(files)
     with_src = [m for m in modules if m.src is not None]
     if not with_src:
@@ -88,7 +92,8 @@ def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
         try:
             tree = parse(module.src.text, module.src.name, positions=False)
         except RunError:
-            continue
+            rest = [f for m in modules if m is not module for f in (m.src, m.dat) if f is not None]
+            return [[module.src, *([module.dat] if module.dat else []), *rest, *configs]]
         offers[module.name] = _callable(module, tree)
         calls[module.name] = _calls(tree) - offers[module.name]
     libraries = {
