@@ -322,6 +322,7 @@ def run(
                 "ended": trace.ended,
                 "error": None if failure is None else str(failure),
                 "simulated_io": trace.simulated,
+                "warnings": trace.warnings,
                 "clock_s": round(trace.clock, 6),
                 "steps": trace.steps,
             }
@@ -339,6 +340,8 @@ def run(
         click.echo(f"output (line {o.line}): {o.name} = {'on' if o.value else 'off'} at {o.time:.3f} s")
     if trace.simulated:
         click.echo(f"simulated I/O (no device or declaration provides it): {', '.join(trace.simulated)}")
+    for warning in trace.warnings:
+        click.echo(f"warning: {warning}")
     if failure is not None:
         click.echo(f"error: {failure}", err=True)
         click.echo(f"stopped by an error after {len(moves)} moves and {trace.steps} steps ({trace.clock:.3f} s)")

@@ -16,8 +16,8 @@ from codegen.dialects.core.values import RunError
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.environment import CONFIG_DAT, is_config
 from codegen.dialects.krl.environment import NAME as CONFIG_NAME
-from codegen.dialects.krl.motion import SYSTEM_ARRAYS
 from codegen.dialects.krl.names import Scope
+from codegen.dialects.krl.numbered import SYSTEM_ARRAYS
 from codegen.dialects.krl.syntax import parse
 
 # A program is its module (the program file, a .src, with its .dat) and the modules it may call: on the
