@@ -14,6 +14,7 @@ from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Inline, Src, indent
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
 from codegen.dialects.rapid import (
+    cycle,
     dataops,
     errors,
     interrupts,
@@ -131,7 +132,8 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        return {**FUNCTIONS, **BUILTINS, **pendant.BUILTINS, **motionset.BUILTINS, **tracking.BUILTINS}
+        tables = (pendant.BUILTINS, motionset.BUILTINS, tracking.BUILTINS, cycle.BUILTINS)
+        return {**FUNCTIONS, **BUILTINS, **{name: fn for table in tables for name, fn in table.items()}}
 
     def e_number(self, node):
         text = str(node.children[0])
@@ -485,6 +487,7 @@ SPECIAL = {  # instructions compiled from their argument nodes (names, variables
     **pendant.SPECIAL,
     **dataops.SPECIAL,
     **motionset.SPECIAL,
+    **cycle.SPECIAL,
     "UIMSGBOX": messages.ui_msg_box,
     "SEARCHL": search.search_l,
 }
