@@ -79,11 +79,11 @@ def program_files(paths: tuple[str, ...], target_name: str | None):
     if not given:
         raise UserError("no program files of that target among the files given")
     if len(paths) == 1 and not folders and given[0].suffix.lower() in dialect.suffixes:
-        for suffix in dialect.companions:  # the data files of the program's name beside it
-            for companion in (given[0].with_suffix(suffix), given[0].with_suffix(suffix.upper())):
-                if companion.is_file() and companion not in given:
-                    given.append(companion)
-                    break
+        try:
+            beside = dialect.beside(given[0])  # the data files it brings from its folder
+        except RunError as exc:
+            raise UserError(str(exc)) from None
+        given.extend(p for p in beside if p not in given)
     try:
         files = [read_source(p, dialect.encodings) for p in dict.fromkeys(given)]
     except RunError as exc:

@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import copy
+import re
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 
 from lark import Token, Tree
 
-from codegen.dialects.core.files import SourceFile
+from codegen.dialects.core.files import SourceFile, read_source
 from codegen.dialects.core.machine import Program
 from codegen.dialects.core.shapes import ShapeCache
 from codegen.dialects.core.values import RunError
@@ -107,6 +108,30 @@ def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
     for main in mains:
         rest = [f for m in shared if m is not main for f in (m.src, m.dat) if f is not None]
         out.append([main.src, *([main.dat] if main.dat else []), *rest, *configs])
+    return out
+
+
+_WORD = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")
+
+
+def data_lists_beside(path: Path, encodings) -> list[Path]:
+    """The .dat files in the folder of a .src that have no .src of their own (data lists, not $config.dat) and
+    declare a name the program's text uses; one that does not parse comes too (loading names its line)."""
+    folder = path.parent
+    stems = {p.stem.upper() for p in folder.iterdir() if p.suffix.lower() == ".src"}
+    used = {w.upper() for w in _WORD.findall(read_source(path, encodings).text)}
+    out = []
+    for candidate in sorted(folder.iterdir()):
+        if candidate.suffix.lower() != ".dat" or candidate.stem.upper() in stems or is_config(candidate.name):
+            continue
+        data = read_source(candidate, encodings)
+        try:
+            _types, declared = _declared([(data.name, parse(data.text, data.name, positions=False))])
+        except RunError:
+            out.append(candidate)
+            continue
+        if declared & used:
+            out.append(candidate)
     return out
 
 
