@@ -6,7 +6,7 @@ import sys
 
 import click
 
-from codegen import cli_check, cli_plant, cli_run  # noqa: F401  (they register their commands)
+from codegen import cli_check, cli_init, cli_plant, cli_run  # noqa: F401  (they register their commands)
 from codegen.cli_base import (
     Folder,
     Number,

@@ -79,11 +79,11 @@ def program_files(paths: tuple[str, ...], target_name: str | None):
     if not given:
         raise UserError("no program files of that target among the files given")
     if len(paths) == 1 and not folders and given[0].suffix.lower() in dialect.suffixes:
-        for suffix in dialect.companions:  # the data files of the program's name beside it
-            for companion in (given[0].with_suffix(suffix), given[0].with_suffix(suffix.upper())):
-                if companion.is_file() and companion not in given:
-                    given.append(companion)
-                    break
+        try:
+            beside = dialect.beside(given[0])  # the data files it brings from its folder
+        except RunError as exc:
+            raise UserError(str(exc)) from None
+        given.extend(p for p in beside if p not in given)
     try:
         files = [read_source(p, dialect.encodings) for p in dict.fromkeys(given)]
     except RunError as exc:
@@ -322,6 +322,7 @@ def run(
                 "ended": trace.ended,
                 "error": None if failure is None else str(failure),
                 "simulated_io": trace.simulated,
+                "warnings": trace.warnings,
                 "clock_s": round(trace.clock, 6),
                 "steps": trace.steps,
             }
@@ -339,6 +340,8 @@ def run(
         click.echo(f"output (line {o.line}): {o.name} = {'on' if o.value else 'off'} at {o.time:.3f} s")
     if trace.simulated:
         click.echo(f"simulated I/O (no device or declaration provides it): {', '.join(trace.simulated)}")
+    for warning in trace.warnings:
+        click.echo(f"warning: {warning}")
     if failure is not None:
         click.echo(f"error: {failure}", err=True)
         click.echo(f"stopped by an error after {len(moves)} moves and {trace.steps} steps ({trace.clock:.3f} s)")

@@ -116,6 +116,18 @@ class Dialect:
         return groups
 
     @classmethod
+    def beside(cls, path) -> list:
+        """The data files a program file given alone brings from its folder (Paths, not the program itself): by
+        default its companions of its own name (a .src's .dat), in the case found on disk."""
+        out = []
+        for suffix in cls.companions:
+            for candidate in (path.with_suffix(suffix), path.with_suffix(suffix.upper())):
+                if candidate.is_file():
+                    out.append(candidate)
+                    break
+        return out
+
+    @classmethod
     def load_files(cls, files: list):
         """One program from its files (SourceFile, the program file first, as programs() groups them)."""
         main, rest = files[0], files[1:]

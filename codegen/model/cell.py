@@ -13,11 +13,12 @@ import numpy as np
 
 from codegen.guard import TAUGHT_RANGE_MM
 from codegen.model import io, motion, tables, vision
+from codegen.model.hints import missing_hint
 from codegen.model.io import SignalSettings
 from codegen.model.loader import Loader
 from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot
-from codegen.model.validate import CellError, Validator
+from codegen.model.validate import CellError, Validator, metres_hint
 from codegen.model.vision import VisionSettings
 from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
@@ -99,7 +100,19 @@ def load_cell(path: str | Path | None = None, kinds: Kinds | None = None) -> Cel
     except RecursionError:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except CellError as exc:
-        raise exc.with_line(raw.decode("utf-8", errors="replace")) from None
+        raise _explained(exc, kinds).with_line(raw.decode("utf-8", errors="replace")) from None
+
+
+def _explained(exc: CellError, kinds: Kinds | None) -> CellError:
+    """A missing key's error with what the key is for and a minimal example of it (codegen/model/hints.py)."""
+    if not exc.key or not exc.detail.startswith("missing"):
+        return exc
+    doc, example = missing_hint(tables.file_table(installed_kinds() if kinds is None else kinds), exc.key)
+    if not example:
+        return exc
+    said = exc.detail if exc.detail != "missing" else f"missing: {doc}"
+    detail = f"{said}. For example:\n{example}"
+    return CellError(f"{exc.source}: {exc.key}: {detail}", exc.source, exc.key, detail)
 
 
 def read_cell_data(path: Path) -> tuple[dict, bytes]:
@@ -142,7 +155,7 @@ def replace_cell_file(path: Path, text: str, kinds: Kinds | None = None) -> None
         except RecursionError:
             raise CellError(f"{path}: tables or arrays nested too deeply") from None
         except CellError as exc:
-            raise exc.with_line(raw.decode("utf-8", errors="replace")) from None
+            raise _explained(exc, kinds).with_line(raw.decode("utf-8", errors="replace")) from None
         for kind in cell.kinds.values():
             kind.writer.reach(cell, list(cell.targets))
 
@@ -207,13 +220,14 @@ class CellValidator(Validator):
             numbers = self.normalise_quaternion(numbers, pose_path)
         bound = TAUGHT_RANGE_MM / (1000.0 if pose_format == "ur" else 1.0)
         if max(abs(v) for v in numbers[:3]) > bound:
-            self.fail(pose_path, f"position must be within +-{bound:g} (cell units)")
+            self.fail(pose_path, f"position must be within +-{bound:g} (cell units){metres_hint(pose_format)}")
         return TaughtPose(pose_name, numbers, pose_format)
 
     def orientation(self, numbers: tuple[float, ...], path: str, pose_format: str) -> tuple[float, ...]:
         """A pose's values with its orientation (after x, y, z) checked: angles within one turn."""
         if pose_format in ORIENTATION_UNITS:
-            self.angles(numbers[3:], path, ORIENTATION_UNITS[pose_format], "orientation values")
+            unit = ORIENTATION_UNITS[pose_format]
+            self.angles(numbers[3:], path, unit, "orientation values", metres_hint(pose_format))
         return numbers
 
     def normalise_quaternion(self, numbers: tuple[float, ...], path: str) -> tuple[float, ...]:

@@ -10,10 +10,12 @@ import numpy as np
 from codegen.controllers import get_target, target_names
 from codegen.model.loader import Loader
 from codegen.model.schema import Key, Table
+from codegen.model.validate import metres_hint
 from codegen.poses import POSE_FORMATS
 from codegen.robot.arms import Arm, ArmError, arm_from_table, catalogue, check_inside, find_arm
 
 TOOL_OFFSET_MAX_MM = 2000.0
+TCP_MIN_MM = 1.0  # a TCP nearer the flange than this but not at it is no tool: a value given in metres
 _MARGIN = {"type": "number", "unit": "deg", "low": 0.0, "high": 90.0}
 # [cell.robot] without its per-target keys (robot_table() adds them): the definition the loader reads
 ROBOT_KEYS = {
@@ -270,8 +272,16 @@ def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
     if pose_format == "abb":
         tcp = ctx.normalise_quaternion(tcp, "cell.tool.tcp")
     scale = 1000.0 if pose_format == "ur" else 1.0
-    if max(abs(v) for v in tcp[:3]) * scale > TOOL_OFFSET_MAX_MM:
-        ctx.fail("cell.tool.tcp", f"the TCP must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
+    reach = max(abs(v) for v in tcp[:3])
+    if reach * scale > TOOL_OFFSET_MAX_MM:
+        hint = metres_hint(pose_format)
+        ctx.fail("cell.tool.tcp", f"the TCP must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange{hint}")
+    if pose_format != "ur" and 0.0 < reach < TCP_MIN_MM:
+        ctx.fail(
+            "cell.tool.tcp",
+            f"the TCP is {reach:g} mm from the flange: given in metres? This cell's poses are mm (pose_format = "
+            f'"{pose_format}"): {reach:g} m is {reach * 1000.0:g} mm',
+        )
     mass = ctx.number(table, "mass_kg", "cell.tool.mass_kg")
     if not TOOL_MASS_MIN_KG <= mass <= TOOL_MASS_MAX_KG:
         ctx.fail(

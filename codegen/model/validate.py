@@ -6,11 +6,23 @@ import math
 
 from codegen.guard import TAUGHT_RANGE_MM
 from codegen.model.lines import line_of
+from codegen.poses import POSE_FORMATS
 
 # One turn, the bound of every angle a cell file gives (orientations, pattern angles, offsets): the same
 # rotation can always be written within it, and a float32 step at 360 deg is 3e-5 deg
 ANGLE_BOUNDS = {"deg": 360.0, "rad": 2 * math.pi}
+FLOAT32_TURN = "a float32 controller keeps an angle beyond one turn too coarsely (at 1e9 deg a float32 step is 64 deg)"
 DIGITS_SHOWN = 12  # a number in a message is shown with at most this many digits
+
+
+def metres_hint(pose_format: str) -> str:
+    """Why values too large for a metre-and-radian format are so: what that format takes and the way out."""
+    if pose_format != "ur":
+        return ""
+    return (
+        f' (pose_format = "ur" takes {POSE_FORMATS["ur"][3]}: values in mm and degrees are 1000 and 57 times too '
+        'large; write metres and radians, or set pose_format = "xyzabc" for mm and degrees)'
+    )
 
 
 class CellError(Exception):
@@ -89,17 +101,15 @@ class Validator:
         return numbers
 
     def angles(
-        self, values: tuple[float, ...], path: str, unit: str = "deg", what: str = "angles"
+        self, values: tuple[float, ...], path: str, unit: str = "deg", what: str = "angles", hint: str = ""
     ) -> tuple[float, ...]:
         """Angles within one turn (ANGLE_BOUNDS, deg or rad), as the taught poses' orientation: beyond it a
-        float32 controller keeps the angle too coarsely (at 1e9 deg a float32 step is 64 deg)."""
+        float32 controller keeps the angle too coarsely (at 1e9 deg a float32 step is 64 deg). hint: what the
+        format takes, where values beyond it are likely in another unit."""
         bound = ANGLE_BOUNDS[unit]
         if values and max(abs(v) for v in values) > bound:
-            self.fail(
-                path,
-                f"{what} must be within +-{bound:g} {unit}: a float32 controller keeps an angle beyond one turn "
-                "too coarsely (at 1e9 deg a float32 step is 64 deg)",
-            )
+            why = hint or f": {FLOAT32_TURN}"
+            self.fail(path, f"{what} must be within +-{bound:g} {unit}{why}")
         return values
 
     def name(self, table: dict, key: str, path: str) -> str:

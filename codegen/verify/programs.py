@@ -109,18 +109,17 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
 
 
 def _companions_beside(paths: list[Path], dialect) -> list[Path]:
-    """The data files beside each given program file that were not given themselves (a .src's .dat)."""
+    """The data files each given program file brings from its folder (Dialect.beside: a .src's .dat and the data
+    lists it uses) that were not given themselves."""
     given = {p.resolve() for p in paths}
     out = []
     for path in paths:
         if path.suffix.lower() not in dialect.suffixes:
             continue
-        for suffix in dialect.companions:
-            for candidate in (path.with_suffix(suffix), path.with_suffix(suffix.upper())):
-                if candidate.is_file() and candidate.resolve() not in given:
-                    out.append(candidate)
-                    given.add(candidate.resolve())
-                    break
+        for candidate in dialect.beside(path):
+            if candidate.resolve() not in given:
+                out.append(candidate)
+                given.add(candidate.resolve())
     return out
 
 

@@ -262,6 +262,11 @@ class Machine:
         if name not in self.trace.simulated:
             self.trace.simulated.append(name)
 
+    def warn(self, text: str) -> None:
+        """Something the run assumed that the program's files do not say, named once in the trace."""
+        if text not in self.trace.warnings:
+            self.trace.warnings.append(text)
+
     def message(self, text: str) -> None:
         """A message the operator sees (the teach pendant's log or a dialog), with the moment."""
         self.trace.messages.append(text)

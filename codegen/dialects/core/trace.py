@@ -49,6 +49,8 @@ class Trace:
     # signals the program used that no device or declaration provides: simulated I/O (inputs read as off, outputs
     # recorded), named so that a report shows them (Machine.simulated)
     simulated: list[str] = field(default_factory=list)
+    # what the run took as a fresh controller has it where the program's files do not give it (Machine.warn)
+    warnings: list[str] = field(default_factory=list)
 
 
 NO_MESSAGE = "the program stopped without a message"  # a stop whose program wrote no message before it

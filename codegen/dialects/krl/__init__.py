@@ -76,6 +76,12 @@ class KRL(Dialect):
         return cls.module("modules").programs(files)
 
     @classmethod
+    def beside(cls, path) -> list:
+        """Its .dat, and the data lists of the folder without a .src of their own that declare a name the program
+        uses (a PUBLIC data list of global counters beside it)."""
+        return [*super().beside(path), *cls.module("modules").data_lists_beside(path, cls.encodings)]
+
+    @classmethod
     def load_files(cls, files: list):
         return cls.module("modules").load_files(files)
 

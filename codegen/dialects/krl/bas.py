@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 from codegen.dialects.core.values import F32, Record, RunError, f32
-from codegen.dialects.krl.builtins import UNINIT, frame, new_value, type_name_of, valid
-from codegen.dialects.krl.motion import SYSTEM_ARRAYS
+from codegen.dialects.krl.builtins import UNINIT, frame, type_name_of, valid
+from codegen.dialects.krl.numbered import SYSTEM_ARRAYS, fresh_values, fresh_warning
 from codegen.dialects.krl.sysvars import read, set_tool, write
 
 # What BAS(command, value) sets, as KUKA's BAS.SRC of KSS 8 does (R1/System/BAS.SRC: the routines INITMOV,
@@ -91,16 +91,11 @@ def acc_cp(fr, percent: float, where: str) -> None:
 
 def numbered(fr, array: str, n: int, where: str) -> Record:
     """TOOL_DATA[n] / BASE_DATA[n] (the controller's $config.dat: --input or a given $config.dat)."""
-    type_name, size, _shape = SYSTEM_ARRAYS[array]
+    size = SYSTEM_ARRAYS[array][1]
     if not 1 <= n <= size:
         raise RunError(f"{where}: {array}[{n}]: the number must be 1..{size}")
-    values = fr.m.state.sysvars.get(array) or [new_value(type_name) for _ in range(size)]
-    value = values[n - 1]
-    if value["X"] is UNINIT:
-        raise RunError(
-            f"{where}: {array}[{n}] has no value here (the controller's $config.dat: give it with "
-            f"--input {array}[{n}]=X,Y,Z,A,B,C or a $config.dat among the program's files)"
-        )
+    value = fresh_values(fr.m, array)[n - 1]
+    fresh_warning(fr.m, value)
     return value
 
 
@@ -303,8 +298,9 @@ def sload(fr, args, kwargs, where):
     size = SYSTEM_ARRAYS["LOAD_DATA"][1]
     if not 1 <= n <= size:
         raise RunError(f"{where}: SLOAD({n}): the number must be 1..{size}")
-    values = fr.m.state.sysvars.get("LOAD_DATA") or [new_value("LOAD") for _ in range(size)]
-    return values[n - 1]
+    value = fresh_values(fr.m, "LOAD_DATA")[n - 1]
+    fresh_warning(fr.m, value)
+    return value
 
 
 def sapo_ptp(fr, args, kwargs, where):

@@ -56,7 +56,12 @@ STRUCTS = {
     "VEL_STRUC": [("CP", "REAL"), ("ORI1", "REAL"), ("ORI2", "REAL")],  # m/s, deg/s, deg/s
     "ACC_STRUC": [("CP", "REAL"), ("ORI1", "REAL"), ("ORI2", "REAL")],  # m/s2, deg/s2, deg/s2
     "APO_STRUC": [("CVEL", "INT"), ("CPTP", "INT"), ("CDIS", "REAL"), ("CORI", "REAL")],  # %, %, mm, deg
+    # the state CREAD / CWRITE return (KSS 8 CREAD/CWRITE manual, as recalled: RET1 a CMD_STAT value, the number
+    # of values read, the length read); the channel functions themselves are refused by name (NOT_MODELLED)
+    "STATE_T": [("RET1", "ENUM"), ("HITS", "INT"), ("LENGTH", "INT")],
 }
+# The system's enumeration types a program may declare data of (KSS 8 programming manual, as recalled)
+SYSTEM_ENUMS = {"VAR_STATE": frozenset({"#DECLARED", "#INITIALIZED", "#UNKNOWN"})}
 # Message types the operator must acknowledge (KSS 8 system integrators manual, Set_KrlMsg: #QUIT, and
 # #WAITING until the program clears it); #NOTIFY and #STATE need none.
 ACKNOWLEDGED = frozenset({"#QUIT"})
@@ -167,7 +172,8 @@ NOT_MODELLED = {
         "EKI_GETINT EKI_GETREAL EKI_GETSTRING EKI_GETBOOL EKI_SETBOOL EKI_CHECK EKI_LOCK EKI_UNLOCK",
         "error handling": "ERR_RAISE ERR_CLEAR",
         "kinematics functions": "INVERSE FORWARD",
-        "KUKA's technology packages": "P00 H50 USER_GRP USERSPOT A20 A10",
+        "KUKA's Automatic External module: the program number a PLC sends": "P00 P00_SUBM",
+        "KUKA's technology packages": "H50 USER_GRP USERSPOT A20 A10",
         "messages of KSS 5": "MSG_SEND CLEAR_KRLMSG",
     }.items()
     for name in names.split()
@@ -261,6 +267,32 @@ def msg(kind: str):
     return call
 
 
+def varstate(fr, args, kwargs, where):
+    """VARSTATE(name): #UNKNOWN where no variable of that name is declared, #DECLARED where it has no value yet,
+    #INITIALIZED where it has one (KSS 8 programming manual for system integrators, VARSTATE(), as recalled; a
+    structure counts as initialized where its components all have values, assumed). The name is looked up in the
+    routine's own variables, then in every module's data (the scope rules of a name given as text: assumed)."""
+    if len(args) != 1 or not isinstance(args[0], str):
+        raise RunError(f"{where}: VARSTATE takes the variable's name as a CHAR array")
+    key = args[0].strip().upper()
+    if key in fr.vars:
+        value = fr.vars[key]
+    else:
+        stores = [k for k in fr.m.global_types if k == key or k.endswith(":" + key)]
+        if not stores:
+            return "#UNKNOWN"
+        value = fr.m.globals.get(stores[0], UNINIT)
+    return "#INITIALIZED" if _has_value(value) else "#DECLARED"
+
+
+def _has_value(value) -> bool:
+    if isinstance(value, Record):
+        return all(_has_value(v) for v in value.values())
+    if isinstance(value, list):
+        return all(_has_value(v) for v in value)
+    return value is not UNINIT
+
+
 BUILTINS = {  # the KRL functions and procedures the interpreter provides, by upper-case name
     "ACOS": arc(math.acos),
     "ASIN": arc(math.asin),
@@ -275,4 +307,5 @@ BUILTINS = {  # the KRL functions and procedures the interpreter provides, by up
     "INV_POS": inv_pos,
     "SET_KRLMSG": set_krlmsg,
     "EXISTS_KRLMSG": exists_krlmsg,
+    "VARSTATE": varstate,
 }

@@ -25,6 +25,7 @@ from codegen.dialects.krl.motion import (
     system_inputs,
 )
 from codegen.dialects.krl.names import Scope, ScopedNames
+from codegen.dialects.krl.numbered import fresh_warning
 from codegen.dialects.krl.relative import relative_target
 from codegen.dialects.krl.signals import SignalGroups
 from codegen.dialects.krl.spline import KINDS, WithClauses, motion_parts
@@ -275,14 +276,18 @@ class KRLCompiler(
             if name == "$BASE":
 
                 def set_base(fr):
-                    fr.m.state.sysvars["$BASE"] = self.coerce("FRAME", value(fr), where)
+                    base = value(fr)
+                    fresh_warning(fr.m, base)
+                    fr.m.state.sysvars["$BASE"] = self.coerce("FRAME", base, where)
 
                 return set_base
             if name == "$TOOL":
                 return lambda fr: set_tool(fr, self.coerce("FRAME", value(fr), where), where)
 
             def set_load(fr):
-                fr.m.state.sysvars["$LOAD"] = self.coerce("LOAD", value(fr), where)
+                load = value(fr)
+                fresh_warning(fr.m, load)
+                fr.m.state.sysvars["$LOAD"] = self.coerce("LOAD", load, where)
 
             return set_load
         declared = self.static_type(target_node)

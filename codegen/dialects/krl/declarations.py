@@ -8,8 +8,8 @@ import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
-from codegen.dialects.krl.builtins import CART, SIMPLE, STRUCTS, UNINIT, new_value, type_name_of
-from codegen.dialects.krl.motion import SYSTEM_ARRAYS
+from codegen.dialects.krl.builtins import CART, SIMPLE, STRUCTS, SYSTEM_ENUMS, UNINIT, new_value, type_name_of
+from codegen.dialects.krl.numbered import SYSTEM_ARRAYS
 from codegen.dialects.krl.sysvars import SHARED_STRUCTS
 
 # KSS 8 programming manual for system integrators, "Variables and declarations": arrays have up to three
@@ -29,7 +29,7 @@ class Declarations:
     def init_types(self) -> None:
         self.structs: dict[str, list] = {**STRUCTS, **SHARED_STRUCTS}
         self.struct_fields = {name: dict(fields) for name, fields in self.structs.items()}
-        self.enums: dict[str, frozenset] = {}
+        self.enums: dict[str, frozenset] = dict(SYSTEM_ENUMS)
         self.RECORD_TYPES = frozenset(self.structs)
         self.data_decls: list = []
         self.static_types: dict = {}  # a data list's names (storage key) -> declared type, for the static checks

@@ -11,8 +11,11 @@ from __future__ import annotations
 # A $config.dat given among a program's files is read after it: its declarations replace these (its own
 # XHOME, its signals, its TOOL_DATA / BASE_DATA / LOAD_DATA values). TOOL_DATA, BASE_DATA and LOAD_DATA are
 # not declared here: the interpreter does not know a controller's tools and bases (codegen/dialects/krl/
-# motion.py SYSTEM_ARRAYS: --input TOOL_DATA[n]=... or a given $config.dat sets them; without, a program that
-# uses one is refused when it reads it).
+# numbered.py: --input TOOL_DATA[n]=... or a given $config.dat sets them; an entry nothing sets is a fresh
+# controller's, and a run that uses it warns).
+# The AUTOEXT GLOBALS below (Automatic External: the program number a PLC sends, read by KUKA's P00 module)
+# are the names, types and values of KSS 8 $config.dat files as shipped (seen in controllers' backups; the
+# manual for system integrators lists the variables, its values were not readable here: not confirmed).
 NAME = "built-in $config.dat"  # the name the built-in module's messages carry (not a file of the user's)
 CONFIG_DAT = (
     "\n".join(
@@ -82,6 +85,28 @@ CONFIG_DAT = (
             "E6AXIS XHOME5={A1 0.0,A2 -90.0,A3 90.0,A4 0.0,A5 0.0,A6 0.0,E1 0.0,E2 0.0,E3 0.0,E4 0.0,E5 0.0,E6 0.0}",
             "INT MAX_TOOL=16",
             "INT MAX_BASE=32",
+            "; Automatic External's globals (the AUTOEXT GLOBALS fold; P00 itself is refused by name)",
+            "ENUM FUNCT_TYPE PGNO_GET,PGNO_ACKN,PGNO_FAULT",
+            "ENUM P00_COMMAND INIT_EXT,EXT_PGNO,CHK_HOME,EXT_ERR",
+            "STRUC SPS_PROG_TYPE INT PROG_NR,CHAR PROG_NAME[12]",
+            "BOOL ERROR_FLAG",
+            "BOOL CHECK_HOME=TRUE",
+            "BOOL PROG_CONTROL=FALSE",
+            "INT PGNO=0",
+            "INT PGNO_ERROR=0",
+            "INT PGNO_TYPE=1",
+            "INT REFLECT_PROG_NR=0",
+            "INT PGNO_FBIT=33",
+            "INT PGNO_FBIT_REFL=999",
+            "INT PGNO_LENGTH=8",
+            "INT PGNO_PARITY=41",
+            "INT PGNO_REQ=33",
+            "INT PGNO_VALID=42",
+            "INT APPL_RUN=34",
+            "INT ERR_TO_PLC=35",
+            "INT P01_STEP",
+            "INT CHK_STEP",
+            "INT PGNO_FLAG",
             "ENDDAT",
         )
     )

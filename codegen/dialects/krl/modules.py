@@ -3,21 +3,22 @@
 from __future__ import annotations
 
 import copy
+import re
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 
 from lark import Token, Tree
 
-from codegen.dialects.core.files import SourceFile
+from codegen.dialects.core.files import SourceFile, read_source
 from codegen.dialects.core.machine import Program
 from codegen.dialects.core.shapes import ShapeCache
 from codegen.dialects.core.values import RunError
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.environment import CONFIG_DAT, is_config
 from codegen.dialects.krl.environment import NAME as CONFIG_NAME
-from codegen.dialects.krl.motion import SYSTEM_ARRAYS
 from codegen.dialects.krl.names import Scope
+from codegen.dialects.krl.numbered import SYSTEM_ARRAYS
 from codegen.dialects.krl.syntax import parse
 
 # A program is its module (the program file, a .src, with its .dat) and the modules it may call: on the
@@ -59,11 +60,14 @@ def group_modules(files: list[SourceFile], first_is_program: bool = False) -> tu
 
 
 def _calls(tree) -> set[str]:
-    return {
-        str(sub.children[0]).upper()
-        for sub in tree.iter_subtrees()
-        if sub.data in ("call", "call_stmt") and isinstance(sub.children[0], Token)
-    }
+    """The routines a module calls: by name, and those its interrupts call (INTERRUPT DECL ... DO name())."""
+    called = set()
+    for sub in tree.iter_subtrees():
+        if sub.data in ("call", "call_stmt") and isinstance(sub.children[0], Token):
+            called.add(str(sub.children[0]).upper())
+        elif sub.data == "interrupt_decl":
+            called.update(str(c).upper() for c in sub.children if isinstance(c, Token) and c.type == "NAME")
+    return called
 
 
 def _callable(module: Module, tree) -> set[str]:
@@ -78,7 +82,8 @@ def _callable(module: Module, tree) -> set[str]:
 def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
     """Which files make one program each, the program file first: each .src none of whose routines another
     module calls, with its .dat, the modules others call (libraries), the data lists without a .src and
-    $config.dat (a file that does not parse counts as a program)."""
+    $config.dat. Where a .src does not parse, which module calls which is not known: the files are one program,
+    that file first (loading it names its syntax error's line, check reports every file's findings)."""
     modules, configs = group_modules(files)
     with_src = [m for m in modules if m.src is not None]
     if not with_src:
@@ -88,7 +93,8 @@ def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
         try:
             tree = parse(module.src.text, module.src.name, positions=False)
         except RunError:
-            continue
+            rest = [f for m in modules if m is not module for f in (m.src, m.dat) if f is not None]
+            return [[module.src, *([module.dat] if module.dat else []), *rest, *configs]]
         offers[module.name] = _callable(module, tree)
         calls[module.name] = _calls(tree) - offers[module.name]
     libraries = {
@@ -102,6 +108,30 @@ def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
     for main in mains:
         rest = [f for m in shared if m is not main for f in (m.src, m.dat) if f is not None]
         out.append([main.src, *([main.dat] if main.dat else []), *rest, *configs])
+    return out
+
+
+_WORD = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")
+
+
+def data_lists_beside(path: Path, encodings) -> list[Path]:
+    """The .dat files in the folder of a .src that have no .src of their own (data lists, not $config.dat) and
+    declare a name the program's text uses; one that does not parse comes too (loading names its line)."""
+    folder = path.parent
+    stems = {p.stem.upper() for p in folder.iterdir() if p.suffix.lower() == ".src"}
+    used = {w.upper() for w in _WORD.findall(read_source(path, encodings).text)}
+    out = []
+    for candidate in sorted(folder.iterdir()):
+        if candidate.suffix.lower() != ".dat" or candidate.stem.upper() in stems or is_config(candidate.name):
+            continue
+        data = read_source(candidate, encodings)
+        try:
+            _types, declared = _declared([(data.name, parse(data.text, data.name, positions=False))])
+        except RunError:
+            out.append(candidate)
+            continue
+        if declared & used:
+            out.append(candidate)
     return out
 
 

@@ -10,7 +10,8 @@ from codegen.dialects import posemath
 from codegen.dialects.core.machine import MoveEvent
 from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.krl import trigger
-from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, new_value, shown, valid, xyzabc
+from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, shown, valid, xyzabc
+from codegen.dialects.krl.numbered import SYSTEM_ARRAYS, fresh_values, no_inertia
 from codegen.dialects.krl.position import base2robot, record_base
 from codegen.dialects.krl.sysvars import axis_act
 from codegen.poses import rotmat_from_zyx_deg
@@ -18,11 +19,6 @@ from codegen.world import loads
 
 AXES = ("AXIS", "E6AXIS")
 # The controller's numbered data ($config.dat; KSS 8 system variables): type, count, how `--input` gives one
-SYSTEM_ARRAYS = {
-    "BASE_DATA": ("FRAME", 32, "X,Y,Z,A,B,C"),
-    "TOOL_DATA": ("FRAME", 16, "X,Y,Z,A,B,C"),
-    "LOAD_DATA": ("LOAD", 16, "M,X,Y,Z[,A,B,C,JX,JY,JZ] (kg, centre of gravity mm, principal axes deg, kg m2)"),
-}
 SYSTEM_ARRAY = re.compile(r"(BASE_DATA|TOOL_DATA|LOAD_DATA)\[(\d+)\]")
 
 
@@ -86,7 +82,7 @@ def system_inputs(machine) -> dict | None:
         counts = (6,) if type_name == "FRAME" else (4, 10)
         if not 1 <= index <= size or not isinstance(value, tuple | list) or len(value) not in counts:
             raise RunError(f"input {name}: expected {array}[1..{size}] = {shape}")
-        values = list(machine.state.sysvars.get(array) or [new_value(type_name) for _ in range(size)])
+        values = list(fresh_values(machine, array))
         values[index - 1] = frame(value) if type_name == "FRAME" else load_record(value)
         machine.state.sysvars[array] = values
     return rest

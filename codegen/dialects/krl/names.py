@@ -9,9 +9,9 @@ from lark import Token, Tree
 from codegen.dialects.core.source import LazyStore, Src
 from codegen.dialects.core.values import RunError
 from codegen.dialects.krl import dialogs, sysvars
-from codegen.dialects.krl.builtins import NOT_MODELLED, UNINIT, frame, new_value, valid
+from codegen.dialects.krl.builtins import NOT_MODELLED, UNINIT, frame, valid
 from codegen.dialects.krl.interrupts import pos_int
-from codegen.dialects.krl.motion import SYSTEM_ARRAYS
+from codegen.dialects.krl.numbered import SYSTEM_ARRAYS, fresh_values
 from codegen.dialects.krl.position import ACTIVE_BASE_AT_START
 from codegen.dialects.krl.sysvars import REFUSED
 
@@ -104,10 +104,9 @@ class ScopedNames:
         if key.startswith("$") and key not in self.scope.data:
             return self.system_reader(token)
         if key in SYSTEM_ARRAYS and key not in self.scope.data:  # the controller's numbered data ($config.dat)
-            type_name, size, _shape = SYSTEM_ARRAYS[key]
 
             def read_numbered(fr):
-                return fr.m.state.sysvars.setdefault(key, [new_value(type_name) for _ in range(size)])
+                return fresh_values(fr.m, key)
 
             return read_numbered
         if self.local_types is not None and key in self.local_types:

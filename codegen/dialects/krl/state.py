@@ -23,4 +23,5 @@ class KRLState(RunState):
     waiting: dict = field(default_factory=dict)  # handle -> an acknowledgement message still shown
     dialogs: dict = field(default_factory=dict)  # handle -> dialogs.Dialog
     triggers: tuple = ()  # the TRIGGERs pending for the next motion (trigger.py)
+    fresh: dict = field(default_factory=dict)  # id -> (name, value): the numbered data nobody set (motion.py)
     move_bases: dict = field(default_factory=dict)  # id of a MoveEvent -> the $BASE it was planned in (4x4 mm)

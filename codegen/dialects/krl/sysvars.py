@@ -17,6 +17,7 @@ from codegen.dialects.krl.builtins import (
     type_name_of,
     xyzabc,
 )
+from codegen.dialects.krl.numbered import fresh_warning
 from codegen.dialects.krl.position import base2robot
 from codegen.poses import invert
 from codegen.robot.config import FORMS
@@ -50,6 +51,11 @@ TABLE: dict[str, tuple[str, int | None, object]] = {
     "$TIMER_FLAG": ("BOOL", TIMERS, None),  # computed, read-only
     "$STOPMESS": ("BOOL", None, False),  # read-only: no stop message is ever pending here
     "$MODE_OP": ("ENUM", None, "#AUT"),  # read-only: the interpreter runs a program as in automatic mode (assumed)
+    # the operating mode's outputs (KSS 8 system variables: $T1, $T2, $AUT, $EXT, BOOL, read-only), as $MODE_OP
+    "$T1": ("BOOL", None, False),
+    "$T2": ("BOOL", None, False),
+    "$AUT": ("BOOL", None, True),
+    "$EXT": ("BOOL", None, False),
     "$NUM_AX": ("INT", None, AXES),
     "$EX_AX_NUM": ("INT", None, 0),  # no external axes modelled
     "$WORKSPACE": ("WORKSPACE", 8, None),  # recorded only: a violation never stops the arm here
@@ -69,6 +75,10 @@ READ_ONLY = frozenset(
         "$TIMER_FLAG",
         "$STOPMESS",
         "$MODE_OP",
+        "$T1",
+        "$T2",
+        "$AUT",
+        "$EXT",
         "$NUM_AX",
         "$EX_AX_NUM",
         "$POS_ACT",
@@ -322,6 +332,7 @@ def tool_of(fr, where: str) -> Record:
 
 
 def set_tool(fr, value, where: str) -> None:
+    fresh_warning(fr.m, value)
     tool = cart(value, where)
     posemath.check_finite(xyzabc(tool), where, "$TOOL")
     fr.m.state.sysvars["$TOOL"] = tool

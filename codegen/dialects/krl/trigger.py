@@ -25,7 +25,8 @@ from codegen.dialects.core.values import RunError
 # sets change when the interpreter plans the motion, so a program that reads them in the advance run, before
 # the switching point, sees them early: not modelled). The switching point of an approximated point (the middle
 # of its approximation arc) is not modelled: the trace has no arcs, the point is the programmed one. A switching
-# point outside its motion is refused, and so is a variable set as the action.
+# point outside its motion is refused. DO variable = value sets the variable at the switching point (as a
+# subprogram's variables: it changes when the interpreter plans the motion).
 
 
 @dataclass
@@ -34,7 +35,7 @@ class Trigger:
     at: float  # DISTANCE 0 / 1, or PATH mm
     onstart: bool
     delay_ms: float
-    store: object  # [(output name, bit)], or the subprogram's key and its arguments: ("call", key, args)
+    store: object  # [(output name, bit)], ("call", subprogram key, arguments) or ("assign", frame, assignment)
     value: object
     where: str
 
@@ -53,9 +54,15 @@ class TriggerStatements:
         if inner.data == "assign":
             target, value_node = inner.children
             output = self.output_name(target)
-            if output is None:
-                self.fail(inner, "TRIGGER ... DO: a variable set is not modelled (an output set or a subprogram is)")
-            value = self.expr(value_node)
+            if output is None:  # a variable set at the switching point
+                assign = self.s_assign(inner)
+
+                def output(fr):
+                    return ("assign", fr, assign)
+
+                value = lambda fr: None  # noqa: E731
+            else:
+                value = self.expr(value_node)
         else:
             output, value = self.trigger_call(inner), (lambda fr: None)
         at, delay, where = (
@@ -138,6 +145,9 @@ def fire(m, event, t0: float, speed_mm_s: float) -> None:
         if t < t0 - 1e-9:
             raise RunError(f"{trigger.where}: TRIGGER: the switching point lies before its motion (not modelled)")
         pose = _pose_at(start, end, t0, t1, t, speed_mm_s, accel)
+        if isinstance(trigger.store, tuple) and trigger.store[0] == "assign":
+            _assign(m, trigger, t)
+            continue
         if isinstance(trigger.store, tuple):
             _call(m, trigger, t)
             continue
@@ -164,6 +174,18 @@ def _pose_at(start, end, t0: float, t1: float, t: float, speed_mm_s: float = 0.0
     pose = end.copy()
     pose[:3, 3] = start[:3, 3] + s * (end[:3, 3] - start[:3, 3])
     return pose
+
+
+def _assign(m, trigger: Trigger, t: float) -> None:
+    """DO variable = value: the assignment at the switching point t, in the frame of the routine that stated the
+    trigger (its value is evaluated then, assumed)."""
+    _kind, frame, assign = trigger.store
+    saved = m.clock
+    m.clock = max(saved, t)
+    try:
+        assign(frame)
+    finally:
+        m.clock = saved
 
 
 def _call(m, trigger: Trigger, t: float) -> None:

@@ -4,6 +4,13 @@ from __future__ import annotations
 
 from lark import Token, Tree
 
+# The optional arguments that show the operator a message box while an instruction waits (RAPID Instructions,
+# WaitDI, WaitDO and WaitUntil, RobotWare 6.08 and later, as recalled: [\Visualize] [\Header] [\Message] |
+# [\MsgArray] [\Wrap] [\Icon] [\Image] [\VisualizeTime] [\UIActiveSignal]). They change what the FlexPendant
+# shows, not the wait: accepted and not shown.
+WAIT_DISPLAY = frozenset({"VISUALIZE", "HEADER", "MESSAGE", "MSGARRAY", "WRAP", "ICON", "IMAGE", "VISUALIZETIME",
+                          "UIACTIVESIGNAL"})  # fmt: skip
+
 
 def split_args(compiler, node, args_node, switches: set[str], refusal: str = "{name} has no argument \\{arg}"):
     """Positional argument nodes and optional ones by upper-case name (value node, or None for a switch);

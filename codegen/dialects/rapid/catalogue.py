@@ -9,17 +9,17 @@ from __future__ import annotations
 _INSTRUCTIONS = """
 ActUnit BitClear BitSet Break CallByVar CancelLoad CheckProgRef CirPathMode ClearIOBuff ClearPath ClearRawBytes
 Close CloseDir Comment CopyFile CopyRawBytes CorrClear CorrCon CorrDiscon CorrWrite DeactUnit DitherAct DropWObj
-EOffsOff EOffsOn EOffsSet EraseModule ErrLog ErrRaise ExitCycle GetDataVal GetSysData GetTrapData HollowWristReset
+EOffsOff EOffsOn EOffsSet EraseModule ErrLog GetDataVal GetSysData GetTrapData HollowWristReset
 IDisable IEnable IError IPers IRMQMessage ISignalAI ISignalAO ISignalDO ISignalGI ISignalGO ISleep ITimer IVarValue
 IWatch IndAMove IndCMove IndDMove IndReset IndRMove Load LoadId MakeDir MechUnitLoad MotionSup MoveCDO MoveCSync
 MoveExtJ MoveJDO MoveJSync MoveLDO MoveLSync MToolRotCalib MToolTCPCalib Open OpenDir PackDNHeader PackRawBytes
 PathAccLim PathRecMoveBwd PathRecMoveFwd PathRecStart PathRecStop PathResol PDispOff PDispOn PDispSet ProcerrRecovery
 RaiseToUser ReadAnyBin ReadBlock ReadCfgData ReadErrData ReadRawBytes RemoveDir RemoveFile RenameFile ResetRetryCount
-RestoPath Rewind RMQEmptyQueue RMQFindSlot RMQGetMessage RMQGetMsgData RMQGetMsgHeader RMQReadWait RMQSendMessage
+Rewind RMQEmptyQueue RMQFindSlot RMQGetMessage RMQGetMsgData RMQGetMsgHeader RMQReadWait RMQSendMessage
 RMQSendWait Save SCWrite SearchC SearchExtJ SenDevice SetAllDataVal SetDataSearch SetDataVal SetSysData SkipWarn
 SocketAccept SocketBind SocketClose SocketConnect SocketCreate SocketListen SocketReceive SocketSend SoftAct SoftDeact
 SpeedRefresh SpyStart SpyStop StartLoad StartMove StartMoveRetry STCalib STClose StepBwdPath SToolRotCalib
-SToolTCPCalib STOpen StopMove StopMoveReset StorePath SyncMoveOff SyncMoveOn SyncMoveResume SyncMoveSuspend
+SToolTCPCalib STOpen StopMove StopMoveReset SyncMoveOff SyncMoveOn SyncMoveResume SyncMoveSuspend
 SyncMoveUndo SystemStopAction TestSignDefine TestSignReset TextTabInstall TPReadDnum TPShow TriggC TriggCheckIO
 TriggEquip TriggInt TriggIO TriggJ TriggL TriggLIOs TriggRampAO TriggSpeed TriggStopProc TryInt TuneReset TuneServo
 UIShow UnLoad UnpackRawBytes WaitAI WaitAO WaitGI WaitGO WaitLoad WaitSensor WaitSyncTask WaitTestAndSet WaitWObj
@@ -28,15 +28,15 @@ WZDisable WZDOSet WZEnable WZFree WZHomeJointDef WZLimJointDef WZLimSup WZSphDef
 """
 _FUNCTIONS = """
 AbsDnum ArgName ByteToStr CalcJointT CalcRobT CalcRotAxisFrame CalcRotAxFrameZ CDate CorrRead CPos CSpeedOverride
-CTime CTool CWObj DecToHex DefAccFrame DefDFrame DefFrame DnumToNum DnumToStr EventType ExecHandler ExecLevel
+CTool CWObj DecToHex DefAccFrame DefDFrame DefFrame DnumToNum DnumToStr EventType ExecHandler ExecLevel
 FileSize FileTimeDnum FSSize GetMecUnitName GetNextMechUnit GetNextSym GetServiceInfo GetSignalOrigin GetSysInfo
 GetMotorTorque GetTaskName GetTime HexToDec IndInpos IndSpeed IOUnitState IsFile IsMechUnitActive IsPers IsStopMoveAct
-IsStopStateEvent IsSyncMoveOn IsSysId IsVar MirPos ModExist ModTime NonMotionMode NumToDnum OpMode ORobT
+IsStopStateEvent IsSyncMoveOn IsSysId IsVar MirPos ModExist ModTime NonMotionMode NumToDnum ORobT
 ParIdPosValid ParIdRobValid PathLevel PathRecValidBwd PathRecValidFwd PFRestart PPMovedInManMode ProgMemFree
 RawBytesLen ReadBin ReadDir ReadMotor ReadNum ReadStr ReadStrBin ReadVar RemainingRetries RMQGetSlotName RobName
-RobOS RunMode SocketGetStatus STCalcForce STCalcTorque STIsCalib STIsClosed STIsIndGun STIsOpen StrDigCalc
+RobOS SocketGetStatus STCalcForce STCalcTorque STIsCalib STIsClosed STIsIndGun STIsOpen StrDigCalc
 StrDigCmp StrToByte TaskRunMec TaskRunRob TasksInSync TestAndSet TestSignRead TextGet TextTabFreeToUse TextTabGet
-Type UIAlphaEntry UIClientExist UIDnumEntry UIDnumTune UIListView UIMessageBox UINumEntry UINumTune
+Type UIAlphaEntry UIClientExist UIDnumEntry UIDnumTune UIListView UINumEntry UINumTune
 """
 # Options' instructions and functions public programs call (Externally Guided Motion; YuMi's SmartGripper module).
 _OPTIONS = """

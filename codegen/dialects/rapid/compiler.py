@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 from lark import Tree
 
 from codegen.dialects.core.compiler import Compiler
@@ -13,6 +14,7 @@ from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Inline, Src, indent
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
 from codegen.dialects.rapid import (
+    cycle,
     dataops,
     errors,
     interrupts,
@@ -37,6 +39,18 @@ from codegen.dialects.rapid.types import (
     RECORDS,
     num,
 )
+
+
+def _as_pos(value, other):
+    """value as a pos where it is an aggregate of three nums beside a pos record; otherwise value itself."""
+    beside_pos = isinstance(other, Record) and other.type == "POS"
+    if beside_pos and isinstance(value, list) and len(value) == 3 and all(_is_num(item) for item in value):
+        return Record("POS", dict(zip("XYZ", (f32(item) for item in value), strict=True)))
+    return value
+
+
+def _is_num(value) -> bool:
+    return isinstance(value, float | np.floating | int) and not isinstance(value, bool)
 
 
 def parse(text: str, filename: str = "<rapid>", positions: bool = True) -> Tree:
@@ -118,7 +132,8 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        return {**FUNCTIONS, **BUILTINS, **pendant.BUILTINS, **motionset.BUILTINS, **tracking.BUILTINS}
+        tables = (pendant.BUILTINS, motionset.BUILTINS, tracking.BUILTINS, cycle.BUILTINS)
+        return {**FUNCTIONS, **BUILTINS, **{name: fn for table in tables for name, fn in table.items()}}
 
     def e_number(self, node):
         text = str(node.children[0])
@@ -193,6 +208,9 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
     def add(self, a, b):
         if isinstance(a, str) and isinstance(b, str):
             return a + b
+        # pos + pos is a pos; an aggregate of three nums beside a pos is one (RAPID Instructions, Functions
+        # and Data types, pos: "pos + pos", and the overview's aggregates take their type from the context)
+        a, b = _as_pos(a, b), _as_pos(b, a)
         if isinstance(a, Record) and isinstance(b, Record) and a.type == b.type == "POS":
             return Record("POS", {k: f32(a[k] + b[k]) for k in "XYZ"})
         return a + b
@@ -259,7 +277,16 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
         return Inline(self, self.guarded([call], self.where(node)))
 
     def s_placeholder(self, node):
-        self.fail(node, f"<{node.children[0]}> is a placeholder: the routine is not finished", "unsupported")
+        """A module with placeholders loads; executing one is the error (RAPID overview, Basic RAPID
+        programming, placeholders: such a program can be loaded and saved, not run through them)."""
+        message = f"<{node.children[0]}> is a placeholder: the routine is not finished"
+        self.report(node, message + " (running it stops the program)", "placeholder", "warning")
+        where = self.where(node)
+
+        def placeholder() -> None:
+            raise RunError(f"{where}: {message}")
+
+        return Inline(self, [f"{self.const(placeholder)}()"])
 
     def s_connect_stmt(self, node):
         return interrupts.connect(self, node)
@@ -460,6 +487,7 @@ SPECIAL = {  # instructions compiled from their argument nodes (names, variables
     **pendant.SPECIAL,
     **dataops.SPECIAL,
     **motionset.SPECIAL,
+    **cycle.SPECIAL,
     "UIMSGBOX": messages.ui_msg_box,
     "SEARCHL": search.search_l,
 }

@@ -1,4 +1,4 @@
-"""RAPID operator messages: ErrWrite (the event log) and UIMsgBox (a message box the operator answers)."""
+"""RAPID operator messages: ErrWrite (the event log), UIMsgBox and UIMessageBox (boxes the operator answers)."""
 
 from __future__ import annotations
 
@@ -6,6 +6,7 @@ from collections.abc import Callable
 
 from codegen.dialects.core.values import RunError, f32
 from codegen.dialects.rapid.arguments import split_args
+from codegen.dialects.rapid.pendant import press
 
 # ErrWrite [\W] | [\I] Header Reason [\RL2] [\RL3] [\RL4] (ABB, "Technical reference manual - RAPID
 # Instructions, Functions and Data types", ErrWrite, as recalled; the text was not found during this
@@ -78,3 +79,58 @@ def ui_msg_box(compiler, node, args_node) -> Callable:
             result(fr, PREDEFINED_VALUES[FIRST_BUTTON[chosen]])
 
     return run
+
+
+# UIMessageBox ([\Header] [\Message] | [\MsgArray] [\Wrap] [\Buttons] | [\BtnArray] [\DefaultBtn] [\Icon]
+# [\Image] [\MaxTime] [\DIBreak] [\DIPassive] [\DOBreak] [\DOPassive] [\PersBoolBreak] [\PersBoolPassive]
+# [\BreakFlag] [\UIActiveSignal]) returns the btnres of the button pressed, or with \BtnArray the number of the
+# button (same manual, as recalled). The message lines are recorded as one operator message; the run's operator
+# answers (codegen run --answer: a button's number or its label), else presses the first button at once, as for
+# UIMsgBox, so no break condition (\MaxTime, \DIBreak, ...) is reached and \BreakFlag is not written.
+BUTTON_LABELS = {
+    0: ["OK"], 1: ["Abort", "Retry", "Ignore"], 2: ["OK", "Cancel"], 3: ["Retry", "Cancel"], 4: ["Yes", "No"],
+    5: ["Yes", "No", "Cancel"],
+}  # fmt: skip
+BUTTON_RESULTS = {0: ["RESOK"], 1: ["RESABORT", "RESRETRY", "RESIGNORE"], 2: ["RESOK", "RESCANCEL"]}
+BUTTON_RESULTS |= {3: ["RESRETRY", "RESCANCEL"], 4: ["RESYES", "RESNO"], 5: ["RESYES", "RESNO", "RESCANCEL"]}
+UIMESSAGEBOX_ARGS = frozenset({
+    "HEADER", "MESSAGE", "MSGARRAY", "WRAP", "BUTTONS", "BTNARRAY", "DEFAULTBTN", "ICON", "IMAGE", "MAXTIME",
+    "DIBREAK", "DIPASSIVE", "DOBREAK", "DOPASSIVE", "PERSBOOLBREAK", "PERSBOOLPASSIVE", "BREAKFLAG", "UIACTIVESIGNAL",
+})  # fmt: skip
+
+
+def ui_message_box(fr, args, kwargs, where):
+    if args or set(kwargs) - UIMESSAGEBOX_ARGS:
+        extra = sorted(set(kwargs) - UIMESSAGEBOX_ARGS)
+        named = f", not \\{extra[0].title()}" if extra else ""
+        raise RunError(f"{where}: UIMessageBox takes only optional arguments{named}")
+    if ("MESSAGE" in kwargs and "MSGARRAY" in kwargs) or ("BUTTONS" in kwargs and "BTNARRAY" in kwargs):
+        raise RunError(f"{where}: UIMessageBox: \\Message or \\MsgArray, \\Buttons or \\BtnArray (alternatives)")
+    lines = kwargs["MSGARRAY"] if "MSGARRAY" in kwargs else [kwargs.get("MESSAGE", "")]
+    if not isinstance(lines, list) or any(not isinstance(line, str) for line in lines):
+        raise RunError(f"{where}: UIMessageBox: the message lines are strings")
+    fr.m.message(" ".join(line for line in lines if line))
+    if "BTNARRAY" in kwargs:
+        labels = kwargs["BTNARRAY"]
+        if not isinstance(labels, list) or any(not isinstance(label, str) for label in labels):
+            raise RunError(f"{where}: UIMessageBox \\BtnArray is an array of strings")
+        shown = [label or None for label in labels]
+        if not any(shown):
+            raise RunError(f"{where}: UIMessageBox without a button the operator can press waits forever")
+        return f32(_pressed(fr.m, shown, where))
+    chosen = int(float(kwargs.get("BUTTONS", BUTTONS["BTNOK"])))
+    if chosen not in BUTTON_LABELS:
+        raise RunError(f"{where}: UIMessageBox without a button the operator can press waits forever")
+    return PREDEFINED_VALUES[BUTTON_RESULTS[chosen][_pressed(fr.m, BUTTON_LABELS[chosen], where) - 1]]
+
+
+def _pressed(m, labels: list, where: str) -> int:
+    """The number (1...) of the button the run's operator presses: its answer, or the first button shown."""
+    answer = press(m, labels)
+    if answer is None:
+        return next(i for i, label in enumerate(labels, 1) if label is not None)
+    pressable = isinstance(answer, int | float) and not isinstance(answer, bool) and 1 <= answer <= len(labels)
+    if not pressable or labels[int(answer) - 1] is None:
+        names = ", ".join(f"{i} {label}" for i, label in enumerate(labels, 1) if label is not None)
+        raise RunError(f"{where}: UIMessageBox: the operator's answer {answer!r} is not one of the buttons ({names})")
+    return int(answer)

@@ -8,7 +8,7 @@ from lark import Tree
 
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import RunError, f32
-from codegen.dialects.rapid import errors, signals, tracking
+from codegen.dialects.rapid import cycle, errors, signals, tracking
 from codegen.dialects.rapid.functions import STRINGS
 from codegen.dialects.rapid.messages import PREDEFINED_VALUES
 from codegen.dialects.rapid.predefined import PREDEFINED
@@ -21,7 +21,7 @@ from codegen.dialects.rapid.types import SIGNAL_TYPES
 # global name is declared once in the task. TASK PERS data are global within their task (one task here). The
 # predefined data of the system modules (tool0, v100, ...) are global data the program may not redeclare (a
 # program's own declaration is used, and `codegen check` warns).
-CONSTANTS = {**PREDEFINED_VALUES, **errors.ERROR_CONSTANTS, **STRINGS, **tracking.MECUNITS}
+CONSTANTS = {**PREDEFINED_VALUES, **cycle.PREDEFINED_VALUES, **errors.ERROR_CONSTANTS, **STRINGS, **tracking.MECUNITS}
 # A name a program reads as a value without declaring it, and that no signal instruction names, is taken as a signal
 # of the I/O configuration when it is spelt as signals usually are (the EIO's names are not in the program: the
 # manual's examples and public programs name them di1, DI10_1, diPartReady, DO_Lamp, gi_Recipe...): the prefix di,

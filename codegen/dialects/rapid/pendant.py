@@ -40,7 +40,8 @@ def _operator(m):
     return next((d for d in m.devices if hasattr(d, "press")), None)
 
 
-def _press(m, labels: list[str | None]):
+def press(m, labels: list[str | None]):
+    """The run's operator's answer to a dialog with these keys (None: no answer)."""
     operator = _operator(m)
     return None if operator is None else operator.press(m, labels)
 
@@ -125,7 +126,7 @@ def _read(compiler, node, args_node, keys: int) -> Callable:
         shown = [t or None for t in texts]  # stEmpty (""): no key there
         if keys and not any(shown):
             raise RunError(f"{where}: {name}: no function key has a text: nothing could answer it")
-        answer = _press(m, shown)
+        answer = press(m, shown)
         if answer is None:
             if max_time is None:
                 raise RunError(

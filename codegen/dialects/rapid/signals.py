@@ -10,7 +10,7 @@ from codegen.dialects.core.machine import SignalEvent
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.rapid import errors
-from codegen.dialects.rapid.arguments import split_args
+from codegen.dialects.rapid.arguments import WAIT_DISPLAY, split_args
 from codegen.dialects.rapid.types import SIGNAL_TYPES, num
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types" (RobotWare 6/7):
@@ -197,7 +197,8 @@ def wait_signal(kind: str):
     keyword = "WaitDI" if kind == "DI" else "WaitDO"
 
     def compile_(compiler, node, args_node) -> Callable:
-        positional, named = _positional(compiler, node, args_node, 2, "a signal and a value", {"MAXTIME", "TIMEFLAG"})
+        switches = {"MAXTIME", "TIMEFLAG", *WAIT_DISPLAY}
+        positional, named = _positional(compiler, node, args_node, 2, "a signal and a value", switches)
         signal, value = signal_ref(compiler, node, positional[0]), compiler.expr(positional[1])
         where = compiler.where(node)
         if "MAXTIME" in named and named["MAXTIME"] is None:

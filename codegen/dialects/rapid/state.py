@@ -14,6 +14,7 @@ class RapidState(RunState):
     trap: str | None = None  # the TRAP routine running now
     booked: tuple[int, ...] = ()  # the error numbers BookErrNo gave out
     errno: Any = None  # ERRNO: the most recent error's number (f32), None: no error yet
+    stored_path: bool = False  # StorePath without its RestoPath yet (cycle.py)
     active: tuple | None = None  # (tooldata, wobjdata or None) of the latest move instruction
     configuration_checks: dict = field(default_factory=dict)  # "CONFJ" / "CONFL" -> on (on where not given)
     settings: dict | None = None  # motion settings as motionset.py records them (a new dict at each change)

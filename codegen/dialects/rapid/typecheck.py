@@ -13,8 +13,8 @@ from codegen.dialects.rapid.types import ALIASES, SIGNAL_TYPES
 _RETURNS = {
     "NUM": """ABS SIN COS TAN ACOS ASIN ATAN ATAN2 EXP POW SQRT ROUND TRUNC DIM DISTANCE DOTPROD VECTMAGN BITAND BITOR
               BITXOR BITNEG BITLSH BITRSH STRLEN STRFIND STRMATCH DINPUT DOUTPUT GINPUT GOUTPUT AINPUT AOUTPUT CLKREAD
-              EULERZYX MAXROBSPEED""",
-    "STRING": "NUMTOSTR STRPART STRMAP VALTOSTR",
+              EULERZYX MAXROBSPEED OPMODE RUNMODE UIMESSAGEBOX""",
+    "STRING": "NUMTOSTR STRPART STRMAP VALTOSTR CTIME",
     "BOOL": "TESTDI VALIDIO STRMEMB STRORDER STRTOVAL PRESENT BITCHECK",
     "ROBTARGET": "OFFS RELTOOL CROBT",
     "POS": "CPOS POSEVECT",
@@ -299,6 +299,12 @@ class Checker:
 
     def e_add(self, node):
         left, right = (self.base(self.expr(c)) for c in node.children)
+        if "POS" in (left, right) and (self.fits("POS", left) and self.fits("POS", right)):
+            return "POS"  # an aggregate of three nums beside a pos is one
+        if isinstance(left, tuple) or isinstance(right, tuple):
+            if None not in (left, right):
+                self.report(node, f"+ of {shown(left)} and {shown(right)}")
+            return None
         if left in NUMERIC and right in NUMERIC:
             return "NUM" if "DNUM" not in (left, right) else "DNUM"
         if left == right and left in ("STRING", "POS"):

@@ -8,7 +8,7 @@ from lark import Tree
 
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import errors
-from codegen.dialects.rapid.arguments import split_args
+from codegen.dialects.rapid.arguments import WAIT_DISPLAY, split_args
 from codegen.dialects.rapid.types import num
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types", WaitUntil,
@@ -33,7 +33,8 @@ def _value(compiler, node, named: dict, key: str):
 
 
 def wait_until(compiler, node, args_node) -> Callable:
-    positional, named = split_args(compiler, node, args_node, {"INPOS", "MAXTIME", "TIMEFLAG", "POLLRATE"})
+    switches = {"INPOS", "MAXTIME", "TIMEFLAG", "POLLRATE", *WAIT_DISPLAY}
+    positional, named = split_args(compiler, node, args_node, switches)
     if len(positional) != 1:
         compiler.fail(node, "WaitUntil takes one condition")
     cond, where = compiler.expr(positional[0]), compiler.where(node)

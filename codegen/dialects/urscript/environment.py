@@ -113,32 +113,17 @@ NOT_MODELLED = {
     "servoc": "a servo move in tool space is not modelled (servoj is)",
     "inv": "matrix algebra is not modelled (element-wise arithmetic of arrays is)",
     "transpose": "matrix algebra is not modelled (element-wise arithmetic of arrays is)",
-    "wrench_trans": "wrenches are not simulated (get_tcp_force is the zero wrench)",
     "time": "the wall clock is not simulated (the program's clock is its moves, sleeps and waits)",
-    "tool_contact": "contact detection needs the forces of a real process",
     "tool_contact_direction": "contact detection needs the forces of a real process",
     "pose_dist": "the manual gives no formula for its metric",
-    "random": "a run must give the same trace each time",
     "screw_driving": "screw driving needs a real tool",
     "get_joint_torques": "joint torques are not simulated",
-    "get_actual_joint_speeds": "joint speeds are not simulated (moves are recorded by their end poses)",
-    "get_actual_tcp_speed": "TCP speeds are not simulated (moves are recorded by their end poses)",
-    "get_target_tcp_speed": "TCP speeds are not simulated (moves are recorded by their end poses)",
-    "get_target_joint_speeds": "joint speeds are not simulated (moves are recorded by their end poses)",
     "get_joint_temp": "temperatures are not simulated",
     "get_controller_temp": "temperatures are not simulated",
     "position_deviation_warning": "position deviations are not simulated",
     "set_pos": "the simulated arm is moved by motion commands only",
     "powerdown": "stopping the controller is not modelled",
     "protective_stop": "a protective stop is not modelled (halt ends the program)",
-    **dict.fromkeys(
-        (
-            "request_float_from_primary_client",
-            "request_integer_from_primary_client",
-            "request_string_from_primary_client",
-        ),
-        "the operator answers Yes/No questions only (request_boolean_from_primary_client)",
-    ),
 }
 
 

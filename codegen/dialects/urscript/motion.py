@@ -351,6 +351,45 @@ def builtins() -> dict:
         remember_joint_target(arm.arm, np.degrees(np.array([float(v) for v in out])), branch)  # as movej reads it
         return out
 
+    def get_target_waypoint(fr, args, kwargs, where):
+        # "the target waypoint of the active move" (the same pose during the whole move); a statement runs when
+        # the arm has arrived (moves return on arrival), so it is the last move's target, as get_target_tcp_pose
+        arguments("get_target_waypoint", (), {}, args, kwargs, where)
+        return URPose(posemath.ur_from_matrix(pose_now(fr, where, "get_target_waypoint")))
+
+    def at_rest(name: str, count: int):
+        """A speed reading: zero while the arm stands (a statement after a move runs once it arrived); refused
+        while it moves (a thread's reading during a move, a speedl / speedj: speeds are not simulated)."""
+
+        def read(fr, args, kwargs, where):
+            arguments(name, (), {}, args, kwargs, where)
+            if fr.m.moving or fr.m.state.speed is not None:
+                raise RunError(f"{where}: {name} while the arm moves: speeds along a move are not simulated")
+            return [f32(0.0)] * count
+
+        return read
+
+    def tool_contact(fr, args, kwargs, where):
+        # the number of time steps back to the moment before contact, 0 without contact (URScript manual): no
+        # contact force is simulated (get_tcp_force is the zero wrench), so never a contact here
+        a = arguments("tool_contact", ("direction",), {}, args, kwargs, where)
+        joints(a["direction"], where, 6, "tool_contact direction")
+        return 0
+
+    def get_inverse_kin_has_solution(fr, args, kwargs, where):
+        # whether get_inverse_kin would find a solution for the pose (same parameters, URScript manual)
+        params = ("pose", "qnear", "maxPositionError", "maxOrientationError", "tcp")
+        defaults = {"qnear": None, "maxPositionError": 1e-10, "maxOrientationError": 1e-10, "tcp": None}
+        a = arguments("get_inverse_kin_has_solution", params, defaults, args, kwargs, where)
+        arm = fr.m.arm
+        if arm.arm is None:
+            raise RunError(f"{where}: get_inverse_kin_has_solution needs the arm's kinematics (name the arm: --robot)")
+        tcp2flange = arm.tcp2flange if a["tcp"] is None else matrix(a["tcp"], where, "tcp")
+        solutions = solve.branches(arm.arm, solve.flange_poses(matrix(a["pose"], where, "pose"), tcp2flange))
+        near = np.degrees(joints(a["qnear"], where)) if a["qnear"] is not None else np.zeros(6)
+        q, _branch = solve.nearest(arm.arm, solutions, near)  # any branch and turn within the limits
+        return not np.isnan(q).any()
+
     def get_tcp_force(fr, args, kwargs, where):
         arguments("get_tcp_force", (), {}, args, kwargs, where)
         return [f32(0.0)] * 6  # modelled: no external force on the tool (see above)
@@ -381,5 +420,12 @@ def builtins() -> dict:
         "get_forward_kin": get_forward_kin,
         "get_inverse_kin": get_inverse_kin,
         "get_tcp_force": get_tcp_force,
+        "get_target_waypoint": get_target_waypoint,
+        "get_target_tcp_speed": at_rest("get_target_tcp_speed", 6),
+        "get_actual_tcp_speed": at_rest("get_actual_tcp_speed", 6),
+        "get_target_joint_speeds": at_rest("get_target_joint_speeds", 6),
+        "get_actual_joint_speeds": at_rest("get_actual_joint_speeds", 6),
+        "tool_contact": tool_contact,
+        "get_inverse_kin_has_solution": get_inverse_kin_has_solution,
         "is_steady": is_steady,
     }

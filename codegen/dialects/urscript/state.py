@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import random
 from dataclasses import dataclass, field
 from typing import Any
 
 from codegen.dialects.core.runstate import RunState
+
+RANDOM_SEED = 0  # random(): each run draws the same numbers (a trace repeats)
 
 
 @dataclass
@@ -17,3 +20,9 @@ class URScriptState(RunState):
     encoders: dict = field(default_factory=dict)  # encoder index -> (decoder, input A, input B), None: disabled
     settings: dict = field(default_factory=dict)  # an installation setting's name -> (args, kwargs) last given
     flags: dict = field(default_factory=dict)  # flag number -> set_flag's value
+    numbers: Any = None  # random()'s generator, made at the first call (seeded alike in every run)
+
+    def random(self) -> random.Random:
+        if self.numbers is None:
+            self.numbers = random.Random(RANDOM_SEED)
+        return self.numbers

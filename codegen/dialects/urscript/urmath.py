@@ -35,6 +35,7 @@ from codegen.dialects.urscript.values import (
     URPose,
     arguments,
     finite,
+    joints,
     matrix,
     num,
     pose,
@@ -45,6 +46,7 @@ from codegen.dialects.urscript.values import (
 from codegen.poses import invert, rotmat_from_rotvec, rotvec_from_rotmat
 
 STRING_MAX = 1023  # characters of a string result (URScript manual, str_cat; ur.toml string_max)
+INT_BITS = 32  # binary_list_to_integer's bits at most: the controller's integers are 32-bit
 
 
 def _rotation(rx, ry, rz) -> np.ndarray:
@@ -211,6 +213,33 @@ def builtins() -> dict:
     def pose_to_list(fr, args, kwargs, where):
         return list(pose(arguments("pose_to_list", ("p",), {}, args, kwargs, where)["p"], where).values())
 
+    def binary_list_to_integer(fr, args, kwargs, where):
+        # the list's booleans as the bits of an integer, the first the least significant (URScript manual)
+        bits = arguments("binary_list_to_integer", ("l",), {}, args, kwargs, where)["l"]
+        if not isinstance(bits, list) or not bits or any(not isinstance(b, bool) for b in bits):
+            raise RunError(f"{where}: binary_list_to_integer takes a list of booleans, got {describe(bits)}")
+        if len(bits) > INT_BITS:
+            raise RunError(f"{where}: binary_list_to_integer: {len(bits)} bits, at most {INT_BITS}")
+        return sum(1 << i for i, bit in enumerate(bits) if bit)
+
+    def wrench_trans(fr, args, kwargs, where):
+        # the wrench [F (N), M (Nm)] seen from the frame T_from_to (its pose in the wrench's frame, m): force and
+        # torque in its axes, the torque about its origin: R^T F, R^T (M - p x F) (assumed: the manual says "move
+        # point of view of a wrench" and prints no formula; the pose read as pose_trans reads its second pose)
+        a = arguments("wrench_trans", ("T_from_to", "w"), {}, args, kwargs, where)
+        to = matrix(a["T_from_to"], where, "T_from_to")
+        wrench = joints(a["w"], where, 6, "wrench_trans w")
+        rot, offset_m = to[:3, :3], to[:3, 3] / 1000.0
+        force, torque = wrench[:3], wrench[3:]
+        out = np.concatenate((rot.T @ force, rot.T @ (torque - np.cross(offset_m, force))))
+        return [f32(v) for v in out]
+
+    def random(fr, args, kwargs, where):
+        # a number in [0, 1) (URScript manual); drawn from a generator seeded alike at each run's start, so that
+        # a run repeats (the controller's numbers differ run to run: assumed uniform)
+        arguments("random", (), {}, args, kwargs, where)
+        return f32(fr.m.state.random().random())
+
     def struct(fr, args, kwargs, where):
         if args:
             raise RunError(f"{where}: struct takes named values only: struct(name=value, ...)")
@@ -250,4 +279,7 @@ def builtins() -> dict:
         "str_empty": str_empty,
         "pose_to_list": pose_to_list,
         "struct": struct,
+        "binary_list_to_integer": binary_list_to_integer,
+        "wrench_trans": wrench_trans,
+        "random": random,
     }

@@ -61,9 +61,11 @@ def test_the_inline_forms_set_speed_tool_and_base_from_their_data():
     assert trace.kept == {"TOOL_Z": 120.0}  # FDAT's TOOL_NO 1: TOOL_DATA[1]
 
 
-def test_a_tool_the_controller_has_but_the_interpreter_does_not_know_is_refused():
-    with pytest.raises(RunError, match=r"t\.src:\d+:1: TOOL_DATA\[1\] has no value here"):
-        program(INI + FOLD_PTP.format(vel=50), dat=INLINE_DAT).run({})
+def test_a_tool_nothing_gives_is_a_fresh_controllers_zero_frame_with_a_warning_naming_it():
+    trace = program(INI + FOLD_PTP.format(vel=50), dat=INLINE_DAT).run({})
+    named = [w.split(" is not set")[0] for w in trace.warnings]
+    assert named == ["TOOL_DATA[1]", "BASE_DATA[2]"]  # FDAT's TOOL_NO 1 and BASE_NO 2, as BAS reads them
+    assert all("taken as a fresh controller has it (a zero frame)" in w for w in trace.warnings)
 
 
 def test_a_given_config_dat_replaces_the_built_in_names():

@@ -205,9 +205,10 @@ def test_module_data_may_be_initialised_from_data_of_a_later_module():
     assert task(("main.mod", main), ("lib.mod", lib)).run({}).messages == ["42"]
 
 
-def test_a_placeholder_is_refused_by_name_and_predefined_error_numbers_are_known():
+def test_a_placeholder_loads_is_an_error_where_it_runs_and_predefined_error_numbers_are_known():
+    program = load(mod('TPWrite "a";\n<SMT>'), "t.mod")
     with pytest.raises(RunError, match=r"t\.mod:5:1: <SMT> is a placeholder"):
-        load(mod('TPWrite "a";\n<SMT>'), "t.mod")
+        program.run({})
     handler = 'x := 1 / 0;\nERROR\n  IF ERRNO = ERR_PATHDIST OR ERRNO = ERR_DIVZERO TPWrite "handled";\n  TRYNEXT;'
     assert messages(handler, "VAR num x;") == ["handled"]
 

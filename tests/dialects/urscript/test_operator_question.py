@@ -62,10 +62,9 @@ def test_the_message_is_a_string_not_empty(message, refusal):
         run(["Yes"], message)
 
 
-def test_the_other_requests_are_refused_at_load_by_name():
+def test_an_integer_request_takes_the_operators_typed_number():
     text = ASK.format(message=QUESTION).replace("request_boolean", "request_integer")
-    with pytest.raises(RunError, match=r"^t\.script:2:\d+: request_integer_from_primary_client is not modelled"):
-        load(text, "t.script")
+    load(text, "t.script")  # loads: the operator types the answer (tests/dialects/urscript/test_more_builtins.py)
 
 
 def test_check_knows_the_question():

@@ -31,6 +31,7 @@ if TYPE_CHECKING:
     from codegen.kinds.station.cases import Case
 
 MARK_DECIMALS = 6
+MARK_MIN_MM = 1.0  # a mark nearer the robot's base than this (its x, y) but not at it is a value given in metres
 
 
 def _ulp32(value: float) -> float:
@@ -78,6 +79,13 @@ class PointMode(StationMode):
         mark = ctx.numbers(ctx.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
         if abs(mark[0]) > TAUGHT_RANGE_MM or abs(mark[1]) > TAUGHT_RANGE_MM:
             ctx.fail(f"{path}.mark", f"x and y must be within +-{TAUGHT_RANGE_MM:g} mm (float32 on the controller)")
+        reach = max(abs(mark[0]), abs(mark[1]))
+        if 0.0 < reach < MARK_MIN_MM:
+            ctx.fail(
+                f"{path}.mark",
+                f"x, y lie {reach:g} mm from the robot's base: given in metres? A mark is mm in the base frame: "
+                f"{reach:g} m is {reach * 1000.0:g} mm",
+            )
         if abs(mark[2]) > READING_RANGE_DEG:
             ctx.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
         return PointSpec(mark, _fixed(ctx, raw, path))

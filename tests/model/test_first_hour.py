@@ -1,0 +1,62 @@
+"""What a new user's first cell file gets told: values in the wrong unit, and a missing key or table explained with
+what it is for and a minimal example, at its line."""
+
+from __future__ import annotations
+
+import pytest
+from support.cells import MINIMAL_CELL
+
+from codegen.model.cell import CellError, load_cell
+
+ROBOT = '[cell.robot]\nur = "UR10e"\nkuka = "KR 10 R1100 sixx"\nabb = "IRB 1600-10/1.45"\n'
+TOOL = ROBOT + "[cell.tool]\ntcp = [0.0, 0.0, 200.0, 0.0, 0.0, 0.0]\nmass_kg = 1.5\ncog_mm = [0.0, 0.0, 80.0]\n"
+WITH_TOOL = MINIMAL_CELL.replace("[cell.camera]", TOOL + "[cell.camera]")
+
+
+def error(write_cell, text: str) -> str:
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text))
+    return str(info.value)
+
+
+def test_the_cell_with_its_tool_loads(write_cell):
+    assert load_cell(write_cell(WITH_TOOL)).robot.tool.tcp[2] == 200.0
+
+
+def test_a_tcp_in_metres_in_a_millimetre_cell_says_so(write_cell):
+    message = error(write_cell, WITH_TOOL.replace("tcp = [0.0, 0.0, 200.0,", "tcp = [0.0, 0.0, 0.2,"))
+    assert "line 10: cell.tool.tcp: the TCP is 0.2 mm from the flange: given in metres?" in message
+    assert "0.2 m is 200 mm" in message
+
+
+def test_a_mark_in_metres_says_so(write_cell):
+    message = error(write_cell, WITH_TOOL.replace("mark = [600.0, -250.0, 2.0]", "mark = [0.6, -0.25, 2.0]"))
+    assert "station[1].mark: x, y lie 0.6 mm from the robot's base: given in metres?" in message
+    assert "0.6 m is 600 mm" in message
+
+
+def test_a_ur_cell_given_millimetres_and_degrees_says_what_ur_takes(write_cell):
+    ur = WITH_TOOL.replace('pose_format = "xyzabc"', 'pose_format = "ur"')
+    message = error(write_cell, ur)
+    assert "cell.tool.tcp: the TCP must be within 2000 mm of the flange" in message
+    assert 'pose_format = "ur" takes x y z m, rotation vector rx ry rz rad' in message
+    assert 'or set pose_format = "xyzabc"' in message
+    poses = error(write_cell, ur.replace("tcp = [0.0, 0.0, 200.0,", "tcp = [0.0, 0.0, 0.2,"))
+    assert "station[1].poses.approach: orientation values must be within +-6.28319 rad" in poses
+    assert 'pose_format = "ur" takes' in poses
+
+
+def test_a_missing_table_says_what_it_is_for_with_an_example_at_its_line(write_cell):
+    without = MINIMAL_CELL.replace("[cell.limits]\nmax_shift_mm = 10.0\nmax_rotation_deg = 10.0\n", "")
+    message = error(write_cell, without)
+    assert "line 1: cell.limits: missing: How far a reading may move a station" in message
+    assert "For example:\n    [cell.limits]\n    max_shift_mm = <mm (0, 100000]>" in message
+    assert "max_rotation_deg = <deg (0, 180)>" in message
+
+
+def test_a_missing_key_says_what_it_is_for_with_an_example(write_cell):
+    message = error(write_cell, MINIMAL_CELL.replace("mark = [600.0, -250.0, 2.0]\n", ""))
+    assert "station[1].mark: missing: where the camera saw the station's mark at calibration" in message
+    assert "For example:\n    mark = [<number>, <number>, <number>]" in message
+    named = error(write_cell, MINIMAL_CELL.replace('name = "bench"\n', ""))
+    assert "cell.name: missing: the cell's name (the programs' folder). For example:\n    name = \"...\"" in named

@@ -1,0 +1,56 @@
+"""`codegen init KIND [--target T]...`: a commented starter cell of each kind, for the targets asked, that loads and
+generates as written; an existing file is never replaced."""
+
+from __future__ import annotations
+
+import tomllib
+
+import pytest
+from click.testing import CliRunner
+
+from codegen.cli import main
+from codegen.model.cell import load_cell
+from codegen.protocol import installed_kinds
+
+
+def init(tmp_path, *args):
+    return CliRunner().invoke(main, ["init", *args], catch_exceptions=False)
+
+
+@pytest.mark.parametrize("kind", sorted(installed_kinds()))
+def test_each_kind_has_a_commented_starter_that_loads(tmp_path, kind):
+    out = tmp_path / f"{kind}.toml"
+    result = init(tmp_path, kind, "--out", str(out))
+    assert result.exit_code == 0, result.output
+    text = out.read_text(encoding="utf-8")
+    assert text.lstrip().startswith("#")  # commented
+    cell = load_cell(out)
+    assert kind in cell.kinds
+
+
+def test_a_starter_for_one_target_names_no_other(tmp_path):
+    out = tmp_path / "pallet.toml"
+    assert init(tmp_path, "pallet", "--target", "kuka", "--out", str(out)).exit_code == 0
+    text = out.read_text(encoding="utf-8")
+    data = tomllib.loads(text)
+    assert data["cell"]["targets"] == ["kuka"]
+    assert set(data["cell"]["robot"]) == {"kuka"}
+    assert data["cell"]["io"]["output"] == {"kuka": 17}
+    assert "pallet_present" in data["pallet"][0]["io"]
+    assert load_cell(out).targets == ("kuka",)
+
+
+def test_an_existing_file_stays_and_a_target_the_starter_lacks_is_named(tmp_path):
+    out = tmp_path / "mine.toml"
+    out.write_text("# my cell\n", encoding="utf-8")
+    result = init(tmp_path, "laser", "--out", str(out))
+    assert result.exit_code == 2
+    assert "the file exists" in result.output
+    assert out.read_text(encoding="utf-8") == "# my cell\n"
+    missing = init(tmp_path, "laser", "--target", "dtrans", "--out", str(tmp_path / "l.toml"))
+    assert missing.exit_code == 2
+    assert "--target dtrans: the starter is written for ur, kuka, abb" in missing.output
+    assert not (tmp_path / "l.toml").exists()
+    unknown = init(tmp_path, "weld")
+    assert unknown.exit_code == 2
+    assert "weld: not a program kind" in unknown.output
