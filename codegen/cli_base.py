@@ -11,6 +11,7 @@ import click
 from codegen.controllers import all_targets, target_names
 from codegen.csvfile import number, whole
 from codegen.model.cell import CellError, load_cell
+from codegen.terminal import inert_output
 
 EXIT_BAD_INPUT = 2
 # a folder the user gave that cannot take the output (no permission, read-only, a file on the way): exit 2
@@ -185,7 +186,16 @@ def dump(data) -> None:
     click.echo(json.dumps(data, indent=2, sort_keys=False))
 
 
-@click.group()
+class InertGroup(click.Group):
+    """The command group whose every word printed, its messages and click's own errors, goes through
+    codegen.terminal.inert: nothing from a cell, a program or an argument changes what the terminal does."""
+
+    def main(self, *args, **kwargs):
+        with inert_output():
+            return super().main(*args, **kwargs)
+
+
+@click.group(cls=InertGroup, context_settings={"color": True})  # click strips nothing: all is shown escaped
 @click.version_option(package_name="codegen")
 def main() -> None:
     """Vision-corrected robot programs: derive, correct, generate, run, verify."""
