@@ -18,7 +18,7 @@ from codegen.model.io import SignalSettings
 from codegen.model.loader import Loader
 from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot
-from codegen.model.validate import CellError, Validator
+from codegen.model.validate import CellError, Validator, kind_of
 from codegen.model.vision import VisionSettings
 from codegen.poses import POSE_FORMATS
 from codegen.protocol import Kinds, installed_kinds
@@ -161,6 +161,9 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: 
     if top_unknown:
         listed = ", ".join(f"[{t}]" for t in sorted(known_tables))
         ctx.fail(sorted(top_unknown)[0], f"unknown table; expected {listed}")
+    for name, key in tables.file_table(kinds).keys.items():  # each kind's tables first: a kind reads only tables
+        if name in data:
+            _table_shape(ctx, name, key.type, data[name])
     cell_table = ctx.table(data, "cell", "cell")
     definition = tables.cell_table(kinds)  # the cell file's definition (codegen/model/tables.py) with the kinds'
     ctx.no_unknown(cell_table, definition.allowed, "cell")
@@ -195,6 +198,14 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: 
     for kind in kinds.values():
         kind.section.check(ctx, cell)
     return cell
+
+
+def _table_shape(ctx: Validator, name: str, shape: str, value) -> None:
+    """A top-level table as the file's definition has it: a table ([name]) or tables ([[name]])."""
+    if shape == "table" and not isinstance(value, dict):
+        ctx.fail(name, f"expected a table ([{name}]), got {kind_of(value)}")
+    if shape == "tables" and not (isinstance(value, list) and all(isinstance(v, dict) for v in value)):
+        ctx.fail(name, f"expected [[{name}]] tables, got {kind_of(value)}")
 
 
 class CellValidator(Validator):
