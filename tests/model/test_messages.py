@@ -6,7 +6,6 @@ from __future__ import annotations
 import pytest
 
 from codegen.model.cell import DEMO_CELL, EXAMPLES_DIR, CellError, load_cell
-from codegen.model.lines import line_of
 
 BELT = EXAMPLES_DIR / "conveyor" / "belt_pick.toml"
 LASER = EXAMPLES_DIR / "laser" / "laser_tcp.toml"
@@ -84,3 +83,39 @@ def test_one_signal_does_one_job(write_cell, source, old, new, says):
     text = source.read_text(encoding="utf-8")
     assert old in text
     assert says in _error(write_cell(text.replace(old, new, 1)))
+
+
+BELT_PICK = EXAMPLES_DIR / "conveyor" / "belt_pick.toml"
+
+
+@pytest.mark.parametrize(
+    ("source", "key", "says"),
+    [
+        (PALLET, "box_mass_kg", "pallet[0].box_mass_kg: 500 kg carried by a 0.8 kg tool is more than the UR5e"),
+        (BELT_PICK, "part_mass_kg", "conveyor.pick.part_mass_kg: 500 kg carried by a"),
+    ],
+)
+def test_a_carried_box_or_part_within_the_arms_payload(write_cell, source, key, says):
+    """A 500 kg box on a 5 kg arm generated, and its programs set the payload the arm cannot take."""
+    text = source.read_text(encoding="utf-8")
+    start = text.index(f"{key} = ")
+    end = text.index("\n", start)
+    value = text[start:end].split("=", 1)[1].split("#", 1)[0].strip()
+    assert says in _error(write_cell(text[:start] + text[start:end].replace(value, "500.0", 1) + text[end:]))
+
+
+def test_a_shift_beyond_the_arms_reach_is_refused_before_its_envelope(write_cell):
+    """max_shift_mm = 99999 sampled its envelope for minutes and gigabytes (5000: 37 s, 2 GB) before refusing."""
+    text = DEMO_CELL.read_text(encoding="utf-8")
+    assert "max_shift_mm = 10.0 " in text
+    error = _error(write_cell(text.replace("max_shift_mm = 10.0 ", "max_shift_mm = 99999.0", 1)))
+    assert "cell.limits.max_shift_mm: 99999 mm is more than the UR10e's reach of 1300 mm (cell.robot.ur)" in error
+
+
+def test_a_home_at_a_joint_limit_is_refused(write_cell):
+    """A home at axis 1's limit (UR: 360 deg) loaded, though every taught pose must keep the joint margin."""
+    text = DEMO_CELL.read_text(encoding="utf-8")
+    old = "ur = [180.0, -90.0, 90.0, -90.0, -90.0, 0.0]"
+    assert old in text
+    error = _error(write_cell(text.replace(old, "ur = [360.0, -90.0, 90.0, -90.0, -90.0, 0.0]", 1)))
+    assert "cell.robot.home.ur[0]: axis 1 at 360 deg is within 5 deg (cell.robot.joint_margin_deg)" in error

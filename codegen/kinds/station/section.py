@@ -187,6 +187,19 @@ def _camera(ctx, cell_table: dict):
     return angle_sign, handeye
 
 
+def _shift_within_reach(ctx, max_shift_mm: float, arms: dict) -> None:
+    """A shift no arm can follow is refused before its envelope is sampled: the disc of readings around a taught pose
+    fits in the arm's reach only when its radius is within the reach (the sampling grows with the radius, so a
+    typing error would otherwise cost minutes and gigabytes before the same refusal)."""
+    for target, arm in arms.items():
+        if arm.reach_mm is not None and max_shift_mm > arm.reach_mm:
+            ctx.fail(
+                "cell.limits.max_shift_mm",
+                f"{max_shift_mm:g} mm is more than the {arm.model}'s reach of {arm.reach_mm:g} mm "
+                f"(cell.robot.{target}): no taught pose can be followed over that shift",
+            )
+
+
 def _limits(ctx, cell_table: dict) -> Limits:
     """[cell.limits] read by its declaration (limits())."""
     return build(Limits, Loader(ctx).table(limits(), ctx.table(cell_table, "limits", "cell.limits"), "cell.limits"))
@@ -270,6 +283,8 @@ class SectionPart(protocol.Section):
     def check(self, ctx, cell) -> None:
         for i, station in enumerate(stations_of(cell)):
             modes()[station.mode].check_station(ctx, f"station[{i}]", station, cell)
+        if stations_of(cell) and cell.robot is not None:
+            _shift_within_reach(ctx, section_of(cell).limits.max_shift_mm, cell.robot.arms)
 
     def json_schema(self, schema: dict) -> None:
         """A station's mode's keys (required by its mode, refused by the others'), and [cell.camera] and
