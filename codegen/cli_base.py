@@ -14,6 +14,7 @@ from codegen.model.cell import CellError, load_cell
 from codegen.terminal import inert_output
 
 EXIT_BAD_INPUT = 2
+MAX_STEP_LIMIT = 100_000_000  # interpreter steps: some 7 minutes of a busy loop (250,000 steps/s measured)
 # a folder the user gave that cannot take the output (no permission, read-only, a file on the way): exit 2
 FOLDER_REFUSED = frozenset({errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOTDIR, errno.EEXIST, errno.EISDIR})
 
@@ -166,7 +167,11 @@ def step_limit_option(help_text: str, kinds_own: bool = False):
 
     default = None if kinds_own else DEFAULT_STEP_LIMIT
     return click.option(
-        "--step-limit", default=default, show_default=not kinds_own, type=Number(1, integer=True), help=help_text
+        "--step-limit",
+        default=default,
+        show_default=not kinds_own,
+        type=Number(1, MAX_STEP_LIMIT, integer=True),
+        help=help_text,
     )
 
 

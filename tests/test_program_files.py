@@ -1,0 +1,63 @@
+"""Program files given to run, check and verify are read as cell files are: a regular file only (a FIFO or a device is
+refused at once), within a size bound and a bound on any one line; --step-limit is bounded. Each refusal: one
+message naming the file, exit 2."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+from click.testing import CliRunner
+
+from codegen.cli import main
+from codegen.model.cell import EXAMPLES_DIR
+
+LASER = EXAMPLES_DIR / "laser" / "laser_tcp.toml"
+COMMANDS = {
+    "run": ["run"],
+    "check": ["check"],
+    "verify": ["verify", str(LASER), "--target", "ur"],
+}
+
+
+def _refused(args: list[str], *says: str) -> None:
+    """The command in a process of its own (a FIFO blocked the reader for ever): exit 2 within a minute."""
+    proc = subprocess.run(
+        [sys.executable, "-m", "codegen", *args], capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL
+    )
+    assert proc.returncode == 2, proc.stderr
+    assert "Traceback" not in proc.stderr and all(s in proc.stderr for s in says), proc.stderr
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_a_fifo_is_refused_at_once(tmp_path, command):
+    fifo = tmp_path / "prog.script"
+    os.mkfifo(fifo)
+    _refused([*COMMANDS[command], str(fifo)], f"{fifo}: not a regular file", "give a program file")
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_a_device_behind_a_program_name_is_refused(tmp_path, command):
+    """/dev/urandom read for ever (no end of file), /dev/zero filled the memory."""
+    link = tmp_path / "prog.script"
+    link.symlink_to("/dev/urandom")
+    _refused([*COMMANDS[command], str(link)], f"{link}: not a regular file")
+
+
+@pytest.mark.parametrize("command", ["run", "check"])
+def test_an_over_long_line_is_named(tmp_path, command):
+    program = tmp_path / "prog.script"
+    program.write_text("def prog():\n  x = " + "1+" * 6000 + "1\nend\n", encoding="utf-8")
+    result = CliRunner().invoke(main, [command, str(program)])
+    assert result.exit_code == 2, result.output
+    assert f"{program}: line 2: longer than 10,000 characters" in result.stderr
+
+
+def test_a_step_limit_beyond_the_bound_is_refused(tmp_path):
+    program = tmp_path / "prog.script"
+    program.write_text("def prog():\n  textmsg(1)\nend\n", encoding="utf-8")
+    result = CliRunner().invoke(main, ["run", str(program), "--step-limit", "9" * 30])
+    assert result.exit_code == 2
+    assert "'--step-limit': " + "9" * 30 + " is not within 1 .. 100,000,000" in result.stderr
