@@ -61,3 +61,32 @@ def test_a_step_limit_beyond_the_bound_is_refused(tmp_path):
     result = CliRunner().invoke(main, ["run", str(program), "--step-limit", "9" * 30])
     assert result.exit_code == 2
     assert "'--step-limit': " + "9" * 30 + " is not within 1 .. 100,000,000" in result.stderr
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "says"),
+    [
+        ("big.src", "DEF prog()\nDECL INT A[1000000000]\nA[1] = 1\nEND\n", "an array of 1,000,000,000 elements"),
+        (
+            "big.mod",
+            "MODULE m\nPROC main()\nVAR num a{100000,100000};\na{1,1} := 1;\nENDPROC\nENDMODULE\n",
+            "an array of 10,000,000,000 elements",
+        ),
+        (
+            "frac.mod",
+            "MODULE m\nPROC main()\nVAR num a{2.5};\nENDPROC\nENDMODULE\n",
+            "an array's dimension must be a whole number of at least 1, got 2.5",
+        ),
+        (
+            "zero.mod",
+            "MODULE m\nPROC main()\nVAR num a{0};\nENDPROC\nENDMODULE\n",
+            "an array's dimension must be a whole number of at least 1, got 0",
+        ),
+    ],
+)
+def test_arrays_are_bounded_at_declaration(tmp_path, name, text, says):
+    """A billion-element KRL array or a RAPID 100000 x 100000 one ran for minutes, filling the memory, before any
+    statement; RAPID's a{2.5} was an array of 2."""
+    program = tmp_path / name
+    program.write_text(text, encoding="utf-8")
+    _refused(["run", str(program)], f"{program}:", says)
