@@ -90,3 +90,28 @@ def test_arrays_are_bounded_at_declaration(tmp_path, name, text, says):
     program = tmp_path / name
     program.write_text(text, encoding="utf-8")
     _refused(["run", str(program)], f"{program}:", says)
+
+
+@pytest.mark.parametrize(
+    ("option", "says"),
+    [
+        (["--input", "input_float_register_24=nan"], "--input input_float_register_24: not a finite number"),
+        (["--input", "input_float_register_24=1e999"], "--input input_float_register_24: not a finite number"),
+        (["--start", "1e308,0,0,0,0,0"], "each within +-3,600"),
+    ],
+)
+def test_run_options_hold_what_a_controller_holds(tmp_path, option, says):
+    """nan and 1e999 were read as numbers the program then computed with; a start joint of 1e308 deg was taken."""
+    program = tmp_path / "prog.script"
+    program.write_text("def prog():\n  textmsg(read_input_float_register(24))\nend\n", encoding="utf-8")
+    result = CliRunner().invoke(main, ["run", str(program), *option])
+    assert result.exit_code == 2, result.output
+    assert says in result.stderr
+
+
+def test_run_options_still_take_numbers(tmp_path):
+    program = tmp_path / "prog.script"
+    program.write_text("def prog():\n  textmsg(read_input_float_register(24))\nend\n", encoding="utf-8")
+    result = CliRunner().invoke(main, ["run", str(program), "--input", "input_float_register_24=-2.5e1"])
+    assert result.exit_code == 0, result.output
+    assert "message: -25" in result.output
