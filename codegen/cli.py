@@ -23,6 +23,7 @@ from codegen.cli_base import dump as _dump
 from codegen.cli_base import load as _load
 from codegen.cli_plant import is_plant_argument
 from codegen.controllers import target_names
+from codegen.terminal import own_controls
 from codegen.view import command as view_command
 
 main.add_command(view_command.view)
@@ -294,7 +295,7 @@ def verify(
 
     try:
         if sys.stderr.isatty():
-            with click.progressbar(length=0, label="verifying", file=sys.stderr) as bar:
+            with click.progressbar(length=0, label="verifying", file=own_controls(sys.stderr)) as bar:
                 report = run(bar.update)
         else:
             report = run(None)

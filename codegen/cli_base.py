@@ -11,8 +11,10 @@ import click
 from codegen.controllers import all_targets, target_names
 from codegen.csvfile import number, whole
 from codegen.model.cell import CellError, load_cell
+from codegen.terminal import inert_output
 
 EXIT_BAD_INPUT = 2
+MAX_STEP_LIMIT = 100_000_000  # interpreter steps: some 7 minutes of a busy loop (250,000 steps/s measured)
 # a folder the user gave that cannot take the output (no permission, read-only, a file on the way): exit 2
 FOLDER_REFUSED = frozenset({errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOTDIR, errno.EEXIST, errno.EISDIR})
 
@@ -165,7 +167,11 @@ def step_limit_option(help_text: str, kinds_own: bool = False):
 
     default = None if kinds_own else DEFAULT_STEP_LIMIT
     return click.option(
-        "--step-limit", default=default, show_default=not kinds_own, type=Number(1, integer=True), help=help_text
+        "--step-limit",
+        default=default,
+        show_default=not kinds_own,
+        type=Number(1, MAX_STEP_LIMIT, integer=True),
+        help=help_text,
     )
 
 
@@ -185,7 +191,16 @@ def dump(data) -> None:
     click.echo(json.dumps(data, indent=2, sort_keys=False))
 
 
-@click.group()
+class InertGroup(click.Group):
+    """The command group whose every word printed, its messages and click's own errors, goes through
+    codegen.terminal.inert: nothing from a cell, a program or an argument changes what the terminal does."""
+
+    def main(self, *args, **kwargs):
+        with inert_output():
+            return super().main(*args, **kwargs)
+
+
+@click.group(cls=InertGroup, context_settings={"color": True})  # click strips nothing: all is shown escaped
 @click.version_option(package_name="codegen")
 def main() -> None:
     """Vision-corrected robot programs: derive, correct, generate, run, verify."""

@@ -117,13 +117,16 @@ def schema(out_file: str | None, as_markdown: bool) -> None:
     """Print the cell file's JSON Schema (draft 2020-12), or its reference page, from the loader's definition."""
     from pathlib import Path
 
-    from codegen.model.tables import reference_text, schema_text
+    from codegen.model.tables import SCHEMA_MARKS, reference_text, schema_text
+    from codegen.writefile import WriteRefused, write_own
 
     text = reference_text() if as_markdown else schema_text()
     if out_file is None:
         click.echo(text, nl=False)
         return
     try:
-        Path(out_file).write_text(text, encoding="utf-8")
+        write_own(Path(out_file), text, SCHEMA_MARKS)
+    except WriteRefused as exc:
+        raise UserError(str(exc)) from None
     except OSError as exc:
-        raise UserError(f"{out_file}: cannot write: {exc.strerror or exc}") from None
+        raise UserError(f"{out_file}: cannot write: {exc.strerror or exc}; nothing was written") from None

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import sys
 from contextlib import suppress
 from pathlib import Path
@@ -11,25 +10,30 @@ import click
 
 from codegen.cli_base import Number, UserError, file_target_option, main, step_limit_option
 from codegen.cli_base import dump as _dump
+from codegen.csvfile import number, whole
+
+START_JOINT_MAX_DEG = 3600  # ten turns: beyond any arm's axis range (a typing error, not a joint)
 
 
 def _parse_input(text: str):
+    """NAME=VALUE: a whole number, a number or comma-separated numbers (a record), in decimal digits and finite as
+    every numeric option (no nan, inf or 1e999: no controller's input holds them)."""
     name, sep, value = text.partition("=")
     if not sep or not name:
         raise UserError(f"--input: expected NAME=VALUE, got {text!r}")
     if "," in value:  # a record such as BASE_DATA[1]=X,Y,Z,A,B,C
         try:
-            return name, tuple(float(v) for v in value.split(","))
+            return name, tuple(number(v) for v in value.split(","))
         except ValueError:
-            raise UserError(f"--input {name}: not numbers: {value!r}") from None
+            raise UserError(f"--input {name}: not finite numbers in decimal digits: {value!r}") from None
     try:
-        return name, int(value)
+        return name, whole(value)
     except ValueError:
         pass
     try:
-        return name, float(value)
+        return name, number(value)
     except ValueError:
-        raise UserError(f"--input {name}: not a number: {value!r}") from None
+        raise UserError(f"--input {name}: not a finite number in decimal digits: {value!r}") from None
 
 
 def program_files(paths: tuple[str, ...], target_name: str | None):
@@ -236,11 +240,13 @@ def run(
     joints = None
     if start is not None:
         try:
-            joints = [float(v) for v in start.split(",")]
+            joints = [number(v) for v in start.split(",")]
         except ValueError:
             joints = []
-        if len(joints) != 6 or not all(math.isfinite(v) for v in joints):
-            raise UserError(f"--start {start!r}: expected six joint angles J1,...,J6 in deg")
+        if len(joints) != 6 or not all(abs(v) <= START_JOINT_MAX_DEG for v in joints):
+            raise UserError(
+                f"--start {start!r}: expected six joint angles J1,...,J6 in deg, each within +-{START_JOINT_MAX_DEG:,}"
+            )
     on = {}
     for item in signal_values:
         name, sep, value = item.partition("=")

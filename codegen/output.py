@@ -1,5 +1,5 @@
 """Writing what users keep: a cell's output folder replaced whole (staged beside it, switched by one atomic
-exchange, under a lock) and a user's file replaced in one step (a calibration's --write)."""
+exchange, under a lock) and the files of an output folder replaced in one step."""
 
 from __future__ import annotations
 
@@ -8,10 +8,8 @@ import os
 import re
 import secrets
 import shutil
-import stat
-import tempfile
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager, suppress
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 STAMP = re.compile(r"sha256 ([0-9a-f]{64})")  # the cell file's hash in a generated file's header
@@ -281,41 +279,6 @@ def _libc():
         return ctypes.CDLL(None, use_errno=True)
     except OSError:
         return None
-
-
-def replace_file(path: Path, text: str, accept: Callable[[Path], None] | None = None) -> None:
-    """Replace a user's file by `text` in one step: written beside the real file (a symlink is followed and stays a
-    symlink; its target is replaced), with the file's permission bits (and its owner where the system lets us),
-    flushed, then renamed over it once `accept(written)` returns. Whatever stops it (accept's error, a full disk,
-    a kill), the file holds the old text or the new, and a failed run leaves no temporary file behind (a kill can
-    leave `.<name>.<random>.tmp` beside it). OSError when the folder cannot be written."""
-    real = Path(os.path.realpath(path))
-    old = os.stat(real)
-    fd, temporary = tempfile.mkstemp(prefix=f".{real.name}.", suffix=".tmp", dir=real.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-            handle.flush()
-            os.fchmod(handle.fileno(), stat.S_IMODE(old.st_mode))
-            if (old.st_uid, old.st_gid) != (os.geteuid(), os.getegid()):
-                with suppress(PermissionError):  # only root may give a file away; else it is the writer's, as
-                    os.fchown(handle.fileno(), old.st_uid, old.st_gid)  # an editor's save makes it
-            os.fsync(handle.fileno())
-        if accept is not None:
-            accept(Path(temporary))
-        os.replace(temporary, real)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    _sync_one(real.parent)
-
-
-def _sync_one(folder: Path) -> None:
-    fd = os.open(folder, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
 
 
 def write_file(path: Path, text: str) -> None:

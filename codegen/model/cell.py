@@ -5,6 +5,7 @@ from __future__ import annotations
 import hashlib
 import math
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
@@ -18,12 +19,12 @@ from codegen.model.io import SignalSettings
 from codegen.model.loader import Loader
 from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot
-from codegen.model.validate import CellError, Validator, metres_hint
+from codegen.model.validate import CellError, Validator, kind_of, metres_hint
 from codegen.model.vision import VisionSettings
-from codegen.output import replace_file
 from codegen.poses import POSE_FORMATS
 from codegen.protocol import Kinds, installed_kinds
 from codegen.readfile import ReadError, read_regular
+from codegen.writefile import replace_file
 
 QUATERNION_TOLERANCE = 1e-6
 QUATERNION_BOUND = 10.0  # a quaternion that far from unit length is a typing error, not a rotation
@@ -141,11 +142,13 @@ def parse_cell_bytes(raw: bytes, path: Path) -> dict:
     return data
 
 
-def replace_cell_file(path: Path, text: str, kinds: Kinds | None = None) -> None:
-    """Replace a cell file by an edited text (a calibration's --write) once the edited text loads and passes
-    every kind's reach proof (the cell still generates); the file keeps its mode, a symlink stays and its target
-    is replaced (codegen.output.replace_file). Otherwise the file stays as it was and the error goes to the
-    caller: CellError, ReachError, or OSError when the file cannot be written."""
+def replace_cell_file(path: Path, edit: Callable[[str], str], kinds: Kinds | None = None) -> str:
+    """Replace a cell file by `edit(its text)` (a calibration's --write) once the edited text loads and passes
+    every kind's reach proof (the cell still generates). The text is read again under a lock beside the file, so
+    two calibrations of one cell at once both land; the file keeps its mode and line ends, a symlink stays and its
+    target is replaced (codegen.writefile.replace_file). Otherwise the file stays as it was and the error goes to
+    the caller: CellError, ReachError, WriteRefused (hard links, read-only, not a regular file), or OSError when
+    the file cannot be written. Returns the text written."""
 
     def accept(written: Path) -> None:
         raw = written.read_bytes()  # what is on disk, named as the cell file it will become
@@ -159,7 +162,7 @@ def replace_cell_file(path: Path, text: str, kinds: Kinds | None = None) -> None
         for kind in cell.kinds.values():
             kind.writer.reach(cell, list(cell.targets))
 
-    replace_file(path, text, accept)
+    return replace_file(path, edit, accept)
 
 
 def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: Kinds | None = None) -> Cell:
@@ -171,6 +174,9 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: 
     if top_unknown:
         listed = ", ".join(f"[{t}]" for t in sorted(known_tables))
         ctx.fail(sorted(top_unknown)[0], f"unknown table; expected {listed}")
+    for name, key in tables.file_table(kinds).keys.items():  # each kind's tables first: a kind reads only tables
+        if name in data:
+            _table_shape(ctx, name, key.type, data[name])
     cell_table = ctx.table(data, "cell", "cell")
     definition = tables.cell_table(kinds)  # the cell file's definition (codegen/model/tables.py) with the kinds'
     ctx.no_unknown(cell_table, definition.allowed, "cell")
@@ -205,6 +211,14 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: 
     for kind in kinds.values():
         kind.section.check(ctx, cell)
     return cell
+
+
+def _table_shape(ctx: Validator, name: str, shape: str, value) -> None:
+    """A top-level table as the file's definition has it: a table ([name]) or tables ([[name]])."""
+    if shape == "table" and not isinstance(value, dict):
+        ctx.fail(name, f"expected a table ([{name}]), got {kind_of(value)}")
+    if shape == "tables" and not (isinstance(value, list) and all(isinstance(v, dict) for v in value)):
+        ctx.fail(name, f"expected [[{name}]] tables, got {kind_of(value)}")
 
 
 class CellValidator(Validator):

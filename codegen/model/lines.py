@@ -5,8 +5,6 @@ from __future__ import annotations
 import json
 import re
 
-# an array of tables whose messages count from 1 ([[station]]: station[1] is the first); the others count from 0
-INDEX_BASE = {"station": 1}
 _BARE = r"[A-Za-z0-9_-]+"
 _QUOTED = r"\"(?:[^\"\\]|\\.)*\"|'[^']*'"
 _NAME = rf"(?:{_BARE}|{_QUOTED})"
@@ -127,7 +125,6 @@ def _path_parts(path: str) -> list:
         name, index = match.groups()
         if name is not None:
             parts.append(name)
-        else:
-            array = parts[-1] if parts else ""
-            parts.append(int(index) - INDEX_BASE.get(array, 0))
+        else:  # every array counts from 0 in messages, as in TOML's and JSON's own tools
+            parts.append(int(index))
     return parts

@@ -212,6 +212,8 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
         _margin(ctx, table, "joint_margin_deg", DEFAULT_JOINT_MARGIN_DEG),
         _margin(ctx, table, "wrist_margin_deg", DEFAULT_WRIST_MARGIN_DEG),
     )
+    for target in sorted(set(home_table) & set(arms)):
+        _home_off_the_limits(ctx, home[target], arms[target], margins.joint_deg, f"cell.robot.home.{target}")
     if not tool_given:
         ctx.warnings.append(f"{ctx.source}: cell.tool: not given: the programs move the flange (no TCP, no payload)")
     shaped = tool_given and bool(SHAPE_KEYS & set(cell_table["tool"])) and bool(np.any(tool.tcp2flange[:3, 3]))
@@ -221,6 +223,18 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
             "a point mass at cog_mm (no inertia), as the programs' headers say"
         )
     return Robot(arms, home, tool, tool_given, margins, shaped)
+
+
+def _home_off_the_limits(ctx, joints, arm, margin_deg: float, path: str) -> None:
+    """A home the cell gives keeps the joint margin every taught pose keeps: the programs start and end there, and a
+    home at a limit leaves the way home no room (the controller stops the arm on its soft limit)."""
+    for i, (q, (low, high)) in enumerate(zip(joints, arm.limits_deg, strict=True)):
+        if not low + margin_deg <= q <= high - margin_deg:
+            ctx.fail(
+                f"{path}[{i}]",
+                f"axis {i + 1} at {q:g} deg is within {margin_deg:g} deg (cell.robot.joint_margin_deg) of its limits "
+                f"[{low:g}, {high:g}] on the {arm.model}",
+            )
 
 
 def _check_payload(ctx, tool: Tool, arms: dict, table: dict) -> None:
@@ -233,6 +247,20 @@ def _check_payload(ctx, tool: Tool, arms: dict, table: dict) -> None:
                 "cell.tool.mass_kg",
                 f"{tool.mass_kg:g} kg is more than the {arm.model}'s payload of {arm.payload_kg:g} kg "
                 f"(cell.robot.{target}, {where}): the arm cannot carry the tool, let alone a part",
+            )
+
+
+def check_carried(ctx, robot: Robot | None, mass_kg: float, path: str) -> None:
+    """What the tool carries (mass_kg, the key at `path`) and the tool together within each arm's payload."""
+    if robot is None:
+        return
+    tool_kg = robot.tool.mass_kg if robot.tool_given else 0.0
+    for target, arm in robot.arms.items():
+        if arm.payload_kg is not None and tool_kg + mass_kg > arm.payload_kg:
+            ctx.fail(
+                path,
+                f"{mass_kg:g} kg carried by a {tool_kg:g} kg tool is more than the {arm.model}'s payload of "
+                f"{arm.payload_kg:g} kg (cell.robot.{target}): the arm cannot carry it",
             )
 
 

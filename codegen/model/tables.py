@@ -9,7 +9,7 @@ from functools import cache
 
 from codegen.controllers import target_names
 from codegen.model import io, motion, robot, vision
-from codegen.model.schema import JSON_SCHEMA_DRAFT, Key, Table, json_of_table, markdown
+from codegen.model.schema import JSON_SCHEMA_DRAFT, REFERENCE_NOTE, Key, Table, json_of_table, markdown
 from codegen.protocol import Kinds, installed_kinds
 
 CELL_POSE_FORMATS = ("xyzabc", "ur", "abb")
@@ -86,11 +86,16 @@ def json_schema(kinds: Kinds | None = None) -> dict:
     """The cell file's JSON Schema (draft 2020-12) of the kinds (default: the installed ones): a cell has one kind's
     tables at least, and each kind adds the rules between its tables the definition states (Section.json_schema)."""
     kinds = installed_kinds() if kinds is None else kinds
-    out = {"$schema": JSON_SCHEMA_DRAFT, "title": "codegen cell file", **json_of_table(file_table(kinds))}
+    out = {"$schema": JSON_SCHEMA_DRAFT, "title": SCHEMA_TITLE, **json_of_table(file_table(kinds))}
     out["anyOf"] = [{"required": [name]} for name in out["properties"] if name != "cell"]
     for kind in kinds.values():
         kind.section.json_schema(out)
     return out
+
+
+SCHEMA_TITLE = "codegen cell file"
+# `codegen schema --out` replaces only a file with one of these in its first lines (the schema's or the page's)
+SCHEMA_MARKS = (json.dumps({"title": SCHEMA_TITLE})[1:-1].encode(), REFERENCE_NOTE.encode())
 
 
 def schema_text(kinds: Kinds | None = None) -> str:

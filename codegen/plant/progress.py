@@ -6,6 +6,8 @@ from __future__ import annotations
 import sys
 from contextlib import contextmanager
 
+from codegen.terminal import inert, own_controls
+
 
 class Quiet:
     """Progress that shows nothing."""
@@ -29,7 +31,7 @@ class Bars(Quiet):
         self.current = progress.add_task("", total=None)
 
     def cell(self, label: str) -> None:
-        self.progress.reset(self.current, total=None, description=label)
+        self.progress.reset(self.current, total=None, description=inert(label))
 
     def runs(self, count: int) -> None:
         self.progress.advance(self.current, count)
@@ -60,5 +62,6 @@ def progress_bars(total: int, enabled: bool):
         MofNCompleteColumn(),
         TimeElapsedColumn(),
     )
-    with Progress(*columns, console=Console(stderr=True), transient=True) as progress:
+    console = Console(file=own_controls(sys.stderr), stderr=True)  # the bars' own redraws, beneath the door
+    with Progress(*columns, console=console, transient=True) as progress:
         yield Bars(progress, total)

@@ -77,10 +77,10 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
         # a program under a name of its own (a hand-edited copy) is the station program, where the cell has one
         fallback = next((p for p in known.values() if cell.kinds[p.kind].writer.renamed_copies), None)
         group = [*group, *_companions_beside(group, dialect)]
-        files = [read_source(path, dialect.encodings) for path in group]
         try:
+            files = [read_source(path, dialect.encodings) for path in group]  # a FIFO, a device: the user's to fix
             programs = dialect.programs(files)
-        except RunError as exc:  # a data file given without its program
+        except RunError as exc:  # a file that cannot be read, a data file given without its program
             raise ProgramFilesError(str(exc)) from None
         for program in programs:
             main = Path(program[0].name)

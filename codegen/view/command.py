@@ -6,22 +6,25 @@ from pathlib import Path
 
 import click
 
-from codegen.cli_base import UserError
+from codegen.cli_base import FOLDER_REFUSED, UserError
 from codegen.cli_base import load as load_cell
 from codegen.dialects.core.values import RunError
 from codegen.emit import EmitError
+from codegen.render import cell_dir
 from codegen.robot.taught import ReachError
-from codegen.view.page import PageError, cell_page, check_out, write_page
+from codegen.view.page import cell_page, check_out, write_page
 from codegen.view.report import report_page
+from codegen.writefile import WriteRefused
 
 
 def _write(path: Path, html: str) -> None:
     try:
         write_page(path, html)
-    except PageError as exc:
+    except WriteRefused as exc:
         raise UserError(str(exc)) from None
     except OSError as exc:
-        raise click.ClickException(f"{path}: cannot write ({exc.strerror or exc})") from None
+        error = UserError if exc.errno in FOLDER_REFUSED else click.ClickException  # the user's to fix: exit 2
+        raise error(f"{path}: cannot write ({exc.strerror or exc}); nothing was written") from None
 
 
 @click.command()
@@ -35,7 +38,7 @@ def view(cell: str | None, targets: tuple[str, ...], out_file: str | None) -> No
     for t in targets:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
-    path = Path(out_file or f"{model.name}.html")
+    path = Path(out_file or f"{cell_dir(model)}.html")  # the name as generate makes its folder
     check_html(str(path))  # before the work: a file codegen did not write is left alone
     try:
         html = cell_page(model, list(targets) or list(model.targets))
@@ -52,7 +55,7 @@ def check_html(out_file: str | None) -> None:
     if out_file is not None:
         try:
             check_out(Path(out_file))
-        except PageError as exc:
+        except WriteRefused as exc:
             raise UserError(str(exc)) from None
 
 

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +13,7 @@ from codegen.robot.expect import arm_of
 from codegen.view.objects import cell_objects
 from codegen.view.runs import ProgramRuns, Run, nominal_runs
 from codegen.view.scene import arm_description, flat
+from codegen.writefile import check_own, write_own
 
 TOUCH_MM = 2.0  # the TCP this near a box's top centre is on it (where a stacking plan puts the TCP)
 GENERATOR = "codegen view"  # the page's <meta name="generator">: a file that has it is one codegen may replace
@@ -24,10 +23,6 @@ NOTE = (
     "The arm is drawn from its catalogue kinematics at the joints the interpreter solved for each move (between two "
     "moves at joints interpolated linearly); the path joins the poses the trace records."
 )
-
-
-class PageError(Exception):
-    """A page that cannot be written where asked (exit 2: the message names the file)."""
 
 
 def run_json(run: Run) -> dict:
@@ -181,37 +176,15 @@ def cell_page(cell, targets: list[str]) -> str:
     return render("cell.html.j2", f"codegen view: cell {cell.name}", cell_data(cell, targets))
 
 
-def written_by_view(path: Path) -> bool:
-    """A page this command wrote (its generator meta in the first lines): one it may replace."""
-    with open(path, "rb") as handle:
-        return f'<meta name="generator" content="{GENERATOR}'.encode() in handle.read(2048)
+MARKS = (f'<meta name="generator" content="{GENERATOR}'.encode(),)  # in a page's first lines: one codegen wrote
 
 
 def check_out(path: Path) -> None:
-    """PageError unless a page may be written there: a folder, or a file codegen did not write, is left alone."""
-    if path.is_dir():
-        raise PageError(f"{path}: is a folder; give a file name (FILE.html)")
-    if path.exists() and not written_by_view(path):
-        raise PageError(f"{path}: exists and was not written by codegen; left alone (choose another file name)")
+    """WriteRefused unless a page may be written there (codegen.writefile.check_own: a file codegen did not write,
+    a folder, a FIFO or a device is left alone)."""
+    check_own(path, MARKS)
 
 
 def write_page(path: Path, html: str) -> None:
-    """Write the page whole (a temporary file beside it, renamed over it); a file there that codegen did not write
-    is left alone (PageError)."""
-    check_out(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, temp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as handle:
-            handle.write(html)
-        os.chmod(temp, 0o666 & ~_umask())
-        os.replace(temp, path)
-    except BaseException:
-        Path(temp).unlink(missing_ok=True)
-        raise
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
+    """Write the page whole (codegen.writefile.write_own); a file there that codegen did not write is left alone."""
+    write_own(path, html, MARKS)

@@ -6,7 +6,6 @@ from __future__ import annotations
 import os
 import signal
 import stat
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +15,7 @@ from support import belt_sim
 from test_calibrate_tcp import tilts, touch, write_csv
 from test_handeye import grid_csv
 
-from codegen import output
+from codegen import writefile
 from codegen.cli import main
 from codegen.model.cell import EXAMPLES_DIR, CellError, load_cell, replace_cell_file
 
@@ -59,11 +58,12 @@ def setup(command: str, folder: Path) -> tuple[list, Path]:
 COMMANDS = ["handeye", "conveyor", "tcp"]
 
 
-def one_message(result, *says: str) -> None:
+def one_message(result, *says: str) -> str:
     assert result.exit_code == 2, result.output
     assert isinstance(result.exception, SystemExit) and "Traceback" not in result.output
     errors = [line for line in result.output.splitlines() if line.strip()]
     assert len(errors) == 1 and all(s in errors[0] for s in says), result.output
+    return errors[0]
 
 
 @pytest.mark.parametrize("command", COMMANDS)
@@ -110,12 +110,15 @@ def test_a_folder_that_cannot_be_written_gets_one_message(tmp_path, command, mon
         def refused(*_a, **_k):
             raise PermissionError(13, "Permission denied")
 
-        monkeypatch.setattr(tempfile, "mkstemp", refused)
+        monkeypatch.setattr(writefile, "put", refused)
     try:
         result = calibrate(*args, "--write", cell)
     finally:
         os.chmod(folder, 0o755)
-    one_message(result, f"{cell}: cannot write: Permission denied; the file was left as it was")
+    message = one_message(result, f"{cell}: ")
+    assert "cannot write: Permission denied; the file was left as it was" in message or (
+        f"its folder {folder} cannot be written" in message
+    )
     assert cell.read_bytes() == before
 
 
@@ -155,7 +158,7 @@ def test_a_reachable_calibration_is_written_and_generates(tmp_path):
 
 
 def _killed_replace(path: Path, text: str, limit: int) -> int:
-    """codegen.output.replace_file in a forked process that kills itself (SIGKILL, as a power cut would) at its
+    """codegen.writefile.replace_file in a forked process that kills itself (SIGKILL, as a power cut would) at its
     `limit`-th file-system step; the exit status (0: it completed before that step)."""
     pid = os.fork()
     if pid == 0:
@@ -172,9 +175,9 @@ def _killed_replace(path: Path, text: str, limit: int) -> int:
 
                 return step
 
-            for owner, name in [(tempfile, "mkstemp"), (os, "fchmod"), (os, "fsync"), (os, "replace"), (os, "open")]:
-                setattr(owner, name, counted(getattr(owner, name)))
-            output.replace_file(path, text, lambda written: None)
+            for name in ["fchmod", "fsync", "replace", "open"]:
+                setattr(os, name, counted(getattr(os, name)))
+            writefile.replace_file(path, lambda _old: text, lambda written: None)
             code = 0
         finally:
             os._exit(code)
@@ -210,7 +213,7 @@ def test_a_refused_text_leaves_the_file_and_no_temporary(tmp_path):
         raise ValueError("no")
 
     with pytest.raises(ValueError):
-        output.replace_file(cell, "a = 2\n", refuse)
+        writefile.replace_file(cell, lambda _old: "a = 2\n", refuse)
     assert cell.read_text() == "a = 1\n" and sorted(p.name for p in tmp_path.iterdir()) == ["cell.toml"]
 
 
@@ -220,6 +223,23 @@ def test_an_edited_cell_that_does_not_load_names_the_cell_file(tmp_path):
     cell.write_text(BELT_CELL.read_text())
     before = cell.read_bytes()
     with pytest.raises(CellError) as caught:
-        replace_cell_file(cell, BELT_CELL.read_text().replace("counter_bits = 16", "counter_bits = 13", 1))
+        replace_cell_file(cell, lambda text: text.replace("counter_bits = 16", "counter_bits = 13", 1))
     assert str(caught.value).startswith(f"{cell}: ") and ".tmp" not in str(caught.value)
     assert cell.read_bytes() == before and sorted(p.name for p in tmp_path.iterdir()) == ["cell.toml"]
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_a_cell_with_hard_links_or_read_only_gets_one_message(tmp_path, command):
+    """A rename over a hard-linked cell cut the link (the other name kept the old text); a read-only cell was
+    replaced anyway (the folder was writable)."""
+    args, source = setup(command, tmp_path)
+    cell = tmp_path / "cell.toml"
+    cell.write_text(source.read_text())
+    os.link(cell, tmp_path / "backup.toml")
+    before = cell.read_bytes()
+    one_message(calibrate(*args, "--write", cell), f"{cell}: has 2 hard links; replacing it would cut them")
+    assert cell.read_bytes() == before and os.stat(cell).st_nlink == 2
+    (tmp_path / "backup.toml").unlink()
+    os.chmod(cell, 0o444)
+    one_message(calibrate(*args, "--write", cell), f"{cell}: read-only; left as it was")
+    assert cell.read_bytes() == before

@@ -34,22 +34,22 @@ def test_bench_cell_loads(bench):
         (lambda t: t.replace("[cell.camera.handeye]", "[cell.camera.unused]"), "cell.camera.unused: unknown key"),
         (
             lambda t: t[: t.index("[cell.camera.handeye]")] + t[t.index("[cell.limits]") :],
-            "station[1].mode: frame mode reads the camera in pixels and needs [cell.camera.handeye]",
+            "station[0].mode: frame mode reads the camera in pixels and needs [cell.camera.handeye]",
         ),
         (
             lambda t: t.replace('mode = "frame"', 'mode = "frame"\nmark = [1.0, 2.0, 3.0]'),
-            'station[1].mark: only point stations (mode = "point") have this key',
+            'station[0].mark: only point stations (mode = "point") have this key',
         ),
         (
             lambda t: t.replace('mode = "frame"', 'mode = "frames"'),
-            "station[1].mode: expected one of 'point', 'frame', got 'frames'",
+            "station[0].mode: expected one of 'point', 'frame', got 'frames'",
         ),
-        (lambda t: t.replace("photo = [0.0, 0.0, 180.0, 0.0, 0.0, 180.0]", ""), "station[1].photo: missing"),
+        (lambda t: t.replace("photo = [0.0, 0.0, 180.0, 0.0, 0.0, 180.0]", ""), "station[0].photo: missing"),
         (
             lambda t: t.replace(
                 "mark = [380.0, -310.0, -1.2]", "mark = [380.0, -310.0, -1.2]\nphoto = [0, 0, 0, 0, 0, 0]"
             ),
-            'station[2].photo: only frame stations (mode = "frame")',
+            'station[1].photo: only frame stations (mode = "frame")',
         ),
         (lambda t: t.replace("max_iterations = 10", "max_iterations = 0"), "cell.refine.max_iterations"),
     ],
@@ -181,7 +181,7 @@ def test_kuka_base_data(tmp_path):
     assert report.mismatches == 0, report.first_mismatches
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("base_data = 3", "base_data = 40"), encoding="utf-8")
-    with pytest.raises(CellError, match=r"station\[1\]\.base_data: target kuka stores bases 1\.\.32, got 40"):
+    with pytest.raises(CellError, match=r"station\[0\]\.base_data: target kuka stores bases 1\.\.32, got 40"):
         load_cell(bad)
 
 

@@ -28,12 +28,12 @@ def _demo() -> dict:
 @pytest.mark.parametrize(
     ("edit", "message"),
     [
-        (lambda s: s["gripper"].update(spindle="grip"), r"station\[1\]\.gripper\.spindle: not a pose of the station"),
-        (lambda s: s["gripper"].update(chuck="drop"), r"station\[1\]\.gripper\.chuck: expected 'grip' or 'release'"),
-        (lambda s: s["gripper"].pop("tray_done"), r"station\[1\]\.gripper\.tray_raw: grip after grip at 'chuck_out'"),
-        (lambda s: s["gripper"].pop("tray_raw"), r"station\[1\]\.gripper\.chuck: release after release"),
-        (lambda s: s.update(fixed=["tray", "tray_raw"]), r"station\[1\]\.fixed\[0\]: not a pose of the station"),
-        (lambda s: s.update(fixed=["chuck"]), r"station\[1\]\.fixed\[0\]: 'chuck' is the work pose"),
+        (lambda s: s["gripper"].update(spindle="grip"), r"station\[0\]\.gripper\.spindle: not a pose of the station"),
+        (lambda s: s["gripper"].update(chuck="drop"), r"station\[0\]\.gripper\.chuck: expected 'grip' or 'release'"),
+        (lambda s: s["gripper"].pop("tray_done"), r"station\[0\]\.gripper\.tray_raw: grip after grip at 'chuck_out'"),
+        (lambda s: s["gripper"].pop("tray_raw"), r"station\[0\]\.gripper\.chuck: release after release"),
+        (lambda s: s.update(fixed=["tray", "tray_raw"]), r"station\[0\]\.fixed\[0\]: not a pose of the station"),
+        (lambda s: s.update(fixed=["chuck"]), r"station\[0\]\.fixed\[0\]: 'chuck' is the work pose"),
     ],
 )
 def test_a_bad_gripper_or_fixed_key_names_itself(edit, message):
@@ -46,7 +46,7 @@ def test_a_bad_gripper_or_fixed_key_names_itself(edit, message):
 def test_a_gripper_without_feedback_is_refused():
     data = _demo()
     del data["cell"]["io"]["feedback"]
-    with pytest.raises(CellError, match=r"station\[1\]\.gripper: the gripper needs \[cell\.io\] with its feedback"):
+    with pytest.raises(CellError, match=r"station\[0\]\.gripper: the gripper needs \[cell\.io\] with its feedback"):
         cell_from_dict(data, "cell.toml")
 
 

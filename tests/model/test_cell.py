@@ -48,23 +48,23 @@ BAD = {
         MINIMAL_CELL.replace(
             "chuck = [700.0, -100.0, 300.0, 90.0, 0.0, 180.0]", "chuck = [700.0, -100.0, 300.0, 90.0, 0.0]"
         ),
-        "station[1].poses.chuck: expected 6 numbers, got 5",
+        "station[0].poses.chuck: expected 6 numbers, got 5",
     ),
     "nan": (
         MINIMAL_CELL.replace("mark = [600.0, -250.0, 2.0]", "mark = [nan, -250.0, 2.0]"),
-        "station[1].mark[0]: expected a finite number, got nan",
+        "station[0].mark[0]: expected a finite number, got nan",
     ),
     "inf": (
         MINIMAL_CELL.replace("vise = [700.0,", "vise = [inf,"),
-        "station[2].poses.vise[0]: expected a finite number, got inf",
+        "station[1].poses.vise[0]: expected a finite number, got inf",
     ),
     "mode_not_a_string": (
         MINIMAL_CELL.replace('name = "mill_1"', 'name = "mill_1"\nmode = ["point"]'),
-        "station[2].mode: expected one of 'point', 'frame', got ['point']",
+        "station[1].mode: expected one of 'point', 'frame', got ['point']",
     ),
     "mode_a_table": (
         MINIMAL_CELL.replace('name = "mill_1"', 'name = "mill_1"\nmode = {kind = "point"}'),
-        "station[2].mode: expected one of 'point', 'frame', got {'kind': 'point'}",
+        "station[1].mode: expected one of 'point', 'frame', got {'kind': 'point'}",
     ),
     "string_number": (
         MINIMAL_CELL.replace("max_shift_mm = 10.0", 'max_shift_mm = "10"'),
@@ -72,11 +72,11 @@ BAD = {
     ),
     "duplicate_id": (
         MINIMAL_CELL.replace("id = 2", "id = 1"),
-        "station[2].id: duplicate station id 1",
+        "station[1].id: duplicate station id 1",
     ),
     "duplicate_name": (
         MINIMAL_CELL.replace('name = "mill_1"', 'name = "lathe_1"'),
-        "station[2].name: duplicate station name 'lathe_1'",
+        "station[1].name: duplicate station name 'lathe_1'",
     ),
     "unknown_target": (
         MINIMAL_CELL.replace("targets = [", 'targets = ["fanuc", '),
@@ -96,7 +96,7 @@ BAD = {
     ),
     "station_without_poses": (
         MINIMAL_CELL.replace("vise = [700.0, 50.0, 260.0, -90.0, 15.0, 180.0]\n", ""),
-        "station[2].poses: a station needs at least one pose",
+        "station[1].poses: a station needs at least one pose",
     ),
     "missing_key": (
         MINIMAL_CELL.replace("angle_sign = -1\n", ""),
@@ -117,19 +117,19 @@ BAD = {
     ),
     "station_id_not_integer": (
         MINIMAL_CELL.replace("id = 2", "id = 2.5"),
-        "station[2].id: expected an integer",
+        "station[1].id: expected an integer",
     ),
     "station_id_out_of_range": (
         MINIMAL_CELL.replace("id = 2", "id = 0"),
-        "station[2].id: must be in 1..32767",
+        "station[1].id: must be in 1..32767",
     ),
     "empty_name": (
         MINIMAL_CELL.replace('name = "mill_1"', 'name = "  "'),
-        "station[2].name: expected a non-empty string",
+        "station[1].name: expected a non-empty string",
     ),
     "mark_theta_out_of_range": (
         MINIMAL_CELL.replace("mark = [640.0, 210.0, 0.0]", "mark = [640.0, 210.0, 400.0]"),
-        "station[2].mark[2]: theta must be within",
+        "station[1].mark[2]: theta must be within",
     ),
     "boolean_number": (
         MINIMAL_CELL.replace("max_rotation_deg = 10.0", "max_rotation_deg = true"),
@@ -159,14 +159,14 @@ def test_abb_quaternion_normalised_with_warning(write_cell):
     cell = load_cell(write_cell(text))
     assert stations_of(cell)[0].poses[0].values[3:] == (0.0, 0.0, 0.0, 1.0)
     assert len(cell.warnings) == 1
-    assert "station[1].poses.approach: quaternion norm 2 normalised" in cell.warnings[0]
+    assert "station[0].poses.approach: quaternion norm 2 normalised" in cell.warnings[0]
 
 
 def test_abb_zero_quaternion_rejected(write_cell):
     text = MINIMAL_CELL.replace('pose_format = "xyzabc"', 'pose_format = "abb"').replace(
         "[650.0, -100.0, 400.0, 90.0, 0.0, 180.0]", "[650.0, -100.0, 400.0, 0.0, 0.0, 0.0, 0.0]"
     )
-    assert "station[1].poses.approach: quaternion q1..q4 is zero" in _error(write_cell, text)
+    assert "station[0].poses.approach: quaternion q1..q4 is zero" in _error(write_cell, text)
 
 
 def test_ur_pose_format_in_metres(write_cell):
@@ -190,7 +190,7 @@ def test_cli_bad_cell_exits_2_without_traceback(write_cell):
     )
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
-    assert "station[1].poses.chuck: expected 6 numbers, got 5" in proc.stderr
+    assert "station[0].poses.chuck: expected 6 numbers, got 5" in proc.stderr
 
 
 def _one_pose_cell(pose_format: str, pose: str) -> str:
@@ -216,10 +216,10 @@ def test_hostile_numbers_and_nesting_are_named_not_raised(write_cell, text, mess
 def test_marks_and_poses_only_where_float32_meets_verify_tolerance(write_cell):
     """At 100 km a float32 controller corrects 0.008 mm off, beyond verify's 0.005 mm: refused."""
     far = MINIMAL_CELL.replace("mark = [600.0, -250.0, 2.0]", "mark = [100000.0, -100000.0, 0.0]")
-    with pytest.raises(CellError, match=r"station\[1\]\.mark: x and y must be within \+-10000 mm"):
+    with pytest.raises(CellError, match=r"station\[0\]\.mark: x and y must be within \+-10000 mm"):
         load_cell(write_cell(far))
     pose = MINIMAL_CELL.replace("vise = [700.0, 50.0,", "vise = [10700.0, 50.0,")
-    with pytest.raises(CellError, match=r"station\[2\]\.poses\.vise: position must be within \+-10000"):
+    with pytest.raises(CellError, match=r"station\[1\]\.poses\.vise: position must be within \+-10000"):
         load_cell(write_cell(pose))
 
 
@@ -236,7 +236,7 @@ def test_sizes_beyond_what_verify_can_run_are_refused_at_load(write_cell):
         load_cell(write_cell(many))
     poses = "".join(f"p{i} = [650, -100, 400, 90, 0, 180]\n" for i in range(1001))
     long_station = head + station.format(i=1).replace("w = [650, -100, 400, 90, 0, 180]\n", poses)
-    with pytest.raises(CellError, match=r"station\[1\]\.poses: 1001 poses; at most 1000 per station"):
+    with pytest.raises(CellError, match=r"station\[0\]\.poses: 1001 poses; at most 1000 per station"):
         load_cell(write_cell(long_station))
 
 

@@ -242,8 +242,8 @@ def test_key_lines_follow_headers_arrays_of_tables_and_multi_line_values():
     [
         ("cell.io.output.ur", 9),  # in an inline table: the table's line
         ("cell.targets[1]", 4),
-        ("station[2].id", 15),  # [[station]] counts from 1 in messages
-        ("station[1].poses.p1", 13),
+        ("station[1].id", 15),  # every array counts from 0 in messages
+        ("station[0].poses.p1", 13),
         ("pallet[0].io.timeout_s", 22),
         ("cell.motion.zone_mm", 2),  # not written: the nearest enclosing table
         ("spare", None),

@@ -135,7 +135,7 @@ def test_station_config_is_validated(tmp_path):
         "chuck = [738.5, -112.3, 305.2, 90.0, 0.0, 180.0]\n[station.config.abb]\nchuk = [0, 0, 0, 0]\n",
         1,
     )
-    with pytest.raises(CellError, match=r"station\[1\]\.config\.abb\.chuk: no such pose"):
+    with pytest.raises(CellError, match=r"station\[0\]\.config\.abb\.chuk: no such pose"):
         load_cell(write_cell(tmp_path, text))
 
 

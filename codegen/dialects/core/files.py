@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from codegen.dialects.core.values import RunError
+from codegen.readfile import ReadError, read_regular
 
 UTF8_BOM = b"\xef\xbb\xbf"
 SEVERITIES = ("error", "unsupported", "warning")  # a finding's weight: check's exit 2 for the first two, 1 else
@@ -118,10 +119,24 @@ def decode_text(raw: bytes, name: str, encodings: tuple[str, ...]) -> str:
     raise RunError(f"{name}: byte {first_bad} is not text in any encoding this controller uses ({tried})")
 
 
+PROGRAM_FILE_MAX_BYTES = 16 << 20  # the largest generated program (a cell of 1,000 stations) is a few MB
+PROGRAM_LINE_MAX = 10_000  # characters on one line; the longest generated line is under 1,000
+
+
 def read_source(path: Path, encodings: tuple[str, ...]) -> SourceFile:
-    """A program file from disk (RunError with the file's name when it cannot be read or decoded)."""
+    """A program file from disk, read as a cell file is (codegen.readfile: a regular file only, within a size
+    bound) with a bound on any one line; RunError with the file's name when it cannot be read or decoded."""
     try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise RunError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    return SourceFile(str(path), decode_text(raw, str(path), encodings))
+        raw = read_regular(
+            path,
+            PROGRAM_FILE_MAX_BYTES,
+            "a program file",
+            "a program that large is no controller's (the largest generated one is a few MB)",
+        )
+    except ReadError as exc:
+        raise RunError(str(exc)) from None
+    text = decode_text(raw, str(path), encodings)
+    for number, line in enumerate(text.split("\n"), start=1):
+        if len(line) > PROGRAM_LINE_MAX:
+            raise RunError(f"{path}: line {number}: longer than {PROGRAM_LINE_MAX:,} characters; no program's line is")
+    return SourceFile(str(path), text)

@@ -10,6 +10,7 @@ from lark import Tree
 
 from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
+from codegen.dialects.core.limits import array_size_problem
 from codegen.dialects.core.machine import MoveEvent, Program
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Inline
@@ -177,6 +178,8 @@ class DTransCompiler(Compiler):
         type_token, name, size, init = node.children
         type_name = str(type_token)
         full_type = (type_name, int(str(size))) if size is not None else type_name
+        if size is not None and (problem := array_size_problem([full_type[1]])):
+            self.fail(node, problem)
         key, where = repr(str(name)), self.where(node)
         lines = [f"fr.types[{key}] = {self.const(full_type)}"]
         if init is None:

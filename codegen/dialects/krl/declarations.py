@@ -7,6 +7,7 @@ import math
 import numpy as np
 from lark import Token, Tree
 
+from codegen.dialects.core.limits import array_size_problem
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
 from codegen.dialects.krl.builtins import CART, SIMPLE, STRUCTS, SYSTEM_ENUMS, UNINIT, new_value, type_name_of
 from codegen.dialects.krl.numbered import SYSTEM_ARRAYS
@@ -148,6 +149,8 @@ class Declarations:
                 continue
             if dims is not None:
                 sizes = [int(str(t)) for t in dims.children]
+                if problem := array_size_problem(sizes):
+                    self.fail(dims, problem)
                 if type_name == "CHAR":  # the last dimension is the text's length
                     sizes = sizes[:-1]
                 if len(sizes) > MAX_DIMS:

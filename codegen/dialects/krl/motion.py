@@ -11,7 +11,7 @@ from codegen.dialects.core.machine import MoveEvent
 from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.krl import trigger
 from codegen.dialects.krl.builtins import UNINIT, XYZABC, cart, cart_matrix, frame, shown, valid, xyzabc
-from codegen.dialects.krl.numbered import SYSTEM_ARRAYS, fresh_values, no_inertia
+from codegen.dialects.krl.numbered import SYSTEM_ARRAYS, fresh_values
 from codegen.dialects.krl.position import base2robot, record_base
 from codegen.dialects.krl.sysvars import axis_act
 from codegen.poses import rotmat_from_zyx_deg

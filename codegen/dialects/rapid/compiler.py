@@ -10,6 +10,7 @@ from lark import Tree
 
 from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.files import Finding
+from codegen.dialects.core.limits import array_size_problem
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.source import Inline, Src, indent
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
@@ -375,7 +376,10 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
 
         def make(fr):
             full_type = base
-            for size in reversed([int(num(s(fr), where)) for s in size_exprs]):
+            sizes = [num(s(fr), where) for s in size_exprs]
+            if problem := array_size_problem(sizes):
+                raise RunError(f"{where}: {problem}")
+            for size in reversed([int(size) for size in sizes]):
                 full_type = (full_type, size)
             if value is None:
                 return full_type, self.zero_of(full_type)
@@ -387,10 +391,15 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
         """A declaration's type when it is known without running (array sizes as literals)."""
         _local, _task, _storage, type_name, _name, dims, _init = node.children
         full = self.resolve_type(type_name)
-        for size in reversed(dims.children if dims is not None else []):
+        sizes = []
+        for size in dims.children if dims is not None else []:
             if not (isinstance(size, Tree) and size.data == "number"):
                 return None
-            full = (full, int(float(str(size.children[0]))))
+            sizes.append(float(str(size.children[0])))
+        if problem := array_size_problem(sizes):
+            self.fail(dims, problem)
+        for size in reversed(sizes):
+            full = (full, int(size))
         return full
 
     def static_type_of(self, node):

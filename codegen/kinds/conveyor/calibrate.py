@@ -13,6 +13,7 @@ from codegen.csvfile import CsvError, number, read_rows, whole
 from codegen.kinds.conveyor.section import belt2base, conveyor_of
 from codegen.model.cell import CellError, load_cell, read_cell_data, replace_cell_file
 from codegen.robot.taught import ReachError
+from codegen.writefile import WriteRefused
 
 ROLES = ("belt", "side")
 MIN_TOUCHES = 2
@@ -262,15 +263,20 @@ def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_len
     if working_length_mm is not None:
         lines.append(f"working_length_mm = {working_length_mm:.12g}")
     table = "\n".join(lines) + "\n"
-    text = read_cell_data(cell_path)[1].decode("utf-8")  # CellError: the command's message
-    start, end = _table_span(text, "conveyor")
-    new = text[:start] + table + text[end:] if start is not None else text.rstrip("\n") + "\n\n" + table
+    read_cell_data(cell_path)  # a cell file at all; CellError: the command's message
+
+    def edit(text: str) -> str:
+        start, end = _table_span(text, "conveyor")
+        return text[:start] + table + text[end:] if start is not None else text.rstrip("\n") + "\n\n" + table
+
     try:
-        replace_cell_file(cell_path, new)
+        replace_cell_file(cell_path, edit)
     except CellError as exc:
         raise ConveyorCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
     except ReachError as exc:
         raise ConveyorCalibrationError(f"{cell_path}: with this belt the cell would not generate: {exc}") from None
+    except WriteRefused as exc:
+        raise ConveyorCalibrationError(str(exc)) from None
     except OSError as exc:
         raise ConveyorCalibrationError(
             f"{cell_path}: cannot write: {exc.strerror or exc}; the file was left as it was"

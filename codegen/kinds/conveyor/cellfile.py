@@ -7,6 +7,7 @@ from codegen.kinds.conveyor import budget
 from codegen.kinds.conveyor.keys import KEYS
 from codegen.kinds.conveyor.pick import check_inputs
 from codegen.kinds.conveyor.section import conveyor_of, parse_conveyor
+from codegen.model.robot import check_carried
 
 
 class SectionPart(protocol.Section):
@@ -24,4 +25,5 @@ class SectionPart(protocol.Section):
             ctx.fail("cell.io", "a cell with [conveyor.pick] needs [cell.io] with feedback: the gripper and its sensor")
         if conveyor is not None and conveyor.pick is not None:
             check_inputs(ctx, conveyor.pick, cell.io.feedback)
+            check_carried(ctx, cell.robot, conveyor.pick.part_mass_kg, "conveyor.pick.part_mass_kg")
         budget.check(ctx, cell)

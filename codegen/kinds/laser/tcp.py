@@ -11,9 +11,10 @@ from pathlib import Path
 import numpy as np
 
 from codegen.csvfile import CsvError, number, read_rows
-from codegen.model.cell import CellError, load_cell, read_cell_data, replace_cell_file
+from codegen.model.cell import CellError, load_cell, replace_cell_file
 from codegen.poses import matrix_from_xyzabc, native_values, rotmat_from_zyx_deg, zyx_deg_from_rotmat
 from codegen.robot.taught import ReachError
+from codegen.writefile import WriteRefused
 
 METHODS = {"tcp": (), "tcp-z": ("z",), "tcp-zx": ("z", "x")}  # the orientation rows each method needs
 ROLES = ("point", "z", "x")
@@ -206,25 +207,29 @@ def write_to_cell(cell_path: Path, result: ToolFit, source: str) -> None:
     kept)."""
 
     cell = load_cell(cell_path)
-    text = read_cell_data(cell_path)[1].decode("utf-8")
-    match = _TOOL.search(text)
-    if match is None or cell.robot is None:
-        raise ToolCalibrationError(f"{cell_path}: no [cell.tool] table (with the tool's mass_kg and cog_mm) to set")
     orientation = result.orientation or tuple(zyx_deg_from_rotmat(_flange_orientation(cell)))
     values = native_values((*result.tcp, *orientation), "xyzabc", cell.pose_format)
     line = f"tcp = [{', '.join(f'{v:.6g}' for v in values)}]   # `codegen calibrate tcp` from {source}"
-    body = match.group(0)
-    if _TCP_LINE.search(body):
-        body = _TCP_LINE.sub(lambda _m: line, body, count=1)
-    else:
-        body = body.rstrip("\n") + "\n" + line + "\n"
-    new = text[: match.start()] + body + text[match.end() :]
+
+    def edit(text: str) -> str:
+        match = _TOOL.search(text)
+        if match is None or cell.robot is None:
+            raise ToolCalibrationError(f"{cell_path}: no [cell.tool] table (with the tool's mass_kg and cog_mm) to set")
+        body = match.group(0)
+        if _TCP_LINE.search(body):
+            body = _TCP_LINE.sub(lambda _m: line, body, count=1)
+        else:
+            body = body.rstrip("\n") + "\n" + line + "\n"
+        return text[: match.start()] + body + text[match.end() :]
+
     try:
-        replace_cell_file(cell_path, new)  # the arm must still take every pose of every kind with the new tool
+        replace_cell_file(cell_path, edit)  # the arm must still take every pose of every kind with the new tool
     except CellError as exc:
         raise ToolCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
     except ReachError as exc:
         raise ToolCalibrationError(f"{cell_path}: with this tool the cell would not generate: {exc}") from None
+    except WriteRefused as exc:
+        raise ToolCalibrationError(str(exc)) from None
     except OSError as exc:
         raise ToolCalibrationError(
             f"{cell_path}: cannot write: {exc.strerror or exc}; the file was left as it was"

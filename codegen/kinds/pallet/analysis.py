@@ -10,6 +10,7 @@ from codegen.kinds.pallet.keys import KEYS
 from codegen.kinds.pallet.patterns import TooManyBoxes, layout
 from codegen.kinds.pallet.section import BOXES_MAX, Pallet, pallets_of, parse_pallets
 from codegen.kinds.pallet.stack import FrameError, pallet2base, pattern_of, placements
+from codegen.model.robot import check_carried
 
 
 def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
@@ -149,3 +150,5 @@ class SectionPart(protocol.Section):
             ctx.fail(
                 "cell.io", "a cell with [[pallet]] needs [cell.io] with feedback: the gripper's output and its sensor"
             )
+        for i, pallet in enumerate(pallets_of(cell)):
+            check_carried(ctx, cell.robot, pallet.box_mass_kg, f"pallet[{i}].box_mass_kg")

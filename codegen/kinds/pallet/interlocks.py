@@ -95,6 +95,36 @@ def _facts(target: str) -> dict:
     return get_target(target).kind_tables.get("pallet", {})
 
 
+SHARED_JOBS = (*WAITS, "reset")  # inputs several pallets may share (one line's Q, one PLC's reset); select and done not
+
+
+def check_one_job_each(ctx, pallets, cell_io) -> None:
+    """Each signal of a target does one job: the gripper's output is no pallet's done output, a box at Q is not the
+    pallet in place, and no two pallets share a select input or a done output (the PLC or the program could not
+    tell them apart: a gripper closing would say "pallet full", a box arriving would say "pallet in place")."""
+    for target in cell_io.output if cell_io is not None else ():
+        outputs = [("cell.io.output", "gripper", cell_io.output.get(target))]
+        inputs = [("cell.io.feedback", "feedback", cell_io.feedback.get(target))]
+        for i, pallet in enumerate(pallets):
+            outputs.append((f"pallet[{i}].io.done", "done", pallet.io.done.get(target)))
+            inputs += [
+                (f"pallet[{i}].io.{job}", job, getattr(pallet.io, job).get(target)) for job in (*SHARED_JOBS, "select")
+            ]
+        for kind, jobs in (("output", outputs), ("input", inputs)):
+            seen: dict = {}
+            for path, job, signal in jobs:
+                if signal is None:
+                    continue
+                key = signal.lower() if isinstance(signal, str) else signal
+                if key in seen and (seen[key][1] != job or job not in SHARED_JOBS):
+                    ctx.fail(
+                        f"{path}.{target}",
+                        f"{target} {kind} {signal!r} is {seen[key][0]}.{target} too: one signal, one job (the program "
+                        "and the PLC could not tell the two apart)",
+                    )
+                seen.setdefault(key, (path, job))
+
+
 def check_pallets_io(ctx, pallets, targets) -> None:
     """Across the pallets of a cell: a program selection input per pallet where the programs share one task and the
     cell has several pallets, and no two pallets' counters in one register."""

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from codegen.kinds.pallet.interlocks import PalletIO, check_pallets_io, parse_io
+from codegen.kinds.pallet.interlocks import PalletIO, check_one_job_each, check_pallets_io, parse_io
 from codegen.kinds.pallet.keys import FAMILIES, MAX_LAYERS, PALLET
 from codegen.model.cell import CellValidator
 from codegen.model.loader import Loader, build
@@ -78,6 +78,7 @@ def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
         if name in names[:i]:
             ctx.fail(f"pallet[{i}].name", f"pallet {name!r} named twice")
     check_pallets_io(ctx, pallets, cell.targets)
+    check_one_job_each(ctx, pallets, cell.io)
     return pallets
 
 

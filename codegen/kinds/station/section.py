@@ -133,7 +133,7 @@ def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
     if not stations_raw:
         return None
     pose_format = cell.pose_format
-    stations = [_station(ctx, raw, i + 1, pose_format) for i, raw in enumerate(stations_raw)]
+    stations = [_station(ctx, raw, i, pose_format) for i, raw in enumerate(stations_raw)]
     stations = [
         replace(
             station,
@@ -141,11 +141,11 @@ def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
                 ctx, raw.get("config"), f"station[{i}].config", cell.robot, [p.name for p in station.poses]
             ),
         )
-        for i, (station, raw) in enumerate(zip(stations, stations_raw, strict=True), start=1)
+        for i, (station, raw) in enumerate(zip(stations, stations_raw, strict=True))
     ]
     if cell.motion.retreat_mm > 0:
         stations = [replace(s, retreat=_retreat(s, cell.motion.retreat_mm, pose_format)) for s in stations]
-    for i, station in enumerate(stations, start=1):
+    for i, station in enumerate(stations):
         if station.gripper and (cell.io is None or set(cell.io.output) - set(cell.io.feedback)):
             ctx.fail(
                 f"station[{i}].gripper",
@@ -154,7 +154,7 @@ def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
             )
     seen_ids: dict[int, int] = {}
     seen_names: dict[str, int] = {}
-    for i, station in enumerate(stations, start=1):
+    for i, station in enumerate(stations):
         if station.id in seen_ids:
             ctx.fail(f"station[{i}].id", f"duplicate station id {station.id} (also station[{seen_ids[station.id]}])")
         if station.name in seen_names:
@@ -185,6 +185,19 @@ def _camera(ctx, cell_table: dict):
             "(`codegen calibrate handeye POINTS.csv --write CELL` sets it)",
         )
     return angle_sign, handeye
+
+
+def _shift_within_reach(ctx, max_shift_mm: float, arms: dict) -> None:
+    """A shift no arm can follow is refused before its envelope is sampled: the disc of readings around a taught pose
+    fits in the arm's reach only when its radius is within the reach (the sampling grows with the radius, so a
+    typing error would otherwise cost minutes and gigabytes before the same refusal)."""
+    for target, arm in arms.items():
+        if arm.reach_mm is not None and max_shift_mm > arm.reach_mm:
+            ctx.fail(
+                "cell.limits.max_shift_mm",
+                f"{max_shift_mm:g} mm is more than the {arm.model}'s reach of {arm.reach_mm:g} mm "
+                f"(cell.robot.{target}): no taught pose can be followed over that shift",
+            )
 
 
 def _limits(ctx, cell_table: dict) -> Limits:
@@ -268,8 +281,10 @@ class SectionPart(protocol.Section):
         return parse(ctx, data, cell, standalone)
 
     def check(self, ctx, cell) -> None:
-        for i, station in enumerate(stations_of(cell), start=1):
+        for i, station in enumerate(stations_of(cell)):
             modes()[station.mode].check_station(ctx, f"station[{i}]", station, cell)
+        if stations_of(cell) and cell.robot is not None:
+            _shift_within_reach(ctx, section_of(cell).limits.max_shift_mm, cell.robot.arms)
 
     def json_schema(self, schema: dict) -> None:
         """A station's mode's keys (required by its mode, refused by the others'), and [cell.camera] and

@@ -13,6 +13,7 @@ from codegen.csvfile import CsvError, number, read_rows
 from codegen.kinds.station.section import image_angle_sign
 from codegen.model.cell import CellError, read_cell_data, replace_cell_file
 from codegen.robot.taught import ReachError
+from codegen.writefile import WriteRefused
 
 PIXEL_LIMIT = 100_000.0  # an image's pixel coordinates (the largest sensors are some 20,000 px wide)
 POSITION_LIMIT_MM = 10_000.0  # robot positions, as the other calibrations take them
@@ -182,23 +183,28 @@ def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
     must load and pass every kind's reach proof before it replaces the old one (its mode and a symlink kept)."""
 
     try:
-        text = read_cell_data(cell_path)[1].decode("utf-8")
+        read_cell_data(cell_path)  # a cell file at all (a regular file within the size bound)
     except CellError as exc:
         raise HandEyeError(str(exc)) from None
     table = toml_table(result, source)
-    if _TABLE.search(text):
-        new = _TABLE.sub(lambda m: table + "\n", text, count=1)
-    else:
-        match = _table_pattern("cell.camera").search(text)
-        if match is None:
-            raise HandEyeError(f"{cell_path}: no [cell.camera] table to put the calibration after")
-        new = text[: match.end()].rstrip("\n") + "\n\n" + table + "\n" + text[match.end() :]
-    new = _with_angle_sign(new, image_angle_sign(result.matrix))
+
+    def edit(text: str) -> str:
+        if _TABLE.search(text):
+            new = _TABLE.sub(lambda m: table + "\n", text, count=1)
+        else:
+            match = _table_pattern("cell.camera").search(text)
+            if match is None:
+                raise HandEyeError(f"{cell_path}: no [cell.camera] table to put the calibration after")
+            new = text[: match.end()].rstrip("\n") + "\n\n" + table + "\n" + text[match.end() :]
+        return _with_angle_sign(new, image_angle_sign(result.matrix))
+
     try:
-        replace_cell_file(cell_path, new)  # the edited file must still be a valid cell that generates
+        replace_cell_file(cell_path, edit)  # the edited file must still be a valid cell that generates
     except CellError as exc:
         raise HandEyeError(f"{cell_path}: edited file would not load: {exc}") from None
     except ReachError as exc:
         raise HandEyeError(f"{cell_path}: with this calibration the cell would not generate: {exc}") from None
+    except WriteRefused as exc:
+        raise HandEyeError(str(exc)) from None
     except OSError as exc:
         raise HandEyeError(f"{cell_path}: cannot write: {exc.strerror or exc}; the file was left as it was") from None
