@@ -186,6 +186,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     given_up = {*skipped, *too_late, *too_close, *lost, *early, *flushed}
     picked = [p for p in case.parts if p.seq not in given_up]
     closes = [o for o in trace.outputs if o.name == output and o.value == cell.io.value]
+    closes = closes[1:] if case.held else closes  # the first: the grip asserted again on the part held at the start
     opens = [o for o in trace.outputs if o.name == output and o.value != cell.io.value][1:]  # after the first
     if len(closes) != len(picked) or len(opens) != len(picked):
         return f"{len(closes)} grips and {len(opens)} releases for {len(picked)} parts picked", 0.0, 0.0

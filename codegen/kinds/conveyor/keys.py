@@ -151,7 +151,11 @@ PICK = Table(
             default=2.0,
         ),
         "min_gap_mm": Key(
-            "number", "how close a part may follow the one before and still be picked", unit="mm", low=0.0, default=0.0
+            "number",
+            "how close a part may follow the one before and still be picked (ABB native: the unit's Sync Separation)",
+            unit="mm",
+            low=0.0,
+            default=0.0,
         ),
         "timer": Key(
             "map",
@@ -163,6 +167,12 @@ PICK = Table(
             "map",
             "per target that needs it (ABB native): the belt's mechanical unit",
             values=Key("string", "a mechanical unit's name"),
+        ),
+        "unit_axis": Key(
+            "map",
+            "per target that needs it (ABB native): the unit's logical axis, where its position stands in every "
+            "robtarget and jointtarget (7: eax_a ... 12: eax_f; default the target's facts: targets/<t>.toml)",
+            values=Key("integer", "a logical axis", low=7, high=12),
         ),
     },
 )

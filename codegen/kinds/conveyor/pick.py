@@ -27,9 +27,10 @@ class Pick:
     program latches its own encoder there); part_mass_kg, part_cog_mm: the part (its centre of gravity in the
     tool frame), the payload while the gripper holds it; place_clear: per target, the input that says the
     place is free (none: the program does not ask), waited for place_timeout_s; min_gap_mm: how close a part may
-    follow the one before and still be picked (ABB native: the queue's minimum distance); unit: per target, the
-    belt's mechanical unit (ABB native); no_part_s: the wait for the next part says so once after this long (and
-    goes on); belt_stop_s: the encoder still this long while a part is on its way: the belt stands (a message)."""
+    follow the one before and still be picked (ABB native: the unit's Sync Separation); unit: per target, the
+    belt's mechanical unit (ABB native), unit_axis its logical axis; no_part_s: the wait for the next part says so
+    once after this long (and goes on); belt_stop_s: the encoder still this long while a part is on its way: the
+    belt stands (a message)."""
 
     window_mm: tuple[float, float]
     x_range_mm: tuple[float, float]
@@ -52,6 +53,7 @@ class Pick:
     place_timeout_s: float = 10.0
     min_gap_mm: float = 0.0
     unit: dict = field(default_factory=dict)
+    unit_axis: dict = field(default_factory=dict)  # ABB native: the unit's logical axis (7..12: eax_a..eax_f)
     trigger_input: dict = field(default_factory=dict)
     part_size_mm: tuple[float, float, float] | None = None  # the part as a box along the tool frame's axes (inertia)
     no_part_s: float = 30.0  # the wait for the next part: a message after this long, then on waiting
@@ -136,6 +138,7 @@ def parse_pick(ctx, loader: Loader, table, targets) -> Pick:
     values["unit"] = _named(
         ctx, values["unit"] or {}, "unit", [t for t in natives if KIND.facts(get_target(t)).get("unit")], path
     )
+    values["unit_axis"] = _axis(ctx, values["unit_axis"] or {}, list(values["unit"]), path)
     triggered = [t for t in natives if KIND.facts(get_target(t)).get("trigger")]
     values["trigger_input"] = _numbered_input(ctx, values["trigger_input"] or {}, "trigger_input", triggered, path)
     intercepts = [t for t, mode in tracking.items() if mode == "intercept"]
@@ -212,6 +215,12 @@ def _named(ctx, given: dict, key: str, needed: list[str], path: str) -> dict:
             )
         out[target] = value
     return out
+
+
+def _axis(ctx, given: dict, needed: list[str], path: str) -> dict:
+    """The logical axis per target with a mechanical unit: the cell's, default the target's facts' `unit_axis`."""
+    ctx.no_unknown(given, set(needed), f"{path}.unit_axis")
+    return {t: given.get(t, KIND.facts(get_target(t))["unit_axis"]) for t in needed}
 
 
 def _numbered_input(ctx, given: dict, key: str, needed: list[str], path: str) -> dict:

@@ -16,9 +16,9 @@ from codegen.kinds.conveyor.judge import SKIPS, left_low
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.kind import KIND
-from codegen.kinds.conveyor.program import BAD_READING, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.program import BAD_READING, OUT_OF_STEP, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
-from codegen.kinds.conveyor.start import first_moves, start_joints
+from codegen.kinds.conveyor.start import first_moves, grip_pose, start_joints
 from codegen.model.io import signal_name
 from codegen.robot.expect import tool_inputs
 from codegen.sim.belt import Belt, BeltLine, Part, TrackingUnit
@@ -58,6 +58,11 @@ SCENARIO_OF = {
 # controller's interpreter cycle; assumed, no manual here states it): a program that times the belt by its passes
 # counted as exact sleeps measures its speed wrong
 SLEEP_OVERHEAD_S = 0.002
+# the unit_stray_sync case: a stray pulse on the unit's sync input at this moment (after the program has emptied the
+# unit's queue at its start), the part's object at least STRAY_AHEAD_MM behind it (1.5 times the Sync Separation)
+STRAY_AT_S = 4.0
+STRAY_AHEAD_MM = 60.0
+OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "unit_stray_sync"})
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
 # late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
@@ -83,6 +88,10 @@ class BeltCase:
     stop_s: float = 0.0  # the line's cycle stop not before this (s)
     pulses: tuple = ()  # trigger pulses no part made (a double pulse, a part the PLC dropped): moments (s)
     before: tuple = ()  # parts a stopped run took from the PLC before this start (their objects still queued)
+    # the mechanical unit's own sync input against the PLC's queue (ABB native): syncs no part made (a stray pulse:
+    # moments, s), and the parts whose sync it missed (numbers)
+    unit_stray: tuple = ()
+    unit_missed: frozenset = frozenset()
 
     @property
     def scenario(self) -> str:
@@ -166,6 +175,12 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     stands = replace(slow, stops=((halfway, pick.belt_stop_s + STAND_EXTRA_S),))
     scenarios.append(replace(one, category="belt_stands", belt=stands))
     scenarios.append(replace(one, category="no_part", parts=(), stop_s=pick.no_part_s + NO_PART_EXTRA_S))
+    if pick.unit:  # the unit's queue out of step with the PLC's: a sync it missed, a stray sync ahead of the part
+        scenarios.append(replace(one, category="unit_missed_sync", belt=slow, unit_missed=frozenset({1})))
+        ahead = max(1.5 * pick.min_gap_mm, STRAY_AHEAD_MM)  # the stray sync's object this far ahead of the part
+        seen = STRAY_AT_S + ahead / slow.speed_mm_s
+        part = replace(one.parts[0], seen_s=seen)
+        scenarios.append(replace(one, category="unit_stray_sync", belt=slow, parts=(part,), unit_stray=(STRAY_AT_S,)))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
@@ -182,7 +197,13 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     wiring = pick.encoder_inputs.get(target_name)  # the installation: A and B as the cell says
     unit = None
     if target_name in pick.unit:  # the belt as the controller's mechanical unit (its tracking option)
-        unit = TrackingUnit(native.settings(cell, target), case.belt, [*case.before, *case.parts])
+        unit = TrackingUnit(
+            native.settings(cell, target),
+            case.belt,
+            [*case.before, *case.parts],
+            extra_syncs=case.unit_stray,
+            missed=case.unit_missed,
+        )
     line = BeltLine(
         case.belt,
         list(case.parts),
@@ -223,9 +244,12 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     first, release_at = first_moves(cell, target, case.start, case.held)
     events = [o for o in trace.outputs if o.name == output]
     closes = [o for o in events if o.value == cell.io.value]
+    # a part held at the start: the grip asserted again at home, before the way to the place (PUT_DOWN's three moves)
+    held_at = None if not case.held or release_at is None else release_at - 2
+    closes = closes[1:] if held_at is not None else closes
     opens = [o for o in events if o.value != cell.io.value][1:]  # after the one at the start
     names = frozenset({output})
-    start_outputs = plan.outputs(cell, output, [], [], release_at)
+    start_outputs = plan.outputs(cell, output, [], [], release_at, held_at)
     if case.category == "part_out_of_range":  # the camera's reading is refused before the arm moves for it
         return Judgement([Expectation(emitter.string(BAD_READING), tuple(first), start_outputs, output_names=names)])
     stops = {
@@ -243,6 +267,13 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
             outputs.append(PlannedOutput(output, not cell.io.value, at, "at the place"))
         expected = Expectation(emitter.string(message), (*first, *moves), tuple(outputs), output_names=names)
         return Judgement([expected])
+    if case.category in OUT_OF_STEP_CASES and target_name in conveyor_of(cell).pick.unit:
+        # the unit's queue out of step: the arm waits above the window's start, across from the part, and the program
+        # stops with its message (no grip) once the part is in the window by the PLC's count
+        pick = conveyor_of(cell).pick
+        wait = grip_pose(cell, case.parts[0].x, pick.window_mm[0], pick.z_range_mm[1] + pick.approach_dz)
+        moves = (*first, plan.planned(plan.PICK[mode][0], cell, target, mode, pose=wait))
+        return Judgement([Expectation(emitter.string(OUT_OF_STEP), moves, start_outputs, output_names=names)])
     problem = waits(cell, case, trace)
     if problem is not None:
         return Judgement([], problem=problem)

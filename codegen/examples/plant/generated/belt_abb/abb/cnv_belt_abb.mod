@@ -19,13 +19,21 @@ MODULE cnv_belt_abb
   !                                origin at the sync switch (the camera's line), x along the travel, z up
   !   queue tracking distance      1050.1 mm (the sync switch to the start window)
   !   start window width           250.0 mm (the pick window; past its end an object leaves the queue)
-  !   minimum distance             100.0 mm (a sync closer to the last queued object is ignored)
+  !   sync separation              100.0 mm (a sync closer to the last queued object is ignored)
   !   tracking range, maximum      1362.5 mm past the sync switch (the window's end and the follow)
+  !   logical axis                 7 (the unit's joint: its position in eax_a of every target; the program
+  !                                writes 0 there once ActUnit has made it active)
   ! The PLC's queue and the unit's are fed by the same camera trigger and stay in step: at its start the program
   ! empties the unit's queue (a pulse of its signal c1RemAllPObj, the encoder interface's, as the
   ! option's documents name it, to be checked there) and skips every part of the PLC's seen before then; a part the
   ! PLC presents that the unit's queue did not take (too close to the one before) or has dropped (past the window's
-  ! end) is skipped with a message, and so is one lost while WaitWObj waited.
+  ! end) is skipped with a message, and so is one lost while WaitWObj waited (ERR_CNV_DROPPED). The two can still
+  ! fall out of step (a sync pulse one of them missed, a stray pulse on the unit's sync input): WaitWObj waits at most
+  ! 1.250 s at a time (\MaxTime, ERR_WAIT_MAXTIME), and once the PLC's count has the part 50.000 mm into the
+  ! window with no object connected, or the connected object's position (the unit's joint) lies more than that from
+  ! the part's travel by the PLC's count, the program drops the object and stops with a message: empty both queues
+  ! (the program empties the unit's at its next start), then start again. After each DropWObj the program waits
+  ! 0.200 s before the next WaitWObj, as public programs do.
   !
   ! The camera sees each part cross its line; the PLC queues it with the encoder's count at that moment and
   ! presents the oldest one on 16-bit group inputs of the I/O configuration: giCnvSeq its number,
@@ -67,7 +75,7 @@ MODULE cnv_belt_abb
     [[0.0000, 0.0000, 150.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]],
     [1.200, [0.0000, 0.0000, 60.0000], [1, 0, 0, 0], 0, 0, 0]];
   LOCAL CONST jointtarget cnv_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000],
-    [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+    [0, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! The part, the payload while the gripper holds it (GripLoad): kg, its centre of gravity in the tool frame [mm],
   ! its moments of inertia about it along the tool frame's axes [kg m2] (a solid box of the cell's part_size_mm)
   LOCAL PERS loaddata cnv_part := [0.800, [0.0000, 0.0000, 20.0000], [1, 0, 0, 0], 0.000533, 0.001067, 0.001387];
@@ -75,12 +83,12 @@ MODULE cnv_belt_abb
   ! robconf [0, 0, 0, 0]: the poses are computed, the moves take the closest configuration (ConfJ, ConfL
   ! \Off; codegen proved at generate that one configuration reaches the whole window)
   LOCAL CONST robtarget cnv_on_belt := [[0, 0, 0],
-    [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+    [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [0, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! The place, where each part is put down, and 60.0000 mm above it (base frame)
   LOCAL CONST robtarget cnv_place := [[420.0000, 780.0000, 400.0000],
-    [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+    [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [0, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   LOCAL CONST robtarget cnv_place_above := [[420.0000, 780.0000, 460.0000],
-    [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
+    [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 0, 0], [0, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! counts per mm of belt travel: signed, negative when the counter runs down as the belt travels
   LOCAL CONST num CNV_COUNTS_PER_MM := -8.122679000;
   ! mm: the camera's line along the belt (upstream of the origin)
@@ -91,8 +99,16 @@ MODULE cnv_belt_abb
   ! mm: a part this far past the window's end by the PLC's count has surely left the unit's queue too (two
   ! counts and the count's age at the belt's fastest)
   LOCAL CONST num CNV_MARGIN := 0.726;
-  ! mm: a part closer than this to the one before is not in the unit's queue (its minimum distance)
+  ! mm: a part closer than this to the one before is not in the unit's queue (its Sync Separation)
   LOCAL CONST num CNV_MIN_GAP := 100.0;
+  ! mm: the connected object's position (the unit's joint) lies within this of the part's travel by the PLC's count,
+  ! or the two queues are out of step (the margin, two counts, the unit's whole counts per metre over its range; at
+  ! least half the Sync Separation: any other object is that far from this one)
+  LOCAL CONST num CNV_SYNC_TOL := 50.000;
+  ! s: WaitWObj's longest wait at a time (\MaxTime): the part crosses CNV_SYNC_TOL at the belt's fastest
+  LOCAL CONST num CNV_CONNECT_S := 1.250;
+  ! s: after DropWObj, before the next WaitWObj
+  LOCAL CONST num CNV_DROP_SETTLE := 0.200;
   ! mm: where a part may lie across the belt, and its top above the belt
   LOCAL CONST num CNV_X_MIN := -50.0000;
   LOCAL CONST num CNV_X_MAX := 150.0000;
@@ -164,8 +180,11 @@ MODULE cnv_belt_abb
     ConfJ \Off;
     ConfL \Off;
     ActUnit CNV1;
+    ! the unit is a joint now: where the arm stands, read before, gets the unit's slot
+    now.extax.eax_a := 0;
     ! a connection a stop left: dropped (the arm no longer follows an object)
     DropWObj cnv_track;
+    WaitTime CNV_DROP_SETTLE;
     ! both queues emptied at the start: the unit's (c1RemAllPObj: objects not connected, e.g. one a stop
     ! before WaitWObj left after the PLC's part was taken), and of the PLC's every part seen before that moment (by
     ! the PLC's count then), each skipped with a message: the two stay in step
@@ -180,6 +199,8 @@ MODULE cnv_belt_abb
     ENDIF
     MoveAbsJ cnv_home\NoEOffs, v200, fine, cnv_tool;
     IF held THEN
+      ! the grip output asserted again (a stop or a reset of the I/O may have dropped it while the part is held)
+      SetDO doGripClose, 1;
       TPWrite "conveyor: a part held at the start: put down at the place";
       MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
       cnv_place_part;
@@ -221,6 +242,8 @@ MODULE cnv_belt_abb
     VAR robtarget above;
     VAR robtarget down;
     VAR num y;
+    VAR num status;
+    VAR jointtarget joints;
     VAR bool opened;
     IF cnv_queued AND Abs(cnv_unwind(seen - cnv_prev) / CNV_COUNTS_PER_MM) < CNV_MIN_GAP THEN
       ! its sync came too close to the last queued part's: the unit's queue did not take it
@@ -256,9 +279,23 @@ MODULE cnv_belt_abb
     ENDIF
     ! the arm stays above the belt until the part is in the window by the PLC's count (WaitWObj connects it then)
     cnv_arrive seq, seen, CNV_START;
-    IF NOT cnv_connect() THEN
+    status := cnv_connect();
+    WHILE status = 2 AND cnv_y(seen) <= CNV_START + CNV_SYNC_TOL DO
+      ! no object yet, the part not surely in the unit's start window (a slower belt, or one that stands): on waiting
+      status := cnv_connect();
+    ENDWHILE
+    IF status = 1 THEN
       TPWrite "conveyor: lost from the start window, skipped: part " \Num:=seq;
       RETURN;
+    ENDIF
+    ! the part in the window by the PLC's count and no object for it in the unit's queue: out of step
+    IF status = 2 cnv_stop "conveyor: the unit's queue is out of step with the PLC's: empty both, restart";
+    ! the connected object must be this part: its position (mm since its sync, the unit's joint) against the part's
+    ! travel since the camera saw it by the PLC's count
+    joints := CJointT();
+    IF Abs(joints.extax.eax_a - (cnv_y(seen) - CNV_CAMERA_Y)) > CNV_SYNC_TOL THEN
+      DropWObj cnv_track;
+      cnv_stop "conveyor: the unit's queue is out of step with the PLC's: empty both, restart";
     ENDIF
     ! on the object: its sync point is y 0 of cnv_track
     above := cnv_on_belt;
@@ -291,6 +328,7 @@ MODULE cnv_belt_abb
     MoveL above, cnv_work, cnv_zone, cnv_tool \WObj:=cnv_track;
     MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
     DropWObj cnv_track;
+    WaitTime CNV_DROP_SETTLE;
     cnv_place_part;
   ENDPROC
 
@@ -304,15 +342,19 @@ MODULE cnv_belt_abb
     MoveL above, cnv_work, fine, cnv_tool \WObj:=cnv_track;
     MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
     DropWObj cnv_track;
+    WaitTime CNV_DROP_SETTLE;
   ENDPROC
 
-  LOCAL FUNC bool cnv_connect()
-    ! WaitWObj: the oldest object of the unit's queue, connected once it is in the start window; an object
-    ! lost from the start window meanwhile sends WaitWObj to this handler (the part is lost: FALSE)
-    WaitWObj cnv_track;
-    RETURN TRUE;
+  LOCAL FUNC num cnv_connect()
+    ! WaitWObj: the oldest object of the unit's queue, connected once it is in the start window: 0. The object lost
+    ! from the start window meanwhile (ERR_CNV_DROPPED): 1; none connected in CNV_CONNECT_S (ERR_WAIT_MAXTIME): 2; any
+    ! other error (a unit not active, a work object still connected) is no lost part: raised on
+    WaitWObj cnv_track \MaxTime:=CNV_CONNECT_S;
+    RETURN 0;
   ERROR
-    RETURN FALSE;
+    IF ERRNO = ERR_CNV_DROPPED RETURN 1;
+    IF ERRNO = ERR_WAIT_MAXTIME RETURN 2;
+    RAISE;
   ENDFUNC
 
   LOCAL FUNC bool cnv_hold()
