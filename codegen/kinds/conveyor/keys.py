@@ -130,6 +130,10 @@ PICK = Table(
             high=5000.0,
         ),
         "place_clear": signals("per target, the input that says the place is free (none: the program does not ask)"),
+        "zone_output": signals(
+            "per target, the output on while the arm is over the belt below the clear height: the PLC stops the belt "
+            "whenever the robot stops while it is on (none: the program sets none)"
+        ),
         "place_timeout_s": Key(
             "number", "how long the program waits for place_clear", unit="s", low=0.2, high=600.0, default=10.0
         ),

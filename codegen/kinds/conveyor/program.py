@@ -213,6 +213,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "blend": blends(cell, target, mode),
         "place_clear": _signal(emitter, pick.place_clear.get(target.name), f"conveyor.pick.place_clear.{target.name}"),
         "place_timeout_s": number(timeout, 3),
+        "zone_output": _signal(emitter, pick.zone_output.get(target.name), f"conveyor.pick.zone_output.{target.name}"),
         "place_polls": number(math.ceil(timeout / IO_POLL_S - 1e-9), 0),  # looks at it, as at the gripper's sensor
         "too_late": emitter.string(TOO_LATE),
         "skipped": emitter.string(SKIPPED),

@@ -12,7 +12,7 @@ from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.guard import NOT_RELEASED, halt_message
 from codegen.kinds.conveyor import native, plan
-from codegen.kinds.conveyor.judge import SKIPS, left_low
+from codegen.kinds.conveyor.judge import SKIPS, belt_zone, left_low
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.kind import KIND
@@ -284,6 +284,9 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     moves = plan.lay_over(cell, target, mode, len(first), trace.moves, closes, opens)
     if isinstance(moves, str):
         return Judgement([], problem=moves)
+    zone = belt_zone(cell, target_name, trace)  # the belt zone's output over the moves low on the belt, once they fit
+    if zone is not None:
+        return Judgement([], problem=zone)
     skipped = sum(1 for m in trace.messages if m.startswith(SKIPS))
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
     expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
@@ -303,6 +306,9 @@ def _not_held(cell, target_name: str, case, trace, first, start_outputs, output,
     moves = plan._given_up(cell, target, mode, trace.moves[len(first) :], len(first))
     if isinstance(moves, str):
         return Judgement([], problem=moves)
+    zone = belt_zone(cell, target_name, trace)
+    if zone is not None:
+        return Judgement([], problem=zone)
     at = len(first) + plan.GRIP[mode]
     outputs = (
         *start_outputs,

@@ -150,9 +150,9 @@ def test_an_active_units_axis_must_hold_a_value_in_every_target():
     trace, _unit = run("MoveL unused, v1000, fine, grip;\nActUnit CNV1;\nMoveL still, v1000, fine, grip;", [])
     assert len(trace.moves) == 2
     for move in ("MoveL unused, v1000, fine, grip;", "MoveJ unused, v1000, fine, grip;"):
-        with pytest.raises(RunError, match="eax_a is 9E\\+09 .* logical axis 7 of the active unit CNV1"):
+        with pytest.raises(RunError, match=r"eax_a is 9E\+09 .* logical axis 7 of the active unit CNV1"):
             run(f"ActUnit CNV1;\n{move}", [])
-    with pytest.raises(RunError, match="joint target: eax_a is 9E\\+09"):
+    with pytest.raises(RunError, match=r"joint target: eax_a is 9E\+09"):
         run("ActUnit CNV1;\nMoveAbsJ [[0, 0, 0, 0, 90, 0], [9E9, 0, 0, 0, 0, 0]] \\NoEOffs, v1000, fine, grip;", [])
     trace, _unit = run("ActUnit CNV1;\nDeactUnit CNV1;\nMoveL unused, v1000, fine, grip;", [])
     assert len(trace.moves) == 1
