@@ -221,7 +221,9 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     )
     output = signal_name(target, "output", cell.io.output[target_name])
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
-    gripper = Gripper(output, feedback, cell.io.value, case.gripper)
+    # a gripper that answers as the cell's does: its hold and its release grip_s after the output (a prompt one)
+    late = case.gripper == "prompt" and case.grip_s > 0.0
+    gripper = Gripper(output, feedback, cell.io.value, "late" if late else case.gripper, late_s=case.grip_s)
     signals = {feedback: case.held}
     if case.held:  # closed on a part since the stopped cycle
         signals[output] = cell.io.value
@@ -285,12 +287,28 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     if isinstance(moves, str):
         return Judgement([], problem=moves)
     zone = belt_zone(cell, target_name, trace)  # the belt zone's output over the moves low on the belt, once they fit
-    if zone is not None:
-        return Judgement([], problem=zone)
+    problem = zone or lifted_early(cell, trace, closes, setup.devices[1])
+    if problem is not None:
+        return Judgement([], problem=problem)
     skipped = sum(1 for m in trace.messages if m.startswith(SKIPS))
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
     expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
     return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
+
+
+def lifted_early(cell, trace, closes: list, gripper: Gripper) -> str | None:
+    """Each grip's next move (the lift) sets off only once the gripper holds the part (its feedback on after the
+    output, as the simulated gripper answers: grip_s later): a program that lifts on a fixed time instead leaves the
+    part on the belt."""
+    for number, close in enumerate(closes, start=1):
+        held = next((t for t, on in gripper.changes if on and t >= close.time - 1e-9), None)
+        if close.after_moves >= len(trace.moves):
+            continue
+        lift = trace.moves[close.after_moves]
+        if held is None or lift.start_time < held - 1e-6:
+            when = "never" if held is None else f"at {held:.3f} s"
+            return f"grip {number}: the arm set off at {lift.start_time:.3f} s, the gripper held the part {when}"
+    return None
 
 
 def _not_held(cell, target_name: str, case, trace, first, start_outputs, output, names) -> Judgement:
