@@ -91,7 +91,7 @@ def test_the_out_of_step_queues_stop_the_program_with_its_message(cell, abb):
     """A sync the unit missed: no object for the part once the PLC's count has it in the window (WaitWObj \\MaxTime
     and ERR_WAIT_MAXTIME); a stray sync ahead of the part: WaitWObj connects the stray object, whose position is not
     the part's. Both stop with the message, the object dropped, before any grip."""
-    for category in ("unit_missed_sync", "unit_stray_sync"):
+    for category in ("unit_missed_sync", "stray_pulses"):
         case = next(c for c in cases(cell) if c.category == category)
         trace, setup = run_case(cell, "abb", abb.load(), case, "conveyor")
         unit = setup.devices[0].unit

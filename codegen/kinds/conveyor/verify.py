@@ -58,11 +58,13 @@ SCENARIO_OF = {
 # controller's interpreter cycle; assumed, no manual here states it): a program that times the belt by its passes
 # counted as exact sleeps measures its speed wrong
 SLEEP_OVERHEAD_S = 0.002
-# the unit_stray_sync case: a stray pulse on the unit's sync input at this moment (after the program has emptied the
-# unit's queue at its start), the part's object at least STRAY_AHEAD_MM behind it (1.5 times the Sync Separation)
+# the stray_pulses case: a stray pulse of the camera's trigger (UR's trigger input, ABB's sync input) at this moment
+# (after the program has emptied the unit's queue at its start), the part at least STRAY_AHEAD_MM behind it (1.5
+# times the Sync Separation), and a double pulse DOUBLE_S after the part's own
 STRAY_AT_S = 4.0
 STRAY_AHEAD_MM = 60.0
-OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "unit_stray_sync"})
+DOUBLE_S = 0.02
+OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
 # late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
@@ -88,9 +90,8 @@ class BeltCase:
     stop_s: float = 0.0  # the line's cycle stop not before this (s)
     pulses: tuple = ()  # trigger pulses no part made (a double pulse, a part the PLC dropped): moments (s)
     before: tuple = ()  # parts a stopped run took from the PLC before this start (their objects still queued)
-    # the mechanical unit's own sync input against the PLC's queue (ABB native): syncs no part made (a stray pulse:
-    # moments, s), and the parts whose sync it missed (numbers)
-    unit_stray: tuple = ()
+    # the mechanical unit's own sync input against the PLC's queue (ABB native; the trigger's pulses above are syncs to
+    # it too): the parts whose sync it missed (numbers)
     unit_missed: frozenset = frozenset()
 
     @property
@@ -175,12 +176,14 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     stands = replace(slow, stops=((halfway, pick.belt_stop_s + STAND_EXTRA_S),))
     scenarios.append(replace(one, category="belt_stands", belt=stands))
     scenarios.append(replace(one, category="no_part", parts=(), stop_s=pick.no_part_s + NO_PART_EXTRA_S))
-    if pick.unit:  # the unit's queue out of step with the PLC's: a sync it missed, a stray sync ahead of the part
+    if pick.unit:  # the unit's queue out of step with the PLC's: a sync it missed
         scenarios.append(replace(one, category="unit_missed_sync", belt=slow, unit_missed=frozenset({1})))
-        ahead = max(1.5 * pick.min_gap_mm, STRAY_AHEAD_MM)  # the stray sync's object this far ahead of the part
-        seen = STRAY_AT_S + ahead / slow.speed_mm_s
-        part = replace(one.parts[0], seen_s=seen)
-        scenarios.append(replace(one, category="unit_stray_sync", belt=slow, parts=(part,), unit_stray=(STRAY_AT_S,)))
+    # a stray trigger pulse ahead of the part and a double pulse right after its own: UR's latch passes the stray's
+    # count over and takes the first of the double; ABB's unit queues the stray as an object (out of step: a stop)
+    ahead = max(1.5 * pick.min_gap_mm, STRAY_AHEAD_MM)
+    part = replace(one.parts[0], seen_s=STRAY_AT_S + ahead / slow.speed_mm_s)
+    pulses = (STRAY_AT_S, part.seen_s + DOUBLE_S)
+    scenarios.append(replace(one, category="stray_pulses", belt=slow, parts=(part,), pulses=pulses))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
@@ -201,7 +204,7 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
             native.settings(cell, target),
             case.belt,
             [*case.before, *case.parts],
-            extra_syncs=case.unit_stray,
+            extra_syncs=case.pulses,
             missed=case.unit_missed,
         )
     line = BeltLine(
