@@ -74,7 +74,8 @@ def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
     found = {c.category: c for c in cases(cell)}
     belts = {"constant_speed", "varying_speed", "rollover", "part_too_late", "fast_belt", "part_past_the_window"}
     scenarios = {"start_away", "start_mid_cycle", "gripper_silent", "gripper_stuck", "part_out_of_range"}
-    unit = {"unit_missed_sync", "stray_pulses"}  # the trigger's stray pulses; ABB's unit out of step with the PLC
+    # the trigger's stray pulses, a part seen before the start; ABB's unit out of step with the PLC
+    unit = {"unit_missed_sync", "stray_pulses", "seen_before_start"}
     assert set(found) == belts | scenarios | unit | {"part_too_close", "place_blocked", "belt_stands", "no_part"}
     assert found["varying_speed"].belt.wobble > 0
     rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel

@@ -32,3 +32,16 @@ def test_a_latch_taken_without_pairing_fails_verify():
     mutant = edited(program, lambda text: text.replace(old, "if False:"), "no_pairing")
     row = verify_one(cell, mutant, first_mismatch=True, scenarios=frozenset({"nominal"}))
     assert row.mismatches > 0 and any("stray_pulses" in m for m in row.first_mismatches), row.first_mismatches
+
+
+def test_a_part_seen_before_the_start_skipped_by_the_unit_flush_or_fails_verify():
+    """ABB native: the part the camera saw before the start had its object removed when the program emptied the
+    unit's queue: skipped as queued before the start; a program that does not skip it waits for an object that is
+    gone and stops out of step (a mismatch in seen_before_start)."""
+    cell = load_cell(CELL)
+    program = first(cell, "abb", "conveyor")
+    old = "IF cnv_flushing AND cnv_unwind(cnv_flushed - seen) / CNV_COUNTS_PER_MM >= 0 THEN"
+    assert old in program.files[0].text
+    mutant = edited(program, lambda text: text.replace(old, "IF FALSE THEN"), "no_flush_skip")
+    row = verify_one(cell, mutant, first_mismatch=True, scenarios=frozenset({"nominal"}))
+    assert row.mismatches > 0 and any("seen_before_start" in m for m in row.first_mismatches), row.first_mismatches

@@ -64,6 +64,7 @@ SLEEP_OVERHEAD_S = 0.002
 STRAY_AT_S = 4.0
 STRAY_AHEAD_MM = 60.0
 DOUBLE_S = 0.02
+SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
 OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
@@ -184,6 +185,10 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     part = replace(one.parts[0], seen_s=STRAY_AT_S + ahead / slow.speed_mm_s)
     pulses = (STRAY_AT_S, part.seen_s + DOUBLE_S)
     scenarios.append(replace(one, category="stray_pulses", belt=slow, parts=(part,), pulses=pulses))
+    # a part the camera saw SEEN_BEFORE_S before the program started, still upstream of the window when read: UR has no
+    # latch of it and ABB's unit's queue was emptied at the start (both skip it with a message), KUKA picks it
+    early = replace(one.parts[0], seen_s=-SEEN_BEFORE_S)
+    scenarios.append(replace(one, category="seen_before_start", belt=slow, parts=(early,)))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
