@@ -20,13 +20,15 @@ CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor"
 
 
 @pytest.fixture(scope="module")
-def cell():
-    return load_cell(CELL)
+def belt():
+    """The bundled belt cell and its ABB native program."""
+    loaded = load_cell(CELL)
+    return loaded, first(loaded, "abb", "conveyor")
 
 
 @pytest.fixture(scope="module")
-def abb(cell):
-    return first(cell, "abb", "conveyor")
+def cell(belt):
+    return belt[0]
 
 
 def _fails(cell, program, what: str, old: str, new: str, scenarios, says: str = "") -> None:
@@ -38,9 +40,10 @@ def _fails(cell, program, what: str, old: str, new: str, scenarios, says: str = 
     assert any(says in m for m in row.first_mismatches), row.first_mismatches
 
 
-def test_every_target_gives_the_units_axis_a_value(cell, abb):
+def test_every_target_gives_the_units_axis_a_value(belt):
     """Used after ActUnit CNV1, every robtarget and jointtarget has 0 in the unit's slot (eax_a by the facts' default),
     never 9E+09; the position read before ActUnit gets it too. The program as generated: 0 mismatches."""
+    cell, abb = belt
     text = abb.files[0].text
     targets = re.findall(r"CONST (?:robtarget|jointtarget) \w+ := .*?;", text, re.S)
     assert len(targets) == 4
@@ -64,7 +67,8 @@ def test_every_target_gives_the_units_axis_a_value(cell, abb):
         ("the position read before ActUnit kept", "    now.extax.eax_a := 0;\n", "", {"start_away"}, "eax_a"),
     ],
 )
-def test_an_unused_axis_of_an_active_unit_fails_verify(cell, abb, what, old, new, scenarios, says):
+def test_an_unused_axis_of_an_active_unit_fails_verify(belt, what, old, new, scenarios, says):
+    cell, abb = belt
     _fails(cell, abb, what, old, new, scenarios, says)
 
 
@@ -87,10 +91,11 @@ def test_the_units_axis_is_the_cells(tmp_path):
         load_cell(path)
 
 
-def test_the_out_of_step_queues_stop_the_program_with_its_message(cell, abb):
+def test_the_out_of_step_queues_stop_the_program_with_its_message(belt):
     """A sync the unit missed: no object for the part once the PLC's count has it in the window (WaitWObj \\MaxTime
     and ERR_WAIT_MAXTIME); a stray sync ahead of the part: WaitWObj connects the stray object, whose position is not
     the part's. Both stop with the message, the object dropped, before any grip."""
+    cell, abb = belt
     for category in ("unit_missed_sync", "stray_pulses"):
         case = next(c for c in cases(cell) if c.category == category)
         trace, setup = run_case(cell, "abb", abb.load(), case, "conveyor")
@@ -119,7 +124,8 @@ def test_the_out_of_step_queues_stop_the_program_with_its_message(cell, abb):
         ),
     ],
 )
-def test_the_queue_checks_removed_fail_verify(cell, abb, what, old, new):
+def test_the_queue_checks_removed_fail_verify(belt, what, old, new):
+    cell, abb = belt
     _fails(cell, abb, what, old, new, {"nominal"})
 
 
@@ -136,10 +142,11 @@ def test_the_grip_output_asserted_again_on_a_part_held_at_the_start(cell):
         _fails(cell, program, f"{target} no grip again", old, new, {"start_mid_cycle"}, "start_mid_cycle")
 
 
-def test_the_wait_after_each_dropwobj_and_the_errors_by_name_on_the_text(abb):
+def test_the_wait_after_each_dropwobj_and_the_errors_by_name_on_the_text(belt):
     """No simulated controller reaches these (the option's reason for the wait is not stated in what was readable;
     ERR_CNV_NOT_ACT and ERR_CNV_CONNECT need a program that is wrong elsewhere): every DropWObj is followed by the
     wait before the next WaitWObj, and WaitWObj's handler names its two errors and raises any other."""
+    abb = belt[1]
     text = abb.files[0].text
     drops = re.findall(r"DropWObj cnv_track;\n(\s*)(\S[^\n]*)", text)
     assert len(drops) == 4  # at the start, the lift, leaving a part, and before the stop out of step
@@ -151,7 +158,8 @@ def test_the_wait_after_each_dropwobj_and_the_errors_by_name_on_the_text(abb):
     assert "ERRNO = ERR_CNV_DROPPED" in handler and "ERRNO = ERR_WAIT_MAXTIME" in handler
 
 
-def test_the_header_names_the_units_parameters_as_the_option_does(abb):
+def test_the_header_names_the_units_parameters_as_the_option_does(belt):
+    abb = belt[1]
     text = abb.files[0].text
     assert "!   sync separation              100.0 mm" in text and "minimum distance" not in text
     assert "!   logical axis                 7" in text
