@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from codegen.emit import Code
+from codegen.emit import owned
 from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.reach import follow_mm
 from codegen.kinds.conveyor.section import conveyor_of
@@ -118,8 +118,9 @@ def context(cell, target, emitter) -> dict:
             },
             "counts_down": conveyor_of(cell).counts_per_mm < 0,
             "axis": unit.axis,
-            "slot": Code("eax_" + "abcdef"[unit.axis - 7]),
-            "extax": Code("[" + ", ".join("0" if i == unit.axis - 7 else "9E+09" for i in range(6)) + "]"),
+            # the generator's own text: the extjoint component of the logical axis, and extax with 0 there
+            "slot": owned("eax_" + "abcdef"[unit.axis - 7]),
+            "extax": owned("[" + ", ".join("0" if i == unit.axis - 7 else "9E+09" for i in range(6)) + "]"),
             "sync_tol_mm": number(sync_tol_mm(cell, target), 3),
             "connect_s": number(connect_s(cell, target), 3),
             "drop_settle_s": number(KIND.facts(target)["drop_settle_s"], 3),
