@@ -111,7 +111,13 @@ def test_the_part_queue_lies_in_the_registers_a_plc_can_write():
 
 # (old, new, what the verdict must say): each a program that moves somewhere else than the part is
 MUTATIONS = [
-    ("CNV_DIR = p[0.499994000, -0.866029000,", "CNV_DIR = p[-0.499994000, 0.866029000,", "gripped"),
+    # followed backwards: gripped in the wrong place, or (the gripper's 45-55 ms on top) the lift out of the arm's
+    # configuration, where the controller stops
+    (
+        "CNV_DIR = p[0.499994000, -0.866029000,",
+        "CNV_DIR = p[-0.499994000, 0.866029000,",
+        ("gripped", "a linear move would change the arm's configuration"),
+    ),
     # the robot's own count not unwound across its wrap (the rollover case wraps it during a part's travel)
     (
         "encoder_unwind_delta_tick_count(0, encoder_get_tick_count(0) - latched)",
@@ -204,11 +210,14 @@ def test_an_intercept_that_misses_the_part_fails_verify(tmp_path, target, edits,
 def test_a_belt_whose_counter_counts_up_verifies_on_every_target(tmp_path):
     """The bundled belt's counter runs down (E < 0); the same belt with a counter that runs up (E > 0)
     wraps the other way through 0 and is unwound by the other branch (ABB's intercept here: its native tracking
-    has the unit count up whatever the counter does, tests/kinds/test_conveyor_native.py)."""
+    has the unit count up whatever the counter does, tests/kinds/test_conveyor_native.py). Five parts, each picked or
+    (an intercept whose gripper takes the cell's 45-55 ms, one) skipped for a reason verify accepts."""
     cell = intercept_cell(tmp_path, **{"counts_per_mm = -8.122679": "counts_per_mm = 8.122679"})
     for target in ("ur", "kuka", "abb"):
         report = _verify(cell, _program(cell, target=target), only=("rollover", "start_away"))
-        assert report.mismatches == 0 and report.figures.picked == 5, report.summary()
+        figures = report.figures
+        assert report.mismatches == 0 and figures.picked + figures.skipped == 5, report.summary()
+        assert figures.picked >= 4, report.summary()
 
 
 @pytest.mark.parametrize(("old", "new", "says"), MUTATIONS)
@@ -217,7 +226,8 @@ def test_a_program_that_misses_the_part_fails_verify(old, new, says):
     only = ("rollover",) if "unwind" in old else ()  # the counter wraps in that case
     report = _verify(cell, _program(cell, old, new), first_mismatch=True, only=only)
     assert report.mismatches > 0, report.summary()
-    assert any(says in m for m in report.first_mismatches), report.first_mismatches
+    accepted = (says,) if isinstance(says, str) else says
+    assert any(phrase in m for m in report.first_mismatches for phrase in accepted), report.first_mismatches
 
 
 def test_the_tolerance_is_two_counts_of_travel_or_the_capture_range():
