@@ -125,6 +125,7 @@ class UnitSettings:
     min_gap_mm: float
     max_mm: float
     remove_all: str | None = None  # the encoder interface's output that empties the queue of objects not connected
+    axis: int = 7  # the unit's logical axis: 7..12, its position in a robtarget's / jointtarget's eax_a..eax_f
 
 
 @dataclass
@@ -134,7 +135,9 @@ class TrackingUnit:
     is a sync, queued with the count then unless it comes within min_gap_mm of the last queued one. An object
     is in the queue from its sync until it leaves the start window ([start_mm, start_mm + width_mm] past the
     sync point), is connected, or dropped. Connected, its position is its travel since its sync by the
-    configured counts per metre (0 with none connected). Records what happened to each part for the judge."""
+    configured counts per metre (0 with none connected). Records what happened to each part for the judge.
+    Its sync input is its own device, apart from the PLC's queue: extra_syncs are syncs no part made (a stray or
+    double pulse: an object the PLC does not queue), missed the numbers of parts whose sync it never saw."""
 
     settings: UnitSettings
     belt: Belt
@@ -146,6 +149,8 @@ class TrackingUnit:
     drops: list = field(default_factory=list)  # (seq, t)
     lost_waiting: list = field(default_factory=list)  # (seq, t): lost while the program waited for it
     flushes: list = field(default_factory=list)  # moments the queue was emptied (remove_all set)
+    extra_syncs: tuple = ()
+    missed: frozenset = frozenset()
     _queue: list | None = None
 
     @property
@@ -160,7 +165,9 @@ class TrackingUnit:
         if self._queue is None:
             out, last = [], None
             per_mm = self.settings.counts_per_m / 1000.0
-            for part in sorted(self.parts, key=lambda p: p.seen_s):
+            stray = [Part(-k, seen, math.nan, math.nan) for k, seen in enumerate(self.extra_syncs, start=1)]
+            syncs = [p for p in self.parts if p.seq not in self.missed] + stray
+            for part in sorted(syncs, key=lambda p: p.seen_s):
                 count = self.board(part.seen_s)
                 if last is None or (count - last) / per_mm >= self.settings.min_gap_mm:
                     out.append((part, count))
@@ -171,7 +178,7 @@ class TrackingUnit:
     def ignored(self) -> set:
         """The numbers of the parts whose sync came too close to the last queued one."""
         taken = {p.seq for p, _ in self.queued()}
-        return {p.seq for p in self.parts if p.seq not in taken}
+        return {p.seq for p in self.parts if p.seq not in taken and p.seq not in self.missed}
 
     def position_of(self, count: int, t: float) -> float:
         return (self.board(t) - count) / (self.settings.counts_per_m / 1000.0)
@@ -187,10 +194,11 @@ class TrackingUnit:
         count = next(c for p, c in self.queued() if p is self.connected)
         return self.position_of(count, t)
 
-    def connect(self, t: float, rel_mm: float = 0.0) -> tuple[int | None, float, bool]:
+    def connect(self, t: float, rel_mm: float = 0.0, until: float = math.inf) -> tuple[int | None, float, bool | None]:
         """WaitWObj at t: the oldest object still in the queue, connected once it is inside the start window (and
         rel_mm past the sync point): (its part's number, when, True); (number, when, False): it left the start
-        window first (lost); (None, inf, False): no object will come."""
+        window first (lost); (None, inf, False): no object will come; (None, until, None): none connected by until
+        (the queue left as it was)."""
         end = self.settings.start_mm + self.settings.width_mm
         for part, count in self.queued():
             if part.seq in self.done or self._time_at(count, end) <= max(t, part.seen_s):
@@ -198,14 +206,18 @@ class TrackingUnit:
             due = max(t, part.seen_s, self._time_at(count, max(self.settings.start_mm, rel_mm)))
             if rel_mm > end:
                 lost = max(t, self._time_at(count, end))
+                if lost > until:
+                    return None, until, None
                 self.done.add(part.seq)
                 self.lost_waiting.append((part.seq, lost))
                 return part.seq, lost, False
+            if due > until:
+                return None, until, None
             self.connected = part
             self.done.add(part.seq)
             self.connections.append((part.seq, due))
             return part.seq, due, True
-        return None, math.inf, False
+        return (None, math.inf, False) if until == math.inf else (None, until, None)
 
     def remove_all(self, t: float) -> None:
         """The queue emptied at t (its remove_all signal): every object synced by then and not connected leaves it."""

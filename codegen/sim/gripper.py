@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from codegen.dialects.core.machine import Machine
 
@@ -22,6 +22,7 @@ class Gripper:
     value: bool = True
     behaviour: str = "prompt"
     late_s: float = GRIPPER_S
+    changes: list = field(default_factory=list)  # (time, value) of each change of the feedback it made
     _due: tuple | None = None  # (time, feedback then)
     _seen: object = None  # the output's value the device last acted on
 
@@ -39,6 +40,7 @@ class Gripper:
             self._due = None if blocked else (machine.clock + delay, on)
         if self._due is not None and machine.clock >= self._due[0]:
             machine.signals[self.feedback] = self._due[1]
+            self.changes.append(self._due)
             self._due = None
             return True
         return False

@@ -65,6 +65,7 @@ def test_a_cell_without_an_intercept_has_no_budget(tmp_path):
             "belt_speed_max_mm_s = 40.0": "belt_speed_max_mm_s = 200.0",
             'tracking = { ur = "native", kuka = "intercept", abb = "native" }': 'tracking = { ur = "native" }',
             'place_clear = { ur = 2, kuka = 19, abb = "diCnvPlaceClear" }': "place_clear = { ur = 2 }",
+            'zone_output = { ur = 1, kuka = 18, abb = "doCnvBeltZone" }': "zone_output = { ur = 1 }",
             "timer = { kuka = 1 }": "",
         },
     )

@@ -62,7 +62,7 @@ def test_the_timed_descent_stays_approach_dz():
 # (target, the program's text, the lift with the part held that puts the gripper's tip, not the part's bottom, at the
 # clear height: an 80 mm part hangs 60 mm above the belt, below the tallest part) on the bundled cell (ABB native) and,
 # with ABB intercepting, ABB's intercept
-UR_LIFT = "movel(cnv_on_part(x, y, {z}), a=1.200, v=0.2500)\n    stop_conveyor_tracking()\n    cnv_place_part()"
+UR_LIFT = "movel(cnv_on_part(x, y, {z}), a=1.200, v=0.2500)\n    stop_conveyor_tracking()\n"
 ABB_LIFT = "MoveL {pose}, cnv_work, cnv_zone, cnv_tool \\WObj:=cnv_wobj;\n    MoveJ cnv_place_above"
 LOW_LIFT = [
     ("ur", UR_LIFT.format(z="z, CNV_Z_MAX + CNV_DZ"), UR_LIFT.format(z="CNV_Z_MAX, CNV_DZ")),

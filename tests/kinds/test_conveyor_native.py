@@ -48,7 +48,7 @@ ABB_CHANGES = [
         "    MoveL above, cnv_work, cnv_zone",
         "",
     ),
-    ("WaitWObj removed", "    WaitWObj cnv_track;\n", "", ""),
+    ("WaitWObj removed", "    WaitWObj cnv_track \\MaxTime:=CNV_CONNECT_S;\n", "", ""),
     ("the wrong mechanical unit", '[FALSE, FALSE, "CNV1",', '[FALSE, FALSE, "CNV2",', "CNV2"),
     ("another unit activated", "ActUnit CNV1;", "ActUnit CNV2;", "CNV2"),
     # the grip not on the object: the arm leaves the object (a move in another work object) before gripping
@@ -85,7 +85,7 @@ def test_a_part_too_close_to_the_last_is_given_up_as_the_queue_does(cell, abb):
 
 
 def test_the_header_prints_the_configuration_the_simulated_unit_runs_on(cell, abb):
-    """One source: the counts per metre, the queue tracking distance, the start window, the minimum distance and
+    """One source: the counts per metre, the queue tracking distance, the start window, the Sync Separation and
     the tracking range the header asks the integrator to enter are the simulated unit's."""
     text = abb.files[0].text
     unit = native.settings(cell, get_target("abb"))
@@ -93,7 +93,7 @@ def test_the_header_prints_the_configuration_the_simulated_unit_runs_on(cell, ab
         "counts per metre": unit.counts_per_m,
         "queue tracking distance": unit.start_mm,
         "start window width": unit.width_mm,
-        "minimum distance": unit.min_gap_mm,
+        "sync separation": unit.min_gap_mm,
         "tracking range, maximum": unit.max_mm,
     }
     for name, value in numbers.items():

@@ -19,7 +19,7 @@ HALT_KUKA = GRASP_TIMEOUT + '      CNV_MSG.MSG_TXT[] = "no feedback from the gri
 HALT_UR = '        stop_conveyor_tracking()\n        cnv_stop("no feedback from the gripper in 0.5 s")\n'
 HALTED = "did not hold: stopped on the running belt"
 LIFT = "      movel(cnv_on_part(x, y, CNV_Z_MAX, CNV_DZ), a=1.200, v=0.2500)\n"
-UNTRACK = "      stop_conveyor_tracking()\n"
+UNTRACK = "      stop_conveyor_tracking()\n      set_standard_digital_out(1, False)   # back at the clear height\n"
 SKIP = '      textmsg(str_cat("conveyor: the gripper'
 # (target, the program's text, the broken text, what verify says): the halt at the part the programs had, and a release
 # without the lift off the part (KUKA), the lift after the tracking stopped (UR: the arm no longer follows the part)

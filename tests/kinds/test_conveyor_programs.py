@@ -74,7 +74,9 @@ def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
     found = {c.category: c for c in cases(cell)}
     belts = {"constant_speed", "varying_speed", "rollover", "part_too_late", "fast_belt", "part_past_the_window"}
     scenarios = {"start_away", "start_mid_cycle", "gripper_silent", "gripper_stuck", "part_out_of_range"}
-    assert set(found) == belts | scenarios | {"part_too_close", "place_blocked", "belt_stands", "no_part"}
+    # the trigger's stray pulses, a part seen before the start; ABB's unit out of step with the PLC
+    unit = {"unit_missed_sync", "stray_pulses", "seen_before_start"}
+    assert set(found) == belts | scenarios | unit | {"part_too_close", "place_blocked", "belt_stands", "no_part"}
     assert found["varying_speed"].belt.wobble > 0
     rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel
     first = rollover.parts[0]
@@ -109,7 +111,13 @@ def test_the_part_queue_lies_in_the_registers_a_plc_can_write():
 
 # (old, new, what the verdict must say): each a program that moves somewhere else than the part is
 MUTATIONS = [
-    ("CNV_DIR = p[0.499994000, -0.866029000,", "CNV_DIR = p[-0.499994000, 0.866029000,", "gripped"),
+    # followed backwards: gripped in the wrong place, or (the gripper's 45-55 ms on top) the lift out of the arm's
+    # configuration, where the controller stops
+    (
+        "CNV_DIR = p[0.499994000, -0.866029000,",
+        "CNV_DIR = p[-0.499994000, 0.866029000,",
+        ("gripped", "a linear move would change the arm's configuration"),
+    ),
     # the robot's own count not unwound across its wrap (the rollover case wraps it during a part's travel)
     (
         "encoder_unwind_delta_tick_count(0, encoder_get_tick_count(0) - latched)",
@@ -129,7 +137,11 @@ MUTATIONS = [
     ),
     # the part's place from the PLC's copy of a count (late by its cycle and the fieldbus), not the robot's own
     # encoder latched at the trigger: the gripper meets the part up to a millimetre behind it
-    ("    y = cnv_own_y(mine)\n    movel(", "    y = cnv_y(seen)\n    movel(", "gripped"),
+    (
+        "    y = cnv_own_y(mine)\n    set_standard_digital_out(1,",
+        "    y = cnv_y(seen)\n    set_standard_digital_out(1,",
+        "gripped",
+    ),
     # no thread latching the trigger: no part has a count of the robot's own
     ("  cnv_latcher = run cnv_latch()\n", "", "seen before the program started"),
 ]
@@ -198,11 +210,14 @@ def test_an_intercept_that_misses_the_part_fails_verify(tmp_path, target, edits,
 def test_a_belt_whose_counter_counts_up_verifies_on_every_target(tmp_path):
     """The bundled belt's counter runs down (E < 0); the same belt with a counter that runs up (E > 0)
     wraps the other way through 0 and is unwound by the other branch (ABB's intercept here: its native tracking
-    has the unit count up whatever the counter does, tests/kinds/test_conveyor_native.py)."""
+    has the unit count up whatever the counter does, tests/kinds/test_conveyor_native.py). Five parts, each picked or
+    (an intercept whose gripper takes the cell's 45-55 ms, one) skipped for a reason verify accepts."""
     cell = intercept_cell(tmp_path, **{"counts_per_mm = -8.122679": "counts_per_mm = 8.122679"})
     for target in ("ur", "kuka", "abb"):
         report = _verify(cell, _program(cell, target=target), only=("rollover", "start_away"))
-        assert report.mismatches == 0 and report.figures.picked == 5, report.summary()
+        figures = report.figures
+        assert report.mismatches == 0 and figures.picked + figures.skipped == 5, report.summary()
+        assert figures.picked >= 4, report.summary()
 
 
 @pytest.mark.parametrize(("old", "new", "says"), MUTATIONS)
@@ -211,7 +226,8 @@ def test_a_program_that_misses_the_part_fails_verify(old, new, says):
     only = ("rollover",) if "unwind" in old else ()  # the counter wraps in that case
     report = _verify(cell, _program(cell, old, new), first_mismatch=True, only=only)
     assert report.mismatches > 0, report.summary()
-    assert any(says in m for m in report.first_mismatches), report.first_mismatches
+    accepted = (says,) if isinstance(says, str) else says
+    assert any(phrase in m for m in report.first_mismatches for phrase in accepted), report.first_mismatches
 
 
 def test_the_tolerance_is_two_counts_of_travel_or_the_capture_range():
@@ -363,9 +379,9 @@ def test_a_tracking_arm_is_proven_as_far_as_it_may_follow_the_part(tmp_path):
         'tracking = { ur = "native", kuka = "intercept", abb = "native" }', 'tracking = { ur = "native" }'
     )
     path.write_text(
-        text.replace(
-            'place_clear = { ur = 2, kuka = 19, abb = "diCnvPlaceClear" }', "place_clear = { ur = 2 }"
-        ).replace("timer = { kuka = 1 }", "")
+        text.replace('place_clear = { ur = 2, kuka = 19, abb = "diCnvPlaceClear" }', "place_clear = { ur = 2 }")
+        .replace('zone_output = { ur = 1, kuka = 18, abb = "doCnvBeltZone" }', "zone_output = { ur = 1 }")
+        .replace("timer = { kuka = 1 }", "")
     )
     with pytest.raises(
         GenerateError, match=r"conveyor \(ur, UR10e\): .* the part at .*: the arm would change its conf"

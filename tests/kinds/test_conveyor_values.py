@@ -97,6 +97,10 @@ def test_a_natively_tracking_target_is_not_held_to_the_intercepts_budget(tmp_pat
         tmp_path,
         ('kuka = "intercept", ', ""),
         ("kuka = 19, ", ""),
+        (
+            'zone_output = { ur = 1, kuka = 18, abb = "doCnvBeltZone" }',
+            'zone_output = { ur = 1, abb = "doCnvBeltZone" }',
+        ),
         ("timer = { kuka = 1 }", ""),
         ("grip_s = [0.045, 0.055]", "grip_s = 2.0"),
     )

@@ -141,6 +141,7 @@ def move(kind: str, fr, args, kwargs, where) -> None:
     tracking.leave(fr)
     timing = move_timing(args, kwargs, where)
     m, target = target_pose(compiler, args[0], kwargs.get("WOBJ"), where)
+    tracking.check_axes(fr, target["EXTAX"], where, "move target")
     event = move_event(fr, kind, m, target, args, timing, where, wobj=kwargs.get("WOBJ"))
     fr.m.move(event, motionset.speed(fr.m, timing[0]), timing[1])
 
@@ -199,7 +200,9 @@ def c_rob_t(fr, args, kwargs, where):
     if tcp2base is None:
         raise RunError(f"{where}: CRobT: the arm's pose is not known here (no move to a pose yet)")
     pose = base2wobj @ tcp2base @ np.linalg.inv(active) @ tool2flange
-    return robtarget_from(pose, conf_now(fr.m), where)
+    out = robtarget_from(pose, conf_now(fr.m), where)
+    tracking.fill_axes(fr, out["EXTAX"])  # an active conveyor's position in its logical axis
+    return out
 
 
 def c_pos(fr, args, kwargs, where):
@@ -211,7 +214,9 @@ def c_joint_t(fr, args, kwargs, where):
     """CJointT(): the arm's current joint angles (deg) as a jointtarget (RAPID functions)."""
     compiler = fr.m.program.compiler
     q = fr.m.arm.actual(where)
-    return compiler.coerce("JOINTTARGET", [[f32(v) for v in q], [f32(9e9)] * 6], where)
+    out = compiler.coerce("JOINTTARGET", [[f32(v) for v in q], [f32(9e9)] * 6], where)
+    tracking.fill_axes(fr, out["EXTAX"])  # an active conveyor's position in its logical axis
+    return out
 
 
 def move_abs_j(fr, args, kwargs, where):
@@ -222,6 +227,7 @@ def move_abs_j(fr, args, kwargs, where):
         target = compiler.coerce("JOINTTARGET", target, where)
     q = vec(target["ROBAX"], tuple(f"RAX_{i}" for i in range(1, 7)))
     posemath.check_finite(q, where, "joint target")
+    tracking.check_axes(fr, target["EXTAX"], where, "joint target")
     tracking.leave(fr)
     speed, zone, tool = (move_setting(args, i) for i in (1, 2, 3))
     settings = {"speed": speed, "zone": zone, "tool": tool, "load": move_load(fr, args, where)}

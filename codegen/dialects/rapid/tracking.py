@@ -3,16 +3,21 @@ work object the conveyor moves."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from codegen.dialects import posemath
 from codegen.dialects.core.ramp import travel_seconds
-from codegen.dialects.core.values import Record, RunError
+from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.rapid import motionset
 from codegen.dialects.rapid.errors import ERROR_NUMBERS, RapidError
 from codegen.dialects.rapid.motion import frame_matrix, move_event, move_timing
 from codegen.dialects.rapid.predefined import WOBJ0
 from codegen.dialects.rapid.types import QUAT_KEYS, num, type_text, vec
+
+UNUSED = 9e9  # an external axis' value the controller reads as "not used" (RAPID data types, extjoint: 9E9)
+AXIS_SLOTS = {7 + i: f"EAX_{c}" for i, c in enumerate("ABCDEF")}  # logical axis -> extjoint component
 
 # Sources (the option's manual, "Application manual - Conveyor tracking", 3HAC16587-1, was not readable here):
 # - ABB, "Application manual - MultiMove" (3HAC021272-001), coordinated work objects: a work object the robot does
@@ -37,12 +42,18 @@ from codegen.dialects.rapid.types import QUAT_KEYS, num, type_text, vec
 # work object has an identity uframe and its offset in the oframe). WaitWObj connects the
 # oldest queued object once it is inside the start window (and \RelDist past the sync point); an object that left
 # the start window while WaitWObj waited for it raises ERR_CNV_DROPPED (the error's name for this case is not
-# confirmed: the generated programs handle any error of WaitWObj as the part lost); WaitWObj on a work object
-# still connected: ERR_CNV_CONNECT; a unit not active (no ActUnit): ERR_CNV_NOT_ACT. A move in the coordinated
-# work object ends where the object is when the move ends (its length measured relative to the object); the arm
-# then follows the object (a fine point too) until a move in another work object or DropWObj. Assumed: a unit
-# the controller's configuration does not have (the simulated belt's unit) is refused; DeactUnit with an object
-# connected drops it.
+# confirmed); WaitWObj on a work object still connected: ERR_CNV_CONNECT; a unit not active (no ActUnit):
+# ERR_CNV_NOT_ACT. WaitWObj \MaxTime:=s: no object connected within s seconds raises ERR_WAIT_MAXTIME (RAPID
+# reference, WaitWObj, as recalled: the manual's text was not readable here), the queue left as it was; without
+# \MaxTime a wait for an object that never comes is refused (it would wait forever). An active unit is a joint of
+# the controller: its logical axis (7..12: eax_a..eax_f of a robtarget or jointtarget) holds its position, so a
+# move while it is active to a target whose slot is 9E+09 (unused) is refused (a public pick-from-belt program in
+# the code index writes 0 in eax_f of every robtarget it moves to while CNV1 is active, 9E+09 in the others; the
+# refusal itself is assumed, not confirmed in ABB's manual), and CJointT and CRobT read the unit's position (mm: the
+# connected object's travel since its sync, 0 with none connected) there. A move in the coordinated work object ends
+# where the object is when the move ends (its length measured relative to the object); the arm then follows the
+# object (a fine point too) until a move in another work object or DropWObj. Assumed: a unit the controller's
+# configuration does not have (the simulated belt's unit) is refused; DeactUnit with an object connected drops it.
 
 
 class MecUnit:
@@ -132,6 +143,7 @@ def move(compiler, fr, kind: str, wobj: Record, args, kwargs, where: str) -> Non
         target = compiler.coerce("ROBTARGET", target, where)
     t, q = vec(target["TRANS"], "XYZ"), vec(target["ROT"], QUAT_KEYS)
     posemath.check_finite(t + q, where, "move target")
+    check_axes(fr, target["EXTAX"], where, "move target")
     # the user frame is the unit's (its system parameters): the program's uframe is not used; the object frame in it
     relative = frame_matrix(wobj["OFRAME"]) @ posemath.matrix_from_abb(t + q)
     follow = Follow(unit, relative)
@@ -182,18 +194,40 @@ def _wobj_arg(compiler, args, where: str, name: str) -> Record:
     return wobj
 
 
+def check_axes(fr, extax: Record, where: str, what: str) -> None:
+    """A move's target while units are active: each active unit's logical axis must hold a value, not 9E+09."""
+    for unit in fr.m.state.units.values():
+        slot = AXIS_SLOTS[unit.settings.axis]
+        if abs(float(extax[slot])) >= 0.99 * UNUSED:
+            raise RunError(
+                f"{where}: {what}: {slot.lower()} is 9E+09 (unused), but it is the logical axis "
+                f"{unit.settings.axis} of the active unit {unit.name}: give it the unit's position (0 or as taught)"
+            )
+
+
+def fill_axes(fr, extax: Record) -> Record:
+    """CJointT / CRobT: each active unit's position (mm) in its logical axis' slot."""
+    for unit in fr.m.state.units.values():
+        extax[AXIS_SLOTS[unit.settings.axis]] = f32(unit.position_mm(fr.m.clock))
+    return extax
+
+
 def wait_wobj(fr, args, kwargs, where) -> None:
     if len(args) != 1 or set(kwargs) - {"RELDIST", "RELPOS", "MAXTIME"}:
-        raise RunError(f"{where}: WaitWObj takes a work object [\\RelDist]")
-    if "RELPOS" in kwargs or "MAXTIME" in kwargs:
-        raise RunError(f"{where}: WaitWObj \\RelPos and \\MaxTime are not modelled")
+        raise RunError(f"{where}: WaitWObj takes a work object [\\RelDist] [\\MaxTime]")
+    if "RELPOS" in kwargs:
+        raise RunError(f"{where}: WaitWObj \\RelPos is not modelled")
     wobj = _wobj_arg(fr.m.program.compiler, args, where, "WaitWObj")
     unit = _active(fr, wobj, where)
     if unit.connected is not None:
         raise _error("ERR_CNV_CONNECT", f"{where}: WaitWObj: the work object is connected already (DropWObj)")
     machine = fr.m
     rel = num(kwargs["RELDIST"], where) if "RELDIST" in kwargs else 0.0
-    seq, due, connected = unit.connect(machine.clock, rel)  # (the object's part, when, connected or lost)
+    until = machine.clock + num(kwargs["MAXTIME"], where) if "MAXTIME" in kwargs else math.inf
+    seq, due, connected = unit.connect(machine.clock, rel, until)  # (the object's part, when, connected or lost)
+    if connected is None:
+        machine.elapse(until - machine.clock, where)
+        raise _error("ERR_WAIT_MAXTIME", f"{where}: WaitWObj \\MaxTime: no object connected in time")
     if seq is None:
         raise RunError(f"{where}: WaitWObj waits for an object that never comes (waits forever)")
     machine.elapse(due - machine.clock, where)

@@ -24,6 +24,6 @@ class SectionPart(protocol.Section):
         if conveyor is not None and conveyor.pick is not None and (cell.io is None or not cell.io.feedback):
             ctx.fail("cell.io", "a cell with [conveyor.pick] needs [cell.io] with feedback: the gripper and its sensor")
         if conveyor is not None and conveyor.pick is not None:
-            check_inputs(ctx, conveyor.pick, cell.io.feedback)
+            check_inputs(ctx, conveyor.pick, cell.io.feedback, cell.io.output)
             check_carried(ctx, cell.robot, conveyor.pick.part_mass_kg, "conveyor.pick.part_mass_kg")
         budget.check(ctx, cell)

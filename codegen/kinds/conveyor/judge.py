@@ -19,7 +19,9 @@ from codegen.kinds.conveyor.program import (
     TOO_LATE,
     lead_seconds,
 )
+from codegen.kinds.conveyor.reach import follow_mm
 from codegen.kinds.conveyor.section import conveyor_of
+from codegen.model.io import signal_name
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.sim.belt import part_pose, part_y
 from codegen.sim.bus import SCALE
@@ -186,6 +188,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     given_up = {*skipped, *too_late, *too_close, *lost, *early, *flushed}
     picked = [p for p in case.parts if p.seq not in given_up]
     closes = [o for o in trace.outputs if o.name == output and o.value == cell.io.value]
+    closes = closes[1:] if case.held else closes  # the first: the grip asserted again on the part held at the start
     opens = [o for o in trace.outputs if o.name == output and o.value != cell.io.value][1:]  # after the first
     if len(closes) != len(picked) or len(opens) != len(picked):
         return f"{len(closes)} grips and {len(opens)} releases for {len(picked)} parts picked", 0.0, 0.0
@@ -297,3 +300,46 @@ def not_held(cell, target_name: str, case, trace, output: str, first: int) -> tu
     if trace.messages[-1] != STOPPED:
         return f"the program did not end at the line's stop (last message {trace.messages[-1:]})", 0, 0
     return None, j.worst_pos, j.worst_rot
+
+
+LOW_MM = 1.0  # a pose this far below the clear height counts as low over the belt (clear of the rounding of the moves)
+
+
+def belt_zone(cell, target_name: str, trace) -> str | None:
+    """The belt zone's output (where the cell names one): on over every move that starts or ends over the belt below
+    the clear height (z_range_mm's top + approach_dz, belt frame; over the belt: within x_range_mm and the travel
+    from the camera's line to the window's end and the follow, approach_dz around), and off at the run's end unless
+    the arm is still low over the belt there. The PLC stops the belt on a robot's stop while it is on."""
+    pick = conveyor_of(cell).pick
+    if target_name not in pick.zone_output:
+        return None
+    name = signal_name(get_target(target_name), "output", pick.zone_output[target_name])
+    events = [o for o in trace.outputs if o.name == name]
+    base2belt = np.linalg.inv(conveyor_of(cell).frame())
+    clear, dz = pick.z_range_mm[1] + pick.approach_dz, pick.approach_dz
+    (x0, x1), end = pick.x_range_mm, pick.window_mm[1] + follow_mm(cell, target_name)
+
+    def low(move) -> bool:
+        if move is None or move.tcp2base is None:
+            return False
+        x, y, z, _ = base2belt @ move.tcp2base[:, 3]
+        start = -conveyor_of(cell).camera_offset_mm - dz
+        return z < clear - LOW_MM and x0 - dz <= x <= x1 + dz and start <= y <= end + dz
+
+    def on_at(t: float) -> bool:
+        state = False
+        for event in events:
+            if event.time <= t + 1e-9:
+                state = event.value
+        return state
+
+    for i, move in enumerate(trace.moves):
+        if not (low(move) or (i > 0 and low(trace.moves[i - 1]))):
+            continue
+        off = [e for e in events if move.start_time < e.time < move.end_time - 1e-9 and not e.value]
+        if not on_at(move.start_time) or off:
+            return f"the belt zone's output {name} off during move {i + 1} (line {move.line}), low over the belt"
+    last = trace.moves[-1] if trace.moves else None
+    if on_at(trace.clock) and not low(last):
+        return f"the belt zone's output {name} left on at the end, the arm off the belt"
+    return None

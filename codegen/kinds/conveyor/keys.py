@@ -130,6 +130,10 @@ PICK = Table(
             high=5000.0,
         ),
         "place_clear": signals("per target, the input that says the place is free (none: the program does not ask)"),
+        "zone_output": signals(
+            "per target, the output on while the arm is over the belt below the clear height: the PLC stops the belt "
+            "whenever the robot stops while it is on (none: the program sets none)"
+        ),
         "place_timeout_s": Key(
             "number", "how long the program waits for place_clear", unit="s", low=0.2, high=600.0, default=10.0
         ),
@@ -151,7 +155,11 @@ PICK = Table(
             default=2.0,
         ),
         "min_gap_mm": Key(
-            "number", "how close a part may follow the one before and still be picked", unit="mm", low=0.0, default=0.0
+            "number",
+            "how close a part may follow the one before and still be picked (ABB native: the unit's Sync Separation)",
+            unit="mm",
+            low=0.0,
+            default=0.0,
         ),
         "timer": Key(
             "map",
@@ -163,6 +171,12 @@ PICK = Table(
             "map",
             "per target that needs it (ABB native): the belt's mechanical unit",
             values=Key("string", "a mechanical unit's name"),
+        ),
+        "unit_axis": Key(
+            "map",
+            "per target that needs it (ABB native): the unit's logical axis, where its position stands in every "
+            "robtarget and jointtarget (7: eax_a ... 12: eax_f; default the target's facts: targets/<t>.toml)",
+            values=Key("integer", "a logical axis", low=7, high=12),
         ),
     },
 )

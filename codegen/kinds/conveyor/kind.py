@@ -18,6 +18,8 @@ KIND = Kind(
         "unit": str,  # native (ABB): the belt's mechanical unit unless the cell names another
         "units": list,  # native (ABB): the mechanical units a cell may name for its belt
         "unit_signals": dict,  # native (ABB): the tracking option's signals the program uses
+        "unit_axis": int,  # native (ABB): the unit's logical axis (7..12: eax_a..eax_f) unless the cell names another
+        "drop_settle_s": float,  # native (ABB): the wait after DropWObj before the next WaitWObj
         "timers": int,  # intercept: how many numbered timers ([conveyor.pick] timer gives the program one)
         "timer_s": float,  # intercept: the numbered timers' unit (a time measured is off by up to one)
         "path_acc_m_s2": float,  # the path acceleration the program sets for its straight moves (the descent's ramp)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from codegen.emit import owned
 from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.reach import follow_mm
 from codegen.kinds.conveyor.section import conveyor_of
@@ -45,6 +46,7 @@ def settings(cell, target) -> UnitSettings:
         min_gap_mm=pick.min_gap_mm,
         max_mm=belt.camera_offset_mm + end + follow_mm(cell, target.name),
         remove_all=_remove_all(cell, target),
+        axis=pick.unit_axis[target.name],
     )
 
 
@@ -60,6 +62,24 @@ def margin_mm(cell) -> float:
     the unit's queue too: two counts and the count's age at the belt's fastest."""
     pick = conveyor_of(cell).pick
     return 2.0 / abs(conveyor_of(cell).counts_per_mm) + pick.belt_speed_max_mm_s * pick.count_latency_s[1]
+
+
+def sync_tol_mm(cell, target) -> float:
+    """How far the connected object's position (the unit's count since its sync) may lie from the part's travel by
+    the PLC's count and still be the same part: the margin (two counts, the count's age at the belt's fastest), two
+    counts more (each side reads a whole count) and the unit's whole counts per metre against the belt's scale over
+    the tracking range (half a count per metre at most); at least half the Sync Separation (min_gap_mm: the unit
+    queues no other object nearer to this one than that, so a larger difference is another object)."""
+    unit = settings(cell, target)
+    per_mm = abs(conveyor_of(cell).counts_per_mm)
+    measured = margin_mm(cell) + 2.0 / per_mm + unit.max_mm * 0.5 / unit.counts_per_m
+    return max(measured, 0.5 * unit.min_gap_mm)
+
+
+def connect_s(cell, target) -> float:
+    """WaitWObj's \\MaxTime: the part crosses the tolerance at the belt's fastest in this time, at least 0.1 s (the
+    program waits again while the PLC's count says the part is still within the tolerance of the window's start)."""
+    return max(0.1, sync_tol_mm(cell, target) / conveyor_of(cell).pick.belt_speed_max_mm_s)
 
 
 def _pose(emitter, matrix: np.ndarray, name: str) -> list[str]:
@@ -97,5 +117,12 @@ def context(cell, target, emitter) -> dict:
                 for key, name in KIND.facts(target).get("unit_signals", {}).items()
             },
             "counts_down": conveyor_of(cell).counts_per_mm < 0,
+            "axis": unit.axis,
+            # the generator's own text: the extjoint component of the logical axis, and extax with 0 there
+            "slot": owned("eax_" + "abcdef"[unit.axis - 7]),
+            "extax": owned("[" + ", ".join("0" if i == unit.axis - 7 else "9E+09" for i in range(6)) + "]"),
+            "sync_tol_mm": number(sync_tol_mm(cell, target), 3),
+            "connect_s": number(connect_s(cell, target), 3),
+            "drop_settle_s": number(KIND.facts(target)["drop_settle_s"], 3),
         }
     return out

@@ -26,10 +26,12 @@ class Pick:
     inputs; trigger_input: per target, the robot's input the camera's trigger is wired to (a native UR
     program latches its own encoder there); part_mass_kg, part_cog_mm: the part (its centre of gravity in the
     tool frame), the payload while the gripper holds it; place_clear: per target, the input that says the
-    place is free (none: the program does not ask), waited for place_timeout_s; min_gap_mm: how close a part may
-    follow the one before and still be picked (ABB native: the queue's minimum distance); unit: per target, the
-    belt's mechanical unit (ABB native); no_part_s: the wait for the next part says so once after this long (and
-    goes on); belt_stop_s: the encoder still this long while a part is on its way: the belt stands (a message)."""
+    place is free (none: the program does not ask), waited for place_timeout_s; zone_output: per target, the output
+    on while the arm is over the belt below the clear height (the PLC stops the belt when the robot stops then);
+    min_gap_mm: how close a part may follow the one before and still be picked (ABB native: the unit's Sync
+    Separation); unit: per target, the belt's mechanical unit (ABB native), unit_axis its logical axis; no_part_s:
+    the wait for the next part says so once after this long (and goes on); belt_stop_s: the encoder still this long
+    while a part is on its way: the belt stands (a message)."""
 
     window_mm: tuple[float, float]
     x_range_mm: tuple[float, float]
@@ -49,9 +51,11 @@ class Pick:
     part_mass_kg: float = 0.0
     part_cog_mm: tuple[float, float, float] = (0.0, 0.0, 0.0)
     place_clear: dict = field(default_factory=dict)
+    zone_output: dict = field(default_factory=dict)  # per target: on while the arm is below the clear height
     place_timeout_s: float = 10.0
     min_gap_mm: float = 0.0
     unit: dict = field(default_factory=dict)
+    unit_axis: dict = field(default_factory=dict)  # ABB native: the unit's logical axis (7..12: eax_a..eax_f)
     trigger_input: dict = field(default_factory=dict)
     part_size_mm: tuple[float, float, float] | None = None  # the part as a box along the tool frame's axes (inertia)
     no_part_s: float = 30.0  # the wait for the next part: a message after this long, then on waiting
@@ -112,7 +116,7 @@ def _seconds(ctx, value, path: str) -> tuple[float, float]:
 def parse_pick(ctx, loader: Loader, table, targets) -> Pick:
     """[conveyor.pick]: its keys as declared (keys.py), then the rules between them and the cell's targets."""
     path = "conveyor.pick"
-    keep = {key: (lambda raw, where: raw) for key in ("place_clear", "encoder_inputs")}  # read once tracking is known
+    keep = {key: (lambda raw, where: raw) for key in ("place_clear", "zone_output", "encoder_inputs")}  # per target
     values = loader.table(PICK, table, path, readers=keep)
     window = _interval(ctx, values["window_mm"], f"{path}.window_mm")
     _interval(ctx, values["x_range_mm"], f"{path}.x_range_mm", least=1 / SCALE)
@@ -132,10 +136,12 @@ def parse_pick(ctx, loader: Loader, table, targets) -> Pick:
     if values["min_gap_mm"] > window[1] - window[0]:
         ctx.fail(f"{path}.min_gap_mm", f"must be in [0, {window[1] - window[0]:g}] mm (the window's width)")
     values["place_clear"] = per_target(ctx, table, "place_clear", list(tracking), required=False, prefix=path)
+    values["zone_output"] = per_target(ctx, table, "zone_output", list(tracking), required=False, prefix=path)
     natives = [t for t, mode in tracking.items() if mode == "native"]
     values["unit"] = _named(
         ctx, values["unit"] or {}, "unit", [t for t in natives if KIND.facts(get_target(t)).get("unit")], path
     )
+    values["unit_axis"] = _axis(ctx, values["unit_axis"] or {}, list(values["unit"]), path)
     triggered = [t for t in natives if KIND.facts(get_target(t)).get("trigger")]
     values["trigger_input"] = _numbered_input(ctx, values["trigger_input"] or {}, "trigger_input", triggered, path)
     intercepts = [t for t, mode in tracking.items() if mode == "intercept"]
@@ -214,6 +220,12 @@ def _named(ctx, given: dict, key: str, needed: list[str], path: str) -> dict:
     return out
 
 
+def _axis(ctx, given: dict, needed: list[str], path: str) -> dict:
+    """The logical axis per target with a mechanical unit: the cell's, default the target's facts' `unit_axis`."""
+    ctx.no_unknown(given, set(needed), f"{path}.unit_axis")
+    return {t: given.get(t, KIND.facts(get_target(t))["unit_axis"]) for t in needed}
+
+
 def _numbered_input(ctx, given: dict, key: str, needed: list[str], path: str) -> dict:
     """A digital input number per target that needs one (the camera's trigger wired to the robot)."""
     ctx.no_unknown(given, set(needed), f"{path}.{key}")
@@ -229,9 +241,13 @@ def _numbered_input(ctx, given: dict, key: str, needed: list[str], path: str) ->
     return out
 
 
-def check_inputs(ctx, pick: Pick, feedback: dict) -> None:
+def check_inputs(ctx, pick: Pick, feedback: dict, output: dict | None = None) -> None:
     """Per target, the inputs the pick program reads are distinct: the gripper's sensor ([cell.io] feedback), the
-    encoder's A and B, the camera's trigger and the place's input."""
+    encoder's A and B, the camera's trigger and the place's input; its two outputs too (the gripper's, the belt
+    zone's)."""
+    for target, zone in pick.zone_output.items():
+        if output is not None and output.get(target) == zone:
+            ctx.fail(f"conveyor.pick.zone_output.{target}", f"output {zone} is cell.io.output.{target} too")
     for target in pick.tracking:
         named = [(f"cell.io.feedback.{target}", feedback.get(target))]
         named += [(f"conveyor.pick.encoder_inputs.{target}", v) for v in pick.encoder_inputs.get(target, ())]

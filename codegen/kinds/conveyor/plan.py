@@ -174,11 +174,16 @@ def _starts_part(moves: list, i: int, length: int) -> bool:
     return after >= len(moves) or moves[after].kind == "joint"
 
 
-def outputs(cell, name: str, closes: list, opens: list, release_at: int | None) -> tuple[PlannedOutput, ...]:
-    """The gripper's outputs a pick run sets: released once at the start (after move release_at: at home with
+def outputs(
+    cell, name: str, closes: list, opens: list, release_at: int | None, held_at: int | None = None
+) -> tuple[PlannedOutput, ...]:
+    """The gripper's outputs a pick run sets: with a part held at the start, the grip asserted again after move
+    held_at (at home, before the way to the place); released once at the start (after move release_at: at home with
     nothing held, at the place with a part held; None: not at all), then a grip and a release per picked part
     at the moves the plan puts them."""
-    out = [] if release_at is None else [PlannedOutput(name, not cell.io.value, release_at, "released at the start")]
+    out = [] if held_at is None else [PlannedOutput(name, cell.io.value, held_at, "asserted again, a part held")]
+    if release_at is not None:
+        out.append(PlannedOutput(name, not cell.io.value, release_at, "released at the start"))
     for close, open_ in zip(closes, opens, strict=False):
         out.append(PlannedOutput(name, cell.io.value, close.after_moves, "on the part"))
         out.append(PlannedOutput(name, not cell.io.value, open_.after_moves, "at the place"))

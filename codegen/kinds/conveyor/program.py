@@ -40,6 +40,8 @@ STANDS = "conveyor: the belt stands, the arm waits above it: part "  # the encod
 FLUSHED = "conveyor: queued before the start, skipped: part "  # ABB native: the unit's queue emptied at the start
 NOT_HELD = "conveyor: the gripper did not hold it, skipped: part "  # ABB native: left on the belt, the arm off it
 NOT_OPENED = "conveyor: the gripper did not release the part it failed to grip"  # its stop, once off the belt
+# ABB native: the unit's queue and the PLC's disagree (no object for the part, or another part's): its stop
+OUT_OF_STEP = "conveyor: the unit's queue is out of step with the PLC's: empty both, restart"
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 MASS_DECIMALS = 3
 
@@ -201,6 +203,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "blend": blends(cell, target, mode),
         "place_clear": _signal(emitter, pick.place_clear.get(target.name), f"conveyor.pick.place_clear.{target.name}"),
         "place_timeout_s": number(timeout, 3),
+        "zone_output": _signal(emitter, pick.zone_output.get(target.name), f"conveyor.pick.zone_output.{target.name}"),
         "place_polls": number(math.ceil(timeout / IO_POLL_S - 1e-9), 0),  # looks at it, as at the gripper's sensor
         "too_late": emitter.string(TOO_LATE),
         "skipped": emitter.string(SKIPPED),
@@ -215,6 +218,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "not_held": emitter.string(NOT_HELD),
         "not_opened": emitter.string(NOT_OPENED),
         "flushed": emitter.string(FLUSHED),
+        "out_of_step": emitter.string(OUT_OF_STEP),
         "place_blocked": emitter.string(place_blocked(cell)),
         "no_part": emitter.string(no_part(cell)),
         "no_part_s": number(pick.no_part_s, 3),

@@ -12,13 +12,13 @@ from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.guard import NOT_RELEASED, halt_message
 from codegen.kinds.conveyor import native, plan
-from codegen.kinds.conveyor.judge import SKIPS, left_low
+from codegen.kinds.conveyor.judge import SKIPS, belt_zone, left_low
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.kind import KIND
-from codegen.kinds.conveyor.program import BAD_READING, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.program import BAD_READING, OUT_OF_STEP, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
-from codegen.kinds.conveyor.start import first_moves, start_joints
+from codegen.kinds.conveyor.start import first_moves, grip_pose, start_joints
 from codegen.model.io import signal_name
 from codegen.robot.expect import tool_inputs
 from codegen.sim.belt import Belt, BeltLine, Part, TrackingUnit
@@ -58,6 +58,14 @@ SCENARIO_OF = {
 # controller's interpreter cycle; assumed, no manual here states it): a program that times the belt by its passes
 # counted as exact sleeps measures its speed wrong
 SLEEP_OVERHEAD_S = 0.002
+# the stray_pulses case: a stray pulse of the camera's trigger (UR's trigger input, ABB's sync input) at this moment
+# (after the program has emptied the unit's queue at its start), the part at least STRAY_AHEAD_MM behind it (1.5
+# times the Sync Separation), and a double pulse DOUBLE_S after the part's own
+STRAY_AT_S = 4.0
+STRAY_AHEAD_MM = 60.0
+DOUBLE_S = 0.02
+SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
+OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
 # late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
@@ -83,6 +91,9 @@ class BeltCase:
     stop_s: float = 0.0  # the line's cycle stop not before this (s)
     pulses: tuple = ()  # trigger pulses no part made (a double pulse, a part the PLC dropped): moments (s)
     before: tuple = ()  # parts a stopped run took from the PLC before this start (their objects still queued)
+    # the mechanical unit's own sync input against the PLC's queue (ABB native; the trigger's pulses above are syncs to
+    # it too): the parts whose sync it missed (numbers)
+    unit_missed: frozenset = frozenset()
 
     @property
     def scenario(self) -> str:
@@ -166,6 +177,18 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     stands = replace(slow, stops=((halfway, pick.belt_stop_s + STAND_EXTRA_S),))
     scenarios.append(replace(one, category="belt_stands", belt=stands))
     scenarios.append(replace(one, category="no_part", parts=(), stop_s=pick.no_part_s + NO_PART_EXTRA_S))
+    if pick.unit:  # the unit's queue out of step with the PLC's: a sync it missed
+        scenarios.append(replace(one, category="unit_missed_sync", belt=slow, unit_missed=frozenset({1})))
+    # a stray trigger pulse ahead of the part and a double pulse right after its own: UR's latch passes the stray's
+    # count over and takes the first of the double; ABB's unit queues the stray as an object (out of step: a stop)
+    ahead = max(1.5 * pick.min_gap_mm, STRAY_AHEAD_MM)
+    part = replace(one.parts[0], seen_s=STRAY_AT_S + ahead / slow.speed_mm_s)
+    pulses = (STRAY_AT_S, part.seen_s + DOUBLE_S)
+    scenarios.append(replace(one, category="stray_pulses", belt=slow, parts=(part,), pulses=pulses))
+    # a part the camera saw SEEN_BEFORE_S before the program started, still upstream of the window when read: UR has no
+    # latch of it and ABB's unit's queue was emptied at the start (both skip it with a message), KUKA picks it
+    early = replace(one.parts[0], seen_s=-SEEN_BEFORE_S)
+    scenarios.append(replace(one, category="seen_before_start", belt=slow, parts=(early,)))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
@@ -182,7 +205,13 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     wiring = pick.encoder_inputs.get(target_name)  # the installation: A and B as the cell says
     unit = None
     if target_name in pick.unit:  # the belt as the controller's mechanical unit (its tracking option)
-        unit = TrackingUnit(native.settings(cell, target), case.belt, [*case.before, *case.parts])
+        unit = TrackingUnit(
+            native.settings(cell, target),
+            case.belt,
+            [*case.before, *case.parts],
+            extra_syncs=case.pulses,
+            missed=case.unit_missed,
+        )
     line = BeltLine(
         case.belt,
         list(case.parts),
@@ -200,7 +229,9 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     )
     output = signal_name(target, "output", cell.io.output[target_name])
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
-    gripper = Gripper(output, feedback, cell.io.value, case.gripper)
+    # a gripper that answers as the cell's does: its hold and its release grip_s after the output (a prompt one)
+    late = case.gripper == "prompt" and case.grip_s > 0.0
+    gripper = Gripper(output, feedback, cell.io.value, "late" if late else case.gripper, late_s=case.grip_s)
     signals = {feedback: case.held}
     if case.held:  # closed on a part since the stopped cycle
         signals[output] = cell.io.value
@@ -223,9 +254,12 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     first, release_at = first_moves(cell, target, case.start, case.held)
     events = [o for o in trace.outputs if o.name == output]
     closes = [o for o in events if o.value == cell.io.value]
+    # a part held at the start: the grip asserted again at home, before the way to the place (PUT_DOWN's three moves)
+    held_at = None if not case.held or release_at is None else release_at - 2
+    closes = closes[1:] if held_at is not None else closes
     opens = [o for o in events if o.value != cell.io.value][1:]  # after the one at the start
     names = frozenset({output})
-    start_outputs = plan.outputs(cell, output, [], [], release_at)
+    start_outputs = plan.outputs(cell, output, [], [], release_at, held_at)
     if case.category == "part_out_of_range":  # the camera's reading is refused before the arm moves for it
         return Judgement([Expectation(emitter.string(BAD_READING), tuple(first), start_outputs, output_names=names)])
     stops = {
@@ -243,6 +277,13 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
             outputs.append(PlannedOutput(output, not cell.io.value, at, "at the place"))
         expected = Expectation(emitter.string(message), (*first, *moves), tuple(outputs), output_names=names)
         return Judgement([expected])
+    if case.category in OUT_OF_STEP_CASES and target_name in conveyor_of(cell).pick.unit:
+        # the unit's queue out of step: the arm waits above the window's start, across from the part, and the program
+        # stops with its message (no grip) once the part is in the window by the PLC's count
+        pick = conveyor_of(cell).pick
+        wait = grip_pose(cell, case.parts[0].x, pick.window_mm[0], pick.z_range_mm[1] + pick.approach_dz)
+        moves = (*first, plan.planned(plan.PICK[mode][0], cell, target, mode, pose=wait))
+        return Judgement([Expectation(emitter.string(OUT_OF_STEP), moves, start_outputs, output_names=names)])
     problem = waits(cell, case, trace)
     if problem is not None:
         return Judgement([], problem=problem)
@@ -253,10 +294,29 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     moves = plan.lay_over(cell, target, mode, len(first), trace.moves, closes, opens)
     if isinstance(moves, str):
         return Judgement([], problem=moves)
+    zone = belt_zone(cell, target_name, trace)  # the belt zone's output over the moves low on the belt, once they fit
+    problem = zone or lifted_early(cell, trace, closes, setup.devices[1])
+    if problem is not None:
+        return Judgement([], problem=problem)
     skipped = sum(1 for m in trace.messages if m.startswith(SKIPS))
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
     expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
     return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
+
+
+def lifted_early(cell, trace, closes: list, gripper: Gripper) -> str | None:
+    """Each grip's next move (the lift) sets off only once the gripper holds the part (its feedback on after the
+    output, as the simulated gripper answers: grip_s later): a program that lifts on a fixed time instead leaves the
+    part on the belt."""
+    for number, close in enumerate(closes, start=1):
+        held = next((t for t, on in gripper.changes if on and t >= close.time - 1e-9), None)
+        if close.after_moves >= len(trace.moves):
+            continue
+        lift = trace.moves[close.after_moves]
+        if held is None or lift.start_time < held - 1e-6:
+            when = "never" if held is None else f"at {held:.3f} s"
+            return f"grip {number}: the arm set off at {lift.start_time:.3f} s, the gripper held the part {when}"
+    return None
 
 
 def _not_held(cell, target_name: str, case, trace, first, start_outputs, output, names) -> Judgement:
@@ -272,6 +332,9 @@ def _not_held(cell, target_name: str, case, trace, first, start_outputs, output,
     moves = plan._given_up(cell, target, mode, trace.moves[len(first) :], len(first))
     if isinstance(moves, str):
         return Judgement([], problem=moves)
+    zone = belt_zone(cell, target_name, trace)
+    if zone is not None:
+        return Judgement([], problem=zone)
     at = len(first) + plan.GRIP[mode]
     outputs = (
         *start_outputs,

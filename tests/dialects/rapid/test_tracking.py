@@ -17,12 +17,16 @@ SETTINGS = UnitSettings("CNV1", 10_000, FRAME, start_mm=200.0, width_mm=300.0, m
 BELT = Belt(100.0, 10.0)
 DECLS = """
 TASK PERS wobjdata track := [FALSE, FALSE, "CNV1", [[0, 0, 0], [1, 0, 0, 0]], [[0, 0, 0], [1, 0, 0, 0]]];
-CONST robtarget on := [[0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];
-CONST robtarget up := [[0, 0, 100], [0, 1, 0, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];
-CONST robtarget still := [[500, 0, 300], [0, 1, 0, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];
+CONST robtarget on := [[0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 0], [0, 9E9, 9E9, 9E9, 9E9, 9E9]];
+CONST robtarget up := [[0, 0, 100], [0, 1, 0, 0], [0, 0, 0, 0], [0, 9E9, 9E9, 9E9, 9E9, 9E9]];
+CONST robtarget still := [[500, 0, 300], [0, 1, 0, 0], [0, 0, 0, 0], [0, 9E9, 9E9, 9E9, 9E9, 9E9]];
+CONST robtarget unused := [[500, 0, 300], [0, 1, 0, 0], [0, 0, 0, 0], [9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];
 PERS tooldata grip := [TRUE, [[0, 0, 100], [1, 0, 0, 0]], [1, [0, 0, 50], [1, 0, 0, 0], 0, 0, 0]];
 PERS loaddata part := [2, [0, 0, 20], [1, 0, 0, 0], 0, 0, 0];
 VAR num lost := 0;
+VAR num status := 0;
+VAR num where := 0;
+VAR robtarget p;
 """
 
 
@@ -40,7 +44,7 @@ def run(body: str, parts, routines: str = "", settings: UnitSettings = SETTINGS)
     unit = TrackingUnit(settings, BELT, list(parts))
     line = BeltLine(BELT, [], NoQueue(), unit=unit)
     text = f"MODULE T\n{DECLS}\nPROC main()\n{body}\nENDPROC\n{routines}\nENDMODULE\n"
-    return load(text, "t.mod").run({}, devices=(line,), keep=("lost",)), unit
+    return load(text, "t.mod").run({}, devices=(line,), keep=("lost", "status", "where")), unit
 
 
 def unit_frame(travel_mm: float) -> np.ndarray:
@@ -138,3 +142,42 @@ def test_gripload_puts_the_payload_into_the_load_at_the_flange():
     assert loads[0] == pytest.approx((1.0, 0.0, 0.0, 50.0))
     assert loads[1] == pytest.approx((3.0, 0.0, 0.0, (50.0 + 2 * 120.0) / 3.0))
     assert loads[2] == pytest.approx((1.0, 0.0, 0.0, 50.0))
+
+
+def test_an_active_units_axis_must_hold_a_value_in_every_target():
+    """While CNV1 (logical axis 7) is active, a MoveL, a MoveJ or a MoveAbsJ whose eax_a is 9E+09 is refused; before
+    ActUnit and after DeactUnit it is not; another slot's 9E+09 is no matter."""
+    trace, _unit = run("MoveL unused, v1000, fine, grip;\nActUnit CNV1;\nMoveL still, v1000, fine, grip;", [])
+    assert len(trace.moves) == 2
+    for move in ("MoveL unused, v1000, fine, grip;", "MoveJ unused, v1000, fine, grip;"):
+        with pytest.raises(RunError, match=r"eax_a is 9E\+09 .* logical axis 7 of the active unit CNV1"):
+            run(f"ActUnit CNV1;\n{move}", [])
+    with pytest.raises(RunError, match=r"joint target: eax_a is 9E\+09"):
+        run("ActUnit CNV1;\nMoveAbsJ [[0, 0, 0, 0, 90, 0], [9E9, 0, 0, 0, 0, 0]] \\NoEOffs, v1000, fine, grip;", [])
+    trace, _unit = run("ActUnit CNV1;\nDeactUnit CNV1;\nMoveL unused, v1000, fine, grip;", [])
+    assert len(trace.moves) == 1
+
+
+def test_the_current_position_reads_the_connected_objects_travel_in_the_units_axis():
+    """Connected at 3 s to the part seen at 1 s (200 mm past its sync), 1 s later the unit's joint reads 300 mm
+    (CRobT here: the test has no arm's joints for CJointT, which fills the slot the same way); 0 with none connected
+    after DropWObj."""
+    body = (
+        "MoveL still, v1000, fine, grip;\nActUnit CNV1;\nWaitWObj track;\n"
+        "WaitTime 1;\np := CRobT(\\Tool:=grip);\nstatus := p.extax.eax_a;\nDropWObj track;\np := CRobT(\\Tool:=grip);\n"
+        "where := p.extax.eax_a + 1;"
+    )
+    trace, _unit = run(body, [Part(1, 1.0, 0, 0)])
+    assert trace.kept["status"] == pytest.approx(300.0, abs=0.2) and trace.kept["where"] == pytest.approx(1.0)
+
+
+def test_waitwobj_maxtime_raises_err_wait_maxtime_and_leaves_the_object_to_come():
+    """WaitWObj \\MaxTime:=1 at 0 s for an object in the start window at 3 s: ERR_WAIT_MAXTIME at 1 s (the handler
+    runs); the next WaitWObj without it connects the same object at 3 s."""
+    routines = (
+        "PROC take()\n  WaitWObj track \\MaxTime:=1;\n  status := 1;\nERROR\n  IF ERRNO = ERR_WAIT_MAXTIME THEN\n"
+        "    status := 2;\n  ENDIF\n  RETURN;\nENDPROC"
+    )
+    trace, unit = run("ActUnit CNV1;\ntake;\nSetDO do1, 1;\nWaitWObj track;", [Part(1, 1.0, 0, 0)], routines)
+    assert trace.kept["status"] == 2 and trace.outputs[0].time == pytest.approx(1.0, abs=1e-3)
+    assert unit.connections == [(1, pytest.approx(3.0, abs=1e-3))]
