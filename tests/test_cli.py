@@ -224,7 +224,7 @@ def test_a_huge_expression_is_refused_before_parsing(tmp_path):
     path = tmp_path / "huge.script"
     path.write_text("def p():\n  x = " + "+".join(["1"] * 200_000) + "\nend\n")
     result = CliRunner().invoke(main, ["run", str(path)])
-    assert result.exit_code == 2 and "huge.script:2:1: line longer than 10000 characters" in result.output
+    assert result.exit_code == 2 and "huge.script: line 2: longer than 10,000 characters" in result.output
 
 
 REPO_ROOT = Path(__file__).resolve().parents[1]

@@ -354,7 +354,8 @@ def test_the_task_starts_the_selected_pallet_and_none_without_a_selection(eur):
         (
             "ur",
             "pal_testmat.script",
-            "    set_target_payload(0.850, [0.0000000, 0.0000000, 0.0548824])   # the tool and the box\n",
+            "      set_target_payload(0.850, [0.0000000, 0.0000000, 0.0548824], "
+            "[0.001415, 0.001423, 0.000264, 0.000000, 0.000000, 0.000000])   # the tool and the box\n",
             "",
         ),
         ("kuka", "pal_testmat.src", "    $LOAD = PAL_LOAD_BOX\n", ""),

@@ -31,7 +31,7 @@ def test_a_tcp_in_metres_in_a_millimetre_cell_says_so(write_cell):
 
 def test_a_mark_in_metres_says_so(write_cell):
     message = error(write_cell, WITH_TOOL.replace("mark = [600.0, -250.0, 2.0]", "mark = [0.6, -0.25, 2.0]"))
-    assert "station[1].mark: x, y lie 0.6 mm from the robot's base: given in metres?" in message
+    assert "station[0].mark: x, y lie 0.6 mm from the robot's base: given in metres?" in message
     assert "0.6 m is 600 mm" in message
 
 
@@ -42,7 +42,7 @@ def test_a_ur_cell_given_millimetres_and_degrees_says_what_ur_takes(write_cell):
     assert 'pose_format = "ur" takes x y z m, rotation vector rx ry rz rad' in message
     assert 'or set pose_format = "xyzabc"' in message
     poses = error(write_cell, ur.replace("tcp = [0.0, 0.0, 200.0,", "tcp = [0.0, 0.0, 0.2,"))
-    assert "station[1].poses.approach: orientation values must be within +-6.28319 rad" in poses
+    assert "station[0].poses.approach: orientation values must be within +-6.28319 rad" in poses
     assert 'pose_format = "ur" takes' in poses
 
 
@@ -56,7 +56,7 @@ def test_a_missing_table_says_what_it_is_for_with_an_example_at_its_line(write_c
 
 def test_a_missing_key_says_what_it_is_for_with_an_example(write_cell):
     message = error(write_cell, MINIMAL_CELL.replace("mark = [600.0, -250.0, 2.0]\n", ""))
-    assert "station[1].mark: missing: where the camera saw the station's mark at calibration" in message
+    assert "station[0].mark: missing: where the camera saw the station's mark at calibration" in message
     assert "For example:\n    mark = [<number>, <number>, <number>]" in message
     named = error(write_cell, MINIMAL_CELL.replace('name = "bench"\n', ""))
     assert "cell.name: missing: the cell's name (the programs' folder). For example:\n    name = \"...\"" in named

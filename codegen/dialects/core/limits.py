@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-# elements of one array: the KRL, RAPID and URScript manuals consulted give no number (unconfirmed); a million
+# elements of one array: the controllers' manuals consulted give no number (unconfirmed); a million
 # elements is far beyond any generated program's arrays (tens of elements) and within what a run holds in memory
 ARRAY_ELEMENTS_MAX = 1_000_000
 

@@ -185,8 +185,9 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     part = replace(one.parts[0], seen_s=STRAY_AT_S + ahead / slow.speed_mm_s)
     pulses = (STRAY_AT_S, part.seen_s + DOUBLE_S)
     scenarios.append(replace(one, category="stray_pulses", belt=slow, parts=(part,), pulses=pulses))
-    # a part the camera saw SEEN_BEFORE_S before the program started, still upstream of the window when read: UR has no
-    # latch of it and ABB's unit's queue was emptied at the start (both skip it with a message), KUKA picks it
+    # a part the camera saw SEEN_BEFORE_S before the program started, still upstream of the window when read: UR has
+    # no latch of it and a native unit's queue was emptied at the start (both skip it with a message); the PLC's own
+    # queue picks it
     early = replace(one.parts[0], seen_s=-SEEN_BEFORE_S)
     scenarios.append(replace(one, category="seen_before_start", belt=slow, parts=(early,)))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
