@@ -38,7 +38,7 @@ LOW = [
     (
         "abb intercept too late",
         "abb intercept",
-        [("        " + ABB_BACK_UP + "        TPWrite", "        TPWrite")],
+        [("        " + ABB_BACK_UP + "        ! back at the clear height", "        ! back at the clear height")],
         "left",
     ),
     (
