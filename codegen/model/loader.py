@@ -101,9 +101,11 @@ class Loader:
         numbers = self.ctx.numbers(raw, key.count, path)
         if key.unit in ANGLE_BOUNDS and key.bounds == (-ANGLE_BOUNDS[key.unit], ANGLE_BOUNDS[key.unit]):
             return self.ctx.angles(numbers, path, key.unit)
+        # the taught range's reason (a calibration mark's x and y are taught coordinates too)
+        why = " (float32 on the controller)" if key.bounds == (-TAUGHT_RANGE_MM, TAUGHT_RANGE_MM) else ""
         for i, number in enumerate(numbers):
             if not key.contains(number):
-                self.ctx.fail(f"{path}[{i}]", f"must be {_range(key)} ({key.doc}), got {number:g}")
+                self.ctx.fail(f"{path}[{i}]", f"must be {_range(key)} ({key.doc}), got {number:g}{why}")
         return numbers
 
     def _list(self, key: Key, raw: list, path: str) -> tuple:

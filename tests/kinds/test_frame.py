@@ -42,7 +42,7 @@ def test_bench_cell_loads(bench):
         ),
         (
             lambda t: t.replace('mode = "frame"', 'mode = "frames"'),
-            "station[0].mode: expected one of 'point', 'frame', got 'frames'",
+            "station[0].mode: expected one of 'point', 'frame' (the station's program kind), got 'frames'",
         ),
         (lambda t: t.replace("photo = [0.0, 0.0, 180.0, 0.0, 0.0, 180.0]", ""), "station[0].photo: missing"),
         (

@@ -29,7 +29,10 @@ def _demo() -> dict:
     ("edit", "message"),
     [
         (lambda s: s["gripper"].update(spindle="grip"), r"station\[0\]\.gripper\.spindle: not a pose of the station"),
-        (lambda s: s["gripper"].update(chuck="drop"), r"station\[0\]\.gripper\.chuck: expected 'grip' or 'release'"),
+        (
+            lambda s: s["gripper"].update(chuck="drop"),
+            r"station\[0\]\.gripper\.chuck: expected one of 'grip', 'release' \(what the gripper does there\)",
+        ),
         (lambda s: s["gripper"].pop("tray_done"), r"station\[0\]\.gripper\.tray_raw: grip after grip at 'chuck_out'"),
         (lambda s: s["gripper"].pop("tray_raw"), r"station\[0\]\.gripper\.chuck: release after release"),
         (lambda s: s.update(fixed=["tray", "tray_raw"]), r"station\[0\]\.fixed\[0\]: not a pose of the station"),

@@ -60,11 +60,11 @@ BAD = {
     ),
     "mode_not_a_string": (
         MINIMAL_CELL.replace('name = "mill_1"', 'name = "mill_1"\nmode = ["point"]'),
-        "station[1].mode: expected one of 'point', 'frame', got ['point']",
+        "station[1].mode: expected one of 'point', 'frame' (the station's program kind), got a list of 1",
     ),
     "mode_a_table": (
         MINIMAL_CELL.replace('name = "mill_1"', 'name = "mill_1"\nmode = {kind = "point"}'),
-        "station[1].mode: expected one of 'point', 'frame', got {'kind': 'point'}",
+        "station[1].mode: expected one of 'point', 'frame' (the station's program kind), got a table",
     ),
     "string_number": (
         MINIMAL_CELL.replace("max_shift_mm = 10.0", 'max_shift_mm = "10"'),
@@ -96,7 +96,7 @@ BAD = {
     ),
     "station_without_poses": (
         MINIMAL_CELL.replace("vise = [700.0, 50.0, 260.0, -90.0, 15.0, 180.0]\n", ""),
-        "station[1].poses: a station needs at least one pose",
+        "station[1].poses: expected at least one entry (the taught poses by name",
     ),
     "missing_key": (
         MINIMAL_CELL.replace("angle_sign = -1\n", ""),
@@ -117,11 +117,11 @@ BAD = {
     ),
     "station_id_not_integer": (
         MINIMAL_CELL.replace("id = 2", "id = 2.5"),
-        "station[1].id: expected an integer",
+        "station[1].id: expected a whole number (no decimal point) in 1..32767, got the number 2.5",
     ),
     "station_id_out_of_range": (
         MINIMAL_CELL.replace("id = 2", "id = 0"),
-        "station[1].id: must be in 1..32767",
+        "station[1].id: expected a whole number in 1..32767, got the number 0",
     ),
     "empty_name": (
         MINIMAL_CELL.replace('name = "mill_1"', 'name = "  "'),
@@ -216,7 +216,8 @@ def test_hostile_numbers_and_nesting_are_named_not_raised(write_cell, text, mess
 def test_marks_and_poses_only_where_float32_meets_verify_tolerance(write_cell):
     """At 100 km a float32 controller corrects 0.008 mm off, beyond verify's 0.005 mm: refused."""
     far = MINIMAL_CELL.replace("mark = [600.0, -250.0, 2.0]", "mark = [100000.0, -100000.0, 0.0]")
-    with pytest.raises(CellError, match=r"station\[0\]\.mark: x and y must be within \+-10000 mm"):
+    float32 = r"station\[0\]\.mark\[0\]: must be in \[-10000, 10000\] .*, got 100000 \(float32 on the controller\)"
+    with pytest.raises(CellError, match=float32):
         load_cell(write_cell(far))
     pose = MINIMAL_CELL.replace("vise = [700.0, 50.0,", "vise = [10700.0, 50.0,")
     with pytest.raises(CellError, match=r"station\[1\]\.poses\.vise: position must be within \+-10000"):

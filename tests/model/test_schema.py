@@ -217,22 +217,9 @@ def test_enough_bad_cells():
     assert len(BAD) >= 20 and {example for example, _, _ in BAD} == {DEMO, FRAME, PALLET, BELT, LASER}
 
 
-# the tables the generic loader reads from their declarations (codegen/model/loader.py): one definition gives the
-# loader's checks and the schema; the others have parsers of their own, checked against the schema here
-LOADED = ("cell.motion.", "cell.io.", "pallet.", "conveyor.", "laser.")
-PARSED = [case for case in BAD if not case[1].startswith(LOADED)]
-READ = [case for case in BAD if case[1].startswith(LOADED)]
-
-
-@pytest.mark.parametrize(("example", "path", "value"), PARSED, ids=[f"{p}={v!r:.20}" for _, p, v in PARSED])
-def test_bad_cells_refused_by_both(example, path, value, validator):
-    data = _set(_data(example), path, value)
-    assert not _loader_accepts(data), "the loader accepts it"
-    assert not validator.is_valid(data), "the schema accepts it"
-
-
-@pytest.mark.parametrize(("example", "path", "value"), READ, ids=[f"{p}={v!r:.20}" for _, p, v in READ])
-def test_bad_values_of_loaded_tables_name_their_key_and_the_schema_refuses_them(example, path, value, validator):
+@pytest.mark.parametrize(("example", "path", "value"), BAD, ids=[f"{p}={v!r:.20}" for _, p, v in BAD])
+def test_bad_values_name_their_key_and_the_schema_refuses_them(example, path, value, validator):
+    """One declaration gives the loader's checks and the schema: each refuses the value, the loader naming its key."""
     data = _set(_data(example), path, value)
     with pytest.raises(CellError) as info:
         cell_from_dict(data, source="cell.toml")

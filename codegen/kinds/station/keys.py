@@ -104,8 +104,8 @@ def limits() -> Table:
 
 
 @cache
-def station_table() -> Table:
-    """[[station]]: the keys every station has, and each mode's own (required by its mode only)."""
+def _common() -> Table:
+    """The keys every station has, whatever its mode."""
     names = mode_names()
     own = {
         "id": Key(
@@ -131,20 +131,25 @@ def station_table() -> Table:
             "pose name -> what the gripper ([cell.io]) does once the arm stands at that pose: grip (take a part) or "
             "release (put it down); a pose not named: neither. Without it the station moves and the gripper stays "
             "as it is",
-            values=Key("string", "grip or release", choices=(GRIP, RELEASE)),
+            values=Key("string", "what the gripper does there", choices=(GRIP, RELEASE)),
         ),
     }
-    common = Table("A station the program serves: its id, poses and its kind's keys.", own, kinds=names)
-    return common.merged(
+    return Table("A station the program serves: its id, poses and its kind's keys.", own, kinds=names)
+
+
+@cache
+def station_table(mode: str | None = None) -> Table:
+    """[[station]]: the keys every station has, and each mode's own (required by its mode only); of one mode (the
+    loader's): its own keys as the mode declares them, no other mode's."""
+    if mode is not None:
+        return _common().merged(modes()[mode].station_keys())
+    return _common().merged(
         {
             key: replace(value, required=False, kinds=(name,))
             for name, mode in modes().items()
             for key, value in mode.station_keys().items()
         }
     )
-
-
-COMMON_KEYS = frozenset(("id", "name", "mode", "poses", "config", "gripper"))
 
 
 @cache

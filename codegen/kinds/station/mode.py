@@ -42,8 +42,9 @@ class StationMode:
 
     # --- cell file -------------------------------------------------------------------------
     @classmethod
-    def parse(cls, ctx, raw: dict, path: str, pose_format: str):
-        """The station's spec from its [[station]] table (ctx: codegen.model.validate helpers)."""
+    def parse(cls, ctx, values: dict, path: str):
+        """The station's spec from its [[station]] table as the loader read it (values: each key's, by its declaration
+        in station_keys(); ctx: codegen.model.validate helpers): the rules between the keys."""
         raise NotImplementedError
 
     @classmethod

@@ -10,16 +10,15 @@ from typing import Any
 
 from codegen import protocol
 from codegen.kinds.station.keys import (
-    COMMON_KEYS,
     GRIP,
     NAME,
     RELEASE,
-    STATION_ID_MAX,
     VISION_TABLES,
     camera,
     default_mode,
     kind_keys,
     limits,
+    station_table,
 )
 from codegen.kinds.station.mode import modes
 from codegen.model import motion
@@ -133,7 +132,8 @@ def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
     if not stations_raw:
         return None
     pose_format = cell.pose_format
-    stations = [_station(ctx, raw, i, pose_format) for i, raw in enumerate(stations_raw)]
+    loader = Loader(ctx, pose_format)
+    stations = [_station(ctx, loader, raw, i) for i, raw in enumerate(stations_raw)]
     stations = [
         replace(
             station,
@@ -205,52 +205,34 @@ def _limits(ctx, cell_table: dict) -> Limits:
     return build(Limits, Loader(ctx).table(limits(), ctx.table(cell_table, "limits", "cell.limits"), "cell.limits"))
 
 
-def _station(ctx, raw, index: int, pose_format: str) -> Station:
+def _station(ctx, loader: Loader, raw, index: int) -> Station:
+    """One [[station]]: its mode first (it decides the station's other keys), then its keys as declared (keys.py) and
+    the rules between them."""
     path = f"station[{index}]"
     if not isinstance(raw, dict):
         ctx.fail(path, f"expected a table, got {kind_of(raw)}")
-    station_id = ctx.require(raw, "id", f"{path}.id")
-    if isinstance(station_id, bool) or not isinstance(station_id, int):
-        ctx.fail(f"{path}.id", f"expected an integer, got {kind_of(station_id)}")
-    if not 1 <= station_id <= STATION_ID_MAX:
-        ctx.fail(f"{path}.id", f"must be in 1..{STATION_ID_MAX}, got {station_id}")
-    name = ctx.name(raw, "name", f"{path}.name")
     known = modes()
-    mode_name = raw.get("mode", default_mode())
-    if not isinstance(mode_name, str) or mode_name not in known:
-        ctx.fail(f"{path}.mode", f"expected one of {', '.join(map(repr, known))}, got {mode_name!r}")
-    mode = known[mode_name]
-    own = frozenset(mode.station_keys())
-    for key in sorted(set(raw) - COMMON_KEYS - own):
+    mode_name = loader.value(station_table()["mode"], raw.get("mode", default_mode()), f"{path}.mode")
+    table = station_table(mode_name)
+    for key in sorted(set(raw) - table.allowed):
         owners = [m.name for m in known.values() if key in m.station_keys()]
         if owners:
             ctx.fail(f"{path}.{key}", f'only {owners[0]} stations (mode = "{owners[0]}") have this key')
-        allowed = ", ".join(sorted(COMMON_KEYS | own))
-        ctx.fail(f"{path}.{key}", f"unknown key; allowed: {allowed}")
-    spec = mode.parse(ctx, raw, path, pose_format)
-    poses_raw = ctx.table(raw, "poses", f"{path}.poses")
-    if not poses_raw:
-        ctx.fail(f"{path}.poses", "a station needs at least one pose")
-    if len(poses_raw) > POSES_MAX:
-        ctx.fail(f"{path}.poses", f"{len(poses_raw)} poses; at most {POSES_MAX} per station")
-    poses = [
-        ctx.pose(pose_name, values, f"{path}.poses.{pose_name}", pose_format) for pose_name, values in poses_raw.items()
-    ]
-    gripper = _gripper(ctx, raw, path, [p.name for p in poses])
-    return Station(int(station_id), name, tuple(poses), mode_name, spec, gripper=gripper)
+    values = loader.table(table, raw, path, readers={"config": lambda value, where: value})  # read with the arms
+    if len(values["poses"]) > POSES_MAX:
+        ctx.fail(f"{path}.poses", f"{len(values['poses'])} poses; at most {POSES_MAX} per station")
+    spec = known[mode_name].parse(ctx, values, path)
+    poses = tuple(values["poses"].values())
+    gripper = _gripper(ctx, values["gripper"] or {}, path, list(values["poses"]))
+    return Station(values["id"], values["name"], poses, mode_name, spec, gripper=gripper)
 
 
-def _gripper(ctx, raw: dict, path: str, pose_names: list[str]) -> tuple[tuple[str, str], ...]:
+def _gripper(ctx, table: dict, path: str, pose_names: list[str]) -> tuple[tuple[str, str], ...]:
     """[station.gripper] in visiting order: every name a pose of the station, and grip and release alternating (a
     part taken is put down before the next is taken; a first release puts down a part the program starts with)."""
-    if "gripper" not in raw:
-        return ()
-    table = ctx.table(raw, "gripper", f"{path}.gripper")
-    for name, action in table.items():
+    for name in table:
         if name not in pose_names:
             ctx.fail(f"{path}.gripper.{name}", f"not a pose of the station; its poses: {', '.join(pose_names)}")
-        if action not in (GRIP, RELEASE):
-            ctx.fail(f"{path}.gripper.{name}", f"expected {GRIP!r} or {RELEASE!r}, got {action!r}")
     actions = tuple((name, table[name]) for name in pose_names if name in table)
     for (before, first), (name, second) in pairwise(actions):
         if first == second:

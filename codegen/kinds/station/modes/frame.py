@@ -26,6 +26,7 @@ from codegen.guard import (
 from codegen.kinds.station.frame.keys import KEYS, REFINE
 from codegen.kinds.station.mode import StationMode
 from codegen.kinds.station.section import section_of
+from codegen.model.loader import Loader, build
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
 from codegen.protocol import Figures
 from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
@@ -218,17 +219,8 @@ class FrameMode(StationMode):
         return [("calibrate", calibrate_handeye)]
 
     @classmethod
-    def parse(cls, ctx, raw: dict, path: str, pose_format: str) -> FrameSpec:
-        frame = ctx.pose("frame", ctx.require(raw, "frame", f"{path}.frame"), f"{path}.frame", pose_format)
-        photo = ctx.pose("photo", ctx.require(raw, "photo", f"{path}.photo"), f"{path}.photo", pose_format)
-        base_data = raw.get("base_data")
-        if base_data is not None and (
-            isinstance(base_data, bool)
-            or not isinstance(base_data, int)
-            or base_data < KEYS.station_keys["base_data"].low
-        ):
-            ctx.fail(f"{path}.base_data", f"expected a controller base number from 1, got {base_data!r}")
-        return FrameSpec(frame, photo, base_data)
+    def parse(cls, ctx, values: dict, path: str) -> FrameSpec:
+        return FrameSpec(values["frame"], values["photo"], values["base_data"])
 
     @classmethod
     def moved(cls, spec: FrameSpec, mm: float) -> FrameSpec:
@@ -240,19 +232,7 @@ class FrameMode(StationMode):
 
     @classmethod
     def parse_settings(cls, ctx, cell_table: dict) -> Refine:
-        if "refine" not in cell_table:
-            return Refine()
-        table = ctx.table(cell_table, "refine", "cell.refine")
-        ctx.no_unknown(table, REFINE.allowed, "cell.refine")
-        tol_mm = ctx.finite(table.get("tolerance_mm", Refine.tolerance_mm), "cell.refine.tolerance_mm")
-        tol_deg = ctx.finite(table.get("tolerance_deg", Refine.tolerance_deg), "cell.refine.tolerance_deg")
-        low, high = REFINE["max_iterations"].bounds
-        iterations = ctx.integer(
-            table, "max_iterations", "cell.refine.max_iterations", low, high, Refine.max_iterations
-        )
-        if not (REFINE["tolerance_mm"].contains(tol_mm) and REFINE["tolerance_deg"].contains(tol_deg)):
-            ctx.fail("cell.refine", "tolerances must be positive")
-        return Refine(tol_mm, tol_deg, iterations)
+        return build(Refine, Loader(ctx).table(REFINE, cell_table.get("refine", {}), "cell.refine"))
 
     @classmethod
     def halt_message(cls, cell, reason: str, station) -> str:

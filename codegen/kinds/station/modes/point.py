@@ -17,7 +17,6 @@ from codegen.guard import (
     READING_RANGE_DEG,
     ROTATION_OVER_LIMIT,
     SHIFT_OVER_LIMIT,
-    TAUGHT_RANGE_MM,
 )
 from codegen.kinds.station.mode import StationMode
 from codegen.kinds.station.point.keys import KEYS
@@ -38,19 +37,13 @@ def _ulp32(value: float) -> float:
     return float(np.spacing(np.float32(abs(value))))
 
 
-def _fixed(ctx, raw: dict, path: str) -> frozenset[str]:
+def _fixed(ctx, names: tuple[str, ...], poses: list[str], path: str) -> frozenset[str]:
     """The station's `fixed` poses: each a pose of the station, the work pose (the last) not among them."""
-    names = raw.get("fixed", [])
-    poses = list(raw.get("poses", {})) if isinstance(raw.get("poses"), dict) else []
-    if not isinstance(names, list):
-        ctx.fail(f"{path}.fixed", "expected a list of pose names")
     for i, name in enumerate(names):
         if name not in poses:
-            ctx.fail(f"{path}.fixed[{i}]", f"not a pose of the station; its poses: {', '.join(map(str, poses))}")
+            ctx.fail(f"{path}.fixed[{i}]", f"not a pose of the station; its poses: {', '.join(poses)}")
         if name == poses[-1]:
             ctx.fail(f"{path}.fixed[{i}]", f"{name!r} is the work pose, which the reading moves (the deviation line)")
-    if len(set(names)) != len(names):
-        ctx.fail(f"{path}.fixed", "a pose named twice")
     return frozenset(names)
 
 
@@ -75,10 +68,8 @@ class PointMode(StationMode):
         return [(None, correct)]
 
     @classmethod
-    def parse(cls, ctx, raw: dict, path: str, pose_format: str) -> PointSpec:
-        mark = ctx.numbers(ctx.require(raw, "mark", f"{path}.mark"), 3, f"{path}.mark")
-        if abs(mark[0]) > TAUGHT_RANGE_MM or abs(mark[1]) > TAUGHT_RANGE_MM:
-            ctx.fail(f"{path}.mark", f"x and y must be within +-{TAUGHT_RANGE_MM:g} mm (float32 on the controller)")
+    def parse(cls, ctx, values: dict, path: str) -> PointSpec:
+        mark = values["mark"]
         reach = max(abs(mark[0]), abs(mark[1]))
         if 0.0 < reach < MARK_MIN_MM:
             ctx.fail(
@@ -88,7 +79,7 @@ class PointMode(StationMode):
             )
         if abs(mark[2]) > READING_RANGE_DEG:
             ctx.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
-        return PointSpec(mark, _fixed(ctx, raw, path))
+        return PointSpec(mark, _fixed(ctx, values["fixed"] or (), list(values["poses"]), path))
 
     @classmethod
     def moved(cls, spec: PointSpec, mm: float) -> PointSpec:
