@@ -85,7 +85,7 @@ class Loader:
     def _integer(self, key: Key, raw: int, path: str) -> int:
         self._choice(key, raw, path)
         if not key.contains(raw):
-            self.ctx.fail(path, f"expected a whole number {_whole_range(key)}, got {kind_of(raw)}")
+            self.ctx.fail(path, f"expected a whole number {_whole_range(key)} ({key.doc}), got {kind_of(raw)}")
         return raw
 
     def _number(self, key: Key, raw, path: str) -> float:

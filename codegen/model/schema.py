@@ -242,8 +242,9 @@ def _values(key: Key) -> str:
     if key.names:
         parts.append("keys: " + ", ".join(f"`{n}`" for n in key.names))
     for name, sub in key.per_name.items():
-        if sub.range_text() or sub.pattern:
-            parts.append(f"{name}: {sub.range_text() or 'a name'}")
+        inner = _values(sub) or ("a name" if sub.pattern else "")
+        if inner:
+            parts.append(f"{name}: {inner}")
     if key.values is not None and key.type in ("list", "map"):
         inner = _values(key.values)
         if inner:

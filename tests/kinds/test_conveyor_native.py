@@ -133,7 +133,8 @@ def test_the_cell_names_its_belts_unit_among_the_options_units(tmp_path):
     assert row.mismatches == 0, row.first_mismatches
     for name in ("ENDPROC", "CNV7", "cnv1"):
         with pytest.raises(
-            CellError, match=rf"conveyor\.pick\.unit\.abb: expected a conveyor's mechanical unit .*{name}"
+            CellError,
+            match=rf"unit\.abb: expected one of 'CNV1', .*\(a conveyor's mechanical unit on abb\), got '{name}'",
         ):
             _cell_with(tmp_path, line, f'{line}\nunit = {{ abb = "{name}" }}')
 

@@ -121,7 +121,8 @@ BAD = {
     ),
     "station_id_out_of_range": (
         MINIMAL_CELL.replace("id = 2", "id = 0"),
-        "station[1].id: expected a whole number in 1..32767, got the number 0",
+        "station[1].id: expected a whole number in 1..32767 (the station's id (the barcode the vision PC reads)), got "
+        "the number 0",
     ),
     "empty_name": (
         MINIMAL_CELL.replace('name = "mill_1"', 'name = "  "'),

@@ -82,11 +82,11 @@ def test_given_values_are_read_as_written():
         # a bound (open: the bound itself refused)
         ({"speed": 0.0}, "demo.speed: must be in (0, 10] mm/s (how fast), got 0"),
         ({"speed": 10.5}, "demo.speed: must be in (0, 10] mm/s (how fast), got 10.5"),
-        ({"count": 6}, "demo.count: expected a whole number in 1..5, got the number 6"),
+        ({"count": 6}, "demo.count: expected a whole number in 1..5 (how many), got the number 6"),
         ({"offset": [0, 101]}, "demo.offset[1]: must be in [-100, 100] mm (x, y), got 101"),
         ({"turn": [0, 0, 361]}, "demo.turn: angles must be within +-360 deg"),
         ({"wait": 3}, "demo.wait: must be in [0, 2] s (a duration), got 3"),
-        ({"per": {"right": 10}}, "demo.per.right: expected a whole number in 0..9, got the number 10"),
+        ({"per": {"right": 10}}, "demo.per.right: expected a whole number in 0..9 (n), got the number 10"),
         # an unknown key, at the top and in a map with its names
         ({"colour": "red"}, "demo.colour: unknown key; allowed: count, flag, inner, name, offset, per, side, speed,"),
         ({"per": {"middle": 1}}, "demo.per.middle: unknown key; allowed: left, right"),
@@ -161,7 +161,7 @@ def _edited(tmp_path, example: str, old: str, new: str):
             "eur_pallet",
             "layers = 5 ",
             "layers = 0 ",
-            "pallet[0].layers: expected a whole number in 1..200, got the number 0",
+            "pallet[0].layers: expected a whole number in 1..200 (layers in the stack), got the number 0",
         ),
         (
             "eur_pallet",

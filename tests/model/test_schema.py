@@ -116,6 +116,10 @@ BAD = [
     (BELT, "conveyor.pick.tracking", {"ur": "magic"}),
     (BELT, "conveyor.pick.grip", 1.0),
     (BELT, "conveyor.belt", 1.0),
+    (BELT, "conveyor.pick.timer.kuka", 65),  # beyond the controller's timers (its facts)
+    (BELT, "conveyor.pick.trigger_input.ur", 8),  # beyond the UR's standard inputs
+    (BELT, "conveyor.pick.unit.abb", "CNV7"),  # none of the tracking option's units
+    (BELT, "conveyor.pick.encoder_inputs.ur", [7, 8]),
     (LASER, "laser.sensor_frame", DELETE),
     (LASER, "laser.pin_radius_mm", 26.0),
     (LASER, "laser.circle_speed_mm_s", 0.5),
@@ -156,6 +160,8 @@ GOOD = [
     (PALLET, "pallet.0.box_mass_kg", 0.0),
     (BELT, "conveyor.pick.capture_mm", 50.0),
     (BELT, "conveyor.counter_bits", 16),
+    (BELT, "conveyor.pick.timer.kuka", 64),
+    (BELT, "conveyor.pick.unit.abb", "CNV6"),
     (LASER, "laser.search_speed_mm_s", 1.0),
     (LASER, "laser.production_tool.kuka", 16),
     (LASER, "laser.safe_height_mm", 1000.0),

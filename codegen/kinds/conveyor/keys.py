@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from codegen.controllers import get_target, target_names
 from codegen.guard import TAUGHT_RANGE_MM
+from codegen.kinds.conveyor.kind import KIND
 from codegen.model.io import signals
 from codegen.model.schema import Key, KindKeys, Table
 
@@ -28,6 +30,34 @@ def _seconds(doc: str, top: float) -> Key:
             Key("numbers", "[least, most]", unit="s", count=2, low=0.0, high=top),
         ),
     )
+
+
+def _facts(target: str) -> dict:
+    return KIND.facts(get_target(target))
+
+
+def _per_target(doc: str, fact: str, value, any_name: bool = False, values: Key | None = None) -> Key:
+    """A value for each controller whose facts (targets/<t>.toml [program.conveyor]) have `fact` (value(target): its
+    Key, from those facts); any_name: other names allowed too (values: theirs), for the section to say why not."""
+    targets = tuple(t for t in target_names() if _facts(t).get(fact))
+    return Key(
+        "map",
+        doc,
+        names=None if any_name else targets,
+        per_name={t: value(t) for t in targets},
+        values=values,
+        controllers=", ".join(targets),
+    )
+
+
+def _encoder_pair(target: str) -> Key:
+    low, high = _facts(target)["encoder_inputs"]
+    return Key("list", f"A and B on {target}", count=2, values=Key("integer", "a digital input", low=low, high=high))
+
+
+def _trigger(target: str) -> Key:
+    low, high = get_target(target).program["signals"]["range"]
+    return Key("integer", f"a digital input of {target}", low=low, high=high)
 
 
 PICK = Table(
@@ -69,15 +99,15 @@ PICK = Table(
             non_empty=True,
             values=Key("string", "how the target follows the belt", choices=TRACKING),
         ),
-        "encoder_inputs": Key(
-            "map",
+        "encoder_inputs": _per_target(
             "per target tracking natively on its own inputs: the encoder's A and B inputs",
+            "encoder_inputs",
+            _encoder_pair,
+            any_name=True,  # a target of the cell that reads no encoder is told why (pick.py)
             values=Key("list", "[A, B]", count=2, values=Key("integer", "a digital input")),
         ),
-        "trigger_input": Key(
-            "map",
-            "per target that needs it: the digital input the camera's trigger is wired to",
-            values=Key("integer", "a digital input"),
+        "trigger_input": _per_target(
+            "per target that needs it: the digital input the camera's trigger is wired to", "trigger", _trigger
         ),
         "intercept_mm": Key(
             "number", "intercept: where along the belt the gripper meets the part (in the window)", unit="mm"
@@ -161,22 +191,22 @@ PICK = Table(
             low=0.0,
             default=0.0,
         ),
-        "timer": Key(
-            "map",
+        "timer": _per_target(
             "per intercepting target that needs it: the controller's timer ($TIMER[n]) the program measures the "
             "belt's speed over (one no other program uses)",
-            values=Key("integer", "a timer's number", low=1),
+            "timers",
+            lambda t: Key("integer", f"a timer's number on {t}", low=1, high=_facts(t)["timers"]),
         ),
-        "unit": Key(
-            "map",
+        "unit": _per_target(
             "per target that needs it (ABB native): the belt's mechanical unit",
-            values=Key("string", "a mechanical unit's name"),
+            "unit",
+            lambda t: Key("string", f"a conveyor's mechanical unit on {t}", choices=tuple(_facts(t)["units"])),
         ),
-        "unit_axis": Key(
-            "map",
+        "unit_axis": _per_target(
             "per target that needs it (ABB native): the unit's logical axis, where its position stands in every "
             "robtarget and jointtarget (7: eax_a ... 12: eax_f; default the target's facts: targets/<t>.toml)",
-            values=Key("integer", "a logical axis", low=7, high=12),
+            "unit",
+            lambda t: Key("integer", "a logical axis", low=7, high=12),
         ),
     },
 )
