@@ -218,9 +218,10 @@ def _station(ctx, loader: Loader, raw, index: int) -> Station:
         owners = [m.name for m in known.values() if key in m.station_keys()]
         if owners:
             ctx.fail(f"{path}.{key}", f'only {owners[0]} stations (mode = "{owners[0]}") have this key')
+    poses_raw = raw.get("poses")
+    if isinstance(poses_raw, dict) and len(poses_raw) > POSES_MAX:  # refused before so many are read
+        ctx.fail(f"{path}.poses", f"{len(poses_raw)} poses; at most {POSES_MAX} per station")
     values = loader.table(table, raw, path, readers={"config": lambda value, where: value})  # read with the arms
-    if len(values["poses"]) > POSES_MAX:
-        ctx.fail(f"{path}.poses", f"{len(values['poses'])} poses; at most {POSES_MAX} per station")
     spec = known[mode_name].parse(ctx, values, path)
     poses = tuple(values["poses"].values())
     gripper = _gripper(ctx, values["gripper"] or {}, path, list(values["poses"]))
