@@ -180,7 +180,8 @@ def _edited(tmp_path, example: str, old: str, new: str):
             "laser_tcp",
             "pin_radius_mm = 1.5",
             "pin_radius_mm = 26.0",
-            "laser.pin_radius_mm: must be in (0, 25] mm (the calibrated pin's radius (at least 0.2 mm)), got 26",
+            "laser.pin_radius_mm: must be in [0.2, 25] mm (the calibrated pin's radius (a thinner pin is no target for "
+            "the beams)), got 26",
         ),
     ],
 )

@@ -122,6 +122,7 @@ BAD = [
     (BELT, "conveyor.pick.encoder_inputs.ur", [7, 8]),
     (LASER, "laser.sensor_frame", DELETE),
     (LASER, "laser.pin_radius_mm", 26.0),
+    (LASER, "laser.pin_radius_mm", 0.1),  # too thin for the beams
     (LASER, "laser.circle_speed_mm_s", 0.5),
     (LASER, "laser.search_speed_mm_s", 51.0),
     (LASER, "laser.depths_mm", [5.0, 201.0]),

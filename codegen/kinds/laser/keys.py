@@ -8,6 +8,8 @@ from codegen.model.io import signals
 from codegen.model.motion import SPEED_MIN_MM_S
 from codegen.model.schema import Key, KindKeys, Table
 
+PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
+
 
 def _length(doc: str, default: float, high: float) -> Key:
     return Key("number", doc, unit="mm", low=0.0, open_low=True, high=high, default=default)
@@ -53,7 +55,14 @@ LASER = Table(
             low=-TAUGHT_RANGE_MM,
             high=TAUGHT_RANGE_MM,
         ),
-        "pin_radius_mm": _length("the calibrated pin's radius (at least 0.2 mm)", 1.0, 25.0),
+        "pin_radius_mm": Key(
+            "number",
+            "the calibrated pin's radius (a thinner pin is no target for the beams)",
+            unit="mm",
+            low=PIN_MIN_MM,
+            high=25.0,
+            default=1.0,
+        ),
         "circle_mm": _length("the circles' radius", 10.0, 100.0),
         "depths_mm": Key(
             "numbers",

@@ -13,7 +13,6 @@ from codegen.model.cell import TaughtPose
 from codegen.model.io import signal_reader
 from codegen.model.loader import Loader, build
 
-PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
 DEPTH_STEP_MIN_MM = 2.0
 OWN_PREFIX = "lsr_"  # the program's own names: a production tool's name must not start so
 
@@ -55,8 +54,6 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
     values = Loader(ctx, pose_format).table(LASER, data["laser"], "laser", readers=readers)
     radius, circle, offset = values["pin_radius_mm"], values["circle_mm"], values["offset_max_mm"]
     clearance, depths = values["clearance_mm"], values["depths_mm"]
-    if radius < PIN_MIN_MM:
-        ctx.fail("laser.pin_radius_mm", f"must be at least {PIN_MIN_MM} mm (a thinner pin is not a beam's target)")
     if not depths[0] < depths[1]:
         ctx.fail("laser.depths_mm", "expected [d1, d2] with d1 < d2: the guessed tip below the beams, deeper second")
     if depths[1] - depths[0] < DEPTH_STEP_MIN_MM:
