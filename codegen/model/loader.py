@@ -50,19 +50,20 @@ class Loader:
             if name in readers:
                 out[name] = readers[name](raw.get(name), where)
             elif name in raw:
-                out[name] = self.value(key, raw[name], where)
+                out[name] = self.value(key, raw[name], where, name)
             elif key.required:
                 self.ctx.fail(where, f"missing: {key.doc}{_from(key.values, ': ')}")
             else:
                 out[name] = key.default
         return out
 
-    def value(self, key: Key, raw, path: str):
-        """One value checked against its key: tuples for lists and numbers, dicts for tables and maps."""
+    def value(self, key: Key, raw, path: str, name: str | None = None):
+        """One value checked against its key: tuples for lists and numbers, dicts for tables and maps (name: its key's
+        or its map entry's, a taught pose's name as the cell wrote it)."""
         if key.type == "either":
-            return self._either(key, raw, path)
+            return self._either(key, raw, path, name)
         if key.type == "pose":
-            return self.ctx.pose(path.rsplit(".", 1)[-1], raw, path, self.pose_format)
+            return self.ctx.pose(path.rsplit(".", 1)[-1] if name is None else name, raw, path, self.pose_format)
         if not _has_shape(raw, key.type):
             wanted = "must be true or false" if key.type == "boolean" else f"expected {_expected(key)}"
             if key.choices:  # the values allowed say more than their type (a whole number's decimal point as much)
@@ -136,13 +137,13 @@ class Loader:
         out = {}
         for name, value in raw.items():
             sub = key.per_name.get(name, key.values)
-            out[name] = value if sub is None else self.value(sub, value, f"{path}.{name}")
+            out[name] = value if sub is None else self.value(sub, value, f"{path}.{name}", name)
         return out
 
-    def _either(self, key: Key, raw, path: str):
+    def _either(self, key: Key, raw, path: str, name: str | None):
         for alternative in key.alternatives:
             if _has_shape(raw, alternative.type):
-                return self.value(alternative, raw, path)
+                return self.value(alternative, raw, path, name)
         self.ctx.fail(path, f"expected {' or '.join(_expected(k) for k in key.alternatives)}, got {kind_of(raw)}")
 
     def _choice(self, key: Key, value, path: str) -> None:

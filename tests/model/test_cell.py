@@ -30,6 +30,12 @@ def test_minimal_cell_keeps_pose_order(write_cell):
     assert [p.name for p in stations_of(cell)[0].poses] == ["approach", "chuck"]
 
 
+def test_a_pose_keeps_its_name_as_written(write_cell):
+    """A quoted pose name with a dot in it is one name (TOML's), not a key path."""
+    cell = load_cell(write_cell(MINIMAL_CELL.replace("\nchuck = [", '\n"chuck.left" = [')))
+    assert [p.name for p in stations_of(cell)[0].poses] == ["approach", "chuck.left"]
+
+
 def _error(write_cell, text: str) -> str:
     path = write_cell(text)
     with pytest.raises(CellError) as info:
