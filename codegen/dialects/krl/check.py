@@ -83,6 +83,7 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
         findings.extend(long_names(name, tree))
         findings.extend(waits(name, tree, inputs))
         findings.extend(early_outputs(name, tree))
+        findings.extend(unset_locals(name, tree))
     if trees:
         findings.extend(unset_frames(trees))
     unique = {}
@@ -229,6 +230,61 @@ def early_outputs(name: str, tree) -> list[Finding]:
             elif stmt.data in STOPS:
                 moved = None
             continued = False
+    return out
+
+
+def _root_var(node):
+    """The variable an assignment target or argument stands on (N, N.X, N[2], N[]), None if none."""
+    while isinstance(node, Tree) and node.data != "var":
+        if not node.children:
+            return None
+        node = node.children[0]
+    return str(node.children[0]).upper() if isinstance(node, Tree) else None
+
+
+def unset_locals(name: str, tree) -> list[Finding]:
+    """A routine's own variable (DECL in a .src has no value) read but set nowhere in the routine: not by an
+    assignment, a FOR, or as an argument (a routine or built-in may set it through an OUT parameter). KSS stops
+    where it is read ("variable value invalid"); run finds it only when the read runs."""
+    out = []
+    for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
+        body = routine.children[-1]
+        params = {str(p.children[0]).upper() for p in routine.iter_subtrees() if p.data == "param"}
+        local = {}
+        for decl in (c for c in body.children if isinstance(c, Tree) and c.data == "decl"):
+            for item in (c for c in decl.children if isinstance(c, Tree) and c.data == "decl_item"):
+                key = str(item.children[0]).upper()
+                if item.children[1] is None and item.children[2] is None and key not in params:
+                    local[key] = item.children[0]
+        if not local:
+            continue
+        set_names = set()
+        for sub in body.iter_subtrees():
+            if sub.data == "assign":
+                set_names.add(_root_var(sub.children[0]))
+            elif sub.data == "for_stmt":
+                set_names.add(str(sub.children[0]).upper())
+            elif sub.data == "args":
+                set_names.update(_root_var(a) for a in sub.children if isinstance(a, Tree))
+        reported = set()
+        for sub in body.iter_subtrees_topdown():
+            if sub.data != "var":
+                continue
+            key = str(sub.children[0]).upper()
+            if key in local and key not in set_names and key not in reported:
+                reported.add(key)
+                token = sub.children[0]
+                out.append(
+                    Finding(
+                        name,
+                        token.line,
+                        token.column,
+                        "warning",
+                        "unset-variable",
+                        f"{token} is read but nothing in {routine_name(routine)} sets it: KSS stops here "
+                        "(variable value invalid)",
+                    )
+                )
     return out
 
 
