@@ -9,7 +9,16 @@ from lark import Token, Tree
 
 from codegen.dialects.core.limits import array_size_problem
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
-from codegen.dialects.krl.builtins import CART, SIMPLE, STRUCTS, SYSTEM_ENUMS, UNINIT, new_value, type_name_of
+from codegen.dialects.krl.builtins import (
+    CART,
+    SIMPLE,
+    STRUCTS,
+    SYSTEM_ENUMS,
+    TYPES_NOT_MODELLED,
+    UNINIT,
+    new_value,
+    type_name_of,
+)
 from codegen.dialects.krl.numbered import SYSTEM_ARRAYS
 from codegen.dialects.krl.sysvars import SHARED_STRUCTS
 
@@ -151,6 +160,8 @@ class Declarations:
         tokens = [c for c in children if isinstance(c, Token)]
         type_token = next(t for t in tokens if t.type == "NAME")
         type_name = str(type_token).upper()
+        if type_name in TYPES_NOT_MODELLED:
+            self.fail(type_token, f"{type_token}: {TYPES_NOT_MODELLED[type_name]} is not modelled by this interpreter")
         if not self.known_type(type_name) or type_name == "ANY":
             self.fail(type_token, f"unknown type {type_token}")
         out = []
