@@ -120,7 +120,7 @@ class Checker:
                 numbers = isinstance(want, float) and isinstance(have, float)
                 if have != want and not (numbers and math.isclose(have, want, rel_tol=1e-6)):  # float32 values
                     stop = " (the arm must stop exactly at this pose)" if e.exact else ""
-                    return f"{where}: {key} {have}, expected {want}{stop}", pos_errors, rot_errors
+                    return f"{where}: {key} {_setting(have)}, expected {_setting(want)}{stop}", pos_errors, rot_errors
             if e.tcp2base is not None:
                 pos, rot = pose_errors(g.tcp2base.tolist(), e.tcp2base.tolist())
                 pos_errors.append(pos)
@@ -306,6 +306,11 @@ def _same_value(have, want, tolerance: float) -> bool:
     if a is None or b is None:
         return have == want
     return len(a) == len(b) and all(abs(x - y) <= tolerance for x, y in zip(a, b, strict=True))
+
+
+def _setting(value) -> str:
+    """A move setting as a message shows it: an absent one (None) as "not set", never Python's None."""
+    return "not set" if value is None else f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def _shown(value) -> str:

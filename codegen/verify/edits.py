@@ -44,13 +44,28 @@ def _twin(cell, source: ProgramSource) -> ProgramSource | None:
 
 
 def _pairs(source: ProgramSource, twin: ProgramSource):
-    """(given file, generated file) of one program: the program files, then the others by suffix."""
-    yield source.files[0], twin.files[0]
-    theirs = {Path(f.name).suffix.lower(): f for f in twin.files[1:]}
+    """(given file, generated file) of one program: the program files, then each other file with the generated one
+    of its name (KRL's pal.dat with pal.dat, pal_count.dat with pal_count.dat: never crossed by their suffix); a
+    program file renamed renames its data files alike (mine.dat, mine_count.dat); a suffix pairs alone only where
+    one file of each side has it."""
+    mine_main, their_main = source.files[0], twin.files[0]
+    yield mine_main, their_main
+    mine_stem, their_stem = Path(mine_main.name).stem.lower(), Path(their_main.name).stem.lower()
+    theirs = {Path(f.name).name.lower(): f for f in twin.files[1:]}
+    left = []
     for mine in source.files[1:]:
-        other = theirs.get(Path(mine.name).suffix.lower())
+        name = Path(mine.name).name.lower()
+        renamed = their_stem + name[len(mine_stem) :] if name.startswith(mine_stem) else None
+        other = theirs.pop(name, None) or (theirs.pop(renamed, None) if renamed else None)
         if other is not None:
             yield mine, other
+        else:
+            left.append(mine)
+    for mine in left:
+        suffix = Path(mine.name).suffix.lower()
+        alike = [n for n, f in theirs.items() if Path(n).suffix == suffix]
+        if len(alike) == 1 and sum(Path(f.name).suffix.lower() == suffix for f in left) == 1:
+            yield mine, theirs.pop(alike[0])
 
 
 def _changed_lines(source: ProgramSource, twin: ProgramSource) -> list[str]:

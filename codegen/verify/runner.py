@@ -99,7 +99,8 @@ def _run_cases(
         row.rot_errors.extend(rot)
         if problem is None:
             row.moves += len(pos)
-            row.arm.add(model, source.target, trace.moves)
+            named = lambda c=case: f"{c.category} {kind.describe(model, c)}"  # noqa: E731 (asked at a new least)
+            row.arm.add(model, source.target, trace.moves, named)
             if figures:
                 if row.figures is None:
                     row.figures = kind.figures()
