@@ -4,17 +4,22 @@ case."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from types import SimpleNamespace
 
+import pytest
 from click.testing import CliRunner
 
 from codegen.cli import main
 from codegen.dialects.core.files import SourceFile
+from codegen.model.cell import EXAMPLES_DIR
 from codegen.robot.arms import find_arm
 from codegen.robot.expect import ArmStats
 from codegen.verify import checks
-from codegen.verify.edits import _changed_lines
+from codegen.verify.checks import Checker
+from codegen.verify.edits import _changed_lines, _texts
 
+GENERATED = Path(__file__).resolve().parents[2] / "generated"
 SRC, DAT, COUNT = "DEF PAL()\nEND\n", "DEFDAT PAL PUBLIC\nDECL INT N = 1\nENDDAT\n", "DEFDAT PAL_COUNT\nENDDAT\n"
 
 
@@ -88,3 +93,42 @@ def test_the_least_joint_margin_names_its_axis_move_and_case():
     first.merge(second)
     assert first.joint_margin_deg == 5.0 and asked == [1]
     assert first.summary()["joint_margin_at"] == "axis 6 at -355.0 deg, move 2 (line 11), station 2 late"
+
+
+def test_a_text_changed_alone_on_its_line_is_a_rename():
+    generated = _program(
+        ("m.mod", 'MODULE m\nTPWrite "no part";\nTPWrite "a ""b""" + s;\nx := 1; TPWrite "same";\nENDMODULE\n')
+    )
+    given = _program(
+        ("m.mod", 'MODULE m\nTPWrite "kein Teil";\nTPWrite "ein ""b""" + s;\nx := 2; TPWrite "gleich";\nENDMODULE\n')
+    )
+    # the third line changes code too: its text is not a translation
+    assert _texts(given, generated) == {"no part": "kein Teil", 'a ""b""': 'ein ""b""'}
+    swapped = _program(("m.mod", 'MODULE m\nTPWrite "same";\nTPWrite "a ""b""" + s;\nx := 1; TPWrite "same";\n'))
+    assert _texts(swapped, generated) == {}  # another stop's text: the stop's cause no longer told
+
+
+def test_a_stop_whose_text_was_translated_is_the_same_stop():
+    """A translated operator message failed verify as a mismatch."""
+    expected = SimpleNamespace(halt="pallet 1 is full: swap it")
+    trace = SimpleNamespace(halted=True, halt_message="Palette 1 voll: wechseln", moves=[])
+    assert Checker._stop(expected, trace) is not None
+    renames = {"pallet ": "Palette ", " is full: swap it": " voll: wechseln"}
+    assert Checker._stop(expected, trace, renames) is None
+    other = SimpleNamespace(halted=True, halt_message="Palette 1: kein Platz", moves=[])
+    assert "expected 'pallet 1 is full: swap it'" in Checker._stop(expected, other, renames)
+
+
+@pytest.mark.slow  # a whole verify of the pallet program, and its generated twin rendered
+def test_verify_reports_a_translated_stop_message_as_an_edit(tmp_path):
+    for path in (GENERATED / "eur_pallet" / "kuka").glob("pal_eur*"):
+        (tmp_path / path.name).write_text(path.read_text(encoding="utf-8"), encoding="utf-8")
+    src = tmp_path / "pal_eur.src"
+    old = "pallet eur is full: swap it, then reset its counters from the PLC"
+    src.write_text(src.read_text(encoding="utf-8").replace(old, "Palette eur voll"), encoding="utf-8")
+    files = [str(tmp_path / n) for n in ("pal_eur.src", "pal_eur.dat", "pal_eur_count.dat")]
+    args = ["verify", str(EXAMPLES_DIR / "pallets" / "eur_pallet.toml"), *files, "--target", "kuka", "--cases", "5"]
+    result = CliRunner().invoke(main, [*args, "--jobs", "1"])
+    assert result.exit_code == 0, result.output
+    assert f"EDIT effect: shows 'Palette eur voll' where the generated program shows {old!r}" in result.output
+    assert "MISMATCH" not in result.output
