@@ -79,8 +79,8 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
     index_base = 0
     run_state = URScriptState
     BIND_ARGUMENTS = True  # named arguments and default values (Function)
-    # ints are 32-bit as floats are (URScript manual, Numbers, Variables and Types; urmath.INT_BITS): a literal or a
-    # sum, difference or product past it is refused (whether the controller wraps or stops is not confirmed)
+    # ints taken as 32-bit as the floats are (urmath.INT_BITS; not confirmed in the manual's text, nor whether the
+    # controller wraps or stops past it): a literal or a sum, difference or product past it is refused
     INT_RANGE = (-(2 ** (urmath.INT_BITS - 1)), 2 ** (urmath.INT_BITS - 1) - 1)
 
     def __init__(self, filename: str) -> None:
