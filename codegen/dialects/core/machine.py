@@ -481,7 +481,10 @@ class Program:
             raise self._kept(exc, machine) from None
         except FloatingPointError as exc:  # past float32 outside an operator's guard (a built-in's result)
             raise self._kept(op_error(self.name, exc), machine) from None
-        machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
+        try:
+            machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
+        except FloatingPointError as exc:  # a pose so far out that solving it overflows: the program's
+            raise op_error(self.name, exc) from None
         if trace.simulated:  # an input a device set after all (a gripper's feedback) was not simulated
             trace.simulated = [name for name in trace.simulated if name not in machine.signals]
         trace.steps = machine.steps
