@@ -164,3 +164,15 @@ def test_check_finds_a_krl_variable_read_that_nothing_sets(tmp_path):
     assert result.exit_code == 1, result.output
     assert _says(result, f"{program.name}:4:5", "N is read but nothing in PROG sets it"), result.output
     assert result.output.count("unset-variable") == 1  # F is set by its component, K as an argument
+
+
+def test_check_finds_a_data_list_variable_read_that_no_file_sets(tmp_path):
+    """check said clean; run stopped: N has no value (a .dat declares it without one)."""
+    (tmp_path / "u.dat").write_text("DEFDAT u PUBLIC\nDECL INT N\nDECL INT K\nDECL INT S = 3\nENDDAT\n")
+    (tmp_path / "u.src").write_text("DEF u()\nDECL INT M\nM = N + S\nK = 1\nM = K\nEND\n")
+    result = CliRunner().invoke(main, ["check", str(tmp_path / "u.src")])
+    assert result.exit_code == 1, result.output
+    assert _says(result, f"{tmp_path / 'u.src'}:3:5", "N is read but nothing in the program's files sets it")
+    assert result.output.count("unset-variable") == 1  # K is set, S has its value
+    run = CliRunner().invoke(main, ["run", str(tmp_path / "u.src")])
+    assert "u.src:3:5: N has no value" in run.stderr
