@@ -176,3 +176,12 @@ def test_check_finds_a_data_list_variable_read_that_no_file_sets(tmp_path):
     assert result.output.count("unset-variable") == 1  # K is set, S has its value
     run = CliRunner().invoke(main, ["run", str(tmp_path / "u.src")])
     assert "u.src:3:5: N has no value" in run.stderr
+
+
+def test_a_rapid_name_declared_twice_in_a_routine_is_refused(tmp_path):
+    """The second declaration replaced the first: y became a string."""
+    text = _rapid("VAR num y;", "VAR string y;", "y := 1;")
+    for command in ("run", "check"):
+        result, program = _invoke(tmp_path, "dup.mod", text, command)
+        assert result.exit_code == 2, result.output
+        assert _says(result, f"{program.name}:4:1", "y declared twice in the routine (names ignore case)")

@@ -437,6 +437,8 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
 
         def declare(child):
             dkey, make = self.decl(child)
+            if dkey in storage:  # as task.py refuses a name declared twice in a module
+                self.fail(child, f"{child.children[4]} declared twice in the routine (names ignore case)", "duplicate")
             static_type = self.static_type(child)
             storage[dkey] = str(child.children[2]).upper()
             decls.append((dkey, static_type, self._local_init(child, static_type, make)))
