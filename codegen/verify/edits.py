@@ -42,7 +42,7 @@ def edits(cell, sources: list[ProgramSource], step_limit: int, seed: int) -> dic
     return out
 
 
-# A string literal as the programs verify reads write their texts: "..." ("" inside: RAPID's quote; \ escapes). A
+# A string literal as the programs verify reads write their texts: "..." ("" inside: a quote in one language; \ escapes). A
 # quote mark in a comment (the arm's) is no literal: the texts are double-quoted.
 LITERAL = re.compile(r'"(?:[^"\\]|\\.|"")*"')
 
@@ -89,7 +89,7 @@ def _twin(cell, source: ProgramSource) -> ProgramSource | None:
 
 def _pairs(source: ProgramSource, twin: ProgramSource):
     """(given file, generated file) of one program: the program files, then each other file with the generated one
-    of its name (KRL's pal.dat with pal.dat, pal_count.dat with pal_count.dat: never crossed by their suffix); a
+    of its name (pal.dat with pal.dat, pal_count.dat with pal_count.dat: never crossed by their suffix); a
     program file renamed renames its data files alike (mine.dat, mine_count.dat); a suffix pairs alone only where
     one file of each side has it."""
     mine_main, their_main = source.files[0], twin.files[0]
