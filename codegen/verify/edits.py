@@ -42,8 +42,8 @@ def edits(cell, sources: list[ProgramSource], step_limit: int, seed: int) -> dic
     return out
 
 
-# A string literal as the programs verify reads write their texts: "..." ("" inside: a quote in one language; \ escapes). A
-# quote mark in a comment (the arm's) is no literal: the texts are double-quoted.
+# A string literal as the programs verify reads write their texts: "..." ("" inside: a quote in one language; \
+# escapes). A quote mark in a comment (the arm's) is no literal: the texts are double-quoted.
 LITERAL = re.compile(r'"(?:[^"\\]|\\.|"")*"')
 
 
