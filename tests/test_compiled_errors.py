@@ -93,7 +93,7 @@ def test_urscript_errors_name_the_statement(body, message):
         ("Double a[2]\nDouble d = a[5]\n", r"t\.prg:2:12: index 5 out of range 0\.\.1"),
         ('Int i = "a"\n', r"^t\.prg:1:1: expected a number, got str"),
         ("Double a[2]\nDouble n = sqrt(-1.0)\n", r"t\.prg:2:"),
-        ("Double a[2]\nDouble f = 1e38 * 1e38\nDouble d = a[f - f]\n", r"t\.prg:3:1: invalid value"),
+        ("Double a[2]\nDouble f = 1e38 * 1e38\nDouble d = a[f - f]\n", r"t\.prg:2:1: arithmetic overflow"),
     ],
 )
 def test_dtrans_errors_name_the_statement(text, message):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,19 +41,35 @@ class ArmStats:
         self.moves = 0
         self.joint_margin_deg = float("inf")
         self.wrist_margin_deg = float("inf")
+        self.joint_margin_at = ""  # the axis, its value, the move and the case of the least joint margin
 
-    def add(self, cell, target: str, moves: list) -> None:
+    def add(self, cell, target: str, moves: list, case: Callable[[], str] | None = None) -> None:
+        """A run's moves; case: what the report calls the run (its category and scenario), asked only where the run
+        holds the least joint margin so far."""
         arm = arm_of(cell, target)
-        joints = [m.joints for m in moves if m.joints is not None]
-        if arm is None or not joints:
+        solved = [(i, m) for i, m in enumerate(moves) if m.joints is not None]
+        if arm is None or not solved:
             return
-        joint, wrist = margins(arm, np.array(joints))
-        self.moves += len(joints)
+        joints = np.array([m.joints for _i, m in solved])
+        per_axis = np.minimum(joints - arm.limits[:, 0], arm.limits[:, 1] - joints)
+        row, axis = np.unravel_index(int(np.argmin(per_axis)), per_axis.shape)
+        joint = float(per_axis[row, axis])
+        wrist = float(np.min(singular_distance(wrist_angle(arm, joints))))
+        self.moves += len(solved)
+        if joint < self.joint_margin_deg:
+            index, move = solved[row]
+            named = " ".join(case().split()) if case is not None else ""
+            self.joint_margin_at = (
+                f"axis {axis + 1} at {joints[row, axis]:.1f} deg, move {index + 1} (line {move.line})"
+                + (f", {named}" if named else "")
+            )
         self.joint_margin_deg = min(self.joint_margin_deg, joint)
         self.wrist_margin_deg = min(self.wrist_margin_deg, wrist)
 
     def merge(self, other: ArmStats) -> None:
         self.moves += other.moves
+        if other.joint_margin_deg < self.joint_margin_deg:
+            self.joint_margin_at = other.joint_margin_at
         self.joint_margin_deg = min(self.joint_margin_deg, other.joint_margin_deg)
         self.wrist_margin_deg = min(self.wrist_margin_deg, other.wrist_margin_deg)
 
@@ -60,6 +77,7 @@ class ArmStats:
         return {
             "moves": self.moves,
             "joint_margin_deg": round(self.joint_margin_deg, 3),
+            "joint_margin_at": self.joint_margin_at,
             "wrist_margin_deg": round(self.wrist_margin_deg, 3),
         }
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import re
 from collections import Counter
 from pathlib import Path
 
@@ -32,8 +33,51 @@ def edits(cell, sources: list[ProgramSource], step_limit: int, seed: int) -> dic
         changed = _changed_lines(source, twin)
         if not changed:
             continue
-        out.setdefault(source.row, []).extend(changed + _effects(cell, source, twin, step_limit, seed))
+        texts = [
+            f"EDIT effect: shows {new!r} where the generated program shows {old!r} (a text changed: the same message, "
+            "the same stop)"
+            for old, new in _texts(source, twin).items()
+        ]
+        out.setdefault(source.row, []).extend(changed + texts + _effects(cell, source, twin, step_limit, seed))
     return out
+
+
+# A string literal as the programs verify reads write their texts: "..." ("" inside: a quote in one language; \
+# escapes). A quote mark in a comment (the arm's) is no literal: the texts are double-quoted.
+LITERAL = re.compile(r'"(?:[^"\\]|\\.|"")*"')
+
+
+def message_renames(cell, source: ProgramSource) -> dict[str, str]:
+    """The texts a given program changes and nothing else on their lines (a message translated): generated text ->
+    given text. A stop whose message is the generated one's with these texts replaced is the same stop, at the same
+    place for the same cause: an edit, not a mismatch. {} for a generated program."""
+    if source.model is not None or source.origin[0].startswith("<fresh>"):
+        return {}
+    twin = _twin(cell, source)
+    return {} if twin is None else _texts(source, twin)
+
+
+def _texts(source: ProgramSource, twin: ProgramSource) -> dict[str, str]:
+    """Texts changed alone on their lines; a text changed into another the generated program has (another stop's
+    message: the stop's cause no longer told by it) is not a rename."""
+    out: dict[str, str] = {}
+    generated = {text[1:-1] for f in twin.files for text in LITERAL.findall(f.text)}
+    for mine, theirs in _pairs(source, twin):
+        a, b = theirs.text.splitlines(), mine.text.splitlines()
+        for op, a0, a1, b0, b1 in difflib.SequenceMatcher(None, a, b, autojunk=False).get_opcodes():
+            if op != "replace":
+                continue
+            for old_line, new_line in zip(a[a0:a1], b[b0:b1], strict=False):
+                olds, news = LITERAL.findall(old_line), LITERAL.findall(new_line)
+                if len(olds) != len(news) or LITERAL.sub('""', old_line) != LITERAL.sub('""', new_line):
+                    continue  # more than a text changed on the line: not a translation
+                out.update(
+                    (o[1:-1], n[1:-1])
+                    for o, n in zip(olds, news, strict=True)
+                    if o != n and o[1:-1] and n[1:-1] not in generated
+                )
+    return out
+
 
 
 def _twin(cell, source: ProgramSource) -> ProgramSource | None:
@@ -44,13 +88,28 @@ def _twin(cell, source: ProgramSource) -> ProgramSource | None:
 
 
 def _pairs(source: ProgramSource, twin: ProgramSource):
-    """(given file, generated file) of one program: the program files, then the others by suffix."""
-    yield source.files[0], twin.files[0]
-    theirs = {Path(f.name).suffix.lower(): f for f in twin.files[1:]}
+    """(given file, generated file) of one program: the program files, then each other file with the generated one
+    of its name (pal.dat with pal.dat, pal_count.dat with pal_count.dat: never crossed by their suffix); a
+    program file renamed renames its data files alike (mine.dat, mine_count.dat); a suffix pairs alone only where
+    one file of each side has it."""
+    mine_main, their_main = source.files[0], twin.files[0]
+    yield mine_main, their_main
+    mine_stem, their_stem = Path(mine_main.name).stem.lower(), Path(their_main.name).stem.lower()
+    theirs = {Path(f.name).name.lower(): f for f in twin.files[1:]}
+    left = []
     for mine in source.files[1:]:
-        other = theirs.get(Path(mine.name).suffix.lower())
+        name = Path(mine.name).name.lower()
+        renamed = their_stem + name[len(mine_stem) :] if name.startswith(mine_stem) else None
+        other = theirs.pop(name, None) or (theirs.pop(renamed, None) if renamed else None)
         if other is not None:
             yield mine, other
+        else:
+            left.append(mine)
+    for mine in left:
+        suffix = Path(mine.name).suffix.lower()
+        alike = [n for n, f in theirs.items() if Path(n).suffix == suffix]
+        if len(alike) == 1 and sum(Path(f.name).suffix.lower() == suffix for f in left) == 1:
+            yield mine, theirs.pop(alike[0])
 
 
 def _changed_lines(source: ProgramSource, twin: ProgramSource) -> list[str]:

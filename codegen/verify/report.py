@@ -200,8 +200,8 @@ class Report:
                 arm = row.arm.summary()
                 out.append(
                     f"arm {row.target} {row.program}: {arm['moves']} moves solved to joints; least margin to a joint "
-                    f"limit {arm['joint_margin_deg']:.1f} deg, of axis 5 from its singularity "
-                    f"{arm['wrist_margin_deg']:.1f} deg"
+                    f"limit {arm['joint_margin_deg']:.1f} deg ({arm['joint_margin_at']}), of axis 5 from its "
+                    f"singularity {arm['wrist_margin_deg']:.1f} deg"
                 )
         runs = sum(r.cases for r in self.rows)
         bulk = sum(r.swept for r in self.rows)

@@ -8,10 +8,12 @@ import time
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.verify.checks import Checker
+from codegen.verify.edits import message_renames
 from codegen.verify.executor import Executor
 from codegen.verify.report import Replay, Row
 
 _LOADED: dict = {}  # source -> program, in a worker (each program parsed once per process)
+_RENAMES: dict = {}  # source -> the texts a given program changed (edits.message_renames), once per process
 ONE_PROGRAM_FROM = 300  # stations: from here a worker holds one program at a time (a large cell's memory)
 
 
@@ -59,6 +61,9 @@ def _run_cases(
     checker = Checker(model, source.target)
     arm = checker.arm
     prefixes = kind.log_prefixes(model)
+    if source not in _RENAMES:
+        _RENAMES[source] = message_renames(model, source)
+    renames = _RENAMES[source]
     for case in cases:
         row.cases += 1
         row.categories[case.category] = row.categories.get(case.category, 0) + 1
@@ -82,7 +87,7 @@ def _run_cases(
             if problem is None:
                 problems = []
                 for expected in judgement.accepted:
-                    problem, pos, rot = checker.check(expected, trace, prefixes)
+                    problem, pos, rot = checker.check(expected, trace, prefixes, renames)
                     if problem is None:
                         row.halts += trace.halted
                         figures = judgement.figures
@@ -99,7 +104,8 @@ def _run_cases(
         row.rot_errors.extend(rot)
         if problem is None:
             row.moves += len(pos)
-            row.arm.add(model, source.target, trace.moves)
+            named = lambda c=case: f"{c.category} {kind.describe(model, c)}"  # noqa: E731 (asked at a new least)
+            row.arm.add(model, source.target, trace.moves, named)
             if figures:
                 if row.figures is None:
                     row.figures = kind.figures()

@@ -155,3 +155,24 @@ def test_a_recalibration_keeps_the_camera_offset_and_the_next_tables_comments(tm
     text = cell.read_text()
     assert "# the stations\n[[station]]" in text and text.count("[conveyor]") == 1
     assert load_cell(cell).sections["conveyor"].camera_offset_mm == pytest.approx(belt_sim.CAMERA_UPSTREAM_MM, abs=0.5)
+
+
+def test_touches_listed_downstream_first_are_named_as_reversed(tmp_path):
+    """A belt turned round against the cell's was written without a word."""
+    cell = tmp_path / "cell.toml"
+    cell.write_text((REPO / "codegen" / "examples" / "agv_machine_tending.toml").read_text())
+    assert run(EXAMPLE, "--counter-bits", 16, "--working-length", 1500, "--write", cell).exit_code == 0
+    before = cell.read_text()
+    header, *rows = EXAMPLE.read_text().splitlines()
+    belt, side = [r for r in rows if r.endswith(",belt")], [r for r in rows if not r.endswith(",belt")]
+    reversed_touches = tmp_path / "reversed.csv"
+    reversed_touches.write_text("\n".join([header, *belt[::-1], *side]) + "\n")
+    result = run(reversed_touches, "--write", cell)
+    assert result.exit_code == 2, result.output
+    assert "reversed.csv: the touches give a belt running against the cell's direction" in result.stderr
+    assert "(reversed): listed downstream first" in result.stderr and "reverse the rows, or --force" in result.stderr
+    assert cell.read_text() == before
+    forced = run(reversed_touches, "--write", cell, "--force")
+    assert forced.exit_code == 0, forced.output
+    assert "warning: the touches give a belt running against the cell's direction" in forced.output
+    assert run(EXAMPLE, "--write", tmp_path / "cell.toml", "--force").exit_code == 0  # and back again

@@ -133,3 +133,26 @@ def test_write_sets_the_angle_sign_the_image_imposes(tmp_path):
     result = CliRunner().invoke(main, ["calibrate", "handeye", str(points), "--write", str(cell)])
     assert result.exit_code == 0, result.output
     assert section_of(load_cell(cell)).angle_sign == -1
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        (
+            "u,v,x,y\n0,0,0,0\n1e-9,0,10,0\n0,1e-9,0,10\n",
+            "p.csv: the pixel points lie within 3.33e-10 px of a line (degenerate: at least 1 px across",
+        ),
+        (
+            "u,v,x,y\n0,0,0,0\n100,0,1e-6,0\n0,100,0,1e-6\n",
+            "p.csv: the robot points lie within 3.33e-07 mm of a line (degenerate: at least 0.1 mm across",
+        ),
+    ],
+)
+def test_points_too_close_together_are_refused_as_degenerate(tmp_path, text, message):
+    """Pixel points 1e-9 px apart gave a scale of 1e10 mm/px, accepted. (0,0), (a,0), (0,a): the centred set's
+    covariance has eigenvalues a^2 and a^2/3 (sums of squares), so the RMS distance from the best line is a/3."""
+    path = tmp_path / "p.csv"
+    path.write_text(text)
+    with pytest.raises(HandEyeError) as info:
+        fit(read_points(path), source="p.csv")
+    assert message in str(info.value)

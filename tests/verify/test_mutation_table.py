@@ -25,6 +25,7 @@ def _bump(match: re.Match, by: float) -> str:
     return f"{match.group(1)}{float(match.group(2)) + by:.6f}"
 
 
+NO_ANSWER = "no answer from the vision PC (5 s per request)"  # the vision timeout's stop, in every program
 # kind -> target -> (pattern, replacement); the replacement may be a function of the match.
 TABLE = {
     "joint_move_made_linear": {
@@ -74,11 +75,11 @@ TABLE = {
         "abb": (r"^\s+EXIT;\n", ""),
         "dtrans": (r"^\s*Halt\n", ""),
     },
-    "halt_message_changed": {
-        "ur": (r'vis_stop\("station ', 'vis_stop("Station '),
-        "kuka": (r'MSG_TXT\[\] = "station ', 'MSG_TXT[] = "Station '),
-        "abb": (r'vis_stop "station ', 'vis_stop "Station '),
-        "dtrans": (r'TPWrite 0, "station ', 'TPWrite 0, "Station '),
+    "halt_message_of_another_stop": {  # a stop's text changed alone is an edit; into another stop's, its cause is lost
+        "ur": (r'vis_stop\("station [^"]*"', f'vis_stop("{NO_ANSWER}"'),
+        "kuka": (r'MSG_TXT\[\] = "station [^"]*"', f'MSG_TXT[] = "{NO_ANSWER}"'),
+        "abb": (r'vis_stop "station [^"]*"', f'vis_stop "{NO_ANSWER}"'),
+        "dtrans": (r'TPWrite 0, "station [^"]*"', f'TPWrite 0, "{NO_ANSWER}"'),
     },
     "mark_x_and_y_swapped": {
         "ur": (r"(m\d+_\w+ = \[)(-?[\d.]+), (-?[\d.]+)", r"\1\3, \2"),

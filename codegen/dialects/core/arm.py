@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -10,6 +11,7 @@ from codegen.dialects.core.values import RunError
 from codegen.robot import solve
 from codegen.robot.arms import Arm
 from codegen.robot.config import FORMS, ROUNDING_MARGIN_DEG, nearest_margin, with_status
+from codegen.robot.margins import wrist_angle
 
 # The tool active when a program starts is whatever the last program left (set by an instruction or a
 # system variable; or named by each move): the interpreter assumes one that is not the flange, so a
@@ -145,8 +147,9 @@ class ArmState:
                 self._decided(p, sols, q)
             if p.rule == "keep" and branch != self.branch:
                 raise RunError(
-                    f"{p.where}: a linear move would change the arm's configuration (from joints "
-                    f"{_text(self.joints)} to {_text(q)}): the controller stops"
+                    f"{p.where}: a linear move would change the arm's configuration: {_flip(arm, self.joints, q)} "
+                    f"(from joints {_text(self.joints)} to {_text(q)}); the controller stops. Reach the pose with "
+                    "a joint move first, or turn the tool so that the path keeps the wrist on one side"
                 )
         if p.check is not None:
             have = FORMS["confdata"].of(arm, q)
@@ -203,6 +206,16 @@ def remember_joint_target(arm: Arm, q: np.ndarray, branch: int) -> None:
     if len(_TARGETS) > 4096:
         _TARGETS.clear()
     _TARGETS[(id(arm), q.tobytes())] = (arm, arm.kin.fk(q), int(branch))
+
+
+def _flip(arm: Arm, q0: np.ndarray, q1: np.ndarray) -> str:
+    """Which joint makes the configuration change: the wrist axis through its singular angle, else the axis that
+    turns the most, with its values."""
+    w0, w1 = (float(wrist_angle(arm, np.asarray(q))) for q in (q0, q1))
+    if math.floor(w0 / 180.0) != math.floor(w1 / 180.0):  # through a multiple of 180 deg: the wrist flips
+        return f"axis 5 passes its singular angle (the wrist flips: from {q0[4]:.1f} to {q1[4]:.1f} deg)"
+    k = int(np.argmax(np.abs(np.asarray(q1) - np.asarray(q0))))
+    return f"axis {k + 1} turns from {q0[k]:.1f} to {q1[k]:.1f} deg (a shoulder or elbow flip)"
 
 
 def _text(q: np.ndarray) -> str:

@@ -2,19 +2,22 @@
 
 from __future__ import annotations
 
+import math
 import operator
 
 import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects.core.source import Src
-from codegen.dialects.core.values import MISSING, RunError, f32
+from codegen.dialects.core.values import F32_MAX, MISSING, RunError, f32
 
 NUMBERS = (int, float, np.float32)  # what a number literal compiles to (not bool: a literal of its own)
 
 
 class Expressions:
     """Expressions compiled to Python source (`Src`) or, without a source form, closures."""
+
+    _negated_literal = False  # e_number of the operand of a minus (an int literal's range is one wider below 0)
 
     def expr(self, node):
         """A callable fr -> value; when the rule has a source form, `.source` holds it."""
@@ -51,10 +54,19 @@ class Expressions:
         self.fail(token, f"unexpected token {token}")
 
     def e_number(self, node):
+        text = str(node.children[0])
+        shown = text if len(text) <= 20 else text[:20] + "..."
         try:
-            value = self.number(str(node.children[0]))
+            with np.errstate(over="ignore"):  # past float32's range: refused below, in the program's words
+                value = self.number(text)
         except (ValueError, OverflowError):
-            self.fail(node, f"number {str(node.children[0])[:20]}... has more digits than a controller reads")
+            self.fail(node, f"number {shown} has more digits than a controller reads")
+        if isinstance(value, int):
+            low, high = self.INT_RANGE or (None, None)
+            if high is not None and value > (-low if self._negated_literal else high):
+                self.fail(node, f"number {shown} is beyond the controller's integers ({low}..{high}, 32-bit)")
+        elif not math.isfinite(value):
+            self.fail(node, f"number {shown} is beyond the controller's numbers (float32: at most {F32_MAX:.7g})")
         return Src(self.const(value))
 
     def e_string(self, node):
@@ -97,7 +109,12 @@ class Expressions:
         return read
 
     def e_neg(self, node):
-        operand = self.src(node.children[0])
+        child = node.children[0]
+        self._negated_literal = isinstance(child, Tree) and child.data == "number"  # -2147483648 is an int
+        try:
+            operand = self.src(child)
+        finally:
+            self._negated_literal = False
         value = self.number_constant(operand)
         if value is not None:  # a negative literal: the number itself (what -x gives when run)
             return Src(self.const(-value))

@@ -15,11 +15,14 @@ from codegen.dialects.core.ramp import travel_seconds
 from codegen.dialects.core.runstate import RunState
 from codegen.dialects.core.shared import SHARE_FROM, SharedGlobals
 from codegen.dialects.core.trace import MoveEvent, SignalEvent, Trace
-from codegen.dialects.core.values import Halt, LimitReached, RunError, Signal, StepLimitError
+from codegen.dialects.core.values import Halt, LimitReached, RunError, Signal, StepLimitError, op_error
 
 __all__ = ["MoveEvent", "SignalEvent", "Trace"]  # re-exported: callers import them here (they live in trace.py)
 
 DEFAULT_STEP_LIMIT = 200_000
+# A number past float32's range is an error of the program, as on the controllers, not an inf and a warning line:
+# numpy raises FloatingPointError in the program's operators, which their guards name.
+OVERFLOW = "raise"
 
 
 def halt(fr, *_ignored) -> None:
@@ -388,7 +391,11 @@ class Program:
     def _prepare(self, step_limit: int) -> tuple[dict, dict, RunState]:
         if self._snapshot is None:
             machine = Machine(self, {}, step_limit)
-            self.init(Frame(machine, machine.globals, machine.global_types))
+            try:
+                with np.errstate(over=OVERFLOW):
+                    self.init(Frame(machine, machine.globals, machine.global_types))
+            except FloatingPointError as exc:  # past float32 outside an operator's guard (a built-in's result)
+                raise op_error(self.name, exc) from None
             globals_, types = machine.globals, machine.global_types
             if len(globals_) >= SHARE_FROM:  # a large program: shared by its runs, not copied (core/shared.py)
                 globals_, types = SharedGlobals(globals_), SharedGlobals(types)
@@ -444,7 +451,8 @@ class Program:
             machine.globals, machine.global_types = dict(globals_), dict(types)
         machine.state = state.copy()
         try:
-            return self._run(machine, keep)
+            with np.errstate(over=OVERFLOW):
+                return self._run(machine, keep)
         finally:
             if shared:
                 globals_.undo()
@@ -471,7 +479,12 @@ class Program:
             trace.ended = str(limit)
         except RunError as exc:  # what ran until then stays readable (codegen run prints it)
             raise self._kept(exc, machine) from None
-        machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
+        except FloatingPointError as exc:  # past float32 outside an operator's guard (a built-in's result)
+            raise self._kept(op_error(self.name, exc), machine) from None
+        try:
+            machine.arm.resolve()  # the joints of every move, by the controller's rules (RunError if refused)
+        except FloatingPointError as exc:  # a pose so far out that solving it overflows: the program's
+            raise op_error(self.name, exc) from None
         if trace.simulated:  # an input a device set after all (a gripper's feedback) was not simulated
             trace.simulated = [name for name in trace.simulated if name not in machine.signals]
         trace.steps = machine.steps

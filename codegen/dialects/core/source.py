@@ -113,7 +113,7 @@ class SourceBuilder:
         return [
             "try:",
             *indent(lines),
-            "except (TypeError, ZeroDivisionError, ValueError, OverflowError) as _e:",
+            "except (TypeError, ZeroDivisionError, ValueError, OverflowError, FloatingPointError) as _e:",
             f"    raise _operror({where!r}, _e) from None",
         ]
 

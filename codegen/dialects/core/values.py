@@ -10,6 +10,7 @@ import numpy as np
 from codegen.decimals import unsigned_zero
 
 F32 = np.float32
+F32_MAX = float(np.finfo(F32).max)  # the largest number a float32 controller holds (3.4028235e38)
 MISSING = object()  # a lookup found nothing (None is a value)
 
 
@@ -198,6 +199,8 @@ def op_error(where: str, exc: Exception) -> RunError:
     the operator and the kinds of its operands in the program's words, never Python's."""
     if isinstance(exc, ZeroDivisionError):
         return RunError(f"{where}: division by zero")
+    if isinstance(exc, FloatingPointError):  # numpy under the run's errstate(over="raise"): a result past float32
+        return RunError(f"{where}: arithmetic overflow (a result beyond the controller's numbers, {F32_MAX:.7g})")
     text = str(exc)
     if isinstance(exc, ValueError | OverflowError):  # int(nan), int(inf) as an index...
         said = next((words for pattern, words in _INVALID if pattern.search(text)), None)

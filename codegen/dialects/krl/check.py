@@ -83,6 +83,9 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
         findings.extend(long_names(name, tree))
         findings.extend(waits(name, tree, inputs))
         findings.extend(early_outputs(name, tree))
+        findings.extend(unset_locals(name, tree))
+    if trees:
+        findings.extend(unset_data(trees))
     if trees:
         findings.extend(unset_frames(trees))
     unique = {}
@@ -229,6 +232,91 @@ def early_outputs(name: str, tree) -> list[Finding]:
             elif stmt.data in STOPS:
                 moved = None
             continued = False
+    return out
+
+
+def _root_var(node):
+    """The variable an assignment target or argument stands on (N, N.X, N[2], N[]), None if none."""
+    while isinstance(node, Tree) and node.data != "var":
+        if not node.children:
+            return None
+        node = node.children[0]
+    return str(node.children[0]).upper() if isinstance(node, Tree) else None
+
+
+def _set_names(node) -> set:
+    """The variables a tree may set: assignment targets, FOR counters, arguments (an OUT parameter's)."""
+    out = set()
+    for sub in node.iter_subtrees():
+        if sub.data == "assign":
+            out.add(_root_var(sub.children[0]))
+        elif sub.data == "for_stmt":
+            out.add(str(sub.children[0]).upper())
+        elif sub.data == "args":
+            out.update(_root_var(a) for a in sub.children if isinstance(a, Tree))
+    return out
+
+
+def _unset_read(file: str, token, where: str) -> Finding:
+    return Finding(
+        file,
+        token.line,
+        token.column,
+        "warning",
+        "unset-variable",
+        f"{token} is read but nothing in {where} sets it: KSS stops here (variable value invalid)",
+    )
+
+
+def unset_data(trees) -> list[Finding]:
+    """A data list's variable declared without a value that no module of the program sets, read by a routine
+    (one without a variable of its own of that name)."""
+    unset = {}
+    for _file, tree in trees:
+        for defdat in (n for n in tree.children if isinstance(n, Tree) and n.data == "defdat"):
+            for item in defdat.iter_subtrees_topdown():
+                if item.data == "decl_item" and item.children[1] is None and item.children[2] is None:
+                    unset.setdefault(str(item.children[0]).upper(), item.children[0])
+    for _file, tree in trees:
+        for key in _set_names(tree):
+            unset.pop(key, None)
+    out = []
+    for file, tree in trees:
+        for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
+            own = {str(i.children[0]).upper() for i in routine.iter_subtrees() if i.data in ("decl_item", "param")}
+            for sub in routine.iter_subtrees_topdown():
+                key = str(sub.children[0]).upper() if sub.data == "var" else None
+                if key in unset and key not in own:
+                    out.append(_unset_read(file, sub.children[0], "the program's files"))
+                    del unset[key]  # one finding a variable
+    return out
+
+
+def unset_locals(name: str, tree) -> list[Finding]:
+    """A routine's own variable (DECL in a .src has no value) read but set nowhere in the routine: not by an
+    assignment, a FOR, or as an argument (a routine or built-in may set it through an OUT parameter). KSS stops
+    where it is read ("variable value invalid"); run finds it only when the read runs."""
+    out = []
+    for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
+        body = routine.children[-1]
+        params = {str(p.children[0]).upper() for p in routine.iter_subtrees() if p.data == "param"}
+        local = {}
+        for decl in (c for c in body.children if isinstance(c, Tree) and c.data == "decl"):
+            for item in (c for c in decl.children if isinstance(c, Tree) and c.data == "decl_item"):
+                key = str(item.children[0]).upper()
+                if item.children[1] is None and item.children[2] is None and key not in params:
+                    local[key] = item.children[0]
+        if not local:
+            continue
+        set_names = _set_names(body)
+        reported = set()
+        for sub in body.iter_subtrees_topdown():
+            if sub.data != "var":
+                continue
+            key = str(sub.children[0]).upper()
+            if key in local and key not in set_names and key not in reported:
+                reported.add(key)
+                out.append(_unset_read(name, sub.children[0], routine_name(routine)))
     return out
 
 

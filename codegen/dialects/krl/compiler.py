@@ -8,7 +8,7 @@ from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import pause
 from codegen.dialects.core.source import Src
-from codegen.dialects.core.values import F32, Record, RunError, Signal, f32, index_value, op_error
+from codegen.dialects.core.values import F32, Record, RunError, Signal, f32, format_general, index_value, op_error
 from codegen.dialects.krl import bas, dialogs, io
 from codegen.dialects.krl.builtins import BUILTINS, UNINIT, cart, type_name_of, valid, xyzabc
 from codegen.dialects.krl.declarations import DECLARATIONS, Declarations
@@ -327,6 +327,9 @@ class KRLCompiler(
 
         def run(fr):
             t = float(valid(seconds(fr), where, "WAIT SEC time"))
+            if t < 0:  # KSS does not wait (as recalled of the KSS 8 manual's WAIT SEC; the text was not found)
+                fr.m.warn(f"{where}: WAIT SEC {format_general(t)}: a negative time does not wait (taken as 0 s)")
+                t = 0.0
             fr.m.arrive(where)
             fr.m.elapse(t, where)
 
@@ -422,7 +425,7 @@ class KRLCompiler(
             (str(pname).upper(), str(mode).upper() if mode is not None else "IN", None)
             for pname, _brackets, mode in param_parts
         ]
-        decls, statements = [], []
+        decls, statements, seen = [], [], {}
         for child in body.children:
             if not isinstance(child, Tree):
                 continue
@@ -430,6 +433,7 @@ class KRLCompiler(
                 if statements:
                     self.fail(child, "a declaration after the first statement (KRL: declarations come first)")
                 if child.data == "decl":
+                    self.declared_once(child, seen)
                     decls.extend(self.decl_items(child))
                 elif child.data == "signal_decl":
                     self.s_signal_decl(child)

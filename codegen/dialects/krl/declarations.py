@@ -9,7 +9,16 @@ from lark import Token, Tree
 
 from codegen.dialects.core.limits import array_size_problem
 from codegen.dialects.core.values import F32, Record, RunError, constant, f32
-from codegen.dialects.krl.builtins import CART, SIMPLE, STRUCTS, SYSTEM_ENUMS, UNINIT, new_value, type_name_of
+from codegen.dialects.krl.builtins import (
+    CART,
+    SIMPLE,
+    STRUCTS,
+    SYSTEM_ENUMS,
+    TYPES_NOT_MODELLED,
+    UNINIT,
+    new_value,
+    type_name_of,
+)
 from codegen.dialects.krl.numbered import SYSTEM_ARRAYS
 from codegen.dialects.krl.sysvars import SHARED_STRUCTS
 
@@ -22,6 +31,19 @@ DECLARATIONS = frozenset(
     {"decl", "signal_decl", "ext_routine", "ext_function", "enum_decl", "struc_decl", "import_decl"}
 )
 MAX_DIMS = 3
+
+
+class Char(str):
+    """The type of a CHAR array's text with its declared length: "CHAR" wherever a type is compared, and coerce()
+    refuses a longer text (DECL CHAR S[10] holds 10 characters)."""
+
+    def __new__(cls, length: int) -> Char:
+        text = super().__new__(cls, "CHAR")
+        text.length = length
+        return text
+
+    def __getnewargs__(self) -> tuple[int]:
+        return (self.length,)
 
 
 class Declarations:
@@ -96,6 +118,9 @@ class Declarations:
         if type_name == "CHAR":
             if not isinstance(value, str) or value.startswith("#"):
                 raise RunError(f"{where}: cannot assign {type_name_of(value)} to CHAR")
+            length = getattr(type_name, "length", None)
+            if length is not None and len(value) > length:
+                raise RunError(f"{where}: a text of {len(value)} characters does not fit CHAR[{length}]")
             return value
         if type_name in ("ENUM", "ANY"):
             return value
@@ -135,6 +160,8 @@ class Declarations:
         tokens = [c for c in children if isinstance(c, Token)]
         type_token = next(t for t in tokens if t.type == "NAME")
         type_name = str(type_token).upper()
+        if type_name in TYPES_NOT_MODELLED:
+            self.fail(type_token, f"{type_token}: {TYPES_NOT_MODELLED[type_name]} is not modelled by this interpreter")
         if not self.known_type(type_name) or type_name == "ANY":
             self.fail(type_token, f"unknown type {type_token}")
         out = []
@@ -151,6 +178,7 @@ class Declarations:
                 sizes = [int(str(t)) for t in dims.children]
                 if problem := array_size_problem(sizes):
                     self.fail(dims, problem)
+                text_type = Char(sizes[-1]) if type_name == "CHAR" else None
                 if type_name == "CHAR":  # the last dimension is the text's length
                     sizes = sizes[:-1]
                 if len(sizes) > MAX_DIMS:
@@ -160,13 +188,13 @@ class Declarations:
                 if not sizes:
                     value_init = self.expr(init) if init is not None else None
                     if value_init is not None:
-                        self.check_static(init, "CHAR", item)
-                    text = lambda fr, v=value_init, w=where: self.coerce("CHAR", v(fr), w) if v else UNINIT  # noqa: E731
-                    out.append((key, "CHAR", text))
+                        self.check_static(init, text_type, item)
+                    text = lambda fr, v=value_init, w=where, t=text_type: self.coerce(t, v(fr), w) if v else UNINIT  # noqa: E731
+                    out.append((key, text_type, text))
                     continue
                 if init is not None:
                     self.fail(init, "an array is declared without a value (its elements are set one by one)")
-                element = "CHAR" if type_name == "CHAR" else type_name
+                element = text_type or type_name
                 out.append((key, (element, sizes[0]), constant(self.new_array(element, sizes))))
                 continue
             if init is None:
@@ -176,6 +204,16 @@ class Declarations:
                 value = self.expr(init)
                 out.append((key, type_name, (lambda fr, t=type_name, v=value, w=where: self.coerce(t, v(fr), w))))
         return out
+
+    def declared_once(self, node, seen: dict[str, int]) -> None:
+        """A name a DECL line declares that an earlier one of the same routine or data list declared: refused, as
+        KSS's compiler refuses a name declared twice (seen: name -> its line, filled here)."""
+        for item in (c for c in node.children if isinstance(c, Tree) and c.data == "decl_item"):
+            name = item.children[0]
+            key = str(name).upper()
+            if key in seen:
+                self.fail(name, f"{name} is declared twice (first on line {seen[key]})")
+            seen[key] = name.line
 
     def new_array(self, element: str, sizes: list[int]) -> list:
         """A new array: one shared initial value per dimension (values are never changed in place)."""
@@ -192,6 +230,8 @@ class Declarations:
                 return self.local_types[key]
             store = self.scope.data.get(key)
             return self.static_types.get(store) if store is not None else None
+        if isinstance(target, Tree) and target.data == "whole":  # S[] = "...": the CHAR array's text
+            return self.static_type(target.children[0])
         if isinstance(target, Tree) and target.data == "field":
             outer = self.static_type(target.children[0])
             fields = self.struct_fields.get(outer, {}) if isinstance(outer, str) else {}
@@ -224,15 +264,22 @@ class Declarations:
         if not ok:
             shown = "a number" if have == "number" else have
             self.fail(where_node, f"type error: cannot assign {shown} to {type_name}")
+        length = getattr(type_name, "length", None)
+        if have == "CHAR" and length is not None and len(self.string_value(str(node.children[0]))) > length:
+            text = self.string_value(str(node.children[0]))
+            self.fail(where_node, f"type error: a text of {len(text)} characters does not fit CHAR[{length}]")
 
     # --- data lists ----------------------------------------------------------------------------
     def data_list(self, node, storage: dict[str, str]) -> None:
         """A DEFDAT's declarations and assignments, run once when the program is loaded (storage: NAME ->
         the globals' key of this module's data)."""
+        seen: dict[str, int] = {}
         for child in node.children[-1].children:
             if not isinstance(child, Tree):
                 continue
             try:
+                if child.data == "decl":
+                    self.declared_once(child, seen)
                 self.data_item(child, storage)
             except RunError as exc:
                 if self.findings is None:

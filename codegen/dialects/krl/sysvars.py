@@ -69,6 +69,9 @@ TABLE: dict[str, tuple[str, int | None, object]] = {
     "$MOVE_BCO": ("BOOL", None, None),  # computed, read-only
     "$ROB_TIMER": ("INT", None, None),  # computed, read-only
     "$H_POS": ("E6AXIS", None, None),  # the home position ($IN_HOME): the inline form sets it, else XHOME
+    # palletizing mode (BOOL): off on a fresh controller (assumed); switched on, the controller holds A4 and keeps
+    # the flange horizontal, which the solver here does not model: TRUE is refused where it is set
+    "$PAL_MODE": ("BOOL", None, False),
 }
 READ_ONLY = frozenset(
     {
@@ -305,6 +308,9 @@ def write(fr, name: str, value, where: str) -> None:
         return
     if name == "$ADVANCE" and (isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 5):
         raise RunError(f"{where}: $ADVANCE takes 0..5, got {shown(value)}")
+    if name == "$PAL_MODE" and value is True:
+        what = "palletizing mode (A4 held, the flange kept horizontal)"
+        raise RunError(f"{where}: $PAL_MODE = TRUE: {what} is not modelled")
     if name == "$OV_PRO" and (isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 100):
         raise RunError(f"{where}: $OV_PRO takes 0..100 (%), got {shown(value)}")
     m.state.sysvars[name] = value

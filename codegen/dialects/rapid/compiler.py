@@ -38,6 +38,7 @@ from codegen.dialects.rapid.types import (
     ALIASES,
     OPAQUE,
     RECORDS,
+    STRING_MAX,
     num,
 )
 
@@ -153,6 +154,13 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
             return f32(int(text[2:], {"x": 16, "o": 8, "b": 2}[text[1].lower()]))
         return f32(float(text))
 
+    def e_string(self, node):
+        """A literal longer than a string holds is refused before the program runs, as RAPID's compiler does."""
+        value = self.string_value(str(node.children[0]))
+        if len(value) > STRING_MAX:
+            self.fail(node, f"a string of {len(value)} characters: a string holds at most {STRING_MAX}")
+        return super().e_string(node)
+
     def string_value(self, text: str) -> str:
         out, body, i = [], text[1:-1], 0
         while i < len(body):
@@ -249,7 +257,7 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
             *indent(lines),
             "except ZeroDivisionError:",
             f"    raise _divzero({where!r}) from None",
-            "except (TypeError, ValueError, OverflowError) as _e:",
+            "except (TypeError, ValueError, OverflowError, FloatingPointError) as _e:",
             f"    raise _operror({where!r}, _e) from None",
         ]
 
@@ -429,6 +437,8 @@ class RAPIDCompiler(Labels, Calls, Names, Coercions, Compiler):
 
         def declare(child):
             dkey, make = self.decl(child)
+            if dkey in storage:  # as task.py refuses a name declared twice in a module
+                self.fail(child, f"{child.children[4]} declared twice in the routine (names ignore case)", "duplicate")
             static_type = self.static_type(child)
             storage[dkey] = str(child.children[2]).upper()
             decls.append((dkey, static_type, self._local_init(child, static_type, make)))

@@ -1,7 +1,8 @@
-"""RAPID's view of the controller's run: OpMode, RunMode, CTime, ExitCycle, StorePath / RestoPath and ErrRaise."""
+"""RAPID's view of the controller's run: OpMode, RunMode, CTime, CDate, ExitCycle, StorePath / RestoPath, ErrRaise."""
 
 from __future__ import annotations
 
+import datetime
 from collections.abc import Callable
 
 from lark import Token, Tree
@@ -18,6 +19,8 @@ from codegen.dialects.rapid.arguments import split_args
 #   controllers' interpreters assume): OpMode() is OP_AUTO, RunMode() RUN_CONT_CYCLE;
 # - CTime() the controller's time of day "hh:mm:ss": the run's clock from 00:00:00 at its start (assumed: the
 #   controller's real time is not a program's);
+# - CDate() the controller's date "yyyy-mm-dd" (the form as recalled): the run starts on RUN_START_DATE (assumed, as
+#   CTime's midnight: a run's output does not depend on the day it is run), a day later at each 24 h of its clock;
 # - ExitCycle ends the current cycle and moves the program pointer to main's first instruction: in continuous
 #   mode the next cycle starts. A run is one cycle: it ends there (cleanly, saying so);
 # - StorePath [\KeepSync] keeps the path of the motion under way for a motion in an error handler or a TRAP;
@@ -36,6 +39,7 @@ ERRSTR = {"ERRSTR_EMPTY": "", "ERRSTR_ARG": "", "ERRSTR_ARGNAME": "", "ERRSTR_CO
 ERRSTR["ERRSTR_TASK"] = "T_ROB1"
 PREDEFINED_VALUES = {name: f32(value) for name, value in (OP_MODES | RUN_MODES).items()} | ERRSTR
 ERRRAISE_NUMBERS = range(5000, 10000)
+RUN_START_DATE = datetime.date(2000, 1, 1)
 
 
 def _no_arguments(name: str):
@@ -61,6 +65,11 @@ def c_time(fr, args, kwargs, where):
     _no_arguments("CTime")(args, kwargs, where)
     seconds = int(fr.m.clock)
     return f"{seconds // 3600 % 24:02d}:{seconds // 60 % 60:02d}:{seconds % 60:02d}"
+
+
+def c_date(fr, args, kwargs, where):
+    _no_arguments("CDate")(args, kwargs, where)
+    return (RUN_START_DATE + datetime.timedelta(days=int(fr.m.clock) // 86400)).isoformat()
 
 
 def exit_cycle(fr, args, kwargs, where):
@@ -117,6 +126,7 @@ BUILTINS = {
     "OPMODE": op_mode,
     "RUNMODE": run_mode,
     "CTIME": c_time,
+    "CDATE": c_date,
     "EXITCYCLE": exit_cycle,
     "STOREPATH": store_path,
     "RESTOPATH": resto_path,

@@ -66,6 +66,10 @@ class Brackets:
 BRACKETS = Brackets()
 
 
+def int_overflow(value: int, symbol: str, where: str):
+    raise RunError(f"{where}: integer overflow: the {symbol} gives {value}, beyond the controller's 32-bit ints")
+
+
 def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tree:
     return parse_with_grammar(__file__, text, filename, positions, postlex=BRACKETS)
 
@@ -75,6 +79,9 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
     index_base = 0
     run_state = URScriptState
     BIND_ARGUMENTS = True  # named arguments and default values (Function)
+    # ints taken as 32-bit as the floats are (urmath.INT_BITS; not confirmed in the manual's text, nor whether the
+    # controller wraps or stops past it): a literal or a sum, difference or product past it is refused
+    INT_RANGE = (-(2 ** (urmath.INT_BITS - 1)), 2 ** (urmath.INT_BITS - 1) - 1)
 
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
@@ -164,14 +171,21 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
             return Src(f"({fast} if type({a} := {left}) is not list else {slow})")
         return Src(f"({fast} if (type({a} := {left}) is not list) & (type({b} := {right}) is not list) else {slow})")
 
+    def _int_checked(self, node, symbol: str) -> Src:
+        """The arithmetic with an int result checked against the controller's 32-bit ints (a float passes)."""
+        r, (low, high) = self.temp(), self.INT_RANGE
+        refuse = f"{self.const(int_overflow)}({r}, {symbol!r}, {self.where(node)!r})"
+        value = self._arithmetic(node, symbol)
+        return Src(f"({r} if type({r} := {value}) is not int or {low} <= {r} <= {high} else {refuse})")
+
     def e_add(self, node):
-        return self._arithmetic(node, "+")
+        return self._int_checked(node, "+")
 
     def e_sub(self, node):
-        return self._arithmetic(node, "-")
+        return self._int_checked(node, "-")
 
     def e_mul(self, node):
-        return self._arithmetic(node, "*")
+        return self._int_checked(node, "*")
 
     def e_div(self, node):
         return self._arithmetic(node, "/", self.const(self.divide))

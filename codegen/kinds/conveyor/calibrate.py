@@ -112,6 +112,7 @@ def fit(
     camera_counts: tuple[int, int] | None = None,
     force: bool = False,
     max_residual_mm: float = MAX_RESIDUAL_MM,
+    cell_direction: tuple[float, float, float] | None = None,
 ) -> ConveyorFit:
     """E by a straight-line fit p_k = p_mean + b (u_k - u_mean) over every belt touch (u: unwrapped
     counts), E = 1/|b| signed by whether the counts grow downstream; +Y from the first touch towards the
@@ -150,6 +151,15 @@ def fit(
             f"another width than {bits} bit (its rollover breaks the line)"
         )
     warnings = []
+    if cell_direction is not None and float(np.dot(direction, cell_direction)) < 0:
+        message = (
+            f"the touches give a belt running against the cell's direction {_vector(cell_direction)} (reversed): "
+            "listed downstream first (the file takes the touches upstream first), or a counter that counts the "
+            "other way"
+        )
+        if not force:
+            raise ConveyorCalibrationError(f"{path}: {message}; reverse the rows, or --force to turn the belt round")
+        warnings.append(message)
     if working_length_mm is None:
         if not force:
             raise ConveyorCalibrationError(
@@ -303,10 +313,16 @@ def _table_span(text: str, name: str) -> tuple[int | None, int]:
     return offsets[header], offsets[last + 1]
 
 
-def cell_settings(cell_path: Path | None) -> tuple[int | None, float | None]:
-    """The counter width and working length a cell's [conveyor] names, if any."""
+def cell_settings(cell_path: Path | None) -> tuple[int | None, float | None, tuple[float, float, float] | None]:
+    """The counter width, working length and direction of travel a cell's [conveyor] names, if any."""
     if cell_path is None:
-        return None, None
+        return None, None, None
 
     conveyor = conveyor_of(load_cell(cell_path))
-    return (None, None) if conveyor is None else (conveyor.counter_bits, conveyor.working_length_mm)
+    if conveyor is None:
+        return None, None, None
+    return conveyor.counter_bits, conveyor.working_length_mm, conveyor.direction
+
+
+def _vector(values) -> str:
+    return "[" + ", ".join(f"{float(v):.3f}" for v in values) + "]"

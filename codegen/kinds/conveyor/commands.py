@@ -55,10 +55,11 @@ def calibrate_conveyor(touches, counter_bits, working_length, camera_counts, for
 
     path = Path(touches)
     try:
-        cell_bits, cell_length = cc.cell_settings(Path(cell_path) if cell_path else None)
+        cell_bits, cell_length, cell_direction = cc.cell_settings(Path(cell_path) if cell_path else None)
         bits = int(counter_bits) if counter_bits else (cell_bits or 32)
         length = working_length if working_length is not None else cell_length
-        result = cc.fit(path, cc.read_touches(path), bits, length, camera_counts, force, max_residual)
+        touched = cc.read_touches(path)
+        result = cc.fit(path, touched, bits, length, camera_counts, force, max_residual, cell_direction)
         if cell_path is not None:
             cc.write_to_cell(Path(cell_path), result, path.name, length)
     except (cc.ConveyorCalibrationError, CellError) as exc:

@@ -256,7 +256,7 @@ def test_err_write_records_its_reason_and_stop_shows_it():
     ("args", "message"),
     [
         (f'"{"h" * 47}", "r"', "ErrWrite header has 47 characters, at most 46"),
-        (f'"h", "r" \\RL2:="{"x" * 81}"', r"ErrWrite \\RL2 has 81 characters, at most 80"),
+        (f'"h", "r" \\RL2:="{"x" * 40}" + "{"x" * 41}"', r"ErrWrite \\RL2 has 81 characters, at most 80"),
         (
             '"h", "{0}" \\RL2:="{0}" \\RL3:="{1}"'.format("x" * 80, "x" * 36),
             "ErrWrite reason lines have 196 characters, at most 195",

@@ -17,6 +17,10 @@ from codegen.writefile import WriteRefused
 
 PIXEL_LIMIT = 100_000.0  # an image's pixel coordinates (the largest sensors are some 20,000 px wide)
 POSITION_LIMIT_MM = 10_000.0  # robot positions, as the other calibrations take them
+# The least spread of the points across their narrowest direction (RMS distance from the best line): a vision
+# system's reading is good to some 0.1 px and a taught position to some 0.1 mm (an arm's repeatability), so a set
+# narrower than ten times the one, or than the other, gives a scale set by that noise (assumed figures).
+MIN_SPREAD = {"pixel": (1.0, "px"), "robot": (0.1, "mm")}
 
 
 class HandEyeError(Exception):
@@ -83,6 +87,12 @@ def check_points(points: np.ndarray, source: str) -> None:
         singular = np.linalg.svd(centred, compute_uv=False)
         if singular[1] <= 1e-9 * max(singular[0], 1e-12):
             raise HandEyeError(f"{source}: the {what} points are collinear; the map is not determined")
+        width, least, unit = singular[1] / math.sqrt(len(points)), *MIN_SPREAD[what]
+        if width < least:
+            raise HandEyeError(
+                f"{source}: the {what} points lie within {width:.3g} {unit} of a line (degenerate: at least {least:g} "
+                f"{unit} across is needed, else the map's scale follows the points' noise); spread them over the image"
+            )
 
 
 def _affine(points: np.ndarray) -> np.ndarray:
