@@ -267,3 +267,30 @@ def test_the_move_above_q_is_a_joint_target_where_the_nearest_turn_would_be_a_ti
     cell = example("eur_pallet")
     found = mutant_mismatches(cell, target, name, old, new)
     assert found and "the nearest solution is not unique (axis 6 half a turn away either way" in found[0], found
+
+
+# the ABB store loaded again from its file (as a reset of RAPID does) mid-pallet: a program without the known flag's
+# check takes the file's layer 1 box 1 and swings into the part-built stack; a file saved with the flag TRUE makes the
+# file's counters look current; a question without \MaxTime waits at the pendant for ever
+KNOWN_MUTATIONS = [
+    ("pal_testmat.mod", "    IF NOT pal_testmat_known THEN\n", "    IF FALSE THEN\n", "store_reloaded"),
+    (
+        "pallet_data.sys",
+        "PERS bool pal_testmat_known := FALSE;",
+        "PERS bool pal_testmat_known := TRUE;",
+        "store_reloaded",
+    ),
+    (
+        "pal_testmat.mod",
+        " \\MaxTime:=60.0 \\BreakFlag:=unanswered;\n        IF unanswered <> 0 THEN",
+        ";\n        IF unanswered <> 0 THEN",
+        "stopped_in_release",
+    ),
+]
+
+
+@pytest.mark.parametrize(("name", "old", "new", "scenario"), KNOWN_MUTATIONS)
+def test_a_store_reloaded_from_its_file_never_starts_a_part_built_pallet(name, old, new, scenario):
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = mutant_mismatches(cell, "abb", name, old, new)
+    assert found and scenario in found[0], found

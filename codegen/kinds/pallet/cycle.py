@@ -15,6 +15,7 @@ from codegen.kinds.pallet.messages import (
     empty_message,
     foreign_message,
     full_message,
+    known_message,
     lost_message,
     message_limit,
     released_message,
@@ -67,6 +68,9 @@ class PalletCase:
     stale: bool = False  # another pallet's flag left set (its item taken out by hand): cleared by this program's grip
     lost: bool = False  # the first item gripped slips out of the gripper on its way to the pallet
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
+    # the counters' store loaded again from its file (as a reset of RAPID does): the counters are the file's, its
+    # known flag FALSE; the pallet may be part-built, so only the PLC's reset or the operator's Yes starts it
+    unknown: bool = False
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -95,6 +99,8 @@ class Expected:
     asked: bool = False  # the operator was asked whether an item released before a stop is down
     holds: bool = False  # at the end, the gripper holds an item this program gripped (its store's flag)
     gripped: bool = False  # the program confirmed a grip (where one task runs every pallet: the others' flags cleared)
+    known: bool = True  # at the end, the store's flag: its counters describe the pallet
+    known_asked: bool = False  # the operator was asked whether the pallet is new (the store reloaded from its file)
 
 
 @dataclass(frozen=True)
@@ -275,6 +281,22 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     put_down = case.closed and pallet.mode == "unstack"
     if case.closed and case.foreign:  # not this program's item: it stops before anything else
         return Expected((), (), foreign_message(pallet, limit), start, start)
+    # a held item: the gripper's output set to grip again first (a stop, or a release that did not finish, may have
+    # left it off while the item is still in the gripper)
+    said = [("gripper", cell.io.value, 0)] if case.closed else []
+    known_asked = False
+    if case.unknown:  # the counters are the store's file's: no item before the pallet is known to be new
+        if case.reset and pallet.io.reset:  # the PLC's handshake says so: the done output off, the reset dropped
+            said.append(("done", False, 0))
+            if case.reset_held:
+                message = reset_held_message(pallet, limit)
+                return Expected((), tuple(said), message, start, start, holds=case.closed, known=False)
+        else:  # the operator asked (a store with the flag is a target's that asks): Yes, a new pallet; No, or none
+            known_asked = True
+            if case.answer != YES:
+                out = Expected((), tuple(said), known_message(pallet, limit), start, start, holds=case.closed)
+                return replace(out, known=False, known_asked=known_asked)
+        start = keys[0]
     asked = False
     if pallet.mode == "stack" and start[0] < 0:  # a stop came during a release: is the item down?
         start = (-start[0], start[1])
@@ -286,9 +308,7 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
             if case.answer == YES:  # down: the counters move on as after a confirmed release
                 following = keys.index(start) + 1
                 start = keys[following] if following < len(keys) else done
-    # a held item: the gripper's output set to grip again first (a stop, or a release that did not finish, may have
-    # left it off while the item is still in the gripper); then the PLC's full (empty) output, from the counters
-    said = [("gripper", cell.io.value, 0)] if case.closed else []
+    # then the PLC's full (empty) output, from the counters
     said.append(("done", start == done, 0))
     if start == done and not put_down:
         if case.reset and pallet.io.reset:  # the handshake: the done output off answers the PLC, which drops reset
@@ -316,7 +336,7 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
     if halt is None:  # the pallet is done: the PLC's cue to swap it
         run.outputs.append(("done", True, len(run.moves)))
-    return replace(run.result(halt, start), asked=asked)
+    return replace(run.result(halt, start), asked=asked, known_asked=known_asked)
 
 
 def _put_down(run: _Run) -> str | None:

@@ -91,6 +91,18 @@ def lost_message(pallet: Pallet, limit: int) -> str:
     return _named("pallet {name}: the item was lost from the gripper on the way: find it", pallet, limit)
 
 
+def known_question(pallet: Pallet, limit: int) -> str:
+    """The operator's question at the start when the counters' store came back from its file (its known flag FALSE):
+    Yes, the pallet is new (empty for stacking, full for unstacking), its first item next; No, a stop."""
+    state = "full" if pallet.mode == "unstack" else "empty"
+    return _named(f"pallet {{name}}: counters reloaded from file. Is the pallet {state} (new)?", pallet, limit)
+
+
+def known_message(pallet: Pallet, limit: int) -> str:
+    """The stop when the operator said No or did not answer: the counters stay the file's, the flag FALSE."""
+    return _named("pallet {name}: counters reloaded from file: set them, then the known flag", pallet, limit)
+
+
 def select_message() -> str:
     return "no pallet program selected: the PLC sets one select input"
 
@@ -101,6 +113,8 @@ def all_messages(pallet: Pallet, limit: int) -> list[str]:
         empty_message(pallet, limit),
         counters_message(pallet, limit),
         *([reset_held_message(pallet, limit)] if pallet.io.reset else []),
+        known_question(pallet, limit),
+        known_message(pallet, limit),
         *([released_question(pallet, limit), released_message(pallet, limit)] if pallet.mode == "stack" else []),
         *(
             still_waiting_message(pallet, name, limit) if name in WAITS_ON else wait_message(pallet, name, limit)

@@ -23,6 +23,9 @@ MODULE pal_eur_in
   ! regeneration (a program load replaces the program modules, not a system module). They
   ! move only once the gripper's sensor confirmed the grip (the box has left the pallet), so a restart resumes at
   ! the top box still on the pallet. Layer 0, box 0 means the pallet is empty.
+  ! The counters come back with their file's values when the system module is loaded again from its file (as a
+  ! reset of RAPID does); pal_eur_in_known comes back FALSE with them, and then the program takes no item until the
+  ! PLC's reset or the operator's Yes says the pallet is new; No or no answer in 60.0 s: a stop.
   ! The output doEurInEmpty is on while the pallet is empty (the PLC's cue to swap it).
   ! The reset handshake: with the PLC's input diResetEurIn on (a full pallet in place) the program
   ! turns doEurInEmpty off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
@@ -96,6 +99,8 @@ MODULE pal_eur_in
     VAR num row;
     VAR bool held;
     VAR bool late;
+    VAR num answer;
+    VAR errnum unanswered;
     VAR bool up_q;
     VAR jointtarget now;
     ! the counters as a restart finds them: an empty pallet, or numbers outside the stack, stop
@@ -110,6 +115,26 @@ MODULE pal_eur_in
       ! an item held since a stop: the gripper kept closed (the stop, or a release that did not finish, may have
       ! left the output off with the item still in it)
       SetDO doGripClose, 1;
+    ENDIF
+    IF NOT pal_eur_in_known THEN
+      ! the counters as their file gives them (the store loaded again from its file, as after a reset of RAPID):
+      ! not what stands on the pallet, which may be part-built; no item until the pallet is known to be new
+      IF DInput(diResetEurIn) = 1 THEN
+        ! the PLC says a new pallet is in place: its handshake, the done output off, the reset dropped in return
+        SetDO doEurInEmpty, 0;
+        WaitDI diResetEurIn, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet eur_in: the PLC's reset did not go off in 10 s, counters kept";
+        ENDIF
+      ELSE
+        TPReadFK answer, "pallet eur_in: counters reloaded from file. Is the pallet full (new)?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
+        IF unanswered <> 0 OR answer <> 1 THEN
+          stack_stop "pallet eur_in: counters reloaded from file: set them, then the known flag";
+        ENDIF
+      ENDIF
+      pal_eur_in_layer := 5;
+      pal_eur_in_box := 8;
+      pal_eur_in_known := TRUE;
     ENDIF
     ! the PLC's "pallet empty" output: on while the counters say so
     IF pal_eur_in_layer = 0 AND pal_eur_in_box = 0 THEN

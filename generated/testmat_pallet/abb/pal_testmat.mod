@@ -21,6 +21,9 @@ MODULE pal_testmat
   ! regeneration (a program load replaces the program modules, not a system module). They
   ! move only once the gripper's sensor confirmed the release, so a restart resumes at
   ! the first box not yet placed. Layer 6, box 1 means the pallet is full.
+  ! The counters come back with their file's values when the system module is loaded again from its file (as a
+  ! reset of RAPID does); pal_testmat_known comes back FALSE with them, and then the program takes no item until the
+  ! PLC's reset or the operator's Yes says the pallet is new; No or no answer in 60.0 s: a stop.
   ! The output doPalletFull is on while the pallet is full (the PLC's cue to swap it).
   ! The reset handshake: with the PLC's input diPalletReset on (an empty pallet in place) the program
   ! turns doPalletFull off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
@@ -96,6 +99,7 @@ MODULE pal_testmat
     VAR bool held;
     VAR bool late;
     VAR num answer;
+    VAR errnum unanswered;
     VAR bool up_q;
     VAR num up_z;
     VAR robtarget high;
@@ -113,12 +117,37 @@ MODULE pal_testmat
       ! left the output off with the item still in it)
       SetDO doGripClose, 1;
     ENDIF
+    IF NOT pal_testmat_known THEN
+      ! the counters as their file gives them (the store loaded again from its file, as after a reset of RAPID):
+      ! not what stands on the pallet, which may be part-built; no item until the pallet is known to be new
+      IF DInput(diPalletReset) = 1 THEN
+        ! the PLC says a new pallet is in place: its handshake, the done output off, the reset dropped in return
+        SetDO doPalletFull, 0;
+        WaitDI diPalletReset, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet testmat: the PLC's reset did not go off in 10 s, counters kept";
+        ENDIF
+      ELSE
+        TPReadFK answer, "pallet testmat: counters reloaded from file. Is the pallet empty (new)?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
+        IF unanswered <> 0 OR answer <> 1 THEN
+          stack_stop "pallet testmat: counters reloaded from file: set them, then the known flag";
+        ENDIF
+      ENDIF
+      pal_testmat_layer := 1;
+      pal_testmat_box := 1;
+      pal_testmat_known := TRUE;
+    ENDIF
     IF pal_testmat_layer < 0 THEN
       ! a stop came during a release (the counters marked): is the item down?
       pal_testmat_layer := -pal_testmat_layer;
       IF stack_valid() AND NOT held THEN
         ! nothing in the gripper: only the operator can tell
-        TPReadFK answer, "pallet testmat: stopped in a release. Is the item below the gripper down?", "Yes", stEmpty, stEmpty, stEmpty, "No";
+        TPReadFK answer, "pallet testmat: stopped in a release. Is the item below the gripper down?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
+        IF unanswered <> 0 THEN
+          ! no answer: the mark kept, the question left to the next start
+          pal_testmat_layer := -pal_testmat_layer;
+          stack_stop "pallet testmat: stopped in a release: check the item, then set the counters";
+        ENDIF
         IF answer = 1 THEN
           ! down: the counters move on as after a confirmed release
           IF pal_testmat_box = 0 THEN
