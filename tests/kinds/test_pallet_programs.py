@@ -294,3 +294,25 @@ def test_a_store_reloaded_from_its_file_never_starts_a_part_built_pallet(name, o
     cell = load_cell(PALLETS / "testmat_pallet.toml")
     found = mutant_mismatches(cell, "abb", name, old, new)
     assert found and scenario in found[0], found
+
+
+# the move from the entry to the approach at the travel speed again, as the programs had it: the box comes down beside
+# the layer's boxes at the travel speed (dtrans has no speeds)
+APPROACH_AT_TRAVEL = [
+    ("ur", "pal_testmat.script", "z + 5.0000, a), a=1.2, v=0.0500,", "z + 5.0000, a), a=1.2, v=0.2500,"),
+    (
+        "kuka",
+        "pal_testmat.src",
+        "    $VEL.CP = 0.0500 ; m/s, the cell's work speed (50.0 mm/s): the approach and the target\n"
+        "    LIN APPROACH C_DIS\n",
+        "    $VEL.CP = 0.2500\n    LIN APPROACH C_DIS\n    $VEL.CP = 0.0500\n",
+    ),
+    ("abb", "pal_testmat.mod", "STACK_AY{row}, 5.0000), stack_work,", "STACK_AY{row}, 5.0000), stack_travel,"),
+]
+
+
+@pytest.mark.parametrize(("target", "name", "old", "new"), APPROACH_AT_TRAVEL)
+def test_the_approach_goes_at_the_work_speed(target, name, old, new):
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = mutant_mismatches(cell, target, name, old, new)
+    assert found and "approach" in found[0] and "expected" in found[0], found  # the move's speed

@@ -360,9 +360,9 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
     """Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint, then
     straight down) above Q (the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to the
     transit height (transit_pose: the box clear of the layer's top), the pallet waited for again (it may have been
-    taken away while the arm was at Q), above the entry at that height (joint), the entry, approach, target (slow,
-    exact), release, retreat (slow), entry; the counters advance once the release is confirmed. Per slip sheet the
-    same from the sheet stack onto the pallet's centre (the transit height over the sheet's place: its top +
+    taken away while the arm was at Q), above the entry at that height (joint), the entry, approach (slow), target
+    (slow, exact), release, retreat (slow), entry; the counters advance once the release is confirmed. Per slip sheet
+    the same from the sheet stack onto the pallet's centre (the transit height over the sheet's place: its top +
     transit_dz). At the end: over Q at the last entry's height (joint), above Q, off the pallet, before the
     message. The gripper, empty or holding a box, crosses the stack only above the entry or transit height."""
     pallet, frame = run.pallet, run.frame
@@ -393,7 +393,7 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
                 (risen(_lifted(source, lift), transit[2, 3]), "up from Q", False, False),
                 (transit, "transit", False, False),
                 (frame @ p.entry, "entry", False, False),
-                (frame @ p.approach, "approach", False, False),
+                (frame @ p.approach, "approach", True, False),
                 (frame @ p.target, "target", True, True),
             )
             retreat = ((frame @ p.retreat, "retreat", True, False), (frame @ p.entry, "entry", False, False))
@@ -439,10 +439,10 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
 def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool = False) -> str | None:
     """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
     order: (after the box before it: straight up over Q to this box's transit height) above the entry at the transit
-    height (transit_pose, joint), entry, approach, target (slow, exact), grip; the counters move to the next box once
-    the grip is confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height, over Q at that
-    height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the pallet waited for at
-    Q; above Q (slow). The empty gripper, like the carried box, crosses the stack only at the transit height. from_q:
+    height (transit_pose, joint), entry, approach (slow), target (slow, exact), grip; the counters move to the next box
+    once the grip is confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height, over Q at
+    that height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the pallet waited for
+    at Q; above Q (slow). The empty gripper, like the carried box, crosses the stack only at the transit height. from_q:
     the arm starts above Q (a held box put down there first)."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
@@ -457,7 +457,7 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
             run.move("linear", risen(above, transit[2, 3]), f"{where} up from Q", False, False)
         run.move("joint", transit, f"{where} transit", False, False)
         run.move("linear", frame @ p.entry, f"{where} entry", False, False)
-        run.move("linear", frame @ p.approach, f"{where} approach", False, False)
+        run.move("linear", frame @ p.approach, f"{where} approach", True, False)
         run.move("linear", frame @ p.target, f"{where} target", True, True)
         halt = run.grip()
         if halt:

@@ -10,7 +10,7 @@ MODULE pal_eur
   ! move, then straight down) above Q (the pallet in place and a box at Q waited for), down to Q (slow, fine),
   ! grip, back up (slow), up to the transit height (300.0000 mm over the layer's top), the pallet waited for
   ! again (it may have been taken away meanwhile), then in the pallet's work object above the entry at that
-  ! height (joint move), entry, approach and target (slow, fine), release, retreat (slow), entry.
+  ! height (joint move), entry, approach (slow) and target (slow, fine), release, retreat (slow), entry.
   ! Per slip sheet (box 0 of a layer: the sheet below it): above the sheet stack (the pallet and a sheet
   ! waited for), down to it, grip, back up, up to the transit height over the sheet's place, the pallet waited
   ! for again, above the sheet's place at that height (joint move), down onto the layer, release, back up.
@@ -359,7 +359,7 @@ MODULE pal_eur
       ENDIF
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       IF DInput(diGripClosed) = 0 THEN
         ! the item no longer in the gripper: lost on the way, not placed

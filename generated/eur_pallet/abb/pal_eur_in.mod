@@ -9,7 +9,7 @@ MODULE pal_eur_in
   ! The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
   ! placing order: (after the box before it, the empty gripper straight up over Q to this box's transit
   ! height) in the pallet's work object above the entry at the transit height (300.0000 mm over the layer's
-  ! top; joint move), entry, approach and target (slow, fine), grip, retreat (slow), entry, up to the transit
+  ! top; joint move), entry, approach (slow) and target (slow, fine), grip, retreat (slow), entry, up to the transit
   ! height; then over Q at that height (joint move), above Q (Q clear waited for), down to Q (slow, fine),
   ! release, (the pallet waited for again) back up (slow). The gripper, empty or holding a box, crosses the
   ! stack only at the transit height.
@@ -242,7 +242,7 @@ MODULE pal_eur_in
       ! above the entry at the transit height (the gripper clear of the stack), then down to the entry
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       stack_grip;
       GripLoad stack_box;

@@ -10,7 +10,7 @@ MODULE pal_testmat
   ! move, then straight down) above Q (the pallet in place and a box at Q waited for), down to Q (slow, fine),
   ! grip, back up (slow), up to the transit height (36.0000 mm over the layer's top), the pallet waited for
   ! again (it may have been taken away meanwhile), then in the pallet's work object above the entry at that
-  ! height (joint move), entry, approach and target (slow, fine), release, retreat (slow), entry.
+  ! height (joint move), entry, approach (slow) and target (slow, fine), release, retreat (slow), entry.
   ! Where the arm passes a pose the move blends (stack_zone, 2.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
@@ -277,7 +277,7 @@ MODULE pal_testmat
       ENDIF
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       IF DInput(diGripClosed) = 0 THEN
         ! the item no longer in the gripper: lost on the way, not placed
