@@ -316,3 +316,64 @@ def test_the_approach_goes_at_the_work_speed(target, name, old, new):
     cell = load_cell(PALLETS / "testmat_pallet.toml")
     found = mutant_mismatches(cell, target, name, old, new)
     assert found and "approach" in found[0] and "expected" in found[0], found  # the move's speed
+
+
+def _unstacking_testmat(tmp_path):
+    """Source 004's test cell unstacking (no bundled cell unstacks on UR): no slip sheets, Q clear waited for, above
+    Q high enough to clear a box lying there."""
+    text = (PALLETS / "testmat_pallet.toml").read_text()
+    lines = [line for line in text.splitlines() if not line.startswith(("slip_sheet =", "sheet_ready ="))]
+    text = "\n".join(lines).replace("part_present = ", "place_clear = ")
+    text = text.replace("pick_lift = 30.0", 'pick_lift = 40.0\nmode = "unstack"')
+    path = tmp_path / "testmat_pallet.toml"
+    path.write_text(text)
+    return load_cell(path)
+
+
+# unstacking, a box dropped during the retreat: a program that does not read the gripper's sensor at Q counts it as
+# taken (as the programs did, which moved the counters at the grip); one whose restart ignores the mark goes on as if
+# the box had reached Q
+DROPPED_ON_THE_WAY = [
+    (
+        "ur",
+        "pal_testmat.script",
+        "    if get_standard_digital_in(1) != True:   # the box lost",
+        "    if False:   #",
+        "box_lost",
+    ),
+    (
+        "kuka",
+        "pal_eur_in.src",
+        "    IF NOT $IN[18] THEN ; the box no longer",
+        "    IF FALSE THEN ; the box no longer",
+        "box_lost",
+    ),
+    (
+        "abb",
+        "pal_eur_in.mod",
+        "      IF DInput(diGripClosed) = 0 THEN\n        ! the box no",
+        "      IF FALSE THEN\n        !",
+        "box_lost",
+    ),
+    (
+        "dtrans",
+        "pal_eur_in.prg",
+        "  If DIn(2) <> True Then\n    // the box no longer",
+        "  If 1 == 2 Then\n    //",
+        "box_lost",
+    ),
+    (
+        "kuka",
+        "pal_eur_in.src",
+        "  IF PAL_EUR_IN_LAYER < 0 THEN ; a stop between",
+        "  IF FALSE THEN ; a stop between",
+        "stopped_on_the_way",
+    ),
+]
+
+
+@pytest.mark.parametrize(("target", "name", "old", "new", "scenario"), DROPPED_ON_THE_WAY)
+def test_an_unstacked_box_dropped_on_the_way_to_q_is_not_counted_as_taken(tmp_path, target, name, old, new, scenario):
+    cell = _unstacking_testmat(tmp_path) if target == "ur" else load_cell(PALLETS / "eur_pallet.toml")
+    found = mutant_mismatches(cell, target, name, old, new)
+    assert found and found[0].startswith(scenario), found

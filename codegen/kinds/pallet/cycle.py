@@ -298,6 +298,20 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
                 return replace(out, known=False, known_asked=known_asked)
         start = keys[0]
     asked = False
+    if pallet.mode == "unstack" and start[0] < 0:  # a stop between the grip and Q (the counters marked)
+        start = (-start[0], start[1])
+        if start in keys:
+            following = keys.index(start) + 1
+            after = keys[following] if following < len(keys) else done
+            if case.closed:  # the box gripped is still in the gripper: it left the pallet, put down at Q below
+                start = after
+            else:  # the gripper empty: only the operator can tell whether the box is back in its place
+                if case.answer is None:
+                    marked = (-start[0], start[1])
+                    return Expected((), (), released_message(pallet, limit), marked, start, holds=False)
+                asked = True
+                if case.answer == NO:  # not on the pallet: the counters move on as after a box put down at Q
+                    start = after
     if pallet.mode == "stack" and start[0] < 0:  # a stop came during a release: is the item down?
         start = (-start[0], start[1])
         if start in keys and not case.closed:  # the gripper holds nothing: only the operator can tell
@@ -439,11 +453,12 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
 def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool = False) -> str | None:
     """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
     order: (after the box before it: straight up over Q to this box's transit height) above the entry at the transit
-    height (transit_pose, joint), entry, approach (slow), target (slow, exact), grip; the counters move to the next box
-    once the grip is confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height, over Q at
-    that height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the pallet waited for
-    at Q; above Q (slow). The empty gripper, like the carried box, crosses the stack only at the transit height. from_q:
-    the arm starts above Q (a held box put down there first)."""
+    height (transit_pose, joint), entry, approach (slow), target (slow, exact), grip; once the grip is confirmed the
+    counters are marked (the layer negative); retreat (slow), entry, up to the transit height, over Q at that height
+    (joint), above Q (Q clear waited for), Q (slow, exact); the sensor still on (the box not dropped on the way), the
+    counters move to the next box, release; for the next box the pallet waited for at Q; above Q (slow). The empty
+    gripper, like the carried box, crosses the stack only at the transit height. from_q: the arm starts above Q (a
+    held box put down there first)."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     halt = run.wait("pallet_present")
@@ -462,7 +477,7 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
         halt = run.grip()
         if halt:
             return halt
-        run.counters = done if last else todo[i + 1].key
+        run.counters = (-p.layer, p.number)  # marked until the box reaches Q: a stop meanwhile leaves the question
         run.move("linear", frame @ p.retreat, f"{where} retreat", True, False)
         run.move("linear", frame @ p.entry, f"{where} entry", False, False)
         run.move("linear", transit, f"{where} transit", False, False)
@@ -472,6 +487,10 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
         if halt:
             return halt
         run.move("linear", pick, f"{where} place at Q", True, True)
+        halt = _still_held(run)  # the box dropped on the way (during the retreat): it stays counted as on the pallet
+        if halt:
+            return halt
+        run.counters = done if last else todo[i + 1].key
         halt = run.release()
         if halt:
             return halt
@@ -483,8 +502,8 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
 
 
 def _still_held(run) -> str | None:
-    """Stacking, at the target before the release: the gripper's sensor still says it holds the item (a box lost on
-    the way must not be counted as placed): the stop's message if it does not."""
+    """Before the release (stacking at the target, unstacking at Q): the gripper's sensor still says it holds the item
+    (a box lost on the way must not be counted as placed, or as taken to Q): the stop's message if it does not."""
     if run.case.lost and run.gripped:
         return lost_message(run.pallet, message_limit(run.cell))
     return None

@@ -145,6 +145,7 @@ def own_cases(pallet, rng) -> list[PalletCase]:
     else:
         out.append(PalletCase("gripper_stuck_at_q", *first, "stuck"))
         out.append(PalletCase("place_not_clear", *first, missing="place_clear"))
+        out.append(PalletCase("box_lost", *first, lost=True))  # dropped in the retreat: not counted as taken
     out.append(PalletCase("pallet_absent", *keys[min(2, len(keys) - 1)], missing="pallet_present"))
     # the pallet taken away once the gripper closed (at Q: the arm must not carry the box, or a sheet, over its place)
     out.append(PalletCase("pallet_taken", *first, taken=True))
@@ -198,24 +199,28 @@ def _reloaded_store_cases(pallet) -> list[PalletCase]:
 
 
 def _release_cases(pallet, target) -> list[PalletCase]:
-    """Stacking, a stop during a release (the counters marked, the layer negative): with the gripper empty the
-    operator says whether the item is down (Yes: the counters move on, also past the last box; No: it is placed
-    again), or a program that cannot ask stops with a message; with the item still held it is finished."""
-    if pallet.mode != "stack":
-        return []
+    """Stacking, a stop during a release; unstacking, a stop between the grip and Q (the counters marked, the layer
+    negative): with the gripper empty the operator says whether the item is down (unstacking: back in its place on
+    the pallet) and the counters move on (also past the last box) or stay, or a program that cannot ask stops with a
+    message; with the item still held it is finished (unstacking: put down at Q, the counters past it)."""
     keys = [item.key for item in items(pallet)]
     mid, last = keys[len(keys) // 2], keys[-1]
-    out = [PalletCase("stopped_in_release", -mid[0], mid[1], closed=True)]
+    name = "stopped_in_release" if pallet.mode == "stack" else "stopped_on_the_way"
+    # unstacking, the answer that moves the counters past the box is No (the box is not back in its place)
+    on = YES if pallet.mode == "stack" else NO
+    out = [PalletCase(name, -mid[0], mid[1], closed=True)]
+    if pallet.mode == "unstack":  # the last box held: put down at Q, the pallet empty after it
+        out.append(PalletCase(name, -last[0], last[1], closed=True))
     if not KIND.facts(target).get("asks"):
-        return [*out, PalletCase("stopped_in_release", -mid[0], mid[1])]
+        return [*out, PalletCase(name, -mid[0], mid[1])]
     # a question the operator leaves unanswered: where the program asks within a time, its stop, the mark kept
-    unanswered = [PalletCase("stopped_in_release", -mid[0], mid[1])] if KIND.facts(target).get("asks_within_s") else []
+    unanswered = [PalletCase(name, -mid[0], mid[1])] if KIND.facts(target).get("asks_within_s") else []
     return [
         *out,
         *unanswered,
-        PalletCase("stopped_in_release", -mid[0], mid[1], answer=YES),
-        PalletCase("stopped_in_release", -mid[0], mid[1], answer=NO),
-        PalletCase("stopped_in_release", -last[0], last[1], answer=YES),
+        PalletCase(name, -mid[0], mid[1], answer=YES),
+        PalletCase(name, -mid[0], mid[1], answer=NO),
+        PalletCase(name, -last[0], last[1], answer=on),
     ]
 
 
