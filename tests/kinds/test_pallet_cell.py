@@ -387,10 +387,10 @@ def test_the_box_payload_is_in_force_from_the_grip_to_the_release(testmat, targe
         (
             "abb",
             "pal_testmat.mod",
-            "STACK_AY{row}, 5.0000), stack_travel, stack_zone,",
-            "STACK_AY{row}, 5.0000), stack_travel, fine,",
+            "STACK_AY{row}, 5.0000), stack_work, stack_zone,",
+            "STACK_AY{row}, 5.0000), stack_work, fine,",
         ),
-        ("ur", "pal_testmat.script", "z + 5.0000, a), a=1.2, v=0.2500, r=0.0020)", "z + 5.0000, a), a=1.2, v=0.2500)"),
+        ("ur", "pal_testmat.script", "z + 5.0000, a), a=1.2, v=0.0500, r=0.0020)", "z + 5.0000, a), a=1.2, v=0.0500)"),
     ],
 )
 def test_travel_blends_and_the_arm_stops_at_pick_place_and_contact(testmat, target, name, old, new):

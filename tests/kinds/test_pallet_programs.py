@@ -377,3 +377,37 @@ def test_an_unstacked_box_dropped_on_the_way_to_q_is_not_counted_as_taken(tmp_pa
     cell = _unstacking_testmat(tmp_path) if target == "ur" else load_cell(PALLETS / "eur_pallet.toml")
     found = mutant_mismatches(cell, target, name, old, new)
     assert found and found[0].startswith(scenario), found
+
+
+def _flag_before_grip(text: str, flag: str, grip: str) -> bool:
+    """In the grip routine, the holds flag is set TRUE before the line that sets the gripper's output to grip."""
+    lines = text.splitlines()
+    routine = next(
+        i for i, line in enumerate(lines) if line.strip() in ("LOCAL PROC stack_grip()", "DEFFCT BOOL PAL_GRIP()")
+    )
+    at = next(i for i, line in enumerate(lines) if i > routine and line.strip().startswith(grip))
+    before = [line.strip() for line in lines[routine:at]]
+    return any(line.startswith((f"{flag} := TRUE;", f"{flag} = TRUE")) for line in before)
+
+
+# (target, file, the flag, the grip output's line as it starts)
+GRIPPING_MARKS = [
+    ("abb", "pal_eur.mod", "pal_eur_holds", "SetDO doGripClose, 1;"),
+    ("abb", "pal_eur_in.mod", "pal_eur_in_holds", "SetDO doGripClose, 1;"),
+    ("kuka", "pal_eur.src", "PAL_EUR_HOLDS", "$OUT[17] = TRUE"),
+    ("kuka", "pal_eur_in.src", "PAL_EUR_IN_HOLDS", "$OUT[17] = TRUE"),
+]
+
+
+@pytest.mark.parametrize(("target", "name", "flag", "grip"), GRIPPING_MARKS)
+def test_the_holds_flag_is_set_before_the_grip_output(target, name, flag, grip):
+    """A stop between the grip output and the sensor's answer must leave what the gripper then holds marked as this
+    program's item (else the next start stops with "the item held is another program's"). No verify run can stop a
+    program between two of its statements, so this is checked on the text: the flag set TRUE before the output (and a
+    program with the flag after it, as before, is refused by the same check)."""
+    cell = load_cell(PALLETS / "eur_pallet.toml")
+    (own,) = [f for p in sources(cell, target, "pallet") for f in _named(p, name)]
+    assert _flag_before_grip(own.text, flag, grip)
+    mark = f"{flag} := TRUE;" if target == "abb" else f"{flag} = TRUE"
+    old_order = "\n".join(line for line in own.text.splitlines() if not line.strip().startswith(mark))
+    assert not _flag_before_grip(old_order, flag, grip)

@@ -370,14 +370,16 @@ MODULE pal_carton
   LOCAL PROC stack_grip()
     ! grip the box (or sheet) at its pick: doGripClose (I/O configuration) set to 1 after the fine point,
     ! then wait until diGripClosed is 1; not in 2 s: stop with a message
+    ! gripping: the flag set before the output, so a stop before the sensor answers leaves what the gripper then
+    ! holds marked as this program's item
+    pal_carton_holds := TRUE;
     SetDO doGripClose, 1;
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
-    ! confirmed: this program's item in the gripper
-    pal_carton_holds := TRUE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       ! the grip not confirmed: the gripper opened again, nothing carried off half-held
       SetDO doGripClose, 0;
+      pal_carton_holds := FALSE;
       stack_stop "no feedback from the gripper in 2 s";
     ENDIF
     RAISE;
