@@ -182,9 +182,10 @@ def test_a_reset_counts_only_once_the_plc_drops_it_in_answer_to_the_done_output(
         ),
         "dtrans": ("pal_testmat.prg", "    While DIn(5) == True\n", "    While False\n", "    SetDO 3, False\n"),
     }[target]
-    found = mutant_mismatches(testmat, target, name, waited, skipped)
+    every = 0 if target == "abb" else 1  # ABB: the handshake of a store reloaded from its file, too
+    found = mutant_mismatches(testmat, target, name, waited, skipped, every)
     assert found and found[0].startswith("reset_held"), found
-    found = mutant_mismatches(testmat, target, name, answer, "")
+    found = mutant_mismatches(testmat, target, name, answer, "", every)
     assert found and found[0].startswith("pallet_changed"), found
 
 
@@ -387,10 +388,10 @@ def test_the_box_payload_is_in_force_from_the_grip_to_the_release(testmat, targe
         (
             "abb",
             "pal_testmat.mod",
-            "STACK_AY{row}, 5.0000), stack_travel, stack_zone,",
-            "STACK_AY{row}, 5.0000), stack_travel, fine,",
+            "STACK_AY{row}, 5.0000), stack_work, stack_zone,",
+            "STACK_AY{row}, 5.0000), stack_work, fine,",
         ),
-        ("ur", "pal_testmat.script", "z + 5.0000, a), a=1.2, v=0.2500, r=0.0020)", "z + 5.0000, a), a=1.2, v=0.2500)"),
+        ("ur", "pal_testmat.script", "z + 5.0000, a), a=1.2, v=0.0500, r=0.0020)", "z + 5.0000, a), a=1.2, v=0.0500)"),
     ],
 )
 def test_travel_blends_and_the_arm_stops_at_pick_place_and_contact(testmat, target, name, old, new):
@@ -593,7 +594,7 @@ def test_after_a_stop_in_a_release_the_operator_decides_whether_the_item_is_down
             "        set_standard_digital_out(0, False)   # the grip not confirmed: the gripper",
         ),
         ("kuka", "pal_testmat.src", "      $OUT[17] = FALSE ; the grip not confirmed: the gripper"),
-        ("abb", "pal_testmat.mod", "      SetDO doGripClose, 0;\n      stack_stop"),
+        ("abb", "pal_testmat.mod", "      SetDO doGripClose, 0;\n      pal_testmat_holds := FALSE;\n      stack_stop"),
         ("dtrans", "pal_testmat.prg", "      SetDO 1, False  // the grip not confirmed: the gripper"),
     ],
 )
@@ -614,7 +615,7 @@ def test_a_grip_not_confirmed_opens_the_gripper_before_the_stop(testmat, target,
             "kuka",
             "pal_testmat.src",
             "  IF HELD AND NOT PAL_TESTMAT_HOLDS THEN",
-            "  PAL_TESTMAT_HOLDS = TRUE ; confirmed",
+            "  PAL_TESTMAT_HOLDS = TRUE ; gripping",
         ),
         ("abb", "pal_testmat.mod", "    IF held AND NOT pal_testmat_holds THEN", "    pal_testmat_holds := TRUE;"),
     ],

@@ -267,3 +267,147 @@ def test_the_move_above_q_is_a_joint_target_where_the_nearest_turn_would_be_a_ti
     cell = example("eur_pallet")
     found = mutant_mismatches(cell, target, name, old, new)
     assert found and "the nearest solution is not unique (axis 6 half a turn away either way" in found[0], found
+
+
+# the ABB store loaded again from its file (as a reset of RAPID does) mid-pallet: a program without the known flag's
+# check takes the file's layer 1 box 1 and swings into the part-built stack; a file saved with the flag TRUE makes the
+# file's counters look current; a question without \MaxTime waits at the pendant for ever
+KNOWN_MUTATIONS = [
+    ("pal_testmat.mod", "    IF NOT pal_testmat_known THEN\n", "    IF FALSE THEN\n", "store_reloaded"),
+    (
+        "pallet_data.sys",
+        "PERS bool pal_testmat_known := FALSE;",
+        "PERS bool pal_testmat_known := TRUE;",
+        "store_reloaded",
+    ),
+    (
+        "pal_testmat.mod",
+        " \\MaxTime:=60.0 \\BreakFlag:=unanswered;\n        IF unanswered <> 0 THEN",
+        ";\n        IF unanswered <> 0 THEN",
+        "stopped_in_release",
+    ),
+]
+
+
+@pytest.mark.parametrize(("name", "old", "new", "scenario"), KNOWN_MUTATIONS)
+def test_a_store_reloaded_from_its_file_never_starts_a_part_built_pallet(name, old, new, scenario):
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = mutant_mismatches(cell, "abb", name, old, new)
+    assert found and scenario in found[0], found
+
+
+# the move from the entry to the approach at the travel speed again, as the programs had it: the box comes down beside
+# the layer's boxes at the travel speed (dtrans has no speeds)
+APPROACH_AT_TRAVEL = [
+    ("ur", "pal_testmat.script", "z + 5.0000, a), a=1.2, v=0.0500,", "z + 5.0000, a), a=1.2, v=0.2500,"),
+    (
+        "kuka",
+        "pal_testmat.src",
+        "    $VEL.CP = 0.0500 ; m/s, the cell's work speed (50.0 mm/s): the approach and the target\n"
+        "    LIN APPROACH C_DIS\n",
+        "    $VEL.CP = 0.2500\n    LIN APPROACH C_DIS\n    $VEL.CP = 0.0500\n",
+    ),
+    ("abb", "pal_testmat.mod", "STACK_AY{row}, 5.0000), stack_work,", "STACK_AY{row}, 5.0000), stack_travel,"),
+]
+
+
+@pytest.mark.parametrize(("target", "name", "old", "new"), APPROACH_AT_TRAVEL)
+def test_the_approach_goes_at_the_work_speed(target, name, old, new):
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = mutant_mismatches(cell, target, name, old, new)
+    assert found and "approach" in found[0] and "expected" in found[0], found  # the move's speed
+
+
+def _unstacking_testmat(tmp_path):
+    """Source 004's test cell unstacking (no bundled cell unstacks on UR): no slip sheets, Q clear waited for, above
+    Q high enough to clear a box lying there."""
+    text = (PALLETS / "testmat_pallet.toml").read_text()
+    lines = [line for line in text.splitlines() if not line.startswith(("slip_sheet =", "sheet_ready ="))]
+    text = "\n".join(lines).replace("part_present = ", "place_clear = ")
+    text = text.replace("pick_lift = 30.0", 'pick_lift = 40.0\nmode = "unstack"')
+    path = tmp_path / "testmat_pallet.toml"
+    path.write_text(text)
+    return load_cell(path)
+
+
+# unstacking, a box dropped during the retreat: a program that does not read the gripper's sensor at Q counts it as
+# taken (as the programs did, which moved the counters at the grip); one whose restart ignores the mark goes on as if
+# the box had reached Q
+DROPPED_ON_THE_WAY = [
+    (
+        "ur",
+        "pal_testmat.script",
+        "    if get_standard_digital_in(1) != True:   # the box lost",
+        "    if False:   #",
+        "box_lost",
+    ),
+    (
+        "kuka",
+        "pal_eur_in.src",
+        "    IF NOT $IN[18] THEN ; the box no longer",
+        "    IF FALSE THEN ; the box no longer",
+        "box_lost",
+    ),
+    (
+        "abb",
+        "pal_eur_in.mod",
+        "      IF DInput(diGripClosed) = 0 THEN\n        ! the box no",
+        "      IF FALSE THEN\n        !",
+        "box_lost",
+    ),
+    (
+        "dtrans",
+        "pal_eur_in.prg",
+        "  If DIn(2) <> True Then\n    // the box no longer",
+        "  If 1 == 2 Then\n    //",
+        "box_lost",
+    ),
+    (
+        "kuka",
+        "pal_eur_in.src",
+        "  IF PAL_EUR_IN_LAYER < 0 THEN ; a stop between",
+        "  IF FALSE THEN ; a stop between",
+        "stopped_on_the_way",
+    ),
+]
+
+
+@pytest.mark.parametrize(("target", "name", "old", "new", "scenario"), DROPPED_ON_THE_WAY)
+def test_an_unstacked_box_dropped_on_the_way_to_q_is_not_counted_as_taken(tmp_path, target, name, old, new, scenario):
+    cell = _unstacking_testmat(tmp_path) if target == "ur" else load_cell(PALLETS / "eur_pallet.toml")
+    found = mutant_mismatches(cell, target, name, old, new)
+    assert found and found[0].startswith(scenario), found
+
+
+def _flag_before_grip(text: str, flag: str, grip: str) -> bool:
+    """In the grip routine, the holds flag is set TRUE before the line that sets the gripper's output to grip."""
+    lines = text.splitlines()
+    routine = next(
+        i for i, line in enumerate(lines) if line.strip() in ("LOCAL PROC stack_grip()", "DEFFCT BOOL PAL_GRIP()")
+    )
+    at = next(i for i, line in enumerate(lines) if i > routine and line.strip().startswith(grip))
+    before = [line.strip() for line in lines[routine:at]]
+    return any(line.startswith((f"{flag} := TRUE;", f"{flag} = TRUE")) for line in before)
+
+
+# (target, file, the flag, the grip output's line as it starts)
+GRIPPING_MARKS = [
+    ("abb", "pal_eur.mod", "pal_eur_holds", "SetDO doGripClose, 1;"),
+    ("abb", "pal_eur_in.mod", "pal_eur_in_holds", "SetDO doGripClose, 1;"),
+    ("kuka", "pal_eur.src", "PAL_EUR_HOLDS", "$OUT[17] = TRUE"),
+    ("kuka", "pal_eur_in.src", "PAL_EUR_IN_HOLDS", "$OUT[17] = TRUE"),
+]
+
+
+@pytest.mark.parametrize(("target", "name", "flag", "grip"), GRIPPING_MARKS)
+def test_the_holds_flag_is_set_before_the_grip_output(target, name, flag, grip):
+    """A stop between the grip output and the sensor's answer must leave what the gripper then holds marked as this
+    program's item (else the next start stops with "the item held is another program's"). No verify run can stop a
+    program between two of its statements, so this is checked on the text: the flag set TRUE before the output (and a
+    program with the flag after it, as before, is refused by the same check)."""
+    cell = load_cell(PALLETS / "eur_pallet.toml")
+    (own,) = [f for p in sources(cell, target, "pallet") for f in _named(p, name)]
+    assert _flag_before_grip(own.text, flag, grip)
+    mark = f"{flag} := TRUE;" if target == "abb" else f"{flag} = TRUE"
+    old_order = "\n".join(line for line in own.text.splitlines() if not line.strip().startswith(mark))
+    assert not _flag_before_grip(old_order, flag, grip)

@@ -15,6 +15,7 @@ from codegen.kinds.pallet.messages import (
     empty_message,
     foreign_message,
     full_message,
+    known_message,
     lost_message,
     message_limit,
     released_message,
@@ -67,6 +68,9 @@ class PalletCase:
     stale: bool = False  # another pallet's flag left set (its item taken out by hand): cleared by this program's grip
     lost: bool = False  # the first item gripped slips out of the gripper on its way to the pallet
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
+    # the counters' store loaded again from its file (as a reset of RAPID does): the counters are the file's, its
+    # known flag FALSE; the pallet may be part-built, so only the PLC's reset or the operator's Yes starts it
+    unknown: bool = False
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -95,6 +99,8 @@ class Expected:
     asked: bool = False  # the operator was asked whether an item released before a stop is down
     holds: bool = False  # at the end, the gripper holds an item this program gripped (its store's flag)
     gripped: bool = False  # the program confirmed a grip (where one task runs every pallet: the others' flags cleared)
+    known: bool = True  # at the end, the store's flag: its counters describe the pallet
+    known_asked: bool = False  # the operator was asked whether the pallet is new (the store reloaded from its file)
 
 
 @dataclass(frozen=True)
@@ -275,7 +281,37 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     put_down = case.closed and pallet.mode == "unstack"
     if case.closed and case.foreign:  # not this program's item: it stops before anything else
         return Expected((), (), foreign_message(pallet, limit), start, start)
+    # a held item: the gripper's output set to grip again first (a stop, or a release that did not finish, may have
+    # left it off while the item is still in the gripper)
+    said = [("gripper", cell.io.value, 0)] if case.closed else []
+    known_asked = False
+    if case.unknown:  # the counters are the store's file's: no item before the pallet is known to be new
+        if case.reset and pallet.io.reset:  # the PLC's handshake says so: the done output off, the reset dropped
+            said.append(("done", False, 0))
+            if case.reset_held:
+                message = reset_held_message(pallet, limit)
+                return Expected((), tuple(said), message, start, start, holds=case.closed, known=False)
+        else:  # the operator asked (a store with the flag is a target's that asks): Yes, a new pallet; No, or none
+            known_asked = True
+            if case.answer != YES:
+                out = Expected((), tuple(said), known_message(pallet, limit), start, start, holds=case.closed)
+                return replace(out, known=False, known_asked=known_asked)
+        start = keys[0]
     asked = False
+    if pallet.mode == "unstack" and start[0] < 0:  # a stop between the grip and Q (the counters marked)
+        start = (-start[0], start[1])
+        if start in keys:
+            following = keys.index(start) + 1
+            after = keys[following] if following < len(keys) else done
+            if case.closed:  # the box gripped is still in the gripper: it left the pallet, put down at Q below
+                start = after
+            else:  # the gripper empty: only the operator can tell whether the box is back in its place
+                if case.answer is None:
+                    marked = (-start[0], start[1])
+                    return Expected((), (), released_message(pallet, limit), marked, start, holds=False)
+                asked = True
+                if case.answer == NO:  # not on the pallet: the counters move on as after a box put down at Q
+                    start = after
     if pallet.mode == "stack" and start[0] < 0:  # a stop came during a release: is the item down?
         start = (-start[0], start[1])
         if start in keys and not case.closed:  # the gripper holds nothing: only the operator can tell
@@ -286,9 +322,7 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
             if case.answer == YES:  # down: the counters move on as after a confirmed release
                 following = keys.index(start) + 1
                 start = keys[following] if following < len(keys) else done
-    # a held item: the gripper's output set to grip again first (a stop, or a release that did not finish, may have
-    # left it off while the item is still in the gripper); then the PLC's full (empty) output, from the counters
-    said = [("gripper", cell.io.value, 0)] if case.closed else []
+    # then the PLC's full (empty) output, from the counters
     said.append(("done", start == done, 0))
     if start == done and not put_down:
         if case.reset and pallet.io.reset:  # the handshake: the done output off answers the PLC, which drops reset
@@ -316,7 +350,7 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
     if halt is None:  # the pallet is done: the PLC's cue to swap it
         run.outputs.append(("done", True, len(run.moves)))
-    return replace(run.result(halt, start), asked=asked)
+    return replace(run.result(halt, start), asked=asked, known_asked=known_asked)
 
 
 def _put_down(run: _Run) -> str | None:
@@ -340,9 +374,9 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
     """Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint, then
     straight down) above Q (the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to the
     transit height (transit_pose: the box clear of the layer's top), the pallet waited for again (it may have been
-    taken away while the arm was at Q), above the entry at that height (joint), the entry, approach, target (slow,
-    exact), release, retreat (slow), entry; the counters advance once the release is confirmed. Per slip sheet the
-    same from the sheet stack onto the pallet's centre (the transit height over the sheet's place: its top +
+    taken away while the arm was at Q), above the entry at that height (joint), the entry, approach (slow), target
+    (slow, exact), release, retreat (slow), entry; the counters advance once the release is confirmed. Per slip sheet
+    the same from the sheet stack onto the pallet's centre (the transit height over the sheet's place: its top +
     transit_dz). At the end: over Q at the last entry's height (joint), above Q, off the pallet, before the
     message. The gripper, empty or holding a box, crosses the stack only above the entry or transit height."""
     pallet, frame = run.pallet, run.frame
@@ -373,7 +407,7 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
                 (risen(_lifted(source, lift), transit[2, 3]), "up from Q", False, False),
                 (transit, "transit", False, False),
                 (frame @ p.entry, "entry", False, False),
-                (frame @ p.approach, "approach", False, False),
+                (frame @ p.approach, "approach", True, False),
                 (frame @ p.target, "target", True, True),
             )
             retreat = ((frame @ p.retreat, "retreat", True, False), (frame @ p.entry, "entry", False, False))
@@ -419,11 +453,12 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
 def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool = False) -> str | None:
     """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
     order: (after the box before it: straight up over Q to this box's transit height) above the entry at the transit
-    height (transit_pose, joint), entry, approach, target (slow, exact), grip; the counters move to the next box once
-    the grip is confirmed (the box has left the pallet); retreat (slow), entry, up to the transit height, over Q at that
-    height (joint), above Q (Q clear waited for), Q (slow, exact), release; for the next box the pallet waited for at
-    Q; above Q (slow). The empty gripper, like the carried box, crosses the stack only at the transit height. from_q:
-    the arm starts above Q (a held box put down there first)."""
+    height (transit_pose, joint), entry, approach (slow), target (slow, exact), grip; once the grip is confirmed the
+    counters are marked (the layer negative); retreat (slow), entry, up to the transit height, over Q at that height
+    (joint), above Q (Q clear waited for), Q (slow, exact); the sensor still on (the box not dropped on the way), the
+    counters move to the next box, release; for the next box the pallet waited for at Q; above Q (slow). The empty
+    gripper, like the carried box, crosses the stack only at the transit height. from_q: the arm starts above Q (a
+    held box put down there first)."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     halt = run.wait("pallet_present")
@@ -437,12 +472,12 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
             run.move("linear", risen(above, transit[2, 3]), f"{where} up from Q", False, False)
         run.move("joint", transit, f"{where} transit", False, False)
         run.move("linear", frame @ p.entry, f"{where} entry", False, False)
-        run.move("linear", frame @ p.approach, f"{where} approach", False, False)
+        run.move("linear", frame @ p.approach, f"{where} approach", True, False)
         run.move("linear", frame @ p.target, f"{where} target", True, True)
         halt = run.grip()
         if halt:
             return halt
-        run.counters = done if last else todo[i + 1].key
+        run.counters = (-p.layer, p.number)  # marked until the box reaches Q: a stop meanwhile leaves the question
         run.move("linear", frame @ p.retreat, f"{where} retreat", True, False)
         run.move("linear", frame @ p.entry, f"{where} entry", False, False)
         run.move("linear", transit, f"{where} transit", False, False)
@@ -452,6 +487,10 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
         if halt:
             return halt
         run.move("linear", pick, f"{where} place at Q", True, True)
+        halt = _still_held(run)  # the box dropped on the way (during the retreat): it stays counted as on the pallet
+        if halt:
+            return halt
+        run.counters = done if last else todo[i + 1].key
         halt = run.release()
         if halt:
             return halt
@@ -463,8 +502,8 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
 
 
 def _still_held(run) -> str | None:
-    """Stacking, at the target before the release: the gripper's sensor still says it holds the item (a box lost on
-    the way must not be counted as placed): the stop's message if it does not."""
+    """Before the release (stacking at the target, unstacking at Q): the gripper's sensor still says it holds the item
+    (a box lost on the way must not be counted as placed, or as taken to Q): the stop's message if it does not."""
     if run.case.lost and run.gripped:
         return lost_message(run.pallet, message_limit(run.cell))
     return None

@@ -22,6 +22,7 @@ KIND = Kind(
         "joint_blend": bool,  # a joint move may blend into the next (false: it stops at its point)
         "input_stops": bool,  # reading an input stops the advance run: the move before a check ends exactly
         "asks": bool,  # the program can ask the operator Yes/No (after a stop during a release: is the item down?)
+        "asks_within_s": float,  # the operator's time to answer before the program stops (absent: it waits)
     },
     section="codegen.kinds.pallet.analysis:SectionPart",
     writer="codegen.kinds.pallet.writer:WriterPart",

@@ -69,13 +69,19 @@ def reset_held_message(pallet: Pallet, limit: int) -> str:
 
 
 def released_question(pallet: Pallet, limit: int) -> str:
-    """The operator's question at the start after a stop during a release (stacking: the counters marked, the gripper
-    empty): Yes, the item is down, the counters move on; No, it is placed again."""
+    """The operator's question at the start with the counters marked and the gripper empty. Stacking, after a stop
+    during a release: Yes, the item is down, the counters move on; No, it is placed again. Unstacking, after a stop
+    between the grip and Q (the box dropped on the way, or taken out): Yes, it is back in its place on the pallet and
+    taken again; No, it is not, the counters move on."""
+    if pallet.mode == "unstack":
+        return _named("pallet {name}: stopped on the way to Q. Is the box back in its place?", pallet, limit)
     return _named("pallet {name}: stopped in a release. Is the item below the gripper down?", pallet, limit)
 
 
 def released_message(pallet: Pallet, limit: int) -> str:
     """The stop where the program cannot ask (or the question went unanswered): the counters keep their mark."""
+    if pallet.mode == "unstack":
+        return _named("pallet {name}: stopped on the way to Q: check the box, then set the counters", pallet, limit)
     return _named("pallet {name}: stopped in a release: check the item, then set the counters", pallet, limit)
 
 
@@ -91,6 +97,18 @@ def lost_message(pallet: Pallet, limit: int) -> str:
     return _named("pallet {name}: the item was lost from the gripper on the way: find it", pallet, limit)
 
 
+def known_question(pallet: Pallet, limit: int) -> str:
+    """The operator's question at the start when the counters' store came back from its file (its known flag FALSE):
+    Yes, the pallet is new (empty for stacking, full for unstacking), its first item next; No, a stop."""
+    state = "full" if pallet.mode == "unstack" else "empty"
+    return _named(f"pallet {{name}}: counters reloaded from file. Is the pallet {state} (new)?", pallet, limit)
+
+
+def known_message(pallet: Pallet, limit: int) -> str:
+    """The stop when the operator said No or did not answer: the counters stay the file's, the flag FALSE."""
+    return _named("pallet {name}: counters reloaded from file: set them, then the known flag", pallet, limit)
+
+
 def select_message() -> str:
     return "no pallet program selected: the PLC sets one select input"
 
@@ -101,7 +119,10 @@ def all_messages(pallet: Pallet, limit: int) -> list[str]:
         empty_message(pallet, limit),
         counters_message(pallet, limit),
         *([reset_held_message(pallet, limit)] if pallet.io.reset else []),
-        *([released_question(pallet, limit), released_message(pallet, limit)] if pallet.mode == "stack" else []),
+        known_question(pallet, limit),
+        known_message(pallet, limit),
+        released_question(pallet, limit),
+        released_message(pallet, limit),
         *(
             still_waiting_message(pallet, name, limit) if name in WAITS_ON else wait_message(pallet, name, limit)
             for name in pallet.io.inputs()

@@ -27,6 +27,8 @@ from codegen.kinds.pallet.messages import (
     empty_message,
     foreign_message,
     full_message,
+    known_message,
+    known_question,
     lost_message,
     message_limit,
     rechecked,
@@ -85,6 +87,15 @@ def holds_name(cell, target, index: int) -> str | None:
     return identifiers(cell, target)[index].get("holds")
 
 
+def known_name(cell, target, index: int) -> str | None:
+    """The flag in pallet `index`'s store that says its counters describe the pallet (FALSE as the store's file gives
+    it: a reload of the store from its file brings the file's counters back), where the target keeps one
+    ([program.pallet] counters.known)."""
+    if "known" not in KIND.facts(target)["counters"]:
+        return None
+    return identifiers(cell, target)[index].get("known")
+
+
 def identifiers(cell, target) -> list[dict]:
     """Per pallet, the identifiers its program uses that the cell names: the program ("pal_" and the pallet's name),
     its counters and its store; the generator's own and the counters' are taken first, so a pallet whose program
@@ -101,7 +112,7 @@ def identifiers(cell, target) -> list[dict]:
     for pallet in pallets:
         own = {}
         if "{pallet}" in patterns["layer"]:  # each pallet's counters in a store of several: their own names
-            for key in [k for k in ("layer", "box", "holds") if k in patterns]:
+            for key in [k for k in ("layer", "box", "holds", "known") if k in patterns]:
                 own[key] = emitter.identifier("pal_", f"{pallet.name}_{key}", f"pallet {pallet.name!r}'s {key} counter")
         elif "registers" not in KIND.facts(target):  # the program's own variables, one pair per program
             for key in ("layer", "box"):
@@ -246,6 +257,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         for held in rechecked(pallet)
     }
     holds = holds_name(cell, target, index)
+    known = known_name(cell, target, index)
     reset = pallet.io.reset.get(target.name)
     done_out = pallet.io.done.get(target.name)
     select = pallet.io.select.get(target.name)
@@ -295,6 +307,10 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "registers": registers,
         "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name
         "holds": None if holds is None else owned(holds),  # the flag: this program gripped what the gripper holds
+        # the flag: the counters describe the pallet (FALSE as the store's file gives it)
+        "known": None if known is None else owned(known),
+        "known_question": emitter.string(known_question(pallet, limit)),
+        "known_message": emitter.string(known_message(pallet, limit)),
         # one task: the other pallets' flags, cleared by this program's grip
         "other_holds": [
             owned(name)
@@ -328,6 +344,8 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "reset_held": emitter.string(reset_held_message(pallet, limit)),
         # stacking, after a stop during a release: the operator's question (where the target asks), else a stop
         "asks": bool(KIND.facts(target).get("asks")),
+        # s the operator has to answer it before the program stops with its message (None: it waits)
+        "asks_within_s": None if (within := KIND.facts(target).get("asks_within_s")) is None else number(within, 1),
         "question": emitter.string(released_question(pallet, limit)),
         "released": emitter.string(released_message(pallet, limit)),
         "yes": emitter.string(YES),
@@ -387,6 +405,7 @@ __all__ = [
     "file_name",
     "holds_name",
     "identifiers",
+    "known_name",
     "pallet_context",
     "pallet_identifiers",
     "task_context",

@@ -24,8 +24,14 @@ from codegen.kinds.pallet.cycle import (
 )
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.kind import KIND
-from codegen.kinds.pallet.messages import message_limit, released_question, select_message, still_waiting_message
-from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers, holds_name
+from codegen.kinds.pallet.messages import (
+    known_question,
+    message_limit,
+    released_question,
+    select_message,
+    still_waiting_message,
+)
+from codegen.kinds.pallet.program import carried_load, counter_names, counter_registers, holds_name, known_name
 from codegen.kinds.pallet.reach import configurations, joints_of
 from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept
 from codegen.kinds.pallet.section import pallets_of
@@ -139,6 +145,7 @@ def own_cases(pallet, rng) -> list[PalletCase]:
     else:
         out.append(PalletCase("gripper_stuck_at_q", *first, "stuck"))
         out.append(PalletCase("place_not_clear", *first, missing="place_clear"))
+        out.append(PalletCase("box_lost", *first, lost=True))  # dropped in the retreat: not counted as taken
     out.append(PalletCase("pallet_absent", *keys[min(2, len(keys) - 1)], missing="pallet_present"))
     # the pallet taken away once the gripper closed (at Q: the arm must not carry the box, or a sheet, over its place)
     out.append(PalletCase("pallet_taken", *first, taken=True))
@@ -157,6 +164,8 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
         own = own_cases(pallet, random.Random(seed + index)) + _release_cases(pallet, get_target(source.target))
         if holds_name(cell, get_target(source.target), index) is not None:  # the program can tell whose item it is
             own.append(PalletCase("held_by_another", *start_counters(pallet), closed=True, foreign=True))
+        if known_name(cell, get_target(source.target), index) is not None:  # the store loaded again from its file
+            own += _reloaded_store_cases(pallet)
         if _other_flags(cell, get_target(source.target), index):  # another pallet's flag left set, then a grip
             own.append(PalletCase("stale_flag", *start_counters(pallet), stale=True))
         first = own[0]
@@ -172,22 +181,46 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
     return out
 
 
+def _reloaded_store_cases(pallet) -> list[PalletCase]:
+    """The counters' store loaded again from its file (as a reset of RAPID does) while the pallet is part-built: the
+    counters are the file's (a new pallet's), its known flag FALSE. The operator does not answer, or says No: the
+    stop before any move; Yes, or the PLC's reset handshake: the pallet's first item next (shown up to the wait for
+    the pallet, which is not in place yet, so the run stays short); a reset the PLC keeps on: the stop."""
+    first = start_counters(pallet)
+    out = [
+        PalletCase("store_reloaded", *first, unknown=True),
+        PalletCase("store_reloaded", *first, unknown=True, answer=NO),
+        PalletCase("store_reloaded", *first, unknown=True, answer=YES, missing="pallet_present"),
+    ]
+    if pallet.io.reset:
+        out.append(PalletCase("store_reloaded", *first, unknown=True, reset=True, missing="pallet_present"))
+        out.append(PalletCase("store_reloaded", *first, unknown=True, reset=True, reset_held=True))
+    return out
+
+
 def _release_cases(pallet, target) -> list[PalletCase]:
-    """Stacking, a stop during a release (the counters marked, the layer negative): with the gripper empty the
-    operator says whether the item is down (Yes: the counters move on, also past the last box; No: it is placed
-    again), or a program that cannot ask stops with a message; with the item still held it is finished."""
-    if pallet.mode != "stack":
-        return []
+    """Stacking, a stop during a release; unstacking, a stop between the grip and Q (the counters marked, the layer
+    negative): with the gripper empty the operator says whether the item is down (unstacking: back in its place on
+    the pallet) and the counters move on (also past the last box) or stay, or a program that cannot ask stops with a
+    message; with the item still held it is finished (unstacking: put down at Q, the counters past it)."""
     keys = [item.key for item in items(pallet)]
     mid, last = keys[len(keys) // 2], keys[-1]
-    out = [PalletCase("stopped_in_release", -mid[0], mid[1], closed=True)]
+    name = "stopped_in_release" if pallet.mode == "stack" else "stopped_on_the_way"
+    # unstacking, the answer that moves the counters past the box is No (the box is not back in its place)
+    on = YES if pallet.mode == "stack" else NO
+    out = [PalletCase(name, -mid[0], mid[1], closed=True)]
+    if pallet.mode == "unstack":  # the last box held: put down at Q, the pallet empty after it
+        out.append(PalletCase(name, -last[0], last[1], closed=True))
     if not KIND.facts(target).get("asks"):
-        return [*out, PalletCase("stopped_in_release", -mid[0], mid[1])]
+        return [*out, PalletCase(name, -mid[0], mid[1])]
+    # a question the operator leaves unanswered: where the program asks within a time, its stop, the mark kept
+    unanswered = [PalletCase(name, -mid[0], mid[1])] if KIND.facts(target).get("asks_within_s") else []
     return [
         *out,
-        PalletCase("stopped_in_release", -mid[0], mid[1], answer=YES),
-        PalletCase("stopped_in_release", -mid[0], mid[1], answer=NO),
-        PalletCase("stopped_in_release", -last[0], last[1], answer=YES),
+        *unanswered,
+        PalletCase(name, -mid[0], mid[1], answer=YES),
+        PalletCase(name, -mid[0], mid[1], answer=NO),
+        PalletCase(name, -last[0], last[1], answer=on),
     ]
 
 
@@ -241,14 +274,19 @@ def setup(cell, source, case: Case) -> Setup:
     others = _other_flags(cell, target, index)
     for name in others:  # the other pallets' flags of one task: left set where the case says so
         counters[name] = run.case.stale
+    known = known_name(cell, target, index)
+    if known is not None:  # the counters describe the pallet (set by an earlier reset or the operator)
+        counters[known] = True
     if case.category == "counters_reloaded" and not reload_proof(target):
         counters = {}  # a reload cleared the program's own variables: they hold what their declaration gives
+    if run.case.unknown:
+        counters = {}  # the store loaded again from its file: every value in it is its declaration's
     return Setup(
         {**counters, **tool_inputs(cell, target.name)},
         devices,
         _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
         _start_joints(cell, index, source.target, case),
-        (*kept_names(cell, target, index), *([] if holds is None else [holds]), *others),
+        (*kept_names(cell, target, index), *([] if holds is None else [holds]), *others, *([known] if known else [])),
     )
 
 
@@ -351,6 +389,10 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     if holds is not None:
         preset = pallet_case.closed and not pallet_case.foreign
         stored += (Stored(holds, want.holds, 0.0, "the flag: this program gripped what the gripper holds", preset),)
+    known = known_name(cell, target, run.pallet)
+    if known is not None:
+        what = "the flag: the counters describe the pallet (FALSE: the store as its file gives it)"
+        stored += (Stored(known, want.known, 0.0, what, not pallet_case.unknown),)
     for name in _other_flags(cell, target, run.pallet):  # a grip of this program clears the task's other flags
         what = "another pallet's flag, cleared by this program's grip"
         stored += (Stored(name, pallet_case.stale and not want.gripped, 0.0, what, pallet_case.stale),)
@@ -362,6 +404,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
     problem = problem or _unsaid(target, want.said, trace)
     problem = problem or (_unasked(cell, pallet, target, trace) if want.asked else None)
+    problem = problem or (_unasked(cell, pallet, target, trace, known_question) if want.known_asked else None)
     return Judgement([expectation], figures=boxes, problem=problem)
 
 
@@ -408,11 +451,12 @@ def _other_flags(cell, target, index: int) -> list[str]:
     return [name for i, name in enumerate(names) if i != index and name is not None]
 
 
-def _unasked(cell, pallet, target, trace) -> str | None:
-    """After a stop during a release with the gripper empty, the operator is asked whether the item is down."""
-    text = Emitter(target).string(released_question(pallet, message_limit(cell)))
+def _unasked(cell, pallet, target, trace, question=released_question) -> str | None:
+    """The operator is asked what only the operator can tell: after a stop during a release with the gripper empty,
+    whether the item is down; after the counters' store came back from its file, whether the pallet is new."""
+    text = Emitter(target).string(question(pallet, message_limit(cell)))
     if text not in getattr(trace, "messages", ()):
-        return f"the operator was not asked {text!r}: only the operator can tell whether the released item is down"
+        return f"the operator was not asked {text!r}: only the operator can tell"
     return None
 
 

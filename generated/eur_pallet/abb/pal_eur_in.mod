@@ -9,7 +9,7 @@ MODULE pal_eur_in
   ! The pallet in place waited for, then per box, the top layer first and each layer in the reverse of its
   ! placing order: (after the box before it, the empty gripper straight up over Q to this box's transit
   ! height) in the pallet's work object above the entry at the transit height (300.0000 mm over the layer's
-  ! top; joint move), entry, approach and target (slow, fine), grip, retreat (slow), entry, up to the transit
+  ! top; joint move), entry, approach (slow) and target (slow, fine), grip, retreat (slow), entry, up to the transit
   ! height; then over Q at that height (joint move), above Q (Q clear waited for), down to Q (slow, fine),
   ! release, (the pallet waited for again) back up (slow). The gripper, empty or holding a box, crosses the
   ! stack only at the transit height.
@@ -21,8 +21,13 @@ MODULE pal_eur_in
   ! are persistent (PERS) in the system module pallet_data.sys: they keep their values when the program stops,
   ! when it is started again from main, across a power failure, and when the program is loaded again after a
   ! regeneration (a program load replaces the program modules, not a system module). They
-  ! move only once the gripper's sensor confirmed the grip (the box has left the pallet), so a restart resumes at
-  ! the top box still on the pallet. Layer 0, box 0 means the pallet is empty.
+  ! move only once the gripper's sensor confirmed the box at Q (still in the gripper there), so a restart resumes at
+  ! the top box still on the pallet. Layer 0, box 0 means the pallet is empty. From the confirmed grip until the box
+  ! reaches Q (the sensor read there) the layer is negative (marked): a restart with the box still held puts it down
+  ! at Q, with the gripper empty it asks whether the box is back in its place.
+  ! The counters come back with their file's values when the system module is loaded again from its file (as a
+  ! reset of RAPID does); pal_eur_in_known comes back FALSE with them, and then the program takes no item until the
+  ! PLC's reset or the operator's Yes says the pallet is new; No or no answer in 60.0 s: a stop.
   ! The output doEurInEmpty is on while the pallet is empty (the PLC's cue to swap it).
   ! The reset handshake: with the PLC's input diResetEurIn on (a full pallet in place) the program
   ! turns doEurInEmpty off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
@@ -96,6 +101,8 @@ MODULE pal_eur_in
     VAR num row;
     VAR bool held;
     VAR bool late;
+    VAR num answer;
+    VAR errnum unanswered;
     VAR bool up_q;
     VAR jointtarget now;
     ! the counters as a restart finds them: an empty pallet, or numbers outside the stack, stop
@@ -110,6 +117,48 @@ MODULE pal_eur_in
       ! an item held since a stop: the gripper kept closed (the stop, or a release that did not finish, may have
       ! left the output off with the item still in it)
       SetDO doGripClose, 1;
+    ENDIF
+    IF NOT pal_eur_in_known THEN
+      ! the counters as their file gives them (the store loaded again from its file, as after a reset of RAPID):
+      ! not what stands on the pallet, which may be part-built; no item until the pallet is known to be new
+      IF DInput(diResetEurIn) = 1 THEN
+        ! the PLC says a new pallet is in place: its handshake, the done output off, the reset dropped in return
+        SetDO doEurInEmpty, 0;
+        WaitDI diResetEurIn, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet eur_in: the PLC's reset did not go off in 10 s, counters kept";
+        ENDIF
+      ELSE
+        TPReadFK answer, "pallet eur_in: counters reloaded from file. Is the pallet full (new)?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
+        IF unanswered <> 0 OR answer <> 1 THEN
+          stack_stop "pallet eur_in: counters reloaded from file: set them, then the known flag";
+        ENDIF
+      ENDIF
+      pal_eur_in_layer := 5;
+      pal_eur_in_box := 8;
+      pal_eur_in_known := TRUE;
+    ENDIF
+    IF pal_eur_in_layer < 0 THEN
+      ! a stop between the grip and Q (the counters marked until the box reached Q)
+      pal_eur_in_layer := -pal_eur_in_layer;
+      IF stack_valid() THEN
+        IF held THEN
+          ! the box gripped is in the gripper: it left the pallet, put down at Q below
+          stack_next;
+        ELSE
+          ! nothing in the gripper (the box dropped on the way, or taken out): only the operator can tell
+          TPReadFK answer, "pallet eur_in: stopped on the way to Q. Is the box back in its place?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
+          IF unanswered <> 0 THEN
+            ! no answer: the mark kept, the question left to the next start
+            pal_eur_in_layer := -pal_eur_in_layer;
+            stack_stop "pallet eur_in: stopped on the way to Q: check the box, then set the counters";
+          ENDIF
+          IF answer <> 1 THEN
+            ! key 5, "No": not back in its place, the next box
+            stack_next;
+          ENDIF
+        ENDIF
+      ENDIF
     ENDIF
     ! the PLC's "pallet empty" output: on while the counters say so
     IF pal_eur_in_layer = 0 AND pal_eur_in_box = 0 THEN
@@ -176,7 +225,7 @@ MODULE pal_eur_in
     ! the arm comes from home: no box put down at Q yet
     up_q := FALSE;
     IF held THEN
-      ! the box gripped before the stop left the pallet (the counters moved): put it down at Q first
+      ! the box gripped before the stop left the pallet (the counters past it): put it down at Q first
       MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, stack_zone, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
@@ -217,19 +266,12 @@ MODULE pal_eur_in
       ! above the entry at the transit height (the gripper clear of the stack), then down to the entry
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       stack_grip;
       GripLoad stack_box;
-      ! the box is off the pallet: the next one (the layer's previous box, or the last of the layer below)
-      pal_eur_in_box := pal_eur_in_box - 1;
-      IF pal_eur_in_box < 1 THEN
-        pal_eur_in_layer := pal_eur_in_layer - 1;
-        pal_eur_in_box := 0;
-        IF pal_eur_in_layer >= 1 THEN
-          pal_eur_in_box := stack_boxes(pal_eur_in_layer);
-        ENDIF
-      ENDIF
+      ! marked until the box reaches Q: a stop meanwhile (or the box dropped on the way) leaves the question to the start
+      pal_eur_in_layer := -pal_eur_in_layer;
       MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
@@ -245,6 +287,13 @@ MODULE pal_eur_in
         ENDWHILE
       ENDIF
       MoveL stack_q, stack_work, fine, stack_tool;
+      IF DInput(diGripClosed) = 0 THEN
+        ! the box no longer in the gripper: lost on the way (it may lie on the stack), not taken; the mark kept
+        stack_stop "pallet eur_in: the item was lost from the gripper on the way: find it";
+      ENDIF
+      ! the box is at Q: the next one (the layer's previous box, or the last of the layer below)
+      pal_eur_in_layer := -pal_eur_in_layer;
+      stack_next;
       stack_release;
       GripLoad load0;
       IF pal_eur_in_layer >= 1 THEN
@@ -261,6 +310,18 @@ MODULE pal_eur_in
     ! the pallet is empty: the PLC's cue to swap it
     SetDO doEurInEmpty, 1;
     TPWrite "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
+  ENDPROC
+
+  LOCAL PROC stack_next()
+    ! the counters past the box taken: the layer's previous box, or the last of the layer below (0 and 0: empty)
+    pal_eur_in_box := pal_eur_in_box - 1;
+    IF pal_eur_in_box < 1 THEN
+      pal_eur_in_layer := pal_eur_in_layer - 1;
+      pal_eur_in_box := 0;
+      IF pal_eur_in_layer >= 1 THEN
+        pal_eur_in_box := stack_boxes(pal_eur_in_layer);
+      ENDIF
+    ENDIF
   ENDPROC
 
   LOCAL FUNC num stack_pattern(num layer)
@@ -320,16 +381,18 @@ MODULE pal_eur_in
   LOCAL PROC stack_grip()
     ! grip the box on the pallet: doGripClose (I/O configuration) set to 1 after the fine point,
     ! then wait until diGripClosed is 1; not in 2 s: stop with a message
+    ! gripping: the flag set before the output, so a stop before the sensor answers leaves what the gripper then
+    ! holds marked as this program's item
+    pal_eur_in_holds := TRUE;
     SetDO doGripClose, 1;
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
-    ! confirmed: this program's item in the gripper
-    pal_eur_in_holds := TRUE;
     ! (not another pallet's: a flag left set when its item was taken out by hand)
     pal_eur_holds := FALSE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       ! the grip not confirmed: the gripper opened again, nothing carried off half-held
       SetDO doGripClose, 0;
+      pal_eur_in_holds := FALSE;
       stack_stop "no feedback from the gripper in 2 s";
     ENDIF
     RAISE;

@@ -16,7 +16,8 @@
 // The dialect has no pose product, so the pallet must be level (codegen refuses a tilted one).
 // Counters: pal_layer (1 = bottom) and pal_box (1 = the first box of the layer's pattern), global
 // variables the controller keeps from one run to the next (assumed; a reload of this program clears them); they move
-// to the next box once the gripper's sensor confirmed the grip. A restart resumes at that box; layer 0, box 0 means
+// to the next box once the gripper's sensor still holds the box at Q (marked, the layer negative, from the grip until
+// then: a restart with the gripper empty stops with a message). A restart resumes at that box; layer 0, box 0 means
 // the pallet is empty. Declared without a value (0): set them (the top layer and its last box for a full pallet)
 // before the first run; a controller that cleared them at a start would stop as empty, never take a box twice.
 // Digital output 4 is on while the pallet is empty (the PLC's cue to swap it).
@@ -104,6 +105,18 @@ Sub pal_release()
 EndSub
 
 
+Sub pal_next()
+  // the counters past the box taken: the layer's previous box, or the last of the layer below (0 and 0: empty)
+  pal_box = pal_box - 1
+  If pal_box < 1 Then
+    pal_layer = pal_layer - 1
+    pal_box = 0
+    If pal_layer >= 1 Then
+      pal_box = PAL_COUNT[pal_pattern(pal_layer)]
+    EndIf
+  EndIf
+EndSub
+
 Function Int pal_pattern(Int layer)
   // the pattern of a layer (1 = bottom): PAL_CYCLE[(layer - 1) mod PAL_CYCLE_LEN], by subtraction
   Int k = layer - 1
@@ -147,6 +160,21 @@ EndIf
 // an item held since a stop: the gripper kept closed (the stop may have left the output off)
 If held == 1 Then
   SetDO 1, True
+EndIf
+// a stop between the grip and Q (the counters marked until the box reached Q): the box still in the gripper left the
+// pallet (put down at Q below); with nothing in the gripper only the operator can tell whether it is back in its
+// place (this dialect cannot ask): the mark stays, the program stops with a message
+If pal_layer < 0 Then
+  pal_layer = 0 - pal_layer
+  If pal_valid(pal_layer, pal_box) == 1 Then
+    If held == 1 Then
+      Call pal_next()
+    Else
+      pal_layer = 0 - pal_layer
+      TPWrite 0, "pallet eur_in: stopped on the way to Q: check the box, then set the counters"
+      Halt
+    EndIf
+  EndIf
 EndIf
 // the PLC's "pallet empty" output: on while the counters say so
 If pal_layer == 0 And pal_box == 0 Then
@@ -197,7 +225,7 @@ If held == 0 Then
   Call pal_release()
 EndIf
 If held == 1 Then
-  // the box gripped before the stop left the pallet (the counters moved): put it down at Q first
+  // the box gripped before the stop left the pallet (the counters past it): put it down at Q first
   MovJ PAL_ABOVE
   Call pal_wait(7)
   If DIn(7) <> True Then
@@ -244,15 +272,7 @@ While pal_layer >= 1
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)
   Call pal_grip()
-  // the box is off the pallet: the next one (the layer's previous box, or the last of the layer below)
-  pal_box = pal_box - 1
-  If pal_box < 1 Then
-    pal_layer = pal_layer - 1
-    pal_box = 0
-    If pal_layer >= 1 Then
-      pal_box = PAL_COUNT[pal_pattern(pal_layer)]
-    EndIf
-  EndIf
+  pal_layer = 0 - pal_layer  // marked until the box reaches Q: a stop meanwhile (or the box dropped) leaves the question
   MovL pal_pose(x + PAL_RX[row], y + PAL_RY[row], z + 60.0000, a)
   MovL entry
   MovL transit
@@ -267,6 +287,14 @@ While pal_layer >= 1
     EndWhile
   EndIf
 MovL PAL_PICK
+  If DIn(2) <> True Then
+    // the box no longer in the gripper: lost on the way (it may lie on the stack), not taken: the mark kept
+    TPWrite 0, "pallet eur_in: the item was lost from the gripper on the way: find it"
+    Halt
+  EndIf
+  // the box is at Q: the next one (the layer's previous box, or the last of the layer below)
+  pal_layer = 0 - pal_layer
+  Call pal_next()
   Call pal_release()
   If pal_layer >= 1 Then
     Call pal_wait(8)

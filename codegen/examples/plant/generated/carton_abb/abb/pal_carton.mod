@@ -10,7 +10,7 @@ MODULE pal_carton
   ! move, then straight down) above Q (the pallet in place and a box at Q waited for), down to Q (slow, fine),
   ! grip, back up (slow), up to the transit height (36.0000 mm over the layer's top), the pallet waited for
   ! again (it may have been taken away meanwhile), then in the pallet's work object above the entry at that
-  ! height (joint move), entry, approach and target (slow, fine), release, retreat (slow), entry.
+  ! height (joint move), entry, approach (slow) and target (slow, fine), release, retreat (slow), entry.
   ! Where the arm passes a pose the move blends (stack_zone, 2.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
@@ -21,6 +21,9 @@ MODULE pal_carton
   ! regeneration (a program load replaces the program modules, not a system module). They
   ! move only once the gripper's sensor confirmed the release, so a restart resumes at
   ! the first box not yet placed. Layer 4, box 1 means the pallet is full.
+  ! The counters come back with their file's values when the system module is loaded again from its file (as a
+  ! reset of RAPID does); pal_carton_known comes back FALSE with them, and then the program takes no item until the
+  ! PLC's reset or the operator's Yes says the pallet is new; No or no answer in 60.0 s: a stop.
   ! The output doPalletFull is on while the pallet is full (the PLC's cue to swap it).
   ! The reset handshake: with the PLC's input diPalletReset on (an empty pallet in place) the program
   ! turns doPalletFull off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
@@ -96,6 +99,7 @@ MODULE pal_carton
     VAR bool held;
     VAR bool late;
     VAR num answer;
+    VAR errnum unanswered;
     VAR bool up_q;
     VAR num up_z;
     VAR robtarget high;
@@ -113,12 +117,37 @@ MODULE pal_carton
       ! left the output off with the item still in it)
       SetDO doGripClose, 1;
     ENDIF
+    IF NOT pal_carton_known THEN
+      ! the counters as their file gives them (the store loaded again from its file, as after a reset of RAPID):
+      ! not what stands on the pallet, which may be part-built; no item until the pallet is known to be new
+      IF DInput(diPalletReset) = 1 THEN
+        ! the PLC says a new pallet is in place: its handshake, the done output off, the reset dropped in return
+        SetDO doPalletFull, 0;
+        WaitDI diPalletReset, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet carton: the PLC's reset did not go off in 10 s, counters kept";
+        ENDIF
+      ELSE
+        TPReadFK answer, "pallet carton: counters reloaded from file. Is the pallet empty (new)?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
+        IF unanswered <> 0 OR answer <> 1 THEN
+          stack_stop "pallet carton: counters reloaded from file: set them, then the known flag";
+        ENDIF
+      ENDIF
+      pal_carton_layer := 1;
+      pal_carton_box := 1;
+      pal_carton_known := TRUE;
+    ENDIF
     IF pal_carton_layer < 0 THEN
       ! a stop came during a release (the counters marked): is the item down?
       pal_carton_layer := -pal_carton_layer;
       IF stack_valid() AND NOT held THEN
         ! nothing in the gripper: only the operator can tell
-        TPReadFK answer, "pallet carton: stopped in a release. Is the item below the gripper down?", "Yes", stEmpty, stEmpty, stEmpty, "No";
+        TPReadFK answer, "pallet carton: stopped in a release. Is the item below the gripper down?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
+        IF unanswered <> 0 THEN
+          ! no answer: the mark kept, the question left to the next start
+          pal_carton_layer := -pal_carton_layer;
+          stack_stop "pallet carton: stopped in a release: check the item, then set the counters";
+        ENDIF
         IF answer = 1 THEN
           ! down: the counters move on as after a confirmed release
           IF pal_carton_box = 0 THEN
@@ -248,7 +277,7 @@ MODULE pal_carton
       ENDIF
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
       MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
       IF DInput(diGripClosed) = 0 THEN
         ! the item no longer in the gripper: lost on the way, not placed
@@ -341,14 +370,16 @@ MODULE pal_carton
   LOCAL PROC stack_grip()
     ! grip the box (or sheet) at its pick: doGripClose (I/O configuration) set to 1 after the fine point,
     ! then wait until diGripClosed is 1; not in 2 s: stop with a message
+    ! gripping: the flag set before the output, so a stop before the sensor answers leaves what the gripper then
+    ! holds marked as this program's item
+    pal_carton_holds := TRUE;
     SetDO doGripClose, 1;
     WaitDI diGripClosed, 1 \MaxTime:=IO_TIMEOUT;
-    ! confirmed: this program's item in the gripper
-    pal_carton_holds := TRUE;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       ! the grip not confirmed: the gripper opened again, nothing carried off half-held
       SetDO doGripClose, 0;
+      pal_carton_holds := FALSE;
       stack_stop "no feedback from the gripper in 2 s";
     ENDIF
     RAISE;
