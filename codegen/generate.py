@@ -40,11 +40,36 @@ def check_envelope(cell: Cell, targets: list[str] | None) -> list:
         raise GenerateError(str(exc)) from None
 
 
+_PROVEN: dict = {}  # (the cell file's sha256, path, targets) -> the proof's least clearances (one file, one proof)
+
+
+def check_clearance(cell: Cell, targets: list[str] | None) -> list:
+    """Every move each kind plans on every requested target's arm, swept among the cell's solids (codegen/world/):
+    the least clearance per program, or a GenerateError naming the move, the body, the solid and the distance."""
+    if cell.robot is None:
+        return []
+    names = list(targets or cell.targets)
+    key = (cell.sha256, cell.source, tuple(names)) if cell.sha256 else None
+    if key is not None and key in _PROVEN:
+        return _PROVEN[key]
+    from codegen.world.proof import ClearanceError, prove  # coal: loaded only when proving
+
+    paths = [path for kind in cell.kinds.values() for path in kind.scene.paths(cell, names)]
+    try:
+        least = prove(cell, paths)
+    except (ClearanceError, ValueError) as exc:
+        raise GenerateError(str(exc)) from None
+    if key is not None:
+        _PROVEN[key] = least
+    return least
+
+
 def generate(cell: Cell, targets: list[str] | None, out_dir: Path) -> tuple[list[Path], list[str], list]:
-    """Check the envelope, render, check, then replace the cell's output folder whole (codegen.output):
-    the regenerated targets' programs are the new ones, everything codegen did not write stays.
+    """Check the envelope and the clearance, render, check, then replace the cell's output folder whole
+    (codegen.output): the regenerated targets' programs are the new ones, everything codegen did not write stays.
     Returns the written paths, what was left alone and each target's margins."""
     envelopes = check_envelope(cell, targets)
+    check_clearance(cell, targets)
     files = render(cell, targets)
     check_rendered(files)
     folder = cell_dir(cell)
