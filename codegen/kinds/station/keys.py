@@ -8,7 +8,7 @@ from functools import cache
 
 from codegen.guard import READING_RANGE_MM, TAUGHT_RANGE_MM
 from codegen.kinds.station.mode import modes
-from codegen.model import robot
+from codegen.model import robot, world
 from codegen.model.schema import Key, KindKeys, Table
 
 NAME = "station"  # the kind's name: its [[station]] tables, its section of the cell
@@ -132,6 +132,12 @@ def _common() -> Table:
             "release (put it down); a pose not named: neither. Without it the station moves and the gripper stays "
             "as it is",
             values=Key("string", "what the gripper does there", choices=(GRIP, RELEASE)),
+        ),
+        "part": Key("table", world.PART.doc + " (the part the station's grip takes)", table=world.PART),
+        "solids": replace(
+            world.SOLIDS,
+            doc="the station's own keep-out solids (the machine it serves, with its door's opening left free), in the "
+            "base frame at calibration; they move with the station's reading, as its poses do: " + world.SOLIDS.doc,
         ),
     }
     return Table("A station the program serves: its id, poses and its kind's keys.", own, kinds=names)

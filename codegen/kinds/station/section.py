@@ -26,6 +26,7 @@ from codegen.model.cell import TaughtPose
 from codegen.model.loader import Loader, build
 from codegen.model.robot import parse_station_config
 from codegen.model.validate import kind_of
+from codegen.model.world import PartShape, parse_part, parse_solids
 from codegen.poses import POSE_FORMATS
 
 STATIONS_MAX = 5000  # the largest cell measured: its programs load and run here (a UR program in about 35 s)
@@ -49,6 +50,8 @@ class Station:
     retreat: TaughtPose | None = None  # the work pose backed off along its z axis ([cell.motion] retreat_mm)
     # ([station.gripper]) (pose name, GRIP or RELEASE) in visiting order: what the gripper does at that pose
     gripper: tuple[tuple[str, str], ...] = ()
+    part: PartShape | None = None  # ([station.part]) the part the gripper carries: its size
+    solids: dict = field(default_factory=dict, compare=False)  # ([station.solids]) name -> SolidSpec at calibration
 
     def action(self, pose_name: str) -> str | None:
         """What the gripper does once the arm stands at the pose (GRIP, RELEASE), None: nothing."""
@@ -221,11 +224,15 @@ def _station(ctx, loader: Loader, raw, index: int) -> Station:
     poses_raw = raw.get("poses")
     if isinstance(poses_raw, dict) and len(poses_raw) > POSES_MAX:  # refused before so many are read
         ctx.fail(f"{path}.poses", f"{len(poses_raw)} poses; at most {POSES_MAX} per station")
-    values = loader.table(table, raw, path, readers={"config": lambda value, where: value})  # read with the arms
+    passed = {"config": lambda value, where: value, "part": lambda value, where: value,
+              "solids": lambda value, where: value}  # config read with the arms, part and solids by model.world
+    values = loader.table(table, raw, path, readers=passed)
     spec = known[mode_name].parse(ctx, values, path)
     poses = tuple(values["poses"].values())
     gripper = _gripper(ctx, values["gripper"] or {}, path, list(values["poses"]))
-    return Station(values["id"], values["name"], poses, mode_name, spec, gripper=gripper)
+    part = parse_part(ctx, raw.get("part"), f"{path}.part")
+    solids = parse_solids(ctx, raw.get("solids"), f"{path}.solids", loader.pose_format)
+    return Station(values["id"], values["name"], poses, mode_name, spec, gripper=gripper, part=part, solids=solids)
 
 
 def _gripper(ctx, table: dict, path: str, pose_names: list[str]) -> tuple[tuple[str, str], ...]:
