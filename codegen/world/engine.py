@@ -123,6 +123,15 @@ class Scene:
         poses = self.poses(joints_deg)
         return [self._nearest_one(poses[n], below) for n in range(len(poses))]
 
+    def nearest_at(self, joints_deg: np.ndarray, below: float = np.inf) -> Nearest | None:
+        """The nearest pair at one configuration (6,) if its distance is below `below` mm, else None (every pair is
+        then at least `below` apart): only the pairs whose bound is below the least found so far are measured."""
+        return self._nearest_one(self.poses(joints_deg)[0], below)
+
+    def nearest_pose(self, poses: np.ndarray, below: float = np.inf) -> Nearest | None:
+        """nearest_at for the bodies' poses (bodies, 4, 4) as `poses` gives them."""
+        return self._nearest_one(poses, below)
+
     def least(self, joints_deg: np.ndarray) -> tuple[int, Nearest | None]:
         """The sample of (n, 6) joint values with the least distance and its nearest pair. The samples are taken in
         the order of their least lower bound, and measured only while that bound is below the least distance found

@@ -1,15 +1,24 @@
-"""Every move checked along its whole path: samples close enough that no point of the arm, tool or part travels more
-than half the clearance between two of them, and the least distance of the move with the bodies and where."""
+"""Every move checked along its whole path by conservative advancement: from a sample at least distance d the next
+may lie as far as the arm's travel bound allows while the move stays clear, and the least distance of the move with
+the bodies and where."""
 
-# The step. Between two samples the joints change by dq (rad). A point on a body fixed in link frame f moves, by
-# joint j alone, at most dist(point, axis j) |dq_j|, and dist(point, axis j) <= reach_j: the sum of the (fixed)
+# The travel bound. Between two samples the joints change by dq (rad). A point on a body fixed in link frame f moves,
+# by joint j alone, at most dist(point, axis j) |dq_j|, and dist(point, axis j) <= reach_j: the sum of the (fixed)
 # distances between consecutive link-frame origins from frame j - 1 to frame f plus the body's extent about frame f's
 # origin (every family's joint j axis passes through frame j - 1's or frame j's origin). So every point moves at most
 # travel = sum_j reach_j |dq_j| between the two samples, if each joint moves monotonically between them (a joint move
-# interpolates linearly; a linear move's joints are solved at samples this close). Samples are added until travel
-# <= clearance / 2 for every neighbouring pair: then any instant is within clearance / 4 of a sample, the true least
-# distance is at least the sampled least distance - clearance / 4 (MoveClearance.lower_bound), and a solid reached
-# anywhere along the move (distance <= 0, however thin) shows at some sample as a distance below the clearance.
+# interpolates linearly; a linear move's joints are solved at samples this close). Two bodies move apart or together
+# by no more than that either: in the lower body's link frame only the joints after it move the other.
+#
+# So the least distance m(t) of all pairs changes by no more than the travel between two instants, and between samples
+# i and i + 1 (travel T), at travel x from sample i: m >= max(m_i - x, m_(i+1) - T + x) >= (m_i + m_(i+1) - T) / 2.
+# The step. From sample i the next lies at travel T_i <= max(m_i - c, 0) + c / 2 (c the clearance). Where m_i >= c:
+# m >= m_i - T_i >= c / 2 over the whole step, nothing can be touched; where m_i < c the sample is already a breach.
+# So contact anywhere along a move (m <= 0, however thin the solid) always leaves a sample below the clearance, and a
+# move passed (every sample >= c) keeps at least c / 2 everywhere; the reported lower bound is the least of
+# (m_i + m_(i+1) - T_i) / 2 over the steps. A sample's m_i need only be known as far as it sets the step: pairs whose
+# cheap bound is above what can matter (the step that reaches the move's end, or the least distance found so far)
+# are not measured.
 
 from __future__ import annotations
 
@@ -21,7 +30,7 @@ import numpy as np
 from codegen import poses
 from codegen.robot import solve
 from codegen.robot.arms import Arm
-from codegen.world.engine import Scene
+from codegen.world.engine import Nearest, Scene
 
 CLEARANCE_MM = 20.0  # the cell's default clearance_mm (docs/clearance.md says why)
 MAX_SAMPLES = 100_000  # a move that needs more (a joint swinging near a singularity) is reported unresolved
@@ -73,10 +82,20 @@ def _extent(shape) -> float:
     return float(np.linalg.norm(centre)) + shape.extent
 
 
-def joint_path(q0, q1) -> Path:
+@dataclass(frozen=True, eq=False)
+class JointPath:
+    """A joint move (PTP, MoveJ, movej): every axis linear in s from start to end (deg)."""
+
+    start: np.ndarray
+    end: np.ndarray
+
+    def __call__(self, s: float, _near: np.ndarray) -> np.ndarray:
+        return self.start + s * (self.end - self.start)
+
+
+def joint_path(q0, q1) -> JointPath:
     """A joint move (PTP, MoveJ, movej): every axis linear in s from q0 to q1 (deg)."""
-    start, end = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
-    return lambda s, _near: start + s * (end - start)
+    return JointPath(np.asarray(q0, dtype=float), np.asarray(q1, dtype=float))
 
 
 def linear_path(arm: Arm, tcp2flange: np.ndarray, tcp0: np.ndarray, tcp1: np.ndarray) -> Path:
@@ -99,38 +118,118 @@ def linear_path(arm: Arm, tcp2flange: np.ndarray, tcp0: np.ndarray, tcp1: np.nda
     return at
 
 
-def check_path(scene: Scene, path: Path, q_start, clearance_mm: float = CLEARANCE_MM) -> MoveClearance:
+def travel_weights(scene: Scene) -> np.ndarray:
+    """(6,) mm per rad: the travel bound's weights (reach, per radian), computed once per scene."""
+    weights = getattr(scene, "_travel_weights", None)
+    if weights is None:
+        weights = np.radians(reach(scene))
+        scene._travel_weights = weights
+    return weights
+
+
+def check_path(scene: Scene, path: Path, q_start, clearance_mm: float = CLEARANCE_MM, trail: list | None = None
+               ) -> MoveClearance:
     """The least clearance along path (s from 0 to 1), starting at joints q_start (deg): a joint move, a linear move
-    or a blend's corner (any Path: a corner gives its own joints along s)."""
+    or a blend's corner (any Path: a corner gives its own joints along s). Samples by conservative advancement (the
+    module's comment says why no contact slips between them); trail, if given, gets each sample's (s, joints, the
+    least distance known there: exact, or a lower bound where nothing nearer could matter)."""
     if clearance_mm <= 0:
         raise ValueError("the clearance is a positive distance (mm)")
-    weights = np.radians(reach(scene))
+    weights = travel_weights(scene)
     half = 0.5 * clearance_mm
-    s = [0.0, 1.0]
-    q = [np.asarray(q_start, dtype=float)]
-    q.append(path(1.0, q[0]))
-    worst = 0.0
-    i = 0
-    while i < len(s) - 1:  # bisect every interval whose travel bound exceeds half the clearance
-        travel = float(weights @ np.abs(q[i + 1] - q[i]))
-        if travel > half:
-            if len(s) >= MAX_SAMPLES:
-                raise Unresolved(f"more than {MAX_SAMPLES} samples needed near {s[i]:.4f} of the move")
-            pieces = int(np.ceil(travel / half))
-            middle = [s[i] + (s[i + 1] - s[i]) * k / pieces for k in range(1, pieces)]
-            solved = []
-            near = q[i]
-            for value in middle:
-                near = path(value, near)
-                solved.append(near)
-            s[i + 1 : i + 1] = middle
-            q[i + 1 : i + 1] = solved
-            continue  # measure the new first interval (a curved joint path may still exceed)
-        worst = max(worst, travel)
-        i += 1
-    joints = np.array(q)
-    where, best = scene.least(joints)
+    q_i = np.asarray(q_start, dtype=float)
+    walk = _Grid(scene, path, q_i, weights, half) if isinstance(path, JointPath) else _Solved(scene, path, q_i, weights)
+    s_i, pose_i = 0.0, walk.pose(0.0, q_i)
+    best: Nearest | None = None
+    best_s, best_q = 0.0, q_i
+    lower = np.inf
+    before: tuple[float, float] | None = None  # the sample before: its known least distance (a lower bound), the step
+    samples = 0
+    while True:
+        rest = walk.rest(s_i, q_i)  # the travel left (exact for a joint move, else an estimate)
+        below = max(rest + half, np.inf if best is None else best.distance)
+        found = scene.nearest_pose(pose_i, below)
+        samples += 1
+        m_i = below if found is None else found.distance  # beyond `below`: known only to be at least that
+        if trail is not None:
+            trail.append((s_i, q_i, m_i))
+        if found is not None and (best is None or found.distance < best.distance):
+            best, best_s, best_q = found, s_i, q_i
+        if before is not None:
+            lower = min(lower, 0.5 * (before[0] + m_i - before[1]))
+        if s_i >= 1.0:
+            break
+        if samples >= MAX_SAMPLES:
+            raise Unresolved(f"more than {MAX_SAMPLES} samples needed near {s_i:.4f} of the move")
+        s_n, q_n, step, pose_i = walk.advance(s_i, q_i, max(m_i - clearance_mm, 0.0) + half, rest)
+        before = (m_i, step)
+        s_i, q_i = s_n, q_n
     if best is None:
         raise ValueError("the cell has nothing to measure (no solids and no checked pairs of links)")
-    return MoveClearance(best.distance, best.distance - 0.5 * worst, best.body, best.other, s[where],
-                         tuple(float(v) for v in joints[where]), best.point_body, len(s))
+    return MoveClearance(best.distance, min(lower, best.distance), best.body, best.other, best_s,
+                         tuple(float(v) for v in best_q), best.point_body, samples)
+
+
+class _Grid:
+    """A joint move's samples on a fixed grid whose steps each travel at most half the clearance: the advance jumps
+    to the farthest grid point the allowed travel reaches (the travel is linear in s), the bodies' poses computed
+    for a block of grid points at once (one batched forward kinematics, not one per sample)."""
+
+    BLOCK = 256
+
+    def __init__(self, scene: Scene, path: JointPath, q0: np.ndarray, weights: np.ndarray, half: float):
+        self.scene, self.q0 = scene, q0
+        self.delta = path.end - q0
+        self.total = float(weights @ np.abs(self.delta))
+        self.count = max(1, int(np.ceil(self.total / half)))  # grid intervals
+        if self.count >= MAX_SAMPLES:
+            raise Unresolved(f"more than {MAX_SAMPLES} samples needed for a joint move of {self.total:.0f} mm travel")
+        self.index = 0
+        self.block_start, self.block = -1, None
+
+    def pose(self, s: float, q: np.ndarray) -> np.ndarray:
+        return self._pose(0)
+
+    def _pose(self, k: int) -> np.ndarray:
+        if self.block is None or not self.block_start <= k < self.block_start + len(self.block):
+            ks = np.arange(k, min(k + self.BLOCK, self.count + 1))
+            self.block_start = k
+            self.block = self.scene.poses(self.q0 + (ks / self.count)[:, None] * self.delta)
+        return self.block[k - self.block_start]
+
+    def rest(self, s: float, q: np.ndarray) -> float:
+        return self.total * (1.0 - s)
+
+    def advance(self, s: float, q: np.ndarray, allowed: float, rest: float):
+        k = self.index + max(1, int(allowed * self.count / self.total)) if self.total > 0 else self.count
+        k = min(k, self.count)
+        step = self.total * (k - self.index) / self.count
+        self.index = k
+        s_n = k / self.count
+        return s_n, self.q0 + s_n * self.delta, step, self._pose(k)
+
+
+class _Solved:
+    """Any other path (a linear move, a blend's corner): each next sample solved from the one before, shortened until
+    its travel bound fits what the distance allows."""
+
+    def __init__(self, scene: Scene, path: Path, q0: np.ndarray, weights: np.ndarray):
+        self.scene, self.path, self.weights = scene, path, weights
+        self.end = path(1.0, q0)
+
+    def pose(self, s: float, q: np.ndarray) -> np.ndarray:
+        return self.scene.poses(q)[0]
+
+    def rest(self, s: float, q: np.ndarray) -> float:
+        return float(self.weights @ np.abs(self.end - q))
+
+    def advance(self, s: float, q: np.ndarray, allowed: float, rest: float):
+        ds = 1.0 - s if rest <= allowed else (1.0 - s) * allowed / rest
+        for _ in range(200):
+            s_n = min(1.0, s + ds)
+            q_n = self.path(s_n, q)
+            step = float(self.weights @ np.abs(q_n - q))
+            if step <= allowed:
+                return s_n, q_n, step, self.pose(s_n, q_n)
+            ds *= 0.9 * allowed / step  # a curved path: shorter until the step's travel fits
+        raise Unresolved(f"the move's joints cannot be followed near {s:.4f} of its length")

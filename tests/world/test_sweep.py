@@ -65,18 +65,117 @@ def test_a_plate_thinner_than_a_coarse_step_is_found():
     assert result.lower_bound < 0  # the guarantee admits contact
 
 
-def test_the_step_keeps_every_point_within_half_the_clearance():
+def test_the_step_follows_the_distance():
+    """Far from the plate the samples lie far apart (the step grows with the distance), near it at most half the
+    clearance of travel apart: fewer samples than a fixed half-clearance step, and more where the clearance is
+    smaller."""
     scene, start, end = swing(tangential_plate(1.0))
     weights = np.radians(reach(scene))
-    for clearance in (5.0, 20.0):
-        result = check_path(scene, joint_path(start, end), start, clearance)
-        needed = weights @ np.abs(end - start) / (clearance / 2.0)
-        assert result.samples >= needed + 1
-        assert result.distance - result.lower_bound <= clearance / 4.0 + 1e-9
-    # the tip's own travel per step stays under the bound: the bound holds for a point the test follows itself
+    fixed = weights @ np.abs(end - start) / (CLEARANCE_MM / 2.0)
+    coarse = check_path(scene, joint_path(start, end), start, CLEARANCE_MM)
+    fine = check_path(scene, joint_path(start, end), start, 5.0)
+    assert coarse.samples < fixed / 2
+    assert fine.samples > coarse.samples
+    # the tip's own travel per step of the bound stays under it: the bound holds for a point the test follows itself
     steps = np.linspace(start, end, math.ceil(weights @ np.abs(end - start) / 10.0) + 1)
     tips = np.array([tip_at(q) for q in steps])
     assert np.linalg.norm(np.diff(tips, axis=0), axis=1).max() <= 10.0
+
+
+@pytest.mark.parametrize("clearance", [5.0, 20.0, 60.0])
+def test_each_step_stays_within_what_the_distance_allows(clearance):
+    """Every step's travel bound is at most max(d - c, 0) + c / 2 for the exact least distance d at the sample it
+    starts from (measured here, every pair), and the samples run from the start to the end of the move."""
+    rng = np.random.default_rng(7)
+    scene = random_scene(rng)
+    start = HOME + rng.uniform(-30.0, 30.0, 6)
+    end = start + rng.uniform(-120.0, 120.0, 6)
+    trail: list = []
+    check_path(scene, joint_path(start, end), start, clearance, trail)
+    weights = np.radians(reach(scene))
+    assert trail[0][0] == 0.0 and trail[-1][0] == 1.0
+    joints = np.array([q for _, q, _ in trail])
+    exact = [found.distance for found in scene.nearest(joints)]
+    for i in range(len(trail) - 1):
+        assert trail[i][2] <= exact[i] + 1e-9  # what the sweep knew is a lower bound
+        step = weights @ np.abs(joints[i + 1] - joints[i])
+        assert step <= max(exact[i] - clearance, 0.0) + clearance / 2.0 + 1e-9
+    assert len(trail) > 3  # the move is long enough to need steps
+
+
+def brute_least(scene: Scene, joints: np.ndarray) -> float:
+    """The least distance over every given configuration, every pair measured."""
+    return min(found.distance for found in scene.nearest(joints) if found is not None)
+
+
+def random_scene(rng: np.random.Generator) -> Scene:
+    """Boxes of 5 to 150 mm placed about the tool's reach at home, some thin (a sheet or a rod), the floor."""
+    solids = {"floor": Floor(-300.0)}
+    for k in range(4):
+        size = tuple(rng.choice([rng.uniform(0.5, 3.0), rng.uniform(20.0, 150.0)]) for _ in range(3))
+        pose = np.eye(4)
+        turn = rng.normal(size=3)
+        pose[:3, :3] = poses_rot(turn)
+        pose[:3, 3] = (rng.uniform(-650.0, 650.0), rng.uniform(-650.0, 650.0), rng.uniform(-100.0, 600.0))
+        solids[f"box{k}"] = Box(size, pose)
+    return Scene(UR5E, World(solids), tool=tool_cylinder(TOOL, 25.0))
+
+
+def poses_rot(rotvec: np.ndarray) -> np.ndarray:
+    angle = float(np.linalg.norm(rotvec))
+    k = rotvec / angle
+    cross = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + math.sin(angle) * cross + (1.0 - math.cos(angle)) * cross @ cross
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_against_brute_force_sampling(seed):
+    """Random scenes and joint moves, against 3000 evenly spaced configurations each measured whole: the lower bound
+    is never above any of them, the sampled least never below it, and a move that comes within half the clearance
+    (contact included) anywhere is never passed."""
+    rng = np.random.default_rng(seed)
+    scene = random_scene(rng)
+    start = HOME + rng.uniform(-60.0, 60.0, 6)
+    end = start + rng.uniform(-90.0, 90.0, 6)
+    result = check_path(scene, joint_path(start, end), start)
+    fine = brute_least(scene, np.linspace(start, end, 3000))
+    assert result.lower_bound <= fine + 1e-6
+    assert result.lower_bound <= result.distance
+    assert result.distance >= result.lower_bound
+    if fine < CLEARANCE_MM / 2.0:
+        assert not result.clear(CLEARANCE_MM)
+    assert scene.nearest(np.array(result.joints)[None])[0].distance == pytest.approx(result.distance, abs=1e-6)
+
+
+def test_brute_force_cases_include_contact_and_clear_moves():
+    """The random cases above are not all one outcome: some moves touch a solid and some pass."""
+    outcomes = set()
+    for seed in range(12):
+        rng = np.random.default_rng(seed)
+        scene = random_scene(rng)
+        start = HOME + rng.uniform(-60.0, 60.0, 6)
+        end = start + rng.uniform(-90.0, 90.0, 6)
+        outcomes.add(check_path(scene, joint_path(start, end), start).clear(CLEARANCE_MM))
+    assert outcomes == {True, False}
+
+
+def test_a_sheet_grazed_between_far_samples_is_found():
+    """A 0.5 mm sheet that the tool's end only just reaches (5 mm deep) halfway along a long swing: far samples
+    step widely, yet the move is not passed."""
+    tip = tip_at(HOME)
+    along = np.cross([0.0, 0.0, 1.0], tip)
+    along /= np.linalg.norm(along)
+    pose = np.eye(4)
+    pose[:3, 0], pose[:3, 2] = along, (0.0, 0.0, 1.0)
+    pose[:3, 1] = np.cross(pose[:3, 2], along)
+    pose[:3, 3] = tip - (0.0, 0.0, 100.0 - 5.0)  # 200 mm high, its top 5 mm above the tool's end face
+    scene = Scene(UR5E, World({"sheet": Box((0.5, 200.0, 200.0), pose)}), tool=tool_cylinder(TOOL, 25.0),
+                  self_check=False)
+    start, end = HOME.copy(), HOME.copy()
+    start[0], end[0] = -150.0, 150.0
+    result = check_path(scene, joint_path(start, end), start)
+    assert not result.clear(CLEARANCE_MM) and result.other == "sheet"
+    assert result.lower_bound < 0
 
 
 def test_a_linear_move_follows_its_line():
