@@ -1,0 +1,202 @@
+"""verify's clearance check: each move of an interpreted trace swept against the cell's solids and the arm itself."""
+
+# What a trace gives: per move its kind (joint, linear), its end joints (solved by the interpreter's arm), its end TCP
+# pose, its line and file, and the dialect's settings (the blending zone). A move is followed from the joints before
+# it (the start joints for the first) to its own: a joint move interpolating every axis, a linear move keeping the TCP
+# on the straight line (the tool in force taken from the trace itself: the end pose's TCP in the flange frame), and
+# where a move blends into the next, the corner between them. The part is carried from the move after the gripper's
+# output closed (or from the start, where the case starts holding one) until the move after it opened.
+
+from __future__ import annotations
+
+import zlib
+from dataclasses import dataclass
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.dialects import get_dialect
+from codegen.model import io as signals
+from codegen.verify.plan import SCENARIOS
+from codegen.world.engine import Scene
+from codegen.world.sweep import MoveClearance, Path, Unresolved, check_path, joint_path, linear_path
+
+ORDINARY_ONE_IN = 8  # of the ordinary cases (a reading at a station), one in this many is checked (by the case's hash)
+ROUND_DEG = 1e-6  # joints this close count as the same move (the memo's key)
+
+
+@dataclass(frozen=True)
+class MoveLeast:
+    """One move's least clearance: the distance at the samples (mm), what is guaranteed along the whole move
+    (lower_bound), where the move is written (file:line), what it is, the body (link, tool or part) and the solid or
+    link it came nearest."""
+
+    distance: float
+    lower_bound: float
+    where: str
+    what: str
+    body: str
+    other: str
+
+    def text(self, clearance_mm: float) -> str:
+        """The verdict's words: the move, the body, the solid and the distance."""
+        near = f"cuts {-self.distance:.1f} mm into" if self.distance < 0 else f"comes within {self.distance:.1f} mm of"
+        return (f"{self.where}: the {self.what}: the {_body(self.body)} {near} {self.other} (clearance "
+                f"{clearance_mm:g} mm)")
+
+
+def _body(name: str) -> str:
+    return name if name in ("tool", "part") else f"arm's {name}"
+
+
+@dataclass(frozen=True)
+class Gripper:
+    """The output that closes the gripper on a part, as the trace names it, and the value that closes it."""
+
+    output: str
+    closed: bool = True
+
+
+def checked(case, scenario: str) -> bool:
+    """Whether verify sweeps a case's trace: every case of a common scenario (away from home, a stop's way home, a
+    part held, a device's silence ...), and one in ORDINARY_ONE_IN of the others (a reading at a station), chosen
+    by the case's own text (so the same cases whatever the workers and chunks)."""
+    if scenario in SCENARIOS:
+        return True
+    return zlib.crc32(repr(case).encode()) % ORDINARY_ONE_IN == 0
+
+
+def for_program(cell, target_name: str, filename: str) -> TraceClearance | None:
+    """The check of one program of the cell on a target: its arm among the cell's solids, with the part carried
+    where a kind gives one; None where the cell gives no arm for the target."""
+    from codegen.world import cell as world_cell
+
+    if cell.robot is None or target_name not in cell.robot.arms or not cell.robot.arms[target_name].links:
+        return None
+    target = get_target(target_name)
+    # a kind that carries a part of known shape says so (Scene.carried: a codegen.model.world.PartShape or a Box)
+    parts = (getattr(kind.scene, "carried", lambda _cell: None)(cell) for kind in cell.kinds.values())
+    part = next((p for p in parts if p is not None), None)
+    free = world_cell.scene_of(cell, target_name)
+    scenes = {False: free, True: free if part is None else world_cell.scene_of(cell, target_name, part)}
+    gripper = None
+    if cell.io is not None and target_name in cell.io.output:
+        gripper = Gripper(signals.signal_name(target, "output", cell.io.output[target_name]), cell.io.value)
+    return TraceClearance(scenes, world_cell.clearance_mm(cell), get_dialect(target.dialect), filename, gripper)
+
+
+def held_at_start(cell, target_name: str, setup) -> bool:
+    """Whether a case starts with the part in the gripper: its feedback input on at the start."""
+    if cell.io is None or target_name not in cell.io.feedback or setup is None:
+        return False
+    name = signals.signal_name(get_target(target_name), "input", cell.io.feedback[target_name])
+    return bool(setup.signals.get(name))
+
+
+class TraceClearance:
+    """A program's traces swept against one scene per held state (no part, the part carried), every distinct move
+    swept once (a memo by the move's kind, end joints, zone and the part)."""
+
+    def __init__(self, scenes: dict[bool, Scene], clearance_mm: float, dialect, filename: str,
+                 gripper: Gripper | None = None):
+        self.scenes, self.clearance, self.dialect = scenes, clearance_mm, dialect
+        self.filename, self.gripper = filename, gripper
+        self.arm = scenes[False].arm
+        self.memo: dict[tuple, MoveLeast] = {}
+        self.swept = 0  # moves swept (memo misses)
+
+    def check(self, trace, start_joints=None, held: bool = False) -> tuple[MoveLeast | None, MoveLeast | None]:
+        """(the trace's least clearance, its first move within the clearance or None). held: the case starts
+        with a part in the gripper."""
+        moves = [m for m in trace.moves if m.joints is not None]
+        if not moves:
+            return None, None
+        holding = self._held(trace, len(trace.moves), held)
+        q = np.asarray(self.arm.home_deg if start_joints is None else start_joints, dtype=float)
+        least: MoveLeast | None = None
+        first: MoveLeast | None = None
+        index = {id(m): i for i, m in enumerate(trace.moves)}
+        for k, move in enumerate(moves):
+            carried = holding[index[id(move)]]
+            found = [self._move(q, move, carried)]
+            zone = self.dialect.zone_mm(move.settings)
+            if zone > 0 and k + 1 < len(moves):
+                corner = self._corner(q, move, moves[k + 1], zone, carried)
+                if corner is not None:
+                    found.append(corner)
+            for one in found:
+                if least is None or one.distance < least.distance:
+                    least = one
+                if first is None and one.distance < self.clearance:
+                    first = one
+            q = np.asarray(move.joints, dtype=float)
+        return least, first
+
+    def _held(self, trace, count: int, held: bool) -> list[bool]:
+        """Per move of the trace: whether the gripper holds the part during it (closed before the move set off)."""
+        out = [held] * count
+        if self.gripper is None:
+            return out
+        for event in sorted(trace.outputs, key=lambda e: e.after_moves):
+            if event.name == self.gripper.output:
+                state = event.value == self.gripper.closed
+                for i in range(event.after_moves, count):
+                    out[i] = state
+        return out
+
+    def _where(self, move) -> str:
+        return f"{move.file or self.filename}:{move.line}"
+
+    def _move(self, q0: np.ndarray, move, carried: bool) -> MoveLeast:
+        q1 = np.asarray(move.joints, dtype=float)
+        circular = self.dialect.circular(move.kind, move.settings)
+        linear = move.kind != "joint" and move.tcp2base is not None and not circular
+        key = (linear, carried, _rounded(q0), _rounded(q1))
+        if key not in self.memo:
+            what = "linear move" if linear else ("circular move (its ends' joints)" if circular else "joint move")
+            self.memo[key] = self._sweep(self._path(q0, move, linear), q0, carried, move, what)
+        return self.memo[key]
+
+    def _path(self, q0: np.ndarray, move, linear: bool) -> Path:
+        if not linear:
+            return joint_path(q0, move.joints)
+        tcp2flange = np.linalg.inv(self.arm.kin.fk(np.asarray(move.joints, dtype=float))) @ move.tcp2base
+        return linear_path(self.arm, tcp2flange, self.arm.kin.fk(q0) @ tcp2flange, move.tcp2base)
+
+    def _corner(self, q0: np.ndarray, move, after, zone: float, carried: bool) -> MoveLeast | None:
+        """The blend's corner: from where the TCP enters the zone on this move to where it leaves it on the next,
+        the joints a quadratic curve through the target's (its control point), so that the TCP cuts the corner
+        within the zone as the controllers' blends do."""
+        q1, q2 = np.asarray(move.joints, dtype=float), np.asarray(after.joints, dtype=float)
+        tcp = [self.arm.kin.fk(q)[:3, 3] for q in (q0, q1, q2)]
+        into = min(0.5, zone / max(float(np.linalg.norm(tcp[1] - tcp[0])), 1e-9))
+        out = min(0.5, zone / max(float(np.linalg.norm(tcp[2] - tcp[1])), 1e-9))
+        first = self._path(q0, move, move.kind != "joint" and move.tcp2base is not None)
+        second = self._path(q1, after, after.kind != "joint" and after.tcp2base is not None)
+        try:
+            enter, leave = first(1.0 - into, q1), second(out, q1)
+        except Unresolved:
+            return None  # a line the arm cannot follow: the moves themselves report it
+        key = ("corner", carried, _rounded(enter), _rounded(q1), _rounded(leave))
+        if key not in self.memo:
+            path = _bezier(enter, q1, leave)
+            self.memo[key] = self._sweep(path, enter, carried, move, f"blend's corner ({zone:g} mm zone)")
+        return self.memo[key]
+
+    def _sweep(self, path: Path, q0: np.ndarray, carried: bool, move, what: str) -> MoveLeast:
+        self.swept += 1
+        try:
+            result: MoveClearance = check_path(self.scenes[carried], path, q0, self.clearance)
+        except Unresolved as exc:
+            return MoveLeast(-np.inf, -np.inf, self._where(move), what, "arm", f"its path ({exc})")
+        return MoveLeast(result.distance, result.lower_bound, self._where(move), what, result.body, result.other)
+
+
+def _bezier(q0: np.ndarray, control: np.ndarray, q1: np.ndarray) -> Path:
+    """Joints along a quadratic curve from q0 to q1 pulled towards control (each axis monotone where the control lies
+    between its ends, as at a blended corner that keeps turning the same way)."""
+    return lambda s, _near: (1.0 - s) ** 2 * q0 + 2.0 * s * (1.0 - s) * control + s**2 * q1
+
+
+def _rounded(q) -> tuple:
+    return tuple(np.round(np.asarray(q, dtype=float) / ROUND_DEG).astype(np.int64).tolist())
