@@ -236,10 +236,16 @@ class VerifyPlan(Part):
 
 
 class Scene(Part):
-    """The kind's objects of the cell as the page draws them (codegen.view.scene's vocabulary)."""
+    """The kind's objects of the cell: as the page draws them (codegen.view.scene's vocabulary) and as solids the arm
+    keeps its clearance from (codegen.world)."""
 
     def objects(self, cell) -> list[dict]:
         return []
+
+    def solids(self, cell) -> dict[str, Any]:
+        """The kind's solids that stand in the cell throughout (codegen.world.solids shapes in the robot's base
+        frame, mm), by names unique in the cell: what the kind's programs work at, its housings; {}: none."""
+        return {}
 
 
 class Commands(Part):

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from codegen.guard import TAUGHT_RANGE_MM
-from codegen.model import io, motion, tables, vision
+from codegen.model import io, motion, tables, vision, world
 from codegen.model.hints import missing_hint
 from codegen.model.io import SignalSettings
 from codegen.model.loader import Loader
@@ -21,6 +21,7 @@ from codegen.model.motion import MotionSettings
 from codegen.model.robot import Robot, parse_robot
 from codegen.model.validate import CellError, Validator, kind_of, metres_hint
 from codegen.model.vision import VisionSettings
+from codegen.model.world import WorldSettings
 from codegen.poses import POSE_FORMATS
 from codegen.protocol import Kinds, installed_kinds
 from codegen.readfile import ReadError, read_regular
@@ -70,6 +71,7 @@ class Cell:
     vision: VisionSettings = field(default_factory=VisionSettings)  # [cell.vision]: the handshake's timeout
     motion: MotionSettings = field(default_factory=MotionSettings)  # [cell.motion]: speeds, zones, retreat, home
     io: SignalSettings | None = None  # [cell.io]: the work pose's output and its feedback
+    world: WorldSettings = field(default_factory=WorldSettings)  # [cell.world]: the floor, solids, clearance
     source: str = ""
     sha256: str = ""
     warnings: tuple[str, ...] = field(default=(), compare=False)
@@ -197,6 +199,7 @@ def cell_from_dict(data: dict, source: str = "<cell>", sha256: str = "", kinds: 
         vision=vision.parse_settings(ctx, cell_table),
         motion=motion.parse_settings(ctx, cell_table),
         io=io.parse_settings(ctx, cell_table, targets),
+        world=world.parse_settings(ctx, cell_table, pose_format),
         source=source,
         sha256=sha256,
         warnings=tuple(ctx.warnings),

@@ -8,7 +8,7 @@ from dataclasses import replace
 from functools import cache
 
 from codegen.controllers import target_names
-from codegen.model import io, motion, robot, vision
+from codegen.model import io, motion, robot, vision, world
 from codegen.model.schema import JSON_SCHEMA_DRAFT, REFERENCE_NOTE, Key, Table, json_of_table, markdown
 from codegen.protocol import Kinds, installed_kinds
 
@@ -52,6 +52,7 @@ def cell_table(kinds: Kinds) -> Table:
             kinds=_readers(kinds, "vision"),
         ),
         "motion": Key("table", motion.TABLE.doc, table=motion.TABLE),
+        "world": Key("table", world.TABLE.doc, table=world.TABLE),
         "io": Key(
             "table",
             io.io_table().doc,

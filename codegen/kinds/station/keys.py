@@ -8,7 +8,7 @@ from functools import cache
 
 from codegen.guard import READING_RANGE_MM, TAUGHT_RANGE_MM
 from codegen.kinds.station.mode import modes
-from codegen.model import robot
+from codegen.model import robot, world
 from codegen.model.schema import Key, KindKeys, Table
 
 NAME = "station"  # the kind's name: its [[station]] tables, its section of the cell
@@ -133,6 +133,7 @@ def station_table() -> Table:
             "as it is",
             values=Key("string", "grip or release", choices=(GRIP, RELEASE)),
         ),
+        "part": Key("table", world.PART.doc + " (the part the station's grip takes)", table=world.PART),
     }
     common = Table("A station the program serves: its id, poses and its kind's keys.", own, kinds=names)
     return common.merged(
@@ -144,7 +145,7 @@ def station_table() -> Table:
     )
 
 
-COMMON_KEYS = frozenset(("id", "name", "mode", "poses", "config", "gripper"))
+COMMON_KEYS = frozenset(("id", "name", "mode", "poses", "config", "gripper", "part"))
 
 
 @cache
