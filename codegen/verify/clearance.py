@@ -9,7 +9,6 @@
 
 from __future__ import annotations
 
-import zlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,10 +17,11 @@ from codegen.controllers import get_target
 from codegen.dialects import get_dialect
 from codegen.model import io as signals
 from codegen.verify.plan import SCENARIOS
+from codegen.world import cell as world_cell
 from codegen.world.engine import Scene
 from codegen.world.sweep import MoveClearance, Path, Unresolved, check_path, joint_path, linear_path
 
-ORDINARY_ONE_IN = 8  # of the ordinary cases (a reading at a station), one in this many is checked (by the case's hash)
+PER_CATEGORY = 8  # of a kind's own category of cases (a reading's corner, its random readings), this many are swept
 ROUND_DEG = 1e-6  # joints this close count as the same move (the memo's key)
 
 
@@ -57,20 +57,26 @@ class Gripper:
     closed: bool = True
 
 
-def checked(case, scenario: str) -> bool:
-    """Whether verify sweeps a case's trace: every case of a common scenario (away from home, a stop's way home, a
-    part held, a device's silence ...), and one in ORDINARY_ONE_IN of the others (a reading at a station), chosen
-    by the case's own text (so the same cases whatever the workers and chunks)."""
-    if scenario in SCENARIOS:
-        return True
-    return zlib.crc32(repr(case).encode()) % ORDINARY_ONE_IN == 0
+def selected(categories: list[str], scenarios: list[str]) -> list[bool]:
+    """Which of a program's cases (their categories and scenarios, in the kind's order) verify sweeps: every case of
+    a common scenario (away from home, a stop's way home, a part held, a device's silence ...), and of each other
+    category PER_CATEGORY spread evenly over its cases (a kind's corners and limits of the reading's envelope, its
+    random readings): the same cases whatever the workers and chunks."""
+    counts: dict[str, int] = {}
+    for category in categories:
+        counts[category] = counts.get(category, 0) + 1
+    seen: dict[str, int] = {}
+    out = []
+    for category, scenario in zip(categories, scenarios, strict=True):
+        k = seen[category] = seen.get(category, -1) + 1
+        step = max(1, -(-counts[category] // PER_CATEGORY))
+        out.append(scenario in SCENARIOS or k % step == 0)
+    return out
 
 
 def for_program(cell, target_name: str, filename: str) -> TraceClearance | None:
     """The check of one program of the cell on a target: its arm among the cell's solids, with the part carried
     where a kind gives one; None where the cell gives no arm for the target."""
-    from codegen.world import cell as world_cell
-
     if cell.robot is None or target_name not in cell.robot.arms or not cell.robot.arms[target_name].links:
         return None
     target = get_target(target_name)
@@ -79,18 +85,19 @@ def for_program(cell, target_name: str, filename: str) -> TraceClearance | None:
     part = next((p for p in parts if p is not None), None)
     free = world_cell.scene_of(cell, target_name)
     scenes = {False: free, True: free if part is None else world_cell.scene_of(cell, target_name, part)}
-    gripper = None
+    gripper, feedback = None, None
     if cell.io is not None and target_name in cell.io.output:
         gripper = Gripper(signals.signal_name(target, "output", cell.io.output[target_name]), cell.io.value)
-    return TraceClearance(scenes, world_cell.clearance_mm(cell), get_dialect(target.dialect), filename, gripper)
+    if cell.io is not None and target_name in cell.io.feedback:
+        feedback = signals.signal_name(target, "input", cell.io.feedback[target_name])
+    dialect = get_dialect(target.dialect)
+    home = cell.robot.home[target_name]
+    return TraceClearance(scenes, world_cell.clearance_mm(cell), dialect, filename, gripper, feedback, home)
 
 
-def held_at_start(cell, target_name: str, setup) -> bool:
-    """Whether a case starts with the part in the gripper: its feedback input on at the start."""
-    if cell.io is None or target_name not in cell.io.feedback or setup is None:
-        return False
-    name = signals.signal_name(get_target(target_name), "input", cell.io.feedback[target_name])
-    return bool(setup.signals.get(name))
+def held_at_start(check: TraceClearance, setup) -> bool:
+    """Whether a case starts with the part in the gripper: the gripper's feedback input on at the start."""
+    return setup is not None and check.feedback is not None and bool(setup.signals.get(check.feedback))
 
 
 class TraceClearance:
@@ -98,10 +105,13 @@ class TraceClearance:
     swept once (a memo by the move's kind, end joints, zone and the part)."""
 
     def __init__(self, scenes: dict[bool, Scene], clearance_mm: float, dialect, filename: str,
-                 gripper: Gripper | None = None):
+                 gripper: Gripper | None = None, feedback: str | None = None, home=None):
+        """feedback: the gripper's feedback input as the program names it (on at the start: a part held); home:
+        where a run starts that gives no start joints (default the arm's catalogue home)."""
         self.scenes, self.clearance, self.dialect = scenes, clearance_mm, dialect
-        self.filename, self.gripper = filename, gripper
+        self.filename, self.gripper, self.feedback = filename, gripper, feedback
         self.arm = scenes[False].arm
+        self.home = np.asarray(self.arm.home_deg if home is None else home, dtype=float)
         self.memo: dict[tuple, MoveLeast] = {}
         self.swept = 0  # moves swept (memo misses)
 
@@ -112,7 +122,7 @@ class TraceClearance:
         if not moves:
             return None, None
         holding = self._held(trace, len(trace.moves), held)
-        q = np.asarray(self.arm.home_deg if start_joints is None else start_joints, dtype=float)
+        q = self.home if start_joints is None else np.asarray(start_joints, dtype=float)
         least: MoveLeast | None = None
         first: MoveLeast | None = None
         index = {id(m): i for i, m in enumerate(trace.moves)}

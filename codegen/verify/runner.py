@@ -7,6 +7,7 @@ import time
 
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
+from codegen.verify import clearance
 from codegen.verify.checks import Checker
 from codegen.verify.executor import Executor
 from codegen.verify.report import Replay, Row
@@ -32,8 +33,10 @@ def _program(source, large: bool):
 
 def run_chunk(task) -> tuple[int, Row]:
     """One task: (cell, source, cases or a bulk range, step limit, stop at the first mismatch, keep the worst case's
-    and the first mismatch's run). Returns (the source's row, the partial row)."""
-    cell, source, work, step_limit, first, keep = task
+    and the first mismatch's run[, per case whether its trace is swept against the cell's solids: default none]).
+    Returns (the source's row, the partial row)."""
+    cell, source, work, step_limit, first, keep, *rest = task
+    swept = rest[0] if rest else ()
     model = source.model or cell
     kind = cell.kinds[source.kind].verify
     row = Row(source.kind, source.target, source.ident, list(source.origin))
@@ -43,7 +46,8 @@ def run_chunk(task) -> tuple[int, Row]:
         if isinstance(work, range):
             kind.sweep(model, source, program, work, step_limit or DEFAULT_STEP_LIMIT, row)
         else:
-            _run_cases(model, kind, source, program, work, step_limit, row, first, keep)
+            check = clearance.for_program(model, source.target, source.label) if any(swept) else None
+            _run_cases(model, kind, source, program, work, step_limit, row, first, keep, check, swept)
             row.seconds = time.perf_counter() - start  # the cases' time alone: cases/s is one program on one core
     return source.row, row
 
@@ -54,12 +58,13 @@ def run_cases(cell, source, cases: list, step_limit: int, first: bool = False) -
 
 
 def _run_cases(
-    model, kind, source, program, cases: list, step_limit: int, row: Row, first: bool = False, keep: bool = False
+    model, kind, source, program, cases: list, step_limit: int, row: Row, first: bool = False, keep: bool = False,
+    check: clearance.TraceClearance | None = None, swept: tuple[bool, ...] = (),
 ) -> None:
     checker = Checker(model, source.target)
     arm = checker.arm
     prefixes = kind.log_prefixes(model)
-    for case in cases:
+    for number, case in enumerate(cases):
         row.cases += 1
         row.categories[case.category] = row.categories.get(case.category, 0) + 1
         scenario = kind.scenario_of(case)
@@ -93,6 +98,8 @@ def _run_cases(
                     _, problem, pos, rot, expected = min(problems, key=lambda p: p[0])
             if problem is None and judgement.truth is not None:
                 problem = judgement.truth
+            if problem is None and check is not None and swept[number]:
+                problem = _clearance(check, model, source, setup, trace, row)
             if expected is None and judgement.accepted:
                 expected = judgement.accepted[0]
         row.pos_errors.extend(pos)
@@ -110,6 +117,17 @@ def _run_cases(
             _keep(row, kind, model, case, setup, trace, expected, pos, rot, problem)
         if runaway or (first and problem is not None):
             break
+
+
+def _clearance(check: clearance.TraceClearance, model, source, setup, trace, row: Row) -> str | None:
+    """The trace swept against the cell's solids: the row's least clearance kept, the first move within the
+    clearance the case's problem."""
+    held = clearance.held_at_start(check, setup)
+    least, breach = check.check(trace, setup.start_joints, held)
+    row.clearance_traces += 1
+    if least is not None and (row.clearance is None or least.distance < row.clearance.distance):
+        row.clearance = least
+    return None if breach is None else f"clearance: {breach.text(check.clearance)}"
 
 
 def _run(program, setup, arm, step_limit: int):

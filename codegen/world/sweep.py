@@ -30,7 +30,7 @@ import numpy as np
 from codegen import poses
 from codegen.robot import solve
 from codegen.robot.arms import Arm
-from codegen.world.engine import Nearest, Scene
+from codegen.world.engine import GROUPS, Nearest, Scene
 
 CLEARANCE_MM = 20.0  # the cell's default clearance_mm (docs/clearance.md says why)
 MAX_SAMPLES = 100_000  # a move that needs more (a joint swinging near a singularity) is reported unresolved
@@ -127,15 +127,23 @@ def travel_weights(scene: Scene) -> np.ndarray:
     return weights
 
 
+def group_weights(scene: Scene) -> np.ndarray:
+    """(GROUPS, 6): per group of pairs the travel bound's weights of the joints that move its two sides against each
+    other: every joint for the bodies against the solids (group 0), the joints after link frame g for the bodies'
+    pairs whose lower frame is g (in that frame the lower body stands still)."""
+    weights = travel_weights(scene)
+    return np.array([np.where(np.arange(6) >= g, weights, 0.0) for g in range(GROUPS)])
+
+
 def check_path(scene: Scene, path: Path, q_start, clearance_mm: float = CLEARANCE_MM, trail: list | None = None
                ) -> MoveClearance:
     """The least clearance along path (s from 0 to 1), starting at joints q_start (deg): a joint move, a linear move
     or a blend's corner (any Path: a corner gives its own joints along s). Samples by conservative advancement (the
-    module's comment says why no contact slips between them); trail, if given, gets each sample's (s, joints, the
-    least distance known there: exact, or a lower bound where nothing nearer could matter)."""
+    module's comment says why no contact slips between them); trail, if given, gets each sample's (s, joints, per
+    group of pairs the least distance known there: exact, or a lower bound where nothing nearer could matter)."""
     if clearance_mm <= 0:
         raise ValueError("the clearance is a positive distance (mm)")
-    weights = travel_weights(scene)
+    weights = group_weights(scene)
     half = 0.5 * clearance_mm
     q_i = np.asarray(q_start, dtype=float)
     walk = _Grid(scene, path, q_i, weights, half) if isinstance(path, JointPath) else _Solved(scene, path, q_i, weights)
@@ -143,26 +151,26 @@ def check_path(scene: Scene, path: Path, q_start, clearance_mm: float = CLEARANC
     best: Nearest | None = None
     best_s, best_q = 0.0, q_i
     lower = np.inf
-    before: tuple[float, float] | None = None  # the sample before: its known least distance (a lower bound), the step
+    before: tuple[np.ndarray, np.ndarray] | None = None  # the sample before: its groups' known least, the step's travel
     samples = 0
     while True:
-        rest = walk.rest(s_i, q_i)  # the travel left (exact for a joint move, else an estimate)
-        below = max(rest + half, np.inf if best is None else best.distance)
-        found = scene.nearest_pose(pose_i, below)
+        rest = walk.rest(s_i, q_i)  # per group, the travel left (exact for a joint move, else an estimate)
+        known, found = scene.least_by_group(pose_i, rest + half, np.inf if best is None else best.distance)
         samples += 1
-        m_i = below if found is None else found.distance  # beyond `below`: known only to be at least that
         if trail is not None:
-            trail.append((s_i, q_i, m_i))
+            trail.append((s_i, q_i, known))
         if found is not None and (best is None or found.distance < best.distance):
             best, best_s, best_q = found, s_i, q_i
         if before is not None:
-            lower = min(lower, 0.5 * (before[0] + m_i - before[1]))
+            with np.errstate(invalid="ignore"):  # a group without pairs: inf - inf
+                gap = 0.5 * (before[0] + known - before[1])
+            lower = min(lower, float(np.nanmin(gap)))
         if s_i >= 1.0:
             break
         if samples >= MAX_SAMPLES:
             raise Unresolved(f"more than {MAX_SAMPLES} samples needed near {s_i:.4f} of the move")
-        s_n, q_n, step, pose_i = walk.advance(s_i, q_i, max(m_i - clearance_mm, 0.0) + half, rest)
-        before = (m_i, step)
+        s_n, q_n, step, pose_i = walk.advance(s_i, q_i, np.maximum(known - clearance_mm, 0.0) + half, rest)
+        before = (known, step)
         s_i, q_i = s_n, q_n
     if best is None:
         raise ValueError("the cell has nothing to measure (no solids and no checked pairs of links)")
@@ -172,18 +180,19 @@ def check_path(scene: Scene, path: Path, q_start, clearance_mm: float = CLEARANC
 
 class _Grid:
     """A joint move's samples on a fixed grid whose steps each travel at most half the clearance: the advance jumps
-    to the farthest grid point the allowed travel reaches (the travel is linear in s), the bodies' poses computed
-    for a block of grid points at once (one batched forward kinematics, not one per sample)."""
+    to the farthest grid point every group's allowed travel reaches (the travel is linear in s), the bodies' poses
+    computed for a block of grid points at once (one batched forward kinematics, not one per sample)."""
 
     BLOCK = 256
 
     def __init__(self, scene: Scene, path: JointPath, q0: np.ndarray, weights: np.ndarray, half: float):
         self.scene, self.q0 = scene, q0
         self.delta = path.end - q0
-        self.total = float(weights @ np.abs(self.delta))
-        self.count = max(1, int(np.ceil(self.total / half)))  # grid intervals
+        self.total = weights @ np.abs(self.delta)  # per group
+        self.count = max(1, int(np.ceil(self.total[0] / half)))  # grid intervals (group 0 travels the most)
         if self.count >= MAX_SAMPLES:
-            raise Unresolved(f"more than {MAX_SAMPLES} samples needed for a joint move of {self.total:.0f} mm travel")
+            raise Unresolved(f"more than {MAX_SAMPLES} samples needed for a joint move of {self.total[0]:.0f} mm")
+        self.per_step = self.total / self.count
         self.index = 0
         self.block_start, self.block = -1, None
 
@@ -197,13 +206,14 @@ class _Grid:
             self.block = self.scene.poses(self.q0 + (ks / self.count)[:, None] * self.delta)
         return self.block[k - self.block_start]
 
-    def rest(self, s: float, q: np.ndarray) -> float:
+    def rest(self, s: float, q: np.ndarray) -> np.ndarray:
         return self.total * (1.0 - s)
 
-    def advance(self, s: float, q: np.ndarray, allowed: float, rest: float):
-        k = self.index + max(1, int(allowed * self.count / self.total)) if self.total > 0 else self.count
-        k = min(k, self.count)
-        step = self.total * (k - self.index) / self.count
+    def advance(self, s: float, q: np.ndarray, allowed: np.ndarray, rest: np.ndarray):
+        moving = self.per_step > 0
+        fits = np.floor(allowed[moving] / self.per_step[moving]).min() if moving.any() else self.count
+        k = min(self.count, self.index + max(1, int(fits)))
+        step = self.per_step * (k - self.index)
         self.index = k
         s_n = k / self.count
         return s_n, self.q0 + s_n * self.delta, step, self._pose(k)
@@ -211,7 +221,7 @@ class _Grid:
 
 class _Solved:
     """Any other path (a linear move, a blend's corner): each next sample solved from the one before, shortened until
-    its travel bound fits what the distance allows."""
+    every group's travel bound fits what its distance allows."""
 
     def __init__(self, scene: Scene, path: Path, q0: np.ndarray, weights: np.ndarray):
         self.scene, self.path, self.weights = scene, path, weights
@@ -220,16 +230,19 @@ class _Solved:
     def pose(self, s: float, q: np.ndarray) -> np.ndarray:
         return self.scene.poses(q)[0]
 
-    def rest(self, s: float, q: np.ndarray) -> float:
-        return float(self.weights @ np.abs(self.end - q))
+    def rest(self, s: float, q: np.ndarray) -> np.ndarray:
+        return self.weights @ np.abs(self.end - q)
 
-    def advance(self, s: float, q: np.ndarray, allowed: float, rest: float):
-        ds = 1.0 - s if rest <= allowed else (1.0 - s) * allowed / rest
+    def advance(self, s: float, q: np.ndarray, allowed: np.ndarray, rest: np.ndarray):
+        moving = rest > 0
+        ratio = float((allowed[moving] / rest[moving]).min()) if moving.any() else 1.0
+        ds = (1.0 - s) * min(1.0, ratio)
         for _ in range(200):
             s_n = min(1.0, s + ds)
             q_n = self.path(s_n, q)
-            step = float(self.weights @ np.abs(q_n - q))
-            if step <= allowed:
+            step = self.weights @ np.abs(q_n - q)
+            over = step / allowed
+            if over.max() <= 1.0:
                 return s_n, q_n, step, self.pose(s_n, q_n)
-            ds *= 0.9 * allowed / step  # a curved path: shorter until the step's travel fits
+            ds *= 0.9 / over.max()  # a curved path: shorter until the step's travel fits
         raise Unresolved(f"the move's joints cannot be followed near {s:.4f} of its length")
