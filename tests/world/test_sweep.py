@@ -3,6 +3,7 @@ a linear move solved along its line, and the UR5e posture that puts the elbow un
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -113,7 +114,7 @@ def test_each_step_stays_within_what_the_distance_allows(clearance):
     weights = np.radians(reach(scene))
     per_group = np.array([[w if joint >= g else 0.0 for joint, w in enumerate(weights)] for g in range(7)])
     assert trail[0][0] == 0.0 and trail[-1][0] == 1.0
-    for (_, q, known), (_, q_next, _) in zip(trail, trail[1:]):
+    for (_, q, known), (_, q_next, _) in itertools.pairwise(trail):
         exact = exact_by_group(scene, q)
         assert np.all(known <= exact + 1e-6)  # what the sweep knew is a lower bound
         step = per_group @ np.abs(q_next - q)
