@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -37,6 +37,7 @@ class MoveLeast:
     what: str
     body: str
     other: str
+    move: int = -1  # its index among the trace's moves
 
     def text(self, clearance_mm: float) -> str:
         """The verdict's words: the move, the body, the solid and the distance."""
@@ -134,6 +135,7 @@ class TraceClearance:
                 corner = self._corner(q, move, moves[k + 1], zone, carried)
                 if corner is not None:
                     found.append(corner)
+            found = [replace(one, move=index[id(move)]) for one in found]
             for one in found:
                 if least is None or one.distance < least.distance:
                     least = one
