@@ -98,8 +98,10 @@ def _run_cases(
                     _, problem, pos, rot, expected = min(problems, key=lambda p: p[0])
             if problem is None and judgement.truth is not None:
                 problem = judgement.truth
-            if problem is None and check is not None and swept[number]:
-                problem = _clearance(check, model, source, setup, trace, row)
+            if check is not None and swept[number]:  # a move through a solid is named beside any other problem
+                breach = _clearance(check, model, source, setup, trace, row)
+                if breach is not None:
+                    problem = breach if problem is None else f"{problem}; {breach}"
             if expected is None and judgement.accepted:
                 expected = judgement.accepted[0]
         row.pos_errors.extend(pos)
