@@ -98,24 +98,62 @@ def joint_path(q0, q1) -> JointPath:
     return JointPath(np.asarray(q0, dtype=float), np.asarray(q1, dtype=float))
 
 
-def linear_path(arm: Arm, tcp2flange: np.ndarray, tcp0: np.ndarray, tcp1: np.ndarray) -> Path:
+@dataclass(frozen=True, eq=False)
+class LinearPath:
     """A linear move (LIN, MoveL, movel) from tcp0 to tcp1 (tcp2base): the TCP on the straight line, its orientation
     turned about one fixed axis (the rotation from tcp0 to tcp1 scaled by s), the joints solved at each sample by the
     arm's IK, the solution nearest the sample before (as a controller continues a linear move)."""
-    tcp0, tcp1 = np.asarray(tcp0, dtype=float), np.asarray(tcp1, dtype=float)
-    turn = poses.rotvec_from_rotmat(tcp0[:3, :3].T @ tcp1[:3, :3])
 
-    def at(s: float, near: np.ndarray) -> np.ndarray:
-        pose = np.eye(4)
-        pose[:3, :3] = tcp0[:3, :3] @ poses.rotmat_from_rotvec(s * np.asarray(turn))
-        pose[:3, 3] = tcp0[:3, 3] + s * (tcp1[:3, 3] - tcp0[:3, 3])
-        flange = solve.flange_poses(pose, tcp2flange)
-        q, _ = solve.nearest(arm, solve.branches(arm, flange), near)
-        if np.isnan(q).any():
-            raise Unresolved(f"the linear move has no joint solution at {s:.4f} of its length")
-        return q
+    arm: Arm
+    tcp2flange: np.ndarray
+    tcp0: np.ndarray
+    tcp1: np.ndarray
 
-    return at
+    def poses(self, s: np.ndarray) -> np.ndarray:
+        """(n, 4, 4) the TCP's poses at the fractions s (n,)."""
+        s = np.asarray(s, dtype=float)
+        turn = np.asarray(poses.rotvec_from_rotmat(self.tcp0[:3, :3].T @ self.tcp1[:3, :3]), dtype=float)
+        angle = float(np.linalg.norm(turn))
+        out = np.broadcast_to(np.eye(4), (len(s), 4, 4)).copy()
+        if angle > 0.0:
+            kx, ky, kz = turn / angle
+            k = np.array([[0.0, -kz, ky], [kz, 0.0, -kx], [-ky, kx, 0.0]])
+            a = s * angle
+            turned = np.eye(3) + np.sin(a)[:, None, None] * k + (1.0 - np.cos(a))[:, None, None] * (k @ k)
+        else:
+            turned = np.broadcast_to(np.eye(3), (len(s), 3, 3))
+        out[:, :3, :3] = self.tcp0[:3, :3] @ turned
+        out[:, :3, 3] = self.tcp0[:3, 3] + s[:, None] * (self.tcp1[:3, 3] - self.tcp0[:3, 3])
+        return out
+
+    def __call__(self, s: float, near: np.ndarray) -> np.ndarray:
+        return self.solve(np.array([s]), near)[0]
+
+    def solve(self, s: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        """(n, 6) joints at the increasing fractions s, each the solution nearest the one before (the first nearest
+        q0): solved in one batch, each pose's nearest to q0 kept where it is also the nearest to the pose before
+        (then the chain gives the same), else followed one pose at a time from there."""
+        solutions = solve.branches(self.arm, solve.flange_poses(self.poses(s), self.tcp2flange))
+        q0 = np.asarray(q0, dtype=float)
+        guess, _ = solve.nearest(self.arm, solutions, np.broadcast_to(q0, (len(s), 6)))
+        chained, _ = solve.nearest(self.arm, solutions, np.vstack([q0[None], guess[:-1]]))
+        same = np.all((chained == guess) | (np.isnan(chained) & np.isnan(guess)), axis=1)
+        if not same.all():
+            k = int(np.argmin(same))
+            near = q0 if k == 0 else guess[k - 1]
+            for i in range(k, len(s)):
+                near, _ = solve.nearest(self.arm, solutions[i], near)
+                guess[i] = near
+        bad = np.isnan(guess).any(axis=1)
+        if bad.any():
+            raise Unresolved(f"the linear move has no joint solution at {s[int(np.argmax(bad))]:.4f} of its length")
+        return guess
+
+
+def linear_path(arm: Arm, tcp2flange: np.ndarray, tcp0: np.ndarray, tcp1: np.ndarray) -> LinearPath:
+    """A linear move from tcp0 to tcp1 (LinearPath)."""
+    return LinearPath(arm, np.asarray(tcp2flange, dtype=float), np.asarray(tcp0, dtype=float),
+                      np.asarray(tcp1, dtype=float))
 
 
 def travel_weights(scene: Scene) -> np.ndarray:
@@ -146,7 +184,7 @@ def check_path(scene: Scene, path: Path, q_start, clearance_mm: float = CLEARANC
     weights = group_weights(scene)
     half = 0.5 * clearance_mm
     q_i = np.asarray(q_start, dtype=float)
-    walk = _Grid(scene, path, q_i, weights, half) if isinstance(path, JointPath) else _Solved(scene, path, q_i, weights)
+    walk = _Samples(scene, *_grid(path, q_i, weights[0], half), weights)
     s_i, pose_i = 0.0, walk.pose(0.0, q_i)
     best: Nearest | None = None
     best_s, best_q = 0.0, q_i
@@ -178,21 +216,58 @@ def check_path(scene: Scene, path: Path, q_start, clearance_mm: float = CLEARANC
                          tuple(float(v) for v in best_q), best.point_body, samples)
 
 
-class _Grid:
-    """A joint move's samples on a fixed grid whose steps each travel at most half the clearance: the advance jumps
-    to the farthest grid point every group's allowed travel reaches (the travel is linear in s), the bodies' poses
-    computed for a block of grid points at once (one batched forward kinematics, not one per sample)."""
+def _grid(path: Path, q0: np.ndarray, weights: np.ndarray, half: float) -> tuple[np.ndarray, np.ndarray]:
+    """(s (n,), joints (n, 6)): samples of the path from s = 0 to 1 whose every step's travel bound (all joints) is
+    at most half the clearance: a joint move's evenly spaced; any other path's solved, and the steps that travel
+    farther cut into as many as they need, until none does."""
+    if isinstance(path, JointPath):
+        delta = path.end - q0
+        count = max(1, int(np.ceil(float(weights @ np.abs(delta)) / half)))
+        if count >= MAX_SAMPLES:
+            raise Unresolved(f"more than {MAX_SAMPLES} samples needed for the joint move")
+        s = np.linspace(0.0, 1.0, count + 1)
+        return s, q0 + s[:, None] * delta
+    solved = path.solve if isinstance(path, LinearPath) else _one_by_one(path)
+    end = path(1.0, q0)
+    s = np.linspace(0.0, 1.0, max(1, int(np.ceil(float(weights @ np.abs(end - q0)) / half))) + 1)
+    while True:
+        q = solved(s, q0)
+        travel = np.abs(np.diff(q, axis=0)) @ weights
+        over = np.flatnonzero(travel > half)
+        if not len(over):
+            return s, q
+        pieces = np.ceil(travel[over] / half).astype(int)
+        cuts = zip(over.tolist(), pieces.tolist(), strict=True)
+        added = [s[i] + (s[i + 1] - s[i]) * np.arange(1, n) / n for i, n in cuts]
+        s = np.union1d(s, np.concatenate(added))
+        if len(s) >= MAX_SAMPLES:
+            raise Unresolved(f"more than {MAX_SAMPLES} samples needed near {s[over[0]]:.4f} of the move")
+
+
+def _one_by_one(path: Path):
+    """solve(s, q0) of any path: each sample from the one before."""
+
+    def solved(s: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        out, near = [], q0
+        for value in s.tolist():
+            near = path(value, near)
+            out.append(near)
+        return np.array(out)
+
+    return solved
+
+
+class _Samples:
+    """A path's samples (each step traveling at most half the clearance): the advance jumps to the farthest sample
+    every group's allowed travel reaches (the travel bounds of the steps between add up), the bodies' poses computed
+    for a block of samples at once (one batched forward kinematics, not one per sample)."""
 
     BLOCK = 256
 
-    def __init__(self, scene: Scene, path: JointPath, q0: np.ndarray, weights: np.ndarray, half: float):
-        self.scene, self.q0 = scene, q0
-        self.delta = path.end - q0
-        self.total = weights @ np.abs(self.delta)  # per group
-        self.count = max(1, int(np.ceil(self.total[0] / half)))  # grid intervals (group 0 travels the most)
-        if self.count >= MAX_SAMPLES:
-            raise Unresolved(f"more than {MAX_SAMPLES} samples needed for a joint move of {self.total[0]:.0f} mm")
-        self.per_step = self.total / self.count
+    def __init__(self, scene: Scene, s: np.ndarray, q: np.ndarray, weights: np.ndarray):
+        self.scene, self.s, self.q = scene, s, q
+        steps = np.abs(np.diff(q, axis=0)) @ weights.T  # (steps, groups)
+        self.travelled = np.vstack([np.zeros(len(weights)), np.cumsum(steps, axis=0)])  # (samples, groups)
         self.index = 0
         self.block_start, self.block = -1, None
 
@@ -201,48 +276,18 @@ class _Grid:
 
     def _pose(self, k: int) -> np.ndarray:
         if self.block is None or not self.block_start <= k < self.block_start + len(self.block):
-            ks = np.arange(k, min(k + self.BLOCK, self.count + 1))
             self.block_start = k
-            self.block = self.scene.poses(self.q0 + (ks / self.count)[:, None] * self.delta)
+            self.block = self.scene.poses(self.q[k : k + self.BLOCK])
         return self.block[k - self.block_start]
 
     def rest(self, s: float, q: np.ndarray) -> np.ndarray:
-        return self.total * (1.0 - s)
+        return self.travelled[-1] - self.travelled[self.index]
 
     def advance(self, s: float, q: np.ndarray, allowed: np.ndarray, rest: np.ndarray):
-        moving = self.per_step > 0
-        fits = np.floor(allowed[moving] / self.per_step[moving]).min() if moving.any() else self.count
-        k = min(self.count, self.index + max(1, int(fits)))
-        step = self.per_step * (k - self.index)
+        here = self.travelled[self.index]
+        reach = [np.searchsorted(self.travelled[:, g], here[g] + allowed[g] + 1e-9, side="right") - 1
+                 for g in range(len(here))]
+        k = min(len(self.s) - 1, max(self.index + 1, int(min(reach))))
+        step = self.travelled[k] - here
         self.index = k
-        s_n = k / self.count
-        return s_n, self.q0 + s_n * self.delta, step, self._pose(k)
-
-
-class _Solved:
-    """Any other path (a linear move, a blend's corner): each next sample solved from the one before, shortened until
-    every group's travel bound fits what its distance allows."""
-
-    def __init__(self, scene: Scene, path: Path, q0: np.ndarray, weights: np.ndarray):
-        self.scene, self.path, self.weights = scene, path, weights
-        self.end = path(1.0, q0)
-
-    def pose(self, s: float, q: np.ndarray) -> np.ndarray:
-        return self.scene.poses(q)[0]
-
-    def rest(self, s: float, q: np.ndarray) -> np.ndarray:
-        return self.weights @ np.abs(self.end - q)
-
-    def advance(self, s: float, q: np.ndarray, allowed: np.ndarray, rest: np.ndarray):
-        moving = rest > 0
-        ratio = float((allowed[moving] / rest[moving]).min()) if moving.any() else 1.0
-        ds = (1.0 - s) * min(1.0, ratio)
-        for _ in range(200):
-            s_n = min(1.0, s + ds)
-            q_n = self.path(s_n, q)
-            step = self.weights @ np.abs(q_n - q)
-            over = step / allowed
-            if over.max() <= 1.0:
-                return s_n, q_n, step, self.pose(s_n, q_n)
-            ds *= 0.9 / over.max()  # a curved path: shorter until the step's travel fits
-        raise Unresolved(f"the move's joints cannot be followed near {s:.4f} of its length")
+        return float(self.s[k]), self.q[k], step, self._pose(k)

@@ -243,3 +243,23 @@ def test_a_linear_move_turns_about_one_axis_at_an_even_rate():
                                          abs=1e-9)
     assert here[:3, 3] == pytest.approx(start_pose[:3, 3] + 0.25 * np.array([100.0, 50.0, -80.0]), abs=1e-6)
     assert np.abs(q - HOME).max() < 30.0  # the solution near the joints before, not another branch
+
+
+def test_a_linear_move_solved_in_one_batch_follows_the_chain():
+    """The batch gives what solving each sample nearest the one before gives, also where axis 6 turns past 180 deg
+    of where the move starts (the nearest to the start alone would take the other turn)."""
+    start_pose = UR5E.kin.fk(HOME) @ TOOL
+    c, s = math.cos(math.radians(170.0)), math.sin(math.radians(170.0))
+    end_pose = start_pose.copy()
+    end_pose[:3, :3] = start_pose[:3, :3] @ np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    end_pose[:3, 3] += (50.0, 0.0, -50.0)
+    path = linear_path(UR5E, TOOL, start_pose, end_pose)
+    fractions = np.linspace(0.0, 1.0, 41)
+    chain, near = [], HOME
+    for value in fractions:
+        near, _ = solve.nearest(UR5E, solve.branches(UR5E, solve.flange_poses(path.poses([value])[0], TOOL)), near)
+        chain.append(near)
+    assert path.solve(fractions, HOME) == pytest.approx(np.array(chain), abs=1e-9)
+    start = UR5E.kin.fk(HOME)
+    assert abs(path.solve(fractions, HOME)[-1][5] - HOME[5]) > 150.0  # axis 6 turned with the tool, not back
+    assert np.allclose(start, UR5E.kin.fk(path.solve(fractions[:1], HOME)[0]), atol=1e-6)
