@@ -62,6 +62,7 @@ class Row:
     alike: dict[str, int] = field(default_factory=dict)  # a shown mismatch's problem -> further cases with it
     clearance: object = None  # the least clearance of the traces swept (codegen.verify.clearance.MoveLeast)
     clearance_traces: int = 0  # traces swept against the cell's solids
+    clearance_seconds: float = 0.0  # the time the sweeps took (within `seconds`)
 
     @property
     def plan(self) -> VerifyPlan:
@@ -104,6 +105,7 @@ class Row:
         if part.figures is not None:
             self.figures = part.figures if self.figures is None else self.figures + part.figures
         self.clearance_traces += part.clearance_traces
+        self.clearance_seconds += part.clearance_seconds
         if part.clearance is not None and (self.clearance is None or part.clearance.distance < self.clearance.distance):
             self.clearance = part.clearance
 
@@ -138,7 +140,8 @@ class Row:
             out["arm"] = self.arm.summary()
         if self.clearance is not None:
             least = self.clearance
-            out["clearance"] = {"traces": self.clearance_traces, "least_mm": least.distance,
+            out["clearance"] = {"traces": self.clearance_traces, "seconds": self.clearance_seconds,
+                                "least_mm": least.distance,
                                 "at_least_mm": least.lower_bound, "move": least.where, "what": least.what,
                                 "body": least.body, "other": least.other}
         out.update(self.plan.figures_json(self.figures))
