@@ -40,11 +40,69 @@ def check_envelope(cell: Cell, targets: list[str] | None) -> list:
         raise GenerateError(str(exc)) from None
 
 
+_PROVEN: dict = {}  # (the cell file's sha256, path, targets) -> the proof's least clearances (one file, one proof)
+
+
+def check_clearance(cell: Cell, targets: list[str] | None) -> list:
+    """Every move each kind plans on every requested target's arm, swept among the cell's solids (codegen/world/):
+    the least clearance per program, or a GenerateError naming the move, the body, the solid and the distance."""
+    if cell.robot is None:
+        return []
+    names = list(targets or cell.targets)
+    key = (cell.sha256, cell.source, tuple(names)) if cell.sha256 else None
+    if key is not None and key in _PROVEN:
+        return _PROVEN[key]
+    from codegen.world.proof import ClearanceError  # coal: loaded only when proving
+
+    least = []
+    for target in (t for t in names if t in cell.robot.arms):
+        try:
+            least += _proven(cell, target)
+        except (ClearanceError, ValueError) as exc:
+            raise GenerateError(str(exc) + _other_home(cell, target)) from None
+    if key is not None:
+        _PROVEN[key] = least
+    return least
+
+
+def _proven(cell: Cell, target: str) -> list:
+    from codegen.world.proof import prove
+
+    return prove(cell, [path for kind in cell.kinds.values() for path in kind.scene.paths(cell, [target])])
+
+
+def _other_home(cell: Cell, target: str) -> str:
+    """Where the home turned half a turn about axis 1 passes the reach proof and clears every move: what to set
+    (the refusal names the home in use and that one); '' where none does."""
+    from dataclasses import replace
+
+    from codegen.robot.posture import turned_homes
+    from codegen.world.proof import ClearanceError
+
+    robot = cell.robot
+    for home in turned_homes(robot.arms[target], robot.home[target], robot.margins.joint_deg):
+        turned = replace(cell, robot=replace(robot, home={**robot.home, target: tuple(float(v) for v in home)}))
+        try:
+            for kind in turned.kinds.values():
+                kind.writer.reach(turned, [target])
+            _proven(turned, target)
+        except (ReachError, ClearanceError, ValueError):
+            continue
+        now = ", ".join(f"{v:g}" for v in robot.home[target])
+        fix = ", ".join(f"{v:g}" for v in home)
+        return (
+            f". The home [cell.robot.home] {target} = [{now}] puts the arm in this posture; from the home turned half "
+            f"a turn about axis 1, {target} = [{fix}], every move clears: set it in [cell.robot.home]"
+        )
+    return ""
+
+
 def generate(cell: Cell, targets: list[str] | None, out_dir: Path) -> tuple[list[Path], list[str], list]:
-    """Check the envelope, render, check, then replace the cell's output folder whole (codegen.output):
-    the regenerated targets' programs are the new ones, everything codegen did not write stays.
+    """Check the envelope and the clearance, render, check, then replace the cell's output folder whole
+    (codegen.output): the regenerated targets' programs are the new ones, everything codegen did not write stays.
     Returns the written paths, what was left alone and each target's margins."""
     envelopes = check_envelope(cell, targets)
+    check_clearance(cell, targets)
     files = render(cell, targets)
     check_rendered(files)
     folder = cell_dir(cell)

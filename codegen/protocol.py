@@ -247,6 +247,11 @@ class Scene(Part):
         frame, mm), by names unique in the cell: what the kind's programs work at, its housings; {}: none."""
         return {}
 
+    def paths(self, cell, targets: list[str]) -> list:
+        """The moves the kind's programs plan on each of the targets' arms, as generate proves them clear of the
+        solids (codegen.world.proof.Path each); []: none."""
+        return []
+
 
 class Commands(Part):
     """The kind's click commands."""

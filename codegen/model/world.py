@@ -33,6 +33,12 @@ SOLID = Table(
     },
 )
 
+SOLIDS = Key(
+    "map",
+    "keep-out solids by name: { box = [x, y, z], pose = [...] } or { cylinder = [radius, length], pose = [...] }",
+    values=Key("table", SOLID.doc, table=SOLID),
+)
+
 TABLE = Table(
     "The cell as solid objects (optional): the floor or the robot's mounting plane, the keep-out solids (machines, "
     "fences, tables) and the clearance every planned move keeps from them. Each program kind adds its own solids "
@@ -56,22 +62,14 @@ TABLE = Table(
             high=1000.0,
             default=CLEARANCE_DEFAULT_MM,
         ),
-        "solids": Key(
-            "map",
-            "the keep-out solids by name: { box = [x, y, z], pose = [...] } or { cylinder = [radius, length], pose = "
-            "[...] }",
-            values=Key("table", SOLID.doc, table=SOLID),
-        ),
+        "solids": SOLIDS,
     },
 )
 
 PART = Table(
     "The part the gripper carries: a box hanging from the TCP along the tool's z (gripped at the middle of its top "
-    "face), its mass.",
-    {
-        "size_mm": Key("numbers", "the part's size x, y, z in the TCP's axes", count=3, required=True, **_SIZE),
-        "mass_kg": Key("number", "the part's mass", unit="kg", low=0.0, open_low=True, high=1000.0),
-    },
+    "face).",
+    {"size_mm": Key("numbers", "the part's size x, y, z in the TCP's axes", count=3, required=True, **_SIZE)},
 )
 
 
@@ -95,10 +93,9 @@ class WorldSettings:
 
 @dataclass(frozen=True)
 class PartShape:
-    """A carried part: a box of size_mm in the TCP's axes, hanging from the TCP; its mass (None: not given)."""
+    """A carried part: a box of size_mm in the TCP's axes, hanging from the TCP."""
 
     size_mm: tuple[float, float, float]
-    mass_kg: float | None = None
 
 
 def parse_settings(ctx, cell_table: dict, pose_format: str) -> WorldSettings:
@@ -106,23 +103,34 @@ def parse_settings(ctx, cell_table: dict, pose_format: str) -> WorldSettings:
     if "world" not in cell_table:
         return WorldSettings()
     values = Loader(ctx, pose_format).table(TABLE, cell_table["world"], "cell.world")
-    solids = {}
-    for name, raw in (values["solids"] or {}).items():
-        path = f"cell.world.solids.{name}"
-        if not name.strip():
-            ctx.fail(path, "a solid's name must not be empty")
-        given = [key for key in SHAPES if raw[key] is not None]
-        if len(given) != 1:
-            said = "both" if given else "neither"
-            ctx.fail(path, f"a solid is a box (box = [x, y, z]) or a cylinder (cylinder = [r, length]); got {said}")
-        pose = raw["pose"].matrix()
-        solids[name] = SolidSpec(given[0], tuple(raw[given[0]]), pose)
+    solids = specs(ctx, values["solids"], "cell.world.solids")
     return WorldSettings(values["floor_z_mm"], values["clearance_mm"], solids)
 
 
+def specs(ctx, read: dict | None, path: str) -> dict[str, SolidSpec]:
+    """Solids read by SOLIDS' declaration (name -> its table's values) as SolidSpecs: one shape each."""
+    out = {}
+    for name, raw in (read or {}).items():
+        where = f"{path}.{name}"
+        if not name.strip():
+            ctx.fail(where, "a solid's name must not be empty")
+        given = [key for key in SHAPES if raw[key] is not None]
+        if len(given) != 1:
+            said = "both" if given else "neither"
+            ctx.fail(where, f"a solid is a box (box = [x, y, z]) or a cylinder (cylinder = [r, length]); got {said}")
+        out[name] = SolidSpec(given[0], tuple(raw[given[0]]), raw["pose"].matrix())
+    return out
+
+
+def parse_solids(ctx, raw, path: str, pose_format: str) -> dict[str, SolidSpec]:
+    """A table of named solids (SOLIDS) outside [cell.world] (a station's), {} where not given."""
+    if raw is None:
+        return {}
+    return specs(ctx, Loader(ctx, pose_format).value(SOLIDS, raw, path), path)
+
+
 def parse_part(ctx, raw, path: str) -> PartShape | None:
-    """A part table ({ size_mm = [x, y, z], mass_kg = m }) read by its declaration (PART); None where not given."""
+    """A part table ({ size_mm = [x, y, z] }) read by its declaration (PART); None where not given."""
     if raw is None:
         return None
-    values = Loader(ctx).table(PART, raw, path)
-    return PartShape(values["size_mm"], values["mass_kg"])
+    return PartShape(Loader(ctx).table(PART, raw, path)["size_mm"])

@@ -20,14 +20,19 @@ def clearance_mm(cell) -> float:
     return float(cell.world.clearance_mm)
 
 
+def shape_of(spec, moved: np.ndarray | None = None) -> Box | Cylinder:
+    """A declared solid (codegen.model.world.SolidSpec) as a shape in the base frame, moved by `moved` (a base-frame
+    motion: a station's reading; None: where declared)."""
+    pose = spec.solid2base if moved is None else np.asarray(moved, dtype=float) @ spec.solid2base
+    if spec.shape == "box":
+        return Box(tuple(spec.size), pose)
+    return Cylinder(spec.size[0], spec.size[1], pose)
+
+
 def declared(cell) -> dict[str, Solid]:
     """The floor and the solids [cell.world] declares, in the robot's base frame (mm)."""
     out: dict[str, Solid] = {FLOOR: Floor(cell.world.floor_z_mm)}
-    for name, spec in cell.world.solids.items():
-        if spec.shape == "box":
-            out[name] = Box(tuple(spec.size), spec.solid2base)
-        else:
-            out[name] = Cylinder(spec.size[0], spec.size[1], spec.solid2base)
+    out.update({name: shape_of(spec) for name, spec in cell.world.solids.items()})
     return out
 
 

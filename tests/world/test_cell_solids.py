@@ -144,16 +144,18 @@ def test_bad_world_keys_are_named(tmp_path, extra, key, said):
     assert "line" in str(caught.value)
 
 
-def test_a_station_part_is_read_and_its_mass_held_to_the_payload(tmp_path):
+def test_a_station_part_and_solids_are_read(tmp_path):
     from codegen.kinds.station.section import stations_of
 
-    cell = load_cell(demo(tmp_path, 'chuck = "release"', "[station.part]\nsize_mm = [60.0, 60.0, 80.0]\nmass_kg = 0.8"))
-    part = stations_of(cell)[0].part
-    assert part.size_mm == (60.0, 60.0, 80.0) and part.mass_kg == 0.8
-    with pytest.raises(CellError, match=r"station\[0\].part.mass_kg: .*payload"):
-        load_cell(demo(tmp_path, 'chuck = "release"', "[station.part]\nsize_mm = [60.0, 60.0, 80.0]\nmass_kg = 20.0"))
+    extra = "[station.part]\nsize_mm = [60.0, 60.0, 80.0]\n"
+    extra += "[station.solids]\nbed = { box = [1, 2, 3], pose = [0, 0, 0, 0, 0, 0] }"
+    station = stations_of(load_cell(demo(tmp_path, 'chuck = "release"', extra)))[0]
+    assert station.part.size_mm == (60.0, 60.0, 80.0)
+    assert station.solids["bed"].size == (1.0, 2.0, 3.0)
     with pytest.raises(CellError, match=r"station\[0\].part.size_mm"):
         load_cell(demo(tmp_path, 'chuck = "release"', "[station.part]\nsize_mm = [60.0, 0.0, 80.0]"))
+    with pytest.raises(CellError, match=r"station\[0\].solids.bed: .* neither"):
+        load_cell(demo(tmp_path, 'chuck = "release"', "[station.solids]\nbed = { pose = [0, 0, 0, 0, 0, 0] }"))
 
 
 def test_a_declared_solid_may_not_take_a_kinds_name(tmp_path):

@@ -6,8 +6,11 @@ from __future__ import annotations
 import numpy as np
 
 from codegen import protocol
+from codegen.kinds.conveyor.section import conveyor_of
+from codegen.poses import rotmat_from_zyx_deg
 from codegen.view.scene import SLAB_MM, box, frame, line, translated
-from codegen.world.solids import Box
+from codegen.world.proof import Move, Path
+from codegen.world.solids import Box, translation
 
 MARGIN_MM = 150.0  # the belt drawn this far beyond its window and the camera's line
 PLACE_TABLE_MM = (200.0, 200.0, 100.0)  # the place's table as drawn: its size, and how far under the place
@@ -71,6 +74,57 @@ def objects(cell, conveyor) -> list[dict]:
     return out
 
 
+def conveyor_paths(cell, target: str) -> list[Path]:
+    """The pick on the target's arm from home, at each corner of the part's place on the belt (across it, its top's
+    height: at least the part's own height where its size is given, and where the window starts and where the arm
+    may follow it to): a joint move above the part, straight down onto it (the grip), straight up by lift_dz, a joint
+    move above the place, straight down to it (the release), up, home. Joints: the solution nearest the pose before."""
+    from codegen.kinds.conveyor.reach import follow_mm
+    from codegen.robot import solve
+
+    conveyor = conveyor_of(cell)
+    pick, robot = conveyor.pick, cell.robot
+    arm = robot.arms[target]
+    home = np.asarray(robot.home[target], dtype=float)
+    grip = np.eye(4)
+    grip[:3, :3] = rotmat_from_zyx_deg(*pick.tool_orientation)
+    lowest = pick.z_range_mm[0] if pick.part_size_mm is None else max(pick.z_range_mm[0], pick.part_size_mm[2])
+    place = pick.place.matrix()
+    above_place = place.copy()
+    above_place[2, 3] += pick.approach_dz
+    part = None if pick.part_size_mm is None else _part(pick, robot.tool.tcp2flange)
+    out = []
+    for x in pick.x_range_mm:
+        for z in (lowest, max(lowest, pick.z_range_mm[1])):
+            for y in (pick.window_mm[0], pick.window_mm[1] + follow_mm(cell, target)):
+                at = f"conveyor: the part at x {x:g}, y {y:g}, its top {z:g} mm over the belt"
+                steps = [
+                    ("joint", (x, y, z + pick.approach_dz), "above the part", False, ""),
+                    ("linear", (x, y, z), "on the part", False, "grip"),
+                    ("linear", (x, y, z + pick.lift_dz), "lifted", True, ""),
+                ]
+                poses = [conveyor.frame() @ translation(*p) @ grip for _k, p, _w, _c, _g in steps]
+                poses += [above_place, place, above_place]
+                kinds = [k for k, *_ in steps] + ["joint", "linear", "linear"]
+                names = [w for _k, _p, w, _c, _g in steps] + ["above the place", "the place", "above the place"]
+                held = [c for *_, c, _g in steps] + [True, True, False]
+                acts = [g for *_, g in steps] + ["", "release", ""]
+                q, moves = home, []
+                for pose, kind, name, carrying, act in zip(poses, kinds, names, held, acts, strict=True):
+                    sols = solve.branches(arm, solve.flange_poses(pose[None], robot.tool.tcp2flange))[0]
+                    q, _ = solve.nearest(arm, sols, q)
+                    moves.append(Move(kind, q, f"{at}: {name}", pose, carrying, grip=act))
+                moves.append(Move("joint", home, f"{at}: home"))
+                out.append(Path(target, home, tuple(moves), part))
+    return out
+
+
+def _part(pick, tcp2flange: np.ndarray) -> Box:
+    """The part as the tool holds it, in the flange frame: centred at part_cog_mm in the TCP frame, its edges along
+    the TCP frame's axes (as its load has it)."""
+    return Box(tuple(pick.part_size_mm), np.asarray(tcp2flange, dtype=float) @ translation(*pick.part_cog_mm))
+
+
 class ScenePart(protocol.Scene):
     def objects(self, cell) -> list[dict]:
         section = self.kind.section.of(cell)
@@ -79,3 +133,10 @@ class ScenePart(protocol.Scene):
     def solids(self, cell) -> dict[str, Box]:
         section = self.kind.section.of(cell)
         return {} if section is None else solids(section)
+
+    def paths(self, cell, targets: list[str]) -> list[Path]:
+        section = self.kind.section.of(cell)
+        if section is None or section.pick is None or cell.robot is None:
+            return []
+        arms = [t for t in targets if t in cell.robot.arms and t in section.pick.tracking]
+        return [path for t in arms for path in conveyor_paths(cell, t)]

@@ -10,6 +10,7 @@ import numpy as np
 from codegen import protocol
 from codegen.sim.beams import Sensors
 from codegen.view.scene import box, frame, line, point, translated
+from codegen.world.proof import Move, Path
 from codegen.world.solids import Box
 
 REACH_MM = next(f.default for f in fields(Sensors) if f.name == "reach")  # each sensor to the crossing
@@ -45,6 +46,45 @@ def objects(cell, laser) -> list[dict]:
     return out
 
 
+def laser_paths(cell, target: str) -> list[Path]:
+    """The calibration on the target's arm as its reach proof plans it: from home a joint move to the safe pose,
+    then straight moves through every pose (each circle as CIRCLE_STEPS chords), home; and a start after a stop at
+    the lowest pose (the tip search's bottom), backing out straight up to the safe height, to the safe pose and home.
+    Joints: from home the solution nearest the pose before, in one configuration throughout."""
+    from codegen.kinds.laser.reach import path as reach_path
+    from codegen.kinds.laser.section import laser_of
+    from codegen.robot import solve
+
+    robot = cell.robot
+    arm = robot.arms[target]
+    home = np.asarray(robot.home[target], dtype=float)
+    planned = reach_path(cell)
+    flange = solve.flange_poses(np.array([p for _w, p in planned]), robot.tool.tcp2flange)
+    q, joints = home, []
+    for sols in solve.branches(arm, flange):
+        q, _ = solve.nearest(arm, sols, q)
+        joints.append(q)
+    moves = [
+        Move("joint" if i == 0 else "linear", joints[i], f"laser station: {what}", pose)
+        for i, (what, pose) in enumerate(planned)
+    ]
+    moves.append(Move("joint", home, "laser station: home"))
+    out = [Path(target, home, tuple(moves))]
+    low = min(range(len(planned)), key=lambda i: planned[i][1][2, 3])
+    axis = laser_of(cell).sensor_frame.matrix()[:3, 2]  # S's z: straight up out of the column
+    up = planned[low][1].copy()
+    up[:3, 3] += axis * float(axis @ (planned[0][1][:3, 3] - up[:3, 3]))
+    flange_up = solve.flange_poses(up[None], robot.tool.tcp2flange)
+    q_up, _ = solve.nearest(arm, solve.branches(arm, flange_up)[0], joints[low])
+    start = (
+        Move("linear", q_up, f"laser station: a start at {planned[low][0]}: straight up to the safe height", up),
+        Move("linear", joints[0], "laser station: a start in the column: the safe pose", planned[0][1]),
+        Move("joint", home, "laser station: a start in the column: home"),
+    )
+    out.append(Path(target, joints[low], start))
+    return out
+
+
 class ScenePart(protocol.Scene):
     def objects(self, cell) -> list[dict]:
         section = self.kind.section.of(cell)
@@ -53,3 +93,8 @@ class ScenePart(protocol.Scene):
     def solids(self, cell) -> dict[str, Box]:
         section = self.kind.section.of(cell)
         return {} if section is None else solids(section)
+
+    def paths(self, cell, targets: list[str]) -> list[Path]:
+        if self.kind.section.of(cell) is None or cell.robot is None:
+            return []
+        return [path for t in targets if t in cell.robot.arms for path in laser_paths(cell, t)]

@@ -3,14 +3,18 @@ and as solids (the pallet, the pick place and the stack as built)."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 
 from codegen import protocol
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.patterns import label_normal
 from codegen.kinds.pallet.stack import layer_top, placements
+from codegen.kinds.pallet.sweep import PLACE_POSES, _own
 from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
 from codegen.view.scene import SLAB_MM, box, frame, translated
+from codegen.world.proof import Move, Path
 from codegen.world.solids import Box
 
 PALLET_HEIGHT_MM = 144.0  # a EUR pallet's height (EN 13698-1): the pallet's solid under its top
@@ -109,9 +113,108 @@ def stack_solids(pallet, boxes: int) -> dict[str, Box]:
     return out
 
 
+def _others(pallets, pallet) -> dict[str, Box]:
+    """The other pallets' stacks as a bound: each one full (the most it holds while this pallet is worked)."""
+    out = {}
+    for other in pallets:
+        if other is not pallet:
+            out.update(stack_solids(other, len(placements(other))))
+    return out
+
+
+def pallet_paths(cell, pallets, pallet, target: str) -> list[Path]:
+    """The pallet's full cycle on the target's arm from home, as its reach proof plans it (the configurations its
+    program names), with the stack as built before each move and the box carried from the grip to the release;
+    then the way home after a stop at the first and at the last box's place (the box held), as the program plans
+    it: back along the tool, up to the transit height, above the pallet's centre, home."""
+    from codegen.kinds.pallet.reach import configurations, full_cycle, joints_of
+
+    named = configurations(cell, pallet, target)
+    moves = full_cycle(cell, pallet)
+    joints = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
+    placed = placements(pallet)
+    stacking = pallet.mode == "stack"
+    count = 0 if stacking else len(placed)
+    others = _others(pallets, pallet)
+    stages: dict[str, dict] = {}
+    planned = []
+    for i, (move, q) in enumerate(zip(moves, joints, strict=True)):
+        after = moves[i + 1].carrying if i + 1 < len(moves) else move.carrying
+        grip = "grip" if after and not move.carrying else "release" if move.carrying and not after else ""
+        stage = str(count)
+        if stage not in stages:
+            stages[stage] = {**stack_solids(pallet, count), **others}
+        where = f"pallet {pallet.name!r} {move.name}"
+        own = _own_descent(pallet, stages[stage]) if _own(move.name)[1] in PLACE_POSES else frozenset()
+        planned.append(Move(move.kind, q, where, move.tcp2base, move.carrying, stage, grip, own))
+        if grip == "release" and stacking and move.name.endswith("target"):
+            count += 1
+        if grip == "grip" and not stacking and move.name.endswith("target"):
+            count -= 1
+    home = np.asarray(cell.robot.home[target], dtype=float)
+    part = Box(tuple(pallet.box), np.asarray(cell.robot.tool.tcp2flange) @ _box2tcp(pallet))
+    out = [Path(target, home, tuple(planned), part, stages)]
+    for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
+        out.append(_way_home(cell, pallet, target, planned[k], home, part, stages))
+    return out
+
+
+def _own_descent(pallet, stack: dict) -> frozenset:
+    """A box's (a slip sheet's) own descent onto its place and the gripper's way up from it (entry, approach,
+    target, retreat): the box is put down flush with its layer's boxes and on the layer below, which the pallet's
+    own sweep check holds (codegen/kinds/pallet/sweep.py: never below the tops of the boxes under it); the tool and
+    the box are not measured against the stack there (every other solid is)."""
+    own = [name for name in stack if name.startswith(f"pallet {pallet.name}: ")] + [f"pallet {pallet.name}"]
+    return frozenset((body, solid) for body in ("tool", "part") for solid in own)
+
+
+def _linear_only(move, own: frozenset) -> frozenset:
+    return own if move.kind == "linear" else frozenset()
+
+
+def _box2tcp(pallet) -> np.ndarray:
+    """The carried box's centre in the TCP frame: hanging along the tool's z from the middle of its top face."""
+    return translated(np.eye(4), (0.0, 0.0, pallet.box[2] / 2))
+
+
+def _first_target(moves) -> int | None:
+    return next((i for i, m in enumerate(moves) if m.where.endswith("target")), None)
+
+
+def _last_target(moves) -> int | None:
+    return next((i for i in range(len(moves) - 1, -1, -1) if moves[i].where.endswith("target")), None)
+
+
+def _way_home(cell, pallet, target: str, stop: Move, home, part, stages) -> Path:
+    """The way home the program plans after a stop at `stop`'s pose, the box held as it was there."""
+    from codegen.kinds.pallet.reach import configurations
+    from codegen.kinds.pallet.way_home import way_home, way_joints
+    from codegen.reference import home_move
+
+    start = np.asarray(stop.joints, dtype=float)
+    way = way_home(cell, pallet, SimpleNamespace(name=target), home_move(cell, target), start, 0)
+    joints = way_joints(cell, pallet, target, way[:-1], start, configurations(cell, pallet, target))
+    label = f"pallet {pallet.name!r} the way home from {stop.where.split(' ', 2)[2]}"
+    # where the stop left the box (the gripper) on its place: back along the tool and up, as its own way up
+    own = _own_descent(pallet, stages[stop.stage])
+    moves = [
+        Move(m.kind, q, f"{label}: {m.name}", m.tcp2base, stop.carrying, stop.stage, exempt=_linear_only(m, own))
+        for m, q in zip(way[:-1], joints, strict=True)
+    ]
+    moves.append(Move("joint", home, f"{label}: home", None, stop.carrying, stop.stage))
+    return Path(target, start, tuple(moves[1:] if moves[0].kind == "joint" else moves), part, stages)
+
+
 class ScenePart(protocol.Scene):
     def objects(self, cell) -> list[dict]:
         return objects(cell, self.kind.section.of(cell) or ())
 
     def solids(self, cell) -> dict[str, Box]:
         return solids(self.kind.section.of(cell) or ())
+
+    def paths(self, cell, targets: list[str]) -> list[Path]:
+        pallets = self.kind.section.of(cell) or ()
+        if cell.robot is None:
+            return []
+        arms = [t for t in targets if t in cell.robot.arms]
+        return [path for t in arms for pallet in pallets for path in pallet_paths(cell, pallets, pallet, t)]

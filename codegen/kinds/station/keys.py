@@ -134,6 +134,11 @@ def station_table() -> Table:
             values=Key("string", "grip or release", choices=(GRIP, RELEASE)),
         ),
         "part": Key("table", world.PART.doc + " (the part the station's grip takes)", table=world.PART),
+        "solids": replace(
+            world.SOLIDS,
+            doc="the station's own keep-out solids (the machine it serves, with its door's opening left free), in the "
+            "base frame at calibration; they move with the station's reading, as its poses do: " + world.SOLIDS.doc,
+        ),
     }
     common = Table("A station the program serves: its id, poses and its kind's keys.", own, kinds=names)
     return common.merged(
@@ -145,7 +150,7 @@ def station_table() -> Table:
     )
 
 
-COMMON_KEYS = frozenset(("id", "name", "mode", "poses", "config", "gripper", "part"))
+COMMON_KEYS = frozenset(("id", "name", "mode", "poses", "config", "gripper", "part", "solids"))
 
 
 @cache

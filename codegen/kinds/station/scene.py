@@ -1,12 +1,95 @@
-"""The station kind's objects in the cell's page: each station as its mode draws it."""
+"""The station kind in the cell: each station as its mode draws it, and the arm's planned way through each station
+(nominal and at the correction region's corners) for the clearance proof."""
 
 from __future__ import annotations
 
+import numpy as np
+
 from codegen import protocol
-from codegen.kinds.station.mode import modes
-from codegen.kinds.station.section import stations_of
+from codegen.kinds.station.keys import GRIP
+from codegen.kinds.station.mode import mode_of, modes
+from codegen.kinds.station.section import section_of, stations_of
+from codegen.world.cell import shape_of
+from codegen.world.proof import Move, Path
+
+# the readings proven clear beside the nominal one: the largest shift along these directions (deg from +x) at the
+# largest rotation of this sign: each direction once, each rotation twice (the region's corners)
+CORNERS = ((0.0, 1.0), (90.0, -1.0), (180.0, 1.0), (270.0, -1.0))
+
+
+def corners(offsets: np.ndarray) -> list[int]:
+    """The rows of the region's readings (codegen.kinds.station.region.offsets) proven clear: nothing moved (row 0)
+    and the CORNERS (the nearest sampled readings)."""
+    shift = np.hypot(offsets[:, 0], offsets[:, 1])
+    rotation = offsets[:, 2]
+    out = [0]
+    if len(offsets) < 2:
+        return out
+    outer = np.isclose(shift, shift.max())
+    angles = np.degrees(np.arctan2(offsets[:, 1], offsets[:, 0]))
+    for direction, sign in CORNERS:
+        turn = rotation.max() if sign > 0 else rotation.min()
+        rows = np.flatnonzero(outer & np.isclose(rotation, turn))
+        gap = np.abs((angles[rows] - direction + 180.0) % 360.0 - 180.0)
+        out.append(int(rows[int(np.argmin(gap))]))
+    return sorted(set(out))
+
+
+def _reading(offset) -> str:
+    dx, dy, rot = (float(v) for v in offset)
+    return "nominal reading" if not (dx or dy or rot) else f"reading {dx:+.1f}, {dy:+.1f} mm, {rot:+.1f} deg"
+
+
+def station_paths(cell, target: str, station) -> list[Path]:
+    """The station's program on the target's arm from home, for each proven reading: the moves through the station's
+    arm poses (a joint move, then linear ones, as its mode plans them), then home where the cell returns there; the
+    part held from a grip to the next release ([station.gripper]), and from the start where its first action is a
+    release."""
+    from codegen.kinds.station.region import station_region
+
+    region = station_region(cell, target, station)
+    mode = mode_of(station)
+    arm_poses = mode.arm_poses(cell, station)
+    rows = corners(region.offsets)
+    tcp = mode.region(cell, station, region.offsets[rows])
+    nominal = mode.region(cell, station, region.offsets[:1])[0]
+    home = np.asarray(cell.robot.home[target], dtype=float)
+    out = []
+    for n, row in enumerate(rows):
+        reading = _reading(region.offsets[row])
+        held = bool(station.holds_at_start)
+        moves = []
+        for m, (name, _tcp, motion) in enumerate(arm_poses):
+            action = station.action(name) or ""
+            where = f"station {station.id} {station.name!r} pose {name!r} ({reading})"
+            moves.append(Move(motion, region.joints[row, m], where, tcp[n, m], held, grip=action))
+            if action:
+                held = action == GRIP
+        if cell.motion.return_home:
+            where = f"station {station.id} {station.name!r} the way home ({reading})"
+            moves.append(Move("joint", home, where, carrying=held))
+        moved = _motion(tcp[n], nominal)
+        solids = {f"{station.name}: {name}": shape_of(spec, moved) for name, spec in station.solids.items()}
+        out.append(Path(target, home, tuple(moves), station.part, {"": solids}))
+    return out
+
+
+def _motion(poses: np.ndarray, nominal: np.ndarray) -> np.ndarray:
+    """The base-frame motion a reading applies to the station (its machine moves with its mark, as its poses do):
+    that of the first pose the reading moves (a pose on the robot's own carrier stays), none where none moves."""
+    for pose, at in zip(poses, nominal, strict=True):
+        motion = pose @ np.linalg.inv(at)
+        if not np.allclose(motion, np.eye(4), atol=1e-9):
+            return motion
+    return np.eye(4)
 
 
 class ScenePart(protocol.Scene):
     def objects(self, cell) -> list[dict]:
         return [o for station in stations_of(cell) for o in modes()[station.mode].station_scene(cell, station)]
+
+    def paths(self, cell, targets: list[str]) -> list[Path]:
+        if cell.robot is None or section_of(cell) is None:
+            return []
+        arms = [t for t in targets if t in cell.robot.arms]
+        return [path for t in arms for station in stations_of(cell) for path in station_paths(cell, t, station)]

@@ -25,9 +25,9 @@ from codegen.kinds.station.mode import modes
 from codegen.model import motion
 from codegen.model.cell import TaughtPose
 from codegen.model.loader import Loader, build
-from codegen.model.robot import check_carried, parse_station_config
+from codegen.model.robot import parse_station_config
 from codegen.model.validate import kind_of
-from codegen.model.world import PartShape, parse_part
+from codegen.model.world import PartShape, parse_part, parse_solids
 from codegen.poses import POSE_FORMATS
 
 STATIONS_MAX = 5000  # the largest cell measured: its programs load and run here (a UR program in about 35 s)
@@ -51,7 +51,8 @@ class Station:
     retreat: TaughtPose | None = None  # the work pose backed off along its z axis ([cell.motion] retreat_mm)
     # ([station.gripper]) (pose name, GRIP or RELEASE) in visiting order: what the gripper does at that pose
     gripper: tuple[tuple[str, str], ...] = ()
-    part: PartShape | None = None  # ([station.part]) the part the gripper carries: its size and mass
+    part: PartShape | None = None  # ([station.part]) the part the gripper carries: its size
+    solids: dict = field(default_factory=dict, compare=False)  # ([station.solids]) name -> SolidSpec at calibration
 
     def action(self, pose_name: str) -> str | None:
         """What the gripper does once the arm stands at the pose (GRIP, RELEASE), None: nothing."""
@@ -154,8 +155,6 @@ def parse(ctx, data: dict, cell, standalone: bool) -> StationSection | None:
                 "the gripper needs [cell.io] with its feedback on every target: the program confirms each grip and "
                 "release, and whether it holds a part when it starts",
             )
-        if station.part is not None and station.part.mass_kg is not None:
-            check_carried(ctx, cell.robot, station.part.mass_kg, f"station[{i}].part.mass_kg")
     seen_ids: dict[int, int] = {}
     seen_names: dict[str, int] = {}
     for i, station in enumerate(stations):
@@ -242,7 +241,8 @@ def _station(ctx, raw, index: int, pose_format: str) -> Station:
     ]
     gripper = _gripper(ctx, raw, path, [p.name for p in poses])
     part = parse_part(ctx, raw.get("part"), f"{path}.part")
-    return Station(int(station_id), name, tuple(poses), mode_name, spec, gripper=gripper, part=part)
+    solids = parse_solids(ctx, raw.get("solids"), f"{path}.solids", pose_format)
+    return Station(int(station_id), name, tuple(poses), mode_name, spec, gripper=gripper, part=part, solids=solids)
 
 
 def _gripper(ctx, raw: dict, path: str, pose_names: list[str]) -> tuple[tuple[str, str], ...]:

@@ -1,0 +1,140 @@
+"""generate refuses a cell whose planned moves come within the clearance of a solid, naming the move, the body (link,
+tool or part) and the solid; each variant is built here from geometry computed apart from the proof (the arm's
+forward kinematics along the move), and the bundled cells' own solids stand where their programs clear them."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from support.cells import EXAMPLES
+
+from codegen.generate import GenerateError, check_clearance
+from codegen.model.cell import load_cell
+from codegen.poses import xyzabc_from_matrix
+
+UR_HOME = np.array([180.0, -90.0, 90.0, -90.0, -90.0, 0.0])
+
+
+def with_world(tmp_path, name: str, text: str, before: str, extra: str, targets: str | None = None):
+    """A bundled cell with `extra` lines put before the first line that starts with `before` (and its targets)."""
+    source = EXAMPLES[name].read_text(encoding="utf-8")
+    line = next(li for li in source.splitlines() if li.startswith(before))
+    source = source.replace(line, extra + "\n" + line, 1)
+    if targets is not None:
+        source = re.sub(r"^targets = .*$", f"targets = {targets}", source, count=1, flags=re.M)
+    path = tmp_path / f"{name}.toml"
+    path.write_text(source + text, encoding="utf-8")
+    return load_cell(path)
+
+
+def _pose(matrix) -> str:
+    return "[" + ", ".join(f"{float(v):.4f}" for v in xyzabc_from_matrix(matrix)) + "]"
+
+
+def test_a_machine_moved_into_the_path_between_home_and_a_station_is_refused(tmp_path):
+    """The UR's first move of station 1 (a joint move from home to its approach): the tool's tip halfway along it
+    (forward kinematics of the mean joints: a joint move interpolates every axis); a 100 mm cube there."""
+    demo = load_cell(EXAMPLES["agv_machine_tending"])
+    arm, tcp2flange = demo.robot.arms["ur"], demo.robot.tool.tcp2flange
+    approach = demo.kinds["station"].scene.paths(demo, ["ur"])[0].moves[0]
+    middle = arm.kin.fk(0.5 * (UR_HOME + approach.joints)) @ tcp2flange
+    extra = f"solids.lathe_3 = {{ box = [100.0, 100.0, 100.0], pose = {_pose(middle)} }}"
+    cell = with_world(tmp_path, "agv_machine_tending", "", "solids.cabinet", extra)
+    with pytest.raises(GenerateError) as caught:
+        check_clearance(cell, ["ur"])
+    said = str(caught.value)
+    assert said.startswith("station 1 'lathe_1' pose 'approach' (nominal reading) (ur, UR10e): the ")
+    assert "'lathe_3'" in said and "mm into it" in said and "cell.world.clearance_mm" in said
+    assert re.search(r"the (tool|wrist_\d|forearm) touches", said)
+
+
+def _testmat_cycle(target: str):
+    cell = load_cell(EXAMPLES["testmat_pallet"])
+    return cell, cell.kinds["pallet"].scene.paths(cell, [target])
+
+
+def test_a_carried_box_that_sweeps_a_neighbouring_stack_is_refused(tmp_path):
+    """The KUKA's first transit with a box (the joint move from Q over to the pallet): a stack of boxes declared
+    where the carried box's centre is halfway along it (a 20 mm cube there, 5 mm lower: inside the 26 mm box but for
+    2 mm at its bottom, 8 mm under the tool's tip). The part is refused against it, not the tool."""
+    cell, paths = _testmat_cycle("kuka")
+    arm, tcp2flange = cell.robot.arms["kuka"], cell.robot.tool.tcp2flange
+    moves = paths[0].moves
+    k = next(i for i, m in enumerate(moves) if m.kind == "joint" and m.carrying)
+    middle = arm.kin.fk(0.5 * (np.asarray(moves[k - 1].joints) + np.asarray(moves[k].joints))) @ tcp2flange
+    centre = middle @ np.array([0.0, 0.0, 13.0 + 5.0, 1.0])  # the box hangs along the tool's z from the TCP
+    stack = np.eye(4)
+    stack[:3, 3] = centre[:3]
+    extra = f"[cell.world]\nsolids.stack_b = {{ box = [20.0, 20.0, 20.0], pose = {_pose(stack)} }}\n"
+    cell = with_world(tmp_path, "testmat_pallet", "", "[cell.io]", extra)
+    with pytest.raises(GenerateError) as caught:
+        check_clearance(cell, ["kuka"])
+    said = str(caught.value)
+    assert said.startswith(f"{moves[k].where} (kuka, KR 6 R900 sixx): the part touches the solid 'stack_b'")
+
+
+UR5E_FRONT = """[cell]
+name = "ur5e_front"
+targets = ["ur"]
+
+[cell.camera]
+angle_sign = 1
+
+[cell.limits]
+max_shift_mm = 5.0
+max_rotation_deg = 5.0
+
+[cell.robot]
+ur = "UR5e"
+{home}
+[cell.tool]
+tcp = [0.0, 0.0, 150.0, 0.0, 0.0, 0.0]
+mass_kg = 1.0
+cog_mm = [0.0, 0.0, 60.0]
+
+[[station]]
+id = 1
+name = "press"
+mark = [500.0, 0.0, 0.0]
+[station.poses]
+approach = [450.0, 0.0, 350.0, 0.0, 0.0, 180.0]
+work = [500.0, 0.0, 180.0, 0.0, 0.0, 180.0]
+[station.solids]
+bed = {{ box = [300.0, 300.0, 150.0], pose = [550.0, 0.0, 75.0, 0.0, 0.0, 0.0] }}
+"""
+
+
+def test_a_ur5e_facing_away_from_its_station_is_refused_naming_the_home_and_the_fix(tmp_path):
+    """A UR5e with its station in front (+x, the work 180 mm high over a press's bed whose top is 150 mm high) and the
+    catalogue's home, which faces -x: the nearest solution there reaches back over the shoulder, the elbow low, and
+    the upper arm comes down to the bed. generate refuses it, naming the home in use and the home turned half a turn
+    about axis 1; with that home the cell generates."""
+    path = tmp_path / "ur5e_front.toml"
+    path.write_text(UR5E_FRONT.format(home=""), encoding="utf-8")
+    cell = load_cell(path)
+    arm = cell.robot.arms["ur"]
+    work = cell.kinds["station"].scene.paths(cell, ["ur"])[0].moves[1]
+    elbow = arm.kin.link_frames(np.asarray(work.joints)[None])[0][2, 2, 3]
+    assert elbow < 180.0  # the elbow under the work's height: the posture the refusal is about
+    with pytest.raises(GenerateError) as caught:
+        check_clearance(cell, ["ur"])
+    said = str(caught.value)
+    assert "'press: bed'" in said and "the upper_arm" in said
+    assert "The home [cell.robot.home] ur = [0, -90, 90, -90, -90, 0] puts the arm in this posture" in said
+    fix = re.search(r"turned half a turn about axis 1, ur = \[([^\]]*)\], every move clears", said).group(1)
+    path.write_text(UR5E_FRONT.format(home=f"home = {{ ur = [{fix}] }}\n"), encoding="utf-8")
+    turned = load_cell(path)
+    assert check_clearance(turned, ["ur"])
+    moves = turned.kinds["station"].scene.paths(turned, ["ur"])[0].moves
+    assert arm.kin.link_frames(np.asarray(moves[1].joints)[None])[0][2, 2, 3] > 180.0  # elbow up
+
+
+@pytest.mark.parametrize("name", ["agv_machine_tending", "belt_pick", "laser_tcp", "testmat_pallet"])
+def test_every_bundled_cells_moves_clear_its_solids_on_its_first_arm(name):
+    """The bundled cells declare their solids where their programs clear them (generate checks every target; here the
+    first target with an arm, for time)."""
+    cell = load_cell(EXAMPLES[name])
+    target = next(t for t in cell.targets if t in cell.robot.arms)
+    assert check_clearance(cell, [target])
