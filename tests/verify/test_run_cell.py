@@ -19,7 +19,7 @@ HOME = [180.0, -90.0, 90.0, -90.0, -90.0, 0.0]
 def cell_with(tmp_path: Path, solids: str) -> Path:
     text = Path(DEMO_CELL).read_text(encoding="utf-8")
     path = tmp_path / "cell.toml"
-    path.write_text(text + "\n[cell.world]\n" + solids, encoding="utf-8")
+    path.write_text(text.replace("[cell.world]", "[cell.world]\n" + solids.rstrip("\n"), 1), encoding="utf-8")
     for name in Path(DEMO_CELL).parent.glob("agv_*.csv"):  # the cell's data files beside it
         (tmp_path / name.name).write_text(name.read_text(encoding="utf-8"), encoding="utf-8")
     return path
@@ -38,7 +38,7 @@ def script(tmp_path: Path, axis1_deg: float) -> Path:
     return path
 
 
-BOX = 'solids = { machine = { box = [100, 100, 100], pose = [612, -366, 500, 0, 0, 0] } }\n'
+BOX = 'solids.machine = { box = [100, 100, 100], pose = [612, -366, 500, 0, 0, 0] }\n'
 
 
 def invoke(*args):

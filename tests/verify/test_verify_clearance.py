@@ -16,14 +16,14 @@ FAST = Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"random"}))
 # a post in the inside of station 1's corner at the done part's tray (line 285, (520, -480, 370) mm: in from the
 # chuck, then straight down): 30 mm from either straight line's tool (radius 25), 25 mm beside the next line along
 # the tray
-POST = 'solids = { post = { box = [60, 40, 100], pose = [534.0, -394.8, 290.0, 70.66, 0, 0] } }\n'
+POST = 'solids.post = { box = [60, 40, 100], pose = [534.0, -394.8, 290.0, 70.66, 0, 0] }\n'
 
 
 def cell_with(tmp_path: Path, world: str):
     text = Path(DEMO_CELL).read_text(encoding="utf-8")
     path = tmp_path / "cell" / "agv_machine_tending.toml"
     path.parent.mkdir()
-    path.write_text(text + "\n[cell.world]\n" + world, encoding="utf-8")
+    path.write_text(text.replace("[cell.world]", "[cell.world]\n" + world.rstrip("\n"), 1), encoding="utf-8")
     for name in Path(DEMO_CELL).parent.glob("agv_*.csv"):  # the cell's data files beside it
         (path.parent / name.name).write_text(name.read_text(encoding="utf-8"), encoding="utf-8")
     return load_cell(path)

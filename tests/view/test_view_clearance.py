@@ -16,8 +16,12 @@ def test_solids_drawn_and_the_nearest_move_marked(tmp_path):
     text = Path(DEMO_CELL).read_text(encoding="utf-8")
     cell_file = tmp_path / "cell.toml"
     cell_file.write_text(
-        text + "\n[cell.world]\nsolids = { fence = { box = [40, 2000, 1800], pose = [-1500, 0, 900, 0, 0, 0] }, "
-        "column = { cylinder = [100, 2000], pose = [0, 1500, 1000, 0, 0, 0] } }\n",
+        text.replace(
+            "[cell.world]",
+            "[cell.world]\nsolids.fence = { box = [40, 2000, 1800], pose = [-1500, 0, 900, 0, 0, 0] }\n"
+            "solids.column = { cylinder = [100, 2000], pose = [0, 1500, 1000, 0, 0, 0] }",
+            1,
+        ),
         encoding="utf-8",
     )
     for name in Path(DEMO_CELL).parent.glob("agv_*.csv"):
