@@ -41,6 +41,8 @@ class MoveLeast:
 
     def text(self, clearance_mm: float) -> str:
         """The verdict's words: the move, the body, the solid and the distance."""
+        if not np.isfinite(self.distance):
+            return f"{self.where}: the {self.what} cannot be followed: {self.other}"
         near = f"cuts {-self.distance:.1f} mm into" if self.distance < 0 else f"comes within {self.distance:.1f} mm of"
         return (f"{self.where}: the {self.what}: the {_body(self.body)} {near} {self.other} (clearance "
                 f"{clearance_mm:g} mm)")
@@ -200,7 +202,7 @@ class TraceClearance:
         try:
             result: MoveClearance = check_path(self.scenes[carried], path, q0, self.clearance)
         except Unresolved as exc:
-            return MoveLeast(-np.inf, -np.inf, self._where(move), what, "arm", f"its path ({exc})")
+            return MoveLeast(-np.inf, -np.inf, self._where(move), what, "arm", str(exc))
         return MoveLeast(result.distance, result.lower_bound, self._where(move), what, result.body, result.other)
 
 

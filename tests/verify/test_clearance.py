@@ -8,7 +8,7 @@ import pytest
 
 from codegen.dialects import get_dialect
 from codegen.robot.arms import catalogue
-from codegen.verify.clearance import Gripper, TraceClearance
+from codegen.verify.clearance import Gripper, TraceClearance, selected
 from codegen.world.engine import Scene
 from codegen.world.solids import Box, World, part_box, tool_cylinder, translation
 
@@ -143,3 +143,14 @@ def test_a_move_to_the_same_joints_from_elsewhere_is_swept_again():
     through = program(f"movej({joints_text(other)})", f"movej({joints_text(np.add(HOME, [-20.0, 0, 0, 0, 0, 0]))})")
     _, breach = check.check(trace_of(through, other), other)
     assert breach is not None and breach.where == "prog.script:4"
+
+
+def test_the_cases_swept_every_scenario_and_a_spread_of_each_category():
+    categories = ["start_away"] + ["corner"] * 16 + ["random"] * 1000 + ["vision_never"] * 3
+    scenarios = ["start_away"] + ["corner"] * 16 + ["random"] * 1000 + ["device_silent"] * 3
+    chosen = selected(categories, scenarios)
+    assert chosen[0] and all(chosen[-3:])  # the common scenarios, every one
+    corners = [i for i in range(1, 17) if chosen[i]]
+    randoms = [i - 17 for i in range(17, 1017) if chosen[i]]
+    assert corners == [1, 3, 5, 7, 9, 11, 13, 15]  # eight, one in two
+    assert randoms == [0, 125, 250, 375, 500, 625, 750, 875]  # eight, spread over all of them
