@@ -116,6 +116,7 @@ class TraceClearance:
         self.arm = scenes[False].arm
         self.home = np.asarray(self.arm.home_deg if home is None else home, dtype=float)
         self.memo: dict[tuple, MoveLeast] = {}
+        self._excluding: dict[tuple, Scene] = {}  # a scene with the pairs where the gripper acts left out
         self.swept = 0  # moves swept (memo misses)
 
     def check(self, trace, start_joints=None, held: bool = False) -> tuple[MoveLeast | None, MoveLeast | None]:
@@ -129,12 +130,13 @@ class TraceClearance:
         least: MoveLeast | None = None
         first: MoveLeast | None = None
         index = {id(m): i for i, m in enumerate(trace.moves)}
+        resting = self._resting(trace, moves, index, holding, q)
         for k, move in enumerate(moves):
             carried = holding[index[id(move)]]
-            found = [self._move(q, move, carried)]
+            found = [self._move(q, move, carried, resting[k])]
             zone = self.dialect.zone_mm(move.settings)
             if zone > 0 and k + 1 < len(moves):
-                corner = self._corner(q, move, moves[k + 1], zone, carried)
+                corner = self._corner(q, move, moves[k + 1], zone, carried, resting[k] | resting[k + 1])
                 if corner is not None:
                     found.append(corner)
             found = [replace(one, move=index[id(move)]) for one in found]
@@ -158,17 +160,50 @@ class TraceClearance:
                     out[i] = state
         return out
 
+    def _resting(self, trace, moves: list, index: dict, holding: list[bool], q0: np.ndarray) -> list[frozenset]:
+        """Per move (of those with joints), the (tool or part, solid) pairs not measured: where the gripper acts
+        (its output set while the arm stands at a pose), the tool and the part touch what the part is taken from or
+        put down on; along the linear moves next to that pose, before and after it, they are not measured against a
+        solid within the clearance of them at that pose, up to the first pose where none of those pairs is within
+        it (as generate's proof leaves them). Every other pair is measured throughout."""
+        out = [frozenset()] * len(moves)
+        if self.gripper is None:
+            return out
+        position = {index[id(m)]: k for k, m in enumerate(moves)}
+        joints = [q0, *(np.asarray(m.joints, dtype=float) for m in moves)]  # joints[k]: before move k; [k + 1] after
+        for event in trace.outputs:
+            at = position.get(event.after_moves - 1)
+            if event.name != self.gripper.output or at is None:
+                continue
+            scene = self.scenes[True]
+            near = scene.within(joints[at + 1], ("tool", "part"), self.clearance)
+            if not near:
+                continue
+            k = at
+            while k >= 0 and moves[k].kind == "linear":  # back along the way in
+                out[k] = out[k] | near
+                if not near & scene.within(joints[k], ("tool", "part"), self.clearance):
+                    break
+                k -= 1
+            k = at + 1
+            while k < len(moves) and moves[k].kind == "linear":  # on along the way out
+                out[k] = out[k] | near
+                if not near & scene.within(joints[k + 1], ("tool", "part"), self.clearance):
+                    break
+                k += 1
+        return out
+
     def _where(self, move) -> str:
         return f"{move.file or self.filename}:{move.line}"
 
-    def _move(self, q0: np.ndarray, move, carried: bool) -> MoveLeast:
+    def _move(self, q0: np.ndarray, move, carried: bool, resting: frozenset) -> MoveLeast:
         q1 = np.asarray(move.joints, dtype=float)
         circular = self.dialect.circular(move.kind, move.settings)
         linear = move.kind != "joint" and move.tcp2base is not None and not circular
-        key = (linear, carried, _rounded(q0), _rounded(q1))
+        key = (linear, carried, _rounded(q0), _rounded(q1), resting)
         if key not in self.memo:
             what = "linear move" if linear else ("circular move (its ends' joints)" if circular else "joint move")
-            self.memo[key] = self._sweep(self._path(q0, move, linear), q0, carried, move, what)
+            self.memo[key] = self._sweep(self._path(q0, move, linear), q0, carried, move, what, resting)
         return self.memo[key]
 
     def _path(self, q0: np.ndarray, move, linear: bool) -> Path:
@@ -177,7 +212,8 @@ class TraceClearance:
         tcp2flange = np.linalg.inv(self.arm.kin.fk(np.asarray(move.joints, dtype=float))) @ move.tcp2base
         return linear_path(self.arm, tcp2flange, self.arm.kin.fk(q0) @ tcp2flange, move.tcp2base)
 
-    def _corner(self, q0: np.ndarray, move, after, zone: float, carried: bool) -> MoveLeast | None:
+    def _corner(self, q0: np.ndarray, move, after, zone: float, carried: bool, resting: frozenset
+                ) -> MoveLeast | None:
         """The blend's corner: from where the TCP enters the zone on this move to where it leaves it on the next,
         the joints a quadratic curve through the target's (its control point), so that the TCP cuts the corner
         within the zone as the controllers' blends do."""
@@ -191,16 +227,22 @@ class TraceClearance:
             enter, leave = first(1.0 - into, q1), second(out, q1)
         except Unresolved:
             return None  # a line the arm cannot follow: the moves themselves report it
-        key = ("corner", carried, _rounded(enter), _rounded(q1), _rounded(leave))
+        key = ("corner", carried, _rounded(enter), _rounded(q1), _rounded(leave), resting)
         if key not in self.memo:
             path = _bezier(enter, q1, leave)
-            self.memo[key] = self._sweep(path, enter, carried, move, f"blend's corner ({zone:g} mm zone)")
+            self.memo[key] = self._sweep(path, enter, carried, move, f"blend's corner ({zone:g} mm zone)", resting)
         return self.memo[key]
 
-    def _sweep(self, path: Path, q0: np.ndarray, carried: bool, move, what: str) -> MoveLeast:
+    def _sweep(self, path: Path, q0: np.ndarray, carried: bool, move, what: str, resting: frozenset) -> MoveLeast:
         self.swept += 1
+        scene = self.scenes[carried]
+        if resting:
+            key = (carried, resting)
+            if key not in self._excluding:
+                self._excluding[key] = scene.excluding(resting)
+            scene = self._excluding[key]
         try:
-            result: MoveClearance = check_path(self.scenes[carried], path, q0, self.clearance)
+            result: MoveClearance = check_path(scene, path, q0, self.clearance)
         except Unresolved as exc:
             return MoveLeast(-np.inf, -np.inf, self._where(move), what, "arm", str(exc))
         return MoveLeast(result.distance, result.lower_bound, self._where(move), what, result.body, result.other)

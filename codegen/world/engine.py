@@ -7,6 +7,7 @@ coal collision library; a cheap bounding-sphere test orders the pairs so that on
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import coal
@@ -120,6 +121,36 @@ class Scene:
         self._one, self._other = coal.Transform3s(), coal.Transform3s()
         self._request, self._result = coal.DistanceRequest(), coal.DistanceResult()
         self.queries = 0  # exact distance queries made (for the benchmarks)
+
+    def excluding(self, pairs: frozenset[tuple[str, str]]) -> Scene:
+        """The same scene with these (body, solid) name pairs not measured as well."""
+        out = copy.copy(self)
+        out._skip = self._skip.copy()
+        index = {name: i for i, name in enumerate(self.names)}
+        for b, body in enumerate(self.bodies):
+            for one, other in pairs:
+                if one == body.name and other in index:
+                    out._skip[b, index[other]] = True
+        return out
+
+    def within(self, joints_deg: np.ndarray, bodies: tuple[str, ...], limit: float) -> frozenset[tuple[str, str]]:
+        """The (body, solid) name pairs of the named bodies nearer than limit (mm) at one configuration (every such
+        pair measured, the pairs not measured left out)."""
+        poses = self.poses(joints_deg)[0]
+        out = set()
+        for b, body in enumerate(self.bodies):
+            if body.name not in bodies:
+                continue
+            for s, name in enumerate(self.names):
+                if self._skip[b, s]:
+                    continue
+                self._one.setTransform(np.ascontiguousarray(poses[b, :3, :3]), np.ascontiguousarray(poses[b, :3, 3]))
+                self._result.clear()
+                d = coal.distance(self._body_shape[b], self._one, self._solid_shape[s], self._solid_transform[s],
+                                  self._request, self._result)
+                if d < limit:
+                    out.add((body.name, name))
+        return frozenset(out)
 
     def poses(self, joints_deg: np.ndarray) -> np.ndarray:
         """(n, bodies, 4, 4): each body's coal pose in the base frame (its origin the bounding sphere's centre)."""

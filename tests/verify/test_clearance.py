@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from codegen.dialects import get_dialect
+from codegen.poses import rotvec_from_rotmat
 from codegen.robot.arms import catalogue
 from codegen.verify.clearance import Gripper, TraceClearance, selected
 from codegen.world.engine import Scene
@@ -154,3 +155,28 @@ def test_the_cases_swept_every_scenario_and_a_spread_of_each_category():
     randoms = [i - 17 for i in range(17, 1017) if chosen[i]]
     assert corners == [1, 3, 5, 7, 9, 11, 13, 15]  # eight, one in two
     assert randoms == [0, 125, 250, 375, 500, 625, 750, 875]  # eight, spread over all of them
+
+
+def tcp_text(dz_mm: float) -> str:
+    """The TCP at home moved dz_mm along the base's z, as a URScript pose (m, rotation vector)."""
+    pose = UR5E.kin.fk(HOME) @ TOOL
+    x, y, z = (pose[:3, 3] + (0.0, 0.0, dz_mm)) / 1000.0
+    rx, ry, rz = rotvec_from_rotmat(pose[:3, :3])
+    return f"p[{x:.6f}, {y:.6f}, {z:.6f}, {rx:.8f}, {ry:.8f}, {rz:.8f}]"
+
+
+def test_where_the_gripper_acts_the_tool_may_touch_what_it_takes_from():
+    """Straight down 100 mm from home onto a table (the tool's end 5 mm over it), the gripper closes, straight up:
+    the table is not measured against the tool along those straight moves; the same descent without the gripper
+    acting is a breach, and so is a joint move onto the table."""
+    tip = (UR5E.kin.fk(HOME) @ TOOL)[:3, 3]
+    table = Box((80.0, 80.0, 20.0), translation(tip[0], tip[1], tip[2] - 100.0 - 5.0 - 10.0))  # top 5 mm under
+    check = checker({"table": table})
+    down, up = f"movel({tcp_text(-100.0)})", f"movel({tcp_text(0.0)})"
+    least, breach = check.check(trace_of(program(down, "set_standard_digital_out(0, True)", up)), HOME)
+    assert breach is None and least.other != "table"
+    _, breach = check.check(trace_of(program(down, up)), HOME)
+    assert breach is not None and (breach.where, breach.other) == ("prog.script:3", "table")
+    dip = program(down.replace("movel", "movej"), "set_standard_digital_out(0, True)", up)
+    _, breach = check.check(trace_of(dip), HOME)
+    assert breach is not None and breach.other == "table" and breach.what == "joint move"
