@@ -62,8 +62,8 @@ def test_a_frame_taught_from_below_warns(tmp_path):
 
 def test_source_004s_test_pallet_as_its_tables_describe():
     """Table 1 (angles clockwise: 90 -> a = -90 as Table 2 writes it), layers 26 mm each, patterns 1 and
-    2 alternating (Table 3), approach (5, 5, 5) mm (Table 4); the entry the box's height (26 mm) above the target,
-    not Table 4's 6.5 mm (the carried box would hang below the layer's tops)."""
+    2 alternating (Table 3), approach (5, 5, 5) mm (Table 4); the entry 50 mm above the target (the carried box's
+    bottom more than the 20 mm clearance over the layer's tops), not Table 4's 6.5 mm (it would hang below them)."""
     result = json.loads(CliRunner().invoke(main, ["pallet", "--json"]).stdout)
     boxes = result["pallets"][0]["boxes"]
     assert len(boxes) == 30 and [b["pattern"] for b in boxes[::6]] == ["p1", "p2", "p1", "p2", "p1"]
@@ -75,7 +75,7 @@ def test_source_004s_test_pallet_as_its_tables_describe():
         x, y, a = table1[b["pattern"]][b["box"] - 1]
         z = 26 * b["layer"]
         assert b["target"]["pallet"] == [x, y, z, a, 0, 180]
-        assert b["entry"]["pallet"] == [x, y, z + 26, a, 0, 180]
+        assert b["entry"]["pallet"] == [x, y, z + 50, a, 0, 180]
         assert b["approach"]["pallet"] == [x + 5, y + 5, z + 5, a, 0, 180]
         # the frame of the example: origin (650, -50, 50), axes those of the base
         assert b["target"]["base"][:3] == [650 + x, -50 + y, 50 + z]
@@ -99,9 +99,9 @@ def test_the_octagon_two_squares_make():
         ("p2 = [[26, 13, 0]", "p2 = [[20, 13, 0]", r"pallet\[0\]\.patterns\.p2: box 1 reaches 6\.0 mm beyond"),
         ('cycle = ["p1", "p2"]', 'cycle = ["p1", "p3"]', r"pallet\[0\]\.cycle\[1\]: no pattern 'p3'"),
         ("layers = 5", "layers = 0", r"pallet\[0\]\.layers: expected a whole number"),
-        ("entry_dz = 26.0", "entry_dz = -1", r"pallet\[0\]\.entry_dz: must be in \(0"),
-        ("entry_dz = 26.0", "entry_dz = 25.9", r"pallet\[0\]\.entry_dz: 25\.9 mm .* box's height \(26 mm, box\)"),
-        ("entry_dz = 26.0", "transit_clearance_mm = -1\nentry_dz = 26.0", r"pallet\[0\]\.transit_clearance_mm"),
+        ("entry_dz = 50.0", "entry_dz = -1", r"pallet\[0\]\.entry_dz: must be in \(0"),
+        ("entry_dz = 50.0", "entry_dz = 25.9", r"pallet\[0\]\.entry_dz: 25\.9 mm .* box's height \(26 mm, box\)"),
+        ("entry_dz = 50.0", "transit_clearance_mm = -1\nentry_dz = 50.0", r"pallet\[0\]\.transit_clearance_mm"),
         ("pick_lift = 30.0", "pick_lift = 0.0", r"pallet\[0\]\.pick_lift: must be in \(0, 2000\] mm"),
         ("pick_lift = 30.0", 'pick_lift = "up"', r"pallet\[0\]\.pick_lift: expected a number"),
         ("box = [52.0, 26.0, 26.0]", "box = [52.0, 26.0]", r"pallet\[0\]\.box"),

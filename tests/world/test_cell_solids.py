@@ -15,8 +15,10 @@ TOOL_LINE = "radius_mm = 25.0"
 
 
 def demo(tmp_path, after: str, extra: str):
-    """The demo cell with `extra` lines put after the first line that starts with `after`."""
+    """The demo cell without its [cell.world] table, `extra` lines put after the first line that starts with `after`."""
     text = EXAMPLES["agv_machine_tending"].read_text(encoding="utf-8")
+    start = text.index("[cell.world]")
+    text = text[:start] + text[text.index("\n\n", start) + 2 :]
     line = next(li for li in text.splitlines() if li.startswith(after))
     path = tmp_path / "agv_machine_tending.toml"
     path.write_text(text.replace(line, line + "\n" + extra, 1), encoding="utf-8")
@@ -32,10 +34,11 @@ solids.fence = { box = [20.0, 3000.0, 2000.0], pose = [-900.0, 0.0, 1000.0, 0.0,
 """
 
 
-def test_a_cell_without_the_table_has_the_mounting_plane_for_its_floor_and_the_default_clearance(demo_cell):
-    world = solids(demo_cell)
+def test_a_cell_without_the_table_has_the_mounting_plane_for_its_floor_and_the_default_clearance(tmp_path):
+    cell = load_cell(demo(tmp_path, TOOL_LINE, ""))
+    world = solids(cell)
     assert isinstance(world[FLOOR], Floor) and world[FLOOR].height == 0.0
-    assert clearance_mm(demo_cell) == 20.0
+    assert clearance_mm(cell) == 20.0
 
 
 def test_the_default_clearance_is_the_sweeps():
@@ -147,23 +150,26 @@ def test_bad_world_keys_are_named(tmp_path, extra, key, said):
 def test_a_station_part_and_solids_are_read(tmp_path):
     from codegen.kinds.station.section import stations_of
 
-    extra = "[station.part]\nsize_mm = [60.0, 60.0, 80.0]\n"
-    extra += "[station.solids]\nbed = { box = [1, 2, 3], pose = [0, 0, 0, 0, 0, 0] }"
-    station = stations_of(load_cell(demo(tmp_path, 'chuck = "release"', extra)))[0]
+    station = stations_of(load_cell(EXAMPLES["agv_machine_tending"]))[0]
     assert station.part.size_mm == (60.0, 60.0, 80.0)
-    assert station.solids["bed"].size == (1.0, 2.0, 3.0)
+    assert station.solids["bed"].size == (200.0, 300.0, 595.2)
+    text = EXAMPLES["agv_machine_tending"].read_text(encoding="utf-8")
+    path = tmp_path / "c.toml"
+    path.write_text(text.replace("size_mm = [60.0, 60.0, 80.0]", "size_mm = [60.0, 0.0, 80.0]", 1), encoding="utf-8")
     with pytest.raises(CellError, match=r"station\[0\].part.size_mm"):
-        load_cell(demo(tmp_path, 'chuck = "release"', "[station.part]\nsize_mm = [60.0, 0.0, 80.0]"))
+        load_cell(path)
+    bed = next(line for line in text.splitlines() if line.startswith("bed = "))
+    path.write_text(text.replace(bed, "bed = { pose = [0, 0, 0, 0, 0, 0] }", 1), encoding="utf-8")
     with pytest.raises(CellError, match=r"station\[0\].solids.bed: .* neither"):
-        load_cell(demo(tmp_path, 'chuck = "release"', "[station.solids]\nbed = { pose = [0, 0, 0, 0, 0, 0] }"))
+        load_cell(path)
 
 
 def test_a_declared_solid_may_not_take_a_kinds_name(tmp_path):
     text = EXAMPLES["eur_pallet"].read_text(encoding="utf-8")
     path = tmp_path / "c.toml"
-    marker = "[cell.robot]"
-    extra = '[cell.world]\nsolids."pallet eur" = { box = [1, 2, 3], pose = [0, 0, 0, 0, 0, 0] }\n\n'
-    path.write_text(text.replace(marker, extra + marker, 1), encoding="utf-8")
+    marker = "[cell.world]"
+    extra = '\nsolids."pallet eur" = { box = [1, 2, 3], pose = [0, 0, 0, 0, 0, 0] }'
+    path.write_text(text.replace(marker, marker + extra, 1), encoding="utf-8")
     with pytest.raises(ValueError, match="pallet eur"):
         solids(load_cell(path))
 
