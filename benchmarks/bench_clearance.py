@@ -3,8 +3,9 @@ solids, and one joint move and one linear move checked along their paths.
 
 The cell: a UR5e with a 150 mm tool of radius 30 and a 100 x 80 x 60 mm carried box, the floor, a machine (a box
 800 x 600 x 180 mm in front of the robot) and a fence (a box behind it); the moves start at the catalogue's home.
-Each figure is the median over --repeat rounds (the machine is shared: expect spread). No goal is set: these
-figures are the baseline the cell-level check (every move of a verify) is measured against.
+Each figure is the median over --repeat rounds (the machine is shared: expect spread). Beside each move, the same move
+sampled the way the sweep did before conservative advancement (every step half the clearance of travel, every sample
+measured): the before and after of the same run. No goal is set.
 
 Run: python benchmarks/bench_clearance.py [--repeat N]
 """
@@ -22,7 +23,7 @@ from record import Figures
 from codegen.robot.arms import catalogue
 from codegen.world.engine import Scene
 from codegen.world.solids import Box, Floor, World, part_box, tool_cylinder, translation
-from codegen.world.sweep import CLEARANCE_MM, check_path, joint_path, linear_path
+from codegen.world.sweep import CLEARANCE_MM, check_path, joint_path, linear_path, travel_weights
 
 FIGURES = Figures(__file__)
 
@@ -34,6 +35,29 @@ def median_time(function, repeat: int) -> float:
         function()
         times.append(time.perf_counter() - start)
     return statistics.median(times)
+
+
+def fixed_step(scene: Scene, path, q_start, clearance_mm: float) -> tuple[float, int]:
+    """The move's least sampled distance and sample count with a fixed step: samples added until no step's travel
+    bound exceeds half the clearance, every sample then measured (the sweep before conservative advancement)."""
+    weights, half = travel_weights(scene), 0.5 * clearance_mm
+    s, q = [0.0, 1.0], [np.asarray(q_start, dtype=float)]
+    q.append(path(1.0, q[0]))
+    i = 0
+    while i < len(s) - 1:
+        travel = float(weights @ np.abs(q[i + 1] - q[i]))
+        if travel > half:
+            pieces = int(np.ceil(travel / half))
+            middle = [s[i] + (s[i + 1] - s[i]) * k / pieces for k in range(1, pieces)]
+            solved, near = [], q[i]
+            for value in middle:
+                near = path(value, near)
+                solved.append(near)
+            s[i + 1 : i + 1], q[i + 1 : i + 1] = middle, solved
+            continue
+        i += 1
+    _, best = scene.least(np.array(q))
+    return best.distance, len(s)
 
 
 def main() -> int:
@@ -71,19 +95,24 @@ def main() -> int:
     target = home.copy()
     target[0] += 120.0
     target[1] += 30.0
-    joint = median_time(lambda: check_path(scene, joint_path(home, target), home, CLEARANCE_MM), args.repeat)
-    result = check_path(scene, joint_path(home, target), home, CLEARANCE_MM)
-    FIGURES.line(f"joint move (axis 1 +120, axis 2 +30 deg), clearance {CLEARANCE_MM:g} mm: {joint * 1e3:7.1f} ms, "
-                 f"{result.samples} samples, least {result.distance:.1f} mm ({result.body} - {result.other})")
+    moves = [("joint move (axis 1 +120, axis 2 +30 deg)", joint_path(home, target), home)]
 
     start = arm.kin.fk(home) @ tool
     end = start.copy()
     end[:3, 3] += (0.0, 300.0, -200.0)
-    path = linear_path(arm, tool, start, end)
-    linear = median_time(lambda: check_path(scene, path, home, CLEARANCE_MM), args.repeat)
-    result = check_path(scene, path, home, CLEARANCE_MM)
-    FIGURES.line(f"linear move (300 mm sideways, 200 mm down), clearance {CLEARANCE_MM:g} mm: {linear * 1e3:7.1f} ms, "
-                 f"{result.samples} samples, least {result.distance:.1f} mm ({result.body} - {result.other})")
+    moves.append(("linear move (300 mm sideways, 200 mm down)", linear_path(arm, tool, start, end), home))
+    clear = home.copy()
+    clear[0] -= 90.0  # facing the fence's side, the tool high: nothing within 100 mm
+    clear[2] += 30.0
+    moves.append(("joint move kept clear (axis 1 -90, axis 3 +30 deg)", joint_path(home, clear), home))
+    for name, path, q0 in moves:
+        after = median_time(lambda: check_path(scene, path, q0, CLEARANCE_MM), args.repeat)  # noqa: B023
+        before = median_time(lambda: fixed_step(scene, path, q0, CLEARANCE_MM), args.repeat)  # noqa: B023
+        result = check_path(scene, path, q0, CLEARANCE_MM)
+        least, samples = fixed_step(scene, path, q0, CLEARANCE_MM)
+        FIGURES.line(f"{name}, clearance {CLEARANCE_MM:g} mm: {after * 1e3:7.1f} ms, {result.samples} samples, least "
+                     f"{result.distance:.1f} mm ({result.body} - {result.other}), at least {result.lower_bound:.1f}; "
+                     f"fixed step: {before * 1e3:7.1f} ms, {samples} samples, least {least:.1f} mm")
     FIGURES.write()  # the figures into docs/benchmarks.md, dated, with the machine
     return 0
 

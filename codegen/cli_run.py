@@ -193,6 +193,15 @@ def load_group(dialect, group, entry: str | None = None):
     default=None,
     help="End the run cleanly once the program's clock (its moves, waits and sleeps) passes this many seconds.",
 )
+@click.option(
+    "--cell",
+    "cell_path",
+    default=None,
+    type=click.Path(exists=True, dir_okay=False),
+    help="A cell file: the program runs on the cell's arm for its target, from the cell's home (unless --start), "
+    "and every move is swept against the cell's solids (its floor, machines, fences, each kind's own) and the arm "
+    "itself: the first move within the cell's clearance is reported (exit 1), else the least clearance.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
 def run(
     files: tuple[str, ...],
@@ -207,6 +216,7 @@ def run(
     step_limit: int,
     max_moves: int | None,
     max_seconds: float | None,
+    cell_path: str | None,
     as_json: bool,
 ) -> None:
     """Run one program in the built-in interpreter; print its log, moves (and joints) and how it ended.
@@ -263,6 +273,11 @@ def run(
         if arm.vendor != target.vendor:
             where = f"--robot {robot!r}"
             raise UserError(f"{where}: an arm of the {arm.vendor} controller; this program is for {target.name}")
+    check = None
+    if cell_path is not None:
+        arm, check = _cell_check(cell_path, target, path.name, robot)
+        if joints is None:
+            joints = [float(v) for v in check.home]
     program = load_group(dialect, groups[0], entry)
     try:
         unknown = program.unknown_inputs(values)
@@ -302,6 +317,7 @@ def run(
             exc.solve_joints()
         if isinstance(exc, StepLimitError):
             trace.ended = f"{exc}: raise --step-limit, or end the run with --max-moves or --max-seconds"
+    swept = None if check is None else check.check(trace, joints, _held(check, on))
     native = POSE_FORMATS[target.pose_format][2]
     moves = [
         {
@@ -331,9 +347,10 @@ def run(
                 "warnings": trace.warnings,
                 "clock_s": round(trace.clock, 6),
                 "steps": trace.steps,
+                **({} if check is None else {"clearance": _clearance_json(*swept, check.clearance)}),
             }
         )
-        if failure is not None:
+        if failure is not None or (swept is not None and swept[1] is not None):
             sys.exit(1)
         return
     for message in trace.messages:
@@ -348,9 +365,18 @@ def run(
         click.echo(f"simulated I/O (no device or declaration provides it): {', '.join(trace.simulated)}")
     for warning in trace.warnings:
         click.echo(f"warning: {warning}")
+    if swept is not None:
+        least, breach = swept
+        if breach is not None:
+            click.echo(f"CLEARANCE: {breach.text(check.clearance)}")
+        elif least is not None:
+            click.echo(f"clearance: least {least.distance:.1f} mm ({least.body} - {least.other}) at {least.where}, "
+                       f"the {least.what}; the cell's clearance {check.clearance:g} mm")
     if failure is not None:
         click.echo(f"error: {failure}", err=True)
         click.echo(f"stopped by an error after {len(moves)} moves and {trace.steps} steps ({trace.clock:.3f} s)")
+        sys.exit(1)
+    if swept is not None and swept[1] is not None:
         sys.exit(1)
     if trace.halted:
         click.echo(f"HALT: {halt_text(trace)}")
@@ -358,3 +384,37 @@ def run(
         click.echo(f"ended: {trace.ended}, after {len(moves)} moves and {trace.steps} steps ({trace.clock:.3f} s)")
     else:
         click.echo(f"ended after {trace.steps} steps")
+
+
+def _cell_check(cell_path: str, target, filename: str, robot: str | None):
+    """(the cell's arm for the target, the clearance check of the program's moves among the cell's solids)."""
+    from codegen.cli_base import load
+    from codegen.verify import clearance
+
+    cell = load(cell_path)
+    if robot is not None:
+        raise UserError("--robot and --cell: the cell gives the arm ([cell.robot]); give one of them")
+    if cell.robot is None or target.name not in cell.robot.arms:
+        raise UserError(f"{cell_path}: the cell gives no arm for the {target.name} target ([cell.robot])")
+    try:
+        check = clearance.for_program(cell, target.name, filename)
+    except ValueError as exc:
+        raise UserError(f"{cell_path}: {exc}") from None
+    if check is None:
+        raise UserError(f"{cell_path}: the {target.name} arm has no link shapes to check (catalogue key `links`)")
+    return cell.robot.arms[target.name], check
+
+
+def _held(check, on: dict) -> bool:
+    """A part in the gripper at the start: the cell's gripper feedback input given on (--signal)."""
+    return check.feedback is not None and bool(on.get(check.feedback))
+
+
+def _clearance_json(least, breach, clearance_mm: float) -> dict:
+    def one(found):
+        if found is None:
+            return None
+        return {"distance_mm": found.distance, "at_least_mm": found.lower_bound, "move": found.where,
+                "what": found.what, "body": found.body, "other": found.other}
+
+    return {"clearance_mm": clearance_mm, "least": one(least), "breach": one(breach)}

@@ -92,6 +92,17 @@ class Dialect:
         return {}
 
     @classmethod
+    def zone_mm(cls, settings: dict) -> float:
+        """A recorded move's blending zone (MoveEvent.settings): the radius (mm) about its target within which the
+        arm leaves its path for the next move's; 0: it stops there, or the language records no radius."""
+        return 0.0
+
+    @classmethod
+    def circular(cls, kind: str, settings: dict) -> bool:
+        """Whether a recorded move (its MoveEvent kind and settings) is a circular one (its path an arc)."""
+        return False
+
+    @classmethod
     def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
         """A compiled program; `companions` maps a companion suffix to its text."""
         return cls.module("interpreter").load(text, filename)

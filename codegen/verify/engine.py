@@ -10,6 +10,7 @@ from pathlib import Path
 from codegen.dialects.core.values import RunError
 from codegen.emit import EmitError
 from codegen.robot.taught import ReachError
+from codegen.verify import clearance
 from codegen.verify.edits import edits
 from codegen.verify.executor import Executor, LocalExecutor
 from codegen.verify.programs import ProgramFilesError, ProgramSource, file_sources, fresh_sources
@@ -36,6 +37,7 @@ class Options:
     scenarios: frozenset[str] | None = None  # only the cases of these scenarios (None: every case)
     keep_replays: bool = False  # each row keeps its worst case's and first mismatch's run (report.Replay: the page)
     executor: Executor | None = None
+    clearance: bool = True  # each checked trace swept against the cell's solids (codegen.verify.clearance)
 
 
 @dataclass(frozen=True)
@@ -185,7 +187,11 @@ def _tasks(cell, sources: list[ProgramSource], options: Options, workers: int):
         if options.first_mismatch:  # one answer per program: its cases in one run, stopped at the first mismatch
             chunk = max(1, len(cases))
         limit, first, keep = options.step_limit, options.first_mismatch, options.keep_replays
-        own = [(cell, source, cases[i : i + chunk], limit, first, keep) for i in range(0, len(cases), chunk)]
+        swept = [False] * len(cases)
+        if options.clearance:
+            swept = clearance.selected([c.category for c in cases], [kind.scenario_of(c) for c in cases])
+        own = [(cell, source, cases[i : i + chunk], limit, first, keep, tuple(swept[i : i + chunk]))
+               for i in range(0, len(cases), chunk)]
         if options.sweeps:
             own += [(cell, source, ids, limit, first, keep) for ids in kind.sweeps(model, source, workers)]
         tasks += own

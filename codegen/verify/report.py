@@ -60,6 +60,9 @@ class Row:
     failed: Replay | None = None  # kept when asked: a mismatching case (the first of its chunk)
 
     alike: dict[str, int] = field(default_factory=dict)  # a shown mismatch's problem -> further cases with it
+    clearance: object = None  # the least clearance of the traces swept (codegen.verify.clearance.MoveLeast)
+    clearance_traces: int = 0  # traces swept against the cell's solids
+    clearance_seconds: float = 0.0  # the time the sweeps took (within `seconds`)
 
     @property
     def plan(self) -> VerifyPlan:
@@ -101,6 +104,10 @@ class Row:
             self.failed = part.failed
         if part.figures is not None:
             self.figures = part.figures if self.figures is None else self.figures + part.figures
+        self.clearance_traces += part.clearance_traces
+        self.clearance_seconds += part.clearance_seconds
+        if part.clearance is not None and (self.clearance is None or part.clearance.distance < self.clearance.distance):
+            self.clearance = part.clearance
 
     def summary(self) -> dict:
         """The row's JSON: the keys every row has, then the kind's own (its figures')."""
@@ -131,6 +138,12 @@ class Row:
         }
         if self.arm.moves:
             out["arm"] = self.arm.summary()
+        if self.clearance is not None:
+            least = self.clearance
+            out["clearance"] = {"traces": self.clearance_traces, "seconds": self.clearance_seconds,
+                                "least_mm": least.distance,
+                                "at_least_mm": least.lower_bound, "move": least.where, "what": least.what,
+                                "body": least.body, "other": least.other}
         out.update(self.plan.figures_json(self.figures))
         out["first_mismatches"] = self.first_mismatches
         out["mismatches_alike"] = [self.alike[p] for p in self.alike]  # per first mismatch: further cases alike
@@ -202,6 +215,13 @@ class Report:
                     f"arm {row.target} {row.program}: {arm['moves']} moves solved to joints; least margin to a joint "
                     f"limit {arm['joint_margin_deg']:.1f} deg ({arm['joint_margin_at']}), of axis 5 from its "
                     f"singularity {arm['wrist_margin_deg']:.1f} deg"
+                )
+        for row in self.rows:
+            if row.clearance is not None:
+                least = row.clearance
+                out.append(
+                    f"clearance {row.target} {row.program}: {row.clearance_traces} traces swept; least "
+                    f"{least.distance:.1f} mm ({least.body} - {least.other}) at {least.where}, the {least.what}"
                 )
         runs = sum(r.cases for r in self.rows)
         bulk = sum(r.swept for r in self.rows)

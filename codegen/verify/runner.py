@@ -7,6 +7,7 @@ import time
 
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
+from codegen.verify import clearance
 from codegen.verify.checks import Checker
 from codegen.verify.edits import message_renames
 from codegen.verify.executor import Executor
@@ -34,8 +35,10 @@ def _program(source, large: bool):
 
 def run_chunk(task) -> tuple[int, Row]:
     """One task: (cell, source, cases or a bulk range, step limit, stop at the first mismatch, keep the worst case's
-    and the first mismatch's run). Returns (the source's row, the partial row)."""
-    cell, source, work, step_limit, first, keep = task
+    and the first mismatch's run[, per case whether its trace is swept against the cell's solids: default none]).
+    Returns (the source's row, the partial row)."""
+    cell, source, work, step_limit, first, keep, *rest = task
+    swept = rest[0] if rest else ()
     model = source.model or cell
     kind = cell.kinds[source.kind].verify
     row = Row(source.kind, source.target, source.ident, list(source.origin))
@@ -45,7 +48,8 @@ def run_chunk(task) -> tuple[int, Row]:
         if isinstance(work, range):
             kind.sweep(model, source, program, work, step_limit or DEFAULT_STEP_LIMIT, row)
         else:
-            _run_cases(model, kind, source, program, work, step_limit, row, first, keep)
+            check = clearance.for_program(model, source.target, source.label) if any(swept) else None
+            _run_cases(model, kind, source, program, work, step_limit, row, first, keep, check, swept)
             row.seconds = time.perf_counter() - start  # the cases' time alone: cases/s is one program on one core
     return source.row, row
 
@@ -56,7 +60,8 @@ def run_cases(cell, source, cases: list, step_limit: int, first: bool = False) -
 
 
 def _run_cases(
-    model, kind, source, program, cases: list, step_limit: int, row: Row, first: bool = False, keep: bool = False
+    model, kind, source, program, cases: list, step_limit: int, row: Row, first: bool = False, keep: bool = False,
+    check: clearance.TraceClearance | None = None, swept: tuple[bool, ...] = (),
 ) -> None:
     checker = Checker(model, source.target)
     arm = checker.arm
@@ -64,7 +69,7 @@ def _run_cases(
     if source not in _RENAMES:
         _RENAMES[source] = message_renames(model, source)
     renames = _RENAMES[source]
-    for case in cases:
+    for number, case in enumerate(cases):
         row.cases += 1
         row.categories[case.category] = row.categories.get(case.category, 0) + 1
         scenario = kind.scenario_of(case)
@@ -98,6 +103,10 @@ def _run_cases(
                     _, problem, pos, rot, expected = min(problems, key=lambda p: p[0])
             if problem is None and judgement.truth is not None:
                 problem = judgement.truth
+            if check is not None and swept[number]:  # a move through a solid is named beside any other problem
+                breach = _clearance(check, model, source, setup, trace, row)
+                if breach is not None:
+                    problem = breach if problem is None else f"{problem}; {breach}"
             if expected is None and judgement.accepted:
                 expected = judgement.accepted[0]
         row.pos_errors.extend(pos)
@@ -116,6 +125,19 @@ def _run_cases(
             _keep(row, kind, model, case, setup, trace, expected, pos, rot, problem)
         if runaway or (first and problem is not None):
             break
+
+
+def _clearance(check: clearance.TraceClearance, model, source, setup, trace, row: Row) -> str | None:
+    """The trace swept against the cell's solids: the row's least clearance kept, the first move within the
+    clearance the case's problem."""
+    start = time.perf_counter()
+    held = clearance.held_at_start(check, setup)
+    least, breach = check.check(trace, setup.start_joints, held)
+    row.clearance_seconds += time.perf_counter() - start
+    row.clearance_traces += 1
+    if least is not None and (row.clearance is None or least.distance < row.clearance.distance):
+        row.clearance = least
+    return None if breach is None else f"clearance: {breach.text(check.clearance)}"
 
 
 def _run(program, setup, arm, step_limit: int):

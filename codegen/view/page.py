@@ -10,6 +10,7 @@ from markupsafe import Markup
 
 from codegen import __version__, data_dir
 from codegen.robot.expect import arm_of
+from codegen.verify import clearance
 from codegen.view.objects import cell_objects
 from codegen.view.runs import ProgramRuns, Run, nominal_runs
 from codegen.view.scene import arm_description, flat
@@ -67,6 +68,20 @@ def program_json(entry: ProgramRuns, label: str | None = None) -> dict:
     }
 
 
+def with_clearance(cell, target: str, entry: ProgramRuns, program: dict) -> dict:
+    """The program's runs each with its least clearance among the cell's solids (verify's sweep of every move): the
+    move (its index), the distance, the bodies and what the move is; none where the cell gives no arm shapes."""
+    check = clearance.for_program(cell, target, program["file"])
+    if check is None:
+        return program
+    for run, shown in zip(entry.runs, program["runs"], strict=True):
+        least, _ = check.check(run.trace, run.start_joints)
+        if least is not None:
+            shown["clearance"] = {"move": least.move, "distance": round(float(least.distance), 1), "body": least.body,
+                                  "other": least.other, "what": least.what, "clearance": check.clearance}
+    return program
+
+
 def view_json(cell, target: str, programs: list[dict]) -> dict:
     """One target's view: its arm (None: poses alone) and its programs."""
     arm = arm_of(cell, target)
@@ -82,7 +97,8 @@ def view_json(cell, target: str, programs: list[dict]) -> dict:
 
 def cell_data(cell, targets: list[str]) -> dict:
     """The page's data: the cell's objects and, per target, the nominal run of each program."""
-    views = [view_json(cell, t, [program_json(p) for p in nominal_runs(cell, t)]) for t in targets]
+    views = [view_json(cell, t, [with_clearance(cell, t, p, program_json(p)) for p in nominal_runs(cell, t)])
+             for t in targets]
     return page_data(cell, views)
 
 

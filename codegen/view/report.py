@@ -136,6 +136,10 @@ def target_table(rows) -> list[dict]:
                 "rot_p99": f"{s['orientation_error_deg']['p99']:.2e}",
                 "joint_margin": "" if arm is None else f"{arm['joint_margin_deg']:.1f}",
                 "wrist_margin": "" if arm is None else f"{arm['wrist_margin_deg']:.1f}",
+                "clearance": "" if row.clearance is None else f"{row.clearance.distance:.1f}",
+                "clearance_where": "" if row.clearance is None else (
+                    f"{row.clearance.body} - {row.clearance.other} at {row.clearance.where}, the {row.clearance.what} "
+                    f"({row.clearance_traces} traces swept)"),
                 "first_mismatches": row.first_mismatches,
                 "more": row.mismatches - len(row.first_mismatches),
             }

@@ -23,6 +23,7 @@ ROLES = (  # the colour roles the page knows (codegen/view/static/viewer.js PALE
     "place",
     "beam",
     "sensor",
+    "solid",
 )
 
 
@@ -43,6 +44,15 @@ def frame(pose, label: str, role: str = "frame", size: float = FRAME_MM) -> dict
 def box(centre2base, size, role: str, label: str = "", opacity: float = 1.0) -> dict:
     """A box: its centre's pose (4x4, mm) and its edge lengths along that pose's x, y, z."""
     out = {"type": "box", "pose": flat(centre2base), "size": [float(s) for s in size], "role": role, "label": label}
+    if opacity < 1.0:
+        out["opacity"] = opacity
+    return out
+
+
+def cylinder(centre2base, radius: float, length: float, role: str, label: str = "", opacity: float = 1.0) -> dict:
+    """A cylinder: its centre's pose (4x4, mm), its radius and its length along that pose's z."""
+    out = {"type": "cylinder", "pose": flat(centre2base), "radius": float(radius), "length": float(length),
+           "role": role, "label": label}
     if opacity < 1.0:
         out["opacity"] = opacity
     return out

@@ -7,6 +7,7 @@ coal collision library; a cheap bounding-sphere test orders the pairs so that on
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import coal
@@ -69,6 +70,9 @@ def distance(
     return float(d), np.array(result.getNearestPoint1()), np.array(result.getNearestPoint2())
 
 
+GROUPS = 7  # pair groups: 0 the bodies against the solids, 1 .. 6 the bodies' pairs by their lower link frame
+
+
 class Scene:
     """An arm with its tool and carried part among the world's solids: least distances at given joint values."""
 
@@ -108,9 +112,45 @@ class Scene:
                     self._skip[b, index[other]] = True
         pairs = np.array(self.pairs, dtype=int).reshape(-1, 2)
         self._pair_i, self._pair_j = pairs[:, 0], pairs[:, 1]
+        # each pair's group: 0 for a body and a solid (every joint moves them apart), else the lower link frame of
+        # the two bodies (only the joints after it move one against the other)
+        frames = np.array([body.frame for body in self.bodies], dtype=int)
+        self._group = np.concatenate([np.zeros(self._skip.size, dtype=int),
+                                      np.minimum(frames[self._pair_i], frames[self._pair_j])])
+        self._present = np.bincount(self._group, minlength=GROUPS)[:GROUPS] > 0
         self._one, self._other = coal.Transform3s(), coal.Transform3s()
         self._request, self._result = coal.DistanceRequest(), coal.DistanceResult()
         self.queries = 0  # exact distance queries made (for the benchmarks)
+
+    def excluding(self, pairs: frozenset[tuple[str, str]]) -> Scene:
+        """The same scene with these (body, solid) name pairs not measured as well."""
+        out = copy.copy(self)
+        out._skip = self._skip.copy()
+        index = {name: i for i, name in enumerate(self.names)}
+        for b, body in enumerate(self.bodies):
+            for one, other in pairs:
+                if one == body.name and other in index:
+                    out._skip[b, index[other]] = True
+        return out
+
+    def within(self, joints_deg: np.ndarray, bodies: tuple[str, ...], limit: float) -> frozenset[tuple[str, str]]:
+        """The (body, solid) name pairs of the named bodies nearer than limit (mm) at one configuration (every such
+        pair measured, the pairs not measured left out)."""
+        poses = self.poses(joints_deg)[0]
+        out = set()
+        for b, body in enumerate(self.bodies):
+            if body.name not in bodies:
+                continue
+            for s, name in enumerate(self.names):
+                if self._skip[b, s]:
+                    continue
+                self._one.setTransform(np.ascontiguousarray(poses[b, :3, :3]), np.ascontiguousarray(poses[b, :3, 3]))
+                self._result.clear()
+                d = coal.distance(self._body_shape[b], self._one, self._solid_shape[s], self._solid_transform[s],
+                                  self._request, self._result)
+                if d < limit:
+                    out.add((body.name, name))
+        return frozenset(out)
 
     def poses(self, joints_deg: np.ndarray) -> np.ndarray:
         """(n, bodies, 4, 4): each body's coal pose in the base frame (its origin the bounding sphere's centre)."""
@@ -122,6 +162,56 @@ class Scene:
         bodies) if its distance is below `below` mm, else None."""
         poses = self.poses(joints_deg)
         return [self._nearest_one(poses[n], below) for n in range(len(poses))]
+
+    def nearest_at(self, joints_deg: np.ndarray, below: float = np.inf) -> Nearest | None:
+        """The nearest pair at one configuration (6,) if its distance is below `below` mm, else None (every pair is
+        then at least `below` apart): only the pairs whose bound is below the least found so far are measured."""
+        return self._nearest_one(self.poses(joints_deg)[0], below)
+
+    def nearest_pose(self, poses: np.ndarray, below: float = np.inf) -> Nearest | None:
+        """nearest_at for the bodies' poses (bodies, 4, 4) as `poses` gives them."""
+        return self._nearest_one(poses, below)
+
+    def least_by_group(self, pose: np.ndarray, caps: np.ndarray, below: float) -> tuple[np.ndarray, Nearest | None]:
+        """At the bodies' poses (bodies, 4, 4): per group of pairs (self._group: 0 the bodies against the solids,
+        g > 0 the bodies' pairs whose lower link frame is g) a lower bound of its least distance, exact where it is
+        below caps[g]; and the nearest pair of all if nearer than `below` (else None). Only the pairs whose cheap
+        bound is below what can still matter (their group's cap and least so far, or the nearest so far) are
+        measured: an unmeasured pair is at least its bound away, and its bound at least min(cap, least)."""
+        bounds, skip = self._bounds(pose[:, :3, 3])
+        least = np.full(GROUPS, np.inf)
+        caps = np.asarray(caps, dtype=float)
+        best: Nearest | None = None
+        limit = below
+        stop = max(float(caps.max()), below)
+        group = self._group
+        solid_pairs = self._skip.size
+        count = len(self.solids)
+        for k in np.argsort(bounds, kind="stable").tolist():
+            bound = bounds[k]
+            if bound >= stop:
+                break
+            g = group[k]
+            if skip[k] or (bound >= min(caps[g], least[g]) and bound >= limit):
+                continue
+            if k < solid_pairs:
+                b, s = divmod(k, count)
+                other_shape, other_name, other = self._solid_shape[s], self.names[s], self._solid_transform[s]
+            else:
+                b, j = int(self._pair_i[k - solid_pairs]), int(self._pair_j[k - solid_pairs])
+                other_shape, other_name, other = self._body_shape[j], self.bodies[j].name, self._other
+                other.setTransform(np.ascontiguousarray(pose[j, :3, :3]), np.ascontiguousarray(pose[j, :3, 3]))
+            self._one.setTransform(np.ascontiguousarray(pose[b, :3, :3]), np.ascontiguousarray(pose[b, :3, 3]))
+            self._result.clear()
+            d = coal.distance(self._body_shape[b], self._one, other_shape, other, self._request, self._result)
+            self.queries += 1
+            if d < least[g]:
+                least[g] = d
+            if d < limit:
+                limit = d
+                best = Nearest(float(d), self.bodies[b].name, other_name, tuple(self._result.getNearestPoint1()),
+                               tuple(self._result.getNearestPoint2()))
+        return np.where(self._present, np.minimum(least, caps), np.inf), best
 
     def least(self, joints_deg: np.ndarray) -> tuple[int, Nearest | None]:
         """The sample of (n, 6) joint values with the least distance and its nearest pair. The samples are taken in

@@ -66,6 +66,15 @@ class KRL(Dialect):
         return out
 
     @classmethod
+    def zone_mm(cls, settings: dict) -> float:
+        """C_DIS: $APO.CDIS (mm); the other approximations (C_PTP, C_VEL, C_ORI) give no radius in mm: 0."""
+        return float(settings.get("cdis") or 0.0) if settings.get("approx") == "C_DIS" else 0.0
+
+    @classmethod
+    def circular(cls, kind: str, settings: dict) -> bool:
+        return bool(settings.get("circ"))
+
+    @classmethod
     def load(cls, text: str, filename: str, companions: dict[str, str] | None = None):
         return cls.module("interpreter").load(text, filename, (companions or {}).get(".dat"))
 

@@ -55,6 +55,15 @@ class Rapid(Dialect):
         )
 
     @classmethod
+    def zone_mm(cls, settings: dict) -> float:
+        """The zonedata's pzone_tcp (mm), 0 at a stop point."""
+        return float(settings.get("zone_mm") or 0.0)
+
+    @classmethod
+    def circular(cls, kind: str, settings: dict) -> bool:
+        return "circle_point" in settings
+
+    @classmethod
     def move_settings(
         cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:

@@ -26,6 +26,15 @@ class URScript(Dialect):
         return frozenset(URScriptCompiler("<names>").builtins)
 
     @classmethod
+    def zone_mm(cls, settings: dict) -> float:
+        """The blend radius r (m) in mm."""
+        return 1000.0 * float(settings.get("r") or 0.0)
+
+    @classmethod
+    def circular(cls, kind: str, settings: dict) -> bool:
+        return kind == "circular"
+
+    @classmethod
     def move_settings(
         cls, program: dict, kind: str, exact: bool, own_tool=False, speed_mm_s=None, zone_mm=0.0, joint_percent=None
     ) -> dict:

@@ -9,7 +9,8 @@
     arm: 0xff6a00, joint: 0x3a3a3a, base: 0x505050, tool: 0x4a4a4a, tcp: 0x000000, path: 0x1f77b4,
     reference: 0x00b050, frame: 0x7f7f7f, mark: 0xd62728, taught: 0x9467bd, bench: 0xaab4c0, wood: 0x8c5a2b,
     box: 0xc8a165, label: 0xffffff, sheet: 0xf0ead8, pick: 0x9aa5b1, belt: 0x3c3c3c, window: 0x17becf,
-    camera: 0xe377c2, place: 0x9aa5b1, beam: 0xff0000, sensor: 0x2f4f6f, floor: 0xdddddd,
+    camera: 0xe377c2, place: 0x9aa5b1, beam: 0xff0000, sensor: 0x2f4f6f, floor: 0xdddddd, solid: 0x8f9aa8,
+    nearest: 0xd62728,
   };
   const AXIS_COLOURS = [0xe00000, 0x00a000, 0x0000e0];
   const MIN_MOVE_S = 0.25; // a move the program clock gives no time is shown this long
@@ -135,7 +136,7 @@
   });
   const sceneSize = extent.isEmpty() ? 1000 : Math.max(200, extent.getSize(new THREE.Vector3()).length());
   const axisSize = (size) => Math.min(size, sceneSize * 0.05);
-  const LABELLED = new Set(["mark", "wood", "pick", "place", "sensor", "belt", "camera", "window", "bench"]);
+  const LABELLED = new Set(["mark", "wood", "pick", "place", "sensor", "belt", "camera", "window", "bench", "solid"]);
   const labels = new THREE.Group();
   const cellGroup = new THREE.Group();
   const meshes = []; // per object: the meshes drawn for it (a box's: its faces and its edges)
@@ -158,6 +159,13 @@
         cellGroup.add(edges);
         meshes[index].push(edges);
       }
+    } else if (o.type === "cylinder") {
+      const geometry = new THREE.CylinderGeometry(o.radius, o.radius, o.length, 32);
+      geometry.rotateX(Math.PI / 2); // three's cylinders stand along y, the cell's along the pose's z
+      const mesh = new THREE.Mesh(geometry, material(o.role, o.opacity));
+      mesh.applyMatrix4(matrix(o.pose));
+      cellGroup.add(mesh);
+      meshes[index].push(mesh);
     } else if (o.type === "line") {
       cellGroup.add(lineObject(o.points, PALETTE[o.role], o.dashed));
     } else if (o.type === "point") {
@@ -313,6 +321,11 @@
           const dot = new THREE.Mesh(new THREE.SphereGeometry(sceneSize * 0.0025, 8, 6), material("path"));
           dot.position.set(...p); dynamic.add(dot);
         });
+        const near = run.clearance && run.moves[run.clearance.move];
+        if (near && near.pose) { // the move that comes nearest a solid (or the arm itself): a red ball at its end
+          const ring = new THREE.Mesh(new THREE.SphereGeometry(sceneSize * 0.008, 16, 12), material("nearest", 0.7));
+          ring.position.set(...origin(near.pose)); dynamic.add(ring);
+        }
         (run.reference || []).forEach((pose, k) => {
           if (!pose) return;
           dynamic.add(triad(pose, axisSize(30)));
@@ -409,6 +422,11 @@
     if (current.joints) add("joints", current.joints.map((v) => v.toFixed(3)).join(", ") + " deg");
     if (current.tcp) add("TCP", origin(current.tcp).map((v) => v.toFixed(2)).join(", ") + " mm");
     if (frame.move === run.moves.length - 1 && run.halt) add("stop", run.halt);
+    if (run.clearance) {
+      const c = run.clearance, here = frame.move === c.move ? " (this move)" : "";
+      add("least clearance", `${c.distance.toFixed(1)} mm, ${c.body} - ${c.other}, move ${c.move + 1}: the ` +
+        `${c.what}${here}; the cell's clearance ${c.clearance} mm`);
+    }
   }
 
   // ---- camera ---------------------------------------------------------------------------------------------

@@ -1,0 +1,258 @@
+"""verify's clearance check: each move of an interpreted trace swept against the cell's solids and the arm itself."""
+
+# What a trace gives: per move its kind (joint, linear), its end joints (solved by the interpreter's arm), its end TCP
+# pose, its line and file, and the dialect's settings (the blending zone). A move is followed from the joints before
+# it (the start joints for the first) to its own: a joint move interpolating every axis, a linear move keeping the TCP
+# on the straight line (the tool in force taken from the trace itself: the end pose's TCP in the flange frame), and
+# where a move blends into the next, the corner between them. The part is carried from the move after the gripper's
+# output closed (or from the start, where the case starts holding one) until the move after it opened.
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from codegen.controllers import get_target
+from codegen.dialects import get_dialect
+from codegen.model import io as signals
+from codegen.verify.plan import SCENARIOS
+from codegen.world import cell as world_cell
+from codegen.world.engine import Scene
+from codegen.world.sweep import MoveClearance, Path, Unresolved, check_path, joint_path, linear_path
+
+PER_CATEGORY = 8  # of a kind's own category of cases (a reading's corner, its random readings), this many are swept
+ROUND_DEG = 1e-6  # joints this close count as the same move (the memo's key)
+
+
+@dataclass(frozen=True)
+class MoveLeast:
+    """One move's least clearance: the distance at the samples (mm), what is guaranteed along the whole move
+    (lower_bound), where the move is written (file:line), what it is, the body (link, tool or part) and the solid or
+    link it came nearest."""
+
+    distance: float
+    lower_bound: float
+    where: str
+    what: str
+    body: str
+    other: str
+    move: int = -1  # its index among the trace's moves
+
+    def text(self, clearance_mm: float) -> str:
+        """The verdict's words: the move, the body, the solid and the distance."""
+        if not np.isfinite(self.distance):
+            return f"{self.where}: the {self.what} cannot be followed: {self.other}"
+        near = f"cuts {-self.distance:.1f} mm into" if self.distance < 0 else f"comes within {self.distance:.1f} mm of"
+        return (f"{self.where}: the {self.what}: the {_body(self.body)} {near} {self.other} (clearance "
+                f"{clearance_mm:g} mm)")
+
+
+def _body(name: str) -> str:
+    return name if name in ("tool", "part") else f"arm's {name}"
+
+
+@dataclass(frozen=True)
+class Gripper:
+    """The output that closes the gripper on a part, as the trace names it, and the value that closes it."""
+
+    output: str
+    closed: bool = True
+
+
+def selected(categories: list[str], scenarios: list[str]) -> list[bool]:
+    """Which of a program's cases (their categories and scenarios, in the kind's order) verify sweeps: every case of
+    a common scenario (away from home, a stop's way home, a part held, a device's silence ...), and of each other
+    category PER_CATEGORY spread evenly over its cases (a kind's corners and limits of the reading's envelope, its
+    random readings): the same cases whatever the workers and chunks."""
+    counts: dict[str, int] = {}
+    for category in categories:
+        counts[category] = counts.get(category, 0) + 1
+    seen: dict[str, int] = {}
+    out = []
+    for category, scenario in zip(categories, scenarios, strict=True):
+        k = seen[category] = seen.get(category, -1) + 1
+        step = max(1, -(-counts[category] // PER_CATEGORY))
+        out.append(scenario in SCENARIOS or k % step == 0)
+    return out
+
+
+def for_program(cell, target_name: str, filename: str) -> TraceClearance | None:
+    """The check of one program of the cell on a target: its arm among the cell's solids, with the part carried
+    where a kind gives one; None where the cell gives no arm for the target."""
+    if cell.robot is None or target_name not in cell.robot.arms or not cell.robot.arms[target_name].links:
+        return None
+    target = get_target(target_name)
+    # a kind that carries a part of known shape says so (Scene.carried: a codegen.model.world.PartShape or a Box)
+    parts = (getattr(kind.scene, "carried", lambda _cell: None)(cell) for kind in cell.kinds.values())
+    part = next((p for p in parts if p is not None), None)
+    free = world_cell.scene_of(cell, target_name)
+    scenes = {False: free, True: free if part is None else world_cell.scene_of(cell, target_name, part)}
+    gripper, feedback = None, None
+    if cell.io is not None and target_name in cell.io.output:
+        gripper = Gripper(signals.signal_name(target, "output", cell.io.output[target_name]), cell.io.value)
+    if cell.io is not None and target_name in cell.io.feedback:
+        feedback = signals.signal_name(target, "input", cell.io.feedback[target_name])
+    dialect = get_dialect(target.dialect)
+    home = cell.robot.home[target_name]
+    return TraceClearance(scenes, world_cell.clearance_mm(cell), dialect, filename, gripper, feedback, home)
+
+
+def held_at_start(check: TraceClearance, setup) -> bool:
+    """Whether a case starts with the part in the gripper: the gripper's feedback input on at the start."""
+    return setup is not None and check.feedback is not None and bool(setup.signals.get(check.feedback))
+
+
+class TraceClearance:
+    """A program's traces swept against one scene per held state (no part, the part carried), every distinct move
+    swept once (a memo by the move's kind, end joints, zone and the part)."""
+
+    def __init__(self, scenes: dict[bool, Scene], clearance_mm: float, dialect, filename: str,
+                 gripper: Gripper | None = None, feedback: str | None = None, home=None):
+        """feedback: the gripper's feedback input as the program names it (on at the start: a part held); home:
+        where a run starts that gives no start joints (default the arm's catalogue home)."""
+        self.scenes, self.clearance, self.dialect = scenes, clearance_mm, dialect
+        self.filename, self.gripper, self.feedback = filename, gripper, feedback
+        self.arm = scenes[False].arm
+        self.home = np.asarray(self.arm.home_deg if home is None else home, dtype=float)
+        self.memo: dict[tuple, MoveLeast] = {}
+        self._excluding: dict[tuple, Scene] = {}  # a scene with the pairs where the gripper acts left out
+        self.swept = 0  # moves swept (memo misses)
+
+    def check(self, trace, start_joints=None, held: bool = False) -> tuple[MoveLeast | None, MoveLeast | None]:
+        """(the trace's least clearance, its first move within the clearance or None). held: the case starts
+        with a part in the gripper."""
+        moves = [m for m in trace.moves if m.joints is not None]
+        if not moves:
+            return None, None
+        holding = self._held(trace, len(trace.moves), held)
+        q = self.home if start_joints is None else np.asarray(start_joints, dtype=float)
+        least: MoveLeast | None = None
+        first: MoveLeast | None = None
+        index = {id(m): i for i, m in enumerate(trace.moves)}
+        resting = self._resting(trace, moves, index, holding, q)
+        for k, move in enumerate(moves):
+            carried = holding[index[id(move)]]
+            found = [self._move(q, move, carried, resting[k])]
+            zone = self.dialect.zone_mm(move.settings)
+            if zone > 0 and k + 1 < len(moves):
+                corner = self._corner(q, move, moves[k + 1], zone, carried, resting[k] | resting[k + 1])
+                if corner is not None:
+                    found.append(corner)
+            found = [replace(one, move=index[id(move)]) for one in found]
+            for one in found:
+                if least is None or one.distance < least.distance:
+                    least = one
+                if first is None and one.distance < self.clearance:
+                    first = one
+            q = np.asarray(move.joints, dtype=float)
+        return least, first
+
+    def _held(self, trace, count: int, held: bool) -> list[bool]:
+        """Per move of the trace: whether the gripper holds the part during it (closed before the move set off)."""
+        out = [held] * count
+        if self.gripper is None:
+            return out
+        for event in sorted(trace.outputs, key=lambda e: e.after_moves):
+            if event.name == self.gripper.output:
+                state = event.value == self.gripper.closed
+                for i in range(event.after_moves, count):
+                    out[i] = state
+        return out
+
+    def _resting(self, trace, moves: list, index: dict, holding: list[bool], q0: np.ndarray) -> list[frozenset]:
+        """Per move (of those with joints), the (tool or part, solid) pairs not measured: where the gripper acts
+        (its output set while the arm stands at a pose), the tool and the part touch what the part is taken from or
+        put down on; along the linear moves next to that pose, before and after it, they are not measured against a
+        solid within the clearance of them at that pose, up to the first pose where none of those pairs is within
+        it (as generate's proof leaves them). Every other pair is measured throughout."""
+        out = [frozenset()] * len(moves)
+        if self.gripper is None:
+            return out
+        position = {index[id(m)]: k for k, m in enumerate(moves)}
+        joints = [q0, *(np.asarray(m.joints, dtype=float) for m in moves)]  # joints[k]: before move k; [k + 1] after
+        for event in trace.outputs:
+            at = position.get(event.after_moves - 1)
+            if event.name != self.gripper.output or at is None:
+                continue
+            scene = self.scenes[True]
+            near = scene.within(joints[at + 1], ("tool", "part"), self.clearance)
+            if not near:
+                continue
+            k = at
+            while k >= 0 and moves[k].kind == "linear":  # back along the way in
+                out[k] = out[k] | near
+                if not near & scene.within(joints[k], ("tool", "part"), self.clearance):
+                    break
+                k -= 1
+            k = at + 1
+            while k < len(moves) and moves[k].kind == "linear":  # on along the way out
+                out[k] = out[k] | near
+                if not near & scene.within(joints[k + 1], ("tool", "part"), self.clearance):
+                    break
+                k += 1
+        return out
+
+    def _where(self, move) -> str:
+        return f"{move.file or self.filename}:{move.line}"
+
+    def _move(self, q0: np.ndarray, move, carried: bool, resting: frozenset) -> MoveLeast:
+        q1 = np.asarray(move.joints, dtype=float)
+        circular = self.dialect.circular(move.kind, move.settings)
+        linear = move.kind != "joint" and move.tcp2base is not None and not circular
+        key = (linear, carried, _rounded(q0), _rounded(q1), resting)
+        if key not in self.memo:
+            what = "linear move" if linear else ("circular move (its ends' joints)" if circular else "joint move")
+            self.memo[key] = self._sweep(self._path(q0, move, linear), q0, carried, move, what, resting)
+        return self.memo[key]
+
+    def _path(self, q0: np.ndarray, move, linear: bool) -> Path:
+        if not linear:
+            return joint_path(q0, move.joints)
+        tcp2flange = np.linalg.inv(self.arm.kin.fk(np.asarray(move.joints, dtype=float))) @ move.tcp2base
+        return linear_path(self.arm, tcp2flange, self.arm.kin.fk(q0) @ tcp2flange, move.tcp2base)
+
+    def _corner(self, q0: np.ndarray, move, after, zone: float, carried: bool, resting: frozenset
+                ) -> MoveLeast | None:
+        """The blend's corner: from where the TCP enters the zone on this move to where it leaves it on the next,
+        the joints a quadratic curve through the target's (its control point), so that the TCP cuts the corner
+        within the zone as the controllers' blends do."""
+        q1, q2 = np.asarray(move.joints, dtype=float), np.asarray(after.joints, dtype=float)
+        tcp = [self.arm.kin.fk(q)[:3, 3] for q in (q0, q1, q2)]
+        into = min(0.5, zone / max(float(np.linalg.norm(tcp[1] - tcp[0])), 1e-9))
+        out = min(0.5, zone / max(float(np.linalg.norm(tcp[2] - tcp[1])), 1e-9))
+        first = self._path(q0, move, move.kind != "joint" and move.tcp2base is not None)
+        second = self._path(q1, after, after.kind != "joint" and after.tcp2base is not None)
+        try:
+            enter, leave = first(1.0 - into, q1), second(out, q1)
+        except Unresolved:
+            return None  # a line the arm cannot follow: the moves themselves report it
+        key = ("corner", carried, _rounded(enter), _rounded(q1), _rounded(leave), resting)
+        if key not in self.memo:
+            path = _bezier(enter, q1, leave)
+            self.memo[key] = self._sweep(path, enter, carried, move, f"blend's corner ({zone:g} mm zone)", resting)
+        return self.memo[key]
+
+    def _sweep(self, path: Path, q0: np.ndarray, carried: bool, move, what: str, resting: frozenset) -> MoveLeast:
+        self.swept += 1
+        scene = self.scenes[carried]
+        if resting:
+            key = (carried, resting)
+            if key not in self._excluding:
+                self._excluding[key] = scene.excluding(resting)
+            scene = self._excluding[key]
+        try:
+            result: MoveClearance = check_path(scene, path, q0, self.clearance)
+        except Unresolved as exc:
+            return MoveLeast(-np.inf, -np.inf, self._where(move), what, "arm", str(exc))
+        return MoveLeast(result.distance, result.lower_bound, self._where(move), what, result.body, result.other)
+
+
+def _bezier(q0: np.ndarray, control: np.ndarray, q1: np.ndarray) -> Path:
+    """Joints along a quadratic curve from q0 to q1 pulled towards control (each axis monotone where the control lies
+    between its ends, as at a blended corner that keeps turning the same way)."""
+    return lambda s, _near: (1.0 - s) ** 2 * q0 + 2.0 * s * (1.0 - s) * control + s**2 * q1
+
+
+def _rounded(q) -> tuple:
+    return tuple(np.round(np.asarray(q, dtype=float) / ROUND_DEG).astype(np.int64).tolist())
