@@ -33,6 +33,7 @@ def _shares_a_fixture(module: str) -> bool:
     return path.suffix == ".py" and path.is_file() and bool(SHARED_FIXTURE.search(path.read_text(encoding="utf-8")))
 
 
+@pytest.hookimpl(optionalhook=True)  # `-p no:xdist` runs without the hook
 def pytest_xdist_make_scheduler(config, log):
     """--dist loadgroup with GROUPS, and each module that defines a module or class fixture one unit of work (its
     fixture and the per-cell caches of the cells it holds built once); every other test alone, so the workers stay
