@@ -33,6 +33,7 @@ def _shares_a_fixture(module: str) -> bool:
     return path.suffix == ".py" and path.is_file() and bool(SHARED_FIXTURE.search(path.read_text(encoding="utf-8")))
 
 
+@pytest.hookimpl(optionalhook=True)  # `-p no:xdist` runs without the hook
 def pytest_xdist_make_scheduler(config, log):
     """--dist loadgroup with GROUPS, and each module that defines a module or class fixture one unit of work (its
     fixture and the per-cell caches of the cells it holds built once); every other test alone, so the workers stay
@@ -50,6 +51,29 @@ def pytest_xdist_make_scheduler(config, log):
             return module if _shares_a_fixture(module) else super()._split_scope(nodeid)
 
     return Grouped(config, log)
+
+
+def pytest_configure(config):
+    """Each bundled cell file (a file under the repository, its bytes and tables as read) becomes one Cell per process,
+    whoever loads it (a test, a fixture, the CLI): cells are frozen, so the per-cell work one test does (plans, reach
+    proofs) serves the next. Files elsewhere (tmp_path), tables of no such file, other kinds than the installed ones
+    and files that fail to load go through the loader every time."""
+    from codegen.model import cell as cell_module
+
+    real = cell_module.cell_from_dict
+    loaded: dict[tuple[str, str, str], object] = {}
+
+    def cell_from_dict(data, source="<cell>", sha256="", kinds=None):
+        path = Path(source).resolve()
+        if kinds is not None or not sha256 or not path.is_relative_to(ROOT) or not path.is_file():
+            return real(data, source, sha256, kinds)
+        key = (source, sha256, json.dumps(data, sort_keys=True, default=repr))  # the tables too: a caller may edit
+        if key not in loaded:
+            loaded[key] = real(data, source, sha256, kinds)
+        return loaded[key]
+
+    config.add_cleanup(lambda: setattr(cell_module, "cell_from_dict", real))
+    cell_module.cell_from_dict = cell_from_dict
 
 
 @pytest.fixture(scope="session")

@@ -1,7 +1,7 @@
 """Each KindTests subclass runs for every target that has its kind's programs in the example cells (a model
-mutation: for each of them whose cell has what it changes)."""
+mutation: for each of them whose cell has what it changes; a text mutation: for each of them written for the target)."""
 
-from kind_base import model_mutations_of, targets_of
+from kind_base import model_mutations_of, targets_of, text_mutations_of
 
 
 def pytest_generate_tests(metafunc):
@@ -12,6 +12,10 @@ def pytest_generate_tests(metafunc):
         both = model_mutations_of(kind)
         ids = [f"{target}-{mutation}" for (target, _), mutation in both]
         metafunc.parametrize(("pair", "model_mutation"), both, ids=ids)
+    elif "text_mutation" in metafunc.fixturenames:
+        both = text_mutations_of(kind)
+        ids = [f"{target}-{mutation}" for (target, _), mutation in both]
+        metafunc.parametrize(("pair", "text_mutation"), both, ids=ids)
     else:
         pairs = targets_of(kind)
         metafunc.parametrize("pair", pairs, ids=[target for target, _ in pairs])

@@ -170,12 +170,24 @@ class StationTests:
         clean = stations.sweep(cell, stations.source(cell, self.target), range(19990, 20010))
         assert clean.mismatches == 0 and clean.swept == 20
 
-    motion_mutations: list[str] = []  # how the arm moves: speed, acceleration, zone, base (per target)
+    def mutate(self, mutation: str, text: str, dat: str | None):
+        raise NotImplementedError
+
+    def mutant(self, mutation: str, text: str, dat: str | None):
+        """The station program with the target's edit `mutation` (self.mutate), as a source to verify."""
+        mutated = self.mutate(mutation, text, dat)
+        new_text, new_dat = mutated if isinstance(mutated, tuple) else (mutated, dat)
+        assert (new_text, new_dat) != (text, dat), f"mutation {mutation} changed nothing"
+        return stations.source(example("agv_machine_tending"), self.target, new_text, new_dat, mutation)
+
+
+class MotionTests:
+    """For a StationTests subclass whose moves state a speed, zone or base (dtrans's state none)."""
+
+    motion_mutations: list[str]  # how the arm moves: speed, acceleration, zone, base (per target)
 
     def test_motion_mutations_fail_verify(self):
         """Speed, acceleration, blending on the work pose, the base: changes the pose check cannot see."""
-        if not self.motion_mutations:
-            pytest.skip(f"{self.target}: its moves state no speed, zone or base to change")
         cell = example("agv_machine_tending")
         text, dat = stations.files(cell, self.target)
         for mutation in self.motion_mutations:
@@ -183,13 +195,15 @@ class StationTests:
             report = stations.verify(cell, program, stations.build_cases(cell, 5, 4), first=True)
             assert report.mismatches > 0, f"verify missed {mutation}"
 
+
+class ArmTests:
+    """For a StationTests subclass whose language has a robot model (dtrans's has none)."""
+
     # Edits only the arm model sees (each target names its own): a configuration changed by hand, the
     # tool or load not set, a pose moved out of reach, a first motion the controller refuses.
-    arm_mutations: list[str] = []
+    arm_mutations: list[str]
 
     def test_arm_mutations_fail_verify(self):
-        if not self.arm_mutations:
-            pytest.skip(f"{self.target}: its language has no robot model")
         cell = example("agv_machine_tending")
         text, dat = stations.files(cell, self.target)
         cases = [c for c in stations.build_cases(cell, 4, 4) if c.reading.station_id in self.arm_stations]
@@ -202,32 +216,22 @@ class StationTests:
                 report.first_mismatches[0],
             )
 
-    arm_words: dict[str, tuple[str, ...]] = {}  # what the first mismatch of each arm mutation says
+    arm_words: dict[str, tuple[str, ...]]  # what the first mismatch of each arm mutation says
     arm_stations = (1,)  # the demo's stations whose cases the arm mutations run
+
+
+class HaltGoesOnTests:
+    """For a StationTests subclass whose controller resumes after a halt (UR halt and dtrans Halt end the program)."""
 
     def test_a_halt_the_program_goes_on_from_is_caught(self):
         """Where the controller resumes after a halt (KRL HALT, RAPID Stop), a program that moves
-        after the operator's restart must fail verify; the targets whose halt ends the program (UR
-        halt, dtrans Halt) have no such mutation."""
+        after the operator's restart must fail verify."""
         cell = example("agv_machine_tending")
         text, dat = stations.files(cell, self.target)
-        try:
-            program = self.mutant("halt_goes_on", text, dat)
-        except KeyError:
-            pytest.skip(f"{self.target}: a halt ends the program; nothing runs after it")
+        program = self.mutant("halt_goes_on", text, dat)
         report = stations.verify(cell, program, stations.build_cases(cell, 10, 4))
         before = 0 if home_move(cell, self.target) is None else 1  # the home move comes first
         assert report.mismatches > 0 and any(f"moves, expected {before}" in m for m in report.first_mismatches)
 
-    def mutate(self, mutation: str, text: str, dat: str | None):
-        raise NotImplementedError
 
-    def mutant(self, mutation: str, text: str, dat: str | None):
-        """The station program with the target's edit `mutation` (self.mutate), as a source to verify."""
-        mutated = self.mutate(mutation, text, dat)
-        new_text, new_dat = mutated if isinstance(mutated, tuple) else (mutated, dat)
-        assert (new_text, new_dat) != (text, dat), f"mutation {mutation} changed nothing"
-        return stations.source(example("agv_machine_tending"), self.target, new_text, new_dat, mutation)
-
-
-__all__ = ["StationTests", "replace_once"]
+__all__ = ["ArmTests", "HaltGoesOnTests", "MotionTests", "StationTests", "replace_once"]

@@ -1,7 +1,7 @@
 """ABB RAPID target; the independent checker rapidchecker must accept every generated module."""
 
 from rapidcheck import rapidchecker, rapidchecker_raw
-from station_base import StationTests, cell_text, replace_once
+from station_base import ArmTests, HaltGoesOnTests, MotionTests, StationTests, cell_text, replace_once
 
 from codegen.model.cell import load_cell
 from codegen.render import render
@@ -9,7 +9,7 @@ from codegen.render import render
 WORK = "MoveL vis_apply(corr, p1_chuck), vis_work, fine, vis_tool;"  # the work pose of station 1
 
 
-class TestABB(StationTests):
+class TestABB(StationTests, MotionTests, ArmTests, HaltGoesOnTests):
     target = "abb"
     motion_mutations = ["speed_x25", "zone_on_work_pose"]
     arm_mutations = ["robconf_changed", "check_always_on", "tool0", "light_tool", "out_of_reach", "no_home"]

@@ -1,6 +1,6 @@
 """KUKA KRL target."""
 
-from station_base import StationTests, replace_once
+from station_base import ArmTests, HaltGoesOnTests, MotionTests, StationTests, replace_once
 
 from codegen.kinds.station.section import stations_of
 
@@ -14,7 +14,7 @@ INITMOV = "  BAS(#INITMOV, 0)\n"
 P3_APPROACH = "P3_APPROACH={X 600.0000,Y 40.0000,Z 450.0000,A -90.000000,B 15.000000,C 180.000000"
 
 
-class TestKUKA(StationTests):
+class TestKUKA(StationTests, MotionTests, ArmTests, HaltGoesOnTests):
     target = "kuka"
     motion_mutations = ["no_base_reset", "approximated_work_pose", "ptp_at_full_speed"]
     arm_stations = (1, 3)  # station 3's approach names S and T (station 1's, A4 at 0, names S alone)

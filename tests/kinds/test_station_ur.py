@@ -1,11 +1,11 @@
 """URScript target."""
 
-from station_base import StationTests, replace_once
+from station_base import ArmTests, MotionTests, StationTests, replace_once
 
 WORK = "movel(pose_trans(corr, p1_chuck), a=1.2, v=0.0500)"  # the work pose of station 1 (slow: [cell.motion])
 
 
-class TestUR(StationTests):
+class TestUR(StationTests, MotionTests, ArmTests):
     target = "ur"
     motion_mutations = ["speed_x10", "acceleration_x10", "blend_on_work_pose"]
     arm_mutations = ["qnear_wrist_flipped", "no_tcp", "no_payload", "out_of_reach"]
