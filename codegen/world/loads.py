@@ -6,6 +6,8 @@ centre of gravity in flange axes; each target's TOML cites its manual for the fo
 
 from __future__ import annotations
 
+import struct
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,6 +16,8 @@ from codegen import poses
 from codegen.world.solids import tool_box, tool_cylinder
 
 MM2_TO_M2 = 1e-6
+# a run sets the same few loads over and over (every move records the load in force): so many of them remembered
+REMEMBERED_LOADS = 256
 
 
 @dataclass(frozen=True)
@@ -162,3 +166,23 @@ def held_box(mass: float, size_mm, centre2tcp: np.ndarray | None, tcp2flange: np
     centre2tcp, or a point mass where the cell gives no size (centre2tcp: its translation is the centre of gravity)."""
     pose = np.asarray(tcp2flange, dtype=float) @ np.asarray(centre2tcp, dtype=float)
     return point(mass, pose[:3, 3]) if size_mm is None else box(mass, size_mm, pose)
+
+
+class Remembered:
+    """A pure function of numbers to a load's flat form (Load.flat), each result remembered by the numbers' exact
+    bits: an interpreter records the load in force at every move from the same few values, and numpy on 3x3
+    matrices costs tens of microseconds a time. Keyed by the bits, not by ==: 0.0 and -0.0 (equal, but a sign that
+    reaches the result) stay apart, and a NaN is found again. At most REMEMBERED_LOADS results are kept."""
+
+    def __init__(self, make: Callable[..., tuple[float, ...]]) -> None:
+        self.make = make
+        self.results: dict[bytes, tuple[float, ...]] = {}
+
+    def __call__(self, *numbers: float) -> tuple[float, ...]:
+        key = struct.pack(f"{len(numbers)}d", *numbers)
+        result = self.results.get(key)
+        if result is None:
+            if len(self.results) >= REMEMBERED_LOADS:
+                self.results.clear()
+            result = self.results[key] = self.make(*numbers)
+        return result

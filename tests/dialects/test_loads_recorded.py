@@ -82,3 +82,28 @@ def test_rapid_tool_load_axes_of_moment_and_a_payload_in_the_tool_frame():
     xy = sum(i[3] for _, _, i in parts)
     xz = sum(-m * d[0] * d[2] for m, d, _ in parts)
     assert held.settings["load"] == pytest.approx((3.0, *cog, xx, yy, zz, xy, xz, 0.0), abs=1e-7)
+
+
+def test_krl_loads_apart_only_in_their_axes_each_recorded_as_its_own():
+    """Two loads of the same mass, centre and moments, turned apart (each run's result is remembered by its numbers,
+    never by the first of them), and the first set again."""
+    turned = f"$LOAD = {{M 3.0,CM {{X 0.0,Y 0.0,Z 90.0,A 30.0,B 0.0,C 0.0}},J {{X {JX},Y {JY},Z {JZ}}}}}\n"
+    straight = f"$LOAD = {{M 3.0,CM {{X 0.0,Y 0.0,Z 90.0,A 0.0,B 0.0,C 0.0}},J {{X {JX},Y {JY},Z {JZ}}}}}\n"
+    move = "PTP {X 500,Y 0,Z 600,A 0,B 90,C 0,S 2,T 35}\n"
+    moves = krl_program(turned + move + straight + move + turned + move).run({}).moves
+    want_turned = pytest.approx((3.0, 0.0, 0.0, 90.0, *turned_30_about_z()), abs=1e-8)
+    want_straight = pytest.approx((3.0, 0.0, 0.0, 90.0, JX, JY, JZ, 0.0, 0.0, 0.0), abs=1e-8)
+    assert [m.settings["load"] for m in moves] == [want_turned, want_straight, want_turned]
+
+
+def test_rapid_payload_follows_the_tcp_of_each_move():
+    """The same tool load and payload with two TCPs: the payload's place in the flange frame moves with the TCP."""
+    text = RAPID.format(q1=1.0, q4=0.0, jx=0.0, jy=0.0, jz=0.0).replace(
+        "GripLoad load0;", "GripLoad part;\n  MoveL p0, v100, fine, far;\n  MoveL p0, v100, fine, grip;"
+    ).replace("PERS loaddata part", "PERS tooldata far := [TRUE, [[0, 0, 200], [1, 0, 0, 0]], [1.0, [0, 0, 50], "
+              "[1, 0, 0, 0], 0, 0, 0]];\nPERS loaddata part")
+    moves = load_rapid(text, "t.mod").run({}).moves
+    # the part's cog (10, 0, 20) in the tool frame: z 120 mm past the flange with the TCP at 100, 220 at 200
+    cogs = [m.settings["load"][1:4] for m in moves[1:5]]
+    near, far = (20.0 / 3.0, 0.0, (50.0 + 240.0) / 3.0), (20.0 / 3.0, 0.0, (50.0 + 440.0) / 3.0)
+    assert cogs == [pytest.approx(c, abs=1e-9) for c in (near, far, near, near)]

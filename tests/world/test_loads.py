@@ -117,3 +117,24 @@ def test_the_controllers_forms_read_back():
     assert read.flat() == pytest.approx(load.flat(), abs=1e-15)
     mass, cog_m, tensor = load.tensor_at_cog()
     assert loads.from_tensor(mass, [v * 1000 for v in cog_m], tensor).flat() == pytest.approx(load.flat(), abs=1e-15)
+
+
+def test_remembered_results_are_the_functions_own():
+    """Each input's own result however many came before: inputs equal but for one number, or only in the sign of a
+    zero (equal by ==, apart in the result), and more inputs than are kept."""
+    made = []
+
+    def make(*numbers):
+        made.append(numbers)
+        return tuple(math.copysign(1.0, v) * (i + 1) for i, v in enumerate(numbers))
+
+    remembered = loads.Remembered(make)
+    inputs = [(1.0, 2.0, 0.0), (1.0, 2.0, -0.0), (1.0, 3.0, 0.0), (1.0, 2.0)]
+    inputs += [(float(k), 0.5) for k in range(loads.REMEMBERED_LOADS + 10)]
+    for numbers in inputs * 2:
+        assert remembered(*numbers) == make(*numbers)
+    assert remembered(1.0, 2.0, -0.0)[2] == -3.0
+    remembered(7.0, 0.5)
+    before = len(made)
+    remembered(7.0, 0.5)
+    assert len(made) == before  # found again, not made again

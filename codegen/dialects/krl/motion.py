@@ -152,9 +152,12 @@ def load_of(load) -> tuple | None:
     if not isinstance(load, Record) or load["M"] is UNINIT:
         return None
     cm, j = load["CM"], load["J"]
-    x, y, z, a, b, c = (_set(cm, k) for k, _ in XYZABC)
-    moments = [_set(j, k) for k in ("X", "Y", "Z")]
-    return loads.from_principal(float(load["M"]), (x, y, z), rotmat_from_zyx_deg(a, b, c), moments).flat()
+    return _flat_load(float(load["M"]), *(_set(cm, k) for k, _ in XYZABC), *(_set(j, k) for k in ("X", "Y", "Z")))
+
+
+@loads.Remembered
+def _flat_load(mass: float, x: float, y: float, z: float, a: float, b: float, c: float, *moments: float) -> tuple:
+    return loads.from_principal(mass, (x, y, z), rotmat_from_zyx_deg(a, b, c), list(moments)).flat()
 
 
 def _set(record, key: str) -> float:

@@ -38,7 +38,7 @@ def move_load(fr, args, where: str) -> tuple | None:
     if not mass > 0:
         raise RunError(f"{where}: a tool the robot holds must have a mass above 0 kg (tooldata tload)")
     moments = [float(load[k]) for k in ("IX", "IY", "IZ")]
-    return with_payload(fr.m, _principal(mass, vec(load["COG"], "XYZ"), vec(load["AOM"], QUAT_KEYS), moments))
+    return with_payload(fr.m, (mass, *vec(load["COG"], "XYZ"), *vec(load["AOM"], QUAT_KEYS), *moments))
 
 
 NO_PAYLOAD_KG = 0.001  # load0's mass: GripLoad load0 (or as light) leaves no payload
@@ -51,15 +51,33 @@ def _principal(mass: float, cog: list, aom: list, moments: list) -> loads.Load:
     return loads.from_principal(mass, cog, axes, moments)
 
 
-def with_payload(machine, tool_load: loads.Load) -> tuple:
+def with_payload(machine, tool_load: tuple) -> tuple:
     """The load at the flange as verify compares it (codegen.world.loads.Load.flat): the tool's (tload: centre of
-    gravity and axes of moment in the wrist frame) with the payload GripLoad put in force (its centre of gravity and
-    axes of moment in the tool frame: RAPID Reference Manual, loaddata), one mass, centre and tensor."""
+    gravity and axes of moment in the wrist frame; tool_load its mass, cog, aom and moments) with the payload
+    GripLoad put in force (its centre of gravity and axes of moment in the tool frame: RAPID Reference Manual,
+    loaddata), one mass, centre and tensor."""
     grip = (motionset.current(machine) or {}).get("gripload")
     if grip is None or grip["mass"] <= NO_PAYLOAD_KG * (1.0 + 1e-6):  # load0 as a float32 num holds it
-        return tool_load.flat()
-    payload = _principal(grip["mass"], grip["cog"], grip["aom"], grip["moments"])
-    return loads.combined(tool_load, payload.moved(machine.arm.tcp2flange)).flat()
+        return _tool_flat(*tool_load)
+    payload = (grip["mass"], *grip["cog"], *grip["aom"], *grip["moments"])
+    return _with_payload_flat(*tool_load, *payload, *machine.arm.tcp2flange.ravel().tolist())
+
+
+@loads.Remembered
+def _tool_flat(*loaddata: float) -> tuple:
+    return _loaddata(loaddata).flat()
+
+
+@loads.Remembered
+def _with_payload_flat(*numbers: float) -> tuple:
+    """The tool's loaddata (11 numbers), the payload's (11) and the TCP in the flange frame (16, row by row)."""
+    tcp2flange = np.array(numbers[22:]).reshape(4, 4)
+    return loads.combined(_loaddata(numbers[:11]), _loaddata(numbers[11:22]).moved(tcp2flange)).flat()
+
+
+def _loaddata(numbers) -> loads.Load:
+    """mass, cog (3), aom (4), moments (3) as a Load."""
+    return _principal(numbers[0], list(numbers[1:4]), list(numbers[4:8]), list(numbers[8:11]))
 
 
 def no_motion_in_trap(fr, where: str, name: str) -> None:

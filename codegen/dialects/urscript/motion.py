@@ -123,6 +123,11 @@ def _tool_pose(fr, where: str, name: str) -> np.ndarray:
     return pose_now
 
 
+@loads.Remembered
+def _flat_load(mass: float, x: float, y: float, z: float, *tensor: float) -> tuple:
+    return tuple(loads.from_tensor(mass, [x, y, z], list(tensor)).flat())
+
+
 def builtins() -> dict:
     def move(name: str):
         params, defaults = MOVES[name]
@@ -262,7 +267,7 @@ def builtins() -> dict:
             tensor = list(before[4:]) if name in KEEPS_INERTIA else [0.0] * 6
         else:
             tensor = [float(v) for v in joints(inertia, where, 6, "inertia")]
-        fr.m.state.payload = tuple(loads.from_tensor(mass, cog_mm, tensor).flat())
+        fr.m.state.payload = _flat_load(mass, *cog_mm, *tensor)
 
     def set_target_payload(fr, args, kwargs, where):
         # set_target_payload(m, cog, inertia, transition_time): kg, m, kg m2 (URScript manual)
