@@ -158,13 +158,13 @@ def test_the_eur_example_slip_sheets_mirror_and_labels(tmp_path):
 
 
 def test_the_cycle_estimate_counts_each_segment_at_its_own_speed():
-    """Source 004's pallet, 30 boxes: at the work speed only entry -> approach, |(5, 5, 5 - 26)| (the entry 26 mm
+    """Source 004's pallet, 30 boxes: at the work speed only entry -> approach, |(5, 5, 5 - 50)| (the entry 50 mm
     above the target, the approach (5, 5, 5)), approach -> target and target -> retreat, each |(5, 5, 5)| = 8.66 mm
     long, and down to Q and back up, the cell's pick_lift of 30 mm each; retreat -> entry at travel."""
     result = json.loads(CliRunner().invoke(main, ["pallet", "--json"]).stdout)
     cycle = result["pallets"][0]["cycle"]
     assert cycle["work_mm"] == pytest.approx(
-        30 * (math.sqrt(5**2 + 5**2 + 21**2) + 2 * math.sqrt(75) + 2 * 30.0), abs=0.1
+        30 * (math.sqrt(5**2 + 5**2 + 45**2) + 2 * math.sqrt(75) + 2 * 30.0), abs=0.1
     )
 
 

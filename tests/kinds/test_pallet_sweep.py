@@ -16,7 +16,7 @@ from codegen.model.cell import load_cell
 from tests.kinds.test_pallet import EXAMPLES
 
 
-def _plan(name: str):
+def _plan(name):
     cell = load_cell(EXAMPLES / name)
     pallet = pallets_of(cell)[0]
     return pallet, frame_matrix(pallet), expected(cell, pallet, PalletCase("t", *start_counters(pallet))).moves
@@ -48,10 +48,14 @@ def _over_the_top(pallet, frame, moves, height_mm: float):
     return out
 
 
-def test_the_straight_path_from_above_q_to_the_entry_passes_through_the_layer():
-    """Box 2 of layer 1 from above Q (30 mm over the deck) straight up to its entry crosses box 1 (its top at 26 mm);
-    the plan's rise to the transit height first passes."""
-    pallet, frame, moves = _plan("testmat_pallet.toml")
+def test_the_straight_path_from_above_q_to_the_entry_passes_through_the_layer(tmp_path):
+    """With the entry as low as the pallet kind accepts (one box height, 26 mm, over the target), box 2 of layer 1 from
+    above Q (30 mm over the deck) straight up to its entry crosses box 1 (its top at 26 mm); the plan's rise to the
+    transit height first passes."""
+    text = (EXAMPLES / "testmat_pallet.toml").read_text(encoding="utf-8")
+    assert text.count("entry_dz = 50.0") == 1
+    (tmp_path / "low_entry.toml").write_text(text.replace("entry_dz = 50.0", "entry_dz = 26.0"), encoding="utf-8")
+    pallet, frame, moves = _plan(tmp_path / "low_entry.toml")
     assert sweeps(pallet, frame, moves) is None
     found = sweeps(pallet, frame, _direct(moves))
     assert found is not None and found.startswith("layer 1 box 2 entry") and "top of layer 1 box 1" in found
