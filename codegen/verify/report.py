@@ -134,14 +134,14 @@ class Row:
             "orientation_error_deg": stats(self.rot_errors),
             "seconds": self.seconds,
             "cases_per_second": self.cases / self.seconds if self.seconds else None,
+            "clearance_seconds": self.clearance_seconds,  # a row's time (plant.timing.ROW_TIMES), not in "clearance"
             "bulk_runs": self.swept,
         }
         if self.arm.moves:
             out["arm"] = self.arm.summary()
         if self.clearance is not None:
             least = self.clearance
-            out["clearance"] = {"traces": self.clearance_traces, "seconds": self.clearance_seconds,
-                                "least_mm": least.distance,
+            out["clearance"] = {"traces": self.clearance_traces, "least_mm": least.distance,
                                 "at_least_mm": least.lower_bound, "move": least.where, "what": least.what,
                                 "body": least.body, "other": least.other}
         out.update(self.plan.figures_json(self.figures))
