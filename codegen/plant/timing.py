@@ -5,8 +5,8 @@ from __future__ import annotations
 
 # The keys that tell how long a run took or how it was spread, never what it found: verify's report of a cell
 # (verify.report.Report: wall_seconds, workers) and each of its rows (verify.report.Row.summary: seconds,
-# cases_per_second, clearance_seconds; the kinds' rows made from them, ProgramKind.legacy_summary: cases_per_s), the plant's own rows
-# (results.Line: seconds).
+# cases_per_second, clearance_seconds; the kinds' rows made from them, ProgramKind.legacy_summary: cases_per_s),
+# the plant's own rows (results.Line: seconds).
 CELL_TIMES = ("wall_seconds", "workers")
 ROW_TIMES = ("seconds", "cases_per_second", "cases_per_s", "clearance_seconds")
 

@@ -16,8 +16,11 @@ from codegen.verify.programs import fresh_sources
 DEMO = "codegen/examples/agv_machine_tending.toml"
 
 
+TIMES = ("seconds", "cases_per_second", "clearance_seconds")
+
+
 def _summaries(rows):
-    return [{k: v for k, v in r.summary().items() if k not in ("seconds", "cases_per_second", "clearance_seconds")} for r in rows]
+    return [{k: v for k, v in r.summary().items() if k not in TIMES} for r in rows]
 
 
 def _same_rows(got, want) -> None:
