@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import sys
 from contextlib import suppress
 from pathlib import Path
@@ -34,6 +35,22 @@ def _parse_input(text: str):
         return name, number(value)
     except ValueError:
         raise UserError(f"--input {name}: not a finite number in decimal digits: {value!r}") from None
+
+
+def _signal_in_range(target, name: str, where: str) -> None:
+    """An input named by its number (the input pattern of targets/<t>.toml [program] signals) lies within the
+    controller's range; another name (an alias the program declares, a named signal) is the program's to know."""
+    facts = target.program.get("signals") or {}
+    if facts.get("form") != "index" or "range" not in facts:
+        return
+    pattern = re.escape(facts["input"]).replace(re.escape("{n}"), r"(-?\d+)")
+    found = re.fullmatch(pattern, name)
+    low, high = facts["range"]
+    if found is not None and not low <= int(found.group(1)) <= high:
+        raise UserError(
+            f"{where}: no input {found.group(1)} on {target.title}: its inputs are {facts['input'].format(n=low)} to "
+            f"{facts['input'].format(n=high)} (targets/{target.name}.toml)"
+        )
 
 
 def program_files(paths: tuple[str, ...], target_name: str | None):
@@ -263,6 +280,7 @@ def run(
         if not sep or not name.strip() or value.strip() not in ("0", "1"):
             raise UserError(f"--signal {item!r}: expected NAME=0 or NAME=1")
         on[name.strip()] = value.strip() == "1"
+        _signal_in_range(target, name.strip(), f"--signal {item!r}")
     arm = None
     if robot is not None:
         from codegen.robot.arms import catalogue, find_arm
