@@ -17,6 +17,7 @@ from codegen.controllers import get_target
 from codegen.dialects import get_dialect
 from codegen.model import io as signals
 from codegen.verify.plan import SCENARIOS
+from codegen.verify.programs import FRESH
 from codegen.world import cell as world_cell
 from codegen.world.engine import Scene
 from codegen.world.sweep import MoveClearance, Path, Unresolved, check_path, joint_path, linear_path
@@ -194,7 +195,10 @@ class TraceClearance:
         return out
 
     def _where(self, move) -> str:
-        return f"{move.file or self.filename}:{move.line}"
+        name = move.file or self.filename
+        if name.startswith(FRESH):  # a module rendered from the cell: named by its file, as a single file's moves are
+            name = name.rsplit("/", 1)[-1]
+        return f"{name}:{move.line}"
 
     def _move(self, q0: np.ndarray, move, carried: bool, resting: frozenset) -> MoveLeast:
         q1 = np.asarray(move.joints, dtype=float)

@@ -13,6 +13,8 @@ from codegen.dialects.core.values import RunError
 from codegen.output import mixed_set, stamp_of
 from codegen.render import cell_dir, plans, render_plan
 
+FRESH = "<fresh>/"  # the name prefix of a program rendered from the cell rather than read from a file
+
 
 class ProgramFilesError(ValueError):
     """Files given to verify that are not the cell's programs (or cannot be told apart); exit 2."""
@@ -51,8 +53,8 @@ def fresh_sources(cell, targets: list[str], model=None, row_of=None, only=None, 
         target = get_target(name)
         for plan in plans(cell, target, only):
             rendered = render_plan(cell, target, plan)
-            files = tuple(SourceFile(f"<fresh>/{r.relpath}", r.text) for r in rendered)
-            origin = tuple(f"<fresh>/{cell_dir(cell)}/{name}/{f.name}" for f in plan.files)
+            files = tuple(SourceFile(f"{FRESH}{r.relpath}", r.text) for r in rendered)
+            origin = tuple(f"{FRESH}{cell_dir(cell)}/{name}/{f.name}" for f in plan.files)
             row = len(out) if row_of is None else row_of(plan, name)
             entry = plan.entry
             out.append(ProgramSource(plan.kind, name, plan.ident, plan.index, files, origin, row, model, sweep, entry))

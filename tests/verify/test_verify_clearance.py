@@ -69,3 +69,11 @@ def test_a_hand_edit_swinging_the_arm_into_the_floor_fails_for_it(tmp_path, targ
     dip = "    movej([2.0, -0.3, 1.9, -1.6, -1.5708, 0.0], a=1.2, v=0.25)\n"
     found = problems(cell, edited(tmp_path, target_line, dip + target_line))
     assert found and all(f"clearance: {PROGRAM}:288: the joint move: the " in p and "floor" in p for p in found)
+
+
+def test_a_module_rendered_from_the_cell_is_named_by_its_file():
+    """verify without program files sweeps the programs it renders from the cell (named <fresh>/... inside): a RAPID
+    move's place reads as the module's file and line, as a file's given on the command line does."""
+    report = verify_cell(load_cell(DEMO_CELL), [], ("abb",), FAST)
+    (row,) = report.rows
+    assert row.clearance is not None and row.clearance.where.startswith("agv_machine_tending.mod:"), row.clearance.where
