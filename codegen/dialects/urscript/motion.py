@@ -336,20 +336,29 @@ def builtins() -> dict:
         tcp2flange = arm.tcp2flange if a["tcp"] is None else matrix(a["tcp"], where, "tcp")
         return URPose(posemath.ur_from_matrix(arm.arm.kin.fk(np.asarray(q, dtype=float)) @ tcp2flange))
 
-    def get_inverse_kin(fr, args, kwargs, where):
-        # the solution nearest qnear (rad), a runtime exception when there is none (URScript manual)
-        params = ("x", "qnear", "maxPositionError", "maxOrientationError", "tcp")
+    def inverse_kin(name: str, pose: str, fr, args, kwargs, where, near_unknown):
+        """The IK built-ins' common part (the same parameters, URScript manual): the solution nearest qnear (deg),
+        or nearest near_unknown(arm) where qnear is not given; its branch."""
+        params = (pose, "qnear", "maxPositionError", "maxOrientationError", "tcp")
         defaults = {"qnear": None, "maxPositionError": 1e-10, "maxOrientationError": 1e-10, "tcp": None}
-        a = arguments("get_inverse_kin", params, defaults, args, kwargs, where)
+        a = arguments(name, params, defaults, args, kwargs, where)
         arm = fr.m.arm
         if arm.arm is None:
-            raise RunError(f"{where}: get_inverse_kin needs the arm's kinematics (name the arm: --robot)")
-        near = np.degrees(joints(a["qnear"], where)) if a["qnear"] is not None else arm.current(where)
-        if near is None:
-            raise RunError(f"{where}: get_inverse_kin without qnear before the arm's joints are known")
+            raise RunError(f"{where}: {name} needs the arm's kinematics (name the arm: --robot)")
+        near = np.degrees(joints(a["qnear"], where)) if a["qnear"] is not None else near_unknown(arm)
         tcp2flange = arm.tcp2flange if a["tcp"] is None else matrix(a["tcp"], where, "tcp")
-        solutions = solve.branches(arm.arm, solve.flange_poses(matrix(a["x"], where, "x"), tcp2flange))
-        q, branch = solve.nearest(arm.arm, solutions, near)
+        solutions = solve.branches(arm.arm, solve.flange_poses(matrix(a[pose], where, pose), tcp2flange))
+        return arm, solve.nearest(arm.arm, solutions, near)
+
+    def get_inverse_kin(fr, args, kwargs, where):
+        # the solution nearest qnear (rad), a runtime exception when there is none (URScript manual)
+        def current(arm):
+            near = arm.current(where)
+            if near is None:
+                raise RunError(f"{where}: get_inverse_kin without qnear before the arm's joints are known")
+            return near
+
+        arm, (q, branch) = inverse_kin("get_inverse_kin", "x", fr, args, kwargs, where, current)
         if np.isnan(q).any():
             raise RunError(f"{where}: get_inverse_kin: no solution (the pose is out of reach)")
         out = [f32(v) for v in np.radians(q)]
@@ -383,16 +392,9 @@ def builtins() -> dict:
 
     def get_inverse_kin_has_solution(fr, args, kwargs, where):
         # whether get_inverse_kin would find a solution for the pose (same parameters, URScript manual)
-        params = ("pose", "qnear", "maxPositionError", "maxOrientationError", "tcp")
-        defaults = {"qnear": None, "maxPositionError": 1e-10, "maxOrientationError": 1e-10, "tcp": None}
-        a = arguments("get_inverse_kin_has_solution", params, defaults, args, kwargs, where)
-        arm = fr.m.arm
-        if arm.arm is None:
-            raise RunError(f"{where}: get_inverse_kin_has_solution needs the arm's kinematics (name the arm: --robot)")
-        tcp2flange = arm.tcp2flange if a["tcp"] is None else matrix(a["tcp"], where, "tcp")
-        solutions = solve.branches(arm.arm, solve.flange_poses(matrix(a["pose"], where, "pose"), tcp2flange))
-        near = np.degrees(joints(a["qnear"], where)) if a["qnear"] is not None else np.zeros(6)
-        q, _branch = solve.nearest(arm.arm, solutions, near)  # any branch and turn within the limits
+        _arm, (q, _branch) = inverse_kin(  # any branch and turn within the limits
+            "get_inverse_kin_has_solution", "pose", fr, args, kwargs, where, lambda arm: np.zeros(6)
+        )
         return not np.isnan(q).any()
 
     def get_tcp_force(fr, args, kwargs, where):
