@@ -4,6 +4,7 @@ the kept cases replayed in 3D beside the reference's poses (loaded in headless C
 from __future__ import annotations
 
 import html as htmlmod
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -94,8 +95,9 @@ def test_a_mismatching_program_lists_its_mismatches_and_replays_one(tmp_path, br
     path.write_text(report_page(cell, report), encoding="utf-8")
     html = path.read_text(encoding="utf-8")
     assert "verify: MISMATCHES" in html
-    for line in row.first_mismatches:
-        assert f"<li>{htmlmod.escape(line, quote=True)}</li>" in html
+    items = {htmlmod.unescape(item) for item in re.findall(r"<li>(.*?)</li>", html, flags=re.S)}
+    for line in row.first_mismatches:  # compared as text: how a quote is escaped is the template engine's choice
+        assert line in items
     if row.mismatches > len(row.first_mismatches):
         assert f"and {row.mismatches - len(row.first_mismatches)} more" in html
     browser.open(path)
