@@ -327,6 +327,15 @@ def verify(
     sys.exit(0 if report.ok else 1)
 
 
+@main.command()
+def lsp() -> None:
+    """Run the language server over standard input and output, for an editor: check's findings as you type,
+    hover, outline, definitions, references, completion, and verify against the cell (docs/editor.md)."""
+    from codegen.lsp.server import main as serve
+
+    serve()
+
+
 def _add_kind_commands() -> None:
     """Each program kind's commands on their group (top level, or `codegen calibrate ...`)."""
     from codegen.protocol import installed_kinds

@@ -1,0 +1,239 @@
+"""The language server driven through its protocol, as an editor drives it: one server for the module, a copy of a
+generated KRL program and of its cell in a folder of their own."""
+
+from __future__ import annotations
+
+import shutil
+import sys
+from pathlib import Path
+
+import pytest
+import pytest_lsp
+from lsprotocol import types
+from pytest_lsp import ClientServerConfig, LanguageClient
+
+ROOT = Path(__file__).resolve().parents[2]
+GENERATED = ROOT / "generated" / "agv_machine_tending" / "kuka"
+CELL = ROOT / "codegen" / "examples" / "agv_machine_tending.toml"
+CHECK_S = 60  # the first check imports the checker and builds the KRL parser: seconds on a loaded machine
+
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory) -> Path:
+    root = tmp_path_factory.mktemp("lsp")
+    programs = root / "generated" / "agv_machine_tending" / "kuka"
+    programs.mkdir(parents=True)
+    for f in GENERATED.iterdir():
+        shutil.copy(f, programs / f.name)
+    shutil.copy(CELL, root / CELL.name)
+    return root
+
+
+@pytest_lsp.fixture(
+    config=ClientServerConfig(server_command=[sys.executable, "-m", "codegen", "lsp"]),
+    scope="module",
+)
+async def client(lsp_client: LanguageClient, workspace: Path):
+    params = types.InitializeParams(
+        capabilities=types.ClientCapabilities(),
+        root_uri=workspace.as_uri(),
+        workspace_folders=[types.WorkspaceFolder(uri=workspace.as_uri(), name="cells")],
+        initialization_options={"debounce": 0.05},
+    )
+    await lsp_client.initialize_session(params)
+    yield
+    await lsp_client.shutdown_session()
+
+
+def _src(workspace: Path) -> Path:
+    return workspace / "generated" / "agv_machine_tending" / "kuka" / "agv_machine_tending.src"
+
+
+async def _diagnostics_of(client: LanguageClient, uri: str, settled=lambda found: True) -> list[types.Diagnostic]:
+    """The diagnostics published for uri once `settled` holds (the whole program's check follows the fast syntax
+    check of the file)."""
+    import asyncio
+
+    async def wait():
+        while True:
+            await client.wait_for_notification(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+            found = client.diagnostics.get(uri)
+            if found is not None and settled(found):
+                return found
+
+    return await asyncio.wait_for(wait(), CHECK_S)
+
+
+def _open(client: LanguageClient, path: Path, text: str, language: str) -> str:
+    uri = path.as_uri()
+    client.diagnostics.pop(uri, None)
+    item = types.TextDocumentItem(uri=uri, language_id=language, version=1, text=text)
+    client.text_document_did_open(types.DidOpenTextDocumentParams(text_document=item))
+    return uri
+
+
+def _replace_all(client: LanguageClient, uri: str, text: str, version: int) -> None:
+    client.diagnostics.pop(uri, None)
+    change = types.TextDocumentContentChangeWholeDocument(text=text)
+    document = types.VersionedTextDocumentIdentifier(uri=uri, version=version)
+    client.text_document_did_change(types.DidChangeTextDocumentParams(text_document=document, content_changes=[change]))
+
+
+async def test_undefined_name_at_its_range_then_gone(client: LanguageClient, workspace: Path):
+    text = _src(workspace).read_text(encoding="utf-8")
+    good = "  VIS_STOPPED = FALSE"
+    assert good in text.split("\n")
+    broken = text.replace(good, "  VIS_STOPED = FALSE", 1)
+    row = broken.split("\n").index("  VIS_STOPED = FALSE")
+    uri = _open(client, _src(workspace), broken, "krl")
+    found = await _diagnostics_of(client, uri, lambda found: any(d.code == "undefined-name" for d in found))
+    (diagnostic,) = [d for d in found if d.code == "undefined-name"]
+    assert diagnostic.severity == types.DiagnosticSeverity.Error
+    assert "VIS_STOPED" in diagnostic.message
+    assert diagnostic.range == types.Range(types.Position(row, 2), types.Position(row, 2 + len("VIS_STOPED")))
+
+    _replace_all(client, uri, text, 2)
+    assert list(await _diagnostics_of(client, uri, lambda found: not found)) == []
+
+
+async def test_syntax_error_of_an_edit_at_its_line(client: LanguageClient, workspace: Path):
+    text = _src(workspace).read_text(encoding="utf-8")
+    lines = text.split("\n")
+    row = lines.index("  VIS_STOPPED = FALSE")
+    lines[row] = "  VIS_STOPPED = = FALSE"
+    uri = _open(client, _src(workspace), text, "krl")
+    _replace_all(client, uri, "\n".join(lines), 3)
+    found = await _diagnostics_of(client, uri, lambda found: any(d.code == "syntax" for d in found))
+    assert [d.range.start.line for d in found if d.code == "syntax"] == [row]
+    _replace_all(client, uri, text, 4)
+    assert list(await _diagnostics_of(client, uri, lambda found: not found)) == []
+
+
+async def test_definition_of_a_src_name_is_in_the_dat(client: LanguageClient, workspace: Path):
+    src = _src(workspace)
+    text = src.read_text(encoding="utf-8")
+    row = text.split("\n").index("  SWITCH VIS_STATION")
+    _open(client, src, text, "krl")
+    result = await client.text_document_definition_async(
+        types.DefinitionParams(
+            text_document=types.TextDocumentIdentifier(uri=src.as_uri()), position=types.Position(row, 12)
+        )
+    )
+    dat = src.with_suffix(".dat")
+    declared = dat.read_text(encoding="utf-8").split("\n")
+    dat_row = next(i for i, line in enumerate(declared) if line.startswith("DECL INT VIS_STATION"))
+    assert result is not None and len(result) == 1
+    assert result[0].uri == dat.as_uri()
+    assert result[0].range.start == types.Position(dat_row, declared[dat_row].index("VIS_STATION"))
+
+    uses = await client.text_document_references_async(
+        types.ReferenceParams(
+            text_document=types.TextDocumentIdentifier(uri=src.as_uri()),
+            position=types.Position(row, 12),
+            context=types.ReferenceContext(include_declaration=True),
+        )
+    )
+    in_code = [
+        (path, i)
+        for path in (src, dat)
+        for i, line in enumerate(path.read_text(encoding="utf-8").split("\n"))
+        if "VIS_STATION" in line.split(";")[0].upper()
+    ]
+    assert sorted((u.uri, u.range.start.line) for u in uses) == sorted((p.as_uri(), i) for p, i in in_code)
+
+
+async def test_hover_on_the_home_move_shows_the_cell_home_joints(client: LanguageClient, workspace: Path):
+    src = _src(workspace)
+    text = src.read_text(encoding="utf-8")
+    row = text.split("\n").index("  PTP VIS_HOME")
+    _open(client, src, text, "krl")
+    hover = await client.text_document_hover_async(
+        types.HoverParams(text_document=types.TextDocumentIdentifier(uri=src.as_uri()), position=types.Position(row, 2))
+    )
+    assert hover is not None
+    # the cell's [cell.robot] home for kuka: where the arm stands after the program's first move
+    assert "joints (deg): `0.00 -90.00 90.00 0.00 90.00 30.00`" in hover.contents.value
+    assert "joint move" in hover.contents.value
+
+
+async def test_hover_on_a_name_shows_its_declaration(client: LanguageClient, workspace: Path):
+    src = _src(workspace)
+    text = src.read_text(encoding="utf-8")
+    row = text.split("\n").index("  SWITCH VIS_STATION")
+    _open(client, src, text, "krl")
+    hover = await client.text_document_hover_async(
+        types.HoverParams(
+            text_document=types.TextDocumentIdentifier(uri=src.as_uri()), position=types.Position(row, 14)
+        )
+    )
+    assert hover is not None
+    assert "DECL INT VIS_STATION=0" in hover.contents.value
+    assert "agv_machine_tending.dat:" in hover.contents.value
+
+
+async def test_outline_lists_the_routines(client: LanguageClient, workspace: Path):
+    src = _src(workspace)
+    text = src.read_text(encoding="utf-8")
+    _open(client, src, text, "krl")
+    found = await client.text_document_document_symbol_async(
+        types.DocumentSymbolParams(text_document=types.TextDocumentIdentifier(uri=src.as_uri()))
+    )
+    names = {s.name for s in found if s.kind == types.SymbolKind.Function}
+    heads = [line for line in text.split("\n") if line.lstrip().startswith(("DEF ", "GLOBAL DEF "))]
+    declared = {line.split("(")[0].split()[-1] for line in heads}
+    assert declared and names >= declared
+
+
+async def test_cell_with_a_typo_key(client: LanguageClient, workspace: Path):
+    cell = workspace / CELL.name
+    text = cell.read_text(encoding="utf-8")
+    assert "\nmax_shift_mm = " in text
+    broken = text.replace("\nmax_shift_mm = ", "\nmax_shft_mm = ", 1)
+    row = broken.split("\n").index(next(line for line in broken.split("\n") if line.startswith("max_shft_mm")))
+    uri = _open(client, cell, broken, "toml")
+    found = await _diagnostics_of(client, uri, lambda found: bool(found))
+    assert len(found) == 1
+    assert found[0].range.start == types.Position(row, 0)
+    assert found[0].range.end == types.Position(row, len("max_shft_mm"))
+    assert "max_shft_mm" in found[0].message and "unknown key" in found[0].message
+
+    _replace_all(client, uri, text, 2)
+    assert list(await _diagnostics_of(client, uri, lambda found: not found)) == []
+
+
+async def test_hover_and_completion_of_cell_keys(client: LanguageClient, workspace: Path):
+    cell = workspace / CELL.name
+    text = cell.read_text(encoding="utf-8")
+    lines = text.split("\n")
+    row = next(i for i, line in enumerate(lines) if line.startswith("max_shift_mm"))
+    uri = _open(client, cell, text, "toml")
+    hover = await client.text_document_hover_async(
+        types.HoverParams(text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(row, 3))
+    )
+    assert hover is not None
+    assert "cell.limits.max_shift_mm" in hover.contents.value and "unit: mm" in hover.contents.value
+
+    # a new line at the end of [cell.limits]: its key not yet written is offered, the written one not
+    lines.insert(row + 1, "")
+    _replace_all(client, uri, "\n".join(lines), 2)
+    items = await client.text_document_completion_async(
+        types.CompletionParams(text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(row + 1, 0))
+    )
+    labels = {item.label for item in items.items}
+    assert "max_rotation_deg" not in labels or "max_rotation_deg" not in text.split("[cell.limits]")[1].split("[")[0]
+    assert "max_shift_mm" not in labels
+
+
+async def test_completion_offers_the_controller_builtins(client: LanguageClient, workspace: Path):
+    src = _src(workspace)
+    text = src.read_text(encoding="utf-8")
+    uri = _open(client, src, text, "krl")
+    items = await client.text_document_completion_async(
+        types.CompletionParams(text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(26, 2))
+    )
+    labels = {item.label for item in items.items}
+    # KSS 8 built-ins (programming manual: SIN, ATAN2, ABS) and the program's own routines
+    assert {"SIN", "ATAN2", "ABS"} <= labels
+    assert "VIS_GRIPPER_START" in labels
