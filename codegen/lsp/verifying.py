@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
+import os
 import re
+import signal
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,12 +42,14 @@ async def run_verify(cell: Path, files: list[str], texts: dict[str, str], cases:
         stdout=asyncio.subprocess.PIPE,
         stderr=asyncio.subprocess.PIPE,
         stdin=asyncio.subprocess.DEVNULL,
+        start_new_session=True,  # its own process group: cancelling ends verify's worker processes too
     )
     try:
         out, err = await process.communicate()
     except asyncio.CancelledError:
         if process.returncode is None:
-            process.kill()
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(process.pid, signal.SIGKILL)
             await process.wait()
         raise
     return outcome(process.returncode or 0, out.decode(errors="replace"), err.decode(errors="replace"), files, texts)

@@ -40,7 +40,7 @@ async def client(lsp_client: LanguageClient, workspace: Path):
         capabilities=types.ClientCapabilities(),
         root_uri=workspace.as_uri(),
         workspace_folders=[types.WorkspaceFolder(uri=workspace.as_uri(), name="cells")],
-        initialization_options={"debounce": 0.05},
+        initialization_options={"debounce": 0.05, "verifyCases": 1},
     )
     await lsp_client.initialize_session(params)
     yield
@@ -237,3 +237,70 @@ async def test_completion_offers_the_controller_builtins(client: LanguageClient,
     # KSS 8 built-ins (programming manual: SIN, ATAN2, ABS) and the program's own routines
     assert {"SIN", "ATAN2", "ABS"} <= labels
     assert "VIS_GRIPPER_START" in labels
+
+
+def _edited_copy(workspace: Path, folder: str) -> Path:
+    """A copy of the program in a folder of its own, with its blending zone changed on disk (verify reads files)."""
+    programs = workspace / folder / "agv_machine_tending" / "kuka"
+    programs.mkdir(parents=True, exist_ok=True)
+    for f in GENERATED.iterdir():
+        shutil.copy(f, programs / f.name)
+    src = programs / "agv_machine_tending.src"
+    text = src.read_text(encoding="utf-8")
+    assert "$APO.CDIS = 10.0" in text
+    src.write_text(text.replace("$APO.CDIS = 10.0", "$APO.CDIS = 20.0", 1), encoding="utf-8")
+    return src
+
+
+def _running(path: Path) -> list[str]:
+    """The command lines of processes that name the path (Linux /proc)."""
+    out = []
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
+        try:
+            text = cmdline.read_bytes().replace(b"\0", b" ").decode(errors="replace")
+        except OSError:
+            continue
+        if str(path) in text and " verify " in text:
+            out.append(text)
+    return out
+
+
+async def test_verify_is_cancelled_with_its_process(client: LanguageClient, workspace: Path):
+    import asyncio
+
+    src = _edited_copy(workspace, "cancelled")
+    started = await client.workspace_execute_command_async(
+        types.ExecuteCommandParams(command="codegen.verify", arguments=[src.as_uri()])
+    )
+    assert started.startswith("verifying agv_machine_tending.src against")
+    for _ in range(100):  # the child process starts
+        if _running(src):
+            break
+        await asyncio.sleep(0.05)
+    assert _running(src)
+    said = await client.workspace_execute_command_async(
+        types.ExecuteCommandParams(command="codegen.verifyCancel", arguments=[src.as_uri()])
+    )
+    assert said == "cancelled 1 verify run"
+    for _ in range(100):
+        if not _running(src):
+            break
+        await asyncio.sleep(0.05)
+    assert _running(src) == []
+
+
+@pytest.mark.slow
+async def test_verify_shows_the_edit_and_its_mismatches(client: LanguageClient, workspace: Path):
+    src = _edited_copy(workspace, "verified")
+    lines = src.read_text(encoding="utf-8").split("\n")
+    row = next(i for i, line in enumerate(lines) if "$APO.CDIS = 20.0" in line)
+    uri = src.as_uri()
+    client.diagnostics.pop(uri, None)
+    await client.workspace_execute_command_async(types.ExecuteCommandParams(command="codegen.verify", arguments=[uri]))
+    found = await _diagnostics_of(client, uri, lambda found: any(str(d.code).startswith("verify") for d in found))
+    edits = [d for d in found if d.code == "verify-edit" and "changed" in d.message]
+    assert [d.range.start.line for d in edits] == [row]
+    mismatches = [d for d in found if d.code == "verify-mismatch"]
+    assert mismatches
+    # a zone of 20 mm where the cell says 10: each mismatch is of a move, at its motion statement
+    assert all(lines[d.range.start.line].split()[0] in ("LIN", "PTP", "CIRC") for d in mismatches)
