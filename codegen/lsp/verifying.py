@@ -49,7 +49,10 @@ async def run_verify(cell: Path, files: list[str], texts: dict[str, str], cases:
     except asyncio.CancelledError:
         if process.returncode is None:
             with contextlib.suppress(ProcessLookupError):
-                os.killpg(process.pid, signal.SIGKILL)
+                if hasattr(os, "killpg"):
+                    os.killpg(process.pid, signal.SIGKILL)
+                else:  # no process groups (Windows): the verify process itself
+                    process.kill()
             await process.wait()
         raise
     return outcome(process.returncode or 0, out.decode(errors="replace"), err.decode(errors="replace"), files, texts)
