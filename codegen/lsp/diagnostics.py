@@ -9,6 +9,7 @@ from pathlib import Path
 
 from lsprotocol import types
 
+from codegen.dialects import Dialect
 from codegen.dialects.core.files import CheckOptions, Finding, finding_of
 from codegen.dialects.core.values import RunError
 from codegen.lsp.documents import Program
@@ -50,11 +51,10 @@ def diagnostic(text: str, finding: Finding) -> types.Diagnostic:
     )
 
 
-def syntax_findings(program: Program, path: str) -> list[Finding]:
-    """The syntax errors of one file of the program: the check while the whole program's is still coming."""
-    text = program.text_of(path) or ""
+def syntax_findings(dialect: type[Dialect], path: str, text: str) -> list[Finding]:
+    """The syntax errors of one file: what is shown while the whole program's check is still coming."""
     try:
-        program.dialect.check(text, path)
+        dialect.check(text, path)
     except RunError as exc:
         return [finding_of(exc, [path], "syntax")]
     except RecursionError:

@@ -37,7 +37,9 @@ class CodegenServer(LanguageServer):
         self.verified: dict[str, list[types.Diagnostic]] = {}
         self.verifies: dict[str, asyncio.Task] = {}
         self.nominal: dict[tuple, list[Move]] = {}
-        self.worker = ThreadPoolExecutor(1, thread_name_prefix="codegen-check")  # checks one at a time, in order
+        self.worker = ThreadPoolExecutor(1, thread_name_prefix="codegen-check")  # whole checks one at a time, in order
+        # a file's syntax, apart: never behind a whole check of an older text
+        self.syntax_worker = ThreadPoolExecutor(1, thread_name_prefix="codegen-syntax")
 
     # --- documents ------------------------------------------------------------------------------------------
 
@@ -82,17 +84,19 @@ class CodegenServer(LanguageServer):
                 self.checked[path] = found
                 self.publish(path)
             return
+        # first this file's syntax (fast), with what the last whole check said of the rest, then the whole program's
+        text = self.open_texts().get(path)
+        dialect = dialect_of(Path(path))
+        if text is not None and dialect is not None:
+            syntax = await loop.run_in_executor(self.syntax_worker, diagnostics.syntax_findings, dialect, path, text)
+            if self.edits.get(path) != edit:
+                return
+            kept = [d for d in self.checked.get(path, []) if d.code != "syntax"]
+            self.checked[path] = [diagnostics.diagnostic(text, f) for f in syntax] + kept
+            self.publish(path)
         program = await loop.run_in_executor(self.worker, self.program, path)
         if program is None or self.edits.get(path) != edit:
             return
-        # first this file's syntax (fast), with what the last whole check said of the rest, then the whole program's
-        syntax = await loop.run_in_executor(self.worker, diagnostics.syntax_findings, program, path)
-        if self.edits.get(path) != edit:
-            return
-        text = program.text_of(path) or ""
-        kept = [d for d in self.checked.get(path, []) if d.code != "syntax"]
-        self.checked[path] = [diagnostics.diagnostic(text, f) for f in syntax] + kept
-        self.publish(path)
         findings = await loop.run_in_executor(self.worker, diagnostics.program_findings, program)
         if self.edits.get(path) != edit:
             return
