@@ -304,3 +304,25 @@ async def test_verify_shows_the_edit_and_its_mismatches(client: LanguageClient, 
     assert mismatches
     # a zone of 20 mm where the cell says 10: each mismatch is of a move, at its motion statement
     assert all(lines[d.range.start.line].split()[0] in ("LIN", "PTP", "CIRC") for d in mismatches)
+
+
+@pytest.mark.parametrize(
+    ("target", "file", "language", "good", "bad"),
+    [
+        ("abb", "agv_machine_tending.mod", "rapid", "TEST vis_station", "TEST vis_statoin"),
+        ("ur", "agv_machine_tending.script", "urscript", "textmsg(message)", "textmsg(mesage)"),
+    ],
+)
+async def test_an_undefined_name_in_rapid_and_urscript(client, workspace, target, file, language, good, bad):
+    path = workspace / "generated" / "agv_machine_tending" / target / file
+    path.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy(ROOT / "generated" / "agv_machine_tending" / target / file, path)
+    text = path.read_text(encoding="utf-8")
+    broken = text.replace(good, bad, 1)
+    row = next(i for i, line in enumerate(broken.split("\n")) if bad in line)
+    name = bad.split("(")[-1].split()[-1].rstrip(")")
+    column = broken.split("\n")[row].index(name)
+    uri = _open(client, path, broken, language)
+    found = await _diagnostics_of(client, uri, lambda found: any(d.code == "undefined-name" for d in found))
+    (diagnostic,) = [d for d in found if d.code == "undefined-name"]
+    assert diagnostic.range == types.Range(types.Position(row, column), types.Position(row, column + len(name)))
