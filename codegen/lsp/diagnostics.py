@@ -32,7 +32,7 @@ def word_range(text: str, line: int, column: int) -> types.Range:
     lines = text.split("\n")
     row = min(max(line, 1), max(len(lines), 1)) - 1
     content = lines[row] if row < len(lines) else ""
-    if column <= 0:
+    if column <= 0 or column > len(content.rstrip()):  # the whole line; past its end (a missing bracket) too
         start = len(content) - len(content.lstrip())
         return types.Range(types.Position(row, start), types.Position(row, max(len(content.rstrip()), start)))
     start = min(column - 1, len(content))
@@ -109,7 +109,16 @@ def cell_diagnostics(text: str, path: str) -> list[types.Diagnostic]:
         return [_cell_diagnostic(text, line or 1, column, message, "cell")]
     except RecursionError:
         return [_cell_diagnostic(text, 1, 0, "tables or arrays nested too deeply", "cell")]
-    return [_cell_diagnostic(text, 1, 0, warning, "cell-warning", warning=True) for warning in cell.warnings]
+    return [_cell_warning(text, path, warning) for warning in cell.warnings]
+
+
+def _cell_warning(text: str, path: str, warning: str) -> types.Diagnostic:
+    """A cell's warning ("file: key path: message") at its key, where the text writes the key."""
+    said = warning.removeprefix(f"{path}: ")
+    key, _, message = said.partition(": ")
+    line = line_of(text, key) if message else None
+    column = _key_column(text, line, key) if line else 0
+    return _cell_diagnostic(text, line or 1, column, said, "cell-warning", warning=True)
 
 
 def _key_column(text: str, line: int, key: str) -> int:
