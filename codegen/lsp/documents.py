@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -10,6 +11,7 @@ from codegen.dialects.core.files import SourceFile, read_source
 from codegen.dialects.core.values import RunError
 
 CELL_SUFFIX = ".toml"
+CELL_TABLE = re.compile(r"^\s*\[\s*cell\s*[\].]", re.MULTILINE)
 NOT_CELLS = frozenset({"pyproject.toml", "codegen.toml"})  # TOML files of a project and a plant, not cells
 
 
@@ -28,6 +30,12 @@ class Program:
 
 def is_cell_file(path: Path) -> bool:
     return path.suffix.lower() == CELL_SUFFIX and path.name.lower() not in NOT_CELLS
+
+
+def is_cell_text(text: str) -> bool:
+    """Whether a TOML text is a cell file's: it has a [cell] table (another TOML file, a controller's facts or a
+    catalogue, gets no cell diagnostics)."""
+    return CELL_TABLE.search(text) is not None
 
 
 def dialect_of(path: Path) -> type[Dialect] | None:

@@ -14,7 +14,7 @@ from pygls.uris import from_fs_path, to_fs_path
 
 from codegen.lsp import completion, diagnostics, hover, symbols, verifying
 from codegen.lsp.cells import find_cell
-from codegen.lsp.documents import Program, dialect_of, is_cell_file, program_of
+from codegen.lsp.documents import Program, dialect_of, is_cell_file, is_cell_text, program_of
 from codegen.lsp.nominal import Move, nominal_moves
 
 DEBOUNCE_S = 0.1  # quiet time after an edit before the file is checked: a burst of keystrokes is checked once
@@ -37,6 +37,7 @@ class CodegenServer(LanguageServer):
         self.verified: dict[str, list[types.Diagnostic]] = {}
         self.verifies: dict[str, asyncio.Task] = {}
         self.nominal: dict[tuple, list[Move]] = {}
+        self.cells: dict[str, Path | None] = {}  # a program folder -> its cell file (None: none found)
         self.worker = ThreadPoolExecutor(1, thread_name_prefix="codegen-check")  # whole checks one at a time, in order
         # a file's syntax, apart: never behind a whole check of an older text
         self.syntax_worker = ThreadPoolExecutor(1, thread_name_prefix="codegen-syntax")
@@ -79,6 +80,8 @@ class CodegenServer(LanguageServer):
         loop = asyncio.get_running_loop()
         if is_cell_file(Path(path)):
             text = self.open_texts().get(path, "")
+            if not is_cell_text(text) and not self.checked.get(path):
+                return
             found = await loop.run_in_executor(self.worker, diagnostics.cell_diagnostics, text, path)
             if self.edits.get(path) == edit:
                 self.checked[path] = found
@@ -107,7 +110,13 @@ class CodegenServer(LanguageServer):
     # --- verify and the nominal run -------------------------------------------------------------------------------
 
     def cell_of(self, path: str) -> Path | None:
-        return self.cell_file or find_cell(Path(path), self.roots())
+        """The program's cell file: the client's, else the workspace's of its name (looked for once per folder)."""
+        if self.cell_file is not None:
+            return self.cell_file
+        folder = str(Path(path).parent)
+        if folder not in self.cells or (self.cells[folder] is not None and not self.cells[folder].is_file()):
+            self.cells[folder] = find_cell(Path(path), self.roots())
+        return self.cells[folder]
 
     async def verify(self, path: str) -> str:
         """Verify the program of `path` against its cell in the background (a verify of it already running is
@@ -223,7 +232,7 @@ async def on_hover(ls: CodegenServer, params: types.HoverParams) -> types.Hover 
     position = params.position
     if is_cell_file(Path(path)):
         text = ls.workspace.get_text_document(params.text_document.uri).source
-        found = hover.cell_text(text, position.line)
+        found = hover.cell_text(text, position.line) if is_cell_text(text) else None
         return None if found is None else hover.markdown(found)
     program = ls.program(path)
     if program is None:
@@ -288,7 +297,8 @@ def on_completion(ls: CodegenServer, params: types.CompletionParams) -> types.Co
         return None
     if is_cell_file(Path(path)):
         text = ls.workspace.get_text_document(params.text_document.uri).source
-        return types.CompletionList(is_incomplete=False, items=completion.cell_items(text, params.position.line))
+        items = completion.cell_items(text, params.position.line) if is_cell_text(text) else []
+        return types.CompletionList(is_incomplete=False, items=items)
     program = ls.program(path)
     if program is None:
         return None
