@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 from lsprotocol import types
 
 from codegen.decimals import unsigned_zero
@@ -28,7 +30,8 @@ def symbol_text(program: Program, path: str, line: int, character: int) -> str |
         declared = text.split("\n")[symbol.line - 1].strip()
         where = symbol.file.rsplit("/", 1)[-1]
         scope = "" if symbol.top else " (local)"
-        out.append(f"```{language}\n{declared}\n```\n{symbol.kind.name.lower()}{scope}, {where}:{symbol.line}")
+        fence = "`" * max(3, 1 + max((len(run) for run in re.findall(r"`+", declared)), default=0))
+        out.append(f"{fence}{language}\n{declared}\n{fence}\n{symbol.kind.name.lower()}{scope}, {where}:{symbol.line}")
     if not out and folded(program.dialect, name) in program.dialect.predefined():
         out.append(f"`{name}`: predefined by the controller ({language})")
     return "\n\n---\n\n".join(out) or None
