@@ -3,6 +3,7 @@ generated KRL program and of its cell in a folder of their own."""
 
 from __future__ import annotations
 
+import json
 import shutil
 import sys
 from pathlib import Path
@@ -215,15 +216,21 @@ async def test_hover_and_completion_of_cell_keys(client: LanguageClient, workspa
     assert hover is not None
     assert "cell.limits.max_shift_mm" in hover.contents.value and "unit: mm" in hover.contents.value
 
-    # a new line at the end of [cell.limits]: its key not yet written is offered, the written one not
-    lines.insert(row + 1, "")
+    # a new line at the end of [cell.tool]: the keys its published schema lists that the table does not write
+    tool = next(i for i, line in enumerate(lines) if line.startswith("[cell.tool]"))
+    last = tool + 1
+    while last < len(lines) and "=" in lines[last]:
+        last += 1
+    written = {line.split("=")[0].strip() for line in lines[tool + 1 : last]}
+    lines.insert(last, "")
     _replace_all(client, uri, "\n".join(lines), 2)
     items = await client.text_document_completion_async(
-        types.CompletionParams(text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(row + 1, 0))
+        types.CompletionParams(text_document=types.TextDocumentIdentifier(uri=uri), position=types.Position(last, 0))
     )
-    labels = {item.label for item in items.items}
-    assert "max_rotation_deg" not in labels or "max_rotation_deg" not in text.split("[cell.limits]")[1].split("[")[0]
-    assert "max_shift_mm" not in labels
+    schema = json.loads((ROOT / "codegen" / "examples" / "cell.schema.json").read_text(encoding="utf-8"))
+    keys = set(schema["properties"]["cell"]["properties"]["tool"]["properties"])
+    assert written and written < keys
+    assert {item.label for item in items.items} == keys - written
 
 
 async def test_completion_offers_the_controller_builtins(client: LanguageClient, workspace: Path):
