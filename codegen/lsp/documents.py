@@ -51,7 +51,8 @@ def program_of(path: Path, open_texts: dict[str, str]) -> Program | None:
         return None
     own = dialect.suffixes + dialect.companions
     folder = path.parent
-    paths = {str(p): p for p in sorted(folder.iterdir()) if p.is_file() and p.suffix.lower() in own}
+    found = sorted(folder.iterdir()) if folder.is_dir() else []
+    paths = {str(p): p for p in found if p.is_file() and p.suffix.lower() in own}
     paths.setdefault(str(path), path)
     paths.update({k: Path(k) for k in open_texts if Path(k).parent == folder and Path(k).suffix.lower() in own})
     files = []
@@ -63,7 +64,9 @@ def program_of(path: Path, open_texts: dict[str, str]) -> Program | None:
             files.append(read_source(p, dialect.encodings))
         except RunError:
             continue  # a file beside it that cannot be read is not this file's concern
-    mine = next(f for f in files if f.name == str(path))
+    mine = next((f for f in files if f.name == str(path)), None)
+    if mine is None:  # neither open nor readable
+        return None
     try:
         groups = dialect.programs(files)
     except RunError as exc:

@@ -77,6 +77,22 @@ class CodegenServer(LanguageServer):
 
     async def check_later(self, path: str, edit: int) -> None:
         await asyncio.sleep(self.debounce_s)
+        try:
+            await self._check(path, edit)
+        except Exception as exc:  # a fault of the checker itself: said where the user looks, not lost in a task
+            self.window_log_message(types.LogMessageParams(types.MessageType.Error, f"{path}: check failed: {exc!r}"))
+            self.checked[path] = [
+                types.Diagnostic(
+                    range=types.Range(types.Position(0, 0), types.Position(0, 0)),
+                    message=f"codegen's check failed on this file ({type(exc).__name__}: {exc}); please report it",
+                    severity=types.DiagnosticSeverity.Error,
+                    code="internal",
+                    source=diagnostics.SOURCE,
+                )
+            ]
+            self.publish(path)
+
+    async def _check(self, path: str, edit: int) -> None:
         loop = asyncio.get_running_loop()
         if is_cell_file(Path(path)):
             text = self.open_texts().get(path, "")
