@@ -149,7 +149,7 @@ class CodegenServer(LanguageServer):
     async def _verify(self, program: Program, cell: Path) -> None:
         files = [f.name for f in program.files]
         texts = {f.name: f.text for f in program.files}
-        with self.work_done("verify", f"{Path(files[0]).name} against {cell.name}"):
+        async with self.work_done("verify", f"{Path(files[0]).name} against {cell.name}"):
             result = await verifying.run_verify(cell, files, texts, self.verify_cases)
         for file, found in result.diagnostics.items():
             self.verified[file] = found
@@ -195,17 +195,17 @@ class _Progress:
         self.server, self.title, self.message = server, title, message
         self.token = f"codegen-{id(self)}"
 
-    def __enter__(self):
+    async def __aenter__(self):
         capabilities = self.server.client_capabilities.window
         self.shown = bool(capabilities and capabilities.work_done_progress)
         if self.shown:
-            self.server.work_done_progress.create(self.token)
+            await self.server.work_done_progress.create_async(self.token)
             self.server.work_done_progress.begin(
                 self.token, types.WorkDoneProgressBegin(title=self.title, message=self.message, cancellable=False)
             )
         return self
 
-    def __exit__(self, *exc) -> None:
+    async def __aexit__(self, *exc) -> None:
         if self.shown:
             self.server.work_done_progress.end(self.token, types.WorkDoneProgressEnd())
 

@@ -38,7 +38,7 @@ def workspace(tmp_path_factory) -> Path:
 )
 async def client(lsp_client: LanguageClient, workspace: Path):
     params = types.InitializeParams(
-        capabilities=types.ClientCapabilities(),
+        capabilities=types.ClientCapabilities(window=types.WindowClientCapabilities(work_done_progress=True)),
         root_uri=workspace.as_uri(),
         workspace_folders=[types.WorkspaceFolder(uri=workspace.as_uri(), name="cells")],
         initialization_options={"debounce": 0.05, "verifyCases": 1},
@@ -294,6 +294,14 @@ async def test_verify_is_cancelled_with_its_process(client: LanguageClient, work
             break
         await asyncio.sleep(0.05)
     assert _running(src) == []
+    # the client was shown verify's progress, begun and, once cancelled, ended
+    token = next(reversed(client.progress_reports))
+    for _ in range(100):
+        if len(client.progress_reports[token]) > 1:
+            break
+        await asyncio.sleep(0.05)
+    kinds = [type(value).__name__ for value in client.progress_reports[token]]
+    assert kinds == ["WorkDoneProgressBegin", "WorkDoneProgressEnd"]
 
 
 @pytest.mark.slow
