@@ -27,7 +27,7 @@ def program_items(program: Program) -> list[types.CompletionItem]:
     return list(items.values())
 
 
-def cell_items(text: str, line: int) -> list[types.CompletionItem]:
+def cell_items(text: str, line: int, kind: types.MarkupKind = types.MarkupKind.Markdown) -> list[types.CompletionItem]:
     """The keys the table around a 0-based line may hold and it does not write yet, each with its reference."""
     table = cellschema.table_of_line(text, line + 1)
     written = {path[-1] for path in _paths(text) if path[: len(table)] == table and len(path) == len(table) + 1}
@@ -42,7 +42,7 @@ def cell_items(text: str, line: int) -> list[types.CompletionItem]:
                 label=name,
                 kind=KIND.Property,
                 detail=key.doc[:80],
-                documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=doc),
+                documentation=types.MarkupContent(kind=kind, value=doc),
                 insert_text=f"{name} = ",
             )
         )

@@ -13,8 +13,9 @@ from codegen.lsp.nominal import Move
 from codegen.lsp.symbols import definitions, folded, word_at
 
 
-def markdown(text: str) -> types.Hover:
-    return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=text))
+def shown(text: str, kind: types.MarkupKind) -> types.Hover:
+    """A hover of Markdown text, as Markdown where the client reads it, else as the same text, plain."""
+    return types.Hover(contents=types.MarkupContent(kind=kind, value=text))
 
 
 def symbol_text(program: Program, path: str, line: int, character: int) -> str | None:

@@ -50,6 +50,16 @@ class CodegenServer(LanguageServer):
     def program(self, path: str) -> Program | None:
         return program_of(Path(path), self.open_texts())
 
+    def markup(self, feature: str) -> types.MarkupKind:
+        """Markdown where the client says it reads it for hover or completion documentation, else plain text."""
+        document = self.client_capabilities.text_document
+        if feature == "hover":
+            formats = document and document.hover and document.hover.content_format
+        else:
+            item = document and document.completion and document.completion.completion_item
+            formats = item and item.documentation_format
+        return types.MarkupKind.Markdown if types.MarkupKind.Markdown in (formats or []) else types.MarkupKind.PlainText
+
     def roots(self) -> list[Path]:
         folders = [to_fs_path(f.uri) for f in self.workspace.folders.values()]
         return [Path(f) for f in folders if f] or ([Path(self.workspace.root_path)] if self.workspace.root_path else [])
@@ -249,7 +259,7 @@ async def on_hover(ls: CodegenServer, params: types.HoverParams) -> types.Hover 
     if is_cell_file(Path(path)):
         text = ls.workspace.get_text_document(params.text_document.uri).source
         found = hover.cell_text(text, position.line) if is_cell_text(text) else None
-        return None if found is None else hover.markdown(found)
+        return None if found is None else hover.shown(found, ls.markup("hover"))
     program = ls.program(path)
     if program is None:
         return None
@@ -260,7 +270,7 @@ async def on_hover(ls: CodegenServer, params: types.HoverParams) -> types.Hover 
     named = hover.symbol_text(program, path, position.line, position.character)
     if named:
         parts.append(named)
-    return hover.markdown("\n\n---\n\n".join(parts)) if parts else None
+    return hover.shown("\n\n---\n\n".join(parts), ls.markup("hover")) if parts else None
 
 
 def _location(file: str, line: int, column: int, name: str) -> types.Location:
@@ -313,7 +323,8 @@ def on_completion(ls: CodegenServer, params: types.CompletionParams) -> types.Co
         return None
     if is_cell_file(Path(path)):
         text = ls.workspace.get_text_document(params.text_document.uri).source
-        items = completion.cell_items(text, params.position.line) if is_cell_text(text) else []
+        kind = ls.markup("completion")
+        items = completion.cell_items(text, params.position.line, kind) if is_cell_text(text) else []
         return types.CompletionList(is_incomplete=False, items=items)
     program = ls.program(path)
     if program is None:

@@ -38,7 +38,15 @@ def workspace(tmp_path_factory) -> Path:
 )
 async def client(lsp_client: LanguageClient, workspace: Path):
     params = types.InitializeParams(
-        capabilities=types.ClientCapabilities(window=types.WindowClientCapabilities(work_done_progress=True)),
+        capabilities=types.ClientCapabilities(
+            window=types.WindowClientCapabilities(work_done_progress=True),
+            text_document=types.TextDocumentClientCapabilities(
+                hover=types.HoverClientCapabilities(content_format=[types.MarkupKind.Markdown]),
+                completion=types.CompletionClientCapabilities(
+                    completion_item=types.ClientCompletionItemOptions(documentation_format=[types.MarkupKind.Markdown])
+                ),
+            ),
+        ),
         root_uri=workspace.as_uri(),
         workspace_folders=[types.WorkspaceFolder(uri=workspace.as_uri(), name="cells")],
         initialization_options={"debounce": 0.05, "verifyCases": 1},
