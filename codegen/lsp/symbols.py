@@ -35,8 +35,9 @@ DECLARES: dict[str, tuple[K, int]] = {
     "threaddef": (K.Event, 0),
     "global_stmt": (K.Variable, 0),
 }
+ASSIGN, PLAIN_NAME = "assign", "var"  # an assignment's rule and its target's when the target is a name alone
 CONTAINERS = frozenset({"def_routine", "def_function", "proc", "func", "trap", "funcdef", "threaddef"})
-OUTLINE = frozenset(DECLARES) - {"module", "defdat"}  # the file itself is the module
+OUTLINE = (frozenset(DECLARES) | {ASSIGN}) - {"module", "defdat"}  # the file itself is the module
 
 
 @dataclass(frozen=True)
@@ -56,9 +57,11 @@ class Symbol:
 
 @dataclass(frozen=True)
 class Index:
-    """One file's declarations and its name tokens (name, line, column), from its parse tree."""
+    """One file's declarations, its assignments to plain names (a language without declarations, URScript, makes
+    a variable by assigning it) and its name tokens (name, line, column), from its parse tree."""
 
     symbols: tuple[Symbol, ...]
+    assigned: tuple[Symbol, ...]
     uses: tuple[tuple[str, int, int], ...]
 
 
@@ -79,24 +82,29 @@ def index_of(dialect: type[Dialect], name: str, text: str) -> Index | None:
     except (RunError, RecursionError):
         return None
     symbols: list[Symbol] = []
-    _walk(tree, name, symbols, top=True)
+    assigned: list[Symbol] = []
+    _walk(tree, name, symbols, assigned, top=True)
     uses = tuple(
         (str(t), t.line, t.column) for t in tree.scan_values(lambda v: isinstance(v, Token) and v.type == "NAME")
     )
-    return Index(tuple(symbols), uses)
+    return Index(tuple(symbols), tuple(assigned), uses)
 
 
-def _walk(tree: Tree, file: str, out: list[Symbol], top: bool) -> None:
+def _walk(tree: Tree, file: str, out: list[Symbol], assigned: list[Symbol], top: bool) -> None:
     own = DECLARES.get(tree.data)
     if own is not None:
         kind, which = own
         token = _name_token(tree, which)
         if token is not None:
             out.append(Symbol(str(token), kind, file, token.line, token.column, tree.data, top))
+    target = tree.children[0] if tree.data == ASSIGN and tree.children else None
+    if isinstance(target, Tree) and target.data == PLAIN_NAME and isinstance(target.children[0], Token):
+        token = target.children[0]
+        assigned.append(Symbol(str(token), K.Variable, file, token.line, token.column, tree.data, top))
     inside = top and tree.data not in CONTAINERS
     for child in tree.children:
         if isinstance(child, Tree):
-            _walk(child, file, out, inside)
+            _walk(child, file, out, assigned, inside)
 
 
 def _name_token(tree: Tree, which: int) -> Token | None:
@@ -107,11 +115,22 @@ def _name_token(tree: Tree, which: int) -> Token | None:
 
 
 def program_symbols(program: Program) -> list[Symbol]:
+    """The program's declarations, and the first assignment of each name it assigns without declaring it."""
     out: list[Symbol] = []
+    assigned: list[Symbol] = []
     for f in program.files:
         index = index_of(program.dialect, f.name, f.text)
         if index is not None:
             out.extend(index.symbols)
+            assigned.extend(index.assigned)
+    declared = {folded(program.dialect, s.name) for s in out}
+    controllers = program.dialect.predefined()
+    for symbol in assigned:
+        key = folded(program.dialect, symbol.name)
+        # a controller's own name (predefined, or a system variable's sigil such as $) is not the program's
+        if key not in declared and key not in controllers and (symbol.name[:1].isalpha() or symbol.name[:1] == "_"):
+            declared.add(key)
+            out.append(symbol)
     return out
 
 
@@ -151,10 +170,7 @@ def references(program: Program, name: str) -> list[tuple[str, int, int]]:
 
 def outline(program: Program, file: str) -> list[types.DocumentSymbol]:
     """The outline of one file: its routines (with the data declared in them), module-level data and interrupts."""
-    index = next((index_of(program.dialect, f.name, f.text) for f in program.files if f.name == file), None)
-    if index is None:
-        return []
-    shown = [s for s in index.symbols if s.rule in OUTLINE]
+    shown = [s for s in program_symbols(program) if s.file == file and s.rule in OUTLINE]
     routines = [s for s in shown if s.rule in CONTAINERS]
     out: list[types.DocumentSymbol] = []
     lines = (program.text_of(file) or "").split("\n")

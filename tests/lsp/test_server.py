@@ -349,3 +349,20 @@ async def test_an_undefined_name_in_rapid_and_urscript(client, workspace, target
     found = await _diagnostics_of(client, uri, lambda found: any(d.code == "undefined-name" for d in found))
     (diagnostic,) = [d for d in found if d.code == "undefined-name"]
     assert diagnostic.range == types.Range(types.Position(row, column), types.Position(row, column + len(name)))
+
+
+async def test_a_urscript_variable_is_defined_where_it_is_first_assigned(client: LanguageClient, workspace: Path):
+    path = workspace / "generated" / "agv_machine_tending" / "ur" / "agv_machine_tending.script"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy(ROOT / "generated" / "agv_machine_tending" / "ur" / path.name, path)
+    lines = path.read_text(encoding="utf-8").split("\n")
+    first = next(i for i, line in enumerate(lines) if line.strip().startswith("vis_x = "))
+    used = next(i for i, line in enumerate(lines) if i > first and "vis_x" in line.split("#")[0])
+    uri = _open(client, path, "\n".join(lines), "urscript")
+    found = await client.text_document_definition_async(
+        types.DefinitionParams(
+            text_document=types.TextDocumentIdentifier(uri=uri),
+            position=types.Position(used, lines[used].index("vis_x") + 1),
+        )
+    )
+    assert [(d.uri, d.range.start) for d in found] == [(uri, types.Position(first, lines[first].index("vis_x")))]
