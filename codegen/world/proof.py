@@ -65,16 +65,18 @@ class ClearanceError(ValueError):
     """A planned move that comes within the cell's clearance of a solid (or of the arm itself)."""
 
 
-def prove(cell, paths: list[Path]) -> list[Least]:
-    """Each path's least clearance, or ClearanceError naming the first move within the clearance."""
+def prove(cell, paths: list[Path], at_least: float | None = None) -> list[Least]:
+    """Each path's least clearance, or ClearanceError naming the first move within the clearance (or within at_least
+    mm where that is more: the bar a posture has to clear to be preferred, codegen/kinds/station/posture.py)."""
     limit = clearance_mm(cell)
+    bar = limit if at_least is None else max(at_least, limit)
     out = []
     for path in paths:
-        out.append(_prove(cell, path, limit))
+        out.append(_prove(cell, path, limit, bar))
     return out
 
 
-def _prove(cell, path: Path, limit: float) -> Least:
+def _prove(cell, path: Path, limit: float, bar: float) -> Least:
     scenes: dict = {}
 
     def scene(carrying: bool, stage: str, exempt: frozenset):
@@ -100,8 +102,8 @@ def _prove(cell, path: Path, limit: float) -> Least:
             found = check_path(scene(move.carrying, move.stage, exempt[i] | move.exempt), route, q, limit)
         except Unresolved as exc:
             raise ClearanceError(f"{move.where} ({path.target}): the move's path cannot be followed: {exc}") from None
-        if found.distance < limit:
-            raise ClearanceError(_refusal(cell, path.target, move, found, limit))
+        if found.distance < bar:
+            raise ClearanceError(_refusal(cell, path.target, move, found, bar))
         if best is None or found.distance < best.found.distance:
             best = Least(path.target, move.where, found)
         q = np.asarray(move.joints, dtype=float)

@@ -77,6 +77,11 @@ def check_target(cell, target: str) -> TargetEnvelope:
     return TargetEnvelope(target, arm.model, samples, tuple(margins))
 
 
+def station_margin(cell, target: str, station) -> StationMargin:
+    """One station's margins over its correction region on the target's arm, or ReachError naming the pose."""
+    return _station(cell, target, cell.robot.arms[target], station)
+
+
 def _station(cell, target: str, arm, station) -> StationMargin:
     form = get_target(target).configuration
     wanted = cell.robot.margins

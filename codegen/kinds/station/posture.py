@@ -1,0 +1,157 @@
+"""The posture each station is worked in where the cell names none: the arm configuration whose moves clear the cell."""
+
+# Where the cell gives no configuration for a station on a target ([station.config.<target>]), the controller leaves
+# the choice to the program: UR's qnear (the joints every get_inverse_kin is steered to), KUKA's Status and Turn, ABB's
+# confdata. The candidates are the arm's analytic branches that take every pose of the station: each of the station's
+# joint moves goes to the branch's solution nearest the home (the turn of each axis nearest it), the linear moves
+# continue in it; each passes the reach proof over the correction region (joint limits and the cell's joint margin,
+# the wrist margin, no change of configuration) and the clearance proof of the station's moves at every proven reading
+# (codegen/world/proof.py). The one kept is the largest least clearance; one within TIE_MM of it that lies nearer the
+# home (the posture the controller takes by itself from the home first) is preferred. The choice is written as taught
+# joints (PoseConfig "joints"): each target's program names them in its own form (codegen/robot/config.py FORMS).
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from codegen.kinds.station.envelope import station_margin
+from codegen.kinds.station.mode import mode_of
+from codegen.kinds.station.scene import station_paths
+from codegen.kinds.station.section import stations_of, with_section
+from codegen.model.robot import PoseConfig
+from codegen.robot import solve
+from codegen.robot.cache import per_cell
+from codegen.robot.taught import ReachError
+
+# Two postures whose least clearances differ by less than this are equally clear: the arm's capsules are estimates
+# rounded up by more (docs/clearance.md, Sources), and swinging the arm into another configuration for less is not
+# worth its longer way from the home.
+TIE_MM = 1.0
+
+
+@dataclass(frozen=True)
+class Posture:
+    """A candidate posture of a station on one target: the configuration per joint pose (PoseConfig "joints"), its
+    branch, how far its first joint pose lies from the home (deg, Euclidean) and its least clearance (mm; None: it
+    does not reach or does not clear)."""
+
+    config: dict
+    branch: int
+    travel_deg: float
+    least_mm: float | None = None
+    refusal: str = ""
+    reaches: bool = True  # False: refused by the reach proof
+    nearest: object = None  # the proof's Least: where the least clearance is
+
+
+_CACHE: dict = {}
+
+
+def posture_config(cell, target: str, station) -> dict:
+    """The configuration per pose the station's program takes on the target: the cell's own ([station.config]) where
+    it gives one, else the chosen posture's ({} where none reaches and clears: the nearest-home solutions, which the
+    proofs then refuse with their reasons)."""
+    given = station.config.get(target)
+    if given:
+        return given
+    return per_cell(_CACHE, cell, (target, station.id), lambda: _chosen(cell, target, station))
+
+
+def _chosen(cell, target: str, station) -> dict:
+    tried = candidates(cell, target, station)
+    if not tried:
+        return {}
+    natural = evaluate(cell, target, station, tried[0])
+    if not natural.reaches:
+        return {}
+    if natural.least_mm is not None and _set_by_the_tool(cell, target, natural):
+        return natural.config
+    best = choose(cell, target, station, natural, tried[1:])
+    return best.config if best is not None else {}
+
+
+def _set_by_the_tool(cell, target: str, posture: Posture) -> bool:
+    """The posture's least clearance is the tool's or the part's from a solid at a pose the program stands at (a
+    move's start or end): the TCP is there in every posture, so no other posture can keep more (the search is
+    skipped)."""
+    from codegen.world.bodies import arm_bodies
+
+    found = posture.nearest.found
+    own = {body.name for body in arm_bodies(cell.robot.arms[target])} | {"tool", "part"}
+    return found.body in ("tool", "part") and found.other not in own and found.s in (0.0, 1.0)
+
+
+def choose(cell, target: str, station, first: Posture, others: list[Posture]) -> Posture | None:
+    """Of the postures in order (nearest the home first), the one kept: a posture further on replaces the one kept so
+    far only where it clears by more than TIE_MM more (each is proven against that bar, so one that cannot pass it is
+    given up at its first move below it); None where none clears."""
+    best = first if first.least_mm is not None else None
+    for posture in others:
+        bar = None if best is None else best.least_mm + TIE_MM
+        tried = evaluate(cell, target, station, posture, bar)
+        if tried.least_mm is not None:
+            best = tried
+    return best
+
+
+def candidates(cell, target: str, station) -> list[Posture]:
+    """The branches that take each of the station's joint poses within the joint limits, nearest the home first
+    (the first: the posture the controller takes from the home by itself); [] where the nearest-home posture does not
+    reach (the reach proof's refusal names the pose and the fix)."""
+    robot = cell.robot
+    arm, home = robot.arms[target], np.asarray(robot.home[target], dtype=float)
+    poses = mode_of(station).arm_poses(cell, station)
+    joint = [(name, tcp) for name, tcp, motion in poses if motion == "joint"]
+    if not joint:
+        return []
+    solutions = solve.branches(arm, solve.flange_poses(np.array([tcp for _, tcp in joint]), robot.tool.tcp2flange))
+    natural, branch = solve.nearest(arm, solutions[0], home)
+    if np.isnan(natural).any():
+        return []
+    out = []
+    for b in [int(branch), *(b for b in range(solutions.shape[1]) if b != int(branch))]:
+        only = np.full_like(solutions, np.nan)
+        only[:, b] = solutions[:, b]
+        config = {}
+        for (name, _), sols in zip(joint, only, strict=True):
+            q, _ = solve.nearest(arm, sols, home)
+            if np.isnan(q).any():
+                break
+            config[name] = PoseConfig("joints", tuple(float(v) for v in q))
+        else:
+            first = np.asarray(config[joint[0][0]].value)
+            out.append(Posture(config, b, float(np.linalg.norm(first - home))))
+    if not out or out[0].branch != int(branch):
+        return []
+    natural_posture, others = out[0], sorted(out[1:], key=lambda p: (p.travel_deg, p.branch))
+    return [natural_posture, *others]
+
+
+def evaluate(cell, target: str, station, posture: Posture, bar: float | None = None) -> Posture:
+    """The posture with its least clearance along the station's moves at the nominal reading, or its refusal (reach
+    over the correction region, or clearance: within the cell's clearance, or within bar mm where that is more). The
+    nominal reading ranks the postures; generate then proves the one kept at every proven reading."""
+    from codegen.world.proof import ClearanceError, prove  # coal: loaded only when proving
+
+    tried = with_posture(cell, target, station, posture.config)
+    moved = next(s for s in stations_of(tried) if s.id == station.id)
+    try:
+        station_margin(tried, target, moved)
+    except ReachError as exc:
+        return replace(posture, refusal=str(exc), reaches=False)
+    try:
+        least = prove(tried, station_paths(tried, target, moved)[:1], bar)
+    except (ClearanceError, ValueError) as exc:
+        return replace(posture, refusal=str(exc))
+    nearest = min(least, key=lambda x: x.found.distance)
+    return replace(posture, least_mm=nearest.found.distance, nearest=nearest)
+
+
+def with_posture(cell, target: str, station, config: dict):
+    """The cell with the station's configuration on the target given as config (the other stations as they are)."""
+    changed = tuple(
+        replace(s, config={**s.config, target: config}) if s.id == station.id else s for s in stations_of(cell)
+    )
+    return with_section(cell, stations=changed)
