@@ -202,7 +202,7 @@ def _refusal(cell, target: str, move: Move, found: MoveClearance, limit: float) 
     solid = f"the solid {other!r}" if other != FLOOR else "the floor (cell.world.floor_z_mm)"
     if other in {body.name for body in arm_bodies(arm)} | {"tool", "part"}:
         solid = f"the arm's own {other}"
-    fix = _fix(other, solid.startswith("the arm's own"))
+    fix = _fix(other, solid.startswith("the arm's own"), target)
     return (
         f"{move.where} ({target}, {arm.model}): the {found.body} {what} {solid}: {at} it at {found.s:.2f} of the move "
         f"(joints {[round(v, 1) for v in found.joints]} deg), less than the clearance of {limit:g} mm "
@@ -210,12 +210,15 @@ def _refusal(cell, target: str, move: Move, found: MoveClearance, limit: float) 
     )
 
 
-def _fix(other: str, own: bool) -> str:
+def _fix(other: str, own: bool, target: str) -> str:
+    # a station whose configuration the cell does not name has been tried in every one that reaches
+    # (codegen/kinds/station/posture.py): the one named there is the cell's own choice
+    config = f"[station.config.{target}]: where a station names none, each that reaches has been tried"
     if own:
-        return "give the pose another configuration ([station.config] or the program's own), or the arm another home"
+        return f"give the pose another configuration ({config}; or the program's own), or the arm another home"
     if other == FLOOR:
         return "teach the poses of the move higher, a pose between them that leads the arm above, or another home"
     return (
         f"move {other!r} away from the move's path, teach a pose between that leads the arm around it, or give "
-        "the arm another home ([cell.robot.home]) or configuration"
+        f"the arm another home ([cell.robot.home]) or configuration ({config})"
     )
