@@ -1,0 +1,43 @@
+"""The posture generate chooses where the cell names none: verify holds the program to it (a UR program steered to
+the elbow-down solution fails), and the choice keeps the nearest-home posture where nothing clears by more."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from test_generate_clearance import UR5E_FRONT, _elbow_z, _nearest
+
+from codegen.generate import generate
+from codegen.model.cell import load_cell
+from codegen.render import joints_literal
+from codegen.verify.engine import Options, verify_cell
+
+
+def test_verify_holds_the_ur5e_program_to_the_chosen_posture(tmp_path):
+    """The UR5e cell facing away from its station, generated elbow up: its program passes verify; the same program
+    with get_inverse_kin steered to the posture nearest the home (the elbow under the work) fails it."""
+    path = tmp_path / "ur5e_front.toml"
+    path.write_text(UR5E_FRONT.format(home=""), encoding="utf-8")
+    cell = load_cell(path)
+    arm = cell.robot.arms["ur"]
+    written, _, _ = generate(cell, ["ur"], tmp_path / "out")
+    scripts = sorted(str(p) for p in written if p.suffix == ".script")
+    options = Options(cases=4, seed=3, jobs=1, sweeps=False)
+    assert verify_cell(cell, scripts, ("ur",), options).ok
+    press = next(iter(cell.sections["station"].stations))
+    approach = cell.kinds["station"].scene.paths(cell, ["ur"])[0].moves[0].joints
+    assert _elbow_z(arm, approach) > 180.0
+    flange = press.poses[0].matrix() @ np.linalg.inv(cell.robot.tool.tcp2flange)
+    low = _nearest(arm.kin.ik(flange), cell.robot.home["ur"])
+    assert _elbow_z(arm, low) < _elbow_z(arm, approach)  # another solution of the same pose
+    chosen = "qnear=[" + ", ".join(str(v) for v in joints_literal(approach, "rad")) + "]"
+    other = "qnear=[" + ", ".join(str(v) for v in joints_literal(low, "rad")) + "]"
+    for script in map(Path, scripts):
+        text = script.read_text(encoding="utf-8")
+        assert text.count(chosen) == 1
+        script.write_text(text.replace(chosen, other), encoding="utf-8")
+    report = verify_cell(cell, scripts, ("ur",), options)
+    assert not report.ok
+    said = " ".join(m for row in report.rows for m in row.first_mismatches)
+    assert "move 2 (approach, line" in said and "the controller's rule gives" in said
