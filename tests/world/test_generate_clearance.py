@@ -168,6 +168,37 @@ def test_a_ur5e_posture_the_cell_names_is_kept_and_refused_naming_the_home_and_t
     assert "'press: bed'" in said and "the upper_arm" in said and "[station.config.ur]" in said
 
 
+BOXED_IN = """[cell.world]
+solids.fence_a = { box = [2000.0, 100.0, 2000.0], pose = [0.0, 450.0, 1000.0, 0.0, 0.0, 0.0] }
+solids.fence_b = { box = [2000.0, 100.0, 2000.0], pose = [0.0, -450.0, 1000.0, 0.0, 0.0, 0.0] }
+solids.roof = { box = [2000.0, 2000.0, 100.0], pose = [0.0, 0.0, 900.0, 0.0, 0.0, 0.0] }
+
+"""
+
+
+def test_a_ur5e_boxed_in_so_that_no_posture_from_its_home_clears_is_refused_naming_the_home_and_the_fix(tmp_path):
+    """The UR5e facing away from its station between two fences (y = +-400 mm) under a roof (850 mm high): from the
+    catalogue's home every posture either keeps the elbow low over the bed or swings the arm half a turn, past a fence
+    or under the roof. generate refuses, naming the home in use and the home turned half a turn about axis 1, from
+    which the station is a short turn away; with that home the cell generates, elbow up."""
+    path = tmp_path / "ur5e_front.toml"
+    path.write_text(UR5E_FRONT.format(home="").replace("[cell.tool]", BOXED_IN + "[cell.tool]"), encoding="utf-8")
+    cell = load_cell(path)
+    with pytest.raises(GenerateError) as caught:
+        check_clearance(cell, ["ur"])
+    said = str(caught.value)
+    assert said.startswith("station 1 'press' pose 'approach' (nominal reading) (ur, UR5e): the ")
+    assert "The home [cell.robot.home] ur = [0, -90, 90, -90, -90, 0] puts the arm in this posture" in said
+    fix = re.search(r"turned half a turn about axis 1, ur = \[([^\]]*)\], every move clears", said).group(1)
+    assert fix == "-180, -90, 90, -90, -90, 0"
+    turned = UR5E_FRONT.format(home=f"home = {{ ur = [{fix}] }}\n").replace("[cell.tool]", BOXED_IN + "[cell.tool]")
+    path.write_text(turned, encoding="utf-8")
+    cell = load_cell(path)
+    assert check_clearance(cell, ["ur"])
+    moves = cell.kinds["station"].scene.paths(cell, ["ur"])[0].moves
+    assert _elbow_z(cell.robot.arms["ur"], moves[1].joints) > 180.0 + 200.0
+
+
 @pytest.mark.parametrize("name", ["agv_machine_tending", "belt_pick", "laser_tcp", "testmat_pallet"])
 def test_every_bundled_cells_moves_clear_its_solids_on_its_first_arm(name):
     """The bundled cells declare their solids where their programs clear them (generate checks every target; here the
