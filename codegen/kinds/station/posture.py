@@ -97,9 +97,10 @@ def choose(cell, target: str, station, first: Posture, others: list[Posture]) ->
 
 
 def candidates(cell, target: str, station) -> list[Posture]:
-    """The branches that take each of the station's joint poses within the joint limits, nearest the home first
-    (the first: the posture the controller takes from the home by itself); [] where the nearest-home posture does not
-    reach (the reach proof's refusal names the pose and the fix)."""
+    """The postures tried, the one the controller takes from the home by itself first (each joint pose's solution
+    nearest the home), then each branch that takes every joint pose within the joint limits (each nearest the home
+    within the branch), nearer the home first; [] where a joint pose has no solution within the limits (the reach
+    proof names it)."""
     robot = cell.robot
     arm, home = robot.arms[target], np.asarray(robot.home[target], dtype=float)
     poses = mode_of(station).arm_poses(cell, station)
@@ -107,26 +108,22 @@ def candidates(cell, target: str, station) -> list[Posture]:
     if not joint:
         return []
     solutions = solve.branches(arm, solve.flange_poses(np.array([tcp for _, tcp in joint]), robot.tool.tcp2flange))
-    natural, branch = solve.nearest(arm, solutions[0], home)
+    natural, branch = solve.nearest(arm, solutions, np.broadcast_to(home, (len(joint), 6)))
     if np.isnan(natural).any():
         return []
-    out = []
-    for b in [int(branch), *(b for b in range(solutions.shape[1]) if b != int(branch))]:
-        only = np.full_like(solutions, np.nan)
-        only[:, b] = solutions[:, b]
-        config = {}
-        for (name, _), sols in zip(joint, only, strict=True):
-            q, _ = solve.nearest(arm, sols, home)
-            if np.isnan(q).any():
-                break
-            config[name] = PoseConfig("joints", tuple(float(v) for v in q))
-        else:
-            first = np.asarray(config[joint[0][0]].value)
-            out.append(Posture(config, b, float(np.linalg.norm(first - home))))
-    if not out or out[0].branch != int(branch):
-        return []
-    natural_posture, others = out[0], sorted(out[1:], key=lambda p: (p.travel_deg, p.branch))
-    return [natural_posture, *others]
+    first = _posture(joint, natural, int(branch[0]), home)
+    others = []
+    for b in range(solutions.shape[1]):
+        q, _ = solve.nearest(arm, solutions[:, b : b + 1], np.broadcast_to(home, (len(joint), 6)))
+        if not np.isnan(q).any() and not np.array_equal(q, natural):
+            others.append(_posture(joint, q, b, home))
+    return [first, *sorted(others, key=lambda p: (p.travel_deg, p.branch))]
+
+
+def _posture(joint: list, q: np.ndarray, branch: int, home: np.ndarray) -> Posture:
+    """The posture taking joints q (one row per joint pose) as PoseConfig "joints"; travel: its first pose's."""
+    config = {name: PoseConfig("joints", tuple(float(v) for v in row)) for (name, _), row in zip(joint, q, strict=True)}
+    return Posture(config, branch, float(np.linalg.norm(q[0] - home)))
 
 
 def evaluate(cell, target: str, station, posture: Posture, bar: float | None = None) -> Posture:
