@@ -6,9 +6,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+from support.cells import EXAMPLES
 from test_generate_clearance import UR5E_FRONT, _elbow_z, _nearest
 
-from codegen.generate import generate
+from codegen.generate import check_envelope, generate
 from codegen.model.cell import load_cell
 from codegen.render import joints_literal
 from codegen.verify.engine import Options, verify_cell
@@ -41,3 +42,19 @@ def test_verify_holds_the_ur5e_program_to_the_chosen_posture(tmp_path):
     assert not report.ok
     said = " ".join(m for row in report.rows for m in row.first_mismatches)
     assert "move 2 (approach, line" in said and "the controller's rule gives" in said
+
+
+def test_generate_reports_a_posture_it_chose_and_none_where_the_home_gives_it(tmp_path):
+    """generate's report names the posture chosen for the UR5e facing away from its station (in the target's own form,
+    the joints) and why; the demo cell's stations keep the posture nearest the home, and say nothing."""
+    path = tmp_path / "ur5e_front.toml"
+    path.write_text(UR5E_FRONT.format(home=""), encoding="utf-8")
+    cell = load_cell(path)
+    (envelope,) = check_envelope(cell, ["ur"])
+    approach = cell.kinds["station"].scene.paths(cell, ["ur"])[0].moves[0].joints
+    shown = ", ".join(f"{v:.6g}" for v in approach)
+    said = envelope.text()
+    assert f"posture chosen to clear the cell: pose 'approach' in configuration [{shown}] (joints), least" in said
+    assert "the configuration nearest the home does not clear" in envelope.text()
+    (demo,) = check_envelope(load_cell(EXAMPLES["agv_machine_tending"]), ["ur"])
+    assert "posture" not in demo.text() and all(s["posture"] == "" for s in demo.as_json()["stations"])

@@ -56,20 +56,54 @@ def posture_config(cell, target: str, station) -> dict:
     given = station.config.get(target)
     if given:
         return given
+    return _decided(cell, target, station)[0]
+
+
+def posture_note(cell, target: str, station) -> str:
+    """'' where the station is worked in the posture the controller takes from the home by itself (or the cell names
+    it); else what was chosen and why, in the target's own form (generate's report)."""
+    if station.config.get(target):
+        return ""
+    return _decided(cell, target, station)[1]
+
+
+def _decided(cell, target: str, station) -> tuple[dict, str]:
     return per_cell(_CACHE, cell, (target, station.id), lambda: _chosen(cell, target, station))
 
 
-def _chosen(cell, target: str, station) -> dict:
+def _chosen(cell, target: str, station) -> tuple[dict, str]:
     tried = candidates(cell, target, station)
     if not tried:
-        return {}
+        return {}, ""
     natural = evaluate(cell, target, station, tried[0])
     if not natural.reaches:
-        return {}
+        return {}, ""
     if natural.least_mm is not None and _set_by_the_tool(cell, target, natural):
-        return natural.config
+        return natural.config, ""
     best = choose(cell, target, station, natural, tried[1:])
-    return best.config if best is not None else {}
+    if best is None:
+        return {}, ""
+    if best is natural:
+        return natural.config, ""
+    return best.config, _note(cell, target, natural, best)
+
+
+def _note(cell, target: str, natural: Posture, best: Posture) -> str:
+    from codegen.controllers import get_target
+    from codegen.robot.taught import configuration
+
+    arm = cell.robot.arms[target]
+    form = get_target(target).configuration
+    name, first = next(iter(best.config.items()))
+    value = configuration(form, arm, np.asarray(first.value))
+    shown = ", ".join(f"{v:.6g}" for v in value)
+    why = "does not clear"
+    if natural.least_mm is not None:
+        why = f"keeps {natural.least_mm:.1f} mm (more than {TIE_MM:g} mm less)"
+    return (
+        f"posture chosen to clear the cell: pose {name!r} in configuration [{shown}] ({form}), least clearance "
+        f"{best.least_mm:.1f} mm at the nominal reading; the configuration nearest the home {why}"
+    )
 
 
 def _set_by_the_tool(cell, target: str, posture: Posture) -> bool:
