@@ -2,13 +2,14 @@
 
 # Where the cell gives no configuration for a station on a target ([station.config.<target>]), the controller leaves
 # the choice to the program: UR's qnear (the joints every get_inverse_kin is steered to), KUKA's Status and Turn, ABB's
-# confdata. The candidates are the arm's analytic branches that take every pose of the station: each of the station's
-# joint moves goes to the branch's solution nearest the home (the turn of each axis nearest it), the linear moves
-# continue in it; each passes the reach proof over the correction region (joint limits and the cell's joint margin,
-# the wrist margin, no change of configuration) and the clearance proof of the station's moves at every proven reading
-# (codegen/world/proof.py). The one kept is the largest least clearance; one within TIE_MM of it that lies nearer the
-# home (the posture the controller takes by itself from the home first) is preferred. The choice is written as taught
-# joints (PoseConfig "joints"): each target's program names them in its own form (codegen/robot/config.py FORMS).
+# confdata. The candidates: first the posture the controller takes from the home by itself (each joint pose's solution
+# nearest the home), then each analytic branch that takes every joint pose within the joint limits (its solution
+# nearest the home), nearer the home first; the linear moves continue in it. Each must pass the reach proof over the
+# correction region (joint limits and the cell's joint margin, the wrist margin, no change of configuration) and the
+# clearance proof (codegen/world/proof.py) of the station's moves at the nominal reading, which ranks them; generate
+# then proves the one kept at every proven reading. A candidate replaces the one kept so far only where its least
+# clearance is more than TIE_MM larger. The choice is written as taught joints (PoseConfig "joints"): each target's
+# program names them in its own form (codegen/robot/config.py FORMS), and verify expects them by the same rule.
 
 from __future__ import annotations
 
