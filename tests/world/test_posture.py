@@ -9,7 +9,7 @@ import numpy as np
 from support.cells import EXAMPLES
 from test_generate_clearance import UR5E_FRONT, _elbow_z, _nearest
 
-from codegen.generate import check_envelope, generate
+from codegen.generate import GenerateError, check_clearance, check_envelope, generate
 from codegen.model.cell import load_cell
 from codegen.render import joints_literal
 from codegen.verify.engine import Options, verify_cell
@@ -58,3 +58,33 @@ def test_generate_reports_a_posture_it_chose_and_none_where_the_home_gives_it(tm
     assert "the configuration nearest the home does not clear" in envelope.text()
     (demo,) = check_envelope(load_cell(EXAMPLES["agv_machine_tending"]), ["ur"])
     assert "posture" not in demo.text() and all(s["posture"] == "" for s in demo.as_json()["stations"])
+
+
+def test_the_ur5e_posture_is_the_one_nearest_the_home_of_those_that_clear(tmp_path):
+    """Each solution of the approach (the UR5e's 8 branches, each axis turned nearest the home) named in the cell
+    ([station.config.ur], so nothing is chosen) and proven by generate: of those that clear, all equally (the tool
+    over the bed sets their least clearance), the chosen posture is the one nearest the home."""
+    path = tmp_path / "ur5e_front.toml"
+    path.write_text(UR5E_FRONT.format(home=""), encoding="utf-8")
+    cell = load_cell(path)
+    arm, home = cell.robot.arms["ur"], np.asarray(cell.robot.home["ur"])
+    press = next(iter(cell.sections["station"].stations))
+    solutions = arm.kin.ik(press.poses[0].matrix() @ np.linalg.inv(cell.robot.tool.tcp2flange))
+    clear = {}
+    for q in solutions[~np.isnan(solutions).any(axis=1)]:
+        q = q + 360.0 * np.round((home - q) / 360.0)
+        named = f"[station.config.ur]\napproach = [{', '.join(f'{v:.9f}' for v in q)}]\n"
+        path.write_text(UR5E_FRONT.format(home="") + named, encoding="utf-8")
+        try:
+            least = min(x.found.distance for x in check_clearance(load_cell(path), ["ur"]))
+        except GenerateError:
+            continue
+        clear[float(np.linalg.norm(q - home))] = (q, least)
+    assert len(clear) >= 2
+    leasts = [least for _, least in clear.values()]
+    assert max(leasts) - min(leasts) < 1.0  # equally clear: the nearest the home is kept
+    expected = clear[min(clear)][0]
+    path.write_text(UR5E_FRONT.format(home=""), encoding="utf-8")
+    chosen = load_cell(path)
+    approach = chosen.kinds["station"].scene.paths(chosen, ["ur"])[0].moves[0].joints
+    np.testing.assert_allclose(approach, expected, atol=1e-6)
