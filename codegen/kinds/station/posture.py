@@ -6,8 +6,9 @@
 # nearest the home), then each analytic branch that takes every joint pose within the joint limits (its solution
 # nearest the home), nearer the home first; the linear moves continue in it. Each must pass the reach proof over the
 # correction region (joint limits and the cell's joint margin, the wrist margin, no change of configuration) and the
-# clearance proof (codegen/world/proof.py) of the station's moves at the nominal reading, which ranks them; generate
-# then proves the one kept at every proven reading. A candidate replaces the one kept so far only where its least
+# clearance proof (codegen/world/proof.py) of the station's moves at the nominal reading, which ranks them; one that
+# would replace the nearest-home posture must clear at every other proven reading too, and generate proves the one
+# kept at every proven reading. A candidate replaces the one kept so far only where its least
 # clearance is more than TIE_MM larger. The choice is written as taught joints (PoseConfig "joints"): each target's
 # program names them in its own form (codegen/robot/config.py FORMS), and verify expects them by the same rule.
 
@@ -120,12 +121,13 @@ def _set_by_the_tool(cell, target: str, posture: Posture) -> bool:
 
 def choose(cell, target: str, station, first: Posture, others: list[Posture]) -> Posture | None:
     """Of the postures in order (nearest the home first), the one kept: a posture further on replaces the one kept so
-    far only where it clears by more than TIE_MM more (each is proven against that bar, so one that cannot pass it is
-    given up at its first move below it); None where none clears."""
+    far only where it clears by more than TIE_MM more at the nominal reading (each is proven against that bar, so one
+    that cannot pass it is given up at its first move below it) and clears at every other proven reading; None where
+    none clears."""
     best = first if first.least_mm is not None else None
     for posture in others:
         bar = None if best is None else best.least_mm + TIE_MM
-        tried = evaluate(cell, target, station, posture, bar)
+        tried = evaluate(cell, target, station, posture, bar, every=True)
         if tried.least_mm is not None:
             best = tried
     return best
@@ -161,10 +163,11 @@ def _posture(joint: list, q: np.ndarray, branch: int, home: np.ndarray) -> Postu
     return Posture(config, branch, float(np.linalg.norm(q[0] - home)))
 
 
-def evaluate(cell, target: str, station, posture: Posture, bar: float | None = None) -> Posture:
+def evaluate(cell, target: str, station, posture: Posture, bar: float | None = None, every: bool = False) -> Posture:
     """The posture with its least clearance along the station's moves at the nominal reading, or its refusal (reach
     over the correction region, or clearance: within the cell's clearance, or within bar mm where that is more). The
-    nominal reading ranks the postures; generate then proves the one kept at every proven reading."""
+    nominal reading ranks the postures; every: one that passes its bar there is proven at every other proven reading
+    too (before it replaces the nearest-home one; generate proves the one kept at every reading in any case)."""
     from codegen.world.proof import ClearanceError, prove  # coal: loaded only when proving
 
     tried = with_posture(cell, target, station, posture.config)
@@ -174,7 +177,10 @@ def evaluate(cell, target: str, station, posture: Posture, bar: float | None = N
     except ReachError as exc:
         return replace(posture, refusal=str(exc), reaches=False)
     try:
-        least = prove(tried, station_paths(tried, target, moved)[:1], bar)
+        paths = station_paths(tried, target, moved)
+        least = prove(tried, paths[:1], bar)
+        if every:
+            prove(tried, paths[1:])
     except (ClearanceError, ValueError) as exc:
         return replace(posture, refusal=str(exc))
     nearest = min(least, key=lambda x: x.found.distance)
