@@ -65,16 +65,18 @@ class ClearanceError(ValueError):
     """A planned move that comes within the cell's clearance of a solid (or of the arm itself)."""
 
 
-def prove(cell, paths: list[Path]) -> list[Least]:
-    """Each path's least clearance, or ClearanceError naming the first move within the clearance."""
+def prove(cell, paths: list[Path], at_least: float | None = None) -> list[Least]:
+    """Each path's least clearance, or ClearanceError naming the first move within the clearance (or within at_least
+    mm where that is more: the bar a posture has to clear to be preferred, codegen/kinds/station/posture.py)."""
     limit = clearance_mm(cell)
+    bar = limit if at_least is None else max(at_least, limit)
     out = []
     for path in paths:
-        out.append(_prove(cell, path, limit))
+        out.append(_prove(cell, path, limit, bar))
     return out
 
 
-def _prove(cell, path: Path, limit: float) -> Least:
+def _prove(cell, path: Path, limit: float, bar: float) -> Least:
     scenes: dict = {}
 
     def scene(carrying: bool, stage: str, exempt: frozenset):
@@ -100,8 +102,8 @@ def _prove(cell, path: Path, limit: float) -> Least:
             found = check_path(scene(move.carrying, move.stage, exempt[i] | move.exempt), route, q, limit)
         except Unresolved as exc:
             raise ClearanceError(f"{move.where} ({path.target}): the move's path cannot be followed: {exc}") from None
-        if found.distance < limit:
-            raise ClearanceError(_refusal(cell, path.target, move, found, limit))
+        if found.distance < bar:
+            raise ClearanceError(_refusal(cell, path.target, move, found, bar))
         if best is None or found.distance < best.found.distance:
             best = Least(path.target, move.where, found)
         q = np.asarray(move.joints, dtype=float)
@@ -200,7 +202,7 @@ def _refusal(cell, target: str, move: Move, found: MoveClearance, limit: float) 
     solid = f"the solid {other!r}" if other != FLOOR else "the floor (cell.world.floor_z_mm)"
     if other in {body.name for body in arm_bodies(arm)} | {"tool", "part"}:
         solid = f"the arm's own {other}"
-    fix = _fix(other, solid.startswith("the arm's own"))
+    fix = _fix(other, solid.startswith("the arm's own"), target)
     return (
         f"{move.where} ({target}, {arm.model}): the {found.body} {what} {solid}: {at} it at {found.s:.2f} of the move "
         f"(joints {[round(v, 1) for v in found.joints]} deg), less than the clearance of {limit:g} mm "
@@ -208,12 +210,15 @@ def _refusal(cell, target: str, move: Move, found: MoveClearance, limit: float) 
     )
 
 
-def _fix(other: str, own: bool) -> str:
+def _fix(other: str, own: bool, target: str) -> str:
+    # a station whose configuration the cell does not name has been tried in every one that reaches
+    # (codegen/kinds/station/posture.py): the one named there is the cell's own choice
+    config = f"[station.config.{target}]: where a station names none, each that reaches has been tried"
     if own:
-        return "give the pose another configuration ([station.config] or the program's own), or the arm another home"
+        return f"give the pose another configuration ({config}; or the program's own), or the arm another home"
     if other == FLOOR:
         return "teach the poses of the move higher, a pose between them that leads the arm above, or another home"
     return (
         f"move {other!r} away from the move's path, teach a pose between that leads the arm around it, or give "
-        "the arm another home ([cell.robot.home]) or configuration"
+        f"the arm another home ([cell.robot.home]) or configuration ({config})"
     )

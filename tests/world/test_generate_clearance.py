@@ -13,6 +13,7 @@ from support.cells import EXAMPLES
 from codegen.generate import GenerateError, check_clearance
 from codegen.model.cell import load_cell
 from codegen.poses import xyzabc_from_matrix
+from codegen.render import joints_literal, render
 
 UR_HOME = np.array([180.0, -90.0, 90.0, -90.0, -90.0, 0.0])
 
@@ -106,29 +107,96 @@ bed = {{ box = [300.0, 300.0, 150.0], pose = [550.0, 0.0, 75.0, 0.0, 0.0, 0.0] }
 """
 
 
-def test_a_ur5e_facing_away_from_its_station_is_refused_naming_the_home_and_the_fix(tmp_path):
+def _elbow_z(arm, joints) -> float:
+    """The elbow's height (mm): the origin of the UR's link frame 2, from the forward kinematics."""
+    return float(arm.kin.link_frames(np.asarray(joints, dtype=float)[None])[0][2, 2, 3])
+
+
+def _nearest(solutions: np.ndarray, home) -> np.ndarray:
+    """The solution nearest the home in joints (Euclidean, each axis turned by whole turns towards it: the UR's
+    limits are +-360 deg): the controller's rule for get_inverse_kin(x, qnear=home)."""
+    home = np.asarray(home, dtype=float)
+    turned = solutions + 360.0 * np.round((home - solutions) / 360.0)
+    return turned[np.nanargmin(np.linalg.norm(turned - home, axis=1))]
+
+
+def test_a_ur5e_facing_away_from_its_station_is_generated_elbow_up(tmp_path):
     """A UR5e with its station in front (+x, the work 180 mm high over a press's bed whose top is 150 mm high) and the
-    catalogue's home, which faces -x: the nearest solution there reaches back over the shoulder, the elbow low, and
-    the upper arm comes down to the bed. generate refuses it, naming the home in use and the home turned half a turn
-    about axis 1; with that home the cell generates."""
+    catalogue's home, which faces -x: the solution nearest the home reaches back over the shoulder, the elbow below
+    the work's height, and the upper arm comes within the clearance of the bed. generate keeps the home and works the
+    station elbow up (the branch that clears, nearest the home); the UR program steers get_inverse_kin to it."""
     path = tmp_path / "ur5e_front.toml"
     path.write_text(UR5E_FRONT.format(home=""), encoding="utf-8")
     cell = load_cell(path)
     arm = cell.robot.arms["ur"]
-    work = cell.kinds["station"].scene.paths(cell, ["ur"])[0].moves[1]
-    elbow = arm.kin.link_frames(np.asarray(work.joints)[None])[0][2, 2, 3]
-    assert elbow < 180.0  # the elbow under the work's height: the posture the refusal is about
+    assert list(cell.robot.home["ur"]) == [0.0, -90.0, 90.0, -90.0, -90.0, 0.0]
+    press = next(iter(cell.sections["station"].stations))
+    flange = np.linalg.inv(cell.robot.tool.tcp2flange)
+    work_flange = press.poses[1].matrix() @ flange
+    nearest_home = _nearest(arm.kin.ik(work_flange), cell.robot.home["ur"])
+    assert _elbow_z(arm, nearest_home) < 180.0  # the posture the home alone would give: elbow under the work
+    assert check_clearance(cell, ["ur"])  # generated
+    moves = cell.kinds["station"].scene.paths(cell, ["ur"])[0].moves
+    assert _elbow_z(arm, moves[1].joints) > 180.0 + 200.0  # elbow up, well above the work
+    np.testing.assert_allclose(arm.kin.fk(moves[1].joints), work_flange, atol=1e-6)  # the taught pose itself
+    approach = moves[0].joints
+    script = next(f.text for f in render(cell, ["ur"]) if f.relpath.endswith(".script"))
+    qnear = ", ".join(str(v) for v in joints_literal(approach, "rad"))
+    assert _elbow_z(arm, approach) > 180.0 and f"qnear=[{qnear}])" in script
+
+
+def test_a_ur5e_posture_the_cell_names_is_kept_and_refused_naming_the_home_and_the_fix(tmp_path):
+    """The cell's own configuration is authoritative: naming the elbow-down joints for the work ([station.config]) the
+    cell is refused, naming the bed, the upper arm, the home in use and the home turned half a turn about axis 1."""
+    path = tmp_path / "ur5e_front.toml"
+    path.write_text(UR5E_FRONT.format(home=""), encoding="utf-8")
+    free = load_cell(path)
+    arm = free.robot.arms["ur"]
+    press = next(iter(free.sections["station"].stations))
+    flange = np.linalg.inv(free.robot.tool.tcp2flange)
+    named = []
+    for pose in press.poses:
+        named.append(_nearest(arm.kin.ik(pose.matrix() @ flange), free.robot.home["ur"]))
+    config = "[station.config.ur]\n" + "".join(
+        f"{pose.name} = [{', '.join(f'{v:.6f}' for v in q)}]\n" for pose, q in zip(press.poses, named, strict=True)
+    )
+    path.write_text(UR5E_FRONT.format(home="") + config, encoding="utf-8")
+    cell = load_cell(path)
     with pytest.raises(GenerateError) as caught:
         check_clearance(cell, ["ur"])
     said = str(caught.value)
-    assert "'press: bed'" in said and "the upper_arm" in said
+    assert "'press: bed'" in said and "the upper_arm" in said and "[station.config.ur]" in said
+
+
+BOXED_IN = """[cell.world]
+solids.fence_a = { box = [2000.0, 100.0, 2000.0], pose = [0.0, 450.0, 1000.0, 0.0, 0.0, 0.0] }
+solids.fence_b = { box = [2000.0, 100.0, 2000.0], pose = [0.0, -450.0, 1000.0, 0.0, 0.0, 0.0] }
+solids.roof = { box = [2000.0, 2000.0, 100.0], pose = [0.0, 0.0, 900.0, 0.0, 0.0, 0.0] }
+
+"""
+
+
+def test_a_ur5e_boxed_in_so_that_no_posture_from_its_home_clears_is_refused_naming_the_home_and_the_fix(tmp_path):
+    """The UR5e facing away from its station between two fences (y = +-400 mm) under a roof (850 mm high): from the
+    catalogue's home every posture either keeps the elbow low over the bed or swings the arm half a turn, past a fence
+    or under the roof. generate refuses, naming the home in use and the home turned half a turn about axis 1, from
+    which the station is a short turn away; with that home the cell generates, elbow up."""
+    path = tmp_path / "ur5e_front.toml"
+    path.write_text(UR5E_FRONT.format(home="").replace("[cell.tool]", BOXED_IN + "[cell.tool]"), encoding="utf-8")
+    cell = load_cell(path)
+    with pytest.raises(GenerateError) as caught:
+        check_clearance(cell, ["ur"])
+    said = str(caught.value)
+    assert said.startswith("station 1 'press' pose 'approach' (nominal reading) (ur, UR5e): the ")
     assert "The home [cell.robot.home] ur = [0, -90, 90, -90, -90, 0] puts the arm in this posture" in said
     fix = re.search(r"turned half a turn about axis 1, ur = \[([^\]]*)\], every move clears", said).group(1)
-    path.write_text(UR5E_FRONT.format(home=f"home = {{ ur = [{fix}] }}\n"), encoding="utf-8")
-    turned = load_cell(path)
-    assert check_clearance(turned, ["ur"])
-    moves = turned.kinds["station"].scene.paths(turned, ["ur"])[0].moves
-    assert arm.kin.link_frames(np.asarray(moves[1].joints)[None])[0][2, 2, 3] > 180.0  # elbow up
+    assert fix == "-180, -90, 90, -90, -90, 0"
+    turned = UR5E_FRONT.format(home=f"home = {{ ur = [{fix}] }}\n").replace("[cell.tool]", BOXED_IN + "[cell.tool]")
+    path.write_text(turned, encoding="utf-8")
+    cell = load_cell(path)
+    assert check_clearance(cell, ["ur"])
+    moves = cell.kinds["station"].scene.paths(cell, ["ur"])[0].moves
+    assert _elbow_z(cell.robot.arms["ur"], moves[1].joints) > 180.0 + 200.0
 
 
 @pytest.mark.parametrize("name", ["agv_machine_tending", "belt_pick", "laser_tcp", "testmat_pallet"])

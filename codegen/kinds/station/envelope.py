@@ -26,6 +26,7 @@ class StationMargin:
     wrist_margin_deg: float  # the least distance of the wrist axis from its singular angle (0, +-180)
     step_deg: float  # the largest joint change between neighbouring readings (the sampling's resolution)
     pose: str  # the pose with the least joint margin
+    posture: str = ""  # the posture chosen to clear the cell where it is not the one nearest the home (else "")
 
     @property
     def id_text(self) -> str:
@@ -47,6 +48,8 @@ class TargetEnvelope:
                 f"  station {m.id_text}: {m.joint_margin_deg:.1f} deg to the nearest joint limit (axis "
                 f"{m.joint_axis}, pose {m.pose}), wrist {m.wrist_margin_deg:.1f} deg from its singularity"
             )
+            if m.posture:
+                lines.append(f"    {m.posture}")
         return "\n".join(lines)
 
     def as_json(self) -> dict:
@@ -63,6 +66,7 @@ class TargetEnvelope:
                     "wrist_margin_deg": round(m.wrist_margin_deg, 3),
                     "step_deg": round(m.step_deg, 3),
                     "pose": m.pose,
+                    "posture": m.posture,
                 }
                 for m in self.stations
             ],
@@ -75,6 +79,11 @@ def check_target(cell, target: str) -> TargetEnvelope:
     margins = [_station(cell, target, arm, station) for station in stations_of(cell)]
     samples = len(station_region(cell, target, stations_of(cell)[0]).offsets)
     return TargetEnvelope(target, arm.model, samples, tuple(margins))
+
+
+def station_margin(cell, target: str, station) -> StationMargin:
+    """One station's margins over its correction region on the target's arm, or ReachError naming the pose."""
+    return _station(cell, target, cell.robot.arms[target], station)
 
 
 def _station(cell, target: str, arm, station) -> StationMargin:
@@ -129,7 +138,14 @@ def _station(cell, target: str, arm, station) -> StationMargin:
         wrist_margin_deg=float(singular_distance(wrist_angle(arm, joints)).min()),
         step_deg=step,
         pose=region.taught[m].name,
+        posture=_posture_note(cell, target, station),
     )
+
+
+def _posture_note(cell, target: str, station) -> str:
+    from codegen.kinds.station.posture import posture_note  # the posture is proven through this module's check
+
+    return posture_note(cell, target, station)
 
 
 def _step(grid_joints: np.ndarray, rotations: int, directions: int) -> float:

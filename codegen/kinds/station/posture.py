@@ -1,0 +1,195 @@
+"""The posture each station is worked in where the cell names none: the arm configuration whose moves clear the cell."""
+
+# Where the cell gives no configuration for a station on a target ([station.config.<target>]), the controller leaves
+# the choice to the program: UR's qnear (the joints every get_inverse_kin is steered to), KUKA's Status and Turn, ABB's
+# confdata. The candidates: first the posture the controller takes from the home by itself (each joint pose's solution
+# nearest the home), then each analytic branch that takes every joint pose within the joint limits (its solution
+# nearest the home), nearer the home first; the linear moves continue in it. Each must pass the reach proof over the
+# correction region (joint limits and the cell's joint margin, the wrist margin, no change of configuration) and the
+# clearance proof (codegen/world/proof.py) of the station's moves at the nominal reading, which ranks them; one that
+# would replace the nearest-home posture must clear at every other proven reading too, and generate proves the one
+# kept at every proven reading. A candidate replaces the one kept so far only where its least
+# clearance is more than TIE_MM larger. The choice is written as taught joints (PoseConfig "joints"): each target's
+# program names them in its own form (codegen/robot/config.py FORMS), and verify expects them by the same rule.
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from codegen.kinds.station.envelope import station_margin
+from codegen.kinds.station.mode import mode_of
+from codegen.kinds.station.scene import station_paths
+from codegen.kinds.station.section import stations_of, with_section
+from codegen.model.robot import PoseConfig
+from codegen.robot import solve
+from codegen.robot.cache import per_cell
+from codegen.robot.taught import ReachError
+
+# Two postures whose least clearances differ by less than this are equally clear: the arm's capsules are estimates
+# rounded up by more (docs/clearance.md, Sources), and swinging the arm into another configuration for less is not
+# worth its longer way from the home.
+TIE_MM = 1.0
+
+
+@dataclass(frozen=True)
+class Posture:
+    """A candidate posture of a station on one target: the configuration per joint pose (PoseConfig "joints"), its
+    branch, how far its first joint pose lies from the home (deg, Euclidean) and its least clearance (mm; None: it
+    does not reach or does not clear)."""
+
+    config: dict
+    branch: int
+    travel_deg: float
+    least_mm: float | None = None
+    refusal: str = ""
+    reaches: bool = True  # False: refused by the reach proof
+    nearest: object = None  # the proof's Least: where the least clearance is
+
+
+_CACHE: dict = {}
+
+
+def posture_config(cell, target: str, station) -> dict:
+    """The configuration per pose the station's program takes on the target: the cell's own ([station.config]) where
+    it gives one, else the chosen posture's ({} where none reaches and clears: the nearest-home solutions, which the
+    proofs then refuse with their reasons)."""
+    given = station.config.get(target)
+    if given:
+        return given
+    return _decided(cell, target, station)[0]
+
+
+def posture_note(cell, target: str, station) -> str:
+    """'' where the station is worked in the posture the controller takes from the home by itself (or the cell names
+    it); else what was chosen and why, in the target's own form (generate's report)."""
+    if station.config.get(target):
+        return ""
+    return _decided(cell, target, station)[1]
+
+
+def _decided(cell, target: str, station) -> tuple[dict, str]:
+    return per_cell(_CACHE, cell, (target, station.id), lambda: _chosen(cell, target, station))
+
+
+def _chosen(cell, target: str, station) -> tuple[dict, str]:
+    tried = candidates(cell, target, station)
+    if not tried:
+        return {}, ""
+    natural = evaluate(cell, target, station, tried[0])
+    if not natural.reaches:
+        return {}, ""
+    if natural.least_mm is not None and _set_by_the_tool(cell, target, natural):
+        return natural.config, ""
+    best = choose(cell, target, station, natural, tried[1:])
+    if best is None:
+        return {}, ""
+    if best is natural:
+        return natural.config, ""
+    return best.config, _note(cell, target, natural, best)
+
+
+def _note(cell, target: str, natural: Posture, best: Posture) -> str:
+    from codegen.controllers import get_target
+    from codegen.robot.taught import configuration
+
+    arm = cell.robot.arms[target]
+    form = get_target(target).configuration
+    name, first = next(iter(best.config.items()))
+    value = configuration(form, arm, np.asarray(first.value))
+    shown = ", ".join(f"{v:.6g}" for v in value)
+    why = "does not clear"
+    if natural.least_mm is not None:
+        why = f"keeps {natural.least_mm:.1f} mm (more than {TIE_MM:g} mm less)"
+    return (
+        f"posture chosen to clear the cell: pose {name!r} in configuration [{shown}] ({form}), least clearance "
+        f"{best.least_mm:.1f} mm at the nominal reading; the configuration nearest the home {why}"
+    )
+
+
+def _set_by_the_tool(cell, target: str, posture: Posture) -> bool:
+    """The posture's least clearance is the tool's or the part's from a solid at a pose the program stands at (a
+    move's start or end): the TCP is there in every posture, so no other posture can keep more (the search is
+    skipped)."""
+    from codegen.world.bodies import arm_bodies
+
+    found = posture.nearest.found
+    own = {body.name for body in arm_bodies(cell.robot.arms[target])} | {"tool", "part"}
+    return found.body in ("tool", "part") and found.other not in own and found.s in (0.0, 1.0)
+
+
+def choose(cell, target: str, station, first: Posture, others: list[Posture]) -> Posture | None:
+    """Of the postures in order (nearest the home first), the one kept: a posture further on replaces the one kept so
+    far only where it clears by more than TIE_MM more at the nominal reading (each is proven against that bar, so one
+    that cannot pass it is given up at its first move below it) and clears at every other proven reading; None where
+    none clears."""
+    best = first if first.least_mm is not None else None
+    for posture in others:
+        bar = None if best is None else best.least_mm + TIE_MM
+        tried = evaluate(cell, target, station, posture, bar, every=True)
+        if tried.least_mm is not None:
+            best = tried
+    return best
+
+
+def candidates(cell, target: str, station) -> list[Posture]:
+    """The postures tried, the one the controller takes from the home by itself first (each joint pose's solution
+    nearest the home), then each branch that takes every joint pose within the joint limits (each nearest the home
+    within the branch), nearer the home first; [] where a joint pose has no solution within the limits (the reach
+    proof names it)."""
+    robot = cell.robot
+    arm, home = robot.arms[target], np.asarray(robot.home[target], dtype=float)
+    poses = mode_of(station).arm_poses(cell, station)
+    joint = [(name, tcp) for name, tcp, motion in poses if motion == "joint"]
+    if not joint:
+        return []
+    solutions = solve.branches(arm, solve.flange_poses(np.array([tcp for _, tcp in joint]), robot.tool.tcp2flange))
+    natural, branch = solve.nearest(arm, solutions, np.broadcast_to(home, (len(joint), 6)))
+    if np.isnan(natural).any():
+        return []
+    first = _posture(joint, natural, int(branch[0]), home)
+    others = []
+    for b in range(solutions.shape[1]):
+        q, _ = solve.nearest(arm, solutions[:, b : b + 1], np.broadcast_to(home, (len(joint), 6)))
+        if not np.isnan(q).any() and not np.array_equal(q, natural):
+            others.append(_posture(joint, q, b, home))
+    return [first, *sorted(others, key=lambda p: (p.travel_deg, p.branch))]
+
+
+def _posture(joint: list, q: np.ndarray, branch: int, home: np.ndarray) -> Posture:
+    """The posture taking joints q (one row per joint pose) as PoseConfig "joints"; travel: its first pose's."""
+    config = {name: PoseConfig("joints", tuple(float(v) for v in row)) for (name, _), row in zip(joint, q, strict=True)}
+    return Posture(config, branch, float(np.linalg.norm(q[0] - home)))
+
+
+def evaluate(cell, target: str, station, posture: Posture, bar: float | None = None, every: bool = False) -> Posture:
+    """The posture with its least clearance along the station's moves at the nominal reading, or its refusal (reach
+    over the correction region, or clearance: within the cell's clearance, or within bar mm where that is more). The
+    nominal reading ranks the postures; every: one that passes its bar there is proven at every other proven reading
+    too (before it replaces the nearest-home one; generate proves the one kept at every reading in any case)."""
+    from codegen.world.proof import ClearanceError, prove  # coal: loaded only when proving
+
+    tried = with_posture(cell, target, station, posture.config)
+    moved = next(s for s in stations_of(tried) if s.id == station.id)
+    try:
+        station_margin(tried, target, moved)
+    except ReachError as exc:
+        return replace(posture, refusal=str(exc), reaches=False)
+    try:
+        paths = station_paths(tried, target, moved)
+        least = prove(tried, paths[:1], bar)
+        if every:
+            prove(tried, paths[1:])
+    except (ClearanceError, ValueError) as exc:
+        return replace(posture, refusal=str(exc))
+    nearest = min(least, key=lambda x: x.found.distance)
+    return replace(posture, least_mm=nearest.found.distance, nearest=nearest)
+
+
+def with_posture(cell, target: str, station, config: dict):
+    """The cell with the station's configuration on the target given as config (the other stations as they are)."""
+    changed = tuple(
+        replace(s, config={**s.config, target: config}) if s.id == station.id else s for s in stations_of(cell)
+    )
+    return with_section(cell, stations=changed)
