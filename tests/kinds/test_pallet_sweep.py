@@ -107,7 +107,7 @@ def test_the_carried_slip_sheet_rises_to_the_transit_height_before_it_swings():
 def _with_joints(cell, pallet, moves, target: str):
     """The moves from home with the joints the program moves through (verify's sweep), the arm's fk and the empty
     gripper's width."""
-    from codegen.kinds.pallet.verify import _swept
+    from codegen.kinds.pallet.judge import _swept
 
     return _swept(cell, pallet, target, moves)
 

@@ -43,7 +43,7 @@ PICK_KEY = "Q"  # above Q
 SHEET_KEY = "sheet stack"  # above the slip sheets' stack
 SHEET_ENTRY_KEY = "sheet entry"  # above a slip sheet's place on the pallet
 SAFE_KEY = "safe"  # above the pallet's centre, on the way home after a stop
-SAFE_NAME = "safe above the pallet"  # the way home's move there (codegen/kinds/pallet/verify.py)
+SAFE_NAME = "safe above the pallet"  # the way home's move there (codegen/kinds/pallet/way_home.py)
 
 
 @dataclass(frozen=True)
