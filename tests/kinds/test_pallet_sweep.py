@@ -9,7 +9,8 @@ from dataclasses import replace
 import numpy as np
 
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import PalletCase, expected, safe_pose, sheet_below, start_counters
+from codegen.kinds.pallet.cycle import PalletCase, safe_pose, sheet_below, start_counters
+from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.sweep import sweeps
 from codegen.model.cell import load_cell

@@ -1,5 +1,4 @@
-"""The pallet program's cases: a whole stack from its first item, restarts from counters, full and empty pallets,
-the PLC's reset, the gripper's and the interlocks' failures, stops during a release, the counters' store reloaded."""
+"""The pallet program's cases: a stack from its first item, restarts, resets, failures, stops in a release, reloads."""
 
 from __future__ import annotations
 
@@ -7,9 +6,10 @@ import random
 from dataclasses import dataclass, replace
 
 from codegen.controllers import get_target
-from codegen.kinds.pallet.cycle import NO, YES, PalletCase, done_counters, items, start_counters
+from codegen.kinds.pallet.cycle import PalletCase, done_counters, items, start_counters
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.program import holds_name, known_name
+from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.writer import FORMS_PER_PALLET
 from codegen.verify.plan import Case

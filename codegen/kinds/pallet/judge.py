@@ -1,6 +1,4 @@
-"""A pallet case's run judged against the float64 reference: its moves after the way home, the payload at each,
-the gripper's and the done outputs, the counters and flags in their store, the sweep over the stack, the operator's
-questions and the supply's notifications."""
+"""A pallet case's run judged against the float64 reference: moves, payload, outputs, counters, sweep, questions."""
 
 from __future__ import annotations
 
@@ -12,12 +10,13 @@ from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cases import other_flags
-from codegen.kinds.pallet.cycle import ExpectedMove, expected
+from codegen.kinds.pallet.cycle import ExpectedMove
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import known_question, message_limit, released_question, select_message
 from codegen.kinds.pallet.program import carried_load, holds_name, known_name
 from codegen.kinds.pallet.reach import configurations, joints_of
 from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept
+from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.setup import kept_names, start_joints
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps

@@ -9,7 +9,8 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, expected, safe_pose, start_counters
+from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, safe_pose, start_counters
+from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve

@@ -1,5 +1,4 @@
-"""A pallet case's run set up: the counters and flags preset, the inputs at the start, the simulated gripper, PLC,
-supply and operator, where the arm starts, and where the run leaves the counters."""
+"""A pallet case's run set up: counters and flags preset, inputs, simulated devices, where the arm starts."""
 
 from __future__ import annotations
 
@@ -8,13 +7,14 @@ import numpy as np
 from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.pallet.cases import other_flags
-from codegen.kinds.pallet.cycle import PalletCase, expected
+from codegen.kinds.pallet.cycle import PalletCase
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import message_limit, still_waiting_message
 from codegen.kinds.pallet.program import counter_names, counter_registers, holds_name, known_name
 from codegen.kinds.pallet.reach import configurations, joints_of
 from codegen.kinds.pallet.reload import reload_proof
+from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
 from codegen.model.io import LATE_SHARE, signal_name
