@@ -36,8 +36,8 @@ def full_stack(runs: int) -> None:
     from pathlib import Path
 
     from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
+    from codegen.kinds.pallet.cases import PalletRun
     from codegen.kinds.pallet.cycle import PalletCase
-    from codegen.kinds.pallet.verify import PalletRun
     from codegen.model.cell import load_cell
     from codegen.verify.plan import Case
     from codegen.verify.programs import fresh_sources

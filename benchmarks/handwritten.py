@@ -1,7 +1,7 @@
 """Issue 16's yardstick: a verified case of the demo cell written by hand in Python, without the interpreter.
 
 What a case costs when the program is not interpreted. Per case, as `codegen verify` does:
-  - the reference: verify's accepted traces and the physical check (codegen/kinds/stations/cases.py), unchanged;
+  - the reference: verify's accepted traces and the physical check (codegen/kinds/station/cases.py), unchanged;
   - the program written by hand for a point station (source 000), in float32 scalars as a controller
     computes: the reading's guards (range, shift squared, rotation), the correction D from the reading
     and the station's mark, and every taught pose moved by D; a halt where the guards say so;
@@ -10,7 +10,7 @@ What a case costs when the program is not interpreted. Per case, as `codegen ver
     joint move by its configuration, or the solution nearest where the arm stands; a linear move keeps the
     configuration), written here after codegen/dialects/core/arm.py's rules;
   - the comparison: each move's position and orientation against the reference within the float32
-    tolerances, and the joints against verify's reference rule (codegen/robot/region.py move_joints)
+    tolerances, and the joints against verify's reference rule (codegen/kinds/station/region.py move_joints)
     applied to the same solutions, as verify's arm check does: two statements of the controllers' rules.
 Not included, because a hand-written case has nothing to interpret there: the vision handshake (its
 polling), the gripper's signals and feedback, the move settings and the log line's text. The interpreter

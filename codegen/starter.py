@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import tomllib
+from collections.abc import Iterator
 from pathlib import Path
 
 from codegen.model.cell import EXAMPLES_DIR
@@ -72,30 +73,16 @@ def _without(line: str, dropped: set[str]) -> str | None:
 
 
 def _closing(line: str, start: int) -> int:
-    depth, quoted = 0, False
-    for i in range(start, len(line)):
-        c = line[i]
-        if c == '"':
-            quoted = not quoted
-        elif not quoted and c in "{[":
-            depth += 1
-        elif not quoted and c in "}]":
-            depth -= 1
-            if depth == 0:
-                return i
+    for i, c, depth, quoted in _scan(line, start):
+        if not quoted and c in "}]" and depth == 0:
+            return i
     raise StarterError(f"an inline table not closed on its line: {line.strip()}")
 
 
 def _items(body: str) -> list[str]:
     """An inline table's items, split at the commas outside brackets and strings."""
-    items, depth, quoted, current = [], 0, False, ""
-    for c in body:
-        if c == '"':
-            quoted = not quoted
-        elif not quoted and c in "[{":
-            depth += 1
-        elif not quoted and c in "]}":
-            depth -= 1
+    items, current = [], ""
+    for _i, c, depth, quoted in _scan(body):
         if c == "," and depth == 0 and not quoted:
             items.append(current)
             current = ""
@@ -104,3 +91,18 @@ def _items(body: str) -> list[str]:
     if current.strip():
         items.append(current)
     return items
+
+
+def _scan(text: str, start: int = 0) -> Iterator[tuple[int, str, int, bool]]:
+    """Each character from start with the bracket depth and whether it is in a string, once it is read: (index,
+    character, depth, quoted)."""
+    depth, quoted = 0, False
+    for i in range(start, len(text)):
+        c = text[i]
+        if c == '"':
+            quoted = not quoted
+        elif not quoted and c in "{[":
+            depth += 1
+        elif not quoted and c in "}]":
+            depth -= 1
+        yield i, c, depth, quoted

@@ -6,7 +6,8 @@ import re
 
 import pytest
 
-from codegen.dialects.core.machine import Machine, Program, Trace
+from codegen.dialects.core.machine import Machine, Trace
+from codegen.dialects.core.program import Program
 from codegen.dialects.core.values import RunError, StepLimitError
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -12,7 +11,12 @@ from codegen.model.loader import Loader, build
 from codegen.model.schema import Key, Table
 
 SIGNAL_PATTERN = r"[A-Za-z][A-Za-z0-9_]{0,31}"  # a configured I/O signal's name (RAPID: EIO)
-SIGNAL_NAME = re.compile(SIGNAL_PATTERN)
+NAMED = "a signal name (a letter, then letters, digits or _; 32 at most)"
+# a target of the cell whose programs cannot set or read a signal must not get a program without it
+NO_SIGNALS = (
+    "{target} programs have no digital I/O instructions (targets/{target}.toml): take {target} out of cell.targets or "
+    "the signal out of the cell"
+)
 TIMEOUT_S = 2.0
 POLL_S = 0.05  # how often a program looks at the feedback while it waits (as the vision handshake)
 # A number on a group of digital inputs (a PLC's part queue): 16 bits wide, x and z in 0.1 mm offset by 32768 so
@@ -27,8 +31,10 @@ def signal_key(target: str, doc: str) -> Key:
     facts = get_target(target).program["signals"]
     if facts["form"] == "index":
         low, high = facts["range"]
-        return Key("integer", doc, low=low, high=high, controllers=target)
-    return Key("string", doc, pattern=SIGNAL_PATTERN, controllers=target)
+        return Key(
+            "integer", doc, low=low, high=high, controllers=target, expected=f"a {target} signal number {low}..{high}"
+        )
+    return Key("string", doc, pattern=SIGNAL_PATTERN, controllers=target, expected=NAMED)
 
 
 def signal_targets() -> tuple[str, ...]:
@@ -45,6 +51,8 @@ def signals(doc: str, required: bool = False) -> Key:
         names=signal_targets(),
         per_name={t: signal_key(t, f"the signal on {t}") for t in signal_targets()},
         controllers=", ".join(signal_targets()),
+        per_target=True,
+        lacking=NO_SIGNALS,
     )
 
 
@@ -83,56 +91,11 @@ class SignalSettings:
 
 
 def parse_settings(ctx, cell_table: dict, targets) -> SignalSettings | None:
-    """[cell.io] of a cell file (optional), read by its declaration (io_table); every target of the cell names its
+    """[cell.io] of a cell file (optional), read by its declaration (io_table): every target of the cell names its
     output, and its feedback when any does. Errors name the key."""
     if "io" not in cell_table:
         return None
-    definition = io_table()
-    readers = {key: signal_reader(ctx, targets, definition[key].required) for key in ("output", "feedback")}
-    return build(SignalSettings, Loader(ctx).table(definition, cell_table["io"], "cell.io", readers=readers))
-
-
-def per_target(ctx, table: dict, key: str, targets, required: bool, prefix: str = "cell.io") -> dict:
-    """A signal per target of the cell (table[key][target]), checked against the target's signal facts."""
-
-    if key not in table:
-        if required:
-            ctx.fail(f"{prefix}.{key}", "required: the signal per target of the cell (its number or name there)")
-        return {}
-    raw = ctx.table(table, key, f"{prefix}.{key}")
-    out = {}
-    for target in targets:
-        path = f"{prefix}.{key}.{target}"
-        facts = get_target(target).program.get("signals")
-        if facts is None:  # a program that cannot set the signal must not be made without it
-            ctx.fail(
-                prefix,
-                f"{target} programs have no digital I/O instructions (targets/{target}.toml): "
-                f"take {target} out of cell.targets or the signal out of the cell",
-            )
-        if target not in raw:
-            ctx.fail(path, "missing: every target of the cell names the signal")
-        value = raw[target]
-        if facts["form"] == "index":
-            low, high = facts["range"]
-            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-                ctx.fail(path, f"expected a {target} signal number {low}..{high}, got {value!r}")
-        elif not isinstance(value, str) or not SIGNAL_NAME.fullmatch(value):
-            ctx.fail(path, f"expected a signal name (a letter, then letters, digits or _; 32 at most), got {value!r}")
-        out[target] = value
-    ctx.no_unknown(raw, set(targets), f"{prefix}.{key}")
-    return out
-
-
-def signal_reader(ctx, targets, required: bool):
-    """A signal per target of the cell as the generic loader reads a key (codegen.model.loader.Reader): the key's
-    raw value (None: absent) and its path -> per_target's dict."""
-
-    def read(raw, path: str) -> dict:
-        prefix, key = path.rsplit(".", 1)
-        return per_target(ctx, {} if raw is None else {key: raw}, key, targets, required, prefix=prefix)
-
-    return read
+    return build(SignalSettings, Loader(ctx, targets=tuple(targets)).table(io_table(), cell_table["io"], "cell.io"))
 
 
 def signal_name(target, kind: str, value) -> str:

@@ -33,9 +33,10 @@ class Loader:
     """Reads tables of a cell file by their declarations (codegen.model.schema): the types, ranges, allowed values,
     defaults, required and unknown keys; every error a CellError naming the key path (through the Validator)."""
 
-    def __init__(self, ctx: Validator, pose_format: str = "xyzabc") -> None:
+    def __init__(self, ctx: Validator, pose_format: str = "xyzabc", targets: tuple[str, ...] = ()) -> None:
         self.ctx = ctx
         self.pose_format = pose_format
+        self.targets = tuple(targets)  # the cell's targets: the entries of a per_target map
 
     def table(self, table: Table, raw, path: str, readers: Mapping[str, Reader] | None = None) -> dict[str, Any]:
         """A table's values by key name: each key read by its declaration (or by its reader), an absent one
@@ -54,7 +55,7 @@ class Loader:
             elif key.required:
                 self.ctx.fail(where, f"missing: {key.doc}{_from(key.values, ': ')}")
             else:
-                out[name] = key.default
+                out[name] = {} if key.per_target else key.default
         return out
 
     def value(self, key: Key, raw, path: str, name: str | None = None):
@@ -64,6 +65,8 @@ class Loader:
             return self._either(key, raw, path, name)
         if key.type == "pose":
             return self.ctx.pose(path.rsplit(".", 1)[-1] if name is None else name, raw, path, self.pose_format)
+        if key.expected and not _fits(key, raw):
+            self.ctx.fail(path, f"expected {key.expected}, got {kind_of(raw)}")
         if not _has_shape(raw, key.type):
             wanted = "must be true or false" if key.type == "boolean" else f"expected {_expected(key)}"
             if key.choices:  # the values allowed say more than their type (a whole number's decimal point as much)
@@ -130,6 +133,8 @@ class Loader:
         return tuple(self.table(key.table, t, f"{path}[{i}]") for i, t in enumerate(raw))
 
     def _map(self, key: Key, raw: dict, path: str) -> dict[str, Any]:
+        if key.per_target:
+            return self._per_target(key, raw, path)
         if key.names is not None:
             self.ctx.no_unknown(raw, set(key.names), path)
         if key.non_empty and not raw:
@@ -138,6 +143,22 @@ class Loader:
         for name, value in raw.items():
             sub = key.per_name.get(name, key.values)
             out[name] = value if sub is None else self.value(sub, value, f"{path}.{name}", name)
+        return out
+
+    def _per_target(self, key: Key, raw: dict, path: str) -> dict[str, Any]:
+        """An entry for each of the cell's targets with its own key (per_name), checked by it; a target without one
+        refused (key.lacking) or passed over; no other entry."""
+        out = {}
+        for target in self.targets:
+            sub = key.per_name.get(target)
+            if sub is None:
+                if key.lacking:
+                    self.ctx.fail(path, key.lacking.format(target=target))
+                continue
+            if target not in raw:
+                self.ctx.fail(f"{path}.{target}", f"missing: {sub.doc} (every target of the cell names it)")
+            out[target] = self.value(sub, raw[target], f"{path}.{target}", target)
+        self.ctx.no_unknown(raw, set(out), path)
         return out
 
     def _either(self, key: Key, raw, path: str, name: str | None):
@@ -151,13 +172,15 @@ class Loader:
             self.ctx.fail(path, f"expected one of {_listed(key.choices)} ({key.doc}), got {value!r}")
 
 
-def build(cls: type, values: Mapping[str, Any], flatten: Mapping[str, str] | None = None, **more):
-    """A frozen dataclass by keyword from a table's values: a nested table named in `flatten` gives its keys with
-    the prefix (slip_sheet -> slip_: every -> slip_every); a value None leaves the field's default."""
+def build(cls: type, values: Mapping[str, Any], table: Table | None = None, **more):
+    """A frozen dataclass by keyword from a table's values: a nested table its declaration flattens (Key.flatten)
+    gives its keys with the prefix (slip_sheet -> slip_: every -> slip_every); a value None leaves the field's
+    default."""
     kwargs: dict[str, Any] = {}
     for name, value in values.items():
-        if flatten is not None and name in flatten:
-            kwargs.update({flatten[name] + k: v for k, v in (value or {}).items() if v is not None})
+        prefix = None if table is None else table[name].flatten
+        if prefix is not None:
+            kwargs.update({prefix + k: v for k, v in (value or {}).items() if v is not None})
         elif value is not None:
             kwargs[name] = value
     kwargs.update(more)
@@ -166,6 +189,15 @@ def build(cls: type, values: Mapping[str, Any], flatten: Mapping[str, str] | Non
     if unknown:  # a key declared without its field: the declaration and the dataclass disagree
         raise TypeError(f"{cls.__name__} has no field for {', '.join(unknown)}")
     return cls(**kwargs)
+
+
+def _fits(key: Key, raw) -> bool:
+    """Whether a value has the key's type and lies in its range, matches its pattern and choices."""
+    if not _has_shape(raw, key.type) or (key.choices and raw not in key.choices):
+        return False
+    if key.type in ("integer", "number"):
+        return key.contains(raw)
+    return key.type != "string" or not key.pattern or re.fullmatch(key.pattern, raw) is not None
 
 
 def _has_shape(raw, type_name: str) -> bool:

@@ -40,6 +40,14 @@ class Key:
     pattern: str = ""  # a string: the whole of it matches this regular expression
     unique: bool = False  # a list: no value twice
     non_empty: bool = False  # a string with more than spaces, a list or table with at least one entry
+    # a map with one entry for each of the cell's targets (the loader's) that has its key in per_name, each required;
+    # lacking: the refusal of a cell target without one ({target}; "": it has no entry), absent: no entries
+    per_target: bool = False
+    lacking: str = ""
+    expected: str = ""  # what a value that does not fit is refused as: "expected <this>, got <the value>"
+    # a table whose keys are fields of the dataclass built from its parent (codegen.model.loader.build), named with
+    # this prefix (slip_sheet -> "slip_": its every -> slip_every); None: the table is one field
+    flatten: str | None = None
 
     @property
     def bounds(self) -> tuple[float | None, float | None]:

@@ -68,12 +68,6 @@ class Plant:
             return str(cell)
 
 
-def is_plant(path: str | Path) -> bool:
-    """A folder, or a codegen.toml: what the commands read as a plant rather than one cell."""
-    path = Path(path)
-    return path.is_dir() or path.name == PLANT_FILE
-
-
 def load_plant(path: str | Path) -> Plant:
     """The plant at `path` (a folder, with or without a codegen.toml, or the codegen.toml itself)."""
     path = Path(path)

@@ -7,12 +7,12 @@ import re
 import tomllib
 from pathlib import Path
 
+from codegen.dialects.core.files import FRESH
 from codegen.model.lines import key_lines
 from codegen.reports.cell_lines import entry_of, key_under
 from codegen.reports.findings import CellResult, Finding, Location, TestCase
 from codegen.reports.rules import EDIT, verify_rule
 
-FRESH = "<fresh>/"  # verify's name of a program rendered from the cell (verify.programs.fresh_sources)
 LINE = re.compile(r"\bline (\d+)\)")  # "move 3 (chuck, line 216)", "output X (line 40)": the checks' own words
 MOVE = re.compile(r"\bmove \d+ \(([^,()]+), line \d+\)")
 EDITED = re.compile(r"^EDIT (?P<file>[^:]+):(?P<line>\d+) (?P<what>changed|added): (?P<text>.*)$")

@@ -8,12 +8,10 @@ from pathlib import Path
 
 from codegen.controllers import get_target, target_of_suffix
 from codegen.dialects import dialect_of_suffix, get_dialect
-from codegen.dialects.core.files import SourceFile, read_source
+from codegen.dialects.core.files import FRESH, SourceFile, read_source
 from codegen.dialects.core.values import RunError
 from codegen.output import mixed_set, stamp_of
 from codegen.render import cell_dir, plans, render_plan
-
-FRESH = "<fresh>/"  # the name prefix of a program rendered from the cell rather than read from a file
 
 
 class ProgramFilesError(ValueError):

@@ -5,7 +5,8 @@ from __future__ import annotations
 import gc
 import time
 
-from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT, frozen_heap
+from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
+from codegen.dialects.core.program import frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.verify import clearance
 from codegen.verify.checks import Checker

@@ -1,4 +1,4 @@
-"""`codegen calibrate conveyor` against a simulated belt (tests/belt_sim.py) with known scale, frame and counter."""
+"""`codegen calibrate conveyor` against a simulated belt (tests/support/belt_sim.py) of known scale, frame, counter."""
 
 import json
 import math

@@ -357,7 +357,7 @@ def test_an_abb_task_with_a_station_program_and_pallets_is_refused(tmp_path):
 def test_the_printed_box_position_is_the_pose_product():
     """The level-pallet position the dtrans program computes is printed from the derivation; evaluated in
     float64 (the cached block) for every box of the EUR example's turned pallet it equals pallet2base @
-    target of the numpy stack (codegen/pallet/stack.py)."""
+    target of the numpy stack (codegen/kinds/pallet/stack.py)."""
     cell = load_cell(EXAMPLES / "eur_pallet.toml")
     pallet = cell.sections["pallet"][1]  # turned 90 deg about the base's z
     frame = frame_matrix(pallet)

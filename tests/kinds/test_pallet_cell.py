@@ -12,10 +12,12 @@ from test_pallet_programs import mutant_mismatches
 from codegen.controllers import get_target
 from codegen.dialects.core.files import SourceFile
 from codegen.dialects.rapid import Rapid
-from codegen.kinds.pallet import verify as pallet_verify
+from codegen.kinds.pallet.cases import PalletRun
 from codegen.kinds.pallet.cycle import PalletCase
+from codegen.kinds.pallet.judge import judge
 from codegen.kinds.pallet.messages import all_messages, counters_message
 from codegen.kinds.pallet.report import cycle_estimate
+from codegen.kinds.pallet.setup import setup as pallet_setup
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.verify.plan import Case
@@ -289,9 +291,9 @@ def test_a_dtrans_reload_clears_the_counters_and_the_program_stops(testmat):
     """The dtrans dialect keeps nothing across a reload (its globals are declared without a value): the reload case
     expects the stop at the counter check, before any move."""
     source = sources(testmat, "dtrans", "pallet")[0]
-    case = Case("counters_reloaded", pallet_verify.PalletRun(0, PalletCase("counters_reloaded", 2, 3)))
-    assert pallet_verify.setup(testmat, source, case).inputs == {}
-    (expectation,) = pallet_verify.judge(testmat, source, case, None).accepted
+    case = Case("counters_reloaded", PalletRun(0, PalletCase("counters_reloaded", 2, 3)))
+    assert pallet_setup(testmat, source, case).inputs == {}
+    (expectation,) = judge(testmat, source, case, None).accepted
     assert expectation.halt == counters_message(testmat.sections["pallet"][0], 80) and expectation.moves == ()
 
 

@@ -9,7 +9,8 @@ from dataclasses import replace
 import numpy as np
 
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import PalletCase, expected, safe_pose, sheet_below, start_counters
+from codegen.kinds.pallet.cycle import PalletCase, safe_pose, sheet_below, start_counters
+from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.sweep import sweeps
 from codegen.model.cell import load_cell
@@ -107,7 +108,7 @@ def test_the_carried_slip_sheet_rises_to_the_transit_height_before_it_swings():
 def _with_joints(cell, pallet, moves, target: str):
     """The moves from home with the joints the program moves through (verify's sweep), the arm's fk and the empty
     gripper's width."""
-    from codegen.kinds.pallet.verify import _swept
+    from codegen.kinds.pallet.judge import _swept
 
     return _swept(cell, pallet, target, moves)
 

@@ -39,7 +39,7 @@ def _demo_dict() -> dict:
         ("io", {"output": {"ur": 9, "kuka": 17, "abb": "doX", "dtrans": 1}}, r"io\.output\.ur: expected a ur signal"),
         ("io", {"output": {"ur": 0, "kuka": 17, "dtrans": 1}}, r"cell\.io\.output\.abb: missing"),
         ("io", {"output": {"ur": 0, "kuka": 17, "abb": "do X", "dtrans": 1}}, r"io\.output\.abb: expected a signal"),
-        ("io", {"feedback": {"ur": 0}}, r"cell\.io\.output: required"),
+        ("io", {"feedback": {"ur": 0}}, r"cell\.io\.output: missing: the output the program sets at the work pose"),
     ],
 )
 def test_a_bad_section_names_its_key(table, values, message):

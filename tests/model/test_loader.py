@@ -35,7 +35,12 @@ DEMO = Table(
             ),
         ),
         "per": Key("map", "a number per side", names=("left", "right"), values=Key("integer", "n", low=0, high=9)),
-        "inner": Key("table", "a table in it", table=Table("inner", {"depth": Key("number", "d", required=True)})),
+        "inner": Key(
+            "table",
+            "a table in it",
+            table=Table("inner", {"depth": Key("number", "d", required=True)}),
+            flatten="inner_",
+        ),
     },
 )
 
@@ -65,7 +70,7 @@ def _error(raw: dict) -> str:
 
 
 def test_absent_keys_take_their_declared_defaults_and_the_dataclass_is_built_by_keyword():
-    thing = build(Thing, _read({"name": "a", "inner": {"depth": 4}}), flatten={"inner": "inner_"})
+    thing = build(Thing, _read({"name": "a", "inner": {"depth": 4}}), DEMO)
     assert thing == Thing("a", 2.5, 1, "left", False, (0.0, 0.0), None, 0.0, None, 4.0)
 
 
@@ -140,8 +145,58 @@ def test_the_json_schema_of_a_declaration_refuses_what_the_loader_refuses():
 
 
 def test_a_declared_key_without_its_field_is_a_programming_error():
+    """Built without the declaration, the nested table is one value, which Thing has no field for."""
     with pytest.raises(TypeError, match="Thing has no field for inner"):
         build(Thing, _read({"name": "a", "inner": {"depth": 1}}))
+
+
+# A value per target of the cell: targets a and b have their own keys (a numbers its signals, b names them), c none
+PER_TARGET = Table(
+    "Signals per target.",
+    {
+        "signal": Key(
+            "map",
+            "a signal per target",
+            per_name={
+                "a": Key("integer", "the signal on a", low=1, high=8, expected="an a signal number 1..8"),
+                "b": Key("string", "the signal on b", pattern="[a-z]+", expected="a name in small letters"),
+            },
+            per_target=True,
+            lacking="{target} has no signals: take it out",
+        ),
+        "picked": Key("map", "where some have one", per_name={"a": Key("integer", "on a")}, per_target=True),
+    },
+)
+
+
+def _per_target(raw: dict, targets: tuple[str, ...]) -> dict:
+    return Loader(CellValidator("cell.toml"), targets=targets).table(PER_TARGET, raw, "io")
+
+
+def test_a_per_target_map_has_an_entry_for_each_target_of_the_cell_checked_by_its_own_key():
+    values = _per_target({"signal": {"a": 3, "b": "grip"}, "picked": {"a": 2}}, ("a", "b"))
+    assert values == {"signal": {"a": 3, "b": "grip"}, "picked": {"a": 2}}
+    assert _per_target({}, ("a", "b")) == {"signal": {}, "picked": {}}  # absent: no entries
+    assert _per_target({"signal": {"b": "x"}}, ("b",))["signal"] == {"b": "x"}  # a target not in the cell: none
+
+
+@pytest.mark.parametrize(
+    ("raw", "targets", "says"),
+    [
+        ({"signal": {"a": 3}}, ("a", "b"), "io.signal.b: missing: the signal on b (every target of the cell names it)"),
+        ({"signal": {"a": 9, "b": "x"}}, ("a", "b"), "io.signal.a: expected an a signal number 1..8, got the number 9"),
+        ({"signal": {"a": True}}, ("a",), "io.signal.a: expected an a signal number 1..8, got a boolean"),
+        ({"signal": {"b": "Grip"}}, ("b",), "io.signal.b: expected a name in small letters, got the string 'Grip'"),
+        ({"signal": {"a": 1, "b": "x"}}, ("a",), "io.signal.b: unknown key; allowed: a"),
+        ({"signal": {"a": 1}}, ("a", "c"), "io.signal: c has no signals: take it out"),
+        ({"signal": 5}, ("a",), "io.signal: expected a table, got the number 5"),
+        ({"picked": {"a": 1, "c": 2}}, ("a", "c"), "io.picked.c: unknown key; allowed: a"),  # c has none: passed over
+    ],
+)
+def test_a_per_target_map_refuses_with_the_key_path(raw, targets, says):
+    with pytest.raises(CellError) as info:
+        _per_target(raw, targets)
+    assert says in str(info.value)
 
 
 def _edited(tmp_path, example: str, old: str, new: str):

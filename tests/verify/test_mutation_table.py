@@ -138,7 +138,7 @@ def test_verify_fails_the_edit(checked_in, cell_name, kind, target):
     assert report.mismatches > 0, f"verify missed {kind} in {cell_name}'s {target} program"
 
 
-# The vision handshake (codegen/vision.py) on the thermometer bench: the order of request, wait and
+# The vision handshake (codegen/model/vision.py) on the thermometer bench: the order of request, wait and
 # read, the new request number, the timeout and (KRL) the wait for the arm before the request.
 HANDSHAKE = {
     "reading_taken_before_the_photo": {

@@ -1,7 +1,7 @@
 """Every configuration a bundled pallet program (and the demo's station program) names in full holds a margin away
 from its boundaries: no Turn bit or quadrant there is decided by rounding (the controller computes the same field).
 A station pose may still name one at a boundary where the controller's own rule without it would turn an axis one
-way for some readings and the other way for others (codegen/kinds/stations/region.py): the thermometer bench's
+way for some readings and the other way for others (codegen/kinds/station/region.py): the thermometer bench's
 bath photo, which is therefore not among these cells."""
 
 from __future__ import annotations

@@ -10,6 +10,7 @@ from codegen.dialects.core.values import RunError
 from codegen.readfile import ReadError, read_regular
 
 UTF8_BOM = b"\xef\xbb\xbf"
+FRESH = "<fresh>/"  # the name prefix of a program file rendered from the cell rather than read from disk
 SEVERITIES = ("error", "unsupported", "warning")  # a finding's weight: check's exit 2 for the first two, 1 else
 
 

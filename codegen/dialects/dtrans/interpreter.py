@@ -11,8 +11,9 @@ from lark import Tree
 from codegen.dialects import posemath
 from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.limits import array_size_problem
-from codegen.dialects.core.machine import MoveEvent, Program
+from codegen.dialects.core.machine import MoveEvent
 from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.program import Program
 from codegen.dialects.core.source import Inline
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed, format_general
 

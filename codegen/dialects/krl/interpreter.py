@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from codegen.dialects.core.files import read_source
-from codegen.dialects.core.machine import Program
+from codegen.dialects.core.program import Program
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.modules import load, load_files, programs
 from codegen.dialects.krl.syntax import parse

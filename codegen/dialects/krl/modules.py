@@ -11,7 +11,7 @@ from pathlib import Path
 from lark import Token, Tree
 
 from codegen.dialects.core.files import SourceFile, read_source
-from codegen.dialects.core.machine import Program
+from codegen.dialects.core.program import Program
 from codegen.dialects.core.shapes import ShapeCache
 from codegen.dialects.core.values import RunError
 from codegen.dialects.krl.compiler import KRLCompiler

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from codegen.dialects.core.files import SourceFile
-from codegen.dialects.core.machine import Program
+from codegen.dialects.core.program import Program
 from codegen.dialects.rapid.compiler import RAPIDCompiler, parse
 from codegen.dialects.rapid.task import load_task
 

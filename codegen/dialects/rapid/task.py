@@ -7,7 +7,7 @@ import re
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
-from codegen.dialects.core.machine import Program
+from codegen.dialects.core.program import Program
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import signals
 from codegen.dialects.rapid.compiler import RAPIDCompiler, Skip, parse

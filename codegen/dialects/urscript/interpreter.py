@@ -28,8 +28,9 @@ import re
 from lark import Token, Tree
 
 from codegen.dialects.core.compiler import Compiler
-from codegen.dialects.core.machine import Program, halt
+from codegen.dialects.core.machine import halt
 from codegen.dialects.core.parsing import parse_with_grammar
+from codegen.dialects.core.program import Program
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import MISSING, RunError, f32
 from codegen.dialects.urscript import arrays, circle, conveyor, environment, io, motion, pendant, threads, urmath

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.keys import PICK
 from codegen.kinds.conveyor.kind import KIND
-from codegen.model.io import GROUP_BITS, OFFSET, SCALE, per_target
+from codegen.model.io import GROUP_BITS, OFFSET, SCALE
 from codegen.model.loader import Loader, build
 
 # x and z on a 16-bit group of inputs (codegen.model.io): 0.1 mm steps around OFFSET
@@ -135,8 +135,9 @@ def parse_pick(ctx, loader: Loader, table, targets) -> Pick:
         values[key] = _seconds(ctx, values[key], f"{path}.{key}")
     if values["min_gap_mm"] > window[1] - window[0]:
         ctx.fail(f"{path}.min_gap_mm", f"must be in [0, {window[1] - window[0]:g}] mm (the window's width)")
-    values["place_clear"] = per_target(ctx, table, "place_clear", list(tracking), required=False, prefix=path)
-    values["zone_output"] = per_target(ctx, table, "zone_output", list(tracking), required=False, prefix=path)
+    tracked = Loader(ctx, loader.pose_format, tuple(tracking))  # a signal per tracking target
+    for key in ("place_clear", "zone_output"):
+        values[key] = tracked.value(PICK[key], values[key], f"{path}.{key}") if values[key] is not None else {}
     natives = [t for t, mode in tracking.items() if mode == "native"]
     values["unit"] = _named(
         ctx, values["unit"] or {}, "unit", [t for t in natives if KIND.facts(get_target(t)).get("unit")], path

@@ -10,7 +10,6 @@ from codegen.dialects import get_dialect
 from codegen.kinds.laser.keys import LASER
 from codegen.kinds.laser.kind import KIND
 from codegen.model.cell import TaughtPose
-from codegen.model.io import signal_reader
 from codegen.model.loader import Loader, build
 
 DEPTH_STEP_MIN_MM = 2.0
@@ -50,8 +49,7 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
     """[laser]: its keys as declared (keys.py), then the rules between them and the cell's targets."""
     if "laser" not in data:
         return None
-    readers = {key: signal_reader(ctx, targets, True) for key in ("beam_x", "beam_y")}
-    values = Loader(ctx, pose_format).table(LASER, data["laser"], "laser", readers=readers)
+    values = Loader(ctx, pose_format, tuple(targets)).table(LASER, data["laser"], "laser")
     radius, circle, offset = values["pin_radius_mm"], values["circle_mm"], values["offset_max_mm"]
     clearance, depths = values["clearance_mm"], values["depths_mm"]
     if not depths[0] < depths[1]:

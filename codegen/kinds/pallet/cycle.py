@@ -1,5 +1,4 @@
-"""The float64 reference of a pallet program: from its counters, every move, gripper output, payload and stop to the
-full (empty) pallet, with the interlocks it waits for and the slip sheets it places."""
+"""The float64 reference of a pallet program's cycle: from the counters each move, output and stop to the end."""
 
 from __future__ import annotations
 
@@ -11,15 +10,8 @@ from codegen.guard import NO_FEEDBACK, NOT_RELEASED, halt_message
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.messages import (
-    counters_message,
-    empty_message,
-    foreign_message,
-    full_message,
-    known_message,
     lost_message,
     message_limit,
-    released_message,
-    reset_held_message,
     still_waiting_message,
     wait_message,
 )
@@ -27,22 +19,22 @@ from codegen.kinds.pallet.section import Pallet
 from codegen.kinds.pallet.stack import Placement, layer_top, placements
 from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
 
-YES, NO = "Yes", "No"  # the operator's answers to the question after a stop during a release (softkeys 1 and 2)
-
 __all__ = [
     "Expected",
     "ExpectedMove",
     "Item",
     "PalletCase",
+    "Run",
     "above_pick",
-    "expected",
     "items",
     "layer_counts",
     "risen",
     "safe_pose",
+    "stacking",
     "start_counters",
     "transit_dz",
     "transit_pose",
+    "unstacking",
 ]
 
 
@@ -202,7 +194,7 @@ def _lifted(pose: np.ndarray, mm: float) -> np.ndarray:
     return out
 
 
-class _Run:
+class Run:
     """The reference's record of one run: moves, gripper outputs, where it stops and the counters."""
 
     def __init__(self, cell, pallet: Pallet, case: PalletCase, counters: tuple[int, int]) -> None:
@@ -268,109 +260,7 @@ class _Run:
         return replace(out, gripped=self.gripped)
 
 
-def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
-    """What the pallet's program does in this case: the done output set from the counters, the checks before any
-    move (a full or empty pallet, reset by the PLC through the handshake or not; counters outside the stack), then
-    each item from the counters, and the done output on once the pallet is done. A box held at the start (a cycle
-    stopped on the way) is finished: stacking, it is the item the counters name (they move only after a confirmed
-    release), carried from home onto its place; unstacking, it left the pallet (the counters moved at the grip), and
-    is put down at Q first, even when it was the last box."""
-    start, done = (case.layer, case.box), done_counters(pallet)
-    limit = message_limit(cell)
-    keys = [item.key for item in items(pallet)]
-    put_down = case.closed and pallet.mode == "unstack"
-    if case.closed and case.foreign:  # not this program's item: it stops before anything else
-        return Expected((), (), foreign_message(pallet, limit), start, start)
-    # a held item: the gripper's output set to grip again first (a stop, or a release that did not finish, may have
-    # left it off while the item is still in the gripper)
-    said = [("gripper", cell.io.value, 0)] if case.closed else []
-    known_asked = False
-    if case.unknown:  # the counters are the store's file's: no item before the pallet is known to be new
-        if case.reset and pallet.io.reset:  # the PLC's handshake says so: the done output off, the reset dropped
-            said.append(("done", False, 0))
-            if case.reset_held:
-                message = reset_held_message(pallet, limit)
-                return Expected((), tuple(said), message, start, start, holds=case.closed, known=False)
-        else:  # the operator asked (a store with the flag is a target's that asks): Yes, a new pallet; No, or none
-            known_asked = True
-            if case.answer != YES:
-                out = Expected((), tuple(said), known_message(pallet, limit), start, start, holds=case.closed)
-                return replace(out, known=False, known_asked=known_asked)
-        start = keys[0]
-    asked = False
-    if pallet.mode == "unstack" and start[0] < 0:  # a stop between the grip and Q (the counters marked)
-        start = (-start[0], start[1])
-        if start in keys:
-            following = keys.index(start) + 1
-            after = keys[following] if following < len(keys) else done
-            if case.closed:  # the box gripped is still in the gripper: it left the pallet, put down at Q below
-                start = after
-            else:  # the gripper empty: only the operator can tell whether the box is back in its place
-                if case.answer is None:
-                    marked = (-start[0], start[1])
-                    return Expected((), (), released_message(pallet, limit), marked, start, holds=False)
-                asked = True
-                if case.answer == NO:  # not on the pallet: the counters move on as after a box put down at Q
-                    start = after
-    if pallet.mode == "stack" and start[0] < 0:  # a stop came during a release: is the item down?
-        start = (-start[0], start[1])
-        if start in keys and not case.closed:  # the gripper holds nothing: only the operator can tell
-            if case.answer is None:
-                return Expected((), (), released_message(pallet, limit), (-start[0], start[1]), start, holds=False)
-            # (the gripper empty: no output set before the question)
-            asked = True
-            if case.answer == YES:  # down: the counters move on as after a confirmed release
-                following = keys.index(start) + 1
-                start = keys[following] if following < len(keys) else done
-    # then the PLC's full (empty) output, from the counters
-    said.append(("done", start == done, 0))
-    if start == done and not put_down:
-        if case.reset and pallet.io.reset:  # the handshake: the done output off answers the PLC, which drops reset
-            said.append(("done", False, 0))
-            if case.reset_held:  # the reset stays on: no swap confirmed, the counters stay
-                said.append(("done", True, 0))
-                return Expected((), tuple(said), reset_held_message(pallet, limit), start, start, holds=case.closed)
-            start = keys[0]
-        else:
-            message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
-            return Expected((), tuple(said), message, start, start, asked=asked, holds=case.closed)
-    if start not in keys and start != done:
-        return Expected((), tuple(said), counters_message(pallet, limit), start, start, asked=asked, holds=case.closed)
-    run = _Run(cell, pallet, case, start)
-    todo = [item for item in items(pallet)][keys.index(start) :] if start in keys else []
-    run.outputs = [*said, *run.outputs]
-    if case.closed:  # no release at the start: the gripper holds the item
-        run.outputs = said
-        run.carrying = put_down or todo[0].placement is not None
-        run.sheet = not run.carrying
-    if put_down:
-        halt = _put_down(run)
-        halt = halt or (_unstacking(run, todo, done, from_q=True) if todo else None)
-    else:
-        halt = (_stacking if pallet.mode == "stack" else _unstacking)(run, todo, done)
-    if halt is None:  # the pallet is done: the PLC's cue to swap it
-        run.outputs.append(("done", True, len(run.moves)))
-    return replace(run.result(halt, start), asked=asked, known_asked=known_asked)
-
-
-def _put_down(run: _Run) -> str | None:
-    """Unstacking, a box held at the start: above Q (joint), Q clear waited for, Q (slow, exact), release, above Q
-    (slow, exact)."""
-    pallet = run.pallet
-    above = above_pick(pallet)
-    run.move("joint", above, "held box above Q", False, False)
-    halt = run.wait("place_clear")
-    if halt:
-        return halt
-    run.move("linear", pallet.pick.matrix(), "held box place at Q", True, True)
-    halt = run.release()
-    if halt:
-        return halt
-    run.move("linear", above, "held box lift from Q", True, True)
-    return None
-
-
-def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
+def stacking(run: Run, todo: list[Item], done: tuple[int, int]) -> str | None:
     """Per box: (after the item before it, the empty gripper from that entry over Q at the entry's height, joint, then
     straight down) above Q (the pallet and a box at Q waited for), Q (slow, exact), grip, above Q (slow), up to the
     transit height (transit_pose: the box clear of the layer's top), the pallet waited for again (it may have been
@@ -450,7 +340,7 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
     return None
 
 
-def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool = False) -> str | None:
+def unstacking(run: Run, todo: list[Item], done: tuple[int, int], from_q: bool = False) -> str | None:
     """The pallet waited for first; per box, the top layer first and each layer in the reverse of its placing
     order: (after the box before it: straight up over Q to this box's transit height) above the entry at the transit
     height (transit_pose, joint), entry, approach (slow), target (slow, exact), grip; once the grip is confirmed the

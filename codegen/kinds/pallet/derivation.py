@@ -56,7 +56,7 @@ def pallet_identities(check) -> list:
 
 @cache  # independent of the derivation: proved once per process
 def box_pose_identities(check) -> list:
-    """The forms the pallet programs compute a box's pose in (codegen/pallet/, templates/<t>/pallet.*):
+    """The forms the pallet programs compute a box's pose in (codegen/kinds/pallet/, templates/<t>/kinds/pallet.*):
     target = F . Trans(x, y, z) . Rz(angle) . Rz(a0) Ry(b0) Rx(c0), F the pallet frame."""
     x, y, z, dz, angle, a0, b0, c0, gamma = sp.symbols("box_x box_y box_z box_dz box_angle a0 b0 c0 gamma", real=True)
     ox, oy, oz = sp.symbols("pallet_ox pallet_oy pallet_oz", real=True)

@@ -7,8 +7,7 @@ from dataclasses import dataclass, field
 
 from codegen.controllers import get_target
 from codegen.kinds.pallet.keys import IO
-from codegen.model.io import signal_reader
-from codegen.model.loader import Loader, build
+from codegen.model.loader import build
 
 TIMEOUT_S = IO.default("timeout_s")  # how long the program waits for an interlock before it stops with a message
 
@@ -59,25 +58,18 @@ class PalletIO:
         return {name: getattr(self, name) for name in WAITS if getattr(self, name)}
 
 
-def parse_io(ctx, loader: Loader, table: dict | None, path: str, targets, mode: str, sheets: bool) -> PalletIO:
-    """[pallet.io] of one pallet: pallet_present, and part_present (stacking) or place_clear (unstacking), are
-    required; sheet_ready when the pallet places slip sheets; reset optional; select and registers per target."""
-    where = f"{path}.io"
-    if table is None:
-        ctx.fail(
-            where,
-            "missing: the inputs the program waits for (pallet_present, and part_present when stacking or "
-            "place_clear when unstacking), per target",
-        )
+def parse_io(ctx, values: dict, where: str, targets, mode: str, sheets: bool) -> PalletIO:
+    """[pallet.io] of one pallet, as its declaration (keys.py IO) read it: pallet_present, and part_present (stacking)
+    or place_clear (unstacking), are required; sheet_ready when the pallet places slip sheets; reset optional; select
+    and registers per target."""
     need, refuse = ("part_present", "place_clear") if mode == "stack" else ("place_clear", "part_present")
-    if isinstance(table, dict) and refuse in table:
+    if values[refuse]:
         ctx.fail(f"{where}.{refuse}", f"not an input of a {mode}ing pallet: it waits for {WAITS[need]} ({need})")
-    if isinstance(table, dict) and "sheet_ready" in table and not sheets:
+    if values["sheet_ready"] and not sheets:
         ctx.fail(f"{where}.sheet_ready", "the pallet places no slip sheets (slip_sheet.pick)")
-    required = {need, "pallet_present"} | ({"sheet_ready"} if sheets else set())
-    readers = {key: signal_reader(ctx, targets, key in required) for key in (*WAITS, "reset", "done")}
-    readers["select"] = signal_reader(ctx, [t for t in targets if _facts(t).get("task")], False)
-    values = loader.table(IO, table, where, readers=readers)
+    for key in (need, *(["sheet_ready"] if sheets else [])):
+        if not values[key]:
+            ctx.fail(f"{where}.{key}", f"missing: {IO[key].doc}")
     for target in values["registers"] or {}:
         if target not in targets:
             ctx.fail(f"{where}.registers.{target}", f"not one of the cell's targets ({', '.join(targets)})")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from codegen.controllers import get_target, target_names
 from codegen.guard import TAUGHT_RANGE_MM
 from codegen.model.io import signal_key, signals
@@ -75,6 +77,11 @@ def _per_target(doc: str, targets: tuple[str, ...], value) -> Key:
     return Key("map", doc, names=targets, per_name={t: value(t) for t in targets}, controllers=", ".join(targets))
 
 
+def _per_cell_target(doc: str, targets: tuple[str, ...], value) -> Key:
+    """A value for each of the cell's targets among these controllers (value(target): its Key), none for the others."""
+    return replace(_per_target(doc, targets, value), per_target=True)
+
+
 def _register(target: str) -> Key:
     facts = _pallet_facts(target)
     return Key(
@@ -104,7 +111,7 @@ IO = Table(
             "an output: on while the pallet is full (stacking) or empty (unstacking); the program turns it off to "
             "acknowledge the reset (required with reset)"
         ),
-        "select": _per_target(
+        "select": _per_cell_target(
             "the input that selects this pallet's program where the pallets share one task (required with several "
             "pallets)",
             _TASK_TARGETS,
@@ -135,7 +142,7 @@ PALLET = Table(
     "A pallet to stack boxes on (or take them off): its frame, box, layers and patterns.",
     {
         "name": Key("string", "the pallet's name (its program's)", required=True, non_empty=True),
-        "frame": Key("table", FRAME.doc, table=FRAME, required=True),
+        "frame": Key("table", FRAME.doc, table=FRAME, required=True, flatten=""),
         "size": Key(**_SIZES, count=2, doc="the pallet's length along its x and width along its y"),
         "box": Key(**_SIZES, count=3, doc="the box: length (its x at angle 0), width, height"),
         "layers": Key("integer", "layers in the stack", low=1, high=MAX_LAYERS, required=True),
@@ -202,7 +209,7 @@ PALLET = Table(
         "support_min": Key(
             "number", "warn when less of a box's bottom rests on the layer below", low=0.0, high=1.0, default=0.6
         ),
-        "slip_sheet": Key("table", SLIP_SHEET.doc, table=SLIP_SHEET),
+        "slip_sheet": Key("table", SLIP_SHEET.doc, table=SLIP_SHEET, flatten="slip_"),
         "mode": Key(
             "string",
             "stack: place the boxes from Q; unstack: take them off, top layer first, to Q",
@@ -212,7 +219,13 @@ PALLET = Table(
         "approach_auto": Key(
             "boolean", "approach and retreat from the side away from the layer's earlier boxes", default=False
         ),
-        "io": Key("table", IO.doc, table=IO, required=True),
+        "io": Key(
+            "table",
+            "the inputs the program waits for (pallet_present, and part_present when stacking or place_clear when "
+            "unstacking), per target",
+            table=IO,
+            required=True,
+        ),
         "box_mass_kg": Key(
             "number",
             "the carried box's mass (its payload; 0: the tool's alone)",

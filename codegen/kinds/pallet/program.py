@@ -11,8 +11,6 @@ from codegen import derived
 from codegen.emit import EmitError, Emitter, owned
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import (
-    NO,
-    YES,
     above_pick,
     layer_counts,
     safe_pose,
@@ -41,6 +39,7 @@ from codegen.kinds.pallet.messages import (
 )
 from codegen.kinds.pallet.patterns import layout
 from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEET_KEY, configurations, way_up_z
+from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import Pallet, pallets_of
 from codegen.kinds.pallet.stack import sides
 from codegen.model.cell import TaughtPose

@@ -9,7 +9,8 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, expected, safe_pose, start_counters
+from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, safe_pose, start_counters
+from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
@@ -43,7 +44,7 @@ PICK_KEY = "Q"  # above Q
 SHEET_KEY = "sheet stack"  # above the slip sheets' stack
 SHEET_ENTRY_KEY = "sheet entry"  # above a slip sheet's place on the pallet
 SAFE_KEY = "safe"  # above the pallet's centre, on the way home after a stop
-SAFE_NAME = "safe above the pallet"  # the way home's move there (codegen/kinds/pallet/verify.py)
+SAFE_NAME = "safe above the pallet"  # the way home's move there (codegen/kinds/pallet/way_home.py)
 
 
 @dataclass(frozen=True)

@@ -71,7 +71,7 @@ def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
     raw = data.get("pallet", [])
     if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
         ctx.fail("pallet", "expected [[pallet]] tables")
-    loader = Loader(ctx, cell.pose_format)
+    loader = Loader(ctx, cell.pose_format, tuple(cell.targets))
     pallets = tuple(_pallet(ctx, loader, table, f"pallet[{i}]", cell) for i, table in enumerate(raw))
     names = [p.name for p in pallets]
     for i, name in enumerate(names):
@@ -90,7 +90,7 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
             "an unstacking program would grip the slip sheet on a layer with its box: codegen places slip "
             "sheets when stacking only",
         )
-    values = loader.table(PALLET, table, path, readers={"io": lambda raw, where: raw})
+    values = loader.table(PALLET, table, path)
     patterns = _patterns(ctx, values["patterns"], f"{path}.patterns")
     cycle = values["cycle"]
     if len(cycle) > MAX_LAYERS:
@@ -106,12 +106,12 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
     slip = values["slip_sheet"]
     if values["approach_auto"] and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
         ctx.fail(f"{path}.approach_auto", "turns the x-y part of approach and retreat: each needs one of 1 mm or more")
-    io = parse_io(ctx, loader, values["io"], path, cell.targets, values["mode"], slip is not None)
+    io = parse_io(ctx, values["io"], f"{path}.io", cell.targets, values["mode"], slip is not None)
     box = values["box"]
     return build(
         Pallet,
         values,
-        flatten={"frame": "", "slip_sheet": "slip_"},
+        PALLET,
         cycle=tuple(cycle),
         patterns=patterns,
         retreat=retreat,
