@@ -28,13 +28,13 @@ from codegen.kinds.station.cases import (
 from codegen.kinds.station.joints import expected_joints
 from codegen.kinds.station.keys import GRIP, STATION_ID_MAX
 from codegen.kinds.station.mode import modes
-from codegen.kinds.station.part import part_problem
+from codegen.kinds.station.part import part_load, part_problem
 from codegen.kinds.station.section import stations_of
 from codegen.model import io as signals
 from codegen.reference import ExpectedTrace, home_move
 from codegen.robot.expect import arm_of
 from codegen.verify.checks import TOLERANCES, log_numbers
-from codegen.verify.plan import Expectation, Judgement, PlannedMove, PlannedOutput, Setup, refuses_start
+from codegen.verify.plan import TOOL_LOAD, Expectation, Judgement, PlannedMove, PlannedOutput, Setup, refuses_start
 
 
 def setup(cell, target_name: str, case) -> Setup:
@@ -87,11 +87,12 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
         home = None  # it stops before its first motion
     moves = list(expected.moves)
     back = home is not None and expected.status == "ok" and cell.motion.return_home
-    planned = [_planned(m) for m in moves]
+    loads = _payloads(cell, expected, held)
+    planned = [_planned(m, load) for m, load in zip(moves, loads[:-1], strict=True)]
     if home is not None:
-        planned = [_planned(home[0]), *planned]
+        planned = [_planned(home[0]), *planned]  # the station (and its part) not known yet: the tool's load
         if back:
-            planned.append(_planned(home[0]))
+            planned.append(_planned(home[0], loads[-1]))
     halt = expected_message(cell, expected, reading, emitter) if expected.status == "halt" else None
     return Expectation(
         halt,
@@ -102,7 +103,7 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
     )
 
 
-def _planned(move) -> PlannedMove:
+def _planned(move, payload=TOOL_LOAD) -> PlannedMove:
     return PlannedMove(
         name=move.pose_name,
         kind=move.kind,
@@ -111,7 +112,29 @@ def _planned(move) -> PlannedMove:
         speed_mm_s=move.speed_mm_s,
         zone_mm=move.zone_mm,
         joint_percent=move.joint_percent,
+        payload=payload,
     )
+
+
+def _payloads(cell, expected, held: bool) -> list:
+    """The load in force at each of the reference's station moves and, last, after them (the way home), as
+    codegen.verify.plan.PlannedMove.payload: the tool's and the part's from the move after a confirmed grip to the
+    confirmed release, and from the station's first move where the part held at the start is the one the station
+    expects (the program sets its load once it knows the station); the tool's alone otherwise."""
+    station = expected.station
+    load = part_load(cell, station)
+    if load is None:
+        return [TOOL_LOAD] * (len(expected.moves) + 1)
+    carried = load.flat()
+    holding = held and bool(station.holds_at_start)
+    out = []
+    for i, move in enumerate(expected.moves):
+        out.append(carried if holding else TOOL_LOAD)
+        k = i - expected.path_start  # the move's pose in the station's path (photos before it: negative)
+        action = station.action(move.pose_name) if 0 <= k < len(station.poses) else None
+        if action is not None:
+            holding = action == GRIP
+    return [*out, carried if holding else TOOL_LOAD]
 
 
 def _joints(cell, target_name: str, expected: ExpectedTrace, moves: list, trace, home, back: bool) -> list | None:

@@ -20,6 +20,7 @@ from codegen.guard import (
 from codegen.kinds.station.envelope import check
 from codegen.kinds.station.keys import GRIP, RELEASE
 from codegen.kinds.station.mode import mode_of, modes
+from codegen.kinds.station.part import part_alone, part_load
 from codegen.kinds.station.region import station_plan
 from codegen.kinds.station.section import section_of, stations_of
 from codegen.model import vision
@@ -27,7 +28,17 @@ from codegen.model.cell import Cell
 from codegen.model.motion import segments
 from codegen.protocol import ProgramFile, ProgramPlan
 from codegen.reference import station_stops
-from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, program_emitter, shared_context
+from codegen.render import (
+    LITERALS,
+    MASS_DECIMALS,
+    environment,
+    file_stem,
+    inertia_literal,
+    joints_literal,
+    merged,
+    program_emitter,
+    shared_context,
+)
 from codegen.robot.taught import ReachError, configuration
 
 
@@ -68,8 +79,26 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         "arm": arm,
         # whether the gripper holds a part when the station starts (None: the gripper does nothing there)
         "holds_at_start": station.holds_at_start,
+        "part_load": _part_load(cell, station, emitter),  # the load while its part is held (None: the tool's)
     }
     return merged(shared, own, f"station context of the {station.mode} mode")
+
+
+def _part_load(cell, station, emitter: Emitter) -> dict | None:
+    """The load while the station's part is in the gripper (kinds/station/part.py): the tool's and the part's in the
+    flange frame ("load"), and the part's alone in the TCP frame ("part": a payload's frame); None: no part mass."""
+    both = part_load(cell, station)
+    if both is None:
+        return None
+    out = {}
+    for key, load in (("load", both), ("part", part_alone(station.part))):
+        out[key] = {
+            "mass": emitter.number(load.mass, MASS_DECIMALS),
+            "cog": [emitter.number(v, 4) for v in load.cog_mm],
+            "cog_m": [emitter.number(v / 1000.0, 7) for v in load.cog_mm],
+            **inertia_literal(load, emitter),
+        }
+    return out
 
 
 def station_arm(cell, target, station) -> list[dict]:
