@@ -226,7 +226,7 @@ def _station(ctx, loader: Loader, raw, index: int) -> Station:
     if isinstance(poses_raw, dict) and len(poses_raw) > POSES_MAX:  # refused before so many are read
         ctx.fail(f"{path}.poses", f"{len(poses_raw)} poses; at most {POSES_MAX} per station")
     passed = {"config": lambda value, where: value, "part": lambda value, where: value,
-              "solids": lambda value, where: value}  # config read with the arms, part by read_part, solids by model.world
+              "solids": lambda value, where: value}  # config read with the arms, part by read_part, solids by world
     values = loader.table(table, raw, path, readers=passed)
     spec = known[mode_name].parse(ctx, values, path)
     poses = tuple(values["poses"].values())
