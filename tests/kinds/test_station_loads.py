@@ -9,11 +9,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from support import stations
 from support.cells import example
 from support.programs import edited, regex_edit, run_case, sources, verify
 
 from codegen.kinds.station.cases import Case
-from codegen.kinds.station.part import part_alone, part_load
+from codegen.kinds.station.part import held_part, part_alone, part_load
 from codegen.kinds.station.point.reference import Reading
 from codegen.kinds.station.section import stations_of
 from codegen.model.cell import CellError, cell_from_dict, load_cell
@@ -164,3 +165,26 @@ def test_a_release_moved_from_its_place_to_the_travel_fails_verify(target):
     assert "not put down at a release pose (tray_done, chuck)" in judgement.truth, judgement.truth
     good, good_setup = run_case(cell, target, source.load(), case, "station")
     assert cell.kinds["station"].verify.judge(cell, source, case, good, good_setup).truth is None
+
+
+def test_a_part_held_at_the_start_has_its_load_before_the_station_only_where_every_part_has_one_load():
+    cell = load_cell(DEMO)
+    assert held_part(cell, stations_of(cell)) == stations_of(cell)[0]
+    data = _demo()
+    data["station"][1]["part"]["mass_kg"] = 3.0
+    assert held_part(cell_from_dict(data, "cell.toml"), stations_of(cell_from_dict(data, "cell.toml"))) is None
+
+
+@pytest.mark.parametrize("target", ["abb", "kuka", "ur"])
+def test_parts_of_different_loads_held_at_the_start_pass_verify(target):
+    """Two parts of different mass: a part held at the start gets its load once the station is known (a place-first
+    station), and none before (the move home and a station that takes a part first, which stops at home)."""
+    data = _demo()
+    data["station"][0]["gripper"] = {"chuck": "release"}
+    data["station"][1]["part"]["mass_kg"] = 3.0
+    cell = cell_from_dict(data, str(DEMO))
+    assert held_part(cell, stations_of(cell)) is None
+    cases = [c for c in stations.build_cases(cell, 1, 3) if c.reading.station_id in (1, 2)]
+    assert {"part_held", "gripper_silent", "gripper_stuck"} <= {c.category for c in cases}
+    row = stations.verify(cell, stations.source(cell, target), cases)
+    assert row.mismatches == 0, row.first_mismatches

@@ -4,6 +4,7 @@ home move, the station's moves, the way home, the gripper's outputs, the log), t
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 from codegen import protocol
 from codegen.controllers import get_target
@@ -28,7 +29,7 @@ from codegen.kinds.station.cases import (
 from codegen.kinds.station.joints import expected_joints
 from codegen.kinds.station.keys import GRIP, STATION_ID_MAX
 from codegen.kinds.station.mode import modes
-from codegen.kinds.station.part import part_load, part_problem
+from codegen.kinds.station.part import held_part, part_load, part_problem
 from codegen.kinds.station.section import stations_of
 from codegen.model import io as signals
 from codegen.reference import ExpectedTrace, home_move
@@ -87,12 +88,12 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
         home = None  # it stops before its first motion
     moves = list(expected.moves)
     back = home is not None and expected.status == "ok" and cell.motion.return_home
-    loads = _payloads(cell, expected, held)
-    planned = [_planned(m, load) for m, load in zip(moves, loads[:-1], strict=True)]
+    start, loads, after = _payloads(cell, expected, held)
+    planned = [_planned(m, load) for m, load in zip(moves, loads, strict=True)]
     if home is not None:
-        planned = [_planned(home[0]), *planned]  # the station (and its part) not known yet: the tool's load
+        planned = [_planned(home[0], start), *planned]
         if back:
-            planned.append(_planned(home[0], loads[-1]))
+            planned.append(_planned(home[0], after))
     halt = expected_message(cell, expected, reading, emitter) if expected.status == "halt" else None
     return Expectation(
         halt,
@@ -116,25 +117,27 @@ def _planned(move, payload=TOOL_LOAD) -> PlannedMove:
     )
 
 
-def _payloads(cell, expected, held: bool) -> list:
-    """The load in force at each of the reference's station moves and, last, after them (the way home), as
-    codegen.verify.plan.PlannedMove.payload: the tool's and the part's from the move after a confirmed grip to the
-    confirmed release, and from the station's first move where the part held at the start is the one the station
-    expects (the program sets its load once it knows the station); the tool's alone otherwise."""
+def _payloads(cell, expected: ExpectedTrace, held: bool) -> tuple[Any, list, Any]:
+    """The load in force (codegen.verify.plan.PlannedMove.payload) on the move home, at each of the reference's
+    station moves, and after them (the way home): with a part held at the start, the tool's and the part's from the
+    start where every station carries parts of one load (part.held_part), else from the station's first move where
+    the station expects it (the program sets it once it knows the station); from the move after a confirmed grip to
+    the confirmed release the tool's and the station's part's; the tool's alone otherwise."""
+    common = held_part(cell, stations_of(cell)) if held else None
+    start = TOOL_LOAD if common is None else part_load(cell, common).flat()
     station = expected.station
-    load = part_load(cell, station)
-    if load is None:
-        return [TOOL_LOAD] * (len(expected.moves) + 1)
-    carried = load.flat()
-    holding = held and bool(station.holds_at_start)
+    own = None if station is None else part_load(cell, station)
+    if own is None:
+        return start, [start] * len(expected.moves), start
+    load = own.flat() if held and station.holds_at_start else start
     out = []
     for i, move in enumerate(expected.moves):
-        out.append(carried if holding else TOOL_LOAD)
+        out.append(load)
         k = i - expected.path_start  # the move's pose in the station's path (photos before it: negative)
         action = station.action(move.pose_name) if 0 <= k < len(station.poses) else None
         if action is not None:
-            holding = action == GRIP
-    return [*out, carried if holding else TOOL_LOAD]
+            load = own.flat() if action == GRIP else TOOL_LOAD
+    return start, out, load
 
 
 def _joints(cell, target_name: str, expected: ExpectedTrace, moves: list, trace, home, back: bool) -> list | None:

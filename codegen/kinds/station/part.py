@@ -56,6 +56,18 @@ def part_load(cell, station) -> loads.Load | None:
     return loads.combined(loads.of_tool(robot.tool, robot.tool_shaped), part.moved(robot.tool.tcp2flange))
 
 
+def held_part(cell, stations) -> object | None:
+    """The first station whose part a gripper holding one at the start carries, where that load is known before the
+    station is (every station that grips carries a part of the same load): its load is set before the move home;
+    None: a station grips a part without mass, or two parts differ (the load is set once the station is known)."""
+    gripping = [s for s in stations if s.gripper]
+    found = [part_load(cell, s) for s in gripping]
+    if not found or any(load is None for load in found):
+        return None
+    first = found[0].flat()
+    return gripping[0] if all(load.flat() == first for load in found) else None
+
+
 def part_problem(cell, output: str, station, moves, held: bool, trace, tolerance_mm: float) -> str | None:
     """The first place where the run mishandles the part, None: none. `output` is the gripper's output as the
     program names it, `moves` the reference's moves through the station (their poses where the gripper may act),

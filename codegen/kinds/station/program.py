@@ -20,7 +20,7 @@ from codegen.guard import (
 from codegen.kinds.station.envelope import check
 from codegen.kinds.station.keys import GRIP, RELEASE
 from codegen.kinds.station.mode import mode_of, modes
-from codegen.kinds.station.part import part_alone, part_load
+from codegen.kinds.station.part import held_part, part_alone, part_load
 from codegen.kinds.station.region import station_plan
 from codegen.kinds.station.section import section_of, stations_of
 from codegen.model import vision
@@ -101,6 +101,13 @@ def _part_load(cell, station, emitter: Emitter) -> dict | None:
     return out
 
 
+def _held(cell, stations, emitter: Emitter) -> dict | None:
+    """The load of a part held at the start where every station carries parts of one load (part.held_part): the
+    station it is taken from (its id names its data) and its load; None: set once the station is known."""
+    station = held_part(cell, stations)
+    return None if station is None else {"id": station.id, **_part_load(cell, station, emitter)}
+
+
 def station_arm(cell, target, station) -> list[dict]:
     """Each arm pose's configuration literal, in the order of the kind's arm_poses; [] without an arm.
     `named`: whether the program names the whole configuration (it holds over the correction region);
@@ -152,6 +159,8 @@ def program_context(cell: Cell, target: Target, kind_name: str) -> dict:
         "stations": stations,
         # a station's gripper acts: the program checks at the start what the gripper holds
         "gripping": any(s.gripper for s in section.stations),
+        # a part held at the start whose load is known before the station is: set before the move home
+        "held": _held(cell, section.stations, emitter),
         "modes_used": [name for name in modes() if name in used],
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
         "vision": {

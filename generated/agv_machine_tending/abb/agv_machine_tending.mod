@@ -151,6 +151,10 @@ MODULE agv_machine_tending
     IF NOT known THEN
       vis_stop "start with the arm at home or a retreat (every joint within 2 deg)";
     ENDIF
+    IF DInput(diGripClosed) = 1 THEN
+      ! a part held since the start (every station's part has this load): the tool and the part on the way home
+      GripLoad vis_part_1;
+    ENDIF
     ! home first, in joints (no configuration to choose), with the tool and its load
     MoveAbsJ vis_home\NoEOffs, v200, fine, vis_tool;
     vis_gripper_start;
