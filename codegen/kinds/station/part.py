@@ -4,6 +4,7 @@ a run (where the gripper closed and opened, with or without a part, judged again
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -12,6 +13,9 @@ from codegen.model.loader import Loader
 from codegen.model.world import PartShape
 from codegen.world import loads
 from codegen.world.solids import translation
+
+if TYPE_CHECKING:
+    from codegen.kinds.station.section import Station
 
 
 @dataclass(frozen=True)
@@ -32,10 +36,11 @@ def read_part(ctx, raw, path: str) -> Part | None:
     return Part(tuple(values["size_mm"]), values["mass_kg"], None if cog is None else tuple(cog))
 
 
-def part_alone(part: Part) -> loads.Load | None:
+def part_alone(part: Part | None) -> loads.Load | None:
     """The part in the TCP frame (a payload's frame): a solid box of its size hanging from the TCP along the tool's z,
-    its inertia about its centre of gravity; None: no mass given."""
-    if part is None or not getattr(part, "mass_kg", 0.0) > 0:
+    its inertia about its centre; at a declared centre of gravity, that inertia about it (as a tool's, loads.of_tool);
+    None: no mass given."""
+    if part is None or not part.mass_kg > 0:
         return None
     size = tuple(float(v) for v in part.size_mm)
     centre2tcp = translation(0.0, 0.0, 0.5 * size[2])
@@ -45,7 +50,7 @@ def part_alone(part: Part) -> loads.Load | None:
     return loads.Load(shape.mass, np.asarray(part.cog_mm, dtype=float), shape.inertia_cog)
 
 
-def part_load(cell, station) -> loads.Load | None:
+def part_load(cell, station: Station | None) -> loads.Load | None:
     """The load while the station's part is in the gripper: the tool's and the part's as one, in the flange frame
     (mass, common centre of gravity, the tensor about it with the parallel-axis terms); None: the part has no mass,
     or the cell gives no tool (the programs then set no load)."""
@@ -53,10 +58,10 @@ def part_load(cell, station) -> loads.Load | None:
     part = None if station is None else part_alone(station.part)
     if robot is None or not robot.tool_given or part is None:
         return None
-    return loads.combined(loads.of_tool(robot.tool, robot.tool_shaped), part.moved(robot.tool.tcp2flange))
+    return loads.with_tool(robot.tool, robot.tool_shaped, part)
 
 
-def held_part(cell, stations) -> object | None:
+def held_part(cell, stations) -> Station | None:
     """The first station whose part a gripper holding one at the start carries, where that load is known before the
     station is (every station that grips carries a part of the same load): its load is set before the move home;
     None: a station grips a part without mass, or two parts differ (the load is set once the station is known)."""
