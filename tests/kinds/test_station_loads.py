@@ -20,6 +20,7 @@ from codegen.kinds.station.section import stations_of
 from codegen.model.cell import CellError, cell_from_dict, load_cell
 
 DEMO = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "agv_machine_tending.toml"
+BENCH = DEMO.parent / "thermometer_bench.toml"
 NUMBER = r"-?\d+\.\d+"
 
 
@@ -187,4 +188,24 @@ def test_parts_of_different_loads_held_at_the_start_pass_verify(target):
     cases = [c for c in stations.build_cases(cell, 1, 3) if c.reading.station_id in (1, 2)]
     assert {"part_held", "gripper_silent", "gripper_stuck"} <= {c.category for c in cases}
     row = stations.verify(cell, stations.source(cell, target), cases)
+    assert row.mismatches == 0, row.first_mismatches
+
+
+@pytest.mark.parametrize("target", ["abb", "kuka", "ur"])
+def test_a_part_carried_into_a_frame_station_has_its_load(target):
+    """The frame-mode bench as two runs (a tray station takes a thermometer, a frame station puts it into the bath's
+    cavity after its photos): the load follows the part through the photo moves too."""
+    data = tomllib.loads(BENCH.read_text(encoding="utf-8"))
+    data["cell"]["io"] = _demo()["cell"]["io"]
+    data["station"][0]["gripper"] = {"cavity": "release"}
+    data["station"][1]["gripper"] = {"slot": "grip"}
+    for station in data["station"][:2]:
+        station["part"] = {"size_mm": [10.0, 10.0, 30.0], "mass_kg": 0.2}
+    cell = cell_from_dict(data, str(BENCH))
+    assert all(part_load(cell, s) is not None for s in stations_of(cell)[:2])
+    source = stations.source(cell, target)
+    switches = ("GripLoad vis_part_", "$LOAD = VIS_LOAD_", "# the tool and the part")
+    assert any(word in f.text for f in source.files for word in switches)
+    cases = [c for c in stations.build_cases(cell, 1, 3) if c.category != "unknown_station"]
+    row = stations.verify(cell, source, cases)
     assert row.mismatches == 0, row.first_mismatches
