@@ -161,6 +161,11 @@ def of_tool(tool, shaped: bool) -> Load:
     return Load(own.mass, np.asarray(tool.cog_mm, dtype=float), own.inertia_cog)
 
 
+def with_tool(tool, shaped: bool, held: Load) -> Load:
+    """The tool ([cell.tool], of_tool) and what it holds (a load in the TCP frame) as one load in the flange frame."""
+    return combined(of_tool(tool, shaped), held.moved(tool.tcp2flange))
+
+
 def held_box(mass: float, size_mm, centre2tcp: np.ndarray | None, tcp2flange: np.ndarray) -> Load:
     """A carried part in the flange frame: a solid box of size_mm whose centre and axes in the TCP frame are
     centre2tcp, or a point mass where the cell gives no size (centre2tcp: its translation is the centre of gravity)."""

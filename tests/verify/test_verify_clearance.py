@@ -13,7 +13,7 @@ from codegen.verify.engine import Options, verify_cell
 GENERATED = Path(__file__).resolve().parents[2] / "generated" / "agv_machine_tending" / "ur"
 PROGRAM = "agv_machine_tending.script"
 FAST = Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"random"}))
-# a post in the inside of station 1's corner at the done part's tray (line 285, (520, -480, 370) mm: in from the
+# a post in the inside of station 1's corner at the done part's tray ((520, -480, 370) mm: in from the
 # chuck, then straight down): 30 mm from either straight line's tool (radius 25), 25 mm beside the next line along
 # the tray
 POST = 'solids.post = { box = [60, 40, 100], pose = [534.0, -394.8, 290.0, 70.66, 0, 0] }\n'
@@ -37,6 +37,12 @@ def edited(tmp_path: Path, old: str, new: str) -> Path:
     return path
 
 
+def line_of(text: str) -> int:
+    """The line of the generated program that holds `text` (one line, once)."""
+    lines = (GENERATED / PROGRAM).read_text(encoding="utf-8").splitlines()
+    return lines.index(text.rstrip("\n")) + 1
+
+
 def problems(cell, path: Path) -> list[str]:
     report = verify_cell(cell, [path], ("ur",), FAST)
     (row,) = report.rows
@@ -58,7 +64,8 @@ def test_the_generated_program_clears_the_post(tmp_path):
 def test_a_zone_widened_into_the_post_fails_for_its_corner(tmp_path):
     cell = cell_with(tmp_path, POST)
     found = problems(cell, edited(tmp_path, CORNER, CORNER.replace("r=0.0100", "r=0.1500")))
-    assert found and all(f"clearance: {PROGRAM}:285: the blend's corner (150 mm zone): the tool" in p for p in found)
+    line = line_of(CORNER)
+    assert found and all(f"clearance: {PROGRAM}:{line}: the blend's corner (150 mm zone): the tool" in p for p in found)
     assert all("post (clearance 20 mm)" in p for p in found)
 
 
@@ -68,7 +75,8 @@ def test_a_hand_edit_swinging_the_arm_into_the_floor_fails_for_it(tmp_path, targ
     cell = cell_with(tmp_path, "floor_z_mm = 0.0\n")
     dip = "    movej([2.0, -0.3, 1.9, -1.6, -1.5708, 0.0], a=1.2, v=0.25)\n"
     found = problems(cell, edited(tmp_path, target_line, dip + target_line))
-    assert found and all(f"clearance: {PROGRAM}:288: the joint move: the " in p and "floor" in p for p in found)
+    line = line_of(target_line)  # the dip's line: the one the way up had
+    assert found and all(f"clearance: {PROGRAM}:{line}: the joint move: the " in p and "floor" in p for p in found)
 
 
 def test_a_module_rendered_from_the_cell_is_named_by_its_file():

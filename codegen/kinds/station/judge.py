@@ -4,6 +4,7 @@ home move, the station's moves, the way home, the gripper's outputs, the log), t
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 from codegen import protocol
 from codegen.controllers import get_target
@@ -28,13 +29,13 @@ from codegen.kinds.station.cases import (
 from codegen.kinds.station.joints import expected_joints
 from codegen.kinds.station.keys import GRIP, STATION_ID_MAX
 from codegen.kinds.station.mode import modes
-from codegen.kinds.station.part import part_problem
+from codegen.kinds.station.part import held_part, part_load, part_problem
 from codegen.kinds.station.section import stations_of
 from codegen.model import io as signals
 from codegen.reference import ExpectedTrace, home_move
 from codegen.robot.expect import arm_of
 from codegen.verify.checks import TOLERANCES, log_numbers
-from codegen.verify.plan import Expectation, Judgement, PlannedMove, PlannedOutput, Setup, refuses_start
+from codegen.verify.plan import TOOL_LOAD, Expectation, Judgement, PlannedMove, PlannedOutput, Setup, refuses_start
 
 
 def setup(cell, target_name: str, case) -> Setup:
@@ -87,11 +88,12 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
         home = None  # it stops before its first motion
     moves = list(expected.moves)
     back = home is not None and expected.status == "ok" and cell.motion.return_home
-    planned = [_planned(m) for m in moves]
+    start, loads, after = _payloads(cell, expected, held)
+    planned = [_planned(m, load) for m, load in zip(moves, loads, strict=True)]
     if home is not None:
-        planned = [_planned(home[0]), *planned]
+        planned = [_planned(home[0], start), *planned]
         if back:
-            planned.append(_planned(home[0]))
+            planned.append(_planned(home[0], after))
     halt = expected_message(cell, expected, reading, emitter) if expected.status == "halt" else None
     return Expectation(
         halt,
@@ -102,7 +104,7 @@ def _plan(cell, target, reading, expected: ExpectedTrace, trace, emitter: Emitte
     )
 
 
-def _planned(move) -> PlannedMove:
+def _planned(move, payload=TOOL_LOAD) -> PlannedMove:
     return PlannedMove(
         name=move.pose_name,
         kind=move.kind,
@@ -111,7 +113,31 @@ def _planned(move) -> PlannedMove:
         speed_mm_s=move.speed_mm_s,
         zone_mm=move.zone_mm,
         joint_percent=move.joint_percent,
+        payload=payload,
     )
+
+
+def _payloads(cell, expected: ExpectedTrace, held: bool) -> tuple[Any, list, Any]:
+    """The load in force (codegen.verify.plan.PlannedMove.payload) on the move home, at each of the reference's
+    station moves, and after them (the way home): with a part held at the start, the tool's and the part's from the
+    start where every station carries parts of one load (part.held_part), else from the station's first move where
+    the station expects it (the program sets it once it knows the station); from the move after a confirmed grip to
+    the confirmed release the tool's and the station's part's; the tool's alone otherwise."""
+    common = held_part(cell, stations_of(cell)) if held else None
+    start = TOOL_LOAD if common is None else part_load(cell, common).flat()
+    station = expected.station
+    own = None if station is None else part_load(cell, station)
+    if own is None:
+        return start, [start] * len(expected.moves), start
+    load = own.flat() if held and station.holds_at_start else start
+    out = []
+    for i, move in enumerate(expected.moves):
+        out.append(load)
+        k = i - expected.path_start  # the move's pose in the station's path (photos before it: negative)
+        action = station.action(move.pose_name) if 0 <= k < len(station.poses) else None
+        if action is not None:
+            load = own.flat() if action == GRIP else TOOL_LOAD
+    return start, out, load
 
 
 def _joints(cell, target_name: str, expected: ExpectedTrace, moves: list, trace, home, back: bool) -> list | None:

@@ -15,6 +15,7 @@ NAME = "station"  # the kind's name: its [[station]] tables, its section of the 
 GRIP, RELEASE = "grip", "release"  # what the gripper does at a station's pose ([station.gripper])
 STATION_ID_MAX = 32767  # the largest 16-bit signed integer, which every target reads without loss
 VISION_TABLES = ("camera", "limits")  # [cell] tables a cell with [[station]] needs (a standalone kind's does not)
+PART_MASS_MAX_KG = 2000.0  # above every catalogue arm's payload: the arm's own payload refuses less (check_carried)
 
 POSE = Key(
     "pose",
@@ -22,6 +23,33 @@ POSE = Key(
     count=(6, 7),
     low=-TAUGHT_RANGE_MM,
     high=TAUGHT_RANGE_MM,
+)
+
+
+# [station.part]: the shape the sweep checks (model.world.PART) and what a cell engineer knows of the part besides:
+# its mass (weighed, or from the drawing) and, for a part whose mass is not spread evenly (a shaft with a flange),
+# where its centre of gravity lies from the TCP; the load from the confirmed grip to the confirmed release
+PART = world.PART.merged(
+    {
+        "mass_kg": Key(
+            "number",
+            "the part's mass: the load the gripper carries from the confirmed grip to the confirmed release (the "
+            "tool's and the part's as one; 0: the tool's alone)",
+            unit="kg",
+            low=0.0,
+            high=PART_MASS_MAX_KG,
+            default=0.0,
+        ),
+        "cog_mm": Key(
+            "numbers",
+            "the part's centre of gravity in the TCP frame (default: its box's centre, half its height along the "
+            "tool's z)",
+            unit="mm",
+            count=3,
+            low=-world.SIZE_MAX_MM,
+            high=world.SIZE_MAX_MM,
+        ),
+    }
 )
 
 
@@ -133,7 +161,7 @@ def _common() -> Table:
             "as it is",
             values=Key("string", "what the gripper does there", choices=(GRIP, RELEASE)),
         ),
-        "part": Key("table", world.PART.doc + " (the part the station's grip takes)", table=world.PART),
+        "part": Key("table", PART.doc + " (the part the station's grip takes)", table=PART),
         "solids": replace(
             world.SOLIDS,
             doc="the station's own keep-out solids (the machine it serves, with its door's opening left free), in the "

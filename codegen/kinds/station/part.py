@@ -1,11 +1,76 @@
-"""The part followed through a station program's run: where the gripper closed and opened, with or without a part,
-judged against the station's grip and release poses from the tool's pose at each of those moments."""
+"""The part a station's gripper carries: [station.part] read, its load with the tool's, and the part followed through
+a run (where the gripper closed and opened, with or without a part, judged against the grip and release poses)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
 import numpy as np
 
-from codegen.kinds.station.keys import GRIP, RELEASE
+from codegen.kinds.station.keys import GRIP, PART, RELEASE
+from codegen.model.loader import Loader
+from codegen.model.world import PartShape
+from codegen.world import loads
+from codegen.world.solids import translation
+
+if TYPE_CHECKING:
+    from codegen.kinds.station.section import Station
+
+
+@dataclass(frozen=True)
+class Part(PartShape):
+    """[station.part]: the box hanging from the TCP (PartShape), its mass (kg; 0: the load stays the tool's) and its
+    centre of gravity in the TCP frame (mm; None: the box's centre)."""
+
+    mass_kg: float = 0.0
+    cog_mm: tuple[float, float, float] | None = None
+
+
+def read_part(ctx, raw, path: str) -> Part | None:
+    """[station.part] read by its declaration (keys.PART); None where not given."""
+    if raw is None:
+        return None
+    values = Loader(ctx).table(PART, raw, path)
+    cog = values["cog_mm"]
+    return Part(tuple(values["size_mm"]), values["mass_kg"], None if cog is None else tuple(cog))
+
+
+def part_alone(part: Part | None) -> loads.Load | None:
+    """The part in the TCP frame (a payload's frame): a solid box of its size hanging from the TCP along the tool's z,
+    its inertia about its centre; at a declared centre of gravity, that inertia about it (as a tool's, loads.of_tool);
+    None: no mass given."""
+    if part is None or not part.mass_kg > 0:
+        return None
+    size = tuple(float(v) for v in part.size_mm)
+    centre2tcp = translation(0.0, 0.0, 0.5 * size[2])
+    shape = loads.held_box(part.mass_kg, size, centre2tcp, np.eye(4))
+    if part.cog_mm is None:
+        return shape
+    return loads.Load(shape.mass, np.asarray(part.cog_mm, dtype=float), shape.inertia_cog)
+
+
+def part_load(cell, station: Station | None) -> loads.Load | None:
+    """The load while the station's part is in the gripper: the tool's and the part's as one, in the flange frame
+    (mass, common centre of gravity, the tensor about it with the parallel-axis terms); None: the part has no mass,
+    or the cell gives no tool (the programs then set no load)."""
+    robot = cell.robot
+    part = None if station is None else part_alone(station.part)
+    if robot is None or not robot.tool_given or part is None:
+        return None
+    return loads.with_tool(robot.tool, robot.tool_shaped, part)
+
+
+def held_part(cell, stations) -> Station | None:
+    """The first station whose part a gripper holding one at the start carries, where that load is known before the
+    station is (every station that grips carries a part of the same load): its load is set before the move home;
+    None: a station grips a part without mass, or two parts differ (the load is set once the station is known)."""
+    gripping = [s for s in stations if s.gripper]
+    found = [part_load(cell, s) for s in gripping]
+    if not found or any(load is None for load in found):
+        return None
+    first = found[0].flat()
+    return gripping[0] if all(load.flat() == first for load in found) else None
 
 
 def part_problem(cell, output: str, station, moves, held: bool, trace, tolerance_mm: float) -> str | None:

@@ -20,6 +20,7 @@ from codegen.guard import (
 from codegen.kinds.station.envelope import check
 from codegen.kinds.station.keys import GRIP, RELEASE
 from codegen.kinds.station.mode import mode_of, modes
+from codegen.kinds.station.part import held_part, part_alone, part_load
 from codegen.kinds.station.region import station_plan
 from codegen.kinds.station.section import section_of, stations_of
 from codegen.model import vision
@@ -27,7 +28,17 @@ from codegen.model.cell import Cell
 from codegen.model.motion import segments
 from codegen.protocol import ProgramFile, ProgramPlan
 from codegen.reference import station_stops
-from codegen.render import LITERALS, environment, file_stem, joints_literal, merged, program_emitter, shared_context
+from codegen.render import (
+    LITERALS,
+    MASS_DECIMALS,
+    environment,
+    file_stem,
+    inertia_literal,
+    joints_literal,
+    merged,
+    program_emitter,
+    shared_context,
+)
 from codegen.robot.taught import ReachError, configuration
 
 
@@ -68,8 +79,33 @@ def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> d
         "arm": arm,
         # whether the gripper holds a part when the station starts (None: the gripper does nothing there)
         "holds_at_start": station.holds_at_start,
+        "part_load": _part_load(cell, station, emitter),  # the load while its part is held (None: the tool's)
     }
     return merged(shared, own, f"station context of the {station.mode} mode")
+
+
+def _part_load(cell, station, emitter: Emitter) -> dict | None:
+    """The load while the station's part is in the gripper (kinds/station/part.py): the tool's and the part's in the
+    flange frame ("load"), and the part's alone in the TCP frame ("part": a payload's frame); None: no part mass."""
+    both = part_load(cell, station)
+    if both is None:
+        return None
+    out = {}
+    for key, load in (("load", both), ("part", part_alone(station.part))):
+        out[key] = {
+            "mass": emitter.number(load.mass, MASS_DECIMALS),
+            "cog": [emitter.number(v, 4) for v in load.cog_mm],
+            "cog_m": [emitter.number(v / 1000.0, 7) for v in load.cog_mm],
+            **inertia_literal(load, emitter),
+        }
+    return out
+
+
+def _held(cell, stations, emitter: Emitter) -> dict | None:
+    """The load of a part held at the start where every station carries parts of one load (part.held_part): the
+    station it is taken from (its id names its data) and its load; None: set once the station is known."""
+    station = held_part(cell, stations)
+    return None if station is None else {"id": station.id, **_part_load(cell, station, emitter)}
 
 
 def station_arm(cell, target, station) -> list[dict]:
@@ -123,6 +159,8 @@ def program_context(cell: Cell, target: Target, kind_name: str) -> dict:
         "stations": stations,
         # a station's gripper acts: the program checks at the start what the gripper holds
         "gripping": any(s.gripper for s in section.stations),
+        # a part held at the start whose load is known before the station is: set before the move home
+        "held": _held(cell, section.stations, emitter),
         "modes_used": [name for name in modes() if name in used],
         "unknown_station_text": emitter.string(UNKNOWN_STATION_TEXT),
         "vision": {

@@ -21,12 +21,13 @@ from codegen.kinds.station.keys import (
     station_table,
 )
 from codegen.kinds.station.mode import modes
+from codegen.kinds.station.part import Part, read_part
 from codegen.model import motion
 from codegen.model.cell import TaughtPose
 from codegen.model.loader import Loader, build
-from codegen.model.robot import parse_station_config
+from codegen.model.robot import check_carried, parse_station_config
 from codegen.model.validate import kind_of
-from codegen.model.world import PartShape, parse_part, parse_solids
+from codegen.model.world import parse_solids
 from codegen.poses import POSE_FORMATS
 
 STATIONS_MAX = 5000  # the largest cell measured: its programs load and run here (a UR program in about 35 s)
@@ -50,7 +51,7 @@ class Station:
     retreat: TaughtPose | None = None  # the work pose backed off along its z axis ([cell.motion] retreat_mm)
     # ([station.gripper]) (pose name, GRIP or RELEASE) in visiting order: what the gripper does at that pose
     gripper: tuple[tuple[str, str], ...] = ()
-    part: PartShape | None = None  # ([station.part]) the part the gripper carries: its size
+    part: Part | None = None  # ([station.part]) the part the gripper carries: its size, mass, centre of gravity
     solids: dict = field(default_factory=dict, compare=False)  # ([station.solids]) name -> SolidSpec at calibration
 
     def action(self, pose_name: str) -> str | None:
@@ -225,12 +226,12 @@ def _station(ctx, loader: Loader, raw, index: int) -> Station:
     if isinstance(poses_raw, dict) and len(poses_raw) > POSES_MAX:  # refused before so many are read
         ctx.fail(f"{path}.poses", f"{len(poses_raw)} poses; at most {POSES_MAX} per station")
     passed = {"config": lambda value, where: value, "part": lambda value, where: value,
-              "solids": lambda value, where: value}  # config read with the arms, part and solids by model.world
+              "solids": lambda value, where: value}  # config read with the arms, part by read_part, solids by world
     values = loader.table(table, raw, path, readers=passed)
     spec = known[mode_name].parse(ctx, values, path)
     poses = tuple(values["poses"].values())
     gripper = _gripper(ctx, values["gripper"] or {}, path, list(values["poses"]))
-    part = parse_part(ctx, raw.get("part"), f"{path}.part")
+    part = read_part(ctx, raw.get("part"), f"{path}.part")
     solids = parse_solids(ctx, raw.get("solids"), f"{path}.solids", loader.pose_format)
     return Station(values["id"], values["name"], poses, mode_name, spec, gripper=gripper, part=part, solids=solids)
 
@@ -273,6 +274,8 @@ class SectionPart(protocol.Section):
     def check(self, ctx, cell) -> None:
         for i, station in enumerate(stations_of(cell)):
             modes()[station.mode].check_station(ctx, f"station[{i}]", station, cell)
+            if station.part is not None:
+                check_carried(ctx, cell.robot, station.part.mass_kg, f"station[{i}].part.mass_kg")
         if stations_of(cell) and cell.robot is not None:
             _shift_within_reach(ctx, section_of(cell).limits.max_shift_mm, cell.robot.arms)
 
