@@ -16,6 +16,7 @@ from codegen.kinds.station.section import stations_of
 from codegen.model.cell import EXAMPLES_DIR, example_cells, load_cell
 from codegen.robot.expect import arm_of
 from codegen.verify.programs import fresh_sources
+from codegen.verify.report import case_text
 from codegen.view.page import cell_page
 
 CELLS = [p.relative_to(EXAMPLES_DIR).as_posix() for p in example_cells()]
@@ -82,7 +83,7 @@ def test_every_program_of_every_target_shows_a_nominal_run(pages):
 def _case_named(cell, source, what: str):
     kind = cell.kinds[source.kind].verify
     for case in kind.cases(cell, source, 1, 0):
-        if f"{getattr(case, 'category', 'case')} {kind.describe(cell, case)}".strip() == what:
+        if case_text(kind, cell, case) == what:
             return case
     raise AssertionError(f"no case {what!r}")
 
