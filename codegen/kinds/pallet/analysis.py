@@ -9,7 +9,7 @@ from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.keys import KEYS
 from codegen.kinds.pallet.patterns import TooManyBoxes, layout
 from codegen.kinds.pallet.section import BOXES_MAX, Pallet, pallets_of, parse_pallets
-from codegen.kinds.pallet.stack import FrameError, pallet2base, pattern_of, placements
+from codegen.kinds.pallet.stack import FrameError, layer_top, pallet2base, pattern_of, placements
 from codegen.model.robot import check_carried
 
 
@@ -25,6 +25,8 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
             f"{path}.frame: the pallet's z points down in the base frame (the tool would come from below): "
             "teach xy_point on the other side of the x axis"
         )
+    if pallet.pick is not None:
+        _check_pick(ctx, pallet, frame, path)
     if pallet.entry_dz < pallet.box[2]:
         ctx.fail(
             f"{path}.entry_dz",
@@ -81,6 +83,22 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
                 f"the layer below (support_min {pallet.support_min:.0%})"
             )
     return warnings
+
+
+def _check_pick(ctx, pallet: Pallet, frame: np.ndarray, path: str) -> None:
+    """Q (a box's top where boxes come and go) not over the pallet within the full stack's height: a box at Q would
+    stand in the stack, and every move to or from Q would pass through it."""
+    x, y, z = (np.linalg.inv(frame) @ pallet.pick.matrix()[:, 3])[:3]
+    reach = pallet.overhang_mm
+    over = -reach <= x <= pallet.size[0] + reach and -reach <= y <= pallet.size[1] + reach
+    top = layer_top(pallet, pallet.layers)
+    if over and z - pallet.box[2] < top:
+        ctx.fail(
+            f"{path}.pick",
+            f"Q is over the pallet (at x {x:.1f}, y {y:.1f} mm on its {pallet.size[0]:g} x {pallet.size[1]:g} mm) "
+            f"and a box there reaches down to {z - pallet.box[2]:.1f} mm above the deck, below the full stack's top "
+            f"({top:g} mm): the boxes would meet; teach Q beside the pallet",
+        )
 
 
 def _check_zone(ctx, pallet: Pallet, path: str) -> None:
