@@ -1,0 +1,34 @@
+"""check finds statically what run stops on: an array's literal subscript beyond its declared size."""
+
+from __future__ import annotations
+
+import pytest
+
+from codegen.dialects.core.files import SourceFile
+from codegen.dialects.core.values import RunError
+from codegen.dialects.rapid import Rapid
+
+HEAD = "MODULE m\n  VAR num arr{3};\n  VAR num grid{2,3};\n  VAR num x;\n  PROC main()\n    VAR num own{5};\n"
+TAIL = "  ENDPROC\n  PROC p(num arr)\n    x := arr;\n  ENDPROC\nENDMODULE\n"
+
+
+def _module(line: str) -> list[SourceFile]:
+    return [SourceFile("m.mod", f"{HEAD}    {line}\n{TAIL}")]
+
+
+@pytest.mark.parametrize(
+    ("line", "named"),
+    [("arr{4} := 1;", "arr"), ("x := arr{0};", "arr"), ("grid{2,4} := 1;", "grid"), ("own{6} := 1;", "own")],
+)
+def test_a_literal_index_beyond_the_declared_size_is_found_by_check_as_run_stops_on_it(line, named):
+    with pytest.raises(RunError, match="out of range"):
+        Rapid.load_files(_module(line)).run({})
+    found = [f for f in Rapid.check_files(_module(line)) if f.code == "index"]
+    assert [(f.line, f.severity) for f in found] == [(7, "error")], found
+    assert f"{named} is declared with" in found[0].message
+
+
+@pytest.mark.parametrize("line", ["arr{3} := 1;", "grid{2,3} := 1;", "own{5} := 1;", "p 1;"])
+def test_indexes_within_the_size_are_clean(line):
+    Rapid.load_files(_module(line)).run({})
+    assert [f for f in Rapid.check_files(_module(line)) if f.code == "index"] == []
