@@ -84,6 +84,7 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
         findings.extend(waits(name, tree, inputs))
         findings.extend(early_outputs(name, tree))
         findings.extend(unset_locals(name, tree))
+        findings.extend(zero_divisors(name, tree))
     if trees:
         findings.extend(unset_data(trees))
         findings.extend(constant_indexes(trees))
@@ -290,6 +291,17 @@ def unset_data(trees) -> list[Finding]:
                 if key in unset and key not in own:
                     out.append(_unset_read(file, sub.children[0], "the program's files"))
                     del unset[key]  # one finding a variable
+    return out
+
+
+def zero_divisors(name: str, tree) -> list[Finding]:
+    """A division by the literal 0: run stops there ("division by zero") when the line runs."""
+    out = []
+    for sub in tree.iter_subtrees_topdown():
+        divisor = sub.children[-1] if sub.data == "div" else None
+        if isinstance(divisor, Tree) and divisor.data == "number" and float(str(divisor.children[0])) == 0:
+            line, column = _start(sub)
+            out.append(Finding(name, line, column, "error", "division-by-zero", "division by zero"))
     return out
 
 

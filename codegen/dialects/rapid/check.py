@@ -71,6 +71,7 @@ def check_task(files: list[SourceFile], max_tcp_mm_s: float | None = None, entry
     inputs = {k for k, v in compiler.signal_kinds.items() if v in ("DI", "GI", "AI")} if compiler else set()
     findings += field_checks(trees, max_tcp_mm_s, inputs)
     findings += constant_indexes(trees)
+    findings += zero_divisors(trees)
     order = {f.name: i for i, f in enumerate(files)}
     return sorted(set(findings), key=lambda f: (order.get(f.file, len(order)), f.line, f.column, f.code))
 
@@ -134,6 +135,17 @@ def field_checks(trees, max_tcp_mm_s: float | None, inputs: set[str] = frozenset
         if name in PREDEFINED:
             found.append(_warning(file, node, "predefined", f"{spelled} is predefined data: the program's own "
                                   "declaration hides the system's (the controller refuses a second one)"))  # fmt: skip
+    return found
+
+
+def zero_divisors(trees) -> list[Finding]:
+    """A division (/, DIV, MOD) by the literal 0: run stops there ("division by zero") when the line runs."""
+    found = []
+    for file, tree in trees:
+        for node in tree.iter_subtrees_topdown():
+            if node.data in ("div", "intdiv", "mod") and _number(node.children[-1]) == 0:
+                warning = _warning(file, node, "division-by-zero", "division by zero")
+                found.append(replace(warning, severity="error"))
     return found
 
 

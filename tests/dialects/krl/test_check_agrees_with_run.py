@@ -31,3 +31,13 @@ def test_indexes_within_the_size_and_a_routine_s_own_array_of_another_size_are_c
         "DEF U()\nDECL INT G[5]\nG[5] = 1\nEND\n"
     )
     assert [f for f in KRL.check_files(files(t_src=src, t_dat=DAT)) if f.code == "index"] == []
+
+
+@pytest.mark.parametrize("line", ["N = 1/0", "X = 2.5/0.0"])
+def test_a_division_by_a_literal_zero_is_found_by_check_as_run_stops_on_it(line):
+    decls = "DECL INT N\nDECL REAL X"
+    with pytest.raises(RunError, match="division by zero"):
+        program(line, decls).run({})
+    src = f"DEF T()\n{decls}\n{line}\nN = 4/2\nEND\n"
+    found = [(f.line, f.code) for f in KRL.check_files(files(t_src=src, t_dat=DAT)) if f.severity == "error"]
+    assert found == [(4, "division-by-zero")]

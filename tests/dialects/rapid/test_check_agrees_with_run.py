@@ -32,3 +32,12 @@ def test_a_literal_index_beyond_the_declared_size_is_found_by_check_as_run_stops
 def test_indexes_within_the_size_are_clean(line):
     Rapid.load_files(_module(line)).run({})
     assert [f for f in Rapid.check_files(_module(line)) if f.code == "index"] == []
+
+
+@pytest.mark.parametrize("line", ["x := 1 / 0;", "x := 5 DIV 0;", "x := 5 MOD 0.0;"])
+def test_a_division_by_a_literal_zero_is_found_by_check_as_run_stops_on_it(line):
+    with pytest.raises(RunError):
+        Rapid.load_files(_module(line)).run({})
+    found = [(f.line, f.code, f.severity) for f in Rapid.check_files(_module(line)) if f.code == "division-by-zero"]
+    assert found == [(7, "division-by-zero", "error")]
+    assert [f for f in Rapid.check_files(_module("x := 5 / 2;")) if f.code == "division-by-zero"] == []
