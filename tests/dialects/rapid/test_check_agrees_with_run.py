@@ -41,3 +41,12 @@ def test_a_division_by_a_literal_zero_is_found_by_check_as_run_stops_on_it(line)
     found = [(f.line, f.code, f.severity) for f in Rapid.check_files(_module(line)) if f.code == "division-by-zero"]
     assert found == [(7, "division-by-zero", "error")]
     assert [f for f in Rapid.check_files(_module("x := 5 / 2;")) if f.code == "division-by-zero"] == []
+
+
+def test_errraise_naming_no_errnum_is_refused_at_its_line_and_column():
+    """The message read "m.mod:3:None: undefined variable E1"."""
+    text = 'MODULE m\nPROC main()\n  ErrRaise "E1", 5001, "a", "b", "c", "d", "e";\nENDPROC\nENDMODULE\n'
+    with pytest.raises(RunError, match=r"^m\.mod:3:12: undefined variable E1$"):
+        Rapid.load_files([SourceFile("m.mod", text)])
+    (found,) = Rapid.check_files([SourceFile("m.mod", text)])
+    assert (found.line, found.column, found.code) == (3, 12, "undefined-name")
