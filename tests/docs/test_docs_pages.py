@@ -100,3 +100,14 @@ def test_every_benchmark_writes_its_block_of_the_page(script):
     block = re.search(begin + r"\n(.*?)" + end, page, re.S)
     assert block, f"docs/benchmarks.md has no block for {script.name}"
     assert re.match(r"Latest figures: \d{4}-\d\d-\d\d, on .+", block.group(1)), block.group(1)[:80]
+
+
+def test_the_arm_table_names_every_arm_of_the_catalogue():
+    """The arm page's table left out the UR20."""
+    from codegen.robot.arms import catalogue
+
+    text = (REPO / "docs" / "arm.md").read_text(encoding="utf-8")
+    families = ("| ur |", "| opw |")
+    rows = [line.split("|")[1] for line in text.splitlines() if line.startswith("| ") and any(f in line for f in families)]
+    listed = {name.strip() for row in rows for name in row.split(",")}
+    assert set(catalogue()) <= listed, sorted(set(catalogue()) - listed)
