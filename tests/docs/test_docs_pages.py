@@ -112,3 +112,9 @@ def test_the_arm_table_names_every_arm_of_the_catalogue():
     rows = [line.split("|")[1] for line in lines if any(f in line for f in families)]
     listed = {name.strip() for row in rows for name in row.split(",")}
     assert set(catalogue()) <= listed, sorted(set(catalogue()) - listed)
+
+
+def test_the_navigation_names_pages_by_what_they_do_not_by_source_number():
+    """The kinds' pages were listed as "Point stations (source 000)" ...: a number a new user cannot read."""
+    nav = (REPO / "mkdocs.yml").read_text(encoding="utf-8").split("\nnav:", 1)[1]
+    assert not re.findall(r"source \d{3}", nav)
