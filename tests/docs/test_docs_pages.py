@@ -118,3 +118,10 @@ def test_the_navigation_names_pages_by_what_they_do_not_by_source_number():
     """The kinds' pages were listed as "Point stations (source 000)" ...: a number a new user cannot read."""
     nav = (REPO / "mkdocs.yml").read_text(encoding="utf-8").split("\nnav:", 1)[1]
     assert not re.findall(r"source \d{3}", nav)
+
+
+def test_the_key_reference_shows_each_description_beside_its_key():
+    """At 1,280 px the description, the table's last of eight columns, was scrolled out of sight."""
+    text = (REPO / "docs" / "cell-file-reference.md").read_text(encoding="utf-8")
+    heads = [line for line in text.splitlines() if line.startswith("| key |")]
+    assert heads and all(h.split("|")[2].strip() == "description" for h in heads)
