@@ -7,7 +7,7 @@ import numpy as np
 from codegen import protocol
 from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.keys import KEYS
-from codegen.kinds.pallet.patterns import TooManyBoxes, layout
+from codegen.kinds.pallet.patterns import TooManyBoxes, fuller_family, layout
 from codegen.kinds.pallet.section import BOXES_MAX, Pallet, pallets_of, parse_pallets
 from codegen.kinds.pallet.stack import FrameError, layer_top, pallet2base, pattern_of, placements
 from codegen.model.robot import check_carried
@@ -68,21 +68,47 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
         layouts[name] = boxes
     _check_counts(ctx, pallet, path, layouts)
     _check_zone(ctx, pallet, path)  # every box's poses: once the stack is known to be within BOXES_MAX
-    seen = set()
+    warnings.extend(_support_warning(pallet, path, layouts))
+    warnings.extend(_family_hints(pallet, path))
+    return warnings
+
+
+def _support_warning(pallet: Pallet, path: str, layouts: dict) -> list[str]:
+    """One warning for the pallet: each pair of patterns (the first layer it stands at) whose upper boxes rest on
+    less than support_min of their bottom, with those boxes."""
+    seen, parts = set(), []
     for layer in range(2, pallet.layers + 1):
         below, above = pallet.cycle[(layer - 2) % len(pallet.cycle)], pallet.cycle[(layer - 1) % len(pallet.cycle)]
         if (below, above) in seen:
             continue
         seen.add((below, above))
-        shares = checks.support(layouts[above], layouts[below], footprint)
+        shares = checks.support(layouts[above], layouts[below], pallet.box[:2])
         weak = [(i, s) for i, s in enumerate(shares) if s < pallet.support_min - 1e-9]
         if weak:
             listed = ", ".join(f"box {i + 1} {s:.0%}" for i, s in weak[:8]) + (" ..." if len(weak) > 8 else "")
-            warnings.append(
-                f"{path}: pattern {above} on pattern {below} (layer {layer}): {listed} of its bottom rests on "
-                f"the layer below (support_min {pallet.support_min:.0%})"
+            parts.append(f"layer {layer} ({above} on {below}): {listed}")
+    if not parts:
+        return []
+    return [
+        f"{path}: boxes that rest on less than support_min {pallet.support_min:.0%} of their bottom on the layer "
+        f"below: {'; '.join(parts)}"
+    ]
+
+
+def _family_hints(pallet: Pallet, path: str) -> list[str]:
+    """A hint per generated family the patterns use where another family fits more boxes on a layer."""
+    out, seen = [], set()
+    for name, spec in pallet.patterns.items():
+        family = getattr(spec, "family", None)
+        fuller = None if family in seen else fuller_family(pallet, family)
+        seen.add(family)
+        if fuller is not None:
+            other, more, fewer = fuller
+            out.append(
+                f"{path}.patterns.{name}: family {other!r} fits {more} boxes a layer, {family!r} {fewer} "
+                "(a hint: keep it where its layers hold together better)"
             )
-    return warnings
+    return out
 
 
 def _check_pick(ctx, pallet: Pallet, frame: np.ndarray, path: str) -> None:
