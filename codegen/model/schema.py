@@ -213,12 +213,13 @@ def markdown(root: Table, title: str) -> str:
 def _tables(table: Table, path: str, lines: list[str]) -> None:
     if path:
         lines += [f"## `[{path}]`", "", table.doc, ""]
-        lines += ["| key | type | unit | range / values | default | required | used by | description |"]
+        # the description beside the key: a page of 1,280 px shows it without scrolling the table sideways
+        lines += ["| key | description | type | unit | range / values | default | required | used by |"]
         lines += ["|---|---|---|---|---|---|---|---|"]
         for name, key in table.keys.items():
             lines.append(
-                f"| `{name}` | {_type(key)} | {key.unit} | {_values(key)} | {_default(key)} | "
-                f"{'yes' if key.required else ''} | {_users(key, table)} | {key.doc.replace('|', '/')} |"
+                f"| `{name}` | {key.doc.replace('|', '/')} | {_type(key)} | {key.unit} | {_values(key)} | "
+                f"{_default(key)} | {'yes' if key.required else ''} | {_users(key, table)} |"
             )
         lines.append("")
     for name, key in table.keys.items():

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from array import array
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -12,6 +13,25 @@ from codegen.protocol import Kind, VerifyPlan
 from codegen.robot.expect import ArmStats
 
 FIRST_MISMATCHES = 10  # how many mismatches a row names
+# a case's numbers as its kind keeps them (a float's repr: 168.60999999999999) shown to 6 decimals, a millionth of a
+# mm or deg, far below every tolerance; the seed, not the text, reproduces a case exactly
+READING_DECIMALS = 6
+_LONG_DECIMAL = re.compile(rf"(?<![\w.])-?\d+\.\d{{{READING_DECIMALS + 1},}}")
+
+
+def readable(text: str) -> str:
+    """text with every number of more than READING_DECIMALS decimals rounded to them (trailing zeros dropped)."""
+
+    def rounded(match: re.Match) -> str:
+        short = f"{float(match.group()):.{READING_DECIMALS}f}".rstrip("0").rstrip(".")
+        return "0" if short in ("-0", "") else short
+
+    return _LONG_DECIMAL.sub(rounded, text)
+
+
+def case_text(kind, cell, case) -> str:
+    """A case as the report names it: its category and the kind's description, numbers rounded for reading."""
+    return readable(f"{getattr(case, 'category', 'case')} {kind.describe(cell, case)}".replace("  ", " ").strip())
 
 
 @dataclass

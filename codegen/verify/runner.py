@@ -9,10 +9,10 @@ from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.dialects.core.program import frozen_heap
 from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.verify import clearance
-from codegen.verify.checks import Checker
+from codegen.verify.checks import Checker, pose_errors
 from codegen.verify.edits import message_renames
 from codegen.verify.executor import Executor
-from codegen.verify.report import Replay, Row
+from codegen.verify.report import Replay, Row, case_text
 
 _LOADED: dict = {}  # source -> program, in a worker (each program parsed once per process)
 _RENAMES: dict = {}  # source -> the texts a given program changed (edits.message_renames), once per process
@@ -99,8 +99,9 @@ def _run_cases(
                         figures = judgement.figures
                         pos, rot = [*pos, *judgement.errors[0]], [*rot, *judgement.errors[1]]
                         break
-                    problems.append(((expected.halt is not None) != trace.halted, problem, pos, rot, expected))
-                else:  # none accepted: the difference from the expectation that stops (or goes on) as the run did
+                    stops = (expected.halt is not None) != trace.halted
+                    problems.append(((stops, -_followed(checker, expected, trace)), problem, pos, rot, expected))
+                else:  # none accepted: the difference from the expectation the run followed (stops as it, then moves)
                     _, problem, pos, rot, expected = min(problems, key=lambda p: p[0])
             if problem is None and judgement.truth is not None:
                 problem = judgement.truth
@@ -114,18 +115,35 @@ def _run_cases(
         row.rot_errors.extend(rot)
         if problem is None:
             row.moves += len(pos)
-            named = lambda c=case: f"{c.category} {kind.describe(model, c)}"  # noqa: E731 (asked at a new least)
+            named = lambda c=case: case_text(kind, model, c)  # noqa: E731 (asked at a new least)
             row.arm.add(model, source.target, trace.moves, named)
             if figures:
                 if row.figures is None:
                     row.figures = kind.figures()
                 row.figures.count(case, figures)
         else:
-            row.mismatch(f"{case.category} {kind.describe(model, case)}: {problem}".replace("  ", " "), problem)
+            row.mismatch(f"{case_text(kind, model, case)}: {problem}", problem)
         if keep:
             _keep(row, kind, model, case, setup, trace, expected, pos, rot, problem)
         if runaway or (first and problem is not None):
             break
+
+
+def _followed(checker: Checker, expected, trace) -> int:
+    """How many of the run's moves, from its first, are the expectation's (kind, and pose within tolerance): of the
+    several a case accepts (a vision PC answering twice: either answer), the one a failing run took, whose
+    difference is the run's fault (not the other answer's poses from its first corrected move)."""
+    followed = 0
+    for got, planned in zip(trace.moves, expected.moves, strict=False):
+        if got.kind != planned.kind:
+            break
+        if planned.tcp2base is not None:
+            pos, rot = pose_errors(got.tcp2base.tolist(), planned.tcp2base.tolist())
+            pos_tol, rot_tol = planned.tolerance or (checker.pos_tol, checker.rot_tol)
+            if not (pos <= pos_tol and rot <= rot_tol):
+                break
+        followed += 1
+    return followed
 
 
 def _clearance(check: clearance.TraceClearance, model, source, setup, trace, row: Row) -> str | None:
@@ -160,7 +178,7 @@ def _keep(row: Row, kind, model, case, setup, trace, expected, pos, rot, problem
     if not worst and (problem is None or row.failed is not None):
         return
     replay = Replay(
-        f"{case.category} {kind.describe(model, case)}".strip(),
+        case_text(kind, model, case),
         max(pos, default=0.0),
         max(rot, default=0.0),
         None if setup is None else setup.start_joints,

@@ -12,6 +12,7 @@ from codegen.dialects.core.values import RunError
 from codegen.robot.expect import arm_of
 from codegen.verify.plan import SCENARIOS
 from codegen.verify.programs import ProgramSource, fresh_sources
+from codegen.verify.report import case_text
 
 STEP_LIMIT = 2_000_000  # the longest nominal run (a full stack of boxes) runs well under this; a runaway stops here
 
@@ -63,7 +64,7 @@ def run_case(cell, source: ProgramSource, program, case) -> Run:
 
 
 def describe(cell, kind, case) -> str:
-    return f"{getattr(case, 'category', 'case')} {kind.describe(cell, case)}".strip()
+    return case_text(kind, cell, case)
 
 
 def nominal_runs(cell, target: str) -> list[ProgramRuns]:

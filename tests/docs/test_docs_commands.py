@@ -188,3 +188,14 @@ def test_the_readme_quick_start_is_what_ci_runs():
     assert len(lines) == 2
     for line in lines:
         assert line in ci, f"the README's quick start line is not in .ci/run verbatim: {line}"
+
+
+def test_the_install_and_docs_commands_a_new_user_copies_run_from_the_venv():
+    """The README's docs command read `pip install '.[docs]' && mkdocs serve`: on a fresh machine outside the venv."""
+    bare = re.compile(r"(?<![\w/.-])(pip install|mkdocs serve)\b")
+    found = [
+        f"{page.name}: {match.group()}"
+        for page in (REPO / "README.md", REPO / "docs" / "getting-started.md")
+        for match in bare.finditer(page.read_text(encoding="utf-8"))
+    ]
+    assert not found, found

@@ -100,3 +100,28 @@ def test_every_benchmark_writes_its_block_of_the_page(script):
     block = re.search(begin + r"\n(.*?)" + end, page, re.S)
     assert block, f"docs/benchmarks.md has no block for {script.name}"
     assert re.match(r"Latest figures: \d{4}-\d\d-\d\d, on .+", block.group(1)), block.group(1)[:80]
+
+
+def test_the_arm_table_names_every_arm_of_the_catalogue():
+    """The arm page's table left out the UR20."""
+    from codegen.robot.arms import catalogue
+
+    text = (REPO / "docs" / "arm.md").read_text(encoding="utf-8")
+    families = ("| ur |", "| opw |")
+    lines = [line for line in text.splitlines() if line.startswith("| ")]
+    rows = [line.split("|")[1] for line in lines if any(f in line for f in families)]
+    listed = {name.strip() for row in rows for name in row.split(",")}
+    assert set(catalogue()) <= listed, sorted(set(catalogue()) - listed)
+
+
+def test_the_navigation_names_pages_by_what_they_do_not_by_source_number():
+    """The kinds' pages were listed as "Point stations (source 000)" ...: a number a new user cannot read."""
+    nav = (REPO / "mkdocs.yml").read_text(encoding="utf-8").split("\nnav:", 1)[1]
+    assert not re.findall(r"source \d{3}", nav)
+
+
+def test_the_key_reference_shows_each_description_beside_its_key():
+    """At 1,280 px the description, the table's last of eight columns, was scrolled out of sight."""
+    text = (REPO / "docs" / "cell-file-reference.md").read_text(encoding="utf-8")
+    heads = [line for line in text.splitlines() if line.startswith("| key |")]
+    assert heads and all(h.split("|")[2].strip() == "description" for h in heads)

@@ -16,6 +16,7 @@ from codegen.kinds.station.section import stations_of
 from codegen.model.cell import EXAMPLES_DIR, example_cells, load_cell
 from codegen.robot.expect import arm_of
 from codegen.verify.programs import fresh_sources
+from codegen.verify.report import case_text
 from codegen.view.page import cell_page
 
 CELLS = [p.relative_to(EXAMPLES_DIR).as_posix() for p in example_cells()]
@@ -82,7 +83,7 @@ def test_every_program_of_every_target_shows_a_nominal_run(pages):
 def _case_named(cell, source, what: str):
     kind = cell.kinds[source.kind].verify
     for case in kind.cases(cell, source, 1, 0):
-        if f"{getattr(case, 'category', 'case')} {kind.describe(cell, case)}".strip() == what:
+        if case_text(kind, cell, case) == what:
             return case
     raise AssertionError(f"no case {what!r}")
 
@@ -294,3 +295,49 @@ def test_a_cells_strings_stay_text_in_the_page(write_cell, browser, tmp_path):
     assert browser.errors() == []
     assert browser.evaluate("document.querySelectorAll('script').length") == 3
     assert browser.evaluate("document.body.innerHTML.includes('<script>alert')") is False
+
+
+@pytest.mark.parametrize("name", ["eur_pallet", "agv_machine_tending"])
+def test_the_canvas_fills_the_window_and_the_framing_shows_every_object_whole(pages, browser, name):
+    """The canvas took 80 % of the window's height; the framing looked at the objects' centres (at 0.8 of the
+    distance that shows them), so a long fence or the pallet's far boxes could stand beyond the picture's edge."""
+    _cell, path, _html = pages[name]
+    browser.open(path)
+    sizes = browser.evaluate(
+        "(() => { const c = document.querySelector('#stage canvas').getBoundingClientRect();"
+        " return [c.left, c.top, c.right, c.bottom, window.innerHeight,"
+        " document.querySelector('header').offsetHeight]; })()"
+    )
+    left, top, right, bottom, height, header = sizes
+    assert bottom - top >= height - header - 2, sizes
+    corners = []
+    for o in browser.evaluate("codegenView.data")["objects"]:
+        if o["type"] != "box":
+            continue
+        pose, half = np.reshape(o["pose"], (4, 4)), np.asarray(o["size"]) / 2
+        corners += [list(pose[:3, :3] @ (half * s) + pose[:3, 3]) for s in itertools.product((-1, 1), repeat=3)]
+    assert corners
+    shown = browser.evaluate(f"{json.dumps(corners)}.map(p => codegenView.project(p))")
+    inside = [left <= x <= right and top <= y <= bottom for x, y, _z in shown]
+    outside = [c for c, ok in zip(corners, inside, strict=True) if not ok]
+    assert not outside, f"{len(outside)} of {len(corners)} corners off the picture, e.g. {outside[:3]}"
+
+
+def is_current(pixel) -> bool:
+    """The move the arm is on (#ffd000 as shaded): hue 40-60 deg, fully saturated."""
+    h, s, v = _hsv(pixel)
+    return 0.11 <= h <= 0.17 and s > 0.85 and v > 0.4
+
+
+@pytest.mark.parametrize("fragment", ["m=3", "m=4.5"])
+def test_the_move_the_arm_is_on_stands_out_over_the_path(pages, browser, fragment):
+    """A long path was one colour: which move the arm is on could not be told from the others."""
+    _cell, path, _html = pages["agv_machine_tending"]
+    browser.open(path)
+    state, _links, image = _show(browser, f"#target=ur&program=0&{fragment}&labels=0")
+    assert state["segment"] is not None
+    a, b = np.asarray(state["segment"][0]), np.asarray(state["segment"][1])
+    along = [list(a + (b - a) * t) for t in (0.1, 0.2, 0.3)]  # away from the arm's tool, at the move's end or middle
+    shown = browser.evaluate(f"{json.dumps(along)}.map(p => codegenView.project(p))")
+    assert sum(_near(image, xy, is_current) for xy in shown) >= 2
+    assert not any(is_current(image.getpixel((x, y))) for x in range(5, 60) for y in range(100, 160))

@@ -84,8 +84,10 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
         findings.extend(waits(name, tree, inputs))
         findings.extend(early_outputs(name, tree))
         findings.extend(unset_locals(name, tree))
+        findings.extend(zero_divisors(name, tree))
     if trees:
         findings.extend(unset_data(trees))
+        findings.extend(constant_indexes(trees))
     if trees:
         findings.extend(unset_frames(trees))
     unique = {}
@@ -289,6 +291,69 @@ def unset_data(trees) -> list[Finding]:
                 if key in unset and key not in own:
                     out.append(_unset_read(file, sub.children[0], "the program's files"))
                     del unset[key]  # one finding a variable
+    return out
+
+
+def zero_divisors(name: str, tree) -> list[Finding]:
+    """A division by the literal 0: run stops there ("division by zero") when the line runs."""
+    out = []
+    for sub in tree.iter_subtrees_topdown():
+        divisor = sub.children[-1] if sub.data == "div" else None
+        if isinstance(divisor, Tree) and divisor.data == "number" and float(str(divisor.children[0])) == 0:
+            line, column = _start(sub)
+            out.append(Finding(name, line, column, "error", "division-by-zero", "division by zero"))
+    return out
+
+
+def _dims(item) -> tuple[int, ...] | None:
+    """A decl_item's array sizes (DECL INT A[10, 3]: (10, 3)), None: not an array."""
+    dims = item.children[1]
+    if not isinstance(dims, Tree) or dims.data != "dims":
+        return None
+    return tuple(int(str(d)) for d in dims.children)
+
+
+def _literal_indexes(node) -> tuple[int, ...] | None:
+    """An index node's subscripts where every one is a whole-number literal, else None."""
+    subs = node.children[1:]
+    if not subs or not all(isinstance(s, Tree) and s.data == "number" and str(s.children[0]).isdigit() for s in subs):
+        return None
+    return tuple(int(str(s.children[0])) for s in subs)
+
+
+def constant_indexes(trees) -> list[Finding]:
+    """An array read or written at literal subscripts beyond its declared size (KRL arrays run from 1): run stops
+    there with "index out of range" when the line runs; the size is known from the declaration."""
+    shared = {}  # the data lists' arrays: every routine of the program sees them
+    for _file, tree in trees:
+        for defdat in (n for n in tree.children if isinstance(n, Tree) and n.data == "defdat"):
+            for item in (i for i in defdat.iter_subtrees_topdown() if i.data == "decl_item"):
+                if _dims(item) is not None:
+                    shared[str(item.children[0]).upper()] = _dims(item)
+    out = []
+    for file, tree in trees:
+        for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
+            own = {
+                str(i.children[0]).upper(): _dims(i) if i.data == "decl_item" else None
+                for i in routine.iter_subtrees()
+                if i.data in ("decl_item", "param")
+            }
+            for sub in routine.iter_subtrees_topdown():
+                if sub.data != "index" or not (isinstance(sub.children[0], Tree) and sub.children[0].data == "var"):
+                    continue
+                name = str(sub.children[0].children[0]).upper()
+                dims, at = own[name] if name in own else shared.get(name), _literal_indexes(sub)
+                if dims is None or at is None or len(at) != len(dims):
+                    continue
+                for value, size in zip(at, dims, strict=True):
+                    if not 1 <= value <= size:
+                        line, column = _start(sub)
+                        out.append(
+                            Finding(file, line, column, "error", "index",
+                                    f"index {value} out of range: {sub.children[0].children[0]} is declared with "
+                                    f"{size} elements (1..{size})")
+                        )
+                        break
     return out
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 
 from lark import Tree
 
@@ -69,6 +70,8 @@ def check_task(files: list[SourceFile], max_tcp_mm_s: float | None = None, entry
         findings += typecheck.check(compiler, trees)
     inputs = {k for k, v in compiler.signal_kinds.items() if v in ("DI", "GI", "AI")} if compiler else set()
     findings += field_checks(trees, max_tcp_mm_s, inputs)
+    findings += constant_indexes(trees)
+    findings += zero_divisors(trees)
     order = {f.name: i for i, f in enumerate(files)}
     return sorted(set(findings), key=lambda f: (order.get(f.file, len(order)), f.line, f.column, f.code))
 
@@ -132,6 +135,73 @@ def field_checks(trees, max_tcp_mm_s: float | None, inputs: set[str] = frozenset
         if name in PREDEFINED:
             found.append(_warning(file, node, "predefined", f"{spelled} is predefined data: the program's own "
                                   "declaration hides the system's (the controller refuses a second one)"))  # fmt: skip
+    return found
+
+
+def zero_divisors(trees) -> list[Finding]:
+    """A division (/, DIV, MOD) by the literal 0: run stops there ("division by zero") when the line runs."""
+    found = []
+    for file, tree in trees:
+        for node in tree.iter_subtrees_topdown():
+            if node.data in ("div", "intdiv", "mod") and _number(node.children[-1]) == 0:
+                warning = _warning(file, node, "division-by-zero", "division by zero")
+                found.append(replace(warning, severity="error"))
+    return found
+
+
+def _literal_dims(node) -> tuple[int, ...] | None:
+    """The whole-number literals of a dims or an index's subscripts, None where one is anything else."""
+    if not isinstance(node, Tree) or not node.children:
+        return None
+    numbers = [_number(c) for c in node.children]
+    if any(n is None or n != int(n) for n in numbers):
+        return None
+    return tuple(int(n) for n in numbers)
+
+
+def _arrays(node) -> dict[str, tuple[int, ...] | None]:
+    """The data a module or routine declares right in it (name -> its literal sizes, None: not such an array), and a
+    routine's parameters (None: they hide the module's data of their name)."""
+    out = {}
+    for child in node.children:
+        if isinstance(child, Tree) and child.data == "data_decl":
+            out[str(child.children[4]).upper()] = _literal_dims(child.children[5])
+        elif isinstance(child, Tree) and child.data == "body":
+            out.update({k: v for k, v in _arrays(child).items() if k not in out})
+    for param in node.iter_subtrees() if node.data in ("proc", "func") else ():
+        if param.data in ("param", "opt_param"):
+            out.setdefault(str(param.children[3]).upper(), None)
+    return out
+
+
+def constant_indexes(trees) -> list[Finding]:
+    """An array read or written at literal subscripts beyond its declared size (RAPID arrays run from 1): run stops
+    there with "index out of range" when the line runs; the size is known from the declaration."""
+    shared = {}  # the modules' data: every routine of the task sees them (a LOCAL one its module's, names unique)
+    for _file, tree in trees:
+        for module in tree.iter_subtrees():
+            if module.data == "module":
+                shared.update(_arrays(module))
+    found = []
+    for file, tree in trees:
+        for routine in (r for r in tree.iter_subtrees() if r.data in ("proc", "func", "trap")):
+            own = _arrays(routine)
+            for node in routine.iter_subtrees_topdown():
+                if node.data != "index":
+                    continue
+                base, subscripts = node, []
+                while isinstance(base, Tree) and base.data == "index":  # a{i, j} as the task holds it: (a{i}){j}
+                    base, subscripts = base.children[0], [*base.children[1:], *subscripts]
+                name = _name(base)
+                dims = own[name] if name in own else shared.get(name)
+                at = _literal_dims(Tree("subscripts", subscripts))
+                if dims is None or at is None or len(at) != len(dims):
+                    continue
+                bad = next(((v, n) for v, n in zip(at, dims, strict=True) if not 1 <= v <= n), None)
+                if bad is not None:
+                    spelled = base.children[0]
+                    message = f"index {bad[0]} out of range: {spelled} is declared with {bad[1]} elements (1..{bad[1]})"
+                    found.append(replace(_warning(file, node, "index", message), severity="error"))
     return found
 
 

@@ -102,7 +102,8 @@ def err_raise(compiler, node, args_node) -> Callable:
     if not (isinstance(name_node, Tree) and name_node.data == "string"):
         compiler.fail(name_node, "ErrRaise: ErrorName is the errnum variable's name as a string literal")
     name = compiler.string_value(str(name_node.children[0]))
-    errnum = compiler.expr(Tree("var", [Token("NAME", name, line=name_node.meta.line)], name_node.meta))
+    meta = name_node.meta
+    errnum = compiler.expr(Tree("var", [Token("NAME", name, line=meta.line, column=meta.column)], meta))
     number, title = compiler.expr(positional[1]), compiler.expr(positional[2])
     in_handler, where = compiler.in_handler, compiler.where(node)
 

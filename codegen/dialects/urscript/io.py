@@ -34,6 +34,10 @@ STRING_MAX = 1023  # characters of a string result (URScript manual, str_cat; ur
 DIGITAL = {"standard": 7, "configurable": 7, "tool": 1}
 ANALOG_IN = {"standard": 1, "tool": 1}
 ANALOG_OUT = {"standard": 1}
+# The deprecated functions of one numbering (Script Directory, e-Series, 17.7 get_digital_in(n), 17.44
+# set_digital_out(n, b): "n: integer [0:9] ... The get_standard_digital_in and get_tool_digital_in replace this
+# function. Ports 8-9 should be changed to 0-1 for the latter"): still run by the controller; port -> (bank, n)
+DEPRECATED_DIGITAL = {n: ("standard", n) for n in range(8)} | {8: ("tool", 0), 9: ("tool", 1)}
 
 
 def _port(value, top: int, where: str, what: str) -> int:
@@ -89,6 +93,22 @@ def builtins() -> dict:
         table[f"set_{bank}_digital_out"] = set_out
         table[f"get_{bank}_digital_in"] = get_in
         table[f"get_{bank}_digital_out"] = get_out
+
+    def deprecated(name: str, modern: str, params: tuple):
+        def call(fr, args, kwargs, where):
+            a = arguments(name, params, {}, args, kwargs, where)
+            n = _port(a["n"], max(DEPRECATED_DIGITAL), where, f"{name}({', '.join(params)})")
+            bank, port = DEPRECATED_DIGITAL[n]
+            return table[modern.format(bank=bank)](fr, [port, *[a[k] for k in params[1:]]], {}, where)
+
+        return call
+
+    for name, modern, params in (
+        ("set_digital_out", "set_{bank}_digital_out", ("n", "b")),
+        ("get_digital_in", "get_{bank}_digital_in", ("n",)),
+        ("get_digital_out", "get_{bank}_digital_out", ("n",)),
+    ):
+        table[name] = deprecated(name, modern, params)
 
     for bank, top in ANALOG_IN.items():
 

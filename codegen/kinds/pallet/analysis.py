@@ -7,9 +7,9 @@ import numpy as np
 from codegen import protocol
 from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.keys import KEYS
-from codegen.kinds.pallet.patterns import TooManyBoxes, layout
+from codegen.kinds.pallet.patterns import TooManyBoxes, fuller_family, layout
 from codegen.kinds.pallet.section import BOXES_MAX, Pallet, pallets_of, parse_pallets
-from codegen.kinds.pallet.stack import FrameError, pallet2base, pattern_of, placements
+from codegen.kinds.pallet.stack import FrameError, layer_top, pallet2base, pattern_of, placements
 from codegen.model.robot import check_carried
 
 
@@ -25,6 +25,8 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
             f"{path}.frame: the pallet's z points down in the base frame (the tool would come from below): "
             "teach xy_point on the other side of the x axis"
         )
+    if pallet.pick is not None:
+        _check_pick(ctx, pallet, frame, path)
     if pallet.entry_dz < pallet.box[2]:
         ctx.fail(
             f"{path}.entry_dz",
@@ -66,21 +68,63 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
         layouts[name] = boxes
     _check_counts(ctx, pallet, path, layouts)
     _check_zone(ctx, pallet, path)  # every box's poses: once the stack is known to be within BOXES_MAX
-    seen = set()
+    warnings.extend(_support_warning(pallet, path, layouts))
+    warnings.extend(_family_hints(pallet, path))
+    return warnings
+
+
+def _support_warning(pallet: Pallet, path: str, layouts: dict) -> list[str]:
+    """One warning for the pallet: each pair of patterns (the first layer it stands at) whose upper boxes rest on
+    less than support_min of their bottom, with those boxes."""
+    seen, parts = set(), []
     for layer in range(2, pallet.layers + 1):
         below, above = pallet.cycle[(layer - 2) % len(pallet.cycle)], pallet.cycle[(layer - 1) % len(pallet.cycle)]
         if (below, above) in seen:
             continue
         seen.add((below, above))
-        shares = checks.support(layouts[above], layouts[below], footprint)
+        shares = checks.support(layouts[above], layouts[below], pallet.box[:2])
         weak = [(i, s) for i, s in enumerate(shares) if s < pallet.support_min - 1e-9]
         if weak:
             listed = ", ".join(f"box {i + 1} {s:.0%}" for i, s in weak[:8]) + (" ..." if len(weak) > 8 else "")
-            warnings.append(
-                f"{path}: pattern {above} on pattern {below} (layer {layer}): {listed} of its bottom rests on "
-                f"the layer below (support_min {pallet.support_min:.0%})"
+            parts.append(f"layer {layer} ({above} on {below}): {listed}")
+    if not parts:
+        return []
+    return [
+        f"{path}: boxes that rest on less than support_min {pallet.support_min:.0%} of their bottom on the layer "
+        f"below: {'; '.join(parts)}"
+    ]
+
+
+def _family_hints(pallet: Pallet, path: str) -> list[str]:
+    """A hint per generated family the patterns use where another family fits more boxes on a layer."""
+    out, seen = [], set()
+    for name, spec in pallet.patterns.items():
+        family = getattr(spec, "family", None)
+        fuller = None if family in seen else fuller_family(pallet, family)
+        seen.add(family)
+        if fuller is not None:
+            other, more, fewer = fuller
+            out.append(
+                f"{path}.patterns.{name}: family {other!r} fits {more} boxes a layer, {family!r} {fewer} "
+                "(a hint: keep it where its layers hold together better)"
             )
-    return warnings
+    return out
+
+
+def _check_pick(ctx, pallet: Pallet, frame: np.ndarray, path: str) -> None:
+    """Q (a box's top where boxes come and go) not over the pallet within the full stack's height: a box at Q would
+    stand in the stack, and every move to or from Q would pass through it."""
+    x, y, z = (np.linalg.inv(frame) @ pallet.pick.matrix()[:, 3])[:3]
+    reach = pallet.overhang_mm
+    over = -reach <= x <= pallet.size[0] + reach and -reach <= y <= pallet.size[1] + reach
+    top = layer_top(pallet, pallet.layers)
+    if over and z - pallet.box[2] < top:
+        ctx.fail(
+            f"{path}.pick",
+            f"Q is over the pallet (at x {x:.1f}, y {y:.1f} mm on its {pallet.size[0]:g} x {pallet.size[1]:g} mm) "
+            f"and a box there reaches down to {z - pallet.box[2]:.1f} mm above the deck, below the full stack's top "
+            f"({top:g} mm): the boxes would meet; teach Q beside the pallet",
+        )
 
 
 def _check_zone(ctx, pallet: Pallet, path: str) -> None:

@@ -156,3 +156,18 @@ def split_row(length: float, width: float, bl: float, bw: float, limit: int = BO
 
 
 FAMILIES = {"column": column, "interlock": interlock, "pinwheel": pinwheel, "split-row": split_row}
+
+
+def fuller_family(pallet: Pallet, family: str) -> tuple[str, int, int] | None:
+    """(the family that fits the most boxes on a layer, its count, the given family's count) where that is more
+    than the given family fits; None: none fits more (or the family is not one of FAMILIES)."""
+    if family not in FAMILIES:
+        return None
+    counts = {}
+    for name, make in FAMILIES.items():
+        try:
+            counts[name] = len(make(*pallet.size, pallet.box[0], pallet.box[1]))
+        except TooManyBoxes:  # refused where it is used: no hint to take it
+            continue
+    best = max(counts, key=lambda name: (counts[name], name == family))
+    return (best, counts[best], counts[family]) if family in counts and counts[best] > counts[family] else None

@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from codegen import derived
-from codegen.emit import EmitError, Emitter, owned
+from codegen.emit import EmitError, Emitter, mapped_name, owned
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import (
     above_pick,
@@ -124,7 +124,9 @@ def identifiers(cell, target) -> list[dict]:
         store = KIND.facts(target).get("store", "")
         if "{pallet}" in store:
             stem = store.split(".")[0].replace("{pallet}", "")
-            own["store"] = emitter.identifier("pal_", f"{pallet.name}{stem}", f"pallet {pallet.name!r}'s counters")
+            # the name shortened (where it must be) before the stem: the store keeps its suffix, which marks it
+            short = mapped_name("pal_", pallet.name, target.identifier_max - len(stem))
+            own["store"] = emitter.identifier("", f"{short}{stem}", f"pallet {pallet.name!r}'s counters")
     return out
 
 

@@ -10,7 +10,7 @@
     reference: 0x00b050, frame: 0x7f7f7f, mark: 0xd62728, taught: 0x9467bd, bench: 0xaab4c0, wood: 0x8c5a2b,
     box: 0xc8a165, label: 0xffffff, sheet: 0xf0ead8, pick: 0x9aa5b1, belt: 0x3c3c3c, window: 0x17becf,
     camera: 0xe377c2, place: 0x9aa5b1, beam: 0xff0000, sensor: 0x2f4f6f, floor: 0xdddddd, solid: 0x8f9aa8,
-    nearest: 0xd62728,
+    nearest: 0xd62728, current: 0xffd000,
   };
   const AXIS_COLOURS = [0xe00000, 0x00a000, 0x0000e0];
   const MIN_MOVE_S = 0.25; // a move the program clock gives no time is shown this long
@@ -186,7 +186,12 @@
   const armGroup = new THREE.Group();
   scene.add(armGroup);
   const dynamic = new THREE.Group(); // the run's path and reference
+  // the move the arm is on: a rod over the faint path (a line is one pixel wide whatever its width says)
+  const moving = new THREE.Mesh(new THREE.CylinderGeometry(1, 1, 1, 12), material("current"));
+  const movingRadius = sceneSize * 0.002;
+  moving.visible = false;
   scene.add(dynamic);
+  scene.add(moving);
   let links = [], joints = [], toolMesh = null, tcpTriad = null, tcpDot = null, armScale = 1;
   const UP = new THREE.Vector3(0, 1, 0);
 
@@ -316,7 +321,11 @@
     if (program) {
       program.runs.forEach((run) => {
         const points = run.moves.filter((m) => m.pose).map((m) => origin(m.pose));
-        if (points.length > 1) dynamic.add(lineObject(points, PALETTE.path, false, 2));
+        if (points.length > 1) { // faint: the move the arm is on stands out over it (moving)
+          const line = lineObject(points, PALETTE.path, false, 2);
+          line.material.transparent = true; line.material.opacity = 0.35;
+          dynamic.add(line);
+        }
         points.forEach((p) => {
           const dot = new THREE.Mesh(new THREE.SphereGeometry(sceneSize * 0.0025, 8, 6), material("path"));
           dot.position.set(...p); dynamic.add(dot);
@@ -379,6 +388,16 @@
     const tcp = poseArm(view, q, pose);
     current.position = index + s;
     showBoxes(data.views[current.view].programs[current.program].runs[a.run], a.move);
+    // the move the arm is on (between two keyframes of a run), else the one it has just ended
+    const before = f[Math.max(index - 1, 0)];
+    current.segment = s > 0 && sameRun ? [a.pose, b.pose] : (before.run === a.run ? [before.pose, a.pose] : [null, null]);
+    const [from, to] = current.segment.map((m) => m && new THREE.Vector3(...origin(m)));
+    moving.visible = Boolean(from && to && from.distanceTo(to) > 1e-6);
+    if (moving.visible) {
+      moving.position.copy(from).lerp(to, 0.5);
+      moving.scale.set(movingRadius, from.distanceTo(to), movingRadius);
+      moving.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), to.clone().sub(from).normalize());
+    }
     current.joints = q;
     current.tcp = tcp;
     slider.value = String(time);
@@ -431,7 +450,7 @@
 
   // ---- camera ---------------------------------------------------------------------------------------------
   function fitCamera() {
-    const box = new THREE.Box3();
+    const box = new THREE.Box3().setFromObject(cellGroup); // every object whole (a fence to its ends), not its centre
     const points = [];
     data.objects.forEach((o) => {
       if (o.pose) points.push([o.pose[3], o.pose[7], o.pose[11]]);
@@ -444,7 +463,9 @@
     points.forEach((p) => box.expandByPoint(new THREE.Vector3(...p)));
     if (box.isEmpty()) box.expandByPoint(new THREE.Vector3(0, 0, 0));
     const centre = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3()).length();
-    const distance = (Math.max(300, size) / (2 * Math.tan((camera.fov * RAD) / 2))) * 0.8;
+    // the box's diagonal across the narrower of the two fields of view, at the box's centre: every object on the screen
+    const half = Math.min(camera.fov * RAD, 2 * Math.atan(Math.tan((camera.fov * RAD) / 2) * camera.aspect)) / 2;
+    const distance = (Math.max(300, size) / 2) / Math.tan(half);
     const direction = new THREE.Vector3(1.0, -1.5, 1.0).normalize();
     camera.position.copy(centre).addScaledVector(direction, distance);
     camera.near = distance / 100; camera.far = distance * 20;
@@ -460,6 +481,9 @@
   scene.add(floor);
 
   function resize() {
+    // the viewer fills the window below the page's header (at least its CSS min-height); the report follows below
+    const header = document.querySelector("header"), viewer = document.getElementById("viewer");
+    viewer.style.height = Math.max(0, window.innerHeight - (header ? header.offsetHeight : 0)) + "px";
     const w = stage.clientWidth, h = stage.clientHeight;
     renderer.setSize(w, h);
     camera.aspect = w / Math.max(1, h);
@@ -477,7 +501,8 @@
     const f = timeline.frames, k = Math.floor(current.position);
     return { view: current.view, program: current.program, position: current.position, time: current.time,
       total: timeline.total, frames: f.length, joints: current.joints || null, tcp: current.tcp || null,
-      run: f.length ? f[k].run : null, move: f.length ? f[k].move : null };
+      run: f.length ? f[k].run : null, move: f.length ? f[k].move : null,
+      segment: moving.visible ? current.segment.map(origin) : null };
   };
   api.select = function (view, program) { selectView(view, program); };
   api.setPosition = setPosition;
@@ -506,7 +531,8 @@
   });
 
   const legend = document.getElementById("legend");
-  [["arm", "arm"], ["path", "path (trace)"], ["reference", "reference"], ["taught", "taught"], ["box", "box"]]
+  [["arm", "arm"], ["path", "path (trace)"], ["current", "the move now"], ["reference", "reference"],
+    ["taught", "taught"], ["box", "box"]]
     .forEach(([role, text]) => {
       const swatch = document.createElement("span");
       swatch.className = "swatch";
