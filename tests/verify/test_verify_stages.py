@@ -4,6 +4,7 @@ gripper holds (its shape from the cell)."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -85,3 +86,25 @@ def test_a_stations_part_is_its_own():
     stage = cell.kinds["station"].scene.staged(cell, "ur", Case("random", Reading(1, *station.spec.mark)))(0, 0)
     part = part_shape(cell, stage.part)
     assert isinstance(part, Box) and part.size == (60.0, 60.0, 80.0)
+
+
+TRANSIT = "    movej(get_inverse_kin(transit, qnear=pal_qnear(row)), a=1.2, v=0.25, r=0.0020)\n"
+LOW = "    movej(get_inverse_kin(pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 5.0000, a), qnear=pal_qnear(row)), " \
+      "a=1.2, v=0.25)\n"
+
+
+def test_a_box_carried_low_through_the_stack_as_built_fails_verify(tmp_path):
+    """The pallet program edited so that the box goes from above Q straight to its approach (a joint move, not over
+    the transit height): restarted mid-pallet, the carried box (or the arm) cuts through the stack as built there,
+    named by its layer or box."""
+    text = PALLET_UR.read_text(encoding="utf-8")
+    assert text.count(TRANSIT) == 1
+    edited = tmp_path / PALLET_UR.name
+    edited.write_text(text.replace(TRANSIT, LOW), encoding="utf-8")
+    options = Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"restart"}))
+    report = verify_cell(load_cell(TESTMAT), [edited], ("ur",), options)
+    (row,) = report.rows
+    stack = re.compile(r"clearance: .* (into|of) pallet testmat: (layer|stack)")
+    stacked = [m for m in row.first_mismatches if stack.search(m)]
+    assert stacked, row.first_mismatches
+    assert all("pal_testmat.script:" in m for m in stacked)
