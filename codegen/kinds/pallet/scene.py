@@ -215,7 +215,8 @@ def case_stages(cell, pallets, index: int, case):
     """Along a verify case's run of pallet `index`: (grips, releases so far) -> Stage. The stack starts as the
     counters the program works from leave it (the reference's: after a reset or the operator's answer); stacking,
     each release puts the next item down, unstacking each grip takes the next one off; the other pallets' stacks
-    full. The part is the box (a slip sheet in the gripper is not swept, as generate's proof leaves it)."""
+    full. The part is the box (a slip sheet in the gripper is not swept, as generate's proof leaves it, nor a box
+    lost on its way)."""
     from codegen.kinds.pallet.cycle import done_counters, expected, items
 
     pallet = pallets[index]
@@ -232,9 +233,10 @@ def case_stages(cell, pallets, index: int, case):
         boxes = sum(1 for item in worked if item.placement is not None)
         boxes = boxes if stacking else total - boxes
         sheet = stacking and done + releases < len(todo) and todo[done + releases].placement is None
-        key = (index, boxes, sheet)
+        gone = case.lost and grips > 0  # the box slips out on its way (where is not known): the tool alone from then
+        key = (index, boxes, sheet or gone)
         if key not in stages:
-            stages[key] = Stage(key, {**stack_solids(pallet, boxes), **others}, None if sheet else box)
+            stages[key] = Stage(key, {**stack_solids(pallet, boxes), **others}, None if sheet or gone else box)
         return stages[key]
 
     return stage
