@@ -4,8 +4,10 @@
 # pose, its line and file, and the dialect's settings (the blending zone). A move is followed from the joints before
 # it (the start joints for the first) to its own: a joint move interpolating every axis, a linear move keeping the TCP
 # on the straight line (the tool in force taken from the trace itself: the end pose's TCP in the flange frame), and
-# where a move blends into the next, the corner between them. The part is carried from the move after the gripper's
-# output closed (or from the start, where the case starts holding one) until the move after it opened.
+# where a move blends into the next, the corner between them; a circular move along the arc the run followed. The part
+# is carried from the move after the gripper's output closed (or from the start, where the case starts holding one)
+# until the move after it opened. What stands only for a while (a station's machine moved by the case's reading, the
+# stack as built) and the part's shape come from the case's kind (Scene.staged), after each grip and release.
 
 from __future__ import annotations
 
