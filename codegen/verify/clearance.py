@@ -236,8 +236,9 @@ class TraceClearance:
         output set while the arm stands at a pose): generate's rule (codegen.world.proof: along the straight moves
         next to that pose, the tool and the part against a solid within the clearance of them there), applied to
         the trace's moves, each with what stands and is carried during it."""
+        out = self._flush(moves, q0, stages, [])
         if self.gripper is None:
-            return [frozenset()] * len(moves)
+            return out
         position = {index[id(m)]: k for k, m in enumerate(moves)}
         acts = [""] * len(moves)
         for event in trace.outputs:
@@ -245,7 +246,7 @@ class TraceClearance:
             if event.name == self.gripper.output and at is not None:
                 acts[at] = "grip" if event.value == self.gripper.closed else "release"
         if not any(acts):
-            return [frozenset()] * len(moves)
+            return out
         planned = tuple(
             proof.Move("linear" if m.kind != "joint" else "joint", np.asarray(m.joints, dtype=float), "",
                        carrying=holding[index[id(m)]], stage=str(k), grip=acts[k])
@@ -255,7 +256,34 @@ class TraceClearance:
         def scene(carrying: bool, stage: str, exempt: frozenset) -> Scene:
             return self._scene(stages[int(stage)], carrying, exempt)
 
-        return proof._resting(None, proof.Path("", q0, planned), self.clearance, scene)  # generate's own rule
+        near = proof._resting(None, proof.Path("", q0, planned), self.clearance, scene)  # generate's own rule
+        flush = self._flush(moves, q0, stages, [k for k, act in enumerate(acts) if act])
+        return [a | b | c for a, b, c in zip(out, near, flush, strict=True)]
+
+    @staticmethod
+    def _flush(moves: list, q0: np.ndarray, stages: list, acts: list[int]) -> list[frozenset]:
+        """Per move, its stage's flush pairs (a kind's own check holds them) where the move belongs to the straight
+        way to or from a pose where the gripper acts (acts: the moves that end there), or from where the run starts
+        (a stop may leave the gripper at a place): the linear moves before it back to a joint move, those after it
+        up to the next (a joint move to where the arm already stands counts as none)."""
+        out = [frozenset()] * len(moves)
+        if all(stage is None or not stage.flush for stage in stages):
+            return out
+
+        def straight(k: int, before: np.ndarray) -> bool:
+            return moves[k].kind != "joint" or bool(np.allclose(before, moves[k].joints, atol=ROUND_DEG))
+
+        joints = [q0, *(np.asarray(m.joints, dtype=float) for m in moves)]
+        for anchor in [-1, *acts]:
+            k = anchor
+            while anchor >= 0 and k >= 0 and straight(k, joints[k]):  # back along the way in
+                out[k] = out[k] | stages[k].flush
+                k -= 1
+            k = anchor + 1
+            while k < len(moves) and straight(k, joints[k]):  # on along the way out
+                out[k] = out[k] | stages[k].flush
+                k += 1
+        return out
 
     def _where(self, move) -> str:
         name = move.file or self.filename

@@ -216,7 +216,8 @@ def case_stages(cell, pallets, index: int, case):
     counters the program works from leave it (the reference's: after a reset or the operator's answer); stacking,
     each release puts the next item down, unstacking each grip takes the next one off; the other pallets' stacks
     full. The part is the box (a slip sheet in the gripper is not swept, as generate's proof leaves it, nor a box
-    lost on its way)."""
+    lost on its way); along its descent onto the stack (and the way up from it) the pallet's own sweep check holds
+    the tool and the box against that pallet and its stack, as in generate's proof (_own_descent)."""
     from codegen.kinds.pallet.cycle import done_counters, expected, items
 
     pallet = pallets[index]
@@ -236,7 +237,9 @@ def case_stages(cell, pallets, index: int, case):
         gone = case.lost and grips > 0  # the box slips out on its way (where is not known): the tool alone from then
         key = (index, boxes, sheet or gone)
         if key not in stages:
-            stages[key] = Stage(key, {**stack_solids(pallet, boxes), **others}, None if sheet or gone else box)
+            stack = stack_solids(pallet, boxes)
+            part = None if sheet or gone else box
+            stages[key] = Stage(key, {**stack, **others}, part, _own_descent(pallet, stack))
         return stages[key]
 
     return stage
