@@ -252,6 +252,20 @@ class Scene(Part):
         solids (codegen.world.proof.Path each); []: none."""
         return []
 
+    def carried(self, cell) -> Any:
+        """The part the kind's programs carry, as verify sweeps a program's trace without its case (codegen run
+        --cell): a codegen.world.solids.Box in the flange frame or a codegen.model.world.PartShape; None: none."""
+        return None
+
+    def staged(self, cell, target: str, case) -> Any:
+        """What stands and what is carried along a verify case's trace: a function of the grips and releases of the
+        gripper so far (counts) giving a codegen.world.cell.Stage (the solids that stand only for a while, such as a
+        station's machine moved by the case's reading or the stack as built, and the part in the gripper)."""
+        from codegen.world.cell import Stage
+
+        stage = Stage((), {}, self.carried(cell))
+        return lambda _grips, _releases: stage
+
 
 class Commands(Part):
     """The kind's click commands."""

@@ -146,11 +146,12 @@ def parse_cell_bytes(raw: bytes, path: Path) -> dict:
 
 def replace_cell_file(path: Path, edit: Callable[[str], str], kinds: Kinds | None = None) -> str:
     """Replace a cell file by `edit(its text)` (a calibration's --write) once the edited text loads and passes
-    every kind's reach proof (the cell still generates). The text is read again under a lock beside the file, so
-    two calibrations of one cell at once both land; the file keeps its mode and line ends, a symlink stays and its
-    target is replaced (codegen.writefile.replace_file). Otherwise the file stays as it was and the error goes to
-    the caller: CellError, ReachError, WriteRefused (hard links, read-only, not a regular file), or OSError when
-    the file cannot be written. Returns the text written."""
+    every kind's reach proof and generate's clearance proof (the cell still generates). The text is read again
+    under a lock beside the file, so two calibrations of one cell at once both land; the file keeps its mode and
+    line ends, a symlink stays and its target is replaced (codegen.writefile.replace_file). Otherwise the file
+    stays as it was and the error goes to the caller: CellError, ReachError (a clearance refusal too), WriteRefused
+    (hard links, read-only, not a regular file), or OSError when the file cannot be written. Returns the text
+    written."""
 
     def accept(written: Path) -> None:
         raw = written.read_bytes()  # what is on disk, named as the cell file it will become
@@ -163,6 +164,13 @@ def replace_cell_file(path: Path, edit: Callable[[str], str], kinds: Kinds | Non
             raise _explained(exc, kinds).with_line(raw.decode("utf-8", errors="replace")) from None
         for kind in cell.kinds.values():
             kind.writer.reach(cell, list(cell.targets))
+        from codegen.generate import GenerateError, check_clearance  # generate imports this module
+        from codegen.robot.taught import ReachError
+
+        try:
+            check_clearance(cell, None)
+        except GenerateError as exc:  # refused as generate refuses it: the cell would not generate
+            raise ReachError(str(exc)) from None
 
     return replace_file(path, edit, accept)
 

@@ -49,7 +49,7 @@ def run_chunk(task) -> tuple[int, Row]:
         if isinstance(work, range):
             kind.sweep(model, source, program, work, step_limit or DEFAULT_STEP_LIMIT, row)
         else:
-            check = clearance.for_program(model, source.target, source.label) if any(swept) else None
+            check = clearance.for_program(model, source.target, source.label, source.kind) if any(swept) else None
             _run_cases(model, kind, source, program, work, step_limit, row, first, keep, check, swept)
             row.seconds = time.perf_counter() - start  # the cases' time alone: cases/s is one program on one core
     return source.row, row
@@ -106,7 +106,7 @@ def _run_cases(
             if problem is None and judgement.truth is not None:
                 problem = judgement.truth
             if check is not None and swept[number]:  # a move through a solid is named beside any other problem
-                breach = _clearance(check, model, source, setup, trace, row)
+                breach = _clearance(check, setup, trace, row, case)
                 if breach is not None:
                     problem = breach if problem is None else f"{problem}; {breach}"
             if expected is None and judgement.accepted:
@@ -146,12 +146,12 @@ def _followed(checker: Checker, expected, trace) -> int:
     return followed
 
 
-def _clearance(check: clearance.TraceClearance, model, source, setup, trace, row: Row) -> str | None:
-    """The trace swept against the cell's solids: the row's least clearance kept, the first move within the
-    clearance the case's problem."""
+def _clearance(check: clearance.TraceClearance, setup, trace, row: Row, case) -> str | None:
+    """The trace swept against the cell's solids (and what the case stands and carries): the row's least clearance
+    kept, the first move within the clearance the case's problem."""
     start = time.perf_counter()
     held = clearance.held_at_start(check, setup)
-    least, breach = check.check(trace, setup.start_joints, held)
+    least, breach = check.check(trace, setup.start_joints, held, case)
     row.clearance_seconds += time.perf_counter() - start
     row.clearance_traces += 1
     if least is not None and (row.clearance is None or least.distance < row.clearance.distance):

@@ -156,6 +156,32 @@ def linear_path(arm: Arm, tcp2flange: np.ndarray, tcp0: np.ndarray, tcp1: np.nda
                       np.asarray(tcp1, dtype=float))
 
 
+@dataclass(frozen=True, eq=False)
+class CircularPath(LinearPath):
+    """A circular move (CIRC, MoveC, movec) from tcp0 to tcp1 along its arc (a codegen.dialects.core.watch.Path
+    through its via point: pose(s) at the share s of its length), the joints solved at each sample as a linear
+    move's; the orientation the arc's own where it gives one (rotation(s): movec's modes), else turned from tcp0's
+    to tcp1's as a linear move's."""
+
+    arc: object = None
+
+    def poses(self, s: np.ndarray) -> np.ndarray:
+        out = super().poses(s)
+        own = hasattr(self.arc, "rotation")
+        for i, value in enumerate(np.asarray(s, dtype=float).tolist()):
+            pose = self.arc.pose(value)
+            out[i, :3, 3] = pose[:3, 3]
+            if own:
+                out[i, :3, :3] = pose[:3, :3]
+        return out
+
+
+def circular_path(arm: Arm, tcp2flange: np.ndarray, tcp0: np.ndarray, tcp1: np.ndarray, arc) -> CircularPath:
+    """A circular move from tcp0 to tcp1 along arc (CircularPath)."""
+    return CircularPath(arm, np.asarray(tcp2flange, dtype=float), np.asarray(tcp0, dtype=float),
+                        np.asarray(tcp1, dtype=float), arc)
+
+
 def travel_weights(scene: Scene) -> np.ndarray:
     """(6,) mm per rad: the travel bound's weights (reach, per radian), computed once per scene."""
     weights = getattr(scene, "_travel_weights", None)

@@ -19,8 +19,16 @@ FAST = Options(cases=1, jobs=1, sweeps=False, scenarios=frozenset({"random"}))
 POST = 'solids.post = { box = [60, 40, 100], pose = [534.0, -394.8, 290.0, 70.66, 0, 0] }\n'
 
 
-def cell_with(tmp_path: Path, world: str):
+PART = "[station.part]                    # the part the gripper carries: 60 x 60 x 80 mm under the TCP\n"
+
+
+def cell_with(tmp_path: Path, world: str, part: bool = True):
+    """The demo cell with `world` added to [cell.world]; part False: no station declares the part it carries (the
+    tool alone is swept where the gripper holds one)."""
     text = Path(DEMO_CELL).read_text(encoding="utf-8")
+    if not part:
+        assert PART + "size_mm = [60.0, 60.0, 80.0]\n" in text
+        text = text.replace(PART + "size_mm = [60.0, 60.0, 80.0]\n", "")
     path = tmp_path / "cell" / "agv_machine_tending.toml"
     path.parent.mkdir()
     path.write_text(text.replace("[cell.world]", "[cell.world]\n" + world.rstrip("\n"), 1), encoding="utf-8")
@@ -53,16 +61,24 @@ def problems(cell, path: Path) -> list[str]:
 CORNER = "    movel(p1_tray_done_above, a=1.2, v=0.2500, r=0.0100)\n"
 
 
-def test_the_generated_program_clears_the_post(tmp_path):
-    cell = cell_with(tmp_path, POST)
+def test_the_generated_program_clears_the_post_with_the_tool(tmp_path):
+    cell = cell_with(tmp_path, POST, part=False)
     report = verify_cell(cell, [GENERATED / PROGRAM], ("ur",), FAST)
     (row,) = report.rows
     assert row.mismatches == 0, row.first_mismatches
     assert row.clearance.distance >= 20.0
 
 
-def test_a_zone_widened_into_the_post_fails_for_its_corner(tmp_path):
+def test_the_part_carried_past_the_post_fails_naming_the_part(tmp_path):
+    """The same post with the part declared: the part (60 mm wide, 80 mm under the TCP) that the gripper carries
+    from the chuck down onto the tray passes the post within the clearance, where the tool alone keeps it."""
     cell = cell_with(tmp_path, POST)
+    found = problems(cell, GENERATED / PROGRAM)
+    assert found and all(": the linear move: the part cuts " in p and "into post (clearance 20 mm)" in p for p in found)
+
+
+def test_a_zone_widened_into_the_post_fails_for_its_corner(tmp_path):
+    cell = cell_with(tmp_path, POST, part=False)
     found = problems(cell, edited(tmp_path, CORNER, CORNER.replace("r=0.0100", "r=0.1500")))
     line = line_of(CORNER)
     assert found and all(f"clearance: {PROGRAM}:{line}: the blend's corner (150 mm zone): the tool" in p for p in found)

@@ -206,3 +206,72 @@ def test_every_bundled_cells_moves_clear_its_solids_on_its_first_arm(name):
     cell = load_cell(EXAMPLES[name])
     target = next(t for t in cell.targets if t in cell.robot.arms)
     assert check_clearance(cell, [target])
+
+
+UR5E_DIP = """[cell]
+name = "ur5e_dip"
+targets = ["ur"]
+
+[cell.camera]
+angle_sign = 1
+
+[cell.limits]
+max_shift_mm = 5.0
+max_rotation_deg = 5.0
+
+[cell.robot]
+ur = "UR5e"
+home = {{ ur = [0.0, -60.0, 60.0, 0.0, 90.0, 0.0] }}
+
+[cell.tool]
+tcp = [0.0, 0.0, 150.0, 0.0, 0.0, 0.0]
+mass_kg = 1.0
+cog_mm = [0.0, 0.0, 60.0]
+radius_mm = 25.0
+
+[cell.world]
+floor_z_mm = {floor:.1f}
+
+[[station]]
+id = 1
+name = "shelf"
+mark = [250.9, -157.8, 0.0]
+[station.poses]
+take = [250.9, -157.8, 267.7, 57.3, 90.0, 0.0]
+"""
+
+
+def _tool_low(arm, tcp2flange, q, radius: float = 25.0) -> float:
+    """The tool's lowest point (mm): a cylinder of radius from the flange to the TCP (forward kinematics)."""
+    flange = arm.kin.fk(q)
+    ends = flange[:3, 3], (flange @ tcp2flange)[:3, 3]
+    axis = (ends[1] - ends[0]) / np.linalg.norm(ends[1] - ends[0])
+    return float(min(ends[0][2], ends[1][2]) - radius * np.sqrt(max(0.0, 1.0 - axis[2] ** 2)))
+
+
+def test_the_floor_raised_into_a_joint_moves_dip_is_refused(tmp_path):
+    """A UR5e whose home holds the tool up and out and whose station lies a quarter turn away about axis 1, its tool
+    sideways: the joint move there (every axis linear) turns the tool down through the middle of the move, 50 mm
+    below where it stands at either end (forward kinematics here). With the floor at 0 the cell generates; the floor
+    raised 15 mm above the dip's lowest point (still more than the clearance under the ends) refuses that move,
+    naming the tool and the floor at the middle of the move."""
+    path = tmp_path / "ur5e_dip.toml"
+    path.write_text(UR5E_DIP.format(floor=0.0), encoding="utf-8")
+    cell = load_cell(path)
+    assert check_clearance(cell, ["ur"])
+    arm, tcp2flange = cell.robot.arms["ur"], cell.robot.tool.tcp2flange
+    move = cell.kinds["station"].scene.paths(cell, ["ur"])[0].moves[0]
+    home, take = np.asarray(cell.robot.home["ur"]), np.asarray(move.joints)
+    s = np.linspace(0.0, 1.0, 401)
+    low = np.array([_tool_low(arm, tcp2flange, home + v * (take - home)) for v in s])
+    dip, ends = low.min(), min(low[0], low[-1])
+    assert ends - dip > 45.0 and 0.3 < s[low.argmin()] < 0.7  # a dip in the middle, not an end lower than the rest
+    floor = dip + 15.0
+    path.write_text(UR5E_DIP.format(floor=floor), encoding="utf-8")
+    with pytest.raises(GenerateError) as caught:
+        check_clearance(load_cell(path), ["ur"])
+    said = str(caught.value)
+    assert said.startswith("station 1 'shelf' pose 'take' (nominal reading) (ur, UR5e): the tool touches the floor "
+                           "(cell.world.floor_z_mm): "), said
+    at = float(re.search(r"mm into it at ([0-9.]+) of the move", said).group(1))
+    assert 0.3 < at < 0.7

@@ -186,6 +186,10 @@ class Machine:
         better (codegen/dialects/core/watch.py Path: a circle whose orientation turns); accel_mm_s2: a straight
         move's path acceleration where the dialect models it (travel_seconds)."""
         self.trace.moves.append(event)
+        if via is not None and self._last_tcp2base is not None and event.tcp2base is not None:
+            from codegen.dialects.core.watch import Path
+
+            event.arc = path if path is not None else Path(self._last_tcp2base, event.tcp2base, via)
         start = max(self.clock, self.arm_until)
         if seconds is None and path is not None and speed_mm_s:
             seconds = path.length / speed_mm_s

@@ -18,6 +18,7 @@ class MoveEvent:
     end_time: float = 0.0  # when the arm arrives, in the program's clock (s)
     start_time: float = 0.0  # when the arm sets off (the previous move's end, or the instruction's moment) (s)
     file: str = ""  # the file of `line` where a program is several files of code (a RAPID task's modules)
+    arc: object = None  # a circular move's TCP path from where it set off (watch.Path: pose(s)), where the run knows it
 
 
 @dataclass

@@ -134,6 +134,13 @@ class ScenePart(protocol.Scene):
         section = self.kind.section.of(cell)
         return {} if section is None else solids(section)
 
+    def carried(self, cell):
+        """The belt's part as the tool holds it, where its size is given."""
+        section = self.kind.section.of(cell)
+        if section is None or section.pick is None or section.pick.part_size_mm is None or cell.robot is None:
+            return None
+        return _part(section.pick, cell.robot.tool.tcp2flange)
+
     def paths(self, cell, targets: list[str]) -> list[Path]:
         section = self.kind.section.of(cell)
         if section is None or section.pick is None or cell.robot is None:

@@ -14,6 +14,7 @@ from codegen.kinds.pallet.stack import layer_top, placements
 from codegen.kinds.pallet.sweep import PLACE_POSES, _own
 from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
 from codegen.view.scene import SLAB_MM, box, frame, translated
+from codegen.world.cell import Stage
 from codegen.world.proof import Move, Path
 from codegen.world.solids import Box
 
@@ -152,7 +153,7 @@ def pallet_paths(cell, pallets, pallet, target: str) -> list[Path]:
         if grip == "grip" and not stacking and move.name.endswith("target"):
             count -= 1
     home = np.asarray(cell.robot.home[target], dtype=float)
-    part = Box(tuple(pallet.box), np.asarray(cell.robot.tool.tcp2flange) @ _box2tcp(pallet))
+    part = carried_box(cell, pallet)
     out = [Path(target, home, tuple(planned), part, stages)]
     for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
         out.append(_way_home(cell, pallet, target, planned[k], home, part, stages))
@@ -205,6 +206,45 @@ def _way_home(cell, pallet, target: str, stop: Move, home, part, stages) -> Path
     return Path(target, start, tuple(moves[1:] if moves[0].kind == "joint" else moves), part, stages)
 
 
+def carried_box(cell, pallet) -> Box:
+    """The pallet's box in the gripper, in the flange frame: hanging along the tool's z from the middle of its top."""
+    return Box(tuple(pallet.box), np.asarray(cell.robot.tool.tcp2flange) @ _box2tcp(pallet))
+
+
+def case_stages(cell, pallets, index: int, case):
+    """Along a verify case's run of pallet `index`: (grips, releases so far) -> Stage. The stack starts as the
+    counters the program works from leave it (the reference's: after a reset or the operator's answer); stacking,
+    each release puts the next item down, unstacking each grip takes the next one off; the other pallets' stacks
+    full. The part is the box (a slip sheet in the gripper is not swept, as generate's proof leaves it, nor a box
+    lost on its way); along its descent onto the stack (and the way up from it) the pallet's own sweep check holds
+    the tool and the box against that pallet and its stack, as in generate's proof (_own_descent)."""
+    from codegen.kinds.pallet.cycle import done_counters, expected, items
+
+    pallet = pallets[index]
+    todo = items(pallet)
+    keys = [item.key for item in todo]
+    start = expected(cell, pallet, case).start
+    done = keys.index(start) if start in keys else len(keys) if start == done_counters(pallet) else 0
+    stacking, total = pallet.mode == "stack", len(placements(pallet))
+    others, box = _others(pallets, pallet), carried_box(cell, pallet)
+    stages: dict[tuple[int, bool], Stage] = {}
+
+    def stage(grips: int, releases: int) -> Stage:
+        worked = todo[: done + (releases if stacking else grips)]
+        boxes = sum(1 for item in worked if item.placement is not None)
+        boxes = boxes if stacking else total - boxes
+        sheet = stacking and done + releases < len(todo) and todo[done + releases].placement is None
+        gone = case.lost and grips > 0  # the box slips out on its way (where is not known): the tool alone from then
+        key = (index, boxes, sheet or gone)
+        if key not in stages:
+            stack = stack_solids(pallet, boxes)
+            part = None if sheet or gone else box
+            stages[key] = Stage(key, {**stack, **others}, part, _own_descent(pallet, stack))
+        return stages[key]
+
+    return stage
+
+
 class ScenePart(protocol.Scene):
     def objects(self, cell) -> list[dict]:
         return objects(cell, self.kind.section.of(cell) or ())
@@ -218,3 +258,16 @@ class ScenePart(protocol.Scene):
             return []
         arms = [t for t in targets if t in cell.robot.arms]
         return [path for t in arms for pallet in pallets for path in pallet_paths(cell, pallets, pallet, t)]
+
+    def carried(self, cell):
+        """The first pallet's box (a task of several pallets: each case's own in staged)."""
+        pallets = self.kind.section.of(cell) or ()
+        return None if not pallets or cell.robot is None else carried_box(cell, pallets[0])
+
+    def staged(self, cell, target: str, case):
+        pallets = self.kind.section.of(cell) or ()
+        run = getattr(case, "data", None)
+        index = getattr(run, "pallet", -1)
+        if not pallets or cell.robot is None or index < 0:  # a task whose pallets are all off stops before a move
+            return super().staged(cell, target, case)
+        return case_stages(cell, pallets, index, run.case)
