@@ -52,6 +52,10 @@ def test_bench_cell_loads(bench):
             'station[1].photo: only frame stations (mode = "frame")',
         ),
         (lambda t: t.replace("max_iterations = 10", "max_iterations = 0"), "cell.refine.max_iterations"),
+        (  # 4 x 0.1 px at the bench's 0.0172 mm/px: the loop would halt on the camera's noise
+            lambda t: t.replace("tolerance_mm = 0.02", "tolerance_mm = 0.006"),
+            "cell.refine.tolerance_mm: 0.006 mm is finer than the camera resolves",
+        ),
     ],
 )
 def test_frame_cell_errors(tmp_path, change, message):

@@ -37,6 +37,10 @@ if TYPE_CHECKING:
 
 NOT_CONVERGED = "not_converged"  # a halt reason of this mode: the residual stayed over tolerance
 FRAME_NUDGE = 0.01  # a float32 residual is within 1 % of the tolerance far beyond its rounding
+# A camera finds a mark's centre to about a tenth of a pixel (sub-pixel edge or blob fitting; an assumption, not a
+# vendor's figure): a loop whose tolerance is under a few times that noise halts on noise, not on the frame.
+SUBPIXEL_NOISE_PX = 0.1
+RESOLVED_SIGMAS = 4  # the tolerance this many standard deviations of that noise: a true convergence stops the loop
 
 
 @dataclass(frozen=True)
@@ -256,6 +260,16 @@ class FrameMode(StationMode):
                 "frame mode reads the camera in pixels and needs [cell.camera.handeye] "
                 "(write it with `codegen calibrate handeye POINTS.csv --write CELL`)",
             )
+        refine = section_of(cell).settings[cls.name]
+        least_mm = RESOLVED_SIGMAS * SUBPIXEL_NOISE_PX * float(_singular_values(section_of(cell).handeye)[0])
+        if refine.tolerance_mm < least_mm:
+            ctx.fail(
+                "cell.refine.tolerance_mm",
+                f"{refine.tolerance_mm:g} mm is finer than the camera resolves: a pixel is "
+                f"{least_mm / (RESOLVED_SIGMAS * SUBPIXEL_NOISE_PX):.4f} mm here and a mark's centre is found to about "
+                f"{SUBPIXEL_NOISE_PX} px, so the loop would stop on noise or not at all; set at least "
+                f"{least_mm:.4f} mm ({RESOLVED_SIGMAS} x {SUBPIXEL_NOISE_PX} px)",
+            )
 
     @classmethod
     def arm_poses(cls, cell, station) -> list[tuple[str, np.ndarray, str]]:
@@ -337,7 +351,7 @@ class FrameMode(StationMode):
         out = []
         cameras = [
             ("frame_exact_camera", lambda i: CameraModel()),
-            ("frame_noise", lambda i: CameraModel(noise_px=0.1, noise_deg=0.005, seed=i)),
+            ("frame_noise", lambda i: CameraModel(noise_px=SUBPIXEL_NOISE_PX, noise_deg=0.005, seed=i)),
             ("frame_handeye_scale_3pct", lambda i: CameraModel(scale_error=rng.choice((0.03, -0.03)), seed=i)),
             (
                 "frame_handeye_rotation_2deg",
