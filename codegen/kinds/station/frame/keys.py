@@ -8,7 +8,12 @@ REFINE = Table(
     "When a frame station's refinement loop stops (source 001: 0.02 mm and 0.04 deg).",
     {
         "tolerance_mm": Key(
-            "number", "the frame's shift below which it has converged", unit="mm", low=0.0, open_low=True, default=0.02
+            "number",
+            "the frame's shift below which it has converged (at least 0.4 px of the camera's scale)",
+            unit="mm",
+            low=0.0,
+            open_low=True,
+            default=0.02,
         ),
         "tolerance_deg": Key(
             "number", "the frame's turn below which it has converged", unit="deg", low=0.0, open_low=True, default=0.04
