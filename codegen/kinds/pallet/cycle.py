@@ -9,7 +9,7 @@ import numpy as np
 
 from codegen.guard import NO_FEEDBACK, NOT_RELEASED, halt_message
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.interlocks import WAITS_ON
+from codegen.kinds.pallet.interlocks import HANDSHAKES, WAITS_ON
 from codegen.kinds.pallet.messages import (
     counters_message,
     empty_message,
@@ -246,6 +246,28 @@ class _Run:
             return None
         return wait_message(self.pallet, interlock, message_limit(self.cell), held)
 
+    def handshake(self, place: str, entering: bool) -> None:
+        """The arm at its stop above a place ("q" or "sheet"), where the cell gives that place's handshake: going in,
+        the zone output on and the done output off; come out, the zone output off and the done output on. An output
+        is set at a standstill, so the move before it stops exactly at its pose."""
+        zone, done = HANDSHAKES[place]
+        if not getattr(self.pallet.io, zone):
+            return
+        self.arrive(place)
+        after = len(self.moves)
+        self.outputs += [(zone, entering, after), (done, not entering, after)]
+
+    def arrive(self, place: str) -> None:
+        """Above a place whose handshake the cell gives: the arm stops there (its waits and the outputs follow)."""
+        if getattr(self.pallet.io, HANDSHAKES[place][0]):
+            self.moves[-1] = replace(self.moves[-1], exact=True)
+
+    def zones_off(self) -> None:
+        """At the start, once home (a stop in a zone may have left its output on): every zone output off."""
+        for zone, _ in HANDSHAKES.values():
+            if getattr(self.pallet.io, zone):
+                self.outputs.append((zone, False, len(self.moves)))
+
     def grip(self, box: bool = True) -> str | None:
         """Grip a box (its payload from the confirmed grip on) or a slip sheet (light: the tool's payload stays)."""
         self.outputs.append(("gripper", self.cell.io.value, len(self.moves)))
@@ -343,6 +365,7 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         run.outputs = said
         run.carrying = put_down or todo[0].placement is not None
         run.sheet = not run.carrying
+    run.zones_off()
     if put_down:
         halt = _put_down(run)
         halt = halt or (_unstacking(run, todo, done, from_q=True) if todo else None)
@@ -359,14 +382,17 @@ def _put_down(run: _Run) -> str | None:
     pallet = run.pallet
     above = above_pick(pallet)
     run.move("joint", above, "held box above Q", False, False)
+    run.arrive("q")
     halt = run.wait("place_clear")
     if halt:
         return halt
+    run.handshake("q", True)
     run.move("linear", pallet.pick.matrix(), "held box place at Q", True, True)
     halt = run.release()
     if halt:
         return halt
     run.move("linear", above, "held box lift from Q", True, True)
+    run.handshake("q", False)
     return None
 
 
@@ -427,15 +453,19 @@ def _stacking(run: _Run, todo: list[Item], done: tuple[int, int]) -> str | None:
             run.move("linear", _lifted(source, lift), f"{where} above {named}", False, False)
         else:
             run.move("joint", _lifted(source, lift), f"{where} above {named}", False, False)
+        place = "q" if item.placement is not None else "sheet"
+        run.arrive(place)
         for interlock in interlocks:
             halt = run.wait(interlock)
             if halt:
                 return halt
+        run.handshake(place, True)
         run.move("linear", source, f"{where} pick", True, True)
         halt = run.grip(item.placement is not None)
         if halt:
             return halt
         run.move("linear", _lifted(source, lift), f"{where} lift from {named}", True, False)
+        run.handshake(place, False)
         for pose, name, slow, exact in path:
             if name == joint:  # the pallet still in place before the load goes over it (taken away meanwhile?)
                 halt = run.wait("pallet_present", "box" if item.placement is not None else "sheet")
@@ -483,9 +513,11 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
         run.move("linear", transit, f"{where} transit", False, False)
         run.move("joint", risen(above, transit[2, 3]), f"{where} over Q", False, False)
         run.move("linear", above, f"{where} above Q", False, False)
+        run.arrive("q")
         halt = run.wait("place_clear")
         if halt:
             return halt
+        run.handshake("q", True)
         run.move("linear", pick, f"{where} place at Q", True, True)
         halt = _still_held(run)  # the box dropped on the way (during the retreat): it stays counted as on the pallet
         if halt:
@@ -498,6 +530,7 @@ def _unstacking(run: _Run, todo: list[Item], done: tuple[int, int], from_q: bool
         if halt:
             return halt
         run.move("linear", above, f"{where} lift from Q", True, last)
+        run.handshake("q", False)
     return None
 
 

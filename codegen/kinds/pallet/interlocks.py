@@ -32,6 +32,11 @@ MISSED = {
 WAITS_ON = ("part_present", "sheet_ready", "place_clear")
 
 
+# The handshakes where the line feeds the arm (outputs, each on every target or on none): per place, the output on
+# while the arm is in its zone and the one on once the arm took (put down) an item there and left the zone
+HANDSHAKES = {"q": ("q_zone", "q_done"), "sheet": ("sheet_zone", "sheet_taken")}
+
+
 @dataclass(frozen=True)
 class PalletIO:
     """Per target, the input (its number or configured name) that is on when: a box lies at Q ready to be picked
@@ -51,8 +56,18 @@ class PalletIO:
     reset: dict = field(default_factory=dict)
     done: dict = field(default_factory=dict)
     select: dict = field(default_factory=dict)
+    # the handshakes at Q and at the slip-sheet dispenser (outputs): the arm in the zone, the pick (place) done
+    q_zone: dict = field(default_factory=dict)
+    q_done: dict = field(default_factory=dict)
+    sheet_zone: dict = field(default_factory=dict)
+    sheet_taken: dict = field(default_factory=dict)
     registers: dict = field(default_factory=dict)
     timeout_s: float = TIMEOUT_S
+
+    def handshake(self, place: str) -> tuple[dict, dict]:
+        """The zone and done outputs of a place ("q" or "sheet"; empty dicts: the cell gives none there)."""
+        zone, done = HANDSHAKES[place]
+        return getattr(self, zone), getattr(self, done)
 
     def inputs(self) -> dict[str, dict]:
         """The interlocks the program waits for: name -> (target -> signal), those the cell gives."""
@@ -75,12 +90,19 @@ def parse_io(ctx, loader: Loader, table: dict | None, path: str, targets, mode: 
     if isinstance(table, dict) and "sheet_ready" in table and not sheets:
         ctx.fail(f"{where}.sheet_ready", "the pallet places no slip sheets (slip_sheet.pick)")
     required = {need, "pallet_present"} | ({"sheet_ready"} if sheets else set())
-    readers = {key: signal_reader(ctx, targets, key in required) for key in (*WAITS, "reset", "done")}
+    outputs = [key for pair in HANDSHAKES.values() for key in pair]
+    readers = {key: signal_reader(ctx, targets, key in required) for key in (*WAITS, "reset", "done", *outputs)}
     readers["select"] = signal_reader(ctx, [t for t in targets if _facts(t).get("task")], False)
     values = loader.table(IO, table, where, readers=readers)
     for target in values["registers"] or {}:
         if target not in targets:
             ctx.fail(f"{where}.registers.{target}", f"not one of the cell's targets ({', '.join(targets)})")
+    for place, (zone, done) in HANDSHAKES.items():
+        if isinstance(table, dict) and place == "sheet" and zone in table and not sheets:
+            ctx.fail(f"{where}.{zone}", "the pallet places no slip sheets (slip_sheet.pick)")
+        for given, wanted in ((zone, done), (done, zone)):
+            if values[given] and not values[wanted]:
+                ctx.fail(f"{where}.{wanted}", f"missing: {given} and {wanted} are one handshake, given together")
     for target in values["reset"]:
         if target not in values["done"]:
             ctx.fail(
@@ -95,7 +117,8 @@ def _facts(target: str) -> dict:
     return get_target(target).kind_tables.get("pallet", {})
 
 
-SHARED_JOBS = (*WAITS, "reset")  # inputs several pallets may share (one line's Q, one PLC's reset); select and done not
+# signals several pallets may share (one line's Q and its handshake, one PLC's reset); select and done not
+SHARED_JOBS = (*WAITS, "reset", *(key for pair in HANDSHAKES.values() for key in pair))
 
 
 def check_one_job_each(ctx, pallets, cell_io) -> None:
@@ -107,8 +130,14 @@ def check_one_job_each(ctx, pallets, cell_io) -> None:
         inputs = [("cell.io.feedback", "feedback", cell_io.feedback.get(target))]
         for i, pallet in enumerate(pallets):
             outputs.append((f"pallet[{i}].io.done", "done", pallet.io.done.get(target)))
+            outputs += [
+                (f"pallet[{i}].io.{key}", key, getattr(pallet.io, key).get(target))
+                for pair in HANDSHAKES.values()
+                for key in pair
+            ]
             inputs += [
-                (f"pallet[{i}].io.{job}", job, getattr(pallet.io, job).get(target)) for job in (*SHARED_JOBS, "select")
+                (f"pallet[{i}].io.{job}", job, getattr(pallet.io, job).get(target))
+                for job in (*WAITS, "reset", "select")
             ]
         for kind, jobs in (("output", outputs), ("input", inputs)):
             seen: dict = {}

@@ -352,7 +352,10 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     names = {"gripper": output}
     if target.name in pallet.io.done:  # the PLC's full (empty) output
         names["done"] = signal_name(target, "output", pallet.io.done[target.name])
-    what = {"gripper": "gripper", "done": "the pallet's done output (full or empty)"}
+    what = {"gripper": "gripper", "done": "the pallet's done output (full or empty)", **HANDSHAKE_WHAT}
+    for key in HANDSHAKE_WHAT:  # the handshakes at Q and at the sheet dispenser, where the cell gives them
+        if target.name in getattr(pallet.io, key):
+            names[key] = signal_name(target, "output", getattr(pallet.io, key)[target.name])
     outputs = [PlannedOutput(names[w], value, after, what[w]) for w, value, after in want.outputs if w in names]
     home = home_move(cell, target.name)
     planned_joints = None
@@ -406,6 +409,15 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     problem = problem or (_unasked(cell, pallet, target, trace) if want.asked else None)
     problem = problem or (_unasked(cell, pallet, target, trace, known_question) if want.known_asked else None)
     return Judgement([expectation], figures=boxes, problem=problem)
+
+
+# the handshake outputs (codegen/kinds/pallet/interlocks.py HANDSHAKES) as the report names them
+HANDSHAKE_WHAT = {
+    "q_zone": "the arm in Q's zone",
+    "q_done": "the pick (place) at Q done",
+    "sheet_zone": "the arm in the sheet dispenser's zone",
+    "sheet_taken": "a sheet taken from the dispenser",
+}
 
 
 def _swept(cell, pallet, target_name: str, moves) -> tuple[list, object, float]:
