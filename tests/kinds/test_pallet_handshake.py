@@ -119,3 +119,18 @@ def test_a_handshake_comes_whole(tmp_path, given, missing):
     path.write_text(text)
     with pytest.raises(CellError, match=missing):
         load_cell(path)
+
+
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        (" \\DIBreak:=diResetEur \\BreakFlag:=unanswered;", " \\BreakFlag:=unanswered;"),  # the question as it was
+        ("IF unanswered <> ERR_TP_DIBREAK AND (unanswered <> 0 OR answer <> 1) THEN", "IF answer <> 1 THEN"),
+    ],
+)
+def test_the_plcs_reset_while_the_operator_is_asked_answers_the_reloaded_store_question(old, new):
+    """ABB: the counters' store reloaded from its file, the operator asked whether the pallet is new; the PLC's reset
+    coming on meanwhile ends the question (TPReadFK \\DIBreak) and its handshake starts the pallet. A program whose
+    question only the operator (or the 60 s) ends stops instead."""
+    found = _mismatches("eur_pallet.toml", "abb", "pal_eur.mod", old, new)
+    assert found and found[0].startswith("store_reloaded"), found

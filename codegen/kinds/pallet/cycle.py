@@ -71,6 +71,9 @@ class PalletCase:
     # the counters' store loaded again from its file (as a reset of RAPID does): the counters are the file's, its
     # known flag FALSE; the pallet may be part-built, so only the PLC's reset or the operator's Yes starts it
     unknown: bool = False
+    # with unknown: the PLC's reset comes on while the operator is asked (and nobody answers): it ends the question
+    # (RAPID TPReadFK \DIBreak) and its handshake starts the pallet
+    reset_asked: bool = False
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -308,7 +311,8 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     said = [("gripper", cell.io.value, 0)] if case.closed else []
     known_asked = False
     if case.unknown:  # the counters are the store's file's: no item before the pallet is known to be new
-        if case.reset and pallet.io.reset:  # the PLC's handshake says so: the done output off, the reset dropped
+        if (case.reset or case.reset_asked) and pallet.io.reset:  # the PLC's handshake: the done output off, the
+            known_asked = case.reset_asked  # reset dropped (on while the question was shown: that ended it)
             said.append(("done", False, 0))
             if case.reset_held:
                 message = reset_held_message(pallet, limit)

@@ -35,7 +35,7 @@ from codegen.kinds.pallet.program import carried_load, counter_names, counter_re
 from codegen.kinds.pallet.reach import configurations, joints_of
 from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept
 from codegen.kinds.pallet.section import pallets_of
-from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
+from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, ResetWhileAsked, SupplyLate
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
 from codegen.kinds.pallet.way_home import joint_percent, way_home, way_joints
 from codegen.kinds.pallet.writer import FORMS_PER_PALLET
@@ -195,6 +195,8 @@ def _reloaded_store_cases(pallet) -> list[PalletCase]:
     if pallet.io.reset:
         out.append(PalletCase("store_reloaded", *first, unknown=True, reset=True, missing="pallet_present"))
         out.append(PalletCase("store_reloaded", *first, unknown=True, reset=True, reset_held=True))
+        # the PLC's reset while the question is shown (nobody answers): its handshake starts the pallet
+        out.append(PalletCase("store_reloaded", *first, unknown=True, reset_asked=True, missing="pallet_present"))
     return out
 
 
@@ -255,9 +257,13 @@ def setup(cell, source, case: Case) -> Setup:
     if run.case.taken:  # the pallet taken away once the gripper closes
         present = signal_name(target, "input", pallet.io.pallet_present[target.name])
         devices += (PalletTaken(output, cell.io.value, present),)
-    if run.case.reset and not run.case.reset_held and target.name in pallet.io.reset:  # the PLC answers the handshake
+    reset_on = run.case.reset or run.case.reset_asked
+    if reset_on and not run.case.reset_held and target.name in pallet.io.reset:  # the PLC answers the handshake
         reset = signal_name(target, "input", pallet.io.reset[target.name])
         devices += (ResetAnswered(reset, signal_name(target, "output", pallet.io.done[target.name])),)
+    if run.case.reset_asked and target.name in pallet.io.reset:  # the reset comes while the operator is asked
+        question = Emitter(target).string(known_question(pallet, message_limit(cell)))
+        devices += (ResetWhileAsked(signal_name(target, "input", pallet.io.reset[target.name]), question),)
     if run.case.missing in WAITS_ON:  # the supply comes once the program said it waits on
         signal = signal_name(target, "input", getattr(pallet.io, run.case.missing)[target.name])
         message = Emitter(target).string(still_waiting_message(pallet, run.case.missing, message_limit(cell)))
