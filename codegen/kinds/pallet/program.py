@@ -360,6 +360,8 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "asks": bool(KIND.facts(target).get("asks")),
         # s the operator has to answer it before the program stops with its message (None: it waits)
         "asks_within_s": None if (within := KIND.facts(target).get("asks_within_s")) is None else number(within, 1),
+        # the looks at a dialog 0.1 s apart within asks_within_s (a program that polls for the answer)
+        "ask_polls": None if within is None else math.ceil(within / 0.1 - 1e-9),
         "question": emitter.string(released_question(pallet, limit)),
         "released": emitter.string(released_message(pallet, limit)),
         "yes": emitter.string(YES),

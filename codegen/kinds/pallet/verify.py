@@ -270,8 +270,9 @@ def setup(cell, source, case: Case) -> Setup:
         devices += (SupplyLate(signal, message),)
     if run.case.lost:  # the box slips out of the gripper on its way
         devices += (BoxLost(output, cell.io.value, feedback),)
-    if run.case.answer is not None:  # the operator at the pendant answers the question after a stop in a release
-        devices += (Operator([run.case.answer]),)
+    # the operator at the pendant: answers the question (after a stop in a release, or the store reloaded) as the case
+    # says, or looks away (a dialog stays shown until the program's own timeout ends it)
+    devices += (Operator([] if run.case.answer is None else [run.case.answer], then_silent=True),)
     select = None if run.pallet < 0 else run.pallet
     counters = {layer_name: run.case.layer, box_name: run.case.box}
     holds = holds_name(cell, target, index)
