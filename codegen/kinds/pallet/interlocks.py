@@ -1,5 +1,6 @@
 """A pallet's [pallet.io]: the cell's inputs the program waits for (box at Q, Q clear, pallet in place, sheet ready),
-the PLC's counter reset and its handshake output, program selection, the PLC registers of the counters."""
+the PLC's counter reset and its handshake output, the handshakes at Q and at the sheet dispenser, program selection,
+the PLC registers of the counters."""
 
 from __future__ import annotations
 
@@ -46,7 +47,8 @@ class PalletIO:
     done: the output that is on while the pallet is full (empty), the PLC's cue to swap it, turned off to answer a
     reset; select: the PLC asks for this pallet's program (a controller whose pallet programs share one
     task, several pallets); registers: the first of the PLC's two integer registers that hold the counters (a
-    controller that keeps them in the PLC). Every wait lasts at most timeout_s, then the program stops with a
+    controller that keeps them in the PLC); q_zone, q_done, sheet_zone, sheet_taken: the handshake outputs at Q and
+    at the sheet dispenser (HANDSHAKES). Every wait lasts at most timeout_s, then the program stops with a
     message."""
 
     part_present: dict = field(default_factory=dict)
