@@ -134,3 +134,30 @@ def test_the_plcs_reset_while_the_operator_is_asked_answers_the_reloaded_store_q
     question only the operator (or the 60 s) ends stops instead."""
     found = _mismatches("eur_pallet.toml", "abb", "pal_eur.mod", old, new)
     assert found and found[0].startswith("store_reloaded"), found
+
+
+def test_the_ur_sheet_handshake_is_set_at_a_standstill(tmp_path):
+    """No bundled UR cell places slip sheets: source 004's test cell with a sheet dispenser beside Q and its
+    handshake. The UR program without the zone output going on before the sheet's pick fails verify."""
+    text = (PALLETS / "testmat_pallet.toml").read_text()
+    sheet = "slip_sheet = { every = 2, thickness = 1.0, pick = [560.0, 200.0, 50.0, 0.0, 0.0, 180.0], lift = 60.0 }"
+    text = text.replace("zone_mm = 2.0 ", f"{sheet}\nzone_mm = 2.0 ", 1)
+    io = (
+        'sheet_ready = { ur = 5, kuka = 25, abb = "diSheetReady", dtrans = 6 }\n'
+        'sheet_zone = { ur = 5, kuka = 25, abb = "doArmInSheet", dtrans = 6 }\n'
+        'sheet_taken = { ur = 6, kuka = 26, abb = "doSheetTaken", dtrans = 7 }\n'
+    )
+    text = text.replace("timeout_s = 10.0\n", io + "timeout_s = 10.0\n", 1)
+    path = tmp_path / "testmat_pallet.toml"
+    path.write_text(text)
+    cell = load_cell(path)
+    program = next(
+        p for p in sources(cell, "ur", "pallet") if any(f.name.endswith("pal_testmat.script") for f in p.files)
+    )
+    assert verify_one(cell, program, first_mismatch=True).first_mismatches == []
+    on = "        set_standard_digital_out(5, True)   # into the zone"
+    assert on in program.files[0].text
+    found = verify_one(
+        cell, edited(program, lambda t: t.replace(on, "        textmsg(0)   # into the zone")), first_mismatch=True
+    ).first_mismatches
+    assert found and "standard_digital_out[5] set to True" in found[0], found
