@@ -106,7 +106,14 @@ def test_every_target_writes_the_handshake():
 
 @pytest.mark.parametrize(
     ("given", "missing"),
-    [('q_zone = { ur = 3, kuka = 23, abb = "doArmInQ", dtrans = 4 }', "q_done"), ("sheet_zone = {}", "sheet_zone")],
+    [
+        ('q_zone = { ur = 3, kuka = 23, abb = "doArmInQ", dtrans = 4 }', r"io\.q_done: missing: q_zone and q_done"),
+        (
+            'sheet_zone = { ur = 5, kuka = 25, abb = "doZ", dtrans = 6 }\n'
+            'sheet_taken = { ur = 6, kuka = 26, abb = "doT", dtrans = 7 }',
+            r"io\.sheet_zone: the pallet places no slip sheets",
+        ),
+    ],
 )
 def test_a_handshake_comes_whole(tmp_path, given, missing):
     """The zone output and the done output are one handshake: one without the other is refused, naming the key; a
