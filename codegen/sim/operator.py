@@ -9,10 +9,12 @@ class Operator:
     """The person at the teach pendant: answers each dialog the program shows, in the order given, by pressing a
     softkey, named by its number (1, 2, ...) or by its label ("Yes", compared without case). A device of the run
     (Program.run(devices=[...]), `codegen run --answer`): it acts on nothing else. Once its answers are used it
-    answers no more (the dialog waits: the interpreter stops the run with a message naming that)."""
+    answers no more (the dialog waits: the interpreter stops the run with a message naming that), or, then_silent,
+    looks away: a dialog stays shown for as long as the program waits on it (its own timeout then ends it)."""
 
-    def __init__(self, answers: Sequence[int | str]) -> None:
+    def __init__(self, answers: Sequence[int | str], then_silent: bool = False) -> None:
         self.answers = list(answers)
+        self.then_silent = then_silent
 
     def on_wait(self, machine, where: str) -> bool:
         return False

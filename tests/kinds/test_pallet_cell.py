@@ -407,12 +407,13 @@ def test_the_cycle_estimate_counts_the_stops_and_the_blended_corners(eur):
     assert estimate["blends"] > 0 and estimate["stops"] > 0 and estimate["corner_saving_mm"] > 0
 
 
-def test_the_testmat_cycle_stops_at_pick_and_place_alone(testmat):
+def test_the_testmat_cycle_stops_at_pick_place_and_the_handshake_alone(testmat):
     """30 boxes of 10 moves, 29 of them 2 more (from the entry before over Q, then down above Q) and the 2 moves off
-    the pallet (331): each box stops at Q and at its target, the last move stops above Q (61 stops); every other pose
-    but the first (the cycle's start, no corner) blends (269)."""
+    the pallet (331): each box stops above Q before going down and after coming up (the Q handshake's outputs are set
+    there, at a standstill), at Q and at its target, the last move stops above Q (121 stops); every other pose
+    blends (210)."""
     estimate = cycle_estimate(testmat, testmat.sections["pallet"][0])
-    assert (estimate["stops"], estimate["blends"]) == (61, 331 - 61 - 1)
+    assert (estimate["stops"], estimate["blends"]) == (121, 331 - 121)
 
 
 # --- the way home -----------------------------------------------------------------------------------------------------

@@ -174,7 +174,7 @@ NOT_MODELLED = {
         "kinematics functions": "INVERSE FORWARD",
         "KUKA's Automatic External module: the program number a PLC sends": "P00 P00_SUBM",
         "KUKA's technology packages": "H50 USER_GRP USERSPOT A20 A10",
-        "messages of KSS 5": "MSG_SEND CLEAR_KRLMSG",
+        "messages of KSS 5": "MSG_SEND",
         "the message buffer": "GET_MSGBUFFER",
     }.items()
     for name in names.split()

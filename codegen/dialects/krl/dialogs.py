@@ -1,4 +1,4 @@
-"""KRL dialog messages: Set_KrlDlg and Exists_KrlDlg, answered by the run's simulated operator."""
+"""KRL dialog messages: Set_KrlDlg, Exists_KrlDlg and Clear_KrlMsg, answered by the run's simulated operator."""
 
 from __future__ import annotations
 
@@ -22,7 +22,13 @@ from codegen.dialects.krl.builtins import message_text, type_name_of
 # shown. #KEY (a message database) is refused, and so is a dialog without a softkey (nothing could answer it).
 # The operator (codegen/sim/operator.py, a device with press(machine, labels)) reads the dialog when the program
 # first looks for its answer and presses a softkey then: that look answers TRUE, the next one FALSE with the answer.
-# Without an operator, or once its answers are used, that look stops the run with a message naming the line.
+# Without an operator, or once its answers are used, that look stops the run with a message naming the line; an
+# operator who looks away once they are used (Operator.then_silent) leaves the dialog shown: TRUE at every look.
+# - Clear_KrlMsg(handle: INT IN) returns BOOL: deletes the message of that handle (a public program clears its #STATE
+#   message so once the awaited input came: bRes=Clear_KrlMsg(nHandle)); TRUE where it was shown. Not confirmed (the
+#   manual's page was not readable here): that it deletes a dialog too, which Exists_KrlDlg then reports FALSE with
+#   Answer 0 ("deleted unanswered", as above) and which no longer keeps another dialog from being generated; modelled
+#   so.
 SOFTKEYS = 7  # KrlMsgDlgSK_T softkeys of a dialog: answers 1..7
 PARAMETERS = 3  # KrlMsgPar_T parameters, %1 to %3
 SIZES = {"MODUL": 24, "MSG_TXT": 80}  # KrlMsg_T's CHAR arrays
@@ -119,6 +125,8 @@ def exists_krldlg(fr, args, kwargs, where, setters=None):
     if dialog.answer is None:  # shown: the operator reads it and presses a softkey
         operator = _operator(m)
         pressed = None if operator is None else operator.press(m, dialog.labels)
+        if pressed is None and getattr(operator, "then_silent", False):  # nobody answers: it stays shown
+            return True
         if pressed is None:
             raise RunError(
                 f"{where}: Exists_KrlDlg: the dialog {dialog.text!r} waits for the operator's answer and no operator "
@@ -134,4 +142,22 @@ def exists_krldlg(fr, args, kwargs, where, setters=None):
     return False
 
 
-BUILTINS = {"SET_KRLDLG": set_krldlg, "EXISTS_KRLDLG": exists_krldlg}  # EXISTS_KRLDLG called with its setters
+def clear_krlmsg(fr, args, kwargs, where):
+    """Clear_KrlMsg(handle): the dialog (or the acknowledgement message) of that handle deleted; TRUE where one was."""
+    if len(args) != 1:
+        raise RunError(f"{where}: Clear_KrlMsg takes 1 argument (the handle), got {len(args)}")
+    handle = args[0]
+    if not isinstance(handle, int) or isinstance(handle, bool):
+        raise RunError(f"{where}: Clear_KrlMsg: the handle is an INT, got {type_name_of(handle)}")
+    state = fr.m.state
+    if handle in state.dialogs:
+        state.dialogs = {k: v for k, v in state.dialogs.items() if k != handle}
+        return True
+    if handle in state.waiting:
+        state.waiting = {k: v for k, v in state.waiting.items() if k != handle}
+        return True
+    return False
+
+
+# EXISTS_KRLDLG called with its setters
+BUILTINS = {"SET_KRLDLG": set_krldlg, "EXISTS_KRLDLG": exists_krldlg, "CLEAR_KRLMSG": clear_krlmsg}

@@ -9,6 +9,7 @@ from codegen.dialects.core.values import RunError, f32
 from codegen.dialects.rapid import errors
 from codegen.dialects.rapid.arguments import split_args
 from codegen.dialects.rapid.functions import num_text, value_text
+from codegen.dialects.rapid.signals import signal_ref
 from codegen.dialects.rapid.types import STRING_MAX, num, rec
 
 # Sources: ABB, "Technical reference manual - RAPID Instructions, Functions and Data types" (RobotWare 6/7),
@@ -20,7 +21,12 @@ from codegen.dialects.rapid.types import STRING_MAX, num, rec
 #   waits until the operator presses one: TPAnswer (num) gets its number 1..5; \MaxTime (s) without an answer:
 #   ERR_TP_MAXTIME, or with \BreakFlag the flag gets the error number and the program goes on;
 # - TPReadNum TPAnswer, TPText [\MaxTime] [\DIBreak] [\DOBreak] [\BreakFlag]: the same with a number the
-#   operator types. \DIBreak and \DOBreak are not modelled (refused when the program is loaded, naming the line).
+#   operator types. \DIBreak:=signal: the digital input that ends the dialog without an answer when it goes to 1
+#   (or is 1 already) before a key is pressed: ERR_TP_DIBREAK, or with \BreakFlag the flag gets it and the program
+#   goes on (as recalled; public programs pass a PLC's reset input, \DIBreak:=DI_...ResetAllRob \BreakFlag:=errvar,
+#   and test errvar = ERR_TP_DIBREAK). Modelled so: the input read first, before the operator's answer; while
+#   nobody answers, the dialog ends at the input's change or at \MaxTime. \DOBreak is not modelled (refused when
+#   the program is loaded, naming the line).
 # Confirmed by ABB's PC SDK reference (developercenter.robotstudio.com/api/pcsdk, the remote operator dialog that
 # answers these instructions): UIInstructionType.TPReadFK "is used to display a question to the operator, who
 # responds by selecting one out of 2-5 displayed function keys"; UITPReadFKEventArgs: TPText "the information text
@@ -104,18 +110,26 @@ def tp_erase(fr, args, kwargs, where) -> None:
 def _read(compiler, node, args_node, keys: int) -> Callable:
     """TPReadFK (keys 5) or TPReadNum (keys 0)."""
     name = "TPReadFK" if keys else "TPReadNum"
-    refusal = name + " \\{arg} is not modelled here (\\MaxTime, \\BreakFlag)"
-    positional, named = split_args(compiler, node, args_node, {"MAXTIME", "BREAKFLAG"}, refusal)
+    refusal = name + " \\{arg} is not modelled here (\\MaxTime, \\DIBreak, \\BreakFlag)"
+    positional, named = split_args(compiler, node, args_node, {"MAXTIME", "DIBREAK", "BREAKFLAG"}, refusal)
     if len(positional) != 2 + keys:
         what = "an answer variable, a text and five function keys" if keys else "an answer variable and a text"
         compiler.fail(node, f"{name} takes {what} ({len(positional)} arguments given)")
-    for key in ("MAXTIME", "BREAKFLAG"):
+    for key in ("MAXTIME", "DIBREAK", "BREAKFLAG"):
         if key in named and named[key] is None:
             compiler.fail(node, f"{name} \\{key.title()} needs a value")
     store, where = compiler.lvalue(positional[0]), compiler.where(node)
     prompt, labels = compiler.expr(positional[1]), [compiler.expr(p) for p in positional[2:]]
     max_time = compiler.expr(named["MAXTIME"]) if "MAXTIME" in named else None
     flag = compiler.lvalue(named["BREAKFLAG"]) if "BREAKFLAG" in named else None
+    breaker = signal_ref(compiler, node, named["DIBREAK"]) if "DIBREAK" in named else None
+
+    def stop(fr, error_name: str, what: str) -> None:
+        """The dialog ends without an answer: the error, or with \\BreakFlag its number in the flag."""
+        error = errors.RapidError(errors.ERROR_NUMBERS[error_name], f"{where}: {name} {what}")
+        if flag is None:
+            raise error
+        flag(fr, f32(error.errno))
 
     def run(fr):
         m = fr.m
@@ -126,18 +140,24 @@ def _read(compiler, node, args_node, keys: int) -> Callable:
         shown = [t or None for t in texts]  # stEmpty (""): no key there
         if keys and not any(shown):
             raise RunError(f"{where}: {name}: no function key has a text: nothing could answer it")
+        signal = None if breaker is None else breaker(fr)
+        if signal is not None and m.input_signal(signal):
+            stop(fr, "ERR_TP_DIBREAK", f"\\DIBreak: {signal} is 1")
+            return
         answer = press(m, shown)
         if answer is None:
-            if max_time is None:
+            if max_time is None and signal is None:
                 raise RunError(
                     f"{where}: {name}: the program waits for the operator's answer to {text!r} and no operator "
                     f"answers in this run (codegen run --answer): or give {name} \\MaxTime to go on without one"
                 )
-            m.elapse(num(max_time(fr), where), where)
-            error = errors.RapidError(errors.ERROR_NUMBERS["ERR_TP_MAXTIME"], f"{where}: {name} \\MaxTime passed")
-            if flag is None:
-                raise error
-            flag(fr, f32(error.errno))
+            seconds = None if max_time is None else num(max_time(fr), where)
+            if signal is not None and m.wait_for(lambda: bool(m.input_signal(signal)), where, seconds, name):
+                stop(fr, "ERR_TP_DIBREAK", f"\\DIBreak: {signal} went to 1")
+                return
+            if signal is None:
+                m.elapse(seconds, where)
+            stop(fr, "ERR_TP_MAXTIME", "\\MaxTime passed")
             return
         value = _key(answer, shown, where, name) if keys else _number(answer, where, name)
         if flag is not None:

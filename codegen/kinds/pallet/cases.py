@@ -151,6 +151,8 @@ def _reloaded_store_cases(pallet) -> list[PalletCase]:
     if pallet.io.reset:
         out.append(PalletCase("store_reloaded", *first, unknown=True, reset=True, missing="pallet_present"))
         out.append(PalletCase("store_reloaded", *first, unknown=True, reset=True, reset_held=True))
+        # the PLC's reset while the question is shown (nobody answers): its handshake starts the pallet
+        out.append(PalletCase("store_reloaded", *first, unknown=True, reset_asked=True, missing="pallet_present"))
     return out
 
 

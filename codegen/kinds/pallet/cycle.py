@@ -8,7 +8,7 @@ import numpy as np
 
 from codegen.guard import NO_FEEDBACK, NOT_RELEASED, halt_message
 from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.interlocks import WAITS_ON
+from codegen.kinds.pallet.interlocks import HANDSHAKES, WAITS_ON
 from codegen.kinds.pallet.messages import (
     lost_message,
     message_limit,
@@ -63,6 +63,9 @@ class PalletCase:
     # the counters' store loaded again from its file (as a reset of RAPID does): the counters are the file's, its
     # known flag FALSE; the pallet may be part-built, so only the PLC's reset or the operator's Yes starts it
     unknown: bool = False
+    # with unknown: the PLC's reset comes on while the operator is asked (and nobody answers): it ends the question
+    # (RAPID TPReadFK \DIBreak) and its handshake starts the pallet
+    reset_asked: bool = False
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -238,6 +241,28 @@ class Run:
             return None
         return wait_message(self.pallet, interlock, message_limit(self.cell), held)
 
+    def handshake(self, place: str, entering: bool) -> None:
+        """The arm at its stop above a place ("q" or "sheet"), where the cell gives that place's handshake: going in,
+        the zone output on and the done output off; come out, the zone output off and the done output on. An output
+        is set at a standstill, so the move before it stops exactly at its pose."""
+        zone, done = HANDSHAKES[place]
+        if not getattr(self.pallet.io, zone):
+            return
+        self.arrive(place)
+        after = len(self.moves)
+        self.outputs += [(zone, entering, after), (done, not entering, after)]
+
+    def arrive(self, place: str) -> None:
+        """Above a place whose handshake the cell gives: the arm stops there (its waits and the outputs follow)."""
+        if getattr(self.pallet.io, HANDSHAKES[place][0]):
+            self.moves[-1] = replace(self.moves[-1], exact=True)
+
+    def zones_off(self) -> None:
+        """At the start, once home (a stop in a zone may have left its output on): every zone output off."""
+        for zone, _ in HANDSHAKES.values():
+            if getattr(self.pallet.io, zone):
+                self.outputs.append((zone, False, len(self.moves)))
+
     def grip(self, box: bool = True) -> str | None:
         """Grip a box (its payload from the confirmed grip on) or a slip sheet (light: the tool's payload stays)."""
         self.outputs.append(("gripper", self.cell.io.value, len(self.moves)))
@@ -317,15 +342,19 @@ def stacking(run: Run, todo: list[Item], done: tuple[int, int]) -> str | None:
             run.move("linear", _lifted(source, lift), f"{where} above {named}", False, False)
         else:
             run.move("joint", _lifted(source, lift), f"{where} above {named}", False, False)
+        place = "q" if item.placement is not None else "sheet"
+        run.arrive(place)
         for interlock in interlocks:
             halt = run.wait(interlock)
             if halt:
                 return halt
+        run.handshake(place, True)
         run.move("linear", source, f"{where} pick", True, True)
         halt = run.grip(item.placement is not None)
         if halt:
             return halt
         run.move("linear", _lifted(source, lift), f"{where} lift from {named}", True, False)
+        run.handshake(place, False)
         for pose, name, slow, exact in path:
             if name == joint:  # the pallet still in place before the load goes over it (taken away meanwhile?)
                 halt = run.wait("pallet_present", "box" if item.placement is not None else "sheet")
@@ -373,9 +402,11 @@ def unstacking(run: Run, todo: list[Item], done: tuple[int, int], from_q: bool =
         run.move("linear", transit, f"{where} transit", False, False)
         run.move("joint", risen(above, transit[2, 3]), f"{where} over Q", False, False)
         run.move("linear", above, f"{where} above Q", False, False)
+        run.arrive("q")
         halt = run.wait("place_clear")
         if halt:
             return halt
+        run.handshake("q", True)
         run.move("linear", pick, f"{where} place at Q", True, True)
         halt = _still_held(run)  # the box dropped on the way (during the retreat): it stays counted as on the pallet
         if halt:
@@ -388,6 +419,7 @@ def unstacking(run: Run, todo: list[Item], done: tuple[int, int], from_q: bool =
         if halt:
             return halt
         run.move("linear", above, f"{where} lift from Q", True, last)
+        run.handshake("q", False)
     return None
 
 

@@ -1,5 +1,6 @@
 """A pallet's [pallet.io]: the cell's inputs the program waits for (box at Q, Q clear, pallet in place, sheet ready),
-the PLC's counter reset and its handshake output, program selection, the PLC registers of the counters."""
+the PLC's counter reset and its handshake output, the handshakes at Q and at the sheet dispenser, program selection,
+the PLC registers of the counters."""
 
 from __future__ import annotations
 
@@ -31,6 +32,11 @@ MISSED = {
 WAITS_ON = ("part_present", "sheet_ready", "place_clear")
 
 
+# The handshakes where the line feeds the arm (outputs, each on every target or on none): per place, the output on
+# while the arm is in its zone and the one on once the arm took (put down) an item there and left the zone
+HANDSHAKES = {"q": ("q_zone", "q_done"), "sheet": ("sheet_zone", "sheet_taken")}
+
+
 @dataclass(frozen=True)
 class PalletIO:
     """Per target, the input (its number or configured name) that is on when: a box lies at Q ready to be picked
@@ -40,7 +46,8 @@ class PalletIO:
     done: the output that is on while the pallet is full (empty), the PLC's cue to swap it, turned off to answer a
     reset; select: the PLC asks for this pallet's program (a controller whose pallet programs share one
     task, several pallets); registers: the first of the PLC's two integer registers that hold the counters (a
-    controller that keeps them in the PLC). Every wait lasts at most timeout_s, then the program stops with a
+    controller that keeps them in the PLC); q_zone, q_done, sheet_zone, sheet_taken: the handshake outputs at Q and
+    at the sheet dispenser (HANDSHAKES). Every wait lasts at most timeout_s, then the program stops with a
     message."""
 
     part_present: dict = field(default_factory=dict)
@@ -50,8 +57,18 @@ class PalletIO:
     reset: dict = field(default_factory=dict)
     done: dict = field(default_factory=dict)
     select: dict = field(default_factory=dict)
+    # the handshakes at Q and at the slip-sheet dispenser (outputs): the arm in the zone, the pick (place) done
+    q_zone: dict = field(default_factory=dict)
+    q_done: dict = field(default_factory=dict)
+    sheet_zone: dict = field(default_factory=dict)
+    sheet_taken: dict = field(default_factory=dict)
     registers: dict = field(default_factory=dict)
     timeout_s: float = TIMEOUT_S
+
+    def handshake(self, place: str) -> tuple[dict, dict]:
+        """The zone and done outputs of a place ("q" or "sheet"; empty dicts: the cell gives none there)."""
+        zone, done = HANDSHAKES[place]
+        return getattr(self, zone), getattr(self, done)
 
     def inputs(self) -> dict[str, dict]:
         """The interlocks the program waits for: name -> (target -> signal), those the cell gives."""
@@ -73,6 +90,12 @@ def parse_io(ctx, values: dict, where: str, targets, mode: str, sheets: bool) ->
     for target in values["registers"] or {}:
         if target not in targets:
             ctx.fail(f"{where}.registers.{target}", f"not one of the cell's targets ({', '.join(targets)})")
+    for place, (zone, done) in HANDSHAKES.items():
+        if place == "sheet" and values[zone] and not sheets:
+            ctx.fail(f"{where}.{zone}", "the pallet places no slip sheets (slip_sheet.pick)")
+        for given, wanted in ((zone, done), (done, zone)):
+            if values[given] and not values[wanted]:
+                ctx.fail(f"{where}.{wanted}", f"missing: {given} and {wanted} are one handshake, given together")
     for target in values["reset"]:
         if target not in values["done"]:
             ctx.fail(
@@ -87,7 +110,8 @@ def _facts(target: str) -> dict:
     return get_target(target).kind_tables.get("pallet", {})
 
 
-SHARED_JOBS = (*WAITS, "reset")  # inputs several pallets may share (one line's Q, one PLC's reset); select and done not
+# signals several pallets may share (one line's Q and its handshake, one PLC's reset); select and done not
+SHARED_JOBS = (*WAITS, "reset", *(key for pair in HANDSHAKES.values() for key in pair))
 
 
 def check_one_job_each(ctx, pallets, cell_io) -> None:
@@ -99,8 +123,14 @@ def check_one_job_each(ctx, pallets, cell_io) -> None:
         inputs = [("cell.io.feedback", "feedback", cell_io.feedback.get(target))]
         for i, pallet in enumerate(pallets):
             outputs.append((f"pallet[{i}].io.done", "done", pallet.io.done.get(target)))
+            outputs += [
+                (f"pallet[{i}].io.{key}", key, getattr(pallet.io, key).get(target))
+                for pair in HANDSHAKES.values()
+                for key in pair
+            ]
             inputs += [
-                (f"pallet[{i}].io.{job}", job, getattr(pallet.io, job).get(target)) for job in (*SHARED_JOBS, "select")
+                (f"pallet[{i}].io.{job}", job, getattr(pallet.io, job).get(target))
+                for job in (*WAITS, "reset", "select")
             ]
         for kind, jobs in (("output", outputs), ("input", inputs)):
             seen: dict = {}

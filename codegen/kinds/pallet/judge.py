@@ -26,6 +26,13 @@ from codegen.reference import home_move
 from codegen.robot.taught import ReachError
 from codegen.verify.plan import TOOL_LOAD, Case, Expectation, Judgement, PlannedMove, PlannedOutput, Stored
 
+# the handshake outputs (codegen/kinds/pallet/interlocks.py HANDSHAKES) as the report names them
+HANDSHAKE_WHAT = {
+    "q_zone": "the arm in Q's zone",
+    "q_done": "the pick (place) at Q done",
+    "sheet_zone": "the arm in the sheet dispenser's zone",
+    "sheet_taken": "a sheet taken from the dispenser",
+}
 
 def judge(cell, source, case: Case, trace) -> Judgement:
     """The reference's moves (with an arm: the way home from where the arm starts, then home), the payload at each,
@@ -64,7 +71,10 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     names = {"gripper": output}
     if target.name in pallet.io.done:  # the PLC's full (empty) output
         names["done"] = signal_name(target, "output", pallet.io.done[target.name])
-    what = {"gripper": "gripper", "done": "the pallet's done output (full or empty)"}
+    what = {"gripper": "gripper", "done": "the pallet's done output (full or empty)", **HANDSHAKE_WHAT}
+    for key in HANDSHAKE_WHAT:  # the handshakes at Q and at the sheet dispenser, where the cell gives them
+        if target.name in getattr(pallet.io, key):
+            names[key] = signal_name(target, "output", getattr(pallet.io, key)[target.name])
     outputs = [PlannedOutput(names[w], value, after, what[w]) for w, value, after in want.outputs if w in names]
     home = home_move(cell, target.name)
     planned_joints = None

@@ -111,6 +111,23 @@ IO = Table(
             "an output: on while the pallet is full (stacking) or empty (unstacking); the program turns it off to "
             "acknowledge the reset (required with reset)"
         ),
+        "q_zone": signals(
+            "an output: on while the arm is in the pick place's zone, from its stop above Q before it goes down until "
+            "its stop above Q after it came back up (the PLC indexes no box into Q while it is on; requires q_done)"
+        ),
+        "q_done": signals(
+            "an output: stacking, pick done (on once a box was taken from Q and the arm is out of the zone); "
+            "unstacking, place done (on once a box was put down at Q and the arm is out); off as the arm goes into "
+            "the zone again (requires q_zone)"
+        ),
+        "sheet_zone": signals(
+            "an output: on while the arm is in the slip-sheet dispenser's zone, as q_zone at Q (with slip_sheet; "
+            "requires sheet_taken)"
+        ),
+        "sheet_taken": signals(
+            "an output: on once a sheet was taken from the dispenser and the arm is out of its zone; off as the arm "
+            "goes into it again (requires sheet_zone)"
+        ),
         "select": _per_cell_target(
             "the input that selects this pallet's program where the pallets share one task (required with several "
             "pallets)",

@@ -18,7 +18,7 @@ from codegen.kinds.pallet.cycle import (
     start_counters,
     transit_dz,
 )
-from codegen.kinds.pallet.interlocks import WAITS_ON, counter_register
+from codegen.kinds.pallet.interlocks import HANDSHAKES, WAITS_ON, counter_register
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import (
     counters_message,
@@ -262,8 +262,22 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     reset = pallet.io.reset.get(target.name)
     done_out = pallet.io.done.get(target.name)
     select = pallet.io.select.get(target.name)
+    handshakes = {}
+    for place in HANDSHAKES:  # the zone and done outputs at Q and at the sheet dispenser (None: not given)
+        outputs = pallet.io.handshake(place)
+        given = all(target.name in o for o in outputs)
+        handshakes[place] = (
+            {
+                "zone": _signal(emitter, target, outputs[0][target.name]),
+                "done": _signal(emitter, target, outputs[1][target.name]),
+            }
+            if given
+            else None
+        )
     zone = pallet.zone_mm
     return {
+        # the arm stops above Q (the sheet dispenser) to set the handshake's outputs at a standstill
+        "handshake": handshakes,
         "name": emitter.comment(pallet.name),
         "ident": own["ident"],
         "entry": own.get("entry", own["ident"]),
@@ -347,6 +361,8 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "asks": bool(KIND.facts(target).get("asks")),
         # s the operator has to answer it before the program stops with its message (None: it waits)
         "asks_within_s": None if (within := KIND.facts(target).get("asks_within_s")) is None else number(within, 1),
+        # the looks at a dialog 0.1 s apart within asks_within_s (a program that polls for the answer)
+        "ask_polls": None if within is None else math.ceil(within / 0.1 - 1e-9),
         "question": emitter.string(released_question(pallet, limit)),
         "released": emitter.string(released_message(pallet, limit)),
         "yes": emitter.string(YES),

@@ -47,7 +47,8 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     said = [("gripper", cell.io.value, 0)] if case.closed else []
     known_asked = False
     if case.unknown:  # the counters are the store's file's: no item before the pallet is known to be new
-        if case.reset and pallet.io.reset:  # the PLC's handshake says so: the done output off, the reset dropped
+        if (case.reset or case.reset_asked) and pallet.io.reset:  # the PLC's handshake: the done output off, the
+            known_asked = case.reset_asked  # reset dropped (on while the question was shown: that ended it)
             said.append(("done", False, 0))
             if case.reset_held:
                 message = reset_held_message(pallet, limit)
@@ -104,6 +105,7 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         run.outputs = said
         run.carrying = put_down or todo[0].placement is not None
         run.sheet = not run.carrying
+    run.zones_off()
     if put_down:
         halt = _put_down(run)
         halt = halt or (unstacking(run, todo, done, from_q=True) if todo else None)
@@ -120,12 +122,15 @@ def _put_down(run: Run) -> str | None:
     pallet = run.pallet
     above = above_pick(pallet)
     run.move("joint", above, "held box above Q", False, False)
+    run.arrive("q")
     halt = run.wait("place_clear")
     if halt:
         return halt
+    run.handshake("q", True)
     run.move("linear", pallet.pick.matrix(), "held box place at Q", True, True)
     halt = run.release()
     if halt:
         return halt
     run.move("linear", above, "held box lift from Q", True, True)
+    run.handshake("q", False)
     return None

@@ -10,13 +10,13 @@ from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import PalletCase
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.kind import KIND
-from codegen.kinds.pallet.messages import message_limit, still_waiting_message
+from codegen.kinds.pallet.messages import known_question, message_limit, still_waiting_message
 from codegen.kinds.pallet.program import counter_names, counter_registers, holds_name, known_name
 from codegen.kinds.pallet.reach import configurations, joints_of
 from codegen.kinds.pallet.reload import reload_proof
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
-from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, SupplyLate
+from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, ResetWhileAsked, SupplyLate
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
@@ -52,17 +52,22 @@ def setup(cell, source, case: Case) -> Setup:
     if run.case.taken:  # the pallet taken away once the gripper closes
         present = signal_name(target, "input", pallet.io.pallet_present[target.name])
         devices += (PalletTaken(output, cell.io.value, present),)
-    if run.case.reset and not run.case.reset_held and target.name in pallet.io.reset:  # the PLC answers the handshake
+    reset_on = run.case.reset or run.case.reset_asked
+    if reset_on and not run.case.reset_held and target.name in pallet.io.reset:  # the PLC answers the handshake
         reset = signal_name(target, "input", pallet.io.reset[target.name])
         devices += (ResetAnswered(reset, signal_name(target, "output", pallet.io.done[target.name])),)
+    if run.case.reset_asked and target.name in pallet.io.reset:  # the reset comes while the operator is asked
+        question = Emitter(target).string(known_question(pallet, message_limit(cell)))
+        devices += (ResetWhileAsked(signal_name(target, "input", pallet.io.reset[target.name]), question),)
     if run.case.missing in WAITS_ON:  # the supply comes once the program said it waits on
         signal = signal_name(target, "input", getattr(pallet.io, run.case.missing)[target.name])
         message = Emitter(target).string(still_waiting_message(pallet, run.case.missing, message_limit(cell)))
         devices += (SupplyLate(signal, message),)
     if run.case.lost:  # the box slips out of the gripper on its way
         devices += (BoxLost(output, cell.io.value, feedback),)
-    if run.case.answer is not None:  # the operator at the pendant answers the question after a stop in a release
-        devices += (Operator([run.case.answer]),)
+    # the operator at the pendant: answers the question (after a stop in a release, or the store reloaded) as the case
+    # says, or looks away (a dialog stays shown until the program's own timeout ends it)
+    devices += (Operator([] if run.case.answer is None else [run.case.answer], then_silent=True),)
     select = None if run.pallet < 0 else run.pallet
     counters = {layer_name: run.case.layer, box_name: run.case.box}
     holds = holds_name(cell, target, index)

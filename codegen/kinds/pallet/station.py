@@ -1,5 +1,5 @@
 """The pallet station in verify (devices of Program.run): the pallet taken away, a late supply, the PLC's reset
-handshake, a box lost from the gripper."""
+handshake (also while the operator is asked), a box lost from the gripper."""
 
 from __future__ import annotations
 
@@ -61,6 +61,25 @@ class ResetAnswered:
         if not machine.signals.get(self.reset) or machine.signals.get(self.done) is not False:
             return False
         machine.signals[self.reset] = False
+        return True
+
+
+@dataclass(eq=False)  # hashed by identity: its state in the run's device_state
+class ResetWhileAsked:
+    """The PLC's reset input comes on once the program shows the operator its question (nobody answers it): the
+    PLC's handshake, not the operator, says the pallet is new. ResetAnswered then drops it in answer."""
+
+    reset: str  # the PLC's reset input
+    question: str  # the question's text as the program shows it
+
+    def next_time(self, machine: Machine) -> float | None:
+        return None
+
+    def on_wait(self, machine: Machine, where: str) -> bool:
+        if machine.device_state.get(self) or self.question not in machine.trace.messages:
+            return False
+        machine.device_state[self] = True
+        machine.signals[self.reset] = True
         return True
 
 

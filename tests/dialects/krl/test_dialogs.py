@@ -99,3 +99,25 @@ def test_codegen_run_answers_a_dialog_with_the_answers_given(tmp_path):
     waiting = runner.invoke(main, ["run", str(tmp_path / "t.src")])
     assert waiting.exit_code == 1 and "no operator answers in this run (codegen run --answer)" in waiting.output
     assert "Traceback" not in waiting.output
+
+
+def test_a_dialog_nobody_answers_is_taken_back_with_clear_krlmsg():
+    """An operator who looks away: the dialog stays shown while the program polls; Clear_KrlMsg deletes it (TRUE),
+    Exists_KrlDlg then answers FALSE with 0, and another dialog can be shown again."""
+    timed = (
+        "H = SET_KRLDLG(MSG, PAR[], KEY[], OPT)\n"
+        "WHILE EXISTS_KRLDLG(H, ANSWER) AND (POLLS < 30)\n  POLLS = POLLS + 1\n  WAIT SEC 0.1\nENDWHILE\n"
+        "SECOND = SET_KRLDLG(MSG, PAR[], KEY[], OPT)\n"  # the first still shown: -1
+        "IF CLEAR_KRLMSG(H) THEN\n  SECOND = SET_KRLDLG(MSG, PAR[], KEY[], OPT)\nENDIF\n"
+        "POLLS = 0\nH = SECOND\nIF NOT CLEAR_KRLMSG(SECOND) THEN\n  H = -1\nENDIF"
+    )
+    loaded = program(_body(call=timed), DECLS.format(keys=7), DAT)
+    trace = loaded.run({}, devices=(Operator([], then_silent=True),), keep=("H", "ANSWER", "POLLS", "SECOND"))
+    assert trace.kept["SECOND"] > 0 and trace.kept["H"] == trace.kept["SECOND"]  # shown once the first was cleared
+    assert trace.clock == pytest.approx(3.0, abs=0.2) and trace.kept["ANSWER"] == 0  # the second cleared: 0
+    cleared = program(
+        _body(call="H = SET_KRLDLG(MSG, PAR[], KEY[], OPT)\nI = 0\nIF CLEAR_KRLMSG(H) THEN\n  I = 1\nENDIF"),
+        DECLS.format(keys=7),
+        DAT,
+    ).run({}, keep=("H", "ANSWER", "POLLS"))
+    assert cleared.kept["ANSWER"] == 0 and cleared.kept["POLLS"] == 0  # deleted: FALSE at once, the answer 0

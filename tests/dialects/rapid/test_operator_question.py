@@ -66,10 +66,47 @@ def test_max_time_without_an_answer_raises_err_tp_maxtime_or_sets_the_break_flag
     assert load(answered, "t.mod").run({}, devices=[Operator(["No"])]).messages[-1] == "0"
 
 
-@pytest.mark.parametrize("option", ["\\DIBreak:=di1", "\\DOBreak:=do1"])
-def test_di_break_and_do_break_are_refused_naming_the_line(option):
-    with pytest.raises(RunError, match=r"^t\.mod:6:\d+: TPReadFK \\D.Break is not modelled here"):
-        load(module(" " + option, "VAR signaldi di1;\nVAR signaldo do1;"), "t.mod")
+def test_do_break_is_refused_naming_the_line():
+    with pytest.raises(RunError, match=r"^t\.mod:\d+:\d+: TPReadFK \\DOBreak is not modelled here"):
+        load(module(" \\DOBreak:=do1", "VAR signaldo do1;"), "t.mod")
+
+
+class InputAt:
+    """A PLC that switches a digital input on at a moment of the run."""
+
+    def __init__(self, name: str, at_s: float) -> None:
+        self.name, self.at_s = name, at_s
+
+    def next_time(self, machine):
+        return self.at_s if not machine.signals.get(self.name) else None
+
+    def on_wait(self, machine, where: str) -> bool:
+        if machine.clock < self.at_s or machine.signals.get(self.name):
+            return False
+        machine.signals[self.name] = True
+        return True
+
+
+FLAGGED = 'IF flag = ERR_TP_DIBREAK TPWrite "broken";\nIF flag = ERR_TP_MAXTIME TPWrite "timed out";'
+
+
+def _di_break(devices, signals=None, options=" \\MaxTime:=30 \\DIBreak:=diReset \\BreakFlag:=flag"):
+    text = module(options, "VAR errnum flag;").replace(REPLY, FLAGGED)
+    return load(text, "t.mod").run({}, devices=devices, signals=signals, keep=("answer",))
+
+
+def test_di_break_ends_the_dialog_when_its_input_goes_to_1_or_is_1_already():
+    late = _di_break([InputAt("diReset", 5.0)])
+    assert late.messages[-1] == "broken" and late.clock == pytest.approx(5.0, abs=0.1)
+    already = _di_break([Operator(["Yes"])], {"diReset": True})  # the input first: the key is not read
+    assert already.messages[-1] == "broken" and already.kept["answer"] == -1
+    never = _di_break([])
+    assert never.messages[-1] == "timed out" and never.clock == pytest.approx(30)
+    answered = _di_break([Operator(["No"])])
+    assert answered.kept["answer"] == 5 and answered.messages == ["layer 2 box 3 on its place?"]  # the flag 0
+    # no \\BreakFlag: the error stops the program
+    stopped = load(module(" \\DIBreak:=diReset"), "t.mod").run({}, signals={"diReset": True})
+    assert stopped.halted and stopped.halt_message.startswith("ERR_TP_DIBREAK: t.mod:5:1: TPReadFK \\DIBreak")
 
 
 def test_a_question_without_a_key_is_refused():

@@ -120,17 +120,19 @@ MODULE pal_carton
     IF NOT pal_carton_known THEN
       ! the counters as their file gives them (the store loaded again from its file, as after a reset of RAPID):
       ! not what stands on the pallet, which may be part-built; no item until the pallet is known to be new
+      IF DInput(diPalletReset) = 0 THEN
+        ! the operator asked; the PLC's reset coming on meanwhile ends the question (\DIBreak) and answers it below
+        TPReadFK answer, "pallet carton: counters reloaded from file. Is the pallet empty (new)?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \DIBreak:=diPalletReset \BreakFlag:=unanswered;
+        IF unanswered <> ERR_TP_DIBREAK AND (unanswered <> 0 OR answer <> 1) THEN
+          stack_stop "pallet carton: counters reloaded from file: set them, then the known flag";
+        ENDIF
+      ENDIF
       IF DInput(diPalletReset) = 1 THEN
         ! the PLC says a new pallet is in place: its handshake, the done output off, the reset dropped in return
         SetDO doPalletFull, 0;
         WaitDI diPalletReset, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
         IF late THEN
           stack_stop "pallet carton: the PLC's reset did not go off in 10 s, counters kept";
-        ENDIF
-      ELSE
-        TPReadFK answer, "pallet carton: counters reloaded from file. Is the pallet empty (new)?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
-        IF unanswered <> 0 OR answer <> 1 THEN
-          stack_stop "pallet carton: counters reloaded from file: set them, then the known flag";
         ENDIF
       ENDIF
       pal_carton_layer := 1;

@@ -248,7 +248,7 @@ While pal_layer <= PAL_LAYERS
         Sleep 0.05
       EndWhile
     EndIf
-MovL PAL_PICK
+    MovL PAL_PICK
     Call pal_grip()
     MovL PAL_ABOVE
     MovL over
