@@ -218,7 +218,8 @@ def case_stages(cell, pallets, index: int, case):
     full. The part is the box (a slip sheet in the gripper is not swept, as generate's proof leaves it, nor a box
     lost on its way); along its descent onto the stack (and the way up from it) the pallet's own sweep check holds
     the tool and the box against that pallet and its stack, as in generate's proof (_own_descent)."""
-    from codegen.kinds.pallet.cycle import done_counters, expected, items
+    from codegen.kinds.pallet.cycle import done_counters, items
+    from codegen.kinds.pallet.restart import expected
 
     pallet = pallets[index]
     todo = items(pallet)
