@@ -31,7 +31,9 @@ class TestUR(StationTests, MotionTests, ArmTests):
                 text, "-1.667386, -1.570796, 2.695794]), a", "1.474207, 1.570796, 5.837387]), a"
             ),
             "no_tcp": lambda: replace_once(text, "  set_tcp(p[0.0000000,", "  textmsg(p[0.0000000,"),
-            "no_payload": lambda: replace_once(text, "\n  set_target_payload(1.500,", "\n  # set_target_payload(1.500,"),
+            "no_payload": lambda: replace_once(
+                text, "\n  set_target_payload(1.500,", "\n  # set_target_payload(1.500,"
+            ),
             "out_of_reach": lambda: replace_once(text, "p1_chuck = p[0.7385000", "p1_chuck = p[2.7385000"),
             "speed_x10": lambda: replace_once(text, WORK, WORK.replace("v=0.0500", "v=0.5")),
             "acceleration_x10": lambda: replace_once(text, WORK, WORK.replace("a=1.2", "a=12")),
