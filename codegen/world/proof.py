@@ -50,6 +50,8 @@ class Path:
     moves: tuple[Move, ...]
     part: object = None
     stages: dict = field(default_factory=dict)
+    # where the arm's configuration comes from, in the kind's words, for a refusal's fix ("": the program's own)
+    configuration: str = ""
 
 
 @dataclass(frozen=True)
@@ -67,7 +69,7 @@ class ClearanceError(ValueError):
 
 def prove(cell, paths: list[Path], at_least: float | None = None) -> list[Least]:
     """Each path's least clearance, or ClearanceError naming the first move within the clearance (or within at_least
-    mm where that is more: the bar a posture has to clear to be preferred, codegen/kinds/station/posture.py)."""
+    mm where that is more: the bar a posture has to clear to be preferred, where a kind chooses one)."""
     limit = clearance_mm(cell)
     bar = limit if at_least is None else max(at_least, limit)
     out = []
@@ -103,7 +105,7 @@ def _prove(cell, path: Path, limit: float, bar: float) -> Least:
         except Unresolved as exc:
             raise ClearanceError(f"{move.where} ({path.target}): the move's path cannot be followed: {exc}") from None
         if found.distance < bar:
-            raise ClearanceError(_refusal(cell, path.target, move, found, bar))
+            raise ClearanceError(_refusal(cell, path, move, found, bar))
         if best is None or found.distance < best.found.distance:
             best = Least(path.target, move.where, found)
         q = np.asarray(move.joints, dtype=float)
@@ -194,7 +196,8 @@ def _resting(cell, path: Path, limit: float, scene) -> list[frozenset]:
     return out
 
 
-def _refusal(cell, target: str, move: Move, found: MoveClearance, limit: float) -> str:
+def _refusal(cell, path: Path, move: Move, found: MoveClearance, limit: float) -> str:
+    target = path.target
     arm = cell.robot.arms[target]
     what = "touches" if found.distance <= 0 else "comes within"
     at = f"{found.distance:.1f} mm of" if found.distance > 0 else f"{-found.distance:.1f} mm into"
@@ -202,7 +205,7 @@ def _refusal(cell, target: str, move: Move, found: MoveClearance, limit: float) 
     solid = f"the solid {other!r}" if other != FLOOR else "the floor (cell.world.floor_z_mm)"
     if other in {body.name for body in arm_bodies(arm)} | {"tool", "part"}:
         solid = f"the arm's own {other}"
-    fix = _fix(other, solid.startswith("the arm's own"), target)
+    fix = _fix(other, solid.startswith("the arm's own"), path.configuration)
     return (
         f"{move.where} ({target}, {arm.model}): the {found.body} {what} {solid}: {at} it at {found.s:.2f} of the move "
         f"(joints {[round(v, 1) for v in found.joints]} deg), less than the clearance of {limit:g} mm "
@@ -210,15 +213,16 @@ def _refusal(cell, target: str, move: Move, found: MoveClearance, limit: float) 
     )
 
 
-def _fix(other: str, own: bool, target: str) -> str:
-    # a station whose configuration the cell does not name has been tried in every one that reaches
-    # (codegen/kinds/station/posture.py): the one named there is the cell's own choice
-    config = f"[station.config.{target}]: where a station names none, each that reaches has been tried"
+OWN = "the program's own"  # the configuration a controller takes by its own rule
+
+
+def _fix(other: str, own: bool, configuration: str) -> str:
     if own:
-        return f"give the pose another configuration ({config}; or the program's own), or the arm another home"
+        config = f"{configuration}; or {OWN}" if configuration else OWN
+        return f"give the pose another configuration ({config}), or the arm another home"
     if other == FLOOR:
         return "teach the poses of the move higher, a pose between them that leads the arm above, or another home"
     return (
         f"move {other!r} away from the move's path, teach a pose between that leads the arm around it, or give "
-        f"the arm another home ([cell.robot.home]) or configuration ({config})"
+        f"the arm another home ([cell.robot.home]) or configuration ({configuration or OWN})"
     )

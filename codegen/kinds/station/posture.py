@@ -1,16 +1,16 @@
 """The posture each station is worked in where the cell names none: the arm configuration whose moves clear the cell."""
 
-# Where the cell gives no configuration for a station on a target ([station.config.<target>]), the controller leaves
-# the choice to the program: UR's qnear (the joints every get_inverse_kin is steered to), KUKA's Status and Turn, ABB's
-# confdata. The candidates: first the posture the controller takes from the home by itself (each joint pose's solution
-# nearest the home), then each analytic branch that takes every joint pose within the joint limits (its solution
-# nearest the home), nearer the home first; the linear moves continue in it. Each must pass the reach proof over the
-# correction region (joint limits and the cell's joint margin, the wrist margin, no change of configuration) and the
-# clearance proof (codegen/world/proof.py) of the station's moves at the nominal reading, which ranks them; one that
-# would replace the nearest-home posture must clear at every other proven reading too, and generate proves the one
-# kept at every proven reading. A candidate replaces the one kept so far only where its least
-# clearance is more than TIE_MM larger. The choice is written as taught joints (PoseConfig "joints"): each target's
-# program names them in its own form (codegen/robot/config.py FORMS), and verify expects them by the same rule.
+# Where the cell gives no configuration for a station on a target ([station.config.<target>]), the controller leaves the
+# choice to the program: the joints a program steers its inverse kinematics to, or the configuration fields a Cartesian
+# target carries (codegen/robot/config.py). The candidates: first the posture the controller takes from the home by
+# itself (each joint pose's solution nearest the home), then each analytic branch that takes every joint pose within the
+# joint limits (its solution nearest the home), nearer the home first; the linear moves continue in it. Each must pass
+# the reach proof over the correction region (joint limits and the cell's joint margin, the wrist margin, no change of
+# configuration) and the clearance proof (codegen/world/proof.py) of the station's moves at the nominal reading, which
+# ranks them; one that would replace the nearest-home posture must clear at every other proven reading too, and generate
+# proves the one kept at every proven reading. A candidate replaces the one kept so far only where its least clearance
+# is more than TIE_MM larger. The choice is written as taught joints (PoseConfig "joints"): each target's program names
+# them in its own form (codegen/robot/config.py FORMS), and verify expects them by the same rule.
 
 from __future__ import annotations
 

@@ -69,7 +69,12 @@ def station_paths(cell, target: str, station) -> list[Path]:
             where = f"station {station.id} {station.name!r} the way home ({reading})"
             moves.append(Move("joint", home, where, carrying=held))
         moved = _motion(tcp[n], nominal)
-        out.append(Path(target, home, tuple(moves), station.part, {"": station_solids(station, moved)}))
+        # a station whose configuration the cell does not name has been tried in every one that reaches
+        # (posture.py): the one named there is the cell's own choice
+        configuration = f"[station.config.{target}]: where a station names none, each that reaches has been tried"
+        out.append(
+            Path(target, home, tuple(moves), station.part, {"": station_solids(station, moved)}, configuration)
+        )
     return out
 
 
