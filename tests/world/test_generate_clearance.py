@@ -267,7 +267,12 @@ def test_the_floor_raised_into_a_joint_moves_dip_is_refused(tmp_path):
     dip, ends = low.min(), min(low[0], low[-1])
     assert ends - dip > 45.0 and 0.3 < s[low.argmin()] < 0.7  # a dip in the middle, not an end lower than the rest
     floor = dip + 15.0
+    # left to choose, generate takes another posture whose move clears the raised floor; the cell's own choice of
+    # this one ([station.config.ur], authoritative) is refused for the dip
     path.write_text(UR5E_DIP.format(floor=floor), encoding="utf-8")
+    assert check_clearance(load_cell(path), ["ur"])
+    named = f"[station.config.ur]\ntake = [{', '.join(f'{v:.9f}' for v in take)}]\n"
+    path.write_text(UR5E_DIP.format(floor=floor) + named, encoding="utf-8")
     with pytest.raises(GenerateError) as caught:
         check_clearance(load_cell(path), ["ur"])
     said = str(caught.value)
