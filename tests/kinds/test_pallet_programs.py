@@ -325,6 +325,10 @@ def _unstacking_testmat(tmp_path):
     lines = [line for line in text.splitlines() if not line.startswith(("slip_sheet =", "sheet_ready ="))]
     text = "\n".join(lines).replace("part_present = ", "place_clear = ")
     text = text.replace("pick_lift = 30.0", 'pick_lift = 40.0\nmode = "unstack"')
+    # Q moved away from the pallet: a box held at the start is carried from home to above Q, and from the bundled Q
+    # that joint move swings it through the full stack (generate refuses it)
+    text = text.replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,")
+    assert "pick = [450.0, 350.0, 50.0," in text
     path = tmp_path / "testmat_pallet.toml"
     path.write_text(text)
     return load_cell(path)

@@ -127,16 +127,38 @@ def pallet_paths(cell, pallets, pallet, target: str) -> list[Path]:
     """The pallet's full cycle on the target's arm from home, as its reach proof plans it (the configurations its
     program names), with the stack as built before each move and the box carried from the grip to the release;
     then the way home after a stop at the first and at the last box's place (the box held), as the program plans
-    it: back along the tool, up to the transit height, above the pallet's centre, home."""
-    from codegen.kinds.pallet.reach import configurations, full_cycle, joints_of
+    it: back along the tool, up to the transit height, above the pallet's centre, home; and, unstacking, a box held
+    at the start (a stop between the grip and Q) carried from home and put down at Q, then the stack taken off."""
+    from codegen.kinds.pallet.cycle import PalletCase, items
+    from codegen.kinds.pallet.reach import configurations, full_cycle
+    from codegen.kinds.pallet.restart import expected
 
     named = configurations(cell, pallet, target)
-    moves = full_cycle(cell, pallet)
-    joints = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
-    placed = placements(pallet)
     stacking = pallet.mode == "stack"
-    count = 0 if stacking else len(placed)
+    count = 0 if stacking else len(placements(pallet))
     others = _others(pallets, pallet)
+    home = np.asarray(cell.robot.home[target], dtype=float)
+    part = carried_box(cell, pallet)
+    planned, stages = _planned(cell, pallet, target, full_cycle(cell, pallet), named, count, others)
+    out = [Path(target, home, tuple(planned), part, stages)]
+    for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
+        out.append(_way_home(cell, pallet, target, planned[k], home, part, stages))
+    keys = [item.key for item in items(pallet)]
+    if not stacking and keys:  # a box held at the start, the counters at the first item: the whole stack stands
+        held = expected(cell, pallet, PalletCase("held_at_start", *keys[0], closed=True)).moves
+        planned, stages = _planned(cell, pallet, target, held, named, count, others)
+        out.append(Path(target, home, tuple(planned), part, stages))
+    return out
+
+
+def _planned(cell, pallet, target: str, moves, named, count: int, others: dict) -> tuple[list[Move], dict]:
+    """The reference's moves as the proof sweeps them: each with its joints, the stack as built before it (`count`
+    boxes on the pallet at the first; a confirmed release on its place adds one, a grip there takes one off), the box
+    carried from the grip to the release, and the box's own descent onto its place exempt from the stack."""
+    from codegen.kinds.pallet.reach import joints_of
+
+    joints = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
+    stacking = pallet.mode == "stack"
     stages: dict[str, dict] = {}
     planned = []
     for i, (move, q) in enumerate(zip(moves, joints, strict=True)):
@@ -152,12 +174,7 @@ def pallet_paths(cell, pallets, pallet, target: str) -> list[Path]:
             count += 1
         if grip == "grip" and not stacking and move.name.endswith("target"):
             count -= 1
-    home = np.asarray(cell.robot.home[target], dtype=float)
-    part = carried_box(cell, pallet)
-    out = [Path(target, home, tuple(planned), part, stages)]
-    for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
-        out.append(_way_home(cell, pallet, target, planned[k], home, part, stages))
-    return out
+    return planned, stages
 
 
 def _own_descent(pallet, stack: dict) -> frozenset:
