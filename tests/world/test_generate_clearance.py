@@ -5,6 +5,7 @@ forward kinematics along the move), and the bundled cells' own solids stand wher
 from __future__ import annotations
 
 import re
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -335,6 +336,9 @@ def way_home_fence(tmp_path_factory):
     planned joints and the arm's forward kinematics, not from the proof: the cycle's moves sampled (joint moves and the
     short linear ones interpolated in joints), the way home's bodies at 0.5, 0.6 and 0.7 of the move, points on their
     holding capsules' surfaces (both ends and the middle of each segment, 26 directions)."""
+    from codegen.kinds.pallet.reach import configurations
+    from codegen.kinds.pallet.way_home import way_home, way_joints
+    from codegen.reference import home_move
     from codegen.world.bodies import arm_bodies
     from codegen.world.cell import tool_shape
 
@@ -346,14 +350,19 @@ def way_home_fence(tmp_path_factory):
     path.write_text(text, encoding="utf-8")
     cell = load_cell(path)
     arm = cell.robot.arms["kuka"]
-    cycle, way = cell.kinds["pallet"].scene.paths(cell, ["kuka"])[:2]
+    pallet = cell.kinds["pallet"].section.of(cell)[0]
+    cycle = cell.kinds["pallet"].scene.paths(cell, ["kuka"])[0]
+    first = next(m for m in cycle.moves if m.where.endswith("target"))  # the first box's place: a stop there
+    # the way home as the program plans it from there (not the proof's paths: a proof without them must fail here)
+    way = way_home(cell, pallet, SimpleNamespace(name="kuka"), home_move(cell, "kuka"), first.joints, 0)
+    planned = way_joints(cell, pallet, "kuka", way[:-1], first.joints, configurations(cell, pallet, "kuka"))
     axes = _axes(arm_bodies(arm, tool_shape(cell), cycle.part))
     q, sampled = np.asarray(cycle.start, dtype=float), []
     for move in cycle.moves:
         n = max(1, int(np.ceil(np.abs(move.joints - q).max() / CYCLE_STEP_DEG)))
         sampled.append(q + np.linspace(0.0, 1.0, n + 1)[:, None] * (move.joints - q))
         q = np.asarray(move.joints, dtype=float)
-    above, home = np.asarray(way.moves[-2].joints, dtype=float), np.asarray(way.moves[-1].joints, dtype=float)
+    above, home = np.asarray(planned[-1], dtype=float), np.asarray(cell.robot.home["kuka"], dtype=float)
     middle = above + np.array([[0.5], [0.6], [0.7]]) * (home - above)
     frames = arm.kin.link_frames(middle)
     turns = np.array([(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1) if x or y or z], float)
@@ -367,7 +376,8 @@ def way_home_fence(tmp_path_factory):
                 owners += [name] * len(turns)
     least = _nearest_cycle(arm, axes, np.vstack(sampled), np.array(points))
     k = int(np.argmax(least))
-    return text, way.moves[-1].where, owners[k], np.array(points)[k], float(least[k])
+    return text, f"pallet 'testmat' the way home from {first.where.split(' ', 2)[2]}: home", owners[k], \
+        np.array(points)[k], float(least[k])
 
 
 def test_a_fence_through_the_way_homes_route_is_refused(tmp_path, way_home_fence):
