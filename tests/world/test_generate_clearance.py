@@ -290,9 +290,6 @@ WAY_HOME_VARIANT = (
 )
 FENCE_MM = 40.0  # the fence's cube
 CYCLE_STEP_DEG = 2.0  # the cycle's moves sampled with no axis turning more than this between samples
-# how far a point of the arm moves between two samples at most: the joints' 2 deg, each at the arm's reach (KR 6 R900:
-# under 1,000 mm from every axis), summed over the axes that turn (transit moves turn at most four much)
-SAMPLE_SLACK_MM = 4 * np.radians(CYCLE_STEP_DEG) * 1000.0 / 2
 
 
 def _axes(bodies) -> list[tuple[str, int, np.ndarray, np.ndarray, float]]:
@@ -374,10 +371,21 @@ def way_home_fence(tmp_path_factory):
                 centre = (f @ (a + t * (b - a)))[:3]
                 points += list(centre + radius * turns)
                 owners += [name] * len(turns)
-    least = _nearest_cycle(arm, axes, np.vstack(sampled), np.array(points))
+    joints = np.vstack(sampled)
+    least = _nearest_cycle(arm, axes, joints, np.array(points))
     k = int(np.argmax(least))
+    # between two samples no point of a body moves more than reach x the sum of the axes' turns (rad), reach: the
+    # farthest any body's capsule reaches from a joint's axis (each axis passes through its link frame's origin);
+    # every point between lies within half of that of a sample
+    links = arm.kin.link_frames(joints)
+    origins = links[:, 1:6, :3, 3]
+    reach = max(
+        float(np.linalg.norm((links[:, f] @ end)[:, None, :3] - origins, axis=2).max()) + r
+        for _, f, a, b, r in axes for end in (a, b)
+    )
+    travel = reach * np.radians(np.abs(np.diff(joints, axis=0)).sum(axis=1)).max()
     return text, f"pallet 'testmat' the way home from {first.where.split(' ', 2)[2]}: home", owners[k], \
-        np.array(points)[k], float(least[k])
+        np.array(points)[k], float(least[k]), travel / 2
 
 
 def test_a_fence_through_the_way_homes_route_is_refused(tmp_path, way_home_fence):
@@ -385,9 +393,9 @@ def test_a_fence_through_the_way_homes_route_is_refused(tmp_path, way_home_fence
     passes (a point of one of its bodies' surfaces, computed from the planned joints: the cycle's bodies at least
     the clearance, the cube's half diagonal and the sampling's slack farther) refuses it, naming that move, the body
     and the fence; nothing written."""
-    text, where, body, centre, least = way_home_fence
+    text, where, body, centre, least, slack = way_home_fence
     clearance = 20.0  # the default (docs/clearance.md)
-    assert least > clearance + FENCE_MM * np.sqrt(3) / 2 + SAMPLE_SLACK_MM, least  # the cycle passes far from it
+    assert least > clearance + FENCE_MM * np.sqrt(3) / 2 + slack, (least, slack)  # the cycle passes far from it
     clear, fenced = tmp_path / "clear.toml", tmp_path / "fenced.toml"
     clear.write_text(text, encoding="utf-8")
     generated = CliRunner().invoke(main, ["generate", str(clear), "--target", "kuka", "--out", str(tmp_path / "a")])
