@@ -5,11 +5,14 @@ forward kinematics along the move), and the bundled cells' own solids stand wher
 from __future__ import annotations
 
 import re
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from support.cells import EXAMPLES
 
+from codegen.cli import main
 from codegen.generate import GenerateError, check_clearance
 from codegen.model.cell import load_cell
 from codegen.poses import xyzabc_from_matrix
@@ -280,3 +283,135 @@ def test_the_floor_raised_into_a_joint_moves_dip_is_refused(tmp_path):
                            "(cell.world.floor_z_mm): "), said
     at = float(re.search(r"mm into it at ([0-9.]+) of the move", said).group(1))
     assert 0.3 < at < 0.7
+
+
+# A testmat variant whose way home from the pallet sweeps a region the cycle never enters: Q moved to the arm's left
+# (axis 1 at -90 deg) and the home turned between Q and the pallet (axis 1 at -45 deg), so that the cycle's move from
+# home to Q turns away from the pallet and the way home's joint move from above the pallet to home crosses a sector
+# the cycle passes only low, in transit between Q and the pallet.
+WAY_HOME_VARIANT = (
+    ('kuka = "KR 6 R900 sixx"', 'kuka = "KR 6 R900 sixx"\nhome = { kuka = [-45.0, -90.0, 90.0, 0.0, 90.0, 0.0] }'),
+    ("pick = [600.0, 300.0, 50.0, 0.0, 0.0, 180.0]", "pick = [0.0, 650.0, 50.0, 0.0, 0.0, 180.0]"),
+)
+FENCE_MM = 40.0  # the fence's cube
+CYCLE_STEP_DEG = 2.0  # the cycle's moves sampled with no axis turning more than this between samples
+
+
+def _axes(bodies) -> list[tuple[str, int, np.ndarray, np.ndarray, float]]:
+    """Each body as a capsule that holds it (name, link frame, segment ends in that frame, radius): the links' own, the
+    tool's cylinder as the capsule along its axis, a box as the sphere about its centre."""
+    from codegen.world.solids import Capsule, Cylinder
+
+    out = []
+    for body in bodies:
+        shape = body.shape
+        if isinstance(shape, Capsule):
+            a, b, r = np.r_[shape.a, 1.0], np.r_[shape.b, 1.0], shape.radius
+        elif isinstance(shape, Cylinder):
+            a, b, r = np.r_[0.0, 0.0, -shape.length / 2, 1.0], np.r_[0.0, 0.0, shape.length / 2, 1.0], shape.radius
+        else:
+            a = b = np.r_[0.0, 0.0, 0.0, 1.0]
+            r = shape.extent
+        out.append((body.name, body.frame, shape.pose @ a, shape.pose @ b, float(r)))
+    return out
+
+
+def _nearest_cycle(arm, axes, joints: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """For each point, a lower bound of its distance (mm) from every body at every sampled configuration: its distance
+    from the holding capsule's segment (forward kinematics) less the radius."""
+    frames = arm.kin.link_frames(joints)
+    least = np.full(len(points), np.inf)
+    for _, frame, a, b, radius in axes:
+        ends_a, ends_b = (frames[:, frame] @ a)[:, :3], (frames[:, frame] @ b)[:, :3]
+        d = ends_b - ends_a
+        length2 = np.maximum((d * d).sum(axis=1), 1e-12)
+        t = np.clip(np.einsum("mnk,nk->mn", points[:, None] - ends_a[None], d) / length2, 0.0, 1.0)
+        gap = np.linalg.norm(ends_a[None] + t[..., None] * d[None] - points[:, None], axis=2) - radius
+        least = np.minimum(least, gap.min(axis=1))
+    return least
+
+
+@pytest.fixture(scope="module")
+def way_home_fence(tmp_path_factory):
+    """The variant's text, and the fence: a cube touching the body of the way home's joint move to home (from the
+    pallet's first box) at the point of its middle farthest from everything the cycle sweeps. The region comes from the
+    planned joints and the arm's forward kinematics, not from the proof: the cycle's moves sampled (joint moves and the
+    short linear ones interpolated in joints), the way home's bodies at 0.5, 0.6 and 0.7 of the move, points on their
+    holding capsules' surfaces (both ends and the middle of each segment, 26 directions)."""
+    from codegen.kinds.pallet.reach import configurations
+    from codegen.kinds.pallet.way_home import way_home, way_joints
+    from codegen.reference import home_move
+    from codegen.world.bodies import arm_bodies
+    from codegen.world.cell import tool_shape
+
+    text = EXAMPLES["testmat_pallet"].read_text(encoding="utf-8")
+    for old, new in WAY_HOME_VARIANT:
+        assert old in text
+        text = text.replace(old, new, 1)
+    path = tmp_path_factory.mktemp("fence") / "testmat_way_home.toml"
+    path.write_text(text, encoding="utf-8")
+    cell = load_cell(path)
+    arm = cell.robot.arms["kuka"]
+    pallet = cell.kinds["pallet"].section.of(cell)[0]
+    cycle = cell.kinds["pallet"].scene.paths(cell, ["kuka"])[0]
+    first = next(m for m in cycle.moves if m.where.endswith("target"))  # the first box's place: a stop there
+    # the way home as the program plans it from there (not the proof's paths: a proof without them must fail here)
+    way = way_home(cell, pallet, SimpleNamespace(name="kuka"), home_move(cell, "kuka"), first.joints, 0)
+    planned = way_joints(cell, pallet, "kuka", way[:-1], first.joints, configurations(cell, pallet, "kuka"))
+    axes = _axes(arm_bodies(arm, tool_shape(cell), cycle.part))
+    q, sampled = np.asarray(cycle.start, dtype=float), []
+    for move in cycle.moves:
+        n = max(1, int(np.ceil(np.abs(move.joints - q).max() / CYCLE_STEP_DEG)))
+        sampled.append(q + np.linspace(0.0, 1.0, n + 1)[:, None] * (move.joints - q))
+        q = np.asarray(move.joints, dtype=float)
+    above, home = np.asarray(planned[-1], dtype=float), np.asarray(cell.robot.home["kuka"], dtype=float)
+    middle = above + np.array([[0.5], [0.6], [0.7]]) * (home - above)
+    frames = arm.kin.link_frames(middle)
+    turns = np.array([(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1) if x or y or z], float)
+    turns /= np.linalg.norm(turns, axis=1)[:, None]
+    points, owners = [], []
+    for name, frame, a, b, radius in axes:
+        for f in frames[:, frame]:
+            for t in (0.0, 0.5, 1.0):
+                centre = (f @ (a + t * (b - a)))[:3]
+                points += list(centre + radius * turns)
+                owners += [name] * len(turns)
+    joints = np.vstack(sampled)
+    points = np.array(points)
+    least = np.concatenate([_nearest_cycle(arm, axes, joints, points[i : i + 256]) for i in range(0, len(points), 256)])
+    k = int(np.argmax(least))
+    # between two samples no point of a body moves more than reach x the sum of the axes' turns (rad), reach: the
+    # farthest any body's capsule reaches from a joint's axis (each axis passes through its link frame's origin);
+    # every point between lies within half of that of a sample
+    links = arm.kin.link_frames(joints)
+    origins = links[:, 1:6, :3, 3]
+    reach = max(
+        float(np.linalg.norm((links[:, f] @ end)[:, None, :3] - origins, axis=2).max()) + r
+        for _, f, a, b, r in axes for end in (a, b)
+    )
+    travel = reach * np.radians(np.abs(np.diff(joints, axis=0)).sum(axis=1)).max()
+    return text, f"pallet 'testmat' the way home from {first.where.split(' ', 2)[2]}: home", owners[k], \
+        points[k], float(least[k]), travel / 2
+
+
+def test_a_fence_through_the_way_homes_route_is_refused(tmp_path, way_home_fence):
+    """The variant generates; a 40 mm cube fence put where the way home's joint move from above the pallet to home
+    passes (a point of one of its bodies' surfaces, computed from the planned joints: the cycle's bodies at least
+    the clearance, the cube's half diagonal and the sampling's slack farther) refuses it, naming that move, the body
+    and the fence; nothing written."""
+    text, where, body, centre, least, slack = way_home_fence
+    clearance = 20.0  # the default (docs/clearance.md)
+    assert least > clearance + FENCE_MM * np.sqrt(3) / 2 + slack, (least, slack)  # the cycle passes far from it
+    clear, fenced = tmp_path / "clear.toml", tmp_path / "fenced.toml"
+    clear.write_text(text, encoding="utf-8")
+    generated = CliRunner().invoke(main, ["generate", str(clear), "--target", "kuka", "--out", str(tmp_path / "a")])
+    assert generated.exit_code == 0, generated.output
+    fence = np.eye(4)
+    fence[:3, 3] = centre
+    world = f"[cell.world]\nsolids.fence = {{ box = [{FENCE_MM}, {FENCE_MM}, {FENCE_MM}], pose = {_pose(fence)} }}\n\n"
+    fenced.write_text(text.replace("[cell.io]", world + "[cell.io]", 1), encoding="utf-8")
+    out = tmp_path / "b"
+    refused = CliRunner().invoke(main, ["generate", str(fenced), "--target", "kuka", "--out", str(out)])
+    assert refused.exit_code == 2 and "Traceback" not in refused.output and not out.exists(), refused.output
+    assert "pallet 'testmat' the way home from layer 1 box 1 target: home" in where
+    assert f"{where} (kuka, KR 6 R900 sixx): the {body} touches the solid 'fence'" in refused.output, refused.output
