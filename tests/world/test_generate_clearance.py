@@ -415,3 +415,23 @@ def test_a_fence_through_the_way_homes_route_is_refused(tmp_path, way_home_fence
     assert refused.exit_code == 2 and "Traceback" not in refused.output and not out.exists(), refused.output
     assert "pallet 'testmat' the way home from layer 1 box 1 target: home" in where
     assert f"{where} (kuka, KR 6 R900 sixx): the {body} touches the solid 'fence'" in refused.output, refused.output
+
+
+def test_an_unstacking_box_held_at_the_start_is_proven_on_its_way_from_home_to_q(tmp_path):
+    """Unstacking testmat on the UR5e: a box held at the start (a stop between the grip and Q) is carried from home to
+    above Q by a joint move; with Q at the bundled place that move swings the box through the full stack, which
+    generate refuses naming the move, the part and the stack; Q moved 150 mm further off, it generates."""
+    text = EXAMPLES["testmat_pallet"].read_text(encoding="utf-8")
+    lines = [line for line in text.splitlines() if not line.startswith(("slip_sheet =", "sheet_ready ="))]
+    text = "\n".join(lines).replace("part_present = ", "place_clear = ")
+    text = text.replace("pick_lift = 30.0", 'pick_lift = 40.0\nmode = "unstack"')
+    assert 'mode = "unstack"' in text and "pick = [600.0, 300.0, 50.0," in text
+    path = tmp_path / "testmat_unstack.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(GenerateError) as caught:
+        check_clearance(load_cell(path), ["ur"])
+    said = str(caught.value)
+    assert said.startswith("pallet 'testmat' held box above Q (ur, UR5e): the part touches the solid 'pallet testmat: "
+                           "stack below layer 5'"), said
+    path.write_text(text.replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,"), encoding="utf-8")
+    assert check_clearance(load_cell(path), ["ur"])
