@@ -154,3 +154,11 @@ def test_the_exact_stop_note_comes_with_a_blend_only(target, change, stop_note):
     message, _pos, _rot = checker._moves(SimpleNamespace(moves=[planned]), trace)
     assert message.startswith("move 1 (die, line 7): ")
     assert ("must stop exactly" in message) is stop_note
+
+
+def test_the_report_counts_one_program_in_the_singular():
+    """ "cell press_shop: 1 programs" read as a slip."""
+    from codegen.verify.report import Report
+
+    assert Report("press_shop", [object()], 0, 0).header() == "cell press_shop: 1 program (seed 0)"
+    assert Report("press_shop", [object(), object()], 3, 0).header() == "cell press_shop: 2 programs (seed 3)"
