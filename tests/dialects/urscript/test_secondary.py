@@ -54,3 +54,13 @@ def test_a_primary_program_that_defines_a_clean_secondary_still_moves():
     trace = load(text, "p.script").run({})
     assert [(o.name, o.value) for o in trace.outputs] == [("standard_digital_out[0]", True)]
     assert len(trace.moves) == 1
+
+
+def test_the_editor_outline_names_a_secondary_program_and_keeps_its_variables_inside():
+    from codegen.dialects import get_dialect
+    from codegen.lsp.symbols import index_of
+
+    text = "sec s():\n  n = 2\n  set_standard_digital_out(n, True)\nend\n"
+    index = index_of(get_dialect("urscript"), "s.script", text)
+    assert [(s.name, s.line, s.top) for s in index.symbols] == [("s", 1, True)]
+    assert [(s.name, s.top) for s in index.assigned] == [("n", False)]
