@@ -378,6 +378,8 @@ def load(text: str, filename: str = "<urscript>") -> Program:
         return signal
 
     compiler.check_thread_runs()
+    if len(top) == 1 and top[0].data == "secdef":
+        body = secondary.one_step(name, body)
     program = Program(name, compiler, prefix, None, threads.ending_threads(body))
     program.prepare()
     return program

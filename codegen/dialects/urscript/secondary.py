@@ -10,13 +10,15 @@
 # Modelled so: a call that takes physical time (PHYSICAL_TIME) in a `sec` body, or in a function the body calls
 # (at any depth), and a thread started there, are refused when the program is loaded, naming the call and the
 # reason. A file that is one `sec` is that secondary program: a run executes its body once, to its end (the
-# primary program is not in the file: nothing here stops or moves it). A `sec` inside a program is checked the
+# primary program is not in the file: nothing here stops or moves it); one that reaches the run's step limit
+# (a loop that never ends) is stopped with the same reason (one_step). A `sec` inside a program is checked the
 # same way and called like a function (assumed: the manuals at hand do not say what a nested `sec` does).
 
 from __future__ import annotations
 
 from lark import Tree
 
+from codegen.dialects.core.values import RunError, StepLimitError
 from codegen.dialects.urscript.check import MOTION, WAIT_BODY
 
 PHYSICAL_TIME = frozenset((*MOTION, "servoc", "stopj", "stopl", *WAIT_BODY))
@@ -47,3 +49,16 @@ def refusal(sec: Tree, functions: dict[str, Tree]) -> tuple[object, str] | None:
                 seen.add(callee)
                 todo.append((functions[callee].children[2], f" (in {callee}, which it calls)"))
     return None
+
+
+def one_step(name: str, body):
+    """The body of a file that is the secondary program `name`: a runaway loop stopped with UR's reason."""
+
+    def run(fr):
+        try:
+            return body(fr)
+        except StepLimitError as exc:
+            where = str(exc).split(": step limit")[0]
+            raise RunError(f"{where}: secondary program {name} does not end: {REASON}") from None
+
+    return run

@@ -64,3 +64,8 @@ def test_the_editor_outline_names_a_secondary_program_and_keeps_its_variables_in
     index = index_of(get_dialect("urscript"), "s.script", text)
     assert [(s.name, s.line, s.top) for s in index.symbols] == [("s", 1, True)]
     assert [(s.name, s.top) for s in index.assigned] == [("n", False)]
+
+
+def test_a_secondary_program_that_never_ends_is_stopped_with_urs_reason():
+    with pytest.raises(RunError, match=rf"s\.script:1:\d+: secondary program s does not end: .*{BEHIND}"):
+        load("sec s(): while True: x = 1 end end\n", "s.script").run({})
