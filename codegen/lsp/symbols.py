@@ -33,10 +33,11 @@ DECLARES: dict[str, tuple[K, int]] = {
     "alias_decl": (K.Class, 1),
     "funcdef": (K.Function, 0),
     "threaddef": (K.Event, 0),
+    "secdef": (K.Function, 0),
     "global_stmt": (K.Variable, 0),
 }
 ASSIGN, PLAIN_NAME = "assign", "var"  # an assignment's rule and its target's when the target is a name alone
-CONTAINERS = frozenset({"def_routine", "def_function", "proc", "func", "trap", "funcdef", "threaddef"})
+CONTAINERS = frozenset({"def_routine", "def_function", "proc", "func", "trap", "funcdef", "threaddef", "secdef"})
 OUTLINE = (frozenset(DECLARES) | {ASSIGN}) - {"module", "defdat"}  # the file itself is the module
 
 

@@ -107,6 +107,18 @@ class Checker:
         return None
 
     # --- the moves -----------------------------------------------------------------------------
+    def _blends(self, planned, key: str) -> bool:
+        """Whether a move's setting `key` is one that would differ on a move allowed to blend (its zone), i.e. a
+        mismatch in it is a blend where the arm must stop, not, say, a changed speed."""
+        zone = planned.zone_mm or 1.0
+        passing = move_settings(
+            self.target.name, planned.kind, False, self.own_tool, planned.speed_mm_s, zone, planned.joint_percent
+        )
+        stopping = move_settings(
+            self.target.name, planned.kind, True, self.own_tool, planned.speed_mm_s, zone, planned.joint_percent
+        )
+        return passing.get(key) != stopping.get(key)
+
     def _moves(self, expected: Expectation, trace) -> tuple[str | None, list, list]:
         got, planned = trace.moves, expected.moves
         if len(got) != len(planned):
@@ -124,7 +136,7 @@ class Checker:
                 have = g.settings.get(key)
                 numbers = isinstance(want, float) and isinstance(have, float)
                 if have != want and not (numbers and math.isclose(have, want, rel_tol=1e-6)):  # float32 values
-                    stop = " (the arm must stop exactly at this pose)" if e.exact else ""
+                    stop = " (the arm must stop exactly at this pose)" if e.exact and self._blends(e, key) else ""
                     return f"{where}: {key} {_setting(have)}, expected {_setting(want)}{stop}", pos_errors, rot_errors
             if e.tcp2base is not None:
                 pos, rot = pose_errors(g.tcp2base.tolist(), e.tcp2base.tolist())

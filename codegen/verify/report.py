@@ -204,10 +204,14 @@ class Report:
             out.setdefault(key, []).append(row.plan.listed_row(row.summary()))
         return out
 
+    def header(self) -> str:
+        count = len(self.rows)
+        return f"cell {self.cell}: {count} program{'' if count == 1 else 's'} (seed {self.seed})"
+
     def lines(self) -> list[str]:
         """The text report: one line per program, its first mismatches, each kind's own table, the arm's margins,
         the runs and the verdict."""
-        out = [f"cell {self.cell}: {len(self.rows)} programs (seed {self.seed})"]
+        out = [self.header()]
         out.append(
             f"{'program':<26}{'kind':<9}{'target':<7}{'cases':>7}{'fail':>6}{'halts':>7}{'bound':>7}{'pos max mm':>11}"
             f"{'pos p99':>10}{'rot max deg':>12}{'rot p99':>10}{'cases/s':>8}"

@@ -18,6 +18,7 @@ from codegen.robot.expect import ArmStats
 from codegen.verify import checks
 from codegen.verify.checks import Checker
 from codegen.verify.edits import _changed_lines, _texts
+from codegen.verify.plan import PlannedMove
 
 GENERATED = Path(__file__).resolve().parents[2] / "generated"
 SRC, DAT, COUNT = "DEF PAL()\nEND\n", "DEFDAT PAL PUBLIC\nDECL INT N = 1\nENDDAT\n", "DEFDAT PAL_COUNT\nENDDAT\n"
@@ -132,3 +133,32 @@ def test_verify_reports_a_translated_stop_message_as_an_edit(tmp_path):
     assert result.exit_code == 0, result.output
     assert f"EDIT effect: shows 'Palette eur voll' where the generated program shows {old!r}" in result.output
     assert "MISMATCH" not in result.output
+
+
+@pytest.mark.parametrize(
+    ("target", "change", "stop_note"),
+    [
+        ("ur", {"v": 0.08}, False),  # a speed edit is no blend: the stop note misled
+        ("ur", {"r": 0.002}, True),
+        ("kuka", {"vel_cp": 0.08}, False),
+        ("kuka", {"approx": "C_DIS", "cdis": 2.0}, True),
+    ],
+)
+def test_the_exact_stop_note_comes_with_a_blend_only(target, change, stop_note):
+    checker = Checker.__new__(Checker)
+    checker.target, checker.own_tool = checks.get_target(target), False
+    checker.pos_tol = checker.rot_tol = 1.0
+    planned = PlannedMove(name="die", kind="linear", exact=True, speed_mm_s=50.0, zone_mm=5.0)
+    wanted = checks.move_settings(target, "linear", True, False, 50.0, 5.0, None)
+    trace = SimpleNamespace(moves=[SimpleNamespace(line=7, kind="linear", settings={**wanted, **change})])
+    message, _pos, _rot = checker._moves(SimpleNamespace(moves=[planned]), trace)
+    assert message.startswith("move 1 (die, line 7): ")
+    assert ("must stop exactly" in message) is stop_note
+
+
+def test_the_report_counts_one_program_in_the_singular():
+    """ "cell press_shop: 1 programs" read as a slip."""
+    from codegen.verify.report import Report
+
+    assert Report("press_shop", [object()], 0, 0).header() == "cell press_shop: 1 program (seed 0)"
+    assert Report("press_shop", [object(), object()], 3, 0).header() == "cell press_shop: 2 programs (seed 3)"

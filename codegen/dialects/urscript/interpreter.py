@@ -33,7 +33,18 @@ from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.program import Program
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import MISSING, RunError, f32
-from codegen.dialects.urscript import arrays, circle, conveyor, environment, io, motion, pendant, threads, urmath
+from codegen.dialects.urscript import (
+    arrays,
+    circle,
+    conveyor,
+    environment,
+    io,
+    motion,
+    pendant,
+    secondary,
+    threads,
+    urmath,
+)
 from codegen.dialects.urscript.state import URScriptState
 from codegen.dialects.urscript.values import URPose, num, pose
 
@@ -41,6 +52,7 @@ INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_registe
 REGISTER_MAX = io.REGISTER_MAX
 INSTALLATION = "installation."  # an input installation.NAME: the installation variable NAME (a global at the start)
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+ROUTINES = ("funcdef", "secdef")  # the definitions a call can name
 POSE_SIZE = 6  # six numbers given for an installation variable: a pose p[x, y, z, rx, ry, rz] (m, rad)
 
 
@@ -89,6 +101,7 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
         self.threads: dict = {}  # thread definitions by name (codegen/dialects/urscript/threads.py)
         self.thread_runs: list[tuple[str, object]] = []  # (name, node) of each `run name()`, checked by load()
         self.defined: set[str] = set()  # every function and thread the program defines (known before compiling)
+        self.function_nodes: dict = {}  # each `def` and `sec` by name (a secondary program's calls are checked)
         self.global_names: set[str] = set()  # names a `global` statement makes the program's
         self.thread_names: set[str] = set()  # every thread the program defines
         self.never_lists: arrays.NeverLists | None = None  # which expressions are never arrays (set by load)
@@ -270,6 +283,9 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
     def s_critical_stmt(self, node):
         return lambda fr: None  # one thread runs at a time here: nothing interleaves with a critical section
 
+    def s_secdef(self, node):
+        return self.s_funcdef(node)  # load() has refused what a secondary program may not hold (secondary.py)
+
     def s_funcdef(self, node):
         name_token, params_node, body = node.children
         if str(name_token) in self.threads:
@@ -322,13 +338,19 @@ def load(text: str, filename: str = "<urscript>") -> Program:
     """
     tree = parse(text, filename)
     compiler = URScriptCompiler(filename)
-    compiler.defined = {str(d.children[0]) for d in tree.find_data("funcdef")}
+    routines = [d for d in tree.iter_subtrees_topdown() if d.data in ROUTINES]
+    compiler.function_nodes = {str(d.children[0]): d for d in routines}
+    compiler.defined = set(compiler.function_nodes)
+    for sec in tree.find_data("secdef"):
+        found = secondary.refusal(sec, compiler.function_nodes)
+        if found is not None:
+            compiler.fail(*found)
     compiler.user_routines = set(compiler.defined)
     thread_names = {str(d.children[0]) for d in tree.find_data("threaddef")}
     compiler.thread_names = thread_names
     compiler.never_lists = arrays.NeverLists(tree, compiler.builtins, compiler.defined)
     top = [c for c in tree.children if isinstance(c, Tree)]
-    programs = [c for c in top if c.data == "funcdef"]
+    programs = [c for c in top if c.data in ROUTINES]  # a `def`, or a `sec`: a secondary program (secondary.py)
     if len(top) == 1 and len(programs) == 1:
         statements = [c for c in programs[0].children[2].children if isinstance(c, Tree)]
         name = str(programs[0].children[0])
@@ -336,7 +358,7 @@ def load(text: str, filename: str = "<urscript>") -> Program:
         statements, name = top, filename
     split = 0
     while split < len(statements) and (
-        statements[split].data in ("funcdef", "threaddef", "label_stmt")
+        statements[split].data in ("funcdef", "secdef", "threaddef", "label_stmt")
         or (statements[split].data == "assign" and _is_constant(statements[split].children[1]))
     ):
         split += 1
@@ -356,6 +378,8 @@ def load(text: str, filename: str = "<urscript>") -> Program:
         return signal
 
     compiler.check_thread_runs()
+    if len(top) == 1 and top[0].data == "secdef":
+        body = secondary.one_step(name, body)
     program = Program(name, compiler, prefix, None, threads.ending_threads(body))
     program.prepare()
     return program
