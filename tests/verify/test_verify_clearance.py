@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from codegen.model.cell import DEMO_CELL, load_cell
+from codegen.render import render
 from codegen.verify.engine import Options, verify_cell
 
 GENERATED = Path(__file__).resolve().parents[2] / "generated" / "agv_machine_tending" / "ur"
@@ -38,17 +39,26 @@ def cell_with(tmp_path: Path, world: str, part: bool = True):
     return load_cell(path)
 
 
-def edited(tmp_path: Path, old: str, new: str) -> Path:
-    text = (GENERATED / PROGRAM).read_text(encoding="utf-8")
+def rendered(tmp_path: Path, cell) -> Path:
+    """The UR program generated from `cell` (a cell without parts loads the tool alone: not the bundled program)."""
+    text = next(f.text for f in render(cell, ["ur"]) if f.relpath.endswith("/" + PROGRAM))
+    path = tmp_path / "rendered" / PROGRAM
+    path.parent.mkdir()
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def edited(tmp_path: Path, old: str, new: str, source: Path = GENERATED / PROGRAM) -> Path:
+    text = source.read_text(encoding="utf-8")
     assert text.count(old) == 1
     path = tmp_path / PROGRAM
     path.write_text(text.replace(old, new), encoding="utf-8")
     return path
 
 
-def line_of(text: str) -> int:
+def line_of(text: str, source: Path = GENERATED / PROGRAM) -> int:
     """The line of the generated program that holds `text` (one line, once)."""
-    lines = (GENERATED / PROGRAM).read_text(encoding="utf-8").splitlines()
+    lines = source.read_text(encoding="utf-8").splitlines()
     return lines.index(text.rstrip("\n")) + 1
 
 
@@ -64,7 +74,7 @@ CORNER = "    movel(p1_tray_done_above, a=1.2, v=0.2500, r=0.0100)\n"
 
 def test_the_generated_program_clears_the_post_with_the_tool(tmp_path):
     cell = cell_with(tmp_path, POST, part=False)
-    report = verify_cell(cell, [GENERATED / PROGRAM], ("ur",), FAST)
+    report = verify_cell(cell, [rendered(tmp_path, cell)], ("ur",), FAST)
     (row,) = report.rows
     assert row.mismatches == 0, row.first_mismatches
     assert row.clearance.distance >= 20.0
@@ -80,8 +90,9 @@ def test_the_part_carried_past_the_post_fails_naming_the_part(tmp_path):
 
 def test_a_zone_widened_into_the_post_fails_for_its_corner(tmp_path):
     cell = cell_with(tmp_path, POST, part=False)
-    found = problems(cell, edited(tmp_path, CORNER, CORNER.replace("r=0.0100", "r=0.1500")))
-    line = line_of(CORNER)
+    program = rendered(tmp_path, cell)
+    found = problems(cell, edited(tmp_path, CORNER, CORNER.replace("r=0.0100", "r=0.1500"), program))
+    line = line_of(CORNER, program)
     assert found and all(f"clearance: {PROGRAM}:{line}: the blend's corner (150 mm zone): the tool" in p for p in found)
     assert all("post (clearance 20 mm)" in p for p in found)
 
