@@ -65,6 +65,15 @@ def check_clearance(cell: Cell, targets: list[str] | None) -> list:
     return least
 
 
+def clears(cell: Cell) -> None:
+    """A calibration's --write: the edited cell still generates (every move clears its solids), else ReachError with
+    generate's refusal."""
+    try:
+        check_clearance(cell, None)
+    except GenerateError as exc:
+        raise ReachError(str(exc)) from None
+
+
 def _proven(cell: Cell, target: str) -> list:
     from codegen.world.proof import prove
 

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from codegen.csvfile import CsvError, number, read_rows, whole
+from codegen.generate import clears
 from codegen.kinds.conveyor.section import belt2base, conveyor_of
 from codegen.model.cell import CellError, load_cell, read_cell_data, replace_cell_file
 from codegen.robot.taught import ReachError
@@ -280,7 +281,7 @@ def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_len
         return text[:start] + table + text[end:] if start is not None else text.rstrip("\n") + "\n\n" + table
 
     try:
-        replace_cell_file(cell_path, edit)
+        replace_cell_file(cell_path, edit, prove=clears)
     except CellError as exc:
         raise ConveyorCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
     except ReachError as exc:

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from codegen.csvfile import CsvError, number, read_rows
+from codegen.generate import clears
 from codegen.model.cell import CellError, load_cell, replace_cell_file
 from codegen.poses import matrix_from_xyzabc, native_values, rotmat_from_zyx_deg, zyx_deg_from_rotmat
 from codegen.robot.taught import ReachError
@@ -223,7 +224,8 @@ def write_to_cell(cell_path: Path, result: ToolFit, source: str) -> None:
         return text[: match.start()] + body + text[match.end() :]
 
     try:
-        replace_cell_file(cell_path, edit)  # the arm must still take every pose of every kind with the new tool
+        # the arm must still take every pose of every kind with the new tool, and clear the solids
+        replace_cell_file(cell_path, edit, prove=clears)
     except CellError as exc:
         raise ToolCalibrationError(f"{cell_path}: edited file would not load: {exc}") from None
     except ReachError as exc:

@@ -4,7 +4,6 @@ a run (where the gripper closed and opened, with or without a part, judged again
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,9 +12,6 @@ from codegen.model.loader import Loader
 from codegen.model.world import PartShape
 from codegen.world import loads
 from codegen.world.solids import translation
-
-if TYPE_CHECKING:
-    from codegen.kinds.station.section import Station
 
 
 @dataclass(frozen=True)
@@ -50,7 +46,7 @@ def part_alone(part: Part | None) -> loads.Load | None:
     return loads.Load(shape.mass, np.asarray(part.cog_mm, dtype=float), shape.inertia_cog)
 
 
-def part_load(cell, station: Station | None) -> loads.Load | None:
+def part_load(cell, station) -> loads.Load | None:  # station: a section.Station (which reads Part from here)
     """The load while the station's part is in the gripper: the tool's and the part's as one, in the flange frame
     (mass, common centre of gravity, the tensor about it with the parallel-axis terms); None: the part has no mass,
     or the cell gives no tool (the programs then set no load)."""
@@ -61,7 +57,7 @@ def part_load(cell, station: Station | None) -> loads.Load | None:
     return loads.with_tool(robot.tool, robot.tool_shaped, part)
 
 
-def held_part(cell, stations) -> Station | None:
+def held_part(cell, stations):  # -> a section.Station or None
     """The first station whose part a gripper holding one at the start carries, where that load is known before the
     station is (every station that grips carries a part of the same load): its load is set before the move home;
     None: a station grips a part without mass, or two parts differ (the load is set once the station is known)."""

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from codegen.csvfile import CsvError, number, read_rows
+from codegen.generate import clears
 from codegen.kinds.station.section import image_angle_sign
 from codegen.model.cell import CellError, read_cell_data, replace_cell_file
 from codegen.robot.taught import ReachError
@@ -209,7 +210,7 @@ def write_to_cell(cell_path: Path, result: HandEyeFit, source: str) -> None:
         return _with_angle_sign(new, image_angle_sign(result.matrix))
 
     try:
-        replace_cell_file(cell_path, edit)  # the edited file must still be a valid cell that generates
+        replace_cell_file(cell_path, edit, prove=clears)  # the edited file must still be a valid cell that generates
     except CellError as exc:
         raise HandEyeError(f"{cell_path}: edited file would not load: {exc}") from None
     except ReachError as exc:
