@@ -4,7 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from support.cells import EXAMPLES, example
+from support.cells import EXAMPLES, example, unstacking_testmat_text
 from support.programs import edited, sources, verify, verify_one
 
 from codegen.kinds.pallet.reach import configurations, full_cycle, joints_of, safe_move
@@ -319,12 +319,8 @@ def test_the_approach_goes_at_the_work_speed(target, name, old, new):
 
 
 def _unstacking_testmat(tmp_path):
-    """Source 004's test cell unstacking (no bundled cell unstacks on UR): no slip sheets, Q clear waited for, above
-    Q high enough to clear a box lying there."""
-    text = (PALLETS / "testmat_pallet.toml").read_text()
-    lines = [line for line in text.splitlines() if not line.startswith(("slip_sheet =", "sheet_ready ="))]
-    text = "\n".join(lines).replace("part_present = ", "place_clear = ")
-    text = text.replace("pick_lift = 30.0", 'pick_lift = 40.0\nmode = "unstack"')
+    """Source 004's test cell unstacking, its Q moved clear."""
+    text = unstacking_testmat_text()
     # Q moved away from the pallet: a box held at the start is carried from home to above Q, and from the bundled Q
     # that joint move swings it through the full stack (generate refuses it)
     text = text.replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,")

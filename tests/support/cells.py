@@ -134,3 +134,14 @@ mark = [640.0, 210.0, 0.0]
 [station.poses]
 vise = [700.0, 50.0, 260.0, -90.0, 15.0, 180.0]
 """.replace("{TARGETS}", repr(list(target_names())).replace("'", '"'))
+
+
+def unstacking_testmat_text() -> str:
+    """Source 004's test cell unstacking (no bundled cell unstacks on UR): no slip sheets, Q clear waited for, above
+    Q high enough to clear a box lying there; Q where the bundled cell has it."""
+    text = EXAMPLES["testmat_pallet"].read_text(encoding="utf-8")
+    lines = [line for line in text.splitlines() if not line.startswith(("slip_sheet =", "sheet_ready ="))]
+    text = "\n".join(lines).replace("part_present = ", "place_clear = ")
+    text = text.replace("pick_lift = 30.0", 'pick_lift = 40.0\nmode = "unstack"')
+    assert 'mode = "unstack"' in text and "pick = [600.0, 300.0, 50.0," in text
+    return text

@@ -10,7 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from click.testing import CliRunner
-from support.cells import EXAMPLES
+from support.cells import EXAMPLES, unstacking_testmat_text
 
 from codegen.cli import main
 from codegen.generate import GenerateError, check_clearance
@@ -421,11 +421,7 @@ def test_an_unstacking_box_held_at_the_start_is_proven_on_its_way_from_home_to_q
     """Unstacking testmat on the UR5e: a box held at the start (a stop between the grip and Q) is carried from home to
     above Q by a joint move; with Q at the bundled place that move swings the box through the full stack, which
     generate refuses naming the move, the part and the stack; Q moved 150 mm further off, it generates."""
-    text = EXAMPLES["testmat_pallet"].read_text(encoding="utf-8")
-    lines = [line for line in text.splitlines() if not line.startswith(("slip_sheet =", "sheet_ready ="))]
-    text = "\n".join(lines).replace("part_present = ", "place_clear = ")
-    text = text.replace("pick_lift = 30.0", 'pick_lift = 40.0\nmode = "unstack"')
-    assert 'mode = "unstack"' in text and "pick = [600.0, 300.0, 50.0," in text
+    text = unstacking_testmat_text()
     path = tmp_path / "testmat_unstack.toml"
     path.write_text(text, encoding="utf-8")
     with pytest.raises(GenerateError) as caught:
