@@ -4,6 +4,7 @@ completion, and verify in the background; pygls over stdio."""
 from __future__ import annotations
 
 import asyncio
+import gc
 from concurrent.futures import ThreadPoolExecutor
 from importlib.metadata import version
 from pathlib import Path
@@ -12,19 +13,24 @@ from lsprotocol import types
 from pygls.lsp.server import LanguageServer
 from pygls.uris import from_fs_path, to_fs_path
 
+from codegen.dialects import dialects
+from codegen.dialects.core.kept import STORE
 from codegen.lsp import completion, diagnostics, hover, symbols, verifying
 from codegen.lsp.cells import find_cell
-from codegen.lsp.documents import Program, dialect_of, is_cell_file, is_cell_text, program_of
+from codegen.lsp.documents import CELL_SUFFIX, Program, dialect_of, is_cell_file, is_cell_text, program_of
 from codegen.lsp.nominal import Move, nominal_moves
 
 DEBOUNCE_S = 0.1  # quiet time after an edit before the file is checked: a burst of keystrokes is checked once
 VERIFY = "codegen.verify"
 VERIFY_CANCEL = "codegen.verifyCancel"
+STATUS = "codegen.status"
+WATCHERS = "codegen-files"  # the id of the registration of the files watched on disk
 
 
 class CodegenServer(LanguageServer):
     """The server's state: the checks waiting or running per file, each file's check and verify diagnostics
-    (published together), the verify runs per program and the nominal runs' moves per program."""
+    (published together), each program's last whole check (its files' texts and the diagnostics they gave), the
+    verify runs per program and the nominal runs' moves per program."""
 
     def __init__(self) -> None:
         super().__init__("codegen", version("codegen"))
@@ -34,6 +40,10 @@ class CodegenServer(LanguageServer):
         self.edits: dict[str, int] = {}  # path -> how many times it was opened or changed: a stale check is dropped
         self.waiting: dict[str, asyncio.Task] = {}
         self.checked: dict[str, list[types.Diagnostic]] = {}
+        # a program (its first file) -> its files' (name, text) at its last whole check, and that check's diagnostics
+        self.programs: dict[str, tuple[tuple, dict[str, list[types.Diagnostic]]]] = {}
+        self.checks = 0  # whole checks run (a program's unchanged texts are not checked again)
+        self.collections = 0  # garbage collections after a check was published
         self.verified: dict[str, list[types.Diagnostic]] = {}
         self.verifies: dict[str, asyncio.Task] = {}
         self.nominal: dict[tuple, list[Move]] = {}
@@ -126,12 +136,58 @@ class CodegenServer(LanguageServer):
         program = await loop.run_in_executor(self.worker, self.program, path)
         if program is None or self.edits.get(path) != edit:
             return
-        findings = await loop.run_in_executor(self.worker, diagnostics.program_findings, program)
-        if self.edits.get(path) != edit:
-            return
-        for file, found in diagnostics.by_file(program, findings).items():
+        texts = tuple((f.name, f.text) for f in program.files)
+        last = self.programs.get(program.files[0].name)
+        if last is not None and last[0] == texts:  # a save, a file on disk touched: the same texts, the same findings
+            found_by_file = last[1]
+        else:
+            findings = await loop.run_in_executor(self.worker, diagnostics.program_findings, program)
+            self.checks += 1
+            if self.edits.get(path) != edit:
+                return
+            found_by_file = diagnostics.by_file(program, findings)
+            self.programs[program.files[0].name] = (texts, found_by_file)
+        for file, found in found_by_file.items():
             self.checked[file] = found
             self.publish(file)
+        if not any(not task.done() for task in self.waiting.values() if task is not asyncio.current_task()):
+            await loop.run_in_executor(self.worker, self.collect)
+
+    def collect(self) -> None:
+        """Free what the check left (its compiled program's cycles) once its diagnostics are out and no edit waits:
+        the collection then does not fall inside the next check."""
+        gc.collect()
+        self.collections += 1
+
+    def changed_on_disk(self, paths: list[str]) -> None:
+        """Files changed on disk (created, changed, deleted): the open files whose program reads them from there
+        (a file of the same language in the same folder, not open itself) are checked again; a cell file: the cells
+        found for the programs are looked for again."""
+        open_texts = self.open_texts()
+        dependents = set()
+        for path in paths:
+            if is_cell_file(Path(path)):
+                self.cells.clear()
+            dialect = dialect_of(Path(path))
+            if dialect is None or path in open_texts:  # the editor's text is the one checked
+                continue
+            folder = Path(path).parent
+            dependents.update(p for p in open_texts if Path(p).parent == folder and dialect_of(Path(p)) is dialect)
+        for path in sorted(dependents):
+            self.edited(from_fs_path(path))
+
+    def watch_files(self) -> None:
+        """Ask the client to report changes on disk of the files the server reads (where it takes such a request)."""
+        workspace = self.client_capabilities.workspace
+        watched = workspace and workspace.did_change_watched_files
+        if not (watched and watched.dynamic_registration):
+            return
+        suffixes = {s.lstrip(".") for d in dialects().values() for s in (*d.suffixes, *d.companions)}
+        pattern = "**/*.{" + ",".join(sorted(suffixes | {CELL_SUFFIX.lstrip(".")})) + "}"
+        watchers = [types.FileSystemWatcher(glob_pattern=pattern)]
+        options = types.DidChangeWatchedFilesRegistrationOptions(watchers=watchers)
+        registration = types.Registration(WATCHERS, types.WORKSPACE_DID_CHANGE_WATCHED_FILES, options)
+        self.client_register_capability(types.RegistrationParams([registration]))
 
     # --- verify and the nominal run -------------------------------------------------------------------------------
 
@@ -233,6 +289,16 @@ def initialize(ls: CodegenServer, params: types.InitializeParams) -> None:
             ls.debounce_s = float(options["debounce"])
         if isinstance(options.get("verifyCases"), int) and options["verifyCases"] > 0:
             ls.verify_cases = options["verifyCases"]
+
+
+@server.feature(types.INITIALIZED)
+def initialized(ls: CodegenServer, params: types.InitializedParams) -> None:
+    ls.watch_files()
+
+
+@server.feature(types.WORKSPACE_DID_CHANGE_WATCHED_FILES)
+def did_change_watched_files(ls: CodegenServer, params: types.DidChangeWatchedFilesParams) -> None:
+    ls.changed_on_disk([path for path in (to_fs_path(change.uri) for change in params.changes) if path])
 
 
 @server.feature(types.TEXT_DOCUMENT_DID_OPEN)
@@ -370,6 +436,19 @@ def verify_cancel_command(ls: CodegenServer, *args) -> str:
     else:
         cancelled = [program.files[0].name] if ls.cancel_verify(program.files[0].name) else []
     return f"cancelled {len(cancelled)} verify run{'s' if len(cancelled) != 1 else ''}"
+
+
+@server.command(STATUS)
+def status_command(ls: CodegenServer, *args) -> dict:
+    """What the server holds and has done: parses (texts parsed: each unchanged file or KRL routine once), the parse
+    store's trees and their texts' characters, whole checks run, garbage collections after publishing."""
+    return {
+        "parses": STORE.parses,
+        "kept": len(STORE.entries),
+        "kept_chars": STORE.chars,
+        "checks": ls.checks,
+        "collections": ls.collections,
+    }
 
 
 def main() -> None:

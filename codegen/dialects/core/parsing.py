@@ -9,6 +9,7 @@ from pathlib import Path
 from lark import Lark, Tree
 from lark.exceptions import UnexpectedInput
 
+from codegen.dialects.core.kept import STORE
 from codegen.dialects.core.larkdoor import mark_starts
 from codegen.dialects.core.recognize import Recognizer
 from codegen.dialects.core.values import RunError
@@ -47,9 +48,16 @@ def _bounded(text: str, filename: str) -> str:
 
 
 def parse_with_grammar(interpreter_file: str, text: str, filename: str, positions: bool = True, postlex=None) -> Tree:
-    """Parse a program; a syntax error becomes a RunError naming file:line:column."""
+    """Parse a program; a syntax error becomes a RunError naming file:line:column. The tree (with positions, asked
+    for or not) comes from the parse store (kept.py) where this text of this file was parsed before: it is shared,
+    not to be changed."""
+    parse = lambda: _parse(interpreter_file, text, filename, postlex)  # noqa: E731
+    return STORE.tree((interpreter_file, postlex), filename, text, parse)
+
+
+def _parse(interpreter_file: str, text: str, filename: str, postlex) -> Tree:
     text = _bounded(text, filename)
-    parser = grammar_parser(interpreter_file, positions, postlex)
+    parser = grammar_parser(interpreter_file, True, postlex)
     try:
         return parser.parse(text)
     except UnexpectedInput as exc:

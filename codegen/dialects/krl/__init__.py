@@ -27,7 +27,10 @@ class KRL(Dialect):
     """
 
     name = "krl"
-    suffixes = (".src",)
+    # a .sub: a module of the submit interpreter (SPS.SUB), a .src's syntax with its .dat, run beside the robot
+    # program (KSS 8 programming manual for system integrators, "Submit interpreter"; from secondary sources, not
+    # confirmed in the manual's text)
+    suffixes = (".src", ".sub")
     companions = (".dat",)  # the data list of a .src: declarations and initial values
     encodings = ("cp1252",)  # KUKA controllers write Windows-1252 (backups, WorkVisual projects)
 

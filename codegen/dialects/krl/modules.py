@@ -14,6 +14,7 @@ from codegen.dialects.core.files import SourceFile, read_source
 from codegen.dialects.core.program import Program
 from codegen.dialects.core.shapes import ShapeCache
 from codegen.dialects.core.values import RunError
+from codegen.dialects.krl import KRL
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.environment import CONFIG_DAT, is_config
 from codegen.dialects.krl.environment import NAME as CONFIG_NAME
@@ -48,7 +49,7 @@ def group_modules(files: list[SourceFile], first_is_program: bool = False) -> tu
             configs.append(f)
             continue
         module = modules.setdefault(f.stem.upper(), Module(f.stem.upper()))
-        if f.suffix == ".src" or (first_is_program and i == 0):
+        if f.suffix in KRL.suffixes or (first_is_program and i == 0):
             if module.src is not None:
                 raise RunError(f"{f.name}: a second module {module.name} (also {module.src.name})")
             module.src = f
@@ -87,7 +88,9 @@ def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
     modules, configs = group_modules(files)
     with_src = [m for m in modules if m.src is not None]
     if not with_src:
-        raise RunError(f"{files[0].name}: no program file (.src) among the files: a data list is read with its program")
+        own = ", ".join(KRL.suffixes)
+        said = f"{files[0].name}: no program file ({own}) among the files: a data list is read with its program"
+        raise RunError(said)
     calls, offers = {}, {}
     for module in with_src:
         try:
@@ -118,7 +121,7 @@ def data_lists_beside(path: Path, encodings) -> list[Path]:
     """The .dat files in the folder of a .src that have no .src of their own (data lists, not $config.dat) and
     declare a name the program's text uses; one that does not parse comes too (loading names its line)."""
     folder = path.parent
-    stems = {p.stem.upper() for p in folder.iterdir() if p.suffix.lower() == ".src"}
+    stems = {p.stem.upper() for p in folder.iterdir() if p.suffix.lower() in KRL.suffixes}
     used = {w.upper() for w in _WORD.findall(read_source(path, encodings).text)}
     out = []
     for candidate in sorted(folder.iterdir()):
@@ -349,7 +352,7 @@ class Linker:
                             mine[key] = store
                 for i, node in enumerate(_routines(tree)):
                     key = routine_name(node)
-                    is_global = node.children[0] is not None or (i == 0 and name.lower().endswith(".src"))
+                    is_global = node.children[0] is not None or (i == 0 and name.lower().endswith(KRL.suffixes))
                     store = key if module is main or is_global else f"{module.name}:{key}"
                     if is_global:
                         if key in global_routines:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import re
 
 from lark import Token, Tree
@@ -83,6 +84,7 @@ def load_task(
     for f in files:
         tree = parse(f.text, f.name)
         if _MULTI_INDEX.search(f.text):
+            tree = copy.deepcopy(tree)  # the parse store's tree is shared: nested on a copy of its own
             _nest_indexes(tree)
         trees.append((f.name, tree))
         modules += [(f.name, m) for m in tree.children if isinstance(m, Tree) and m.data == "module"]

@@ -1,0 +1,61 @@
+"""The parse store: each parse tree (or syntax error) kept by parser, file name and text: a text is parsed once."""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from collections.abc import Callable, Hashable
+
+from lark import Tree
+
+from codegen.dialects.core.values import RunError
+
+# Characters of text whose trees are kept (the least recently used go first): a tree takes some 170 times its
+# text's memory (8 MB for a 2,000-line .src of 51,000 characters), so this keeps about 80 MB of trees.
+BUDGET_CHARS = 500_000
+
+
+class Kept:
+    """Trees by (parser, file name, text), least recently used first. A tree is shared: whoever reads one from here
+    must not change it (copy it first). Every tree is built with positions (a caller that asked for none gets one with
+    them: the same tree, its starts besides), so one parse serves the syntax check, the loader and the field checks.
+    A syntax error is kept as its message and raised again as a new RunError."""
+
+    def __init__(self, budget_chars: int = BUDGET_CHARS) -> None:
+        self.budget_chars = budget_chars
+        self.entries: OrderedDict[tuple, Tree | str] = OrderedDict()
+        self.chars = 0
+        self.parses = 0  # parses done (misses): what the tests and the benchmark count
+
+    def tree(self, parser: Hashable, filename: str, text: str, parse: Callable[[], Tree]) -> Tree:
+        """The tree of `text` as `parse()` gives it (called only when this text of this file was not kept)."""
+        key = (parser, filename, text)
+        found = self.entries.get(key)
+        if found is None:
+            self.parses += 1
+            try:
+                found = parse()
+            except RunError as exc:
+                found = str(exc)
+            self._keep(key, found)
+        else:
+            self.entries.move_to_end(key)
+        if isinstance(found, str):
+            raise RunError(found)
+        return found
+
+    def _keep(self, key: tuple, found: Tree | str) -> None:
+        size = len(key[2])
+        if size > self.budget_chars:
+            return
+        self.entries[key] = found
+        self.chars += size
+        while self.chars > self.budget_chars:
+            old, _tree = self.entries.popitem(last=False)
+            self.chars -= len(old[2])
+
+    def clear(self) -> None:
+        self.entries.clear()
+        self.chars = 0
+
+
+STORE = Kept()
