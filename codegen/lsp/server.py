@@ -440,10 +440,12 @@ def verify_cancel_command(ls: CodegenServer, *args) -> str:
 
 @server.command(STATUS)
 def status_command(ls: CodegenServer, *args) -> dict:
-    """What the server holds and has done: parses (texts parsed: each unchanged file or KRL routine once), the parse
-    store's trees and their texts' characters, whole checks run, garbage collections after publishing."""
+    """What the server holds and has done: parses and parsed_chars (texts parsed, each file or KRL routine once for each
+    text it has had), the parse store's trees and their texts' characters, whole checks run, garbage collections after
+    publishing."""
     return {
         "parses": STORE.parses,
+        "parsed_chars": STORE.parsed_chars,
         "kept": len(STORE.entries),
         "kept_chars": STORE.chars,
         "checks": ls.checks,
