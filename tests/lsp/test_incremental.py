@@ -159,6 +159,10 @@ async def test_garbage_is_collected_after_publishing(client: LanguageClient, wor
 
 
 async def test_a_data_list_changed_on_disk_checks_its_program_again(client: LanguageClient, workspace: Path):
+    for _ in range(CHECK_S * 20):  # the server asks once the session is initialized
+        if client.registrations:
+            break
+        await asyncio.sleep(0.05)
     (watched,) = [r for r in client.registrations if r.method == types.WORKSPACE_DID_CHANGE_WATCHED_FILES]
     pattern = watched.register_options["watchers"][0]["globPattern"]
     for suffix in ("src", "sub", "dat", "mod", "script", "urscript", "toml"):
