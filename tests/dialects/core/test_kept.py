@@ -1,0 +1,77 @@
+"""The parse store (codegen/dialects/core/kept.py): a text of a file is parsed once; `codegen check` parses each file
+once; the least recently used trees go beyond the budget."""
+
+from __future__ import annotations
+
+from collections import Counter
+from pathlib import Path
+
+import pytest
+from lark import Tree
+
+from codegen.checkfiles import check_files
+from codegen.dialects.core import parsing
+from codegen.dialects.core.kept import STORE, Kept
+from codegen.dialects.core.values import RunError
+
+ROOT = Path(__file__).resolve().parents[3]
+GENERATED = ROOT / "generated"
+
+
+@pytest.fixture
+def counted(monkeypatch) -> Counter:
+    """Each (file name, text) the parser is run on, counted; the store emptied first (what an earlier test parsed)."""
+    seen: Counter = Counter()
+    parse = parsing._parse
+
+    def counting(interpreter_file, text, filename, postlex):
+        seen[(filename, text)] += 1
+        return parse(interpreter_file, text, filename, postlex)
+
+    monkeypatch.setattr(parsing, "_parse", counting)
+    STORE.clear()
+    return seen
+
+
+def test_a_tree_is_kept_and_a_syntax_error_too():
+    kept = Kept()
+    calls = []
+    tree = Tree("start", [])
+
+    def parse():
+        calls.append(1)
+        return tree
+
+    assert kept.tree("p", "a.src", "text", parse) is tree
+    assert kept.tree("p", "a.src", "text", parse) is tree
+    assert kept.tree("p", "b.src", "text", parse) is tree  # another file of the same text: its own parse
+    assert len(calls) == 2
+
+    def refused():
+        calls.append(1)
+        raise RunError("a.src:1:1: syntax error")
+
+    for _ in range(2):
+        with pytest.raises(RunError, match="syntax error"):
+            kept.tree("p", "a.src", "bad", refused)
+    assert len(calls) == 3
+
+
+def test_the_least_recently_used_go_beyond_the_budget():
+    kept = Kept(budget_chars=10)
+    for name, text in (("a", "12345"), ("b", "12345"), ("a", "12345"), ("c", "123")):  # a used again: b the oldest
+        kept.tree("p", name, text, lambda: Tree("start", []))
+    assert [key[1] for key in kept.entries] == ["a", "c"]
+    assert kept.chars == 8
+
+
+@pytest.mark.parametrize("target", ["kuka", "abb", "ur"])
+def test_codegen_check_parses_each_text_once(counted: Counter, target: str):
+    folder = GENERATED / "agv_machine_tending" / target
+    result = check_files((str(folder),), None)
+    assert result.groups and counted
+    assert {key: n for key, n in counted.items() if n > 1} == {}
+    # a second check of the same files: nothing parsed again
+    before = sum(counted.values())
+    check_files((str(folder),), None)
+    assert sum(counted.values()) == before
