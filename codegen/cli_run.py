@@ -58,7 +58,7 @@ def program_files(paths: tuple[str, ...], target_name: str | None):
     of its subfolders, whose suffix is a language's); the language from --target, else from the suffixes (all
     of one language). A program file given alone brings the data files of its name beside it (a .dat beside
     its .src). Each file is decoded with the language's encodings (dialects/core/files.py read_source)."""
-    from codegen.controllers import all_targets, get_target, target_of_suffix
+    from codegen.controllers import get_target, target_of_suffix
     from codegen.dialects import dialect_of_suffix, get_dialect
     from codegen.dialects.core.files import read_source
     from codegen.dialects.core.values import RunError
@@ -95,9 +95,6 @@ def program_files(paths: tuple[str, ...], target_name: str | None):
         dialect = get_dialect(next(iter(languages)))
         targets = (target_of_suffix(p.suffix) for p in given)
         target = next((t for t in targets if t is not None and t.dialect == dialect.name), None)
-        if target is None:  # a suffix of the language no target writes (a KRL .sub): the language's one target
-            speaking = [t for t in all_targets() if t.dialect == dialect.name]
-            target = speaking[0] if len(speaking) == 1 else None
         if target is None:
             raise UserError(f"{given[0]}: cannot tell the target from the suffix; use --target")
     if not given:

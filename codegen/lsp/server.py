@@ -440,7 +440,7 @@ def verify_cancel_command(ls: CodegenServer, *args) -> str:
 
 @server.command(STATUS)
 def status_command(ls: CodegenServer, *args) -> dict:
-    """What the server holds and has done: parses and parsed_chars (texts parsed, each file or KRL routine once for each
+    """What the server holds and has done: parses and parsed_chars (texts parsed, each file or routine once for each
     text it has had), the parse store's trees and their texts' characters, whole checks run, garbage collections after
     publishing."""
     return {
