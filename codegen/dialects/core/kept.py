@@ -10,7 +10,7 @@ from lark import Tree
 from codegen.dialects.core.values import RunError
 
 # Characters of text whose trees are kept (the least recently used go first): a tree takes some 170 times its
-# text's memory (8 MB for a 2,000-line .src of 51,000 characters), so this keeps about 80 MB of trees.
+# text's memory (8 MB for a 2,000-line program of 51,000 characters), so this keeps about 80 MB of trees.
 BUDGET_CHARS = 500_000
 
 
