@@ -127,6 +127,7 @@ def main() -> int:
         f"server CPU per edit (to the whole check): median {statistics.median(cpu):.3f} s, "
         f"range {min(cpu):.3f}-{max(cpu):.3f} s"
     )
+    FIGURES.line(f"load average (1 min) at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     FIGURES.line("times from sending the edit, the server's debounce (0.1 s) included")
     return 0 if statistics.median(whole) <= GOAL_S else 1
 
