@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections import OrderedDict
 from collections.abc import Callable, Hashable
 
@@ -18,7 +19,8 @@ class Kept:
     """Trees by (parser, file name, text), least recently used first. A tree is shared: whoever reads one from here
     must not change it (copy it first). Every tree is built with positions (a caller that asked for none gets one with
     them: the same tree, its starts besides), so one parse serves the syntax check, the loader and the field checks.
-    A syntax error is kept as its message and raised again as a new RunError."""
+    A syntax error is kept as its message and raised again as a new RunError. Threads may share it (the language
+    server checks a file's syntax and its whole program in two): the table changes under a lock, the parse outside."""
 
     def __init__(self, budget_chars: int = BUDGET_CHARS) -> None:
         self.budget_chars = budget_chars
@@ -26,28 +28,31 @@ class Kept:
         self.chars = 0
         self.parses = 0  # texts parsed (not found kept) and their characters: what the language server reports
         self.parsed_chars = 0
+        self.lock = threading.Lock()
 
     def tree(self, parser: Hashable, filename: str, text: str, parse: Callable[[], Tree]) -> Tree:
         """The tree of `text` as `parse()` gives it (called only when this text of this file was not kept)."""
         key = (parser, filename, text)
-        found = self.entries.get(key)
+        with self.lock:
+            found = self.entries.get(key)
+            if found is not None:
+                self.entries.move_to_end(key)
         if found is None:
-            self.parses += 1
-            self.parsed_chars += len(text)
             try:
                 found = parse()
             except RunError as exc:
                 found = str(exc)
-            self._keep(key, found)
-        else:
-            self.entries.move_to_end(key)
+            with self.lock:
+                self.parses += 1
+                self.parsed_chars += len(text)
+                self._keep(key, found)
         if isinstance(found, str):
             raise RunError(found)
         return found
 
     def _keep(self, key: tuple, found: Tree | str) -> None:
         size = len(key[2])
-        if size > self.budget_chars:
+        if size > self.budget_chars or key in self.entries:  # too big, or parsed meanwhile by another thread
             return
         self.entries[key] = found
         self.chars += size
@@ -56,8 +61,9 @@ class Kept:
             self.chars -= len(old[2])
 
     def clear(self) -> None:
-        self.entries.clear()
-        self.chars = 0
+        with self.lock:
+            self.entries.clear()
+            self.chars = 0
 
 
 STORE = Kept()

@@ -3,6 +3,8 @@ once; the least recently used trees go beyond the budget."""
 
 from __future__ import annotations
 
+import sys
+import threading
 from collections import Counter
 from pathlib import Path
 
@@ -75,3 +77,33 @@ def test_codegen_check_parses_each_text_once(counted: Counter, target: str):
     before = sum(counted.values())
     check_files((str(folder),), None)
     assert sum(counted.values()) == before
+
+
+def test_threads_share_it():
+    """Two threads (the language server's syntax check and whole check) asking for, parsing and pushing out trees at
+    once: each gets its text's tree, and the characters kept add up."""
+    kept = Kept(budget_chars=40)
+    failures = []
+
+    def ask(offset: int) -> None:
+        try:
+            for i in range(4000):
+                text = str((i * 7 + offset) % 23) * 3
+                tree = kept.tree("p", "f", text, lambda text=text: Tree(text, []))
+                if tree.data != text:
+                    failures.append((text, tree.data))
+        except Exception as exc:  # a change of the table under another thread's feet
+            failures.append(exc)
+
+    threads = [threading.Thread(target=ask, args=(n,)) for n in range(4)]
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(1e-6)  # threads switched as often as the interpreter can: a race shows
+    try:
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    finally:
+        sys.setswitchinterval(interval)
+    assert failures == []
+    assert kept.chars == sum(len(key[2]) for key in kept.entries) <= 40
