@@ -74,6 +74,13 @@ def check_files(
     """Every finding of the files (and folders) given, as `codegen check` reports them; UserError for a file that
     is no program of a language or an arm of another controller. entry_of: a program's file names -> the routine
     it starts at, where its language lets a program start at one of its own (None: its main)."""
+    from codegen.dialects.core.kept import STORE
+
+    with STORE.keeping():  # each file parsed once: its syntax, the linker and the field checks read the same tree
+        return _check_files(files, target_name, arm, robot, entry_of)
+
+
+def _check_files(files, target_name, arm, robot, entry_of) -> Checked:
     from codegen.dialects.core.files import SEVERITIES, CheckOptions, Finding
 
     sources, groups, findings, titles, names, programs = [], [], [], [], [], []

@@ -460,4 +460,5 @@ def main() -> None:
 
     from codegen.terminal import own_controls
 
-    server.start_io(sys.stdin.buffer, own_controls(sys.stdout).buffer)
+    with STORE.keeping():  # for as long as the server runs: an edit parses what it changed
+        server.start_io(sys.stdin.buffer, own_controls(sys.stdout).buffer)

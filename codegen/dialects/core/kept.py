@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
-from collections.abc import Callable, Hashable
+from collections.abc import Callable, Hashable, Iterator
+from contextlib import contextmanager
 
 from lark import Tree
 
@@ -16,14 +17,16 @@ BUDGET_CHARS = 500_000
 
 
 class Kept:
-    """Trees by (parser, file name, text), least recently used first. A tree is shared: whoever reads one from here
-    must not change it (copy it first). Every tree is built with positions (a caller that asked for none gets one with
-    them: the same tree, its starts besides), so one parse serves the syntax check, the loader and the field checks.
-    A syntax error is kept as its message and raised again as a new RunError. Threads may share it (the language
-    server checks a file's syntax and its whole program in two): the table changes under a lock, the parse outside."""
+    """Trees by (parser, file name, text), least recently used first, while keeping (`codegen check`, the language
+    server); else nothing is kept (a verify worker lets each program go: its memory is the next one's). A tree is
+    shared: whoever reads one from here must not change it (copy it first). Every tree is built with positions (a
+    caller that asked for none gets one with them: the same tree, its starts besides), so one parse serves the syntax
+    check, the loader and the field checks. A syntax error is kept as its message and raised again as a new RunError.
+    Threads may share it (the language server checks a file's syntax and its whole program in two): the table changes
+    under a lock, the parse outside."""
 
-    def __init__(self, budget_chars: int = BUDGET_CHARS) -> None:
-        self.budget_chars = budget_chars
+    def __init__(self, budget_chars: int = 0) -> None:
+        self.budget_chars = budget_chars  # 0: keeping nothing
         self.entries: OrderedDict[tuple, Tree | str] = OrderedDict()
         self.chars = 0
         self.parses = 0  # texts parsed (not found kept) and their characters: what the language server reports
@@ -59,6 +62,18 @@ class Kept:
         while self.chars > self.budget_chars:
             old, _tree = self.entries.popitem(last=False)
             self.chars -= len(old[2])
+
+    @contextmanager
+    def keeping(self, budget_chars: int = BUDGET_CHARS) -> Iterator[Kept]:
+        """Keep trees within the block (what it kept let go at its end, unless an outer block keeps too)."""
+        outer = self.budget_chars
+        self.budget_chars = max(outer, budget_chars)
+        try:
+            yield self
+        finally:
+            self.budget_chars = outer
+            if not outer:
+                self.clear()
 
     def clear(self) -> None:
         with self.lock:

@@ -48,16 +48,18 @@ def _bounded(text: str, filename: str) -> str:
 
 
 def parse_with_grammar(interpreter_file: str, text: str, filename: str, positions: bool = True, postlex=None) -> Tree:
-    """Parse a program; a syntax error becomes a RunError naming file:line:column. The tree (with positions, asked
-    for or not) comes from the parse store (kept.py) where this text of this file was parsed before: it is shared,
-    not to be changed."""
-    parse = lambda: _parse(interpreter_file, text, filename, postlex)  # noqa: E731
+    """Parse a program; a syntax error becomes a RunError naming file:line:column. While the parse store keeps
+    trees (kept.py), the tree (with positions, asked for or not) comes from there where this text of this file was
+    parsed before: it is shared, not to be changed."""
+    if not STORE.budget_chars:
+        return _parse(interpreter_file, text, filename, postlex, positions)
+    parse = lambda: _parse(interpreter_file, text, filename, postlex, True)  # noqa: E731
     return STORE.tree((interpreter_file, postlex), filename, text, parse)
 
 
-def _parse(interpreter_file: str, text: str, filename: str, postlex) -> Tree:
+def _parse(interpreter_file: str, text: str, filename: str, postlex, positions: bool) -> Tree:
     text = _bounded(text, filename)
-    parser = grammar_parser(interpreter_file, True, postlex)
+    parser = grammar_parser(interpreter_file, positions, postlex)
     try:
         return parser.parse(text)
     except UnexpectedInput as exc:

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from lark import Tree
 
+from codegen.dialects.core.kept import STORE
 from codegen.dialects.core.larkdoor import Start
 from codegen.dialects.core.parsing import parse_with_grammar
 from codegen.dialects.core.values import RunError
@@ -24,11 +25,11 @@ _UNIT = re.compile(r"^[\t ]*(?:GLOBAL[\t ]+)?(?:DEF|DEFFCT|DEFDAT)(?![\w$])", re
 
 
 def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
-    """A .src or .dat's tree, its routines and data lists each parsed on its own and kept (core/kept.py), so that
-    an edit inside one routine parses that routine again, not the file. Where a unit does not parse, the whole
-    text is parsed for the error (which may lie across units: a routine's missing END)."""
+    """A .src or .dat's tree. While the parse store keeps trees (core/kept.py), its routines and data lists are each
+    parsed on their own and kept, so that an edit inside one routine parses that routine again, not the file; where
+    a unit does not parse, the whole text is parsed for the error (which may lie across units: a missing END)."""
     try:
-        units = _units(text)
+        units = _units(text) if STORE.budget_chars else [text]
         if len(units) > 1:
             try:
                 return _joined([parse_with_grammar(INTERPRETER, unit, filename) for unit in units])

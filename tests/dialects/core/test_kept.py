@@ -26,9 +26,9 @@ def counted(monkeypatch) -> Counter:
     seen: Counter = Counter()
     parse = parsing._parse
 
-    def counting(interpreter_file, text, filename, postlex):
+    def counting(interpreter_file, text, filename, postlex, positions):
         seen[(filename, text)] += 1
-        return parse(interpreter_file, text, filename, postlex)
+        return parse(interpreter_file, text, filename, postlex, positions)
 
     monkeypatch.setattr(parsing, "_parse", counting)
     STORE.clear()
@@ -36,7 +36,7 @@ def counted(monkeypatch) -> Counter:
 
 
 def test_a_tree_is_kept_and_a_syntax_error_too():
-    kept = Kept()
+    kept = Kept(budget_chars=100)
     calls = []
     tree = Tree("start", [])
 
@@ -73,10 +73,23 @@ def test_codegen_check_parses_each_text_once(counted: Counter, target: str):
     result = check_files((str(folder),), None)
     assert result.groups and counted
     assert {key: n for key, n in counted.items() if n > 1} == {}
-    # a second check of the same files: nothing parsed again
-    before = sum(counted.values())
-    check_files((str(folder),), None)
+    assert not STORE.entries  # let go after the check
+    with STORE.keeping():  # the language server's: a second check of the same files parses nothing again
+        check_files((str(folder),), None)
+        before = sum(counted.values())
+        check_files((str(folder),), None)
     assert sum(counted.values()) == before
+
+
+def test_nothing_is_kept_unless_asked(counted: Counter):
+    """A run or a verify keeps no tree: its memory is the program's alone."""
+    from codegen.dialects import get_dialect
+
+    path = GENERATED / "agv_machine_tending" / "kuka" / "agv_machine_tending.src"
+    text = path.read_text(encoding="utf-8")
+    for _ in range(2):
+        get_dialect("krl").parse(text, str(path))
+    assert sum(counted.values()) == 2 and not STORE.entries
 
 
 def test_threads_share_it():

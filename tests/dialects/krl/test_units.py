@@ -35,16 +35,18 @@ def shape(node):
 def whole(text: str, name: str):
     """lark's parse of the whole text, or its syntax error's message."""
     try:
-        return shape(_parse(INTERPRETER, text, name, None))
+        return shape(_parse(INTERPRETER, text, name, None, True))
     except RunError as exc:
         return str(exc)
 
 
 def units(text: str, name: str):
-    try:
-        return shape(parse(text, name))
-    except RunError as exc:
-        return str(exc)
+    """The tree as parse gives it while the store keeps trees: routine by routine."""
+    with STORE.keeping():
+        try:
+            return shape(parse(text, name))
+        except RunError as exc:
+            return str(exc)
 
 
 def test_there_are_files_of_several_routines():
