@@ -63,6 +63,11 @@ class Kept:
             old, _tree = self.entries.popitem(last=False)
             self.chars -= len(old[2])
 
+    @property
+    def shares(self) -> bool:
+        """Whether the trees parse_with_grammar hands out now are shared (kept): a caller changing one copies it."""
+        return self.budget_chars > 0
+
     @contextmanager
     def keeping(self, budget_chars: int = BUDGET_CHARS) -> Iterator[Kept]:
         """Keep trees within the block (what it kept let go at its end, unless an outer block keeps too)."""

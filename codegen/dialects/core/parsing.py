@@ -51,7 +51,7 @@ def parse_with_grammar(interpreter_file: str, text: str, filename: str, position
     """Parse a program; a syntax error becomes a RunError naming file:line:column. While the parse store keeps
     trees (kept.py), the tree (with positions, asked for or not) comes from there where this text of this file was
     parsed before: it is shared, not to be changed."""
-    if not STORE.budget_chars:
+    if not STORE.shares:
         return _parse(interpreter_file, text, filename, postlex, positions)
     parse = lambda: _parse(interpreter_file, text, filename, postlex, True)  # noqa: E731
     return STORE.tree((interpreter_file, postlex), filename, text, parse)

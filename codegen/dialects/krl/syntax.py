@@ -29,7 +29,7 @@ def parse(text: str, filename: str = "<krl>", positions: bool = True) -> Tree:
     parsed on their own and kept, so that an edit inside one routine parses that routine again, not the file; where
     a unit does not parse, the whole text is parsed for the error (which may lie across units: a missing END)."""
     try:
-        units = _units(text) if STORE.budget_chars else [text]
+        units = _units(text) if STORE.shares else [text]
         if len(units) > 1:
             try:
                 return _joined([parse_with_grammar(INTERPRETER, unit, filename) for unit in units])

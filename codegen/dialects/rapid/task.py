@@ -8,6 +8,7 @@ import re
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
+from codegen.dialects.core.kept import STORE
 from codegen.dialects.core.program import Program
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import signals
@@ -84,7 +85,8 @@ def load_task(
     for f in files:
         tree = parse(f.text, f.name)
         if _MULTI_INDEX.search(f.text):
-            tree = copy.deepcopy(tree)  # the parse store's tree is shared: nested on a copy of its own
+            if STORE.shares:  # the parse store's tree: nested on a copy of its own
+                tree = copy.deepcopy(tree)
             _nest_indexes(tree)
         trees.append((f.name, tree))
         modules += [(f.name, m) for m in tree.children if isinstance(m, Tree) and m.data == "module"]

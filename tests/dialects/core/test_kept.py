@@ -120,3 +120,41 @@ def test_threads_share_it():
         sys.setswitchinterval(interval)
     assert failures == []
     assert kept.chars == sum(len(key[2]) for key in kept.entries) <= 40
+
+
+@pytest.mark.parametrize("target", ["kuka", "abb", "ur", "dtrans"])
+def test_checking_and_loading_leave_the_kept_trees_as_parsed(target: str):
+    """A kept tree is shared: `codegen check` (which loads the program: RAPID nests a{i, j} indexes) changes none."""
+    from codegen.cli_run import program_files, program_groups
+    from tests.dialects.krl.test_units import shape
+
+    folder = GENERATED / "agv_machine_tending" / target
+    _target, dialect, sources = program_files((str(folder),), None)
+    with STORE.keeping():
+        parsed = {f.name: shape(dialect.parse(f.text, f.name)) for f in sources}
+        for group in program_groups(dialect, sources):
+            dialect.check_files(group)
+        assert {f.name: shape(dialect.parse(f.text, f.name)) for f in sources} == parsed
+
+
+GRID = """MODULE Grid
+  VAR num grid{2, 3};
+  PROC main()
+    grid{1, 2} := 5;
+    TPWrite "cell" \\Num:=grid{1, 2};
+  ENDPROC
+ENDMODULE
+"""
+
+
+def test_a_rapid_two_index_element_leaves_the_kept_tree_as_parsed():
+    """RAPID's loader nests grid{1, 2} as (grid{1}){2}: on its own copy, not the kept tree."""
+    from codegen.dialects import get_dialect
+    from codegen.dialects.core.files import SourceFile
+    from tests.dialects.krl.test_units import shape
+
+    rapid = get_dialect("rapid")
+    with STORE.keeping():
+        parsed = shape(rapid.parse(GRID, "grid.mod"))
+        assert rapid.check_files([SourceFile("grid.mod", GRID)]) == []
+        assert shape(rapid.parse(GRID, "grid.mod")) == parsed
