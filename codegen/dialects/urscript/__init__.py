@@ -16,7 +16,7 @@ from codegen.dialects import Dialect
 
 class URScript(Dialect):
     name = "urscript"
-    suffixes = (".script", ".urscript")  # .urscript: what editors and UR's own tools also name a script
+    suffixes = (".script", ".urscript")  # .urscript: the suffix editors' URScript extensions give the same language
 
     @classmethod
     def predefined(cls) -> frozenset[str]:
