@@ -6,7 +6,8 @@ it; a client opens the .src, waits for its first check, then edits one line --re
 undefined name into it and taking it out again. Per edit: the time from sending the change to the first diagnostics
 published for the file (this file's syntax, with what the last whole check said of the rest) and to the whole
 program's check that shows the edit (the undefined name found, or gone), and the CPU time the server's process spent
-from sending the edit to that check (user + system, all its threads, read from /proc). Median and range over the edits.
+from sending the edit to that check (user + system, all its threads, read from /proc). Median and range over the edits;
+the server's resident memory after them.
 
 Run: python benchmarks/bench_lsp.py [--stations N] [--repeat N]
 """
@@ -48,7 +49,15 @@ def cpu_s(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-async def measure(src: Path, repeat: int) -> tuple[list[float], list[float], list[float]]:
+def rss_mb(pid: int) -> float:
+    """A process's resident memory (MB), from /proc/<pid>/status (Linux)."""
+    for line in Path(f"/proc/{pid}/status").read_text(encoding="ascii").splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) / 1024
+    return float("nan")
+
+
+async def measure(src: Path, repeat: int) -> tuple[list[float], list[float], list[float], float]:
     client = LanguageClient("bench-lsp", "1")
     published: asyncio.Queue = asyncio.Queue()
 
@@ -87,10 +96,11 @@ async def measure(src: Path, repeat: int) -> tuple[list[float], list[float], lis
         whole.append(done - start)
         cpu.append(cpu_s(pid) - used)
         await _drain(published)
+    memory = rss_mb(pid)
     await client.shutdown_async(None)
     client.exit(None)
     await client.stop()
-    return first, whole, cpu
+    return first, whole, cpu, memory
 
 
 async def _whole_check(published: asyncio.Queue, settled) -> float:
@@ -115,7 +125,7 @@ def main() -> int:
         src = program(Path(tmp), args.stations)
         lines = len(src.read_text(encoding="utf-8").split("\n"))
         dat = len(src.with_suffix(".dat").read_text(encoding="utf-8").split("\n"))
-        first, whole, cpu = asyncio.run(measure(src, args.repeat))
+        first, whole, cpu, memory = asyncio.run(measure(src, args.repeat))
     FIGURES.line(f"KRL program of {args.stations} stations: .src {lines} lines, .dat {dat} lines; {args.repeat} edits")
     for name, times in (("first diagnostics (the file's syntax)", first), ("the whole program's check", whole)):
         median = statistics.median(times)
@@ -127,6 +137,7 @@ def main() -> int:
         f"server CPU per edit (to the whole check): median {statistics.median(cpu):.3f} s, "
         f"range {min(cpu):.3f}-{max(cpu):.3f} s"
     )
+    FIGURES.line(f"server memory (resident) after the edits: {memory:.0f} MB")
     FIGURES.line(f"load average (1 min) at the end: {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     FIGURES.line("times from sending the edit, the server's debounce (0.1 s) included")
     return 0 if statistics.median(whole) <= GOAL_S else 1
