@@ -165,9 +165,10 @@ def _string_constants(trees, decode) -> dict[str, int]:
         before = len(lengths)
         for name, nodes in decls.items():
             _l, _t, storage, type_name, _n, dims, init = nodes[0].children
-            if len(nodes) == 1 and str(storage).upper() == "CONST" and str(type_name).upper() == "STRING":
-                if dims is None and init is not None and (known := _least_length(init, decode, lengths)) is not None:
-                    lengths[name] = known
+            constant = len(nodes) == 1 and str(storage).upper() == "CONST" and str(type_name).upper() == "STRING"
+            known = _least_length(init, decode, lengths) if constant and dims is None else None
+            if known is not None:
+                lengths[name] = known
         if len(lengths) == before:
             break
     return lengths

@@ -78,7 +78,7 @@ def test_a_joined_string_longer_than_80_characters_is_found_by_check_as_run_stop
 
 @pytest.mark.parametrize(
     "line",
-    [f's := "{SEVENTY}" + "0123456789";', 's := seventy + ten;', 'TPWrite ten + ten + ten;', 's := "a" + s;'],
+    [f's := "{SEVENTY}" + "0123456789";', "s := seventy + ten;", "TPWrite ten + ten + ten;", 's := "a" + s;'],
 )
 def test_a_joined_string_of_80_characters_or_fewer_is_clean(line):
     Rapid.load_files(_joined(line)).run({})
