@@ -86,6 +86,7 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
         findings.extend(unset_locals(name, tree))
         findings.extend(zero_divisors(name, tree))
         findings.extend(aggregates_to_scalars(name, tree, trees))
+        findings.extend(negative_waits(name, tree))
     if trees:
         findings.extend(unset_data(trees))
         findings.extend(constant_indexes(trees))
@@ -340,6 +341,20 @@ def aggregates_to_scalars(name: str, tree, trees) -> list[Finding]:
                 line, column = _start(assign)
                 message = f"an aggregate assigned to {target.children[0]}, declared {type_name}: only a structure "
                 out.append(Finding(name, line, column, "error", "type", message + "takes one (KSS: cannot assign it)"))
+    return out
+
+
+def negative_waits(name: str, tree) -> list[Finding]:
+    """WAIT SEC with a negative literal time: the controller does not wait (run warns where the line runs)."""
+    out = []
+    for sub in tree.iter_subtrees_topdown():
+        time = sub.children[0] if sub.data == "wait_sec" else None
+        if isinstance(time, Tree) and time.data == "neg" and isinstance(time.children[0], Tree):
+            inner = time.children[0]
+            if inner.data == "number" and float(str(inner.children[0])) > 0:
+                line, column = _start(sub)
+                message = f"WAIT SEC -{inner.children[0]}: a negative time does not wait (taken as 0 s)"
+                out.append(Finding(name, line, column, "warning", "negative-wait", message))
     return out
 
 

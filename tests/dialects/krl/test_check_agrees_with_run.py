@@ -112,3 +112,11 @@ def test_an_aggregate_assigned_to_a_structure_is_clean(decls, line):
     program(line, decls, "DECL FRAME F2").run({})
     src = f"DEF T()\n{decls}\n{line}\nEND\n"
     assert _found(src, "type") == []
+
+
+@pytest.mark.parametrize(("line", "found"), [("WAIT SEC -5", [(3, "warning")]), ("WAIT SEC -0.5", [(3, "warning")]),
+                                             ("WAIT SEC 5", []), ("WAIT SEC 0", [])])  # fmt: skip
+def test_a_negative_wait_is_found_by_check_as_run_warns_of_it(line, found):
+    warned = [m for m in program(line).run({}).warnings if "negative time does not wait" in m]
+    assert bool(warned) == bool(found)
+    assert _found(f"DEF T()\n\n{line}\nEND\n", "negative-wait") == found
