@@ -8,6 +8,7 @@ from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
 from codegen.dialects.core.values import RunError
+from codegen.dialects.krl.builtins import SIMPLE  # the simple data types: a value, not a structure of named parts
 from codegen.dialects.krl.modules import Linker, routine_name
 from codegen.dialects.krl.syntax import parse
 
@@ -296,7 +297,6 @@ def unset_data(trees) -> list[Finding]:
     return out
 
 
-SCALARS = ("INT", "REAL", "BOOL", "CHAR")  # the simple data types: a value, not a structure of named parts
 
 
 def _declared_types(node) -> dict[str, tuple[str, int]]:
@@ -337,7 +337,7 @@ def aggregates_to_scalars(name: str, tree, trees) -> list[Finding]:
                 continue
             key = str(target.children[0]).upper()
             type_name, dims = types.get(key, ("", -1))
-            if key not in params and type_name in SCALARS and dims == indexes:
+            if key not in params and type_name in SIMPLE and dims == indexes:
                 line, column = _start(assign)
                 message = f"an aggregate assigned to {target.children[0]}, declared {type_name}: only a structure "
                 out.append(Finding(name, line, column, "error", "type", message + "takes one (KSS: cannot assign it)"))
