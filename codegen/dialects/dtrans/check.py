@@ -43,12 +43,15 @@ def _number(node) -> float | None:
 
 
 def _decls(statements) -> dict[str, int | None]:
-    """The variables declared right in these statements: name -> the array's size, None: not an array."""
+    """The variables declared in these statements (in their blocks too): name -> the array's size, None: not an
+    array, or declared twice with other sizes."""
     out: dict[str, int | None] = {}
-    for node in statements:
-        if isinstance(node, Tree) and node.data == "decl":
-            _type, name, size, _init = node.children
-            out[str(name)] = int(str(size)) if size is not None else None
+    for statement in (s for s in statements if isinstance(s, Tree)):
+        for node in statement.iter_subtrees_topdown():
+            if node.data == "decl":
+                _type, name, size, _init = node.children
+                value = int(str(size)) if size is not None else None
+                out[str(name)] = value if out.get(str(name), value) == value else None
     return out
 
 

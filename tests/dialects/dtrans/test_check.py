@@ -90,3 +90,9 @@ def test_the_generated_programs_are_clean():
     assert programs
     for path in programs:
         assert _found(path.read_text(encoding="utf-8")) == [], path
+
+
+def test_an_array_declared_in_a_block_hides_the_program_s_of_its_name():
+    text = "Sub Own()\n  If True Then\n    Int a[12]\n    a[11] = 1\n  EndIf\nEndSub\nInt a[3]\nCall Own()\n"
+    assert _runs(text) == ""
+    assert _found(text) == []
