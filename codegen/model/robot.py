@@ -17,6 +17,7 @@ from codegen.robot.arms import Arm, ArmError, arm_from_table, catalogue, check_i
 TOOL_OFFSET_MAX_MM = 2000.0
 TCP_MIN_MM = 1.0  # a TCP nearer the flange than this but not at it is no tool: a value given in metres
 _MARGIN = {"type": "number", "unit": "deg", "low": 0.0, "high": 90.0}
+WRIST_MARGIN_MIN_DEG = 0.1
 # [cell.robot] without its per-target keys (robot_table() adds them): the definition the loader reads
 ROBOT_KEYS = {
     "home": Key(
@@ -29,7 +30,11 @@ ROBOT_KEYS = {
     "joint_margin_deg": Key(
         **_MARGIN, default=5.0, doc="every axis this far inside its limits over the correction region"
     ),
-    "wrist_margin_deg": Key(**_MARGIN, default=5.0, doc="the wrist axis this far from its singular angle"),
+    # at axis 5 = 0 (or +-180) axes 4 and 6 turn about one line: the wrist's angles are ambiguous, so no margin
+    # of 0 is accepted; a tenth of a degree is the least that keeps the taught wrist's split of axes 4 and 6
+    "wrist_margin_deg": Key(
+        **{**_MARGIN, "low": WRIST_MARGIN_MIN_DEG}, default=5.0, doc="the wrist axis this far from its singular angle"
+    ),
 }
 # the programs write the mass in kg to 3 decimals (render.py MASS_DECIMALS): less than 1 g says 0
 TOOL = Table(

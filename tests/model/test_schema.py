@@ -56,6 +56,8 @@ BAD = [
     (DEMO, "cell.io.output.ur", 8),  # beyond the UR's standard outputs
     (DEMO, "cell.io.pulse", 1),
     (DEMO, "cell.robot.joint_margin_deg", 91.0),
+    (DEMO, "cell.robot.wrist_margin_deg", 0.0),  # axis 5 at 0: the wrist is ambiguous
+    (DEMO, "cell.robot.wrist_margin_deg", 0.05),
     (DEMO, "cell.robot.speed", 1.0),
     (DEMO, "cell.tool.mass_kg", 0.0),
     (DEMO, "cell.tool.mass_kg", 1001.0),
@@ -147,6 +149,7 @@ GOOD = [
     (DEMO, "cell.io.timeout_s", 600.0),
     (DEMO, "cell.robot.joint_margin_deg", 0.0),
     (DEMO, "cell.robot.wrist_margin_deg", 90.0),
+    (DEMO, "cell.robot.wrist_margin_deg", 0.1),
     (DEMO, "cell.limits.max_rotation_deg", 179.0),
     (DEMO, "cell.tool.numbered", {"kuka": 16}),
     (DEMO, "station.0.id", 32767),

@@ -211,6 +211,28 @@ def test_a_station_outside_the_envelope_is_refused(tmp_path, old, new, message):
     assert "Traceback" not in result.output and not (tmp_path / "out").exists()
 
 
+def test_the_margins_name_the_pose_nearest_the_wrist_singularity(tmp_path):
+    """The gauge lowered towards the ABB arm's wrist singularity (3.11 deg from it, as the refusal above says) with a
+    margin of 1 deg asked (and its table lowered as much): accepted, and the station's margins name the gauge as the
+    pose nearest the singularity (its least joint margin is at another pose)."""
+    text = DEMO_TEXT
+    for old, new in (
+        ("gauge = [452.3, 561.8, 142.5", "gauge = [452.3, 561.8, 110.0"),
+        ("pose = [475.0, 610.0, -148.8", "pose = [475.0, 610.0, -181.3"),
+        ('abb = "IRB 1600-10/1.45"\n', 'abb = "IRB 1600-10/1.45"\nwrist_margin_deg = 1\n'),
+    ):
+        assert old in text
+        text = text.replace(old, new)
+    result = generate(tmp_path, write_cell(tmp_path, text), "--target", "abb", "--json")
+    assert result.exit_code == 0, result.output
+    abb = next(e for e in json.loads(result.output)["envelope"] if e["target"] == "abb")
+    station = next(s for s in abb["stations"] if s["name"] == "inspection_table")
+    assert station["wrist_pose"] == "gauge" and station["pose"] != "gauge"
+    assert station["wrist_margin_deg"] == pytest.approx(3.11, abs=0.005)
+    text_result = generate(tmp_path, write_cell(tmp_path, text), "--target", "abb")
+    assert "from its singularity (pose gauge)" in text_result.output
+
+
 def test_a_taught_pose_out_of_reach_is_refused(tmp_path):
     text = DEMO_TEXT.replace("shelf = [-60.5, -905.2, 388.0", "shelf = [-60.5, -1405.2, 388.0")
     result = generate(tmp_path, write_cell(tmp_path, text))

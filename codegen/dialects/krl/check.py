@@ -8,6 +8,7 @@ from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
 from codegen.dialects.core.values import RunError
+from codegen.dialects.krl.builtins import SIMPLE  # the simple data types: a value, not a structure of named parts
 from codegen.dialects.krl.modules import Linker, routine_name
 from codegen.dialects.krl.syntax import parse
 
@@ -85,6 +86,8 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
         findings.extend(early_outputs(name, tree))
         findings.extend(unset_locals(name, tree))
         findings.extend(zero_divisors(name, tree))
+        findings.extend(aggregates_to_scalars(name, tree, trees))
+        findings.extend(negative_waits(name, tree))
     if trees:
         findings.extend(unset_data(trees))
         findings.extend(constant_indexes(trees))
@@ -294,6 +297,67 @@ def unset_data(trees) -> list[Finding]:
     return out
 
 
+
+
+def _declared_types(node) -> dict[str, tuple[str, int]]:
+    """The variables declared right in a routine or data list (name -> its type, upper case, and its number of
+    array dimensions, 0: not an array)."""
+    out = {}
+    for decl in node.iter_subtrees():
+        if decl.data != "decl":
+            continue
+        tokens = [c for c in decl.children if isinstance(c, Token)]
+        type_name = str(tokens[-1]).upper()
+        for item in (c for c in decl.children if isinstance(c, Tree) and c.data == "decl_item"):
+            dims = item.children[1]
+            count = len(dims.children) if isinstance(dims, Tree) and dims.data == "dims" else 0
+            out.setdefault(str(item.children[0]).upper(), (type_name, count))
+    return out
+
+
+def aggregates_to_scalars(name: str, tree, trees) -> list[Finding]:
+    """An aggregate ({X 1.0}) assigned to an INT, REAL, BOOL or CHAR variable or array element: KSS refuses it,
+    run stops there ("cannot assign an aggregate"); the type is known from the declaration."""
+    shared = {}  # the data lists' variables: every routine of the program sees them
+    for _file, other in trees:
+        for defdat in (n for n in other.children if isinstance(n, Tree) and n.data == "defdat"):
+            shared.update(_declared_types(defdat))
+    out = []
+    for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
+        params = {str(p.children[0]).upper() for p in routine.iter_subtrees() if p.data == "param"}
+        types = {**shared, **_declared_types(routine)}
+        for assign in routine.iter_subtrees_topdown():
+            value = assign.children[1] if assign.data == "assign" else None
+            if not (isinstance(value, Tree) and value.data == "aggregate"):
+                continue
+            target, indexes = assign.children[0], 0
+            if isinstance(target, Tree) and target.data == "index":
+                target, indexes = target.children[0], len(target.children) - 1
+            if not (isinstance(target, Tree) and target.data == "var"):
+                continue
+            key = str(target.children[0]).upper()
+            type_name, dims = types.get(key, ("", -1))
+            if key not in params and type_name in SIMPLE and dims == indexes:
+                line, column = _start(assign)
+                message = f"an aggregate assigned to {target.children[0]}, declared {type_name}: only a structure "
+                out.append(Finding(name, line, column, "error", "type", message + "takes one (KSS: cannot assign it)"))
+    return out
+
+
+def negative_waits(name: str, tree) -> list[Finding]:
+    """WAIT SEC with a negative literal time: the controller does not wait (run warns where the line runs)."""
+    out = []
+    for sub in tree.iter_subtrees_topdown():
+        time = sub.children[0] if sub.data == "wait_sec" else None
+        if isinstance(time, Tree) and time.data == "neg" and isinstance(time.children[0], Tree):
+            inner = time.children[0]
+            if inner.data == "number" and float(str(inner.children[0])) > 0:
+                line, column = _start(sub)
+                message = f"WAIT SEC -{inner.children[0]}: a negative time does not wait (taken as 0 s)"
+                out.append(Finding(name, line, column, "warning", "negative-wait", message))
+    return out
+
+
 def zero_divisors(name: str, tree) -> list[Finding]:
     """A division by the literal 0: run stops there ("division by zero") when the line runs."""
     out = []
@@ -349,9 +413,15 @@ def constant_indexes(trees) -> list[Finding]:
                     if not 1 <= value <= size:
                         line, column = _start(sub)
                         out.append(
-                            Finding(file, line, column, "error", "index",
-                                    f"index {value} out of range: {sub.children[0].children[0]} is declared with "
-                                    f"{size} elements (1..{size})")
+                            Finding(
+                                file,
+                                line,
+                                column,
+                                "error",
+                                "index",
+                                f"index {value} out of range: {sub.children[0].children[0]} is declared with "
+                                f"{size} elements (1..{size})",
+                            )
                         )
                         break
     return out
@@ -382,7 +452,78 @@ def unset_locals(name: str, tree) -> list[Finding]:
             if key in local and key not in set_names and key not in reported:
                 reported.add(key)
                 out.append(_unset_read(name, sub.children[0], routine_name(routine)))
+        out.extend(_reads_before_set(name, routine, {k: v for k, v in local.items() if k in set_names}))
     return out
+
+
+_LOOPS = ("while_stmt", "for_stmt", "loop_stmt", "repeat_stmt")
+
+
+def _setters(body, names: set[str]) -> tuple[dict[str, list], set[int]]:
+    """The statements that may set each of the names (an assignment to it or a part of it, a FOR on it, a call
+    passing it), and the var nodes that are such a setting itself (an assignment's target, an argument)."""
+    setters: dict[str, list] = {}
+    setting: set[int] = set()
+    for sub in body.iter_subtrees():
+        if sub.data == "assign":
+            targets = [sub.children[0]]
+        elif sub.data == "for_stmt":
+            key = str(sub.children[0]).upper()
+            if key in names:
+                setters.setdefault(key, []).append(sub)
+            continue
+        elif sub.data in ("call_stmt", "call") and isinstance(sub.children[1], Tree):
+            targets = [a for a in sub.children[1].children if isinstance(a, Tree)]
+        else:
+            continue
+        for target in targets:
+            root = target
+            while isinstance(root, Tree) and root.data != "var" and root.children:
+                root = root.children[0]
+            key = str(root.children[0]).upper() if isinstance(root, Tree) and root.data == "var" else None
+            if key in names:
+                setters.setdefault(key, []).append(sub)
+                setting.add(id(root))
+    return setters, setting
+
+
+def _reads_before_set(file: str, routine, local: dict) -> list[Finding]:
+    """A routine's own variable read before the first statement that may set it (in a routine without GOTO, the
+    read and every setting not in one loop: the read cannot come after a setting): KSS stops at the read
+    ("variable value invalid"); run finds it only when the read runs."""
+    body = routine.children[-1]
+    if not local or any(True for _ in body.find_data("goto_stmt")):
+        return []
+    setters, setting = _setters(body, set(local))
+    loops = [(_start(n)[0], _last_line(n)) for n in body.iter_subtrees() if n.data in _LOOPS]
+    out, reported = [], set()
+    for statement in body.iter_subtrees_topdown():
+        if statement.data != "var" or id(statement) in setting:
+            continue
+        key, token = str(statement.children[0]).upper(), statement.children[0]
+        if key not in setters or key in reported:
+            continue
+        at = (token.line, token.column)
+        earlier = [s for s in setters[key] if _start(s) < at and not _inside(token, s)]
+        together = any(
+            low <= token.line <= high and any(low <= _start(s)[0] <= high for s in setters[key]) for low, high in loops
+        )
+        if not earlier and not together:
+            reported.add(key)
+            message = f"{token} is read before anything in {routine_name(routine)} sets it: KSS stops here "
+            message += "(variable value invalid)"
+            out.append(Finding(file, token.line, token.column, "warning", "unset-variable", message))
+    return out
+
+
+def _last_line(node) -> int:
+    """The line of a statement's last token (its end, as far as the tree keeps it)."""
+    return max((t.line for t in node.scan_values(lambda v: isinstance(v, Token)) if t.line), default=0)
+
+
+def _inside(token, node) -> bool:
+    """Whether a token is part of a statement."""
+    return _start(node) <= (token.line, token.column) and token.line <= _last_line(node)
 
 
 FRAME_SETTERS = {"#INITMOV", "#TOOL", "#BASE", "#FRAMES", "#PTP_PARAMS", "#CP_PARAMS"}

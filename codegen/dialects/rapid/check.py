@@ -13,6 +13,7 @@ from codegen.dialects.rapid import typecheck
 from codegen.dialects.rapid.compiler import parse
 from codegen.dialects.rapid.predefined import PREDEFINED
 from codegen.dialects.rapid.task import load_task
+from codegen.dialects.rapid.types import STRING_MAX
 
 SYNTAX_MAX = 10  # syntax errors reported per file (each further one after blanking the line of the one before)
 _SYNTAX = re.compile(r"^(?P<file>.*?):(?P<line>\d+):(?P<column>\d+): (?P<message>.*)$", re.DOTALL)
@@ -72,6 +73,8 @@ def check_task(files: list[SourceFile], max_tcp_mm_s: float | None = None, entry
     findings += field_checks(trees, max_tcp_mm_s, inputs)
     findings += constant_indexes(trees)
     findings += zero_divisors(trees)
+    if compiler is not None:
+        findings += long_strings(trees, compiler.string_value)
     order = {f.name: i for i, f in enumerate(files)}
     return sorted(set(findings), key=lambda f: (order.get(f.file, len(order)), f.line, f.column, f.code))
 
@@ -146,6 +149,66 @@ def zero_divisors(trees) -> list[Finding]:
             if node.data in ("div", "intdiv", "mod") and _number(node.children[-1]) == 0:
                 warning = _warning(file, node, "division-by-zero", "division by zero")
                 found.append(replace(warning, severity="error"))
+    return found
+
+
+def _string_constants(trees, decode) -> dict[str, int]:
+    """The task's CONST strings by name -> their length, where the name is declared once and its value's length is
+    known (a literal, or literals and such constants joined)."""
+    decls: dict[str, list] = {}
+    for _file, tree in trees:
+        for node in tree.iter_subtrees():
+            if node.data == "data_decl":
+                decls.setdefault(str(node.children[4]).upper(), []).append(node)
+    lengths: dict[str, int] = {}
+    for _ in range(len(decls)):  # a constant made of constants declared after it: until nothing changes
+        before = len(lengths)
+        for name, nodes in decls.items():
+            _l, _t, storage, type_name, _n, dims, init = nodes[0].children
+            constant = len(nodes) == 1 and str(storage).upper() == "CONST" and str(type_name).upper() == "STRING"
+            known = _least_length(init, decode, lengths) if constant and dims is None else None
+            if known is not None:
+                lengths[name] = known
+        if len(lengths) == before:
+            break
+    return lengths
+
+
+def _least_length(node, decode, constants: dict[str, int]) -> int | None:
+    """The least length a string expression can have (literals, known constants, their joins; any other string
+    part counted as empty), None where the expression is not known to be a string."""
+    if not isinstance(node, Tree):
+        return None
+    if node.data == "string":
+        return len(decode(str(node.children[0])))
+    if node.data == "var":
+        return constants.get(str(node.children[0]).upper())
+    if node.data == "add":
+        left, right = (_least_length(c, decode, constants) for c in node.children)
+        return None if left is None and right is None else (left or 0) + (right or 0)
+    return None
+
+
+def long_strings(trees, decode) -> list[Finding]:
+    """A joined string (+) longer than a string holds, by its literals and constants alone: run stops there (RAPID
+    kernel technical reference manual, 3HAC050946-001, data type string: at most 80 characters); a literal that
+    long is refused when the task is loaded."""
+    constants = _string_constants(trees, decode)
+    found = []
+    for file, tree in trees:
+        reported: set[int] = set()
+        for node in tree.iter_subtrees_topdown():
+            if node.data != "add" or id(node) in reported:
+                continue
+            chain = [node]  # the outermost join only: its parts joined in it are not reported again
+            while chain:
+                part = chain.pop()
+                reported.add(id(part))
+                chain.extend(c for c in part.children if isinstance(c, Tree) and c.data == "add")
+            length = _least_length(node, decode, constants)
+            if length is not None and length > STRING_MAX:
+                message = f"a joined string of at least {length} characters: a string holds at most {STRING_MAX}"
+                found.append(replace(_warning(file, node, "string-too-long", message), severity="error"))
     return found
 
 

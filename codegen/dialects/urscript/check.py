@@ -18,6 +18,12 @@
 #   specifications (UR3e base, shoulder, elbow 180 deg/s, wrists 360 deg/s; UR5e 180 deg/s; UR10e and UR16e
 #   base and shoulder 120 deg/s, the others 180 deg/s): not confirmed in the manuals at hand. TCP speeds are
 #   not checked: their limit is the installation's safety setting, which the program does not state.
+# - what run stops on, found before it runs ("error"): a call of the program's own function with too many or too
+#   few arguments or a keyword it has no parameter for (arity); a list variable (every assignment of its name a
+#   list literal) indexed by a literal beyond the longest of them (index). And ("warning", read-before-assign) a
+#   variable read in a function (or the program) before the first statement there that assigns it, where nothing
+#   else in the program assigns it, no `global` names it (an installation's variable may) and no loop holds both:
+#   run stops at the read (undefined variable).
 
 from __future__ import annotations
 
@@ -68,6 +74,42 @@ def _number(node) -> float | None:
     return None
 
 
+_DEFINITIONS = ("funcdef", "threaddef", "secdef")
+
+
+def _own_nodes(statements):
+    """Every node of a scope's statements, not those of a function or thread defined in them (their own scope)."""
+    stack = [s for s in reversed(list(statements)) if isinstance(s, Tree)]
+    while stack:
+        node = stack.pop()
+        if node.data in _DEFINITIONS:
+            continue
+        yield node
+        stack.extend(c for c in reversed(node.children) if isinstance(c, Tree))
+
+
+def _assigned(node) -> str | None:
+    """The variable an assignment sets as a whole (x = ...), None for an element or a field (x[1] = ...)."""
+    target = node.children[0]
+    return str(target.children[0]) if isinstance(target, Tree) and target.data == "var" else None
+
+
+def _list_length(value) -> int | None:
+    """A list literal's length, None for any other value."""
+    if isinstance(value, Tree) and value.data == "list_lit":
+        return sum(1 for c in value.children if c is not None)
+    return None
+
+
+def _last_line(node) -> int:
+    return max((t.line for t in node.scan_values(lambda v: isinstance(v, Token)) if t.line), default=0)
+
+
+def _holds(node, at: tuple[int, int]) -> bool:
+    """Whether a position lies within a statement (an assignment reading its own variable: x = x + 1)."""
+    return _line(node) <= at and at[0] <= _last_line(node)
+
+
 class Checker:
     """The static checks of one program file's tree (the builtins: the interpreter's table)."""
 
@@ -90,6 +132,9 @@ class Checker:
         self.waits()
         self.motion_before_tcp()
         self.speeds()
+        self.arity()
+        self.list_indexes()
+        self.reads_before_assign()
         return self.findings
 
     # --- names ----------------------------------------------------------------------------------
@@ -128,6 +173,107 @@ class Checker:
                 continue
             reported.add(name)
             self.add(node, "error", "undefined-name", f"{name} is read but never assigned in the program")
+
+    # --- what run stops on -----------------------------------------------------------------------
+    def arity(self) -> None:
+        """Calls of the program's own functions: each parameter without a default given, no more arguments than
+        parameters, no keyword that is not a parameter (the interpreter's builtins are not in the program)."""
+        for name, call in _calls(self.tree):
+            definition = self.functions.get(name)
+            if definition is None:
+                continue
+            params = definition.children[1].children if definition.children[1] is not None else []
+            names = [str(p.children[0]) for p in params]
+            required = [str(p.children[0]) for p in params if p.children[1] is None]
+            args = call.children[1].children if call.children[1] is not None else []
+            positional = [a for a in args if not (isinstance(a, Tree) and a.data == "kwarg")]
+            named = [str(a.children[0]) for a in args if isinstance(a, Tree) and a.data == "kwarg"]
+            given = set(names[: len(positional)]) | set(named)
+            unknown = [k for k in named if k not in names]
+            twice = [k for i, k in enumerate(named) if k in names[: len(positional)] or k in named[:i]]
+            missing = [p for p in required if p not in given]
+            if len(positional) > len(names):
+                problem = f"{name} takes {len(names)} arguments, got {len(positional)}"
+            elif unknown:
+                problem = f"{name} has no parameter {unknown[0]}"
+            elif twice:
+                problem = f"{name}: argument {twice[0]} given twice"
+            elif missing:
+                problem = f"{name}: no value for its parameter {missing[0]} (and it has no default)"
+            else:
+                continue
+            self.add(call, "error", "arity", problem)
+
+    def list_lengths(self) -> dict[str, int]:
+        """The variables every assignment of whose name (anywhere in the program) is a list literal, and that no
+        function takes as a parameter: the longest of those lists (an index beyond it is beyond each)."""
+        lengths: dict[str, set] = {}
+        for node in self.tree.iter_subtrees():
+            if node.data == "param":
+                lengths.setdefault(str(node.children[0]), set()).add(None)
+            elif node.data in ("global_stmt", "local_stmt"):
+                lengths.setdefault(str(node.children[0]), set()).add(_list_length(node.children[1]))
+            elif node.data == "assign" and isinstance(node.children[0], Tree) and node.children[0].data == "var":
+                lengths.setdefault(str(node.children[0].children[0]), set()).add(_list_length(node.children[1]))
+        return {name: max(sizes) for name, sizes in lengths.items() if None not in sizes}
+
+    def list_indexes(self) -> None:
+        """A literal index beyond every list a variable is assigned (URScript lists run from 0)."""
+        lengths = self.list_lengths()
+        for node in self.tree.find_data("index"):
+            base, at = node.children[0], _number(node.children[1])
+            if not (isinstance(base, Tree) and base.data == "var") or at is None or at != int(at):
+                continue
+            size = lengths.get(str(base.children[0]))
+            if size is not None and not 0 <= at < size:
+                message = f"index {int(at)} out of range: {base.children[0]} is assigned lists of at most {size}"
+                self.add(node, "error", "index", message)
+
+    def reads_before_assign(self) -> None:
+        """A variable read in a scope (a function's body, or the program's) before the first statement of that scope
+        that assigns it, where nothing else in the program assigns it, no `global` names it and no loop holds both
+        the read and an assignment: run stops at the read (undefined variable)."""
+        scopes = [c for c in self.tree.children if isinstance(c, Tree) and c.data not in _DEFINITIONS]
+        scopes = [(None, scopes)] + [
+            (d, d.children[2].children) for d in self.tree.iter_subtrees() if d.data in _DEFINITIONS
+        ]
+        owners: dict[str, set] = {}  # name -> the scopes that assign it or take it as a parameter
+        for index, (definition, statements) in enumerate(scopes):
+            params = definition.children[1] if definition is not None else None
+            for param in params.children if params is not None else []:
+                owners.setdefault(str(param.children[0]), set()).update((index, -1))
+            for node in _own_nodes(statements):
+                if node.data == "global_stmt":  # the program's, or the installation's (set outside the program)
+                    owners.setdefault(str(node.children[0]), set()).add(-2)
+                elif node.data == "local_stmt" or (node.data == "assign" and _assigned(node)):
+                    owners.setdefault(_assigned(node) or str(node.children[0]), set()).add(index)
+        for index, (_definition, statements) in enumerate(scopes):
+            nodes = list(_own_nodes(statements))
+            assigns: dict[str, list] = {}
+            targets = set()
+            for node in nodes:
+                if node.data == "assign" and _assigned(node):
+                    assigns.setdefault(_assigned(node), []).append(node)
+                    targets.add(id(node.children[0]))
+                elif node.data in ("global_stmt", "local_stmt"):
+                    assigns.setdefault(str(node.children[0]), []).append(node)
+            loops = [(_line(n)[0], _last_line(n)) for n in nodes if n.data == "while_stmt"]
+            called = {id(call.children[0]) for _name, call in _calls(Tree("scope", list(statements)))}
+            reported = set()
+            for node in nodes:
+                if node.data != "var" or id(node) in targets or id(node) in called:
+                    continue
+                name = str(node.children[0])
+                if name in reported or name not in assigns or owners.get(name) != {index}:
+                    continue
+                at = _line(node)
+                earlier = [a for a in assigns[name] if _line(a) < at and not _holds(a, at)]
+                together = any(low <= at[0] <= high and any(low <= _line(a)[0] <= high for a in assigns[name])
+                               for low, high in loops)  # fmt: skip
+                if not earlier and not together:
+                    reported.add(name)
+                    self.add(node, "warning", "read-before-assign", f"{name} is read before it is assigned (the "
+                             f"assignment on line {_line(assigns[name][0])[0]}): run stops here")  # fmt: skip
 
     # --- waits ----------------------------------------------------------------------------------
     def waits(self) -> None:

@@ -27,6 +27,7 @@ class StationMargin:
     step_deg: float  # the largest joint change between neighbouring readings (the sampling's resolution)
     pose: str  # the pose with the least joint margin
     posture: str = ""  # the posture chosen to clear the cell where it is not the one nearest the home (else "")
+    wrist_pose: str = ""  # the pose nearest the wrist singularity
 
     @property
     def id_text(self) -> str:
@@ -46,7 +47,8 @@ class TargetEnvelope:
         for m in self.stations:
             lines.append(
                 f"  station {m.id_text}: {m.joint_margin_deg:.1f} deg to the nearest joint limit (axis "
-                f"{m.joint_axis}, pose {m.pose}), wrist {m.wrist_margin_deg:.1f} deg from its singularity"
+                f"{m.joint_axis}, pose {m.pose}), wrist {m.wrist_margin_deg:.1f} deg from its singularity (pose "
+                f"{m.wrist_pose})"
             )
             if m.posture:
                 lines.append(f"    {m.posture}")
@@ -66,6 +68,7 @@ class TargetEnvelope:
                     "wrist_margin_deg": round(m.wrist_margin_deg, 3),
                     "step_deg": round(m.step_deg, 3),
                     "pose": m.pose,
+                    "wrist_pose": m.wrist_pose,
                     "posture": m.posture,
                 }
                 for m in self.stations
@@ -123,6 +126,8 @@ def _station(cell, target: str, arm, station) -> StationMargin:
             )
     joint_margin = np.minimum(joints - arm.limits[:, 0], arm.limits[:, 1] - joints)
     n, m, axis = np.unravel_index(np.argmin(joint_margin), joint_margin.shape)
+    wrist = singular_distance(wrist_angle(arm, joints))  # (N, poses)
+    wrist_at = np.unravel_index(np.argmin(wrist), wrist.shape)
     step = _step(joints[1:], *region.grid)
     if step > wanted.joint_deg:
         raise ReachError(
@@ -135,10 +140,11 @@ def _station(cell, target: str, arm, station) -> StationMargin:
         station=station.name,
         joint_margin_deg=float(joint_margin[n, m, axis]),
         joint_axis=int(axis) + 1,
-        wrist_margin_deg=float(singular_distance(wrist_angle(arm, joints)).min()),
+        wrist_margin_deg=float(wrist[wrist_at]),
         step_deg=step,
         pose=region.taught[m].name,
         posture=_posture_note(cell, target, station),
+        wrist_pose=region.taught[wrist_at[1]].name,
     )
 
 

@@ -50,3 +50,36 @@ def test_errraise_naming_no_errnum_is_refused_at_its_line_and_column():
         Rapid.load_files([SourceFile("m.mod", text)])
     (found,) = Rapid.check_files([SourceFile("m.mod", text)])
     assert (found.line, found.column, found.code) == (3, 12, "undefined-name")
+
+
+SEVENTY = "a" * 70
+JOINED = f'  CONST string seventy := "{SEVENTY}";\n  CONST string ten := "0123456789";\n  VAR string s;\n'
+
+
+def _joined(line: str) -> list[SourceFile]:
+    return [SourceFile("j.mod", f"MODULE j\n{JOINED}  PROC main()\n    {line}\n  ENDPROC\nENDMODULE\n")]
+
+
+@pytest.mark.parametrize(
+    "line",
+    [
+        f's := "{SEVENTY}" + "0123456789a";',  # two literals, 81 characters
+        's := seventy + ten + "a";',  # constants and a literal
+        'TPWrite seventy + "a" + ten;',
+        's := seventy + ten + "a" + s;',  # at least 81 whatever s holds
+    ],
+)
+def test_a_joined_string_longer_than_80_characters_is_found_by_check_as_run_stops_on_it(line):
+    with pytest.raises(RunError, match="longer than 80"):
+        Rapid.load_files(_joined(line)).run({})
+    found = [(f.line, f.severity) for f in Rapid.check_files(_joined(line)) if f.code == "string-too-long"]
+    assert found == [(6, "error")]
+
+
+@pytest.mark.parametrize(
+    "line",
+    [f's := "{SEVENTY}" + "0123456789";', "s := seventy + ten;", "TPWrite ten + ten + ten;", 's := "a" + s;'],
+)
+def test_a_joined_string_of_80_characters_or_fewer_is_clean(line):
+    Rapid.load_files(_joined(line)).run({})
+    assert [f for f in Rapid.check_files(_joined(line)) if f.code == "string-too-long"] == []
