@@ -20,9 +20,9 @@ TOUCH_MM = 2.0  # the TCP this near a box's top centre is on it (where a stackin
 GENERATOR = "codegen view"  # the page's <meta name="generator">: a file that has it is one codegen may replace
 STATIC = Path(__file__).with_name("static")
 # the page's own script, one file per job, inlined in this order into one element: the arm's forward kinematics,
-# numbers rounded for reading, the labels' placing on the screen, then the viewer (the scene, the timeline, the
-# controls) that uses them
-VIEWER = ("kinematics.js", "numbers.js", "labels.js", "viewer.js")
+# numbers rounded for reading, the labels' placing on the screen, the runs' timeline, then the viewer (the scene,
+# the panel, the controls) that uses them
+VIEWER = ("kinematics.js", "numbers.js", "labels.js", "timeline.js", "viewer.js")
 TEMPLATES = data_dir("templates") / "view"
 NOTE = (
     "The arm is drawn from its catalogue kinematics at the joints the interpreter solved for each move (between two "

@@ -13,7 +13,6 @@
     nearest: 0xd62728, current: 0xffd000,
   };
   const AXIS_COLOURS = [0xe00000, 0x00a000, 0x0000e0];
-  const MIN_MOVE_S = 0.25; // a move the program clock gives no time is shown this long
   const data = JSON.parse(document.getElementById("view-data").textContent);
   const api = { ready: false, errors: [], data: data };
   window.codegenView = api;
@@ -22,6 +21,8 @@
   // ---- forward kinematics (kinematics.js) -------------------------------------------------------------------
   const { RAD, mul, origin, chain } = window.codegenKinematics;
   const { fixed, readable } = window.codegenNumbers;
+  const { makeTimeline, interpolate, interpolatePose } = window.codegenTimeline;
+  const frameAt = (time) => window.codegenTimeline.frameAt(timeline, time);
   api.fk = function (viewIndex, q) { return chain(data.views[viewIndex].arm, q); };
 
   // ---- scene -------------------------------------------------------------------------------------------
@@ -242,22 +243,6 @@
 
   data.views.forEach((v, i) => targetSelect.add(new Option(v.label, String(i))));
 
-  function makeTimeline(view, program) { // keyframes: each run's start, then the end of each of its moves
-    const frames = [];
-    let time = 0;
-    program.runs.forEach((run, r) => {
-      const first = run.moves[0];
-      frames.push({ run: r, move: -1, joints: run.start || (first && first.joints), pose: run.start ? null : first && first.pose, time: time, clock: 0 });
-      let last = 0;
-      run.moves.forEach((m, k) => {
-        time += Math.max(MIN_MOVE_S, m.t - last);
-        last = m.t;
-        frames.push({ run: r, move: k, joints: m.joints, pose: m.pose, time: time, clock: m.t });
-      });
-    });
-    return { frames: frames, total: time };
-  }
-
   function selectView(index, programIndex) {
     current.view = index;
     const view = data.views[index];
@@ -303,32 +288,6 @@
     slider.max = String(Math.max(0.01, timeline.total));
     fitCamera();
     setTime(0);
-  }
-
-  function frameAt(time) { // [index of the keyframe before, fraction to the next]
-    const f = timeline.frames;
-    if (!f.length) return [0, 0];
-    let lo = 0, hi = f.length - 1;
-    if (time <= f[0].time) return [0, 0];
-    if (time >= f[hi].time) return [hi, 0];
-    while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (f[mid].time <= time) lo = mid; else hi = mid; }
-    const span = f[hi].time - f[lo].time;
-    return [lo, span > 0 ? (time - f[lo].time) / span : 0];
-  }
-
-  function interpolate(a, b, s) {
-    if (!a || !b || s <= 0) return a || b;
-    return a.map((v, i) => v + (b[i] - v) * s);
-  }
-  function interpolatePose(a, b, s) {
-    if (!a || !b || s <= 0) return a || b;
-    const ma = matrix(a), mb = matrix(b);
-    const pa = new THREE.Vector3(), pb = new THREE.Vector3(), qa = new THREE.Quaternion(), qb = new THREE.Quaternion();
-    const scale = new THREE.Vector3();
-    ma.decompose(pa, qa, scale); mb.decompose(pb, qb, scale);
-    const m = new THREE.Matrix4().compose(pa.lerp(pb, s), qa.slerp(qb, s), new THREE.Vector3(1, 1, 1));
-    const e = m.elements; // column-major
-    return [e[0], e[4], e[8], e[12], e[1], e[5], e[9], e[13], e[2], e[6], e[10], e[14], 0, 0, 0, 1];
   }
 
   function setTime(time) {
