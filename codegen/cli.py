@@ -90,14 +90,17 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
     for t in targets:
         if t not in model.targets:
             raise UserError(f"--target {t}: not a target of cell {model.name} ({', '.join(model.targets)})")
-    written, left_alone, envelopes = write_cell(model, list(targets) or None, Path(out_dir))
+    from codegen.robot.expect import home_margins
 
+    written, left_alone, envelopes = write_cell(model, list(targets) or None, Path(out_dir))
+    homes = home_margins(model, list(targets) or None)
     if as_json:
         _dump(
             {
                 "cell": model.name,
                 "written": [str(p) for p in written],
                 "left_alone": left_alone,
+                "home": [h.as_json() for h in homes],
                 "envelope": [e.as_json() for e in envelopes],
             }
         )
@@ -106,6 +109,8 @@ def generate(cell: str | None, targets: tuple[str, ...], out_dir: str, as_json: 
         click.echo(f"wrote {path}")
     for note in left_alone:
         click.echo(f"left alone: {note}")
+    for home in homes:
+        click.echo(home.text())
     for envelope in envelopes:
         click.echo(envelope.text())
 

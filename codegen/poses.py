@@ -177,7 +177,7 @@ def rotmat_from_quat(q) -> np.ndarray:
 
 
 def quat_from_rotmat(rot: np.ndarray) -> np.ndarray:
-    """Shepperd's method; returns a unit quaternion with w >= 0."""
+    """Shepperd's method; returns the unit quaternion of sign `shown_quat` (w >= 0)."""
     m = rot
     trace = m[0, 0] + m[1, 1] + m[2, 2]
     candidates = (trace, m[0, 0], m[1, 1], m[2, 2])
@@ -196,9 +196,22 @@ def quat_from_rotmat(rot: np.ndarray) -> np.ndarray:
         q = ((m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, 0.25 * s)
     quat = np.array(q)
     quat /= np.linalg.norm(quat)
-    if quat[0] < 0:
-        quat = -quat
-    return quat
+    return np.array(shown_quat(quat))
+
+
+# A component this small is a tie for the sign rule: above the float32 noise of an interpreted pose
+# (1.2e-7 per unit value), so the reference (float64) and `codegen run` (float32) pick the same sign.
+QUAT_SIGN_TIE = 1e-6
+
+
+def shown_quat(quat) -> tuple[float, float, float, float]:
+    """The one sign of q and -q shown: the first of w, x, y, z not within QUAT_SIGN_TIE of 0 is positive.
+
+    So w > 0 away from a half turn; at a half turn (w ~ 0) the first clear axis component decides."""
+    values = tuple(float(v) for v in quat)
+    lead = next((v for v in values if abs(v) > QUAT_SIGN_TIE), 1.0)
+    sign = -1.0 if lead < 0 else 1.0
+    return tuple(sign * v + 0.0 for v in values)
 
 
 def matrix_from_abb(pose) -> np.ndarray:

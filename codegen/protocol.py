@@ -86,6 +86,11 @@ class Section(Part):
         """The names the cell file's reference lists the kind's tables under (a kind with modes: its modes')."""
         return (self.kind.name,)
 
+    def starters(self) -> dict[str, Any]:
+        """The starters `codegen init NAME` writes of the kind, by NAME: a function from the text of the kind's bundled
+        example to the starter's text, or None for the example as it is (a kind with modes: one per mode)."""
+        return {self.kind.name: None}
+
     def of(self, cell) -> Any:
         """The kind's part of a cell (parse's result), or None."""
         return cell.sections.get(self.kind.name)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 import tomllib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from codegen.model.cell import EXAMPLES_DIR
@@ -32,10 +32,15 @@ def example_of(tables: frozenset[str]) -> Path:
     return min(found)[3]
 
 
-def starter_text(example: Path, chosen: tuple[str, ...], all_targets: tuple[str, ...]) -> str:
-    """The example's text for the chosen targets (all the example's when none is chosen): the targets line, and
-    every other target's entries left out (its own lines, its items of inline tables). Comments stay."""
+def starter_text(
+    example: Path, chosen: tuple[str, ...], all_targets: tuple[str, ...], trim: Callable[[str], str] | None = None
+) -> str:
+    """The example's text (trimmed by the kind's `trim`, e.g. to one of its modes) for the chosen targets (all the
+    example's when none is chosen): the targets line, and every other target's entries left out (its own lines, its
+    items of inline tables). Comments stay."""
     text = _SCHEMA_LINE.sub("", example.read_text(encoding="utf-8"), count=1)
+    if trim is not None:
+        text = trim(text)
     listed = tuple(tomllib.loads(text)["cell"]["targets"])
     unknown = [t for t in chosen if t not in listed]
     if unknown:

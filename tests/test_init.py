@@ -54,3 +54,41 @@ def test_an_existing_file_stays_and_a_target_the_starter_lacks_is_named(tmp_path
     unknown = init(tmp_path, "weld")
     assert unknown.exit_code == 2
     assert "weld: not a program kind" in unknown.output
+
+
+@pytest.mark.parametrize("mode", ["point", "frame"])
+def test_a_station_mode_is_an_init_kind_with_its_stations_alone(tmp_path, mode):
+    out = tmp_path / f"{mode}.toml"
+    result = init(tmp_path, mode, "--out", str(out))
+    assert result.exit_code == 0, result.output
+    text = out.read_text(encoding="utf-8")
+    assert text.lstrip().startswith("#")
+    cell = load_cell(out)
+    stations = cell.sections["station"].stations
+    assert stations and {s.mode for s in stations} == {mode}
+    data = tomllib.loads(text)
+    assert ("refine" in data["cell"]) is (mode == "frame")  # the other mode's [cell.<table>] goes with its stations
+    assert ("handeye" in data["cell"]["camera"]) is (mode == "frame")
+    assert data["cell"]["name"].endswith(f"_{mode}")  # init point and init frame in one folder: two files
+    generated = CliRunner().invoke(main, ["generate", str(out), "--out", str(tmp_path / "gen")])
+    assert generated.exit_code == 0, generated.output
+    for target in cell.targets:
+        assert any((tmp_path / "gen" / cell.name / target).iterdir())
+
+
+def test_a_mode_starter_for_one_target(tmp_path):
+    out = tmp_path / "frame.toml"
+    assert init(tmp_path, "frame", "--target", "abb", "--out", str(out)).exit_code == 0
+    cell = load_cell(out)
+    assert cell.targets == ("abb",) and {s.mode for s in cell.sections["station"].stations} == {"frame"}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mode", ["point", "frame"])
+def test_a_mode_starter_generates_and_verifies_as_written(tmp_path, mode):
+    out = tmp_path / f"{mode}.toml"
+    assert init(tmp_path, mode, "--out", str(out)).exit_code == 0
+    assert CliRunner().invoke(main, ["generate", str(out), "--out", str(tmp_path / "gen")]).exit_code == 0
+    verified = CliRunner().invoke(main, ["verify", str(out), "--cases", "5", "--jobs", "1"])
+    assert verified.exit_code == 0, verified.output
+    assert "verify: all traces match the reference" in verified.output

@@ -112,7 +112,7 @@ def rotmat_from_rotvec(rv) -> tuple[float, ...]:
 
 
 def quat_from_rotmat(r) -> tuple[float, float, float, float]:
-    """Shepperd's method, unit quaternion with w >= 0 (as codegen.poses.quat_from_rotmat)."""
+    """Shepperd's method, unit quaternion of the sign `codegen.poses.shown_quat` (as codegen.poses.quat_from_rotmat)."""
     m00, m01, m02, m10, m11, m12, m20, m21, m22 = r
     trace = m00 + m11 + m22
     best = max(trace, m00, m11, m22)
@@ -129,13 +129,14 @@ def quat_from_rotmat(r) -> tuple[float, float, float, float]:
         s = 2.0 * math.sqrt(max(1.0 + m22 - m00 - m11, 0.0))
         q = ((m10 - m01) / s, (m02 + m20) / s, (m12 + m21) / s, 0.25 * s)
     n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-    sign = -1.0 if q[0] < 0 else 1.0
-    return (sign * q[0] / n, sign * q[1] / n, sign * q[2] / n, sign * q[3] / n)
+    return poses.shown_quat((q[0] / n, q[1] / n, q[2] / n, q[3] / n))
 
 
 def rotvec_from_rotmat(r) -> tuple[float, float, float]:
     """As codegen.poses.rotvec_from_rotmat: angle in [0, pi], from the w >= 0 quaternion."""
     w, x, y, z = quat_from_rotmat(r)
+    if w < 0:
+        w, x, y, z = -w, -x, -y, -z
     norm_v = math.sqrt(x * x + y * y + z * z)
     if norm_v < 1e-12:
         return (2.0 * x, 2.0 * y, 2.0 * z)

@@ -13,6 +13,7 @@ from codegen.model.schema import Key, Table
 from codegen.model.validate import metres_hint
 from codegen.poses import POSE_FORMATS
 from codegen.robot.arms import Arm, ArmError, arm_from_table, catalogue, check_inside, find_arm
+from codegen.robot.margins import joint_margins
 
 TOOL_OFFSET_MAX_MM = 2000.0
 TCP_MIN_MM = 1.0  # a TCP nearer the flange than this but not at it is no tool: a value given in metres
@@ -233,8 +234,9 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
 def _home_off_the_limits(ctx, joints, arm, margin_deg: float, path: str) -> None:
     """A home the cell gives keeps the joint margin every taught pose keeps: the programs start and end there, and a
     home at a limit leaves the way home no room (the controller stops the arm on its soft limit)."""
+    per_axis = joint_margins(arm, joints)
     for i, (q, (low, high)) in enumerate(zip(joints, arm.limits_deg, strict=True)):
-        if not low + margin_deg <= q <= high - margin_deg:
+        if not per_axis[i] >= margin_deg:
             ctx.fail(
                 f"{path}[{i}]",
                 f"axis {i + 1} at {q:g} deg is within {margin_deg:g} deg (cell.robot.joint_margin_deg) of its limits "

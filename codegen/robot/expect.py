@@ -9,7 +9,7 @@ import numpy as np
 
 from codegen.controllers import numbered_names
 from codegen.poses import native_values
-from codegen.robot.margins import singular_distance, wrist_angle
+from codegen.robot.margins import least_joint_margin, singular_distance, wrist_angle
 from codegen.robot.taught import ReachError
 from codegen.world import loads
 
@@ -51,9 +51,7 @@ class ArmStats:
         if arm is None or not solved:
             return
         joints = np.array([m.joints for _i, m in solved])
-        per_axis = np.minimum(joints - arm.limits[:, 0], arm.limits[:, 1] - joints)
-        row, axis = np.unravel_index(int(np.argmin(per_axis)), per_axis.shape)
-        joint = float(per_axis[row, axis])
+        joint, (row, axis) = least_joint_margin(arm, joints)
         wrist = float(np.min(singular_distance(wrist_angle(arm, joints))))
         self.moves += len(solved)
         if joint < self.joint_margin_deg:
@@ -130,5 +128,50 @@ class Margins:
 
 def margins(arm, joints: np.ndarray) -> tuple[float, float]:
     """Degrees to the nearest joint limit and from the wrist singularity, for (..., 6) joints."""
-    joint = np.minimum(joints - arm.limits[:, 0], arm.limits[:, 1] - joints)
-    return float(np.min(joint)), float(np.min(singular_distance(wrist_angle(arm, joints))))
+    return least_joint_margin(arm, joints)[0], float(np.min(singular_distance(wrist_angle(arm, joints))))
+
+
+@dataclass(frozen=True)
+class HomeMargin:
+    """Where a target's arm starts and ends every program: its margins there (codegen.robot.margins' rule)."""
+
+    target: str
+    model: str
+    home: tuple[float, ...]
+    joint_margin_deg: float
+    joint_axis: int  # 1-based
+    wrist_margin_deg: float
+
+    def text(self) -> str:
+        return (
+            f"home {self.target} ({self.model}): {self.joint_margin_deg:.1f} deg to the nearest joint limit (axis "
+            f"{self.joint_axis} at {self.home[self.joint_axis - 1]:g} deg), wrist {self.wrist_margin_deg:.1f} deg "
+            "from its singularity"
+        )
+
+    def as_json(self) -> dict:
+        return {
+            "target": self.target,
+            "arm": self.model,
+            "home": list(self.home),
+            "joint_margin_deg": round(self.joint_margin_deg, 3),
+            "joint_axis": self.joint_axis,
+            "wrist_margin_deg": round(self.wrist_margin_deg, 3),
+        }
+
+
+def home_margins(cell, targets: list[str] | None = None) -> list[HomeMargin]:
+    """Each requested target's home margins (targets without an arm have none)."""
+    robot = cell.robot
+    if robot is None:
+        return []
+    out = []
+    for target in targets or cell.targets:
+        arm = robot.arms.get(target)
+        if arm is None:
+            continue
+        home = tuple(float(v) for v in robot.home[target])
+        joint, (axis,) = least_joint_margin(arm, home)
+        wrist = float(singular_distance(wrist_angle(arm, np.array(home))))
+        out.append(HomeMargin(target, arm.model, home, joint, axis + 1, wrist))
+    return out

@@ -19,6 +19,10 @@ from codegen.writefile import check_own, write_own
 TOUCH_MM = 2.0  # the TCP this near a box's top centre is on it (where a stacking plan puts the TCP)
 GENERATOR = "codegen view"  # the page's <meta name="generator">: a file that has it is one codegen may replace
 STATIC = Path(__file__).with_name("static")
+# the page's own script, one file per job, inlined in this order into one element: the arm's forward kinematics,
+# numbers rounded for reading, the labels' placing on the screen, the runs' timeline, then the viewer (the scene,
+# the panel, the controls) that uses them
+VIEWER = ("kinematics.js", "numbers.js", "labels.js", "timeline.js", "viewer.js")
 TEMPLATES = data_dir("templates") / "view"
 NOTE = (
     "The arm is drawn from its catalogue kinematics at the joints the interpreter solved for each move (between two "
@@ -182,7 +186,7 @@ def render(template: str, title: str, data: dict, **context) -> str:
         note=NOTE,
         css=Markup(_script("viewer.css")),
         three=Markup(_script("three.min.js")),
-        viewer=Markup(_script("viewer.js")),
+        viewer=Markup("\n".join(_script(name) for name in VIEWER)),
         data=Markup(embedded_json(data)),
         **context,
     )

@@ -105,7 +105,8 @@ def _prove(cell, path: Path, limit: float, bar: float) -> Least:
         except Unresolved as exc:
             raise ClearanceError(f"{move.where} ({path.target}): the move's path cannot be followed: {exc}") from None
         if found.distance < bar:
-            raise ClearanceError(_refusal(cell, path, move, found, bar))
+            came_from = path.moves[i - 1].where if i else f"the start (joints {_joints_text(path.start)} deg)"
+            raise ClearanceError(_refusal(cell, path, move, found, bar, (i, came_from)))
         if best is None or found.distance < best.found.distance:
             best = Least(path.target, move.where, found)
         q = np.asarray(move.joints, dtype=float)
@@ -196,20 +197,33 @@ def _resting(cell, path: Path, limit: float, scene) -> list[frozenset]:
     return out
 
 
-def _refusal(cell, path: Path, move: Move, found: MoveClearance, limit: float) -> str:
+def _joints_text(joints) -> str:
+    return "[" + ", ".join(f"{float(v):.1f}" for v in joints) + "]"
+
+
+def _refusal(cell, path: Path, move: Move, found: MoveClearance, limit: float, came: tuple[int, str]) -> str:
+    """The move (its number, its kind, where it comes from and goes to), the body, the solid, how near and where along
+    the move, what the proof measured (its samples and their spacing: the module codegen.world.sweep says why no
+    contact falls between them) and what would fix it."""
     target = path.target
     arm = cell.robot.arms[target]
-    what = "touches" if found.distance <= 0 else "comes within"
-    at = f"{found.distance:.1f} mm of" if found.distance > 0 else f"{-found.distance:.1f} mm into"
+    index, came_from = came
     other = found.other
-    solid = f"the solid {other!r}" if other != FLOOR else "the floor (cell.world.floor_z_mm)"
+    floor = other == FLOOR
+    what = "touches" if found.distance <= 0 else "comes within"
+    at = f"{found.distance:.1f} mm of it" if found.distance > 0 else f"{-found.distance:.1f} mm into it"
+    solid = f"the solid {other!r}" if not floor else f"the floor (cell.world.floor_z_mm = {cell.world.floor_z_mm:g} mm)"
+    if floor and found.distance <= 0:
+        what, at = "dips below", f"{-found.distance:.1f} mm, its lowest point at z = {found.point[2]:.1f} mm,"
     if other in {body.name for body in arm_bodies(arm)} | {"tool", "part"}:
         solid = f"the arm's own {other}"
     fix = _fix(other, solid.startswith("the arm's own"), path.configuration)
     return (
-        f"{move.where} ({target}, {arm.model}): the {found.body} {what} {solid}: {at} it at {found.s:.2f} of the move "
-        f"(joints {[round(v, 1) for v in found.joints]} deg), less than the clearance of {limit:g} mm "
-        f"(cell.world.clearance_mm); {fix}"
+        f"{move.where} ({target}, {arm.model}): the {found.body} {what} {solid}: {at} at {found.s:.2f} of the "
+        f"{move.kind} move to it from {came_from} (move {index + 1} of the path; joints there "
+        f"{_joints_text(found.joints)} deg), less than the clearance of {limit:g} mm (cell.world.clearance_mm; the "
+        f"proof measured the move at {found.samples} samples, no point of the arm travelling more than {limit / 2:g} "
+        f"mm between two: no contact falls between them); {fix}"
     )
 
 

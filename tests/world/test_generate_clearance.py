@@ -279,10 +279,20 @@ def test_the_floor_raised_into_a_joint_moves_dip_is_refused(tmp_path):
     with pytest.raises(GenerateError) as caught:
         check_clearance(load_cell(path), ["ur"])
     said = str(caught.value)
-    assert said.startswith("station 1 'shelf' pose 'take' (nominal reading) (ur, UR5e): the tool touches the floor "
-                           "(cell.world.floor_z_mm): "), said
-    at = float(re.search(r"mm into it at ([0-9.]+) of the move", said).group(1))
+    # the move named (its number, kind and both ends), not the pose alone: both ends stand above the floor
+    assert said.startswith(
+        "station 1 'shelf' pose 'take' (nominal reading) (ur, UR5e): the tool dips below the floor "
+        f"(cell.world.floor_z_mm = {round(floor, 1):g} mm): "
+    ), said
+    assert "of the joint move to it from the start (joints [0.0, -60.0, 60.0, 0.0, 90.0, 0.0] deg) (move 1 of " in said
+    found = re.search(r"floor_z_mm = [0-9.]+ mm\): ([0-9.]+) mm, its lowest point at z = ([0-9.-]+) mm, at ([0-9.]+) "
+                      r"of the joint move", said)
+    depth, lowest, at = (float(v) for v in found.groups())
     assert 0.3 < at < 0.7
+    # measured at the samples, which lie no more than half the clearance (10 mm) of travel apart: the dip's depth
+    # (15 mm by forward kinematics here) is met to within that spacing, and the proof says so
+    assert 15.0 - 10.0 <= depth <= 15.0 + 1e-6 and abs(lowest - (floor - depth)) < 0.06
+    assert "no point of the arm travelling more than 10 mm between two" in said
 
 
 # A testmat variant whose way home from the pallet sweeps a region the cycle never enters: Q moved to the arm's left

@@ -13,7 +13,7 @@ import numpy as np
 from codegen.controllers import get_target
 from codegen.kinds.station.region import offsets, remember_plan, station_region
 from codegen.kinds.station.section import section_of, stations_of
-from codegen.robot.margins import singular_distance, wrist_angle
+from codegen.robot.margins import least_joint_margin, singular_distance, wrist_angle
 from codegen.robot.taught import ReachError, configuration
 
 
@@ -109,11 +109,10 @@ def _station(cell, target: str, arm, station) -> StationMargin:
                 f"{where}: the arm would change configuration (taught {configuration(form, arm, pose.joints)}, "
                 f"here {configuration(form, arm, q[i])}) for the reading {_reading(region.offsets[i])}"
             )
-        joint_margin = np.minimum(q - arm.limits[:, 0], arm.limits[:, 1] - q)  # (N, 6)
-        worst = np.unravel_index(np.argmin(joint_margin), joint_margin.shape)
-        if joint_margin[worst] < wanted.joint_deg:
+        least, worst = least_joint_margin(arm, q)  # q: (N, 6)
+        if least < wanted.joint_deg:
             raise ReachError(
-                f"{where}: axis {worst[1] + 1} comes within {joint_margin[worst]:.2f} deg of its limit "
+                f"{where}: axis {worst[1] + 1} comes within {least:.2f} deg of its limit "
                 f"(margin asked: {wanted.joint_deg:g} deg) for the reading {_reading(region.offsets[worst[0]])}"
             )
         wrist = singular_distance(wrist_angle(arm, q))
@@ -124,8 +123,7 @@ def _station(cell, target: str, arm, station) -> StationMargin:
                 f"{q[i, 4]:.2f} deg; margin asked: {wanted.wrist_deg:g} deg) for the reading "
                 f"{_reading(region.offsets[i])}"
             )
-    joint_margin = np.minimum(joints - arm.limits[:, 0], arm.limits[:, 1] - joints)
-    n, m, axis = np.unravel_index(np.argmin(joint_margin), joint_margin.shape)
+    least, (_n, m, axis) = least_joint_margin(arm, joints)
     wrist = singular_distance(wrist_angle(arm, joints))  # (N, poses)
     wrist_at = np.unravel_index(np.argmin(wrist), wrist.shape)
     step = _step(joints[1:], *region.grid)
@@ -138,7 +136,7 @@ def _station(cell, target: str, arm, station) -> StationMargin:
     return StationMargin(
         station_id=station.id,
         station=station.name,
-        joint_margin_deg=float(joint_margin[n, m, axis]),
+        joint_margin_deg=least,
         joint_axis=int(axis) + 1,
         wrist_margin_deg=float(wrist[wrist_at]),
         step_deg=step,

@@ -4,7 +4,7 @@ settings and the [[station]] tables, read and checked (errors name the file and 
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from functools import cached_property
+from functools import cached_property, partial
 from itertools import pairwise
 from typing import Any
 
@@ -266,6 +266,11 @@ class SectionPart(protocol.Section):
 
     def listed_names(self) -> tuple[str, ...]:
         return tuple(modes())
+
+    def starters(self) -> dict:
+        from codegen.kinds.station.starter import mode_starter
+
+        return {self.kind.name: None, **{name: partial(mode_starter, mode=name) for name in modes()}}
 
     def parse(self, ctx, data: dict, cell) -> StationSection | None:
         standalone = any(kind.section.standalone(data) for kind in cell.kinds.values())

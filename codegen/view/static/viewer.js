@@ -13,59 +13,16 @@
     nearest: 0xd62728, current: 0xffd000,
   };
   const AXIS_COLOURS = [0xe00000, 0x00a000, 0x0000e0];
-  const MIN_MOVE_S = 0.25; // a move the program clock gives no time is shown this long
   const data = JSON.parse(document.getElementById("view-data").textContent);
   const api = { ready: false, errors: [], data: data };
   window.codegenView = api;
   window.addEventListener("error", (e) => api.errors.push(String(e.message)));
 
-  // ---- forward kinematics (codegen/robot/urdh.py and opw.py; the tests hold this to their fk) ----------------
-  const RAD = Math.PI / 180;
-  const UR_COS_ALPHA = [0, 1, 1, 0, 0, 1], UR_SIN_ALPHA = [1, 0, 0, 1, -1, 0]; // alpha = 90, 0, 0, 90, -90, 0 deg
-
-  function mul(a, b) { // 4x4 row-major products
-    const out = new Array(16);
-    for (let r = 0; r < 4; r++) for (let c = 0; c < 4; c++) {
-      let s = 0;
-      for (let k = 0; k < 4; k++) s += a[4 * r + k] * b[4 * k + c];
-      out[4 * r + c] = s;
-    }
-    return out;
-  }
-  function origin(m) { return [m[3], m[7], m[11]]; }
-
-  function urChain(p, q) { // UR's DH table: T_i = Rz(q_i) Tz(d_i) Tx(a_i) Rx(alpha_i)
-    const a = [0, p.a2, p.a3, 0, 0, 0], d = [p.d1, 0, 0, p.d4, p.d5, p.d6];
-    let m = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
-    const points = [[0, 0, 0]];
-    for (let i = 0; i < 6; i++) {
-      const ct = Math.cos(q[i] * RAD), st = Math.sin(q[i] * RAD);
-      const ca = UR_COS_ALPHA[i], sa = UR_SIN_ALPHA[i];
-      const link = [ct, -st * ca, st * sa, a[i] * ct, st, ct * ca, -ct * sa, a[i] * st, 0, sa, ca, d[i], 0, 0, 0, 1];
-      m = mul(m, link);
-      points.push(origin(m));
-    }
-    return { points: points, flange: m, wrist: points[5] };
-  }
-
-  function opwChain(p, q) { // Brandstoetter et al.: theta = sign * q + offset; R0e = Rz(t1) Ry(t2 + t3) Rz(t4) Ry(t5) Rz(t6)
-    const t = q.map((v, i) => (p.signs[i] * v + p.offsets_deg[i]) * RAD);
-    const c1 = Math.cos(t[0]), s1 = Math.sin(t[0]), t23 = t[1] + t[2];
-    const turn = (x, y, z) => [x * c1 - y * s1, x * s1 + y * c1, z];
-    const elbow = [p.a1 + p.c2 * Math.sin(t[1]), p.c1 + p.c2 * Math.cos(t[1])];
-    const offset = [elbow[0] + p.a2 * Math.cos(t23), elbow[1] - p.a2 * Math.sin(t23)];
-    const wrist = [offset[0] + p.c3 * Math.sin(t23), offset[1] + p.c3 * Math.cos(t23)];
-    const rz = (a) => [Math.cos(a), -Math.sin(a), 0, 0, Math.sin(a), Math.cos(a), 0, 0, 0, 0, 1, 0, 0, 0, 0, 1];
-    const ry = (a) => [Math.cos(a), 0, Math.sin(a), 0, 0, 1, 0, 0, -Math.sin(a), 0, Math.cos(a), 0, 0, 0, 0, 1];
-    let r = mul(mul(rz(t[0]), ry(t23)), mul(mul(rz(t[3]), ry(t[4])), rz(t[5])));
-    const w = turn(wrist[0], p.b, wrist[1]);
-    r[3] = w[0] + p.c4 * r[2]; r[7] = w[1] + p.c4 * r[6]; r[11] = w[2] + p.c4 * r[10];
-    const points = [[0, 0, 0], [0, 0, p.c1], turn(p.a1, 0, p.c1), turn(elbow[0], p.b, elbow[1]),
-      turn(offset[0], p.b, offset[1]), w, origin(r)];
-    return { points: points, flange: r, wrist: w };
-  }
-
-  function chain(arm, q) { return (arm.family === "ur" ? urChain : opwChain)(arm.params, q); }
+  // ---- forward kinematics (kinematics.js) -------------------------------------------------------------------
+  const { RAD, mul, origin, chain } = window.codegenKinematics;
+  const { fixed, readable } = window.codegenNumbers;
+  const { makeTimeline, interpolate, interpolatePose } = window.codegenTimeline;
+  const frameAt = (time) => window.codegenTimeline.frameAt(timeline, time);
   api.fk = function (viewIndex, q) { return chain(data.views[viewIndex].arm, q); };
 
   // ---- scene -------------------------------------------------------------------------------------------
@@ -124,6 +81,7 @@
     const s = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(canvas), depthTest: false }));
     s.position.set(...at);
     s.userData.aspect = canvas.width / 40;
+    s.userData.text = text;
     return s;
   }
 
@@ -285,22 +243,6 @@
 
   data.views.forEach((v, i) => targetSelect.add(new Option(v.label, String(i))));
 
-  function makeTimeline(view, program) { // keyframes: each run's start, then the end of each of its moves
-    const frames = [];
-    let time = 0;
-    program.runs.forEach((run, r) => {
-      const first = run.moves[0];
-      frames.push({ run: r, move: -1, joints: run.start || (first && first.joints), pose: run.start ? null : first && first.pose, time: time, clock: 0 });
-      let last = 0;
-      run.moves.forEach((m, k) => {
-        time += Math.max(MIN_MOVE_S, m.t - last);
-        last = m.t;
-        frames.push({ run: r, move: k, joints: m.joints, pose: m.pose, time: time, clock: m.t });
-      });
-    });
-    return { frames: frames, total: time };
-  }
-
   function selectView(index, programIndex) {
     current.view = index;
     const view = data.views[index];
@@ -346,32 +288,6 @@
     slider.max = String(Math.max(0.01, timeline.total));
     fitCamera();
     setTime(0);
-  }
-
-  function frameAt(time) { // [index of the keyframe before, fraction to the next]
-    const f = timeline.frames;
-    if (!f.length) return [0, 0];
-    let lo = 0, hi = f.length - 1;
-    if (time <= f[0].time) return [0, 0];
-    if (time >= f[hi].time) return [hi, 0];
-    while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (f[mid].time <= time) lo = mid; else hi = mid; }
-    const span = f[hi].time - f[lo].time;
-    return [lo, span > 0 ? (time - f[lo].time) / span : 0];
-  }
-
-  function interpolate(a, b, s) {
-    if (!a || !b || s <= 0) return a || b;
-    return a.map((v, i) => v + (b[i] - v) * s);
-  }
-  function interpolatePose(a, b, s) {
-    if (!a || !b || s <= 0) return a || b;
-    const ma = matrix(a), mb = matrix(b);
-    const pa = new THREE.Vector3(), pb = new THREE.Vector3(), qa = new THREE.Quaternion(), qb = new THREE.Quaternion();
-    const scale = new THREE.Vector3();
-    ma.decompose(pa, qa, scale); mb.decompose(pb, qb, scale);
-    const m = new THREE.Matrix4().compose(pa.lerp(pb, s), qa.slerp(qb, s), new THREE.Vector3(1, 1, 1));
-    const e = m.elements; // column-major
-    return [e[0], e[4], e[8], e[12], e[1], e[5], e[9], e[13], e[2], e[6], e[10], e[14], 0, 0, 0, 1];
   }
 
   function setTime(time) {
@@ -426,7 +342,7 @@
     if (!a) return;
     const frame = s > 0 && b.run === a.run ? b : a; // the move under way (or just ended)
     const run = program.runs[frame.run];
-    add("run", `${frame.run + 1} of ${program.runs.length}: ${run.what}`);
+    add("run", `${frame.run + 1} of ${program.runs.length}: ${readable(run.what)}`);
     if (frame.move < 0) {
       add("move", `start (${run.moves.length} moves)`);
     } else {
@@ -438,8 +354,8 @@
       const outputs = run.outputs.filter((o) => o.after <= frame.move + 1);
       if (outputs.length) { const o = outputs[outputs.length - 1]; add("output", `${o.name} = ${o.value ? "on" : "off"}`); }
     }
-    if (current.joints) add("joints", current.joints.map((v) => v.toFixed(3)).join(", ") + " deg");
-    if (current.tcp) add("TCP", origin(current.tcp).map((v) => v.toFixed(2)).join(", ") + " mm");
+    if (current.joints) add("joints", current.joints.map((v) => fixed(v, 2)).join(", ") + " deg");
+    if (current.tcp) add("TCP", origin(current.tcp).map((v) => fixed(v, 2)).join(", ") + " mm");
     if (frame.move === run.moves.length - 1 && run.halt) add("stop", run.halt);
     if (run.clearance) {
       const c = run.clearance, here = frame.move === c.move ? " (this move)" : "";
@@ -490,7 +406,18 @@
     camera.updateProjectionMatrix();
     render();
   }
-  function render() { renderer.render(scene, camera); }
+  function declutter() { // overlapping labels: the first shown, the others hidden (labels.js)
+    const w = renderer.domElement.clientWidth, h = renderer.domElement.clientHeight;
+    const rects = labels.children.map((s) => window.codegenLabels.rect(s, camera, w, h));
+    window.codegenLabels.shown(rects).forEach((shown, i) => {
+      labels.children[i].visible = shown;
+      labels.children[i].userData.rect = rects[i];
+    });
+  }
+  function render() {
+    if (labels.visible) declutter();
+    renderer.render(scene, camera);
+  }
 
   api.project = function (xyz) { // page pixels of a point (mm, base frame) as drawn now
     const v = new THREE.Vector3(...xyz).project(camera);
@@ -503,6 +430,12 @@
       total: timeline.total, frames: f.length, joints: current.joints || null, tcp: current.tcp || null,
       run: f.length ? f[k].run : null, move: f.length ? f[k].move : null,
       segment: moving.visible ? current.segment.map(origin) : null };
+  };
+  api.labels = function () { // each label: its text, whether it is shown, its rectangle on the page (pixels)
+    const r = renderer.domElement.getBoundingClientRect();
+    return labels.children.map((s) => ({ text: s.userData.text, shown: labels.visible && s.visible,
+      rect: s.userData.rect ? [s.userData.rect[0] + r.left, s.userData.rect[1] + r.top,
+        s.userData.rect[2] + r.left, s.userData.rect[3] + r.top] : null }));
   };
   api.select = function (view, program) { selectView(view, program); };
   api.setPosition = setPosition;

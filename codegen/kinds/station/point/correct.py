@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from codegen.controllers import get_target
+from codegen.decimals import format_literal
 from codegen.guard import halt_message
 from codegen.kinds.station.point.reference import Reading, expected_trace
 from codegen.kinds.station.section import section_of
@@ -60,9 +61,10 @@ def format_report(report: dict) -> str:
         )
     if report["shift_mm"] is not None:
         lines.append(
-            f"shift {report['shift_mm']:.4f} mm, rotation {report['rotation_deg']:.4f} deg"
+            f"shift {format_literal(report['shift_mm'], 4)} mm, "
+            f"rotation {format_literal(report['rotation_deg'], 4)} deg"
             + (
-                f", phi {report['phi_deg']:.4f} deg (angle_sign {report['angle_sign']:+d})"
+                f", phi {format_literal(report['phi_deg'], 4)} deg (angle_sign {report['angle_sign']:+d})"
                 if report["phi_deg"] is not None
                 else ""
             )
@@ -76,6 +78,6 @@ def format_report(report: dict) -> str:
         for target, values in pose["targets"].items():
             facts = get_target(target)
             decimals = FORMAT_DECIMALS[facts.pose_format]
-            shown = " ".join(f"{v:.{n}f}" for v, n in zip(values, decimals, strict=True))
+            shown = " ".join(format_literal(v, n) for v, n in zip(values, decimals, strict=True))
             lines.append(f"  {target:<7}{shown}    {facts.pose_units}")
     return "\n".join(lines)
