@@ -35,6 +35,7 @@ HANDSHAKE_WHAT = {
     "sheet_taken": "a sheet taken from the dispenser",
 }
 
+
 def judge(cell, source, case: Case, trace, setup=None) -> Judgement:
     """The reference's moves (with an arm: the way home from where the arm starts, then home), the payload at each,
     the gripper's outputs and the counters at the end; after a reload, the counters in their store alone."""
