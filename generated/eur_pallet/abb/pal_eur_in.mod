@@ -252,6 +252,10 @@ MODULE pal_eur_in
       SetDO doPlaceDone, 1;
       up_q := TRUE;
     ENDIF
+    IF pal_eur_in_layer < 1 THEN
+      ! the last box put down at Q: the pallet is empty, its swap waited for here
+      stack_swap;
+    ENDIF
     IF pal_eur_in_layer >= 1 THEN
       WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
@@ -322,10 +326,36 @@ MODULE pal_eur_in
       SetDO doArmInQ, 0;
       SetDO doPlaceDone, 1;
       up_q := TRUE;
+      IF pal_eur_in_layer < 1 THEN
+        ! the pallet is empty: its swap waited for above Q, then the new pallet from its top
+        stack_swap;
+        WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet eur_in: no pallet in place in 10 s";
+        ENDIF
+      ENDIF
     ENDWHILE
-    ! the pallet is empty: the PLC's cue to swap it
+  ENDPROC
+
+  LOCAL PROC stack_swap()
+    ! the pallet empty, the arm above Q: doEurInEmpty on (the PLC's cue to swap it), the display cleared
+    ! (TPErase: it shows this state alone, not the messages before it) and the message written once, then the wait
+    ! here for the PLC's reset diResetEurIn for as long as the swap takes (WaitDI without \MaxTime: a swap is no fault);
+    ! the answer (doEurInEmpty off), the reset dropped in return (at most 10 s, else the stop, the counters
+    ! kept), then the new pallet's first counters
+    VAR bool late;
     SetDO doEurInEmpty, 1;
+    TPErase;
     TPWrite "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
+    WaitDI diResetEurIn, 1;
+    SetDO doEurInEmpty, 0;
+    WaitDI diResetEurIn, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+    IF late THEN
+      SetDO doEurInEmpty, 1;
+      stack_stop "pallet eur_in: the PLC's reset did not go off in 10 s, counters kept";
+    ENDIF
+    pal_eur_in_layer := 5;
+    pal_eur_in_box := 8;
   ENDPROC
 
   LOCAL PROC stack_next()

@@ -126,6 +126,7 @@ Sub pal_swap()
   pal_layer = 1
   pal_box = 1
 EndSub
+
 Function Int pal_pattern(Int layer)
   // the pattern of a layer (1 = bottom): PAL_CYCLE[(layer - 1) mod PAL_CYCLE_LEN], by subtraction
   Int k = layer - 1
