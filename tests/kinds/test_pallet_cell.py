@@ -435,9 +435,10 @@ def test_after_a_stop_the_program_backs_out_and_goes_home_above_the_pallet(testm
 
 
 def test_the_full_message_comes_with_the_arm_off_the_pallet(testmat):
-    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  LIN PAL_ABOVE\n  $OUT[22]", "  $OUT[22]")
+    above = "      LIN PAL_ABOVE\n      IF NOT PAL_SWAP() THEN\n"  # the done pallet's swap waited for above Q
+    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", above, "      IF NOT PAL_SWAP() THEN\n")
     assert found, found
-    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  PTP HIGH\n  $VEL.CP", "  $VEL.CP")
+    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "      PTP HIGH\n      $VEL.CP", "      $VEL.CP")
     assert found, found
 
 
