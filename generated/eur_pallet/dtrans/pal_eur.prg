@@ -22,6 +22,8 @@
 // The reset handshake: with digital input 5 on (the PLC: the pallet was swapped) the program turns output 3
 // off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet again at layer 1,
 // box 1; a reset that stays on stops with a message. On a pallet not done it does nothing.
+// A pallet done in the cycle: the arm waits above Q (pal_swap) for that reset for as long as the swap takes,
+// answers it the same way, then works the new pallet.
 Int pal_layer
 Int pal_box
 
