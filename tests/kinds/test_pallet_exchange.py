@@ -168,3 +168,14 @@ def test_the_abb_swap_message_is_written_on_a_cleared_display(testmat):
     swap = text[text.index("LOCAL PROC stack_swap()") : text.index("ENDPROC", text.index("LOCAL PROC stack_swap()"))]
     assert swap.index("TPErase;") < swap.index("TPWrite ") < swap.index("WaitDI diPalletReset, 1;"), swap
     assert swap.count("TPWrite ") == 1, swap
+
+
+def test_the_kuka_waits_on_the_supply_leave_no_message_behind(testmat):
+    """On the text: a wait on the supply that lasts its timeout shows a #STATE message and deletes it once the input
+    comes (Clear_KrlMsg), so a shift's gaps do not pile notifications up in the message window."""
+    text = _text(testmat, "kuka", "pal_testmat.src")
+    start = text.index("DEFFCT BOOL PAL_PART()")
+    wait = text[start : text.index("ENDFCT", start)]
+    assert "SET_KRLMSG(#NOTIFY" not in wait, wait
+    handle = re.search(r"(\w+) = SET_KRLMSG\(#STATE,", wait)
+    assert handle and wait.index("ENDWHILE") < wait.index(f"CLEAR_KRLMSG({handle.group(1)})"), wait
