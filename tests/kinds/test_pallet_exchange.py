@@ -6,6 +6,7 @@ import re
 from pathlib import Path
 
 import pytest
+from support.cells import unstacking_testmat_text
 from support.programs import sources
 from test_pallet_programs import mutant_mismatches
 
@@ -179,3 +180,30 @@ def test_the_kuka_waits_on_the_supply_leave_no_message_behind(testmat):
     assert "SET_KRLMSG(#NOTIFY" not in wait, wait
     handle = re.search(r"(\w+) = SET_KRLMSG\(#STATE,", wait)
     assert handle and wait.index("ENDWHILE") < wait.index(f"CLEAR_KRLMSG({handle.group(1)})"), wait
+
+
+@pytest.fixture(scope="module")
+def unstacking(tmp_path_factory):
+    """Source 004's test cell unstacking, its Q moved clear of the stack (as test_pallet_programs builds it)."""
+    text = unstacking_testmat_text().replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,")
+    path = tmp_path_factory.mktemp("unstacking") / "testmat_pallet.toml"
+    path.write_text(text)
+    return load_cell(path)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "case"),
+    [
+        # the empty pallet swapped, the counters left at 0/0: the program ends instead of working the new one
+        ("      pal_swap()\n      pal_layer = 5\n      pal_box = 6\n", "      pal_swap()\n", "pallet_exchanged"),
+        # the last box held at the start and put down at Q: the empty pallet's swap not waited for
+        (
+            "  if pal_layer < 1:   # the last box put down at Q: the pallet is empty, its swap waited for here\n",
+            "  if False:\n",
+            "held_at_start pallet testmat layer 0 box 0",
+        ),
+    ],
+)
+def test_an_unstacking_program_waits_for_the_empty_pallets_swap(unstacking, old, new, case):
+    found = mutant_mismatches(unstacking, "ur", "pal_testmat.script", old, new)
+    assert found and found[0].startswith(case) and WAITED in found[0], found
