@@ -104,8 +104,8 @@ MUTATIONS = [
         "gives up at its own timeout",
         "ur",
         "pal_testmat.script",
-        "    while get_standard_digital_in(4) != True:\n      sleep(0.05)\n    end\n",
-        '    pal_wait(4, "no swap")\n',
+        '    pal_wait_on(4, "pallet testmat is full',
+        '    pal_wait(4, "pallet testmat is full',
         "full_stack",
         WAITED,
     ),
@@ -163,11 +163,13 @@ def test_the_kuka_swap_message_is_a_state_message_deleted_once_the_reset_comes(t
 
 
 def test_the_abb_swap_message_is_written_on_a_cleared_display(testmat):
-    """On the text: TPErase before the swap's one message (RAPID Summary, communicating using the teach pendant:
-    TPErase clears the operator display), so the display shows that state, not the messages before it."""
+    """On the text: once the wait for the swap lasted its timeout, TPErase before the swap's one message (RAPID
+    Summary, communicating using the teach pendant: TPErase clears the operator display), so the display shows that
+    state, not the messages before it."""
     text = _text(testmat, "abb", "pal_testmat.mod")
     swap = text[text.index("LOCAL PROC stack_swap()") : text.index("ENDPROC", text.index("LOCAL PROC stack_swap()"))]
-    assert swap.index("TPErase;") < swap.index("TPWrite ") < swap.index("WaitDI diPalletReset, 1;"), swap
+    late = swap.index("IF late THEN")
+    assert swap.index("WaitDI diPalletReset, 1 ") < late < swap.index("TPErase;") < swap.index("TPWrite "), swap
     assert swap.count("TPWrite ") == 1, swap
 
 

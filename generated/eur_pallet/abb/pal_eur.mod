@@ -420,16 +420,22 @@ MODULE pal_eur
   ENDPROC
 
   LOCAL PROC stack_swap()
-    ! the pallet full, the arm above Q: doEurFull on (the PLC's cue to swap it), the display cleared
-    ! (TPErase: it shows this state alone, not the messages before it) and the message written once, then the wait
-    ! here for the PLC's reset diResetEur for as long as the swap takes (WaitDI without \MaxTime: a swap is no fault);
-    ! the answer (doEurFull off), the reset dropped in return (at most 10 s, else the stop, the counters
-    ! kept), then the new pallet's first counters
+    ! the pallet full, the arm above Q: doEurFull on (the PLC's cue to swap it), then the wait
+    ! here for the PLC's reset diResetEur for as long as the swap takes, a timed wait at a time (a swap is no fault;
+    ! \TimeFlag makes the time running out no error); once it lasted 10 s the display cleared (TPErase: it shows
+    ! this state alone, not the messages before it) and the message written once; the answer (doEurFull off), the
+    ! reset dropped in return (at most 10 s, else the stop, the counters kept), then the new pallet's first
+    ! counters
     VAR bool late;
     SetDO doEurFull, 1;
-    TPErase;
-    TPWrite "pallet eur is full: swap it, then reset its counters from the PLC";
-    WaitDI diResetEur, 1;
+    WaitDI diResetEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+    IF late THEN
+      TPErase;
+      TPWrite "pallet eur is full: swap it, then reset its counters from the PLC";
+      WHILE late DO
+        WaitDI diResetEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      ENDWHILE
+    ENDIF
     SetDO doEurFull, 0;
     WaitDI diResetEur, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
     IF late THEN

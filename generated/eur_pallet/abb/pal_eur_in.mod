@@ -339,16 +339,22 @@ MODULE pal_eur_in
   ENDPROC
 
   LOCAL PROC stack_swap()
-    ! the pallet empty, the arm above Q: doEurInEmpty on (the PLC's cue to swap it), the display cleared
-    ! (TPErase: it shows this state alone, not the messages before it) and the message written once, then the wait
-    ! here for the PLC's reset diResetEurIn for as long as the swap takes (WaitDI without \MaxTime: a swap is no fault);
-    ! the answer (doEurInEmpty off), the reset dropped in return (at most 10 s, else the stop, the counters
-    ! kept), then the new pallet's first counters
+    ! the pallet empty, the arm above Q: doEurInEmpty on (the PLC's cue to swap it), then the wait
+    ! here for the PLC's reset diResetEurIn for as long as the swap takes, a timed wait at a time (a swap is no fault;
+    ! \TimeFlag makes the time running out no error); once it lasted 10 s the display cleared (TPErase: it shows
+    ! this state alone, not the messages before it) and the message written once; the answer (doEurInEmpty off), the
+    ! reset dropped in return (at most 10 s, else the stop, the counters kept), then the new pallet's first
+    ! counters
     VAR bool late;
     SetDO doEurInEmpty, 1;
-    TPErase;
-    TPWrite "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
-    WaitDI diResetEurIn, 1;
+    WaitDI diResetEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+    IF late THEN
+      TPErase;
+      TPWrite "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
+      WHILE late DO
+        WaitDI diResetEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      ENDWHILE
+    ENDIF
     SetDO doEurInEmpty, 0;
     WaitDI diResetEurIn, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
     IF late THEN

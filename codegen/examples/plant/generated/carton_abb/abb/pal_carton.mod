@@ -319,16 +319,22 @@ MODULE pal_carton
   ENDPROC
 
   LOCAL PROC stack_swap()
-    ! the pallet full, the arm above Q: doPalletFull on (the PLC's cue to swap it), the display cleared
-    ! (TPErase: it shows this state alone, not the messages before it) and the message written once, then the wait
-    ! here for the PLC's reset diPalletReset for as long as the swap takes (WaitDI without \MaxTime: a swap is no fault);
-    ! the answer (doPalletFull off), the reset dropped in return (at most 10 s, else the stop, the counters
-    ! kept), then the new pallet's first counters
+    ! the pallet full, the arm above Q: doPalletFull on (the PLC's cue to swap it), then the wait
+    ! here for the PLC's reset diPalletReset for as long as the swap takes, a timed wait at a time (a swap is no fault;
+    ! \TimeFlag makes the time running out no error); once it lasted 10 s the display cleared (TPErase: it shows
+    ! this state alone, not the messages before it) and the message written once; the answer (doPalletFull off), the
+    ! reset dropped in return (at most 10 s, else the stop, the counters kept), then the new pallet's first
+    ! counters
     VAR bool late;
     SetDO doPalletFull, 1;
-    TPErase;
-    TPWrite "pallet carton is full: swap it, then reset its counters from the PLC";
-    WaitDI diPalletReset, 1;
+    WaitDI diPalletReset, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+    IF late THEN
+      TPErase;
+      TPWrite "pallet carton is full: swap it, then reset its counters from the PLC";
+      WHILE late DO
+        WaitDI diPalletReset, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      ENDWHILE
+    ENDIF
     SetDO doPalletFull, 0;
     WaitDI diPalletReset, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
     IF late THEN
