@@ -520,8 +520,7 @@ def test_a_long_pallet_name_is_shortened_in_the_messages_never_the_instruction(t
         (
             "kuka",
             "pal_testmat.src",
-            "      PAL_PAR[1] = {PAR_TYPE #EMPTY}\n"
-            "      GAP = SET_KRLMSG(#STATE, PAL_MSG, PAL_PAR[], PAL_OPT)\n",
+            "      PAL_PAR[1] = {PAR_TYPE #EMPTY}\n      GAP = SET_KRLMSG(#STATE, PAL_MSG, PAL_PAR[], PAL_OPT)\n",
             "      PAL_HALT()\n      RETURN FALSE\n",
         ),
         (
