@@ -435,9 +435,10 @@ def test_after_a_stop_the_program_backs_out_and_goes_home_above_the_pallet(testm
 
 
 def test_the_full_message_comes_with_the_arm_off_the_pallet(testmat):
-    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  LIN PAL_ABOVE\n  $OUT[22]", "  $OUT[22]")
+    above = "      LIN PAL_ABOVE\n      IF NOT PAL_SWAP() THEN\n"  # the done pallet's swap waited for above Q
+    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", above, "      IF NOT PAL_SWAP() THEN\n")
     assert found, found
-    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "  PTP HIGH\n  $VEL.CP", "  $VEL.CP")
+    found = mutant_mismatches(testmat, "kuka", "pal_testmat.src", "      PTP HIGH\n      $VEL.CP", "      $VEL.CP")
     assert found, found
 
 
@@ -519,8 +520,7 @@ def test_a_long_pallet_name_is_shortened_in_the_messages_never_the_instruction(t
         (
             "kuka",
             "pal_testmat.src",
-            "      PAL_PAR[1] = {PAR_TYPE #EMPTY}\n"
-            "      PAL_HANDLE = SET_KRLMSG(#NOTIFY, PAL_MSG, PAL_PAR[], PAL_OPT)\n",
+            "      PAL_PAR[1] = {PAR_TYPE #EMPTY}\n      GAP = SET_KRLMSG(#STATE, PAL_MSG, PAL_PAR[], PAL_OPT)\n",
             "      PAL_HALT()\n      RETURN FALSE\n",
         ),
         (

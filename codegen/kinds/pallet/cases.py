@@ -78,6 +78,10 @@ def own_cases(pallet, rng) -> list[PalletCase]:
         # the PLC keeps its reset on after the program's answer (a level input, not a request): no new pallet
         out.append(PalletCase("reset_held", *done, reset=True, reset_held=True))
         out.append(PalletCase("reset_ignored", *keys[len(keys) // 2], reset=True))
+        # the pallet done from its last item: the program waits above Q for the swap, then works the new pallet; the
+        # PLC keeps that reset on (no swap confirmed: the stop)
+        out.append(PalletCase("pallet_exchanged", *keys[-1], exchanges=1))
+        out.append(PalletCase("exchange_reset_held", *keys[-1], exchanges=1, exchange_held=True))
     counts = {}
     for layer, number in keys:
         counts[layer] = max(counts.get(layer, 0), number)

@@ -66,6 +66,10 @@ class PalletCase:
     # with unknown: the PLC's reset comes on while the operator is asked (and nobody answers): it ends the question
     # (RAPID TPReadFK \DIBreak) and its handshake starts the pallet
     reset_asked: bool = False
+    # the pallets the PLC swaps once one is done (the program waits above Q for each swap's reset, then works the new
+    # one); with exchange_held the PLC keeps that reset on after the program's answer
+    exchanges: int = 0
+    exchange_held: bool = False
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -96,6 +100,8 @@ class Expected:
     gripped: bool = False  # the program confirmed a grip (where one task runs every pallet: the others' flags cleared)
     known: bool = True  # at the end, the store's flag: its counters describe the pallet
     known_asked: bool = False  # the operator was asked whether the pallet is new (the store reloaded from its file)
+    exchanged: tuple[int, ...] = ()  # the moves commanded when each swap's reset came (the arm waiting above Q)
+    waits: bool = False  # the run ends with the program above Q waiting for the done pallet's swap (the PLC's reset)
 
 
 @dataclass(frozen=True)

@@ -24,6 +24,7 @@ from codegen.kinds.pallet.way_home import joint_percent, way_home, way_joints
 from codegen.model.io import signal_name
 from codegen.reference import home_move
 from codegen.robot.taught import ReachError
+from codegen.sim.exchange import SHIFT_ENDS, PalletExchange
 from codegen.verify.plan import TOOL_LOAD, Case, Expectation, Judgement, PlannedMove, PlannedOutput, Stored
 
 # the handshake outputs (codegen/kinds/pallet/interlocks.py HANDSHAKES) as the report names them
@@ -34,7 +35,8 @@ HANDSHAKE_WHAT = {
     "sheet_taken": "a sheet taken from the dispenser",
 }
 
-def judge(cell, source, case: Case, trace) -> Judgement:
+
+def judge(cell, source, case: Case, trace, setup=None) -> Judgement:
     """The reference's moves (with an arm: the way home from where the arm starts, then home), the payload at each,
     the gripper's outputs and the counters at the end; after a reload, the counters in their store alone."""
     target, run = get_target(source.target), case.data
@@ -125,6 +127,7 @@ def judge(cell, source, case: Case, trace) -> Judgement:
     problem = problem or (store_not_kept(source, target) if reloaded else None)
     problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
     problem = problem or _unsaid(target, want.said, trace)
+    problem = problem or _swaps(want, trace, setup, len(moves) - len(want.moves))
     problem = problem or (_unasked(cell, pallet, target, trace) if want.asked else None)
     problem = problem or (_unasked(cell, pallet, target, trace, known_question) if want.known_asked else None)
     return Judgement([expectation], figures=boxes, problem=problem)
@@ -153,6 +156,27 @@ def _swept(cell, pallet, target_name: str, moves) -> tuple[list, object, float]:
     )
     out = [start, *(replace(m, joints=q) for m, q in zip(moves, joints, strict=True))]
     return out, (lambda q: arm.kin.fk(q) @ tcp2flange), EMPTY_GRIPPER_MM
+
+
+def _swaps(want, trace, setup, before: int) -> str | None:
+    """A done pallet where the PLC resets the counters: the program waits above Q for each swap (the swap comes with
+    the arm standing there, after the moves the reference commands before it), and the run ends with it waiting."""
+    device = next((d for d in getattr(setup, "devices", ()) if isinstance(d, PalletExchange)), None)
+    if device is None:
+        return None
+    waited = trace.ended == SHIFT_ENDS
+    if want.waits and not waited:
+        return "the program did not wait above Q for the done pallet's swap (the PLC's reset)"
+    if waited and not want.waits:
+        return "the program waited for a pallet swap where it should " + ("stop" if want.halt else "end")
+    came = [(swap.moves - before, swap.moving) for swap in device.log]
+    wanted = [(moves, False) for moves in want.exchanged]
+    if came != wanted:
+        return (
+            f"the pallet swaps came after moves {[m for m, _ in came]} (arm moving: {[v for _, v in came]}), "
+            f"expected after {list(want.exchanged)} with the arm standing above Q"
+        )
+    return None
 
 
 def _unsaid(target, said: tuple[str, ...], trace) -> str | None:

@@ -111,9 +111,36 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         halt = halt or (unstacking(run, todo, done, from_q=True) if todo else None)
     else:
         halt = (stacking if pallet.mode == "stack" else unstacking)(run, todo, done)
+    exchanged, waits = (), False
     if halt is None:  # the pallet is done: the PLC's cue to swap it
         run.outputs.append(("done", True, len(run.moves)))
-    return replace(run.result(halt, start), asked=asked, known_asked=known_asked)
+        halt, exchanged, waits = _exchanges(run, done)
+    out = replace(run.result(halt, start), asked=asked, known_asked=known_asked)
+    return replace(out, exchanged=exchanged, waits=waits)
+
+
+def _exchanges(run: Run, done: tuple[int, int]) -> tuple[str | None, tuple[int, ...], bool]:
+    """Where the PLC resets the counters: the program waits above Q (where the pallet's last item left the arm) for
+    the swap's reset, answers it (the done output off), waits until the PLC drops it (a reset kept on: the done output
+    on again and the stop, the counters kept), then works the new pallet from its first item; after the case's swaps
+    the run ends with the program waiting. (the stop or None, the moves commanded at each swap, whether it waits)."""
+    pallet = run.pallet
+    if not pallet.io.reset:  # no swap signal: the program ends, the operator sets the counters
+        return None, (), False
+    exchanged = []
+    for _ in range(run.case.exchanges):
+        exchanged.append(len(run.moves))
+        run.outputs.append(("done", False, len(run.moves)))
+        if run.case.exchange_held:
+            run.outputs.append(("done", True, len(run.moves)))
+            return reset_held_message(pallet, message_limit(run.cell)), tuple(exchanged), False
+        todo = items(pallet)
+        run.counters = todo[0].key
+        halt = stacking(run, todo, done) if pallet.mode == "stack" else unstacking(run, todo, done, from_q=True)
+        if halt:
+            return halt, tuple(exchanged), False
+        run.outputs.append(("done", True, len(run.moves)))
+    return None, tuple(exchanged), True
 
 
 def _put_down(run: Run) -> str | None:

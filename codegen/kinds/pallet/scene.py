@@ -232,9 +232,11 @@ def case_stages(cell, pallets, index: int, case):
     """Along a verify case's run of pallet `index`: (grips, releases so far) -> Stage. The stack starts as the
     counters the program works from leave it (the reference's: after a reset or the operator's answer); stacking,
     each release puts the next item down, unstacking each grip takes the next one off; the other pallets' stacks
-    full. The part is the box (a slip sheet in the gripper is not swept, as generate's proof leaves it, nor a box
-    lost on its way); along its descent onto the stack (and the way up from it) the pallet's own sweep check holds
-    the tool and the box against that pallet and its stack, as in generate's proof (_own_descent)."""
+    full; past the items of the pallet the run starts on, a swapped pallet's (stacking, from its first grip;
+    unstacking, full from the last release of the done one's). The part is the box (a slip sheet in the gripper is
+    not swept, as generate's proof leaves it, nor a box lost on its way); along its descent onto the stack (and the
+    way up from it) the pallet's own sweep check holds the tool and the box against that pallet and its stack, as in
+    generate's proof (_own_descent)."""
     from codegen.kinds.pallet.cycle import done_counters, items
     from codegen.kinds.pallet.restart import expected
 
@@ -247,11 +249,16 @@ def case_stages(cell, pallets, index: int, case):
     others, box = _others(pallets, pallet), carried_box(cell, pallet)
     stages: dict[tuple[int, bool], Stage] = {}
 
+    first = len(todo) - done  # the items of the pallet the run starts on; past them, a swapped pallet's
+
     def stage(grips: int, releases: int) -> Stage:
-        worked = todo[: done + (releases if stacking else grips)]
+        swapped = case.exchanges > 0 and (grips > first if stacking else releases >= first > 0)
+        worked = todo[: releases - first] if swapped and stacking else todo[: grips - first] if swapped else None
+        worked = worked if worked is not None else todo[: done + (releases if stacking else grips)]
         boxes = sum(1 for item in worked if item.placement is not None)
         boxes = boxes if stacking else total - boxes
-        sheet = stacking and done + releases < len(todo) and todo[done + releases].placement is None
+        at = releases - first if swapped else done + releases
+        sheet = stacking and at < len(todo) and todo[at].placement is None
         gone = case.lost and grips > 0  # the box slips out on its way (where is not known): the tool alone from then
         key = (index, boxes, sheet or gone)
         if key not in stages:

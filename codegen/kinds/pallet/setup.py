@@ -20,9 +20,14 @@ from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, Re
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
+from codegen.sim.exchange import PalletExchange
 from codegen.sim.gripper import Gripper
 from codegen.sim.operator import Operator
 from codegen.verify.plan import START_AWAY_DEG, Case, Setup
+
+# a swap of the done pallet takes this many of the pallet's interlock timeouts: the program's wait for it outlasts its
+# own timeout (a swap is no fault)
+SWAP_TIMEOUTS = 3
 
 
 def _signals(cell, target, pallet, case: PalletCase, select: int | None, all_pallets) -> dict:
@@ -65,6 +70,8 @@ def setup(cell, source, case: Case) -> Setup:
         devices += (SupplyLate(signal, message),)
     if run.case.lost:  # the box slips out of the gripper on its way
         devices += (BoxLost(output, cell.io.value, feedback),)
+    if target.name in pallet.io.reset:  # the PLC swaps a done pallet (the case's swaps), then resets its counters
+        devices += (exchange(target, pallet, run.case),)
     # the operator at the pendant: answers the question (after a stop in a release, or the store reloaded) as the case
     # says, or looks away (a dialog stays shown until the program's own timeout ends it)
     devices += (Operator([] if run.case.answer is None else [run.case.answer], then_silent=True),)
@@ -89,6 +96,19 @@ def setup(cell, source, case: Case) -> Setup:
         _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
         start_joints(cell, index, source.target, case),
         (*kept_names(cell, target, index), *([] if holds is None else [holds]), *others, *([known] if known else [])),
+    )
+
+
+def exchange(target, pallet, case: PalletCase) -> PalletExchange:
+    """The PLC and the fork-lift at a done pallet: the case's swaps, each after SWAP_TIMEOUTS interlock timeouts."""
+    present = pallet.io.pallet_present.get(target.name)
+    return PalletExchange(
+        signal_name(target, "output", pallet.io.done[target.name]),
+        signal_name(target, "input", pallet.io.reset[target.name]),
+        None if present is None else signal_name(target, "input", present),
+        case.exchanges,
+        SWAP_TIMEOUTS * pallet.io.timeout_s,
+        case.exchange_held,
     )
 
 

@@ -59,6 +59,9 @@ def _on_pallet(pallet, moves, order) -> list[set[int] | None]:
             first = next((order[o] for m in moves if (o := _own(m.name)[0]) in order), None)
             if first is not None:
                 on = set(range(first if stack else first + 1))
+        fresh = before is None or _own(before.name)[0] != _own(move.name)[0]  # the first move of its item
+        if on is not None and own is not None and fresh and (own in on) == stack:  # the pallet was swapped
+            on = set(range(own if stack else own + 1))  # the new one as it was made (taken) up to this box
         if on is not None and before is not None and own is not None and _own(before.name)[0] == _own(move.name)[0]:
             if stack and before.carrying and not move.carrying:
                 on.add(own)  # let go on its place

@@ -48,7 +48,7 @@ class VerifyPart(protocol.VerifyPlan):
         return setup(cell, source, case)
 
     def judge(self, cell, source, case, trace, setup):
-        return judge(cell, source, case, trace)
+        return judge(cell, source, case, trace, setup)
 
     def describe(self, cell, case) -> str:
         run = case.data

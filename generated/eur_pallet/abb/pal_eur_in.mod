@@ -32,7 +32,8 @@ MODULE pal_eur_in
   ! The reset handshake: with the PLC's input diResetEurIn on (a full pallet in place) the program
   ! turns doEurInEmpty off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
   ! again at layer 5, box 8; a reset that stays on stops with a message. On a pallet not done
-  ! the input does nothing.
+  ! the input does nothing. A pallet done in the cycle: the arm waits above Q (stack_swap) for that reset for as long
+  ! as the swap takes, answers it the same way, then works the new pallet.
 
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity
@@ -252,6 +253,10 @@ MODULE pal_eur_in
       SetDO doPlaceDone, 1;
       up_q := TRUE;
     ENDIF
+    IF pal_eur_in_layer < 1 THEN
+      ! the last box put down at Q: the pallet is empty, its swap waited for here
+      stack_swap;
+    ENDIF
     IF pal_eur_in_layer >= 1 THEN
       WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
@@ -322,10 +327,42 @@ MODULE pal_eur_in
       SetDO doArmInQ, 0;
       SetDO doPlaceDone, 1;
       up_q := TRUE;
+      IF pal_eur_in_layer < 1 THEN
+        ! the pallet is empty: its swap waited for above Q, then the new pallet from its top
+        stack_swap;
+        WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+        IF late THEN
+          stack_stop "pallet eur_in: no pallet in place in 10 s";
+        ENDIF
+      ENDIF
     ENDWHILE
-    ! the pallet is empty: the PLC's cue to swap it
+  ENDPROC
+
+  LOCAL PROC stack_swap()
+    ! the pallet empty, the arm above Q: doEurInEmpty on (the PLC's cue to swap it), then the wait
+    ! here for the PLC's reset diResetEurIn for as long as the swap takes, a timed wait at a time (a swap is no fault;
+    ! \TimeFlag makes the time running out no error); once it lasted 10 s the display cleared (TPErase: it shows
+    ! this state alone, not the messages before it) and the message written once; the answer (doEurInEmpty off), the
+    ! reset dropped in return (at most 10 s, else the stop, the counters kept), then the new pallet's first
+    ! counters
+    VAR bool late;
     SetDO doEurInEmpty, 1;
-    TPWrite "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
+    WaitDI diResetEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+    IF late THEN
+      TPErase;
+      TPWrite "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
+      WHILE late DO
+        WaitDI diResetEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      ENDWHILE
+    ENDIF
+    SetDO doEurInEmpty, 0;
+    WaitDI diResetEurIn, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+    IF late THEN
+      SetDO doEurInEmpty, 1;
+      stack_stop "pallet eur_in: the PLC's reset did not go off in 10 s, counters kept";
+    ENDIF
+    pal_eur_in_layer := 5;
+    pal_eur_in_box := 8;
   ENDPROC
 
   LOCAL PROC stack_next()

@@ -24,6 +24,8 @@
 // The reset handshake: with digital input 9 on (the PLC: the pallet was swapped) the program turns output 4
 // off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet again at layer 5,
 // box 8; a reset that stays on stops with a message. On a pallet not done it does nothing.
+// A pallet done in the cycle: the arm waits above Q (pal_swap) for that reset for as long as the swap takes,
+// answers it the same way, then works the new pallet.
 Int pal_layer
 Int pal_box
 
@@ -104,6 +106,30 @@ Sub pal_release()
   EndWhile
 EndSub
 
+
+Sub pal_swap()
+  // the pallet empty, the arm above Q: output 4 on (the PLC's cue to swap it), the message once,
+  // then the wait here for the PLC's reset (input 9) for as long as the swap takes; the answer: output 4
+  // off, the reset dropped in return (at most 10 s, else the stop, the counters kept); then the new pallet's first counters
+  SetDO 4, True
+  TPWrite 0, "pallet eur_in is empty: bring a full one, then reset its counters from the PLC"
+  While DIn(9) <> True
+    Sleep 0.05
+  EndWhile
+  SetDO 4, False
+  Int resets = 0
+  While DIn(9) == True
+    If resets >= PAL_WAIT_POLLS Then
+      SetDO 4, True
+      TPWrite 0, "pallet eur_in: the PLC's reset did not go off in 10 s, counters kept"
+      Halt
+    EndIf
+    Sleep 0.05
+    resets = resets + 1
+  EndWhile
+  pal_layer = 5
+  pal_box = 8
+EndSub
 
 Sub pal_next()
   // the counters past the box taken: the layer's previous box, or the last of the layer below (0 and 0: empty)
@@ -245,6 +271,10 @@ If held == 1 Then
   SetDO 9, True
   up = 1
 EndIf
+If pal_layer < 1 Then
+  // the last box put down at Q: the pallet is empty, its swap waited for here
+  Call pal_swap()
+EndIf
 If pal_layer >= 1 Then
   Call pal_wait(8)
   If DIn(8) <> True Then
@@ -314,6 +344,13 @@ EndIf
   SetDO 5, False  // out of the zone: done, the PLC may index
   SetDO 9, True
   up = 1
+  If pal_layer < 1 Then
+    // the pallet is empty: its swap waited for above Q, then the new pallet from its top
+    Call pal_swap()
+    Call pal_wait(8)
+    If DIn(8) <> True Then
+      TPWrite 0, "pallet eur_in: no pallet in place in 10 s"
+      Halt
+    EndIf
+EndIf
 EndWhile
-SetDO 4, True  // the pallet is empty: the PLC's cue to swap it
-TPWrite 0, "pallet eur_in is empty: bring a full one, then reset its counters from the PLC"

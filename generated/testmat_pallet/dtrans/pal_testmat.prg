@@ -21,6 +21,8 @@
 // The reset handshake: with digital input 5 on (the PLC: the pallet was swapped) the program turns output 3
 // off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet again at layer 1,
 // box 1; a reset that stays on stops with a message. On a pallet not done it does nothing.
+// A pallet done in the cycle: the arm waits above Q (pal_swap) for that reset for as long as the swap takes,
+// answers it the same way, then works the new pallet.
 Int pal_layer
 Int pal_box
 
@@ -102,6 +104,30 @@ Sub pal_release()
   EndWhile
 EndSub
 
+
+Sub pal_swap()
+  // the pallet full, the arm above Q: output 3 on (the PLC's cue to swap it), the message once,
+  // then the wait here for the PLC's reset (input 5) for as long as the swap takes; the answer: output 3
+  // off, the reset dropped in return (at most 10 s, else the stop, the counters kept); then the new pallet's first counters
+  SetDO 3, True
+  TPWrite 0, "pallet testmat is full: swap it, then reset its counters from the PLC"
+  While DIn(5) <> True
+    Sleep 0.05
+  EndWhile
+  SetDO 3, False
+  Int resets = 0
+  While DIn(5) == True
+    If resets >= PAL_WAIT_POLLS Then
+      SetDO 3, True
+      TPWrite 0, "pallet testmat: the PLC's reset did not go off in 10 s, counters kept"
+      Halt
+    EndIf
+    Sleep 0.05
+    resets = resets + 1
+  EndWhile
+  pal_layer = 1
+  pal_box = 1
+EndSub
 
 Function Int pal_pattern(Int layer)
   // the pattern of a layer (1 = bottom): PAL_CYCLE[(layer - 1) mod PAL_CYCLE_LEN], by subtraction
@@ -288,14 +314,17 @@ MovJ transit
   MovL entry
   up = 1
   upz = PAL_OZ + z + 50.0000
+  If pal_layer > PAL_LAYERS Then
+    // the pallet is full: off it over Q at the last entry's height, straight down, and its swap waited for there;
+    // then the new pallet's first box from above Q
+    hz = upz
+    If hz < 80.0000 Then
+      hz = 80.0000
+    EndIf
+    high = Trans(600.0000, 300.0000, hz, 180.000000, 0.000000, 0.000000)
+    MovJ high
+    MovL PAL_ABOVE
+    Call pal_swap()
+    up = 0
+  EndIf
 EndWhile
-// off the pallet before the message: over Q at the last entry's height, then straight down
-hz = upz
-If hz < 80.0000 Then
-  hz = 80.0000
-EndIf
-high = Trans(600.0000, 300.0000, hz, 180.000000, 0.000000, 0.000000)
-MovJ high
-MovL PAL_ABOVE
-SetDO 3, True  // the pallet is full: the PLC's cue to swap it
-TPWrite 0, "pallet testmat is full: swap it, then reset its counters from the PLC"

@@ -28,7 +28,8 @@ MODULE pal_carton
   ! The reset handshake: with the PLC's input diPalletReset on (an empty pallet in place) the program
   ! turns doPalletFull off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
   ! again at layer 1, box 1; a reset that stays on stops with a message. On a pallet not done
-  ! the input does nothing.
+  ! the input does nothing. A pallet done in the cycle: the arm waits above Q (stack_swap) for that reset for as long
+  ! as the swap takes, answers it the same way, then works the new pallet.
 
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity
@@ -302,17 +303,46 @@ MODULE pal_carton
       up := PoseMult(stack_wobj.uframe, [entry.trans, [1, 0, 0, 0]]);
       up_z := up.trans.z;
       up_q := TRUE;
+      IF pal_carton_layer > STACK_LAYERS THEN
+        ! the pallet is full: off it over Q at the last entry's height, straight down, and its swap waited for
+        ! there; then the new pallet's first box from above Q
+        high := stack_above_q;
+        IF up_z > high.trans.z THEN
+          high.trans.z := up_z;
+        ENDIF
+        MoveJ high, stack_travel, stack_zone, stack_tool;
+        MoveL stack_above_q, stack_travel, fine, stack_tool;
+        stack_swap;
+        up_q := FALSE;
+      ENDIF
     ENDWHILE
-    ! off the pallet before the message: over Q at the last entry's height, then straight down
-    high := stack_above_q;
-    IF up_z > high.trans.z THEN
-      high.trans.z := up_z;
-    ENDIF
-    MoveJ high, stack_travel, stack_zone, stack_tool;
-    MoveL stack_above_q, stack_travel, fine, stack_tool;
-    ! the pallet is full: the PLC's cue to swap it
+  ENDPROC
+
+  LOCAL PROC stack_swap()
+    ! the pallet full, the arm above Q: doPalletFull on (the PLC's cue to swap it), then the wait
+    ! here for the PLC's reset diPalletReset for as long as the swap takes, a timed wait at a time (a swap is no fault;
+    ! \TimeFlag makes the time running out no error); once it lasted 10 s the display cleared (TPErase: it shows
+    ! this state alone, not the messages before it) and the message written once; the answer (doPalletFull off), the
+    ! reset dropped in return (at most 10 s, else the stop, the counters kept), then the new pallet's first
+    ! counters
+    VAR bool late;
     SetDO doPalletFull, 1;
-    TPWrite "pallet carton is full: swap it, then reset its counters from the PLC";
+    WaitDI diPalletReset, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+    IF late THEN
+      TPErase;
+      TPWrite "pallet carton is full: swap it, then reset its counters from the PLC";
+      WHILE late DO
+        WaitDI diPalletReset, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+      ENDWHILE
+    ENDIF
+    SetDO doPalletFull, 0;
+    WaitDI diPalletReset, 0 \MaxTime:=STACK_WAIT \TimeFlag:=late;
+    IF late THEN
+      SetDO doPalletFull, 1;
+      stack_stop "pallet carton: the PLC's reset did not go off in 10 s, counters kept";
+    ENDIF
+    pal_carton_layer := 1;
+    pal_carton_box := 1;
   ENDPROC
 
   LOCAL FUNC num stack_pattern(num layer)

@@ -1,0 +1,211 @@
+"""A done pallet's swap: the program waits above Q for the PLC's reset, answers it, waits for the drop, then works the
+new pallet; each change that breaks one of those fails verify (the reference models the swaps, the simulated PLC
+codegen/sim/exchange.py PalletExchange answers and logs where the arm stood)."""
+
+import re
+from pathlib import Path
+
+import pytest
+from support.cells import unstacking_testmat_text
+from support.programs import sources
+from test_pallet_programs import mutant_mismatches
+
+from codegen.kinds.pallet.cases import verify_cases
+from codegen.kinds.pallet.cycle import PalletCase, done_counters, items
+from codegen.kinds.pallet.restart import expected
+from codegen.kinds.pallet.section import pallets_of
+from codegen.model.cell import load_cell
+from codegen.render import render
+
+PALLETS = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallets"
+WAITED = "the program did not wait above Q for the done pallet's swap"
+
+
+@pytest.fixture(scope="module")
+def testmat():
+    return load_cell(PALLETS / "testmat_pallet.toml")
+
+
+# (what breaks, target, file, old, new, the first case that fails, what its mismatch says)
+MUTATIONS = [
+    (
+        "waits on the pallet, before the moves above Q",
+        "dtrans",
+        "pal_testmat.prg",
+        "    MovJ high\n    MovL PAL_ABOVE\n    Call pal_swap()\n",
+        "    Call pal_swap()\n    MovJ high\n    MovL PAL_ABOVE\n",
+        "full_stack",
+        "moves, expected",
+    ),
+    (
+        "goes on without the swap",
+        "dtrans",
+        "pal_testmat.prg",
+        "  While DIn(5) <> True\n    Sleep 0.05\n  EndWhile\n",
+        "",
+        "full_stack",
+        "step limit",
+    ),
+    (
+        "the counters not set to the new pallet's first box",
+        "dtrans",
+        "pal_testmat.prg",
+        "  pal_layer = 1\n  pal_box = 1\nEndSub\n",
+        "EndSub\n",
+        "pallet_exchanged",
+        WAITED,
+    ),
+    (
+        "the reset not answered (the done output left on)",
+        "dtrans",
+        "pal_testmat.prg",
+        "  SetDO 3, False\n  Int resets = 0\n",
+        "  Int resets = 0\n",
+        "pallet_exchanged",
+        "",
+    ),
+    (
+        "the reset's drop not waited for (a reset kept on starts the new pallet)",
+        "dtrans",
+        "pal_testmat.prg",
+        "  While DIn(5) == True\n    If resets",
+        "  While False\n    If resets",
+        "exchange_reset_held",
+        "",
+    ),
+    (
+        "gives up at its own timeout (a swap is no fault)",
+        "dtrans",
+        "pal_testmat.prg",
+        "  While DIn(5) <> True\n    Sleep 0.05\n  EndWhile\n",
+        "  Call pal_wait(5)\n  If DIn(5) <> True Then\n    Halt\n  EndIf\n",
+        "full_stack",
+        WAITED,
+    ),
+    (
+        "the counters not set to the new pallet's first box",
+        "kuka",
+        "pal_testmat.src",
+        "      PAL_TESTMAT_LAYER = 1\n      PAL_TESTMAT_BOX = 1\n      UP = FALSE\n",
+        "      UP = FALSE\n",
+        "pallet_exchanged",
+        WAITED,
+    ),
+    (
+        "waits before the move above Q",
+        "abb",
+        "pal_testmat.mod",
+        "        MoveL stack_above_q, stack_travel, fine, stack_tool;\n        stack_swap;\n",
+        "        stack_swap;\n        MoveL stack_above_q, stack_travel, fine, stack_tool;\n",
+        "full_stack",
+        "moves, expected",
+    ),
+    (
+        "gives up at its own timeout",
+        "ur",
+        "pal_testmat.script",
+        '    pal_wait_on(4, "pallet testmat is full',
+        '    pal_wait(4, "pallet testmat is full',
+        "full_stack",
+        WAITED,
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("what", "target", "name", "old", "new", "case", "says"), MUTATIONS, ids=[f"{m[1]}: {m[0]}" for m in MUTATIONS]
+)
+def test_a_broken_swap_fails_verify(testmat, what, target, name, old, new, case, says):
+    found = mutant_mismatches(testmat, target, name, old, new)
+    assert found and found[0].startswith(case) and says in found[0], found
+
+
+def test_the_reference_works_a_new_pallet_after_each_swap(testmat):
+    """After the last box: above Q, the done output on, the swap (done off), the whole pallet again, then the wait."""
+    pallet = pallets_of(testmat)[0]
+    keys = [item.key for item in items(pallet)]
+    once = expected(testmat, pallet, PalletCase("pallet_exchanged", *keys[-1], exchanges=1))
+    none = expected(testmat, pallet, PalletCase("pallet_exchanged", *keys[-1]))
+    assert none.waits and none.exchanged == () and none.halt is None
+    assert once.waits and once.exchanged == (len(none.moves),) and once.counters == done_counters(pallet)
+    assert none.moves[-1].name == "off the pallet: above Q" and none.moves[-1].exact
+    boxes = [m for m in once.moves if m.name.endswith("target")]
+    assert len(boxes) == 1 + len(keys)  # the last box of the done pallet, then every box of the new one
+    done = [(value, after) for what, value, after in once.outputs if what == "done"]
+    assert done[-3:] == [(True, len(none.moves)), (False, len(none.moves)), (True, len(once.moves))]
+    held = expected(testmat, pallet, PalletCase("exchange_reset_held", *keys[-1], exchanges=1, exchange_held=True))
+    assert not held.waits and held.halt is not None and "did not go off" in held.halt
+    assert held.counters == done_counters(pallet)
+
+
+def test_every_target_with_a_reset_has_the_swap_cases(testmat):
+    for target in testmat.targets:
+        source = sources(testmat, target, "pallet")[0]
+        names = {c.category for c in verify_cases(testmat, source, 0)}
+        assert {"pallet_exchanged", "exchange_reset_held"} <= names, (target, names)
+
+
+def _text(cell, target: str, name: str) -> str:
+    (text,) = [f.text for f in render(cell, [target]) if f.relpath.endswith("/" + name)]
+    return text
+
+
+def test_the_kuka_swap_message_is_a_state_message_deleted_once_the_reset_comes(testmat):
+    """On the text (verify's interpreter does not model what the message window shows): the wait for the swap shows a
+    #STATE message and deletes that same message with Clear_KrlMsg once the reset is on (KUKA, "Programming
+    user-defined messages": status messages are cleared by the program), before the answer."""
+    text = _text(testmat, "kuka", "pal_testmat.src")
+    swap = text[text.index("DEFFCT BOOL PAL_SWAP()") : text.index("ENDFCT", text.index("DEFFCT BOOL PAL_SWAP()"))]
+    handle = re.search(r"(\w+) = SET_KRLMSG\(#STATE,", swap)
+    assert handle, swap
+    wait, clear = swap.index("WHILE NOT $IN[21]"), swap.index(f"CLEAR_KRLMSG({handle.group(1)})")
+    assert wait < clear < swap.index("$OUT[22] = FALSE"), swap
+
+
+def test_the_abb_swap_message_is_written_on_a_cleared_display(testmat):
+    """On the text: once the wait for the swap lasted its timeout, TPErase before the swap's one message (RAPID
+    Summary, communicating using the teach pendant: TPErase clears the operator display), so the display shows that
+    state, not the messages before it."""
+    text = _text(testmat, "abb", "pal_testmat.mod")
+    swap = text[text.index("LOCAL PROC stack_swap()") : text.index("ENDPROC", text.index("LOCAL PROC stack_swap()"))]
+    late = swap.index("IF late THEN")
+    assert swap.index("WaitDI diPalletReset, 1 ") < late < swap.index("TPErase;") < swap.index("TPWrite "), swap
+    assert swap.count("TPWrite ") == 1, swap
+
+
+def test_the_kuka_waits_on_the_supply_leave_no_message_behind(testmat):
+    """On the text: a wait on the supply that lasts its timeout shows a #STATE message and deletes it once the input
+    comes (Clear_KrlMsg), so a shift's gaps do not pile notifications up in the message window."""
+    text = _text(testmat, "kuka", "pal_testmat.src")
+    start = text.index("DEFFCT BOOL PAL_PART()")
+    wait = text[start : text.index("ENDFCT", start)]
+    assert "SET_KRLMSG(#NOTIFY" not in wait, wait
+    handle = re.search(r"(\w+) = SET_KRLMSG\(#STATE,", wait)
+    assert handle and wait.index("ENDWHILE") < wait.index(f"CLEAR_KRLMSG({handle.group(1)})"), wait
+
+
+@pytest.fixture(scope="module")
+def unstacking(tmp_path_factory):
+    """Source 004's test cell unstacking, its Q moved clear of the stack (as test_pallet_programs builds it)."""
+    text = unstacking_testmat_text().replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,")
+    path = tmp_path_factory.mktemp("unstacking") / "testmat_pallet.toml"
+    path.write_text(text)
+    return load_cell(path)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "case"),
+    [
+        # the empty pallet swapped, the counters left at 0/0: the program ends instead of working the new one
+        ("      pal_swap()\n      pal_layer = 5\n      pal_box = 6\n", "      pal_swap()\n", "pallet_exchanged"),
+        # the last box held at the start and put down at Q: the empty pallet's swap not waited for
+        (
+            "  if pal_layer < 1:   # the last box put down at Q: the pallet is empty, its swap waited for here\n",
+            "  if False:\n",
+            "held_at_start pallet testmat layer 0 box 0",
+        ),
+    ],
+)
+def test_an_unstacking_program_waits_for_the_empty_pallets_swap(unstacking, old, new, case):
+    found = mutant_mismatches(unstacking, "ur", "pal_testmat.script", old, new)
+    assert found and found[0].startswith(case) and WAITED in found[0], found
