@@ -52,6 +52,16 @@ def branch_joints(arm, solutions: np.ndarray, home) -> tuple[np.ndarray, list[tu
     return natural, sorted(others, key=lambda item: (float(np.linalg.norm(item[1][0] - home[0])), item[0]))
 
 
+def branch_count(arm) -> int:
+    """How many analytic branches the arm's inverse kinematics gives (its configurations)."""
+    return solve.branches(arm, arm.kin.fk(np.zeros(6))[None]).shape[-2]
+
+
+def in_order(postures: list[Posture]) -> list[Posture]:
+    """Candidates in the order they are tried: nearer the home first, then by branch."""
+    return sorted(postures, key=lambda p: (p.travel_deg, p.branch))
+
+
 def travel(joints, home) -> float:
     """How far (deg, Euclidean) joints lie from the home."""
     return float(np.linalg.norm(np.asarray(joints, dtype=float) - np.asarray(home, dtype=float)))

@@ -13,8 +13,9 @@ from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import ExpectedMove
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import known_question, message_limit, released_question, select_message
+from codegen.kinds.pallet.posture import configurations
 from codegen.kinds.pallet.program import carried_load, holds_name, known_name
-from codegen.kinds.pallet.reach import configurations, joints_of
+from codegen.kinds.pallet.reach import joints_of
 from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
@@ -33,6 +34,7 @@ HANDSHAKE_WHAT = {
     "sheet_zone": "the arm in the sheet dispenser's zone",
     "sheet_taken": "a sheet taken from the dispenser",
 }
+
 
 def judge(cell, source, case: Case, trace) -> Judgement:
     """The reference's moves (with an arm: the way home from where the arm starts, then home), the payload at each,
