@@ -21,6 +21,9 @@ PALLET_HEIGHT_MM = 144.0  # a EUR pallet's height (EN 13698-1): the pallet's sol
 PICK_PLACE_SCALE = 1.5  # the pick place's top reaches this many box sizes around Q (as the page draws it)
 PICK_PLACE_DEPTH_MM = 100.0  # the pick place's solid under its top: the top plate of what holds the box at Q
 
+# the configuration the proofs try (codegen/kinds/pallet/posture.py), for a refusal's fix
+PALLET_CONFIGURATION = "the controller's own from the home, else each analytic branch for the whole cycle that reaches"
+
 LABEL_MM = 1.0  # a box's label, drawn as a sheet this thick on its label side
 GAP_MM = 2.0  # boxes drawn this much narrower than they are, so that neighbours show apart
 
@@ -139,14 +142,14 @@ def pallet_paths(cell, pallets, pallet, target: str, named) -> list[Path]:
     home = np.asarray(cell.robot.home[target], dtype=float)
     part = carried_box(cell, pallet)
     planned, stages = _planned(cell, pallet, target, full_cycle(cell, pallet), named, count, others)
-    out = [Path(target, home, tuple(planned), part, stages)]
+    out = [Path(target, home, tuple(planned), part, stages, PALLET_CONFIGURATION)]
     for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
         out.append(_way_home(cell, pallet, target, planned[k], home, part, stages, named))
     keys = [item.key for item in items(pallet)]
     if not stacking and keys:  # a box held at the start, the counters at the first item: the whole stack stands
         held = expected(cell, pallet, PalletCase("held_at_start", *keys[0], closed=True)).moves
         planned, stages = _planned(cell, pallet, target, held, named, count, others)
-        out.append(Path(target, home, tuple(planned), part, stages))
+        out.append(Path(target, home, tuple(planned), part, stages, PALLET_CONFIGURATION))
     return out
 
 
@@ -218,7 +221,8 @@ def _way_home(cell, pallet, target: str, stop: Move, home, part, stages, named) 
         for m, q in zip(way[:-1], joints, strict=True)
     ]
     moves.append(Move("joint", home, f"{label}: home", None, stop.carrying, stop.stage))
-    return Path(target, start, tuple(moves[1:] if moves[0].kind == "joint" else moves), part, stages)
+    moves = tuple(moves[1:] if moves[0].kind == "joint" else moves)
+    return Path(target, start, moves, part, stages, PALLET_CONFIGURATION)
 
 
 def carried_box(cell, pallet) -> Box:
