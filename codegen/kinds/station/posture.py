@@ -16,10 +16,12 @@ from dataclasses import replace
 
 import numpy as np
 
+from codegen.kinds.station.envelope import check as envelope_check
 from codegen.kinds.station.envelope import station_margin
 from codegen.kinds.station.mode import mode_of
+from codegen.kinds.station.region import station_plan as region_plan
 from codegen.kinds.station.scene import station_paths
-from codegen.kinds.station.section import stations_of, with_section
+from codegen.kinds.station.section import section_of, stations_of, with_section
 from codegen.model.robot import PoseConfig
 from codegen.robot import solve
 from codegen.robot.cache import per_cell
@@ -27,6 +29,46 @@ from codegen.robot.taught import ReachError
 from codegen.world.posture import TIE_MM, Posture, branch_joints, choose, set_by_the_tool, travel
 
 _CACHE: dict = {}
+_POSTURED: dict = {}
+
+
+def postured(cell, target: str):
+    """The cell with every station's configuration on the target handed down: the cell's own ([station.config]) where
+    it names one, else the chosen posture's (none where nothing reaches and clears: the nearest-home solutions, which
+    the proofs then refuse with their reasons). The region, the envelope, the scene and the programs read it from
+    there; chosen once per cell and target."""
+    return per_cell(_POSTURED, cell, (target,), lambda: _postured(cell, target))
+
+
+def _postured(cell, target: str):
+    if cell.robot is None or target not in cell.robot.arms or not stations_of(cell):
+        return cell
+    changed = tuple(
+        replace(s, config={**s.config, target: posture_config(cell, target, s)}) for s in stations_of(cell)
+    )
+    return with_section(cell, stations=changed)
+
+
+def station_plan(cell, target: str, station):
+    """The station's taught arm poses and whether the program names each one's full configuration, in the posture
+    chosen for it (codegen/kinds/station/region.py station_plan)."""
+    return region_plan(postured(cell, target), target, station)
+
+
+def check(cell, only: list[str] | None = None) -> list:
+    """The envelope check of every target with an arm (of `only`, if given) in the postures chosen, each station's
+    margins with the note of a posture chosen to clear the cell."""
+    if cell.robot is None:
+        return []
+    out = []
+    for target in [t for t in cell.targets if t in cell.robot.arms and (only is None or t in only)]:
+        for envelope in envelope_check(postured(cell, target), [target]):
+            stations = tuple(
+                replace(m, posture=posture_note(cell, target, section_of(cell).station_by_id(m.station_id)))
+                for m in envelope.stations
+            )
+            out.append(replace(envelope, stations=stations))
+    return out
 
 
 def posture_config(cell, target: str, station) -> dict:
