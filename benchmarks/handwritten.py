@@ -28,7 +28,7 @@ from codegen.controllers import get_target
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, reading_in_range
 from codegen.kinds.station.cases import Case, _truth_problem, accepted_traces
 from codegen.kinds.station.joints import JOINT_TOLERANCE_DEG, expected_joints
-from codegen.kinds.station.region import station_plan
+from codegen.kinds.station.posture import station_plan
 from codegen.kinds.station.section import section_of
 from codegen.reference import home_move
 from codegen.robot import solve

@@ -217,7 +217,7 @@ def _refusal(cell, path: Path, move: Move, found: MoveClearance, limit: float, c
         what, at = "dips below", f"{-found.distance:.1f} mm, its lowest point at z = {found.point[2]:.1f} mm,"
     if other in {body.name for body in arm_bodies(arm)} | {"tool", "part"}:
         solid = f"the arm's own {other}"
-    fix = _fix(other, solid.startswith("the arm's own"), path.configuration)
+    fix = _fix(cell, path, move, other, solid.startswith("the arm's own"))
     return (
         f"{move.where} ({target}, {arm.model}): the {found.body} {what} {solid}: {at} at {found.s:.2f} of the "
         f"{move.kind} move to it from {came_from} (move {index + 1} of the path; joints there "
@@ -228,15 +228,25 @@ def _refusal(cell, path: Path, move: Move, found: MoveClearance, limit: float, c
 
 
 OWN = "the program's own"  # the configuration a controller takes by its own rule
+# a kind whose programs name no configuration: the controller's rule from the home decides it (Path.configuration)
+FROM_THE_HOME = "the program names none: the controller takes the solution nearest the home; another home gives another"
 
 
-def _fix(other: str, own: bool, configuration: str) -> str:
+def _fix(cell, path: Path, move: Move, other: str, own: bool) -> str:
+    """What would fix a move within the clearance, naming the home the arm starts from and the configuration tried."""
+    target = path.target
+    home = f"[cell.robot.home] {target} = [{', '.join(f'{v:g}' for v in cell.robot.home[target])}]"
+    config = path.configuration or OWN
     if own:
-        config = f"{configuration}; or {OWN}" if configuration else OWN
-        return f"give the pose another configuration ({config}), or the arm another home"
+        return f"give the pose another configuration ({config}), or the arm another home than {home}"
     if other == FLOOR:
-        return "teach the poses of the move higher, a pose between them that leads the arm above, or another home"
+        end = [round(float(v), 1) for v in move.joints]
+        return (
+            f"the configuration tried ({config}) ends the move at joints {end} deg from the home {home}: teach the "
+            "poses of the move higher, a pose between them that leads the arm above, or give the arm another home or "
+            "configuration"
+        )
     return (
         f"move {other!r} away from the move's path, teach a pose between that leads the arm around it, or give "
-        f"the arm another home ([cell.robot.home]) or configuration ({configuration or OWN})"
+        f"the arm another home than {home} or another configuration ({config})"
     )

@@ -8,8 +8,10 @@ from dataclasses import replace
 
 import numpy as np
 
+from codegen.kinds.pallet import judge
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import PalletCase, safe_pose, sheet_below, start_counters
+from codegen.kinds.pallet.reach import plan
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.sweep import sweeps
@@ -132,7 +134,7 @@ def _unstack_direct(moves):
     return out
 
 
-def test_the_empty_gripper_from_q_straight_to_the_next_entry_dips_into_the_top_layer():
+def test_the_empty_gripper_from_q_straight_to_the_next_entry_dips_into_the_top_layer(monkeypatch):
     """The unstacking plan's empty gripper rises over Q to the transit height, swings above the next box's entry and
     comes down: passes on both arms, followed through joint space. The joint move from above Q straight to the entry
     (the arm's joints a straight line between the two) takes the gripper's face below the top of a near-corner box of
@@ -149,7 +151,9 @@ def test_the_empty_gripper_from_q_straight_to_the_next_entry_dips_into_the_top_l
         swept, fk, width = _with_joints(cell, pallet, moves, target)
         assert fk is not None
         assert sweeps(pallet, frame, swept, fk, width) is None
-        old, fk, width = _with_joints(cell, low, _unstack_direct(low_moves), target)
+        with monkeypatch.context() as patch:  # the plan as it was: the configurations the controller takes from home
+            patch.setattr(judge, "configurations", plan)
+            old, fk, width = _with_joints(cell, low, _unstack_direct(low_moves), target)
         for face in (width, 0.0):
             found = sweeps(pallet, frame, old, fk, face)
             assert found is not None and "empty gripper's face" in found and "top of layer 5 box" in found, found

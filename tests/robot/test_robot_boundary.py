@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from support.cells import example
 
-from codegen.kinds.pallet.reach import PICK_KEY, configurations
+from codegen.kinds.pallet.posture import configurations
+from codegen.kinds.pallet.reach import PICK_KEY
 from codegen.kinds.pallet.section import pallets_of
 from codegen.robot import solve
 from codegen.robot.arms import Arm

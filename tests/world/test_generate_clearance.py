@@ -348,7 +348,7 @@ def way_home_fence(tmp_path_factory):
     planned joints and the arm's forward kinematics, not from the proof: the cycle's moves sampled (joint moves and the
     short linear ones interpolated in joints), the way home's bodies at 0.5, 0.6 and 0.7 of the move, points on their
     holding capsules' surfaces (both ends and the middle of each segment, 26 directions)."""
-    from codegen.kinds.pallet.reach import configurations
+    from codegen.kinds.pallet.posture import configurations
     from codegen.kinds.pallet.way_home import way_home, way_joints
     from codegen.reference import home_move
     from codegen.world.bodies import arm_bodies
@@ -429,15 +429,30 @@ def test_a_fence_through_the_way_homes_route_is_refused(tmp_path, way_home_fence
 
 def test_an_unstacking_box_held_at_the_start_is_proven_on_its_way_from_home_to_q(tmp_path):
     """Unstacking testmat on the UR5e: a box held at the start (a stop between the grip and Q) is carried from home to
-    above Q by a joint move; with Q at the bundled place that move swings the box through the full stack, which
-    generate refuses naming the move, the part and the stack; Q moved 150 mm further off, it generates."""
+    above Q by a joint move; with Q at the bundled place that move, in the posture the controller takes from the home,
+    swings the box through the full stack: the proof refuses that posture naming the move, the part and the stack, and
+    generate chooses another branch for the whole cycle (its report says so); Q moved 150 mm further off, the
+    controller's own posture clears and is kept."""
+    from codegen.kinds.pallet.posture import posture_note
+    from codegen.kinds.pallet.reach import plan
+    from codegen.kinds.pallet.scene import pallet_paths
+    from codegen.world.proof import ClearanceError, prove
+
     text = unstacking_testmat_text()
     path = tmp_path / "testmat_unstack.toml"
     path.write_text(text, encoding="utf-8")
-    with pytest.raises(GenerateError) as caught:
-        check_clearance(load_cell(path), ["ur"])
+    cell = load_cell(path)
+    pallets = cell.sections["pallet"]
+    with pytest.raises(ClearanceError) as caught:
+        prove(cell, pallet_paths(cell, pallets, pallets[0], "ur", plan(cell, pallets[0], "ur")))
     said = str(caught.value)
     assert said.startswith("pallet 'testmat' held box above Q (ur, UR5e): the part touches the solid 'pallet testmat: "
                            "stack below layer 5'"), said
+    assert check_clearance(cell, ["ur"])
+    assert "the configuration nearest the home [cell.robot.home] ur = [0, -90, 90, -90, -90, 0] does not clear" in (
+        posture_note(cell, pallets[0], "ur")
+    )
     path.write_text(text.replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,"), encoding="utf-8")
-    assert check_clearance(load_cell(path), ["ur"])
+    moved = load_cell(path)
+    assert check_clearance(moved, ["ur"])
+    assert posture_note(moved, moved.sections["pallet"][0], "ur") == ""

@@ -9,7 +9,7 @@ from codegen import protocol
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.poses import rotmat_from_zyx_deg
 from codegen.view.scene import SLAB_MM, box, frame, line, translated
-from codegen.world.proof import Move, Path
+from codegen.world.proof import FROM_THE_HOME, Move, Path
 from codegen.world.solids import Box, translation
 
 MARGIN_MM = 150.0  # the belt drawn this far beyond its window and the camera's line
@@ -115,7 +115,7 @@ def conveyor_paths(cell, target: str) -> list[Path]:
                     q, _ = solve.nearest(arm, sols, q)
                     moves.append(Move(kind, q, f"{at}: {name}", pose, carrying, grip=act))
                 moves.append(Move("joint", home, f"{at}: home"))
-                out.append(Path(target, home, tuple(moves), part))
+                out.append(Path(target, home, tuple(moves), part, configuration=FROM_THE_HOME))
     return out
 
 

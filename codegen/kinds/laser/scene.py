@@ -10,7 +10,7 @@ import numpy as np
 from codegen import protocol
 from codegen.sim.beams import Sensors
 from codegen.view.scene import box, frame, line, point, translated
-from codegen.world.proof import Move, Path
+from codegen.world.proof import FROM_THE_HOME, Move, Path
 from codegen.world.solids import Box
 
 REACH_MM = next(f.default for f in fields(Sensors) if f.name == "reach")  # each sensor to the crossing
@@ -69,7 +69,7 @@ def laser_paths(cell, target: str) -> list[Path]:
         for i, (what, pose) in enumerate(planned)
     ]
     moves.append(Move("joint", home, "laser station: home"))
-    out = [Path(target, home, tuple(moves))]
+    out = [Path(target, home, tuple(moves), configuration=FROM_THE_HOME)]
     low = min(range(len(planned)), key=lambda i: planned[i][1][2, 3])
     axis = laser_of(cell).sensor_frame.matrix()[:3, 2]  # S's z: straight up out of the column
     up = planned[low][1].copy()
@@ -81,7 +81,7 @@ def laser_paths(cell, target: str) -> list[Path]:
         Move("linear", joints[0], "laser station: a start in the column: the safe pose", planned[0][1]),
         Move("joint", home, "laser station: a start in the column: home"),
     )
-    out.append(Path(target, joints[low], start))
+    out.append(Path(target, joints[low], start, configuration=FROM_THE_HOME))
     return out
 
 

@@ -13,8 +13,9 @@ from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import ExpectedMove
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import known_question, message_limit, released_question, select_message
+from codegen.kinds.pallet.posture import configurations
 from codegen.kinds.pallet.program import carried_load, holds_name, known_name
-from codegen.kinds.pallet.reach import configurations, joints_of
+from codegen.kinds.pallet.reach import joints_of
 from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of

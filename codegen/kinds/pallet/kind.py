@@ -28,6 +28,6 @@ KIND = Kind(
     writer="codegen.kinds.pallet.writer:WriterPart",
     derivation="codegen.kinds.pallet.derivation:DerivationPart",
     verify="codegen.kinds.pallet.verify:VerifyPart",
-    scene="codegen.kinds.pallet.scene:ScenePart",
+    scene="codegen.kinds.pallet.scenepart:ScenePart",
     commands="codegen.kinds.pallet.commands:CommandsPart",
 )

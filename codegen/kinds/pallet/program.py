@@ -38,7 +38,8 @@ from codegen.kinds.pallet.messages import (
     wait_message,
 )
 from codegen.kinds.pallet.patterns import layout
-from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEET_KEY, configurations, way_up_z
+from codegen.kinds.pallet.posture import configurations
+from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEET_KEY, way_up_z
 from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import Pallet, pallets_of
 from codegen.kinds.pallet.stack import sides
@@ -175,7 +176,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     (x, y mm, angle deg counterclockwise; each pattern's first row and count), the cycle as pattern numbers, the
     layer heights, the offsets of entry, approach and retreat, the tool's orientation at angle 0, the pick pose and
     the pose above it, the slip sheets' pick, the safe pose of the way home, the configuration of each joint move's
-    pose (with an arm: chosen at generate time, codegen/kinds/pallet/reach.py), the counters and their store, the
+    pose (with an arm: chosen at generate time, codegen/kinds/pallet/posture.py), the counters and their store, the
     interlocks, the payload, the zone and the messages."""
     number = emitter.number
     limit = message_limit(cell)

@@ -26,12 +26,16 @@ class PalletReach(Margins):
 
     pallet: str = ""
     moves: int = 0
+    posture: str = ""  # the posture chosen to clear the cell where it is not the one nearest the home (else "")
 
     def subject(self) -> tuple[str, int, str]:
         return f"pallet {self.pallet}", self.moves, "moves"
 
     def keys(self) -> dict:
-        return {"pallet": self.pallet, "moves": self.moves}
+        return {"pallet": self.pallet, "moves": self.moves, "posture": self.posture}
+
+    def text(self) -> str:
+        return super().text() + (f"\n    {self.posture}" if self.posture else "")
 
 
 def full_cycle(cell, pallet):
@@ -103,18 +107,19 @@ def _branch(arm, joints: np.ndarray) -> int:
 
 
 def joints_of(
-    cell, target: str, moves, where: str, pallet=None, named: Named | None = None, start=None
+    cell, target: str, moves, where: str, pallet=None, named: Named | None = None, start=None, within=None
 ) -> list[np.ndarray]:
     """Each move's joints for the target's arm with the cell's tool, from home (or the start joints): a joint
-    move to a pose the
-    program names a configuration for (named) takes the solution of that configuration (the controller's
-    rule: codegen/robot/config.py), another joint move the solution nearest the joints before it (the
-    rule where the program names none); a linear move keeps the configuration (its branch) and may not
-    jump. ReachError names the move."""
+    move to a pose the program names a configuration for (named) takes the solution of that configuration (the
+    controller's rule: codegen/robot/config.py), another joint move the solution nearest the joints before it (the
+    rule where the program names none; within: in that analytic branch only, a posture tried for the whole
+    cycle); a linear move keeps the configuration (its branch) and may not jump. ReachError names the move."""
     robot = cell.robot
     arm = robot.arms[target]
     poses = np.array([m.tcp2base for m in moves]).reshape(-1, 4, 4)
     solutions = solve.branches(arm, solve.flange_poses(poses, robot.tool.tcp2flange))
+    if within is not None:  # the other branches' solutions left out
+        solutions = np.where((np.arange(solutions.shape[1]) == within)[None, :, None], solutions, np.nan)
     q = np.asarray(robot.home[target] if start is None else start, dtype=float)
     branch, out = None if start is None else _branch(arm, q), []
     for move, sols in zip(moves, solutions, strict=True):
@@ -155,27 +160,28 @@ def _text(value) -> str:
     return "[" + ", ".join(f"{v:.4f}" if isinstance(v, float) else str(v) for v in value) + "]"
 
 
-def configurations(cell, pallet, target: str) -> Named | None:
-    """The configurations the target's program names for a pallet, chosen at generate time: each box's
-    (pattern, number) that of its entry where the full cycle first reaches it from home by the nearest
-    rule (stacking: the lowest layer using the pattern; unstacking: the highest), Q's at the first time
-    above Q, the safe pose's the one nearest the first entry's joints; None without an arm. Worked out once per
-    cell, pallet and target (the program, each verify case and the sweep read it)."""
-    key = (id(pallet), target)  # the entry keeps the pallet: its id is not reused while the entry lives
-    return per_cell(_CONFIGURATIONS, cell, key, lambda: (pallet, _configurations(cell, pallet, target)))[1]
+def plan(cell, pallet, target: str, branch: int | None = None) -> Named | None:
+    """The configurations a pallet program would name in one posture: each box's (pattern, number) that of its entry
+    where the full cycle first reaches it from home by the nearest rule (stacking: the lowest layer using the pattern;
+    unstacking: the highest), Q's at the first time above Q, the safe pose's the one nearest the first entry's joints;
+    branch: every joint move within that analytic branch (None: the controller's own nearest solutions); None without
+    an arm. Worked out once per cell, pallet, target and branch (codegen/kinds/pallet/posture.py chooses among them)."""
+    key = (id(pallet), target, branch)  # the entry keeps the pallet: its id is not reused while the entry lives
+    return per_cell(_PLANS, cell, key, lambda: (pallet, _plan(cell, pallet, target, branch)))[1]
 
 
-_CONFIGURATIONS: dict = {}
+_PLANS: dict = {}
 
 
-def _configurations(cell, pallet, target: str) -> Named | None:
+def _plan(cell, pallet, target: str, branch: int | None) -> Named | None:
     form = get_target(target).configuration
     if cell.robot is None or target not in cell.robot.arms or form not in FORMS:
         return None
     arm = cell.robot.arms[target]
     moves = full_cycle(cell, pallet)
     named, values, entry, at, first = Named(form, {}), {}, None, [], {}
-    for move, joints in zip(moves, joints_of(cell, target, moves, f"pallet {pallet.name!r}"), strict=True):
+    planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", within=branch)
+    for move, joints in zip(moves, planned, strict=True):
         key = named.key(pallet, move)
         if key is not None:
             at.append(joints)  # every joint move's joints: where its configuration must hold
@@ -189,7 +195,7 @@ def _configurations(cell, pallet, target: str) -> Named | None:
     # the way home's pose above the pallet: the solution nearest the cycle's first entry onto the pallet (its
     # branch, each axis' turn as the cycle has it), so the way there from the pallet turns no axis the long way
     safe = [safe_move(cell, pallet)]
-    at.append(joints_of(cell, target, safe, f"pallet {pallet.name!r}", start=entry)[0])
+    at.append(joints_of(cell, target, safe, f"pallet {pallet.name!r}", start=entry, within=branch)[0])
     values[SAFE_KEY] = FORMS[form].of(arm, at[-1])
     # one rule for the whole program: where any joint move's configuration lies on a boundary (a vertical
     # tool), the program names none in full and each joint move takes the controller's rule without it
@@ -249,15 +255,14 @@ def safe_move(cell, pallet):
     )
 
 
-def check_pallet(cell, pallet, target: str) -> PalletReach:
+def check_pallet(cell, pallet, target: str, named: Named | None) -> PalletReach:
     """Every move of a full cycle for the target's arm with the cell's tool, from home, as the program
-    moves: a joint move in the configuration the program names for it (configurations), a linear move
+    moves: a joint move in the configuration the program names for it (named), a linear move
     keeping the arm's configuration (its branch) without a jump; each pose within the cell's joint and
     wrist margins. ReachError names pallet, target, box and pose."""
     robot = cell.robot
     arm = robot.arms[target]
     moves = full_cycle(cell, pallet)
-    named = configurations(cell, pallet, target)
     worst_joint, worst_wrist, worst = np.inf, np.inf, ""
     planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
     moves = [*moves, safe_move(cell, pallet)]  # and the way home's pose above the pallet, as named
@@ -269,10 +274,3 @@ def check_pallet(cell, pallet, target: str) -> PalletReach:
         worst_wrist = min(worst_wrist, wrist)
     require_margins(f"pallet {pallet.name!r} ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst)
     return PalletReach(target, arm.model, worst_joint, worst_wrist, worst, pallet=pallet.name, moves=len(moves))
-
-
-def check(cell, only: list[str] | None = None) -> list[PalletReach]:
-    if cell.robot is None:
-        return []
-    targets = [t for t in cell.targets if t in cell.robot.arms and (only is None or t in only)]
-    return [check_pallet(cell, pallet, target) for target in targets for pallet in pallets_of(cell)]

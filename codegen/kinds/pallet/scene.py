@@ -7,7 +7,6 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from codegen import protocol
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.patterns import label_normal
 from codegen.kinds.pallet.stack import layer_top, placements
@@ -21,6 +20,9 @@ from codegen.world.solids import Box
 PALLET_HEIGHT_MM = 144.0  # a EUR pallet's height (EN 13698-1): the pallet's solid under its top
 PICK_PLACE_SCALE = 1.5  # the pick place's top reaches this many box sizes around Q (as the page draws it)
 PICK_PLACE_DEPTH_MM = 100.0  # the pick place's solid under its top: the top plate of what holds the box at Q
+
+# the configuration the proofs try (codegen/kinds/pallet/posture.py), for a refusal's fix
+PALLET_CONFIGURATION = "the controller's own from the home, else each analytic branch for the whole cycle that reaches"
 
 LABEL_MM = 1.0  # a box's label, drawn as a sheet this thick on its label side
 GAP_MM = 2.0  # boxes drawn this much narrower than they are, so that neighbours show apart
@@ -123,31 +125,31 @@ def _others(pallets, pallet) -> dict[str, Box]:
     return out
 
 
-def pallet_paths(cell, pallets, pallet, target: str) -> list[Path]:
-    """The pallet's full cycle on the target's arm from home, as its reach proof plans it (the configurations its
-    program names), with the stack as built before each move and the box carried from the grip to the release;
-    then the way home after a stop at the first and at the last box's place (the box held), as the program plans
-    it: back along the tool, up to the transit height, above the pallet's centre, home; and, unstacking, a box held
-    at the start (a stop between the grip and Q) carried from home and put down at Q, then the stack taken off."""
+def pallet_paths(cell, pallets, pallet, target: str, named) -> list[Path]:
+    """The pallet's full cycle on the target's arm from home, as its reach proof plans it (named: the configurations
+    its program names, codegen/kinds/pallet/posture.py), with the stack as built before each move and the box carried
+    from the grip to the release; then the way home after a stop at the first and at the last box's place (the box
+    held), as the program plans it: back along the tool, up to the transit height, above the pallet's centre, home;
+    and, unstacking, a box held at the start (a stop between the grip and Q) carried from home and put down at Q, then
+    the stack taken off."""
     from codegen.kinds.pallet.cycle import PalletCase, items
-    from codegen.kinds.pallet.reach import configurations, full_cycle
+    from codegen.kinds.pallet.reach import full_cycle
     from codegen.kinds.pallet.restart import expected
 
-    named = configurations(cell, pallet, target)
     stacking = pallet.mode == "stack"
     count = 0 if stacking else len(placements(pallet))
     others = _others(pallets, pallet)
     home = np.asarray(cell.robot.home[target], dtype=float)
     part = carried_box(cell, pallet)
     planned, stages = _planned(cell, pallet, target, full_cycle(cell, pallet), named, count, others)
-    out = [Path(target, home, tuple(planned), part, stages)]
+    out = [Path(target, home, tuple(planned), part, stages, PALLET_CONFIGURATION)]
     for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
-        out.append(_way_home(cell, pallet, target, planned[k], home, part, stages))
+        out.append(_way_home(cell, pallet, target, planned[k], home, part, stages, named))
     keys = [item.key for item in items(pallet)]
     if not stacking and keys:  # a box held at the start, the counters at the first item: the whole stack stands
         held = expected(cell, pallet, PalletCase("held_at_start", *keys[0], closed=True)).moves
         planned, stages = _planned(cell, pallet, target, held, named, count, others)
-        out.append(Path(target, home, tuple(planned), part, stages))
+        out.append(Path(target, home, tuple(planned), part, stages, PALLET_CONFIGURATION))
     return out
 
 
@@ -203,15 +205,14 @@ def _last_target(moves) -> int | None:
     return next((i for i in range(len(moves) - 1, -1, -1) if moves[i].where.endswith("target")), None)
 
 
-def _way_home(cell, pallet, target: str, stop: Move, home, part, stages) -> Path:
+def _way_home(cell, pallet, target: str, stop: Move, home, part, stages, named) -> Path:
     """The way home the program plans after a stop at `stop`'s pose, the box held as it was there."""
-    from codegen.kinds.pallet.reach import configurations
     from codegen.kinds.pallet.way_home import way_home, way_joints
     from codegen.reference import home_move
 
     start = np.asarray(stop.joints, dtype=float)
     way = way_home(cell, pallet, SimpleNamespace(name=target), home_move(cell, target), start, 0)
-    joints = way_joints(cell, pallet, target, way[:-1], start, configurations(cell, pallet, target))
+    joints = way_joints(cell, pallet, target, way[:-1], start, named)
     label = f"pallet {pallet.name!r} the way home from {stop.where.split(' ', 2)[2]}"
     # where the stop left the box (the gripper) on its place: back along the tool and up, as its own way up
     own = _own_descent(pallet, stages[stop.stage])
@@ -220,7 +221,8 @@ def _way_home(cell, pallet, target: str, stop: Move, home, part, stages) -> Path
         for m, q in zip(way[:-1], joints, strict=True)
     ]
     moves.append(Move("joint", home, f"{label}: home", None, stop.carrying, stop.stage))
-    return Path(target, start, tuple(moves[1:] if moves[0].kind == "joint" else moves), part, stages)
+    moves = tuple(moves[1:] if moves[0].kind == "joint" else moves)
+    return Path(target, start, moves, part, stages, PALLET_CONFIGURATION)
 
 
 def carried_box(cell, pallet) -> Box:
@@ -268,31 +270,3 @@ def case_stages(cell, pallets, index: int, case):
         return stages[key]
 
     return stage
-
-
-class ScenePart(protocol.Scene):
-    def objects(self, cell) -> list[dict]:
-        return objects(cell, self.kind.section.of(cell) or ())
-
-    def solids(self, cell) -> dict[str, Box]:
-        return solids(self.kind.section.of(cell) or ())
-
-    def paths(self, cell, targets: list[str]) -> list[Path]:
-        pallets = self.kind.section.of(cell) or ()
-        if cell.robot is None:
-            return []
-        arms = [t for t in targets if t in cell.robot.arms]
-        return [path for t in arms for pallet in pallets for path in pallet_paths(cell, pallets, pallet, t)]
-
-    def carried(self, cell):
-        """The first pallet's box (a task of several pallets: each case's own in staged)."""
-        pallets = self.kind.section.of(cell) or ()
-        return None if not pallets or cell.robot is None else carried_box(cell, pallets[0])
-
-    def staged(self, cell, target: str, case):
-        pallets = self.kind.section.of(cell) or ()
-        run = getattr(case, "data", None)
-        index = getattr(run, "pallet", -1)
-        if not pallets or cell.robot is None or index < 0:  # a task whose pallets are all off stops before a move
-            return super().staged(cell, target, case)
-        return case_stages(cell, pallets, index, run.case)

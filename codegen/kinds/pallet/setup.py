@@ -11,8 +11,9 @@ from codegen.kinds.pallet.cycle import PalletCase
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import known_question, message_limit, still_waiting_message
+from codegen.kinds.pallet.posture import configurations
 from codegen.kinds.pallet.program import counter_names, counter_registers, holds_name, known_name
-from codegen.kinds.pallet.reach import configurations, joints_of
+from codegen.kinds.pallet.reach import joints_of
 from codegen.kinds.pallet.reload import reload_proof
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of

@@ -24,7 +24,7 @@ from codegen.guard import (
 )
 from codegen.kinds.station.keys import GRIP, RELEASE, STATION_ID_MAX
 from codegen.kinds.station.mode import mode_of, modes
-from codegen.kinds.station.region import station_plan
+from codegen.kinds.station.posture import station_plan
 from codegen.kinds.station.section import Station, section_of, stations_of, with_section
 from codegen.model import io as signals
 from codegen.model import vision

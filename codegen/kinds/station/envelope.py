@@ -141,15 +141,8 @@ def _station(cell, target: str, arm, station) -> StationMargin:
         wrist_margin_deg=float(wrist[wrist_at]),
         step_deg=step,
         pose=region.taught[m].name,
-        posture=_posture_note(cell, target, station),
         wrist_pose=region.taught[wrist_at[1]].name,
     )
-
-
-def _posture_note(cell, target: str, station) -> str:
-    from codegen.kinds.station.posture import posture_note  # the posture is proven through this module's check
-
-    return posture_note(cell, target, station)
 
 
 def _step(grid_joints: np.ndarray, rotations: int, directions: int) -> float:

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.station.region import move_joints, station_plan
+from codegen.kinds.station.posture import station_plan
+from codegen.kinds.station.region import move_joints
 from codegen.reference import Move
 from codegen.robot import solve
 

@@ -13,6 +13,6 @@ KIND = Kind(
     writer="codegen.kinds.station.program:WriterPart",
     derivation="codegen.kinds.station.derivation:DerivationPart",
     verify="codegen.kinds.station.judge:VerifyPart",
-    scene="codegen.kinds.station.scene:ScenePart",
+    scene="codegen.kinds.station.scenepart:ScenePart",
     commands="codegen.kinds.station.commands:CommandsPart",
 )

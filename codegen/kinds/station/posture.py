@@ -2,53 +2,73 @@
 
 # Where the cell gives no configuration for a station on a target ([station.config.<target>]), the controller leaves the
 # choice to the program: the joints a program steers its inverse kinematics to, or the configuration fields a Cartesian
-# target carries (codegen/robot/config.py). The candidates: first the posture the controller takes from the home by
-# itself (each joint pose's solution nearest the home), then each analytic branch that takes every joint pose within the
-# joint limits (its solution nearest the home), nearer the home first; the linear moves continue in it. Each must pass
-# the reach proof over the correction region (joint limits and the cell's joint margin, the wrist margin, no change of
-# configuration) and the clearance proof (codegen/world/proof.py) of the station's moves at the nominal reading, which
-# ranks them; one that would replace the nearest-home posture must clear at every other proven reading too, and generate
-# proves the one kept at every proven reading. A candidate replaces the one kept so far only where its least clearance
-# is more than TIE_MM larger. The choice is written as taught joints (PoseConfig "joints"): each target's program names
-# them in its own form (codegen/robot/config.py FORMS), and verify expects them by the same rule.
+# target carries (codegen/robot/config.py). The candidates, their order and ranking are codegen/world/posture.py's;
+# the linear moves continue in each. Each must pass the reach proof over the correction region (joint limits and the
+# cell's joint margin, the wrist margin, no change of configuration) and the clearance proof (codegen/world/proof.py) of
+# the station's moves at the nominal reading, which ranks them; one that would replace the nearest-home posture must
+# clear at every other proven reading too, and generate proves the one kept at every proven reading. The choice is
+# written as taught joints (PoseConfig "joints"): each target's program names them in its own form
+# (codegen/robot/config.py FORMS), and verify expects them by the same rule.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
+from codegen.kinds.station.envelope import check as envelope_check
 from codegen.kinds.station.envelope import station_margin
 from codegen.kinds.station.mode import mode_of
+from codegen.kinds.station.region import station_plan as region_plan
 from codegen.kinds.station.scene import station_paths
-from codegen.kinds.station.section import stations_of, with_section
+from codegen.kinds.station.section import section_of, stations_of, with_section
 from codegen.model.robot import PoseConfig
 from codegen.robot import solve
 from codegen.robot.cache import per_cell
 from codegen.robot.taught import ReachError
-
-# Two postures whose least clearances differ by less than this are equally clear: the arm's capsules are estimates
-# rounded up by more (docs/clearance.md, Sources), and swinging the arm into another configuration for less is not
-# worth its longer way from the home.
-TIE_MM = 1.0
-
-
-@dataclass(frozen=True)
-class Posture:
-    """A candidate posture of a station on one target: the configuration per joint pose (PoseConfig "joints"), its
-    branch, how far its first joint pose lies from the home (deg, Euclidean) and its least clearance (mm; None: it
-    does not reach or does not clear)."""
-
-    config: dict
-    branch: int
-    travel_deg: float
-    least_mm: float | None = None
-    refusal: str = ""
-    reaches: bool = True  # False: refused by the reach proof
-    nearest: object = None  # the proof's Least: where the least clearance is
-
+from codegen.world.posture import TIE_MM, Posture, branch_joints, choose, set_by_the_tool, travel
 
 _CACHE: dict = {}
+_POSTURED: dict = {}
+
+
+def postured(cell, target: str):
+    """The cell with every station's configuration on the target handed down: the cell's own ([station.config]) where
+    it names one, else the chosen posture's (none where nothing reaches and clears: the nearest-home solutions, which
+    the proofs then refuse with their reasons). The region, the envelope, the scene and the programs read it from
+    there; chosen once per cell and target."""
+    return per_cell(_POSTURED, cell, (target,), lambda: _postured(cell, target))
+
+
+def _postured(cell, target: str):
+    if cell.robot is None or target not in cell.robot.arms or not stations_of(cell):
+        return cell
+    changed = tuple(
+        replace(s, config={**s.config, target: posture_config(cell, target, s)}) for s in stations_of(cell)
+    )
+    return with_section(cell, stations=changed)
+
+
+def station_plan(cell, target: str, station):
+    """The station's taught arm poses and whether the program names each one's full configuration, in the posture
+    chosen for it (codegen/kinds/station/region.py station_plan)."""
+    return region_plan(postured(cell, target), target, station)
+
+
+def check(cell, only: list[str] | None = None) -> list:
+    """The envelope check of every target with an arm (of `only`, if given) in the postures chosen, each station's
+    margins with the note of a posture chosen to clear the cell."""
+    if cell.robot is None:
+        return []
+    out = []
+    for target in [t for t in cell.targets if t in cell.robot.arms and (only is None or t in only)]:
+        for envelope in envelope_check(postured(cell, target), [target]):
+            stations = tuple(
+                replace(m, posture=posture_note(cell, target, section_of(cell).station_by_id(m.station_id)))
+                for m in envelope.stations
+            )
+            out.append(replace(envelope, stations=stations))
+    return out
 
 
 def posture_config(cell, target: str, station) -> dict:
@@ -80,9 +100,9 @@ def _chosen(cell, target: str, station) -> tuple[dict, str]:
     natural = evaluate(cell, target, station, tried[0])
     if not natural.reaches:
         return {}, ""
-    if natural.least_mm is not None and _set_by_the_tool(cell, target, natural):
+    if natural.least_mm is not None and set_by_the_tool(cell.robot.arms[target], natural.nearest):
         return natural.config, ""
-    best = choose(cell, target, station, natural, tried[1:])
+    best = choose(natural, tried[1:], lambda posture, bar: evaluate(cell, target, station, posture, bar, every=True))
     if best is None:
         return {}, ""
     if best is natural:
@@ -108,31 +128,6 @@ def _note(cell, target: str, natural: Posture, best: Posture) -> str:
     )
 
 
-def _set_by_the_tool(cell, target: str, posture: Posture) -> bool:
-    """The posture's least clearance is the tool's or the part's from a solid at a pose the program stands at (a
-    move's start or end): the TCP is there in every posture, so no other posture can keep more (the search is
-    skipped)."""
-    from codegen.world.bodies import arm_bodies
-
-    found = posture.nearest.found
-    own = {body.name for body in arm_bodies(cell.robot.arms[target])} | {"tool", "part"}
-    return found.body in ("tool", "part") and found.other not in own and found.s in (0.0, 1.0)
-
-
-def choose(cell, target: str, station, first: Posture, others: list[Posture]) -> Posture | None:
-    """Of the postures in order (nearest the home first), the one kept: a posture further on replaces the one kept so
-    far only where it clears by more than TIE_MM more at the nominal reading (each is proven against that bar, so one
-    that cannot pass it is given up at its first move below it) and clears at every other proven reading; None where
-    none clears."""
-    best = first if first.least_mm is not None else None
-    for posture in others:
-        bar = None if best is None else best.least_mm + TIE_MM
-        tried = evaluate(cell, target, station, posture, bar, every=True)
-        if tried.least_mm is not None:
-            best = tried
-    return best
-
-
 def candidates(cell, target: str, station) -> list[Posture]:
     """The postures tried, the one the controller takes from the home by itself first (each joint pose's solution
     nearest the home), then each branch that takes every joint pose within the joint limits (each nearest the home
@@ -145,22 +140,16 @@ def candidates(cell, target: str, station) -> list[Posture]:
     if not joint:
         return []
     solutions = solve.branches(arm, solve.flange_poses(np.array([tcp for _, tcp in joint]), robot.tool.tcp2flange))
-    natural, branch = solve.nearest(arm, solutions, np.broadcast_to(home, (len(joint), 6)))
+    natural, others = branch_joints(arm, solutions, home)
     if np.isnan(natural).any():
         return []
-    first = _posture(joint, natural, int(branch[0]), home)
-    others = []
-    for b in range(solutions.shape[1]):
-        q, _ = solve.nearest(arm, solutions[:, b : b + 1], np.broadcast_to(home, (len(joint), 6)))
-        if not np.isnan(q).any() and not np.array_equal(q, natural):
-            others.append(_posture(joint, q, b, home))
-    return [first, *sorted(others, key=lambda p: (p.travel_deg, p.branch))]
+    return [_posture(joint, natural, -1, home), *(_posture(joint, q, b, home) for b, q in others)]
 
 
 def _posture(joint: list, q: np.ndarray, branch: int, home: np.ndarray) -> Posture:
     """The posture taking joints q (one row per joint pose) as PoseConfig "joints"; travel: its first pose's."""
     config = {name: PoseConfig("joints", tuple(float(v) for v in row)) for (name, _), row in zip(joint, q, strict=True)}
-    return Posture(config, branch, float(np.linalg.norm(q[0] - home)))
+    return Posture(config, branch, travel(q[0], home))
 
 
 def evaluate(cell, target: str, station, posture: Posture, bar: float | None = None, every: bool = False) -> Posture:

@@ -17,11 +17,10 @@ from codegen.guard import (
     UNKNOWN_STATION_TEXT,
     halt_message,
 )
-from codegen.kinds.station.envelope import check
 from codegen.kinds.station.keys import GRIP, RELEASE
 from codegen.kinds.station.mode import mode_of, modes
 from codegen.kinds.station.part import held_part, part_alone, part_load
-from codegen.kinds.station.region import station_plan
+from codegen.kinds.station.posture import check, station_plan
 from codegen.kinds.station.section import section_of, stations_of
 from codegen.model import vision
 from codegen.model.cell import Cell

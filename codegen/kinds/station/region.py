@@ -189,9 +189,9 @@ def arm_poses(cell, target: str, station) -> list[ArmPose]:
     """The station's arm poses with their taught joints, in the order the program visits them."""
     robot = cell.robot
     arm, home = robot.arms[target], np.asarray(robot.home[target], dtype=float)
-    from codegen.kinds.station.posture import posture_config  # proves candidates through this module's regions
-
-    given = posture_config(cell, target, station)
+    # the configuration handed down with the cell: the cell's own or the posture chosen for it
+    # (codegen/kinds/station/posture.py postured)
+    given = section_of(cell).station_by_id(station.id).config.get(target) or {}
     poses = mode_of(station).arm_poses(cell, station)
     flange2base = solve.flange_poses(np.array([p[1] for p in poses]), robot.tool.tcp2flange)
     solutions = solve.branches(arm, flange2base)

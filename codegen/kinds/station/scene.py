@@ -5,11 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from codegen import protocol
 from codegen.kinds.station.keys import GRIP
-from codegen.kinds.station.mode import mode_of, modes
-from codegen.kinds.station.section import section_of, stations_of
-from codegen.world.cell import Stage, shape_of
+from codegen.kinds.station.mode import mode_of
+from codegen.world.cell import shape_of
 from codegen.world.proof import Move, Path
 
 # the readings proven clear beside the nominal one: the largest shift along these directions (deg from +x) at the
@@ -106,33 +104,3 @@ def station_solids(station, moved: np.ndarray | None = None) -> dict:
     """The station's [station.solids] in the base frame, moved by a reading's base-frame motion (None: as declared),
     by names unique in the cell (the station's name first)."""
     return {f"{station.name}: {name}": shape_of(spec, moved) for name, spec in station.solids.items()}
-
-
-class ScenePart(protocol.Scene):
-    def objects(self, cell) -> list[dict]:
-        return [o for station in stations_of(cell) for o in modes()[station.mode].station_scene(cell, station)]
-
-    def carried(self, cell):
-        """The first station's part that gives one ([station.part]); a case's own station's in staged."""
-        return next((s.part for s in stations_of(cell) if s.part is not None), None) if section_of(cell) else None
-
-    def staged(self, cell, target: str, case):
-        """The case's station's own solids moved by its reading (the other stations' machines are not where the arm
-        works: each stands at its own station), its part in the gripper."""
-        section, reading = section_of(cell), getattr(case, "reading", None)
-        station = None if section is None else section.station_by_id(getattr(reading, "station_id", None))
-        if station is None:  # an unknown station's case (or none): the program stops before it moves there
-            return super().staged(cell, target, case)
-        if not station.solids:
-            stage = Stage((station.id,), {}, station.part)
-        else:
-            motion = case_motion(cell, station, reading)
-            key = (station.id, *np.round(motion[:3].ravel(), 9).tolist())
-            stage = Stage(key, station_solids(station, motion), station.part)
-        return lambda _grips, _releases: stage
-
-    def paths(self, cell, targets: list[str]) -> list[Path]:
-        if cell.robot is None or section_of(cell) is None:
-            return []
-        arms = [t for t in targets if t in cell.robot.arms]
-        return [path for t in arms for station in stations_of(cell) for path in station_paths(cell, t, station)]

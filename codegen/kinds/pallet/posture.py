@@ -1,0 +1,131 @@
+"""The configurations a pallet program names: the controller's own from the home, or one posture chosen to clear."""
+
+# The program names a configuration for each joint move (codegen/kinds/pallet/reach.py Named): the ones the controller
+# takes from the home by itself where those clear the cell; where they do not, every joint move of the whole cycle in
+# one analytic branch, tried nearer the home first and ranked by codegen/world/posture.py (a branch replaces the kept
+# one only where it clears by TIE_MM more). Each candidate must pass the reach proof (check_pallet) and the clearance
+# proof of every path generate proves (pallet_paths). The program names the choice in the target's own form (UR joints
+# and qnear, KUKA Status/Turn, ABB confdata: codegen/robot/config.py FORMS) and verify plans every case with the same
+# configurations: both read configurations() below.
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from codegen.kinds.pallet.reach import Named, check_pallet, full_cycle, joints_of, plan
+from codegen.kinds.pallet.scene import pallet_paths
+from codegen.kinds.pallet.section import pallets_of
+from codegen.robot.cache import per_cell
+from codegen.robot.taught import ReachError
+from codegen.world.posture import TIE_MM, Posture, branch_count, choose, in_order, set_by_the_tool, travel
+
+_CHOSEN: dict = {}
+
+
+def configurations(cell, pallet, target: str) -> Named | None:
+    """The configurations the target's program names for the pallet (None without an arm): the program, the reach and
+    clearance proofs and every verify case read them. Chosen once per cell, pallet and target."""
+    return _decided(cell, pallet, target)[0]
+
+
+def posture_note(cell, pallet, target: str) -> str:
+    """'' where the program names the configurations the controller takes from the home; else what was chosen and
+    why (generate's report)."""
+    return _decided(cell, pallet, target)[1]
+
+
+def check(cell, only: list[str] | None = None) -> list:
+    """The reach proof of every pallet on every target with an arm (of `only`, if given), in the configurations the
+    program names, with the posture note where one was chosen."""
+    if cell.robot is None:
+        return []
+    targets = [t for t in cell.targets if t in cell.robot.arms and (only is None or t in only)]
+    return [
+        replace(
+            check_pallet(cell, pallet, target, configurations(cell, pallet, target)),
+            posture=posture_note(cell, pallet, target),
+        )
+        for target in targets
+        for pallet in pallets_of(cell)
+    ]
+
+
+def _decided(cell, pallet, target: str) -> tuple[Named | None, str]:
+    key = (id(pallet), target)  # the entry keeps the pallet: its id is not reused while the entry lives
+    return per_cell(_CHOSEN, cell, key, lambda: (pallet, _chosen(cell, pallet, target)))[1]
+
+
+def _chosen(cell, pallet, target: str) -> tuple[Named | None, str]:
+    natural = plan(cell, pallet, target)
+    if natural is None:
+        return None, ""
+    home = cell.robot.home[target]
+    first = _evaluate(cell, pallet, target, Posture(natural, -1, travel(_first(cell, pallet, target, natural), home)))
+    if not first.reaches or (first.least_mm is not None and set_by_the_tool(cell.robot.arms[target], first.nearest)):
+        return natural, ""  # the reach proof names what is out of reach; no other posture keeps more
+    others = _candidates(cell, pallet, target, natural)
+    best = choose(first, others, lambda posture, bar: _evaluate(cell, pallet, target, posture, bar))
+    if best is None or best is first:
+        return natural, ""  # none clears: generate's clearance proof refuses the controller's own, naming the move
+    return best.config, _note(cell, target, first, best)
+
+
+def _candidates(cell, pallet, target: str, natural: Named) -> list[Posture]:
+    """Each analytic branch the whole cycle can be worked in (every move reached within it, the linear moves without a
+    flip), unless the program would name the same configurations as the controller's own, nearer the home first."""
+    home = cell.robot.home[target]
+    out = []
+    for branch in range(branch_count(cell.robot.arms[target])):
+        try:
+            named = plan(cell, pallet, target, branch)
+        except ReachError:
+            continue
+        if named is not None and not _same(named, natural):
+            out.append(Posture(named, branch, travel(_first(cell, pallet, target, named), home)))
+    return in_order(out)
+
+
+def _same(a: Named, b: Named) -> bool:
+    """The two name the same configurations (and the same axis values at the fixed poses)."""
+    same = a.anchors.keys() == b.anchors.keys()
+    anchors = same and all(np.array_equal(a.anchors[k], b.anchors[k]) for k in a.anchors)
+    return a.form == b.form and a.whole == b.whole and a.values == b.values and anchors
+
+
+def _first(cell, pallet, target: str, named: Named) -> np.ndarray:
+    """The joints of the cycle's first move from the home, as the program names it."""
+    return joints_of(cell, target, full_cycle(cell, pallet)[:1], f"pallet {pallet.name!r}", pallet, named)[0]
+
+
+def _evaluate(cell, pallet, target: str, posture: Posture, bar: float | None = None) -> Posture:
+    """The posture with its least clearance over every path generate proves for the pallet, or its refusal (reach:
+    joint and wrist margins, no flip on a linear move; clearance: within the cell's clearance, or within bar mm)."""
+    from codegen.world.proof import ClearanceError, prove  # coal: loaded only when proving
+
+    try:
+        check_pallet(cell, pallet, target, posture.config)
+    except ReachError as exc:
+        return replace(posture, refusal=str(exc), reaches=False)
+    try:
+        least = prove(cell, pallet_paths(cell, pallets_of(cell), pallet, target, posture.config), bar)
+    except (ClearanceError, ReachError, ValueError) as exc:
+        return replace(posture, refusal=str(exc))
+    nearest = min(least, key=lambda x: x.found.distance)
+    return replace(posture, least_mm=nearest.found.distance, nearest=nearest)
+
+
+def _note(cell, target: str, first: Posture, best: Posture) -> str:
+    from codegen.controllers import get_target
+
+    arm = cell.robot.arms[target]
+    form = get_target(target).configuration
+    why = "does not clear"
+    if first.least_mm is not None:
+        why = f"keeps {first.least_mm:.1f} mm (more than {TIE_MM:g} mm less)"
+    return (
+        f"posture chosen to clear the cell: every joint move in the arm's configuration {best.branch} "
+        f"({arm.model}'s analytic branch, named as {form}), least clearance {best.least_mm:.1f} mm; the configuration "
+        f"nearest the home [cell.robot.home] {target} = [{', '.join(f'{v:g}' for v in cell.robot.home[target])}] {why}"
+    )

@@ -1,0 +1,43 @@
+"""The pallet kind's scene part: its drawing, its solids, and the paths generate proves, in the configurations its
+programs name."""
+
+from __future__ import annotations
+
+from codegen import protocol
+from codegen.kinds.pallet.posture import configurations
+from codegen.kinds.pallet.scene import carried_box, case_stages, objects, pallet_paths, solids
+from codegen.world.proof import Path
+from codegen.world.solids import Box
+
+
+class ScenePart(protocol.Scene):
+    def objects(self, cell) -> list[dict]:
+        return objects(cell, self.kind.section.of(cell) or ())
+
+    def solids(self, cell) -> dict[str, Box]:
+        return solids(self.kind.section.of(cell) or ())
+
+    def paths(self, cell, targets: list[str]) -> list[Path]:
+        pallets = self.kind.section.of(cell) or ()
+        if cell.robot is None:
+            return []
+        arms = [t for t in targets if t in cell.robot.arms]
+        return [
+            path
+            for t in arms
+            for pallet in pallets
+            for path in pallet_paths(cell, pallets, pallet, t, configurations(cell, pallet, t))
+        ]
+
+    def carried(self, cell):
+        """The first pallet's box (a task of several pallets: each case's own in staged)."""
+        pallets = self.kind.section.of(cell) or ()
+        return None if not pallets or cell.robot is None else carried_box(cell, pallets[0])
+
+    def staged(self, cell, target: str, case):
+        pallets = self.kind.section.of(cell) or ()
+        run = getattr(case, "data", None)
+        index = getattr(run, "pallet", -1)
+        if not pallets or cell.robot is None or index < 0:  # a task whose pallets are all off stops before a move
+            return super().staged(cell, target, case)
+        return case_stages(cell, pallets, index, run.case)
