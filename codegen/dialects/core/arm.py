@@ -45,6 +45,7 @@ class ArmState:
         self.branch = -1
         self.known = False  # a move so far fixed the joints (a joint target or a full configuration)
         self.pending: list[_Pending] = []
+        self._bounds: tuple[np.ndarray, np.ndarray] | None = None  # the limits with their slack (first check)
 
     def stand_at(self, q_deg) -> None:
         """The arm stands at these joints (deg) when the program starts."""
@@ -175,7 +176,9 @@ class ArmState:
 
     def _check_limits(self, q: np.ndarray, where: str) -> None:
         low, high = self.arm.limits[:, 0], self.arm.limits[:, 1]
-        outside = (q < low - 1e-6) | (q > high + 1e-6)
+        if self._bounds is None:
+            self._bounds = (low - 1e-6, high + 1e-6)
+        outside = (q < self._bounds[0]) | (q > self._bounds[1])
         if outside.any():
             i = int(np.argmax(outside))
             raise RunError(
