@@ -4,7 +4,8 @@ What a case costs when the program is not interpreted. Per case, as `codegen ver
   - the reference: verify's accepted traces and the physical check (codegen/kinds/station/cases.py), unchanged;
   - the program written by hand for a point station (source 000), in float32 scalars as a controller
     computes: the reading's guards (range, shift squared, rotation), the correction D from the reading
-    and the station's mark, and every taught pose moved by D; a halt where the guards say so;
+    and the station's mark, and every taught pose moved by D except the station's `fixed` poses, which the
+    program keeps as taught (on the arm's own carrier); a halt where the guards say so;
   - the arm, where the cell has one: from the home joints, each moved pose solved for the arm (the
     analytic solutions) and its joints chosen by the controller's rule as the program names the move (a
     joint move by its configuration, or the solution nearest where the arm stands; a linear move keeps the
@@ -66,6 +67,9 @@ def program(cell, reading) -> tuple[str, list[np.ndarray]]:
     moved = []
     for pose in station.path:
         m = pose.matrix().astype(F)
+        if pose.name in station.spec.fixed:  # on the arm's own carrier: the program keeps it as taught
+            moved.append(m.astype(np.float64))
+            continue
         out = np.empty((4, 4))
         for col in range(3):
             a, b, z = m[0, col], m[1, col], m[2, col]

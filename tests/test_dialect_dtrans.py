@@ -94,3 +94,24 @@ TPWrite 0, "%.0f %.0f %.0f %.0f", a[0], a[1], b[1], c[0]
     program = load("Double c[6]\n" + text, "t.prg")
     assert program.run({}).messages == ["1 2 7 9"]
     assert program.run({}).messages == ["1 2 7 9"]
+
+
+def test_a_store_into_a_declared_variable_keeps_its_type():
+    """A value stored into a variable declared earlier (its type known only as the program runs) takes the
+    variable's type: a Double into an Int is cut to a whole number, an Int into a Double a float32; the same
+    type is stored as it is."""
+    text = """Int n = 0
+Double d = 0.0
+Function Int inner()
+  Int k = 0
+  Double x = 0.5
+  k = 2.75 + x
+  x = 7
+  Return k * 10 + x
+EndFunction
+n = 2.75
+d = 3
+TPWrite 0, "%g %g %d", n + 0.5, d / 2, inner()
+"""
+    trace = run(text)
+    assert trace.messages == ["2.5 1.5 37"]

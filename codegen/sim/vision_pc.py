@@ -43,7 +43,9 @@ class VisionPC:
         return cls(names, dict(answer or {}), camera, behaviour, latency_s, dict(previous or {}))
 
     def next_time(self, machine: Machine) -> float | None:
-        return min((t for t, _ack, _values in self._due), default=None)
+        if not self._due:
+            return None
+        return min(t for t, _ack, _values in self._due)
 
     def on_wait(self, machine: Machine, where: str) -> bool:
         io = self.names
@@ -58,6 +60,8 @@ class VisionPC:
         if request is not None and request != self._seen and request != machine.read_variable(io["ack"]):
             self._seen = request
             self._plan(machine, request, where)
+        if not self._due:
+            return False  # an idle wait: nothing planned
         acted = False
         for item in [d for d in self._due if d[0] <= machine.clock]:
             self._due.remove(item)

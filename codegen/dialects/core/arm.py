@@ -45,6 +45,7 @@ class ArmState:
         self.branch = -1
         self.known = False  # a move so far fixed the joints (a joint target or a full configuration)
         self.pending: list[_Pending] = []
+        self._bounds: list[tuple[float, float]] | None = None  # the limits with their slack (first check)
 
     def stand_at(self, q_deg) -> None:
         """The arm stands at these joints (deg) when the program starts."""
@@ -174,14 +175,17 @@ class ArmState:
             )
 
     def _check_limits(self, q: np.ndarray, where: str) -> None:
-        low, high = self.arm.limits[:, 0], self.arm.limits[:, 1]
-        outside = (q < low - 1e-6) | (q > high + 1e-6)
-        if outside.any():
-            i = int(np.argmax(outside))
-            raise RunError(
-                f"{where}: axis {i + 1} at {q[i]:.3f} deg is beyond its limits [{low[i]:g}, {high[i]:g}] "
-                f"of the {self.arm.model}"
-            )
+        bounds = self._bounds
+        if bounds is None:  # six Python floats a side: compared one by one faster than numpy's small arrays
+            low, high = self.arm.limits[:, 0], self.arm.limits[:, 1]
+            bounds = self._bounds = list(zip((low - 1e-6).tolist(), (high + 1e-6).tolist(), strict=True))
+        for i, (v, (below, above)) in enumerate(zip(q.tolist(), bounds, strict=True)):
+            if v < below or v > above:  # the first axis outside (a NaN is not: as numpy's comparisons)
+                low, high = self.arm.limits[:, 0], self.arm.limits[:, 1]
+                raise RunError(
+                    f"{where}: axis {i + 1} at {q[i]:.3f} deg is beyond its limits [{low[i]:g}, {high[i]:g}] "
+                    f"of the {self.arm.model}"
+                )
 
 
 _TARGETS: dict = {}

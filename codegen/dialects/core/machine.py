@@ -132,6 +132,10 @@ class Machine:
         self.inputs = inputs
         self.outputs: dict = {}
         self.devices = devices
+        # each device's optional parts looked up once for the run (a run's devices do not change)
+        self._on_wait = tuple(d.on_wait for d in devices)
+        self._next_times = tuple(d.next_time for d in devices if hasattr(d, "next_time"))
+        self._live = tuple(d.live for d in devices if getattr(d, "live", None) is not None)
         self.trace = Trace()
         self.step_limit = step_limit
         self.steps = 0
@@ -260,9 +264,8 @@ class Machine:
         with time, device.live(name, t)), else what the devices last set, else default."""
         if self.watching is not None and self.watching.handles(name):
             return self.watching.value(name, self.clock)
-        for device in self.devices:
-            live = getattr(device, "live", None)
-            value = None if live is None else live(name, self.clock)
+        for live in self._live:
+            value = live(name, self.clock)
             if value is not None:
                 return value
         return self.signals.get(name, default)
@@ -321,8 +324,12 @@ class Machine:
             self.past_time_limit()
 
     def next_device_time(self) -> float | None:
-        times = [t for d in self.devices if hasattr(d, "next_time") and (t := d.next_time(self)) is not None]
-        return min(times) if times else None
+        first = None
+        for next_time in self._next_times:
+            t = next_time(self)
+            if t is not None and (first is None or t < first):
+                first = t
+        return first
 
     def wait_for(self, cond, where: str, max_seconds: float | None = None, keyword: str = "wait") -> bool:
         """Wait until cond() (a condition only a device can make true): True when it came true, False
@@ -357,11 +364,13 @@ class Machine:
         """The program waits (WAIT FOR, WaitUntil, sync()): every device may act on the program's
         variables; True when one of them did (the wait's condition is then tested again). The arm has
         finished its moves when a device looks at it."""
-        if self.devices:
+        if not self._on_wait:
+            return False
+        if self.arm.pending:
             self.arm.resolve()
         acted = False
-        for device in self.devices:
-            if device.on_wait(self, where):
+        for on_wait in self._on_wait:
+            if on_wait(self, where):
                 acted = True
         return acted
 

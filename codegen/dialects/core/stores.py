@@ -119,14 +119,27 @@ class Stores:
         if type(self).coerce is Stores.coerce:  # untyped language: values stored as they are
             local, glob = value, value
         else:
-            coerce = self.const(self.coerce)
-            local = f"{coerce}(fr.types.get({key!r}), {value}, {where})"
-            glob = f"{coerce}(m.global_types.get({key!r}), {value}, {where})"
+            coerce, unchanged = self.const(self.coerce), self.const(self.unchanged_types())
+            # the value itself where it has the type the variable was declared with (as coerce_source)
+            local = f"({value} if type({value}) is {unchanged}.get(fr.types.get({key!r})) else "
+            local += f"{coerce}(fr.types.get({key!r}), {value}, {where}))"
+            glob = f"({value} if type({value}) is {unchanged}.get(m.global_types.get({key!r})) else "
+            glob += f"{coerce}(m.global_types.get({key!r}), {value}, {where}))"
         return [
             f"if {key!r} in V: V[{key!r}] = {local}",
             f"elif {key!r} in G: G[{key!r}] = {glob}",
             f"else: {self.const(self.new_variable)}(fr, {key!r}, {value}, {where})",
         ]
+
+    def unchanged_types(self) -> dict:
+        """The declared types whose values coerce() stores as they are when they already have its Python type (as
+        coerce_source: COERCE_UNCHANGED; an integer type with a range is checked by coerce), by type name."""
+        made = self.__dict__.get("_unchanged_types")
+        if made is None:
+            kinds = {"_F32": F32, "bool": bool, "int": int if self.INT_RANGE is None else None}
+            made = {name: kinds[fast] for name, fast in self.COERCE_UNCHANGED.items() if kinds[fast] is not None}
+            self.__dict__["_unchanged_types"] = made  # one table, one constant of the generated code
+        return made
 
     def lvalue(self, node):
         """A setter(frame, value) for a variable, an array element or a record field (by-reference

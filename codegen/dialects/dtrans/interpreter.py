@@ -86,7 +86,9 @@ def _trig(fn):
 def trans(fr, args, kwargs, where):
     if len(args) != 6:
         raise RunError(f"{where}: Trans takes 6 numbers, got {len(args)}")
-    return point([_num(a, where) for a in args])
+    # a float32 argument is its own float32 value: kept, not converted there and back
+    values = [a if type(a) is F32 else f32(_num(a, where)) for a in args]
+    return Record("Point", dict(zip(POINT_KEYS, values, strict=True)))
 
 
 def din(fr, args, kwargs, where):

@@ -149,10 +149,23 @@ def load_of(load) -> tuple | None:
     it in flange axes kg m2), or None before the program sets it. M, CM {X, Y, Z, A, B, C}: the centre of mass and
     the principal axes' orientation relative to the flange, J {X, Y, Z}: the moments about them (targets/kuka.toml
     cites the form); a part not set counts 0."""
+    last = _LAST_LOAD
+    if load is last[0]:  # the same record as the last move's (records never change in place): the same load
+        return last[1]
     if not isinstance(load, Record) or load["M"] is UNINIT:
         return None
     cm, j = load["CM"], load["J"]
-    return _flat_load(float(load["M"]), *(_set(cm, k) for k, _ in XYZABC), *(_set(j, k) for k in ("X", "Y", "Z")))
+    flat = _flat_load(float(load["M"]), *(_set(cm, k) for k, _ in XYZABC), *(_set(j, k) for k in ("X", "Y", "Z")))
+    _remember_load(load, flat)
+    return flat
+
+
+_LAST_LOAD: tuple = (object(), None)  # (the $LOAD record, its load_of), held so that its identity stays its own
+
+
+def _remember_load(load: Record, flat: tuple) -> None:
+    global _LAST_LOAD
+    _LAST_LOAD = (load, flat)
 
 
 @loads.Remembered

@@ -23,11 +23,27 @@ def world2robot(root: Record):
 def base2robot(sysvars: dict) -> np.ndarray:
     """The active $BASE in the robot's base frame (4x4 mm): $BASE is in the world, the trace in the robot's
     base frame ($ROBROOT); a program that never set $BASE moves in the one active when it started."""
-    base = sysvars.get("$BASE") or frame(ACTIVE_BASE_AT_START)
+    given, root = sysvars.get("$BASE"), sysvars.get("$ROBROOT")
+    last = _LAST_BASE
+    if given is last[0] and root is last[1] and given is not None:  # records never change in place
+        return last[2]
+    base = given or frame(ACTIVE_BASE_AT_START)
     out = cart_matrix(base) if xyzabc(base) != (0, 0, 0, 0, 0, 0) else np.eye(4)  # $NULLFRAME: identity
     if "$ROBROOT" in sysvars:
-        out = world2robot(sysvars["$ROBROOT"]) @ out
+        out = world2robot(root) @ out
+    out.flags.writeable = False  # shared by the moves planned in this base
+    _remember_base(given, root, out)
     return out
+
+
+# ($BASE, $ROBROOT, base2robot) of the last motion: each move asks again, mostly in the same base; the records are
+# held, so that their identities stay theirs
+_LAST_BASE: tuple = (object(), object(), None)
+
+
+def _remember_base(given, root, out: np.ndarray) -> None:
+    global _LAST_BASE
+    _LAST_BASE = (given, root, out)
 
 
 def record_base(machine, event: MoveEvent, base: np.ndarray) -> None:

@@ -25,6 +25,19 @@ def move_load(fr, args, where: str) -> tuple | None:
     if tool is TOOL0:
         fr.m.arm.tcp2flange = np.eye(4)
         return None
+    last = _LAST_TOOL
+    if tool is last[0]:  # the same record as the last move's (records never change in place): the same tool
+        tcp2flange, tool_load = last[1], last[2]
+    else:
+        tcp2flange, tool_load = _tool(tool, where)
+        _remember_tool(tool, tcp2flange, tool_load)
+    fr.m.arm.tcp2flange = tcp2flange
+    return with_payload(fr.m, tool_load)
+
+
+def _tool(tool, where: str) -> tuple[np.ndarray, tuple]:
+    """A tooldata's TCP in the flange frame (read-only: shared by the moves that name the same record) and its
+    loaddata's numbers (mass, cog, aom, moments), or RunError."""
     if not isinstance(tool, Record) or tool.type != "TOOLDATA":
         raise RunError(f"{where}: the move names no tooldata")
     if not tool["ROBHOLD"]:
@@ -32,13 +45,23 @@ def move_load(fr, args, where: str) -> tuple | None:
     frame = tool["TFRAME"]
     pose7 = vec(frame["TRANS"], "XYZ") + vec(frame["ROT"], QUAT_KEYS)
     posemath.check_finite(pose7, where, "tooldata tframe")
-    fr.m.arm.tcp2flange = posemath.matrix_from_abb(pose7)
+    tcp2flange = posemath.matrix_from_abb(pose7)
+    tcp2flange.flags.writeable = False
     load = tool["TLOAD"]
     mass = float(load["MASS"])
     if not mass > 0:
         raise RunError(f"{where}: a tool the robot holds must have a mass above 0 kg (tooldata tload)")
     moments = [float(load[k]) for k in ("IX", "IY", "IZ")]
-    return with_payload(fr.m, (mass, *vec(load["COG"], "XYZ"), *vec(load["AOM"], QUAT_KEYS), *moments))
+    return tcp2flange, (mass, *vec(load["COG"], "XYZ"), *vec(load["AOM"], QUAT_KEYS), *moments)
+
+
+# (the tooldata record, its TCP, its loaddata's numbers) of the last move, held so that its identity stays its own
+_LAST_TOOL: tuple = (object(), None, None)
+
+
+def _remember_tool(tool: Record, tcp2flange: np.ndarray, tool_load: tuple) -> None:
+    global _LAST_TOOL
+    _LAST_TOOL = (tool, tcp2flange, tool_load)
 
 
 NO_PAYLOAD_KG = 0.001  # load0's mass: GripLoad load0 (or as light) leaves no payload

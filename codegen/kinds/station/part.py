@@ -50,11 +50,24 @@ def part_load(cell, station) -> loads.Load | None:  # station: a section.Station
     """The load while the station's part is in the gripper: the tool's and the part's as one, in the flange frame
     (mass, common centre of gravity, the tensor about it with the parallel-axis terms); None: the part has no mass,
     or the cell gives no tool (the programs then set no load)."""
-    robot = cell.robot
-    part = None if station is None else part_alone(station.part)
-    if robot is None or not robot.tool_given or part is None:
-        return None
-    return loads.with_tool(robot.tool, robot.tool_shaped, part)
+    robot, given = cell.robot, None if station is None else station.part
+    key = (id(robot), id(given))
+    hit = _LOADS.get(key)
+    if hit is not None and hit[0] is robot and hit[1] is given:  # a case's judgement asks again for each case
+        return hit[2]
+    part = part_alone(given)
+    load = None
+    if robot is not None and robot.tool_given and part is not None:
+        load = loads.with_tool(robot.tool, robot.tool_shaped, part)
+    if load is not None:
+        load.cog_mm.flags.writeable = load.inertia_cog.flags.writeable = False  # shared by every caller
+    if len(_LOADS) >= 256:
+        _LOADS.clear()
+    _LOADS[key] = (robot, given, load)  # both held, so that their ids stay theirs while remembered
+    return load
+
+
+_LOADS: dict[tuple[int, int], tuple] = {}  # part_load by the robot's and the part's identity (frozen: never changed)
 
 
 def held_part(cell, stations):  # -> a section.Station or None

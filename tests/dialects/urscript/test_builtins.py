@@ -237,3 +237,14 @@ def test_analog_outputs_registers_stopj_and_popup():
         run("set_standard_analog_out(0, 2.0)")
     with pytest.raises(RunError, match=r"t\.script:2:\d+: write_output_boolean_register takes True or False"):
         run("write_output_boolean_register(70, 1)")
+
+
+def test_a_move_beyond_an_axis_limit_is_refused_naming_the_first_such_axis():
+    over = math.radians(361.0)
+    for joints, axis in (([0, -1.57, over, -1.57, -1.57, 0], 3), ([0, -over, 1.57, -1.57, over, 0], 2)):
+        text = f"movej([{', '.join(repr(v) for v in joints)}])"
+        with pytest.raises(RunError, match=rf"axis {axis} at -?361\.000 deg is beyond its limits \[-360, 360\] of"):
+            run(text, arm=find_arm("UR10e"), start_joints=HOME)
+    inside = math.radians(359.9)
+    trace = run(f"movej([0, -1.57, {inside!r}, -1.57, -1.57, 0])", arm=find_arm("UR10e"), start_joints=HOME)
+    assert trace.moves[0].joints[2] == pytest.approx(359.9, abs=1e-4)
