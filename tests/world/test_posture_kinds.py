@@ -127,7 +127,7 @@ def test_a_pallet_where_no_posture_clears_is_refused_naming_the_home_and_the_con
     result = CliRunner().invoke(main, ["generate", str(path), "--target", "ur", "--out", str(out)])
     assert result.exit_code == 2 and "Traceback" not in result.output and not out.exists(), result.output
     said = " ".join(result.output.split())
-    assert "pallet 'testmat' layer 1 box 1 above Q (ur, UR5e): the upper_arm touches the floor" in said
+    assert "pallet 'testmat' layer 1 box 1 above Q (ur, UR5e): the upper_arm dips below the floor" in said
     assert "the configuration tried (the controller's own from the home, else each analytic branch for the " in said
     assert "from the home [cell.robot.home] ur = [180, -150, -90, -90, -90, 0]" in said
 
