@@ -297,8 +297,8 @@ class VerifyPart(protocol.VerifyPlan):
     def sweeps(self, cell, source, workers: int) -> list[range]:
         return sweeps(workers) if source.sweep else []
 
-    def sweep(self, cell, source, program, ids: range, step_limit: int, row) -> None:
-        sweep(cell, source.target, program, ids, step_limit, row, [f.text for f in source.files])
+    def sweep(self, cell, source, program, ids: range, step_limit: int, row, every: bool = False) -> None:
+        sweep(cell, source.target, program, ids, step_limit, row, None if every else [f.text for f in source.files])
 
     def setup(self, cell, source, case):
         return setup(cell, source.target, case)
