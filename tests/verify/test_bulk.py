@@ -59,3 +59,21 @@ def test_an_id_handled_as_a_station_fails_among_the_few_ids_run(target, extra):
     assert row.swept == len(IDS) - len(stations_of(cell))  # every id that is not a station is counted
     assert row.bulk_run < row.swept // 20  # a few of them run
     assert row.mismatches == 1 and f"unknown station id {extra}:" in row.first_mismatches[0], row.first_mismatches
+
+
+def test_the_report_counts_the_ids_shown_and_run():
+    """The ids that are not stations are counted whole (bulk_runs, the station rows' unknown_ids_checked), the ids
+    run beside them (bulk_ids_run, unknown_ids_run), in two workers' pieces of the range as in one."""
+    from codegen.verify.engine import Options, verify_cell
+
+    cell = example("agv_machine_tending")
+    options = Options(cases=1, jobs=2, sweeps=True, scenarios=frozenset(), clearance=False)
+    report = verify_cell(cell, targets=("kuka",), options=options)
+    data = report.as_json()
+    (row,) = [r for r in data["targets"] if r["bulk_runs"]]
+    assert row["unknown_ids_checked"] == row["bulk_runs"] == len(IDS) - len(stations_of(cell))
+    text = next(f.text for f in stations.source(cell, "kuka").files if f.name.endswith(".src"))
+    dat = stations.files(cell, "kuka")[1]
+    chosen = set(bulk.representatives([text, dat], IDS)) - {s.id for s in stations_of(cell)}
+    assert row["unknown_ids_run"] == row["bulk_ids_run"] == len(chosen)
+    assert f"{row['bulk_runs']} bulk ids ({len(chosen)} run)" in "\n".join(report.lines())
