@@ -27,9 +27,9 @@ from collections.abc import Iterable
 
 SAMPLE = 256  # ids drawn at random over the whole range, beyond the classes' representatives
 _NUMBER = re.compile(
-    r"0[xX][0-9a-fA-F]+"  # hexadecimal (URScript, Python style)
-    r"|'[Hh][0-9a-fA-F]+'"  # KRL hexadecimal
-    r"|'[Bb][01]+'"  # KRL binary
+    r"0[xX][0-9a-fA-F]+"  # hexadecimal, C style
+    r"|'[Hh][0-9a-fA-F]+'"  # hexadecimal in quotes ('H1F')
+    r"|'[Bb][01]+'"  # binary in quotes ('B101')
     r"|\d+(?:\.\d*)?(?:[eE][+-]?\d+)?"  # decimal, fraction and exponent
     r"|\.\d+(?:[eE][+-]?\d+)?"
 )
