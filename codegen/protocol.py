@@ -193,8 +193,9 @@ class VerifyPlan(Part):
         """Bulk runs of the program in ranges (e.g. every station id that is no station), or none."""
         return []
 
-    def sweep(self, cell, source, program, ids: range, step_limit: int, row) -> None:
-        """Run the bulk range `ids` on the program, counting into the report row."""
+    def sweep(self, cell, source, program, ids: range, step_limit: int, row, every: bool = False) -> None:
+        """Run the bulk range `ids` on the program, counting into the report row (every: each id of `ids` run, else
+        as many as show every behaviour, codegen.verify.bulk)."""
 
     def setup(self, cell, source, case):
         """How the case runs (codegen.verify.plan.Setup): inputs, simulated devices, start joints, ..."""

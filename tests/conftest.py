@@ -125,8 +125,9 @@ def junit_valid():
 
 @pytest.fixture
 def no_sweeps(monkeypatch):
-    """verify's engine without the kinds' bulk runs (every station id that is not a station, run: a whole cell's
-    long run, which the slow tests run on the same programs), for a command-line test that checks something else."""
+    """verify's engine without the kinds' bulk runs (every station id that is not a station, shown to stop: a few
+    thousand runs, which the slow tests run on the same programs), for a command-line test that checks something
+    else."""
     from dataclasses import replace
 
     from codegen.verify import engine

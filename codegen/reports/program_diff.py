@@ -238,7 +238,7 @@ def _removed(cell, new: ProgramSource, old_program, raw: str) -> list[str]:
         return []
     row = Row(new.kind, new.target, new.ident, [], verify=kind)
     try:
-        kind.sweep(cell, new, old_program, ids, DEFAULT_STEP_LIMIT, row)
+        kind.sweep(cell, new, old_program, ids, DEFAULT_STEP_LIMIT, row, every=True)  # each id: the old text names them
     except RunError as exc:
         return [f"not swept: {exc}"]
     more = row.mismatches - len(row.first_mismatches)

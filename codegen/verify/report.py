@@ -64,7 +64,8 @@ class Row:
     halts: int = 0
     boundary: int = 0
     moves: int = 0
-    swept: int = 0  # bulk runs (the station ids that are not stations, each checked to stop before moving)
+    swept: int = 0  # bulk ids (the station ids that are not stations, each shown to stop before moving)
+    bulk_run: int = 0  # of those, the ids run (codegen.verify.bulk: one per class of the program's checks, a sample)
     pos_errors: array = field(default_factory=lambda: array("d"))
     rot_errors: array = field(default_factory=lambda: array("d"))
     first_mismatches: list[str] = field(default_factory=list)
@@ -108,6 +109,7 @@ class Row:
         self.boundary += part.boundary
         self.moves += part.moves
         self.swept += part.swept
+        self.bulk_run += part.bulk_run
         self.pos_errors.extend(part.pos_errors)
         self.rot_errors.extend(part.rot_errors)
         problems = {text: problem for problem, text in zip(part.alike, part.first_mismatches, strict=True)}
@@ -156,6 +158,7 @@ class Row:
             "cases_per_second": self.cases / self.seconds if self.seconds else None,
             "clearance_seconds": self.clearance_seconds,  # a row's time (plant.timing.ROW_TIMES), not in "clearance"
             "bulk_runs": self.swept,
+            "bulk_ids_run": self.bulk_run,
         }
         if self.arm.moves:
             out["arm"] = self.arm.summary()
@@ -249,7 +252,7 @@ class Report:
                 )
         runs = sum(r.cases for r in self.rows)
         bulk = sum(r.swept for r in self.rows)
-        extra = f" and {bulk} bulk runs" if bulk else ""
+        extra = f" and {bulk} bulk ids ({sum(r.bulk_run for r in self.rows)} run)" if bulk else ""
         out.append(
             f"{runs} runs{extra} in {self.wall_seconds:.1f} s wall, {self.workers} worker(s); cases/s = one program "
             "on one core"

@@ -105,7 +105,8 @@ def _run_cases(
                     _, problem, pos, rot, expected = min(problems, key=lambda p: p[0])
             if problem is None and judgement.truth is not None:
                 problem = judgement.truth
-            if check is not None and swept[number]:  # a move through a solid is named beside any other problem
+            # a move through a solid is named beside any other problem, unless the run stops at this case anyway
+            if check is not None and swept[number] and not (first and problem is not None):
                 breach = _clearance(check, setup, trace, row, case)
                 if breach is not None:
                     problem = breach if problem is None else f"{problem}; {breach}"

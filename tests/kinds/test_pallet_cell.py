@@ -258,7 +258,7 @@ def test_counters_moved_into_the_regenerated_program_fail_the_reload(testmat):
             "DECL REAL PAL_HEIGHT=", "DECL INT PAL_TESTMAT_LAYER=1\nDECL INT PAL_TESTMAT_BOX=1\nDECL REAL PAL_HEIGHT="
         )
 
-    found = verify_one(testmat, edited(program, krl), first_mismatch=True).first_mismatches
+    found = verify_one(testmat, edited(program, krl), first_mismatch=True, clearance=False).first_mismatches
     assert found and found[0].startswith("counters_reloaded") and "pal_testmat.dat" in found[0], found
     program = sources(testmat, "abb", "pallet")[0]
 
@@ -267,7 +267,7 @@ def test_counters_moved_into_the_regenerated_program_fail_the_reload(testmat):
         counters = "  LOCAL PERS num pal_testmat_layer := 1;\n  LOCAL PERS num pal_testmat_box := 1;\n"
         return text.replace("  LOCAL PERS wobjdata stack_wobj", counters + "  LOCAL PERS wobjdata stack_wobj")
 
-    found = verify_one(testmat, edited(program, rapid), first_mismatch=True).first_mismatches
+    found = verify_one(testmat, edited(program, rapid), first_mismatch=True, clearance=False).first_mismatches
     assert found and found[0].startswith("counters_reloaded") and "pal_testmat.mod" in found[0], found
 
 
@@ -484,7 +484,7 @@ def test_the_ur_program_places_slip_sheets(tmp_path):
     ]:
         assert old in program.files[0].text, old
         mutant = edited(program, lambda text, old=old, new=new: text.replace(old, new))
-        assert verify_one(cell, mutant, cases=1, first_mismatch=True).first_mismatches, old
+        assert verify_one(cell, mutant, cases=1, first_mismatch=True, clearance=False).first_mismatches, old
 
 
 # --- the UR forms, the release, messages ---------------------------------------------------------------------------

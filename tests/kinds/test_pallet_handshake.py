@@ -17,9 +17,8 @@ def _mismatches(cell_file: str, target: str, name: str, old: str, new: str) -> l
     program = next(p for p in sources(cell, target, "pallet") if any(f.name.endswith(name) for f in p.files))
     (own,) = [f for f in program.files if f.name.rsplit("/", 1)[-1] == name]
     assert old in own.text, f"{old!r} not in the {target} program's {name}"
-    return verify_one(
-        cell, edited(program, lambda t: t.replace(old, new) if t == own.text else t), first_mismatch=True
-    ).first_mismatches
+    mutant = edited(program, lambda t: t.replace(old, new) if t == own.text else t)
+    return verify_one(cell, mutant, first_mismatch=True, clearance=False).first_mismatches
 
 
 # (cell, target, file, old, new, what the first mismatch says): the zone output taken out (the program as it was
@@ -165,6 +164,9 @@ def test_the_ur_sheet_handshake_is_set_at_a_standstill(tmp_path):
     on = "        set_standard_digital_out(5, True)   # into the zone"
     assert on in program.files[0].text
     found = verify_one(
-        cell, edited(program, lambda t: t.replace(on, "        textmsg(0)   # into the zone")), first_mismatch=True
+        cell,
+        edited(program, lambda t: t.replace(on, "        textmsg(0)   # into the zone")),
+        first_mismatch=True,
+        clearance=False,
     ).first_mismatches
     assert found and "standard_digital_out[5] set to True" in found[0], found

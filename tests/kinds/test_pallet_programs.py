@@ -54,7 +54,7 @@ def mutant_mismatches(cell, target: str, name: str, old: str, new: str, count: i
     def edit(text: str) -> str:
         return text.replace(old, new, count if count else -1) if text == own.text else text
 
-    return verify_one(cell, edited(program, edit), first_mismatch=True).first_mismatches
+    return verify_one(cell, edited(program, edit), first_mismatch=True, clearance=False).first_mismatches
 
 
 # (target, file, old, new): a wrong layer height, the cycle swapped, counters that do not come from their store (or a

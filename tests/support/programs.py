@@ -44,11 +44,21 @@ def regex_edit(pattern: str, replacement, count: int = 1):
 
 
 def verify(
-    cell, source_list, cases: int = 3, seed: int = 0, first_mismatch: bool = False, sweeps: bool = False, scenarios=None
+    cell,
+    source_list,
+    cases: int = 3,
+    seed: int = 0,
+    first_mismatch: bool = False,
+    sweeps: bool = False,
+    scenarios=None,
+    clearance: bool = True,
 ):
     """The engine's rows for the programs (in this process; the kinds' bulk runs only when asked; only the cases
-    of the scenarios named, if any)."""
-    options = Options(cases, seed, 1, first_mismatch=first_mismatch, sweeps=sweeps, scenarios=scenarios)
+    of the scenarios named, if any; clearance=False: no trace swept against the cell's solids, for a test that asks
+    only whether an edit's own difference fails verify)."""
+    options = Options(
+        cases, seed, 1, first_mismatch=first_mismatch, sweeps=sweeps, scenarios=scenarios, clearance=clearance
+    )
     rows, _ = verify_sources(cell, list(source_list), options)
     return rows
 
