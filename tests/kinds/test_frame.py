@@ -195,7 +195,8 @@ def test_a_cell_of_frame_stations_only(tmp_path):
     """A cell of one kind carries only that kind's interface, helpers and data, and verifies."""
     text = BENCH.read_text()
     path = tmp_path / "frames.toml"
-    path.write_text(text[: text.index("[[station]]\nid = 2")], encoding="utf-8")
+    second = text.rindex("[[station]]", 0, text.index("\nid = 2\n"))  # the point station's table and what follows
+    path.write_text(text[:second], encoding="utf-8")
     cell = load_cell(path)
     assert {s.mode for s in stations_of(cell)} == {"frame"}
     for target in target_names():

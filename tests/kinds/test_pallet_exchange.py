@@ -1,6 +1,6 @@
 """A done pallet's swap: the program waits above Q for the PLC's reset, answers it, waits for the drop, then works the
 new pallet; each change that breaks one of those fails verify (the reference models the swaps, the simulated PLC
-codegen/sim/exchange.py PalletExchange answers and logs where the arm stood)."""
+codegen/kinds/pallet/exchange.py PalletExchange answers and logs where the arm stood)."""
 
 import re
 from pathlib import Path

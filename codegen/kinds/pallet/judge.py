@@ -11,6 +11,7 @@ from codegen.emit import Emitter
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import ExpectedMove
+from codegen.kinds.pallet.exchange import SHIFT_ENDS, PalletExchange
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import known_question, message_limit, released_question, select_message
 from codegen.kinds.pallet.posture import configurations
@@ -25,7 +26,6 @@ from codegen.kinds.pallet.way_home import joint_percent, way_home, way_joints
 from codegen.model.io import signal_name
 from codegen.reference import home_move
 from codegen.robot.taught import ReachError
-from codegen.sim.exchange import SHIFT_ENDS, PalletExchange
 from codegen.verify.plan import TOOL_LOAD, Case, Expectation, Judgement, PlannedMove, PlannedOutput, Stored
 
 # the handshake outputs (codegen/kinds/pallet/interlocks.py HANDSHAKES) as the report names them

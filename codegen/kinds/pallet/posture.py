@@ -4,8 +4,8 @@
 # takes from the home by itself where those clear the cell; where they do not, every joint move of the whole cycle in
 # one analytic branch, tried nearer the home first and ranked by codegen/world/posture.py (a branch replaces the kept
 # one only where it clears by TIE_MM more). Each candidate must pass the reach proof (check_pallet) and the clearance
-# proof of every path generate proves (pallet_paths). The program names the choice in the target's own form (UR joints
-# and qnear, KUKA Status/Turn, ABB confdata: codegen/robot/config.py FORMS) and verify plans every case with the same
+# proof of every path generate proves (pallet_paths). The program names the choice in each target's own form (joints,
+# status and turn bits or configuration data: codegen/robot/config.py FORMS) and verify plans every case with the same
 # configurations: both read configurations() below.
 
 from __future__ import annotations

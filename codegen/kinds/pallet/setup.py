@@ -8,6 +8,7 @@ from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import PalletCase
+from codegen.kinds.pallet.exchange import PalletExchange
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import known_question, message_limit, still_waiting_message
@@ -21,7 +22,6 @@ from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, Re
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
 from codegen.robot.expect import tool_inputs
-from codegen.sim.exchange import PalletExchange
 from codegen.sim.gripper import Gripper
 from codegen.sim.operator import Operator
 from codegen.verify.plan import START_AWAY_DEG, Case, Setup
