@@ -110,8 +110,10 @@ def test_a_named_configuration_the_arm_cannot_take_above_q_is_refused_naming_the
     result = CliRunner().invoke(main, ["generate", str(path), "--target", "abb", "--out", str(out)])
     assert result.exit_code == 2 and "Traceback" not in result.output and not out.exists(), result.output
     said = " ".join(result.output.split())
-    assert "[pallet.config] abb = [2, 0, 0, 0] of pallet 'testmat': the arm takes no solution in this configuration " \
+    assert (
+        "[pallet.config] abb = [2, 0, 0, 0] of pallet 'testmat': the arm takes no solution in this configuration "
         "above Q" in said
+    )
 
 
 @pytest.mark.parametrize(
