@@ -270,7 +270,7 @@ PALLET = Table(
                 "either",
                 "a configuration",
                 alternatives=(
-                    Key("list", "ABB confdata [cf1, cf4, cf6, cfx] or UR joints (deg)", values=Key("number", "a field")),
+                    Key("list", "ABB confdata [cf1, cf4, cf6, cfx] or UR joints (deg)", values=Key("number", "one")),
                     Key("map", "KUKA { s = status, t = turn } or { joints = [...] } (deg)"),
                 ),
             ),
