@@ -117,6 +117,25 @@ def test_a_named_configuration_the_arm_cannot_take_above_q_is_refused_naming_the
 
 
 @pytest.mark.parametrize(
+    ("target", "line", "kept"),
+    [
+        ("ur", "ur = [195.103, -56.873, 90.786, 236.087, -90, -74.897]", "[-164.897, -56.873, "),
+        ("kuka", "kuka = { s = 6, t = 19 }", "{ s = 6, t = 51 }"),
+    ],
+)
+def test_a_named_configuration_a_turn_from_the_cycles_is_refused_naming_the_one_to_give(tmp_path, target, line, kept):
+    """Axis 1 (UR) or axis 6 (KUKA, Turn bit 5) a turn from where the cycle in that branch comes above Q from the home:
+    the program could not name it; the refusal names the key and the configuration the cycle takes there."""
+    path = _write(tmp_path, "turned.toml", _named_text(target, line))
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["generate", str(path), "--target", target, "--out", str(out)])
+    assert result.exit_code == 2 and "Traceback" not in result.output and not out.exists(), result.output
+    said = " ".join(result.output.split())
+    assert f"[pallet.config] {line} of pallet 'testmat': the cycle worked in this configuration's branch comes " in said
+    assert f"above Q from the home in {kept}" in said and "name that one" in said
+
+
+@pytest.mark.parametrize(
     ("target", "line", "key", "said"),
     [
         ("ur", "ur = [1.0, 2.0]", "pallet[0].config.ur", "expected 6 numbers, got 2"),
