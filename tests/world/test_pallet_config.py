@@ -61,8 +61,14 @@ def _programs(cell, target: str) -> dict:
     return {f.relpath: re.sub(r"sha256 [0-9a-f]{64}", "", f.text) for f in render(cell, [target])}
 
 
-@pytest.mark.parametrize("target", ["ur", "kuka", "abb"])
-def test_a_named_configuration_that_clears_is_kept_and_named_by_the_program(tmp_path, target, monkeypatch):
+# KUKA's configuration above Q as joints (to 0.01 deg) instead of S and T: the same branch, the same program
+AS_JOINTS = "kuka = { joints = [-26.57, -45.62, 89.37, 180, -46.24, -26.57] }"
+
+
+@pytest.mark.parametrize(
+    ("target", "line"), [("ur", CLEARS["ur"]), ("kuka", CLEARS["kuka"]), ("abb", CLEARS["abb"]), ("kuka", AS_JOINTS)]
+)
+def test_a_named_configuration_that_clears_is_kept_and_named_by_the_program(tmp_path, target, line, monkeypatch):
     """The cell names the configuration generate's search would keep: it is taken as given (no search: the candidates
     are never asked for), nothing is reported as chosen, the programs are those of the search, and each names it in
     its own form (UR's qnear the named joints, KUKA S and T, ABB confdata)."""
@@ -72,10 +78,10 @@ def test_a_named_configuration_that_clears_is_kept_and_named_by_the_program(tmp_
         raise AssertionError("a configuration the cell names is not searched for")
 
     monkeypatch.setattr(posture, "_candidates", no_search)
-    cell = load_cell(_write(tmp_path / "named", "testmat.toml", _named_text(target, CLEARS[target])))
+    cell = load_cell(_write(tmp_path / "named", "testmat.toml", _named_text(target, line)))
     pallet = cell.sections["pallet"][0]
     named = configurations(cell, pallet, target)
-    assert named.source == f"[pallet.config] {CLEARS[target]} of pallet 'testmat'"
+    assert named.source == f"[pallet.config] {line} of pallet 'testmat'"
     assert posture_note(cell, pallet, target) == ""
     assert check_clearance(cell, [target])
     ours = _programs(cell, target)
