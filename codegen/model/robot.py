@@ -358,15 +358,9 @@ def parse_station_config(ctx, raw, path: str, robot: Robot | None, pose_names: l
     """[station.config.<target>]: pose name -> its configuration: target -> {pose: PoseConfig}."""
     if raw is None:
         return {}
-    if robot is None:
-        ctx.fail(path, "a configuration needs [cell.robot]")
-    if not isinstance(raw, dict):
-        ctx.fail(path, "expected a table of targets")
     out = {}
-    for target, poses in raw.items():
+    for target, poses in _per_arm(ctx, raw, path, robot).items():
         tpath = f"{path}.{target}"
-        if target not in robot.arms:
-            ctx.fail(tpath, f"no arm for this target in [cell.robot]; allowed: {', '.join(robot.arms)}")
         if not isinstance(poses, dict):
             ctx.fail(tpath, "expected a table: pose name = configuration")
         out[target] = {}
@@ -376,6 +370,28 @@ def parse_station_config(ctx, raw, path: str, robot: Robot | None, pose_names: l
                 ctx.fail(ppath, f"no such pose; the station's poses: {', '.join(pose_names)}")
             out[target][pose] = _pose_config(ctx, value, ppath, configuration_of(target), robot.arms[target])
     return out
+
+
+def parse_cycle_config(ctx, raw, path: str, robot: Robot | None) -> dict:
+    """A configuration per target that a whole cycle is worked in ([pallet.config]): target -> PoseConfig."""
+    if raw is None:
+        return {}
+    return {
+        target: _pose_config(ctx, value, f"{path}.{target}", configuration_of(target), robot.arms[target])
+        for target, value in _per_arm(ctx, raw, path, robot).items()
+    }
+
+
+def _per_arm(ctx, raw, path: str, robot: Robot | None) -> dict:
+    """A table of targets, each one with an arm in [cell.robot]."""
+    if robot is None:
+        ctx.fail(path, "a configuration needs [cell.robot]")
+    if not isinstance(raw, dict):
+        ctx.fail(path, "expected a table of targets")
+    for target in raw:
+        if target not in robot.arms:
+            ctx.fail(f"{path}.{target}", f"no arm for this target in [cell.robot]; allowed: {', '.join(robot.arms)}")
+    return raw
 
 
 def _integers(ctx, value, count: int, low: int, high: int, path: str) -> tuple[int, ...]:

@@ -6,6 +6,7 @@ from dataclasses import replace
 
 from codegen.controllers import get_target, target_names
 from codegen.guard import TAUGHT_RANGE_MM
+from codegen.model import robot
 from codegen.model.io import signal_key, signals
 from codegen.model.schema import Key, KindKeys, Table
 
@@ -258,6 +259,21 @@ PALLET = Table(
             count=3,
             low=-MAX_SIZE_MM,
             high=MAX_SIZE_MM,
+        ),
+        "config": Key(
+            "map",
+            "per target with an arm: the configuration above Q (the target's own form or { joints = [...] }), every "
+            "joint move of the cycle worked in its branch (default: the controller's own from the home, else one "
+            "chosen to clear the cell)",
+            names=robot.arm_targets(),
+            values=Key(
+                "either",
+                "a configuration",
+                alternatives=(
+                    Key("list", "ABB confdata [cf1, cf4, cf6, cfx] or UR joints (deg)", values=Key("number", "one")),
+                    Key("map", "KUKA { s = status, t = turn } or { joints = [...] } (deg)"),
+                ),
+            ),
         ),
         "zone_mm": Key(
             "number",

@@ -6,7 +6,9 @@
 # one only where it clears by TIE_MM more). Each candidate must pass the reach proof (check_pallet) and the clearance
 # proof of every path generate proves (pallet_paths). The program names the choice in each target's own form (joints,
 # status and turn bits or configuration data: codegen/robot/config.py FORMS) and verify plans every case with the same
-# configurations: both read configurations() below.
+# configurations: both read configurations() below. Where the cell names the configuration above Q ([pallet.config]),
+# nothing is chosen: the whole cycle is worked in the branch the controller's own rule selects there for it, and the
+# proofs refuse it, naming the key, where it does not reach or does not clear.
 
 from __future__ import annotations
 
@@ -14,10 +16,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from codegen.kinds.pallet.reach import Named, check_pallet, full_cycle, joints_of, plan
+from codegen.kinds.pallet.reach import PICK_KEY, Named, check_pallet, full_cycle, joints_of, plan
 from codegen.kinds.pallet.scene import pallet_paths
 from codegen.kinds.pallet.section import pallets_of
+from codegen.robot import solve
 from codegen.robot.cache import per_cell
+from codegen.robot.config import FORMS
 from codegen.robot.taught import ReachError
 from codegen.world.posture import TIE_MM, Posture, branch_count, choose, in_order, set_by_the_tool, travel
 
@@ -43,13 +47,21 @@ def check(cell, only: list[str] | None = None) -> list:
         return []
     targets = [t for t in cell.targets if t in cell.robot.arms and (only is None or t in only)]
     return [
-        replace(
-            check_pallet(cell, pallet, target, configurations(cell, pallet, target)),
-            posture=posture_note(cell, pallet, target),
-        )
+        replace(_reach(cell, pallet, target), posture=posture_note(cell, pallet, target))
         for target in targets
         for pallet in pallets_of(cell)
     ]
+
+
+def _reach(cell, pallet, target: str):
+    """The pallet's reach proof in the configurations its program names; a refusal of the cell's own names its key."""
+    named = configurations(cell, pallet, target)
+    try:
+        return check_pallet(cell, pallet, target, named)
+    except ReachError as exc:
+        if named is None or not named.source:
+            raise
+        raise ReachError(f"{exc} (in the configuration the cell names: {named.source})") from None
 
 
 def _decided(cell, pallet, target: str) -> tuple[Named | None, str]:
@@ -61,6 +73,8 @@ def _chosen(cell, pallet, target: str) -> tuple[Named | None, str]:
     natural = plan(cell, pallet, target)
     if natural is None:
         return None, ""
+    if target in pallet.config:
+        return _given(cell, pallet, target, natural), ""
     home = cell.robot.home[target]
     first = _evaluate(cell, pallet, target, Posture(natural, -1, travel(_first(cell, pallet, target, natural), home)))
     if not first.reaches or (first.least_mm is not None and set_by_the_tool(cell.robot.arms[target], first.nearest)):
@@ -70,6 +84,53 @@ def _chosen(cell, pallet, target: str) -> tuple[Named | None, str]:
     if best is None or best is first:
         return natural, ""  # none clears: generate's clearance proof refuses the controller's own, naming the move
     return best.config, _note(cell, target, first, best)
+
+
+def _given(cell, pallet, target: str, natural: Named) -> Named:
+    """The configurations of the cell's own ([pallet.config]): the whole cycle in the analytic branch that the
+    configuration selects above Q by the controller's rule, nothing else tried. ReachError naming the key where it
+    selects no solution there or the cycle in that branch reaches Q in another configuration."""
+    given = pallet.config[target]
+    arm = cell.robot.arms[target]
+    source = f"[pallet.config] {target} = {_shown(target, given.form, given.value)} of pallet {pallet.name!r}"
+    above = next(m for m in full_cycle(cell, pallet) if natural.key(pallet, m) == PICK_KEY)
+    solutions = solve.branches(arm, solve.flange_poses(above.tcp2base[None], cell.robot.tool.tcp2flange))[0]
+    joints, branch = FORMS[given.form].select(arm, solutions, given.value)
+    if np.isnan(joints).any():
+        raise ReachError(
+            f"{source}: the arm takes no solution in this configuration above Q ({arm.model}, within the joint "
+            "limits): name one it takes there, or leave the key out and let generate choose"
+        )
+    try:
+        named = plan(cell, pallet, target, int(branch))
+    except ReachError as exc:
+        raise ReachError(f"{exc} (in the configuration the cell names: {source})") from None
+    first = _first_above(cell, pallet, target, named)
+    if not np.allclose(first, joints, atol=1e-6):
+        kept = _shown(target, named.form, FORMS[named.form].of(arm, first))
+        raise ReachError(
+            f"{source}: the cycle worked in this configuration's branch comes above Q from the home in {kept} "
+            f"(joints {np.round(first, 2).tolist()} deg), not in the one named (joints "
+            f"{np.round(joints, 2).tolist()} deg): name that one"
+        )
+    return replace(named, source=source)
+
+
+def _first_above(cell, pallet, target: str, named: Named) -> np.ndarray:
+    """The joints of the cycle's first move above Q, as the program names its configuration."""
+    moves = full_cycle(cell, pallet)
+    index = next(i for i, m in enumerate(moves) if named.key(pallet, m) == PICK_KEY)
+    return joints_of(cell, target, moves[: index + 1], f"pallet {pallet.name!r}", pallet, named)[-1]
+
+
+def _shown(target: str, form: str, value) -> str:
+    """A configuration (a form's value) as the cell file writes it for the target."""
+    from codegen.controllers import get_target
+
+    if form == "status_turn":
+        return "{{ s = {}, t = {} }}".format(*value)
+    listed = "[" + ", ".join(f"{v:g}" if isinstance(v, float) else str(v) for v in value) + "]"
+    return listed if form == get_target(target).configuration else f"{{ {form} = {listed} }}"
 
 
 def _candidates(cell, pallet, target: str, natural: Named) -> list[Posture]:

@@ -64,6 +64,8 @@ class Named:
     # sheet stack, the safe pose) as axis values (key -> joints): each move from one of them has one nearest
     # solution, whatever the turns the arm took before (no axis winds up from box to box)
     anchors: dict = field(default_factory=dict)
+    # where the cell names the configuration ([pallet.config]): that key as a refusal's fix names it ("": chosen)
+    source: str = ""
 
     def anchor(self, move) -> object:
         """The anchor of a joint move to a fixed pose the program names in axis values, None: another move."""

@@ -142,15 +142,20 @@ def pallet_paths(cell, pallets, pallet, target: str, named) -> list[Path]:
     home = np.asarray(cell.robot.home[target], dtype=float)
     part = carried_box(cell, pallet)
     planned, stages = _planned(cell, pallet, target, full_cycle(cell, pallet), named, count, others)
-    out = [Path(target, home, tuple(planned), part, stages, PALLET_CONFIGURATION)]
+    out = [Path(target, home, tuple(planned), part, stages, _configuration(named))]
     for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
         out.append(_way_home(cell, pallet, target, planned[k], home, part, stages, named))
     keys = [item.key for item in items(pallet)]
     if not stacking and keys:  # a box held at the start, the counters at the first item: the whole stack stands
         held = expected(cell, pallet, PalletCase("held_at_start", *keys[0], closed=True)).moves
         planned, stages = _planned(cell, pallet, target, held, named, count, others)
-        out.append(Path(target, home, tuple(planned), part, stages, PALLET_CONFIGURATION))
+        out.append(Path(target, home, tuple(planned), part, stages, _configuration(named)))
     return out
+
+
+def _configuration(named) -> str:
+    """The configuration the proofs try, for a refusal's fix: the one the cell names, else the posture's search."""
+    return getattr(named, "source", "") or PALLET_CONFIGURATION
 
 
 def _planned(cell, pallet, target: str, moves, named, count: int, others: dict) -> tuple[list[Move], dict]:
@@ -222,7 +227,7 @@ def _way_home(cell, pallet, target: str, stop: Move, home, part, stages, named) 
     ]
     moves.append(Move("joint", home, f"{label}: home", None, stop.carrying, stop.stage))
     moves = tuple(moves[1:] if moves[0].kind == "joint" else moves)
-    return Path(target, start, moves, part, stages, PALLET_CONFIGURATION)
+    return Path(target, start, moves, part, stages, _configuration(named))
 
 
 def carried_box(cell, pallet) -> Box:

@@ -9,6 +9,7 @@ from codegen.kinds.pallet.interlocks import PalletIO, check_one_job_each, check_
 from codegen.kinds.pallet.keys import FAMILIES, MAX_LAYERS, PALLET
 from codegen.model.cell import CellValidator
 from codegen.model.loader import Loader, build
+from codegen.model.robot import parse_cycle_config
 
 # The most boxes a stack (every layer), a pattern or the patterns together may hold. The programs hold every
 # box of the cycle's patterns in tables (7 to 9 numbers a box) and count boxes in a layer and layers; their
@@ -64,6 +65,9 @@ class Pallet:
     slip_lift: float = PICK_LIFT_MM  # the sheet comes off its stack straight along the base's z, mm
     zone_mm: float = 0.0  # blending where the arm passes a pose (0: it stops at each)
     transit_clearance_mm: float = 10.0  # the carried box's bottom above the stack's top where it travels over it
+    # target -> the configuration above Q the cell names ([pallet.config], codegen.model.robot.PoseConfig): the
+    # whole cycle is worked in its branch; a target without one: codegen/kinds/pallet/posture.py chooses
+    config: dict = field(default_factory=dict)
 
 
 def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
@@ -90,7 +94,7 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
             "an unstacking program would grip the slip sheet on a layer with its box: codegen places slip "
             "sheets when stacking only",
         )
-    values = loader.table(PALLET, table, path)
+    values = loader.table(PALLET, table, path, readers={"config": lambda value, where: value})  # read with the arms
     patterns = _patterns(ctx, values["patterns"], f"{path}.patterns")
     cycle = values["cycle"]
     if len(cycle) > MAX_LAYERS:
@@ -119,6 +123,7 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
         # the TCP on the box's top, its z into the box: the box's centre
         box_cog_mm=values["box_cog_mm"] or (0.0, 0.0, box[2] / 2),
         zone_mm=values["zone_mm"] if values["zone_mm"] is not None else cell.motion.zone_mm,
+        config=parse_cycle_config(ctx, values["config"], f"{path}.config", cell.robot),
     )
 
 
