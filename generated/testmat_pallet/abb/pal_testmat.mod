@@ -184,11 +184,14 @@ MODULE pal_testmat
         ENDIF
         pal_testmat_layer := 1;
         pal_testmat_box := 1;
-      ELSE
+      ELSEIF held THEN
+        ! a box in the gripper on a full pallet: not this pallet's, the operator sees to it
         stack_stop "pallet testmat is full: swap it, then reset its counters from the PLC";
       ENDIF
+      ! no reset yet: the swap waited for above Q below, as at a pallet's end
     ENDIF
-    IF NOT stack_valid() THEN
+    ! (full: its swap waited for below)
+    IF NOT stack_valid() AND NOT (pal_testmat_layer = 6 AND pal_testmat_box = 1) THEN
       stack_stop "pallet testmat: layer or box counter out of range";
     ENDIF
     ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
@@ -232,6 +235,11 @@ MODULE pal_testmat
     ! the arm comes from home
     up_q := FALSE;
     up_z := 0;
+    IF pal_testmat_layer > STACK_LAYERS THEN
+      ! the pallet full at the start: its swap waited for above Q, then the new pallet's first box
+      MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, fine, stack_tool;
+      stack_swap;
+    ENDIF
     WHILE pal_testmat_layer <= STACK_LAYERS DO
       target := stack_target(pal_testmat_layer, pal_testmat_box);
       row := stack_row(pal_testmat_layer, pal_testmat_box);
