@@ -225,13 +225,11 @@ If pal_layer == 0 And pal_box == 0 And held == 0 Then
     EndWhile
     pal_layer = 5
     pal_box = 8
-  Else
-    TPWrite 0, "pallet eur_in is empty: bring a full one, then reset its counters from the PLC"
-    Halt
   EndIf
+  // no reset yet: the swap waited for above Q below, as at a pallet's end
 EndIf
-// (the last box held: the pallet is empty after it)
-If pal_valid(pal_layer, pal_box) == 0 And Not (held == 1 And pal_layer == 0 And pal_box == 0) Then
+// (empty: its swap waited for below)
+If pal_valid(pal_layer, pal_box) == 0 And Not (pal_layer == 0 And pal_box == 0) Then
   TPWrite 0, "pallet eur_in: layer or box counter out of range"
   Halt
 EndIf
@@ -272,8 +270,12 @@ If held == 1 Then
   up = 1
 EndIf
 If pal_layer < 1 Then
-  // the last box put down at Q: the pallet is empty, its swap waited for here
+  // the pallet empty (at the start, or once the last box is put down at Q): its swap waited for above Q
+  If up == 0 Then
+    MovJ PAL_ABOVE
+  EndIf
   Call pal_swap()
+  up = 1
 EndIf
 If pal_layer >= 1 Then
   Call pal_wait(8)

@@ -184,11 +184,14 @@ MODULE pal_carton
         ENDIF
         pal_carton_layer := 1;
         pal_carton_box := 1;
-      ELSE
+      ELSEIF held THEN
+        ! a box in the gripper on a full pallet: not this pallet's, the operator sees to it
         stack_stop "pallet carton is full: swap it, then reset its counters from the PLC";
       ENDIF
+      ! no reset yet: the swap waited for above Q below, as at a pallet's end
     ENDIF
-    IF NOT stack_valid() THEN
+    ! (full: its swap waited for below)
+    IF NOT stack_valid() AND NOT (pal_carton_layer = 4 AND pal_carton_box = 1) THEN
       stack_stop "pallet carton: layer or box counter out of range";
     ENDIF
     ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
@@ -230,6 +233,11 @@ MODULE pal_carton
     ! the arm comes from home
     up_q := FALSE;
     up_z := 0;
+    IF pal_carton_layer > STACK_LAYERS THEN
+      ! the pallet full at the start: its swap waited for above Q, then the new pallet's first box
+      MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, fine, stack_tool;
+      stack_swap;
+    ENDIF
     WHILE pal_carton_layer <= STACK_LAYERS DO
       target := stack_target(pal_carton_layer, pal_carton_box);
       row := stack_row(pal_carton_layer, pal_carton_box);

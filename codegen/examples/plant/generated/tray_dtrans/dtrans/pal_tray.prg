@@ -205,12 +205,15 @@ If pal_layer == 3 And pal_box == 1 Then
     EndWhile
     pal_layer = 1
     pal_box = 1
-  Else
+  ElseIf held == 1 Then
+    // a box in the gripper on a full pallet: not this pallet's, the operator sees to it
     TPWrite 0, "pallet tray is full: swap it, then reset its counters from the PLC"
     Halt
   EndIf
+  // no reset yet: the swap waited for above Q below, as at a pallet's end
 EndIf
-If pal_valid(pal_layer, pal_box) == 0 Then
+// (full: its swap waited for below)
+If pal_valid(pal_layer, pal_box) == 0 And Not (pal_layer == 3 And pal_box == 1) Then
   TPWrite 0, "pallet tray: layer or box counter out of range"
   Halt
 EndIf
@@ -231,6 +234,11 @@ Point high = PAL_PICK
 If held == 0 Then
   // the gripper opened at the start only when it holds nothing
   Call pal_release()
+EndIf
+If pal_layer > PAL_LAYERS Then
+  // the pallet full at the start: its swap waited for above Q, then the new pallet's first box
+  MovJ PAL_ABOVE
+  Call pal_swap()
 EndIf
 While pal_layer <= PAL_LAYERS
   pattern = pal_pattern(pal_layer)
