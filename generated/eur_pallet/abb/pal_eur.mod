@@ -33,7 +33,8 @@ MODULE pal_eur
   ! turns doEurFull off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
   ! again at layer 1, box 1; a reset that stays on stops with a message. On a pallet not done
   ! the input does nothing. A pallet done in the cycle: the arm waits above Q (stack_swap) for that reset for as long
-  ! as the swap takes, answers it the same way, then works the new pallet.
+  ! as the swap takes, answers it the same way, then works the new pallet; a pallet done at the start with the
+  ! reset off the same, from home above Q.
 
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity

@@ -22,7 +22,8 @@
 // off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet again at layer 1,
 // box 1; a reset that stays on stops with a message. On a pallet not done it does nothing.
 // A pallet done in the cycle: the arm waits above Q (pal_swap) for that reset for as long as the swap takes,
-// answers it the same way, then works the new pallet.
+// answers it the same way, then works the new pallet; a pallet done at the start with the reset off the same,
+// from home above Q.
 Int pal_layer
 Int pal_box
 
@@ -162,7 +163,7 @@ Function Point pal_pose(Double x, Double y, Double z, Double a)
   Return Trans(px, py, PAL_OZ + z, PAL_TOOL_C, PAL_TOOL_B, PAL_TURN + a + PAL_TOOL_A)
 EndFunction
 
-// main: a full pallet, or counters outside the stack, stop before any move
+// main: a full pallet (without the PLC's reset), or counters outside the stack, stop before any move
 // the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
 Int held = 0
 If DIn(2) == True Then
