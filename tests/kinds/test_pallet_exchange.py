@@ -5,13 +5,15 @@ codegen/kinds/pallet/exchange.py PalletExchange answers and logs where the arm s
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 from support.cells import unstacking_testmat_text
 from support.programs import sources
 from test_pallet_programs import mutant_mismatches
 
 from codegen.kinds.pallet.cases import verify_cases
-from codegen.kinds.pallet.cycle import PalletCase, done_counters, items
+from codegen.kinds.pallet.cycle import PalletCase, above_pick, done_counters, items
+from codegen.kinds.pallet.messages import full_message, message_limit
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.model.cell import load_cell
@@ -200,12 +202,116 @@ def unstacking(tmp_path_factory):
         ("      pal_swap()\n      pal_layer = 5\n      pal_box = 6\n", "      pal_swap()\n", "pallet_exchanged"),
         # the last box held at the start and put down at Q: the empty pallet's swap not waited for
         (
-            "  if pal_layer < 1:   # the last box put down at Q: the pallet is empty, its swap waited for here\n",
-            "  if False:\n",
+            "  if pal_layer < 1:   # the pallet empty",
+            "  if pal_layer < 1 and not pal_up:   # the pallet empty",
             "held_at_start pallet testmat layer 0 box 0",
+        ),
+        # empty at the start, the reset off: the stop kept
+        (
+            "    end   # no reset yet: the swap waited for above Q below, as at a pallet's end\n",
+            '    else:\n      pal_stop("empty")\n    end\n',
+            "pallet_empty pallet testmat layer 0 box 0",
         ),
     ],
 )
 def test_an_unstacking_program_waits_for_the_empty_pallets_swap(unstacking, old, new, case):
     found = mutant_mismatches(unstacking, "ur", "pal_testmat.script", old, new)
     assert found and found[0].startswith(case) and WAITED in found[0], found
+
+
+def test_an_unstacking_program_empty_at_the_start_waits_above_q(unstacking):
+    """Empty at the start: the swap waited for at home instead of above Q fails verify (its moves)."""
+    old = (
+        "    if not pal_up:\n      movej(get_inverse_kin(PAL_ABOVE, qnear=PAL_ABOVE_QNEAR), a=1.2, v=0.25)\n"
+        "    end\n    pal_swap()\n"
+    )
+    found = mutant_mismatches(unstacking, "ur", "pal_testmat.script", old, "    pal_swap()\n")
+    assert found and found[0].startswith("pallet_empty pallet testmat layer 0 box 0"), found
+
+
+# A pallet done at the start (the reset off): a program that stops, or works the done pallet, or waits elsewhere than
+# above Q fails verify on every target. (target, file, old, new, what its first mismatch says)
+AT_START = [
+    ("dtrans", "pal_testmat.prg", "  ElseIf held == 1 Then\n", "  Else\n", WAITED),
+    (
+        "dtrans",
+        "pal_testmat.prg",
+        "  MovJ PAL_ABOVE\n  Call pal_swap()\nEndIf\nWhile",
+        "  pal_layer = 1\n  pal_box = 1\nEndIf\nWhile",
+        "moves, expected 1",
+    ),
+    (
+        "dtrans",
+        "pal_testmat.prg",
+        "  MovJ PAL_ABOVE\n  Call pal_swap()\nEndIf\nWhile",
+        "  Call pal_swap()\nEndIf\nWhile",
+        "",
+    ),
+    ("ur", "pal_testmat.script", "    elif pal_held:   # a box", "    else:   # a box", WAITED),
+    (
+        "ur",
+        "pal_testmat.script",
+        "    movej(get_inverse_kin(PAL_ABOVE, qnear=PAL_ABOVE_QNEAR), a=1.2, v=0.25)\n"
+        "    pal_swap()\n    pal_layer = 1",
+        "    pal_layer = 1",
+        "moves, expected 2",
+    ),
+    ("kuka", "pal_testmat.src", "      IF HELD THEN ; a box", "      IF TRUE THEN ; a box", WAITED),
+    (
+        "kuka",
+        "pal_testmat.src",
+        "    PTP PAL_ABOVE_AXES\n    IF NOT PAL_SWAP() THEN\n      RETURN\n    ENDIF\n    PAL_TESTMAT_LAYER = 1",
+        "    PAL_TESTMAT_LAYER = 1",
+        "moves, expected 2",
+    ),
+    ("abb", "pal_testmat.mod", "      ELSEIF held THEN\n", "      ELSE\n", WAITED),
+    (
+        "abb",
+        "pal_testmat.mod",
+        "      MoveAbsJ stack_above_q_axes\\NoEOffs, stack_travel, fine, stack_tool;\n      stack_swap;\n    ENDIF\n",
+        "      stack_swap;\n    ENDIF\n",
+        "moves, expected 2",
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("target", "name", "old", "new", "says"), AT_START, ids=[f"{m[0]}-{i}" for i, m in enumerate(AT_START)]
+)
+def test_a_start_on_a_done_pallet_that_does_not_wait_for_the_swap_fails_verify(testmat, target, name, old, new, says):
+    found = mutant_mismatches(testmat, target, name, old, new)
+    assert found and found[0].startswith("pallet_full pallet testmat layer 6 box 1") and says in found[0], found
+
+
+def test_the_reference_waits_above_q_for_the_swap_of_a_pallet_done_at_the_start(testmat, tmp_path):
+    """Full at the start, the reset off: home, above Q (stopping there), the done output on, the swap, the new pallet;
+    a box in the gripper then, or a cell without a reset: the stop."""
+    pallet = pallets_of(testmat)[0]
+    done, keys = done_counters(pallet), [item.key for item in items(pallet)]
+    waiting = expected(testmat, pallet, PalletCase("pallet_full", *done))
+    assert waiting.halt is None and waiting.waits and waiting.exchanged == () and waiting.counters == done
+    (above,) = waiting.moves
+    assert above.kind == "joint" and above.exact and np.allclose(above.tcp2base, above_pick(pallet))
+    assert [o for o in waiting.outputs if o[0] == "done"] == [("done", True, 0), ("done", True, 1)]
+    swapped = expected(testmat, pallet, PalletCase("swapped_at_start", *done, exchanges=1))
+    assert swapped.waits and swapped.exchanged == (1,) and swapped.counters == done
+    assert sum(1 for m in swapped.moves if m.name.endswith("target")) == len(keys)
+    message = full_message(pallet, message_limit(testmat))
+    held = expected(testmat, pallet, PalletCase("held_at_start", *done, closed=True))
+    assert held.halt == message and held.moves == () and not held.waits
+    text = (PALLETS / "testmat_pallet.toml").read_text()
+    reset = next(line for line in text.splitlines() if line.startswith("reset = "))
+    (tmp_path / "testmat_pallet.toml").write_text(text.replace(reset + "\n", ""))
+    bare = load_cell(tmp_path / "testmat_pallet.toml")
+    stops = expected(bare, pallets_of(bare)[0], PalletCase("pallet_full", *done))
+    assert (
+        stops.halt == full_message(pallets_of(bare)[0], message_limit(bare)) and stops.moves == () and not stops.waits
+    )
+
+
+def test_every_target_with_a_reset_has_the_start_swap_cases(testmat):
+    for target in testmat.targets:
+        source = sources(testmat, target, "pallet")[0]
+        cases = [c.data.case for c in verify_cases(testmat, source, 0)]
+        assert any(c.category == "swapped_at_start" and c.exchanges == 1 and not c.exchange_held for c in cases)
+        assert any(c.category == "swapped_at_start" and c.exchange_held for c in cases), target

@@ -82,6 +82,9 @@ def own_cases(pallet, rng) -> list[PalletCase]:
         # PLC keeps that reset on (no swap confirmed: the stop)
         out.append(PalletCase("pallet_exchanged", *keys[-1], exchanges=1))
         out.append(PalletCase("exchange_reset_held", *keys[-1], exchanges=1, exchange_held=True))
+        # the pallet done at the start with the reset off: the same wait above Q, then the new pallet; a reset kept on
+        out.append(PalletCase("swapped_at_start", *done, exchanges=1))
+        out.append(PalletCase("swapped_at_start", *done, exchanges=1, exchange_held=True))
     counts = {}
     for layer, number in keys:
         counts[layer] = max(counts.get(layer, 0), number)

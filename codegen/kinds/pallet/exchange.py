@@ -25,8 +25,9 @@ class PalletExchange:
     waits), the pallet is taken away and a new one put in place (the pallet-present input off, then on), and the PLC
     raises its reset input; it drops the reset once the program turns the done output off in answer (held: it keeps
     it on). It swaps `swaps` pallets; with none left, once the done output has been on for swap_s the run ends
-    (LimitReached, SHIFT_ENDS). It knows nothing of where the arm should wait or what the counters should be: it logs
-    each swap (Swap) for the plan to judge."""
+    (LimitReached, SHIFT_ENDS). A pallet done when the program starts is swapped the same way (the done output is on
+    from the start, the time counted from the program's first wait). It knows nothing of where the arm should wait or
+    what the counters should be: it logs each swap (Swap) for the plan to judge."""
 
     done: str  # the program's done output (on: the pallet is full, or empty)
     reset: str  # the PLC's reset input

@@ -32,7 +32,9 @@ YES, NO = "Yes", "No"  # the operator's answers to the question after a stop dur
 def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     """What the pallet's program does in this case: the done output set from the counters, the checks before any
     move (a full or empty pallet, reset by the PLC through the handshake or not; counters outside the stack), then
-    each item from the counters, and the done output on once the pallet is done. A box held at the start (a cycle
+    each item from the counters, and the done output on once the pallet is done. A pallet done at the start with the
+    PLC's reset off: where the cell gives a reset, the arm goes from home above Q and waits there for the swap as at
+    a pallet's end (an item held then: the stop); without one, the stop. A box held at the start (a cycle
     stopped on the way) is finished: stacking, it is the item the counters name (they move only after a confirmed
     release), carried from home onto its place; unstacking, it left the pallet (the counters moved at the grip), and
     is put down at Q first, even when it was the last box."""
@@ -59,7 +61,7 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
                 out = Expected((), tuple(said), known_message(pallet, limit), start, start, holds=case.closed)
                 return replace(out, known=False, known_asked=known_asked)
         start = keys[0]
-    asked = False
+    asked, swap_first = False, False
     if pallet.mode == "unstack" and start[0] < 0:  # a stop between the grip and Q (the counters marked)
         start = (-start[0], start[1])
         if start in keys:
@@ -93,6 +95,8 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
                 said.append(("done", True, 0))
                 return Expected((), tuple(said), reset_held_message(pallet, limit), start, start, holds=case.closed)
             start = keys[0]
+        elif pallet.io.reset and not case.closed:  # no reset yet: the swap waited for above Q, as at a pallet's end
+            swap_first = True
         else:
             message = full_message(pallet, limit) if pallet.mode == "stack" else empty_message(pallet, limit)
             return Expected((), tuple(said), message, start, start, asked=asked, holds=case.closed)
@@ -106,7 +110,10 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
         run.carrying = put_down or todo[0].placement is not None
         run.sheet = not run.carrying
     run.zones_off()
-    if put_down:
+    if swap_first:  # done at the start: from home above Q, where the done pallet's swap is waited for
+        run.move("joint", above_pick(pallet), "done at the start: above Q", False, True)
+        halt = None
+    elif put_down:
         halt = _put_down(run)
         halt = halt or (unstacking(run, todo, done, from_q=True) if todo else None)
     else:

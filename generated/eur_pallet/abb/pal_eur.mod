@@ -33,7 +33,8 @@ MODULE pal_eur
   ! turns doEurFull off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
   ! again at layer 1, box 1; a reset that stays on stops with a message. On a pallet not done
   ! the input does nothing. A pallet done in the cycle: the arm waits above Q (stack_swap) for that reset for as long
-  ! as the swap takes, answers it the same way, then works the new pallet.
+  ! as the swap takes, answers it the same way, then works the new pallet; a pallet done at the start with the
+  ! reset off the same, from home above Q.
 
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity
@@ -201,11 +202,14 @@ MODULE pal_eur
         ENDIF
         pal_eur_layer := 1;
         pal_eur_box := 1;
-      ELSE
+      ELSEIF held THEN
+        ! a box in the gripper on a full pallet: not this pallet's, the operator sees to it
         stack_stop "pallet eur is full: swap it, then reset its counters from the PLC";
       ENDIF
+      ! no reset yet: the swap waited for above Q below, as at a pallet's end
     ENDIF
-    IF NOT stack_valid() THEN
+    ! (full: its swap waited for below)
+    IF NOT stack_valid() AND NOT (pal_eur_layer = 6 AND pal_eur_box = 1) THEN
       stack_stop "pallet eur: layer or box counter out of range";
     ENDIF
     ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
@@ -251,6 +255,11 @@ MODULE pal_eur
     ! the arm comes from home
     up_q := FALSE;
     up_z := 0;
+    IF pal_eur_layer > STACK_LAYERS THEN
+      ! the pallet full at the start: its swap waited for above Q, then the new pallet's first box
+      MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, fine, stack_tool;
+      stack_swap;
+    ENDIF
     WHILE pal_eur_layer <= STACK_LAYERS DO
       IF pal_eur_box = 0 THEN
         ! the slip sheet below this layer, from the sheet stack onto the pallet's centre

@@ -33,7 +33,8 @@ MODULE pal_eur_in
   ! turns doEurInEmpty off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
   ! again at layer 5, box 8; a reset that stays on stops with a message. On a pallet not done
   ! the input does nothing. A pallet done in the cycle: the arm waits above Q (stack_swap) for that reset for as long
-  ! as the swap takes, answers it the same way, then works the new pallet.
+  ! as the swap takes, answers it the same way, then works the new pallet; a pallet done at the start with the
+  ! reset off the same, from home above Q.
 
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity
@@ -181,12 +182,11 @@ MODULE pal_eur_in
         ENDIF
         pal_eur_in_layer := 5;
         pal_eur_in_box := 8;
-      ELSE
-        stack_stop "pallet eur_in is empty: bring a full one, then reset its counters from the PLC";
       ENDIF
+      ! no reset yet: the swap waited for above Q below, as at a pallet's end
     ENDIF
-    ! (the last box held: the pallet is empty after it)
-    IF NOT stack_valid() AND NOT (held AND pal_eur_in_layer = 0 AND pal_eur_in_box = 0) THEN
+    ! (empty: its swap waited for below)
+    IF NOT stack_valid() AND NOT (pal_eur_in_layer = 0 AND pal_eur_in_box = 0) THEN
       stack_stop "pallet eur_in: layer or box counter out of range";
     ENDIF
     ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
@@ -254,8 +254,12 @@ MODULE pal_eur_in
       up_q := TRUE;
     ENDIF
     IF pal_eur_in_layer < 1 THEN
-      ! the last box put down at Q: the pallet is empty, its swap waited for here
+      ! the pallet empty (at the start, or the last box put down at Q): its swap waited for above Q
+      IF NOT up_q THEN
+        MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, fine, stack_tool;
+      ENDIF
       stack_swap;
+      up_q := TRUE;
     ENDIF
     IF pal_eur_in_layer >= 1 THEN
       WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;

@@ -25,7 +25,8 @@
 // off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet again at layer 5,
 // box 8; a reset that stays on stops with a message. On a pallet not done it does nothing.
 // A pallet done in the cycle: the arm waits above Q (pal_swap) for that reset for as long as the swap takes,
-// answers it the same way, then works the new pallet.
+// answers it the same way, then works the new pallet; a pallet done at the start with the reset off the same,
+// from home above Q.
 Int pal_layer
 Int pal_box
 
@@ -177,7 +178,7 @@ Function Point pal_pose(Double x, Double y, Double z, Double a)
   Return Trans(px, py, PAL_OZ + z, PAL_TOOL_C, PAL_TOOL_B, PAL_TURN + a + PAL_TOOL_A)
 EndFunction
 
-// main: an empty pallet, or counters outside the stack, stop before any move
+// main: an empty pallet (without the PLC's reset), or counters outside the stack, stop before any move
 // the gripper's sensor on: an item held since a stop on the way, finished below (put down at Q)
 Int held = 0
 If DIn(2) == True Then
@@ -225,13 +226,11 @@ If pal_layer == 0 And pal_box == 0 And held == 0 Then
     EndWhile
     pal_layer = 5
     pal_box = 8
-  Else
-    TPWrite 0, "pallet eur_in is empty: bring a full one, then reset its counters from the PLC"
-    Halt
   EndIf
+  // no reset yet: the swap waited for above Q below, as at a pallet's end
 EndIf
-// (the last box held: the pallet is empty after it)
-If pal_valid(pal_layer, pal_box) == 0 And Not (held == 1 And pal_layer == 0 And pal_box == 0) Then
+// (empty: its swap waited for below)
+If pal_valid(pal_layer, pal_box) == 0 And Not (pal_layer == 0 And pal_box == 0) Then
   TPWrite 0, "pallet eur_in: layer or box counter out of range"
   Halt
 EndIf
@@ -272,8 +271,12 @@ If held == 1 Then
   up = 1
 EndIf
 If pal_layer < 1 Then
-  // the last box put down at Q: the pallet is empty, its swap waited for here
+  // the pallet empty (at the start, or once the last box is put down at Q): its swap waited for above Q
+  If up == 0 Then
+    MovJ PAL_ABOVE
+  EndIf
   Call pal_swap()
+  up = 1
 EndIf
 If pal_layer >= 1 Then
   Call pal_wait(8)

@@ -22,7 +22,8 @@
 // off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet again at layer 1,
 // box 1; a reset that stays on stops with a message. On a pallet not done it does nothing.
 // A pallet done in the cycle: the arm waits above Q (pal_swap) for that reset for as long as the swap takes,
-// answers it the same way, then works the new pallet.
+// answers it the same way, then works the new pallet; a pallet done at the start with the reset off the same,
+// from home above Q.
 Int pal_layer
 Int pal_box
 
@@ -163,7 +164,7 @@ Function Point pal_pose(Double x, Double y, Double z, Double a)
   Return Trans(px, py, PAL_OZ + z, PAL_TOOL_C, PAL_TOOL_B, PAL_TURN + a + PAL_TOOL_A)
 EndFunction
 
-// main: a full pallet, or counters outside the stack, stop before any move
+// main: a full pallet (without the PLC's reset), or counters outside the stack, stop before any move
 // the gripper's sensor on: an item held since a stop on the way, finished below (placed where the counters say)
 Int held = 0
 If DIn(2) == True Then
@@ -206,12 +207,15 @@ If pal_layer == 6 And pal_box == 1 Then
     EndWhile
     pal_layer = 1
     pal_box = 1
-  Else
+  ElseIf held == 1 Then
+    // a box in the gripper on a full pallet: not this pallet's, the operator sees to it
     TPWrite 0, "pallet testmat is full: swap it, then reset its counters from the PLC"
     Halt
   EndIf
+  // no reset yet: the swap waited for above Q below, as at a pallet's end
 EndIf
-If pal_valid(pal_layer, pal_box) == 0 Then
+// (full: its swap waited for below)
+If pal_valid(pal_layer, pal_box) == 0 And Not (pal_layer == 6 And pal_box == 1) Then
   TPWrite 0, "pallet testmat: layer or box counter out of range"
   Halt
 EndIf
@@ -234,6 +238,11 @@ If held == 0 Then
   Call pal_release()
 EndIf
 SetDO 4, False  // out of the pick place's zone (a stop there may have left it on)
+If pal_layer > PAL_LAYERS Then
+  // the pallet full at the start: its swap waited for above Q, then the new pallet's first box
+  MovJ PAL_ABOVE
+  Call pal_swap()
+EndIf
 While pal_layer <= PAL_LAYERS
   pattern = pal_pattern(pal_layer)
   row = PAL_FIRST[pattern] + pal_box - 1

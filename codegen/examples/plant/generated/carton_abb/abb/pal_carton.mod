@@ -29,7 +29,8 @@ MODULE pal_carton
   ! turns doPalletFull off, waits (at most 10 s) until the PLC drops the reset, then starts the pallet
   ! again at layer 1, box 1; a reset that stays on stops with a message. On a pallet not done
   ! the input does nothing. A pallet done in the cycle: the arm waits above Q (stack_swap) for that reset for as long
-  ! as the swap takes, answers it the same way, then works the new pallet.
+  ! as the swap takes, answers it the same way, then works the new pallet; a pallet done at the start with the
+  ! reset off the same, from home above Q.
 
   ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
   ! from the three points of the cell file; the object frame stays the identity
@@ -184,11 +185,14 @@ MODULE pal_carton
         ENDIF
         pal_carton_layer := 1;
         pal_carton_box := 1;
-      ELSE
+      ELSEIF held THEN
+        ! a box in the gripper on a full pallet: not this pallet's, the operator sees to it
         stack_stop "pallet carton is full: swap it, then reset its counters from the PLC";
       ENDIF
+      ! no reset yet: the swap waited for above Q below, as at a pallet's end
     ENDIF
-    IF NOT stack_valid() THEN
+    ! (full: its swap waited for below)
+    IF NOT stack_valid() AND NOT (pal_carton_layer = 4 AND pal_carton_box = 1) THEN
       stack_stop "pallet carton: layer or box counter out of range";
     ENDIF
     ! the payload: the tool's alone, or with a held box (a slip sheet weighs nothing here)
@@ -230,6 +234,11 @@ MODULE pal_carton
     ! the arm comes from home
     up_q := FALSE;
     up_z := 0;
+    IF pal_carton_layer > STACK_LAYERS THEN
+      ! the pallet full at the start: its swap waited for above Q, then the new pallet's first box
+      MoveAbsJ stack_above_q_axes\NoEOffs, stack_travel, fine, stack_tool;
+      stack_swap;
+    ENDIF
     WHILE pal_carton_layer <= STACK_LAYERS DO
       target := stack_target(pal_carton_layer, pal_carton_box);
       row := stack_row(pal_carton_layer, pal_carton_box);
