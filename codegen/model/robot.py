@@ -373,7 +373,7 @@ def parse_station_config(ctx, raw, path: str, robot: Robot | None, pose_names: l
 
 
 def parse_cycle_config(ctx, raw, path: str, robot: Robot | None) -> dict:
-    """A configuration per target that a whole cycle is worked in ([pallet.config]): target -> PoseConfig."""
+    """A configuration per target that a whole program cycle is worked in: target -> PoseConfig."""
     if raw is None:
         return {}
     return {

@@ -270,8 +270,12 @@ PALLET = Table(
                 "either",
                 "a configuration",
                 alternatives=(
-                    Key("list", "ABB confdata [cf1, cf4, cf6, cfx] or UR joints (deg)", values=Key("number", "one")),
-                    Key("map", "KUKA { s = status, t = turn } or { joints = [...] } (deg)"),
+                    Key(
+                        "list",
+                        "configuration data [cf1, cf4, cf6, cfx] or joints (deg), as the target's form",
+                        values=Key("number", "one"),
+                    ),
+                    Key("map", "{ s = status, t = turn } or { joints = [...] } (deg), as the target's form"),
                 ),
             ),
         ),
