@@ -6,7 +6,7 @@ import re
 from functools import cache
 from pathlib import Path
 
-from lark import Lark, Tree
+from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedInput
 
 from codegen.dialects.core.kept import STORE
@@ -134,3 +134,13 @@ def syntax_error(exc, filename: str, parser) -> RunError:
         found = f" at {exc.char!r}"
     expected = ", ".join(shown) if shown else "something else"
     return RunError(f"{filename}:{exc.line}:{exc.column}: syntax error{found}, expected one of {expected}")
+
+
+def node_start(node) -> tuple[int, int]:
+    """Where a parsed node starts (line, column): its meta, else its first token; (0, 0) for a node without one."""
+    meta = getattr(node, "meta", None)
+    if meta is not None and not getattr(meta, "empty", True):
+        return meta.line, meta.column
+    for token in node.scan_values(lambda t: isinstance(t, Token)):
+        return token.line, token.column
+    return 0, 0
