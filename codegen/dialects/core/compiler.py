@@ -46,6 +46,7 @@ class Compiler(SourceBuilder, Expressions, Stores, Statements, Routines):
     name = "base"
     case_insensitive = False
     index_base = 0
+    whole_indexes = False  # an index with a fraction is an error (True), or cut to a whole number (False)
     compare_ops = {
         "==": operator.eq,
         "!=": operator.ne,

@@ -9,7 +9,7 @@ import numpy as np
 from lark import Token, Tree
 
 from codegen.dialects.core.source import Src
-from codegen.dialects.core.values import F32_MAX, MISSING, RunError, f32
+from codegen.dialects.core.values import F32_MAX, MISSING, RunError, f32, whole_index
 
 NUMBERS = (int, float, np.float32)  # what a number literal compiles to (not bool: a literal of its own)
 
@@ -206,11 +206,14 @@ class Expressions:
         )
 
     def index_source(self, index_node) -> str:
-        """Source of a 0-based index; a literal index is folded into a number."""
+        """Source of a 0-based index; a literal index is folded into a number. Where the language takes only whole
+        indexes (whole_indexes), any other is a run-time error naming it; else the index is cut to a whole number."""
         if isinstance(index_node, Tree) and index_node.data == "number":
             value = self.number(str(index_node.children[0]))
             if float(value) == int(value):
                 return str(int(value) - self.index_base)
+        if self.whole_indexes:
+            return f"{self.const(whole_index)}({self.src(index_node)}, {self.where(index_node)!r}) - {self.index_base}"
         return f"int({self.src(index_node)}) - {self.index_base}"
 
     def e_field(self, node):

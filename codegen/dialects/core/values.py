@@ -235,6 +235,14 @@ def index_value(seq, index, offset: int, where: str):
     return seq[i]
 
 
+def whole_index(value, where: str) -> int:
+    """An index as a whole number; a RunError for one with a fraction (where the language takes no other)."""
+    whole = int(value)
+    if whole != value:
+        raise RunError(f"{where}: index {format_general(value)} is not a whole number")
+    return whole
+
+
 def _record_name(value) -> str:
     record_type = getattr(value, "type", None) if isinstance(value, dict) else None
     return record_type if isinstance(record_type, str) and record_type else describe(value)

@@ -16,12 +16,8 @@ class DTrans(Dialect):
 
     @classmethod
     def check_files(cls, files: list, options=None) -> list:
-        """The findings every language has (syntax, what loading refuses), then, where the files parse, what run
-        would stop on that the text shows (codegen/dialects/dtrans/check.py)."""
-        findings = super().check_files(files, options)
-        if any(f.code == "syntax" for f in findings):
-            return findings
+        """Each file parsed once: its syntax error, else what loading refuses and what run would stop on that the
+        text shows (codegen/dialects/dtrans/check.py); a program is one file."""
         from codegen.dialects.dtrans.check import check_file  # lark: only when asked
 
-        found = [f for source in files for f in check_file(source)]
-        return findings + [f for f in found if (f.file, f.line) not in {(g.file, g.line) for g in findings}]
+        return [f for source in files for f in check_file(source)]

@@ -15,8 +15,10 @@ from __future__ import annotations
 
 from lark import Token, Tree
 
-from codegen.dialects.core.files import Finding, SourceFile
-from codegen.dialects.dtrans.interpreter import _FORMAT, BUILTINS, MESSAGE_MAX, POINT_KEYS, parse
+from codegen.dialects.core.files import Finding, SourceFile, finding_of
+from codegen.dialects.core.values import RunError
+from codegen.dialects.core.literals import literal_number as _number
+from codegen.dialects.dtrans.interpreter import BUILTINS, FORMAT_FIELD, MESSAGE_MAX, POINT_KEYS, load_tree, parse
 
 ROUTINES = ("function", "sub")
 
@@ -30,16 +32,6 @@ def _start(node) -> tuple[int, int]:
     for token in node.scan_values(lambda v: isinstance(v, Token)):
         return token.line or 0, token.column or 0
     return 0, 0
-
-
-def _number(node) -> float | None:
-    """A number literal's value (a negated one too), else None."""
-    if isinstance(node, Tree) and node.data == "number":
-        return float(str(node.children[0]))
-    if isinstance(node, Tree) and node.data == "neg":
-        inner = _number(node.children[0])
-        return None if inner is None else -inner
-    return None
 
 
 def _decls(statements) -> dict[str, int | None]:
@@ -153,7 +145,7 @@ class Checker:
             _channel, fmt, *args = node.children
             if not (isinstance(fmt, Tree) and fmt.data == "string"):
                 continue
-            fields = [m for m in _FORMAT.finditer(str(fmt.children[0])[1:-1]) if m.group(3) != "%"]
+            fields = [m for m in FORMAT_FIELD.finditer(str(fmt.children[0])[1:-1]) if m.group(3) != "%"]
             wide = [m.group(0) for m in fields if any(g and abs(int(g)) > MESSAGE_MAX for g in m.groups()[:2])]
             if wide:
                 self.add(node, "format", f"format field {wide[0]!r} is wider than a message ({MESSAGE_MAX} characters)")
@@ -162,5 +154,20 @@ class Checker:
 
 
 def check_file(source: SourceFile) -> list[Finding]:
-    """Every finding of one program file that parses."""
-    return Checker(parse(source.text, source.name), source.name).run()
+    """Every finding of one program file, its text parsed once: its syntax error, else what loading refuses and
+    what the checks above find (a check's finding on a line loading already reported left out)."""
+    try:
+        tree = parse(source.text, source.name)
+    except RunError as exc:
+        return [finding_of(exc, [source], "syntax")]
+    except RecursionError:
+        return [finding_of(f"{source.name}: statements or expressions nested too deeply", [source], "syntax")]
+    loading = []
+    try:
+        load_tree(tree, source.name)
+    except RunError as exc:
+        loading.append(finding_of(exc, [source]))
+    except RecursionError:
+        loading.append(finding_of(f"{source.name}: statements or expressions nested too deeply", [source]))
+    lines = {(f.file, f.line) for f in loading}
+    return loading + [f for f in Checker(tree, source.name).run() if (f.file, f.line) not in lines]

@@ -18,7 +18,7 @@ from codegen.dialects.core.source import Inline
 from codegen.dialects.core.values import F32, Record, RunError, f32, format_fixed, format_general
 
 POINT_KEYS = ("x", "y", "z", "rx", "ry", "rz")
-_FORMAT = re.compile(r"%(-?\d*)(?:\.(\d+))?([dfsg%])")
+FORMAT_FIELD = re.compile(r"%(-?\d*)(?:\.(\d+))?([dfsg%])")  # a TPWrite format's field: width, decimals, kind
 
 
 def parse(text: str, filename: str = "<dtrans>", positions: bool = True) -> Tree:
@@ -64,7 +64,7 @@ def printf(fmt: str, args: list, where: str) -> str:
             text = str(value)
         return text.rjust(int(width)) if width and not width.startswith("-") else text
 
-    text = _FORMAT.sub(one, fmt)
+    text = FORMAT_FIELD.sub(one, fmt)
     if next(values, None) is not None:
         raise RunError(f"{where}: format {fmt!r} has fewer fields than arguments")
     return text
@@ -282,7 +282,11 @@ class DTransCompiler(Compiler):
 
 
 def load(text: str, filename: str = "<dtrans>") -> Program:
-    tree = parse(text, filename)
+    return load_tree(parse(text, filename), filename)
+
+
+def load_tree(tree: Tree, filename: str) -> Program:
+    """The program of a parsed file (parse with positions)."""
     compiler = DTransCompiler(filename)
     data, main = [], []
     for item in tree.children:

@@ -7,9 +7,11 @@ import re
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
+from codegen.dialects.core.literals import literal_number
 from codegen.dialects.core.parsing import node_start
 from codegen.dialects.core.values import RunError
 from codegen.dialects.krl.builtins import SIMPLE  # the simple data types: a value, not a structure of named parts
+from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.modules import Linker
 from codegen.dialects.krl.syntax import parse
 from codegen.dialects.krl.unset import unset_data, unset_frames, unset_locals
@@ -295,7 +297,7 @@ def negative_waits(name: str, tree) -> list[Finding]:
         time = sub.children[0] if sub.data == "wait_sec" else None
         if isinstance(time, Tree) and time.data == "neg" and isinstance(time.children[0], Tree):
             inner = time.children[0]
-            if inner.data == "number" and float(str(inner.children[0])) > 0:
+            if inner.data == "number" and (literal_number(inner, KRLCompiler.number) or 0) > 0:
                 line, column = node_start(sub)
                 message = f"WAIT SEC -{inner.children[0]}: a negative time does not wait (taken as 0 s)"
                 out.append(Finding(name, line, column, "warning", "negative-wait", message))
@@ -307,7 +309,7 @@ def zero_divisors(name: str, tree) -> list[Finding]:
     out = []
     for sub in tree.iter_subtrees_topdown():
         divisor = sub.children[-1] if sub.data == "div" else None
-        if isinstance(divisor, Tree) and divisor.data == "number" and float(str(divisor.children[0])) == 0:
+        if literal_number(divisor, KRLCompiler.number) == 0:
             line, column = node_start(sub)
             out.append(Finding(name, line, column, "error", "division-by-zero", "division by zero"))
     return out

@@ -98,7 +98,8 @@ class KRLCompiler(
     def make_builtins(self) -> dict:
         return {**BUILTINS, **bas.FUNCTIONS, **dialogs.BUILTINS}
 
-    def number(self, text: str):
+    @staticmethod
+    def number(text: str):
         if text.startswith("'"):  # 'Hff' / 'B0101'
             base = 16 if text[1] in "Hh" else 2
             return int(text[2:-1], base)

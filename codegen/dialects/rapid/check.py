@@ -8,6 +8,7 @@ from dataclasses import replace
 from lark import Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
+from codegen.dialects.core.literals import literal_number as _number
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import typecheck
 from codegen.dialects.rapid.compiler import parse
@@ -238,8 +239,8 @@ def _arrays(node) -> dict[str, tuple[int, ...] | None]:
 
 
 def constant_indexes(trees) -> list[Finding]:
-    """An array read or written at literal subscripts beyond its declared size (RAPID arrays run from 1): run stops
-    there with "index out of range" when the line runs; the size is known from the declaration."""
+    """An array read or written at literal subscripts beyond its declared size (RAPID arrays run from 1), or at a
+    literal that is not a whole number: run stops there when the line runs; the size is known from the declaration."""
     shared = {}  # the modules' data: every routine of the task sees them (a LOCAL one its module's, names unique)
     for _file, tree in trees:
         for module in tree.iter_subtrees():
@@ -255,6 +256,11 @@ def constant_indexes(trees) -> list[Finding]:
                 base, subscripts = node, []
                 while isinstance(base, Tree) and base.data == "index":  # a{i, j} as the task holds it: (a{i}){j}
                     base, subscripts = base.children[0], [*base.children[1:], *subscripts]
+                fraction = next((n for n in map(_number, subscripts) if n is not None and n != int(n)), None)
+                if fraction is not None:
+                    message = f"index {fraction:g} is not a whole number (an index must be one)"
+                    found.append(replace(_warning(file, node, "index", message), severity="error"))
+                    continue
                 name = _name(base)
                 dims = own[name] if name in own else shared.get(name)
                 at = _literal_dims(Tree("subscripts", subscripts))
@@ -317,12 +323,6 @@ def _speed_checks(file, node, name, positional, named, declared, max_tcp_mm_s) -
         message = f"{node.children[0]} at {value:g} mm/s: over the arm's {max_tcp_mm_s:g} mm/s"
         return [_warning(file, node, "speed", message)]
     return []
-
-
-def _number(node) -> float | None:
-    if isinstance(node, Tree) and node.data == "number":
-        return float(str(node.children[0]))
-    return None
 
 
 def _first_number(node) -> float | None:

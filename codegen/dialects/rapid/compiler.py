@@ -70,6 +70,10 @@ class RAPIDCompiler(Declarations, Labels, Calls, Names, Coercions, Compiler):
     name = "rapid"
     case_insensitive = True
     index_base = 1
+    # an index (and a dimension: core/limits.py) must be a whole number: RAPID kernel reference manual
+    # (3HAC050946-001), arrays and indexed components (the rule as the interpreter holds it; the page's text was
+    # not at hand to quote: unconfirmed)
+    whole_indexes = True
     run_state = RapidState
     COERCE_UNCHANGED = {"NUM": "_F32", "BOOL": "bool"}
     KWARGS_ERROR = "has no optional parameters"

@@ -32,6 +32,7 @@ import math
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, finding_of
+from codegen.dialects.core.literals import literal_number as _number
 from codegen.dialects.core.values import RunError
 from codegen.dialects.urscript import environment
 
@@ -62,16 +63,6 @@ def _calls(node):
         callee = call.children[0]
         if isinstance(callee, Tree) and callee.data == "var":
             yield str(callee.children[0]), call
-
-
-def _number(node) -> float | None:
-    """A number literal's value (a negated one too), else None."""
-    if isinstance(node, Tree) and node.data == "number":
-        return float(str(node.children[0]))
-    if isinstance(node, Tree) and node.data == "neg":
-        inner = _number(node.children[0])
-        return None if inner is None else -inner
-    return None
 
 
 _DEFINITIONS = ("funcdef", "threaddef", "secdef")
