@@ -80,13 +80,15 @@ class ArmStats:
         }
 
 
-def require_margins(subject: str, robot, joint_deg: float, wrist_deg: float, worst: str) -> None:
-    """ReachError unless the least joint and wrist margins over a program's poses meet the cell's."""
+def require_margins(subject: str, robot, joint_deg: float, wrist_deg: float, worst: str, wrist_pose: str = "") -> None:
+    """ReachError unless the least joint and wrist margins over a program's poses meet the cell's (worst: the pose
+    of the least joint margin; wrist_pose: the pose nearest the wrist singularity)."""
     need = robot.margins
     if joint_deg < need.joint_deg or wrist_deg < need.wrist_deg:
         raise ReachError(
             f"{subject}: {joint_deg:.1f} deg to a joint limit ({worst}) and the wrist {wrist_deg:.1f} deg from its "
             f"singularity; the cell asks {need.joint_deg:g} and {need.wrist_deg:g} deg"
+            + (f" (the wrist nearest its singularity: {wrist_pose})" if wrist_pose else "")
         )
 
 
@@ -100,6 +102,7 @@ class Margins:
     joint_margin_deg: float
     wrist_margin_deg: float
     worst: str  # the pose with the least joint margin
+    wrist_pose: str = ""  # the pose nearest the wrist singularity
 
     def subject(self) -> tuple[str, int, str]:
         """What was checked, how many poses, and what they are called."""
@@ -113,7 +116,7 @@ class Margins:
         return (
             f"{self.target} ({self.model}) {what}: {count} {noun} reachable; "
             f"{self.joint_margin_deg:.1f} deg to the nearest joint limit ({self.worst}), "
-            f"wrist {self.wrist_margin_deg:.1f} deg from its singularity"
+            f"wrist {self.wrist_margin_deg:.1f} deg from its singularity (pose {self.wrist_pose})"
         )
 
     def as_json(self) -> dict:
@@ -123,6 +126,7 @@ class Margins:
             **self.keys(),
             "joint_margin_deg": self.joint_margin_deg,
             "wrist_margin_deg": self.wrist_margin_deg,
+            "wrist_pose": self.wrist_pose,
         }
 
 

@@ -16,8 +16,8 @@ from __future__ import annotations
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, SourceFile, finding_of
-from codegen.dialects.core.values import RunError
 from codegen.dialects.core.literals import literal_number as _number
+from codegen.dialects.core.values import RunError
 from codegen.dialects.dtrans.interpreter import BUILTINS, FORMAT_FIELD, MESSAGE_MAX, POINT_KEYS, load_tree, parse
 
 ROUTINES = ("function", "sub")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import operator
 
 from codegen.dialects.core.values import F32, RunError, describe, f32
+from codegen.dialects.urscript.values import int32
 
 OPERATORS = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv}
 NUMBERS = (int, float, F32)
@@ -39,7 +40,7 @@ def _apply(symbol: str, a, b, where: str):
         if b == 0:
             raise RunError(f"{where}: division by zero")
         return f32(a) / f32(b)
-    return OPERATORS[symbol](a, b)
+    return int32(OPERATORS[symbol](a, b), f"the {symbol} of an element", where)
 
 
 def operation(symbol: str):

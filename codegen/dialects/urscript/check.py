@@ -24,17 +24,29 @@
 #   variable read in a function (or the program) before the first statement there that assigns it, where nothing
 #   else in the program assigns it, no `global` names it (an installation's variable may) and no loop holds both:
 #   run stops at the read (undefined variable).
+# - overflow ("error"): a number literal, or a sum, difference, product or negation of literals, past the
+#   controller's 32-bit ints (values.INT_RANGE) or its float32 numbers: run refuses the literal when it loads the
+#   program and stops at the arithmetic (each one is reported, not only the first).
+# - runaway-loop ("error"): `while True:` (or a nonzero number) whose body, and the program's functions it calls,
+#   takes no physical time (no move, sync, sleep: PHYSICAL_TIME; no join, no operator's or client's answer) and
+#   has no break, return or halt. URScript manual (e-Series SW 5.25, Thread scheduling, STATED): a thread that
+#   uses its 2 ms slice by "computational heavy instructions (such as an infinite loop that do not control the
+#   robot)" should hold a sync or sleep, "otherwise an exception like 'Lost communication with Controller' can be
+#   raised with a consequent protective stop". Run stops such a loop at its step limit.
 
 from __future__ import annotations
 
 import math
+import operator
+from functools import cached_property
 
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, finding_of
 from codegen.dialects.core.literals import literal_number as _number
-from codegen.dialects.core.values import RunError
+from codegen.dialects.core.values import F32_MAX, RunError
 from codegen.dialects.urscript import environment
+from codegen.dialects.urscript.values import INT_RANGE
 
 JOINT_SPEED_DEG_S = {
     "UR3e": (180.0, 180.0, 180.0, 360.0, 360.0, 360.0),
@@ -45,6 +57,9 @@ JOINT_SPEED_DEG_S = {
 FAMILY_MAX_DEG_S = max(max(v) for v in JOINT_SPEED_DEG_S.values())
 MOTION = ("movej", "movel", "movep", "movec", "speedl", "speedj", "servoj")
 WAIT_BODY = ("sync", "sleep")  # what a bare wait loop does in its body
+PHYSICAL_TIME = frozenset((*MOTION, "servoc", "stopj", "stopl", *WAIT_BODY))  # the calls that take physical time
+WAITS_FOR_ANSWER = ("popup", "request_")  # calls that may wait for an operator or a client (names or their start)
+LOOP_EXITS = ("break_stmt", "return_stmt", "halt_stmt", "join_stmt")  # a loop's ends, and a wait for a thread
 INPUT_READS = ("_digital_in", "_analog_in", "read_input_", "get_flag")  # what a device or a peer sets
 
 
@@ -66,6 +81,8 @@ def _calls(node):
 
 
 _DEFINITIONS = ("funcdef", "threaddef", "secdef")
+_OPERATIONS = {"add": operator.add, "sub": operator.sub, "mul": operator.mul}
+_SYMBOLS = {"add": "+", "sub": "-", "mul": "*"}
 
 
 def _own_nodes(statements):
@@ -126,7 +143,81 @@ class Checker:
         self.arity()
         self.list_indexes()
         self.reads_before_assign()
+        self.overflows()
+        self.runaway_loops()
         return self.findings
+
+    # --- numbers past the controller's ----------------------------------------------------------
+    def overflows(self) -> None:
+        """Each literal, and each sum, difference, product or negation of literals, past the controller's
+        numbers: the innermost such expression of each."""
+        for node in self.tree.iter_subtrees_topdown():  # an expression before its operands: -2147483648 is an int
+            if node.data in ("number", "neg", "add", "sub", "mul"):
+                self.fold(node)
+
+    @cached_property
+    def folded(self) -> dict:
+        return {}  # id of an expression -> its value (None: not a constant, or past the numbers: reported)
+
+    def fold(self, node, negated: bool = False):
+        """The value of a constant expression, as run computes it (ints exact, floats past float32 refused); None
+        for any other expression, and for one past the controller's numbers (reported here, once). negated: the
+        literal is the operand of a minus sign (-2147483648 is an int)."""
+        if id(node) in self.folded:
+            return self.folded[id(node)]
+        value, problem, low, high = None, None, *INT_RANGE
+        if node.data == "number":
+            text = str(node.children[0])
+            shown = text if len(text) <= 20 else text[:20] + "..."
+            try:
+                value = int(text) if text.isdigit() else float(text)
+            except ValueError:
+                problem = f"number {shown} has more digits than a controller reads"
+            if isinstance(value, int) and value > (-low if negated else high):
+                problem = f"number {shown} is beyond the controller's integers ({low}..{high}, 32-bit)"
+        elif node.data in ("neg", "add", "sub", "mul"):
+            children = [c for c in node.children if isinstance(c, Tree)]
+            literal = node.data == "neg" and children[0].data == "number"
+            operands = [self.fold(c, negated=literal) for c in children]
+            if len(operands) == len(node.children) and all(v is not None for v in operands):
+                value = -operands[0] if node.data == "neg" else _OPERATIONS[node.data](*operands)
+                what = "negation" if node.data == "neg" else _SYMBOLS[node.data]
+                if isinstance(value, int) and not low <= value <= high:
+                    problem = f"integer overflow: the {what} gives {value}, beyond the controller's 32-bit ints"
+        if isinstance(value, float) and not abs(value) <= F32_MAX:
+            shown = f"number {shown}" if node.data == "number" else f"the {what} gives {value:.7g}, which"
+            problem = problem or f"{shown} is beyond the controller's numbers (float32: at most {F32_MAX:.7g})"
+        if problem is not None:
+            self.add(node, "error", "overflow", problem)
+            value = None
+        self.folded[id(node)] = value
+        return value
+
+    # --- loops that never end and take no time ---------------------------------------------------
+    def runaway_loops(self) -> None:
+        for loop in self.tree.find_data("while_stmt"):
+            condition, body = loop.children
+            always = condition.data == "true" or (condition.data == "number" and _number(condition) not in (0, None))
+            if isinstance(condition, Tree) and always and not self.ends_or_waits(body, set()):
+                message = "the loop never ends and takes no physical time (no move, sync or sleep): the controller "
+                message += "stops the program (protective stop); put a sync() in it"
+                self.add(loop, "error", "runaway-loop", message)
+
+    def ends_or_waits(self, body, entered: set) -> bool:
+        """Whether statements (and the program's functions they call, at any depth) may end a loop or take time."""
+        for node in _own_nodes(body.children):
+            if node.data in LOOP_EXITS:
+                return True
+        for name, _call in _calls(Tree("body", list(_own_nodes(body.children)))):
+            if name in PHYSICAL_TIME or name == "halt" or name.startswith(WAITS_FOR_ANSWER):
+                return True
+            if name in self.functions and name not in entered:
+                entered.add(name)
+                if self.ends_or_waits(self.functions[name].children[2], entered):
+                    return True
+            elif name not in self.functions and name not in self.builtins:
+                return True  # not known: reported as such, not judged here
+        return False
 
     # --- names ----------------------------------------------------------------------------------
     def callees(self) -> None:

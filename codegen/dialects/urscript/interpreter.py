@@ -46,7 +46,7 @@ from codegen.dialects.urscript import (
     urmath,
 )
 from codegen.dialects.urscript.state import URScriptState
-from codegen.dialects.urscript.values import URPose, num, pose
+from codegen.dialects.urscript.values import INT_RANGE, URPose, int_overflow, num, pose
 
 INPUT_REGISTER = re.compile(r"(?:input|output)_(?:integer|float|boolean)_register_(\d+)")
 REGISTER_MAX = io.REGISTER_MAX
@@ -79,10 +79,6 @@ class Brackets:
 BRACKETS = Brackets()
 
 
-def int_overflow(value: int, symbol: str, where: str):
-    raise RunError(f"{where}: integer overflow: the {symbol} gives {value}, beyond the controller's 32-bit ints")
-
-
 def parse(text: str, filename: str = "<urscript>", positions: bool = True) -> Tree:
     return parse_with_grammar(__file__, text, filename, positions, postlex=BRACKETS)
 
@@ -92,9 +88,7 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
     index_base = 0
     run_state = URScriptState
     BIND_ARGUMENTS = True  # named arguments and default values (Function)
-    # ints taken as 32-bit as the floats are (urmath.INT_BITS; not confirmed in the manual's text, nor whether the
-    # controller wraps or stops past it): a literal or a sum, difference or product past it is refused
-    INT_RANGE = (-(2 ** (urmath.INT_BITS - 1)), 2 ** (urmath.INT_BITS - 1) - 1)
+    INT_RANGE = INT_RANGE  # a literal, a sum, difference, product or negation past it is refused (values.py)
 
     def __init__(self, filename: str) -> None:
         super().__init__(filename)
@@ -188,9 +182,13 @@ class URScriptCompiler(threads.ThreadStatements, Compiler):
     def _int_checked(self, node, symbol: str) -> Src:
         """The arithmetic with an int result checked against the controller's 32-bit ints (a float passes)."""
         r, (low, high) = self.temp(), self.INT_RANGE
-        refuse = f"{self.const(int_overflow)}({r}, {symbol!r}, {self.where(node)!r})"
-        value = self._arithmetic(node, symbol)
+        what = "the negation" if symbol == "neg" else f"the {symbol}"
+        refuse = f"{self.const(int_overflow)}({r}, {what!r}, {self.where(node)!r})"
+        value = self._arithmetic(node, symbol) if symbol != "neg" else super().e_neg(node)
         return Src(f"({r} if type({r} := {value}) is not int or {low} <= {r} <= {high} else {refuse})")
+
+    def e_neg(self, node):
+        return self._int_checked(node, "neg")
 
     def e_add(self, node):
         return self._int_checked(node, "+")

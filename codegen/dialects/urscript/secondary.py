@@ -19,9 +19,8 @@ from __future__ import annotations
 from lark import Tree
 
 from codegen.dialects.core.values import RunError, StepLimitError
-from codegen.dialects.urscript.check import MOTION, WAIT_BODY
+from codegen.dialects.urscript.check import PHYSICAL_TIME
 
-PHYSICAL_TIME = frozenset((*MOTION, "servoc", "stopj", "stopl", *WAIT_BODY))
 REASON = (
     "a secondary program runs within one controller step, beside the primary, and may not use physical time "
     '(motion, sleep, sync); the controller stops it with "Runtime is too much behind" (URScript manual, '

@@ -31,10 +31,12 @@ import numpy as np
 from codegen.dialects import posemath
 from codegen.dialects.core.values import RunError, describe, f32
 from codegen.dialects.urscript.values import (
+    INT_BITS,
     Struct,
     URPose,
     arguments,
     finite,
+    int32,
     joints,
     matrix,
     num,
@@ -46,7 +48,6 @@ from codegen.dialects.urscript.values import (
 from codegen.poses import invert, rotmat_from_rotvec, rotvec_from_rotmat
 
 STRING_MAX = 1023  # characters of a string result (URScript manual, str_cat; ur.toml string_max)
-INT_BITS = 32  # binary_list_to_integer's bits at most: the controller's integers are 32-bit
 
 
 def _rotation(rx, ry, rz) -> np.ndarray:
@@ -189,7 +190,9 @@ def builtins() -> dict:
         if not isinstance(text, str):
             raise RunError(f"{where}: to_num takes a string, got {describe(text)}")
         try:
-            return int(text) if text.strip().lstrip("+-").isdigit() else f32(float(text))
+            if text.strip().lstrip("+-").isdigit():
+                return int32(int(text), "to_num", where)
+            return finite(f32(float(text)), where, "to_num")
         except ValueError:
             raise RunError(f"{where}: to_num: {text!r} is not a number") from None
 
@@ -220,7 +223,7 @@ def builtins() -> dict:
             raise RunError(f"{where}: binary_list_to_integer takes a list of booleans, got {describe(bits)}")
         if len(bits) > INT_BITS:
             raise RunError(f"{where}: binary_list_to_integer: {len(bits)} bits, at most {INT_BITS}")
-        return sum(1 << i for i, bit in enumerate(bits) if bit)
+        return int32(sum(1 << i for i, bit in enumerate(bits) if bit), "binary_list_to_integer", where)
 
     def wrench_trans(fr, args, kwargs, where):
         # the wrench [F (N), M (Nm)] seen from the frame T_from_to (its pose in the wrench's frame, m): force and

@@ -10,6 +10,22 @@ from codegen.dialects import posemath
 from codegen.dialects.core.values import F32, PYTHON_KINDS, Record, RunError, describe, f32, format_general
 
 MM_PER_M = 1000.0
+# ints taken as 32-bit as the floats are (not confirmed in the manual's text, nor whether the controller wraps or
+# stops past it): a value past them is refused where an operation or a built-in makes it
+INT_BITS = 32
+INT_RANGE = (-(2 ** (INT_BITS - 1)), 2 ** (INT_BITS - 1) - 1)
+
+
+def int_overflow(value: int, what: str, where: str):
+    raise RunError(f"{where}: integer overflow: {what} gives {value}, beyond the controller's 32-bit ints")
+
+
+def int32(value, what: str, where: str):
+    """value itself where it is not an int or is one of the controller's; else the overflow error naming what made
+    it."""
+    if type(value) is int and not INT_RANGE[0] <= value <= INT_RANGE[1]:
+        int_overflow(value, what, where)
+    return value
 
 
 class URPose(Record):

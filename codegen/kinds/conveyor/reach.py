@@ -81,7 +81,7 @@ def check(cell, only: list[str] | None = None) -> list[ConveyorReach]:
         if target not in cell.robot.arms or (only is not None and target not in only):
             continue
         robot, arm = cell.robot, cell.robot.arms[target]
-        worst_joint, worst_wrist, worst, count = np.inf, np.inf, "", 0
+        worst_joint, worst_wrist, worst, wrist_pose, count = np.inf, np.inf, "", "", 0
         for what, path in lines(cell, follow_mm(cell, target)):
             poses = solve.flange_poses(np.array(path), robot.tool.tcp2flange)
             q, branch = np.asarray(robot.home[target], dtype=float), None
@@ -96,8 +96,9 @@ def check(cell, only: list[str] | None = None) -> list[ConveyorReach]:
                 joint, wrist = margins(arm, joints)
                 if joint < worst_joint:
                     worst_joint, worst = joint, what
-                worst_wrist = min(worst_wrist, wrist)
+                if wrist < worst_wrist:
+                    worst_wrist, wrist_pose = wrist, what
                 count += 1
-        require_margins(f"conveyor ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst)
-        out.append(ConveyorReach(target, arm.model, worst_joint, worst_wrist, worst, poses=count))
+        require_margins(f"conveyor ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst, wrist_pose)
+        out.append(ConveyorReach(target, arm.model, worst_joint, worst_wrist, worst, wrist_pose, poses=count))
     return out

@@ -74,7 +74,7 @@ def check(cell, only: list[str] | None = None) -> list[LaserReach]:
         robot = cell.robot
         flange = solve.flange_poses(np.array([p for _w, p in poses]), robot.tool.tcp2flange)
         q, branch = np.asarray(robot.home[target], dtype=float), None
-        worst_joint, worst_wrist, worst = np.inf, np.inf, ""
+        worst_joint, worst_wrist, worst, wrist_pose = np.inf, np.inf, "", ""
         for (what, _p), sols in zip(poses, solve.branches(arm, flange), strict=True):
             joints, chosen = solve.nearest(arm, sols, q)
             at = f"laser station ({target}, {arm.model}): {what}"
@@ -86,7 +86,9 @@ def check(cell, only: list[str] | None = None) -> list[LaserReach]:
             joint, wrist = margins(arm, joints)
             if joint < worst_joint:
                 worst_joint, worst = joint, what
-            worst_wrist = min(worst_wrist, wrist)
-        require_margins(f"laser station ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst)
-        out.append(LaserReach(target, arm.model, worst_joint, worst_wrist, worst, poses=len(poses)))
+            if wrist < worst_wrist:
+                worst_wrist, wrist_pose = wrist, what
+        subject = f"laser station ({target}, {arm.model})"
+        require_margins(subject, robot, worst_joint, worst_wrist, worst, wrist_pose)
+        out.append(LaserReach(target, arm.model, worst_joint, worst_wrist, worst, wrist_pose, poses=len(poses)))
     return out

@@ -265,7 +265,7 @@ def check_pallet(cell, pallet, target: str, named: Named | None) -> PalletReach:
     robot = cell.robot
     arm = robot.arms[target]
     moves = full_cycle(cell, pallet)
-    worst_joint, worst_wrist, worst = np.inf, np.inf, ""
+    worst_joint, worst_wrist, worst, wrist_pose = np.inf, np.inf, "", ""
     planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
     moves = [*moves, safe_move(cell, pallet)]  # and the way home's pose above the pallet, as named
     planned += joints_of(cell, target, moves[-1:], f"pallet {pallet.name!r}", pallet, named)
@@ -273,6 +273,10 @@ def check_pallet(cell, pallet, target: str, named: Named | None) -> PalletReach:
         joint, wrist = margins(arm, joints)
         if joint < worst_joint:
             worst_joint, worst = joint, move.name
-        worst_wrist = min(worst_wrist, wrist)
-    require_margins(f"pallet {pallet.name!r} ({target}, {arm.model})", robot, worst_joint, worst_wrist, worst)
-    return PalletReach(target, arm.model, worst_joint, worst_wrist, worst, pallet=pallet.name, moves=len(moves))
+        if wrist < worst_wrist:
+            worst_wrist, wrist_pose = wrist, move.name
+    subject = f"pallet {pallet.name!r} ({target}, {arm.model})"
+    require_margins(subject, robot, worst_joint, worst_wrist, worst, wrist_pose)
+    return PalletReach(
+        target, arm.model, worst_joint, worst_wrist, worst, wrist_pose, pallet=pallet.name, moves=len(moves)
+    )
