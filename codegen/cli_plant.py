@@ -16,6 +16,9 @@ from codegen.plant.progress import progress_bars, wanted
 from codegen.plant.results import CellResult, Line, PlantReport, cell_kinds, error_result
 from codegen.plant.run import plant_report, run_plant
 
+# how a --timings file (PlantReport.timings, written below) begins: a file that does not is not replaced
+TIMINGS_MARKS = (b'{\n  "command": "verify",\n  "plant": "',)
+
 
 def is_plant_argument(path: str | None) -> bool:
     """A plant rather than one cell: a codegen.toml, or a folder (generate, diff, verify)."""
@@ -60,10 +63,12 @@ def finish(
     """Print the table, its JSON (no times) or a report format's text (--format junit, sarif, github: every cell's
     findings), write the times where asked, and exit with the plant's code."""
     if timings is not None:
-        from codegen.output import write_file
+        from codegen.writefile import WriteRefused, write_own
 
         try:
-            write_file(Path(timings), json.dumps(report.timings(), indent=2) + "\n")
+            write_own(Path(timings), json.dumps(report.timings(), indent=2) + "\n", TIMINGS_MARKS)
+        except WriteRefused as exc:
+            raise UserError(f"--timings: {exc}") from None
         except OSError as exc:
             raise UserError(f"--timings {timings}: cannot write: {exc.strerror or exc}") from None
     if form == "json":
@@ -200,6 +205,13 @@ def verify_plant(
     plant = plant_of(path)
     if timings is not None and not Path(timings).absolute().parent.is_dir():  # said before any case runs
         raise UserError(f"--timings {timings}: no folder {Path(timings).absolute().parent}")
+    if timings is not None:
+        from codegen.writefile import WriteRefused, check_own
+
+        try:
+            check_own(Path(timings), TIMINGS_MARKS)
+        except WriteRefused as exc:
+            raise UserError(f"--timings: {exc}") from None
     how = PlantVerify(
         tuple(targets) or plant.targets,
         cases if given("cases") or plant.cases is None else plant.cases,

@@ -379,19 +379,18 @@ def test_the_printed_box_position_is_the_pose_product():
         assert [got["box_px"], got["box_py"]] == pytest.approx(want, abs=1e-9)
 
 
-def test_svg_files_replace_a_symlink_without_writing_through_it(tmp_path):
-    """A symlink named like a layer's picture: the picture replaces the link, the file it named is untouched."""
+def test_svg_files_leave_a_symlink_to_a_users_file_alone(tmp_path):
+    """A symlink named like a layer's picture, to a file codegen did not write: link and file are left as they
+    were, and no picture is written (codegen.writefile's rule for every file the user names)."""
     mine = tmp_path / "mine.txt"
     mine.write_text("mine")
     folder = tmp_path / "svg"
     folder.mkdir()
     (folder / "testmat_layer01.svg").symlink_to(mine)
     result = CliRunner().invoke(main, ["pallet", "--svg", str(folder)])
-    assert result.exit_code == 0, result.output
-    assert mine.read_text() == "mine"
-    layer = folder / "testmat_layer01.svg"
-    assert not layer.is_symlink() and layer.read_text().startswith("<svg")
-    assert sorted(p.name for p in folder.iterdir()) == [f"testmat_layer{n:02d}.svg" for n in range(1, 6)]
+    assert result.exit_code == 2 and "was not written by codegen; left alone" in result.output, result.output
+    assert mine.read_text() == "mine" and (folder / "testmat_layer01.svg").is_symlink()
+    assert sorted(p.name for p in folder.iterdir()) == ["testmat_layer01.svg"]
 
 
 @pytest.mark.parametrize("blocked", ["folder is a file", "picture is a folder"])

@@ -9,10 +9,10 @@ import click
 from codegen import protocol
 from codegen.cli_base import Folder, UserError
 from codegen.cli_base import dump as _dump
-from codegen.kinds.pallet.pictures import pictures
+from codegen.kinds.pallet.pictures import MARKS, pictures
 from codegen.kinds.pallet.report import load_pallet_file, report, text
 from codegen.model.cell import EXAMPLES_DIR, CellError
-from codegen.output import write_file
+from codegen.writefile import WriteRefused, check_own, write_own
 
 TESTMAT = EXAMPLES_DIR / "pallets" / "testmat_pallet.toml"
 
@@ -36,11 +36,14 @@ def pallet(cell, as_json, svg_dir) -> None:
     result = report(data)
     if svg_dir is not None:
         folder = Path(svg_dir)
+        drawn = {name: svg for p in data.pallets for name, svg in pictures(p).items()}
         try:
-            folder.mkdir(parents=True, exist_ok=True)
-            for p in data.pallets:
-                for name, svg in pictures(p).items():
-                    write_file(folder / name, svg)  # in one step; a symlink replaced, not followed
+            for name in drawn:  # every picture's place checked before the first is written
+                check_own(folder / name, MARKS)
+            for name, svg in drawn.items():
+                write_own(folder / name, svg, MARKS)  # whole; a symlink's target replaced, kept a link
+        except WriteRefused as exc:
+            raise UserError(f"{folder}: cannot write the pictures: {exc}") from None
         except OSError as exc:
             raise UserError(f"{folder}: cannot write the pictures: {exc.strerror or exc}") from None
     if as_json:
