@@ -222,9 +222,9 @@ def catalogue() -> dict[str, Arm]:
     data = tomllib.loads(CATALOGUE.read_text(encoding="utf-8"))
     arms: dict[str, Arm] = {}
     for i, table in enumerate(data["arm"]):
-        arm = arm_from_table(table, f"{CATALOGUE.name}: arm[{i + 1}]")
+        arm = arm_from_table(table, f"{CATALOGUE.name}: arm[{i}]")
         if arm.model in arms:
-            raise ArmError(f"{CATALOGUE.name}: arm[{i + 1}].model: {arm.model!r} listed twice")
+            raise ArmError(f"{CATALOGUE.name}: arm[{i}].model: {arm.model!r} listed twice")
         arms[arm.model] = arm
     return arms
 
