@@ -396,8 +396,8 @@ def cases() -> list[Case]:
         Case(
             "5 value",
             "reversed conveyor touches",
-            ["calibrate", "conveyor", "t.csv", "--working-length", "1500"],
-            {"t.csv": REVERSED},
+            ["calibrate", "conveyor", "t.csv", "--counter-bits", "16", "--write", "cell.toml"],
+            {"t.csv": REVERSED, "cell.toml": (EXAMPLES / "conveyor" / "belt_pick.toml").read_text(encoding="utf-8")},
             check=says("reversed"),
         ),
         Case(
@@ -405,6 +405,9 @@ def cases() -> list[Case]:
             "check an 81-character RAPID string",
             ["check", "p.mod"],
             {"p.mod": rapid("VAR string s;", 's := "' + "a" * 41 + '" + "' + "b" * 40 + '";')},
+        ),
+        Case(
+            "5 value", "check a KRL division by 'H0'", ["check", "p.src"], {"p.src": krl("DECL INT X", "X = 1 / 'H0'")}
         ),
         # 6. the terminal is inert
         Case(
