@@ -601,9 +601,9 @@ def main() -> int:
                             ("hang", "hang"),
                             ("exit", "exit "),
                             ("files", "user files"),
-                            ("terminal", "control character"),
+                            ("terminal", "a control character"),
                         )
-                        if problem.startswith(w) or w in problem
+                        if problem.startswith(w)
                     ),
                     "other",
                 )
