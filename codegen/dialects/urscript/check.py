@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import math
 import operator
-from functools import cached_property
 
 from lark import Token, Tree
 
@@ -124,6 +123,7 @@ class Checker:
     def __init__(self, tree: Tree, filename: str, builtins: dict, arm=None) -> None:
         self.tree, self.filename, self.builtins = tree, filename, builtins
         self.findings: list[Finding] = []
+        self.folded: dict[int, object] = {}  # id of an expression -> its value (None: not a constant, or reported)
         self.functions = {str(d.children[0]): d for d in tree.find_data("funcdef")}
         self.threads = {str(d.children[0]): d for d in tree.find_data("threaddef")}
         limits = JOINT_SPEED_DEG_S.get(getattr(arm, "model", None) or "")
@@ -154,10 +154,6 @@ class Checker:
         for node in self.tree.iter_subtrees_topdown():  # an expression before its operands: -2147483648 is an int
             if node.data in ("number", "neg", "add", "sub", "mul"):
                 self.fold(node)
-
-    @cached_property
-    def folded(self) -> dict:
-        return {}  # id of an expression -> its value (None: not a constant, or past the numbers: reported)
 
     def fold(self, node, negated: bool = False):
         """The value of a constant expression, as run computes it (ints exact, floats past float32 refused); None
