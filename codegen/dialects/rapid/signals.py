@@ -201,7 +201,7 @@ WAIT_KEYWORDS = {"DI": "WaitDI", "DO": "WaitDO", "GI": "WaitGI", "GO": "WaitGO"}
 
 
 def wait_signal(kind: str):
-    """WaitDI / WaitDO / WaitGI / WaitGO Signal, Value [\\MaxTime] [\\TimeFlag] (a group's with \\NOTEQ, \\LT or \\GT)."""
+    """WaitDI / WaitDO / WaitGI / WaitGO Signal, Value [\\MaxTime] [\\TimeFlag] (a group's: \\NOTEQ, \\LT, \\GT)."""
     keyword = WAIT_KEYWORDS[kind]
     group = kind in ("GI", "GO")
 
