@@ -4,8 +4,9 @@ The corpus is a folder holding one folder per program (its .src with its .dat, i
 a folder per language (any depth), and a `manifest.tsv` beside them: `folder`, `language`, `repository`, `path`,
 `commit`, `note` and, where a person read the program, `judgement` (one of fault, needs-files, valid, with a reason
 after a colon) for what a tool cannot tell: whether a name the program uses is defined in a file not collected, is
-the program's own mistake, or is valid code the interpreter refuses. The programs themselves stay outside this
-repository (others' code is not committed here); the docs list each one's repository, path and commit.
+the program's own mistake, or is valid code the interpreter refuses (read only where the program neither runs nor
+is refused by name). The programs themselves stay outside this repository (others' code is not committed here);
+the docs list each one's repository, path and commit.
 
 Each program folder goes through `codegen check FOLDER` and `codegen run FOLDER --max-moves 500 --max-seconds 3600`
 (each in its own process, with --timeout seconds), and gets one class:
@@ -13,7 +14,7 @@ Each program folder goes through `codegen check FOLDER` and `codegen run FOLDER 
 - runs: `run` ended without an error (at its end, a halt, a limit named above, or the step limit of a loop that
   polls what another device sets); a program that reads where the arm stands runs again with the arm's start given;
 - refused clearly: a finding or run error that names a construct the interpreter does not model;
-- fault: the program's own mistake (judged, or a syntax error the judgement confirms);
+- fault: the program's own mistake (judged);
 - needs files: it uses routines, data or types of files not collected (judged);
 - valid refused: valid code refused (judged);
 - traceback: a Python traceback from either command;
@@ -92,16 +93,15 @@ def classify(folder: Path, row: dict[str, str], timeout: float) -> Outcome:
         outcome.klass, outcome.reason = "hang", "check" if checked_code is None else "run"
     elif "Traceback (most recent call last)" in checked + ran:
         outcome.klass, outcome.reason = "traceback", "check" if "Traceback" in checked else "run"
-    elif (ran_code == 0 or "step limit" in ran) and judgement.strip() != "valid":
+    elif ran_code == 0 or "step limit" in ran:
         ended = "to its step limit (a loop that waits for what another device sets)" if ran_code else "to its end"
         outcome.klass, outcome.reason = "runs", ended + (" with the arm's start given" if started else "")
-    elif judgement.strip() in JUDGED:
-        outcome.klass, outcome.reason = JUDGED[judgement.strip()], why.strip() or _first_error(ran)
     elif any(word in (_first_error(ran) + _first_error(checked)).lower() for word in NOT_MODELLED):
         outcome.klass = "refused clearly"
-        outcome.reason = (
-            _first_error(ran) if any(w in _first_error(ran).lower() for w in NOT_MODELLED) else (_first_error(checked))
-        )
+        first = _first_error(ran)
+        outcome.reason = first if any(word in first.lower() for word in NOT_MODELLED) else _first_error(checked)
+    elif judgement.strip() in JUDGED:
+        outcome.klass, outcome.reason = JUDGED[judgement.strip()], why.strip() or _first_error(ran)
     else:
         outcome.reason = _first_error(ran) or _first_error(checked)
     return outcome

@@ -52,6 +52,13 @@ class SignalGroups:
         self.scope.signals[str(name).upper()] = (bank, a, b, single)
         return lambda fr: None
 
+    def s_global_signal_decl(self, node):
+        """GLOBAL SIGNAL in a data list: declared as SIGNAL is, and seen by every module."""
+        run = self.s_signal_decl(Tree("signal_decl", node.children[1:], node.meta))
+        key = str(node.children[1]).upper()
+        self.scope.shared_signals[key] = self.scope.signals[key]
+        return run
+
     def _group(self, token) -> tuple | None:
         group = self.scope.signals.get(str(token).upper())
         if group is not None and group[0] in ANALOG:
