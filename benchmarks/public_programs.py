@@ -56,6 +56,7 @@ class Outcome:
     commit: str
     klass: str
     reason: str
+    note: str = ""
 
 
 CODEGEN = [str(Path(sys.executable).with_name("codegen"))]
@@ -87,7 +88,9 @@ def classify(folder: Path, row: dict[str, str], timeout: float) -> Outcome:
     if started:
         arm = ["--start", START, "--robot", ARMS[row["language"]]]
         ran_code, ran = _codegen("run", str(folder), *RUN_LIMITS, *arm, timeout=timeout)
-    outcome = Outcome(row["folder"], row["language"], row["repository"], row["path"], row["commit"], "unjudged", "")
+    outcome = Outcome(
+        row["folder"], row["language"], row["repository"], row["path"], row["commit"], "unjudged", "", row["note"]
+    )
     judgement, _, why = (row.get("judgement") or "").partition(":")
     if checked_code is None or ran_code is None:
         outcome.klass, outcome.reason = "hang", "check" if checked_code is None else "run"
@@ -118,7 +121,7 @@ def table(outcomes: list[Outcome], markdown: bool) -> str:
     if markdown:
         lines += ["| program (repository: path, commit) | language | result |", "|---|---|---|"]
         for one in outcomes:
-            shown = f"{one.repository}: `{one.path}` ({one.commit[:10]})"
+            shown = f"{one.repository}: `{one.path}` ({one.commit[:10]})" + (f"; {one.note}" if one.note else "")
             reason = f": {one.reason}" if one.reason and one.klass != "runs" else ""
             lines.append(f"| {shown} | {one.language} | {one.klass}{reason.replace('|', '/')} |")
     else:
