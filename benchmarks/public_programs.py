@@ -107,6 +107,7 @@ def classify(folder: Path, row: dict[str, str], timeout: float) -> Outcome:
         outcome.klass, outcome.reason = JUDGED[judgement.strip()], why.strip() or _first_error(ran)
     else:
         outcome.reason = _first_error(ran) or _first_error(checked)
+    outcome.reason = outcome.reason.removeprefix("Error: ").replace(f"{folder}/", "")
     return outcome
 
 
