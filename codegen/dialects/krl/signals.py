@@ -33,7 +33,7 @@ def _bank_index(node) -> tuple[str, int] | None:
 class SignalGroups:
     """Compiler mixin: SIGNAL declarations and the names they declare in expressions and assignments: one
     input or output (SIGNAL name $IN[n]: a BOOL) or consecutive ones (SIGNAL name $IN[a] TO $IN[b]: an INT).
-    A module's signals are its own; $config.dat's are every module's (scope.signals)."""
+    A module's signals are its own; $config.dat's and a data list's GLOBAL SIGNAL are every module's (scope.signals)."""
 
     def s_signal_decl(self, node):
         name, first_node, last_node = node.children
