@@ -58,7 +58,7 @@ def program_files(paths: tuple[str, ...], target_name: str | None):
     of its subfolders, whose suffix is a language's); the language from --target, else from the suffixes (all
     of one language). A program file given alone brings the data files of its name beside it (a .dat beside
     its .src). Each file is decoded with the language's encodings (dialects/core/files.py read_source)."""
-    from codegen.controllers import get_target, target_of_suffix
+    from codegen.controllers import get_target, target_of_language, target_of_suffix
     from codegen.dialects import dialect_of_suffix, get_dialect
     from codegen.dialects.core.files import read_source
     from codegen.dialects.core.values import RunError
@@ -95,6 +95,7 @@ def program_files(paths: tuple[str, ...], target_name: str | None):
         dialect = get_dialect(next(iter(languages)))
         targets = (target_of_suffix(p.suffix) for p in given)
         target = next((t for t in targets if t is not None and t.dialect == dialect.name), None)
+        target = target or target_of_language(dialect.name)
         if target is None:
             raise UserError(f"{given[0]}: cannot tell the target from the suffix; use --target")
     if not given:

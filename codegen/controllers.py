@@ -163,6 +163,13 @@ def target_of_suffix(suffix: str) -> Target | None:
     return None
 
 
+def target_of_language(dialect_name: str) -> Target | None:
+    """The one target whose programs are written in the dialect `dialect_name`, None if none or several: a file
+    whose suffix only the language knows (URScript `.urscript`, RAPID `.modx`), not one codegen writes."""
+    found = [target for target in targets().values() if target.dialect == dialect_name]
+    return found[0] if len(found) == 1 else None
+
+
 def numbered_names(target_name: str, number: int) -> tuple[str, str]:
     """The controller's numbered tool and load variables (e.g. TOOL_DATA[3], LOAD_DATA[3])."""
     facts = get_target(target_name).program["tool_data"]

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from codegen.controllers import get_target, target_of_suffix
+from codegen.controllers import get_target, target_of_language, target_of_suffix
 from codegen.dialects import dialect_of_suffix, get_dialect
 from codegen.dialects.core.files import FRESH, SourceFile, read_source
 from codegen.dialects.core.values import RunError
@@ -130,7 +130,8 @@ def _target_of(path: Path, targets: tuple[str, ...]) -> str:
         if dialect is not None and dialect is not get_dialect(get_target(targets[0]).dialect):
             raise ProgramFilesError(f"{path}: a {dialect.name} file, not a program of --target {targets[0]}")
         return targets[0]
-    target = target_of_suffix(path.suffix)
+    language = dialect_of_suffix(path.suffix)
+    target = target_of_suffix(path.suffix) or (language and target_of_language(language.name))
     if target is None or (targets and target.name not in targets):
         raise ProgramFilesError(f"{path}: cannot tell the target from the suffix; use --target")
     return target.name

@@ -181,8 +181,14 @@ NOT_MODELLED = {
 }
 # KUKA's types the interpreter does not model: a declaration is refused by name (not "unknown type"). MSGBUF_T, what
 # Get_MsgBuffer fills with the pending messages: its components were not confirmed in a manual, and no message is
-# ever pending here.
-TYPES_NOT_MODELLED = {"MSGBUF_T": "the message buffer (Get_MsgBuffer)"}
+# ever pending here. GRP_TYP, SPOT_TYPE and S_COMMAND: the GripperTech and SpotTech packages' parameter types, as the
+# data lists of the inline forms (H50, USERSPOT) declare them (the packages' manuals were not read: unconfirmed).
+TYPES_NOT_MODELLED = {
+    "MSGBUF_T": "the message buffer (Get_MsgBuffer)",
+    **dict.fromkeys(
+        ("GRP_TYP", "SPOT_TYPE", "S_COMMAND"), "a type of KUKA's technology packages (GripperTech, SpotTech)"
+    ),
+}
 
 
 def trig(fn):

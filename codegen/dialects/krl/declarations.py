@@ -28,7 +28,16 @@ from codegen.dialects.krl.sysvars import SHARED_STRUCTS
 # routine's declaration section or a data list (GLOBAL in a PUBLIC one: every module's). "ANY" is the
 # interpreter's type of a component it records as it is (the inline forms' circle modes, jerk limits).
 DECLARATIONS = frozenset(
-    {"decl", "signal_decl", "ext_routine", "ext_function", "enum_decl", "struc_decl", "import_decl"}
+    {
+        "decl",
+        "signal_decl",
+        "global_signal_decl",
+        "ext_routine",
+        "ext_function",
+        "enum_decl",
+        "struc_decl",
+        "import_decl",
+    }
 )
 MAX_DIMS = 3
 
@@ -299,6 +308,8 @@ class Declarations:
             self.data_decls.append(("decl", items))
         elif child.data == "signal_decl":
             self.s_signal_decl(child)
+        elif child.data == "global_signal_decl":
+            self.s_global_signal_decl(child)
         elif child.data == "import_decl":
             self.fail(child, "IMPORT is not modelled: declare the data DECL GLOBAL in a PUBLIC data list")
         elif child.data in DECLARATIONS:  # types and EXT: declared before compiling

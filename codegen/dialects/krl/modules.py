@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import copy
 import re
+from collections import ChainMap
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -157,6 +158,8 @@ def _declared(trees: list) -> tuple[set[str], set[str]]:
                     data.update(_decl_names(item))
                 elif item.data == "signal_decl":
                     data.add(str(item.children[0]).upper())
+                elif item.data == "global_signal_decl":
+                    data.add(str(item.children[1]).upper())
     return types, data
 
 
@@ -267,6 +270,7 @@ class Linker:
         compiler.signatures = {key: modes for key, (_kind, modes) in signatures.items()}
         compiler.routine_signatures = signatures
         config_signals: dict = {}  # $config.dat's signals: every module's (a module's own: its scope's copy)
+        shared_signals: dict = {}  # the GLOBAL SIGNAL declarations of data lists: every module's
 
         def scope_of(module: Module) -> Scope:
             if id(module) not in scopes:
@@ -274,8 +278,9 @@ class Linker:
                     module.name,
                     {**global_data, **own_data.get(id(module), {})},
                     {**global_routines, **own_routines.get(id(module), {})},
-                    config_signals if module.config else dict(config_signals),
+                    config_signals if module.config else ChainMap({}, shared_signals, config_signals),
                     external.get(id(module), set()),
+                    config_signals if module.config else shared_signals,
                 )
             return scopes[id(module)]
 

@@ -33,6 +33,7 @@ class Scope:
     routines: dict[str, str] = field(default_factory=dict)
     signals: dict = field(default_factory=dict)  # NAME -> (bank, first, last, single)
     external: set[str] = field(default_factory=set)  # routines declared EXT here
+    shared_signals: dict = field(default_factory=dict)  # GLOBAL SIGNAL of a data list: every module's
 
 
 class ScopedStore(LazyStore):

@@ -33,7 +33,7 @@ def _bank_index(node) -> tuple[str, int] | None:
 class SignalGroups:
     """Compiler mixin: SIGNAL declarations and the names they declare in expressions and assignments: one
     input or output (SIGNAL name $IN[n]: a BOOL) or consecutive ones (SIGNAL name $IN[a] TO $IN[b]: an INT).
-    A module's signals are its own; $config.dat's are every module's (scope.signals)."""
+    A module's signals are its own; $config.dat's and a data list's GLOBAL SIGNAL are every module's (scope.signals)."""
 
     def s_signal_decl(self, node):
         name, first_node, last_node = node.children
@@ -51,6 +51,13 @@ class SignalGroups:
             )
         self.scope.signals[str(name).upper()] = (bank, a, b, single)
         return lambda fr: None
+
+    def s_global_signal_decl(self, node):
+        """GLOBAL SIGNAL in a data list: declared as SIGNAL is, and seen by every module."""
+        run = self.s_signal_decl(Tree("signal_decl", node.children[1:], node.meta))
+        key = str(node.children[1]).upper()
+        self.scope.shared_signals[key] = self.scope.signals[key]
+        return run
 
     def _group(self, token) -> tuple | None:
         group = self.scope.signals.get(str(token).upper())

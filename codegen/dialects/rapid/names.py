@@ -24,10 +24,10 @@ from codegen.dialects.rapid.types import SIGNAL_TYPES
 CONSTANTS = {**PREDEFINED_VALUES, **cycle.PREDEFINED_VALUES, **errors.ERROR_CONSTANTS, **STRINGS, **tracking.MECUNITS}
 # A name a program reads as a value without declaring it, and that no signal instruction names, is taken as a signal
 # of the I/O configuration when it is spelt as signals usually are (the EIO's names are not in the program: the
-# manual's examples and public programs name them di1, DI10_1, diPartReady, DO_Lamp, gi_Recipe...): the prefix di,
-# do, gi, go, ai or ao, then a digit, an underscore or (after a lower-case prefix) an upper-case letter. A guess,
-# so `codegen check` warns of each one; any other undeclared name is an error.
-_SIGNAL_NAME = re.compile(r"^(?:(di|do|gi|go|ai|ao)[0-9_A-Z]|(DI|DO|GI|GO|AI|AO|Di|Do|Gi|Go|Ai|Ao)[0-9_])")
+# manual's examples and public programs name them di1, DI10_1, diPartReady, DO_Lamp, gi_Recipe, gI_ProgNum...): the
+# prefix di, do, gi, go, ai or ao in any case, then a digit, an underscore or (after a lower-case prefix) an
+# upper-case letter. A guess, so `codegen check` warns of each one; any other undeclared name is an error.
+_SIGNAL_NAME = re.compile(r"^(?:(di|do|gi|go|ai|ao)[0-9_A-Z]|([dDgGaA][iIoO])[0-9_])")
 
 
 def implicit_signal_kind(name: str) -> str | None:

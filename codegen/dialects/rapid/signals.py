@@ -25,7 +25,9 @@ from codegen.dialects.rapid.types import SIGNAL_TYPES, num
 #   here); PulseDO [\High] [\PLength] Signal: a pulse of \PLength s (default 0.2 s) while the program goes on;
 #   InvertDO: the inverse; SetGO / SetAO: a group or analog output's value;
 # - WaitDI / WaitDO Signal, Value [\MaxTime] [\TimeFlag]: wait until the signal has the value, \MaxTime as
-#   WaitUntil's (ERR_WAIT_MAXTIME, or \TimeFlag TRUE);
+#   WaitUntil's (ERR_WAIT_MAXTIME, or \TimeFlag TRUE); WaitGI / WaitGO Signal, [\NOTEQ] | [\LT] | [\GT] Value
+#   [\MaxTime] [\TimeFlag]: the same for a group's whole number, equal to the value unless a switch asks for
+#   not equal, less or greater (the switches not confirmed in the manual's text);
 # - TestDI(Signal): TRUE when the digital input is 1; ValidIO: TRUE (every signal here is valid).
 # Here a signal the program uses but does not declare is simulated I/O: inputs are what the devices (or codegen
 # run --signal) set, FALSE / 0 otherwise; outputs are recorded in the trace (SignalEvent: digital ones).
@@ -34,7 +36,7 @@ PULSE_S = 0.2
 # Which argument of an instruction or function is a signal, and of which kind (for the names a program uses).
 SIGNAL_ARGS = {
     "SET": "DO", "RESET": "DO", "SETDO": "DO", "PULSEDO": "DO", "INVERTDO": "DO", "WAITDO": "DO", "DOUTPUT": "DO",
-    "WAITDI": "DI", "DINPUT": "DI", "TESTDI": "DI", "ISIGNALDI": "DI", "SEARCHL": "DI",
+    "WAITDI": "DI", "WAITGI": "GI", "WAITGO": "GO", "DINPUT": "DI", "TESTDI": "DI", "ISIGNALDI": "DI", "SEARCHL": "DI",
     "MOVEJDO": "DO", "MOVELDO": "DO", "SETGO": "GO", "GOUTPUT": "GO", "GINPUT": "GI",
     "SETAO": "AO", "AOUTPUT": "AO", "AINPUT": "AI",
 }  # fmt: skip
@@ -192,13 +194,26 @@ def set_ao(compiler, node, args_node) -> Callable:
     return run
 
 
+# A group wait's comparison by its switch (none: equal).
+GROUP_TESTS = {None: lambda have, want: have == want, "NOTEQ": lambda have, want: have != want,
+               "LT": lambda have, want: have < want, "GT": lambda have, want: have > want}  # fmt: skip
+WAIT_KEYWORDS = {"DI": "WaitDI", "DO": "WaitDO", "GI": "WaitGI", "GO": "WaitGO"}
+
+
 def wait_signal(kind: str):
-    """WaitDI / WaitDO Signal, Value [\\MaxTime] [\\TimeFlag]."""
-    keyword = "WaitDI" if kind == "DI" else "WaitDO"
+    """WaitDI / WaitDO / WaitGI / WaitGO Signal, Value [\\MaxTime] [\\TimeFlag] (a group's: \\NOTEQ, \\LT, \\GT)."""
+    keyword = WAIT_KEYWORDS[kind]
+    group = kind in ("GI", "GO")
 
     def compile_(compiler, node, args_node) -> Callable:
-        switches = {"MAXTIME", "TIMEFLAG", *WAIT_DISPLAY}
+        switches = {"MAXTIME", "TIMEFLAG", *WAIT_DISPLAY, *(("NOTEQ", "LT", "GT") if group else ())}
         positional, named = _positional(compiler, node, args_node, 2, "a signal and a value", switches)
+        asked = [key for key in ("NOTEQ", "LT", "GT") if key in named]
+        if len(asked) > 1:
+            compiler.fail(node, f"{keyword} takes one of \\NOTEQ, \\LT and \\GT")
+        test = GROUP_TESTS[asked[0] if asked else None]
+        if group:
+            return _wait_group(compiler, node, positional, named, keyword, kind, test)
         signal, value = signal_ref(compiler, node, positional[0]), compiler.expr(positional[1])
         where = compiler.where(node)
         if "MAXTIME" in named and named["MAXTIME"] is None:
@@ -225,6 +240,35 @@ def wait_signal(kind: str):
         return run
 
     return compile_
+
+
+def _wait_group(compiler, node, positional, named, keyword: str, kind: str, test) -> Callable:
+    """A group input's (or output's) wait: its whole number compared with the value until the test holds."""
+    signal, value, where = signal_ref(compiler, node, positional[0]), compiler.expr(positional[1]), compiler.where(node)
+    if "MAXTIME" in named and named["MAXTIME"] is None:
+        compiler.fail(node, "\\MaxTime needs a value (\\MaxTime:=...)")
+    max_time = compiler.expr(named["MAXTIME"]) if named.get("MAXTIME") is not None else None
+    flag = compiler.lvalue(named["TIMEFLAG"]) if named.get("TIMEFLAG") is not None and max_time else None
+    read = reader(kind, signal)
+
+    def run(fr):
+        want, m = num(value(fr), where), fr.m
+        if want != int(want) or not 0 <= want < GROUP_MAX:
+            raise RunError(f"{where}: {keyword} {signal(fr)}: {want:g} is not a whole number in 0..{GROUP_MAX - 1}")
+
+        def now() -> bool:
+            return test(float(read(fr)), want)
+
+        came = now()
+        if not came:
+            seconds = None if max_time is None else num(max_time(fr), where)
+            came = m.wait_for(now, where, seconds, keyword)
+            if flag is None and not came:
+                raise errors.wait_maxtime(where, keyword, seconds)
+        if flag is not None:
+            flag(fr, not came)
+
+    return run
 
 
 def move_do(name: str):
@@ -324,6 +368,8 @@ SPECIAL = {
     "SETAO": set_ao,
     "WAITDI": wait_signal("DI"),
     "WAITDO": wait_signal("DO"),
+    "WAITGI": wait_signal("GI"),
+    "WAITGO": wait_signal("GO"),
     "ALIASIO": alias_io,
     "MOVEJDO": move_do("MOVEJDO"),
     "MOVELDO": move_do("MOVELDO"),

@@ -110,6 +110,37 @@ NOT_MODELLED = {
         ("mc_initialize", "mc_add_linear", "mc_add_circular", "mc_add_path", "mc_load_path", "mc_run_motion"),
         "the remote-TCP motion functions are not modelled",
     ),
+    # The arm's dynamics and torque control (URScript manual SW 5.25, direct_torque: "Direct Joint Torque Control
+    # ... Sets the target torque for all robot joints at 500Hz"; torque_command is its name in the 5.22 beta; the
+    # other names as public programs call them, their pages not read here: unconfirmed).
+    **dict.fromkeys(
+        (
+            "direct_torque",
+            "torque_command",
+            "get_mass_matrix",
+            "get_coriolis_and_centrifugal_torques",
+            "get_jacobian",
+            "get_jacobian_time_derivative",
+            "get_target_joint_accelerations",
+        ),
+        "the arm's dynamics (mass matrix, Jacobian, joint torques) are not simulated",
+    ),
+    # The world model of frames (PolyScope 5.21 and later, PolyScope X: names as the programs PolyScope X
+    # writes call them; the manual's pages not read here: unconfirmed).
+    **dict.fromkeys(
+        (
+            "reset_world_model",
+            "add_frame",
+            "delete_frame",
+            "move_frame",
+            "get_pose",
+            "get_frame_parent",
+            "attach_frame",
+            "convert_pose",
+        ),
+        "the installation's world model of frames (poses here are in the base frame)",
+    ),
+    "get_rtde_value": "the controller's RTDE outputs are not simulated",
     "servoc": "a servo move in tool space is not modelled (servoj is)",
     "inv": "matrix algebra is not modelled (element-wise arithmetic of arrays is)",
     "transpose": "matrix algebra is not modelled (element-wise arithmetic of arrays is)",

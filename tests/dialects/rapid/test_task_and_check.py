@@ -199,5 +199,5 @@ def test_a_folder_of_robotware_7_modules_is_read(tmp_path):
     (tmp_path / "Main.modx").write_text('MODULE Main\n  PROC main()\n    TPWrite "seven";\n  ENDPROC\nENDMODULE\n')
     result = CliRunner().invoke(main, ["run", "--target", "abb", str(tmp_path)])
     assert result.exit_code == 0 and "message: seven" in result.output
-    result = CliRunner().invoke(main, ["run", str(tmp_path)])  # named, not "no program files"
-    assert result.exit_code == 2 and "Main.modx: cannot tell the target from the suffix; use --target" in result.output
+    result = CliRunner().invoke(main, ["run", str(tmp_path)])  # RAPID is the language of one target only
+    assert result.exit_code == 0 and "message: seven" in result.output
