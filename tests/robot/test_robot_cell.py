@@ -114,6 +114,17 @@ def test_robot_section_errors_name_the_key(tmp_path, old, new, message):
     assert not (tmp_path / "out").exists()
 
 
+def test_an_unknown_arm_is_answered_with_the_arms_of_its_controller_and_the_custom_table(tmp_path):
+    path = write_cell(tmp_path, DEMO_TEXT.replace('kuka = "KR 10 R1100 sixx"', 'kuka = "KR 20 R1810"', 1))
+    with pytest.raises(CellError) as caught:
+        load_cell(path)
+    message = str(caught.value)
+    assert "cell.robot.kuka: unknown arm 'KR 20 R1810'" in message
+    assert "KR 6 R900 sixx" in message and "KR 210 R2700 extra" in message
+    assert "UR10e" not in message and "IRB" not in message  # arms the kuka controller cannot drive
+    assert "{ model, family, params, limits_deg, home_deg }" in message
+
+
 def test_a_custom_arm_by_its_parameters(tmp_path):
     custom = (
         'kuka = { model = "my KR", family = "opw", params = { a1 = 25, a2 = -35, b = 0, c1 = 400, c2 = 560, '
