@@ -248,7 +248,10 @@ def test_a_taught_pose_out_of_reach_is_refused(tmp_path):
     text = DEMO_TEXT.replace("shelf = [-60.5, -905.2, 388.0", "shelf = [-60.5, -1405.2, 388.0")
     result = generate(tmp_path, write_cell(tmp_path, text))
     assert result.exit_code == 2
-    assert "station 7 'warehouse_gate' pose 'shelf' (ur, UR10e): out of reach (no inverse kinematics" in result.output
+    assert "station 7 'warehouse_gate' pose 'shelf' (ur, UR10e): out of reach: the flange would be at" in result.output
+    assert "beyond the UR10e's reach of 1,300 mm" in result.output  # the data sheet's (docs/arm.md)
+    # the tool's 200 mm along z of a pose pointing down (c = 180): the flange 200 mm above the TCP
+    assert "(-60, -1405, 588) mm, 1,524 mm from the base" in result.output  # hypot(60.5, 1405.2, 588) = 1524.5
 
 
 def test_a_tight_joint_margin_is_refused(tmp_path):
