@@ -191,3 +191,19 @@ def test_a_moved_target_is_named_with_how_far_and_how_much_turned():
     # within float32's tolerance (0.005 mm, 0.001 deg) a target is the same
     close = SimpleNamespace(moves=_moves(None, (600.004, 0, 300, 0), (600, 0, 200, 0.0009), (650, 10, 200, 30)))
     assert _poses(close, generated) == []
+
+
+def test_one_problem_met_in_many_cases_is_one_mismatch_line_whatever_float32_adds():
+    """A target edited 20 mm away: every case's error is 20 mm but for float32's millionths; one line, the rest
+    counted. A problem a thousandth of a mm apart or more is another line."""
+    from codegen.verify.report import Row, alike_key
+
+    row = Row("station", "ur", "p", ["p.script"])
+    for i, (pos, rot) in enumerate([(19.999993, 0.000001), (19.999993, 0.000003), (19.999994, 0.000011)]):
+        problem = f"move 3 (vise_above, line 208): position error {pos:.6f} mm, orientation error {rot:.6f} deg"
+        row.mismatch(f"random station 7 reading ({i}): {problem}", alike_key(problem))
+    other = "move 3 (vise_above, line 208): position error 20.004000 mm, orientation error 0.000000 deg"
+    row.mismatch(f"random station 7 reading (9): {other}", alike_key(other))
+    assert len(row.first_mismatches) == 2 and list(row.alike.values()) == [2, 0]
+    assert row.first_mismatches[0].endswith("position error 19.999993 mm, orientation error 0.000001 deg")
+    assert alike_key("error -0.0004 mm, 12.3456789 deg, line 208") == "error 0.000 mm, 12.346 deg, line 208"
