@@ -375,3 +375,21 @@ def test_a_first_pose_half_a_turn_from_home_for_some_readings_is_refused_at_gene
     assert "station 5 'grinder' pose 'approach' (kuka, KR 10 R1100 sixx)" in result.output
     assert "about half a turn away for some readings" in result.output and "[cell.robot.home]" in result.output
     assert generate(tmp_path, write_cell(tmp_path, DEMO_TEXT), "--target", "kuka").exit_code == 0
+
+
+def test_the_arm_pages_custom_arm_example_is_the_catalogue_arm_it_says():
+    import re
+    import tomllib
+    from pathlib import Path
+
+    from codegen.robot.arms import arm_from_table, find_arm
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "arm.md").read_text(encoding="utf-8")
+    block = re.search(r"```toml\n(\[cell\.robot\]\nkuka = \{ model = \"my KR 10\".*?)```", page, re.S).group(1)
+    table = tomllib.loads(block)["cell"]["robot"]["kuka"]
+    mine, theirs = arm_from_table({"vendor": "kuka", **table}, "docs/arm.md"), find_arm("KR 10 R1100 sixx")
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        q = rng.uniform(-90, 90, 6)
+        assert np.allclose(mine.kin.fk(q), theirs.kin.fk(q), atol=1e-9)
+    assert (mine.reach_mm, mine.payload_kg) == (theirs.reach_mm, theirs.payload_kg)
