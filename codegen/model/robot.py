@@ -289,7 +289,7 @@ def _arm(ctx, value, path: str, target: str) -> Arm:
                 path,
                 f"unknown arm {value!r}; the catalogue's {vendor} arms: "
                 f"{', '.join(n for n, a in catalogue().items() if a.vendor == vendor)}; another arm is a table "
-                "{ model, family, params, limits_deg, home_deg } with the catalogue's parameters (the arm page)",
+                "{ model, family, params, limits_deg, home_deg } with the catalogue's parameters (docs/arm.md)",
             )
     elif isinstance(value, dict):
         try:
