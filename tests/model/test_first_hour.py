@@ -89,6 +89,23 @@ def test_a_pallet_in_metres_says_so_at_its_key(write_cell, old, new, message):
     assert message in error(write_cell, text.replace(old, new, 1))
 
 
+def test_a_pose_of_another_format_says_what_the_cells_format_takes_and_which_it_would_be(write_cell):
+    chuck = "chuck = [700.0, -100.0, 300.0, 90.0, 0.0, 180.0]"
+    message = error(write_cell, WITH_TOOL.replace(chuck, "chuck = [700.0, -100.0, 300.0, 0, 1, 0, 0]"))
+    said = 'station[0].poses.chuck: expected 6 numbers, got 7 (pose_format = "xyzabc" takes x y z mm, a b c deg'
+    assert said in message
+    assert '7 numbers are a pose of pose_format = "abb" (x y z mm, quaternion' in message
+    abb = WITH_TOOL.replace('pose_format = "xyzabc"', 'pose_format = "abb"').replace(
+        "tcp = [0.0, 0.0, 200.0, 0.0, 0.0, 0.0]", "tcp = [0.0, 0.0, 200.0, 1.0, 0.0, 0.0, 0.0]"
+    )
+    message = error(write_cell, abb)
+    assert 'expected 7 numbers, got 6 (pose_format = "abb" takes x y z mm, quaternion' in message
+    assert all(f'pose_format = "{name}"' in message for name in ("xyzabc", "ur", "dtrans"))
+    five = WITH_TOOL.replace(chuck, "chuck = [700.0, -100.0, 300.0, 90.0, 0]")
+    assert "expected 6 numbers, got 5 (pose_format" in error(write_cell, five)
+    assert "5 numbers are" not in error(write_cell, five)
+
+
 def test_a_ur_cell_given_millimetres_and_degrees_says_what_ur_takes(write_cell):
     ur = WITH_TOOL.replace('pose_format = "xyzabc"', 'pose_format = "ur"')
     message = error(write_cell, ur)
