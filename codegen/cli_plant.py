@@ -115,6 +115,7 @@ def _targets(plant: Plant, model, asked: tuple[str, ...] = ()) -> list[str]:
 
 def generate_plant(path: str, targets: tuple[str, ...], out_dir: str, as_json: bool) -> None:
     from codegen.cli_base import write_cell
+    from codegen.robot.expect import home_margins
 
     plant = plant_of(path)
     out = out_of(plant, out_dir)
@@ -124,9 +125,16 @@ def generate_plant(path: str, targets: tuple[str, ...], out_dir: str, as_json: b
         if not names:
             return CellResult(label, model.name, [Line(label, "-", cell_kinds(model), None, "skipped", 0.0)])
         written, left_alone, envelopes = write_cell(model, names, out)
-        margins = [e.as_json() for e in envelopes]
-        data = {"written": [str(p) for p in written], "left_alone": left_alone, "envelope": margins}
-        line = Line(label, ",".join(names), cell_kinds(model), None, "written", time.perf_counter() - start)
+        homes = home_margins(model, names)
+        data = {
+            "written": [str(p) for p in written],
+            "left_alone": left_alone,
+            "home": [h.as_json() for h in homes],
+            "envelope": [e.as_json() for e in envelopes],
+        }
+        margins = "\n".join([*(h.text() for h in homes), *(e.text() for e in envelopes)])  # as one cell's generate
+        seconds = time.perf_counter() - start
+        line = Line(label, ",".join(names), cell_kinds(model), None, "written", seconds, margins)
         return CellResult(label, model.name, [line], data, notes=[f"left alone: {n}" for n in left_alone])
 
     finish(run_plant(plant, "generate", lambda p, _: _cell_step(plant, p, work), wanted()), plant, _form(as_json))

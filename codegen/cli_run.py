@@ -245,7 +245,7 @@ def run(
     from codegen.dialects import is_companion
     from codegen.dialects.core.trace import halt_text
     from codegen.dialects.core.values import RunError, StepLimitError
-    from codegen.poses import POSE_FORMATS
+    from codegen.poses import POSE_FORMATS, pose_text, shown_values
     from codegen.sim.gripper import Gripper
     from codegen.sim.operator import Operator
     from codegen.sim.vision_pc import VisionPC
@@ -342,7 +342,7 @@ def run(
         {
             "motion": m.kind,
             "line": m.line,
-            "pose": None if m.tcp2base is None else list(native(m.tcp2base)),
+            "pose": None if m.tcp2base is None else list(shown_values(native(m.tcp2base), target.pose_format)),
             "tcp2base": None if m.tcp2base is None else m.tcp2base.tolist(),
             "joints": None if m.joints is None else [round(float(v), 6) for v in m.joints],
         }
@@ -375,7 +375,7 @@ def run(
     for message in trace.messages:
         click.echo(f"message: {message}")
     for m in moves:
-        shown = "(a joint position)" if m["pose"] is None else " ".join(unsigned_zero(f"{v:.4f}") for v in m["pose"])
+        shown = "(a joint position)" if m["pose"] is None else pose_text(m["pose"], target.pose_format)
         joints = "" if m["joints"] is None else "  joints " + " ".join(unsigned_zero(f"{v:.3f}") for v in m["joints"])
         click.echo(f"{m['motion']:<6} (line {m['line']}): {shown}{joints}")
     for o in trace.outputs:

@@ -21,6 +21,8 @@ import math
 
 import numpy as np
 
+from codegen.decimals import format_literal
+
 _EPS = 1e-12
 
 
@@ -209,9 +211,29 @@ def shown_quat(quat) -> tuple[float, float, float, float]:
 
     So w > 0 away from a half turn; at a half turn (w ~ 0) the first clear axis component decides."""
     values = tuple(float(v) for v in quat)
-    lead = next((v for v in values if abs(v) > QUAT_SIGN_TIE), 1.0)
-    sign = -1.0 if lead < 0 else 1.0
+    sign = _shown_sign(values)
     return tuple(sign * v + 0.0 for v in values)
+
+
+def _shown_sign(quat: tuple[float, ...]) -> float:
+    """-1 where `shown_quat` shows -q, else 1."""
+    lead = next((v for v in quat if abs(v) > QUAT_SIGN_TIE), 1.0)
+    return -1.0 if lead < 0 else 1.0
+
+
+def shown_rotvec(rv) -> tuple[float, float, float]:
+    """The one of a rotation's two rotation vectors at a half turn shown: that of its `shown_quat`.
+
+    Away from a half turn the vector of angle in [0, pi) is shown. At a half turn (the quaternion's w within
+    QUAT_SIGN_TIE of 0, float32 noise included) rv and rv * (angle - 2 pi) / angle are one rotation; the one
+    whose first clear component is positive is shown, as for the quaternion."""
+    rv = np.asarray(rv, dtype=float)
+    angle = float(np.linalg.norm(rv))
+    if angle < _EPS:
+        return tuple(float(v) + 0.0 for v in rv)
+    quat = (math.cos(angle / 2.0), *(float(v) * math.sin(angle / 2.0) / angle for v in rv))
+    scale = 1.0 if _shown_sign(quat) > 0 else (angle - 2.0 * math.pi) / angle  # -q: angle 2 pi - angle about -axis
+    return tuple(float(v) * scale + 0.0 for v in rv)
 
 
 def matrix_from_abb(pose) -> np.ndarray:
@@ -244,6 +266,22 @@ FORMAT_DECIMALS = {
     "abb": (4, 4, 4, 9, 9, 9, 9),
     "dtrans": (4, 4, 4, 6, 6, 6),
 }
+
+
+def shown_values(values, fmt: str) -> tuple[float, ...]:
+    """A pose in format fmt as reports show it: a half turn of the one sign (`shown_quat`, `shown_rotvec`)."""
+    values = tuple(float(v) for v in values)
+    if fmt == "ur":
+        return (*values[:3], *shown_rotvec(values[3:6]))
+    if fmt == "abb":
+        return (*values[:3], *shown_quat(values[3:7]))
+    return values
+
+
+def pose_text(values, fmt: str) -> str:
+    """The one text of a pose in reports (`codegen correct`, `codegen run`): FORMAT_DECIMALS, no '-0', shown sign."""
+    shown = shown_values(values, fmt)
+    return " ".join(format_literal(v, n) for v, n in zip(shown, FORMAT_DECIMALS[fmt], strict=True))
 
 
 def native_values(values, from_format: str, to_format: str) -> tuple[float, ...]:

@@ -74,7 +74,12 @@ def _without(line: str, dropped: set[str]) -> str | None:
         return line
     if not kept:
         return None
-    return line[:start] + "{ " + ", ".join(item.strip() for item in kept) + " }" + line[end + 1 :]
+    shortened = line[:start] + "{ " + ", ".join(item.strip() for item in kept) + " }"
+    rest = line[end + 1 :]
+    comment = rest.lstrip()
+    if comment.startswith("#"):  # the comment stays in its column, in line with its neighbours' as written
+        rest = " " * (end + 1 + len(rest) - len(comment) - len(shortened)) + comment
+    return shortened + rest
 
 
 def _closing(line: str, start: int) -> int:

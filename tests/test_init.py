@@ -40,6 +40,17 @@ def test_a_starter_for_one_target_names_no_other(tmp_path):
     assert load_cell(out).targets == ("kuka",)
 
 
+def test_a_starter_for_one_target_keeps_its_comments_in_their_column(tmp_path):
+    """The [pallet.io] lines lose their other targets' items; their comments stay in line with one another."""
+    out = tmp_path / "pallet.toml"
+    assert init(tmp_path, "pallet", "--target", "kuka", "--out", str(out)).exit_code == 0
+    lines = out.read_text(encoding="utf-8").splitlines()
+    start = next(i for i, x in enumerate(lines) if x.startswith("[pallet.io]"))
+    shortened = [x for x in lines[start + 1 :] if x.startswith(("part_present", "pallet_present", "reset", "done"))]
+    assert len(shortened) >= 4
+    assert len({x.index("#") for x in shortened}) == 1, shortened
+
+
 def test_an_existing_file_stays_and_a_target_the_starter_lacks_is_named(tmp_path):
     out = tmp_path / "mine.toml"
     out.write_text("# my cell\n", encoding="utf-8")

@@ -54,6 +54,13 @@ class TaughtPose:
         return _pose_matrix(self.pose_format, self.values)
 
 
+def _format_hint(pose_format: str, count: int) -> str:
+    """What the cell's pose format takes, and which format a pose of count numbers would be."""
+    others = [f'pose_format = "{name}" ({spec[3]})' for name, spec in POSE_FORMATS.items() if spec[0] == count]
+    said = f' (pose_format = "{pose_format}" takes {POSE_FORMATS[pose_format][3]}'
+    return said + (f"; {count} numbers are a pose of {' or '.join(others)})" if others else ")")
+
+
 @lru_cache(maxsize=65536)
 def _pose_matrix(pose_format: str, values: tuple[float, ...]) -> np.ndarray:
     matrix = POSE_FORMATS[pose_format][1](values)
@@ -236,6 +243,9 @@ class CellValidator(Validator):
     def pose(self, pose_name: str, values, pose_path: str, pose_format: str) -> TaughtPose:
         if not pose_name.strip():
             self.fail(pose_path, "pose name must not be empty")
+        count = POSE_FORMATS[pose_format][0]
+        if isinstance(values, list) and len(values) != count:
+            self.fail(pose_path, f"expected {count} numbers, got {len(values)}{_format_hint(pose_format, len(values))}")
         numbers = self.orientation(
             self.numbers(values, POSE_FORMATS[pose_format][0], pose_path), pose_path, pose_format
         )

@@ -284,7 +284,13 @@ def _arm(ctx, value, path: str, target: str) -> Arm:
     if isinstance(value, str):
         arm = find_arm(value)
         if arm is None:
-            ctx.fail(path, f"unknown arm {value!r}; the catalogue has: {', '.join(catalogue())}")
+            vendor = get_target(target).vendor
+            ctx.fail(
+                path,
+                f"unknown arm {value!r}; the catalogue's {vendor} arms: "
+                f"{', '.join(n for n, a in catalogue().items() if a.vendor == vendor)}; another arm is a table "
+                "{ model, family, params, limits_deg, home_deg } with the catalogue's parameters (docs/arm.md)",
+            )
     elif isinstance(value, dict):
         try:
             arm = arm_from_table({"vendor": get_target(target).vendor, **value}, path)

@@ -25,6 +25,22 @@ def metres_hint(pose_format: str) -> str:
     )
 
 
+# The longest reach in the catalogue is 2,696 mm: a base-frame position written in metres reads as less than this
+# many mm, where no arm's tool can be (inside its own base).
+METRES_MAX_MM = 3.0
+
+
+def read_as_metres(values) -> float | None:
+    """The largest of a base-frame position's values where it reads as metres in a millimetre field, else None."""
+    reach = max(abs(float(v)) for v in values)
+    return reach if 0.0 < reach < METRES_MAX_MM else None
+
+
+def metres_text(reach: float, subject: str) -> str:
+    """The question a value that reads as metres gets (subject: "A mark is"): what it is in mm, and what it would be."""
+    return f"given in metres? {subject} mm in the base frame: {reach:g} m is {reach * 1000.0:g} mm"
+
+
 class CellError(Exception):
     """A cell file that cannot be used; the message names the file and the line or key path."""
 

@@ -132,3 +132,19 @@ def first(q: np.ndarray, match: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     chosen = np.take_along_axis(q, index[..., None, None], axis=-2)[..., 0, :]
     found = match.any(axis=-1)
     return np.where(found[..., None], chosen, np.nan), np.where(found, index, -1)
+
+
+def unreachable_text(arm: Arm, flange2base: np.ndarray) -> str:
+    """Why a flange pose has no solution, as far as its place tells: how far it lies from the base against the
+    data sheet's reach (beyond it: too far; within it: the orientation, a joint limit or the arm's own column)."""
+    x, y, z = (float(v) for v in flange2base[:3, 3])
+    distance = math.sqrt(x * x + y * y + z * z)
+    at = f"the flange would be at ({x:.0f}, {y:.0f}, {z:.0f}) mm, {distance:,.0f} mm from the base"
+    if arm.reach_mm is None:
+        return f"{at}; the arm takes it in no configuration within its joint limits"
+    if distance > arm.reach_mm:
+        return f"{at}, beyond the {arm.model}'s reach of {arm.reach_mm:,g} mm: move the pose (or the arm) closer"
+    return (
+        f"{at}, within the {arm.model}'s reach of {arm.reach_mm:,g} mm: its orientation, a joint limit or the arm's "
+        "own base rules it out; turn the pose or move it away from the base"
+    )

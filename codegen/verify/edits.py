@@ -8,9 +8,12 @@ import re
 from collections import Counter
 from pathlib import Path
 
+import numpy as np
+
+from codegen.decimals import format_literal
 from codegen.dialects.core.trace import Trace, halt_text
 from codegen.dialects.core.values import RunError
-from codegen.verify.checks import Checker
+from codegen.verify.checks import TOLERANCES, Checker
 from codegen.verify.plan import SCENARIOS
 from codegen.verify.programs import ProgramSource, fresh_sources
 
@@ -166,7 +169,7 @@ def _differences(mine: Trace | RunError, theirs: Trace | RunError) -> list[str]:
         out.append(f"the program {said} where the generated program {_stop_of(theirs)}")
     if len(mine.moves) != len(theirs.moves):
         out.append(f"{len(mine.moves)} moves where the generated program makes {len(theirs.moves)}")
-    out += _settings(mine, theirs) + _timing(mine, theirs)
+    out += _poses(mine, theirs) + _settings(mine, theirs) + _timing(mine, theirs)
     extra = Counter(mine.messages) - Counter(theirs.messages)
     missing = Counter(theirs.messages) - Counter(mine.messages)
     out += [f"writes {m!r} (the generated program does not)" for m in extra]
@@ -193,6 +196,31 @@ def _settings(mine: Trace, theirs: Trace) -> list[str]:
         first, last = moves[0], moves[-1]
         which = f"move {first + 1}" if first == last else f"moves {first + 1}-{last + 1}"
         out.append(f"{which} (from line {mine.moves[first].line}) {key} {have}, generated {want}")
+    return out
+
+
+def _poses(mine: Trace, theirs: Trace) -> list[str]:
+    """Moves whose target the given program moved (beyond float32's 0.005 mm, 0.001 deg: verify's pose tolerance):
+    each distinct offset once, with the moves it holds on (from the first move's line)."""
+    pos_tol, rot_tol = TOLERANCES["float32"]
+    spans: dict[tuple, list[int]] = {}
+    for i, (m, t) in enumerate(zip(mine.moves, theirs.moves, strict=False)):
+        if m.tcp2base is None or t.tcp2base is None:
+            continue
+        offset = np.asarray(m.tcp2base)[:3, 3] - np.asarray(t.tcp2base)[:3, 3]
+        turn = np.asarray(t.tcp2base)[:3, :3].T @ np.asarray(m.tcp2base)[:3, :3]
+        angle = math.degrees(math.acos(max(-1.0, min(1.0, (float(np.trace(turn)) - 1.0) / 2.0))))
+        distance = float(np.linalg.norm(offset))  # its length, the same whatever the reading turns
+        if distance > pos_tol or angle > rot_tol:
+            spans.setdefault((format_literal(distance, 3), format_literal(angle, 3)), []).append(i)
+    out = []
+    for (distance, angle), moves in spans.items():
+        first, last = moves[0], moves[-1]
+        which = f"move {first + 1}" if first == last else f"moves {first + 1}-{last + 1}"
+        out.append(
+            f"{which} (from line {mine.moves[first].line}) {distance} mm and {angle} deg from the generated "
+            "program's target"
+        )
     return out
 
 

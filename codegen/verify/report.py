@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from codegen.decimals import format_literal
 from codegen.protocol import Kind, VerifyPlan
 from codegen.robot.expect import ArmStats
 
@@ -27,6 +28,17 @@ def readable(text: str) -> str:
         return "0" if short in ("-0", "") else short
 
     return _LONG_DECIMAL.sub(rounded, text)
+
+
+# mismatches whose numbers agree to a thousandth of a mm or deg (the tolerances are 0.005 mm and 0.001 deg) are one
+# problem met in several cases: a hand edit moving a pose 20 mm is one line, whatever float32 adds in the millionths
+ALIKE_DECIMALS = 3
+_FINE_DECIMAL = re.compile(rf"(?<![\w.])-?\d+\.\d{{{ALIKE_DECIMALS + 1},}}")
+
+
+def alike_key(problem: str) -> str:
+    """The problem a mismatch is grouped by: its text with every number rounded to ALIKE_DECIMALS decimals."""
+    return _FINE_DECIMAL.sub(lambda m: format_literal(float(m.group()), ALIKE_DECIMALS), problem)
 
 
 def case_text(kind, cell, case) -> str:

@@ -12,7 +12,7 @@ from codegen.verify import clearance
 from codegen.verify.checks import Checker, pose_errors
 from codegen.verify.edits import message_renames
 from codegen.verify.executor import Executor
-from codegen.verify.report import Replay, Row, case_text
+from codegen.verify.report import Replay, Row, alike_key, case_text
 
 _LOADED: dict = {}  # source -> program, in a worker (each program parsed once per process)
 _RENAMES: dict = {}  # source -> the texts a given program changed (edits.message_renames), once per process
@@ -123,7 +123,7 @@ def _run_cases(
                     row.figures = kind.figures()
                 row.figures.count(case, figures)
         else:
-            row.mismatch(f"{case_text(kind, model, case)}: {problem}", problem)
+            row.mismatch(f"{case_text(kind, model, case)}: {problem}", alike_key(problem))
         if keep:
             _keep(row, kind, model, case, setup, trace, expected, pos, rot, problem)
         if runaway or (first and problem is not None):

@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from codegen import poses
+from codegen.decimals import format_literal
 from codegen.robot import solve
 from codegen.world.bodies import arm_bodies
 from codegen.world.cell import FLOOR, clearance_mm, scene_of
@@ -211,10 +212,11 @@ def _refusal(cell, path: Path, move: Move, found: MoveClearance, limit: float, c
     other = found.other
     floor = other == FLOOR
     what = "touches" if found.distance <= 0 else "comes within"
-    at = f"{found.distance:.1f} mm of it" if found.distance > 0 else f"{-found.distance:.1f} mm into it"
+    depth = format_literal(-found.distance, 1)
+    at = f"{found.distance:.1f} mm of it" if found.distance > 0 else f"{depth} mm into it"
     solid = f"the solid {other!r}" if not floor else f"the floor (cell.world.floor_z_mm = {cell.world.floor_z_mm:g} mm)"
     if floor and found.distance <= 0:
-        what, at = "dips below", f"{-found.distance:.1f} mm, its lowest point at z = {found.point[2]:.1f} mm,"
+        what, at = "dips below", f"{depth} mm, its lowest point at z = {format_literal(found.point[2], 1)} mm,"
     if other in {body.name for body in arm_bodies(arm)} | {"tool", "part"}:
         solid = f"the arm's own {other}"
     fix = _fix(cell, path, move, other, solid.startswith("the arm's own"))

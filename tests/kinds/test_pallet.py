@@ -206,7 +206,8 @@ def test_the_automatic_approach_comes_from_the_open_side():
         (
             "pick = [600.0, 300.0, 50.0,",
             "pick = [1200.0, 300.0, 50.0,",
-            r"layer 1 box 1 above Q \(ur, UR5e\): out of reach",
+            r"layer 1 box 1 above Q \(ur, UR5e\): out of reach: the flange would be at \(1200, 300, \d+\) mm, "
+            r"[\d,]+ mm from the base, beyond the UR5e's reach of 850 mm",
         ),
         # the pallet 250 mm lower and nearer: the KR 6's wrist passes within 1 deg of its singularity
         (

@@ -315,3 +315,20 @@ def test_every_target_with_a_reset_has_the_start_swap_cases(testmat):
         cases = [c.data.case for c in verify_cases(testmat, source, 0)]
         assert any(c.category == "swapped_at_start" and c.exchanges == 1 and not c.exchange_held for c in cases)
         assert any(c.category == "swapped_at_start" and c.exchange_held for c in cases), target
+
+
+def test_a_stop_in_a_release_is_named_by_its_box_and_the_marked_counters():
+    """The report names a case by its item: the layer counted from 1 as everywhere else, the counters' mark (the
+    layer negative, as the program leaves a stop in a release) said apart."""
+    from codegen.kinds.pallet.verify import VerifyPart
+
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    source = sources(cell, "kuka", "pallet")[0]
+    cases = [c for c in verify_cases(cell, source, 0) if c.category == "stopped_in_release"]
+    assert cases
+    for case in cases:
+        layer, box = case.data.case.layer, case.data.case.box
+        assert layer < 0
+        shown = VerifyPart(None).describe(cell, case)
+        assert shown.endswith(f"layer {-layer} box {box} (the counters marked: layer {layer})"), shown
+        assert f"layer {layer} box" not in shown

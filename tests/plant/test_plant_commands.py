@@ -84,3 +84,22 @@ def test_a_module_loaded_into_the_production_task_is_checked_from_its_entry(tmp_
     assert wrong.exit_code == 2 and "no global PROC main_nope" in wrong.output
     refused = runner.invoke(main, ["check", str(plant / "generated" / "laser_tcp" / "ur"), "--entry", "x"])
     assert refused.exit_code == 2 and "--entry x: a ur program starts only at its own entry" in refused.output
+
+
+def test_a_plants_generate_prints_each_cells_home_and_pose_margins_as_the_cells_own_generate(tmp_path: Path):
+    from codegen.model.cell import EXAMPLE_PLANT
+
+    plant = tmp_path / "plant"
+    plant.mkdir()
+    shutil.copyfile(EXAMPLE_PLANT / "lasers" / "pin_kuka.toml", plant / "pin.toml")
+    alone = CliRunner().invoke(main, ["generate", str(plant / "pin.toml"), "--out", str(tmp_path / "alone")])
+    assert alone.exit_code == 0, alone.output
+    margins = [line for line in alone.output.splitlines() if not line.startswith("wrote ")]
+    assert margins and margins[0].startswith("home kuka (KR 10 R1100 sixx): ")
+    together = CliRunner().invoke(main, ["generate", str(plant)])
+    assert together.exit_code == 0, together.output
+    lines = together.output.splitlines()
+    row = next(i for i, line in enumerate(lines) if line.startswith("pin.toml "))
+    assert [line.strip() for line in lines[row + 1 : row + 1 + len(margins)]] == [m.strip() for m in margins]
+    code, report = _run("generate", str(plant), "--out", str(tmp_path / "again"))
+    assert code == 0 and report["cells"][0]["data"]["home"][0]["target"] == "kuka"

@@ -114,6 +114,17 @@ def test_robot_section_errors_name_the_key(tmp_path, old, new, message):
     assert not (tmp_path / "out").exists()
 
 
+def test_an_unknown_arm_is_answered_with_the_arms_of_its_controller_and_the_custom_table(tmp_path):
+    path = write_cell(tmp_path, DEMO_TEXT.replace('kuka = "KR 10 R1100 sixx"', 'kuka = "KR 20 R1810"', 1))
+    with pytest.raises(CellError) as caught:
+        load_cell(path)
+    message = str(caught.value)
+    assert "cell.robot.kuka: unknown arm 'KR 20 R1810'" in message
+    assert "KR 6 R900 sixx" in message and "KR 210 R2700 extra" in message
+    assert "UR10e" not in message and "IRB" not in message  # arms the kuka controller cannot drive
+    assert "{ model, family, params, limits_deg, home_deg }" in message
+
+
 def test_a_custom_arm_by_its_parameters(tmp_path):
     custom = (
         'kuka = { model = "my KR", family = "opw", params = { a1 = 25, a2 = -35, b = 0, c1 = 400, c2 = 560, '
@@ -237,7 +248,10 @@ def test_a_taught_pose_out_of_reach_is_refused(tmp_path):
     text = DEMO_TEXT.replace("shelf = [-60.5, -905.2, 388.0", "shelf = [-60.5, -1405.2, 388.0")
     result = generate(tmp_path, write_cell(tmp_path, text))
     assert result.exit_code == 2
-    assert "station 7 'warehouse_gate' pose 'shelf' (ur, UR10e): out of reach (no inverse kinematics" in result.output
+    assert "station 7 'warehouse_gate' pose 'shelf' (ur, UR10e): out of reach: the flange would be at" in result.output
+    assert "beyond the UR10e's reach of 1,300 mm" in result.output  # the data sheet's (docs/arm.md)
+    # the tool's 200 mm along z of a pose pointing down (c = 180): the flange 200 mm above the TCP
+    assert "(-60, -1405, 588) mm, 1,524 mm from the base" in result.output  # hypot(60.5, 1405.2, 588) = 1524.5
 
 
 def test_a_tight_joint_margin_is_refused(tmp_path):
@@ -361,3 +375,21 @@ def test_a_first_pose_half_a_turn_from_home_for_some_readings_is_refused_at_gene
     assert "station 5 'grinder' pose 'approach' (kuka, KR 10 R1100 sixx)" in result.output
     assert "about half a turn away for some readings" in result.output and "[cell.robot.home]" in result.output
     assert generate(tmp_path, write_cell(tmp_path, DEMO_TEXT), "--target", "kuka").exit_code == 0
+
+
+def test_the_arm_pages_custom_arm_example_is_the_catalogue_arm_it_says():
+    import re
+    import tomllib
+    from pathlib import Path
+
+    from codegen.robot.arms import arm_from_table, find_arm
+
+    page = (Path(__file__).resolve().parents[2] / "docs" / "arm.md").read_text(encoding="utf-8")
+    block = re.search(r"```toml\n(\[cell\.robot\]\nkuka = \{ model = \"my KR 10\".*?)```", page, re.S).group(1)
+    table = tomllib.loads(block)["cell"]["robot"]["kuka"]
+    mine, theirs = arm_from_table({"vendor": "kuka", **table}, "docs/arm.md"), find_arm("KR 10 R1100 sixx")
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        q = rng.uniform(-90, 90, 6)
+        assert np.allclose(mine.kin.fk(q), theirs.kin.fk(q), atol=1e-9)
+    assert (mine.reach_mm, mine.payload_kg) == (theirs.reach_mm, theirs.payload_kg)

@@ -111,3 +111,17 @@ def test_a_program_as_generated_has_no_edits(cell, tmp_path):
     path.write_text(source.read_text())
     _, row = verify(cell, path, "abb")
     assert row.edits == [] and row.mismatches == 0
+
+
+def test_a_taught_pose_edited_in_the_program_is_named_with_how_far_it_moved(cell, tmp_path):
+    """p1_chuck 10 mm higher (its z 0.3052 m made 0.3152 m): the move to it is 10 mm from the generated target."""
+    source = GENERATED / FILES["ur"]
+    old = "  p1_chuck = p[0.7385000, -0.1123000, 0.3052000,"
+    text = source.read_text()
+    assert old in text
+    path = tmp_path / source.name
+    path.write_text(text.replace(old, old.replace("0.3052000", "0.3152000"), 1))
+    _, row = verify(cell, path, "ur")
+    line = next(i + 1 for i, t in enumerate(path.read_text().splitlines()) if "movel(pose_trans(corr, p1_chuck)" in t)
+    expected = f"EDIT effect: move {work_move(cell)} (from line {line}) 10.000 mm and 0.000 deg from the generated"
+    assert any(e.startswith(expected) for e in row.edits), row.edits

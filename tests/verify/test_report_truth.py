@@ -7,6 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -162,3 +163,47 @@ def test_the_report_counts_one_program_in_the_singular():
 
     assert Report("press_shop", [object()], 0, 0).header() == "cell press_shop: 1 program (seed 0)"
     assert Report("press_shop", [object(), object()], 3, 0).header() == "cell press_shop: 2 programs (seed 3)"
+
+
+def _moves(*poses):
+    """Trace moves at given (x, y, z mm, turn about z deg), None for a joint position, lines from 10."""
+    out = []
+    for i, pose in enumerate(poses):
+        if pose is None:
+            out.append(SimpleNamespace(tcp2base=None, line=10 + i))
+            continue
+        x, y, z, deg = pose
+        c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+        m = np.array([[c, -s, 0, x], [s, c, 0, y], [0, 0, 1, z], [0, 0, 0, 1.0]])
+        out.append(SimpleNamespace(tcp2base=m, line=10 + i))
+    return out
+
+
+def test_a_moved_target_is_named_with_how_far_and_how_much_turned():
+    from codegen.verify.edits import _poses
+
+    generated = SimpleNamespace(moves=_moves(None, (600, 0, 300, 0), (600, 0, 200, 0), (650, 10, 200, 30)))
+    given = SimpleNamespace(moves=_moves(None, (600, 0, 320, 0), (600, 0, 220, 0), (650, 10, 200, 31.5)))
+    assert _poses(given, generated) == [
+        "moves 2-3 (from line 11) 20.000 mm and 0.000 deg from the generated program's target",
+        "move 4 (from line 13) 0.000 mm and 1.500 deg from the generated program's target",
+    ]
+    # within float32's tolerance (0.005 mm, 0.001 deg) a target is the same
+    close = SimpleNamespace(moves=_moves(None, (600.004, 0, 300, 0), (600, 0, 200, 0.0009), (650, 10, 200, 30)))
+    assert _poses(close, generated) == []
+
+
+def test_one_problem_met_in_many_cases_is_one_mismatch_line_whatever_float32_adds():
+    """A target edited 20 mm away: every case's error is 20 mm but for float32's millionths; one line, the rest
+    counted. A problem a thousandth of a mm apart or more is another line."""
+    from codegen.verify.report import Row, alike_key
+
+    row = Row("station", "ur", "p", ["p.script"])
+    for i, (pos, rot) in enumerate([(19.999993, 0.000001), (19.999993, 0.000003), (19.999994, 0.000011)]):
+        problem = f"move 3 (vise_above, line 208): position error {pos:.6f} mm, orientation error {rot:.6f} deg"
+        row.mismatch(f"random station 7 reading ({i}): {problem}", alike_key(problem))
+    other = "move 3 (vise_above, line 208): position error 20.004000 mm, orientation error 0.000000 deg"
+    row.mismatch(f"random station 7 reading (9): {other}", alike_key(other))
+    assert len(row.first_mismatches) == 2 and list(row.alike.values()) == [2, 0]
+    assert row.first_mismatches[0].endswith("position error 19.999993 mm, orientation error 0.000001 deg")
+    assert alike_key("error -0.0004 mm, 12.3456789 deg, line 208") == "error 0.000 mm, 12.346 deg, line 208"

@@ -119,12 +119,13 @@ def joints_of(
     robot = cell.robot
     arm = robot.arms[target]
     poses = np.array([m.tcp2base for m in moves]).reshape(-1, 4, 4)
-    solutions = solve.branches(arm, solve.flange_poses(poses, robot.tool.tcp2flange))
+    flange2base = solve.flange_poses(poses, robot.tool.tcp2flange)
+    solutions = solve.branches(arm, flange2base)
     if within is not None:  # the other branches' solutions left out
         solutions = np.where((np.arange(solutions.shape[1]) == within)[None, :, None], solutions, np.nan)
     q = np.asarray(robot.home[target] if start is None else start, dtype=float)
     branch, out = None if start is None else _branch(arm, q), []
-    for move, sols in zip(moves, solutions, strict=True):
+    for move, sols, flange in zip(moves, solutions, flange2base, strict=True):
         at = f"{where} {move.name} ({target}, {arm.model})"
         key = None if named is None else named.key(pallet, move)
         anchor = None if named is None else named.anchor(move)
@@ -150,7 +151,7 @@ def joints_of(
         else:
             joints, chosen = solve.nearest(arm, sols, q)
         if np.isnan(joints).any():
-            raise ReachError(f"{at}: out of reach (no solution within the joint limits for the tool's flange)")
+            raise ReachError(f"{at}: out of reach: {solve.unreachable_text(arm, flange)}")
         if move.kind == "linear" and (int(chosen) != branch or np.max(np.abs(joints - q)) > 90.0):
             raise ReachError(f"{at}: the linear move would change the arm's configuration (a wrist or elbow flip)")
         out.append(joints)

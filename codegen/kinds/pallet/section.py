@@ -10,6 +10,7 @@ from codegen.kinds.pallet.keys import FAMILIES, MAX_LAYERS, PALLET
 from codegen.model.cell import CellValidator
 from codegen.model.loader import Loader, build
 from codegen.model.robot import parse_cycle_config
+from codegen.model.validate import metres_text, read_as_metres
 
 # The most boxes a stack (every layer), a pattern or the patterns together may hold. The programs hold every
 # box of the cycle's patterns in tables (7 to 9 numbers a box) and count boxes in a layer and layers; their
@@ -95,6 +96,7 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
             "sheets when stacking only",
         )
     values = loader.table(PALLET, table, path, readers={"config": lambda value, where: value})  # read with the arms
+    _not_metres(ctx, values, path)
     patterns = _patterns(ctx, values["patterns"], f"{path}.patterns")
     cycle = values["cycle"]
     if len(cycle) > MAX_LAYERS:
@@ -125,6 +127,20 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
         zone_mm=values["zone_mm"] if values["zone_mm"] is not None else cell.motion.zone_mm,
         config=parse_cycle_config(ctx, values["config"], f"{path}.config", cell.robot),
     )
+
+
+def _not_metres(ctx: CellValidator, values: dict, path: str) -> None:
+    """The frame's points and Q (base frame, mm; Q in a "ur" cell metres as it should be) not written in metres."""
+    pick = values["pick"]
+    points = [(f"frame.{k}", values["frame"][k]) for k in ("origin", "x_point", "xy_point")]
+    if pick is not None and pick.pose_format != "ur":
+        points.append(("pick", pick.values[:3]))
+    for key, point in points:
+        reach = read_as_metres(point)
+        if reach is not None:
+            what = "The pallet frame's points are" if key.startswith("frame") else "Q is"
+            lie = f"x, y, z lie within {reach:g} mm of the robot's base"
+            ctx.fail(f"{path}.{key}", f"{lie}: {metres_text(reach, what)}")
 
 
 def _patterns(ctx: CellValidator, patterns: dict, path: str) -> dict:

@@ -53,7 +53,10 @@ class VerifyPart(protocol.VerifyPlan):
     def describe(self, cell, case) -> str:
         run = case.data
         pallet = "" if run.pallet < 0 else f"pallet {pallets_of(cell)[run.pallet].name} "
-        return f"{pallet}layer {run.case.layer} box {run.case.box}"
+        layer, box = run.case.layer, run.case.box
+        if layer < 0:  # the counters as a stop in a release leaves them: the layer marked negative
+            return f"{pallet}layer {-layer} box {box} (the counters marked: layer {layer})"
+        return f"{pallet}layer {layer} box {box}"
 
     def report_lines(self, rows: list) -> list[str]:
         lines = ["pallet program          target    cases  fail  boxes"]

@@ -197,10 +197,10 @@ def arm_poses(cell, target: str, station) -> list[ArmPose]:
     solutions = solve.branches(arm, flange2base)
     out: list[ArmPose] = []
     previous = home
-    for (name, tcp2base, motion), sols in zip(poses, solutions, strict=True):
+    for (name, tcp2base, motion), sols, flange in zip(poses, solutions, flange2base, strict=True):
         where = f"station {station.id} {station.name!r} pose {name!r} ({target}, {arm.model})"
         if np.isnan(sols).all():
-            raise ReachError(f"{where}: out of reach (no inverse kinematics solution for the tool's flange)")
+            raise ReachError(f"{where}: out of reach: {solve.unreachable_text(arm, flange)}")
         config = given.get(name)
         if config is None:
             joints, branch = solve.nearest(arm, sols, previous if motion == "linear" else home)

@@ -22,6 +22,7 @@ from codegen.kinds.station.mode import StationMode
 from codegen.kinds.station.point.keys import KEYS
 from codegen.kinds.station.point.reference import NAME, PointSpec, Reading, expected_trace
 from codegen.kinds.station.section import section_of
+from codegen.model.validate import metres_text, read_as_metres
 from codegen.model.vision import SECOND_LOOK_MM
 from codegen.poses import planar_motions, wrap_deg
 from codegen.reference import ExpectedTrace
@@ -30,7 +31,6 @@ if TYPE_CHECKING:
     from codegen.kinds.station.cases import Case
 
 MARK_DECIMALS = 6
-MARK_MIN_MM = 1.0  # a mark nearer the robot's base than this (its x, y) but not at it is a value given in metres
 
 
 def _ulp32(value: float) -> float:
@@ -70,13 +70,16 @@ class PointMode(StationMode):
     @classmethod
     def parse(cls, ctx, values: dict, path: str) -> PointSpec:
         mark = values["mark"]
-        reach = max(abs(mark[0]), abs(mark[1]))
-        if 0.0 < reach < MARK_MIN_MM:
-            ctx.fail(
-                f"{path}.mark",
-                f"x, y lie {reach:g} mm from the robot's base: given in metres? A mark is mm in the base frame: "
-                f"{reach:g} m is {reach * 1000.0:g} mm",
-            )
+        reach = read_as_metres(mark[:2])
+        if reach is not None:
+            ctx.fail(f"{path}.mark", f"x, y lie {reach:g} mm from the robot's base: {metres_text(reach, 'A mark is')}")
+        for name, pose in values["poses"].items():  # base frame; a "ur" cell's poses are metres as they should be
+            reach = None if pose.pose_format == "ur" else read_as_metres(pose.values[:3])
+            if reach is not None:
+                ctx.fail(
+                    f"{path}.poses.{name}",
+                    f"x, y, z lie within {reach:g} mm of the robot's base: {metres_text(reach, 'A taught pose is')}",
+                )
         if abs(mark[2]) > READING_RANGE_DEG:
             ctx.fail(f"{path}.mark[2]", f"theta must be within +-{READING_RANGE_DEG:g} deg")
         return PointSpec(mark, _fixed(ctx, values["fixed"] or (), list(values["poses"]), path))

@@ -8,7 +8,7 @@ from codegen.guard import halt_message
 from codegen.kinds.station.point.reference import Reading, expected_trace
 from codegen.kinds.station.section import section_of
 from codegen.model.cell import Cell
-from codegen.poses import FORMAT_DECIMALS, POSE_FORMATS
+from codegen.poses import POSE_FORMATS, pose_text, shown_values
 
 
 def correct_report(cell: Cell, reading: Reading) -> dict:
@@ -38,7 +38,7 @@ def correct_report(cell: Cell, reading: Reading) -> dict:
         native = {}
         for target_name in cell.targets:
             fmt = get_target(target_name).pose_format
-            native[target_name] = [v + 0.0 for v in POSE_FORMATS[fmt][2](move.tcp2base)]
+            native[target_name] = list(shown_values(POSE_FORMATS[fmt][2](move.tcp2base), fmt))
         pose = {"name": move.pose_name, "motion": move.kind, "targets": native}
         if i < taught:
             report["poses"].append(pose)
@@ -77,7 +77,5 @@ def format_report(report: dict) -> str:
         lines.append(f"{pose['name']} ({pose['motion']} move):")
         for target, values in pose["targets"].items():
             facts = get_target(target)
-            decimals = FORMAT_DECIMALS[facts.pose_format]
-            shown = " ".join(format_literal(v, n) for v, n in zip(values, decimals, strict=True))
-            lines.append(f"  {target:<7}{shown}    {facts.pose_units}")
+            lines.append(f"  {target:<7}{pose_text(values, facts.pose_format)}    {facts.pose_units}")
     return "\n".join(lines)
