@@ -208,7 +208,8 @@ def test_verify_judges_the_operator_s_answer(cell, category, old, new, problem):
 def test_only_a_target_that_asks_runs_the_refused_case(cell):
     quiet = cases(cell, 0)[0]
     assert [c.category for c in confirm.cases(get_target("kuka"), quiet)] == ["confirmation_refused"]
-    assert confirm.cases(get_target("ur"), quiet) == [] and confirm.cases(get_target("abb"), quiet) == []
+    assert [c.category for c in confirm.cases(get_target("ur"), quiet)] == ["confirmation_refused"]
+    assert confirm.cases(get_target("abb"), quiet) == []
 
 
 def test_the_confirmation_s_messages_fit_msg_txt_with_the_widest_numbers():
