@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import pytest
-from support.programs import edited, first, regex_edit, verify_one
+from support.programs import edited, first, regex_edit, run_case, verify_one
 
+from codegen.kinds.laser.verify import LaserCase
 from codegen.model.cell import load_cell
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
@@ -38,3 +39,105 @@ def test_the_ur_node_states_it_belongs_in_before_start():
     assert "Before Start sequence" in text
     definitions = [line for line in text.splitlines() if line.lstrip().startswith(("def ", "thread "))]
     assert definitions and all(line.startswith("  ") and not line.startswith("   ") for line in definitions)
+
+
+# --- verify's scenarios: nobody answers, the production tool not made active or kept locally, the column ----------
+
+ZONE = {  # the column's constants as each target's program declares them
+    "ur": r"(LSR_ZONE_{name} = )[-0-9.]+",
+    "kuka": r"(LSR_ZONE_{name}=)[-0-9.]+",
+    "abb": r"(LSR_ZONE_{name} := )[-0-9.]+",
+}
+STARTS = frozenset({"start_away", "start_mid_cycle"})
+
+
+@pytest.mark.parametrize(
+    ("target", "edit"),
+    [
+        # KUKA: the dialog looked at once, not polled until answered (the program goes on without the answer)
+        (
+            "kuka",
+            lambda t: t.replace(
+                "WHILE EXISTS_KRLDLG(LSR_HANDLE, ANSWER)", "IF EXISTS_KRLDLG(LSR_HANDLE, ANSWER) THEN"
+            ).replace("      WAIT SEC 0.1\n    ENDWHILE", "      WAIT SEC 0.1\n    ENDIF"),
+        ),
+        # UR: the question's answer taken as given (no question): the program writes and goes on
+        ("ur", regex_edit(r"request_boolean_from_primary_client\([^)]*\)", "True")),
+    ],
+    ids=["kuka_dialog_not_polled", "ur_not_asked"],
+)
+def test_nobody_answers_the_program_waits_and_a_program_that_goes_on_fails_verify(cell, target, edit):
+    """Nobody answers the question (verify's confirmation_unanswered): the run ends waiting at it (the time limit, or
+    UR's blocking question that nothing answers), the production tool unchanged, no move after the question."""
+    source = first(cell, target, "laser")
+    only = frozenset({"operator_silent"})
+    row = verify_one(cell, source, scenarios=only)
+    assert (row.cases, row.mismatches) == (1, 0), row.first_mismatches
+    row = verify_one(cell, edited(source, edit, "goes on"), scenarios=only)
+    assert row.mismatches == 1 and "nobody answers" in row.first_mismatches[0], row.first_mismatches
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb"])
+@pytest.mark.parametrize(
+    ("name", "value", "category"),
+    [
+        ("R", "20.0000", "start_beside_column"),  # the column drawn wider: a start beside it backs out
+        ("HIGH", "110.0000", "start_above_column"),
+        ("LOW", "-25.0000", "start_below_column"),
+        ("R", "12.0000", "start_column_edge"),  # narrower: a stopped calibration at its edge stops for good
+    ],
+)
+def test_a_column_drawn_otherwise_fails_verify(cell, target, name, value, category):
+    """The station's column the arm backs out of: starts 1 mm either side of its boundary (verify's start cases);
+    a program whose column is wider or narrower than every pose of the calibration with its margin fails."""
+    source = first(cell, target, "laser")
+    changed = edited(source, regex_edit(ZONE[target].format(name=name), r"\g<1>" + value), "column")
+    row = verify_one(cell, changed, scenarios=STARTS)
+    assert row.mismatches == 1 and row.first_mismatches[0].startswith(category), row.first_mismatches
+
+
+def test_the_columns_edges_pass_verify(cell):
+    row = verify_one(cell, first(cell, "kuka", "laser"), scenarios=STARTS)
+    assert (row.cases, row.mismatches) == (6, 0), row.first_mismatches
+
+
+def test_ur_a_tcp_kept_in_a_local_copy_fails_verify(cell):
+    """The TCP written into a variable of a function's own (`local`) instead of the installation variable: the
+    production tool stays the last calibration's, which verify reads where it is stored."""
+    source = first(cell, "ur", "laser")
+    local = edited(
+        source,
+        lambda t: t.replace("    global pin_tcp = p[", "    lsr_keep(p[", 1).replace(
+            "  def lsr_here():", "  def lsr_keep(v):\n    local pin_tcp = v\n  end\n\n  def lsr_here():", 1
+        ),
+        "local copy",
+    )
+    text = local.files[0].text
+    line = next(x for x in text.splitlines() if "lsr_keep(p[" in x)
+    local = edited(local, lambda t: t.replace(line, line + ")"), "local copy")
+    row = verify_one(cell, local, scenarios=frozenset({"nominal"}))
+    assert row.mismatches >= 1 and "pin_tcp" in row.first_mismatches[0], row.first_mismatches
+
+
+def _next_node_tcp(cell, source):
+    """The TCP the next node of the Robot Program moves with after the calibration (a Move node with the active
+    TCP), and the TCP the calibration wrote (both m, rad)."""
+    node = "  movel(pose_add(get_actual_tcp_pose(), p[0, 0, 0.01, 0, 0, 0]), a=1.2, v=0.25)\n"
+    program = edited(source, lambda text: text.rstrip("\n") + "\n" + node, "next node").load()
+    tool = cell.robot.tool.tcp2flange.copy()
+    tool[:3, 3] += (1.2, -0.8, 0.7)
+    trace = run_case(cell, "ur", program, LaserCase("test", tool, noise=0.0, seed=7), "laser")[0]
+    assert not trace.halted, trace.halt_message
+    return list(trace.moves[-1].settings["tcp"]), [float(v) for v in trace.kept["pin_tcp"].values()]
+
+
+def test_ur_the_production_tool_left_inactive_moves_the_next_node_with_the_old_tool(cell):
+    """No verify case sees the TCP active after the node's last line (a run's trace keeps the moves' settings, not
+    the controller's when the program ends): a next node appended shows it. The node as generated: that node moves
+    with the TCP written; without the last set_tcp, with the tool as designed."""
+    source = first(cell, "ur", "laser")
+    active, written = _next_node_tcp(cell, source)
+    assert active == pytest.approx(written, abs=1e-9)
+    inactive = edited(source, regex_edit(r"^  set_tcp\(pin_tcp\)\n", ""), "inactive")
+    active, written = _next_node_tcp(cell, inactive)
+    assert active != pytest.approx(written, abs=1e-6)

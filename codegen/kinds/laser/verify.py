@@ -9,7 +9,7 @@ import numpy as np
 
 from codegen.kinds.laser import program as lp
 from codegen.kinds.laser.budget import FLOAT32_MM, TRUTH_MM, Tolerances
-from codegen.kinds.laser.confirm import REFUSED, YES
+from codegen.kinds.laser.confirm import REFUSED, UNANSWERED, YES
 from codegen.kinds.laser.reference import Expected, from_measured
 from codegen.kinds.laser.section import laser_of
 from codegen.model.io import signal_name
@@ -20,11 +20,16 @@ from codegen.sim.beams import Pin
 SCENARIO_OF = {
     "start_away": "start_away",
     "start_mid_cycle": "start_mid_cycle",
+    "start_beside_column": "start_away",  # just outside the station's column: stopped before the arm moves
+    "start_above_column": "start_away",
+    "start_below_column": "start_away",
+    "start_column_edge": "start_mid_cycle",  # just inside it: backs out, home, the whole calibration
     "sensors_silent": "device_silent",
     "tool_too_long": "reading_out_of_range",
     "steep_axis": "reading_out_of_range",
     "drifted_since_last": "reading_out_of_range",
     REFUSED: "operator_refuses",  # the operator answers No to writing the production tool (where the target asks)
+    UNANSWERED: "operator_silent",  # nobody answers the question (the kind's own: the program waits, writes nothing)
     "installation_without_tool": "production_tool_missing",  # the kind's own: the production tool not defined
 }
 STEP_LIMIT = 2_000_000  # a UR thread runs a few statements per 2 ms cycle for a minute of motion
@@ -59,7 +64,7 @@ class LaserCase:
     start: str = "home"
     dead: bool = False  # the sensors never switch (a sensor unplugged, its range set to nothing)
     previous: tuple | None = None  # the production tool's TCP before the run (mm; None: as designed + PREVIOUS_MM)
-    answer: str = YES  # the operator's answer where the program asks before it writes the production tool
+    answer: str | None = YES  # the operator's answer where the program asks before writing the tool (None: nobody)
     without_production_tool: bool = False  # the installation has no production tool (an installation variable)
 
     @property
@@ -110,6 +115,10 @@ def cases(cell, seed: int = 0) -> list[LaserCase]:
     out += [
         replace(quiet, category="start_away", start="away"),
         replace(quiet, category="start_mid_cycle", start="mid_cycle"),
+        replace(quiet, category="start_beside_column", start="column_side_out"),
+        replace(quiet, category="start_above_column", start="column_top_out"),
+        replace(quiet, category="start_below_column", start="column_bottom_out"),
+        replace(quiet, category="start_column_edge", start="column_side_in"),
         replace(quiet, category="sensors_silent", dead=True),
     ]
     return out
