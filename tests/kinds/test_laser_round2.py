@@ -141,3 +141,47 @@ def test_ur_the_production_tool_left_inactive_moves_the_next_node_with_the_old_t
     inactive = edited(source, regex_edit(r"^  set_tcp\(pin_tcp\)\n", ""), "inactive")
     active, written = _next_node_tcp(cell, inactive)
     assert active != pytest.approx(written, abs=1e-6)
+
+
+# --- the repeatability check: runs, their spread bounded ---------------------------------------------------------
+
+SPREAD = {  # the bound as each target's program declares it
+    "ur": r"(LSR_SPREAD_MAX = )[0-9.]+",
+    "kuka": r"(LSR_SPREAD_MAX=)[0-9.]+",
+    "abb": r"(LSR_SPREAD_MAX := )[0-9.]+",
+}
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb"])
+def test_runs_that_disagree_stop_the_program_and_one_without_the_bound_fails_verify(cell, target):
+    """A tool growing along its axis while it is calibrated (verify's tool_growing): the runs' TCPs lie farther from
+    their mean than spread_max_mm; the program stops and writes nothing. Its bound raised to 50 mm (no check, as the
+    program was with one run): it writes the mean, a mismatch."""
+    source = first(cell, target, "laser")
+    only = frozenset({"measurement_not_repeatable"})
+    row = verify_one(cell, source, scenarios=only)
+    assert (row.cases, row.mismatches) == (1, 0), row.first_mismatches
+    unbounded = edited(source, regex_edit(SPREAD[target], r"\g<1>50.0"), "unbounded")
+    row = verify_one(cell, unbounded, scenarios=only)
+    assert row.mismatches == 1 and "expected the spread's stop" in row.first_mismatches[0], row.first_mismatches
+
+
+def test_ur_the_last_run_written_instead_of_the_runs_mean_fails_verify(cell):
+    """The program's TCP must be the mean of the runs it kept (judged within float32 on its own runs)."""
+    source = first(cell, "ur", "laser")
+    last = edited(source, regex_edit(r"^  lsr_tcp = \[lsr_sum\[0\] / LSR_RUNS.*\n", ""), "last run")
+    row = verify_one(cell, last, scenarios=frozenset({"nominal"}))
+    assert row.mismatches >= 1 and "runs' mean" in row.first_mismatches[0], row.first_mismatches
+
+
+def test_spread_max_beyond_offset_max_is_refused(tmp_path):
+    from support.cells import EXAMPLES
+
+    from codegen.model.cell import CellError
+
+    text = EXAMPLES["laser_tcp"].read_text(encoding="utf-8").replace("[laser]\n", "[laser]\nspread_max_mm = 5.0\n", 1)
+    path = tmp_path / "laser_tcp.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(CellError) as info:
+        load_cell(path)
+    assert "laser.spread_max_mm: must be at most offset_max_mm (3)" in str(info.value)

@@ -185,6 +185,14 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     problem = _settings_left(trace)
     if problem is not None:
         return Judgement([], problem=problem)
+    if case.growing:  # the runs disagree: a stop for their spread, nothing written
+        if not (trace.halted and (trace.halt_message or "").startswith(Emitter(target).string(lp.SPREAD))):
+            said = trace.halt_message if trace.halted else "ran to its end"
+            return Judgement([], problem=f"the tool grows between runs: expected the spread's stop, {said!r}")
+        moves = _roles(cell, target, case, trace, True)
+        if isinstance(moves, str):
+            return Judgement([], problem=moves)
+        return Judgement([Expectation(trace.halt_message, moves, (), _stored(cell, target, None, 0.0, previous))])
     if confirm.unanswered(target, case):
         problem = confirm.silence_problem(cell, target, trace)
         if problem is not None:
@@ -203,8 +211,9 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     problem, worst, truth = judge_measures(cell, target, case, trace, want, tol)
     if problem is not None:
         return Judgement([], problem=problem)
-    written = want.halt is None and not confirm.refused(target, case)  # the operator's No: the tool unchanged
-    if want.halt is None:
+    # the operator's No, or the runs' spread (judged above): the tool unchanged
+    written = want.halt is None and not trace.halted and not confirm.refused(target, case)
+    if want.halt is None and not trace.halted:
         problem = confirm.problem(cell, target, case, trace, previous, _flat_tcp(target, trace))
         if problem is not None:
             return Judgement([], problem=problem)
@@ -359,6 +368,8 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
         on_mid = any(np.linalg.norm(point - m) <= NEAR_MM for m in mids)
         on_start = any(np.linalg.norm(point - s) <= NEAR_MM for s in starts)
         if on_mid or (half == 1 and on_start):  # a half circle: the first ends at mid, the second back at start
+            if stage == 2:  # the next run's circles: the measurement again
+                circles, stage = 0, 0
             first_half = on_mid
             half = 1 if first_half else 0
             out.append(
