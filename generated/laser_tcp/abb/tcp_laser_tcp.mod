@@ -40,7 +40,9 @@ MODULE tcp_laser_tcp
   ! the error ERR_WHLSEARCH and an input already switched when the search starts ERR_SIGSUPSEARCH; ISignalDI
   ! with 2 interrupts on both edges; a TRAP runs while the arm moves on, and CRobT there is read as the TCP at
   ! the cycle the edge was seen (a real TRAP reads it a little later: its latency is not known here; the mean
-  ! of each crossing's edges in and out keeps a delay common to both small). MoveC runs the circle through
+  ! of each crossing's edges in and out keeps a delay common to both small; a latency that varies scatters the
+  ! runs' TCPs: LSR_RUNS runs, their mean written only where each lies within LSR_SPREAD_MAX of it, so the edges'
+  ! repeatability is measured on every calibration instead of assumed). MoveC runs the circle through
   ! where the arm is, CirPoint and ToPoint: a full circle is two half circles.
   ! The results stay in the module's data (read them in the program data window): lsr_edge (the edges: circle 1
   ! beam X 1..4, beam Y 1..4, then circle 2), lsr_centre (e1x e1y e2x e2y), lsr_axis (ux uy uz),
