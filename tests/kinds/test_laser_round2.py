@@ -243,3 +243,82 @@ def test_abb_edges_late_by_0_to_20_ms_the_runs_mean_meets_the_goal_or_the_spread
     trace, _, truth = _late_run(cell, once, 2)
     written = np.array(kept_values(get_target("abb"), trace)["tcp"][:3])
     assert not trace.halted and np.linalg.norm(written - truth) > TRUTH_MM
+
+
+# --- the sensor frame from a reference pin: the derivation's solution against the geometry, numerically ----------
+
+
+def _chord_mean_y(centre, radius, cross, yaw, w) -> float:
+    """Beam X's four edges' mean y on the circle, found on a fine polygon of the circle (not from the formula): the
+    points where the signed distance from the beam's vertical plane passes +w and -w, by bisection."""
+    normal = np.array([yaw, -1.0]) / np.hypot(yaw, 1.0)
+
+    def dist(angle):
+        p = centre + radius * np.array([np.cos(angle), np.sin(angle)])
+        return float((p - cross) @ normal), p
+
+    ys = []
+    angles = np.linspace(0.0, 2 * np.pi, 4001)
+    for level in (w, -w):
+        values = [dist(a)[0] - level for a in angles]
+        for i in range(len(angles) - 1):
+            if values[i] == 0 or values[i] * values[i + 1] < 0:
+                lo, hi = angles[i], angles[i + 1]
+                for _ in range(60):
+                    mid = (lo + hi) / 2
+                    if (dist(lo)[0] - level) * (dist(mid)[0] - level) <= 0:
+                        hi = mid
+                    else:
+                        lo = mid
+                ys.append(dist(lo)[1][1])
+    assert len(ys) == 4
+    return float(np.mean(ys))
+
+
+def _contact_z(point_xy, cross, direction_xy, height, slope, radius) -> float:
+    """Where a horizontal end face of this radius, lowered at point_xy, first touches the sloped beam: the highest
+    beam point within the radius of its centre (sampled along the beam)."""
+    ts = np.linspace(-50.0, 50.0, 200001)
+    points = cross + ts[:, None] * direction_xy
+    near = np.linalg.norm(points - point_xy, axis=1) <= radius
+    return float(np.max(height + slope * ts[near]))
+
+
+def test_the_setup_run_finds_the_beams_from_the_reference_pins_edges_and_contacts():
+    """A crossing 0.25 mm, -0.12 mm, 0.08 mm off the named origin, beam X yawed 0.3 deg and sloped 0.2 deg, beam Y
+    yawed -0.15 deg and sloped -0.1 deg: the centres and contacts the reference pin would give (computed from the
+    geometry, not the formulas) solve back to the crossing within 1e-4 mm and the yaws and slopes within 1e-6."""
+    from codegen.kinds.laser.frame_solve import solve_frame
+
+    cross = np.array([0.25, -0.12])
+    height = 0.08
+    yaw_x, yaw_y = np.tan(np.radians(0.3)), np.tan(np.radians(-0.15))
+    slope_x, slope_y = np.tan(np.radians(0.2)), np.tan(np.radians(-0.1))
+    radius, circle, w, delta, span = 1.5, 10.0, 1.55, 5.0, 8.0
+
+    def beam_y_centre(c):  # beam Y: swap x and y, its yaw ax / ay
+        return _chord_mean_y(c[::-1], circle, cross[::-1], yaw_y, w)
+
+    y_x = (
+        _chord_mean_y(np.zeros(2), circle, cross, yaw_x, w),
+        _chord_mean_y(np.array([delta, 0.0]), circle, cross, yaw_x, w),
+    )
+    x_y = (beam_y_centre(np.zeros(2)), beam_y_centre(np.array([0.0, delta])))
+    along_x = np.array([1.0, yaw_x]) / np.hypot(1.0, yaw_x)
+    along_y = np.array([yaw_y, 1.0]) / np.hypot(1.0, yaw_y)
+    z_x = tuple(_contact_z(cross + s * span * along_x, cross, along_x, height, slope_x, radius) for s in (-1, 1))
+    z_y = tuple(_contact_z(cross + s * span * along_y, cross, along_y, height, slope_y, radius) for s in (-1, 1))
+    found = solve_frame(y_x, x_y, delta, z_x, z_y, span, radius)
+    assert np.allclose(found["d"], (*cross, height), atol=1e-4), found
+    assert np.allclose(
+        [found["t_x"], found["t_y"], found["s_x"], found["s_y"]], [yaw_x, yaw_y, slope_x, slope_y], atol=1e-6
+    )
+
+
+def test_the_setup_run_refuses_its_degenerate_measurements():
+    from codegen.kinds.laser.frame_solve import solve_frame
+
+    with pytest.raises(ValueError, match="delta = 0"):
+        solve_frame((0.0, 0.0), (0.0, 0.0), 0.0, (0.0, 0.0), (0.0, 0.0), 8.0, 1.5)
+    with pytest.raises(ValueError, match="L > 0"):
+        solve_frame((0.0, 0.0), (0.0, 0.0), 5.0, (0.0, 0.0), (0.0, 0.0), 0.0, 1.5)

@@ -158,6 +158,8 @@ def _flat(value) -> list[float]:
         value = [value[k] for k in sorted(value)]
     if isinstance(value, list | tuple | np.ndarray):
         return [x for v in value for x in _flat(v)]
+    if not isinstance(value, int | float | np.floating | np.integer):  # never set (a KRL data list's UNINIT)
+        return []
     return [float(value)]
 
 
