@@ -32,6 +32,8 @@ MODULE tcp_laser_tcp
   !    tool as designed (not from the last result: a tool that bends a little each time does not drift without
   !    an alarm): the program stops and writes nothing; else tPin.tframe.trans gets it and the operator
   !    sees it. Then the safe pose and home.
+  ! Steps 1-4 run LSR_RUNS = 3 times (back above the start between runs), each run's TCP kept in lsr_run; the
+  ! TCP written is their mean, and a run farther than 0.1000 mm from it stops before anything is written.
   ! Travel moves blend (lsr_zone: above the start on the way down, the safe pose on the way in and out); the arm
   ! stops exactly where it measures or decides, at home and on the way home after a stop.
   ! Controller facts this relies on (ABB RAPID manual, recalled, not confirmed from its text: assumed): SearchL's
