@@ -322,3 +322,20 @@ def test_the_setup_run_refuses_its_degenerate_measurements():
         solve_frame((0.0, 0.0), (0.0, 0.0), 0.0, (0.0, 0.0), (0.0, 0.0), 8.0, 1.5)
     with pytest.raises(ValueError, match="L > 0"):
         solve_frame((0.0, 0.0), (0.0, 0.0), 5.0, (0.0, 0.0), (0.0, 0.0), 0.0, 1.5)
+
+
+def test_spread_max_below_a_targets_tcp_error_is_refused(tmp_path):
+    """KUKA's model puts a correct tool's TCP up to 0.095 mm off in one run (its 12 ms input cycle): a bound of
+    0.05 mm would stop correct tools as not repeatable."""
+    from support.cells import EXAMPLES
+
+    from codegen.model.cell import CellError
+
+    text = EXAMPLES["laser_tcp"].read_text(encoding="utf-8").replace("[laser]\n", "[laser]\nspread_max_mm = 0.05\n", 1)
+    path = tmp_path / "laser_tcp.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(CellError) as info:
+        load_cell(path)
+    assert "laser.spread_max_mm: kuka reads its inputs every 12 ms: each run finds a correct tool's TCP up to" in str(
+        info.value
+    )

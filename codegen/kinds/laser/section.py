@@ -105,8 +105,6 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             f"must be at least clearance_mm + offset_max_mm ({clearance + offset:g} mm): the safe pose lies above "
             "every pose of the calibration",
         )
-    if values["spread_max_mm"] > offset:
-        ctx.fail("laser.spread_max_mm", f"must be at most offset_max_mm ({offset:g}): a run's TCP lies within it")
     _check_production_tools(ctx, values["production_tool"] or {}, targets)
     return build(Laser, values, production_tool=values["production_tool"] or {})
 
