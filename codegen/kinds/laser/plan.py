@@ -283,7 +283,8 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
     at search_speed; the way out to the safe pose (blended as the way in) and home; every other move at the work
     speed with an exact stop (the program measures or decides there). After both circles and the move to the
     search's top: where the reference finds the tip (found), the two moves down and back up are the search; where
-    it finds none, a move down is, the moves back up are not. The tool in force is the cell's throughout."""
+    it finds none, a move down is, the moves back up are not. A half circle after the search begins the next run
+    (back above the start between runs: a straight move). The tool in force is the cell's throughout."""
     laser = laser_of(cell)
     sensor2base = laser.sensor_frame.matrix()
     base2sensor = np.linalg.inv(sensor2base)

@@ -84,7 +84,10 @@ def cases(cell, seed: int = 0) -> list[LaserCase]:
     one bent 35 deg (its axis steeper than offset_max_mm allows: stopped before the search); a tool that has
     bent a little at each calibration, now 0.8 offset_max_mm beyond the last result and 1.2 offset_max_mm beyond
     the tool as designed (stopped: the range is the tool as designed's, not the last result's).
-    The tool as designed runs without noise (its tolerances are the tightest: a biased formula shows)."""
+    The tool as designed runs without noise (its tolerances are the tightest: a biased formula shows). Then the
+    starts: away from home, where a stopped calibration leaves the arm, 1 mm beside, above and below the station's
+    column and 1 mm inside its side; sensors that never switch; where the cell has more than one run, a tool that
+    grows while it is calibrated (the runs disagree)."""
     rng = np.random.default_rng(seed)
     guess = cell.robot.tool.tcp2flange
     out = [LaserCase("as_designed", guess.copy(), noise=0.0, seed=seed)]  # quiet: the tightest tolerances
