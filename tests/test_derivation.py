@@ -39,6 +39,13 @@ EXPECTED = {
     "laser_edges_centre": "holds",
     "laser_tip_on_beam": "holds",
     "source_laser_tip_uncorrected": "refuted",
+    "laser_frame_chord": "holds",
+    "laser_frame_yaw": "holds",
+    "laser_frame_crossing": "holds",
+    "laser_frame_parallel_beams": "holds",
+    "laser_frame_no_step": "holds",
+    "laser_frame_slope": "holds",
+    "laser_frame_one_search_point": "holds",
 }
 
 

@@ -248,7 +248,7 @@ TEXT = {
     },
     # a blend where the program measures: the circle's start, where the interrupts go on
     "blend_where_it_measures": {
-        "ur": (r"(movel\(lsr_at\([^)]*\), a=[\d.]+, v=LSR_V_WORK)\)(\n  lsr_nx = 0)", r"\1, r=0.005)\2"),
+        "ur": (r"(movel\(lsr_at\([^)]*\), a=[\d.]+, v=LSR_V_WORK)\)(\n\s*lsr_nx = 0)", r"\1, r=0.005)\2"),
         "kuka": (r"(LIN LSR_START\[K\])\n", r"\1 C_DIS\n"),
         "abb": (r"(MoveL lsr_at\(LSR_START\{k\}\), lsr_work, )fine", r"\1z5"),
     },

@@ -207,8 +207,10 @@ def test_verify_judges_the_operator_s_answer(cell, category, old, new, problem):
 
 def test_only_a_target_that_asks_runs_the_refused_case(cell):
     quiet = cases(cell, 0)[0]
-    assert [c.category for c in confirm.cases(get_target("kuka"), quiet)] == ["confirmation_refused"]
-    assert confirm.cases(get_target("ur"), quiet) == [] and confirm.cases(get_target("abb"), quiet) == []
+    both = ["confirmation_refused", "confirmation_unanswered"]
+    assert [c.category for c in confirm.cases(get_target("kuka"), quiet)] == both
+    assert [c.category for c in confirm.cases(get_target("ur"), quiet)] == both
+    assert confirm.cases(get_target("abb"), quiet) == []
 
 
 def test_the_confirmation_s_messages_fit_msg_txt_with_the_widest_numbers():

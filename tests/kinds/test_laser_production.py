@@ -156,12 +156,21 @@ def test_every_operator_message_fits_the_controller(cell, target_name):
         lp.AXIS_TILT,
         lp.TOO_FAR,
         lp.START_AWAY,
+        lp.SPREAD,
         f"{lp.WRITTEN}{widest}, {widest}, {widest}",
     }
     for message in messages:
         assert len(message) <= target.string_max, (target_name, message)
     text = "\n".join(f.text for f in render(cell, [target_name]) if "/tcp_" in f.relpath)
-    for message in (lp.CIRCLE_EDGES.rstrip(), lp.NO_TIP, lp.AXIS_TILT, lp.TOO_FAR, lp.START_AWAY, lp.WRITTEN.rstrip()):
+    for message in (
+        lp.CIRCLE_EDGES.rstrip(),
+        lp.NO_TIP,
+        lp.AXIS_TILT,
+        lp.TOO_FAR,
+        lp.START_AWAY,
+        lp.SPREAD,
+        lp.WRITTEN.rstrip(),
+    ):
         assert message in text, (target_name, message)
     assert not re.search(r'\.\.\."', text)  # no message cut short with "..."
 

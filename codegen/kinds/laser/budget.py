@@ -48,8 +48,9 @@ def tolerances(cell, target, noise: float) -> Tolerances:
 
 def check_goal(ctx, cell) -> None:
     """What the model (tolerances, the sensors' noise aside) says each target's program can meet: the TCP
-    within the TRUTH_MM goal, and offset_max_mm above the TCP's error (a correct tool found farther than
-    offset_max_mm from the tool as designed stops as too far)."""
+    within the TRUTH_MM goal, and offset_max_mm and spread_max_mm above the TCP's error (a correct tool found farther
+    than offset_max_mm from the tool as designed stops as too far, runs farther apart than spread_max_mm as not
+    repeatable); spread_max_mm at most offset_max_mm."""
     laser = laser_of(cell)
     for name in cell.targets:
         target = get_target(name)
@@ -77,3 +78,15 @@ def check_goal(ctx, cell) -> None:
                 f"{reads}: it finds a correct tool's TCP up to {tcp:.3f} mm off (the circles' and the search's "
                 f"speeds): an offset_max_mm below that stops a correct tool as too far",
             )
+        if laser.spread_max_mm < tcp:
+            ctx.fail(
+                "laser.spread_max_mm",
+                f"{reads}: each run finds a correct tool's TCP up to {tcp:.3f} mm off: a spread_max_mm below that "
+                "stops a correct tool as not repeatable",
+            )
+    if laser.spread_max_mm > laser.offset_max_mm:
+        ctx.fail(
+            "laser.spread_max_mm",
+            f"must be at most offset_max_mm ({laser.offset_max_mm:g}): each run's TCP lies within it of the tool as "
+            "designed",
+        )

@@ -22,6 +22,11 @@ TCP_FOUND = "laser: TCP found, flange frame mm: "
 CONFIRM = "laser: write the TCP found into {tool}?"
 NOT_WRITTEN = "laser: TCP not written, {tool} unchanged (not confirmed)"
 REFUSED = "confirmation_refused"  # the case where the operator answers NO
+UNANSWERED = "confirmation_unanswered"  # the case where nobody answers: the program waits, the tool unchanged
+# How long a run waits for an answer that never comes (s of the program's clock): the whole calibration (about 40 s
+# on the bundled cell) and a minute at the question; the run ends there (the controller would wait on)
+WAIT_S = 120.0
+NO_ANSWER = "no operator answers"  # the interpreter's error where a blocking question gets no answer (URScript)
 VALUES_MM = 1e-3  # a number the message shows against the value it stands for (float32 printed in full)
 
 
@@ -51,13 +56,23 @@ def context(cell, target, emitter: Emitter) -> dict:
 
 
 def cases(target, quiet) -> list:
-    """The operator refusing the change, where the target asks (the tool as designed, no noise)."""
-    return [replace(quiet, category=REFUSED, answer=NO)] if asks(target) else []
+    """The operator refusing the change, and nobody answering, where the target asks (the tool as designed, no
+    noise)."""
+    if not asks(target):
+        return []
+    return [replace(quiet, category=REFUSED, answer=NO), replace(quiet, category=UNANSWERED, answer=None)]
 
 
 def devices(target, case) -> tuple:
-    """The operator who answers the dialog, where the target asks: the case's answer."""
-    return (Operator([case.answer]),) if asks(target) else ()
+    """The operator who answers the dialog, where the target asks: the case's answer; none, an operator who looks
+    away (the dialog stays shown)."""
+    if not asks(target):
+        return ()
+    return (Operator([] if case.answer is None else [case.answer], then_silent=True),)
+
+
+def unanswered(target, case) -> bool:
+    return asks(target) and case.answer is None
 
 
 def refused(target, case) -> bool:
@@ -97,4 +112,23 @@ def problem(cell, target, case, trace, previous: np.ndarray, tcp: list[float]) -
             return f"the operator answered {case.answer}: expected {said['not_written']!r} and no TCP written"
     elif not written or said["not_written"] in after:
         return f"the operator answered {YES}: expected the TCP written"
+    return None
+
+
+def silence_problem(cell, target, trace) -> str | None:
+    """Nobody answers: the run ends waiting at the question (the time limit, or the controller's wait that nothing
+    answers), the question asked, no TCP written, no move after the question (the arm stands while it waits)."""
+    said = Emitter(target).string(texts(cell, target)["confirm"])
+    if trace.halted or trace.ended is None:
+        return "nobody answers the question: expected the program to wait at it, it " + (
+            f"stopped with {trace.halt_message!r}" if trace.halted else "ran to its end"
+        )
+    if said not in trace.messages:
+        return f"nobody answers: the question {said!r} was not asked"
+    asked = trace.message_times[trace.messages.index(said)]
+    if any(m.startswith(Emitter(target).string(lp.WRITTEN)) for m in trace.messages):
+        return "nobody answers: the TCP was written all the same"
+    later = [m for m in trace.moves if m.start_time > asked + 1e-9]
+    if later:
+        return f"nobody answers: the arm moved on after the question (line {later[0].line}) instead of waiting"
     return None

@@ -15,6 +15,7 @@ from functools import cache
 import sympy as sp
 
 from codegen import protocol
+from codegen.kinds.laser.frame_derivation import frame_identities
 
 cx, cy, cz = sp.symbols("cx cy cz", real=True)  # the circle's centre (where the axis meets z = 0), mm
 r, rho, dz = sp.symbols("r rho dz", positive=True)  # circle radius, pin radius, height step of the flange
@@ -167,4 +168,4 @@ def laser_identities(check) -> list:
 
 class DerivationPart(protocol.Derivation):
     def identities(self, check) -> list:
-        return laser_identities(check)
+        return laser_identities(check) + frame_identities(check)

@@ -8,6 +8,7 @@ from codegen.model.io import signals
 from codegen.model.motion import SPEED_MIN_MM_S
 from codegen.model.schema import Key, KindKeys, Table
 
+RUNS_MAX = 10  # runs of the measurement in one program (each about half a minute of motion)
 PIN_MIN_MM = 0.2  # a pin thinner than this is no target for the beams (and the reference's scan steps 0.1 mm)
 
 
@@ -81,6 +82,18 @@ LASER = Table(
         "beam_x": signals("beam X's switching output, per target (an input number or name)", required=True),
         "beam_y": signals("beam Y's switching output, per target (an input number or name)", required=True),
         "production_tool": _production_tools(),
+        "runs": Key(
+            "integer",
+            "how many times the program measures the TCP (circles and search) before it writes their mean",
+            low=1,
+            high=RUNS_MAX,
+            default=3,
+        ),
+        "spread_max_mm": _length(
+            "the runs' TCPs may lie this far from their mean (at most offset_max_mm); farther: not written",
+            0.1,
+            50.0,
+        ),
         "safe_height_mm": _length(
             "the safe pose's height above the beams' plane, straight above the circles' start (at least "
             "clearance_mm + offset_max_mm)",

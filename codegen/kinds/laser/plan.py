@@ -80,9 +80,24 @@ def _preset(cell, target, tcp, case: LaserCase) -> dict:
     return {spec.get("input", "{name}").format(name=name): make(cell, tcp)}
 
 
+@dataclass
+class LaserSetup(Setup):
+    """Setup with the run's clock limit: a case that waits for good (nobody answers) ends there."""
+
+    max_seconds: float | None = None
+
+    def run_options(self, arm, step_limit: int | None) -> dict:
+        options = super().run_options(arm, step_limit)
+        if self.max_seconds is not None:
+            options["max_seconds"] = self.max_seconds
+        return options
+
+
 def setup(cell, target_name: str, case: LaserCase) -> Setup:
     target = get_target(target_name)
-    return Setup(
+    silent = confirm.unanswered(target, case)
+    error = lp.production_name(cell, target) if case.without_production_tool else None
+    return LaserSetup(
         # the controller's numbered tool and load where the cell names one ([cell.tool] numbered), the production
         # tool as the last calibration left it over it (a numbered production tool is that tool)
         {**tool_inputs(cell, target_name), **_preset(cell, target, previous_tcp(cell, case), case)},
@@ -92,7 +107,8 @@ def setup(cell, target_name: str, case: LaserCase) -> Setup:
         (*lp.kept_names(target).values(), lp.production_name(cell, target)),
         STEP_LIMIT,
         float(target.program["signal_cycle_s"]),
-        lp.production_name(cell, target) if case.without_production_tool else None,
+        confirm.NO_ANSWER if silent else error,
+        confirm.WAIT_S if silent else None,
     )
 
 
@@ -118,6 +134,29 @@ def _pose_in_s(cell, point, rotation=None) -> np.ndarray:
     return out
 
 
+# A start this far either side of the station's column's boundary (mm): beyond float32 and the arm's standing error,
+# within the column's margin for a stop (offset_max_mm): a column drawn wider or narrower by that much shows
+EDGE_MM = 1.0
+
+
+def _column_point(laser, where: str) -> tuple[float, float, float]:
+    """A start by the station's column (S, mm): beside it (at 45 deg, half way up), above, below, or just inside."""
+    column = lp.zone(laser)
+    half = (column["low"] + column["high"]) / 2.0
+    side = {"out": column["r"] + EDGE_MM, "in": column["r"] - EDGE_MM}
+    h = laser.circle_mm / 2.0**0.5
+    return {
+        "column_side_out": (side["out"] / 2.0**0.5, side["out"] / 2.0**0.5, half),
+        "column_side_in": (side["in"] / 2.0**0.5, side["in"] / 2.0**0.5, half),
+        "column_top_out": (h, h, column["high"] + EDGE_MM),
+        "column_bottom_out": (0.0, 0.0, column["low"] - EDGE_MM),
+    }[where]
+
+
+# the starts where the program must stop before the arm moves (away from home and outside the station's column)
+STOPPING_STARTS = ("away", "column_side_out", "column_top_out", "column_bottom_out")
+
+
 def _start_joints(cell, target_name: str, case: LaserCase):
     robot = cell.robot
     if robot is None or target_name not in robot.arms:
@@ -125,8 +164,10 @@ def _start_joints(cell, target_name: str, case: LaserCase):
     home = np.asarray(robot.home[target_name], dtype=float)
     if case.start == "away":
         return home + np.array(START_AWAY_DEG)
-    if case.start == "mid_cycle":  # where a stopped calibration leaves the arm: at the first circle's start
-        tcp2base = _pose_in_s(cell, lp.circle_points(laser_of(cell), 0)["start"])
+    if case.start != "home":  # a stopped calibration's place (the first circle's start), or by the column
+        laser = laser_of(cell)
+        point = lp.circle_points(laser, 0)["start"] if case.start == "mid_cycle" else _column_point(laser, case.start)
+        tcp2base = _pose_in_s(cell, point)
         arm = robot.arms[target_name]
         joints, _ = solve.nearest(arm, solve.branches(arm, solve.flange_poses(tcp2base, robot.tool.tcp2flange)), home)
         return joints
@@ -144,7 +185,23 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     problem = _settings_left(trace)
     if problem is not None:
         return Judgement([], problem=problem)
-    if case.start == "away":
+    if case.growing:  # the runs disagree: a stop for their spread, nothing written
+        if not (trace.halted and (trace.halt_message or "").startswith(Emitter(target).string(lp.SPREAD))):
+            said = trace.halt_message if trace.halted else "ran to its end"
+            return Judgement([], problem=f"the tool grows between runs: expected the spread's stop, {said!r}")
+        moves = _roles(cell, target, case, trace, True)
+        if isinstance(moves, str):
+            return Judgement([], problem=moves)
+        return Judgement([Expectation(trace.halt_message, moves, (), _stored(cell, target, None, 0.0, previous))])
+    if confirm.unanswered(target, case):
+        problem = confirm.silence_problem(cell, target, trace)
+        if problem is not None:
+            return Judgement([], problem=problem)
+        moves = _roles(cell, target, case, trace, True)
+        if isinstance(moves, str):
+            return Judgement([], problem=moves)
+        return Judgement([Expectation(None, moves, (), _stored(cell, target, None, 0.0, previous))])
+    if case.start in STOPPING_STARTS:
         message = Emitter(target).string(lp.START_AWAY)
         stored = _stored(cell, target, None, 0.0, previous)
         in_place = (_in_place(cell, target_name, case),)  # a first joint move run where the arm stands (BCO)
@@ -154,8 +211,9 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     problem, worst, truth = judge_measures(cell, target, case, trace, want, tol)
     if problem is not None:
         return Judgement([], problem=problem)
-    written = want.halt is None and not confirm.refused(target, case)  # the operator's No: the tool unchanged
-    if want.halt is None:
+    # the operator's No, or the runs' spread (judged above): the tool unchanged
+    written = want.halt is None and not trace.halted and not confirm.refused(target, case)
+    if want.halt is None and not trace.halted:
         problem = confirm.problem(cell, target, case, trace, previous, _flat_tcp(target, trace))
         if problem is not None:
             return Judgement([], problem=problem)
@@ -225,7 +283,8 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
     at search_speed; the way out to the safe pose (blended as the way in) and home; every other move at the work
     speed with an exact stop (the program measures or decides there). After both circles and the move to the
     search's top: where the reference finds the tip (found), the two moves down and back up are the search; where
-    it finds none, a move down is, the moves back up are not. The tool in force is the cell's throughout."""
+    it finds none, a move down is, the moves back up are not. A half circle after the search begins the next run
+    (back above the start between runs: a straight move). The tool in force is the cell's throughout."""
     laser = laser_of(cell)
     sensor2base = laser.sensor_frame.matrix()
     base2sensor = np.linalg.inv(sensor2base)
@@ -310,6 +369,8 @@ def _roles(cell, target, case: LaserCase, trace, found: bool) -> tuple[PlannedMo
         on_mid = any(np.linalg.norm(point - m) <= NEAR_MM for m in mids)
         on_start = any(np.linalg.norm(point - s) <= NEAR_MM for s in starts)
         if on_mid or (half == 1 and on_start):  # a half circle: the first ends at mid, the second back at start
+            if stage == 2:  # the next run's circles: the measurement again
+                circles, stage = 0, 0
             first_half = on_mid
             half = 1 if first_half else 0
             out.append(

@@ -25,8 +25,10 @@
 #    tip = u rim / u_z.
 # 5. TCP (flange frame) = guess + DOWN (tip - contact), DOWN = diag(1, -1, -1) (the flange's orientation in S);
 #    farther than offset_max from the tool as designed (never the last result: a tool that bends a little each
-#    time must not drift without an alarm): TOO_FAR, not written; else written into the production tool (the
-#    cell's [laser] production_tool) and reported. Then the safe pose and home.
+#    time must not drift without an alarm): TOO_FAR, not written. Steps 2-5 run `runs` times (back above the start
+#    between runs), each run's TCP kept; the TCP is their mean; a run farther than spread_max from it: SPREAD,
+#    not written (the measurement does not repeat: a loose pin, a sensor or tool drifting); else written into the
+#    production tool (the cell's [laser] production_tool) and reported. Then the safe pose and home.
 
 from __future__ import annotations
 
@@ -49,6 +51,7 @@ AXIS_TILT = "laser: axis tilted beyond offset_max_mm, check the sensors"
 TOO_FAR = "laser: TCP beyond offset_max_mm of the tool as designed, not written"
 WRITTEN = "laser: TCP written, flange frame mm: "
 START_AWAY = "laser: start with the arm at home or above the sensors"
+SPREAD = "laser: runs differ beyond spread_max_mm, TCP not written"
 BEFORE = "laser: production tool before, flange frame mm: "  # where a target's program shows the tool it replaces
 NUMBER_MAX = "-2000.000"  # the widest number a message carries: a TCP within 2,000 mm of the flange, 3 decimals
 EDGES_PER_BEAM = 4
@@ -191,5 +194,8 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         "too_far": emitter.string(TOO_FAR),
         "written": emitter.string(WRITTEN),
         "start_away": emitter.string(START_AWAY),
+        "spread": emitter.string(SPREAD),
+        "runs": laser.runs,
+        "spread_max": number(laser.spread_max_mm, 4),
         "before": emitter.string(BEFORE),
     }

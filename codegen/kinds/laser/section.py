@@ -29,7 +29,9 @@ class Laser:
     where the target's [program.laser] production_tool form is "number", else the name of the production data:
     a task's persistent tooldata, an installation variable; a target with numbered tools may leave it to
     [cell.tool] numbered); safe_height_mm: the safe pose's
-    height above the beams' plane (S's z), straight above the circles' start: the way in and the way out."""
+    height above the beams' plane (S's z), straight above the circles' start: the way in and the way out; runs: the
+    measurements (circles and search) one program makes, whose mean it writes; spread_max_mm: how far each run's
+    TCP may lie from that mean (farther: not written)."""
 
     sensor_frame: TaughtPose
     pin_radius_mm: float
@@ -43,6 +45,8 @@ class Laser:
     beam_y: dict
     production_tool: dict
     safe_height_mm: float
+    runs: int = 3
+    spread_max_mm: float = 0.1
 
 
 def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:

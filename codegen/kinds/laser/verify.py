@@ -9,7 +9,8 @@ import numpy as np
 
 from codegen.kinds.laser import program as lp
 from codegen.kinds.laser.budget import FLOAT32_MM, TRUTH_MM, Tolerances
-from codegen.kinds.laser.confirm import REFUSED, YES
+from codegen.kinds.laser.confirm import REFUSED, UNANSWERED, YES
+from codegen.kinds.laser.drift import GrowingStation, drift_mm_s
 from codegen.kinds.laser.reference import Expected, from_measured
 from codegen.kinds.laser.section import laser_of
 from codegen.model.io import signal_name
@@ -20,11 +21,17 @@ from codegen.sim.beams import Pin
 SCENARIO_OF = {
     "start_away": "start_away",
     "start_mid_cycle": "start_mid_cycle",
+    "start_beside_column": "start_away",  # just outside the station's column: stopped before the arm moves
+    "start_above_column": "start_away",
+    "start_below_column": "start_away",
+    "start_column_edge": "start_mid_cycle",  # just inside it: backs out, home, the whole calibration
     "sensors_silent": "device_silent",
     "tool_too_long": "reading_out_of_range",
     "steep_axis": "reading_out_of_range",
     "drifted_since_last": "reading_out_of_range",
     REFUSED: "operator_refuses",  # the operator answers No to writing the production tool (where the target asks)
+    UNANSWERED: "operator_silent",  # nobody answers the question (the kind's own: the program waits, writes nothing)
+    "tool_growing": "measurement_not_repeatable",  # the kind's own: the runs disagree (a tool warming up)
     "installation_without_tool": "production_tool_missing",  # the kind's own: the production tool not defined
 }
 STEP_LIMIT = 2_000_000  # a UR thread runs a few statements per 2 ms cycle for a minute of motion
@@ -59,8 +66,9 @@ class LaserCase:
     start: str = "home"
     dead: bool = False  # the sensors never switch (a sensor unplugged, its range set to nothing)
     previous: tuple | None = None  # the production tool's TCP before the run (mm; None: as designed + PREVIOUS_MM)
-    answer: str = YES  # the operator's answer where the program asks before it writes the production tool
+    answer: str | None = YES  # the operator's answer where the program asks before writing the tool (None: nobody)
     without_production_tool: bool = False  # the installation has no production tool (an installation variable)
+    growing: bool = False  # the tool grows along its axis while calibrated: the runs disagree beyond spread_max_mm
 
     @property
     def scenario(self) -> str:
@@ -76,7 +84,10 @@ def cases(cell, seed: int = 0) -> list[LaserCase]:
     one bent 35 deg (its axis steeper than offset_max_mm allows: stopped before the search); a tool that has
     bent a little at each calibration, now 0.8 offset_max_mm beyond the last result and 1.2 offset_max_mm beyond
     the tool as designed (stopped: the range is the tool as designed's, not the last result's).
-    The tool as designed runs without noise (its tolerances are the tightest: a biased formula shows)."""
+    The tool as designed runs without noise (its tolerances are the tightest: a biased formula shows). Then the
+    starts: away from home, where a stopped calibration leaves the arm, 1 mm beside, above and below the station's
+    column and 1 mm inside its side; sensors that never switch; where the cell has more than one run, a tool that
+    grows while it is calibrated (the runs disagree)."""
     rng = np.random.default_rng(seed)
     guess = cell.robot.tool.tcp2flange
     out = [LaserCase("as_designed", guess.copy(), noise=0.0, seed=seed)]  # quiet: the tightest tolerances
@@ -110,8 +121,14 @@ def cases(cell, seed: int = 0) -> list[LaserCase]:
     out += [
         replace(quiet, category="start_away", start="away"),
         replace(quiet, category="start_mid_cycle", start="mid_cycle"),
+        replace(quiet, category="start_beside_column", start="column_side_out"),
+        replace(quiet, category="start_above_column", start="column_top_out"),
+        replace(quiet, category="start_below_column", start="column_bottom_out"),
+        replace(quiet, category="start_column_edge", start="column_side_in"),
         replace(quiet, category="sensors_silent", dead=True),
     ]
+    if cell.sections["laser"].runs > 1:  # the runs' spread: a tool growing while it is calibrated
+        out.append(replace(quiet, category="tool_growing", growing=True))
     return out
 
 
@@ -132,15 +149,11 @@ def station_for(cell, target, case: LaserCase) -> BeamStation:
         signal_name(target, "input", laser.beam_y[target.name]): "y",
     }
     range_mm = 0.0 if case.dead else 200.0
-    return BeamStation(
-        frame,
-        Pin(case.tool, laser.pin_radius_mm),
-        inputs,
-        range_mm=range_mm,
-        noise=case.noise,
-        hysteresis=HYSTERESIS_MM,
-        seed=case.seed,
-    )
+    options = {"range_mm": range_mm, "noise": case.noise, "hysteresis": HYSTERESIS_MM, "seed": case.seed}
+    pin = Pin(case.tool, laser.pin_radius_mm)
+    if case.growing:
+        return GrowingStation(frame, pin, inputs, rate=drift_mm_s(laser), **options)
+    return BeamStation(frame, pin, inputs, **options)
 
 
 def _flat(value) -> list[float]:
@@ -148,12 +161,14 @@ def _flat(value) -> list[float]:
         value = [value[k] for k in sorted(value)]
     if isinstance(value, list | tuple | np.ndarray):
         return [x for v in value for x in _flat(v)]
+    if not isinstance(value, int | float | np.floating | np.integer):  # never set (a KRL data list's UNINIT)
+        return []
     return [float(value)]
 
 
 def _halt_problem(want: Expected, trace) -> str | None:
     message = trace.halt_message or ""
-    texts = {"tilt": lp.AXIS_TILT, "no_tip": lp.NO_TIP, "too_far": lp.TOO_FAR}
+    texts = {"tilt": lp.AXIS_TILT, "no_tip": lp.NO_TIP, "too_far": lp.TOO_FAR, "spread": lp.SPREAD}
     if want.halt is None:
         if trace.halted:
             return f"stopped with {message!r}; the reference writes the TCP"
@@ -177,15 +192,52 @@ def _compare(label: str, got: list[float], want: list[float], tol: float) -> tup
     return None, worst
 
 
+def runs_of(cell, kept: dict) -> np.ndarray:
+    """Each run's TCP as the program kept it (runs x 3, mm)."""
+    count = laser_of(cell).runs
+    values = kept["runs"][: 3 * count]
+    return np.array(values, dtype=float).reshape(-1, 3) if len(values) == 3 * count else np.zeros((0, 3))
+
+
+def spread(runs: np.ndarray) -> float:
+    """How far the farthest run's TCP lies from the runs' mean (mm)."""
+    return float(np.max(np.linalg.norm(runs - runs.mean(axis=0), axis=1))) if len(runs) else 0.0
+
+
+def _spread_problem(cell, trace, kept: dict) -> tuple[str | None, bool]:
+    """(problem, whether the program rightly stopped for its runs' spread): a program whose runs lie farther apart
+    than spread_max_mm must stop with SPREAD and write nothing; one whose runs agree must not."""
+    laser = laser_of(cell)
+    runs = runs_of(cell, kept)
+    if len(runs) == 0:
+        return f"the program kept no {laser.runs} runs' TCPs", False
+    worst = spread(runs)
+    stopped = trace.halted and (trace.halt_message or "").startswith(lp.SPREAD)
+    if worst > laser.spread_max_mm + FLOAT32_MM and not stopped:
+        return f"a run lies {worst:.4f} mm from the runs' mean (spread_max_mm {laser.spread_max_mm}): no stop", False
+    if worst < laser.spread_max_mm - FLOAT32_MM and stopped:
+        return f"stopped for the runs' spread, which is {worst:.4f} mm (spread_max_mm {laser.spread_max_mm})", False
+    return None, stopped
+
+
+def kept_values(target, trace) -> dict:
+    return {key: _flat(trace.kept.get(name) or []) for key, name in lp.kept_names(target).items()}
+
+
 def judge(cell, target, case: LaserCase, trace, want: Expected, tol: Tolerances) -> tuple[str | None, float, float]:
     """(problem, the worst difference from the reference in mm, |TCP - truth| in mm)."""
+    kept = kept_values(target, trace)
+    if want.halt is None:
+        problem, stopped = _spread_problem(cell, trace, kept)
+        if problem is not None:
+            return problem, 0.0, 0.0
+        if stopped:
+            want = replace(want, halt="spread")
     problem = _halt_problem(want, trace)
     if problem is not None:
         return problem, 0.0, 0.0
-    names = lp.kept_names(target)
-    kept = {key: _flat(trace.kept.get(name) or []) for key, name in names.items()}
     checks = []
-    if want.halt is None or want.halt in ("too_far", "tilt", "no_tip"):
+    if want.halt is None or want.halt in ("too_far", "tilt", "no_tip", "spread"):
         edges = [v for circle in want.edges for beam in circle for v in beam]
         checks.append(("edges", kept["edges"][:16], edges, tol.edge))
     if want.centres is not None:
@@ -193,7 +245,7 @@ def judge(cell, target, case: LaserCase, trace, want: Expected, tol: Tolerances)
     if want.tcp is not None:
         checks.append(("hits", kept["hits"][:6], [v for h in want.hits for v in h], tol.hit))
         checks.append(("axis", kept["axis"][:3], list(want.axis), tol.axis))
-    if want.halt is None:
+    if want.halt in (None, "spread"):
         checks.append(("tcp", kept["tcp"][:3], list(want.tcp), tol.tcp))
     worst = 0.0
     for label, got, exp, limit in checks:
@@ -202,8 +254,8 @@ def judge(cell, target, case: LaserCase, trace, want: Expected, tol: Tolerances)
         if problem is not None:
             return problem, worst, 0.0
     circles = int(want.halt.split()[1]) if want.halt is not None and want.halt.startswith("circle") else 2
-    if want.halt is None or want.halt == "too_far":
-        problem = _arithmetic_problem(cell, kept)
+    if want.halt in (None, "too_far", "spread"):
+        problem = _arithmetic_problem(cell, kept, want.halt == "too_far")
         if problem is not None:
             return problem, worst, 0.0
     problem = _moves_problem(cell, trace, circles)
@@ -217,14 +269,20 @@ def judge(cell, target, case: LaserCase, trace, want: Expected, tol: Tolerances)
     return None, worst, truth
 
 
-def _arithmetic_problem(cell, kept: dict) -> str | None:
-    """The program's centres, axis and TCP against the method's float64 arithmetic on its own edges and
-    hits (within its float32 arithmetic)."""
+def _arithmetic_problem(cell, kept: dict, single: bool = False) -> str | None:
+    """The program's centres, axis and last run's TCP against the method's float64 arithmetic on its own edges and
+    hits (within its float32 arithmetic), and its TCP the runs' mean (single: a run stopped, its TCP the last)."""
     centres, axis, tcp = from_measured(cell, kept["edges"][:16], kept["hits"][:6])
+    runs = runs_of(cell, kept)
+    done = kept["tcp"][:3] if single else [float(v) for v in runs[-1]] if len(runs) else []
+    mean = kept["tcp"][:3] if single else [float(v) for v in runs.mean(axis=0)] if len(runs) else []
+    if len(done) != 3:
+        return "the program kept no runs' TCPs"
     for label, got, want, limit in (
         ("centres", kept["centres"][:4], [v for c in centres for v in c], FLOAT32_MM),
         ("axis", kept["axis"][:3], list(axis), AXIS_FLOAT32),
-        ("tcp", kept["tcp"][:3], list(tcp), FLOAT32_MM),
+        ("last run's tcp", done, list(tcp), FLOAT32_MM),
+        ("tcp (the runs' mean)", kept["tcp"][:3], mean, FLOAT32_MM),
     ):
         worst = max(abs(g - w) for g, w in zip(got, want, strict=True))
         if worst > limit:

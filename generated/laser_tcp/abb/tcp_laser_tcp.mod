@@ -32,6 +32,8 @@ MODULE tcp_laser_tcp
   !    tool as designed (not from the last result: a tool that bends a little each time does not drift without
   !    an alarm): the program stops and writes nothing; else tPin.tframe.trans gets it and the operator
   !    sees it. Then the safe pose and home.
+  ! Steps 1-4 run LSR_RUNS = 3 times (back above the start between runs), each run's TCP kept in lsr_run; the
+  ! TCP written is their mean, and a run farther than 0.1000 mm from it stops before anything is written.
   ! Travel moves blend (lsr_zone: above the start on the way down, the safe pose on the way in and out); the arm
   ! stops exactly where it measures or decides, at home and on the way home after a stop.
   ! Controller facts this relies on (ABB RAPID manual, recalled, not confirmed from its text: assumed): SearchL's
@@ -40,7 +42,9 @@ MODULE tcp_laser_tcp
   ! the error ERR_WHLSEARCH and an input already switched when the search starts ERR_SIGSUPSEARCH; ISignalDI
   ! with 2 interrupts on both edges; a TRAP runs while the arm moves on, and CRobT there is read as the TCP at
   ! the cycle the edge was seen (a real TRAP reads it a little later: its latency is not known here; the mean
-  ! of each crossing's edges in and out keeps a delay common to both small). MoveC runs the circle through
+  ! of each crossing's edges in and out keeps a delay common to both small; a latency that varies scatters the
+  ! runs' TCPs: LSR_RUNS runs, their mean written only where each lies within LSR_SPREAD_MAX of it, so the edges'
+  ! repeatability is measured on every calibration instead of assumed). MoveC runs the circle through
   ! where the arm is, CirPoint and ToPoint: a full circle is two half circles.
   ! The results stay in the module's data (read them in the program data window): lsr_edge (the edges: circle 1
   ! beam X 1..4, beam Y 1..4, then circle 2), lsr_centre (e1x e1y e2x e2y), lsr_axis (ux uy uz),
@@ -98,6 +102,9 @@ MODULE tcp_laser_tcp
   LOCAL CONST num LSR_GUESS_TCP{3} := [0.0000, 0.0000, 180.0000];
   ! how often each beam switches on a circle (in and out, twice)
   LOCAL CONST num LSR_EDGES := 4;
+  ! the measurement's runs (their mean is the TCP), and how far each run's TCP may lie from that mean (mm)
+  LOCAL CONST num LSR_RUNS := 3;
+  LOCAL CONST num LSR_SPREAD_MAX := 0.1000;
   ! the speeds (TCP mm/s, then the manual's v-data defaults for orientation and external axes): to above the
   ! circles ([cell.motion]), near the sensors, on the circles and in the tip search ([laser])
   LOCAL CONST speeddata lsr_travel := [250.0, 500, 5000, 1000];
@@ -112,6 +119,7 @@ MODULE tcp_laser_tcp
   LOCAL VAR num lsr_axis{3};
   LOCAL VAR num lsr_hit{6};
   LOCAL VAR num lsr_tcp{3};
+  LOCAL VAR num lsr_run{9};
   ! the interrupts of the two beams, what their TRAPs count and store: each edge's input value (1: on) beside
   ! its coordinate, and where this circle's values start in the arrays
   LOCAL VAR intnum lsr_int_x;
@@ -160,45 +168,70 @@ MODULE tcp_laser_tcp
     ! the way in: the safe pose above the sensors, down above the circles' start
     MoveJ lsr_at(LSR_SAFE), lsr_travel, lsr_zone, lsr_guess \WObj:=lsr_sensor;
     MoveL lsr_at(LSR_ABOVE{1}), lsr_work, lsr_zone, lsr_guess \WObj:=lsr_sensor;
-    lsr_circle 1;
-    lsr_circle 2;
-    ! the centres: where the axis met the plane with the guessed tip at S's origin (x from beam Y's edges, y
-    ! from beam X's)
-    FOR k FROM 1 TO 2 DO
-      i := (k - 1) * 2 * LSR_EDGES;
-      lsr_centre{2 * k - 1} := -(lsr_edge{i + 5} + lsr_edge{i + 6} + lsr_edge{i + 7} + lsr_edge{i + 8}) / LSR_EDGES;
-      lsr_centre{2 * k} := -(lsr_edge{i + 1} + lsr_edge{i + 2} + lsr_edge{i + 3} + lsr_edge{i + 4}) / LSR_EDGES;
+    ! the measurement, LSR_RUNS times (back above the start between runs); each run's TCP kept in lsr_run
+    FOR run FROM 1 TO LSR_RUNS DO
+      IF run > 1 THEN
+        MoveL lsr_at(LSR_ABOVE{1}), lsr_work, fine, lsr_guess \WObj:=lsr_sensor;
+      ENDIF
+      lsr_circle 1;
+      lsr_circle 2;
+      ! the centres: where the axis met the plane with the guessed tip at S's origin (x from beam Y's edges, y
+      ! from beam X's)
+      FOR k FROM 1 TO 2 DO
+        i := (k - 1) * 2 * LSR_EDGES;
+        lsr_centre{2 * k - 1} := -(lsr_edge{i + 5} + lsr_edge{i + 6} + lsr_edge{i + 7} + lsr_edge{i + 8}) / LSR_EDGES;
+        lsr_centre{2 * k} := -(lsr_edge{i + 1} + lsr_edge{i + 2} + lsr_edge{i + 3} + lsr_edge{i + 4}) / LSR_EDGES;
+      ENDFOR
+      ! the axis from the two centres; a slope the tool's data cannot explain stops
+      sx := (lsr_centre{3} - lsr_centre{1}) / LSR_DZ;
+      sy := (lsr_centre{4} - lsr_centre{2}) / LSR_DZ;
+      IF Abs(sx) > LSR_SLOPE_MAX OR Abs(sy) > LSR_SLOPE_MAX THEN
+        lsr_stop "laser: axis tilted beyond offset_max_mm, check the sensors";
+      ENDIF
+      norm := Sqrt(sx * sx + sy * sy + 1);
+      lsr_axis{1} := sx / norm;
+      lsr_axis{2} := sy / norm;
+      lsr_axis{3} := 1 / norm;
+      lsr_tip;
+      ! the contact: the guessed TCP where beam X met the tip, the mean of the search down and up
+      FOR j FROM 1 TO 3 DO
+        contact{j} := (lsr_hit{j} + lsr_hit{j + 3}) / 2;
+      ENDFOR
+      ! there the end face's rim touches beam X: the tip is rim above the plane, on the axis through the crossing
+      rim := LSR_RADIUS * Abs(lsr_axis{1}) * lsr_axis{3} / Sqrt(1 - lsr_axis{1} * lsr_axis{1});
+      FOR j FROM 1 TO 3 DO
+        tip{j} := lsr_axis{j} * rim / lsr_axis{3};
+      ENDFOR
+      ! the TCP in the flange frame: the flange's axes in S are x, -y, -z
+      lsr_tcp{1} := LSR_GUESS_TCP{1} + (tip{1} - contact{1});
+      lsr_tcp{2} := LSR_GUESS_TCP{2} - (tip{2} - contact{2});
+      lsr_tcp{3} := LSR_GUESS_TCP{3} - (tip{3} - contact{3});
+      off := Sqrt((lsr_tcp{1} - LSR_GUESS_TCP{1}) * (lsr_tcp{1} - LSR_GUESS_TCP{1})
+        + (lsr_tcp{2} - LSR_GUESS_TCP{2}) * (lsr_tcp{2} - LSR_GUESS_TCP{2})
+        + (lsr_tcp{3} - LSR_GUESS_TCP{3}) * (lsr_tcp{3} - LSR_GUESS_TCP{3}));
+      IF off > LSR_OFFSET_MAX THEN
+        lsr_stop "laser: TCP beyond offset_max_mm of the tool as designed, not written";
+      ENDIF
+      FOR j FROM 1 TO 3 DO
+        lsr_run{3 * (run - 1) + j} := lsr_tcp{j};
+      ENDFOR
     ENDFOR
-    ! the axis from the two centres; a slope the tool's data cannot explain stops
-    sx := (lsr_centre{3} - lsr_centre{1}) / LSR_DZ;
-    sy := (lsr_centre{4} - lsr_centre{2}) / LSR_DZ;
-    IF Abs(sx) > LSR_SLOPE_MAX OR Abs(sy) > LSR_SLOPE_MAX THEN
-      lsr_stop "laser: axis tilted beyond offset_max_mm, check the sensors";
-    ENDIF
-    norm := Sqrt(sx * sx + sy * sy + 1);
-    lsr_axis{1} := sx / norm;
-    lsr_axis{2} := sy / norm;
-    lsr_axis{3} := 1 / norm;
-    lsr_tip;
-    ! the contact: the guessed TCP where beam X met the tip, the mean of the search down and up
+    ! the TCP: the runs' mean; a run farther than LSR_SPREAD_MAX from it stops, nothing written
     FOR j FROM 1 TO 3 DO
-      contact{j} := (lsr_hit{j} + lsr_hit{j + 3}) / 2;
+      contact{j} := 0;
+      FOR run FROM 1 TO LSR_RUNS DO
+        contact{j} := contact{j} + lsr_run{3 * (run - 1) + j};
+      ENDFOR
+      lsr_tcp{j} := contact{j} / LSR_RUNS;
     ENDFOR
-    ! there the end face's rim touches beam X: the tip is rim above the plane, on the axis through the crossing
-    rim := LSR_RADIUS * Abs(lsr_axis{1}) * lsr_axis{3} / Sqrt(1 - lsr_axis{1} * lsr_axis{1});
-    FOR j FROM 1 TO 3 DO
-      tip{j} := lsr_axis{j} * rim / lsr_axis{3};
+    FOR run FROM 1 TO LSR_RUNS DO
+      FOR j FROM 1 TO 3 DO
+        tip{j} := lsr_run{3 * (run - 1) + j} - lsr_tcp{j};
+      ENDFOR
+      IF Sqrt(tip{1} * tip{1} + tip{2} * tip{2} + tip{3} * tip{3}) > LSR_SPREAD_MAX THEN
+        lsr_stop "laser: runs differ beyond spread_max_mm, TCP not written";
+      ENDIF
     ENDFOR
-    ! the TCP in the flange frame: the flange's axes in S are x, -y, -z
-    lsr_tcp{1} := LSR_GUESS_TCP{1} + (tip{1} - contact{1});
-    lsr_tcp{2} := LSR_GUESS_TCP{2} - (tip{2} - contact{2});
-    lsr_tcp{3} := LSR_GUESS_TCP{3} - (tip{3} - contact{3});
-    off := Sqrt((lsr_tcp{1} - LSR_GUESS_TCP{1}) * (lsr_tcp{1} - LSR_GUESS_TCP{1})
-      + (lsr_tcp{2} - LSR_GUESS_TCP{2}) * (lsr_tcp{2} - LSR_GUESS_TCP{2})
-      + (lsr_tcp{3} - LSR_GUESS_TCP{3}) * (lsr_tcp{3} - LSR_GUESS_TCP{3}));
-    IF off > LSR_OFFSET_MAX THEN
-      lsr_stop "laser: TCP beyond offset_max_mm of the tool as designed, not written";
-    ENDIF
     ! written into the production tool (a persistent: its module keeps the value)
     tPin.tframe.trans := [lsr_tcp{1}, lsr_tcp{2}, lsr_tcp{3}];
     TPWrite "laser: TCP written, flange frame mm: " + NumToStr(lsr_tcp{1}, 3) + ", " + NumToStr(lsr_tcp{2}, 3) + ", " + NumToStr(lsr_tcp{3}, 3);
