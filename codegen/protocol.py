@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import importlib
 import operator
-from collections.abc import Iterator, Mapping
+from collections.abc import Hashable, Iterator, Mapping
 from dataclasses import dataclass, field, fields
 from functools import cache
 from importlib.metadata import entry_points
@@ -241,6 +241,20 @@ class VerifyPlan(Part):
         return []
 
 
+@dataclass(frozen=True)
+class Stage:
+    """What stands and what is carried at a point of a run, beside the cell's fixed solids: key (equal where the
+    rest is), the solids that stand only for a while (by name, base frame: codegen.world.solids shapes), the part
+    while the gripper holds it (a codegen.model.world.PartShape or a codegen.world.solids.Box in the flange frame;
+    None: no shape known), and flush: the (tool or part, solid) pairs a kind's own check holds along the straight
+    moves where the gripper acts (a box put down flush with its stack)."""
+
+    key: Hashable
+    solids: dict = field(default_factory=dict, compare=False)
+    part: Any = None
+    flush: frozenset = field(default=frozenset(), compare=False)
+
+
 class Scene(Part):
     """The kind's objects of the cell: as the page draws them (codegen.view.scene's vocabulary) and as solids the arm
     keeps its clearance from (codegen.world)."""
@@ -258,6 +272,11 @@ class Scene(Part):
         solids (codegen.world.proof.Path each); []: none."""
         return []
 
+    def proven(self, cell, target: str) -> list | None:
+        """The least clearances (codegen.world.proof.Least each, in the order of paths) of the kind's paths on the
+        target where its plan proved them already (in choosing a posture); None: generate proves paths()."""
+        return None
+
     def carried(self, cell) -> Any:
         """The part the kind's programs carry, as verify sweeps a program's trace without its case (codegen run
         --cell): a codegen.world.solids.Box in the flange frame or a codegen.model.world.PartShape; None: none."""
@@ -265,10 +284,8 @@ class Scene(Part):
 
     def staged(self, cell, target: str, case) -> Any:
         """What stands and what is carried along a verify case's trace: a function of the grips and releases of the
-        gripper so far (counts) giving a codegen.world.cell.Stage (the solids that stand only for a while, such as a
-        station's machine moved by the case's reading or the stack as built, and the part in the gripper)."""
-        from codegen.world.cell import Stage
-
+        gripper so far (counts) giving a Stage (the solids that stand only for a while, such as a station's machine
+        moved by the case's reading or the stack as built, and the part in the gripper)."""
         stage = Stage((), {}, self.carried(cell))
         return lambda _grips, _releases: stage
 
@@ -308,6 +325,7 @@ class Kind:
         order: int = 100,
         target_keys: dict[str, type] | None = None,
         templates: Path | None = None,
+        planner: str | None = None,
         **parts: str | type[Part],
     ) -> None:
         unknown = set(parts) - set(PARTS)
@@ -317,6 +335,8 @@ class Kind:
         self.order = order  # where the kind comes in reports and programs, lowest first
         self.target_keys = dict(target_keys or {})  # its [program.<name>] table of a target: key -> type
         self.templates = templates  # a folder of its own templates (a kind from outside the tree), searched after
+        # "module:function" (cell, target) -> the kind's plan for the cell on the target (None: the kind plans nothing)
+        self.planner = planner
         self._refs = parts
         self._made: dict[str, Part] = {}
 
@@ -360,6 +380,19 @@ class Kind:
     @property
     def commands(self) -> Commands:
         return self.part("commands")  # type: ignore[return-value]
+
+    def plan(self, cell, target: str) -> Any:
+        """The kind's plan for the cell on a target (what its writer, proofs, verify setup and scene read): its
+        planner's, worked out once per cell and target and handed down with the cell (Cell.plans); None: no planner."""
+        key = (self.name, target)
+        plans = cell.plans
+        if key not in plans:
+            planned = None
+            if self.planner is not None:
+                module, _, attr = self.planner.partition(":")
+                planned = getattr(importlib.import_module(module), attr)(cell, target)
+            plans[key] = planned
+        return plans[key]
 
     def facts(self, target) -> dict:
         """The kind's [program.<name>] table of a target, checked against target_keys ({}: none)."""

@@ -84,6 +84,9 @@ class Cell:
     warnings: tuple[str, ...] = field(default=(), compare=False)
     sections: dict = field(default_factory=dict, compare=False)  # kind name -> its part of the cell (its tables)
     kinds: Kinds | None = field(default=None, compare=False, repr=False)  # the kinds the cell was loaded with
+    # (kind name, target) -> the kind's plan for this cell (codegen.protocol.Kind.plan): made once, where first asked;
+    # not an argument, so a cell made from this one by dataclasses.replace starts with none
+    plans: dict = field(default_factory=dict, init=False, compare=False, repr=False)
 
     def stations_section(self):
         """The section that carries the cell's stations, whichever kind's it is (a section with `stations`, and the

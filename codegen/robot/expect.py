@@ -7,25 +7,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.controllers import numbered_names
-from codegen.poses import native_values
 from codegen.robot.margins import least_joint_margin, singular_distance, wrist_angle
 from codegen.robot.taught import ReachError
-from codegen.world import loads
-
-
-def tool_inputs(cell, target: str) -> dict:
-    """The controller's numbered tool and load holding the cell's tool, where the program selects them
-    (verify loads them as the controller's $config.dat holds them)."""
-    robot = cell.robot
-    number = None if robot is None else robot.tool.numbered.get(target)
-    if number is None:
-        return {}
-    tool_name, load_name = numbered_names(target, number)
-    tool = robot.tool
-    tcp = tuple(native_values(tool.tcp, cell.pose_format, "xyzabc"))
-    load = loads.of_tool(tool, robot.tool_shaped).principal_zyx()  # the numbered load's form: M, CM, J
-    return {tool_name: tcp, load_name: tuple(load[k] for k in ("M", "X", "Y", "Z", "A", "B", "C", "JX", "JY", "JZ"))}
 
 
 def arm_of(cell, target: str):

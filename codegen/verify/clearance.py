@@ -18,6 +18,7 @@ import numpy as np
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect
 from codegen.model import io as signals
+from codegen.protocol import Stage
 from codegen.verify.plan import SCENARIOS
 from codegen.verify.programs import FRESH
 from codegen.world import cell as world_cell
@@ -123,7 +124,7 @@ class Staging:
     def __init__(self, cell, target: str, scene=None, part=None):
         """scene: the kind's Scene (None: no case is known, the part is `part` and nothing else stands)."""
         self.cell, self.target, self.scene = cell, target, scene
-        self.fixed = world_cell.Stage((), {}, part)
+        self.fixed = Stage((), {}, part)
         self.built: dict[tuple, Scene] = {}
 
     def along(self, case):
@@ -132,7 +133,7 @@ class Staging:
             return lambda _grips, _releases: self.fixed
         return self.scene.staged(self.cell, self.target, case)
 
-    def world(self, stage: world_cell.Stage, carried: bool, resting: frozenset) -> Scene:
+    def world(self, stage: Stage, carried: bool, resting: frozenset) -> Scene:
         key = (stage.key, carried, resting)
         if key not in self.built:
             part = stage.part if carried else None

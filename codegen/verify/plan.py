@@ -8,9 +8,12 @@ from typing import Any
 
 import numpy as np
 
+from codegen.controllers import numbered_names
 from codegen.dialects.core.machine import DEFAULT_STEP_LIMIT
 from codegen.emit import Emitter
 from codegen.guard import NOT_AT_HOME, halt_message
+from codegen.poses import native_values
+from codegen.world import loads
 
 START_AWAY_DEG = (25.0, -15.0, 10.0, 0.0, 0.0, 0.0)  # the arm left away from home (the start_away scenario)
 TOOL_LOAD = "tool"  # a planned move's payload: the cell's tool alone ([cell.tool] mass and centre of gravity)
@@ -25,6 +28,20 @@ SCENARIOS = {
     "device_silent": "the kind's device never answers",
     "reading_out_of_range": "the kind's device reports a value outside the range the program accepts",
 }
+
+
+def tool_inputs(cell, target: str) -> dict:
+    """The controller's numbered tool and load holding the cell's tool, where the program selects them
+    (verify loads them as the controller's $config.dat holds them)."""
+    robot = cell.robot
+    number = None if robot is None else robot.tool.numbered.get(target)
+    if number is None:
+        return {}
+    tool_name, load_name = numbered_names(target, number)
+    tool = robot.tool
+    tcp = tuple(native_values(tool.tcp, cell.pose_format, "xyzabc"))
+    load = loads.of_tool(tool, robot.tool_shaped).principal_zyx()  # the numbered load's form: M, CM, J
+    return {tool_name: tcp, load_name: tuple(load[k] for k in ("M", "X", "Y", "Z", "A", "B", "C", "JX", "JY", "JZ"))}
 
 
 @dataclass(frozen=True)

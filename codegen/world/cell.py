@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Hashable
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from codegen.model.world import PartShape
@@ -16,19 +13,6 @@ FLOOR = "floor"  # the floor's (or mounting plane's) name among the solids
 # mounting plane): their height above the floor never changes, so they are not measured against it (a column that
 # reaches into its mounting plate would otherwise refuse every move)
 FLOOR_EXEMPT_FRAMES = 1
-
-
-@dataclass(frozen=True)
-class Stage:
-    """What stands and what is carried at a point of a run, beside the cell's fixed solids: key (equal where the
-    rest is), the solids that stand only for a while (by name, base frame), the part while the gripper holds it (a
-    PartShape or a Box in the flange frame; None: no shape known), and flush: the (tool or part, solid) pairs a kind's
-    own check holds along the straight moves where the gripper acts (a box put down flush with its stack)."""
-
-    key: Hashable
-    solids: dict[str, Solid] = field(default_factory=dict, compare=False)
-    part: PartShape | Box | None = None
-    flush: frozenset = field(default=frozenset(), compare=False)
 
 
 def clearance_mm(cell) -> float:

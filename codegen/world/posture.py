@@ -35,6 +35,7 @@ class Posture:
     refusal: str = ""
     reaches: bool = True  # False: refused by the reach proof
     nearest: object = None  # the proof's Least: where the least clearance is
+    proven: object = None  # the kind's proofs of the posture where it passed them (handed on in the kind's plan)
 
 
 def branch_joints(arm, solutions: np.ndarray, home) -> tuple[np.ndarray, list[tuple[int, np.ndarray]]]:

@@ -36,8 +36,12 @@ class TestLaser(KindTests):
 REPO = Path(__file__).resolve().parents[2]
 TOY = REPO / "tests" / "support" / "toykind"
 # what loading a cell must not import: the verify engine, the page, the templates, the simulators, the command line,
-# the symbolic math (a kind's writer, verify plan, scene, commands and derivation are made when first asked)
-HEAVY = ("codegen.verify", "codegen.view", "codegen.render", "codegen.sim", "click", "sympy", "jinja2")
+# the floors above the kinds (plant, language server, reports, generate), the symbolic math, the parsers and the
+# collision library (a kind's plan, writer, verify plan, scene, commands and derivation are made when first asked)
+HEAVY = (
+    "codegen.verify", "codegen.view", "codegen.render", "codegen.sim", "codegen.plant", "codegen.lsp",
+    "codegen.reports", "codegen.cli", "codegen.generate", "click", "sympy", "jinja2", "lark", "coal",
+)
 IMPORTED = """
 import json, sys
 from codegen.model.cell import load_cell

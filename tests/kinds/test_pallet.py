@@ -228,7 +228,7 @@ def test_a_stack_the_arm_cannot_work_is_refused_at_generate(tmp_path, old, new, 
 
 
 def test_the_bundled_stack_is_reachable_on_every_arm():
-    from codegen.kinds.pallet.posture import check
+    from codegen.kinds.pallet.plan import check
 
     reports = check(load_cell(EXAMPLES / "testmat_pallet.toml"))
     # 30 boxes of 10 moves (up from Q to the transit height, above the entry there), 29 of them 2 more (the empty

@@ -7,7 +7,7 @@ import pytest
 from support.cells import EXAMPLES, example, unstacking_testmat_text
 from support.programs import edited, sources, verify, verify_one
 
-from codegen.kinds.pallet.posture import configurations
+from codegen.kinds.pallet.plan import configurations
 from codegen.kinds.pallet.reach import full_cycle, joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
 from codegen.model.cell import load_cell

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from support.cells import example
 
-from codegen.kinds.pallet.posture import configurations
+from codegen.kinds.pallet.plan import configurations
 from codegen.kinds.pallet.reach import PICK_KEY
 from codegen.kinds.pallet.section import pallets_of
 from codegen.robot import solve

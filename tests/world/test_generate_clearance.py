@@ -348,7 +348,7 @@ def way_home_fence(tmp_path_factory):
     planned joints and the arm's forward kinematics, not from the proof: the cycle's moves sampled (joint moves and the
     short linear ones interpolated in joints), the way home's bodies at 0.5, 0.6 and 0.7 of the move, points on their
     holding capsules' surfaces (both ends and the middle of each segment, 26 directions)."""
-    from codegen.kinds.pallet.posture import configurations
+    from codegen.kinds.pallet.plan import configurations
     from codegen.kinds.pallet.way_home import way_home, way_joints
     from codegen.reference import home_move
     from codegen.world.bodies import arm_bodies
@@ -433,7 +433,7 @@ def test_an_unstacking_box_held_at_the_start_is_proven_on_its_way_from_home_to_q
     swings the box through the full stack: the proof refuses that posture naming the move, the part and the stack, and
     generate chooses another branch for the whole cycle (its report says so); Q moved 150 mm further off, the
     controller's own posture clears and is kept."""
-    from codegen.kinds.pallet.posture import posture_note
+    from codegen.kinds.pallet.plan import posture_note
     from codegen.kinds.pallet.reach import plan
     from codegen.kinds.pallet.scene import pallet_paths
     from codegen.world.proof import ClearanceError, prove

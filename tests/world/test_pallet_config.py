@@ -15,7 +15,7 @@ from codegen.cli import main
 from codegen.generate import check_clearance, generate
 from codegen.kinds.pallet import posture
 from codegen.kinds.pallet import program as pallet_program
-from codegen.kinds.pallet.posture import configurations, posture_note
+from codegen.kinds.pallet.plan import configurations, posture_note
 from codegen.kinds.pallet.reach import plan
 from codegen.model.cell import load_cell
 from codegen.render import render

@@ -12,7 +12,7 @@ from support.cells import EXAMPLES
 from codegen.cli import main
 from codegen.generate import GenerateError, check_clearance, generate
 from codegen.kinds.pallet import program as pallet_program
-from codegen.kinds.pallet.posture import configurations, posture_note
+from codegen.kinds.pallet.plan import configurations, posture_note
 from codegen.kinds.pallet.reach import plan
 from codegen.kinds.pallet.scene import pallet_paths
 from codegen.model.cell import load_cell

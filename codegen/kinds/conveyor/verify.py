@@ -20,11 +20,10 @@ from codegen.kinds.conveyor.program import BAD_READING, OUT_OF_STEP, STANDS, no_
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, grip_pose, start_joints
 from codegen.model.io import signal_name
-from codegen.robot.expect import tool_inputs
 from codegen.sim.belt import Belt, BeltLine, Part, TrackingUnit
 from codegen.sim.bus import bus_for
 from codegen.sim.gripper import Gripper
-from codegen.verify.plan import Expectation, Judgement, PlannedOutput, Setup
+from codegen.verify.plan import Expectation, Judgement, PlannedOutput, Setup, tool_inputs
 
 # a run's statements: the bundled cell's longest case takes about 90,000 (an intercept polls the encoder every 12 ms); a
 # program that waits for a part it has lost (a counter read wrongly) stops here (about twice that), not after

@@ -30,8 +30,7 @@ from codegen.kinds.laser.verify import (
 from codegen.poses import native_values
 from codegen.reference import home_move
 from codegen.robot import solve
-from codegen.robot.expect import tool_inputs
-from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored
+from codegen.verify.plan import START_AWAY_DEG, Expectation, Judgement, PlannedMove, Setup, Stored, tool_inputs
 
 NEAR_MM = 5 * FLOAT32_MM  # a move ends at one of the procedure's fixed points when this close to it
 # The motion settings a routine of the production task must leave as a program starts with them: a routine call

@@ -24,6 +24,7 @@ KIND = Kind(
         "asks": bool,  # the program can ask the operator Yes/No (after a stop during a release: is the item down?)
         "asks_within_s": float,  # the operator's time to answer before the program stops (absent: it waits)
     },
+    planner="codegen.kinds.pallet.plan:plan",
     section="codegen.kinds.pallet.analysis:SectionPart",
     writer="codegen.kinds.pallet.writer:WriterPart",
     derivation="codegen.kinds.pallet.derivation:DerivationPart",

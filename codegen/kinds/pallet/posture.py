@@ -6,9 +6,10 @@
 # one only where it clears by TIE_MM more). Each candidate must pass the reach proof (check_pallet) and the clearance
 # proof of every path generate proves (pallet_paths). The program names the choice in each target's own form (joints,
 # status and turn bits or configuration data: codegen/robot/config.py FORMS) and verify plans every case with the same
-# configurations: both read configurations() below. Where the cell names the configuration above Q ([pallet.config]),
-# nothing is chosen: the whole cycle is worked in the branch the controller's own rule selects there for it, and the
-# proofs refuse it, naming the key, where it does not reach or does not clear.
+# configurations: both read the kind's plan (codegen/kinds/pallet/plan.py), which decide() below makes. Where the cell
+# names the configuration above Q ([pallet.config]), nothing is chosen: the whole cycle is worked in the branch the
+# controller's own rule selects there for it, and the proofs refuse it, naming the key, where it does not reach or does
+# not clear.
 
 from __future__ import annotations
 
@@ -16,84 +17,57 @@ from dataclasses import replace
 
 import numpy as np
 
-from codegen.kinds.pallet.reach import PICK_KEY, Named, check_pallet, full_cycle, joints_of, plan
+from codegen.kinds.pallet.reach import PICK_KEY, Named, PalletReach, check_pallet, joints_of, plan
 from codegen.kinds.pallet.scene import pallet_paths
 from codegen.kinds.pallet.section import pallets_of
 from codegen.robot import solve
-from codegen.robot.cache import per_cell
 from codegen.robot.config import FORMS
 from codegen.robot.taught import ReachError
 from codegen.world.posture import TIE_MM, Posture, branch_count, choose, in_order, set_by_the_tool, travel
 
-_CHOSEN: dict = {}
+
+def decide(cell, pallet, target: str, cycle) -> tuple[Named | None, str, tuple | None]:
+    """The configurations the target's program names for the pallet (None without an arm), the posture note ('' where
+    they are the controller's own from the home or the cell's), and the proofs the choice made of them: (the reach
+    proof, the clearance proof's least clearances of the pallet's paths), None where it made none. cycle: the
+    pallet's full cycle (codegen/kinds/pallet/reach.py full_cycle)."""
+    natural = plan(cell, pallet, target, cycle=cycle)
+    if natural is None:
+        return None, "", None
+    if target in pallet.config:
+        return _given(cell, pallet, target, natural, cycle), "", None
+    home = cell.robot.home[target]
+    start = travel(_first(cell, pallet, target, natural, cycle), home)
+    first = _evaluate(cell, pallet, target, cycle, Posture(natural, -1, start))
+    if not first.reaches or (first.least_mm is not None and set_by_the_tool(cell.robot.arms[target], first.nearest)):
+        return natural, "", first.proven  # the reach proof names what is out of reach; no other posture keeps more
+    others = _candidates(cell, pallet, target, natural, cycle)
+    best = choose(first, others, lambda posture, bar: _evaluate(cell, pallet, target, cycle, posture, bar))
+    if best is None:
+        return natural, "", None  # none clears: generate's clearance proof refuses the controller's own, naming it
+    if best is first:
+        return natural, "", first.proven
+    return best.config, _note(cell, target, first, best), best.proven
 
 
-def configurations(cell, pallet, target: str) -> Named | None:
-    """The configurations the target's program names for the pallet (None without an arm): the program, the reach and
-    clearance proofs and every verify case read them. Chosen once per cell, pallet and target."""
-    return _decided(cell, pallet, target)[0]
-
-
-def posture_note(cell, pallet, target: str) -> str:
-    """'' where the program names the configurations the controller takes from the home; else what was chosen and
-    why (generate's report)."""
-    return _decided(cell, pallet, target)[1]
-
-
-def check(cell, only: list[str] | None = None) -> list:
-    """The reach proof of every pallet on every target with an arm (of `only`, if given), in the configurations the
-    program names, with the posture note where one was chosen."""
-    if cell.robot is None:
-        return []
-    targets = [t for t in cell.targets if t in cell.robot.arms and (only is None or t in only)]
-    return [
-        replace(_reach(cell, pallet, target), posture=posture_note(cell, pallet, target))
-        for target in targets
-        for pallet in pallets_of(cell)
-    ]
-
-
-def _reach(cell, pallet, target: str):
+def reach_in(cell, pallet, target: str, named: Named | None, cycle) -> PalletReach:
     """The pallet's reach proof in the configurations its program names; a refusal of the cell's own names its key."""
-    named = configurations(cell, pallet, target)
     try:
-        return check_pallet(cell, pallet, target, named)
+        return check_pallet(cell, pallet, target, named, cycle)
     except ReachError as exc:
         if named is None or not named.source:
             raise
         raise ReachError(f"{exc} (in the configuration the cell names: {named.source})") from None
 
 
-def _decided(cell, pallet, target: str) -> tuple[Named | None, str]:
-    key = (id(pallet), target)  # the entry keeps the pallet: its id is not reused while the entry lives
-    return per_cell(_CHOSEN, cell, key, lambda: (pallet, _chosen(cell, pallet, target)))[1]
-
-
-def _chosen(cell, pallet, target: str) -> tuple[Named | None, str]:
-    natural = plan(cell, pallet, target)
-    if natural is None:
-        return None, ""
-    if target in pallet.config:
-        return _given(cell, pallet, target, natural), ""
-    home = cell.robot.home[target]
-    first = _evaluate(cell, pallet, target, Posture(natural, -1, travel(_first(cell, pallet, target, natural), home)))
-    if not first.reaches or (first.least_mm is not None and set_by_the_tool(cell.robot.arms[target], first.nearest)):
-        return natural, ""  # the reach proof names what is out of reach; no other posture keeps more
-    others = _candidates(cell, pallet, target, natural)
-    best = choose(first, others, lambda posture, bar: _evaluate(cell, pallet, target, posture, bar))
-    if best is None or best is first:
-        return natural, ""  # none clears: generate's clearance proof refuses the controller's own, naming the move
-    return best.config, _note(cell, target, first, best)
-
-
-def _given(cell, pallet, target: str, natural: Named) -> Named:
+def _given(cell, pallet, target: str, natural: Named, cycle) -> Named:
     """The configurations of the cell's own ([pallet.config]): the whole cycle in the analytic branch that the
     configuration selects above Q by the controller's rule, nothing else tried. ReachError naming the key where it
     selects no solution there or the cycle in that branch reaches Q in another configuration."""
     given = pallet.config[target]
     arm = cell.robot.arms[target]
     source = f"[pallet.config] {target} = {_shown(target, given.form, given.value)} of pallet {pallet.name!r}"
-    above = next(m for m in full_cycle(cell, pallet) if natural.key(pallet, m) == PICK_KEY)
+    above = next(m for m in cycle if natural.key(pallet, m) == PICK_KEY)
     solutions = solve.branches(arm, solve.flange_poses(above.tcp2base[None], cell.robot.tool.tcp2flange))[0]
     joints, branch = FORMS[given.form].select(arm, solutions, given.value)
     if np.isnan(joints).any():
@@ -102,10 +76,10 @@ def _given(cell, pallet, target: str, natural: Named) -> Named:
             "limits): name one it takes there, or leave the key out and let generate choose"
         )
     try:
-        named = plan(cell, pallet, target, int(branch))
+        named = plan(cell, pallet, target, int(branch), cycle)
     except ReachError as exc:
         raise ReachError(f"{exc} (in the configuration the cell names: {source})") from None
-    first = _first_above(cell, pallet, target, named)
+    first = _first_above(cell, pallet, target, named, cycle)
     if not np.allclose(first, joints, atol=1e-6):
         kept = _shown(target, named.form, FORMS[named.form].of(arm, first))
         raise ReachError(
@@ -116,9 +90,9 @@ def _given(cell, pallet, target: str, natural: Named) -> Named:
     return replace(named, source=source)
 
 
-def _first_above(cell, pallet, target: str, named: Named) -> np.ndarray:
+def _first_above(cell, pallet, target: str, named: Named, cycle) -> np.ndarray:
     """The joints of the cycle's first move above Q, as the program names its configuration."""
-    moves = full_cycle(cell, pallet)
+    moves = cycle
     index = next(i for i, m in enumerate(moves) if named.key(pallet, m) == PICK_KEY)
     return joints_of(cell, target, moves[: index + 1], f"pallet {pallet.name!r}", pallet, named)[-1]
 
@@ -133,18 +107,18 @@ def _shown(target: str, form: str, value) -> str:
     return listed if form == get_target(target).configuration else f"{{ {form} = {listed} }}"
 
 
-def _candidates(cell, pallet, target: str, natural: Named) -> list[Posture]:
+def _candidates(cell, pallet, target: str, natural: Named, cycle) -> list[Posture]:
     """Each analytic branch the whole cycle can be worked in (every move reached within it, the linear moves without a
     flip), unless the program would name the same configurations as the controller's own, nearer the home first."""
     home = cell.robot.home[target]
     out = []
     for branch in range(branch_count(cell.robot.arms[target])):
         try:
-            named = plan(cell, pallet, target, branch)
+            named = plan(cell, pallet, target, branch, cycle)
         except ReachError:
             continue
         if named is not None and not _same(named, natural):
-            out.append(Posture(named, branch, travel(_first(cell, pallet, target, named), home)))
+            out.append(Posture(named, branch, travel(_first(cell, pallet, target, named, cycle), home)))
     return in_order(out)
 
 
@@ -155,26 +129,29 @@ def _same(a: Named, b: Named) -> bool:
     return a.form == b.form and a.whole == b.whole and a.values == b.values and anchors
 
 
-def _first(cell, pallet, target: str, named: Named) -> np.ndarray:
+def _first(cell, pallet, target: str, named: Named, cycle) -> np.ndarray:
     """The joints of the cycle's first move from the home, as the program names it."""
-    return joints_of(cell, target, full_cycle(cell, pallet)[:1], f"pallet {pallet.name!r}", pallet, named)[0]
+    return joints_of(cell, target, cycle[:1], f"pallet {pallet.name!r}", pallet, named)[0]
 
 
-def _evaluate(cell, pallet, target: str, posture: Posture, bar: float | None = None) -> Posture:
+def _evaluate(cell, pallet, target: str, cycle, posture: Posture, bar: float | None = None) -> Posture:
     """The posture with its least clearance over every path generate proves for the pallet, or its refusal (reach:
-    joint and wrist margins, no flip on a linear move; clearance: within the cell's clearance, or within bar mm)."""
+    joint and wrist margins, no flip on a linear move; clearance: within the cell's clearance, or within bar mm); a
+    posture that passes both keeps them (proven: the reach proof and the least clearances, equal to the proof's
+    without the bar: the bar only refuses more)."""
     from codegen.world.proof import ClearanceError, prove  # coal: loaded only when proving
 
     try:
-        check_pallet(cell, pallet, target, posture.config)
+        reached = check_pallet(cell, pallet, target, posture.config, cycle)
     except ReachError as exc:
         return replace(posture, refusal=str(exc), reaches=False)
     try:
-        least = prove(cell, pallet_paths(cell, pallets_of(cell), pallet, target, posture.config), bar)
+        paths = pallet_paths(cell, pallets_of(cell), pallet, target, posture.config, cycle)
+        least = prove(cell, paths, bar)
     except (ClearanceError, ReachError, ValueError) as exc:
         return replace(posture, refusal=str(exc))
     nearest = min(least, key=lambda x: x.found.distance)
-    return replace(posture, least_mm=nearest.found.distance, nearest=nearest)
+    return replace(posture, least_mm=nearest.found.distance, nearest=nearest, proven=(reached, tuple(least)))
 
 
 def _note(cell, target: str, first: Posture, best: Posture) -> str:

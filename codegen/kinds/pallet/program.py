@@ -38,7 +38,7 @@ from codegen.kinds.pallet.messages import (
     wait_message,
 )
 from codegen.kinds.pallet.patterns import layout
-from codegen.kinds.pallet.posture import configurations
+from codegen.kinds.pallet.plan import configurations
 from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEET_KEY, way_up_z
 from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import Pallet, pallets_of

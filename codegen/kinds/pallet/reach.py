@@ -14,7 +14,6 @@ from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
-from codegen.robot.cache import per_cell
 from codegen.robot.config import FORMS, loose, named_in_full
 from codegen.robot.expect import Margins, margins, require_margins
 from codegen.robot.taught import ReachError
@@ -163,25 +162,18 @@ def _text(value) -> str:
     return "[" + ", ".join(f"{v:.4f}" if isinstance(v, float) else str(v) for v in value) + "]"
 
 
-def plan(cell, pallet, target: str, branch: int | None = None) -> Named | None:
+def plan(cell, pallet, target: str, branch: int | None = None, cycle=None) -> Named | None:
     """The configurations a pallet program would name in one posture: each box's (pattern, number) that of its entry
     where the full cycle first reaches it from home by the nearest rule (stacking: the lowest layer using the pattern;
     unstacking: the highest), Q's at the first time above Q, the safe pose's the one nearest the first entry's joints;
     branch: every joint move within that analytic branch (None: the controller's own nearest solutions); None without
-    an arm. Worked out once per cell, pallet, target and branch (codegen/kinds/pallet/posture.py chooses among them)."""
-    key = (id(pallet), target, branch)  # the entry keeps the pallet: its id is not reused while the entry lives
-    return per_cell(_PLANS, cell, key, lambda: (pallet, _plan(cell, pallet, target, branch)))[1]
-
-
-_PLANS: dict = {}
-
-
-def _plan(cell, pallet, target: str, branch: int | None) -> Named | None:
+    an arm. cycle: the pallet's full cycle where the caller has it (codegen/kinds/pallet/posture.py chooses among the
+    postures once per cell and target, for the kind's plan)."""
     form = get_target(target).configuration
     if cell.robot is None or target not in cell.robot.arms or form not in FORMS:
         return None
     arm = cell.robot.arms[target]
-    moves = full_cycle(cell, pallet)
+    moves = full_cycle(cell, pallet) if cycle is None else cycle
     named, values, entry, at, first = Named(form, {}), {}, None, [], {}
     planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", within=branch)
     for move, joints in zip(moves, planned, strict=True):
@@ -258,14 +250,15 @@ def safe_move(cell, pallet):
     )
 
 
-def check_pallet(cell, pallet, target: str, named: Named | None) -> PalletReach:
+def check_pallet(cell, pallet, target: str, named: Named | None, cycle=None) -> PalletReach:
     """Every move of a full cycle for the target's arm with the cell's tool, from home, as the program
     moves: a joint move in the configuration the program names for it (named), a linear move
     keeping the arm's configuration (its branch) without a jump; each pose within the cell's joint and
-    wrist margins. ReachError names pallet, target, box and pose."""
+    wrist margins (cycle: the pallet's full cycle where the caller has it). ReachError names pallet, target, box and
+    pose."""
     robot = cell.robot
     arm = robot.arms[target]
-    moves = full_cycle(cell, pallet)
+    moves = full_cycle(cell, pallet) if cycle is None else cycle
     worst_joint, worst_wrist, worst, wrist_pose = np.inf, np.inf, "", ""
     planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
     moves = [*moves, safe_move(cell, pallet)]  # and the way home's pose above the pallet, as named

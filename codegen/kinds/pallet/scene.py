@@ -12,8 +12,8 @@ from codegen.kinds.pallet.patterns import label_normal
 from codegen.kinds.pallet.stack import layer_top, placements
 from codegen.kinds.pallet.sweep import PLACE_POSES, _own
 from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
+from codegen.protocol import Stage
 from codegen.view.scene import SLAB_MM, box, frame, translated
-from codegen.world.cell import Stage
 from codegen.world.proof import Move, Path
 from codegen.world.solids import Box
 
@@ -125,13 +125,13 @@ def _others(pallets, pallet) -> dict[str, Box]:
     return out
 
 
-def pallet_paths(cell, pallets, pallet, target: str, named) -> list[Path]:
+def pallet_paths(cell, pallets, pallet, target: str, named, cycle=None) -> list[Path]:
     """The pallet's full cycle on the target's arm from home, as its reach proof plans it (named: the configurations
     its program names, codegen/kinds/pallet/posture.py), with the stack as built before each move and the box carried
     from the grip to the release; then the way home after a stop at the first and at the last box's place (the box
     held), as the program plans it: back along the tool, up to the transit height, above the pallet's centre, home;
     and, unstacking, a box held at the start (a stop between the grip and Q) carried from home and put down at Q, then
-    the stack taken off."""
+    the stack taken off (cycle: the pallet's full cycle where the caller has it)."""
     from codegen.kinds.pallet.cycle import PalletCase, items
     from codegen.kinds.pallet.reach import full_cycle
     from codegen.kinds.pallet.restart import expected
@@ -141,7 +141,8 @@ def pallet_paths(cell, pallets, pallet, target: str, named) -> list[Path]:
     others = _others(pallets, pallet)
     home = np.asarray(cell.robot.home[target], dtype=float)
     part = carried_box(cell, pallet)
-    planned, stages = _planned(cell, pallet, target, full_cycle(cell, pallet), named, count, others)
+    cycle = full_cycle(cell, pallet) if cycle is None else cycle
+    planned, stages = _planned(cell, pallet, target, cycle, named, count, others)
     out = [Path(target, home, tuple(planned), part, stages, _configuration(named))]
     for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
         out.append(_way_home(cell, pallet, target, planned[k], home, part, stages, named))

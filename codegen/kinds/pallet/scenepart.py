@@ -4,7 +4,7 @@ programs name."""
 from __future__ import annotations
 
 from codegen import protocol
-from codegen.kinds.pallet.posture import configurations
+from codegen.kinds.pallet.plan import pallet_plan
 from codegen.kinds.pallet.scene import carried_box, case_stages, objects, pallet_paths, solids
 from codegen.world.proof import Path
 from codegen.world.solids import Box
@@ -21,13 +21,28 @@ class ScenePart(protocol.Scene):
         pallets = self.kind.section.of(cell) or ()
         if cell.robot is None:
             return []
-        arms = [t for t in targets if t in cell.robot.arms]
-        return [
-            path
-            for t in arms
-            for pallet in pallets
-            for path in pallet_paths(cell, pallets, pallet, t, configurations(cell, pallet, t))
-        ]
+        out = []
+        for target in [t for t in targets if t in cell.robot.arms]:
+            for pallet in pallets:
+                planned = pallet_plan(cell, pallet, target)
+                out += pallet_paths(cell, pallets, pallet, target, planned.named, planned.cycle)
+        return out
+
+    def proven(self, cell, target: str) -> list | None:
+        """Each pallet's paths as the posture's choice proved them (the plan's), the others proven here."""
+        from codegen.world.proof import prove  # coal: loaded only when proving
+
+        pallets = self.kind.section.of(cell) or ()
+        if cell.robot is None or target not in cell.robot.arms:
+            return []
+        out = []
+        for pallet in pallets:
+            planned = pallet_plan(cell, pallet, target)
+            if planned.proven is not None:
+                out += planned.proven
+            else:
+                out += prove(cell, pallet_paths(cell, pallets, pallet, target, planned.named, planned.cycle))
+        return out
 
     def carried(self, cell):
         """The first pallet's box (a task of several pallets: each case's own in staged)."""

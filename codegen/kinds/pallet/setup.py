@@ -12,7 +12,7 @@ from codegen.kinds.pallet.exchange import PalletExchange
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import known_question, message_limit, still_waiting_message
-from codegen.kinds.pallet.posture import configurations
+from codegen.kinds.pallet.plan import configurations
 from codegen.kinds.pallet.program import counter_names, counter_registers, holds_name, known_name
 from codegen.kinds.pallet.reach import joints_of
 from codegen.kinds.pallet.reload import reload_proof
@@ -21,10 +21,9 @@ from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.station import BoxLost, PalletTaken, ResetAnswered, ResetWhileAsked, SupplyLate
 from codegen.model.io import LATE_SHARE, signal_name
 from codegen.reference import home_move
-from codegen.robot.expect import tool_inputs
 from codegen.sim.gripper import Gripper
 from codegen.sim.operator import Operator
-from codegen.verify.plan import START_AWAY_DEG, Case, Setup
+from codegen.verify.plan import START_AWAY_DEG, Case, Setup, tool_inputs
 
 # a swap of the done pallet takes this many of the pallet's interlock timeouts: the program's wait for it outlasts its
 # own timeout (a swap is no fault)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from codegen import protocol
 from codegen.emit import EmitError
-from codegen.kinds.pallet import posture
+from codegen.kinds.pallet import plan
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.program import check_level, file_name, identifiers, pallet_context, task_context
 from codegen.kinds.pallet.section import pallets_of
@@ -62,4 +62,4 @@ class WriterPart(protocol.Writer):
         return plans
 
     def reach(self, cell, targets: list[str]) -> list:
-        return posture.check(cell, targets)
+        return plan.check(cell, targets)

@@ -31,10 +31,9 @@ from codegen.model import vision
 from codegen.model.cell import Cell, TaughtPose
 from codegen.poses import native_values
 from codegen.reference import ExpectedTrace, home_move
-from codegen.robot.expect import tool_inputs
 from codegen.sim.gripper import Gripper
 from codegen.sim.vision_pc import VisionPC
-from codegen.verify.plan import START_AWAY_DEG
+from codegen.verify.plan import START_AWAY_DEG, tool_inputs
 
 # A station case's category -> the scenario it runs (codegen.verify.plan.SCENARIOS; the others are the mode's own)
 SCENARIO_OF = {

@@ -9,7 +9,7 @@ from codegen.kinds.station.mode import modes
 from codegen.kinds.station.posture import postured
 from codegen.kinds.station.scene import case_motion, station_paths, station_solids
 from codegen.kinds.station.section import section_of, stations_of
-from codegen.world.cell import Stage
+from codegen.protocol import Stage
 from codegen.world.proof import Path
 
 
