@@ -251,7 +251,11 @@ class BeltLine:
     wiring: tuple[int, int] | None = None  # the inputs the encoder's A and B are wired to (None: as the program says)
     taken: dict = field(default_factory=dict)
     unit: TrackingUnit | None = None  # the belt as the controller's mechanical unit (its tracking option)
-    latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus)
+    latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus), at least
+    # the PLC copies the counter's count once a cycle of age_cycle_s (at age_phase_s + k cycles): between its copies the
+    # count the program reads grows older, by up to a cycle more than latency_s (0: a count always latency_s old)
+    age_cycle_s: float = 0.0
+    age_phase_s: float = 0.0
     trigger: str | None = None  # the controller's input the camera's trigger is wired to (a pulse per part)
     stop_s: float = 0.0  # the line's cycle stop not before this (s): with no part to come, the program waits till then
     # the controller beside the belt: each sleep of the program (a pass of a polling loop) ends this much later than it
@@ -281,7 +285,13 @@ class BeltLine:
         if name == self.trigger:  # on for TRIGGER_S from each part's moment at the camera's line
             moments = [*(part.seen_s for part in self.parts), *self.pulses]
             return any(seen <= t < seen + TRIGGER_S for seen in moments)
-        return self.bus.live(self.belt, name, max(0.0, t - self.latency_s))
+        return self.bus.live(self.belt, name, max(0.0, t - self.age_s(t)))
+
+    def age_s(self, t: float) -> float:
+        """How old what the program reads from the PLC at t is: latency_s, and the time since the PLC's last copy."""
+        if self.age_cycle_s <= 0.0:
+            return self.latency_s
+        return self.latency_s + (t - self.latency_s - self.age_phase_s) % self.age_cycle_s
 
     def _flush(self, machine) -> None:
         """The unit's queue emptied at each rise of its remove_all output the program set since the last look."""

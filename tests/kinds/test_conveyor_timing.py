@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 from support.programs import edited, first, run_case
 
@@ -37,9 +38,13 @@ def test_a_kuka_lin_takes_its_ramps_in_the_clock(cell):
     trace, _setup = run_case(cell, "kuka", program, replace(case, parts=case.parts[:1]), "conveyor")
     src = next(f.text for f in first(cell, "kuka", "conveyor").files if f.name.endswith(".src")).splitlines()
     line = next(i for i, text in enumerate(src, 1) if text.strip().startswith("LIN ON_PART"))
-    descent = next(m for m in trace.moves if m.line == line)
-    # KRL REALs are 32-bit: 2.3 and 0.25 as they are stored
-    assert descent.end_time - descent.start_time == pytest.approx(0.24 + 0.25 / 2.3, abs=1e-6)
+    k, descent = next((k, m) for k, m in enumerate(trace.moves) if m.line == line)
+    # KRL REALs are 32-bit: 2.3 and 0.25 as they are stored; the descent lands where the part is predicted, a fraction
+    # of a mm along the belt from the point above it: its length a little over 60 mm
+    before = trace.moves[k - 1]
+    length = float(np.linalg.norm(descent.tcp2base[:3, 3] - before.tcp2base[:3, 3]))
+    assert 60.0 - 1e-3 < length < 60.01
+    assert descent.end_time - descent.start_time == pytest.approx(length / 250.0 + 0.25 / 2.3, abs=1e-6)
     assert "CNV_ACC=2.3" in _dat(first(cell, "kuka", "conveyor"))
 
 
@@ -57,22 +62,22 @@ def test_the_kuka_lead_counts_the_descents_ramps(cell):
 
 def _passes_as_time(text: str) -> str:
     """The KUKA program timing the belt by its loop's passes counted as exact WAIT SECs (no timer)."""
-    out = text.replace("V = (Y2 - Y1) * 1000.0 / (T2 - T1)", "V = (Y2 - Y1) / 0.100")
-    out = out.replace("V = (Y - Y1) * 1000.0 / (T2 - T1)", "V = (Y - Y1) / 0.100")
-    return out.replace("V = (Y - MARK) * 1000.0 / (T2 - T_MARK)", "V = (Y - MARK) / (POLLS * CNV_POLL)")
+    out = text.replace("V = (Y - Y1) * 1000.0 / (T2 - T1)", "V = (Y - Y1) / 0.288")
+    old = "V = (Y - CNV_YS[CNV_SLOT]) * 1000.0 / (T - CNV_TS[CNV_SLOT])"
+    return out.replace(old, "V = (Y - CNV_YS[CNV_SLOT]) / (CNV_READS * CNV_POLL)")
 
 
 def test_the_kuka_program_times_the_belts_speed_with_its_timer(cell):
     """Each pass of the program's loop takes 2 ms more than its WAIT SEC in verify (the pass's statements): the program
-    divides the belt's travel by the time $TIMER[1] measured and meets every part; one that counts 8 passes as 8 x 12 ms
-    overrates the speed by a sixth and comes down early."""
+    divides the belt's travel by the time $TIMER[1] measured and meets every part; one that counts 24 passes as 24 x 12
+    ms overrates the speed by a sixth and comes down early."""
     program = first(cell, "kuka", "conveyor")
     src = next(f.text for f in program.files if f.name.endswith(".src"))
-    assert src.count("$TIMER[1]") >= 5 and "(T2 - T_MARK)" in src
+    assert src.count("$TIMER[1]") >= 5 and "(T - CNV_TS[CNV_SLOT])" in src
     chosen = ("constant_speed", "fast_belt", "varying_speed")
     assert _row(cell, program, chosen).mismatches == 0
     counted = edited(program, _passes_as_time)
-    assert "(POLLS * CNV_POLL)" in next(f.text for f in counted.files if f.name.endswith(".src"))
+    assert "(CNV_READS * CNV_POLL)" in next(f.text for f in counted.files if f.name.endswith(".src"))
     row = _row(cell, counted, chosen)
     assert row.mismatches >= 1 and "mm along the belt" in row.first_mismatches[0], row.first_mismatches
 

@@ -71,7 +71,7 @@ def down_fixed_seconds(cell) -> float:
 
 def drift_mm(cell, target) -> float:
     """Intercept: how much sooner than the first stage predicts the part may arrive (mm): the belt's speed change
-    (belt_accel_mm_s2) over the first stage, its speed up to SPEED_READS reads and half a window old and changing on
+    (belt_accel_mm_s2) over the first stage, its speed half its window and a read old and changing on
     over the stage's horizon (the lead, down_fixed_seconds, the descent from z_range_mm's top to its bottom and the
     count's age: its longest), as the timing budget counts it over the lead. The first stage comes down this much
     earlier, so that a belt speeding up does not leave the descent onto the part too late."""
@@ -79,7 +79,7 @@ def drift_mm(cell, target) -> float:
     span = pick.z_range_mm[1] - pick.z_range_mm[0]
     horizon = lead_seconds(cell, target) + down_fixed_seconds(cell) + descent_seconds(cell, target, span)
     horizon += pick.count_latency_s[1]
-    age = SPEED_READS * POLL_S + 0.5 * min(SPEED_WINDOW_S, SPEED_READS * POLL_S)
+    age = POLL_S + 0.5 * SPEED_WINDOW_S  # a speed over the last SPEED_READS reads, taken at the next read
     return pick.belt_accel_mm_s2 * (age * horizon + 0.5 * horizon**2)
 
 
@@ -199,6 +199,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "latency_s": number(pick.mean("count_latency_s"), 6),  # intercept: the count's age, its middle
         "poll_s": number(POLL_S, 3),
         "speed_window_s": number(SPEED_WINDOW_S, 3),
+        "speed_reads": SPEED_READS,  # intercept: the reads the belt's speed is measured over (a ring of them)
         "payload": _payload(cell, target, emitter),
         "blend": blends(cell, target, mode),
         "place_clear": _signal(emitter, pick.place_clear.get(target.name), f"conveyor.pick.place_clear.{target.name}"),

@@ -86,7 +86,9 @@ class BeltCase:
     start: str = "home"
     held: bool = False
     place: str = "clear"
-    latency_s: float = 0.0
+    latency_s: float = 0.0  # the count's age at least (PLC and fieldbus, the arm's start)
+    age_cycle_s: float = 0.0  # the PLC's cycle: the count's age grows by up to this between its copies
+    age_phase_s: float = 0.0
     grip_s: float = 0.0
     stop_s: float = 0.0  # the line's cycle stop not before this (s)
     pulses: tuple = ()  # trigger pulses no part made (a double pulse, a part the PLC dropped): moments (s)
@@ -115,8 +117,17 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     near_wrap = round(span - ahead) if e > 0 else round(ahead)
 
     def timing() -> dict:
-        latency = rng.uniform(*pick.count_latency_s) + rng.uniform(*pick.motion_start_s)
-        return {"latency_s": latency, "grip_s": rng.uniform(*pick.grip_s)}
+        # the count's age runs through count_latency_s as the PLC copies the counter once a cycle (the cycle the
+        # interval's width, the copies at a random phase); the arm's start (motion_start_s) adds a constant
+        low, high = pick.count_latency_s
+        age = rng.uniform(low, high)  # at the run's start
+        latency = low + rng.uniform(*pick.motion_start_s)
+        return {
+            "latency_s": latency,
+            "age_cycle_s": high - low,
+            "age_phase_s": low - age,
+            "grip_s": rng.uniform(*pick.grip_s),
+        }
 
     out = []
     for category, speed, wobble, start in (
@@ -221,6 +232,8 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         wiring=None if not wiring else tuple(wiring),
         unit=unit,
         latency_s=case.latency_s,
+        age_cycle_s=case.age_cycle_s,
+        age_phase_s=case.age_phase_s,
         stop_s=case.stop_s,
         sleep_overhead_s=SLEEP_OVERHEAD_S,
         pulses=case.pulses,
