@@ -149,28 +149,30 @@ MUTATIONS = [
 
 # the intercepting programs (target, edits: (old, new) pairs, says): the lead ignored in the wait for the descent onto
 # the part, the speed never measured again on a varying belt (measured once, at the first stage's start: neither at the
-# second's nor every 8 reads), no unwinding of the counter, the gripper's time left out of the lead
+# second's nor at each read), no unwinding of the counter, the gripper's time left out of the lead
 KUKA_ONCE = (
-    "    V = (Y2 - Y1) * 1000.0 / (T2 - T1) ; mm per ms, as mm/s\n",
-    "    IF STAGE == 1 THEN\n      V = (Y2 - Y1) * 1000.0 / (T2 - T1)\n    ENDIF\n",
+    "    CNV_MEASURE(SEEN, Y, V)\n    ; where the part is now",
+    "    IF STAGE == 1 THEN\n      CNV_MEASURE(SEEN, Y, V)\n    ELSE\n      Y = CNV_Y(SEEN)\n    ENDIF\n"
+    "    ; where the part is now",
 )
 ABB_ONCE = (
-    "      v := (y - y1) / (t2 - t1);\n      ! where the part is now",
-    "      IF stage = 1 THEN\n        v := (y - y1) / (t2 - t1);\n      ENDIF\n      ! where the part is now",
+    "      cnv_measure seen, y, v;\n      ! where the part is now",
+    "      IF stage = 1 THEN\n        cnv_measure seen, y, v;\n      ELSE\n        y := cnv_y(seen);\n      ENDIF\n"
+    "      ! where the part is now",
 )
 INTERCEPT_MUTATIONS = [
     ("kuka", (("      AHEAD = CNV_LEAD\n", "      AHEAD = 0.0\n"),), "gripped"),
     (
         "kuka",
-        (KUKA_ONCE, ("        V = (Y - MARK) * 1000.0 / (T2 - T_MARK) ; over the time the 8 passes took\n", "")),
+        (KUKA_ONCE, ("  V = (Y - CNV_YS[CNV_SLOT]) * 1000.0 / (T - CNV_TS[CNV_SLOT])\n", "")),
         "gripped",
     ),
     ("kuka", (("CNV_UNWIND(CNV_ENC - SEEN)", "(CNV_ENC - SEEN)"),), ""),
     ("abb", (("        ahead := CNV_LEAD;\n", "        ahead := 0;\n"),), "gripped"),
-    ("abb", (ABB_ONCE, ("          v := (y - mark) / (t2 - t_mark);\n", "")), "gripped"),
+    ("abb", (ABB_ONCE, ("    v := (y - cnv_ys{cnv_slot}) / (t - cnv_ts{cnv_slot});\n", "")), "gripped"),
     ("abb", (("cnv_unwind(GInput(giCnvEncoder) - seen)", "(GInput(giCnvEncoder) - seen)"),), ""),
     # the lead without the gripper's 0.05 s to hold the part (grip_s): the part is 3 mm on by then
-    ("abb", (("CNV_LEAD := 0.298000", "CNV_LEAD := 0.198000"),), "gripped"),
+    ("abb", (("CNV_LEAD := 0.306000", "CNV_LEAD := 0.256000"),), "gripped"),
 ]
 
 

@@ -31,8 +31,9 @@ def _row(cell, program, categories: tuple[str, ...]):
 
 
 def test_a_kuka_lin_takes_its_ramps_in_the_clock(cell):
-    """The descent (a LIN of 60 mm at 0.25 m/s, $ACC.CP 2.3 m/s2 set by the program) takes 60 / 250 + 250 / 2300 s in
-    the interpreter's clock: a trapezoid from standstill to standstill, by hand 0.348696 s."""
+    """The descent (a LIN of 62 mm at 0.25 m/s: approach_dz and the suction cup's 2 mm, $ACC.CP 2.3 m/s2 set by the
+    program) takes 62 / 250 + 250 / 2300 s in the interpreter's clock: a trapezoid from standstill to standstill, by
+    hand 0.356696 s."""
     program = first(cell, "kuka", "conveyor").load()
     case = next(c for c in cases(cell) if c.category == "constant_speed")
     trace, _setup = run_case(cell, "kuka", program, replace(case, parts=case.parts[:1]), "conveyor")
@@ -40,22 +41,22 @@ def test_a_kuka_lin_takes_its_ramps_in_the_clock(cell):
     line = next(i for i, text in enumerate(src, 1) if text.strip().startswith("LIN ON_PART"))
     k, descent = next((k, m) for k, m in enumerate(trace.moves) if m.line == line)
     # KRL REALs are 32-bit: 2.3 and 0.25 as they are stored; the descent lands where the part is predicted, a fraction
-    # of a mm along the belt from the point above it: its length a little over 60 mm
+    # of a mm along the belt from the point above it: its length a little over 62 mm
     before = trace.moves[k - 1]
     length = float(np.linalg.norm(descent.tcp2base[:3, 3] - before.tcp2base[:3, 3]))
-    assert 60.0 - 1e-3 < length < 60.01
+    assert 62.0 - 1e-3 < length < 62.01
     assert descent.end_time - descent.start_time == pytest.approx(length / 250.0 + 0.25 / 2.3, abs=1e-6)
     assert "CNV_ACC=2.3" in _dat(first(cell, "kuka", "conveyor"))
 
 
 def test_the_kuka_lead_counts_the_descents_ramps(cell):
-    """The lead is the descent with its ramps (0.24 + 0.25 / 2.3 s), the grip's and the planning time's middles (0.05,
-    0.008): 0.406696 s. With the lead of a descent at constant speed (0.298 s) the gripper meets the part about
-    45 mm/s x 0.109 s = 4.9 mm late at the cell's top belt speed, over its 3 mm capture: verify refuses it."""
+    """The lead is the descent with its ramps (0.248 + 0.25 / 2.3 s), the grip's and the planning time's middles (0.05,
+    0.008): 0.414696 s. With the lead of a descent at constant speed (0.306 s) the gripper meets the part about
+    40 mm/s x 0.109 s = 4.3 mm late at the cell's top belt speed, over its 3 mm capture: verify refuses it."""
     program = first(cell, "kuka", "conveyor")
-    assert "DECL REAL CNV_LEAD=0.406696" in _dat(program)
+    assert "DECL REAL CNV_LEAD=0.414696" in _dat(program)
     assert _row(cell, program, ("fast_belt",)).mismatches == 0
-    old = edited(program, lambda text: text.replace("CNV_LEAD=0.406696", "CNV_LEAD=0.298000"))
+    old = edited(program, lambda text: text.replace("CNV_LEAD=0.414696", "CNV_LEAD=0.306000"))
     row = _row(cell, old, ("fast_belt",))
     assert row.mismatches == 1 and "mm along the belt" in row.first_mismatches[0], row.first_mismatches
 

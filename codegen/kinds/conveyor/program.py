@@ -176,6 +176,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "z_range": [number(v, 4) for v in pick.z_range_mm],
         "grip": emitter.pose(TaughtPose("grip", (0.0, 0.0, 0.0, *pick.tool_orientation), "xyzabc")),
         "approach_dz": number(pick.approach_dz, 4),
+        "overtravel": number(pick.overtravel_mm, 4),
         "place": emitter.pose(pick.place),
         "place_above": emitter.pose(TaughtPose("place_above", _xyzabc(above), "xyzabc")),
         "safe": [number(v, 4) for v in safe_belt(cell)],

@@ -24,10 +24,11 @@ def path_acc_mm_s2(target) -> float | None:
 
 
 def descent_seconds(cell, target, distance: float | None = None) -> float:
-    """The straight descent of approach_dz (or distance, mm) at the work speed from standstill to standstill: with
-    the program's path acceleration a, d / v + v / a (a trapezoid: the ramps up and down add v / a), or 2 sqrt(d / a)
-    where the descent is too short to reach v (a triangle); without one, d / v."""
-    d = conveyor_of(cell).pick.approach_dz if distance is None else distance
+    """The straight descent of approach_dz and overtravel_mm onto the part (or distance, mm) at the work speed from
+    standstill to standstill: with the program's path acceleration a, d / v + v / a (a trapezoid: the ramps up and down
+    add v / a), or 2 sqrt(d / a) where the descent is too short to reach v (a triangle); without one, d / v."""
+    pick = conveyor_of(cell).pick
+    d = pick.approach_dz + pick.overtravel_mm if distance is None else distance
     v, a = cell.motion.work_speed_mm_s, path_acc_mm_s2(target)
     if a is None:
         return d / v

@@ -310,6 +310,7 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         return Judgement([], problem=moves)
     zone = belt_zone(cell, target_name, trace)  # the belt zone's output over the moves low on the belt, once they fit
     problem = zone or lifted_early(cell, trace, closes, setup.devices[1])
+    problem = problem or released_early(trace, opens, setup.devices[1])
     if problem is not None:
         return Judgement([], problem=problem)
     skipped = sum(1 for m in trace.messages if m.startswith(SKIPS))
@@ -330,6 +331,21 @@ def lifted_early(cell, trace, closes: list, gripper: Gripper) -> str | None:
         if held is None or lift.start_time < held - 1e-6:
             when = "never" if held is None else f"at {held:.3f} s"
             return f"grip {number}: the arm set off at {lift.start_time:.3f} s, the gripper held the part {when}"
+    return None
+
+
+def released_early(trace, opens: list, gripper: Gripper) -> str | None:
+    """Each release's next move (the lift from the place) sets off only once the gripper has let go of the part (its
+    feedback off after the output, as the simulated gripper answers: grip_s later): a program that lifts on the output
+    alone carries the part, still held by the vacuum, off the place."""
+    for number, open_ in enumerate(opens, start=1):
+        if open_.after_moves >= len(trace.moves):
+            continue
+        let_go = next((t for t, on in gripper.changes if not on and t >= open_.time - 1e-9), None)
+        lift = trace.moves[open_.after_moves]
+        if let_go is None or lift.start_time < let_go - 1e-6:
+            when = "never" if let_go is None else f"at {let_go:.3f} s"
+            return f"release {number}: the arm set off at {lift.start_time:.3f} s, the gripper let go {when}"
     return None
 
 
