@@ -99,14 +99,16 @@ def part_pose(belt2base: np.ndarray, belt: Belt, part: Part, camera_y: float, t:
 class RobotEncoder:
     """The controller's own encoder input on the same belt: the same counts from another zero (it was
     enabled at another moment than the PLC's counter), counted backwards where the program takes the wiring's A
-    as B (sign -1), not at all where it reads inputs the encoder is not wired to (sign 0)."""
+    as B (sign -1), not at all where it reads inputs the encoder is not wired to (sign 0); scale: its counts per count
+    of the PLC's (a decoder counting other edges)."""
 
     belt: Belt
     zero: int
     sign: int = 1
+    scale: float = 1.0  # its counts per count of the PLC's counter (1: the same edges decoded)
 
     def unwrapped_count(self, t: float) -> int:
-        return self.sign * self.belt.unwrapped_count(t) + self.zero
+        return self.sign * round(self.scale * self.belt.unwrapped_count(t)) + self.zero
 
 
 @dataclass(frozen=True)
@@ -248,6 +250,8 @@ class BeltLine:
     bus: object
     encoder_index: int = 0
     robot_zero: int = 0  # where the controller's own encoder counts from, against the PLC's counter
+    robot_scale: float = 1.0  # the controller's own encoder's counts per count of the PLC's counter
+    unlatched: frozenset = frozenset()  # the parts whose trigger pulse the controller's input missed (numbers)
     wiring: tuple[int, int] | None = None  # the inputs the encoder's A and B are wired to (None: as the program says)
     taken: dict = field(default_factory=dict)
     unit: TrackingUnit | None = None  # the belt as the controller's mechanical unit (its tracking option)
@@ -272,9 +276,9 @@ class BeltLine:
         if index != self.encoder_index:
             return None
         if self.wiring is None or (a, b) == tuple(self.wiring):
-            return RobotEncoder(self.belt, self.robot_zero)
+            return RobotEncoder(self.belt, self.robot_zero, 1, self.robot_scale)
         if (b, a) == tuple(self.wiring):
-            return RobotEncoder(self.belt, self.robot_zero, -1)
+            return RobotEncoder(self.belt, self.robot_zero, -1, self.robot_scale)
         return RobotEncoder(self.belt, self.robot_zero, 0)
 
     def mechanical_unit(self, name: str) -> TrackingUnit | None:
@@ -283,7 +287,7 @@ class BeltLine:
 
     def live(self, name: str, t: float):
         if name == self.trigger:  # on for TRIGGER_S from each part's moment at the camera's line
-            moments = [*(part.seen_s for part in self.parts), *self.pulses]
+            moments = [*(part.seen_s for part in self.parts if part.seq not in self.unlatched), *self.pulses]
             return any(seen <= t < seen + TRIGGER_S for seen in moments)
         return self.bus.live(self.belt, name, max(0.0, t - self.age_s(t)))
 

@@ -42,6 +42,10 @@ NOT_HELD = "conveyor: the gripper did not hold it, skipped: part "  # ABB native
 NOT_OPENED = "conveyor: the gripper did not release the part it failed to grip"  # its stop, once off the belt
 # ABB native: the unit's queue and the PLC's disagree (no object for the part, or another part's): its stop
 OUT_OF_STEP = "conveyor: the unit's queue is out of step with the PLC's: empty both, restart"
+# UR: the robot's own latched count and the PLC's queue disagree (no latch within PAIR_MM of a part seen since the
+# start, or the two counts apart by more than that once the part reaches the window: a trigger the robot missed, its
+# decoder counting another scale than the PLC's counter the belt was calibrated with): its stop
+MISMATCH = "conveyor: the robot's encoder and the PLC's count disagree: check the trigger and the scale"
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 MASS_DECIMALS = 3
 
@@ -214,6 +218,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "put_down": emitter.string(PUT_DOWN),
         "too_close": emitter.string(TOO_CLOSE),
         "early": emitter.string(EARLY),
+        "mismatch": emitter.string(MISMATCH),
         "pair_mm": number(PAIR_MM, 1),
         "wrap_m": number(2**15 / abs(e) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
         "lost": emitter.string(LOST),

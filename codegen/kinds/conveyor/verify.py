@@ -16,7 +16,7 @@ from codegen.kinds.conveyor.judge import SKIPS, belt_zone, left_low
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.kind import KIND
-from codegen.kinds.conveyor.program import BAD_READING, OUT_OF_STEP, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.program import BAD_READING, MISMATCH, OUT_OF_STEP, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, grip_pose, start_joints
 from codegen.model.io import signal_name
@@ -66,6 +66,9 @@ STRAY_AHEAD_MM = 60.0
 DOUBLE_S = 0.02
 SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
 OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
+# the robot's own latch against the PLC's queue (a target that latches its encoder at the camera's trigger): its decoder
+# counting half the PLC's counts (the belt calibrated with the PLC's), a trigger pulse its input missed
+MISMATCH_CASES = {"latch_scale": "the wait above the window", "trigger_missed": "before the arm moves"}
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
 # late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
@@ -82,6 +85,8 @@ class BeltCase:
     belt: Belt
     parts: tuple[Part, ...]
     robot_zero: int = 0  # the controller's own encoder against the PLC's counter
+    robot_scale: float = 1.0  # the controller's own encoder's counts per count of the PLC's counter
+    unlatched: frozenset = frozenset()  # the parts whose trigger pulse the controller's own input missed (numbers)
     gripper: str = "prompt"
     start: str = "home"
     held: bool = False
@@ -201,6 +206,9 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     # queue picks it
     early = replace(one.parts[0], seen_s=-SEEN_BEFORE_S)
     scenarios.append(replace(one, category="seen_before_start", belt=slow, parts=(early,)))
+    if pick.trigger_input:  # the robot's own count and the PLC's disagree: a stop with its message, no grip
+        scenarios.append(replace(one, category="latch_scale", belt=slow, robot_scale=0.5))
+        scenarios.append(replace(one, category="trigger_missed", belt=slow, unlatched=frozenset({1})))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
@@ -229,6 +237,8 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         list(case.parts),
         bus_for(target, KIND.facts(target)),
         robot_zero=case.robot_zero,
+        robot_scale=case.robot_scale,
+        unlatched=case.unlatched,
         wiring=None if not wiring else tuple(wiring),
         unit=unit,
         latency_s=case.latency_s,
@@ -298,6 +308,15 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         wait = grip_pose(cell, case.parts[0].x, pick.window_mm[0], pick.z_range_mm[1] + pick.approach_dz)
         moves = (*first, plan.planned(plan.PICK[mode][0], cell, target, mode, pose=wait))
         return Judgement([Expectation(emitter.string(OUT_OF_STEP), moves, start_outputs, output_names=names)])
+    if case.category in MISMATCH_CASES and target_name in conveyor_of(cell).pick.trigger_input:
+        # the robot's own count and the PLC's disagree: a stop with its message, once the part reaches the window (the
+        # arm above the window's start, across from it) or, a part without a latch of its own, before the arm moves
+        pick = conveyor_of(cell).pick
+        wait = grip_pose(cell, case.parts[0].x, pick.window_mm[0], pick.z_range_mm[1] + pick.approach_dz)
+        moves = tuple(first)
+        if case.category == "latch_scale":
+            moves = (*first, plan.planned(plan.PICK[mode][0], cell, target, mode, pose=wait))
+        return Judgement([Expectation(emitter.string(MISMATCH), moves, start_outputs, output_names=names)])
     problem = waits(cell, case, trace)
     if problem is not None:
         return Judgement([], problem=problem)
