@@ -4,6 +4,7 @@ the part, the line's cycle stop in the wait for a part, the intercept's speed ov
 from __future__ import annotations
 
 from dataclasses import replace
+from itertools import pairwise
 from pathlib import Path
 
 import pytest
@@ -193,3 +194,20 @@ def test_a_latch_and_plc_mismatch_is_said_as_such_on_ur(cell, category, pair):
     assert run_cases(cell, replace(program, row=0), chosen, 2_000_000, False).mismatches == 0
     row = run_cases(cell, replace(mutant, row=0), chosen, 2_000_000, False)
     assert row.mismatches == 1, row.first_mismatches
+
+
+def test_the_counters_wrap_with_parts_queued(cell):
+    """Four parts 2 s apart on the belt whose 16-bit counter wraps about 9.7 s in: the later ones seen before the wrap
+    and taken after it, while the arm works on the first. Every target picks or skips each for a reason verify takes
+    (measured: UR 1 picked and 3 skipped past the window's end, KUKA 1 and 3, ABB 2 and 2); KUKA without unwinding the
+    count's difference never finds the part in the window."""
+    chosen = [c for c in cases(cell) if c.category == "rollover_queued"]
+    belt = chosen[0].belt
+    seen = [belt.count(p.seen_s) for p in chosen[0].parts]
+    assert all(a > b for a, b in pairwise(seen)) and belt.count(12.0) > seen[0]  # wrapped by 12 s
+    for target in ("ur", "kuka", "abb"):
+        row = run_cases(cell, replace(first(cell, target, "conveyor"), row=0), chosen, 2_000_000, False)
+        assert row.mismatches == 0 and row.figures.picked >= 1, (target, row.first_mismatches)
+    pair = ("CNV_UNWIND(CNV_ENC - SEEN)", "(CNV_ENC - SEEN)")
+    _program, mutant = _mutant(cell, "kuka", pair, "no_unwind")
+    assert run_cases(cell, replace(mutant, row=0), chosen, 2_000_000, False).mismatches == 1

@@ -64,6 +64,7 @@ SLEEP_OVERHEAD_S = 0.002
 STRAY_AT_S = 4.0
 STRAY_AHEAD_MM = 60.0
 DOUBLE_S = 0.02
+QUEUED_S = 2.0  # the rollover_queued case: its parts this far apart (s)
 SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
 OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 # the robot's own latch against the PLC's queue (a target that latches its encoder at the camera's trigger): its decoder
@@ -209,6 +210,12 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     if pick.trigger_input:  # the robot's own count and the PLC's disagree: a stop with its message, no grip
         scenarios.append(replace(one, category="latch_scale", belt=slow, robot_scale=0.5))
         scenarios.append(replace(one, category="trigger_missed", belt=slow, unlatched=frozenset({1})))
+    # the counter's wrap with parts queued: on the rollover belt four parts QUEUED_S apart, the later ones seen before
+    # the counter wraps and taken after it (the arm busy with the first): each picked or given up for a reason verify
+    # takes
+    rollover = next(c for c in out if c.category == "rollover")
+    queued = tuple(_random_part(rng, pick, seq, 0.5 + QUEUED_S * (seq - 1)) for seq in range(1, 5))
+    out.append(replace(rollover, category="rollover_queued", parts=queued))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
