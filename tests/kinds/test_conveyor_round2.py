@@ -211,3 +211,27 @@ def test_the_counters_wrap_with_parts_queued(cell):
     pair = ("CNV_UNWIND(CNV_ENC - SEEN)", "(CNV_ENC - SEEN)")
     _program, mutant = _mutant(cell, "kuka", pair, "no_unwind")
     assert run_cases(cell, replace(mutant, row=0), chosen, 2_000_000, False).mismatches == 1
+
+
+@pytest.mark.parametrize(
+    ("target", "pair"),
+    [("kuka", ("CNV_LEAD=0.514696", "CNV_LEAD=0.364696")), ("abb", ("CNV_LEAD := 0.406000", "CNV_LEAD := 0.256000"))],
+)
+def test_a_lead_without_a_slow_grippers_hold_fails_verify(tmp_path, target, pair):
+    """A gripper that holds 145-155 ms after its output (capture 5 mm): each intercept's lead counts its 0.15 s; a lead
+    without it meets the part 6 mm late at 40 mm/s (the bundled gripper's 0.05 s, 2 mm, stays within its capture)."""
+    text = CELL.read_text().replace('abb = "native" }', 'abb = "intercept" }')
+    for old, new in (
+        ("grip_s = [0.045, 0.055]", "grip_s = [0.145, 0.155]"),
+        ("capture_mm = 3.0 ", "capture_mm = 5.0 "),
+    ):
+        assert old in text, old
+        text = text.replace(old, new)
+    path = tmp_path / "belt_pick.toml"
+    path.write_text(text)
+    cell = load_cell(path)
+    program, mutant = _mutant(cell, target, pair, "no_grip_in_lead")
+    row = verify_one(cell, program, first_mismatch=True, scenarios=frozenset({"nominal"}), clearance=False)
+    assert row.mismatches == 0, row.first_mismatches
+    row = verify_one(cell, mutant, first_mismatch=True, scenarios=frozenset({"nominal"}), clearance=False)
+    assert row.mismatches > 0 and any("gripped" in m for m in row.first_mismatches), row.first_mismatches
