@@ -182,8 +182,10 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     for seq, t in {**skipped, **too_late, **lost}.items():  # given up after the arm moved for it: it was in the window
         read = line.taken.get(seq)
         moved = read is not None and any(read < m.end_time <= t for m in trace.moves)
-        if moved and counted_y(cell, case, parts[seq], read) > end + one_count:  # it was gone already when read
-            y = counted_y(cell, case, parts[seq], read)
+        # it was gone already by the count the program read (as old as the PLC's copy was then)
+        counted = read if read is None else read - line.age_s(read)
+        if moved and counted_y(cell, case, parts[seq], counted) > end + one_count:
+            y = counted_y(cell, case, parts[seq], counted)
             return f"part {seq} was past the window's end when read ({y:.1f} mm), yet the arm moved for it", 0, 0
     fastest = case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
     for seq, t in too_late.items():  # already too close to the intercept point to come down onto it in time
