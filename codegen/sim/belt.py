@@ -99,14 +99,16 @@ def part_pose(belt2base: np.ndarray, belt: Belt, part: Part, camera_y: float, t:
 class RobotEncoder:
     """The controller's own encoder input on the same belt: the same counts from another zero (it was
     enabled at another moment than the PLC's counter), counted backwards where the program takes the wiring's A
-    as B (sign -1), not at all where it reads inputs the encoder is not wired to (sign 0)."""
+    as B (sign -1), not at all where it reads inputs the encoder is not wired to (sign 0); scale: its counts per count
+    of the PLC's (a decoder counting other edges)."""
 
     belt: Belt
     zero: int
     sign: int = 1
+    scale: float = 1.0  # its counts per count of the PLC's counter (1: the same edges decoded)
 
     def unwrapped_count(self, t: float) -> int:
-        return self.sign * self.belt.unwrapped_count(t) + self.zero
+        return self.sign * round(self.scale * self.belt.unwrapped_count(t)) + self.zero
 
 
 @dataclass(frozen=True)
@@ -248,10 +250,16 @@ class BeltLine:
     bus: object
     encoder_index: int = 0
     robot_zero: int = 0  # where the controller's own encoder counts from, against the PLC's counter
+    robot_scale: float = 1.0  # the controller's own encoder's counts per count of the PLC's counter
+    unlatched: frozenset = frozenset()  # the parts whose trigger pulse the controller's input missed (numbers)
     wiring: tuple[int, int] | None = None  # the inputs the encoder's A and B are wired to (None: as the program says)
     taken: dict = field(default_factory=dict)
     unit: TrackingUnit | None = None  # the belt as the controller's mechanical unit (its tracking option)
-    latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus)
+    latency_s: float = 0.0  # how old the counter's count is when the program reads it (PLC and fieldbus), at least
+    # the PLC copies the counter's count once a cycle of age_cycle_s (at age_phase_s + k cycles): between its copies the
+    # count the program reads grows older, by up to a cycle more than latency_s (0: a count always latency_s old)
+    age_cycle_s: float = 0.0
+    age_phase_s: float = 0.0
     trigger: str | None = None  # the controller's input the camera's trigger is wired to (a pulse per part)
     stop_s: float = 0.0  # the line's cycle stop not before this (s): with no part to come, the program waits till then
     # the controller beside the belt: each sleep of the program (a pass of a polling loop) ends this much later than it
@@ -268,9 +276,9 @@ class BeltLine:
         if index != self.encoder_index:
             return None
         if self.wiring is None or (a, b) == tuple(self.wiring):
-            return RobotEncoder(self.belt, self.robot_zero)
+            return RobotEncoder(self.belt, self.robot_zero, 1, self.robot_scale)
         if (b, a) == tuple(self.wiring):
-            return RobotEncoder(self.belt, self.robot_zero, -1)
+            return RobotEncoder(self.belt, self.robot_zero, -1, self.robot_scale)
         return RobotEncoder(self.belt, self.robot_zero, 0)
 
     def mechanical_unit(self, name: str) -> TrackingUnit | None:
@@ -279,9 +287,15 @@ class BeltLine:
 
     def live(self, name: str, t: float):
         if name == self.trigger:  # on for TRIGGER_S from each part's moment at the camera's line
-            moments = [*(part.seen_s for part in self.parts), *self.pulses]
+            moments = [*(part.seen_s for part in self.parts if part.seq not in self.unlatched), *self.pulses]
             return any(seen <= t < seen + TRIGGER_S for seen in moments)
-        return self.bus.live(self.belt, name, max(0.0, t - self.latency_s))
+        return self.bus.live(self.belt, name, max(0.0, t - self.age_s(t)))
+
+    def age_s(self, t: float) -> float:
+        """How old what the program reads from the PLC at t is: latency_s, and the time since the PLC's last copy."""
+        if self.age_cycle_s <= 0.0:
+            return self.latency_s
+        return self.latency_s + (t - self.latency_s - self.age_phase_s) % self.age_cycle_s
 
     def _flush(self, machine) -> None:
         """The unit's queue emptied at each rise of its remove_all output the program set since the last look."""

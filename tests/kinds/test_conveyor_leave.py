@@ -46,7 +46,7 @@ LOW = [
         "abb intercept",
         [
             (
-                "cnv_let_go();\n      " + ABB_BACK_UP,
+                "cnv_let_go();\n      " + ABB_BACK_UP.replace("CNV_INTERCEPT", "y"),
                 "cnv_let_go();\n      MoveL above, cnv_work, fine, cnv_tool \\WObj:=cnv_wobj;\n",
             )
         ],

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 from support.programs import edited, first, run_case
 
@@ -30,49 +31,54 @@ def _row(cell, program, categories: tuple[str, ...]):
 
 
 def test_a_kuka_lin_takes_its_ramps_in_the_clock(cell):
-    """The descent (a LIN of 60 mm at 0.25 m/s, $ACC.CP 2.3 m/s2 set by the program) takes 60 / 250 + 250 / 2300 s in
-    the interpreter's clock: a trapezoid from standstill to standstill, by hand 0.348696 s."""
+    """The descent (a LIN of 62 mm at 0.25 m/s: approach_dz and the suction cup's 2 mm, $ACC.CP 2.3 m/s2 set by the
+    program) takes 62 / 250 + 250 / 2300 s in the interpreter's clock: a trapezoid from standstill to standstill, by
+    hand 0.356696 s."""
     program = first(cell, "kuka", "conveyor").load()
     case = next(c for c in cases(cell) if c.category == "constant_speed")
     trace, _setup = run_case(cell, "kuka", program, replace(case, parts=case.parts[:1]), "conveyor")
     src = next(f.text for f in first(cell, "kuka", "conveyor").files if f.name.endswith(".src")).splitlines()
     line = next(i for i, text in enumerate(src, 1) if text.strip().startswith("LIN ON_PART"))
-    descent = next(m for m in trace.moves if m.line == line)
-    # KRL REALs are 32-bit: 2.3 and 0.25 as they are stored
-    assert descent.end_time - descent.start_time == pytest.approx(0.24 + 0.25 / 2.3, abs=1e-6)
+    k, descent = next((k, m) for k, m in enumerate(trace.moves) if m.line == line)
+    # KRL REALs are 32-bit: 2.3 and 0.25 as they are stored; the descent lands where the part is predicted, a fraction
+    # of a mm along the belt from the point above it: its length a little over 62 mm
+    before = trace.moves[k - 1]
+    length = float(np.linalg.norm(descent.tcp2base[:3, 3] - before.tcp2base[:3, 3]))
+    assert 62.0 - 1e-3 < length < 62.01
+    assert descent.end_time - descent.start_time == pytest.approx(length / 250.0 + 0.25 / 2.3, abs=1e-6)
     assert "CNV_ACC=2.3" in _dat(first(cell, "kuka", "conveyor"))
 
 
 def test_the_kuka_lead_counts_the_descents_ramps(cell):
-    """The lead is the descent with its ramps (0.24 + 0.25 / 2.3 s), the grip's and the planning time's middles (0.05,
-    0.008): 0.406696 s. With the lead of a descent at constant speed (0.298 s) the gripper meets the part about
-    45 mm/s x 0.109 s = 4.9 mm late at the cell's top belt speed, over its 3 mm capture: verify refuses it."""
+    """The lead is the descent with its ramps (0.248 + 0.25 / 2.3 s), the grip's and the planning time's middles (0.05,
+    0.008): 0.414696 s. With the lead of a descent at constant speed (0.306 s) the gripper meets the part about
+    40 mm/s x 0.109 s = 4.3 mm late at the cell's top belt speed, over its 3 mm capture: verify refuses it."""
     program = first(cell, "kuka", "conveyor")
-    assert "DECL REAL CNV_LEAD=0.406696" in _dat(program)
+    assert "DECL REAL CNV_LEAD=0.414696" in _dat(program)
     assert _row(cell, program, ("fast_belt",)).mismatches == 0
-    old = edited(program, lambda text: text.replace("CNV_LEAD=0.406696", "CNV_LEAD=0.298000"))
+    old = edited(program, lambda text: text.replace("CNV_LEAD=0.414696", "CNV_LEAD=0.306000"))
     row = _row(cell, old, ("fast_belt",))
     assert row.mismatches == 1 and "mm along the belt" in row.first_mismatches[0], row.first_mismatches
 
 
 def _passes_as_time(text: str) -> str:
     """The KUKA program timing the belt by its loop's passes counted as exact WAIT SECs (no timer)."""
-    out = text.replace("V = (Y2 - Y1) * 1000.0 / (T2 - T1)", "V = (Y2 - Y1) / 0.100")
-    out = out.replace("V = (Y - Y1) * 1000.0 / (T2 - T1)", "V = (Y - Y1) / 0.100")
-    return out.replace("V = (Y - MARK) * 1000.0 / (T2 - T_MARK)", "V = (Y - MARK) / (POLLS * CNV_POLL)")
+    out = text.replace("V = (Y - Y1) * 1000.0 / (T2 - T1)", "V = (Y - Y1) / 0.288")
+    old = "V = (Y - CNV_YS[CNV_SLOT]) * 1000.0 / (T - CNV_TS[CNV_SLOT])"
+    return out.replace(old, "V = (Y - CNV_YS[CNV_SLOT]) / (CNV_READS * CNV_POLL)")
 
 
 def test_the_kuka_program_times_the_belts_speed_with_its_timer(cell):
     """Each pass of the program's loop takes 2 ms more than its WAIT SEC in verify (the pass's statements): the program
-    divides the belt's travel by the time $TIMER[1] measured and meets every part; one that counts 8 passes as 8 x 12 ms
-    overrates the speed by a sixth and comes down early."""
+    divides the belt's travel by the time $TIMER[1] measured and meets every part; one that counts 24 passes as 24 x 12
+    ms overrates the speed by a sixth and comes down early."""
     program = first(cell, "kuka", "conveyor")
     src = next(f.text for f in program.files if f.name.endswith(".src"))
-    assert src.count("$TIMER[1]") >= 5 and "(T2 - T_MARK)" in src
+    assert src.count("$TIMER[1]") >= 5 and "(T - CNV_TS[CNV_SLOT])" in src
     chosen = ("constant_speed", "fast_belt", "varying_speed")
     assert _row(cell, program, chosen).mismatches == 0
     counted = edited(program, _passes_as_time)
-    assert "(POLLS * CNV_POLL)" in next(f.text for f in counted.files if f.name.endswith(".src"))
+    assert "(CNV_READS * CNV_POLL)" in next(f.text for f in counted.files if f.name.endswith(".src"))
     row = _row(cell, counted, chosen)
     assert row.mismatches >= 1 and "mm along the belt" in row.first_mismatches[0], row.first_mismatches
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from codegen.controllers import get_target
 from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.section import conveyor_of
-from codegen.kinds.conveyor.timing import POLL_S, SPEED_READS, SPEED_WINDOW_S, lead_seconds
+from codegen.kinds.conveyor.timing import POLL_S, SPEED_WINDOW_S, lead_seconds
 
 
 @dataclass(frozen=True)
@@ -23,8 +23,9 @@ class Term:
 
 
 def terms(cell, target: str) -> list[Term]:
-    """The intercepting program's errors on a target where the gripper meets the part (mm, at a belt speed v):
-    - it reads the encoder every POLL_S: it starts down up to one read late (v POLL_S);
+    """The intercepting program's errors on a target where the gripper meets the part (mm, at a belt speed v). It
+    starts down at the read of the encoder that finds the part due and lands where that read predicts the part to be
+    (the read's place, its age and the lead at the speed measured): the reads' spacing adds no error of its own.
     - the count's age through the PLC and the fieldbus (count_latency_s): the program adds its middle; half
       its spread remains (v spread / 2); the arm's start after the move instruction (motion_start_s) and the
       gripper's time to hold (grip_s) likewise, their middles in the lead;
@@ -33,11 +34,13 @@ def terms(cell, target: str) -> list[Term]:
     - the count's resolution: a read in whole counts (1 / |E|);
     - the speed estimate: a difference of two reads in whole counts over the estimate's window (at most one
       count over SPEED_READS reads), over the horizon it predicts (the lead and the count's age);
-    - the belt's speed change (belt_accel_mm_s2): the estimate is half its window old when the arm starts
+    - the speed estimate: its two reads of different age (each count_latency_s old, anywhere in it: their ages differ
+      by up to its spread), the time between them off by that much (v horizon spread / window);
+    - the belt's speed change (belt_accel_mm_s2): the estimate is half its window and a read old when the arm starts
       down, and the speed goes on changing over the lead (a (window / 2 + read) horizon + a horizon^2 / 2)."""
     pick, e = conveyor_of(cell).pick, abs(conveyor_of(cell).counts_per_mm)
     horizon = lead_seconds(cell, get_target(target)) + pick.mean("count_latency_s")
-    window = min(SPEED_WINDOW_S, SPEED_READS * POLL_S)
+    window = SPEED_WINDOW_S
     a = pick.belt_accel_mm_s2
 
     def spread(key: str) -> float:
@@ -46,14 +49,15 @@ def terms(cell, target: str) -> list[Term]:
 
     # a time measured with a timer in whole units (the speed over the window's measured time): off by one unit
     unit = KIND.facts(get_target(target)).get("timer_s", 0.0)
+    ages = 2.0 * spread("count_latency_s")
     return [
-        Term(f"the encoder read every {POLL_S:g} s", POLL_S),
         Term(f"the speed's time measured in whole {unit:g} s over {window:g} s", horizon * unit / window),
         Term(f"the count's age {_span(pick.count_latency_s)} s (PLC and fieldbus)", spread("count_latency_s")),
         Term(f"the arm's start {_span(pick.motion_start_s)} s after the move", spread("motion_start_s")),
         Term(f"the gripper's hold {_span(pick.grip_s)} s", spread("grip_s")),
         Term("the count's resolution", 0.0, 1.0 / e),
         Term(f"the speed measured in whole counts over {window:g} s", 0.0, horizon / (e * window)),
+        Term(f"the speed from two reads up to {ages:g} s apart in age over {window:g} s", horizon * ages / window),
         Term(
             f"the belt's speed change ({a:g} mm/s2) over the lead",
             0.0,

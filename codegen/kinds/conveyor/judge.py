@@ -126,13 +126,17 @@ class _Judge:
             return f"{what} (line {move.line}): {height:.4f} mm above the belt, not {want:g} (the tallest part's)"
         return None
 
+    def gripped(self, part, t: float) -> np.ndarray:
+        """Where the gripper grips the part at t: overtravel_mm below its top (the suction cup pressed on)."""
+        return self.part_at(part, t, -self.pick.overtravel_mm)
+
     def beside(self, move, part, dz: float, anchor) -> np.ndarray:
-        """Where a move to dz above the part should end: with tracking relative to the belt at the move's
-        end; an intercept above the place it meets the part (anchor: the grip's pose)."""
+        """Where a move to dz above the part's top should end: with tracking relative to the belt at the move's
+        end; an intercept above the place it meets the part (anchor: the grip's pose, overtravel_mm below the top)."""
         if self.tracking:
             return self.part_at(part, move.end_time, dz)
         out = anchor.copy()
-        out[:3, 3] += dz * self.frame[:3, 2]
+        out[:3, 3] += (dz + self.pick.overtravel_mm) * self.frame[:3, 2]
         return out
 
 
@@ -140,9 +144,10 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     """Every part taken once and in order; a part is skipped exactly when, as the program counted it at
     the skip's message, it was past the window's end (or, too late, within the descent's travel of the
     intercept point at the belt's fastest); each picked part is gripped where it really is at that
-    moment (float64: the belt's travel since the camera saw it), inside the window, after a straight
-    descent of approach_dz along the belt's normal and before a straight lift that puts the held part's bottom at the
-    clear height (Pick.lift_dz); each is put down at the place; the program ends at the line's stop."""
+    moment (float64: the belt's travel since the camera saw it; overtravel_mm below its top), inside the window,
+    after a straight descent of approach_dz and overtravel_mm along the belt's normal and before a straight lift that
+    puts the held part's bottom at the clear height (Pick.lift_dz); each is put down at the place; the program ends at
+    the line's stop."""
     j = _Judge(cell, target_name, case)
     pick, end = j.pick, j.pick.window_mm[1]
     one_count = 1.0 / abs(conveyor_of(cell).counts_per_mm)
@@ -177,8 +182,10 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
     for seq, t in {**skipped, **too_late, **lost}.items():  # given up after the arm moved for it: it was in the window
         read = line.taken.get(seq)
         moved = read is not None and any(read < m.end_time <= t for m in trace.moves)
-        if moved and counted_y(cell, case, parts[seq], read) > end + one_count:  # it was gone already when read
-            y = counted_y(cell, case, parts[seq], read)
+        # it was gone already by the count the program read (as old as the PLC's copy was then)
+        counted = read if read is None else read - line.age_s(read)
+        if moved and counted_y(cell, case, parts[seq], counted) > end + one_count:
+            y = counted_y(cell, case, parts[seq], counted)
             return f"part {seq} was past the window's end when read ({y:.1f} mm), yet the arm moved for it", 0, 0
     fastest = case.belt.speed_mm_s * (1.0 + abs(case.belt.wobble))
     for seq, t in too_late.items():  # already too close to the intercept point to come down onto it in time
@@ -210,7 +217,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
         y = part_y(case.belt, part, j.camera_y, close.time + hold)
         if not pick.window_mm[0] - j.along <= y <= end + j.along:
             return f"part {part.seq} gripped at y {y:.2f} mm, outside the window", j.worst_pos, j.worst_rot
-        held = j.part_at(part, close.time + hold)
+        held = j.gripped(part, close.time + hold)
         problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, held)
         k = close.after_moves  # the moves commanded before the grip
         if problem is None and (k < GRIP[j.mode] or k >= len(trace.moves)):
@@ -284,7 +291,7 @@ def not_held(cell, target_name: str, case, trace, output: str, first: int) -> tu
     if release.after_moves != k or k < first + GRIP[j.mode] or k >= len(trace.moves):
         return f"the grip after move {k}, the release after move {release.after_moves}: not both on the part", 0, 0
     hold = 0.0 if j.tracking else case.grip_s
-    problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, j.part_at(part, close.time + hold))
+    problem = j.off(f"part {part.seq} gripped (line {close.line})", close.tcp2base, j.gripped(part, close.time + hold))
     down, lift = trace.moves[k - 1], trace.moves[k]
     if problem is None and (down.kind != "linear" or lift.kind != "linear"):
         problem = f"part {part.seq}: the descent and the lift off the part must be straight moves"

@@ -84,6 +84,15 @@ PICK = Table(
             high=1000.0,
             default=60.0,
         ),
+        "overtravel_mm": Key(
+            "number",
+            "the gripper comes down this far past the part's top (a suction cup pressed on, its lip compressed: the "
+            "seal holds on a part a little lower or tilted)",
+            unit="mm",
+            low=0.0,
+            high=20.0,
+            default=2.0,
+        ),
         "place": Key(
             "pose",
             "where the parts go, base frame, in the cell's pose format",

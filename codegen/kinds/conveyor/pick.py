@@ -24,7 +24,8 @@ class Pick:
     tracking: per target, how it follows the belt; encoder_inputs: per target, the encoder's A and B
     inputs; trigger_input: per target, the robot's input the camera's trigger is wired to (a native UR
     program latches its own encoder there); part_mass_kg, part_cog_mm: the part (its centre of gravity in the
-    tool frame), the payload while the gripper holds it; place_clear: per target, the input that says the
+    tool frame), the payload while the gripper holds it; overtravel_mm: the gripper comes down this far past the part's
+    top at the grip (a suction cup pressed on); place_clear: per target, the input that says the
     place is free (none: the program does not ask), waited for place_timeout_s; zone_output: per target, the output
     on while the arm is over the belt below the clear height (the PLC stops the belt when the robot stops then);
     min_gap_mm: how close a part may follow the one before and still be picked (ABB native: the unit's Sync
@@ -41,6 +42,7 @@ class Pick:
     tracking: dict
     encoder_inputs: dict
     intercept_mm: float = 0.0  # intercept: where along the belt the gripper meets the part
+    overtravel_mm: float = 2.0  # the gripper comes down this far past the part's top (a suction cup pressed on)
     capture_mm: float = 3.0  # intercept: how far off the gripper may meet the part and still hold it
     grip_s: tuple[float, float] = (0.0, 0.0)  # from the gripper's output to its hold on the part (least, most)
     belt_speed_max_mm_s: float = 200.0  # the fastest the belt runs: how far a tracking arm may follow past the end
@@ -133,6 +135,8 @@ def parse_pick(ctx, loader: Loader, table, targets) -> Pick:
         ctx.fail(f"{path}.intercept_mm", "must lie in the window")
     for key in ("grip_s", "count_latency_s", "motion_start_s"):
         values[key] = _seconds(ctx, values[key], f"{path}.{key}")
+    if values["overtravel_mm"] >= values["approach_dz"]:
+        ctx.fail(f"{path}.overtravel_mm", f"must be less than approach_dz ({values['approach_dz']:g} mm)")
     if values["min_gap_mm"] > window[1] - window[0]:
         ctx.fail(f"{path}.min_gap_mm", f"must be in [0, {window[1] - window[0]:g}] mm (the window's width)")
     tracked = Loader(ctx, loader.pose_format, tuple(tracking))  # a signal per tracking target

@@ -42,6 +42,10 @@ NOT_HELD = "conveyor: the gripper did not hold it, skipped: part "  # ABB native
 NOT_OPENED = "conveyor: the gripper did not release the part it failed to grip"  # its stop, once off the belt
 # ABB native: the unit's queue and the PLC's disagree (no object for the part, or another part's): its stop
 OUT_OF_STEP = "conveyor: the unit's queue is out of step with the PLC's: empty both, restart"
+# UR: the robot's own latched count and the PLC's queue disagree (no latch within PAIR_MM of a part seen since the
+# start, or the two counts apart by more than that once the part reaches the window: a trigger the robot missed, its
+# decoder counting another scale than the PLC's counter the belt was calibrated with): its stop
+MISMATCH = "conveyor: the robot's encoder and the PLC's count disagree: check the trigger and the scale"
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 MASS_DECIMALS = 3
 
@@ -71,7 +75,7 @@ def down_fixed_seconds(cell) -> float:
 
 def drift_mm(cell, target) -> float:
     """Intercept: how much sooner than the first stage predicts the part may arrive (mm): the belt's speed change
-    (belt_accel_mm_s2) over the first stage, its speed up to SPEED_READS reads and half a window old and changing on
+    (belt_accel_mm_s2) over the first stage, its speed half its window and a read old and changing on
     over the stage's horizon (the lead, down_fixed_seconds, the descent from z_range_mm's top to its bottom and the
     count's age: its longest), as the timing budget counts it over the lead. The first stage comes down this much
     earlier, so that a belt speeding up does not leave the descent onto the part too late."""
@@ -79,7 +83,7 @@ def drift_mm(cell, target) -> float:
     span = pick.z_range_mm[1] - pick.z_range_mm[0]
     horizon = lead_seconds(cell, target) + down_fixed_seconds(cell) + descent_seconds(cell, target, span)
     horizon += pick.count_latency_s[1]
-    age = SPEED_READS * POLL_S + 0.5 * min(SPEED_WINDOW_S, SPEED_READS * POLL_S)
+    age = POLL_S + 0.5 * SPEED_WINDOW_S  # a speed over the last SPEED_READS reads, taken at the next read
     return pick.belt_accel_mm_s2 * (age * horizon + 0.5 * horizon**2)
 
 
@@ -176,6 +180,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "z_range": [number(v, 4) for v in pick.z_range_mm],
         "grip": emitter.pose(TaughtPose("grip", (0.0, 0.0, 0.0, *pick.tool_orientation), "xyzabc")),
         "approach_dz": number(pick.approach_dz, 4),
+        "overtravel": number(pick.overtravel_mm, 4),
         "place": emitter.pose(pick.place),
         "place_above": emitter.pose(TaughtPose("place_above", _xyzabc(above), "xyzabc")),
         "safe": [number(v, 4) for v in safe_belt(cell)],
@@ -199,6 +204,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "latency_s": number(pick.mean("count_latency_s"), 6),  # intercept: the count's age, its middle
         "poll_s": number(POLL_S, 3),
         "speed_window_s": number(SPEED_WINDOW_S, 3),
+        "speed_reads": SPEED_READS,  # intercept: the reads the belt's speed is measured over (a ring of them)
         "payload": _payload(cell, target, emitter),
         "blend": blends(cell, target, mode),
         "place_clear": _signal(emitter, pick.place_clear.get(target.name), f"conveyor.pick.place_clear.{target.name}"),
@@ -212,6 +218,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "put_down": emitter.string(PUT_DOWN),
         "too_close": emitter.string(TOO_CLOSE),
         "early": emitter.string(EARLY),
+        "mismatch": emitter.string(MISMATCH),
         "pair_mm": number(PAIR_MM, 1),
         "wrap_m": number(2**15 / abs(e) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
         "lost": emitter.string(LOST),

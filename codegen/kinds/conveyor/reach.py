@@ -57,7 +57,8 @@ def lines(cell, beyond_mm: float = 0.0) -> list[tuple[str, list[np.ndarray]]]:
     out = []
     for x in pick.x_range_mm:
         for z in pick.z_range_mm:
-            for dz, what in ((pick.approach_dz, "above the part"), (0.0, "on the part"), (pick.lift_dz, "lifted")):
+            on = -pick.overtravel_mm  # the suction cup pressed on
+            for dz, what in ((pick.approach_dz, "above the part"), (on, "on the part"), (pick.lift_dz, "lifted")):
                 path = []
                 for y in np.linspace(pick.window_mm[0], pick.window_mm[1] + beyond_mm, STEPS):
                     place = np.eye(4)

@@ -100,7 +100,7 @@ def conveyor_paths(cell, target: str) -> list[Path]:
                 at = f"conveyor: the part at x {x:g}, y {y:g}, its top {z:g} mm over the belt"
                 steps = [
                     ("joint", (x, y, z + pick.approach_dz), "above the part", False, ""),
-                    ("linear", (x, y, z), "on the part", False, "grip"),
+                    ("linear", (x, y, z - pick.overtravel_mm), "on the part", False, "grip"),
                     ("linear", (x, y, z + pick.lift_dz), "lifted", True, ""),
                 ]
                 poses = [conveyor.frame() @ translation(*p) @ grip for _k, p, _w, _c, _g in steps]

@@ -8,8 +8,12 @@ from codegen.kinds.conveyor.kind import KIND
 from codegen.kinds.conveyor.section import conveyor_of
 
 POLL_S = 0.012  # intercept: how often the program reads the encoder while the part comes (s)
-SPEED_WINDOW_S = 0.1  # intercept: the belt's first speed estimate, over this long (s)
-SPEED_READS = 8  # intercept: the program measures the belt's speed again every 8 reads of the encoder
+# intercept: the belt's speed over the last SPEED_READS reads (a ring of reads, the oldest replaced by each new one):
+# the error of a speed from two reads falls with the time between them (the count's age differing by up to the spread
+# of count_latency_s, whole counts, whole timer units), while its age (half that time) lets a speed change through:
+# 24 reads (0.288 s) make their sum least on the bundled belt (codegen/kinds/conveyor/budget.py)
+SPEED_READS = 24
+SPEED_WINDOW_S = SPEED_READS * POLL_S  # the first estimate of a stage: two reads this far apart (s)
 
 
 def path_acc_mm_s2(target) -> float | None:
@@ -20,10 +24,11 @@ def path_acc_mm_s2(target) -> float | None:
 
 
 def descent_seconds(cell, target, distance: float | None = None) -> float:
-    """The straight descent of approach_dz (or distance, mm) at the work speed from standstill to standstill: with
-    the program's path acceleration a, d / v + v / a (a trapezoid: the ramps up and down add v / a), or 2 sqrt(d / a)
-    where the descent is too short to reach v (a triangle); without one, d / v."""
-    d = conveyor_of(cell).pick.approach_dz if distance is None else distance
+    """The straight descent of approach_dz and overtravel_mm onto the part (or distance, mm) at the work speed from
+    standstill to standstill: with the program's path acceleration a, d / v + v / a (a trapezoid: the ramps up and down
+    add v / a), or 2 sqrt(d / a) where the descent is too short to reach v (a triangle); without one, d / v."""
+    pick = conveyor_of(cell).pick
+    d = pick.approach_dz + pick.overtravel_mm if distance is None else distance
     v, a = cell.motion.work_speed_mm_s, path_acc_mm_s2(target)
     if a is None:
         return d / v

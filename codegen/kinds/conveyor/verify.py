@@ -16,7 +16,7 @@ from codegen.kinds.conveyor.judge import SKIPS, belt_zone, left_low
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.kind import KIND
-from codegen.kinds.conveyor.program import BAD_READING, OUT_OF_STEP, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.program import BAD_READING, MISMATCH, OUT_OF_STEP, STANDS, no_part, place_blocked
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, grip_pose, start_joints
 from codegen.model.io import signal_name
@@ -63,8 +63,12 @@ SLEEP_OVERHEAD_S = 0.002
 STRAY_AT_S = 4.0
 STRAY_AHEAD_MM = 60.0
 DOUBLE_S = 0.02
+QUEUED_S = 2.0  # the rollover_queued case: its parts this far apart (s)
 SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
 OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
+# the robot's own latch against the PLC's queue (a target that latches its encoder at the camera's trigger): its decoder
+# counting half the PLC's counts (the belt calibrated with the PLC's), a trigger pulse its input missed
+MISMATCH_CASES = {"latch_scale": "the wait above the window", "trigger_missed": "before the arm moves"}
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
 # late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
@@ -81,11 +85,15 @@ class BeltCase:
     belt: Belt
     parts: tuple[Part, ...]
     robot_zero: int = 0  # the controller's own encoder against the PLC's counter
+    robot_scale: float = 1.0  # the controller's own encoder's counts per count of the PLC's counter
+    unlatched: frozenset = frozenset()  # the parts whose trigger pulse the controller's own input missed (numbers)
     gripper: str = "prompt"
     start: str = "home"
     held: bool = False
     place: str = "clear"
-    latency_s: float = 0.0
+    latency_s: float = 0.0  # the count's age at least (PLC and fieldbus, the arm's start)
+    age_cycle_s: float = 0.0  # the PLC's cycle: the count's age grows by up to this between its copies
+    age_phase_s: float = 0.0
     grip_s: float = 0.0
     stop_s: float = 0.0  # the line's cycle stop not before this (s)
     pulses: tuple = ()  # trigger pulses no part made (a double pulse, a part the PLC dropped): moments (s)
@@ -114,8 +122,17 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     near_wrap = round(span - ahead) if e > 0 else round(ahead)
 
     def timing() -> dict:
-        latency = rng.uniform(*pick.count_latency_s) + rng.uniform(*pick.motion_start_s)
-        return {"latency_s": latency, "grip_s": rng.uniform(*pick.grip_s)}
+        # the count's age runs through count_latency_s as the PLC copies the counter once a cycle (the cycle the
+        # interval's width, the copies at a random phase); the arm's start (motion_start_s) adds a constant
+        low, high = pick.count_latency_s
+        age = rng.uniform(low, high)  # at the run's start
+        latency = low + rng.uniform(*pick.motion_start_s)
+        return {
+            "latency_s": latency,
+            "age_cycle_s": high - low,
+            "age_phase_s": low - age,
+            "grip_s": rng.uniform(*pick.grip_s),
+        }
 
     out = []
     for category, speed, wobble, start in (
@@ -189,6 +206,15 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     # queue picks it
     early = replace(one.parts[0], seen_s=-SEEN_BEFORE_S)
     scenarios.append(replace(one, category="seen_before_start", belt=slow, parts=(early,)))
+    if pick.trigger_input:  # the robot's own count and the PLC's disagree: a stop with its message, no grip
+        scenarios.append(replace(one, category="latch_scale", belt=slow, robot_scale=0.5))
+        scenarios.append(replace(one, category="trigger_missed", belt=slow, unlatched=frozenset({1})))
+    # the counter's wrap with parts queued: on the rollover belt four parts QUEUED_S apart, the later ones seen before
+    # the counter wraps and taken after it (the arm busy with the first): each picked or given up for a reason verify
+    # takes
+    rollover = next(c for c in out if c.category == "rollover")
+    queued = tuple(_random_part(rng, pick, seq, 0.5 + QUEUED_S * (seq - 1)) for seq in range(1, 5))
+    out.append(replace(rollover, category="rollover_queued", parts=queued))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
@@ -217,9 +243,13 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         list(case.parts),
         bus_for(target, KIND.facts(target)),
         robot_zero=case.robot_zero,
+        robot_scale=case.robot_scale,
+        unlatched=case.unlatched,
         wiring=None if not wiring else tuple(wiring),
         unit=unit,
         latency_s=case.latency_s,
+        age_cycle_s=case.age_cycle_s,
+        age_phase_s=case.age_phase_s,
         stop_s=case.stop_s,
         sleep_overhead_s=SLEEP_OVERHEAD_S,
         pulses=case.pulses,
@@ -284,6 +314,15 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         wait = grip_pose(cell, case.parts[0].x, pick.window_mm[0], pick.z_range_mm[1] + pick.approach_dz)
         moves = (*first, plan.planned(plan.PICK[mode][0], cell, target, mode, pose=wait))
         return Judgement([Expectation(emitter.string(OUT_OF_STEP), moves, start_outputs, output_names=names)])
+    if case.category in MISMATCH_CASES and target_name in conveyor_of(cell).pick.trigger_input:
+        # the robot's own count and the PLC's disagree: a stop with its message, once the part reaches the window (the
+        # arm above the window's start, across from it) or, a part without a latch of its own, before the arm moves
+        pick = conveyor_of(cell).pick
+        wait = grip_pose(cell, case.parts[0].x, pick.window_mm[0], pick.z_range_mm[1] + pick.approach_dz)
+        moves = tuple(first)
+        if case.category == "latch_scale":
+            moves = (*first, plan.planned(plan.PICK[mode][0], cell, target, mode, pose=wait))
+        return Judgement([Expectation(emitter.string(MISMATCH), moves, start_outputs, output_names=names)])
     problem = waits(cell, case, trace)
     if problem is not None:
         return Judgement([], problem=problem)
@@ -296,6 +335,7 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         return Judgement([], problem=moves)
     zone = belt_zone(cell, target_name, trace)  # the belt zone's output over the moves low on the belt, once they fit
     problem = zone or lifted_early(cell, trace, closes, setup.devices[1])
+    problem = problem or released_early(trace, opens, setup.devices[1])
     if problem is not None:
         return Judgement([], problem=problem)
     skipped = sum(1 for m in trace.messages if m.startswith(SKIPS))
@@ -316,6 +356,21 @@ def lifted_early(cell, trace, closes: list, gripper: Gripper) -> str | None:
         if held is None or lift.start_time < held - 1e-6:
             when = "never" if held is None else f"at {held:.3f} s"
             return f"grip {number}: the arm set off at {lift.start_time:.3f} s, the gripper held the part {when}"
+    return None
+
+
+def released_early(trace, opens: list, gripper: Gripper) -> str | None:
+    """Each release's next move (the lift from the place) sets off only once the gripper has let go of the part (its
+    feedback off after the output, as the simulated gripper answers: grip_s later): a program that lifts on the output
+    alone carries the part, still held by the vacuum, off the place."""
+    for number, open_ in enumerate(opens, start=1):
+        if open_.after_moves >= len(trace.moves):
+            continue
+        let_go = next((t for t, on in gripper.changes if not on and t >= open_.time - 1e-9), None)
+        lift = trace.moves[open_.after_moves]
+        if let_go is None or lift.start_time < let_go - 1e-6:
+            when = "never" if let_go is None else f"at {let_go:.3f} s"
+            return f"release {number}: the arm set off at {lift.start_time:.3f} s, the gripper let go {when}"
     return None
 
 

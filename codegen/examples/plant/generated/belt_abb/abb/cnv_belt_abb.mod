@@ -123,6 +123,8 @@ MODULE cnv_belt_abb
   LOCAL CONST num CNV_Z_MAX := 80.0000;
   ! mm: the gripper comes down onto the part and the place from this far above
   LOCAL CONST num CNV_DZ := 60.0000;
+  ! mm: and on a part this far past its top (the suction cup pressed on, its lip compressed)
+  LOCAL CONST num CNV_PRESS := 2.0000;
   ! s: how often the program reads the encoder while the part comes
   LOCAL CONST num CNV_POLL := 0.012;
   ! s: no part this long: a message, and the program waits on
@@ -310,7 +312,7 @@ MODULE cnv_belt_abb
     above := cnv_on_belt;
     above.trans := [x, 0, z + CNV_DZ];
     down := cnv_on_belt;
-    down.trans := [x, 0, z];
+    down.trans := [x, 0, z - CNV_PRESS];
     ! the arm goes down towards the part: the belt must stop with the robot
     SetDO doCnvBeltZone, 1;
     MoveL above, cnv_travel, fine, cnv_tool \WObj:=cnv_track;
