@@ -7,8 +7,10 @@ import re
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
+from codegen.dialects.core.kept import STORE
 from codegen.dialects.core.parsing import node_start
 from codegen.dialects.core.values import RunError
+from codegen.dialects.krl import KRL
 from codegen.dialects.krl.builtins import SIMPLE  # the simple data types: a value, not a structure of named parts
 from codegen.dialects.krl.modules import Linker
 from codegen.dialects.krl.syntax import parse
@@ -41,7 +43,7 @@ def finding_of(exc: RunError, default_file: str) -> Finding:
         file, line, column, message = match["file"], int(match["line"]), int(match["column"]), match["message"]
     else:
         file, line, column, message = default_file, 0, 0, text
-    if not match and ": " in text and text.split(": ", 1)[0].endswith((".src", ".dat")):
+    if not match and ": " in text and text.split(": ", 1)[0].endswith((*KRL.suffixes, ".dat")):
         file, message = text.split(": ", 1)
     code, severity = next(((c, s) for words, c, s in CODES if words in message), ("load", "error"))
     return Finding(file, line, column, severity, code, message)
@@ -81,15 +83,14 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
             trees.append((f.name, parse(f.text, f.name)))
         except RunError:
             continue
-    inputs = {"$IN"} | {name for _file, tree in trees for name in _input_signals(tree)}
+    inputs = frozenset({"$IN"} | {name for file, tree in trees for name in _by_unit(_input_signals, file, tree)})
+    shared = _shared_types(trees)
+    shared_key = tuple(sorted(shared.items()))
     for name, tree in trees:
-        findings.extend(long_names(name, tree))
-        findings.extend(waits(name, tree, inputs))
-        findings.extend(early_outputs(name, tree))
-        findings.extend(unset_locals(name, tree))
-        findings.extend(zero_divisors(name, tree))
-        findings.extend(aggregates_to_scalars(name, tree, trees))
-        findings.extend(negative_waits(name, tree))
+        for walk in (long_names, early_outputs, unset_locals, zero_divisors, negative_waits):
+            findings.extend(_by_unit(walk, name, tree))
+        findings.extend(_by_unit(waits, name, tree, inputs, key=inputs))
+        findings.extend(_by_unit(aggregates_to_scalars, name, tree, shared, key=shared_key))
     if trees:
         findings.extend(unset_data(trees))
         findings.extend(constant_indexes(trees))
@@ -99,6 +100,19 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
     for f in findings:
         unique.setdefault((f.file, f.line, f.code, f.message), f)
     return sorted(unique.values(), key=lambda f: (f.file, f.line, f.column))
+
+
+def _by_unit(walk, name: str, tree, *args, key=()) -> list:
+    """`walk(name, tree, *args)` done on each routine and data list of the file alone and joined (the walks below
+    look at one unit at a time): a unit the parse store keeps unchanged (core/kept.py) gives its kept result when
+    `key`, what the walk reads beyond the unit (the program's declarations), is unchanged too."""
+    out = []
+    for unit in tree.children:
+        if isinstance(unit, Tree):
+            out.extend(
+                STORE.result(unit, (walk, name, key), lambda unit=unit: walk(name, Tree("start", [unit]), *args))
+            )
+    return out
 
 
 # --- field checks ----------------------------------------------------------------------------------
@@ -137,7 +151,7 @@ def _mentions(node, names: set[str]) -> bool:
     return any(sub.data == "var" and str(sub.children[0]).upper() in names for sub in node.iter_subtrees())
 
 
-def _input_signals(tree) -> set[str]:
+def _input_signals(_name: str, tree) -> set[str]:
     """The names SIGNAL gives inputs in a file."""
     out = set()
     for sub in tree.iter_subtrees():
@@ -233,16 +247,6 @@ def early_outputs(name: str, tree) -> list[Finding]:
     return out
 
 
-
-
-
-
-
-
-
-
-
-
 def _declared_types(node) -> dict[str, tuple[str, int]]:
     """The variables declared right in a routine or data list (name -> its type, upper case, and its number of
     array dimensions, 0: not an array)."""
@@ -259,13 +263,19 @@ def _declared_types(node) -> dict[str, tuple[str, int]]:
     return out
 
 
-def aggregates_to_scalars(name: str, tree, trees) -> list[Finding]:
-    """An aggregate ({X 1.0}) assigned to an INT, REAL, BOOL or CHAR variable or array element: KSS refuses it,
-    run stops there ("cannot assign an aggregate"); the type is known from the declaration."""
-    shared = {}  # the data lists' variables: every routine of the program sees them
+def _shared_types(trees) -> dict[str, tuple[str, int]]:
+    """The data lists' variables (every routine of the program sees them) and their types, as _declared_types."""
+    shared = {}
     for _file, other in trees:
         for defdat in (n for n in other.children if isinstance(n, Tree) and n.data == "defdat"):
             shared.update(_declared_types(defdat))
+    return shared
+
+
+def aggregates_to_scalars(name: str, tree, shared: dict) -> list[Finding]:
+    """An aggregate ({X 1.0}) assigned to an INT, REAL, BOOL or CHAR variable or array element: KSS refuses it,
+    run stops there ("cannot assign an aggregate"); the type is known from the declaration (`shared`: the data
+    lists', _shared_types)."""
     out = []
     for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
         params = {str(p.children[0]).upper() for p in routine.iter_subtrees() if p.data == "param"}
@@ -369,21 +379,3 @@ def constant_indexes(trees) -> list[Finding]:
                         )
                         break
     return out
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
