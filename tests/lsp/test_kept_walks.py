@@ -19,7 +19,7 @@ GOOD, BAD = "  VIS_STOPPED = FALSE", "  VIS_STOPED = FALSE"  # a line of the mai
 
 SRC = """DEF cell()
   DECL INT N
-  N = 1
+  N = A[5] + M
   P1 = {X 1.0}
   WAIT FOR DOOR
 END
@@ -27,11 +27,15 @@ END
 DAT_STRUCTURE = """DEFDAT cell
 DECL E6POS P1
 SIGNAL DOOR $IN[3]
+DECL INT A[3]
+DECL INT M
 ENDDAT
 """
 DAT_SCALAR = """DEFDAT cell
 DECL REAL P1
 DECL BOOL DOOR=FALSE
+DECL INT A[10]
+DECL INT M=1
 ENDDAT
 """
 
@@ -72,6 +76,9 @@ def test_a_changed_declaration_checks_the_unchanged_routine_again():
         back = check_files(_program(SRC, DAT_STRUCTURE))
     assert "type" not in _codes(structure) and "wait-without-timeout" in _codes(structure)
     assert "type" in _codes(scalar) and "wait-without-timeout" not in _codes(scalar)
+    assert "index" in _codes(structure) and "index" not in _codes(scalar)
+    assert any(f.message.startswith("M is read") for f in structure)
+    assert not any(f.message.startswith("M is read") for f in scalar)
     assert back == structure
 
 

@@ -75,6 +75,17 @@ class Kept:
                 self.results.popitem(last=False)
         return value
 
+    def by_unit(self, walk: Callable, name: str, tree: Tree, *args, key: Hashable = ()) -> list:
+        """`walk(name, tree, *args)` done on each top child of the file's tree (a routine, a data list, a module)
+        alone, the results joined in their order: a child kept unchanged gives its kept result (see result)."""
+        out = []
+        for unit in tree.children:
+            if isinstance(unit, Tree):
+                out.extend(
+                    self.result(unit, (walk, name, key), lambda unit=unit: walk(name, Tree(tree.data, [unit]), *args))
+                )
+        return out
+
     def _keep(self, key: tuple, found: Tree | str) -> None:
         size = len(key[2])
         if size > self.budget_chars or key in self.entries:  # too big, or parsed meanwhile by another thread

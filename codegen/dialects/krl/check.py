@@ -83,14 +83,14 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
             trees.append((f.name, parse(f.text, f.name)))
         except RunError:
             continue
-    inputs = frozenset({"$IN"} | {name for file, tree in trees for name in _by_unit(_input_signals, file, tree)})
+    inputs = frozenset({"$IN"} | {name for file, tree in trees for name in STORE.by_unit(_input_signals, file, tree)})
     shared = _shared_types(trees)
     shared_key = tuple(sorted(shared.items()))
     for name, tree in trees:
         for walk in (long_names, early_outputs, unset_locals, zero_divisors, negative_waits):
-            findings.extend(_by_unit(walk, name, tree))
-        findings.extend(_by_unit(waits, name, tree, inputs, key=inputs))
-        findings.extend(_by_unit(aggregates_to_scalars, name, tree, shared, key=shared_key))
+            findings.extend(STORE.by_unit(walk, name, tree))
+        findings.extend(STORE.by_unit(waits, name, tree, inputs, key=inputs))
+        findings.extend(STORE.by_unit(aggregates_to_scalars, name, tree, shared, key=shared_key))
     if trees:
         findings.extend(unset_data(trees))
         findings.extend(constant_indexes(trees))
@@ -100,19 +100,6 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
     for f in findings:
         unique.setdefault((f.file, f.line, f.code, f.message), f)
     return sorted(unique.values(), key=lambda f: (f.file, f.line, f.column))
-
-
-def _by_unit(walk, name: str, tree, *args, key=()) -> list:
-    """`walk(name, tree, *args)` done on each routine and data list of the file alone and joined (the walks below
-    look at one unit at a time): a unit the parse store keeps unchanged (core/kept.py) gives its kept result when
-    `key`, what the walk reads beyond the unit (the program's declarations), is unchanged too."""
-    out = []
-    for unit in tree.children:
-        if isinstance(unit, Tree):
-            out.extend(
-                STORE.result(unit, (walk, name, key), lambda unit=unit: walk(name, Tree("start", [unit]), *args))
-            )
-    return out
 
 
 # --- field checks ----------------------------------------------------------------------------------
@@ -348,34 +335,38 @@ def constant_indexes(trees) -> list[Finding]:
             for item in (i for i in defdat.iter_subtrees_topdown() if i.data == "decl_item"):
                 if _dims(item) is not None:
                     shared[str(item.children[0]).upper()] = _dims(item)
+    key = tuple(sorted(shared.items()))
+    return [f for file, tree in trees for f in STORE.by_unit(_indexes_out_of_range, file, tree, shared, key=key)]
+
+
+def _indexes_out_of_range(file: str, tree, shared: dict) -> list[Finding]:
     out = []
-    for file, tree in trees:
-        for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
-            own = {
-                str(i.children[0]).upper(): _dims(i) if i.data == "decl_item" else None
-                for i in routine.iter_subtrees()
-                if i.data in ("decl_item", "param")
-            }
-            for sub in routine.iter_subtrees_topdown():
-                if sub.data != "index" or not (isinstance(sub.children[0], Tree) and sub.children[0].data == "var"):
-                    continue
-                name = str(sub.children[0].children[0]).upper()
-                dims, at = own[name] if name in own else shared.get(name), _literal_indexes(sub)
-                if dims is None or at is None or len(at) != len(dims):
-                    continue
-                for value, size in zip(at, dims, strict=True):
-                    if not 1 <= value <= size:
-                        line, column = node_start(sub)
-                        out.append(
-                            Finding(
-                                file,
-                                line,
-                                column,
-                                "error",
-                                "index",
-                                f"index {value} out of range: {sub.children[0].children[0]} is declared with "
-                                f"{size} elements (1..{size})",
-                            )
+    for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
+        own = {
+            str(i.children[0]).upper(): _dims(i) if i.data == "decl_item" else None
+            for i in routine.iter_subtrees()
+            if i.data in ("decl_item", "param")
+        }
+        for sub in routine.iter_subtrees_topdown():
+            if sub.data != "index" or not (isinstance(sub.children[0], Tree) and sub.children[0].data == "var"):
+                continue
+            name = str(sub.children[0].children[0]).upper()
+            dims, at = own[name] if name in own else shared.get(name), _literal_indexes(sub)
+            if dims is None or at is None or len(at) != len(dims):
+                continue
+            for value, size in zip(at, dims, strict=True):
+                if not 1 <= value <= size:
+                    line, column = node_start(sub)
+                    out.append(
+                        Finding(
+                            file,
+                            line,
+                            column,
+                            "error",
+                            "index",
+                            f"index {value} out of range: {sub.children[0].children[0]} is declared with "
+                            f"{size} elements (1..{size})",
                         )
-                        break
+                    )
+                    break
     return out
