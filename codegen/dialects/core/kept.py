@@ -14,7 +14,9 @@ from codegen.dialects.core.values import RunError
 # Characters of text whose trees are kept (the least recently used go first): a tree takes some 170 times its
 # text's memory (8 MB for a 2,000-line program of 51,000 characters), so this keeps about 80 MB of trees.
 BUDGET_CHARS = 500_000
-RESULTS_MAX = 20_000  # results of walks over kept trees (a few per routine and check): the least recently used go
+# Results of walks over kept trees (about 11 a routine), the least recently used going first: each keeps its routine's
+# tree alive (some 130 kB for a routine of a 2,000-line program), so this holds at most some 60 MB of them.
+RESULTS_MAX = 5_000
 
 
 class Kept:
