@@ -14,6 +14,9 @@ from codegen.dialects.core.values import RunError
 # Characters of text whose trees are kept (the least recently used go first): a tree takes some 170 times its
 # text's memory (8 MB for a 2,000-line program of 51,000 characters), so this keeps about 80 MB of trees.
 BUDGET_CHARS = 500_000
+# Results of walks over kept trees (about 11 a routine), the least recently used going first: each keeps its routine's
+# tree alive (some 130 kB for a routine of a 2,000-line program), so this holds at most some 60 MB of them.
+RESULTS_MAX = 5_000
 
 
 class Kept:
@@ -32,6 +35,7 @@ class Kept:
         self.parses = 0  # texts parsed (not found kept) and their characters: what the language server reports
         self.parsed_chars = 0
         self.lock = threading.Lock()
+        self.results: OrderedDict[tuple, tuple] = OrderedDict()  # (id of a node, key) -> (the node, its result)
 
     def tree(self, parser: Hashable, filename: str, text: str, parse: Callable[[], Tree]) -> Tree:
         """The tree of `text` as `parse()` gives it (called only when this text of this file was not kept)."""
@@ -52,6 +56,37 @@ class Kept:
         if isinstance(found, str):
             raise RunError(found)
         return found
+
+    def result(self, node: Tree, key: Hashable, compute: Callable[[], list]) -> list:
+        """`compute()`'s result for a node of a kept tree, kept beside it: a node of a kept tree stands for its
+        text, so a walk over an unchanged routine is not done again. `key` names the walk and whatever else its
+        result depends on (the declarations it reads); the node itself is kept with the result, so its id is not
+        reused while the entry lives. Nothing is kept while no trees are."""
+        if not self.shares:
+            return compute()
+        slot = (id(node), key)
+        with self.lock:
+            found = self.results.get(slot)
+            if found is not None and found[0] is node:
+                self.results.move_to_end(slot)
+                return list(found[1])
+        value = compute()
+        with self.lock:
+            self.results[slot] = (node, list(value))
+            while len(self.results) > RESULTS_MAX:
+                self.results.popitem(last=False)
+        return value
+
+    def by_unit(self, walk: Callable, name: str, tree: Tree, *args, key: Hashable = ()) -> list:
+        """`walk(name, tree, *args)` done on each top child of the file's tree (a routine, a data list, a module)
+        alone, the results joined in their order: a child kept unchanged gives its kept result (see result)."""
+        out = []
+        for unit in tree.children:
+            if isinstance(unit, Tree):
+                out.extend(
+                    self.result(unit, (walk, name, key), lambda unit=unit: walk(name, Tree(tree.data, [unit]), *args))
+                )
+        return out
 
     def _keep(self, key: tuple, found: Tree | str) -> None:
         size = len(key[2])
@@ -83,6 +118,7 @@ class Kept:
     def clear(self) -> None:
         with self.lock:
             self.entries.clear()
+            self.results.clear()
             self.chars = 0
 
 

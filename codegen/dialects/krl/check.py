@@ -7,9 +7,11 @@ import re
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding, SourceFile
+from codegen.dialects.core.kept import STORE
 from codegen.dialects.core.literals import literal_number
 from codegen.dialects.core.parsing import node_start
 from codegen.dialects.core.values import RunError
+from codegen.dialects.krl import KRL
 from codegen.dialects.krl.builtins import SIMPLE  # the simple data types: a value, not a structure of named parts
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.modules import Linker
@@ -43,7 +45,7 @@ def finding_of(exc: RunError, default_file: str) -> Finding:
         file, line, column, message = match["file"], int(match["line"]), int(match["column"]), match["message"]
     else:
         file, line, column, message = default_file, 0, 0, text
-    if not match and ": " in text and text.split(": ", 1)[0].endswith((".src", ".dat")):
+    if not match and ": " in text and text.split(": ", 1)[0].endswith((*KRL.suffixes, ".dat")):
         file, message = text.split(": ", 1)
     code, severity = next(((c, s) for words, c, s in CODES if words in message), ("load", "error"))
     return Finding(file, line, column, severity, code, message)
@@ -83,15 +85,14 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
             trees.append((f.name, parse(f.text, f.name)))
         except RunError:
             continue
-    inputs = {"$IN"} | {name for _file, tree in trees for name in _input_signals(tree)}
+    inputs = frozenset({"$IN"} | {name for file, tree in trees for name in STORE.by_unit(_input_signals, file, tree)})
+    shared = _shared_types(trees)
+    shared_key = tuple(sorted(shared.items()))
     for name, tree in trees:
-        findings.extend(long_names(name, tree))
-        findings.extend(waits(name, tree, inputs))
-        findings.extend(early_outputs(name, tree))
-        findings.extend(unset_locals(name, tree))
-        findings.extend(zero_divisors(name, tree))
-        findings.extend(aggregates_to_scalars(name, tree, trees))
-        findings.extend(negative_waits(name, tree))
+        for walk in (long_names, early_outputs, unset_locals, zero_divisors, negative_waits):
+            findings.extend(STORE.by_unit(walk, name, tree))
+        findings.extend(STORE.by_unit(waits, name, tree, inputs, key=inputs))
+        findings.extend(STORE.by_unit(aggregates_to_scalars, name, tree, shared, key=shared_key))
     if trees:
         findings.extend(unset_data(trees))
         findings.extend(constant_indexes(trees))
@@ -139,7 +140,7 @@ def _mentions(node, names: set[str]) -> bool:
     return any(sub.data == "var" and str(sub.children[0]).upper() in names for sub in node.iter_subtrees())
 
 
-def _input_signals(tree) -> set[str]:
+def _input_signals(_name: str, tree) -> set[str]:
     """The names SIGNAL gives inputs in a file."""
     out = set()
     for sub in tree.iter_subtrees():
@@ -235,16 +236,6 @@ def early_outputs(name: str, tree) -> list[Finding]:
     return out
 
 
-
-
-
-
-
-
-
-
-
-
 def _declared_types(node) -> dict[str, tuple[str, int]]:
     """The variables declared right in a routine or data list (name -> its type, upper case, and its number of
     array dimensions, 0: not an array)."""
@@ -261,13 +252,19 @@ def _declared_types(node) -> dict[str, tuple[str, int]]:
     return out
 
 
-def aggregates_to_scalars(name: str, tree, trees) -> list[Finding]:
-    """An aggregate ({X 1.0}) assigned to an INT, REAL, BOOL or CHAR variable or array element: KSS refuses it,
-    run stops there ("cannot assign an aggregate"); the type is known from the declaration."""
-    shared = {}  # the data lists' variables: every routine of the program sees them
+def _shared_types(trees) -> dict[str, tuple[str, int]]:
+    """The data lists' variables (every routine of the program sees them) and their types, as _declared_types."""
+    shared = {}
     for _file, other in trees:
         for defdat in (n for n in other.children if isinstance(n, Tree) and n.data == "defdat"):
             shared.update(_declared_types(defdat))
+    return shared
+
+
+def aggregates_to_scalars(name: str, tree, shared: dict) -> list[Finding]:
+    """An aggregate ({X 1.0}) assigned to an INT, REAL, BOOL or CHAR variable or array element: KSS refuses it,
+    run stops there ("cannot assign an aggregate"); the type is known from the declaration (`shared`: the data
+    lists', _shared_types)."""
     out = []
     for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
         params = {str(p.children[0]).upper() for p in routine.iter_subtrees() if p.data == "param"}
@@ -340,52 +337,38 @@ def constant_indexes(trees) -> list[Finding]:
             for item in (i for i in defdat.iter_subtrees_topdown() if i.data == "decl_item"):
                 if _dims(item) is not None:
                     shared[str(item.children[0]).upper()] = _dims(item)
+    key = tuple(sorted(shared.items()))
+    return [f for file, tree in trees for f in STORE.by_unit(_indexes_out_of_range, file, tree, shared, key=key)]
+
+
+def _indexes_out_of_range(file: str, tree, shared: dict) -> list[Finding]:
     out = []
-    for file, tree in trees:
-        for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
-            own = {
-                str(i.children[0]).upper(): _dims(i) if i.data == "decl_item" else None
-                for i in routine.iter_subtrees()
-                if i.data in ("decl_item", "param")
-            }
-            for sub in routine.iter_subtrees_topdown():
-                if sub.data != "index" or not (isinstance(sub.children[0], Tree) and sub.children[0].data == "var"):
-                    continue
-                name = str(sub.children[0].children[0]).upper()
-                dims, at = own[name] if name in own else shared.get(name), _literal_indexes(sub)
-                if dims is None or at is None or len(at) != len(dims):
-                    continue
-                for value, size in zip(at, dims, strict=True):
-                    if not 1 <= value <= size:
-                        line, column = node_start(sub)
-                        out.append(
-                            Finding(
-                                file,
-                                line,
-                                column,
-                                "error",
-                                "index",
-                                f"index {value} out of range: {sub.children[0].children[0]} is declared with "
-                                f"{size} elements (1..{size})",
-                            )
+    for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
+        own = {
+            str(i.children[0]).upper(): _dims(i) if i.data == "decl_item" else None
+            for i in routine.iter_subtrees()
+            if i.data in ("decl_item", "param")
+        }
+        for sub in routine.iter_subtrees_topdown():
+            if sub.data != "index" or not (isinstance(sub.children[0], Tree) and sub.children[0].data == "var"):
+                continue
+            name = str(sub.children[0].children[0]).upper()
+            dims, at = own[name] if name in own else shared.get(name), _literal_indexes(sub)
+            if dims is None or at is None or len(at) != len(dims):
+                continue
+            for value, size in zip(at, dims, strict=True):
+                if not 1 <= value <= size:
+                    line, column = node_start(sub)
+                    out.append(
+                        Finding(
+                            file,
+                            line,
+                            column,
+                            "error",
+                            "index",
+                            f"index {value} out of range: {sub.children[0].children[0]} is declared with "
+                            f"{size} elements (1..{size})",
                         )
-                        break
+                    )
+                    break
     return out
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-
-

@@ -6,6 +6,7 @@ from __future__ import annotations
 from lark import Token, Tree
 
 from codegen.dialects.core.files import Finding
+from codegen.dialects.core.kept import STORE
 from codegen.dialects.core.parsing import node_start
 from codegen.dialects.krl.modules import routine_name
 
@@ -52,18 +53,31 @@ def unset_data(trees) -> list[Finding]:
             for item in defdat.iter_subtrees_topdown():
                 if item.data == "decl_item" and item.children[1] is None and item.children[2] is None:
                     unset.setdefault(str(item.children[0]).upper(), item.children[0])
-    for _file, tree in trees:
-        for key in _set_names(tree):
+    for file, tree in trees:
+        for key in STORE.by_unit(_set_names_of, file, tree):
             unset.pop(key, None)
     out = []
     for file, tree in trees:
-        for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
-            own = {str(i.children[0]).upper() for i in routine.iter_subtrees() if i.data in ("decl_item", "param")}
-            for sub in routine.iter_subtrees_topdown():
-                key = str(sub.children[0]).upper() if sub.data == "var" else None
-                if key in unset and key not in own:
-                    out.append(_unset_read(file, sub.children[0], "the program's files"))
-                    del unset[key]  # one finding a variable
+        for key, token in STORE.by_unit(_outer_reads, file, tree):
+            if key in unset:
+                out.append(_unset_read(file, token, "the program's files"))
+                del unset[key]  # one finding a variable
+    return out
+
+
+def _set_names_of(_file: str, tree) -> list:
+    return list(_set_names(tree))
+
+
+def _outer_reads(_file: str, tree) -> list[tuple[str, Token]]:
+    """The variables each routine reads that are not its own (no DECL or parameter of that name), in order."""
+    out = []
+    for routine in (n for n in tree.children if isinstance(n, Tree) and n.data in ("def_routine", "def_function")):
+        own = {str(i.children[0]).upper() for i in routine.iter_subtrees() if i.data in ("decl_item", "param")}
+        for sub in routine.iter_subtrees_topdown():
+            key = str(sub.children[0]).upper() if sub.data == "var" else None
+            if key is not None and key not in own:
+                out.append((key, sub.children[0]))
     return out
 
 
