@@ -15,13 +15,20 @@ from codegen.model.cell import DEMO_CELL, load_cell
 SCHEMAS = Path(__file__).resolve().parent / "reports" / "schemas"
 
 # Tests that share an expensive object built once per process, each group run on one xdist worker: the derivation's
-# proofs (the kinds cache them per process; the CLI's derive --check proves the same ones) and the view pages of every
-# bundled cell (a module fixture) with the browser that reads them. By node id prefix: pytest 9 keeps a node's id
-# where xdist 3.8's loadgroup no longer rewrites it, so xdist_group marks would not reach the scheduler.
+# proofs (the kinds cache them per process; the CLI's derive --check proves the same ones), the view pages of every
+# bundled cell (a module fixture) with the browser that reads them, and source 004's cell unstacking (a session
+# fixture of tests/kinds/conftest.py: its reach and clearance proofs). By node id prefix, a test with its parameters:
+# pytest 9 keeps a node's id where xdist 3.8's loadgroup no longer rewrites it, so xdist_group marks would not reach
+# the scheduler.
 GROUPS = {
     "tests/test_derivation.py": "derivation",
     "tests/test_cli.py::test_derive_json": "derivation",
     "tests/view/test_view_page.py": "view_pages",
+    "tests/kinds/test_pallet_programs.py::test_an_unstacked_box_dropped_on_the_way_to_q_is_not_counted_as_taken": (
+        "unstacking"
+    ),
+    "tests/kinds/test_pallet_exchange.py::test_an_unstacking_program_waits_for_the_empty_pallets_swap": "unstacking",
+    "tests/kinds/test_pallet_exchange.py::test_an_unstacking_program_empty_at_the_start_waits_above_q": "unstacking",
 }
 ROOT = Path(__file__).resolve().parent.parent
 SHARED_FIXTURE = re.compile(r"""scope=["'](module|class)["']""")  # a fixture the module's tests share
@@ -45,7 +52,7 @@ def pytest_xdist_make_scheduler(config, log):
     class Grouped(LoadGroupScheduling):
         def _split_scope(self, nodeid: str) -> str:
             for prefix, group in GROUPS.items():
-                if nodeid == prefix or nodeid.startswith(prefix + "::"):
+                if nodeid == prefix or nodeid.startswith((prefix + "::", prefix + "[")):  # a test or its params
                     return group
             module = nodeid.split("::", 1)[0]
             return module if _shares_a_fixture(module) else super()._split_scope(nodeid)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import re
 import tomllib
+from functools import cache
 
 import pytest
 from support.cells import EXAMPLES, shape
@@ -72,6 +73,13 @@ def load(data: dict):
     return cell_from_dict(data, source="hostile.toml", sha256="0" * 64)
 
 
+@cache
+def _custom_armed(example: str):
+    """The example with its arms written out as custom arms, clean: one Cell per process, so its proofs serve every
+    test that renders it (cells are frozen)."""
+    return load(with_custom_arms(tomllib.loads(EXAMPLES[example].read_text(encoding="utf-8"))))
+
+
 def structure(files) -> list[tuple]:
     return [shape(parse_program(f.relpath, f.text, positions=False)) for f in files]
 
@@ -134,7 +142,7 @@ def test_hostile_strings_leave_every_program_as_it_was(example):
     (exit 2). Every program still parses and has the clean cell's structure (the grammar's rules and token types
     in order: the same routines, declarations, statements and moves)."""
     data = with_custom_arms(tomllib.loads(EXAMPLES[example].read_text(encoding="utf-8")))
-    clean = render(load(data))
+    clean = render(_custom_armed(example))
     want = structure(clean)
     files, fate = hostile_render(data, PAYLOAD)
     check_rendered(files)  # what generate checks before it writes: ASCII, a final newline, the grammar
@@ -164,7 +172,7 @@ def _example_targets(example: str) -> list[str]:
 )
 def test_an_arm_model_that_is_a_statement_adds_none(example, target):
     data = with_custom_arms(tomllib.loads(EXAMPLES[example].read_text(encoding="utf-8")))
-    want = structure(render(load(data), [target]))
+    want = structure(render(_custom_armed(example), [target]))
     data["cell"]["robot"][target]["model"] = STATEMENTS[target]
     files = render(load(data), [target])
     for f, got, expected in zip(files, structure(files), want, strict=True):

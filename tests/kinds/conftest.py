@@ -1,7 +1,11 @@
 """Each KindTests subclass runs for every target that has its kind's programs in the example cells (a model
 mutation: for each of them whose cell has what it changes; a text mutation: for each of them written for the target)."""
 
+import pytest
 from kind_base import model_mutations_of, targets_of, text_mutations_of
+from support.cells import unstacking_clear_q_text
+
+from codegen.model.cell import load_cell
 
 
 def pytest_generate_tests(metafunc):
@@ -19,3 +23,12 @@ def pytest_generate_tests(metafunc):
     else:
         pairs = targets_of(kind)
         metafunc.parametrize("pair", pairs, ids=[target for target, _ in pairs])
+
+
+@pytest.fixture(scope="session")
+def unstacking(tmp_path_factory):
+    """Source 004's test cell unstacking, its Q moved clear: one Cell per process, so its reach and clearance proofs
+    are worked out once for every test that reads it (tests/conftest.py's GROUPS keeps those tests on one worker)."""
+    path = tmp_path_factory.mktemp("unstacking") / "testmat_pallet.toml"
+    path.write_text(unstacking_clear_q_text(), encoding="utf-8")
+    return load_cell(path)

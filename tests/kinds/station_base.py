@@ -23,6 +23,19 @@ from codegen.reference import home_move
 from codegen.render import render
 
 STATION_CELLS = [name for name in EXAMPLES if stations_of(example(name))]
+# a model mutation -> the model input it changes (a station mode depends on it where its model_inputs name it)
+MODEL_NEEDS = {"angle_sign_flipped": "angle_sign", "calibration_moved_0_05mm": "calibration"}
+MODEL_NEEDS["sin_cos_swapped"] = "derivation"
+
+
+def _modes_hit(cell, mutation: str) -> set[str]:
+    """The station modes of the cell whose programs depend on what the mutation changes."""
+    return {s.mode for s in stations_of(cell) if MODEL_NEEDS[mutation] in mode_of(s).model_inputs}
+
+
+# (station cell, model mutation) where some station mode of the cell depends on what the mutation changes
+MODEL_MUTATIONS = [(name, m) for name in STATION_CELLS for m in MODEL_NEEDS if _modes_hit(example(name), m)]
+MUTATION_IDS = [f"{name}-{mutation}" for name, mutation in MODEL_MUTATIONS]
 
 
 def _swap_sin_cos(dialect: str):
@@ -120,14 +133,12 @@ class StationTests:
         assert report.mismatches == 0, report.first_mismatches
         assert report.moves > 0 and report.halts > 0
 
-    @pytest.mark.parametrize("mutation", ["angle_sign_flipped", "calibration_moved_0_05mm", "sin_cos_swapped"])
+    @pytest.mark.parametrize(("cell", "mutation"), MODEL_MUTATIONS, indirect=["cell"], ids=MUTATION_IDS)
     def test_model_mutations_fail_verify(self, cell, mutation, monkeypatch):
-        """Render from a perturbed model, verify against the true cell: every kind must see each one."""
-        needs = {"angle_sign_flipped": "angle_sign", "calibration_moved_0_05mm": "calibration"}
-        needs["sin_cos_swapped"] = "derivation"
-        kinds_hit = {s.mode for s in stations_of(cell) if needs[mutation] in mode_of(s).model_inputs}
-        if not kinds_hit:
-            pytest.skip(f"no kind of this cell depends on its {needs[mutation]}")
+        """Render from a perturbed model, verify against the true cell: every kind must see each one (each cell with
+        the mutations some station mode of it depends on: MODEL_MUTATIONS)."""
+        kinds_hit = _modes_hit(cell, mutation)
+        assert kinds_hit
         mutant = cell
         if mutation == "angle_sign_flipped":
             mutant = with_section(cell, angle_sign=-section_of(cell).angle_sign)

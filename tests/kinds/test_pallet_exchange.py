@@ -7,7 +7,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from support.cells import unstacking_testmat_text
 from support.programs import sources
 from test_pallet_programs import mutant_mismatches
 
@@ -184,15 +183,6 @@ def test_the_kuka_waits_on_the_supply_leave_no_message_behind(testmat):
     assert "SET_KRLMSG(#NOTIFY" not in wait, wait
     handle = re.search(r"(\w+) = SET_KRLMSG\(#STATE,", wait)
     assert handle and wait.index("ENDWHILE") < wait.index(f"CLEAR_KRLMSG({handle.group(1)})"), wait
-
-
-@pytest.fixture(scope="module")
-def unstacking(tmp_path_factory):
-    """Source 004's test cell unstacking, its Q moved clear of the stack (as test_pallet_programs builds it)."""
-    text = unstacking_testmat_text().replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,")
-    path = tmp_path_factory.mktemp("unstacking") / "testmat_pallet.toml"
-    path.write_text(text)
-    return load_cell(path)
 
 
 @pytest.mark.parametrize(

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from support.cells import EXAMPLES, example, unstacking_testmat_text
+from support.cells import EXAMPLES, example
 from support.programs import edited, sources, verify, verify_one
 
 from codegen.kinds.pallet.plan import configurations
@@ -319,18 +319,6 @@ def test_the_approach_goes_at_the_work_speed(target, name, old, new):
     assert found and "approach" in found[0] and "expected" in found[0], found  # the move's speed
 
 
-def _unstacking_testmat(tmp_path):
-    """Source 004's test cell unstacking, its Q moved clear."""
-    text = unstacking_testmat_text()
-    # Q moved away from the pallet: a box held at the start is carried from home to above Q, and from the bundled Q
-    # that joint move swings it through the full stack (generate refuses it)
-    text = text.replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,")
-    assert "pick = [450.0, 350.0, 50.0," in text
-    path = tmp_path / "testmat_pallet.toml"
-    path.write_text(text)
-    return load_cell(path)
-
-
 # unstacking, a box dropped during the retreat: a program that does not read the gripper's sensor at Q counts it as
 # taken (as the programs did, which moved the counters at the grip); one whose restart ignores the mark goes on as if
 # the box had reached Q
@@ -374,8 +362,9 @@ DROPPED_ON_THE_WAY = [
 
 
 @pytest.mark.parametrize(("target", "name", "old", "new", "scenario"), DROPPED_ON_THE_WAY)
-def test_an_unstacked_box_dropped_on_the_way_to_q_is_not_counted_as_taken(tmp_path, target, name, old, new, scenario):
-    cell = _unstacking_testmat(tmp_path) if target == "ur" else load_cell(PALLETS / "eur_pallet.toml")
+def test_an_unstacked_box_dropped_on_the_way_to_q_is_not_counted_as_taken(request, target, name, old, new, scenario):
+    """UR on source 004's test cell unstacking (no bundled cell unstacks on UR), the others on the EUR cell's."""
+    cell = request.getfixturevalue("unstacking") if target == "ur" else load_cell(PALLETS / "eur_pallet.toml")
     found = mutant_mismatches(cell, target, name, old, new)
     assert found and found[0].startswith(scenario), found
 

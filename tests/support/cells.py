@@ -145,3 +145,11 @@ def unstacking_testmat_text() -> str:
     text = text.replace("pick_lift = 30.0", 'pick_lift = 40.0\nmode = "unstack"')
     assert 'mode = "unstack"' in text and "pick = [600.0, 300.0, 50.0," in text
     return text
+
+
+def unstacking_clear_q_text() -> str:
+    """Source 004's test cell unstacking, its Q moved away from the pallet: a box held at the start is carried from
+    home to above Q, and from the bundled Q that joint move swings it through the full stack (generate refuses it)."""
+    text = unstacking_testmat_text().replace("pick = [600.0, 300.0, 50.0,", "pick = [450.0, 350.0, 50.0,")
+    assert "pick = [450.0, 350.0, 50.0," in text
+    return text
