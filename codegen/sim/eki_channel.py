@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from codegen.dialects.core.machine import Machine
 from codegen.dialects.core.values import RunError, f32
 from codegen.dialects.krl.eki import ERRORS, Config, ConfigError, parse_config, status
+from codegen.model.vision import PHOTO, READ
 from codegen.sim.vision_pc import VisionPC
 
 # The types an element of the configuration's RECEIVE part may have that the functions here read (KST EthernetKRL
@@ -96,7 +97,8 @@ class EkiVisionPC(VisionPC):
         paths = self.channel_facts["receive"]
         if "station" in values:  # a read's answer holds the mark always: 0 where the station's mode reads none
             values = {**dict.fromkeys(READ_VALUES, 0.0), **values}
-        document = {paths["ack"]: _text(ack)}
+        command = READ if "station" in values else PHOTO  # the command answered, said in the answer
+        document = {paths["ack"]: _text(ack), paths["command"]: _text(command)}
         named = [(paths[name], _text(value)) for name, value in values.items() if name in paths]
         if self.behaviour == "incomplete" and named:
             named = named[:-1]
