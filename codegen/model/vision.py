@@ -79,7 +79,9 @@ PREVIOUS_REQUEST = 41  # the previous cycle's last answered request
 BEHAVIOURS = (
     "prompt", "late", "too_late", "never", "stale", "twice", "other_sequence", "late_previous", "dropped", "incomplete",
 )  # fmt: skip
-UNANSWERED = frozenset({"too_late", "never", "stale", "other_sequence", "dropped", "incomplete"})  # a correct program halts
+UNANSWERED = frozenset(
+    {"too_late", "never", "stale", "other_sequence", "dropped", "incomplete"}
+)  # a correct program halts
 SECOND_LOOK_MM = 0.5  # "twice": the second answer reads the mark this much further along x and y
 PROMPT_S = 0.02  # a prompt answer's latency (less than one poll: most runs wait once)
 

@@ -184,13 +184,15 @@ class EkiVisionPC(VisionPC):
         if configured is None:
             return status(msg_no=ERRORS["unknown_element"], connected=channel.connected), None
         if configured != type_name:
-            raise RunError(f"{where}: the element {path} is configured as {configured}: read it with {READS.get(configured, 'its function')}")
+            function = READS.get(configured, "its function")
+            raise RunError(f"{where}: the element {path} is configured as {configured}: read it with {function}")
         taken = channel.take(path)
         if taken is None:
             return status(msg_no=ERRORS["empty"], connected=channel.connected), None
         text, stamp = taken
         left = len(channel.memories[path])
-        return status(buff=left, read=1, connected=channel.connected, counter=stamp), _value(text, type_name, where, path)
+        value = _value(text, type_name, where, path)
+        return status(buff=left, read=1, connected=channel.connected, counter=stamp), value
 
     def _getint(self, channel: Channel, key: str, where: str, path=None, type_name=None, **_kw):
         return self._get(channel, where, path, type_name)

@@ -71,10 +71,9 @@ class VisionPC:
 
     def _deliver(self, machine: Machine, ack, values: dict) -> None:
         for name, value in (*values.items(), ("ack", ack)):
-            if not machine.write_variable(self.names.get(name, name), value):
-                raise RunError(
-                    f"{machine.program.name}: the vision interface variable {self.names.get(name, name)} is not declared"
-                )
+            variable = self.names.get(name, name)
+            if not machine.write_variable(variable, value):
+                raise RunError(f"{machine.program.name}: the vision interface variable {variable} is not declared")
 
     def next_time(self, machine: Machine) -> float | None:
         if not self._due:

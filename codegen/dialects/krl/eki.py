@@ -1,4 +1,4 @@
-"""KUKA.EthernetKRL's KRL functions (EKI_Init ... EKI_GetReal), each returning EKI_STATUS, served by a channel device."""
+"""KUKA.EthernetKRL's KRL functions (EKI_Init ... EKI_GetReal) returning EKI_STATUS, served by a channel device."""
 
 from __future__ import annotations
 
@@ -93,7 +93,9 @@ def status(buff: int = 0, read: int = 0, msg_no: int = 0, connected: bool = Fals
 def _device(m, where: str, name: str):
     device = next((d for d in m.devices if hasattr(d, "eki_channel")), None)
     if device is None:
-        raise RunError(f"{where}: {name}: no Ethernet KRL partner is attached to this run (codegen verify attaches one)")
+        raise RunError(
+            f"{where}: {name}: no Ethernet KRL partner is attached to this run (codegen verify attaches one)"
+        )
     return device
 
 
