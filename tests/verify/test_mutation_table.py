@@ -155,7 +155,8 @@ HANDSHAKE = {
     },
     "request_number_from_the_ack": {  # a late answer to the previous cycle's last request counts
         "ur": (r"^(\s+)request = read_output_integer_register\((\d+)\)\n", r"\1request = -1\n"),
-        "kuka": (r"^\s+IF VIS_ACK > VIS_REQ THEN[^\n]*\n", "  IF TRUE THEN\n"),
+        # over its channel KRL numbers requests itself: the answer taken whatever its number
+        "kuka": (r"^(\s+)WHILE ACK <> VIS_REQ\n", r"\1WHILE ACK == VIS_REQ - 1\n"),
         "abb": (r"^\s+IF vis_ack > vis_req THEN\n", "    IF TRUE THEN\n"),
         "dtrans": (r"^\s+If vis_ack > vis_req Then\n", "  If True Then\n"),
     },
