@@ -11,7 +11,7 @@ from codegen.model.vision import PHOTO, PREVIOUS_REQUEST, PROMPT_S, READ, SECOND
 
 # the channels a target's program may reach the vision PC through (targets' [program] channel form): the module of
 # this package whose PARTNER serves it
-CHANNELS = {"eki": "codegen.sim.eki_channel"}
+CHANNELS = {"eki": "codegen.sim.channel_pc"}
 # the behaviours where no answer is written: over variables a vision PC that drops off the network, or has not all
 # of an answer, writes nothing (a channel's partner models the connection and the answer's elements itself)
 SILENT = ("never", "stale", "dropped", "incomplete")

@@ -80,7 +80,7 @@ def test_a_reading_arrives_at_the_paths_the_configuration_names():
     assert kept["N"] == [0, 0, 0, 0, 0, 0, eki.ERRORS["empty"]]  # the answer's theta taken: its memory is empty
     assert kept["ACK"] == 7
     assert kept["X"] == pytest.approx(612.5) and kept["THETA"] == pytest.approx(1.5)
-    assert device.channels == {}  # closed and deleted at the end
+    assert [link.connected for link in device.links] == [False]  # closed at the end
 
 
 def test_a_path_the_configuration_does_not_name_reads_nothing():

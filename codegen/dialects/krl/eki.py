@@ -1,11 +1,11 @@
-"""KUKA.EthernetKRL's KRL functions (EKI_Init ... EKI_GetReal) returning EKI_STATUS, served by a channel device."""
+"""KUKA.EthernetKRL's KRL functions (EKI_Init ... EKI_GetReal) and its channels, the network partner a device."""
 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-from codegen.dialects.core.values import Record, RunError
+from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.krl.builtins import STRUCTS, type_name_of
 
 # Sources: KUKA, KST EthernetKRL 2.2 (19.12.2012) as shown by easymanua.ls: the configuration file's structure
@@ -90,13 +90,147 @@ def status(buff: int = 0, read: int = 0, msg_no: int = 0, connected: bool = Fals
     return Record("EKI_STATUS", zip([n for n, _t in STATUS], (buff, read, msg_no, connected, counter), strict=True))
 
 
-def _device(m, where: str, name: str):
-    device = next((d for d in m.devices if hasattr(d, "eki_channel")), None)
-    if device is None:
-        raise RunError(
-            f"{where}: {name}: no Ethernet KRL partner is attached to this run (codegen verify attaches one)"
-        )
-    return device
+READS = {t: f for f, t in GET_TYPES.items()}  # a RECEIVE element's type: the function that reads it
+
+
+@dataclass
+class Channel:
+    """One channel as the option keeps it: initialised from its configuration, open (connected) or not, a FIFO
+    memory per received element, the values set for sending, a time stamp per document received. The network
+    partner at its other end (a device of the run with network_partner) gets it on EKI_Open as its link: it
+    hands documents to deliver() and ends the connection with drop()."""
+
+    config: Config
+    connected: bool = False
+    memories: dict = field(default_factory=dict)  # path -> [value text, ...] (oldest first)
+    stamps: dict = field(default_factory=dict)  # path -> [counter, ...]
+    staged: dict = field(default_factory=dict)  # path -> value set with EKI_SetInt
+    counter: int = 0
+
+    def deliver(self, document: dict) -> None:
+        """A document from the partner ({path: text}): each element the configuration names goes to its memory;
+        the rest is dropped (assumed: the option keeps only what it is configured for)."""
+        if not self.connected:
+            return
+        self.counter += 1
+        for path, value in document.items():
+            if path in self.config.receive:
+                self.memories.setdefault(path, []).append(value)
+                self.stamps.setdefault(path, []).append(self.counter)
+
+    def drop(self) -> None:
+        """The partner went off the network: the connection is lost, the memories stay readable."""
+        self.connected = False
+
+
+def _under(path: str, root: str) -> bool:
+    return path == root or path.startswith(root + "/")
+
+
+def _value(text: str, type_name: str, where: str, path: str):
+    try:
+        if type_name == "INT":
+            return int(text)
+        if type_name == "REAL":
+            return f32(float(text))
+        return text.strip().lower() in ("1", "true")
+    except ValueError:
+        raise RunError(f"{where}: the element {path} holds {text!r}, not a {type_name}") from None
+
+
+def _partner(m):
+    return next((d for d in m.devices if getattr(d, "network_partner", False)), None)
+
+
+def _init(m, key, name, where, **_kw):
+    if key in m.state.channels:
+        return status(msg_no=ERRORS["already_initialised"])
+    text = getattr(m.program, "eki_configs", {}).get(key)
+    if text is None:
+        raise RunError(f"{where}: EKI_Init: no configuration {name}.xml beside the program (the option reads it)")
+    try:
+        config = parse_config(text)
+    except ConfigError as exc:
+        raise RunError(f"{where}: EKI_Init: the configuration {name}.xml: {exc}") from None
+    m.state.channels = {**m.state.channels, key: Channel(config)}
+    return status()
+
+
+def _open(m, channel: Channel, **_kw):
+    partner = _partner(m)
+    if partner is None or not partner.connect(m, channel):  # nobody listens at the configured address
+        return status(msg_no=ERRORS["not_connected"])
+    channel.connected = True
+    return status(connected=True)
+
+
+def _close(m, channel: Channel, **_kw):
+    channel.connected = False
+    return status()
+
+
+def _clear(m, channel: Channel, key=None, **_kw):
+    channel.connected = False
+    m.state.channels = {k: v for k, v in m.state.channels.items() if k != key}
+    return status()
+
+
+def _setint(m, channel: Channel, path=None, value=None, **_kw):
+    if path not in channel.config.send:
+        return status(msg_no=ERRORS["unknown_element"], connected=channel.connected)
+    channel.staged = {**channel.staged, path: value}
+    return status(connected=channel.connected)
+
+
+def _send(m, channel: Channel, path=None, **_kw):
+    if not channel.connected:
+        return status(msg_no=ERRORS["not_connected"])
+    if not any(_under(p, path) for p in channel.config.send):
+        return status(msg_no=ERRORS["unknown_element"], connected=True)
+    _partner(m).take(m, {p: v for p, v in channel.staged.items() if _under(p, path)})
+    return status(connected=True)
+
+
+def _checkbuffer(m, channel: Channel, path=None, **_kw):
+    if path not in channel.config.receive:
+        return status(msg_no=ERRORS["unknown_element"], connected=channel.connected)
+    return status(buff=len(channel.memories.get(path, ())), connected=channel.connected)
+
+
+def _clearbuffer(m, channel: Channel, path=None, **_kw):
+    for p in channel.memories:
+        if _under(p, path):
+            channel.memories[p], channel.stamps[p] = [], []
+    return status(connected=channel.connected)
+
+
+def _get(m, channel: Channel, path=None, type_name=None, where="", **_kw):
+    configured = channel.config.receive.get(path)
+    if configured is None:
+        return status(msg_no=ERRORS["unknown_element"], connected=channel.connected), None
+    if configured != type_name:
+        function = READS.get(configured, "its function")
+        raise RunError(f"{where}: the element {path} is configured as {configured}: read it with {function}")
+    memory = channel.memories.get(path)
+    if not memory:
+        return status(msg_no=ERRORS["empty"], connected=channel.connected), None
+    text, stamp = memory.pop(0), channel.stamps[path].pop(0)
+    value = _value(text, type_name, where, path)
+    return status(buff=len(memory), read=1, connected=channel.connected, counter=stamp), value
+
+
+DONE = {
+    "EKI_OPEN": _open,
+    "EKI_CLOSE": _close,
+    "EKI_CLEAR": _clear,
+    "EKI_SETINT": _setint,
+    "EKI_SEND": _send,
+    "EKI_CHECKBUFFER": _checkbuffer,
+    "EKI_CLEARBUFFER": _clearbuffer,
+    "EKI_GETINT": _get,
+    "EKI_GETREAL": _get,
+    "EKI_GETBOOL": _get,
+}
 
 
 def _text(value, where: str, name: str, what: str) -> str:
@@ -106,28 +240,31 @@ def _text(value, where: str, name: str, what: str) -> str:
 
 
 def _call(name: str, arity: int, describe: str):
-    """A channel function: its arguments checked, then done by the channel device (codegen/sim/eki_channel.py)."""
+    """A channel function: its arguments checked, then done on the run's channel of that name."""
+    key = name.upper()
 
     def call(fr, args, kwargs, where, setters=None):
         if len(args) != arity:
             raise RunError(f"{where}: {name} takes {arity} arguments ({describe}), got {len(args)}")
-        channel = _text(args[0], where, name, "the channel")
+        channel_name = _text(args[0], where, name, "the channel")
         path = _text(args[1], where, name, "the element path") if arity > 1 else None
         m = fr.m
-        device = _device(m, where, name)
-        key = name.upper()
         if key == "EKI_INIT":
-            configs = getattr(m.program, "eki_configs", {})
-            return device.eki_channel(m, key, channel, where, config=configs.get(channel.upper()))
+            return _init(m, channel_name.upper(), channel_name, where)
+        channel = m.state.channels.get(channel_name.upper())
         if key in GET_TYPES:
             if setters is None or setters[2] is None:
                 raise RunError(f"{where}: {name}: the value (OUT) is a variable")
-            result, value = device.eki_channel(m, key, channel, where, path=path, type_name=GET_TYPES[key])
+            if channel is None:
+                return status(msg_no=ERRORS["not_initialised"])
+            result, value = _get(m, channel, path=path, type_name=GET_TYPES[key], where=where)
             if value is not None:
                 setters[2](fr, value)
             return result
+        if channel is None:
+            return status(msg_no=ERRORS["not_initialised"])
         value = args[2] if arity > 2 else None
-        return device.eki_channel(m, key, channel, where, path=path, value=value)
+        return DONE[key](m, channel, key=channel_name.upper(), path=path, value=value, where=where)
 
     return call
 
