@@ -119,7 +119,7 @@ def checked_in():
             folder = REPO / "generated" / path.stem / target
             suffixes = get_target(target).suffixes
             text = (folder / f"{path.stem}{suffixes[0]}").read_text(encoding="utf-8")
-            data = folder / f"{path.stem}{suffixes[-1]}"
+            data = folder / f"{path.stem}{suffixes[1] if len(suffixes) > 1 else suffixes[0]}"  # its data list
             dat = data.read_text(encoding="utf-8") if len(set(suffixes)) > 1 and data.is_file() else None
             out[path.stem, target] = (cell, cases, (text, dat))
     return out
