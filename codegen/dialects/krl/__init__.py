@@ -110,4 +110,17 @@ class KRL(Dialect):
 
     @classmethod
     def check_files(cls, files: list) -> list:
-        return cls.module("check").check_files(files)
+        """The KRL files' findings (codegen/dialects/krl/check.py); a channel's configuration as the option reads
+        it (one finding where it cannot)."""
+        from codegen.dialects.core.files import finding_of
+        from codegen.dialects.core.values import RunError
+
+        configurations = [f for f in files if f.suffix in cls.configurations]
+        findings = []
+        for f in configurations:
+            try:
+                cls.check(f.text, f.name)
+            except RunError as exc:
+                findings.append(finding_of(exc, [f]))
+        krl = [f for f in files if f.suffix not in cls.configurations]
+        return [*cls.module("check").check_files(krl), *findings] if krl else findings
