@@ -186,3 +186,10 @@ MUTATIONS = {
 def test_verify_catches_a_channel_edit(station, name):
     cell, source, cases = station
     assert _mismatches(cell, source, cases, MUTATIONS[name]) >= 1
+
+
+def test_check_reads_a_configuration_as_the_option_does():
+    program = [SourceFile("t.src", "DEF T()\nEND\n"), SourceFile("t.dat", DAT_HEAD.format(name="T") + "ENDDAT\n")]
+    assert KRL.check_files([*program, SourceFile("cam.xml", CONFIG)]) == []
+    (finding,) = KRL.check_files([*program, SourceFile("cam.xml", "<ETHERNETKRL/>")])
+    assert finding.file == "cam.xml" and "CONFIGURATION/EXTERNAL has no IP and PORT" in finding.message
