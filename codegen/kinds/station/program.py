@@ -156,7 +156,7 @@ def _channel(cell: Cell, target: Target, used: list) -> dict | None:
         "errors": [(number, emitter.string(text)) for number, text in facts["messages"]],
         "other_error": emitter.string(facts["other_message"]),
         "not_deleted": emitter.string(facts["not_deleted"]),
-        "name": owned(file_stem(cell, target)),
+        "name": file_stem(cell, target),
         "ip": emitter.string(cell.vision.ip),
         "port": cell.vision.port,
         "send": owned(facts["send"]),
