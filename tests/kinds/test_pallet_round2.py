@@ -6,6 +6,7 @@ from pathlib import Path
 import pytest
 from support.programs import edited, sources, verify_one
 
+from codegen.kinds.pallet.latch import CounterLatch
 from codegen.model.cell import load_cell
 
 PALLETS = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallets"
@@ -78,3 +79,29 @@ def test_the_abb_task_has_one_tool_and_a_work_object_per_pallet_in_its_system_mo
         assert "PERS tooldata" not in text, name
         assert "PERS wobjdata" not in text, name
     assert "\\WObj:=pal_eur_wobj" in texts["pal_eur.mod"] and "\\WObj:=pal_eur_in_wobj" in texts["pal_eur_in.mod"]
+
+
+class _Machine:
+    """What the PLC's block reads of a run: the program's outputs, the inputs at the start, its own state."""
+
+    def __init__(self):
+        self.outputs, self.inputs, self.device_state = {}, {}, {}
+
+
+def test_the_plcs_block_copies_at_the_toggle_alone():
+    """A start after a boot: the registers hold what the program has not written (0 and 0) and the running bit is on;
+    the memory keeps the counters until the program flips the toggle after writing them."""
+    latch = CounterLatch("output_integer_register_0", "output_integer_register_1", "output_boolean_register_0", (3, 2))
+    machine = _Machine()
+    latch.on_wait(machine, "start")
+    assert latch.memory == (3, 2)
+    machine.outputs.update({"output_integer_register_0": 3, "output_integer_register_1": 3})
+    latch.on_wait(machine, "written")
+    assert latch.memory == (3, 2)  # written, not yet said so
+    machine.outputs["output_boolean_register_0"] = True
+    latch.on_wait(machine, "toggled")
+    assert latch.memory == (3, 3)
+    machine.outputs["output_integer_register_0"] = -3
+    machine.outputs["output_boolean_register_0"] = False
+    latch.on_wait(machine, "marked")
+    assert latch.memory == (-3, 3)  # a negative layer as it is
