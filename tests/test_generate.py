@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 from pathlib import Path
@@ -73,7 +74,7 @@ def test_write_failure_midway_leaves_previous_output_intact(tmp_path, monkeypatc
     cell = load_cell()
     generate(cell, None, tmp_path)
     before = _snapshot(tmp_path)
-    changed = cell.__class__(**{**cell.__dict__, "sha256": "0" * 64})
+    changed = dataclasses.replace(cell, sha256="0" * 64)
     calls = {"n": 0}
     real_fsync = os.fsync
 
