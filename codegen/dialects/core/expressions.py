@@ -66,7 +66,8 @@ class Expressions:
             if high is not None and value > (-low if self._negated_literal else high):
                 self.fail(node, f"number {shown} is beyond the controller's integers ({low}..{high}, 32-bit)")
         elif not math.isfinite(value):
-            self.fail(node, f"number {shown} is beyond the controller's numbers (32-bit floating point: at most {F32_MAX:.7g})")
+            limit = f"32-bit floating point: at most {F32_MAX:.7g}"
+            self.fail(node, f"number {shown} is beyond the controller's numbers ({limit})")
         return Src(self.const(value))
 
     def e_string(self, node):

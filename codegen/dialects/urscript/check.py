@@ -182,7 +182,8 @@ class Checker:
                     problem = f"integer overflow: the {what} gives {value}, beyond the controller's 32-bit ints"
         if isinstance(value, float) and not abs(value) <= F32_MAX:
             shown = f"number {shown}" if node.data == "number" else f"the {what} gives {value:.7g}, which"
-            problem = problem or f"{shown} is beyond the controller's numbers (32-bit floating point: at most {F32_MAX:.7g})"
+            limit = f"32-bit floating point: at most {F32_MAX:.7g}"
+            problem = problem or f"{shown} is beyond the controller's numbers ({limit})"
         if problem is not None:
             self.add(node, "error", "overflow", problem)
             value = None

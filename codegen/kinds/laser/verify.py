@@ -161,7 +161,8 @@ def _flat(value) -> list[float]:
         value = [value[k] for k in sorted(value)]
     if isinstance(value, list | tuple | np.ndarray):
         return [x for v in value for x in _flat(v)]
-    if not isinstance(value, int | float | np.floating | np.integer):  # never set (a data list's value left uninitialised)
+    # a value never set (a data list's value left empty) is no number
+    if not isinstance(value, int | float | np.floating | np.integer):
         return []
     return [float(value)]
 
