@@ -125,7 +125,8 @@ def test_check_reports_every_literal_and_constant_expression_past_the_numbers(tm
         3: "integer overflow: the negation gives 2147483648, beyond the controller's 32-bit ints [overflow]",
         4: "integer overflow: the * gives 4294967296, beyond the controller's 32-bit ints [overflow]",
         5: "number 1e39 is beyond the controller's numbers (32-bit floating point: at most 3.402823e+38) [overflow]",
-        6: "the * gives 3e+39, which is beyond the controller's numbers (32-bit floating point: at most 3.402823e+38) [overflow]",
+        6: "the * gives 3e+39, which is beyond the controller's numbers"
+        " (32-bit floating point: at most 3.402823e+38) [overflow]",
         7: "integer overflow: the + gives 2147483648, beyond the controller's 32-bit ints [overflow]",
     }, result.output
 
