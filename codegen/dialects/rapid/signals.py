@@ -228,18 +228,23 @@ def wait_signal(kind: str):
                 have = bool(m.input_signal(name)) if kind == "DI" else output_value(m, name)
                 return have == want
 
-            came = now()
-            if not came:
-                seconds = None if max_time is None else num(max_time(fr), where)
-                came = m.wait_for(now, where, seconds, keyword)
-                if flag is None and not came:
-                    raise errors.wait_maxtime(where, keyword, seconds)
-            if flag is not None:
-                flag(fr, not came)
+            _await(fr, now, where, keyword, max_time, flag)
 
         return run
 
     return compile_
+
+
+def _await(fr, now: Callable[[], bool], where: str, keyword: str, max_time, flag) -> None:
+    """Wait until now() holds: at most \\MaxTime, then ERR_WAIT_MAXTIME, or \\TimeFlag set and the program goes on."""
+    came = now()
+    if not came:
+        seconds = None if max_time is None else num(max_time(fr), where)
+        came = fr.m.wait_for(now, where, seconds, keyword)
+        if flag is None and not came:
+            raise errors.wait_maxtime(where, keyword, seconds)
+    if flag is not None:
+        flag(fr, not came)
 
 
 def _wait_group(compiler, node, positional, named, keyword: str, kind: str, test) -> Callable:
@@ -252,21 +257,14 @@ def _wait_group(compiler, node, positional, named, keyword: str, kind: str, test
     read = reader(kind, signal)
 
     def run(fr):
-        want, m = num(value(fr), where), fr.m
+        want = num(value(fr), where)
         if want != int(want) or not 0 <= want < GROUP_MAX:
             raise RunError(f"{where}: {keyword} {signal(fr)}: {want:g} is not a whole number in 0..{GROUP_MAX - 1}")
 
         def now() -> bool:
             return test(float(read(fr)), want)
 
-        came = now()
-        if not came:
-            seconds = None if max_time is None else num(max_time(fr), where)
-            came = m.wait_for(now, where, seconds, keyword)
-            if flag is None and not came:
-                raise errors.wait_maxtime(where, keyword, seconds)
-        if flag is not None:
-            flag(fr, not came)
+        _await(fr, now, where, keyword, max_time, flag)
 
     return run
 
