@@ -85,3 +85,47 @@ def test_an_intercepts_descent_while_the_part_left_on_the_belt_is_under_the_grip
     assert _run(chosen, program, "tall_then_low").mismatches == 0
     row = _run(chosen, mutant, "tall_then_low")
     assert row.mismatches == 1 and any("into part 1" in m for m in row.first_mismatches), row.first_mismatches
+
+
+# the grip output asserted again before any motion with a part held at the start: (the early assert, the put-down's
+# first line, the output alone); the mutant restores the assert after the way home, before the put-down
+ASSERT_EARLY = {
+    "ur": (
+        "  if cnv_held:\n    # the grip output asserted again before any motion",
+        '    textmsg("conveyor: a part held at the start',
+        "    set_standard_digital_out(0, True)\n",
+    ),
+    "kuka": (
+        "  IF HELD THEN\n    ; the grip output asserted again before any motion",
+        '    CNV_MSG.MSG_TXT[] = "conveyor: a part held at the start',
+        "    $OUT[17] = TRUE\n",
+    ),
+    "abb": (
+        "    IF held THEN\n      ! the grip output asserted again before any motion",
+        '      TPWrite "conveyor: a part held at the start',
+        "      SetDO doGripClose, 1;\n",
+    ),
+}
+
+
+def _late_assert(text: str, target: str) -> str:
+    early, put_down, output = ASSERT_EARLY[target]
+    if early not in text:
+        return text
+    start = text.index(early)
+    end = text.index(output.strip(), start) + len(output.strip())
+    end = text.index("\n", text.index("\n", end) + 1) + 1  # the block's end (endif/ENDIF) line
+    text = text[:start] + text[end:]
+    assert text.count(put_down) == 1
+    return text.replace(put_down, output + put_down)
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb"])
+def test_a_grip_asserted_again_only_after_the_way_home_fails_verify(cell, target):
+    """A part held at the start (the arm stopped above the belt): the grip output on again before the arm moves; a
+    program that sets it only once home, before the put-down, carries the part home with the output maybe off."""
+    program = first(cell, target, "conveyor")
+    mutant = edited(program, lambda text: _late_assert(text, target), "late_assert")
+    assert _run(cell, program, "start_mid_cycle").mismatches == 0
+    row = _run(cell, mutant, "start_mid_cycle")
+    assert row.mismatches == 1, row.first_mismatches

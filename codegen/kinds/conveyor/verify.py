@@ -298,8 +298,8 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     first, release_at = first_moves(cell, target, case.start, case.held)
     events = [o for o in trace.outputs if o.name == output]
     closes = [o for o in events if o.value == cell.io.value]
-    # a part held at the start: the grip asserted again at home, before the way to the place (PUT_DOWN's three moves)
-    held_at = None if not case.held or release_at is None else release_at - 2
+    # a part held at the start: the grip asserted again before any motion (the way home would drop it)
+    held_at = None if not case.held or release_at is None else 0
     closes = closes[1:] if held_at is not None else closes
     opens = [o for o in events if o.value != cell.io.value][1:]  # after the one at the start
     names = frozenset({output})
