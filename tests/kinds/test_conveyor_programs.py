@@ -78,7 +78,7 @@ def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
     unit = {"unit_missed_sync", "stray_pulses", "seen_before_start"}
     # the robot's latch against the PLC's queue (UR); the counter's wrap with parts queued
     latch = {"latch_scale", "trigger_missed", "rollover_queued"}
-    waits = {"part_too_close", "place_blocked", "belt_stands", "no_part"}
+    waits = {"part_too_close", "place_blocked", "belt_stands", "no_part", "tall_then_low"}
     assert set(found) == belts | scenarios | unit | latch | waits
     assert found["varying_speed"].belt.wobble > 0
     rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel

@@ -130,12 +130,12 @@ def test_the_queue_checks_removed_fail_verify(belt, what, old, new):
 
 
 def test_the_grip_output_asserted_again_on_a_part_held_at_the_start(cell):
-    """Every target sets the grip output again before it carries a part held at the start to the place; without it
-    verify fails the start_mid_cycle case."""
+    """Every target sets the grip output again before any motion with a part held at the start; without it verify
+    fails the start_mid_cycle case."""
     edits = {
-        "abb": ("      SetDO doGripClose, 1;\n      TPWrite", "      TPWrite"),
-        "ur": ("    set_standard_digital_out(0, True)\n    textmsg", "    textmsg"),
-        "kuka": ("    $OUT[17] = TRUE\n    CNV_MSG.MSG_TXT[] = ", "    CNV_MSG.MSG_TXT[] = "),
+        "abb": ("      SetDO doGripClose, 1;\n    ENDIF\n", "    ENDIF\n"),
+        "ur": ("    set_standard_digital_out(0, True)\n  end\n  set_tcp", "  end\n  set_tcp"),
+        "kuka": ("    $OUT[17] = TRUE\n  ENDIF\n  $TOOL", "  ENDIF\n  $TOOL"),
     }
     for target, (old, new) in edits.items():
         program = first(cell, target, "conveyor")

@@ -350,3 +350,53 @@ def belt_zone(cell, target_name: str, trace) -> str | None:
     if on_at(trace.clock) and not low(last):
         return f"the belt zone's output {name} left on at the end, the arm off the belt"
     return None
+
+
+STRUCK_STEP_S = 0.01  # the moments a standing arm is checked against the parts moving under it
+
+
+def struck(cell, target_name: str, case, trace) -> str | None:
+    """No part left on the belt (given up: skipped, too late, not held) ever under the tool below its top: the tool a
+    cylinder of the tool's radius_mm around the TCP, its tip the lowest point; the part a box of part_size_mm along the
+    tool frame's axes as it lies on the belt (without a size: its centre), its top at z, apart from every other part.
+    Each pose is checked from the
+    end of its move until the next move starts (a move's lowest point is its end: the descents are straight down)."""
+    j = _Judge(cell, target_name, case)
+    size = np.zeros(3) if j.pick.part_size_mm is None else np.asarray(j.pick.part_size_mm, dtype=float)
+    half = 0.5 * (np.abs(j.grip[:3, :3]) @ size)  # belt frame: across, along, up
+    radius = cell.robot.tool.radius_mm if cell.robot is not None else 0.0
+    at = max(p.seen_s for p in case.parts) if case.parts else 0.0
+
+    def apart(p, q) -> bool:  # two parts' boxes side by side or one behind the other (the belt keeps their offset)
+        dy = part_y(case.belt, p, j.camera_y, at) - part_y(case.belt, q, j.camera_y, at)
+        return abs(p.x - q.x) >= 2.0 * half[0] or abs(dy) >= 2.0 * half[1]
+
+    # a case that places parts closer than their boxes allow (the timing cases treat a part as a point) has no answer
+    # here: only the parts that lie apart from every other are checked
+    left = [
+        p
+        for p in case.parts
+        if any(p.seq in _numbered(trace, prefix) for prefix in SKIPS)
+        and all(apart(p, q) for q in case.parts if q is not p)
+    ]
+    base2belt = np.linalg.inv(j.frame)
+    moves = trace.moves
+    for i, move in enumerate(moves):
+        if move.tcp2base is None:
+            continue
+        x, y, z, _ = base2belt @ move.tcp2base[:, 3]
+        if z >= j.pick.z_range_mm[1]:
+            continue
+        until = moves[i + 1].start_time if i + 1 < len(moves) else move.end_time
+        for t in [*np.arange(move.end_time, until, STRUCK_STEP_S), until]:
+            for part in left:
+                along = part_y(case.belt, part, j.camera_y, t)
+                dx = max(abs(x - part.x) - half[0], 0.0)
+                dy = max(abs(y - along) - half[1], 0.0)
+                if z < part.z and dx * dx + dy * dy < radius * radius:
+                    return (
+                        f"the tool {part.z - z:.1f} mm into part {part.seq} (left on the belt) at {t:.3f} s, after "
+                        f"move {i + 1} (line {move.line}): its tip {z:.1f} mm above the belt, {dy:.1f} mm from it "
+                        "along the belt"
+                    )
+    return None

@@ -23,7 +23,7 @@ from codegen.kinds.conveyor.timing import (
 )
 from codegen.model.cell import TaughtPose
 from codegen.model.io import POLL_S as IO_POLL_S
-from codegen.poses import FORMAT_DECIMALS, native_values, zyx_deg_from_rotmat
+from codegen.poses import FORMAT_DECIMALS, native_values, rotmat_from_zyx_deg, zyx_deg_from_rotmat
 from codegen.render import inertia_literal
 from codegen.sim import bus
 
@@ -48,6 +48,9 @@ OUT_OF_STEP = "conveyor: the unit's queue is out of step with the PLC's: empty b
 MISMATCH = "conveyor: the robot's encoder and the PLC's count disagree: check the trigger and the scale"
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 MASS_DECIMALS = 3
+# intercept: a part left on the belt this much further past the gripper's reach (its radius) before the arm comes down
+# near it: the count's rounding and the part's place on the belt as the camera reports it
+PASSED_MARGIN_MM = 10.0
 
 
 def place_blocked(cell) -> str:
@@ -85,6 +88,21 @@ def drift_mm(cell, target) -> float:
     horizon += pick.count_latency_s[1]
     age = POLL_S + 0.5 * SPEED_WINDOW_S  # a speed over the last SPEED_READS reads, taken at the next read
     return pick.belt_accel_mm_s2 * (age * horizon + 0.5 * horizon**2)
+
+
+def passed_parts(cell) -> tuple[float, float, float]:
+    """Intercept: how far past the intercept point a part left on the belt must be before the arm comes down below the
+    clear height for the next part (mm): half the part's length along the belt (part_size_mm's box turned by
+    tool_orientation; without it, half min_gap_mm: parts that close do not overlap), the tool's radius and
+    PASSED_MARGIN_MM."""
+    pick = conveyor_of(cell).pick
+    if pick.part_size_mm is not None:
+        along = np.abs(rotmat_from_zyx_deg(*pick.tool_orientation))[1] @ np.asarray(pick.part_size_mm, dtype=float)
+        half = 0.5 * float(along)
+    else:
+        half = 0.5 * pick.min_gap_mm
+    radius = cell.robot.tool.radius_mm if cell.robot is not None else 0.0
+    return half, float(radius), PASSED_MARGIN_MM
 
 
 def conveyor_ident(cell, target) -> str:
@@ -199,6 +217,8 @@ def conveyor_context(cell, target, emitter) -> dict:
         "lead_parts": [number(v, 6) for v in lead_parts(cell, target)],  # intercept: descent, hold, planning
         "down_s": number(down_fixed_seconds(cell), 6),  # intercept: the first stage's time but its descent
         "drift_mm": number(drift_mm(cell, target), 4),  # intercept: the first stage this much earlier (a speeding belt)
+        "passed_mm": number(sum(passed_parts(cell)), 4),  # intercept: a part left on the belt this far past first
+        "passed_parts": [number(v, 4) for v in passed_parts(cell)],
         "path_acc": None if path_acc_mm_s2(target) is None else number(path_acc_mm_s2(target) / 1000.0, 3),
         "timer": pick.timer.get(target.name),  # intercept: the controller's timer the speed is measured over
         "latency_s": number(pick.mean("count_latency_s"), 6),  # intercept: the count's age, its middle

@@ -12,7 +12,7 @@ from codegen.controllers import get_target
 from codegen.emit import Emitter
 from codegen.guard import NOT_RELEASED, halt_message
 from codegen.kinds.conveyor import native, plan
-from codegen.kinds.conveyor.judge import SKIPS, belt_zone, left_low
+from codegen.kinds.conveyor.judge import SKIPS, belt_zone, left_low, struck
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.kind import KIND
@@ -63,6 +63,10 @@ SLEEP_OVERHEAD_S = 0.002
 STRAY_AT_S = 4.0
 STRAY_AHEAD_MM = 60.0
 DOUBLE_S = 0.02
+# the tall_then_low case: the tall part this far before the intercept point when the program first reads the queue (an
+# intercept arrives after it), the low one at least TALL_GAP_MM behind it
+TALL_AHEAD_MM = 40.0
+TALL_GAP_MM = 100.0
 QUEUED_S = 2.0  # the rollover_queued case: its parts this far apart (s)
 SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
 OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
@@ -215,6 +219,16 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     rollover = next(c for c in out if c.category == "rollover")
     queued = tuple(_random_part(rng, pick, seq, 0.5 + QUEUED_S * (seq - 1)) for seq in range(1, 5))
     out.append(replace(rollover, category="rollover_queued", parts=queued))
+    # a tall part the arm cannot take (an intercept reaches it too late) and a low one the least spacing behind it (at
+    # least TALL_GAP_MM), both across from each other at the belt's fastest: the part left on the belt may still lie
+    # under the gripper when it comes down for the low one
+    gap = max(pick.min_gap_mm, TALL_GAP_MM)
+    rush = replace(slow, speed_mm_s=pick.belt_speed_max_mm_s)
+    (z0, z1), x = pick.z_range_mm, 0.5 * sum(pick.x_range_mm)
+    seen = DECISION_S - (pick.intercept_mm - TALL_AHEAD_MM + conveyor.camera_offset_mm) / rush.speed_mm_s
+    tall = Part(1, seen, x, z1 - 0.05 * (z1 - z0))
+    low = Part(2, seen + gap / rush.speed_mm_s, x, z0 + 0.05 * (z1 - z0))
+    out.append(replace(one, category="tall_then_low", belt=rush, parts=(tall, low)))
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
@@ -284,8 +298,8 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     first, release_at = first_moves(cell, target, case.start, case.held)
     events = [o for o in trace.outputs if o.name == output]
     closes = [o for o in events if o.value == cell.io.value]
-    # a part held at the start: the grip asserted again at home, before the way to the place (PUT_DOWN's three moves)
-    held_at = None if not case.held or release_at is None else release_at - 2
+    # a part held at the start: the grip asserted again before any motion (the way home would drop it)
+    held_at = None if not case.held or release_at is None else 0
     closes = closes[1:] if held_at is not None else closes
     opens = [o for o in events if o.value != cell.io.value][1:]  # after the one at the start
     names = frozenset({output})
@@ -328,6 +342,7 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         return Judgement([], problem=problem)
     problem, pos, rot = judge_parts(cell, target_name, case, trace, line, output)
     problem = problem or left_low(cell, target_name, case, trace, len(first), closes)
+    problem = problem or struck(cell, target_name, case, trace)
     if problem is not None:
         return Judgement([], problem=problem)
     moves = plan.lay_over(cell, target, mode, len(first), trace.moves, closes, opens)

@@ -171,6 +171,11 @@ MODULE cnv_belt_pick
     ! a part the gripper holds from a stopped cycle (its sensor on): carried with its payload, put down at the place
     held := DInput(diGripClosed) = 1;
     IF held THEN
+      ! the grip output asserted again before any motion (a stop or a reset of the I/O may have dropped it while the
+      ! part is held: the way home would drop it)
+      SetDO doGripClose, 1;
+    ENDIF
+    IF held THEN
       GripLoad cnv_part;
     ELSE
       GripLoad load0;
@@ -210,8 +215,6 @@ MODULE cnv_belt_pick
     ! home: off the belt (a stop over the belt left it on)
     SetDO doCnvBeltZone, 0;
     IF held THEN
-      ! the grip output asserted again (a stop or a reset of the I/O may have dropped it while the part is held)
-      SetDO doGripClose, 1;
       TPWrite "conveyor: a part held at the start: put down at the place";
       MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
       cnv_place_part;
