@@ -10,6 +10,7 @@ from click.testing import CliRunner
 from support.programs import edited, first, verify_one
 
 from codegen.cli import main
+from codegen.kinds.laser.section import laser_of
 from codegen.kinds.laser.verify import TRUTH_MM
 from codegen.model.cell import load_cell
 
@@ -30,6 +31,7 @@ def test_the_bundled_cell_verifies_on_every_target_within_a_tenth_of_the_truth()
     report = json.loads(result.output)
     assert report["ok"] is True
     lasers = {r["target"]: r for r in report["lasers"]}
+    runs = laser_of(load_cell(CELL)).runs
     assert set(lasers) == {"ur", "kuka", "abb"}
     # each target's own beside the nineteen all run (the fourteen, four starts at the column, a growing tool): UR its
     # first, the question left unanswered and the TCP written to a local copy; KUKA its first and the silent question
@@ -38,7 +40,8 @@ def test_the_bundled_cell_verifies_on_every_target_within_a_tenth_of_the_truth()
         assert summary["cases"] == 19 + own[target] and summary["mismatches"] == 0
         assert 0 < summary["tcp_truth_max_mm"] < TRUTH_MM
         assert 0.15 < summary["tcp_with_frame_error_mm"] < 0.35
-        assert 10.0 < summary["motion_s"] < 60.0  # source 003: about a minute
+        # source 003: about a minute for a measurement; the cell repeats it `runs` times for the spread
+        assert 10.0 < summary["motion_s"] / runs < 60.0
 
 
 def _mutated(cell, target_name: str, old: re.Pattern, new: str):
