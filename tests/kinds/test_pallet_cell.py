@@ -265,7 +265,7 @@ def test_counters_moved_into_the_regenerated_program_fail_the_reload(testmat):
     def rapid(text: str) -> str:
         text = text.replace("  PERS num pal_testmat_layer := 1;\n  PERS num pal_testmat_box := 1;\n", "")
         counters = "  LOCAL PERS num pal_testmat_layer := 1;\n  LOCAL PERS num pal_testmat_box := 1;\n"
-        return text.replace("  LOCAL PERS wobjdata stack_wobj", counters + "  LOCAL PERS wobjdata stack_wobj")
+        return text.replace("  LOCAL CONST jointtarget stack_home", counters + "  LOCAL CONST jointtarget stack_home")
 
     found = verify_one(testmat, edited(program, rapid), first_mismatch=True, clearance=False).first_mismatches
     assert found and found[0].startswith("counters_reloaded") and "pal_testmat.mod" in found[0], found

@@ -13,11 +13,12 @@ from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import ExpectedMove
 from codegen.kinds.pallet.exchange import SHIFT_ENDS, PalletExchange
 from codegen.kinds.pallet.kind import KIND
+from codegen.kinds.pallet.latch import CounterLatch
 from codegen.kinds.pallet.messages import known_question, message_limit, released_question, select_message
 from codegen.kinds.pallet.plan import configurations
 from codegen.kinds.pallet.program import carried_load, holds_name, known_name
 from codegen.kinds.pallet.reach import joints_of
-from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept
+from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept, taught_outside_store
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.setup import kept_names, start_joints
@@ -126,9 +127,11 @@ def judge(cell, source, case: Case, trace, setup=None) -> Judgement:
     reloaded = case.category == "counters_reloaded"
     problem = declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
     problem = problem or (store_not_kept(source, target) if reloaded else None)
+    problem = problem or (taught_outside_store(source, target) if reloaded else None)
     problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
     problem = problem or _unsaid(target, want.said, trace)
     problem = problem or _swaps(want, trace, setup, len(moves) - len(want.moves))
+    problem = problem or _latched(want.counters, setup)
     problem = problem or (_unasked(cell, pallet, target, trace) if want.asked else None)
     problem = problem or (_unasked(cell, pallet, target, trace, known_question) if want.known_asked else None)
     return Judgement([expectation], figures=boxes, problem=problem)
@@ -195,4 +198,17 @@ def _unasked(cell, pallet, target, trace, question=released_question) -> str | N
     text = Emitter(target).string(question(pallet, message_limit(cell)))
     if text not in getattr(trace, "messages", ()):
         return f"the operator was not asked {text!r}: only the operator can tell"
+    return None
+
+
+def _latched(counters, setup) -> str | None:
+    """The PLC's retentive memory at the end holds the counters the program reported: it copies them only at the
+    program's "counters written" toggle (codegen/kinds/pallet/latch.py)."""
+    for device in () if setup is None else setup.devices:
+        if isinstance(device, CounterLatch) and device.memory != tuple(counters):
+            return (
+                f"the PLC's memory holds layer {device.memory[0]}, box {device.memory[1]} when the program ends, "
+                f"expected layer {counters[0]}, box {counters[1]}: it copies {device.layer} and {device.box} only "
+                f"when the program flips {device.written} after writing them"
+            )
     return None

@@ -15,9 +15,11 @@ KIND = Kind(
         "kept": dict,  # layer and box: where the program reports the counters, if not in counters
         "store": str,  # where the counters outlive a reload and a regeneration: a file, "plc", "program"
         "store_attribute": str,  # the module attribute the store's file carries (a program load leaves its module)
+        "kept_data": list,  # the data types a program load must not reset (taught frames): declared in the store alone
         "declares": list,  # the words that begin a declaration in the language (after others: LOCAL, GLOBAL)
         "registers": int,  # the first register of the counters, where the controller keeps them in the PLC
         "registers_max": int,  # the last register the counters may use
+        "written": str,  # the "counters written" toggle ("{layer}": the layer's number): the PLC copies at its change
         "level_only": bool,  # no pose product: a level pallet only
         "joint_blend": bool,  # a joint move may blend into the next (false: it stops at its point)
         "input_stops": bool,  # reading an input stops the advance run: the move before a check ends exactly

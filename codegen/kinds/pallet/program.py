@@ -69,6 +69,16 @@ def counter_registers(cell, target, index: int) -> tuple[int, int] | None:
     return first, first + 1
 
 
+def written_register(cell, target, index: int) -> tuple[int, str] | None:
+    """The "counters written" toggle of pallet `index` (its number and name), which the program flips after each
+    write of its counters and on whose change alone the PLC copies them (targets/<t>.toml [program.pallet] written:
+    numbered as the layer's register), else None."""
+    pattern, registers = KIND.facts(target).get("written"), counter_registers(cell, target, index)
+    if pattern is None or registers is None:
+        return None
+    return registers[0], pattern.format(layer=registers[0])
+
+
 def counter_names(cell, target, index: int) -> tuple[str, str]:
     """The names of pallet `index`'s layer and box counters (`codegen run --input`, verify): registers, or the
     identifiers of the store (each pallet's own, where the store holds several)."""
@@ -120,6 +130,8 @@ def identifiers(cell, target) -> list[dict]:
         out.append(own)
     for pallet, own in zip(pallets, out, strict=True):
         own["ident"] = emitter.identifier("pal_", pallet.name, f"pallet {pallet.name!r}")
+        if KIND.facts(target).get("kept_data"):  # its work object in the store, named by the pallet
+            own["wobj"] = emitter.identifier("pal_", f"{pallet.name}_wobj", f"pallet {pallet.name!r}'s work object")
         if KIND.facts(target).get("task"):  # its entry routine, called from the task's main (not named as its module)
             own["entry"] = emitter.identifier("pal_", f"{pallet.name}_run", f"pallet {pallet.name!r}'s program")
         store = KIND.facts(target).get("store", "")
@@ -321,6 +333,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "way_up_m": number(way_up_z(cell) / 1000.0, 6),
         "way_home_m": number(cell.motion.retreat_mm / 1000.0, 6),
         "registers": registers,
+        "written": None if (toggle := written_register(cell, target, index)) is None else toggle[0],
         "counters": {"layer": owned(layer_name), "box": owned(box_name)},  # Code already, or a register's name
         "holds": None if holds is None else owned(holds),  # the flag: this program gripped what the gripper holds
         # the flag: the counters describe the pallet (FALSE as the store's file gives it)
@@ -336,6 +349,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "foreign": emitter.string(foreign_message(pallet, limit)),
         "lost": emitter.string(lost_message(pallet, limit)),
         "store": own.get("store"),
+        "wobj": own.get("wobj"),  # the pallet's work object in the store (None: in the program's own data)
         "store_file": _store_file(target, own),  # the file of the counters (None: they are not kept in one)
         "start": {"layer": first[0], "box": first[1]},
         "auto": pallet.approach_auto,
@@ -427,4 +441,5 @@ __all__ = [
     "pallet_context",
     "pallet_identifiers",
     "task_context",
+    "written_register",
 ]

@@ -36,6 +36,28 @@ def declared_outside_store(source, target, names: tuple[str, str]) -> str | None
     return None
 
 
+def taught_outside_store(source, target) -> str | None:
+    """The taught data (targets/<t>.toml [program.pallet] kept_data: RAPID's tooldata and wobjdata) are declared in
+    the store alone: declared in a program module, a program load sets a TCP or pallet frame measured at
+    commissioning back to its generated value."""
+    types, words, store = (KIND.facts(target).get(k) for k in ("kept_data", "declares", "store"))
+    if not types or not words or not store:
+        return None
+    declare, typed = "|".join(map(re.escape, words)), "|".join(map(re.escape, types))
+    pattern = rf"^[ \t]*(?:\w+[ \t]+)*?(?:{declare})[ \t]+({typed})[ \t]+(\w+)"
+    for f in source.files:
+        name = f.name.rsplit("/", 1)[-1]
+        if name.lower() == store.lower():
+            continue
+        found = re.search(pattern, f.text, re.M | re.I)
+        if found:
+            return (
+                f"{found.group(1)} {found.group(2)} is declared in {name}, which a program load replaces: a TCP or "
+                f"frame taught there goes back to its generated value (taught data belong in {store})"
+            )
+    return None
+
+
 def store_not_kept(source, target) -> str | None:
     """The store's module carries the attribute that keeps it through a program load (targets/<t>.toml
     [program.pallet] store_attribute: RAPID's SYSMODULE, a system module): without it a load of the program replaces

@@ -11,9 +11,10 @@ from codegen.kinds.pallet.cycle import PalletCase
 from codegen.kinds.pallet.exchange import PalletExchange
 from codegen.kinds.pallet.interlocks import WAITS_ON
 from codegen.kinds.pallet.kind import KIND
+from codegen.kinds.pallet.latch import CounterLatch
 from codegen.kinds.pallet.messages import known_question, message_limit, still_waiting_message
 from codegen.kinds.pallet.plan import configurations
-from codegen.kinds.pallet.program import counter_names, counter_registers, holds_name, known_name
+from codegen.kinds.pallet.program import counter_names, counter_registers, holds_name, known_name, written_register
 from codegen.kinds.pallet.reach import joints_of
 from codegen.kinds.pallet.reload import reload_proof
 from codegen.kinds.pallet.restart import expected
@@ -72,6 +73,9 @@ def setup(cell, source, case: Case) -> Setup:
         devices += (BoxLost(output, cell.io.value, feedback),)
     if target.name in pallet.io.reset:  # the PLC swaps a done pallet (the case's swaps), then resets its counters
         devices += (exchange(target, pallet, run.case),)
+    toggle = written_register(cell, target, index)
+    if toggle is not None:  # the PLC's block keeps the counters, copied from the program's registers at its toggle
+        devices += (CounterLatch(*kept_names(cell, target, index), toggle[1], (run.case.layer, run.case.box)),)
     # the operator at the pendant: answers the question (after a stop in a release, or the store reloaded) as the case
     # says, or looks away (a dialog stays shown until the program's own timeout ends it)
     devices += (Operator([] if run.case.answer is None else [run.case.answer], then_silent=True),)

@@ -36,18 +36,16 @@ MODULE pal_eur_in
   ! as the swap takes, answers it the same way, then works the new pallet; a pallet done at the start with the
   ! reset off the same, from home above Q.
 
-  ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
-  ! from the three points of the cell file; the object frame stays the identity
-  ! The arm (IRB 4600-60/2.05): the tool (TCP in the flange frame [mm], load [kg, mm, axes
-  ! of moment, kg m2]; its inertia from its shape)
-  LOCAL PERS tooldata stack_tool := [TRUE, [[0.0000, 0.0000, 250.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [6.000, [0.0000, 0.0000, 120.0000], [1.000000, 0.000000, 0.000000, 0.000000], 0.032188, 0.032188, 0.001875]];
+  ! The pallet's work object pal_eur_in_wobj (the pallet frame in the base frame) is in the system
+  ! module pallet_data.sys: a frame taught there keeps its value through a program load and a regeneration
+  ! The arm (IRB 4600-60/2.05): its tool stack_tool is in the system module pallet_data.sys (taught there once
+  ! for every pallet of the task: a program load keeps it)
   LOCAL CONST jointtarget stack_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! The box in the gripper (GripLoad from the confirmed grip to the confirmed release): its mass (kg), centre of
   ! gravity (mm), principal axes (a quaternion) and moments of inertia (kg m2, a solid box) in the tool coordinate
   ! system (RAPID data types, loaddata: a payload's are defined in the tool coordinate system; the tool's own load
   ! stays in stack_tool)
   LOCAL PERS loaddata stack_box := [12.000, [0.0000, 0.0000, 125.0000], [1.000000, 0.000000, 0.000000, 0.000000], 0.152500, 0.222500, 0.250000];
-  LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[600.0000, -1100.0000, -500.0000], [0.000000000, 0.000000000, 0.000000000, 1.000000000]], [[0, 0, 0], [1, 0, 0, 0]]];
   ! Q, where the boxes are put down, in the base frame, and 300.0000 mm above it (the arm
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen
   LOCAL CONST robtarget stack_q := [[1300.0000, 0.0000, 100.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, 2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
@@ -273,7 +271,7 @@ MODULE pal_eur_in
       entry := Offs(target, 0, 0, 300.0000);
       ! above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
       transit := Offs(target, 0, 0, 300.0000);
-      up := PoseMult(stack_wobj.uframe, [transit.trans, [1, 0, 0, 0]]);
+      up := PoseMult(pal_eur_in_wobj.uframe, [transit.trans, [1, 0, 0, 0]]);
       over := stack_above_q;
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
@@ -283,17 +281,17 @@ MODULE pal_eur_in
         MoveL over, stack_travel, stack_zone, stack_tool;
       ENDIF
       ! above the entry at the transit height (the gripper clear of the stack), then down to the entry
-      MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
+      MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=pal_eur_in_wobj;
+      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=pal_eur_in_wobj;
+      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=pal_eur_in_wobj;
+      MoveL target, stack_work, fine, stack_tool \WObj:=pal_eur_in_wobj;
       stack_grip;
       GripLoad stack_box;
       ! marked until the box reaches Q: a stop meanwhile (or the box dropped on the way) leaves the question to the start
       pal_eur_in_layer := -pal_eur_in_layer;
-      MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
+      MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 60.0000), stack_work, stack_zone, stack_tool \WObj:=pal_eur_in_wobj;
+      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=pal_eur_in_wobj;
+      MoveL transit, stack_travel, stack_zone, stack_tool \WObj:=pal_eur_in_wobj;
       MoveJ over, stack_travel, stack_zone, stack_tool;
       MoveL stack_above_q, stack_travel, fine, stack_tool;
       WaitDI diQClear, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;

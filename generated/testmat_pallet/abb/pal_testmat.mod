@@ -32,18 +32,16 @@ MODULE pal_testmat
   ! as the swap takes, answers it the same way, then works the new pallet; a pallet done at the start with the
   ! reset off the same, from home above Q.
 
-  ! The pallet's work object: the user frame is the pallet frame in the base frame (mm, quaternion),
-  ! from the three points of the cell file; the object frame stays the identity
-  ! The arm (IRB 1200-5/0.9): the tool (TCP in the flange frame [mm], load [kg, mm, axes
-  ! of moment, kg m2]; its inertia from its shape)
-  LOCAL PERS tooldata stack_tool := [TRUE, [[0.0000, 0.0000, 120.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [0.800, [0.0000, 0.0000, 50.0000], [1.000000, 0.000000, 0.000000, 0.000000], 0.001085, 0.001085, 0.000250]];
+  ! The pallet's work object pal_testmat_wobj (the pallet frame in the base frame) is in the system
+  ! module pallet_data.sys: a frame taught there keeps its value through a program load and a regeneration
+  ! The arm (IRB 1200-5/0.9): its tool stack_tool is in the system module pallet_data.sys (taught there once
+  ! for every pallet of the task: a program load keeps it)
   LOCAL CONST jointtarget stack_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! The box in the gripper (GripLoad from the confirmed grip to the confirmed release): its mass (kg), centre of
   ! gravity (mm), principal axes (a quaternion) and moments of inertia (kg m2, a solid box) in the tool coordinate
   ! system (RAPID data types, loaddata: a payload's are defined in the tool coordinate system; the tool's own load
   ! stays in stack_tool)
   LOCAL PERS loaddata stack_box := [0.050, [0.0000, 0.0000, 13.0000], [1.000000, 0.000000, 0.000000, 0.000000], 0.000006, 0.000014, 0.000014];
-  LOCAL PERS wobjdata stack_wobj := [FALSE, TRUE, "", [[650.0000, -50.0000, 50.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]], [[0, 0, 0], [1, 0, 0, 0]]];
   ! Q, where the boxes are picked, in the base frame, and 30.0000 mm above it (the arm
   ! comes down to Q and goes back up along the base's z); robconf: the arm's configuration there, chosen by codegen
   LOCAL CONST robtarget stack_q := [[600.0000, 300.0000, 50.0000], [0.000000000, 1.000000000, 0.000000000, 0.000000000], [0, 0, -2, 0], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
@@ -247,7 +245,7 @@ MODULE pal_testmat
       entry := Offs(target, 0, 0, 50.0000);
       ! above the entry, the carried box clear of the layer's top; above Q raised straight up to that height
       transit := Offs(target, 0, 0, 50.0000);
-      up := PoseMult(stack_wobj.uframe, [transit.trans, [1, 0, 0, 0]]);
+      up := PoseMult(pal_testmat_wobj.uframe, [transit.trans, [1, 0, 0, 0]]);
       over := stack_above_q;
       IF up.trans.z > over.trans.z THEN
         over.trans.z := up.trans.z;
@@ -295,10 +293,10 @@ MODULE pal_testmat
       IF late THEN
         stack_stop "pallet testmat: no pallet in place in 10 s, the box is in the gripper";
       ENDIF
-      MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL target, stack_work, fine, stack_tool \WObj:=stack_wobj;
+      MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=pal_testmat_wobj;
+      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=pal_testmat_wobj;
+      MoveL Offs(target, STACK_AX{row}, STACK_AY{row}, 5.0000), stack_work, stack_zone, stack_tool \WObj:=pal_testmat_wobj;
+      MoveL target, stack_work, fine, stack_tool \WObj:=pal_testmat_wobj;
       IF DInput(diGripClosed) = 0 THEN
         ! the item no longer in the gripper: lost on the way, not placed
         stack_stop "pallet testmat: the item was lost from the gripper on the way: find it";
@@ -315,9 +313,9 @@ MODULE pal_testmat
         pal_testmat_box := 1;
         pal_testmat_layer := pal_testmat_layer + 1;
       ENDIF
-      MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 5.0000), stack_work, stack_zone, stack_tool \WObj:=stack_wobj;
-      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=stack_wobj;
-      up := PoseMult(stack_wobj.uframe, [entry.trans, [1, 0, 0, 0]]);
+      MoveL Offs(target, STACK_RX{row}, STACK_RY{row}, 5.0000), stack_work, stack_zone, stack_tool \WObj:=pal_testmat_wobj;
+      MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=pal_testmat_wobj;
+      up := PoseMult(pal_testmat_wobj.uframe, [entry.trans, [1, 0, 0, 0]]);
       up_z := up.trans.z;
       up_q := TRUE;
       IF pal_testmat_layer > STACK_LAYERS THEN
