@@ -94,14 +94,14 @@ def test_the_plcs_block_copies_at_the_toggle_alone():
     latch = CounterLatch("output_integer_register_0", "output_integer_register_1", "output_boolean_register_0", (3, 2))
     machine = _Machine()
     latch.on_wait(machine, "start")
-    assert latch.memory == (3, 2)
+    assert latch.memory == (3, 2) and latch.reported == (3, 2)  # nothing written: the start's counters
     machine.outputs.update({"output_integer_register_0": 3, "output_integer_register_1": 3})
     latch.on_wait(machine, "written")
-    assert latch.memory == (3, 2)  # written, not yet said so
+    assert latch.memory == (3, 2) and latch.reported == (3, 3)  # written, not yet said so
     machine.outputs["output_boolean_register_0"] = True
     latch.on_wait(machine, "toggled")
     assert latch.memory == (3, 3)
     machine.outputs["output_integer_register_0"] = -3
     machine.outputs["output_boolean_register_0"] = False
     latch.on_wait(machine, "marked")
-    assert latch.memory == (-3, 3)  # a negative layer as it is
+    assert latch.memory == (-3, 3) and latch.reported == (-3, 3)  # a negative layer as it is

@@ -131,7 +131,7 @@ def judge(cell, source, case: Case, trace, setup=None) -> Judgement:
     problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
     problem = problem or _unsaid(target, want.said, trace)
     problem = problem or _swaps(want, trace, setup, len(moves) - len(want.moves))
-    problem = problem or _latched(want.counters, setup)
+    problem = problem or _latched(setup)
     problem = problem or (_unasked(cell, pallet, target, trace) if want.asked else None)
     problem = problem or (_unasked(cell, pallet, target, trace, known_question) if want.known_asked else None)
     return Judgement([expectation], figures=boxes, problem=problem)
@@ -201,14 +201,16 @@ def _unasked(cell, pallet, target, trace, question=released_question) -> str | N
     return None
 
 
-def _latched(counters, setup) -> str | None:
-    """The PLC's retentive memory at the end holds the counters the program reported: it copies them only at the
-    program's "counters written" toggle (codegen/kinds/pallet/latch.py)."""
+def _latched(setup) -> str | None:
+    """The PLC's retentive memory at the end holds the counters the program last wrote into its registers: the block
+    copies them only at the program's "counters written" toggle (codegen/kinds/pallet/latch.py). Whether those
+    counters are the reference's is the registers' own check (the expectation's stored counters): a program that
+    reports wrong counters, and flips the toggle after each report, fails there, not here."""
     for device in () if setup is None else setup.devices:
-        if isinstance(device, CounterLatch) and device.memory != tuple(counters):
+        if isinstance(device, CounterLatch) and device.memory != device.reported:
             return (
                 f"the PLC's memory holds layer {device.memory[0]}, box {device.memory[1]} when the program ends, "
-                f"expected layer {counters[0]}, box {counters[1]}: it copies {device.layer} and {device.box} only "
-                f"when the program flips {device.written} after writing them"
+                f"but the program last wrote layer {device.reported[0]}, box {device.reported[1]}: the PLC copies "
+                f"{device.layer} and {device.box} only when the program flips {device.written} after writing them"
             )
     return None
