@@ -16,6 +16,7 @@ from codegen.kinds.station.kind import KIND
 from codegen.kinds.station.posture import decide
 from codegen.kinds.station.region import StationRegion, offsets, station_region
 from codegen.kinds.station.section import Station, section_of, stations_of, with_section
+from codegen.model.cell import Cell
 from codegen.robot.taught import ArmPose, ReachError
 
 PARALLEL_STATIONS = 50  # from this many stations left to prove, their regions are worked out in parallel processes
@@ -55,7 +56,7 @@ class Plan:
     a StationPlan per [[station]] in the cell file's order, and the readings sampled per station."""
 
     target: str
-    cell: object
+    cell: Cell
     stations: tuple[StationPlan, ...]
     samples: int
     by_id: dict = field(init=False, compare=False, repr=False)
