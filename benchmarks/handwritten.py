@@ -29,7 +29,7 @@ from codegen.controllers import get_target
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, reading_in_range
 from codegen.kinds.station.cases import Case, _truth_problem, accepted_traces
 from codegen.kinds.station.joints import JOINT_TOLERANCE_DEG, expected_joints
-from codegen.kinds.station.posture import station_plan
+from codegen.kinds.station.plan import taught_poses
 from codegen.kinds.station.section import section_of
 from codegen.reference import home_move
 from codegen.robot import solve
@@ -104,7 +104,7 @@ def case(cell, target: str, one: Case) -> str | None:
         return untrue
     arm, tool = cell.robot.arms[target], cell.robot.tool
     form = get_target(target).configuration
-    taught, named = station_plan(cell, target, expected.station)
+    taught, named = taught_poses(cell, target, expected.station)
     by_name: dict = {}
     for pose, full in zip(taught, named, strict=True):
         by_name.setdefault(pose.name, (pose, full))

@@ -9,7 +9,6 @@ import numpy as np
 
 from codegen.model.motion import segments
 from codegen.poses import concat
-from codegen.robot.cache import per_cell
 
 JOINT = "joint"
 LINEAR = "linear"
@@ -64,19 +63,12 @@ class ExpectedTrace:
     path_start: int = 0  # where the station's path (its taught poses, then the retreat) begins in `moves`
 
 
-_HOME: dict = {}
-
-
 def home_move(cell, target: str) -> tuple[Move, np.ndarray] | None:
-    """The program's first motion, to the home joints, with the cell's tool; None without an arm."""
+    """The program's first motion, to the home joints, with the cell's tool, and the home joints; None without an arm.
+    Worked out where asked (one forward kinematics, some tens of microseconds), so that no store outlives its cell."""
     robot = cell.robot
     if robot is None or target not in robot.arms:
         return None
-
-    def compute():
-        home = np.asarray(robot.home[target], dtype=float)
-        return Move(
-            kind=JOINT, pose_name="home", tcp2base=robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange, exact=True
-        ), home
-
-    return per_cell(_HOME, cell, (target,), compute)
+    home = np.asarray(robot.home[target], dtype=float)
+    tcp2base = robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange
+    return Move(kind=JOINT, pose_name="home", tcp2base=tcp2base, exact=True), home

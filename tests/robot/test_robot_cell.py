@@ -342,24 +342,24 @@ def _many_stations(count: int, bad: int | None = None) -> str:
 
 
 def test_a_large_cell_is_checked_in_parallel_with_the_same_result(tmp_path, monkeypatch):
-    from codegen.kinds.station import envelope
+    from codegen.kinds.station import plan
 
     # the parallel path from 16 stations on (not the product's 50): the same chunks and processes, a third of the work
     large = 16
-    monkeypatch.setattr(envelope, "PARALLEL_STATIONS", large)
+    monkeypatch.setattr(plan, "PARALLEL_STATIONS", large)
     path = write_cell(tmp_path, _many_stations(large))
     parallel = load_cell(path)
-    assert len(stations_of(parallel)) >= envelope.PARALLEL_STATIONS
-    margins = [e.as_json() for e in envelope.check(parallel)]
+    assert len(stations_of(parallel)) >= plan.PARALLEL_STATIONS
+    margins = [e.as_json() for e in plan.check(parallel)]
     files = render(parallel)
-    monkeypatch.setattr(envelope, "PARALLEL_STATIONS", 10**6)
+    monkeypatch.setattr(plan, "PARALLEL_STATIONS", 10**6)
     serial = load_cell(path)
-    assert [e.as_json() for e in envelope.check(serial)] == margins
+    assert [e.as_json() for e in plan.check(serial)] == margins
     assert [f.text for f in render(serial)] == [f.text for f in files]
     refused = load_cell(write_cell(tmp_path, _many_stations(large, bad=13), "bad.toml"))
-    monkeypatch.setattr(envelope, "PARALLEL_STATIONS", large)
-    with pytest.raises(envelope.ReachError, match=r"station 13 'lathe_13' pose 'chuck' \(ur, UR10e\): out of reach"):
-        envelope.check(refused)
+    monkeypatch.setattr(plan, "PARALLEL_STATIONS", large)
+    with pytest.raises(plan.ReachError, match=r"station 13 'lathe_13' pose 'chuck' \(ur, UR10e\): out of reach"):
+        plan.check(refused)
 
 
 def test_a_first_pose_half_a_turn_from_home_for_some_readings_is_refused_at_generate(tmp_path):

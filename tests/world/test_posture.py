@@ -88,3 +88,29 @@ def test_the_ur5e_posture_is_the_one_nearest_the_home_of_those_that_clear(tmp_pa
     chosen = load_cell(path)
     approach = chosen.kinds["station"].scene.paths(chosen, ["ur"])[0].moves[0].joints
     np.testing.assert_allclose(approach, expected, atol=1e-6)
+
+
+def test_generate_takes_the_station_paths_as_the_posture_choice_proved_them(tmp_path, monkeypatch):
+    """The UR5e's posture was chosen by proving its paths at every proven reading (the plan keeps the least clearances):
+    generate's clearance proof proves none of them again, and its least clearances are those of a proof of the same
+    paths made here."""
+    from codegen import generate as generating
+    from codegen.world import proof
+
+    path = tmp_path / "ur5e_front.toml"
+    path.write_text(UR5E_FRONT.format(home=""), encoding="utf-8")
+    cell = load_cell(path)
+    kind = cell.kinds["station"]
+    paths = kind.scene.paths(cell, ["ur"])
+    assert paths and all(s.proven is not None and s.note for s in kind.plan(cell, "ur").stations)
+    fresh = proof.prove(cell, paths)
+    real, proved = proof.prove, []
+
+    def counted(cell, paths, *args, **kwargs):
+        proved.extend(paths)
+        return real(cell, paths, *args, **kwargs)
+
+    monkeypatch.setattr(proof, "prove", counted)
+    least = generating._proven(cell, "ur")
+    assert proved == []  # no path proven a second time
+    assert [(x.where, x.found.distance) for x in least] == [(x.where, x.found.distance) for x in fresh]

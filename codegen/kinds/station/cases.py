@@ -24,7 +24,7 @@ from codegen.guard import (
 )
 from codegen.kinds.station.keys import GRIP, RELEASE, STATION_ID_MAX
 from codegen.kinds.station.mode import mode_of, modes
-from codegen.kinds.station.posture import station_plan
+from codegen.kinds.station.plan import taught_poses
 from codegen.kinds.station.section import Station, section_of, stations_of, with_section
 from codegen.model import io as signals
 from codegen.model import vision
@@ -100,7 +100,7 @@ def start_joints(cell: Cell, target: Target, case: Case):
     if home is None:
         return None
     if case.start == "retreat":
-        taught, _ = station_plan(cell, target.name, section_of(cell).station_by_id(case.reading.station_id))
+        taught, _ = taught_poses(cell, target.name, section_of(cell).station_by_id(case.reading.station_id))
         return next(pose.joints for pose in taught if pose.name == "retreat")
     return home[1] + (np.array(START_AWAY_DEG) if case.start == "away" else 0.0)
 

@@ -3,16 +3,11 @@ in its taught configuration, inside the joint limits and away from the wrist sin
 
 from __future__ import annotations
 
-import multiprocessing
-import os
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.station.region import offsets, remember_plan, station_region
-from codegen.kinds.station.section import section_of, stations_of
 from codegen.robot.margins import least_joint_margin, singular_distance, wrist_angle
 from codegen.robot.taught import ReachError, configuration
 
@@ -76,23 +71,12 @@ class TargetEnvelope:
         }
 
 
-def check_target(cell, target: str) -> TargetEnvelope:
-    """Raise ReachError naming the station, pose, worst reading and limit; else every station's margins."""
+def station_margin(cell, target: str, station, region) -> StationMargin:
+    """One station's margins over its correction region (codegen/kinds/station/region.py StationRegion) on the target's
+    arm, or ReachError naming the pose and the reading."""
     arm = cell.robot.arms[target]
-    margins = [_station(cell, target, arm, station) for station in stations_of(cell)]
-    samples = len(station_region(cell, target, stations_of(cell)[0]).offsets)
-    return TargetEnvelope(target, arm.model, samples, tuple(margins))
-
-
-def station_margin(cell, target: str, station) -> StationMargin:
-    """One station's margins over its correction region on the target's arm, or ReachError naming the pose."""
-    return _station(cell, target, cell.robot.arms[target], station)
-
-
-def _station(cell, target: str, arm, station) -> StationMargin:
     form = get_target(target).configuration
     wanted = cell.robot.margins
-    region = station_region(cell, target, station)
     joints = region.joints
     for m, pose in enumerate(region.taught):
         q = joints[:, m]
@@ -164,54 +148,4 @@ def _reading(offset) -> str:
     return f"(shift {dx:+.2f}, {dy:+.2f} mm, rotation {rot:+.2f} deg)"
 
 
-PARALLEL_STATIONS = 50  # from this many stations the targets are checked in parallel processes
-_FORKED: dict = {}  # the cell a forked worker checks (inherited, not pickled)
-
-
-def check(cell, only: list[str] | None = None) -> list[TargetEnvelope]:
-    """Every target with an arm (of `only`, if given); [] when the cell names no robot. A large cell's
-    targets are checked in parallel processes; what the programs need of each station comes back."""
-    if cell.robot is None or not stations_of(cell):  # a cell without stations: its kinds prove their own reach
-        return []
-    targets = [target for target in cell.targets if target in cell.robot.arms and (only is None or target in only)]
-    if not targets:
-        return []
-    cores = min(len(targets), os.cpu_count() or 1)
-    if cores < 2 or len(stations_of(cell)) < PARALLEL_STATIONS or "fork" not in multiprocessing.get_all_start_methods():
-        return [check_target(cell, target) for target in targets]
-    workers = os.cpu_count() or 1
-    size = -(-len(stations_of(cell)) // (2 * workers))  # chunks of stations: the work spreads evenly
-    tasks = [(target, i, i + size) for target in targets for i in range(0, len(stations_of(cell)), size)]
-    _FORKED["cell"] = cell
-    try:
-        context = multiprocessing.get_context("fork")
-        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-            results = list(pool.map(_check_forked, tasks))
-    finally:
-        _FORKED.clear()
-    margins: dict[str, list[StationMargin]] = {target: [] for target in targets}
-    for (target, low, _high), (chunk, plans, error) in zip(tasks, results, strict=True):
-        if error is not None:
-            raise ReachError(error)
-        margins[target].extend(chunk)
-        for station, (taught, named) in zip(stations_of(cell)[low:], plans, strict=False):
-            remember_plan(cell, target, station, taught, named)
-    limits = section_of(cell).limits
-    samples = len(offsets(limits.max_shift_mm, limits.max_rotation_deg))
-    return [TargetEnvelope(t, cell.robot.arms[t].model, samples, tuple(margins[t])) for t in targets]
-
-
-def _check_forked(task: tuple[str, int, int]):
-    """One target's stations low..high-1 in a forked worker: their margins and plans, or the refusal."""
-    target, low, high = task
-    cell = _FORKED["cell"]
-    arm = cell.robot.arms[target]
-    try:
-        chunk = [_station(cell, target, arm, station) for station in stations_of(cell)[low:high]]
-    except ReachError as exc:
-        return None, None, str(exc)
-    regions = [station_region(cell, target, s) for s in stations_of(cell)[low:high]]
-    return chunk, [(region.taught, region.named) for region in regions], None
-
-
-__all__ = ["ReachError", "TargetEnvelope", "check"]
+__all__ = ["ReachError", "StationMargin", "TargetEnvelope", "station_margin"]

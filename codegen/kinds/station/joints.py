@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.station.posture import station_plan
+from codegen.kinds.station.plan import taught_poses
 from codegen.kinds.station.region import move_joints
 from codegen.reference import Move
 from codegen.robot import solve
@@ -27,7 +27,7 @@ def expected_joints(
     robot = cell.robot
     arm = robot.arms[target]
     form = get_target(target).configuration
-    poses, named_poses = station_plan(cell, target, station)
+    poses, named_poses = taught_poses(cell, target, station)
     taught = {}
     for pose, named in zip(poses, named_poses, strict=True):
         taught.setdefault(pose.name, (pose, named))

@@ -9,6 +9,7 @@ from codegen.protocol import Kind
 KIND = Kind(
     "station",
     order=0,
+    planner="codegen.kinds.station.plan:plan",
     section="codegen.kinds.station.section:SectionPart",
     writer="codegen.kinds.station.program:WriterPart",
     derivation="codegen.kinds.station.derivation:DerivationPart",

@@ -20,7 +20,7 @@ from codegen.guard import (
 from codegen.kinds.station.keys import GRIP, RELEASE
 from codegen.kinds.station.mode import mode_of, modes
 from codegen.kinds.station.part import held_part, part_alone, part_load
-from codegen.kinds.station.posture import check, station_plan
+from codegen.kinds.station.plan import check, taught_poses
 from codegen.kinds.station.section import section_of, stations_of
 from codegen.model import vision
 from codegen.model.cell import Cell
@@ -118,7 +118,7 @@ def station_arm(cell, target, station) -> list[dict]:
     unit = target.program["joint_unit"]
     literal = LITERALS[target.configuration]
     try:
-        taught, named_poses = station_plan(cell, target.name, station)
+        taught, named_poses = taught_poses(cell, target.name, station)
     except ReachError as exc:  # a taught pose the arm cannot take: no configuration to write
         raise EmitError(str(exc)) from None
     return [

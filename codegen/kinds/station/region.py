@@ -13,7 +13,6 @@ from codegen.controllers import get_target
 from codegen.kinds.station.mode import mode_of
 from codegen.kinds.station.section import section_of
 from codegen.robot import solve
-from codegen.robot.cache import per_cell
 from codegen.robot.config import FORMS, named_in_full, nearest_margin
 from codegen.robot.taught import JOINTS_MATCH_DEG, ArmPose, ReachError, configuration, select
 
@@ -59,31 +58,10 @@ def offsets(max_shift_mm: float, max_rotation_deg: float) -> np.ndarray:
     return out
 
 
-_CACHE: dict = {}
-_PLANS: dict = {}
-
-
 def station_region(cell, target: str, station) -> StationRegion:
-    return per_cell(_CACHE, cell, (target, station.id), lambda: _compute(cell, target, station))
-
-
-def station_plan(cell, target: str, station) -> tuple[list[ArmPose], tuple[bool, ...]]:
-    """The station's taught arm poses and whether the program names each one's full configuration:
-    what the programs and verify's expectations need of the region (remembered from an envelope check
-    run elsewhere, else from the region)."""
-    hit = _PLANS.get((id(cell), target, station.id))
-    if hit is not None and hit[0] is cell:
-        return hit[1], hit[2]
-    region = station_region(cell, target, station)
-    return region.taught, region.named
-
-
-def remember_plan(cell, target: str, station, taught: list[ArmPose], named: tuple[bool, ...]) -> None:
-    """What an envelope check in another process found for a station."""
-    _PLANS[(id(cell), target, station.id)] = (cell, taught, tuple(named))
-
-
-def _compute(cell, target: str, station) -> StationRegion:
+    """The station's arm poses over the correction region on the target's arm, in the configuration the cell hands
+    down for it (worked out once per cell and target by the kind's plan, codegen/kinds/station/plan.py); ReachError
+    where a taught pose has no solution."""
     robot = cell.robot
     arm = robot.arms[target]
     form = get_target(target).configuration

@@ -38,14 +38,11 @@ def _reading(offset) -> str:
     return "nominal reading" if not (dx or dy or rot) else f"reading {dx:+.1f}, {dy:+.1f} mm, {rot:+.1f} deg"
 
 
-def station_paths(cell, target: str, station) -> list[Path]:
+def station_paths(cell, target: str, station, region) -> list[Path]:
     """The station's program on the target's arm from home, for each proven reading: the moves through the station's
-    arm poses (a joint move, then linear ones, as its mode plans them), then home where the cell returns there; the
-    part held from a grip to the next release ([station.gripper]), and from the start where its first action is a
-    release."""
-    from codegen.kinds.station.region import station_region
-
-    region = station_region(cell, target, station)
+    arm poses (a joint move, then linear ones, as its mode plans them) over its correction region
+    (codegen/kinds/station/region.py StationRegion), then home where the cell returns there; the part held from a grip
+    to the next release ([station.gripper]), and from the start where its first action is a release."""
     mode = mode_of(station)
     arm_poses = mode.arm_poses(cell, station)
     rows = corners(region.offsets)

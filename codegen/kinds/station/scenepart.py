@@ -6,7 +6,7 @@ import numpy as np
 
 from codegen import protocol
 from codegen.kinds.station.mode import modes
-from codegen.kinds.station.posture import postured
+from codegen.kinds.station.plan import Plan
 from codegen.kinds.station.scene import case_motion, station_paths, station_solids
 from codegen.kinds.station.section import section_of, stations_of
 from codegen.protocol import Stage
@@ -41,6 +41,23 @@ class ScenePart(protocol.Scene):
             return []
         out = []
         for target in [t for t in targets if t in cell.robot.arms]:
-            handed = postured(cell, target)  # the posture chosen for each station, handed down with the cell
-            out += [path for station in stations_of(handed) for path in station_paths(handed, target, station)]
+            planned = self.kind.plan(cell, target)  # the configuration of each station handed down with the cell
+            out += [path for station in planned.stations for path in _paths(planned, station)]
         return out
+
+    def proven(self, cell, target: str) -> list | None:
+        """Each station's paths as the posture's choice proved them (the plan's), the others proven here."""
+        from codegen.world.proof import prove  # coal: loaded only when proving
+
+        if cell.robot is None or target not in cell.robot.arms or section_of(cell) is None:
+            return []
+        planned = self.kind.plan(cell, target)
+        out = []
+        for station in planned.stations:
+            out += station.proven if station.proven is not None else prove(cell, _paths(planned, station))
+        return out
+
+
+def _paths(planned: Plan, station) -> list[Path]:
+    """The station's paths on the plan's target in its configuration there (ReachError: its pose has no solution)."""
+    return station_paths(planned.cell, planned.target, station.station, station.solved())
