@@ -8,6 +8,7 @@ from codegen import protocol
 from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.keys import KEYS
 from codegen.kinds.pallet.patterns import TooManyBoxes, fuller_family, layout
+from codegen.kinds.pallet.room import check_room
 from codegen.kinds.pallet.section import BOXES_MAX, Pallet, pallets_of, parse_pallets
 from codegen.kinds.pallet.stack import FrameError, layer_top, pallet2base, pattern_of, placements
 from codegen.model.robot import check_carried
@@ -175,6 +176,7 @@ def checked_pallets(ctx, data: dict, cell) -> tuple[Pallet, ...]:
     pallets = parse_pallets(ctx, data, cell)
     for i, pallet in enumerate(pallets):
         ctx.warnings.extend(f"{ctx.source}: {w}" for w in check_pallet(ctx, pallet, f"pallet[{i}]"))
+        check_room(ctx, pallet, f"pallet[{i}]", cell.world)
     return pallets
 
 

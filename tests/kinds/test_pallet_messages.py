@@ -1,0 +1,68 @@
+"""What a new user's pallet cell is told: a pallet in the floor or a stack into a solid at load, by key and with the
+numbers; a clearance refusal's fix that follows the move that comes too near; one name for a pallet everywhere."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from support.cells import replace_once
+
+from codegen.model.cell import CellError, load_cell
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallets"
+TESTMAT = (EXAMPLES / "testmat_pallet.toml").read_text(encoding="utf-8")
+EUR = (EXAMPLES / "eur_pallet.toml").read_text(encoding="utf-8")
+TESTMAT_FRAME = "origin = [650.0, -50.0, 50.0], x_point = [750.0, -50.0, 50.0], xy_point = [650.0, 30.0, 50.0]"
+
+
+def _error(write_cell, text: str) -> str:
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text))
+    return str(info.value)
+
+
+def _deck_at(z: float) -> str:
+    return replace_once(TESTMAT, TESTMAT_FRAME, TESTMAT_FRAME.replace("50.0]", f"{z}]"))
+
+
+@pytest.mark.parametrize(
+    ("deck", "said"),
+    [
+        (0.0, "stands in the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = 0.0 mm at "
+         "its lowest corner, on the floor at z = 0 mm (cell.world.floor_z_mm)"),
+        (-30.0, "stands in the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = -30.0 mm "
+         "at its lowest corner, 30.0 mm below the floor at z = 0 mm"),
+        (12.5, "stands too near the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = 12.5 "
+         "mm at its lowest corner, 12.5 mm above the floor at z = 0 mm"),
+    ],
+)
+def test_a_pallet_taught_on_or_in_the_floor_is_told_so_at_its_frame(write_cell, deck, said):
+    """Generate used to refuse the way home from the first box ("the part dips below the floor ... teach the poses of
+    the move higher"); the cell is refused at load, at the frame's line, with the heights and the keys to change."""
+    message = _error(write_cell, _deck_at(deck))
+    assert "line 30: pallet[0].frame: pallet 'testmat' " + said in message
+    assert "within the clearance of 20 mm (cell.world.clearance_mm) of the floor" in message
+    assert f"set cell.world.floor_z_mm to the floor's height (at most {deck - 20.0:.1f} mm)" in message
+
+
+def test_the_floor_check_follows_the_floor_and_the_clearance(write_cell):
+    """The floor lowered under the pallet's top by the clearance, the same pallet loads; a tilted pallet is judged by
+    its lowest corner."""
+    lowered = _deck_at(0.0).replace("[cell.io]", "[cell.world]\nfloor_z_mm = -20.0\n\n[cell.io]", 1)
+    assert load_cell(write_cell(lowered)).sections["pallet"][0].origin[2] == 0.0
+    tilted = replace_once(TESTMAT, "x_point = [750.0, -50.0, 50.0]", "x_point = [750.0, -50.0, 5.0]")
+    message = _error(write_cell, tilted)  # x 45 mm down over 100 mm along: 104 mm along it is 42.7 mm lower
+    assert "stands too near the floor" in message and "is at z = 7.3 mm at its lowest corner" in message
+
+
+def test_a_stack_through_a_declared_solid_says_how_many_layers_fit(write_cell):
+    beam = "solids.beam = { box = [4000.0, 300.0, 200.0], pose = [0.0, 1500.0, 700.0, 0.0, 0.0, 0.0] }\n"
+    text = replace_once(EUR, "solids.fence_back", beam + "solids.fence_back")
+    message = _error(write_cell, text)
+    # the deck at -500 mm, 5 layers of 250 mm and 2 sheets of 3 mm: the top at 756 mm, the beam's bottom at 600 mm
+    assert (
+        "pallet[0].layers: pallet 'eur': its full stack (5 layers, 1256 mm above the pallet's top) reaches 156.0 mm "
+        "into the solid 'beam' (cell.world.solids.beam); at most 4 layers fit below it" in message
+    )
+    assert load_cell(write_cell(text.replace("layers = 5 ", "layers = 4 ", 1))).sections["pallet"][0].layers == 4
