@@ -29,12 +29,21 @@ def _deck_at(z: float) -> str:
 @pytest.mark.parametrize(
     ("deck", "said"),
     [
-        (0.0, "stands in the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = 0.0 mm at "
-         "its lowest corner, on the floor at z = 0 mm (cell.world.floor_z_mm)"),
-        (-30.0, "stands in the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = -30.0 mm "
-         "at its lowest corner, 30.0 mm below the floor at z = 0 mm"),
-        (12.5, "stands too near the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = 12.5 "
-         "mm at its lowest corner, 12.5 mm above the floor at z = 0 mm"),
+        (
+            0.0,
+            "stands in the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = 0.0 mm at "
+            "its lowest corner, on the floor at z = 0 mm (cell.world.floor_z_mm)",
+        ),
+        (
+            -30.0,
+            "stands in the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = -30.0 mm "
+            "at its lowest corner, 30.0 mm below the floor at z = 0 mm",
+        ),
+        (
+            12.5,
+            "stands too near the floor: its top (the plane of frame's origin, x_point and xy_point) is at z = 12.5 "
+            "mm at its lowest corner, 12.5 mm above the floor at z = 0 mm",
+        ),
     ],
 )
 def test_a_pallet_taught_on_or_in_the_floor_is_told_so_at_its_frame(write_cell, deck, said):
@@ -66,3 +75,87 @@ def test_a_stack_through_a_declared_solid_says_how_many_layers_fit(write_cell):
         "into the solid 'beam' (cell.world.solids.beam); at most 4 layers fit below it" in message
     )
     assert load_cell(write_cell(text.replace("layers = 5 ", "layers = 4 ", 1))).sections["pallet"][0].layers == 4
+
+
+TALL = (Path(__file__).parent / "cells" / "tall_stack.toml").read_text(encoding="utf-8")
+
+
+def _refusal(write_cell, text: str) -> str:
+    from codegen.generate import GenerateError, check_clearance
+
+    with pytest.raises(GenerateError) as info:
+        check_clearance(load_cell(write_cell(text)), None)
+    return str(info.value)
+
+
+def test_the_way_home_through_a_tall_stack_names_the_transit_height_and_the_home(write_cell):
+    """The way home after a stop at the last box swings the box through the top layer: the fix used to be "move
+    'pallet left: layer 12 box 2' away from the move's path" (a box of the stack, which no key moves); it names the
+    keys of the cause: the transit height, the layers, and the home that holds the box below the stack's top."""
+    message = _refusal(write_cell, TALL)
+    assert "pallet 'left' the way home from layer 12 box 4 target: home (kuka, KR 210 R2700 extra): the " in message
+    assert "'pallet left: layer 12 box 2'" in message and "move 'pallet left" not in message
+    assert (
+        "after a stop the way home lifts the box to the transit height over the full stack (its top at z = 1340.0 mm) "
+        "and swings it above the pallet's centre and home in joint moves: raise the transit height "
+        "(transit_clearance_mm of pallet 'left', now 10 mm) or lower the stack (layers, now 12); the home "
+        "[cell.robot.home] kuka = [0, -90, 90, 0, 90, 0] holds the box's bottom at z = 1199.0 mm, below the full "
+        "stack's top (z = 1340.0 mm): give the arm a home above it or away from the pallet" in message
+    )
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        ("box_mass_kg = 10.0", "box_mass_kg = 10.0\ntransit_clearance_mm = 150.0"),
+        ("[cell.tool]", "[cell.robot.home]\nkuka = [0.0, -110.0, 80.0, 0.0, 90.0, 0.0]\n\n[cell.tool]"),
+    ],
+)
+def test_the_fixes_the_way_home_refusal_names_clear_the_cell(write_cell, old, new):
+    """Each fix the refusal suggests, applied, lets the cell's every move clear (a raised transit height; a home
+    higher than the stack's top)."""
+    from codegen.generate import check_clearance
+
+    assert check_clearance(load_cell(write_cell(replace_once(TALL, old, new))), None)
+
+
+def test_a_way_home_the_arm_cannot_follow_is_refused_without_a_traceback(write_cell):
+    """The way home from the first box (only the proof plans it) flips the arm's configuration on its way up: a
+    ReachError that generate's clearance check let through as a traceback; now refused, naming the way home."""
+    text = TALL.replace("1100.0, -100.0]", "900.0, -100.0]").replace("1700.0, -100.0]", "1500.0, -100.0]")
+    message = _refusal(write_cell, text)
+    assert (
+        "pallet 'left' the way home from layer 1 box 1 target: up to the transit height (kuka, KR 210 R2700 extra): "
+        "the linear move would change the arm's configuration" in message
+    )
+
+
+@pytest.mark.parametrize(
+    ("where", "other", "fix"),
+    [
+        ("layer 12 box 1 transit", "pallet left: stack below layer 12", "the move swings over the stack"),
+        ("layer 3 box 2 over Q", "pallet left: layer 3 box 1", "the move swings over the stack"),
+        ("the way home from layer 1 box 1 target: safe above the pallet", "pallet left", "after a stop the way home"),
+        ("the way home from layer 1 box 1 target: back along the tool's z", "pallet left", None),
+        ("layer 12 box 1 transit", "pallet left: pick place", None),
+        ("layer 12 box 1 transit", "fence_back", None),
+        ("layer 12 box 1 transit", "pallet right: layer 2 box 1", None),
+        ("layer 12 box 1 entry", "pallet left: layer 12 box 2", None),
+    ],
+)
+def test_the_stack_fix_follows_the_move_and_the_solid(where, other, fix):
+    """The pallet's fix applies to its own stack only, on the moves that swing over it (a transit, over Q, the way
+    home's joint moves); elsewhere the proof's own fix stands (None)."""
+    from types import SimpleNamespace
+
+    from codegen.kinds.pallet.refusals import StackFix
+
+    cell = load_cell(Path(__file__).parent / "cells" / "tall_stack.toml")
+    pallet = cell.sections["pallet"][0]
+    path = SimpleNamespace(target="kuka")
+    text = StackFix(pallet, ("left", "right")).text(cell, path, SimpleNamespace(where=f"pallet 'left' {where}"), other)
+    if fix is None:
+        assert text is None
+    else:
+        assert text.startswith(fix) and "transit_clearance_mm of pallet 'left', now 10 mm" in text
