@@ -159,3 +159,53 @@ def test_the_stack_fix_follows_the_move_and_the_solid(where, other, fix):
         assert text is None
     else:
         assert text.startswith(fix) and "transit_clearance_mm of pallet 'left', now 10 mm" in text
+
+
+def _stats_of(margins_deg: list[float], names: list[str]):
+    """ArmStats after one run whose moves' least joint margins are these (axis 1 of a UR5e turned towards +360)."""
+    from types import SimpleNamespace
+
+    from codegen.robot.arms import find_arm
+    from codegen.robot.expect import ArmStats
+
+    arm = find_arm("UR5e")
+    cell = SimpleNamespace(robot=SimpleNamespace(arms={"ur": arm}))
+    moves = [SimpleNamespace(joints=[360.0 - m, -90, 90, -90, 90, 0], line=10 + i) for i, m in enumerate(margins_deg)]
+    stats = ArmStats()
+    stats.add(cell, "ur", moves, lambda: "full_stack pallet testmat layer 1 box 1", names)
+    return stats
+
+
+def test_verify_names_the_first_move_of_a_tied_least_margin_and_its_name():
+    """Margins within the joints' tolerance (0.05 deg: JOINT_TOLERANCE_DEG) are one margin: the first move in the
+    run's order is named, with the expected move's name (a pallet's box), as generate names it; the least printed."""
+    stats = _stats_of([20.0, 10.03, 10.0, 12.0], ["home", "layer 2 box 1 transit", "layer 4 box 1 transit", "x"])
+    assert stats.joint_margin_deg == pytest.approx(10.0)
+    assert stats.joint_margin_at == (
+        "axis 1 at 350.0 deg, move 2 (line 11: layer 2 box 1 transit), full_stack pallet testmat layer 1 box 1"
+    )
+    later = _stats_of([10.01], ["layer 5 box 1 transit"])  # a later case's run: within the tie, not named
+    stats.merge(later)
+    assert "layer 2 box 1 transit" in stats.joint_margin_at
+    lower = _stats_of([9.9], ["layer 6 box 1 transit"])  # lower by more than the tie: named
+    stats.merge(lower)
+    assert "layer 6 box 1 transit" in stats.joint_margin_at and stats.joint_margin_deg == pytest.approx(9.9)
+
+
+@pytest.mark.slow
+def test_generate_and_verify_name_the_same_move_for_the_least_joint_margin():
+    """The UR5e on testmat: generate's reach proof names layer 2 box 1's transit (layers 2 and 4 tie: the same
+    margin at each of their box 1 moves); verify's run of the whole stack names the same move (it named only the
+    case, which starts at layer 1 box 1)."""
+    from codegen.kinds.pallet.cases import verify_cases
+    from codegen.kinds.pallet.plan import check
+    from codegen.verify.programs import fresh_sources
+    from codegen.verify.runner import run_cases
+
+    cell = load_cell(EXAMPLES / "testmat_pallet.toml")
+    (reach,) = [r for r in check(cell) if r.target == "ur"]
+    assert reach.worst == "layer 2 box 1 transit"
+    source = next(s for s in fresh_sources(cell, ["ur"]) if s.kind == "pallet")
+    row = run_cases(cell, source, verify_cases(cell, source, 0)[:1], 200_000)
+    assert row.arm.joint_margin_deg == pytest.approx(reach.joint_margin_deg, abs=0.05)
+    assert f": {reach.worst}), full_stack" in row.arm.joint_margin_at
