@@ -53,3 +53,69 @@ def test_a_configuration_change_prints_the_joints_rounded(write_cell):
         "243.5], here [" in said
     )
     assert "153.527" not in said
+
+
+CARTONS = """\
+[cell]
+name = "carton_pal"
+targets = ["kuka"]
+
+[cell.robot]
+kuka = "KR 210 R2700 extra"
+
+[cell.tool]
+tcp = [0.0, 0.0, 220.0, 0.0, 0.0, 0.0]
+mass_kg = 5.0
+cog_mm = [0.0, 0.0, 100.0]
+radius_mm = 30.0
+
+[cell.world]
+floor_z_mm = -600.0
+solids.conveyor = { box = [1000.0, 400.0, 450.0], pose = [1600.0, 0.0, -375.0, 0.0, 0.0, 0.0] }
+
+[cell.io]
+output = { kuka = 17 }
+feedback = { kuka = 18 }
+timeout_s = 2.0
+
+[[pallet]]
+name = "half"
+frame = { origin = [-400.0, 1200.0, -456.0], x_point = [400.0, 1200.0, -456.0], xy_point = [-400.0, 1800.0, -456.0] }
+size = [800.0, 600.0]
+box = [300.0, 200.0, 150.0]
+layers = 6
+cycle = ["a", "b"]
+tool_orientation = [0.0, 0.0, 180.0]
+entry_dz = 200.0
+approach = [0.0, 0.0, 50.0]
+pick = [1300.0, 0.0, 150.0, 0.0, 0.0, 180.0]
+box_mass_kg = 8.0
+
+[pallet.io]
+part_present = { kuka = 19 }
+pallet_present = { kuka = 20 }
+
+[pallet.patterns]
+a = { family = "interlock" }
+b = { family = "interlock", mirror = true }
+"""
+
+
+def test_a_pallet_at_the_wrist_singularity_is_told_what_to_change(write_cell):
+    """A half pallet on the floor 1.2 m beside a KR 210: its low boxes are reached with the tool in line with the
+    forearm. The refusal gave the margins and no fix; it says what the wrist singularity is and which key moves the
+    work away from it, and the fix holds: the pallet 200 mm farther out (or 156 mm higher) reaches."""
+    from codegen.generate import GenerateError, check_envelope
+
+    with pytest.raises(GenerateError) as info:
+        check_envelope(load_cell(write_cell(CARTONS)), None)
+    said = str(info.value)
+    assert "the wrist 2.2 deg from its singularity; the cell asks 5 and 5 deg" in said
+    assert said.endswith(
+        ": axis 5 near 0 deg lines up axes 4 and 6 (the tool in line with the forearm); place the pallet (its frame) "
+        "farther from or nearer to the arm's base, or higher or lower"
+    )
+    farther = CARTONS.replace("1200.0, -456.0]", "1400.0, -456.0]").replace("1800.0, -456.0]", "2000.0, -456.0]")
+    assert check_envelope(load_cell(write_cell(farther)), None)
+    higher = CARTONS.replace("-456.0]", "-300.0]")
+    assert check_envelope(load_cell(write_cell(higher)), None)

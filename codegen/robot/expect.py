@@ -86,16 +86,25 @@ def first_least(margins) -> int:
     return int(np.argmax(values <= values.min() + JOINT_TOLERANCE_DEG))
 
 
-def require_margins(subject: str, robot, joint_deg: float, wrist_deg: float, worst: str, wrist_pose: str = "") -> None:
+# what a pose at the wrist singularity is, for a refusal's fix
+WRIST_SINGULAR = "axis 5 near 0 deg lines up axes 4 and 6 (the tool in line with the forearm)"
+
+
+def require_margins(
+    subject: str, robot, joint_deg: float, wrist_deg: float, worst: str, wrist_pose: str = "", wrist_fix: str = ""
+) -> None:
     """ReachError unless the least joint and wrist margins over a program's poses meet the cell's (worst: the pose
-    of the least joint margin; wrist_pose: the pose nearest the wrist singularity)."""
+    of the least joint margin; wrist_pose: the pose nearest the wrist singularity; wrist_fix: what the caller's keys
+    change to keep the wrist away from it, said where the wrist is too near)."""
     need = robot.margins
     if joint_deg < need.joint_deg or wrist_deg < need.wrist_deg:
         raise ReachError(
             f"{subject}: {joint_deg:.1f} deg to a joint limit ({worst}) and the wrist {wrist_deg:.1f} deg from its "
             f"singularity; the cell asks {need.joint_deg:g} and {need.wrist_deg:g} deg"
             + (f" (the wrist nearest its singularity: {wrist_pose})" if wrist_pose else "")
+            + (f": {WRIST_SINGULAR}; {wrist_fix}" if wrist_fix and wrist_deg < need.wrist_deg else "")
         )
+
 
 
 @dataclass(frozen=True)

@@ -271,7 +271,8 @@ def check_pallet(cell, pallet, target: str, named: Named | None, cycle=None) -> 
         if wrist < worst_wrist:
             worst_wrist, wrist_pose = wrist, move.name
     subject = f"pallet {pallet.name!r} ({target}, {arm.model})"
-    require_margins(subject, robot, worst_joint, worst_wrist, worst, wrist_pose)
+    fix = "place the pallet (its frame) farther from or nearer to the arm's base, or higher or lower"
+    require_margins(subject, robot, worst_joint, worst_wrist, worst, wrist_pose, fix)
     return PalletReach(
         target, arm.model, worst_joint, worst_wrist, worst, wrist_pose, pallet=pallet.name, moves=len(moves)
     )
