@@ -98,7 +98,7 @@ def test_the_way_home_through_a_tall_stack_names_the_transit_height_and_the_home
     assert (
         "after a stop the way home lifts the box to the transit height over the full stack (its top at z = 1340.0 mm) "
         "and swings it above the pallet's centre and home in joint moves: raise the transit height "
-        "(transit_clearance_mm of pallet 'left', now 10 mm) or lower the stack (layers, now 12); the home "
+        "(transit_clearance_mm of pallet 'left': 10 mm) or lower the stack (layers: 12); the home "
         "[cell.robot.home] kuka = [0, -90, 90, 0, 90, 0] holds the box's bottom at z = 1199.0 mm, below the full "
         "stack's top (z = 1340.0 mm): give the arm a home above it or away from the pallet" in message
     )
@@ -158,7 +158,7 @@ def test_the_stack_fix_follows_the_move_and_the_solid(where, other, fix):
     if fix is None:
         assert text is None
     else:
-        assert text.startswith(fix) and "transit_clearance_mm of pallet 'left', now 10 mm" in text
+        assert text.startswith(fix) and "transit_clearance_mm of pallet 'left': 10 mm" in text
 
 
 def _stats_of(margins_deg: list[float], names: list[str]):

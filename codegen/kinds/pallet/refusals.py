@@ -50,8 +50,8 @@ class StackFix:
     def _keys(self) -> str:
         p = self.pallet
         return (
-            f"raise the transit height (transit_clearance_mm of pallet {p.name!r}, now {p.transit_clearance_mm:g} mm) "
-            f"or lower the stack (layers, now {p.layers})"
+            f"raise the transit height (transit_clearance_mm of pallet {p.name!r}: {p.transit_clearance_mm:g} mm) "
+            f"or lower the stack (layers: {p.layers})"
         )
 
     def _transit(self) -> str:
