@@ -119,3 +119,27 @@ def test_a_pallet_at_the_wrist_singularity_is_told_what_to_change(write_cell):
     assert check_envelope(load_cell(write_cell(farther)), None)
     higher = CARTONS.replace("-456.0]", "-300.0]")
     assert check_envelope(load_cell(write_cell(higher)), None)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "said"),
+    [
+        (
+            "box = [300.0, 200.0, 150.0]",
+            "box = [0.3, 0.2, 0.15]",
+            "pallet[0].box: 0.3 x 0.2 x 0.15 mm: given in metres? Sizes are mm: 0.3 m is 300 mm",
+        ),
+        (
+            "size = [800.0, 600.0]",
+            "size = [0.8, 0.6]",
+            "pallet[0].size: 0.8 x 0.6 mm: given in metres? Sizes are mm: 0.8 m is 800 mm",
+        ),
+    ],
+)
+def test_a_box_or_pallet_size_in_metres_is_asked_about(write_cell, old, new, said):
+    """The box written in metres was refused as "7999994 boxes of 0.3 x 0.2 mm make this family's layer"."""
+    from codegen.model.cell import CellError
+
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(CARTONS.replace(old, new, 1)))
+    assert said in str(info.value) and "line " in str(info.value)

@@ -130,7 +130,8 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
 
 
 def _not_metres(ctx: CellValidator, values: dict, path: str) -> None:
-    """The frame's points and Q (base frame, mm; Q in a "ur" cell metres as it should be) not written in metres."""
+    """The frame's points and Q (base frame, mm; Q in a "ur" cell metres as it should be), the pallet's and the box's
+    sizes (mm in every cell) not written in metres."""
     pick = values["pick"]
     points = [(f"frame.{k}", values["frame"][k]) for k in ("origin", "x_point", "xy_point")]
     if pick is not None and pick.pose_format != "ur":
@@ -141,6 +142,14 @@ def _not_metres(ctx: CellValidator, values: dict, path: str) -> None:
             what = "The pallet frame's points are" if key.startswith("frame") else "Q is"
             lie = f"x, y, z lie within {reach:g} mm of the robot's base"
             ctx.fail(f"{path}.{key}", f"{lie}: {metres_text(reach, what)}")
+    for key in ("size", "box"):  # a box or pallet no side of which reaches METRES_MAX_MM: its sizes in metres
+        largest = read_as_metres(values[key])
+        if largest is not None:
+            shown = " x ".join(f"{v:g}" for v in values[key])
+            ctx.fail(
+                f"{path}.{key}",
+                f"{shown} mm: given in metres? Sizes are mm: {largest:g} m is {largest * 1000.0:g} mm",
+            )
 
 
 def _patterns(ctx: CellValidator, patterns: dict, path: str) -> dict:
