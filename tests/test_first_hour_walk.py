@@ -143,3 +143,19 @@ def test_a_box_or_pallet_size_in_metres_is_asked_about(write_cell, old, new, sai
     with pytest.raises(CellError) as info:
         load_cell(write_cell(CARTONS.replace(old, new, 1)))
     assert said in str(info.value) and "line " in str(info.value)
+
+
+def test_a_tool_orientation_that_points_the_tool_up_is_refused_at_its_key(write_cell):
+    """tool_orientation = [0, 0, 0] (the tool's z up) was refused at generate as "out of reach ... its orientation, a
+    joint limit or the arm's own base rules it out" at layer 1 box 1; it is the key's mistake, said at its line."""
+    from codegen.model.cell import CellError
+
+    text = CARTONS.replace("tool_orientation = [0.0, 0.0, 180.0]", "tool_orientation = [0.0, 0.0, 0.0]")
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text))
+    assert (
+        "line 30: pallet[0].tool_orientation: the tool's z points up (a, b, c = 0, 0, 0): the TCP grips the box at its "
+        "top, its z into the box, so it points down into the pallet (0, 0, 180 points it straight down)"
+    ) in str(info.value)
+    tilted = CARTONS.replace("tool_orientation = [0.0, 0.0, 180.0]", "tool_orientation = [0.0, 10.0, 170.0]")
+    assert load_cell(write_cell(tilted)).sections["pallet"][0].tool_orientation == (0.0, 10.0, 170.0)

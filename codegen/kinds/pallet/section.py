@@ -11,6 +11,7 @@ from codegen.model.cell import CellValidator
 from codegen.model.loader import Loader, build
 from codegen.model.robot import parse_cycle_config
 from codegen.model.validate import metres_text, read_as_metres
+from codegen.poses import rotmat_from_zyx_deg
 
 # The most boxes a stack (every layer), a pattern or the patterns together may hold. The programs hold every
 # box of the cycle's patterns in tables (7 to 9 numbers a box) and count boxes in a layer and layers; their
@@ -109,6 +110,14 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
     for key, offset in (("approach", approach), ("retreat", retreat)):
         if offset[2] <= 0:
             ctx.fail(f"{path}.{key}", "z must be above the target (> 0): the arm comes from above")
+    down = float(rotmat_from_zyx_deg(*values["tool_orientation"])[2, 2])  # the tool's z along the pallet's z
+    if down >= 0:
+        ctx.fail(
+            f"{path}.tool_orientation",
+            f"the tool's z points {'up' if down > 0 else 'sideways'} (a, b, c = "
+            f"{', '.join(f'{v:g}' for v in values['tool_orientation'])}): the TCP grips the box at its top, its z "
+            "into the box, so it points down into the pallet (0, 0, 180 points it straight down)",
+        )
     slip = values["slip_sheet"]
     if values["approach_auto"] and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
         ctx.fail(f"{path}.approach_auto", "turns the x-y part of approach and retreat: each needs one of 1 mm or more")
