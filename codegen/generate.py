@@ -58,7 +58,7 @@ def check_clearance(cell: Cell, targets: list[str] | None) -> list:
     for target in (t for t in names if t in cell.robot.arms):
         try:
             least += _proven(cell, target)
-        except (ClearanceError, ValueError) as exc:
+        except (ClearanceError, ReachError, ValueError) as exc:  # a path a kind plans only for the proof may not reach
             raise GenerateError(str(exc) + _other_home(cell, target)) from None
     if key is not None:
         _PROVEN[key] = least

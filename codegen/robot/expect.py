@@ -7,8 +7,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from codegen.robot.margins import least_joint_margin, singular_distance, wrist_angle
+from codegen.robot.margins import joint_margins, least_joint_margin, singular_distance, wrist_angle
 from codegen.robot.taught import ReachError
+
+# Both sides solve the same inverse kinematics for poses that agree within the pose tolerance (float32:
+# 0.005 mm, 0.001 deg). With the wrist at least the cell's wrist margin (5 deg) from its singularity, 0.001 deg
+# of orientation moves axes 4 and 6 by at most 0.001 / sin(5 deg) = 0.012 deg; 0.005 mm moves a shoulder axis
+# by far less. A different solution or turn differs by degrees. Two joint margins this close are one margin: generate
+# (the reference's joints) and verify (the interpreter's) could order them either way, so each names the first in
+# its order among them (a pallet's moves: in stacking order).
+JOINT_TOLERANCE_DEG = 0.05
 
 
 def arm_of(cell, target: str):
@@ -25,32 +33,41 @@ class ArmStats:
         self.joint_margin_deg = float("inf")
         self.wrist_margin_deg = float("inf")
         self.joint_margin_at = ""  # the axis, its value, the move and the case of the least joint margin
+        self.named_deg = float("inf")  # the margin of the move joint_margin_at names (within the tie of the least)
 
-    def add(self, cell, target: str, moves: list, case: Callable[[], str] | None = None) -> None:
+    def add(
+        self, cell, target: str, moves: list, case: Callable[[], str] | None = None, names: list | None = None
+    ) -> None:
         """A run's moves; case: what the report calls the run (its category and scenario), asked only where the run
-        holds the least joint margin so far."""
+        holds the least joint margin so far; names: the expected moves' names, in the run's order (a pallet's "layer
+        2 box 3 transit"). A margin within JOINT_TOLERANCE_DEG of the one named keeps the earlier name."""
         arm = arm_of(cell, target)
         solved = [(i, m) for i, m in enumerate(moves) if m.joints is not None]
         if arm is None or not solved:
             return
         joints = np.array([m.joints for _i, m in solved])
-        joint, (row, axis) = least_joint_margin(arm, joints)
+        per_move = joint_margins(arm, joints).min(axis=-1)
+        joint, row = float(per_move.min()), first_least(per_move)
+        axis = int(np.argmin(joint_margins(arm, joints[row])))
         wrist = float(np.min(singular_distance(wrist_angle(arm, joints))))
         self.moves += len(solved)
-        if joint < self.joint_margin_deg:
+        if per_move[row] < self.named_deg - JOINT_TOLERANCE_DEG:
             index, move = solved[row]
             named = " ".join(case().split()) if case is not None else ""
+            what = f": {names[index]}" if names is not None and index < len(names) else ""
             self.joint_margin_at = (
-                f"axis {axis + 1} at {joints[row, axis]:.1f} deg, move {index + 1} (line {move.line})"
+                f"axis {axis + 1} at {joints[row, axis]:.1f} deg, move {index + 1} (line {move.line}{what})"
                 + (f", {named}" if named else "")
             )
+            self.named_deg = float(per_move[row])
         self.joint_margin_deg = min(self.joint_margin_deg, joint)
         self.wrist_margin_deg = min(self.wrist_margin_deg, wrist)
 
     def merge(self, other: ArmStats) -> None:
+        """A later part's figures (the parts merged in the cases' order)."""
         self.moves += other.moves
-        if other.joint_margin_deg < self.joint_margin_deg:
-            self.joint_margin_at = other.joint_margin_at
+        if other.named_deg < self.named_deg - JOINT_TOLERANCE_DEG:
+            self.joint_margin_at, self.named_deg = other.joint_margin_at, other.named_deg
         self.joint_margin_deg = min(self.joint_margin_deg, other.joint_margin_deg)
         self.wrist_margin_deg = min(self.wrist_margin_deg, other.wrist_margin_deg)
 
@@ -63,16 +80,31 @@ class ArmStats:
         }
 
 
-def require_margins(subject: str, robot, joint_deg: float, wrist_deg: float, worst: str, wrist_pose: str = "") -> None:
+def first_least(margins) -> int:
+    """The index of the first margin within JOINT_TOLERANCE_DEG of the least (one margin, named by the first)."""
+    values = np.asarray(margins, dtype=float)
+    return int(np.argmax(values <= values.min() + JOINT_TOLERANCE_DEG))
+
+
+# what a pose at the wrist singularity is, for a refusal's fix
+WRIST_SINGULAR = "axis 5 near 0 deg lines up axes 4 and 6 (the tool in line with the forearm)"
+
+
+def require_margins(
+    subject: str, robot, joint_deg: float, wrist_deg: float, worst: str, wrist_pose: str = "", wrist_fix: str = ""
+) -> None:
     """ReachError unless the least joint and wrist margins over a program's poses meet the cell's (worst: the pose
-    of the least joint margin; wrist_pose: the pose nearest the wrist singularity)."""
+    of the least joint margin; wrist_pose: the pose nearest the wrist singularity; wrist_fix: what the caller's keys
+    change to keep the wrist away from it, said where the wrist is too near)."""
     need = robot.margins
     if joint_deg < need.joint_deg or wrist_deg < need.wrist_deg:
         raise ReachError(
             f"{subject}: {joint_deg:.1f} deg to a joint limit ({worst}) and the wrist {wrist_deg:.1f} deg from its "
             f"singularity; the cell asks {need.joint_deg:g} and {need.wrist_deg:g} deg"
             + (f" (the wrist nearest its singularity: {wrist_pose})" if wrist_pose else "")
+            + (f": {WRIST_SINGULAR}; {wrist_fix}" if wrist_fix and wrist_deg < need.wrist_deg else "")
         )
+
 
 
 @dataclass(frozen=True)

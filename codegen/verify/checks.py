@@ -12,6 +12,7 @@ import numpy as np
 from codegen.controllers import get_target
 from codegen.dialects import get_dialect
 from codegen.dialects.core.trace import halt_text
+from codegen.robot.expect import JOINT_TOLERANCE_DEG  # the joints' tolerance: why it is what it is
 from codegen.verify.plan import TOOL_LOAD, Expectation
 from codegen.world import loads
 
@@ -19,11 +20,6 @@ from codegen.world import loads
 # step of 1.2e-4 mm and angles with 1e-7 rad; a handful of such roundings through the correction stays far below
 # these bounds, a wrong formula far above them.
 TOLERANCES = {"float32": (0.005, 0.001), "float64": (1e-9, 1e-9)}  # mm, deg
-# Both sides solve the same inverse kinematics for poses that agree within the pose tolerance (float32:
-# 0.005 mm, 0.001 deg). With the wrist at least the cell's wrist margin (5 deg) from its singularity, 0.001 deg
-# of orientation moves axes 4 and 6 by at most 0.001 / sin(5 deg) = 0.012 deg; 0.005 mm moves a shoulder axis
-# by far less. A different solution or turn differs by degrees.
-JOINT_TOLERANCE_DEG = 0.05
 # A payload's mass and centre of gravity as the program writes them: float32 (1e-5 relative) and 3 decimals
 LOAD_TOLERANCE = (1e-3, 1e-5)
 # Its inertia tensor at the centre of gravity (kg m2), entry by entry: the programs write each inertia number to 6

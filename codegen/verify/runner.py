@@ -117,7 +117,8 @@ def _run_cases(
         if problem is None:
             row.moves += len(pos)
             named = lambda c=case: case_text(kind, model, c)  # noqa: E731 (asked at a new least)
-            row.arm.add(model, source.target, trace.moves, named)
+            names = [getattr(m, "name", "") for m in expected.moves] if expected is not None else None
+            row.arm.add(model, source.target, trace.moves, named, names)
             if figures:
                 if row.figures is None:
                     row.figures = kind.figures()

@@ -53,6 +53,9 @@ class Path:
     stages: dict = field(default_factory=dict)
     # where the arm's configuration comes from, in the kind's words, for a refusal's fix ("": the program's own)
     configuration: str = ""
+    # the kind's own fix for a move too near a solid it knows (fix.text(cell, path, move, solid) -> str, or None:
+    # the proof's own below): the fix that follows the move's cause, naming the kind's keys
+    fix: object = None
 
 
 @dataclass(frozen=True)
@@ -236,6 +239,9 @@ FROM_THE_HOME = "the program names none: the controller takes the solution neare
 
 def _fix(cell, path: Path, move: Move, other: str, own: bool) -> str:
     """What would fix a move within the clearance, naming the home the arm starts from and the configuration tried."""
+    own_fix = None if own or path.fix is None else path.fix.text(cell, path, move, other)
+    if own_fix:
+        return own_fix
     target = path.target
     home = f"[cell.robot.home] {target} = [{', '.join(f'{v:g}' for v in cell.robot.home[target])}]"
     config = path.configuration or OWN

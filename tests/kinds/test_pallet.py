@@ -222,7 +222,8 @@ def test_a_stack_the_arm_cannot_work_is_refused_at_generate(tmp_path, old, new, 
 
     assert old in TESTMAT
     path = tmp_path / "pallet.toml"
-    path.write_text(TESTMAT.replace(old, new, 1))
+    floor = "[cell.world]\nfloor_z_mm = -400.0\n\n[cell.io]"  # under the lowered pallet (its top at -200 mm)
+    path.write_text(TESTMAT.replace(old, new, 1).replace("[cell.io]", floor, 1))
     with pytest.raises(GenerateError, match=says):
         check_envelope(load_cell(path), None)
 

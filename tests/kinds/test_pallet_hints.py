@@ -1,4 +1,5 @@
-"""The pallet's hints: one support warning a pallet, with its layers and boxes; another family that fits more boxes."""
+"""The pallet's hints: one support warning a pallet, with its layers and boxes; another family that fits more boxes;
+each naming the pallet by its name, as generate's and verify's messages do."""
 
 from __future__ import annotations
 
@@ -17,8 +18,8 @@ def test_the_support_warning_comes_once_a_pallet_with_its_layers_and_boxes():
     result = CliRunner().invoke(main, ["pallet", str(EUR)])
     support = [line for line in result.stderr.splitlines() if "support_min" in line]
     assert support == [
-        f"warning: {EUR}: pallet[0]: boxes that rest on less than support_min 60% of their bottom on the layer below: "
-        "layer 2 (interlock_mirrored on interlock): box 1 50%, box 2 50%; "
+        f"warning: {EUR}: pallet 'eur': boxes that rest on less than support_min 60% of their bottom on the layer "
+        "below: layer 2 (interlock_mirrored on interlock): box 1 50%, box 2 50%; "
         "layer 3 (interlock on interlock_mirrored): box 1 50%, box 2 50%"
     ]
 
@@ -28,7 +29,7 @@ def test_a_family_that_fits_more_boxes_is_named_once_a_family(tmp_path):
     by hand in test_pallet's families test); the columns themselves get no hint."""
     hints = [w for w in load_pallet_file(EUR).warnings if "fits" in w]
     assert hints == [
-        f"{EUR}: pallet[0].patterns.interlock: family 'column' fits 8 boxes a layer, 'interlock' 6 (a hint: keep it "
+        f"{EUR}: pallet 'eur' patterns.interlock: family 'column' fits 8 boxes a layer, 'interlock' 6 (a hint: keep it "
         "where its layers hold together better)"
     ]
     text = EUR.read_text(encoding="utf-8")

@@ -14,7 +14,7 @@ from support.cells import EXAMPLES, unstacking_testmat_text
 
 from codegen.cli import main
 from codegen.generate import GenerateError, check_clearance
-from codegen.model.cell import load_cell
+from codegen.model.cell import CellError, load_cell
 from codegen.poses import xyzabc_from_matrix
 from codegen.render import joints_literal, render
 
@@ -459,15 +459,16 @@ def test_an_unstacking_box_held_at_the_start_is_proven_on_its_way_from_home_to_q
 
 
 def test_a_refusal_at_the_floor_prints_no_minus_zero(tmp_path):
-    """Source 004's test pallet taught on the floor (its top at z = 0): the box put down rests on the floor, the
-    refusal says so with its numbers as read, never '-0.0'."""
+    """Source 004's test pallet taught on the floor (its top at z = 0): the box put down would rest on the floor; the
+    pallet is refused at load (codegen/kinds/pallet/room.py, tests/kinds/test_pallet_messages.py) with its numbers as
+    read, never '-0.0'."""
     text = EXAMPLES["testmat_pallet"].read_text(encoding="utf-8")
     old = "origin = [650.0, -50.0, 50.0], x_point = [750.0, -50.0, 50.0], xy_point = [650.0, 30.0, 50.0]"
     assert old in text
     path = tmp_path / "floor.toml"
     path.write_text(text.replace(old, old.replace(", 50.0]", ", 0.0]")), encoding="utf-8")
-    with pytest.raises(GenerateError) as caught:
-        check_clearance(load_cell(path), ["kuka"])
+    with pytest.raises(CellError) as caught:
+        load_cell(path)
     said = str(caught.value)
-    assert "dips below the floor (cell.world.floor_z_mm = 0 mm): 0.0 mm, its lowest point at z = 0.0 mm" in said
+    assert "its top (the plane of frame's origin, x_point and xy_point) is at z = 0.0 mm at its lowest corner" in said
     assert "-0.0" not in said

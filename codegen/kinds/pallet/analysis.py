@@ -8,13 +8,20 @@ from codegen import protocol
 from codegen.kinds.pallet import checks
 from codegen.kinds.pallet.keys import KEYS
 from codegen.kinds.pallet.patterns import TooManyBoxes, fuller_family, layout
+from codegen.kinds.pallet.room import check_room
 from codegen.kinds.pallet.section import BOXES_MAX, Pallet, pallets_of, parse_pallets
 from codegen.kinds.pallet.stack import FrameError, layer_top, pallet2base, pattern_of, placements
 from codegen.model.robot import check_carried
 
 
+def named(pallet: Pallet, key: str = "") -> str:
+    """A pallet's key as warnings name it: the pallet by its name, as generate's and verify's messages do ("pallet
+    'eur' patterns.p1"); a refusal names the key path (pallet[0].patterns.p1) and the file's line."""
+    return f"pallet {pallet.name!r}" + (f" {key}" if key else "")
+
+
 def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
-    """Fails (ctx.fail: file, key path) on what cannot be stacked; returns the warnings."""
+    """Fails (ctx.fail: file, key path) on what cannot be stacked; returns the warnings (named by named())."""
     warnings = []
     try:
         frame = pallet2base(pallet.origin, pallet.x_point, pallet.xy_point)
@@ -22,7 +29,7 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
         ctx.fail(path, str(exc))
     if frame[2, 2] < 0:
         warnings.append(
-            f"{path}.frame: the pallet's z points down in the base frame (the tool would come from below): "
+            f"{named(pallet, 'frame')}: the pallet's z points down in the base frame (the tool would come from below): "
             "teach xy_point on the other side of the x axis"
         )
     if pallet.pick is not None:
@@ -68,12 +75,12 @@ def check_pallet(ctx, pallet: Pallet, path: str) -> list[str]:
         layouts[name] = boxes
     _check_counts(ctx, pallet, path, layouts)
     _check_zone(ctx, pallet, path)  # every box's poses: once the stack is known to be within BOXES_MAX
-    warnings.extend(_support_warning(pallet, path, layouts))
-    warnings.extend(_family_hints(pallet, path))
+    warnings.extend(_support_warning(pallet, layouts))
+    warnings.extend(_family_hints(pallet))
     return warnings
 
 
-def _support_warning(pallet: Pallet, path: str, layouts: dict) -> list[str]:
+def _support_warning(pallet: Pallet, layouts: dict) -> list[str]:
     """One warning for the pallet: each pair of patterns (the first layer it stands at) whose upper boxes rest on
     less than support_min of their bottom, with those boxes."""
     seen, parts = set(), []
@@ -90,12 +97,12 @@ def _support_warning(pallet: Pallet, path: str, layouts: dict) -> list[str]:
     if not parts:
         return []
     return [
-        f"{path}: boxes that rest on less than support_min {pallet.support_min:.0%} of their bottom on the layer "
-        f"below: {'; '.join(parts)}"
+        f"{named(pallet)}: boxes that rest on less than support_min {pallet.support_min:.0%} of their bottom on the "
+        f"layer below: {'; '.join(parts)}"
     ]
 
 
-def _family_hints(pallet: Pallet, path: str) -> list[str]:
+def _family_hints(pallet: Pallet) -> list[str]:
     """A hint per generated family the patterns use where another family fits more boxes on a layer."""
     out, seen = [], set()
     for name, spec in pallet.patterns.items():
@@ -105,7 +112,7 @@ def _family_hints(pallet: Pallet, path: str) -> list[str]:
         if fuller is not None:
             other, more, fewer = fuller
             out.append(
-                f"{path}.patterns.{name}: family {other!r} fits {more} boxes a layer, {family!r} {fewer} "
+                f"{named(pallet, f'patterns.{name}')}: family {other!r} fits {more} boxes a layer, {family!r} {fewer} "
                 "(a hint: keep it where its layers hold together better)"
             )
     return out
@@ -175,6 +182,7 @@ def checked_pallets(ctx, data: dict, cell) -> tuple[Pallet, ...]:
     pallets = parse_pallets(ctx, data, cell)
     for i, pallet in enumerate(pallets):
         ctx.warnings.extend(f"{ctx.source}: {w}" for w in check_pallet(ctx, pallet, f"pallet[{i}]"))
+        check_room(ctx, pallet, f"pallet[{i}]", cell.world)
     return pallets
 
 

@@ -15,7 +15,7 @@ from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
 from codegen.robot.config import FORMS, loose, named_in_full
-from codegen.robot.expect import Margins, margins, require_margins
+from codegen.robot.expect import JOINT_TOLERANCE_DEG, Margins, margins, require_margins
 from codegen.robot.taught import ReachError
 
 
@@ -259,18 +259,20 @@ def check_pallet(cell, pallet, target: str, named: Named | None, cycle=None) -> 
     robot = cell.robot
     arm = robot.arms[target]
     moves = full_cycle(cell, pallet) if cycle is None else cycle
-    worst_joint, worst_wrist, worst, wrist_pose = np.inf, np.inf, "", ""
+    worst_joint, worst_wrist, worst, wrist_pose, named_deg = np.inf, np.inf, "", "", np.inf
     planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
     moves = [*moves, safe_move(cell, pallet)]  # and the way home's pose above the pallet, as named
     planned += joints_of(cell, target, moves[-1:], f"pallet {pallet.name!r}", pallet, named)
     for move, joints in zip(moves, planned, strict=True):
         joint, wrist = margins(arm, joints)
-        if joint < worst_joint:
-            worst_joint, worst = joint, move.name
+        if joint < named_deg - JOINT_TOLERANCE_DEG:  # a tie keeps the first in stacking order, as verify's report
+            worst, named_deg = move.name, joint
+        worst_joint = min(worst_joint, joint)
         if wrist < worst_wrist:
             worst_wrist, wrist_pose = wrist, move.name
     subject = f"pallet {pallet.name!r} ({target}, {arm.model})"
-    require_margins(subject, robot, worst_joint, worst_wrist, worst, wrist_pose)
+    fix = "place the pallet (its frame) farther from or nearer to the arm's base, or higher or lower"
+    require_margins(subject, robot, worst_joint, worst_wrist, worst, wrist_pose, fix)
     return PalletReach(
         target, arm.model, worst_joint, worst_wrist, worst, wrist_pose, pallet=pallet.name, moves=len(moves)
     )

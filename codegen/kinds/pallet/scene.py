@@ -9,6 +9,7 @@ import numpy as np
 
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.patterns import label_normal
+from codegen.kinds.pallet.refusals import StackFix
 from codegen.kinds.pallet.stack import layer_top, placements
 from codegen.kinds.pallet.sweep import PLACE_POSES, _own
 from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
@@ -142,15 +143,16 @@ def pallet_paths(cell, pallets, pallet, target: str, named, cycle=None) -> list[
     home = np.asarray(cell.robot.home[target], dtype=float)
     part = carried_box(cell, pallet)
     cycle = full_cycle(cell, pallet) if cycle is None else cycle
+    fix = StackFix(pallet, tuple(p.name for p in pallets))
     planned, stages = _planned(cell, pallet, target, cycle, named, count, others)
-    out = [Path(target, home, tuple(planned), part, stages, _configuration(named))]
+    out = [Path(target, home, tuple(planned), part, stages, _configuration(named), fix)]
     for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
-        out.append(_way_home(cell, pallet, target, planned[k], home, part, stages, named))
+        out.append(_way_home(cell, pallet, target, planned[k], home, part, stages, named, fix))
     keys = [item.key for item in items(pallet)]
     if not stacking and keys:  # a box held at the start, the counters at the first item: the whole stack stands
         held = expected(cell, pallet, PalletCase("held_at_start", *keys[0], closed=True)).moves
         planned, stages = _planned(cell, pallet, target, held, named, count, others)
-        out.append(Path(target, home, tuple(planned), part, stages, _configuration(named)))
+        out.append(Path(target, home, tuple(planned), part, stages, _configuration(named), fix))
     return out
 
 
@@ -211,15 +213,15 @@ def _last_target(moves) -> int | None:
     return next((i for i in range(len(moves) - 1, -1, -1) if moves[i].where.endswith("target")), None)
 
 
-def _way_home(cell, pallet, target: str, stop: Move, home, part, stages, named) -> Path:
+def _way_home(cell, pallet, target: str, stop: Move, home, part, stages, named, fix) -> Path:
     """The way home the program plans after a stop at `stop`'s pose, the box held as it was there."""
     from codegen.kinds.pallet.way_home import way_home, way_joints
     from codegen.reference import home_move
 
     start = np.asarray(stop.joints, dtype=float)
     way = way_home(cell, pallet, SimpleNamespace(name=target), home_move(cell, target), start, 0)
-    joints = way_joints(cell, pallet, target, way[:-1], start, named)
     label = f"pallet {pallet.name!r} the way home from {stop.where.split(' ', 2)[2]}"
+    joints = way_joints(cell, pallet, target, way[:-1], start, named, f"{label}:")
     # where the stop left the box (the gripper) on its place: back along the tool and up, as its own way up
     own = _own_descent(pallet, stages[stop.stage])
     moves = [
@@ -228,7 +230,7 @@ def _way_home(cell, pallet, target: str, stop: Move, home, part, stages, named) 
     ]
     moves.append(Move("joint", home, f"{label}: home", None, stop.carrying, stop.stage))
     moves = tuple(moves[1:] if moves[0].kind == "joint" else moves)
-    return Path(target, start, moves, part, stages, _configuration(named))
+    return Path(target, start, moves, part, stages, _configuration(named), fix)
 
 
 def carried_box(cell, pallet) -> Box:

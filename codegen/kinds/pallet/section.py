@@ -11,6 +11,7 @@ from codegen.model.cell import CellValidator
 from codegen.model.loader import Loader, build
 from codegen.model.robot import parse_cycle_config
 from codegen.model.validate import metres_text, read_as_metres
+from codegen.poses import rotmat_from_zyx_deg
 
 # The most boxes a stack (every layer), a pattern or the patterns together may hold. The programs hold every
 # box of the cycle's patterns in tables (7 to 9 numbers a box) and count boxes in a layer and layers; their
@@ -109,6 +110,14 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
     for key, offset in (("approach", approach), ("retreat", retreat)):
         if offset[2] <= 0:
             ctx.fail(f"{path}.{key}", "z must be above the target (> 0): the arm comes from above")
+    down = float(rotmat_from_zyx_deg(*values["tool_orientation"])[2, 2])  # the tool's z along the pallet's z
+    if down >= 0:
+        ctx.fail(
+            f"{path}.tool_orientation",
+            f"the tool's z points {'up' if down > 0 else 'sideways'} (a, b, c = "
+            f"{', '.join(f'{v:g}' for v in values['tool_orientation'])}): the TCP grips the box at its top, its z "
+            "into the box, so it points down into the pallet (0, 0, 180 points it straight down)",
+        )
     slip = values["slip_sheet"]
     if values["approach_auto"] and min(math.hypot(*approach[:2]), math.hypot(*retreat[:2])) < 1.0:
         ctx.fail(f"{path}.approach_auto", "turns the x-y part of approach and retreat: each needs one of 1 mm or more")
@@ -130,7 +139,8 @@ def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) ->
 
 
 def _not_metres(ctx: CellValidator, values: dict, path: str) -> None:
-    """The frame's points and Q (base frame, mm; Q in a "ur" cell metres as it should be) not written in metres."""
+    """The frame's points and Q (base frame, mm; Q in a "ur" cell metres as it should be), the pallet's and the box's
+    sizes (mm in every cell) not written in metres."""
     pick = values["pick"]
     points = [(f"frame.{k}", values["frame"][k]) for k in ("origin", "x_point", "xy_point")]
     if pick is not None and pick.pose_format != "ur":
@@ -141,6 +151,14 @@ def _not_metres(ctx: CellValidator, values: dict, path: str) -> None:
             what = "The pallet frame's points are" if key.startswith("frame") else "Q is"
             lie = f"x, y, z lie within {reach:g} mm of the robot's base"
             ctx.fail(f"{path}.{key}", f"{lie}: {metres_text(reach, what)}")
+    for key in ("size", "box"):  # a box or pallet no side of which reaches METRES_MAX_MM: its sizes in metres
+        largest = read_as_metres(values[key])
+        if largest is not None:
+            shown = " x ".join(f"{v:g}" for v in values[key])
+            ctx.fail(
+                f"{path}.{key}",
+                f"{shown} mm: given in metres? Sizes are mm: {largest:g} m is {largest * 1000.0:g} mm",
+            )
 
 
 def _patterns(ctx: CellValidator, patterns: dict, path: str) -> dict:

@@ -66,15 +66,17 @@ def way_home(cell, pallet, target, home, start, layer: int) -> list[PlannedMove]
     return [*way, home_planned]
 
 
-def way_joints(cell, pallet, target_name: str, way: list[PlannedMove], start, named) -> list:
+def way_joints(
+    cell, pallet, target_name: str, way: list[PlannedMove], start, named, where: str = "verify: the way home"
+) -> list:
     """The way home's joints before home: where the arm stands (a joint move there), the retreat keeping its
-    configuration, the safe pose in the configuration the program names."""
+    configuration, the safe pose in the configuration the program names (where: the way home's name in a refusal)."""
     head = [np.asarray(start, dtype=float)] if way[0].kind == "joint" else []
     rest = [
         ExpectedMove(kind=m.kind, tcp2base=m.tcp2base, name=m.name, speed_mm_s=m.speed_mm_s or 0.0, exact=True)
         for m in way[len(head) :]
     ]
-    return [*head, *joints_of(cell, target_name, rest, "verify: the way home", pallet, named, start=start)]
+    return [*head, *joints_of(cell, target_name, rest, where, pallet, named, start=start)]
 
 
 def joint_percent(cell, move) -> float | None:

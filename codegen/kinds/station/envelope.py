@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from codegen.controllers import get_target
+from codegen.decimals import format_literal
 from codegen.robot.margins import least_joint_margin, singular_distance, wrist_angle
 from codegen.robot.taught import ReachError, configuration
 
@@ -90,8 +91,8 @@ def station_margin(cell, target: str, station, region) -> StationMargin:
         if changed.any():
             i = int(np.argmax(changed))
             raise ReachError(
-                f"{where}: the arm would change configuration (taught {configuration(form, arm, pose.joints)}, "
-                f"here {configuration(form, arm, q[i])}) for the reading {_reading(region.offsets[i])}"
+                f"{where}: the arm would change configuration (taught {_shown(configuration(form, arm, pose.joints))}, "
+                f"here {_shown(configuration(form, arm, q[i]))}) for the reading {_reading(region.offsets[i])}"
             )
         least, worst = least_joint_margin(arm, q)  # q: (N, 6)
         if least < wanted.joint_deg:
@@ -141,6 +142,13 @@ def _step(grid_joints: np.ndarray, rotations: int, directions: int) -> float:
 
 def _wrapped(delta: np.ndarray) -> float:
     return float(np.abs((delta + 180.0) % 360.0 - 180.0).max())
+
+
+def _shown(value) -> str:
+    """A configuration as the program's form has it, for reading: joints to 0.1 deg, bits and quadrants as they are."""
+    if isinstance(value, tuple | list) and any(isinstance(v, float) for v in value):
+        return "[" + ", ".join(format_literal(float(v), 1) for v in value) + "]"
+    return str(value)
 
 
 def _reading(offset) -> str:

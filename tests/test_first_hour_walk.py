@@ -1,0 +1,161 @@
+"""What the second first-hour walk (a fresh clone, the README and the docs only: a UR5e tending a lathe, a KUKA
+pallet cell) stumbled on, each with the cell as the walk wrote it."""
+
+from __future__ import annotations
+
+import pytest
+
+from codegen.model.cell import load_cell
+
+LATHE = """\
+[cell]
+name = "lathe_tending"
+targets = ["ur"]
+pose_format = "xyzabc"
+
+[cell.camera]
+angle_sign = 1
+
+[cell.robot]
+ur = "UR5e"
+
+[cell.tool]
+tcp = [0.0, 0.0, 160.0, 0.0, 0.0, 0.0]
+mass_kg = 1.1
+cog_mm = [0.0, 0.0, 60.0]
+radius_mm = 30.0
+
+[cell.limits]
+max_shift_mm = 15.0
+max_rotation_deg = 5.0
+
+[[station]]
+id = 7
+name = "lathe"
+mark = [520.0, -180.0, 0.5]
+[station.poses]
+approach = [540.0, -120.0, 380.0, 0.0, 0.0, 180.0]
+chuck = [560.0, -110.0, 260.0, 0.0, 0.0, 180.0]
+"""
+
+
+def test_a_configuration_change_prints_the_joints_rounded(write_cell):
+    """With the chuck pose left out, the station's retreat changes configuration for a reading: the refusal printed
+    both joint sets with 16 digits each ("153.5271831256482, -81.93119270557679, ..."); now to 0.1 deg."""
+    from codegen.generate import GenerateError, check_envelope
+
+    cell = load_cell(write_cell(LATHE.replace("chuck = [560.0, -110.0, 260.0, 0.0, 0.0, 180.0]\n", "")))
+    with pytest.raises(GenerateError) as info:
+        check_envelope(cell, None)
+    said = str(info.value)
+    assert (
+        "pose 'retreat' (ur, UR5e): the arm would change configuration (taught [153.5, -81.9, 66.2, -74.3, -90.0, "
+        "243.5], here [" in said
+    )
+    assert "153.527" not in said
+
+
+CARTONS = """\
+[cell]
+name = "carton_pal"
+targets = ["kuka"]
+
+[cell.robot]
+kuka = "KR 210 R2700 extra"
+
+[cell.tool]
+tcp = [0.0, 0.0, 220.0, 0.0, 0.0, 0.0]
+mass_kg = 5.0
+cog_mm = [0.0, 0.0, 100.0]
+radius_mm = 30.0
+
+[cell.world]
+floor_z_mm = -600.0
+solids.conveyor = { box = [1000.0, 400.0, 450.0], pose = [1600.0, 0.0, -375.0, 0.0, 0.0, 0.0] }
+
+[cell.io]
+output = { kuka = 17 }
+feedback = { kuka = 18 }
+timeout_s = 2.0
+
+[[pallet]]
+name = "half"
+frame = { origin = [-400.0, 1200.0, -456.0], x_point = [400.0, 1200.0, -456.0], xy_point = [-400.0, 1800.0, -456.0] }
+size = [800.0, 600.0]
+box = [300.0, 200.0, 150.0]
+layers = 6
+cycle = ["a", "b"]
+tool_orientation = [0.0, 0.0, 180.0]
+entry_dz = 200.0
+approach = [0.0, 0.0, 50.0]
+pick = [1300.0, 0.0, 150.0, 0.0, 0.0, 180.0]
+box_mass_kg = 8.0
+
+[pallet.io]
+part_present = { kuka = 19 }
+pallet_present = { kuka = 20 }
+
+[pallet.patterns]
+a = { family = "interlock" }
+b = { family = "interlock", mirror = true }
+"""
+
+
+def test_a_pallet_at_the_wrist_singularity_is_told_what_to_change(write_cell):
+    """A half pallet on the floor 1.2 m beside a KR 210: its low boxes are reached with the tool in line with the
+    forearm. The refusal gave the margins and no fix; it says what the wrist singularity is and which key moves the
+    work away from it, and the fix holds: the pallet 200 mm farther out (or 156 mm higher) reaches."""
+    from codegen.generate import GenerateError, check_envelope
+
+    with pytest.raises(GenerateError) as info:
+        check_envelope(load_cell(write_cell(CARTONS)), None)
+    said = str(info.value)
+    assert "the wrist 2.2 deg from its singularity; the cell asks 5 and 5 deg" in said
+    assert said.endswith(
+        ": axis 5 near 0 deg lines up axes 4 and 6 (the tool in line with the forearm); place the pallet (its frame) "
+        "farther from or nearer to the arm's base, or higher or lower"
+    )
+    farther = CARTONS.replace("1200.0, -456.0]", "1400.0, -456.0]").replace("1800.0, -456.0]", "2000.0, -456.0]")
+    assert check_envelope(load_cell(write_cell(farther)), None)
+    higher = CARTONS.replace("-456.0]", "-300.0]")
+    assert check_envelope(load_cell(write_cell(higher)), None)
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "said"),
+    [
+        (
+            "box = [300.0, 200.0, 150.0]",
+            "box = [0.3, 0.2, 0.15]",
+            "pallet[0].box: 0.3 x 0.2 x 0.15 mm: given in metres? Sizes are mm: 0.3 m is 300 mm",
+        ),
+        (
+            "size = [800.0, 600.0]",
+            "size = [0.8, 0.6]",
+            "pallet[0].size: 0.8 x 0.6 mm: given in metres? Sizes are mm: 0.8 m is 800 mm",
+        ),
+    ],
+)
+def test_a_box_or_pallet_size_in_metres_is_asked_about(write_cell, old, new, said):
+    """The box written in metres was refused as "7999994 boxes of 0.3 x 0.2 mm make this family's layer"."""
+    from codegen.model.cell import CellError
+
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(CARTONS.replace(old, new, 1)))
+    assert said in str(info.value) and "line " in str(info.value)
+
+
+def test_a_tool_orientation_that_points_the_tool_up_is_refused_at_its_key(write_cell):
+    """tool_orientation = [0, 0, 0] (the tool's z up) was refused at generate as "out of reach ... its orientation, a
+    joint limit or the arm's own base rules it out" at layer 1 box 1; it is the key's mistake, said at its line."""
+    from codegen.model.cell import CellError
+
+    text = CARTONS.replace("tool_orientation = [0.0, 0.0, 180.0]", "tool_orientation = [0.0, 0.0, 0.0]")
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text))
+    assert (
+        "line 30: pallet[0].tool_orientation: the tool's z points up (a, b, c = 0, 0, 0): the TCP grips the box at its "
+        "top, its z into the box, so it points down into the pallet (0, 0, 180 points it straight down)"
+    ) in str(info.value)
+    tilted = CARTONS.replace("tool_orientation = [0.0, 0.0, 180.0]", "tool_orientation = [0.0, 10.0, 170.0]")
+    assert load_cell(write_cell(tilted)).sections["pallet"][0].tool_orientation == (0.0, 10.0, 170.0)
