@@ -15,7 +15,7 @@ from codegen.robot.taught import ReachError
 # of orientation moves axes 4 and 6 by at most 0.001 / sin(5 deg) = 0.012 deg; 0.005 mm moves a shoulder axis
 # by far less. A different solution or turn differs by degrees. Two joint margins this close are one margin: generate
 # (the reference's joints) and verify (the interpreter's) could order them either way, so each names the first in
-# its order among them (a pallet's moves: in stacking order).
+# its order among them (the moves in the order the kind plans them).
 JOINT_TOLERANCE_DEG = 0.05
 
 
@@ -39,7 +39,7 @@ class ArmStats:
         self, cell, target: str, moves: list, case: Callable[[], str] | None = None, names: list | None = None
     ) -> None:
         """A run's moves; case: what the report calls the run (its category and scenario), asked only where the run
-        holds the least joint margin so far; names: the expected moves' names, in the run's order (a pallet's "layer
+        holds the least joint margin so far; names: the expected moves' names, in the run's order (e.g. "layer
         2 box 3 transit"). A margin within JOINT_TOLERANCE_DEG of the one named keeps the earlier name."""
         arm = arm_of(cell, target)
         solved = [(i, m) for i, m in enumerate(moves) if m.joints is not None]
