@@ -69,7 +69,8 @@ class _Kept:
 
 
 # decide's choices (one per pallet and target of the cells a process works with) and each path's least clearance (a
-# few per posture tried); an entry holds the named configurations and the proofs' margins, or one Least: a few kB
+# few per posture tried); an entry holds the named configurations and the proofs' margins (about 2 kB pickled for the
+# bundled pallets), or one Least (about 0.5 kB): both stores full, well under 1 MB
 DECIDED = _Kept(64)
 PROVEN = _Kept(512)
 
