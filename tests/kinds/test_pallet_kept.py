@@ -35,7 +35,9 @@ def _key(cell, cycle=None) -> bytes:
 
 
 def _unread(cell):
-    """Every field UNREAD names changed at once: the speeds, the masses, the blending, the interlocks' timeout."""
+    """Every field UNREAD names changed at once: the file, the speeds, the masses, the blending, the interlocks'
+    timeout."""
+    cell = replace(cell, source="elsewhere/cell.toml", sha256="0" * 64, warnings=("elsewhere/cell.toml: a warning",))
     cell = replace(cell, motion=replace(cell.motion, speed_mm_s=123.0, work_speed_mm_s=45.0))
     cell = _robot(cell, tool=replace(cell.robot.tool, mass_kg=cell.robot.tool.mass_kg + 3.0))
     pallet = cell.sections["pallet"][0]

@@ -33,13 +33,13 @@ from codegen.robot.config import FORMS
 from codegen.robot.taught import ReachError
 from codegen.world.posture import TIE_MM, Posture, branch_count, choose, in_order, set_by_the_tool, travel
 
-# decide() reads the whole cell but for these fields (grep: they reach only the program's text, its loads, verify's
-# timing and the moves' speeds, which neither the reach proof nor the clearance proof reads), so its choice is kept by
-# the value of everything else: a cell that differs only in them (a speed, a mass, a timeout, the blending) reuses the
-# proofs of one that was decided. Cell.plans is the cell's own store of plans; the kinds it was loaded with are kept
-# by identity.
+# decide() reads the whole cell but for these fields (grep: they reach only the program's text and header, its loads,
+# verify's timing, the load's warnings and the moves' speeds, which neither the reach proof nor the clearance proof
+# reads), so its choice is kept by the value of everything else: a cell that differs only in them (a speed, a mass, a
+# timeout, the blending, the file it was read from) reuses the proofs of one that was decided. Cell.plans is the
+# cell's own store of plans; the kinds it was loaded with are kept by identity.
 UNREAD = {
-    Cell: {"plans"},
+    Cell: {"plans", "source", "sha256", "warnings"},
     MotionSettings: {"speed_mm_s", "work_speed_mm_s"},
     Tool: {"mass_kg"},
     Pallet: {"box_mass_kg", "zone_mm"},
