@@ -10,6 +10,7 @@ import pytest
 from support.cells import example
 
 from codegen.kinds.pallet import posture
+from codegen.kinds.pallet.kept import Kept, digest
 from codegen.kinds.pallet.reach import full_cycle
 
 TARGET = "ur"
@@ -32,6 +33,11 @@ def _robot(cell, **changes):
 def _key(cell, cycle=None) -> bytes:
     pallet = cell.sections["pallet"][0]
     return posture.decision_key(cell, pallet, TARGET, full_cycle(cell, pallet) if cycle is None else cycle)[0]
+
+
+def _value(made) -> bytes:
+    """A choice and its proofs as a value, every field of it (none left out)."""
+    return digest({}, made)[0]
 
 
 def _unread(cell):
@@ -110,12 +116,12 @@ def test_a_kept_choice_is_the_one_made_anew(cell, monkeypatch):
     reused = kind.plan(mutant, TARGET).pallets[0]
     assert made == []
     monkeypatch.setattr(posture, "decide_anew", real)
-    monkeypatch.setattr(posture, "DECIDED", posture._Kept(64))
-    monkeypatch.setattr(posture, "PROVEN", posture._Kept(512))
+    monkeypatch.setattr(posture, "DECIDED", Kept(64))
+    monkeypatch.setattr(posture, "PROVEN", Kept(512))
     pallet = mutant.sections["pallet"][0]
     anew = posture.decide_anew(mutant, pallet, TARGET, tuple(full_cycle(mutant, pallet)))
-    assert posture.digest(anew)[0] == posture.digest((reused.named, reused.note, (reused.reach, reused.proven)))[0]
-    assert posture.digest(anew)[0] == posture.digest((kept.named, kept.note, (kept.reach, kept.proven)))[0]
+    assert _value(anew) == _value((reused.named, reused.note, (reused.reach, reused.proven)))
+    assert _value(anew) == _value((kept.named, kept.note, (kept.reach, kept.proven)))
     assert anew[2] is not None and len(posture.PROVEN.entries) > 0  # proven here, path by path
 
 
@@ -149,7 +155,7 @@ def test_a_path_proven_for_one_cell_is_kept_for_another_where_it_is_the_same_pat
 
 
 def test_the_stores_are_bounded():
-    store = posture._Kept(2)
+    store = Kept(2)
     for i in range(3):
         store.put(bytes([i]), i, [])
     assert store.get(b"\x00") is None and store.get(b"\x01") == 1 and store.get(b"\x02") == 2

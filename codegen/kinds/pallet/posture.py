@@ -13,15 +13,13 @@
 
 from __future__ import annotations
 
-import hashlib
-import pickle
-from collections import OrderedDict
-from dataclasses import fields, is_dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
 from codegen.kinds.pallet.cycle import ExpectedMove
 from codegen.kinds.pallet.interlocks import PalletIO
+from codegen.kinds.pallet.kept import Kept, digest
 from codegen.kinds.pallet.reach import PICK_KEY, Named, PalletReach, check_pallet, joints_of, plan
 from codegen.kinds.pallet.scene import pallet_paths
 from codegen.kinds.pallet.section import Pallet, pallets_of
@@ -48,31 +46,11 @@ UNREAD = {
 }
 
 
-class _Kept:
-    """Results kept by a digest of their inputs' values, the least recently used dropped first beyond `most`; an entry
-    holds the objects its key names by identity, so their ids are not reused while it stands."""
-
-    def __init__(self, most: int) -> None:
-        self.most = most
-        self.entries: OrderedDict = OrderedDict()
-
-    def get(self, key: bytes):
-        if key not in self.entries:
-            return None
-        self.entries.move_to_end(key)
-        return self.entries[key][0]
-
-    def put(self, key: bytes, made, held: list) -> None:
-        self.entries[key] = (made, held)
-        if len(self.entries) > self.most:
-            self.entries.popitem(last=False)
-
-
 # decide's choices (one per pallet and target of the cells a process works with) and each path's least clearance (a
 # few per posture tried); an entry holds the named configurations and the proofs' margins (about 2 kB pickled for the
 # bundled pallets), or one Least (about 0.5 kB): both stores full, well under 1 MB
-DECIDED = _Kept(64)
-PROVEN = _Kept(512)
+DECIDED = Kept(64)
+PROVEN = Kept(512)
 
 
 def decide(cell, pallet, target: str, cycle) -> tuple[Named | None, str, tuple | None]:
@@ -87,7 +65,7 @@ def decide(cell, pallet, target: str, cycle) -> tuple[Named | None, str, tuple |
 
 def decision_key(cell, pallet, target: str, cycle) -> tuple[bytes, list]:
     """The key of decide's choice: the digest of everything it reads."""
-    return digest(target, cell, pallet, tuple(cycle))
+    return digest(UNREAD, target, cell, pallet, tuple(cycle))
 
 
 def path_key(cell, path, bar: float | None) -> tuple[bytes, list]:
@@ -96,38 +74,7 @@ def path_key(cell, path, bar: float | None) -> tuple[bytes, list]:
 
     robot = cell.robot
     arm, tcp2flange = robot.arms[path.target], robot.tool.tcp2flange
-    return digest(path, bar, clearance_mm(cell), arm, tcp2flange, solids(cell), tool_shape(cell))
-
-
-def digest(*values) -> tuple[bytes, list]:
-    """The SHA-256 of the values (value_key, pickled: equal bytes only for equal values) and the objects it names by
-    identity."""
-    held: list = []
-    data = pickle.dumps(tuple(value_key(v, held) for v in values), protocol=5)
-    return hashlib.sha256(data).digest(), held
-
-
-def value_key(obj, held: list) -> object:
-    """A picklable value equal for equal values, field by field, the UNREAD fields left out; an object of another type
-    by its id (appended to held, which keeps it alive)."""
-    if obj is None or isinstance(obj, (bool, int, float, str, bytes)):
-        return (type(obj).__name__, obj)  # pickled bit for bit: -0.0 and 0.0 differ, as printed
-    if isinstance(obj, np.ndarray):
-        return ("array", obj.dtype.str, obj.shape, obj.tobytes())
-    if isinstance(obj, np.generic):
-        return ("scalar", obj.dtype.str, obj.tobytes())
-    if is_dataclass(obj) and not isinstance(obj, type):
-        skip = UNREAD.get(type(obj), ())
-        own = tuple((f.name, value_key(getattr(obj, f.name), held)) for f in fields(obj) if f.name not in skip)
-        return (type(obj).__qualname__, own)
-    if isinstance(obj, (tuple, list)):
-        return (type(obj).__name__, tuple(value_key(v, held) for v in obj))
-    if type(obj) is dict:
-        return ("dict", tuple((value_key(k, held), value_key(v, held)) for k, v in obj.items()))
-    if isinstance(obj, (set, frozenset)):
-        return (type(obj).__name__, tuple(sorted((value_key(v, held) for v in obj), key=repr)))
-    held.append(obj)
-    return ("same", id(obj))
+    return digest(UNREAD, path, bar, clearance_mm(cell), arm, tcp2flange, solids(cell), tool_shape(cell))
 
 
 def proven(cell, path, bar: float | None):
