@@ -24,16 +24,16 @@ def example(name: str):
 @cache
 def kind_targets() -> tuple[tuple[str, str, str], ...]:
     """(kind, target, example cell) for every kind's programs of every target in the examples: the first example
-    cell that has them (worked out once per process: every kind's programs are planned for it)."""
-    from codegen.controllers import get_target
-    from codegen.render import plans
-
+    cell that has them, read from its sections without planning (a kind writes programs only from its own section,
+    so these pairs hold every pair with programs; a pair without any fails the kinds' render test, which asserts
+    them: tests/kinds/kind_base.py)."""
     out: dict[tuple[str, str], str] = {}
     for name in EXAMPLES:
         cell = example(name)
         for target in cell.targets:
-            for plan in plans(cell, get_target(target)):
-                out.setdefault((plan.kind, target), name)
+            for kind in cell.kinds:
+                if kind in cell.sections:
+                    out.setdefault((kind, target), name)
     return tuple((kind, target, cell) for (kind, target), cell in sorted(out.items()))
 
 

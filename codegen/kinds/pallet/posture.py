@@ -17,16 +17,80 @@ from dataclasses import replace
 
 import numpy as np
 
+from codegen.kinds.pallet.cycle import ExpectedMove
+from codegen.kinds.pallet.interlocks import PalletIO
+from codegen.kinds.pallet.kept import Kept, digest
 from codegen.kinds.pallet.reach import PICK_KEY, Named, PalletReach, check_pallet, joints_of, plan
 from codegen.kinds.pallet.scene import pallet_paths
-from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.section import Pallet, pallets_of
+from codegen.model.cell import Cell
+from codegen.model.motion import MotionSettings
+from codegen.model.robot import Tool
 from codegen.robot import solve
 from codegen.robot.config import FORMS
 from codegen.robot.taught import ReachError
 from codegen.world.posture import TIE_MM, Posture, branch_count, choose, in_order, set_by_the_tool, travel
 
+# decide() reads the whole cell but for these fields (grep: they reach only the program's text and header, its loads,
+# verify's timing, the load's warnings and the moves' speeds, which neither the reach proof nor the clearance proof
+# reads), so its choice is kept by the value of everything else: a cell that differs only in them (a speed, a mass, a
+# timeout, the blending, the file it was read from) reuses the proofs of one that was decided. Cell.plans is the
+# cell's own store of plans; the kinds it was loaded with are kept by identity.
+UNREAD = {
+    Cell: {"plans", "source", "sha256", "warnings"},
+    MotionSettings: {"speed_mm_s", "work_speed_mm_s"},
+    Tool: {"mass_kg"},
+    Pallet: {"box_mass_kg", "zone_mm"},
+    PalletIO: {"timeout_s"},
+    ExpectedMove: {"speed_mm_s"},
+}
+
+
+# decide's choices (one per pallet and target of the cells a process works with) and each path's least clearance (a
+# few per posture tried); an entry holds the named configurations and the proofs' margins (about 2 kB pickled for the
+# bundled pallets), or one Least (about 0.5 kB): both stores full, well under 1 MB
+DECIDED = Kept(64)
+PROVEN = Kept(512)
+
 
 def decide(cell, pallet, target: str, cycle) -> tuple[Named | None, str, tuple | None]:
+    """decide_anew's choice, kept by the value of everything it reads (UNREAD: what it does not)."""
+    key, held = decision_key(cell, pallet, target, cycle)
+    made = DECIDED.get(key)
+    if made is None:
+        made = decide_anew(cell, pallet, target, cycle)
+        DECIDED.put(key, made, held)
+    return made
+
+
+def decision_key(cell, pallet, target: str, cycle) -> tuple[bytes, list]:
+    """The key of decide's choice: the digest of everything it reads."""
+    return digest(UNREAD, target, cell, pallet, tuple(cycle))
+
+
+def path_key(cell, path, bar: float | None) -> tuple[bytes, list]:
+    """The key of a path's proof: the digest of the path, the bar, and what the proof reads of the cell."""
+    from codegen.world.cell import clearance_mm, solids, tool_shape
+
+    robot = cell.robot
+    arm, tcp2flange = robot.arms[path.target], robot.tool.tcp2flange
+    return digest(UNREAD, path, bar, clearance_mm(cell), arm, tcp2flange, solids(cell), tool_shape(cell))
+
+
+def proven(cell, path, bar: float | None):
+    """The path's least clearance (codegen/world/proof.py prove, which reads of the cell the arm, the tool and the
+    solids), kept by their values and the path's; a refusal is not kept."""
+    from codegen.world.proof import prove
+
+    key, held = path_key(cell, path, bar)
+    made = PROVEN.get(key)
+    if made is None:
+        (made,) = prove(cell, [path], bar)
+        PROVEN.put(key, made, held)
+    return made
+
+
+def decide_anew(cell, pallet, target: str, cycle) -> tuple[Named | None, str, tuple | None]:
     """The configurations the target's program names for the pallet (None without an arm), the posture note ('' where
     they are the controller's own from the home or the cell's), and the proofs the choice made of them: (the reach
     proof, the clearance proof's least clearances of the pallet's paths), None where it made none. cycle: the
@@ -139,7 +203,7 @@ def _evaluate(cell, pallet, target: str, cycle, posture: Posture, bar: float | N
     joint and wrist margins, no flip on a linear move; clearance: within the cell's clearance, or within bar mm); a
     posture that passes both keeps them (proven: the reach proof and the least clearances, equal to the proof's
     without the bar: the bar only refuses more)."""
-    from codegen.world.proof import ClearanceError, prove  # coal: loaded only when proving
+    from codegen.world.proof import ClearanceError  # coal: loaded only when proving
 
     try:
         reached = check_pallet(cell, pallet, target, posture.config, cycle)
@@ -147,7 +211,7 @@ def _evaluate(cell, pallet, target: str, cycle, posture: Posture, bar: float | N
         return replace(posture, refusal=str(exc), reaches=False)
     try:
         paths = pallet_paths(cell, pallets_of(cell), pallet, target, posture.config, cycle)
-        least = prove(cell, paths, bar)
+        least = [proven(cell, path, bar) for path in paths]
     except (ClearanceError, ReachError, ValueError) as exc:
         return replace(posture, refusal=str(exc))
     nearest = min(least, key=lambda x: x.found.distance)
