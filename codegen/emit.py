@@ -110,13 +110,16 @@ def _texts(value):
 @cache
 def own_names(target_name: str) -> frozenset[str]:
     """Every identifier the generator itself writes in a program for the target: the names in the code of its
-    templates (templates/<t>/**, the language's comments and strings left out, as its grammar reads them),
+    templates (templates/<t>/**, the language's comments and strings left out, as its grammar reads them; not the
+    files a program reads, such as a channel's configuration),
     in its facts (targets/<t>.toml [program] and the kinds' tables) and in the derivation's printed formulas."""
     target = get_target(target_name)
     dialect = get_dialect(target.dialect)
     quiet = [re.compile(dialect.terminal(name)) for name in ("STRING", "COMMENT") if dialect.terminal(name)]
     names: set[str] = set()
     for path in sorted((data_dir("templates") / target.name).rglob("*.j2")):
+        if path.name.removesuffix(".j2").lower().endswith(dialect.configurations):  # a configuration, not code
+            continue
         text = _TAG.sub(lambda m: "\x01" if m.group().startswith("{{") else "", path.read_text(encoding="utf-8"))
         for pattern in quiet:
             text = pattern.sub(" ", text)
