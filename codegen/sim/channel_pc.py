@@ -26,7 +26,9 @@ class ChannelVisionPC(VisionPC):
     the answer, at the element paths of the target's facts ([program] channel receive), through each link.
 
     Behaviours beyond the variables' (codegen.model.vision): "dropped" ends the connection when the request
-    arrives (nothing answers); "incomplete" answers without the answer's last value."""
+    arrives (nothing answers); "incomplete" answers without the last of the answer's values that the channel is
+    configured to receive (a value the program reads: one it does not configure would be dropped by the option
+    anyway, and the answer would be complete for it)."""
 
     channel_facts: dict = field(default_factory=dict)
     links: list = field(default_factory=list)  # the channels connected to it (deliver(document), drop())
@@ -65,11 +67,11 @@ class ChannelVisionPC(VisionPC):
         if command == READ:  # a read's answer holds the mark always: 0 where the station's mode reads none
             values = {**dict.fromkeys(READ_VALUES, 0.0), **values}
         named = [(paths[name], _text(value)) for name, value in values.items() if name in paths]
-        if self.behaviour == "incomplete" and named:
-            named = named[:-1]
-        document = {paths["ack"]: _text(ack), paths["command"]: _text(command), **dict(named)}
+        head = {paths["ack"]: _text(ack), paths["command"]: _text(command)}
         for link in self.links:
-            link.deliver(document)
+            received = [path for path, _value in named if path in link.config.receive]
+            left_out = received[-1:] if self.behaviour == "incomplete" else []
+            link.deliver({**head, **{path: value for path, value in named if path not in left_out}})
 
     def _plan(self, machine: Machine, request, where: str) -> None:
         if self.behaviour == "dropped":  # the vision PC goes off the network as the request arrives

@@ -4,6 +4,7 @@ from the XML beside the program), and the generated station program's channel: w
 from __future__ import annotations
 
 import re
+import shutil
 from dataclasses import replace
 
 import pytest
@@ -101,6 +102,17 @@ def test_an_incomplete_answer_leaves_an_empty_memory():
     assert kept["THETA"] == pytest.approx(-1.0)
 
 
+def test_an_incomplete_answer_lacks_a_value_the_channel_receives():
+    """A channel configured for a read's station alone (a program of frame-mode stations): the value the
+    incomplete answer leaves out is the station, not the theta the option would drop anyway."""
+    config = re.sub(r'    <ELEMENT Tag="Vision/(X|Y|Theta)" Type="REAL"/>\n', "", CONFIG)
+    body = ASK.split("RET = EKI_GETREAL")[0] + 'RET = EKI_GETINT("cam", "Vision/Station", ACK)\nN[5] = RET.MSG_NO\n'
+    kept, _ = _run(config=config, body=body)
+    assert kept["N"][4] == 0 and kept["ACK"] == READING["VIS_STATION"]  # complete: the station read
+    kept, _ = _run(config=config, behaviour="incomplete", body=body)
+    assert kept["N"][4] == eki.ERRORS["empty"] and kept["ACK"] == 7  # left as the answer's number
+
+
 def test_a_send_on_a_dropped_connection_is_refused():
     body = ASK.split("RET = EKI_CHECKBUFFER")[0] + 'RET = EKI_SEND("cam", "Robot")\nN[4] = RET.MSG_NO\n'
     body += 'RET = EKI_CHECKBUFFER("cam", "Vision/Ack")\nN[5] = RET.MSG_NO\nWAIT SEC 0.1\n'
@@ -116,7 +128,7 @@ def test_init_twice_and_functions_before_init_give_their_numbers():
 
 
 def test_a_program_without_its_configuration_is_told_so():
-    with pytest.raises(RunError, match=r"no configuration cam\.xml beside the program"):
+    with pytest.raises(RunError, match=r"t\.src:2:\d+: EKI_Init: the channel's configuration cam\.xml is missing"):
         _run(config=None)
 
 
@@ -193,3 +205,40 @@ def test_check_reads_a_configuration_as_the_option_does():
     assert KRL.check_files([*program, SourceFile("cam.xml", CONFIG)]) == []
     (finding,) = KRL.check_files([*program, SourceFile("cam.xml", "<ETHERNETKRL/>")])
     assert finding.file == "cam.xml" and "CONFIGURATION/EXTERNAL has no IP and PORT" in finding.message
+
+
+def test_a_frame_mode_program_meets_the_incomplete_answer(tmp_path):
+    """A cell of frame-mode stations alone (`codegen init frame`): its program reads a read's station and no mark;
+    the incomplete answer misses the station, and the program stops at home as every target's does."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    out = tmp_path / "frame.toml"
+    assert CliRunner().invoke(main, ["init", "frame", "--target", "kuka", "--out", str(out)]).exit_code == 0
+    cell = load_cell(out)
+    (source,) = [s for s in fresh_sources(cell, ["kuka"]) if s.kind == "station"]
+    incomplete = [c for c in build_cases(cell, 1, 0) if c.category == "vision_incomplete"]
+    assert incomplete and run_cases(cell, source, incomplete, 200_000).mismatches == 0
+
+
+def test_a_folder_without_the_configuration_is_told_so(tmp_path):
+    """The generated program's .src and .dat without its .xml: check names the missing file at the EKI_Init that
+    reads it (exit 2); run stops there with the option's error (exit 1); with the .xml beside, both pass."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    generated = EXAMPLES_DIR.parents[1] / "generated" / "agv_machine_tending" / "kuka"
+    for suffix in (".src", ".dat"):
+        shutil.copy(generated / f"agv_machine_tending{suffix}", tmp_path)
+    inputs = ["--input=VIS_STATION=1", "--input=VIS_X=612.4", "--input=VIS_Y=-285", "--input=VIS_THETA=1.8"]
+    missing = "EKI_Init: the channel's configuration agv_machine_tending.xml is missing"
+    check = CliRunner().invoke(main, ["check", str(tmp_path)])
+    assert check.exit_code == 2 and missing in check.output and "[missing-file]" in check.output, check.output
+    assert check.output.count("error") == 2  # the finding and the count: nothing else
+    run = CliRunner().invoke(main, ["run", str(tmp_path / "agv_machine_tending.src"), *inputs])
+    assert run.exit_code == 1 and re.search(rf"agv_machine_tending\.src:\d+:\d+: {missing}", run.output), run.output
+    shutil.copy(generated / "agv_machine_tending.xml", tmp_path)
+    assert CliRunner().invoke(main, ["check", str(tmp_path)]).exit_code == 0
+    assert CliRunner().invoke(main, ["run", str(tmp_path / "agv_machine_tending.src"), *inputs]).exit_code == 0

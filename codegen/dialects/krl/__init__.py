@@ -110,8 +110,8 @@ class KRL(Dialect):
 
     @classmethod
     def check_files(cls, files: list) -> list:
-        """The KRL files' findings (codegen/dialects/krl/check.py); a channel's configuration as the option reads
-        it (one finding where it cannot)."""
+        """The KRL files' findings (codegen/dialects/krl/check.py), an EKI_Init of a channel whose configuration is
+        not among them included; a channel's configuration as the option reads it (one finding where it cannot)."""
         from codegen.dialects.core.files import finding_of
         from codegen.dialects.core.values import RunError
 
@@ -123,4 +123,5 @@ class KRL(Dialect):
             except RunError as exc:
                 findings.append(finding_of(exc, [f]))
         krl = [f for f in files if f.suffix not in cls.configurations]
-        return [*cls.module("check").check_files(krl), *findings] if krl else findings
+        channels = frozenset(f.stem.upper() for f in configurations)
+        return [*cls.module("check").check_files(krl, channels), *findings] if krl else findings

@@ -5,6 +5,10 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
+from lark import Tree
+
+from codegen.dialects.core.files import Finding
+from codegen.dialects.core.parsing import node_start
 from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.krl.builtins import STRUCTS, type_name_of
 
@@ -35,6 +39,15 @@ ERRORS = {
 OUT_PARAMETERS = {"EKI_GETINT": (2,), "EKI_GETREAL": (2,), "EKI_GETBOOL": (2,)}
 WRITTEN = OUT_PARAMETERS
 GET_TYPES = {"EKI_GETINT": "INT", "EKI_GETREAL": "REAL", "EKI_GETBOOL": "BOOL"}
+
+
+# EKI_Init of a channel whose configuration file is not there: the option cannot read it, and EKI_Init fails with a
+# message (where the controller keeps the file: Roboception's rc_visard manual, EKI bridge; that the function then
+# stops the program as EthernetKRL's other errors do: users' reports, the manual's text not seen here)
+MISSING = (
+    "EKI_Init: the channel's configuration {file} is missing (EthernetKRL reads it from "
+    "C:\\KRC\\ROBOTER\\Config\\User\\Common\\EthernetKRL; here it belongs beside the program)"
+)
 
 
 class ConfigError(ValueError):
@@ -84,6 +97,24 @@ def check_config(text: str, filename: str) -> None:
         parse_config(text)
     except ConfigError as exc:
         raise RunError(f"{filename}: {exc}") from None
+
+
+def unconfigured(name: str, tree, channels: frozenset) -> list[Finding]:
+    """check: each EKI_Init of a channel named by a literal whose configuration file is not among the program's
+    files (`channels`: their names without .xml, upper case) stops the program there."""
+    out = []
+    for sub in tree.iter_subtrees_topdown():
+        if sub.data != "call" or str(sub.children[0]).upper() != "EKI_INIT" or len(sub.children) < 2:
+            continue
+        args = sub.children[1]
+        first = args.children[0] if isinstance(args, Tree) and args.children else None
+        if not isinstance(first, Tree) or first.data != "string":
+            continue
+        channel = str(first.children[0]).strip('"')
+        if channel.upper() not in channels:
+            line, column = node_start(sub)
+            out.append(Finding(name, line, column, "error", "missing-file", MISSING.format(file=channel + SUFFIX)))
+    return out
 
 
 def status(buff: int = 0, read: int = 0, msg_no: int = 0, connected: bool = False, counter: int = 0) -> Record:
@@ -147,7 +178,7 @@ def _init(m, key, name, where, **_kw):
         return status(msg_no=ERRORS["already_initialised"])
     text = getattr(m.program, "eki_configs", {}).get(key)
     if text is None:
-        raise RunError(f"{where}: EKI_Init: no configuration {name}.xml beside the program (the option reads it)")
+        raise RunError(f"{where}: {MISSING.format(file=name + SUFFIX)}")
     try:
         config = parse_config(text)
     except ConfigError as exc:
