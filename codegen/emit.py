@@ -19,6 +19,7 @@ from codegen.poses import FORMAT_DECIMALS, native_values
 SAFE_TEXT = re.compile(r"[A-Za-z0-9 _.,:+\-=/()']")
 _NON_IDENT = re.compile(r"[^A-Za-z0-9]+")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_XML_ESCAPES = {"&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&apos;"}
 _TAG = re.compile(r"\{\{.*?\}\}|\{%.*?%\}|\{#.*?#\}", re.DOTALL)  # a template's expressions, statements, comments
 
 
@@ -240,6 +241,12 @@ class Emitter:
 
     def comment(self, text: str) -> Code:
         return Code(safe_text(text, 120))
+
+    @staticmethod
+    def xml_text(text: str) -> Code:
+        """Character data or an attribute value of an XML file a program reads (a channel's configuration): the
+        text XML-escaped, every character outside printable ASCII '?' (the file stays ASCII)."""
+        return Code("".join(_XML_ESCAPES.get(ch, ch) if " " <= ch <= "~" else "?" for ch in text))
 
     @staticmethod
     def number(value: float, decimals: int) -> Code:

@@ -157,7 +157,8 @@ def _channel(cell: Cell, target: Target, used: list) -> dict | None:
         "other_error": emitter.string(facts["other_message"]),
         "not_deleted": emitter.string(facts["not_deleted"]),
         "name": file_stem(cell, target),
-        "ip": emitter.string(cell.vision.ip),
+        "ip": emitter.comment(cell.vision.ip),  # in the program's comments
+        "xml_ip": emitter.xml_text(cell.vision.ip),  # in the configuration's
         "port": cell.vision.port,
         "send": owned(facts["send"]),
         "send_root": owned(facts["send"]["request"].split("/")[0]),
