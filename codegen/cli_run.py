@@ -77,7 +77,7 @@ def program_files(paths: tuple[str, ...], target_name: str | None):
     if target_name is not None:
         target = get_target(target_name)
         dialect = get_dialect(target.dialect)
-        own = dialect.suffixes + dialect.companions
+        own = dialect.suffixes + dialect.companions + dialect.configurations  # a channel's configuration too
         given = [p for p in given if p.suffix.lower() in own or not any(f in p.parents for f in folders)]
         for path in given:
             if path.suffix.lower() not in own:

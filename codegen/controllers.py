@@ -67,6 +67,9 @@ _PROGRAM = {
     "linear_move": str,
     "inputs": dict,  # station, x, y, theta: the vision interface's names (`codegen run --input`, verify)
     "photo": dict,  # request, ack, u, v, angle: the photo handshake's names (frame kind)
+    # the network channel the program reaches the vision PC through (codegen.sim.vision_pc CHANNELS): its form, the
+    # element paths of the request sent (command, request) and of the answer received (ack and the answer's names)
+    "channel": dict,
     "speed": str,
     "zone": str,
     "tool": str,

@@ -19,6 +19,7 @@ from codegen.poses import FORMAT_DECIMALS, native_values
 SAFE_TEXT = re.compile(r"[A-Za-z0-9 _.,:+\-=/()']")
 _NON_IDENT = re.compile(r"[^A-Za-z0-9]+")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_XML_ESCAPES = {"&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;", "'": "&apos;"}
 _TAG = re.compile(r"\{\{.*?\}\}|\{%.*?%\}|\{#.*?#\}", re.DOTALL)  # a template's expressions, statements, comments
 
 
@@ -110,13 +111,16 @@ def _texts(value):
 @cache
 def own_names(target_name: str) -> frozenset[str]:
     """Every identifier the generator itself writes in a program for the target: the names in the code of its
-    templates (templates/<t>/**, the language's comments and strings left out, as its grammar reads them),
+    templates (templates/<t>/**, the language's comments and strings left out, as its grammar reads them; not the
+    files a program reads, such as a channel's configuration),
     in its facts (targets/<t>.toml [program] and the kinds' tables) and in the derivation's printed formulas."""
     target = get_target(target_name)
     dialect = get_dialect(target.dialect)
     quiet = [re.compile(dialect.terminal(name)) for name in ("STRING", "COMMENT") if dialect.terminal(name)]
     names: set[str] = set()
     for path in sorted((data_dir("templates") / target.name).rglob("*.j2")):
+        if path.name.removesuffix(".j2").lower().endswith(dialect.configurations):  # a configuration, not code
+            continue
         text = _TAG.sub(lambda m: "\x01" if m.group().startswith("{{") else "", path.read_text(encoding="utf-8"))
         for pattern in quiet:
             text = pattern.sub(" ", text)
@@ -237,6 +241,12 @@ class Emitter:
 
     def comment(self, text: str) -> Code:
         return Code(safe_text(text, 120))
+
+    @staticmethod
+    def xml_text(text: str) -> Code:
+        """Character data or an attribute value of an XML file a program reads (a channel's configuration): the
+        text XML-escaped, every character outside printable ASCII '?' (the file stays ASCII)."""
+        return Code("".join(_XML_ESCAPES.get(ch, ch) if " " <= ch <= "~" else "?" for ch in text))
 
     @staticmethod
     def number(value: float, decimals: int) -> Code:

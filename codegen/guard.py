@@ -19,6 +19,7 @@ INVALID_READING = "invalid_reading"
 SHIFT_OVER_LIMIT = "shift_over_limit"
 ROTATION_OVER_LIMIT = "rotation_over_limit"
 NO_ANSWER = "no_answer"  # the vision PC did not answer the program's request in time (codegen.model.vision)
+CONNECTION_LOST = "connection_lost"  # the channel to the vision PC lost its connection while the program waited
 NO_FEEDBACK = "no_feedback"  # the work pose's signal was not confirmed in time (codegen.model.io)
 NOT_RELEASED = "not_released"  # at the start, the work pose's signal released did not show (its feedback stays on)
 NOT_AT_HOME = "not_at_home"  # the program was started with the arm away from home (restart = "at_home")
@@ -47,6 +48,7 @@ def pixels_in_range(u: float, v: float, angle: float) -> bool:
 # The stops that name no station: their messages from the cell's settings.
 _CELL_MESSAGES = {
     NO_ANSWER: lambda cell: no_answer_text(cell.vision.timeout_s),
+    CONNECTION_LOST: lambda cell: "the connection to the vision PC is lost: check its network, start again",
     NOT_AT_HOME: lambda cell: (
         f"start with the arm at home{' or a retreat' if cell.stations_section() is not None else ''} "
         f"(every joint within {cell.motion.start_tolerance_deg:g} deg)"

@@ -33,7 +33,7 @@ def test_generate_then_diff_is_clean(tmp_path):
     result = runner.invoke(main, ["generate", "--out", str(tmp_path)])
     assert result.exit_code == 0, result.output
     written = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file())
-    assert len(written) == 7 and ".agv_machine_tending.lock" in written  # 6 program files and the cell's lock
+    assert len(written) == 8 and ".agv_machine_tending.lock" in written  # 7 program files and the cell's lock
     demo = str(REPO / "codegen" / "examples" / "agv_machine_tending.toml")
     assert runner.invoke(main, ["diff", demo, "--out", str(tmp_path)]).exit_code == 0
 
@@ -103,6 +103,7 @@ def test_render_names_follow_the_cell():
         "agv_machine_tending/ur/agv_machine_tending_node.script",
         "agv_machine_tending/kuka/agv_machine_tending.src",
         "agv_machine_tending/kuka/agv_machine_tending.dat",
+        "agv_machine_tending/kuka/agv_machine_tending.xml",
         "agv_machine_tending/abb/agv_machine_tending.mod",
         "agv_machine_tending/dtrans/agv_machine_tending.prg",
     ]

@@ -5,12 +5,14 @@ from __future__ import annotations
 import copy
 import re
 import tomllib
+from dataclasses import replace
 from functools import cache
+from xml.etree import ElementTree
 
 import pytest
-from support.cells import EXAMPLES, shape
+from support.cells import EXAMPLES, is_configuration
+from support.cells import structure as file_structure
 
-from codegen.dialects import parse_program
 from codegen.emit import EmitError
 from codegen.generate import check_rendered
 from codegen.model.cell import cell_from_dict
@@ -81,7 +83,8 @@ def _custom_armed(example: str):
 
 
 def structure(files) -> list[tuple]:
-    return [shape(parse_program(f.relpath, f.text, positions=False)) for f in files]
+    """Each program file's parse tree's shape; a configuration file (XML) its elements and their attributes' names."""
+    return [file_structure(f.relpath, f.text) for f in files]
 
 
 def hostile_render(data: dict, payload: str) -> tuple[list, dict[str, str]]:
@@ -152,6 +155,21 @@ def test_hostile_strings_leave_every_program_as_it_was(example):
             pytest.fail(f"{f.relpath}: not the clean cell's structure, {first_difference(got, expected)}")
     rendered = {s for s, what in fate.items() if what == "rendered"}
     assert names(data) <= rendered, "every name and arm model must reach the programs as hostile text"
+
+
+def test_a_cell_string_in_a_channel_configuration_is_xml_escaped():
+    """The KUKA channel's XML prints one string of the cell, the vision PC's address, XML-escaped (the loader
+    takes only an IPv4 address there; the escape keeps any text inert): hostile text past the loader, with XML's
+    own markup added, leaves the configuration's elements as they were and reads back as its printable ASCII."""
+    cell = _custom_armed("agv_machine_tending")
+    hostile_ip = PAYLOAD + '--><!-- <ELEMENT Tag="x"/> ]]> &amp; &#0;'
+    clean = [f for f in render(cell, ["kuka"]) if is_configuration(f.relpath)]
+    files = render(replace(cell, vision=replace(cell.vision, ip=hostile_ip)), ["kuka"])
+    configurations = [f for f in files if is_configuration(f.relpath)]
+    check_rendered(files)
+    assert len(configurations) == len(clean) == 1 and structure(configurations) == structure(clean)
+    ip = ElementTree.fromstring(configurations[0].text).findtext("CONFIGURATION/EXTERNAL/IP")
+    assert ip == "".join(ch if " " <= ch <= "~" else "?" for ch in hostile_ip)
 
 
 # The issue's reproducer: an arm's model that, printed as it is, is a statement of the target's language.

@@ -108,7 +108,7 @@ def test_every_file_suffix_has_one_dialect():
         dialect = get_dialect(target.dialect)
         for suffix in target.suffixes:
             assert dialect_of_suffix(suffix) is dialect
-            assert suffix in dialect.suffixes + dialect.companions
+            assert suffix in dialect.suffixes + dialect.companions + dialect.configurations
 
 
 def test_kinds_are_registered_with_a_template_per_target():

@@ -26,6 +26,9 @@ class Dialect:
     name: ClassVar[str] = ""
     suffixes: ClassVar[tuple[str, ...]] = ()  # program files, e.g. (".src",)
     companions: ClassVar[tuple[str, ...]] = ()  # data files read together with a program, e.g. a data list
+    # files a program reads when it runs, in a format of their own (a channel's configuration): beside it, checked
+    # by the dialect's check, given to the program with its files
+    configurations: ClassVar[tuple[str, ...]] = ()
     encodings: ClassVar[tuple[str, ...]] = ()  # the controller's text encodings besides UTF-8 (its backups')
     # how the controller starts a program at a routine of its own choosing (e.g. RAPID's "PP to Routine"), None:
     # only at the program's entry; load_files(files, entry=NAME) then starts there
@@ -216,7 +219,7 @@ def printers() -> dict:
 def dialect_of_suffix(suffix: str) -> type[Dialect] | None:
     """The dialect whose program or companion files end in `suffix` (a program or a data file)."""
     for dialect in dialects().values():
-        if suffix.lower() in dialect.suffixes + dialect.companions:
+        if suffix.lower() in dialect.suffixes + dialect.companions + dialect.configurations:
             return dialect
     return None
 

@@ -49,7 +49,7 @@ def program_of(path: Path, open_texts: dict[str, str]) -> Program | None:
     dialect = dialect_of(path)
     if dialect is None:
         return None
-    own = dialect.suffixes + dialect.companions
+    own = dialect.suffixes + dialect.companions + dialect.configurations  # a channel's configuration: EKI_Init reads it
     folder = path.parent
     found = sorted(folder.iterdir()) if folder.is_dir() else []
     paths = {str(p): p for p in found if p.is_file() and p.suffix.lower() in own}

@@ -182,7 +182,7 @@ class CodegenServer(LanguageServer):
         watched = workspace and workspace.did_change_watched_files
         if not (watched and watched.dynamic_registration):
             return
-        suffixes = {s.lstrip(".") for d in dialects().values() for s in (*d.suffixes, *d.companions)}
+        suffixes = {s.lstrip(".") for d in dialects().values() for s in (*d.suffixes, *d.companions, *d.configurations)}
         pattern = "**/*.{" + ",".join(sorted(suffixes | {CELL_SUFFIX.lstrip(".")})) + "}"
         watchers = [types.FileSystemWatcher(glob_pattern=pattern)]
         options = types.DidChangeWatchedFilesRegistrationOptions(watchers=watchers)

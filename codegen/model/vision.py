@@ -27,6 +27,22 @@ TABLE = Table(
             high=600.0,
             default=5.0,
         ),
+        # the vision PC's address where a controller reaches it over a network channel (the target's [program]
+        # channel: its configuration file names it); a dotted IPv4 address, each part 0..255
+        "ip": Key(
+            "string",
+            "the vision PC's IPv4 address, where a controller's program opens a network channel to it",
+            default="192.168.1.20",
+            pattern=r"((25[0-5]|2[0-4][0-9]|1[0-9][0-9]|[1-9]?[0-9])\.){3}(25[0-5]|2[0-4][0-9]|1[0-9][0-9]|[1-9]?[0-9])",
+            expected="an IPv4 address such as 192.168.1.20",
+        ),
+        "port": Key(
+            "integer",
+            "the vision PC's TCP port of that channel",
+            low=1,
+            high=65534,  # the narrowest port range of a channel's controller (targets' [program] channel)
+            default=54600,
+        ),
     },
 )
 TIMEOUT_S = TABLE.default("timeout_s")
@@ -34,9 +50,12 @@ TIMEOUT_S = TABLE.default("timeout_s")
 
 @dataclass(frozen=True)
 class VisionSettings:
-    """[cell.vision]: how long a program waits for an answer before it halts with a message."""
+    """[cell.vision]: how long a program waits for an answer before it halts with a message; where a network
+    channel reaches the vision PC (its address and port)."""
 
     timeout_s: float = TIMEOUT_S
+    ip: str = TABLE.default("ip")
+    port: int = TABLE.default("port")
 
 
 def parse_settings(ctx, cell_table: dict) -> VisionSettings:
@@ -55,8 +74,14 @@ def polls(settings: VisionSettings) -> int:
 # last cycle's reading still in its registers, twice, with another sequence number, or promptly after
 # a late answer to the previous cycle's last request (which that cycle gave up on) arrives first.
 PREVIOUS_REQUEST = 41  # the previous cycle's last answered request
-BEHAVIOURS = ("prompt", "late", "too_late", "never", "stale", "twice", "other_sequence", "late_previous")
-UNANSWERED = frozenset({"too_late", "never", "stale", "other_sequence"})  # a correct program halts
+# Over a network channel also: the connection lost as the request arrives (dropped), an answer without one of its
+# values (incomplete); over variables both answer nothing (codegen.sim.vision_pc).
+BEHAVIOURS = (
+    "prompt", "late", "too_late", "never", "stale", "twice", "other_sequence", "late_previous", "dropped", "incomplete",
+)  # fmt: skip
+UNANSWERED = frozenset(
+    {"too_late", "never", "stale", "other_sequence", "dropped", "incomplete"}
+)  # a correct program halts
 SECOND_LOOK_MM = 0.5  # "twice": the second answer reads the mark this much further along x and y
 PROMPT_S = 0.02  # a prompt answer's latency (less than one poll: most runs wait once)
 
@@ -73,4 +98,11 @@ def answered(target, behaviour: str) -> dict:
     if names is None:
         return {}
     unanswered = PREVIOUS_REQUEST + 1 if behaviour == "late_previous" else PREVIOUS_REQUEST
-    return {names["request"]: unanswered, names["ack"]: PREVIOUS_REQUEST}
+    acked = {names["ack"]: PREVIOUS_REQUEST} if "ack" in names else {}  # over a channel the answer carries it
+    return {names["request"]: unanswered, **acked}
+
+
+def lost(target, behaviour: str) -> bool:
+    """Whether the program can tell that the vision PC went off the network: over a channel that models the
+    connection (the target's [program] channel), not over variables (nothing answers: the timeout's stop)."""
+    return behaviour == "dropped" and target.program.get("channel") is not None

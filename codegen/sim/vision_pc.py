@@ -3,10 +3,18 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from importlib import import_module
 
 from codegen.dialects.core.machine import Machine
 from codegen.dialects.core.values import RunError
 from codegen.model.vision import PHOTO, PREVIOUS_REQUEST, PROMPT_S, READ, SECOND_LOOK_MM
+
+# the channels a target's program may reach the vision PC through (targets' [program] channel form): the module of
+# this package whose PARTNER serves it
+CHANNELS = {"eki": "codegen.sim.channel_pc"}
+# the behaviours where no answer is written: over variables a vision PC that drops off the network, or has not all
+# of an answer, writes nothing (a channel's partner models the connection and the answer's elements itself)
+SILENT = ("never", "stale", "dropped", "incomplete")
 
 
 @dataclass
@@ -30,6 +38,7 @@ class VisionPC:
     _due: list = field(default_factory=list)  # (time, ack value, values by name)
 
     _late_sent: bool = False
+    silent = SILENT  # the behaviours that answer nothing
 
     def __post_init__(self) -> None:
         if self.behaviour == "late_previous":
@@ -37,10 +46,34 @@ class VisionPC:
 
     @classmethod
     def for_target(cls, target, answer=None, camera=None, behaviour="prompt", latency_s=PROMPT_S, previous=None):
+        """The vision PC a target's program talks to: over the program's variables, or over the channel the
+        target's facts name ([program] channel: its form, a module of this package, CHANNELS)."""
         names = target.program.get("photo")
         if names is not None:
             names = {**names, **{k: target.program["inputs"][k] for k in ("station", "x", "y", "theta")}}
-        return cls(names, dict(answer or {}), camera, behaviour, latency_s, dict(previous or {}))
+        channel = target.program.get("channel")
+        kind = cls if channel is None else import_module(CHANNELS[channel["form"]]).PARTNER
+        out = kind(names, dict(answer or {}), camera, behaviour, latency_s, dict(previous or {}))
+        if channel is not None:
+            out.attach(channel)
+        return out
+
+    # --- the transport: the program's variables (a channel's partner overrides these) ------------------------
+    def _request(self, machine: Machine):
+        """The program's request number not yet seen and not answered, or None."""
+        request = machine.read_variable(self.names["request"])
+        if request is None or request == self._seen or request == machine.read_variable(self.names["ack"]):
+            return None
+        return request
+
+    def _command(self, machine: Machine):
+        return machine.read_variable(self.names["command"])
+
+    def _deliver(self, machine: Machine, ack, values: dict) -> None:
+        for name, value in (*values.items(), ("ack", ack)):
+            variable = self.names.get(name, name)
+            if not machine.write_variable(variable, value):
+                raise RunError(f"{machine.program.name}: the vision interface variable {variable} is not declared")
 
     def next_time(self, machine: Machine) -> float | None:
         if not self._due:
@@ -56,8 +89,8 @@ class VisionPC:
             # its request from the last answer asked, before the answer to its request (in order)
             self._late_sent = True
             self._due.append((machine.clock + PROMPT_S / 2, PREVIOUS_REQUEST + 1, self._named(self.previous)))
-        request = machine.read_variable(io["request"])
-        if request is not None and request != self._seen and request != machine.read_variable(io["ack"]):
+        request = self._request(machine)
+        if request is not None:
             self._seen = request
             self._plan(machine, request, where)
         if not self._due:
@@ -66,11 +99,7 @@ class VisionPC:
         for item in [d for d in self._due if d[0] <= machine.clock]:
             self._due.remove(item)
             _time, ack, values = item
-            for name, value in (*values.items(), ("ack", ack)):
-                if not machine.write_variable(io.get(name, name), value):
-                    raise RunError(
-                        f"{machine.program.name}: the vision interface variable {io.get(name, name)} is not declared"
-                    )
+            self._deliver(machine, ack, values)
             acted = True
         return acted
 
@@ -82,9 +111,9 @@ class VisionPC:
                 f"{where}: photo requested while the arm moves (the request ran ahead of the move at line {line}: "
                 "nothing made the program wait for the arm before it)"
             )
-        if self.behaviour in ("never", "stale"):
+        if self.behaviour in self.silent:
             return
-        command = machine.read_variable(self.names["command"])
+        command = self._command(machine)
         values = self._values(machine, command, where)
         start = machine.clock + self.latency_s
         if self.behaviour == "other_sequence":

@@ -206,7 +206,7 @@ def test_the_review_list_is_cleared_in_the_generated_text(programs):
             assert all(f"VIS_PAR[{i}]={{PAR_TYPE #EMPTY}}" in text for i in (1, 2, 3)), name
         if name.endswith(".src"):
             # the arm stops, then the request
-            assert re.search(r"WAIT SEC 0 ;[^\n]*\n  VIS_CMD = COMMAND\n", text), name
+            assert re.search(r"WAIT SEC 0 ;[^\n]*\n  VIS_REQ = VIS_REQ \+ 1\n", text), name
             assert "$BASE = $ROBROOT" in text and "$BASE = $NULLFRAME" not in text, name
             # KUKA's start section: the stop-message interrupt, then the default speeds and accelerations
             ini = "  GLOBAL INTERRUPT DECL 3 WHEN $STOPMESS==TRUE DO IR_STOPM()\n  INTERRUPT ON 3\n  BAS(#INITMOV, 0)\n"

@@ -51,13 +51,13 @@ def _codes(findings) -> set[str]:
 def test_findings_after_edits_equal_a_fresh_check():
     src = (KUKA / "agv_machine_tending.src").read_text(encoding="utf-8")
     dat = (KUKA / "agv_machine_tending.dat").read_text(encoding="utf-8")
-    assert GOOD in src and "DECL INT VIS_CMD=0" in dat
+    assert GOOD in src and "DECL INT VIS_REQ=0" in dat
     edits = [  # (the .src, the .dat) in turn, as an editor sends them
         (src, dat),
         (src.replace(GOOD, BAD, 1), dat),
         (src.replace(GOOD, GOOD + "\n  X = 1 / 0", 1), dat),  # a line more: every later routine's lines move
-        (src, dat.replace("DECL INT VIS_CMD=0", "DECL INT VIS_CMD", 1)),  # a data list's value gone
-        (src.replace(GOOD, "  VIS_CMD = {X 1.0}", 1), dat),
+        (src, dat.replace("DECL INT VIS_REQ=0", "DECL INT VIS_REQ", 1)),  # a data list's value gone
+        (src.replace(GOOD, "  VIS_REQ = {X 1.0}", 1), dat),
         (src, dat),
     ]
     with STORE.keeping():

@@ -104,6 +104,25 @@ def shape(tree) -> tuple:
     return (tree.data, *(shape(c) for c in tree.children))
 
 
+def is_configuration(relpath: str) -> bool:
+    """A file a program reads when it runs, in a format of its own (a KUKA.EthernetKRL channel's .xml), not code."""
+    from codegen.dialects import dialects
+
+    return relpath.lower().endswith(tuple(s for d in dialects().values() for s in d.configurations))
+
+
+def structure(relpath: str, text: str) -> tuple:
+    """A generated file's structure: a program's or data file's parse tree (shape); a configuration's XML elements
+    in document order, each with its attributes' names (a cell's text that changed them would show)."""
+    from xml.etree import ElementTree
+
+    from codegen.dialects import parse_program
+
+    if is_configuration(relpath):
+        return tuple((e.tag, tuple(sorted(e.attrib))) for e in ElementTree.fromstring(text).iter())
+    return shape(parse_program(relpath, text, positions=False))
+
+
 def replace_once(text: str, old: str, new: str) -> str:
     assert old in text, f"{old!r} not in program"
     return text.replace(old, new, 1)

@@ -29,7 +29,9 @@ def files(cell, target: str) -> tuple[str, str | None]:
 def source(cell, target: str, text: str | None = None, dat: str | None = None, label: str = "mutant"):
     """The station program as a source, its texts replaced where given."""
     program = _fresh(cell, target)
+    # the program, its data list where given, then its other files as generated (a KRL channel's configuration)
     texts = [text or program.files[0].text, *([dat or program.files[1].text] if len(program.files) > 1 else [])]
+    texts += [f.text for f in program.files[len(texts) :]]
     names = [f"{label}/{f.name.rsplit('/', 1)[-1]}" for f in program.files]
     new = tuple(SourceFile(n, t) for n, t in zip(names, texts, strict=True))
     return replace(program, files=new, origin=tuple(names), row=0)

@@ -119,7 +119,7 @@ def checked_in():
             folder = REPO / "generated" / path.stem / target
             suffixes = get_target(target).suffixes
             text = (folder / f"{path.stem}{suffixes[0]}").read_text(encoding="utf-8")
-            data = folder / f"{path.stem}{suffixes[-1]}"
+            data = folder / f"{path.stem}{suffixes[1] if len(suffixes) > 1 else suffixes[0]}"  # its data list
             dat = data.read_text(encoding="utf-8") if len(set(suffixes)) > 1 and data.is_file() else None
             out[path.stem, target] = (cell, cases, (text, dat))
     return out
@@ -155,7 +155,8 @@ HANDSHAKE = {
     },
     "request_number_from_the_ack": {  # a late answer to the previous cycle's last request counts
         "ur": (r"^(\s+)request = read_output_integer_register\((\d+)\)\n", r"\1request = -1\n"),
-        "kuka": (r"^\s+IF VIS_ACK > VIS_REQ THEN[^\n]*\n", "  IF TRUE THEN\n"),
+        # over its channel KRL numbers requests itself: the answer taken whatever its number
+        "kuka": (r"^(\s+)WHILE ACK <> VIS_REQ\n", r"\1WHILE ACK == VIS_REQ - 1\n"),
         "abb": (r"^\s+IF vis_ack > vis_req THEN\n", "    IF TRUE THEN\n"),
         "dtrans": (r"^\s+If vis_ack > vis_req Then\n", "  If True Then\n"),
     },

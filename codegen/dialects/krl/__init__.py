@@ -32,6 +32,7 @@ class KRL(Dialect):
     # confirmed in the manual's text)
     suffixes = (".src", ".sub")
     companions = (".dat",)  # the data list of a .src: declarations and initial values
+    configurations = (".xml",)  # a KUKA.EthernetKRL channel's configuration (codegen/dialects/krl/eki.py)
     encodings = ("cp1252",)  # KUKA controllers write Windows-1252 (backups, WorkVisual projects)
 
     @classmethod
@@ -53,6 +54,13 @@ class KRL(Dialect):
                 *re.findall(r"[A-Za-z_][A-Za-z0-9_]*", config),
             )
         )
+
+    @classmethod
+    def check(cls, text: str, filename: str) -> None:
+        """A program or data file by the grammar; a channel's configuration as the option reads it."""
+        if filename.lower().endswith(cls.configurations):
+            return cls.module("eki").check_config(text, filename)
+        return super().check(text, filename)
 
     @classmethod
     def move_settings(
@@ -89,9 +97,12 @@ class KRL(Dialect):
 
     @classmethod
     def beside(cls, path) -> list:
-        """Its .dat, and the data lists of the folder without a .src of their own that declare a name the program
-        uses (a PUBLIC data list of global counters beside it)."""
-        return [*super().beside(path), *cls.module("modules").data_lists_beside(path, cls.encodings)]
+        """Its .dat, the data lists of the folder without a .src of their own that declare a name the program
+        uses (a PUBLIC data list of global counters beside it) and the Ethernet KRL configuration of its name
+        (codegen/dialects/krl/eki.py)."""
+        suffix = cls.configurations[0]
+        channels = [c for c in (path.with_suffix(suffix), path.with_suffix(suffix.upper())) if c.is_file()][:1]
+        return [*super().beside(path), *cls.module("modules").data_lists_beside(path, cls.encodings), *channels]
 
     @classmethod
     def load_files(cls, files: list):
@@ -99,4 +110,18 @@ class KRL(Dialect):
 
     @classmethod
     def check_files(cls, files: list) -> list:
-        return cls.module("check").check_files(files)
+        """The KRL files' findings (codegen/dialects/krl/check.py), an EKI_Init of a channel whose configuration is
+        not among them included; a channel's configuration as the option reads it (one finding where it cannot)."""
+        from codegen.dialects.core.files import finding_of
+        from codegen.dialects.core.values import RunError
+
+        configurations = [f for f in files if f.suffix in cls.configurations]
+        findings = []
+        for f in configurations:
+            try:
+                cls.check(f.text, f.name)
+            except RunError as exc:
+                findings.append(finding_of(exc, [f]))
+        krl = [f for f in files if f.suffix not in cls.configurations]
+        channels = frozenset(f.stem.upper() for f in configurations)
+        return [*cls.module("check").check_files(krl, channels), *findings] if krl else findings

@@ -59,6 +59,9 @@ STRUCTS = {
     # the state CREAD / CWRITE return (KSS 8 CREAD/CWRITE manual, as recalled: RET1 a CMD_STAT value, the number
     # of values read, the length read); the channel functions themselves are refused by name (NOT_MODELLED)
     "STATE_T": [("RET1", "ENUM"), ("HITS", "INT"), ("LENGTH", "INT")],
+    # what every KUKA.EthernetKRL function returns (codegen/dialects/krl/eki.py): elements left in the memory, read,
+    # the message number (0: no error), connected, the time stamp of the element taken out
+    "EKI_STATUS": [("BUFF", "INT"), ("READ", "INT"), ("MSG_NO", "INT"), ("CONNECTED", "BOOL"), ("COUNTER", "INT")],
 }
 # The system's enumeration types a program may declare data of (KSS 8 programming manual, as recalled)
 SYSTEM_ENUMS = {"VAR_STATE": frozenset({"#DECLARED", "#INITIALIZED", "#UNKNOWN"})}
@@ -168,8 +171,8 @@ NOT_MODELLED = {
     for what, names in {
         "string functions": "STRLEN STRCLEAR STRCOPY STRADD STRCOMP STRFIND STRDECLLEN SWRITE SREAD",
         "channel I/O": "CWRITE CREAD COPEN CCLOSE CIOCTL",
-        "Ethernet KRL": "EKI_INIT EKI_OPEN EKI_CLOSE EKI_CLEAR EKI_SEND EKI_SETINT EKI_SETREAL EKI_SETSTRING "
-        "EKI_GETINT EKI_GETREAL EKI_GETSTRING EKI_GETBOOL EKI_SETBOOL EKI_CHECK EKI_LOCK EKI_UNLOCK",
+        "Ethernet KRL (the functions of codegen/dialects/krl/eki.py are)": "EKI_SETREAL EKI_SETSTRING EKI_GETSTRING "
+        "EKI_SETBOOL EKI_CHECK EKI_LOCK EKI_UNLOCK",
         "error handling": "ERR_RAISE ERR_CLEAR",
         "kinematics functions": "INVERSE FORWARD",
         "KUKA's Automatic External module: the program number a PLC sends": "P00 P00_SUBM",

@@ -11,7 +11,7 @@ from codegen.dialects.core.kept import STORE
 from codegen.dialects.core.literals import literal_number
 from codegen.dialects.core.parsing import node_start
 from codegen.dialects.core.values import RunError
-from codegen.dialects.krl import KRL
+from codegen.dialects.krl import KRL, eki
 from codegen.dialects.krl.builtins import SIMPLE  # the simple data types: a value, not a structure of named parts
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.modules import Linker
@@ -68,9 +68,10 @@ def repaired(file: SourceFile, findings: list[Finding]) -> SourceFile:
     return SourceFile(file.name, "")
 
 
-def check_files(files: list[SourceFile]) -> list[Finding]:
+def check_files(files: list[SourceFile], channels: frozenset | None = None) -> list[Finding]:
     """Every finding of one program's files (as KRL.programs groups them): syntax, what the interpreter does not
-    model, undefined names and routines, type errors, and the field checks below."""
+    model, undefined names and routines, type errors, and the field checks below; given `channels` (the names of
+    the Ethernet KRL configurations among the program's files), each EKI_Init of a channel without one."""
     findings: list[Finding] = []
     texts = [repaired(f, findings) for f in files]
     errors: list[RunError] = []
@@ -93,6 +94,8 @@ def check_files(files: list[SourceFile]) -> list[Finding]:
             findings.extend(STORE.by_unit(walk, name, tree))
         findings.extend(STORE.by_unit(waits, name, tree, inputs, key=inputs))
         findings.extend(STORE.by_unit(aggregates_to_scalars, name, tree, shared, key=shared_key))
+        if channels is not None:
+            findings.extend(eki.unconfigured(name, tree, channels))
     if trees:
         findings.extend(unset_data(trees))
         findings.extend(constant_indexes(trees))

@@ -9,7 +9,7 @@ from codegen.dialects.core.compiler import Compiler
 from codegen.dialects.core.machine import pause
 from codegen.dialects.core.source import Src
 from codegen.dialects.core.values import F32, Record, RunError, Signal, f32, format_general, index_value, op_error
-from codegen.dialects.krl import bas, dialogs, io
+from codegen.dialects.krl import bas, dialogs, eki, io
 from codegen.dialects.krl.builtins import BUILTINS, UNINIT, cart, type_name_of, valid, xyzabc
 from codegen.dialects.krl.declarations import DECLARATIONS, Declarations
 from codegen.dialects.krl.goto import GotoBlocks
@@ -96,7 +96,7 @@ class KRLCompiler(
 
     # --- tables ------------------------------------------------------------------------------
     def make_builtins(self) -> dict:
-        return {**BUILTINS, **bas.FUNCTIONS, **dialogs.BUILTINS}
+        return {**BUILTINS, **bas.FUNCTIONS, **dialogs.BUILTINS, **eki.BUILTINS}
 
     @staticmethod
     def number(text: str):

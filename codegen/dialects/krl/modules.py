@@ -15,7 +15,7 @@ from codegen.dialects.core.files import SourceFile, read_source
 from codegen.dialects.core.program import Program
 from codegen.dialects.core.shapes import ShapeCache
 from codegen.dialects.core.values import RunError
-from codegen.dialects.krl import KRL
+from codegen.dialects.krl import KRL, eki
 from codegen.dialects.krl.compiler import KRLCompiler
 from codegen.dialects.krl.environment import CONFIG_DAT, is_config
 from codegen.dialects.krl.environment import NAME as CONFIG_NAME
@@ -48,6 +48,8 @@ def group_modules(files: list[SourceFile], first_is_program: bool = False) -> tu
     for i, f in enumerate(files):
         if is_config(f.name):
             configs.append(f)
+            continue
+        if f.suffix == eki.SUFFIX:  # a channel's configuration (the program's EKI_Init reads it), no module
             continue
         module = modules.setdefault(f.stem.upper(), Module(f.stem.upper()))
         if f.suffix in KRL.suffixes or (first_is_program and i == 0):
@@ -108,10 +110,11 @@ def programs(files: list[SourceFile]) -> list[list[SourceFile]]:
     }
     mains = [m for m in with_src if m.name not in libraries] or with_src[:1]
     shared = [m for m in modules if m.src is None or m.name in libraries or m not in mains]  # libraries, data
+    channels = [f for f in files if f.suffix == eki.SUFFIX]  # every program may open each channel
     out = []
     for main in mains:
         rest = [f for m in shared if m is not main for f in (m.src, m.dat) if f is not None]
-        out.append([main.src, *([main.dat] if main.dat else []), *rest, *configs])
+        out.append([main.src, *([main.dat] if main.dat else []), *rest, *configs, *channels])
     return out
 
 
@@ -305,6 +308,8 @@ class Linker:
         if main_key is None:
             self.fail_or_keep(RunError(f"{compiler.filename}: no routine (DEF) to run"))
         program = Program(compiler.filename, compiler, compiler.init_data, main_key)
+        # the Ethernet KRL channels' configurations among the files, by channel name (EKI_Init's argument)
+        program.eki_configs = {f.stem.upper(): f.text for f in self.files if f.suffix == eki.SUFFIX}
         try:
             program.unknown_inputs(())  # the data lists' values, now: a wrong one is reported as the file's
         except RunError as exc:

@@ -8,7 +8,7 @@ from lark import Token, Tree
 
 from codegen.dialects.core.source import LazyStore, Src
 from codegen.dialects.core.values import RunError
-from codegen.dialects.krl import dialogs, sysvars
+from codegen.dialects.krl import dialogs, eki, sysvars
 from codegen.dialects.krl.builtins import NOT_MODELLED, UNINIT, frame, valid
 from codegen.dialects.krl.interrupts import pos_int
 from codegen.dialects.krl.numbered import SYSTEM_ARRAYS, fresh_values
@@ -58,6 +58,9 @@ class ScopedStore(LazyStore):
         self.fn(fr, value)
 
 
+# the built-in functions with OUT parameters (positions) and those of them they write (a setter each)
+OUT_PARAMETERS = {**dialogs.OUT_PARAMETERS, **eki.OUT_PARAMETERS}
+WRITTEN = {**dialogs.WRITTEN, **eki.WRITTEN}
 SPECIAL_READS = {"$NULLFRAME", "$WORLD", "$BASE", "$ROBROOT", "$POS_INT", "$ORI_TYPE", "$CIRC_TYPE", "$TOOL", "$LOAD"}
 
 
@@ -210,7 +213,7 @@ class ScopedNames:
         args = [self.src(a) if a is not None else "None" for a in arg_nodes]
         if routine is None:
             key = str(name).upper()
-            if key in dialogs.OUT_PARAMETERS:
+            if key in OUT_PARAMETERS:
                 return self.builtin_with_out(node, key, name, arg_nodes, args)
             return self.call_source(str(name), args, {}, [None] * len(args), self.where(node))
         params = self.signatures.get(routine)
@@ -222,16 +225,16 @@ class ScopedNames:
         return self.call_source(routine, args, {}, setters, self.where(node))
 
     def builtin_with_out(self, node, key: str, name, arg_nodes, args: list[str]):
-        """A call of a built-in function with OUT parameters (dialogs.OUT_PARAMETERS): the arguments there are
-        variables (a compile error names the line otherwise); those it writes (dialogs.WRITTEN) get a setter."""
+        """A call of a built-in function with OUT parameters (OUT_PARAMETERS): the arguments there are
+        variables (a compile error names the line otherwise); those it writes (WRITTEN) get a setter."""
         setters = [None] * len(arg_nodes)
-        for i in dialogs.OUT_PARAMETERS[key]:
+        for i in OUT_PARAMETERS[key]:
             arg = arg_nodes[i] if i < len(arg_nodes) else None
             if arg is None:
                 continue  # too few arguments: the function says so when it runs
             if not (isinstance(arg, Tree) and arg.data in ("var", "index", "field", "whole")):
                 self.fail(arg if isinstance(arg, Tree) else node, f"{name}: argument {i + 1} is OUT: give a variable")
-            if i in dialogs.WRITTEN.get(key, ()):
+            if i in WRITTEN.get(key, ()):
                 setters[i], args[i] = ScopedStore(self, arg), "None"
         where = self.where(node)
         return Src(f"{self.const(self.builtins[key])}(fr, [{', '.join(args)}], {{}}, {where!r}, {self.const(setters)})")

@@ -22,6 +22,7 @@ class KRLState(RunState):
     handle: int = 0  # the last message or dialog handle given out
     waiting: dict = field(default_factory=dict)  # handle -> an acknowledgement message still shown
     dialogs: dict = field(default_factory=dict)  # handle -> dialogs.Dialog
+    channels: dict = field(default_factory=dict)  # Ethernet KRL channel name -> eki.Channel (EKI_Init made it)
     triggers: tuple = ()  # the TRIGGERs pending for the next motion (trigger.py)
     fresh: dict = field(default_factory=dict)  # id -> (name, value): the numbered data nobody set (motion.py)
     move_bases: dict = field(default_factory=dict)  # id of a MoveEvent -> the $BASE it was planned in (4x4 mm)

@@ -12,6 +12,7 @@ import numpy as np
 from codegen.controllers import Target, get_target
 from codegen.emit import Emitter
 from codegen.guard import (
+    CONNECTION_LOST,
     NO_ANSWER,
     NO_FEEDBACK,
     NO_PART,
@@ -241,9 +242,12 @@ def _truth_problem(cell: Cell, case: Case, reference: ExpectedTrace) -> str | No
     return mode.truth_problem(cell, case.reading, reference)
 
 
-def accepted_traces(cell: Cell, case: Case) -> tuple[list[ExpectedTrace], bool]:
+def accepted_traces(cell: Cell, case: Case, target: Target | None = None) -> tuple[list[ExpectedTrace], bool]:
+    """The traces a correct program may produce for a case (a boundary reading: either side), on `target` (a
+    network channel tells a lost connection from a silent vision PC: its own stop)."""
     if case.vision in vision.UNANSWERED:  # the program must not use what it did not get: it halts at home
-        return [ExpectedTrace("halt", NO_ANSWER)], False
+        lost = target is not None and vision.lost(target, case.vision)
+        return [ExpectedTrace("halt", CONNECTION_LOST if lost else NO_ANSWER)], False
     mode = _mode_of_case(cell, case.reading)
     if mode is None:
         return [ExpectedTrace("halt", UNKNOWN_STATION)], False
@@ -275,7 +279,7 @@ def _first_action(station: Station, action: str) -> int | None:
 def expected_message(cell: Cell, trace: ExpectedTrace, reading, emitter: Emitter) -> str:
     if trace.reason == UNKNOWN_STATION:
         return emitter.string(UNKNOWN_STATION_TEXT) + str(reading.station_id)
-    if trace.reason in (NO_ANSWER, NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, PART_HELD, NO_PART):
+    if trace.reason in (NO_ANSWER, CONNECTION_LOST, NO_FEEDBACK, NOT_AT_HOME, NOT_RELEASED, PART_HELD, NO_PART):
         return emitter.string(halt_message(cell, trace.reason, None, 0))
     mode = mode_of(trace.station)
     return emitter.string(mode.fitted_message(cell, trace.reason, trace.station, emitter.target.string_max))

@@ -53,7 +53,7 @@ def setup(cell, target_name: str, case) -> Setup:
 def judge(cell, target_name: str, case, trace) -> Judgement:
     """The reference traces a correct program may produce in the case, as plans of the same moves the run has."""
     target = get_target(target_name)
-    accepted, boundary = accepted_traces(cell, case)
+    accepted, boundary = accepted_traces(cell, case, target)
     truth = _truth_problem(cell, case, accepted[0])
     if refuses_start(cell, target, case, allowed=("home", "retreat")) is not None:
         accepted, truth = [ExpectedTrace("halt", NOT_AT_HOME)], None

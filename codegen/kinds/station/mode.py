@@ -27,6 +27,8 @@ class StationMode:
     log_prefixes: ClassVar[tuple[str, ...]] = ()  # the program's log lines whose numbers verify reads
     log_names: ClassVar[tuple[str, ...]] = ()  # those numbers, in order
     reads_pixels: ClassVar[bool] = False  # the camera answers in pixels: the cell needs [cell.camera.handeye]
+    # the values (protocol names, codegen.model.vision) the mode's stations read from an answer, by command
+    answer_names: ClassVar[dict[int, tuple[str, ...]]] = {}
     # the mode's own report figures (codegen.protocol.Figures: count(reading, logged numbers)); None: it has none
     figures: ClassVar[type | None] = None
     registry: ClassVar[dict[str, type[StationMode]]] = {}

@@ -10,6 +10,7 @@ from codegen.controllers import Target
 from codegen.dialects import get_dialect
 from codegen.emit import EmitError, Emitter, owned
 from codegen.guard import (
+    CONNECTION_LOST,
     GUARD_CODES,
     NO_ANSWER,
     READING_RANGE_DEG,
@@ -131,6 +132,41 @@ def station_arm(cell, target, station) -> list[dict]:
     ]
 
 
+def _channel(cell: Cell, target: Target, used: list) -> dict | None:
+    """The network channel to the vision PC where the target's program opens one ([program] channel): its name
+    (the configuration file's, the program's), the vision PC's address ([cell.vision]), the element paths, and
+    the values each command's answer gives the program's variables: (variable, element path) by command."""
+    facts = target.program.get("channel")
+    if facts is None:
+        return None
+    names = {**target.program["inputs"], **target.program.get("photo", {})}
+    reads: dict[int, list] = {vision.READ: ["station"], vision.PHOTO: []}
+    for mode in used:
+        for command, values in mode.answer_names.items():
+            reads[command] += [v for v in values if v not in reads[command]]
+    function = {"station": facts["int_read"]}  # the station id an INT, every other value a REAL
+    emitter = program_emitter(cell, target)
+    return {
+        "reads": {
+            c: owned([(names[v], facts["receive"][v], function.get(v, facts["real_read"])) for v in values])
+            for c, values in reads.items()
+            if values
+        },
+        "reals": [v for c in reads.values() for v in c if v != "station"],
+        "errors": [(number, emitter.string(text)) for number, text in facts["messages"]],
+        "other_error": emitter.string(facts["other_message"]),
+        "not_deleted": emitter.string(facts["not_deleted"]),
+        "name": file_stem(cell, target),
+        "ip": emitter.comment(cell.vision.ip),  # in the program's comments
+        "xml_ip": emitter.xml_text(cell.vision.ip),  # in the configuration's
+        "port": cell.vision.port,
+        "send": owned(facts["send"]),
+        "send_root": owned(facts["send"]["request"].split("/")[0]),
+        "receive": owned(facts["receive"]),
+        "receive_root": owned(facts["receive"]["ack"].split("/")[0]),
+    }
+
+
 def program_context(cell: Cell, target: Target, kind_name: str) -> dict:
     """The station program's own variables: the guard's numbers, the stations, the vision handshake, and
     each mode's partial (templates/<t>/kinds/<kind>_<mode>.j2, a set of macros the program calls)."""
@@ -170,7 +206,9 @@ def program_context(cell: Cell, target: Target, kind_name: str) -> dict:
             "timeout_s": number(cell.vision.timeout_s, 3),
             "timeout_text": figure(cell.vision.timeout_s),
             "no_answer": emitter.string(halt_message(cell, NO_ANSWER, None, 0)),
+            "lost": emitter.string(halt_message(cell, CONNECTION_LOST, None, 0)),
         },
+        "channel": _channel(cell, target, [modes()[name] for name in sorted(used)]),
     }
     for name, mode in modes().items():
         out = merged(out, mode.cell_context(cell, target, emitter), f"cell context of the {name} mode")
@@ -189,12 +227,12 @@ def station_program(cell: Cell, target: Target, kind_name: str) -> list[ProgramP
     Script-node twin "{cell}_node.script" from "program_node.script.j2" are two programs), one context."""
 
     stem = file_stem(cell, target)
-    companions = get_dialect(target.dialect).companions
+    suffixes = get_dialect(target.dialect).suffixes
     context = program_context(cell, target, kind_name)
     plans: list[list[ProgramFile]] = []
     for pattern in target.files:
         f = ProgramFile(pattern.format(cell=stem), f"{target.name}/{pattern.format(cell='program')}.j2")
-        if Path(pattern).suffix.lower() in companions:
+        if Path(pattern).suffix.lower() not in suffixes:  # a data list, a channel's configuration: its program's
             owner = next(p for p in plans if Path(p[0].name).stem == Path(f.name).stem)
             owner.append(f)
         else:

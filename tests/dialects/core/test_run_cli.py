@@ -84,7 +84,9 @@ def test_a_folder_or_a_program_with_its_data_file(tmp_path):
     assert two.exit_code == 2 and "make 2 programs" in two.output
     inputs = ["VIS_STATION=1", "VIS_X=612.4", "VIS_Y=-285", "VIS_THETA=1.8"]
     both = invoke(
-        "run", KUKA / "agv_machine_tending.src", KUKA / "agv_machine_tending.dat", *(f"--input={i}" for i in inputs)
+        "run",
+        *(KUKA / f"agv_machine_tending{suffix}" for suffix in (".src", ".dat", ".xml")),  # .xml: the channel's
+        *(f"--input={i}" for i in inputs),
     )
     assert both.exit_code == 0 and "738.5000 -112.3000 305.2000" in both.output, both.output
 

@@ -27,6 +27,7 @@ from codegen.kinds.station.frame.keys import KEYS, REFINE
 from codegen.kinds.station.mode import StationMode
 from codegen.kinds.station.section import section_of
 from codegen.model.loader import Loader, build
+from codegen.model.vision import PHOTO
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
 from codegen.protocol import Figures
 from codegen.reference import JOINT, ExpectedTrace, Move, path_moves
@@ -208,6 +209,7 @@ class FrameMode(StationMode):
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("frame",)
     log_names = ("station", "dx", "dy", "alpha", "photos")
+    answer_names = {PHOTO: ("u", "v", "angle")}
     figures = FrameStats
 
     @classmethod

@@ -23,7 +23,7 @@ from codegen.kinds.station.point.keys import KEYS
 from codegen.kinds.station.point.reference import NAME, PointSpec, Reading, expected_trace
 from codegen.kinds.station.section import section_of
 from codegen.model.validate import metres_text, read_as_metres
-from codegen.model.vision import SECOND_LOOK_MM
+from codegen.model.vision import READ, SECOND_LOOK_MM
 from codegen.poses import planar_motions, wrap_deg
 from codegen.reference import ExpectedTrace
 
@@ -54,6 +54,7 @@ class PointMode(StationMode):
     model_inputs = frozenset({"angle_sign", "calibration", "derivation"})
     log_prefixes = ("deviation",)
     log_names = ("station", "dx1", "dy1", "dx2", "dy2", "dtheta")
+    answer_names = {READ: ("x", "y", "theta")}
 
     @classmethod
     def station_scene(cls, cell, station) -> list[dict]:
