@@ -61,10 +61,10 @@ class Gripper:
 @dataclass
 class SealedCup(Gripper):
     """A suction cup whose vacuum reaches its switch only as the program gives up on the grip (the late hold's limit:
-    the feedback never reads on while the output is on): the output off closes the valve with the cup sealed on the part,
-    so the feedback reads on from that moment and the cup holds the part until the vacuum has decayed, late_s later
-    (the feedback off). The device answers a read of its feedback at once (a switch's state, not the program's next
-    wait), so a program that reads it right after its output sees the part still held."""
+    the feedback never reads on while the output is on): the output off closes the valve with the cup sealed on the
+    part, so the feedback reads on from that moment and the cup holds the part until the vacuum has decayed, late_s
+    later (the feedback off). The device answers a read of its feedback at once (a switch's state, not the program's
+    next wait), so a program that reads it right after its output sees the part still held."""
 
     behaviour: str = "sealed"
     _machine: Machine | None = None

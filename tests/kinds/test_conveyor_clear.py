@@ -17,7 +17,8 @@ from codegen.verify.runner import run_cases
 from tests.kinds.test_conveyor_programs import intercept_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
-ABB_WAIT = "MoveJ cnv_on_part(x, CNV_START, {z}), cnv_travel, fine, cnv_belt_pick_tool \\WObj:=cnv_wobj;\n    y := cnv_y(seen);"
+ABB_WAIT = "MoveJ cnv_on_part(x, CNV_START, {z}), cnv_travel, fine, cnv_belt_pick_tool \\WObj:=cnv_wobj;\n"
+ABB_WAIT += "    y := cnv_y(seen);"
 # (target, the program's text, the wait at the part's own approach height, what verify says)
 OWN_HEIGHT = [
     ("kuka", "  PTP CLEAR ; wait above", "  PTP ABOVE ; wait above", "the wait for it"),

@@ -48,7 +48,8 @@ def test_abb_declares_the_tool_in_a_system_module_of_its_own(cell):
 def test_abb_a_signal_named_as_the_tool_is_refused(cell, tmp_path):
     text = CELL.read_text().replace('abb = "diGripClosed"', f'abb = "{TOOL}"')
     (tmp_path / "belt_pick.toml").write_text(text)
-    with pytest.raises(EmitError, match=rf"the conveyor program's tool and cell\.io\.feedback\.abb both map to .*{TOOL}"):
+    says = rf"the conveyor program's tool and cell\.io\.feedback\.abb both map to .*{TOOL}"
+    with pytest.raises(EmitError, match=says):
         render(load_cell(tmp_path / "belt_pick.toml"), ["abb"])
 
 
