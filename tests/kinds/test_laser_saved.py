@@ -1,4 +1,4 @@
-"""ABB's laser TCP: the production tool's module saved after the write, so a Reset RAPID or a reload keeps the TCP."""
+"""ABB's laser TCP: asked before the write, the production tool's module saved after it (a Reset RAPID keeps it)."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ from codegen.dialects.core.values import RunError
 from codegen.model.cell import load_cell
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
-SAVE = '    Save "tcp_laser_tcp_tool" \\FilePath:="HOME:/tcp_laser_tcp_tool.sys";\n'
-WRITE = "    tPin.tframe.trans := [lsr_tcp{1}, lsr_tcp{2}, lsr_tcp{3}];\n"
+SAVE = '      Save "tcp_laser_tcp_tool" \\FilePath:="HOME:/tcp_laser_tcp_tool.sys";\n'
+WRITE = "      tPin.tframe.trans := [lsr_tcp{1}, lsr_tcp{2}, lsr_tcp{3}];\n"
 
 
 @pytest.fixture(scope="module")
@@ -49,3 +49,21 @@ ENDMODULE
     assert (trace.kept["n"], trace.kept["m1:n"], trace.kept["m2:n"]) == (3, 2, None)
     with pytest.raises(RunError, match=r"Save: the task has no module m2 \(ERR_MODULE\)"):
         load_program(target, text.replace('Save "m1"', 'Save "m2"'), "m1.mod").run({})
+
+
+def test_abb_asks_before_it_writes_and_a_program_that_writes_unasked_fails_verify(cell):
+    """As KUKA and UR: tPin's X, Y, Z and the TCP found shown, then TPReadFK (Yes / No, \\MaxTime); the operator's No
+    leaves tPin as it was; a module that takes every answer as Yes is a mismatch."""
+    source = first(cell, "abb", "laser")
+    text = source.files[0].text
+    ask = 'TPReadFK answer, "laser: write the TCP found into tPin?", "Yes", stEmpty, stEmpty, stEmpty, "No"'
+    ask += " \\MaxTime:=600.0"
+    assert text.count(ask) == 1
+    only = frozenset({"operator_refuses"})
+    row = verify_one(cell, source, scenarios=only)
+    assert (row.cases, row.mismatches) == (1, 0), row.first_mismatches
+    unasked = edited(
+        source, lambda t: t.replace("    IF answer <> 1 OR unanswered <> 0 THEN\n", "    IF FALSE THEN\n"), "yes"
+    )
+    row = verify_one(cell, unasked, scenarios=only)
+    assert row.mismatches == 1, row.first_mismatches

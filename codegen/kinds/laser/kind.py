@@ -16,6 +16,7 @@ KIND = Kind(
         "entry_routine": bool,  # the program is a routine of the production task, not a program with its own main
         "saved": dict,  # the production tool's module saved after the write: its file (path) and its value there (kept)
         "confirm": bool,  # the operator confirms the production tool's change (old and new X, Y, Z shown, Yes/No)
+        "asks_within_s": float,  # the operator's time to answer the confirmation (absent: the program waits)
     },
     section="codegen.kinds.laser.cellfile:SectionPart",
     writer="codegen.kinds.laser.writer:WriterPart",

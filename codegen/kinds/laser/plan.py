@@ -45,7 +45,8 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     previous = previous_tcp(cell, case)
     if case.without_production_tool:
         return _without_production_tool(cell, target, trace)
-    problem = _settings_left(trace)
+    # a run the time limit ended (the program still waits at the operator's question) has not left its settings yet
+    problem = None if trace.ended else _settings_left(trace)
     if problem is not None:
         return Judgement([], problem=problem)
     if case.growing:  # the runs disagree: a stop for their spread, nothing written

@@ -177,6 +177,7 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         else None,
         "production": production_code(cell, target, emitter),
         "save_path": _save_path(cell, target, emitter),
+        "asks_within_s": None if (within := KIND.facts(target).get("asks_within_s")) is None else number(within, 1),
         "safe": [number(v, 4) for v in safe_point(laser)],
         "safe_height": number(laser.safe_height_mm, 4),
         "zone_r": number(column["r"], 4),

@@ -142,6 +142,8 @@ MODULE tcp_laser_tcp
     VAR num contact{3};
     VAR num off;
     VAR num i;
+    VAR num answer;
+    VAR errnum unanswered := 0;
     ! the poses are computed: every move takes the closest configuration
     ConfJ \Off;
     ConfL \Off;
@@ -234,11 +236,20 @@ MODULE tcp_laser_tcp
         lsr_stop "laser: runs differ beyond spread_max_mm, TCP not written";
       ENDIF
     ENDFOR
-    ! written into the production tool (a persistent), then its module saved to its file: a Reset RAPID or a new load
-    ! of the module brings back what the file holds
-    tPin.tframe.trans := [lsr_tcp{1}, lsr_tcp{2}, lsr_tcp{3}];
-    Save "tcp_laser_tcp_tool" \FilePath:="HOME:/tcp_laser_tcp_tool.sys";
-    TPWrite "laser: TCP written, flange frame mm: " + NumToStr(lsr_tcp{1}, 3) + ", " + NumToStr(lsr_tcp{2}, 3) + ", " + NumToStr(lsr_tcp{3}, 3);
+    ! the operator confirms the change: the production tool as it is and the TCP found, then Yes or No (no answer
+    ! in 600.0 s: as No); anything but Yes leaves tPin as it was
+    TPWrite "laser: tPin now, flange frame mm: " + NumToStr(tPin.tframe.trans.x, 3) + ", " + NumToStr(tPin.tframe.trans.y, 3) + ", " + NumToStr(tPin.tframe.trans.z, 3);
+    TPWrite "laser: TCP found, flange frame mm: " + NumToStr(lsr_tcp{1}, 3) + ", " + NumToStr(lsr_tcp{2}, 3) + ", " + NumToStr(lsr_tcp{3}, 3);
+    TPReadFK answer, "laser: write the TCP found into tPin?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=600.0 \BreakFlag:=unanswered;
+    IF answer <> 1 OR unanswered <> 0 THEN
+      TPWrite "laser: TCP not written, tPin unchanged (not confirmed)";
+    ELSE
+      ! written into the production tool (a persistent), then its module saved to its file: a Reset RAPID or a new
+      ! load of the module brings back what the file holds
+      tPin.tframe.trans := [lsr_tcp{1}, lsr_tcp{2}, lsr_tcp{3}];
+      Save "tcp_laser_tcp_tool" \FilePath:="HOME:/tcp_laser_tcp_tool.sys";
+      TPWrite "laser: TCP written, flange frame mm: " + NumToStr(lsr_tcp{1}, 3) + ", " + NumToStr(lsr_tcp{2}, 3) + ", " + NumToStr(lsr_tcp{3}, 3);
+    ENDIF
     ! the way out: the safe pose, then home
     MoveL lsr_at(LSR_SAFE), lsr_work, lsr_zone, lsr_guess \WObj:=lsr_sensor;
     MoveAbsJ lsr_home\NoEOffs, v200, fine, lsr_guess;
