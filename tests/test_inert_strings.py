@@ -218,7 +218,6 @@ def _example(name: str, **edits) -> dict:
         ("laser_tcp", "laser.beam_x.abb", "lsr_guess", "lsr_guess"),  # the laser program's tooldata
         ("laser_tcp", "laser.beam_y.abb", "LSR_GUESS", "LSR_GUESS"),  # RAPID ignores case
         ("testmat_pallet", "cell.io.output.abb", "stack_tool", "stack_tool"),  # the pallet program's tooldata
-        ("belt_pick", "cell.io.feedback.abb", "cnv_tool", "cnv_tool"),  # the conveyor program's tooldata
         ("agv_machine_tending", "cell.io.output.abb", "vis_stop", "vis_stop"),  # the station program's routine
         ("laser_tcp", "laser.beam_x.abb", "lsr_edge", "lsr_edge"),  # a name verify reads (targets/abb.toml)
     ],
@@ -285,7 +284,7 @@ def test_the_generators_own_names_are_its_code_not_its_comments():
     from codegen.emit import own_names
 
     abb = own_names("abb")
-    assert {"lsr_guess", "stack_tool", "cnv_tool", "vis_stop", "main", "giCnvSeq", "lsr_edge"} <= abb
+    assert {"lsr_guess", "stack_tool", "cnv_hold", "vis_stop", "main", "giCnvSeq", "lsr_edge"} <= abb
     assert {"PAL_FRAME", "VIS_SIGNAL"} <= own_names("kuka")
     assert {"vis_stop", "pal_grip", "p"} <= own_names("ur")  # p: a pose literal p[...]
     assert not {"the", "calibration", "arm", "gripper"} & (abb | own_names("ur") | own_names("kuka"))

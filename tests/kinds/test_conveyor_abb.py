@@ -68,7 +68,8 @@ def test_the_arm_leaves_the_belt_in_a_fixed_work_object_before_it_disconnects(ce
     text = first(cell, "abb", "conveyor").files[0].text
     before = _moves_before_drops(text)
     assert len(before) >= 2 and not [m for m in before if "cnv_track" in m], before
-    off = "    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \\WObj:=cnv_wobj;\n"
+    off = "    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_belt_pick_tool"
+    off += " \\WObj:=cnv_wobj;\n"
     mutant = text.replace(off, "")  # up in cnv_track, then DropWObj there (the program before)
     assert mutant != text and [m for m in _moves_before_drops(mutant) if "cnv_track" in m]
 

@@ -17,7 +17,8 @@ from codegen.verify.runner import run_cases
 from tests.kinds.test_conveyor_programs import intercept_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
-ABB_WAIT = "MoveJ cnv_on_part(x, CNV_START, {z}), cnv_travel, fine, cnv_tool \\WObj:=cnv_wobj;\n    y := cnv_y(seen);"
+ABB_WAIT = "MoveJ cnv_on_part(x, CNV_START, {z}), cnv_travel, fine, cnv_belt_pick_tool \\WObj:=cnv_wobj;\n"
+ABB_WAIT += "    y := cnv_y(seen);"
 # (target, the program's text, the wait at the part's own approach height, what verify says)
 OWN_HEIGHT = [
     ("kuka", "  PTP CLEAR ; wait above", "  PTP ABOVE ; wait above", "the wait for it"),
@@ -63,7 +64,7 @@ def test_the_timed_descent_stays_approach_dz():
 # clear height: an 80 mm part hangs 60 mm above the belt, below the tallest part) on the bundled cell (ABB native) and,
 # with ABB intercepting, ABB's intercept
 UR_LIFT = "movel(cnv_on_part(x, y, {z}), a=1.200, v=0.2500)\n    stop_conveyor_tracking()\n"
-ABB_LIFT = "MoveL {pose}, cnv_work, cnv_zone, cnv_tool \\WObj:=cnv_wobj;\n    MoveJ cnv_place_above"
+ABB_LIFT = "MoveL {pose}, cnv_work, cnv_zone, cnv_belt_pick_tool \\WObj:=cnv_wobj;\n    MoveJ cnv_place_above"
 LOW_LIFT = [
     ("ur", UR_LIFT.format(z="z, CNV_Z_MAX + CNV_DZ"), UR_LIFT.format(z="CNV_Z_MAX, CNV_DZ")),
     ("kuka", "  LIN LIFTED C_DIS\n", "  LIN CLEAR C_DIS\n"),

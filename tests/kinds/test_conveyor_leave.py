@@ -23,7 +23,7 @@ KUKA_TOO_LATE = (
     "      LIN CLEAR ; from the part's approach height back up to the clear height: the next part is awaited there\n"
 )
 ABB_CLEAR = "cnv_on_part(x, CNV_INTERCEPT, CNV_Z_MAX + CNV_DZ)"
-ABB_BACK_UP = f"MoveL {ABB_CLEAR}, cnv_work, fine, cnv_tool \\WObj:=cnv_wobj;\n"
+ABB_BACK_UP = f"MoveL {ABB_CLEAR}, cnv_work, fine, cnv_belt_pick_tool \\WObj:=cnv_wobj;\n"
 ABB_LEAVE = [
     ("cnv_leave x;", "cnv_leave x, z;"),
     ("PROC cnv_leave(num x)", "PROC cnv_leave(num x, num z)"),
@@ -47,7 +47,7 @@ LOW = [
         [
             (
                 "cnv_let_go();\n      " + ABB_BACK_UP.replace("CNV_INTERCEPT", "y"),
-                "cnv_let_go();\n      MoveL above, cnv_work, fine, cnv_tool \\WObj:=cnv_wobj;\n",
+                "cnv_let_go();\n      MoveL above, cnv_work, fine, cnv_belt_pick_tool \\WObj:=cnv_wobj;\n",
             )
         ],
         "the lift off it",

@@ -36,8 +36,8 @@ ABB_CHANGES = [
     # the pick in a fixed work object (the belt's, static) instead of the tracked one
     (
         "pick in a fixed work object",
-        "MoveL down, cnv_work, fine, cnv_tool \\WObj:=cnv_track;",
-        "MoveL down, cnv_work, fine, cnv_tool \\WObj:=cnv_wobj;",
+        "MoveL down, cnv_work, fine, cnv_belt_pick_tool \\WObj:=cnv_track;",
+        "MoveL down, cnv_work, fine, cnv_belt_pick_tool \\WObj:=cnv_wobj;",
         "gripped",
     ),
     # DropWObj before the lift: the lift goes to the work object's place with no object connected
@@ -55,7 +55,7 @@ ABB_CHANGES = [
     (
         "the grip not while following",
         "    IF NOT cnv_hold() THEN",
-        "    MoveL down, cnv_work, fine, cnv_tool \\WObj:=cnv_wobj;\n    IF NOT cnv_hold() THEN",
+        "    MoveL down, cnv_work, fine, cnv_belt_pick_tool \\WObj:=cnv_wobj;\n    IF NOT cnv_hold() THEN",
         "",
     ),
 ]

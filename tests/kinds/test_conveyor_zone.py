@@ -21,7 +21,8 @@ ON = {
     "kuka": "      $OUT[18] = TRUE ; the arm goes down towards the part: the belt must stop with the robot\n",
 }
 OFF_AFTER_LIFT = {
-    "abb": "    MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;\n    ! off the belt\n    SetDO doCnvBeltZone, 0;\n",
+    "abb": "    MoveJ cnv_place_above, cnv_travel, fine, cnv_belt_pick_tool;\n    ! off the belt\n"
+    "    SetDO doCnvBeltZone, 0;\n",
     "ur": "    set_standard_digital_out(1, False)   # the part lifted to the clear height\n",
     "kuka": "  $OUT[18] = FALSE ; off the belt\n",
 }

@@ -14,12 +14,14 @@ from codegen.dialects.core.files import SourceFile
 from codegen.dialects.core.values import RunError
 from codegen.dialects.rapid import Rapid
 from codegen.dialects.rapid.interpreter import load
+from codegen.kinds.laser import confirm
 from codegen.kinds.laser import program as lp
 from codegen.model.cell import load_cell
 from codegen.model.io import signal_name
 from codegen.robot.expect import arm_of
 from codegen.sim.beam_station import BeamStation
 from codegen.sim.beams import Pin
+from codegen.sim.operator import Operator
 
 CELL = "codegen/examples/laser/laser_tcp.toml"
 
@@ -61,7 +63,7 @@ def run_program(laser_program, tool: np.ndarray, noise: float = 0.0, hysteresis:
     )
     return program.run(
         {},
-        devices=(station,),
+        devices=(station, Operator([confirm.YES])),  # the operator confirms the TCP found
         arm=arm_of(cell, "abb"),
         start_joints=cell.robot.home["abb"],
         keep=(*lp.kept_names(target).values(), *keep),

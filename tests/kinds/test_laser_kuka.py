@@ -205,12 +205,13 @@ def test_verify_judges_the_operator_s_answer(cell, category, old, new, problem):
         assert judged.problem is not None and problem in judged.problem, judged.problem
 
 
-def test_only_a_target_that_asks_runs_the_refused_case(cell):
+def test_every_target_that_asks_runs_the_refused_case(cell):
     quiet = cases(cell, 0)[0]
     both = ["confirmation_refused", "confirmation_unanswered"]
-    assert [c.category for c in confirm.cases(get_target("kuka"), quiet)] == both
-    assert [c.category for c in confirm.cases(get_target("ur"), quiet)] == both
-    assert confirm.cases(get_target("abb"), quiet) == []
+    for target in ("kuka", "ur", "abb"):
+        assert confirm.asks(get_target(target))
+        assert [c.category for c in confirm.cases(get_target(target), quiet)] == both
+    assert confirm.cases(get_target("dtrans"), quiet) == []
 
 
 def test_the_confirmation_s_messages_fit_msg_txt_with_the_widest_numbers():

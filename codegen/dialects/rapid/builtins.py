@@ -11,6 +11,7 @@ from codegen.dialects.core.machine import MoveEvent, halt, pause
 from codegen.dialects.core.values import Record, RunError, f32
 from codegen.dialects.rapid import motionset, tracking
 from codegen.dialects.rapid.messages import err_write, ui_message_box
+from codegen.dialects.rapid.modules import save
 from codegen.dialects.rapid.motion import (
     check_circle,
     conf_now,
@@ -250,6 +251,7 @@ BUILTINS = {  # the RAPID functions and procedures the interpreter provides, by 
     "OFFS": offs,
     "RELTOOL": rel_tool,
     "ERRWRITE": err_write,
+    "SAVE": save,
     "UIMESSAGEBOX": ui_message_box,
     "STOP": pause,  # the program resumes at the next instruction when the operator presses start
     "EXIT": halt,

@@ -16,7 +16,7 @@ MoveExtJ MoveJDO MoveJSync MoveLDO MoveLSync MToolRotCalib MToolTCPCalib Open Op
 PathAccLim PathRecMoveBwd PathRecMoveFwd PathRecStart PathRecStop PathResol PDispOff PDispOn PDispSet ProcerrRecovery
 RaiseToUser ReadAnyBin ReadBlock ReadCfgData ReadErrData ReadRawBytes RemoveDir RemoveFile RenameFile ResetRetryCount
 Rewind RMQEmptyQueue RMQFindSlot RMQGetMessage RMQGetMsgData RMQGetMsgHeader RMQReadWait RMQSendMessage
-RMQSendWait Save SCWrite SearchC SearchExtJ SenDevice SetAllDataVal SetDataSearch SetDataVal SetSysData SkipWarn
+RMQSendWait SCWrite SearchC SearchExtJ SenDevice SetAllDataVal SetDataSearch SetDataVal SetSysData SkipWarn
 SocketAccept SocketBind SocketClose SocketConnect SocketCreate SocketListen SocketReceive SocketSend SoftAct SoftDeact
 SpeedRefresh SpyStart SpyStop StartLoad StartMove StartMoveRetry STCalib STClose StepBwdPath SToolRotCalib
 SToolTCPCalib STOpen StopMove StopMoveReset SyncMoveOff SyncMoveOn SyncMoveResume SyncMoveSuspend

@@ -79,6 +79,14 @@ class RAPIDCompiler(Declarations, Labels, Calls, Names, Coercions, Compiler):
     KWARGS_ERROR = "has no optional parameters"
     LIKE_UNCHANGED = frozenset({F32, bool})
 
+    def kept(self, machine, name: str):
+        """As the base class; "module:name": the value the module's file holds for its datum when the run ended, as
+        a Save in the run left it (what a reset or a reload brings back), None where the run saved no such module."""
+        if ":" not in name:
+            return super().kept(machine, name)
+        module, datum = name.split(":", 1)
+        return machine.state.saved.get(module.upper(), {}).get(datum.upper())
+
     def __init__(self, filename: str, findings: list | None = None) -> None:
         super().__init__(filename)
         self.findings = findings  # `codegen check`: every finding is collected here instead of raised
@@ -94,6 +102,7 @@ class RAPIDCompiler(Declarations, Labels, Calls, Names, Coercions, Compiler):
         self.data_types: dict = {}  # module data by key: its type
         self.scope: dict[str, str] = {}  # the module being compiled: names whose key differs (LOCAL ones)
         self.scopes: dict[str, dict] = {}  # every module's scope by module name
+        self.module_data: dict[str, dict] = {}  # every module's data by module name: name -> key (Save, kept)
         self.local_owner: dict[str, str] = {}  # a LOCAL datum's or routine's key -> its module (seen only there)
         self.module_name = ""  # the module being compiled
         self.user_routines: set[str] = set()  # PROC and FUNC keys of the task

@@ -21,3 +21,4 @@ class RapidState(RunState):
     velset: tuple[float, float] | None = None  # VelSet: (override as a factor, the maximum TCP speed mm/s)
     pulses: dict = field(default_factory=dict)  # a digital output's pulse end time (s) by signal name
     units: dict = field(default_factory=dict)  # conveyor unit name (upper case) -> the simulated unit, activated
+    saved: dict = field(default_factory=dict)  # module name (upper case) -> its data as the latest Save wrote them

@@ -110,7 +110,9 @@ def load_task(
         _enter(compiler, module, file, by_module)
         for symbol in by_module[(module, file)]["symbols"]:
             if symbol.kind == "data":
-                made = _guard(compiler, compiler.decl, symbol.node, compiler.data_key(str(symbol.name)))
+                key = compiler.data_key(str(symbol.name))
+                compiler.module_data.setdefault(module, {})[str(symbol.name).upper()] = key
+                made = _guard(compiler, compiler.decl, symbol.node, key)
                 if made is not None:
                     data.append(made)
     for module, file in by_module:

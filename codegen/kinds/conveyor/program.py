@@ -110,10 +110,22 @@ def conveyor_ident(cell, target) -> str:
     return Emitter(target).identifier("cnv_", cell.name, "the conveyor program")
 
 
+def data_ident(cell, target, emitter: Emitter | None = None) -> str:
+    """The module that keeps the belt program's tool where a program load does not reach it (RAPID's system module)."""
+    emitter = emitter or Emitter(target)
+    return emitter.identifier("cnv_", f"{cell.name}_data", "the conveyor program's data module")
+
+
+def tool_ident(cell, target, emitter: Emitter) -> str:
+    """The belt program's tool where the program's data module declares it (one per cell: the task's global name;
+    a signal of the cell's named so is refused)."""
+    return emitter.identifier("cnv_", f"{cell.name}_tool", "the conveyor program's tool")
+
+
 def conveyor_file_names(cell, target) -> list[str]:
     """The program's files, named as the program (some controllers require it of a module's files)."""
-    ident = conveyor_ident(cell, target).lower()
-    return [name.format(conveyor=ident) for name in KIND.facts(target).get("files", [])]
+    ident, data = conveyor_ident(cell, target).lower(), data_ident(cell, target).lower()
+    return [name.format(conveyor=ident, data=data) for name in KIND.facts(target).get("files", [])]
 
 
 def picks_on(cell, target) -> bool:
@@ -186,6 +198,8 @@ def conveyor_context(cell, target, emitter) -> dict:
     timeout = pick.place_timeout_s
     out = {
         "ident": ident,
+        "data_ident": data_ident(cell, target, emitter),
+        "tool": tool_ident(cell, target, emitter),
         "mode": mode,
         "native": mode == "native",
         "frame": emitter.pose(TaughtPose("belt", _xyzabc(frame), "xyzabc")),

@@ -22,7 +22,7 @@ from codegen.kinds.conveyor.start import first_moves, grip_pose, start_joints
 from codegen.model.io import signal_name
 from codegen.sim.belt import Belt, BeltLine, Part, TrackingUnit
 from codegen.sim.bus import bus_for
-from codegen.sim.gripper import Gripper
+from codegen.sim.gripper import Gripper, SealedCup
 from codegen.verify.plan import Expectation, Judgement, PlannedOutput, Setup, tool_inputs
 
 # a run's statements: the bundled cell's longest case takes about 90,000 (an intercept polls the encoder every 12 ms); a
@@ -48,6 +48,7 @@ SCENARIO_OF = {
     "start_mid_cycle": "start_mid_cycle",
     "gripper_silent": "gripper_silent",
     "gripper_stuck": "gripper_stuck",
+    "gripper_sealed": "gripper_sealed",  # the kind's own: the cup seals on the part as the program gives up the grip
     "part_out_of_range": "reading_out_of_range",
     "place_blocked": "device_silent",
     "belt_stands": "belt_stands",  # the kind's own: the belt stands while a part is on its way
@@ -187,6 +188,9 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
         replace(one, category="start_mid_cycle", start="mid_cycle", held=True),
         replace(one, category="gripper_silent", gripper="silent"),
         replace(one, category="gripper_stuck", gripper="stuck"),
+        # the cup seals on the part only as the program gives up (its feedback on from the release until the vacuum
+        # has decayed, the case's grip_s later): a program that lifts before the feedback drops carries the part up
+        replace(one, category="gripper_sealed", gripper="sealed"),
         replace(one, category="part_out_of_range", parts=(wrong,)),
     ]
     if pick.place_clear:
@@ -275,7 +279,10 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
     feedback = signal_name(target, "input", cell.io.feedback[target_name])
     # a gripper that answers as the cell's does: its hold and its release grip_s after the output (a prompt one)
     late = case.gripper == "prompt" and case.grip_s > 0.0
-    gripper = Gripper(output, feedback, cell.io.value, "late" if late else case.gripper, late_s=case.grip_s)
+    if case.gripper == "sealed":
+        gripper = SealedCup(output, feedback, cell.io.value, late_s=case.grip_s)
+    else:
+        gripper = Gripper(output, feedback, cell.io.value, "late" if late else case.gripper, late_s=case.grip_s)
     signals = {feedback: case.held}
     if case.held:  # closed on a part since the stopped cycle
         signals[output] = cell.io.value
@@ -310,8 +317,8 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         "gripper_stuck": (halt_message(cell, NOT_RELEASED, None, 0), plan.RELEASE[mode]),
         "place_blocked": (place_blocked(cell), plan.RELEASE[mode] - 1),
     }
-    if case.category == "gripper_silent":  # every target: the part left on the belt, no stop there
-        return _not_held(cell, target_name, case, trace, first, start_outputs, output, names)
+    if case.gripper in ("silent", "sealed"):  # every target: the part left on the belt, no stop there
+        return _not_held(cell, target_name, case, trace, first, start_outputs, output, names, setup.devices[1])
     if case.category in stops:  # the first part's moves up to the stop: the grip, the release, above the place
         message, count = stops[case.category]
         moves = [plan.planned(segment, cell, target, mode) for segment in plan.PICK[mode][:count]]
@@ -350,7 +357,7 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         return Judgement([], problem=moves)
     zone = belt_zone(cell, target_name, trace)  # the belt zone's output over the moves low on the belt, once they fit
     problem = zone or lifted_early(cell, trace, closes, setup.devices[1])
-    problem = problem or released_early(trace, opens, setup.devices[1])
+    problem = problem or released_early(trace, opens, setup.devices[1], case.held)
     if problem is not None:
         return Judgement([], problem=problem)
     skipped = sum(1 for m in trace.messages if m.startswith(SKIPS))
@@ -374,14 +381,15 @@ def lifted_early(cell, trace, closes: list, gripper: Gripper) -> str | None:
     return None
 
 
-def released_early(trace, opens: list, gripper: Gripper) -> str | None:
-    """Each release's next move (the lift from the place) sets off only once the gripper has let go of the part (its
-    feedback off after the output, as the simulated gripper answers: grip_s later): a program that lifts on the output
-    alone carries the part, still held by the vacuum, off the place."""
+def released_early(trace, opens: list, gripper: Gripper, held: bool) -> str | None:
+    """Each release's next move (the lift from the place, or off a part the grip failed on) sets off only once the
+    gripper has let go of the part (its feedback off after the output, as the simulated gripper answers: grip_s later;
+    at once where it never read on): a program that lifts on the output alone carries the part, still held by the
+    vacuum, up. held: the feedback at the start."""
     for number, open_ in enumerate(opens, start=1):
         if open_.after_moves >= len(trace.moves):
             continue
-        let_go = next((t for t, on in gripper.changes if not on and t >= open_.time - 1e-9), None)
+        let_go = gripper.let_go(open_.time, held)
         lift = trace.moves[open_.after_moves]
         if let_go is None or lift.start_time < let_go - 1e-6:
             when = "never" if let_go is None else f"at {let_go:.3f} s"
@@ -389,7 +397,7 @@ def released_early(trace, opens: list, gripper: Gripper) -> str | None:
     return None
 
 
-def _not_held(cell, target_name: str, case, trace, first, start_outputs, output, names) -> Judgement:
+def _not_held(cell, target_name: str, case, trace, first, start_outputs, output, names, gripper) -> Judgement:
     """A grip never confirmed while the arm is on the part (every target): released at once, up off the part by
     approach_dz (a tracking arm still following it), the part skipped with a message, the program on to the line's
     stop (judge.not_held: where the part really is); the moves as a part given up (plan.GIVEN_UP: the descent and
@@ -402,9 +410,10 @@ def _not_held(cell, target_name: str, case, trace, first, start_outputs, output,
     moves = plan._given_up(cell, target, mode, trace.moves[len(first) :], len(first))
     if isinstance(moves, str):
         return Judgement([], problem=moves)
-    zone = belt_zone(cell, target_name, trace)
-    if zone is not None:
-        return Judgement([], problem=zone)
+    opens = [o for o in trace.outputs if o.name == output and o.value != cell.io.value][1:]
+    problem = belt_zone(cell, target_name, trace) or released_early(trace, opens, gripper, case.held)
+    if problem is not None:
+        return Judgement([], problem=problem)
     at = len(first) + plan.GRIP[mode]
     outputs = (
         *start_outputs,

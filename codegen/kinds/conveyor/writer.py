@@ -17,7 +17,7 @@ class WriterPart(protocol.Writer):
             return []
         context = conveyor_context(cell, target, program_emitter(cell, target))
         files = tuple(
-            ProgramFile(name, f"{target.name}/kinds/{pattern.format(conveyor='conveyor')}.j2")
+            ProgramFile(name, f"{target.name}/kinds/{pattern.format(conveyor='conveyor', data='conveyor_data')}.j2")
             for pattern, name in zip(KIND.facts(target)["files"], conveyor_file_names(cell, target), strict=True)
         )
         return [ProgramPlan(KIND.name, context["ident"], files, {"conveyor": context})]

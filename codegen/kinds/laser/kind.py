@@ -14,7 +14,9 @@ KIND = Kind(
         "joint_zone": bool,  # the program blends into and out of its joint moves (the safe pose)
         "circle_blend_mm": float,  # the first half circle blends into the second by this much (0: it stops)
         "entry_routine": bool,  # the program is a routine of the production task, not a program with its own main
+        "saved": dict,  # the production tool's module saved after the write: its file (path) and its value there (kept)
         "confirm": bool,  # the operator confirms the production tool's change (old and new X, Y, Z shown, Yes/No)
+        "asks_within_s": float,  # the operator's time to answer the confirmation (absent: the program waits)
     },
     section="codegen.kinds.laser.cellfile:SectionPart",
     writer="codegen.kinds.laser.writer:WriterPart",

@@ -45,7 +45,8 @@ def judge(cell, target_name: str, case: LaserCase, trace) -> Judgement:
     previous = previous_tcp(cell, case)
     if case.without_production_tool:
         return _without_production_tool(cell, target, trace)
-    problem = _settings_left(trace)
+    # a run the time limit ended (the program still waits at the operator's question) has not left its settings yet
+    problem = None if trace.ended else _settings_left(trace)
     if problem is not None:
         return Judgement([], problem=problem)
     if case.growing:  # the runs disagree: a stop for their spread, nothing written
@@ -292,8 +293,15 @@ def _stored(cell, target, tcp, tolerance: float, previous: np.ndarray) -> tuple[
     values = previous if tcp is None else np.asarray(tcp)
     what = "the TCP found" if tcp is not None else "the production tool unchanged"
     tol = (max(tolerance, FLOAT32_MM) if tcp is not None else FLOAT32_MM) * unit
+    # where the target's program saves the tool's module: the file's value too (what a reset brings back; never saved
+    # in the run: the file as the last calibration left it)
+    names = [(name, what)]
+    saved = lp.saved_name(cell, target)
+    if saved is not None:
+        names.append((saved, f"{what}, in its module's saved file"))
     return tuple(
-        Stored(f"{name}.{field}", float(v) * unit, tol, what, if_unset=float(p) * unit)
+        Stored(f"{n}.{field}", float(v) * unit, tol, w, if_unset=float(p) * unit)
+        for n, w in names
         for field, v, p in zip(spec["fields"], values, previous, strict=True)
     )
 

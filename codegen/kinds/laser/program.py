@@ -142,6 +142,19 @@ def _xyzabc(matrix: np.ndarray) -> tuple[float, ...]:
     return tuple(float(v) for v in (*matrix[:3, 3], *zyx_deg_from_rotmat(matrix[:3, :3])))
 
 
+def saved_name(cell, target) -> str | None:
+    """Where verify reads the production tool as its module's saved file keeps it (None: no module saved)."""
+    spec = KIND.facts(target).get("saved")
+    if spec is None:
+        return None
+    return spec["kept"].format(module=data_ident(cell, target), name=production_name(cell, target))
+
+
+def _save_path(cell, target, emitter: Emitter) -> Code | None:
+    spec = KIND.facts(target).get("saved")
+    return None if spec is None else emitter.string(spec["path"].format(module=data_ident(cell, target)))
+
+
 def laser_context(cell, target, emitter: Emitter) -> dict:
     laser = laser_of(cell)
     number = emitter.number
@@ -163,6 +176,8 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         if KIND.facts(target).get("entry_routine")
         else None,
         "production": production_code(cell, target, emitter),
+        "save_path": _save_path(cell, target, emitter),
+        "asks_within_s": None if (within := KIND.facts(target).get("asks_within_s")) is None else number(within, 1),
         "safe": [number(v, 4) for v in safe_point(laser)],
         "safe_height": number(laser.safe_height_mm, 4),
         "zone_r": number(column["r"], 4),

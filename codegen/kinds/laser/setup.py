@@ -73,6 +73,12 @@ class LaserSetup(Setup):
         return options
 
 
+def _saved(cell, target) -> tuple[str, ...]:
+    """The production tool as its module's saved file keeps it, where the target's program saves one."""
+    name = lp.saved_name(cell, target)
+    return () if name is None else (name,)
+
+
 def setup(cell, target_name: str, case: LaserCase) -> Setup:
     target = get_target(target_name)
     silent = confirm.unanswered(target, case)
@@ -84,7 +90,7 @@ def setup(cell, target_name: str, case: LaserCase) -> Setup:
         (station_for(cell, target, case), *confirm.devices(target, case)),
         {},
         start_joints(cell, target_name, case),
-        (*lp.kept_names(target).values(), lp.production_name(cell, target)),
+        (*lp.kept_names(target).values(), lp.production_name(cell, target), *_saved(cell, target)),
         STEP_LIMIT,
         float(target.program["signal_cycle_s"]),
         confirm.NO_ANSWER if silent else error,

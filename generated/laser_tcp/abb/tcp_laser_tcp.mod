@@ -8,8 +8,10 @@ MODULE tcp_laser_tcp
   ! crossing, beam X along its x, beam Y along its y, z up): each sensor's switching output is on while its
   ! beam meets the pin. The tool as designed (lsr_guess: the cell's [cell.tool]) is the tool of every move and
   ! the guess the program corrects; the TCP found goes into the production tool tPin, the PERS tooldata
-  ! the production task's programs move with (declared once in the task: by its own module, or by
-  ! tcp_laser_tcp_tool.sys loaded once). Every move holds the TCP's orientation lsr_down (the flange's z along S's -z).
+  ! the production task's programs move with, declared in the system module tcp_laser_tcp_tool.sys (loaded into the
+  ! task once; the task declares the tool nowhere else): after the write the program saves that module
+  ! (Save \FilePath:="HOME:/tcp_laser_tcp_tool.sys"), so that a Reset RAPID or a new load of the module brings back the TCP
+  ! found, not the value the file had. Every move holds the TCP's orientation lsr_down (the flange's z along S's -z).
   ! 0. The start: at home, or else in the station's column above the sensors (LSR_ZONE_*: every pose below, with
   !    room for a stop), where a stopped calibration backs out straight up (S's z, the tool's axis) to the safe
   !    height and goes to the safe pose; anywhere else the program stops before it moves. Then home, the safe
@@ -30,8 +32,8 @@ MODULE tcp_laser_tcp
   !    the end face's rim touches the beam: the tip lies rho |u_x| u_z / sqrt(1 - u_x^2) above the plane, on the axis.
   ! 4. The TCP (flange frame) = guess + diag(1, -1, -1) (tip - contact); farther than LSR_OFFSET_MAX from the
   !    tool as designed (not from the last result: a tool that bends a little each time does not drift without
-  !    an alarm): the program stops and writes nothing; else tPin.tframe.trans gets it and the operator
-  !    sees it. Then the safe pose and home.
+  !    an alarm): the program stops and writes nothing; else tPin.tframe.trans gets it, its module is
+  !    saved and the operator sees it. Then the safe pose and home.
   ! Steps 1-4 run LSR_RUNS = 3 times (back above the start between runs), each run's TCP kept in lsr_run; the
   ! TCP written is their mean, and a run farther than 0.1000 mm from it stops before anything is written.
   ! Travel moves blend (lsr_zone: above the start on the way down, the safe pose on the way in and out); the arm
@@ -140,6 +142,8 @@ MODULE tcp_laser_tcp
     VAR num contact{3};
     VAR num off;
     VAR num i;
+    VAR num answer;
+    VAR errnum unanswered := 0;
     ! the poses are computed: every move takes the closest configuration
     ConfJ \Off;
     ConfL \Off;
@@ -232,9 +236,20 @@ MODULE tcp_laser_tcp
         lsr_stop "laser: runs differ beyond spread_max_mm, TCP not written";
       ENDIF
     ENDFOR
-    ! written into the production tool (a persistent: its module keeps the value)
-    tPin.tframe.trans := [lsr_tcp{1}, lsr_tcp{2}, lsr_tcp{3}];
-    TPWrite "laser: TCP written, flange frame mm: " + NumToStr(lsr_tcp{1}, 3) + ", " + NumToStr(lsr_tcp{2}, 3) + ", " + NumToStr(lsr_tcp{3}, 3);
+    ! the operator confirms the change: the production tool as it is and the TCP found, then Yes or No (no answer
+    ! in 600.0 s: as No); anything but Yes leaves tPin as it was
+    TPWrite "laser: tPin now, flange frame mm: " + NumToStr(tPin.tframe.trans.x, 3) + ", " + NumToStr(tPin.tframe.trans.y, 3) + ", " + NumToStr(tPin.tframe.trans.z, 3);
+    TPWrite "laser: TCP found, flange frame mm: " + NumToStr(lsr_tcp{1}, 3) + ", " + NumToStr(lsr_tcp{2}, 3) + ", " + NumToStr(lsr_tcp{3}, 3);
+    TPReadFK answer, "laser: write the TCP found into tPin?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=600.0 \BreakFlag:=unanswered;
+    IF answer <> 1 OR unanswered <> 0 THEN
+      TPWrite "laser: TCP not written, tPin unchanged (not confirmed)";
+    ELSE
+      ! written into the production tool (a persistent), then its module saved to its file: a Reset RAPID or a new
+      ! load of the module brings back what the file holds
+      tPin.tframe.trans := [lsr_tcp{1}, lsr_tcp{2}, lsr_tcp{3}];
+      Save "tcp_laser_tcp_tool" \FilePath:="HOME:/tcp_laser_tcp_tool.sys";
+      TPWrite "laser: TCP written, flange frame mm: " + NumToStr(lsr_tcp{1}, 3) + ", " + NumToStr(lsr_tcp{2}, 3) + ", " + NumToStr(lsr_tcp{3}, 3);
+    ENDIF
     ! the way out: the safe pose, then home
     MoveL lsr_at(LSR_SAFE), lsr_work, lsr_zone, lsr_guess \WObj:=lsr_sensor;
     MoveAbsJ lsr_home\NoEOffs, v200, fine, lsr_guess;

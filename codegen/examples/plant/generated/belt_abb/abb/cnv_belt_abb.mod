@@ -74,12 +74,8 @@ MODULE cnv_belt_abb
   TASK PERS wobjdata cnv_track := [FALSE, FALSE, "CNV1",
     [[0, 0, 0], [1, 0, 0, 0]],
     [[0.0000, 0.0000, 0.0000], [0.707106781, 0.000000000, 0.000000000, -0.707106781]]];
-  ! The arm (IRB 1600-10/1.45): the tool (TCP in the flange frame [mm], load [kg, mm, axes
-  ! of moment, kg m2]; its inertia from its shape)
-  ! and the home position [deg]
-  LOCAL PERS tooldata cnv_tool := [TRUE,
-    [[0.0000, 0.0000, 150.0000], [1.000000000, 0.000000000, 0.000000000, 0.000000000]],
-    [1.200, [0.0000, 0.0000, 60.0000], [1.000000, 0.000000, 0.000000, 0.000000], 0.002437, 0.002437, 0.000375]];
+  ! The arm (IRB 1600-10/1.45): the tool cnv_belt_abb_tool is declared in the system module cnv_belt_abb_data.sys (load it
+  ! into the task once: a TCP re-taught there survives a load of this module); the home position [deg]
   LOCAL CONST jointtarget cnv_home := [[0.0000, 0.0000, 0.0000, 0.0000, 90.0000, 0.0000],
     [0, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! The part, the payload while the gripper holds it (GripLoad): kg, its centre of gravity in the tool frame [mm],
@@ -207,16 +203,16 @@ MODULE cnv_belt_abb
     cnv_flushing := TRUE;
     IF away THEN
       ! where it stands, in joints (the first motion), back out along the tool's axis, the safe pose
-      MoveAbsJ now\NoEOffs, v200, fine, cnv_tool;
-      MoveL RelTool(CRobT(\Tool:=cnv_tool \WObj:=wobj0), 0, 0, -CNV_DZ), cnv_work, fine, cnv_tool;
-      MoveJ cnv_on_part(-50.0000, -150.0000, 140.0000), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
+      MoveAbsJ now\NoEOffs, v200, fine, cnv_belt_abb_tool;
+      MoveL RelTool(CRobT(\Tool:=cnv_belt_abb_tool \WObj:=wobj0), 0, 0, -CNV_DZ), cnv_work, fine, cnv_belt_abb_tool;
+      MoveJ cnv_on_part(-50.0000, -150.0000, 140.0000), cnv_travel, fine, cnv_belt_abb_tool \WObj:=cnv_wobj;
     ENDIF
-    MoveAbsJ cnv_home\NoEOffs, v200, fine, cnv_tool;
+    MoveAbsJ cnv_home\NoEOffs, v200, fine, cnv_belt_abb_tool;
     ! home: off the belt (a stop over the belt left it on)
     SetDO doCnvBeltZone, 0;
     IF held THEN
       TPWrite "conveyor: a part held at the start: put down at the place";
-      MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
+      MoveJ cnv_place_above, cnv_travel, fine, cnv_belt_abb_tool;
       cnv_place_part;
     ELSE
       ! it holds nothing: opening is safe
@@ -280,7 +276,7 @@ MODULE cnv_belt_abb
       RETURN;
     ENDIF
     ! wait above the window's start, across from the part, clear of the tallest part (a part before it may pass under)
-    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
+    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_belt_abb_tool \WObj:=cnv_wobj;
     y := cnv_y(seen);
     IF y > CNV_END - CNV_MARGIN THEN
       ! at the window's end: once it is surely past it, the unit's queue has dropped it too
@@ -318,8 +314,8 @@ MODULE cnv_belt_abb
     down.trans := [x, 0, z - CNV_PRESS];
     ! the arm goes down towards the part: the belt must stop with the robot
     SetDO doCnvBeltZone, 1;
-    MoveL above, cnv_travel, fine, cnv_tool \WObj:=cnv_track;
-    MoveL down, cnv_work, fine, cnv_tool \WObj:=cnv_track;
+    MoveL above, cnv_travel, fine, cnv_belt_abb_tool \WObj:=cnv_track;
+    MoveL down, cnv_work, fine, cnv_belt_abb_tool \WObj:=cnv_track;
     IF cnv_y(seen) > CNV_END THEN
       ! it reached the window's end while the gripper came down: leave it (up in cnv_track, off the belt in a fixed
       ! work object, then disconnect)
@@ -341,8 +337,8 @@ MODULE cnv_belt_abb
     ! CNV_DZ clear of the tallest part still on the belt, the gripper's tip the part's own height higher), off the
     ! belt in a fixed work object, then disconnect
     above.trans := [x, 0, z + CNV_Z_MAX + CNV_DZ];
-    MoveL above, cnv_work, cnv_zone, cnv_tool \WObj:=cnv_track;
-    MoveJ cnv_place_above, cnv_travel, fine, cnv_tool;
+    MoveL above, cnv_work, cnv_zone, cnv_belt_abb_tool \WObj:=cnv_track;
+    MoveJ cnv_place_above, cnv_travel, fine, cnv_belt_abb_tool;
     ! off the belt
     SetDO doCnvBeltZone, 0;
     DropWObj cnv_track;
@@ -357,10 +353,10 @@ MODULE cnv_belt_abb
     VAR robtarget above;
     above := cnv_on_belt;
     above.trans := [x, 0, CNV_Z_MAX + CNV_DZ];
-    MoveL above, cnv_work, fine, cnv_tool \WObj:=cnv_track;
+    MoveL above, cnv_work, fine, cnv_belt_abb_tool \WObj:=cnv_track;
     ! back at the clear height
     SetDO doCnvBeltZone, 0;
-    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_tool \WObj:=cnv_wobj;
+    MoveJ cnv_on_part(x, CNV_START, CNV_Z_MAX + CNV_DZ), cnv_travel, fine, cnv_belt_abb_tool \WObj:=cnv_wobj;
     DropWObj cnv_track;
     WaitTime CNV_DROP_SETTLE;
   ENDPROC
@@ -429,9 +425,9 @@ MODULE cnv_belt_abb
   LOCAL PROC cnv_place_part()
     ! the part held, above the place: its interlock, down, release, back up
     WaitDI diCnvPlaceClear, 1 \MaxTime:=CNV_PLACE_TIMEOUT;
-    MoveL cnv_place, cnv_work, fine, cnv_tool;
+    MoveL cnv_place, cnv_work, fine, cnv_belt_abb_tool;
     cnv_release;
-    MoveL cnv_place_above, cnv_work, fine, cnv_tool;
+    MoveL cnv_place_above, cnv_work, fine, cnv_belt_abb_tool;
   ERROR
     IF ERRNO = ERR_WAIT_MAXTIME THEN
       cnv_stop "the place is not clear after 10 s";
