@@ -294,6 +294,8 @@ class _Samples:
         self.scene, self.s, self.q = scene, s, q
         steps = np.abs(np.diff(q, axis=0)) @ weights.T  # (steps, groups)
         self.travelled = np.vstack([np.zeros(len(weights)), np.cumsum(steps, axis=0)])  # (samples, groups)
+        self.columns = list(np.ascontiguousarray(self.travelled.T))  # per group, its travel up to each sample
+        self.ends = self.travelled[-1].tolist()
         self.index = 0
         self.block_start, self.block = -1, None
 
@@ -311,9 +313,12 @@ class _Samples:
 
     def advance(self, s: float, q: np.ndarray, allowed: np.ndarray, rest: np.ndarray):
         here = self.travelled[self.index]
-        reach = [np.searchsorted(self.travelled[:, g], here[g] + allowed[g] + 1e-9, side="right") - 1
-                 for g in range(len(here))]
-        k = min(len(self.s) - 1, max(self.index + 1, int(min(reach))))
+        last = len(self.s) - 1
+        k = last
+        for g, limit in enumerate((here + allowed + 1e-9).tolist()):
+            if limit < self.ends[g]:  # this group's allowed travel ends before the path's (inf: no pairs)
+                k = min(k, int(self.columns[g].searchsorted(limit, side="right")) - 1)
+        k = min(last, max(self.index + 1, k))
         step = self.travelled[k] - here
         self.index = k
         return float(self.s[k]), self.q[k], step, self._pose(k)
