@@ -90,7 +90,7 @@ def main() -> int:
     queries = (scene.queries - before) / len(configurations)
     FIGURES.line(f"one configuration, every pair ({len(scene.bodies)} bodies, {len(world.solids)} solids, "
                  f"{len(scene.pairs)} self pairs)  {full * 1e3:6.2f} ms   ({queries:.1f} exact queries each, "
-                 f"the others ruled out by bounding spheres)")
+                 f"the others ruled out by the cheap bounds)")
 
     target = home.copy()
     target[0] += 120.0

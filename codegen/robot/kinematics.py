@@ -26,14 +26,15 @@ class Kinematics(Protocol):
 
     fk:  (..., 6) axis values -> (..., 4, 4) flange2base.
     ik:  (..., 4, 4) flange2base -> (..., 8, 6) axis values wrapped to (-180, 180], one row per branch in
-         the family's documented fixed order, a row of NaN where that branch has no solution.
+         the family's documented fixed order, a row of NaN where that branch has no solution; pose by pose up to
+         SMALL_BATCH poses, batched in numpy beyond (batched=True or False: that path whatever the number).
     wrist_center: (..., 6) axis values -> (..., 3) the family's wrist point in the base frame.
     link_frames: (..., 6) axis values -> (..., 7, 4, 4) a frame per link (0 the base, 6 the flange), base frame.
     """
 
     def fk(self, joints_deg: np.ndarray) -> np.ndarray: ...
 
-    def ik(self, flange2base: np.ndarray) -> np.ndarray: ...
+    def ik(self, flange2base: np.ndarray, batched: bool | None = None) -> np.ndarray: ...
 
     def wrist_center(self, joints_deg: np.ndarray) -> np.ndarray: ...
 

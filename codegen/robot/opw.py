@@ -229,10 +229,11 @@ class OPW:
         out[:, 3, 3] = 1.0
         return out
 
-    def ik(self, flange2base: np.ndarray) -> np.ndarray:
-        """(..., 4, 4) flange2base -> (..., 8, 6) axis values (deg, wrapped to (-180, 180]); NaN rows: none."""
+    def ik(self, flange2base: np.ndarray, batched: bool | None = None) -> np.ndarray:
+        """(..., 4, 4) flange2base -> (..., 8, 6) axis values (deg, wrapped to (-180, 180]); NaN rows: none.
+        batched: numpy's path (True) or pose by pose (False); None: by the number of poses."""
         pose = np.asarray(flange2base, dtype=float)
-        return self._ik(pose, scalar=pose.size <= 16 * SMALL_BATCH)
+        return self._ik(pose, scalar=pose.size <= 16 * SMALL_BATCH if batched is None else not batched)
 
     def _ik(self, pose: np.ndarray, scalar: bool) -> np.ndarray:
         """ik pose by pose on Python floats (scalar; unless math refuses a pose) or batched in numpy."""

@@ -81,8 +81,10 @@ def nearest(arm: Arm, solutions: np.ndarray, q_ref: np.ndarray) -> tuple[np.ndar
     low, high = arm.limits[:, 0], arm.limits[:, 1]
     q = np.where(q > high, q - TURN, q)  # outside the limits: the next turn towards the inside, if any
     q = np.where(q < low, q + TURN, q)
-    ok = inside(arm, q) & ~np.isnan(q).any(axis=-1)
-    distance = np.where(ok, np.linalg.norm(np.nan_to_num(q - ref), axis=-1), np.inf)
+    ok = inside(arm, q)  # a NaN axis is inside no limits
+    with np.errstate(invalid="ignore"):  # outside ones (NaN, inf) are left out by `ok`: inside, q - ref is finite
+        offset = q - ref
+        distance = np.where(ok, np.sqrt(np.add.reduce(offset * offset, axis=-1)), np.inf)  # np.linalg.norm's sum
     best = np.argmin(distance, axis=-1)
     chosen = np.take_along_axis(q, best[..., None, None], axis=-2)[..., 0, :]
     found = np.isfinite(np.min(distance, axis=-1))

@@ -149,10 +149,11 @@ class URDH:
         """(..., 3) where axes 5 and 6 meet (DH frame 5's origin, flange - d6 z6), base frame, mm."""
         return self._frames(joints_deg, 5)[..., :3, 3]
 
-    def ik(self, flange2base: np.ndarray) -> np.ndarray:
-        """(..., 4, 4) flange2base -> (..., 8, 6) axis values (deg, wrapped to (-180, 180]); NaN rows: none."""
+    def ik(self, flange2base: np.ndarray, batched: bool | None = None) -> np.ndarray:
+        """(..., 4, 4) flange2base -> (..., 8, 6) axis values (deg, wrapped to (-180, 180]); NaN rows: none.
+        batched: numpy's path (True) or pose by pose (False); None: by the number of poses."""
         pose = np.asarray(flange2base, dtype=float)
-        return self._ik(pose, scalar=pose.size <= 16 * SMALL_BATCH)
+        return self._ik(pose, scalar=pose.size <= 16 * SMALL_BATCH if batched is None else not batched)
 
     def _ik(self, pose: np.ndarray, scalar: bool) -> np.ndarray:
         """ik pose by pose on Python floats (scalar; unless math refuses a pose or one needs _singular_q6) or

@@ -1,5 +1,6 @@
 """Exact signed distances between the moving bodies and the cell's solids (and between the arm's own links), by the
-coal collision library; a cheap bounding-sphere test orders the pairs so that only the near ones are measured."""
+coal collision library; a cheap bound (bounding spheres, a box's or cylinder's own signed distance) orders the pairs
+so that only the near ones are measured."""
 
 # coal (the maintained successor of HPP-FCL, itself a fork of FCL) computes signed distances between primitive
 # shapes with its own GJK/EPA and closed forms for capsules, spheres and half-spaces: the distance is exact up to
@@ -99,6 +100,9 @@ class Scene:
             centres.append((solid.pose @ local)[:3, 3])
         self._solid_centre = np.array(centres).reshape(-1, 3)
         self._solid_radius = np.array([_radius(solid) for solid in self.solids])
+        # boxes and cylinders bound by their own signed distance from a body's bounding sphere (tighter than
+        # their bounding spheres): per kind, the solids' indices, base2solid and their half sizes
+        self._fitted = [_Fitted(self.solids, kind) for kind in (Box, Cylinder)]
         floors = [i for i, solid in enumerate(self.solids) if isinstance(solid, Floor)]
         self._floor_up = {i: np.linalg.inv(self.solids[i].pose)[2] for i in floors}  # a point's height in its frame
         # the robot's base stands on its mounting plane and never moves: its capsule is not measured against a floor
@@ -118,6 +122,10 @@ class Scene:
         self._group = np.concatenate([np.zeros(self._skip.size, dtype=int),
                                       np.minimum(frames[self._pair_i], frames[self._pair_j])])
         self._present = np.bincount(self._group, minlength=GROUPS)[:GROUPS] > 0
+        self._skip_all = np.concatenate([self._skip.ravel(), np.zeros(len(self._pair_i), dtype=bool)])
+        self._group_list = self._group.tolist()
+        self._pair_i_list, self._pair_j_list = self._pair_i.tolist(), self._pair_j.tolist()
+        self._placed = [coal.Transform3s() for _ in self.bodies]  # each body's coal transform at a pose
         self._one, self._other = coal.Transform3s(), coal.Transform3s()
         self._request, self._result = coal.DistanceRequest(), coal.DistanceResult()
         self.queries = 0  # exact distance queries made (for the benchmarks)
@@ -131,6 +139,7 @@ class Scene:
             for one, other in pairs:
                 if one == body.name and other in index:
                     out._skip[b, index[other]] = True
+        out._skip_all = np.concatenate([out._skip.ravel(), self._skip_all[self._skip.size:]])
         return out
 
     def within(self, joints_deg: np.ndarray, bodies: tuple[str, ...], limit: float) -> frozenset[tuple[str, str]]:
@@ -179,39 +188,56 @@ class Scene:
         bound is below what can still matter (their group's cap and least so far, or the nearest so far) are
         measured: an unmeasured pair is at least its bound away, and its bound at least min(cap, least)."""
         bounds, skip = self._bounds(pose[:, :3, 3])
-        least = np.full(GROUPS, np.inf)
         caps = np.asarray(caps, dtype=float)
-        best: Nearest | None = None
-        limit = below
         stop = max(float(caps.max()), below)
-        group = self._group
-        solid_pairs = self._skip.size
-        count = len(self.solids)
-        for k in np.argsort(bounds, kind="stable").tolist():
-            bound = bounds[k]
-            if bound >= stop:
-                break
+        # the pairs in reach of `stop`, in the order of their bounds (a stable sort of them: the order of all)
+        near = np.flatnonzero((bounds < stop) & ~skip)
+        least = [np.inf] * GROUPS
+        best: Nearest | None = None
+        if len(near):
+            near = near[np.argsort(bounds[near], kind="stable")]
+            best = self._measure(pose, near.tolist(), bounds[near].tolist(), caps.tolist(), least, below)
+        return np.where(self._present, np.minimum(least, caps), np.inf), best
+
+    def _measure(self, pose: np.ndarray, pairs: list[int], bounds: list[float], caps: list[float],
+                 least: list[float], limit: float) -> Nearest | None:
+        """least_by_group's measuring: the pairs (indices in _bounds' layout, by increasing bound) measured while
+        their bound is below their group's cap and least so far or the nearest so far (`limit`); least updated
+        per group, the nearest below `limit` returned. Each body placed once (its coal transform)."""
+        group, pair_i, pair_j = self._group_list, self._pair_i_list, self._pair_j_list
+        solid_pairs, count = self._skip.size, len(self.solids)
+        rotations = np.ascontiguousarray(pose[:, :3, :3])
+        origins = np.ascontiguousarray(pose[:, :3, 3])
+        placed = self._placed
+        ready = [False] * len(placed)
+        request, result, distance = self._request, self._result, coal.distance
+        best: Nearest | None = None
+        for k, bound in zip(pairs, bounds, strict=True):
             g = group[k]
-            if skip[k] or (bound >= min(caps[g], least[g]) and bound >= limit):
+            if bound >= limit and (bound >= caps[g] or bound >= least[g]):
                 continue
             if k < solid_pairs:
                 b, s = divmod(k, count)
                 other_shape, other_name, other = self._solid_shape[s], self.names[s], self._solid_transform[s]
             else:
-                b, j = int(self._pair_i[k - solid_pairs]), int(self._pair_j[k - solid_pairs])
-                other_shape, other_name, other = self._body_shape[j], self.bodies[j].name, self._other
-                other.setTransform(np.ascontiguousarray(pose[j, :3, :3]), np.ascontiguousarray(pose[j, :3, 3]))
-            self._one.setTransform(np.ascontiguousarray(pose[b, :3, :3]), np.ascontiguousarray(pose[b, :3, 3]))
-            self._result.clear()
-            d = coal.distance(self._body_shape[b], self._one, other_shape, other, self._request, self._result)
+                b, j = pair_i[k - solid_pairs], pair_j[k - solid_pairs]
+                other_shape, other_name, other = self._body_shape[j], self.bodies[j].name, placed[j]
+                if not ready[j]:
+                    other.setTransform(rotations[j], origins[j])
+                    ready[j] = True
+            if not ready[b]:
+                placed[b].setTransform(rotations[b], origins[b])
+                ready[b] = True
+            result.clear()
+            d = distance(self._body_shape[b], placed[b], other_shape, other, request, result)
             self.queries += 1
             if d < least[g]:
                 least[g] = d
             if d < limit:
                 limit = d
-                best = Nearest(float(d), self.bodies[b].name, other_name, tuple(self._result.getNearestPoint1()),
-                               tuple(self._result.getNearestPoint2()))
-        return np.where(self._present, np.minimum(least, caps), np.inf), best
+                best = Nearest(float(d), self.bodies[b].name, other_name, tuple(result.getNearestPoint1()),
+                               tuple(result.getNearestPoint2()))
+        return best
 
     def least(self, joints_deg: np.ndarray) -> tuple[int, Nearest | None]:
         """The sample of (n, 6) joint values with the least distance and its nearest pair. The samples are taken in
@@ -232,19 +258,25 @@ class Scene:
         return where, best
 
     def _bounds(self, centre: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Lower bounds of every pair's distance (bounding spheres; a floor's plane) for the bodies' centres (...,
-        bodies, 3), flat on the last axis: body-solid pairs (bodies x solids, row-major), then the checked body
-        pairs; and the skip mask of that layout."""
+        """Lower bounds of every pair's signed distance for the bodies' centres (..., bodies, 3), flat on the last
+        axis: body-solid pairs (bodies x solids, row-major), then the checked body pairs; and the skip mask of that
+        layout. A body is within its bounding sphere; a box's or cylinder's bound is the sphere's centre's signed
+        distance to it less the sphere's radius (inside it, no deeper than that: moved out along the nearest face
+        by the depth and the radius, the sphere is clear), a floor's the centre's height above it less the radius,
+        any other pair's the two bounding spheres' gap."""
         lead = centre.shape[:-2]
-        gap = np.linalg.norm(centre[..., :, None, :] - self._solid_centre, axis=-1)
-        solid_bound = gap - self._body_radius[:, None] - self._solid_radius
+        radius = self._body_radius
+        gap = np.sqrt(np.square(centre[..., :, None, :] - self._solid_centre).sum(axis=-1))
+        solid_bound = gap - radius[:, None] - self._solid_radius
+        for fitted in self._fitted:
+            if fitted.index:
+                solid_bound[..., fitted.index] = fitted.signed(centre) - radius[:, None]
         for s, up in self._floor_up.items():
-            solid_bound[..., s] = centre @ up[:3] + up[3] - self.solids[s].height - self._body_radius
-        pair_bound = (np.linalg.norm(centre[..., self._pair_i, :] - centre[..., self._pair_j, :], axis=-1)
-                      - self._body_radius[self._pair_i] - self._body_radius[self._pair_j])
+            solid_bound[..., s] = centre @ up[:3] + up[3] - self.solids[s].height - radius
+        between = centre[..., self._pair_i, :] - centre[..., self._pair_j, :]
+        pair_bound = np.sqrt(np.square(between).sum(axis=-1)) - radius[self._pair_i] - radius[self._pair_j]
         bounds = np.concatenate([solid_bound.reshape(*lead, -1), pair_bound], axis=-1)
-        skip = np.concatenate([self._skip.ravel(), np.zeros(len(self._pair_i), dtype=bool)])
-        return bounds, skip
+        return bounds, self._skip_all
 
     def _nearest_one(self, pose: np.ndarray, below: float, bounded=None) -> Nearest | None:
         bounds, skip = self._bounds(pose[:, :3, 3]) if bounded is None else bounded
@@ -276,6 +308,29 @@ class Scene:
                 best = Nearest(float(d), self.bodies[b].name, other_name, tuple(self._result.getNearestPoint1()),
                                tuple(self._result.getNearestPoint2()))
         return best
+
+
+class _Fitted:
+    """The solids of one kind (Box or Cylinder) for _bounds: a point's signed distance to each (mm)."""
+
+    def __init__(self, solids: list, kind: type):
+        self.index = [i for i, solid in enumerate(solids) if type(solid) is kind]
+        inverse = [np.linalg.inv(solids[i].pose) for i in self.index]
+        self.rotation = np.array([m[:3, :3].T for m in inverse]).reshape(-1, 3, 3)  # solid2base's rotation
+        self.origin = np.array([solids[i].pose[:3, 3] for i in self.index]).reshape(-1, 3)
+        if kind is Box:
+            self.half = np.array([np.asarray(solids[i].size, dtype=float) / 2 for i in self.index]).reshape(-1, 3)
+        else:
+            self.half = np.array([(solids[i].radius, solids[i].length / 2) for i in self.index]).reshape(-1, 2)
+
+    def signed(self, point: np.ndarray) -> np.ndarray:
+        """(..., points, 3) in the base frame -> (..., points, solids): the signed distance (negative inside)."""
+        local = np.abs(np.einsum("...psj,sjk->...psk", point[..., :, None, :] - self.origin, self.rotation))
+        if self.half.shape[-1] == 2:  # a cylinder along its z: radial and axial
+            local = np.stack([np.hypot(local[..., 0], local[..., 1]), local[..., 2]], axis=-1)
+        over = local - self.half
+        outside = np.sqrt(np.square(np.maximum(over, 0.0)).sum(axis=-1))
+        return outside + np.minimum(over.max(axis=-1), 0.0)
 
 
 def _radius(shape) -> float:

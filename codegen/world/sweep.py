@@ -30,6 +30,7 @@ import numpy as np
 from codegen import poses
 from codegen.robot import solve
 from codegen.robot.arms import Arm
+from codegen.robot.kinematics import SMALL_BATCH
 from codegen.world.engine import GROUPS, Nearest, Scene
 
 CLEARANCE_MM = 20.0  # the cell's default clearance_mm (docs/clearance.md says why)
@@ -133,7 +134,14 @@ class LinearPath:
         """(n, 6) joints at the increasing fractions s, each the solution nearest the one before (the first nearest
         q0): solved in one batch, each pose's nearest to q0 kept where it is also the nearest to the pose before
         (then the chain gives the same), else followed one pose at a time from there."""
-        solutions = solve.branches(self.arm, solve.flange_poses(self.poses(s), self.tcp2flange))
+        return self.chain(s, self.branches(s), q0)
+
+    def branches(self, s: np.ndarray, batched: bool | None = None) -> np.ndarray:
+        """(n, 8, 6) the analytic solutions at the fractions s (batched: the kinematics' path, None by number)."""
+        return self.arm.kin.ik(solve.flange_poses(self.poses(s), self.tcp2flange), batched)
+
+    def chain(self, s: np.ndarray, solutions: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        """solve's choice among the solutions (n, 8, 6) at the fractions s."""
         q0 = np.asarray(q0, dtype=float)
         guess, _ = solve.nearest(self.arm, solutions, np.broadcast_to(q0, (len(s), 6)))
         chained, _ = solve.nearest(self.arm, solutions, np.vstack([q0[None], guess[:-1]]))
@@ -253,7 +261,7 @@ def _grid(path: Path, q0: np.ndarray, weights: np.ndarray, half: float) -> tuple
             raise Unresolved(f"more than {MAX_SAMPLES} samples needed for the joint move")
         s = np.linspace(0.0, 1.0, count + 1)
         return s, q0 + s[:, None] * delta
-    solved = path.solve if isinstance(path, LinearPath) else _one_by_one(path)
+    solved = _Refined(path) if isinstance(path, LinearPath) else _one_by_one(path)
     end = path(1.0, q0)
     s = np.linspace(0.0, 1.0, max(1, int(np.ceil(float(weights @ np.abs(end - q0)) / half))) + 1)
     while True:
@@ -268,6 +276,29 @@ def _grid(path: Path, q0: np.ndarray, weights: np.ndarray, half: float) -> tuple
         s = np.union1d(s, np.concatenate(added))
         if len(s) >= MAX_SAMPLES:
             raise Unresolved(f"more than {MAX_SAMPLES} samples needed near {s[over[0]]:.4f} of the move")
+
+
+class _Refined:
+    """solve(s, q0) of a linear or circular path over a grid that only gains samples: each sample's analytic
+    solutions computed once (on the path the kinematics takes for the whole grid, so the numbers are those of
+    path.solve(s, q0)), the choice among them made over the whole grid each time."""
+
+    def __init__(self, path: LinearPath):
+        self.path = path
+        self.s: np.ndarray | None = None
+        self.solutions: np.ndarray | None = None
+
+    def __call__(self, s: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        batched = len(s) > SMALL_BATCH  # the kinematics' own choice for the whole grid
+        if self.s is None or not batched or len(self.s) <= SMALL_BATCH:  # nothing solved the same way yet
+            solutions = self.path.branches(s)
+        else:
+            known = np.isin(s, self.s)
+            solutions = np.empty((len(s), *self.solutions.shape[1:]))
+            solutions[known] = self.solutions[np.searchsorted(self.s, s[known])]
+            solutions[~known] = self.path.branches(s[~known], batched=True)
+        self.s, self.solutions = s, solutions
+        return self.path.chain(s, solutions, q0)
 
 
 def _one_by_one(path: Path):
@@ -294,6 +325,8 @@ class _Samples:
         self.scene, self.s, self.q = scene, s, q
         steps = np.abs(np.diff(q, axis=0)) @ weights.T  # (steps, groups)
         self.travelled = np.vstack([np.zeros(len(weights)), np.cumsum(steps, axis=0)])  # (samples, groups)
+        self.columns = list(np.ascontiguousarray(self.travelled.T))  # per group, its travel up to each sample
+        self.ends = self.travelled[-1].tolist()
         self.index = 0
         self.block_start, self.block = -1, None
 
@@ -311,9 +344,12 @@ class _Samples:
 
     def advance(self, s: float, q: np.ndarray, allowed: np.ndarray, rest: np.ndarray):
         here = self.travelled[self.index]
-        reach = [np.searchsorted(self.travelled[:, g], here[g] + allowed[g] + 1e-9, side="right") - 1
-                 for g in range(len(here))]
-        k = min(len(self.s) - 1, max(self.index + 1, int(min(reach))))
+        last = len(self.s) - 1
+        k = last
+        for g, limit in enumerate((here + allowed + 1e-9).tolist()):
+            if limit < self.ends[g]:  # this group's allowed travel ends before the path's (inf: no pairs)
+                k = min(k, int(self.columns[g].searchsorted(limit, side="right")) - 1)
+        k = min(last, max(self.index + 1, k))
         step = self.travelled[k] - here
         self.index = k
         return float(self.s[k]), self.q[k], step, self._pose(k)

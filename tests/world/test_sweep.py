@@ -13,7 +13,7 @@ from codegen.robot import solve
 from codegen.robot.arms import catalogue
 from codegen.world.engine import Scene, distance
 from codegen.world.solids import Box, Floor, World, tool_cylinder, translation
-from codegen.world.sweep import CLEARANCE_MM, check_path, joint_path, linear_path, reach
+from codegen.world.sweep import CLEARANCE_MM, Unresolved, _grid, check_path, joint_path, linear_path, reach
 
 UR5E = catalogue()["UR5e"]
 HOME = np.array(UR5E.home_deg)
@@ -263,3 +263,31 @@ def test_a_linear_move_solved_in_one_batch_follows_the_chain():
     start = UR5E.kin.fk(HOME)
     assert abs(path.solve(fractions, HOME)[-1][5] - HOME[5]) > 150.0  # axis 6 turned with the tool, not back
     assert np.allclose(start, UR5E.kin.fk(path.solve(fractions[:1], HOME)[0]), atol=1e-6)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_refined_grid_is_what_solving_the_whole_grid_gives(seed):
+    """The grid of a linear move cut finer where a step travels too far solves each sample once: its joints are
+    those of path.solve over the final grid, bit for bit (small moves too, solved pose by pose)."""
+    rng = np.random.default_rng(seed)
+    weights = np.radians(reach(Scene(UR5E, World({}), tool=tool_cylinder(TOOL, 25.0))))
+    refined = 0
+    for _ in range(12):
+        q0 = HOME + rng.uniform(-40.0, 40.0, 6)
+        start_pose = UR5E.kin.fk(q0) @ TOOL
+        end_pose = start_pose.copy()
+        end_pose[:3, 3] += rng.uniform(-400.0, 400.0, 3) * rng.choice([0.02, 1.0])
+        turn = rng.uniform(-1.0, 1.0, 3)  # about a random axis, up to 120 deg: the joints far from linear in s
+        angle = math.radians(rng.uniform(0.0, 120.0))
+        x, y, z = turn / np.linalg.norm(turn)
+        k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+        end_pose[:3, :3] = start_pose[:3, :3] @ (np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * k @ k)
+        path = linear_path(UR5E, TOOL, start_pose, end_pose)
+        try:
+            s, q = _grid(path, q0, weights, 10.0)
+        except Unresolved:
+            continue
+        first = int(np.ceil(float(weights @ np.abs(path(1.0, q0) - q0)) / 10.0)) + 1
+        refined += len(s) > first
+        assert np.array_equal(q, path.solve(s, q0))
+    assert refined >= 3
