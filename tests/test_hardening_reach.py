@@ -63,7 +63,9 @@ def test_a_pallet_refused_for_its_wrist_names_the_pose_nearest_the_singularity(t
     old = "origin = [650.0, -50.0, 50.0], x_point = [750.0, -50.0, 50.0], xy_point = [650.0, 30.0, 50.0]"
     new = "origin = [500.0, -100.0, -200.0], x_point = [600.0, -100.0, -200.0], xy_point = [500.0, -20.0, -200.0]"
     path = tmp_path / "pallet.toml"
-    path.write_text(TESTMAT.replace(old, new, 1))
+    floor = "[cell.world]\nfloor_z_mm = -400.0\n\n[cell.io]"  # under the lowered pallet (its top at -200 mm)
+    assert "[cell.world]" not in TESTMAT and "[cell.io]" in TESTMAT
+    path.write_text(TESTMAT.replace(old, new, 1).replace("[cell.io]", floor, 1))
     with pytest.raises(GenerateError) as refused:
         check_envelope(load_cell(path), ["kuka"])
     message = str(refused.value)

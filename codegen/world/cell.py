@@ -6,7 +6,7 @@ import numpy as np
 
 from codegen.model.world import PartShape
 from codegen.world.engine import Scene
-from codegen.world.solids import Box, Cylinder, Floor, Solid, World, part_box, tool_box, tool_cylinder
+from codegen.world.solids import Box, Cylinder, Floor, Solid, World, part_box, shape_of, tool_box, tool_cylinder
 
 FLOOR = "floor"  # the floor's (or mounting plane's) name among the solids
 # the link frames only axis 1 moves (the base, and the column turning about axis 1, which stands perpendicular to the
@@ -18,15 +18,6 @@ FLOOR_EXEMPT_FRAMES = 1
 def clearance_mm(cell) -> float:
     """The least distance every planned move keeps from the solids ([cell.world] clearance_mm)."""
     return float(cell.world.clearance_mm)
-
-
-def shape_of(spec, moved: np.ndarray | None = None) -> Box | Cylinder:
-    """A declared solid (codegen.model.world.SolidSpec) as a shape in the base frame, moved by `moved` (a base-frame
-    motion: a station's reading; None: where declared)."""
-    pose = spec.solid2base if moved is None else np.asarray(moved, dtype=float) @ spec.solid2base
-    if spec.shape == "box":
-        return Box(tuple(spec.size), pose)
-    return Cylinder(spec.size[0], spec.size[1], pose)
 
 
 def declared(cell) -> dict[str, Solid]:

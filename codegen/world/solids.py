@@ -64,6 +64,42 @@ class Cylinder:
         return float(np.hypot(self.radius, 0.5 * self.length))
 
 
+def shape_of(spec, moved: np.ndarray | None = None) -> Box | Cylinder:
+    """A declared solid (codegen.model.world.SolidSpec) as a shape in the base frame, moved by `moved` (a base-frame
+    motion: a station's reading; None: where declared)."""
+    pose = spec.solid2base if moved is None else np.asarray(moved, dtype=float) @ spec.solid2base
+    if spec.shape == "box":
+        return Box(tuple(spec.size), pose)
+    return Cylinder(spec.size[0], spec.size[1], pose)
+
+
+def bounding_box(shape: Box | Cylinder) -> Box:
+    """The box at the shape's pose that holds it (a cylinder's: 2 radius square across its axis)."""
+    if isinstance(shape, Box):
+        return shape
+    return Box((2 * shape.radius, 2 * shape.radius, shape.length), shape.pose)
+
+
+def separation_bound(a: Box, b: Box) -> float:
+    """A lower bound on the distance between two boxes (mm; negative: a bound on how deep they overlap), from the
+    separating axes (each box's three edges and their nine cross products): a projection shortens no distance, and
+    the overlap along any axis is at least the depth the boxes must move apart."""
+    rotation_a, rotation_b = a.pose[:3, :3], b.pose[:3, :3]
+    half_a, half_b = 0.5 * np.asarray(a.size), 0.5 * np.asarray(b.size)
+    centres = b.pose[:3, 3] - a.pose[:3, 3]
+    axes = [*rotation_a.T, *rotation_b.T]
+    for i in range(3):
+        for j in range(3):
+            axis = np.cross(rotation_a[:, i], rotation_b[:, j])
+            norm = np.linalg.norm(axis)
+            if norm > 1e-9:  # parallel edges: the faces' axes already cover that direction
+                axes.append(axis / norm)
+    axes = np.asarray(axes)
+    reach_a = np.abs(axes @ rotation_a) @ half_a
+    reach_b = np.abs(axes @ rotation_b) @ half_b
+    return float(np.max(np.abs(axes @ centres) - reach_a - reach_b))
+
+
 @dataclass(frozen=True, eq=False)
 class Capsule:
     """The points within radius (mm) of the segment a-b (mm, in its pose's frame)."""

@@ -33,7 +33,16 @@ CHANGES = [
         NOMINAL,
         "payload",
     ),
-    ("payload back", "kuka", r"^  \$LOAD = CNV_LOAD ; confirmed[^\n]*\n", "", NOMINAL, "payload"),
+    # the release's (CNV_RELEASE, which stops on a gripper that does not let go), not the failed grip's let-go
+    (
+        "payload back",
+        "kuka",
+        r"(CNV_HALT\(\)\n      RETURN FALSE\n    ENDIF\n    WAIT SEC [^\n]*\n    POLLS = POLLS \+ 1\n  ENDWHILE\n)"
+        r"  \$LOAD = LOAD_DATA\[\d+\] ; confirmed[^\n]*\n",
+        r"\1",
+        NOMINAL,
+        "payload",
+    ),
     ("payload back", "abb", r"    ! confirmed: the payload now\n    GripLoad load0;\n", "", NOMINAL, "payload"),
     # no way home: from away straight home (the arm would sweep through the cell with the tool down)
     ("way home", "ur", r"  if cnv_away:\n", "  if False:\n", frozenset({"start_away"}), "fit no pick"),

@@ -109,7 +109,7 @@ def test_a_natively_tracking_target_is_not_held_to_the_intercepts_budget(tmp_pat
 
 def test_a_numbered_kuka_tool_verifies_in_a_belt_cell(tmp_path):
     """`[cell.tool] numbered = { kuka = 3 }` generated, then every KUKA case failed ("FRAME.X has no value")."""
-    path = edited(tmp_path, ("cog_mm = [0.0, 0.0, 60.0]", "cog_mm = [0.0, 0.0, 60.0]\nnumbered = { kuka = 3 }"))
+    path = edited(tmp_path, ("numbered = { kuka = 2 }", "numbered = { kuka = 3 }"))  # the bundled cell's 2
     cell = load_cell(path)
     programs = sources(cell, "kuka", "conveyor")
     assert "$TOOL = TOOL_DATA[3]" in programs[0].files[0].text

@@ -59,20 +59,25 @@ def test_the_base_is_the_robot_base_on_a_platform():
     import numpy as np
 
     from codegen.controllers import get_target
-    from codegen.dialects.krl.interpreter import load
+    from codegen.dialects.core.files import SourceFile
+    from codegen.dialects.krl.modules import load_files
     from codegen.kinds.station.cases import inputs_for, run_options
     from codegen.kinds.station.mode import get_mode
     from codegen.model.cell import load_cell
     from codegen.render import render
 
     cell, target = load_cell(), get_target("kuka")
-    files = {f.relpath.rsplit(".", 1)[1]: f.text for f in render(cell, ["kuka"])}
+    rendered = render(cell, ["kuka"])
+    files = {f.relpath.rsplit(".", 1)[1]: f.text for f in rendered}
+    # the vision channel's configuration, named as EKI_Init opens it
+    xml = next(SourceFile(f.relpath.rsplit("/", 1)[-1], f.text) for f in rendered if f.relpath.endswith(".xml"))
     case = get_mode("point").nominal_case(cell, stations_of(cell)[0])
     inputs = inputs_for(cell, target, case.reading)
     root = {"$ROBROOT": (1500.0, -300.0, 0.0, 90.0, 0.0, 0.0)}
 
     def moves(src: str, extra: dict) -> list:
-        trace = load(src, "p.src", files["dat"]).run({**inputs, **extra}, **run_options(cell, target, case))
+        program = load_files([SourceFile("p.src", src), SourceFile("p.dat", files["dat"]), xml])
+        trace = program.run({**inputs, **extra}, **run_options(cell, target, case))
         assert not trace.halted, trace.halt_message
         return [m.tcp2base for m in trace.moves if m.tcp2base is not None]
 

@@ -312,7 +312,7 @@ def test_demo_robconf_and_status_turn_agree_with_an_independent_model():
 def test_the_controllers_numbered_tool_instead_of_a_declared_one(tmp_path):
     text = DEMO_TEXT.replace("cog_mm = [0.0, 0.0, 80.0]", "cog_mm = [0.0, 0.0, 80.0]\nnumbered = { kuka = 3 }")
     cell = load_cell(write_cell(tmp_path, text))
-    src, dat = (f.text for f in render(cell, ["kuka"]))
+    src, dat, *_ = (f.text for f in render(cell, ["kuka"]))  # and the vision channel's configuration
     assert "  $TOOL = TOOL_DATA[3]\n  $LOAD = LOAD_DATA[3]\n" in src and "DECL FRAME VIS_TOOL" not in dat
     from support import stations
 

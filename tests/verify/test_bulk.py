@@ -72,8 +72,8 @@ def test_the_report_counts_the_ids_shown_and_run():
     data = report.as_json()
     (row,) = [r for r in data["targets"] if r["bulk_runs"]]
     assert row["unknown_ids_checked"] == row["bulk_runs"] == len(IDS) - len(stations_of(cell))
-    text = next(f.text for f in stations.source(cell, "kuka").files if f.name.endswith(".src"))
-    dat = stations.files(cell, "kuka")[1]
-    chosen = set(bulk.representatives([text, dat], IDS)) - {s.id for s in stations_of(cell)}
+    # every file of the program, as verify reads them (the .src, its .dat, the channel's configuration)
+    texts = [f.text for f in stations.source(cell, "kuka").files]
+    chosen = set(bulk.representatives(texts, IDS)) - {s.id for s in stations_of(cell)}
     assert row["unknown_ids_run"] == row["bulk_ids_run"] == len(chosen)
     assert f"{row['bulk_runs']} bulk ids ({len(chosen)} run)" in "\n".join(report.lines())

@@ -68,12 +68,17 @@ def check_solids(ctx, pallet: Pallet, path: str, world) -> None:
     a machine is refused at `layers` with how deep and how many layers fit."""
     if not world.solids:
         return
-    from codegen.world.cell import shape_of  # coal loaded only where the cell declares solids
-    from codegen.world.engine import distance
+    from codegen.world.solids import bounding_box, separation_bound, shape_of
 
     eye = np.eye(4)
+    whole = stack_box(pallet, pallet.layers)
     for name, spec in world.solids.items():
         solid = shape_of(spec)
+        # a bound the stack's and the solid's boxes cannot come closer than: no deeper than TOUCH_MM, so the exact
+        # distance need not be asked (loading a cell loads the collision library only for a solid at a stack)
+        if separation_bound(whole, bounding_box(solid)) > -TOUCH_MM:
+            continue
+        from codegen.world.engine import distance
 
         def depth(layers: int, solid=solid) -> float:
             return -distance(stack_box(pallet, layers), eye, solid, eye)[0]
