@@ -17,8 +17,12 @@ from codegen.verify.runner import run_cases
 from tests.kinds.test_conveyor_programs import intercept_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"
-UR_NOT_HELD = "      set_standard_digital_out(0, False)\n      movel(cnv_on_part(x, y, {z}, CNV_DZ)"
-KUKA_NOT_HELD = "    $OUT[17] = FALSE\n    LIN {pose}\n"
+UR_NOT_HELD = "      cnv_opened = cnv_let_go()\n      movel(cnv_on_part(x, y, {z}, CNV_DZ)"
+KUKA_NOT_HELD = (
+    "    OPENED = CNV_LET_GO() ; released, its feedback awaited before the lift"
+    " (a part still held would be carried up)\n"
+    "    LIN {pose}\n"
+)
 KUKA_TOO_LATE = (
     "      LIN CLEAR ; from the part's approach height back up to the clear height: the next part is awaited there\n"
 )
