@@ -1,4 +1,4 @@
-"""The boxes' separating-axis bound never exceeds the collision library's distance, and is tight when apart on an axis."""
+"""The boxes' separating-axis bound never exceeds the collision library's distance; tight when apart on an axis."""
 
 from __future__ import annotations
 
