@@ -189,18 +189,7 @@ class HomeMargin:
             "joint_margin_deg": round(self.joint_margin_deg, 3),
             "joint_axis": self.joint_axis,
             "wrist_margin_deg": round(self.wrist_margin_deg, 3),
-            "joint_margin_asked_deg": self.asked_deg,
         }
-
-    def shortfall(self) -> str | None:
-        """Where a run came nearer a joint limit than the cell asks: the margin, the axis, the move and the case, and
-        the margin asked (None: every run kept it)."""
-        if not self.moves or self.joint_margin_deg >= self.asked_deg:
-            return None
-        return (
-            f"{self.joint_margin_deg:.1f} deg to a joint limit ({self.joint_margin_at}), less than the "
-            f"{self.asked_deg:g} deg the cell asks (cell.robot.joint_margin_deg)"
-        )
 
 
 def home_margins(cell, targets: list[str] | None = None) -> list[HomeMargin]:
