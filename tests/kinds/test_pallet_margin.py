@@ -25,7 +25,9 @@ def test_a_flip_on_a_linear_move_names_the_axis_its_values_and_the_key(tmp_path)
     result = CliRunner().invoke(main, ["generate", str(path), "--out", str(tmp_path / "out")])
     assert result.exit_code == 2, result.output
     assert "layer 2 box 1 up from Q" in result.output
-    found = re.search(r"axis 5 crosses its singularity \(the wrist straight\): from (\S+) to (\S+) deg", result.output)
+    found = re.search(
+        r"axis 5 crosses the wrist singularity \(axes 4 and 6 in line\): from (\S+) to (\S+) deg", result.output
+    )
     assert found, result.output
     before, after = float(found[1]), float(found[2])
     assert before * after < 0  # on either side of 0 deg, where the KUKA's wrist is straight

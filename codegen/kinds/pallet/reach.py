@@ -181,7 +181,7 @@ def flip_text(arm, before: np.ndarray, after: np.ndarray) -> str:
     kinematic angle changes side of 0 or 180 deg), else the axis that turns most (the elbow or shoulder)."""
     sides = np.sign(np.sin(np.radians(wrist_angle(arm, np.array([before, after])))))
     axis = 4 if sides[0] != sides[1] else int(np.argmax(np.abs(after - before)))
-    what = "crosses its singularity (the wrist straight)" if axis == 4 else "turns (an elbow or shoulder flip)"
+    what = "crosses the wrist singularity (axes 4 and 6 in line)" if axis == 4 else "turns (an elbow or shoulder flip)"
     return f"axis {axis + 1} {what}: from {before[axis]:.1f} to {after[axis]:.1f} deg"
 
 
