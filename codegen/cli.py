@@ -310,7 +310,7 @@ def verify(
         raise UserError(f"{model.source}: {exc}" if not isinstance(exc, ProgramFilesError) else str(exc)) from None
     except RunError as exc:  # a program that cannot be loaded here
         raise click.ClickException(str(exc)) from None
-    for warning in report.warnings:
+    for warning in [*report.warnings, *report.margin_warnings()]:
         click.echo(f"warning: {warning}", err=True)
     if not report.rows:
         raise UserError(f"{model.source}: no program to verify for the targets asked")

@@ -34,6 +34,7 @@ class ArmStats:
         self.wrist_margin_deg = float("inf")
         self.joint_margin_at = ""  # the axis, its value, the move and the case of the least joint margin
         self.named_deg = float("inf")  # the margin of the move joint_margin_at names (within the tie of the least)
+        self.asked_deg = 0.0  # the cell's joint margin (cell.robot.joint_margin_deg): every move's requirement
 
     def add(
         self, cell, target: str, moves: list, case: Callable[[], str] | None = None, names: list | None = None
@@ -45,6 +46,7 @@ class ArmStats:
         solved = [(i, m) for i, m in enumerate(moves) if m.joints is not None]
         if arm is None or not solved:
             return
+        self.asked_deg = cell.robot.margins.joint_deg
         joints = np.array([m.joints for _i, m in solved])
         per_move = joint_margins(arm, joints).min(axis=-1)
         joint, row = float(per_move.min()), first_least(per_move)
@@ -66,6 +68,7 @@ class ArmStats:
     def merge(self, other: ArmStats) -> None:
         """A later part's figures (the parts merged in the cases' order)."""
         self.moves += other.moves
+        self.asked_deg = max(self.asked_deg, other.asked_deg)
         if other.named_deg < self.named_deg - JOINT_TOLERANCE_DEG:
             self.joint_margin_at, self.named_deg = other.joint_margin_at, other.named_deg
         self.joint_margin_deg = min(self.joint_margin_deg, other.joint_margin_deg)
@@ -77,7 +80,18 @@ class ArmStats:
             "joint_margin_deg": round(self.joint_margin_deg, 3),
             "joint_margin_at": self.joint_margin_at,
             "wrist_margin_deg": round(self.wrist_margin_deg, 3),
+            "joint_margin_asked_deg": self.asked_deg,
         }
+
+    def shortfall(self) -> str | None:
+        """Where a run came nearer a joint limit than the cell asks: the margin, the axis, the move and the case, and
+        the margin asked (None: every run kept it)."""
+        if not self.moves or self.joint_margin_deg >= self.asked_deg:
+            return None
+        return (
+            f"{self.joint_margin_deg:.1f} deg to a joint limit ({self.joint_margin_at}), less than the "
+            f"{self.asked_deg:g} deg the cell asks (cell.robot.joint_margin_deg)"
+        )
 
 
 def first_least(margins) -> int:
@@ -104,7 +118,6 @@ def require_margins(
             + (f" (the wrist nearest its singularity: {wrist_pose})" if wrist_pose else "")
             + (f": {WRIST_SINGULAR}; {wrist_fix}" if wrist_fix and wrist_deg < need.wrist_deg else "")
         )
-
 
 
 @dataclass(frozen=True)

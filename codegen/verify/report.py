@@ -202,6 +202,16 @@ class Report:
     def ok(self) -> bool:
         return bool(self.rows) and all(r.mismatches == 0 for r in self.rows)
 
+    def margin_warnings(self) -> list[str]:
+        """A program whose runs came nearer a joint limit than the cell asks (the cell's requirement of every move,
+        whatever the case): one line each, naming the move and the case."""
+        out = []
+        for row in self.rows:
+            short = row.arm.shortfall()
+            if short is not None:
+                out.append(f"arm {row.target} {row.program}: {short}")
+        return out
+
     def as_json(self) -> dict:
         """Every row under "programs"; each kind's rows also under the kind's own key (VerifyPlan.report_key), as its
         list has them (VerifyPlan.listed)."""

@@ -9,6 +9,7 @@ import pytest
 from support.cells import replace_once
 
 from codegen.model.cell import CellError, load_cell
+from codegen.model.robot import Margins
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallets"
 TESTMAT = (EXAMPLES / "testmat_pallet.toml").read_text(encoding="utf-8")
@@ -169,7 +170,7 @@ def _stats_of(margins_deg: list[float], names: list[str]):
     from codegen.robot.expect import ArmStats
 
     arm = find_arm("UR5e")
-    cell = SimpleNamespace(robot=SimpleNamespace(arms={"ur": arm}))
+    cell = SimpleNamespace(robot=SimpleNamespace(arms={"ur": arm}, margins=Margins(5.0, 5.0)))
     moves = [SimpleNamespace(joints=[360.0 - m, -90, 90, -90, 90, 0], line=10 + i) for i, m in enumerate(margins_deg)]
     stats = ArmStats()
     stats.add(cell, "ur", moves, lambda: "full_stack pallet testmat layer 1 box 1", names)

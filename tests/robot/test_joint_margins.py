@@ -11,6 +11,7 @@ from click.testing import CliRunner
 
 from codegen.cli import main
 from codegen.model.cell import EXAMPLES_DIR
+from codegen.model.robot import Margins
 from codegen.robot.arms import find_arm
 from codegen.robot.expect import ArmStats
 from codegen.robot.margins import joint_margins, least_joint_margin
@@ -45,6 +46,7 @@ def test_the_margin_is_the_distance_to_the_nearer_limit():
     class Cell:
         class robot:  # the shape ArmStats reads
             arms = {"kuka": arm}
+            margins = Margins(5.0, 5.0)
 
     stats = ArmStats()
     stats.add(Cell, "kuka", [Move(j, 10 + i) for i, j in enumerate(joints)])

@@ -14,6 +14,7 @@ from click.testing import CliRunner
 from codegen.cli import main
 from codegen.dialects.core.files import SourceFile
 from codegen.model.cell import EXAMPLES_DIR
+from codegen.model.robot import Margins
 from codegen.robot.arms import find_arm
 from codegen.robot.expect import ArmStats
 from codegen.verify import checks
@@ -80,7 +81,7 @@ def test_the_configuration_change_names_the_joint_its_values_and_the_way_out(tmp
 def test_the_least_joint_margin_names_its_axis_move_and_case():
     """verify said 0.3 deg to a joint limit without saying which move or scenario."""
     arm = find_arm("UR5e")
-    cell = SimpleNamespace(robot=SimpleNamespace(arms={"ur": arm}))
+    cell = SimpleNamespace(robot=SimpleNamespace(arms={"ur": arm}, margins=Margins(5.0, 5.0)))
 
     def moves(*joints):
         return [SimpleNamespace(joints=q, line=10 + i) for i, q in enumerate(joints)]

@@ -16,6 +16,7 @@ from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
 from codegen.robot.config import FORMS, loose, named_in_full
 from codegen.robot.expect import JOINT_TOLERANCE_DEG, Margins, margins, require_margins
+from codegen.robot.margins import wrist_angle
 from codegen.robot.taught import ReachError
 
 
@@ -152,10 +153,36 @@ def joints_of(
         if np.isnan(joints).any():
             raise ReachError(f"{at}: out of reach: {solve.unreachable_text(arm, flange)}")
         if move.kind == "linear" and (int(chosen) != branch or np.max(np.abs(joints - q)) > 90.0):
-            raise ReachError(f"{at}: the linear move would change the arm's configuration (a wrist or elbow flip)")
+            raise ReachError(
+                f"{at}: the linear move would change the arm's configuration: {flip_text(arm, q, joints)}; "
+                f"{_flip_fix(move.name)}"
+            )
         out.append(joints)
         q, branch = joints, int(chosen)
     return out
+
+
+# The cell keys that move a linear move's poses, by the words of the move's reference name (the first found)
+FLIP_FIXES = (
+    ("sheet", "move the slip sheets' stack ([pallet.slip_sheet] pick)"),
+    ("Q", "move Q ([[pallet]] pick) or turn the tool at it (pick's rotation)"),
+    ("", "move the pallet ([[pallet]] frame) or turn the tool on it ([[pallet]] tool_orientation)"),
+)
+
+
+def _flip_fix(name: str) -> str:
+    words = name.split()
+    fix = next(text for word, text in FLIP_FIXES if not word or word in words)
+    return f"{fix} so that the arm keeps its configuration along the move"
+
+
+def flip_text(arm, before: np.ndarray, after: np.ndarray) -> str:
+    """Which joint a linear move's flip crosses, with its values: axis 5 through the wrist's singularity (its
+    kinematic angle changes side of 0 or 180 deg), else the axis that turns most (the elbow or shoulder)."""
+    sides = np.sign(np.sin(np.radians(wrist_angle(arm, np.array([before, after])))))
+    axis = 4 if sides[0] != sides[1] else int(np.argmax(np.abs(after - before)))
+    what = "crosses the wrist singularity (axes 4 and 6 in line)" if axis == 4 else "turns (an elbow or shoulder flip)"
+    return f"axis {axis + 1} {what}: from {before[axis]:.1f} to {after[axis]:.1f} deg"
 
 
 def _text(value) -> str:

@@ -1,0 +1,83 @@
+"""A KUKA pallet cell's joint margins and flips as generate and verify report them: the joint that flips, named."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from click.testing import CliRunner
+
+from codegen.cli import main
+from codegen.model.robot import Margins
+from codegen.robot.arms import find_arm
+from codegen.robot.expect import ArmStats
+
+CARTON = (Path(__file__).resolve().parent / "cells" / "carton_kuka.toml").read_text(encoding="utf-8")
+PICK = "pick = [1300.0, 0.0, 150.0, 0.0, 0.0, 180.0]"
+
+
+def test_a_flip_on_a_linear_move_names_the_axis_its_values_and_the_key(tmp_path):
+    """Q low and near the base: the way up from Q (a linear move) straightens the wrist, axis 5 passes 0 deg. The
+    refusal names the axis, where it starts and ends, and the key that moves Q, not only "a wrist or elbow flip"."""
+    assert PICK in CARTON
+    path = tmp_path / "carton.toml"
+    path.write_text(CARTON.replace(PICK, "pick = [900.0, 0.0, -550.0, 0.0, 0.0, 180.0]"), encoding="utf-8")
+    result = CliRunner().invoke(main, ["generate", str(path), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "layer 2 box 1 up from Q" in result.output
+    found = re.search(
+        r"axis 5 crosses the wrist singularity \(axes 4 and 6 in line\): from (\S+) to (\S+) deg", result.output
+    )
+    assert found, result.output
+    before, after = float(found[1]), float(found[2])
+    assert before * after < 0  # on either side of 0 deg, where the KUKA's wrist is straight
+    assert "[[pallet]] pick" in result.output
+    assert "Traceback" not in result.output
+
+
+class _Move:
+    def __init__(self, joints, line):
+        self.joints, self.line = joints, line
+
+
+def _stats(asked_deg: float) -> ArmStats:
+    class Cell:
+        class robot:  # the shape ArmStats reads
+            arms = {"kuka": find_arm("KR 6 R900 sixx")}
+            margins = Margins(asked_deg, 5.0)
+
+    # A1 at 160 deg, its limit 170 (KUKA's data sheet, the catalogue's source): 10 deg from it
+    joints = [[0.0, -90.0, 90.0, 0.0, 90.0, 45.0], [160.0, -90.0, 90.0, 0.0, 40.0, 0.0]]
+    stats = ArmStats()
+    stats.add(Cell, "kuka", [_Move(j, 20 + i) for i, j in enumerate(joints)], lambda: "restart layer 1 box 2")
+    return stats
+
+
+def test_a_run_nearer_a_joint_limit_than_the_cell_asks_is_named_with_the_margin_asked():
+    short = _stats(15.0).shortfall()
+    assert short is not None
+    assert short.startswith("10.0 deg to a joint limit (axis 1 at 160.0 deg, move 2 (line 21), restart layer 1 box 2)")
+    assert "less than the 15 deg the cell asks (cell.robot.joint_margin_deg)" in short
+    assert _stats(10.0).shortfall() is None  # exactly the margin asked: kept
+
+
+def test_verify_warns_where_any_run_is_nearer_a_joint_limit_than_the_cell_asks(tmp_path):
+    """The carton cell asks 5 deg (the default joint margin). verify's report names its least margin over every run
+    (the restarts' too, not only the full cycle generate proves); below 5 deg a warning names it, the move, the
+    case and the margin asked, on every kind's report alike."""
+    path = tmp_path / "carton.toml"
+    path.write_text(CARTON, encoding="utf-8")
+    result = CliRunner().invoke(main, ["verify", str(path), "--target", "kuka"])
+    assert result.exit_code == 0, result.output
+    least = re.search(
+        r"least margin to a joint limit (\S+) deg \((axis \d at \S+ deg, move .*?)\), of axis 5", result.output
+    )
+    assert least, result.output
+    warned = [line for line in result.stderr.splitlines() if "the cell asks" in line]
+    if float(least[1]) < 5.0:
+        assert warned == [
+            f"warning: arm kuka pal_half: {least[1]} deg to a joint limit ({least[2]}), less than the 5 deg the cell "
+            "asks (cell.robot.joint_margin_deg)"
+        ], result.stderr
+    else:
+        assert warned == []
