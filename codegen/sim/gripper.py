@@ -50,6 +50,10 @@ class Gripper:
             blocked = (on and self.behaviour == "silent") or (not on and self.behaviour == "stuck")
             delay = self.late_s if self.behaviour == "late" else GRIPPER_S
             self._due = None if blocked else (machine.clock + delay, on)
+        return self._answer(machine)
+
+    def _answer(self, machine: Machine) -> bool:
+        """The feedback's change that is due by now, made (True: a signal changed)."""
         if self._due is not None and machine.clock >= self._due[0]:
             machine.signals[self.feedback] = self._due[1]
             self.changes.append(self._due)
@@ -81,12 +85,7 @@ class SealedCup(Gripper):
                 self.changes.append((machine.clock, True))
                 self._due = (self._off_at(machine) + self.late_s, False)
                 return True
-        if self._due is not None and machine.clock >= self._due[0]:
-            machine.signals[self.feedback] = self._due[1]
-            self.changes.append(self._due)
-            self._due = None
-            return True
-        return False
+        return self._answer(machine)
 
     def let_go(self, t: float, on: bool) -> float | None:
         """The cup holds a part it was sealed on until the vacuum has decayed (late_s after the output off at t),
