@@ -28,12 +28,13 @@ import numpy as np
 from codegen.controllers import get_target
 from codegen.guard import INVALID_READING, ROTATION_OVER_LIMIT, SHIFT_OVER_LIMIT, reading_in_range
 from codegen.kinds.station.cases import Case, _truth_problem, accepted_traces
-from codegen.kinds.station.joints import JOINT_TOLERANCE_DEG, expected_joints
+from codegen.kinds.station.joints import expected_joints
 from codegen.kinds.station.plan import taught_poses
 from codegen.kinds.station.section import section_of
 from codegen.reference import home_move
 from codegen.robot import solve
 from codegen.robot.config import FORMS, with_status
+from codegen.robot.expect import JOINT_TOLERANCE_DEG
 from codegen.verify.checks import TOLERANCES, pose_errors
 
 F = np.float32

@@ -10,12 +10,6 @@ from codegen.kinds.station.region import move_joints
 from codegen.reference import Move
 from codegen.robot import solve
 
-# Both sides solve the same inverse kinematics for poses that agree within verify's pose tolerance
-# (float32: 0.005 mm, 0.001 deg). With the wrist at least the cell's wrist margin (5 deg) from its
-# singularity, 0.001 deg of orientation moves axes 4 and 6 by at most 0.001 / sin(5 deg) = 0.012 deg;
-# 0.005 mm moves a shoulder axis by far less. A different solution or turn differs by degrees.
-JOINT_TOLERANCE_DEG = 0.05
-
 
 def expected_joints(
     cell, target: str, station, moves: tuple[Move, ...], start: np.ndarray, solved=None
