@@ -11,7 +11,7 @@ import pytest
 from support.programs import edited, first
 
 from codegen.kinds.conveyor import budget
-from codegen.kinds.conveyor.verify import cases
+from codegen.kinds.conveyor.cases import cases
 from codegen.model.cell import load_cell
 from codegen.verify.runner import run_cases
 from tests.kinds.test_conveyor_programs import intercept_cell

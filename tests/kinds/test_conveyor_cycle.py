@@ -10,9 +10,9 @@ import pytest
 from support.programs import edited, first, regex_edit, run_case, verify_one
 
 from codegen.controllers import get_target
+from codegen.kinds.conveyor.cases import cases
 from codegen.kinds.conveyor.plan import carried
 from codegen.kinds.conveyor.start import start_joints
-from codegen.kinds.conveyor.verify import cases
 from codegen.model.cell import load_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"

@@ -12,7 +12,7 @@ from support.programs import edited, first, run_case, verify_one
 from codegen.controllers import get_target
 from codegen.emit import EmitError
 from codegen.kinds.conveyor import native
-from codegen.kinds.conveyor.verify import cases
+from codegen.kinds.conveyor.cases import cases
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.verify.runner import run_cases

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from support.programs import edited, first
 
-from codegen.kinds.conveyor.verify import cases
+from codegen.kinds.conveyor.cases import cases
 from codegen.model.cell import load_cell
 from codegen.verify.runner import run_cases
 

@@ -13,8 +13,8 @@ from support.programs import edited, first, load_program, verify_one
 
 from codegen.cli import main
 from codegen.controllers import get_target
+from codegen.kinds.conveyor.cases import cases
 from codegen.kinds.conveyor.judge import tolerances_mm
-from codegen.kinds.conveyor.verify import cases
 from codegen.model.cell import CellError, load_cell
 from codegen.render import render
 from codegen.sim.belt import Belt, BeltLine, Part, part_y

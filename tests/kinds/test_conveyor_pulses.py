@@ -7,7 +7,7 @@ from pathlib import Path
 
 from support.programs import edited, first, verify_one
 
-from codegen.kinds.conveyor.verify import cases
+from codegen.kinds.conveyor.cases import cases
 from codegen.model.cell import load_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"

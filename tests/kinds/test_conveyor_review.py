@@ -12,7 +12,7 @@ from support.programs import edited, first, run_case
 from codegen.controllers import get_target
 from codegen.dialects.core.values import RunError
 from codegen.kinds.conveyor import plan
-from codegen.kinds.conveyor.verify import cases
+from codegen.kinds.conveyor.cases import cases
 from codegen.model.cell import load_cell
 
 CELL = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "conveyor" / "belt_pick.toml"

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from support.programs import edited, first, run_case
 
-from codegen.kinds.conveyor.verify import cases
+from codegen.kinds.conveyor.cases import cases
 from codegen.model.cell import load_cell
 from codegen.verify.runner import run_cases
 

@@ -10,7 +10,7 @@ import pytest
 from support.programs import edited, first
 
 from codegen.emit import EmitError
-from codegen.kinds.conveyor.verify import cases
+from codegen.kinds.conveyor.cases import cases
 from codegen.model.cell import load_cell
 from codegen.render import render
 from codegen.verify.runner import run_cases

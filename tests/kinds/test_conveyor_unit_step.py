@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 from support.programs import edited, first, run_case, verify_one
 
+from codegen.kinds.conveyor.cases import cases
 from codegen.kinds.conveyor.program import OUT_OF_STEP
-from codegen.kinds.conveyor.verify import cases
 from codegen.model.cell import CellError, load_cell
 from codegen.sim.belt import Belt, Part, TrackingUnit, UnitSettings
 

@@ -10,9 +10,9 @@ import pytest
 from support.programs import edited, first
 
 from codegen.controllers import get_target
+from codegen.kinds.conveyor.cases import cases
 from codegen.kinds.conveyor.program import STANDS, lead_seconds, no_part
 from codegen.kinds.conveyor.section import conveyor_of
-from codegen.kinds.conveyor.verify import cases
 from codegen.model.cell import load_cell
 from codegen.verify.runner import run_cases
 
