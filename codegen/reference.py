@@ -65,10 +65,14 @@ class ExpectedTrace:
 
 def home_move(cell, target: str) -> tuple[Move, np.ndarray] | None:
     """The program's first motion, to the home joints, with the cell's tool, and the home joints; None without an arm.
-    Worked out where asked (one forward kinematics, some tens of microseconds), so that no store outlives its cell."""
+    Worked out once per cell and target and kept with the cell (Cell.plans, as the kinds' plans are): verify asks for
+    it in every case, and no store outlives its cell."""
     robot = cell.robot
     if robot is None or target not in robot.arms:
         return None
-    home = np.asarray(robot.home[target], dtype=float)
-    tcp2base = robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange
-    return Move(kind=JOINT, pose_name="home", tcp2base=tcp2base, exact=True), home
+    key = ("home", target)
+    if key not in cell.plans:
+        home = np.asarray(robot.home[target], dtype=float)
+        tcp2base = robot.arms[target].kin.fk(home) @ robot.tool.tcp2flange
+        cell.plans[key] = Move(kind=JOINT, pose_name="home", tcp2base=tcp2base, exact=True), home
+    return cell.plans[key]
