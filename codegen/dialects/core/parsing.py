@@ -10,7 +10,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedInput
 
 from codegen.dialects.core.kept import STORE
-from codegen.dialects.core.larkdoor import mark_starts
+from codegen.dialects.core.larkdoor import mark_starts, open_cached
 from codegen.dialects.core.recognize import Recognizer
 from codegen.dialects.core.values import RunError
 
@@ -20,7 +20,7 @@ SHARED_GRAMMARS = str(Path(__file__).parent)  # terminals.lark: what the grammar
 
 def open_grammar(interpreter_file: str, **options) -> Lark:
     """lark's LALR parser of the grammar.lark beside a dialect's interpreter, with lark's options."""
-    return Lark.open("grammar.lark", rel_to=interpreter_file, parser="lalr", import_paths=[SHARED_GRAMMARS], **options)
+    return open_cached("grammar.lark", interpreter_file, parser="lalr", import_paths=[SHARED_GRAMMARS], **options)
 
 
 @cache
