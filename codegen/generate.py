@@ -75,13 +75,14 @@ def clears(cell: Cell) -> None:
 
 
 def _proven(cell: Cell, target: str) -> list:
-    """Each kind's paths on the target proven clear, kind by kind (those its plan proved already, as it proved them)."""
-    from codegen.world.proof import prove
+    """Each kind's paths on the target proven clear, kind by kind (those its plan proved already, as it proved them;
+    the others kept by the value of what the proof reads: codegen/world/kept.py)."""
+    from codegen.world.kept import proven
 
     least = []
     for kind in cell.kinds.values():
         done = kind.scene.proven(cell, target)
-        least += done if done is not None else prove(cell, kind.scene.paths(cell, [target]))
+        least += done if done is not None else proven(cell, kind.scene.paths(cell, [target]))
     return least
 
 

@@ -4,6 +4,7 @@ its programs in the example cells, through one mutation harness (tests/kinds/mut
 from __future__ import annotations
 
 import re
+from functools import cache
 
 import pytest
 from mutations import MODEL, TEXT
@@ -50,8 +51,8 @@ class KindTests:
         return pair[0]
 
     @pytest.fixture
-    def programs(self, cell, target):
-        return sources(cell, target, self.kind)
+    def programs(self, pair):
+        return list(_fresh(pair, self.kind))
 
     # --- the programs as written ------------------------------------------------------------------------------
     def test_render_is_deterministic_and_each_file_well_formed(self, cell, target):
@@ -86,13 +87,13 @@ class KindTests:
                 assert scenario in ran, f"{self.kind} declares {scenario} and runs no case of it"
 
     # --- the mutation harness --------------------------------------------------------------------------------
-    def test_a_program_made_from_a_perturbed_cell_fails(self, cell, target, model_mutation):
+    def test_a_program_made_from_a_perturbed_cell_fails(self, cell, target, pair, model_mutation):
         """Each model mutation whose part the cell has (conftest.py parametrizes only those: model_mutations_of)."""
         mutation = model_mutation
         _needs, perturb, scenarios = MODEL[mutation]
         mutant = perturb(cell)
         made = sources(mutant, target, self.kind)
-        texts = [f.text for s in sources(cell, target, self.kind) for f in s.files]
+        texts = [f.text for s in _fresh(pair, self.kind) for f in s.files]
         if [f.text for s in made for f in s.files] == texts:
             pytest.skip(f"{mutation}: the {self.kind} programs for {target} do not depend on it")
         rows = verify(cell, [_as_cell(s) for s in made], cases=2, first_mismatch=True, scenarios=scenarios)
@@ -110,6 +111,14 @@ class KindTests:
         mutant = edited(program, regex_edit(*pattern), mutation)  # (pattern, replacement[, count: 0 all])
         (row,) = verify(cell, [mutant], cases=2, first_mismatch=True)
         assert row.mismatches > 0, f"verify missed {mutation} in the {self.kind} program for {target}"
+
+
+@cache
+def _fresh(pair: tuple[str, str], kind: str) -> tuple:
+    """The kind's fresh programs of an example cell for a target, written once per process for every test that reads
+    them (programs are frozen)."""
+    target, name = pair
+    return tuple(sources(example(name), target, kind))
 
 
 def _applies(cell, target: str, needs: str) -> bool:
