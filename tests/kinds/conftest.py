@@ -7,15 +7,27 @@ from support.cells import unstacking_clear_q_text
 
 from codegen.model.cell import load_cell
 
+# (kind, target, model mutation) run with the slow tests only: each is the same common check (the tool's payload, the
+# work speed, the start's tolerance: verify's checks every kind gets) on a target whose other kinds' programs the
+# default run mutates alike, and the same kind's catch of it on the kind's other targets; they are the kinds' longest
+# mutation runs (a UR laser case runs to its end before the mismatch shows, 2.6-4.0 s of CPU each)
+SLOW_MODEL_MUTATIONS = {
+    ("laser", "ur", "payload_x10"),  # default: station, pallet, conveyor on ur; laser on kuka and abb
+    ("laser", "ur", "start_tolerance_30deg"),  # the same
+    ("laser", "ur", "work_speed_x1_7"),  # the same
+}
+
 
 def pytest_generate_tests(metafunc):
     kind = getattr(metafunc.cls, "kind", None)
     if kind is None or "pair" not in metafunc.fixturenames:
         return
     if "model_mutation" in metafunc.fixturenames:
-        both = model_mutations_of(kind)
-        ids = [f"{target}-{mutation}" for (target, _), mutation in both]
-        metafunc.parametrize(("pair", "model_mutation"), both, ids=ids)
+        both = [
+            pytest.param(pair, mutation, id=f"{pair[0]}-{mutation}", marks=_slow((kind, pair[0], mutation)))
+            for pair, mutation in model_mutations_of(kind)
+        ]
+        metafunc.parametrize(("pair", "model_mutation"), both)
     elif "text_mutation" in metafunc.fixturenames:
         both = text_mutations_of(kind)
         ids = [f"{target}-{mutation}" for (target, _), mutation in both]
@@ -23,6 +35,10 @@ def pytest_generate_tests(metafunc):
     else:
         pairs = targets_of(kind)
         metafunc.parametrize("pair", pairs, ids=[target for target, _ in pairs])
+
+
+def _slow(key: tuple[str, str, str]) -> list:
+    return [pytest.mark.slow] if key in SLOW_MODEL_MUTATIONS else []
 
 
 @pytest.fixture(scope="session")
