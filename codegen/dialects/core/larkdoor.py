@@ -37,7 +37,7 @@ def open_cached(grammar_file: str, rel_to: str, **options) -> Lark:
         return Lark.open(grammar_file, rel_to=rel_to, **options)
     postlex = options.get("postlex")
     name = f"{Path(rel_to).resolve().parent}/{grammar_file}|{type(postlex).__qualname__}|{lark.__version__}"
-    name += f"|{sys.version_info[:2]}"
+    name += f"|{sys.version_info[:2]}|{sorted((k, repr(v)) for k, v in options.items() if k != 'postlex')}"
     cached = folder / f"{Path(rel_to).parent.name}-{hashlib.sha256(name.encode()).hexdigest()[:16]}.lark"
     with open(cached.with_suffix(".lock"), "a") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)

@@ -26,7 +26,7 @@ def _urscript():
 
 
 def _kept(folder: Path) -> dict[str, Path]:
-    return {p.name.split("-")[0]: p for p in folder.glob("*.lark")}
+    return {p.name.split("-")[0]: p for p in folder.glob("*.lark")}  # one file a grammar here
 
 
 def test_the_tables_are_kept_in_the_users_cache_and_parse_as_built(cache):
@@ -66,3 +66,14 @@ def test_a_directory_open_to_others_is_not_used(cache, tmp_path, monkeypatch):
     assert larkdoor.cache_dir() is None
     assert _urscript().parse(PROGRAM) is not None
     assert not _kept(cache)
+
+
+def test_each_set_of_options_keeps_its_own_file(cache):
+    _urscript()
+    open_grammar(urscript.__file__, propagate_positions=True, postlex=urscript.BRACKETS)
+    files = sorted(cache.glob("urscript-*.lark"))
+    assert len(files) == 2
+    written = [f.stat().st_mtime_ns for f in files]
+    _urscript()
+    open_grammar(urscript.__file__, propagate_positions=True, postlex=urscript.BRACKETS)
+    assert [f.stat().st_mtime_ns for f in files] == written  # each read, neither written over by the other
