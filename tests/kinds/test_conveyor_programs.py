@@ -119,8 +119,8 @@ MUTATIONS = [
     # followed backwards: gripped in the wrong place, or (the gripper's 45-55 ms on top) the lift out of the arm's
     # configuration, where the controller stops
     (
-        "CNV_DIR = p[0.499994000, -0.866029000,",
         "CNV_DIR = p[-0.499994000, 0.866029000,",
+        "CNV_DIR = p[0.499994000, -0.866029000,",
         ("gripped", "a linear move would change the arm's configuration"),
     ),
     # the robot's own count not unwound across its wrap (the rollover case wraps it during a part's travel)
@@ -131,7 +131,7 @@ MUTATIONS = [
     ),
     ("    track_conveyor_linear(CNV_DIR, CNV_TICKS_PER_M)\n", "", "gripped"),
     ("CNV_CAMERA_Y = -1200.0970", "CNV_CAMERA_Y = -1190.0970", "gripped"),
-    ("CNV_COUNTS_PER_MM = -8.122679000", "CNV_COUNTS_PER_MM = -8.222679000", "gripped"),
+    ("CNV_TICKS_PER_MM = 5.092647000", "CNV_TICKS_PER_MM = 5.112647000", "gripped"),
     ("> CNV_END:", "> CNV_END + 1000:", "past the window's end"),
     ("    movel(cnv_on_part(x, y, z, CNV_DZ), a=1.200, v=0.5000)\n", "", "above it before the descent"),
     ("CNV_DZ = 60.0000", "CNV_DZ = 0.0", "in height"),

@@ -50,7 +50,7 @@ QUEUED_S = 2.0  # the rollover_queued case: its parts this far apart (s)
 SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
 OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 # the robot's own latch against the PLC's queue (a target that latches its encoder at the camera's trigger): its decoder
-# counting half the PLC's counts (the belt calibrated with the PLC's), a trigger pulse its input missed
+# counting half the ticks the cell states for it (calibrated at another scale), a trigger pulse its input missed
 MISMATCH_CASES = {"latch_scale": "the wait above the window", "trigger_missed": "before the arm moves"}
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
@@ -68,7 +68,7 @@ class BeltCase:
     belt: Belt
     parts: tuple[Part, ...]
     robot_zero: int = 0  # the controller's own encoder against the PLC's counter
-    robot_scale: float = 1.0  # the controller's own encoder's counts per count of the PLC's counter
+    robot_scale: float = 1.0  # the controller's own encoder against the scale the cell states for it (1: as stated)
     unlatched: frozenset = frozenset()  # the parts whose trigger pulse the controller's own input missed (numbers)
     gripper: str = "prompt"
     start: str = "home"

@@ -226,6 +226,13 @@ CONVEYOR = Table(
         "counts_per_mm": Key(
             "number", "encoder counts per mm of travel, signed (|value| 0.001 to 1e6)", low=-1e6, high=1e6
         ),
+        "ticks_per_mm": Key(
+            "number",
+            "the robot's own decoder's ticks per mm of travel, signed (|value| 0.001 to 1e6; `codegen calibrate "
+            "conveyor --ticks`): the scale a UR program tracks by; default counts_per_mm (the PLC's counter)",
+            low=-1e6,
+            high=1e6,
+        ),
         "origin": Key(
             "numbers",
             "the belt frame's origin (the downstream touch), base frame",

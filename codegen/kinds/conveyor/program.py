@@ -188,8 +188,8 @@ def conveyor_context(cell, target, emitter) -> dict:
     belt, pick = conveyor_of(cell), conveyor_of(cell).pick
     number = emitter.number
     frame = belt.frame()
-    e = belt.counts_per_mm
-    sign = 1.0 if e > 0 else -1.0
+    e, ticks = belt.counts_per_mm, belt.robot_ticks_per_mm
+    sign = 1.0 if ticks > 0 else -1.0  # the robot's own decoder's: track_conveyor_linear counts its ticks
     place = pick.place.matrix()
     above = place.copy()
     above[2, 3] += pick.approach_dz
@@ -204,7 +204,9 @@ def conveyor_context(cell, target, emitter) -> dict:
         "native": mode == "native",
         "frame": emitter.pose(TaughtPose("belt", _xyzabc(frame), "xyzabc")),
         "direction": [number(sign * v, 9) for v in belt.direction],
-        "ticks_per_m": number(abs(e) * 1000.0, 6),
+        "ticks_per_m": number(abs(ticks) * 1000.0, 6),
+        "ticks_per_mm": number(ticks, 9),
+        "own_scale": belt.ticks_per_mm is not None,  # UR: the robot's decoder calibrated on its own (--ticks)
         "counts_per_mm": number(e, 9),
         "camera_y": number(-belt.camera_offset_mm, 4),
         "window": [number(v, 4) for v in pick.window_mm],
@@ -254,7 +256,7 @@ def conveyor_context(cell, target, emitter) -> dict:
         "early": emitter.string(EARLY),
         "mismatch": emitter.string(MISMATCH),
         "pair_mm": number(PAIR_MM, 1),
-        "wrap_m": number(2**15 / abs(e) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
+        "wrap_m": number(2**15 / abs(ticks) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
         "lost": emitter.string(LOST),
         "not_held": emitter.string(NOT_HELD),
         "not_opened": emitter.string(NOT_OPENED),

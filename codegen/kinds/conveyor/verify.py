@@ -50,7 +50,8 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         list(case.parts),
         bus_for(target, KIND.facts(target)),
         robot_zero=case.robot_zero,
-        robot_scale=case.robot_scale,
+        # the controller's own decoder at the scale the cell states for it (ticks_per_mm), against the PLC's counter
+        robot_scale=case.robot_scale * conveyor_of(cell).robot_ticks_per_mm / conveyor_of(cell).counts_per_mm,
         unlatched=case.unlatched,
         wiring=None if not wiring else tuple(wiring),
         unit=unit,
