@@ -78,3 +78,65 @@ def test_a_ur_program_on_the_plcs_scale_fails_verify(cell, label, pairs):
     program, mutant = _mutant(cell, "ur", pairs, label)
     assert _run(cell, program, "constant_speed").mismatches == 0
     assert _run(cell, mutant, "constant_speed").mismatches == 1
+
+
+# each target's check of the line's cycle stop in its wait above a standing belt, and the same without it
+STOP_WHILE_STANDING = {
+    "ur": ("if still >= CNV_STAND_POLLS and read_input_boolean_register(", "if False and read_input_boolean_register("),
+    "kuka": ("IF (POLLS >= CNV_STAND_POLLS) AND $IN[", "IF FALSE AND $IN["),
+    "abb": ("IF still >= CNV_STAND_POLLS AND DInput(", "IF FALSE AND DInput("),
+}
+
+
+@pytest.fixture(scope="module")
+def abb_intercept(tmp_path_factory):
+    """The bundled cell with ABB intercepting (a controller without the tracking option): its own wait routine."""
+    text = CELL.read_text().replace('abb = "native" }', 'abb = "intercept" }')
+    path = tmp_path_factory.mktemp("abb") / "belt_pick.toml"
+    path.write_text(text)
+    return load_cell(path)
+
+
+@pytest.mark.parametrize("target", ["ur", "kuka", "abb", "abb_intercept"])
+def test_the_cycle_stop_ends_a_wait_above_a_standing_belt(cell, abb_intercept, target):
+    """The belt stands for good with the part on its way and the line's cycle stop comes: every target ends its cycle
+    with the arm above the belt; the same program without the check waits for the belt for ever and fails verify."""
+    chosen = abb_intercept if target == "abb_intercept" else cell
+    name = target.split("_")[0]
+    program, mutant = _mutant(chosen, name, [STOP_WHILE_STANDING[name]], "no cycle stop in the wait")
+    row = _run(chosen, program, "stop_while_standing")
+    assert row.mismatches == 0, row.first_mismatches
+    assert _run(chosen, mutant, "stop_while_standing").mismatches == 1
+
+
+def test_an_intercept_stopped_low_goes_back_up_before_it_ends(cell):
+    """KUKA's second stage: the belt stands for good 20 mm before the arm would come down onto the part, the arm at the
+    part's approach height with the belt zone's output on; at the cycle stop it goes back up to the clear height and
+    sets the output off before the program ends (verify's belt zone check and its given-up moves); without the check
+    it waits for ever."""
+    from codegen.controllers import get_target
+    from codegen.kinds.conveyor.cases import STAND_EXTRA_S
+    from codegen.kinds.conveyor.timing import lead_seconds
+
+    conveyor, pick = cell.sections["conveyor"], cell.sections["conveyor"].pick
+    case = next(c for c in cases(cell) if c.category == "stop_while_standing")
+    v = case.belt.speed_mm_s
+    trigger = pick.intercept_mm - v * (lead_seconds(cell, get_target("kuka")) + pick.mean("count_latency_s"))
+    at = case.parts[0].seen_s + (trigger - 20.0 + conveyor.camera_offset_mm) / v
+    low = replace(
+        case,
+        belt=replace(case.belt, stops=((at, case.belt.stops[0][1]),)),
+        stop_s=at + pick.belt_stop_s + STAND_EXTRA_S,
+    )
+    program, mutant = _mutant(cell, "kuka", [STOP_WHILE_STANDING["kuka"]], "no cycle stop in the wait")
+    row = run_cases(cell, replace(program, row=0), [low], 600_000, False)
+    assert row.mismatches == 0, row.first_mismatches
+    lifted = edited(
+        program,
+        lambda text: text.replace(
+            "          IF STAGE == 2 THEN\n            LIN CLEAR\n", "          IF STAGE == 2 THEN\n"
+        ),
+        "no lift",
+    )
+    assert run_cases(cell, replace(lifted, row=0), [low], 600_000, False).mismatches == 1
+    assert run_cases(cell, replace(mutant, row=0), [low], 600_000, False).mismatches == 1

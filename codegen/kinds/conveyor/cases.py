@@ -30,6 +30,7 @@ SCENARIO_OF = {
     "part_out_of_range": "reading_out_of_range",
     "place_blocked": "device_silent",
     "belt_stands": "belt_stands",  # the kind's own: the belt stands while a part is on its way
+    "stop_while_standing": "stop_while_standing",  # the kind's own: the line's cycle stop while the belt stands
     "no_part": "no_part",  # the kind's own: no part comes for longer than no_part_s
 }
 # each sleep of the program ends this much later than it asks (a pass of a polling loop: its statements and the
@@ -53,6 +54,7 @@ OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 # counting half the ticks the cell states for it (calibrated at another scale), a trigger pulse its input missed
 MISMATCH_CASES = {"latch_scale": "the wait above the window", "trigger_missed": "before the arm moves"}
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
+HALTED_S = 3600.0  # the stop_while_standing case: the belt stands this long (longer than any run)
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
 # late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
 NO_PART_EXTRA_S = 10.0
@@ -178,6 +180,11 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     halfway = slow.time_at(0.5 * (conveyor.camera_offset_mm + pick.window_mm[0])) + one.parts[0].seen_s
     stands = replace(slow, stops=((halfway, pick.belt_stop_s + STAND_EXTRA_S),))
     scenarios.append(replace(one, category="belt_stands", belt=stands))
+    # the belt stands for good with the part on its way and the line's cycle stop comes once it has stood belt_stop_s
+    # and more: the arm waits above the belt, and the program must end its cycle there (not wait for ever)
+    halted = replace(slow, stops=((halfway, HALTED_S),))
+    stop_at = halfway + pick.belt_stop_s + STAND_EXTRA_S
+    scenarios.append(replace(one, category="stop_while_standing", belt=halted, stop_s=stop_at))
     scenarios.append(replace(one, category="no_part", parts=(), stop_s=pick.no_part_s + NO_PART_EXTRA_S))
     if pick.unit:  # the unit's queue out of step with the PLC's: a sync it missed
         scenarios.append(replace(one, category="unit_missed_sync", belt=slow, unit_missed=frozenset({1})))

@@ -15,7 +15,15 @@ from codegen.kinds.conveyor.judge import SKIPS, belt_zone, left_low, struck
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.kind import KIND
-from codegen.kinds.conveyor.program import BAD_READING, MISMATCH, OUT_OF_STEP, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.program import (
+    BAD_READING,
+    MISMATCH,
+    OUT_OF_STEP,
+    STANDS,
+    STOPPED,
+    no_part,
+    place_blocked,
+)
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, grip_pose, start_joints
 from codegen.model.io import signal_name
@@ -137,6 +145,8 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     problem = waits(cell, case, trace)
     if problem is not None:
         return Judgement([], problem=problem)
+    if case.category == "stop_while_standing":
+        return _stopped_waiting(cell, target_name, case, trace, first, start_outputs, names)
     problem, pos, rot = judge_parts(cell, target_name, case, trace, line, output)
     problem = problem or left_low(cell, target_name, case, trace, len(first), closes)
     problem = problem or struck(cell, target_name, case, trace)
@@ -154,6 +164,27 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
     expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
     return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
+
+
+def _stopped_waiting(cell, target_name: str, case, trace, first, start_outputs, names) -> Judgement:
+    """The line's cycle stop while the arm waits above a standing belt with the part on its way: the arm's moves for a
+    part given up (to where it waits; an intercept's descent to the approach height and back), no grip, the belt
+    zone's output off, the program's end said after the stop came (a program that waits for the belt for ever runs into
+    the step limit instead)."""
+    target = get_target(target_name)
+    mode = conveyor_of(cell).pick.tracking[target_name]
+    ended = [t for m, t in zip(trace.messages, trace.message_times, strict=True) if m == STOPPED]
+    if not ended or ended[-1] < case.stop_s - 1e-9:
+        return Judgement([], problem=f"the line's cycle stop at {case.stop_s:.3f} s, the program's end said at {ended}")
+    problem = belt_zone(cell, target_name, trace)
+    if problem is not None:
+        return Judgement([], problem=problem)
+    # the move to where the arm waits; an intercepting arm stopped in its second stage also went down to the part's
+    # approach height and back up to the clear height (a part given up)
+    moves = plan._given_up(cell, target, mode, trace.moves[len(first) :], len(first))
+    if isinstance(moves, str):
+        return Judgement([], problem=moves)
+    return Judgement([Expectation(None, (*first, *moves), start_outputs, output_names=names)])
 
 
 def lifted_early(cell, trace, closes: list, gripper: Gripper) -> str | None:
@@ -229,6 +260,8 @@ def waits(cell, case: BeltCase, trace) -> str | None:
     stands = [(m, t) for m, t in zip(trace.messages, trace.message_times, strict=True) if m.startswith(STANDS)]
     for start, length in case.belt.stops:
         for move in trace.moves:
+            if case.category == "stop_while_standing" and move.start_time >= case.stop_s - 1e-9:
+                continue  # the way up off the belt once the line's cycle stop has come
             if move.start_time < start + length and move.end_time > start:
                 return (
                     f"a move (line {move.line}) from {move.start_time:.3f} s to {move.end_time:.3f} s while the belt "
