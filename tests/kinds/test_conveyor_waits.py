@@ -84,11 +84,14 @@ def test_a_program_that_says_no_part_at_every_look_fails_verify(cell):
     assert row.mismatches == 1 and "'no part' said at" in row.first_mismatches[0]
 
 
+STANDS_CALL = "        IF CNV_STANDS(SEQ) THEN\n"
+
+
 def test_a_program_that_moves_while_the_belt_stands_fails_verify(cell):
     """KUKA's intercept: a move commanded once the belt is known to stand (here: down onto where the part would be)."""
     source = edited(
         first(cell, "kuka", "conveyor"),
-        lambda text: text.replace("        CNV_STANDS(SEQ)\n", "        LIN ON_PART\n        CNV_STANDS(SEQ)\n"),
+        lambda text: text.replace(STANDS_CALL, "        LIN ON_PART\n" + STANDS_CALL),
     )
     row = _row(cell, source, [c for c in _waits(cell) if c.category == "belt_stands"])
     assert row.mismatches == 1 and "while the belt stood" in row.first_mismatches[0], row.first_mismatches

@@ -54,6 +54,7 @@ OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 # counting half the ticks the cell states for it (calibrated at another scale), a trigger pulse its input missed
 MISMATCH_CASES = {"latch_scale": "the wait above the window", "trigger_missed": "before the arm moves"}
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
+RUN_ON_S = 10.0  # the belt_stands case: its cycle stop this long after the part could have left the window
 HALTED_S = 3600.0  # the stop_while_standing case: the belt stands this long (longer than any run)
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
 # late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
@@ -179,7 +180,11 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     # arm waits above the belt and must stay there; and a line with no part for longer than no_part_s
     halfway = slow.time_at(0.5 * (conveyor.camera_offset_mm + pick.window_mm[0])) + one.parts[0].seen_s
     stands = replace(slow, stops=((halfway, pick.belt_stop_s + STAND_EXTRA_S),))
-    scenarios.append(replace(one, category="belt_stands", belt=stands))
+    # the line's cycle stop only once the part has had time to reach the window's end on the belt that stood (and
+    # RUN_ON_S more: a later stand of a case made from this one): a stop while the belt stands ends the cycle there
+    seen = one.parts[0].seen_s
+    gone = stands.time_at(stands.travel_mm(seen) + conveyor.camera_offset_mm + pick.window_mm[1])
+    scenarios.append(replace(one, category="belt_stands", belt=stands, stop_s=gone + RUN_ON_S))
     # the belt stands for good with the part on its way and the line's cycle stop comes once it has stood belt_stop_s
     # and more: the arm waits above the belt, and the program must end its cycle there (not wait for ever)
     halted = replace(slow, stops=((halfway, HALTED_S),))
