@@ -140,3 +140,40 @@ def test_an_intercept_stopped_low_goes_back_up_before_it_ends(cell):
     )
     assert run_cases(cell, replace(lifted, row=0), [low], 600_000, False).mismatches == 1
     assert run_cases(cell, replace(mutant, row=0), [low], 600_000, False).mismatches == 1
+
+
+@pytest.fixture(scope="module")
+def unchecked(tmp_path_factory):
+    """The bundled cell with the ABB unit's position check off (a first commissioning run)."""
+    text = CELL.read_text().replace("min_gap_mm = 100.0 ", "unit_position_check = false\nmin_gap_mm = 100.0 ")
+    path = tmp_path_factory.mktemp("unchecked") / "belt_pick.toml"
+    path.write_text(text)
+    return load_cell(path)
+
+
+def test_the_abb_position_check_is_on_by_default_and_said_so(cell, unchecked):
+    on = "".join(f.text for f in first(cell, "abb", "conveyor").files)
+    off = "".join(f.text for f in first(unchecked, "abb", "conveyor").files)
+    assert "IF Abs(joints.extax.eax_a - (cnv_y(seen) - CNV_CAMERA_Y)) > CNV_SYNC_TOL THEN" in on
+    assert "The position check takes the unit's joint (eax_a of CJointT)" in on and "CHECK IS OFF" not in on
+    assert (
+        "joints.extax" not in off and "THE POSITION CHECK IS OFF ([conveyor.pick] unit_position_check = false)" in off
+    )
+
+
+@pytest.mark.parametrize(
+    ("category", "on", "off"), [("constant_speed", 0, 0), ("unit_missed_sync", 0, 0), ("stray_pulses", 0, 1)]
+)
+def test_verify_covers_the_abb_position_check_on_and_off(cell, unchecked, category, on, off):
+    """With the check off the program still picks every part and stops on a sync the unit missed (no object at all);
+    a stray sync pulse (an object the PLC never queued, connected first) is what only the check catches: the program
+    without it follows the stray object and fails verify."""
+    assert _run(cell, first(cell, "abb", "conveyor"), category).mismatches == on
+    assert _run(unchecked, first(unchecked, "abb", "conveyor"), category).mismatches == off
+
+
+def test_the_ur_header_asks_polyscope_to_keep_the_zone_output_at_a_stop(cell):
+    """No simulation reaches PolyScope's installation: a test on the text. The program sets the zone output on before
+    the arm goes down; a stop must leave it on for the PLC to hold the belt."""
+    text = _ur_text(cell)
+    assert "the output's action when the program stops must keep it as it is (not set it low)" in text

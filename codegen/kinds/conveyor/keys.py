@@ -211,6 +211,14 @@ PICK = Table(
             "unit",
             lambda t: Key("string", f"a conveyor's mechanical unit on {t}", choices=tuple(_facts(t)["units"])),
         ),
+        "unit_position_check": Key(
+            "boolean",
+            "a target with a mechanical unit (ABB native): after WaitWObj, check the connected object's position (the "
+            "unit's joint by CJointT, assumed mm since its sync) against the part's travel by the PLC's count, and "
+            "stop when they disagree; false only for a first commissioning run, until that position is confirmed "
+            "(the program's header says the check is off)",
+            default=True,
+        ),
         "unit_axis": _per_target(
             "per target that needs it (ABB native): the unit's logical axis, where its position stands in every "
             "robtarget and jointtarget (7: eax_a ... 12: eax_f; default the target's facts: targets/<t>.toml)",

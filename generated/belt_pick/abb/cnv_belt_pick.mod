@@ -34,6 +34,10 @@ MODULE cnv_belt_pick
   ! the part's travel by the PLC's count, the program drops the object and stops with a message: empty both queues
   ! (the program empties the unit's at its next start), then start again. After each DropWObj the program waits
   ! 0.200 s before the next WaitWObj, as public programs do.
+  ! The position check takes the unit's joint (eax_a of CJointT) as the connected object's travel in mm since its
+  ! sync: assumed, not confirmed from the Conveyor Tracking application manual. Should every part stop the program
+  ! with that message on the first commissioning run while the parts are where the PLC says, generate the program
+  ! with [conveyor.pick] unit_position_check = false for that run, confirm what the joint reports, and turn it on.
   !
   ! The camera sees each part cross its line; the PLC queues it with the encoder's count at that moment and
   ! presents the oldest one on 16-bit group inputs of the I/O configuration: giCnvSeq its number,
