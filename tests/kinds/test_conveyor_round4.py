@@ -177,3 +177,14 @@ def test_the_ur_header_asks_polyscope_to_keep_the_zone_output_at_a_stop(cell):
     the arm goes down; a stop must leave it on for the PLC to hold the belt."""
     text = _ur_text(cell)
     assert "the output's action when the program stops must keep it as it is (not set it low)" in text
+
+
+def test_more_pulses_pending_than_the_latch_ring_holds_stop_ur_with_their_own_message(cell):
+    """A trigger chattering (40 pulses) after the second part's own while the arm works on the first: UR picks the first
+    and stops as it takes the second; without the guard the second part's overwritten count reads as a scale mismatch
+    (another message) and verify fails."""
+    guard = "    if cnv_latches - cnv_used > CNV_RING:\n"
+    program, mutant = _mutant(cell, "ur", [(guard, "    if False:\n")], "no overrun guard")
+    assert _run(cell, program, "latch_overrun").mismatches == 0
+    row = _run(cell, mutant, "latch_overrun")
+    assert row.mismatches == 1 and "count disagree: check the trigger and the scale" in row.first_mismatches[0]

@@ -6,6 +6,7 @@ import math
 import random
 from dataclasses import dataclass, replace
 
+from codegen.kinds.conveyor.program import LATCH_RING
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.sim.belt import Belt, Part
 
@@ -53,6 +54,8 @@ OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 # the robot's own latch against the PLC's queue (a target that latches its encoder at the camera's trigger): its decoder
 # counting half the ticks the cell states for it (calibrated at another scale), a trigger pulse its input missed
 MISMATCH_CASES = {"latch_scale": "the wait above the window", "trigger_missed": "before the arm moves"}
+OVERRUN_GAP_MM = 150.0  # the latch_overrun case: the second part this far behind the first
+CHATTER, CHATTER_S = LATCH_RING + 8, 0.02  # the latch_overrun case: pulses after the part's own, this far apart (s)
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
 RUN_ON_S = 10.0  # the belt_stands case: its cycle stop this long after the part could have left the window
 HALTED_S = 3600.0  # the stop_while_standing case: the belt stands this long (longer than any run)
@@ -207,6 +210,13 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     if pick.trigger_input:  # the robot's own count and the PLC's disagree: a stop with its message, no grip
         scenarios.append(replace(one, category="latch_scale", belt=slow, robot_scale=0.5))
         scenarios.append(replace(one, category="trigger_missed", belt=slow, unlatched=frozenset({1})))
+        # a trigger that chatters right after a second part's pulse while the arm works on the first: more pulses
+        # pending than the robot's latch ring holds (CHATTER of them, CHATTER_S apart) when the program takes the second
+        # part, its own count overwritten: a stop with its message then
+        lead = one.parts[0]
+        second = replace(_random_part(rng, pick, 2, 0.0), seen_s=lead.seen_s + OVERRUN_GAP_MM / slow.speed_mm_s)
+        chatter = tuple(second.seen_s + CHATTER_S * (k + 1) for k in range(CHATTER))
+        scenarios.append(replace(one, category="latch_overrun", belt=slow, parts=(lead, second), pulses=chatter))
     # the counter's wrap with parts queued: on the rollover belt four parts QUEUED_S apart, the later ones seen before
     # the counter wraps and taken after it (the arm busy with the first): each picked or given up for a reason verify
     # takes

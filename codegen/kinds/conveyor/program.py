@@ -46,6 +46,9 @@ OUT_OF_STEP = "conveyor: the unit's queue is out of step with the PLC's: empty b
 # start, or the two counts apart by more than that once the part reaches the window: a trigger the robot missed, its
 # decoder counting another scale than the PLC's counter the belt was calibrated with): its stop
 MISMATCH = "conveyor: the robot's encoder and the PLC's count disagree: check the trigger and the scale"
+# UR: more trigger pulses latched and not yet paired than its ring holds (a chattering trigger): the oldest overwritten
+LATCH_RING = 32  # UR: the trigger's latched counts the program keeps (CNV_RING)
+OVERRUN = "conveyor: more trigger pulses pending than the latch ring holds: check the trigger"
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 MASS_DECIMALS = 3
 # intercept: a part left on the belt this much further past the gripper's reach (its radius) before the arm comes down
@@ -255,6 +258,8 @@ def conveyor_context(cell, target, emitter) -> dict:
         "too_close": emitter.string(TOO_CLOSE),
         "early": emitter.string(EARLY),
         "mismatch": emitter.string(MISMATCH),
+        "overrun": emitter.string(OVERRUN),
+        "latch_ring": LATCH_RING,
         "pair_mm": number(PAIR_MM, 1),
         "wrap_m": number(2**15 / abs(ticks) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
         "lost": emitter.string(LOST),

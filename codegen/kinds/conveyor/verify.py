@@ -3,7 +3,7 @@ every move against the pick plan, the common scenarios (the arm away, the grippe
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from codegen import protocol
 from codegen.controllers import get_target
@@ -19,6 +19,7 @@ from codegen.kinds.conveyor.program import (
     BAD_READING,
     MISMATCH,
     OUT_OF_STEP,
+    OVERRUN,
     STANDS,
     STOPPED,
     no_part,
@@ -147,9 +148,14 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         return Judgement([], problem=problem)
     if case.category == "stop_while_standing":
         return _stopped_waiting(cell, target_name, case, trace, first, start_outputs, names)
-    problem, pos, rot = judge_parts(cell, target_name, case, trace, line, output)
-    problem = problem or left_low(cell, target_name, case, trace, len(first), closes)
-    problem = problem or struck(cell, target_name, case, trace)
+    # more trigger pulses pending than the latch ring holds when the second part is taken (the first picked meanwhile):
+    # a stop with its message then, the first part judged as any
+    overrun = case.category == "latch_overrun" and target_name in conveyor_of(cell).pick.trigger_input
+    judged = replace(case, parts=case.parts[:1]) if overrun else case
+    stop = OVERRUN if overrun else None
+    problem, pos, rot = judge_parts(cell, target_name, judged, trace, line, output, stop)
+    problem = problem or left_low(cell, target_name, judged, trace, len(first), closes)
+    problem = problem or struck(cell, target_name, judged, trace)
     if problem is not None:
         return Judgement([], problem=problem)
     moves = plan.lay_over(cell, target, mode, len(first), trace.moves, closes, opens)
@@ -162,8 +168,9 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         return Judgement([], problem=problem)
     skipped = sum(1 for m in trace.messages if m.startswith(SKIPS))
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
-    expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
-    return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
+    halt = emitter.string(OVERRUN) if overrun else None
+    expected = Expectation(halt, tuple(first) + tuple(moves), outputs, output_names=names)
+    return Judgement([expected], figures=(len(judged.parts) - skipped, skipped), errors=([pos], [rot]))
 
 
 def _stopped_waiting(cell, target_name: str, case, trace, first, start_outputs, names) -> Judgement:
