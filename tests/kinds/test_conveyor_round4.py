@@ -188,3 +188,12 @@ def test_more_pulses_pending_than_the_latch_ring_holds_stop_ur_with_their_own_me
     assert _run(cell, program, "latch_overrun").mismatches == 0
     row = _run(cell, mutant, "latch_overrun")
     assert row.mismatches == 1 and "count disagree: check the trigger and the scale" in row.first_mismatches[0]
+
+
+def test_a_ur_program_that_leaves_its_tcp_inactive_fails_verify(cell):
+    """The socket program sets its own TCP (set_tcp with the cell's tool): without it the controller keeps the TCP it
+    had, not the cell's, and verify, checking every move with the cell's tool, fails the run at its first move."""
+    line = "  set_tcp(p[0.0000000, 0.0000000, 0.1500000, 0.000000000, 0.000000000, 0.000000000])\n"
+    program, mutant = _mutant(cell, "ur", [(line, "")], "no set_tcp")
+    assert _run(cell, program, "constant_speed").mismatches == 0
+    assert _run(cell, mutant, "constant_speed").mismatches == 1
