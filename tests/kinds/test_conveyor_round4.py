@@ -197,3 +197,19 @@ def test_a_ur_program_that_leaves_its_tcp_inactive_fails_verify(cell):
     program, mutant = _mutant(cell, "ur", [(line, "")], "no set_tcp")
     assert _run(cell, program, "constant_speed").mismatches == 0
     assert _run(cell, mutant, "constant_speed").mismatches == 1
+
+
+def test_the_belt_speeding_up_during_the_descent_catches_a_lead_the_other_cases_let_through(cell):
+    """The belt at its fastest speed change (belt_accel_mm_s2) in the middle of the intercept's lead: every target
+    picks the part; a KUKA lead 50 ms short (a descent timed without part of the grip) still passes the cases at a
+    constant, a swinging and the fastest speed, and fails this one (the gripper meets the part beyond capture_mm)."""
+    case = next(c for c in cases(cell) if c.category == "speeding_up")
+    assert case.belt.speed_mm_s * (1 + case.belt.wobble) <= cell.sections["conveyor"].pick.belt_speed_max_mm_s + 1e-9
+    for target in ("kuka", "ur", "abb"):
+        assert _run(cell, first(cell, target, "conveyor"), "speeding_up").mismatches == 0, target
+    short = ("DECL REAL CNV_LEAD=0.414696", "DECL REAL CNV_LEAD=0.364696")
+    _program, mutant = _mutant(cell, "kuka", [short], "lead 50 ms short")
+    for category in ("constant_speed", "varying_speed", "fast_belt"):
+        assert _run(cell, mutant, category).mismatches == 0, category
+    row = _run(cell, mutant, "speeding_up")
+    assert row.mismatches == 1 and "mm along the belt" in row.first_mismatches[0], row.first_mismatches

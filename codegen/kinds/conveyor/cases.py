@@ -48,6 +48,7 @@ DOUBLE_S = 0.02
 # intercept arrives after it), the low one at least TALL_GAP_MM behind it
 TALL_AHEAD_MM = 40.0
 TALL_GAP_MM = 100.0
+RISE_WOBBLE = 0.2  # the speeding_up case: the speed swings by this share of its mean
 QUEUED_S = 2.0  # the rollover_queued case: its parts this far apart (s)
 SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
 OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
@@ -233,9 +234,35 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     tall = Part(1, seen, x, z1 - 0.05 * (z1 - z0))
     low = Part(2, seen + gap / rush.speed_mm_s, x, z0 + 0.05 * (z1 - z0))
     out.append(replace(one, category="tall_then_low", belt=rush, parts=(tall, low)))
+    # the belt speeding up at the cell's belt_accel_mm_s2, its fastest change, while an intercepting arm comes down onto
+    # the part (the middle of the lead at the steepest rise of a swinging speed, never above belt_speed_max_mm_s): what
+    # the speed measured before the descent does not know
+    if pick.belt_accel_mm_s2 > 0 and "intercept" in pick.tracking.values():
+        rise = _speeding_up(cell, rng, conveyor, pick, first)
+        if rise is not None:
+            out.append(rise)
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
+
+
+def _speeding_up(cell, rng, conveyor, pick, first: BeltCase) -> BeltCase | None:
+    """One part on a belt whose speed swings by RISE_WOBBLE, its steepest rise (belt_accel_mm_s2) in the middle of the
+    intercept's lead as the part reaches the intercept point."""
+    from codegen.controllers import get_target
+    from codegen.kinds.conveyor.timing import lead_seconds
+
+    intercepts = [t for t, mode in pick.tracking.items() if mode == "intercept"]
+    lead = lead_seconds(cell, get_target(intercepts[0]))
+    speed = pick.belt_speed_max_mm_s / (1.0 + RISE_WOBBLE)
+    period = 2 * math.pi * speed * RISE_WOBBLE / pick.belt_accel_mm_s2
+    belt = Belt(speed, conveyor.counts_per_mm, COUNTER_BITS, rng.randrange(2**COUNTER_BITS), RISE_WOBBLE, period)
+    distance = conveyor.camera_offset_mm + pick.intercept_mm
+    k = math.ceil((distance / (speed * (1.0 - RISE_WOBBLE)) + DECISION_S + lead) / period)
+    arrive = k * period + 0.5 * lead  # the speed rises fastest at whole periods of its running time
+    seen = belt.time_at(belt.travel_mm(arrive) - distance)
+    part = replace(_random_part(rng, pick, 1, 0.0), seen_s=seen)
+    return replace(first, category="speeding_up", belt=belt, parts=(part,))
 
 
 def _random_part(rng, pick, seq: int, seen_s: float) -> Part:
