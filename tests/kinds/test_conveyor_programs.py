@@ -79,8 +79,9 @@ def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
     # the trigger's stray pulses, a part seen before the start; ABB's unit out of step with the PLC
     unit = {"unit_missed_sync", "stray_pulses", "seen_before_start"}
     # the robot's latch against the PLC's queue (UR); the counter's wrap with parts queued
-    latch = {"latch_scale", "trigger_missed", "rollover_queued"}
-    waits = {"part_too_close", "place_blocked", "belt_stands", "no_part", "tall_then_low"}
+    latch = {"latch_scale", "trigger_missed", "rollover_queued", "latch_overrun"}
+    waits = {"part_too_close", "place_blocked", "belt_stands", "no_part", "tall_then_low", "stop_while_standing"}
+    belts |= {"speeding_up"}  # the belt's fastest speed change during an intercept's lead
     assert set(found) == belts | scenarios | unit | latch | waits
     assert found["varying_speed"].belt.wobble > 0
     rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel
