@@ -358,7 +358,7 @@ def test_a_bad_pick_table_is_refused_naming_the_key(tmp_path, old, new, message)
     text = CELL.read_text()
     assert old in text
     if old.startswith("counts_per_mm"):  # the calibration's keys come together: drop them all
-        for key in ("counts_per_mm", "origin", "direction", "z_axis"):
+        for key in ("counts_per_mm", "ticks_per_mm", "origin", "direction", "z_axis"):
             text = "\n".join(line for line in text.splitlines() if not line.startswith(key)) + "\n"
     else:
         text = text.replace(old, new)
