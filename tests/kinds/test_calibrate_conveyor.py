@@ -195,6 +195,11 @@ def test_write_puts_the_result_into_the_cell_and_replaces_it_the_next_time(tmp_p
             r"conveyor\.z_axis: must be at right angles",
         ),
         ("belt_speed = 3", r"conveyor\.belt_speed: unknown key"),
+        ("ticks_per_mm = 5.0", r"conveyor\.ticks_per_mm: needs the belt calibrated: counts_per_mm"),
+        (
+            "counts_per_mm = 8.0\norigin = [0, 0, 0]\ndirection = [0, 1, 0]\nz_axis = [0, 0, 1]\nticks_per_mm = 0.0001",
+            r"conveyor\.ticks_per_mm: must be a signed scale of 0\.001 to 1e6 ticks per mm",
+        ),
     ],
 )
 def test_a_bad_conveyor_table_names_its_key(tmp_path, table, says):
