@@ -28,7 +28,74 @@ def fit_json(path, *extra):
 
 
 def test_the_bundled_touches_come_from_the_simulated_belt():
-    assert EXAMPLE.read_text() == belt_sim.csv_text(belt_sim.touches())
+    assert EXAMPLE.read_text() == belt_sim.csv_text(belt_sim.touches(), ticks=True)
+
+
+def test_the_robots_own_ticks_give_its_scale_within_the_uncertainty_it_reports():
+    """Another encoder on the robot's inputs, counting up (the PLC's counter runs down), rolling over its 16-bit
+    filtered count during the touches: the fit unwraps it, signs it and says that the two scales differ."""
+    got = fit_json(EXAMPLE, "--ticks")
+    sigma = got["ticks_per_mm_uncertainty"]
+    assert got["ticks_per_mm"] > 0 and abs(got["ticks_per_mm"] - belt_sim.TRUE_TICKS) <= 3 * sigma, got
+    assert sigma < 1e-3 and max(got["ticks_residuals_mm"]) < 0.2
+    assert got["ticks_per_count"] == pytest.approx(belt_sim.TRUE_TICKS / belt_sim.TRUE_E, rel=1e-3)
+    assert any("count at different scales" in w for w in got["warnings"])
+    plain = fit_json(EXAMPLE)  # without --ticks the column is read and left alone
+    assert plain["ticks_per_mm"] is None and plain["counts_per_mm"] == got["counts_per_mm"]
+
+
+def test_ticks_that_count_the_plcs_edges_are_no_mismatch(tmp_path):
+    header, *rows = EXAMPLE.read_text().splitlines()
+    same = [",".join([*r.split(",")[:5], str(int(r.split(",")[3]) % 2**16)]) for r in rows]  # the PLC's own counts
+    path = tmp_path / "same.csv"
+    path.write_text("\n".join([header, *same]) + "\n")
+    got = fit_json(path, "--ticks")
+    assert got["ticks_per_count"] == pytest.approx(1.0) and got["ticks_per_mm"] == pytest.approx(got["counts_per_mm"])
+    assert not any("different scales" in w for w in got["warnings"])
+
+
+def test_ticks_are_written_into_the_cell_and_kept_by_a_calibration_without_them(tmp_path):
+    cell = tmp_path / "cell.toml"
+    cell.write_text((REPO / "codegen" / "examples" / "agv_machine_tending.toml").read_text())
+    result = run(EXAMPLE, "--counter-bits", 16, "--working-length", 1500, "--ticks", "--write", cell)
+    assert result.exit_code == 0, result.output
+    assert "robot's ticks T = 5.09" in result.output
+    assert load_cell(cell).sections["conveyor"].ticks_per_mm == pytest.approx(belt_sim.TRUE_TICKS, abs=2e-3)
+    assert run(EXAMPLE, "--write", cell).exit_code == 0
+    assert load_cell(cell).sections["conveyor"].ticks_per_mm == pytest.approx(belt_sim.TRUE_TICKS, abs=2e-3)
+
+
+def _with_ticks(tmp_path, ticks: list[str]):
+    header, *rows = EXAMPLE.read_text().splitlines()
+    out = [header] + [",".join([*r.split(",")[:5], t]) for r, t in zip(rows, ticks, strict=True)]
+    path = tmp_path / "t.csv"
+    path.write_text("\n".join(out) + "\n")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("ticks", "says"),
+    [
+        (["61000", "62783", "-3", "557", ""], "t.csv:4: ticks must be the robot's encoder_get_tick_count(0)"),
+        (["61000", "62783", "65536", "557", ""], "t.csv:4: ticks must be the robot's"),
+        (["61000", "62783", "645.5", "557", ""], "t.csv:4: ticks must be the robot's"),
+        (["61000", "", "64565", "557", ""], "t.csv:3: ticks must be the robot's"),
+        (["61000", "61000", "64565", "557", ""], "t.csv:3: the same tick count as line 2: the robot's encoder did not"),
+        # a tick count latched 20 ticks (about 4 mm of travel) off the PLC's count at the third touch
+        (["61000", "62783", "64585", "557", ""], "t.csv:4: the robot's tick count and the PLC's count disagree by"),
+    ],
+)
+def test_bad_tick_data_is_refused_naming_its_line(tmp_path, ticks, says):
+    result = run(_with_ticks(tmp_path, ticks), "--counter-bits", 16, "--working-length", 1500, "--ticks")
+    assert result.exit_code == 2 and says in result.output and "Traceback" not in result.output, result.output
+
+
+def test_ticks_asked_for_without_a_ticks_column_are_refused(tmp_path):
+    path = tmp_path / "t.csv"
+    path.write_text(belt_sim.csv_text(belt_sim.touches()))
+    result = run(path, "--counter-bits", 16, "--working-length", 1500, "--ticks")
+    says = "t.csv:2: --ticks needs the robot's tick count at every belt touch"
+    assert result.exit_code == 2 and says in result.output
 
 
 def test_a_known_belt_is_recovered_within_the_uncertainty_it_reports():
@@ -128,6 +195,11 @@ def test_write_puts_the_result_into_the_cell_and_replaces_it_the_next_time(tmp_p
             r"conveyor\.z_axis: must be at right angles",
         ),
         ("belt_speed = 3", r"conveyor\.belt_speed: unknown key"),
+        ("ticks_per_mm = 5.0", r"conveyor\.ticks_per_mm: needs the belt calibrated: counts_per_mm"),
+        (
+            "counts_per_mm = 8.0\norigin = [0, 0, 0]\ndirection = [0, 1, 0]\nz_axis = [0, 0, 1]\nticks_per_mm = 0.0001",
+            r"conveyor\.ticks_per_mm: must be a signed scale of 0\.001 to 1e6 ticks per mm",
+        ),
     ],
 )
 def test_a_bad_conveyor_table_names_its_key(tmp_path, table, says):
@@ -164,7 +236,7 @@ def test_touches_listed_downstream_first_are_named_as_reversed(tmp_path):
     assert run(EXAMPLE, "--counter-bits", 16, "--working-length", 1500, "--write", cell).exit_code == 0
     before = cell.read_text()
     header, *rows = EXAMPLE.read_text().splitlines()
-    belt, side = [r for r in rows if r.endswith(",belt")], [r for r in rows if not r.endswith(",belt")]
+    belt, side = [r for r in rows if r.split(",")[4] == "belt"], [r for r in rows if r.split(",")[4] != "belt"]
     reversed_touches = tmp_path / "reversed.csv"
     reversed_touches.write_text("\n".join([header, *belt[::-1], *side]) + "\n")
     result = run(reversed_touches, "--write", cell)

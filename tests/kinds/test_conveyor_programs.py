@@ -79,8 +79,9 @@ def test_the_cases_cover_a_varying_belt_a_counter_wrap_and_a_late_part():
     # the trigger's stray pulses, a part seen before the start; ABB's unit out of step with the PLC
     unit = {"unit_missed_sync", "stray_pulses", "seen_before_start"}
     # the robot's latch against the PLC's queue (UR); the counter's wrap with parts queued
-    latch = {"latch_scale", "trigger_missed", "rollover_queued"}
-    waits = {"part_too_close", "place_blocked", "belt_stands", "no_part", "tall_then_low"}
+    latch = {"latch_scale", "trigger_missed", "rollover_queued", "latch_overrun"}
+    waits = {"part_too_close", "place_blocked", "belt_stands", "no_part", "tall_then_low", "stop_while_standing"}
+    belts |= {"speeding_up"}  # the belt's fastest speed change during an intercept's lead
     assert set(found) == belts | scenarios | unit | latch | waits
     assert found["varying_speed"].belt.wobble > 0
     rollover = found["rollover"]  # the counter (running down: E < 0) passes 0 during the first part's travel
@@ -119,8 +120,8 @@ MUTATIONS = [
     # followed backwards: gripped in the wrong place, or (the gripper's 45-55 ms on top) the lift out of the arm's
     # configuration, where the controller stops
     (
-        "CNV_DIR = p[0.499994000, -0.866029000,",
         "CNV_DIR = p[-0.499994000, 0.866029000,",
+        "CNV_DIR = p[0.499994000, -0.866029000,",
         ("gripped", "a linear move would change the arm's configuration"),
     ),
     # the robot's own count not unwound across its wrap (the rollover case wraps it during a part's travel)
@@ -131,7 +132,7 @@ MUTATIONS = [
     ),
     ("    track_conveyor_linear(CNV_DIR, CNV_TICKS_PER_M)\n", "", "gripped"),
     ("CNV_CAMERA_Y = -1200.0970", "CNV_CAMERA_Y = -1190.0970", "gripped"),
-    ("CNV_COUNTS_PER_MM = -8.122679000", "CNV_COUNTS_PER_MM = -8.222679000", "gripped"),
+    ("CNV_TICKS_PER_MM = 5.092647000", "CNV_TICKS_PER_MM = 5.112647000", "gripped"),
     ("> CNV_END:", "> CNV_END + 1000:", "past the window's end"),
     ("    movel(cnv_on_part(x, y, z, CNV_DZ), a=1.200, v=0.5000)\n", "", "above it before the descent"),
     ("CNV_DZ = 60.0000", "CNV_DZ = 0.0", "in height"),
@@ -357,7 +358,7 @@ def test_a_bad_pick_table_is_refused_naming_the_key(tmp_path, old, new, message)
     text = CELL.read_text()
     assert old in text
     if old.startswith("counts_per_mm"):  # the calibration's keys come together: drop them all
-        for key in ("counts_per_mm", "origin", "direction", "z_axis"):
+        for key in ("counts_per_mm", "ticks_per_mm", "origin", "direction", "z_axis"):
             text = "\n".join(line for line in text.splitlines() if not line.startswith(key)) + "\n"
     else:
         text = text.replace(old, new)

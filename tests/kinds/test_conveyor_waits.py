@@ -84,11 +84,14 @@ def test_a_program_that_says_no_part_at_every_look_fails_verify(cell):
     assert row.mismatches == 1 and "'no part' said at" in row.first_mismatches[0]
 
 
+STANDS_CALL = "        IF CNV_STANDS(SEQ) THEN\n"
+
+
 def test_a_program_that_moves_while_the_belt_stands_fails_verify(cell):
     """KUKA's intercept: a move commanded once the belt is known to stand (here: down onto where the part would be)."""
     source = edited(
         first(cell, "kuka", "conveyor"),
-        lambda text: text.replace("        CNV_STANDS(SEQ)\n", "        LIN ON_PART\n        CNV_STANDS(SEQ)\n"),
+        lambda text: text.replace(STANDS_CALL, "        LIN ON_PART\n" + STANDS_CALL),
     )
     row = _row(cell, source, [c for c in _waits(cell) if c.category == "belt_stands"])
     assert row.mismatches == 1 and "while the belt stood" in row.first_mismatches[0], row.first_mismatches
@@ -120,8 +123,8 @@ def test_without_the_fresh_measure_after_a_stand_the_intercept_misses(cell):
     """The belt stops 1 mm before the arm would come down: a program that goes on with the speed it measured while the
     belt stood (zero) comes down once a later measure catches up, too late: it meets the part off the gripper's capture
     range. With the fresh measure it skips the part as too late (the test above)."""
-    fresh = "        CNV_STANDS(SEQ)\n        CNV_MEASURE(SEEN, Y, V)\n"
-    source = edited(first(cell, "kuka", "conveyor"), lambda text: text.replace(fresh, "        CNV_STANDS(SEQ)\n"))
+    fresh = "        ENDIF\n        CNV_MEASURE(SEEN, Y, V)\n"  # after the stand (and its cycle stop's check)
+    source = edited(first(cell, "kuka", "conveyor"), lambda text: text.replace(fresh, "        ENDIF\n"))
     assert all(fresh not in f.text for f in source.files)
     assert _row(cell, first(cell, "kuka", "conveyor"), [_intercept_stop(cell, 1.0)]).mismatches == 0
     row = _row(cell, source, [_intercept_stop(cell, 1.0)])

@@ -23,6 +23,10 @@ MAX_RESIDUAL_MM = 0.5  # a touch further than this from the fitted line: a slipp
 POSITION_LIMIT_MM = 10_000.0
 COUNT_MIN, COUNT_MAX = -(2**63), 2**64 - 1  # a counter value: signed or unsigned, at most 64 bits
 MIN_SPAN_MM = 10.0  # touches closer than this along the belt: no direction and no scale
+# the robot's own decoder (UR): encoder_get_tick_count(0) returns the filtered count, a whole number in [0; 65536[
+# (URScript Script Directory e-Series, module motion); its steps between touches unwound as the PLC's counts are
+TICK_BITS = 16
+TICK_SCALE_TOL = 1e-3  # ticks per PLC count further than this from +-1: the two count at different scales (said)
 
 
 class ConveyorCalibrationError(ValueError):
@@ -35,15 +39,26 @@ class Touch:
     role: str
     position: np.ndarray  # base frame, mm
     count: int  # raw encoder count
+    ticks: int | None = None  # the robot's own decoder's tick count at the touch (encoder_get_tick_count), if read
+
+
+HEADERS = (
+    ("x", "y", "z", "count"),
+    ("x", "y", "z", "count", "role"),
+    ("x", "y", "z", "count", "ticks"),
+    ("x", "y", "z", "count", "role", "ticks"),
+)
 
 
 def read_touches(path: Path) -> list[Touch]:
-    """Rows of a CSV with header x,y,z,count[,role] (mm in the base frame, the raw counter value), in
-    the order the cone was touched as the belt carried it (upstream first)."""
+    """Rows of a CSV with header x,y,z,count[,role][,ticks] (mm in the base frame, the raw counter value, the
+    robot's own tick count), in the order the cone was touched as the belt carried it (upstream first). A side
+    point may leave its ticks empty."""
     try:
-        _header, rows = read_rows(path, (("x", "y", "z", "count"), ("x", "y", "z", "count", "role")))
+        header, rows = read_rows(path, HEADERS)
     except CsvError as exc:
         raise ConveyorCalibrationError(str(exc)) from None
+    column = dict(zip(header, range(len(header)), strict=True))
     out = []
     for row in rows:
         line = row.line
@@ -56,11 +71,29 @@ def read_touches(path: Path) -> list[Touch]:
             raise ConveyorCalibrationError(f"{path}:{line}: positions must be finite, within +-10,000 mm")
         if not COUNT_MIN <= count <= COUNT_MAX:
             raise ConveyorCalibrationError(f"{path}:{line}: count out of range")
-        role = row.cells[4].strip().lower() if len(row.cells) > 4 else "belt"
+        role = row.cells[column["role"]].strip().lower() if "role" in column else "belt"
         if role not in ROLES:
             raise ConveyorCalibrationError(f"{path}:{line}: role must be belt or side, got {role!r}")
-        out.append(Touch(line, role, np.array(position), count))
+        ticks = _ticks(path, line, row.cells[column["ticks"]], role) if "ticks" in column else None
+        out.append(Touch(line, role, np.array(position), count, ticks))
     return out
+
+
+def _ticks(path: Path, line: int, text: str, role: str) -> int | None:
+    """A tick count as encoder_get_tick_count(0) returns it: a whole number 0 .. 65535 (empty: a side point)."""
+    if not text.strip() and role == "side":
+        return None
+    try:
+        value = number(text)
+    except ValueError:
+        value = math.nan
+    ticks = int(value) if math.isfinite(value) and value == int(value) else None  # the filtered count is a float
+    if ticks is None or not 0 <= ticks < 2**TICK_BITS:
+        raise ConveyorCalibrationError(
+            f"{path}:{line}: ticks must be the robot's encoder_get_tick_count(0), a whole number 0 to "
+            f"{2**TICK_BITS - 1}, got {text.strip()!r}"
+        )
+    return ticks
 
 
 def unwrap(counts: list[int], bits: int) -> np.ndarray:
@@ -85,6 +118,7 @@ class ConveyorFit:
     camera_offset_mm: float | None
     counter_bits: int
     warnings: tuple[str, ...]
+    ticks: TickFit | None = None  # the robot's own decoder's scale (--ticks)
 
     def frame(self) -> np.ndarray:
         return belt2base(self.origin, self.direction, self.z_axis)
@@ -102,7 +136,69 @@ class ConveyorFit:
             "roll_from": self.roll_from,
             "counter_bits": self.counter_bits,
             "warnings": list(self.warnings),
+            "ticks_per_mm": None if self.ticks is None else self.ticks.ticks_per_mm,
+            "ticks_per_mm_uncertainty": None if self.ticks is None else self.ticks.uncertainty,
+            "ticks_per_count": None if self.ticks is None else self.ticks.ticks_per_count,
+            "ticks_residuals_mm": None if self.ticks is None else self.ticks.residuals_mm,
         }
+
+
+@dataclass(frozen=True)
+class TickFit:
+    """The robot's own decoder against the measured travel: ticks per mm (signed: negative when its ticks run down as
+    the belt travels), its standard uncertainty (None with two touches), its ticks per count of the PLC's counter
+    and each touch's distance from the fitted line by its ticks (mm along the belt)."""
+
+    ticks_per_mm: float
+    uncertainty: float | None
+    ticks_per_count: float
+    residuals_mm: list[float]
+
+
+def fit_ticks(
+    path: Path, belt: list[Touch], counts: np.ndarray, direction: np.ndarray, max_residual_mm: float
+) -> TickFit:
+    """T by a straight-line fit v_k = v_mean + T (s_k - s_mean): v the robot's unwrapped ticks, s each touch's
+    measured place along the fitted direction (its own position, not the PLC's count); then the ticks against the
+    PLC's counts at the same touches: both latched the same moment of the same travel, so a touch off that line is a
+    latch/PLC mismatch, named as such."""
+    missing = next((t for t in belt if t.ticks is None), None)
+    if missing is not None:
+        raise ConveyorCalibrationError(
+            f"{path}:{missing.line}: --ticks needs the robot's tick count at every belt touch"
+        )
+    v = unwrap([t.ticks for t in belt], TICK_BITS)
+    for (a, va), (b, vb) in pairwise(zip(belt, v, strict=True)):
+        if va == vb:
+            raise ConveyorCalibrationError(
+                f"{path}:{b.line}: the same tick count as line {a.line}: the robot's encoder did not count (its "
+                "decoder not enabled, encoder_enable_pulse_decode, or the encoder not wired to its inputs)"
+            )
+    s = np.array([t.position for t in belt]) @ direction
+    ds, dv = s - s.mean(), v - v.mean()
+    ticks_per_mm = float(ds @ dv / (ds @ ds))
+    residuals = [float(r) for r in (ds - dv / ticks_per_mm)]
+    du = counts - counts.mean()
+    ratio = float(du @ dv / (du @ du))
+    apart = (dv - ratio * du) / ticks_per_mm  # mm: the ticks' place against the PLC's count's
+    worst = int(np.argmax(np.abs(apart)))
+    if abs(apart[worst]) > max_residual_mm:
+        raise ConveyorCalibrationError(
+            f"{path}:{belt[worst].line}: the robot's tick count and the PLC's count disagree by "
+            f"{abs(apart[worst]):.3f} mm of travel at this touch (more than {max_residual_mm:g} mm): a latch/PLC "
+            "mismatch (one of the two read at another moment than the touch, or an encoder that slips)"
+        )
+    worst = int(np.argmax(np.abs(residuals)))
+    if abs(residuals[worst]) > max_residual_mm:
+        raise ConveyorCalibrationError(
+            f"{path}:{belt[worst].line}: {abs(residuals[worst]):.3f} mm from the belt line fitted by the robot's ticks "
+            f"(more than {max_residual_mm:g} mm): a cone that slipped or a tick count read at the wrong moment"
+        )
+    uncertainty = None
+    if len(belt) > 2:
+        sigma = math.sqrt(float(np.sum((dv - ticks_per_mm * ds) ** 2)) / (len(belt) - 2))  # ticks
+        uncertainty = sigma / math.sqrt(float(ds @ ds))
+    return TickFit(ticks_per_mm, uncertainty, ratio, [abs(r) for r in residuals])
 
 
 def fit(
@@ -114,6 +210,7 @@ def fit(
     force: bool = False,
     max_residual_mm: float = MAX_RESIDUAL_MM,
     cell_direction: tuple[float, float, float] | None = None,
+    ticks: bool = False,
 ) -> ConveyorFit:
     """E by a straight-line fit p_k = p_mean + b (u_k - u_mean) over every belt touch (u: unwrapped
     counts), E = 1/|b| signed by whether the counts grow downstream; +Y from the first touch towards the
@@ -185,6 +282,13 @@ def fit(
     else:
         warnings.append("two touches: E follows from them exactly, with no residual to judge it by")
     z_axis, roll_from = _normal(path, direction, fitted[-1], side)
+    tick_fit = fit_ticks(path, belt, u, direction, max_residual_mm) if ticks else None
+    if tick_fit is not None and abs(abs(tick_fit.ticks_per_count) - 1.0) > TICK_SCALE_TOL:
+        warnings.append(
+            f"the robot's decoder counts {tick_fit.ticks_per_count:.6f} ticks per count of the PLC's counter: the two "
+            "count at different scales (another encoder, or another decoding); the UR program tracks by the robot's "
+            "ticks_per_mm and places the parts by the PLC's counts_per_mm"
+        )
     camera = None
     if camera_counts is not None:
         steps = unwrap(list(camera_counts), bits)
@@ -206,6 +310,7 @@ def fit(
         camera_offset_mm=camera,
         counter_bits=bits,
         warnings=tuple(warnings),
+        ticks=tick_fit,
     )
 
 
@@ -244,6 +349,14 @@ def report_lines(result: ConveyorFit, path: Path) -> list[str]:
         "  belt normal (+Z): " + ", ".join(f"{v:.6f}" for v in result.z_axis) + f" (roll from {result.roll_from})",
         "  residuals (mm): " + ", ".join(f"{r:.3f}" for r in result.residuals_mm),
     ]
+    if result.ticks is not None:
+        t = result.ticks
+        lines.append(
+            f"  robot's ticks T = {t.ticks_per_mm:.6f} ticks/mm"
+            + (f" +- {t.uncertainty:.6f}" if t.uncertainty is not None else "")
+            + f", {t.ticks_per_count:.6f} per PLC count; residuals (mm): "
+            + ", ".join(f"{r:.3f}" for r in t.residuals_mm)
+        )
     if result.camera_offset_mm is not None:
         lines.append(f"  camera line {result.camera_offset_mm:.3f} mm upstream of the origin, along the belt")
     lines += [f"warning: {w}" for w in result.warnings]
@@ -259,6 +372,10 @@ def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_len
     camera = result.camera_offset_mm
     if camera is None and previous is not None:
         camera = previous.camera_offset_mm
+    # the robot's own scale: this calibration's, else the one before (its encoder is not the PLC's counter)
+    ticks = result.ticks.ticks_per_mm if result.ticks is not None else None
+    if ticks is None and previous is not None:
+        ticks = previous.ticks_per_mm
 
     def vector(values) -> str:
         return "[" + ", ".join(f"{float(v):.12g}" for v in values) + "]"
@@ -269,6 +386,8 @@ def write_to_cell(cell_path: Path, result: ConveyorFit, source: str, working_len
     lines.append(f"origin = {vector(result.origin)}")
     lines.append(f"direction = {vector(result.direction)}")
     lines.append(f"z_axis = {vector(result.z_axis)}")
+    if ticks is not None:
+        lines.append(f"ticks_per_mm = {ticks:.12g}")
     if camera is not None:
         lines.append(f"camera_offset_mm = {camera:.12g}")
     if working_length_mm is not None:

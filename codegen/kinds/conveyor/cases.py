@@ -6,6 +6,7 @@ import math
 import random
 from dataclasses import dataclass, replace
 
+from codegen.kinds.conveyor.program import LATCH_RING
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.sim.belt import Belt, Part
 
@@ -30,6 +31,7 @@ SCENARIO_OF = {
     "part_out_of_range": "reading_out_of_range",
     "place_blocked": "device_silent",
     "belt_stands": "belt_stands",  # the kind's own: the belt stands while a part is on its way
+    "stop_while_standing": "stop_while_standing",  # the kind's own: the line's cycle stop while the belt stands
     "no_part": "no_part",  # the kind's own: no part comes for longer than no_part_s
 }
 # each sleep of the program ends this much later than it asks (a pass of a polling loop: its statements and the
@@ -46,13 +48,18 @@ DOUBLE_S = 0.02
 # intercept arrives after it), the low one at least TALL_GAP_MM behind it
 TALL_AHEAD_MM = 40.0
 TALL_GAP_MM = 100.0
+RISE_WOBBLE = 0.2  # the speeding_up case: the speed swings by this share of its mean
 QUEUED_S = 2.0  # the rollover_queued case: its parts this far apart (s)
 SEEN_BEFORE_S = 1.0  # the seen_before_start case: the camera saw the part this long before the program started
 OUT_OF_STEP_CASES = frozenset({"unit_missed_sync", "stray_pulses"})
 # the robot's own latch against the PLC's queue (a target that latches its encoder at the camera's trigger): its decoder
-# counting half the PLC's counts (the belt calibrated with the PLC's), a trigger pulse its input missed
+# counting half the ticks the cell states for it (calibrated at another scale), a trigger pulse its input missed
 MISMATCH_CASES = {"latch_scale": "the wait above the window", "trigger_missed": "before the arm moves"}
+OVERRUN_GAP_MM = 150.0  # the latch_overrun case: the second part this far behind the first
+CHATTER, CHATTER_S = LATCH_RING + 8, 0.02  # the latch_overrun case: pulses after the part's own, this far apart (s)
 STAND_EXTRA_S = 2.0  # the belt_stands case: the belt stands this much longer than belt_stop_s
+RUN_ON_S = 10.0  # the belt_stands case: its cycle stop this long after the part could have left the window
+HALTED_S = 3600.0  # the stop_while_standing case: the belt stands this long (longer than any run)
 # the no_part case: the line's cycle stop comes this long after no_part_s (a wait that counts its reads says so a little
 # late: each read's pass takes SLEEP_OVERHEAD_S more than its sleep, a sixth more at 12 ms)
 NO_PART_EXTRA_S = 10.0
@@ -68,7 +75,7 @@ class BeltCase:
     belt: Belt
     parts: tuple[Part, ...]
     robot_zero: int = 0  # the controller's own encoder against the PLC's counter
-    robot_scale: float = 1.0  # the controller's own encoder's counts per count of the PLC's counter
+    robot_scale: float = 1.0  # the controller's own encoder against the scale the cell states for it (1: as stated)
     unlatched: frozenset = frozenset()  # the parts whose trigger pulse the controller's own input missed (numbers)
     gripper: str = "prompt"
     start: str = "home"
@@ -177,7 +184,16 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     # arm waits above the belt and must stay there; and a line with no part for longer than no_part_s
     halfway = slow.time_at(0.5 * (conveyor.camera_offset_mm + pick.window_mm[0])) + one.parts[0].seen_s
     stands = replace(slow, stops=((halfway, pick.belt_stop_s + STAND_EXTRA_S),))
-    scenarios.append(replace(one, category="belt_stands", belt=stands))
+    # the line's cycle stop only once the part has had time to reach the window's end on the belt that stood (and
+    # RUN_ON_S more: a later stand of a case made from this one): a stop while the belt stands ends the cycle there
+    seen = one.parts[0].seen_s
+    gone = stands.time_at(stands.travel_mm(seen) + conveyor.camera_offset_mm + pick.window_mm[1])
+    scenarios.append(replace(one, category="belt_stands", belt=stands, stop_s=gone + RUN_ON_S))
+    # the belt stands for good with the part on its way and the line's cycle stop comes once it has stood belt_stop_s
+    # and more: the arm waits above the belt, and the program must end its cycle there (not wait for ever)
+    halted = replace(slow, stops=((halfway, HALTED_S),))
+    stop_at = halfway + pick.belt_stop_s + STAND_EXTRA_S
+    scenarios.append(replace(one, category="stop_while_standing", belt=halted, stop_s=stop_at))
     scenarios.append(replace(one, category="no_part", parts=(), stop_s=pick.no_part_s + NO_PART_EXTRA_S))
     if pick.unit:  # the unit's queue out of step with the PLC's: a sync it missed
         scenarios.append(replace(one, category="unit_missed_sync", belt=slow, unit_missed=frozenset({1})))
@@ -195,6 +211,13 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     if pick.trigger_input:  # the robot's own count and the PLC's disagree: a stop with its message, no grip
         scenarios.append(replace(one, category="latch_scale", belt=slow, robot_scale=0.5))
         scenarios.append(replace(one, category="trigger_missed", belt=slow, unlatched=frozenset({1})))
+        # a trigger that chatters right after a second part's pulse while the arm works on the first: more pulses
+        # pending than the robot's latch ring holds (CHATTER of them, CHATTER_S apart) when the program takes the second
+        # part, its own count overwritten: a stop with its message then
+        lead = one.parts[0]
+        second = replace(_random_part(rng, pick, 2, 0.0), seen_s=lead.seen_s + OVERRUN_GAP_MM / slow.speed_mm_s)
+        chatter = tuple(second.seen_s + CHATTER_S * (k + 1) for k in range(CHATTER))
+        scenarios.append(replace(one, category="latch_overrun", belt=slow, parts=(lead, second), pulses=chatter))
     # the counter's wrap with parts queued: on the rollover belt four parts QUEUED_S apart, the later ones seen before
     # the counter wraps and taken after it (the arm busy with the first): each picked or given up for a reason verify
     # takes
@@ -211,9 +234,35 @@ def cases(cell, seed: int = 0) -> list[BeltCase]:
     tall = Part(1, seen, x, z1 - 0.05 * (z1 - z0))
     low = Part(2, seen + gap / rush.speed_mm_s, x, z0 + 0.05 * (z1 - z0))
     out.append(replace(one, category="tall_then_low", belt=rush, parts=(tall, low)))
+    # the belt speeding up at the cell's belt_accel_mm_s2, its fastest change, while an intercepting arm comes down onto
+    # the part (the middle of the lead at the steepest rise of a swinging speed, never above belt_speed_max_mm_s): what
+    # the speed measured before the descent does not know
+    if pick.belt_accel_mm_s2 > 0 and "intercept" in pick.tracking.values():
+        rise = _speeding_up(cell, rng, conveyor, pick, first)
+        if rise is not None:
+            out.append(rise)
     short = [c for c in out if len(c.parts) < 4] + [c for c in out if c.category == "part_too_late"]
     rest = [c for c in out if c not in short]
     return scenarios + short + rest  # the short runs first: a run that stops at its first mismatch ends early
+
+
+def _speeding_up(cell, rng, conveyor, pick, first: BeltCase) -> BeltCase | None:
+    """One part on a belt whose speed swings by RISE_WOBBLE, its steepest rise (belt_accel_mm_s2) in the middle of the
+    intercept's lead as the part reaches the intercept point."""
+    from codegen.controllers import get_target
+    from codegen.kinds.conveyor.timing import lead_seconds
+
+    intercepts = [t for t, mode in pick.tracking.items() if mode == "intercept"]
+    lead = lead_seconds(cell, get_target(intercepts[0]))
+    speed = pick.belt_speed_max_mm_s / (1.0 + RISE_WOBBLE)
+    period = 2 * math.pi * speed * RISE_WOBBLE / pick.belt_accel_mm_s2
+    belt = Belt(speed, conveyor.counts_per_mm, COUNTER_BITS, rng.randrange(2**COUNTER_BITS), RISE_WOBBLE, period)
+    distance = conveyor.camera_offset_mm + pick.intercept_mm
+    k = math.ceil((distance / (speed * (1.0 - RISE_WOBBLE)) + DECISION_S + lead) / period)
+    arrive = k * period + 0.5 * lead  # the speed rises fastest at whole periods of its running time
+    seen = belt.time_at(belt.travel_mm(arrive) - distance)
+    part = replace(_random_part(rng, pick, 1, 0.0), seen_s=seen)
+    return replace(first, category="speeding_up", belt=belt, parts=(part,))
 
 
 def _random_part(rng, pick, seq: int, seen_s: float) -> Part:

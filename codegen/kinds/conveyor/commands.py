@@ -33,6 +33,12 @@ WORKING_LENGTH_MAX_MM = 100_000.0  # what the cell's [conveyor] working_length_m
     type=Number(cc.COUNT_MIN, cc.COUNT_MAX, integer=True, count=2),
     help="L3,L4: the counts when the block passed the camera and when it stood at the origin.",
 )
+@click.option(
+    "--ticks",
+    is_flag=True,
+    help="Fit the robot's own decoder too (UR): the column ticks, encoder_get_tick_count(0) at each touch, "
+    "written as ticks_per_mm (the scale the UR program tracks by).",
+)
 @click.option("--force", is_flag=True, help="Accept touches that span less than half the working length (a warning).")
 @click.option(
     "--max-residual",
@@ -48,10 +54,13 @@ WORKING_LENGTH_MAX_MM = 100_000.0  # what the cell's [conveyor] working_length_m
     help="Put the result into this cell file's [conveyor] table.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Machine-readable output.")
-def calibrate_conveyor(touches, counter_bits, working_length, camera_counts, force, max_residual, cell_path, as_json):
-    """Encoder scale, belt frame and camera offset (source 002) from a CSV x,y,z,count[,role] of a cone on
-    the belt touched at two or more places (mm, base frame; upstream first) and optionally one point beside
-    the belt (role side, at the height of the cone's tip) that fixes the frame's roll."""
+def calibrate_conveyor(
+    touches, counter_bits, working_length, camera_counts, ticks, force, max_residual, cell_path, as_json
+):
+    """Encoder scale, belt frame and camera offset (source 002) from a CSV x,y,z,count[,role][,ticks] of a cone
+    on the belt touched at two or more places (mm, base frame; upstream first) and optionally one point beside
+    the belt (role side, at the height of the cone's tip) that fixes the frame's roll; with --ticks the robot's
+    own decoder's scale from its tick counts at the same touches."""
 
     path = Path(touches)
     try:
@@ -59,7 +68,7 @@ def calibrate_conveyor(touches, counter_bits, working_length, camera_counts, for
         bits = int(counter_bits) if counter_bits else (cell_bits or 32)
         length = working_length if working_length is not None else cell_length
         touched = cc.read_touches(path)
-        result = cc.fit(path, touched, bits, length, camera_counts, force, max_residual, cell_direction)
+        result = cc.fit(path, touched, bits, length, camera_counts, force, max_residual, cell_direction, ticks)
         if cell_path is not None:
             cc.write_to_cell(Path(cell_path), result, path.name, length)
     except (cc.ConveyorCalibrationError, CellError) as exc:

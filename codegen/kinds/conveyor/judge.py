@@ -140,20 +140,24 @@ class _Judge:
         return out
 
 
-def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str | None, float, float]:
+def judge(
+    cell, target_name: str, case, trace, line, output: str, stop: str | None = None
+) -> tuple[str | None, float, float]:
     """Every part taken once and in order; a part is skipped exactly when, as the program counted it at
     the skip's message, it was past the window's end (or, too late, within the descent's travel of the
     intercept point at the belt's fastest); each picked part is gripped where it really is at that
     moment (float64: the belt's travel since the camera saw it; overtravel_mm below its top), inside the window,
     after a straight descent of approach_dz and overtravel_mm along the belt's normal and before a straight lift that
     puts the held part's bottom at the clear height (Pick.lift_dz); each is put down at the place; the program ends at
-    the line's stop."""
+    the line's stop; stop: the program stops with this message instead, once it has taken the part after the
+    case's (a stop as it takes that part: the parts before it judged as any)."""
     j = _Judge(cell, target_name, case)
     pick, end = j.pick, j.pick.window_mm[1]
     one_count = 1.0 / abs(conveyor_of(cell).counts_per_mm)
-    if trace.halted:
-        return f"stopped: {trace.halt_message!r}", 0.0, 0.0
-    if list(line.taken) != [p.seq for p in case.parts]:
+    if trace.halted != (stop is not None) or (stop is not None and trace.halt_message != stop):
+        return f"stopped: {trace.halt_message!r}, expected {stop!r}", 0.0, 0.0
+    taken = list(line.taken)[: len(case.parts)] if stop is not None else list(line.taken)
+    if taken != [p.seq for p in case.parts]:
         return f"parts taken {list(line.taken)}, expected {[p.seq for p in case.parts]} (each once, in order)", 0.0, 0.0
     parts = {p.seq: p for p in case.parts}
     skipped, too_late = _numbered(trace, SKIPPED), _numbered(trace, TOO_LATE)
@@ -243,7 +247,7 @@ def judge(cell, target_name: str, case, trace, line, output: str) -> tuple[str |
         pos, rot = _pose_errors(release.tcp2base.tolist(), pick.place.matrix().tolist())
         if pos > TOLERANCES[j.target.numbers][0] or rot > j.rot_tol:
             return f"part {part.seq} released {pos:.4f} mm, {rot:.5f} deg from the place", j.worst_pos, j.worst_rot
-    if not trace.messages or trace.messages[-1] != STOPPED:
+    if not trace.messages or trace.messages[-1] != (STOPPED if stop is None else stop):
         return (
             f"the program did not end at the line's stop (last message {trace.messages[-1:]})",
             j.worst_pos,

@@ -211,6 +211,14 @@ PICK = Table(
             "unit",
             lambda t: Key("string", f"a conveyor's mechanical unit on {t}", choices=tuple(_facts(t)["units"])),
         ),
+        "unit_position_check": Key(
+            "boolean",
+            "a target with a mechanical unit (ABB native): after WaitWObj, check the connected object's position (the "
+            "unit's joint by CJointT, assumed mm since its sync) against the part's travel by the PLC's count, and "
+            "stop when they disagree; false only for a first commissioning run, until that position is confirmed "
+            "(the program's header says the check is off)",
+            default=True,
+        ),
         "unit_axis": _per_target(
             "per target that needs it (ABB native): the unit's logical axis, where its position stands in every "
             "robtarget and jointtarget (7: eax_a ... 12: eax_f; default the target's facts: targets/<t>.toml)",
@@ -225,6 +233,13 @@ CONVEYOR = Table(
         "counter_bits": Key("integer", "the encoder counter's width", choices=COUNTER_BITS, default=32),
         "counts_per_mm": Key(
             "number", "encoder counts per mm of travel, signed (|value| 0.001 to 1e6)", low=-1e6, high=1e6
+        ),
+        "ticks_per_mm": Key(
+            "number",
+            "the robot's own decoder's ticks per mm of travel, signed (|value| 0.001 to 1e6; `codegen calibrate "
+            "conveyor --ticks`): the scale a UR program tracks by; default counts_per_mm (the PLC's counter)",
+            low=-1e6,
+            high=1e6,
         ),
         "origin": Key(
             "numbers",

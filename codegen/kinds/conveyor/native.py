@@ -122,6 +122,7 @@ def context(cell, target, emitter) -> dict:
             "slot": owned("eax_" + "abcdef"[unit.axis - 7]),
             "extax": owned("[" + ", ".join("0" if i == unit.axis - 7 else "9E+09" for i in range(6)) + "]"),
             "sync_tol_mm": number(sync_tol_mm(cell, target), 3),
+            "position_check": pick.unit_position_check,
             "connect_s": number(connect_s(cell, target), 3),
             "drop_settle_s": number(KIND.facts(target)["drop_settle_s"], 3),
         }

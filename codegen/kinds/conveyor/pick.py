@@ -57,6 +57,7 @@ class Pick:
     min_gap_mm: float = 0.0
     unit: dict = field(default_factory=dict)
     unit_axis: dict = field(default_factory=dict)  # ABB native: the unit's logical axis (7..12: eax_a..eax_f)
+    unit_position_check: bool = True  # ABB native: the connected object's position checked against the PLC's count
     trigger_input: dict = field(default_factory=dict)
     part_size_mm: tuple[float, float, float] | None = None  # the part as a box along the tool frame's axes (inertia)
     no_part_s: float = 30.0  # the wait for the next part: a message after this long, then on waiting

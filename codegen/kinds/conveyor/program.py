@@ -46,6 +46,9 @@ OUT_OF_STEP = "conveyor: the unit's queue is out of step with the PLC's: empty b
 # start, or the two counts apart by more than that once the part reaches the window: a trigger the robot missed, its
 # decoder counting another scale than the PLC's counter the belt was calibrated with): its stop
 MISMATCH = "conveyor: the robot's encoder and the PLC's count disagree: check the trigger and the scale"
+# UR: more trigger pulses latched and not yet paired than its ring holds (a chattering trigger): the oldest overwritten
+LATCH_RING = 32  # UR: the trigger's latched counts the program keeps (CNV_RING)
+OVERRUN = "conveyor: more trigger pulses pending than the latch ring holds: check the trigger"
 PAIR_MM = 10.0  # UR: a count latched at the trigger and the PLC's copy agree within this for one part (mm)
 MASS_DECIMALS = 3
 # intercept: a part left on the belt this much further past the gripper's reach (its radius) before the arm comes down
@@ -188,8 +191,8 @@ def conveyor_context(cell, target, emitter) -> dict:
     belt, pick = conveyor_of(cell), conveyor_of(cell).pick
     number = emitter.number
     frame = belt.frame()
-    e = belt.counts_per_mm
-    sign = 1.0 if e > 0 else -1.0
+    e, ticks = belt.counts_per_mm, belt.robot_ticks_per_mm
+    sign = 1.0 if ticks > 0 else -1.0  # the robot's own decoder's: track_conveyor_linear counts its ticks
     place = pick.place.matrix()
     above = place.copy()
     above[2, 3] += pick.approach_dz
@@ -204,7 +207,9 @@ def conveyor_context(cell, target, emitter) -> dict:
         "native": mode == "native",
         "frame": emitter.pose(TaughtPose("belt", _xyzabc(frame), "xyzabc")),
         "direction": [number(sign * v, 9) for v in belt.direction],
-        "ticks_per_m": number(abs(e) * 1000.0, 6),
+        "ticks_per_m": number(abs(ticks) * 1000.0, 6),
+        "ticks_per_mm": number(ticks, 9),
+        "own_scale": belt.ticks_per_mm is not None,  # UR: the robot's decoder calibrated on its own (--ticks)
         "counts_per_mm": number(e, 9),
         "camera_y": number(-belt.camera_offset_mm, 4),
         "window": [number(v, 4) for v in pick.window_mm],
@@ -253,8 +258,10 @@ def conveyor_context(cell, target, emitter) -> dict:
         "too_close": emitter.string(TOO_CLOSE),
         "early": emitter.string(EARLY),
         "mismatch": emitter.string(MISMATCH),
+        "overrun": emitter.string(OVERRUN),
+        "latch_ring": LATCH_RING,
         "pair_mm": number(PAIR_MM, 1),
-        "wrap_m": number(2**15 / abs(e) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
+        "wrap_m": number(2**15 / abs(ticks) / 1000.0, 1),  # UR: half the robot's count's wrap, as belt travel
         "lost": emitter.string(LOST),
         "not_held": emitter.string(NOT_HELD),
         "not_opened": emitter.string(NOT_OPENED),

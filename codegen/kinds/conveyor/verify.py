@@ -3,7 +3,7 @@ every move against the pick plan, the common scenarios (the arm away, the grippe
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from codegen import protocol
 from codegen.controllers import get_target
@@ -15,7 +15,16 @@ from codegen.kinds.conveyor.judge import SKIPS, belt_zone, left_low, struck
 from codegen.kinds.conveyor.judge import judge as judge_parts
 from codegen.kinds.conveyor.judge import not_held as judge_not_held
 from codegen.kinds.conveyor.kind import KIND
-from codegen.kinds.conveyor.program import BAD_READING, MISMATCH, OUT_OF_STEP, STANDS, no_part, place_blocked
+from codegen.kinds.conveyor.program import (
+    BAD_READING,
+    MISMATCH,
+    OUT_OF_STEP,
+    OVERRUN,
+    STANDS,
+    STOPPED,
+    no_part,
+    place_blocked,
+)
 from codegen.kinds.conveyor.section import conveyor_of
 from codegen.kinds.conveyor.start import first_moves, grip_pose, start_joints
 from codegen.model.io import signal_name
@@ -50,7 +59,8 @@ def setup(cell, target_name: str, case: BeltCase) -> Setup:
         list(case.parts),
         bus_for(target, KIND.facts(target)),
         robot_zero=case.robot_zero,
-        robot_scale=case.robot_scale,
+        # the controller's own decoder at the scale the cell states for it (ticks_per_mm), against the PLC's counter
+        robot_scale=case.robot_scale * conveyor_of(cell).robot_ticks_per_mm / conveyor_of(cell).counts_per_mm,
         unlatched=case.unlatched,
         wiring=None if not wiring else tuple(wiring),
         unit=unit,
@@ -136,9 +146,16 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
     problem = waits(cell, case, trace)
     if problem is not None:
         return Judgement([], problem=problem)
-    problem, pos, rot = judge_parts(cell, target_name, case, trace, line, output)
-    problem = problem or left_low(cell, target_name, case, trace, len(first), closes)
-    problem = problem or struck(cell, target_name, case, trace)
+    if case.category == "stop_while_standing":
+        return _stopped_waiting(cell, target_name, case, trace, first, start_outputs, names)
+    # more trigger pulses pending than the latch ring holds when the second part is taken (the first picked meanwhile):
+    # a stop with its message then, the first part judged as any
+    overrun = case.category == "latch_overrun" and target_name in conveyor_of(cell).pick.trigger_input
+    judged = replace(case, parts=case.parts[:1]) if overrun else case
+    stop = OVERRUN if overrun else None
+    problem, pos, rot = judge_parts(cell, target_name, judged, trace, line, output, stop)
+    problem = problem or left_low(cell, target_name, judged, trace, len(first), closes)
+    problem = problem or struck(cell, target_name, judged, trace)
     if problem is not None:
         return Judgement([], problem=problem)
     moves = plan.lay_over(cell, target, mode, len(first), trace.moves, closes, opens)
@@ -151,8 +168,30 @@ def judge(cell, target_name: str, case: BeltCase, trace, setup: Setup) -> Judgem
         return Judgement([], problem=problem)
     skipped = sum(1 for m in trace.messages if m.startswith(SKIPS))
     outputs = start_outputs + plan.outputs(cell, output, closes, opens, None)
-    expected = Expectation(None, tuple(first) + tuple(moves), outputs, output_names=names)
-    return Judgement([expected], figures=(len(case.parts) - skipped, skipped), errors=([pos], [rot]))
+    halt = emitter.string(OVERRUN) if overrun else None
+    expected = Expectation(halt, tuple(first) + tuple(moves), outputs, output_names=names)
+    return Judgement([expected], figures=(len(judged.parts) - skipped, skipped), errors=([pos], [rot]))
+
+
+def _stopped_waiting(cell, target_name: str, case, trace, first, start_outputs, names) -> Judgement:
+    """The line's cycle stop while the arm waits above a standing belt with the part on its way: the arm's moves for a
+    part given up (to where it waits; an intercept's descent to the approach height and back), no grip, the belt
+    zone's output off, the program's end said after the stop came (a program that waits for the belt for ever runs into
+    the step limit instead)."""
+    target = get_target(target_name)
+    mode = conveyor_of(cell).pick.tracking[target_name]
+    ended = [t for m, t in zip(trace.messages, trace.message_times, strict=True) if m == STOPPED]
+    if not ended or ended[-1] < case.stop_s - 1e-9:
+        return Judgement([], problem=f"the line's cycle stop at {case.stop_s:.3f} s, the program's end said at {ended}")
+    problem = belt_zone(cell, target_name, trace)
+    if problem is not None:
+        return Judgement([], problem=problem)
+    # the move to where the arm waits; an intercepting arm stopped in its second stage also went down to the part's
+    # approach height and back up to the clear height (a part given up)
+    moves = plan._given_up(cell, target, mode, trace.moves[len(first) :], len(first))
+    if isinstance(moves, str):
+        return Judgement([], problem=moves)
+    return Judgement([Expectation(None, (*first, *moves), start_outputs, output_names=names)])
 
 
 def lifted_early(cell, trace, closes: list, gripper: Gripper) -> str | None:
@@ -228,6 +267,8 @@ def waits(cell, case: BeltCase, trace) -> str | None:
     stands = [(m, t) for m, t in zip(trace.messages, trace.message_times, strict=True) if m.startswith(STANDS)]
     for start, length in case.belt.stops:
         for move in trace.moves:
+            if case.category == "stop_while_standing" and move.start_time >= case.stop_s - 1e-9:
+                continue  # the way up off the belt once the line's cycle stop has come
             if move.start_time < start + length and move.end_time > start:
                 return (
                     f"a move (line {move.line}) from {move.start_time:.3f} s to {move.end_time:.3f} s while the belt "

@@ -34,6 +34,10 @@ MODULE cnv_belt_abb
   ! the part's travel by the PLC's count, the program drops the object and stops with a message: empty both queues
   ! (the program empties the unit's at its next start), then start again. After each DropWObj the program waits
   ! 0.200 s before the next WaitWObj, as public programs do.
+  ! The position check takes the unit's joint (eax_a of CJointT) as the connected object's travel in mm since its
+  ! sync: assumed, not confirmed from the Conveyor Tracking application manual. Should every part stop the program
+  ! with that message on the first commissioning run while the parts are where the PLC says, generate the program
+  ! with [conveyor.pick] unit_position_check = false for that run, confirm what the joint reports, and turn it on.
   !
   ! The camera sees each part cross its line; the PLC queues it with the encoder's count at that moment and
   ! presents the oldest one on 16-bit group inputs of the I/O configuration: giCnvSeq its number,
@@ -43,7 +47,8 @@ MODULE cnv_belt_abb
   ! The program takes the part by writing its number to the group output goCnvAck, works out from the
   ! encoder how far it has travelled since (counts per mm from `codegen calibrate conveyor`, the 16-bit count
   ! unwound across its wrap) and skips it with a message when it is past the window's end.
-  ! The digital input diCnvStop (the line's cycle stop), with no part waiting, ends the program.
+  ! The digital input diCnvStop (the line's cycle stop), with no part waiting, ends the program; so it does while the arm
+  ! waits above a belt that has stood 2.000 s with a part on its way (the part left on the belt).
   ! No part for 30.000 s: a message, and the program waits on. A belt that stands while a part is on its way
   ! (no count for 2.000 s): a message; the arm stays above the belt and goes on when it moves again.
   ! The payload: the tool's, and the part's (GripLoad) from the grip confirmed to the release confirmed.
@@ -288,7 +293,11 @@ MODULE cnv_belt_abb
       RETURN;
     ENDIF
     ! the arm stays above the belt until the part is in the window by the PLC's count (WaitWObj connects it then)
-    cnv_arrive seq, seen, CNV_START;
+    IF cnv_arrive(seq, seen, CNV_START) THEN
+      ! the line's cycle stop while the belt stands: the cycle ends here, the arm above the window's start, the part
+      ! left on the belt (the main loop sees the stop)
+      RETURN;
+    ENDIF
     status := cnv_connect();
     WHILE status = 2 AND cnv_y(seen) <= CNV_START + CNV_SYNC_TOL DO
       ! no object yet, the part not surely in the unit's start window (a slower belt, or one that stands): on waiting
@@ -401,14 +410,16 @@ MODULE cnv_belt_abb
     RAISE;
   ENDFUNC
 
-  LOCAL PROC cnv_arrive(num seq, num seen, num y)
+  LOCAL FUNC bool cnv_arrive(num seq, num seen, num y)
     ! wait until the part is at y along the belt by the PLC's count; meanwhile the encoder's count still for
     ! CNV_STAND_POLLS reads (CNV_POLL apart, 2.000 s): the belt stands, said once (the wait goes on: the
-    ! arm stays above the belt until the belt moves the part there)
+    ! arm stays above the belt until the belt moves the part there). TRUE: the line's cycle stop came while the belt
+    ! stood (the wait would never end), FALSE: the part is there
     VAR num count;
     VAR num still := 0;
     count := GInput(giCnvEncoder);
     WHILE cnv_y(seen) < y DO
+      IF still >= CNV_STAND_POLLS AND DInput(diCnvStop) = 1 RETURN TRUE;
       WaitTime CNV_POLL;
       IF GInput(giCnvEncoder) = count THEN
         IF still <= CNV_STAND_POLLS THEN
@@ -420,7 +431,8 @@ MODULE cnv_belt_abb
         count := GInput(giCnvEncoder);
       ENDIF
     ENDWHILE
-  ENDPROC
+    RETURN FALSE;
+  ENDFUNC
 
   LOCAL PROC cnv_place_part()
     ! the part held, above the place: its interlock, down, release, back up
