@@ -1,7 +1,9 @@
-"""What the second first-hour walk (a fresh clone, the README and the docs only: a UR5e tending a lathe, a KUKA
-pallet cell) stumbled on, each with the cell as the walk wrote it."""
+"""What the first-hour walks (a fresh clone, the README and the docs only: a UR5e tending a lathe, a UR10e at a mill, KUKA
+pallet cells) stumbled on, each with the cell as the walk wrote it."""
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import pytest
 
@@ -159,3 +161,28 @@ def test_a_tool_orientation_that_points_the_tool_up_is_refused_at_its_key(write_
     ) in str(info.value)
     tilted = CARTONS.replace("tool_orientation = [0.0, 0.0, 180.0]", "tool_orientation = [0.0, 10.0, 170.0]")
     assert load_cell(write_cell(tilted)).sections["pallet"][0].tool_orientation == (0.0, 10.0, 170.0)
+
+
+# The third walk: a UR10e at a mill (a point station and a frame station, hand-eye calibrated) and a KR 10 pallet cell
+# of cartons, each as tests/kinds/cells/walk3_*.toml holds it.
+WALK3 = Path(__file__).parent / "kinds" / "cells"
+
+
+def test_a_default_refused_says_it_is_not_in_the_file(write_cell):
+    """A 0.052 mm pixel makes the default refine tolerance (0.02 mm) too fine. The refusal read "line 3:
+    cell.refine.tolerance_mm: 0.02 mm is finer ..." at the [cell] header of a file without [cell.refine]: where the
+    walk looked for a key it had not written. It says the key is not in the file and is its default."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / "walk3_mill.toml").read_text(encoding="utf-8")
+    start = text.index("[cell.refine]")
+    without = text[:start] + text[text.index("\n\n", start) + 2 :]
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(without))
+    assert ": line 3: cell.refine.tolerance_mm (not in the file: its default): 0.02 mm is finer than the camera" in str(
+        info.value
+    )
+    with pytest.raises(CellError) as info:  # written in the file: its own line, no note
+        load_cell(write_cell(text.replace("tolerance_mm = 0.03", "tolerance_mm = 0.02")))
+    assert "cell.refine.tolerance_mm: 0.02 mm is finer" in str(info.value)
+    assert "not in the file" not in str(info.value)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from codegen.guard import TAUGHT_RANGE_MM
-from codegen.model.lines import line_of
+from codegen.model.lines import line_of, written
 from codegen.poses import POSE_FORMATS
 
 # One turn, the bound of every angle a cell file gives (orientations, pattern angles, offsets): the same
@@ -54,7 +54,10 @@ class CellError(Exception):
         line = line_of(text, self.key) if self.key else None
         if line is None:
             return self
-        return CellError(f"{self.source}: line {line}: {self.key}: {self.detail}", self.source, self.key, self.detail)
+        key = self.key
+        if not self.detail.startswith("missing") and not written(text, key):
+            key += " (not in the file: its default)"  # the line is its table's, where the key would go
+        return CellError(f"{self.source}: line {line}: {key}: {self.detail}", self.source, self.key, self.detail)
 
 
 class Validator:
