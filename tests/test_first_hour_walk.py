@@ -1,5 +1,5 @@
-"""What the first-hour walks (a fresh clone, the README and the docs only: a UR5e tending a lathe, a UR10e at a mill, KUKA
-pallet cells) stumbled on, each with the cell as the walk wrote it."""
+"""What the first-hour walks (a fresh clone, the README and the docs only: a UR5e tending a lathe, a UR10e at a
+mill, KUKA pallet cells) stumbled on, each with the cell as the walk wrote it."""
 
 from __future__ import annotations
 
@@ -186,3 +186,49 @@ def test_a_default_refused_says_it_is_not_in_the_file(write_cell):
         load_cell(write_cell(text.replace("tolerance_mm = 0.03", "tolerance_mm = 0.02")))
     assert "cell.refine.tolerance_mm: 0.02 mm is finer" in str(info.value)
     assert "not in the file" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("cell", "old", "new", "said"),
+    [
+        (
+            "walk3_mill.toml",
+            "retreat_mm = 60.0",
+            "retreat_mn = 60.0",
+            "cell.motion.retreat_mn: unknown key (did you mean ",
+        ),
+        ("walk3_mill.toml", "[cell.tool]", "[cell.tools]", "cell.tools: unknown key (did you mean 'tool'?); allowed: "),
+        (
+            "walk3_pallet.toml",
+            "angle_sense =",
+            "angle_sens =",
+            "pallet[0].angle_sens: unknown key (did you mean 'angle_",
+        ),
+    ],
+)
+def test_a_typed_key_names_the_key_meant(write_cell, cell, old, new, said):
+    """A key typed one letter off was refused with the list of the table's keys alone (25 of them for a pallet), the
+    one meant to be found among them; the refusal names it."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / cell).read_text(encoding="utf-8")
+    assert old in text
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text.replace(old, new, 1)))
+    assert said in str(info.value)
+    meant = {"retreat_mn": "'retreat_mm'?)", "tools": "'tool'?)", "angle_sens": "'angle_sense'?)"}
+    assert meant[new.split()[0].strip("[]").split(".")[-1]] in str(info.value)
+
+
+def test_a_missing_signal_shows_it_for_the_cells_controller(write_cell):
+    """The pallet's pallet_present left out: the example shown was `pallet_present = { ... }`, no help to write it;
+    it is the signal per target of the cell, with the range the controller takes."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / "walk3_pallet.toml").read_text(encoding="utf-8")
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text.replace("pallet_present = { kuka = 12 }\n", "")))
+    assert str(info.value).endswith(
+        "pallet[0].io.pallet_present: missing: on when the pallet stands in place. For example:\n"
+        "    pallet_present = { kuka = <integer [1, 4096]> }"
+    )
