@@ -232,3 +232,19 @@ def test_a_missing_signal_shows_it_for_the_cells_controller(write_cell):
         "pallet[0].io.pallet_present: missing: on when the pallet stands in place. For example:\n"
         "    pallet_present = { kuka = <integer [1, 4096]> }"
     )
+
+
+def test_a_centre_of_gravity_in_metres_is_asked_about(write_cell):
+    """cog_mm = [0, 0, 0.07] (70 mm written in metres) on a 180 mm tool was taken: the programs' load put its mass at
+    the flange. It is asked about, as the TCP is; the flange itself (0, 0, 0) stays a centre of gravity."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / "walk3_mill.toml").read_text(encoding="utf-8")
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text.replace("cog_mm = [0.0, 0.0, 70.0]", "cog_mm = [0.0, 0.0, 0.07]")))
+    assert (
+        "line 22: cell.tool.cog_mm: the centre of gravity is 0.07 mm from the flange, the TCP 180 mm: given in metres? "
+        "cog_mm is mm in the flange frame: 0.07 m is 70 mm"
+    ) in str(info.value)
+    at_flange = load_cell(write_cell(text.replace("cog_mm = [0.0, 0.0, 70.0]", "cog_mm = [0.0, 0.0, 0.0]")))
+    assert at_flange.robot.tool.cog_mm == (0.0, 0.0, 0.0)

@@ -333,6 +333,13 @@ def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
     cog = ctx.numbers(ctx.require(table, "cog_mm", "cell.tool.cog_mm"), 3, "cell.tool.cog_mm")
     if max(abs(v) for v in cog) > TOOL_OFFSET_MAX_MM:
         ctx.fail("cell.tool.cog_mm", f"the centre of gravity must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
+    cog_reach = max(abs(v) for v in cog)
+    if 0.0 < cog_reach < TCP_MIN_MM < reach * scale:  # the tool reaches out, its mass a hair off the flange
+        ctx.fail(
+            "cell.tool.cog_mm",
+            f"the centre of gravity is {cog_reach:g} mm from the flange, the TCP {reach * scale:g} mm: given in "
+            f"metres? cog_mm is mm in the flange frame: {cog_reach:g} m is {cog_reach * 1000.0:g} mm",
+        )
     matrix = to_matrix(tcp)
     matrix.flags.writeable = False
     loader = Loader(ctx)
