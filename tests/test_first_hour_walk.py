@@ -248,3 +248,26 @@ def test_a_centre_of_gravity_in_metres_is_asked_about(write_cell):
     ) in str(info.value)
     at_flange = load_cell(write_cell(text.replace("cog_mm = [0.0, 0.0, 70.0]", "cog_mm = [0.0, 0.0, 0.0]")))
     assert at_flange.robot.tool.cog_mm == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    ("cell", "program", "said"),
+    [
+        ("walk3_pallet.toml", "mill_cell.script", "a program for ur, and cell tray_stack ("),
+        ("walk3_mill.toml", "pal_tray.src", "a program for kuka, and cell mill_cell ("),
+    ],
+)
+def test_a_program_for_a_target_the_cell_lacks_is_refused(tmp_path, cell, program, said):
+    """The walk's UR program given to verify with the KUKA pallet cell ended in a traceback (KeyError: 'ur'); its
+    KUKA pallet program given with the UR cell ran 2,096 cases as the station program and printed 2,559 failures.
+    Each is one message naming the file and the cell's targets, exit 2."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    (tmp_path / cell).write_text((WALK3 / cell).read_text(encoding="utf-8"), encoding="utf-8")
+    (tmp_path / program).write_text("def p():\n  sleep(1)\nend\n" if program.endswith(".script") else "DEF P()\nEND\n")
+    result = CliRunner().invoke(main, ["verify", str(tmp_path / cell), str(tmp_path / program)])
+    assert result.exit_code == 2 and isinstance(result.exception, SystemExit), result.output
+    assert f"Error: {tmp_path / program}: {said}" in result.output
+    assert "has no" in result.output and "(its targets: " in result.output
