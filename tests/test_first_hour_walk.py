@@ -271,3 +271,46 @@ def test_a_program_for_a_target_the_cell_lacks_is_refused(tmp_path, cell, progra
     assert result.exit_code == 2 and isinstance(result.exception, SystemExit), result.output
     assert f"Error: {tmp_path / program}: {said}" in result.output
     assert "has no" in result.output and "(its targets: " in result.output
+
+
+UR_METRES = """\
+[cell]
+name = "urfmt"
+targets = ["ur"]
+pose_format = "ur"
+[cell.camera]
+angle_sign = 1
+[cell.robot]
+ur = "UR10e"
+[cell.tool]
+tcp = [0.0, 0.0, 0.18, 0.0, 0.0, 0.0]
+mass_kg = 1.4
+cog_mm = [0.0, 0.0, 70.0]
+radius_mm = 35.0
+[cell.limits]
+max_shift_mm = 20.0
+max_rotation_deg = 8.0
+[[station]]
+id = 11
+name = "mill_vise"
+mark = [760.0, -240.0, 2.0]
+[station.poses]
+approach = [0.70, -0.150, 0.450, 3.1416, 0.0, 0.0]
+vise = [0.780, -0.160, 0.310, 3.1416, 0.0, 0.0]
+"""
+
+
+def test_a_tool_longer_than_the_arm_reaches_is_asked_about(write_cell):
+    """The mill station written with pose_format = "ur" and the TCP slipped a digit (tcp = [0, 0, 1.8, ...] for
+    0.18): taken as a 1.8 m tool and refused only at generate, about the station's pose ("the flange would be at (700,
+    -150, 2250) mm ... move the pose (or the arm) closer"). The tool's key says it as the cell is read."""
+    from codegen.generate import check_envelope
+    from codegen.model.cell import CellError
+
+    assert check_envelope(load_cell(write_cell(UR_METRES)), None)
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(UR_METRES.replace("[0.0, 0.0, 0.18,", "[0.0, 0.0, 1.8,")))
+    assert (
+        "line 10: cell.tool.tcp: the TCP is 1,800 mm from the flange, longer than the UR10e's reach of 1,300 mm "
+        '(cell.robot.ur): a value in another unit? (pose_format = "ur" takes x y z m'
+    ) in str(info.value)

@@ -214,6 +214,7 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
             home[target] = arm.home_deg
     if tool_given:
         _check_payload(ctx, tool, arms, table)
+        _check_length(ctx, tool, arms, pose_format)
     margins = Margins(
         _margin(ctx, table, "joint_margin_deg", DEFAULT_JOINT_MARGIN_DEG),
         _margin(ctx, table, "wrist_margin_deg", DEFAULT_WRIST_MARGIN_DEG),
@@ -254,6 +255,20 @@ def _check_payload(ctx, tool: Tool, arms: dict, table: dict) -> None:
                 "cell.tool.mass_kg",
                 f"{tool.mass_kg:g} kg is more than the {arm.model}'s payload of {arm.payload_kg:g} kg "
                 f"(cell.robot.{target}, {where}): the arm cannot carry the tool, let alone a part",
+            )
+
+
+def _check_length(ctx, tool: Tool, arms: dict, pose_format: str) -> None:
+    """A TCP farther from the flange than an arm reaches is a length in another unit, not a tool (a UR cell's
+    metres taken for mm: 1.8 for 1.8 mm is 1.8 m)."""
+    length_mm = float(np.linalg.norm(tool.tcp2flange[:3, 3]))
+    for target, arm in arms.items():
+        if arm.reach_mm is not None and length_mm > arm.reach_mm:
+            unit = f' (pose_format = "{pose_format}" takes {POSE_FORMATS[pose_format][3]})'
+            ctx.fail(
+                "cell.tool.tcp",
+                f"the TCP is {length_mm:,.0f} mm from the flange, longer than the {arm.model}'s reach of "
+                f"{arm.reach_mm:,.0f} mm (cell.robot.{target}): a value in another unit?{unit}",
             )
 
 
