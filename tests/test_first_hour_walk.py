@@ -179,7 +179,7 @@ def test_a_default_refused_says_it_is_not_in_the_file(write_cell):
     without = text[:start] + text[text.index("\n\n", start) + 2 :]
     with pytest.raises(CellError) as info:
         load_cell(write_cell(without))
-    assert ": line 3: cell.refine.tolerance_mm (not in the file: its default): 0.02 mm is finer than the camera" in str(
+    assert ": line 4: cell.refine.tolerance_mm (not in the file: its default): 0.02 mm is finer than the camera" in str(
         info.value
     )
     with pytest.raises(CellError) as info:  # written in the file: its own line, no note
@@ -243,7 +243,7 @@ def test_a_centre_of_gravity_in_metres_is_asked_about(write_cell):
     with pytest.raises(CellError) as info:
         load_cell(write_cell(text.replace("cog_mm = [0.0, 0.0, 70.0]", "cog_mm = [0.0, 0.0, 0.07]")))
     assert (
-        "line 22: cell.tool.cog_mm: the centre of gravity is 0.07 mm from the flange, the TCP 180 mm: given in metres? "
+        "line 23: cell.tool.cog_mm: the centre of gravity is 0.07 mm from the flange, the TCP 180 mm: given in metres? "
         "cog_mm is mm in the flange frame: 0.07 m is 70 mm"
     ) in str(info.value)
     at_flange = load_cell(write_cell(text.replace("cog_mm = [0.0, 0.0, 70.0]", "cog_mm = [0.0, 0.0, 0.0]")))
@@ -314,3 +314,10 @@ def test_a_tool_longer_than_the_arm_reaches_is_asked_about(write_cell):
         "line 10: cell.tool.tcp: the TCP is 1,800 mm from the flange, longer than the UR10e's reach of 1,300 mm "
         '(cell.robot.ur): a value in another unit? (pose_format = "ur" takes x y z m'
     ) in str(info.value)
+
+
+def test_the_walks_mill_cell_generates():
+    """The walk's UR cell as it ended: every pose reached for every accepted reading (generate's proof)."""
+    from codegen.generate import check_envelope
+
+    assert check_envelope(load_cell(WALK3 / "walk3_mill.toml"), None)
