@@ -321,3 +321,21 @@ def test_the_walks_mill_cell_generates():
     from codegen.generate import check_envelope
 
     assert check_envelope(load_cell(WALK3 / "walk3_mill.toml"), None)
+
+
+def test_diff_without_differences_says_so(tmp_path):
+    """`codegen diff` of the walk's pallet cell against its fresh output printed nothing and exited 0: no sign that it
+    compared anything. It says so on stderr; stdout stays the diff alone (empty)."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    cell = tmp_path / "walk3_pallet.toml"
+    cell.write_text((WALK3 / "walk3_pallet.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    assert CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")]).exit_code == 0
+    result = CliRunner().invoke(main, ["diff", str(cell), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 0 and result.stdout == ""
+    assert (
+        result.stderr
+        == f"no differences: the files in {tmp_path / 'out'} are what codegen generate writes for cell tray_stack\n"
+    )
