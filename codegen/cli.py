@@ -144,13 +144,18 @@ def diff(cell: str | None, out_dir: str, as_json: bool, diff_format: str, no_ver
     paths = [cell] if cell is not None else example_cells()
     if diff_format == "markdown":
         _markdown_diff(paths, Path(out_dir), no_verify)
-    text = ""
+    text, names = "", []
     for path in paths:
-        text += diff_cell(_load(path), Path(out_dir))
+        model = _load(path)
+        names.append(model.name)
+        text += diff_cell(model, Path(out_dir))
     if as_json:
         _dump({"diff": text, "exit": 1 if text else 0})
     elif text:
         click.echo(text, nl=False)
+    else:  # a silent success reads as nothing done; stderr keeps stdout the diff alone
+        said = f"{len(names)} cells" if len(names) > 1 else f"cell {names[0]}"
+        click.echo(f"no differences: the files in {out_dir} are what codegen generate writes for {said}", err=True)
     sys.exit(1 if text else 0)
 
 

@@ -1,7 +1,9 @@
-"""What the second first-hour walk (a fresh clone, the README and the docs only: a UR5e tending a lathe, a KUKA
-pallet cell) stumbled on, each with the cell as the walk wrote it."""
+"""What the first-hour walks (a fresh clone, the README and the docs only: a UR5e tending a lathe, a UR10e at a
+mill, KUKA pallet cells) stumbled on, each with the cell as the walk wrote it."""
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import pytest
 
@@ -159,3 +161,181 @@ def test_a_tool_orientation_that_points_the_tool_up_is_refused_at_its_key(write_
     ) in str(info.value)
     tilted = CARTONS.replace("tool_orientation = [0.0, 0.0, 180.0]", "tool_orientation = [0.0, 10.0, 170.0]")
     assert load_cell(write_cell(tilted)).sections["pallet"][0].tool_orientation == (0.0, 10.0, 170.0)
+
+
+# The third walk: a UR10e at a mill (a point station and a frame station, hand-eye calibrated) and a KR 10 pallet cell
+# of cartons, each as tests/kinds/cells/walk3_*.toml holds it.
+WALK3 = Path(__file__).parent / "kinds" / "cells"
+
+
+def test_a_default_refused_says_it_is_not_in_the_file(write_cell):
+    """A 0.052 mm pixel makes the default refine tolerance (0.02 mm) too fine. The refusal read "line 3:
+    cell.refine.tolerance_mm: 0.02 mm is finer ..." at the [cell] header of a file without [cell.refine]: where the
+    walk looked for a key it had not written. It says the key is not in the file and is its default."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / "walk3_mill.toml").read_text(encoding="utf-8")
+    start = text.index("[cell.refine]")
+    without = text[:start] + text[text.index("\n\n", start) + 2 :]
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(without))
+    assert ": line 4: cell.refine.tolerance_mm (not in the file: its default): 0.02 mm is finer than the camera" in str(
+        info.value
+    )
+    with pytest.raises(CellError) as info:  # written in the file: its own line, no note
+        load_cell(write_cell(text.replace("tolerance_mm = 0.03", "tolerance_mm = 0.02")))
+    assert "cell.refine.tolerance_mm: 0.02 mm is finer" in str(info.value)
+    assert "not in the file" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("cell", "old", "new", "said"),
+    [
+        (
+            "walk3_mill.toml",
+            "retreat_mm = 60.0",
+            "retreat_mn = 60.0",
+            "cell.motion.retreat_mn: unknown key (did you mean ",
+        ),
+        ("walk3_mill.toml", "[cell.tool]", "[cell.tools]", "cell.tools: unknown key (did you mean 'tool'?); allowed: "),
+        (
+            "walk3_pallet.toml",
+            "angle_sense =",
+            "angle_sens =",
+            "pallet[0].angle_sens: unknown key (did you mean 'angle_",
+        ),
+    ],
+)
+def test_a_typed_key_names_the_key_meant(write_cell, cell, old, new, said):
+    """A key typed one letter off was refused with the list of the table's keys alone (25 of them for a pallet), the
+    one meant to be found among them; the refusal names it."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / cell).read_text(encoding="utf-8")
+    assert old in text
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text.replace(old, new, 1)))
+    assert said in str(info.value)
+    meant = {"retreat_mn": "'retreat_mm'?)", "tools": "'tool'?)", "angle_sens": "'angle_sense'?)"}
+    assert meant[new.split()[0].strip("[]").split(".")[-1]] in str(info.value)
+
+
+def test_a_missing_signal_shows_it_for_the_cells_controller(write_cell):
+    """The pallet's pallet_present left out: the example shown was `pallet_present = { ... }`, no help to write it;
+    it is the signal per target of the cell, with the range the controller takes."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / "walk3_pallet.toml").read_text(encoding="utf-8")
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text.replace("pallet_present = { kuka = 12 }\n", "")))
+    assert str(info.value).endswith(
+        "pallet[0].io.pallet_present: missing: on when the pallet stands in place. For example:\n"
+        "    pallet_present = { kuka = <integer [1, 4096]> }"
+    )
+
+
+def test_a_centre_of_gravity_in_metres_is_asked_about(write_cell):
+    """cog_mm = [0, 0, 0.07] (70 mm written in metres) on a 180 mm tool was taken: the programs' load put its mass at
+    the flange. It is asked about, as the TCP is; the flange itself (0, 0, 0) stays a centre of gravity."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / "walk3_mill.toml").read_text(encoding="utf-8")
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text.replace("cog_mm = [0.0, 0.0, 70.0]", "cog_mm = [0.0, 0.0, 0.07]")))
+    assert (
+        "line 23: cell.tool.cog_mm: the centre of gravity is 0.07 mm from the flange, the TCP 180 mm: given in metres? "
+        "cog_mm is mm in the flange frame: 0.07 m is 70 mm"
+    ) in str(info.value)
+    at_flange = load_cell(write_cell(text.replace("cog_mm = [0.0, 0.0, 70.0]", "cog_mm = [0.0, 0.0, 0.0]")))
+    assert at_flange.robot.tool.cog_mm == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    ("cell", "program", "said"),
+    [
+        ("walk3_pallet.toml", "mill_cell.script", "a program for ur, and cell tray_stack ("),
+        ("walk3_mill.toml", "pal_tray.src", "a program for kuka, and cell mill_cell ("),
+    ],
+)
+def test_a_program_for_a_target_the_cell_lacks_is_refused(tmp_path, cell, program, said):
+    """The walk's UR program given to verify with the KUKA pallet cell ended in a traceback (KeyError: 'ur'); its
+    KUKA pallet program given with the UR cell ran 2,096 cases as the station program and printed 2,559 failures.
+    Each is one message naming the file and the cell's targets, exit 2."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    (tmp_path / cell).write_text((WALK3 / cell).read_text(encoding="utf-8"), encoding="utf-8")
+    (tmp_path / program).write_text("def p():\n  sleep(1)\nend\n" if program.endswith(".script") else "DEF P()\nEND\n")
+    result = CliRunner().invoke(main, ["verify", str(tmp_path / cell), str(tmp_path / program)])
+    assert result.exit_code == 2 and isinstance(result.exception, SystemExit), result.output
+    assert f"Error: {tmp_path / program}: {said}" in result.output
+    assert "has no" in result.output and "(its targets: " in result.output
+
+
+UR_METRES = """\
+[cell]
+name = "urfmt"
+targets = ["ur"]
+pose_format = "ur"
+[cell.camera]
+angle_sign = 1
+[cell.robot]
+ur = "UR10e"
+[cell.tool]
+tcp = [0.0, 0.0, 0.18, 0.0, 0.0, 0.0]
+mass_kg = 1.4
+cog_mm = [0.0, 0.0, 70.0]
+radius_mm = 35.0
+[cell.limits]
+max_shift_mm = 20.0
+max_rotation_deg = 8.0
+[[station]]
+id = 11
+name = "mill_vise"
+mark = [760.0, -240.0, 2.0]
+[station.poses]
+approach = [0.70, -0.150, 0.450, 3.1416, 0.0, 0.0]
+vise = [0.780, -0.160, 0.310, 3.1416, 0.0, 0.0]
+"""
+
+
+def test_a_tool_longer_than_the_arm_reaches_is_asked_about(write_cell):
+    """The mill station written with pose_format = "ur" and the TCP slipped a digit (tcp = [0, 0, 1.8, ...] for
+    0.18): taken as a 1.8 m tool and refused only at generate, about the station's pose ("the flange would be at (700,
+    -150, 2250) mm ... move the pose (or the arm) closer"). The tool's key says it as the cell is read."""
+    from codegen.generate import check_envelope
+    from codegen.model.cell import CellError
+
+    assert check_envelope(load_cell(write_cell(UR_METRES)), None)
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(UR_METRES.replace("[0.0, 0.0, 0.18,", "[0.0, 0.0, 1.8,")))
+    assert (
+        "line 10: cell.tool.tcp: the TCP is 1,800 mm from the flange, longer than the UR10e's reach of 1,300 mm "
+        '(cell.robot.ur): a value in another unit? (pose_format = "ur" takes x y z m'
+    ) in str(info.value)
+
+
+def test_the_walks_mill_cell_generates():
+    """The walk's UR cell as it ended: every pose reached for every accepted reading (generate's proof)."""
+    from codegen.generate import check_envelope
+
+    assert check_envelope(load_cell(WALK3 / "walk3_mill.toml"), None)
+
+
+def test_diff_without_differences_says_so(tmp_path):
+    """`codegen diff` of the walk's pallet cell against its fresh output printed nothing and exited 0: no sign that it
+    compared anything. It says so on stderr; stdout stays the diff alone (empty)."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    cell = tmp_path / "walk3_pallet.toml"
+    cell.write_text((WALK3 / "walk3_pallet.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    assert CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")]).exit_code == 0
+    result = CliRunner().invoke(main, ["diff", str(cell), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 0 and result.stdout == ""
+    assert (
+        result.stderr
+        == f"no differences: the files in {tmp_path / 'out'} are what codegen generate writes for cell tray_stack\n"
+    )

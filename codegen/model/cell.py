@@ -113,14 +113,18 @@ def load_cell(path: str | Path | None = None, kinds: Kinds | None = None) -> Cel
     except RecursionError:
         raise CellError(f"{path}: tables or arrays nested too deeply") from None
     except CellError as exc:
-        raise _explained(exc, kinds).with_line(raw.decode("utf-8", errors="replace")) from None
+        raise _explained(exc, kinds, data).with_line(raw.decode("utf-8", errors="replace")) from None
 
 
-def _explained(exc: CellError, kinds: Kinds | None) -> CellError:
-    """A missing key's error with what the key is for and a minimal example of it (codegen/model/hints.py)."""
+def _explained(exc: CellError, kinds: Kinds | None, data: dict) -> CellError:
+    """A missing key's error with what the key is for and a minimal example of it (codegen/model/hints.py), a
+    controller's value for each of the cell's targets."""
     if not exc.key or not exc.detail.startswith("missing"):
         return exc
-    doc, example = missing_hint(tables.file_table(installed_kinds() if kinds is None else kinds), exc.key)
+    cell = data.get("cell")
+    targets = cell.get("targets") if isinstance(cell, dict) else None
+    targets = tuple(t for t in targets if isinstance(t, str)) if isinstance(targets, list) else ()
+    doc, example = missing_hint(tables.file_table(installed_kinds() if kinds is None else kinds), exc.key, targets)
     if not example:
         return exc
     said = exc.detail if exc.detail != "missing" else f"missing: {doc}"
@@ -168,13 +172,15 @@ def replace_cell_file(
 
     def accept(written: Path) -> None:
         raw = written.read_bytes()  # what is on disk, named as the cell file it will become
+        data: dict = {}
         try:
             digest = hashlib.sha256(raw).hexdigest()
-            cell = cell_from_dict(parse_cell_bytes(raw, path), source=str(path), sha256=digest, kinds=kinds)
+            data = parse_cell_bytes(raw, path)
+            cell = cell_from_dict(data, source=str(path), sha256=digest, kinds=kinds)
         except RecursionError:
             raise CellError(f"{path}: tables or arrays nested too deeply") from None
         except CellError as exc:
-            raise _explained(exc, kinds).with_line(raw.decode("utf-8", errors="replace")) from None
+            raise _explained(exc, kinds, data).with_line(raw.decode("utf-8", errors="replace")) from None
         for kind in cell.kinds.values():
             kind.writer.reach(cell, list(cell.targets))
         if prove is not None:

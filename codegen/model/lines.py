@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+import tomllib
 
 _BARE = r"[A-Za-z0-9_-]+"
 _QUOTED = r"\"(?:[^\"\\]|\\.)*\"|'[^']*'"
@@ -26,6 +27,27 @@ def line_of(text: str, path: str) -> int | None:
         if line is not None:
             return line
     return None
+
+
+def written(text: str, path: str) -> bool:
+    """Whether the TOML text gives the key path at all (a key it leaves out takes its default); True where the
+    text does not parse (its own error says more)."""
+    try:
+        node = tomllib.loads(text)
+    except (tomllib.TOMLDecodeError, RecursionError):
+        return True
+    for part in _path_parts(path):
+        if isinstance(node, dict) and isinstance(part, str):
+            if part not in node:
+                return False
+            node = node[part]
+        elif isinstance(node, list) and isinstance(part, int):
+            if part >= len(node):
+                return False
+            node = node[part]
+        else:
+            return True
+    return True
 
 
 def key_lines(text: str) -> dict[tuple, int]:

@@ -214,6 +214,7 @@ def parse_robot(ctx, cell_table: dict, targets: tuple[str, ...], pose_format: st
             home[target] = arm.home_deg
     if tool_given:
         _check_payload(ctx, tool, arms, table)
+        _check_length(ctx, tool, arms, pose_format)
     margins = Margins(
         _margin(ctx, table, "joint_margin_deg", DEFAULT_JOINT_MARGIN_DEG),
         _margin(ctx, table, "wrist_margin_deg", DEFAULT_WRIST_MARGIN_DEG),
@@ -254,6 +255,20 @@ def _check_payload(ctx, tool: Tool, arms: dict, table: dict) -> None:
                 "cell.tool.mass_kg",
                 f"{tool.mass_kg:g} kg is more than the {arm.model}'s payload of {arm.payload_kg:g} kg "
                 f"(cell.robot.{target}, {where}): the arm cannot carry the tool, let alone a part",
+            )
+
+
+def _check_length(ctx, tool: Tool, arms: dict, pose_format: str) -> None:
+    """A TCP farther from the flange than an arm reaches is a length in another unit, not a tool (a UR cell's
+    metres taken for mm: 1.8 for 1.8 mm is 1.8 m)."""
+    length_mm = float(np.linalg.norm(tool.tcp2flange[:3, 3]))
+    for target, arm in arms.items():
+        if arm.reach_mm is not None and length_mm > arm.reach_mm:
+            unit = f' (pose_format = "{pose_format}" takes {POSE_FORMATS[pose_format][3]})'
+            ctx.fail(
+                "cell.tool.tcp",
+                f"the TCP is {length_mm:,.0f} mm from the flange, longer than the {arm.model}'s reach of "
+                f"{arm.reach_mm:,.0f} mm (cell.robot.{target}): a value in another unit?{unit}",
             )
 
 
@@ -333,6 +348,13 @@ def _parse_tool(ctx, table: dict, pose_format: str) -> Tool:
     cog = ctx.numbers(ctx.require(table, "cog_mm", "cell.tool.cog_mm"), 3, "cell.tool.cog_mm")
     if max(abs(v) for v in cog) > TOOL_OFFSET_MAX_MM:
         ctx.fail("cell.tool.cog_mm", f"the centre of gravity must be within {TOOL_OFFSET_MAX_MM:g} mm of the flange")
+    cog_reach = max(abs(v) for v in cog)
+    if 0.0 < cog_reach < TCP_MIN_MM < reach * scale:  # the tool reaches out, its mass a hair off the flange
+        ctx.fail(
+            "cell.tool.cog_mm",
+            f"the centre of gravity is {cog_reach:g} mm from the flange, the TCP {reach * scale:g} mm: given in "
+            f"metres? cog_mm is mm in the flange frame: {cog_reach:g} m is {cog_reach * 1000.0:g} mm",
+        )
     matrix = to_matrix(tcp)
     matrix.flags.writeable = False
     loader = Loader(ctx)

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import difflib
 import math
 
 from codegen.guard import TAUGHT_RANGE_MM
-from codegen.model.lines import line_of
+from codegen.model.lines import line_of, written
 from codegen.poses import POSE_FORMATS
 
 # One turn, the bound of every angle a cell file gives (orientations, pattern angles, offsets): the same
@@ -13,6 +14,7 @@ from codegen.poses import POSE_FORMATS
 ANGLE_BOUNDS = {"deg": 360.0, "rad": 2 * math.pi}
 FLOAT32_TURN = "a float32 controller keeps an angle beyond one turn too coarsely (at 1e9 deg a float32 step is 64 deg)"
 DIGITS_SHOWN = 12  # a number in a message is shown with at most this many digits
+TYPO_CUTOFF = 0.8  # an unknown key this similar to an allowed one (difflib's ratio) is named as the one meant
 
 
 def metres_hint(pose_format: str) -> str:
@@ -54,7 +56,10 @@ class CellError(Exception):
         line = line_of(text, self.key) if self.key else None
         if line is None:
             return self
-        return CellError(f"{self.source}: line {line}: {self.key}: {self.detail}", self.source, self.key, self.detail)
+        key = self.key
+        if not self.detail.startswith("missing") and not written(text, key):
+            key += " (not in the file: its default)"  # the line is its table's, where the key would go
+        return CellError(f"{self.source}: line {line}: {key}: {self.detail}", self.source, self.key, self.detail)
 
 
 class Validator:
@@ -82,7 +87,9 @@ class Validator:
     def no_unknown(self, table: dict, allowed: set[str], path: str) -> None:
         unknown = sorted(set(table) - allowed)
         if unknown:
-            self.fail(f"{path}.{unknown[0]}", f"unknown key; allowed: {', '.join(sorted(allowed))}")
+            near = difflib.get_close_matches(str(unknown[0]), sorted(allowed), n=1, cutoff=TYPO_CUTOFF)
+            meant = f" (did you mean {near[0]!r}?)" if near else ""
+            self.fail(f"{path}.{unknown[0]}", f"unknown key{meant}; allowed: {', '.join(sorted(allowed))}")
 
     def number(self, table: dict, key: str, path: str) -> float:
         return self.finite(self.require(table, key, path), path)

@@ -66,6 +66,11 @@ def file_sources(cell, paths: list[Path], targets: tuple[str, ...]) -> tuple[lis
     by_target: dict[str, list[Path]] = {}
     for path in paths:
         target = _target_of(path, targets)
+        if target not in cell.targets:  # the cell makes no program for it: nothing to verify the file against
+            raise ProgramFilesError(
+                f"{path}: a program for {target}, and cell {cell.name} ({cell.source}) has no {target} target "
+                f"(its targets: {', '.join(cell.targets)}): verify it with its own cell"
+            )
         by_target.setdefault(target, []).append(path)
     out, warnings = [], []
     for target_name, group in by_target.items():
