@@ -1,0 +1,166 @@
+"""The setup program with a reference pin (UR): run against simulated beams lying where the cell does not say, it
+finds the sensor frame they lie in, within the error the model gives; a program with a sign or an axis swapped
+does not."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from support.programs import sources
+
+from codegen.controllers import get_target
+from codegen.dialects.core.files import SourceFile
+from codegen.kinds.laser import frame_setup as fs
+from codegen.kinds.laser.budget import FLOAT32_MM, tolerances
+from codegen.kinds.laser.frame_solve import solve_frame
+from codegen.model.cell import load_cell
+from codegen.model.io import signal_name
+from codegen.poses import rotmat_from_zyx_deg
+from codegen.robot.expect import arm_of
+from codegen.sim.beam_station import BeamStation
+from codegen.sim.beams import Pin
+
+CELL = "codegen/examples/laser/laser_tcp.toml"
+
+
+@pytest.fixture(scope="module")
+def cell():
+    return load_cell(CELL)
+
+
+def _setup_source(cell):
+    (source,) = [s for s in sources(cell, "ur", "laser") if s.index == 1]
+    return source
+
+
+def _offset(shift, zyx_deg) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, :3] = rotmat_from_zyx_deg(*zyx_deg)
+    out[:3, 3] = shift
+    return out
+
+
+def _run(cell, source, true_frame: np.ndarray):
+    target = get_target("ur")
+    laser = cell.sections["laser"]
+    inputs = {
+        signal_name(target, "input", laser.beam_x["ur"]): "x",
+        signal_name(target, "input", laser.beam_y["ur"]): "y",
+    }
+    station = BeamStation(true_frame, Pin(fs.reference_tool(laser), laser.reference_radius_mm), inputs)
+    return source.load().run(
+        {},
+        devices=(station,),
+        arm=arm_of(cell, "ur"),
+        start_joints=cell.robot.home["ur"],
+        keep=tuple(fs.FRAME_NAMES.values()),
+        signal_cycle_s=target.program["signal_cycle_s"],
+        step_limit=4_000_000,
+    )
+
+
+def _bounds(cell) -> tuple[np.ndarray, np.ndarray]:
+    """How far the found frame may lie from the true one (x, y, z mm; a, b, c deg), from the model: each mean of
+    four edges off by up to the calibration's centre tolerance (half a cycle's travel on the circle: the two
+    crossings run in opposite directions), each contact by half a cycle's travel in the search (the mean of the
+    down and the up edge), propagated through the solve by its first derivatives (each term at its worst sign),
+    and float32 on top."""
+    laser = cell.sections["laser"]
+    target = get_target("ur")
+    tol = tolerances(cell, target, 0.0)
+    contact = laser.search_speed_mm_s * float(target.program["signal_cycle_s"]) / 2 + FLOAT32_MM
+    named = laser.sensor_frame.matrix()
+    delta, span = fs.step_mm(laser), fs.span_mm(laser)
+
+    def found(v):
+        beams = solve_frame(
+            (v[0], v[1]), (v[2], v[3]), delta, (v[4], v[5]), (v[6], v[7]), span, laser.reference_radius_mm
+        )
+        return np.array(fs.xyzabc(fs.frame_found(named, beams)))
+
+    base = np.zeros(8)
+    bound = np.array([tol.centre] * 4 + [contact] * 4)
+    worst = np.zeros(6)
+    for i in range(8):
+        h = np.zeros(8)
+        h[i] = 1e-4
+        worst += np.abs((found(base + h) - found(base - h)) / 2e-4) * bound[i]
+    return worst[:3] + FLOAT32_MM, worst[3:] + 1e-4
+
+
+OFF = [  # the beams where the cell does not say: a shift, a yaw, tilts (mm, deg)
+    ((0.25, -0.12, 0.08), (0.3, 0.2, -0.1)),
+    ((-0.4, 0.3, -0.2), (-0.5, -0.15, 0.25)),
+    ((0.1, 0.35, -0.3), (-0.5, -0.6, 0.5)),  # tilted enough that the rim's share (rho |s|) exceeds the bound
+]
+
+
+@pytest.mark.parametrize(("shift", "zyx"), OFF)
+def test_the_setup_program_finds_the_sensor_frame(cell, shift, zyx):
+    laser = cell.sections["laser"]
+    named = laser.sensor_frame.matrix()
+    true_frame = named @ _offset(shift, zyx)
+    trace = _run(cell, _setup_source(cell), true_frame)
+    assert not trace.halted, trace.halt_message
+    got = np.array(trace.kept[fs.FRAME_NAMES["frame"]], dtype=float)
+    want = np.array(fs.xyzabc(true_frame))
+    position, angles = _bounds(cell)
+    assert np.all(np.abs(got[:3] - want[:3]) <= position), (got, want, position)
+    assert np.all(np.abs(got[3:] - want[3:]) <= angles), (got, want, angles)
+    # the frame error it finds is well beyond those bounds: the test tells a found frame from the named one
+    assert np.max(np.abs(np.array(fs.xyzabc(named)) - want)[:3] - position) > 0
+    assert any(m.startswith(fs.FRAME_FOUND) for m in trace.messages)
+
+
+MUTANTS = [
+    ("tx = lsr_yaw({{m}}[2] - {{m}}[0])", "tx = -lsr_yaw({{m}}[2] - {{m}}[0])"),  # the yaw's sign
+    ("dx = (-ty * r1 - r2) / det", "dx = (-ty * r2 - r1) / det"),  # x and y of the crossing swapped
+    ("dz = ({{c}}[0] + {{c}}[1]) / 2 - LSR_RADIUS * norm(sx)", "dz = ({{c}}[0] + {{c}}[1]) / 2"),  # no rim
+    ("sy = ({{c}}[3] - {{c}}[2])", "sy = ({{c}}[2] - {{c}}[3])"),  # beam Y's slope reversed
+]
+
+
+@pytest.mark.parametrize(("old", "new"), MUTANTS)
+def test_a_setup_program_with_a_sign_or_an_axis_swapped_misses_the_frame(cell, old, new):
+    names = {"m": fs.FRAME_NAMES["means"], "c": fs.FRAME_NAMES["contacts"]}
+    old = old.replace("{{m}}", names["m"]).replace("{{c}}", names["c"])
+    new = new.replace("{{m}}", names["m"]).replace("{{c}}", names["c"])
+    source = _setup_source(cell)
+    text = source.files[0].text
+    assert text.count(old) == 1, old
+    from dataclasses import replace
+
+    mutant = replace(source, files=(SourceFile(source.files[0].name, text.replace(old, new)),))
+    shift, zyx = OFF[2]
+    true_frame = cell.sections["laser"].sensor_frame.matrix() @ _offset(shift, zyx)
+    trace = _run(cell, mutant, true_frame)
+    got = np.array(trace.kept[fs.FRAME_NAMES["frame"]], dtype=float)
+    want = np.array(fs.xyzabc(true_frame))
+    position, angles = _bounds(cell)
+    assert trace.halted or np.any(np.abs(got[:3] - want[:3]) > position) or np.any(np.abs(got[3:] - want[3:]) > angles)
+
+
+def test_the_frame_s_float64_solve_recovers_a_known_offset(cell):
+    """frame_found from exact means and contacts (frame_derivation's formulas forward) is the true frame."""
+    laser = cell.sections["laser"]
+    named = laser.sensor_frame.matrix()
+    shift, zyx = OFF[0]
+    offset = _offset(shift, zyx)
+    x, y = offset[:3, 0], offset[:3, 1]
+    t_x, t_y = x[1] / x[0], y[0] / y[1]
+    s_x, s_y = x[2] / math.hypot(x[0], x[1]), y[2] / math.hypot(y[0], y[1])
+    d = offset[:3, 3]
+
+    def chord(cx, cy, t, dx_, dy_):
+        return cy + ((cx - dx_) * t - (cy - dy_)) / (1 + t * t)
+
+    delta, span, rho = fs.step_mm(laser), fs.span_mm(laser), laser.reference_radius_mm
+    y_x = (chord(0, 0, t_x, d[0], d[1]), chord(delta, 0, t_x, d[0], d[1]))
+    x_y = (chord(0, 0, t_y, d[1], d[0]), chord(delta, 0, t_y, d[1], d[0]))
+    along_x = span * math.sqrt(1 + t_x * t_x)
+    z_x = tuple(d[2] + s_x * t + rho * abs(s_x) for t in (-along_x, along_x))
+    z_y = tuple(d[2] + s_y * t + rho * abs(s_y) for t in (-along_x, along_x))  # solve_frame: one span
+    beams = solve_frame(y_x, x_y, delta, z_x, z_y, span * math.sqrt(1 + t_x * t_x), rho)
+    assert np.allclose(fs.frame_found(named, beams), named @ offset, atol=1e-9)
