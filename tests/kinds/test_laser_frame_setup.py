@@ -5,6 +5,7 @@ does not."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -30,8 +31,11 @@ def cell():
     return load_cell(CELL)
 
 
-def _setup_source(cell):
-    (source,) = [s for s in sources(cell, "ur", "laser") if s.index == 1]
+TARGETS = ("ur", "kuka")
+
+
+def _setup_source(cell, target="ur"):
+    (source,) = [s for s in sources(cell, target, "laser") if s.index == 1]
     return source
 
 
@@ -43,32 +47,32 @@ def _offset(shift, zyx_deg) -> np.ndarray:
 
 
 def _run(cell, source, true_frame: np.ndarray):
-    target = get_target("ur")
+    target = get_target(source.target)
     laser = cell.sections["laser"]
     inputs = {
-        signal_name(target, "input", laser.beam_x["ur"]): "x",
-        signal_name(target, "input", laser.beam_y["ur"]): "y",
+        signal_name(target, "input", laser.beam_x[target.name]): "x",
+        signal_name(target, "input", laser.beam_y[target.name]): "y",
     }
     station = BeamStation(true_frame, Pin(fs.reference_tool(laser), laser.reference_radius_mm), inputs)
     return source.load().run(
         {},
         devices=(station,),
-        arm=arm_of(cell, "ur"),
-        start_joints=cell.robot.home["ur"],
+        arm=arm_of(cell, target.name),
+        start_joints=cell.robot.home[target.name],
         keep=tuple(fs.FRAME_NAMES.values()),
         signal_cycle_s=target.program["signal_cycle_s"],
         step_limit=4_000_000,
     )
 
 
-def _bounds(cell) -> tuple[np.ndarray, np.ndarray]:
+def _bounds(cell, target_name: str) -> tuple[np.ndarray, np.ndarray]:
     """How far the found frame may lie from the true one (x, y, z mm; a, b, c deg), from the model: each mean of
     four edges off by up to the calibration's centre tolerance (half a cycle's travel on the circle: the two
     crossings run in opposite directions), each contact by half a cycle's travel in the search (the mean of the
     down and the up edge), propagated through the solve by its first derivatives (each term at its worst sign),
     and float32 on top."""
     laser = cell.sections["laser"]
-    target = get_target("ur")
+    target = get_target(target_name)
     tol = tolerances(cell, target, 0.0)
     contact = laser.search_speed_mm_s * float(target.program["signal_cycle_s"]) / 2 + FLOAT32_MM
     named = laser.sensor_frame.matrix()
@@ -93,52 +97,64 @@ def _bounds(cell) -> tuple[np.ndarray, np.ndarray]:
 OFF = [  # the beams where the cell does not say: a shift, a yaw, tilts (mm, deg)
     ((0.25, -0.12, 0.08), (0.3, 0.2, -0.1)),
     ((-0.4, 0.3, -0.2), (-0.5, -0.15, 0.25)),
-    ((0.1, 0.35, -0.3), (-0.5, -0.6, 0.5)),  # tilted enough that the rim's share (rho |s|) exceeds the bound
+    ((0.1, 0.35, -0.3), (-0.5, -0.6, 0.5)),
 ]
+# the mutants' case: turned and tilted enough that a sign or an axis swapped shows beyond the bounds on every target
+# (KUKA's 12 ms input cycle: a yaw bound of about 1.4 deg; the rim's share rho |s| beyond the height's bound)
+MUTANT_OFF = ((0.1, 0.35, -0.3), (1.5, -1.2, 1.0))
 
 
-@pytest.mark.parametrize(("shift", "zyx"), OFF)
-def test_the_setup_program_finds_the_sensor_frame(cell, shift, zyx):
+@pytest.mark.parametrize("target", TARGETS)
+@pytest.mark.parametrize(("shift", "zyx"), [*OFF, MUTANT_OFF])
+def test_the_setup_program_finds_the_sensor_frame(cell, target, shift, zyx):
     laser = cell.sections["laser"]
     named = laser.sensor_frame.matrix()
     true_frame = named @ _offset(shift, zyx)
-    trace = _run(cell, _setup_source(cell), true_frame)
+    trace = _run(cell, _setup_source(cell, target), true_frame)
     assert not trace.halted, trace.halt_message
     got = np.array(trace.kept[fs.FRAME_NAMES["frame"]], dtype=float)
     want = np.array(fs.xyzabc(true_frame))
-    position, angles = _bounds(cell)
+    position, angles = _bounds(cell, target)
     assert np.all(np.abs(got[:3] - want[:3]) <= position), (got, want, position)
     assert np.all(np.abs(got[3:] - want[3:]) <= angles), (got, want, angles)
     # the frame error it finds is well beyond those bounds: the test tells a found frame from the named one
     assert np.max(np.abs(np.array(fs.xyzabc(named)) - want)[:3] - position) > 0
-    assert any(m.startswith(fs.FRAME_FOUND) for m in trace.messages)
+    assert any(m.startswith(fs.FRAME_FOUND[:26]) for m in trace.messages)
 
 
-MUTANTS = [
-    ("tx = lsr_yaw({{m}}[2] - {{m}}[0])", "tx = -lsr_yaw({{m}}[2] - {{m}}[0])"),  # the yaw's sign
-    ("dx = (-ty * r1 - r2) / det", "dx = (-ty * r2 - r1) / det"),  # x and y of the crossing swapped
-    ("dz = ({{c}}[0] + {{c}}[1]) / 2 - LSR_RADIUS * norm(sx)", "dz = ({{c}}[0] + {{c}}[1]) / 2"),  # no rim
-    ("sy = ({{c}}[3] - {{c}}[2])", "sy = ({{c}}[2] - {{c}}[3])"),  # beam Y's slope reversed
-]
+MUTANTS = {  # per target: (the line as generated, the line with a sign or an axis swapped)
+    "ur": [
+        ("tx = lsr_yaw({m}[2] - {m}[0])", "tx = -lsr_yaw({m}[2] - {m}[0])"),  # the yaw's sign
+        ("dx = (-ty * r1 - r2) / det", "dx = (-ty * r2 - r1) / det"),  # x and y of the crossing swapped
+        ("dz = ({c}[0] + {c}[1]) / 2 - LSR_RADIUS * norm(sx)", "dz = ({c}[0] + {c}[1]) / 2"),  # no rim
+        ("sy = ({c}[3] - {c}[2])", "sy = ({c}[2] - {c}[3])"),  # beam Y's slope reversed
+    ],
+    "kuka": [
+        ("TX = (1.0 - SQRT(1.0 - 4.0 * KX * KX)) / (2.0 * KX)", "TX = -(1.0 - SQRT(1.0 - 4.0 * KX * KX)) / (2.0 * KX)"),
+        ("DX = (-TY * R1 - R2) / DET", "DX = (-TY * R2 - R1) / DET"),
+        ("DZ = ({c}[1] + {c}[2]) / 2.0 - LSR_RADIUS * ABS(SX)", "DZ = ({c}[1] + {c}[2]) / 2.0"),
+        ("SY = ({c}[4] - {c}[3])", "SY = ({c}[3] - {c}[4])"),
+    ],
+}
 
 
-@pytest.mark.parametrize(("old", "new"), MUTANTS)
-def test_a_setup_program_with_a_sign_or_an_axis_swapped_misses_the_frame(cell, old, new):
+@pytest.mark.parametrize(
+    ("target", "old", "new"), [(t, old, new) for t, edits in MUTANTS.items() for old, new in edits]
+)
+def test_a_setup_program_with_a_sign_or_an_axis_swapped_misses_the_frame(cell, target, old, new):
     names = {"m": fs.FRAME_NAMES["means"], "c": fs.FRAME_NAMES["contacts"]}
-    old = old.replace("{{m}}", names["m"]).replace("{{c}}", names["c"])
-    new = new.replace("{{m}}", names["m"]).replace("{{c}}", names["c"])
-    source = _setup_source(cell)
+    old, new = old.format(**names), new.format(**names)
+    source = _setup_source(cell, target)
     text = source.files[0].text
     assert text.count(old) == 1, old
-    from dataclasses import replace
-
-    mutant = replace(source, files=(SourceFile(source.files[0].name, text.replace(old, new)),))
-    shift, zyx = OFF[2]
+    files = (SourceFile(source.files[0].name, text.replace(old, new)), *source.files[1:])
+    mutant = replace(source, files=files)
+    shift, zyx = MUTANT_OFF
     true_frame = cell.sections["laser"].sensor_frame.matrix() @ _offset(shift, zyx)
     trace = _run(cell, mutant, true_frame)
     got = np.array(trace.kept[fs.FRAME_NAMES["frame"]], dtype=float)
     want = np.array(fs.xyzabc(true_frame))
-    position, angles = _bounds(cell)
+    position, angles = _bounds(cell, target)
     assert trace.halted or np.any(np.abs(got[:3] - want[:3]) > position) or np.any(np.abs(got[3:] - want[3:]) > angles)
 
 

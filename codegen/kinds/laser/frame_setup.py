@@ -19,6 +19,8 @@ from codegen.poses import zyx_deg_from_rotmat
 # along each beam (where the circles put it). The program solves the beams on the controller and shows the
 # sensor frame found in the base frame: the cell engineer puts it into [laser] sensor_frame.
 FRAME_FOUND = "laser: sensor frame found, base mm deg: "
+FRAME_FOUND_XYZ = "laser: sensor frame found, base x y z mm: "  # where a message carries three numbers (KRL)
+FRAME_FOUND_ABC = "laser: sensor frame found, base a b c deg: "
 FRAME_NO_YAW = "laser: setup circles do not agree on the beams' yaw, check the pin"
 FRAME_CIRCLE = "laser: setup circle did not cross both beams twice, circle "
 FRAME_NO_CONTACT = "laser: setup search found no beam within clearance_mm, search "
@@ -108,6 +110,8 @@ def frame_context(cell, target, emitter: Emitter) -> dict:
         "clearance": number(laser.clearance_mm, 4),
         "safe": [number(v, 4) for v in (*circle_points(laser, (0.0, 0.0))["start"][:2], laser.safe_height_mm)],
         "found": emitter.string(FRAME_FOUND),
+        "found_xyz": emitter.string(FRAME_FOUND_XYZ),
+        "found_abc": emitter.string(FRAME_FOUND_ABC),
         "no_yaw": emitter.string(FRAME_NO_YAW),
         "circle_edges": emitter.string(FRAME_CIRCLE),
         "no_contact": emitter.string(FRAME_NO_CONTACT),
