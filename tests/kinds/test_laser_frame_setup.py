@@ -31,7 +31,7 @@ def cell():
     return load_cell(CELL)
 
 
-TARGETS = ("ur", "kuka")
+TARGETS = ("ur", "kuka", "abb")
 
 
 def _setup_source(cell, target="ur"):
@@ -134,6 +134,12 @@ MUTANTS = {  # per target: (the line as generated, the line with a sign or an ax
         ("DX = (-TY * R1 - R2) / DET", "DX = (-TY * R2 - R1) / DET"),
         ("DZ = ({c}[1] + {c}[2]) / 2.0 - LSR_RADIUS * ABS(SX)", "DZ = ({c}[1] + {c}[2]) / 2.0"),
         ("SY = ({c}[4] - {c}[3])", "SY = ({c}[3] - {c}[4])"),
+    ],
+    "abb": [
+        ("tx := (1 - Sqrt(1 - 4 * kx * kx)) / (2 * kx);", "tx := -(1 - Sqrt(1 - 4 * kx * kx)) / (2 * kx);"),
+        ("dx := (-ty * r1 - r2) / det;", "dx := (-ty * r2 - r1) / det;"),
+        ("dz := ({c}{{1}} + {c}{{2}}) / 2 - LSR_RADIUS * Abs(sx);", "dz := ({c}{{1}} + {c}{{2}}) / 2;"),
+        ("sy := ({c}{{4}} - {c}{{3}})", "sy := ({c}{{3}} - {c}{{4}})"),
     ],
 }
 

@@ -116,4 +116,8 @@ def frame_context(cell, target, emitter: Emitter) -> dict:
         "circle_edges": emitter.string(FRAME_CIRCLE),
         "no_contact": emitter.string(FRAME_NO_CONTACT),
         "names": owned(dict(FRAME_NAMES)),
+        # the entry routine where the program is a module of the production task (whose main is its own)
+        "entry": emitter.identifier("frame_", f"{cell.name}_run", "the laser setup program's entry routine")
+        if KIND.facts(target).get("entry_routine")
+        else None,
     }

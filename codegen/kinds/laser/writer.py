@@ -32,7 +32,14 @@ class WriterPart(protocol.Writer):
                 for pattern in KIND.facts(target)["frame_files"]
             )
             plans.append(
-                ProgramPlan(KIND.name, frame["ident"], frame_files, {"laser": context, "frame": frame}, index=1)
+                ProgramPlan(
+                    KIND.name,
+                    frame["ident"],
+                    frame_files,
+                    {"laser": context, "frame": frame},
+                    index=1,
+                    entry=frame["entry"],
+                )
             )
         return plans
 
