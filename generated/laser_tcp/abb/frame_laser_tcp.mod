@@ -177,10 +177,10 @@ MODULE frame_laser_tcp
     lsr_sum_x := 0;
     lsr_sum_y := 0;
     IDelete lsr_int_x;
-    CONNECT lsr_int_x WITH lsr_on_x;
+    CONNECT lsr_int_x WITH lsf_on_x;
     ISignalDI diLaserX, 2, lsr_int_x;
     IDelete lsr_int_y;
-    CONNECT lsr_int_y WITH lsr_on_y;
+    CONNECT lsr_int_y WITH lsf_on_y;
     ISignalDI diLaserY, 2, lsr_int_y;
     MoveC lsr_at(LSR_VIA1{k}), lsr_at(LSR_MID{k}), lsr_circle_v, z1, lsr_reference \WObj:=lsr_sensor;
     MoveC lsr_at(LSR_VIA2{k}), lsr_at(LSR_START{k}), lsr_circle_v, fine, lsr_reference \WObj:=lsr_sensor;
@@ -195,7 +195,7 @@ MODULE frame_laser_tcp
     LSR_MEANS{2 * k} := lsr_sum_y / LSR_EDGES;
   ENDPROC
 
-  LOCAL TRAP lsr_on_x
+  LOCAL TRAP lsf_on_x
     ! beam X switched: the TCP's y in S
     VAR robtarget p;
     p := CRobT(\Tool:=lsr_reference \WObj:=lsr_sensor);
@@ -208,7 +208,7 @@ MODULE frame_laser_tcp
     ENDIF
   ENDTRAP
 
-  LOCAL TRAP lsr_on_y
+  LOCAL TRAP lsf_on_y
     ! beam Y switched: the TCP's x in S
     VAR robtarget p;
     p := CRobT(\Tool:=lsr_reference \WObj:=lsr_sensor);
