@@ -46,14 +46,15 @@ def _offset(shift, zyx_deg) -> np.ndarray:
     return out
 
 
-def _run(cell, source, true_frame: np.ndarray):
+def _run(cell, source, true_frame: np.ndarray, noise: float = 0.0, hysteresis: float = 0.0, seed: int = 0):
     target = get_target(source.target)
     laser = cell.sections["laser"]
     inputs = {
         signal_name(target, "input", laser.beam_x[target.name]): "x",
         signal_name(target, "input", laser.beam_y[target.name]): "y",
     }
-    station = BeamStation(true_frame, Pin(fs.reference_tool(laser), laser.reference_radius_mm), inputs)
+    pin = Pin(fs.reference_tool(laser), laser.reference_radius_mm)
+    station = BeamStation(true_frame, pin, inputs, noise=noise, hysteresis=hysteresis, seed=seed)
     return source.load().run(
         {},
         devices=(station,),
@@ -65,7 +66,7 @@ def _run(cell, source, true_frame: np.ndarray):
     )
 
 
-def _bounds(cell, target_name: str) -> tuple[np.ndarray, np.ndarray]:
+def _bounds(cell, target_name: str, noise: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """How far the found frame may lie from the true one (x, y, z mm; a, b, c deg), from the model: each mean of
     four edges off by up to the calibration's centre tolerance (half a cycle's travel on the circle: the two
     crossings run in opposite directions), each contact by half a cycle's travel in the search (the mean of the
@@ -73,8 +74,9 @@ def _bounds(cell, target_name: str) -> tuple[np.ndarray, np.ndarray]:
     and float32 on top."""
     laser = cell.sections["laser"]
     target = get_target(target_name)
-    tol = tolerances(cell, target, 0.0)
-    contact = laser.search_speed_mm_s * float(target.program["signal_cycle_s"]) / 2 + FLOAT32_MM
+    tol = tolerances(cell, target, noise)  # a mean of four edges: half a cycle's travel and three sigmas
+    contact = laser.search_speed_mm_s * float(target.program["signal_cycle_s"]) / 2 + 6 * noise / math.sqrt(2)
+    contact += FLOAT32_MM
     named = laser.sensor_frame.matrix()
     delta, span = fs.step_mm(laser), fs.span_mm(laser)
 
@@ -120,6 +122,25 @@ def test_the_setup_program_finds_the_sensor_frame(cell, target, shift, zyx):
     # the frame error it finds is well beyond those bounds: the test tells a found frame from the named one
     assert np.max(np.abs(np.array(fs.xyzabc(named)) - want)[:3] - position) > 0
     assert any(m.startswith(fs.FRAME_FOUND[:26]) for m in trace.messages)
+
+
+@pytest.mark.parametrize("target", TARGETS)
+@pytest.mark.parametrize(("noise", "seed"), [(0.0, 0), (0.01, 0), (0.01, 1)])
+def test_the_sensors_noise_and_hysteresis_stay_within_the_bounds(cell, target, noise, seed):
+    """The sensors with a 0.05 mm hysteresis, which the means of in and out, and of down and up, cancel (without
+    noise the bounds are tight enough that a contact from the down edge alone, 0.025 mm low, fails), and as verify
+    simulates them for the calibration (0.01 mm noise, a fresh draw each cycle): the frame found within the bounds
+    with the noise's terms."""
+    laser = cell.sections["laser"]
+    shift, zyx = OFF[1]
+    true_frame = laser.sensor_frame.matrix() @ _offset(shift, zyx)
+    trace = _run(cell, _setup_source(cell, target), true_frame, noise=noise, hysteresis=0.05, seed=seed)
+    assert not trace.halted, trace.halt_message
+    got = np.array(trace.kept[fs.FRAME_NAMES["frame"]], dtype=float)
+    want = np.array(fs.xyzabc(true_frame))
+    position, angles = _bounds(cell, target, noise)
+    assert np.all(np.abs(got[:3] - want[:3]) <= position), (got - want, position)
+    assert np.all(np.abs(got[3:] - want[3:]) <= angles), (got - want, angles)
 
 
 MUTANTS = {  # per target: (the line as generated, the line with a sign or an axis swapped)
