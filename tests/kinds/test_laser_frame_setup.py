@@ -46,7 +46,7 @@ def _offset(shift, zyx_deg) -> np.ndarray:
     return out
 
 
-def _run(cell, source, true_frame: np.ndarray, noise: float = 0.0, hysteresis: float = 0.0, seed: int = 0):
+def _run(cell, source, true_frame: np.ndarray, noise: float = 0.0, hysteresis: float = 0.0, seed: int = 0, start=None):
     target = get_target(source.target)
     laser = cell.sections["laser"]
     inputs = {
@@ -59,7 +59,7 @@ def _run(cell, source, true_frame: np.ndarray, noise: float = 0.0, hysteresis: f
         {},
         devices=(station,),
         arm=arm_of(cell, target.name),
-        start_joints=cell.robot.home[target.name],
+        start_joints=cell.robot.home[target.name] if start is None else start,
         keep=tuple(fs.FRAME_NAMES.values()),
         signal_cycle_s=target.program["signal_cycle_s"],
         step_limit=4_000_000,
@@ -207,3 +207,13 @@ def test_the_frame_s_float64_solve_recovers_a_known_offset(cell):
     z_y = tuple(d[2] + s_y * t + rho * abs(s_y) for t in (-along_x, along_x))  # solve_frame: one span
     beams = solve_frame(y_x, x_y, delta, z_x, z_y, span * math.sqrt(1 + t_x * t_x), rho)
     assert np.allclose(fs.frame_found(named, beams), named @ offset, atol=1e-9)
+
+
+@pytest.mark.parametrize("target", TARGETS)
+def test_a_setup_run_started_away_from_home_stops_before_it_moves(cell, target):
+    start = list(cell.robot.home[target])
+    start[0] += 10.0  # axis 1 turned 10 deg: a joint move home from there is not the program's to make
+    named = cell.sections["laser"].sensor_frame.matrix()
+    trace = _run(cell, _setup_source(cell, target), named, start=start)
+    assert trace.halted and trace.halt_message == fs.FRAME_START_AWAY, trace.halt_message
+    assert not trace.moves

@@ -21,6 +21,7 @@ from codegen.poses import zyx_deg_from_rotmat
 FRAME_FOUND = "laser: sensor frame found, base mm deg: "
 FRAME_FOUND_XYZ = "laser: sensor frame found, base x y z mm: "  # where a message carries three numbers (KRL)
 FRAME_FOUND_ABC = "laser: sensor frame found, base a b c deg: "
+FRAME_START_AWAY = "laser: start the setup run with the arm at home"
 FRAME_NO_YAW = "laser: setup circles do not agree on the beams' yaw, check the pin"
 FRAME_CIRCLE = "laser: setup circle did not cross both beams twice, circle "
 FRAME_NO_CONTACT = "laser: setup search found no beam within clearance_mm, search "
@@ -113,6 +114,7 @@ def frame_context(cell, target, emitter: Emitter) -> dict:
         "found_xyz": emitter.string(FRAME_FOUND_XYZ),
         "found_abc": emitter.string(FRAME_FOUND_ABC),
         "no_yaw": emitter.string(FRAME_NO_YAW),
+        "start_away": emitter.string(FRAME_START_AWAY),
         "circle_edges": emitter.string(FRAME_CIRCLE),
         "no_contact": emitter.string(FRAME_NO_CONTACT),
         "names": owned(dict(FRAME_NAMES)),

@@ -98,8 +98,19 @@ MODULE frame_laser_tcp
     VAR num r31;
     VAR num r32;
     VAR num r33;
+    VAR jointtarget now;
     ConfJ \Off;
     ConfL \Off;
+    ! the start: at home (every axis within 2.000 deg), else stop before any move
+    now := CJointT();
+    IF Abs(now.robax.rax_1 - lsr_home.robax.rax_1) > 2.000
+        OR Abs(now.robax.rax_2 - lsr_home.robax.rax_2) > 2.000
+        OR Abs(now.robax.rax_3 - lsr_home.robax.rax_3) > 2.000
+        OR Abs(now.robax.rax_4 - lsr_home.robax.rax_4) > 2.000
+        OR Abs(now.robax.rax_5 - lsr_home.robax.rax_5) > 2.000
+        OR Abs(now.robax.rax_6 - lsr_home.robax.rax_6) > 2.000 THEN
+      lsr_stop "laser: start the setup run with the arm at home";
+    ENDIF
     MoveAbsJ lsr_home\NoEOffs, v200, fine, lsr_reference;
     MoveJ lsr_at(LSR_SAFE), lsr_travel, fine, lsr_reference \WObj:=lsr_sensor;
     ! 1. the circles
