@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,9 +27,17 @@ from codegen.sim.beams import Pin
 CELL = "codegen/examples/laser/laser_tcp.toml"
 
 
+# the bundled cell with a reference pin: its TCP in the flange frame, its radius (the bundled cell names none: verify
+# has no cases for the setup program, and every bundled program is verified)
+REFERENCE = "reference_tcp_mm = [0.0, 0.0, 150.0]\nreference_radius_mm = 2.0\n"
+
+
 @pytest.fixture(scope="module")
-def cell():
-    return load_cell(CELL)
+def cell(tmp_path_factory):
+    path = tmp_path_factory.mktemp("laser") / "laser_tcp.toml"
+    text = Path(CELL).read_text().replace("[laser]\n", "[laser]\n" + REFERENCE, 1)
+    path.write_text(text)
+    return load_cell(path)
 
 
 TARGETS = ("ur", "kuka", "abb")
