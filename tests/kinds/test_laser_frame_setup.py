@@ -29,7 +29,7 @@ CELL = "codegen/examples/laser/laser_tcp.toml"
 
 # the bundled cell with a reference pin: its TCP in the flange frame, its radius (the bundled cell names none: verify
 # has no cases for the setup program, and every bundled program is verified)
-REFERENCE = "reference_tcp_mm = [0.0, 0.0, 150.0]\nreference_radius_mm = 2.0\n"
+REFERENCE = "reference_tcp_mm = [0.0, 0.0, 150.0]\nreference_radius_mm = 1.5\n"
 
 
 @pytest.fixture(scope="module")
@@ -226,3 +226,14 @@ def test_a_setup_run_started_away_from_home_stops_before_it_moves(cell, target):
     trace = _run(cell, _setup_source(cell, target), named, start=start)
     assert trace.halted and trace.halt_message == fs.FRAME_START_AWAY, trace.halt_message
     assert not trace.moves
+
+
+def test_a_reference_pin_too_thick_for_the_setup_circles_is_refused(tmp_path):
+    from codegen.model.cell import CellError
+
+    path = tmp_path / "laser_tcp.toml"
+    text = Path(CELL).read_text().replace("[laser]\n", "[laser]\n" + REFERENCE.replace("1.5", "2.0"), 1)
+    path.write_text(text)
+    with pytest.raises(CellError) as info:
+        load_cell(path)
+    assert "laser.reference_radius_mm: the setup run's circles" in str(info.value)

@@ -15,9 +15,9 @@ from codegen.poses import zyx_deg_from_rotmat
 # The run (frame_derivation.py proves its geometry, frame_solve.py solves it in float64): the reference pin, its axis
 # along the named S's z, its tip depths_mm[0] below the beams' plane, runs three circles of radius circle_mm about
 # (0, 0), (delta, 0) and (0, delta), delta = circle_mm / 2 (each still crosses both beams: delta + the pin's radius
-# + offset_max_mm < circle_mm); then four tip searches straight down, at circle_mm either side of the crossing
-# along each beam (where the circles put it). The program solves the beams on the controller and shows the
-# sensor frame found in the base frame: the cell engineer puts it into [laser] sensor_frame.
+# + offset_max_mm < circle_mm, section.py checks it); then four tip searches straight down, at circle_mm either
+# side of the crossing along each beam (where the circles put it). The program solves the beams on the controller
+# and shows the sensor frame found in the base frame: the cell engineer puts it into [laser] sensor_frame.
 FRAME_FOUND = "laser: sensor frame found, base mm deg: "
 FRAME_FOUND_XYZ = "laser: sensor frame found, base x y z mm: "  # where a message carries three numbers (KRL)
 FRAME_FOUND_ABC = "laser: sensor frame found, base a b c deg: "

@@ -108,6 +108,14 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             f"must be at least clearance_mm + offset_max_mm ({clearance + offset:g} mm): the safe pose lies above "
             "every pose of the calibration",
         )
+    reference_radius = values["reference_radius_mm"]
+    if values["reference_tcp_mm"] is not None and circle / 2 + reference_radius + offset >= circle:
+        ctx.fail(
+            "laser.reference_radius_mm",
+            f"the setup run's circles about (circle_mm / 2, 0) and (0, circle_mm / 2) must cross both beams with "
+            f"offset_max_mm to spare: circle_mm / 2 + reference_radius_mm + offset_max_mm must stay below circle_mm "
+            f"({circle:g} mm)",
+        )
     _check_production_tools(ctx, values["production_tool"] or {}, targets)
     return build(Laser, values, production_tool=values["production_tool"] or {})
 
