@@ -164,3 +164,35 @@ def test_the_production_main_goes_on_with_the_configuration_checks_on(laser_prog
     assert not trace.halted
     settings = trace.moves[-1].settings
     assert settings["speed"] == "V200" and settings["confj"]["on"] and settings["confl"]["on"]
+
+
+# --- the runs' spread in the event log ---------------------------------------------------------------------
+
+
+def _logged_spread(trace) -> float | None:
+    said = [m for m in trace.messages if m.startswith(lp.SPREAD_SEEN)]
+    return float(said[-1][len(lp.SPREAD_SEEN) :]) if said else None
+
+
+@pytest.mark.parametrize("category", ["bent", "tool_growing"])
+def test_every_calibration_logs_its_runs_spread(laser_program, category):
+    """m6: the farthest run's distance from the runs' mean goes to the event log (ErrWrite \\I) on every calibration,
+    before the spread check: where the runs agree (a bent tool with the sensors' noise: written) and where they do
+    not (a tool that grows while it is calibrated: stopped for the spread). The value logged is the spread of the
+    runs' TCPs the program kept, computed here in float64."""
+    from support.programs import run_case
+
+    from codegen.kinds.laser import verify as lv
+
+    cell, target, program = laser_program
+    case = next(c for c in lv.cases(cell, 0) if c.category == category)
+    trace, _ = run_case(cell, "abb", program, case, "laser")
+    runs = lv.runs_of(cell, lv.kept_values(target, trace))
+    assert len(runs) == cell.sections["laser"].runs
+    logged = _logged_spread(trace)
+    assert logged is not None, trace.messages
+    assert logged == pytest.approx(lv.spread(runs), abs=1e-3)
+    stopped = trace.halted and trace.halt_message == lp.SPREAD
+    assert stopped is (category == "tool_growing"), trace.halt_message
+    logged_at = next(i for i, m in enumerate(trace.messages) if m.startswith(lp.SPREAD_SEEN))
+    assert logged_at < len(trace.messages) - 1  # before the stop's message or the confirmation

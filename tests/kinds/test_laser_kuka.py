@@ -43,7 +43,7 @@ def _program(cell, drop_wait_before_off: bool = False):
     return load_program(target, "\n".join(kept), f"<fresh>/{files[names[0]].relpath}", {".dat": files[names[1]].text})
 
 
-def _run(cell, program, tool: np.ndarray, cycle: float = CYCLE, answers=(confirm.YES,)):
+def _run(cell, program, tool: np.ndarray, cycle: float = CYCLE, answers=(confirm.YES,), keep=()):
     target = get_target("kuka")
     station = station_for(cell, target, LaserCase("test", tool, noise=0.0))
     return program.run(
@@ -51,7 +51,7 @@ def _run(cell, program, tool: np.ndarray, cycle: float = CYCLE, answers=(confirm
         devices=(station, Operator(answers)),
         arm=arm_of(cell, "kuka"),
         start_joints=cell.robot.home["kuka"],
-        keep=tuple(lp.kept_names(target).values()),
+        keep=(*lp.kept_names(target).values(), *keep),
         signal_cycle_s=cycle,
         step_limit=2_000_000,
     )
@@ -227,3 +227,48 @@ def test_the_confirmation_s_messages_fit_msg_txt_with_the_widest_numbers():
     ):
         assert len(text.format(tool="tool 16") + carried) <= string_max, text
     assert all(len(label) <= 10 for label in (confirm.YES, confirm.NO))
+
+
+# --- each beam's first edge on a circle is the pin coming in ------------------------------------------------
+
+
+class _LightOn:
+    """The station with each sensor set the other way (its output on while the beam is free): every edge is
+    where the right sensor's is, inverted."""
+
+    def __init__(self, station) -> None:
+        self.station, self.switches = station, station.switches
+
+    def on_wait(self, machine, where: str) -> bool:
+        return self.station.on_wait(machine, where)
+
+    def switch(self, name, t, flange2base):
+        seen = self.station.switch(name, t, flange2base)
+        return None if seen is None else not seen
+
+
+FIRST_ON = "(NOT LSR_ON[I + 1]) OR (NOT LSR_ON[I + 5])"
+
+
+@pytest.mark.parametrize("checked", [True, False])
+def test_a_beam_whose_first_edge_is_off_stops_at_the_first_circle(cell, checked):
+    """m2: LSR_SEEN records each edge's new value; a sensor switching the other way (its first edge on the circle
+    is off) stops the program at circle 1 with the circle's message. Without the check (the mutant) the edges
+    still count four per beam and the program goes on past the circles."""
+    target = get_target("kuka")
+    program = _program(cell) if checked else _edited(cell, FIRST_ON, "FALSE OR FALSE")
+    station = _LightOn(station_for(cell, target, LaserCase("test", cell.robot.tool.tcp2flange, noise=0.0)))
+    options = {"arm": arm_of(cell, "kuka"), "start_joints": cell.robot.home["kuka"], "signal_cycle_s": CYCLE}
+    trace = program.run(
+        {TOOL: BEFORE}, devices=(station, Operator([confirm.YES])), keep=("LSR_ON",), step_limit=2_000_000, **options
+    )
+    stopped_at_circle = trace.halted and trace.halt_message == lp.CIRCLE_EDGES + "1"
+    assert stopped_at_circle is checked, (trace.halted, trace.halt_message)
+    if checked:
+        assert list(trace.kept["LSR_ON"][:8]) == [False, True, False, True] * 2
+
+
+def test_the_edges_of_a_right_sensor_alternate_on_and_off(cell):
+    trace = _run(cell, _program(cell), cell.robot.tool.tcp2flange.copy(), keep=("LSR_ON",))
+    assert not trace.halted, trace.halt_message
+    assert trace.kept["LSR_ON"] == [True, False] * 8

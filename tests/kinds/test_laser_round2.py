@@ -48,6 +48,21 @@ def test_the_ur_node_states_it_belongs_in_before_start():
     assert definitions and all(line.startswith("  ") and not line.startswith("   ") for line in definitions)
 
 
+def test_the_ur_node_states_what_the_robot_program_holds_and_what_is_unconfirmed():
+    """A text test (no simulation sees PolyScope's program tree): the header says the calibration program's Robot
+    Program holds one Halt with "Program Loops Forever" off, and that the Before Start placement was not run in
+    URSim."""
+    cell = load_cell(CELL)
+    header = " ".join(
+        line.strip().lstrip("#").strip()
+        for line in first(cell, "ur", "laser").files[0].text.splitlines()
+        if line.strip().startswith("#")
+    )
+    assert "Robot Program holds one Halt node" in header
+    assert '"Program Loops Forever" (the Robot Program node\'s check box) off' in header
+    assert "not run in URSim" in header
+
+
 # --- verify's scenarios: nobody answers, the production tool not made active or kept locally, the column ----------
 
 ZONE = {  # the column's constants as each target's program declares them

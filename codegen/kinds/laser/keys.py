@@ -100,6 +100,23 @@ LASER = Table(
             100.0,
             1000.0,
         ),
+        "reference_tcp_mm": Key(
+            "numbers",
+            "the reference pin's TCP in the flange frame [x, y, z], known better than the calibration's goal, its "
+            "axis along the flange's z: given, codegen writes the setup program that measures the sensor frame",
+            unit="mm",
+            count=3,
+            low=-TAUGHT_RANGE_MM,
+            high=TAUGHT_RANGE_MM,
+        ),
+        "reference_radius_mm": Key(
+            "number",
+            "the reference pin's radius (its end face is flat and square to its axis)",
+            unit="mm",
+            low=PIN_MIN_MM,
+            high=25.0,
+            default=1.5,
+        ),
     },
 )
 KEYS = KindKeys(tables={"laser": Key("table", LASER.doc, table=LASER)})

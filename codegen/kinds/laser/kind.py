@@ -9,6 +9,7 @@ KIND = Kind(
     order=40,
     target_keys={
         "files": list,  # source 003's automatic TCP program: file patterns with {laser}
+        "frame_files": list,  # the setup program that measures the sensor frame with a reference pin: with {frame}
         "names": dict,  # that program's globals verify reads (edges, hits, centres, axis, tcp)
         "production_tool": dict,  # the production tool the TCP found goes into: form, name, fields, unit
         "joint_zone": bool,  # the program blends into and out of its joint moves (the safe pose)

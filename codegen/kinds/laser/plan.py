@@ -30,6 +30,7 @@ from codegen.kinds.laser.verify import (
 from codegen.reference import home_move
 from codegen.verify.plan import Expectation, Judgement, PlannedMove, Stored
 
+FRAME_SETUP = 1  # the index of the setup program that measures the sensor frame (writer.py)
 NEAR_MM = 5 * FLOAT32_MM  # a move ends at one of the procedure's fixed points when this close to it
 # The motion settings a routine of the production task must leave as a program starts with them: a routine call
 # keeps what the routine set (RAPID resets ConfJ, ConfL to \On only at a program load or a start from main), so
@@ -363,6 +364,8 @@ class VerifyPart(protocol.VerifyPlan):
     }
 
     def cases(self, cell, source, count: int, seed: int) -> list:
+        if source.index == FRAME_SETUP:  # the setup program: judged by its own tests, not by these cases
+            return []
         out = cases(cell, seed)
         return out + confirm.cases(get_target(source.target), out[0]) + production_cases(cell, source.target)
 

@@ -52,6 +52,7 @@ TOO_FAR = "laser: TCP beyond offset_max_mm of the tool as designed, not written"
 WRITTEN = "laser: TCP written, flange frame mm: "
 START_AWAY = "laser: start with the arm at home or above the sensors"
 SPREAD = "laser: runs differ beyond spread_max_mm, TCP not written"
+SPREAD_SEEN = "laser: runs' spread mm (farthest run from their mean): "  # logged on every calibration
 BEFORE = "laser: production tool before, flange frame mm: "  # where a target's program shows the tool it replaces
 NUMBER_MAX = "-2000.000"  # the widest number a message carries: a TCP within 2,000 mm of the flange, 3 decimals
 EDGES_PER_BEAM = 4
@@ -210,6 +211,7 @@ def laser_context(cell, target, emitter: Emitter) -> dict:
         "written": emitter.string(WRITTEN),
         "start_away": emitter.string(START_AWAY),
         "spread": emitter.string(SPREAD),
+        "spread_seen": emitter.string(SPREAD_SEEN),
         "runs": laser.runs,
         "spread_max": number(laser.spread_max_mm, 4),
         "before": emitter.string(BEFORE),

@@ -31,7 +31,8 @@ class Laser:
     [cell.tool] numbered); safe_height_mm: the safe pose's
     height above the beams' plane (S's z), straight above the circles' start: the way in and the way out; runs: the
     measurements (circles and search) one program makes, whose mean it writes; spread_max_mm: how far each run's
-    TCP may lie from that mean (farther: not written)."""
+    TCP may lie from that mean (farther: not written); reference_tcp_mm, reference_radius_mm: the reference pin of
+    the setup run that measures the sensor frame (None: no setup program)."""
 
     sensor_frame: TaughtPose
     pin_radius_mm: float
@@ -47,6 +48,8 @@ class Laser:
     safe_height_mm: float
     runs: int = 3
     spread_max_mm: float = 0.1
+    reference_tcp_mm: tuple[float, float, float] | None = None
+    reference_radius_mm: float = 1.5
 
 
 def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
@@ -104,6 +107,14 @@ def parse_laser(ctx, data: dict, targets, pose_format: str) -> Laser | None:
             "laser.safe_height_mm",
             f"must be at least clearance_mm + offset_max_mm ({clearance + offset:g} mm): the safe pose lies above "
             "every pose of the calibration",
+        )
+    reference_radius = values["reference_radius_mm"]
+    if values["reference_tcp_mm"] is not None and circle / 2 + reference_radius + offset >= circle:
+        ctx.fail(
+            "laser.reference_radius_mm",
+            f"the setup run's circles about (circle_mm / 2, 0) and (0, circle_mm / 2) must cross both beams with "
+            f"offset_max_mm to spare: circle_mm / 2 + reference_radius_mm + offset_max_mm must stay below circle_mm "
+            f"({circle:g} mm)",
         )
     _check_production_tools(ctx, values["production_tool"] or {}, targets)
     return build(Laser, values, production_tool=values["production_tool"] or {})

@@ -43,11 +43,14 @@ MODULE tcp_laser_tcp
   ! arm there (the interpreter stops it at that cycle's pose, no stopping distance), no edge before ToPoint is
   ! the error ERR_WHLSEARCH and an input already switched when the search starts ERR_SIGSUPSEARCH; ISignalDI
   ! with 2 interrupts on both edges; a TRAP runs while the arm moves on, and CRobT there is read as the TCP at
-  ! the cycle the edge was seen (a real TRAP reads it a little later: its latency is not known here; the mean
-  ! of each crossing's edges in and out keeps a delay common to both small; a latency that varies scatters the
-  ! runs' TCPs: LSR_RUNS runs, their mean written only where each lies within LSR_SPREAD_MAX of it, so the edges'
-  ! repeatability is measured on every calibration instead of assumed). MoveC runs the circle through
-  ! where the arm is, CirPoint and ToPoint: a full circle is two half circles.
+  ! the cycle the edge was seen (a real TRAP reads it a little later: its latency is not known here). CRobT in
+  ! the TRAP is accepted instead of a SearchL per edge (which would split each MoveC circle into arcs) because
+  ! a delay common to the edges in and out of a crossing cancels in their mean, and a delay that varies
+  ! scatters the runs' TCPs, which the program measures on every calibration: LSR_RUNS runs, the farthest
+  ! run's distance from their mean written to the event log (ErrWrite \I "Laser TCP runs' spread"), their
+  ! mean written only where each lies within LSR_SPREAD_MAX of it. Read the logged spread of the first
+  ! calibrations: where it comes near LSR_SPREAD_MAX, lower the circle speed ([laser] circle_speed_mm_s).
+  ! MoveC runs the circle through where the arm is, CirPoint and ToPoint: a full circle is two half circles.
   ! The results stay in the module's data (read them in the program data window): lsr_edge (the edges: circle 1
   ! beam X 1..4, beam Y 1..4, then circle 2), lsr_centre (e1x e1y e2x e2y), lsr_axis (ux uy uz),
   ! lsr_hit (the search points down and up, x y z in S) and lsr_tcp (x y z, flange frame).
@@ -142,6 +145,7 @@ MODULE tcp_laser_tcp
     VAR num contact{3};
     VAR num off;
     VAR num i;
+    VAR num spread := 0;
     VAR num answer;
     VAR errnum unanswered := 0;
     ! the poses are computed: every move takes the closest configuration
@@ -232,10 +236,17 @@ MODULE tcp_laser_tcp
       FOR j FROM 1 TO 3 DO
         tip{j} := lsr_run{3 * (run - 1) + j} - lsr_tcp{j};
       ENDFOR
-      IF Sqrt(tip{1} * tip{1} + tip{2} * tip{2} + tip{3} * tip{3}) > LSR_SPREAD_MAX THEN
-        lsr_stop "laser: runs differ beyond spread_max_mm, TCP not written";
+      off := Sqrt(tip{1} * tip{1} + tip{2} * tip{2} + tip{3} * tip{3});
+      IF off > spread THEN
+        spread := off;
       ENDIF
     ENDFOR
+    ! the spread in the event log on every calibration (information: the program goes on), so that the
+    ! commissioning engineer sees how far the edges' latency varies before it reaches LSR_SPREAD_MAX
+    ErrWrite \I, "Laser TCP runs' spread", "laser: runs' spread mm (farthest run from their mean): " + NumToStr(spread, 4);
+    IF spread > LSR_SPREAD_MAX THEN
+      lsr_stop "laser: runs differ beyond spread_max_mm, TCP not written";
+    ENDIF
     ! the operator confirms the change: the production tool as it is and the TCP found, then Yes or No (no answer
     ! in 600.0 s: as No); anything but Yes leaves tPin as it was
     TPWrite "laser: tPin now, flange frame mm: " + NumToStr(tPin.tframe.trans.x, 3) + ", " + NumToStr(tPin.tframe.trans.y, 3) + ", " + NumToStr(tPin.tframe.trans.z, 3);
