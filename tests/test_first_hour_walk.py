@@ -339,3 +339,22 @@ def test_diff_without_differences_says_so(tmp_path):
         result.stderr
         == f"no differences: the files in {tmp_path / 'out'} are what codegen generate writes for cell tray_stack\n"
     )
+
+
+def test_a_frame_case_names_its_camera_in_words():
+    """A frame case's reading named the camera as a Python object (`CameraModel(scale_error=0.03, ...)`); it now
+    says what differs from a perfect camera."""
+    from codegen.kinds.station.modes.frame import FrameCase, FrameMode
+    from codegen.sim.camera import CameraModel
+
+    case = FrameCase(12, 1.5, -2.0, 0.5, CameraModel(scale_error=0.03, rotation_error_deg=0.5, fault_at_photo=2))
+    text = FrameMode.describe_reading(case)
+    assert text.endswith("camera scale off 3 %, turned 0.5 deg, photo 2 fails"), text
+    assert str(CameraModel()) == "exact"
+
+
+def test_slow_kinds_rate_is_not_printed_as_zero():
+    """The walk's pallet verified at 0.43 cases/s and the table printed 0."""
+    from codegen.verify.report import _rate
+
+    assert [_rate(v) for v in (0.43, 12.345, 4321.2, None)] == ["0.43", "12.3", "4321", "0"]

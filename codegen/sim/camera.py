@@ -27,6 +27,17 @@ class CameraModel:
     seed: int = 0
     fault_at_photo: int = 0  # > 0: that photo returns NaN (a failed match), to exercise the guard
 
+    def __str__(self) -> str:
+        """As a report names it: only what differs from a perfect camera."""
+        parts = [
+            f"scale off {self.scale_error * 100:g} %" if self.scale_error else "",
+            f"turned {self.rotation_error_deg:g} deg" if self.rotation_error_deg else "",
+            f"noise {self.noise_px:g} px / {self.noise_deg:g} deg (seed {self.seed})"
+            if self.noise_px or self.noise_deg else "",
+            f"photo {self.fault_at_photo} fails" if self.fault_at_photo else "",
+        ]
+        return ", ".join(p for p in parts if p) or "exact"
+
 
 def mark_offset_seen(
     calib2base: np.ndarray, photo2frame: np.ndarray, tcp2base: np.ndarray, mark2base: np.ndarray

@@ -247,7 +247,7 @@ class Report:
                 f"{_fit(row.program, 25):<26}{row.kind:<9}{row.target:<7}{s['cases']:>7}{s['mismatches']:>6}"
                 f"{s['halts']:>7}{s['boundary_cases']:>7}{s['position_error_mm']['max']:>11.2e}"
                 f"{s['position_error_mm']['p99']:>10.2e}{s['orientation_error_deg']['max']:>12.2e}"
-                f"{s['orientation_error_deg']['p99']:>10.2e}{s['cases_per_second'] or 0:>8.0f}"
+                f"{s['orientation_error_deg']['p99']:>10.2e}{_rate(s['cases_per_second']):>8}"
             )
             if len({Path(f).name for f in row.files}) and any(not f.startswith("<fresh>") for f in row.files):
                 out.append(f"  files: {', '.join(row.files)}")
@@ -285,3 +285,10 @@ class Report:
 
 def _fit(text: str, width: int) -> str:
     return text if len(text) <= width else text[: width - 3] + "..."
+
+
+def _rate(per_second: float | None) -> str:
+    """Cases per second for the table: a slow kind (a pallet's whole cycle per case) keeps its first figures."""
+    if not per_second:
+        return "0"
+    return f"{per_second:.0f}" if per_second >= 100 else f"{per_second:.3g}"
