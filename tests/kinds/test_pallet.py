@@ -285,9 +285,10 @@ def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_
     label (its long side at -y when unturned) faces +x; an arrow on every box; no red. A box moved 6 mm
     over the edge (allowed by overhang_mm) is drawn red."""
     from codegen.kinds.pallet.pictures import layer_svg
+    from codegen.kinds.pallet.shape import PalletShape
 
     data = _load(tmp_path, TESTMAT)
-    svg = layer_svg(data.pallets[0], 1)
+    svg = layer_svg(PalletShape.of(data.pallets[0]), 1)
     image, root = _rendered(svg, renderer), ET.fromstring(svg)
     fill, label, arrow = (255, 248, 231), (42, 157, 143), (31, 95, 191)
     assert image.getpixel(_to_px(root, 6, 8)) == fill  # box 1, away from its arrow and number
@@ -301,7 +302,7 @@ def test_the_rendered_layer_shows_boxes_labels_approach_and_overhang_in_red(tmp_
     over = TESTMAT.replace("p2 = [[26, 13, 0]", "p2 = [[20, 13, 0]").replace(
         'angle_sense = "cw"', 'angle_sense = "cw"\noverhang_mm = 6'
     )
-    layer2 = _rendered(layer_svg(_load(tmp_path, over).pallets[0], 2), renderer)
+    layer2 = _rendered(layer_svg(PalletShape.of(_load(tmp_path, over).pallets[0]), 2), renderer)
     reddish = sum(n for n, (r, g, b) in layer2.getcolors(maxcolors=100_000) if r > 180 and g < 100 and b < 100)
     assert reddish > 100  # box 1's outline
 

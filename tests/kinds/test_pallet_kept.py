@@ -11,7 +11,7 @@ from support.cells import example
 
 from codegen.kinds.pallet import posture
 from codegen.kinds.pallet.kept import Kept, digest
-from codegen.kinds.pallet.reach import full_cycle
+from codegen.kinds.pallet.shape import full_cycle
 
 TARGET = "ur"
 

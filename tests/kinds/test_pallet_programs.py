@@ -8,8 +8,9 @@ from support.cells import EXAMPLES, example
 from support.programs import edited, sources, verify, verify_one
 
 from codegen.kinds.pallet.plan import configurations
-from codegen.kinds.pallet.reach import full_cycle, joints_of, safe_move
+from codegen.kinds.pallet.reach import joints_of, safe_move
 from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.shape import full_cycle
 from codegen.model.cell import load_cell
 from codegen.render import render
 

@@ -14,6 +14,7 @@ from codegen.kinds.pallet.cycle import PalletCase, safe_pose, sheet_below, start
 from codegen.kinds.pallet.reach import plan
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.shape import PalletShape
 from codegen.kinds.pallet.sweep import sweeps
 from codegen.model.cell import load_cell
 from tests.kinds.test_pallet import EXAMPLES
@@ -58,24 +59,24 @@ def test_the_straight_path_from_above_q_to_the_entry_passes_through_the_layer(tm
     text = (EXAMPLES / "testmat_pallet.toml").read_text(encoding="utf-8")
     assert text.count("entry_dz = 50.0") == 1
     (tmp_path / "low_entry.toml").write_text(text.replace("entry_dz = 50.0", "entry_dz = 26.0"), encoding="utf-8")
-    pallet, frame, moves = _plan(tmp_path / "low_entry.toml")
-    assert sweeps(pallet, frame, moves) is None
-    found = sweeps(pallet, frame, _direct(moves))
+    pallet, _frame, moves = _plan(tmp_path / "low_entry.toml")
+    assert sweeps(PalletShape.of(pallet), moves) is None
+    found = sweeps(PalletShape.of(pallet), _direct(moves))
     assert found is not None and found.startswith("layer 1 box 2 entry") and "top of layer 1 box 1" in found
 
 
 def test_the_bundled_unstacking_plan_passes_and_fails_without_its_transit():
-    pallet, frame, moves = _plan("eur_pallet.toml")
-    assert sweeps(pallet, frame, moves) is None
-    assert sweeps(pallet, frame, _direct(moves)) is not None
+    pallet, _frame, moves = _plan("eur_pallet.toml")
+    assert sweeps(PalletShape.of(pallet), moves) is None
+    assert sweeps(PalletShape.of(pallet), _direct(moves)) is not None
 
 
 def test_a_path_over_the_full_stack_and_the_final_descents_pass():
     pallet, frame, moves = _plan("testmat_pallet.toml")
     moves = _direct(moves)
-    assert sweeps(pallet, frame, _over_the_top(pallet, frame, moves, 5 * 26 + 26 + 1)) is None
+    assert sweeps(PalletShape.of(pallet), _over_the_top(pallet, frame, moves, 5 * 26 + 26 + 1)) is None
     # 1 mm lower than the full stack plus a box: the top layer's later boxes cross the earlier ones
-    assert sweeps(pallet, frame, _over_the_top(pallet, frame, moves, 5 * 26 + 26 - 1)) is not None
+    assert sweeps(PalletShape.of(pallet), _over_the_top(pallet, frame, moves, 5 * 26 + 26 - 1)) is not None
 
 
 def _sheet_direct(moves):
@@ -93,7 +94,7 @@ def _sheet_direct(moves):
 def test_the_carried_slip_sheet_rises_to_the_transit_height_before_it_swings():
     """The EUR cell's sheets lie in a stack below the pallet's top: carried straight from above it to the sheet's
     entry, the sheet (taken as the pallet's size) passes below the tops of layer 2; the plan rises first and passes."""
-    pallet, frame, moves = _plan("eur_pallet.toml")
+    pallet, _frame, moves = _plan("eur_pallet.toml")
     sheets = [m for m in moves if m.sheet]
     assert [m.name for m in sheets[:5]] == [
         "layer 3 sheet lift from the sheet stack",
@@ -102,8 +103,8 @@ def test_the_carried_slip_sheet_rises_to_the_transit_height_before_it_swings():
         "layer 3 sheet entry",
         "layer 3 sheet target",
     ]
-    assert sweeps(pallet, frame, moves) is None
-    found = sweeps(pallet, frame, _sheet_direct(moves))
+    assert sweeps(PalletShape.of(pallet), moves) is None
+    found = sweeps(PalletShape.of(pallet), _sheet_direct(moves))
     assert found is not None and found.startswith("layer 3 sheet entry") and "carried sheet's bottom" in found, found
 
 
@@ -140,7 +141,6 @@ def test_the_empty_gripper_from_q_straight_to_the_next_entry_dips_into_the_top_l
     (the arm's joints a straight line between the two) takes the gripper's face below the top of a near-corner box of
     the top layer still on the pallet, with the 100 mm face and with the TCP point alone."""
     cell, pallet, moves = _unstack_plan()
-    frame = frame_matrix(pallet)
     names = [m.name for m in moves[:3]]
     assert names == ["layer 5 box 8 transit", "layer 5 box 8 entry", "layer 5 box 8 approach"], names
     # the plan as it was came down to Q from z 200 (the default 100 mm lift; the cell lifts higher since it must
@@ -150,12 +150,12 @@ def test_the_empty_gripper_from_q_straight_to_the_next_entry_dips_into_the_top_l
     for target in ("kuka", "abb"):
         swept, fk, width = _with_joints(cell, pallet, moves, target)
         assert fk is not None
-        assert sweeps(pallet, frame, swept, fk, width) is None
+        assert sweeps(PalletShape.of(pallet), swept, fk, width) is None
         with monkeypatch.context() as patch:  # the plan as it was: the configurations the controller takes from home
             patch.setattr(judge, "configurations", plan)
             old, fk, width = _with_joints(cell, low, _unstack_direct(low_moves), target)
         for face in (width, 0.0):
-            found = sweeps(pallet, frame, old, fk, face)
+            found = sweeps(PalletShape.of(pallet), old, fk, face)
             assert found is not None and "empty gripper's face" in found and "top of layer 5 box" in found, found
 
 
@@ -166,7 +166,6 @@ def test_the_empty_gripper_leaving_a_stacked_box_swings_over_q_at_the_entry_heig
     cell = load_cell(EXAMPLES / "eur_pallet.toml")
     pallet = next(p for p in pallets_of(cell) if p.mode == "stack")
     moves = expected(cell, pallet, PalletCase("t", *start_counters(pallet))).moves
-    frame = frame_matrix(pallet)
     direct = []
     for move in moves:
         if move.kind == "joint" and move.name.endswith((" over Q", " over the sheet stack")):
@@ -174,13 +173,13 @@ def test_the_empty_gripper_leaving_a_stacked_box_swings_over_q_at_the_entry_heig
         if move.name.endswith((" above Q", " above the sheet stack")) and direct and direct[-1].name.endswith("entry"):
             move = replace(move, kind="joint")
         direct.append(move)
-    assert sweeps(pallet, frame, moves) is None
-    found = sweeps(pallet, frame, direct)
+    assert sweeps(PalletShape.of(pallet), moves) is None
+    found = sweeps(PalletShape.of(pallet), direct)
     assert found is not None and "empty gripper's face" in found, found
     for target in ("kuka", "abb"):
-        assert sweeps(pallet, frame, *_with_joints(cell, pallet, moves, target)) is None
+        assert sweeps(PalletShape.of(pallet), *_with_joints(cell, pallet, moves, target)) is None
     # through the KR 210's joint space the direct move dips below the layer just placed (the IRB 4600's clears it)
-    found = sweeps(pallet, frame, *_with_joints(cell, pallet, direct, "kuka"))
+    found = sweeps(PalletShape.of(pallet), *_with_joints(cell, pallet, direct, "kuka"))
     assert found is not None and "empty gripper's face" in found, found
 
 

@@ -6,11 +6,12 @@ import random
 from dataclasses import dataclass, replace
 
 from codegen.controllers import get_target
-from codegen.kinds.pallet.cycle import PalletCase, done_counters, items, start_counters
+from codegen.kinds.pallet.cycle import PalletCase, done_counters
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.program import holds_name, known_name
 from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.shape import PalletShape, pallet_shape
 from codegen.kinds.pallet.writer import FORMS_PER_PALLET
 from codegen.verify.plan import Case
 
@@ -58,15 +59,14 @@ def pallet_indices(cell, source) -> list[int]:
     return [source.index // FORMS_PER_PALLET]
 
 
-def own_cases(pallet, rng) -> list[PalletCase]:
+def own_cases(shape: PalletShape, rng) -> list[PalletCase]:
     """The whole pallet from its first item; restarts at random items and at the last (the counters preset, as a
     restart finds them), at a slip sheet; a full (empty) pallet, reset by the PLC or not, the reset ignored on a
     pallet not done; counters out of range; the gripper never closing or never opening; an interlock input that
     never comes on; the pallet taken away after the pick; the counters mid-pallet in their store after a reload of
     the program."""
-    todo = items(pallet)
-    keys = [item.key for item in todo]
-    first, done = start_counters(pallet), done_counters(pallet)
+    pallet, keys = shape.pallet, [item.key for item in shape.items]
+    first, done = keys[0], done_counters(pallet)
     stack = pallet.mode == "stack"
     out = [PalletCase("full_stack" if stack else "full_unstack", *first)]
     out += [PalletCase("restart", *keys[rng.randrange(len(keys))]) for _ in range(3)]
@@ -123,14 +123,15 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
     from home, the arm where a stopped cycle left it (at a box's target); a task with several pallets: none selected."""
     out = []
     for index in pallet_indices(cell, source):
-        pallet = pallets_of(cell)[index]
-        own = own_cases(pallet, random.Random(seed + index)) + _release_cases(pallet, get_target(source.target))
+        shape = pallet_shape(cell, pallets_of(cell)[index])
+        own = own_cases(shape, random.Random(seed + index)) + _release_cases(shape, get_target(source.target))
+        start = shape.items[0].key
         if holds_name(cell, get_target(source.target), index) is not None:  # the program can tell whose item it is
-            own.append(PalletCase("held_by_another", *start_counters(pallet), closed=True, foreign=True))
+            own.append(PalletCase("held_by_another", *start, closed=True, foreign=True))
         if known_name(cell, get_target(source.target), index) is not None:  # the store loaded again from its file
-            own += _reloaded_store_cases(pallet)
+            own += _reloaded_store_cases(shape.pallet, start)
         if other_flags(cell, get_target(source.target), index):  # another pallet's flag left set, then a grip
-            own.append(PalletCase("stale_flag", *start_counters(pallet), stale=True))
+            own.append(PalletCase("stale_flag", *start, stale=True))
         first = own[0]
         own += [
             replace(first, category="gripper_late", gripper="late"),
@@ -144,12 +145,11 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
     return out
 
 
-def _reloaded_store_cases(pallet) -> list[PalletCase]:
+def _reloaded_store_cases(pallet, first: tuple[int, int]) -> list[PalletCase]:
     """The counters' store loaded again from its file (as a reset of RAPID does) while the pallet is part-built: the
     counters are the file's (a new pallet's), its known flag FALSE. The operator does not answer, or says No: the
     stop before any move; Yes, or the PLC's reset handshake: the pallet's first item next (shown up to the wait for
     the pallet, which is not in place yet, so the run stays short); a reset the PLC keeps on: the stop."""
-    first = start_counters(pallet)
     out = [
         PalletCase("store_reloaded", *first, unknown=True),
         PalletCase("store_reloaded", *first, unknown=True, answer=NO),
@@ -163,12 +163,12 @@ def _reloaded_store_cases(pallet) -> list[PalletCase]:
     return out
 
 
-def _release_cases(pallet, target) -> list[PalletCase]:
+def _release_cases(shape: PalletShape, target) -> list[PalletCase]:
     """Stacking, a stop during a release; unstacking, a stop between the grip and Q (the counters marked, the layer
     negative): with the gripper empty the operator says whether the item is down (unstacking: back in its place on
     the pallet) and the counters move on (also past the last box) or stay, or a program that cannot ask stops with a
     message; with the item still held it is finished (unstacking: put down at Q, the counters past it)."""
-    keys = [item.key for item in items(pallet)]
+    pallet, keys = shape.pallet, [item.key for item in shape.items]
     mid, last = keys[len(keys) // 2], keys[-1]
     name = "stopped_in_release" if pallet.mode == "stack" else "stopped_on_the_way"
     # unstacking, the answer that moves the counters past the box is No (the box is not back in its place)

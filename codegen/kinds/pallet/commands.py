@@ -11,6 +11,7 @@ from codegen.cli_base import Folder, UserError
 from codegen.cli_base import dump as _dump
 from codegen.kinds.pallet.pictures import MARKS, pictures
 from codegen.kinds.pallet.report import load_pallet_file, report, text
+from codegen.kinds.pallet.shape import pallet_shape
 from codegen.model.cell import EXAMPLES_DIR, CellError
 from codegen.writefile import WriteRefused, check_own, write_own
 
@@ -36,7 +37,7 @@ def pallet(cell, as_json, svg_dir) -> None:
     result = report(data)
     if svg_dir is not None:
         folder = Path(svg_dir)
-        drawn = {name: svg for p in data.pallets for name, svg in pictures(p).items()}
+        drawn = {name: svg for p in data.pallets for name, svg in pictures(pallet_shape(data.cell, p)).items()}
         try:
             for name in drawn:  # every picture's place checked before the first is written
                 check_own(folder / name, MARKS)

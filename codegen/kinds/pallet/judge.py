@@ -8,7 +8,6 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
-from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import ExpectedMove
 from codegen.kinds.pallet.exchange import SHIFT_ENDS, PalletExchange
@@ -22,6 +21,7 @@ from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, st
 from codegen.kinds.pallet.restart import expected
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.setup import kept_names, start_joints
+from codegen.kinds.pallet.shape import pallet_shape
 from codegen.kinds.pallet.sweep import EMPTY_GRIPPER_MM, sweeps
 from codegen.kinds.pallet.way_home import joint_percent, way_home, way_joints
 from codegen.model.io import signal_name
@@ -128,7 +128,7 @@ def judge(cell, source, case: Case, trace, setup=None) -> Judgement:
     problem = declared_outside_store(source, target, (layer_name, box_name)) if reloaded else None
     problem = problem or (store_not_kept(source, target) if reloaded else None)
     problem = problem or (taught_outside_store(source, target) if reloaded else None)
-    problem = problem or sweeps(pallet, frame_matrix(pallet), *_swept(cell, pallet, target.name, want.moves))
+    problem = problem or sweeps(pallet_shape(cell, pallet), *_swept(cell, pallet, target.name, want.moves))
     problem = problem or _unsaid(target, want.said, trace)
     problem = problem or _swaps(want, trace, setup, len(moves) - len(want.moves))
     problem = problem or _latched(setup)

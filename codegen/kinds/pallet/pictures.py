@@ -6,9 +6,9 @@ import math
 from html import escape
 
 from codegen.kinds.pallet.checks import corners, overhangs
-from codegen.kinds.pallet.patterns import label_normal, layout
-from codegen.kinds.pallet.section import Pallet
-from codegen.kinds.pallet.stack import layer_top, pattern_of, sides
+from codegen.kinds.pallet.patterns import label_normal
+from codegen.kinds.pallet.shape import PalletShape
+from codegen.kinds.pallet.stack import pattern_of, sides
 
 WIDTH_PX = 640.0
 MARGIN_PX = 40.0
@@ -18,11 +18,12 @@ ARROW = '<defs><marker id="arrow" viewBox="0 0 10 10" refX="9" refY="5" markerWi
 MARKS = (MARK.encode(), ARROW.encode())
 
 
-def layer_svg(pallet: Pallet, layer: int) -> str:
+def layer_svg(shape: PalletShape, layer: int) -> str:
     """The pallet seen from above (its x to the right, y up); boxes numbered in placing order, the label
     side drawn thick, an arrow for the approach's direction, boxes beyond the edge in red."""
+    pallet = shape.pallet
     name = pattern_of(pallet, layer)
-    boxes = layout(pallet, name)
+    boxes = shape.layouts[name]
     length, width = pallet.size
     reach = max([pallet.overhang_mm, *(mm for _i, mm in overhangs(boxes, pallet.box[:2], pallet.size))])
     scale = (WIDTH_PX - 2 * MARGIN_PX) / (length + 2 * reach)
@@ -32,7 +33,7 @@ def layer_svg(pallet: Pallet, layer: int) -> str:
         return (MARGIN_PX + (x + reach) * scale, height_px - MARGIN_PX - (y + reach) * scale)
 
     over = {i for i, _mm in overhangs(boxes, pallet.box[:2], pallet.size)}
-    title = f"{pallet.name}: layer {layer} of {pallet.layers}, pattern {name}, top at z {layer_top(pallet, layer):g} mm"
+    title = f"{pallet.name}: layer {layer} of {pallet.layers}, pattern {name}, top at z {shape.tops[layer]:g} mm"
     x0, y0 = px(0.0, width)
     out = [
         f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH_PX:.0f}" height="{height_px:.0f}" '
@@ -77,6 +78,7 @@ def layer_svg(pallet: Pallet, layer: int) -> str:
     return "\n".join(out) + "\n"
 
 
-def pictures(pallet: Pallet) -> dict[str, str]:
+def pictures(shape: PalletShape) -> dict[str, str]:
     """File name -> SVG for every layer."""
-    return {f"{pallet.name}_layer{n:02d}.svg": layer_svg(pallet, n) for n in range(1, pallet.layers + 1)}
+    name = shape.pallet.name
+    return {f"{name}_layer{n:02d}.svg": layer_svg(shape, n) for n in range(1, shape.pallet.layers + 1)}

@@ -9,8 +9,9 @@ from dataclasses import dataclass, replace
 
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.posture import decide, reach_in
-from codegen.kinds.pallet.reach import Named, PalletReach, full_cycle
+from codegen.kinds.pallet.reach import Named, PalletReach
 from codegen.kinds.pallet.section import Pallet, pallets_of
+from codegen.kinds.pallet.shape import full_cycle
 
 
 @dataclass(frozen=True)
@@ -41,12 +42,12 @@ class Plan:
 
 
 def plan(cell, target: str) -> Plan:
-    """The kind's planner: each pallet's full cycle, then the configurations its program names on the target's arm
-    (codegen/kinds/pallet/posture.py: the controller's own, the cell's [pallet.config], or a posture chosen to clear),
-    with the proofs that choice made."""
+    """The kind's planner: each pallet's full cycle (the cell's, the same on every target: codegen/kinds/pallet/
+    shape.py), then the configurations its program names on the target's arm (codegen/kinds/pallet/posture.py: the
+    controller's own, the cell's [pallet.config], or a posture chosen to clear), with the proofs that choice made."""
     out = []
     for pallet in pallets_of(cell):
-        cycle = tuple(full_cycle(cell, pallet))
+        cycle = full_cycle(cell, pallet)
         named, note, proofs = decide(cell, pallet, target, cycle)
         reach, proven = proofs if proofs is not None else (None, None)
         out.append(PalletPlan(pallet, cycle, named, note, reach, proven))

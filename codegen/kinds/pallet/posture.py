@@ -94,7 +94,7 @@ def decide_anew(cell, pallet, target: str, cycle) -> tuple[Named | None, str, tu
     """The configurations the target's program names for the pallet (None without an arm), the posture note ('' where
     they are the controller's own from the home or the cell's), and the proofs the choice made of them: (the reach
     proof, the clearance proof's least clearances of the pallet's paths), None where it made none. cycle: the
-    pallet's full cycle (codegen/kinds/pallet/reach.py full_cycle)."""
+    pallet's full cycle (codegen/kinds/pallet/shape.py full_cycle)."""
     natural = plan(cell, pallet, target, cycle=cycle)
     if natural is None:
         return None, "", None

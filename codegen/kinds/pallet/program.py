@@ -12,10 +12,7 @@ from codegen.emit import EmitError, Emitter, mapped_name, owned
 from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.cycle import (
     above_pick,
-    layer_counts,
-    safe_pose,
     sheet_below,
-    start_counters,
     transit_dz,
 )
 from codegen.kinds.pallet.interlocks import HANDSHAKES, WAITS_ON, counter_register
@@ -37,11 +34,11 @@ from codegen.kinds.pallet.messages import (
     still_waiting_message,
     wait_message,
 )
-from codegen.kinds.pallet.patterns import layout
 from codegen.kinds.pallet.plan import configurations
 from codegen.kinds.pallet.reach import PICK_KEY, SAFE_KEY, SHEET_ENTRY_KEY, SHEET_KEY, way_up_z
 from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import Pallet, pallets_of
+from codegen.kinds.pallet.shape import pallet_shape
 from codegen.kinds.pallet.stack import sides
 from codegen.model.cell import TaughtPose
 from codegen.poses import rotmat_from_zyx_deg, zyx_deg_from_rotmat
@@ -192,7 +189,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     interlocks, the payload, the zone and the messages."""
     number = emitter.number
     limit = message_limit(cell)
-    frame = frame_matrix(pallet)
+    frame = pallet_shape(cell, pallet).pallet2base
     named = configurations(cell, pallet, target.name)
     own = identifiers(cell, target)[index]
 
@@ -211,7 +208,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
     names = list(dict.fromkeys(pallet.cycle))  # each pattern once, in the cycle's order
     rows, patterns = [], []
     for name in names:
-        boxes = layout(pallet, name)
+        boxes = pallet_shape(cell, pallet).layouts[name]
         patterns.append({"name": emitter.comment(name), "start": len(rows) + 1, "count": len(boxes)})
         rows.extend(
             {
@@ -228,8 +225,8 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
             for i, (b, ((ax, ay), (rx, ry))) in enumerate(zip(boxes, sides(pallet, boxes), strict=True), start=1)
         )
     level = bool(np.allclose(frame[:3, 2], (0.0, 0.0, 1.0), atol=LEVEL_TOL))
-    counts = layer_counts(pallet)
-    first = start_counters(pallet)
+    counts = pallet_shape(cell, pallet).layer_counts()
+    first = pallet_shape(cell, pallet).items[0].key
     load, box = carried_load(cell, pallet), box_load(pallet)
     registers = counter_registers(cell, target, index)
     layer_name, box_name = counter_names(cell, target, index)
@@ -325,7 +322,7 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "pick_axes": axes(PICK_KEY),  # above Q as a joint target (anchors), None: the pose
         "safe_axes": axes(SAFE_KEY),
         "conf_whole": named is not None and named.whole,  # else the program names only what holds (reach.py)
-        "safe": pose("safe", frame @ safe_pose(pallet)),
+        "safe": pose("safe", pallet_shape(cell, pallet).safe2base),
         "safe_conf": conf(SAFE_KEY),
         "way_home_mm": number(cell.motion.retreat_mm, 4),
         # the way home rises straight up to this base z (mm, m) first: over every pallet of the arm, full or not

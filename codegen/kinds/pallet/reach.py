@@ -8,10 +8,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.pallet.analysis import frame_matrix
-from codegen.kinds.pallet.cycle import ExpectedMove, PalletCase, safe_pose, start_counters
-from codegen.kinds.pallet.restart import expected
-from codegen.kinds.pallet.section import pallets_of
+from codegen.kinds.pallet.cycle import ExpectedMove
+from codegen.kinds.pallet.shape import full_cycle, pallet_shape, shape
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
 from codegen.robot.config import FORMS, loose, named_in_full
@@ -36,11 +34,6 @@ class PalletReach(Margins):
 
     def text(self) -> str:
         return super().text() + (f"\n    {self.posture}" if self.posture else "")
-
-
-def full_cycle(cell, pallet):
-    """The moves of a whole stack (or unstack) from its first box, as the reference has them."""
-    return expected(cell, pallet, PalletCase("full", *start_counters(pallet))).moves
 
 
 # The configuration keys of the joint moves (a box's entry: its pattern and number)
@@ -263,14 +256,14 @@ def way_up_z(cell) -> float:
     """How high (base z, mm) the way home rises straight up before its joint move to the safe pose: the highest of
     the safe poses of the cell's pallets (each at the transit height over its full stack), so the arm, with or
     without a box, swings over any of the arm's pallets, full or not, wherever a stop left it."""
-    return max(float((frame_matrix(p) @ safe_pose(p))[2, 3]) for p in pallets_of(cell))
+    return shape(cell).way_up_z
 
 
 def safe_move(cell, pallet):
     """The way home's joint move above the pallet's centre (tcp2base)."""
     return ExpectedMove(
         kind="joint",
-        tcp2base=frame_matrix(pallet) @ safe_pose(pallet),
+        tcp2base=pallet_shape(cell, pallet).safe2base,
         name=SAFE_NAME,
         speed_mm_s=cell.motion.speed_mm_s,
         exact=True,

@@ -8,11 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.patterns import cell_angle
-from codegen.kinds.pallet.reach import full_cycle
 from codegen.kinds.pallet.section import Pallet, pallets_of
-from codegen.kinds.pallet.stack import layer_top, placements
+from codegen.kinds.pallet.shape import full_cycle, pallet_shape
 from codegen.model.cell import load_cell
 from codegen.poses import zyx_deg_from_rotmat
 
@@ -66,13 +64,13 @@ def cycle_estimate(cell, pallet: Pallet) -> dict:
 
 
 def pallet_report(cell, pallet: Pallet) -> dict:
-    frame = frame_matrix(pallet)
-    placed = placements(pallet)
+    shape = pallet_shape(cell, pallet)
+    frame, placed = shape.pallet2base, shape.placements
     return {
         "name": pallet.name,
         "frame": [[round(float(v), 9) + 0.0 for v in row] for row in frame],
         "layers": [
-            {"layer": n, "pattern": pallet.cycle[(n - 1) % len(pallet.cycle)], "top_mm": round(layer_top(pallet, n), 6)}
+            {"layer": n, "pattern": pallet.cycle[(n - 1) % len(pallet.cycle)], "top_mm": round(shape.tops[n], 6)}
             for n in range(1, pallet.layers + 1)
         ],
         "boxes": [

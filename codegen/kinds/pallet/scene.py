@@ -7,10 +7,9 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from codegen.kinds.pallet.analysis import frame_matrix
 from codegen.kinds.pallet.patterns import label_normal
 from codegen.kinds.pallet.refusals import StackFix
-from codegen.kinds.pallet.stack import layer_top, placements
+from codegen.kinds.pallet.shape import PalletShape, full_cycle, pallet_shape
 from codegen.kinds.pallet.sweep import PLACE_POSES, _own
 from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
 from codegen.protocol import Stage
@@ -32,14 +31,14 @@ GAP_MM = 2.0  # boxes drawn this much narrower than they are, so that neighbours
 def objects(cell, pallets) -> list[dict]:
     out = []
     for pallet in pallets:
-        out += _pallet(pallet)
+        out += _pallet(pallet_shape(cell, pallet))
     return out
 
 
-def _pallet(pallet) -> list[dict]:
+def _pallet(shape: PalletShape) -> list[dict]:
     """The pallet (its top at the frame's z = 0), every box of the full stack with its label right after it (the
     page's box events rely on that order), the slip sheets and the pick place Q."""
-    pallet2base = frame_matrix(pallet)
+    pallet, pallet2base = shape.pallet, shape.pallet2base
     length, width = pallet.size
     out = [
         box(translated(pallet2base, (length / 2, width / 2, -SLAB_MM / 2)), (length, width, SLAB_MM), "wood"),
@@ -47,8 +46,8 @@ def _pallet(pallet) -> list[dict]:
     ]
     bx, by, bz = pallet.box
     face = by / 2 - GAP_MM / 2 + LABEL_MM / 2
-    for p in placements(pallet):
-        top = layer_top(pallet, p.layer)
+    for p in shape.placements:
+        top = shape.tops[p.layer]
         turn = rotmat_from_zyx_deg(p.box.ccw_deg, 0.0, 0.0)
         centre = pallet2base @ matrix_from_rotation_translation(turn, (p.box.x, p.box.y, top - bz / 2))
         size = (bx - GAP_MM, by - GAP_MM, bz)
@@ -60,7 +59,7 @@ def _pallet(pallet) -> list[dict]:
         out.append(box(label, (bx * 0.5, LABEL_MM, bz * 0.5), "label"))
     if pallet.slip_every:
         for layer in range(pallet.slip_every, pallet.layers, pallet.slip_every):
-            z = layer_top(pallet, layer) + pallet.slip_thickness / 2
+            z = shape.tops[layer] + pallet.slip_thickness / 2
             sheet = translated(pallet2base, (length / 2, width / 2, z))
             out.append(box(sheet, (length, width, max(pallet.slip_thickness, 1.0)), "sheet", f"slip sheet {layer}"))
     if pallet.pick is not None:
@@ -72,14 +71,14 @@ def _pallet(pallet) -> list[dict]:
     return out
 
 
-def solids(pallets) -> dict[str, Box]:
+def solids(cell, pallets) -> dict[str, Box]:
     """Each pallet (its top at the frame's z = 0, PALLET_HEIGHT_MM deep) and its pick place (a plate whose top is a
     box's height under Q, where the box Q holds stands). The stack is not among them: it grows while the program
     runs (stack_solids)."""
     out = {}
     for pallet in pallets:
         length, width = pallet.size
-        centre = translated(frame_matrix(pallet), (length / 2, width / 2, -PALLET_HEIGHT_MM / 2))
+        centre = translated(pallet_shape(cell, pallet).pallet2base, (length / 2, width / 2, -PALLET_HEIGHT_MM / 2))
         out[f"pallet {pallet.name}"] = Box((length, width, PALLET_HEIGHT_MM), centre)
         if pallet.pick is not None:
             bx, by, bz = pallet.box
@@ -90,24 +89,24 @@ def solids(pallets) -> dict[str, Box]:
     return out
 
 
-def stack_solids(pallet, boxes: int) -> dict[str, Box]:
+def stack_solids(shape: PalletShape, boxes: int) -> dict[str, Box]:
     """The stack with its first `boxes` boxes on the pallet (in placing order; unstacking takes the last first):
     every full layer below the top one as one box over the pallet's area and the layer's height (a bound of its
     boxes, the overhang added), the top layer's boxes each as placed."""
-    placed = placements(pallet)[:boxes]
+    placed = shape.placements[:boxes]
     if not placed:
         return {}
-    pallet2base = frame_matrix(pallet)
+    pallet, pallet2base = shape.pallet, shape.pallet2base
     length, width = pallet.size
     bx, by, bz = pallet.box
     top_layer = placed[-1].layer
     out = {}
     if top_layer > 1:
-        below = layer_top(pallet, top_layer - 1)
+        below = shape.tops[top_layer - 1]
         grow = 2 * pallet.overhang_mm
         centre = translated(pallet2base, (length / 2, width / 2, below / 2))
         out[f"pallet {pallet.name}: stack below layer {top_layer}"] = Box((length + grow, width + grow, below), centre)
-    top = layer_top(pallet, top_layer)
+    top = shape.tops[top_layer]
     for p in placed:
         if p.layer != top_layer:
             continue
@@ -117,12 +116,13 @@ def stack_solids(pallet, boxes: int) -> dict[str, Box]:
     return out
 
 
-def _others(pallets, pallet) -> dict[str, Box]:
+def _others(cell, pallets, pallet) -> dict[str, Box]:
     """The other pallets' stacks as a bound: each one full (the most it holds while this pallet is worked)."""
     out = {}
     for other in pallets:
         if other is not pallet:
-            out.update(stack_solids(other, len(placements(other))))
+            shape = pallet_shape(cell, other)
+            out.update(stack_solids(shape, shape.boxes))
     return out
 
 
@@ -133,13 +133,13 @@ def pallet_paths(cell, pallets, pallet, target: str, named, cycle=None) -> list[
     held), as the program plans it: back along the tool, up to the transit height, above the pallet's centre, home;
     and, unstacking, a box held at the start (a stop between the grip and Q) carried from home and put down at Q, then
     the stack taken off (cycle: the pallet's full cycle where the caller has it)."""
-    from codegen.kinds.pallet.cycle import PalletCase, items
-    from codegen.kinds.pallet.reach import full_cycle
+    from codegen.kinds.pallet.cycle import PalletCase
     from codegen.kinds.pallet.restart import expected
 
+    shape = pallet_shape(cell, pallet)
     stacking = pallet.mode == "stack"
-    count = 0 if stacking else len(placements(pallet))
-    others = _others(pallets, pallet)
+    count = 0 if stacking else shape.boxes
+    others = _others(cell, pallets, pallet)
     home = np.asarray(cell.robot.home[target], dtype=float)
     part = carried_box(cell, pallet)
     cycle = full_cycle(cell, pallet) if cycle is None else cycle
@@ -148,7 +148,7 @@ def pallet_paths(cell, pallets, pallet, target: str, named, cycle=None) -> list[
     out = [Path(target, home, tuple(planned), part, stages, _configuration(named), fix)]
     for k in sorted({_first_target(planned), _last_target(planned)} - {None}):
         out.append(_way_home(cell, pallet, target, planned[k], home, part, stages, named, fix))
-    keys = [item.key for item in items(pallet)]
+    keys = [item.key for item in shape.items]
     if not stacking and keys:  # a box held at the start, the counters at the first item: the whole stack stands
         held = expected(cell, pallet, PalletCase("held_at_start", *keys[0], closed=True)).moves
         planned, stages = _planned(cell, pallet, target, held, named, count, others)
@@ -168,6 +168,7 @@ def _planned(cell, pallet, target: str, moves, named, count: int, others: dict) 
     from codegen.kinds.pallet.reach import joints_of
 
     joints = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, named)
+    shape = pallet_shape(cell, pallet)
     stacking = pallet.mode == "stack"
     stages: dict[str, dict] = {}
     planned = []
@@ -176,7 +177,7 @@ def _planned(cell, pallet, target: str, moves, named, count: int, others: dict) 
         grip = "grip" if after and not move.carrying else "release" if move.carrying and not after else ""
         stage = str(count)
         if stage not in stages:
-            stages[stage] = {**stack_solids(pallet, count), **others}
+            stages[stage] = {**stack_solids(shape, count), **others}
         where = f"pallet {pallet.name!r} {move.name}"
         own = _own_descent(pallet, stages[stage]) if _own(move.name)[1] in PLACE_POSES else frozenset()
         planned.append(Move(move.kind, q, where, move.tcp2base, move.carrying, stage, grip, own))
@@ -247,16 +248,17 @@ def case_stages(cell, pallets, index: int, case):
     not swept, as generate's proof leaves it, nor a box lost on its way); along its descent onto the stack (and the
     way up from it) the pallet's own sweep check holds the tool and the box against that pallet and its stack, as in
     generate's proof (_own_descent)."""
-    from codegen.kinds.pallet.cycle import done_counters, items
+    from codegen.kinds.pallet.cycle import done_counters
     from codegen.kinds.pallet.restart import expected
 
     pallet = pallets[index]
-    todo = items(pallet)
+    shape = pallet_shape(cell, pallet)
+    todo = shape.items
     keys = [item.key for item in todo]
     start = expected(cell, pallet, case).start
     done = keys.index(start) if start in keys else len(keys) if start == done_counters(pallet) else 0
-    stacking, total = pallet.mode == "stack", len(placements(pallet))
-    others, box = _others(pallets, pallet), carried_box(cell, pallet)
+    stacking, total = pallet.mode == "stack", shape.boxes
+    others, box = _others(cell, pallets, pallet), carried_box(cell, pallet)
     stages: dict[tuple[int, bool], Stage] = {}
 
     first = len(todo) - done  # the items of the pallet the run starts on; past them, a swapped pallet's
@@ -272,7 +274,7 @@ def case_stages(cell, pallets, index: int, case):
         gone = case.lost and grips > 0  # the box slips out on its way (where is not known): the tool alone from then
         key = (index, boxes, sheet or gone)
         if key not in stages:
-            stack = stack_solids(pallet, boxes)
+            stack = stack_solids(shape, boxes)
             part = None if sheet or gone else box
             stages[key] = Stage(key, {**stack, **others}, part, _own_descent(pallet, stack))
         return stages[key]

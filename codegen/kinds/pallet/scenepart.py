@@ -15,7 +15,7 @@ class ScenePart(protocol.Scene):
         return objects(cell, self.kind.section.of(cell) or ())
 
     def solids(self, cell) -> dict[str, Box]:
-        return solids(self.kind.section.of(cell) or ())
+        return solids(cell, self.kind.section.of(cell) or ())
 
     def paths(self, cell, targets: list[str]) -> list[Path]:
         pallets = self.kind.section.of(cell) or ()

@@ -7,8 +7,7 @@ import itertools
 import numpy as np
 
 from codegen.kinds.pallet.checks import AREA_TOL, _area, _clip
-from codegen.kinds.pallet.section import Pallet
-from codegen.kinds.pallet.stack import placements
+from codegen.kinds.pallet.shape import PalletShape
 from codegen.poses import rotmat_from_zyx_deg
 
 SAMPLES = 64  # points along each segment (and its two ends)
@@ -71,7 +70,7 @@ def _on_pallet(pallet, moves, order) -> list[set[int] | None]:
     return out
 
 
-def sweeps(pallet: Pallet, pallet2base: np.ndarray, moves, fk=None, gripper_mm: float = 0.0) -> str | None:
+def sweeps(shape: PalletShape, moves, fk=None, gripper_mm: float = 0.0) -> str | None:
     """The first move (ExpectedMove: kind, tcp2base, name, carrying or sheet; joints where fk is given) whose path
     from the move before it takes the carried box's (the sheet's) bottom, or the empty gripper's face, below the top
     of a box on the pallet under its footprint; None: none. A carried box is checked against the boxes placed before
@@ -80,9 +79,9 @@ def sweeps(pallet: Pallet, pallet2base: np.ndarray, moves, fk=None, gripper_mm: 
     box's place. A joint move with joints is followed through joint space (fk: joints -> tcp2base); another move as
     the TCP's straight segment. A slip sheet is taken as the pallet's size (the cell gives its thickness alone) and
     lies below its layer's first box."""
+    pallet, placed = shape.pallet, shape.placements
     tool = rotmat_from_zyx_deg(*pallet.tool_orientation)
-    base2pallet = np.linalg.inv(pallet2base)
-    placed = placements(pallet)
+    base2pallet = np.linalg.inv(shape.pallet2base)
     order = {f"layer {p.layer} box {p.number}": i for i, p in enumerate(placed)}
     order |= {f"layer {p.layer} sheet": i for i, p in enumerate(placed) if p.number == 1}
     sheet = (pallet.size[0], pallet.size[1], pallet.slip_thickness)
