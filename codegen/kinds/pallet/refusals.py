@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from codegen.decimals import format_literal
+from codegen.kinds.pallet.cycle import SAFE_NAME
 from codegen.kinds.pallet.section import Pallet
 from codegen.kinds.pallet.stack import layer_top, pallet2base
 
@@ -32,8 +33,6 @@ class StackFix:
             return None
         name = move.where.split(f"pallet {self.pallet.name!r} ", 1)[-1]
         if WAY_HOME in f" {name}":
-            from codegen.kinds.pallet.reach import SAFE_NAME  # reach plans the paths: imported where asked
-
             segment = name.rsplit(": ", 1)[-1]  # the way home's joint moves: above the pallet's centre, then home
             return self._way_home(cell, path) if segment in (SAFE_NAME, "home") else None
         # a box's own way in and out of its place is the pallet's sweep check's (scene.py, _own_descent): the proof
