@@ -81,3 +81,42 @@ def test_verify_warns_where_any_run_is_nearer_a_joint_limit_than_the_cell_asks(t
         ], result.stderr
     else:
         assert warned == []
+
+
+def _generate_margin(cell, target: str) -> float:
+    """The least joint margin generate states for the cell's pallets on the target (codegen/kinds/pallet/reach.py)."""
+    from codegen.kinds.pallet.plan import configurations
+    from codegen.kinds.pallet.reach import check_pallet
+    from codegen.kinds.pallet.section import pallets_of
+
+    return min(
+        check_pallet(cell, p, target, configurations(cell, p, target)).joint_margin_deg for p in pallets_of(cell)
+    )
+
+
+def _held_at_start(cell, source):
+    from support.programs import verify_one
+
+    return verify_one(cell, source, cases=1, scenarios=["held_at_start"], clearance=False)
+
+
+def test_a_restart_with_a_box_held_keeps_the_margin_generate_states(tmp_path):
+    """The carton cell names a Status but no Turn at each box's transit: from home a PTP there takes the turn nearest
+    home, axis 6 one turn off the cycle's (1.0 deg from its limit where generate says 22.2). The restart goes above
+    the pallet's centre in axis values first, in the cycle's turns: verify's held_at_start runs keep generate's
+    margin (within the joints' tolerance)."""
+    from support.programs import sources
+
+    from codegen.model.cell import load_cell
+    from codegen.robot.expect import JOINT_TOLERANCE_DEG
+
+    path = tmp_path / "carton.toml"
+    path.write_text(CARTON, encoding="utf-8")
+    cell = load_cell(path)
+    (program,) = sources(cell, "kuka", "pallet")
+    row = _held_at_start(cell, program)
+    assert row.cases >= 2 and row.mismatches == 0, row.first_mismatches
+    said = _generate_margin(cell, "kuka")
+    assert said > 20.0, said  # the cell's figure (generate: 22.2 deg)
+    assert abs(row.arm.joint_margin_deg - said) <= JOINT_TOLERANCE_DEG, (row.arm.summary(), said)
+    assert row.arm.shortfall() is None
