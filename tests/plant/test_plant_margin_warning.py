@@ -1,4 +1,4 @@
-"""A plant's verify says where a cell's runs came nearer a joint limit than the cell asks, as verify of the cell does."""
+"""A plant's verify says where a cell's runs came nearer a joint limit than the cell asks, as a cell's verify does."""
 
 from __future__ import annotations
 
