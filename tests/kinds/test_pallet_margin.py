@@ -120,3 +120,42 @@ def test_a_restart_with_a_box_held_keeps_the_margin_generate_states(tmp_path):
     assert said > 20.0, said  # the cell's figure (generate: 22.2 deg)
     assert abs(row.arm.joint_margin_deg - said) <= JOINT_TOLERANCE_DEG, (row.arm.summary(), said)
     assert row.arm.shortfall() is None
+
+
+def _wrist_stats(a5_deg: float, asked_deg: float = 5.0) -> ArmStats:
+    class Cell:
+        class robot:  # the shape ArmStats reads
+            arms = {"kuka": find_arm("KR 6 R900 sixx")}
+            margins = Margins(5.0, asked_deg)
+
+    # axis 5 at 0 deg lines up axes 4 and 6 (KUKA): the second move's wrist a5_deg from its singularity
+    joints = [[0.0, -90.0, 90.0, 0.0, 90.0, 45.0], [10.0, -90.0, 90.0, 0.0, a5_deg, 0.0]]
+    stats = ArmStats()
+    stats.add(Cell, "kuka", [_Move(j, 30 + i) for i, j in enumerate(joints)], lambda: "start_away layer 1 box 1")
+    return stats
+
+
+def test_a_run_nearer_the_wrist_singularity_than_the_cell_asks_is_named_like_the_joint_margin():
+    from codegen.verify.report import Report, Row
+
+    stats = _wrist_stats(2.0)
+    short = stats.wrist_shortfall()
+    assert short == (
+        "2.0 deg from the wrist singularity (axis 5 at 2.0 deg, move 2 (line 31), start_away layer 1 box 1), less "
+        "than the 5 deg the cell asks (cell.robot.wrist_margin_deg)"
+    )
+    assert stats.shortfall() is None  # the joints keep their margin: only the wrist is said
+    summary = stats.summary()
+    assert summary["wrist_margin_at"].startswith("axis 5 at 2.0 deg, move 2 (line 31)")
+    assert summary["wrist_margin_asked_deg"] == 5.0 and summary["wrist_margin_deg"] == 2.0  # the keys before, kept
+    report = Report("carton", [Row("pallet", "kuka", "pal_half", [], cases=1, arm=stats)], 0, 1)
+    assert report.margin_warnings() == [f"arm kuka pal_half: {short}"]
+
+
+def test_no_wrist_warning_where_every_run_keeps_the_wrist_margin():
+    from codegen.verify.report import Report, Row
+
+    stats = _wrist_stats(40.0)
+    assert stats.wrist_shortfall() is None
+    assert _wrist_stats(5.0).wrist_shortfall() is None  # exactly the margin asked: kept
+    assert Report("carton", [Row("pallet", "kuka", "p", [], cases=1, arm=stats)], 0, 1).margin_warnings() == []
