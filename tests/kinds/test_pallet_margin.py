@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from codegen.cli import main
@@ -159,3 +160,30 @@ def test_no_wrist_warning_where_every_run_keeps_the_wrist_margin():
     assert stats.wrist_shortfall() is None
     assert _wrist_stats(5.0).wrist_shortfall() is None  # exactly the margin asked: kept
     assert Report("carton", [Row("pallet", "kuka", "p", [], cases=1, arm=stats)], 0, 1).margin_warnings() == []
+
+
+def test_the_safe_pose_takes_the_turns_the_cycle_has(tmp_path):
+    """The carton cell's plan names above Q with axis 6 at -180 (of the two sides a half turn allows): the cycle then
+    works with axis 6 near -270 at the boxes. The safe pose (the way home's, and a held restart's way onto the
+    pallet) in axis values is the solution nearest the cycle's first entry in those turns (-270), not +90: from
+    any box no axis turns more than half a turn to reach it."""
+    import numpy as np
+
+    from codegen.kinds.pallet.plan import configurations
+    from codegen.kinds.pallet.reach import SAFE_KEY, full_cycle, joints_of
+    from codegen.kinds.pallet.section import pallets_of
+    from codegen.model.cell import load_cell
+
+    path = tmp_path / "carton.toml"
+    path.write_text(CARTON, encoding="utf-8")
+    cell = load_cell(path)
+    (pallet,) = pallets_of(cell)
+    named = configurations(cell, pallet, "kuka")
+    assert not named.whole and SAFE_KEY in named.anchors  # no Turn named: the safe pose in axis values
+    moves = full_cycle(cell, pallet)
+    cycle = joints_of(cell, "kuka", moves, "carton", pallet, named)
+    entries = [q for m, q in zip(moves, cycle, strict=True) if isinstance(named.key(pallet, m), tuple)]
+    safe = named.anchors[SAFE_KEY]
+    turn = np.abs(safe - entries[0])
+    assert np.max(turn) <= 180.0, (safe, entries[0])
+    assert safe[5] == pytest.approx(-270.0, abs=1.0)
