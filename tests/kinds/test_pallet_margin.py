@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -167,8 +168,6 @@ def test_the_safe_pose_takes_the_turns_the_cycle_has(tmp_path):
     works with axis 6 near -270 at the boxes. The safe pose (the way home's, and a held restart's way onto the
     pallet) in axis values is the solution nearest the cycle's first entry in those turns (-270), not +90: from
     any box no axis turns more than half a turn to reach it."""
-    import numpy as np
-
     from codegen.kinds.pallet.plan import configurations
     from codegen.kinds.pallet.reach import SAFE_KEY, full_cycle, joints_of
     from codegen.kinds.pallet.section import pallets_of
@@ -187,3 +186,36 @@ def test_the_safe_pose_takes_the_turns_the_cycle_has(tmp_path):
     turn = np.abs(safe - entries[0])
     assert np.max(turn) <= 180.0, (safe, entries[0])
     assert safe[5] == pytest.approx(-270.0, abs=1.0)
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "codegen" / "examples"
+PALLET_CELLS = [
+    *sorted((EXAMPLES / "pallets").glob("*.toml")),
+    *sorted((EXAMPLES / "plant" / "pallets").glob("*.toml")),
+    Path(__file__).resolve().parent / "cells" / "carton_kuka.toml",
+]
+
+
+@pytest.mark.slow  # a held_at_start verify of every pallet program of every cell with an arm
+@pytest.mark.parametrize("path", PALLET_CELLS, ids=lambda p: p.stem)
+def test_every_pallet_cells_held_restart_keeps_the_margin_generate_states(path):
+    """generate states the least joint margin over the full cycle and at home; a restart with an item held runs a
+    part of the cycle from home, so verify's held_at_start runs come no nearer a limit than that."""
+    from support.programs import sources
+
+    from codegen.model.cell import load_cell
+    from codegen.robot.expect import JOINT_TOLERANCE_DEG, margins
+
+    cell = load_cell(path)
+    checked = 0
+    for target in cell.targets:
+        if cell.robot is None or target not in cell.robot.arms:
+            continue
+        home = margins(cell.robot.arms[target], np.asarray(cell.robot.home[target], dtype=float))[0]
+        said = min(_generate_margin(cell, target), home)
+        for program in sources(cell, target, "pallet"):
+            row = _held_at_start(cell, program)
+            assert row.cases >= 2 and row.mismatches == 0, row.first_mismatches
+            assert row.arm.joint_margin_deg >= said - JOINT_TOLERANCE_DEG, (target, row.arm.summary(), said)
+            checked += 1
+    assert checked or path.stem.startswith("tray"), path  # the dtrans tray cell has no arm
