@@ -54,6 +54,9 @@ class CellResult:
     cached: bool = False
     notes: list[str] = field(default_factory=list)
     findings: dict | None = None
+    # verify's warnings about the runs (a joint or wrist margin short of the cell's: Report.margin_warnings), printed
+    # as the single cell's verify prints them
+    warnings: list[str] = field(default_factory=list)
 
     @property
     def exit_code(self) -> int:
@@ -68,6 +71,7 @@ class CellResult:
             "exit": self.exit_code,
             "rows": [asdict(line) for line in self.lines],
             "notes": self.notes,
+            "warnings": self.warnings,
             "data": self.data,
             "findings": self.findings,
         }
@@ -85,7 +89,8 @@ class CellResult:
         """The inverse of as_json (a cache entry): a TypeError, KeyError or ValueError where it is not one."""
         lines = [Line(**row) for row in data["rows"]]
         cached, notes = bool(data["cached"]), list(data["notes"])
-        return cls(data["cell"], data["name"], lines, data["data"], cached, notes, data["findings"])
+        warnings = list(data.get("warnings", []))  # an entry stored before warnings were kept has none
+        return cls(data["cell"], data["name"], lines, data["data"], cached, notes, data["findings"], warnings)
 
 
 def _untimed(line: Line) -> dict:
@@ -160,6 +165,7 @@ class PlantReport:
             )
             out.extend(f"  {text}" for text in line.message.splitlines() if text)
         for result in self.results:
+            out.extend(f"warning: {result.cell}: {warning}" for warning in result.warnings)
             out.extend(f"note: {result.cell}: {note}" for note in result.notes)
         out.extend(f"note: {note}" for note in self.notes)
         shown = ", ".join(f"{n} {word}" for word, n in self.counts().items())

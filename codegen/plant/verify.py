@@ -147,4 +147,6 @@ def _row(item: Pending, report) -> CellResult:
         report.wall_seconds,  # its own batches' time: the time here runs to the end of all the cells verified together
         "\n".join(problems),
     )
-    return CellResult(label, cell.name, [line], report.as_json(), notes=[*cell.warnings, *report.warnings])
+    result = CellResult(label, cell.name, [line], report.as_json(), notes=[*cell.warnings, *report.warnings])
+    result.warnings = report.margin_warnings()
+    return result

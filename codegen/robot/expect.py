@@ -35,6 +35,9 @@ class ArmStats:
         self.joint_margin_at = ""  # the axis, its value, the move and the case of the least joint margin
         self.named_deg = float("inf")  # the margin of the move joint_margin_at names (within the tie of the least)
         self.asked_deg = 0.0  # the cell's joint margin (cell.robot.joint_margin_deg): every move's requirement
+        self.wrist_margin_at = ""  # axis 5's value, the move and the case nearest the wrist singularity
+        self.wrist_named_deg = float("inf")  # the wrist margin of the move wrist_margin_at names
+        self.wrist_asked_deg = 0.0  # the cell's wrist margin (cell.robot.wrist_margin_deg)
 
     def add(
         self, cell, target: str, moves: list, case: Callable[[], str] | None = None, names: list | None = None
@@ -47,21 +50,29 @@ class ArmStats:
         if arm is None or not solved:
             return
         self.asked_deg = cell.robot.margins.joint_deg
+        self.wrist_asked_deg = cell.robot.margins.wrist_deg
         joints = np.array([m.joints for _i, m in solved])
         per_move = joint_margins(arm, joints).min(axis=-1)
         joint, row = float(per_move.min()), first_least(per_move)
         axis = int(np.argmin(joint_margins(arm, joints[row])))
-        wrist = float(np.min(singular_distance(wrist_angle(arm, joints))))
+        wrists = np.atleast_1d(singular_distance(wrist_angle(arm, joints)))
+        wrist, wrist_row = float(np.min(wrists)), first_least(wrists)
         self.moves += len(solved)
-        if per_move[row] < self.named_deg - JOINT_TOLERANCE_DEG:
+        named = None
+
+        def where(row: int, axis: int) -> str:
+            nonlocal named
+            if named is None:  # the case's name asked once, where a margin is the least so far
+                named = " ".join(case().split()) if case is not None else ""
             index, move = solved[row]
-            named = " ".join(case().split()) if case is not None else ""
             what = f": {names[index]}" if names is not None and index < len(names) else ""
-            self.joint_margin_at = (
-                f"axis {axis + 1} at {joints[row, axis]:.1f} deg, move {index + 1} (line {move.line}{what})"
-                + (f", {named}" if named else "")
-            )
-            self.named_deg = float(per_move[row])
+            at = f"axis {axis + 1} at {joints[row, axis]:.1f} deg, move {index + 1} (line {move.line}{what})"
+            return at + (f", {named}" if named else "")
+
+        if per_move[row] < self.named_deg - JOINT_TOLERANCE_DEG:
+            self.joint_margin_at, self.named_deg = where(row, axis), float(per_move[row])
+        if wrists[wrist_row] < self.wrist_named_deg - JOINT_TOLERANCE_DEG:
+            self.wrist_margin_at, self.wrist_named_deg = where(wrist_row, 4), float(wrists[wrist_row])
         self.joint_margin_deg = min(self.joint_margin_deg, joint)
         self.wrist_margin_deg = min(self.wrist_margin_deg, wrist)
 
@@ -69,8 +80,11 @@ class ArmStats:
         """A later part's figures (the parts merged in the cases' order)."""
         self.moves += other.moves
         self.asked_deg = max(self.asked_deg, other.asked_deg)
+        self.wrist_asked_deg = max(self.wrist_asked_deg, other.wrist_asked_deg)
         if other.named_deg < self.named_deg - JOINT_TOLERANCE_DEG:
             self.joint_margin_at, self.named_deg = other.joint_margin_at, other.named_deg
+        if other.wrist_named_deg < self.wrist_named_deg - JOINT_TOLERANCE_DEG:
+            self.wrist_margin_at, self.wrist_named_deg = other.wrist_margin_at, other.wrist_named_deg
         self.joint_margin_deg = min(self.joint_margin_deg, other.joint_margin_deg)
         self.wrist_margin_deg = min(self.wrist_margin_deg, other.wrist_margin_deg)
 
@@ -81,6 +95,8 @@ class ArmStats:
             "joint_margin_at": self.joint_margin_at,
             "wrist_margin_deg": round(self.wrist_margin_deg, 3),
             "joint_margin_asked_deg": self.asked_deg,
+            "wrist_margin_at": self.wrist_margin_at,
+            "wrist_margin_asked_deg": self.wrist_asked_deg,
         }
 
     def shortfall(self) -> str | None:
@@ -91,6 +107,16 @@ class ArmStats:
         return (
             f"{self.joint_margin_deg:.1f} deg to a joint limit ({self.joint_margin_at}), less than the "
             f"{self.asked_deg:g} deg the cell asks (cell.robot.joint_margin_deg)"
+        )
+
+    def wrist_shortfall(self) -> str | None:
+        """Where a run came nearer the wrist singularity than the cell asks: the margin, axis 5, the move and the
+        case, and the margin asked (None: every run kept it)."""
+        if not self.moves or self.wrist_margin_deg >= self.wrist_asked_deg:
+            return None
+        return (
+            f"{self.wrist_margin_deg:.1f} deg from the wrist singularity ({self.wrist_margin_at}), less than the "
+            f"{self.wrist_asked_deg:g} deg the cell asks (cell.robot.wrist_margin_deg)"
         )
 
 

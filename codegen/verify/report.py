@@ -203,13 +203,13 @@ class Report:
         return bool(self.rows) and all(r.mismatches == 0 for r in self.rows)
 
     def margin_warnings(self) -> list[str]:
-        """A program whose runs came nearer a joint limit than the cell asks (the cell's requirement of every move,
-        whatever the case): one line each, naming the move and the case."""
+        """A program whose runs came nearer a joint limit, or the wrist singularity, than the cell asks (the cell's
+        requirement of every move, whatever the case): one line each, naming the move and the case."""
         out = []
         for row in self.rows:
-            short = row.arm.shortfall()
-            if short is not None:
-                out.append(f"arm {row.target} {row.program}: {short}")
+            for short in (row.arm.shortfall(), row.arm.wrist_shortfall()):
+                if short is not None:
+                    out.append(f"arm {row.target} {row.program}: {short}")
         return out
 
     def as_json(self) -> dict:

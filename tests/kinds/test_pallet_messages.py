@@ -141,7 +141,6 @@ def test_a_way_home_the_arm_cannot_follow_is_refused_without_a_traceback(write_c
         ("the way home from layer 1 box 1 target: back along the tool's z", "pallet left", None),
         ("layer 12 box 1 transit", "pallet left: pick place", None),
         ("layer 12 box 1 transit", "fence_back", None),
-        ("layer 12 box 1 transit", "pallet right: layer 2 box 1", None),
         ("layer 12 box 1 entry", "pallet left: layer 12 box 2", None),
     ],
 )
@@ -210,3 +209,22 @@ def test_generate_and_verify_name_the_same_move_for_the_least_joint_margin():
     row = run_cases(cell, source, verify_cases(cell, source, 0)[:1], 200_000)
     assert row.arm.joint_margin_deg == pytest.approx(reach.joint_margin_deg, abs=0.05)
     assert f": {reach.worst}), full_stack" in row.arm.joint_margin_at
+
+
+def test_a_swing_into_another_pallets_stack_names_both_pallets_keys(tmp_path):
+    """Two pallets on one arm: the joint move onto the low pallet's transit swings the box through the tall pallet's
+    stack. The refusal says whose stack it is and the keys of both pallets that fix it, not the proof's generic
+    "move the solid away"."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    cell = Path(__file__).parent / "cells" / "two_pallets.toml"
+    result = CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "pallet 'low' layer 1 box 1 transit" in result.output and "'pallet tall: stack" in result.output
+    said = "the move swings into the stack of pallet 'tall' (full: 10 layers, its top at z = 1100.0 mm)"
+    assert said in result.output
+    assert "transit_clearance_mm of pallet 'low': 10 mm" in result.output
+    assert "layers of pallet 'tall': 10" in result.output and "[[pallet]] frame" in result.output
+    assert "Traceback" not in result.output and not (tmp_path / "out").exists()

@@ -402,3 +402,31 @@ def test_the_holds_flag_is_set_before_the_grip_output(target, name, flag, grip):
     mark = f"{flag} := TRUE;" if target == "abb" else f"{flag} = TRUE"
     old_order = "\n".join(line for line in own.text.splitlines() if not line.strip().startswith(mark))
     assert not _flag_before_grip(old_order, flag, grip)
+
+
+# a restart with a box held: the program goes straight from home onto the transit (as the programs did), without the
+# move above the pallet's centre in the cycle's turns; the reference has that move (a program that names no turn at
+# the transit would take the turn nearest home: tests/kinds/test_pallet_margin.py)
+HELD_START_ANCHOR = [
+    ("kuka", "pal_testmat.src", "      PTP PAL_SAFE_AXES ; the PTP to TRANSIT", "      ; the PTP to TRANSIT"),
+    (
+        "abb",
+        "pal_testmat.mod",
+        "        MoveAbsJ stack_safe_axes\\NoEOffs,",
+        "        ! MoveAbsJ stack_safe_axes\\NoEOffs,",
+    ),
+    (
+        "ur",
+        "pal_testmat.script",
+        "      movej(get_inverse_kin(PAL_SAFE, qnear=PAL_SAFE_QNEAR), a=1.2, v=0.25)\n",
+        "      sync()\n",
+    ),
+    ("dtrans", "pal_testmat.prg", "    MovJ PAL_SAFE\n", "    // MovJ PAL_SAFE\n"),
+]
+
+
+@pytest.mark.parametrize(("target", "name", "old", "new"), HELD_START_ANCHOR)
+def test_a_restart_with_a_box_held_goes_above_the_pallet_first(target, name, old, new):
+    cell = load_cell(PALLETS / "testmat_pallet.toml")
+    found = mutant_mismatches(cell, target, name, old, new, count=0)
+    assert found and found[0].startswith("held_at_start"), found

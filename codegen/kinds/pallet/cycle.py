@@ -20,6 +20,7 @@ from codegen.kinds.pallet.stack import Placement, layer_top, placements
 from codegen.poses import matrix_from_rotation_translation, rotmat_from_zyx_deg
 
 __all__ = [
+    "SAFE_NAME",
     "Expected",
     "ExpectedMove",
     "Item",
@@ -36,6 +37,9 @@ __all__ = [
     "transit_pose",
     "unstacking",
 ]
+
+
+SAFE_NAME = "safe above the pallet"  # the joint move above the pallet's centre (safe_pose): the way home, a restart
 
 
 @dataclass(frozen=True)
@@ -337,6 +341,9 @@ def stacking(run: Run, todo: list[Item], done: tuple[int, int]) -> str | None:
             halt = run.wait("pallet_present", "box" if item.placement is not None else "sheet")
             if halt:
                 return halt
+            # first above the pallet's centre as a joint target (the safe pose, in the cycle's turns): the joint move
+            # onto the transit then takes the turn the cycle has there, not the one nearest home
+            run.move("joint", frame @ safe_pose(pallet), SAFE_NAME, False, True)
             for pose, name, slow, exact in path[1:]:
                 run.move("joint" if name == joint else "linear", pose, f"{where} {name}", slow, exact)
             halt, height = _release_and_back_out(run, retreat, item.key, after, where)

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from codegen.controllers import get_target
-from codegen.kinds.pallet.cycle import ExpectedMove
+from codegen.kinds.pallet.cycle import SAFE_NAME, ExpectedMove
 from codegen.kinds.pallet.shape import full_cycle, pallet_shape, shape
 from codegen.kinds.pallet.stack import pattern_of
 from codegen.robot import solve
@@ -41,7 +41,6 @@ PICK_KEY = "Q"  # above Q
 SHEET_KEY = "sheet stack"  # above the slip sheets' stack
 SHEET_ENTRY_KEY = "sheet entry"  # above a slip sheet's place on the pallet
 SAFE_KEY = "safe"  # above the pallet's centre, on the way home after a stop
-SAFE_NAME = "safe above the pallet"  # the way home's move there (codegen/kinds/pallet/way_home.py)
 
 
 @dataclass(frozen=True)
@@ -239,14 +238,19 @@ def _anchors(cell, target: str, moves, pallet, named: Named, first: dict, safe: 
                     turns.append(other)
         options.append([(key, t) for t in turns])
     best, best_margin = {**first, SAFE_KEY: safe}, -np.inf
+    where = f"pallet {pallet.name!r}"
     for choice in itertools.product(*options):
         anchors = {**dict(choice), SAFE_KEY: safe}
         trial = Named(named.form, named.values, False, anchors)
         try:
-            planned = joints_of(cell, target, moves, f"pallet {pallet.name!r}", pallet, trial)
+            planned = joints_of(cell, target, moves, where, pallet, trial)
+            # the safe pose in the turns this cycle has: nearest its first entry onto the pallet (the way home
+            # from the pallet, and a restart with a held item onto it, turn no axis a full turn)
+            entry = next(q for m, q in zip(moves, planned, strict=True) if isinstance(trial.key(pallet, m), tuple))
+            anchors[SAFE_KEY] = joints_of(cell, target, [safe_move(cell, pallet)], where, start=entry)[0]
         except ReachError:
             continue
-        margin = margins(arm, np.array(planned))[0]
+        margin = margins(arm, np.array([*planned, anchors[SAFE_KEY]]))[0]
         if margin > best_margin:
             best, best_margin = anchors, margin
     return best

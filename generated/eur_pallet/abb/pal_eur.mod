@@ -53,8 +53,8 @@ MODULE pal_eur
   ! above Q in axis values (codegen's plan), where a joint move goes there: from it every pose's closest
   ! configuration is unique (the configuration check is off: see main)
   LOCAL CONST jointtarget stack_above_q_axes := [[0.000000, 29.273688, 26.478757, 0.000000, 34.247555, 180.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  ! the way home after a stop passes above the pallet's centre, in axis values (codegen's plan; base frame
-  ! [0.0000, 1500.0000, 1056.0000] mm)
+  ! the way home after a stop, and a restart with an item held, pass above the pallet's centre, in axis values
+  ! (codegen's plan, in the cycle's turns; base frame [0.0000, 1500.0000, 1056.0000] mm)
   LOCAL CONST jointtarget stack_safe_axes := [[90.000000, 23.338149, -20.049219, 0.000000, 86.711070, 270.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
   ! the slip sheets: their pick at the sheet stack and 100.0000 mm above it (base frame); their place at the
   ! pallet's centre (x, y mm, pallet frame) on the layer below, in the configuration codegen chose
@@ -311,6 +311,11 @@ MODULE pal_eur
         IF late THEN
           stack_stop "pallet eur: no pallet in place in 10 s, the sheet is in the gripper";
         ENDIF
+        IF held THEN
+          ! held since the start: above the pallet's centre first in axis values (the cycle's turns), so the joint
+          ! move onto the transit takes the turn the cycle has there, not the one nearest home
+          MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
+        ENDIF
         MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=pal_eur_wobj;
         MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=pal_eur_wobj;
         MoveL target, stack_work, fine, stack_tool \WObj:=pal_eur_wobj;
@@ -382,6 +387,11 @@ MODULE pal_eur
       WaitDI diPalletEur, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
         stack_stop "pallet eur: no pallet in place in 10 s, the box is in the gripper";
+      ENDIF
+      IF held THEN
+        ! held since the start: above the pallet's centre first in axis values (the cycle's turns), so the joint
+        ! move onto the transit takes the turn the cycle has there, not the one nearest home
+        MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
       ENDIF
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=pal_eur_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=pal_eur_wobj;

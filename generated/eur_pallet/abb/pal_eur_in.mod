@@ -53,8 +53,8 @@ MODULE pal_eur_in
   ! above Q in axis values (codegen's plan), where a joint move goes there: from it every pose's closest
   ! configuration is unique (the configuration check is off: see main)
   LOCAL CONST jointtarget stack_above_q_axes := [[0.000000, 20.814409, 23.913602, 0.000000, 45.271990, 180.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  ! the way home after a stop passes above the pallet's centre, in axis values (codegen's plan; base frame
-  ! [0.0000, -1500.0000, 1050.0000] mm)
+  ! the way home after a stop, and a restart with an item held, pass above the pallet's centre, in axis values
+  ! (codegen's plan, in the cycle's turns; base frame [0.0000, -1500.0000, 1050.0000] mm)
   LOCAL CONST jointtarget stack_safe_axes := [[-90.000000, 23.285416, -19.622270, 0.000000, 86.336854, 270.000000], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle

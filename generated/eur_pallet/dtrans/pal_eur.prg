@@ -43,6 +43,8 @@ Double PAL_TOOL_C = 180.000000
 // down to Q and goes back up along the base's z)
 Point PAL_PICK = Trans(1300.0000, 0.0000, 100.0000, 180.000000, 0.000000, 0.000000)
 Point PAL_ABOVE = Trans(1300.0000, 0.0000, 200.0000, 180.000000, 0.000000, 0.000000)
+// Above the pallet's centre at the transit height over the full stack: a restart with an item held goes there first
+Point PAL_SAFE = Trans(0.0000, 1500.0000, 1056.0000, 180.000000, 0.000000, 0.000000)
 // The slip sheets: their pick at the sheet stack and 100.0000 mm above it; their place at the pallet's centre
 // (x, y mm in the pallet frame) on the layer below
 Point PAL_SHEET_PICK = Trans(1200.0000, 800.0000, -200.0000, 180.000000, 0.000000, 0.000000)
@@ -331,7 +333,11 @@ While pal_layer <= PAL_LAYERS
       TPWrite 0, "pallet eur: no pallet in place in 10 s, the sheet is in the gripper"
       Halt
     EndIf
-MovJ transit
+    If held == 1 Then
+      // held since the start: above the pallet's centre first (the same way as the other controllers' programs)
+      MovJ PAL_SAFE
+    EndIf
+    MovJ transit
     MovL entry
     MovL pal_pose(PAL_SHEET_X, PAL_SHEET_Y, z, 0.0)
     If DIn(2) <> True Then
@@ -405,7 +411,11 @@ MovJ transit
     TPWrite 0, "pallet eur: no pallet in place in 10 s, the box is in the gripper"
     Halt
   EndIf
-MovJ transit
+  If held == 1 Then
+    // held since the start: above the pallet's centre first (the same way as the other controllers' programs)
+    MovJ PAL_SAFE
+  EndIf
+  MovJ transit
   MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 60.0000, a)
   MovL pal_pose(x, y, z, a)

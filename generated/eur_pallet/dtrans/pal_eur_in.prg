@@ -45,6 +45,8 @@ Double PAL_TOOL_C = 180.000000
 // down to Q and goes back up along the base's z)
 Point PAL_PICK = Trans(1300.0000, 0.0000, 100.0000, 180.000000, 0.000000, 0.000000)
 Point PAL_ABOVE = Trans(1300.0000, 0.0000, 400.0000, 180.000000, 0.000000, 0.000000)
+// Above the pallet's centre at the transit height over the full stack: a restart with an item held goes there first
+Point PAL_SAFE = Trans(0.0000, -1500.0000, 1050.0000, 180.000000, 0.000000, 180.000000)
 // The patterns of the layer cycle: box centre x, y (mm, pallet frame) and angle (deg, counterclockwise);
 // arrays are indexed from 0
 //   pattern 0 (columns): rows 0..7

@@ -42,6 +42,8 @@ Double PAL_TOOL_C = 180.000000
 // down to Q and goes back up along the base's z)
 Point PAL_PICK = Trans(600.0000, 300.0000, 50.0000, 180.000000, 0.000000, 0.000000)
 Point PAL_ABOVE = Trans(600.0000, 300.0000, 80.0000, 180.000000, 0.000000, 0.000000)
+// Above the pallet's centre at the transit height over the full stack: a restart with an item held goes there first
+Point PAL_SAFE = Trans(702.0000, -11.0000, 230.0000, 180.000000, 0.000000, 0.000000)
 // The patterns of the layer cycle: box centre x, y (mm, pallet frame) and angle (deg, counterclockwise);
 // arrays are indexed from 0
 //   pattern 0 (p1): rows 0..5
@@ -300,7 +302,11 @@ While pal_layer <= PAL_LAYERS
     TPWrite 0, "pallet testmat: no pallet in place in 10 s, the box is in the gripper"
     Halt
   EndIf
-MovJ transit
+  If held == 1 Then
+    // held since the start: above the pallet's centre first (the same way as the other controllers' programs)
+    MovJ PAL_SAFE
+  EndIf
+  MovJ transit
   MovL entry
   MovL pal_pose(x + PAL_AX[row], y + PAL_AY[row], z + 5.0000, a)
   MovL pal_pose(x, y, z, a)

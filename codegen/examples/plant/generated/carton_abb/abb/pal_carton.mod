@@ -49,8 +49,8 @@ MODULE pal_carton
   ! above Q in axis values (codegen's plan), where a joint move goes there: from it every pose's closest
   ! configuration is unique (the configuration check is off: see main)
   LOCAL CONST jointtarget stack_above_q_axes := [[26.565051, 58.726148, -2.873640, 0.000000, 34.147492, -153.434949], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
-  ! the way home after a stop passes above the pallet's centre, in axis values (codegen's plan; base frame
-  ! [692.0000, -41.0000, 188.0000] mm)
+  ! the way home after a stop, and a restart with an item held, pass above the pallet's centre, in axis values
+  ! (codegen's plan, in the cycle's turns; base frame [692.0000, -41.0000, 188.0000] mm)
   LOCAL CONST jointtarget stack_safe_axes := [[-3.390728, 50.798151, -5.294414, 0.000000, 44.496263, -183.390728], [9E+09, 9E+09, 9E+09, 9E+09, 9E+09, 9E+09]];
 
   ! The patterns of the layer cycle, one table of rows: box centre x, y (mm, pallet frame) and angle
@@ -284,6 +284,11 @@ MODULE pal_carton
       WaitDI diPalletIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
       IF late THEN
         stack_stop "pallet carton: no pallet in place in 10 s, the box is in the gripper";
+      ENDIF
+      IF held THEN
+        ! held since the start: above the pallet's centre first in axis values (the cycle's turns), so the joint
+        ! move onto the transit takes the turn the cycle has there, not the one nearest home
+        MoveAbsJ stack_safe_axes\NoEOffs, stack_travel, fine, stack_tool;
       ENDIF
       MoveJ transit, stack_travel, stack_zone, stack_tool \WObj:=pal_carton_wobj;
       MoveL entry, stack_travel, stack_zone, stack_tool \WObj:=pal_carton_wobj;
