@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 from codegen.controllers import get_target
 from codegen.kinds.pallet.cycle import PalletCase, done_counters, items, start_counters
 from codegen.kinds.pallet.kind import KIND
-from codegen.kinds.pallet.program import holds_name, known_name
+from codegen.kinds.pallet.program import holds_name, known_name, other_flags
 from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.writer import FORMS_PER_PALLET
@@ -191,12 +191,3 @@ def _release_cases(pallet, target) -> list[PalletCase]:
 
 def _start(case: PalletCase) -> str:
     return {"start_away": "away", "start_mid_cycle": "mid_cycle"}.get(case.category, "home")
-
-
-def other_flags(cell, target, index: int) -> list[str]:
-    """Where one task runs every pallet's program: the other pallets' holds flags (this program's grip clears
-    them, so a flag left set by an item taken out by hand never makes another pallet's item look like theirs)."""
-    if not KIND.facts(target).get("task"):
-        return []
-    names = [holds_name(cell, target, i) for i in range(len(pallets_of(cell)))]
-    return [name for i, name in enumerate(names) if i != index and name is not None]

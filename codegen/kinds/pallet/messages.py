@@ -109,6 +109,12 @@ def known_message(pallet: Pallet, limit: int) -> str:
     return _named("pallet {name}: counters reloaded from file: set them, then the known flag", pallet, limit)
 
 
+def base_message(pallet: Pallet, number: int, limit: int) -> str:
+    """The stop at the start when the controller's numbered base is not the pallet's frame: not measured, measured
+    elsewhere, or another pallet's."""
+    return _named(f"pallet {{name}}: base {number} is not this pallet's frame: measure it", pallet, limit)
+
+
 def select_message() -> str:
     return "no pallet program selected: the PLC sets one select input"
 
