@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 from codegen.controllers import get_target
 from codegen.kinds.pallet.cycle import PalletCase, done_counters, items, start_counters
 from codegen.kinds.pallet.kind import KIND
-from codegen.kinds.pallet.program import holds_name, known_name, other_flags
+from codegen.kinds.pallet.program import base_input, holds_name, known_name, other_flags
 from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.writer import FORMS_PER_PALLET
@@ -129,6 +129,8 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
             own.append(PalletCase("held_by_another", *start_counters(pallet), closed=True, foreign=True))
         if known_name(cell, get_target(source.target), index) is not None:  # the store loaded again from its file
             own += _reloaded_store_cases(pallet)
+        if base_input(cell, get_target(source.target), pallet):  # the frame read from a base never measured
+            own.append(PalletCase("base_not_measured", *start_counters(pallet), base_off=True))
         if other_flags(cell, get_target(source.target), index):  # another pallet's flag left set, then a grip
             own.append(PalletCase("stale_flag", *start_counters(pallet), stale=True))
         first = own[0]

@@ -58,6 +58,7 @@ class PalletCase:
     answer: str | None = None
     foreign: bool = False  # the item held at the start was gripped by another pallet's program of the same arm
     stale: bool = False  # another pallet's flag left set (its item taken out by hand): cleared by this program's grip
+    base_off: bool = False  # the controller's numbered base the program reads the pallet frame from is not measured
     lost: bool = False  # the first item gripped slips out of the gripper on its way to the pallet
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
     # the counters' store loaded again from its file (as a reset of RAPID does): the counters are the file's, its

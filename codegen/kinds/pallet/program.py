@@ -116,13 +116,14 @@ def base_tolerance(pallet: Pallet) -> tuple[float, float]:
     return mm, math.degrees(math.atan2(mm, math.hypot(*pallet.size)))
 
 
-def base_input(cell, target, pallet: Pallet) -> dict:
-    """The controller's numbered base holding the pallet frame, as the base wizard leaves it measured (the taught
-    points' frame), where the program reads it ([pallet] base_data): verify's input."""
+def base_input(cell, target, pallet: Pallet, fresh: bool = False) -> dict:
+    """The controller's numbered base holding the pallet frame, where the program reads it ([pallet] base_data):
+    verify's input, as the base wizard leaves it measured (the taught points' frame), or (fresh) as a controller
+    whose base was never measured has it (a zero frame)."""
     facts = target.program.get("base_data")
     if pallet.base_data is None or not facts:
         return {}
-    return {facts["name"].format(n=pallet.base_data): _xyzabc(frame_matrix(pallet))}
+    return {facts["name"].format(n=pallet.base_data): (0.0,) * 6 if fresh else _xyzabc(frame_matrix(pallet))}
 
 
 def known_name(cell, target, index: int) -> str | None:

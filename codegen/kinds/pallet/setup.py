@@ -102,7 +102,7 @@ def setup(cell, source, case: Case) -> Setup:
     if run.case.unknown:
         counters = {}  # the store loaded again from its file: every value in it is its declaration's
     return Setup(
-        {**counters, **tool_inputs(cell, target.name), **base_input(cell, target, pallet)},
+        {**counters, **tool_inputs(cell, target.name), **base_input(cell, target, pallet, run.case.base_off)},
         devices,
         _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
         start_joints(cell, index, source.target, case),

@@ -1,0 +1,101 @@
+"""The pallet programs' vendor findings: KUKA's tool and pallet frames from the controller's numbered data, a grip
+that clears the other pallets' flags, and the texts the commissioning engineer reads (questions, messages, headers)."""
+
+from pathlib import Path
+
+import pytest
+from support.programs import edited, sources, verify_one
+
+from codegen.model.cell import load_cell
+from codegen.model.validate import CellError
+from codegen.render import render
+
+PALLETS = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallets"
+
+
+@pytest.fixture(scope="module")
+def testmat():
+    return load_cell(PALLETS / "testmat_pallet.toml")
+
+
+@pytest.fixture(scope="module")
+def eur():
+    return load_cell(PALLETS / "eur_pallet.toml")
+
+
+def _mismatches(cell, target: str, name: str, old: str, new: str) -> list:
+    """The first mismatches of the program whose file `name` has `old` replaced by `new` (each occurrence)."""
+    program = next(p for p in sources(cell, target, "pallet") if any(f.name.endswith(name) for f in p.files))
+    (own,) = [f for f in program.files if f.name.rsplit("/", 1)[-1] == name]
+    assert old in own.text, f"{old!r} not in the {target} program's {name}"
+    mutant = edited(program, lambda t: t.replace(old, new) if t == own.text else t)
+    return verify_one(cell, mutant, first_mismatch=True, clearance=False).first_mismatches
+
+
+def _files(cell) -> dict[str, str]:
+    return {f.relpath: f.text for f in render(cell)}
+
+
+BASE_CHECK_START = "  ; the pallet frame as measured into BASE_DATA[1]"
+BASE_CHECK_END = "  $TOOL = TOOL_DATA[1]\n"
+
+
+@pytest.mark.slow  # a verify per mutation: the slow set
+@pytest.mark.parametrize(
+    ("old", "new"),
+    [
+        # another base: verify's controller holds the pallet's frame in BASE_DATA[1] alone (the others fresh: zero)
+        ("PAL_FRAME = INV_POS($ROBROOT) : BASE_DATA[1]", "PAL_FRAME = INV_POS($ROBROOT) : BASE_DATA[2]"),
+        # another tool: TOOL_DATA[2] fresh (a zero frame), every pose 120 mm off
+        ("  $TOOL = TOOL_DATA[1]\n", "  $TOOL = TOOL_DATA[2]\n"),
+    ],
+)
+def test_a_kuka_pallet_program_reading_another_numbered_base_or_tool_fails_verify(testmat, old, new):
+    mismatches = _mismatches(testmat, "kuka", "pal_testmat.src", old, new)
+    assert mismatches, "the mutant passes verify"
+
+
+@pytest.mark.slow  # a verify of the mutant: the slow set
+def test_a_kuka_pallet_program_that_takes_its_frame_from_its_dat_again_fails_verify(testmat):
+    """The program as it was: PAL_FRAME from its .dat (a regeneration writes the cell's nominal frame back over a
+    measured one), no check of the base. Verify's base_not_measured case (BASE_DATA[1] as a fresh controller has it)
+    expects the stop before any move; the old program moves."""
+    program = next(p for p in sources(testmat, "kuka", "pallet"))
+    (src,) = [f for f in program.files if f.name.endswith("pal_testmat.src")]
+    start, end = src.text.index(BASE_CHECK_START), src.text.index(BASE_CHECK_END)
+    mismatches = _mismatches(testmat, "kuka", "pal_testmat.src", src.text[start:end], "")
+    assert mismatches and mismatches[0].startswith("base_not_measured"), mismatches
+
+
+@pytest.mark.slow  # a verify of the mutant: the slow set
+def test_a_kuka_grip_clears_the_other_pallets_flag(eur):
+    """KUKA's holds flags are GLOBAL in PUBLIC data lists: a grip of one pallet's program clears the other's (as the
+    ABB task does), else a flag left set by a hand removal lets the other program adopt this program's item."""
+    line = "  PAL_EUR_IN_HOLDS = FALSE ; confirmed: not another pallet's"
+    mismatches = _mismatches(eur, "kuka", "pal_eur.src", line, "  ; removed:")
+    assert mismatches and mismatches[0].startswith("stale_flag"), mismatches
+
+
+def _load(tmp_path, text: str):
+    path = tmp_path / "cell.toml"
+    path.write_text(text)
+    return load_cell(path)
+
+
+def test_a_numbered_base_beyond_the_controllers_or_shared_by_two_pallets_is_refused(tmp_path):
+    text = (PALLETS / "eur_pallet.toml").read_text()
+    assert "base_data = 2 " in text
+    with pytest.raises(CellError, match=r"pallet\[1\]\.base_data: target kuka keeps bases 1\.\.32, got 33"):
+        _load(tmp_path, text.replace("base_data = 2 ", "base_data = 33 ", 1))
+    with pytest.raises(CellError, match=r"pallet\[1\]\.base_data: base 1 is pallet 'eur'.s already"):
+        _load(tmp_path, text.replace("base_data = 2 ", "base_data = 1 ", 1))
+
+
+def test_the_kuka_data_list_says_where_to_measure_the_pallet_frame(eur):
+    """The .dat names the base to measure and the check: a test on the text (no simulation shows the pendant)."""
+    files = _files(eur)
+    dat = files["eur_pallet/kuka/pal_eur_in.dat"]
+    assert "PAL_FRAME: the pallet frame as the program reads it at each start from BASE_DATA[2]" in dat
+    assert "DECL FRAME PAL_NOMINAL={X 600.0000,Y -1100.0000,Z -500.0000," in dat
+    src = files["eur_pallet/kuka/pal_eur_in.src"]
+    assert "the tool is the controller's TOOL_DATA[1]" in src and "the controller's BASE_DATA[2]" in src
