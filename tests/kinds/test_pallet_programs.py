@@ -143,7 +143,10 @@ def test_the_programs_move_the_cells_tool():
     assert "set_tcp(p[0.0000000, 0.0000000, 0.1200000," in files["pal_testmat.script"]
     # KRL: the controller's numbered tool and load the cell names ([cell.tool] numbered), verify's controller holding
     # the cell's tool there
-    assert "  $TOOL = TOOL_DATA[1]\n" in files["pal_testmat.src"] and "  $LOAD = LOAD_DATA[1]\n" in files["pal_testmat.src"]
+    assert (
+        "  $TOOL = TOOL_DATA[1]\n" in files["pal_testmat.src"]
+        and "  $LOAD = LOAD_DATA[1]\n" in files["pal_testmat.src"]
+    )
     assert "PAL_TOOL_DATA" not in files["pal_testmat.dat"]
     found = mutant_mismatches(
         cell,
