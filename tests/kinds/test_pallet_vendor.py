@@ -99,3 +99,38 @@ def test_the_kuka_data_list_says_where_to_measure_the_pallet_frame(eur):
     assert "DECL FRAME PAL_NOMINAL={X 600.0000,Y -1100.0000,Z -500.0000," in dat
     src = files["eur_pallet/kuka/pal_eur_in.src"]
     assert "the tool is the controller's TOOL_DATA[1]" in src and "the controller's BASE_DATA[2]" in src
+
+
+# (cell file, generated file, a text the commissioning engineer must find there): texts on the pendant or in the
+# header that no simulation reaches (the operator reads them), each for a vendor finding
+TEXTS = [
+    # the release question tells the operator to take the item away before answering No (KRL, RAPID, URScript)
+    ("testmat_pallet.toml", "testmat_pallet/kuka/pal_testmat.src", "Is the item down? No: remove it first"),
+    ("testmat_pallet.toml", "testmat_pallet/abb/pal_testmat.mod", "Is the item down? No: remove it first"),
+    ("testmat_pallet.toml", "testmat_pallet/ur/pal_testmat.script", "Is the item down? No: remove it first"),
+    ("eur_pallet.toml", "eur_pallet/abb/pal_eur_in.mod", "Box back in its place? No: remove it first"),
+    ("eur_pallet.toml", "eur_pallet/kuka/pal_eur_in.src", "Box back in its place? No: remove it first"),
+    # an item held with the flag FALSE: another program's, or the store reloaded from its file
+    ("eur_pallet.toml", "eur_pallet/abb/pal_eur.mod", "item held is another program's, or counters reloaded"),
+    # the system module by automatic loading only (a module loaded by hand is gone after a reset of RAPID)
+    ("eur_pallet.toml", "eur_pallet/abb/pallet_data.sys", "Automatic loading only: a module"),
+    # a pallet program never returns: PP to main (ABB), select the other program (KUKA)
+    ("eur_pallet.toml", "eur_pallet/abb/pallet_main.mod", "set the program pointer to main (PP to Main)"),
+    ("eur_pallet.toml", "eur_pallet/kuka/pal_eur.src", "; The program never ends on its own"),
+    # the configuration check off: to be checked in RobotStudio with the real robot's data
+    ("eur_pallet.toml", "eur_pallet/abb/pal_eur.mod", "in RobotStudio with the real robot's data"),
+    # the zone outputs follow the program, not the arm (the interlock is the controller's zones)
+    ("eur_pallet.toml", "eur_pallet/abb/pal_eur.mod", "world zone (WZBoxDef, WZDOSet)"),
+    ("eur_pallet.toml", "eur_pallet/kuka/pal_eur.src", "The zone outputs follow the program, not the arm"),
+    # UR: the socket form in Remote Control, the node under Before Start, the log-only waits, set_tcp
+    ("testmat_pallet.toml", "testmat_pallet/ur/pal_testmat.script", "in Remote Control only"),
+    ("testmat_pallet.toml", "testmat_pallet/ur/pal_testmat_node.script", "put it under Before Start"),
+    ("testmat_pallet.toml", "testmat_pallet/ur/pal_testmat.script", "in\n  # the log only"),
+    ("testmat_pallet.toml", "testmat_pallet/ur/pal_testmat.script", "set_tcp makes the cell file's TCP the active one"),
+]
+
+
+@pytest.mark.parametrize(("cell_file", "path", "text"), TEXTS)
+def test_the_programs_say_what_the_vendor_review_asked(cell_file, path, text):
+    files = _files(load_cell(PALLETS / cell_file))
+    assert text in files[path], f"{text!r} not in {path}"
