@@ -67,15 +67,6 @@ def test_a_kuka_pallet_program_that_takes_its_frame_from_its_dat_again_fails_ver
     assert mismatches and mismatches[0].startswith("base_not_measured"), mismatches
 
 
-@pytest.mark.slow  # a verify of the mutant: the slow set
-def test_a_kuka_grip_clears_the_other_pallets_flag(eur):
-    """KUKA's holds flags are GLOBAL in PUBLIC data lists: a grip of one pallet's program clears the other's (as the
-    ABB task does), else a flag left set by a hand removal lets the other program adopt this program's item."""
-    line = "  PAL_EUR_IN_HOLDS = FALSE ; confirmed: not another pallet's"
-    mismatches = _mismatches(eur, "kuka", "pal_eur.src", line, "  ; removed:")
-    assert mismatches and mismatches[0].startswith("stale_flag"), mismatches
-
-
 def _load(tmp_path, text: str):
     path = tmp_path / "cell.toml"
     path.write_text(text)
@@ -134,3 +125,43 @@ TEXTS = [
 def test_the_programs_say_what_the_vendor_review_asked(cell_file, path, text):
     files = _files(load_cell(PALLETS / cell_file))
     assert text in files[path], f"{text!r} not in {path}"
+
+
+def _checked_in_q(text: str, lift: str, check: str, end: str) -> tuple[str, str]:
+    """(the unstacking program's lift from Q with the pallet's check after it, the same with the check first: the arm
+    still in Q's zone while it waits for the pallet)."""
+    start = text.index(lift)
+    middle = text.index(check, start)
+    stop = text.index(end, middle)
+    return text[start:stop], text[middle:stop] + text[start:middle]
+
+
+@pytest.mark.slow  # a verify per target: the slow set
+@pytest.mark.parametrize(
+    ("target", "name", "lift", "check", "end"),
+    [
+        (
+            "kuka",
+            "pal_eur_in.src",
+            "    LIN PAL_ABOVE ; exact: the pallet's check",
+            "    IF PAL_EUR_IN_LAYER >= 1 THEN ; out of Q first",
+            "    UP = TRUE\n",
+        ),
+        (
+            "abb",
+            "pal_eur_in.mod",
+            "      MoveL stack_above_q, stack_work, fine, stack_tool;\n      ! out of the zone",
+            "      IF pal_eur_in_layer >= 1 THEN\n        ! out of Q first",
+            "      up_q := TRUE;\n",
+        ),
+    ],
+)
+def test_unstacking_leaves_q_before_it_checks_the_pallet(eur, target, name, lift, check, end):
+    """After the release at Q the arm goes up out of Q's zone (its outputs reset), then waits for the pallet: the
+    program that waits first (the arm in Q, the zone output on) fails the pallet_taken case (the pallet taken away
+    after the grip), which expects the lift and the zone's outputs before the stop."""
+    program = next(p for p in sources(eur, target, "pallet") if any(f.name.endswith(name) for f in p.files))
+    (own,) = [f for f in program.files if f.name.endswith(name)]
+    new, old = _checked_in_q(own.text, lift, check, end)
+    mismatches = _mismatches(eur, target, name, new, old)
+    assert mismatches and any(m.startswith("pallet_taken") for m in mismatches), mismatches

@@ -11,7 +11,7 @@ MODULE pal_eur_in
   ! height) in the pallet's work object above the entry at the transit height (300.0000 mm over the layer's
   ! top; joint move), entry, approach (slow) and target (slow, fine), grip, retreat (slow), entry, up to the transit
   ! height; then over Q at that height (joint move), above Q (Q clear waited for), down to Q (slow, fine),
-  ! release, (the pallet waited for again) back up (slow). The gripper, empty or holding a box, crosses the
+  ! release, back up (slow, out of Q's zone), then the pallet waited for again. The gripper, empty or holding a box, crosses the
   ! stack only at the transit height.
   ! Where the arm passes a pose the move blends (stack_zone, 30.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
@@ -323,18 +323,17 @@ MODULE pal_eur_in
       stack_next;
       stack_release;
       GripLoad load0;
+      MoveL stack_above_q, stack_work, fine, stack_tool;
+      ! out of the zone: done, the PLC may index (at the fine point: the arm stands)
+      SetDO doArmInQ, 0;
+      SetDO doPlaceDone, 1;
       IF pal_eur_in_layer >= 1 THEN
+        ! out of Q first, then the pallet: a pallet-side fault never holds the arm in Q's zone
         WaitDI diPalletEurIn, 1 \MaxTime:=STACK_WAIT \TimeFlag:=late;
         IF late THEN
           stack_stop "pallet eur_in: no pallet in place in 10 s";
         ENDIF
-        MoveL stack_above_q, stack_work, fine, stack_tool;
-      ELSE
-        MoveL stack_above_q, stack_work, fine, stack_tool;
       ENDIF
-      ! out of the zone: done, the PLC may index (at the fine point: the arm stands)
-      SetDO doArmInQ, 0;
-      SetDO doPlaceDone, 1;
       up_q := TRUE;
       IF pal_eur_in_layer < 1 THEN
         ! the pallet is empty: its swap waited for above Q, then the new pallet from its top

@@ -9,7 +9,7 @@
 // placing order: (after the box before it, the empty gripper straight up over Q to this box's transit height)
 // above the entry at the transit height (300.0000 mm over the layer's top; joint move), entry, approach and
 // target, grip, retreat, entry, up to the transit height; then over Q at that height (joint move), above Q (Q
-// clear waited for), down to Q, release, (the pallet waited for again) back up. The gripper, empty or holding a
+// clear waited for), down to Q, release, back up, then the pallet waited for again. The gripper, empty or holding a
 // box, crosses the stack only at the transit height. The box pose is computed here from the counters: the
 // pallet frame (level: a
 // turn about the base's z) * Trans(x, y, z of the layer) * Rz(angle) * the tool's orientation at angle 0.
@@ -336,16 +336,17 @@ While pal_layer >= 1
   pal_layer = 0 - pal_layer
   Call pal_next()
   Call pal_release()
+  MovL PAL_ABOVE
+  SetDO 5, False  // out of the zone: done, the PLC may index
+  SetDO 9, True
   If pal_layer >= 1 Then
+    // out of Q first, then the pallet: a pallet-side fault never holds the arm in Q's zone
     Call pal_wait(8)
     If DIn(8) <> True Then
       TPWrite 0, "pallet eur_in: no pallet in place in 10 s"
       Halt
     EndIf
 EndIf
-  MovL PAL_ABOVE
-  SetDO 5, False  // out of the zone: done, the PLC may index
-  SetDO 9, True
   up = 1
   If pal_layer < 1 Then
     // the pallet is empty: its swap waited for above Q, then the new pallet from its top
