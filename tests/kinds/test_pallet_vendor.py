@@ -127,10 +127,10 @@ def test_the_programs_say_what_the_vendor_review_asked(cell_file, path, text):
     assert text in files[path], f"{text!r} not in {path}"
 
 
-def _checked_in_q(text: str, lift: str, check: str, end: str) -> tuple[str, str]:
-    """(the unstacking program's lift from Q with the pallet's check after it, the same with the check first: the arm
-    still in Q's zone while it waits for the pallet)."""
-    start = text.index(lift)
+def _checked_in_q(text: str, after: str, lift: str, check: str, end: str) -> tuple[str, str]:
+    """(the unstacking program's lift from Q (the first after `after`, the release) with the pallet's check after it,
+    the same with the check first: the arm still in Q's zone while it waits for the pallet)."""
+    start = text.index(lift, text.index(after))
     middle = text.index(check, start)
     stop = text.index(end, middle)
     return text[start:stop], text[middle:stop] + text[start:middle]
@@ -138,11 +138,12 @@ def _checked_in_q(text: str, lift: str, check: str, end: str) -> tuple[str, str]
 
 @pytest.mark.slow  # a verify per target: the slow set
 @pytest.mark.parametrize(
-    ("target", "name", "lift", "check", "end"),
+    ("target", "name", "after", "lift", "check", "end"),
     [
         (
             "kuka",
             "pal_eur_in.src",
+            "    IF NOT PAL_RELEASE() THEN",
             "    LIN PAL_ABOVE ; exact: the pallet's check",
             "    IF PAL_EUR_IN_LAYER >= 1 THEN ; out of Q first",
             "    UP = TRUE\n",
@@ -150,18 +151,19 @@ def _checked_in_q(text: str, lift: str, check: str, end: str) -> tuple[str, str]
         (
             "abb",
             "pal_eur_in.mod",
+            "      ! the box is at Q: the next one (the layer's",
             "      MoveL stack_above_q, stack_work, fine, stack_tool;\n      ! out of the zone",
             "      IF pal_eur_in_layer >= 1 THEN\n        ! out of Q first",
             "      up_q := TRUE;\n",
         ),
     ],
 )
-def test_unstacking_leaves_q_before_it_checks_the_pallet(eur, target, name, lift, check, end):
+def test_unstacking_leaves_q_before_it_checks_the_pallet(eur, target, name, after, lift, check, end):
     """After the release at Q the arm goes up out of Q's zone (its outputs reset), then waits for the pallet: the
     program that waits first (the arm in Q, the zone output on) fails the pallet_taken case (the pallet taken away
     after the grip), which expects the lift and the zone's outputs before the stop."""
     program = next(p for p in sources(eur, target, "pallet") if any(f.name.endswith(name) for f in p.files))
     (own,) = [f for f in program.files if f.name.endswith(name)]
-    new, old = _checked_in_q(own.text, lift, check, end)
+    new, old = _checked_in_q(own.text, after, lift, check, end)
     mismatches = _mismatches(eur, target, name, new, old)
     assert mismatches and any(m.startswith("pallet_taken") for m in mismatches), mismatches
