@@ -178,7 +178,7 @@ TEXT = {
     },
     "carried_payload_kept_after_release": {
         "ur": (r"^\s*set_target_payload\([^\n]*# the tool alone\n", "", 0),
-        "kuka": (r"^ {4,}\$LOAD = PAL_LOAD\n", "", 0),
+        "kuka": (r"^ {4,}\$LOAD = (?:PAL_LOAD|LOAD_DATA\[\d+\])\n", "", 0),
         "abb": (r"^\s*GripLoad load0;\n", "", 0),
     },
     "pallet_way_home_skipped": {

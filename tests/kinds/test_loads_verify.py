@@ -17,7 +17,7 @@ ZERO_INERTIA = {
 # the switch back to the tool alone after each confirmed release removed: the box's load stays on
 KEPT_AFTER_RELEASE = {
     "ur": (r"^\s*set_target_payload\([^\n]*# the tool alone\n", ""),
-    "kuka": (r"^ {4,}\$LOAD = PAL_LOAD\n", ""),
+    "kuka": (r"^ {4,}\$LOAD = (?:PAL_LOAD|LOAD_DATA\[\d+\])\n", ""),
     "abb": (r"^\s*GripLoad load0;\n", ""),
 }
 # the switch to the tool and the box at each confirmed grip removed: the box is carried with the tool's load

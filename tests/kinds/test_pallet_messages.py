@@ -51,7 +51,7 @@ def test_a_pallet_taught_on_or_in_the_floor_is_told_so_at_its_frame(write_cell, 
     """Generate used to refuse the way home from the first box ("the part dips below the floor ... teach the poses of
     the move higher"); the cell is refused at load, at the frame's line, with the heights and the keys to change."""
     message = _error(write_cell, _deck_at(deck))
-    assert "line 30: pallet[0].frame: pallet 'testmat' " + said in message
+    assert "line 33: pallet[0].frame: pallet 'testmat' " + said in message
     assert "within the clearance of 20 mm (cell.world.clearance_mm) of the floor" in message
     assert f"set cell.world.floor_z_mm to the floor's height (at most {deck - 20.0:.1f} mm)" in message
 

@@ -75,17 +75,22 @@ MUTATIONS = [
     ),
     ("kuka", "pal_testmat.dat", "PAL_HEIGHT=26.0000", "PAL_HEIGHT=25.0000"),
     ("kuka", "pal_testmat.dat", "PAL_CYCLE[1]=1\nPAL_CYCLE[2]=2", "PAL_CYCLE[1]=2\nPAL_CYCLE[2]=1"),
-    ("kuka", "pal_testmat.dat", "DECL FRAME PAL_FRAME={X 650.0000,", "DECL FRAME PAL_FRAME={X 651.0000,"),
+    (
+        "kuka",
+        "pal_testmat.src",
+        "PAL_FRAME = INV_POS($ROBROOT) : BASE_DATA[1]\n",
+        "PAL_FRAME = INV_POS($ROBROOT) : BASE_DATA[1] : {X 1.0,Y 0.0,Z 0.0,A 0.0,B 0.0,C 0.0}\n",
+    ),
     ("kuka", "pal_testmat.src", "BOX.A = PAL_A[ROW]", "BOX.A = -PAL_A[ROW]"),
     (
         "kuka",
         "pal_testmat.src",
         "    IF NOT PAL_RELEASE() THEN\n"
         "      RETURN ; the box is still in the gripper: the counters stay at it, marked\n"
-        "    ENDIF\n    PAL_TESTMAT_LAYER = -PAL_TESTMAT_LAYER\n    $LOAD = PAL_LOAD\n    HELD = FALSE\n"
+        "    ENDIF\n    PAL_TESTMAT_LAYER = -PAL_TESTMAT_LAYER\n    $LOAD = LOAD_DATA[1]\n    HELD = FALSE\n"
         "    ; the box is down (the sensor confirmed it): the next one\n    PAL_TESTMAT_BOX = PAL_TESTMAT_BOX + 1\n",
         "    PAL_TESTMAT_BOX = PAL_TESTMAT_BOX + 1\n    IF NOT PAL_RELEASE() THEN\n      RETURN\n    ENDIF\n"
-        "    PAL_TESTMAT_LAYER = -PAL_TESTMAT_LAYER\n    $LOAD = PAL_LOAD\n    HELD = FALSE\n",
+        "    PAL_TESTMAT_LAYER = -PAL_TESTMAT_LAYER\n    $LOAD = LOAD_DATA[1]\n    HELD = FALSE\n",
     ),
     ("abb", "pal_testmat.mod", "STACK_HEIGHT := 26.0000;", "STACK_HEIGHT := 25.0000;"),
     ("abb", "pal_testmat.mod", "STACK_CYCLE{2} := [1, 2];", "STACK_CYCLE{2} := [2, 1];"),
@@ -137,10 +142,13 @@ def test_the_programs_move_the_cells_tool():
     cell = load_cell(PALLETS / "testmat_pallet.toml")
     files = {f.relpath.rsplit("/", 1)[1]: f.text for f in render(cell)}
     assert "set_tcp(p[0.0000000, 0.0000000, 0.1200000," in files["pal_testmat.script"]
+    # KRL: the controller's numbered tool and load the cell names ([cell.tool] numbered), verify's controller holding
+    # the cell's tool there
     assert (
-        "  $TOOL = PAL_TOOL_DATA\n" in files["pal_testmat.src"] and "  $LOAD = PAL_LOAD\n" in files["pal_testmat.src"]
+        "  $TOOL = TOOL_DATA[1]\n" in files["pal_testmat.src"]
+        and "  $LOAD = LOAD_DATA[1]\n" in files["pal_testmat.src"]
     )
-    assert "DECL FRAME PAL_TOOL_DATA={X 0.0000,Y 0.0000,Z 120.0000," in files["pal_testmat.dat"]
+    assert "PAL_TOOL_DATA" not in files["pal_testmat.dat"]
     found = mutant_mismatches(
         cell,
         "abb",

@@ -51,7 +51,7 @@ def test_a_pick_place_over_the_pallet_within_the_stack_is_refused(tmp_path, pick
     if not refused:
         _cell(tmp_path, text)
         return
-    with pytest.raises(CellError, match=r"line 41: pallet\[0\]\.pick: Q is over the pallet \(at x 50\.0, y 40\.0"):
+    with pytest.raises(CellError, match=r"line 45: pallet\[0\]\.pick: Q is over the pallet \(at x 50\.0, y 40\.0"):
         _cell(tmp_path, text)
     (tmp_path / "bad.toml").write_text(text, encoding="utf-8")
     result = CliRunner().invoke(main, ["generate", str(tmp_path / "bad.toml"), "--out", str(tmp_path / "out")])

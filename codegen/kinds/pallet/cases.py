@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 from codegen.controllers import get_target
 from codegen.kinds.pallet.cycle import PalletCase, done_counters
 from codegen.kinds.pallet.kind import KIND
-from codegen.kinds.pallet.program import holds_name, known_name
+from codegen.kinds.pallet.program import base_input, holds_name, known_name, other_flags
 from codegen.kinds.pallet.restart import NO, YES
 from codegen.kinds.pallet.section import pallets_of
 from codegen.kinds.pallet.shape import PalletShape, pallet_shape
@@ -130,6 +130,8 @@ def verify_cases(cell, source, seed: int) -> list[Case]:
             own.append(PalletCase("held_by_another", *start, closed=True, foreign=True))
         if known_name(cell, get_target(source.target), index) is not None:  # the store loaded again from its file
             own += _reloaded_store_cases(shape.pallet, start)
+        if base_input(cell, get_target(source.target), shape.pallet):  # the frame read from a base never measured
+            own.append(PalletCase("base_not_measured", *start, base_off=True))
         if other_flags(cell, get_target(source.target), index):  # another pallet's flag left set, then a grip
             own.append(PalletCase("stale_flag", *start, stale=True))
         first = own[0]
@@ -191,12 +193,3 @@ def _release_cases(shape: PalletShape, target) -> list[PalletCase]:
 
 def _start(case: PalletCase) -> str:
     return {"start_away": "away", "start_mid_cycle": "mid_cycle"}.get(case.category, "home")
-
-
-def other_flags(cell, target, index: int) -> list[str]:
-    """Where one task runs every pallet's program: the other pallets' holds flags (this program's grip clears
-    them, so a flag left set by an item taken out by hand never makes another pallet's item look like theirs)."""
-    if not KIND.facts(target).get("task"):
-        return []
-    names = [holds_name(cell, target, i) for i in range(len(pallets_of(cell)))]
-    return [name for i, name in enumerate(names) if i != index and name is not None]

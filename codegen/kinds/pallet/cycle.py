@@ -62,6 +62,7 @@ class PalletCase:
     answer: str | None = None
     foreign: bool = False  # the item held at the start was gripped by another pallet's program of the same arm
     stale: bool = False  # another pallet's flag left set (its item taken out by hand): cleared by this program's grip
+    base_off: bool = False  # the controller's numbered base the program reads the pallet frame from is not measured
     lost: bool = False  # the first item gripped slips out of the gripper on its way to the pallet
     taken: bool = False  # the pallet is taken away once the first grip is made (the arm at the pick place)
     # the counters' store loaded again from its file (as a reset of RAPID does): the counters are the file's, its
@@ -388,9 +389,9 @@ def unstacking(run: Run, todo: list[Item], done: tuple[int, int], from_q: bool =
     height (transit_pose, joint), entry, approach (slow), target (slow, exact), grip; once the grip is confirmed the
     counters are marked (the layer negative); retreat (slow), entry, up to the transit height, over Q at that height
     (joint), above Q (Q clear waited for), Q (slow, exact); the sensor still on (the box not dropped on the way), the
-    counters move to the next box, release; for the next box the pallet waited for at Q; above Q (slow). The empty
-    gripper, like the carried box, crosses the stack only at the transit height. from_q: the arm starts above Q (a
-    held box put down there first)."""
+    counters move to the next box, release; above Q (slow); for the next box the pallet waited for there, out of
+    Q's zone. The empty gripper, like the carried box, crosses the stack only at the transit height. from_q: the arm
+    starts above Q (a held box put down there first)."""
     pallet, frame = run.pallet, run.frame
     pick, above = pallet.pick.matrix(), above_pick(pallet)
     halt = run.wait("pallet_present")
@@ -428,11 +429,12 @@ def unstacking(run: Run, todo: list[Item], done: tuple[int, int], from_q: bool =
         halt = run.release()
         if halt:
             return halt
+        # out of Q first, then the pallet: a pallet-side fault never holds the arm in the infeed's zone
+        run.move("linear", above, f"{where} lift from Q", True, last)
+        run.handshake("q", False)
         halt = None if last else run.wait("pallet_present")
         if halt:
             return halt
-        run.move("linear", above, f"{where} lift from Q", True, last)
-        run.handshake("q", False)
     return None
 
 

@@ -8,14 +8,13 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
-from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import ExpectedMove
 from codegen.kinds.pallet.exchange import SHIFT_ENDS, PalletExchange
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.latch import CounterLatch
 from codegen.kinds.pallet.messages import known_question, message_limit, released_question, select_message
 from codegen.kinds.pallet.plan import configurations
-from codegen.kinds.pallet.program import carried_load, holds_name, known_name
+from codegen.kinds.pallet.program import carried_load, holds_name, known_name, other_flags
 from codegen.kinds.pallet.reach import joints_of
 from codegen.kinds.pallet.reload import declared_outside_store, reload_proof, store_not_kept, taught_outside_store
 from codegen.kinds.pallet.restart import expected

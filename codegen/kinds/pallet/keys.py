@@ -279,6 +279,13 @@ PALLET = Table(
                 ),
             ),
         ),
+        "base_data": Key(
+            "integer",
+            "the controller's numbered base the program reads the pallet frame from (measured there with the base "
+            "wizard; the frame's points give its nominal value and what the measured one may differ by)",
+            low=1,
+            controllers="those with numbered base data (BASE_DATA[n])",
+        ),
         "zone_mm": Key(
             "number",
             "blending where the arm passes a pose (default: [cell.motion] zone_mm)",

@@ -11,6 +11,7 @@ KIND = Kind(
         "files": list,  # a program's files per [[pallet]] ("...{pallet}..."); with `task`, the task's modules too
         "node_files": list,  # a second program per [[pallet]]: the same program in another form (a Script node's)
         "task": bool,  # every pallet's program in one task: its files once, "{pallet}" files once per pallet
+        "shared_flags": bool,  # a program can write the other pallets' holds flags (its grip clears them)
         "counters": dict,  # layer and box: the counters' names for --input and verify; holds: the grip flag's
         "kept": dict,  # layer and box: where the program reports the counters, if not in counters
         "store": str,  # where the counters outlive a reload and a regeneration: a file, "plc", "program"

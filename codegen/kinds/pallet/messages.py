@@ -72,10 +72,11 @@ def released_question(pallet: Pallet, limit: int) -> str:
     """The operator's question at the start with the counters marked and the gripper empty. Stacking, after a stop
     during a release: Yes, the item is down, the counters move on; No, it is placed again. Unstacking, after a stop
     between the grip and Q (the box dropped on the way, or taken out): Yes, it is back in its place on the pallet and
-    taken again; No, it is not, the counters move on."""
+    taken again; No, it is not, the counters move on. The No tells the operator to remove the item first: a stacking
+    program places a new one in its slot, an unstacking one goes to the next box with the dropped one maybe on it."""
     if pallet.mode == "unstack":
-        return _named("pallet {name}: stopped on the way to Q. Is the box back in its place?", pallet, limit)
-    return _named("pallet {name}: stopped in a release. Is the item below the gripper down?", pallet, limit)
+        return _named("pallet {name}: stopped before Q. Box back in its place? No: remove it first", pallet, limit)
+    return _named("pallet {name}: stopped in a release. Is the item down? No: remove it first", pallet, limit)
 
 
 def released_message(pallet: Pallet, limit: int) -> str:
@@ -87,8 +88,9 @@ def released_message(pallet: Pallet, limit: int) -> str:
 
 def foreign_message(pallet: Pallet, limit: int) -> str:
     """The stop at the start when the gripper holds an item this program did not grip (another pallet's program of the
-    same arm did): it is not this pallet's to finish."""
-    return _named("pallet {name}: the item held is another program's: finish it there or remove it", pallet, limit)
+    same arm did, or the counters' store came back from its file with the flag FALSE): it is not this pallet's to
+    finish."""
+    return _named("pallet {name}: item held is another program's, or counters reloaded: remove it", pallet, limit)
 
 
 def lost_message(pallet: Pallet, limit: int) -> str:
@@ -107,6 +109,12 @@ def known_question(pallet: Pallet, limit: int) -> str:
 def known_message(pallet: Pallet, limit: int) -> str:
     """The stop when the operator said No or did not answer: the counters stay the file's, the flag FALSE."""
     return _named("pallet {name}: counters reloaded from file: set them, then the known flag", pallet, limit)
+
+
+def base_message(pallet: Pallet, number: int, limit: int) -> str:
+    """The stop at the start when the controller's numbered base is not the pallet's frame: not measured, measured
+    elsewhere, or another pallet's."""
+    return _named(f"pallet {{name}}: base {number} is not this pallet's frame: measure it", pallet, limit)
 
 
 def select_message() -> str:

@@ -18,6 +18,7 @@ from codegen.kinds.pallet.cycle import (
 from codegen.kinds.pallet.interlocks import HANDSHAKES, WAITS_ON, counter_register
 from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.messages import (
+    base_message,
     counters_message,
     empty_message,
     foreign_message,
@@ -92,6 +93,34 @@ def holds_name(cell, target, index: int) -> str | None:
     if "holds" not in KIND.facts(target)["counters"]:
         return None
     return identifiers(cell, target)[index].get("holds")
+
+
+def other_flags(cell, target, index: int) -> list[str]:
+    """The other pallets' holds flags where this program can write them ([program.pallet] shared_flags): its grip
+    clears them, so a flag left set by an item taken out by hand never makes another pallet's item look like theirs."""
+    if not KIND.facts(target).get("shared_flags"):
+        return []
+    names = [holds_name(cell, target, i) for i in range(len(pallets_of(cell)))]
+    return [name for i, name in enumerate(names) if i != index and name is not None]
+
+
+def base_tolerance(pallet: Pallet) -> tuple[float, float]:
+    """How far a measured pallet frame may lie from the taught points' before the program refuses it: along each axis
+    the box's clearance over the stack where it travels (transit_clearance_mm, which a frame closer to the arm uses
+    up; at least 0.1 mm, far above a float32 frame's rounding), about each axis the angle that moves the pallet's far
+    corner as much. The reach and clearance proofs are made with the taught points' frame."""
+    mm = max(pallet.transit_clearance_mm, 0.1)
+    return mm, math.degrees(math.atan2(mm, math.hypot(*pallet.size)))
+
+
+def base_input(cell, target, pallet: Pallet, fresh: bool = False) -> dict:
+    """The controller's numbered base holding the pallet frame, where the program reads it ([pallet] base_data):
+    verify's input, as the base wizard leaves it measured (the taught points' frame), or (fresh) as a controller
+    whose base was never measured has it (a zero frame)."""
+    facts = target.program.get("base_data")
+    if pallet.base_data is None or not facts:
+        return {}
+    return {facts["name"].format(n=pallet.base_data): (0.0,) * 6 if fresh else _xyzabc(frame_matrix(pallet))}
 
 
 def known_name(cell, target, index: int) -> str | None:
@@ -337,12 +366,9 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "known": None if known is None else owned(known),
         "known_question": emitter.string(known_question(pallet, limit)),
         "known_message": emitter.string(known_message(pallet, limit)),
-        # one task: the other pallets' flags, cleared by this program's grip
-        "other_holds": [
-            owned(name)
-            for i in range(len(pallets_of(cell)))
-            if i != index and KIND.facts(target).get("task") and (name := holds_name(cell, target, i)) is not None
-        ],
+        # the other pallets' flags this program can write, cleared by its grip
+        "other_holds": [owned(name) for name in other_flags(cell, target, index)],
+        "base": _base(cell, pallet, target, emitter),
         "foreign": emitter.string(foreign_message(pallet, limit)),
         "lost": emitter.string(lost_message(pallet, limit)),
         "store": own.get("store"),
@@ -384,6 +410,21 @@ def pallet_context(cell, pallet: Pallet, index: int, target, emitter) -> dict:
         "full": emitter.string(full_message(pallet, limit)),
         "bad_counters": emitter.string(counters_message(pallet, limit)),
         "release": emitter.comment(target.program.get("minimum_release", "")),
+    }
+
+
+def _base(cell, pallet: Pallet, target, emitter) -> dict | None:
+    """The numbered base the program reads the pallet frame from, the tolerance it checks it with and its message."""
+    facts = target.program.get("base_data")
+    if pallet.base_data is None or not facts:
+        return None
+    name = facts["name"].format(n=pallet.base_data)
+    mm, deg = base_tolerance(pallet)
+    return {
+        "name": owned(name),
+        "mm": emitter.number(mm, 3),
+        "deg": emitter.number(deg, 4),
+        "message": emitter.string(base_message(pallet, pallet.base_data, message_limit(cell))),
     }
 
 

@@ -15,6 +15,7 @@ from codegen.kinds.pallet.cycle import (
     unstacking,
 )
 from codegen.kinds.pallet.messages import (
+    base_message,
     counters_message,
     empty_message,
     foreign_message,
@@ -42,6 +43,8 @@ def expected(cell, pallet: Pallet, case: PalletCase) -> Expected:
     limit = message_limit(cell)
     keys = [item.key for item in items(pallet)]
     put_down = case.closed and pallet.mode == "unstack"
+    if case.base_off:  # the pallet frame read from a base not measured: the stop before any output or move
+        return Expected((), (), base_message(pallet, pallet.base_data, limit), start, start, holds=case.closed)
     if case.closed and case.foreign:  # not this program's item: it stops before anything else
         return Expected((), (), foreign_message(pallet, limit), start, start)
     # a held item: the gripper's output set to grip again first (a stop, or a release that did not finish, may have

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from codegen.controllers import get_target
 from codegen.kinds.pallet.interlocks import PalletIO, check_one_job_each, check_pallets_io, parse_io
 from codegen.kinds.pallet.keys import FAMILIES, MAX_LAYERS, PALLET
 from codegen.model.cell import CellValidator
@@ -70,6 +71,7 @@ class Pallet:
     # target -> the configuration above Q the cell names ([pallet.config], codegen.model.robot.PoseConfig): the
     # whole cycle is worked in its branch; a target without one: codegen/kinds/pallet/posture.py chooses
     config: dict = field(default_factory=dict)
+    base_data: int | None = None  # the controller's numbered base holding the pallet frame (BASE_DATA[n]), or None
 
 
 def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
@@ -83,9 +85,28 @@ def parse_pallets(ctx: CellValidator, data: dict, cell) -> tuple[Pallet, ...]:
     for i, name in enumerate(names):
         if name in names[:i]:
             ctx.fail(f"pallet[{i}].name", f"pallet {name!r} named twice")
+    _check_bases(ctx, pallets, cell.targets)
     check_pallets_io(ctx, pallets, cell.targets)
     check_one_job_each(ctx, pallets, cell.io)
     return pallets
+
+
+def _check_bases(ctx: CellValidator, pallets: tuple[Pallet, ...], targets) -> None:
+    """Each numbered base within every cell target's bases, one pallet's each; a cell naming one has a target that
+    keeps numbered bases."""
+    limits = {t: get_target(t).program["base_data"]["max"] for t in targets if get_target(t).program.get("base_data")}
+    for i, pallet in enumerate(pallets):
+        if pallet.base_data is None:
+            continue
+        path = f"pallet[{i}].base_data"
+        if not limits:
+            ctx.fail(path, f"none of the cell's targets ({', '.join(targets)}) keeps numbered bases (BASE_DATA[n])")
+        for target, top in limits.items():
+            if pallet.base_data > top:
+                ctx.fail(path, f"target {target} keeps bases 1..{top}, got {pallet.base_data}")
+        shared = [p.name for p in pallets[:i] if p.base_data == pallet.base_data]
+        if shared:
+            ctx.fail(path, f"base {pallet.base_data} is pallet {shared[0]!r}'s already: each pallet has its own frame")
 
 
 def _pallet(ctx: CellValidator, loader: Loader, table: dict, path: str, cell) -> Pallet:

@@ -6,7 +6,6 @@ import numpy as np
 
 from codegen.controllers import get_target
 from codegen.emit import Emitter
-from codegen.kinds.pallet.cases import other_flags
 from codegen.kinds.pallet.cycle import PalletCase
 from codegen.kinds.pallet.exchange import PalletExchange
 from codegen.kinds.pallet.interlocks import WAITS_ON
@@ -14,7 +13,15 @@ from codegen.kinds.pallet.kind import KIND
 from codegen.kinds.pallet.latch import CounterLatch
 from codegen.kinds.pallet.messages import known_question, message_limit, still_waiting_message
 from codegen.kinds.pallet.plan import configurations
-from codegen.kinds.pallet.program import counter_names, counter_registers, holds_name, known_name, written_register
+from codegen.kinds.pallet.program import (
+    base_input,
+    counter_names,
+    counter_registers,
+    holds_name,
+    known_name,
+    other_flags,
+    written_register,
+)
 from codegen.kinds.pallet.reach import joints_of
 from codegen.kinds.pallet.reload import reload_proof
 from codegen.kinds.pallet.restart import expected
@@ -95,7 +102,7 @@ def setup(cell, source, case: Case) -> Setup:
     if run.case.unknown:
         counters = {}  # the store loaded again from its file: every value in it is its declaration's
     return Setup(
-        {**counters, **tool_inputs(cell, target.name)},
+        {**counters, **tool_inputs(cell, target.name), **base_input(cell, target, pallet, run.case.base_off)},
         devices,
         _signals(cell, target, pallet, run.case, select, pallets_of(cell)),
         start_joints(cell, index, source.target, case),

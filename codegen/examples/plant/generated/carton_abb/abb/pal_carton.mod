@@ -13,6 +13,9 @@ MODULE pal_carton
   ! height (joint move), entry, approach (slow) and target (slow, fine), release, retreat (slow), entry.
   ! Where the arm passes a pose the move blends (stack_zone, 2.0 mm); it stops (fine) at every pick, place
   ! and contact pose.
+  ! The configuration check is off on the way (ConfJ/ConfL \Off, see main): the controller takes the closest
+  ! configuration, and that none of them flips is codegen's proof with the catalogue's arm model. Run the program
+  ! in RobotStudio with the real robot's data (its calibration, its axis limits) before production.
   ! The box's robtarget is computed here from the counters, in the pallet's work object: its row's
   ! x, y at the layer's top z, the tool turned by the row's angle (counterclockwise) about the pallet's z.
   ! Counters: pal_carton_layer (1 = bottom) and pal_carton_box (1 = the first of the layer's pattern)
@@ -110,7 +113,7 @@ MODULE pal_carton
     held := DInput(diGripClosed) = 1;
     IF held AND NOT pal_carton_holds THEN
       ! not this program's item: another pallet's program of this arm gripped it
-      stack_stop "pallet carton: the item held is another program's: finish it there or remove it";
+      stack_stop "pallet carton: item held is another program's, or counters reloaded: remove it";
     ENDIF
     IF held THEN
       ! an item held since a stop: the gripper kept closed (the stop, or a release that did not finish, may have
@@ -144,7 +147,7 @@ MODULE pal_carton
       pal_carton_layer := -pal_carton_layer;
       IF stack_valid() AND NOT held THEN
         ! nothing in the gripper: only the operator can tell
-        TPReadFK answer, "pallet carton: stopped in a release. Is the item below the gripper down?", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
+        TPReadFK answer, "pallet carton: stopped in a release. Is the item down? No: remove it first", "Yes", stEmpty, stEmpty, stEmpty, "No" \MaxTime:=60.0 \BreakFlag:=unanswered;
         IF unanswered <> 0 THEN
           ! no answer: the mark kept, the question left to the next start
           pal_carton_layer := -pal_carton_layer;

@@ -9,6 +9,9 @@ MODULE pallet_main
   ! pallet_data.sys keeps the counters. Load into the task: this module and pal_carton.mod as the
   ! program (again after each regeneration: a program load replaces the program modules), and pallet_data.sys
   ! once, as a system module (its header says how); a program load leaves it and its counters.
+  ! A pallet's program never returns to main: it works pallet after pallet (waiting above Q for each swap). To
+  ! run another pallet (stacking <-> unstacking), stop the task and set the program pointer to main (PP to Main):
+  ! main reads the select inputs only when it starts.
 
   PROC main()
     pal_carton_run;
