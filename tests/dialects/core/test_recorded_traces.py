@@ -1,4 +1,4 @@
-"""The example cells' programs run as the interpreter ran them when the traces were recorded: every trace bit for bit."""
+"""The example cells' programs run as the interpreter ran them when the traces were recorded, bit for bit."""
 
 from __future__ import annotations
 

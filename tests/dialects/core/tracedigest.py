@@ -30,7 +30,8 @@ def _bits(value) -> str:
     if isinstance(value, np.generic):
         return f"{type(value).__name__}:{value.tobytes().hex()}"
     if isinstance(value, dict):
-        return "{" + ",".join(f"{_bits(k)}:{_bits(v)}" for k, v in sorted(value.items(), key=lambda kv: str(kv[0]))) + "}"
+        items = sorted(value.items(), key=lambda kv: str(kv[0]))
+        return "{" + ",".join(f"{_bits(k)}:{_bits(v)}" for k, v in items) + "}"
     if isinstance(value, list | tuple):
         return "[" + ",".join(_bits(v) for v in value) + "]"
     return f"{type(value).__name__}:{value!r}"
@@ -60,7 +61,7 @@ def run_text(program, setup, arm, step_limit: int) -> str:
     """The case's run as text: its trace, or the error it ends in (with the trace until then)."""
     try:
         return trace_text(_run(program, setup, arm, step_limit))
-    except Exception as exc:  # noqa: BLE001 (an error is a recorded outcome like a trace)
+    except Exception as exc:  # an error is a recorded outcome like a trace
         trace = getattr(exc, "trace", None)
         return f"error {type(exc).__name__}: {exc}\n" + (trace_text(trace) if trace is not None else "")
 
@@ -79,12 +80,12 @@ def example_runs():
     examples = DEMO_CELL.parent
     for name in EXAMPLES:
         cell = load_cell(examples / name)
-        for source in _fresh(cell, list(cell.targets)):
+        for position, source in enumerate(_fresh(cell, list(cell.targets))):  # a kind's variant models share rows
             model = source.model or cell
             kind = cell.kinds[source.kind].verify
             program = source.load()
             arm = Checker(model, source.target).arm
             for number, case in enumerate(kind.cases(model, source, CASES, SEED)):
-                key = f"{name} {source.target} {source.ident} {source.row} {number}"
+                key = f"{name} {position} {source.target} {source.ident} {number}"
                 setup = kind.setup(model, source, case)
                 yield key, program, setup, arm, DEFAULT_STEP_LIMIT
