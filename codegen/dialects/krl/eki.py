@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 from lark import Tree
 
@@ -61,12 +63,14 @@ class Config:
 
     ip: str
     port: int
-    receive: dict
+    receive: MappingProxyType  # read-only: one parsed configuration serves every run of the program
     send: tuple
 
 
+@functools.lru_cache(maxsize=64)
 def parse_config(text: str) -> Config:
-    """The configuration file's content (ConfigError: not the option's structure)."""
+    """The configuration file's content (ConfigError: not the option's structure), parsed once per text: every
+    run's EKI_Init of a program reads the same file."""
     try:
         root = ET.fromstring(text)
     except ET.ParseError as exc:
@@ -88,7 +92,7 @@ def parse_config(text: str) -> Config:
         if kind is not None:  # without a Type: an element for an event flag only, no memory
             receive[tag] = kind.upper()
     send = tuple(e.get("Tag") for e in root.findall("SEND/XML/ELEMENT") if e.get("Tag"))
-    return Config(external.findtext("IP").strip(), port, receive, send)
+    return Config(external.findtext("IP").strip(), port, MappingProxyType(receive), send)
 
 
 def check_config(text: str, filename: str) -> None:
