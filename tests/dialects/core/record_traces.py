@@ -1,8 +1,8 @@
 """Record the example programs' traces into recorded/traces.json: python -m tests.dialects.core.record_traces.
 
-The recording is of the interpreter as it was before its speed work (commit 03da570, run from an export of that
-commit's tree): test_recorded_traces.py holds every later interpreter to it, bit for bit. Record again only where a
-run is meant to change, and say why in the commit."""
+The recording pins the interpreter's runs of the example programs: test_recorded_traces.py holds every later
+interpreter to it, bit for bit, so a faster interpreter cannot change a run unnoticed. Record again only where a run
+is meant to change (a program, a case or the controller's semantics changed), and say why in the commit."""
 
 from __future__ import annotations
 
