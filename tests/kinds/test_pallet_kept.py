@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from support.cells import example
 
+from codegen.kept import Kept, digest
 from codegen.kinds.pallet import posture
-from codegen.kinds.pallet.kept import Kept, digest
 from codegen.kinds.pallet.shape import full_cycle
 
 TARGET = "ur"
@@ -37,7 +37,7 @@ def _key(cell, cycle=None) -> bytes:
 
 def _value(made) -> bytes:
     """A choice and its proofs as a value, every field of it (none left out)."""
-    return digest({}, made)[0]
+    return digest(made)[0]
 
 
 def _unread(cell):

@@ -147,3 +147,18 @@ def test_generate_keeps_a_kinds_proof_that_its_plan_does_not(proofs):
     done = len(proofs)
     generate._proven(load_cell(BELT), "ur")
     assert done > 0 and len(proofs) == done
+
+
+def test_the_digest_is_of_the_values_not_of_which_objects_are_shared():
+    """Equal values give one digest whether the tree shares an object or holds equal copies: a digest of pickle's
+    bytes did not (it writes an object met twice as a reference to the first), so a kept choice was missed after
+    other work had shared a move's name or array with another (a test that passed alone failed after another)."""
+    from codegen.kept import digest
+
+    name = "layer 1 box 1 entry"
+    shared = (name, name, np.arange(3.0))
+    copies = ("layer 1 box 1 entry", "".join(["layer 1 box ", "1 entry"]), np.arange(3.0))
+    assert shared[0] is shared[1] and copies[0] is not copies[1]
+    assert digest(shared)[0] == digest(copies)[0]
+    row = (1.5, 2.5)
+    assert digest([row, row])[0] == digest([(1.5, 2.5), (1.5, 2.5)])[0]

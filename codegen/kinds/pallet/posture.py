@@ -17,9 +17,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from codegen.kept import Kept, digest
 from codegen.kinds.pallet.cycle import ExpectedMove
 from codegen.kinds.pallet.interlocks import PalletIO
-from codegen.kinds.pallet.kept import Kept, digest
 from codegen.kinds.pallet.reach import PICK_KEY, Named, PalletReach, check_pallet, joints_of, plan
 from codegen.kinds.pallet.scene import pallet_paths
 from codegen.kinds.pallet.section import Pallet, pallets_of
@@ -65,7 +65,7 @@ def decide(cell, pallet, target: str, cycle) -> tuple[Named | None, str, tuple |
 
 def decision_key(cell, pallet, target: str, cycle) -> tuple[bytes, list]:
     """The key of decide's choice: the digest of everything it reads."""
-    return digest(UNREAD, target, cell, pallet, tuple(cycle))
+    return digest(target, cell, pallet, tuple(cycle), unread=UNREAD)
 
 
 def path_key(cell, path, bar: float | None) -> tuple[bytes, list]:
@@ -74,7 +74,7 @@ def path_key(cell, path, bar: float | None) -> tuple[bytes, list]:
 
     robot = cell.robot
     arm, tcp2flange = robot.arms[path.target], robot.tool.tcp2flange
-    return digest(UNREAD, path, bar, clearance_mm(cell), arm, tcp2flange, solids(cell), tool_shape(cell))
+    return digest(path, bar, clearance_mm(cell), arm, tcp2flange, solids(cell), tool_shape(cell), unread=UNREAD)
 
 
 def proven(cell, path, bar: float | None):

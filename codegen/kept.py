@@ -1,9 +1,8 @@
-"""Results kept by the value of what they read: a digest of dataclass values less some fields, a bounded store."""
+"""Results kept by the value of what they read: a digest of the inputs' values, field by field, and a bounded store."""
 
 from __future__ import annotations
 
 import hashlib
-import pickle
 from collections import OrderedDict
 from dataclasses import fields, is_dataclass
 
@@ -30,19 +29,22 @@ class Kept:
             self.entries.popitem(last=False)
 
 
-def digest(unread: dict, *values) -> tuple[bytes, list]:
-    """The SHA-256 of the values (value_key, pickled: equal bytes only for equal values) and the objects it names by
-    identity; unread: dataclass type -> the fields left out."""
+def digest(*values, unread: dict | None = None) -> tuple[bytes, list]:
+    """The SHA-256 of the values and the objects it names by identity; unread: dataclass type -> the fields left out.
+    The bytes hashed are the repr of value_key's tree, a function of the values alone (pickle's bytes are not: it
+    writes an object met twice as a reference to the first, so equal values shared or not would hash apart)."""
     held: list = []
-    data = pickle.dumps(tuple(value_key(v, unread, held) for v in values), protocol=5)
-    return hashlib.sha256(data).digest(), held
+    tree = tuple(value_key(v, unread or {}, held) for v in values)
+    return hashlib.sha256(repr(tree).encode()).digest(), held
 
 
 def value_key(obj, unread: dict, held: list) -> object:
-    """A picklable value equal for equal values, field by field, the unread fields left out; an object of another type
-    by its id (appended to held, which keeps it alive)."""
-    if obj is None or isinstance(obj, (bool, int, float, str, bytes)):
-        return (type(obj).__name__, obj)  # pickled bit for bit: -0.0 and 0.0 differ, as printed
+    """A value equal for equal values, field by field, the unread fields left out; an object of another type by its
+    id (appended to held, which keeps it alive)."""
+    if isinstance(obj, float):
+        return ("float", obj.hex())  # bit for bit: -0.0 and 0.0 differ, as printed
+    if obj is None or isinstance(obj, (bool, int, str, bytes)):
+        return (type(obj).__name__, obj)
     if isinstance(obj, np.ndarray):
         return ("array", obj.dtype.str, obj.shape, obj.tobytes())
     if isinstance(obj, np.generic):
