@@ -242,6 +242,11 @@ class Linker:
         self.compiler = KRLCompiler(main.name)
         self.compiler.findings = findings
         self.compiler.strict_names = strict
+        read = ", ".join(Path(f.name).name for f in files if f.suffix != eki.SUFFIX)
+        self.compiler.undefined_note = (
+            f", declared in none of the files read ({read}): a misspelt name, or the data list that declares it GLOBAL"
+            " (DEFDAT ... PUBLIC) is not in the program's folder"
+        )
         self.compiler._shapes = ShapeCache(f"<{main.name}: compiled>")  # named by the program, not its first file
 
     def fail_or_keep(self, exc: RunError) -> None:
