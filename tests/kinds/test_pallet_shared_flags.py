@@ -47,3 +47,15 @@ def test_a_program_copied_without_the_other_count_file_is_refused_by_name(tmp_pa
     verified = CliRunner().invoke(main, ["verify", str(EUR), str(tmp_path / "pal_eur.src"), "--cases", "1"])
     assert verified.exit_code == 2, verified.output
     assert "PAL_EUR_IN_HOLDS" in verified.output and "Traceback" not in verified.output, verified.output
+
+
+def test_the_language_server_reads_the_program_with_the_same_files():
+    from codegen.lsp.documents import program_of
+
+    program = program_of((GENERATED / "pal_eur.src").resolve(), {})
+    assert [Path(f.name).name for f in program.files] == [
+        "pal_eur.src",
+        "pal_eur.dat",
+        "pal_eur_count.dat",
+        "pal_eur_in_count.dat",
+    ]
