@@ -313,8 +313,8 @@ def verify(
         raise UserError(f"--scheduler: {exc}") from None
     except (ProgramFilesError, ReachError, EmitError) as exc:
         raise UserError(f"{model.source}: {exc}" if not isinstance(exc, ProgramFilesError) else str(exc)) from None
-    except RunError as exc:  # a program that cannot be loaded here
-        raise click.ClickException(str(exc)) from None
+    except RunError as exc:  # a program that cannot be loaded here: its files are a bad input
+        raise UserError(str(exc)) from None
     for warning in [*report.warnings, *report.margin_warnings()]:
         click.echo(f"warning: {warning}", err=True)
     if not report.rows:

@@ -142,6 +142,12 @@ class Dialect:
         return out
 
     @classmethod
+    def shared_among(cls, program, files: list) -> list:
+        """The files of the other programs of one folder that a program file (SourceFile) is read with, as
+        Dialect.beside takes them from a folder on disk: by default none."""
+        return []
+
+    @classmethod
     def load_files(cls, files: list):
         """One program from its files (SourceFile, the program file first, as programs() groups them)."""
         main, rest = files[0], files[1:]

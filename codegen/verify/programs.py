@@ -44,15 +44,21 @@ class ProgramSource:
 
 
 def fresh_sources(cell, targets: list[str], model=None, row_of=None, only=None, sweep=True) -> list[ProgramSource]:
-    """Every program of every kind (of the kinds `only`, if given) for the targets, rendered from `cell` (each
-    kind's own files only)."""
+    """Every program of every kind (of the kinds `only`, if given) for the targets, rendered from `cell`: each
+    kind's own files, and the files of the target's other programs rendered here that its language reads with it
+    from their common folder (Dialect.shared_among: a KRL program the other pallets' count data lists)."""
     out = []
     for name in targets:
         target = get_target(name)
-        for plan in plans(cell, target, only):
-            rendered = render_plan(cell, target, plan)
-            files = tuple(SourceFile(f"{FRESH}{r.relpath}", r.text) for r in rendered)
-            origin = tuple(f"{FRESH}{cell_dir(cell)}/{name}/{f.name}" for f in plan.files)
+        dialect = get_dialect(target.dialect)
+        rendered_plans = [(plan, render_plan(cell, target, plan)) for plan in plans(cell, target, only)]
+        folder = [SourceFile(f"{FRESH}{r.relpath}", r.text) for _plan, rendered in rendered_plans for r in rendered]
+        for plan, rendered in rendered_plans:
+            own = [SourceFile(f"{FRESH}{r.relpath}", r.text) for r in rendered]
+            names = {f.name for f in own}
+            shared = dialect.shared_among(own[0], [f for f in folder if f.name not in names])
+            files = (*own, *shared)
+            origin = tuple(f"{FRESH}{cell_dir(cell)}/{name}/{Path(f.name).name}" for f in files)
             row = len(out) if row_of is None else row_of(plan, name)
             entry = plan.entry
             out.append(ProgramSource(plan.kind, name, plan.ident, plan.index, files, origin, row, model, sweep, entry))

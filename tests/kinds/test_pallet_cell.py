@@ -690,11 +690,19 @@ def test_an_item_held_at_the_start_is_gripped_again_before_the_arm_moves(testmat
     assert found and found[0].startswith("held_at_start"), found
 
 
-@pytest.mark.slow  # a whole verify of the task: the slow set
-def test_a_grip_clears_the_other_pallets_flags_of_the_task(eur):
-    """One ABB task runs both EUR pallets: a grip of one program clears the other's flag, else a flag left set (its
-    item taken out of the gripper by hand) would make this program's item look like the other's after a stop."""
-    found = mutant_mismatches(eur, "abb", "pal_eur.mod", "    pal_eur_in_holds := FALSE;\n", "")
+@pytest.mark.slow  # a whole verify per target and mutation: the slow set
+@pytest.mark.parametrize(
+    ("target", "name", "clear"),
+    [
+        ("abb", "pal_eur.mod", "    pal_eur_in_holds := FALSE;\n"),
+        ("kuka", "pal_eur.src", "  PAL_EUR_IN_HOLDS = FALSE ;"),
+    ],
+)
+def test_a_grip_clears_the_other_pallets_flags_of_the_arm(eur, target, name, clear):
+    """One arm runs both EUR pallets (one ABB task; KUKA programs sharing their GLOBAL count data lists): a grip of one
+    program clears the other's flag, else a flag left set (its item taken out of the gripper by hand) would make this
+    program's item look like the other's after a stop."""
+    found = mutant_mismatches(eur, target, name, clear, "" if target == "abb" else "  ;")
     assert found and found[0].startswith("stale_flag"), found
 
 

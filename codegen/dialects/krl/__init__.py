@@ -105,6 +105,12 @@ class KRL(Dialect):
         return [*super().beside(path), *cls.module("modules").data_lists_beside(path, cls.encodings), *channels]
 
     @classmethod
+    def shared_among(cls, program, files: list) -> list:
+        """The data lists among `files` (another program's of one folder) that the program uses: a PUBLIC data list
+        of global counters without a .src of its own (codegen/dialects/krl/modules.py data_lists_used)."""
+        return cls.module("modules").data_lists_used(program, files)
+
+    @classmethod
     def load_files(cls, files: list):
         return cls.module("modules").load_files(files)
 

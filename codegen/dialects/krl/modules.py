@@ -122,23 +122,37 @@ _WORD = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")
 
 
 def data_lists_beside(path: Path, encodings) -> list[Path]:
-    """The .dat files in the folder of a .src that have no .src of their own (data lists, not $config.dat) and
-    declare a name the program's text uses; one that does not parse comes too (loading names its line)."""
+    """The data lists in the folder of a .src that the program uses (data_lists_used), as paths."""
     folder = path.parent
     stems = {p.stem.upper() for p in folder.iterdir() if p.suffix.lower() in KRL.suffixes}
-    used = {w.upper() for w in _WORD.findall(read_source(path, encodings).text)}
+    program = read_source(path, encodings)
+    candidates = {
+        p: read_source(p, encodings)
+        for p in sorted(folder.iterdir())
+        if p.suffix.lower() == ".dat" and p.stem.upper() not in stems and not is_config(p.name)
+    }
+    chosen = {f.name for f in data_lists_used(program, list(candidates.values()))}
+    return [p for p, data in candidates.items() if data.name in chosen]
+
+
+def data_lists_used(program: SourceFile, files: list[SourceFile]) -> list[SourceFile]:
+    """The data lists among the files of a program's folder that it is linked with: each .dat without a .src of its
+    own among them (not $config.dat) that declares a name the program's text uses, as the controller makes the
+    GLOBAL data of every PUBLIC data list of its program folder known to every module (the pallet's count files);
+    one that does not parse comes too (loading names its line)."""
+    stems = {f.stem.upper() for f in [program, *files] if f.suffix in KRL.suffixes}
+    used = {w.upper() for w in _WORD.findall(program.text)}
     out = []
-    for candidate in sorted(folder.iterdir()):
-        if candidate.suffix.lower() != ".dat" or candidate.stem.upper() in stems or is_config(candidate.name):
+    for data in files:
+        if data.suffix != ".dat" or data.stem.upper() in stems or is_config(data.name):
             continue
-        data = read_source(candidate, encodings)
         try:
             _types, declared = _declared([(data.name, parse(data.text, data.name, positions=False))])
         except RunError:
-            out.append(candidate)
+            out.append(data)
             continue
         if declared & used:
-            out.append(candidate)
+            out.append(data)
     return out
 
 
@@ -228,6 +242,11 @@ class Linker:
         self.compiler = KRLCompiler(main.name)
         self.compiler.findings = findings
         self.compiler.strict_names = strict
+        read = ", ".join(Path(f.name).name for f in files if f.suffix != eki.SUFFIX)
+        self.compiler.undefined_note = (
+            f", declared in none of the files read ({read}): a misspelt name, or the data list that declares it GLOBAL"
+            " (DEFDAT ... PUBLIC) is not in the program's folder"
+        )
         self.compiler._shapes = ShapeCache(f"<{main.name}: compiled>")  # named by the program, not its first file
 
     def fail_or_keep(self, exc: RunError) -> None:

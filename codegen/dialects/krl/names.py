@@ -71,6 +71,7 @@ class ScopedNames:
     scope: Scope
 
     strict_names = True  # an undefined name fails the load (KRL's compiler refuses it), else the statement at run
+    undefined_note = ""  # what an undefined name's message adds: the files read (codegen/dialects/krl/modules.py)
 
     def storage(self, token) -> str:
         """The globals' key of a data name this module sees; for one it does not: a compile error, or with
@@ -78,7 +79,7 @@ class ScopedNames:
         key = str(token).upper()
         found = self.scope.data.get(key)
         if found is None:
-            self.note(token, f"undefined variable {token}")
+            self.note(token, f"undefined variable {token}{self.undefined_note}")
             return "?" + key
         return found
 

@@ -46,3 +46,29 @@ def test_a_data_list_that_does_not_parse_comes_along_and_is_named_at_its_line(tm
     checked = CliRunner().invoke(main, ["check", str(program)])
     assert checked.exit_code == 2
     assert "cell_count.dat:2:" in checked.output
+
+
+def test_a_program_is_read_with_the_data_lists_it_uses_among_another_programs_files():
+    """The rule of the folder on disk, over files in memory (verify's fresh programs): a .dat without a .src of its
+    own that declares a name the program uses; not another program's own .dat, not an unused list."""
+    from codegen.dialects.core.files import SourceFile
+
+    program = SourceFile("cell.src", CELL)
+    others = [
+        SourceFile("cell_count.dat", COUNTERS),
+        SourceFile("spare.dat", OTHER_LIST),
+        SourceFile("other.src", "DEF OTHER()\nEND\n"),
+        SourceFile("other.dat", "DEFDAT OTHER\nDECL GLOBAL INT STACKED=5\nENDDAT\n"),
+    ]
+    assert [f.name for f in KRL.shared_among(program, others)] == ["cell_count.dat"]
+
+
+def test_a_name_of_a_data_list_not_beside_the_program_names_the_files_read(tmp_path):
+    program = folder(tmp_path)
+    (tmp_path / "cell_count.dat").unlink()
+    for command in ("check", "run"):
+        result = CliRunner().invoke(main, [command, str(program)])
+        assert result.exit_code == 2, result.output
+        assert "cell.src:2:" in result.output and "undefined variable STACKED" in result.output, result.output
+        assert "declared in none of the files read (cell.src, cell.dat)" in result.output, result.output
+        assert "DEFDAT ... PUBLIC" in result.output
