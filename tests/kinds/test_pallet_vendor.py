@@ -4,6 +4,7 @@ that clears the other pallets' flags, and the texts the commissioning engineer r
 from pathlib import Path
 
 import pytest
+from support.cells import example
 from support.programs import edited, sources, verify_one
 
 from codegen.model.cell import load_cell
@@ -15,12 +16,12 @@ PALLETS = Path(__file__).resolve().parents[2] / "codegen" / "examples" / "pallet
 
 @pytest.fixture(scope="module")
 def testmat():
-    return load_cell(PALLETS / "testmat_pallet.toml")
+    return example("testmat_pallet")
 
 
 @pytest.fixture(scope="module")
 def eur():
-    return load_cell(PALLETS / "eur_pallet.toml")
+    return example("eur_pallet")
 
 
 def _mismatches(cell, target: str, name: str, old: str, new: str) -> list:
