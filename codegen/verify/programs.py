@@ -46,7 +46,7 @@ class ProgramSource:
 def fresh_sources(cell, targets: list[str], model=None, row_of=None, only=None, sweep=True) -> list[ProgramSource]:
     """Every program of every kind (of the kinds `only`, if given) for the targets, rendered from `cell`: each
     kind's own files, and the files of the target's other programs rendered here that its language reads with it
-    from their common folder (Dialect.shared_among: a KRL program the other pallets' count data lists)."""
+    from their common folder (Dialect.shared_among: the data lists of its folder a program uses)."""
     out = []
     for name in targets:
         target = get_target(name)

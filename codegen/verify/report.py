@@ -288,7 +288,7 @@ def _fit(text: str, width: int) -> str:
 
 
 def _rate(per_second: float | None) -> str:
-    """Cases per second for the table: a slow kind (a pallet's whole cycle per case) keeps its first figures."""
+    """Cases per second for the table: a slow kind (a whole cycle per case) keeps its first figures."""
     if not per_second:
         return "0"
     return f"{per_second:.0f}" if per_second >= 100 else f"{per_second:.3g}"

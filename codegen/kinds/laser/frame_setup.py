@@ -19,7 +19,7 @@ from codegen.poses import zyx_deg_from_rotmat
 # side of the crossing along each beam (where the circles put it). The program solves the beams on the controller
 # and shows the sensor frame found in the base frame: the cell engineer puts it into [laser] sensor_frame.
 FRAME_FOUND = "laser: sensor frame found, base mm deg: "
-FRAME_FOUND_XYZ = "laser: sensor frame found, base x y z mm: "  # where a message carries three numbers (KRL)
+FRAME_FOUND_XYZ = "laser: sensor frame found, base x y z mm: "  # messages of three numbers each
 FRAME_FOUND_ABC = "laser: sensor frame found, base a b c deg: "
 FRAME_START_AWAY = "laser: start the setup run with the arm at home"
 FRAME_NO_YAW = "laser: setup circles do not agree on the beams' yaw, check the pin"
