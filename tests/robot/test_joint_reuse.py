@@ -69,7 +69,10 @@ def _counted(monkeypatch, remembered: bool) -> list[int]:
     return calls
 
 
-@pytest.mark.parametrize("cell_file", CELLS)
+SLOW = {"codegen/examples/pallets/eur_pallet.toml"}  # its 3 cases run for about 20 s: with the slow tests
+
+
+@pytest.mark.parametrize("cell_file", [pytest.param(f, marks=pytest.mark.slow) if f in SLOW else f for f in CELLS])
 def test_check_same_with_and_without_the_remembered_joints(monkeypatch, cell_file):
     with monkeypatch.context() as m:
         _checked(m, cell_file)  # the cell's plans and programs made once, so both runs below ask the same
