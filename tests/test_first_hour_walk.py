@@ -3,6 +3,7 @@ mill, KUKA pallet cells) stumbled on, each with the cell as the walk wrote it.""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -358,3 +359,39 @@ def test_slow_kinds_rate_is_not_printed_as_zero():
     from codegen.verify.report import _rate
 
     assert [_rate(v) for v in (0.43, 12.345, 4321.2, None)] == ["0.43", "12.3", "4321", "0"]
+
+
+def _walk3_mill_edited(tmp_path: Path, old: str, new: str) -> list[str]:
+    """The walk's mill cell generated into tmp_path, its UR program with `old` replaced by `new` (once): the verify
+    command line for the edited program."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    cell = tmp_path / "walk3_mill.toml"
+    cell.write_text((WALK3 / "walk3_mill.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    assert CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")]).exit_code == 0
+    program = tmp_path / "out" / "mill_cell" / "ur" / "mill_cell.script"
+    text = program.read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    edited = tmp_path / "mill_cell.script"
+    edited.write_text(text.replace(old, new), encoding="utf-8")
+    return ["verify", str(cell), str(edited), "--cases", "2", "--jobs", "1"]
+
+
+def test_a_slower_linear_move_after_a_joint_move_to_solved_joints_shows_its_time(tmp_path):
+    """The vise's linear move follows `movej(get_inverse_kin(...))`: the interpreter left that move's pose unknown, so
+    the linear move took an assumed 1 s whatever its speed, and its speed edit (0.04 -> 0.03 m/s) with a 0.5 s sleep
+    showed as 0.50 s later. The joint move's pose is the forward kinematics of the joints it solved: the linear move
+    from approach to vise (rigidly corrected alike: its length is the taught poses') takes L / v."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    old = "    movel(pose_trans(corr, p11_vise), a=1.2, v=0.0400)\n"
+    args = _walk3_mill_edited(tmp_path, old, old.replace("0.0400", "0.0300") + "    sleep(0.5)\n")
+    result = CliRunner().invoke(main, args)
+    length_mm = math.dist([700.0, -150.0, 450.0], [780.0, -160.0, 310.0])  # walk3_mill.toml: approach, vise
+    slower_s = length_mm / 30.0 - length_mm / 40.0
+    assert f"EDIT effect: reaches move 3 (line 171) {slower_s:.2f} s later than the generated program" in result.stdout
+    assert f"EDIT effect: the run takes {slower_s + 0.5:.2f} s longer" in result.stdout

@@ -173,7 +173,10 @@ def builtins() -> dict:
                 else:  # joint positions (rad): no solution to choose
                     event = MoveEvent(kind, None, line, settings)
                     conveyor.tracked_move(fr, event, 0.0, where)  # refused while tracking
-                    machine.arm.to_joints(event, np.degrees(joints(target, where, 6, "movej q")), where)
+                    q = np.degrees(joints(target, where, 6, "movej q"))
+                    machine.arm.to_joints(event, q, where)
+                    if machine.arm.arm is not None:  # the pose the joints put the tool at: the next move starts there
+                        event.tcp2base = machine.arm.arm.kin.fk(q) @ machine.arm.tcp2flange
                     machine.move(event, v * MM_PER_M, seconds=t or None)
                     return
             event = MoveEvent(kind, matrix(target, where, f"{name} target"), line, settings)
