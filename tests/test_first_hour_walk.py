@@ -4,6 +4,7 @@ mill, KUKA pallet cells) stumbled on, each with the cell as the walk wrote it.""
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -395,3 +396,24 @@ def test_a_slower_linear_move_after_a_joint_move_to_solved_joints_shows_its_time
     slower_s = length_mm / 30.0 - length_mm / 40.0
     assert f"EDIT effect: reaches move 3 (line 171) {slower_s:.2f} s later than the generated program" in result.stdout
     assert f"EDIT effect: the run takes {slower_s + 0.5:.2f} s longer" in result.stdout
+
+
+def test_a_failing_programs_arm_line_says_which_runs_it_counts(tmp_path):
+    """The arm's line of a program with mismatches counted only its matching runs' moves and gave their least margin
+    as the program's. It says it counts the matching runs and how many mismatching ones it leaves out; a program
+    without mismatches keeps the plain line."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    old = "    movel(pose_trans(corr, p11_vise), a=1.2, v=0.0400)\n"
+    result = CliRunner().invoke(main, _walk3_mill_edited(tmp_path, old, old.replace("0.0400", "0.0300")))
+    failing = re.search(r"^mill_cell +station +ur +\d+ +(\d+) ", result.stdout, re.M)
+    assert failing and int(failing.group(1)) > 0
+    arm = [line for line in result.stdout.splitlines() if line.startswith("arm ur mill_cell:")]
+    assert len(arm) == 1
+    assert f" moves solved to joints in the runs that match (not the {failing.group(1)} that mismatch); " in arm[0]
+    fresh = CliRunner().invoke(main, ["verify", str(tmp_path / "walk3_mill.toml"), "--cases", "2", "--jobs", "1"])
+    assert fresh.exit_code == 0
+    plain = [line for line in fresh.stdout.splitlines() if line.startswith("arm ")]
+    assert plain and all(" joints; least margin " in line for line in plain)

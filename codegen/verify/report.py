@@ -260,9 +260,12 @@ class Report:
         for row in self.rows:
             if row.arm.moves:
                 arm = row.arm.summary()
+                # the runner adds a run's moves only where the run matches: a failing program's margins are its
+                # matching runs', and the line says so
+                counted = f" in the runs that match (not the {row.mismatches} that mismatch)" if row.mismatches else ""
                 out.append(
-                    f"arm {row.target} {row.program}: {arm['moves']} moves solved to joints; least margin to a joint "
-                    f"limit {arm['joint_margin_deg']:.1f} deg ({arm['joint_margin_at']}), of axis 5 from its "
+                    f"arm {row.target} {row.program}: {arm['moves']} moves solved to joints{counted}; least margin "
+                    f"to a joint limit {arm['joint_margin_deg']:.1f} deg ({arm['joint_margin_at']}), of axis 5 from its "
                     f"singularity {arm['wrist_margin_deg']:.1f} deg"
                 )
         for row in self.rows:
