@@ -265,8 +265,8 @@ class Report:
                 counted = f" in the runs that match (not the {row.mismatches} that mismatch)" if row.mismatches else ""
                 out.append(
                     f"arm {row.target} {row.program}: {arm['moves']} moves solved to joints{counted}; least margin "
-                    f"to a joint limit {arm['joint_margin_deg']:.1f} deg ({arm['joint_margin_at']}), of axis 5 from its "
-                    f"singularity {arm['wrist_margin_deg']:.1f} deg"
+                    f"to a joint limit {arm['joint_margin_deg']:.1f} deg ({arm['joint_margin_at']}), of axis 5 from "
+                    f"its singularity {arm['wrist_margin_deg']:.1f} deg"
                 )
         for row in self.rows:
             if row.clearance is not None:
