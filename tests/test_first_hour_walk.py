@@ -417,3 +417,37 @@ def test_a_failing_programs_arm_line_says_which_runs_it_counts(tmp_path):
     assert fresh.exit_code == 0
     plain = [line for line in fresh.stdout.splitlines() if line.startswith("arm ")]
     assert plain and all(" joints; least margin " in line for line in plain)
+
+
+def test_a_kuka_speed_edit_is_one_mismatch_named_as_the_controller_names_it(tmp_path):
+    """The walk's pallet program with its work speed edited ($VEL.CP 0.05 -> 0.04) printed ten MISMATCH lines, one
+    per case category and box, each naming the internal key `vel_cp`. The same difference at the same line is one
+    line naming the categories it was met in, and the setting is the controller's $VEL.CP."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    cell = tmp_path / "walk3_pallet.toml"
+    cell.write_text((WALK3 / "walk3_pallet.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    assert CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")]).exit_code == 0
+    program = tmp_path / "out" / "tray_stack" / "kuka" / "pal_tray.src"
+    old = "    $VEL.CP = 0.0500 ; m/s, the cell's work speed (50.0 mm/s): the approach and the target\n"
+    text = program.read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    program.write_text(text.replace(old, old.replace("0.0500", "0.0400")), encoding="utf-8")
+    result = CliRunner().invoke(main, ["verify", str(cell), str(program), "--cases", "1", "--jobs", "1"])
+    assert result.exit_code == 1
+    assert "vel_cp" not in result.stdout
+    assert "EDIT effect: moves 8-439 (from line 242) $VEL.CP 0.04, generated 0.05" in result.stdout
+    shown = [line for line in result.stdout.splitlines() if line.startswith("  MISMATCH")]
+    assert len(shown) == 1, shown
+    failing = int(re.search(r"^pal_tray +pallet +kuka +\d+ +(\d+) ", result.stdout, re.M).group(1))
+    said = re.fullmatch(
+        rf"  MISMATCH (\w+) .*: move \d+ \(layer \d+ box \d+ approach, line 242\): \$VEL\.CP 0\.04, expected 0\.05 "
+        rf"\(and {failing - 1} more cases alike; in ([\w, ]+)\)",
+        shown[0],
+    )
+    assert said, shown[0]
+    categories = said.group(2).split(", ")
+    assert said.group(1) == categories[0] and len(categories) == len(set(categories)) > 1
+    assert {"full_stack", "restart", "held_at_start"} <= set(categories)
