@@ -451,3 +451,40 @@ def test_a_kuka_speed_edit_is_one_mismatch_named_as_the_controller_names_it(tmp_
     categories = said.group(2).split(", ")
     assert said.group(1) == categories[0] and len(categories) == len(set(categories)) > 1
     assert {"full_stack", "restart", "held_at_start"} <= set(categories)
+
+
+def test_a_station_is_named_by_its_entry_as_the_loader_names_it(tmp_path, write_cell):
+    """Generate named a station by its id (`station[8] 'lathe!'`) where the loader and the docs name the entry by its
+    place from 0 (`station[1].poses`): a station with id 8, second in the file, was looked for as the ninth. Every
+    station message names the entry as the loader does."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+    from codegen.controllers import get_target
+    from codegen.kinds.station.modes.point import PointMode
+    from codegen.kinds.station.section import stations_of
+
+    second = LATHE[LATHE.index("[[station]]") :].replace("id = 7", "id = 8").replace('"lathe"', '"lathe!"')
+    cell = write_cell(LATHE + "\n" + second)
+    result = CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2
+    assert "ur: station[1] 'lathe!' and station[0] 'lathe' both map to the identifier st_lathe; rename one" in (
+        result.output
+    )
+
+    class Names:  # an emitter that keeps the origins the mode names its identifiers by
+        origins: list[str] = []
+
+        def identifier(self, prefix, name, origin):
+            self.origins.append(origin)
+            return prefix + name
+
+        def number(self, value, decimals):
+            return value
+
+        def string(self, text):
+            return text
+
+    model = load_cell(cell)
+    PointMode.station_context(model, stations_of(model)[1], get_target("ur"), Names())
+    assert Names.origins == ["station[1] 'lathe!' mark"]

@@ -25,7 +25,7 @@ from codegen.guard import (
 )
 from codegen.kinds.station.frame.keys import KEYS, REFINE
 from codegen.kinds.station.mode import StationMode
-from codegen.kinds.station.section import section_of
+from codegen.kinds.station.section import section_of, station_label
 from codegen.model.loader import Loader, build
 from codegen.model.vision import PHOTO
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
@@ -308,7 +308,7 @@ class FrameMode(StationMode):
 
     @classmethod
     def station_context(cls, cell, station, target, emitter) -> dict:
-        origin = f"station[{station.id}] {station.name!r}"
+        origin = station_label(cell, station)
         spec = station.spec
         if target.program.get("level_frames_only") and abs(spec.frame.matrix()[2, 2] - 1.0) >= 1e-12:
             raise EmitError(
