@@ -488,3 +488,18 @@ def test_a_station_is_named_by_its_entry_as_the_loader_names_it(tmp_path, write_
     model = load_cell(cell)
     PointMode.station_context(model, stations_of(model)[1], get_target("ur"), Names())
     assert Names.origins == ["station[1] 'lathe!' mark"]
+
+
+def test_the_frame_tolerance_hint_names_the_key_and_its_value_loads(write_cell):
+    """A tolerance finer than the camera resolves said "set at least 0.0208 mm" without the key (the walk's cell
+    left [cell.refine] out: the default was refused). The hint names the table and key, and the value it gives
+    loads."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / "walk3_mill.toml").read_text(encoding="utf-8")
+    assert text.count("tolerance_mm = 0.03\n") == 1
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text.replace("tolerance_mm = 0.03\n", "tolerance_mm = 0.01\n")))
+    hint = re.search(r"; set \[cell\.refine\] tolerance_mm = (\d+\.\d+) or more \(", str(info.value))
+    assert hint, str(info.value)
+    assert load_cell(write_cell(text.replace("tolerance_mm = 0.03\n", f"tolerance_mm = {hint.group(1)}\n")))

@@ -269,8 +269,9 @@ class FrameMode(StationMode):
                 "cell.refine.tolerance_mm",
                 f"{refine.tolerance_mm:g} mm is finer than the camera resolves: a pixel is "
                 f"{least_mm / (RESOLVED_SIGMAS * SUBPIXEL_NOISE_PX):.4f} mm here and a mark's centre is found to about "
-                f"{SUBPIXEL_NOISE_PX} px, so the loop would stop on noise or not at all; set at least "
-                f"{least_mm:.4f} mm ({RESOLVED_SIGMAS} x {SUBPIXEL_NOISE_PX} px)",
+                f"{SUBPIXEL_NOISE_PX} px, so the loop would stop on noise or not at all; set "
+                f"[cell.refine] tolerance_mm = {math.ceil(least_mm * 1e4) / 1e4:.4f} or more ({RESOLVED_SIGMAS} x "
+                f"{SUBPIXEL_NOISE_PX} px, rounded up)",
             )
 
     @classmethod
