@@ -3,6 +3,8 @@ mill, KUKA pallet cells) stumbled on, each with the cell as the walk wrote it.""
 
 from __future__ import annotations
 
+import math
+import re
 from pathlib import Path
 
 import pytest
@@ -358,3 +360,146 @@ def test_slow_kinds_rate_is_not_printed_as_zero():
     from codegen.verify.report import _rate
 
     assert [_rate(v) for v in (0.43, 12.345, 4321.2, None)] == ["0.43", "12.3", "4321", "0"]
+
+
+def _walk3_mill_edited(tmp_path: Path, old: str, new: str) -> list[str]:
+    """The walk's mill cell generated into tmp_path, its UR program with `old` replaced by `new` (once): the verify
+    command line for the edited program."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    cell = tmp_path / "walk3_mill.toml"
+    cell.write_text((WALK3 / "walk3_mill.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    assert CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")]).exit_code == 0
+    program = tmp_path / "out" / "mill_cell" / "ur" / "mill_cell.script"
+    text = program.read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    edited = tmp_path / "mill_cell.script"
+    edited.write_text(text.replace(old, new), encoding="utf-8")
+    return ["verify", str(cell), str(edited), "--cases", "2", "--jobs", "1"]
+
+
+def test_a_slower_linear_move_after_a_joint_move_to_solved_joints_shows_its_time(tmp_path):
+    """The vise's linear move follows `movej(get_inverse_kin(...))`: the interpreter left that move's pose unknown, so
+    the linear move took an assumed 1 s whatever its speed, and its speed edit (0.04 -> 0.03 m/s) with a 0.5 s sleep
+    showed as 0.50 s later. The joint move's pose is the forward kinematics of the joints it solved: the linear move
+    from approach to vise (rigidly corrected alike: its length is the taught poses') takes L / v."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    old = "    movel(pose_trans(corr, p11_vise), a=1.2, v=0.0400)\n"
+    args = _walk3_mill_edited(tmp_path, old, old.replace("0.0400", "0.0300") + "    sleep(0.5)\n")
+    result = CliRunner().invoke(main, args)
+    length_mm = math.dist([700.0, -150.0, 450.0], [780.0, -160.0, 310.0])  # walk3_mill.toml: approach, vise
+    slower_s = length_mm / 30.0 - length_mm / 40.0
+    assert f"EDIT effect: reaches move 3 (line 171) {slower_s:.2f} s later than the generated program" in result.stdout
+    assert f"EDIT effect: the run takes {slower_s + 0.5:.2f} s longer" in result.stdout
+
+
+def test_a_failing_programs_arm_line_says_which_runs_it_counts(tmp_path):
+    """The arm's line of a program with mismatches counted only its matching runs' moves and gave their least margin
+    as the program's. It says it counts the matching runs and how many mismatching ones it leaves out; a program
+    without mismatches keeps the plain line."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    old = "    movel(pose_trans(corr, p11_vise), a=1.2, v=0.0400)\n"
+    result = CliRunner().invoke(main, _walk3_mill_edited(tmp_path, old, old.replace("0.0400", "0.0300")))
+    failing = re.search(r"^mill_cell +station +ur +\d+ +(\d+) ", result.stdout, re.M)
+    assert failing and int(failing.group(1)) > 0
+    arm = [line for line in result.stdout.splitlines() if line.startswith("arm ur mill_cell:")]
+    assert len(arm) == 1
+    assert f" moves solved to joints in the runs that match (not the {failing.group(1)} that mismatch); " in arm[0]
+    fresh = CliRunner().invoke(main, ["verify", str(tmp_path / "walk3_mill.toml"), "--cases", "2", "--jobs", "1"])
+    assert fresh.exit_code == 0
+    plain = [line for line in fresh.stdout.splitlines() if line.startswith("arm ")]
+    assert plain and all(" joints; least margin " in line for line in plain)
+
+
+def test_a_kuka_speed_edit_is_one_mismatch_named_as_the_controller_names_it(tmp_path):
+    """The walk's pallet program with its work speed edited ($VEL.CP 0.05 -> 0.04) printed ten MISMATCH lines, one
+    per case category and box, each naming the internal key `vel_cp`. The same difference at the same line is one
+    line naming the categories it was met in, and the setting is the controller's $VEL.CP."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+
+    cell = tmp_path / "walk3_pallet.toml"
+    cell.write_text((WALK3 / "walk3_pallet.toml").read_text(encoding="utf-8"), encoding="utf-8")
+    assert CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")]).exit_code == 0
+    program = tmp_path / "out" / "tray_stack" / "kuka" / "pal_tray.src"
+    old = "    $VEL.CP = 0.0500 ; m/s, the cell's work speed (50.0 mm/s): the approach and the target\n"
+    text = program.read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    program.write_text(text.replace(old, old.replace("0.0500", "0.0400")), encoding="utf-8")
+    result = CliRunner().invoke(main, ["verify", str(cell), str(program), "--cases", "1", "--jobs", "1"])
+    assert result.exit_code == 1
+    assert "vel_cp" not in result.stdout
+    assert "EDIT effect: moves 8-439 (from line 242) $VEL.CP 0.04, generated 0.05" in result.stdout
+    shown = [line for line in result.stdout.splitlines() if line.startswith("  MISMATCH")]
+    assert len(shown) == 1, shown
+    failing = int(re.search(r"^pal_tray +pallet +kuka +\d+ +(\d+) ", result.stdout, re.M).group(1))
+    said = re.fullmatch(
+        rf"  MISMATCH (\w+) .*: move \d+ \(layer \d+ box \d+ approach, line 242\): \$VEL\.CP 0\.04, expected 0\.05 "
+        rf"\(and {failing - 1} more cases alike; in ([\w, ]+)\)",
+        shown[0],
+    )
+    assert said, shown[0]
+    categories = said.group(2).split(", ")
+    assert said.group(1) == categories[0] and len(categories) == len(set(categories)) > 1
+    assert {"full_stack", "restart", "held_at_start"} <= set(categories)
+
+
+def test_a_station_is_named_by_its_entry_as_the_loader_names_it(tmp_path, write_cell):
+    """Generate named a station by its id (`station[8] 'lathe!'`) where the loader and the docs name the entry by its
+    place from 0 (`station[1].poses`): a station with id 8, second in the file, was looked for as the ninth. Every
+    station message names the entry as the loader does."""
+    from click.testing import CliRunner
+
+    from codegen.cli import main
+    from codegen.controllers import get_target
+    from codegen.kinds.station.modes.point import PointMode
+    from codegen.kinds.station.section import stations_of
+
+    second = LATHE[LATHE.index("[[station]]") :].replace("id = 7", "id = 8").replace('"lathe"', '"lathe!"')
+    cell = write_cell(LATHE + "\n" + second)
+    result = CliRunner().invoke(main, ["generate", str(cell), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2
+    assert "ur: station[1] 'lathe!' and station[0] 'lathe' both map to the identifier st_lathe; rename one" in (
+        result.output
+    )
+
+    class Names:  # an emitter that keeps the origins the mode names its identifiers by
+        origins: list[str] = []
+
+        def identifier(self, prefix, name, origin):
+            self.origins.append(origin)
+            return prefix + name
+
+        def number(self, value, decimals):
+            return value
+
+        def string(self, text):
+            return text
+
+    model = load_cell(cell)
+    PointMode.station_context(model, stations_of(model)[1], get_target("ur"), Names())
+    assert Names.origins == ["station[1] 'lathe!' mark"]
+
+
+def test_the_frame_tolerance_hint_names_the_key_and_its_value_loads(write_cell):
+    """A tolerance finer than the camera resolves said "set at least 0.0208 mm" without the key (the walk's cell
+    left [cell.refine] out: the default was refused). The hint names the table and key, and the value it gives
+    loads."""
+    from codegen.model.cell import CellError
+
+    text = (WALK3 / "walk3_mill.toml").read_text(encoding="utf-8")
+    assert text.count("tolerance_mm = 0.03\n") == 1
+    with pytest.raises(CellError) as info:
+        load_cell(write_cell(text.replace("tolerance_mm = 0.03\n", "tolerance_mm = 0.01\n")))
+    hint = re.search(r"; set \[cell\.refine\] tolerance_mm = (\d+\.\d+) or more \(", str(info.value))
+    assert hint, str(info.value)
+    assert load_cell(write_cell(text.replace("tolerance_mm = 0.03\n", f"tolerance_mm = {hint.group(1)}\n")))

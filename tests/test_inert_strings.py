@@ -365,6 +365,6 @@ def test_a_signal_and_a_name_of_the_cell_share_the_programs_names():
     """The cell's signals are claimed in every program before the names it maps (one namespace per program)."""
     data = _example("agv_machine_tending", **{"cell.io.output.abb": "st_lathe_1"})
     with pytest.raises(
-        EmitError, match=r"abb: station\[1\] 'lathe_1' and cell.io.output.abb both map to the identifier"
+        EmitError, match=r"abb: station\[0\] 'lathe_1' and cell.io.output.abb both map to the identifier"
     ):
         render(load(data), ["abb"])

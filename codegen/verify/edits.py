@@ -16,6 +16,7 @@ from codegen.dialects.core.values import RunError
 from codegen.verify.checks import TOLERANCES, Checker
 from codegen.verify.plan import SCENARIOS
 from codegen.verify.programs import ProgramSource, fresh_sources
+from codegen.verify.report import setting_names
 
 EDIT_CASES = 16  # cases each program and its generated twin run: the kind's first category (one a station), from home
 SHOWN_LINES = 8  # changed lines named per program (the rest counted)
@@ -153,12 +154,12 @@ def _effects(cell, source: ProgramSource, twin: ProgramSource, step_limit: int, 
                 traces.append(program.run(setup.inputs, **setup.run_options(arm, step_limit)))
             except RunError as exc:
                 traces.append(exc)
-        for text in _differences(*traces):
+        for text in _differences(*traces, setting_names(source.target)):
             seen.setdefault(f"EDIT effect: {text}", None)
     return list(seen) or ["EDIT effect: none in the nominal runs (moves, outputs, messages, settings, time alike)"]
 
 
-def _differences(mine: Trace | RunError, theirs: Trace | RunError) -> list[str]:
+def _differences(mine: Trace | RunError, theirs: Trace | RunError, names: dict[str, str]) -> list[str]:
     if isinstance(mine, RunError) or isinstance(theirs, RunError):
         if isinstance(mine, RunError) and not isinstance(theirs, RunError):
             return [f"the run stops with an error where the generated program's does not: {mine}"]
@@ -169,7 +170,7 @@ def _differences(mine: Trace | RunError, theirs: Trace | RunError) -> list[str]:
         out.append(f"the program {said} where the generated program {_stop_of(theirs)}")
     if len(mine.moves) != len(theirs.moves):
         out.append(f"{len(mine.moves)} moves where the generated program makes {len(theirs.moves)}")
-    out += _poses(mine, theirs) + _settings(mine, theirs) + _timing(mine, theirs)
+    out += _poses(mine, theirs) + _settings(mine, theirs, names) + _timing(mine, theirs)
     extra = Counter(mine.messages) - Counter(theirs.messages)
     missing = Counter(theirs.messages) - Counter(mine.messages)
     out += [f"writes {m!r} (the generated program does not)" for m in extra]
@@ -182,7 +183,7 @@ def _stop_of(trace: Trace) -> str:
     return f"stops ({halt_text(trace)!r})" if trace.halted else "does not"
 
 
-def _settings(mine: Trace, theirs: Trace) -> list[str]:
+def _settings(mine: Trace, theirs: Trace, names: dict[str, str]) -> list[str]:
     """Move settings the given program has and the generated one has not (or other values): each difference
     once, with the moves it holds on (from the first move's line)."""
     spans: dict[tuple, list[int]] = {}
@@ -195,7 +196,7 @@ def _settings(mine: Trace, theirs: Trace) -> list[str]:
     for (key, have, want), moves in spans.items():
         first, last = moves[0], moves[-1]
         which = f"move {first + 1}" if first == last else f"moves {first + 1}-{last + 1}"
-        out.append(f"{which} (from line {mine.moves[first].line}) {key} {have}, generated {want}")
+        out.append(f"{which} (from line {mine.moves[first].line}) {names.get(key, key)} {have}, generated {want}")
     return out
 
 

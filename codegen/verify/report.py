@@ -9,7 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
+from codegen.controllers import get_target
 from codegen.decimals import format_literal
+from codegen.dialects import get_dialect
 from codegen.protocol import Kind, VerifyPlan
 from codegen.robot.expect import ArmStats
 
@@ -36,9 +38,29 @@ ALIKE_DECIMALS = 3
 _FINE_DECIMAL = re.compile(rf"(?<![\w.])-?\d+\.\d{{{ALIKE_DECIMALS + 1},}}")
 
 
+# the move a problem is at, by its line: the same line's difference met at another move of the run (a pallet's approach
+# to each box, "move 8 (layer 1 box 1 approach, line 242)") is the same problem of the program
+_MOVE_AT = re.compile(r"move \d+ \((?:[^()]*, )?(line \d+)\)")
+
+
 def alike_key(problem: str) -> str:
     """The problem a mismatch is grouped by: its text with every number rounded to ALIKE_DECIMALS decimals."""
     return _FINE_DECIMAL.sub(lambda m: format_literal(float(m.group()), ALIKE_DECIMALS), problem)
+
+
+_SETTING = re.compile(r"(?<=\): )(\w+)(?= )")  # a move's setting in a mismatch: "move 8 (approach, line 242): key"
+
+
+def setting_names(target: str) -> dict[str, str]:
+    """The target's move settings by its controller's names (its dialect's setting_names: KRL's vel_cp is
+    $VEL.CP); {} where the settings' keys are the language's own words (UR's v, a, r)."""
+    return getattr(get_dialect(get_target(target).dialect), "setting_names", {})
+
+
+def controller_words(target: str, text: str) -> str:
+    """text with the move setting a mismatch names written as the target's controller names it."""
+    names = setting_names(target)
+    return _SETTING.sub(lambda m: names.get(m.group(1), m.group(1)), text) if names else text
 
 
 def case_text(kind, cell, case) -> str:
@@ -93,6 +115,9 @@ class Row:
     failed: Replay | None = None  # kept when asked: a mismatching case (the first of its chunk)
 
     alike: dict[str, int] = field(default_factory=dict)  # a shown mismatch's problem -> further cases with it
+    alike_in: dict[str, list[str]] = field(default_factory=dict)  # a shown mismatch's problem -> its cases' categories
+    # a problem with its move named by the line alone (_MOVE_AT) -> the shown problem it is counted with
+    same_at_line: dict[str, str] = field(default_factory=dict, compare=False, repr=False)
     clearance: object = None  # the least clearance of the traces swept (codegen.verify.clearance.MoveLeast)
     clearance_traces: int = 0  # traces swept against the cell's solids
     clearance_seconds: float = 0.0  # the time the sweeps took (within `seconds`)
@@ -105,14 +130,21 @@ class Row:
         """One case's mismatch: shown (the first FIRST_MISMATCHES problems, each once), or counted with the shown
         one of the same problem (`problem`: the text without the case, default the whole text)."""
         self.mismatches += 1
-        self._show(text, problem or text, 1)
+        category = text.split(" ", 1)[0]  # case_text starts with the case's category
+        categories = [category] if category in self.categories else []
+        self._show(controller_words(self.target, text), problem or text, 1, categories)
 
-    def _show(self, text: str, problem: str, count: int) -> None:
+    def _show(self, text: str, problem: str, count: int, categories: list[str]) -> None:
+        problem = self.same_at_line.setdefault(_MOVE_AT.sub(r"\1", problem), problem)
         if problem in self.alike:
             self.alike[problem] += count
         elif len(self.first_mismatches) < FIRST_MISMATCHES:
             self.first_mismatches.append(text)
             self.alike[problem] = count - 1
+        else:
+            return
+        seen = self.alike_in.setdefault(problem, [])
+        seen.extend(c for c in categories if c not in seen)
 
     def merge(self, part: Row) -> None:
         self.cases += part.cases
@@ -126,7 +158,8 @@ class Row:
         self.rot_errors.extend(part.rot_errors)
         problems = {text: problem for problem, text in zip(part.alike, part.first_mismatches, strict=True)}
         for text in part.first_mismatches:
-            self._show(text, problems[text], part.alike[problems[text]] + 1)
+            problem = problems[text]
+            self._show(text, problem, part.alike[problem] + 1, part.alike_in.get(problem, []))
         self.seconds += part.seconds
         self.arm.merge(part.arm)
         for mine, theirs in ((self.categories, part.categories), (self.scenarios, part.scenarios)):
@@ -252,18 +285,23 @@ class Report:
             if len({Path(f).name for f in row.files}) and any(not f.startswith("<fresh>") for f in row.files):
                 out.append(f"  files: {', '.join(row.files)}")
             out.extend(f"  {line}" for line in row.edits)
-            for line, alike in zip(row.first_mismatches, row.alike.values(), strict=True):
-                out.append(f"  MISMATCH {line}" + (f" (and {alike} more cases alike)" if alike else ""))
+            for line, (problem, alike) in zip(row.first_mismatches, row.alike.items(), strict=True):
+                categories = row.alike_in.get(problem, [])
+                among = f"; in {', '.join(categories)}" if len(categories) > 1 else ""
+                out.append(f"  MISMATCH {line}" + (f" (and {alike} more cases alike{among})" if alike else ""))
         kinds = {row.kind: row.plan for row in self.rows}
         for kind, plan in kinds.items():
             out.extend(plan.report_lines([row for row in self.rows if row.kind == kind]))
         for row in self.rows:
             if row.arm.moves:
                 arm = row.arm.summary()
+                # the runner adds a run's moves only where the run matches: a failing program's margins are its
+                # matching runs', and the line says so
+                counted = f" in the runs that match (not the {row.mismatches} that mismatch)" if row.mismatches else ""
                 out.append(
-                    f"arm {row.target} {row.program}: {arm['moves']} moves solved to joints; least margin to a joint "
-                    f"limit {arm['joint_margin_deg']:.1f} deg ({arm['joint_margin_at']}), of axis 5 from its "
-                    f"singularity {arm['wrist_margin_deg']:.1f} deg"
+                    f"arm {row.target} {row.program}: {arm['moves']} moves solved to joints{counted}; least margin "
+                    f"to a joint limit {arm['joint_margin_deg']:.1f} deg ({arm['joint_margin_at']}), of axis 5 from "
+                    f"its singularity {arm['wrist_margin_deg']:.1f} deg"
                 )
         for row in self.rows:
             if row.clearance is not None:

@@ -27,6 +27,18 @@ class KRL(Dialect):
     """
 
     name = "krl"
+    # the move settings (the keys above) by the names the controller gives them, for the messages a user reads
+    # (KSS 8.1-8.3 System Variables, KUKA expert documentation: $VEL, $ACC, $APO, $OV_PRO, $VEL_AXIS, $ACC_AXIS,
+    # $LOAD); a BAS(#VEL_PTP) sets all six $VEL_AXIS alike, the first stands for them
+    setting_names = {
+        "vel_cp": "$VEL.CP",
+        "acc_cp": "$ACC.CP",
+        "cdis": "$APO.CDIS",
+        "ov_pro": "$OV_PRO",
+        "vel_ptp": "$VEL_AXIS[1]",
+        "acc_ptp": "$ACC_AXIS[1]",
+        "load": "$LOAD",
+    }
     # a .sub: a module of the submit interpreter (SPS.SUB), a .src's syntax with its .dat, run beside the robot
     # program (KSS 8 programming manual for system integrators, "Submit interpreter"; from secondary sources, not
     # confirmed in the manual's text)

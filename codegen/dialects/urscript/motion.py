@@ -35,6 +35,7 @@ import numpy as np
 from codegen.dialects import posemath
 from codegen.dialects.core.arm import remember_joint_target
 from codegen.dialects.core.machine import MoveEvent
+from codegen.dialects.core.ramp import UNKNOWN_TRAVEL_S
 from codegen.dialects.core.values import F32, RunError, f32
 from codegen.dialects.urscript import conveyor, threads
 from codegen.dialects.urscript.values import MM_PER_M, URPose, arguments, joints, matrix, num, pose, vector
@@ -173,8 +174,12 @@ def builtins() -> dict:
                 else:  # joint positions (rad): no solution to choose
                     event = MoveEvent(kind, None, line, settings)
                     conveyor.tracked_move(fr, event, 0.0, where)  # refused while tracking
-                    machine.arm.to_joints(event, np.degrees(joints(target, where, 6, "movej q")), where)
-                    machine.move(event, v * MM_PER_M, seconds=t or None)
+                    q = np.degrees(joints(target, where, 6, "movej q"))
+                    machine.arm.to_joints(event, q, where)
+                    if machine.arm.arm is not None:  # the pose the joints put the tool at: the next move starts there
+                        event.tcp2base = machine.arm.arm.kin.fk(q) @ machine.arm.tcp2flange
+                    # the joint move's own time stays the assumed one (its joint speed's profile is not modelled)
+                    machine.move(event, v * MM_PER_M, seconds=t or UNKNOWN_TRAVEL_S)
                     return
             event = MoveEvent(kind, matrix(target, where, f"{name} target"), line, settings)
             tracked = conveyor.tracked_move(fr, event, v * MM_PER_M, where)  # None: not tracking

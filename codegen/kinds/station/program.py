@@ -22,7 +22,7 @@ from codegen.kinds.station.keys import GRIP, RELEASE
 from codegen.kinds.station.mode import mode_of, modes
 from codegen.kinds.station.part import held_part, part_alone, part_load
 from codegen.kinds.station.plan import check, taught_poses
-from codegen.kinds.station.section import section_of, stations_of
+from codegen.kinds.station.section import section_of, station_label, stations_of
 from codegen.model import vision
 from codegen.model.cell import Cell
 from codegen.model.motion import segments
@@ -43,7 +43,7 @@ from codegen.robot.taught import ReachError, configuration
 
 
 def _station_context(cell: Cell, station, target: Target, emitter: Emitter) -> dict:
-    origin = f"station[{station.id}] {station.name!r}"
+    origin = station_label(cell, station)
     taught = len(station.poses)
     segs = segments(cell.motion, taught, station.retreat is not None, station_stops(station))
     poses = [

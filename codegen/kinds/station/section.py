@@ -99,6 +99,13 @@ def stations_of(cell) -> tuple[Station, ...]:
     return () if section is None else section.stations
 
 
+def station_label(cell, station: Station) -> str:
+    """A station as the cell file's messages name it: its [[station]] entry by position from 0, as the loader names
+    its keys (station[0]), and its name."""
+    index = next(i for i, s in enumerate(stations_of(cell)) if s.id == station.id)
+    return f"station[{index}] {station.name!r}"
+
+
 def with_section(cell, **changes):
     """The cell with its station section changed (verify's extra stations, the mutation tests)."""
     return replace(cell, sections={**cell.sections, NAME: replace(section_of(cell), **changes)})

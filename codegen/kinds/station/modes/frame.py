@@ -25,7 +25,7 @@ from codegen.guard import (
 )
 from codegen.kinds.station.frame.keys import KEYS, REFINE
 from codegen.kinds.station.mode import StationMode
-from codegen.kinds.station.section import section_of
+from codegen.kinds.station.section import section_of, station_label
 from codegen.model.loader import Loader, build
 from codegen.model.vision import PHOTO
 from codegen.poses import POSE_FORMATS, concat, matrix_from_rotation_translation, native_values, planar_motions, rotz
@@ -269,8 +269,9 @@ class FrameMode(StationMode):
                 "cell.refine.tolerance_mm",
                 f"{refine.tolerance_mm:g} mm is finer than the camera resolves: a pixel is "
                 f"{least_mm / (RESOLVED_SIGMAS * SUBPIXEL_NOISE_PX):.4f} mm here and a mark's centre is found to about "
-                f"{SUBPIXEL_NOISE_PX} px, so the loop would stop on noise or not at all; set at least "
-                f"{least_mm:.4f} mm ({RESOLVED_SIGMAS} x {SUBPIXEL_NOISE_PX} px)",
+                f"{SUBPIXEL_NOISE_PX} px, so the loop would stop on noise or not at all; set "
+                f"[cell.refine] tolerance_mm = {math.ceil(least_mm * 1e4) / 1e4:.4f} or more ({RESOLVED_SIGMAS} x "
+                f"{SUBPIXEL_NOISE_PX} px, rounded up)",
             )
 
     @classmethod
@@ -308,7 +309,7 @@ class FrameMode(StationMode):
 
     @classmethod
     def station_context(cls, cell, station, target, emitter) -> dict:
-        origin = f"station[{station.id}] {station.name!r}"
+        origin = station_label(cell, station)
         spec = station.spec
         if target.program.get("level_frames_only") and abs(spec.frame.matrix()[2, 2] - 1.0) >= 1e-12:
             raise EmitError(

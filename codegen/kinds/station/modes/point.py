@@ -21,7 +21,7 @@ from codegen.guard import (
 from codegen.kinds.station.mode import StationMode
 from codegen.kinds.station.point.keys import KEYS
 from codegen.kinds.station.point.reference import NAME, PointSpec, Reading, expected_trace
-from codegen.kinds.station.section import section_of
+from codegen.kinds.station.section import section_of, station_label
 from codegen.model.validate import metres_text, read_as_metres
 from codegen.model.vision import READ, SECOND_LOOK_MM
 from codegen.poses import planar_motions, wrap_deg
@@ -112,7 +112,7 @@ class PointMode(StationMode):
 
     @classmethod
     def station_context(cls, cell, station, target, emitter) -> dict:
-        origin = f"station[{station.id}] {station.name!r}"
+        origin = station_label(cell, station)
         return {
             "fixed": [p.name in station.spec.fixed for p in station.path],
             "mark_ident": emitter.identifier(f"m{station.id}_", station.name, f"{origin} mark"),
