@@ -10,6 +10,7 @@ import pytest
 from support.programs import edited, first, run_case
 
 from codegen.kinds.conveyor.cases import cases
+from codegen.kinds.conveyor.section import conveyor_of
 from codegen.model.cell import load_cell
 from codegen.verify.runner import run_cases
 
@@ -85,14 +86,16 @@ def test_the_kuka_program_times_the_belts_speed_with_its_timer(cell):
 
 def test_a_stray_trigger_pulse_does_not_make_ur_skip_the_parts_after_the_wrap(cell):
     """The camera's trigger pulses once with no part queued (a double pulse): the UR program's latched count of it is
-    never claimed. Once the belt has run half the robot's count's wrap (32768 counts, 4.0 m) past it, it unwound to a
-    place upstream and every later part was skipped as seen before the program started; passed over while the PLC
-    presents no part once it is past the window's end, the next part 4.3 m of belt later is picked. (Before, the
+    never claimed. Once the belt has run half the robot's count's wrap (32768 of the robot's own ticks: 6.4 m at the
+    cell's ticks_per_mm) past it, it unwound to a place upstream and every later part was skipped as seen before the
+    program started; passed over while the PLC presents no part once it is past the window's end, the next part 0.3 m
+    of belt beyond that half wrap is picked. (Before, the
     matching loop also spun for ever on a latch upstream of the part: `while mine < 0` with mine -2; it ends there
     now, and the program without the pass-over skips the part with that message.)"""
     case = next(c for c in cases(cell) if c.category == "constant_speed")
     belt = case.belt
-    later = case.parts[0].seen_s + 4300.0 / belt.speed_mm_s
+    half_wrap_mm = 32768.0 / abs(conveyor_of(cell).robot_ticks_per_mm)  # the robot's decoder, not the PLC's count
+    later = case.parts[0].seen_s + (half_wrap_mm + 300.0) / belt.speed_mm_s
     parts = (case.parts[0], replace(case.parts[1], seen_s=later))
     stray = replace(case, category="stray_pulse", parts=parts, pulses=(case.parts[0].seen_s + 1.0,))
     program = first(cell, "ur", "conveyor")
