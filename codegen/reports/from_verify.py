@@ -40,7 +40,7 @@ def verify_result(report, cell_file: str | None, fresh_root: Path | None = None)
             case.findings.append(Finding(verify_rule(problem), message, "error", where, cell, key, related))
         for edit in edited:
             said = "; ".join(effects)
-            message = edit.message + (f". In the nominal runs the program {said}" if said else "")
+            message = edit.message + (f". What it changes in the nominal runs: {said}" if said else "")
             case.findings.append(Finding(edit.rule, message, "warning", edit.program))
         if row.mismatches:
             shown = "\n".join(f.message for f in case.findings if f.rule != EDIT.id)
