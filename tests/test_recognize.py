@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from codegen.dialects import dialects
+from codegen.dialects.core.larkdoor import terminals
 from codegen.dialects.core.parsing import grammar_parser, open_grammar
 from codegen.dialects.core.recognize import Recognizer
 from codegen.generate import GenerateError, check_rendered
@@ -98,9 +99,7 @@ def test_edited_programs_get_lark_verdict(name):
 
 
 def _terminals(dialect):
-    parser = grammar_parser(_interpreter(dialect), False)
-    ignored = set(parser.ignore_tokens)
-    return [(t.name, t.pattern.to_regexp(), t.name in ignored) for t in parser.terminals]
+    return terminals(grammar_parser(_interpreter(dialect), False))
 
 
 @pytest.mark.parametrize("name", DIALECTS)

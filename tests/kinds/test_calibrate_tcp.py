@@ -120,7 +120,7 @@ def test_write_sets_the_cell_tool_and_the_programs_carry_it(tmp_path):
     assert np.allclose(cell.robot.tool.tcp[:3], [0.0, 0.0, 200.0], atol=1e-4)
     assert "# `codegen calibrate tcp` from poses.csv" in cell_path.read_text()
     assert "set_tcp(p[0.0000000, 0.0000000, 0.2000000," in render(cell, ["ur"])[0].text
-    far = [touch(t, tcp=np.array([0.0, 0.0, 1500.0])) for t in tilts(40)]  # a tool the cell refuses
+    far = [touch(t, tcp=np.array([0.0, 0.0, 700.0])) for t in tilts(40)]  # a tool the stations cannot take
     refused = calibrate(write_csv(tmp_path, far, "far.csv"), "--write", cell_path)
     assert refused.exit_code == 2 and "with this tool the cell would not generate: station" in refused.output
     assert load_cell(cell_path).robot.tool.tcp[2] == pytest.approx(200.0, abs=1e-4)  # left as it was

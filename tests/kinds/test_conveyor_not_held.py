@@ -28,7 +28,12 @@ LET_GO = "      cnv_opened = cnv_let_go()\n"
 BROKEN = [
     ("kuka", GRASP_TIMEOUT + "      RETURN FALSE\n", HALT_KUKA + "      RETURN FALSE\n", HALTED),
     ("ur", HOLD_UR + "        return False\n", HOLD_UR + HALT_UR, HALTED),
-    ("kuka", "    LIN CLEAR\n", "", "not both on the part"),
+    (  # the lift after the failed grip (the stop while the belt stands has a LIN CLEAR of its own, deeper in)
+        "kuka",
+        "    LIN CLEAR\n    $OUT[18] = FALSE ; back at the clear height\n    IF NOT OPENED",
+        "    $OUT[18] = FALSE ; back at the clear height\n    IF NOT OPENED",
+        "not both on the part",
+    ),
     ("ur", LET_GO + LIFT + UNTRACK, LET_GO + UNTRACK + LIFT, "the lift off it, released"),
 ]
 # the release of a part not held without waiting for the feedback to drop (the output alone, then the lift): the cup

@@ -334,10 +334,13 @@ def test_a_pallet_named_like_the_cells_program_or_beyond_the_registers_is_refuse
     many = []
     for i in range(11):  # 10 pallets' counters fit registers 0..19
         one = pallet.replace('name = "agv_machine_tending"', f'name = "p{i}"', 1)
+        one = one.replace("base_data = 1 ", f"base_data = {i + 1} ", 1)  # each pallet its own KUKA base
         many.append(one.replace("timeout_s = 10.0", f'timeout_s = 10.0\nselect = {{ abb = "diP{i}" }}', 1))
     cell.write_text(demo + "\n" + "".join(many))
     with pytest.raises(
-        CellError, match=r"pallet\[10\]\.io\.registers\.ur: pallet 11's counters would need registers 20 and 21"
+        CellError,
+        match=r"pallet\[10\]\.io\.registers\.ur \(not in the file: its default\): pallet 11's counters would "
+        r"need registers 20 and 21",
     ):
         load_cell(cell)
 

@@ -145,7 +145,7 @@ def test_a_numbered_kuka_tool_verifies_in_a_pallet_cell(tmp_path):
     """`[cell.tool] numbered = { kuka = 3 }` generated, then every KUKA case failed ("FRAME.X has no value"): the
     program selects TOOL_DATA[3], which verify did not load as the controller's $config.dat holds it."""
     path = edited(
-        tmp_path, "testmat_pallet", ("cog_mm = [0.0, 0.0, 50.0]", "cog_mm = [0.0, 0.0, 50.0]\nnumbered = { kuka = 3 }")
+        tmp_path, "testmat_pallet", ("numbered = { kuka = 1 }", "numbered = { kuka = 3 }")  # the bundled cell's 1
     )
     cell = load_cell(path)
     programs = sources(cell, "kuka", "pallet")

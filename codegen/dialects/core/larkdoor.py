@@ -138,3 +138,11 @@ def tables(parser: Lark) -> Tables:
 def lexer_state(text: str) -> LexerState:
     """A fresh lexing position at the start of `text`, for a lexer of Tables.lexers."""
     return LexerState(TextSlice(text, 0, len(text)))
+
+
+def terminals(parser: Lark) -> list[tuple[str, str, bool]]:
+    """Each terminal of the grammar: (name, its regular expression, whether the lexer skips it). Read from the lexer's
+    configuration, which a parser built from its grammar and one loaded from the cache both have (a loaded one has no
+    `ignore_tokens`)."""
+    ignored = set(parser.lexer_conf.ignore)
+    return [(t.name, t.pattern.to_regexp(), t.name in ignored) for t in parser.lexer_conf.terminals]
