@@ -38,8 +38,8 @@ ALIKE_DECIMALS = 3
 _FINE_DECIMAL = re.compile(rf"(?<![\w.])-?\d+\.\d{{{ALIKE_DECIMALS + 1},}}")
 
 
-# the move a problem is at, by its line: the same line's difference met at another move of the run (a pallet's approach
-# to each box, "move 8 (layer 1 box 1 approach, line 242)") is the same problem of the program
+# the move a problem is at, by its line: the same line's difference met at another move of the run (a loop's approach
+# to each item, "move 8 (layer 1 box 1 approach, line 242)") is the same problem of the program
 _MOVE_AT = re.compile(r"move \d+ \((?:[^()]*, )?(line \d+)\)")
 
 
@@ -52,8 +52,8 @@ _SETTING = re.compile(r"(?<=\): )(\w+)(?= )")  # a move's setting in a mismatch:
 
 
 def setting_names(target: str) -> dict[str, str]:
-    """The target's move settings by its controller's names (its dialect's setting_names: KRL's vel_cp is
-    $VEL.CP); {} where the settings' keys are the language's own words (UR's v, a, r)."""
+    """The target's move settings by its controller's names (its dialect's setting_names: an internal key by the
+    system variable it stands for); {} where the settings' keys are the language's own words (a speed argument's)."""
     return getattr(get_dialect(get_target(target).dialect), "setting_names", {})
 
 
