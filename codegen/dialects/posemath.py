@@ -12,11 +12,11 @@ controller-flavoured names (`quat_multiply`, `quat_rotate`, `quat_from_zyx_deg`,
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 
 import numpy as np
 
 from codegen import poses
+from codegen.exactcache import exact_cache
 from codegen.poses import wrap_deg
 
 
@@ -33,7 +33,7 @@ def check_finite(values, where: str, what: str) -> None:
         raise RunError(f"{where}: {what} has a non-finite component")
 
 
-@lru_cache(maxsize=4096)
+@exact_cache(maxsize=4096)
 def _matrix_from_ur_cached(values: tuple[float, ...]) -> np.ndarray:
     m = poses.matrix_from_ur(values)
     m.flags.writeable = False
@@ -165,7 +165,7 @@ def concat_rotmat_translation(ra, ta, rb, tb) -> tuple[tuple[float, ...], tuple[
     return rotmat_mul(ra, rb), (x + ta[0], y + ta[1], z + ta[2])
 
 
-@lru_cache(maxsize=4096)  # taught poses repeat in every run
+@exact_cache(maxsize=4096)  # taught poses repeat in every run
 def rotmat_from_zyx_deg(a: float, b: float, c: float) -> tuple[float, ...]:
     ca, sa = math.cos(math.radians(a)), math.sin(math.radians(a))
     cb, sb = math.cos(math.radians(b)), math.sin(math.radians(b))

@@ -7,11 +7,11 @@ import math
 import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
+from codegen.exactcache import exact_cache
 from codegen.guard import TAUGHT_RANGE_MM
 from codegen.model import io, motion, tables, vision, world
 from codegen.model.hints import missing_hint
@@ -61,7 +61,7 @@ def _format_hint(pose_format: str, count: int) -> str:
     return said + (f"; {count} numbers are a pose of {' or '.join(others)})" if others else ")")
 
 
-@lru_cache(maxsize=65536)
+@exact_cache(maxsize=65536)
 def _pose_matrix(pose_format: str, values: tuple[float, ...]) -> np.ndarray:
     matrix = POSE_FORMATS[pose_format][1](values)
     matrix.flags.writeable = False

@@ -570,8 +570,8 @@ def test_the_counters_are_marked_while_a_box_is_released(testmat, target, name, 
         (
             "ur",
             "pal_testmat.script",
-            'request_boolean_from_primary_client("pallet testmat: stopped in a release. Is the item below the gripper '
-            'down?")',
+            'request_boolean_from_primary_client("pallet testmat: stopped in a release. Is the item down? No: remove '
+            'it first")',
             "False",
         ),
         ("kuka", "pal_testmat.src", "      ANSWER = PAL_ASK()\n", "      ANSWER = 2\n"),

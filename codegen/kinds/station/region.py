@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
 from codegen.controllers import get_target
+from codegen.exactcache import exact_cache
 from codegen.kinds.station.mode import mode_of
 from codegen.kinds.station.section import section_of
 from codegen.robot import solve
@@ -40,7 +40,7 @@ def sampling(max_shift_mm: float, max_rotation_deg: float) -> tuple[int, int]:
     return rotations, directions
 
 
-@lru_cache(maxsize=16)
+@exact_cache(maxsize=16)
 def offsets(max_shift_mm: float, max_rotation_deg: float) -> np.ndarray:
     """(dx, dy, rotation) over the guard's region: no change first, then the shift disc's boundary,
     an inner ring and the centre, each at rotations from -limit to +limit (corners included)."""

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
+from codegen.exactcache import exact_cache
 from codegen.guard import (
     INVALID_READING,
     ROTATION_OVER_LIMIT,
@@ -52,7 +52,7 @@ def mark2base(x: float, y: float, theta_deg: float) -> np.ndarray:
     return matrix_from_rotation_translation(rotz(math.radians(theta_deg)), (x, y, 0.0))
 
 
-@lru_cache(maxsize=4096)
+@exact_cache(maxsize=4096)
 def base2mark(x: float, y: float, theta_deg: float) -> np.ndarray:
     """Inverse of mark2base (a station's calibration mark: computed once, read-only)."""
     out = invert(mark2base(x, y, theta_deg))
