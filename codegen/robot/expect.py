@@ -25,6 +25,39 @@ def arm_of(cell, target: str):
     return None if robot is None else robot.arms.get(target)
 
 
+class _Named:
+    """The place to name for a least margin: the first, in the cases' order, within JOINT_TOLERANCE_DEG of the least.
+    Kept as the places that were the least so far in that order (a later place can be named only where it is less
+    than every earlier one), those beyond the tolerance of the least dropped: parts merged in the cases' order name
+    the same place however the cases were split among them."""
+
+    def __init__(self) -> None:
+        self.records: list[tuple[float, str]] = []  # (margin, place), margins falling
+
+    def add(self, margins: np.ndarray, place: Callable[[int], str]) -> None:
+        """A run's margins in its moves' order; place(i): the text naming move i (asked only for a record)."""
+        least = self.records[-1][0] if self.records else float("inf")
+        for i in np.flatnonzero(margins < np.minimum.accumulate(np.concatenate(([least], margins)))[:-1]):
+            self.records.append((float(margins[i]), place(int(i))))
+        self._prune()
+
+    def merge(self, other: _Named) -> None:
+        """A later part's places."""
+        for margin, place in other.records:
+            if not self.records or margin < self.records[-1][0]:
+                self.records.append((margin, place))
+        self._prune()
+
+    def _prune(self) -> None:
+        if self.records:
+            least = self.records[-1][0]
+            self.records = [r for r in self.records if r[0] <= least + JOINT_TOLERANCE_DEG]
+
+    @property
+    def place(self) -> str:
+        return self.records[0][1] if self.records else ""
+
+
 class ArmStats:
     """The least joint-limit and wrist-singularity margins over every move verify saw."""
 
@@ -32,19 +65,26 @@ class ArmStats:
         self.moves = 0
         self.joint_margin_deg = float("inf")
         self.wrist_margin_deg = float("inf")
-        self.joint_margin_at = ""  # the axis, its value, the move and the case of the least joint margin
-        self.named_deg = float("inf")  # the margin of the move joint_margin_at names (within the tie of the least)
+        self.joint_named = _Named()  # the axis, its value, the move and the case of the least joint margin
         self.asked_deg = 0.0  # the cell's joint margin (cell.robot.joint_margin_deg): every move's requirement
-        self.wrist_margin_at = ""  # axis 5's value, the move and the case nearest the wrist singularity
-        self.wrist_named_deg = float("inf")  # the wrist margin of the move wrist_margin_at names
+        self.wrist_named = _Named()  # axis 5's value, the move and the case nearest the wrist singularity
         self.wrist_asked_deg = 0.0  # the cell's wrist margin (cell.robot.wrist_margin_deg)
+
+    @property
+    def joint_margin_at(self) -> str:
+        return self.joint_named.place
+
+    @property
+    def wrist_margin_at(self) -> str:
+        return self.wrist_named.place
 
     def add(
         self, cell, target: str, moves: list, case: Callable[[], str] | None = None, names: list | None = None
     ) -> None:
-        """A run's moves; case: what the report calls the run (its category and scenario), asked only where the run
-        holds the least joint margin so far; names: the expected moves' names, in the run's order (e.g. "layer
-        2 box 3 transit"). A margin within JOINT_TOLERANCE_DEG of the one named keeps the earlier name."""
+        """A run's moves; case: what the report calls the run (its category and scenario), asked only where the
+        run holds the least joint margin so far; names: the expected moves' names, in the run's order (e.g. "layer
+        2 box 3 transit"). Of the margins within JOINT_TOLERANCE_DEG of the least, the first in the cases' order is
+        named (_Named)."""
         arm = arm_of(cell, target)
         solved = [(i, m) for i, m in enumerate(moves) if m.joints is not None]
         if arm is None or not solved:
@@ -52,11 +92,11 @@ class ArmStats:
         self.asked_deg = cell.robot.margins.joint_deg
         self.wrist_asked_deg = cell.robot.margins.wrist_deg
         joints = np.array([m.joints for _i, m in solved])
-        per_move = joint_margins(arm, joints).min(axis=-1)
-        joint, row = float(per_move.min()), first_least(per_move)
-        axis = int(np.argmin(joint_margins(arm, joints[row])))
+        margins = joint_margins(arm, joints)
+        per_move, axes = margins.min(axis=-1), margins.argmin(axis=-1)
+        joint = float(per_move.min())
         wrists = np.atleast_1d(singular_distance(wrist_angle(arm, joints)))
-        wrist, wrist_row = float(np.min(wrists)), first_least(wrists)
+        wrist = float(np.min(wrists))
         self.moves += len(solved)
         named = None
 
@@ -69,10 +109,8 @@ class ArmStats:
             at = f"axis {axis + 1} at {joints[row, axis]:.1f} deg, move {index + 1} (line {move.line}{what})"
             return at + (f", {named}" if named else "")
 
-        if per_move[row] < self.named_deg - JOINT_TOLERANCE_DEG:
-            self.joint_margin_at, self.named_deg = where(row, axis), float(per_move[row])
-        if wrists[wrist_row] < self.wrist_named_deg - JOINT_TOLERANCE_DEG:
-            self.wrist_margin_at, self.wrist_named_deg = where(wrist_row, 4), float(wrists[wrist_row])
+        self.joint_named.add(per_move, lambda i: where(i, int(axes[i])))
+        self.wrist_named.add(wrists, lambda i: where(i, 4))
         self.joint_margin_deg = min(self.joint_margin_deg, joint)
         self.wrist_margin_deg = min(self.wrist_margin_deg, wrist)
 
@@ -81,10 +119,8 @@ class ArmStats:
         self.moves += other.moves
         self.asked_deg = max(self.asked_deg, other.asked_deg)
         self.wrist_asked_deg = max(self.wrist_asked_deg, other.wrist_asked_deg)
-        if other.named_deg < self.named_deg - JOINT_TOLERANCE_DEG:
-            self.joint_margin_at, self.named_deg = other.joint_margin_at, other.named_deg
-        if other.wrist_named_deg < self.wrist_named_deg - JOINT_TOLERANCE_DEG:
-            self.wrist_margin_at, self.wrist_named_deg = other.wrist_margin_at, other.wrist_named_deg
+        self.joint_named.merge(other.joint_named)
+        self.wrist_named.merge(other.wrist_named)
         self.joint_margin_deg = min(self.joint_margin_deg, other.joint_margin_deg)
         self.wrist_margin_deg = min(self.wrist_margin_deg, other.wrist_margin_deg)
 
@@ -118,12 +154,6 @@ class ArmStats:
             f"{self.wrist_margin_deg:.1f} deg from the wrist singularity ({self.wrist_margin_at}), less than the "
             f"{self.wrist_asked_deg:g} deg the cell asks (cell.robot.wrist_margin_deg)"
         )
-
-
-def first_least(margins) -> int:
-    """The index of the first margin within JOINT_TOLERANCE_DEG of the least (one margin, named by the first)."""
-    values = np.asarray(margins, dtype=float)
-    return int(np.argmax(values <= values.min() + JOINT_TOLERANCE_DEG))
 
 
 # what a pose at the wrist singularity is, for a refusal's fix
